@@ -33,6 +33,12 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Paddle& v) {
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Paddle& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Paddle& v) {
+    load_value(r, v.origin);
+  }
   struct C_Ball {
     int32_t f_vx;
     int32_t f_vy;
@@ -46,6 +52,16 @@ struct Prog {
     hash_value(h, v.f_vy);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Ball& v) {
+    save_value(w, v.f_vx);
+    save_value(w, v.f_vy);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Ball& v) {
+    load_value(r, v.f_vx);
+    load_value(r, v.f_vy);
+    load_value(r, v.origin);
+  }
   struct C_Brick {
     int32_t f_hp;
     Pos origin;
@@ -57,6 +73,14 @@ struct Prog {
     hash_value(h, v.f_hp);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Brick& v) {
+    save_value(w, v.f_hp);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Brick& v) {
+    load_value(r, v.f_hp);
+    load_value(r, v.origin);
+  }
   struct C_Hearts {
     int32_t f_hearts;
     Pos origin;
@@ -67,6 +91,14 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Hearts& v) {
     hash_value(h, v.f_hearts);
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Hearts& v) {
+    save_value(w, v.f_hearts);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Hearts& v) {
+    load_value(r, v.f_hearts);
+    load_value(r, v.origin);
   }
 
   // Working buffers, one per place that builds a short-lived list.
@@ -1158,6 +1190,34 @@ struct Prog {
     hash_value(h, s.g_lives);
     hash_value(h, s.g_hud);
     return h.h;
+  }
+  static void save(const State& s, SnapshotWriter& w) {
+    (void)s;
+    (void)w;
+    save_value(w, s.g_GRID_SIZE);
+    save_value(w, s.g_FRAME_RATE);
+    save_value(w, s.g_background);
+    save_value(w, s.g_padRow);
+    save_value(w, s.g_paddle);
+    save_value(w, s.g_ball);
+    save_value(w, s.g_bricks);
+    save_value(w, s.g_launched);
+    save_value(w, s.g_lives);
+    save_value(w, s.g_hud);
+  }
+  static void load(State& s, SnapshotReader& r) {
+    (void)s;
+    (void)r;
+    load_value(r, s.g_GRID_SIZE);
+    load_value(r, s.g_FRAME_RATE);
+    load_value(r, s.g_background);
+    load_value(r, s.g_padRow);
+    load_value(r, s.g_paddle);
+    load_value(r, s.g_ball);
+    load_value(r, s.g_bricks);
+    load_value(r, s.g_launched);
+    load_value(r, s.g_lives);
+    load_value(r, s.g_hud);
   }
 };
 

@@ -37,6 +37,16 @@ struct Prog {
     hash_value(h, v.f_wet);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Tile& v) {
+    save_value(w, v.f_hue);
+    save_value(w, v.f_wet);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Tile& v) {
+    load_value(r, v.f_hue);
+    load_value(r, v.f_wet);
+    load_value(r, v.origin);
+  }
   struct C_Swatch {
     int32_t f_hue;
     Pos origin;
@@ -48,6 +58,14 @@ struct Prog {
     hash_value(h, v.f_hue);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Swatch& v) {
+    save_value(w, v.f_hue);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Swatch& v) {
+    load_value(r, v.f_hue);
+    load_value(r, v.origin);
+  }
   struct C_Lamps {
     bool f_lit;
     Pos origin;
@@ -58,6 +76,14 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Lamps& v) {
     hash_value(h, v.f_lit);
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Lamps& v) {
+    save_value(w, v.f_lit);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Lamps& v) {
+    load_value(r, v.f_lit);
+    load_value(r, v.origin);
   }
 
   // Working buffers, one per place that builds a short-lived list.
@@ -642,6 +668,30 @@ struct Prog {
     hash_value(h, s.g_swatches);
     hash_value(h, s.g_lamps);
     return h.h;
+  }
+  static void save(const State& s, SnapshotWriter& w) {
+    (void)s;
+    (void)w;
+    save_value(w, s.g_GRID_SIZE);
+    save_value(w, s.g_FRAME_RATE);
+    save_value(w, s.g_background);
+    save_value(w, s.g_palette);
+    save_value(w, s.g_corner);
+    save_value(w, s.g_tiles);
+    save_value(w, s.g_swatches);
+    save_value(w, s.g_lamps);
+  }
+  static void load(State& s, SnapshotReader& r) {
+    (void)s;
+    (void)r;
+    load_value(r, s.g_GRID_SIZE);
+    load_value(r, s.g_FRAME_RATE);
+    load_value(r, s.g_background);
+    load_value(r, s.g_palette);
+    load_value(r, s.g_corner);
+    load_value(r, s.g_tiles);
+    load_value(r, s.g_swatches);
+    load_value(r, s.g_lamps);
   }
 };
 

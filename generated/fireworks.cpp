@@ -33,6 +33,12 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Pad& v) {
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Pad& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Pad& v) {
+    load_value(r, v.origin);
+  }
   struct C_Rocket {
     int32_t f_peak;
     int32_t f_shade;
@@ -45,6 +51,16 @@ struct Prog {
     hash_value(h, v.f_peak);
     hash_value(h, v.f_shade);
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Rocket& v) {
+    save_value(w, v.f_peak);
+    save_value(w, v.f_shade);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Rocket& v) {
+    load_value(r, v.f_peak);
+    load_value(r, v.f_shade);
+    load_value(r, v.origin);
   }
   struct C_Spark {
     int32_t f_vx;
@@ -62,6 +78,20 @@ struct Prog {
     hash_value(h, v.f_life);
     hash_value(h, v.f_hue);
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Spark& v) {
+    save_value(w, v.f_vx);
+    save_value(w, v.f_vy);
+    save_value(w, v.f_life);
+    save_value(w, v.f_hue);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Spark& v) {
+    load_value(r, v.f_vx);
+    load_value(r, v.f_vy);
+    load_value(r, v.f_life);
+    load_value(r, v.f_hue);
+    load_value(r, v.origin);
   }
 
   // Working buffers, one per place that builds a short-lived list.
@@ -565,6 +595,34 @@ struct Prog {
     hash_value(h, s.g_rockets);
     hash_value(h, s.g_sparks);
     return h.h;
+  }
+  static void save(const State& s, SnapshotWriter& w) {
+    (void)s;
+    (void)w;
+    save_value(w, s.g_GRID_SIZE);
+    save_value(w, s.g_FRAME_RATE);
+    save_value(w, s.g_background);
+    save_value(w, s.g_palette);
+    save_value(w, s.g_compass);
+    save_value(w, s.g_launchRow);
+    save_value(w, s.g_maxRockets);
+    save_value(w, s.g_pad);
+    save_value(w, s.g_rockets);
+    save_value(w, s.g_sparks);
+  }
+  static void load(State& s, SnapshotReader& r) {
+    (void)s;
+    (void)r;
+    load_value(r, s.g_GRID_SIZE);
+    load_value(r, s.g_FRAME_RATE);
+    load_value(r, s.g_background);
+    load_value(r, s.g_palette);
+    load_value(r, s.g_compass);
+    load_value(r, s.g_launchRow);
+    load_value(r, s.g_maxRockets);
+    load_value(r, s.g_pad);
+    load_value(r, s.g_rockets);
+    load_value(r, s.g_sparks);
   }
 };
 

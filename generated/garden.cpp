@@ -33,6 +33,12 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Cloud& v) {
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Cloud& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Cloud& v) {
+    load_value(r, v.origin);
+  }
   struct C_Sun {
     bool f_shining;
     Pos origin;
@@ -44,6 +50,14 @@ struct Prog {
     hash_value(h, v.f_shining);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Sun& v) {
+    save_value(w, v.f_shining);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Sun& v) {
+    load_value(r, v.f_shining);
+    load_value(r, v.origin);
+  }
   struct C_Drop {
     Pos origin;
   };
@@ -52,6 +66,12 @@ struct Prog {
   }
   friend void hash_value(Hash& h, const C_Drop& v) {
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Drop& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Drop& v) {
+    load_value(r, v.origin);
   }
   struct C_Plant {
     int32_t f_stage;
@@ -66,6 +86,16 @@ struct Prog {
     hash_value(h, v.f_petal);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Plant& v) {
+    save_value(w, v.f_stage);
+    save_value(w, v.f_petal);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Plant& v) {
+    load_value(r, v.f_stage);
+    load_value(r, v.f_petal);
+    load_value(r, v.origin);
+  }
   struct C_Basket {
     int32_t f_picked;
     Pos origin;
@@ -76,6 +106,14 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Basket& v) {
     hash_value(h, v.f_picked);
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Basket& v) {
+    save_value(w, v.f_picked);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Basket& v) {
+    load_value(r, v.f_picked);
+    load_value(r, v.origin);
   }
 
   // Working buffers, one per place that builds a short-lived list.
@@ -919,6 +957,36 @@ struct Prog {
     hash_value(h, s.g_drops);
     hash_value(h, s.g_basket);
     return h.h;
+  }
+  static void save(const State& s, SnapshotWriter& w) {
+    (void)s;
+    (void)w;
+    save_value(w, s.g_GRID_SIZE);
+    save_value(w, s.g_FRAME_RATE);
+    save_value(w, s.g_background);
+    save_value(w, s.g_petals);
+    save_value(w, s.g_growChance);
+    save_value(w, s.g_maxPlants);
+    save_value(w, s.g_sun);
+    save_value(w, s.g_cloud);
+    save_value(w, s.g_plants);
+    save_value(w, s.g_drops);
+    save_value(w, s.g_basket);
+  }
+  static void load(State& s, SnapshotReader& r) {
+    (void)s;
+    (void)r;
+    load_value(r, s.g_GRID_SIZE);
+    load_value(r, s.g_FRAME_RATE);
+    load_value(r, s.g_background);
+    load_value(r, s.g_petals);
+    load_value(r, s.g_growChance);
+    load_value(r, s.g_maxPlants);
+    load_value(r, s.g_sun);
+    load_value(r, s.g_cloud);
+    load_value(r, s.g_plants);
+    load_value(r, s.g_drops);
+    load_value(r, s.g_basket);
   }
 };
 

@@ -33,6 +33,12 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Fence& v) {
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Fence& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Fence& v) {
+    load_value(r, v.origin);
+  }
   struct C_Flag {
     Pos origin;
   };
@@ -41,6 +47,12 @@ struct Prog {
   }
   friend void hash_value(Hash& h, const C_Flag& v) {
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Flag& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Flag& v) {
+    load_value(r, v.origin);
   }
   struct C_Sheep {
     bool f_penned;
@@ -53,6 +65,14 @@ struct Prog {
     hash_value(h, v.f_penned);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Sheep& v) {
+    save_value(w, v.f_penned);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Sheep& v) {
+    load_value(r, v.f_penned);
+    load_value(r, v.origin);
+  }
   struct C_Dog {
     Pos origin;
   };
@@ -61,6 +81,12 @@ struct Prog {
   }
   friend void hash_value(Hash& h, const C_Dog& v) {
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Dog& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Dog& v) {
+    load_value(r, v.origin);
   }
 
   // Working buffers, one per place that builds a short-lived list.
@@ -1690,6 +1716,34 @@ struct Prog {
     hash_value(h, s.g_sheep);
     hash_value(h, s.g_dog);
     return h.h;
+  }
+  static void save(const State& s, SnapshotWriter& w) {
+    (void)s;
+    (void)w;
+    save_value(w, s.g_GRID_SIZE);
+    save_value(w, s.g_FRAME_RATE);
+    save_value(w, s.g_background);
+    save_value(w, s.g_sheepStarts);
+    save_value(w, s.g_wanderSteps);
+    save_value(w, s.g_gate);
+    save_value(w, s.g_fences);
+    save_value(w, s.g_flags);
+    save_value(w, s.g_sheep);
+    save_value(w, s.g_dog);
+  }
+  static void load(State& s, SnapshotReader& r) {
+    (void)s;
+    (void)r;
+    load_value(r, s.g_GRID_SIZE);
+    load_value(r, s.g_FRAME_RATE);
+    load_value(r, s.g_background);
+    load_value(r, s.g_sheepStarts);
+    load_value(r, s.g_wanderSteps);
+    load_value(r, s.g_gate);
+    load_value(r, s.g_fences);
+    load_value(r, s.g_flags);
+    load_value(r, s.g_sheep);
+    load_value(r, s.g_dog);
   }
 };
 

@@ -33,6 +33,12 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Flake& v) {
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Flake& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Flake& v) {
+    load_value(r, v.origin);
+  }
   struct C_Melt {
     int32_t f_ttl;
     Pos origin;
@@ -44,6 +50,14 @@ struct Prog {
     hash_value(h, v.f_ttl);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Melt& v) {
+    save_value(w, v.f_ttl);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Melt& v) {
+    load_value(r, v.f_ttl);
+    load_value(r, v.origin);
+  }
   struct C_Rock {
     Pos origin;
   };
@@ -53,6 +67,12 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Rock& v) {
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Rock& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Rock& v) {
+    load_value(r, v.origin);
+  }
   struct C_Plow {
     Pos origin;
   };
@@ -61,6 +81,12 @@ struct Prog {
   }
   friend void hash_value(Hash& h, const C_Plow& v) {
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Plow& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Plow& v) {
+    load_value(r, v.origin);
   }
   struct C_Cloud {
     int32_t f_heavy;
@@ -72,6 +98,14 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Cloud& v) {
     hash_value(h, v.f_heavy);
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Cloud& v) {
+    save_value(w, v.f_heavy);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Cloud& v) {
+    load_value(r, v.f_heavy);
+    load_value(r, v.origin);
   }
 
   // Working buffers, one per place that builds a short-lived list.
@@ -1401,6 +1435,34 @@ struct Prog {
     hash_value(h, s.g_plow);
     hash_value(h, s.g_maxSnow);
     return h.h;
+  }
+  static void save(const State& s, SnapshotWriter& w) {
+    (void)s;
+    (void)w;
+    save_value(w, s.g_GRID_SIZE);
+    save_value(w, s.g_FRAME_RATE);
+    save_value(w, s.g_background);
+    save_value(w, s.g_time);
+    save_value(w, s.g_cloud);
+    save_value(w, s.g_rocks);
+    save_value(w, s.g_snow);
+    save_value(w, s.g_melt);
+    save_value(w, s.g_plow);
+    save_value(w, s.g_maxSnow);
+  }
+  static void load(State& s, SnapshotReader& r) {
+    (void)s;
+    (void)r;
+    load_value(r, s.g_GRID_SIZE);
+    load_value(r, s.g_FRAME_RATE);
+    load_value(r, s.g_background);
+    load_value(r, s.g_time);
+    load_value(r, s.g_cloud);
+    load_value(r, s.g_rocks);
+    load_value(r, s.g_snow);
+    load_value(r, s.g_melt);
+    load_value(r, s.g_plow);
+    load_value(r, s.g_maxSnow);
   }
 };
 

@@ -33,6 +33,12 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Burrow& v) {
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Burrow& v) {
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Burrow& v) {
+    load_value(r, v.origin);
+  }
   struct C_Mole {
     int32_t f_ttl;
     Pos origin;
@@ -43,6 +49,14 @@ struct Prog {
   friend void hash_value(Hash& h, const C_Mole& v) {
     hash_value(h, v.f_ttl);
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_Mole& v) {
+    save_value(w, v.f_ttl);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Mole& v) {
+    load_value(r, v.f_ttl);
+    load_value(r, v.origin);
   }
   struct C_Flash {
     int32_t f_glow;
@@ -55,6 +69,14 @@ struct Prog {
     hash_value(h, v.f_glow);
     hash_value(h, v.origin);
   }
+  friend void save_value(SnapshotWriter& w, const C_Flash& v) {
+    save_value(w, v.f_glow);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_Flash& v) {
+    load_value(r, v.f_glow);
+    load_value(r, v.origin);
+  }
   struct C_ScoreBar {
     int32_t f_points;
     Pos origin;
@@ -65,6 +87,14 @@ struct Prog {
   friend void hash_value(Hash& h, const C_ScoreBar& v) {
     hash_value(h, v.f_points);
     hash_value(h, v.origin);
+  }
+  friend void save_value(SnapshotWriter& w, const C_ScoreBar& v) {
+    save_value(w, v.f_points);
+    save_value(w, v.origin);
+  }
+  friend void load_value(SnapshotReader& r, C_ScoreBar& v) {
+    load_value(r, v.f_points);
+    load_value(r, v.origin);
   }
 
   // Working buffers, one per place that builds a short-lived list.
@@ -788,6 +818,38 @@ struct Prog {
     hash_value(h, s.g_won);
     hash_value(h, s.g_bar);
     return h.h;
+  }
+  static void save(const State& s, SnapshotWriter& w) {
+    (void)s;
+    (void)w;
+    save_value(w, s.g_GRID_SIZE);
+    save_value(w, s.g_FRAME_RATE);
+    save_value(w, s.g_background);
+    save_value(w, s.g_burrowSpots);
+    save_value(w, s.g_goal);
+    save_value(w, s.g_time);
+    save_value(w, s.g_burrows);
+    save_value(w, s.g_moles);
+    save_value(w, s.g_flashes);
+    save_value(w, s.g_score);
+    save_value(w, s.g_won);
+    save_value(w, s.g_bar);
+  }
+  static void load(State& s, SnapshotReader& r) {
+    (void)s;
+    (void)r;
+    load_value(r, s.g_GRID_SIZE);
+    load_value(r, s.g_FRAME_RATE);
+    load_value(r, s.g_background);
+    load_value(r, s.g_burrowSpots);
+    load_value(r, s.g_goal);
+    load_value(r, s.g_time);
+    load_value(r, s.g_burrows);
+    load_value(r, s.g_moles);
+    load_value(r, s.g_flashes);
+    load_value(r, s.g_score);
+    load_value(r, s.g_won);
+    load_value(r, s.g_bar);
   }
 };
 

@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -42,16 +43,29 @@ std::string compile_command(const fs::path& cpp, const fs::path& so) {
          " -Wl,-Bsymbolic 2>&1";
 }
 
-// The compiler, its flags and the libraries a module links all decide what a
-// cached module contains; a rebuilt library changes its size or time stamp.
+// The compiler, its flags, the libraries a module links and the runtime headers
+// it includes all decide what a cached module contains; a rebuilt library changes
+// its size or time stamp, an edited header its text.
 uint64_t cache_key(uint64_t source_hash) {
-  std::string salt = std::string(AUTUMN_CXX) + " " + AUTUMN_CXX_VERSION + " " + AUTUMN_MODULE_LIBS;
+  std::string salt = std::string(AUTUMN_CXX) + " " + AUTUMN_CXX_VERSION + " " + AUTUMN_MODULE_LIBS + " abi " +
+                     std::to_string(AUTUMN_MODULE_ABI_VERSION);
   std::istringstream libs(AUTUMN_MODULE_LIBS);
   for (std::string lib; libs >> lib;) {
     std::error_code ec;
     auto size = fs::file_size(lib, ec);
     auto stamp = fs::last_write_time(lib, ec).time_since_epoch().count();
     salt += " " + std::to_string(size) + ":" + std::to_string(stamp);
+  }
+  std::vector<fs::path> headers;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(fs::path(AUTUMN_MODULE_INCLUDE) / "runtime", ec))
+    if (entry.path().extension() == ".hpp" || entry.path().extension() == ".h") headers.push_back(entry.path());
+  std::sort(headers.begin(), headers.end());
+  for (const auto& h : headers) {
+    std::ifstream in(h, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    salt += " " + h.filename().string() + ":" + std::to_string(module_source_hash(text.str(), std::nullopt));
   }
   return module_source_hash(std::to_string(source_hash), salt);
 }

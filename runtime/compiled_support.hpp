@@ -18,9 +18,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <unordered_set>
 #include <vector>
 
@@ -193,12 +195,108 @@ void hash_value(Hash& h, const std::vector<T>& v) {
   h.mix(v.size());
   for (const T& x : v) hash_value(h, x);
 }
+// The occupancy table is not hashed: after a host render it is a function of the
+// globals, which are (and states are hashed between host steps).
 inline void hash_core(Hash& h, const Core& c, bool uses_random) {
   if (uses_random) h.mix(c.rng.state());
   hash_value(h, c.click_defined);
   hash_value(h, c.click_pos);
-  for (uint8_t b : c.occupied.grid()) h.mix(b);
-  for (uint64_t k : c.occupied.outside()) h.mix(k);
+}
+
+// Snapshots (Environment::save_state/load_state): the state that carries from
+// one step to the next as flat bytes. Left out: the working buffers, the prev_/u_
+// copies (rewritten at the start of every step) and what a render rebuilds (the
+// occupancy table, the frame); load_state renders after reading.
+struct SnapshotWriter {
+  std::vector<uint8_t>& out;
+  template <class T>
+  void raw(const T& v) {
+    const size_t n = out.size();
+    out.resize(n + sizeof v);
+    std::memcpy(out.data() + n, &v, sizeof v);
+  }
+};
+struct SnapshotReader {
+  const uint8_t* p;
+  const uint8_t* end;
+  template <class T>
+  void raw(T& v) {
+    if (static_cast<size_t>(end - p) < sizeof v) throw std::runtime_error("truncated state snapshot");
+    std::memcpy(&v, p, sizeof v);
+    p += sizeof v;
+  }
+};
+inline void save_value(SnapshotWriter& w, int32_t v) { w.raw(v); }
+inline void save_value(SnapshotWriter& w, uint8_t v) { w.raw(v); }
+inline void save_value(SnapshotWriter& w, bool v) { w.raw(static_cast<uint8_t>(v)); }
+inline void save_value(SnapshotWriter& w, const Pos& p) {
+  w.raw(p.x);
+  w.raw(p.y);
+}
+inline void save_value(SnapshotWriter& w, const Elem& e) {
+  save_value(w, e.position);
+  w.raw(e.color);
+}
+inline void save_value(SnapshotWriter&, const Unit&) {}
+template <class T>
+void save_value(SnapshotWriter& w, const std::vector<T>& v) {
+  w.raw(static_cast<uint32_t>(v.size()));
+  for (const T& x : v) save_value(w, x);
+}
+inline void load_value(SnapshotReader& r, int32_t& v) { r.raw(v); }
+inline void load_value(SnapshotReader& r, uint8_t& v) { r.raw(v); }
+inline void load_value(SnapshotReader& r, bool& v) {
+  uint8_t b = 0;
+  r.raw(b);
+  v = b != 0;
+}
+inline void load_value(SnapshotReader& r, Pos& p) {
+  r.raw(p.x);
+  r.raw(p.y);
+}
+inline void load_value(SnapshotReader& r, Elem& e) {
+  load_value(r, e.position);
+  r.raw(e.color);
+}
+inline void load_value(SnapshotReader&, Unit&) {}
+template <class T>
+void load_value(SnapshotReader& r, std::vector<T>& v) {
+  uint32_t n = 0;
+  r.raw(n);
+  if (n > static_cast<size_t>(r.end - r.p)) throw std::runtime_error("corrupt state snapshot");
+  v.resize(n);
+  if constexpr (std::is_same_v<T, bool>) {  // std::vector<bool> has no bool& elements
+    for (uint32_t i = 0; i < n; ++i) {
+      bool b = false;
+      load_value(r, b);
+      v[i] = b;
+    }
+  } else {
+    for (T& x : v) load_value(r, x);
+  }
+}
+inline void save_core(SnapshotWriter& w, const Core& c) {
+  w.raw(c.rng.state());
+  save_value(w, c.click_x);
+  save_value(w, c.click_y);
+  save_value(w, c.have_prev);
+  save_value(w, c.click_defined);
+  save_value(w, c.click_pos);
+  save_value(w, c.covered);
+  save_value(w, c.triggered);
+}
+inline void load_core(SnapshotReader& r, Core& c) {
+  uint32_t rng = 0;
+  r.raw(rng);
+  c.rng.set_state(rng);
+  c.click = c.left = c.right = c.up = c.down = false;
+  load_value(r, c.click_x);
+  load_value(r, c.click_y);
+  load_value(r, c.have_prev);
+  load_value(r, c.click_defined);
+  load_value(r, c.click_pos);
+  load_value(r, c.covered);
+  load_value(r, c.triggered);
 }
 
 // The Environment adapter for a generated Program.
@@ -228,7 +326,37 @@ class CompiledEnvironment : public Environment {
   bool failed() const override { return failed_; }
   const std::string& error() const override { return error_; }
   std::unique_ptr<Environment> clone() const override { return std::make_unique<CompiledEnvironment>(*this); }
+  bool copy_from(const Environment& other) override {
+    auto* o = dynamic_cast<const CompiledEnvironment*>(&other);
+    if (!o) return false;
+    if (o == this) return true;
+    // Member by member, leaving tables_ alone: copying the shared_ptr would make
+    // every search thread write the same reference count.
+    state_ = o->state_;
+    frame_ = o->frame_;
+    painter_ = o->painter_;
+    failed_ = o->failed_;
+    error_ = o->error_;
+    return true;
+  }
   uint64_t state_hash() const override { return failed_ ? 0 : P::hash(state_); }
+  bool save_state(std::vector<uint8_t>& out) const override {
+    if (failed_) return false;
+    SnapshotWriter w{out};
+    save_core(w, state_.core);
+    P::save(state_, w);
+    return true;
+  }
+  bool load_state(const uint8_t* data, size_t size) override {
+    return guarded([&] {
+      SnapshotReader r{data, data + size};
+      load_core(r, state_.core);
+      P::load(state_, r);
+      if (r.p != r.end) throw std::runtime_error("state snapshot has trailing bytes");
+      painter_.bind(&frame_);
+      P::render(state_, &painter_, tables_->pal);
+    });
+  }
   bool deterministic() const override { return !P::kUsesRandom; }
 
  private:

@@ -7,7 +7,7 @@
 // table read by isFreePos.
 //
 // clone() is an independent copy whose future is identical to the original's
-// (same frames for the same actions); state_hash() digests the whole hidden state
+// (same frames for the same actions), copy_from() the same into an existing one; state_hash() digests the whole hidden state
 // (RNG included, identity numbers up to renaming) so that equal hashes mean equal
 // futures, for deduplication. deterministic() is true when the program can never
 // draw a random number, so states that differ only in RNG state are equivalent.
@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "runtime/action.hpp"
 #include "runtime/frame.hpp"
@@ -46,6 +47,29 @@ class Environment {
   virtual bool failed() const = 0;
   virtual const std::string& error() const = 0;
   virtual std::unique_ptr<Environment> clone() const = 0;
+  // Makes this environment an exact copy of `other` (as clone() would), reusing
+  // this one's buffers: the search's per-successor copy without an allocation.
+  // Returns false, changing nothing, when `other` is not of the same kind (another
+  // engine or program); callers then fall back to clone().
+  virtual bool copy_from(const Environment& other) {
+    (void)other;
+    return false;
+  }
+  // Snapshots: save_state() appends a compact encoding of the state to `out`;
+  // load_state() makes this environment continue exactly as the saved one would
+  // (frame included). A snapshot is only for an environment of the same program
+  // and engine. Environments that cannot encode their state return false from
+  // save_state(); load_state() returns false for a corrupt snapshot too, with
+  // error() saying why. Search keeps its open states this way: bytes, not objects.
+  virtual bool save_state(std::vector<uint8_t>& out) const {
+    (void)out;
+    return false;
+  }
+  virtual bool load_state(const uint8_t* data, size_t size) {
+    (void)data;
+    (void)size;
+    return false;
+  }
   virtual uint64_t state_hash() const = 0;
   virtual bool deterministic() const = 0;
 };

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define AUTUMN_MODULE_ABI_VERSION 1u
+#define AUTUMN_MODULE_ABI_VERSION 2u
 
 typedef struct autumn_env autumn_env; /* opaque */
 
@@ -44,6 +44,14 @@ typedef struct autumn_module_v1 {
   autumn_env* (*clone)(const autumn_env*);
   uint64_t (*state_hash)(const autumn_env*);
   int (*deterministic)(const autumn_env*);
+  /* v2: makes dst an exact copy of src (both from this table), reusing dst's buffers. */
+  void (*copy_from)(autumn_env* dst, const autumn_env* src);
+  /* v2: snapshots. save_state points *data at an encoding of the state (owned by
+   * the module, valid until the next call on the handle) and returns its size; 0
+   * when the environment cannot encode its state. load_state: 1 restored, 0 not
+   * supported, -1 corrupt snapshot (the episode has failed; see error). */
+  uint64_t (*save_state)(const autumn_env*, const uint8_t** data);
+  int (*load_state)(autumn_env*, const uint8_t* data, uint64_t size);
 } autumn_module_v1;
 
 typedef const autumn_module_v1* (*autumn_module_entry_fn)(void);

@@ -7,7 +7,7 @@ ModuleEnvironment::ModuleEnvironment(const autumn_module_v1* table, std::shared_
 
 ModuleEnvironment::ModuleEnvironment(const autumn_module_v1* table, std::shared_ptr<void> keepalive,
                                      autumn_env* handle)
-    : table_(table), keepalive_(std::move(keepalive)), handle_(handle) {}
+    : table_(table), keepalive_(std::move(keepalive)), handle_(handle), palette_(std::make_shared<Palette>()) {}
 
 ModuleEnvironment::~ModuleEnvironment() {
   if (handle_) table_->destroy(handle_);
@@ -25,8 +25,9 @@ void ModuleEnvironment::pull() const {
   if (!stale_ || failed_) return;
   stale_ = false;
   const int n = table_->palette_size(handle_);
+  if (static_cast<int>(remap_.size()) < n && palette_.use_count() > 1) palette_ = std::make_shared<Palette>(*palette_);
   while (static_cast<int>(remap_.size()) < n)
-    remap_.push_back(palette_.id(table_->palette_name(handle_, static_cast<int>(remap_.size()))));
+    remap_.push_back(palette_->id(table_->palette_name(handle_, static_cast<int>(remap_.size()))));
   frame_.size = table_->grid_size(handle_);
   const uint16_t* cells = table_->cells(handle_);
   const size_t count = static_cast<size_t>(frame_.size) * frame_.size;
@@ -64,6 +65,39 @@ std::unique_ptr<Environment> ModuleEnvironment::clone() const {
   copy->failed_ = failed_;
   copy->error_ = error_;
   return copy;
+}
+
+bool ModuleEnvironment::copy_from(const Environment& other) {
+  auto* o = dynamic_cast<const ModuleEnvironment*>(&other);
+  if (!o || o->table_ != table_) return false;
+  if (o == this) return true;
+  table_->copy_from(handle_, o->handle_);
+  // Module palette ids may depend on the history (an embedded interpreter names
+  // colours as it meets them), so the mapping comes along; the frame is pulled
+  // again on demand. Comparing first keeps the shared count untouched in the
+  // usual case, where every copy descends from one root.
+  if (palette_ != o->palette_) palette_ = o->palette_;
+  if (remap_ != o->remap_) remap_ = o->remap_;
+  stale_ = true;
+  failed_ = o->failed_;
+  error_ = o->error_;
+  return true;
+}
+
+
+bool ModuleEnvironment::save_state(std::vector<uint8_t>& out) const {
+  if (failed_) return false;
+  const uint8_t* data = nullptr;
+  const uint64_t n = table_->save_state(handle_, &data);
+  if (n == 0) return false;
+  out.insert(out.end(), data, data + n);
+  return true;
+}
+
+bool ModuleEnvironment::load_state(const uint8_t* data, size_t size) {
+  const int ok = table_->load_state(handle_, data, size);
+  if (ok == 0) return false;
+  return sync(ok > 0 ? 1 : 0);
 }
 
 }  // namespace autumn

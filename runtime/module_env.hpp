@@ -2,7 +2,8 @@
 //
 // Owns one module environment handle. Frames are copied out of the module after
 // each reset/step and colour names mirrored into a host-side Palette, so callers
-// see an ordinary Environment.
+// see an ordinary Environment. The palette is shared between clones and copied
+// only when one of them meets a colour the others have not named yet.
 #pragma once
 #include <memory>
 #include <string>
@@ -29,7 +30,7 @@ class ModuleEnvironment : public Environment {
   }
   const Palette& palette() const override {
     pull();
-    return palette_;
+    return *palette_;
   }
   bool triggered() const override;
   int on_clause_count() const override;
@@ -37,6 +38,9 @@ class ModuleEnvironment : public Environment {
   bool failed() const override { return failed_; }
   const std::string& error() const override { return error_; }
   std::unique_ptr<Environment> clone() const override;
+  bool copy_from(const Environment& other) override;
+  bool save_state(std::vector<uint8_t>& out) const override;
+  bool load_state(const uint8_t* data, size_t size) override;
   uint64_t state_hash() const override;
   bool deterministic() const override;
 
@@ -48,7 +52,7 @@ class ModuleEnvironment : public Environment {
   const autumn_module_v1* table_;
   std::shared_ptr<void> keepalive_;
   autumn_env* handle_;
-  mutable Palette palette_;
+  mutable std::shared_ptr<Palette> palette_;  // copy-on-write between clones
   mutable std::vector<uint16_t> remap_;  // module palette id -> host palette id
   mutable Frame frame_;
   mutable bool stale_ = true;

@@ -3,6 +3,7 @@
 // wraps a table back into an Environment with ModuleEnvironment (module_env.hpp).
 #pragma once
 #include <memory>
+#include <vector>
 
 #include "runtime/environment.hpp"
 #include "runtime/module_abi.h"
@@ -11,6 +12,7 @@ namespace autumn {
 
 struct ExportedEnv {
   std::unique_ptr<Environment> env;
+  mutable std::vector<uint8_t> snapshot;  // the last save_state result
 };
 
 template <class MakeEnv>
@@ -50,6 +52,20 @@ struct ModuleExporter {
     t.clone = [](const autumn_env* h) { return wrap(env(h).clone()); };
     t.state_hash = [](const autumn_env* h) { return env(h).state_hash(); };
     t.deterministic = [](const autumn_env* h) { return env(h).deterministic() ? 1 : 0; };
+    t.copy_from = [](autumn_env* dst, const autumn_env* src) {
+      if (!env(dst).copy_from(env(src))) reinterpret_cast<ExportedEnv*>(dst)->env = env(src).clone();
+    };
+    t.save_state = [](const autumn_env* h, const uint8_t** data) -> uint64_t {
+      const auto* e = reinterpret_cast<const ExportedEnv*>(h);
+      e->snapshot.clear();
+      if (!e->env->save_state(e->snapshot)) return 0;
+      *data = e->snapshot.data();
+      return e->snapshot.size();
+    };
+    t.load_state = [](autumn_env* h, const uint8_t* data, uint64_t size) {
+      if (env(h).load_state(data, static_cast<size_t>(size))) return 1;
+      return env(h).failed() ? -1 : 0;
+    };
     return t;
   }
 };

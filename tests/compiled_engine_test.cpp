@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "compiler/analyse/program.hpp"
+#include "compiler/lower/lower.hpp"
 #include "harness/difftest.hpp"
 #include "harness/engine.hpp"
+#include "harness/policy.hpp"
 #include "harness/trace_check.hpp"
 #include "test_support.hpp"
 
@@ -58,6 +60,72 @@ TEST_P(Differential, CompiledAgreesWithInterpreter) {
 
 INSTANTIATE_TEST_SUITE_P(Programs, Differential, ::testing::ValuesIn(diff_programs()),
                          [](const auto& info) { return info.param.stem().string(); });
+
+// copy_from() and save_state()/load_state(), which the planner stores its open
+// states with: an environment overwritten by copy_from, and one restored from a
+// snapshot, must continue exactly as the original (frames, trigger, hash). Every
+// specialised program must support snapshots (embedded ones may decline).
+class CopyAndSnapshot : public ::testing::TestWithParam<std::filesystem::path> {};
+
+TEST_P(CopyAndSnapshot, KeepTheFuture) {
+  auto program = load_program_file(GetParam().string());
+  const bool specialised = lower_program(*program, "p").ok;
+  std::string why;
+  auto env = make_environment("compiled", program, &why);
+  auto copy = make_environment("compiled", program, &why);
+  auto restored = make_environment("compiled", program, &why);
+  ASSERT_TRUE(env && copy && restored) << why;
+  for (uint64_t seed : {0ull, 3ull}) {
+    ASSERT_TRUE(env->reset(seed)) << env->error();
+    RandomPolicy policy(seed + 17);
+    const size_t split = 20 + seed * 10, total = split + 60;
+    std::vector<Action> actions;
+    for (size_t i = 0; i < total; ++i) actions.push_back(policy.next(env->frame()));
+    bool ok = true;
+    for (size_t i = 0; ok && i < split; ++i) ok = env->step(actions[i]);
+    if (!ok) continue;  // programs may legitimately fail under random input
+    // Targets that have been somewhere else first: nothing of that may survive.
+    ASSERT_TRUE(copy->reset(seed + 1));
+    ASSERT_TRUE(restored->reset(seed + 2));
+    for (int k = 0; k < 3; ++k) copy->step(Action::click(k, k)), restored->step(Action{Action::Kind::Down, 0, 0});
+    ASSERT_TRUE(copy->copy_from(*env));
+    std::vector<uint8_t> bytes;
+    const bool saved = env->save_state(bytes);
+    EXPECT_TRUE(saved || !specialised) << "a specialised program must support snapshots";
+    if (saved) ASSERT_TRUE(restored->load_state(bytes.data(), bytes.size())) << restored->error();
+    auto rows = [](const Environment& e) { return frame_rows(e.frame(), e.palette()); };
+    for (size_t i = split; i <= total; ++i) {
+      if (i > split) {
+        bool a = env->step(actions[i - 1]);
+        ASSERT_EQ(a, copy->step(actions[i - 1])) << "step " << i;
+        if (saved) ASSERT_EQ(a, restored->step(actions[i - 1])) << "step " << i;
+        if (!a) break;
+      }
+      ASSERT_EQ(rows(*copy), rows(*env)) << "copy, step " << i;
+      ASSERT_EQ(copy->state_hash(), env->state_hash()) << "copy, step " << i;
+      ASSERT_EQ(copy->triggered(), env->triggered()) << "copy, step " << i;
+      if (!saved) continue;
+      ASSERT_EQ(rows(*restored), rows(*env)) << "snapshot, step " << i;
+      ASSERT_EQ(restored->state_hash(), env->state_hash()) << "snapshot, step " << i;
+      ASSERT_EQ(restored->triggered(), env->triggered()) << "snapshot, step " << i;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Programs, CopyAndSnapshot, ::testing::ValuesIn(diff_programs()),
+                         [](const auto& info) { return info.param.stem().string(); });
+
+TEST(CompiledEngine, CorruptSnapshotIsAnError) {
+  auto program = load_program_file((testing::source_dir() / "programs/breakout.au").string());
+  auto env = make_environment("compiled", program, nullptr);
+  ASSERT_TRUE(env && env->reset(0));
+  std::vector<uint8_t> bytes;
+  ASSERT_TRUE(env->save_state(bytes));
+  bytes.resize(bytes.size() / 2);
+  EXPECT_FALSE(env->load_state(bytes.data(), bytes.size()));
+  EXPECT_TRUE(env->failed());
+  EXPECT_NE(env->error().find("snapshot"), std::string::npos) << env->error();
+}
 
 TEST(CompiledEngine, BadProgramIsAnErrorNotACrash) {
   EXPECT_THROW(load_program(SourceFile{"bad.au", "(program (= x"}), CompileError);

@@ -1503,6 +1503,12 @@ std::string Lowerer::emit() {
     o << "  friend void hash_value(Hash& h, const " << cn << "& v) {\n";
     for (Sym f : c.fields) o << "    hash_value(h, v.f_" << cpp_ident(nm(f)) << ");\n";
     o << "    hash_value(h, v.origin);\n  }\n";
+    o << "  friend void save_value(SnapshotWriter& w, const " << cn << "& v) {\n";
+    for (Sym f : c.fields) o << "    save_value(w, v.f_" << cpp_ident(nm(f)) << ");\n";
+    o << "    save_value(w, v.origin);\n  }\n";
+    o << "  friend void load_value(SnapshotReader& r, " << cn << "& v) {\n";
+    for (Sym f : c.fields) o << "    load_value(r, v.f_" << cpp_ident(nm(f)) << ");\n";
+    o << "    load_value(r, v.origin);\n  }\n";
   }
   o << "\n  // Working buffers, one per place that builds a short-lived list.\n";
   o << "  struct Scratch {\n    std::vector<Elem> render_elems;\n" << scratch_fields_ << "  };\n";
@@ -1571,6 +1577,16 @@ std::string Lowerer::emit() {
   for (const auto& [sym, g] : globals_)
     if (!g.is_const_func && g.type && g.type->k != TK::Func) o << "    hash_value(h, s.g_" << cpp_ident(nm(sym)) << ");\n";
   o << "    return h.h;\n  }\n";
+  // Snapshots hold the globals only: prev_/u_ copies are rewritten at the start
+  // of every step (compiled_support.hpp, SnapshotWriter).
+  o << "  static void save(const State& s, SnapshotWriter& w) {\n    (void)s;\n    (void)w;\n";
+  for (const auto& [sym, g] : globals_)
+    if (!g.is_const_func && g.type && g.type->k != TK::Func) o << "    save_value(w, s.g_" << cpp_ident(nm(sym)) << ");\n";
+  o << "  }\n";
+  o << "  static void load(State& s, SnapshotReader& r) {\n    (void)s;\n    (void)r;\n";
+  for (const auto& [sym, g] : globals_)
+    if (!g.is_const_func && g.type && g.type->k != TK::Func) o << "    load_value(r, s.g_" << cpp_ident(nm(sym)) << ");\n";
+  o << "  }\n";
   o << "};\n\n";
   o << "const char* const Prog::kColours[] = {\n";
   for (const std::string& q : string_list_) {

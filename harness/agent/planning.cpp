@@ -2,15 +2,18 @@
 
 #include <fmt/core.h>
 
+#include <absl/container/flat_hash_set.h>
+
 #include <queue>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "harness/agent/click_model.hpp"
 
 namespace autumn::agent {
 
 namespace {
+
+using HashSet = absl::flat_hash_set<uint64_t>;
 
 struct NodeRec {
   int64_t parent;
@@ -78,6 +81,7 @@ class Planner {
       if (task_.mask.cells[i]) {
         ++counts[task_.goal.cells[i]];
         ++mask_cells_;
+        mask_index_.push_back(static_cast<uint32_t>(i));
       }
     int best = -1;
     for (const auto& [c, n] : counts)
@@ -129,7 +133,7 @@ class Planner {
   // environment is never used by two threads at once (clone() is not safe to call
   // concurrently on one environment), so clones are made by whoever owns the
   // parent: the worker expanding it (bfs) or the caller (best-first).
-  void expand_one(std::unique_ptr<Environment> e, size_t a, const std::unordered_set<uint64_t>& seen, Succ& out,
+  void expand_one(std::unique_ptr<Environment> e, size_t a, const HashSet& seen, Succ& out,
                   bool lookahead = false, bool keep_env = true) {
     if (!e->step(actions_[a])) return;
     uint64_t h = e->state_hash();
@@ -142,15 +146,6 @@ class Planner {
     out.hash = h;
     if (keep_env) out.env = std::move(e);  // else destroyed here, on the worker
     out.ok = true;
-  }
-
-  // Expands `parent` by every action into out[0..A-1]; the last successor reuses
-  // the parent itself instead of a clone.
-  void expand_all(std::unique_ptr<Environment> parent, const std::unordered_set<uint64_t>& seen, Succ* out,
-                  bool lookahead, bool keep_env) {
-    const size_t A = actions_.size();
-    for (size_t a = 0; a + 1 < A; ++a) expand_one(parent->clone(), a, seen, out[a], lookahead, keep_env);
-    expand_one(std::move(parent), A - 1, seen, out[A - 1], lookahead, keep_env);
   }
 
   // Destroys environments on the pool (freeing big object graphs is not cheap).
@@ -183,10 +178,6 @@ class Planner {
   }
 
   bool budget_left() const { return r_.nodes < opts_.nodes; }
-  // In auto mode breadth-first search gets a quarter of the budget, so that the
-  // fallback still has most of it when the goal lies beyond the depth limit.
-  bool bfs_budget_left() const { return r_.nodes < (opts_.search == "auto" ? opts_.nodes / 4 : opts_.nodes); }
-
   void reset_tree() {
     nodes_ = {{-1, -1, 0}};
     envs_.clear();
@@ -211,76 +202,174 @@ class Planner {
     --stored_;
     return std::move(envs_[id]);
   }
-  void finish(std::unordered_set<uint64_t>& seen) {
+  void finish(HashSet& seen) {
     r_.distinct += seen.size();
     envs_.clear();
     stored_ = 0;
   }
 
+  // Goal test straight on an environment's frame: palette ids map to colour-table
+  // ids through a table rebuilt only when the palette object or its size changes
+  // (compiled copies share one palette, so it is built once per search thread).
+  struct GoalTest {
+    const Palette* palette = nullptr;
+    size_t palette_size = 0;
+    std::vector<int16_t> colour_of;
+  };
+  bool at_goal(const Environment& e, GoalTest& g) const {
+    const Frame& f = e.frame();
+    const Palette& p = e.palette();
+    if (&p != g.palette || p.size() != g.palette_size) {
+      g.palette = &p;
+      g.palette_size = p.size();
+      g.colour_of.resize(p.size());
+      for (size_t i = 0; i < p.size(); ++i)
+        g.colour_of[i] = static_cast<int16_t>(task_.colours.frame_id(p.name(static_cast<uint16_t>(i))));
+    }
+    if (f.cells.size() != task_.mask.cells.size()) return false;
+    for (uint32_t i : mask_index_)
+      if (g.colour_of[f.cells[i]] != task_.goal.cells[i]) return false;
+    return true;
+  }
+
+  // Breadth-first search, layer by layer. Each parent is expanded by one thread:
+  // per action it copies the parent into the thread's scratch environment
+  // (copy_from: no allocation), steps, and hashes; a state already seen — in an
+  // earlier layer (the shared set, read-only while the threads run) or earlier
+  // in the same thread's share of the chunk — is dropped on the spot, so only new
+  // states are goal-tested and kept. Open states are kept as snapshots (a few
+  // bytes each, in one buffer per layer) when the environment supports them, else
+  // as environments up to keep_states (beyond that, replayed from the root). The
+  // results are merged in (parent, action) order, which decides duplicates across
+  // threads and the first goal found exactly as a single thread would.
   bool bfs() {
-    std::unordered_set<uint64_t> seen = {root_->state_hash()};
-    reset_tree();
-    std::vector<int64_t> frontier = {0};
+    HashSet seen;
+    seen.insert(root_->state_hash());
+    nodes_ = {{-1, -1, 0}};
+    struct Open {
+      int64_t node;
+      uint64_t offset = 0;               // snapshot in the layer's buffer
+      uint32_t size = 0;
+      std::unique_ptr<Environment> env;  // without snapshots; null: replayed
+    };
+    std::vector<uint8_t> layer_bytes, next_bytes;
+    const bool snapshots = root_->save_state(layer_bytes);
+    std::vector<Open> frontier;
+    frontier.push_back({0, 0, static_cast<uint32_t>(layer_bytes.size()), snapshots ? nullptr : root_->clone()});
+    uint64_t kept = snapshots ? 0 : 1;  // environments held by frontier + next
+    struct Worker {
+      std::unique_ptr<Environment> parent, scratch;
+      HashSet local;
+      GoalTest goal;
+      std::vector<uint8_t> bytes;  // this chunk's new states
+    };
+    std::vector<Worker> workers(pool_.size());
+    for (Worker& W : workers) W.parent = root_->clone();  // here: clones are made by one thread
+    struct Found {
+      uint64_t hash = 0;
+      bool ok = false, goal = false;
+      unsigned worker = 0;
+      uint64_t offset = 0;
+      uint32_t size = 0;
+      std::unique_ptr<Environment> env;
+    };
     const size_t A = actions_.size();
-    const size_t chunk_parents = std::max<size_t>(4 * pool_.size(), 4096 / A);
+    const uint64_t budget = opts_.search == "auto" ? opts_.nodes / 4 : opts_.nodes;
+    const size_t chunk_parents = std::max<size_t>(64 * pool_.size(), 16384 / A);
+    std::vector<Found> found;
+    auto done = [&](bool ok) {
+      r_.distinct += seen.size();
+      return ok;
+    };
     for (int depth = 1; depth <= opts_.depth; ++depth) {
-      std::vector<int64_t> next;
+      std::vector<Open> next;
+      next_bytes.clear();
       for (size_t begin = 0; begin < frontier.size(); begin += chunk_parents) {
-        if (!bfs_budget_left()) {
-          r_.note = fmt::format("bfs: node budget {} spent at depth {}",
-                                opts_.search == "auto" ? opts_.nodes / 4 : opts_.nodes, depth);
-          finish(seen);
-          return false;
+        if (r_.nodes >= budget) {
+          r_.note = fmt::format("bfs: node budget {} spent at depth {}", budget, depth);
+          return done(false);
         }
-        size_t end = std::min(frontier.size(), begin + chunk_parents);
-        size_t m = (end - begin) * A;
-        std::vector<Succ> succ(m);
+        const size_t end = std::min(frontier.size(), begin + chunk_parents);
+        const size_t m = (end - begin) * A;
+        found.clear();
+        found.resize(m);
         for (size_t p = begin; p < end; ++p)
-          if (envs_[frontier[p]]) --stored_;  // the workers take the parents' environments
-        const bool keep_env = stored_ < opts_.keep_states;
-        pool_.parallel_for_worker(end - begin, [&](size_t k, unsigned worker) {
-          int64_t id = frontier[begin + k];
-          std::unique_ptr<Environment> parent = std::move(envs_[id]);
-          if (!parent) parent = replay(id, *roots_[worker]);
-          expand_all(std::move(parent), seen, &succ[k * A], false, keep_env);
+          if (frontier[p].env) --kept;  // the threads take (and free) the parents' environments
+        const bool keep_env = !snapshots && kept < opts_.keep_states;
+        pool_.parallel_for_worker(end - begin, [&](size_t k, unsigned w) {
+          Worker& W = workers[w];
+          Open& open = frontier[begin + k];
+          std::unique_ptr<Environment> owned;
+          const Environment* parent = nullptr;
+          if (snapshots) {
+            if (!W.parent->load_state(layer_bytes.data() + open.offset, open.size))
+              throw TaskError("restoring a search state failed: " + W.parent->error());
+            parent = W.parent.get();
+          } else {
+            owned = std::move(open.env);
+            if (!owned) owned = replay(open.node, *roots_[w]);
+            parent = owned.get();
+          }
+          for (size_t a = 0; a < A; ++a) {
+            if (!W.scratch || !W.scratch->copy_from(*parent)) W.scratch = parent->clone();
+            if (!W.scratch->step(actions_[a])) continue;
+            const uint64_t h = W.scratch->state_hash();
+            if (seen.contains(h) || !W.local.insert(h).second) continue;
+            Found& f = found[k * A + a];
+            f.ok = true;
+            f.hash = h;
+            f.goal = at_goal(*W.scratch, W.goal);
+            if (snapshots) {
+              f.worker = w;
+              f.offset = W.bytes.size();
+              W.scratch->save_state(W.bytes);
+              f.size = static_cast<uint32_t>(W.bytes.size() - f.offset);
+            } else if (keep_env) {
+              f.env = std::move(W.scratch);
+            }
+          }
         });
         r_.nodes += m;
-        std::vector<std::unique_ptr<Environment>> trash;
         for (size_t i = 0; i < m; ++i) {
-          Succ& s = succ[i];
-          if (!s.ok || !seen.insert(s.hash).second) {
-            if (s.env) trash.push_back(std::move(s.env));
-            continue;
-          }
-          int64_t id = add_node(frontier[begin + i / A], i % A, depth, s.env);
-          if (s.dist.colour == 0) {
+          Found& f = found[i];
+          if (!f.ok || !seen.insert(f.hash).second) continue;
+          const int64_t id = static_cast<int64_t>(nodes_.size());
+          nodes_.push_back({frontier[begin + i / A].node, static_cast<int32_t>(i % A), depth});
+          if (f.goal) {
             r_.found = true;
             r_.plan = path_to(id);
-            finish(seen);
-            return true;
+            return done(true);
           }
-          next.push_back(id);
+          Open o{id, next_bytes.size(), f.size, nullptr};
+          if (snapshots) {
+            const uint8_t* src = workers[f.worker].bytes.data() + f.offset;
+            next_bytes.insert(next_bytes.end(), src, src + f.size);
+          } else if (f.env) {
+            o.env = std::move(f.env);
+            ++kept;
+          }
+          next.push_back(std::move(o));
         }
-        for (Succ& s : succ)
-          if (s.env) trash.push_back(std::move(s.env));
-        discard(trash);
+        for (Worker& W : workers) {
+          W.local.clear();
+          W.bytes.clear();
+        }
       }
       r_.bfs_depth_done = depth;
       frontier = std::move(next);
+      layer_bytes.swap(next_bytes);
       if (frontier.empty()) {
         r_.note = fmt::format("bfs: every reachable state seen by depth {}", depth);
-        finish(seen);
-        return false;
+        return done(false);
       }
     }
     r_.note = fmt::format("bfs: no plan of length <= {}", opts_.depth);
-    finish(seen);
-    return false;
+    return done(false);
   }
 
   bool best_first(bool prune_frames) {
-    std::unordered_set<uint64_t> seen = {root_->state_hash()};
-    std::unordered_set<uint64_t> seen_frames = {
+    HashSet seen = {root_->state_hash()};
+    HashSet seen_frames = {
         frame_digest(task_frame(root_->frame(), root_->palette(), task_.colours))};
     reset_tree();
     struct Open {
@@ -379,6 +468,7 @@ class Planner {
   std::vector<Action> actions_;
   int16_t background_ = 0;
   int mask_cells_ = 0;
+  std::vector<uint32_t> mask_index_;  // the masked cells, row-major
   std::vector<NodeRec> nodes_;
   std::vector<std::unique_ptr<Environment>> envs_;  // per node; null when not kept
   uint64_t stored_ = 0;
