@@ -207,14 +207,20 @@ inline void hash_core(Hash& h, const Core& c, bool uses_random) {
 // one step to the next as flat bytes. Left out: the working buffers, the prev_/u_
 // copies (rewritten at the start of every step) and what a render rebuilds (the
 // occupancy table, the frame); load_state renders after reading.
-struct SnapshotWriter {
-  std::vector<uint8_t>& out;
+class SnapshotWriter {
+ public:
+  explicit SnapshotWriter(std::vector<uint8_t>& out) : out_(out), n_(out.size()) {}
+  ~SnapshotWriter() { out_.resize(n_); }  // shrinking: no allocation, no fill
   template <class T>
   void raw(const T& v) {
-    const size_t n = out.size();
-    out.resize(n + sizeof v);
-    std::memcpy(out.data() + n, &v, sizeof v);
+    if (n_ + sizeof v > out_.size()) out_.resize(std::max<size_t>(2 * out_.size(), n_ + sizeof v + 256));
+    std::memcpy(out_.data() + n_, &v, sizeof v);
+    n_ += sizeof v;
   }
+
+ private:
+  std::vector<uint8_t>& out_;
+  size_t n_;  // bytes written; out_ is grown ahead in steps, trimmed to n_ at the end
 };
 struct SnapshotReader {
   const uint8_t* p;
@@ -342,9 +348,11 @@ class CompiledEnvironment : public Environment {
   uint64_t state_hash() const override { return failed_ ? 0 : P::hash(state_); }
   bool save_state(std::vector<uint8_t>& out) const override {
     if (failed_) return false;
-    SnapshotWriter w{out};
-    save_core(w, state_.core);
-    P::save(state_, w);
+    {
+      SnapshotWriter w(out);
+      save_core(w, state_.core);
+      P::save(state_, w);
+    }
     return true;
   }
   bool load_state(const uint8_t* data, size_t size) override {

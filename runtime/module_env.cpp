@@ -1,5 +1,7 @@
 #include "runtime/module_env.hpp"
 
+#include <algorithm>
+
 namespace autumn {
 
 ModuleEnvironment::ModuleEnvironment(const autumn_module_v1* table, std::shared_ptr<void> keepalive)
@@ -26,13 +28,17 @@ void ModuleEnvironment::pull() const {
   stale_ = false;
   const int n = table_->palette_size(handle_);
   if (static_cast<int>(remap_.size()) < n && palette_.use_count() > 1) palette_ = std::make_shared<Palette>(*palette_);
-  while (static_cast<int>(remap_.size()) < n)
+  while (static_cast<int>(remap_.size()) < n) {
     remap_.push_back(palette_->id(table_->palette_name(handle_, static_cast<int>(remap_.size()))));
+    remap_identity_ = remap_identity_ && remap_.back() == remap_.size() - 1;
+  }
   frame_.size = table_->grid_size(handle_);
   const uint16_t* cells = table_->cells(handle_);
   const size_t count = static_cast<size_t>(frame_.size) * frame_.size;
   frame_.cells.resize(count);
-  for (size_t i = 0; i < count; ++i) frame_.cells[i] = remap_[cells[i]];
+  if (remap_identity_) std::copy(cells, cells + count, frame_.cells.begin());
+  else
+    for (size_t i = 0; i < count; ++i) frame_.cells[i] = remap_[cells[i]];
 }
 
 bool ModuleEnvironment::reset(uint64_t seed) { return sync(table_->reset(handle_, seed)); }
@@ -60,6 +66,7 @@ std::unique_ptr<Environment> ModuleEnvironment::clone() const {
       new ModuleEnvironment(table_, keepalive_, table_->clone(handle_)));
   copy->palette_ = palette_;
   copy->remap_ = remap_;
+  copy->remap_identity_ = remap_identity_;
   copy->frame_ = frame_;
   copy->stale_ = stale_;
   copy->failed_ = failed_;
@@ -77,7 +84,10 @@ bool ModuleEnvironment::copy_from(const Environment& other) {
   // again on demand. Comparing first keeps the shared count untouched in the
   // usual case, where every copy descends from one root.
   if (palette_ != o->palette_) palette_ = o->palette_;
-  if (remap_ != o->remap_) remap_ = o->remap_;
+  if (remap_ != o->remap_) {
+    remap_ = o->remap_;
+    remap_identity_ = o->remap_identity_;
+  }
   stale_ = true;
   failed_ = o->failed_;
   error_ = o->error_;

@@ -54,6 +54,7 @@ class ModuleEnvironment : public Environment {
   autumn_env* handle_;
   mutable std::shared_ptr<Palette> palette_;  // copy-on-write between clones
   mutable std::vector<uint16_t> remap_;  // module palette id -> host palette id
+  mutable bool remap_identity_ = true;   // remap_[i] == i for all i: frames are copied as they are
   mutable Frame frame_;
   mutable bool stale_ = true;
   bool failed_ = true;

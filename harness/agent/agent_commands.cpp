@@ -4,8 +4,12 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <functional>
 #include <iostream>
+#include <thread>
 
+#include "harness/agent/bench_agent.hpp"
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/eval.hpp"
 #include "harness/agent/make_task.hpp"
@@ -21,6 +25,7 @@ struct State {
   CLI::App* solve = nullptr;
   CLI::App* make = nullptr;
   CLI::App* eval = nullptr;
+  CLI::App* bench = nullptr;
   SolveOptions solve_opts;
   std::string task_file, programs_dir, answers_file;
   unsigned threads = 0;
@@ -31,6 +36,9 @@ struct State {
   SolveOptions eval_opts;
   unsigned eval_threads = 0;
   bool eval_json = false;
+  std::vector<std::string> bench_paths;
+  BenchAgentOptions bench_opts;
+  bool bench_json = false;
 };
 
 State& state() {
@@ -60,8 +68,12 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
       ->default_val(200)
       ->check(CLI::PositiveNumber);
   cmd->add_option("--keep-states", o.keep_states,
-                  "Planning: search states kept in memory (the others are replayed from the start when needed)")
+                  "Planning: search environments kept in memory when the engine cannot snapshot states "
+                  "(the others are replayed from the start when needed)")
       ->default_val(10000);
+  cmd->add_option("--time-limit", o.time_limit, "Planning: seconds per search before giving up (0: no limit)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
 }
 
 int fail(const std::string& cmd, const std::string& why) {
@@ -128,22 +140,27 @@ int run_make(State& s) {
   }
 }
 
+// A progress bar on stderr: redrawn in place on a terminal, a line per item
+// otherwise (logs).
+std::function<void(size_t, size_t, const std::string&)> progress_bar() {
+  const bool tty = isatty(2);
+  return [tty](size_t i, size_t n, const std::string& name) {
+    const int width = 30;
+    int filled = n ? static_cast<int>(width * i / n) : width;
+    std::string bar = std::string(filled, '#') + std::string(width - filled, '-');
+    if (tty) {
+      std::cerr << "\r\033[K[" << bar << "] " << i << "/" << n << (name.empty() ? "" : " " + name)
+                << (i == n ? "\n" : "") << std::flush;
+    } else if (i < n) {
+      std::cerr << "[" << bar << "] " << i + 1 << "/" << n << " " << name << "\n";
+    }
+  };
+}
+
 int run_eval_cmd(State& s) {
   try {
     ThreadPool pool(s.eval_threads);
-    bool tty = isatty(2);
-    auto progress = [&](size_t i, size_t n, const std::string& name) {
-      const int width = 30;
-      int filled = n ? static_cast<int>(width * i / n) : width;
-      std::string bar = std::string(filled, '#') + std::string(width - filled, '-');
-      if (tty) {
-        std::cerr << "\r\033[K[" << bar << "] " << i << "/" << n << (name.empty() ? "" : " " + name)
-                  << (i == n ? "\n" : "") << std::flush;
-      } else if (i < n) {
-        std::cerr << "[" << bar << "] " << i + 1 << "/" << n << " " << name << "\n";
-      }
-    };
-    std::vector<EvalRow> rows = run_eval(s.eval_dir, s.eval_opts, pool, progress);
+    std::vector<EvalRow> rows = run_eval(s.eval_dir, s.eval_opts, pool, progress_bar());
     if (s.eval_json) std::cout << eval_json(rows).dump() << "\n";
     else fmt::print("{}", eval_table(rows));
     for (const auto& r : rows)
@@ -151,6 +168,32 @@ int run_eval_cmd(State& s) {
     return 0;
   } catch (const std::exception& e) {
     return fail("eval", e.what());
+  }
+}
+
+int run_bench_agent(State& s) {
+  try {
+    std::vector<fs::path> programs;
+    for (const std::string& p : s.bench_paths) {
+      if (!fs::is_directory(p)) {
+        programs.push_back(p);
+        continue;
+      }
+      std::vector<fs::path> found;
+      for (const auto& e : fs::directory_iterator(p))
+        if (e.path().extension() == ".sexp" || e.path().extension() == ".au") found.push_back(e.path());
+      if (found.empty()) return fail("bench-agent", "no .sexp or .au programs in " + p);
+      std::sort(found.begin(), found.end());
+      programs.insert(programs.end(), found.begin(), found.end());
+    }
+    if (s.bench_opts.threads == 0) s.bench_opts.threads = std::max(1u, std::thread::hardware_concurrency());
+    std::vector<BenchAgentRow> rows = bench_agent(programs, s.bench_opts, progress_bar());
+    if (rows.empty()) return fail("bench-agent", fmt::format("no program has GRID_SIZE {} (use --grid 0)", s.bench_opts.grid));
+    if (s.bench_json) std::cout << bench_agent_json(rows, s.bench_opts).dump() << "\n";
+    else fmt::print("{}", bench_agent_table(rows, s.bench_opts));
+    return 0;
+  } catch (const std::exception& e) {
+    return fail("bench-agent", e.what());
   }
 }
 
@@ -193,6 +236,25 @@ void add_agent_commands(CLI::App& app) {
   s.eval->add_option("DIR", s.eval_dir, "Folder of tasks")->required()->check(CLI::ExistingDirectory);
   s.eval->add_flag("--json", s.eval_json, "Print one JSON object");
   add_search_options(s.eval, s.eval_opts, s.eval_threads);
+
+  BenchAgentOptions& b = s.bench_opts;
+  s.bench = app.add_subcommand("bench-agent",
+                               "Throughput of the simulator agent: a 10,000-rollout MFP query and BFS expansion per program");
+  s.bench->add_option("PROGRAMS", s.bench_paths, "Programs, or folders of programs")->required()->check(CLI::ExistingPath);
+  s.bench->add_option("--engine", b.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("compiled");
+  s.bench->add_option("--threads", b.threads, "Threads of the MFP query and the parallel BFS run (0: all cores)")
+      ->default_val(2);
+  s.bench->add_option("--rollouts", b.rollouts, "MFP rollouts")->default_val(10000)->check(CLI::PositiveNumber);
+  s.bench->add_option("--mfp-steps", b.mfp_steps, "Actions in the MFP trajectory")->default_val(70)->check(CLI::PositiveNumber);
+  s.bench->add_option("--seed", b.seed, "Seed of the generated MFP task and of the rollouts")->default_val(1);
+  s.bench->add_option("--bfs-nodes", b.bfs_nodes, "BFS: successors to generate per run")
+      ->default_val(1000000)
+      ->check(CLI::PositiveNumber);
+  s.bench->add_option("--bfs-depth", b.bfs_depth, "BFS: depth limit")->default_val(12)->check(CLI::PositiveNumber);
+  s.bench->add_option("--seconds", b.seconds, "BFS: time limit per run")->default_val(10)->check(CLI::PositiveNumber);
+  s.bench->add_option("--grid", b.grid, "Only programs with this GRID_SIZE (0: all)")->default_val(16)->check(CLI::NonNegativeNumber);
+  s.bench->add_option("--only", b.only, "Run only one measurement")->check(CLI::IsMember({"mfp", "bfs"}));
+  s.bench->add_flag("--json", s.bench_json, "Print one JSON object");
 }
 
 int run_agent_command(const CLI::App& app) {
@@ -201,6 +263,7 @@ int run_agent_command(const CLI::App& app) {
   if (s.solve && s.solve->parsed()) return run_solve(s);
   if (s.make && s.make->parsed()) return run_make(s);
   if (s.eval && s.eval->parsed()) return run_eval_cmd(s);
+  if (s.bench && s.bench->parsed()) return run_bench_agent(s);
   return -1;
 }
 

@@ -178,6 +178,7 @@ class Planner {
   }
 
   bool budget_left() const { return r_.nodes < opts_.nodes; }
+  bool out_of_time() const { return opts_.time_limit > 0 && clock_.seconds() > opts_.time_limit; }
   void reset_tree() {
     nodes_ = {{-1, -1, 0}};
     envs_.clear();
@@ -239,9 +240,11 @@ class Planner {
   // in the same thread's share of the chunk — is dropped on the spot, so only new
   // states are goal-tested and kept. Open states are kept as snapshots (a few
   // bytes each, in one buffer per layer) when the environment supports them, else
-  // as environments up to keep_states (beyond that, replayed from the root). The
-  // results are merged in (parent, action) order, which decides duplicates across
-  // threads and the first goal found exactly as a single thread would.
+  // as environments up to keep_states (beyond that, replayed from the root).
+  // Each thread lists its new states in increasing (parent, action) order (a
+  // thread takes parents in increasing order); merging the lists in that order
+  // decides duplicates across threads and the first goal exactly as one thread
+  // would, so the plan never depends on the thread count.
   bool bfs() {
     HashSet seen;
     seen.insert(root_->state_hash());
@@ -257,26 +260,26 @@ class Planner {
     std::vector<Open> frontier;
     frontier.push_back({0, 0, static_cast<uint32_t>(layer_bytes.size()), snapshots ? nullptr : root_->clone()});
     uint64_t kept = snapshots ? 0 : 1;  // environments held by frontier + next
+    struct Fresh {
+      uint64_t index;  // (parent - begin) * A + action
+      uint64_t hash;
+      uint64_t offset;
+      uint32_t size;
+      bool goal;
+      std::unique_ptr<Environment> env;
+    };
     struct Worker {
       std::unique_ptr<Environment> parent, scratch;
       HashSet local;
       GoalTest goal;
-      std::vector<uint8_t> bytes;  // this chunk's new states
+      std::vector<uint8_t> bytes;  // snapshots of this chunk's new states
+      std::vector<Fresh> fresh;
     };
     std::vector<Worker> workers(pool_.size());
     for (Worker& W : workers) W.parent = root_->clone();  // here: clones are made by one thread
-    struct Found {
-      uint64_t hash = 0;
-      bool ok = false, goal = false;
-      unsigned worker = 0;
-      uint64_t offset = 0;
-      uint32_t size = 0;
-      std::unique_ptr<Environment> env;
-    };
     const size_t A = actions_.size();
     const uint64_t budget = opts_.search == "auto" ? opts_.nodes / 4 : opts_.nodes;
     const size_t chunk_parents = std::max<size_t>(64 * pool_.size(), 16384 / A);
-    std::vector<Found> found;
     auto done = [&](bool ok) {
       r_.distinct += seen.size();
       return ok;
@@ -289,10 +292,11 @@ class Planner {
           r_.note = fmt::format("bfs: node budget {} spent at depth {}", budget, depth);
           return done(false);
         }
+        if (out_of_time()) {
+          r_.note = fmt::format("bfs: time limit {} s reached at depth {}", opts_.time_limit, depth);
+          return done(false);
+        }
         const size_t end = std::min(frontier.size(), begin + chunk_parents);
-        const size_t m = (end - begin) * A;
-        found.clear();
-        found.resize(m);
         for (size_t p = begin; p < end; ++p)
           if (frontier[p].env) --kept;  // the threads take (and free) the parents' environments
         const bool keep_env = !snapshots && kept < opts_.keep_states;
@@ -315,26 +319,29 @@ class Planner {
             if (!W.scratch->step(actions_[a])) continue;
             const uint64_t h = W.scratch->state_hash();
             if (seen.contains(h) || !W.local.insert(h).second) continue;
-            Found& f = found[k * A + a];
-            f.ok = true;
-            f.hash = h;
-            f.goal = at_goal(*W.scratch, W.goal);
+            Fresh f{k * A + a, h, W.bytes.size(), 0, at_goal(*W.scratch, W.goal), nullptr};
             if (snapshots) {
-              f.worker = w;
-              f.offset = W.bytes.size();
               W.scratch->save_state(W.bytes);
               f.size = static_cast<uint32_t>(W.bytes.size() - f.offset);
             } else if (keep_env) {
               f.env = std::move(W.scratch);
             }
+            W.fresh.push_back(std::move(f));
           }
         });
-        r_.nodes += m;
-        for (size_t i = 0; i < m; ++i) {
-          Found& f = found[i];
-          if (!f.ok || !seen.insert(f.hash).second) continue;
+        r_.nodes += (end - begin) * A;
+        std::vector<size_t> at(workers.size(), 0);
+        for (;;) {
+          Worker* from = nullptr;
+          size_t best = 0;
+          for (size_t w = 0; w < workers.size(); ++w)
+            if (at[w] < workers[w].fresh.size() && (!from || workers[w].fresh[at[w]].index < best))
+              from = &workers[w], best = workers[w].fresh[at[w]].index;
+          if (!from) break;
+          Fresh& f = from->fresh[at[from - workers.data()]++];
+          if (!seen.insert(f.hash).second) continue;
           const int64_t id = static_cast<int64_t>(nodes_.size());
-          nodes_.push_back({frontier[begin + i / A].node, static_cast<int32_t>(i % A), depth});
+          nodes_.push_back({frontier[begin + f.index / A].node, static_cast<int32_t>(f.index % A), depth});
           if (f.goal) {
             r_.found = true;
             r_.plan = path_to(id);
@@ -342,7 +349,7 @@ class Planner {
           }
           Open o{id, next_bytes.size(), f.size, nullptr};
           if (snapshots) {
-            const uint8_t* src = workers[f.worker].bytes.data() + f.offset;
+            const uint8_t* src = from->bytes.data() + f.offset;
             next_bytes.insert(next_bytes.end(), src, src + f.size);
           } else if (f.env) {
             o.env = std::move(f.env);
@@ -353,6 +360,7 @@ class Planner {
         for (Worker& W : workers) {
           W.local.clear();
           W.bytes.clear();
+          W.fresh.clear();
         }
       }
       r_.bfs_depth_done = depth;
@@ -393,6 +401,7 @@ class Planner {
     };
     while (!open.empty()) {
       if (!budget_left()) return stop(fmt::format("best-first: node budget {} spent", opts_.nodes));
+      if (out_of_time()) return stop(fmt::format("best-first: time limit {} s reached", opts_.time_limit));
       Open top = open.top();
       open.pop();
       if (top.g >= opts_.max_plan) continue;
@@ -458,6 +467,7 @@ class Planner {
     r_.plan = plan;
   }
 
+  Stopwatch clock_;
   const Task& task_;
   const SolveOptions& opts_;
   ThreadPool& pool_;

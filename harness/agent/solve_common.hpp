@@ -24,7 +24,9 @@ struct SolveOptions {
   uint64_t nodes = 2000000;
   std::string search = "auto";      // auto | bfs | best-first
   int max_plan = 200;               // best-first depth limit
-  uint64_t keep_states = 10000;     // search states kept in memory; others are replayed
+  uint64_t keep_states = 10000;     // search environments kept in memory when the engine has no
+                                    // snapshots (save_state); others are replayed
+  double time_limit = 0;            // planning: seconds per search before giving up (0: none)
 };
 
 // The program file a task names, from opts.programs_dir or the task's default.

@@ -1,0 +1,184 @@
+#include "harness/agent/bench_agent.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+
+#include "compiler/lower/lower.hpp"
+#include "harness/agent/make_task.hpp"
+#include "harness/agent/mfp.hpp"
+#include "harness/agent/planning.hpp"
+
+namespace autumn::agent {
+
+namespace {
+
+// A planning task whose goal no frame shows: every cell masked, every goal cell
+// a colour id outside any table.
+Task unreachable_goal(const fs::path& program, int size, const ColourTable& colours) {
+  Task t;
+  t.file = program;
+  t.name = program.stem().string() + "_bench";
+  t.type = TaskType::Planning;
+  t.program = program.stem().string();
+  t.colours = colours;
+  t.goal.width = t.goal.height = size;
+  t.goal.cells.assign(static_cast<size_t>(size) * size, int16_t{32000});
+  t.mask.width = t.mask.height = size;
+  t.mask.cells.assign(static_cast<size_t>(size) * size, int16_t{1});
+  return t;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
+}
+
+std::string rate(double per_s) {
+  if (per_s >= 1e6) return fmt::format("{:.2f}M", per_s / 1e6);
+  if (per_s >= 1e3) return fmt::format("{:.0f}k", per_s / 1e3);
+  return fmt::format("{:.0f}", per_s);
+}
+
+double bfs_rate(uint64_t nodes, double seconds) { return per_second(static_cast<double>(nodes), seconds); }
+
+}  // namespace
+
+std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, const BenchAgentOptions& opts,
+                                       const std::function<void(size_t, size_t, const std::string&)>& progress) {
+  ThreadPool one(1), many(opts.threads);
+  std::vector<BenchAgentRow> rows;
+  for (size_t i = 0; i < programs.size(); ++i) {
+    const fs::path& path = programs[i];
+    progress(i, programs.size(), path.stem().string());
+    BenchAgentRow row;
+    row.program = path.stem().string();
+    try {
+      auto program = load_program_checked(path);
+      auto env = make_env_checked(opts.engine, program);
+      if (!env->reset(0)) throw TaskError("reset failed: " + env->error());
+      row.grid = env->frame().size;
+      if (opts.grid > 0 && row.grid != opts.grid) continue;
+      row.deterministic = env->deterministic();
+      row.specialised = opts.engine == "compiled" && lower_program(*program, "bench").ok;
+
+      SolveOptions so;
+      so.engine = opts.engine;
+      so.programs_dir = path.parent_path();
+      so.seed = opts.seed;
+      so.rollouts = opts.rollouts;
+      ColourTable colours;
+      if (opts.only != "bfs") try {
+        MakeTaskOptions mo;
+        mo.kind = "mfp";
+        mo.program = path;
+        mo.seed = opts.seed;
+        mo.steps = opts.mfp_steps;
+        mo.engine = opts.engine;
+        mo.extend_colours = true;
+        MadeTask made = make_task(mo, many);
+        colours = made.colours;
+        Task task = parse_task(made.task, path, made.colours);
+        MfpResult r = solve_mfp(task, so, many);
+        row.mfp_ran = true;
+        row.mfp_correct = r.expected && r.choice == *r.expected;
+        row.mfp_seconds = r.seconds;
+        row.mfp_rollouts_per_s = per_second(static_cast<double>(r.rollouts), r.seconds);
+      } catch (const std::exception& e) {
+        row.error = std::string("mfp: ") + e.what();
+      }
+
+      if (opts.only == "mfp") {
+        rows.push_back(std::move(row));
+        continue;
+      }
+      so.search = "bfs";
+      so.depth = opts.bfs_depth;
+      so.nodes = opts.bfs_nodes;
+      so.time_limit = opts.seconds;
+      Task goal = unreachable_goal(path, row.grid, colours);
+      PlanResult r1 = solve_planning(goal, so, one);
+      PlanResult rn = solve_planning(goal, so, many);
+      row.bfs_actions = r1.actions;
+      row.bfs_depth_done = r1.bfs_depth_done;
+      row.bfs_nodes_1 = r1.nodes;
+      row.bfs_seconds_1 = r1.seconds;
+      row.bfs_nodes_n = rn.nodes;
+      row.bfs_seconds_n = rn.seconds;
+    } catch (const std::exception& e) {
+      if (!row.error.empty()) row.error += "; ";
+      row.error += e.what();
+    }
+    rows.push_back(std::move(row));
+  }
+  progress(programs.size(), programs.size(), "");
+  return rows;
+}
+
+std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& o) {
+  std::string s = fmt::format("{:<34} {:>4} {:<11} {:>8} {:>10} {:>4}  {:>7} {:>5} {:>10} {:>10} {:>10}\n", "program",
+                              "grid", "code", "mfp s", "rollout/s", "ok", "actions", "depth", "bfs/s 1t",
+                              fmt::format("bfs/s {}t", o.threads), "per thread");
+  std::vector<double> mfp_s, spec_rate, emb_rate;
+  size_t mfp_ok = 0, mfp_ran = 0, fast = 0;
+  std::string slowest;
+  double slowest_s = -1;
+  for (const auto& r : rows) {
+    const std::string code = o.engine != "compiled" ? o.engine : r.specialised ? "specialised" : "embedded";
+    const double r1 = bfs_rate(r.bfs_nodes_1, r.bfs_seconds_1), rn = bfs_rate(r.bfs_nodes_n, r.bfs_seconds_n);
+    s += fmt::format("{:<34} {:>4} {:<11} {:>8} {:>10} {:>4}  {:>7} {:>5} {:>10} {:>10} {:>10}\n", r.program, r.grid,
+                     code, r.mfp_ran ? fmt::format("{:.3f}", r.mfp_seconds) : "-",
+                     r.mfp_ran ? rate(r.mfp_rollouts_per_s) : "-", r.mfp_ran ? (r.mfp_correct ? "yes" : "NO") : "-",
+                     r.bfs_actions, r.bfs_depth_done, rate(r1), rate(rn), rate(rn / std::max(1u, o.threads)));
+    if (!r.error.empty()) s += "    error: " + r.error + "\n";
+    if (r.mfp_ran) {
+      ++mfp_ran;
+      mfp_ok += r.mfp_correct;
+      mfp_s.push_back(r.mfp_seconds);
+      if (r.mfp_seconds > slowest_s) slowest_s = r.mfp_seconds, slowest = r.program;
+    }
+    if (r.bfs_nodes_1 == 0) continue;
+    (r.specialised || o.engine != "compiled" ? spec_rate : emb_rate).push_back(r1);
+    if ((r.specialised || o.engine != "compiled") && r1 >= 1e6) ++fast;
+  }
+  s += fmt::format("\nmfp ({} steps x {} rollouts, {} threads, {}): {}/{} answered correctly; median {:.3f} s, "
+                   "slowest {:.3f} s ({})\n",
+                   o.mfp_steps, o.rollouts, o.threads, o.engine, mfp_ok, mfp_ran, median(mfp_s),
+                   std::max(0.0, slowest_s), slowest.empty() ? "-" : slowest);
+  s += fmt::format("bfs successors per second on one thread ({}): median {}{}; {} of {} at least 1M/s\n",
+                   o.engine == "compiled" ? "specialised programs" : o.engine, rate(median(spec_rate)),
+                   emb_rate.empty() ? "" : fmt::format(" (embedded programs: median {})", rate(median(emb_rate))),
+                   fast, spec_rate.size());
+  return s;
+}
+
+nlohmann::json bench_agent_json(const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& o) {
+  nlohmann::json out = {{"engine", o.engine},       {"threads", o.threads},     {"rollouts", o.rollouts},
+                        {"mfp_steps", o.mfp_steps}, {"bfs_nodes", o.bfs_nodes}, {"bfs_depth", o.bfs_depth},
+                        {"programs", nlohmann::json::array()}};
+  for (const auto& r : rows) {
+    nlohmann::json j = {{"program", r.program},
+                        {"grid", r.grid},
+                        {"specialised", r.specialised},
+                        {"deterministic", r.deterministic},
+                        {"bfs_actions", r.bfs_actions},
+                        {"bfs_depth_done", r.bfs_depth_done},
+                        {"bfs_nodes_1_thread", r.bfs_nodes_1},
+                        {"bfs_seconds_1_thread", r.bfs_seconds_1},
+                        {"bfs_nodes_per_s_1_thread", bfs_rate(r.bfs_nodes_1, r.bfs_seconds_1)},
+                        {"bfs_nodes_n_threads", r.bfs_nodes_n},
+                        {"bfs_seconds_n_threads", r.bfs_seconds_n},
+                        {"bfs_nodes_per_s_n_threads", bfs_rate(r.bfs_nodes_n, r.bfs_seconds_n)}};
+    if (r.mfp_ran) {
+      j["mfp_seconds"] = r.mfp_seconds;
+      j["mfp_rollouts_per_s"] = r.mfp_rollouts_per_s;
+      j["mfp_correct"] = r.mfp_correct;
+    }
+    if (!r.error.empty()) j["error"] = r.error;
+    out["programs"].push_back(j);
+  }
+  return out;
+}
+
+}  // namespace autumn::agent
