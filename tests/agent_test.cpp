@@ -398,6 +398,36 @@ TEST(AgentMakeTask, PlanningRoundTrip) {
     EXPECT_LE(r.plan.size(), 4u) << program;
     EXPECT_TRUE(r.verified);
     EXPECT_TRUE(replays_to_goal(task, r.plan)) << program;
+    // The compiled engine searches over snapshots (the interpreter over kept
+    // environments) and orders layers by hash shard: another plan may win, but
+    // it is a shortest one too.
+    SolveOptions compiled;
+    compiled.engine = "compiled";
+    PlanResult c = solve_planning(task, compiled, pool);
+    ASSERT_TRUE(c.found) << program << "\n" << planning_summary(c);
+    EXPECT_TRUE(c.shortest);
+    EXPECT_EQ(c.plan.size(), r.plan.size()) << program;
+    EXPECT_TRUE(replays_to_goal(task, c.plan)) << program;
+  }
+}
+
+// Goals made by clicks spread over the grid: a full-width BFS cannot go past two
+// layers, the focused stages (clicks near the cells the goal changes) solve them.
+TEST(AgentPlanning, FocusedClicksReachSpreadOutGoals) {
+  fs::path root = scratch("focused");
+  for (const char* program : {"snowplow", "garden"}) {
+    fs::path file = generate(root, "planning", program, 1, 6);
+    Task task = load_task(file);
+    SolveOptions o;
+    o.engine = "compiled";
+    ThreadPool two(2), one(1);
+    PlanResult r = solve_planning(task, o, two);
+    ASSERT_TRUE(r.found) << program << "\n" << planning_summary(r);
+    EXPECT_NE(r.method.find("clicks within"), std::string::npos) << r.method;
+    EXPECT_EQ(r.shortest, r.plan.size() <= 2u) << "only one full layer is searched";
+    EXPECT_TRUE(r.verified);
+    EXPECT_TRUE(replays_to_goal(task, r.plan)) << program;
+    EXPECT_EQ(solve_planning(task, o, one).plan, r.plan) << "the plan must not depend on the thread count";
   }
 }
 
@@ -488,6 +518,25 @@ TEST(AgentCli, SolveAndErrors) {
 
   CliRun usage = cli("make-task riddle " + (ice_dir() / "programs/ice.sexp").string());
   EXPECT_EQ(usage.status, 2);
+}
+
+TEST(AgentCli, BenchAgentPrintsFigures) {
+  const std::string program = (autumn::testing::source_dir() / "programs" / "frog_crossing.au").string();
+  CliRun j = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --json");
+  ASSERT_EQ(j.status, 0) << j.out;
+  auto out = nlohmann::json::parse(j.out);
+  ASSERT_EQ(out["programs"].size(), 1u);
+  const auto& row = out["programs"][0];
+  EXPECT_EQ(row["program"], "frog_crossing");
+  EXPECT_EQ(row["mfp_correct"], true);
+  EXPECT_GE(row["bfs_nodes_1_thread"].get<uint64_t>(), 20000u);
+  EXPECT_GT(row["bfs_nodes_per_s_1_thread"].get<double>(), 0);
+  CliRun text = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000");
+  ASSERT_EQ(text.status, 0) << text.out;
+  EXPECT_NE(text.out.find("bfs successors per second on one thread"), std::string::npos) << text.out;
+  CliRun none = cli("bench-agent " + program + " --grid 7");
+  EXPECT_EQ(none.status, 1);
+  EXPECT_NE(none.out.find("no program has GRID_SIZE 7"), std::string::npos) << none.out;
 }
 
 }  // namespace

@@ -47,7 +47,9 @@ State& state() {
 }
 
 void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
-  cmd->add_option("--engine", o.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("interp");
+  cmd->add_option("--engine", o.engine, "Execution engine (interp: the tree-walking interpreter, for comparison)")
+      ->check(CLI::IsMember(engine_names()))
+      ->default_val("compiled");
   cmd->add_option("--rollouts", o.rollouts, "MFP rollouts; particles for stochastic change detection")
       ->default_val(10000)
       ->check(CLI::PositiveNumber);
@@ -60,7 +62,7 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
       ->check(CLI::IsMember({"novelty", "random"}))
       ->default_val("novelty");
   cmd->add_option("--depth", o.depth, "Planning: BFS depth limit")->default_val(12)->check(CLI::NonNegativeNumber);
-  cmd->add_option("--nodes", o.nodes, "Planning: node budget")->default_val(2000000)->check(CLI::PositiveNumber);
+  cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(10000000)->check(CLI::PositiveNumber);
   cmd->add_option("--search", o.search, "Planning: bfs (shortest), best-first, or auto (bfs, then best-first)")
       ->check(CLI::IsMember({"auto", "bfs", "best-first"}))
       ->default_val("auto");
@@ -230,7 +232,7 @@ void add_agent_commands(CLI::App& app) {
                    "Append colours missing from the colour table (and write the table next to the task)");
   s.make->add_option("--engine", s.make_opts.engine, "Execution engine")
       ->check(CLI::IsMember(engine_names()))
-      ->default_val("interp");
+      ->default_val("compiled");
 
   s.eval = app.add_subcommand("eval", "Solve every task in a folder (recursively) and tabulate the scores");
   s.eval->add_option("DIR", s.eval_dir, "Folder of tasks")->required()->check(CLI::ExistingDirectory);

@@ -28,19 +28,34 @@ struct Episode {
   Palette palette;            // the final palette covers every frame
 };
 
-// Runs `steps` random actions; nullopt when the program fails on the way.
-std::optional<Episode> random_episode(Environment& env, uint64_t env_seed, int steps, std::mt19937_64& rng) {
+// Runs `steps` random actions. An action under which the program fails is taken
+// back (the step runs on a copy) and another one drawn, up to 20 times per step;
+// nullopt (with the last error in `error`) when no action goes through. Programs
+// that never fail draw exactly the actions they always did.
+std::optional<Episode> random_episode(Environment& env, uint64_t env_seed, int steps, std::mt19937_64& rng,
+                                      std::string* error = nullptr) {
   Episode ep;
   if (!env.reset(env_seed)) throw TaskError(env.error());
   int grid = env.frame().size;
   ep.frames.push_back(env.frame());
+  std::unique_ptr<Environment> cur = env.clone();
   for (int t = 0; t < steps; ++t) {
-    Action a = random_action(rng, grid);
-    if (!env.step(a)) return std::nullopt;
-    ep.actions.push_back(a);
-    ep.frames.push_back(env.frame());
+    bool stepped = false;
+    for (int tries = 0; tries < 20 && !stepped; ++tries) {
+      Action a = random_action(rng, grid);
+      auto next = cur->clone();
+      if (!next->step(a)) {
+        if (error) *error = next->error();
+        continue;
+      }
+      cur = std::move(next);
+      ep.actions.push_back(a);
+      ep.frames.push_back(cur->frame());
+      stepped = true;
+    }
+    if (!stepped) return std::nullopt;
   }
-  ep.palette = env.palette();
+  ep.palette = cur->palette();
   return ep;
 }
 
@@ -184,8 +199,12 @@ MadeTask make_planning(const MakeTaskOptions& opts, std::shared_ptr<const Progra
   MadeTask made;
   std::mt19937_64 rng(opts.seed);
   auto env = make_env_checked(opts.engine, program);
-  for (int attempt = 0; attempt < 50; ++attempt) {
-    std::optional<Episode> ep = random_episode(*env, opts.env_seed, opts.steps, rng);
+  std::string error;
+  // Puzzles that react only to rare inputs (a peg, then the right hole) need many
+  // draws; a draw costs K steps.
+  const int attempts = 2000;
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    std::optional<Episode> ep = random_episode(*env, opts.env_seed, opts.steps, rng, &error);
     if (!ep) continue;
     const Frame& first = ep->frames.front();
     const Frame& goal = ep->frames.back();
@@ -214,8 +233,9 @@ MadeTask make_planning(const MakeTaskOptions& opts, std::shared_ptr<const Progra
     made.colours = colours;
     return made;
   }
-  throw TaskError(fmt::format("no random {}-step action sequence changes the frame of program '{}'", opts.steps,
-                              opts.program.stem().string()));
+  throw TaskError(fmt::format("no random {}-step action sequence ({} tried) changes the frame of program '{}'{}",
+                              opts.steps, attempts, opts.program.stem().string(),
+                              error.empty() ? "" : "; some actions made it fail: " + error));
 }
 
 bool is_grid(const json& j) {

@@ -4,6 +4,7 @@
 
 #include <absl/container/flat_hash_set.h>
 
+#include <atomic>
 #include <queue>
 #include <unordered_map>
 
@@ -52,16 +53,72 @@ class Planner {
     const std::string& search = opts_.search;
     if (search != "auto" && search != "bfs" && search != "best-first")
       throw TaskError("unknown search '" + search + "' (auto, bfs, best-first)");
-    if (search != "best-first") {
+    const uint64_t N = opts_.nodes;
+    if (search == "bfs") {
       r_.method = "bfs";
-      if (bfs()) {
-        r_.shortest = true;
-        return;
+      r_.shortest = bfs(opts_.depth, N);
+      return;
+    }
+    if (search == "auto") {
+      r_.method = "bfs";
+      if (use != ClickUse::Position) {
+        if (bfs(opts_.depth, N / 4)) {
+          r_.shortest = true;
+          return;
+        }
+      } else {
+        // Clicks on every cell make full layers beyond the first unaffordable (and
+        // on a slow engine even the second): the full action set proves plans of
+        // one action shortest; then clicks are focused near the cells where the
+        // goal differs from the initial frame (what a click changes is usually
+        // near it), widening, and then on the goal region (the mask's bounding
+        // box). A focused plan one action longer than the deepest full layer
+        // searched is still proven shortest; longer ones are not.
+        if (bfs(std::min(1, opts_.depth), N / 10)) {
+          r_.shortest = true;
+          return;
+        }
+        const int proven = r_.bfs_depth_done;
+        const std::vector<Action> all = actions_;
+        const std::vector<uint32_t> changed = changed_cells();
+        struct Focus {
+          const char* what;
+          std::vector<Action> actions;
+        };
+        std::vector<Focus> stages;
+        stages.push_back({"clicks on the cells the goal changes", focused_actions(all, changed, 0, false)});
+        stages.push_back({"clicks whose effect reaches the cells the goal changes", reaching_actions(all, changed)});
+        stages.push_back({"clicks within 1 of the cells the goal changes", focused_actions(all, changed, 1, false)});
+        stages.push_back({"clicks within 3 of the cells the goal changes", focused_actions(all, changed, 3, false)});
+        stages.push_back({"clicks in the goal region", focused_actions(all, mask_index_, 0, true)});
+        std::vector<std::vector<Action>> tried;
+        for (Focus& f : stages) {
+          if (f.actions.size() == all.size() || std::find(tried.begin(), tried.end(), f.actions) != tried.end()) continue;
+          tried.push_back(f.actions);
+          actions_ = f.actions;
+          if (bfs(opts_.depth, r_.nodes + N / 8)) {
+            r_.method = std::string("bfs, ") + f.what;
+            r_.shortest = r_.plan.size() <= static_cast<size_t>(proven) + 1;
+            return;
+          }
+          if (out_of_time()) break;
+        }
+        // Goals that take many clicks (things that move after being placed) are
+        // too deep for breadth-first: best-first with clicks near the changes, on
+        // half of what is left, then on the full action set.
+        actions_ = focused_actions(all, changed, 1, false);
+        if (actions_.size() < all.size() && !out_of_time()) {
+          r_.method = "best-first, clicks within 1 of the cells the goal changes";
+          if (best_first(true, r_.nodes + (N - std::min(N, r_.nodes)) / 2)) {
+            shorten();
+            return;
+          }
+        }
+        actions_ = all;
       }
-      if (search == "bfs") return;
     }
     r_.method = "best-first";
-    if (best_first(true) || (budget_left() && best_first(false))) shorten();
+    if (best_first(true, N) || (budget_left() && best_first(false, N))) shorten();
   }
 
  private:
@@ -233,38 +290,121 @@ class Planner {
     return true;
   }
 
-  // Breadth-first search, layer by layer. Each parent is expanded by one thread:
-  // per action it copies the parent into the thread's scratch environment
-  // (copy_from: no allocation), steps, and hashes; a state already seen — in an
-  // earlier layer (the shared set, read-only while the threads run) or earlier
-  // in the same thread's share of the chunk — is dropped on the spot, so only new
-  // states are goal-tested and kept. Open states are kept as snapshots (a few
-  // bytes each, in one buffer per layer) when the environment supports them, else
-  // as environments up to keep_states (beyond that, replayed from the root).
-  // Each thread lists its new states in increasing (parent, action) order (a
-  // thread takes parents in increasing order); merging the lists in that order
-  // decides duplicates across threads and the first goal exactly as one thread
-  // would, so the plan never depends on the thread count.
-  bool bfs() {
-    HashSet seen;
-    seen.insert(root_->state_hash());
+  // The masked cells where the goal differs from the initial frame.
+  std::vector<uint32_t> changed_cells() const {
+    TaskFrame f = task_frame(root_->frame(), root_->palette(), task_.colours);
+    std::vector<uint32_t> out;
+    for (uint32_t i : mask_index_)
+      if (i < f.size() && f[i] != task_.goal.cells[i]) out.push_back(i);
+    return out;
+  }
+
+  // The non-click actions of `all`, and its clicks within Chebyshev distance r of
+  // one of `cells` — or, with `box`, of their bounding box.
+  std::vector<Action> focused_actions(const std::vector<Action>& all, const std::vector<uint32_t>& cells, int r,
+                                      bool box) const {
+    std::vector<uint8_t> near(static_cast<size_t>(size_) * size_, 0);
+    auto mark = [&](int x0, int y0, int x1, int y1) {
+      for (int y = std::max(0, y0 - r); y <= std::min(size_ - 1, y1 + r); ++y)
+        for (int x = std::max(0, x0 - r); x <= std::min(size_ - 1, x1 + r); ++x) near[static_cast<size_t>(y) * size_ + x] = 1;
+    };
+    int bx0 = size_, by0 = size_, bx1 = -1, by1 = -1;
+    for (uint32_t i : cells) {
+      const int x = static_cast<int>(i) % size_, y = static_cast<int>(i) / size_;
+      if (box) bx0 = std::min(bx0, x), by0 = std::min(by0, y), bx1 = std::max(bx1, x), by1 = std::max(by1, y);
+      else mark(x, y, x, y);
+    }
+    if (box && bx1 >= 0) mark(bx0, by0, bx1, by1);
+    std::vector<Action> out;
+    for (const Action& a : all)
+      if (a.kind != Action::Kind::Click ||
+          (a.x >= 0 && a.y >= 0 && a.x < size_ && a.y < size_ && near[static_cast<size_t>(a.y) * size_ + a.x]))
+        out.push_back(a);
+    return out;
+  }
+
+  // The non-click actions of `all`, and the clicks whose effect, from the initial
+  // state, reaches one of `cells`: the click, then noops, against noops alone,
+  // for up to `depth` steps (2 * GRID_SIZE at most); a click counts when a frame
+  // differs from the baseline's at one of the cells. A falling block lands, a
+  // spreading fill arrives, a button recolours something far away.
+  std::vector<Action> reaching_actions(const std::vector<Action>& all, const std::vector<uint32_t>& cells) const {
+    const int steps = std::max(1, std::min(opts_.depth, 2 * size_));
+    std::vector<TaskFrame> baseline;
+    {
+      auto e = root_->clone();
+      for (int t = 0; t < steps && e->step(Action::noop()); ++t)
+        baseline.push_back(task_frame(e->frame(), e->palette(), task_.colours));
+    }
+    std::vector<Action> clicks;
+    for (const Action& a : all)
+      if (a.kind == Action::Kind::Click) clicks.push_back(a);
+    std::vector<uint8_t> reaches(clicks.size(), 0);
+    std::vector<std::unique_ptr<Environment>> envs;
+    for (size_t i = 0; i < clicks.size(); ++i) envs.push_back(root_->clone());  // cloned here: one thread
+    pool_.parallel_for(clicks.size(), [&](size_t i) {
+      Environment& e = *envs[i];
+      for (size_t t = 0; t < baseline.size() && !reaches[i]; ++t) {
+        if (!e.step(t == 0 ? clicks[i] : Action::noop())) break;
+        TaskFrame f = task_frame(e.frame(), e.palette(), task_.colours);
+        for (uint32_t c : cells)
+          if (c < f.size() && f[c] != baseline[t][c]) reaches[i] = 1;
+      }
+      envs[i].reset();
+    });
+    std::vector<Action> out;
+    size_t k = 0;
+    for (const Action& a : all)
+      if (a.kind != Action::Kind::Click || reaches[k++]) out.push_back(a);
+    return out;
+  }
+
+  // Breadth-first search, layer by layer, in chunks of parents, three parallel
+  // phases per chunk:
+  //  expand: each parent is expanded by one thread; per action it copies the
+  //    parent into the thread's scratch environment (copy_from: no allocation),
+  //    steps and hashes. A state seen in an earlier chunk (the shared sets,
+  //    read-only now) or earlier in the same thread's share of this chunk is
+  //    dropped on the spot; new ones are goal-tested, saved as a snapshot into
+  //    the thread's byte buffer (or kept as an environment when the engine has
+  //    no snapshots), and listed under their hash's shard.
+  //  dedup: per shard, the threads' lists are merged in (parent, action) order
+  //    and inserted into that shard's seen set: the first occurrence wins.
+  //  place: winners become nodes and next-layer entries, shard by shard at
+  //    offsets fixed beforehand.
+  // The seen set is split into shards so that dedup runs in parallel; the
+  // snapshots stay in the buffers the threads wrote (one per thread and chunk).
+  // Which state wins, the first goal (lowest (parent, action) among winners) and
+  // the order of the next layer (shard, then (parent, action)) do not depend on
+  // the thread count, so neither does the plan. Chunk size does not either.
+  static constexpr int kShardBits = 6;
+  static constexpr size_t kShards = size_t{1} << kShardBits;
+  static size_t shard_of(uint64_t h) { return static_cast<size_t>(h >> (64 - kShardBits)); }
+
+  bool bfs(int max_depth, uint64_t budget) {
+    std::vector<HashSet> seen(kShards);
+    const uint64_t root_hash = root_->state_hash();
+    seen[shard_of(root_hash)].insert(root_hash);
     nodes_ = {{-1, -1, 0}};
     struct Open {
-      int64_t node;
-      uint64_t offset = 0;               // snapshot in the layer's buffer
+      int64_t node = 0;
+      uint32_t buffer = 0;               // snapshot: layer buffer, offset, size
       uint32_t size = 0;
+      uint64_t offset = 0;
       std::unique_ptr<Environment> env;  // without snapshots; null: replayed
     };
-    std::vector<uint8_t> layer_bytes, next_bytes;
-    const bool snapshots = root_->save_state(layer_bytes);
-    std::vector<Open> frontier;
-    frontier.push_back({0, 0, static_cast<uint32_t>(layer_bytes.size()), snapshots ? nullptr : root_->clone()});
+    std::vector<std::vector<uint8_t>> layer_buffers(1), next_buffers;
+    const bool snapshots = root_->save_state(layer_buffers[0]);
+    std::vector<Open> frontier(1);
+    frontier[0].size = static_cast<uint32_t>(layer_buffers[0].size());
+    if (!snapshots) frontier[0].env = root_->clone();
     uint64_t kept = snapshots ? 0 : 1;  // environments held by frontier + next
     struct Fresh {
       uint64_t index;  // (parent - begin) * A + action
       uint64_t hash;
       uint64_t offset;
       uint32_t size;
+      uint32_t buffer;
       bool goal;
       std::unique_ptr<Environment> env;
     };
@@ -273,40 +413,52 @@ class Planner {
       HashSet local;
       GoalTest goal;
       std::vector<uint8_t> bytes;  // snapshots of this chunk's new states
-      std::vector<Fresh> fresh;
+      std::vector<std::vector<Fresh>> fresh = std::vector<std::vector<Fresh>>(kShards);
     };
     std::vector<Worker> workers(pool_.size());
     for (Worker& W : workers) W.parent = root_->clone();  // here: clones are made by one thread
     const size_t A = actions_.size();
-    const uint64_t budget = opts_.search == "auto" ? opts_.nodes / 4 : opts_.nodes;
-    const size_t chunk_parents = std::max<size_t>(64 * pool_.size(), 16384 / A);
+    const size_t chunk_parents = std::max<size_t>(256, 65536 / A);
+    std::vector<std::vector<Fresh*>> won(kShards);
+    std::vector<uint64_t> first_goal(kShards);
     auto done = [&](bool ok) {
-      r_.distinct += seen.size();
+      for (const HashSet& s : seen) r_.distinct += s.size();
       return ok;
     };
-    for (int depth = 1; depth <= opts_.depth; ++depth) {
+    auto note = [&](const std::string& why) {
+      r_.note += (r_.note.empty() ? "" : "; ") + fmt::format("bfs ({} actions): {}", A, why);
+    };
+    for (int depth = 1; depth <= max_depth; ++depth) {
       std::vector<Open> next;
-      next_bytes.clear();
+      next_buffers.clear();
       for (size_t begin = 0; begin < frontier.size(); begin += chunk_parents) {
         if (r_.nodes >= budget) {
-          r_.note = fmt::format("bfs: node budget {} spent at depth {}", budget, depth);
+          note(fmt::format("node budget spent at depth {}", depth));
           return done(false);
         }
         if (out_of_time()) {
-          r_.note = fmt::format("bfs: time limit {} s reached at depth {}", opts_.time_limit, depth);
+          note(fmt::format("time limit {} s reached at depth {}", opts_.time_limit, depth));
           return done(false);
         }
         const size_t end = std::min(frontier.size(), begin + chunk_parents);
         for (size_t p = begin; p < end; ++p)
           if (frontier[p].env) --kept;  // the threads take (and free) the parents' environments
         const bool keep_env = !snapshots && kept < opts_.keep_states;
+        const uint32_t buffer_base = static_cast<uint32_t>(next_buffers.size());
+        // expand
+        std::atomic<bool> timed_out{false};
         pool_.parallel_for_worker(end - begin, [&](size_t k, unsigned w) {
+          // A chunk can take long on a slow engine: the time limit is also checked per parent.
+          if (timed_out.load(std::memory_order_relaxed) || out_of_time()) {
+            timed_out = true;
+            return;
+          }
           Worker& W = workers[w];
           Open& open = frontier[begin + k];
           std::unique_ptr<Environment> owned;
           const Environment* parent = nullptr;
           if (snapshots) {
-            if (!W.parent->load_state(layer_bytes.data() + open.offset, open.size))
+            if (!W.parent->load_state(layer_buffers[open.buffer].data() + open.offset, open.size))
               throw TaskError("restoring a search state failed: " + W.parent->error());
             parent = W.parent.get();
           } else {
@@ -318,64 +470,92 @@ class Planner {
             if (!W.scratch || !W.scratch->copy_from(*parent)) W.scratch = parent->clone();
             if (!W.scratch->step(actions_[a])) continue;
             const uint64_t h = W.scratch->state_hash();
-            if (seen.contains(h) || !W.local.insert(h).second) continue;
-            Fresh f{k * A + a, h, W.bytes.size(), 0, at_goal(*W.scratch, W.goal), nullptr};
+            if (seen[shard_of(h)].contains(h) || !W.local.insert(h).second) continue;
+            Fresh f{k * A + a, h, W.bytes.size(), 0, buffer_base + w, at_goal(*W.scratch, W.goal), nullptr};
             if (snapshots) {
               W.scratch->save_state(W.bytes);
               f.size = static_cast<uint32_t>(W.bytes.size() - f.offset);
             } else if (keep_env) {
               f.env = std::move(W.scratch);
             }
-            W.fresh.push_back(std::move(f));
+            W.fresh[shard_of(h)].push_back(std::move(f));
           }
         });
-        r_.nodes += (end - begin) * A;
-        std::vector<size_t> at(workers.size(), 0);
-        for (;;) {
-          Worker* from = nullptr;
-          size_t best = 0;
-          for (size_t w = 0; w < workers.size(); ++w)
-            if (at[w] < workers[w].fresh.size() && (!from || workers[w].fresh[at[w]].index < best))
-              from = &workers[w], best = workers[w].fresh[at[w]].index;
-          if (!from) break;
-          Fresh& f = from->fresh[at[from - workers.data()]++];
-          if (!seen.insert(f.hash).second) continue;
-          const int64_t id = static_cast<int64_t>(nodes_.size());
-          nodes_.push_back({frontier[begin + f.index / A].node, static_cast<int32_t>(f.index % A), depth});
-          if (f.goal) {
-            r_.found = true;
-            r_.plan = path_to(id);
-            return done(true);
-          }
-          Open o{id, next_bytes.size(), f.size, nullptr};
-          if (snapshots) {
-            const uint8_t* src = from->bytes.data() + f.offset;
-            next_bytes.insert(next_bytes.end(), src, src + f.size);
-          } else if (f.env) {
-            o.env = std::move(f.env);
-            ++kept;
-          }
-          next.push_back(std::move(o));
+        if (timed_out) {
+          note(fmt::format("time limit {} s reached at depth {}", opts_.time_limit, depth));
+          return done(false);
         }
+        r_.nodes += (end - begin) * A;
         for (Worker& W : workers) {
           W.local.clear();
-          W.bytes.clear();
-          W.fresh.clear();
+          next_buffers.push_back(std::move(W.bytes));
+          W.bytes = {};
         }
+        // dedup
+        pool_.parallel_for(kShards, [&](size_t sh) {
+          won[sh].clear();
+          first_goal[sh] = UINT64_MAX;
+          std::vector<size_t> at(workers.size(), 0);
+          for (;;) {
+            Fresh* f = nullptr;
+            size_t from = 0;
+            for (size_t w = 0; w < workers.size(); ++w) {
+              const auto& list = workers[w].fresh[sh];
+              if (at[w] < list.size() && (!f || list[at[w]].index < f->index)) f = &workers[w].fresh[sh][at[w]], from = w;
+            }
+            if (!f) break;
+            ++at[from];
+            if (!seen[sh].insert(f->hash).second) continue;
+            won[sh].push_back(f);
+            if (f->goal && first_goal[sh] == UINT64_MAX) first_goal[sh] = f->index;
+          }
+        });
+        uint64_t goal_index = UINT64_MAX;
+        for (uint64_t g : first_goal) goal_index = std::min(goal_index, g);
+        if (goal_index != UINT64_MAX) {
+          const int64_t id = static_cast<int64_t>(nodes_.size());
+          nodes_.push_back({frontier[begin + goal_index / A].node, static_cast<int32_t>(goal_index % A), depth});
+          r_.found = true;
+          r_.plan = path_to(id);
+          return done(true);
+        }
+        // place
+        std::vector<size_t> offset(kShards + 1, 0);
+        for (size_t sh = 0; sh < kShards; ++sh) offset[sh + 1] = offset[sh] + won[sh].size();
+        const size_t node_base = nodes_.size(), next_base = next.size();
+        nodes_.resize(node_base + offset[kShards]);
+        next.resize(next_base + offset[kShards]);
+        pool_.parallel_for(kShards, [&](size_t sh) {
+          for (size_t j = 0; j < won[sh].size(); ++j) {
+            Fresh& f = *won[sh][j];
+            const size_t slot = offset[sh] + j;
+            nodes_[node_base + slot] = {frontier[begin + f.index / A].node, static_cast<int32_t>(f.index % A), depth};
+            Open& o = next[next_base + slot];
+            o.node = static_cast<int64_t>(node_base + slot);
+            o.buffer = f.buffer;
+            o.offset = f.offset;
+            o.size = f.size;
+            o.env = std::move(f.env);
+          }
+        });
+        if (!snapshots)
+          for (size_t i = next_base; i < next.size(); ++i) kept += next[i].env ? 1 : 0;
+        for (Worker& W : workers)
+          for (auto& list : W.fresh) list.clear();
       }
       r_.bfs_depth_done = depth;
       frontier = std::move(next);
-      layer_bytes.swap(next_bytes);
+      layer_buffers.swap(next_buffers);
       if (frontier.empty()) {
-        r_.note = fmt::format("bfs: every reachable state seen by depth {}", depth);
+        note(fmt::format("every reachable state seen by depth {}", depth));
         return done(false);
       }
     }
-    r_.note = fmt::format("bfs: no plan of length <= {}", opts_.depth);
+    note(fmt::format("no plan of length <= {}", max_depth));
     return done(false);
   }
 
-  bool best_first(bool prune_frames) {
+  bool best_first(bool prune_frames, uint64_t budget) {
     HashSet seen = {root_->state_hash()};
     HashSet seen_frames = {
         frame_digest(task_frame(root_->frame(), root_->palette(), task_.colours))};
@@ -400,7 +580,7 @@ class Planner {
       return false;
     };
     while (!open.empty()) {
-      if (!budget_left()) return stop(fmt::format("best-first: node budget {} spent", opts_.nodes));
+      if (r_.nodes >= budget) return stop(fmt::format("best-first ({} actions): node budget spent", A));
       if (out_of_time()) return stop(fmt::format("best-first: time limit {} s reached", opts_.time_limit));
       Open top = open.top();
       open.pop();

@@ -6,13 +6,16 @@
 //
 // bfs: breadth-first search over the full action set (click_model.hpp: noop,
 // four arrows, clicks — merged when the program provably cannot tell click
-// positions apart), deduplicating states by state_hash(). Layers are expanded on
-// the thread pool, a worker per parent, one clone per successor (the last
-// successor reuses the parent); successors are merged in (parent, action) order,
-// so the plan — the first goal frame found in that order, hence a shortest plan —
-// never depends on the thread count. Limits: --depth, --nodes. (An Environment is
-// never touched by two threads at once: clone() of one environment from several
-// threads is not safe with the interpreter's reference counts.)
+// positions apart), deduplicating states by state_hash(). Each layer is expanded
+// in chunks on the thread pool: a thread copies the parent into a scratch
+// environment per action (copy_from), steps and hashes, and keeps only states not
+// seen before, as snapshots (save_state) — or as environments, up to keep_states,
+// for engines without snapshots (the rest are replayed from the root). The seen
+// set is sharded by hash so duplicates are settled in parallel; the winner of a
+// duplicate, the first goal and the next layer's order are fixed by (shard,
+// parent, action), never by the thread count, so neither is the plan. The first
+// goal found is at the shallowest depth: a shortest plan. Limits: --depth,
+// --nodes, --time-limit.
 //
 // best-first: greedy best-first search, same action set and state dedup, each
 // node's successors generated in parallel; depth limit max_plan. Priority: the
@@ -24,14 +27,17 @@
 // successors whose frame was already generated (hidden-state variants that look
 // alike would otherwise flood the plateaus); if it fails, a second pass runs
 // without that pruning. The plan is then shortened by dropping single actions
-// while the goal stays reached. Not guaranteed shortest.
+// while the goal stays reached. Not guaranteed shortest. Open nodes keep their
+// environments up to keep_states; the others are replayed from the root.
 //
-// auto (default): bfs with a quarter of the node budget; when it finds nothing
-// within its limits, best-first with the rest.
-//
-// Memory: at most keep_states environments are kept for open nodes; the others
-// are rebuilt when expanded by replaying their path from the initial state (one
-// root copy per pool thread, so no environment is shared between threads).
+// auto (default): bfs with a quarter of the node budget, then best-first with
+// the rest. When clicks are told apart by position (a click on every cell, so
+// full layers beyond the first are unaffordable), bfs first runs one layer over
+// the full action set, then focused stages with clicks only near the cells where
+// the goal differs from the initial frame (within 0, 1, 3 cells) and then within
+// the mask's bounding box, an eighth of the budget each. A focused plan is the
+// shortest among focused plans; it is proven shortest only when it is at most
+// one action longer than the deepest full layer searched.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
@@ -44,7 +50,7 @@ namespace autumn::agent {
 struct PlanResult {
   bool found = false;
   std::vector<Action> plan;
-  std::string method;           // "bfs" or "best-first" (which search found the plan)
+  std::string method;           // "bfs", "bfs, clicks within ..." or "best-first" (which search found the plan)
   bool shortest = false;        // the plan is provably shortest (bfs found it)
   std::string note;             // why a search stopped
   int bfs_depth_done = 0;       // BFS layers fully explored

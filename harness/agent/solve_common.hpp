@@ -21,7 +21,7 @@ struct SolveOptions {
   std::string policy = "novelty";   // novelty | random
   // planning
   int depth = 12;
-  uint64_t nodes = 2000000;
+  uint64_t nodes = 10000000;
   std::string search = "auto";      // auto | bfs | best-first
   int max_plan = 200;               // best-first depth limit
   uint64_t keep_states = 10000;     // search environments kept in memory when the engine has no
