@@ -66,59 +66,66 @@ class Planner {
           r_.shortest = true;
           return;
         }
-      } else {
-        // Clicks on every cell make full layers beyond the first unaffordable (and
-        // on a slow engine even the second): the full action set proves plans of
-        // one action shortest; then clicks are focused near the cells where the
-        // goal differs from the initial frame (what a click changes is usually
-        // near it), widening, and then on the goal region (the mask's bounding
-        // box). A focused plan one action longer than the deepest full layer
-        // searched is still proven shortest; longer ones are not.
-        if (bfs(std::min(1, opts_.depth), N / 10)) {
-          r_.shortest = true;
-          return;
-        }
-        const int proven = r_.bfs_depth_done;
-        const std::vector<Action> all = actions_;
-        const std::vector<uint32_t> changed = changed_cells();
-        struct Focus {
-          const char* what;
-          std::vector<Action> actions;
-        };
-        std::vector<Focus> stages;
-        stages.push_back({"clicks on the cells the goal changes", focused_actions(all, changed, 0, false)});
-        stages.push_back({"clicks whose effect reaches the cells the goal changes", reaching_actions(all, changed)});
-        stages.push_back({"clicks within 1 of the cells the goal changes", focused_actions(all, changed, 1, false)});
-        stages.push_back({"clicks within 3 of the cells the goal changes", focused_actions(all, changed, 3, false)});
-        stages.push_back({"clicks in the goal region", focused_actions(all, mask_index_, 0, true)});
-        std::vector<std::vector<Action>> tried;
-        for (Focus& f : stages) {
-          if (f.actions.size() == all.size() || std::find(tried.begin(), tried.end(), f.actions) != tried.end()) continue;
-          tried.push_back(f.actions);
-          actions_ = f.actions;
-          if (bfs(opts_.depth, r_.nodes + N / 8)) {
-            r_.method = std::string("bfs, ") + f.what;
-            r_.shortest = r_.plan.size() <= static_cast<size_t>(proven) + 1;
-            return;
-          }
-          if (out_of_time()) break;
-        }
-        // Goals that take many clicks (things that move after being placed) are
-        // too deep for breadth-first: best-first with clicks near the changes, on
-        // half of what is left, then on the full action set.
-        actions_ = focused_actions(all, changed, 1, false);
-        if (actions_.size() < all.size() && !out_of_time()) {
-          r_.method = "best-first, clicks within 1 of the cells the goal changes";
-          if (best_first(true, r_.nodes + (N - std::min(N, r_.nodes)) / 2)) {
-            shorten();
-            return;
-          }
-        }
-        actions_ = all;
+      } else if (positional_click_search()) {
+        return;
       }
     }
     r_.method = "best-first";
     if (best_first(true, N) || (budget_left() && best_first(false, N))) shorten();
+  }
+
+  // The auto search for programs that tell click positions apart. Clicks on every
+  // cell make full layers beyond the first unaffordable (on a slow engine even
+  // the second): the full action set proves plans of one action shortest; then
+  // BFS stages focus clicks near the cells where the goal differs from the
+  // initial frame (what a click changes is usually near it), widening, and on
+  // the goal region (the mask's bounding box); then best-first with clicks near
+  // the changes, for goals too deep for BFS (things that move after being
+  // placed). A focused plan at most one action longer than the deepest full
+  // layer searched is still proven shortest; longer ones are not. Returns true
+  // when a plan was found; otherwise the full best-first search follows.
+  bool positional_click_search() {
+    const uint64_t N = opts_.nodes;
+    if (bfs(std::min(1, opts_.depth), N / 10)) {
+      r_.shortest = true;
+      return true;
+    }
+    const int proven = r_.bfs_depth_done;
+    const std::vector<Action> all = actions_;
+    const std::vector<uint32_t> changed = changed_cells();
+    struct Focus {
+      const char* what;
+      std::vector<Action> actions;
+    };
+    const Focus stages[] = {
+        {"clicks on the cells the goal changes", focused_actions(all, changed, 0, false)},
+        {"clicks whose effect reaches the cells the goal changes", reaching_actions(all, changed)},
+        {"clicks within 1 of the cells the goal changes", focused_actions(all, changed, 1, false)},
+        {"clicks within 3 of the cells the goal changes", focused_actions(all, changed, 3, false)},
+        {"clicks in the goal region", focused_actions(all, mask_index_, 0, true)},
+    };
+    std::vector<std::vector<Action>> tried;
+    for (const Focus& f : stages) {
+      if (out_of_time()) break;
+      if (f.actions.size() == all.size() || std::find(tried.begin(), tried.end(), f.actions) != tried.end()) continue;
+      tried.push_back(f.actions);
+      actions_ = f.actions;
+      if (bfs(opts_.depth, r_.nodes + N / 8)) {
+        r_.method = std::string("bfs, ") + f.what;
+        r_.shortest = r_.plan.size() <= static_cast<size_t>(proven) + 1;
+        return true;
+      }
+    }
+    actions_ = stages[2].actions;
+    if (actions_.size() < all.size() && !out_of_time()) {
+      r_.method = std::string("best-first, ") + stages[2].what;
+      if (best_first(true, r_.nodes + (N - std::min(N, r_.nodes)) / 2)) {
+        shorten();
+        return true;
+      }
+    }
+    actions_ = all;
+    return false;
   }
 
  private:
