@@ -103,9 +103,10 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
       row.bfs_actions = r1.actions;
       row.bfs_depth_done = r1.bfs_depth_done;
       row.bfs_nodes_1 = r1.nodes;
-      row.bfs_seconds_1 = r1.seconds;
+      row.bfs_small = r1.exhausted || r1.nodes < opts.bfs_nodes / 10;
+      row.bfs_seconds_1 = r1.search_seconds;
       row.bfs_nodes_n = rn.nodes;
-      row.bfs_seconds_n = rn.seconds;
+      row.bfs_seconds_n = rn.search_seconds;
     } catch (const std::exception& e) {
       if (!row.error.empty()) row.error += "; ";
       row.error += e.what();
@@ -117,20 +118,21 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
 }
 
 std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& o) {
-  std::string s = fmt::format("{:<34} {:>4} {:<11} {:>8} {:>10} {:>4}  {:>7} {:>5} {:>10} {:>10} {:>10}\n", "program",
-                              "grid", "code", "mfp s", "rollout/s", "ok", "actions", "depth", "bfs/s 1t",
-                              fmt::format("bfs/s {}t", o.threads), "per thread");
-  std::vector<double> mfp_s, spec_rate, emb_rate;
-  size_t mfp_ok = 0, mfp_ran = 0, fast = 0;
+  std::string s = fmt::format("{:<34} {:>4} {:<11} {:>8} {:>10} {:>4}  {:>7} {:>6} {:>9} {:>10} {:>10} {:>10}\n",
+                              "program", "grid", "code", "mfp s", "rollout/s", "ok", "actions", "depth", "bfs nodes",
+                              "bfs/s 1t", fmt::format("bfs/s {}t", o.threads), "per thread");
+  std::vector<double> mfp_s, spec_rate, emb_rate, spec_rate_n, emb_rate_n;
+  size_t mfp_ok = 0, mfp_ran = 0, fast = 0, fast_n = 0, small = 0;
   std::string slowest;
   double slowest_s = -1;
   for (const auto& r : rows) {
     const std::string code = o.engine != "compiled" ? o.engine : r.specialised ? "specialised" : "embedded";
     const double r1 = bfs_rate(r.bfs_nodes_1, r.bfs_seconds_1), rn = bfs_rate(r.bfs_nodes_n, r.bfs_seconds_n);
-    s += fmt::format("{:<34} {:>4} {:<11} {:>8} {:>10} {:>4}  {:>7} {:>5} {:>10} {:>10} {:>10}\n", r.program, r.grid,
-                     code, r.mfp_ran ? fmt::format("{:.3f}", r.mfp_seconds) : "-",
+    s += fmt::format("{:<34} {:>4} {:<11} {:>8} {:>10} {:>4}  {:>7} {:>6} {:>9} {:>10} {:>10} {:>10}\n", r.program,
+                     r.grid, code, r.mfp_ran ? fmt::format("{:.3f}", r.mfp_seconds) : "-",
                      r.mfp_ran ? rate(r.mfp_rollouts_per_s) : "-", r.mfp_ran ? (r.mfp_correct ? "yes" : "NO") : "-",
-                     r.bfs_actions, r.bfs_depth_done, rate(r1), rate(rn), rate(rn / std::max(1u, o.threads)));
+                     r.bfs_actions, fmt::format("{}{}", r.bfs_depth_done, r.bfs_small ? "*" : ""),
+                     rate(static_cast<double>(r.bfs_nodes_1)), rate(r1), rate(rn), rate(rn / std::max(1u, o.threads)));
     if (!r.error.empty()) s += "    error: " + r.error + "\n";
     if (r.mfp_ran) {
       ++mfp_ran;
@@ -139,17 +141,33 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
       if (r.mfp_seconds > slowest_s) slowest_s = r.mfp_seconds, slowest = r.program;
     }
     if (r.bfs_nodes_1 == 0) continue;
-    (r.specialised || o.engine != "compiled" ? spec_rate : emb_rate).push_back(r1);
-    if ((r.specialised || o.engine != "compiled") && r1 >= 1e6) ++fast;
+    if (r.bfs_small) {
+      ++small;
+      continue;
+    }
+    const bool spec = r.specialised || o.engine != "compiled";
+    (spec ? spec_rate : emb_rate).push_back(r1);
+    (spec ? spec_rate_n : emb_rate_n).push_back(rn / std::max(1u, o.threads));
+    if (spec && r1 >= 1e6) ++fast;
+    if (spec && rn / std::max(1u, o.threads) >= 1e6) ++fast_n;
   }
   s += fmt::format("\nmfp ({} steps x {} rollouts, {} threads, {}): {}/{} answered correctly; median {:.3f} s, "
                    "slowest {:.3f} s ({})\n",
                    o.mfp_steps, o.rollouts, o.threads, o.engine, mfp_ok, mfp_ran, median(mfp_s),
                    std::max(0.0, slowest_s), slowest.empty() ? "-" : slowest);
-  s += fmt::format("bfs successors per second on one thread ({}): median {}{}; {} of {} at least 1M/s\n",
-                   o.engine == "compiled" ? "specialised programs" : o.engine, rate(median(spec_rate)),
+  const std::string which = o.engine == "compiled" ? "specialised programs" : o.engine;
+  s += fmt::format("bfs successors per second on one thread ({}): median {}{}; {} of {} at least 1M/s\n", which,
+                   rate(median(spec_rate)),
                    emb_rate.empty() ? "" : fmt::format(" (embedded programs: median {})", rate(median(emb_rate))),
                    fast, spec_rate.size());
+  s += fmt::format("bfs successors per second per thread on {} threads ({}): median {}{}; {} of {} at least 1M/s\n",
+                   o.threads, which, rate(median(spec_rate_n)),
+                   emb_rate_n.empty() ? "" : fmt::format(" (embedded programs: median {})", rate(median(emb_rate_n))),
+                   fast_n, spec_rate_n.size());
+  if (small)
+    s += fmt::format("* the search space ran out (every reachable state seen, or fewer than a tenth of the node budget "
+                     "within the depth limit): {} program{} left out of the medians\n",
+                     small, small == 1 ? "" : "s");
   return s;
 }
 
@@ -164,6 +182,7 @@ nlohmann::json bench_agent_json(const std::vector<BenchAgentRow>& rows, const Be
                         {"deterministic", r.deterministic},
                         {"bfs_actions", r.bfs_actions},
                         {"bfs_depth_done", r.bfs_depth_done},
+                        {"bfs_small_space", r.bfs_small},
                         {"bfs_nodes_1_thread", r.bfs_nodes_1},
                         {"bfs_seconds_1_thread", r.bfs_seconds_1},
                         {"bfs_nodes_per_s_1_thread", bfs_rate(r.bfs_nodes_1, r.bfs_seconds_1)},

@@ -46,7 +46,8 @@ struct BenchAgentRow {
   uint64_t bfs_nodes_1 = 0, bfs_nodes_n = 0;
   size_t bfs_actions = 0;
   int bfs_depth_done = 0;
-  double bfs_seconds_1 = 0, bfs_seconds_n = 0;
+  bool bfs_small = false;  // the space ran out (all seen, or < a tenth of the budget): a rate of little meaning
+  double bfs_seconds_1 = 0, bfs_seconds_n = 0;  // search time alone
 };
 
 // `progress(i, n, name)` before program i (and once with i == n at the end).

@@ -43,6 +43,12 @@ class Planner {
     r_.actions = actions_.size();
     init_heuristic();
     for (unsigned w = 0; w < pool_.size(); ++w) roots_.push_back(root_->clone());
+    search_clock_ = Stopwatch();
+    struct RecordSearchTime {
+      PlanResult& r;
+      const Stopwatch& clock;
+      ~RecordSearchTime() { r.search_seconds = clock.seconds(); }
+    } record{r_, search_clock_};
 
     if (distance(task_frame(root_->frame(), root_->palette(), task_.colours)).colour == 0) {
       r_.found = true;
@@ -454,7 +460,10 @@ class Planner {
         const uint32_t buffer_base = static_cast<uint32_t>(next_buffers.size());
         // expand
         std::atomic<bool> timed_out{false};
-        pool_.parallel_for_worker(end - begin, [&](size_t k, unsigned w) {
+        // Waking the threads costs more than a small chunk's work (deep, narrow
+        // searches): those run on the calling thread, with the same results.
+        ThreadPool& pool = (end - begin) * A < 1024 ? serial_ : pool_;
+        pool.parallel_for_worker(end - begin, [&](size_t k, unsigned w) {
           // A chunk can take long on a slow engine: the time limit is also checked per parent.
           if (timed_out.load(std::memory_order_relaxed) || out_of_time()) {
             timed_out = true;
@@ -499,7 +508,7 @@ class Planner {
           W.bytes = {};
         }
         // dedup
-        pool_.parallel_for(kShards, [&](size_t sh) {
+        pool.parallel_for(kShards, [&](size_t sh) {
           won[sh].clear();
           first_goal[sh] = UINT64_MAX;
           std::vector<size_t> at(workers.size(), 0);
@@ -532,7 +541,7 @@ class Planner {
         const size_t node_base = nodes_.size(), next_base = next.size();
         nodes_.resize(node_base + offset[kShards]);
         next.resize(next_base + offset[kShards]);
-        pool_.parallel_for(kShards, [&](size_t sh) {
+        pool.parallel_for(kShards, [&](size_t sh) {
           for (size_t j = 0; j < won[sh].size(); ++j) {
             Fresh& f = *won[sh][j];
             const size_t slot = offset[sh] + j;
@@ -555,6 +564,7 @@ class Planner {
       layer_buffers.swap(next_buffers);
       if (frontier.empty()) {
         note(fmt::format("every reachable state seen by depth {}", depth));
+        r_.exhausted = true;
         return done(false);
       }
     }
@@ -654,10 +664,12 @@ class Planner {
     r_.plan = plan;
   }
 
-  Stopwatch clock_;
+  Stopwatch clock_;         // since the solve began (the time limit)
+  Stopwatch search_clock_;  // since the set-up ended
   const Task& task_;
   const SolveOptions& opts_;
   ThreadPool& pool_;
+  ThreadPool serial_{1};  // runs inline on the calling thread
   PlanResult& r_;
   std::unique_ptr<Environment> root_;
   std::vector<std::unique_ptr<Environment>> roots_;  // one per pool thread, for replays

@@ -62,7 +62,9 @@ struct PlanResult {
   bool stochastic = false;
   uint64_t env_seed = 0;
   bool verified = false;        // the plan replays on a fresh environment to the goal
-  double seconds = 0;
+  double seconds = 0;           // the whole solve: loading, set-up, search, verification
+  double search_seconds = 0;    // the searches alone (what nodes/s figures of the search use)
+  bool exhausted = false;       // a search saw every reachable state within its limits
 };
 
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool);
