@@ -23,6 +23,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <typeinfo>
 #include <unordered_set>
 #include <vector>
 
@@ -333,8 +334,9 @@ class CompiledEnvironment : public Environment {
   const std::string& error() const override { return error_; }
   std::unique_ptr<Environment> clone() const override { return std::make_unique<CompiledEnvironment>(*this); }
   bool copy_from(const Environment& other) override {
-    auto* o = dynamic_cast<const CompiledEnvironment*>(&other);
-    if (!o) return false;
+    // typeid, not dynamic_cast: this runs once per search successor.
+    if (typeid(other) != typeid(*this)) return false;
+    auto* o = static_cast<const CompiledEnvironment*>(&other);
     if (o == this) return true;
     // Member by member, leaving tables_ alone: copying the shared_ptr would make
     // every search thread write the same reference count.

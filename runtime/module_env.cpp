@@ -1,6 +1,7 @@
 #include "runtime/module_env.hpp"
 
 #include <algorithm>
+#include <typeinfo>
 
 namespace autumn {
 
@@ -75,8 +76,9 @@ std::unique_ptr<Environment> ModuleEnvironment::clone() const {
 }
 
 bool ModuleEnvironment::copy_from(const Environment& other) {
-  auto* o = dynamic_cast<const ModuleEnvironment*>(&other);
-  if (!o || o->table_ != table_) return false;
+  if (typeid(other) != typeid(ModuleEnvironment)) return false;  // not dynamic_cast: once per search successor
+  auto* o = static_cast<const ModuleEnvironment*>(&other);
+  if (o->table_ != table_) return false;
   if (o == this) return true;
   table_->copy_from(handle_, o->handle_);
   // Module palette ids may depend on the history (an embedded interpreter names
