@@ -103,7 +103,7 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
       row.bfs_actions = r1.actions;
       row.bfs_depth_done = r1.bfs_depth_done;
       row.bfs_nodes_1 = r1.nodes;
-      row.bfs_small = r1.exhausted || r1.nodes < opts.bfs_nodes / 10;
+      row.bfs_small = r1.exhausted || (r1.nodes < opts.bfs_nodes / 10 && !r1.timed_out);
       row.bfs_seconds_1 = r1.search_seconds;
       row.bfs_nodes_n = rn.nodes;
       row.bfs_seconds_n = rn.search_seconds;

@@ -451,6 +451,7 @@ class Planner {
         }
         if (out_of_time()) {
           note(fmt::format("time limit {} s reached at depth {}", opts_.time_limit, depth));
+          r_.timed_out = true;
           return done(false);
         }
         const size_t end = std::min(frontier.size(), begin + chunk_parents);
@@ -499,6 +500,7 @@ class Planner {
         });
         if (timed_out) {
           note(fmt::format("time limit {} s reached at depth {}", opts_.time_limit, depth));
+          r_.timed_out = true;
           return done(false);
         }
         r_.nodes += (end - begin) * A;
@@ -598,7 +600,10 @@ class Planner {
     };
     while (!open.empty()) {
       if (r_.nodes >= budget) return stop(fmt::format("best-first ({} actions): node budget spent", A));
-      if (out_of_time()) return stop(fmt::format("best-first: time limit {} s reached", opts_.time_limit));
+      if (out_of_time()) {
+        r_.timed_out = true;
+        return stop(fmt::format("best-first: time limit {} s reached", opts_.time_limit));
+      }
       Open top = open.top();
       open.pop();
       if (top.g >= opts_.max_plan) continue;

@@ -65,6 +65,7 @@ struct PlanResult {
   double seconds = 0;           // the whole solve: loading, set-up, search, verification
   double search_seconds = 0;    // the searches alone (what nodes/s figures of the search use)
   bool exhausted = false;       // a search saw every reachable state within its limits
+  bool timed_out = false;       // the time limit stopped a search
 };
 
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool);
