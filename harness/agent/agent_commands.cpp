@@ -73,7 +73,7 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
                   "Planning: search environments kept in memory when the engine cannot snapshot states "
                   "(the others are replayed from the start when needed)")
       ->default_val(10000);
-  cmd->add_option("--time-limit", o.time_limit, "Planning: seconds per search before giving up (0: no limit)")
+  cmd->add_option("--time-limit", o.time_limit, "Planning: seconds for the whole search before giving up (0: no limit)")
       ->default_val(0)
       ->check(CLI::NonNegativeNumber);
 }

@@ -26,7 +26,7 @@ struct SolveOptions {
   int max_plan = 200;               // best-first depth limit
   uint64_t keep_states = 10000;     // search environments kept in memory when the engine has no
                                     // snapshots (save_state); others are replayed
-  double time_limit = 0;            // planning: seconds per search before giving up (0: none)
+  double time_limit = 0;            // planning: seconds for all searches of a solve (0: none)
 };
 
 // The program file a task names, from opts.programs_dir or the task's default.
