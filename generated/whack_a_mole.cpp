@@ -801,7 +801,6 @@ struct Prog {
     }
   }
 
-  static bool triggered(const State& s) { return s.core.triggered; }
   static uint64_t hash(const State& s) {
     Hash h;
     hash_core(h, s.core, kUsesRandom);

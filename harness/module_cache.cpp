@@ -43,13 +43,14 @@ std::string compile_command(const fs::path& cpp, const fs::path& so) {
          " -Wl,-Bsymbolic 2>&1";
 }
 
-// The compiler, its flags, the libraries a module links and the runtime headers
-// it includes all decide what a cached module contains; a rebuilt library changes
-// its size or time stamp, an edited header its text.
+// The compiler, its flags, the libraries a module links, the lowering that wrote
+// it (autumn_emit) and the runtime headers it includes all decide what a cached
+// module contains; a rebuilt library changes its size or time stamp, an edited
+// header its text.
 uint64_t cache_key(uint64_t source_hash) {
   std::string salt = std::string(AUTUMN_CXX) + " " + AUTUMN_CXX_VERSION + " " + AUTUMN_MODULE_LIBS + " abi " +
                      std::to_string(AUTUMN_MODULE_ABI_VERSION);
-  std::istringstream libs(AUTUMN_MODULE_LIBS);
+  std::istringstream libs(std::string(AUTUMN_MODULE_LIBS) + " " + AUTUMN_EMIT_LIB);
   for (std::string lib; libs >> lib;) {
     std::error_code ec;
     auto size = fs::file_size(lib, ec);

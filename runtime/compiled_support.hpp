@@ -12,7 +12,7 @@
 //   static void render(State&, Painter*, const std::vector<uint16_t>& palette_of_string);
 //                                       // host render; null painter: only the side effects
 //   static uint64_t hash(const State&);
-//   static bool triggered(const State&);
+//   static void save(const State&, SnapshotWriter&); static void load(State&, SnapshotReader&);
 //   static constexpr int kOnClauses; static constexpr bool kUsesRandom;
 #pragma once
 #include <algorithm>
@@ -106,12 +106,6 @@ class Occupancy {
     if (outside_.empty()) return true;
     sort();
     return !std::binary_search(outside_.begin(), outside_.end(), key(p));
-  }
-  const std::vector<uint8_t>& grid() const { return grid_; }
-  // Sorted and without repeats, so that equal occupancies hash alike.
-  const std::vector<uint64_t>& outside() const {
-    sort();
-    return outside_;
   }
 
  private:

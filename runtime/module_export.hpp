@@ -3,6 +3,7 @@
 // wraps a table back into an Environment with ModuleEnvironment (module_env.hpp).
 #pragma once
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "runtime/environment.hpp"
@@ -63,8 +64,11 @@ struct ModuleExporter {
       return e->snapshot.size();
     };
     t.load_state = [](autumn_env* h, const uint8_t* data, uint64_t size) {
+      // 0 (not supported) unless the load itself ended the episode: an environment
+      // without snapshots changes nothing, failed or not.
+      const std::string before = env(h).error();
       if (env(h).load_state(data, static_cast<size_t>(size))) return 1;
-      return env(h).failed() ? -1 : 0;
+      return env(h).failed() && env(h).error() != before ? -1 : 0;
     };
     return t;
   }

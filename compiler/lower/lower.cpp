@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "runtime/compiled_support.hpp"
 #include "runtime/frame.hpp"
 #include "runtime/hash_order.hpp"
 
@@ -1082,14 +1083,15 @@ void Lowerer::fold_cells(const Stmt& st, ClassInfo& c) {
         bail(&e, "a cell shape that depends on '" + nm(e.name) + "'");
       }
       case ExprKind::Unary:
-        if (e.unary == UnOp::Neg) { v = ev(*e.kids[0]); if (v.k != FV::Int) break; v.i = -v.i; return v; }
+        if (e.unary == UnOp::Neg) { v = ev(*e.kids[0]); if (v.k != FV::Int) break; v.i = rt::neg(v.i); return v; }
         break;
       case ExprKind::Binary: {
         FV a = ev(*e.kids[0]), b = ev(*e.kids[1]);
         if (a.k != FV::Int || b.k != FV::Int) break;
-        if (e.op == BinOp::Add) { v.i = a.i + b.i; return v; }
-        if (e.op == BinOp::Sub) { v.i = a.i - b.i; return v; }
-        if (e.op == BinOp::Mul) { v.i = a.i * b.i; return v; }
+        // 32-bit wrapping, as in the emitted code and the interpreter.
+        if (e.op == BinOp::Add) { v.i = rt::add(a.i, b.i); return v; }
+        if (e.op == BinOp::Sub) { v.i = rt::sub(a.i, b.i); return v; }
+        if (e.op == BinOp::Mul) { v.i = rt::mul(a.i, b.i); return v; }
         break;
       }
       case ExprKind::List:
@@ -1225,6 +1227,11 @@ Lowered Lowerer::run() {
         for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
           if (e) assigned(*e);
     if (P.trigger) assigned(*P.trigger);
+    // The interpreter keeps one slot for `click`, which the input latch overwrites;
+    // specialised code reads the latch alone, so a program's own `click` cannot be
+    // told apart from it here.
+    for (Sym s : assigned_names_)
+      if (nm(s) == "click") bail(nullptr, "the program assigns 'click'");
     // Stdlib: plain definitions of functions and three constants.
     for (const Stmt& st : P.stdlib_stmts) {
       const Expr& e = *st.expr;
@@ -1572,7 +1579,6 @@ std::string Lowerer::emit() {
     o << "      if (paint) paint->paint(e.position, pal[e.color]);\n    }\n";
   }
   o << "  }\n\n";
-  o << "  static bool triggered(const State& s) { return s.core.triggered; }\n";
   o << "  static uint64_t hash(const State& s) {\n    Hash h;\n    hash_core(h, s.core, kUsesRandom);\n";
   for (const auto& [sym, g] : globals_)
     if (!g.is_const_func && g.type && g.type->k != TK::Func) o << "    hash_value(h, s.g_" << cpp_ident(nm(sym)) << ");\n";

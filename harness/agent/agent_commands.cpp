@@ -16,6 +16,7 @@
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
 #include "harness/engine.hpp"
+#include "harness/program_files.hpp"
 
 namespace autumn::agent {
 
@@ -175,19 +176,9 @@ int run_eval_cmd(State& s) {
 
 int run_bench_agent(State& s) {
   try {
-    std::vector<fs::path> programs;
-    for (const std::string& p : s.bench_paths) {
-      if (!fs::is_directory(p)) {
-        programs.push_back(p);
-        continue;
-      }
-      std::vector<fs::path> found;
-      for (const auto& e : fs::directory_iterator(p))
-        if (e.path().extension() == ".sexp" || e.path().extension() == ".au") found.push_back(e.path());
-      if (found.empty()) return fail("bench-agent", "no .sexp or .au programs in " + p);
-      std::sort(found.begin(), found.end());
-      programs.insert(programs.end(), found.begin(), found.end());
-    }
+    for (const std::string& p : s.bench_paths)
+      if (fs::is_directory(p) && program_files(p).empty()) return fail("bench-agent", "no .sexp or .au programs in " + p);
+    const std::vector<fs::path> programs = expand_programs(s.bench_paths);
     if (s.bench_opts.threads == 0) s.bench_opts.threads = std::max(1u, std::thread::hardware_concurrency());
     std::vector<BenchAgentRow> rows = bench_agent(programs, s.bench_opts, progress_bar());
     if (rows.empty()) return fail("bench-agent", fmt::format("no program has GRID_SIZE {} (use --grid 0)", s.bench_opts.grid));

@@ -8,6 +8,7 @@
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
+#include "harness/program_files.hpp"
 
 namespace autumn::agent {
 
@@ -27,12 +28,6 @@ Task unreachable_goal(const fs::path& program, int size, const ColourTable& colo
   t.mask.width = t.mask.height = size;
   t.mask.cells.assign(static_cast<size_t>(size) * size, int16_t{1});
   return t;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
 }
 
 std::string rate(double per_s) {

@@ -58,7 +58,7 @@ CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) 
   auto probe = make_env_checked(opts.engine, original);
   if (!probe->reset(0)) throw TaskError(task.program + ": " + probe->error());
   r.deterministic = probe->deterministic();
-  std::vector<uint64_t> seeds = rollout_seeds(opts.seed, std::max<uint64_t>(opts.rollouts, 1));
+  std::vector<uint64_t> seeds = rollout_seeds(opts.seed, std::max<uint64_t>(opts.rollouts, 1), task.env_seed);
   r.particles = r.deterministic ? 1 : seeds.size();
   ParticleSet set(pool, task.colours);
   set.start([&] { return probe->clone(); }, seeds, r.deterministic, keep);

@@ -87,6 +87,21 @@ std::string score_text(const EvalRow& r) {
   return r.score ? fmt::format("{:.3f}", *r.score) : "-";
 }
 
+struct Totals {
+  double score = 0, seconds = 0;
+  size_t scored = 0, errors = 0;
+};
+
+Totals totals(const std::vector<EvalRow>& rows) {
+  Totals t;
+  for (const auto& r : rows) {
+    t.seconds += r.seconds;
+    if (!r.error.empty()) ++t.errors;
+    else if (r.score) t.score += *r.score, ++t.scored;
+  }
+  return t;
+}
+
 }  // namespace
 
 std::string eval_table(const std::vector<EvalRow>& rows) {
@@ -94,24 +109,17 @@ std::string eval_table(const std::vector<EvalRow>& rows) {
   for (const auto& r : rows) w = std::max(w, r.task.size());
   std::string s = fmt::format("{:<{}}  {:<8} {:>7} {:>9} {:>12} {:<10}  {}\n", "task", w, "type", "score", "time s",
                               "throughput", "unit", "detail");
-  double total_score = 0, total_time = 0;
-  size_t scored = 0, errors = 0;
-  for (const auto& r : rows) {
+  for (const auto& r : rows)
     s += fmt::format("{:<{}}  {:<8} {:>7} {:>9.3f} {:>12.0f} {:<10}  {}\n", r.task, w, r.type, score_text(r), r.seconds,
                      r.throughput, r.unit.empty() ? "-" : r.unit, r.error.empty() ? r.detail : r.error);
-    total_time += r.seconds;
-    if (!r.error.empty()) ++errors;
-    else if (r.score) total_score += *r.score, ++scored;
-  }
-  s += fmt::format("{} tasks, {} scored, total score {:.3f}{}, {} errors, {:.3f} s\n", rows.size(), scored, total_score,
-                   scored ? fmt::format(" (mean {:.3f})", total_score / scored) : std::string(), errors, total_time);
+  const Totals t = totals(rows);
+  s += fmt::format("{} tasks, {} scored, total score {:.3f}{}, {} errors, {:.3f} s\n", rows.size(), t.scored, t.score,
+                   t.scored ? fmt::format(" (mean {:.3f})", t.score / t.scored) : std::string(), t.errors, t.seconds);
   return s;
 }
 
 nlohmann::json eval_json(const std::vector<EvalRow>& rows) {
   nlohmann::json tasks = nlohmann::json::array();
-  double total_score = 0, total_time = 0;
-  size_t scored = 0, errors = 0;
   for (const auto& r : rows) {
     nlohmann::json j = {{"task", r.task},
                         {"type", r.type},
@@ -123,18 +131,16 @@ nlohmann::json eval_json(const std::vector<EvalRow>& rows) {
     if (!r.error.empty()) j["error"] = r.error;
     else j["result"] = r.result;
     tasks.push_back(j);
-    total_time += r.seconds;
-    if (!r.error.empty()) ++errors;
-    else if (r.score) total_score += *r.score, ++scored;
   }
+  const Totals t = totals(rows);
   return {{"tasks", tasks},
           {"totals",
            {{"tasks", rows.size()},
-            {"scored", scored},
-            {"score", total_score},
-            {"mean_score", scored ? nlohmann::json(total_score / scored) : nlohmann::json(nullptr)},
-            {"errors", errors},
-            {"seconds", total_time}}}};
+            {"scored", t.scored},
+            {"score", t.score},
+            {"mean_score", t.scored ? nlohmann::json(t.score / t.scored) : nlohmann::json(nullptr)},
+            {"errors", t.errors},
+            {"seconds", t.seconds}}}};
 }
 
 }  // namespace autumn::agent

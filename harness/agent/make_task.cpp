@@ -95,9 +95,11 @@ MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> pr
   std::mt19937_64 rng(opts.seed);
   auto env = make_env_checked(opts.engine, program);
   std::optional<Episode> ep;
-  for (int attempt = 0; attempt < 20 && !ep; ++attempt) ep = random_episode(*env, opts.env_seed, opts.steps, rng);
+  std::string error;
+  for (int attempt = 0; attempt < 20 && !ep; ++attempt)
+    ep = random_episode(*env, opts.env_seed, opts.steps, rng, &error);
   if (!ep) throw TaskError(fmt::format("program '{}' fails under every random action sequence tried: {}",
-                                       opts.program.stem().string(), env->error()));
+                                       opts.program.stem().string(), error));
   cover_colours(*ep, opts.program.stem().string(), opts.extend_colours, colours, made.colours_extended);
   const int size = ep->frames[0].size;
   const int K = opts.steps;
@@ -107,7 +109,7 @@ MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> pr
 
   // The outcomes a batch of rollouts (other seeds, same actions) produce.
   ParticleSet batch(pool, colours);
-  std::vector<uint64_t> seeds = rollout_seeds(opts.seed, std::max<uint64_t>(opts.batch, 1));
+  std::vector<uint64_t> seeds = rollout_seeds(opts.seed, std::max<uint64_t>(opts.batch, 1), opts.env_seed);
   FramePredicate all = [](const TaskFrame&, int) { return true; };
   batch.start([&] { return env->clone(); }, seeds, env->deterministic(), all);
   for (const Action& a : ep->actions) batch.step(a, all);

@@ -30,7 +30,7 @@ MfpResult solve_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool
 
   // Particles are clones of the probe (building an engine's environment may be costly).
   auto make = [&] { return probe->clone(); };
-  std::vector<uint64_t> seeds = rollout_seeds(opts.seed, r.rollouts);
+  std::vector<uint64_t> seeds = rollout_seeds(opts.seed, r.rollouts, task.env_seed);
   for (uint64_t begin = 0; begin < seeds.size(); begin += kBatch) {
     std::vector<uint64_t> batch(seeds.begin() + begin, seeds.begin() + std::min<uint64_t>(seeds.size(), begin + kBatch));
     if (r.deterministic) batch = seeds;  // one rollout stands for all of them

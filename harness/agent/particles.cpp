@@ -5,18 +5,20 @@
 
 namespace autumn::agent {
 
-std::vector<uint64_t> rollout_seeds(uint64_t seed, uint64_t count) {
+std::vector<uint64_t> rollout_seeds(uint64_t seed, uint64_t count, uint64_t first) {
   std::vector<uint64_t> out;
   out.reserve(count);
   std::mt19937_64 rng(seed);
-  for (uint64_t i = 0; i < count; ++i) out.push_back(i == 0 ? 0 : (rng() & 0xffffffffull));
+  for (uint64_t i = 0; i < count; ++i) out.push_back(i == 0 ? first : (rng() & 0xffffffffull));
   return out;
 }
 
-uint64_t ParticleSet::total_weight() const {
-  uint64_t w = 0;
-  for (const auto& p : particles_) w += p.weight;
-  return w;
+void ParticleSet::observe(Particle& p) const {
+  const Palette& palette = p.env->palette();
+  if (p.ids.size() != palette.size()) p.ids = colour_ids(palette, colours_);
+  const std::vector<uint16_t>& cells = p.env->frame().cells;
+  p.frame.resize(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) p.frame[i] = p.ids[cells[i]];
 }
 
 void ParticleSet::start(const std::function<std::unique_ptr<Environment>()>& make,
@@ -29,13 +31,12 @@ void ParticleSet::start(const std::function<std::unique_ptr<Environment>()>& mak
   // Environments are built on the caller: make() may share non-thread-safe state.
   for (size_t i = 0; i < n; ++i) {
     ps[i].env = make();
-    ps[i].origin = i;
     ps[i].weight = deterministic ? seeds.size() : 1;
   }
   pool_.parallel_for(n, [&](size_t i) {
     Particle& p = ps[i];
     if (!p.env->reset(seeds[i])) return;
-    p.frame = task_frame(p.env->frame(), p.env->palette(), colours_);
+    observe(p);
     if (!keep(p.frame, p.env->frame().size)) return;
     p.hash = p.env->state_hash();
     alive[i] = 1;
@@ -53,7 +54,7 @@ void ParticleSet::step(const Action& action, const FramePredicate& keep) {
   pool_.parallel_for(n, [&](size_t i) {
     Particle& p = particles_[i];
     if (!p.env->step(action)) return;
-    p.frame = task_frame(p.env->frame(), p.env->palette(), colours_);
+    observe(p);
     if (!keep(p.frame, p.env->frame().size)) return;
     p.hash = p.env->state_hash();
     alive[i] = 1;
@@ -71,21 +72,22 @@ void ParticleSet::step(const Action& action, const FramePredicate& keep) {
 }
 
 void ParticleSet::merge() {
-  std::unordered_map<uint64_t, std::vector<size_t>> by_hash;
+  if (particles_.size() <= 1) return;
+  head_.clear();
+  chain_.clear();
   size_t out = 0;
   for (size_t i = 0; i < particles_.size(); ++i) {
-    auto& bucket = by_hash[particles_[i].hash];
+    auto [it, fresh] = head_.try_emplace(particles_[i].hash, SIZE_MAX);
     bool merged = false;
-    for (size_t k : bucket)
+    for (size_t k = it->second; k != SIZE_MAX && !merged; k = chain_[k])
       if (particles_[k].frame == particles_[i].frame) {
         particles_[k].weight += particles_[i].weight;
         merged = true;
-        break;
       }
     if (merged) continue;
     if (out != i) particles_[out] = std::move(particles_[i]);
-    bucket.push_back(out);
-    ++out;
+    chain_.push_back(it->second);
+    it->second = out++;
   }
   particles_.resize(out);
 }

@@ -13,6 +13,8 @@
 // the number of threads.
 #pragma once
 #include <cstdint>
+#include <absl/container/flat_hash_map.h>
+
 #include <functional>
 #include <memory>
 #include <vector>
@@ -25,9 +27,9 @@ namespace autumn::agent {
 struct Particle {
   std::unique_ptr<Environment> env;
   uint64_t weight = 1;
-  size_t origin = 0;  // index of the seed that started it
   uint64_t hash = 0;
-  TaskFrame frame;    // colour-table ids of env->frame()
+  TaskFrame frame;             // colour-table ids of env->frame()
+  std::vector<int16_t> ids;    // palette id -> colour-table id (the palette only grows)
 };
 
 using FramePredicate = std::function<bool(const TaskFrame& frame, int size)>;
@@ -46,22 +48,25 @@ class ParticleSet {
   std::vector<Particle>& particles() { return particles_; }
   const std::vector<Particle>& particles() const { return particles_; }
   bool empty() const { return particles_.empty(); }
-  uint64_t total_weight() const;
   uint64_t env_steps() const { return env_steps_; }  // resets and steps actually run
   size_t peak() const { return peak_; }
 
  private:
+  void observe(Particle& p) const;  // p.frame from p.env->frame(), without a per-step allocation
   void merge();
 
   ThreadPool& pool_;
   const ColourTable& colours_;
   std::vector<Particle> particles_;
+  absl::flat_hash_map<uint64_t, size_t> head_;  // merge(): hash -> last kept particle with it
+  std::vector<size_t> chain_;                   // merge(): kept particle -> previous one with its hash
   uint64_t env_steps_ = 0;
   size_t peak_ = 0;
 };
 
-// `count` interpreter seeds for rollouts: 0 first (the benchmark's default seed),
-// then 32-bit values from mt19937_64(seed) (the interpreter keeps 32 bits).
-std::vector<uint64_t> rollout_seeds(uint64_t seed, uint64_t count);
+// `count` interpreter seeds for rollouts: `first` (the environment's own seed,
+// the benchmark's default 0 unless the task says otherwise), then 32-bit values
+// from mt19937_64(seed) (the interpreter keeps 32 bits).
+std::vector<uint64_t> rollout_seeds(uint64_t seed, uint64_t count, uint64_t first);
 
 }  // namespace autumn::agent

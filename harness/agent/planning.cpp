@@ -150,7 +150,6 @@ class Planner {
     for (size_t i = 0; i < task_.goal.cells.size(); ++i)
       if (task_.mask.cells[i]) {
         ++counts[task_.goal.cells[i]];
-        ++mask_cells_;
         mask_index_.push_back(static_cast<uint32_t>(i));
       }
     int best = -1;
@@ -158,11 +157,12 @@ class Planner {
       if (n > best || (n == best && c < background_)) best = n, background_ = c;
   }
 
+  int mask_cells() const { return static_cast<int>(mask_index_.size()); }
+
   Dist distance(const TaskFrame& f) const {
     Dist d;
-    if (f.size() != task_.mask.cells.size()) return {mask_cells_ + 1, mask_cells_ + 1};  // GRID_SIZE changed
-    for (size_t i = 0; i < f.size(); ++i) {
-      if (!task_.mask.cells[i]) continue;
+    if (f.size() != task_.mask.cells.size()) return {mask_cells() + 1, mask_cells() + 1};  // GRID_SIZE changed
+    for (uint32_t i : mask_index_) {
       int16_t g = task_.goal.cells[i];
       if (g != f[i]) {
         ++d.colour;
@@ -198,23 +198,22 @@ class Planner {
     uint64_t steps = 0;   // look-ahead steps run
   };
 
-  // Successor by action `a` of `e`, a fresh clone of its parent: env, hash,
-  // distance; not ok when its state is already in `seen` (read-only here). One
-  // environment is never used by two threads at once (clone() is not safe to call
-  // concurrently on one environment), so clones are made by whoever owns the
-  // parent: the worker expanding it (bfs) or the caller (best-first).
-  void expand_one(std::unique_ptr<Environment> e, size_t a, const HashSet& seen, Succ& out,
-                  bool lookahead = false, bool keep_env = true) {
+  // Best-first's successor by action `a` of `e`, a fresh clone of its parent: env,
+  // hash, distance (with the settling look-ahead); not ok when its state is
+  // already in `seen` (read-only here). One environment is never used by two
+  // threads at once (clone() is not safe to call concurrently on one
+  // environment), so the caller makes the clones.
+  void expand_one(std::unique_ptr<Environment> e, size_t a, const HashSet& seen, Succ& out) {
     if (!e->step(actions_[a])) return;
     uint64_t h = e->state_hash();
     if (seen.count(h)) return;
     TaskFrame f = task_frame(e->frame(), e->palette(), task_.colours);
     out.dist = distance(f);
     out.frame_hash = frame_digest(f);
-    out.key = out.dist.key(mask_cells_);
-    if (lookahead && out.dist.colour > 0) settle(*e, std::move(f), out);
+    out.key = out.dist.key(mask_cells());
+    if (out.dist.colour > 0) settle(*e, std::move(f), out);
     out.hash = h;
-    if (keep_env) out.env = std::move(e);  // else destroyed here, on the worker
+    out.env = std::move(e);
     out.ok = true;
   }
 
@@ -241,7 +240,7 @@ class Planner {
         out.key = 0;
         return;
       }
-      out.key = d.key(mask_cells_);
+      out.key = d.key(mask_cells());
       if (f == prev) break;
       prev = std::move(f);
     }
@@ -293,9 +292,7 @@ class Planner {
     if (&p != g.palette || p.size() != g.palette_size) {
       g.palette = &p;
       g.palette_size = p.size();
-      g.colour_of.resize(p.size());
-      for (size_t i = 0; i < p.size(); ++i)
-        g.colour_of[i] = static_cast<int16_t>(task_.colours.frame_id(p.name(static_cast<uint16_t>(i))));
+      g.colour_of = colour_ids(p, task_.colours);
     }
     if (f.cells.size() != task_.mask.cells.size()) return false;
     for (uint32_t i : mask_index_)
@@ -613,7 +610,7 @@ class Planner {
       std::vector<std::unique_ptr<Environment>> clones;
       for (size_t a = 0; a + 1 < A; ++a) clones.push_back(parent->clone());
       clones.push_back(std::move(parent));
-      pool_.parallel_for(A, [&](size_t a) { expand_one(std::move(clones[a]), a, seen, succ[a], true); });
+      pool_.parallel_for(A, [&](size_t a) { expand_one(std::move(clones[a]), a, seen, succ[a]); });
       r_.nodes += A;
       std::vector<std::unique_ptr<Environment>> trash;
       for (size_t a = 0; a < A; ++a) {
@@ -681,7 +678,6 @@ class Planner {
   int size_ = 0;
   std::vector<Action> actions_;
   int16_t background_ = 0;
-  int mask_cells_ = 0;
   std::vector<uint32_t> mask_index_;  // the masked cells, row-major
   std::vector<NodeRec> nodes_;
   std::vector<std::unique_ptr<Environment>> envs_;  // per node; null when not kept

@@ -168,9 +168,14 @@ std::string ColourTable::to_yaml() const {
 
 const fs::path& ColourTable::source() const { return impl_->source; }
 
-TaskFrame task_frame(const Frame& f, const Palette& p, const ColourTable& colours) {
+std::vector<int16_t> colour_ids(const Palette& p, const ColourTable& colours) {
   std::vector<int16_t> map(p.size());
   for (size_t i = 0; i < p.size(); ++i) map[i] = static_cast<int16_t>(colours.frame_id(p.name(static_cast<uint16_t>(i))));
+  return map;
+}
+
+TaskFrame task_frame(const Frame& f, const Palette& p, const ColourTable& colours) {
+  const std::vector<int16_t> map = colour_ids(p, colours);
   TaskFrame out(f.cells.size());
   for (size_t i = 0; i < f.cells.size(); ++i) out[i] = map[f.cells[i]];
   return out;
@@ -426,9 +431,11 @@ fs::path resolve_program(const fs::path& dir, const std::string& name) {
     for (const char* ext : {".sexp", ".au"}) {
       fs::path p = dir / (stem + ext);
       if (fs::is_regular_file(p)) return p;
-      tried.push_back(p);
+      tried.push_back(p.filename());
     }
-  throw TaskError(fmt::format("unknown program '{}' (no {}.sexp or {}.au in {})", name, name, name, dir.string()));
+  std::string names;
+  for (size_t i = 0; i < tried.size(); ++i) names += (i ? (i + 1 == tried.size() ? " or " : ", ") : "") + tried[i].string();
+  throw TaskError(fmt::format("unknown program '{}' (no {} in {})", name, names, dir.string()));
 }
 
 std::shared_ptr<const Program> load_program_checked(const fs::path& path, const std::optional<std::string>& trigger) {

@@ -67,6 +67,8 @@ class ColourTable {
 
 using TaskFrame = std::vector<int16_t>;  // colour ids (ColourTable::frame_id), row-major
 TaskFrame task_frame(const Frame& f, const Palette& p, const ColourTable& colours);
+// Palette id -> colour-table id (ColourTable::frame_id), what task_frame maps through.
+std::vector<int16_t> colour_ids(const Palette& p, const ColourTable& colours);
 uint64_t frame_digest(const TaskFrame& f);  // FNV-1a over the ids
 
 struct Grid {

@@ -21,6 +21,7 @@
 #include "harness/difftest.hpp"
 #include "harness/engine.hpp"
 #include "harness/policy.hpp"
+#include "harness/program_files.hpp"
 #include "harness/trace_check.hpp"
 
 namespace {
@@ -156,14 +157,6 @@ int cmd_check(const std::string& program_path, const std::string& traces_path, c
   return r.ok() ? 0 : 1;
 }
 
-std::vector<std::filesystem::path> program_files(const std::string& dir) {
-  std::vector<std::filesystem::path> out;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    if (e.path().extension() == ".au" || e.path().extension() == ".sexp") out.push_back(e.path());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 int cmd_survey(const std::string& dir, int steps, uint64_t seed, const std::string& engine) {
   if (!std::filesystem::is_directory(dir)) {
     std::cerr << "autumn survey: '" << dir << "' is not a directory\n";
@@ -213,19 +206,6 @@ int cmd_survey(const std::string& dir, int steps, uint64_t seed, const std::stri
   }
   fmt::print("{} programs, {} steps, {} frames, {} failed\n", files.size(), total_steps, total_frames, failures);
   return failures ? 1 : 0;
-}
-
-// Programs named on the command line: files, or folders of .au/.sexp files.
-std::vector<std::filesystem::path> expand_programs(const std::vector<std::string>& args) {
-  std::vector<std::filesystem::path> out;
-  for (const auto& a : args) {
-    if (std::filesystem::is_directory(a)) {
-      for (const auto& f : program_files(a)) out.push_back(f);
-    } else {
-      out.push_back(a);
-    }
-  }
-  return out;
 }
 
 int cmd_bench(const std::vector<std::string>& args, size_t steps, uint64_t seed, bool json, const std::string& only) {
@@ -285,11 +265,6 @@ int cmd_bench(const std::vector<std::string>& args, size_t steps, uint64_t seed,
         if (!e.error.empty()) std::cerr << "  " << row.program << ": " << e.error << "\n";
     }
   }
-  auto median = [](std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
-  };
   if (json) {
     std::cout << nlohmann::json({{"rows", rows},
                                  {"median_ratio", median(ratios)},
