@@ -74,8 +74,11 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
                   "Planning: search environments kept in memory when the engine cannot snapshot states "
                   "(the others are replayed from the start when needed)")
       ->default_val(10000);
-  cmd->add_option("--time-limit", o.time_limit, "Planning: seconds for the whole search before giving up (0: no limit)")
-      ->default_val(0)
+  cmd->add_option("--time-limit", o.time_limit,
+                  "Planning: seconds for the whole search before giving up (0: no limit). Focused BFS stages "
+                  "get an eighth of the time left each, so slow engines reach best-first; a search the limit "
+                  "cuts short may depend on machine speed and --threads")
+      ->default_val(120)
       ->check(CLI::NonNegativeNumber);
 }
 

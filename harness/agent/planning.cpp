@@ -116,15 +116,23 @@ class Planner {
       if (f.actions.size() == all.size() || std::find(tried.begin(), tried.end(), f.actions) != tried.end()) continue;
       tried.push_back(f.actions);
       actions_ = f.actions;
-      if (bfs(opts_.depth, r_.nodes + N / 8)) {
+      // Each stage gets an eighth of the node budget and of the time left, so a
+      // slow engine still reaches the later stages and best-first.
+      if (opts_.time_limit > 0)
+        stage_deadline_ = clock_.seconds() + std::max(0.0, opts_.time_limit - clock_.seconds()) / 8;
+      const bool found = bfs(opts_.depth, r_.nodes + N / 8);
+      stage_deadline_ = 0;
+      if (found) {
         r_.method = std::string("bfs, ") + f.what;
         r_.shortest = r_.plan.size() <= static_cast<size_t>(proven) + 1;
         return true;
       }
     }
-    actions_ = stages[2].actions;
+    // Best-first over clicks near the changes or reaching them (a thing placed
+    // away from its goal cells that falls or drifts onto them).
+    actions_ = unite(all, stages[1].actions, stages[2].actions);
     if (actions_.size() < all.size() && !out_of_time()) {
-      r_.method = std::string("best-first, ") + stages[2].what;
+      r_.method = "best-first, clicks near or reaching the cells the goal changes";
       if (best_first(true, r_.nodes + (N - std::min(N, r_.nodes)) / 2)) {
         shorten();
         return true;
@@ -224,10 +232,14 @@ class Planner {
   }
 
   // The settling look-ahead of best-first: from a copy of `e`, step noops until
-  // the frame stops changing (at most 2 * GRID_SIZE steps) and use the distance
-  // of that last frame as the priority. Falling, flowing and sliding things then
-  // count where they come to rest instead of leaving long plateaus; a goal frame
-  // on the way ends the search (the plan gets those noops).
+  // the frame stops changing (at most 2 * GRID_SIZE steps); the priority is the
+  // best distance seen on the way, the state's own included. Falling, flowing and
+  // sliding things then count where they come to rest, and things that keep
+  // moving (a global velocity, endless gravity) count where they pass the goal,
+  // instead of leaving long plateaus; a goal frame on the way ends the search
+  // (the plan gets those noops). The last frame joins the frame-pruning digest:
+  // an action that changes no cell now but changes the future (a velocity, a
+  // mode) is not pruned as a repeat of its parent's frame.
   void settle(const Environment& e, TaskFrame prev, Succ& out) const {
     auto probe = e.clone();
     for (int k = 1; k <= 2 * size_; ++k) {
@@ -240,14 +252,28 @@ class Planner {
         out.key = 0;
         return;
       }
-      out.key = d.key(mask_cells());
+      out.key = std::min(out.key, d.key(mask_cells()));
       if (f == prev) break;
       prev = std::move(f);
     }
+    out.frame_hash = out.frame_hash * 0x9E3779B97F4A7C15ull ^ frame_digest(prev);
   }
 
   bool budget_left() const { return r_.nodes < opts_.nodes; }
-  bool out_of_time() const { return opts_.time_limit > 0 && clock_.seconds() > opts_.time_limit; }
+  bool past_time_limit() const { return opts_.time_limit > 0 && clock_.seconds() > opts_.time_limit; }
+  // Past the time limit, or past the current stage's share of it.
+  bool out_of_time() const {
+    return past_time_limit() || (stage_deadline_ > 0 && clock_.seconds() > stage_deadline_);
+  }
+  // What stopped a search for time, for the notes; marks the result timed out
+  // only when the whole time limit is spent.
+  std::string time_note() {
+    if (past_time_limit()) {
+      r_.timed_out = true;
+      return fmt::format("time limit {} s reached", opts_.time_limit);
+    }
+    return "its share of the time limit spent";
+  }
   void reset_tree() {
     nodes_ = {{-1, -1, 0}};
     envs_.clear();
@@ -330,6 +356,20 @@ class Planner {
       if (a.kind != Action::Kind::Click ||
           (a.x >= 0 && a.y >= 0 && a.x < size_ && a.y < size_ && near[static_cast<size_t>(a.y) * size_ + a.x]))
         out.push_back(a);
+    return out;
+  }
+
+  // The actions of `all` that are in `a` or `b` (both subsets of `all`), in `all`'s order.
+  static std::vector<Action> unite(const std::vector<Action>& all, const std::vector<Action>& a,
+                                   const std::vector<Action>& b) {
+    std::vector<Action> out;
+    size_t i = 0, j = 0;
+    for (const Action& x : all) {
+      bool in = false;
+      if (i < a.size() && a[i] == x) ++i, in = true;
+      if (j < b.size() && b[j] == x) ++j, in = true;
+      if (in) out.push_back(x);
+    }
     return out;
   }
 
@@ -447,8 +487,7 @@ class Planner {
           return done(false);
         }
         if (out_of_time()) {
-          note(fmt::format("time limit {} s reached at depth {}", opts_.time_limit, depth));
-          r_.timed_out = true;
+          note(fmt::format("{} at depth {}", time_note(), depth));
           return done(false);
         }
         const size_t end = std::min(frontier.size(), begin + chunk_parents);
@@ -496,8 +535,7 @@ class Planner {
           }
         });
         if (timed_out) {
-          note(fmt::format("time limit {} s reached at depth {}", opts_.time_limit, depth));
-          r_.timed_out = true;
+          note(fmt::format("{} at depth {}", time_note(), depth));
           return done(false);
         }
         r_.nodes += (end - begin) * A;
@@ -597,10 +635,7 @@ class Planner {
     };
     while (!open.empty()) {
       if (r_.nodes >= budget) return stop(fmt::format("best-first ({} actions): node budget spent", A));
-      if (out_of_time()) {
-        r_.timed_out = true;
-        return stop(fmt::format("best-first: time limit {} s reached", opts_.time_limit));
-      }
+      if (out_of_time()) return stop("best-first: " + time_note());
       Open top = open.top();
       open.pop();
       if (top.g >= opts_.max_plan) continue;
@@ -667,6 +702,7 @@ class Planner {
   }
 
   Stopwatch clock_;         // since the solve began (the time limit)
+  double stage_deadline_ = 0;  // on clock_; 0: none
   Stopwatch search_clock_;  // since the set-up ended
   const Task& task_;
   const SolveOptions& opts_;

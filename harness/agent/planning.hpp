@@ -21,11 +21,14 @@
 // node's successors generated in parallel; depth limit max_plan. Priority: the
 // distance to the goal on the mask — cells whose "is background" differs first
 // (the goal's most common masked colour is its background), then all differing
-// cells — of the frame the successor settles to when left alone (noops until the
-// frame stops changing, at most 2*GRID_SIZE; a goal frame on the way ends the
-// search); ties: fewer steps, then first generated. A first pass also prunes
-// successors whose frame was already generated (hidden-state variants that look
-// alike would otherwise flood the plateaus); if it fails, a second pass runs
+// cells — at its best on the successor's noop future: the successor itself and
+// the frames it passes while left alone (noops until the frame stops changing,
+// at most 2*GRID_SIZE; a goal frame on the way ends the search). Things that
+// fall or slide count where they come to rest, things that keep moving (a global
+// velocity, endless gravity) where they pass the goal. Ties: fewer steps, then
+// first generated. A first pass also prunes successors whose frame and settled
+// frame were both already generated (hidden-state variants that look alike would
+// otherwise flood the plateaus); if it fails, a second pass runs
 // without that pruning. The plan is then shortened by dropping single actions
 // while the goal stays reached. Not guaranteed shortest. Open nodes keep their
 // environments up to keep_states; the others are replayed from the root.
@@ -34,8 +37,11 @@
 // the rest. When clicks are told apart by position (a click on every cell, so
 // full layers beyond the first are unaffordable), bfs first runs one layer over
 // the full action set, then focused stages with clicks only near the cells where
-// the goal differs from the initial frame (within 0, 1, 3 cells) and then within
-// the mask's bounding box, an eighth of the budget each. A focused plan is the
+// the goal differs from the initial frame (within 0 cells; clicks whose effect
+// reaches those cells under noops; within 1, 3 cells) and then within the mask's
+// bounding box, an eighth of the node budget and of the time left each; then
+// best-first over the clicks near (within 1) or reaching the changes, then over
+// the full action set. A focused plan is the
 // shortest among focused plans; it is proven shortest only when it is at most
 // one action longer than the deepest full layer searched.
 #pragma once
