@@ -252,6 +252,7 @@ struct Prog {
     std::vector<int32_t>& t12 = s.scratch.v.t12;
     for (int32_t i = t10; i < t11; ++i) t12.push_back(i);
     std::vector<std::vector<C_Brick>> t13;
+    t13.reserve(t12.size());
     for (const int32_t& t13_x : t12) {
       const int32_t& a_row_14 = t13_x;
       // inlined: function at programs/breakout.au:22
@@ -261,6 +262,7 @@ struct Prog {
       std::vector<int32_t>& t17 = s.scratch.v.t17;
       for (int32_t i = t15; i < t16; ++i) t17.push_back(i);
       std::vector<C_Brick> t18;
+      t18.reserve(t17.size());
       for (const int32_t& t18_x : t17) {
         const int32_t& a_col_19 = t18_x;
         // inlined: function at programs/breakout.au:22
@@ -697,6 +699,7 @@ struct Prog {
         }
         const std::vector<C_Brick>& t267_src = t262;
         std::vector<C_Brick> t267;
+        t267.reserve(t267_src.size());
         for (size_t t267_i = 0; t267_i < t267_src.size(); ++t267_i) {
           const C_Brick& t268 = t267_src[t267_i];
           const C_Brick& a_k_269 = t268;
@@ -1062,6 +1065,7 @@ struct Prog {
         std::vector<int32_t>& t449 = s.scratch.v.t449;
         for (int32_t i = t447; i < t448; ++i) t449.push_back(i);
         std::vector<std::vector<C_Brick>> t450;
+        t450.reserve(t449.size());
         for (const int32_t& t450_x : t449) {
           const int32_t& a_row_451 = t450_x;
           // inlined: function at programs/breakout.au:22
@@ -1071,6 +1075,7 @@ struct Prog {
           std::vector<int32_t>& t454 = s.scratch.v.t454;
           for (int32_t i = t452; i < t453; ++i) t454.push_back(i);
           std::vector<C_Brick> t455;
+          t455.reserve(t454.size());
           for (const int32_t& t455_x : t454) {
             const int32_t& a_col_456 = t455_x;
             // inlined: function at programs/breakout.au:22

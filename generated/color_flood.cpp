@@ -207,6 +207,7 @@ struct Prog {
     std::vector<int32_t>& t15 = s.scratch.v.t15;
     for (int32_t i = t13; i < t14; ++i) t15.push_back(i);
     std::vector<C_Swatch> t16;
+    t16.reserve(t15.size());
     for (const int32_t& t16_x : t15) {
       const int32_t& a_i_17 = t16_x;
       // inlined: function at programs/color_flood.au:24
@@ -230,6 +231,7 @@ struct Prog {
     std::vector<Pos>& t27 = s.scratch.v.t27;
     for (int32_t i = 0; i < t24; ++i) for (int32_t j = 0; j < t26; ++j) t27.push_back(Pos{i, j});
     std::vector<C_Tile> t28;
+    t28.reserve(t27.size());
     for (const Pos& t28_x : t27) {
       const Pos& a_p_29 = t28_x;
       // inlined: function at programs/color_flood.au:18
@@ -267,6 +269,7 @@ struct Prog {
           if (t38) t36.push_back(t36_x);
         }
         std::vector<Pos> t39;
+        t39.reserve(t36.size());
         for (const C_Tile& t39_x : t36) {
           const C_Tile& a_t_40 = t39_x;
           // inlined: function at programs/color_flood.au:38
@@ -299,6 +302,7 @@ struct Prog {
         int32_t v_fh_54 = t53;
         const std::vector<C_Tile>& t55_src = a_ts_35;
         std::vector<C_Tile> t55;
+        t55.reserve(t55_src.size());
         for (size_t t55_i = 0; t55_i < t55_src.size(); ++t55_i) {
           const C_Tile& t56 = t55_src[t55_i];
           const C_Tile& a_t_57 = t56;
@@ -433,6 +437,7 @@ struct Prog {
         // inlined: function at programs/color_flood.au:44
         const std::vector<C_Tile>& t109_src = a_ts_107;
         std::vector<C_Tile> t109;
+        t109.reserve(t109_src.size());
         for (size_t t109_i = 0; t109_i < t109_src.size(); ++t109_i) {
           const C_Tile& t110 = t109_src[t109_i];
           const C_Tile& a_t_111 = t110;
@@ -536,6 +541,7 @@ struct Prog {
         // inlined: function at programs/color_flood.au:44
         const std::vector<C_Tile>& t148_src = a_ts_146;
         std::vector<C_Tile> t148;
+        t148.reserve(t148_src.size());
         for (size_t t148_i = 0; t148_i < t148_src.size(); ++t148_i) {
           const C_Tile& t149 = t148_src[t148_i];
           const C_Tile& a_t_150 = t149;
@@ -583,6 +589,7 @@ struct Prog {
         std::vector<Pos>& t161 = s.scratch.v.t161;
         for (int32_t i = 0; i < t158; ++i) for (int32_t j = 0; j < t160; ++j) t161.push_back(Pos{i, j});
         std::vector<C_Tile> t162;
+        t162.reserve(t161.size());
         for (const Pos& t162_x : t161) {
           const Pos& a_p_163 = t162_x;
           // inlined: function at programs/color_flood.au:18

@@ -224,6 +224,7 @@ struct Prog {
         const std::vector<C_Spark>& a_ss_37 = s.p_sparks;
         // inlined: function at programs/fireworks.au:35
         std::vector<C_Spark> t38;
+        t38.reserve(a_ss_37.size());
         for (const C_Spark& t38_x : a_ss_37) {
           const C_Spark& a_s_39 = t38_x;
           // inlined: function at programs/fireworks.au:37
@@ -272,6 +273,7 @@ struct Prog {
           if (t63) t61.push_back(t61_x);
         }
         std::vector<std::vector<C_Spark>> t64;
+        t64.reserve(t61.size());
         for (const C_Rocket& t64_x : t61) {
           const C_Rocket& a_r_65 = t64_x;
           // inlined: function at programs/fireworks.au:30
@@ -281,6 +283,7 @@ struct Prog {
           int32_t v_span_68 = t67;
           const std::vector<Pos> t69 = s.g_compass;
           std::vector<C_Spark> t70;
+          t70.reserve(t69.size());
           for (const Pos& t70_x : t69) {
             const Pos& a_d_71 = t70_x;
             // inlined: function at programs/fireworks.au:33
@@ -312,6 +315,7 @@ struct Prog {
           if (t84) t80.push_back(t80_x);
         }
         std::vector<C_Rocket> t85;
+        t85.reserve(t80.size());
         for (const C_Rocket& t85_x : t80) {
           const C_Rocket& a_obj_86 = t85_x;
           const int32_t t87 = int32_t(0);
@@ -455,7 +459,9 @@ struct Prog {
         const int32_t t164 = s.g_launchRow;
         const Pos t165 = Pos{t163, t164};
         const C_Rocket t166 = C_Rocket{t159, t161, t165};
-        std::vector<C_Rocket> t167 = t157;
+        std::vector<C_Rocket> t167;
+        t167.reserve(t157.size() + 1);
+        t167.assign(t157.begin(), t157.end());
         t167.push_back(t166);
         s.g_rockets = std::move(t167);
         s.u_rockets = true;
@@ -484,7 +490,9 @@ struct Prog {
         const int32_t t180 = s.g_launchRow;
         const Pos t181 = Pos{t179, t180};
         const C_Rocket t182 = C_Rocket{t175, t177, t181};
-        std::vector<C_Rocket> t183 = t173;
+        std::vector<C_Rocket> t183;
+        t183.reserve(t173.size() + 1);
+        t183.assign(t173.begin(), t173.end());
         t183.push_back(t182);
         s.g_rockets = std::move(t183);
         s.u_rockets = true;
@@ -508,6 +516,7 @@ struct Prog {
         std::vector<Pos> t192;
         for (int32_t i = 0; i < t191; ++i) { int32_t x = int32_t(s.core.rng.next(uint64_t(t190))); int32_t y = int32_t(s.core.rng.next(uint64_t(t190))); t192.push_back(Pos{x, y}); }
         std::vector<C_Rocket> t193;
+        t193.reserve(t192.size());
         for (const Pos& t193_x : t192) {
           const Pos& a_p_194 = t193_x;
           // inlined: function at programs/fireworks.au:61

@@ -445,6 +445,7 @@ struct Prog {
         s.core.covered[0] = 1;
         if (!s.core.have_prev) fail("prev used before the first step");
         std::vector<C_Drop> t33;
+        t33.reserve(s.p_drops.size());
         for (const C_Drop& t33_x : s.p_drops) {
           const C_Drop& a_obj_34 = t33_x;
           const int32_t t35 = int32_t(0);
@@ -466,6 +467,7 @@ struct Prog {
         if (!s.core.have_prev) fail("prev used before the first step");
         const std::vector<C_Plant>& t48_src = s.p_plants;
         std::vector<C_Plant> t48;
+        t48.reserve(t48_src.size());
         for (size_t t48_i = 0; t48_i < t48_src.size(); ++t48_i) {
           const C_Plant& t49 = t48_src[t48_i];
           const C_Plant& a_p_50 = t49;
@@ -594,6 +596,7 @@ struct Prog {
         const std::vector<C_Plant> t104 = s.g_plants;
         const std::vector<C_Plant>& t105_src = t104;
         std::vector<C_Plant> t105;
+        t105.reserve(t105_src.size());
         for (size_t t105_i = 0; t105_i < t105_src.size(); ++t105_i) {
           const C_Plant& t106 = t105_src[t105_i];
           const C_Plant& a_p_107 = t106;
@@ -772,7 +775,9 @@ struct Prog {
         const int32_t t172 = t171.y;
         const Pos t173 = Pos{t170, t172};
         const C_Plant t174 = C_Plant{t166, t168, t173};
-        std::vector<C_Plant> t175 = t165;
+        std::vector<C_Plant> t175;
+        t175.reserve(t165.size() + 1);
+        t175.assign(t165.begin(), t165.end());
         t175.push_back(t174);
         s.g_plants = std::move(t175);
         s.u_plants = true;
@@ -859,7 +864,9 @@ struct Prog {
         const int32_t t214 = int32_t(1);
         const Pos t215 = Pos{t213, t214};
         const C_Drop t216 = C_Drop{t215};
-        std::vector<C_Drop> t217 = t208;
+        std::vector<C_Drop> t217;
+        t217.reserve(t208.size() + 1);
+        t217.assign(t208.begin(), t208.end());
         t217.push_back(t216);
         s.g_drops = std::move(t217);
         s.u_drops = true;

@@ -229,6 +229,7 @@ struct Prog {
     // init sheep, programs/sheepdog.au:34
     const std::vector<Pos> t48 = s.g_sheepStarts;
     std::vector<C_Sheep> t49;
+    t49.reserve(t48.size());
     for (const Pos& t49_x : t48) {
       const Pos& a_p_50 = t49_x;
       // inlined: function at programs/sheepdog.au:34
@@ -300,6 +301,7 @@ struct Prog {
       if (t73) t59.push_back(t59_x);
     }
     std::vector<C_Fence> t81;
+    t81.reserve(t59.size());
     for (const Pos& t81_x : t59) {
       const Pos& a_p_82 = t81_x;
       // inlined: function at programs/sheepdog.au:26
@@ -1575,7 +1577,9 @@ struct Prog {
             t1067.f_penned = t1063;
             t1068 = t1067;
           }
-          std::vector<C_Sheep> t1069 = a_acc_823;
+          std::vector<C_Sheep> t1069;
+          t1069.reserve(a_acc_823.size() + 1);
+          t1069.assign(a_acc_823.begin(), a_acc_823.end());
           t1069.push_back(t1068);
           t821 = t1069;
         }
@@ -1633,6 +1637,7 @@ struct Prog {
         s.core.covered[9] = 1;
         const std::vector<Pos> t1086 = s.g_sheepStarts;
         std::vector<C_Sheep> t1087;
+        t1087.reserve(t1086.size());
         for (const Pos& t1087_x : t1086) {
           const Pos& a_p_1088 = t1087_x;
           // inlined: function at programs/sheepdog.au:84

@@ -530,7 +530,9 @@ struct Prog {
         const int32_t t46 = t45.y;
         const Pos t47 = Pos{t44, t46};
         const C_Melt t48 = C_Melt{t42, t47};
-        std::vector<C_Melt> t49 = s.p_melt;
+        std::vector<C_Melt> t49;
+        t49.reserve(s.p_melt.size() + 1);
+        t49.assign(s.p_melt.begin(), s.p_melt.end());
         t49.push_back(t48);
         s.g_melt = std::move(t49);
         s.u_melt = true;
@@ -606,7 +608,9 @@ struct Prog {
         const int32_t t70 = t69.y;
         const Pos t71 = Pos{t68, t70};
         const C_Rock t72 = C_Rock{t71};
-        std::vector<C_Rock> t73 = t66;
+        std::vector<C_Rock> t73;
+        t73.reserve(t66.size() + 1);
+        t73.assign(t66.begin(), t66.end());
         t73.push_back(t72);
         s.g_rocks = std::move(t73);
         s.u_rocks = true;
@@ -617,6 +621,7 @@ struct Prog {
         s.core.covered[3] = 1;
         const std::vector<C_Flake> t74 = s.g_snow;
         std::vector<C_Flake> t75;
+        t75.reserve(t74.size());
         for (const C_Flake& t75_x : t74) {
           const C_Flake& a_obj_76 = t75_x;
           const C_Flake& a_obj_77 = a_obj_76;
@@ -727,6 +732,7 @@ struct Prog {
         const std::vector<C_Melt>& a_ws_145 = t144;
         // inlined: function at programs/snowplow.au:41
         std::vector<C_Melt> t146;
+        t146.reserve(a_ws_145.size());
         for (const C_Melt& t146_x : a_ws_145) {
           const C_Melt& a_w_147 = t146_x;
           // inlined: function at programs/snowplow.au:43
@@ -806,6 +812,7 @@ struct Prog {
             std::vector<int32_t>& t206 = s.scratch.v.t206;
             for (int32_t i = t204; i < t205; ++i) t206.push_back(i);
             std::vector<std::vector<Pos>> t207;
+            t207.reserve(t206.size());
             for (const int32_t& t207_x : t206) {
               const int32_t& a_y_208 = t207_x;
               const int32_t t209 = v_xmin_197;
@@ -814,6 +821,7 @@ struct Prog {
               std::vector<int32_t>& t211 = s.scratch.v.t211;
               for (int32_t i = t209; i < t210; ++i) t211.push_back(i);
               std::vector<Pos> t212;
+              t212.reserve(t211.size());
               for (const int32_t& t212_x : t211) {
                 const int32_t& a_x_213 = t212_x;
                 const Pos t214 = Pos{a_x_213, a_y_208};
@@ -1339,7 +1347,9 @@ struct Prog {
         if (t520) {
           const std::vector<C_Flake> t521 = s.g_snow;
           const C_Flake t522 = v_flake_511;
-          std::vector<C_Flake> t523 = t521;
+          std::vector<C_Flake> t523;
+          t523.reserve(t521.size() + 1);
+          t523.assign(t521.begin(), t521.end());
           t523.push_back(t522);
           t525 = t523;
         } else {

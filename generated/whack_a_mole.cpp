@@ -363,6 +363,7 @@ struct Prog {
     // init burrows, programs/whack_a_mole.au:25
     const std::vector<Pos> t37 = s.g_burrowSpots;
     std::vector<C_Burrow> t38;
+    t38.reserve(t37.size());
     for (const Pos& t38_x : t37) {
       const Pos& a_spot_39 = t38_x;
       // inlined: function at programs/whack_a_mole.au:25
@@ -419,6 +420,7 @@ struct Prog {
         const std::vector<C_Mole>& a_ms_47 = s.p_moles;
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C_Mole> t48;
+        t48.reserve(a_ms_47.size());
         for (const C_Mole& t48_x : a_ms_47) {
           const C_Mole& a_m_49 = t48_x;
           // inlined: function at programs/whack_a_mole.au:47
@@ -478,7 +480,9 @@ struct Prog {
         const int32_t t72 = t71.y;
         const Pos t73 = Pos{t70, t72};
         const C_Flash t74 = C_Flash{t68, t73};
-        std::vector<C_Flash> t75 = t67;
+        std::vector<C_Flash> t75;
+        t75.reserve(t67.size() + 1);
+        t75.assign(t67.begin(), t67.end());
         t75.push_back(t74);
         s.g_flashes = std::move(t75);
         s.u_flashes = true;
@@ -521,6 +525,7 @@ struct Prog {
         const std::vector<C_Mole>& a_ms_85 = s.p_moles;
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C_Mole> t86;
+        t86.reserve(a_ms_85.size());
         for (const C_Mole& t86_x : a_ms_85) {
           const C_Mole& a_m_87 = t86_x;
           // inlined: function at programs/whack_a_mole.au:47
@@ -574,6 +579,7 @@ struct Prog {
         const std::vector<C_Mole>& a_ms_104 = s.p_moles;
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C_Mole> t105;
+        t105.reserve(a_ms_104.size());
         for (const C_Mole& t105_x : a_ms_104) {
           const C_Mole& a_m_106 = t105_x;
           // inlined: function at programs/whack_a_mole.au:47
@@ -655,7 +661,9 @@ struct Prog {
         if (t137.empty()) fail("uniformChoice of an empty list");
         const Pos t143 = t137[s.core.rng.next(t137.size())];
         const C_Mole t144 = C_Mole{t133, t143};
-        std::vector<C_Mole> t145 = t131;
+        std::vector<C_Mole> t145;
+        t145.reserve(t131.size() + 1);
+        t145.assign(t131.begin(), t131.end());
         t145.push_back(t144);
         s.g_moles = std::move(t145);
         s.u_moles = true;
@@ -746,6 +754,7 @@ struct Prog {
         if (t166) t164.push_back(t164_x);
       }
       std::vector<C_Flash> t167;
+      t167.reserve(t164.size());
       for (const C_Flash& t167_x : t164) {
         const C_Flash& a_f_168 = t167_x;
         // inlined: function at programs/whack_a_mole.au:33

@@ -802,6 +802,7 @@ Val Lowerer::call_builtin(const std::string& b, std::vector<Val>& a, const Expr&
       if (!same(rt, l.type->elem)) bail(&at, "updateObj with a filter changes the element type");
       line("const " + cpp_type(l.type) + "& " + r + "_src = " + l.code + ";");
       line(cpp_type(l.type) + " " + r + ";");
+      line(r + ".reserve(" + r + "_src.size());");  // one allocation, not log2(n)
       movable_.insert(r);
       line("for (size_t " + r + "_i = 0; " + r + "_i < " + r + "_src.size(); ++" + r + "_i) {");
       *out_ += body;
@@ -839,6 +840,7 @@ Val Lowerer::call_builtin(const std::string& b, std::vector<Val>& a, const Expr&
     if (b == "any") line("bool " + r + " = false;");
     else {
       line(cpp_type(result) + " " + r + ";");
+      if (b == "map" || b == "updateObj") line(r + ".reserve(" + l.code + ".size());");
       movable_.insert(r);
     }
     line("for (const " + cpp_type(l.type->elem) + "& " + r + "_x : " + l.code + ") {");
@@ -963,7 +965,11 @@ Val Lowerer::call_builtin(const std::string& b, std::vector<Val>& a, const Expr&
     if (a[1].type->k == TK::Obj) {
       TP t = mk_list(a[1].type);
       if (l.type->elem && !same(l.type->elem, a[1].type)) bail(&at, "addObj of an object of another class");
-      line(cpp_type(t) + " " + r + (l.code == "{}" ? "" : " = " + l.code) + ";");
+      line(cpp_type(t) + " " + r + ";");
+      if (l.code != "{}") {  // one allocation for the copy and the new element
+        line(r + ".reserve(" + l.code + ".size() + 1);");
+        line(r + ".assign(" + l.code + ".begin(), " + l.code + ".end());");
+      }
       movable_.insert(r);
       line(r + ".push_back(" + a[1].code + ");");
       return {r, t};
