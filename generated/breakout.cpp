@@ -1009,9 +1009,9 @@ struct Prog {
       const bool t422 = !t421;
       if (t422) {
         s.core.covered[4] = 1;
-        const C_Ball t423 = s.g_ball;
+        const C_Ball& t423 = s.g_ball;
         const int32_t t424 = int32_t(4);
-        const C_Paddle t425 = s.g_paddle;
+        const C_Paddle& t425 = s.g_paddle;
         const int32_t t426 = t425.origin.x;
         const int32_t t427 = s.g_padRow;
         const int32_t t428 = sub(t427, int32_t(1));
@@ -1039,7 +1039,7 @@ struct Prog {
         if (t435.empty()) fail("uniformChoice of an empty list");
         const int32_t t436 = t435[s.core.rng.next(t435.size())];
         const int32_t t437 = neg(int32_t(1));
-        const C_Ball t438 = s.g_ball;
+        const C_Ball& t438 = s.g_ball;
         const Pos t439 = t438.origin;
         const C_Ball t440 = C_Ball{t436, t437, t439};
         s.g_ball = t440;
@@ -1047,7 +1047,7 @@ struct Prog {
       }
     }
     {  // on-clause 7, programs/breakout.au:89
-      const std::vector<C_Brick> t441 = s.g_bricks;
+      const std::vector<C_Brick>& t441 = s.g_bricks;
       const int32_t t442 = int32_t(t441.size());
       const bool t443 = t442 == int32_t(0);
       bool t444 = true;
@@ -1107,7 +1107,7 @@ struct Prog {
         s.u_launched = true;
         const int32_t t467 = int32_t(1);
         const int32_t t468 = neg(int32_t(1));
-        const C_Paddle t469 = s.g_paddle;
+        const C_Paddle& t469 = s.g_paddle;
         const int32_t t470 = t469.origin.x;
         const int32_t t471 = s.g_padRow;
         const int32_t t472 = sub(t471, int32_t(1));

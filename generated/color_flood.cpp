@@ -211,7 +211,7 @@ struct Prog {
     for (const int32_t& t16_x : t15) {
       const int32_t& a_i_17 = t16_x;
       // inlined: function at programs/color_flood.au:24
-      const std::vector<int32_t> t18 = s.g_palette;
+      const std::vector<int32_t>& t18 = s.g_palette;
       if (t18.empty() || a_i_17 < 0 || size_t(a_i_17) >= t18.size()) fail("at: index out of bounds");
       const int32_t t19 = t18[a_i_17];
       const int32_t t20 = s.g_GRID_SIZE;
@@ -235,7 +235,7 @@ struct Prog {
     for (const Pos& t28_x : t27) {
       const Pos& a_p_29 = t28_x;
       // inlined: function at programs/color_flood.au:18
-      const std::vector<int32_t> t30 = s.g_palette;
+      const std::vector<int32_t>& t30 = s.g_palette;
       if (t30.empty()) fail("uniformChoice of an empty list");
       const int32_t t31 = t30[s.core.rng.next(t30.size())];
       const Pos t32 = s.g_corner;
@@ -376,7 +376,7 @@ struct Prog {
       }
       if (t78) {
         s.core.covered[1] = 1;
-        const std::vector<C_Tile> t82 = s.g_tiles;
+        const std::vector<C_Tile>& t82 = s.g_tiles;
         if (!s.core.have_prev) fail("prev used before the first step");
         const std::vector<C_Tile>& a_things_83 = s.p_tiles;
         // inlined: function at programs/color_flood.au:45
@@ -407,7 +407,7 @@ struct Prog {
           const C_Tile t93 = t92.front();
           t106 = t93.f_hue;
         } else {
-          const std::vector<C_Tile> t94 = s.g_tiles;
+          const std::vector<C_Tile>& t94 = s.g_tiles;
           const std::vector<C_Tile>& a_ts_95 = t94;
           // inlined: function at programs/color_flood.au:32
           std::vector<C_Tile> t96;
@@ -480,7 +480,7 @@ struct Prog {
       }
       if (t117) {
         s.core.covered[2] = 1;
-        const std::vector<C_Tile> t121 = s.g_tiles;
+        const std::vector<C_Tile>& t121 = s.g_tiles;
         if (!s.core.have_prev) fail("prev used before the first step");
         const std::vector<C_Swatch>& a_things_122 = s.p_swatches;
         // inlined: function at programs/color_flood.au:45
@@ -511,7 +511,7 @@ struct Prog {
           const C_Swatch t132 = t131.front();
           t145 = t132.f_hue;
         } else {
-          const std::vector<C_Tile> t133 = s.g_tiles;
+          const std::vector<C_Tile>& t133 = s.g_tiles;
           const std::vector<C_Tile>& a_ts_134 = t133;
           // inlined: function at programs/color_flood.au:32
           std::vector<C_Tile> t135;
@@ -593,7 +593,7 @@ struct Prog {
         for (const Pos& t162_x : t161) {
           const Pos& a_p_163 = t162_x;
           // inlined: function at programs/color_flood.au:18
-          const std::vector<int32_t> t164 = s.g_palette;
+          const std::vector<int32_t>& t164 = s.g_palette;
           if (t164.empty()) fail("uniformChoice of an empty list");
           const int32_t t165 = t164[s.core.rng.next(t164.size())];
           const Pos t166 = s.g_corner;
@@ -608,7 +608,7 @@ struct Prog {
     if (!s.u_lamps) {  // NEXT of lamps, programs/color_flood.au:29
       if (!s.core.have_prev) fail("prev used before the first step");
       const int32_t t169 = int32_t(9);
-      const std::vector<C_Tile> t170 = s.g_tiles;
+      const std::vector<C_Tile>& t170 = s.g_tiles;
       const std::vector<C_Tile>& a_ts_171 = t170;
       // inlined: function at programs/color_flood.au:31
       bool t172 = false;

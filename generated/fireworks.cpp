@@ -281,7 +281,7 @@ struct Prog {
           if (t66.empty()) fail("uniformChoice of an empty list");
           const int32_t t67 = t66[s.core.rng.next(t66.size())];
           int32_t v_span_68 = t67;
-          const std::vector<Pos> t69 = s.g_compass;
+          const std::vector<Pos>& t69 = s.g_compass;
           std::vector<C_Spark> t70;
           t70.reserve(t69.size());
           for (const Pos& t70_x : t69) {
@@ -438,7 +438,7 @@ struct Prog {
       }
       bool t152 = false;
       if ((t151)) {
-        const std::vector<C_Rocket> t153 = s.g_rockets;
+        const std::vector<C_Rocket>& t153 = s.g_rockets;
         const int32_t t154 = int32_t(t153.size());
         const int32_t t155 = s.g_maxRockets;
         const bool t156 = t154 < t155;
@@ -446,11 +446,11 @@ struct Prog {
       }
       if (t152) {
         s.core.covered[3] = 1;
-        const std::vector<C_Rocket> t157 = s.g_rockets;
+        const std::vector<C_Rocket>& t157 = s.g_rockets;
         if (!s.core.click_defined) fail("undefined variable 'click'");
         const Pos t158 = s.core.click_pos;
         const int32_t t159 = t158.y;
-        const std::vector<int32_t> t160 = s.g_palette;
+        const std::vector<int32_t>& t160 = s.g_palette;
         if (t160.empty()) fail("uniformChoice of an empty list");
         const int32_t t161 = t160[s.core.rng.next(t160.size())];
         if (!s.core.click_defined) fail("undefined variable 'click'");
@@ -470,7 +470,7 @@ struct Prog {
     {  // on-clause 5, programs/fireworks.au:55
       bool t168 = false;
       if ((s.core.up)) {
-        const std::vector<C_Rocket> t169 = s.g_rockets;
+        const std::vector<C_Rocket>& t169 = s.g_rockets;
         const int32_t t170 = int32_t(t169.size());
         const int32_t t171 = s.g_maxRockets;
         const bool t172 = t170 < t171;
@@ -478,14 +478,14 @@ struct Prog {
       }
       if (t168) {
         s.core.covered[4] = 1;
-        const std::vector<C_Rocket> t173 = s.g_rockets;
+        const std::vector<C_Rocket>& t173 = s.g_rockets;
         const std::vector<int32_t> t174 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
         if (t174.empty()) fail("uniformChoice of an empty list");
         const int32_t t175 = t174[s.core.rng.next(t174.size())];
-        const std::vector<int32_t> t176 = s.g_palette;
+        const std::vector<int32_t>& t176 = s.g_palette;
         if (t176.empty()) fail("uniformChoice of an empty list");
         const int32_t t177 = t176[s.core.rng.next(t176.size())];
-        const C_Pad t178 = s.g_pad;
+        const C_Pad& t178 = s.g_pad;
         const int32_t t179 = t178.origin.x;
         const int32_t t180 = s.g_launchRow;
         const Pos t181 = Pos{t179, t180};
@@ -501,7 +501,7 @@ struct Prog {
     {  // on-clause 6, programs/fireworks.au:59
       bool t184 = false;
       if ((s.core.down)) {
-        const std::vector<C_Rocket> t185 = s.g_rockets;
+        const std::vector<C_Rocket>& t185 = s.g_rockets;
         const int32_t t186 = int32_t(t185.size());
         const int32_t t187 = s.g_maxRockets;
         const bool t188 = t186 < t187;
@@ -509,7 +509,7 @@ struct Prog {
       }
       if (t184) {
         s.core.covered[5] = 1;
-        const std::vector<C_Rocket> t189 = s.g_rockets;
+        const std::vector<C_Rocket>& t189 = s.g_rockets;
         const int32_t t190 = s.g_GRID_SIZE;
         const int32_t t191 = int32_t(3);
         if (t190 < 0) fail("randomPositions: negative size");
@@ -531,7 +531,7 @@ struct Prog {
           } else {
             t200 = a_b_198;
           }
-          const std::vector<int32_t> t201 = s.g_palette;
+          const std::vector<int32_t>& t201 = s.g_palette;
           if (t201.empty()) fail("uniformChoice of an empty list");
           const int32_t t202 = t201[s.core.rng.next(t201.size())];
           const int32_t t203 = a_p_194.x;

@@ -590,10 +590,10 @@ struct Prog {
       }
     }
     {  // on-clause 2, programs/garden.au:55
-      const C_Sun t103 = s.g_sun;
+      const C_Sun& t103 = s.g_sun;
       if (t103.f_shining) {
         s.core.covered[1] = 1;
-        const std::vector<C_Plant> t104 = s.g_plants;
+        const std::vector<C_Plant>& t104 = s.g_plants;
         const std::vector<C_Plant>& t105_src = t104;
         std::vector<C_Plant> t105;
         t105.reserve(t105_src.size());
@@ -607,7 +607,7 @@ struct Prog {
           const bool t110 = !t109;
           bool t111 = false;
           if ((t110)) {
-            const std::vector<bool> t112 = s.g_growChance;
+            const std::vector<bool>& t112 = s.g_growChance;
             if (t112.empty()) fail("uniformChoice of an empty list");
             const bool t113 = t112[s.core.rng.next(t112.size())];
             t111 = t113;
@@ -680,10 +680,10 @@ struct Prog {
         }
         C_Basket t144;
         if (t130) {
-          const C_Basket t133 = s.g_basket;
+          const C_Basket& t133 = s.g_basket;
           const int32_t t134 = int32_t(11);
           const int32_t t135 = int32_t(12);
-          const C_Basket t136 = s.g_basket;
+          const C_Basket& t136 = s.g_basket;
           const int32_t t137 = add(t136.f_picked, int32_t(1));
           const int32_t& a_a_138 = t135;
           const int32_t& a_b_139 = t137;
@@ -698,12 +698,12 @@ struct Prog {
           t142.f_picked = t141;
           t144 = t142;
         } else {
-          const C_Basket t143 = s.g_basket;
+          const C_Basket& t143 = s.g_basket;
           t144 = t143;
         }
         s.g_basket = t144;
         s.u_basket = true;
-        const std::vector<C_Plant> t145 = s.g_plants;
+        const std::vector<C_Plant>& t145 = s.g_plants;
         std::vector<C_Plant> t146;
         for (const C_Plant& t146_x : t145) {
           const C_Plant& a_p_147 = t146_x;
@@ -750,7 +750,7 @@ struct Prog {
           const bool t159 = s.core.occupied.free(t158);
           bool t160 = false;
           if ((t159)) {
-            const std::vector<C_Plant> t161 = s.g_plants;
+            const std::vector<C_Plant>& t161 = s.g_plants;
             const int32_t t162 = int32_t(t161.size());
             const int32_t t163 = s.g_maxPlants;
             const bool t164 = t162 < t163;
@@ -762,9 +762,9 @@ struct Prog {
       }
       if (t151) {
         s.core.covered[3] = 1;
-        const std::vector<C_Plant> t165 = s.g_plants;
+        const std::vector<C_Plant>& t165 = s.g_plants;
         const int32_t t166 = int32_t(0);
-        const std::vector<int32_t> t167 = s.g_petals;
+        const std::vector<int32_t>& t167 = s.g_petals;
         if (t167.empty()) fail("uniformChoice of an empty list");
         const int32_t t168 = t167[s.core.rng.next(t167.size())];
         if (!s.core.click_defined) fail("undefined variable 'click'");
@@ -854,8 +854,8 @@ struct Prog {
     {  // on-clause 7, programs/garden.au:71
       if (s.core.down) {
         s.core.covered[6] = 1;
-        const std::vector<C_Drop> t208 = s.g_drops;
-        const C_Cloud t209 = s.g_cloud;
+        const std::vector<C_Drop>& t208 = s.g_drops;
+        const C_Cloud& t209 = s.g_cloud;
         const int32_t t210 = neg(int32_t(1));
         const std::vector<int32_t> t211 = std::vector<int32_t>{t210, int32_t(0), int32_t(1)};
         if (t211.empty()) fail("uniformChoice of an empty list");

@@ -227,7 +227,7 @@ struct Prog {
     const std::vector<Pos> t47 = std::vector<Pos>{t43, t46};
     s.g_gate = t47;
     // init sheep, programs/sheepdog.au:34
-    const std::vector<Pos> t48 = s.g_sheepStarts;
+    const std::vector<Pos>& t48 = s.g_sheepStarts;
     std::vector<C_Sheep> t49;
     t49.reserve(t48.size());
     for (const Pos& t49_x : t48) {
@@ -286,7 +286,7 @@ struct Prog {
       }
       bool t73 = false;
       if ((t65)) {
-        const std::vector<Pos> t74 = s.g_gate;
+        const std::vector<Pos>& t74 = s.g_gate;
         const Pos& a_e_75 = a_p_60;
         const std::vector<Pos>& a_l_76 = t74;
         bool t77 = false;
@@ -1044,14 +1044,14 @@ struct Prog {
       }
     }
     {  // on-clause 6, programs/sheepdog.au:75
-      const std::vector<C_Flag> t535 = s.g_flags;
+      const std::vector<C_Flag>& t535 = s.g_flags;
       const int32_t t536 = int32_t(t535.size());
       const bool t537 = t536 > int32_t(0);
       bool t538 = false;
       if ((t537)) {
-        const C_Dog t539 = s.g_dog;
+        const C_Dog& t539 = s.g_dog;
         const Pos t540 = t539.origin;
-        const std::vector<C_Flag> t541 = s.g_flags;
+        const std::vector<C_Flag>& t541 = s.g_flags;
         if (t541.empty()) fail("head of an empty list");
         const C_Flag t542 = t541.front();
         const Pos t543 = t542.origin;
@@ -1151,7 +1151,7 @@ struct Prog {
           if (a_s_825.f_penned) {
             t1068 = a_s_825;
           } else {
-            const C_Dog t827 = s.g_dog;
+            const C_Dog& t827 = s.g_dog;
             const int32_t t828 = int32_t(3);
             const C_Sheep& a_obj1_829 = a_s_825;
             const C_Dog& a_obj2_830 = t827;
@@ -1195,7 +1195,7 @@ struct Prog {
             if (t856) {
               const C_Sheep& a_s_857 = a_s_825;
               // inlined: function at programs/sheepdog.au:43
-              const C_Dog t858 = s.g_dog;
+              const C_Dog& t858 = s.g_dog;
               const C_Sheep& a_obj_859 = a_s_857;
               const C_Dog& a_target_860 = t858;
               const Pos t861 = a_obj_859.origin;
@@ -1290,7 +1290,7 @@ struct Prog {
               const Pos t912 = Pos{t909, t911};
               t915 = t912;
             } else {
-              const std::vector<Pos> t913 = s.g_wanderSteps;
+              const std::vector<Pos>& t913 = s.g_wanderSteps;
               if (t913.empty()) fail("uniformChoice of an empty list");
               const Pos t914 = t913[s.core.rng.next(t913.size())];
               t915 = t914;
@@ -1365,7 +1365,7 @@ struct Prog {
               }
               bool t958 = false;
               if ((t950)) {
-                const std::vector<Pos> t959 = s.g_gate;
+                const std::vector<Pos>& t959 = s.g_gate;
                 const Pos& a_e_960 = a_p_945;
                 const std::vector<Pos>& a_l_961 = t959;
                 bool t962 = false;
@@ -1379,7 +1379,7 @@ struct Prog {
               }
               bool t966 = true;
               if (!(t958)) {
-                const C_Dog t967 = s.g_dog;
+                const C_Dog& t967 = s.g_dog;
                 const bool t968 = a_p_943 == t967.origin;
                 t966 = t968;
               }
@@ -1414,7 +1414,7 @@ struct Prog {
               const Pos t978 = v_wish_916;
               t981 = t978;
             } else {
-              const std::vector<Pos> t979 = s.g_wanderSteps;
+              const std::vector<Pos>& t979 = s.g_wanderSteps;
               if (t979.empty()) fail("uniformChoice of an empty list");
               const Pos t980 = t979[s.core.rng.next(t979.size())];
               t981 = t980;
@@ -1489,7 +1489,7 @@ struct Prog {
               }
               bool t1023 = false;
               if ((t1015)) {
-                const std::vector<Pos> t1024 = s.g_gate;
+                const std::vector<Pos>& t1024 = s.g_gate;
                 const Pos& a_e_1025 = a_p_1010;
                 const std::vector<Pos>& a_l_1026 = t1024;
                 bool t1027 = false;
@@ -1503,7 +1503,7 @@ struct Prog {
               }
               bool t1031 = true;
               if (!(t1023)) {
-                const C_Dog t1032 = s.g_dog;
+                const C_Dog& t1032 = s.g_dog;
                 const bool t1033 = a_p_1008 == t1032.origin;
                 t1031 = t1033;
               }
@@ -1589,7 +1589,7 @@ struct Prog {
       }
     }
     {  // on-clause 9, programs/sheepdog.au:82
-      const std::vector<C_Sheep> t1071 = s.g_sheep;
+      const std::vector<C_Sheep>& t1071 = s.g_sheep;
       const std::vector<C_Sheep>& a_flock_1072 = t1071;
       // inlined: function at programs/sheepdog.au:39
       bool t1073 = false;
@@ -1635,7 +1635,7 @@ struct Prog {
       }
       if (t1083) {
         s.core.covered[9] = 1;
-        const std::vector<Pos> t1086 = s.g_sheepStarts;
+        const std::vector<Pos>& t1086 = s.g_sheepStarts;
         std::vector<C_Sheep> t1087;
         t1087.reserve(t1086.size());
         for (const Pos& t1087_x : t1086) {

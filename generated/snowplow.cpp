@@ -590,7 +590,7 @@ struct Prog {
         const bool t61 = s.core.occupied.free(t60);
         bool t62 = false;
         if ((t61)) {
-          const std::vector<C_Rock> t63 = s.g_rocks;
+          const std::vector<C_Rock>& t63 = s.g_rocks;
           const int32_t t64 = int32_t(t63.size());
           const bool t65 = t64 < int32_t(12);
           t62 = t65;
@@ -599,7 +599,7 @@ struct Prog {
       }
       if (t59) {
         s.core.covered[2] = 1;
-        const std::vector<C_Rock> t66 = s.g_rocks;
+        const std::vector<C_Rock>& t66 = s.g_rocks;
         if (!s.core.click_defined) fail("undefined variable 'click'");
         const Pos t67 = s.core.click_pos;
         const int32_t t68 = t67.x;
@@ -619,7 +619,7 @@ struct Prog {
     {  // on-clause 4, programs/snowplow.au:56
       if (true) {
         s.core.covered[3] = 1;
-        const std::vector<C_Flake> t74 = s.g_snow;
+        const std::vector<C_Flake>& t74 = s.g_snow;
         std::vector<C_Flake> t75;
         t75.reserve(t74.size());
         for (const C_Flake& t75_x : t74) {
@@ -728,7 +728,7 @@ struct Prog {
     {  // on-clause 5, programs/snowplow.au:57
       if (true) {
         s.core.covered[4] = 1;
-        const std::vector<C_Melt> t144 = s.g_melt;
+        const std::vector<C_Melt>& t144 = s.g_melt;
         const std::vector<C_Melt>& a_ws_145 = t144;
         // inlined: function at programs/snowplow.au:41
         std::vector<C_Melt> t146;
@@ -1205,12 +1205,12 @@ struct Prog {
     {  // on-clause 8, programs/snowplow.au:61
       if (true) {
         s.core.covered[7] = 1;
-        const std::vector<C_Flake> t453 = s.g_snow;
+        const std::vector<C_Flake>& t453 = s.g_snow;
         std::vector<C_Flake> t454;
         for (const C_Flake& t454_x : t453) {
           const C_Flake& a_f_455 = t454_x;
           // inlined: function at programs/snowplow.au:61
-          const C_Plow t456 = s.g_plow;
+          const C_Plow& t456 = s.g_plow;
           const C_Flake& a_obj1_457 = a_f_455;
           const C_Plow& a_obj2_458 = t456;
           s.scratch.v.t459.clear();
@@ -1300,13 +1300,13 @@ struct Prog {
     }
     {  // on-clause 11, programs/snowplow.au:69
       const int32_t t490 = s.g_time;
-      const C_Cloud t491 = s.g_cloud;
+      const C_Cloud& t491 = s.g_cloud;
       const int32_t t492 = sub(int32_t(5), t491.f_heavy);
       const int32_t t493 = imod(t490, t492);
       const bool t494 = t493 == int32_t(0);
       bool t495 = false;
       if ((t494)) {
-        const std::vector<C_Flake> t496 = s.g_snow;
+        const std::vector<C_Flake>& t496 = s.g_snow;
         const int32_t t497 = int32_t(t496.size());
         const int32_t t498 = s.g_maxSnow;
         const bool t499 = t497 < t498;
@@ -1345,7 +1345,7 @@ struct Prog {
         const bool t520 = !t515;
         std::vector<C_Flake> t525;
         if (t520) {
-          const std::vector<C_Flake> t521 = s.g_snow;
+          const std::vector<C_Flake>& t521 = s.g_snow;
           const C_Flake t522 = v_flake_511;
           std::vector<C_Flake> t523;
           t523.reserve(t521.size() + 1);
@@ -1353,7 +1353,7 @@ struct Prog {
           t523.push_back(t522);
           t525 = t523;
         } else {
-          const std::vector<C_Flake> t524 = s.g_snow;
+          const std::vector<C_Flake>& t524 = s.g_snow;
           t525 = t524;
         }
         s.g_snow = t525;

@@ -361,7 +361,7 @@ struct Prog {
     // init moles, programs/whack_a_mole.au:28
     s.g_moles = {};
     // init burrows, programs/whack_a_mole.au:25
-    const std::vector<Pos> t37 = s.g_burrowSpots;
+    const std::vector<Pos>& t37 = s.g_burrowSpots;
     std::vector<C_Burrow> t38;
     t38.reserve(t37.size());
     for (const Pos& t38_x : t37) {
@@ -470,7 +470,7 @@ struct Prog {
         }
         s.g_score = t66;
         s.u_score = true;
-        const std::vector<C_Flash> t67 = s.g_flashes;
+        const std::vector<C_Flash>& t67 = s.g_flashes;
         const int32_t t68 = int32_t(2);
         if (!s.core.click_defined) fail("undefined variable 'click'");
         const Pos t69 = s.core.click_pos;
@@ -610,10 +610,10 @@ struct Prog {
         const bool t118 = t117 == int32_t(0);
         bool t119 = false;
         if ((t118)) {
-          const std::vector<C_Mole> t120 = s.g_moles;
+          const std::vector<C_Mole>& t120 = s.g_moles;
           const std::vector<C_Mole>& a_ms_121 = t120;
           // inlined: function at programs/whack_a_mole.au:50
-          const std::vector<Pos> t122 = s.g_burrowSpots;
+          const std::vector<Pos>& t122 = s.g_burrowSpots;
           std::vector<Pos> t123;
           for (const Pos& t123_x : t122) {
             const Pos& a_spot_124 = t123_x;
@@ -636,14 +636,14 @@ struct Prog {
       }
       if (t115) {
         s.core.covered[3] = 1;
-        const std::vector<C_Mole> t131 = s.g_moles;
+        const std::vector<C_Mole>& t131 = s.g_moles;
         const std::vector<int32_t> t132 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
         if (t132.empty()) fail("uniformChoice of an empty list");
         const int32_t t133 = t132[s.core.rng.next(t132.size())];
-        const std::vector<C_Mole> t134 = s.g_moles;
+        const std::vector<C_Mole>& t134 = s.g_moles;
         const std::vector<C_Mole>& a_ms_135 = t134;
         // inlined: function at programs/whack_a_mole.au:50
-        const std::vector<Pos> t136 = s.g_burrowSpots;
+        const std::vector<Pos>& t136 = s.g_burrowSpots;
         std::vector<Pos> t137;
         for (const Pos& t137_x : t136) {
           const Pos& a_spot_138 = t137_x;

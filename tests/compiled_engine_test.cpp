@@ -40,6 +40,8 @@ INSTANTIATE_TEST_SUITE_P(Traces, CompiledConformance, ::testing::ValuesIn(trace_
 
 std::vector<std::filesystem::path> diff_programs() {
   auto out = testing::files_in(testing::source_dir() / "programs", ".au");
+  // The golden quirk programs too: each pins down a corner the lowering must keep.
+  for (const auto& p : testing::files_in(testing::source_dir() / "tests/golden", ".au")) out.push_back(p);
   for (const auto& p : testing::files_in(testing::shared_dir() / "conformance/programs", ".sexp")) out.push_back(p);
   return out;
 }
@@ -92,13 +94,17 @@ TEST_P(CopyAndSnapshot, KeepTheFuture) {
     std::vector<uint8_t> bytes;
     const bool saved = env->save_state(bytes);
     EXPECT_TRUE(saved || !specialised) << "a specialised program must support snapshots";
-    if (saved) ASSERT_TRUE(restored->load_state(bytes.data(), bytes.size())) << restored->error();
+    if (saved) {
+      ASSERT_TRUE(restored->load_state(bytes.data(), bytes.size())) << restored->error();
+    }
     auto rows = [](const Environment& e) { return frame_rows(e.frame(), e.palette()); };
     for (size_t i = split; i <= total; ++i) {
       if (i > split) {
         bool a = env->step(actions[i - 1]);
         ASSERT_EQ(a, copy->step(actions[i - 1])) << "step " << i;
-        if (saved) ASSERT_EQ(a, restored->step(actions[i - 1])) << "step " << i;
+        if (saved) {
+          ASSERT_EQ(a, restored->step(actions[i - 1])) << "step " << i;
+        }
         if (!a) break;
       }
       ASSERT_EQ(rows(*copy), rows(*env)) << "copy, step " << i;

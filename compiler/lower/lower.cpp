@@ -201,6 +201,18 @@ class Lowerer {
     line("const " + cpp_type(v.type) + " " + t + " = " + v.code + ";");
     return {t, v.type};
   }
+  // A read of a global list or object: declared as a reference when nothing in
+  // the reference's C++ scope assigns that global (settled by bind_global_reads
+  // once the whole module is emitted), a copy otherwise. Saves a list copy per
+  // read, which was most of a step's allocations.
+  Val declare_global_read(const Val& v) {
+    if (v.type->k != TK::List && v.type->k != TK::Obj) return declare(v);
+    if (immutable_names_.count(v.code)) return v;
+    std::string t = temp();
+    line("const " + cpp_type(v.type) + kRefMark + " " + t + " = " + v.code + ";");
+    return {t, v.type};
+  }
+  static constexpr const char* kRefMark = "/*ref?*/";
   std::string truthy(const Val& v) {
     if (v.type->k == TK::Void) throw Unsupported{"the value of an if whose branches differ in type", {}};
     if (v.type->k == TK::Bool) return v.code;
@@ -269,6 +281,7 @@ class Lowerer {
   void analyse_globals();
   void check_program_features();
   std::string emit();
+  std::string bind_global_reads(std::string text);
 
   const Program& P;
   std::string name_;
@@ -375,7 +388,7 @@ Val Lowerer::lower_var(const Expr& e) {
   }
   if (Global* g = find_global(e.name)) {
     if (g->type->k == TK::Func) return {"Unit{}", g->type};
-    return declare({g->cpp, g->type});
+    return declare_global_read({g->cpp, g->type});
   }
   if (builtin_names_.count(e.name)) {
     auto t = std::make_shared<T>();
@@ -1612,7 +1625,87 @@ std::string Lowerer::emit() {
     o << "    \"" << escaped << "\",\n";
   }
   o << "    nullptr};\n";
-  return o.str();
+  return bind_global_reads(o.str());
+}
+
+// Settles each global read that declare_global_read marked: "&" (a reference)
+// when no assignment to that global can run while the reference is still to be
+// read, nothing (a copy) otherwise. Every store to a global is emitted as
+// "s.g_name = ..." inside the function that runs it (render and the helpers
+// only read), and a reference lives until the end of its enclosing C++ block.
+// A store in that span is harmless unless the reference is named after it, or
+// the store sits inside a loop that began after the declaration (the next
+// iteration would read the reference again).
+std::string Lowerer::bind_global_reads(std::string text) {
+  const std::string mark = kRefMark;
+  const size_t npos = std::string::npos;
+  // Index of the first unmatched '}' at or after `from`, skipping string and
+  // character literals and comments.
+  auto block_end = [&](size_t from) -> size_t {
+    int depth = 0;
+    for (size_t i = from; i < text.size(); ++i) {
+      char c = text[i];
+      if (c == '"' || c == '\'') {
+        for (++i; i < text.size() && text[i] != c; ++i)
+          if (text[i] == '\\') ++i;
+      } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '/') {
+        i = text.find('\n', i);
+        if (i == npos) return npos;
+      } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+        i = text.find("*/", i + 2);
+        if (i == npos) return npos;
+        ++i;
+      } else if (c == '{') {
+        ++depth;
+      } else if (c == '}' && depth-- == 0) {
+        return i;
+      }
+    }
+    return npos;
+  };
+  auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  // Whether identifier `name` occurs in [from, to).
+  auto named = [&](const std::string& name, size_t from, size_t to) {
+    for (size_t i = text.find(name, from); i != npos && i < to; i = text.find(name, i + 1))
+      if ((i == 0 || !ident(text[i - 1])) && (i + name.size() >= text.size() || !ident(text[i + name.size()])))
+        return true;
+    return false;
+  };
+  // Whether a loop starting in [from, store) has `store` in its body.
+  auto loop_holds = [&](size_t from, size_t store) {
+    for (const char* kw : {"for (", "while ("})
+      for (size_t l = text.find(kw, from); l != npos && l < store; l = text.find(kw, l + 1)) {
+        size_t i = text.find('(', l), depth = 0;
+        for (; i < text.size(); ++i) {
+          if (text[i] == '(') ++depth;
+          else if (text[i] == ')' && --depth == 0) break;
+        }
+        size_t j = text.find_first_not_of(" \n", i + 1);
+        if (j == npos) return true;
+        size_t body_end = text[j] == '{' ? block_end(j + 1) : text.find(';', j);
+        if (body_end == npos || body_end > store) return true;
+      }
+    return false;
+  };
+  std::string out;
+  size_t done = 0;
+  for (size_t at = text.find(mark); at != npos; at = text.find(mark, at + mark.size())) {
+    // "const T/*ref?*/ tN = s.g_name;"
+    const size_t name_at = at + mark.size() + 1;
+    const size_t eq = text.find(" = ", at);
+    const std::string temp = text.substr(name_at, eq - name_at);
+    const size_t semi = text.find(';', eq);
+    const std::string store = text.substr(eq + 3, semi - eq - 3) + " = ";
+    const size_t end = block_end(semi + 1);
+    bool copy = end == npos;
+    for (size_t st = text.find(store, semi); !copy && st != npos && st < end; st = text.find(store, st + 1))
+      copy = named(temp, st, end) || loop_holds(semi, st);
+    out.append(text, done, at - done);
+    out += copy ? "" : "&";
+    done = at + mark.size();
+  }
+  out.append(text, done, npos);
+  return out;
 }
 
 }  // namespace
