@@ -362,6 +362,12 @@ class CompiledEnvironment : public Environment {
     });
   }
   bool deterministic() const override { return !P::kUsesRandom; }
+  int64_t random_draws() const override { return failed_ ? -1 : static_cast<int64_t>(state_.core.rng.draws()); }
+  bool reseed_random(uint64_t seed) override {
+    if (failed_) return false;
+    state_.core.rng.reseed(seed);
+    return true;
+  }
 
  private:
   bool run_step(const Action& a, bool render) {

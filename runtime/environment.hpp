@@ -72,6 +72,17 @@ class Environment {
   }
   virtual uint64_t state_hash() const = 0;
   virtual bool deterministic() const = 0;
+  // Seed groups (the particle filter's): random_draws() counts the random numbers
+  // drawn so far (-1: not supported); only its change across a step matters. The
+  // generator's state is the only place a seed lives, so an environment reset
+  // with seed A that has drawn nothing yet, given reseed_random(B), is exactly
+  // the one reset(B) and the same actions would give. Returns false when not
+  // supported or after a failure.
+  virtual int64_t random_draws() const { return -1; }
+  virtual bool reseed_random(uint64_t seed) {
+    (void)seed;
+    return false;
+  }
 };
 
 }  // namespace autumn

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define AUTUMN_MODULE_ABI_VERSION 2u
+#define AUTUMN_MODULE_ABI_VERSION 3u
 
 typedef struct autumn_env autumn_env; /* opaque */
 
@@ -52,6 +52,10 @@ typedef struct autumn_module_v1 {
    * supported, -1 corrupt snapshot (the episode has failed; see error). */
   uint64_t (*save_state)(const autumn_env*, const uint8_t** data);
   int (*load_state)(autumn_env*, const uint8_t* data, uint64_t size);
+  /* v3: seed groups (runtime/environment.hpp). random_draws: random numbers drawn
+   * so far, -1 unsupported; reseed_random: 1 done, 0 unsupported or failed. */
+  int64_t (*random_draws)(const autumn_env*);
+  int (*reseed_random)(autumn_env*, uint64_t seed);
 } autumn_module_v1;
 
 typedef const autumn_module_v1* (*autumn_module_entry_fn)(void);

@@ -61,6 +61,8 @@ int ModuleEnvironment::on_clause_count() const { return table_->on_clause_count(
 int ModuleEnvironment::covered_on_clause_count() const { return table_->covered_on_clause_count(handle_); }
 uint64_t ModuleEnvironment::state_hash() const { return table_->state_hash(handle_); }
 bool ModuleEnvironment::deterministic() const { return table_->deterministic(handle_) != 0; }
+int64_t ModuleEnvironment::random_draws() const { return failed_ ? -1 : table_->random_draws(handle_); }
+bool ModuleEnvironment::reseed_random(uint64_t seed) { return !failed_ && table_->reseed_random(handle_, seed) != 0; }
 
 std::unique_ptr<Environment> ModuleEnvironment::clone() const {
   auto copy = std::unique_ptr<ModuleEnvironment>(

@@ -43,6 +43,8 @@ class ModuleEnvironment : public Environment {
   bool load_state(const uint8_t* data, size_t size) override;
   uint64_t state_hash() const override;
   bool deterministic() const override;
+  int64_t random_draws() const override;
+  bool reseed_random(uint64_t seed) override;
 
  private:
   ModuleEnvironment(const autumn_module_v1* table, std::shared_ptr<void> keepalive, autumn_env* handle);

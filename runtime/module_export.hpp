@@ -63,6 +63,8 @@ struct ModuleExporter {
       *data = e->snapshot.data();
       return e->snapshot.size();
     };
+    t.random_draws = [](const autumn_env* h) { return env(h).random_draws(); };
+    t.reseed_random = [](autumn_env* h, uint64_t seed) { return env(h).reseed_random(seed) ? 1 : 0; };
     t.load_state = [](autumn_env* h, const uint8_t* data, uint64_t size) {
       // 0 (not supported) unless the load itself ended the episode: an environment
       // without snapshots changes nothing, failed or not.

@@ -10,7 +10,11 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <set>
+#include <tuple>
+#include <random>
+#include <algorithm>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,6 +23,7 @@
 #include "harness/agent/eval.hpp"
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
+#include "harness/agent/particles.hpp"
 #include "harness/agent/planning.hpp"
 #include "harness/agent/task_file.hpp"
 #include "harness/agent/thread_pool.hpp"
@@ -84,6 +89,84 @@ bool replays_to_goal(const Task& task, const std::vector<Action>& plan) {
 }
 
 // ------------------------------------------------------------------ thread pool
+
+// Seed groups (one particle for every seed until a step draws a random number)
+// must give exactly the particle set of one particle per seed: the same states,
+// frames and weights after every step, with observations filtering both alike.
+// Rockets (fireworks) draw on clicks and arrows; the snake draws only when it
+// eats, so its group holds for long stretches.
+TEST(AgentParticles, SeedGroupsMatchOneParticlePerSeed) {
+  std::vector<fs::path> programs = {autumn::testing::source_dir() / "programs" / "fireworks.au"};
+  const fs::path snake = autumn::testing::shared_dir() / "conformance" / "programs" / "ab_snake.sexp";
+  if (fs::exists(snake)) programs.push_back(snake);
+  else std::cerr << "SKIPPED LOUDLY: ab_snake (no conformance program at " << snake << ")\n";
+  ColourTable colours;
+  ThreadPool pool(2);
+  for (const fs::path& file : programs) {
+    auto program = load_program_checked(file);
+    auto probe = make_env_checked("compiled", program);
+    ASSERT_FALSE(probe->deterministic()) << file;
+    const std::vector<uint64_t> seeds = rollout_seeds(3, 400, 0);
+    // Observations: the left half of the frames of the first seed's episode.
+    auto observed = probe->clone();
+    ASSERT_TRUE(observed->reset(seeds[0]));
+    TaskFrame want = task_frame(observed->frame(), observed->palette(), colours);
+    const int size = observed->frame().size;
+    FramePredicate keep = [&](const TaskFrame& f, int) {
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size / 2; ++x)
+          if (f[static_cast<size_t>(y) * size + x] != want[static_cast<size_t>(y) * size + x]) return false;
+      return true;
+    };
+    ParticleSet grouped(pool, colours), single(pool, colours);
+    single.set_seed_groups(false);
+    auto make = [&] { return probe->clone(); };
+    grouped.start(make, seeds, false, keep);
+    single.start(make, seeds, false, keep);
+    // Weight per (state hash, frame), pending seeds counted as the states they
+    // stand for (the group's env reseeded): what the tallies read.
+    auto summary = [](const ParticleSet& set) {
+      std::map<std::pair<uint64_t, TaskFrame>, uint64_t> out;
+      uint64_t total = 0;
+      for (const Particle& p : set.particles()) {
+        EXPECT_LE(p.pending.size() + 1, p.weight);
+        out[{p.hash, p.frame}] += p.weight - p.pending.size();
+        for (uint64_t seed : p.pending) {
+          auto e = p.env->clone();
+          EXPECT_TRUE(e->reseed_random(seed));
+          out[{e->state_hash(), p.frame}] += 1;
+        }
+        total += p.weight;
+      }
+      return std::make_pair(out, total);
+    };
+    std::mt19937_64 rng(11);
+    bool split_seen = false;
+    for (int t = 1; t <= 40; ++t) {
+      Action a;
+      switch (rng() % 4) {
+        case 0: a = Action::noop(); break;
+        case 1: a = Action::click(static_cast<int>(rng() % size), static_cast<int>(rng() % size)); break;
+        default: a = Action{static_cast<Action::Kind>(1 + rng() % 4)}; break;
+      }
+      ASSERT_TRUE(observed->step(a));
+      want = task_frame(observed->frame(), observed->palette(), colours);
+      const bool grouped_before = !grouped.particles().empty() && !grouped.particles().front().pending.empty();
+      grouped.step(a, keep);
+      single.step(a, keep);
+      if (grouped_before && (grouped.particles().empty() || grouped.particles().front().pending.empty()))
+        split_seen = true;
+      auto g = summary(grouped), s1 = summary(single);
+      ASSERT_EQ(g.second, s1.second) << file.filename() << " step " << t;
+      ASSERT_TRUE(g.first == s1.first) << file.filename() << " step " << t << ": the particle sets differ";
+      ASSERT_GT(s1.second, 0u) << "the first seed's own episode is always consistent";
+    }
+    EXPECT_LT(grouped.env_steps(), single.env_steps()) << file.filename() << ": the group never saved a step";
+    if (file.filename() == "fireworks.au") {
+      EXPECT_TRUE(split_seen) << "a group must have split";
+    }
+  }
+}
 
 TEST(AgentThreadPool, RunsEveryIndexOnceAndRethrows) {
   for (unsigned threads : {1u, 2u, 4u}) {

@@ -29,6 +29,14 @@ class InterpretedEnvironment : public Environment {
   std::unique_ptr<Environment> clone() const override;
   uint64_t state_hash() const override;
   bool deterministic() const override { return !program_->uses_random; }
+  int64_t random_draws() const override {
+    return interp_ && !failed_ ? static_cast<int64_t>(interp_->rng().draws()) : -1;
+  }
+  bool reseed_random(uint64_t seed) override {
+    if (!interp_ || failed_) return false;
+    interp_->rng().reseed(seed);
+    return true;
+  }
 
  private:
   template <class F>

@@ -75,6 +75,9 @@ class Interpreter {
   // Digest of everything that decides future frames (snapshot.cpp).
   uint64_t state_hash();
   const Program& program() const { return *program_; }
+  // The random generator (the particle filter's seed groups, environment.hpp).
+  WrappedMinstd& rng() { return rng_; }
+  const WrappedMinstd& rng() const { return rng_; }
 
  private:
   friend struct Builtins;

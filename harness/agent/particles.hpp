@@ -7,10 +7,20 @@
 // them, adding the weights: equal states have identical futures, so a merged set
 // gives exactly the tallies the unmerged one would. Nothing is ever replayed.
 //
-// Order is part of the contract: particles stay sorted by the index of the seed
-// that created them, merging keeps the earliest, and predicates see frames in
-// parallel but decisions are applied in index order — so results never depend on
-// the number of threads.
+// Seed groups: a seed lives only in the random generator's state, so episodes
+// that have drawn no random number yet differ in nothing else. When the first
+// seed's reset draws nothing, one particle stands for all seeds: its env runs
+// the first seed and `pending` lists the others (each is "this env, reseeded").
+// A step that draws nothing keeps the group; one that draws splits it: every
+// pending seed is run from a copy of the pre-step state, reseeded. Stochastic
+// programs that draw rarely (food that appears when eaten) then cost one
+// rollout until the first draw instead of N.
+//
+// Order is part of the contract: the particle order, which one a merge keeps
+// (the earliest), and where a split group's seeds go (right after it, in
+// pending order) are fixed by the seeds alone; predicates see frames in parallel
+// but decisions are applied in index order — so results never depend on the
+// number of threads.
 #pragma once
 #include <cstdint>
 #include <absl/container/flat_hash_map.h>
@@ -26,7 +36,8 @@ namespace autumn::agent {
 
 struct Particle {
   std::unique_ptr<Environment> env;
-  uint64_t weight = 1;
+  uint64_t weight = 1;         // rollouts it stands for, pending seeds included
+  std::vector<uint64_t> pending;  // seed group: seeds that are env reseeded (see above)
   uint64_t hash = 0;
   TaskFrame frame;             // colour-table ids of env->frame()
   std::vector<int16_t> ids;    // palette id -> colour-table id (the palette only grows)
@@ -49,10 +60,15 @@ class ParticleSet {
   const std::vector<Particle>& particles() const { return particles_; }
   bool empty() const { return particles_.empty(); }
   uint64_t env_steps() const { return env_steps_; }  // resets and steps actually run
+  // Seed groups are on by default; off, every seed is its own particle from the
+  // start (the reference the tests compare groups with).
+  void set_seed_groups(bool on) { seed_groups_ = on; }
   size_t peak() const { return peak_; }
 
  private:
   void observe(Particle& p) const;  // p.frame from p.env->frame(), without a per-step allocation
+  // Steps p and judges it: true when it lives (hash and frame set).
+  bool advance(Particle& p, const Action& action, const FramePredicate& keep) const;
   void merge();
 
   ThreadPool& pool_;
@@ -61,6 +77,7 @@ class ParticleSet {
   absl::flat_hash_map<uint64_t, size_t> head_;  // merge(): hash -> last kept particle with it
   std::vector<size_t> chain_;                   // merge(): kept particle -> previous one with its hash
   uint64_t env_steps_ = 0;
+  bool seed_groups_ = true;
   size_t peak_ = 0;
 };
 
