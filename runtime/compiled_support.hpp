@@ -177,9 +177,10 @@ struct Hash {
 };
 inline void hash_value(Hash& h, int32_t v) { h.mix(static_cast<uint32_t>(v)); }
 inline void hash_value(Hash& h, bool v) { h.mix(v ? 0xB1 : 0xB0); }
+// One mix for both coordinates: each mix waits on the previous one, and
+// positions are most of what a state holds.
 inline void hash_value(Hash& h, const Pos& p) {
-  h.mix(static_cast<uint32_t>(p.x));
-  h.mix(static_cast<uint32_t>(p.y));
+  h.mix(static_cast<uint64_t>(static_cast<uint32_t>(p.x)) << 32 | static_cast<uint32_t>(p.y));
 }
 inline void hash_value(Hash& h, const Elem& e) {
   hash_value(h, e.position);
