@@ -11,17 +11,6 @@
 
 namespace autumn::agent {
 
-namespace {
-
-Action random_action(std::mt19937_64& rng, int grid) {
-  int r = static_cast<int>(rng() % 10);
-  if (r < 2) return Action::noop();
-  if (r < 6) return Action{static_cast<Action::Kind>(1 + rng() % 4)};
-  return Action::click(static_cast<int>(rng() % grid), static_cast<int>(rng() % grid));
-}
-
-}  // namespace
-
 double cd_score(int t, int t_star) {
   if (t < t_star - 1) return 0.0;
   if (t == t_star - 1 || t == t_star) return 1.0;
@@ -71,7 +60,7 @@ CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) 
   uint64_t kind_uses[6] = {0, 0, 0, 0, 0, 0};
 
   auto choose = [&]() -> Action {
-    if (opts.policy == "random") return random_action(rng, grid);
+    if (opts.policy == "random") return random_action(rng, grid, 4);
     std::vector<Action> cands = {Action::noop(), {Action::Kind::Left}, {Action::Kind::Right}, {Action::Kind::Up},
                                  {Action::Kind::Down}};
     int n_clicks = clicks == ClickUse::Position ? 4 : 1;

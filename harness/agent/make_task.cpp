@@ -8,19 +8,13 @@
 #include <sstream>
 
 #include "harness/agent/particles.hpp"
+#include "harness/agent/solve_common.hpp"
 
 namespace autumn::agent {
 
 using nlohmann::json;
 
 namespace {
-
-Action random_action(std::mt19937_64& rng, int grid) {
-  int r = static_cast<int>(rng() % 10);
-  if (r < 2) return Action::noop();
-  if (r < 7) return Action{static_cast<Action::Kind>(1 + rng() % 4)};
-  return Action::click(static_cast<int>(rng() % grid), static_cast<int>(rng() % grid));
-}
 
 struct Episode {
   std::vector<Action> actions;
@@ -42,7 +36,7 @@ std::optional<Episode> random_episode(Environment& env, uint64_t env_seed, int s
   for (int t = 0; t < steps; ++t) {
     bool stepped = false;
     for (int tries = 0; tries < 20 && !stepped; ++tries) {
-      Action a = random_action(rng, grid);
+      Action a = random_action(rng, grid, 5);
       auto next = cur->clone();
       if (!next->step(a)) {
         if (error) *error = next->error();

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <random>
 #include <string>
 
 #include "harness/agent/task_file.hpp"
@@ -43,5 +44,11 @@ class Stopwatch {
 };
 
 inline double per_second(double count, double seconds) { return seconds > 0 ? count / seconds : 0.0; }
+
+// A uniformly random action on a `grid`-sized grid: noop with probability 2/10,
+// an arrow with `arrows`/10 (split evenly), else a click on a uniform cell.
+// Change detection's random policy uses arrows = 4, make-task's episodes 5; the
+// draws from `rng` are part of what a seed means, so neither may change.
+Action random_action(std::mt19937_64& rng, int grid, int arrows);
 
 }  // namespace autumn::agent
