@@ -1633,9 +1633,10 @@ std::string Lowerer::emit() {
 // read, nothing (a copy) otherwise. Every store to a global is emitted as
 // "s.g_name = ..." inside the function that runs it (render and the helpers
 // only read), and a reference lives until the end of its enclosing C++ block.
-// A store in that span is harmless unless the reference is named after it, or
-// the store sits inside a loop that began after the declaration (the next
-// iteration would read the reference again).
+// A store in that span is harmless unless the reference, or a reference bound
+// to it (an inlined function's parameter), is named after it, or the store sits
+// inside a loop that began after the declaration (the next iteration would read
+// the reference again).
 std::string Lowerer::bind_global_reads(std::string text) {
   const std::string mark = kRefMark;
   const size_t npos = std::string::npos;
@@ -1697,9 +1698,22 @@ std::string Lowerer::bind_global_reads(std::string text) {
     const size_t semi = text.find(';', eq);
     const std::string store = text.substr(eq + 3, semi - eq - 3) + " = ";
     const size_t end = block_end(semi + 1);
+    // The reference and its aliases: "const U& a_x = tN;" (an inlined function's
+    // parameter) names the same object, and so on transitively.
+    std::vector<std::string> names = {temp};
+    for (size_t n = 0; n < names.size() && end != npos; ++n) {
+      const std::string bound = " = " + names[n] + ";";
+      for (size_t i = text.find(bound, semi); i != npos && i < end; i = text.find(bound, i + 1)) {
+        size_t b = i;
+        while (b > 0 && ident(text[b - 1])) --b;
+        if (b >= 2 && text.compare(b - 2, 2, "& ") == 0 && b < i) names.push_back(text.substr(b, i - b));
+      }
+    }
     bool copy = end == npos;
-    for (size_t st = text.find(store, semi); !copy && st != npos && st < end; st = text.find(store, st + 1))
-      copy = named(temp, st, end) || loop_holds(semi, st);
+    for (size_t st = text.find(store, semi); !copy && st != npos && st < end; st = text.find(store, st + 1)) {
+      copy = loop_holds(semi, st);
+      for (const std::string& name : names) copy = copy || named(name, st, end);
+    }
     out.append(text, done, at - done);
     out += copy ? "" : "&";
     done = at + mark.size();
