@@ -1688,6 +1688,22 @@ std::string Lowerer::bind_global_reads(std::string text) {
       }
     return false;
   };
+  // Render methods and cell colour functions (render_<Class>, colour_<Class>_k)
+  // run in the middle of a step (renderValue, intersects...). None stores a
+  // global today; should one ever, every read of that global stays a copy
+  // rather than trusting the textual span.
+  std::set<std::string> stored_in_render;
+  for (const char* head : {"static void render_", "static int32_t colour_"}) {
+    for (size_t r = text.find(head); r != npos; r = text.find(head, r + 1)) {
+      const size_t body = text.find('{', r);
+      const size_t body_end = body == npos ? npos : block_end(body + 1);
+      for (size_t g = text.find("s.g_", body); g != npos && g < body_end; g = text.find("s.g_", g + 1)) {
+        size_t e = g + 4;
+        while (e < text.size() && ident(text[e])) ++e;
+        if (text.compare(e, 3, " = ") == 0) stored_in_render.insert(text.substr(g, e - g));
+      }
+    }
+  }
   std::string out;
   size_t done = 0;
   for (size_t at = text.find(mark); at != npos; at = text.find(mark, at + mark.size())) {
@@ -1709,7 +1725,7 @@ std::string Lowerer::bind_global_reads(std::string text) {
         if (b >= 2 && text.compare(b - 2, 2, "& ") == 0 && b < i) names.push_back(text.substr(b, i - b));
       }
     }
-    bool copy = end == npos;
+    bool copy = end == npos || stored_in_render.count(store.substr(0, store.size() - 3)) > 0;
     for (size_t st = text.find(store, semi); !copy && st != npos && st < end; st = text.find(store, st + 1)) {
       copy = loop_holds(semi, st);
       for (const std::string& name : names) copy = copy || named(name, st, end);
