@@ -42,6 +42,13 @@ class Planner {
     actions_ = search_actions(use, size_);
     r_.actions = actions_.size();
     init_heuristic();
+    goal_order_ = changed_cells();
+    {
+      std::vector<uint8_t> first(task_.mask.cells.size(), 0);
+      for (uint32_t i : goal_order_) first[i] = 1;
+      for (uint32_t i : mask_index_)
+        if (!first[i]) goal_order_.push_back(i);
+    }
     for (unsigned w = 0; w < pool_.size(); ++w) roots_.push_back(root_->clone());
     search_clock_ = Stopwatch();
     struct RecordSearchTime {
@@ -321,7 +328,7 @@ class Planner {
       g.colour_of = colour_ids(p, task_.colours);
     }
     if (f.cells.size() != task_.mask.cells.size()) return false;
-    for (uint32_t i : mask_index_)
+    for (uint32_t i : goal_order_)
       if (g.colour_of[f.cells[i]] != task_.goal.cells[i]) return false;
     return true;
   }
@@ -715,6 +722,10 @@ class Planner {
   std::vector<Action> actions_;
   int16_t background_ = 0;
   std::vector<uint32_t> mask_index_;  // the masked cells, row-major
+  // The masked cells in goal-test order: those where the goal differs from the
+  // initial frame first (a state not at the goal usually fails on one of them at
+  // once), then the rest.
+  std::vector<uint32_t> goal_order_;
   std::vector<NodeRec> nodes_;
   std::vector<std::unique_ptr<Environment>> envs_;  // per node; null when not kept
   uint64_t stored_ = 0;
