@@ -30,6 +30,9 @@ static void locate(RuntimeError& err, const Expr& e) {
 
 Ref<Scope> Interpreter::new_scope(ScopeKind kind, Ref<Scope> parent) {
   Ref<Scope> s(new Scope);
+  // Most scopes bind a handful of names (parameters, let variables): one
+  // allocation up front instead of growing 1, 2, 4.
+  s->vars.reserve(4);
   s->kind = kind;
   s->parent = std::move(parent);
   return s;
