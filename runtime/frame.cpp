@@ -1,6 +1,13 @@
 #include "runtime/frame.hpp"
 
+#include <atomic>
+
 namespace autumn {
+
+uint64_t Palette::fresh_version() {
+  static std::atomic<uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
 
 uint16_t Palette::id(std::string_view colour) {
   auto it = ids_.find(std::string(colour));
@@ -8,6 +15,7 @@ uint16_t Palette::id(std::string_view colour) {
   uint16_t id = static_cast<uint16_t>(names_.size());
   names_.emplace_back(colour);
   ids_.emplace(std::string(colour), id);
+  version_ = fresh_version();
   return id;
 }
 

@@ -19,10 +19,17 @@ class Palette {
   uint16_t id(std::string_view colour);  // interns a lower-case colour name
   const std::string& name(uint16_t id) const { return names_.at(id); }
   size_t size() const { return names_.size(); }
+  // Equal versions mean equal contents: copies keep the version, every new name
+  // takes a fresh one (unique in the process). Caches of palette-id maps key on
+  // it; the address and size are not enough, as two environments with different
+  // histories can name the same colours in different orders.
+  uint64_t version() const { return version_; }
 
  private:
+  static uint64_t fresh_version();
   std::vector<std::string> names_;
   std::unordered_map<std::string, uint16_t> ids_;
+  uint64_t version_ = fresh_version();
 };
 
 struct Frame {

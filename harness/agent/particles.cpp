@@ -13,14 +13,6 @@ std::vector<uint64_t> rollout_seeds(uint64_t seed, uint64_t count, uint64_t firs
   return out;
 }
 
-void ParticleSet::observe(Particle& p) const {
-  const Palette& palette = p.env->palette();
-  if (p.ids.size() != palette.size()) p.ids = colour_ids(palette, colours_);
-  const std::vector<uint16_t>& cells = p.env->frame().cells;
-  p.frame.resize(cells.size());
-  for (size_t i = 0; i < cells.size(); ++i) p.frame[i] = p.ids[cells[i]];
-}
-
 bool ParticleSet::advance(Particle& p, const Action& action, const FramePredicate& keep) const {
   if (!p.env->step(action)) return false;
   observe(p);

@@ -40,7 +40,7 @@ struct Particle {
   std::vector<uint64_t> pending;  // seed group: seeds that are env reseeded (see above)
   uint64_t hash = 0;
   TaskFrame frame;             // colour-table ids of env->frame()
-  std::vector<int16_t> ids;    // palette id -> colour-table id (the palette only grows)
+  FrameColours colour_map;     // maps env's frames into `frame`
 };
 
 using FramePredicate = std::function<bool(const TaskFrame& frame, int size)>;
@@ -66,7 +66,8 @@ class ParticleSet {
   size_t peak() const { return peak_; }
 
  private:
-  void observe(Particle& p) const;  // p.frame from p.env->frame(), without a per-step allocation
+  // p.frame from p.env->frame(), without a per-step allocation.
+  void observe(Particle& p) const { p.colour_map.map(p.env->frame(), p.env->palette(), colours_, p.frame); }
   // Steps p and judges it: true when it lives (hash and frame set).
   bool advance(Particle& p, const Action& action, const FramePredicate& keep) const;
   void merge();

@@ -213,20 +213,26 @@ class Planner {
     uint64_t steps = 0;   // look-ahead steps run
   };
 
+  // A best-first thread's reused buffers: frames are mapped without allocating.
+  struct Lookahead {
+    FrameColours colours;
+    TaskFrame frame, prev;
+  };
+
   // Best-first's successor by action `a` of `e`, a fresh clone of its parent: env,
   // hash, distance (with the settling look-ahead); not ok when its state is
   // already in `seen` (read-only here). One environment is never used by two
   // threads at once (clone() is not safe to call concurrently on one
   // environment), so the caller makes the clones.
-  void expand_one(std::unique_ptr<Environment> e, size_t a, const HashSet& seen, Succ& out) {
+  void expand_one(std::unique_ptr<Environment> e, size_t a, const HashSet& seen, Lookahead& L, Succ& out) {
     if (!e->step(actions_[a])) return;
     uint64_t h = e->state_hash();
     if (seen.count(h)) return;
-    TaskFrame f = task_frame(e->frame(), e->palette(), task_.colours);
-    out.dist = distance(f);
-    out.frame_hash = frame_digest(f);
+    L.colours.map(e->frame(), e->palette(), task_.colours, L.prev);
+    out.dist = distance(L.prev);
+    out.frame_hash = frame_digest(L.prev);
     out.key = out.dist.key(mask_cells());
-    if (out.dist.colour > 0) settle(*e, std::move(f), out);
+    if (out.dist.colour > 0) settle(*e, L, out);
     out.hash = h;
     out.env = std::move(e);
     out.ok = true;
@@ -247,12 +253,15 @@ class Planner {
   // (the plan gets those noops). The last frame joins the frame-pruning digest:
   // an action that changes no cell now but changes the future (a velocity, a
   // mode) is not pruned as a repeat of its parent's frame.
-  void settle(const Environment& e, TaskFrame prev, Succ& out) const {
+  // L.prev holds e's frame on entry.
+  void settle(const Environment& e, Lookahead& L, Succ& out) const {
     auto probe = e.clone();
+    TaskFrame& f = L.frame;
+    TaskFrame& prev = L.prev;
     for (int k = 1; k <= 2 * size_; ++k) {
       if (!probe->step(Action::noop())) break;
       ++out.steps;
-      TaskFrame f = task_frame(probe->frame(), probe->palette(), task_.colours);
+      L.colours.map(probe->frame(), probe->palette(), task_.colours, f);
       Dist d = distance(f);
       if (d.colour == 0) {
         out.goal_noops = k;
@@ -261,7 +270,7 @@ class Planner {
       }
       out.key = std::min(out.key, d.key(mask_cells()));
       if (f == prev) break;
-      prev = std::move(f);
+      prev.swap(f);  // keeps both buffers
     }
     out.frame_hash = out.frame_hash * 0x9E3779B97F4A7C15ull ^ frame_digest(prev);
   }
@@ -311,25 +320,13 @@ class Planner {
     stored_ = 0;
   }
 
-  // Goal test straight on an environment's frame: palette ids map to colour-table
-  // ids through a table rebuilt only when the palette object or its size changes
-  // (compiled copies share one palette, so it is built once per search thread).
-  struct GoalTest {
-    const Palette* palette = nullptr;
-    size_t palette_size = 0;
-    std::vector<int16_t> colour_of;
-  };
-  bool at_goal(const Environment& e, GoalTest& g) const {
+  // Goal test straight on an environment's frame, through the thread's colour map.
+  bool at_goal(const Environment& e, FrameColours& colours) const {
     const Frame& f = e.frame();
-    const Palette& p = e.palette();
-    if (&p != g.palette || p.size() != g.palette_size) {
-      g.palette = &p;
-      g.palette_size = p.size();
-      g.colour_of = colour_ids(p, task_.colours);
-    }
+    const std::vector<int16_t>& colour_of = colours.ids(e.palette(), task_.colours);
     if (f.cells.size() != task_.mask.cells.size()) return false;
     for (uint32_t i : goal_order_)
-      if (g.colour_of[f.cells[i]] != task_.goal.cells[i]) return false;
+      if (colour_of[f.cells[i]] != task_.goal.cells[i]) return false;
     return true;
   }
 
@@ -468,7 +465,7 @@ class Planner {
     struct Worker {
       std::unique_ptr<Environment> parent, scratch;
       HashSet local;
-      GoalTest goal;
+      FrameColours goal;
       std::vector<uint8_t> bytes;  // snapshots of this chunk's new states
       std::vector<std::vector<Fresh>> fresh = std::vector<std::vector<Fresh>>(kShards);
     };
@@ -632,6 +629,7 @@ class Planner {
       }
     };
     std::priority_queue<Open, std::vector<Open>, std::greater<Open>> open;
+    std::vector<Lookahead> lookahead(pool_.size());
     open.push({0, 0, 0});
     const size_t A = actions_.size();
     auto stop = [&](const std::string& why) {
@@ -652,7 +650,9 @@ class Planner {
       std::vector<std::unique_ptr<Environment>> clones;
       for (size_t a = 0; a + 1 < A; ++a) clones.push_back(parent->clone());
       clones.push_back(std::move(parent));
-      pool_.parallel_for(A, [&](size_t a) { expand_one(std::move(clones[a]), a, seen, succ[a]); });
+      pool_.parallel_for_worker(A, [&](size_t a, unsigned w) {
+        expand_one(std::move(clones[a]), a, seen, lookahead[w], succ[a]);
+      });
       r_.nodes += A;
       std::vector<std::unique_ptr<Environment>> trash;
       for (size_t a = 0; a < A; ++a) {

@@ -71,6 +71,31 @@ TaskFrame task_frame(const Frame& f, const Palette& p, const ColourTable& colour
 std::vector<int16_t> colour_ids(const Palette& p, const ColourTable& colours);
 uint64_t frame_digest(const TaskFrame& f);  // FNV-1a over the ids
 
+// task_frame for the hot loops (rollouts, search): the palette-id map is kept and
+// rebuilt only when the palette's contents change (Palette::version; compiled
+// copies share one palette), and frames are written into a reused buffer. One
+// instance per thread, always used with the same colour table.
+class FrameColours {
+ public:
+  const std::vector<int16_t>& ids(const Palette& p, const ColourTable& colours) {
+    if (p.version() != version_) {
+      version_ = p.version();
+      ids_ = colour_ids(p, colours);
+    }
+    return ids_;
+  }
+  // out = task_frame(f, p, colours), without allocating once out has grown.
+  void map(const Frame& f, const Palette& p, const ColourTable& colours, TaskFrame& out) {
+    const std::vector<int16_t>& m = ids(p, colours);
+    out.resize(f.cells.size());
+    for (size_t i = 0; i < f.cells.size(); ++i) out[i] = m[f.cells[i]];
+  }
+
+ private:
+  uint64_t version_ = 0;  // Palette versions start at 1
+  std::vector<int16_t> ids_;
+};
+
 struct Grid {
   int width = 0, height = 0;
   std::vector<int16_t> cells;  // row-major
