@@ -98,7 +98,6 @@ bool ModuleEnvironment::copy_from(const Environment& other) {
   return true;
 }
 
-
 bool ModuleEnvironment::save_state(std::vector<uint8_t>& out) const {
   if (failed_) return false;
   const uint8_t* data = nullptr;

@@ -63,8 +63,6 @@ struct ModuleExporter {
       *data = e->snapshot.data();
       return e->snapshot.size();
     };
-    t.random_draws = [](const autumn_env* h) { return env(h).random_draws(); };
-    t.reseed_random = [](autumn_env* h, uint64_t seed) { return env(h).reseed_random(seed) ? 1 : 0; };
     t.load_state = [](autumn_env* h, const uint8_t* data, uint64_t size) {
       // 0 (not supported) unless the load itself ended the episode: an environment
       // without snapshots changes nothing, failed or not.
@@ -72,6 +70,8 @@ struct ModuleExporter {
       if (env(h).load_state(data, static_cast<size_t>(size))) return 1;
       return env(h).failed() && env(h).error() != before ? -1 : 0;
     };
+    t.random_draws = [](const autumn_env* h) { return env(h).random_draws(); };
+    t.reseed_random = [](autumn_env* h, uint64_t seed) { return env(h).reseed_random(seed) ? 1 : 0; };
     return t;
   }
 };
