@@ -201,9 +201,9 @@ class Lowerer {
     line("const " + cpp_type(v.type) + " " + t + " = " + v.code + ";");
     return {t, v.type};
   }
-  // A read of a global list or object: declared as a reference when nothing in
-  // the reference's C++ scope assigns that global (settled by bind_global_reads
-  // once the whole module is emitted), a copy otherwise. Saves a list copy per
+  // A read of a global list or object: marked, and made a reference or a copy by
+  // bind_global_reads once the whole module is emitted (a reference when no store
+  // to that global can run while it is still to be read). Saves a list copy per
   // read, which was most of a step's allocations.
   Val declare_global_read(const Val& v) {
     if (v.type->k != TK::List && v.type->k != TK::Obj) return declare(v);
@@ -1598,19 +1598,22 @@ std::string Lowerer::emit() {
     o << "      if (paint) paint->paint(e.position, pal[e.color]);\n    }\n";
   }
   o << "  }\n\n";
+  // One statement per state global (the State members that carry a value): the
+  // hash and the snapshot walk the same list.
+  auto each_state_global = [&](const std::string& call) {
+    for (const auto& [sym, g] : globals_)
+      if (!g.is_const_func && g.type && g.type->k != TK::Func) o << "    " << call << "s.g_" << cpp_ident(nm(sym)) << ");\n";
+  };
   o << "  static uint64_t hash(const State& s) {\n    Hash h;\n    hash_core(h, s.core, kUsesRandom);\n";
-  for (const auto& [sym, g] : globals_)
-    if (!g.is_const_func && g.type && g.type->k != TK::Func) o << "    hash_value(h, s.g_" << cpp_ident(nm(sym)) << ");\n";
+  each_state_global("hash_value(h, ");
   o << "    return h.h;\n  }\n";
   // Snapshots hold the globals only: prev_/u_ copies are rewritten at the start
   // of every step (compiled_support.hpp, SnapshotWriter).
   o << "  static void save(const State& s, SnapshotWriter& w) {\n    (void)s;\n    (void)w;\n";
-  for (const auto& [sym, g] : globals_)
-    if (!g.is_const_func && g.type && g.type->k != TK::Func) o << "    save_value(w, s.g_" << cpp_ident(nm(sym)) << ");\n";
+  each_state_global("save_value(w, ");
   o << "  }\n";
   o << "  static void load(State& s, SnapshotReader& r) {\n    (void)s;\n    (void)r;\n";
-  for (const auto& [sym, g] : globals_)
-    if (!g.is_const_func && g.type && g.type->k != TK::Func) o << "    load_value(r, s.g_" << cpp_ident(nm(sym)) << ");\n";
+  each_state_global("load_value(r, ");
   o << "  }\n";
   o << "};\n\n";
   o << "const char* const Prog::kColours[] = {\n";
