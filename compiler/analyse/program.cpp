@@ -5,6 +5,8 @@
 #include <set>
 #include <sstream>
 
+#include "compiler/analyse/builtins.hpp"
+#include "compiler/analyse/render_order.hpp"
 #include "compiler/parse/parser.hpp"
 #include "compiler/read/sexpr.hpp"
 
@@ -75,6 +77,71 @@ void check_unbound(const Program& p, const Expr& e, const std::set<Sym>& bound,
   for (const auto& k : e.kids) check_unbound(p, *k, bound, reported, warnings);
 }
 
+// Feeds `order` the globals evaluating `e` at the top level defines, in
+// evaluation order: assignments evaluated in the global scope. Let bodies,
+// lambda bodies and cell arguments run in scopes of their own; `if` branches and
+// the right operand of and/or may not run at all (*conditional is set).
+void note_global_definitions(const Expr& e, const Program& p, RenderOrder& order, std::set<Sym>& defined,
+                             bool conditional, bool* any_conditional) {
+  auto rec = [&](const Expr& k, bool cond) { note_global_definitions(k, p, order, defined, cond, any_conditional); };
+  switch (e.kind) {
+    case ExprKind::Let:
+    case ExprKind::Lambda:
+    case ExprKind::InitNext:
+    case ExprKind::TypeDecl:
+      return;
+    case ExprKind::If:
+      rec(*e.kids[0], conditional);
+      rec(*e.kids[1], true);
+      rec(*e.kids[2], true);
+      return;
+    case ExprKind::Logical:
+      rec(*e.kids[0], conditional);
+      rec(*e.kids[1], true);
+      return;
+    case ExprKind::Call:
+      if (e.kids[0]->kind == ExprKind::Var && e.kids[0]->name == p.names.Cell) return;
+      for (const auto& k : e.kids) rec(*k, conditional);
+      return;
+    case ExprKind::Assign:
+      rec(*e.kids[0], conditional);
+      if (defined.count(e.name)) return;
+      if (conditional) {
+        *any_conditional = true;
+        return;
+      }
+      defined.insert(e.name);
+      order.note_definition(e.name);
+      return;
+    default:
+      for (const auto& k : e.kids) rec(*k, conditional);
+  }
+}
+
+// Program::render_order: what start-up defines, in the order the reference does.
+void compute_render_order(Program& p) {
+  RenderOrder order(p.symbols.size());
+  std::set<Sym> defined;
+  auto define = [&](Sym s) {
+    if (defined.insert(s).second) order.note_definition(s);
+  };
+  define(p.names.GRID_SIZE);
+  for (Sym s : p.builtin_syms) define(s);
+  bool conditional = false;
+  for (const Stmt& st : p.stdlib_stmts)
+    if (st.kind == StmtKind::Expr) note_global_definitions(*st.expr, p, order, defined, false, &conditional);
+  define(p.names.SpecialConditionTriggered);
+  for (const Stmt& st : p.stmts) {
+    if (st.kind != StmtKind::Expr) continue;
+    const Expr& e = *st.expr;
+    if (e.kind == ExprKind::Assign && e.kids[0]->kind == ExprKind::InitNext) order.note_initnext(e.name);
+    else note_global_definitions(e, p, order, defined, false, &conditional);
+  }
+  define(p.names.cacheRendered);  // by the render that ends start-up
+  p.render_order = order.order();
+  p.start_defines_conditionally = conditional;
+}
+
 }  // namespace
 
 const std::string& Program::file_name(SourceId id) const {
@@ -96,12 +163,8 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
   SymbolTable& syms = p->symbols;
 
   // Builtins and their global order come first so that symbol ids are stable.
-  for (const char* n : {"GRID_SIZE", "map", "concat", "filter", "foldl", "length", "head", "at", "tail",
-                        "renderAll", "defined", "arrayEqual", "sqrt", "prev", "any", "isList",
-                        "uniformChoice", "adjPositions", "addObj", "isFreePos", "range", "print",
-                        "removeObj", "updateObj", "randomPositions", "allPositions", "clicked", "left",
-                        "right", "up", "down", "isWithinBounds", "allObjs", "rotate"})
-    syms.intern(n);
+  syms.intern("GRID_SIZE");
+  for (int i = 0; i < kBuiltinCount; ++i) p->builtin_syms[i] = syms.intern(builtin_table()[i].name);
   auto& n = p->names;
   n.GRID_SIZE = syms.intern("GRID_SIZE");
   n.FRAME_RATE = syms.intern("FRAME_RATE");
@@ -152,14 +215,10 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
     if (st.kind == StmtKind::Object) st.constructor_body = build_constructor(syms, st);
 
   // Unbound-name warnings (user program only).
-  std::set<Sym> bound;
-  for (const char* b : {"GRID_SIZE", "map", "concat", "filter", "foldl", "length", "head", "at", "tail",
-                        "renderAll", "defined", "arrayEqual", "sqrt", "prev", "any", "isList",
-                        "uniformChoice", "adjPositions", "addObj", "isFreePos", "range", "print",
-                        "removeObj", "updateObj", "randomPositions", "allPositions", "clicked", "left",
-                        "right", "up", "down", "isWithinBounds", "allObjs", "rotate", "Bool", "String",
-                        "Number", "Int", "Position", "Cell", "RenderedElem", "SpecialConditionTriggered",
-                        "cacheRendered", "click", "origin", "elems", "allCells"})
+  std::set<Sym> bound(p->builtin_syms.begin(), p->builtin_syms.end());
+  for (const char* b : kBuiltinTypeNames) bound.insert(syms.intern(b));
+  for (const char* b : {"GRID_SIZE", "SpecialConditionTriggered", "cacheRendered", "click", "origin", "elems",
+                        "allCells"})
     bound.insert(syms.intern(b));
   auto binders_of = [&](const std::vector<Stmt>& stmts) {
     for (const auto& st : stmts) {
@@ -191,9 +250,11 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
   }
   if (p->trigger) check_unbound(*p, *p->trigger, bound, reported, p->warnings);
 
-  const Sym uniform = syms.find("uniformChoice"), positions = syms.find("randomPositions");
+  compute_render_order(*p);
+
   std::function<bool(const Expr&)> mentions_rng = [&](const Expr& e) {
-    if (e.kind == ExprKind::Var && (e.name == uniform || e.name == positions)) return true;
+    if (e.kind == ExprKind::Var)
+      if (auto b = p->builtin_of(e.name); b && (builtin_info(*b).effects & kDrawsRandom)) return true;
     for (const auto& k : e.kids)
       if (mentions_rng(*k)) return true;
     return false;

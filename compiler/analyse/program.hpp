@@ -13,11 +13,13 @@
 // A Program is immutable once loaded and can be shared by many interpreters
 // (threads included).
 #pragma once
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "compiler/analyse/builtins.hpp"
 #include "compiler/parse/ast.hpp"
 #include "compiler/read/source.hpp"
 
@@ -43,6 +45,22 @@ struct Program {
   // False when neither the program nor the trigger mentions uniformChoice or
   // randomPositions: the RNG can then never be drawn from.
   bool uses_random = true;
+  // The host render's order of the globals start-up defines (render_order.hpp):
+  // initnext declarations, then first definitions, cacheRendered last. Globals
+  // first defined later are drawn after these, in first-definition order.
+  std::vector<Sym> render_order;
+  // True when a top-level statement defines a global only on some paths (inside an
+  // `if` or the right operand of and/or), so its place in render_order depends on
+  // the run; such globals are not in render_order.
+  bool start_defines_conditionally = false;
+  // The symbol of each builtin, indexed by Builtin.
+  std::array<Sym, kBuiltinCount> builtin_syms{};
+
+  // The builtin named `s`, if any (the names are interned consecutively, in table order).
+  std::optional<Builtin> builtin_of(Sym s) const {
+    if (s < builtin_syms.front() || s > builtin_syms.back()) return std::nullopt;
+    return static_cast<Builtin>(s - builtin_syms.front());
+  }
 
   const std::string& name(Sym s) const { return symbols.name(s); }
   const std::string& file_name(SourceId id) const;

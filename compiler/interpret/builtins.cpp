@@ -13,45 +13,6 @@
 namespace autumn::interp {
 namespace {
 
-const char* builtin_name(Builtin b) {
-  switch (b) {
-    case Builtin::Map: return "map";
-    case Builtin::Concat: return "concat";
-    case Builtin::Filter: return "filter";
-    case Builtin::Foldl: return "foldl";
-    case Builtin::Length: return "length";
-    case Builtin::Head: return "head";
-    case Builtin::At: return "at";
-    case Builtin::Tail: return "tail";
-    case Builtin::RenderAll: return "renderAll";
-    case Builtin::Defined: return "defined";
-    case Builtin::ArrayEqual: return "arrayEqual";
-    case Builtin::Sqrt: return "sqrt";
-    case Builtin::Prev: return "prev";
-    case Builtin::Any: return "any";
-    case Builtin::IsList: return "isList";
-    case Builtin::UniformChoice: return "uniformChoice";
-    case Builtin::AdjPositions: return "adjPositions";
-    case Builtin::AddObj: return "addObj";
-    case Builtin::IsFreePos: return "isFreePos";
-    case Builtin::Range: return "range";
-    case Builtin::Print: return "print";
-    case Builtin::RemoveObj: return "removeObj";
-    case Builtin::UpdateObj: return "updateObj";
-    case Builtin::RandomPositions: return "randomPositions";
-    case Builtin::AllPositions: return "allPositions";
-    case Builtin::Clicked: return "clicked";
-    case Builtin::Left: return "left";
-    case Builtin::Right: return "right";
-    case Builtin::Up: return "up";
-    case Builtin::Down: return "down";
-    case Builtin::IsWithinBounds: return "isWithinBounds";
-    case Builtin::AllObjs: return "allObjs";
-    case Builtin::Rotate: return "rotate";
-  }
-  return "?";
-}
-
 int64_t pos_key(int x, int y) { return (static_cast<int64_t>(x) << 32) ^ static_cast<uint32_t>(y); }
 
 }  // namespace

@@ -6,9 +6,8 @@
 // the reference: the only place an error is caught and evaluation continues is
 // the trial evaluation of Cell arguments, which then runs in whatever scope the
 // failed expression left behind.
-#include <climits>
-
 #include "compiler/interpret/interpreter.hpp"
+#include "runtime/arith.hpp"
 
 namespace autumn::interp {
 
@@ -75,6 +74,7 @@ void Interpreter::define_global(Sym s, Value v) {
   gvalues_[s] = std::move(v);
   gupdated_[s] = 0;
   definition_order_.push_back(s);
+  render_order_.note_definition(s);
 }
 
 void Interpreter::erase_global(Sym s) {
@@ -159,17 +159,15 @@ Value Interpreter::eval(const Expr& e) {
         if (!l.is(VKind::Number) || !r.is(VKind::Number))
           fail("binary " + e.text + " needs two numbers, got " + type_string(type_of(l)) + " and " +
                type_string(type_of(r)));
-        const uint32_t a = static_cast<uint32_t>(l.num), b = static_cast<uint32_t>(r.num);
+        const int32_t a = l.num, b = r.num;
         switch (e.op) {
-          case BinOp::Add: return Value::number(static_cast<int32_t>(a + b));
-          case BinOp::Sub: return Value::number(static_cast<int32_t>(a - b));
-          case BinOp::Mul: return Value::number(static_cast<int32_t>(a * b));
+          case BinOp::Add: return Value::number(arith::add(a, b));
+          case BinOp::Sub: return Value::number(arith::sub(a, b));
+          case BinOp::Mul: return Value::number(arith::mul(a, b));
           case BinOp::Div:
           case BinOp::Mod:
-            if (r.num == 0) fail("division by zero in '" + e.text + "' (the reference interpreter crashes here)");
-            if (l.num == INT_MIN && r.num == -1)
-              fail("integer overflow in '" + e.text + "' (the reference interpreter crashes here)");
-            return Value::number(e.op == BinOp::Div ? l.num / r.num : l.num % r.num);
+            if (std::string why = arith::division_error(a, b, e.text); !why.empty()) fail(why);
+            return Value::number(e.op == BinOp::Div ? arith::div_unchecked(a, b) : arith::mod_unchecked(a, b));
           case BinOp::Lt: return Value::boolean(l.num < r.num);
           case BinOp::Le: return Value::boolean(l.num <= r.num);
           case BinOp::Gt: return Value::boolean(l.num > r.num);
@@ -193,7 +191,7 @@ Value Interpreter::eval(const Expr& e) {
           return Value::boolean(!v.num);
         }
         if (!v.is(VKind::Number)) fail("unary " + e.text + " needs a number, got " + type_string(type_of(v)));
-        if (e.unary == UnOp::Neg) return Value::number(static_cast<int32_t>(0u - static_cast<uint32_t>(v.num)));
+        if (e.unary == UnOp::Neg) return Value::number(arith::neg(v.num));
         return v;
       }
       case ExprKind::If: {
@@ -261,7 +259,7 @@ TypeRef Interpreter::resolve_type(const TypeExpr& t) {
 Value Interpreter::eval_assign(const Expr& e) {
   const Expr& rhs = *e.kids[0];
   if (rhs.kind == ExprKind::InitNext) {
-    init_order_.push_back(e.name);
+    render_order_.note_initnext(e.name);
     init_expr_[e.name] = rhs.kids[0];
     next_expr_[e.name] = rhs.kids[1];
     init_map_order_.insert(e.name, program_->symbols.hash(e.name));

@@ -16,6 +16,7 @@ Interpreter::Interpreter(std::shared_ptr<const Program> program)
   gdefined_.resize(nsyms, 0);
   gupdated_.resize(nsyms, 0);
   gtypes_.resize(nsyms);
+  render_order_ = RenderOrder(nsyms);
   init_expr_.resize(nsyms);
   next_expr_.resize(nsyms);
   global_ = new_scope(ScopeKind::Global, Ref<Scope>());
@@ -43,51 +44,20 @@ Interpreter::~Interpreter() {
 
 void Interpreter::start(uint64_t seed) {
   rng_.reseed(seed);
-  const SymbolTable& syms = program_->symbols;
-  auto native = [&](const char* name, Builtin b) {
-    define_global(syms.find(name), make_function(FuncObj::Kind::Native, b, nullptr, nullptr));
-  };
   define_global(names_.GRID_SIZE, Value::number(16));
-  native("map", Builtin::Map);
-  native("concat", Builtin::Concat);
-  native("filter", Builtin::Filter);
-  native("foldl", Builtin::Foldl);
-  native("length", Builtin::Length);
-  native("head", Builtin::Head);
-  native("at", Builtin::At);
-  native("tail", Builtin::Tail);
-  native("renderAll", Builtin::RenderAll);
-  native("defined", Builtin::Defined);
-  native("arrayEqual", Builtin::ArrayEqual);
-  native("sqrt", Builtin::Sqrt);
-  gtypes_[names_.Bool] = t_bool_;
-  gtypes_[names_.String] = t_string_;
-  gtypes_[names_.Number] = t_number_;
-  gtypes_[names_.Int] = t_number_;
-  gtypes_[names_.Position] = c_position_;
-  gtypes_[names_.Cell] = c_cell_;
-  gtypes_[names_.RenderedElem] = c_rendered_;
-  native("prev", Builtin::Prev);
-  native("any", Builtin::Any);
-  native("isList", Builtin::IsList);
-  native("uniformChoice", Builtin::UniformChoice);
-  native("adjPositions", Builtin::AdjPositions);
-  native("addObj", Builtin::AddObj);
-  native("isFreePos", Builtin::IsFreePos);
-  native("range", Builtin::Range);
-  native("print", Builtin::Print);
-  native("removeObj", Builtin::RemoveObj);
-  native("updateObj", Builtin::UpdateObj);
-  native("randomPositions", Builtin::RandomPositions);
-  native("allPositions", Builtin::AllPositions);
-  native("clicked", Builtin::Clicked);
-  native("left", Builtin::Left);
-  native("right", Builtin::Right);
-  native("up", Builtin::Up);
-  native("down", Builtin::Down);
-  native("isWithinBounds", Builtin::IsWithinBounds);
-  native("allObjs", Builtin::AllObjs);
-  native("rotate", Builtin::Rotate);
+  for (int i = 0; i < kBuiltinCount; ++i) {
+    const Builtin b = static_cast<Builtin>(i);
+    define_global(program_->builtin_syms[i], make_function(FuncObj::Kind::Native, b, nullptr, nullptr));
+    if (b == kTypesDefinedAfter) {
+      gtypes_[names_.Bool] = t_bool_;
+      gtypes_[names_.String] = t_string_;
+      gtypes_[names_.Number] = t_number_;
+      gtypes_[names_.Int] = t_number_;
+      gtypes_[names_.Position] = c_position_;
+      gtypes_[names_.Cell] = c_cell_;
+      gtypes_[names_.RenderedElem] = c_rendered_;
+    }
+  }
 
   for (const Stmt& st : program_->stdlib_stmts) run_statement(st);
   assign(names_.SpecialConditionTriggered, Value::boolean(false));
@@ -179,21 +149,7 @@ void Interpreter::step(const Action& input) {
   click_ = left_ = right_ = up_ = down_ = false;
 }
 
-std::vector<Sym> Interpreter::render_order() const {
-  std::vector<Sym> order;
-  std::vector<char> seen(gdefined_.size(), 0);
-  for (Sym s : init_order_)
-    if (!seen[s]) {
-      seen[s] = 1;
-      order.push_back(s);
-    }
-  for (Sym s : definition_order_)
-    if (!seen[s]) {
-      seen[s] = 1;
-      order.push_back(s);
-    }
-  return order;
-}
+std::vector<Sym> Interpreter::render_order() const { return render_order_.order(); }
 
 int Interpreter::render(std::vector<RenderedCell>* cells) {
   occupied_.clear();

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "compiler/analyse/program.hpp"
+#include "compiler/analyse/render_order.hpp"
 #include "compiler/interpret/scope.hpp"
 #include "compiler/interpret/value.hpp"
 #include "runtime/action.hpp"
@@ -149,12 +150,12 @@ class Interpreter {
   std::vector<char> gdefined_;
   std::vector<char> gupdated_;
   HashOrder gorder_;
-  std::vector<Sym> definition_order_;
+  std::vector<Sym> definition_order_;  // every definition, repeats included (renderAll)
+  RenderOrder render_order_;           // the host render's order (render_order.hpp)
   std::vector<TypeRef> gtypes_;  // type definitions by name
   Ref<Scope> env_;               // current scope
 
   // initnext registrations
-  std::vector<Sym> init_order_;  // declaration order (with repeats)
   std::vector<ExprPtr> init_expr_, next_expr_;  // by symbol
   HashOrder init_map_order_;
 

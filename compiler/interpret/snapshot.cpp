@@ -148,8 +148,8 @@ Interpreter::Interpreter(const Interpreter& o, CopyOnly)
   gupdated_ = o.gupdated_;
   gorder_ = o.gorder_;
   definition_order_ = o.definition_order_;
+  render_order_ = o.render_order_;
   for (const auto& t : o.gtypes_) gtypes_.push_back(c.copy(t));
-  init_order_ = o.init_order_;
   init_expr_ = o.init_expr_;
   next_expr_ = o.next_expr_;
   init_map_order_ = o.init_map_order_;

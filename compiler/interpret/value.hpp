@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "compiler/analyse/builtins.hpp"
 #include "compiler/parse/ast.hpp"
 
 namespace autumn::interp {
@@ -110,13 +111,6 @@ struct ListObj : Obj {
 struct InstanceObj : Obj {
   TypeRef cls;
   std::vector<Value> fields;  // in class field order
-};
-
-enum class Builtin {
-  Map, Concat, Filter, Foldl, Length, Head, At, Tail, RenderAll, Defined, ArrayEqual, Sqrt,
-  Prev, Any, IsList, UniformChoice, AdjPositions, AddObj, IsFreePos, Range, Print, RemoveObj,
-  UpdateObj, RandomPositions, AllPositions, Clicked, Left, Right, Up, Down, IsWithinBounds,
-  AllObjs, Rotate
 };
 
 struct FuncObj : Obj {
