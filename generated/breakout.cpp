@@ -23,1213 +23,1232 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 12;
   static const char* const kColours[];
+  static const ErrorSite kErrors[];
 
-  struct C_Paddle {
+  struct C0_Paddle {
     Pos origin;
+    friend void hash_value(Hash& h, const C0_Paddle& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C0_Paddle& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C0_Paddle& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Paddle& a, const C_Paddle& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Paddle& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Paddle& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Paddle& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Ball {
-    int32_t f_vx;
-    int32_t f_vy;
+  struct C1_Ball {
+    int32_t f0;
+    int32_t f1;
     Pos origin;
+    friend void hash_value(Hash& h, const C1_Ball& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.f1);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C1_Ball& v) {
+      save_value(w, v.f0);
+      save_value(w, v.f1);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C1_Ball& v) {
+      load_value(r, v.f0);
+      load_value(r, v.f1);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Ball& a, const C_Ball& b) {
-    return true && a.f_vx == b.f_vx && a.f_vy == b.f_vy && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Ball& v) {
-    hash_value(h, v.f_vx);
-    hash_value(h, v.f_vy);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Ball& v) {
-    save_value(w, v.f_vx);
-    save_value(w, v.f_vy);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Ball& v) {
-    load_value(r, v.f_vx);
-    load_value(r, v.f_vy);
-    load_value(r, v.origin);
-  }
-  struct C_Brick {
-    int32_t f_hp;
+  struct C2_Brick {
+    int32_t f0;
     Pos origin;
+    friend void hash_value(Hash& h, const C2_Brick& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C2_Brick& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C2_Brick& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Brick& a, const C_Brick& b) {
-    return true && a.f_hp == b.f_hp && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Brick& v) {
-    hash_value(h, v.f_hp);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Brick& v) {
-    save_value(w, v.f_hp);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Brick& v) {
-    load_value(r, v.f_hp);
-    load_value(r, v.origin);
-  }
-  struct C_Hearts {
-    int32_t f_hearts;
+  struct C3_Hearts {
+    int32_t f0;
     Pos origin;
+    std::vector<CellV> cells;
+    friend void hash_value(Hash& h, const C3_Hearts& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+      hash_value(h, v.cells);
+    }
+    friend void save_value(SnapshotWriter& w, const C3_Hearts& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+      save_value(w, v.cells);
+    }
+    friend void load_value(SnapshotReader& r, C3_Hearts& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+      load_value(r, v.cells);
+    }
   };
-  static bool eq(const C_Hearts& a, const C_Hearts& b) {
-    return true && a.f_hearts == b.f_hearts && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Hearts& v) {
-    hash_value(h, v.f_hearts);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Hearts& v) {
-    save_value(w, v.f_hearts);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Hearts& v) {
-    load_value(r, v.f_hearts);
-    load_value(r, v.origin);
-  }
 
-  // Working buffers, one per place that builds a short-lived list.
   struct Scratch {
-    std::vector<Elem> render_elems;
-    std::vector<int32_t> t12;
-    std::vector<int32_t> t17;
-    std::vector<Elem> t53;
-    std::vector<Elem> t71;
-    std::vector<Elem> t73;
-    std::vector<Elem> t121;
-    std::vector<Elem> t139;
-    std::vector<Elem> t141;
-    std::vector<int32_t> t449;
-    std::vector<int32_t> t454;
+    std::vector<std::vector<C2_Brick>> b0;
+    std::vector<C2_Brick> b1;
+    std::vector<CellV> b2;
+    std::vector<Elem> b3;
+    std::vector<Elem> b4;
+    std::vector<Elem> b5;
+    std::vector<Elem> b6;
+    std::vector<Elem> b7;
+    std::vector<Elem> b8;
+    std::vector<Elem> b9;
+    std::vector<Elem> b10;
+    std::vector<C2_Brick> b11;
+    std::vector<std::vector<C2_Brick>> b12;
+    std::vector<C2_Brick> b13;
+    std::vector<Elem> b14;
   };
-
   struct State {
     Core core;
     NoCopy<Scratch> scratch;
-    int32_t g_GRID_SIZE{};
-    int32_t g_FRAME_RATE{};
-    int32_t g_background{};
-    int32_t g_padRow{};
-    C_Paddle g_paddle{};
-    bool u_paddle = false;
-    C_Paddle p_paddle{};
-    C_Ball g_ball{};
-    bool u_ball = false;
-    C_Ball p_ball{};
-    std::vector<C_Brick> g_bricks{};
-    bool u_bricks = false;
-    std::vector<C_Brick> p_bricks{};
-    bool g_launched{};
-    bool u_launched = false;
-    bool p_launched{};
-    int32_t g_lives{};
-    bool u_lives = false;
-    int32_t p_lives{};
-    C_Hearts g_hud{};
-    bool u_hud = false;
-    C_Hearts p_hud{};
+    int32_t g_GRID_SIZE_0{};
+    int32_t g_FRAME_RATE_1{};
+    int32_t g_background_2{};
+    bool g_SpecialConditionTriggered_3{};
+    int32_t g_padRow_4{};
+    int32_t g_lives_5{};
+    bool u_lives_6{};
+    int32_t p_lives_7{};
+    C3_Hearts g_hud_8{};
+    bool u_hud_9{};
+    C3_Hearts p_hud_10{};
+    bool g_launched_11{};
+    bool u_launched_12{};
+    bool p_launched_13{};
+    std::vector<C2_Brick> g_bricks_14{};
+    bool u_bricks_15{};
+    std::vector<C2_Brick> p_bricks_16{};
+    C1_Ball g_ball_17{};
+    bool u_ball_18{};
+    C1_Ball p_ball_19{};
+    C0_Paddle g_paddle_20{};
+    bool u_paddle_21{};
+    C0_Paddle p_paddle_22{};
   };
 
-  static int32_t colour_Brick_0(State& s, const C_Brick& o) {
+  static int32_t colour_3_C2_Brick(State& s, const C2_Brick& o1) {
     (void)s;
-  const int32_t t478 = o.f_hp;
-  const bool t479 = t478 > int32_t(2);
-  int32_t t483;
-  if (t479) {
-    t483 = int32_t(7);
-  } else {
-    const int32_t t480 = o.f_hp;
-    const bool t481 = t480 > int32_t(1);
-    int32_t t482;
-    if (t481) {
-      t482 = int32_t(8);
+    const bool t2 = (o1.f0 > int32_t(2));
+    int32_t r3{};
+    if (t2) {
+      r3 = int32_t(7);
     } else {
-      t482 = int32_t(9);
+      const bool t4 = (o1.f0 > int32_t(1));
+      int32_t r5{};
+      if (t4) {
+        r5 = int32_t(8);
+      } else {
+        r5 = int32_t(9);
+      }
+      r3 = r5;
     }
-    t483 = t482;
+    return r3;
+    return {};
   }
-    return t483;
-  }
-  static int32_t colour_Hearts_0(State& s, const C_Hearts& o) {
+  static void render_C3_Hearts(State& s, const C3_Hearts& o1, std::vector<Elem>& out2) {
     (void)s;
-  const int32_t t484 = o.f_hearts;
-  const bool t485 = int32_t(0) < t484;
-  int32_t t486;
-  if (t485) {
-    t486 = int32_t(10);
-  } else {
-    t486 = int32_t(11);
+    for (const CellV& c3 : o1.cells) {
+      int32_t x4 = c3.x;
+      int32_t y5 = c3.y;
+      if ((int32_t(c3.dc) == int32_t(-1))) {
+        fail_at(3, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+      }
+      int32_t colour6 = c3.colour;
+      switch (int32_t(c3.dc)) {
+        case 0: {
+          const bool t7 = (int32_t(0) < o1.f0);
+          int32_t r8{};
+          if (t7) {
+            r8 = int32_t(10);
+          } else {
+            r8 = int32_t(11);
+          }
+          colour6 = r8;
+          break;
+        }
+        case 1: {
+          const bool t9 = (int32_t(1) < o1.f0);
+          int32_t r10{};
+          if (t9) {
+            r10 = int32_t(10);
+          } else {
+            r10 = int32_t(11);
+          }
+          colour6 = r10;
+          break;
+        }
+        case 2: {
+          const bool t11 = (int32_t(2) < o1.f0);
+          int32_t r12{};
+          if (t11) {
+            r12 = int32_t(10);
+          } else {
+            r12 = int32_t(11);
+          }
+          colour6 = r12;
+          break;
+        }
+        default: break;
+      }
+      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
+    }
   }
-    return t486;
-  }
-  static int32_t colour_Hearts_1(State& s, const C_Hearts& o) {
-    (void)s;
-  const int32_t t487 = o.f_hearts;
-  const bool t488 = int32_t(1) < t487;
-  int32_t t489;
-  if (t488) {
-    t489 = int32_t(10);
-  } else {
-    t489 = int32_t(11);
-  }
-    return t489;
-  }
-  static int32_t colour_Hearts_2(State& s, const C_Hearts& o) {
-    (void)s;
-  const int32_t t490 = o.f_hearts;
-  const bool t491 = int32_t(2) < t490;
-  int32_t t492;
-  if (t491) {
-    t492 = int32_t(10);
-  } else {
-    t492 = int32_t(11);
-  }
-    return t492;
-  }
-  static void render_Paddle(State& s, const C_Paddle& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, -1), add(o.origin.y, 0)}, 1});
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 1});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, 1});
-  }
-  static void render_Ball(State& s, const C_Ball& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 2});
-  }
-  static void render_Brick(State& s, const C_Brick& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Brick_0(s, o)});
-  }
-  static void render_Hearts(State& s, const C_Hearts& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Hearts_0(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, colour_Hearts_1(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 2), add(o.origin.y, 0)}, colour_Hearts_2(s, o)});
-  }
-
   static void start(State& s, uint64_t seed) {
-    s.core.rng.reseed(seed);
-    s.core.covered.assign(7, 0);
-    s.g_GRID_SIZE = int32_t(16);
-    s.g_FRAME_RATE = int32_t(8);
-    s.g_background = int32_t(0);
-    const int32_t t1 = int32_t(12);
-    s.g_GRID_SIZE = t1;
-    const int32_t t2 = int32_t(3);
-    s.g_background = t2;
-    const int32_t t3 = s.g_GRID_SIZE;
-    const int32_t t4 = sub(t3, int32_t(1));
-    s.g_padRow = t4;
+    (void)s;
+    s.core.start(seed, kOnClauses);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_FRAME_RATE_1 = int32_t(8);
+    s.g_background_2 = int32_t(0);
+    s.g_SpecialConditionTriggered_3 = false;
+    s.g_GRID_SIZE_0 = int32_t(12);
+    s.g_background_2 = int32_t(1);
+    s.g_padRow_4 = int32_t(11);
     // init lives, programs/breakout.au:39
-    s.g_lives = int32_t(3);
+    s.g_lives_5 = int32_t(3);
+    s.u_lives_6 = false;
     // init hud, programs/breakout.au:42
-    const int32_t t5 = int32_t(3);
-    const int32_t t6 = int32_t(0);
-    const int32_t t7 = int32_t(0);
-    const Pos t8 = Pos{t6, t7};
-    const C_Hearts t9 = C_Hearts{t5, t8};
-    s.g_hud = t9;
+    std::vector<CellV> l_allCells1{};
+    // inlined: function at programs/breakout.au:15
+    const CellV cell2 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+    // inlined: function at programs/breakout.au:15
+    const CellV cell3 = CellV{int32_t(1), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(1))};
+    // inlined: function at programs/breakout.au:15
+    const CellV cell4 = CellV{int32_t(2), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    std::vector<CellV> list5 = std::vector<CellV>{cell2, cell3, cell4};
+    l_allCells1 = std::move(list5);
+    const std::vector<CellV>& v6 = l_allCells1;
+    const std::vector<CellV>& v7 = l_allCells1;
+    C3_Hearts o8 = C3_Hearts{int32_t(3), Pos{int32_t(0), int32_t(0)}, v7};
+    s.g_hud_8 = std::move(o8);
+    s.u_hud_9 = false;
     // init launched, programs/breakout.au:36
-    s.g_launched = false;
+    s.g_launched_11 = false;
+    s.u_launched_12 = false;
     // init bricks, programs/breakout.au:33
     // inlined: function at programs/breakout.au:20
-    const int32_t t10 = int32_t(2);
-    const int32_t t11 = int32_t(5);
-    s.scratch.v.t12.clear();
-    std::vector<int32_t>& t12 = s.scratch.v.t12;
-    for (int32_t i = t10; i < t11; ++i) t12.push_back(i);
-    std::vector<std::vector<C_Brick>> t13;
-    t13.reserve(t12.size());
-    for (const int32_t& t13_x : t12) {
-      const int32_t& a_row_14 = t13_x;
+    std::vector<std::vector<C2_Brick>>& out9 = s.scratch.v.b0;
+    out9.clear();
+    out9.reserve(size_t(int32_t(std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)}.size())));
+    for (const int32_t& x10 : std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)}) {
       // inlined: function at programs/breakout.au:22
-      const int32_t t15 = int32_t(0);
-      const int32_t t16 = s.g_GRID_SIZE;
-      s.scratch.v.t17.clear();
-      std::vector<int32_t>& t17 = s.scratch.v.t17;
-      for (int32_t i = t15; i < t16; ++i) t17.push_back(i);
-      std::vector<C_Brick> t18;
-      t18.reserve(t17.size());
-      for (const int32_t& t18_x : t17) {
-        const int32_t& a_col_19 = t18_x;
+      std::vector<C2_Brick> out11{};
+      out11.reserve(size_t(int32_t(std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)}.size())));
+      for (const int32_t& x12 : std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)}) {
         // inlined: function at programs/breakout.au:22
-        const int32_t t20 = sub(int32_t(5), a_row_14);
-        const Pos t21 = Pos{a_col_19, a_row_14};
-        const C_Brick t22 = C_Brick{t20, t21};
-        t18.push_back(t22);
+        const int32_t t13 = sub(int32_t(5), x10);
+        const Pos t14 = Pos{x12, x10};
+        CellV l_allCells15{};
+        const CellV t16 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
+        l_allCells15 = t16;
+        const CellV& v17 = l_allCells15;
+        const CellV& v18 = l_allCells15;
+        const std::vector<CellV> list19 = std::vector<CellV>{v18};
+        C2_Brick o20 = C2_Brick{t13, t14};
+        out11.push_back(std::move(o20));
       }
-      t13.push_back(t18);
+      out9.push_back(std::move(out11));
     }
-    std::vector<C_Brick> t23;
-    for (const auto& part : t13) t23.insert(t23.end(), part.begin(), part.end());
-    std::vector<C_Brick> t24;
-    for (const C_Brick& t24_x : t23) {
-      const C_Brick& a_k_25 = t24_x;
+    std::vector<C2_Brick>& cat21 = s.scratch.v.b1;
+    cat21.clear();
+    for (const std::vector<C2_Brick>& part22 : out9) {
+      cat21.insert(cat21.end(), part22.begin(), part22.end());
+    }
+    std::vector<C2_Brick> out23{};
+    for (const C2_Brick& x24 : cat21) {
       // inlined: function at programs/breakout.au:21
-      const std::vector<bool> t26 = std::vector<bool>{true, true, true, true, false};
-      if (t26.empty()) fail("uniformChoice of an empty list");
-      const bool t27 = t26[s.core.rng.next(t26.size())];
-      if (t27) t24.push_back(t24_x);
+      if (std::vector<bool>{true, true, true, true, false}.empty()) {
+        fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
+      }
+      const int32_t t25 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<bool>{true, true, true, true, false}.size())))));
+      const bool t26 = std::vector<bool>{true, true, true, true, false}[size_t(t25)];
+      if (t26) {
+        out23.push_back(x24);
+      }
     }
-    s.g_bricks = t24;
+    s.g_bricks_14 = std::move(out23);
+    s.u_bricks_15 = false;
     // init ball, programs/breakout.au:30
-    const int32_t t28 = int32_t(1);
-    const int32_t t29 = neg(int32_t(1));
-    const int32_t t30 = int32_t(5);
-    const int32_t t31 = s.g_padRow;
-    const int32_t t32 = sub(t31, int32_t(1));
-    const Pos t33 = Pos{t30, t32};
-    const C_Ball t34 = C_Ball{t28, t29, t33};
-    s.g_ball = t34;
+    CellV l_allCells27{};
+    const CellV t28 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+    l_allCells27 = t28;
+    const CellV& v29 = l_allCells27;
+    const CellV& v30 = l_allCells27;
+    const std::vector<CellV> list31 = std::vector<CellV>{v30};
+    C1_Ball o32 = C1_Ball{int32_t(1), int32_t(-1), Pos{int32_t(5), int32_t(10)}};
+    s.g_ball_17 = std::move(o32);
+    s.u_ball_18 = false;
     // init paddle, programs/breakout.au:27
-    const int32_t t35 = int32_t(5);
-    const int32_t t36 = s.g_padRow;
-    const Pos t37 = Pos{t35, t36};
-    const C_Paddle t38 = C_Paddle{t37};
-    s.g_paddle = t38;
+    std::vector<CellV>& l_allCells33 = s.scratch.v.b2;
+    l_allCells33.clear();
+    const CellV t34 = CellV{int32_t(-1), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+    const CellV t35 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(6))};
+    const CellV t36 = CellV{int32_t(1), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(7))};
+    std::vector<CellV> list37 = std::vector<CellV>{t34, t35, t36};
+    l_allCells33 = std::move(list37);
+    const std::vector<CellV>& v38 = l_allCells33;
+    const std::vector<CellV>& v39 = l_allCells33;
+    C0_Paddle o40 = C0_Paddle{Pos{int32_t(5), int32_t(11)}};
+    s.g_paddle_20 = std::move(o40);
+    s.u_paddle_21 = false;
     render(s, nullptr, {});
   }
-
   static void step(State& s) {
-    s.p_paddle = s.g_paddle;
-    s.p_ball = s.g_ball;
-    s.p_bricks = s.g_bricks;
-    s.p_launched = s.g_launched;
-    s.p_lives = s.g_lives;
-    s.p_hud = s.g_hud;
+    (void)s;
     s.core.have_prev = true;
-    s.u_paddle = false;
-    s.u_ball = false;
-    s.u_bricks = false;
-    s.u_launched = false;
-    s.u_lives = false;
-    s.u_hud = false;
-    {  // on-clause 1, programs/breakout.au:71
-      if (s.core.left) {
-        s.core.covered[0] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Paddle& a_obj_39 = s.p_paddle;
-        const C_Paddle& a_obj_40 = a_obj_39;
-        const int32_t t41 = neg(int32_t(1));
-        const int32_t t42 = int32_t(0);
-        const Pos t43 = Pos{t41, t42};
-        const C_Paddle& a_obj_44 = a_obj_40;
-        Pos a_dir_45 = t43;
-        const int32_t t46 = int32_t(4);
-        const Pos t47 = a_dir_45;
-        const int32_t t48 = add(a_obj_44.origin.x, t47.x);
-        const Pos t49 = a_dir_45;
-        const int32_t t50 = add(a_obj_44.origin.y, t49.y);
-        const Pos t51 = Pos{t48, t50};
-        C_Paddle t52 = a_obj_44;
-        t52.origin = t51;
-        s.scratch.v.t53.clear();
-        std::vector<Elem>& t53 = s.scratch.v.t53;
-        render_Paddle(s, t52, t53);
-        bool t54 = true;
-        for (const Elem& e : t53)
-          if (e.position.x < 0 || e.position.x >= 12 || e.position.y < 0 || e.position.y >= 12) { t54 = false; break; }
-        bool t55 = false;
-        if ((t54)) {
-          const C_Paddle& a_obj_56 = a_obj_39;
-          const int32_t t57 = neg(int32_t(1));
-          const int32_t t58 = int32_t(0);
-          const Pos t59 = Pos{t57, t58};
-          const C_Paddle& a_obj_60 = a_obj_56;
-          Pos a_dir_61 = t59;
-          const int32_t t62 = int32_t(4);
-          const Pos t63 = a_dir_61;
-          const int32_t t64 = add(a_obj_60.origin.x, t63.x);
-          const Pos t65 = a_dir_61;
-          const int32_t t66 = add(a_obj_60.origin.y, t65.y);
-          const Pos t67 = Pos{t64, t66};
-          C_Paddle t68 = a_obj_60;
-          t68.origin = t67;
-          const C_Paddle& a_obj_69 = t68;
-          const C_Paddle& a_prev_obj_70 = a_obj_39;
-          s.scratch.v.t71.clear();
-          std::vector<Elem>& t71 = s.scratch.v.t71;
-          render_Paddle(s, a_prev_obj_70, t71);
-          std::vector<Elem> v_prev_elems_72 = t71;
-          s.scratch.v.t73.clear();
-          std::vector<Elem>& t73 = s.scratch.v.t73;
-          render_Paddle(s, a_obj_69, t73);
-          std::vector<Elem> v_curr_elems_74 = t73;
-          const std::vector<Elem> t75 = v_curr_elems_74;
-          std::vector<Elem> t76;
-          for (const Elem& t76_x : t75) {
-            const Elem& a_elem_77 = t76_x;
-            const std::vector<Elem> t78 = v_prev_elems_72;
-            const Elem& a_e_79 = a_elem_77;
-            const std::vector<Elem>& a_l_80 = t78;
-            bool t81 = false;
-            for (const Elem& t81_x : a_l_80) {
-              const Elem& a_x_82 = t81_x;
-              const bool t83 = a_x_82 == a_e_79;
-              if (t83) { t81 = true; break; }
+    s.p_paddle_22 = s.g_paddle_20;
+    s.p_ball_19 = s.g_ball_17;
+    s.p_bricks_16 = s.g_bricks_14;
+    s.p_launched_13 = s.g_launched_11;
+    s.p_lives_7 = s.g_lives_5;
+    s.p_hud_10 = s.g_hud_8;
+    s.u_lives_6 = false;
+    s.u_hud_9 = false;
+    s.u_launched_12 = false;
+    s.u_bricks_15 = false;
+    s.u_ball_18 = false;
+    s.u_paddle_21 = false;
+    // on-clause 1, programs/breakout.au:71
+    {
+      const bool t1 = s.core.left;
+      if (t1) {
+        s.core.covered[int32_t(0)] = 1;
+        const C0_Paddle& prev2 = s.p_paddle_22;
+        const int32_t t3 = add(prev2.origin.x, int32_t(-1));
+        const int32_t t4 = add(prev2.origin.y, int32_t(0));
+        const Pos t5 = Pos{t3, t4};
+        C0_Paddle upd6 = prev2;
+        upd6.origin = t5;
+        std::vector<Elem>& rendered7 = s.scratch.v.b3;
+        rendered7.clear();
+        rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(-1)), add(upd6.origin.y, int32_t(0))}, int32_t(3)});
+        rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(0)), add(upd6.origin.y, int32_t(0))}, int32_t(3)});
+        rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(1)), add(upd6.origin.y, int32_t(0))}, int32_t(3)});
+        bool within8 = true;
+        for (const Elem& e9 : rendered7) {
+          if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(12))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(12))))) {
+            within8 = false;
+            break;
+          }
+        }
+        bool r10{};
+        if (within8) {
+          const int32_t t11 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t12 = add(prev2.origin.y, int32_t(0));
+          const Pos t13 = Pos{t11, t12};
+          C0_Paddle upd14 = prev2;
+          upd14.origin = t13;
+          std::vector<Elem>& l_prev_elems15 = s.scratch.v.b4;
+          l_prev_elems15.clear();
+          std::vector<Elem>& l_curr_elems16 = s.scratch.v.b5;
+          l_curr_elems16.clear();
+          std::vector<Elem>& l_filtered_elems17 = s.scratch.v.b6;
+          l_filtered_elems17.clear();
+          std::vector<Elem> rendered18{};
+          rendered18.push_back(Elem{Pos{add(prev2.origin.x, int32_t(-1)), add(prev2.origin.y, int32_t(0))}, int32_t(3)});
+          rendered18.push_back(Elem{Pos{add(prev2.origin.x, int32_t(0)), add(prev2.origin.y, int32_t(0))}, int32_t(3)});
+          rendered18.push_back(Elem{Pos{add(prev2.origin.x, int32_t(1)), add(prev2.origin.y, int32_t(0))}, int32_t(3)});
+          l_prev_elems15 = std::move(rendered18);
+          std::vector<Elem> rendered19{};
+          rendered19.push_back(Elem{Pos{add(upd14.origin.x, int32_t(-1)), add(upd14.origin.y, int32_t(0))}, int32_t(3)});
+          rendered19.push_back(Elem{Pos{add(upd14.origin.x, int32_t(0)), add(upd14.origin.y, int32_t(0))}, int32_t(3)});
+          rendered19.push_back(Elem{Pos{add(upd14.origin.x, int32_t(1)), add(upd14.origin.y, int32_t(0))}, int32_t(3)});
+          l_curr_elems16 = std::move(rendered19);
+          const std::vector<Elem>& v20 = l_curr_elems16;
+          std::vector<Elem> out21{};
+          for (const Elem& x22 : v20) {
+            const std::vector<Elem>& v23 = l_prev_elems15;
+            bool any24 = false;
+            for (const Elem& x25 : v23) {
+              const bool t26 = (x25 == x22);
+              if (t26) {
+                any24 = true;
+                break;
+              }
             }
-            const bool t84 = !t81;
-            if (t84) t76.push_back(t76_x);
+            const bool t27 = !any24;
+            if (t27) {
+              out21.push_back(x22);
+            }
           }
-          std::vector<Elem> v_filtered_elems_85 = t76;
-          const std::vector<Elem> t86 = v_filtered_elems_85;
-          bool t87 = false;
-          for (const Elem& t87_x : t86) {
-            const Elem& a_elem_88 = t87_x;
-            const Pos t89 = a_elem_88.position;
-            const bool t90 = s.core.occupied.free(t89);
-            const bool t91 = !t90;
-            if (t91) { t87 = true; break; }
+          l_filtered_elems17 = std::move(out21);
+          const std::vector<Elem>& v28 = l_filtered_elems17;
+          bool any29 = false;
+          for (const Elem& x30 : v28) {
+            const bool t31 = s.core.occupied.free(x30.position);
+            const bool t32 = !t31;
+            if (t32) {
+              any29 = true;
+              break;
+            }
           }
-          const bool t92 = !t87;
-          t55 = t92;
-        }
-        C_Paddle t106;
-        if (t55) {
-          const C_Paddle& a_obj_93 = a_obj_39;
-          const int32_t t94 = neg(int32_t(1));
-          const int32_t t95 = int32_t(0);
-          const Pos t96 = Pos{t94, t95};
-          const C_Paddle& a_obj_97 = a_obj_93;
-          Pos a_dir_98 = t96;
-          const int32_t t99 = int32_t(4);
-          const Pos t100 = a_dir_98;
-          const int32_t t101 = add(a_obj_97.origin.x, t100.x);
-          const Pos t102 = a_dir_98;
-          const int32_t t103 = add(a_obj_97.origin.y, t102.y);
-          const Pos t104 = Pos{t101, t103};
-          C_Paddle t105 = a_obj_97;
-          t105.origin = t104;
-          t106 = t105;
+          const bool t33 = !any29;
+          r10 = t33;
         } else {
-          t106 = a_obj_39;
+          r10 = false;
         }
-        s.g_paddle = t106;
-        s.u_paddle = true;
+        C0_Paddle r34{};
+        if (r10) {
+          const int32_t t35 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t36 = add(prev2.origin.y, int32_t(0));
+          const Pos t37 = Pos{t35, t36};
+          C0_Paddle upd38 = prev2;
+          upd38.origin = t37;
+          r34 = std::move(upd38);
+        } else {
+          r34 = prev2;
+        }
+        s.g_paddle_20 = std::move(r34);
+        s.u_paddle_21 = true;
       }
     }
-    {  // on-clause 2, programs/breakout.au:72
-      if (s.core.right) {
-        s.core.covered[1] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Paddle& a_obj_107 = s.p_paddle;
-        const C_Paddle& a_obj_108 = a_obj_107;
-        const int32_t t109 = int32_t(1);
-        const int32_t t110 = int32_t(0);
-        const Pos t111 = Pos{t109, t110};
-        const C_Paddle& a_obj_112 = a_obj_108;
-        Pos a_dir_113 = t111;
-        const int32_t t114 = int32_t(4);
-        const Pos t115 = a_dir_113;
-        const int32_t t116 = add(a_obj_112.origin.x, t115.x);
-        const Pos t117 = a_dir_113;
-        const int32_t t118 = add(a_obj_112.origin.y, t117.y);
-        const Pos t119 = Pos{t116, t118};
-        C_Paddle t120 = a_obj_112;
-        t120.origin = t119;
-        s.scratch.v.t121.clear();
-        std::vector<Elem>& t121 = s.scratch.v.t121;
-        render_Paddle(s, t120, t121);
-        bool t122 = true;
-        for (const Elem& e : t121)
-          if (e.position.x < 0 || e.position.x >= 12 || e.position.y < 0 || e.position.y >= 12) { t122 = false; break; }
-        bool v_wbound_123 = t122;
-        const C_Paddle& a_obj_124 = a_obj_107;
-        const int32_t t125 = int32_t(1);
-        const int32_t t126 = int32_t(0);
-        const Pos t127 = Pos{t125, t126};
-        const C_Paddle& a_obj_128 = a_obj_124;
-        Pos a_dir_129 = t127;
-        const int32_t t130 = int32_t(4);
-        const Pos t131 = a_dir_129;
-        const int32_t t132 = add(a_obj_128.origin.x, t131.x);
-        const Pos t133 = a_dir_129;
-        const int32_t t134 = add(a_obj_128.origin.y, t133.y);
-        const Pos t135 = Pos{t132, t134};
-        C_Paddle t136 = a_obj_128;
-        t136.origin = t135;
-        const C_Paddle& a_obj_137 = t136;
-        const C_Paddle& a_prev_obj_138 = a_obj_107;
-        s.scratch.v.t139.clear();
-        std::vector<Elem>& t139 = s.scratch.v.t139;
-        render_Paddle(s, a_prev_obj_138, t139);
-        std::vector<Elem> v_prev_elems_140 = t139;
-        s.scratch.v.t141.clear();
-        std::vector<Elem>& t141 = s.scratch.v.t141;
-        render_Paddle(s, a_obj_137, t141);
-        std::vector<Elem> v_curr_elems_142 = t141;
-        const std::vector<Elem> t143 = v_curr_elems_142;
-        std::vector<Elem> t144;
-        for (const Elem& t144_x : t143) {
-          const Elem& a_elem_145 = t144_x;
-          const std::vector<Elem> t146 = v_prev_elems_140;
-          const Elem& a_e_147 = a_elem_145;
-          const std::vector<Elem>& a_l_148 = t146;
-          bool t149 = false;
-          for (const Elem& t149_x : a_l_148) {
-            const Elem& a_x_150 = t149_x;
-            const bool t151 = a_x_150 == a_e_147;
-            if (t151) { t149 = true; break; }
+    // on-clause 2, programs/breakout.au:72
+    {
+      const bool t39 = s.core.right;
+      if (t39) {
+        s.core.covered[int32_t(1)] = 1;
+        const C0_Paddle& prev40 = s.p_paddle_22;
+        bool l_wbound41{};
+        bool l_fr42{};
+        C0_Paddle l_ret43{};
+        const int32_t t44 = add(prev40.origin.x, int32_t(1));
+        const int32_t t45 = add(prev40.origin.y, int32_t(0));
+        const Pos t46 = Pos{t44, t45};
+        C0_Paddle upd47 = prev40;
+        upd47.origin = t46;
+        std::vector<Elem>& rendered48 = s.scratch.v.b7;
+        rendered48.clear();
+        rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(-1)), add(upd47.origin.y, int32_t(0))}, int32_t(3)});
+        rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(0)), add(upd47.origin.y, int32_t(0))}, int32_t(3)});
+        rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(1)), add(upd47.origin.y, int32_t(0))}, int32_t(3)});
+        bool within49 = true;
+        for (const Elem& e50 : rendered48) {
+          if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(12))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(12))))) {
+            within49 = false;
+            break;
           }
-          const bool t152 = !t149;
-          if (t152) t144.push_back(t144_x);
         }
-        std::vector<Elem> v_filtered_elems_153 = t144;
-        const std::vector<Elem> t154 = v_filtered_elems_153;
-        bool t155 = false;
-        for (const Elem& t155_x : t154) {
-          const Elem& a_elem_156 = t155_x;
-          const Pos t157 = a_elem_156.position;
-          const bool t158 = s.core.occupied.free(t157);
-          const bool t159 = !t158;
-          if (t159) { t155 = true; break; }
+        l_wbound41 = within49;
+        const int32_t t51 = add(prev40.origin.x, int32_t(1));
+        const int32_t t52 = add(prev40.origin.y, int32_t(0));
+        const Pos t53 = Pos{t51, t52};
+        C0_Paddle upd54 = prev40;
+        upd54.origin = t53;
+        std::vector<Elem>& l_prev_elems55 = s.scratch.v.b8;
+        l_prev_elems55.clear();
+        std::vector<Elem>& l_curr_elems56 = s.scratch.v.b9;
+        l_curr_elems56.clear();
+        std::vector<Elem>& l_filtered_elems57 = s.scratch.v.b10;
+        l_filtered_elems57.clear();
+        std::vector<Elem> rendered58{};
+        rendered58.push_back(Elem{Pos{add(prev40.origin.x, int32_t(-1)), add(prev40.origin.y, int32_t(0))}, int32_t(3)});
+        rendered58.push_back(Elem{Pos{add(prev40.origin.x, int32_t(0)), add(prev40.origin.y, int32_t(0))}, int32_t(3)});
+        rendered58.push_back(Elem{Pos{add(prev40.origin.x, int32_t(1)), add(prev40.origin.y, int32_t(0))}, int32_t(3)});
+        l_prev_elems55 = std::move(rendered58);
+        std::vector<Elem> rendered59{};
+        rendered59.push_back(Elem{Pos{add(upd54.origin.x, int32_t(-1)), add(upd54.origin.y, int32_t(0))}, int32_t(3)});
+        rendered59.push_back(Elem{Pos{add(upd54.origin.x, int32_t(0)), add(upd54.origin.y, int32_t(0))}, int32_t(3)});
+        rendered59.push_back(Elem{Pos{add(upd54.origin.x, int32_t(1)), add(upd54.origin.y, int32_t(0))}, int32_t(3)});
+        l_curr_elems56 = std::move(rendered59);
+        const std::vector<Elem>& v60 = l_curr_elems56;
+        std::vector<Elem> out61{};
+        for (const Elem& x62 : v60) {
+          const std::vector<Elem>& v63 = l_prev_elems55;
+          bool any64 = false;
+          for (const Elem& x65 : v63) {
+            const bool t66 = (x65 == x62);
+            if (t66) {
+              any64 = true;
+              break;
+            }
+          }
+          const bool t67 = !any64;
+          if (t67) {
+            out61.push_back(x62);
+          }
         }
-        const bool t160 = !t155;
-        bool v_fr_161 = t160;
-        const bool t162 = v_wbound_123;
-        bool t163 = false;
-        if ((t162)) {
-          const bool t164 = v_fr_161;
-          t163 = t164;
+        l_filtered_elems57 = std::move(out61);
+        const std::vector<Elem>& v68 = l_filtered_elems57;
+        bool any69 = false;
+        for (const Elem& x70 : v68) {
+          const bool t71 = s.core.occupied.free(x70.position);
+          const bool t72 = !t71;
+          if (t72) {
+            any69 = true;
+            break;
+          }
         }
-        C_Paddle t178;
-        if (t163) {
-          const C_Paddle& a_obj_165 = a_obj_107;
-          const int32_t t166 = int32_t(1);
-          const int32_t t167 = int32_t(0);
-          const Pos t168 = Pos{t166, t167};
-          const C_Paddle& a_obj_169 = a_obj_165;
-          Pos a_dir_170 = t168;
-          const int32_t t171 = int32_t(4);
-          const Pos t172 = a_dir_170;
-          const int32_t t173 = add(a_obj_169.origin.x, t172.x);
-          const Pos t174 = a_dir_170;
-          const int32_t t175 = add(a_obj_169.origin.y, t174.y);
-          const Pos t176 = Pos{t173, t175};
-          C_Paddle t177 = a_obj_169;
-          t177.origin = t176;
-          t178 = t177;
+        const bool t73 = !any69;
+        l_fr42 = t73;
+        const bool& v74 = l_wbound41;
+        bool r75{};
+        if (v74) {
+          const bool& v76 = l_fr42;
+          r75 = v76;
         } else {
-          t178 = a_obj_107;
+          r75 = false;
         }
-        C_Paddle v_ret_179 = t178;
-        const C_Paddle t180 = v_ret_179;
-        s.g_paddle = t180;
-        s.u_paddle = true;
+        C0_Paddle r77{};
+        if (r75) {
+          const int32_t t78 = add(prev40.origin.x, int32_t(1));
+          const int32_t t79 = add(prev40.origin.y, int32_t(0));
+          const Pos t80 = Pos{t78, t79};
+          C0_Paddle upd81 = prev40;
+          upd81.origin = t80;
+          r77 = std::move(upd81);
+        } else {
+          r77 = prev40;
+        }
+        l_ret43 = std::move(r77);
+        const C0_Paddle& v82 = l_ret43;
+        s.g_paddle_20 = v82;
+        s.u_paddle_21 = true;
       }
     }
-    {  // on-clause 3, programs/breakout.au:74
-      if (!s.core.have_prev) fail("prev used before the first step");
-      bool t181 = false;
-      if ((s.p_launched)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Ball& a_b_182 = s.p_ball;
-        const C_Paddle& a_pad_183 = s.p_paddle;
+    // on-clause 3, programs/breakout.au:74
+    {
+      const bool& prev83 = s.p_launched_13;
+      bool r84{};
+      if (prev83) {
+        const C1_Ball& prev85 = s.p_ball_19;
+        const C0_Paddle& prev86 = s.p_paddle_22;
         // inlined: function at programs/breakout.au:55
-        const C_Ball& a_b_184 = a_b_182;
         // inlined: function at programs/breakout.au:50
-        const C_Ball& a_b_185 = a_b_184;
         // inlined: function at programs/breakout.au:45
-        const int32_t t186 = add(a_b_185.origin.x, a_b_185.f_vx);
-        int32_t v_ax_187 = t186;
-        const int32_t t188 = v_ax_187;
-        const bool t189 = t188 < int32_t(0);
-        bool t190 = true;
-        if (!(t189)) {
-          const int32_t t191 = v_ax_187;
-          const int32_t t192 = s.g_GRID_SIZE;
-          const bool t193 = t191 >= t192;
-          t190 = t193;
-        }
-        int32_t t195;
-        if (t190) {
-          const int32_t t194 = neg(a_b_185.f_vx);
-          t195 = t194;
+        int32_t l_ax87{};
+        const int32_t t88 = add(prev85.origin.x, prev85.f0);
+        l_ax87 = t88;
+        const int32_t& v89 = l_ax87;
+        const bool t90 = (v89 < int32_t(0));
+        bool r91{};
+        if (!t90) {
+          const int32_t& v92 = l_ax87;
+          const bool t93 = (v92 >= int32_t(12));
+          r91 = t93;
         } else {
-          t195 = a_b_185.f_vx;
+          r91 = true;
         }
-        const int32_t t196 = add(a_b_184.origin.x, t195);
-        const C_Ball& a_b_197 = a_b_184;
+        int32_t r94{};
+        if (r91) {
+          const int32_t t95 = neg(prev85.f0);
+          r94 = t95;
+        } else {
+          r94 = prev85.f0;
+        }
+        const int32_t t96 = add(prev85.origin.x, r94);
         // inlined: function at programs/breakout.au:48
-        const int32_t t198 = add(a_b_197.origin.y, a_b_197.f_vy);
-        const bool t199 = t198 < int32_t(1);
-        int32_t t201;
-        if (t199) {
-          const int32_t t200 = neg(a_b_197.f_vy);
-          t201 = t200;
+        const int32_t t97 = add(prev85.origin.y, prev85.f1);
+        const bool t98 = (t97 < int32_t(1));
+        int32_t r99{};
+        if (t98) {
+          const int32_t t100 = neg(prev85.f1);
+          r99 = t100;
         } else {
-          t201 = a_b_197.f_vy;
+          r99 = prev85.f1;
         }
-        const int32_t t202 = add(a_b_184.origin.y, t201);
-        const Pos t203 = Pos{t196, t202};
-        const int32_t t204 = s.g_padRow;
-        const bool t205 = t203.y >= t204;
-        bool t206 = false;
-        if ((t205)) {
-          const C_Ball& a_b_207 = a_b_182;
+        const int32_t t101 = add(prev85.origin.y, r99);
+        const Pos t102 = Pos{t96, t101};
+        const bool t103 = (t102.y >= int32_t(11));
+        bool r104{};
+        if (t103) {
           // inlined: function at programs/breakout.au:50
-          const C_Ball& a_b_208 = a_b_207;
           // inlined: function at programs/breakout.au:45
-          const int32_t t209 = add(a_b_208.origin.x, a_b_208.f_vx);
-          int32_t v_ax_210 = t209;
-          const int32_t t211 = v_ax_210;
-          const bool t212 = t211 < int32_t(0);
-          bool t213 = true;
-          if (!(t212)) {
-            const int32_t t214 = v_ax_210;
-            const int32_t t215 = s.g_GRID_SIZE;
-            const bool t216 = t214 >= t215;
-            t213 = t216;
-          }
-          int32_t t218;
-          if (t213) {
-            const int32_t t217 = neg(a_b_208.f_vx);
-            t218 = t217;
+          int32_t l_ax105{};
+          const int32_t t106 = add(prev85.origin.x, prev85.f0);
+          l_ax105 = t106;
+          const int32_t& v107 = l_ax105;
+          const bool t108 = (v107 < int32_t(0));
+          bool r109{};
+          if (!t108) {
+            const int32_t& v110 = l_ax105;
+            const bool t111 = (v110 >= int32_t(12));
+            r109 = t111;
           } else {
-            t218 = a_b_208.f_vx;
+            r109 = true;
           }
-          const int32_t t219 = add(a_b_207.origin.x, t218);
-          const C_Ball& a_b_220 = a_b_207;
+          int32_t r112{};
+          if (r109) {
+            const int32_t t113 = neg(prev85.f0);
+            r112 = t113;
+          } else {
+            r112 = prev85.f0;
+          }
+          const int32_t t114 = add(prev85.origin.x, r112);
           // inlined: function at programs/breakout.au:48
-          const int32_t t221 = add(a_b_220.origin.y, a_b_220.f_vy);
-          const bool t222 = t221 < int32_t(1);
-          int32_t t224;
-          if (t222) {
-            const int32_t t223 = neg(a_b_220.f_vy);
-            t224 = t223;
+          const int32_t t115 = add(prev85.origin.y, prev85.f1);
+          const bool t116 = (t115 < int32_t(1));
+          int32_t r117{};
+          if (t116) {
+            const int32_t t118 = neg(prev85.f1);
+            r117 = t118;
           } else {
-            t224 = a_b_220.f_vy;
+            r117 = prev85.f1;
           }
-          const int32_t t225 = add(a_b_207.origin.y, t224);
-          const Pos t226 = Pos{t219, t225};
-          const Pos& a_p_227 = t226;
-          const C_Paddle& a_pad_228 = a_pad_183;
+          const int32_t t119 = add(prev85.origin.y, r117);
+          const Pos t120 = Pos{t114, t119};
           // inlined: function at programs/breakout.au:53
-          const int32_t t229 = s.g_padRow;
-          const bool t230 = a_p_227.y == t229;
-          bool t231 = false;
-          if ((t230)) {
-            const int32_t t232 = sub(a_p_227.x, a_pad_228.origin.x);
-            const int32_t& a_x_233 = t232;
-            const bool t234 = a_x_233 < int32_t(0);
-            int32_t t236;
-            if (t234) {
-              const int32_t t235 = neg(a_x_233);
-              t236 = t235;
+          const bool t121 = (t120.y == int32_t(11));
+          bool r122{};
+          if (t121) {
+            const int32_t t123 = sub(t120.x, prev86.origin.x);
+            const bool t124 = (t123 < int32_t(0));
+            int32_t r125{};
+            if (t124) {
+              const int32_t t126 = neg(t123);
+              r125 = t126;
             } else {
-              t236 = a_x_233;
+              r125 = t123;
             }
-            const bool t237 = t236 <= int32_t(1);
-            t231 = t237;
+            const bool t127 = (r125 <= int32_t(1));
+            r122 = t127;
+          } else {
+            r122 = false;
           }
-          const bool t238 = !t231;
-          t206 = t238;
+          const bool t128 = !r122;
+          r104 = t128;
+        } else {
+          r104 = false;
         }
-        const bool t239 = !t206;
-        t181 = t239;
+        const bool t129 = !r104;
+        r84 = t129;
+      } else {
+        r84 = false;
       }
-      if (t181) {
-        s.core.covered[2] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Ball& a_b_240 = s.p_ball;
+      if (r84) {
+        s.core.covered[int32_t(2)] = 1;
+        const std::vector<C2_Brick>& prev130 = s.p_bricks_16;
+        const C1_Ball& prev131 = s.p_ball_19;
         // inlined: function at programs/breakout.au:50
-        const C_Ball& a_b_241 = a_b_240;
         // inlined: function at programs/breakout.au:45
-        const int32_t t242 = add(a_b_241.origin.x, a_b_241.f_vx);
-        int32_t v_ax_243 = t242;
-        const int32_t t244 = v_ax_243;
-        const bool t245 = t244 < int32_t(0);
-        bool t246 = true;
-        if (!(t245)) {
-          const int32_t t247 = v_ax_243;
-          const int32_t t248 = s.g_GRID_SIZE;
-          const bool t249 = t247 >= t248;
-          t246 = t249;
-        }
-        int32_t t251;
-        if (t246) {
-          const int32_t t250 = neg(a_b_241.f_vx);
-          t251 = t250;
+        int32_t l_ax132{};
+        const int32_t t133 = add(prev131.origin.x, prev131.f0);
+        l_ax132 = t133;
+        const int32_t& v134 = l_ax132;
+        const bool t135 = (v134 < int32_t(0));
+        bool r136{};
+        if (!t135) {
+          const int32_t& v137 = l_ax132;
+          const bool t138 = (v137 >= int32_t(12));
+          r136 = t138;
         } else {
-          t251 = a_b_241.f_vx;
+          r136 = true;
         }
-        const int32_t t252 = add(a_b_240.origin.x, t251);
-        const C_Ball& a_b_253 = a_b_240;
+        int32_t r139{};
+        if (r136) {
+          const int32_t t140 = neg(prev131.f0);
+          r139 = t140;
+        } else {
+          r139 = prev131.f0;
+        }
+        const int32_t t141 = add(prev131.origin.x, r139);
         // inlined: function at programs/breakout.au:48
-        const int32_t t254 = add(a_b_253.origin.y, a_b_253.f_vy);
-        const bool t255 = t254 < int32_t(1);
-        int32_t t257;
-        if (t255) {
-          const int32_t t256 = neg(a_b_253.f_vy);
-          t257 = t256;
+        const int32_t t142 = add(prev131.origin.y, prev131.f1);
+        const bool t143 = (t142 < int32_t(1));
+        int32_t r144{};
+        if (t143) {
+          const int32_t t145 = neg(prev131.f1);
+          r144 = t145;
         } else {
-          t257 = a_b_253.f_vy;
+          r144 = prev131.f1;
         }
-        const int32_t t258 = add(a_b_240.origin.y, t257);
-        const Pos t259 = Pos{t252, t258};
-        const std::vector<C_Brick>& a_bs_260 = s.p_bricks;
-        const Pos& a_p_261 = t259;
+        const int32_t t146 = add(prev131.origin.y, r144);
+        const Pos t147 = Pos{t141, t146};
         // inlined: function at programs/breakout.au:66
-        std::vector<C_Brick> t262;
-        for (const C_Brick& t262_x : a_bs_260) {
-          const C_Brick& a_k_263 = t262_x;
+        std::vector<C2_Brick>& kept148 = s.scratch.v.b11;
+        kept148.clear();
+        for (const C2_Brick& x149 : prev130) {
           // inlined: function at programs/breakout.au:67
-          const bool t264 = a_k_263.origin == a_p_261;
-          bool t265 = false;
-          if ((t264)) {
-            const bool t266 = a_k_263.f_hp <= int32_t(1);
-            t265 = t266;
+          const bool t150 = (x149.origin == t147);
+          bool r151{};
+          if (t150) {
+            const bool t152 = (x149.f0 <= int32_t(1));
+            r151 = t152;
+          } else {
+            r151 = false;
           }
-          if (!(t265)) t262.push_back(t262_x);
+          if (!r151) {
+            kept148.push_back(x149);
+          }
         }
-        const std::vector<C_Brick>& t267_src = t262;
-        std::vector<C_Brick> t267;
-        t267.reserve(t267_src.size());
-        for (size_t t267_i = 0; t267_i < t267_src.size(); ++t267_i) {
-          const C_Brick& t268 = t267_src[t267_i];
-          const C_Brick& a_k_269 = t268;
+        std::vector<C2_Brick> updated153{};
+        updated153.reserve(size_t(int32_t(kept148.size())));
+        for (const C2_Brick& x154 : kept148) {
           // inlined: function at programs/breakout.au:69
-          const bool t270 = a_k_269.origin == a_p_261;
-          if (t270) {
-            const C_Brick& a_k_271 = t268;
+          const bool t155 = (x154.origin == t147);
+          if (t155) {
             // inlined: function at programs/breakout.au:68
-            const int32_t t272 = int32_t(5);
-            const int32_t t273 = sub(a_k_271.f_hp, int32_t(1));
-            C_Brick t274 = a_k_271;
-            t274.f_hp = t273;
-            t267.push_back(t274);
+            const int32_t t156 = sub(x154.f0, int32_t(1));
+            C2_Brick upd157 = x154;
+            upd157.f0 = t156;
+            updated153.push_back(std::move(upd157));
           } else {
-            t267.push_back(t268);
+            updated153.push_back(x154);
           }
         }
-        s.g_bricks = std::move(t267);
-        s.u_bricks = true;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        if (!s.core.have_prev) fail("prev used before the first step");
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Ball& a_b_275 = s.p_ball;
-        const C_Paddle& a_pad_276 = s.p_paddle;
-        const std::vector<C_Brick>& a_bs_277 = s.p_bricks;
+        s.g_bricks_14 = std::move(updated153);
+        s.u_bricks_15 = true;
+        const C1_Ball& prev158 = s.p_ball_19;
+        const C0_Paddle& prev159 = s.p_paddle_22;
+        const std::vector<C2_Brick>& prev160 = s.p_bricks_16;
         // inlined: function at programs/breakout.au:57
-        const C_Ball& a_b_278 = a_b_275;
+        Pos l_tgt161{};
         // inlined: function at programs/breakout.au:50
-        const C_Ball& a_b_279 = a_b_278;
         // inlined: function at programs/breakout.au:45
-        const int32_t t280 = add(a_b_279.origin.x, a_b_279.f_vx);
-        int32_t v_ax_281 = t280;
-        const int32_t t282 = v_ax_281;
-        const bool t283 = t282 < int32_t(0);
-        bool t284 = true;
-        if (!(t283)) {
-          const int32_t t285 = v_ax_281;
-          const int32_t t286 = s.g_GRID_SIZE;
-          const bool t287 = t285 >= t286;
-          t284 = t287;
-        }
-        int32_t t289;
-        if (t284) {
-          const int32_t t288 = neg(a_b_279.f_vx);
-          t289 = t288;
+        int32_t l_ax162{};
+        const int32_t t163 = add(prev158.origin.x, prev158.f0);
+        l_ax162 = t163;
+        const int32_t& v164 = l_ax162;
+        const bool t165 = (v164 < int32_t(0));
+        bool r166{};
+        if (!t165) {
+          const int32_t& v167 = l_ax162;
+          const bool t168 = (v167 >= int32_t(12));
+          r166 = t168;
         } else {
-          t289 = a_b_279.f_vx;
+          r166 = true;
         }
-        const int32_t t290 = add(a_b_278.origin.x, t289);
-        const C_Ball& a_b_291 = a_b_278;
+        int32_t r169{};
+        if (r166) {
+          const int32_t t170 = neg(prev158.f0);
+          r169 = t170;
+        } else {
+          r169 = prev158.f0;
+        }
+        const int32_t t171 = add(prev158.origin.x, r169);
         // inlined: function at programs/breakout.au:48
-        const int32_t t292 = add(a_b_291.origin.y, a_b_291.f_vy);
-        const bool t293 = t292 < int32_t(1);
-        int32_t t295;
-        if (t293) {
-          const int32_t t294 = neg(a_b_291.f_vy);
-          t295 = t294;
+        const int32_t t172 = add(prev158.origin.y, prev158.f1);
+        const bool t173 = (t172 < int32_t(1));
+        int32_t r174{};
+        if (t173) {
+          const int32_t t175 = neg(prev158.f1);
+          r174 = t175;
         } else {
-          t295 = a_b_291.f_vy;
+          r174 = prev158.f1;
         }
-        const int32_t t296 = add(a_b_278.origin.y, t295);
-        const Pos t297 = Pos{t290, t296};
-        Pos v_tgt_298 = t297;
-        const Pos t299 = v_tgt_298;
-        const Pos& a_p_300 = t299;
-        const std::vector<C_Brick>& a_bs_301 = a_bs_277;
+        const int32_t t176 = add(prev158.origin.y, r174);
+        const Pos t177 = Pos{t171, t176};
+        l_tgt161 = t177;
+        const Pos& v178 = l_tgt161;
         // inlined: function at programs/breakout.au:52
-        bool t302 = false;
-        for (const C_Brick& t302_x : a_bs_301) {
-          const C_Brick& a_k_303 = t302_x;
+        bool any179 = false;
+        for (const C2_Brick& x180 : prev160) {
           // inlined: function at programs/breakout.au:52
-          const bool t304 = a_k_303.origin == a_p_300;
-          if (t304) { t302 = true; break; }
+          const bool t181 = (x180.origin == v178);
+          if (t181) {
+            any179 = true;
+            break;
+          }
         }
-        C_Ball t360;
-        if (t302) {
-          const C_Ball& a_b_305 = a_b_275;
+        C1_Ball r182{};
+        if (any179) {
           // inlined: function at programs/breakout.au:45
-          const int32_t t306 = add(a_b_305.origin.x, a_b_305.f_vx);
-          int32_t v_ax_307 = t306;
-          const int32_t t308 = v_ax_307;
-          const bool t309 = t308 < int32_t(0);
-          bool t310 = true;
-          if (!(t309)) {
-            const int32_t t311 = v_ax_307;
-            const int32_t t312 = s.g_GRID_SIZE;
-            const bool t313 = t311 >= t312;
-            t310 = t313;
-          }
-          int32_t t315;
-          if (t310) {
-            const int32_t t314 = neg(a_b_305.f_vx);
-            t315 = t314;
+          int32_t l_ax183{};
+          const int32_t t184 = add(prev158.origin.x, prev158.f0);
+          l_ax183 = t184;
+          const int32_t& v185 = l_ax183;
+          const bool t186 = (v185 < int32_t(0));
+          bool r187{};
+          if (!t186) {
+            const int32_t& v188 = l_ax183;
+            const bool t189 = (v188 >= int32_t(12));
+            r187 = t189;
           } else {
-            t315 = a_b_305.f_vx;
+            r187 = true;
           }
-          const C_Ball& a_b_316 = a_b_275;
+          int32_t r190{};
+          if (r187) {
+            const int32_t t191 = neg(prev158.f0);
+            r190 = t191;
+          } else {
+            r190 = prev158.f0;
+          }
           // inlined: function at programs/breakout.au:48
-          const int32_t t317 = add(a_b_316.origin.y, a_b_316.f_vy);
-          const bool t318 = t317 < int32_t(1);
-          int32_t t320;
-          if (t318) {
-            const int32_t t319 = neg(a_b_316.f_vy);
-            t320 = t319;
+          const int32_t t192 = add(prev158.origin.y, prev158.f1);
+          const bool t193 = (t192 < int32_t(1));
+          int32_t r194{};
+          if (t193) {
+            const int32_t t195 = neg(prev158.f1);
+            r194 = t195;
           } else {
-            t320 = a_b_316.f_vy;
+            r194 = prev158.f1;
           }
-          const int32_t t321 = neg(t320);
-          const Pos t322 = a_b_275.origin;
-          const C_Ball t323 = C_Ball{t315, t321, t322};
-          t360 = t323;
+          const int32_t t196 = neg(r194);
+          CellV l_allCells197{};
+          const CellV t198 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+          l_allCells197 = t198;
+          const CellV& v199 = l_allCells197;
+          const CellV& v200 = l_allCells197;
+          const std::vector<CellV> list201 = std::vector<CellV>{v200};
+          C1_Ball o202 = C1_Ball{r190, t196, prev158.origin};
+          r182 = std::move(o202);
         } else {
-          const Pos t324 = v_tgt_298;
-          const Pos& a_p_325 = t324;
-          const C_Paddle& a_pad_326 = a_pad_276;
+          const Pos& v203 = l_tgt161;
           // inlined: function at programs/breakout.au:53
-          const int32_t t327 = s.g_padRow;
-          const bool t328 = a_p_325.y == t327;
-          bool t329 = false;
-          if ((t328)) {
-            const int32_t t330 = sub(a_p_325.x, a_pad_326.origin.x);
-            const int32_t& a_x_331 = t330;
-            const bool t332 = a_x_331 < int32_t(0);
-            int32_t t334;
-            if (t332) {
-              const int32_t t333 = neg(a_x_331);
-              t334 = t333;
+          const bool t204 = (v203.y == int32_t(11));
+          bool r205{};
+          if (t204) {
+            const int32_t t206 = sub(v203.x, prev159.origin.x);
+            const bool t207 = (t206 < int32_t(0));
+            int32_t r208{};
+            if (t207) {
+              const int32_t t209 = neg(t206);
+              r208 = t209;
             } else {
-              t334 = a_x_331;
+              r208 = t206;
             }
-            const bool t335 = t334 <= int32_t(1);
-            t329 = t335;
-          }
-          C_Ball t359;
-          if (t329) {
-            const Pos t336 = v_tgt_298;
-            const int32_t t337 = sub(t336.x, a_pad_276.origin.x);
-            const int32_t t338 = neg(int32_t(1));
-            const Pos t339 = a_b_275.origin;
-            const C_Ball t340 = C_Ball{t337, t338, t339};
-            t359 = t340;
+            const bool t210 = (r208 <= int32_t(1));
+            r205 = t210;
           } else {
-            const C_Ball& a_b_341 = a_b_275;
+            r205 = false;
+          }
+          C1_Ball r211{};
+          if (r205) {
+            const Pos& v212 = l_tgt161;
+            const int32_t t213 = sub(v212.x, prev159.origin.x);
+            CellV l_allCells214{};
+            const CellV t215 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+            l_allCells214 = t215;
+            const CellV& v216 = l_allCells214;
+            const CellV& v217 = l_allCells214;
+            const std::vector<CellV> list218 = std::vector<CellV>{v217};
+            C1_Ball o219 = C1_Ball{t213, int32_t(-1), prev158.origin};
+            r211 = std::move(o219);
+          } else {
             // inlined: function at programs/breakout.au:45
-            const int32_t t342 = add(a_b_341.origin.x, a_b_341.f_vx);
-            int32_t v_ax_343 = t342;
-            const int32_t t344 = v_ax_343;
-            const bool t345 = t344 < int32_t(0);
-            bool t346 = true;
-            if (!(t345)) {
-              const int32_t t347 = v_ax_343;
-              const int32_t t348 = s.g_GRID_SIZE;
-              const bool t349 = t347 >= t348;
-              t346 = t349;
-            }
-            int32_t t351;
-            if (t346) {
-              const int32_t t350 = neg(a_b_341.f_vx);
-              t351 = t350;
+            int32_t l_ax220{};
+            const int32_t t221 = add(prev158.origin.x, prev158.f0);
+            l_ax220 = t221;
+            const int32_t& v222 = l_ax220;
+            const bool t223 = (v222 < int32_t(0));
+            bool r224{};
+            if (!t223) {
+              const int32_t& v225 = l_ax220;
+              const bool t226 = (v225 >= int32_t(12));
+              r224 = t226;
             } else {
-              t351 = a_b_341.f_vx;
+              r224 = true;
             }
-            const C_Ball& a_b_352 = a_b_275;
+            int32_t r227{};
+            if (r224) {
+              const int32_t t228 = neg(prev158.f0);
+              r227 = t228;
+            } else {
+              r227 = prev158.f0;
+            }
             // inlined: function at programs/breakout.au:48
-            const int32_t t353 = add(a_b_352.origin.y, a_b_352.f_vy);
-            const bool t354 = t353 < int32_t(1);
-            int32_t t356;
-            if (t354) {
-              const int32_t t355 = neg(a_b_352.f_vy);
-              t356 = t355;
+            const int32_t t229 = add(prev158.origin.y, prev158.f1);
+            const bool t230 = (t229 < int32_t(1));
+            int32_t r231{};
+            if (t230) {
+              const int32_t t232 = neg(prev158.f1);
+              r231 = t232;
             } else {
-              t356 = a_b_352.f_vy;
+              r231 = prev158.f1;
             }
-            const Pos t357 = v_tgt_298;
-            const C_Ball t358 = C_Ball{t351, t356, t357};
-            t359 = t358;
+            const Pos& v233 = l_tgt161;
+            CellV l_allCells234{};
+            const CellV t235 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+            l_allCells234 = t235;
+            const CellV& v236 = l_allCells234;
+            const CellV& v237 = l_allCells234;
+            const std::vector<CellV> list238 = std::vector<CellV>{v237};
+            C1_Ball o239 = C1_Ball{r227, r231, v233};
+            r211 = std::move(o239);
           }
-          t360 = t359;
+          r182 = std::move(r211);
         }
-        s.g_ball = t360;
-        s.u_ball = true;
+        s.g_ball_17 = std::move(r182);
+        s.u_ball_18 = true;
       }
     }
-    {  // on-clause 4, programs/breakout.au:80
-      if (!s.core.have_prev) fail("prev used before the first step");
-      bool t361 = false;
-      if ((s.p_launched)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Ball& a_b_362 = s.p_ball;
-        const C_Paddle& a_pad_363 = s.p_paddle;
+    // on-clause 4, programs/breakout.au:80
+    {
+      const bool& prev240 = s.p_launched_13;
+      bool r241{};
+      if (prev240) {
+        const C1_Ball& prev242 = s.p_ball_19;
+        const C0_Paddle& prev243 = s.p_paddle_22;
         // inlined: function at programs/breakout.au:55
-        const C_Ball& a_b_364 = a_b_362;
         // inlined: function at programs/breakout.au:50
-        const C_Ball& a_b_365 = a_b_364;
         // inlined: function at programs/breakout.au:45
-        const int32_t t366 = add(a_b_365.origin.x, a_b_365.f_vx);
-        int32_t v_ax_367 = t366;
-        const int32_t t368 = v_ax_367;
-        const bool t369 = t368 < int32_t(0);
-        bool t370 = true;
-        if (!(t369)) {
-          const int32_t t371 = v_ax_367;
-          const int32_t t372 = s.g_GRID_SIZE;
-          const bool t373 = t371 >= t372;
-          t370 = t373;
-        }
-        int32_t t375;
-        if (t370) {
-          const int32_t t374 = neg(a_b_365.f_vx);
-          t375 = t374;
+        int32_t l_ax244{};
+        const int32_t t245 = add(prev242.origin.x, prev242.f0);
+        l_ax244 = t245;
+        const int32_t& v246 = l_ax244;
+        const bool t247 = (v246 < int32_t(0));
+        bool r248{};
+        if (!t247) {
+          const int32_t& v249 = l_ax244;
+          const bool t250 = (v249 >= int32_t(12));
+          r248 = t250;
         } else {
-          t375 = a_b_365.f_vx;
+          r248 = true;
         }
-        const int32_t t376 = add(a_b_364.origin.x, t375);
-        const C_Ball& a_b_377 = a_b_364;
+        int32_t r251{};
+        if (r248) {
+          const int32_t t252 = neg(prev242.f0);
+          r251 = t252;
+        } else {
+          r251 = prev242.f0;
+        }
+        const int32_t t253 = add(prev242.origin.x, r251);
         // inlined: function at programs/breakout.au:48
-        const int32_t t378 = add(a_b_377.origin.y, a_b_377.f_vy);
-        const bool t379 = t378 < int32_t(1);
-        int32_t t381;
-        if (t379) {
-          const int32_t t380 = neg(a_b_377.f_vy);
-          t381 = t380;
+        const int32_t t254 = add(prev242.origin.y, prev242.f1);
+        const bool t255 = (t254 < int32_t(1));
+        int32_t r256{};
+        if (t255) {
+          const int32_t t257 = neg(prev242.f1);
+          r256 = t257;
         } else {
-          t381 = a_b_377.f_vy;
+          r256 = prev242.f1;
         }
-        const int32_t t382 = add(a_b_364.origin.y, t381);
-        const Pos t383 = Pos{t376, t382};
-        const int32_t t384 = s.g_padRow;
-        const bool t385 = t383.y >= t384;
-        bool t386 = false;
-        if ((t385)) {
-          const C_Ball& a_b_387 = a_b_362;
+        const int32_t t258 = add(prev242.origin.y, r256);
+        const Pos t259 = Pos{t253, t258};
+        const bool t260 = (t259.y >= int32_t(11));
+        bool r261{};
+        if (t260) {
           // inlined: function at programs/breakout.au:50
-          const C_Ball& a_b_388 = a_b_387;
           // inlined: function at programs/breakout.au:45
-          const int32_t t389 = add(a_b_388.origin.x, a_b_388.f_vx);
-          int32_t v_ax_390 = t389;
-          const int32_t t391 = v_ax_390;
-          const bool t392 = t391 < int32_t(0);
-          bool t393 = true;
-          if (!(t392)) {
-            const int32_t t394 = v_ax_390;
-            const int32_t t395 = s.g_GRID_SIZE;
-            const bool t396 = t394 >= t395;
-            t393 = t396;
-          }
-          int32_t t398;
-          if (t393) {
-            const int32_t t397 = neg(a_b_388.f_vx);
-            t398 = t397;
+          int32_t l_ax262{};
+          const int32_t t263 = add(prev242.origin.x, prev242.f0);
+          l_ax262 = t263;
+          const int32_t& v264 = l_ax262;
+          const bool t265 = (v264 < int32_t(0));
+          bool r266{};
+          if (!t265) {
+            const int32_t& v267 = l_ax262;
+            const bool t268 = (v267 >= int32_t(12));
+            r266 = t268;
           } else {
-            t398 = a_b_388.f_vx;
+            r266 = true;
           }
-          const int32_t t399 = add(a_b_387.origin.x, t398);
-          const C_Ball& a_b_400 = a_b_387;
+          int32_t r269{};
+          if (r266) {
+            const int32_t t270 = neg(prev242.f0);
+            r269 = t270;
+          } else {
+            r269 = prev242.f0;
+          }
+          const int32_t t271 = add(prev242.origin.x, r269);
           // inlined: function at programs/breakout.au:48
-          const int32_t t401 = add(a_b_400.origin.y, a_b_400.f_vy);
-          const bool t402 = t401 < int32_t(1);
-          int32_t t404;
-          if (t402) {
-            const int32_t t403 = neg(a_b_400.f_vy);
-            t404 = t403;
+          const int32_t t272 = add(prev242.origin.y, prev242.f1);
+          const bool t273 = (t272 < int32_t(1));
+          int32_t r274{};
+          if (t273) {
+            const int32_t t275 = neg(prev242.f1);
+            r274 = t275;
           } else {
-            t404 = a_b_400.f_vy;
+            r274 = prev242.f1;
           }
-          const int32_t t405 = add(a_b_387.origin.y, t404);
-          const Pos t406 = Pos{t399, t405};
-          const Pos& a_p_407 = t406;
-          const C_Paddle& a_pad_408 = a_pad_363;
+          const int32_t t276 = add(prev242.origin.y, r274);
+          const Pos t277 = Pos{t271, t276};
           // inlined: function at programs/breakout.au:53
-          const int32_t t409 = s.g_padRow;
-          const bool t410 = a_p_407.y == t409;
-          bool t411 = false;
-          if ((t410)) {
-            const int32_t t412 = sub(a_p_407.x, a_pad_408.origin.x);
-            const int32_t& a_x_413 = t412;
-            const bool t414 = a_x_413 < int32_t(0);
-            int32_t t416;
-            if (t414) {
-              const int32_t t415 = neg(a_x_413);
-              t416 = t415;
+          const bool t278 = (t277.y == int32_t(11));
+          bool r279{};
+          if (t278) {
+            const int32_t t280 = sub(t277.x, prev243.origin.x);
+            const bool t281 = (t280 < int32_t(0));
+            int32_t r282{};
+            if (t281) {
+              const int32_t t283 = neg(t280);
+              r282 = t283;
             } else {
-              t416 = a_x_413;
+              r282 = t280;
             }
-            const bool t417 = t416 <= int32_t(1);
-            t411 = t417;
+            const bool t284 = (r282 <= int32_t(1));
+            r279 = t284;
+          } else {
+            r279 = false;
           }
-          const bool t418 = !t411;
-          t386 = t418;
+          const bool t285 = !r279;
+          r261 = t285;
+        } else {
+          r261 = false;
         }
-        t361 = t386;
+        r241 = r261;
+      } else {
+        r241 = false;
       }
-      if (t361) {
-        s.core.covered[3] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t419 = sub(s.p_lives, int32_t(1));
-        s.g_lives = t419;
-        s.u_lives = true;
-        const bool t420 = false;
-        s.g_launched = t420;
-        s.u_launched = true;
-      }
-    }
-    {  // on-clause 5, programs/breakout.au:84
-      const bool t421 = s.g_launched;
-      const bool t422 = !t421;
-      if (t422) {
-        s.core.covered[4] = 1;
-        const C_Ball& t423 = s.g_ball;
-        const int32_t t424 = int32_t(4);
-        const C_Paddle& t425 = s.g_paddle;
-        const int32_t t426 = t425.origin.x;
-        const int32_t t427 = s.g_padRow;
-        const int32_t t428 = sub(t427, int32_t(1));
-        const Pos t429 = Pos{t426, t428};
-        C_Ball t430 = t423;
-        t430.origin = t429;
-        s.g_ball = t430;
-        s.u_ball = true;
+      if (r241) {
+        s.core.covered[int32_t(3)] = 1;
+        const int32_t& prev286 = s.p_lives_7;
+        const int32_t t287 = sub(prev286, int32_t(1));
+        s.g_lives_5 = t287;
+        s.u_lives_6 = true;
+        s.g_launched_11 = false;
+        s.u_launched_12 = true;
       }
     }
-    {  // on-clause 6, programs/breakout.au:86
-      bool t431 = false;
-      if ((s.core.up)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const bool t432 = !s.p_launched;
-        t431 = t432;
-      }
-      if (t431) {
-        s.core.covered[5] = 1;
-        const bool t433 = true;
-        s.g_launched = t433;
-        s.u_launched = true;
-        const int32_t t434 = neg(int32_t(1));
-        const std::vector<int32_t> t435 = std::vector<int32_t>{t434, int32_t(1)};
-        if (t435.empty()) fail("uniformChoice of an empty list");
-        const int32_t t436 = t435[s.core.rng.next(t435.size())];
-        const int32_t t437 = neg(int32_t(1));
-        const C_Ball& t438 = s.g_ball;
-        const Pos t439 = t438.origin;
-        const C_Ball t440 = C_Ball{t436, t437, t439};
-        s.g_ball = t440;
-        s.u_ball = true;
+    // on-clause 5, programs/breakout.au:84
+    {
+      const bool& g288 = s.g_launched_11;
+      const bool t289 = !g288;
+      if (t289) {
+        s.core.covered[int32_t(4)] = 1;
+        const C1_Ball& g290 = s.g_ball_17;
+        const C0_Paddle& g291 = s.g_paddle_20;
+        const Pos t292 = Pos{g291.origin.x, int32_t(10)};
+        C1_Ball upd293 = g290;
+        upd293.origin = t292;
+        s.g_ball_17 = std::move(upd293);
+        s.u_ball_18 = true;
       }
     }
-    {  // on-clause 7, programs/breakout.au:89
-      const std::vector<C_Brick>& t441 = s.g_bricks;
-      const int32_t t442 = int32_t(t441.size());
-      const bool t443 = t442 == int32_t(0);
-      bool t444 = true;
-      if (!(t443)) {
-        const int32_t t445 = s.g_lives;
-        const bool t446 = t445 <= int32_t(0);
-        t444 = t446;
+    // on-clause 6, programs/breakout.au:86
+    {
+      const bool t294 = s.core.up;
+      bool r295{};
+      if (t294) {
+        const bool& prev296 = s.p_launched_13;
+        const bool t297 = !prev296;
+        r295 = t297;
+      } else {
+        r295 = false;
       }
-      if (t444) {
-        s.core.covered[6] = 1;
+      if (r295) {
+        s.core.covered[int32_t(5)] = 1;
+        s.g_launched_11 = true;
+        s.u_launched_12 = true;
+        if (std::vector<int32_t>{int32_t(-1), int32_t(1)}.empty()) {
+          fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t298 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(-1), int32_t(1)}.size())))));
+        const int32_t t299 = std::vector<int32_t>{int32_t(-1), int32_t(1)}[size_t(t298)];
+        const C1_Ball& g300 = s.g_ball_17;
+        CellV l_allCells301{};
+        const CellV t302 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+        l_allCells301 = t302;
+        const CellV& v303 = l_allCells301;
+        const CellV& v304 = l_allCells301;
+        const std::vector<CellV> list305 = std::vector<CellV>{v304};
+        C1_Ball o306 = C1_Ball{t299, int32_t(-1), g300.origin};
+        s.g_ball_17 = std::move(o306);
+        s.u_ball_18 = true;
+      }
+    }
+    // on-clause 7, programs/breakout.au:89
+    {
+      const std::vector<C2_Brick>& g307 = s.g_bricks_14;
+      const int32_t t308 = int32_t(g307.size());
+      const bool t309 = (t308 == int32_t(0));
+      bool r310{};
+      if (!t309) {
+        const int32_t& g311 = s.g_lives_5;
+        const bool t312 = (g311 <= int32_t(0));
+        r310 = t312;
+      } else {
+        r310 = true;
+      }
+      if (r310) {
+        s.core.covered[int32_t(6)] = 1;
         // inlined: function at programs/breakout.au:20
-        const int32_t t447 = int32_t(2);
-        const int32_t t448 = int32_t(5);
-        s.scratch.v.t449.clear();
-        std::vector<int32_t>& t449 = s.scratch.v.t449;
-        for (int32_t i = t447; i < t448; ++i) t449.push_back(i);
-        std::vector<std::vector<C_Brick>> t450;
-        t450.reserve(t449.size());
-        for (const int32_t& t450_x : t449) {
-          const int32_t& a_row_451 = t450_x;
+        std::vector<std::vector<C2_Brick>>& out313 = s.scratch.v.b12;
+        out313.clear();
+        out313.reserve(size_t(int32_t(std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)}.size())));
+        for (const int32_t& x314 : std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)}) {
           // inlined: function at programs/breakout.au:22
-          const int32_t t452 = int32_t(0);
-          const int32_t t453 = s.g_GRID_SIZE;
-          s.scratch.v.t454.clear();
-          std::vector<int32_t>& t454 = s.scratch.v.t454;
-          for (int32_t i = t452; i < t453; ++i) t454.push_back(i);
-          std::vector<C_Brick> t455;
-          t455.reserve(t454.size());
-          for (const int32_t& t455_x : t454) {
-            const int32_t& a_col_456 = t455_x;
+          std::vector<C2_Brick> out315{};
+          out315.reserve(size_t(int32_t(std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)}.size())));
+          for (const int32_t& x316 : std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)}) {
             // inlined: function at programs/breakout.au:22
-            const int32_t t457 = sub(int32_t(5), a_row_451);
-            const Pos t458 = Pos{a_col_456, a_row_451};
-            const C_Brick t459 = C_Brick{t457, t458};
-            t455.push_back(t459);
+            const int32_t t317 = sub(int32_t(5), x314);
+            const Pos t318 = Pos{x316, x314};
+            CellV l_allCells319{};
+            const CellV t320 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
+            l_allCells319 = t320;
+            const CellV& v321 = l_allCells319;
+            const CellV& v322 = l_allCells319;
+            const std::vector<CellV> list323 = std::vector<CellV>{v322};
+            C2_Brick o324 = C2_Brick{t317, t318};
+            out315.push_back(std::move(o324));
           }
-          t450.push_back(t455);
+          out313.push_back(std::move(out315));
         }
-        std::vector<C_Brick> t460;
-        for (const auto& part : t450) t460.insert(t460.end(), part.begin(), part.end());
-        std::vector<C_Brick> t461;
-        for (const C_Brick& t461_x : t460) {
-          const C_Brick& a_k_462 = t461_x;
+        std::vector<C2_Brick>& cat325 = s.scratch.v.b13;
+        cat325.clear();
+        for (const std::vector<C2_Brick>& part326 : out313) {
+          cat325.insert(cat325.end(), part326.begin(), part326.end());
+        }
+        std::vector<C2_Brick> out327{};
+        for (const C2_Brick& x328 : cat325) {
           // inlined: function at programs/breakout.au:21
-          const std::vector<bool> t463 = std::vector<bool>{true, true, true, true, false};
-          if (t463.empty()) fail("uniformChoice of an empty list");
-          const bool t464 = t463[s.core.rng.next(t463.size())];
-          if (t464) t461.push_back(t461_x);
+          if (std::vector<bool>{true, true, true, true, false}.empty()) {
+            fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+          }
+          const int32_t t329 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<bool>{true, true, true, true, false}.size())))));
+          const bool t330 = std::vector<bool>{true, true, true, true, false}[size_t(t329)];
+          if (t330) {
+            out327.push_back(x328);
+          }
         }
-        s.g_bricks = std::move(t461);
-        s.u_bricks = true;
-        const int32_t t465 = int32_t(3);
-        s.g_lives = t465;
-        s.u_lives = true;
-        const bool t466 = false;
-        s.g_launched = t466;
-        s.u_launched = true;
-        const int32_t t467 = int32_t(1);
-        const int32_t t468 = neg(int32_t(1));
-        const C_Paddle& t469 = s.g_paddle;
-        const int32_t t470 = t469.origin.x;
-        const int32_t t471 = s.g_padRow;
-        const int32_t t472 = sub(t471, int32_t(1));
-        const Pos t473 = Pos{t470, t472};
-        const C_Ball t474 = C_Ball{t467, t468, t473};
-        s.g_ball = t474;
-        s.u_ball = true;
+        s.g_bricks_14 = std::move(out327);
+        s.u_bricks_15 = true;
+        s.g_lives_5 = int32_t(3);
+        s.u_lives_6 = true;
+        s.g_launched_11 = false;
+        s.u_launched_12 = true;
+        const C0_Paddle& g331 = s.g_paddle_20;
+        const Pos t332 = Pos{g331.origin.x, int32_t(10)};
+        CellV l_allCells333{};
+        const CellV t334 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+        l_allCells333 = t334;
+        const CellV& v335 = l_allCells333;
+        const CellV& v336 = l_allCells333;
+        const std::vector<CellV> list337 = std::vector<CellV>{v336};
+        C1_Ball o338 = C1_Ball{int32_t(1), int32_t(-1), t332};
+        s.g_ball_17 = std::move(o338);
+        s.u_ball_18 = true;
       }
     }
-    if (!s.u_lives) {  // NEXT of lives, programs/breakout.au:39
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_lives = s.p_lives;
+    // NEXT of lives, programs/breakout.au:39
+    if (!s.u_lives_6) {
+      const int32_t& prev339 = s.p_lives_7;
+      s.g_lives_5 = prev339;
+      s.u_lives_6 = true;
     }
-    if (!s.u_hud) {  // NEXT of hud, programs/breakout.au:42
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const int32_t t475 = int32_t(6);
-      const int32_t t476 = s.g_lives;
-      C_Hearts t477 = s.p_hud;
-      t477.f_hearts = t476;
-      s.g_hud = t477;
+    // NEXT of hud, programs/breakout.au:42
+    if (!s.u_hud_9) {
+      const C3_Hearts& prev340 = s.p_hud_10;
+      const int32_t& g341 = s.g_lives_5;
+      C3_Hearts upd342 = prev340;
+      upd342.f0 = g341;
+      s.g_hud_8 = std::move(upd342);
+      s.u_hud_9 = true;
     }
-    if (!s.u_launched) {  // NEXT of launched, programs/breakout.au:36
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_launched = s.p_launched;
+    // NEXT of launched, programs/breakout.au:36
+    if (!s.u_launched_12) {
+      const bool& prev343 = s.p_launched_13;
+      s.g_launched_11 = prev343;
+      s.u_launched_12 = true;
     }
-    if (!s.u_bricks) {  // NEXT of bricks, programs/breakout.au:33
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_bricks = s.p_bricks;
+    // NEXT of bricks, programs/breakout.au:33
+    if (!s.u_bricks_15) {
+      const std::vector<C2_Brick>& prev344 = s.p_bricks_16;
+      s.g_bricks_14 = prev344;
+      s.u_bricks_15 = true;
     }
-    if (!s.u_ball) {  // NEXT of ball, programs/breakout.au:30
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_ball = s.p_ball;
+    // NEXT of ball, programs/breakout.au:30
+    if (!s.u_ball_18) {
+      const C1_Ball& prev345 = s.p_ball_19;
+      s.g_ball_17 = prev345;
+      s.u_ball_18 = true;
     }
-    if (!s.u_paddle) {  // NEXT of paddle, programs/breakout.au:27
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_paddle = s.p_paddle;
+    // NEXT of paddle, programs/breakout.au:27
+    if (!s.u_paddle_21) {
+      const C0_Paddle& prev346 = s.p_paddle_22;
+      s.g_paddle_20 = prev346;
+      s.u_paddle_21 = true;
     }
-    s.core.click = s.core.left = s.core.right = s.core.up = s.core.down = false;
+    s.core.clear_inputs();
   }
-
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
+    (void)s;
+    (void)paint;
+    (void)pal;
     s.core.occupied.clear(kGrid);
-    std::vector<Elem>& elems = s.scratch.v.render_elems;
-    if (paint) paint->begin(kGrid, pal[s.g_background]);
-    elems.clear();
-    render_Paddle(s, s.g_paddle, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    std::vector<Elem>& elems1 = s.scratch.v.b14;
+    elems1.clear();
+    elems1.clear();
+    const C0_Paddle& g2 = s.g_paddle_20;
+    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(-1)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
+    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
+    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
+    for (const Elem& e3 : elems1) {
+      s.core.occupied.add(e3.position);
+      if (paint) paint->paint(e3.position, pal[e3.color]);
     }
-    elems.clear();
-    render_Ball(s, s.g_ball, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    elems1.clear();
+    const C1_Ball& g4 = s.g_ball_17;
+    elems1.push_back(Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(2)});
+    for (const Elem& e5 : elems1) {
+      s.core.occupied.add(e5.position);
+      if (paint) paint->paint(e5.position, pal[e5.color]);
     }
-    elems.clear();
-    for (const C_Brick& t493 : s.g_bricks) {
-      render_Brick(s, t493, elems);
+    elems1.clear();
+    const std::vector<C2_Brick>& g6 = s.g_bricks_14;
+    for (const C2_Brick& x7 : g6) {
+      const int32_t colour8 = colour_3_C2_Brick(s, x7);
+      elems1.push_back(Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e9 : elems1) {
+      s.core.occupied.add(e9.position);
+      if (paint) paint->paint(e9.position, pal[e9.color]);
     }
-    elems.clear();
-    render_Hearts(s, s.g_hud, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    elems1.clear();
+    const C3_Hearts& g10 = s.g_hud_8;
+    render_C3_Hearts(s, g10, elems1);
+    for (const Elem& e11 : elems1) {
+      s.core.occupied.add(e11.position);
+      if (paint) paint->paint(e11.position, pal[e11.color]);
     }
   }
-
   static uint64_t hash(const State& s) {
     Hash h;
     hash_core(h, s.core, kUsesRandom);
-    hash_value(h, s.g_GRID_SIZE);
-    hash_value(h, s.g_FRAME_RATE);
-    hash_value(h, s.g_background);
-    hash_value(h, s.g_padRow);
-    hash_value(h, s.g_paddle);
-    hash_value(h, s.g_ball);
-    hash_value(h, s.g_bricks);
-    hash_value(h, s.g_launched);
-    hash_value(h, s.g_lives);
-    hash_value(h, s.g_hud);
+    hash_value(h, s.g_GRID_SIZE_0);
+    hash_value(h, s.g_FRAME_RATE_1);
+    hash_value(h, s.g_background_2);
+    hash_value(h, s.g_SpecialConditionTriggered_3);
+    hash_value(h, s.g_padRow_4);
+    hash_value(h, s.g_lives_5);
+    hash_value(h, s.g_hud_8);
+    hash_value(h, s.g_launched_11);
+    hash_value(h, s.g_bricks_14);
+    hash_value(h, s.g_ball_17);
+    hash_value(h, s.g_paddle_20);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
     (void)s;
     (void)w;
-    save_value(w, s.g_GRID_SIZE);
-    save_value(w, s.g_FRAME_RATE);
-    save_value(w, s.g_background);
-    save_value(w, s.g_padRow);
-    save_value(w, s.g_paddle);
-    save_value(w, s.g_ball);
-    save_value(w, s.g_bricks);
-    save_value(w, s.g_launched);
-    save_value(w, s.g_lives);
-    save_value(w, s.g_hud);
+    save_value(w, s.g_GRID_SIZE_0);
+    save_value(w, s.g_FRAME_RATE_1);
+    save_value(w, s.g_background_2);
+    save_value(w, s.g_SpecialConditionTriggered_3);
+    save_value(w, s.g_padRow_4);
+    save_value(w, s.g_lives_5);
+    save_value(w, s.g_hud_8);
+    save_value(w, s.g_launched_11);
+    save_value(w, s.g_bricks_14);
+    save_value(w, s.g_ball_17);
+    save_value(w, s.g_paddle_20);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
     (void)r;
-    load_value(r, s.g_GRID_SIZE);
-    load_value(r, s.g_FRAME_RATE);
-    load_value(r, s.g_background);
-    load_value(r, s.g_padRow);
-    load_value(r, s.g_paddle);
-    load_value(r, s.g_ball);
-    load_value(r, s.g_bricks);
-    load_value(r, s.g_launched);
-    load_value(r, s.g_lives);
-    load_value(r, s.g_hud);
+    load_value(r, s.g_GRID_SIZE_0);
+    load_value(r, s.g_FRAME_RATE_1);
+    load_value(r, s.g_background_2);
+    load_value(r, s.g_SpecialConditionTriggered_3);
+    load_value(r, s.g_padRow_4);
+    load_value(r, s.g_lives_5);
+    load_value(r, s.g_hud_8);
+    load_value(r, s.g_launched_11);
+    load_value(r, s.g_bricks_14);
+    load_value(r, s.g_ball_17);
+    load_value(r, s.g_paddle_20);
   }
 };
 
 const char* const Prog::kColours[] = {
     "black",
-    "silver",
-    "aqua",
     "midnightblue",
+    "aqua",
+    "silver",
     "origin",
     "hp",
     "hearts",
@@ -1239,6 +1258,13 @@ const char* const Prog::kColours[] = {
     "red",
     "dimgray",
     nullptr};
+
+const ErrorSite Prog::kErrors[] = {
+    {21, 20, nullptr, true, 21, 20, "initialising 'bricks': "},
+    {87, 42, nullptr, true, 87, 42, ""},
+    {21, 20, nullptr, true, 21, 20, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {
   std::unique_ptr<autumn::Environment> operator()() const {

@@ -23,681 +23,777 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 8;
   static const char* const kColours[];
+  static const ErrorSite kErrors[];
 
-  struct C_Tile {
-    int32_t f_hue;
-    bool f_wet;
+  struct C0_Tile {
+    int32_t f0;
+    bool f1;
     Pos origin;
+    friend void hash_value(Hash& h, const C0_Tile& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.f1);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C0_Tile& v) {
+      save_value(w, v.f0);
+      save_value(w, v.f1);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C0_Tile& v) {
+      load_value(r, v.f0);
+      load_value(r, v.f1);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Tile& a, const C_Tile& b) {
-    return true && a.f_hue == b.f_hue && a.f_wet == b.f_wet && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Tile& v) {
-    hash_value(h, v.f_hue);
-    hash_value(h, v.f_wet);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Tile& v) {
-    save_value(w, v.f_hue);
-    save_value(w, v.f_wet);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Tile& v) {
-    load_value(r, v.f_hue);
-    load_value(r, v.f_wet);
-    load_value(r, v.origin);
-  }
-  struct C_Swatch {
-    int32_t f_hue;
+  struct C1_Swatch {
+    int32_t f0;
     Pos origin;
+    friend void hash_value(Hash& h, const C1_Swatch& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C1_Swatch& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C1_Swatch& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Swatch& a, const C_Swatch& b) {
-    return true && a.f_hue == b.f_hue && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Swatch& v) {
-    hash_value(h, v.f_hue);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Swatch& v) {
-    save_value(w, v.f_hue);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Swatch& v) {
-    load_value(r, v.f_hue);
-    load_value(r, v.origin);
-  }
-  struct C_Lamps {
-    bool f_lit;
+  struct C2_Lamps {
+    bool f0;
     Pos origin;
+    std::vector<CellV> cells;
+    friend void hash_value(Hash& h, const C2_Lamps& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+      hash_value(h, v.cells);
+    }
+    friend void save_value(SnapshotWriter& w, const C2_Lamps& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+      save_value(w, v.cells);
+    }
+    friend void load_value(SnapshotReader& r, C2_Lamps& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+      load_value(r, v.cells);
+    }
   };
-  static bool eq(const C_Lamps& a, const C_Lamps& b) {
-    return true && a.f_lit == b.f_lit && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Lamps& v) {
-    hash_value(h, v.f_lit);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Lamps& v) {
-    save_value(w, v.f_lit);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Lamps& v) {
-    load_value(r, v.f_lit);
-    load_value(r, v.origin);
-  }
 
-  // Working buffers, one per place that builds a short-lived list.
   struct Scratch {
-    std::vector<Elem> render_elems;
-    std::vector<int32_t> t15;
-    std::vector<Pos> t27;
-    std::vector<Pos> t64;
-    std::vector<Elem> t80;
-    std::vector<Elem> t87;
-    std::vector<Elem> t119;
-    std::vector<Elem> t126;
-    std::vector<Pos> t161;
+    std::vector<Pos> b0;
+    std::vector<Pos> b1;
+    std::vector<C0_Tile> b2;
+    std::vector<C0_Tile> b3;
+    std::vector<Pos> b4;
+    std::vector<Elem> b5;
+    std::vector<C0_Tile> b6;
+    std::vector<Elem> b7;
+    std::vector<C0_Tile> b8;
+    std::vector<Elem> b9;
+    std::vector<C1_Swatch> b10;
+    std::vector<Elem> b11;
+    std::vector<C0_Tile> b12;
+    std::vector<Pos> b13;
+    std::vector<Elem> b14;
   };
-
   struct State {
     Core core;
     NoCopy<Scratch> scratch;
-    int32_t g_GRID_SIZE{};
-    int32_t g_FRAME_RATE{};
-    int32_t g_background{};
-    std::vector<int32_t> g_palette{};
-    Pos g_corner{};
-    std::vector<C_Tile> g_tiles{};
-    bool u_tiles = false;
-    std::vector<C_Tile> p_tiles{};
-    std::vector<C_Swatch> g_swatches{};
-    bool u_swatches = false;
-    std::vector<C_Swatch> p_swatches{};
-    C_Lamps g_lamps{};
-    bool u_lamps = false;
-    C_Lamps p_lamps{};
+    int32_t g_GRID_SIZE_0{};
+    int32_t g_FRAME_RATE_1{};
+    int32_t g_background_2{};
+    bool g_SpecialConditionTriggered_3{};
+    std::vector<int32_t> g_palette_4{};
+    Pos g_corner_5{};
+    C2_Lamps g_lamps_6{};
+    bool u_lamps_7{};
+    C2_Lamps p_lamps_8{};
+    std::vector<C1_Swatch> g_swatches_9{};
+    bool u_swatches_10{};
+    std::vector<C1_Swatch> p_swatches_11{};
+    std::vector<C0_Tile> g_tiles_12{};
+    bool u_tiles_13{};
+    std::vector<C0_Tile> p_tiles_14{};
+    Pos g_click_15{};
+    bool d_click_16{};
   };
 
-  static int32_t colour_Tile_0(State& s, const C_Tile& o) {
+  static int32_t colour_2_C0_Tile(State& s, const C0_Tile& o1) {
     (void)s;
-  const int32_t t177 = o.f_hue;
-    return t177;
+    return o1.f0;
+    return {};
   }
-  static int32_t colour_Swatch_0(State& s, const C_Swatch& o) {
+  static int32_t colour_1_C1_Swatch(State& s, const C1_Swatch& o1) {
     (void)s;
-  const int32_t t178 = o.f_hue;
-    return t178;
+    return o1.f0;
+    return {};
   }
-  static int32_t colour_Lamps_0(State& s, const C_Lamps& o) {
+  static void render_C2_Lamps(State& s, const C2_Lamps& o1, std::vector<Elem>& out2) {
     (void)s;
-  const bool t179 = o.f_lit;
-  int32_t t180;
-  if (t179) {
-    t180 = int32_t(10);
-  } else {
-    t180 = int32_t(11);
-  }
-    return t180;
-  }
-  static int32_t colour_Lamps_1(State& s, const C_Lamps& o) {
-    (void)s;
-  const bool t181 = o.f_lit;
-  int32_t t182;
-  if (t181) {
-    t182 = int32_t(10);
-  } else {
-    t182 = int32_t(11);
-  }
-    return t182;
-  }
-  static int32_t colour_Lamps_2(State& s, const C_Lamps& o) {
-    (void)s;
-  const bool t183 = o.f_lit;
-  int32_t t184;
-  if (t183) {
-    t184 = int32_t(10);
-  } else {
-    t184 = int32_t(11);
-  }
-    return t184;
-  }
-  static void render_Tile(State& s, const C_Tile& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Tile_0(s, o)});
-  }
-  static void render_Swatch(State& s, const C_Swatch& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Swatch_0(s, o)});
-  }
-  static void render_Lamps(State& s, const C_Lamps& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Lamps_0(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, colour_Lamps_1(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 2), add(o.origin.y, 0)}, colour_Lamps_2(s, o)});
-  }
-
-  static void start(State& s, uint64_t seed) {
-    s.core.rng.reseed(seed);
-    s.core.covered.assign(4, 0);
-    s.g_GRID_SIZE = int32_t(16);
-    s.g_FRAME_RATE = int32_t(8);
-    s.g_background = int32_t(0);
-    const int32_t t1 = int32_t(8);
-    s.g_GRID_SIZE = t1;
-    const int32_t t2 = int32_t(0);
-    s.g_background = t2;
-    const std::vector<int32_t> t3 = std::vector<int32_t>{int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5)};
-    s.g_palette = t3;
-    const int32_t t4 = int32_t(0);
-    const int32_t t5 = int32_t(0);
-    const Pos t6 = Pos{t4, t5};
-    s.g_corner = t6;
-    // init lamps, programs/color_flood.au:28
-    const bool t7 = false;
-    const int32_t t8 = int32_t(5);
-    const int32_t t9 = s.g_GRID_SIZE;
-    const int32_t t10 = sub(t9, int32_t(1));
-    const Pos t11 = Pos{t8, t10};
-    const C_Lamps t12 = C_Lamps{t7, t11};
-    s.g_lamps = t12;
-    // init swatches, programs/color_flood.au:24
-    const int32_t t13 = int32_t(0);
-    const int32_t t14 = int32_t(5);
-    s.scratch.v.t15.clear();
-    std::vector<int32_t>& t15 = s.scratch.v.t15;
-    for (int32_t i = t13; i < t14; ++i) t15.push_back(i);
-    std::vector<C_Swatch> t16;
-    t16.reserve(t15.size());
-    for (const int32_t& t16_x : t15) {
-      const int32_t& a_i_17 = t16_x;
-      // inlined: function at programs/color_flood.au:24
-      const std::vector<int32_t>& t18 = s.g_palette;
-      if (t18.empty() || a_i_17 < 0 || size_t(a_i_17) >= t18.size()) fail("at: index out of bounds");
-      const int32_t t19 = t18[a_i_17];
-      const int32_t t20 = s.g_GRID_SIZE;
-      const int32_t t21 = sub(t20, int32_t(1));
-      const Pos t22 = Pos{a_i_17, t21};
-      const C_Swatch t23 = C_Swatch{t19, t22};
-      t16.push_back(t23);
+    for (const CellV& c3 : o1.cells) {
+      int32_t x4 = c3.x;
+      int32_t y5 = c3.y;
+      if ((int32_t(c3.dc) == int32_t(-1))) {
+        fail_at(7, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+      }
+      int32_t colour6 = c3.colour;
+      switch (int32_t(c3.dc)) {
+        case 0: {
+          int32_t r7{};
+          if (o1.f0) {
+            r7 = int32_t(10);
+          } else {
+            r7 = int32_t(11);
+          }
+          colour6 = r7;
+          break;
+        }
+        default: break;
+      }
+      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
     }
-    s.g_swatches = t16;
+  }
+  static void start(State& s, uint64_t seed) {
+    (void)s;
+    s.core.start(seed, kOnClauses);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_FRAME_RATE_1 = int32_t(8);
+    s.g_background_2 = int32_t(0);
+    s.g_SpecialConditionTriggered_3 = false;
+    s.g_GRID_SIZE_0 = int32_t(8);
+    s.g_background_2 = int32_t(0);
+    s.g_palette_4 = std::vector<int32_t>{int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5)};
+    s.g_corner_5 = Pos{int32_t(0), int32_t(0)};
+    // init lamps, programs/color_flood.au:28
+    std::vector<CellV> l_allCells1{};
+    // inlined: function at programs/color_flood.au:12
+    const CellV cell2 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+    // inlined: function at programs/color_flood.au:12
+    const CellV cell3 = CellV{int32_t(1), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+    // inlined: function at programs/color_flood.au:12
+    const CellV cell4 = CellV{int32_t(2), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+    std::vector<CellV> list5 = std::vector<CellV>{cell2, cell3, cell4};
+    l_allCells1 = std::move(list5);
+    const std::vector<CellV>& v6 = l_allCells1;
+    const std::vector<CellV>& v7 = l_allCells1;
+    C2_Lamps o8 = C2_Lamps{false, Pos{int32_t(5), int32_t(7)}, v7};
+    s.g_lamps_6 = std::move(o8);
+    s.u_lamps_7 = false;
+    // init swatches, programs/color_flood.au:24
+    std::vector<C1_Swatch> out9{};
+    out9.reserve(size_t(int32_t(std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4)}.size())));
+    for (const int32_t& x10 : std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4)}) {
+      // inlined: function at programs/color_flood.au:24
+      const std::vector<int32_t>& g11 = s.g_palette_4;
+      if (g11.empty()) {
+        fail_at(0, std::string() + std::string("at: empty list"));
+      }
+      if (((x10 < int32_t(0)) || (x10 >= int32_t(g11.size())))) {
+        fail_at(0, std::string() + std::string("at: index ") + std::to_string(x10) + std::string(" out of bounds"));
+      }
+      const int32_t t12 = g11[size_t(x10)];
+      const Pos t13 = Pos{x10, int32_t(7)};
+      CellV l_allCells14{};
+      const CellV t15 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(1))};
+      l_allCells14 = t15;
+      const CellV& v16 = l_allCells14;
+      const CellV& v17 = l_allCells14;
+      const std::vector<CellV> list18 = std::vector<CellV>{v17};
+      C1_Swatch o19 = C1_Swatch{t12, t13};
+      out9.push_back(std::move(o19));
+    }
+    s.g_swatches_9 = std::move(out9);
+    s.u_swatches_10 = false;
     // init tiles, programs/color_flood.au:21
     // inlined: function at programs/color_flood.au:17
-    const int32_t t24 = s.g_GRID_SIZE;
-    const int32_t t25 = s.g_GRID_SIZE;
-    const int32_t t26 = sub(t25, int32_t(1));
-    if (t24 < 0 || t26 < 0) fail("allPositions: negative size");
-    s.scratch.v.t27.clear();
-    std::vector<Pos>& t27 = s.scratch.v.t27;
-    for (int32_t i = 0; i < t24; ++i) for (int32_t j = 0; j < t26; ++j) t27.push_back(Pos{i, j});
-    std::vector<C_Tile> t28;
-    t28.reserve(t27.size());
-    for (const Pos& t28_x : t27) {
-      const Pos& a_p_29 = t28_x;
-      // inlined: function at programs/color_flood.au:18
-      const std::vector<int32_t>& t30 = s.g_palette;
-      if (t30.empty()) fail("uniformChoice of an empty list");
-      const int32_t t31 = t30[s.core.rng.next(t30.size())];
-      const Pos t32 = s.g_corner;
-      const bool t33 = a_p_29 == t32;
-      const C_Tile t34 = C_Tile{t31, t33, a_p_29};
-      t28.push_back(t34);
+    if ((int32_t(8) < int32_t(0))) {
+      fail_at(1, std::string() + std::string("allPositions: negative size"));
     }
-    s.g_tiles = t28;
+    if ((int32_t(7) < int32_t(0))) {
+      fail_at(1, std::string() + std::string("allPositions: negative size"));
+    }
+    std::vector<Pos>& apos20 = s.scratch.v.b0;
+    apos20.clear();
+    for (int32_t i21 = int32_t(0), i21_end = int32_t(8); i21 < i21_end; ++i21) {
+      for (int32_t j22 = int32_t(0), j22_end = int32_t(7); j22 < j22_end; ++j22) {
+        const Pos t23 = Pos{i21, j22};
+        apos20.push_back(t23);
+      }
+    }
+    std::vector<C0_Tile> out24{};
+    out24.reserve(size_t(int32_t(apos20.size())));
+    for (const Pos& x25 : apos20) {
+      // inlined: function at programs/color_flood.au:18
+      const std::vector<int32_t>& g26 = s.g_palette_4;
+      if (g26.empty()) {
+        fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+      }
+      const int32_t t27 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g26.size())))));
+      const int32_t t28 = g26[size_t(t27)];
+      const Pos& g29 = s.g_corner_5;
+      const bool t30 = (x25 == g29);
+      CellV l_allCells31{};
+      const CellV t32 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+      l_allCells31 = t32;
+      const CellV& v33 = l_allCells31;
+      const CellV& v34 = l_allCells31;
+      const std::vector<CellV> list35 = std::vector<CellV>{v34};
+      C0_Tile o36 = C0_Tile{t28, t30, x25};
+      out24.push_back(std::move(o36));
+    }
+    s.g_tiles_12 = std::move(out24);
+    s.u_tiles_13 = false;
     render(s, nullptr, {});
   }
-
   static void step(State& s) {
-    s.p_tiles = s.g_tiles;
-    s.p_swatches = s.g_swatches;
-    s.p_lamps = s.g_lamps;
+    (void)s;
     s.core.have_prev = true;
-    s.u_tiles = false;
-    s.u_swatches = false;
-    s.u_lamps = false;
-    {  // on-clause 1, programs/color_flood.au:49
+    s.p_tiles_14 = s.g_tiles_12;
+    s.p_swatches_11 = s.g_swatches_9;
+    s.p_lamps_8 = s.g_lamps_6;
+    s.u_lamps_7 = false;
+    s.u_swatches_10 = false;
+    s.u_tiles_13 = false;
+    // on-clause 1, programs/color_flood.au:49
+    {
       if (true) {
-        s.core.covered[0] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const std::vector<C_Tile>& a_ts_35 = s.p_tiles;
+        s.core.covered[int32_t(0)] = 1;
+        const std::vector<C0_Tile>& prev1 = s.p_tiles_14;
         // inlined: function at programs/color_flood.au:37
-        std::vector<C_Tile> t36;
-        for (const C_Tile& t36_x : a_ts_35) {
-          const C_Tile& a_t_37 = t36_x;
+        std::vector<Pos>& l_wetSpots2 = s.scratch.v.b1;
+        l_wetSpots2.clear();
+        int32_t l_fh3{};
+        std::vector<C0_Tile>& out4 = s.scratch.v.b2;
+        out4.clear();
+        for (const C0_Tile& x5 : prev1) {
           // inlined: function at programs/color_flood.au:38
-          const bool t38 = a_t_37.f_wet;
-          if (t38) t36.push_back(t36_x);
+          if (x5.f1) {
+            out4.push_back(x5);
+          }
         }
-        std::vector<Pos> t39;
-        t39.reserve(t36.size());
-        for (const C_Tile& t39_x : t36) {
-          const C_Tile& a_t_40 = t39_x;
+        std::vector<Pos> out6{};
+        out6.reserve(size_t(int32_t(out4.size())));
+        for (const C0_Tile& x7 : out4) {
           // inlined: function at programs/color_flood.au:38
-          const Pos t41 = a_t_40.origin;
-          t39.push_back(t41);
+          out6.push_back(x7.origin);
         }
-        std::vector<Pos> v_wetSpots_42 = t39;
-        const std::vector<C_Tile>& a_ts_43 = a_ts_35;
+        l_wetSpots2 = std::move(out6);
         // inlined: function at programs/color_flood.au:32
-        std::vector<C_Tile> t44;
-        for (const C_Tile& t44_x : a_ts_43) {
-          const C_Tile& a_t_45 = t44_x;
+        std::vector<C0_Tile>& l_wetOnes8 = s.scratch.v.b3;
+        l_wetOnes8.clear();
+        std::vector<C0_Tile> out9{};
+        for (const C0_Tile& x10 : prev1) {
           // inlined: function at programs/color_flood.au:33
-          const bool t46 = a_t_45.f_wet;
-          if (t46) t44.push_back(t44_x);
+          if (x10.f1) {
+            out9.push_back(x10);
+          }
         }
-        std::vector<C_Tile> v_wetOnes_47 = t44;
-        const std::vector<C_Tile> t48 = v_wetOnes_47;
-        const int32_t t49 = int32_t(t48.size());
-        const bool t50 = t49 > int32_t(0);
-        int32_t t53;
-        if (t50) {
-          const std::vector<C_Tile> t51 = v_wetOnes_47;
-          if (t51.empty()) fail("head of an empty list");
-          const C_Tile t52 = t51.front();
-          t53 = t52.f_hue;
+        l_wetOnes8 = std::move(out9);
+        const std::vector<C0_Tile>& v11 = l_wetOnes8;
+        const int32_t t12 = int32_t(v11.size());
+        const bool t13 = (t12 > int32_t(0));
+        int32_t r14{};
+        if (t13) {
+          const std::vector<C0_Tile>& v15 = l_wetOnes8;
+          if (v15.empty()) {
+            fail_at(3, std::string() + std::string("head of an empty list"));
+          }
+          const C0_Tile t16 = v15.front();
+          r14 = t16.f0;
         } else {
-          t53 = int32_t(6);
+          r14 = int32_t(6);
         }
-        int32_t v_fh_54 = t53;
-        const std::vector<C_Tile>& t55_src = a_ts_35;
-        std::vector<C_Tile> t55;
-        t55.reserve(t55_src.size());
-        for (size_t t55_i = 0; t55_i < t55_src.size(); ++t55_i) {
-          const C_Tile& t56 = t55_src[t55_i];
-          const C_Tile& a_t_57 = t56;
+        l_fh3 = r14;
+        std::vector<C0_Tile> updated17{};
+        updated17.reserve(size_t(int32_t(prev1.size())));
+        for (const C0_Tile& x18 : prev1) {
           // inlined: function at programs/color_flood.au:41
-          const bool t58 = !a_t_57.f_wet;
-          bool t59 = false;
-          if ((t58)) {
-            const int32_t t60 = v_fh_54;
-            const bool t61 = a_t_57.f_hue == t60;
-            bool t62 = false;
-            if ((t61)) {
-              const Pos t63 = a_t_57.origin;
-              s.scratch.v.t64.clear();
-              std::vector<Pos>& t64 = s.scratch.v.t64;
-              for (Pos q : {Pos{sub(t63.x, 1), t63.y}, Pos{add(t63.x, 1), t63.y}, Pos{t63.x, sub(t63.y, 1)}, Pos{t63.x, add(t63.y, 1)}})
-                if (q.x >= 0 && q.x < 8 && q.y >= 0 && q.y < 8) t64.push_back(q);
-              bool t65 = false;
-              for (const Pos& t65_x : t64) {
-                const Pos& a_q_66 = t65_x;
-                // inlined: function at programs/color_flood.au:42
-                const std::vector<Pos> t67 = v_wetSpots_42;
-                const Pos& a_e_68 = a_q_66;
-                const std::vector<Pos>& a_l_69 = t67;
-                bool t70 = false;
-                for (const Pos& t70_x : a_l_69) {
-                  const Pos& a_x_71 = t70_x;
-                  const bool t72 = a_x_71 == a_e_68;
-                  if (t72) { t70 = true; break; }
-                }
-                if (t70) { t65 = true; break; }
+          const bool t19 = !x18.f1;
+          bool r20{};
+          if (t19) {
+            const int32_t& v21 = l_fh3;
+            const bool t22 = (x18.f0 == v21);
+            bool r23{};
+            if (t22) {
+              std::vector<Pos>& adj24 = s.scratch.v.b4;
+              adj24.clear();
+              const int32_t t25 = sub(x18.origin.x, int32_t(1));
+              if ((((t25 >= int32_t(0)) && (t25 < int32_t(8))) && ((x18.origin.y >= int32_t(0)) && (x18.origin.y < int32_t(8))))) {
+                const Pos t26 = Pos{t25, x18.origin.y};
+                adj24.push_back(t26);
               }
-              t62 = t65;
+              const int32_t t27 = add(x18.origin.x, int32_t(1));
+              if ((((t27 >= int32_t(0)) && (t27 < int32_t(8))) && ((x18.origin.y >= int32_t(0)) && (x18.origin.y < int32_t(8))))) {
+                const Pos t28 = Pos{t27, x18.origin.y};
+                adj24.push_back(t28);
+              }
+              const int32_t t29 = sub(x18.origin.y, int32_t(1));
+              if ((((x18.origin.x >= int32_t(0)) && (x18.origin.x < int32_t(8))) && ((t29 >= int32_t(0)) && (t29 < int32_t(8))))) {
+                const Pos t30 = Pos{x18.origin.x, t29};
+                adj24.push_back(t30);
+              }
+              const int32_t t31 = add(x18.origin.y, int32_t(1));
+              if ((((x18.origin.x >= int32_t(0)) && (x18.origin.x < int32_t(8))) && ((t31 >= int32_t(0)) && (t31 < int32_t(8))))) {
+                const Pos t32 = Pos{x18.origin.x, t31};
+                adj24.push_back(t32);
+              }
+              bool any33 = false;
+              for (const Pos& x34 : adj24) {
+                // inlined: function at programs/color_flood.au:42
+                const std::vector<Pos>& v35 = l_wetSpots2;
+                bool any36 = false;
+                for (const Pos& x37 : v35) {
+                  const bool t38 = (x37 == x34);
+                  if (t38) {
+                    any36 = true;
+                    break;
+                  }
+                }
+                if (any36) {
+                  any33 = true;
+                  break;
+                }
+              }
+              r23 = any33;
+            } else {
+              r23 = false;
             }
-            t59 = t62;
+            r20 = r23;
+          } else {
+            r20 = false;
           }
-          if (t59) {
-            const C_Tile& a_t_73 = t56;
+          if (r20) {
             // inlined: function at programs/color_flood.au:40
-            const int32_t t74 = int32_t(7);
-            const bool t75 = true;
-            C_Tile t76 = a_t_73;
-            t76.f_wet = t75;
-            t55.push_back(t76);
+            C0_Tile upd39 = x18;
+            upd39.f1 = true;
+            updated17.push_back(std::move(upd39));
           } else {
-            t55.push_back(t56);
+            updated17.push_back(x18);
           }
         }
-        s.g_tiles = std::move(t55);
-        s.u_tiles = true;
+        s.g_tiles_12 = std::move(updated17);
+        s.u_tiles_13 = true;
       }
     }
-    {  // on-clause 2, programs/color_flood.au:51
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const bool t77 = !s.p_lamps.f_lit;
-      bool t78 = false;
-      if ((t77)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        bool t79 = false;
+    // on-clause 2, programs/color_flood.au:51
+    {
+      const C2_Lamps& prev40 = s.p_lamps_8;
+      const bool t41 = !prev40.f0;
+      bool r42{};
+      if (t41) {
+        const std::vector<C0_Tile>& prev43 = s.p_tiles_14;
+        bool clicked44 = false;
         if (s.core.click) {
-          s.core.click_defined = true;
-          s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-          s.scratch.v.t80.clear();
-          std::vector<Elem>& t80 = s.scratch.v.t80;
-          for (const C_Tile& t81 : s.p_tiles) {
-            render_Tile(s, t81, t80);
+          s.d_click_16 = true;
+          s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
+          std::vector<Elem>& rendered45 = s.scratch.v.b5;
+          rendered45.clear();
+          for (const C0_Tile& x46 : prev43) {
+            const int32_t colour47 = colour_2_C0_Tile(s, x46);
+            rendered45.push_back(Elem{Pos{add(x46.origin.x, int32_t(0)), add(x46.origin.y, int32_t(0))}, colour47});
           }
-          for (const Elem& e : t80)
-            if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t79 = true; break; }
+          const Pos t48 = Pos{s.core.click_x, s.core.click_y};
+          for (const Elem& e49 : rendered45) {
+            if ((e49.position == t48)) {
+              clicked44 = true;
+              break;
+            }
+          }
         }
-        t78 = t79;
+        r42 = clicked44;
+      } else {
+        r42 = false;
       }
-      if (t78) {
-        s.core.covered[1] = 1;
-        const std::vector<C_Tile>& t82 = s.g_tiles;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const std::vector<C_Tile>& a_things_83 = s.p_tiles;
+      if (r42) {
+        s.core.covered[int32_t(1)] = 1;
+        const std::vector<C0_Tile>& g50 = s.g_tiles_12;
+        const std::vector<C0_Tile>& prev51 = s.p_tiles_14;
         // inlined: function at programs/color_flood.au:45
-        std::vector<C_Tile> t84;
-        for (const C_Tile& t84_x : a_things_83) {
-          const C_Tile& a_t_85 = t84_x;
+        std::vector<C0_Tile>& l_hit52 = s.scratch.v.b6;
+        l_hit52.clear();
+        std::vector<C0_Tile> out53{};
+        for (const C0_Tile& x54 : prev51) {
           // inlined: function at programs/color_flood.au:46
-          bool t86 = false;
+          bool clicked55 = false;
           if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            s.scratch.v.t87.clear();
-            std::vector<Elem>& t87 = s.scratch.v.t87;
-            render_Tile(s, a_t_85, t87);
-            for (const Elem& e : t87)
-              if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t86 = true; break; }
+            s.d_click_16 = true;
+            s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
+            std::vector<Elem>& rendered56 = s.scratch.v.b7;
+            rendered56.clear();
+            const int32_t colour57 = colour_2_C0_Tile(s, x54);
+            rendered56.push_back(Elem{Pos{add(x54.origin.x, int32_t(0)), add(x54.origin.y, int32_t(0))}, colour57});
+            const Pos t58 = Pos{s.core.click_x, s.core.click_y};
+            for (const Elem& e59 : rendered56) {
+              if ((e59.position == t58)) {
+                clicked55 = true;
+                break;
+              }
+            }
           }
-          if (t86) t84.push_back(t84_x);
+          if (clicked55) {
+            out53.push_back(x54);
+          }
         }
-        std::vector<C_Tile> v_hit_88 = t84;
-        const std::vector<C_Tile> t89 = v_hit_88;
-        const int32_t t90 = int32_t(t89.size());
-        const bool t91 = t90 > int32_t(0);
-        int32_t t106;
-        if (t91) {
-          const std::vector<C_Tile> t92 = v_hit_88;
-          if (t92.empty()) fail("head of an empty list");
-          const C_Tile t93 = t92.front();
-          t106 = t93.f_hue;
+        l_hit52 = std::move(out53);
+        const std::vector<C0_Tile>& v60 = l_hit52;
+        const int32_t t61 = int32_t(v60.size());
+        const bool t62 = (t61 > int32_t(0));
+        int32_t r63{};
+        if (t62) {
+          const std::vector<C0_Tile>& v64 = l_hit52;
+          if (v64.empty()) {
+            fail_at(4, std::string() + std::string("head of an empty list"));
+          }
+          const C0_Tile t65 = v64.front();
+          r63 = t65.f0;
         } else {
-          const std::vector<C_Tile>& t94 = s.g_tiles;
-          const std::vector<C_Tile>& a_ts_95 = t94;
+          const std::vector<C0_Tile>& g66 = s.g_tiles_12;
           // inlined: function at programs/color_flood.au:32
-          std::vector<C_Tile> t96;
-          for (const C_Tile& t96_x : a_ts_95) {
-            const C_Tile& a_t_97 = t96_x;
+          std::vector<C0_Tile>& l_wetOnes67 = s.scratch.v.b8;
+          l_wetOnes67.clear();
+          std::vector<C0_Tile> out68{};
+          for (const C0_Tile& x69 : g66) {
             // inlined: function at programs/color_flood.au:33
-            const bool t98 = a_t_97.f_wet;
-            if (t98) t96.push_back(t96_x);
+            if (x69.f1) {
+              out68.push_back(x69);
+            }
           }
-          std::vector<C_Tile> v_wetOnes_99 = t96;
-          const std::vector<C_Tile> t100 = v_wetOnes_99;
-          const int32_t t101 = int32_t(t100.size());
-          const bool t102 = t101 > int32_t(0);
-          int32_t t105;
-          if (t102) {
-            const std::vector<C_Tile> t103 = v_wetOnes_99;
-            if (t103.empty()) fail("head of an empty list");
-            const C_Tile t104 = t103.front();
-            t105 = t104.f_hue;
+          l_wetOnes67 = std::move(out68);
+          const std::vector<C0_Tile>& v70 = l_wetOnes67;
+          const int32_t t71 = int32_t(v70.size());
+          const bool t72 = (t71 > int32_t(0));
+          int32_t r73{};
+          if (t72) {
+            const std::vector<C0_Tile>& v74 = l_wetOnes67;
+            if (v74.empty()) {
+              fail_at(3, std::string() + std::string("head of an empty list"));
+            }
+            const C0_Tile t75 = v74.front();
+            r73 = t75.f0;
           } else {
-            t105 = int32_t(6);
+            r73 = int32_t(6);
           }
-          t106 = t105;
+          r63 = r73;
         }
-        const std::vector<C_Tile>& a_ts_107 = t82;
-        const int32_t& a_shade_108 = t106;
         // inlined: function at programs/color_flood.au:44
-        const std::vector<C_Tile>& t109_src = a_ts_107;
-        std::vector<C_Tile> t109;
-        t109.reserve(t109_src.size());
-        for (size_t t109_i = 0; t109_i < t109_src.size(); ++t109_i) {
-          const C_Tile& t110 = t109_src[t109_i];
-          const C_Tile& a_t_111 = t110;
+        std::vector<C0_Tile> updated76{};
+        updated76.reserve(size_t(int32_t(g50.size())));
+        for (const C0_Tile& x77 : g50) {
           // inlined: function at programs/color_flood.au:44
-          const bool t112 = a_t_111.f_wet;
-          if (t112) {
-            const C_Tile& a_t_113 = t110;
+          if (x77.f1) {
             // inlined: function at programs/color_flood.au:44
-            const int32_t t114 = int32_t(8);
-            C_Tile t115 = a_t_113;
-            t115.f_hue = a_shade_108;
-            t109.push_back(t115);
+            C0_Tile upd78 = x77;
+            upd78.f0 = r63;
+            updated76.push_back(std::move(upd78));
           } else {
-            t109.push_back(t110);
+            updated76.push_back(x77);
           }
         }
-        s.g_tiles = std::move(t109);
-        s.u_tiles = true;
+        s.g_tiles_12 = std::move(updated76);
+        s.u_tiles_13 = true;
       }
     }
-    {  // on-clause 3, programs/color_flood.au:53
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const bool t116 = !s.p_lamps.f_lit;
-      bool t117 = false;
-      if ((t116)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        bool t118 = false;
+    // on-clause 3, programs/color_flood.au:53
+    {
+      const C2_Lamps& prev79 = s.p_lamps_8;
+      const bool t80 = !prev79.f0;
+      bool r81{};
+      if (t80) {
+        const std::vector<C1_Swatch>& prev82 = s.p_swatches_11;
+        bool clicked83 = false;
         if (s.core.click) {
-          s.core.click_defined = true;
-          s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-          s.scratch.v.t119.clear();
-          std::vector<Elem>& t119 = s.scratch.v.t119;
-          for (const C_Swatch& t120 : s.p_swatches) {
-            render_Swatch(s, t120, t119);
+          s.d_click_16 = true;
+          s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
+          std::vector<Elem>& rendered84 = s.scratch.v.b9;
+          rendered84.clear();
+          for (const C1_Swatch& x85 : prev82) {
+            const int32_t colour86 = colour_1_C1_Swatch(s, x85);
+            rendered84.push_back(Elem{Pos{add(x85.origin.x, int32_t(0)), add(x85.origin.y, int32_t(0))}, colour86});
           }
-          for (const Elem& e : t119)
-            if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t118 = true; break; }
+          const Pos t87 = Pos{s.core.click_x, s.core.click_y};
+          for (const Elem& e88 : rendered84) {
+            if ((e88.position == t87)) {
+              clicked83 = true;
+              break;
+            }
+          }
         }
-        t117 = t118;
+        r81 = clicked83;
+      } else {
+        r81 = false;
       }
-      if (t117) {
-        s.core.covered[2] = 1;
-        const std::vector<C_Tile>& t121 = s.g_tiles;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const std::vector<C_Swatch>& a_things_122 = s.p_swatches;
+      if (r81) {
+        s.core.covered[int32_t(2)] = 1;
+        const std::vector<C0_Tile>& g89 = s.g_tiles_12;
+        const std::vector<C1_Swatch>& prev90 = s.p_swatches_11;
         // inlined: function at programs/color_flood.au:45
-        std::vector<C_Swatch> t123;
-        for (const C_Swatch& t123_x : a_things_122) {
-          const C_Swatch& a_t_124 = t123_x;
+        std::vector<C1_Swatch>& l_hit91 = s.scratch.v.b10;
+        l_hit91.clear();
+        std::vector<C1_Swatch> out92{};
+        for (const C1_Swatch& x93 : prev90) {
           // inlined: function at programs/color_flood.au:46
-          bool t125 = false;
+          bool clicked94 = false;
           if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            s.scratch.v.t126.clear();
-            std::vector<Elem>& t126 = s.scratch.v.t126;
-            render_Swatch(s, a_t_124, t126);
-            for (const Elem& e : t126)
-              if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t125 = true; break; }
+            s.d_click_16 = true;
+            s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
+            std::vector<Elem>& rendered95 = s.scratch.v.b11;
+            rendered95.clear();
+            const int32_t colour96 = colour_1_C1_Swatch(s, x93);
+            rendered95.push_back(Elem{Pos{add(x93.origin.x, int32_t(0)), add(x93.origin.y, int32_t(0))}, colour96});
+            const Pos t97 = Pos{s.core.click_x, s.core.click_y};
+            for (const Elem& e98 : rendered95) {
+              if ((e98.position == t97)) {
+                clicked94 = true;
+                break;
+              }
+            }
           }
-          if (t125) t123.push_back(t123_x);
+          if (clicked94) {
+            out92.push_back(x93);
+          }
         }
-        std::vector<C_Swatch> v_hit_127 = t123;
-        const std::vector<C_Swatch> t128 = v_hit_127;
-        const int32_t t129 = int32_t(t128.size());
-        const bool t130 = t129 > int32_t(0);
-        int32_t t145;
-        if (t130) {
-          const std::vector<C_Swatch> t131 = v_hit_127;
-          if (t131.empty()) fail("head of an empty list");
-          const C_Swatch t132 = t131.front();
-          t145 = t132.f_hue;
+        l_hit91 = std::move(out92);
+        const std::vector<C1_Swatch>& v99 = l_hit91;
+        const int32_t t100 = int32_t(v99.size());
+        const bool t101 = (t100 > int32_t(0));
+        int32_t r102{};
+        if (t101) {
+          const std::vector<C1_Swatch>& v103 = l_hit91;
+          if (v103.empty()) {
+            fail_at(4, std::string() + std::string("head of an empty list"));
+          }
+          const C1_Swatch t104 = v103.front();
+          r102 = t104.f0;
         } else {
-          const std::vector<C_Tile>& t133 = s.g_tiles;
-          const std::vector<C_Tile>& a_ts_134 = t133;
+          const std::vector<C0_Tile>& g105 = s.g_tiles_12;
           // inlined: function at programs/color_flood.au:32
-          std::vector<C_Tile> t135;
-          for (const C_Tile& t135_x : a_ts_134) {
-            const C_Tile& a_t_136 = t135_x;
+          std::vector<C0_Tile>& l_wetOnes106 = s.scratch.v.b12;
+          l_wetOnes106.clear();
+          std::vector<C0_Tile> out107{};
+          for (const C0_Tile& x108 : g105) {
             // inlined: function at programs/color_flood.au:33
-            const bool t137 = a_t_136.f_wet;
-            if (t137) t135.push_back(t135_x);
+            if (x108.f1) {
+              out107.push_back(x108);
+            }
           }
-          std::vector<C_Tile> v_wetOnes_138 = t135;
-          const std::vector<C_Tile> t139 = v_wetOnes_138;
-          const int32_t t140 = int32_t(t139.size());
-          const bool t141 = t140 > int32_t(0);
-          int32_t t144;
-          if (t141) {
-            const std::vector<C_Tile> t142 = v_wetOnes_138;
-            if (t142.empty()) fail("head of an empty list");
-            const C_Tile t143 = t142.front();
-            t144 = t143.f_hue;
+          l_wetOnes106 = std::move(out107);
+          const std::vector<C0_Tile>& v109 = l_wetOnes106;
+          const int32_t t110 = int32_t(v109.size());
+          const bool t111 = (t110 > int32_t(0));
+          int32_t r112{};
+          if (t111) {
+            const std::vector<C0_Tile>& v113 = l_wetOnes106;
+            if (v113.empty()) {
+              fail_at(3, std::string() + std::string("head of an empty list"));
+            }
+            const C0_Tile t114 = v113.front();
+            r112 = t114.f0;
           } else {
-            t144 = int32_t(6);
+            r112 = int32_t(6);
           }
-          t145 = t144;
+          r102 = r112;
         }
-        const std::vector<C_Tile>& a_ts_146 = t121;
-        const int32_t& a_shade_147 = t145;
         // inlined: function at programs/color_flood.au:44
-        const std::vector<C_Tile>& t148_src = a_ts_146;
-        std::vector<C_Tile> t148;
-        t148.reserve(t148_src.size());
-        for (size_t t148_i = 0; t148_i < t148_src.size(); ++t148_i) {
-          const C_Tile& t149 = t148_src[t148_i];
-          const C_Tile& a_t_150 = t149;
+        std::vector<C0_Tile> updated115{};
+        updated115.reserve(size_t(int32_t(g89.size())));
+        for (const C0_Tile& x116 : g89) {
           // inlined: function at programs/color_flood.au:44
-          const bool t151 = a_t_150.f_wet;
-          if (t151) {
-            const C_Tile& a_t_152 = t149;
+          if (x116.f1) {
             // inlined: function at programs/color_flood.au:44
-            const int32_t t153 = int32_t(8);
-            C_Tile t154 = a_t_152;
-            t154.f_hue = a_shade_147;
-            t148.push_back(t154);
+            C0_Tile upd117 = x116;
+            upd117.f0 = r102;
+            updated115.push_back(std::move(upd117));
           } else {
-            t148.push_back(t149);
+            updated115.push_back(x116);
           }
         }
-        s.g_tiles = std::move(t148);
-        s.u_tiles = true;
+        s.g_tiles_12 = std::move(updated115);
+        s.u_tiles_13 = true;
       }
     }
-    {  // on-clause 4, programs/color_flood.au:56
-      bool t155 = true;
-      if (!(s.core.down)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        bool t156 = false;
-        if ((s.p_lamps.f_lit)) {
-          bool t157 = false;
+    // on-clause 4, programs/color_flood.au:56
+    {
+      const bool t118 = s.core.down;
+      bool r119{};
+      if (!t118) {
+        const C2_Lamps& prev120 = s.p_lamps_8;
+        bool r121{};
+        if (prev120.f0) {
+          bool clicked122 = false;
           if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            t157 = true;
+            s.d_click_16 = true;
+            s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
+            clicked122 = true;
           }
-          t156 = t157;
+          r121 = clicked122;
+        } else {
+          r121 = false;
         }
-        t155 = t156;
+        r119 = r121;
+      } else {
+        r119 = true;
       }
-      if (t155) {
-        s.core.covered[3] = 1;
+      if (r119) {
+        s.core.covered[int32_t(3)] = 1;
         // inlined: function at programs/color_flood.au:17
-        const int32_t t158 = s.g_GRID_SIZE;
-        const int32_t t159 = s.g_GRID_SIZE;
-        const int32_t t160 = sub(t159, int32_t(1));
-        if (t158 < 0 || t160 < 0) fail("allPositions: negative size");
-        s.scratch.v.t161.clear();
-        std::vector<Pos>& t161 = s.scratch.v.t161;
-        for (int32_t i = 0; i < t158; ++i) for (int32_t j = 0; j < t160; ++j) t161.push_back(Pos{i, j});
-        std::vector<C_Tile> t162;
-        t162.reserve(t161.size());
-        for (const Pos& t162_x : t161) {
-          const Pos& a_p_163 = t162_x;
-          // inlined: function at programs/color_flood.au:18
-          const std::vector<int32_t>& t164 = s.g_palette;
-          if (t164.empty()) fail("uniformChoice of an empty list");
-          const int32_t t165 = t164[s.core.rng.next(t164.size())];
-          const Pos t166 = s.g_corner;
-          const bool t167 = a_p_163 == t166;
-          const C_Tile t168 = C_Tile{t165, t167, a_p_163};
-          t162.push_back(t168);
+        if ((int32_t(8) < int32_t(0))) {
+          fail_at(5, std::string() + std::string("allPositions: negative size"));
         }
-        s.g_tiles = std::move(t162);
-        s.u_tiles = true;
+        if ((int32_t(7) < int32_t(0))) {
+          fail_at(5, std::string() + std::string("allPositions: negative size"));
+        }
+        std::vector<Pos>& apos123 = s.scratch.v.b13;
+        apos123.clear();
+        for (int32_t i124 = int32_t(0), i124_end = int32_t(8); i124 < i124_end; ++i124) {
+          for (int32_t j125 = int32_t(0), j125_end = int32_t(7); j125 < j125_end; ++j125) {
+            const Pos t126 = Pos{i124, j125};
+            apos123.push_back(t126);
+          }
+        }
+        std::vector<C0_Tile> out127{};
+        out127.reserve(size_t(int32_t(apos123.size())));
+        for (const Pos& x128 : apos123) {
+          // inlined: function at programs/color_flood.au:18
+          const std::vector<int32_t>& g129 = s.g_palette_4;
+          if (g129.empty()) {
+            fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
+          }
+          const int32_t t130 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g129.size())))));
+          const int32_t t131 = g129[size_t(t130)];
+          const Pos& g132 = s.g_corner_5;
+          const bool t133 = (x128 == g132);
+          CellV l_allCells134{};
+          const CellV t135 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+          l_allCells134 = t135;
+          const CellV& v136 = l_allCells134;
+          const CellV& v137 = l_allCells134;
+          const std::vector<CellV> list138 = std::vector<CellV>{v137};
+          C0_Tile o139 = C0_Tile{t131, t133, x128};
+          out127.push_back(std::move(o139));
+        }
+        s.g_tiles_12 = std::move(out127);
+        s.u_tiles_13 = true;
       }
     }
-    if (!s.u_lamps) {  // NEXT of lamps, programs/color_flood.au:29
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const int32_t t169 = int32_t(9);
-      const std::vector<C_Tile>& t170 = s.g_tiles;
-      const std::vector<C_Tile>& a_ts_171 = t170;
+    // NEXT of lamps, programs/color_flood.au:29
+    if (!s.u_lamps_7) {
+      const C2_Lamps& prev140 = s.p_lamps_8;
+      const std::vector<C0_Tile>& g141 = s.g_tiles_12;
       // inlined: function at programs/color_flood.au:31
-      bool t172 = false;
-      for (const C_Tile& t172_x : a_ts_171) {
-        const C_Tile& a_t_173 = t172_x;
+      bool any142 = false;
+      for (const C0_Tile& x143 : g141) {
         // inlined: function at programs/color_flood.au:31
-        const bool t174 = !a_t_173.f_wet;
-        if (t174) { t172 = true; break; }
+        const bool t144 = !x143.f1;
+        if (t144) {
+          any142 = true;
+          break;
+        }
       }
-      const bool t175 = !t172;
-      C_Lamps t176 = s.p_lamps;
-      t176.f_lit = t175;
-      s.g_lamps = t176;
+      const bool t145 = !any142;
+      C2_Lamps upd146 = prev140;
+      upd146.f0 = t145;
+      s.g_lamps_6 = std::move(upd146);
+      s.u_lamps_7 = true;
     }
-    if (!s.u_swatches) {  // NEXT of swatches, programs/color_flood.au:25
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_swatches = s.p_swatches;
+    // NEXT of swatches, programs/color_flood.au:25
+    if (!s.u_swatches_10) {
+      const std::vector<C1_Swatch>& prev147 = s.p_swatches_11;
+      s.g_swatches_9 = prev147;
+      s.u_swatches_10 = true;
     }
-    if (!s.u_tiles) {  // NEXT of tiles, programs/color_flood.au:21
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_tiles = s.p_tiles;
+    // NEXT of tiles, programs/color_flood.au:21
+    if (!s.u_tiles_13) {
+      const std::vector<C0_Tile>& prev148 = s.p_tiles_14;
+      s.g_tiles_12 = prev148;
+      s.u_tiles_13 = true;
     }
-    s.core.click = s.core.left = s.core.right = s.core.up = s.core.down = false;
+    s.core.clear_inputs();
   }
-
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
+    (void)s;
+    (void)paint;
+    (void)pal;
     s.core.occupied.clear(kGrid);
-    std::vector<Elem>& elems = s.scratch.v.render_elems;
-    if (paint) paint->begin(kGrid, pal[s.g_background]);
-    elems.clear();
-    for (const C_Tile& t185 : s.g_tiles) {
-      render_Tile(s, t185, elems);
+    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    std::vector<Elem>& elems1 = s.scratch.v.b14;
+    elems1.clear();
+    elems1.clear();
+    const std::vector<C0_Tile>& g2 = s.g_tiles_12;
+    for (const C0_Tile& x3 : g2) {
+      const int32_t colour4 = colour_2_C0_Tile(s, x3);
+      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, colour4});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e5 : elems1) {
+      s.core.occupied.add(e5.position);
+      if (paint) paint->paint(e5.position, pal[e5.color]);
     }
-    elems.clear();
-    for (const C_Swatch& t186 : s.g_swatches) {
-      render_Swatch(s, t186, elems);
+    elems1.clear();
+    const std::vector<C1_Swatch>& g6 = s.g_swatches_9;
+    for (const C1_Swatch& x7 : g6) {
+      const int32_t colour8 = colour_1_C1_Swatch(s, x7);
+      elems1.push_back(Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e9 : elems1) {
+      s.core.occupied.add(e9.position);
+      if (paint) paint->paint(e9.position, pal[e9.color]);
     }
-    elems.clear();
-    render_Lamps(s, s.g_lamps, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    elems1.clear();
+    const C2_Lamps& g10 = s.g_lamps_6;
+    render_C2_Lamps(s, g10, elems1);
+    for (const Elem& e11 : elems1) {
+      s.core.occupied.add(e11.position);
+      if (paint) paint->paint(e11.position, pal[e11.color]);
     }
   }
-
   static uint64_t hash(const State& s) {
     Hash h;
     hash_core(h, s.core, kUsesRandom);
-    hash_value(h, s.g_GRID_SIZE);
-    hash_value(h, s.g_FRAME_RATE);
-    hash_value(h, s.g_background);
-    hash_value(h, s.g_palette);
-    hash_value(h, s.g_corner);
-    hash_value(h, s.g_tiles);
-    hash_value(h, s.g_swatches);
-    hash_value(h, s.g_lamps);
+    hash_value(h, s.g_GRID_SIZE_0);
+    hash_value(h, s.g_FRAME_RATE_1);
+    hash_value(h, s.g_background_2);
+    hash_value(h, s.g_SpecialConditionTriggered_3);
+    hash_value(h, s.g_palette_4);
+    hash_value(h, s.g_corner_5);
+    hash_value(h, s.g_lamps_6);
+    hash_value(h, s.g_swatches_9);
+    hash_value(h, s.g_tiles_12);
+    hash_value(h, s.g_click_15);
+    hash_value(h, s.d_click_16);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
     (void)s;
     (void)w;
-    save_value(w, s.g_GRID_SIZE);
-    save_value(w, s.g_FRAME_RATE);
-    save_value(w, s.g_background);
-    save_value(w, s.g_palette);
-    save_value(w, s.g_corner);
-    save_value(w, s.g_tiles);
-    save_value(w, s.g_swatches);
-    save_value(w, s.g_lamps);
+    save_value(w, s.g_GRID_SIZE_0);
+    save_value(w, s.g_FRAME_RATE_1);
+    save_value(w, s.g_background_2);
+    save_value(w, s.g_SpecialConditionTriggered_3);
+    save_value(w, s.g_palette_4);
+    save_value(w, s.g_corner_5);
+    save_value(w, s.g_lamps_6);
+    save_value(w, s.g_swatches_9);
+    save_value(w, s.g_tiles_12);
+    save_value(w, s.g_click_15);
+    save_value(w, s.d_click_16);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
     (void)r;
-    load_value(r, s.g_GRID_SIZE);
-    load_value(r, s.g_FRAME_RATE);
-    load_value(r, s.g_background);
-    load_value(r, s.g_palette);
-    load_value(r, s.g_corner);
-    load_value(r, s.g_tiles);
-    load_value(r, s.g_swatches);
-    load_value(r, s.g_lamps);
+    load_value(r, s.g_GRID_SIZE_0);
+    load_value(r, s.g_FRAME_RATE_1);
+    load_value(r, s.g_background_2);
+    load_value(r, s.g_SpecialConditionTriggered_3);
+    load_value(r, s.g_palette_4);
+    load_value(r, s.g_corner_5);
+    load_value(r, s.g_lamps_6);
+    load_value(r, s.g_swatches_9);
+    load_value(r, s.g_tiles_12);
+    load_value(r, s.g_click_15);
+    load_value(r, s.d_click_16);
   }
 };
 
@@ -715,6 +811,17 @@ const char* const Prog::kColours[] = {
     "white",
     "dimgray",
     nullptr};
+
+const ErrorSite Prog::kErrors[] = {
+    {24, 45, nullptr, true, 24, 45, "initialising 'swatches': "},
+    {18, 65, nullptr, true, 18, 65, "initialising 'tiles': "},
+    {18, 23, nullptr, true, 18, 23, "initialising 'tiles': "},
+    {34, 41, nullptr, true, 34, 41, ""},
+    {47, 37, nullptr, true, 47, 37, ""},
+    {18, 65, nullptr, true, 18, 65, ""},
+    {18, 23, nullptr, true, 18, 23, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {
   std::unique_ptr<autumn::Environment> operator()() const {

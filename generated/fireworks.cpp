@@ -23,631 +23,695 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 20;
   static const char* const kColours[];
+  static const ErrorSite kErrors[];
 
-  struct C_Pad {
+  struct C0_Pad {
     Pos origin;
+    friend void hash_value(Hash& h, const C0_Pad& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C0_Pad& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C0_Pad& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Pad& a, const C_Pad& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Pad& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Pad& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Pad& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Rocket {
-    int32_t f_peak;
-    int32_t f_shade;
+  struct C1_Rocket {
+    int32_t f0;
+    int32_t f1;
     Pos origin;
+    std::vector<CellV> cells;
+    friend void hash_value(Hash& h, const C1_Rocket& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.f1);
+      hash_value(h, v.origin);
+      hash_value(h, v.cells);
+    }
+    friend void save_value(SnapshotWriter& w, const C1_Rocket& v) {
+      save_value(w, v.f0);
+      save_value(w, v.f1);
+      save_value(w, v.origin);
+      save_value(w, v.cells);
+    }
+    friend void load_value(SnapshotReader& r, C1_Rocket& v) {
+      load_value(r, v.f0);
+      load_value(r, v.f1);
+      load_value(r, v.origin);
+      load_value(r, v.cells);
+    }
   };
-  static bool eq(const C_Rocket& a, const C_Rocket& b) {
-    return true && a.f_peak == b.f_peak && a.f_shade == b.f_shade && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Rocket& v) {
-    hash_value(h, v.f_peak);
-    hash_value(h, v.f_shade);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Rocket& v) {
-    save_value(w, v.f_peak);
-    save_value(w, v.f_shade);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Rocket& v) {
-    load_value(r, v.f_peak);
-    load_value(r, v.f_shade);
-    load_value(r, v.origin);
-  }
-  struct C_Spark {
-    int32_t f_vx;
-    int32_t f_vy;
-    int32_t f_life;
-    int32_t f_hue;
+  struct C2_Spark {
+    int32_t f0;
+    int32_t f1;
+    int32_t f2;
+    int32_t f3;
     Pos origin;
+    friend void hash_value(Hash& h, const C2_Spark& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.f1);
+      hash_value(h, v.f2);
+      hash_value(h, v.f3);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C2_Spark& v) {
+      save_value(w, v.f0);
+      save_value(w, v.f1);
+      save_value(w, v.f2);
+      save_value(w, v.f3);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C2_Spark& v) {
+      load_value(r, v.f0);
+      load_value(r, v.f1);
+      load_value(r, v.f2);
+      load_value(r, v.f3);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Spark& a, const C_Spark& b) {
-    return true && a.f_vx == b.f_vx && a.f_vy == b.f_vy && a.f_life == b.f_life && a.f_hue == b.f_hue && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Spark& v) {
-    hash_value(h, v.f_vx);
-    hash_value(h, v.f_vy);
-    hash_value(h, v.f_life);
-    hash_value(h, v.f_hue);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Spark& v) {
-    save_value(w, v.f_vx);
-    save_value(w, v.f_vy);
-    save_value(w, v.f_life);
-    save_value(w, v.f_hue);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Spark& v) {
-    load_value(r, v.f_vx);
-    load_value(r, v.f_vy);
-    load_value(r, v.f_life);
-    load_value(r, v.f_hue);
-    load_value(r, v.origin);
-  }
 
-  // Working buffers, one per place that builds a short-lived list.
   struct Scratch {
-    std::vector<Elem> render_elems;
-    std::vector<Elem> t59;
-    std::vector<Elem> t113;
-    std::vector<Elem> t139;
+    std::vector<CellV> b0;
+    std::vector<C2_Spark> b1;
+    std::vector<C2_Spark> b2;
+    std::vector<Elem> b3;
+    std::vector<C1_Rocket> b4;
+    std::vector<std::vector<C2_Spark>> b5;
+    std::vector<C2_Spark> b6;
+    std::vector<C1_Rocket> b7;
+    std::vector<Elem> b8;
+    std::vector<Elem> b9;
+    std::vector<Pos> b10;
+    std::vector<C1_Rocket> b11;
+    std::vector<Elem> b12;
   };
-
   struct State {
     Core core;
     NoCopy<Scratch> scratch;
-    int32_t g_GRID_SIZE{};
-    int32_t g_FRAME_RATE{};
-    int32_t g_background{};
-    std::vector<int32_t> g_palette{};
-    std::vector<Pos> g_compass{};
-    int32_t g_launchRow{};
-    int32_t g_maxRockets{};
-    C_Pad g_pad{};
-    bool u_pad = false;
-    C_Pad p_pad{};
-    std::vector<C_Rocket> g_rockets{};
-    bool u_rockets = false;
-    std::vector<C_Rocket> p_rockets{};
-    std::vector<C_Spark> g_sparks{};
-    bool u_sparks = false;
-    std::vector<C_Spark> p_sparks{};
+    int32_t g_GRID_SIZE_0{};
+    int32_t g_FRAME_RATE_1{};
+    int32_t g_background_2{};
+    bool g_SpecialConditionTriggered_3{};
+    std::vector<int32_t> g_palette_4{};
+    std::vector<Pos> g_compass_5{};
+    int32_t g_launchRow_6{};
+    int32_t g_maxRockets_7{};
+    std::vector<C2_Spark> g_sparks_8{};
+    bool u_sparks_9{};
+    std::vector<C2_Spark> p_sparks_10{};
+    std::vector<C1_Rocket> g_rockets_11{};
+    bool u_rockets_12{};
+    std::vector<C1_Rocket> p_rockets_13{};
+    C0_Pad g_pad_14{};
+    bool u_pad_15{};
+    C0_Pad p_pad_16{};
+    Pos g_click_17{};
+    bool d_click_18{};
   };
 
-  static int32_t colour_Spark_0(State& s, const C_Spark& o) {
+  static int32_t colour_3_C2_Spark(State& s, const C2_Spark& o1) {
     (void)s;
-  const int32_t t208 = o.f_life;
-  const bool t209 = t208 > int32_t(2);
-  int32_t t211;
-  if (t209) {
-    const int32_t t210 = o.f_hue;
-    t211 = t210;
-  } else {
-    t211 = int32_t(11);
+    const bool t2 = (o1.f2 > int32_t(2));
+    int32_t r3{};
+    if (t2) {
+      r3 = o1.f3;
+    } else {
+      r3 = int32_t(9);
+    }
+    return r3;
+    return {};
   }
-    return t211;
-  }
-  static void render_Pad(State& s, const C_Pad& o, std::vector<Elem>& out) {
+  static void render_C1_Rocket(State& s, const C1_Rocket& o1, std::vector<Elem>& out2) {
     (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, -1), add(o.origin.y, 0)}, 1});
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 1});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, 1});
+    for (const CellV& c3 : o1.cells) {
+      int32_t x4 = c3.x;
+      int32_t y5 = c3.y;
+      if ((int32_t(c3.dc) == int32_t(-1))) {
+        fail_at(8, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+      }
+      int32_t colour6 = c3.colour;
+      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
+    }
   }
-  static void render_Rocket(State& s, const C_Rocket& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 2});
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 1)}, 3});
-  }
-  static void render_Spark(State& s, const C_Spark& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Spark_0(s, o)});
-  }
-
   static void start(State& s, uint64_t seed) {
-    s.core.rng.reseed(seed);
-    s.core.covered.assign(6, 0);
-    s.g_GRID_SIZE = int32_t(16);
-    s.g_FRAME_RATE = int32_t(8);
-    s.g_background = int32_t(0);
-    const int32_t t1 = int32_t(20);
-    s.g_GRID_SIZE = t1;
-    const int32_t t2 = int32_t(0);
-    s.g_background = t2;
-    const std::vector<int32_t> t3 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
-    s.g_palette = t3;
-    const int32_t t4 = neg(int32_t(1));
-    const int32_t t5 = neg(int32_t(1));
-    const Pos t6 = Pos{t4, t5};
-    const int32_t t7 = int32_t(0);
-    const int32_t t8 = neg(int32_t(1));
-    const Pos t9 = Pos{t7, t8};
-    const int32_t t10 = int32_t(1);
-    const int32_t t11 = neg(int32_t(1));
-    const Pos t12 = Pos{t10, t11};
-    const int32_t t13 = neg(int32_t(1));
-    const int32_t t14 = int32_t(0);
-    const Pos t15 = Pos{t13, t14};
-    const int32_t t16 = int32_t(1);
-    const int32_t t17 = int32_t(0);
-    const Pos t18 = Pos{t16, t17};
-    const int32_t t19 = neg(int32_t(1));
-    const int32_t t20 = int32_t(1);
-    const Pos t21 = Pos{t19, t20};
-    const int32_t t22 = int32_t(0);
-    const int32_t t23 = int32_t(1);
-    const Pos t24 = Pos{t22, t23};
-    const int32_t t25 = int32_t(1);
-    const int32_t t26 = int32_t(1);
-    const Pos t27 = Pos{t25, t26};
-    const std::vector<Pos> t28 = std::vector<Pos>{t6, t9, t12, t15, t18, t21, t24, t27};
-    s.g_compass = t28;
-    const int32_t t29 = s.g_GRID_SIZE;
-    const int32_t t30 = sub(t29, int32_t(2));
-    s.g_launchRow = t30;
-    const int32_t t31 = int32_t(8);
-    s.g_maxRockets = t31;
+    (void)s;
+    s.core.start(seed, kOnClauses);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_FRAME_RATE_1 = int32_t(8);
+    s.g_background_2 = int32_t(0);
+    s.g_SpecialConditionTriggered_3 = false;
+    s.g_GRID_SIZE_0 = int32_t(20);
+    s.g_background_2 = int32_t(0);
+    s.g_palette_4 = std::vector<int32_t>{int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5)};
+    s.g_compass_5 = std::vector<Pos>{Pos{int32_t(-1), int32_t(-1)}, Pos{int32_t(0), int32_t(-1)}, Pos{int32_t(1), int32_t(-1)}, Pos{int32_t(-1), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(-1), int32_t(1)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(1), int32_t(1)}};
+    s.g_launchRow_6 = int32_t(18);
+    s.g_maxRockets_7 = int32_t(8);
     // init sparks, programs/fireworks.au:28
-    s.g_sparks = {};
+    s.g_sparks_8 = std::vector<C2_Spark>{};
+    s.u_sparks_9 = false;
     // init rockets, programs/fireworks.au:25
-    s.g_rockets = {};
+    s.g_rockets_11 = std::vector<C1_Rocket>{};
+    s.u_rockets_12 = false;
     // init pad, programs/fireworks.au:22
-    const int32_t t32 = int32_t(10);
-    const int32_t t33 = s.g_GRID_SIZE;
-    const int32_t t34 = sub(t33, int32_t(1));
-    const Pos t35 = Pos{t32, t34};
-    const C_Pad t36 = C_Pad{t35};
-    s.g_pad = t36;
+    std::vector<CellV>& l_allCells1 = s.scratch.v.b0;
+    l_allCells1.clear();
+    const CellV t2 = CellV{int32_t(-1), int32_t(0), int32_t(6), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+    const CellV t3 = CellV{int32_t(0), int32_t(0), int32_t(6), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(1))};
+    const CellV t4 = CellV{int32_t(1), int32_t(0), int32_t(6), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    std::vector<CellV> list5 = std::vector<CellV>{t2, t3, t4};
+    l_allCells1 = std::move(list5);
+    const std::vector<CellV>& v6 = l_allCells1;
+    const std::vector<CellV>& v7 = l_allCells1;
+    C0_Pad o8 = C0_Pad{Pos{int32_t(10), int32_t(19)}};
+    s.g_pad_14 = std::move(o8);
+    s.u_pad_15 = false;
     render(s, nullptr, {});
   }
-
   static void step(State& s) {
-    s.p_pad = s.g_pad;
-    s.p_rockets = s.g_rockets;
-    s.p_sparks = s.g_sparks;
+    (void)s;
     s.core.have_prev = true;
-    s.u_pad = false;
-    s.u_rockets = false;
-    s.u_sparks = false;
-    {  // on-clause 1, programs/fireworks.au:43
+    s.p_pad_16 = s.g_pad_14;
+    s.p_rockets_13 = s.g_rockets_11;
+    s.p_sparks_10 = s.g_sparks_8;
+    s.u_sparks_9 = false;
+    s.u_rockets_12 = false;
+    s.u_pad_15 = false;
+    // on-clause 1, programs/fireworks.au:43
+    {
       if (true) {
-        s.core.covered[0] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const std::vector<C_Spark>& a_ss_37 = s.p_sparks;
+        s.core.covered[int32_t(0)] = 1;
+        const std::vector<C2_Spark>& prev1 = s.p_sparks_10;
         // inlined: function at programs/fireworks.au:35
-        std::vector<C_Spark> t38;
-        t38.reserve(a_ss_37.size());
-        for (const C_Spark& t38_x : a_ss_37) {
-          const C_Spark& a_s_39 = t38_x;
+        std::vector<C2_Spark>& out2 = s.scratch.v.b1;
+        out2.clear();
+        out2.reserve(size_t(int32_t(prev1.size())));
+        for (const C2_Spark& x3 : prev1) {
           // inlined: function at programs/fireworks.au:37
-          const int32_t t40 = a_s_39.f_vx;
-          const int32_t t41 = a_s_39.f_vy;
-          const Pos t42 = Pos{t40, t41};
-          const C_Spark& a_obj_43 = a_s_39;
-          Pos a_dir_44 = t42;
-          const int32_t t45 = int32_t(9);
-          const Pos t46 = a_dir_44;
-          const int32_t t47 = add(a_obj_43.origin.x, t46.x);
-          const Pos t48 = a_dir_44;
-          const int32_t t49 = add(a_obj_43.origin.y, t48.y);
-          const Pos t50 = Pos{t47, t49};
-          C_Spark t51 = a_obj_43;
-          t51.origin = t50;
-          const int32_t t52 = int32_t(10);
-          const int32_t t53 = sub(a_s_39.f_life, int32_t(1));
-          C_Spark t54 = t51;
-          t54.f_life = t53;
-          t38.push_back(t54);
+          const Pos t4 = Pos{x3.f0, x3.f1};
+          const int32_t t5 = add(x3.origin.x, t4.x);
+          const int32_t t6 = add(x3.origin.y, t4.y);
+          const Pos t7 = Pos{t5, t6};
+          C2_Spark upd8 = x3;
+          upd8.origin = t7;
+          const int32_t t9 = sub(x3.f2, int32_t(1));
+          C2_Spark upd10 = upd8;
+          upd10.f2 = t9;
+          out2.push_back(std::move(upd10));
         }
-        std::vector<C_Spark> t55;
-        for (const C_Spark& t55_x : t38) {
-          const C_Spark& a_s_56 = t55_x;
+        std::vector<C2_Spark>& out11 = s.scratch.v.b2;
+        out11.clear();
+        for (const C2_Spark& x12 : out2) {
           // inlined: function at programs/fireworks.au:36
-          const bool t57 = a_s_56.f_life > int32_t(0);
-          bool t58 = false;
-          if ((t57)) {
-            s.scratch.v.t59.clear();
-            std::vector<Elem>& t59 = s.scratch.v.t59;
-            render_Spark(s, a_s_56, t59);
-            bool t60 = true;
-            for (const Elem& e : t59)
-              if (e.position.x < 0 || e.position.x >= 20 || e.position.y < 0 || e.position.y >= 20) { t60 = false; break; }
-            t58 = t60;
-          }
-          if (t58) t55.push_back(t55_x);
-        }
-        if (!s.core.have_prev) fail("prev used before the first step");
-        std::vector<C_Rocket> t61;
-        for (const C_Rocket& t61_x : s.p_rockets) {
-          const C_Rocket& a_r_62 = t61_x;
-          // inlined: function at programs/fireworks.au:39
-          const bool t63 = a_r_62.origin.y <= a_r_62.f_peak;
-          if (t63) t61.push_back(t61_x);
-        }
-        std::vector<std::vector<C_Spark>> t64;
-        t64.reserve(t61.size());
-        for (const C_Rocket& t64_x : t61) {
-          const C_Rocket& a_r_65 = t64_x;
-          // inlined: function at programs/fireworks.au:30
-          const std::vector<int32_t> t66 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)};
-          if (t66.empty()) fail("uniformChoice of an empty list");
-          const int32_t t67 = t66[s.core.rng.next(t66.size())];
-          int32_t v_span_68 = t67;
-          const std::vector<Pos>& t69 = s.g_compass;
-          std::vector<C_Spark> t70;
-          t70.reserve(t69.size());
-          for (const Pos& t70_x : t69) {
-            const Pos& a_d_71 = t70_x;
-            // inlined: function at programs/fireworks.au:33
-            const int32_t t72 = a_d_71.x;
-            const int32_t t73 = a_d_71.y;
-            const int32_t t74 = v_span_68;
-            const int32_t t75 = a_r_65.f_shade;
-            const Pos t76 = a_r_65.origin;
-            const C_Spark t77 = C_Spark{t72, t73, t74, t75, t76};
-            t70.push_back(t77);
-          }
-          t64.push_back(t70);
-        }
-        std::vector<C_Spark> t78;
-        for (const auto& part : t64) t78.insert(t78.end(), part.begin(), part.end());
-        std::vector<C_Spark> t79 = t55;
-        t79.insert(t79.end(), t78.begin(), t78.end());
-        s.g_sparks = t79;
-        s.u_sparks = true;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        std::vector<C_Rocket> t80;
-        for (const C_Rocket& t80_x : s.p_rockets) {
-          const C_Rocket& a_r_81 = t80_x;
-          // inlined: function at programs/fireworks.au:46
-          const C_Rocket& a_r_82 = a_r_81;
-          // inlined: function at programs/fireworks.au:39
-          const bool t83 = a_r_82.origin.y <= a_r_82.f_peak;
-          const bool t84 = !t83;
-          if (t84) t80.push_back(t80_x);
-        }
-        std::vector<C_Rocket> t85;
-        t85.reserve(t80.size());
-        for (const C_Rocket& t85_x : t80) {
-          const C_Rocket& a_obj_86 = t85_x;
-          const int32_t t87 = int32_t(0);
-          const int32_t t88 = neg(int32_t(1));
-          const Pos t89 = Pos{t87, t88};
-          const C_Rocket& a_obj_90 = a_obj_86;
-          Pos a_dir_91 = t89;
-          const int32_t t92 = int32_t(9);
-          const Pos t93 = a_dir_91;
-          const int32_t t94 = add(a_obj_90.origin.x, t93.x);
-          const Pos t95 = a_dir_91;
-          const int32_t t96 = add(a_obj_90.origin.y, t95.y);
-          const Pos t97 = Pos{t94, t96};
-          C_Rocket t98 = a_obj_90;
-          t98.origin = t97;
-          t85.push_back(t98);
-        }
-        s.g_rockets = std::move(t85);
-        s.u_rockets = true;
-      }
-    }
-    {  // on-clause 2, programs/fireworks.au:49
-      if (s.core.left) {
-        s.core.covered[1] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t99 = neg(int32_t(1));
-        const int32_t t100 = int32_t(0);
-        const Pos t101 = Pos{t99, t100};
-        const C_Pad& a_thing_102 = s.p_pad;
-        const Pos& a_step_103 = t101;
-        // inlined: function at programs/fireworks.au:41
-        const C_Pad& a_obj_104 = a_thing_102;
-        Pos a_dir_105 = a_step_103;
-        const int32_t t106 = int32_t(9);
-        const Pos t107 = a_dir_105;
-        const int32_t t108 = add(a_obj_104.origin.x, t107.x);
-        const Pos t109 = a_dir_105;
-        const int32_t t110 = add(a_obj_104.origin.y, t109.y);
-        const Pos t111 = Pos{t108, t110};
-        C_Pad t112 = a_obj_104;
-        t112.origin = t111;
-        s.scratch.v.t113.clear();
-        std::vector<Elem>& t113 = s.scratch.v.t113;
-        render_Pad(s, t112, t113);
-        bool t114 = true;
-        for (const Elem& e : t113)
-          if (e.position.x < 0 || e.position.x >= 20 || e.position.y < 0 || e.position.y >= 20) { t114 = false; break; }
-        C_Pad t124;
-        if (t114) {
-          const C_Pad& a_obj_115 = a_thing_102;
-          Pos a_dir_116 = a_step_103;
-          const int32_t t117 = int32_t(9);
-          const Pos t118 = a_dir_116;
-          const int32_t t119 = add(a_obj_115.origin.x, t118.x);
-          const Pos t120 = a_dir_116;
-          const int32_t t121 = add(a_obj_115.origin.y, t120.y);
-          const Pos t122 = Pos{t119, t121};
-          C_Pad t123 = a_obj_115;
-          t123.origin = t122;
-          t124 = t123;
-        } else {
-          t124 = a_thing_102;
-        }
-        s.g_pad = t124;
-        s.u_pad = true;
-      }
-    }
-    {  // on-clause 3, programs/fireworks.au:50
-      if (s.core.right) {
-        s.core.covered[2] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t125 = int32_t(1);
-        const int32_t t126 = int32_t(0);
-        const Pos t127 = Pos{t125, t126};
-        const C_Pad& a_thing_128 = s.p_pad;
-        const Pos& a_step_129 = t127;
-        // inlined: function at programs/fireworks.au:41
-        const C_Pad& a_obj_130 = a_thing_128;
-        Pos a_dir_131 = a_step_129;
-        const int32_t t132 = int32_t(9);
-        const Pos t133 = a_dir_131;
-        const int32_t t134 = add(a_obj_130.origin.x, t133.x);
-        const Pos t135 = a_dir_131;
-        const int32_t t136 = add(a_obj_130.origin.y, t135.y);
-        const Pos t137 = Pos{t134, t136};
-        C_Pad t138 = a_obj_130;
-        t138.origin = t137;
-        s.scratch.v.t139.clear();
-        std::vector<Elem>& t139 = s.scratch.v.t139;
-        render_Pad(s, t138, t139);
-        bool t140 = true;
-        for (const Elem& e : t139)
-          if (e.position.x < 0 || e.position.x >= 20 || e.position.y < 0 || e.position.y >= 20) { t140 = false; break; }
-        C_Pad t150;
-        if (t140) {
-          const C_Pad& a_obj_141 = a_thing_128;
-          Pos a_dir_142 = a_step_129;
-          const int32_t t143 = int32_t(9);
-          const Pos t144 = a_dir_142;
-          const int32_t t145 = add(a_obj_141.origin.x, t144.x);
-          const Pos t146 = a_dir_142;
-          const int32_t t147 = add(a_obj_141.origin.y, t146.y);
-          const Pos t148 = Pos{t145, t147};
-          C_Pad t149 = a_obj_141;
-          t149.origin = t148;
-          t150 = t149;
-        } else {
-          t150 = a_thing_128;
-        }
-        s.g_pad = t150;
-        s.u_pad = true;
-      }
-    }
-    {  // on-clause 4, programs/fireworks.au:52
-      bool t151 = false;
-      if (s.core.click) {
-        s.core.click_defined = true;
-        s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-        t151 = true;
-      }
-      bool t152 = false;
-      if ((t151)) {
-        const std::vector<C_Rocket>& t153 = s.g_rockets;
-        const int32_t t154 = int32_t(t153.size());
-        const int32_t t155 = s.g_maxRockets;
-        const bool t156 = t154 < t155;
-        t152 = t156;
-      }
-      if (t152) {
-        s.core.covered[3] = 1;
-        const std::vector<C_Rocket>& t157 = s.g_rockets;
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t158 = s.core.click_pos;
-        const int32_t t159 = t158.y;
-        const std::vector<int32_t>& t160 = s.g_palette;
-        if (t160.empty()) fail("uniformChoice of an empty list");
-        const int32_t t161 = t160[s.core.rng.next(t160.size())];
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t162 = s.core.click_pos;
-        const int32_t t163 = t162.x;
-        const int32_t t164 = s.g_launchRow;
-        const Pos t165 = Pos{t163, t164};
-        const C_Rocket t166 = C_Rocket{t159, t161, t165};
-        std::vector<C_Rocket> t167;
-        t167.reserve(t157.size() + 1);
-        t167.assign(t157.begin(), t157.end());
-        t167.push_back(t166);
-        s.g_rockets = std::move(t167);
-        s.u_rockets = true;
-      }
-    }
-    {  // on-clause 5, programs/fireworks.au:55
-      bool t168 = false;
-      if ((s.core.up)) {
-        const std::vector<C_Rocket>& t169 = s.g_rockets;
-        const int32_t t170 = int32_t(t169.size());
-        const int32_t t171 = s.g_maxRockets;
-        const bool t172 = t170 < t171;
-        t168 = t172;
-      }
-      if (t168) {
-        s.core.covered[4] = 1;
-        const std::vector<C_Rocket>& t173 = s.g_rockets;
-        const std::vector<int32_t> t174 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
-        if (t174.empty()) fail("uniformChoice of an empty list");
-        const int32_t t175 = t174[s.core.rng.next(t174.size())];
-        const std::vector<int32_t>& t176 = s.g_palette;
-        if (t176.empty()) fail("uniformChoice of an empty list");
-        const int32_t t177 = t176[s.core.rng.next(t176.size())];
-        const C_Pad& t178 = s.g_pad;
-        const int32_t t179 = t178.origin.x;
-        const int32_t t180 = s.g_launchRow;
-        const Pos t181 = Pos{t179, t180};
-        const C_Rocket t182 = C_Rocket{t175, t177, t181};
-        std::vector<C_Rocket> t183;
-        t183.reserve(t173.size() + 1);
-        t183.assign(t173.begin(), t173.end());
-        t183.push_back(t182);
-        s.g_rockets = std::move(t183);
-        s.u_rockets = true;
-      }
-    }
-    {  // on-clause 6, programs/fireworks.au:59
-      bool t184 = false;
-      if ((s.core.down)) {
-        const std::vector<C_Rocket>& t185 = s.g_rockets;
-        const int32_t t186 = int32_t(t185.size());
-        const int32_t t187 = s.g_maxRockets;
-        const bool t188 = t186 < t187;
-        t184 = t188;
-      }
-      if (t184) {
-        s.core.covered[5] = 1;
-        const std::vector<C_Rocket>& t189 = s.g_rockets;
-        const int32_t t190 = s.g_GRID_SIZE;
-        const int32_t t191 = int32_t(3);
-        if (t190 < 0) fail("randomPositions: negative size");
-        std::vector<Pos> t192;
-        for (int32_t i = 0; i < t191; ++i) { int32_t x = int32_t(s.core.rng.next(uint64_t(t190))); int32_t y = int32_t(s.core.rng.next(uint64_t(t190))); t192.push_back(Pos{x, y}); }
-        std::vector<C_Rocket> t193;
-        t193.reserve(t192.size());
-        for (const Pos& t193_x : t192) {
-          const Pos& a_p_194 = t193_x;
-          // inlined: function at programs/fireworks.au:61
-          const int32_t t195 = int32_t(12);
-          const int32_t t196 = a_p_194.y;
-          const int32_t& a_a_197 = t195;
-          const int32_t& a_b_198 = t196;
-          const bool t199 = a_a_197 < a_b_198;
-          int32_t t200;
-          if (t199) {
-            t200 = a_a_197;
+          const bool t13 = (x12.f2 > int32_t(0));
+          bool r14{};
+          if (t13) {
+            std::vector<Elem>& rendered15 = s.scratch.v.b3;
+            rendered15.clear();
+            const int32_t colour16 = colour_3_C2_Spark(s, x12);
+            rendered15.push_back(Elem{Pos{add(x12.origin.x, int32_t(0)), add(x12.origin.y, int32_t(0))}, colour16});
+            bool within17 = true;
+            for (const Elem& e18 : rendered15) {
+              if ((((e18.position.x < int32_t(0)) || (e18.position.x >= int32_t(20))) || ((e18.position.y < int32_t(0)) || (e18.position.y >= int32_t(20))))) {
+                within17 = false;
+                break;
+              }
+            }
+            r14 = within17;
           } else {
-            t200 = a_b_198;
+            r14 = false;
           }
-          const std::vector<int32_t>& t201 = s.g_palette;
-          if (t201.empty()) fail("uniformChoice of an empty list");
-          const int32_t t202 = t201[s.core.rng.next(t201.size())];
-          const int32_t t203 = a_p_194.x;
-          const int32_t t204 = s.g_launchRow;
-          const Pos t205 = Pos{t203, t204};
-          const C_Rocket t206 = C_Rocket{t200, t202, t205};
-          t193.push_back(t206);
+          if (r14) {
+            out11.push_back(x12);
+          }
         }
-        std::vector<C_Rocket> t207 = t189;
-        t207.insert(t207.end(), t193.begin(), t193.end());
-        s.g_rockets = t207;
-        s.u_rockets = true;
+        const std::vector<C1_Rocket>& prev19 = s.p_rockets_13;
+        std::vector<C1_Rocket>& out20 = s.scratch.v.b4;
+        out20.clear();
+        for (const C1_Rocket& x21 : prev19) {
+          // inlined: function at programs/fireworks.au:39
+          const bool t22 = (x21.origin.y <= x21.f0);
+          if (t22) {
+            out20.push_back(x21);
+          }
+        }
+        std::vector<std::vector<C2_Spark>>& out23 = s.scratch.v.b5;
+        out23.clear();
+        out23.reserve(size_t(int32_t(out20.size())));
+        for (const C1_Rocket& x24 : out20) {
+          // inlined: function at programs/fireworks.au:30
+          int32_t l_span25{};
+          if (std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)}.empty()) {
+            fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
+          }
+          const int32_t t26 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)}.size())))));
+          const int32_t t27 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)}[size_t(t26)];
+          l_span25 = t27;
+          const std::vector<Pos>& g28 = s.g_compass_5;
+          std::vector<C2_Spark> out29{};
+          out29.reserve(size_t(int32_t(g28.size())));
+          for (const Pos& x30 : g28) {
+            // inlined: function at programs/fireworks.au:33
+            const int32_t& v31 = l_span25;
+            CellV l_allCells32{};
+            const CellV t33 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
+            l_allCells32 = t33;
+            const CellV& v34 = l_allCells32;
+            const CellV& v35 = l_allCells32;
+            const std::vector<CellV> list36 = std::vector<CellV>{v35};
+            C2_Spark o37 = C2_Spark{x30.x, x30.y, v31, x24.f1, x24.origin};
+            out29.push_back(std::move(o37));
+          }
+          out23.push_back(std::move(out29));
+        }
+        std::vector<C2_Spark>& cat38 = s.scratch.v.b6;
+        cat38.clear();
+        for (const std::vector<C2_Spark>& part39 : out23) {
+          cat38.insert(cat38.end(), part39.begin(), part39.end());
+        }
+        std::vector<C2_Spark> added40{};
+        added40.reserve(size_t(add(int32_t(out11.size()), int32_t(cat38.size()))));
+        for (const C2_Spark& x41 : out11) {
+          added40.push_back(x41);
+        }
+        for (const C2_Spark& x42 : cat38) {
+          added40.push_back(x42);
+        }
+        s.g_sparks_8 = std::move(added40);
+        s.u_sparks_9 = true;
+        const std::vector<C1_Rocket>& prev43 = s.p_rockets_13;
+        std::vector<C1_Rocket>& out44 = s.scratch.v.b7;
+        out44.clear();
+        for (const C1_Rocket& x45 : prev43) {
+          // inlined: function at programs/fireworks.au:46
+          // inlined: function at programs/fireworks.au:39
+          const bool t46 = (x45.origin.y <= x45.f0);
+          const bool t47 = !t46;
+          if (t47) {
+            out44.push_back(x45);
+          }
+        }
+        std::vector<C1_Rocket> out48{};
+        out48.reserve(size_t(int32_t(out44.size())));
+        for (const C1_Rocket& x49 : out44) {
+          const int32_t t50 = add(x49.origin.x, int32_t(0));
+          const int32_t t51 = add(x49.origin.y, int32_t(-1));
+          const Pos t52 = Pos{t50, t51};
+          C1_Rocket upd53 = x49;
+          upd53.origin = t52;
+          out48.push_back(std::move(upd53));
+        }
+        s.g_rockets_11 = std::move(out48);
+        s.u_rockets_12 = true;
       }
     }
-    if (!s.u_sparks) {  // NEXT of sparks, programs/fireworks.au:28
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_sparks = s.p_sparks;
+    // on-clause 2, programs/fireworks.au:49
+    {
+      const bool t54 = s.core.left;
+      if (t54) {
+        s.core.covered[int32_t(1)] = 1;
+        const C0_Pad& prev55 = s.p_pad_16;
+        // inlined: function at programs/fireworks.au:41
+        const int32_t t56 = add(prev55.origin.x, int32_t(-1));
+        const int32_t t57 = add(prev55.origin.y, int32_t(0));
+        const Pos t58 = Pos{t56, t57};
+        C0_Pad upd59 = prev55;
+        upd59.origin = t58;
+        std::vector<Elem>& rendered60 = s.scratch.v.b8;
+        rendered60.clear();
+        rendered60.push_back(Elem{Pos{add(upd59.origin.x, int32_t(-1)), add(upd59.origin.y, int32_t(0))}, int32_t(6)});
+        rendered60.push_back(Elem{Pos{add(upd59.origin.x, int32_t(0)), add(upd59.origin.y, int32_t(0))}, int32_t(6)});
+        rendered60.push_back(Elem{Pos{add(upd59.origin.x, int32_t(1)), add(upd59.origin.y, int32_t(0))}, int32_t(6)});
+        bool within61 = true;
+        for (const Elem& e62 : rendered60) {
+          if ((((e62.position.x < int32_t(0)) || (e62.position.x >= int32_t(20))) || ((e62.position.y < int32_t(0)) || (e62.position.y >= int32_t(20))))) {
+            within61 = false;
+            break;
+          }
+        }
+        C0_Pad r63{};
+        if (within61) {
+          const int32_t t64 = add(prev55.origin.x, int32_t(-1));
+          const int32_t t65 = add(prev55.origin.y, int32_t(0));
+          const Pos t66 = Pos{t64, t65};
+          C0_Pad upd67 = prev55;
+          upd67.origin = t66;
+          r63 = std::move(upd67);
+        } else {
+          r63 = prev55;
+        }
+        s.g_pad_14 = std::move(r63);
+        s.u_pad_15 = true;
+      }
     }
-    if (!s.u_rockets) {  // NEXT of rockets, programs/fireworks.au:25
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_rockets = s.p_rockets;
+    // on-clause 3, programs/fireworks.au:50
+    {
+      const bool t68 = s.core.right;
+      if (t68) {
+        s.core.covered[int32_t(2)] = 1;
+        const C0_Pad& prev69 = s.p_pad_16;
+        // inlined: function at programs/fireworks.au:41
+        const int32_t t70 = add(prev69.origin.x, int32_t(1));
+        const int32_t t71 = add(prev69.origin.y, int32_t(0));
+        const Pos t72 = Pos{t70, t71};
+        C0_Pad upd73 = prev69;
+        upd73.origin = t72;
+        std::vector<Elem>& rendered74 = s.scratch.v.b9;
+        rendered74.clear();
+        rendered74.push_back(Elem{Pos{add(upd73.origin.x, int32_t(-1)), add(upd73.origin.y, int32_t(0))}, int32_t(6)});
+        rendered74.push_back(Elem{Pos{add(upd73.origin.x, int32_t(0)), add(upd73.origin.y, int32_t(0))}, int32_t(6)});
+        rendered74.push_back(Elem{Pos{add(upd73.origin.x, int32_t(1)), add(upd73.origin.y, int32_t(0))}, int32_t(6)});
+        bool within75 = true;
+        for (const Elem& e76 : rendered74) {
+          if ((((e76.position.x < int32_t(0)) || (e76.position.x >= int32_t(20))) || ((e76.position.y < int32_t(0)) || (e76.position.y >= int32_t(20))))) {
+            within75 = false;
+            break;
+          }
+        }
+        C0_Pad r77{};
+        if (within75) {
+          const int32_t t78 = add(prev69.origin.x, int32_t(1));
+          const int32_t t79 = add(prev69.origin.y, int32_t(0));
+          const Pos t80 = Pos{t78, t79};
+          C0_Pad upd81 = prev69;
+          upd81.origin = t80;
+          r77 = std::move(upd81);
+        } else {
+          r77 = prev69;
+        }
+        s.g_pad_14 = std::move(r77);
+        s.u_pad_15 = true;
+      }
     }
-    if (!s.u_pad) {  // NEXT of pad, programs/fireworks.au:22
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_pad = s.p_pad;
+    // on-clause 4, programs/fireworks.au:52
+    {
+      bool clicked82 = false;
+      if (s.core.click) {
+        s.d_click_18 = true;
+        s.g_click_17 = Pos{s.core.click_x, s.core.click_y};
+        clicked82 = true;
+      }
+      bool r83{};
+      if (clicked82) {
+        const std::vector<C1_Rocket>& g84 = s.g_rockets_11;
+        const int32_t t85 = int32_t(g84.size());
+        const bool t86 = (t85 < int32_t(8));
+        r83 = t86;
+      } else {
+        r83 = false;
+      }
+      if (r83) {
+        s.core.covered[int32_t(3)] = 1;
+        const std::vector<C1_Rocket>& g87 = s.g_rockets_11;
+        Pos r88{};
+        if (s.d_click_18) {
+          const Pos& g89 = s.g_click_17;
+          r88 = g89;
+        } else {
+          fail_at(1, std::string() + std::string("undefined variable 'click'"));
+        }
+        const std::vector<int32_t>& g90 = s.g_palette_4;
+        if (g90.empty()) {
+          fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t91 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g90.size())))));
+        const int32_t t92 = g90[size_t(t91)];
+        Pos r93{};
+        if (s.d_click_18) {
+          const Pos& g94 = s.g_click_17;
+          r93 = g94;
+        } else {
+          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+        }
+        const Pos t95 = Pos{r93.x, int32_t(18)};
+        std::vector<CellV> l_allCells96{};
+        const CellV t97 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+        const CellV t98 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+        std::vector<CellV> list99 = std::vector<CellV>{t97, t98};
+        l_allCells96 = std::move(list99);
+        const std::vector<CellV>& v100 = l_allCells96;
+        const std::vector<CellV>& v101 = l_allCells96;
+        C1_Rocket o102 = C1_Rocket{r88.y, t92, t95, v101};
+        std::vector<C1_Rocket> added103{};
+        added103.reserve(size_t(add(int32_t(g87.size()), int32_t(1))));
+        for (const C1_Rocket& x104 : g87) {
+          added103.push_back(x104);
+        }
+        added103.push_back(std::move(o102));
+        s.g_rockets_11 = std::move(added103);
+        s.u_rockets_12 = true;
+      }
     }
-    s.core.click = s.core.left = s.core.right = s.core.up = s.core.down = false;
+    // on-clause 5, programs/fireworks.au:55
+    {
+      const bool t105 = s.core.up;
+      bool r106{};
+      if (t105) {
+        const std::vector<C1_Rocket>& g107 = s.g_rockets_11;
+        const int32_t t108 = int32_t(g107.size());
+        const bool t109 = (t108 < int32_t(8));
+        r106 = t109;
+      } else {
+        r106 = false;
+      }
+      if (r106) {
+        s.core.covered[int32_t(4)] = 1;
+        const std::vector<C1_Rocket>& g110 = s.g_rockets_11;
+        if (std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)}.empty()) {
+          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t111 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)}.size())))));
+        const int32_t t112 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)}[size_t(t111)];
+        const std::vector<int32_t>& g113 = s.g_palette_4;
+        if (g113.empty()) {
+          fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t114 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g113.size())))));
+        const int32_t t115 = g113[size_t(t114)];
+        const C0_Pad& g116 = s.g_pad_14;
+        const Pos t117 = Pos{g116.origin.x, int32_t(18)};
+        std::vector<CellV> l_allCells118{};
+        const CellV t119 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+        const CellV t120 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+        std::vector<CellV> list121 = std::vector<CellV>{t119, t120};
+        l_allCells118 = std::move(list121);
+        const std::vector<CellV>& v122 = l_allCells118;
+        const std::vector<CellV>& v123 = l_allCells118;
+        C1_Rocket o124 = C1_Rocket{t112, t115, t117, v123};
+        std::vector<C1_Rocket> added125{};
+        added125.reserve(size_t(add(int32_t(g110.size()), int32_t(1))));
+        for (const C1_Rocket& x126 : g110) {
+          added125.push_back(x126);
+        }
+        added125.push_back(std::move(o124));
+        s.g_rockets_11 = std::move(added125);
+        s.u_rockets_12 = true;
+      }
+    }
+    // on-clause 6, programs/fireworks.au:59
+    {
+      const bool t127 = s.core.down;
+      bool r128{};
+      if (t127) {
+        const std::vector<C1_Rocket>& g129 = s.g_rockets_11;
+        const int32_t t130 = int32_t(g129.size());
+        const bool t131 = (t130 < int32_t(8));
+        r128 = t131;
+      } else {
+        r128 = false;
+      }
+      if (r128) {
+        s.core.covered[int32_t(5)] = 1;
+        const std::vector<C1_Rocket>& g132 = s.g_rockets_11;
+        if ((int32_t(20) < int32_t(0))) {
+          fail_at(6, std::string() + std::string("randomPositions: the grid size must not be negative"));
+        }
+        std::vector<Pos>& rpos133 = s.scratch.v.b10;
+        rpos133.clear();
+        for (int32_t i134 = int32_t(0), i134_end = int32_t(3); i134 < i134_end; ++i134) {
+          const int32_t t135 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
+          const int32_t t136 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
+          const Pos t137 = Pos{t135, t136};
+          rpos133.push_back(t137);
+        }
+        std::vector<C1_Rocket>& out138 = s.scratch.v.b11;
+        out138.clear();
+        out138.reserve(size_t(int32_t(rpos133.size())));
+        for (const Pos& x139 : rpos133) {
+          // inlined: function at programs/fireworks.au:61
+          const bool t140 = (int32_t(12) < x139.y);
+          int32_t r141{};
+          if (t140) {
+            r141 = int32_t(12);
+          } else {
+            r141 = x139.y;
+          }
+          const std::vector<int32_t>& g142 = s.g_palette_4;
+          if (g142.empty()) {
+            fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
+          }
+          const int32_t t143 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g142.size())))));
+          const int32_t t144 = g142[size_t(t143)];
+          const Pos t145 = Pos{x139.x, int32_t(18)};
+          std::vector<CellV> l_allCells146{};
+          const CellV t147 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+          const CellV t148 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+          std::vector<CellV> list149 = std::vector<CellV>{t147, t148};
+          l_allCells146 = std::move(list149);
+          const std::vector<CellV>& v150 = l_allCells146;
+          const std::vector<CellV>& v151 = l_allCells146;
+          C1_Rocket o152 = C1_Rocket{r141, t144, t145, v151};
+          out138.push_back(std::move(o152));
+        }
+        std::vector<C1_Rocket> added153{};
+        added153.reserve(size_t(add(int32_t(g132.size()), int32_t(out138.size()))));
+        for (const C1_Rocket& x154 : g132) {
+          added153.push_back(x154);
+        }
+        for (const C1_Rocket& x155 : out138) {
+          added153.push_back(x155);
+        }
+        s.g_rockets_11 = std::move(added153);
+        s.u_rockets_12 = true;
+      }
+    }
+    // NEXT of sparks, programs/fireworks.au:28
+    if (!s.u_sparks_9) {
+      const std::vector<C2_Spark>& prev156 = s.p_sparks_10;
+      s.g_sparks_8 = prev156;
+      s.u_sparks_9 = true;
+    }
+    // NEXT of rockets, programs/fireworks.au:25
+    if (!s.u_rockets_12) {
+      const std::vector<C1_Rocket>& prev157 = s.p_rockets_13;
+      s.g_rockets_11 = prev157;
+      s.u_rockets_12 = true;
+    }
+    // NEXT of pad, programs/fireworks.au:22
+    if (!s.u_pad_15) {
+      const C0_Pad& prev158 = s.p_pad_16;
+      s.g_pad_14 = prev158;
+      s.u_pad_15 = true;
+    }
+    s.core.clear_inputs();
   }
-
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
+    (void)s;
+    (void)paint;
+    (void)pal;
     s.core.occupied.clear(kGrid);
-    std::vector<Elem>& elems = s.scratch.v.render_elems;
-    if (paint) paint->begin(kGrid, pal[s.g_background]);
-    elems.clear();
-    render_Pad(s, s.g_pad, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    std::vector<Elem>& elems1 = s.scratch.v.b12;
+    elems1.clear();
+    elems1.clear();
+    const C0_Pad& g2 = s.g_pad_14;
+    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(-1)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
+    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
+    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
+    for (const Elem& e3 : elems1) {
+      s.core.occupied.add(e3.position);
+      if (paint) paint->paint(e3.position, pal[e3.color]);
     }
-    elems.clear();
-    for (const C_Rocket& t212 : s.g_rockets) {
-      render_Rocket(s, t212, elems);
+    elems1.clear();
+    const std::vector<C1_Rocket>& g4 = s.g_rockets_11;
+    for (const C1_Rocket& x5 : g4) {
+      render_C1_Rocket(s, x5, elems1);
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e6 : elems1) {
+      s.core.occupied.add(e6.position);
+      if (paint) paint->paint(e6.position, pal[e6.color]);
     }
-    elems.clear();
-    for (const C_Spark& t213 : s.g_sparks) {
-      render_Spark(s, t213, elems);
+    elems1.clear();
+    const std::vector<C2_Spark>& g7 = s.g_sparks_8;
+    for (const C2_Spark& x8 : g7) {
+      const int32_t colour9 = colour_3_C2_Spark(s, x8);
+      elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e10 : elems1) {
+      s.core.occupied.add(e10.position);
+      if (paint) paint->paint(e10.position, pal[e10.color]);
     }
   }
-
   static uint64_t hash(const State& s) {
     Hash h;
     hash_core(h, s.core, kUsesRandom);
-    hash_value(h, s.g_GRID_SIZE);
-    hash_value(h, s.g_FRAME_RATE);
-    hash_value(h, s.g_background);
-    hash_value(h, s.g_palette);
-    hash_value(h, s.g_compass);
-    hash_value(h, s.g_launchRow);
-    hash_value(h, s.g_maxRockets);
-    hash_value(h, s.g_pad);
-    hash_value(h, s.g_rockets);
-    hash_value(h, s.g_sparks);
+    hash_value(h, s.g_GRID_SIZE_0);
+    hash_value(h, s.g_FRAME_RATE_1);
+    hash_value(h, s.g_background_2);
+    hash_value(h, s.g_SpecialConditionTriggered_3);
+    hash_value(h, s.g_palette_4);
+    hash_value(h, s.g_compass_5);
+    hash_value(h, s.g_launchRow_6);
+    hash_value(h, s.g_maxRockets_7);
+    hash_value(h, s.g_sparks_8);
+    hash_value(h, s.g_rockets_11);
+    hash_value(h, s.g_pad_14);
+    hash_value(h, s.g_click_17);
+    hash_value(h, s.d_click_18);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
     (void)s;
     (void)w;
-    save_value(w, s.g_GRID_SIZE);
-    save_value(w, s.g_FRAME_RATE);
-    save_value(w, s.g_background);
-    save_value(w, s.g_palette);
-    save_value(w, s.g_compass);
-    save_value(w, s.g_launchRow);
-    save_value(w, s.g_maxRockets);
-    save_value(w, s.g_pad);
-    save_value(w, s.g_rockets);
-    save_value(w, s.g_sparks);
+    save_value(w, s.g_GRID_SIZE_0);
+    save_value(w, s.g_FRAME_RATE_1);
+    save_value(w, s.g_background_2);
+    save_value(w, s.g_SpecialConditionTriggered_3);
+    save_value(w, s.g_palette_4);
+    save_value(w, s.g_compass_5);
+    save_value(w, s.g_launchRow_6);
+    save_value(w, s.g_maxRockets_7);
+    save_value(w, s.g_sparks_8);
+    save_value(w, s.g_rockets_11);
+    save_value(w, s.g_pad_14);
+    save_value(w, s.g_click_17);
+    save_value(w, s.d_click_18);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
     (void)r;
-    load_value(r, s.g_GRID_SIZE);
-    load_value(r, s.g_FRAME_RATE);
-    load_value(r, s.g_background);
-    load_value(r, s.g_palette);
-    load_value(r, s.g_compass);
-    load_value(r, s.g_launchRow);
-    load_value(r, s.g_maxRockets);
-    load_value(r, s.g_pad);
-    load_value(r, s.g_rockets);
-    load_value(r, s.g_sparks);
+    load_value(r, s.g_GRID_SIZE_0);
+    load_value(r, s.g_FRAME_RATE_1);
+    load_value(r, s.g_background_2);
+    load_value(r, s.g_SpecialConditionTriggered_3);
+    load_value(r, s.g_palette_4);
+    load_value(r, s.g_compass_5);
+    load_value(r, s.g_launchRow_6);
+    load_value(r, s.g_maxRockets_7);
+    load_value(r, s.g_sparks_8);
+    load_value(r, s.g_rockets_11);
+    load_value(r, s.g_pad_14);
+    load_value(r, s.g_click_17);
+    load_value(r, s.d_click_18);
   }
 };
 
 const char* const Prog::kColours[] = {
     "black",
-    "slategray",
-    "white",
-    "orange",
     "red",
     "gold",
     "magenta",
     "cyan",
     "lime",
+    "slategray",
     "origin",
     "life",
     "gray",
+    "white",
+    "orange",
     nullptr};
+
+const ErrorSite Prog::kErrors[] = {
+    {32, 15, nullptr, true, 32, 15, ""},
+    {53, 44, nullptr, true, 53, 44, ""},
+    {53, 53, nullptr, true, 53, 53, ""},
+    {53, 91, nullptr, true, 53, 91, ""},
+    {56, 40, nullptr, true, 56, 40, ""},
+    {56, 74, nullptr, true, 56, 74, ""},
+    {62, 12, nullptr, true, 62, 12, ""},
+    {61, 45, nullptr, true, 61, 45, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {
   std::unique_ptr<autumn::Environment> operator()() const {

@@ -23,1001 +23,1131 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 12;
   static const char* const kColours[];
+  static const ErrorSite kErrors[];
 
-  struct C_Cloud {
+  struct C0_Cloud {
     Pos origin;
+    friend void hash_value(Hash& h, const C0_Cloud& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C0_Cloud& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C0_Cloud& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Cloud& a, const C_Cloud& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Cloud& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Cloud& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Cloud& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Sun {
-    bool f_shining;
+  struct C1_Sun {
+    bool f0;
     Pos origin;
+    friend void hash_value(Hash& h, const C1_Sun& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C1_Sun& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C1_Sun& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Sun& a, const C_Sun& b) {
-    return true && a.f_shining == b.f_shining && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Sun& v) {
-    hash_value(h, v.f_shining);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Sun& v) {
-    save_value(w, v.f_shining);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Sun& v) {
-    load_value(r, v.f_shining);
-    load_value(r, v.origin);
-  }
-  struct C_Drop {
+  struct C2_Drop {
     Pos origin;
+    std::vector<CellV> cells;
+    friend void hash_value(Hash& h, const C2_Drop& v) {
+      hash_value(h, v.origin);
+      hash_value(h, v.cells);
+    }
+    friend void save_value(SnapshotWriter& w, const C2_Drop& v) {
+      save_value(w, v.origin);
+      save_value(w, v.cells);
+    }
+    friend void load_value(SnapshotReader& r, C2_Drop& v) {
+      load_value(r, v.origin);
+      load_value(r, v.cells);
+    }
   };
-  static bool eq(const C_Drop& a, const C_Drop& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Drop& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Drop& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Drop& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Plant {
-    int32_t f_stage;
-    int32_t f_petal;
+  struct C3_Plant {
+    int32_t f0;
+    int32_t f1;
     Pos origin;
+    friend void hash_value(Hash& h, const C3_Plant& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.f1);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C3_Plant& v) {
+      save_value(w, v.f0);
+      save_value(w, v.f1);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C3_Plant& v) {
+      load_value(r, v.f0);
+      load_value(r, v.f1);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Plant& a, const C_Plant& b) {
-    return true && a.f_stage == b.f_stage && a.f_petal == b.f_petal && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Plant& v) {
-    hash_value(h, v.f_stage);
-    hash_value(h, v.f_petal);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Plant& v) {
-    save_value(w, v.f_stage);
-    save_value(w, v.f_petal);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Plant& v) {
-    load_value(r, v.f_stage);
-    load_value(r, v.f_petal);
-    load_value(r, v.origin);
-  }
-  struct C_Basket {
-    int32_t f_picked;
+  struct C4_Basket {
+    int32_t f0;
     Pos origin;
+    std::vector<CellV> cells;
+    friend void hash_value(Hash& h, const C4_Basket& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+      hash_value(h, v.cells);
+    }
+    friend void save_value(SnapshotWriter& w, const C4_Basket& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+      save_value(w, v.cells);
+    }
+    friend void load_value(SnapshotReader& r, C4_Basket& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+      load_value(r, v.cells);
+    }
   };
-  static bool eq(const C_Basket& a, const C_Basket& b) {
-    return true && a.f_picked == b.f_picked && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Basket& v) {
-    hash_value(h, v.f_picked);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Basket& v) {
-    save_value(w, v.f_picked);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Basket& v) {
-    load_value(r, v.f_picked);
-    load_value(r, v.origin);
-  }
 
-  // Working buffers, one per place that builds a short-lived list.
   struct Scratch {
-    std::vector<Elem> render_elems;
-    std::vector<Elem> t54;
-    std::vector<Elem> t55;
-    std::vector<Elem> t86;
-    std::vector<Elem> t87;
-    std::vector<Elem> t124;
-    std::vector<Elem> t129;
-    std::vector<Elem> t149;
+    std::vector<CellV> b0;
+    std::vector<C2_Drop> b1;
+    std::vector<Elem> b2;
+    std::vector<std::vector<Elem>> b3;
+    std::vector<Elem> b4;
+    std::vector<Elem> b5;
+    std::vector<std::vector<Elem>> b6;
+    std::vector<Elem> b7;
+    std::vector<Elem> b8;
+    std::vector<C3_Plant> b9;
+    std::vector<Elem> b10;
+    std::vector<Elem> b11;
+    std::vector<Elem> b12;
   };
-
   struct State {
     Core core;
     NoCopy<Scratch> scratch;
-    int32_t g_GRID_SIZE{};
-    int32_t g_FRAME_RATE{};
-    int32_t g_background{};
-    std::vector<int32_t> g_petals{};
-    std::vector<bool> g_growChance{};
-    int32_t g_maxPlants{};
-    C_Sun g_sun{};
-    bool u_sun = false;
-    C_Sun p_sun{};
-    C_Cloud g_cloud{};
-    bool u_cloud = false;
-    C_Cloud p_cloud{};
-    std::vector<C_Plant> g_plants{};
-    bool u_plants = false;
-    std::vector<C_Plant> p_plants{};
-    std::vector<C_Drop> g_drops{};
-    bool u_drops = false;
-    std::vector<C_Drop> p_drops{};
-    C_Basket g_basket{};
-    bool u_basket = false;
-    C_Basket p_basket{};
+    int32_t g_GRID_SIZE_0{};
+    int32_t g_FRAME_RATE_1{};
+    int32_t g_background_2{};
+    bool g_SpecialConditionTriggered_3{};
+    std::vector<int32_t> g_petals_4{};
+    std::vector<bool> g_growChance_5{};
+    int32_t g_maxPlants_6{};
+    C4_Basket g_basket_7{};
+    bool u_basket_8{};
+    C4_Basket p_basket_9{};
+    std::vector<C2_Drop> g_drops_10{};
+    bool u_drops_11{};
+    std::vector<C2_Drop> p_drops_12{};
+    std::vector<C3_Plant> g_plants_13{};
+    bool u_plants_14{};
+    std::vector<C3_Plant> p_plants_15{};
+    C0_Cloud g_cloud_16{};
+    bool u_cloud_17{};
+    C0_Cloud p_cloud_18{};
+    C1_Sun g_sun_19{};
+    bool u_sun_20{};
+    C1_Sun p_sun_21{};
+    Pos g_click_22{};
+    bool d_click_23{};
   };
 
-  static int32_t colour_Sun_0(State& s, const C_Sun& o) {
+  static int32_t colour_12_C3_Plant(State& s, const C3_Plant& o1) {
     (void)s;
-  const bool t221 = o.f_shining;
-  int32_t t222;
-  if (t221) {
-    t222 = int32_t(13);
-  } else {
-    t222 = int32_t(14);
-  }
-    return t222;
-  }
-  static int32_t colour_Plant_0(State& s, const C_Plant& o) {
-    (void)s;
-  const int32_t t223 = o.f_stage;
-  const bool t224 = t223 == int32_t(0);
-  int32_t t232;
-  if (t224) {
-    t232 = int32_t(15);
-  } else {
-    const int32_t t225 = o.f_stage;
-    const bool t226 = t225 == int32_t(1);
-    int32_t t231;
-    if (t226) {
-      t231 = int32_t(16);
+    const bool t2 = (o1.f0 == int32_t(0));
+    int32_t r3{};
+    if (t2) {
+      r3 = int32_t(9);
     } else {
-      const int32_t t227 = o.f_stage;
-      const bool t228 = t227 == int32_t(2);
-      int32_t t230;
-      if (t228) {
-        t230 = int32_t(17);
+      const bool t4 = (o1.f0 == int32_t(1));
+      int32_t r5{};
+      if (t4) {
+        r5 = int32_t(10);
       } else {
-        const int32_t t229 = o.f_petal;
-        t230 = t229;
+        const bool t6 = (o1.f0 == int32_t(2));
+        int32_t r7{};
+        if (t6) {
+          r7 = int32_t(11);
+        } else {
+          r7 = o1.f1;
+        }
+        r5 = r7;
       }
-      t231 = t230;
+      r3 = r5;
     }
-    t232 = t231;
+    return r3;
+    return {};
   }
-    return t232;
-  }
-  static int32_t colour_Basket_0(State& s, const C_Basket& o) {
+  static int32_t colour_16_C1_Sun(State& s, const C1_Sun& o1) {
     (void)s;
-  const int32_t t233 = o.f_picked;
-  const bool t234 = int32_t(0) < t233;
-  int32_t t235;
-  if (t234) {
-    t235 = int32_t(18);
-  } else {
-    t235 = int32_t(19);
+    int32_t r2{};
+    if (o1.f0) {
+      r2 = int32_t(16);
+    } else {
+      r2 = int32_t(17);
+    }
+    return r2;
+    return {};
   }
-    return t235;
-  }
-  static int32_t colour_Basket_1(State& s, const C_Basket& o) {
+  static void render_C2_Drop(State& s, const C2_Drop& o1, std::vector<Elem>& out2) {
     (void)s;
-  const int32_t t236 = o.f_picked;
-  const bool t237 = int32_t(1) < t236;
-  int32_t t238;
-  if (t237) {
-    t238 = int32_t(18);
-  } else {
-    t238 = int32_t(19);
+    for (const CellV& c3 : o1.cells) {
+      int32_t x4 = c3.x;
+      int32_t y5 = c3.y;
+      if ((int32_t(c3.dc) == int32_t(-1))) {
+        fail_at(7, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+      }
+      int32_t colour6 = c3.colour;
+      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
+    }
   }
-    return t238;
-  }
-  static int32_t colour_Basket_2(State& s, const C_Basket& o) {
+  static void render_C4_Basket(State& s, const C4_Basket& o1, std::vector<Elem>& out2) {
     (void)s;
-  const int32_t t239 = o.f_picked;
-  const bool t240 = int32_t(2) < t239;
-  int32_t t241;
-  if (t240) {
-    t241 = int32_t(18);
-  } else {
-    t241 = int32_t(19);
+    for (const CellV& c3 : o1.cells) {
+      int32_t x4 = c3.x;
+      int32_t y5 = c3.y;
+      if ((int32_t(c3.dc) == int32_t(-1))) {
+        fail_at(7, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+      }
+      int32_t colour6 = c3.colour;
+      switch (int32_t(c3.dc)) {
+        case 0: {
+          const bool t7 = (int32_t(0) < o1.f0);
+          int32_t r8{};
+          if (t7) {
+            r8 = int32_t(18);
+          } else {
+            r8 = int32_t(19);
+          }
+          colour6 = r8;
+          break;
+        }
+        case 1: {
+          const bool t9 = (int32_t(1) < o1.f0);
+          int32_t r10{};
+          if (t9) {
+            r10 = int32_t(18);
+          } else {
+            r10 = int32_t(19);
+          }
+          colour6 = r10;
+          break;
+        }
+        case 2: {
+          const bool t11 = (int32_t(2) < o1.f0);
+          int32_t r12{};
+          if (t11) {
+            r12 = int32_t(18);
+          } else {
+            r12 = int32_t(19);
+          }
+          colour6 = r12;
+          break;
+        }
+        case 3: {
+          const bool t13 = (int32_t(3) < o1.f0);
+          int32_t r14{};
+          if (t13) {
+            r14 = int32_t(18);
+          } else {
+            r14 = int32_t(19);
+          }
+          colour6 = r14;
+          break;
+        }
+        case 4: {
+          const bool t15 = (int32_t(4) < o1.f0);
+          int32_t r16{};
+          if (t15) {
+            r16 = int32_t(18);
+          } else {
+            r16 = int32_t(19);
+          }
+          colour6 = r16;
+          break;
+        }
+        case 5: {
+          const bool t17 = (int32_t(5) < o1.f0);
+          int32_t r18{};
+          if (t17) {
+            r18 = int32_t(18);
+          } else {
+            r18 = int32_t(19);
+          }
+          colour6 = r18;
+          break;
+        }
+        case 6: {
+          const bool t19 = (int32_t(6) < o1.f0);
+          int32_t r20{};
+          if (t19) {
+            r20 = int32_t(18);
+          } else {
+            r20 = int32_t(19);
+          }
+          colour6 = r20;
+          break;
+        }
+        case 7: {
+          const bool t21 = (int32_t(7) < o1.f0);
+          int32_t r22{};
+          if (t21) {
+            r22 = int32_t(18);
+          } else {
+            r22 = int32_t(19);
+          }
+          colour6 = r22;
+          break;
+        }
+        case 8: {
+          const bool t23 = (int32_t(8) < o1.f0);
+          int32_t r24{};
+          if (t23) {
+            r24 = int32_t(18);
+          } else {
+            r24 = int32_t(19);
+          }
+          colour6 = r24;
+          break;
+        }
+        case 9: {
+          const bool t25 = (int32_t(9) < o1.f0);
+          int32_t r26{};
+          if (t25) {
+            r26 = int32_t(18);
+          } else {
+            r26 = int32_t(19);
+          }
+          colour6 = r26;
+          break;
+        }
+        case 10: {
+          const bool t27 = (int32_t(10) < o1.f0);
+          int32_t r28{};
+          if (t27) {
+            r28 = int32_t(18);
+          } else {
+            r28 = int32_t(19);
+          }
+          colour6 = r28;
+          break;
+        }
+        case 11: {
+          const bool t29 = (int32_t(11) < o1.f0);
+          int32_t r30{};
+          if (t29) {
+            r30 = int32_t(18);
+          } else {
+            r30 = int32_t(19);
+          }
+          colour6 = r30;
+          break;
+        }
+        default: break;
+      }
+      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
+    }
   }
-    return t241;
-  }
-  static int32_t colour_Basket_3(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t242 = o.f_picked;
-  const bool t243 = int32_t(3) < t242;
-  int32_t t244;
-  if (t243) {
-    t244 = int32_t(18);
-  } else {
-    t244 = int32_t(19);
-  }
-    return t244;
-  }
-  static int32_t colour_Basket_4(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t245 = o.f_picked;
-  const bool t246 = int32_t(4) < t245;
-  int32_t t247;
-  if (t246) {
-    t247 = int32_t(18);
-  } else {
-    t247 = int32_t(19);
-  }
-    return t247;
-  }
-  static int32_t colour_Basket_5(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t248 = o.f_picked;
-  const bool t249 = int32_t(5) < t248;
-  int32_t t250;
-  if (t249) {
-    t250 = int32_t(18);
-  } else {
-    t250 = int32_t(19);
-  }
-    return t250;
-  }
-  static int32_t colour_Basket_6(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t251 = o.f_picked;
-  const bool t252 = int32_t(6) < t251;
-  int32_t t253;
-  if (t252) {
-    t253 = int32_t(18);
-  } else {
-    t253 = int32_t(19);
-  }
-    return t253;
-  }
-  static int32_t colour_Basket_7(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t254 = o.f_picked;
-  const bool t255 = int32_t(7) < t254;
-  int32_t t256;
-  if (t255) {
-    t256 = int32_t(18);
-  } else {
-    t256 = int32_t(19);
-  }
-    return t256;
-  }
-  static int32_t colour_Basket_8(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t257 = o.f_picked;
-  const bool t258 = int32_t(8) < t257;
-  int32_t t259;
-  if (t258) {
-    t259 = int32_t(18);
-  } else {
-    t259 = int32_t(19);
-  }
-    return t259;
-  }
-  static int32_t colour_Basket_9(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t260 = o.f_picked;
-  const bool t261 = int32_t(9) < t260;
-  int32_t t262;
-  if (t261) {
-    t262 = int32_t(18);
-  } else {
-    t262 = int32_t(19);
-  }
-    return t262;
-  }
-  static int32_t colour_Basket_10(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t263 = o.f_picked;
-  const bool t264 = int32_t(10) < t263;
-  int32_t t265;
-  if (t264) {
-    t265 = int32_t(18);
-  } else {
-    t265 = int32_t(19);
-  }
-    return t265;
-  }
-  static int32_t colour_Basket_11(State& s, const C_Basket& o) {
-    (void)s;
-  const int32_t t266 = o.f_picked;
-  const bool t267 = int32_t(11) < t266;
-  int32_t t268;
-  if (t267) {
-    t268 = int32_t(18);
-  } else {
-    t268 = int32_t(19);
-  }
-    return t268;
-  }
-  static void render_Cloud(State& s, const C_Cloud& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, -1), add(o.origin.y, 0)}, 1});
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 1});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, 1});
-  }
-  static void render_Sun(State& s, const C_Sun& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Sun_0(s, o)});
-  }
-  static void render_Drop(State& s, const C_Drop& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 2});
-  }
-  static void render_Plant(State& s, const C_Plant& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Plant_0(s, o)});
-  }
-  static void render_Basket(State& s, const C_Basket& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Basket_0(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, colour_Basket_1(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 2), add(o.origin.y, 0)}, colour_Basket_2(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 3), add(o.origin.y, 0)}, colour_Basket_3(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 4), add(o.origin.y, 0)}, colour_Basket_4(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 5), add(o.origin.y, 0)}, colour_Basket_5(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 6), add(o.origin.y, 0)}, colour_Basket_6(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 7), add(o.origin.y, 0)}, colour_Basket_7(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 8), add(o.origin.y, 0)}, colour_Basket_8(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 9), add(o.origin.y, 0)}, colour_Basket_9(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 10), add(o.origin.y, 0)}, colour_Basket_10(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 11), add(o.origin.y, 0)}, colour_Basket_11(s, o)});
-  }
-
   static void start(State& s, uint64_t seed) {
-    s.core.rng.reseed(seed);
-    s.core.covered.assign(8, 0);
-    s.g_GRID_SIZE = int32_t(16);
-    s.g_FRAME_RATE = int32_t(8);
-    s.g_background = int32_t(0);
-    const int32_t t1 = int32_t(12);
-    s.g_GRID_SIZE = t1;
-    const int32_t t2 = int32_t(3);
-    s.g_background = t2;
-    const std::vector<int32_t> t3 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
-    s.g_petals = t3;
-    const std::vector<bool> t4 = std::vector<bool>{true, false, false, false, false, false, false};
-    s.g_growChance = t4;
-    const int32_t t5 = int32_t(20);
-    s.g_maxPlants = t5;
+    (void)s;
+    s.core.start(seed, kOnClauses);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_FRAME_RATE_1 = int32_t(8);
+    s.g_background_2 = int32_t(0);
+    s.g_SpecialConditionTriggered_3 = false;
+    s.g_GRID_SIZE_0 = int32_t(12);
+    s.g_background_2 = int32_t(1);
+    s.g_petals_4 = std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
+    s.g_growChance_5 = std::vector<bool>{true, false, false, false, false, false, false};
+    s.g_maxPlants_6 = int32_t(20);
     // init basket, programs/garden.au:37
-    const int32_t t6 = int32_t(0);
-    const int32_t t7 = int32_t(0);
-    const int32_t t8 = int32_t(11);
-    const Pos t9 = Pos{t7, t8};
-    const C_Basket t10 = C_Basket{t6, t9};
-    s.g_basket = t10;
+    std::vector<CellV> l_allCells1{};
+    // inlined: function at programs/garden.au:18
+    const CellV cell2 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell3 = CellV{int32_t(1), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(1))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell4 = CellV{int32_t(2), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell5 = CellV{int32_t(3), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell6 = CellV{int32_t(4), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell7 = CellV{int32_t(5), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell8 = CellV{int32_t(6), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(6))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell9 = CellV{int32_t(7), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(7))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell10 = CellV{int32_t(8), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(8))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell11 = CellV{int32_t(9), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(9))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell12 = CellV{int32_t(10), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(10))};
+    // inlined: function at programs/garden.au:18
+    const CellV cell13 = CellV{int32_t(11), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(11))};
+    std::vector<CellV> list14 = std::vector<CellV>{cell2, cell3, cell4, cell5, cell6, cell7, cell8, cell9, cell10, cell11, cell12, cell13};
+    l_allCells1 = std::move(list14);
+    const std::vector<CellV>& v15 = l_allCells1;
+    const std::vector<CellV>& v16 = l_allCells1;
+    C4_Basket o17 = C4_Basket{int32_t(0), Pos{int32_t(0), int32_t(11)}, v16};
+    s.g_basket_7 = std::move(o17);
+    s.u_basket_8 = false;
     // init drops, programs/garden.au:34
-    s.g_drops = {};
+    s.g_drops_10 = std::vector<C2_Drop>{};
+    s.u_drops_11 = false;
     // init plants, programs/garden.au:31
-    const int32_t t11 = int32_t(1);
-    const int32_t t12 = int32_t(4);
-    const int32_t t13 = int32_t(3);
-    const int32_t t14 = int32_t(8);
-    const Pos t15 = Pos{t13, t14};
-    const C_Plant t16 = C_Plant{t11, t12, t15};
-    const int32_t t17 = int32_t(0);
-    const int32_t t18 = int32_t(5);
-    const int32_t t19 = int32_t(8);
-    const int32_t t20 = int32_t(6);
-    const Pos t21 = Pos{t19, t20};
-    const C_Plant t22 = C_Plant{t17, t18, t21};
-    const std::vector<C_Plant> t23 = std::vector<C_Plant>{t16, t22};
-    s.g_plants = t23;
+    CellV l_allCells18{};
+    const CellV t19 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
+    l_allCells18 = t19;
+    const CellV& v20 = l_allCells18;
+    const CellV& v21 = l_allCells18;
+    const std::vector<CellV> list22 = std::vector<CellV>{v21};
+    const C3_Plant o23 = C3_Plant{int32_t(1), int32_t(2), Pos{int32_t(3), int32_t(8)}};
+    CellV l_allCells24{};
+    const CellV t25 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
+    l_allCells24 = t25;
+    const CellV& v26 = l_allCells24;
+    const CellV& v27 = l_allCells24;
+    const std::vector<CellV> list28 = std::vector<CellV>{v27};
+    const C3_Plant o29 = C3_Plant{int32_t(0), int32_t(3), Pos{int32_t(8), int32_t(6)}};
+    std::vector<C3_Plant> list30 = std::vector<C3_Plant>{o23, o29};
+    s.g_plants_13 = std::move(list30);
+    s.u_plants_14 = false;
     // init cloud, programs/garden.au:28
-    const int32_t t24 = int32_t(5);
-    const int32_t t25 = int32_t(0);
-    const Pos t26 = Pos{t24, t25};
-    const C_Cloud t27 = C_Cloud{t26};
-    s.g_cloud = t27;
+    std::vector<CellV>& l_allCells31 = s.scratch.v.b0;
+    l_allCells31.clear();
+    const CellV t32 = CellV{int32_t(-1), int32_t(0), int32_t(7), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(13))};
+    const CellV t33 = CellV{int32_t(0), int32_t(0), int32_t(7), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(14))};
+    const CellV t34 = CellV{int32_t(1), int32_t(0), int32_t(7), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(15))};
+    std::vector<CellV> list35 = std::vector<CellV>{t32, t33, t34};
+    l_allCells31 = std::move(list35);
+    const std::vector<CellV>& v36 = l_allCells31;
+    const std::vector<CellV>& v37 = l_allCells31;
+    C0_Cloud o38 = C0_Cloud{Pos{int32_t(5), int32_t(0)}};
+    s.g_cloud_16 = std::move(o38);
+    s.u_cloud_17 = false;
     // init sun, programs/garden.au:25
-    const bool t28 = true;
-    const int32_t t29 = int32_t(11);
-    const int32_t t30 = int32_t(0);
-    const Pos t31 = Pos{t29, t30};
-    const C_Sun t32 = C_Sun{t28, t31};
-    s.g_sun = t32;
+    CellV l_allCells39{};
+    const CellV t40 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(16))};
+    l_allCells39 = t40;
+    const CellV& v41 = l_allCells39;
+    const CellV& v42 = l_allCells39;
+    const std::vector<CellV> list43 = std::vector<CellV>{v42};
+    C1_Sun o44 = C1_Sun{true, Pos{int32_t(11), int32_t(0)}};
+    s.g_sun_19 = std::move(o44);
+    s.u_sun_20 = false;
     render(s, nullptr, {});
   }
-
   static void step(State& s) {
-    s.p_sun = s.g_sun;
-    s.p_cloud = s.g_cloud;
-    s.p_plants = s.g_plants;
-    s.p_drops = s.g_drops;
-    s.p_basket = s.g_basket;
+    (void)s;
     s.core.have_prev = true;
-    s.u_sun = false;
-    s.u_cloud = false;
-    s.u_plants = false;
-    s.u_drops = false;
-    s.u_basket = false;
-    {  // on-clause 1, programs/garden.au:47
+    s.p_sun_21 = s.g_sun_19;
+    s.p_cloud_18 = s.g_cloud_16;
+    s.p_plants_15 = s.g_plants_13;
+    s.p_drops_12 = s.g_drops_10;
+    s.p_basket_9 = s.g_basket_7;
+    s.u_basket_8 = false;
+    s.u_drops_11 = false;
+    s.u_plants_14 = false;
+    s.u_cloud_17 = false;
+    s.u_sun_20 = false;
+    // on-clause 1, programs/garden.au:47
+    {
       if (true) {
-        s.core.covered[0] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        std::vector<C_Drop> t33;
-        t33.reserve(s.p_drops.size());
-        for (const C_Drop& t33_x : s.p_drops) {
-          const C_Drop& a_obj_34 = t33_x;
-          const int32_t t35 = int32_t(0);
-          const int32_t t36 = int32_t(1);
-          const Pos t37 = Pos{t35, t36};
-          const C_Drop& a_obj_38 = a_obj_34;
-          Pos a_dir_39 = t37;
-          const int32_t t40 = int32_t(9);
-          const Pos t41 = a_dir_39;
-          const int32_t t42 = add(a_obj_38.origin.x, t41.x);
-          const Pos t43 = a_dir_39;
-          const int32_t t44 = add(a_obj_38.origin.y, t43.y);
-          const Pos t45 = Pos{t42, t44};
-          C_Drop t46 = a_obj_38;
-          t46.origin = t45;
-          t33.push_back(t46);
+        s.core.covered[int32_t(0)] = 1;
+        std::vector<C2_Drop>& l_fallen1 = s.scratch.v.b1;
+        l_fallen1.clear();
+        const std::vector<C2_Drop>& prev2 = s.p_drops_12;
+        std::vector<C2_Drop> out3{};
+        out3.reserve(size_t(int32_t(prev2.size())));
+        for (const C2_Drop& x4 : prev2) {
+          const int32_t t5 = add(x4.origin.x, int32_t(0));
+          const int32_t t6 = add(x4.origin.y, int32_t(1));
+          const Pos t7 = Pos{t5, t6};
+          C2_Drop upd8 = x4;
+          upd8.origin = t7;
+          out3.push_back(std::move(upd8));
         }
-        std::vector<C_Drop> v_fallen_47 = t33;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const std::vector<C_Plant>& t48_src = s.p_plants;
-        std::vector<C_Plant> t48;
-        t48.reserve(t48_src.size());
-        for (size_t t48_i = 0; t48_i < t48_src.size(); ++t48_i) {
-          const C_Plant& t49 = t48_src[t48_i];
-          const C_Plant& a_p_50 = t49;
+        l_fallen1 = std::move(out3);
+        const std::vector<C3_Plant>& prev9 = s.p_plants_15;
+        std::vector<C3_Plant> updated10{};
+        updated10.reserve(size_t(int32_t(prev9.size())));
+        for (const C3_Plant& x11 : prev9) {
           // inlined: function at programs/garden.au:50
-          const std::vector<C_Drop> t51 = v_fallen_47;
-          const C_Plant& a_obj1_52 = a_p_50;
-          const std::vector<C_Drop>& a_obj2_53 = t51;
-          s.scratch.v.t54.clear();
-          std::vector<Elem>& t54 = s.scratch.v.t54;
-          render_Plant(s, a_obj1_52, t54);
-          s.scratch.v.t55.clear();
-          std::vector<Elem>& t55 = s.scratch.v.t55;
-          for (const C_Drop& t56 : a_obj2_53) {
-            render_Drop(s, t56, t55);
+          const std::vector<C2_Drop>& v12 = l_fallen1;
+          std::vector<Elem>& rendered13 = s.scratch.v.b2;
+          rendered13.clear();
+          const int32_t colour14 = colour_12_C3_Plant(s, x11);
+          rendered13.push_back(Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, colour14});
+          std::vector<std::vector<Elem>>& out15 = s.scratch.v.b3;
+          out15.clear();
+          out15.reserve(size_t(int32_t(v12.size())));
+          for (const C2_Drop& x16 : v12) {
+            std::vector<Elem> rendered17{};
+            render_C2_Drop(s, x16, rendered17);
+            out15.push_back(std::move(rendered17));
           }
-          const std::vector<Elem>& a_elems1_57 = t54;
-          const std::vector<Elem>& a_elems2_58 = t55;
-          const int32_t t59 = int32_t(a_elems1_57.size());
-          const bool t60 = t59 == int32_t(0);
-          bool t61 = true;
-          if (!(t60)) {
-            const int32_t t62 = int32_t(a_elems2_58.size());
-            const bool t63 = t62 == int32_t(0);
-            t61 = t63;
+          std::vector<Elem>& cat18 = s.scratch.v.b4;
+          cat18.clear();
+          for (const std::vector<Elem>& part19 : out15) {
+            cat18.insert(cat18.end(), part19.begin(), part19.end());
           }
-          bool t69;
-          if (t61) {
-            t69 = false;
+          const int32_t t20 = int32_t(rendered13.size());
+          const bool t21 = (t20 == int32_t(0));
+          bool r22{};
+          if (!t21) {
+            const int32_t t23 = int32_t(cat18.size());
+            const bool t24 = (t23 == int32_t(0));
+            r22 = t24;
           } else {
-            bool t64 = false;
-            for (const Elem& t64_x : a_elems1_57) {
-              const Elem& a_elem1_65 = t64_x;
-              bool t66 = false;
-              for (const Elem& t66_x : a_elems2_58) {
-                const Elem& a_elem2_67 = t66_x;
-                const bool t68 = a_elem1_65.position == a_elem2_67.position;
-                if (t68) { t66 = true; break; }
-              }
-              if (t66) { t64 = true; break; }
-            }
-            t69 = t64;
+            r22 = true;
           }
-          if (t69) {
-            const C_Plant& a_p_70 = t49;
-            // inlined: function at programs/garden.au:40
-            const int32_t t71 = int32_t(10);
-            const int32_t t72 = int32_t(3);
-            const int32_t t73 = add(a_p_70.f_stage, int32_t(1));
-            const int32_t& a_a_74 = t72;
-            const int32_t& a_b_75 = t73;
-            const bool t76 = a_a_74 < a_b_75;
-            int32_t t77;
-            if (t76) {
-              t77 = a_a_74;
-            } else {
-              t77 = a_b_75;
-            }
-            C_Plant t78 = a_p_70;
-            t78.f_stage = t77;
-            t48.push_back(t78);
+          bool r25{};
+          if (r22) {
+            r25 = false;
           } else {
-            t48.push_back(t49);
-          }
-        }
-        s.g_plants = std::move(t48);
-        s.u_plants = true;
-        const std::vector<C_Drop> t79 = v_fallen_47;
-        std::vector<C_Drop> t80;
-        for (const C_Drop& t80_x : t79) {
-          const C_Drop& a_w_81 = t80_x;
-          // inlined: function at programs/garden.au:51
-          const bool t82 = a_w_81.origin.y < int32_t(11);
-          bool t83 = false;
-          if ((t82)) {
-            if (!s.core.have_prev) fail("prev used before the first step");
-            const C_Drop& a_obj1_84 = a_w_81;
-            const std::vector<C_Plant>& a_obj2_85 = s.p_plants;
-            s.scratch.v.t86.clear();
-            std::vector<Elem>& t86 = s.scratch.v.t86;
-            render_Drop(s, a_obj1_84, t86);
-            s.scratch.v.t87.clear();
-            std::vector<Elem>& t87 = s.scratch.v.t87;
-            for (const C_Plant& t88 : a_obj2_85) {
-              render_Plant(s, t88, t87);
-            }
-            const std::vector<Elem>& a_elems1_89 = t86;
-            const std::vector<Elem>& a_elems2_90 = t87;
-            const int32_t t91 = int32_t(a_elems1_89.size());
-            const bool t92 = t91 == int32_t(0);
-            bool t93 = true;
-            if (!(t92)) {
-              const int32_t t94 = int32_t(a_elems2_90.size());
-              const bool t95 = t94 == int32_t(0);
-              t93 = t95;
-            }
-            bool t101;
-            if (t93) {
-              t101 = false;
-            } else {
-              bool t96 = false;
-              for (const Elem& t96_x : a_elems1_89) {
-                const Elem& a_elem1_97 = t96_x;
-                bool t98 = false;
-                for (const Elem& t98_x : a_elems2_90) {
-                  const Elem& a_elem2_99 = t98_x;
-                  const bool t100 = a_elem1_97.position == a_elem2_99.position;
-                  if (t100) { t98 = true; break; }
+            bool any26 = false;
+            for (const Elem& x27 : rendered13) {
+              bool any28 = false;
+              for (const Elem& x29 : cat18) {
+                const bool t30 = (x27.position == x29.position);
+                if (t30) {
+                  any28 = true;
+                  break;
                 }
-                if (t98) { t96 = true; break; }
               }
-              t101 = t96;
+              if (any28) {
+                any26 = true;
+                break;
+              }
             }
-            const bool t102 = !t101;
-            t83 = t102;
+            r25 = any26;
           }
-          if (t83) t80.push_back(t80_x);
-        }
-        s.g_drops = std::move(t80);
-        s.u_drops = true;
-      }
-    }
-    {  // on-clause 2, programs/garden.au:55
-      const C_Sun& t103 = s.g_sun;
-      if (t103.f_shining) {
-        s.core.covered[1] = 1;
-        const std::vector<C_Plant>& t104 = s.g_plants;
-        const std::vector<C_Plant>& t105_src = t104;
-        std::vector<C_Plant> t105;
-        t105.reserve(t105_src.size());
-        for (size_t t105_i = 0; t105_i < t105_src.size(); ++t105_i) {
-          const C_Plant& t106 = t105_src[t105_i];
-          const C_Plant& a_p_107 = t106;
-          // inlined: function at programs/garden.au:56
-          const C_Plant& a_p_108 = a_p_107;
-          // inlined: function at programs/garden.au:39
-          const bool t109 = a_p_108.f_stage == int32_t(3);
-          const bool t110 = !t109;
-          bool t111 = false;
-          if ((t110)) {
-            const std::vector<bool>& t112 = s.g_growChance;
-            if (t112.empty()) fail("uniformChoice of an empty list");
-            const bool t113 = t112[s.core.rng.next(t112.size())];
-            t111 = t113;
-          }
-          if (t111) {
-            const C_Plant& a_p_114 = t106;
+          if (r25) {
             // inlined: function at programs/garden.au:40
-            const int32_t t115 = int32_t(10);
-            const int32_t t116 = int32_t(3);
-            const int32_t t117 = add(a_p_114.f_stage, int32_t(1));
-            const int32_t& a_a_118 = t116;
-            const int32_t& a_b_119 = t117;
-            const bool t120 = a_a_118 < a_b_119;
-            int32_t t121;
-            if (t120) {
-              t121 = a_a_118;
+            const int32_t t31 = add(x11.f0, int32_t(1));
+            const bool t32 = (int32_t(3) < t31);
+            int32_t r33{};
+            if (t32) {
+              r33 = int32_t(3);
             } else {
-              t121 = a_b_119;
+              r33 = t31;
             }
-            C_Plant t122 = a_p_114;
-            t122.f_stage = t121;
-            t105.push_back(t122);
+            C3_Plant upd34 = x11;
+            upd34.f0 = r33;
+            updated10.push_back(std::move(upd34));
           } else {
-            t105.push_back(t106);
+            updated10.push_back(x11);
           }
         }
-        s.g_plants = std::move(t105);
-        s.u_plants = true;
+        s.g_plants_13 = std::move(updated10);
+        s.u_plants_14 = true;
+        const std::vector<C2_Drop>& v35 = l_fallen1;
+        std::vector<C2_Drop> out36{};
+        for (const C2_Drop& x37 : v35) {
+          // inlined: function at programs/garden.au:51
+          const bool t38 = (x37.origin.y < int32_t(11));
+          bool r39{};
+          if (t38) {
+            const std::vector<C3_Plant>& prev40 = s.p_plants_15;
+            std::vector<Elem>& rendered41 = s.scratch.v.b5;
+            rendered41.clear();
+            render_C2_Drop(s, x37, rendered41);
+            std::vector<std::vector<Elem>>& out42 = s.scratch.v.b6;
+            out42.clear();
+            out42.reserve(size_t(int32_t(prev40.size())));
+            for (const C3_Plant& x43 : prev40) {
+              std::vector<Elem> rendered44{};
+              const int32_t colour45 = colour_12_C3_Plant(s, x43);
+              rendered44.push_back(Elem{Pos{add(x43.origin.x, int32_t(0)), add(x43.origin.y, int32_t(0))}, colour45});
+              out42.push_back(std::move(rendered44));
+            }
+            std::vector<Elem>& cat46 = s.scratch.v.b7;
+            cat46.clear();
+            for (const std::vector<Elem>& part47 : out42) {
+              cat46.insert(cat46.end(), part47.begin(), part47.end());
+            }
+            const int32_t t48 = int32_t(rendered41.size());
+            const bool t49 = (t48 == int32_t(0));
+            bool r50{};
+            if (!t49) {
+              const int32_t t51 = int32_t(cat46.size());
+              const bool t52 = (t51 == int32_t(0));
+              r50 = t52;
+            } else {
+              r50 = true;
+            }
+            bool r53{};
+            if (r50) {
+              r53 = false;
+            } else {
+              bool any54 = false;
+              for (const Elem& x55 : rendered41) {
+                bool any56 = false;
+                for (const Elem& x57 : cat46) {
+                  const bool t58 = (x55.position == x57.position);
+                  if (t58) {
+                    any56 = true;
+                    break;
+                  }
+                }
+                if (any56) {
+                  any54 = true;
+                  break;
+                }
+              }
+              r53 = any54;
+            }
+            const bool t59 = !r53;
+            r39 = t59;
+          } else {
+            r39 = false;
+          }
+          if (r39) {
+            out36.push_back(x37);
+          }
+        }
+        s.g_drops_10 = std::move(out36);
+        s.u_drops_11 = true;
       }
     }
-    {  // on-clause 3, programs/garden.au:58
-      if (!s.core.have_prev) fail("prev used before the first step");
-      bool t123 = false;
-      if (s.core.click) {
-        s.core.click_defined = true;
-        s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-        s.scratch.v.t124.clear();
-        std::vector<Elem>& t124 = s.scratch.v.t124;
-        for (const C_Plant& t125 : s.p_plants) {
-          render_Plant(s, t125, t124);
-        }
-        for (const Elem& e : t124)
-          if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t123 = true; break; }
-      }
-      if (t123) {
-        s.core.covered[2] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        std::vector<C_Plant> t126;
-        for (const C_Plant& t126_x : s.p_plants) {
-          const C_Plant& a_p_127 = t126_x;
-          // inlined: function at programs/garden.au:60
-          bool t128 = false;
-          if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            s.scratch.v.t129.clear();
-            std::vector<Elem>& t129 = s.scratch.v.t129;
-            render_Plant(s, a_p_127, t129);
-            for (const Elem& e : t129)
-              if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t128 = true; break; }
-          }
-          if (t128) t126.push_back(t126_x);
-        }
-        bool t130 = false;
-        for (const C_Plant& t130_x : t126) {
-          const C_Plant& a_p_131 = t130_x;
+    // on-clause 2, programs/garden.au:55
+    {
+      const C1_Sun& g60 = s.g_sun_19;
+      if (g60.f0) {
+        s.core.covered[int32_t(1)] = 1;
+        const std::vector<C3_Plant>& g61 = s.g_plants_13;
+        std::vector<C3_Plant> updated62{};
+        updated62.reserve(size_t(int32_t(g61.size())));
+        for (const C3_Plant& x63 : g61) {
+          // inlined: function at programs/garden.au:56
           // inlined: function at programs/garden.au:39
-          const bool t132 = a_p_131.f_stage == int32_t(3);
-          if (t132) { t130 = true; break; }
-        }
-        C_Basket t144;
-        if (t130) {
-          const C_Basket& t133 = s.g_basket;
-          const int32_t t134 = int32_t(11);
-          const int32_t t135 = int32_t(12);
-          const C_Basket& t136 = s.g_basket;
-          const int32_t t137 = add(t136.f_picked, int32_t(1));
-          const int32_t& a_a_138 = t135;
-          const int32_t& a_b_139 = t137;
-          const bool t140 = a_a_138 < a_b_139;
-          int32_t t141;
-          if (t140) {
-            t141 = a_a_138;
+          const bool t64 = (x63.f0 == int32_t(3));
+          const bool t65 = !t64;
+          bool r66{};
+          if (t65) {
+            const std::vector<bool>& g67 = s.g_growChance_5;
+            if (g67.empty()) {
+              fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
+            }
+            const int32_t t68 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g67.size())))));
+            const bool t69 = g67[size_t(t68)];
+            r66 = t69;
           } else {
-            t141 = a_b_139;
+            r66 = false;
           }
-          C_Basket t142 = t133;
-          t142.f_picked = t141;
-          t144 = t142;
-        } else {
-          const C_Basket& t143 = s.g_basket;
-          t144 = t143;
-        }
-        s.g_basket = t144;
-        s.u_basket = true;
-        const std::vector<C_Plant>& t145 = s.g_plants;
-        std::vector<C_Plant> t146;
-        for (const C_Plant& t146_x : t145) {
-          const C_Plant& a_p_147 = t146_x;
-          // inlined: function at programs/garden.au:63
-          bool t148 = false;
-          if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            s.scratch.v.t149.clear();
-            std::vector<Elem>& t149 = s.scratch.v.t149;
-            render_Plant(s, a_p_147, t149);
-            for (const Elem& e : t149)
-              if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t148 = true; break; }
+          if (r66) {
+            // inlined: function at programs/garden.au:40
+            const int32_t t70 = add(x63.f0, int32_t(1));
+            const bool t71 = (int32_t(3) < t70);
+            int32_t r72{};
+            if (t71) {
+              r72 = int32_t(3);
+            } else {
+              r72 = t70;
+            }
+            C3_Plant upd73 = x63;
+            upd73.f0 = r72;
+            updated62.push_back(std::move(upd73));
+          } else {
+            updated62.push_back(x63);
           }
-          if (!(t148)) t146.push_back(t146_x);
         }
-        s.g_plants = std::move(t146);
-        s.u_plants = true;
+        s.g_plants_13 = std::move(updated62);
+        s.u_plants_14 = true;
       }
     }
-    {  // on-clause 4, programs/garden.au:66
-      bool t150 = false;
+    // on-clause 3, programs/garden.au:58
+    {
+      const std::vector<C3_Plant>& prev74 = s.p_plants_15;
+      bool clicked75 = false;
       if (s.core.click) {
-        s.core.click_defined = true;
-        s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-        t150 = true;
-      }
-      bool t151 = false;
-      if ((t150)) {
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t152 = s.core.click_pos;
-        const Pos& a_pos_153 = t152;
-        // inlined: function at programs/garden.au:41
-        const bool t154 = a_pos_153.y >= int32_t(2);
-        bool t155 = false;
-        if ((t154)) {
-          const bool t156 = a_pos_153.y <= int32_t(10);
-          t155 = t156;
+        s.d_click_23 = true;
+        s.g_click_22 = Pos{s.core.click_x, s.core.click_y};
+        std::vector<Elem>& rendered76 = s.scratch.v.b8;
+        rendered76.clear();
+        for (const C3_Plant& x77 : prev74) {
+          const int32_t colour78 = colour_12_C3_Plant(s, x77);
+          rendered76.push_back(Elem{Pos{add(x77.origin.x, int32_t(0)), add(x77.origin.y, int32_t(0))}, colour78});
         }
-        bool t157 = false;
-        if ((t155)) {
-          if (!s.core.click_defined) fail("undefined variable 'click'");
-          const Pos t158 = s.core.click_pos;
-          const bool t159 = s.core.occupied.free(t158);
-          bool t160 = false;
-          if ((t159)) {
-            const std::vector<C_Plant>& t161 = s.g_plants;
-            const int32_t t162 = int32_t(t161.size());
-            const int32_t t163 = s.g_maxPlants;
-            const bool t164 = t162 < t163;
-            t160 = t164;
+        const Pos t79 = Pos{s.core.click_x, s.core.click_y};
+        for (const Elem& e80 : rendered76) {
+          if ((e80.position == t79)) {
+            clicked75 = true;
+            break;
           }
-          t157 = t160;
         }
-        t151 = t157;
       }
-      if (t151) {
-        s.core.covered[3] = 1;
-        const std::vector<C_Plant>& t165 = s.g_plants;
-        const int32_t t166 = int32_t(0);
-        const std::vector<int32_t>& t167 = s.g_petals;
-        if (t167.empty()) fail("uniformChoice of an empty list");
-        const int32_t t168 = t167[s.core.rng.next(t167.size())];
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t169 = s.core.click_pos;
-        const int32_t t170 = t169.x;
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t171 = s.core.click_pos;
-        const int32_t t172 = t171.y;
-        const Pos t173 = Pos{t170, t172};
-        const C_Plant t174 = C_Plant{t166, t168, t173};
-        std::vector<C_Plant> t175;
-        t175.reserve(t165.size() + 1);
-        t175.assign(t165.begin(), t165.end());
-        t175.push_back(t174);
-        s.g_plants = std::move(t175);
-        s.u_plants = true;
-      }
-    }
-    {  // on-clause 5, programs/garden.au:69
-      if (s.core.left) {
-        s.core.covered[4] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t176 = neg(int32_t(1));
-        const C_Cloud& a_c_177 = s.p_cloud;
-        const int32_t& a_dx_178 = t176;
-        // inlined: function at programs/garden.au:42
-        const int32_t t179 = add(a_c_177.origin.x, a_dx_178);
-        int32_t v_nx_180 = t179;
-        const int32_t t181 = v_nx_180;
-        const bool t182 = t181 >= int32_t(1);
-        bool t183 = false;
-        if ((t182)) {
-          const int32_t t184 = v_nx_180;
-          const bool t185 = t184 <= int32_t(9);
-          t183 = t185;
+      if (clicked75) {
+        s.core.covered[int32_t(2)] = 1;
+        const std::vector<C3_Plant>& prev81 = s.p_plants_15;
+        std::vector<C3_Plant>& out82 = s.scratch.v.b9;
+        out82.clear();
+        for (const C3_Plant& x83 : prev81) {
+          // inlined: function at programs/garden.au:60
+          bool clicked84 = false;
+          if (s.core.click) {
+            s.d_click_23 = true;
+            s.g_click_22 = Pos{s.core.click_x, s.core.click_y};
+            std::vector<Elem>& rendered85 = s.scratch.v.b10;
+            rendered85.clear();
+            const int32_t colour86 = colour_12_C3_Plant(s, x83);
+            rendered85.push_back(Elem{Pos{add(x83.origin.x, int32_t(0)), add(x83.origin.y, int32_t(0))}, colour86});
+            const Pos t87 = Pos{s.core.click_x, s.core.click_y};
+            for (const Elem& e88 : rendered85) {
+              if ((e88.position == t87)) {
+                clicked84 = true;
+                break;
+              }
+            }
+          }
+          if (clicked84) {
+            out82.push_back(x83);
+          }
         }
-        C_Cloud t191;
-        if (t183) {
-          const int32_t t186 = int32_t(9);
-          const int32_t t187 = v_nx_180;
-          const int32_t t188 = int32_t(0);
-          const Pos t189 = Pos{t187, t188};
-          C_Cloud t190 = a_c_177;
-          t190.origin = t189;
-          t191 = t190;
+        bool any89 = false;
+        for (const C3_Plant& x90 : out82) {
+          // inlined: function at programs/garden.au:39
+          const bool t91 = (x90.f0 == int32_t(3));
+          if (t91) {
+            any89 = true;
+            break;
+          }
+        }
+        C4_Basket r92{};
+        if (any89) {
+          const C4_Basket& g93 = s.g_basket_7;
+          const C4_Basket& g94 = s.g_basket_7;
+          const int32_t t95 = add(g94.f0, int32_t(1));
+          const bool t96 = (int32_t(12) < t95);
+          int32_t r97{};
+          if (t96) {
+            r97 = int32_t(12);
+          } else {
+            r97 = t95;
+          }
+          C4_Basket upd98 = g93;
+          upd98.f0 = r97;
+          r92 = std::move(upd98);
         } else {
-          t191 = a_c_177;
+          const C4_Basket& g99 = s.g_basket_7;
+          r92 = g99;
         }
-        s.g_cloud = t191;
-        s.u_cloud = true;
+        s.g_basket_7 = std::move(r92);
+        s.u_basket_8 = true;
+        const std::vector<C3_Plant>& g100 = s.g_plants_13;
+        std::vector<C3_Plant> kept101{};
+        for (const C3_Plant& x102 : g100) {
+          // inlined: function at programs/garden.au:63
+          bool clicked103 = false;
+          if (s.core.click) {
+            s.d_click_23 = true;
+            s.g_click_22 = Pos{s.core.click_x, s.core.click_y};
+            std::vector<Elem>& rendered104 = s.scratch.v.b11;
+            rendered104.clear();
+            const int32_t colour105 = colour_12_C3_Plant(s, x102);
+            rendered104.push_back(Elem{Pos{add(x102.origin.x, int32_t(0)), add(x102.origin.y, int32_t(0))}, colour105});
+            const Pos t106 = Pos{s.core.click_x, s.core.click_y};
+            for (const Elem& e107 : rendered104) {
+              if ((e107.position == t106)) {
+                clicked103 = true;
+                break;
+              }
+            }
+          }
+          if (!clicked103) {
+            kept101.push_back(x102);
+          }
+        }
+        s.g_plants_13 = std::move(kept101);
+        s.u_plants_14 = true;
       }
     }
-    {  // on-clause 6, programs/garden.au:70
-      if (s.core.right) {
-        s.core.covered[5] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t192 = int32_t(1);
-        const C_Cloud& a_c_193 = s.p_cloud;
-        const int32_t& a_dx_194 = t192;
-        // inlined: function at programs/garden.au:42
-        const int32_t t195 = add(a_c_193.origin.x, a_dx_194);
-        int32_t v_nx_196 = t195;
-        const int32_t t197 = v_nx_196;
-        const bool t198 = t197 >= int32_t(1);
-        bool t199 = false;
-        if ((t198)) {
-          const int32_t t200 = v_nx_196;
-          const bool t201 = t200 <= int32_t(9);
-          t199 = t201;
-        }
-        C_Cloud t207;
-        if (t199) {
-          const int32_t t202 = int32_t(9);
-          const int32_t t203 = v_nx_196;
-          const int32_t t204 = int32_t(0);
-          const Pos t205 = Pos{t203, t204};
-          C_Cloud t206 = a_c_193;
-          t206.origin = t205;
-          t207 = t206;
+    // on-clause 4, programs/garden.au:66
+    {
+      bool clicked108 = false;
+      if (s.core.click) {
+        s.d_click_23 = true;
+        s.g_click_22 = Pos{s.core.click_x, s.core.click_y};
+        clicked108 = true;
+      }
+      bool r109{};
+      if (clicked108) {
+        Pos r110{};
+        if (s.d_click_23) {
+          const Pos& g111 = s.g_click_22;
+          r110 = g111;
         } else {
-          t207 = a_c_193;
+          fail_at(1, std::string() + std::string("undefined variable 'click'"));
         }
-        s.g_cloud = t207;
-        s.u_cloud = true;
+        // inlined: function at programs/garden.au:41
+        const bool t112 = (r110.y >= int32_t(2));
+        bool r113{};
+        if (t112) {
+          const bool t114 = (r110.y <= int32_t(10));
+          r113 = t114;
+        } else {
+          r113 = false;
+        }
+        bool r115{};
+        if (r113) {
+          Pos r116{};
+          if (s.d_click_23) {
+            const Pos& g117 = s.g_click_22;
+            r116 = g117;
+          } else {
+            fail_at(2, std::string() + std::string("undefined variable 'click'"));
+          }
+          const bool t118 = s.core.occupied.free(r116);
+          bool r119{};
+          if (t118) {
+            const std::vector<C3_Plant>& g120 = s.g_plants_13;
+            const int32_t t121 = int32_t(g120.size());
+            const bool t122 = (t121 < int32_t(20));
+            r119 = t122;
+          } else {
+            r119 = false;
+          }
+          r115 = r119;
+        } else {
+          r115 = false;
+        }
+        r109 = r115;
+      } else {
+        r109 = false;
+      }
+      if (r109) {
+        s.core.covered[int32_t(3)] = 1;
+        const std::vector<C3_Plant>& g123 = s.g_plants_13;
+        const std::vector<int32_t>& g124 = s.g_petals_4;
+        if (g124.empty()) {
+          fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t125 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g124.size())))));
+        const int32_t t126 = g124[size_t(t125)];
+        Pos r127{};
+        if (s.d_click_23) {
+          const Pos& g128 = s.g_click_22;
+          r127 = g128;
+        } else {
+          fail_at(4, std::string() + std::string("undefined variable 'click'"));
+        }
+        Pos r129{};
+        if (s.d_click_23) {
+          const Pos& g130 = s.g_click_22;
+          r129 = g130;
+        } else {
+          fail_at(5, std::string() + std::string("undefined variable 'click'"));
+        }
+        const Pos t131 = Pos{r127.x, r129.y};
+        CellV l_allCells132{};
+        const CellV t133 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
+        l_allCells132 = t133;
+        const CellV& v134 = l_allCells132;
+        const CellV& v135 = l_allCells132;
+        const std::vector<CellV> list136 = std::vector<CellV>{v135};
+        C3_Plant o137 = C3_Plant{int32_t(0), t126, t131};
+        std::vector<C3_Plant> added138{};
+        added138.reserve(size_t(add(int32_t(g123.size()), int32_t(1))));
+        for (const C3_Plant& x139 : g123) {
+          added138.push_back(x139);
+        }
+        added138.push_back(std::move(o137));
+        s.g_plants_13 = std::move(added138);
+        s.u_plants_14 = true;
       }
     }
-    {  // on-clause 7, programs/garden.au:71
-      if (s.core.down) {
-        s.core.covered[6] = 1;
-        const std::vector<C_Drop>& t208 = s.g_drops;
-        const C_Cloud& t209 = s.g_cloud;
-        const int32_t t210 = neg(int32_t(1));
-        const std::vector<int32_t> t211 = std::vector<int32_t>{t210, int32_t(0), int32_t(1)};
-        if (t211.empty()) fail("uniformChoice of an empty list");
-        const int32_t t212 = t211[s.core.rng.next(t211.size())];
-        const int32_t t213 = add(t209.origin.x, t212);
-        const int32_t t214 = int32_t(1);
-        const Pos t215 = Pos{t213, t214};
-        const C_Drop t216 = C_Drop{t215};
-        std::vector<C_Drop> t217;
-        t217.reserve(t208.size() + 1);
-        t217.assign(t208.begin(), t208.end());
-        t217.push_back(t216);
-        s.g_drops = std::move(t217);
-        s.u_drops = true;
+    // on-clause 5, programs/garden.au:69
+    {
+      const bool t140 = s.core.left;
+      if (t140) {
+        s.core.covered[int32_t(4)] = 1;
+        const C0_Cloud& prev141 = s.p_cloud_18;
+        // inlined: function at programs/garden.au:42
+        int32_t l_nx142{};
+        const int32_t t143 = add(prev141.origin.x, int32_t(-1));
+        l_nx142 = t143;
+        const int32_t& v144 = l_nx142;
+        const bool t145 = (v144 >= int32_t(1));
+        bool r146{};
+        if (t145) {
+          const int32_t& v147 = l_nx142;
+          const bool t148 = (v147 <= int32_t(9));
+          r146 = t148;
+        } else {
+          r146 = false;
+        }
+        C0_Cloud r149{};
+        if (r146) {
+          const int32_t& v150 = l_nx142;
+          const Pos t151 = Pos{v150, int32_t(0)};
+          C0_Cloud upd152 = prev141;
+          upd152.origin = t151;
+          r149 = std::move(upd152);
+        } else {
+          r149 = prev141;
+        }
+        s.g_cloud_16 = std::move(r149);
+        s.u_cloud_17 = true;
       }
     }
-    {  // on-clause 8, programs/garden.au:72
-      if (s.core.up) {
-        s.core.covered[7] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t218 = int32_t(12);
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const bool t219 = !s.p_sun.f_shining;
-        C_Sun t220 = s.p_sun;
-        t220.f_shining = t219;
-        s.g_sun = t220;
-        s.u_sun = true;
+    // on-clause 6, programs/garden.au:70
+    {
+      const bool t153 = s.core.right;
+      if (t153) {
+        s.core.covered[int32_t(5)] = 1;
+        const C0_Cloud& prev154 = s.p_cloud_18;
+        // inlined: function at programs/garden.au:42
+        int32_t l_nx155{};
+        const int32_t t156 = add(prev154.origin.x, int32_t(1));
+        l_nx155 = t156;
+        const int32_t& v157 = l_nx155;
+        const bool t158 = (v157 >= int32_t(1));
+        bool r159{};
+        if (t158) {
+          const int32_t& v160 = l_nx155;
+          const bool t161 = (v160 <= int32_t(9));
+          r159 = t161;
+        } else {
+          r159 = false;
+        }
+        C0_Cloud r162{};
+        if (r159) {
+          const int32_t& v163 = l_nx155;
+          const Pos t164 = Pos{v163, int32_t(0)};
+          C0_Cloud upd165 = prev154;
+          upd165.origin = t164;
+          r162 = std::move(upd165);
+        } else {
+          r162 = prev154;
+        }
+        s.g_cloud_16 = std::move(r162);
+        s.u_cloud_17 = true;
       }
     }
-    if (!s.u_basket) {  // NEXT of basket, programs/garden.au:37
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_basket = s.p_basket;
+    // on-clause 7, programs/garden.au:71
+    {
+      const bool t166 = s.core.down;
+      if (t166) {
+        s.core.covered[int32_t(6)] = 1;
+        const std::vector<C2_Drop>& g167 = s.g_drops_10;
+        const C0_Cloud& g168 = s.g_cloud_16;
+        if (std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)}.empty()) {
+          fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t169 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)}.size())))));
+        const int32_t t170 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)}[size_t(t169)];
+        const int32_t t171 = add(g168.origin.x, t170);
+        const Pos t172 = Pos{t171, int32_t(1)};
+        CellV l_allCells173{};
+        const CellV t174 = CellV{int32_t(0), int32_t(0), int32_t(14), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(17))};
+        l_allCells173 = t174;
+        const CellV& v175 = l_allCells173;
+        const CellV& v176 = l_allCells173;
+        const std::vector<CellV> list177 = std::vector<CellV>{v176};
+        C2_Drop o178 = C2_Drop{t172, list177};
+        std::vector<C2_Drop> added179{};
+        added179.reserve(size_t(add(int32_t(g167.size()), int32_t(1))));
+        for (const C2_Drop& x180 : g167) {
+          added179.push_back(x180);
+        }
+        added179.push_back(std::move(o178));
+        s.g_drops_10 = std::move(added179);
+        s.u_drops_11 = true;
+      }
     }
-    if (!s.u_drops) {  // NEXT of drops, programs/garden.au:34
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_drops = s.p_drops;
+    // on-clause 8, programs/garden.au:72
+    {
+      const bool t181 = s.core.up;
+      if (t181) {
+        s.core.covered[int32_t(7)] = 1;
+        const C1_Sun& prev182 = s.p_sun_21;
+        const C1_Sun& prev183 = s.p_sun_21;
+        const bool t184 = !prev183.f0;
+        C1_Sun upd185 = prev182;
+        upd185.f0 = t184;
+        s.g_sun_19 = std::move(upd185);
+        s.u_sun_20 = true;
+      }
     }
-    if (!s.u_plants) {  // NEXT of plants, programs/garden.au:31
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_plants = s.p_plants;
+    // NEXT of basket, programs/garden.au:37
+    if (!s.u_basket_8) {
+      const C4_Basket& prev186 = s.p_basket_9;
+      s.g_basket_7 = prev186;
+      s.u_basket_8 = true;
     }
-    if (!s.u_cloud) {  // NEXT of cloud, programs/garden.au:28
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_cloud = s.p_cloud;
+    // NEXT of drops, programs/garden.au:34
+    if (!s.u_drops_11) {
+      const std::vector<C2_Drop>& prev187 = s.p_drops_12;
+      s.g_drops_10 = prev187;
+      s.u_drops_11 = true;
     }
-    if (!s.u_sun) {  // NEXT of sun, programs/garden.au:25
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_sun = s.p_sun;
+    // NEXT of plants, programs/garden.au:31
+    if (!s.u_plants_14) {
+      const std::vector<C3_Plant>& prev188 = s.p_plants_15;
+      s.g_plants_13 = prev188;
+      s.u_plants_14 = true;
     }
-    s.core.click = s.core.left = s.core.right = s.core.up = s.core.down = false;
+    // NEXT of cloud, programs/garden.au:28
+    if (!s.u_cloud_17) {
+      const C0_Cloud& prev189 = s.p_cloud_18;
+      s.g_cloud_16 = prev189;
+      s.u_cloud_17 = true;
+    }
+    // NEXT of sun, programs/garden.au:25
+    if (!s.u_sun_20) {
+      const C1_Sun& prev190 = s.p_sun_21;
+      s.g_sun_19 = prev190;
+      s.u_sun_20 = true;
+    }
+    s.core.clear_inputs();
   }
-
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
+    (void)s;
+    (void)paint;
+    (void)pal;
     s.core.occupied.clear(kGrid);
-    std::vector<Elem>& elems = s.scratch.v.render_elems;
-    if (paint) paint->begin(kGrid, pal[s.g_background]);
-    elems.clear();
-    render_Sun(s, s.g_sun, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    std::vector<Elem>& elems1 = s.scratch.v.b12;
+    elems1.clear();
+    elems1.clear();
+    const C1_Sun& g2 = s.g_sun_19;
+    const int32_t colour3 = colour_16_C1_Sun(s, g2);
+    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, colour3});
+    for (const Elem& e4 : elems1) {
+      s.core.occupied.add(e4.position);
+      if (paint) paint->paint(e4.position, pal[e4.color]);
     }
-    elems.clear();
-    render_Cloud(s, s.g_cloud, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    elems1.clear();
+    const C0_Cloud& g5 = s.g_cloud_16;
+    elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(-1)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
+    elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
+    elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(1)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
+    for (const Elem& e6 : elems1) {
+      s.core.occupied.add(e6.position);
+      if (paint) paint->paint(e6.position, pal[e6.color]);
     }
-    elems.clear();
-    for (const C_Plant& t269 : s.g_plants) {
-      render_Plant(s, t269, elems);
+    elems1.clear();
+    const std::vector<C3_Plant>& g7 = s.g_plants_13;
+    for (const C3_Plant& x8 : g7) {
+      const int32_t colour9 = colour_12_C3_Plant(s, x8);
+      elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e10 : elems1) {
+      s.core.occupied.add(e10.position);
+      if (paint) paint->paint(e10.position, pal[e10.color]);
     }
-    elems.clear();
-    for (const C_Drop& t270 : s.g_drops) {
-      render_Drop(s, t270, elems);
+    elems1.clear();
+    const std::vector<C2_Drop>& g11 = s.g_drops_10;
+    for (const C2_Drop& x12 : g11) {
+      render_C2_Drop(s, x12, elems1);
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e13 : elems1) {
+      s.core.occupied.add(e13.position);
+      if (paint) paint->paint(e13.position, pal[e13.color]);
     }
-    elems.clear();
-    render_Basket(s, s.g_basket, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    elems1.clear();
+    const C4_Basket& g14 = s.g_basket_7;
+    render_C4_Basket(s, g14, elems1);
+    for (const Elem& e15 : elems1) {
+      s.core.occupied.add(e15.position);
+      if (paint) paint->paint(e15.position, pal[e15.color]);
     }
   }
-
   static uint64_t hash(const State& s) {
     Hash h;
     hash_core(h, s.core, kUsesRandom);
-    hash_value(h, s.g_GRID_SIZE);
-    hash_value(h, s.g_FRAME_RATE);
-    hash_value(h, s.g_background);
-    hash_value(h, s.g_petals);
-    hash_value(h, s.g_growChance);
-    hash_value(h, s.g_maxPlants);
-    hash_value(h, s.g_sun);
-    hash_value(h, s.g_cloud);
-    hash_value(h, s.g_plants);
-    hash_value(h, s.g_drops);
-    hash_value(h, s.g_basket);
+    hash_value(h, s.g_GRID_SIZE_0);
+    hash_value(h, s.g_FRAME_RATE_1);
+    hash_value(h, s.g_background_2);
+    hash_value(h, s.g_SpecialConditionTriggered_3);
+    hash_value(h, s.g_petals_4);
+    hash_value(h, s.g_growChance_5);
+    hash_value(h, s.g_maxPlants_6);
+    hash_value(h, s.g_basket_7);
+    hash_value(h, s.g_drops_10);
+    hash_value(h, s.g_plants_13);
+    hash_value(h, s.g_cloud_16);
+    hash_value(h, s.g_sun_19);
+    hash_value(h, s.g_click_22);
+    hash_value(h, s.d_click_23);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
     (void)s;
     (void)w;
-    save_value(w, s.g_GRID_SIZE);
-    save_value(w, s.g_FRAME_RATE);
-    save_value(w, s.g_background);
-    save_value(w, s.g_petals);
-    save_value(w, s.g_growChance);
-    save_value(w, s.g_maxPlants);
-    save_value(w, s.g_sun);
-    save_value(w, s.g_cloud);
-    save_value(w, s.g_plants);
-    save_value(w, s.g_drops);
-    save_value(w, s.g_basket);
+    save_value(w, s.g_GRID_SIZE_0);
+    save_value(w, s.g_FRAME_RATE_1);
+    save_value(w, s.g_background_2);
+    save_value(w, s.g_SpecialConditionTriggered_3);
+    save_value(w, s.g_petals_4);
+    save_value(w, s.g_growChance_5);
+    save_value(w, s.g_maxPlants_6);
+    save_value(w, s.g_basket_7);
+    save_value(w, s.g_drops_10);
+    save_value(w, s.g_plants_13);
+    save_value(w, s.g_cloud_16);
+    save_value(w, s.g_sun_19);
+    save_value(w, s.g_click_22);
+    save_value(w, s.d_click_23);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
     (void)r;
-    load_value(r, s.g_GRID_SIZE);
-    load_value(r, s.g_FRAME_RATE);
-    load_value(r, s.g_background);
-    load_value(r, s.g_petals);
-    load_value(r, s.g_growChance);
-    load_value(r, s.g_maxPlants);
-    load_value(r, s.g_sun);
-    load_value(r, s.g_cloud);
-    load_value(r, s.g_plants);
-    load_value(r, s.g_drops);
-    load_value(r, s.g_basket);
+    load_value(r, s.g_GRID_SIZE_0);
+    load_value(r, s.g_FRAME_RATE_1);
+    load_value(r, s.g_background_2);
+    load_value(r, s.g_SpecialConditionTriggered_3);
+    load_value(r, s.g_petals_4);
+    load_value(r, s.g_growChance_5);
+    load_value(r, s.g_maxPlants_6);
+    load_value(r, s.g_basket_7);
+    load_value(r, s.g_drops_10);
+    load_value(r, s.g_plants_13);
+    load_value(r, s.g_cloud_16);
+    load_value(r, s.g_sun_19);
+    load_value(r, s.g_click_22);
+    load_value(r, s.d_click_23);
   }
 };
 
 const char* const Prog::kColours[] = {
     "black",
-    "lightsteelblue",
-    "deepskyblue",
     "saddlebrown",
     "red",
     "yellow",
     "orange",
     "pink",
     "white",
+    "lightsteelblue",
     "origin",
-    "stage",
-    "picked",
-    "shining",
-    "gold",
-    "slateblue",
     "tan",
     "lightgreen",
     "green",
+    "stage",
+    "picked",
+    "deepskyblue",
+    "shining",
+    "gold",
+    "slateblue",
     "orchid",
     "peru",
     nullptr};
+
+const ErrorSite Prog::kErrors[] = {
+    {56, 61, nullptr, true, 56, 61, ""},
+    {66, 27, nullptr, true, 66, 27, ""},
+    {66, 48, nullptr, true, 66, 48, ""},
+    {67, 39, nullptr, true, 67, 39, ""},
+    {67, 76, nullptr, true, 67, 76, ""},
+    {67, 89, nullptr, true, 67, 89, ""},
+    {71, 79, nullptr, true, 71, 79, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {
   std::unique_ptr<autumn::Environment> operator()() const {

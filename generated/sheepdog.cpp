@@ -23,1745 +23,1701 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 16;
   static const char* const kColours[];
+  static const ErrorSite kErrors[];
 
-  struct C_Fence {
+  struct C0_Fence {
     Pos origin;
+    friend void hash_value(Hash& h, const C0_Fence& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C0_Fence& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C0_Fence& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Fence& a, const C_Fence& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Fence& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Fence& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Fence& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Flag {
+  struct C1_Flag {
     Pos origin;
+    friend void hash_value(Hash& h, const C1_Flag& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C1_Flag& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C1_Flag& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Flag& a, const C_Flag& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Flag& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Flag& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Flag& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Sheep {
-    bool f_penned;
+  struct C2_Sheep {
+    bool f0;
     Pos origin;
+    friend void hash_value(Hash& h, const C2_Sheep& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C2_Sheep& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C2_Sheep& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Sheep& a, const C_Sheep& b) {
-    return true && a.f_penned == b.f_penned && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Sheep& v) {
-    hash_value(h, v.f_penned);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Sheep& v) {
-    save_value(w, v.f_penned);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Sheep& v) {
-    load_value(r, v.f_penned);
-    load_value(r, v.origin);
-  }
-  struct C_Dog {
+  struct C3_Dog {
     Pos origin;
+    friend void hash_value(Hash& h, const C3_Dog& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C3_Dog& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C3_Dog& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Dog& a, const C_Dog& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Dog& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Dog& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Dog& v) {
-    load_value(r, v.origin);
-  }
 
-  // Working buffers, one per place that builds a short-lived list.
   struct Scratch {
-    std::vector<Elem> render_elems;
-    std::vector<Pos> t58;
-    std::vector<Elem> t98;
-    std::vector<Elem> t116;
-    std::vector<Elem> t118;
-    std::vector<Elem> t166;
-    std::vector<Elem> t184;
-    std::vector<Elem> t186;
-    std::vector<Elem> t240;
-    std::vector<Elem> t258;
-    std::vector<Elem> t260;
-    std::vector<Elem> t308;
-    std::vector<Elem> t326;
-    std::vector<Elem> t328;
-    std::vector<Elem> t440;
-    std::vector<Elem> t442;
-    std::vector<Elem> t501;
-    std::vector<Elem> t503;
-    std::vector<Elem> t571;
-    std::vector<Elem> t687;
-    std::vector<Elem> t749;
-    std::vector<Elem> t930;
-    std::vector<Elem> t995;
-    std::vector<Elem> t1085;
+    std::vector<Pos> b0;
+    std::vector<Pos> b1;
+    std::vector<Elem> b2;
+    std::vector<Elem> b3;
+    std::vector<Elem> b4;
+    std::vector<Elem> b5;
+    std::vector<Elem> b6;
+    std::vector<Elem> b7;
+    std::vector<Elem> b8;
+    std::vector<Elem> b9;
+    std::vector<Elem> b10;
+    std::vector<Elem> b11;
+    std::vector<Elem> b12;
+    std::vector<Elem> b13;
+    std::vector<Elem> b14;
+    std::vector<Elem> b15;
+    std::vector<Elem> b16;
+    std::vector<Elem> b17;
+    std::vector<Elem> b18;
+    std::vector<Elem> b19;
+    std::vector<Elem> b20;
+    std::vector<Elem> b21;
+    std::vector<Elem> b22;
+    std::vector<Elem> b23;
+    std::vector<Elem> b24;
+    std::vector<Elem> b25;
+    std::vector<Elem> b26;
+    std::vector<Elem> b27;
+    std::vector<Elem> b28;
   };
-
   struct State {
     Core core;
     NoCopy<Scratch> scratch;
-    int32_t g_GRID_SIZE{};
-    int32_t g_FRAME_RATE{};
-    int32_t g_background{};
-    std::vector<Pos> g_sheepStarts{};
-    std::vector<Pos> g_wanderSteps{};
-    std::vector<Pos> g_gate{};
-    std::vector<C_Fence> g_fences{};
-    bool u_fences = false;
-    std::vector<C_Fence> p_fences{};
-    std::vector<C_Flag> g_flags{};
-    bool u_flags = false;
-    std::vector<C_Flag> p_flags{};
-    std::vector<C_Sheep> g_sheep{};
-    bool u_sheep = false;
-    std::vector<C_Sheep> p_sheep{};
-    C_Dog g_dog{};
-    bool u_dog = false;
-    C_Dog p_dog{};
+    int32_t g_GRID_SIZE_0{};
+    int32_t g_FRAME_RATE_1{};
+    int32_t g_background_2{};
+    bool g_SpecialConditionTriggered_3{};
+    std::vector<Pos> g_sheepStarts_4{};
+    std::vector<Pos> g_wanderSteps_5{};
+    std::vector<Pos> g_gate_6{};
+    std::vector<C2_Sheep> g_sheep_7{};
+    bool u_sheep_8{};
+    std::vector<C2_Sheep> p_sheep_9{};
+    std::vector<C1_Flag> g_flags_10{};
+    bool u_flags_11{};
+    std::vector<C1_Flag> p_flags_12{};
+    C3_Dog g_dog_13{};
+    bool u_dog_14{};
+    C3_Dog p_dog_15{};
+    std::vector<C0_Fence> g_fences_16{};
+    bool u_fences_17{};
+    std::vector<C0_Fence> p_fences_18{};
+    Pos g_click_19{};
+    bool d_click_20{};
   };
 
-  static int32_t colour_Sheep_0(State& s, const C_Sheep& o) {
+  static int32_t colour_0_C2_Sheep(State& s, const C2_Sheep& o1) {
     (void)s;
-  const bool t1092 = o.f_penned;
-  int32_t t1093;
-  if (t1092) {
-    t1093 = int32_t(7);
-  } else {
-    t1093 = int32_t(8);
+    int32_t r2{};
+    if (o1.f0) {
+      r2 = int32_t(5);
+    } else {
+      r2 = int32_t(6);
+    }
+    return r2;
+    return {};
   }
-    return t1093;
-  }
-  static void render_Fence(State& s, const C_Fence& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 1});
-  }
-  static void render_Flag(State& s, const C_Flag& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 2});
-  }
-  static void render_Sheep(State& s, const C_Sheep& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Sheep_0(s, o)});
-  }
-  static void render_Dog(State& s, const C_Dog& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 0});
-  }
-
   static void start(State& s, uint64_t seed) {
-    s.core.rng.reseed(seed);
-    s.core.covered.assign(10, 0);
-    s.g_GRID_SIZE = int32_t(16);
-    s.g_FRAME_RATE = int32_t(8);
-    s.g_background = int32_t(0);
-    const int32_t t1 = int32_t(16);
-    s.g_GRID_SIZE = t1;
-    const int32_t t2 = int32_t(3);
-    s.g_background = t2;
-    const int32_t t3 = int32_t(2);
-    const int32_t t4 = int32_t(12);
-    const Pos t5 = Pos{t3, t4};
-    const int32_t t6 = int32_t(4);
-    const int32_t t7 = int32_t(9);
-    const Pos t8 = Pos{t6, t7};
-    const int32_t t9 = int32_t(6);
-    const int32_t t10 = int32_t(13);
-    const Pos t11 = Pos{t9, t10};
-    const int32_t t12 = int32_t(3);
-    const int32_t t13 = int32_t(6);
-    const Pos t14 = Pos{t12, t13};
-    const int32_t t15 = int32_t(7);
-    const int32_t t16 = int32_t(10);
-    const Pos t17 = Pos{t15, t16};
-    const std::vector<Pos> t18 = std::vector<Pos>{t5, t8, t11, t14, t17};
-    s.g_sheepStarts = t18;
-    const int32_t t19 = int32_t(0);
-    const int32_t t20 = int32_t(0);
-    const Pos t21 = Pos{t19, t20};
-    const int32_t t22 = int32_t(0);
-    const int32_t t23 = int32_t(0);
-    const Pos t24 = Pos{t22, t23};
-    const int32_t t25 = int32_t(0);
-    const int32_t t26 = int32_t(0);
-    const Pos t27 = Pos{t25, t26};
-    const int32_t t28 = neg(int32_t(1));
-    const int32_t t29 = int32_t(0);
-    const Pos t30 = Pos{t28, t29};
-    const int32_t t31 = int32_t(1);
-    const int32_t t32 = int32_t(0);
-    const Pos t33 = Pos{t31, t32};
-    const int32_t t34 = int32_t(0);
-    const int32_t t35 = neg(int32_t(1));
-    const Pos t36 = Pos{t34, t35};
-    const int32_t t37 = int32_t(0);
-    const int32_t t38 = int32_t(1);
-    const Pos t39 = Pos{t37, t38};
-    const std::vector<Pos> t40 = std::vector<Pos>{t21, t24, t27, t30, t33, t36, t39};
-    s.g_wanderSteps = t40;
-    const int32_t t41 = int32_t(12);
-    const int32_t t42 = int32_t(5);
-    const Pos t43 = Pos{t41, t42};
-    const int32_t t44 = int32_t(13);
-    const int32_t t45 = int32_t(5);
-    const Pos t46 = Pos{t44, t45};
-    const std::vector<Pos> t47 = std::vector<Pos>{t43, t46};
-    s.g_gate = t47;
+    (void)s;
+    s.core.start(seed, kOnClauses);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_FRAME_RATE_1 = int32_t(8);
+    s.g_background_2 = int32_t(0);
+    s.g_SpecialConditionTriggered_3 = false;
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_background_2 = int32_t(1);
+    s.g_sheepStarts_4 = std::vector<Pos>{Pos{int32_t(2), int32_t(12)}, Pos{int32_t(4), int32_t(9)}, Pos{int32_t(6), int32_t(13)}, Pos{int32_t(3), int32_t(6)}, Pos{int32_t(7), int32_t(10)}};
+    s.g_wanderSteps_5 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(0), int32_t(0)}, Pos{int32_t(0), int32_t(0)}, Pos{int32_t(-1), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(0), int32_t(-1)}, Pos{int32_t(0), int32_t(1)}};
+    s.g_gate_6 = std::vector<Pos>{Pos{int32_t(12), int32_t(5)}, Pos{int32_t(13), int32_t(5)}};
     // init sheep, programs/sheepdog.au:34
-    const std::vector<Pos>& t48 = s.g_sheepStarts;
-    std::vector<C_Sheep> t49;
-    t49.reserve(t48.size());
-    for (const Pos& t49_x : t48) {
-      const Pos& a_p_50 = t49_x;
+    const std::vector<Pos>& g1 = s.g_sheepStarts_4;
+    std::vector<C2_Sheep> out2{};
+    out2.reserve(size_t(int32_t(g1.size())));
+    for (const Pos& x3 : g1) {
       // inlined: function at programs/sheepdog.au:34
-      const bool t51 = false;
-      const C_Sheep t52 = C_Sheep{t51, a_p_50};
-      t49.push_back(t52);
+      CellV l_allCells4{};
+      const CellV t5 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+      l_allCells4 = t5;
+      const CellV& v6 = l_allCells4;
+      const CellV& v7 = l_allCells4;
+      const std::vector<CellV> list8 = std::vector<CellV>{v7};
+      C2_Sheep o9 = C2_Sheep{false, x3};
+      out2.push_back(std::move(o9));
     }
-    s.g_sheep = t49;
+    s.g_sheep_7 = std::move(out2);
+    s.u_sheep_8 = false;
     // init flags, programs/sheepdog.au:31
-    s.g_flags = {};
+    s.g_flags_10 = std::vector<C1_Flag>{};
+    s.u_flags_11 = false;
     // init dog, programs/sheepdog.au:37
-    const int32_t t53 = int32_t(1);
-    const int32_t t54 = int32_t(14);
-    const Pos t55 = Pos{t53, t54};
-    const C_Dog t56 = C_Dog{t55};
-    s.g_dog = t56;
+    CellV l_allCells10{};
+    const CellV t11 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(1))};
+    l_allCells10 = t11;
+    const CellV& v12 = l_allCells10;
+    const CellV& v13 = l_allCells10;
+    const std::vector<CellV> list14 = std::vector<CellV>{v13};
+    C3_Dog o15 = C3_Dog{Pos{int32_t(1), int32_t(14)}};
+    s.g_dog_13 = std::move(o15);
+    s.u_dog_14 = false;
     // init fences, programs/sheepdog.au:26
-    const int32_t t57 = s.g_GRID_SIZE;
-    if (t57 < 0 || t57 < 0) fail("allPositions: negative size");
-    s.scratch.v.t58.clear();
-    std::vector<Pos>& t58 = s.scratch.v.t58;
-    for (int32_t i = 0; i < t57; ++i) for (int32_t j = 0; j < t57; ++j) t58.push_back(Pos{i, j});
-    std::vector<Pos> t59;
-    for (const Pos& t59_x : t58) {
-      const Pos& a_p_60 = t59_x;
+    if ((int32_t(16) < int32_t(0))) {
+      fail_at(0, std::string() + std::string("allPositions: negative size"));
+    }
+    std::vector<Pos>& apos16 = s.scratch.v.b0;
+    apos16.clear();
+    for (int32_t i17 = int32_t(0), i17_end = int32_t(16); i17 < i17_end; ++i17) {
+      for (int32_t j18 = int32_t(0), j18_end = int32_t(16); j18 < j18_end; ++j18) {
+        const Pos t19 = Pos{i17, j18};
+        apos16.push_back(t19);
+      }
+    }
+    std::vector<Pos>& out20 = s.scratch.v.b1;
+    out20.clear();
+    for (const Pos& x21 : apos16) {
       // inlined: function at programs/sheepdog.au:48
-      const Pos& a_p_61 = a_p_60;
       // inlined: function at programs/sheepdog.au:21
-      const bool t62 = a_p_61.x >= int32_t(10);
-      bool t63 = false;
-      if ((t62)) {
-        const bool t64 = a_p_61.y <= int32_t(5);
-        t63 = t64;
+      const bool t22 = (x21.x >= int32_t(10));
+      bool r23{};
+      if (t22) {
+        const bool t24 = (x21.y <= int32_t(5));
+        r23 = t24;
+      } else {
+        r23 = false;
       }
-      bool t65 = false;
-      if ((t63)) {
-        const bool t66 = a_p_61.x == int32_t(10);
-        bool t67 = true;
-        if (!(t66)) {
-          const bool t68 = a_p_61.x == int32_t(15);
-          t67 = t68;
+      bool r25{};
+      if (r23) {
+        const bool t26 = (x21.x == int32_t(10));
+        bool r27{};
+        if (!t26) {
+          const bool t28 = (x21.x == int32_t(15));
+          r27 = t28;
+        } else {
+          r27 = true;
         }
-        bool t69 = true;
-        if (!(t67)) {
-          const bool t70 = a_p_61.y == int32_t(0);
-          bool t71 = true;
-          if (!(t70)) {
-            const bool t72 = a_p_61.y == int32_t(5);
-            t71 = t72;
+        bool r29{};
+        if (!r27) {
+          const bool t30 = (x21.y == int32_t(0));
+          bool r31{};
+          if (!t30) {
+            const bool t32 = (x21.y == int32_t(5));
+            r31 = t32;
+          } else {
+            r31 = true;
           }
-          t69 = t71;
+          r29 = r31;
+        } else {
+          r29 = true;
         }
-        t65 = t69;
+        r25 = r29;
+      } else {
+        r25 = false;
       }
-      bool t73 = false;
-      if ((t65)) {
-        const std::vector<Pos>& t74 = s.g_gate;
-        const Pos& a_e_75 = a_p_60;
-        const std::vector<Pos>& a_l_76 = t74;
-        bool t77 = false;
-        for (const Pos& t77_x : a_l_76) {
-          const Pos& a_x_78 = t77_x;
-          const bool t79 = a_x_78 == a_e_75;
-          if (t79) { t77 = true; break; }
+      bool r33{};
+      if (r25) {
+        const std::vector<Pos>& g34 = s.g_gate_6;
+        bool any35 = false;
+        for (const Pos& x36 : g34) {
+          const bool t37 = (x36 == x21);
+          if (t37) {
+            any35 = true;
+            break;
+          }
         }
-        const bool t80 = !t77;
-        t73 = t80;
+        const bool t38 = !any35;
+        r33 = t38;
+      } else {
+        r33 = false;
       }
-      if (t73) t59.push_back(t59_x);
+      if (r33) {
+        out20.push_back(x21);
+      }
     }
-    std::vector<C_Fence> t81;
-    t81.reserve(t59.size());
-    for (const Pos& t81_x : t59) {
-      const Pos& a_p_82 = t81_x;
+    std::vector<C0_Fence> out39{};
+    out39.reserve(size_t(int32_t(out20.size())));
+    for (const Pos& x40 : out20) {
       // inlined: function at programs/sheepdog.au:26
-      const C_Fence t83 = C_Fence{a_p_82};
-      t81.push_back(t83);
+      CellV l_allCells41{};
+      const CellV t42 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+      l_allCells41 = t42;
+      const CellV& v43 = l_allCells41;
+      const CellV& v44 = l_allCells41;
+      const std::vector<CellV> list45 = std::vector<CellV>{v44};
+      C0_Fence o46 = C0_Fence{x40};
+      out39.push_back(std::move(o46));
     }
-    s.g_fences = t81;
+    s.g_fences_16 = std::move(out39);
+    s.u_fences_17 = false;
     render(s, nullptr, {});
   }
-
   static void step(State& s) {
-    s.p_fences = s.g_fences;
-    s.p_flags = s.g_flags;
-    s.p_sheep = s.g_sheep;
-    s.p_dog = s.g_dog;
+    (void)s;
     s.core.have_prev = true;
-    s.u_fences = false;
-    s.u_flags = false;
-    s.u_sheep = false;
-    s.u_dog = false;
-    {  // on-clause 1, programs/sheepdog.au:68
-      if (s.core.left) {
-        s.core.covered[0] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Dog& a_obj_84 = s.p_dog;
-        const C_Dog& a_obj_85 = a_obj_84;
-        const int32_t t86 = neg(int32_t(1));
-        const int32_t t87 = int32_t(0);
-        const Pos t88 = Pos{t86, t87};
-        const C_Dog& a_obj_89 = a_obj_85;
-        Pos a_dir_90 = t88;
-        const int32_t t91 = int32_t(4);
-        const Pos t92 = a_dir_90;
-        const int32_t t93 = add(a_obj_89.origin.x, t92.x);
-        const Pos t94 = a_dir_90;
-        const int32_t t95 = add(a_obj_89.origin.y, t94.y);
-        const Pos t96 = Pos{t93, t95};
-        C_Dog t97 = a_obj_89;
-        t97.origin = t96;
-        s.scratch.v.t98.clear();
-        std::vector<Elem>& t98 = s.scratch.v.t98;
-        render_Dog(s, t97, t98);
-        bool t99 = true;
-        for (const Elem& e : t98)
-          if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t99 = false; break; }
-        bool t100 = false;
-        if ((t99)) {
-          const C_Dog& a_obj_101 = a_obj_84;
-          const int32_t t102 = neg(int32_t(1));
-          const int32_t t103 = int32_t(0);
-          const Pos t104 = Pos{t102, t103};
-          const C_Dog& a_obj_105 = a_obj_101;
-          Pos a_dir_106 = t104;
-          const int32_t t107 = int32_t(4);
-          const Pos t108 = a_dir_106;
-          const int32_t t109 = add(a_obj_105.origin.x, t108.x);
-          const Pos t110 = a_dir_106;
-          const int32_t t111 = add(a_obj_105.origin.y, t110.y);
-          const Pos t112 = Pos{t109, t111};
-          C_Dog t113 = a_obj_105;
-          t113.origin = t112;
-          const C_Dog& a_obj_114 = t113;
-          const C_Dog& a_prev_obj_115 = a_obj_84;
-          s.scratch.v.t116.clear();
-          std::vector<Elem>& t116 = s.scratch.v.t116;
-          render_Dog(s, a_prev_obj_115, t116);
-          std::vector<Elem> v_prev_elems_117 = t116;
-          s.scratch.v.t118.clear();
-          std::vector<Elem>& t118 = s.scratch.v.t118;
-          render_Dog(s, a_obj_114, t118);
-          std::vector<Elem> v_curr_elems_119 = t118;
-          const std::vector<Elem> t120 = v_curr_elems_119;
-          std::vector<Elem> t121;
-          for (const Elem& t121_x : t120) {
-            const Elem& a_elem_122 = t121_x;
-            const std::vector<Elem> t123 = v_prev_elems_117;
-            const Elem& a_e_124 = a_elem_122;
-            const std::vector<Elem>& a_l_125 = t123;
-            bool t126 = false;
-            for (const Elem& t126_x : a_l_125) {
-              const Elem& a_x_127 = t126_x;
-              const bool t128 = a_x_127 == a_e_124;
-              if (t128) { t126 = true; break; }
+    s.p_fences_18 = s.g_fences_16;
+    s.p_flags_12 = s.g_flags_10;
+    s.p_sheep_9 = s.g_sheep_7;
+    s.p_dog_15 = s.g_dog_13;
+    s.u_sheep_8 = false;
+    s.u_flags_11 = false;
+    s.u_dog_14 = false;
+    s.u_fences_17 = false;
+    // on-clause 1, programs/sheepdog.au:68
+    {
+      const bool t1 = s.core.left;
+      if (t1) {
+        s.core.covered[int32_t(0)] = 1;
+        const C3_Dog& prev2 = s.p_dog_15;
+        const int32_t t3 = add(prev2.origin.x, int32_t(-1));
+        const int32_t t4 = add(prev2.origin.y, int32_t(0));
+        const Pos t5 = Pos{t3, t4};
+        C3_Dog upd6 = prev2;
+        upd6.origin = t5;
+        std::vector<Elem>& rendered7 = s.scratch.v.b2;
+        rendered7.clear();
+        rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(0)), add(upd6.origin.y, int32_t(0))}, int32_t(0)});
+        bool within8 = true;
+        for (const Elem& e9 : rendered7) {
+          if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(16))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(16))))) {
+            within8 = false;
+            break;
+          }
+        }
+        bool r10{};
+        if (within8) {
+          const int32_t t11 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t12 = add(prev2.origin.y, int32_t(0));
+          const Pos t13 = Pos{t11, t12};
+          C3_Dog upd14 = prev2;
+          upd14.origin = t13;
+          std::vector<Elem>& l_prev_elems15 = s.scratch.v.b3;
+          l_prev_elems15.clear();
+          std::vector<Elem>& l_curr_elems16 = s.scratch.v.b4;
+          l_curr_elems16.clear();
+          std::vector<Elem>& l_filtered_elems17 = s.scratch.v.b5;
+          l_filtered_elems17.clear();
+          std::vector<Elem> rendered18{};
+          rendered18.push_back(Elem{Pos{add(prev2.origin.x, int32_t(0)), add(prev2.origin.y, int32_t(0))}, int32_t(0)});
+          l_prev_elems15 = std::move(rendered18);
+          std::vector<Elem> rendered19{};
+          rendered19.push_back(Elem{Pos{add(upd14.origin.x, int32_t(0)), add(upd14.origin.y, int32_t(0))}, int32_t(0)});
+          l_curr_elems16 = std::move(rendered19);
+          const std::vector<Elem>& v20 = l_curr_elems16;
+          std::vector<Elem> out21{};
+          for (const Elem& x22 : v20) {
+            const std::vector<Elem>& v23 = l_prev_elems15;
+            bool any24 = false;
+            for (const Elem& x25 : v23) {
+              const bool t26 = (x25 == x22);
+              if (t26) {
+                any24 = true;
+                break;
+              }
             }
-            const bool t129 = !t126;
-            if (t129) t121.push_back(t121_x);
-          }
-          std::vector<Elem> v_filtered_elems_130 = t121;
-          const std::vector<Elem> t131 = v_filtered_elems_130;
-          bool t132 = false;
-          for (const Elem& t132_x : t131) {
-            const Elem& a_elem_133 = t132_x;
-            const Pos t134 = a_elem_133.position;
-            const bool t135 = s.core.occupied.free(t134);
-            const bool t136 = !t135;
-            if (t136) { t132 = true; break; }
-          }
-          const bool t137 = !t132;
-          t100 = t137;
-        }
-        C_Dog t151;
-        if (t100) {
-          const C_Dog& a_obj_138 = a_obj_84;
-          const int32_t t139 = neg(int32_t(1));
-          const int32_t t140 = int32_t(0);
-          const Pos t141 = Pos{t139, t140};
-          const C_Dog& a_obj_142 = a_obj_138;
-          Pos a_dir_143 = t141;
-          const int32_t t144 = int32_t(4);
-          const Pos t145 = a_dir_143;
-          const int32_t t146 = add(a_obj_142.origin.x, t145.x);
-          const Pos t147 = a_dir_143;
-          const int32_t t148 = add(a_obj_142.origin.y, t147.y);
-          const Pos t149 = Pos{t146, t148};
-          C_Dog t150 = a_obj_142;
-          t150.origin = t149;
-          t151 = t150;
-        } else {
-          t151 = a_obj_84;
-        }
-        s.g_dog = t151;
-        s.u_dog = true;
-        s.g_flags = {};
-        s.u_flags = true;
-      }
-    }
-    {  // on-clause 2, programs/sheepdog.au:69
-      if (s.core.right) {
-        s.core.covered[1] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Dog& a_obj_152 = s.p_dog;
-        const C_Dog& a_obj_153 = a_obj_152;
-        const int32_t t154 = int32_t(1);
-        const int32_t t155 = int32_t(0);
-        const Pos t156 = Pos{t154, t155};
-        const C_Dog& a_obj_157 = a_obj_153;
-        Pos a_dir_158 = t156;
-        const int32_t t159 = int32_t(4);
-        const Pos t160 = a_dir_158;
-        const int32_t t161 = add(a_obj_157.origin.x, t160.x);
-        const Pos t162 = a_dir_158;
-        const int32_t t163 = add(a_obj_157.origin.y, t162.y);
-        const Pos t164 = Pos{t161, t163};
-        C_Dog t165 = a_obj_157;
-        t165.origin = t164;
-        s.scratch.v.t166.clear();
-        std::vector<Elem>& t166 = s.scratch.v.t166;
-        render_Dog(s, t165, t166);
-        bool t167 = true;
-        for (const Elem& e : t166)
-          if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t167 = false; break; }
-        bool v_wbound_168 = t167;
-        const C_Dog& a_obj_169 = a_obj_152;
-        const int32_t t170 = int32_t(1);
-        const int32_t t171 = int32_t(0);
-        const Pos t172 = Pos{t170, t171};
-        const C_Dog& a_obj_173 = a_obj_169;
-        Pos a_dir_174 = t172;
-        const int32_t t175 = int32_t(4);
-        const Pos t176 = a_dir_174;
-        const int32_t t177 = add(a_obj_173.origin.x, t176.x);
-        const Pos t178 = a_dir_174;
-        const int32_t t179 = add(a_obj_173.origin.y, t178.y);
-        const Pos t180 = Pos{t177, t179};
-        C_Dog t181 = a_obj_173;
-        t181.origin = t180;
-        const C_Dog& a_obj_182 = t181;
-        const C_Dog& a_prev_obj_183 = a_obj_152;
-        s.scratch.v.t184.clear();
-        std::vector<Elem>& t184 = s.scratch.v.t184;
-        render_Dog(s, a_prev_obj_183, t184);
-        std::vector<Elem> v_prev_elems_185 = t184;
-        s.scratch.v.t186.clear();
-        std::vector<Elem>& t186 = s.scratch.v.t186;
-        render_Dog(s, a_obj_182, t186);
-        std::vector<Elem> v_curr_elems_187 = t186;
-        const std::vector<Elem> t188 = v_curr_elems_187;
-        std::vector<Elem> t189;
-        for (const Elem& t189_x : t188) {
-          const Elem& a_elem_190 = t189_x;
-          const std::vector<Elem> t191 = v_prev_elems_185;
-          const Elem& a_e_192 = a_elem_190;
-          const std::vector<Elem>& a_l_193 = t191;
-          bool t194 = false;
-          for (const Elem& t194_x : a_l_193) {
-            const Elem& a_x_195 = t194_x;
-            const bool t196 = a_x_195 == a_e_192;
-            if (t196) { t194 = true; break; }
-          }
-          const bool t197 = !t194;
-          if (t197) t189.push_back(t189_x);
-        }
-        std::vector<Elem> v_filtered_elems_198 = t189;
-        const std::vector<Elem> t199 = v_filtered_elems_198;
-        bool t200 = false;
-        for (const Elem& t200_x : t199) {
-          const Elem& a_elem_201 = t200_x;
-          const Pos t202 = a_elem_201.position;
-          const bool t203 = s.core.occupied.free(t202);
-          const bool t204 = !t203;
-          if (t204) { t200 = true; break; }
-        }
-        const bool t205 = !t200;
-        bool v_fr_206 = t205;
-        const bool t207 = v_wbound_168;
-        bool t208 = false;
-        if ((t207)) {
-          const bool t209 = v_fr_206;
-          t208 = t209;
-        }
-        C_Dog t223;
-        if (t208) {
-          const C_Dog& a_obj_210 = a_obj_152;
-          const int32_t t211 = int32_t(1);
-          const int32_t t212 = int32_t(0);
-          const Pos t213 = Pos{t211, t212};
-          const C_Dog& a_obj_214 = a_obj_210;
-          Pos a_dir_215 = t213;
-          const int32_t t216 = int32_t(4);
-          const Pos t217 = a_dir_215;
-          const int32_t t218 = add(a_obj_214.origin.x, t217.x);
-          const Pos t219 = a_dir_215;
-          const int32_t t220 = add(a_obj_214.origin.y, t219.y);
-          const Pos t221 = Pos{t218, t220};
-          C_Dog t222 = a_obj_214;
-          t222.origin = t221;
-          t223 = t222;
-        } else {
-          t223 = a_obj_152;
-        }
-        C_Dog v_ret_224 = t223;
-        const C_Dog t225 = v_ret_224;
-        s.g_dog = t225;
-        s.u_dog = true;
-        s.g_flags = {};
-        s.u_flags = true;
-      }
-    }
-    {  // on-clause 3, programs/sheepdog.au:70
-      if (s.core.up) {
-        s.core.covered[2] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Dog& a_obj_226 = s.p_dog;
-        const C_Dog& a_obj_227 = a_obj_226;
-        const int32_t t228 = int32_t(0);
-        const int32_t t229 = neg(int32_t(1));
-        const Pos t230 = Pos{t228, t229};
-        const C_Dog& a_obj_231 = a_obj_227;
-        Pos a_dir_232 = t230;
-        const int32_t t233 = int32_t(4);
-        const Pos t234 = a_dir_232;
-        const int32_t t235 = add(a_obj_231.origin.x, t234.x);
-        const Pos t236 = a_dir_232;
-        const int32_t t237 = add(a_obj_231.origin.y, t236.y);
-        const Pos t238 = Pos{t235, t237};
-        C_Dog t239 = a_obj_231;
-        t239.origin = t238;
-        s.scratch.v.t240.clear();
-        std::vector<Elem>& t240 = s.scratch.v.t240;
-        render_Dog(s, t239, t240);
-        bool t241 = true;
-        for (const Elem& e : t240)
-          if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t241 = false; break; }
-        bool t242 = false;
-        if ((t241)) {
-          const C_Dog& a_obj_243 = a_obj_226;
-          const int32_t t244 = int32_t(0);
-          const int32_t t245 = neg(int32_t(1));
-          const Pos t246 = Pos{t244, t245};
-          const C_Dog& a_obj_247 = a_obj_243;
-          Pos a_dir_248 = t246;
-          const int32_t t249 = int32_t(4);
-          const Pos t250 = a_dir_248;
-          const int32_t t251 = add(a_obj_247.origin.x, t250.x);
-          const Pos t252 = a_dir_248;
-          const int32_t t253 = add(a_obj_247.origin.y, t252.y);
-          const Pos t254 = Pos{t251, t253};
-          C_Dog t255 = a_obj_247;
-          t255.origin = t254;
-          const C_Dog& a_obj_256 = t255;
-          const C_Dog& a_prev_obj_257 = a_obj_226;
-          s.scratch.v.t258.clear();
-          std::vector<Elem>& t258 = s.scratch.v.t258;
-          render_Dog(s, a_prev_obj_257, t258);
-          std::vector<Elem> v_prev_elems_259 = t258;
-          s.scratch.v.t260.clear();
-          std::vector<Elem>& t260 = s.scratch.v.t260;
-          render_Dog(s, a_obj_256, t260);
-          std::vector<Elem> v_curr_elems_261 = t260;
-          const std::vector<Elem> t262 = v_curr_elems_261;
-          std::vector<Elem> t263;
-          for (const Elem& t263_x : t262) {
-            const Elem& a_elem_264 = t263_x;
-            const std::vector<Elem> t265 = v_prev_elems_259;
-            const Elem& a_e_266 = a_elem_264;
-            const std::vector<Elem>& a_l_267 = t265;
-            bool t268 = false;
-            for (const Elem& t268_x : a_l_267) {
-              const Elem& a_x_269 = t268_x;
-              const bool t270 = a_x_269 == a_e_266;
-              if (t270) { t268 = true; break; }
+            const bool t27 = !any24;
+            if (t27) {
+              out21.push_back(x22);
             }
-            const bool t271 = !t268;
-            if (t271) t263.push_back(t263_x);
           }
-          std::vector<Elem> v_filtered_elems_272 = t263;
-          const std::vector<Elem> t273 = v_filtered_elems_272;
-          bool t274 = false;
-          for (const Elem& t274_x : t273) {
-            const Elem& a_elem_275 = t274_x;
-            const Pos t276 = a_elem_275.position;
-            const bool t277 = s.core.occupied.free(t276);
-            const bool t278 = !t277;
-            if (t278) { t274 = true; break; }
-          }
-          const bool t279 = !t274;
-          t242 = t279;
-        }
-        C_Dog t293;
-        if (t242) {
-          const C_Dog& a_obj_280 = a_obj_226;
-          const int32_t t281 = int32_t(0);
-          const int32_t t282 = neg(int32_t(1));
-          const Pos t283 = Pos{t281, t282};
-          const C_Dog& a_obj_284 = a_obj_280;
-          Pos a_dir_285 = t283;
-          const int32_t t286 = int32_t(4);
-          const Pos t287 = a_dir_285;
-          const int32_t t288 = add(a_obj_284.origin.x, t287.x);
-          const Pos t289 = a_dir_285;
-          const int32_t t290 = add(a_obj_284.origin.y, t289.y);
-          const Pos t291 = Pos{t288, t290};
-          C_Dog t292 = a_obj_284;
-          t292.origin = t291;
-          t293 = t292;
-        } else {
-          t293 = a_obj_226;
-        }
-        s.g_dog = t293;
-        s.u_dog = true;
-        s.g_flags = {};
-        s.u_flags = true;
-      }
-    }
-    {  // on-clause 4, programs/sheepdog.au:71
-      if (s.core.down) {
-        s.core.covered[3] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const C_Dog& a_obj_294 = s.p_dog;
-        const C_Dog& a_obj_295 = a_obj_294;
-        const int32_t t296 = int32_t(0);
-        const int32_t t297 = int32_t(1);
-        const Pos t298 = Pos{t296, t297};
-        const C_Dog& a_obj_299 = a_obj_295;
-        Pos a_dir_300 = t298;
-        const int32_t t301 = int32_t(4);
-        const Pos t302 = a_dir_300;
-        const int32_t t303 = add(a_obj_299.origin.x, t302.x);
-        const Pos t304 = a_dir_300;
-        const int32_t t305 = add(a_obj_299.origin.y, t304.y);
-        const Pos t306 = Pos{t303, t305};
-        C_Dog t307 = a_obj_299;
-        t307.origin = t306;
-        s.scratch.v.t308.clear();
-        std::vector<Elem>& t308 = s.scratch.v.t308;
-        render_Dog(s, t307, t308);
-        bool t309 = true;
-        for (const Elem& e : t308)
-          if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t309 = false; break; }
-        bool t310 = false;
-        if ((t309)) {
-          const C_Dog& a_obj_311 = a_obj_294;
-          const int32_t t312 = int32_t(0);
-          const int32_t t313 = int32_t(1);
-          const Pos t314 = Pos{t312, t313};
-          const C_Dog& a_obj_315 = a_obj_311;
-          Pos a_dir_316 = t314;
-          const int32_t t317 = int32_t(4);
-          const Pos t318 = a_dir_316;
-          const int32_t t319 = add(a_obj_315.origin.x, t318.x);
-          const Pos t320 = a_dir_316;
-          const int32_t t321 = add(a_obj_315.origin.y, t320.y);
-          const Pos t322 = Pos{t319, t321};
-          C_Dog t323 = a_obj_315;
-          t323.origin = t322;
-          const C_Dog& a_obj_324 = t323;
-          const C_Dog& a_prev_obj_325 = a_obj_294;
-          s.scratch.v.t326.clear();
-          std::vector<Elem>& t326 = s.scratch.v.t326;
-          render_Dog(s, a_prev_obj_325, t326);
-          std::vector<Elem> v_prev_elems_327 = t326;
-          s.scratch.v.t328.clear();
-          std::vector<Elem>& t328 = s.scratch.v.t328;
-          render_Dog(s, a_obj_324, t328);
-          std::vector<Elem> v_curr_elems_329 = t328;
-          const std::vector<Elem> t330 = v_curr_elems_329;
-          std::vector<Elem> t331;
-          for (const Elem& t331_x : t330) {
-            const Elem& a_elem_332 = t331_x;
-            const std::vector<Elem> t333 = v_prev_elems_327;
-            const Elem& a_e_334 = a_elem_332;
-            const std::vector<Elem>& a_l_335 = t333;
-            bool t336 = false;
-            for (const Elem& t336_x : a_l_335) {
-              const Elem& a_x_337 = t336_x;
-              const bool t338 = a_x_337 == a_e_334;
-              if (t338) { t336 = true; break; }
+          l_filtered_elems17 = std::move(out21);
+          const std::vector<Elem>& v28 = l_filtered_elems17;
+          bool any29 = false;
+          for (const Elem& x30 : v28) {
+            const bool t31 = s.core.occupied.free(x30.position);
+            const bool t32 = !t31;
+            if (t32) {
+              any29 = true;
+              break;
             }
-            const bool t339 = !t336;
-            if (t339) t331.push_back(t331_x);
           }
-          std::vector<Elem> v_filtered_elems_340 = t331;
-          const std::vector<Elem> t341 = v_filtered_elems_340;
-          bool t342 = false;
-          for (const Elem& t342_x : t341) {
-            const Elem& a_elem_343 = t342_x;
-            const Pos t344 = a_elem_343.position;
-            const bool t345 = s.core.occupied.free(t344);
-            const bool t346 = !t345;
-            if (t346) { t342 = true; break; }
-          }
-          const bool t347 = !t342;
-          t310 = t347;
-        }
-        C_Dog t361;
-        if (t310) {
-          const C_Dog& a_obj_348 = a_obj_294;
-          const int32_t t349 = int32_t(0);
-          const int32_t t350 = int32_t(1);
-          const Pos t351 = Pos{t349, t350};
-          const C_Dog& a_obj_352 = a_obj_348;
-          Pos a_dir_353 = t351;
-          const int32_t t354 = int32_t(4);
-          const Pos t355 = a_dir_353;
-          const int32_t t356 = add(a_obj_352.origin.x, t355.x);
-          const Pos t357 = a_dir_353;
-          const int32_t t358 = add(a_obj_352.origin.y, t357.y);
-          const Pos t359 = Pos{t356, t358};
-          C_Dog t360 = a_obj_352;
-          t360.origin = t359;
-          t361 = t360;
+          const bool t33 = !any29;
+          r10 = t33;
         } else {
-          t361 = a_obj_294;
+          r10 = false;
         }
-        s.g_dog = t361;
-        s.u_dog = true;
-        s.g_flags = {};
-        s.u_flags = true;
+        C3_Dog r34{};
+        if (r10) {
+          const int32_t t35 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t36 = add(prev2.origin.y, int32_t(0));
+          const Pos t37 = Pos{t35, t36};
+          C3_Dog upd38 = prev2;
+          upd38.origin = t37;
+          r34 = std::move(upd38);
+        } else {
+          r34 = prev2;
+        }
+        s.g_dog_13 = std::move(r34);
+        s.u_dog_14 = true;
+        s.g_flags_10 = std::vector<C1_Flag>{};
+        s.u_flags_11 = true;
       }
     }
-    {  // on-clause 5, programs/sheepdog.au:73
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const int32_t t362 = int32_t(s.p_flags.size());
-      const bool t363 = t362 > int32_t(0);
-      bool t364 = false;
-      if ((t363)) {
+    // on-clause 2, programs/sheepdog.au:69
+    {
+      const bool t39 = s.core.right;
+      if (t39) {
+        s.core.covered[int32_t(1)] = 1;
+        const C3_Dog& prev40 = s.p_dog_15;
+        bool l_wbound41{};
+        bool l_fr42{};
+        C3_Dog l_ret43{};
+        const int32_t t44 = add(prev40.origin.x, int32_t(1));
+        const int32_t t45 = add(prev40.origin.y, int32_t(0));
+        const Pos t46 = Pos{t44, t45};
+        C3_Dog upd47 = prev40;
+        upd47.origin = t46;
+        std::vector<Elem>& rendered48 = s.scratch.v.b6;
+        rendered48.clear();
+        rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(0)), add(upd47.origin.y, int32_t(0))}, int32_t(0)});
+        bool within49 = true;
+        for (const Elem& e50 : rendered48) {
+          if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(16))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(16))))) {
+            within49 = false;
+            break;
+          }
+        }
+        l_wbound41 = within49;
+        const int32_t t51 = add(prev40.origin.x, int32_t(1));
+        const int32_t t52 = add(prev40.origin.y, int32_t(0));
+        const Pos t53 = Pos{t51, t52};
+        C3_Dog upd54 = prev40;
+        upd54.origin = t53;
+        std::vector<Elem>& l_prev_elems55 = s.scratch.v.b7;
+        l_prev_elems55.clear();
+        std::vector<Elem>& l_curr_elems56 = s.scratch.v.b8;
+        l_curr_elems56.clear();
+        std::vector<Elem>& l_filtered_elems57 = s.scratch.v.b9;
+        l_filtered_elems57.clear();
+        std::vector<Elem> rendered58{};
+        rendered58.push_back(Elem{Pos{add(prev40.origin.x, int32_t(0)), add(prev40.origin.y, int32_t(0))}, int32_t(0)});
+        l_prev_elems55 = std::move(rendered58);
+        std::vector<Elem> rendered59{};
+        rendered59.push_back(Elem{Pos{add(upd54.origin.x, int32_t(0)), add(upd54.origin.y, int32_t(0))}, int32_t(0)});
+        l_curr_elems56 = std::move(rendered59);
+        const std::vector<Elem>& v60 = l_curr_elems56;
+        std::vector<Elem> out61{};
+        for (const Elem& x62 : v60) {
+          const std::vector<Elem>& v63 = l_prev_elems55;
+          bool any64 = false;
+          for (const Elem& x65 : v63) {
+            const bool t66 = (x65 == x62);
+            if (t66) {
+              any64 = true;
+              break;
+            }
+          }
+          const bool t67 = !any64;
+          if (t67) {
+            out61.push_back(x62);
+          }
+        }
+        l_filtered_elems57 = std::move(out61);
+        const std::vector<Elem>& v68 = l_filtered_elems57;
+        bool any69 = false;
+        for (const Elem& x70 : v68) {
+          const bool t71 = s.core.occupied.free(x70.position);
+          const bool t72 = !t71;
+          if (t72) {
+            any69 = true;
+            break;
+          }
+        }
+        const bool t73 = !any69;
+        l_fr42 = t73;
+        const bool& v74 = l_wbound41;
+        bool r75{};
+        if (v74) {
+          const bool& v76 = l_fr42;
+          r75 = v76;
+        } else {
+          r75 = false;
+        }
+        C3_Dog r77{};
+        if (r75) {
+          const int32_t t78 = add(prev40.origin.x, int32_t(1));
+          const int32_t t79 = add(prev40.origin.y, int32_t(0));
+          const Pos t80 = Pos{t78, t79};
+          C3_Dog upd81 = prev40;
+          upd81.origin = t80;
+          r77 = std::move(upd81);
+        } else {
+          r77 = prev40;
+        }
+        l_ret43 = std::move(r77);
+        const C3_Dog& v82 = l_ret43;
+        s.g_dog_13 = v82;
+        s.u_dog_14 = true;
+        s.g_flags_10 = std::vector<C1_Flag>{};
+        s.u_flags_11 = true;
+      }
+    }
+    // on-clause 3, programs/sheepdog.au:70
+    {
+      const bool t83 = s.core.up;
+      if (t83) {
+        s.core.covered[int32_t(2)] = 1;
+        const C3_Dog& prev84 = s.p_dog_15;
+        const int32_t t85 = add(prev84.origin.x, int32_t(0));
+        const int32_t t86 = add(prev84.origin.y, int32_t(-1));
+        const Pos t87 = Pos{t85, t86};
+        C3_Dog upd88 = prev84;
+        upd88.origin = t87;
+        std::vector<Elem>& rendered89 = s.scratch.v.b10;
+        rendered89.clear();
+        rendered89.push_back(Elem{Pos{add(upd88.origin.x, int32_t(0)), add(upd88.origin.y, int32_t(0))}, int32_t(0)});
+        bool within90 = true;
+        for (const Elem& e91 : rendered89) {
+          if ((((e91.position.x < int32_t(0)) || (e91.position.x >= int32_t(16))) || ((e91.position.y < int32_t(0)) || (e91.position.y >= int32_t(16))))) {
+            within90 = false;
+            break;
+          }
+        }
+        bool r92{};
+        if (within90) {
+          const int32_t t93 = add(prev84.origin.x, int32_t(0));
+          const int32_t t94 = add(prev84.origin.y, int32_t(-1));
+          const Pos t95 = Pos{t93, t94};
+          C3_Dog upd96 = prev84;
+          upd96.origin = t95;
+          std::vector<Elem>& l_prev_elems97 = s.scratch.v.b11;
+          l_prev_elems97.clear();
+          std::vector<Elem>& l_curr_elems98 = s.scratch.v.b12;
+          l_curr_elems98.clear();
+          std::vector<Elem>& l_filtered_elems99 = s.scratch.v.b13;
+          l_filtered_elems99.clear();
+          std::vector<Elem> rendered100{};
+          rendered100.push_back(Elem{Pos{add(prev84.origin.x, int32_t(0)), add(prev84.origin.y, int32_t(0))}, int32_t(0)});
+          l_prev_elems97 = std::move(rendered100);
+          std::vector<Elem> rendered101{};
+          rendered101.push_back(Elem{Pos{add(upd96.origin.x, int32_t(0)), add(upd96.origin.y, int32_t(0))}, int32_t(0)});
+          l_curr_elems98 = std::move(rendered101);
+          const std::vector<Elem>& v102 = l_curr_elems98;
+          std::vector<Elem> out103{};
+          for (const Elem& x104 : v102) {
+            const std::vector<Elem>& v105 = l_prev_elems97;
+            bool any106 = false;
+            for (const Elem& x107 : v105) {
+              const bool t108 = (x107 == x104);
+              if (t108) {
+                any106 = true;
+                break;
+              }
+            }
+            const bool t109 = !any106;
+            if (t109) {
+              out103.push_back(x104);
+            }
+          }
+          l_filtered_elems99 = std::move(out103);
+          const std::vector<Elem>& v110 = l_filtered_elems99;
+          bool any111 = false;
+          for (const Elem& x112 : v110) {
+            const bool t113 = s.core.occupied.free(x112.position);
+            const bool t114 = !t113;
+            if (t114) {
+              any111 = true;
+              break;
+            }
+          }
+          const bool t115 = !any111;
+          r92 = t115;
+        } else {
+          r92 = false;
+        }
+        C3_Dog r116{};
+        if (r92) {
+          const int32_t t117 = add(prev84.origin.x, int32_t(0));
+          const int32_t t118 = add(prev84.origin.y, int32_t(-1));
+          const Pos t119 = Pos{t117, t118};
+          C3_Dog upd120 = prev84;
+          upd120.origin = t119;
+          r116 = std::move(upd120);
+        } else {
+          r116 = prev84;
+        }
+        s.g_dog_13 = std::move(r116);
+        s.u_dog_14 = true;
+        s.g_flags_10 = std::vector<C1_Flag>{};
+        s.u_flags_11 = true;
+      }
+    }
+    // on-clause 4, programs/sheepdog.au:71
+    {
+      const bool t121 = s.core.down;
+      if (t121) {
+        s.core.covered[int32_t(3)] = 1;
+        const C3_Dog& prev122 = s.p_dog_15;
+        const int32_t t123 = add(prev122.origin.x, int32_t(0));
+        const int32_t t124 = add(prev122.origin.y, int32_t(1));
+        const Pos t125 = Pos{t123, t124};
+        C3_Dog upd126 = prev122;
+        upd126.origin = t125;
+        std::vector<Elem>& rendered127 = s.scratch.v.b14;
+        rendered127.clear();
+        rendered127.push_back(Elem{Pos{add(upd126.origin.x, int32_t(0)), add(upd126.origin.y, int32_t(0))}, int32_t(0)});
+        bool within128 = true;
+        for (const Elem& e129 : rendered127) {
+          if ((((e129.position.x < int32_t(0)) || (e129.position.x >= int32_t(16))) || ((e129.position.y < int32_t(0)) || (e129.position.y >= int32_t(16))))) {
+            within128 = false;
+            break;
+          }
+        }
+        bool r130{};
+        if (within128) {
+          const int32_t t131 = add(prev122.origin.x, int32_t(0));
+          const int32_t t132 = add(prev122.origin.y, int32_t(1));
+          const Pos t133 = Pos{t131, t132};
+          C3_Dog upd134 = prev122;
+          upd134.origin = t133;
+          std::vector<Elem>& l_prev_elems135 = s.scratch.v.b15;
+          l_prev_elems135.clear();
+          std::vector<Elem>& l_curr_elems136 = s.scratch.v.b16;
+          l_curr_elems136.clear();
+          std::vector<Elem>& l_filtered_elems137 = s.scratch.v.b17;
+          l_filtered_elems137.clear();
+          std::vector<Elem> rendered138{};
+          rendered138.push_back(Elem{Pos{add(prev122.origin.x, int32_t(0)), add(prev122.origin.y, int32_t(0))}, int32_t(0)});
+          l_prev_elems135 = std::move(rendered138);
+          std::vector<Elem> rendered139{};
+          rendered139.push_back(Elem{Pos{add(upd134.origin.x, int32_t(0)), add(upd134.origin.y, int32_t(0))}, int32_t(0)});
+          l_curr_elems136 = std::move(rendered139);
+          const std::vector<Elem>& v140 = l_curr_elems136;
+          std::vector<Elem> out141{};
+          for (const Elem& x142 : v140) {
+            const std::vector<Elem>& v143 = l_prev_elems135;
+            bool any144 = false;
+            for (const Elem& x145 : v143) {
+              const bool t146 = (x145 == x142);
+              if (t146) {
+                any144 = true;
+                break;
+              }
+            }
+            const bool t147 = !any144;
+            if (t147) {
+              out141.push_back(x142);
+            }
+          }
+          l_filtered_elems137 = std::move(out141);
+          const std::vector<Elem>& v148 = l_filtered_elems137;
+          bool any149 = false;
+          for (const Elem& x150 : v148) {
+            const bool t151 = s.core.occupied.free(x150.position);
+            const bool t152 = !t151;
+            if (t152) {
+              any149 = true;
+              break;
+            }
+          }
+          const bool t153 = !any149;
+          r130 = t153;
+        } else {
+          r130 = false;
+        }
+        C3_Dog r154{};
+        if (r130) {
+          const int32_t t155 = add(prev122.origin.x, int32_t(0));
+          const int32_t t156 = add(prev122.origin.y, int32_t(1));
+          const Pos t157 = Pos{t155, t156};
+          C3_Dog upd158 = prev122;
+          upd158.origin = t157;
+          r154 = std::move(upd158);
+        } else {
+          r154 = prev122;
+        }
+        s.g_dog_13 = std::move(r154);
+        s.u_dog_14 = true;
+        s.g_flags_10 = std::vector<C1_Flag>{};
+        s.u_flags_11 = true;
+      }
+    }
+    // on-clause 5, programs/sheepdog.au:73
+    {
+      const std::vector<C1_Flag>& prev159 = s.p_flags_12;
+      const int32_t t160 = int32_t(prev159.size());
+      const bool t161 = (t160 > int32_t(0));
+      bool r162{};
+      if (t161) {
         // inlined: function at programs/sheepdog.au:40
-        bool t365 = true;
-        if (!(s.core.left)) {
-          bool t366 = true;
-          if (!(s.core.right)) {
-            bool t367 = true;
-            if (!(s.core.up)) {
-              t367 = s.core.down;
+        const bool t163 = s.core.left;
+        bool r164{};
+        if (!t163) {
+          const bool t165 = s.core.right;
+          bool r166{};
+          if (!t165) {
+            const bool t167 = s.core.up;
+            bool r168{};
+            if (!t167) {
+              const bool t169 = s.core.down;
+              r168 = t169;
+            } else {
+              r168 = true;
             }
-            t366 = t367;
+            r166 = r168;
+          } else {
+            r166 = true;
           }
-          t365 = t366;
+          r164 = r166;
+        } else {
+          r164 = true;
         }
-        const bool t368 = !t365;
-        t364 = t368;
+        const bool t170 = !r164;
+        r162 = t170;
+      } else {
+        r162 = false;
       }
-      if (t364) {
-        s.core.covered[4] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        if (!s.core.have_prev) fail("prev used before the first step");
-        if (s.p_flags.empty()) fail("head of an empty list");
-        const C_Flag t369 = s.p_flags.front();
-        const Pos t370 = t369.origin;
-        const C_Dog& a_d_371 = s.p_dog;
-        const Pos& a_target_372 = t370;
+      if (r162) {
+        s.core.covered[int32_t(4)] = 1;
+        const C3_Dog& prev171 = s.p_dog_15;
+        const std::vector<C1_Flag>& prev172 = s.p_flags_12;
+        if (prev172.empty()) {
+          fail_at(1, std::string() + std::string("head of an empty list"));
+        }
+        const C1_Flag t173 = prev172.front();
         // inlined: function at programs/sheepdog.au:62
-        const C_Dog& a_obj_373 = a_d_371;
-        const Pos& a_pos_374 = a_target_372;
-        const Pos t375 = a_obj_373.origin;
-        const Pos& a_pos1_376 = t375;
-        const Pos& a_pos2_377 = a_pos_374;
-        const int32_t t378 = sub(a_pos2_377.x, a_pos1_376.x);
-        const int32_t t379 = sub(a_pos2_377.y, a_pos1_376.y);
-        const Pos t380 = Pos{t378, t379};
-        Pos v_delta_381 = t380;
-        const Pos t382 = v_delta_381;
-        const int32_t t383 = t382.x;
-        const int32_t& a_x_384 = t383;
-        const bool t385 = a_x_384 == int32_t(0);
-        int32_t t389;
-        if (t385) {
-          t389 = int32_t(0);
+        Pos l_v174{};
+        C3_Dog l_tryFirst175{};
+        Pos l_delta176{};
+        int32_t l_sign_x177{};
+        int32_t l_sign_y178{};
+        const int32_t t179 = sub(t173.origin.x, prev171.origin.x);
+        const int32_t t180 = sub(t173.origin.y, prev171.origin.y);
+        const Pos t181 = Pos{t179, t180};
+        l_delta176 = t181;
+        const Pos& v182 = l_delta176;
+        const bool t183 = (v182.x == int32_t(0));
+        int32_t r184{};
+        if (t183) {
+          r184 = int32_t(0);
         } else {
-          const bool t386 = a_x_384 < int32_t(0);
-          int32_t t388;
-          if (t386) {
-            const int32_t t387 = neg(int32_t(1));
-            t388 = t387;
+          const bool t185 = (v182.x < int32_t(0));
+          int32_t r186{};
+          if (t185) {
+            r186 = int32_t(-1);
           } else {
-            t388 = int32_t(1);
+            r186 = int32_t(1);
           }
-          t389 = t388;
+          r184 = r186;
         }
-        int32_t v_sign_x_390 = t389;
-        const Pos t391 = v_delta_381;
-        const int32_t t392 = t391.y;
-        const int32_t& a_x_393 = t392;
-        const bool t394 = a_x_393 == int32_t(0);
-        int32_t t398;
-        if (t394) {
-          t398 = int32_t(0);
+        l_sign_x177 = r184;
+        const Pos& v187 = l_delta176;
+        const bool t188 = (v187.y == int32_t(0));
+        int32_t r189{};
+        if (t188) {
+          r189 = int32_t(0);
         } else {
-          const bool t395 = a_x_393 < int32_t(0);
-          int32_t t397;
-          if (t395) {
-            const int32_t t396 = neg(int32_t(1));
-            t397 = t396;
+          const bool t190 = (v187.y < int32_t(0));
+          int32_t r191{};
+          if (t190) {
+            r191 = int32_t(-1);
           } else {
-            t397 = int32_t(1);
+            r191 = int32_t(1);
           }
-          t398 = t397;
+          r189 = r191;
         }
-        int32_t v_sign_y_399 = t398;
-        const int32_t t400 = v_sign_x_390;
-        const int32_t& a_x_401 = t400;
-        const bool t402 = a_x_401 < int32_t(0);
-        int32_t t404;
-        if (t402) {
-          const int32_t t403 = neg(a_x_401);
-          t404 = t403;
+        l_sign_y178 = r189;
+        const int32_t& v192 = l_sign_x177;
+        const bool t193 = (v192 < int32_t(0));
+        int32_t r194{};
+        if (t193) {
+          const int32_t t195 = neg(v192);
+          r194 = t195;
         } else {
-          t404 = a_x_401;
+          r194 = v192;
         }
-        const bool t405 = t404 == int32_t(1);
-        bool t406 = false;
-        if ((t405)) {
-          const int32_t t407 = v_sign_y_399;
-          const int32_t& a_x_408 = t407;
-          const bool t409 = a_x_408 < int32_t(0);
-          int32_t t411;
-          if (t409) {
-            const int32_t t410 = neg(a_x_408);
-            t411 = t410;
+        const bool t196 = (r194 == int32_t(1));
+        bool r197{};
+        if (t196) {
+          const int32_t& v198 = l_sign_y178;
+          const bool t199 = (v198 < int32_t(0));
+          int32_t r200{};
+          if (t199) {
+            const int32_t t201 = neg(v198);
+            r200 = t201;
           } else {
-            t411 = a_x_408;
+            r200 = v198;
           }
-          const bool t412 = t411 == int32_t(1);
-          t406 = t412;
-        }
-        Pos t419;
-        if (t406) {
-          const int32_t t413 = v_sign_x_390;
-          const int32_t t414 = int32_t(0);
-          const Pos t415 = Pos{t413, t414};
-          t419 = t415;
+          const bool t202 = (r200 == int32_t(1));
+          r197 = t202;
         } else {
-          const int32_t t416 = v_sign_x_390;
-          const int32_t t417 = v_sign_y_399;
-          const Pos t418 = Pos{t416, t417};
-          t419 = t418;
+          r197 = false;
         }
-        Pos v_v_420 = t419;
-        const Pos t421 = v_v_420;
-        const int32_t t422 = t421.x;
-        const Pos t423 = v_v_420;
-        const int32_t t424 = t423.y;
-        const C_Dog& a_obj_425 = a_d_371;
-        const int32_t& a_x_426 = t422;
-        const int32_t& a_y_427 = t424;
-        const Pos t428 = Pos{a_x_426, a_y_427};
-        const C_Dog& a_obj_429 = a_obj_425;
-        Pos a_dir_430 = t428;
-        const int32_t t431 = int32_t(4);
-        const Pos t432 = a_dir_430;
-        const int32_t t433 = add(a_obj_429.origin.x, t432.x);
-        const Pos t434 = a_dir_430;
-        const int32_t t435 = add(a_obj_429.origin.y, t434.y);
-        const Pos t436 = Pos{t433, t435};
-        C_Dog t437 = a_obj_429;
-        t437.origin = t436;
-        const C_Dog& a_obj_438 = t437;
-        const C_Dog& a_prev_obj_439 = a_obj_425;
-        s.scratch.v.t440.clear();
-        std::vector<Elem>& t440 = s.scratch.v.t440;
-        render_Dog(s, a_prev_obj_439, t440);
-        std::vector<Elem> v_prev_elems_441 = t440;
-        s.scratch.v.t442.clear();
-        std::vector<Elem>& t442 = s.scratch.v.t442;
-        render_Dog(s, a_obj_438, t442);
-        std::vector<Elem> v_curr_elems_443 = t442;
-        const std::vector<Elem> t444 = v_curr_elems_443;
-        std::vector<Elem> t445;
-        for (const Elem& t445_x : t444) {
-          const Elem& a_elem_446 = t445_x;
-          const std::vector<Elem> t447 = v_prev_elems_441;
-          const Elem& a_e_448 = a_elem_446;
-          const std::vector<Elem>& a_l_449 = t447;
-          bool t450 = false;
-          for (const Elem& t450_x : a_l_449) {
-            const Elem& a_x_451 = t450_x;
-            const bool t452 = a_x_451 == a_e_448;
-            if (t452) { t450 = true; break; }
+        Pos r203{};
+        if (r197) {
+          const int32_t& v204 = l_sign_x177;
+          const Pos t205 = Pos{v204, int32_t(0)};
+          r203 = t205;
+        } else {
+          const int32_t& v206 = l_sign_x177;
+          const int32_t& v207 = l_sign_y178;
+          const Pos t208 = Pos{v206, v207};
+          r203 = t208;
+        }
+        l_v174 = r203;
+        const Pos& v209 = l_v174;
+        const Pos& v210 = l_v174;
+        const Pos t211 = Pos{v209.x, v210.y};
+        const int32_t t212 = add(prev171.origin.x, t211.x);
+        const int32_t t213 = add(prev171.origin.y, t211.y);
+        const Pos t214 = Pos{t212, t213};
+        C3_Dog upd215 = prev171;
+        upd215.origin = t214;
+        std::vector<Elem>& l_prev_elems216 = s.scratch.v.b18;
+        l_prev_elems216.clear();
+        std::vector<Elem>& l_curr_elems217 = s.scratch.v.b19;
+        l_curr_elems217.clear();
+        std::vector<Elem>& l_filtered_elems218 = s.scratch.v.b20;
+        l_filtered_elems218.clear();
+        std::vector<Elem> rendered219{};
+        rendered219.push_back(Elem{Pos{add(prev171.origin.x, int32_t(0)), add(prev171.origin.y, int32_t(0))}, int32_t(0)});
+        l_prev_elems216 = std::move(rendered219);
+        std::vector<Elem> rendered220{};
+        rendered220.push_back(Elem{Pos{add(upd215.origin.x, int32_t(0)), add(upd215.origin.y, int32_t(0))}, int32_t(0)});
+        l_curr_elems217 = std::move(rendered220);
+        const std::vector<Elem>& v221 = l_curr_elems217;
+        std::vector<Elem> out222{};
+        for (const Elem& x223 : v221) {
+          const std::vector<Elem>& v224 = l_prev_elems216;
+          bool any225 = false;
+          for (const Elem& x226 : v224) {
+            const bool t227 = (x226 == x223);
+            if (t227) {
+              any225 = true;
+              break;
+            }
           }
-          const bool t453 = !t450;
-          if (t453) t445.push_back(t445_x);
+          const bool t228 = !any225;
+          if (t228) {
+            out222.push_back(x223);
+          }
         }
-        std::vector<Elem> v_filtered_elems_454 = t445;
-        const std::vector<Elem> t455 = v_filtered_elems_454;
-        bool t456 = false;
-        for (const Elem& t456_x : t455) {
-          const Elem& a_elem_457 = t456_x;
-          const Pos t458 = a_elem_457.position;
-          const bool t459 = s.core.occupied.free(t458);
-          const bool t460 = !t459;
-          if (t460) { t456 = true; break; }
+        l_filtered_elems218 = std::move(out222);
+        const std::vector<Elem>& v229 = l_filtered_elems218;
+        bool any230 = false;
+        for (const Elem& x231 : v229) {
+          const bool t232 = s.core.occupied.free(x231.position);
+          const bool t233 = !t232;
+          if (t233) {
+            any230 = true;
+            break;
+          }
         }
-        const bool t461 = !t456;
-        C_Dog t472;
-        if (t461) {
-          const Pos t462 = Pos{a_x_426, a_y_427};
-          const C_Dog& a_obj_463 = a_obj_425;
-          Pos a_dir_464 = t462;
-          const int32_t t465 = int32_t(4);
-          const Pos t466 = a_dir_464;
-          const int32_t t467 = add(a_obj_463.origin.x, t466.x);
-          const Pos t468 = a_dir_464;
-          const int32_t t469 = add(a_obj_463.origin.y, t468.y);
-          const Pos t470 = Pos{t467, t469};
-          C_Dog t471 = a_obj_463;
-          t471.origin = t470;
-          t472 = t471;
+        const bool t234 = !any230;
+        C3_Dog r235{};
+        if (t234) {
+          const Pos t236 = Pos{v209.x, v210.y};
+          const int32_t t237 = add(prev171.origin.x, t236.x);
+          const int32_t t238 = add(prev171.origin.y, t236.y);
+          const Pos t239 = Pos{t237, t238};
+          C3_Dog upd240 = prev171;
+          upd240.origin = t239;
+          r235 = std::move(upd240);
         } else {
-          t472 = a_obj_425;
+          r235 = prev171;
         }
-        C_Dog v_tryFirst_473 = t472;
-        const C_Dog t474 = v_tryFirst_473;
-        const bool t475 = t474.origin == a_d_371.origin;
-        const bool t476 = !t475;
-        C_Dog t534;
-        if (t476) {
-          const C_Dog t477 = v_tryFirst_473;
-          t534 = t477;
+        l_tryFirst175 = std::move(r235);
+        const C3_Dog& v241 = l_tryFirst175;
+        const bool t242 = (v241.origin == prev171.origin);
+        const bool t243 = !t242;
+        C3_Dog r244{};
+        if (t243) {
+          const C3_Dog& v245 = l_tryFirst175;
+          r244 = v245;
         } else {
-          const int32_t t478 = int32_t(0);
-          const int32_t t479 = sub(a_target_372.y, a_d_371.origin.y);
-          const int32_t& a_x_480 = t479;
-          const bool t481 = a_x_480 == int32_t(0);
-          int32_t t485;
-          if (t481) {
-            t485 = int32_t(0);
+          const int32_t t246 = sub(t173.origin.y, prev171.origin.y);
+          const bool t247 = (t246 == int32_t(0));
+          int32_t r248{};
+          if (t247) {
+            r248 = int32_t(0);
           } else {
-            const bool t482 = a_x_480 < int32_t(0);
-            int32_t t484;
-            if (t482) {
-              const int32_t t483 = neg(int32_t(1));
-              t484 = t483;
+            const bool t249 = (t246 < int32_t(0));
+            int32_t r250{};
+            if (t249) {
+              r250 = int32_t(-1);
             } else {
-              t484 = int32_t(1);
+              r250 = int32_t(1);
             }
-            t485 = t484;
+            r248 = r250;
           }
-          const C_Dog& a_obj_486 = a_d_371;
-          const int32_t& a_x_487 = t478;
-          const int32_t& a_y_488 = t485;
-          const Pos t489 = Pos{a_x_487, a_y_488};
-          const C_Dog& a_obj_490 = a_obj_486;
-          Pos a_dir_491 = t489;
-          const int32_t t492 = int32_t(4);
-          const Pos t493 = a_dir_491;
-          const int32_t t494 = add(a_obj_490.origin.x, t493.x);
-          const Pos t495 = a_dir_491;
-          const int32_t t496 = add(a_obj_490.origin.y, t495.y);
-          const Pos t497 = Pos{t494, t496};
-          C_Dog t498 = a_obj_490;
-          t498.origin = t497;
-          const C_Dog& a_obj_499 = t498;
-          const C_Dog& a_prev_obj_500 = a_obj_486;
-          s.scratch.v.t501.clear();
-          std::vector<Elem>& t501 = s.scratch.v.t501;
-          render_Dog(s, a_prev_obj_500, t501);
-          std::vector<Elem> v_prev_elems_502 = t501;
-          s.scratch.v.t503.clear();
-          std::vector<Elem>& t503 = s.scratch.v.t503;
-          render_Dog(s, a_obj_499, t503);
-          std::vector<Elem> v_curr_elems_504 = t503;
-          const std::vector<Elem> t505 = v_curr_elems_504;
-          std::vector<Elem> t506;
-          for (const Elem& t506_x : t505) {
-            const Elem& a_elem_507 = t506_x;
-            const std::vector<Elem> t508 = v_prev_elems_502;
-            const Elem& a_e_509 = a_elem_507;
-            const std::vector<Elem>& a_l_510 = t508;
-            bool t511 = false;
-            for (const Elem& t511_x : a_l_510) {
-              const Elem& a_x_512 = t511_x;
-              const bool t513 = a_x_512 == a_e_509;
-              if (t513) { t511 = true; break; }
+          const Pos t251 = Pos{int32_t(0), r248};
+          const int32_t t252 = add(prev171.origin.x, t251.x);
+          const int32_t t253 = add(prev171.origin.y, t251.y);
+          const Pos t254 = Pos{t252, t253};
+          C3_Dog upd255 = prev171;
+          upd255.origin = t254;
+          std::vector<Elem>& l_prev_elems256 = s.scratch.v.b21;
+          l_prev_elems256.clear();
+          std::vector<Elem>& l_curr_elems257 = s.scratch.v.b22;
+          l_curr_elems257.clear();
+          std::vector<Elem>& l_filtered_elems258 = s.scratch.v.b23;
+          l_filtered_elems258.clear();
+          std::vector<Elem> rendered259{};
+          rendered259.push_back(Elem{Pos{add(prev171.origin.x, int32_t(0)), add(prev171.origin.y, int32_t(0))}, int32_t(0)});
+          l_prev_elems256 = std::move(rendered259);
+          std::vector<Elem> rendered260{};
+          rendered260.push_back(Elem{Pos{add(upd255.origin.x, int32_t(0)), add(upd255.origin.y, int32_t(0))}, int32_t(0)});
+          l_curr_elems257 = std::move(rendered260);
+          const std::vector<Elem>& v261 = l_curr_elems257;
+          std::vector<Elem> out262{};
+          for (const Elem& x263 : v261) {
+            const std::vector<Elem>& v264 = l_prev_elems256;
+            bool any265 = false;
+            for (const Elem& x266 : v264) {
+              const bool t267 = (x266 == x263);
+              if (t267) {
+                any265 = true;
+                break;
+              }
             }
-            const bool t514 = !t511;
-            if (t514) t506.push_back(t506_x);
+            const bool t268 = !any265;
+            if (t268) {
+              out262.push_back(x263);
+            }
           }
-          std::vector<Elem> v_filtered_elems_515 = t506;
-          const std::vector<Elem> t516 = v_filtered_elems_515;
-          bool t517 = false;
-          for (const Elem& t517_x : t516) {
-            const Elem& a_elem_518 = t517_x;
-            const Pos t519 = a_elem_518.position;
-            const bool t520 = s.core.occupied.free(t519);
-            const bool t521 = !t520;
-            if (t521) { t517 = true; break; }
+          l_filtered_elems258 = std::move(out262);
+          const std::vector<Elem>& v269 = l_filtered_elems258;
+          bool any270 = false;
+          for (const Elem& x271 : v269) {
+            const bool t272 = s.core.occupied.free(x271.position);
+            const bool t273 = !t272;
+            if (t273) {
+              any270 = true;
+              break;
+            }
           }
-          const bool t522 = !t517;
-          C_Dog t533;
-          if (t522) {
-            const Pos t523 = Pos{a_x_487, a_y_488};
-            const C_Dog& a_obj_524 = a_obj_486;
-            Pos a_dir_525 = t523;
-            const int32_t t526 = int32_t(4);
-            const Pos t527 = a_dir_525;
-            const int32_t t528 = add(a_obj_524.origin.x, t527.x);
-            const Pos t529 = a_dir_525;
-            const int32_t t530 = add(a_obj_524.origin.y, t529.y);
-            const Pos t531 = Pos{t528, t530};
-            C_Dog t532 = a_obj_524;
-            t532.origin = t531;
-            t533 = t532;
+          const bool t274 = !any270;
+          C3_Dog r275{};
+          if (t274) {
+            const Pos t276 = Pos{int32_t(0), r248};
+            const int32_t t277 = add(prev171.origin.x, t276.x);
+            const int32_t t278 = add(prev171.origin.y, t276.y);
+            const Pos t279 = Pos{t277, t278};
+            C3_Dog upd280 = prev171;
+            upd280.origin = t279;
+            r275 = std::move(upd280);
           } else {
-            t533 = a_obj_486;
+            r275 = prev171;
           }
-          t534 = t533;
+          r244 = std::move(r275);
         }
-        s.g_dog = t534;
-        s.u_dog = true;
+        s.g_dog_13 = std::move(r244);
+        s.u_dog_14 = true;
       }
     }
-    {  // on-clause 6, programs/sheepdog.au:75
-      const std::vector<C_Flag>& t535 = s.g_flags;
-      const int32_t t536 = int32_t(t535.size());
-      const bool t537 = t536 > int32_t(0);
-      bool t538 = false;
-      if ((t537)) {
-        const C_Dog& t539 = s.g_dog;
-        const Pos t540 = t539.origin;
-        const std::vector<C_Flag>& t541 = s.g_flags;
-        if (t541.empty()) fail("head of an empty list");
-        const C_Flag t542 = t541.front();
-        const Pos t543 = t542.origin;
-        const int32_t t544 = int32_t(1);
-        const Pos& a_p1_545 = t540;
-        const Pos& a_p2_546 = t543;
-        const int32_t& a_unitSize_547 = t544;
-        const Pos& a_pos1_548 = a_p1_545;
-        const Pos& a_pos2_549 = a_p2_546;
-        const int32_t t550 = sub(a_pos2_549.x, a_pos1_548.x);
-        const int32_t t551 = sub(a_pos2_549.y, a_pos1_548.y);
-        const Pos t552 = Pos{t550, t551};
-        Pos v_delta_553 = t552;
-        const Pos t554 = v_delta_553;
-        const int32_t t555 = t554.x;
-        const int32_t& a_x_556 = t555;
-        const bool t557 = a_x_556 < int32_t(0);
-        int32_t t559;
-        if (t557) {
-          const int32_t t558 = neg(a_x_556);
-          t559 = t558;
-        } else {
-          t559 = a_x_556;
+    // on-clause 6, programs/sheepdog.au:75
+    {
+      const std::vector<C1_Flag>& g281 = s.g_flags_10;
+      const int32_t t282 = int32_t(g281.size());
+      const bool t283 = (t282 > int32_t(0));
+      bool r284{};
+      if (t283) {
+        const C3_Dog& g285 = s.g_dog_13;
+        const std::vector<C1_Flag>& g286 = s.g_flags_10;
+        if (g286.empty()) {
+          fail_at(2, std::string() + std::string("head of an empty list"));
         }
-        const Pos t560 = v_delta_553;
-        const int32_t t561 = t560.y;
-        const int32_t& a_x_562 = t561;
-        const bool t563 = a_x_562 < int32_t(0);
-        int32_t t565;
-        if (t563) {
-          const int32_t t564 = neg(a_x_562);
-          t565 = t564;
+        const C1_Flag t287 = g286.front();
+        Pos l_delta288{};
+        const int32_t t289 = sub(t287.origin.x, g285.origin.x);
+        const int32_t t290 = sub(t287.origin.y, g285.origin.y);
+        const Pos t291 = Pos{t289, t290};
+        l_delta288 = t291;
+        const Pos& v292 = l_delta288;
+        const bool t293 = (v292.x < int32_t(0));
+        int32_t r294{};
+        if (t293) {
+          const int32_t t295 = neg(v292.x);
+          r294 = t295;
         } else {
-          t565 = a_x_562;
+          r294 = v292.x;
         }
-        const int32_t t566 = add(t559, t565);
-        const bool t567 = t566 <= a_unitSize_547;
-        t538 = t567;
+        const Pos& v296 = l_delta288;
+        const bool t297 = (v296.y < int32_t(0));
+        int32_t r298{};
+        if (t297) {
+          const int32_t t299 = neg(v296.y);
+          r298 = t299;
+        } else {
+          r298 = v296.y;
+        }
+        const int32_t t300 = add(r294, r298);
+        const bool t301 = (t300 <= int32_t(1));
+        r284 = t301;
+      } else {
+        r284 = false;
       }
-      if (t538) {
-        s.core.covered[5] = 1;
-        s.g_flags = {};
-        s.u_flags = true;
+      if (r284) {
+        s.core.covered[int32_t(5)] = 1;
+        s.g_flags_10 = std::vector<C1_Flag>{};
+        s.u_flags_11 = true;
       }
     }
-    {  // on-clause 7, programs/sheepdog.au:77
-      bool t568 = false;
+    // on-clause 7, programs/sheepdog.au:77
+    {
+      bool clicked302 = false;
       if (s.core.click) {
-        s.core.click_defined = true;
-        s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-        t568 = true;
+        s.d_click_20 = true;
+        s.g_click_19 = Pos{s.core.click_x, s.core.click_y};
+        clicked302 = true;
       }
-      bool t569 = false;
-      if ((t568)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        bool t570 = false;
+      bool r303{};
+      if (clicked302) {
+        const C3_Dog& prev304 = s.p_dog_15;
+        bool clicked305 = false;
         if (s.core.click) {
-          s.core.click_defined = true;
-          s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-          s.scratch.v.t571.clear();
-          std::vector<Elem>& t571 = s.scratch.v.t571;
-          render_Dog(s, s.p_dog, t571);
-          for (const Elem& e : t571)
-            if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t570 = true; break; }
-        }
-        const bool t572 = !t570;
-        t569 = t572;
-      }
-      if (t569) {
-        s.core.covered[6] = 1;
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t573 = s.core.click_pos;
-        const int32_t t574 = t573.x;
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t575 = s.core.click_pos;
-        const int32_t t576 = t575.y;
-        const Pos t577 = Pos{t574, t576};
-        const C_Flag t578 = C_Flag{t577};
-        const std::vector<C_Flag> t579 = std::vector<C_Flag>{t578};
-        s.g_flags = t579;
-        s.u_flags = true;
-      }
-    }
-    {  // on-clause 8, programs/sheepdog.au:80
-      if (true) {
-        s.core.covered[7] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        std::vector<C_Sheep> t821;
-        for (const C_Sheep& t822 : s.p_sheep) {
-          const std::vector<C_Sheep>& a_acc_823 = t821;
-          const C_Sheep& a_s_824 = t822;
-          // inlined: function at programs/sheepdog.au:80
-          const C_Sheep& a_s_825 = a_s_824;
-          const std::vector<C_Sheep>& a_placed_826 = a_acc_823;
-          // inlined: function at programs/sheepdog.au:53
-          C_Sheep t1068;
-          if (a_s_825.f_penned) {
-            t1068 = a_s_825;
-          } else {
-            const C_Dog& t827 = s.g_dog;
-            const int32_t t828 = int32_t(3);
-            const C_Sheep& a_obj1_829 = a_s_825;
-            const C_Dog& a_obj2_830 = t827;
-            const int32_t& a_unitSize_831 = t828;
-            const Pos t832 = a_obj1_829.origin;
-            const Pos t833 = a_obj2_830.origin;
-            const Pos& a_p1_834 = t832;
-            const Pos& a_p2_835 = t833;
-            const int32_t& a_unitSize_836 = a_unitSize_831;
-            const Pos& a_pos1_837 = a_p1_834;
-            const Pos& a_pos2_838 = a_p2_835;
-            const int32_t t839 = sub(a_pos2_838.x, a_pos1_837.x);
-            const int32_t t840 = sub(a_pos2_838.y, a_pos1_837.y);
-            const Pos t841 = Pos{t839, t840};
-            Pos v_delta_842 = t841;
-            const Pos t843 = v_delta_842;
-            const int32_t t844 = t843.x;
-            const int32_t& a_x_845 = t844;
-            const bool t846 = a_x_845 < int32_t(0);
-            int32_t t848;
-            if (t846) {
-              const int32_t t847 = neg(a_x_845);
-              t848 = t847;
-            } else {
-              t848 = a_x_845;
+          s.d_click_20 = true;
+          s.g_click_19 = Pos{s.core.click_x, s.core.click_y};
+          std::vector<Elem>& rendered306 = s.scratch.v.b24;
+          rendered306.clear();
+          rendered306.push_back(Elem{Pos{add(prev304.origin.x, int32_t(0)), add(prev304.origin.y, int32_t(0))}, int32_t(0)});
+          const Pos t307 = Pos{s.core.click_x, s.core.click_y};
+          for (const Elem& e308 : rendered306) {
+            if ((e308.position == t307)) {
+              clicked305 = true;
+              break;
             }
-            const Pos t849 = v_delta_842;
-            const int32_t t850 = t849.y;
-            const int32_t& a_x_851 = t850;
-            const bool t852 = a_x_851 < int32_t(0);
-            int32_t t854;
-            if (t852) {
-              const int32_t t853 = neg(a_x_851);
-              t854 = t853;
-            } else {
-              t854 = a_x_851;
-            }
-            const int32_t t855 = add(t848, t854);
-            const bool t856 = t855 <= a_unitSize_836;
-            Pos t915;
-            if (t856) {
-              const C_Sheep& a_s_857 = a_s_825;
-              // inlined: function at programs/sheepdog.au:43
-              const C_Dog& t858 = s.g_dog;
-              const C_Sheep& a_obj_859 = a_s_857;
-              const C_Dog& a_target_860 = t858;
-              const Pos t861 = a_obj_859.origin;
-              const Pos t862 = a_target_860.origin;
-              const Pos& a_pos1_863 = t861;
-              const Pos& a_pos2_864 = t862;
-              const int32_t t865 = sub(a_pos2_864.x, a_pos1_863.x);
-              const int32_t t866 = sub(a_pos2_864.y, a_pos1_863.y);
-              const Pos t867 = Pos{t865, t866};
-              Pos v_delta_868 = t867;
-              const Pos t869 = v_delta_868;
-              const int32_t t870 = t869.x;
-              const int32_t& a_x_871 = t870;
-              const bool t872 = a_x_871 == int32_t(0);
-              int32_t t876;
-              if (t872) {
-                t876 = int32_t(0);
-              } else {
-                const bool t873 = a_x_871 < int32_t(0);
-                int32_t t875;
-                if (t873) {
-                  const int32_t t874 = neg(int32_t(1));
-                  t875 = t874;
-                } else {
-                  t875 = int32_t(1);
-                }
-                t876 = t875;
-              }
-              int32_t v_sign_x_877 = t876;
-              const Pos t878 = v_delta_868;
-              const int32_t t879 = t878.y;
-              const int32_t& a_x_880 = t879;
-              const bool t881 = a_x_880 == int32_t(0);
-              int32_t t885;
-              if (t881) {
-                t885 = int32_t(0);
-              } else {
-                const bool t882 = a_x_880 < int32_t(0);
-                int32_t t884;
-                if (t882) {
-                  const int32_t t883 = neg(int32_t(1));
-                  t884 = t883;
-                } else {
-                  t884 = int32_t(1);
-                }
-                t885 = t884;
-              }
-              int32_t v_sign_y_886 = t885;
-              const int32_t t887 = v_sign_x_877;
-              const int32_t& a_x_888 = t887;
-              const bool t889 = a_x_888 < int32_t(0);
-              int32_t t891;
-              if (t889) {
-                const int32_t t890 = neg(a_x_888);
-                t891 = t890;
-              } else {
-                t891 = a_x_888;
-              }
-              const bool t892 = t891 == int32_t(1);
-              bool t893 = false;
-              if ((t892)) {
-                const int32_t t894 = v_sign_y_886;
-                const int32_t& a_x_895 = t894;
-                const bool t896 = a_x_895 < int32_t(0);
-                int32_t t898;
-                if (t896) {
-                  const int32_t t897 = neg(a_x_895);
-                  t898 = t897;
-                } else {
-                  t898 = a_x_895;
-                }
-                const bool t899 = t898 == int32_t(1);
-                t893 = t899;
-              }
-              Pos t906;
-              if (t893) {
-                const int32_t t900 = v_sign_x_877;
-                const int32_t t901 = int32_t(0);
-                const Pos t902 = Pos{t900, t901};
-                t906 = t902;
-              } else {
-                const int32_t t903 = v_sign_x_877;
-                const int32_t t904 = v_sign_y_886;
-                const Pos t905 = Pos{t903, t904};
-                t906 = t905;
-              }
-              Pos v_u_907 = t906;
-              const Pos t908 = v_u_907;
-              const int32_t t909 = neg(t908.x);
-              const Pos t910 = v_u_907;
-              const int32_t t911 = neg(t910.y);
-              const Pos t912 = Pos{t909, t911};
-              t915 = t912;
-            } else {
-              const std::vector<Pos>& t913 = s.g_wanderSteps;
-              if (t913.empty()) fail("uniformChoice of an empty list");
-              const Pos t914 = t913[s.core.rng.next(t913.size())];
-              t915 = t914;
-            }
-            Pos v_wish_916 = t915;
-            const Pos t917 = v_wish_916;
-            const C_Sheep& a_s_918 = a_s_825;
-            const Pos& a_step_919 = t917;
-            const std::vector<C_Sheep>& a_placed_920 = a_placed_826;
-            // inlined: function at programs/sheepdog.au:52
-            const C_Sheep& a_obj_921 = a_s_918;
-            Pos a_dir_922 = a_step_919;
-            const int32_t t923 = int32_t(4);
-            const Pos t924 = a_dir_922;
-            const int32_t t925 = add(a_obj_921.origin.x, t924.x);
-            const Pos t926 = a_dir_922;
-            const int32_t t927 = add(a_obj_921.origin.y, t926.y);
-            const Pos t928 = Pos{t925, t927};
-            C_Sheep t929 = a_obj_921;
-            t929.origin = t928;
-            s.scratch.v.t930.clear();
-            std::vector<Elem>& t930 = s.scratch.v.t930;
-            render_Sheep(s, t929, t930);
-            bool t931 = true;
-            for (const Elem& e : t930)
-              if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t931 = false; break; }
-            bool t932 = false;
-            if ((t931)) {
-              const C_Sheep& a_obj_933 = a_s_918;
-              Pos a_dir_934 = a_step_919;
-              const int32_t t935 = int32_t(4);
-              const Pos t936 = a_dir_934;
-              const int32_t t937 = add(a_obj_933.origin.x, t936.x);
-              const Pos t938 = a_dir_934;
-              const int32_t t939 = add(a_obj_933.origin.y, t938.y);
-              const Pos t940 = Pos{t937, t939};
-              C_Sheep t941 = a_obj_933;
-              t941.origin = t940;
-              const Pos t942 = t941.origin;
-              const Pos& a_p_943 = t942;
-              const std::vector<C_Sheep>& a_placed_944 = a_placed_920;
-              // inlined: function at programs/sheepdog.au:49
-              const Pos& a_p_945 = a_p_943;
-              // inlined: function at programs/sheepdog.au:48
-              const Pos& a_p_946 = a_p_945;
-              // inlined: function at programs/sheepdog.au:21
-              const bool t947 = a_p_946.x >= int32_t(10);
-              bool t948 = false;
-              if ((t947)) {
-                const bool t949 = a_p_946.y <= int32_t(5);
-                t948 = t949;
-              }
-              bool t950 = false;
-              if ((t948)) {
-                const bool t951 = a_p_946.x == int32_t(10);
-                bool t952 = true;
-                if (!(t951)) {
-                  const bool t953 = a_p_946.x == int32_t(15);
-                  t952 = t953;
-                }
-                bool t954 = true;
-                if (!(t952)) {
-                  const bool t955 = a_p_946.y == int32_t(0);
-                  bool t956 = true;
-                  if (!(t955)) {
-                    const bool t957 = a_p_946.y == int32_t(5);
-                    t956 = t957;
-                  }
-                  t954 = t956;
-                }
-                t950 = t954;
-              }
-              bool t958 = false;
-              if ((t950)) {
-                const std::vector<Pos>& t959 = s.g_gate;
-                const Pos& a_e_960 = a_p_945;
-                const std::vector<Pos>& a_l_961 = t959;
-                bool t962 = false;
-                for (const Pos& t962_x : a_l_961) {
-                  const Pos& a_x_963 = t962_x;
-                  const bool t964 = a_x_963 == a_e_960;
-                  if (t964) { t962 = true; break; }
-                }
-                const bool t965 = !t962;
-                t958 = t965;
-              }
-              bool t966 = true;
-              if (!(t958)) {
-                const C_Dog& t967 = s.g_dog;
-                const bool t968 = a_p_943 == t967.origin;
-                t966 = t968;
-              }
-              bool t969 = true;
-              if (!(t966)) {
-                bool t970 = false;
-                for (const C_Sheep& t970_x : a_placed_944) {
-                  const C_Sheep& a_q_971 = t970_x;
-                  // inlined: function at programs/sheepdog.au:51
-                  const bool t972 = a_q_971.origin == a_p_943;
-                  if (t972) { t970 = true; break; }
-                }
-                bool t973 = true;
-                if (!(t970)) {
-                  if (!s.core.have_prev) fail("prev used before the first step");
-                  bool t974 = false;
-                  for (const C_Sheep& t974_x : s.p_sheep) {
-                    const C_Sheep& a_q_975 = t974_x;
-                    // inlined: function at programs/sheepdog.au:51
-                    const bool t976 = a_q_975.origin == a_p_943;
-                    if (t976) { t974 = true; break; }
-                  }
-                  t973 = t974;
-                }
-                t969 = t973;
-              }
-              const bool t977 = !t969;
-              t932 = t977;
-            }
-            Pos t981;
-            if (t932) {
-              const Pos t978 = v_wish_916;
-              t981 = t978;
-            } else {
-              const std::vector<Pos>& t979 = s.g_wanderSteps;
-              if (t979.empty()) fail("uniformChoice of an empty list");
-              const Pos t980 = t979[s.core.rng.next(t979.size())];
-              t981 = t980;
-            }
-            v_wish_916 = t981;
-            const Pos t982 = v_wish_916;
-            const C_Sheep& a_s_983 = a_s_825;
-            const Pos& a_step_984 = t982;
-            const std::vector<C_Sheep>& a_placed_985 = a_placed_826;
-            // inlined: function at programs/sheepdog.au:52
-            const C_Sheep& a_obj_986 = a_s_983;
-            Pos a_dir_987 = a_step_984;
-            const int32_t t988 = int32_t(4);
-            const Pos t989 = a_dir_987;
-            const int32_t t990 = add(a_obj_986.origin.x, t989.x);
-            const Pos t991 = a_dir_987;
-            const int32_t t992 = add(a_obj_986.origin.y, t991.y);
-            const Pos t993 = Pos{t990, t992};
-            C_Sheep t994 = a_obj_986;
-            t994.origin = t993;
-            s.scratch.v.t995.clear();
-            std::vector<Elem>& t995 = s.scratch.v.t995;
-            render_Sheep(s, t994, t995);
-            bool t996 = true;
-            for (const Elem& e : t995)
-              if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t996 = false; break; }
-            bool t997 = false;
-            if ((t996)) {
-              const C_Sheep& a_obj_998 = a_s_983;
-              Pos a_dir_999 = a_step_984;
-              const int32_t t1000 = int32_t(4);
-              const Pos t1001 = a_dir_999;
-              const int32_t t1002 = add(a_obj_998.origin.x, t1001.x);
-              const Pos t1003 = a_dir_999;
-              const int32_t t1004 = add(a_obj_998.origin.y, t1003.y);
-              const Pos t1005 = Pos{t1002, t1004};
-              C_Sheep t1006 = a_obj_998;
-              t1006.origin = t1005;
-              const Pos t1007 = t1006.origin;
-              const Pos& a_p_1008 = t1007;
-              const std::vector<C_Sheep>& a_placed_1009 = a_placed_985;
-              // inlined: function at programs/sheepdog.au:49
-              const Pos& a_p_1010 = a_p_1008;
-              // inlined: function at programs/sheepdog.au:48
-              const Pos& a_p_1011 = a_p_1010;
-              // inlined: function at programs/sheepdog.au:21
-              const bool t1012 = a_p_1011.x >= int32_t(10);
-              bool t1013 = false;
-              if ((t1012)) {
-                const bool t1014 = a_p_1011.y <= int32_t(5);
-                t1013 = t1014;
-              }
-              bool t1015 = false;
-              if ((t1013)) {
-                const bool t1016 = a_p_1011.x == int32_t(10);
-                bool t1017 = true;
-                if (!(t1016)) {
-                  const bool t1018 = a_p_1011.x == int32_t(15);
-                  t1017 = t1018;
-                }
-                bool t1019 = true;
-                if (!(t1017)) {
-                  const bool t1020 = a_p_1011.y == int32_t(0);
-                  bool t1021 = true;
-                  if (!(t1020)) {
-                    const bool t1022 = a_p_1011.y == int32_t(5);
-                    t1021 = t1022;
-                  }
-                  t1019 = t1021;
-                }
-                t1015 = t1019;
-              }
-              bool t1023 = false;
-              if ((t1015)) {
-                const std::vector<Pos>& t1024 = s.g_gate;
-                const Pos& a_e_1025 = a_p_1010;
-                const std::vector<Pos>& a_l_1026 = t1024;
-                bool t1027 = false;
-                for (const Pos& t1027_x : a_l_1026) {
-                  const Pos& a_x_1028 = t1027_x;
-                  const bool t1029 = a_x_1028 == a_e_1025;
-                  if (t1029) { t1027 = true; break; }
-                }
-                const bool t1030 = !t1027;
-                t1023 = t1030;
-              }
-              bool t1031 = true;
-              if (!(t1023)) {
-                const C_Dog& t1032 = s.g_dog;
-                const bool t1033 = a_p_1008 == t1032.origin;
-                t1031 = t1033;
-              }
-              bool t1034 = true;
-              if (!(t1031)) {
-                bool t1035 = false;
-                for (const C_Sheep& t1035_x : a_placed_1009) {
-                  const C_Sheep& a_q_1036 = t1035_x;
-                  // inlined: function at programs/sheepdog.au:51
-                  const bool t1037 = a_q_1036.origin == a_p_1008;
-                  if (t1037) { t1035 = true; break; }
-                }
-                bool t1038 = true;
-                if (!(t1035)) {
-                  if (!s.core.have_prev) fail("prev used before the first step");
-                  bool t1039 = false;
-                  for (const C_Sheep& t1039_x : s.p_sheep) {
-                    const C_Sheep& a_q_1040 = t1039_x;
-                    // inlined: function at programs/sheepdog.au:51
-                    const bool t1041 = a_q_1040.origin == a_p_1008;
-                    if (t1041) { t1039 = true; break; }
-                  }
-                  t1038 = t1039;
-                }
-                t1034 = t1038;
-              }
-              const bool t1042 = !t1034;
-              t997 = t1042;
-            }
-            C_Sheep t1053;
-            if (t997) {
-              const Pos t1043 = v_wish_916;
-              const C_Sheep& a_obj_1044 = a_s_825;
-              Pos a_dir_1045 = t1043;
-              const int32_t t1046 = int32_t(4);
-              const Pos t1047 = a_dir_1045;
-              const int32_t t1048 = add(a_obj_1044.origin.x, t1047.x);
-              const Pos t1049 = a_dir_1045;
-              const int32_t t1050 = add(a_obj_1044.origin.y, t1049.y);
-              const Pos t1051 = Pos{t1048, t1050};
-              C_Sheep t1052 = a_obj_1044;
-              t1052.origin = t1051;
-              t1053 = t1052;
-            } else {
-              t1053 = a_s_825;
-            }
-            C_Sheep v_there_1054 = t1053;
-            const C_Sheep t1055 = v_there_1054;
-            const int32_t t1056 = int32_t(5);
-            const C_Sheep t1057 = v_there_1054;
-            const Pos t1058 = t1057.origin;
-            const Pos& a_p_1059 = t1058;
-            // inlined: function at programs/sheepdog.au:23
-            const bool t1060 = a_p_1059.x >= int32_t(11);
-            bool t1061 = false;
-            if ((t1060)) {
-              const bool t1062 = a_p_1059.x <= int32_t(14);
-              t1061 = t1062;
-            }
-            bool t1063 = false;
-            if ((t1061)) {
-              const bool t1064 = a_p_1059.y >= int32_t(1);
-              bool t1065 = false;
-              if ((t1064)) {
-                const bool t1066 = a_p_1059.y <= int32_t(4);
-                t1065 = t1066;
-              }
-              t1063 = t1065;
-            }
-            C_Sheep t1067 = t1055;
-            t1067.f_penned = t1063;
-            t1068 = t1067;
           }
-          std::vector<C_Sheep> t1069;
-          t1069.reserve(a_acc_823.size() + 1);
-          t1069.assign(a_acc_823.begin(), a_acc_823.end());
-          t1069.push_back(t1068);
-          t821 = t1069;
         }
-        const std::vector<C_Sheep> t1070 = t821;
-        s.g_sheep = t1070;
-        s.u_sheep = true;
+        const bool t309 = !clicked305;
+        r303 = t309;
+      } else {
+        r303 = false;
+      }
+      if (r303) {
+        s.core.covered[int32_t(6)] = 1;
+        Pos r310{};
+        if (s.d_click_20) {
+          const Pos& g311 = s.g_click_19;
+          r310 = g311;
+        } else {
+          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+        }
+        Pos r312{};
+        if (s.d_click_20) {
+          const Pos& g313 = s.g_click_19;
+          r312 = g313;
+        } else {
+          fail_at(4, std::string() + std::string("undefined variable 'click'"));
+        }
+        const Pos t314 = Pos{r310.x, r312.y};
+        CellV l_allCells315{};
+        const CellV t316 = CellV{int32_t(0), int32_t(0), int32_t(4), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
+        l_allCells315 = t316;
+        const CellV& v317 = l_allCells315;
+        const CellV& v318 = l_allCells315;
+        const std::vector<CellV> list319 = std::vector<CellV>{v318};
+        const C1_Flag o320 = C1_Flag{t314};
+        std::vector<C1_Flag> list321 = std::vector<C1_Flag>{o320};
+        s.g_flags_10 = std::move(list321);
+        s.u_flags_11 = true;
       }
     }
-    {  // on-clause 9, programs/sheepdog.au:82
-      const std::vector<C_Sheep>& t1071 = s.g_sheep;
-      const std::vector<C_Sheep>& a_flock_1072 = t1071;
-      // inlined: function at programs/sheepdog.au:39
-      bool t1073 = false;
-      for (const C_Sheep& t1073_x : a_flock_1072) {
-        const C_Sheep& a_s_1074 = t1073_x;
-        // inlined: function at programs/sheepdog.au:39
-        const bool t1075 = !a_s_1074.f_penned;
-        if (t1075) { t1073 = true; break; }
-      }
-      const bool t1076 = !t1073;
-      if (t1076) {
-        s.core.covered[8] = 1;
-        const int32_t t1077 = int32_t(6);
-        s.g_background = t1077;
+    // on-clause 8, programs/sheepdog.au:80
+    {
+      if (true) {
+        s.core.covered[int32_t(7)] = 1;
+        const std::vector<C2_Sheep>& prev322 = s.p_sheep_9;
+        std::vector<C2_Sheep> acc323 = std::vector<C2_Sheep>{};
+        for (const C2_Sheep& x324 : prev322) {
+          const std::vector<C2_Sheep>& a325 = acc323;
+          // inlined: function at programs/sheepdog.au:80
+          // inlined: function at programs/sheepdog.au:53
+          C2_Sheep r326{};
+          if (x324.f0) {
+            r326 = x324;
+          } else {
+            Pos l_wish327{};
+            C2_Sheep l_there328{};
+            const C3_Dog& g329 = s.g_dog_13;
+            Pos l_delta330{};
+            const int32_t t331 = sub(g329.origin.x, x324.origin.x);
+            const int32_t t332 = sub(g329.origin.y, x324.origin.y);
+            const Pos t333 = Pos{t331, t332};
+            l_delta330 = t333;
+            const Pos& v334 = l_delta330;
+            const bool t335 = (v334.x < int32_t(0));
+            int32_t r336{};
+            if (t335) {
+              const int32_t t337 = neg(v334.x);
+              r336 = t337;
+            } else {
+              r336 = v334.x;
+            }
+            const Pos& v338 = l_delta330;
+            const bool t339 = (v338.y < int32_t(0));
+            int32_t r340{};
+            if (t339) {
+              const int32_t t341 = neg(v338.y);
+              r340 = t341;
+            } else {
+              r340 = v338.y;
+            }
+            const int32_t t342 = add(r336, r340);
+            const bool t343 = (t342 <= int32_t(3));
+            Pos r344{};
+            if (t343) {
+              // inlined: function at programs/sheepdog.au:43
+              Pos l_u345{};
+              const C3_Dog& g346 = s.g_dog_13;
+              Pos l_delta347{};
+              int32_t l_sign_x348{};
+              int32_t l_sign_y349{};
+              const int32_t t350 = sub(g346.origin.x, x324.origin.x);
+              const int32_t t351 = sub(g346.origin.y, x324.origin.y);
+              const Pos t352 = Pos{t350, t351};
+              l_delta347 = t352;
+              const Pos& v353 = l_delta347;
+              const bool t354 = (v353.x == int32_t(0));
+              int32_t r355{};
+              if (t354) {
+                r355 = int32_t(0);
+              } else {
+                const bool t356 = (v353.x < int32_t(0));
+                int32_t r357{};
+                if (t356) {
+                  r357 = int32_t(-1);
+                } else {
+                  r357 = int32_t(1);
+                }
+                r355 = r357;
+              }
+              l_sign_x348 = r355;
+              const Pos& v358 = l_delta347;
+              const bool t359 = (v358.y == int32_t(0));
+              int32_t r360{};
+              if (t359) {
+                r360 = int32_t(0);
+              } else {
+                const bool t361 = (v358.y < int32_t(0));
+                int32_t r362{};
+                if (t361) {
+                  r362 = int32_t(-1);
+                } else {
+                  r362 = int32_t(1);
+                }
+                r360 = r362;
+              }
+              l_sign_y349 = r360;
+              const int32_t& v363 = l_sign_x348;
+              const bool t364 = (v363 < int32_t(0));
+              int32_t r365{};
+              if (t364) {
+                const int32_t t366 = neg(v363);
+                r365 = t366;
+              } else {
+                r365 = v363;
+              }
+              const bool t367 = (r365 == int32_t(1));
+              bool r368{};
+              if (t367) {
+                const int32_t& v369 = l_sign_y349;
+                const bool t370 = (v369 < int32_t(0));
+                int32_t r371{};
+                if (t370) {
+                  const int32_t t372 = neg(v369);
+                  r371 = t372;
+                } else {
+                  r371 = v369;
+                }
+                const bool t373 = (r371 == int32_t(1));
+                r368 = t373;
+              } else {
+                r368 = false;
+              }
+              Pos r374{};
+              if (r368) {
+                const int32_t& v375 = l_sign_x348;
+                const Pos t376 = Pos{v375, int32_t(0)};
+                r374 = t376;
+              } else {
+                const int32_t& v377 = l_sign_x348;
+                const int32_t& v378 = l_sign_y349;
+                const Pos t379 = Pos{v377, v378};
+                r374 = t379;
+              }
+              l_u345 = r374;
+              const Pos& v380 = l_u345;
+              const int32_t t381 = neg(v380.x);
+              const Pos& v382 = l_u345;
+              const int32_t t383 = neg(v382.y);
+              const Pos t384 = Pos{t381, t383};
+              r344 = t384;
+            } else {
+              const std::vector<Pos>& g385 = s.g_wanderSteps_5;
+              if (g385.empty()) {
+                fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
+              }
+              const int32_t t386 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g385.size())))));
+              const Pos t387 = g385[size_t(t386)];
+              r344 = t387;
+            }
+            l_wish327 = r344;
+            const Pos& v388 = l_wish327;
+            // inlined: function at programs/sheepdog.au:52
+            const int32_t t389 = add(x324.origin.x, v388.x);
+            const int32_t t390 = add(x324.origin.y, v388.y);
+            const Pos t391 = Pos{t389, t390};
+            C2_Sheep upd392 = x324;
+            upd392.origin = t391;
+            std::vector<Elem>& rendered393 = s.scratch.v.b25;
+            rendered393.clear();
+            const int32_t colour394 = colour_0_C2_Sheep(s, upd392);
+            rendered393.push_back(Elem{Pos{add(upd392.origin.x, int32_t(0)), add(upd392.origin.y, int32_t(0))}, colour394});
+            bool within395 = true;
+            for (const Elem& e396 : rendered393) {
+              if ((((e396.position.x < int32_t(0)) || (e396.position.x >= int32_t(16))) || ((e396.position.y < int32_t(0)) || (e396.position.y >= int32_t(16))))) {
+                within395 = false;
+                break;
+              }
+            }
+            bool r397{};
+            if (within395) {
+              const int32_t t398 = add(x324.origin.x, v388.x);
+              const int32_t t399 = add(x324.origin.y, v388.y);
+              const Pos t400 = Pos{t398, t399};
+              C2_Sheep upd401 = x324;
+              upd401.origin = t400;
+              // inlined: function at programs/sheepdog.au:49
+              // inlined: function at programs/sheepdog.au:48
+              // inlined: function at programs/sheepdog.au:21
+              const bool t402 = (upd401.origin.x >= int32_t(10));
+              bool r403{};
+              if (t402) {
+                const bool t404 = (upd401.origin.y <= int32_t(5));
+                r403 = t404;
+              } else {
+                r403 = false;
+              }
+              bool r405{};
+              if (r403) {
+                const bool t406 = (upd401.origin.x == int32_t(10));
+                bool r407{};
+                if (!t406) {
+                  const bool t408 = (upd401.origin.x == int32_t(15));
+                  r407 = t408;
+                } else {
+                  r407 = true;
+                }
+                bool r409{};
+                if (!r407) {
+                  const bool t410 = (upd401.origin.y == int32_t(0));
+                  bool r411{};
+                  if (!t410) {
+                    const bool t412 = (upd401.origin.y == int32_t(5));
+                    r411 = t412;
+                  } else {
+                    r411 = true;
+                  }
+                  r409 = r411;
+                } else {
+                  r409 = true;
+                }
+                r405 = r409;
+              } else {
+                r405 = false;
+              }
+              bool r413{};
+              if (r405) {
+                const std::vector<Pos>& g414 = s.g_gate_6;
+                bool any415 = false;
+                for (const Pos& x416 : g414) {
+                  const bool t417 = (x416 == upd401.origin);
+                  if (t417) {
+                    any415 = true;
+                    break;
+                  }
+                }
+                const bool t418 = !any415;
+                r413 = t418;
+              } else {
+                r413 = false;
+              }
+              bool r419{};
+              if (!r413) {
+                const C3_Dog& g420 = s.g_dog_13;
+                const bool t421 = (upd401.origin == g420.origin);
+                r419 = t421;
+              } else {
+                r419 = true;
+              }
+              bool r422{};
+              if (!r419) {
+                bool any423 = false;
+                for (const C2_Sheep& x424 : a325) {
+                  // inlined: function at programs/sheepdog.au:51
+                  const bool t425 = (x424.origin == upd401.origin);
+                  if (t425) {
+                    any423 = true;
+                    break;
+                  }
+                }
+                bool r426{};
+                if (!any423) {
+                  const std::vector<C2_Sheep>& prev427 = s.p_sheep_9;
+                  bool any428 = false;
+                  for (const C2_Sheep& x429 : prev427) {
+                    // inlined: function at programs/sheepdog.au:51
+                    const bool t430 = (x429.origin == upd401.origin);
+                    if (t430) {
+                      any428 = true;
+                      break;
+                    }
+                  }
+                  r426 = any428;
+                } else {
+                  r426 = true;
+                }
+                r422 = r426;
+              } else {
+                r422 = true;
+              }
+              const bool t431 = !r422;
+              r397 = t431;
+            } else {
+              r397 = false;
+            }
+            Pos r432{};
+            if (r397) {
+              const Pos& v433 = l_wish327;
+              r432 = v433;
+            } else {
+              const std::vector<Pos>& g434 = s.g_wanderSteps_5;
+              if (g434.empty()) {
+                fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
+              }
+              const int32_t t435 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g434.size())))));
+              const Pos t436 = g434[size_t(t435)];
+              r432 = t436;
+            }
+            l_wish327 = r432;
+            const Pos& v437 = l_wish327;
+            // inlined: function at programs/sheepdog.au:52
+            const int32_t t438 = add(x324.origin.x, v437.x);
+            const int32_t t439 = add(x324.origin.y, v437.y);
+            const Pos t440 = Pos{t438, t439};
+            C2_Sheep upd441 = x324;
+            upd441.origin = t440;
+            std::vector<Elem>& rendered442 = s.scratch.v.b26;
+            rendered442.clear();
+            const int32_t colour443 = colour_0_C2_Sheep(s, upd441);
+            rendered442.push_back(Elem{Pos{add(upd441.origin.x, int32_t(0)), add(upd441.origin.y, int32_t(0))}, colour443});
+            bool within444 = true;
+            for (const Elem& e445 : rendered442) {
+              if ((((e445.position.x < int32_t(0)) || (e445.position.x >= int32_t(16))) || ((e445.position.y < int32_t(0)) || (e445.position.y >= int32_t(16))))) {
+                within444 = false;
+                break;
+              }
+            }
+            bool r446{};
+            if (within444) {
+              const int32_t t447 = add(x324.origin.x, v437.x);
+              const int32_t t448 = add(x324.origin.y, v437.y);
+              const Pos t449 = Pos{t447, t448};
+              C2_Sheep upd450 = x324;
+              upd450.origin = t449;
+              // inlined: function at programs/sheepdog.au:49
+              // inlined: function at programs/sheepdog.au:48
+              // inlined: function at programs/sheepdog.au:21
+              const bool t451 = (upd450.origin.x >= int32_t(10));
+              bool r452{};
+              if (t451) {
+                const bool t453 = (upd450.origin.y <= int32_t(5));
+                r452 = t453;
+              } else {
+                r452 = false;
+              }
+              bool r454{};
+              if (r452) {
+                const bool t455 = (upd450.origin.x == int32_t(10));
+                bool r456{};
+                if (!t455) {
+                  const bool t457 = (upd450.origin.x == int32_t(15));
+                  r456 = t457;
+                } else {
+                  r456 = true;
+                }
+                bool r458{};
+                if (!r456) {
+                  const bool t459 = (upd450.origin.y == int32_t(0));
+                  bool r460{};
+                  if (!t459) {
+                    const bool t461 = (upd450.origin.y == int32_t(5));
+                    r460 = t461;
+                  } else {
+                    r460 = true;
+                  }
+                  r458 = r460;
+                } else {
+                  r458 = true;
+                }
+                r454 = r458;
+              } else {
+                r454 = false;
+              }
+              bool r462{};
+              if (r454) {
+                const std::vector<Pos>& g463 = s.g_gate_6;
+                bool any464 = false;
+                for (const Pos& x465 : g463) {
+                  const bool t466 = (x465 == upd450.origin);
+                  if (t466) {
+                    any464 = true;
+                    break;
+                  }
+                }
+                const bool t467 = !any464;
+                r462 = t467;
+              } else {
+                r462 = false;
+              }
+              bool r468{};
+              if (!r462) {
+                const C3_Dog& g469 = s.g_dog_13;
+                const bool t470 = (upd450.origin == g469.origin);
+                r468 = t470;
+              } else {
+                r468 = true;
+              }
+              bool r471{};
+              if (!r468) {
+                bool any472 = false;
+                for (const C2_Sheep& x473 : a325) {
+                  // inlined: function at programs/sheepdog.au:51
+                  const bool t474 = (x473.origin == upd450.origin);
+                  if (t474) {
+                    any472 = true;
+                    break;
+                  }
+                }
+                bool r475{};
+                if (!any472) {
+                  const std::vector<C2_Sheep>& prev476 = s.p_sheep_9;
+                  bool any477 = false;
+                  for (const C2_Sheep& x478 : prev476) {
+                    // inlined: function at programs/sheepdog.au:51
+                    const bool t479 = (x478.origin == upd450.origin);
+                    if (t479) {
+                      any477 = true;
+                      break;
+                    }
+                  }
+                  r475 = any477;
+                } else {
+                  r475 = true;
+                }
+                r471 = r475;
+              } else {
+                r471 = true;
+              }
+              const bool t480 = !r471;
+              r446 = t480;
+            } else {
+              r446 = false;
+            }
+            C2_Sheep r481{};
+            if (r446) {
+              const Pos& v482 = l_wish327;
+              const int32_t t483 = add(x324.origin.x, v482.x);
+              const int32_t t484 = add(x324.origin.y, v482.y);
+              const Pos t485 = Pos{t483, t484};
+              C2_Sheep upd486 = x324;
+              upd486.origin = t485;
+              r481 = std::move(upd486);
+            } else {
+              r481 = x324;
+            }
+            l_there328 = std::move(r481);
+            const C2_Sheep& v487 = l_there328;
+            const C2_Sheep& v488 = l_there328;
+            // inlined: function at programs/sheepdog.au:23
+            const bool t489 = (v488.origin.x >= int32_t(11));
+            bool r490{};
+            if (t489) {
+              const bool t491 = (v488.origin.x <= int32_t(14));
+              r490 = t491;
+            } else {
+              r490 = false;
+            }
+            bool r492{};
+            if (r490) {
+              const bool t493 = (v488.origin.y >= int32_t(1));
+              bool r494{};
+              if (t493) {
+                const bool t495 = (v488.origin.y <= int32_t(4));
+                r494 = t495;
+              } else {
+                r494 = false;
+              }
+              r492 = r494;
+            } else {
+              r492 = false;
+            }
+            C2_Sheep upd496 = v487;
+            upd496.f0 = r492;
+            r326 = std::move(upd496);
+          }
+          std::vector<C2_Sheep> added497{};
+          added497.reserve(size_t(add(int32_t(a325.size()), int32_t(1))));
+          for (const C2_Sheep& x498 : a325) {
+            added497.push_back(x498);
+          }
+          added497.push_back(std::move(r326));
+          acc323 = std::move(added497);
+        }
+        const std::vector<C2_Sheep>& folded499 = acc323;
+        s.g_sheep_7 = folded499;
+        s.u_sheep_8 = true;
       }
     }
-    {  // on-clause 10, programs/sheepdog.au:83
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const std::vector<C_Sheep>& a_flock_1078 = s.p_sheep;
+    // on-clause 9, programs/sheepdog.au:82
+    {
+      const std::vector<C2_Sheep>& g500 = s.g_sheep_7;
       // inlined: function at programs/sheepdog.au:39
-      bool t1079 = false;
-      for (const C_Sheep& t1079_x : a_flock_1078) {
-        const C_Sheep& a_s_1080 = t1079_x;
+      bool any501 = false;
+      for (const C2_Sheep& x502 : g500) {
         // inlined: function at programs/sheepdog.au:39
-        const bool t1081 = !a_s_1080.f_penned;
-        if (t1081) { t1079 = true; break; }
+        const bool t503 = !x502.f0;
+        if (t503) {
+          any501 = true;
+          break;
+        }
       }
-      const bool t1082 = !t1079;
-      bool t1083 = false;
-      if ((t1082)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        bool t1084 = false;
+      const bool t504 = !any501;
+      if (t504) {
+        s.core.covered[int32_t(8)] = 1;
+        s.g_background_2 = int32_t(8);
+      }
+    }
+    // on-clause 10, programs/sheepdog.au:83
+    {
+      const std::vector<C2_Sheep>& prev505 = s.p_sheep_9;
+      // inlined: function at programs/sheepdog.au:39
+      bool any506 = false;
+      for (const C2_Sheep& x507 : prev505) {
+        // inlined: function at programs/sheepdog.au:39
+        const bool t508 = !x507.f0;
+        if (t508) {
+          any506 = true;
+          break;
+        }
+      }
+      const bool t509 = !any506;
+      bool r510{};
+      if (t509) {
+        const C3_Dog& prev511 = s.p_dog_15;
+        bool clicked512 = false;
         if (s.core.click) {
-          s.core.click_defined = true;
-          s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-          s.scratch.v.t1085.clear();
-          std::vector<Elem>& t1085 = s.scratch.v.t1085;
-          render_Dog(s, s.p_dog, t1085);
-          for (const Elem& e : t1085)
-            if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t1084 = true; break; }
+          s.d_click_20 = true;
+          s.g_click_19 = Pos{s.core.click_x, s.core.click_y};
+          std::vector<Elem>& rendered513 = s.scratch.v.b27;
+          rendered513.clear();
+          rendered513.push_back(Elem{Pos{add(prev511.origin.x, int32_t(0)), add(prev511.origin.y, int32_t(0))}, int32_t(0)});
+          const Pos t514 = Pos{s.core.click_x, s.core.click_y};
+          for (const Elem& e515 : rendered513) {
+            if ((e515.position == t514)) {
+              clicked512 = true;
+              break;
+            }
+          }
         }
-        t1083 = t1084;
+        r510 = clicked512;
+      } else {
+        r510 = false;
       }
-      if (t1083) {
-        s.core.covered[9] = 1;
-        const std::vector<Pos>& t1086 = s.g_sheepStarts;
-        std::vector<C_Sheep> t1087;
-        t1087.reserve(t1086.size());
-        for (const Pos& t1087_x : t1086) {
-          const Pos& a_p_1088 = t1087_x;
+      if (r510) {
+        s.core.covered[int32_t(9)] = 1;
+        const std::vector<Pos>& g516 = s.g_sheepStarts_4;
+        std::vector<C2_Sheep> out517{};
+        out517.reserve(size_t(int32_t(g516.size())));
+        for (const Pos& x518 : g516) {
           // inlined: function at programs/sheepdog.au:84
-          const bool t1089 = false;
-          const C_Sheep t1090 = C_Sheep{t1089, a_p_1088};
-          t1087.push_back(t1090);
+          CellV l_allCells519{};
+          const CellV t520 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+          l_allCells519 = t520;
+          const CellV& v521 = l_allCells519;
+          const CellV& v522 = l_allCells519;
+          const std::vector<CellV> list523 = std::vector<CellV>{v522};
+          C2_Sheep o524 = C2_Sheep{false, x518};
+          out517.push_back(std::move(o524));
         }
-        s.g_sheep = std::move(t1087);
-        s.u_sheep = true;
-        const int32_t t1091 = int32_t(3);
-        s.g_background = t1091;
+        s.g_sheep_7 = std::move(out517);
+        s.u_sheep_8 = true;
+        s.g_background_2 = int32_t(1);
       }
     }
-    if (!s.u_sheep) {  // NEXT of sheep, programs/sheepdog.au:34
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_sheep = s.p_sheep;
+    // NEXT of sheep, programs/sheepdog.au:34
+    if (!s.u_sheep_8) {
+      const std::vector<C2_Sheep>& prev525 = s.p_sheep_9;
+      s.g_sheep_7 = prev525;
+      s.u_sheep_8 = true;
     }
-    if (!s.u_flags) {  // NEXT of flags, programs/sheepdog.au:31
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_flags = s.p_flags;
+    // NEXT of flags, programs/sheepdog.au:31
+    if (!s.u_flags_11) {
+      const std::vector<C1_Flag>& prev526 = s.p_flags_12;
+      s.g_flags_10 = prev526;
+      s.u_flags_11 = true;
     }
-    if (!s.u_dog) {  // NEXT of dog, programs/sheepdog.au:37
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_dog = s.p_dog;
+    // NEXT of dog, programs/sheepdog.au:37
+    if (!s.u_dog_14) {
+      const C3_Dog& prev527 = s.p_dog_15;
+      s.g_dog_13 = prev527;
+      s.u_dog_14 = true;
     }
-    if (!s.u_fences) {  // NEXT of fences, programs/sheepdog.au:28
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_fences = s.p_fences;
+    // NEXT of fences, programs/sheepdog.au:28
+    if (!s.u_fences_17) {
+      const std::vector<C0_Fence>& prev528 = s.p_fences_18;
+      s.g_fences_16 = prev528;
+      s.u_fences_17 = true;
     }
-    s.core.click = s.core.left = s.core.right = s.core.up = s.core.down = false;
+    s.core.clear_inputs();
   }
-
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
+    (void)s;
+    (void)paint;
+    (void)pal;
     s.core.occupied.clear(kGrid);
-    std::vector<Elem>& elems = s.scratch.v.render_elems;
-    if (paint) paint->begin(kGrid, pal[s.g_background]);
-    elems.clear();
-    for (const C_Fence& t1094 : s.g_fences) {
-      render_Fence(s, t1094, elems);
+    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    std::vector<Elem>& elems1 = s.scratch.v.b28;
+    elems1.clear();
+    elems1.clear();
+    const std::vector<C0_Fence>& g2 = s.g_fences_16;
+    for (const C0_Fence& x3 : g2) {
+      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(2)});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e4 : elems1) {
+      s.core.occupied.add(e4.position);
+      if (paint) paint->paint(e4.position, pal[e4.color]);
     }
-    elems.clear();
-    for (const C_Flag& t1095 : s.g_flags) {
-      render_Flag(s, t1095, elems);
+    elems1.clear();
+    const std::vector<C1_Flag>& g5 = s.g_flags_10;
+    for (const C1_Flag& x6 : g5) {
+      elems1.push_back(Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(4)});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e7 : elems1) {
+      s.core.occupied.add(e7.position);
+      if (paint) paint->paint(e7.position, pal[e7.color]);
     }
-    elems.clear();
-    for (const C_Sheep& t1096 : s.g_sheep) {
-      render_Sheep(s, t1096, elems);
+    elems1.clear();
+    const std::vector<C2_Sheep>& g8 = s.g_sheep_7;
+    for (const C2_Sheep& x9 : g8) {
+      const int32_t colour10 = colour_0_C2_Sheep(s, x9);
+      elems1.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e11 : elems1) {
+      s.core.occupied.add(e11.position);
+      if (paint) paint->paint(e11.position, pal[e11.color]);
     }
-    elems.clear();
-    render_Dog(s, s.g_dog, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    elems1.clear();
+    const C3_Dog& g12 = s.g_dog_13;
+    elems1.push_back(Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, int32_t(0)});
+    for (const Elem& e13 : elems1) {
+      s.core.occupied.add(e13.position);
+      if (paint) paint->paint(e13.position, pal[e13.color]);
     }
   }
-
   static uint64_t hash(const State& s) {
     Hash h;
     hash_core(h, s.core, kUsesRandom);
-    hash_value(h, s.g_GRID_SIZE);
-    hash_value(h, s.g_FRAME_RATE);
-    hash_value(h, s.g_background);
-    hash_value(h, s.g_sheepStarts);
-    hash_value(h, s.g_wanderSteps);
-    hash_value(h, s.g_gate);
-    hash_value(h, s.g_fences);
-    hash_value(h, s.g_flags);
-    hash_value(h, s.g_sheep);
-    hash_value(h, s.g_dog);
+    hash_value(h, s.g_GRID_SIZE_0);
+    hash_value(h, s.g_FRAME_RATE_1);
+    hash_value(h, s.g_background_2);
+    hash_value(h, s.g_SpecialConditionTriggered_3);
+    hash_value(h, s.g_sheepStarts_4);
+    hash_value(h, s.g_wanderSteps_5);
+    hash_value(h, s.g_gate_6);
+    hash_value(h, s.g_sheep_7);
+    hash_value(h, s.g_flags_10);
+    hash_value(h, s.g_dog_13);
+    hash_value(h, s.g_fences_16);
+    hash_value(h, s.g_click_19);
+    hash_value(h, s.d_click_20);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
     (void)s;
     (void)w;
-    save_value(w, s.g_GRID_SIZE);
-    save_value(w, s.g_FRAME_RATE);
-    save_value(w, s.g_background);
-    save_value(w, s.g_sheepStarts);
-    save_value(w, s.g_wanderSteps);
-    save_value(w, s.g_gate);
-    save_value(w, s.g_fences);
-    save_value(w, s.g_flags);
-    save_value(w, s.g_sheep);
-    save_value(w, s.g_dog);
+    save_value(w, s.g_GRID_SIZE_0);
+    save_value(w, s.g_FRAME_RATE_1);
+    save_value(w, s.g_background_2);
+    save_value(w, s.g_SpecialConditionTriggered_3);
+    save_value(w, s.g_sheepStarts_4);
+    save_value(w, s.g_wanderSteps_5);
+    save_value(w, s.g_gate_6);
+    save_value(w, s.g_sheep_7);
+    save_value(w, s.g_flags_10);
+    save_value(w, s.g_dog_13);
+    save_value(w, s.g_fences_16);
+    save_value(w, s.g_click_19);
+    save_value(w, s.d_click_20);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
     (void)r;
-    load_value(r, s.g_GRID_SIZE);
-    load_value(r, s.g_FRAME_RATE);
-    load_value(r, s.g_background);
-    load_value(r, s.g_sheepStarts);
-    load_value(r, s.g_wanderSteps);
-    load_value(r, s.g_gate);
-    load_value(r, s.g_fences);
-    load_value(r, s.g_flags);
-    load_value(r, s.g_sheep);
-    load_value(r, s.g_dog);
+    load_value(r, s.g_GRID_SIZE_0);
+    load_value(r, s.g_FRAME_RATE_1);
+    load_value(r, s.g_background_2);
+    load_value(r, s.g_SpecialConditionTriggered_3);
+    load_value(r, s.g_sheepStarts_4);
+    load_value(r, s.g_wanderSteps_5);
+    load_value(r, s.g_gate_6);
+    load_value(r, s.g_sheep_7);
+    load_value(r, s.g_flags_10);
+    load_value(r, s.g_dog_13);
+    load_value(r, s.g_fences_16);
+    load_value(r, s.g_click_19);
+    load_value(r, s.d_click_20);
   }
 };
 
 const char* const Prog::kColours[] = {
     "black",
-    "sienna",
-    "red",
     "yellowgreen",
+    "sienna",
     "origin",
-    "penned",
-    "gold",
+    "red",
     "wheat",
     "white",
+    "penned",
+    "gold",
     nullptr};
+
+const ErrorSite Prog::kErrors[] = {
+    {27, 44, nullptr, true, 27, 44, "initialising 'fences': "},
+    {74, 33, nullptr, true, 74, 33, ""},
+    {75, 65, nullptr, true, 75, 65, ""},
+    {78, 40, nullptr, true, 78, 40, ""},
+    {78, 53, nullptr, true, 78, 53, ""},
+    {56, 66, nullptr, true, 56, 66, ""},
+    {57, 58, nullptr, true, 57, 58, ""},
+    {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {
   std::unique_ptr<autumn::Environment> operator()() const {

@@ -23,1472 +23,1537 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 16;
   static const char* const kColours[];
+  static const ErrorSite kErrors[];
 
-  struct C_Flake {
+  struct C0_Flake {
     Pos origin;
+    friend void hash_value(Hash& h, const C0_Flake& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C0_Flake& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C0_Flake& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Flake& a, const C_Flake& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Flake& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Flake& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Flake& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Melt {
-    int32_t f_ttl;
+  struct C1_Melt {
+    int32_t f0;
     Pos origin;
+    friend void hash_value(Hash& h, const C1_Melt& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C1_Melt& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C1_Melt& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Melt& a, const C_Melt& b) {
-    return true && a.f_ttl == b.f_ttl && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Melt& v) {
-    hash_value(h, v.f_ttl);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Melt& v) {
-    save_value(w, v.f_ttl);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Melt& v) {
-    load_value(r, v.f_ttl);
-    load_value(r, v.origin);
-  }
-  struct C_Rock {
+  struct C2_Rock {
     Pos origin;
+    friend void hash_value(Hash& h, const C2_Rock& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C2_Rock& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C2_Rock& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Rock& a, const C_Rock& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Rock& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Rock& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Rock& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Plow {
+  struct C3_Plow {
     Pos origin;
+    friend void hash_value(Hash& h, const C3_Plow& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C3_Plow& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C3_Plow& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Plow& a, const C_Plow& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Plow& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Plow& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Plow& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Cloud {
-    int32_t f_heavy;
+  struct C4_Cloud {
+    int32_t f0;
     Pos origin;
+    std::vector<CellV> cells;
+    friend void hash_value(Hash& h, const C4_Cloud& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+      hash_value(h, v.cells);
+    }
+    friend void save_value(SnapshotWriter& w, const C4_Cloud& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+      save_value(w, v.cells);
+    }
+    friend void load_value(SnapshotReader& r, C4_Cloud& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+      load_value(r, v.cells);
+    }
   };
-  static bool eq(const C_Cloud& a, const C_Cloud& b) {
-    return true && a.f_heavy == b.f_heavy && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Cloud& v) {
-    hash_value(h, v.f_heavy);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Cloud& v) {
-    save_value(w, v.f_heavy);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Cloud& v) {
-    load_value(r, v.f_heavy);
-    load_value(r, v.origin);
-  }
 
-  // Working buffers, one per place that builds a short-lived list.
   struct Scratch {
-    std::vector<Elem> render_elems;
-    std::vector<Elem> t35;
-    std::vector<Elem> t40;
-    std::vector<Elem> t51;
-    std::vector<Elem> t56;
-    std::vector<Elem> t90;
-    std::vector<Elem> t108;
-    std::vector<Elem> t110;
-    std::vector<Elem> t168;
-    std::vector<int32_t> t206;
-    std::vector<int32_t> t211;
-    std::vector<Elem> t389;
-    std::vector<Elem> t415;
-    std::vector<Elem> t441;
-    std::vector<Elem> t459;
-    std::vector<Elem> t460;
-    std::vector<Elem> t514;
+    std::vector<CellV> b0;
+    std::vector<Elem> b1;
+    std::vector<Elem> b2;
+    std::vector<Elem> b3;
+    std::vector<Elem> b4;
+    std::vector<Elem> b5;
+    std::vector<Elem> b6;
+    std::vector<Elem> b7;
+    std::vector<Elem> b8;
+    std::vector<C1_Melt> b9;
+    std::vector<Elem> b10;
+    std::vector<Pos> b11;
+    std::vector<Pos> b12;
+    std::vector<int32_t> b13;
+    std::vector<std::vector<Pos>> b14;
+    std::vector<int32_t> b15;
+    std::vector<Elem> b16;
+    std::vector<Elem> b17;
+    std::vector<Elem> b18;
+    std::vector<Elem> b19;
+    std::vector<Elem> b20;
+    std::vector<Pos> b21;
+    std::vector<Elem> b22;
+    std::vector<Elem> b23;
   };
-
   struct State {
     Core core;
     NoCopy<Scratch> scratch;
-    int32_t g_GRID_SIZE{};
-    int32_t g_FRAME_RATE{};
-    int32_t g_background{};
-    int32_t g_time{};
-    bool u_time = false;
-    int32_t p_time{};
-    C_Cloud g_cloud{};
-    bool u_cloud = false;
-    C_Cloud p_cloud{};
-    std::vector<C_Rock> g_rocks{};
-    bool u_rocks = false;
-    std::vector<C_Rock> p_rocks{};
-    std::vector<C_Flake> g_snow{};
-    bool u_snow = false;
-    std::vector<C_Flake> p_snow{};
-    std::vector<C_Melt> g_melt{};
-    bool u_melt = false;
-    std::vector<C_Melt> p_melt{};
-    C_Plow g_plow{};
-    bool u_plow = false;
-    C_Plow p_plow{};
-    int32_t g_maxSnow{};
+    int32_t g_GRID_SIZE_0{};
+    int32_t g_FRAME_RATE_1{};
+    int32_t g_background_2{};
+    bool g_SpecialConditionTriggered_3{};
+    int32_t g_maxSnow_4{};
+    C3_Plow g_plow_5{};
+    bool u_plow_6{};
+    C3_Plow p_plow_7{};
+    std::vector<C0_Flake> g_snow_8{};
+    bool u_snow_9{};
+    std::vector<C0_Flake> p_snow_10{};
+    std::vector<C1_Melt> g_melt_11{};
+    bool u_melt_12{};
+    std::vector<C1_Melt> p_melt_13{};
+    std::vector<C2_Rock> g_rocks_14{};
+    bool u_rocks_15{};
+    std::vector<C2_Rock> p_rocks_16{};
+    C4_Cloud g_cloud_17{};
+    bool u_cloud_18{};
+    C4_Cloud p_cloud_19{};
+    int32_t g_time_20{};
+    bool u_time_21{};
+    int32_t p_time_22{};
+    Pos g_click_23{};
+    bool d_click_24{};
   };
 
-  static int32_t colour_Melt_0(State& s, const C_Melt& o) {
+  static int32_t colour_19_C1_Melt(State& s, const C1_Melt& o1) {
     (void)s;
-  const int32_t t527 = o.f_ttl;
-  const bool t528 = t527 > int32_t(4);
-  int32_t t529;
-  if (t528) {
-    t529 = int32_t(8);
-  } else {
-    t529 = int32_t(9);
+    const bool t2 = (o1.f0 > int32_t(4));
+    int32_t r3{};
+    if (t2) {
+      r3 = int32_t(5);
+    } else {
+      r3 = int32_t(6);
+    }
+    return r3;
+    return {};
   }
-    return t529;
-  }
-  static int32_t colour_Cloud_0(State& s, const C_Cloud& o) {
+  static void render_C4_Cloud(State& s, const C4_Cloud& o1, std::vector<Elem>& out2) {
     (void)s;
-  const int32_t t530 = o.f_heavy;
-  const int32_t t531 = mul(t530, int32_t(4));
-  const bool t532 = int32_t(0) < t531;
-  int32_t t533;
-  if (t532) {
-    t533 = int32_t(10);
-  } else {
-    t533 = int32_t(11);
+    for (const CellV& c3 : o1.cells) {
+      int32_t x4 = c3.x;
+      int32_t y5 = c3.y;
+      if ((int32_t(c3.dc) == int32_t(-1))) {
+        fail_at(9, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+      }
+      int32_t colour6 = c3.colour;
+      switch (int32_t(c3.dc)) {
+        case 3: {
+          const int32_t t7 = mul(o1.f0, int32_t(4));
+          const bool t8 = (int32_t(0) < t7);
+          int32_t r9{};
+          if (t8) {
+            r9 = int32_t(10);
+          } else {
+            r9 = int32_t(11);
+          }
+          colour6 = r9;
+          break;
+        }
+        case 4: {
+          const int32_t t10 = mul(o1.f0, int32_t(4));
+          const bool t11 = (int32_t(1) < t10);
+          int32_t r12{};
+          if (t11) {
+            r12 = int32_t(10);
+          } else {
+            r12 = int32_t(11);
+          }
+          colour6 = r12;
+          break;
+        }
+        case 5: {
+          const int32_t t13 = mul(o1.f0, int32_t(4));
+          const bool t14 = (int32_t(2) < t13);
+          int32_t r15{};
+          if (t14) {
+            r15 = int32_t(10);
+          } else {
+            r15 = int32_t(11);
+          }
+          colour6 = r15;
+          break;
+        }
+        case 6: {
+          const int32_t t16 = mul(o1.f0, int32_t(4));
+          const bool t17 = (int32_t(3) < t16);
+          int32_t r18{};
+          if (t17) {
+            r18 = int32_t(10);
+          } else {
+            r18 = int32_t(11);
+          }
+          colour6 = r18;
+          break;
+        }
+        case 7: {
+          const int32_t t19 = mul(o1.f0, int32_t(4));
+          const bool t20 = (int32_t(4) < t19);
+          int32_t r21{};
+          if (t20) {
+            r21 = int32_t(10);
+          } else {
+            r21 = int32_t(11);
+          }
+          colour6 = r21;
+          break;
+        }
+        case 8: {
+          const int32_t t22 = mul(o1.f0, int32_t(4));
+          const bool t23 = (int32_t(5) < t22);
+          int32_t r24{};
+          if (t23) {
+            r24 = int32_t(10);
+          } else {
+            r24 = int32_t(11);
+          }
+          colour6 = r24;
+          break;
+        }
+        case 9: {
+          const int32_t t25 = mul(o1.f0, int32_t(4));
+          const bool t26 = (int32_t(6) < t25);
+          int32_t r27{};
+          if (t26) {
+            r27 = int32_t(10);
+          } else {
+            r27 = int32_t(11);
+          }
+          colour6 = r27;
+          break;
+        }
+        case 10: {
+          const int32_t t28 = mul(o1.f0, int32_t(4));
+          const bool t29 = (int32_t(7) < t28);
+          int32_t r30{};
+          if (t29) {
+            r30 = int32_t(10);
+          } else {
+            r30 = int32_t(11);
+          }
+          colour6 = r30;
+          break;
+        }
+        case 11: {
+          const int32_t t31 = mul(o1.f0, int32_t(4));
+          const bool t32 = (int32_t(8) < t31);
+          int32_t r33{};
+          if (t32) {
+            r33 = int32_t(10);
+          } else {
+            r33 = int32_t(11);
+          }
+          colour6 = r33;
+          break;
+        }
+        case 12: {
+          const int32_t t34 = mul(o1.f0, int32_t(4));
+          const bool t35 = (int32_t(9) < t34);
+          int32_t r36{};
+          if (t35) {
+            r36 = int32_t(10);
+          } else {
+            r36 = int32_t(11);
+          }
+          colour6 = r36;
+          break;
+        }
+        case 13: {
+          const int32_t t37 = mul(o1.f0, int32_t(4));
+          const bool t38 = (int32_t(10) < t37);
+          int32_t r39{};
+          if (t38) {
+            r39 = int32_t(10);
+          } else {
+            r39 = int32_t(11);
+          }
+          colour6 = r39;
+          break;
+        }
+        case 14: {
+          const int32_t t40 = mul(o1.f0, int32_t(4));
+          const bool t41 = (int32_t(11) < t40);
+          int32_t r42{};
+          if (t41) {
+            r42 = int32_t(10);
+          } else {
+            r42 = int32_t(11);
+          }
+          colour6 = r42;
+          break;
+        }
+        case 15: {
+          const int32_t t43 = mul(o1.f0, int32_t(4));
+          const bool t44 = (int32_t(12) < t43);
+          int32_t r45{};
+          if (t44) {
+            r45 = int32_t(10);
+          } else {
+            r45 = int32_t(11);
+          }
+          colour6 = r45;
+          break;
+        }
+        case 16: {
+          const int32_t t46 = mul(o1.f0, int32_t(4));
+          const bool t47 = (int32_t(13) < t46);
+          int32_t r48{};
+          if (t47) {
+            r48 = int32_t(10);
+          } else {
+            r48 = int32_t(11);
+          }
+          colour6 = r48;
+          break;
+        }
+        case 17: {
+          const int32_t t49 = mul(o1.f0, int32_t(4));
+          const bool t50 = (int32_t(14) < t49);
+          int32_t r51{};
+          if (t50) {
+            r51 = int32_t(10);
+          } else {
+            r51 = int32_t(11);
+          }
+          colour6 = r51;
+          break;
+        }
+        case 18: {
+          const int32_t t52 = mul(o1.f0, int32_t(4));
+          const bool t53 = (int32_t(15) < t52);
+          int32_t r54{};
+          if (t53) {
+            r54 = int32_t(10);
+          } else {
+            r54 = int32_t(11);
+          }
+          colour6 = r54;
+          break;
+        }
+        default: break;
+      }
+      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
+    }
   }
-    return t533;
-  }
-  static int32_t colour_Cloud_1(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t534 = o.f_heavy;
-  const int32_t t535 = mul(t534, int32_t(4));
-  const bool t536 = int32_t(1) < t535;
-  int32_t t537;
-  if (t536) {
-    t537 = int32_t(10);
-  } else {
-    t537 = int32_t(11);
-  }
-    return t537;
-  }
-  static int32_t colour_Cloud_2(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t538 = o.f_heavy;
-  const int32_t t539 = mul(t538, int32_t(4));
-  const bool t540 = int32_t(2) < t539;
-  int32_t t541;
-  if (t540) {
-    t541 = int32_t(10);
-  } else {
-    t541 = int32_t(11);
-  }
-    return t541;
-  }
-  static int32_t colour_Cloud_3(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t542 = o.f_heavy;
-  const int32_t t543 = mul(t542, int32_t(4));
-  const bool t544 = int32_t(3) < t543;
-  int32_t t545;
-  if (t544) {
-    t545 = int32_t(10);
-  } else {
-    t545 = int32_t(11);
-  }
-    return t545;
-  }
-  static int32_t colour_Cloud_4(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t546 = o.f_heavy;
-  const int32_t t547 = mul(t546, int32_t(4));
-  const bool t548 = int32_t(4) < t547;
-  int32_t t549;
-  if (t548) {
-    t549 = int32_t(10);
-  } else {
-    t549 = int32_t(11);
-  }
-    return t549;
-  }
-  static int32_t colour_Cloud_5(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t550 = o.f_heavy;
-  const int32_t t551 = mul(t550, int32_t(4));
-  const bool t552 = int32_t(5) < t551;
-  int32_t t553;
-  if (t552) {
-    t553 = int32_t(10);
-  } else {
-    t553 = int32_t(11);
-  }
-    return t553;
-  }
-  static int32_t colour_Cloud_6(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t554 = o.f_heavy;
-  const int32_t t555 = mul(t554, int32_t(4));
-  const bool t556 = int32_t(6) < t555;
-  int32_t t557;
-  if (t556) {
-    t557 = int32_t(10);
-  } else {
-    t557 = int32_t(11);
-  }
-    return t557;
-  }
-  static int32_t colour_Cloud_7(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t558 = o.f_heavy;
-  const int32_t t559 = mul(t558, int32_t(4));
-  const bool t560 = int32_t(7) < t559;
-  int32_t t561;
-  if (t560) {
-    t561 = int32_t(10);
-  } else {
-    t561 = int32_t(11);
-  }
-    return t561;
-  }
-  static int32_t colour_Cloud_8(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t562 = o.f_heavy;
-  const int32_t t563 = mul(t562, int32_t(4));
-  const bool t564 = int32_t(8) < t563;
-  int32_t t565;
-  if (t564) {
-    t565 = int32_t(10);
-  } else {
-    t565 = int32_t(11);
-  }
-    return t565;
-  }
-  static int32_t colour_Cloud_9(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t566 = o.f_heavy;
-  const int32_t t567 = mul(t566, int32_t(4));
-  const bool t568 = int32_t(9) < t567;
-  int32_t t569;
-  if (t568) {
-    t569 = int32_t(10);
-  } else {
-    t569 = int32_t(11);
-  }
-    return t569;
-  }
-  static int32_t colour_Cloud_10(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t570 = o.f_heavy;
-  const int32_t t571 = mul(t570, int32_t(4));
-  const bool t572 = int32_t(10) < t571;
-  int32_t t573;
-  if (t572) {
-    t573 = int32_t(10);
-  } else {
-    t573 = int32_t(11);
-  }
-    return t573;
-  }
-  static int32_t colour_Cloud_11(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t574 = o.f_heavy;
-  const int32_t t575 = mul(t574, int32_t(4));
-  const bool t576 = int32_t(11) < t575;
-  int32_t t577;
-  if (t576) {
-    t577 = int32_t(10);
-  } else {
-    t577 = int32_t(11);
-  }
-    return t577;
-  }
-  static int32_t colour_Cloud_12(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t578 = o.f_heavy;
-  const int32_t t579 = mul(t578, int32_t(4));
-  const bool t580 = int32_t(12) < t579;
-  int32_t t581;
-  if (t580) {
-    t581 = int32_t(10);
-  } else {
-    t581 = int32_t(11);
-  }
-    return t581;
-  }
-  static int32_t colour_Cloud_13(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t582 = o.f_heavy;
-  const int32_t t583 = mul(t582, int32_t(4));
-  const bool t584 = int32_t(13) < t583;
-  int32_t t585;
-  if (t584) {
-    t585 = int32_t(10);
-  } else {
-    t585 = int32_t(11);
-  }
-    return t585;
-  }
-  static int32_t colour_Cloud_14(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t586 = o.f_heavy;
-  const int32_t t587 = mul(t586, int32_t(4));
-  const bool t588 = int32_t(14) < t587;
-  int32_t t589;
-  if (t588) {
-    t589 = int32_t(10);
-  } else {
-    t589 = int32_t(11);
-  }
-    return t589;
-  }
-  static int32_t colour_Cloud_15(State& s, const C_Cloud& o) {
-    (void)s;
-  const int32_t t590 = o.f_heavy;
-  const int32_t t591 = mul(t590, int32_t(4));
-  const bool t592 = int32_t(15) < t591;
-  int32_t t593;
-  if (t592) {
-    t593 = int32_t(10);
-  } else {
-    t593 = int32_t(11);
-  }
-    return t593;
-  }
-  static void render_Flake(State& s, const C_Flake& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 1});
-  }
-  static void render_Melt(State& s, const C_Melt& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Melt_0(s, o)});
-  }
-  static void render_Rock(State& s, const C_Rock& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 2});
-  }
-  static void render_Plow(State& s, const C_Plow& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 3});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, 3});
-  }
-  static void render_Cloud(State& s, const C_Cloud& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Cloud_0(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, colour_Cloud_1(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 2), add(o.origin.y, 0)}, colour_Cloud_2(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 3), add(o.origin.y, 0)}, colour_Cloud_3(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 4), add(o.origin.y, 0)}, colour_Cloud_4(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 5), add(o.origin.y, 0)}, colour_Cloud_5(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 6), add(o.origin.y, 0)}, colour_Cloud_6(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 7), add(o.origin.y, 0)}, colour_Cloud_7(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 8), add(o.origin.y, 0)}, colour_Cloud_8(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 9), add(o.origin.y, 0)}, colour_Cloud_9(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 10), add(o.origin.y, 0)}, colour_Cloud_10(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 11), add(o.origin.y, 0)}, colour_Cloud_11(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 12), add(o.origin.y, 0)}, colour_Cloud_12(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 13), add(o.origin.y, 0)}, colour_Cloud_13(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 14), add(o.origin.y, 0)}, colour_Cloud_14(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 15), add(o.origin.y, 0)}, colour_Cloud_15(s, o)});
-  }
-
   static void start(State& s, uint64_t seed) {
-    s.core.rng.reseed(seed);
-    s.core.covered.assign(11, 0);
-    s.g_GRID_SIZE = int32_t(16);
-    s.g_FRAME_RATE = int32_t(8);
-    s.g_background = int32_t(0);
-    const int32_t t1 = int32_t(16);
-    s.g_GRID_SIZE = t1;
-    const int32_t t2 = int32_t(4);
-    s.g_background = t2;
-    const int32_t t3 = int32_t(70);
-    s.g_maxSnow = t3;
+    (void)s;
+    s.core.start(seed, kOnClauses);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_FRAME_RATE_1 = int32_t(8);
+    s.g_background_2 = int32_t(0);
+    s.g_SpecialConditionTriggered_3 = false;
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_background_2 = int32_t(1);
+    s.g_maxSnow_4 = int32_t(70);
     // init plow, programs/snowplow.au:35
-    const int32_t t4 = int32_t(0);
-    const int32_t t5 = int32_t(15);
-    const Pos t6 = Pos{t4, t5};
-    const C_Plow t7 = C_Plow{t6};
-    s.g_plow = t7;
+    std::vector<CellV>& l_allCells1 = s.scratch.v.b0;
+    l_allCells1.clear();
+    const CellV t2 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+    const CellV t3 = CellV{int32_t(1), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(1))};
+    std::vector<CellV> list4 = std::vector<CellV>{t2, t3};
+    l_allCells1 = std::move(list4);
+    const std::vector<CellV>& v5 = l_allCells1;
+    const std::vector<CellV>& v6 = l_allCells1;
+    C3_Plow o7 = C3_Plow{Pos{int32_t(0), int32_t(15)}};
+    s.g_plow_5 = std::move(o7);
+    s.u_plow_6 = false;
     // init snow, programs/snowplow.au:29
-    s.g_snow = {};
+    s.g_snow_8 = std::vector<C0_Flake>{};
+    s.u_snow_9 = false;
     // init melt, programs/snowplow.au:32
-    s.g_melt = {};
+    s.g_melt_11 = std::vector<C1_Melt>{};
+    s.u_melt_12 = false;
     // init rocks, programs/snowplow.au:24
-    const int32_t t8 = int32_t(4);
-    const int32_t t9 = int32_t(11);
-    const Pos t10 = Pos{t8, t9};
-    const C_Rock t11 = C_Rock{t10};
-    const int32_t t12 = int32_t(5);
-    const int32_t t13 = int32_t(11);
-    const Pos t14 = Pos{t12, t13};
-    const C_Rock t15 = C_Rock{t14};
-    const int32_t t16 = int32_t(6);
-    const int32_t t17 = int32_t(11);
-    const Pos t18 = Pos{t16, t17};
-    const C_Rock t19 = C_Rock{t18};
-    const int32_t t20 = int32_t(11);
-    const int32_t t21 = int32_t(9);
-    const Pos t22 = Pos{t20, t21};
-    const C_Rock t23 = C_Rock{t22};
-    const int32_t t24 = int32_t(12);
-    const int32_t t25 = int32_t(9);
-    const Pos t26 = Pos{t24, t25};
-    const C_Rock t27 = C_Rock{t26};
-    const std::vector<C_Rock> t28 = std::vector<C_Rock>{t11, t15, t19, t23, t27};
-    s.g_rocks = t28;
+    CellV l_allCells8{};
+    const CellV t9 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    l_allCells8 = t9;
+    const CellV& v10 = l_allCells8;
+    const CellV& v11 = l_allCells8;
+    const std::vector<CellV> list12 = std::vector<CellV>{v11};
+    const C2_Rock o13 = C2_Rock{Pos{int32_t(4), int32_t(11)}};
+    CellV l_allCells14{};
+    const CellV t15 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    l_allCells14 = t15;
+    const CellV& v16 = l_allCells14;
+    const CellV& v17 = l_allCells14;
+    const std::vector<CellV> list18 = std::vector<CellV>{v17};
+    const C2_Rock o19 = C2_Rock{Pos{int32_t(5), int32_t(11)}};
+    CellV l_allCells20{};
+    const CellV t21 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    l_allCells20 = t21;
+    const CellV& v22 = l_allCells20;
+    const CellV& v23 = l_allCells20;
+    const std::vector<CellV> list24 = std::vector<CellV>{v23};
+    const C2_Rock o25 = C2_Rock{Pos{int32_t(6), int32_t(11)}};
+    CellV l_allCells26{};
+    const CellV t27 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    l_allCells26 = t27;
+    const CellV& v28 = l_allCells26;
+    const CellV& v29 = l_allCells26;
+    const std::vector<CellV> list30 = std::vector<CellV>{v29};
+    const C2_Rock o31 = C2_Rock{Pos{int32_t(11), int32_t(9)}};
+    CellV l_allCells32{};
+    const CellV t33 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    l_allCells32 = t33;
+    const CellV& v34 = l_allCells32;
+    const CellV& v35 = l_allCells32;
+    const std::vector<CellV> list36 = std::vector<CellV>{v35};
+    const C2_Rock o37 = C2_Rock{Pos{int32_t(12), int32_t(9)}};
+    std::vector<C2_Rock> list38 = std::vector<C2_Rock>{o13, o19, o25, o31, o37};
+    s.g_rocks_14 = std::move(list38);
+    s.u_rocks_15 = false;
     // init cloud, programs/snowplow.au:21
-    const int32_t t29 = int32_t(2);
-    const int32_t t30 = int32_t(0);
-    const int32_t t31 = int32_t(0);
-    const Pos t32 = Pos{t30, t31};
-    const C_Cloud t33 = C_Cloud{t29, t32};
-    s.g_cloud = t33;
+    std::vector<CellV> l_allCells39{};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell40 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell41 = CellV{int32_t(1), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell42 = CellV{int32_t(2), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell43 = CellV{int32_t(3), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(6))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell44 = CellV{int32_t(4), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(7))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell45 = CellV{int32_t(5), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(8))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell46 = CellV{int32_t(6), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(9))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell47 = CellV{int32_t(7), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(10))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell48 = CellV{int32_t(8), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(11))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell49 = CellV{int32_t(9), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell50 = CellV{int32_t(10), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(13))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell51 = CellV{int32_t(11), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(14))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell52 = CellV{int32_t(12), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(15))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell53 = CellV{int32_t(13), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(16))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell54 = CellV{int32_t(14), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(17))};
+    // inlined: function at programs/snowplow.au:15
+    const CellV cell55 = CellV{int32_t(15), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(18))};
+    std::vector<CellV> list56 = std::vector<CellV>{cell40, cell41, cell42, cell43, cell44, cell45, cell46, cell47, cell48, cell49, cell50, cell51, cell52, cell53, cell54, cell55};
+    l_allCells39 = std::move(list56);
+    const std::vector<CellV>& v57 = l_allCells39;
+    const std::vector<CellV>& v58 = l_allCells39;
+    C4_Cloud o59 = C4_Cloud{int32_t(2), Pos{int32_t(0), int32_t(0)}, v58};
+    s.g_cloud_17 = std::move(o59);
+    s.u_cloud_18 = false;
     // init time, programs/snowplow.au:18
-    s.g_time = int32_t(0);
+    s.g_time_20 = int32_t(0);
+    s.u_time_21 = false;
     render(s, nullptr, {});
   }
-
   static void step(State& s) {
-    s.p_time = s.g_time;
-    s.p_cloud = s.g_cloud;
-    s.p_rocks = s.g_rocks;
-    s.p_snow = s.g_snow;
-    s.p_melt = s.g_melt;
-    s.p_plow = s.g_plow;
+    (void)s;
     s.core.have_prev = true;
-    s.u_time = false;
-    s.u_cloud = false;
-    s.u_rocks = false;
-    s.u_snow = false;
-    s.u_melt = false;
-    s.u_plow = false;
-    {  // on-clause 1, programs/snowplow.au:45
-      if (!s.core.have_prev) fail("prev used before the first step");
-      bool t34 = false;
+    s.p_time_22 = s.g_time_20;
+    s.p_cloud_19 = s.g_cloud_17;
+    s.p_rocks_16 = s.g_rocks_14;
+    s.p_snow_10 = s.g_snow_8;
+    s.p_melt_13 = s.g_melt_11;
+    s.p_plow_7 = s.g_plow_5;
+    s.u_plow_6 = false;
+    s.u_snow_9 = false;
+    s.u_melt_12 = false;
+    s.u_rocks_15 = false;
+    s.u_cloud_18 = false;
+    s.u_time_21 = false;
+    // on-clause 1, programs/snowplow.au:45
+    {
+      const std::vector<C0_Flake>& prev1 = s.p_snow_10;
+      bool clicked2 = false;
       if (s.core.click) {
-        s.core.click_defined = true;
-        s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-        s.scratch.v.t35.clear();
-        std::vector<Elem>& t35 = s.scratch.v.t35;
-        for (const C_Flake& t36 : s.p_snow) {
-          render_Flake(s, t36, t35);
+        s.d_click_24 = true;
+        s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
+        std::vector<Elem>& rendered3 = s.scratch.v.b1;
+        rendered3.clear();
+        for (const C0_Flake& x4 : prev1) {
+          rendered3.push_back(Elem{Pos{add(x4.origin.x, int32_t(0)), add(x4.origin.y, int32_t(0))}, int32_t(9)});
         }
-        for (const Elem& e : t35)
-          if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t34 = true; break; }
+        const Pos t5 = Pos{s.core.click_x, s.core.click_y};
+        for (const Elem& e6 : rendered3) {
+          if ((e6.position == t5)) {
+            clicked2 = true;
+            break;
+          }
+        }
       }
-      if (t34) {
-        s.core.covered[0] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        std::vector<C_Flake> t37;
-        for (const C_Flake& t37_x : s.p_snow) {
-          const C_Flake& a_f_38 = t37_x;
+      if (clicked2) {
+        s.core.covered[int32_t(0)] = 1;
+        const std::vector<C0_Flake>& prev7 = s.p_snow_10;
+        std::vector<C0_Flake> out8{};
+        for (const C0_Flake& x9 : prev7) {
           // inlined: function at programs/snowplow.au:47
-          bool t39 = false;
+          bool clicked10 = false;
           if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            s.scratch.v.t40.clear();
-            std::vector<Elem>& t40 = s.scratch.v.t40;
-            render_Flake(s, a_f_38, t40);
-            for (const Elem& e : t40)
-              if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t39 = true; break; }
+            s.d_click_24 = true;
+            s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
+            std::vector<Elem>& rendered11 = s.scratch.v.b2;
+            rendered11.clear();
+            rendered11.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(9)});
+            const Pos t12 = Pos{s.core.click_x, s.core.click_y};
+            for (const Elem& e13 : rendered11) {
+              if ((e13.position == t12)) {
+                clicked10 = true;
+                break;
+              }
+            }
           }
-          const bool t41 = !t39;
-          if (t41) t37.push_back(t37_x);
+          const bool t14 = !clicked10;
+          if (t14) {
+            out8.push_back(x9);
+          }
         }
-        s.g_snow = std::move(t37);
-        s.u_snow = true;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t42 = int32_t(10);
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t43 = s.core.click_pos;
-        const int32_t t44 = t43.x;
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t45 = s.core.click_pos;
-        const int32_t t46 = t45.y;
-        const Pos t47 = Pos{t44, t46};
-        const C_Melt t48 = C_Melt{t42, t47};
-        std::vector<C_Melt> t49;
-        t49.reserve(s.p_melt.size() + 1);
-        t49.assign(s.p_melt.begin(), s.p_melt.end());
-        t49.push_back(t48);
-        s.g_melt = std::move(t49);
-        s.u_melt = true;
+        s.g_snow_8 = std::move(out8);
+        s.u_snow_9 = true;
+        const std::vector<C1_Melt>& prev15 = s.p_melt_13;
+        Pos r16{};
+        if (s.d_click_24) {
+          const Pos& g17 = s.g_click_23;
+          r16 = g17;
+        } else {
+          fail_at(0, std::string() + std::string("undefined variable 'click'"));
+        }
+        Pos r18{};
+        if (s.d_click_24) {
+          const Pos& g19 = s.g_click_23;
+          r18 = g19;
+        } else {
+          fail_at(1, std::string() + std::string("undefined variable 'click'"));
+        }
+        const Pos t20 = Pos{r16.x, r18.y};
+        CellV l_allCells21{};
+        const CellV t22 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(19))};
+        l_allCells21 = t22;
+        const CellV& v23 = l_allCells21;
+        const CellV& v24 = l_allCells21;
+        const std::vector<CellV> list25 = std::vector<CellV>{v24};
+        C1_Melt o26 = C1_Melt{int32_t(10), t20};
+        std::vector<C1_Melt> added27{};
+        added27.reserve(size_t(add(int32_t(prev15.size()), int32_t(1))));
+        for (const C1_Melt& x28 : prev15) {
+          added27.push_back(x28);
+        }
+        added27.push_back(std::move(o26));
+        s.g_melt_11 = std::move(added27);
+        s.u_melt_12 = true;
       }
     }
-    {  // on-clause 2, programs/snowplow.au:51
-      if (!s.core.have_prev) fail("prev used before the first step");
-      bool t50 = false;
+    // on-clause 2, programs/snowplow.au:51
+    {
+      const std::vector<C2_Rock>& prev29 = s.p_rocks_16;
+      bool clicked30 = false;
       if (s.core.click) {
-        s.core.click_defined = true;
-        s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-        s.scratch.v.t51.clear();
-        std::vector<Elem>& t51 = s.scratch.v.t51;
-        for (const C_Rock& t52 : s.p_rocks) {
-          render_Rock(s, t52, t51);
+        s.d_click_24 = true;
+        s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
+        std::vector<Elem>& rendered31 = s.scratch.v.b3;
+        rendered31.clear();
+        for (const C2_Rock& x32 : prev29) {
+          rendered31.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(3)});
         }
-        for (const Elem& e : t51)
-          if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t50 = true; break; }
+        const Pos t33 = Pos{s.core.click_x, s.core.click_y};
+        for (const Elem& e34 : rendered31) {
+          if ((e34.position == t33)) {
+            clicked30 = true;
+            break;
+          }
+        }
       }
-      if (t50) {
-        s.core.covered[1] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        std::vector<C_Rock> t53;
-        for (const C_Rock& t53_x : s.p_rocks) {
-          const C_Rock& a_r_54 = t53_x;
+      if (clicked30) {
+        s.core.covered[int32_t(1)] = 1;
+        const std::vector<C2_Rock>& prev35 = s.p_rocks_16;
+        std::vector<C2_Rock> out36{};
+        for (const C2_Rock& x37 : prev35) {
           // inlined: function at programs/snowplow.au:51
-          bool t55 = false;
+          bool clicked38 = false;
           if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            s.scratch.v.t56.clear();
-            std::vector<Elem>& t56 = s.scratch.v.t56;
-            render_Rock(s, a_r_54, t56);
-            for (const Elem& e : t56)
-              if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t55 = true; break; }
+            s.d_click_24 = true;
+            s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
+            std::vector<Elem>& rendered39 = s.scratch.v.b4;
+            rendered39.clear();
+            rendered39.push_back(Elem{Pos{add(x37.origin.x, int32_t(0)), add(x37.origin.y, int32_t(0))}, int32_t(3)});
+            const Pos t40 = Pos{s.core.click_x, s.core.click_y};
+            for (const Elem& e41 : rendered39) {
+              if ((e41.position == t40)) {
+                clicked38 = true;
+                break;
+              }
+            }
           }
-          const bool t57 = !t55;
-          if (t57) t53.push_back(t53_x);
+          const bool t42 = !clicked38;
+          if (t42) {
+            out36.push_back(x37);
+          }
         }
-        s.g_rocks = std::move(t53);
-        s.u_rocks = true;
+        s.g_rocks_14 = std::move(out36);
+        s.u_rocks_15 = true;
       }
     }
-    {  // on-clause 3, programs/snowplow.au:53
-      bool t58 = false;
+    // on-clause 3, programs/snowplow.au:53
+    {
+      bool clicked43 = false;
       if (s.core.click) {
-        s.core.click_defined = true;
-        s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-        t58 = true;
+        s.d_click_24 = true;
+        s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
+        clicked43 = true;
       }
-      bool t59 = false;
-      if ((t58)) {
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t60 = s.core.click_pos;
-        const bool t61 = s.core.occupied.free(t60);
-        bool t62 = false;
-        if ((t61)) {
-          const std::vector<C_Rock>& t63 = s.g_rocks;
-          const int32_t t64 = int32_t(t63.size());
-          const bool t65 = t64 < int32_t(12);
-          t62 = t65;
+      bool r44{};
+      if (clicked43) {
+        Pos r45{};
+        if (s.d_click_24) {
+          const Pos& g46 = s.g_click_23;
+          r45 = g46;
+        } else {
+          fail_at(2, std::string() + std::string("undefined variable 'click'"));
         }
-        t59 = t62;
+        const bool t47 = s.core.occupied.free(r45);
+        bool r48{};
+        if (t47) {
+          const std::vector<C2_Rock>& g49 = s.g_rocks_14;
+          const int32_t t50 = int32_t(g49.size());
+          const bool t51 = (t50 < int32_t(12));
+          r48 = t51;
+        } else {
+          r48 = false;
+        }
+        r44 = r48;
+      } else {
+        r44 = false;
       }
-      if (t59) {
-        s.core.covered[2] = 1;
-        const std::vector<C_Rock>& t66 = s.g_rocks;
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t67 = s.core.click_pos;
-        const int32_t t68 = t67.x;
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t69 = s.core.click_pos;
-        const int32_t t70 = t69.y;
-        const Pos t71 = Pos{t68, t70};
-        const C_Rock t72 = C_Rock{t71};
-        std::vector<C_Rock> t73;
-        t73.reserve(t66.size() + 1);
-        t73.assign(t66.begin(), t66.end());
-        t73.push_back(t72);
-        s.g_rocks = std::move(t73);
-        s.u_rocks = true;
+      if (r44) {
+        s.core.covered[int32_t(2)] = 1;
+        const std::vector<C2_Rock>& g52 = s.g_rocks_14;
+        Pos r53{};
+        if (s.d_click_24) {
+          const Pos& g54 = s.g_click_23;
+          r53 = g54;
+        } else {
+          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+        }
+        Pos r55{};
+        if (s.d_click_24) {
+          const Pos& g56 = s.g_click_23;
+          r55 = g56;
+        } else {
+          fail_at(4, std::string() + std::string("undefined variable 'click'"));
+        }
+        const Pos t57 = Pos{r53.x, r55.y};
+        CellV l_allCells58{};
+        const CellV t59 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+        l_allCells58 = t59;
+        const CellV& v60 = l_allCells58;
+        const CellV& v61 = l_allCells58;
+        const std::vector<CellV> list62 = std::vector<CellV>{v61};
+        C2_Rock o63 = C2_Rock{t57};
+        std::vector<C2_Rock> added64{};
+        added64.reserve(size_t(add(int32_t(g52.size()), int32_t(1))));
+        for (const C2_Rock& x65 : g52) {
+          added64.push_back(x65);
+        }
+        added64.push_back(std::move(o63));
+        s.g_rocks_14 = std::move(added64);
+        s.u_rocks_15 = true;
       }
     }
-    {  // on-clause 4, programs/snowplow.au:56
+    // on-clause 4, programs/snowplow.au:56
+    {
       if (true) {
-        s.core.covered[3] = 1;
-        const std::vector<C_Flake>& t74 = s.g_snow;
-        std::vector<C_Flake> t75;
-        t75.reserve(t74.size());
-        for (const C_Flake& t75_x : t74) {
-          const C_Flake& a_obj_76 = t75_x;
-          const C_Flake& a_obj_77 = a_obj_76;
-          const int32_t t78 = int32_t(0);
-          const int32_t t79 = int32_t(1);
-          const Pos t80 = Pos{t78, t79};
-          const C_Flake& a_obj_81 = a_obj_77;
-          Pos a_dir_82 = t80;
-          const int32_t t83 = int32_t(5);
-          const Pos t84 = a_dir_82;
-          const int32_t t85 = add(a_obj_81.origin.x, t84.x);
-          const Pos t86 = a_dir_82;
-          const int32_t t87 = add(a_obj_81.origin.y, t86.y);
-          const Pos t88 = Pos{t85, t87};
-          C_Flake t89 = a_obj_81;
-          t89.origin = t88;
-          s.scratch.v.t90.clear();
-          std::vector<Elem>& t90 = s.scratch.v.t90;
-          render_Flake(s, t89, t90);
-          bool t91 = true;
-          for (const Elem& e : t90)
-            if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t91 = false; break; }
-          bool t92 = false;
-          if ((t91)) {
-            const C_Flake& a_obj_93 = a_obj_76;
-            const int32_t t94 = int32_t(0);
-            const int32_t t95 = int32_t(1);
-            const Pos t96 = Pos{t94, t95};
-            const C_Flake& a_obj_97 = a_obj_93;
-            Pos a_dir_98 = t96;
-            const int32_t t99 = int32_t(5);
-            const Pos t100 = a_dir_98;
-            const int32_t t101 = add(a_obj_97.origin.x, t100.x);
-            const Pos t102 = a_dir_98;
-            const int32_t t103 = add(a_obj_97.origin.y, t102.y);
-            const Pos t104 = Pos{t101, t103};
-            C_Flake t105 = a_obj_97;
-            t105.origin = t104;
-            const C_Flake& a_obj_106 = t105;
-            const C_Flake& a_prev_obj_107 = a_obj_76;
-            s.scratch.v.t108.clear();
-            std::vector<Elem>& t108 = s.scratch.v.t108;
-            render_Flake(s, a_prev_obj_107, t108);
-            std::vector<Elem> v_prev_elems_109 = t108;
-            s.scratch.v.t110.clear();
-            std::vector<Elem>& t110 = s.scratch.v.t110;
-            render_Flake(s, a_obj_106, t110);
-            std::vector<Elem> v_curr_elems_111 = t110;
-            const std::vector<Elem> t112 = v_curr_elems_111;
-            std::vector<Elem> t113;
-            for (const Elem& t113_x : t112) {
-              const Elem& a_elem_114 = t113_x;
-              const std::vector<Elem> t115 = v_prev_elems_109;
-              const Elem& a_e_116 = a_elem_114;
-              const std::vector<Elem>& a_l_117 = t115;
-              bool t118 = false;
-              for (const Elem& t118_x : a_l_117) {
-                const Elem& a_x_119 = t118_x;
-                const bool t120 = a_x_119 == a_e_116;
-                if (t120) { t118 = true; break; }
+        s.core.covered[int32_t(3)] = 1;
+        const std::vector<C0_Flake>& g66 = s.g_snow_8;
+        std::vector<C0_Flake> out67{};
+        out67.reserve(size_t(int32_t(g66.size())));
+        for (const C0_Flake& x68 : g66) {
+          const int32_t t69 = add(x68.origin.x, int32_t(0));
+          const int32_t t70 = add(x68.origin.y, int32_t(1));
+          const Pos t71 = Pos{t69, t70};
+          C0_Flake upd72 = x68;
+          upd72.origin = t71;
+          std::vector<Elem>& rendered73 = s.scratch.v.b5;
+          rendered73.clear();
+          rendered73.push_back(Elem{Pos{add(upd72.origin.x, int32_t(0)), add(upd72.origin.y, int32_t(0))}, int32_t(9)});
+          bool within74 = true;
+          for (const Elem& e75 : rendered73) {
+            if ((((e75.position.x < int32_t(0)) || (e75.position.x >= int32_t(16))) || ((e75.position.y < int32_t(0)) || (e75.position.y >= int32_t(16))))) {
+              within74 = false;
+              break;
+            }
+          }
+          bool r76{};
+          if (within74) {
+            const int32_t t77 = add(x68.origin.x, int32_t(0));
+            const int32_t t78 = add(x68.origin.y, int32_t(1));
+            const Pos t79 = Pos{t77, t78};
+            C0_Flake upd80 = x68;
+            upd80.origin = t79;
+            std::vector<Elem>& l_prev_elems81 = s.scratch.v.b6;
+            l_prev_elems81.clear();
+            std::vector<Elem>& l_curr_elems82 = s.scratch.v.b7;
+            l_curr_elems82.clear();
+            std::vector<Elem>& l_filtered_elems83 = s.scratch.v.b8;
+            l_filtered_elems83.clear();
+            std::vector<Elem> rendered84{};
+            rendered84.push_back(Elem{Pos{add(x68.origin.x, int32_t(0)), add(x68.origin.y, int32_t(0))}, int32_t(9)});
+            l_prev_elems81 = std::move(rendered84);
+            std::vector<Elem> rendered85{};
+            rendered85.push_back(Elem{Pos{add(upd80.origin.x, int32_t(0)), add(upd80.origin.y, int32_t(0))}, int32_t(9)});
+            l_curr_elems82 = std::move(rendered85);
+            const std::vector<Elem>& v86 = l_curr_elems82;
+            std::vector<Elem> out87{};
+            for (const Elem& x88 : v86) {
+              const std::vector<Elem>& v89 = l_prev_elems81;
+              bool any90 = false;
+              for (const Elem& x91 : v89) {
+                const bool t92 = (x91 == x88);
+                if (t92) {
+                  any90 = true;
+                  break;
+                }
               }
-              const bool t121 = !t118;
-              if (t121) t113.push_back(t113_x);
+              const bool t93 = !any90;
+              if (t93) {
+                out87.push_back(x88);
+              }
             }
-            std::vector<Elem> v_filtered_elems_122 = t113;
-            const std::vector<Elem> t123 = v_filtered_elems_122;
-            bool t124 = false;
-            for (const Elem& t124_x : t123) {
-              const Elem& a_elem_125 = t124_x;
-              const Pos t126 = a_elem_125.position;
-              const bool t127 = s.core.occupied.free(t126);
-              const bool t128 = !t127;
-              if (t128) { t124 = true; break; }
+            l_filtered_elems83 = std::move(out87);
+            const std::vector<Elem>& v94 = l_filtered_elems83;
+            bool any95 = false;
+            for (const Elem& x96 : v94) {
+              const bool t97 = s.core.occupied.free(x96.position);
+              const bool t98 = !t97;
+              if (t98) {
+                any95 = true;
+                break;
+              }
             }
-            const bool t129 = !t124;
-            t92 = t129;
-          }
-          C_Flake t143;
-          if (t92) {
-            const C_Flake& a_obj_130 = a_obj_76;
-            const int32_t t131 = int32_t(0);
-            const int32_t t132 = int32_t(1);
-            const Pos t133 = Pos{t131, t132};
-            const C_Flake& a_obj_134 = a_obj_130;
-            Pos a_dir_135 = t133;
-            const int32_t t136 = int32_t(5);
-            const Pos t137 = a_dir_135;
-            const int32_t t138 = add(a_obj_134.origin.x, t137.x);
-            const Pos t139 = a_dir_135;
-            const int32_t t140 = add(a_obj_134.origin.y, t139.y);
-            const Pos t141 = Pos{t138, t140};
-            C_Flake t142 = a_obj_134;
-            t142.origin = t141;
-            t143 = t142;
+            const bool t99 = !any95;
+            r76 = t99;
           } else {
-            t143 = a_obj_76;
+            r76 = false;
           }
-          t75.push_back(t143);
+          C0_Flake r100{};
+          if (r76) {
+            const int32_t t101 = add(x68.origin.x, int32_t(0));
+            const int32_t t102 = add(x68.origin.y, int32_t(1));
+            const Pos t103 = Pos{t101, t102};
+            C0_Flake upd104 = x68;
+            upd104.origin = t103;
+            r100 = std::move(upd104);
+          } else {
+            r100 = x68;
+          }
+          out67.push_back(std::move(r100));
         }
-        s.g_snow = std::move(t75);
-        s.u_snow = true;
+        s.g_snow_8 = std::move(out67);
+        s.u_snow_9 = true;
       }
     }
-    {  // on-clause 5, programs/snowplow.au:57
+    // on-clause 5, programs/snowplow.au:57
+    {
       if (true) {
-        s.core.covered[4] = 1;
-        const std::vector<C_Melt>& t144 = s.g_melt;
-        const std::vector<C_Melt>& a_ws_145 = t144;
+        s.core.covered[int32_t(4)] = 1;
+        const std::vector<C1_Melt>& g105 = s.g_melt_11;
         // inlined: function at programs/snowplow.au:41
-        std::vector<C_Melt> t146;
-        t146.reserve(a_ws_145.size());
-        for (const C_Melt& t146_x : a_ws_145) {
-          const C_Melt& a_w_147 = t146_x;
+        std::vector<C1_Melt>& out106 = s.scratch.v.b9;
+        out106.clear();
+        out106.reserve(size_t(int32_t(g105.size())));
+        for (const C1_Melt& x107 : g105) {
           // inlined: function at programs/snowplow.au:43
-          const C_Melt& a_obj_148 = a_w_147;
-          const int32_t t149 = s.g_GRID_SIZE;
-          const int32_t t150 = sub(t149, int32_t(1));
-          const bool t151 = a_obj_148.origin.y == t150;
-          const bool t152 = !t151;
-          bool t153 = false;
-          if ((t152)) {
-            const C_Melt& a_obj_154 = a_obj_148;
-            const int32_t t155 = int32_t(0);
-            const int32_t t156 = int32_t(1);
-            const Pos t157 = Pos{t155, t156};
-            const C_Melt& a_obj_158 = a_obj_154;
-            Pos a_dir_159 = t157;
-            const int32_t t160 = int32_t(5);
-            const Pos t161 = a_dir_159;
-            const int32_t t162 = add(a_obj_158.origin.x, t161.x);
-            const Pos t163 = a_dir_159;
-            const int32_t t164 = add(a_obj_158.origin.y, t163.y);
-            const Pos t165 = Pos{t162, t164};
-            C_Melt t166 = a_obj_158;
-            t166.origin = t165;
-            const C_Melt& a_obj_167 = t166;
-            s.scratch.v.t168.clear();
-            std::vector<Elem>& t168 = s.scratch.v.t168;
-            render_Melt(s, a_obj_167, t168);
-            bool t169 = false;
-            for (const Elem& t169_x : t168) {
-              const Elem& a_e_170 = t169_x;
-              const Pos t171 = a_e_170.position;
-              const bool t172 = s.core.occupied.free(t171);
-              const bool t173 = !t172;
-              if (t173) { t169 = true; break; }
+          const bool t108 = (x107.origin.y == int32_t(15));
+          const bool t109 = !t108;
+          bool r110{};
+          if (t109) {
+            const int32_t t111 = add(x107.origin.x, int32_t(0));
+            const int32_t t112 = add(x107.origin.y, int32_t(1));
+            const Pos t113 = Pos{t111, t112};
+            C1_Melt upd114 = x107;
+            upd114.origin = t113;
+            std::vector<Elem>& rendered115 = s.scratch.v.b10;
+            rendered115.clear();
+            const int32_t colour116 = colour_19_C1_Melt(s, upd114);
+            rendered115.push_back(Elem{Pos{add(upd114.origin.x, int32_t(0)), add(upd114.origin.y, int32_t(0))}, colour116});
+            bool any117 = false;
+            for (const Elem& x118 : rendered115) {
+              const bool t119 = s.core.occupied.free(x118.position);
+              const bool t120 = !t119;
+              if (t120) {
+                any117 = true;
+                break;
+              }
             }
-            const bool t174 = !t169;
-            t153 = t174;
-          }
-          C_Melt t394;
-          if (t153) {
-            const C_Melt& a_obj_175 = a_obj_148;
-            const int32_t t176 = int32_t(0);
-            const int32_t t177 = int32_t(1);
-            const Pos t178 = Pos{t176, t177};
-            const C_Melt& a_obj_179 = a_obj_175;
-            Pos a_dir_180 = t178;
-            const int32_t t181 = int32_t(5);
-            const Pos t182 = a_dir_180;
-            const int32_t t183 = add(a_obj_179.origin.x, t182.x);
-            const Pos t184 = a_dir_180;
-            const int32_t t185 = add(a_obj_179.origin.y, t184.y);
-            const Pos t186 = Pos{t183, t185};
-            C_Melt t187 = a_obj_179;
-            t187.origin = t186;
-            t394 = t187;
+            const bool t121 = !any117;
+            r110 = t121;
           } else {
-            const int32_t t188 = int32_t(0);
-            const int32_t t189 = add(a_obj_148.origin.y, int32_t(1));
-            const Pos t190 = Pos{t188, t189};
-            const int32_t t191 = s.g_GRID_SIZE;
-            const int32_t t192 = add(a_obj_148.origin.y, int32_t(2));
-            const Pos t193 = Pos{t191, t192};
-            const Pos& a_pos1_194 = t190;
-            const Pos& a_pos2_195 = t193;
-            const int32_t t196 = a_pos1_194.x;
-            int32_t v_xmin_197 = t196;
-            const int32_t t198 = a_pos2_195.x;
-            int32_t v_xmax_199 = t198;
-            const int32_t t200 = a_pos1_194.y;
-            int32_t v_ymin_201 = t200;
-            const int32_t t202 = a_pos2_195.y;
-            int32_t v_ymax_203 = t202;
-            const int32_t t204 = v_ymin_201;
-            const int32_t t205 = v_ymax_203;
-            s.scratch.v.t206.clear();
-            std::vector<int32_t>& t206 = s.scratch.v.t206;
-            for (int32_t i = t204; i < t205; ++i) t206.push_back(i);
-            std::vector<std::vector<Pos>> t207;
-            t207.reserve(t206.size());
-            for (const int32_t& t207_x : t206) {
-              const int32_t& a_y_208 = t207_x;
-              const int32_t t209 = v_xmin_197;
-              const int32_t t210 = v_xmax_199;
-              s.scratch.v.t211.clear();
-              std::vector<int32_t>& t211 = s.scratch.v.t211;
-              for (int32_t i = t209; i < t210; ++i) t211.push_back(i);
-              std::vector<Pos> t212;
-              t212.reserve(t211.size());
-              for (const int32_t& t212_x : t211) {
-                const int32_t& a_x_213 = t212_x;
-                const Pos t214 = Pos{a_x_213, a_y_208};
-                t212.push_back(t214);
+            r110 = false;
+          }
+          C1_Melt r122{};
+          if (r110) {
+            const int32_t t123 = add(x107.origin.x, int32_t(0));
+            const int32_t t124 = add(x107.origin.y, int32_t(1));
+            const Pos t125 = Pos{t123, t124};
+            C1_Melt upd126 = x107;
+            upd126.origin = t125;
+            r122 = std::move(upd126);
+          } else {
+            std::vector<Pos>& l_nextRowPos127 = s.scratch.v.b11;
+            l_nextRowPos127.clear();
+            std::vector<Pos>& l_holes128 = s.scratch.v.b12;
+            l_holes128.clear();
+            const int32_t t129 = add(x107.origin.y, int32_t(1));
+            const Pos t130 = Pos{int32_t(0), t129};
+            const int32_t t131 = add(x107.origin.y, int32_t(2));
+            const Pos t132 = Pos{int32_t(16), t131};
+            int32_t l_xmin133{};
+            int32_t l_xmax134{};
+            int32_t l_ymin135{};
+            int32_t l_ymax136{};
+            std::vector<Pos> l_rectPos137{};
+            l_xmin133 = t130.x;
+            l_xmax134 = t132.x;
+            l_ymin135 = t130.y;
+            l_ymax136 = t132.y;
+            const int32_t& v138 = l_ymin135;
+            const int32_t& v139 = l_ymax136;
+            std::vector<int32_t>& range140 = s.scratch.v.b13;
+            range140.clear();
+            for (int32_t i141 = v138, i141_end = v139; i141 < i141_end; ++i141) {
+              range140.push_back(i141);
+            }
+            std::vector<std::vector<Pos>>& out142 = s.scratch.v.b14;
+            out142.clear();
+            out142.reserve(size_t(int32_t(range140.size())));
+            for (const int32_t& x143 : range140) {
+              const int32_t& v144 = l_xmin133;
+              const int32_t& v145 = l_xmax134;
+              std::vector<int32_t>& range146 = s.scratch.v.b15;
+              range146.clear();
+              for (int32_t i147 = v144, i147_end = v145; i147 < i147_end; ++i147) {
+                range146.push_back(i147);
               }
-              t207.push_back(t212);
-            }
-            std::vector<Pos> t215;
-            for (const auto& part : t207) t215.insert(t215.end(), part.begin(), part.end());
-            std::vector<Pos> v_rectPos_216 = t215;
-            const std::vector<Pos> t217 = v_rectPos_216;
-            std::vector<Pos> v_nextRowPos_218 = t217;
-            const std::vector<Pos> t219 = v_nextRowPos_218;
-            std::vector<Pos> t220;
-            for (const Pos& t220_x : t219) {
-              const Pos& a_p_221 = t220_x;
-              const int32_t t222 = s.g_GRID_SIZE;
-              const bool t223 = a_p_221.y == t222;
-              const bool t224 = !t223;
-              if (t224) t220.push_back(t220_x);
-            }
-            v_nextRowPos_218 = std::move(t220);
-            const std::vector<Pos> t225 = v_nextRowPos_218;
-            std::vector<Pos> t226;
-            for (const Pos& t226_x : t225) {
-              const Pos& a_p_227 = t226_x;
-              const bool t228 = s.core.occupied.free(a_p_227);
-              bool t229 = false;
-              if ((t228)) {
-                const Pos& a_pos_230 = a_p_227;
-                const int32_t t231 = int32_t(0);
-                const int32_t t232 = neg(int32_t(1));
-                const Pos t233 = Pos{t231, t232};
-                const Pos& a_pos_234 = a_pos_230;
-                Pos a_dir_235 = t233;
-                const Pos t236 = a_dir_235;
-                const int32_t t237 = add(a_pos_234.x, t236.x);
-                const Pos t238 = a_dir_235;
-                const int32_t t239 = add(a_pos_234.y, t238.y);
-                const Pos t240 = Pos{t237, t239};
-                const bool t241 = s.core.occupied.free(t240);
-                t229 = t241;
+              std::vector<Pos> out148{};
+              out148.reserve(size_t(int32_t(range146.size())));
+              for (const int32_t& x149 : range146) {
+                const Pos t150 = Pos{x149, x143};
+                out148.push_back(t150);
               }
-              if (t229) t226.push_back(t226_x);
+              out142.push_back(std::move(out148));
             }
-            std::vector<Pos> v_holes_242 = t226;
-            const std::vector<Pos> t243 = v_holes_242;
-            const C_Melt& a_obj_244 = a_obj_148;
-            std::vector<Pos> a_holes_245 = t243;
-            const std::vector<Pos> t246 = a_holes_245;
-            const int32_t t247 = int32_t(t246.size());
-            const bool t248 = t247 == int32_t(0);
-            C_Melt t393;
-            if (t248) {
-              t393 = a_obj_244;
+            std::vector<Pos> cat151{};
+            for (const std::vector<Pos>& part152 : out142) {
+              cat151.insert(cat151.end(), part152.begin(), part152.end());
+            }
+            l_rectPos137 = std::move(cat151);
+            const std::vector<Pos>& v153 = l_rectPos137;
+            l_nextRowPos127 = v153;
+            const std::vector<Pos>& v154 = l_nextRowPos127;
+            std::vector<Pos> out155{};
+            for (const Pos& x156 : v154) {
+              const bool t157 = (x156.y == int32_t(16));
+              const bool t158 = !t157;
+              if (t158) {
+                out155.push_back(x156);
+              }
+            }
+            l_nextRowPos127 = std::move(out155);
+            const std::vector<Pos>& v159 = l_nextRowPos127;
+            std::vector<Pos> out160{};
+            for (const Pos& x161 : v159) {
+              const bool t162 = s.core.occupied.free(x161);
+              bool r163{};
+              if (t162) {
+                const int32_t t164 = add(x161.x, int32_t(0));
+                const int32_t t165 = add(x161.y, int32_t(-1));
+                const Pos t166 = Pos{t164, t165};
+                const bool t167 = s.core.occupied.free(t166);
+                r163 = t167;
+              } else {
+                r163 = false;
+              }
+              if (r163) {
+                out160.push_back(x161);
+              }
+            }
+            l_holes128 = std::move(out160);
+            const std::vector<Pos>& v168 = l_holes128;
+            const int32_t t169 = int32_t(v168.size());
+            const bool t170 = (t169 == int32_t(0));
+            C1_Melt r171{};
+            if (t170) {
+              r171 = x107;
             } else {
-              const std::vector<Pos> t249 = a_holes_245;
-              const C_Melt& a_obj_250 = a_obj_244;
-              const std::vector<Pos>& a_listPoss_251 = t249;
-              const int32_t t252 = int32_t(a_listPoss_251.size());
-              const bool t253 = t252 == int32_t(0);
-              Pos t294;
-              if (t253) {
-                t294 = a_obj_250.origin;
+              Pos l_closestHole172{};
+              const int32_t t173 = int32_t(v168.size());
+              const bool t174 = (t173 == int32_t(0));
+              Pos r175{};
+              if (t174) {
+                r175 = x107.origin;
               } else {
-                if (a_listPoss_251.empty()) fail("head of an empty list");
-                const Pos t254 = a_listPoss_251.front();
-                Pos t255 = t254;
-                for (const Pos& t256 : a_listPoss_251) {
-                  const Pos& a_pos1_257 = t255;
-                  const Pos& a_pos2_258 = t256;
-                  const Pos t259 = a_obj_250.origin;
-                  const Pos& a_pos1_260 = a_pos1_257;
-                  const Pos& a_pos2_261 = t259;
-                  const Pos& a_pos1_262 = a_pos1_260;
-                  const Pos& a_pos2_263 = a_pos2_261;
-                  const int32_t t264 = sub(a_pos2_263.x, a_pos1_262.x);
-                  const int32_t t265 = sub(a_pos2_263.y, a_pos1_262.y);
-                  const Pos t266 = Pos{t264, t265};
-                  Pos v_delta_267 = t266;
-                  const Pos t268 = v_delta_267;
-                  const Pos t269 = v_delta_267;
-                  const int32_t t270 = mul(t268.x, t269.x);
-                  const Pos t271 = v_delta_267;
-                  const Pos t272 = v_delta_267;
-                  const int32_t t273 = mul(t271.y, t272.y);
-                  const int32_t t274 = add(t270, t273);
-                  const Pos t275 = a_obj_250.origin;
-                  const Pos& a_pos1_276 = a_pos2_258;
-                  const Pos& a_pos2_277 = t275;
-                  const Pos& a_pos1_278 = a_pos1_276;
-                  const Pos& a_pos2_279 = a_pos2_277;
-                  const int32_t t280 = sub(a_pos2_279.x, a_pos1_278.x);
-                  const int32_t t281 = sub(a_pos2_279.y, a_pos1_278.y);
-                  const Pos t282 = Pos{t280, t281};
-                  Pos v_delta_283 = t282;
-                  const Pos t284 = v_delta_283;
-                  const Pos t285 = v_delta_283;
-                  const int32_t t286 = mul(t284.x, t285.x);
-                  const Pos t287 = v_delta_283;
-                  const Pos t288 = v_delta_283;
-                  const int32_t t289 = mul(t287.y, t288.y);
-                  const int32_t t290 = add(t286, t289);
-                  const bool t291 = t274 < t290;
-                  Pos t292;
-                  if (t291) {
-                    t292 = a_pos1_257;
+                if (v168.empty()) {
+                  fail_at(5, std::string() + std::string("head of an empty list"));
+                }
+                const Pos t176 = v168.front();
+                Pos acc177 = t176;
+                for (const Pos& x178 : v168) {
+                  const Pos& a179 = acc177;
+                  Pos l_delta180{};
+                  const int32_t t181 = sub(x107.origin.x, a179.x);
+                  const int32_t t182 = sub(x107.origin.y, a179.y);
+                  const Pos t183 = Pos{t181, t182};
+                  l_delta180 = t183;
+                  const Pos& v184 = l_delta180;
+                  const Pos& v185 = l_delta180;
+                  const int32_t t186 = mul(v184.x, v185.x);
+                  const Pos& v187 = l_delta180;
+                  const Pos& v188 = l_delta180;
+                  const int32_t t189 = mul(v187.y, v188.y);
+                  const int32_t t190 = add(t186, t189);
+                  Pos l_delta191{};
+                  const int32_t t192 = sub(x107.origin.x, x178.x);
+                  const int32_t t193 = sub(x107.origin.y, x178.y);
+                  const Pos t194 = Pos{t192, t193};
+                  l_delta191 = t194;
+                  const Pos& v195 = l_delta191;
+                  const Pos& v196 = l_delta191;
+                  const int32_t t197 = mul(v195.x, v196.x);
+                  const Pos& v198 = l_delta191;
+                  const Pos& v199 = l_delta191;
+                  const int32_t t200 = mul(v198.y, v199.y);
+                  const int32_t t201 = add(t197, t200);
+                  const bool t202 = (t190 < t201);
+                  Pos r203{};
+                  if (t202) {
+                    r203 = a179;
                   } else {
-                    t292 = a_pos2_258;
+                    r203 = x178;
                   }
-                  t255 = t292;
+                  acc177 = r203;
                 }
-                const Pos t293 = t255;
-                t294 = t293;
+                const Pos& folded204 = acc177;
+                r175 = folded204;
               }
-              Pos v_closestHole_295 = t294;
-              const Pos t296 = v_closestHole_295;
-              const C_Melt& a_obj_297 = a_obj_244;
-              Pos a_closestHole_298 = t296;
-              const Pos t299 = a_closestHole_298;
-              const Pos& a_pos_300 = t299;
-              const int32_t t301 = int32_t(0);
-              const int32_t t302 = neg(int32_t(1));
-              const Pos t303 = Pos{t301, t302};
-              const Pos& a_pos_304 = a_pos_300;
-              Pos a_dir_305 = t303;
-              const Pos t306 = a_dir_305;
-              const int32_t t307 = add(a_pos_304.x, t306.x);
-              const Pos t308 = a_dir_305;
-              const int32_t t309 = add(a_pos_304.y, t308.y);
-              const Pos t310 = Pos{t307, t309};
-              const C_Melt& a_obj_311 = a_obj_297;
-              const Pos& a_pos_312 = t310;
-              const Pos t313 = a_obj_311.origin;
-              const Pos& a_pos1_314 = t313;
-              const Pos& a_pos2_315 = a_pos_312;
-              const int32_t t316 = sub(a_pos2_315.x, a_pos1_314.x);
-              const int32_t t317 = sub(a_pos2_315.y, a_pos1_314.y);
-              const Pos t318 = Pos{t316, t317};
-              Pos v_delta_319 = t318;
-              const Pos t320 = v_delta_319;
-              const int32_t t321 = t320.x;
-              const int32_t& a_x_322 = t321;
-              const bool t323 = a_x_322 == int32_t(0);
-              int32_t t327;
-              if (t323) {
-                t327 = int32_t(0);
+              l_closestHole172 = r175;
+              const Pos& v205 = l_closestHole172;
+              Pos l_dir206{};
+              C1_Melt l_movedObj207{};
+              const int32_t t208 = add(v205.x, int32_t(0));
+              const int32_t t209 = add(v205.y, int32_t(-1));
+              const Pos t210 = Pos{t208, t209};
+              Pos l_delta211{};
+              int32_t l_sign_x212{};
+              int32_t l_sign_y213{};
+              const int32_t t214 = sub(t210.x, x107.origin.x);
+              const int32_t t215 = sub(t210.y, x107.origin.y);
+              const Pos t216 = Pos{t214, t215};
+              l_delta211 = t216;
+              const Pos& v217 = l_delta211;
+              const bool t218 = (v217.x == int32_t(0));
+              int32_t r219{};
+              if (t218) {
+                r219 = int32_t(0);
               } else {
-                const bool t324 = a_x_322 < int32_t(0);
-                int32_t t326;
-                if (t324) {
-                  const int32_t t325 = neg(int32_t(1));
-                  t326 = t325;
+                const bool t220 = (v217.x < int32_t(0));
+                int32_t r221{};
+                if (t220) {
+                  r221 = int32_t(-1);
                 } else {
-                  t326 = int32_t(1);
+                  r221 = int32_t(1);
                 }
-                t327 = t326;
+                r219 = r221;
               }
-              int32_t v_sign_x_328 = t327;
-              const Pos t329 = v_delta_319;
-              const int32_t t330 = t329.y;
-              const int32_t& a_x_331 = t330;
-              const bool t332 = a_x_331 == int32_t(0);
-              int32_t t336;
-              if (t332) {
-                t336 = int32_t(0);
+              l_sign_x212 = r219;
+              const Pos& v222 = l_delta211;
+              const bool t223 = (v222.y == int32_t(0));
+              int32_t r224{};
+              if (t223) {
+                r224 = int32_t(0);
               } else {
-                const bool t333 = a_x_331 < int32_t(0);
-                int32_t t335;
-                if (t333) {
-                  const int32_t t334 = neg(int32_t(1));
-                  t335 = t334;
+                const bool t225 = (v222.y < int32_t(0));
+                int32_t r226{};
+                if (t225) {
+                  r226 = int32_t(-1);
                 } else {
-                  t335 = int32_t(1);
+                  r226 = int32_t(1);
                 }
-                t336 = t335;
+                r224 = r226;
               }
-              int32_t v_sign_y_337 = t336;
-              const int32_t t338 = v_sign_x_328;
-              const int32_t& a_x_339 = t338;
-              const bool t340 = a_x_339 < int32_t(0);
-              int32_t t342;
-              if (t340) {
-                const int32_t t341 = neg(a_x_339);
-                t342 = t341;
+              l_sign_y213 = r224;
+              const int32_t& v227 = l_sign_x212;
+              const bool t228 = (v227 < int32_t(0));
+              int32_t r229{};
+              if (t228) {
+                const int32_t t230 = neg(v227);
+                r229 = t230;
               } else {
-                t342 = a_x_339;
+                r229 = v227;
               }
-              const bool t343 = t342 == int32_t(1);
-              bool t344 = false;
-              if ((t343)) {
-                const int32_t t345 = v_sign_y_337;
-                const int32_t& a_x_346 = t345;
-                const bool t347 = a_x_346 < int32_t(0);
-                int32_t t349;
-                if (t347) {
-                  const int32_t t348 = neg(a_x_346);
-                  t349 = t348;
+              const bool t231 = (r229 == int32_t(1));
+              bool r232{};
+              if (t231) {
+                const int32_t& v233 = l_sign_y213;
+                const bool t234 = (v233 < int32_t(0));
+                int32_t r235{};
+                if (t234) {
+                  const int32_t t236 = neg(v233);
+                  r235 = t236;
                 } else {
-                  t349 = a_x_346;
+                  r235 = v233;
                 }
-                const bool t350 = t349 == int32_t(1);
-                t344 = t350;
-              }
-              Pos t357;
-              if (t344) {
-                const int32_t t351 = v_sign_x_328;
-                const int32_t t352 = int32_t(0);
-                const Pos t353 = Pos{t351, t352};
-                t357 = t353;
+                const bool t237 = (r235 == int32_t(1));
+                r232 = t237;
               } else {
-                const int32_t t354 = v_sign_x_328;
-                const int32_t t355 = v_sign_y_337;
-                const Pos t356 = Pos{t354, t355};
-                t357 = t356;
+                r232 = false;
               }
-              Pos v_dir_358 = t357;
-              const Pos t359 = v_dir_358;
-              const C_Melt& a_obj_360 = a_obj_297;
-              Pos a_dir_361 = t359;
-              const int32_t t362 = int32_t(5);
-              const Pos t363 = a_dir_361;
-              const int32_t t364 = add(a_obj_360.origin.x, t363.x);
-              const Pos t365 = a_dir_361;
-              const int32_t t366 = add(a_obj_360.origin.y, t365.y);
-              const Pos t367 = Pos{t364, t366};
-              C_Melt t368 = a_obj_360;
-              t368.origin = t367;
-              C_Melt v_movedObj_369 = t368;
-              const Pos t370 = a_closestHole_298;
-              const Pos& a_pos_371 = t370;
-              const int32_t t372 = int32_t(0);
-              const int32_t t373 = neg(int32_t(1));
-              const Pos t374 = Pos{t372, t373};
-              const Pos& a_pos_375 = a_pos_371;
-              Pos a_dir_376 = t374;
-              const Pos t377 = a_dir_376;
-              const int32_t t378 = add(a_pos_375.x, t377.x);
-              const Pos t379 = a_dir_376;
-              const int32_t t380 = add(a_pos_375.y, t379.y);
-              const Pos t381 = Pos{t378, t380};
-              const bool t382 = s.core.occupied.free(t381);
-              bool t383 = false;
-              if ((t382)) {
-                const C_Melt t384 = v_movedObj_369;
-                const Pos t385 = t384.origin;
-                const bool t386 = s.core.occupied.free(t385);
-                bool t387 = false;
-                if ((t386)) {
-                  const C_Melt t388 = v_movedObj_369;
-                  s.scratch.v.t389.clear();
-                  std::vector<Elem>& t389 = s.scratch.v.t389;
-                  render_Melt(s, t388, t389);
-                  bool t390 = true;
-                  for (const Elem& e : t389)
-                    if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t390 = false; break; }
-                  t387 = t390;
+              Pos r238{};
+              if (r232) {
+                const int32_t& v239 = l_sign_x212;
+                const Pos t240 = Pos{v239, int32_t(0)};
+                r238 = t240;
+              } else {
+                const int32_t& v241 = l_sign_x212;
+                const int32_t& v242 = l_sign_y213;
+                const Pos t243 = Pos{v241, v242};
+                r238 = t243;
+              }
+              l_dir206 = r238;
+              const Pos& v244 = l_dir206;
+              const int32_t t245 = add(x107.origin.x, v244.x);
+              const int32_t t246 = add(x107.origin.y, v244.y);
+              const Pos t247 = Pos{t245, t246};
+              C1_Melt upd248 = x107;
+              upd248.origin = t247;
+              l_movedObj207 = std::move(upd248);
+              const int32_t t249 = add(v205.x, int32_t(0));
+              const int32_t t250 = add(v205.y, int32_t(-1));
+              const Pos t251 = Pos{t249, t250};
+              const bool t252 = s.core.occupied.free(t251);
+              bool r253{};
+              if (t252) {
+                const C1_Melt& v254 = l_movedObj207;
+                const bool t255 = s.core.occupied.free(v254.origin);
+                bool r256{};
+                if (t255) {
+                  const C1_Melt& v257 = l_movedObj207;
+                  std::vector<Elem>& rendered258 = s.scratch.v.b16;
+                  rendered258.clear();
+                  const int32_t colour259 = colour_19_C1_Melt(s, v257);
+                  rendered258.push_back(Elem{Pos{add(v257.origin.x, int32_t(0)), add(v257.origin.y, int32_t(0))}, colour259});
+                  bool within260 = true;
+                  for (const Elem& e261 : rendered258) {
+                    if ((((e261.position.x < int32_t(0)) || (e261.position.x >= int32_t(16))) || ((e261.position.y < int32_t(0)) || (e261.position.y >= int32_t(16))))) {
+                      within260 = false;
+                      break;
+                    }
+                  }
+                  r256 = within260;
+                } else {
+                  r256 = false;
                 }
-                t383 = t387;
-              }
-              C_Melt t392;
-              if (t383) {
-                const C_Melt t391 = v_movedObj_369;
-                t392 = t391;
+                r253 = r256;
               } else {
-                t392 = a_obj_297;
+                r253 = false;
               }
-              t393 = t392;
+              C1_Melt r262{};
+              if (r253) {
+                const C1_Melt& v263 = l_movedObj207;
+                r262 = v263;
+              } else {
+                r262 = x107;
+              }
+              r171 = std::move(r262);
             }
-            t394 = t393;
+            r122 = std::move(r171);
           }
-          const int32_t t395 = int32_t(6);
-          const int32_t t396 = sub(a_w_147.f_ttl, int32_t(1));
-          C_Melt t397 = t394;
-          t397.f_ttl = t396;
-          t146.push_back(t397);
+          const int32_t t264 = sub(x107.f0, int32_t(1));
+          C1_Melt upd265 = r122;
+          upd265.f0 = t264;
+          out106.push_back(std::move(upd265));
         }
-        std::vector<C_Melt> t398;
-        for (const C_Melt& t398_x : t146) {
-          const C_Melt& a_w_399 = t398_x;
+        std::vector<C1_Melt> out266{};
+        for (const C1_Melt& x267 : out106) {
           // inlined: function at programs/snowplow.au:42
-          const bool t400 = a_w_399.f_ttl > int32_t(0);
-          if (t400) t398.push_back(t398_x);
+          const bool t268 = (x267.f0 > int32_t(0));
+          if (t268) {
+            out266.push_back(x267);
+          }
         }
-        s.g_melt = std::move(t398);
-        s.u_melt = true;
+        s.g_melt_11 = std::move(out266);
+        s.u_melt_12 = true;
       }
     }
-    {  // on-clause 6, programs/snowplow.au:59
-      if (s.core.left) {
-        s.core.covered[5] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t401 = neg(int32_t(1));
-        const int32_t t402 = int32_t(0);
-        const Pos t403 = Pos{t401, t402};
-        const C_Plow& a_thing_404 = s.p_plow;
-        const Pos& a_step_405 = t403;
+    // on-clause 6, programs/snowplow.au:59
+    {
+      const bool t269 = s.core.left;
+      if (t269) {
+        s.core.covered[int32_t(5)] = 1;
+        const C3_Plow& prev270 = s.p_plow_7;
         // inlined: function at programs/snowplow.au:38
-        const C_Plow& a_obj_406 = a_thing_404;
-        Pos a_dir_407 = a_step_405;
-        const int32_t t408 = int32_t(5);
-        const Pos t409 = a_dir_407;
-        const int32_t t410 = add(a_obj_406.origin.x, t409.x);
-        const Pos t411 = a_dir_407;
-        const int32_t t412 = add(a_obj_406.origin.y, t411.y);
-        const Pos t413 = Pos{t410, t412};
-        C_Plow t414 = a_obj_406;
-        t414.origin = t413;
-        s.scratch.v.t415.clear();
-        std::vector<Elem>& t415 = s.scratch.v.t415;
-        render_Plow(s, t414, t415);
-        bool t416 = true;
-        for (const Elem& e : t415)
-          if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t416 = false; break; }
-        C_Plow t426;
-        if (t416) {
-          const C_Plow& a_obj_417 = a_thing_404;
-          Pos a_dir_418 = a_step_405;
-          const int32_t t419 = int32_t(5);
-          const Pos t420 = a_dir_418;
-          const int32_t t421 = add(a_obj_417.origin.x, t420.x);
-          const Pos t422 = a_dir_418;
-          const int32_t t423 = add(a_obj_417.origin.y, t422.y);
-          const Pos t424 = Pos{t421, t423};
-          C_Plow t425 = a_obj_417;
-          t425.origin = t424;
-          t426 = t425;
-        } else {
-          t426 = a_thing_404;
+        const int32_t t271 = add(prev270.origin.x, int32_t(-1));
+        const int32_t t272 = add(prev270.origin.y, int32_t(0));
+        const Pos t273 = Pos{t271, t272};
+        C3_Plow upd274 = prev270;
+        upd274.origin = t273;
+        std::vector<Elem>& rendered275 = s.scratch.v.b17;
+        rendered275.clear();
+        rendered275.push_back(Elem{Pos{add(upd274.origin.x, int32_t(0)), add(upd274.origin.y, int32_t(0))}, int32_t(2)});
+        rendered275.push_back(Elem{Pos{add(upd274.origin.x, int32_t(1)), add(upd274.origin.y, int32_t(0))}, int32_t(2)});
+        bool within276 = true;
+        for (const Elem& e277 : rendered275) {
+          if ((((e277.position.x < int32_t(0)) || (e277.position.x >= int32_t(16))) || ((e277.position.y < int32_t(0)) || (e277.position.y >= int32_t(16))))) {
+            within276 = false;
+            break;
+          }
         }
-        s.g_plow = t426;
-        s.u_plow = true;
+        C3_Plow r278{};
+        if (within276) {
+          const int32_t t279 = add(prev270.origin.x, int32_t(-1));
+          const int32_t t280 = add(prev270.origin.y, int32_t(0));
+          const Pos t281 = Pos{t279, t280};
+          C3_Plow upd282 = prev270;
+          upd282.origin = t281;
+          r278 = std::move(upd282);
+        } else {
+          r278 = prev270;
+        }
+        s.g_plow_5 = std::move(r278);
+        s.u_plow_6 = true;
       }
     }
-    {  // on-clause 7, programs/snowplow.au:60
-      if (s.core.right) {
-        s.core.covered[6] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t427 = int32_t(1);
-        const int32_t t428 = int32_t(0);
-        const Pos t429 = Pos{t427, t428};
-        const C_Plow& a_thing_430 = s.p_plow;
-        const Pos& a_step_431 = t429;
+    // on-clause 7, programs/snowplow.au:60
+    {
+      const bool t283 = s.core.right;
+      if (t283) {
+        s.core.covered[int32_t(6)] = 1;
+        const C3_Plow& prev284 = s.p_plow_7;
         // inlined: function at programs/snowplow.au:38
-        const C_Plow& a_obj_432 = a_thing_430;
-        Pos a_dir_433 = a_step_431;
-        const int32_t t434 = int32_t(5);
-        const Pos t435 = a_dir_433;
-        const int32_t t436 = add(a_obj_432.origin.x, t435.x);
-        const Pos t437 = a_dir_433;
-        const int32_t t438 = add(a_obj_432.origin.y, t437.y);
-        const Pos t439 = Pos{t436, t438};
-        C_Plow t440 = a_obj_432;
-        t440.origin = t439;
-        s.scratch.v.t441.clear();
-        std::vector<Elem>& t441 = s.scratch.v.t441;
-        render_Plow(s, t440, t441);
-        bool t442 = true;
-        for (const Elem& e : t441)
-          if (e.position.x < 0 || e.position.x >= 16 || e.position.y < 0 || e.position.y >= 16) { t442 = false; break; }
-        C_Plow t452;
-        if (t442) {
-          const C_Plow& a_obj_443 = a_thing_430;
-          Pos a_dir_444 = a_step_431;
-          const int32_t t445 = int32_t(5);
-          const Pos t446 = a_dir_444;
-          const int32_t t447 = add(a_obj_443.origin.x, t446.x);
-          const Pos t448 = a_dir_444;
-          const int32_t t449 = add(a_obj_443.origin.y, t448.y);
-          const Pos t450 = Pos{t447, t449};
-          C_Plow t451 = a_obj_443;
-          t451.origin = t450;
-          t452 = t451;
-        } else {
-          t452 = a_thing_430;
+        const int32_t t285 = add(prev284.origin.x, int32_t(1));
+        const int32_t t286 = add(prev284.origin.y, int32_t(0));
+        const Pos t287 = Pos{t285, t286};
+        C3_Plow upd288 = prev284;
+        upd288.origin = t287;
+        std::vector<Elem>& rendered289 = s.scratch.v.b18;
+        rendered289.clear();
+        rendered289.push_back(Elem{Pos{add(upd288.origin.x, int32_t(0)), add(upd288.origin.y, int32_t(0))}, int32_t(2)});
+        rendered289.push_back(Elem{Pos{add(upd288.origin.x, int32_t(1)), add(upd288.origin.y, int32_t(0))}, int32_t(2)});
+        bool within290 = true;
+        for (const Elem& e291 : rendered289) {
+          if ((((e291.position.x < int32_t(0)) || (e291.position.x >= int32_t(16))) || ((e291.position.y < int32_t(0)) || (e291.position.y >= int32_t(16))))) {
+            within290 = false;
+            break;
+          }
         }
-        s.g_plow = t452;
-        s.u_plow = true;
+        C3_Plow r292{};
+        if (within290) {
+          const int32_t t293 = add(prev284.origin.x, int32_t(1));
+          const int32_t t294 = add(prev284.origin.y, int32_t(0));
+          const Pos t295 = Pos{t293, t294};
+          C3_Plow upd296 = prev284;
+          upd296.origin = t295;
+          r292 = std::move(upd296);
+        } else {
+          r292 = prev284;
+        }
+        s.g_plow_5 = std::move(r292);
+        s.u_plow_6 = true;
       }
     }
-    {  // on-clause 8, programs/snowplow.au:61
+    // on-clause 8, programs/snowplow.au:61
+    {
       if (true) {
-        s.core.covered[7] = 1;
-        const std::vector<C_Flake>& t453 = s.g_snow;
-        std::vector<C_Flake> t454;
-        for (const C_Flake& t454_x : t453) {
-          const C_Flake& a_f_455 = t454_x;
+        s.core.covered[int32_t(7)] = 1;
+        const std::vector<C0_Flake>& g297 = s.g_snow_8;
+        std::vector<C0_Flake> kept298{};
+        for (const C0_Flake& x299 : g297) {
           // inlined: function at programs/snowplow.au:61
-          const C_Plow& t456 = s.g_plow;
-          const C_Flake& a_obj1_457 = a_f_455;
-          const C_Plow& a_obj2_458 = t456;
-          s.scratch.v.t459.clear();
-          std::vector<Elem>& t459 = s.scratch.v.t459;
-          render_Flake(s, a_obj1_457, t459);
-          s.scratch.v.t460.clear();
-          std::vector<Elem>& t460 = s.scratch.v.t460;
-          render_Plow(s, a_obj2_458, t460);
-          const std::vector<Elem>& a_elems1_461 = t459;
-          const std::vector<Elem>& a_elems2_462 = t460;
-          const int32_t t463 = int32_t(a_elems1_461.size());
-          const bool t464 = t463 == int32_t(0);
-          bool t465 = true;
-          if (!(t464)) {
-            const int32_t t466 = int32_t(a_elems2_462.size());
-            const bool t467 = t466 == int32_t(0);
-            t465 = t467;
-          }
-          bool t473;
-          if (t465) {
-            t473 = false;
+          const C3_Plow& g300 = s.g_plow_5;
+          std::vector<Elem>& rendered301 = s.scratch.v.b19;
+          rendered301.clear();
+          rendered301.push_back(Elem{Pos{add(x299.origin.x, int32_t(0)), add(x299.origin.y, int32_t(0))}, int32_t(9)});
+          std::vector<Elem>& rendered302 = s.scratch.v.b20;
+          rendered302.clear();
+          rendered302.push_back(Elem{Pos{add(g300.origin.x, int32_t(0)), add(g300.origin.y, int32_t(0))}, int32_t(2)});
+          rendered302.push_back(Elem{Pos{add(g300.origin.x, int32_t(1)), add(g300.origin.y, int32_t(0))}, int32_t(2)});
+          const int32_t t303 = int32_t(rendered301.size());
+          const bool t304 = (t303 == int32_t(0));
+          bool r305{};
+          if (!t304) {
+            const int32_t t306 = int32_t(rendered302.size());
+            const bool t307 = (t306 == int32_t(0));
+            r305 = t307;
           } else {
-            bool t468 = false;
-            for (const Elem& t468_x : a_elems1_461) {
-              const Elem& a_elem1_469 = t468_x;
-              bool t470 = false;
-              for (const Elem& t470_x : a_elems2_462) {
-                const Elem& a_elem2_471 = t470_x;
-                const bool t472 = a_elem1_469.position == a_elem2_471.position;
-                if (t472) { t470 = true; break; }
-              }
-              if (t470) { t468 = true; break; }
-            }
-            t473 = t468;
+            r305 = true;
           }
-          if (!(t473)) t454.push_back(t454_x);
+          bool r308{};
+          if (r305) {
+            r308 = false;
+          } else {
+            bool any309 = false;
+            for (const Elem& x310 : rendered301) {
+              bool any311 = false;
+              for (const Elem& x312 : rendered302) {
+                const bool t313 = (x310.position == x312.position);
+                if (t313) {
+                  any311 = true;
+                  break;
+                }
+              }
+              if (any311) {
+                any309 = true;
+                break;
+              }
+            }
+            r308 = any309;
+          }
+          if (!r308) {
+            kept298.push_back(x299);
+          }
         }
-        s.g_snow = std::move(t454);
-        s.u_snow = true;
+        s.g_snow_8 = std::move(kept298);
+        s.u_snow_9 = true;
       }
     }
-    {  // on-clause 9, programs/snowplow.au:63
-      if (s.core.up) {
-        s.core.covered[8] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t474 = int32_t(7);
-        const int32_t t475 = int32_t(4);
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t476 = add(s.p_cloud.f_heavy, int32_t(1));
-        const int32_t& a_a_477 = t475;
-        const int32_t& a_b_478 = t476;
-        const bool t479 = a_a_477 < a_b_478;
-        int32_t t480;
-        if (t479) {
-          t480 = a_a_477;
+    // on-clause 9, programs/snowplow.au:63
+    {
+      const bool t314 = s.core.up;
+      if (t314) {
+        s.core.covered[int32_t(8)] = 1;
+        const C4_Cloud& prev315 = s.p_cloud_19;
+        const C4_Cloud& prev316 = s.p_cloud_19;
+        const int32_t t317 = add(prev316.f0, int32_t(1));
+        const bool t318 = (int32_t(4) < t317);
+        int32_t r319{};
+        if (t318) {
+          r319 = int32_t(4);
         } else {
-          t480 = a_b_478;
+          r319 = t317;
         }
-        C_Cloud t481 = s.p_cloud;
-        t481.f_heavy = t480;
-        s.g_cloud = t481;
-        s.u_cloud = true;
+        C4_Cloud upd320 = prev315;
+        upd320.f0 = r319;
+        s.g_cloud_17 = std::move(upd320);
+        s.u_cloud_18 = true;
       }
     }
-    {  // on-clause 10, programs/snowplow.au:64
-      if (s.core.down) {
-        s.core.covered[9] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t482 = int32_t(7);
-        const int32_t t483 = int32_t(1);
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t484 = sub(s.p_cloud.f_heavy, int32_t(1));
-        const int32_t& a_a_485 = t483;
-        const int32_t& a_b_486 = t484;
-        const bool t487 = a_a_485 < a_b_486;
-        int32_t t488;
-        if (t487) {
-          t488 = a_b_486;
+    // on-clause 10, programs/snowplow.au:64
+    {
+      const bool t321 = s.core.down;
+      if (t321) {
+        s.core.covered[int32_t(9)] = 1;
+        const C4_Cloud& prev322 = s.p_cloud_19;
+        const C4_Cloud& prev323 = s.p_cloud_19;
+        const int32_t t324 = sub(prev323.f0, int32_t(1));
+        const bool t325 = (int32_t(1) < t324);
+        int32_t r326{};
+        if (t325) {
+          r326 = t324;
         } else {
-          t488 = a_a_485;
+          r326 = int32_t(1);
         }
-        C_Cloud t489 = s.p_cloud;
-        t489.f_heavy = t488;
-        s.g_cloud = t489;
-        s.u_cloud = true;
+        C4_Cloud upd327 = prev322;
+        upd327.f0 = r326;
+        s.g_cloud_17 = std::move(upd327);
+        s.u_cloud_18 = true;
       }
     }
-    {  // on-clause 11, programs/snowplow.au:69
-      const int32_t t490 = s.g_time;
-      const C_Cloud& t491 = s.g_cloud;
-      const int32_t t492 = sub(int32_t(5), t491.f_heavy);
-      const int32_t t493 = imod(t490, t492);
-      const bool t494 = t493 == int32_t(0);
-      bool t495 = false;
-      if ((t494)) {
-        const std::vector<C_Flake>& t496 = s.g_snow;
-        const int32_t t497 = int32_t(t496.size());
-        const int32_t t498 = s.g_maxSnow;
-        const bool t499 = t497 < t498;
-        t495 = t499;
+    // on-clause 11, programs/snowplow.au:69
+    {
+      const int32_t& g328 = s.g_time_20;
+      const C4_Cloud& g329 = s.g_cloud_17;
+      const int32_t t330 = sub(int32_t(5), g329.f0);
+      if ((t330 == int32_t(0))) {
+        fail_at(6, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
-      if (t495) {
-        s.core.covered[10] = 1;
-        const int32_t t500 = int32_t(255);
-        const int32_t t501 = int32_t(1);
-        if (t500 < 0) fail("randomPositions: negative size");
-        std::vector<Pos> t502;
-        for (int32_t i = 0; i < t501; ++i) { int32_t x = int32_t(s.core.rng.next(uint64_t(t500))); int32_t y = int32_t(s.core.rng.next(uint64_t(t500))); t502.push_back(Pos{x, y}); }
-        if (t502.empty()) fail("head of an empty list");
-        const Pos t503 = t502.front();
-        const int32_t t504 = s.g_GRID_SIZE;
-        const int32_t t505 = imod(t503.x, t504);
-        const int32_t t506 = int32_t(1);
-        const Pos t507 = Pos{t505, t506};
-        Pos v_drop_508 = t507;
-        const Pos t509 = v_drop_508;
-        const C_Flake t510 = C_Flake{t509};
-        C_Flake v_flake_511 = t510;
-        const C_Flake t512 = v_flake_511;
-        const C_Flake& a_obj_513 = t512;
-        s.scratch.v.t514.clear();
-        std::vector<Elem>& t514 = s.scratch.v.t514;
-        render_Flake(s, a_obj_513, t514);
-        bool t515 = false;
-        for (const Elem& t515_x : t514) {
-          const Elem& a_e_516 = t515_x;
-          const Pos t517 = a_e_516.position;
-          const bool t518 = s.core.occupied.free(t517);
-          const bool t519 = !t518;
-          if (t519) { t515 = true; break; }
+      if (((g328 == int32_t(-2147483648LL)) && (t330 == int32_t(-1)))) {
+        fail_at(6, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+      }
+      const int32_t t331 = autumn::arith::mod_unchecked(g328, t330);
+      const bool t332 = (t331 == int32_t(0));
+      bool r333{};
+      if (t332) {
+        const std::vector<C0_Flake>& g334 = s.g_snow_8;
+        const int32_t t335 = int32_t(g334.size());
+        const bool t336 = (t335 < int32_t(70));
+        r333 = t336;
+      } else {
+        r333 = false;
+      }
+      if (r333) {
+        s.core.covered[int32_t(10)] = 1;
+        Pos l_drop337{};
+        C0_Flake l_flake338{};
+        if ((int32_t(255) < int32_t(0))) {
+          fail_at(7, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
-        const bool t520 = !t515;
-        std::vector<C_Flake> t525;
-        if (t520) {
-          const std::vector<C_Flake>& t521 = s.g_snow;
-          const C_Flake t522 = v_flake_511;
-          std::vector<C_Flake> t523;
-          t523.reserve(t521.size() + 1);
-          t523.assign(t521.begin(), t521.end());
-          t523.push_back(t522);
-          t525 = t523;
+        std::vector<Pos>& rpos339 = s.scratch.v.b21;
+        rpos339.clear();
+        for (int32_t i340 = int32_t(0), i340_end = int32_t(1); i340 < i340_end; ++i340) {
+          const int32_t t341 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+          const int32_t t342 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+          const Pos t343 = Pos{t341, t342};
+          rpos339.push_back(t343);
+        }
+        if (rpos339.empty()) {
+          fail_at(8, std::string() + std::string("head of an empty list"));
+        }
+        const Pos t344 = rpos339.front();
+        const int32_t t345 = autumn::arith::mod_unchecked(t344.x, int32_t(16));
+        const Pos t346 = Pos{t345, int32_t(1)};
+        l_drop337 = t346;
+        const Pos& v347 = l_drop337;
+        CellV l_allCells348{};
+        const CellV t349 = CellV{int32_t(0), int32_t(0), int32_t(9), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(20))};
+        l_allCells348 = t349;
+        const CellV& v350 = l_allCells348;
+        const CellV& v351 = l_allCells348;
+        const std::vector<CellV> list352 = std::vector<CellV>{v351};
+        C0_Flake o353 = C0_Flake{v347};
+        l_flake338 = std::move(o353);
+        const C0_Flake& v354 = l_flake338;
+        std::vector<Elem>& rendered355 = s.scratch.v.b22;
+        rendered355.clear();
+        rendered355.push_back(Elem{Pos{add(v354.origin.x, int32_t(0)), add(v354.origin.y, int32_t(0))}, int32_t(9)});
+        bool any356 = false;
+        for (const Elem& x357 : rendered355) {
+          const bool t358 = s.core.occupied.free(x357.position);
+          const bool t359 = !t358;
+          if (t359) {
+            any356 = true;
+            break;
+          }
+        }
+        const bool t360 = !any356;
+        std::vector<C0_Flake> r361{};
+        if (t360) {
+          const std::vector<C0_Flake>& g362 = s.g_snow_8;
+          const C0_Flake& v363 = l_flake338;
+          std::vector<C0_Flake> added364{};
+          added364.reserve(size_t(add(int32_t(g362.size()), int32_t(1))));
+          for (const C0_Flake& x365 : g362) {
+            added364.push_back(x365);
+          }
+          added364.push_back(v363);
+          r361 = std::move(added364);
         } else {
-          const std::vector<C_Flake>& t524 = s.g_snow;
-          t525 = t524;
+          const std::vector<C0_Flake>& g366 = s.g_snow_8;
+          r361 = g366;
         }
-        s.g_snow = t525;
-        s.u_snow = true;
+        s.g_snow_8 = std::move(r361);
+        s.u_snow_9 = true;
       }
     }
-    if (!s.u_plow) {  // NEXT of plow, programs/snowplow.au:35
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_plow = s.p_plow;
+    // NEXT of plow, programs/snowplow.au:35
+    if (!s.u_plow_6) {
+      const C3_Plow& prev367 = s.p_plow_7;
+      s.g_plow_5 = prev367;
+      s.u_plow_6 = true;
     }
-    if (!s.u_snow) {  // NEXT of snow, programs/snowplow.au:29
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_snow = s.p_snow;
+    // NEXT of snow, programs/snowplow.au:29
+    if (!s.u_snow_9) {
+      const std::vector<C0_Flake>& prev368 = s.p_snow_10;
+      s.g_snow_8 = prev368;
+      s.u_snow_9 = true;
     }
-    if (!s.u_melt) {  // NEXT of melt, programs/snowplow.au:32
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_melt = s.p_melt;
+    // NEXT of melt, programs/snowplow.au:32
+    if (!s.u_melt_12) {
+      const std::vector<C1_Melt>& prev369 = s.p_melt_13;
+      s.g_melt_11 = prev369;
+      s.u_melt_12 = true;
     }
-    if (!s.u_rocks) {  // NEXT of rocks, programs/snowplow.au:26
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_rocks = s.p_rocks;
+    // NEXT of rocks, programs/snowplow.au:26
+    if (!s.u_rocks_15) {
+      const std::vector<C2_Rock>& prev370 = s.p_rocks_16;
+      s.g_rocks_14 = prev370;
+      s.u_rocks_15 = true;
     }
-    if (!s.u_cloud) {  // NEXT of cloud, programs/snowplow.au:21
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_cloud = s.p_cloud;
+    // NEXT of cloud, programs/snowplow.au:21
+    if (!s.u_cloud_18) {
+      const C4_Cloud& prev371 = s.p_cloud_19;
+      s.g_cloud_17 = prev371;
+      s.u_cloud_18 = true;
     }
-    if (!s.u_time) {  // NEXT of time, programs/snowplow.au:18
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const int32_t t526 = add(s.p_time, int32_t(1));
-      s.g_time = t526;
+    // NEXT of time, programs/snowplow.au:18
+    if (!s.u_time_21) {
+      const int32_t& prev372 = s.p_time_22;
+      const int32_t t373 = add(prev372, int32_t(1));
+      s.g_time_20 = t373;
+      s.u_time_21 = true;
     }
-    s.core.click = s.core.left = s.core.right = s.core.up = s.core.down = false;
+    s.core.clear_inputs();
   }
-
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
+    (void)s;
+    (void)paint;
+    (void)pal;
     s.core.occupied.clear(kGrid);
-    std::vector<Elem>& elems = s.scratch.v.render_elems;
-    if (paint) paint->begin(kGrid, pal[s.g_background]);
-    elems.clear();
-    render_Cloud(s, s.g_cloud, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    std::vector<Elem>& elems1 = s.scratch.v.b23;
+    elems1.clear();
+    elems1.clear();
+    const C4_Cloud& g2 = s.g_cloud_17;
+    render_C4_Cloud(s, g2, elems1);
+    for (const Elem& e3 : elems1) {
+      s.core.occupied.add(e3.position);
+      if (paint) paint->paint(e3.position, pal[e3.color]);
     }
-    elems.clear();
-    for (const C_Rock& t594 : s.g_rocks) {
-      render_Rock(s, t594, elems);
+    elems1.clear();
+    const std::vector<C2_Rock>& g4 = s.g_rocks_14;
+    for (const C2_Rock& x5 : g4) {
+      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(3)});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e6 : elems1) {
+      s.core.occupied.add(e6.position);
+      if (paint) paint->paint(e6.position, pal[e6.color]);
     }
-    elems.clear();
-    for (const C_Flake& t595 : s.g_snow) {
-      render_Flake(s, t595, elems);
+    elems1.clear();
+    const std::vector<C0_Flake>& g7 = s.g_snow_8;
+    for (const C0_Flake& x8 : g7) {
+      elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, int32_t(9)});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e9 : elems1) {
+      s.core.occupied.add(e9.position);
+      if (paint) paint->paint(e9.position, pal[e9.color]);
     }
-    elems.clear();
-    for (const C_Melt& t596 : s.g_melt) {
-      render_Melt(s, t596, elems);
+    elems1.clear();
+    const std::vector<C1_Melt>& g10 = s.g_melt_11;
+    for (const C1_Melt& x11 : g10) {
+      const int32_t colour12 = colour_19_C1_Melt(s, x11);
+      elems1.push_back(Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, colour12});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e13 : elems1) {
+      s.core.occupied.add(e13.position);
+      if (paint) paint->paint(e13.position, pal[e13.color]);
     }
-    elems.clear();
-    render_Plow(s, s.g_plow, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    elems1.clear();
+    const C3_Plow& g14 = s.g_plow_5;
+    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(0)), add(g14.origin.y, int32_t(0))}, int32_t(2)});
+    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(1)), add(g14.origin.y, int32_t(0))}, int32_t(2)});
+    for (const Elem& e15 : elems1) {
+      s.core.occupied.add(e15.position);
+      if (paint) paint->paint(e15.position, pal[e15.color]);
     }
   }
-
   static uint64_t hash(const State& s) {
     Hash h;
     hash_core(h, s.core, kUsesRandom);
-    hash_value(h, s.g_GRID_SIZE);
-    hash_value(h, s.g_FRAME_RATE);
-    hash_value(h, s.g_background);
-    hash_value(h, s.g_time);
-    hash_value(h, s.g_cloud);
-    hash_value(h, s.g_rocks);
-    hash_value(h, s.g_snow);
-    hash_value(h, s.g_melt);
-    hash_value(h, s.g_plow);
-    hash_value(h, s.g_maxSnow);
+    hash_value(h, s.g_GRID_SIZE_0);
+    hash_value(h, s.g_FRAME_RATE_1);
+    hash_value(h, s.g_background_2);
+    hash_value(h, s.g_SpecialConditionTriggered_3);
+    hash_value(h, s.g_maxSnow_4);
+    hash_value(h, s.g_plow_5);
+    hash_value(h, s.g_snow_8);
+    hash_value(h, s.g_melt_11);
+    hash_value(h, s.g_rocks_14);
+    hash_value(h, s.g_cloud_17);
+    hash_value(h, s.g_time_20);
+    hash_value(h, s.g_click_23);
+    hash_value(h, s.d_click_24);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
     (void)s;
     (void)w;
-    save_value(w, s.g_GRID_SIZE);
-    save_value(w, s.g_FRAME_RATE);
-    save_value(w, s.g_background);
-    save_value(w, s.g_time);
-    save_value(w, s.g_cloud);
-    save_value(w, s.g_rocks);
-    save_value(w, s.g_snow);
-    save_value(w, s.g_melt);
-    save_value(w, s.g_plow);
-    save_value(w, s.g_maxSnow);
+    save_value(w, s.g_GRID_SIZE_0);
+    save_value(w, s.g_FRAME_RATE_1);
+    save_value(w, s.g_background_2);
+    save_value(w, s.g_SpecialConditionTriggered_3);
+    save_value(w, s.g_maxSnow_4);
+    save_value(w, s.g_plow_5);
+    save_value(w, s.g_snow_8);
+    save_value(w, s.g_melt_11);
+    save_value(w, s.g_rocks_14);
+    save_value(w, s.g_cloud_17);
+    save_value(w, s.g_time_20);
+    save_value(w, s.g_click_23);
+    save_value(w, s.d_click_24);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
     (void)r;
-    load_value(r, s.g_GRID_SIZE);
-    load_value(r, s.g_FRAME_RATE);
-    load_value(r, s.g_background);
-    load_value(r, s.g_time);
-    load_value(r, s.g_cloud);
-    load_value(r, s.g_rocks);
-    load_value(r, s.g_snow);
-    load_value(r, s.g_melt);
-    load_value(r, s.g_plow);
-    load_value(r, s.g_maxSnow);
+    load_value(r, s.g_GRID_SIZE_0);
+    load_value(r, s.g_FRAME_RATE_1);
+    load_value(r, s.g_background_2);
+    load_value(r, s.g_SpecialConditionTriggered_3);
+    load_value(r, s.g_maxSnow_4);
+    load_value(r, s.g_plow_5);
+    load_value(r, s.g_snow_8);
+    load_value(r, s.g_melt_11);
+    load_value(r, s.g_rocks_14);
+    load_value(r, s.g_cloud_17);
+    load_value(r, s.g_time_20);
+    load_value(r, s.g_click_23);
+    load_value(r, s.d_click_24);
   }
 };
 
 const char* const Prog::kColours[] = {
     "black",
-    "white",
-    "gray",
-    "orange",
     "darkslategray",
+    "orange",
+    "gray",
     "origin",
-    "ttl",
-    "heavy",
     "deepskyblue",
     "lightblue",
+    "ttl",
+    "heavy",
+    "white",
     "slategray",
     "gainsboro",
     nullptr};
+
+const ErrorSite Prog::kErrors[] = {
+    {48, 58, nullptr, true, 48, 58, ""},
+    {48, 71, nullptr, true, 48, 71, ""},
+    {53, 32, nullptr, true, 53, 32, ""},
+    {54, 48, nullptr, true, 54, 48, ""},
+    {54, 61, nullptr, true, 54, 61, ""},
+    {134, 19, "<stdlib>", true, 43, 36, ""},
+    {69, 14, nullptr, true, 69, 14, ""},
+    {71, 38, nullptr, true, 71, 38, ""},
+    {71, 32, nullptr, true, 71, 32, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {
   std::unique_ptr<autumn::Environment> operator()() const {

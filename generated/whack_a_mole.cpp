@@ -23,859 +23,966 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 10;
   static const char* const kColours[];
+  static const ErrorSite kErrors[];
 
-  struct C_Burrow {
+  struct C0_Burrow {
     Pos origin;
+    friend void hash_value(Hash& h, const C0_Burrow& v) {
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C0_Burrow& v) {
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C0_Burrow& v) {
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Burrow& a, const C_Burrow& b) {
-    return true && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Burrow& v) {
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Burrow& v) {
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Burrow& v) {
-    load_value(r, v.origin);
-  }
-  struct C_Mole {
-    int32_t f_ttl;
+  struct C1_Mole {
+    int32_t f0;
     Pos origin;
+    std::vector<CellV> cells;
+    friend void hash_value(Hash& h, const C1_Mole& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+      hash_value(h, v.cells);
+    }
+    friend void save_value(SnapshotWriter& w, const C1_Mole& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+      save_value(w, v.cells);
+    }
+    friend void load_value(SnapshotReader& r, C1_Mole& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+      load_value(r, v.cells);
+    }
   };
-  static bool eq(const C_Mole& a, const C_Mole& b) {
-    return true && a.f_ttl == b.f_ttl && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Mole& v) {
-    hash_value(h, v.f_ttl);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Mole& v) {
-    save_value(w, v.f_ttl);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Mole& v) {
-    load_value(r, v.f_ttl);
-    load_value(r, v.origin);
-  }
-  struct C_Flash {
-    int32_t f_glow;
+  struct C2_Flash {
+    int32_t f0;
     Pos origin;
+    friend void hash_value(Hash& h, const C2_Flash& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+    }
+    friend void save_value(SnapshotWriter& w, const C2_Flash& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+    }
+    friend void load_value(SnapshotReader& r, C2_Flash& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+    }
   };
-  static bool eq(const C_Flash& a, const C_Flash& b) {
-    return true && a.f_glow == b.f_glow && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_Flash& v) {
-    hash_value(h, v.f_glow);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_Flash& v) {
-    save_value(w, v.f_glow);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_Flash& v) {
-    load_value(r, v.f_glow);
-    load_value(r, v.origin);
-  }
-  struct C_ScoreBar {
-    int32_t f_points;
+  struct C3_ScoreBar {
+    int32_t f0;
     Pos origin;
+    std::vector<CellV> cells;
+    friend void hash_value(Hash& h, const C3_ScoreBar& v) {
+      hash_value(h, v.f0);
+      hash_value(h, v.origin);
+      hash_value(h, v.cells);
+    }
+    friend void save_value(SnapshotWriter& w, const C3_ScoreBar& v) {
+      save_value(w, v.f0);
+      save_value(w, v.origin);
+      save_value(w, v.cells);
+    }
+    friend void load_value(SnapshotReader& r, C3_ScoreBar& v) {
+      load_value(r, v.f0);
+      load_value(r, v.origin);
+      load_value(r, v.cells);
+    }
   };
-  static bool eq(const C_ScoreBar& a, const C_ScoreBar& b) {
-    return true && a.f_points == b.f_points && a.origin == b.origin;
-  }
-  friend void hash_value(Hash& h, const C_ScoreBar& v) {
-    hash_value(h, v.f_points);
-    hash_value(h, v.origin);
-  }
-  friend void save_value(SnapshotWriter& w, const C_ScoreBar& v) {
-    save_value(w, v.f_points);
-    save_value(w, v.origin);
-  }
-  friend void load_value(SnapshotReader& r, C_ScoreBar& v) {
-    load_value(r, v.f_points);
-    load_value(r, v.origin);
-  }
 
-  // Working buffers, one per place that builds a short-lived list.
   struct Scratch {
-    std::vector<Elem> render_elems;
-    std::vector<Elem> t45;
-    std::vector<Elem> t59;
-    std::vector<Elem> t82;
+    std::vector<Elem> b0;
+    std::vector<C1_Mole> b1;
+    std::vector<C1_Mole> b2;
+    std::vector<Elem> b3;
+    std::vector<Elem> b4;
+    std::vector<C1_Mole> b5;
+    std::vector<C1_Mole> b6;
+    std::vector<Pos> b7;
+    std::vector<Pos> b8;
+    std::vector<C2_Flash> b9;
+    std::vector<Elem> b10;
   };
-
   struct State {
     Core core;
     NoCopy<Scratch> scratch;
-    int32_t g_GRID_SIZE{};
-    int32_t g_FRAME_RATE{};
-    int32_t g_background{};
-    std::vector<Pos> g_burrowSpots{};
-    int32_t g_goal{};
-    int32_t g_time{};
-    bool u_time = false;
-    int32_t p_time{};
-    std::vector<C_Burrow> g_burrows{};
-    bool u_burrows = false;
-    std::vector<C_Burrow> p_burrows{};
-    std::vector<C_Mole> g_moles{};
-    bool u_moles = false;
-    std::vector<C_Mole> p_moles{};
-    std::vector<C_Flash> g_flashes{};
-    bool u_flashes = false;
-    std::vector<C_Flash> p_flashes{};
-    int32_t g_score{};
-    bool u_score = false;
-    int32_t p_score{};
-    bool g_won{};
-    bool u_won = false;
-    bool p_won{};
-    C_ScoreBar g_bar{};
-    bool u_bar = false;
-    C_ScoreBar p_bar{};
+    int32_t g_GRID_SIZE_0{};
+    int32_t g_FRAME_RATE_1{};
+    int32_t g_background_2{};
+    bool g_SpecialConditionTriggered_3{};
+    std::vector<Pos> g_burrowSpots_4{};
+    int32_t g_goal_5{};
+    C3_ScoreBar g_bar_6{};
+    bool u_bar_7{};
+    C3_ScoreBar p_bar_8{};
+    bool g_won_9{};
+    bool u_won_10{};
+    bool p_won_11{};
+    int32_t g_score_12{};
+    bool u_score_13{};
+    int32_t p_score_14{};
+    std::vector<C1_Mole> g_moles_15{};
+    bool u_moles_16{};
+    std::vector<C1_Mole> p_moles_17{};
+    std::vector<C0_Burrow> g_burrows_18{};
+    bool u_burrows_19{};
+    std::vector<C0_Burrow> p_burrows_20{};
+    std::vector<C2_Flash> g_flashes_21{};
+    bool u_flashes_22{};
+    std::vector<C2_Flash> p_flashes_23{};
+    int32_t g_time_24{};
+    bool u_time_25{};
+    int32_t p_time_26{};
+    Pos g_click_27{};
+    bool d_click_28{};
   };
 
-  static int32_t colour_Mole_0(State& s, const C_Mole& o) {
+  static int32_t colour_11_C2_Flash(State& s, const C2_Flash& o1) {
     (void)s;
-  const int32_t t173 = o.f_ttl;
-  const bool t174 = t173 > int32_t(1);
-  int32_t t175;
-  if (t174) {
-    t175 = int32_t(7);
-  } else {
-    t175 = int32_t(8);
-  }
-    return t175;
-  }
-  static int32_t colour_Flash_0(State& s, const C_Flash& o) {
-    (void)s;
-  const int32_t t176 = o.f_glow;
-  const bool t177 = t176 > int32_t(1);
-  int32_t t178;
-  if (t177) {
-    t178 = int32_t(9);
-  } else {
-    t178 = int32_t(10);
-  }
-    return t178;
-  }
-  static int32_t colour_ScoreBar_0(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t179 = o.f_points;
-  const bool t180 = int32_t(0) < t179;
-  int32_t t181;
-  if (t180) {
-    t181 = int32_t(11);
-  } else {
-    t181 = int32_t(12);
-  }
-    return t181;
-  }
-  static int32_t colour_ScoreBar_1(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t182 = o.f_points;
-  const bool t183 = int32_t(1) < t182;
-  int32_t t184;
-  if (t183) {
-    t184 = int32_t(11);
-  } else {
-    t184 = int32_t(12);
-  }
-    return t184;
-  }
-  static int32_t colour_ScoreBar_2(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t185 = o.f_points;
-  const bool t186 = int32_t(2) < t185;
-  int32_t t187;
-  if (t186) {
-    t187 = int32_t(11);
-  } else {
-    t187 = int32_t(12);
-  }
-    return t187;
-  }
-  static int32_t colour_ScoreBar_3(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t188 = o.f_points;
-  const bool t189 = int32_t(3) < t188;
-  int32_t t190;
-  if (t189) {
-    t190 = int32_t(11);
-  } else {
-    t190 = int32_t(12);
-  }
-    return t190;
-  }
-  static int32_t colour_ScoreBar_4(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t191 = o.f_points;
-  const bool t192 = int32_t(4) < t191;
-  int32_t t193;
-  if (t192) {
-    t193 = int32_t(11);
-  } else {
-    t193 = int32_t(12);
-  }
-    return t193;
-  }
-  static int32_t colour_ScoreBar_5(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t194 = o.f_points;
-  const bool t195 = int32_t(5) < t194;
-  int32_t t196;
-  if (t195) {
-    t196 = int32_t(11);
-  } else {
-    t196 = int32_t(12);
-  }
-    return t196;
-  }
-  static int32_t colour_ScoreBar_6(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t197 = o.f_points;
-  const bool t198 = int32_t(6) < t197;
-  int32_t t199;
-  if (t198) {
-    t199 = int32_t(11);
-  } else {
-    t199 = int32_t(12);
-  }
-    return t199;
-  }
-  static int32_t colour_ScoreBar_7(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t200 = o.f_points;
-  const bool t201 = int32_t(7) < t200;
-  int32_t t202;
-  if (t201) {
-    t202 = int32_t(11);
-  } else {
-    t202 = int32_t(12);
-  }
-    return t202;
-  }
-  static int32_t colour_ScoreBar_8(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t203 = o.f_points;
-  const bool t204 = int32_t(8) < t203;
-  int32_t t205;
-  if (t204) {
-    t205 = int32_t(11);
-  } else {
-    t205 = int32_t(12);
-  }
-    return t205;
-  }
-  static int32_t colour_ScoreBar_9(State& s, const C_ScoreBar& o) {
-    (void)s;
-  const int32_t t206 = o.f_points;
-  const bool t207 = int32_t(9) < t206;
-  int32_t t208;
-  if (t207) {
-    t208 = int32_t(11);
-  } else {
-    t208 = int32_t(12);
-  }
-    return t208;
-  }
-  static void render_Burrow(State& s, const C_Burrow& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, 1});
-  }
-  static void render_Mole(State& s, const C_Mole& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Mole_0(s, o)});
-  }
-  static void render_Flash(State& s, const C_Flash& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_Flash_0(s, o)});
-  }
-  static void render_ScoreBar(State& s, const C_ScoreBar& o, std::vector<Elem>& out) {
-    (void)s;
-    out.push_back(Elem{Pos{add(o.origin.x, 0), add(o.origin.y, 0)}, colour_ScoreBar_0(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 1), add(o.origin.y, 0)}, colour_ScoreBar_1(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 2), add(o.origin.y, 0)}, colour_ScoreBar_2(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 3), add(o.origin.y, 0)}, colour_ScoreBar_3(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 4), add(o.origin.y, 0)}, colour_ScoreBar_4(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 5), add(o.origin.y, 0)}, colour_ScoreBar_5(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 6), add(o.origin.y, 0)}, colour_ScoreBar_6(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 7), add(o.origin.y, 0)}, colour_ScoreBar_7(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 8), add(o.origin.y, 0)}, colour_ScoreBar_8(s, o)});
-    out.push_back(Elem{Pos{add(o.origin.x, 9), add(o.origin.y, 0)}, colour_ScoreBar_9(s, o)});
-  }
-
-  static void start(State& s, uint64_t seed) {
-    s.core.rng.reseed(seed);
-    s.core.covered.assign(6, 0);
-    s.g_GRID_SIZE = int32_t(16);
-    s.g_FRAME_RATE = int32_t(8);
-    s.g_background = int32_t(0);
-    const int32_t t1 = int32_t(10);
-    s.g_GRID_SIZE = t1;
-    const int32_t t2 = int32_t(2);
-    s.g_background = t2;
-    const int32_t t3 = int32_t(1);
-    const int32_t t4 = int32_t(1);
-    const Pos t5 = Pos{t3, t4};
-    const int32_t t6 = int32_t(4);
-    const int32_t t7 = int32_t(1);
-    const Pos t8 = Pos{t6, t7};
-    const int32_t t9 = int32_t(7);
-    const int32_t t10 = int32_t(1);
-    const Pos t11 = Pos{t9, t10};
-    const int32_t t12 = int32_t(1);
-    const int32_t t13 = int32_t(4);
-    const Pos t14 = Pos{t12, t13};
-    const int32_t t15 = int32_t(4);
-    const int32_t t16 = int32_t(4);
-    const Pos t17 = Pos{t15, t16};
-    const int32_t t18 = int32_t(7);
-    const int32_t t19 = int32_t(4);
-    const Pos t20 = Pos{t18, t19};
-    const int32_t t21 = int32_t(1);
-    const int32_t t22 = int32_t(7);
-    const Pos t23 = Pos{t21, t22};
-    const int32_t t24 = int32_t(4);
-    const int32_t t25 = int32_t(7);
-    const Pos t26 = Pos{t24, t25};
-    const int32_t t27 = int32_t(7);
-    const int32_t t28 = int32_t(7);
-    const Pos t29 = Pos{t27, t28};
-    const std::vector<Pos> t30 = std::vector<Pos>{t5, t8, t11, t14, t17, t20, t23, t26, t29};
-    s.g_burrowSpots = t30;
-    const int32_t t31 = int32_t(10);
-    s.g_goal = t31;
-    // init bar, programs/whack_a_mole.au:42
-    const int32_t t32 = int32_t(0);
-    const int32_t t33 = int32_t(0);
-    const int32_t t34 = int32_t(9);
-    const Pos t35 = Pos{t33, t34};
-    const C_ScoreBar t36 = C_ScoreBar{t32, t35};
-    s.g_bar = t36;
-    // init won, programs/whack_a_mole.au:39
-    s.g_won = false;
-    // init score, programs/whack_a_mole.au:36
-    s.g_score = int32_t(0);
-    // init moles, programs/whack_a_mole.au:28
-    s.g_moles = {};
-    // init burrows, programs/whack_a_mole.au:25
-    const std::vector<Pos>& t37 = s.g_burrowSpots;
-    std::vector<C_Burrow> t38;
-    t38.reserve(t37.size());
-    for (const Pos& t38_x : t37) {
-      const Pos& a_spot_39 = t38_x;
-      // inlined: function at programs/whack_a_mole.au:25
-      const C_Burrow t40 = C_Burrow{a_spot_39};
-      t38.push_back(t40);
+    const bool t2 = (o1.f0 > int32_t(1));
+    int32_t r3{};
+    if (t2) {
+      r3 = int32_t(7);
+    } else {
+      r3 = int32_t(8);
     }
-    s.g_burrows = t38;
+    return r3;
+    return {};
+  }
+  static void render_C1_Mole(State& s, const C1_Mole& o1, std::vector<Elem>& out2) {
+    (void)s;
+    for (const CellV& c3 : o1.cells) {
+      int32_t x4 = c3.x;
+      int32_t y5 = c3.y;
+      if ((int32_t(c3.dc) == int32_t(-1))) {
+        fail_at(4, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+      }
+      int32_t colour6 = c3.colour;
+      switch (int32_t(c3.dc)) {
+        case 12: {
+          const bool t7 = (o1.f0 > int32_t(1));
+          int32_t r8{};
+          if (t7) {
+            r8 = int32_t(9);
+          } else {
+            r8 = int32_t(10);
+          }
+          colour6 = r8;
+          break;
+        }
+        default: break;
+      }
+      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
+    }
+  }
+  static void render_C3_ScoreBar(State& s, const C3_ScoreBar& o1, std::vector<Elem>& out2) {
+    (void)s;
+    for (const CellV& c3 : o1.cells) {
+      int32_t x4 = c3.x;
+      int32_t y5 = c3.y;
+      if ((int32_t(c3.dc) == int32_t(-1))) {
+        fail_at(4, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+      }
+      int32_t colour6 = c3.colour;
+      switch (int32_t(c3.dc)) {
+        case 0: {
+          const bool t7 = (int32_t(0) < o1.f0);
+          int32_t r8{};
+          if (t7) {
+            r8 = int32_t(11);
+          } else {
+            r8 = int32_t(12);
+          }
+          colour6 = r8;
+          break;
+        }
+        case 1: {
+          const bool t9 = (int32_t(1) < o1.f0);
+          int32_t r10{};
+          if (t9) {
+            r10 = int32_t(11);
+          } else {
+            r10 = int32_t(12);
+          }
+          colour6 = r10;
+          break;
+        }
+        case 2: {
+          const bool t11 = (int32_t(2) < o1.f0);
+          int32_t r12{};
+          if (t11) {
+            r12 = int32_t(11);
+          } else {
+            r12 = int32_t(12);
+          }
+          colour6 = r12;
+          break;
+        }
+        case 3: {
+          const bool t13 = (int32_t(3) < o1.f0);
+          int32_t r14{};
+          if (t13) {
+            r14 = int32_t(11);
+          } else {
+            r14 = int32_t(12);
+          }
+          colour6 = r14;
+          break;
+        }
+        case 4: {
+          const bool t15 = (int32_t(4) < o1.f0);
+          int32_t r16{};
+          if (t15) {
+            r16 = int32_t(11);
+          } else {
+            r16 = int32_t(12);
+          }
+          colour6 = r16;
+          break;
+        }
+        case 5: {
+          const bool t17 = (int32_t(5) < o1.f0);
+          int32_t r18{};
+          if (t17) {
+            r18 = int32_t(11);
+          } else {
+            r18 = int32_t(12);
+          }
+          colour6 = r18;
+          break;
+        }
+        case 6: {
+          const bool t19 = (int32_t(6) < o1.f0);
+          int32_t r20{};
+          if (t19) {
+            r20 = int32_t(11);
+          } else {
+            r20 = int32_t(12);
+          }
+          colour6 = r20;
+          break;
+        }
+        case 7: {
+          const bool t21 = (int32_t(7) < o1.f0);
+          int32_t r22{};
+          if (t21) {
+            r22 = int32_t(11);
+          } else {
+            r22 = int32_t(12);
+          }
+          colour6 = r22;
+          break;
+        }
+        case 8: {
+          const bool t23 = (int32_t(8) < o1.f0);
+          int32_t r24{};
+          if (t23) {
+            r24 = int32_t(11);
+          } else {
+            r24 = int32_t(12);
+          }
+          colour6 = r24;
+          break;
+        }
+        case 9: {
+          const bool t25 = (int32_t(9) < o1.f0);
+          int32_t r26{};
+          if (t25) {
+            r26 = int32_t(11);
+          } else {
+            r26 = int32_t(12);
+          }
+          colour6 = r26;
+          break;
+        }
+        default: break;
+      }
+      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
+    }
+  }
+  static void start(State& s, uint64_t seed) {
+    (void)s;
+    s.core.start(seed, kOnClauses);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_GRID_SIZE_0 = int32_t(16);
+    s.g_FRAME_RATE_1 = int32_t(8);
+    s.g_background_2 = int32_t(0);
+    s.g_SpecialConditionTriggered_3 = false;
+    s.g_GRID_SIZE_0 = int32_t(10);
+    s.g_background_2 = int32_t(1);
+    s.g_burrowSpots_4 = std::vector<Pos>{Pos{int32_t(1), int32_t(1)}, Pos{int32_t(4), int32_t(1)}, Pos{int32_t(7), int32_t(1)}, Pos{int32_t(1), int32_t(4)}, Pos{int32_t(4), int32_t(4)}, Pos{int32_t(7), int32_t(4)}, Pos{int32_t(1), int32_t(7)}, Pos{int32_t(4), int32_t(7)}, Pos{int32_t(7), int32_t(7)}};
+    s.g_goal_5 = int32_t(10);
+    // init bar, programs/whack_a_mole.au:42
+    std::vector<CellV> l_allCells1{};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell2 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell3 = CellV{int32_t(1), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(1))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell4 = CellV{int32_t(2), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell5 = CellV{int32_t(3), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell6 = CellV{int32_t(4), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell7 = CellV{int32_t(5), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell8 = CellV{int32_t(6), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(6))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell9 = CellV{int32_t(7), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(7))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell10 = CellV{int32_t(8), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(8))};
+    // inlined: function at programs/whack_a_mole.au:14
+    const CellV cell11 = CellV{int32_t(9), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(9))};
+    std::vector<CellV> list12 = std::vector<CellV>{cell2, cell3, cell4, cell5, cell6, cell7, cell8, cell9, cell10, cell11};
+    l_allCells1 = std::move(list12);
+    const std::vector<CellV>& v13 = l_allCells1;
+    const std::vector<CellV>& v14 = l_allCells1;
+    C3_ScoreBar o15 = C3_ScoreBar{int32_t(0), Pos{int32_t(0), int32_t(9)}, v14};
+    s.g_bar_6 = std::move(o15);
+    s.u_bar_7 = false;
+    // init won, programs/whack_a_mole.au:39
+    s.g_won_9 = false;
+    s.u_won_10 = false;
+    // init score, programs/whack_a_mole.au:36
+    s.g_score_12 = int32_t(0);
+    s.u_score_13 = false;
+    // init moles, programs/whack_a_mole.au:28
+    s.g_moles_15 = std::vector<C1_Mole>{};
+    s.u_moles_16 = false;
+    // init burrows, programs/whack_a_mole.au:25
+    const std::vector<Pos>& g16 = s.g_burrowSpots_4;
+    std::vector<C0_Burrow> out17{};
+    out17.reserve(size_t(int32_t(g16.size())));
+    for (const Pos& x18 : g16) {
+      // inlined: function at programs/whack_a_mole.au:25
+      CellV l_allCells19{};
+      const CellV t20 = CellV{int32_t(0), int32_t(0), int32_t(2), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(10))};
+      l_allCells19 = t20;
+      const CellV& v21 = l_allCells19;
+      const CellV& v22 = l_allCells19;
+      const std::vector<CellV> list23 = std::vector<CellV>{v22};
+      C0_Burrow o24 = C0_Burrow{x18};
+      out17.push_back(std::move(o24));
+    }
+    s.g_burrows_18 = std::move(out17);
+    s.u_burrows_19 = false;
     // init flashes, programs/whack_a_mole.au:31
-    s.g_flashes = {};
+    s.g_flashes_21 = std::vector<C2_Flash>{};
+    s.u_flashes_22 = false;
     // init time, programs/whack_a_mole.au:22
-    s.g_time = int32_t(0);
+    s.g_time_24 = int32_t(0);
+    s.u_time_25 = false;
     render(s, nullptr, {});
   }
-
   static void step(State& s) {
-    s.p_time = s.g_time;
-    s.p_burrows = s.g_burrows;
-    s.p_moles = s.g_moles;
-    s.p_flashes = s.g_flashes;
-    s.p_score = s.g_score;
-    s.p_won = s.g_won;
-    s.p_bar = s.g_bar;
+    (void)s;
     s.core.have_prev = true;
-    s.u_time = false;
-    s.u_burrows = false;
-    s.u_moles = false;
-    s.u_flashes = false;
-    s.u_score = false;
-    s.u_won = false;
-    s.u_bar = false;
-    {  // on-clause 1, programs/whack_a_mole.au:54
-      const bool t41 = s.g_won;
-      const bool t42 = !t41;
-      bool t43 = false;
-      if ((t42)) {
-        if (!s.core.have_prev) fail("prev used before the first step");
-        bool t44 = false;
+    s.p_time_26 = s.g_time_24;
+    s.p_burrows_20 = s.g_burrows_18;
+    s.p_moles_17 = s.g_moles_15;
+    s.p_flashes_23 = s.g_flashes_21;
+    s.p_score_14 = s.g_score_12;
+    s.p_won_11 = s.g_won_9;
+    s.p_bar_8 = s.g_bar_6;
+    s.u_bar_7 = false;
+    s.u_won_10 = false;
+    s.u_score_13 = false;
+    s.u_moles_16 = false;
+    s.u_burrows_19 = false;
+    s.u_flashes_22 = false;
+    s.u_time_25 = false;
+    // on-clause 1, programs/whack_a_mole.au:54
+    {
+      const bool& g1 = s.g_won_9;
+      const bool t2 = !g1;
+      bool r3{};
+      if (t2) {
+        const std::vector<C1_Mole>& prev4 = s.p_moles_17;
+        bool clicked5 = false;
         if (s.core.click) {
-          s.core.click_defined = true;
-          s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-          s.scratch.v.t45.clear();
-          std::vector<Elem>& t45 = s.scratch.v.t45;
-          for (const C_Mole& t46 : s.p_moles) {
-            render_Mole(s, t46, t45);
+          s.d_click_28 = true;
+          s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
+          std::vector<Elem>& rendered6 = s.scratch.v.b0;
+          rendered6.clear();
+          for (const C1_Mole& x7 : prev4) {
+            render_C1_Mole(s, x7, rendered6);
           }
-          for (const Elem& e : t45)
-            if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t44 = true; break; }
+          const Pos t8 = Pos{s.core.click_x, s.core.click_y};
+          for (const Elem& e9 : rendered6) {
+            if ((e9.position == t8)) {
+              clicked5 = true;
+              break;
+            }
+          }
         }
-        t43 = t44;
+        r3 = clicked5;
+      } else {
+        r3 = false;
       }
-      if (t43) {
-        s.core.covered[0] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const std::vector<C_Mole>& a_ms_47 = s.p_moles;
+      if (r3) {
+        s.core.covered[int32_t(0)] = 1;
+        const std::vector<C1_Mole>& prev10 = s.p_moles_17;
         // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C_Mole> t48;
-        t48.reserve(a_ms_47.size());
-        for (const C_Mole& t48_x : a_ms_47) {
-          const C_Mole& a_m_49 = t48_x;
+        std::vector<C1_Mole>& out11 = s.scratch.v.b1;
+        out11.clear();
+        out11.reserve(size_t(int32_t(prev10.size())));
+        for (const C1_Mole& x12 : prev10) {
           // inlined: function at programs/whack_a_mole.au:47
-          const int32_t t50 = int32_t(3);
-          const int32_t t51 = sub(a_m_49.f_ttl, int32_t(1));
-          C_Mole t52 = a_m_49;
-          t52.f_ttl = t51;
-          t48.push_back(t52);
+          const int32_t t13 = sub(x12.f0, int32_t(1));
+          C1_Mole upd14 = x12;
+          upd14.f0 = t13;
+          out11.push_back(std::move(upd14));
         }
-        std::vector<C_Mole> t53;
-        for (const C_Mole& t53_x : t48) {
-          const C_Mole& a_m_54 = t53_x;
+        std::vector<C1_Mole>& out15 = s.scratch.v.b2;
+        out15.clear();
+        for (const C1_Mole& x16 : out11) {
           // inlined: function at programs/whack_a_mole.au:46
-          const bool t55 = a_m_54.f_ttl > int32_t(0);
-          if (t55) t53.push_back(t53_x);
+          const bool t17 = (x16.f0 > int32_t(0));
+          if (t17) {
+            out15.push_back(x16);
+          }
         }
-        std::vector<C_Mole> t56;
-        for (const C_Mole& t56_x : t53) {
-          const C_Mole& a_m_57 = t56_x;
+        std::vector<C1_Mole> out18{};
+        for (const C1_Mole& x19 : out15) {
           // inlined: function at programs/whack_a_mole.au:56
-          bool t58 = false;
+          bool clicked20 = false;
           if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            s.scratch.v.t59.clear();
-            std::vector<Elem>& t59 = s.scratch.v.t59;
-            render_Mole(s, a_m_57, t59);
-            for (const Elem& e : t59)
-              if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t58 = true; break; }
+            s.d_click_28 = true;
+            s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
+            std::vector<Elem>& rendered21 = s.scratch.v.b3;
+            rendered21.clear();
+            render_C1_Mole(s, x19, rendered21);
+            const Pos t22 = Pos{s.core.click_x, s.core.click_y};
+            for (const Elem& e23 : rendered21) {
+              if ((e23.position == t22)) {
+                clicked20 = true;
+                break;
+              }
+            }
           }
-          const bool t60 = !t58;
-          if (t60) t56.push_back(t56_x);
+          const bool t24 = !clicked20;
+          if (t24) {
+            out18.push_back(x19);
+          }
         }
-        s.g_moles = std::move(t56);
-        s.u_moles = true;
-        const int32_t t61 = s.g_goal;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t62 = add(s.p_score, int32_t(1));
-        const int32_t& a_a_63 = t61;
-        const int32_t& a_b_64 = t62;
-        const bool t65 = a_a_63 < a_b_64;
-        int32_t t66;
+        s.g_moles_15 = std::move(out18);
+        s.u_moles_16 = true;
+        const int32_t& prev25 = s.p_score_14;
+        const int32_t t26 = add(prev25, int32_t(1));
+        const bool t27 = (int32_t(10) < t26);
+        int32_t r28{};
+        if (t27) {
+          r28 = int32_t(10);
+        } else {
+          r28 = t26;
+        }
+        s.g_score_12 = r28;
+        s.u_score_13 = true;
+        const std::vector<C2_Flash>& g29 = s.g_flashes_21;
+        Pos r30{};
+        if (s.d_click_28) {
+          const Pos& g31 = s.g_click_27;
+          r30 = g31;
+        } else {
+          fail_at(0, std::string() + std::string("undefined variable 'click'"));
+        }
+        Pos r32{};
+        if (s.d_click_28) {
+          const Pos& g33 = s.g_click_27;
+          r32 = g33;
+        } else {
+          fail_at(1, std::string() + std::string("undefined variable 'click'"));
+        }
+        const Pos t34 = Pos{r30.x, r32.y};
+        CellV l_allCells35{};
+        const CellV t36 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(11))};
+        l_allCells35 = t36;
+        const CellV& v37 = l_allCells35;
+        const CellV& v38 = l_allCells35;
+        const std::vector<CellV> list39 = std::vector<CellV>{v38};
+        C2_Flash o40 = C2_Flash{int32_t(2), t34};
+        std::vector<C2_Flash> added41{};
+        added41.reserve(size_t(add(int32_t(g29.size()), int32_t(1))));
+        for (const C2_Flash& x42 : g29) {
+          added41.push_back(x42);
+        }
+        added41.push_back(std::move(o40));
+        s.g_flashes_21 = std::move(added41);
+        s.u_flashes_22 = true;
+      }
+    }
+    // on-clause 2, programs/whack_a_mole.au:61
+    {
+      const bool& g43 = s.g_won_9;
+      const bool t44 = !g43;
+      bool r45{};
+      if (t44) {
+        bool clicked46 = false;
+        if (s.core.click) {
+          s.d_click_28 = true;
+          s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
+          clicked46 = true;
+        }
+        bool r47{};
+        if (clicked46) {
+          const std::vector<C1_Mole>& prev48 = s.p_moles_17;
+          bool clicked49 = false;
+          if (s.core.click) {
+            s.d_click_28 = true;
+            s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
+            std::vector<Elem>& rendered50 = s.scratch.v.b4;
+            rendered50.clear();
+            for (const C1_Mole& x51 : prev48) {
+              render_C1_Mole(s, x51, rendered50);
+            }
+            const Pos t52 = Pos{s.core.click_x, s.core.click_y};
+            for (const Elem& e53 : rendered50) {
+              if ((e53.position == t52)) {
+                clicked49 = true;
+                break;
+              }
+            }
+          }
+          const bool t54 = !clicked49;
+          r47 = t54;
+        } else {
+          r47 = false;
+        }
+        r45 = r47;
+      } else {
+        r45 = false;
+      }
+      if (r45) {
+        s.core.covered[int32_t(1)] = 1;
+        const std::vector<C1_Mole>& prev55 = s.p_moles_17;
+        // inlined: function at programs/whack_a_mole.au:45
+        std::vector<C1_Mole>& out56 = s.scratch.v.b5;
+        out56.clear();
+        out56.reserve(size_t(int32_t(prev55.size())));
+        for (const C1_Mole& x57 : prev55) {
+          // inlined: function at programs/whack_a_mole.au:47
+          const int32_t t58 = sub(x57.f0, int32_t(1));
+          C1_Mole upd59 = x57;
+          upd59.f0 = t58;
+          out56.push_back(std::move(upd59));
+        }
+        std::vector<C1_Mole> out60{};
+        for (const C1_Mole& x61 : out56) {
+          // inlined: function at programs/whack_a_mole.au:46
+          const bool t62 = (x61.f0 > int32_t(0));
+          if (t62) {
+            out60.push_back(x61);
+          }
+        }
+        s.g_moles_15 = std::move(out60);
+        s.u_moles_16 = true;
+        const int32_t& prev63 = s.p_score_14;
+        const int32_t t64 = sub(prev63, int32_t(1));
+        const bool t65 = (int32_t(0) < t64);
+        int32_t r66{};
         if (t65) {
-          t66 = a_a_63;
+          r66 = t64;
         } else {
-          t66 = a_b_64;
+          r66 = int32_t(0);
         }
-        s.g_score = t66;
-        s.u_score = true;
-        const std::vector<C_Flash>& t67 = s.g_flashes;
-        const int32_t t68 = int32_t(2);
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t69 = s.core.click_pos;
-        const int32_t t70 = t69.x;
-        if (!s.core.click_defined) fail("undefined variable 'click'");
-        const Pos t71 = s.core.click_pos;
-        const int32_t t72 = t71.y;
-        const Pos t73 = Pos{t70, t72};
-        const C_Flash t74 = C_Flash{t68, t73};
-        std::vector<C_Flash> t75;
-        t75.reserve(t67.size() + 1);
-        t75.assign(t67.begin(), t67.end());
-        t75.push_back(t74);
-        s.g_flashes = std::move(t75);
-        s.u_flashes = true;
+        s.g_score_12 = r66;
+        s.u_score_13 = true;
       }
     }
-    {  // on-clause 2, programs/whack_a_mole.au:61
-      const bool t76 = s.g_won;
-      const bool t77 = !t76;
-      bool t78 = false;
-      if ((t77)) {
-        bool t79 = false;
+    // on-clause 3, programs/whack_a_mole.au:67
+    {
+      const bool& g67 = s.g_won_9;
+      bool r68{};
+      if (!g67) {
+        bool clicked69 = false;
         if (s.core.click) {
-          s.core.click_defined = true;
-          s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-          t79 = true;
+          s.d_click_28 = true;
+          s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
+          clicked69 = true;
         }
-        bool t80 = false;
-        if ((t79)) {
-          if (!s.core.have_prev) fail("prev used before the first step");
-          bool t81 = false;
-          if (s.core.click) {
-            s.core.click_defined = true;
-            s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-            s.scratch.v.t82.clear();
-            std::vector<Elem>& t82 = s.scratch.v.t82;
-            for (const C_Mole& t83 : s.p_moles) {
-              render_Mole(s, t83, t82);
-            }
-            for (const Elem& e : t82)
-              if (e.position.x == s.core.click_x && e.position.y == s.core.click_y) { t81 = true; break; }
+        const bool t70 = !clicked69;
+        r68 = t70;
+      } else {
+        r68 = true;
+      }
+      if (r68) {
+        s.core.covered[int32_t(2)] = 1;
+        const std::vector<C1_Mole>& prev71 = s.p_moles_17;
+        // inlined: function at programs/whack_a_mole.au:45
+        std::vector<C1_Mole>& out72 = s.scratch.v.b6;
+        out72.clear();
+        out72.reserve(size_t(int32_t(prev71.size())));
+        for (const C1_Mole& x73 : prev71) {
+          // inlined: function at programs/whack_a_mole.au:47
+          const int32_t t74 = sub(x73.f0, int32_t(1));
+          C1_Mole upd75 = x73;
+          upd75.f0 = t74;
+          out72.push_back(std::move(upd75));
+        }
+        std::vector<C1_Mole> out76{};
+        for (const C1_Mole& x77 : out72) {
+          // inlined: function at programs/whack_a_mole.au:46
+          const bool t78 = (x77.f0 > int32_t(0));
+          if (t78) {
+            out76.push_back(x77);
           }
-          const bool t84 = !t81;
-          t80 = t84;
         }
-        t78 = t80;
-      }
-      if (t78) {
-        s.core.covered[1] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const std::vector<C_Mole>& a_ms_85 = s.p_moles;
-        // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C_Mole> t86;
-        t86.reserve(a_ms_85.size());
-        for (const C_Mole& t86_x : a_ms_85) {
-          const C_Mole& a_m_87 = t86_x;
-          // inlined: function at programs/whack_a_mole.au:47
-          const int32_t t88 = int32_t(3);
-          const int32_t t89 = sub(a_m_87.f_ttl, int32_t(1));
-          C_Mole t90 = a_m_87;
-          t90.f_ttl = t89;
-          t86.push_back(t90);
-        }
-        std::vector<C_Mole> t91;
-        for (const C_Mole& t91_x : t86) {
-          const C_Mole& a_m_92 = t91_x;
-          // inlined: function at programs/whack_a_mole.au:46
-          const bool t93 = a_m_92.f_ttl > int32_t(0);
-          if (t93) t91.push_back(t91_x);
-        }
-        s.g_moles = std::move(t91);
-        s.u_moles = true;
-        const int32_t t94 = int32_t(0);
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const int32_t t95 = sub(s.p_score, int32_t(1));
-        const int32_t& a_a_96 = t94;
-        const int32_t& a_b_97 = t95;
-        const bool t98 = a_a_96 < a_b_97;
-        int32_t t99;
-        if (t98) {
-          t99 = a_b_97;
-        } else {
-          t99 = a_a_96;
-        }
-        s.g_score = t99;
-        s.u_score = true;
+        s.g_moles_15 = std::move(out76);
+        s.u_moles_16 = true;
       }
     }
-    {  // on-clause 3, programs/whack_a_mole.au:67
-      const bool t100 = s.g_won;
-      bool t101 = true;
-      if (!(t100)) {
-        bool t102 = false;
-        if (s.core.click) {
-          s.core.click_defined = true;
-          s.core.click_pos = Pos{s.core.click_x, s.core.click_y};
-          t102 = true;
-        }
-        const bool t103 = !t102;
-        t101 = t103;
-      }
-      if (t101) {
-        s.core.covered[2] = 1;
-        if (!s.core.have_prev) fail("prev used before the first step");
-        const std::vector<C_Mole>& a_ms_104 = s.p_moles;
-        // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C_Mole> t105;
-        t105.reserve(a_ms_104.size());
-        for (const C_Mole& t105_x : a_ms_104) {
-          const C_Mole& a_m_106 = t105_x;
-          // inlined: function at programs/whack_a_mole.au:47
-          const int32_t t107 = int32_t(3);
-          const int32_t t108 = sub(a_m_106.f_ttl, int32_t(1));
-          C_Mole t109 = a_m_106;
-          t109.f_ttl = t108;
-          t105.push_back(t109);
-        }
-        std::vector<C_Mole> t110;
-        for (const C_Mole& t110_x : t105) {
-          const C_Mole& a_m_111 = t110_x;
-          // inlined: function at programs/whack_a_mole.au:46
-          const bool t112 = a_m_111.f_ttl > int32_t(0);
-          if (t112) t110.push_back(t110_x);
-        }
-        s.g_moles = std::move(t110);
-        s.u_moles = true;
-      }
-    }
-    {  // on-clause 4, programs/whack_a_mole.au:70
-      const bool t113 = s.g_won;
-      const bool t114 = !t113;
-      bool t115 = false;
-      if ((t114)) {
-        const int32_t t116 = s.g_time;
-        const int32_t t117 = imod(t116, int32_t(2));
-        const bool t118 = t117 == int32_t(0);
-        bool t119 = false;
-        if ((t118)) {
-          const std::vector<C_Mole>& t120 = s.g_moles;
-          const std::vector<C_Mole>& a_ms_121 = t120;
+    // on-clause 4, programs/whack_a_mole.au:70
+    {
+      const bool& g79 = s.g_won_9;
+      const bool t80 = !g79;
+      bool r81{};
+      if (t80) {
+        const int32_t& g82 = s.g_time_24;
+        const int32_t t83 = autumn::arith::mod_unchecked(g82, int32_t(2));
+        const bool t84 = (t83 == int32_t(0));
+        bool r85{};
+        if (t84) {
+          const std::vector<C1_Mole>& g86 = s.g_moles_15;
           // inlined: function at programs/whack_a_mole.au:50
-          const std::vector<Pos>& t122 = s.g_burrowSpots;
-          std::vector<Pos> t123;
-          for (const Pos& t123_x : t122) {
-            const Pos& a_spot_124 = t123_x;
+          const std::vector<Pos>& g87 = s.g_burrowSpots_4;
+          std::vector<Pos>& out88 = s.scratch.v.b7;
+          out88.clear();
+          for (const Pos& x89 : g87) {
             // inlined: function at programs/whack_a_mole.au:51
-            bool t125 = false;
-            for (const C_Mole& t125_x : a_ms_121) {
-              const C_Mole& a_m_126 = t125_x;
+            bool any90 = false;
+            for (const C1_Mole& x91 : g86) {
               // inlined: function at programs/whack_a_mole.au:51
-              const bool t127 = a_m_126.origin == a_spot_124;
-              if (t127) { t125 = true; break; }
+              const bool t92 = (x91.origin == x89);
+              if (t92) {
+                any90 = true;
+                break;
+              }
             }
-            const bool t128 = !t125;
-            if (t128) t123.push_back(t123_x);
+            const bool t93 = !any90;
+            if (t93) {
+              out88.push_back(x89);
+            }
           }
-          const int32_t t129 = int32_t(t123.size());
-          const bool t130 = t129 > int32_t(0);
-          t119 = t130;
+          const int32_t t94 = int32_t(out88.size());
+          const bool t95 = (t94 > int32_t(0));
+          r85 = t95;
+        } else {
+          r85 = false;
         }
-        t115 = t119;
+        r81 = r85;
+      } else {
+        r81 = false;
       }
-      if (t115) {
-        s.core.covered[3] = 1;
-        const std::vector<C_Mole>& t131 = s.g_moles;
-        const std::vector<int32_t> t132 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
-        if (t132.empty()) fail("uniformChoice of an empty list");
-        const int32_t t133 = t132[s.core.rng.next(t132.size())];
-        const std::vector<C_Mole>& t134 = s.g_moles;
-        const std::vector<C_Mole>& a_ms_135 = t134;
+      if (r81) {
+        s.core.covered[int32_t(3)] = 1;
+        const std::vector<C1_Mole>& g96 = s.g_moles_15;
+        if (std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)}.empty()) {
+          fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t97 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)}.size())))));
+        const int32_t t98 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)}[size_t(t97)];
+        const std::vector<C1_Mole>& g99 = s.g_moles_15;
         // inlined: function at programs/whack_a_mole.au:50
-        const std::vector<Pos>& t136 = s.g_burrowSpots;
-        std::vector<Pos> t137;
-        for (const Pos& t137_x : t136) {
-          const Pos& a_spot_138 = t137_x;
+        const std::vector<Pos>& g100 = s.g_burrowSpots_4;
+        std::vector<Pos>& out101 = s.scratch.v.b8;
+        out101.clear();
+        for (const Pos& x102 : g100) {
           // inlined: function at programs/whack_a_mole.au:51
-          bool t139 = false;
-          for (const C_Mole& t139_x : a_ms_135) {
-            const C_Mole& a_m_140 = t139_x;
+          bool any103 = false;
+          for (const C1_Mole& x104 : g99) {
             // inlined: function at programs/whack_a_mole.au:51
-            const bool t141 = a_m_140.origin == a_spot_138;
-            if (t141) { t139 = true; break; }
-          }
-          const bool t142 = !t139;
-          if (t142) t137.push_back(t137_x);
-        }
-        if (t137.empty()) fail("uniformChoice of an empty list");
-        const Pos t143 = t137[s.core.rng.next(t137.size())];
-        const C_Mole t144 = C_Mole{t133, t143};
-        std::vector<C_Mole> t145;
-        t145.reserve(t131.size() + 1);
-        t145.assign(t131.begin(), t131.end());
-        t145.push_back(t144);
-        s.g_moles = std::move(t145);
-        s.u_moles = true;
-      }
-    }
-    {  // on-clause 5, programs/whack_a_mole.au:73
-      const bool t146 = s.g_won;
-      const bool t147 = !t146;
-      bool t148 = false;
-      if ((t147)) {
-        const int32_t t149 = s.g_score;
-        const int32_t t150 = s.g_goal;
-        const bool t151 = t149 >= t150;
-        t148 = t151;
-      }
-      if (t148) {
-        s.core.covered[4] = 1;
-        const bool t152 = true;
-        s.g_won = t152;
-        s.u_won = true;
-        const int32_t t153 = int32_t(4);
-        s.g_background = t153;
-        s.g_moles = {};
-        s.u_moles = true;
-      }
-    }
-    {  // on-clause 6, programs/whack_a_mole.au:76
-      if (!s.core.have_prev) fail("prev used before the first step");
-      bool t154 = false;
-      if ((s.p_won)) {
-        bool t155 = true;
-        if (!(s.core.left)) {
-          bool t156 = true;
-          if (!(s.core.right)) {
-            bool t157 = true;
-            if (!(s.core.up)) {
-              t157 = s.core.down;
+            const bool t105 = (x104.origin == x102);
+            if (t105) {
+              any103 = true;
+              break;
             }
-            t156 = t157;
           }
-          t155 = t156;
+          const bool t106 = !any103;
+          if (t106) {
+            out101.push_back(x102);
+          }
         }
-        t154 = t155;
+        if (out101.empty()) {
+          fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t107 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out101.size())))));
+        const Pos t108 = out101[size_t(t107)];
+        CellV l_allCells109{};
+        const CellV t110 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
+        l_allCells109 = t110;
+        const CellV& v111 = l_allCells109;
+        const CellV& v112 = l_allCells109;
+        const std::vector<CellV> list113 = std::vector<CellV>{v112};
+        C1_Mole o114 = C1_Mole{t98, t108, list113};
+        std::vector<C1_Mole> added115{};
+        added115.reserve(size_t(add(int32_t(g96.size()), int32_t(1))));
+        for (const C1_Mole& x116 : g96) {
+          added115.push_back(x116);
+        }
+        added115.push_back(std::move(o114));
+        s.g_moles_15 = std::move(added115);
+        s.u_moles_16 = true;
       }
-      if (t154) {
-        s.core.covered[5] = 1;
-        const bool t158 = false;
-        s.g_won = t158;
-        s.u_won = true;
-        const int32_t t159 = int32_t(0);
-        s.g_score = t159;
-        s.u_score = true;
-        const int32_t t160 = int32_t(2);
-        s.g_background = t160;
+    }
+    // on-clause 5, programs/whack_a_mole.au:73
+    {
+      const bool& g117 = s.g_won_9;
+      const bool t118 = !g117;
+      bool r119{};
+      if (t118) {
+        const int32_t& g120 = s.g_score_12;
+        const bool t121 = (g120 >= int32_t(10));
+        r119 = t121;
+      } else {
+        r119 = false;
+      }
+      if (r119) {
+        s.core.covered[int32_t(4)] = 1;
+        s.g_won_9 = true;
+        s.u_won_10 = true;
+        s.g_background_2 = int32_t(4);
+        s.g_moles_15 = std::vector<C1_Mole>{};
+        s.u_moles_16 = true;
       }
     }
-    if (!s.u_bar) {  // NEXT of bar, programs/whack_a_mole.au:42
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const int32_t t161 = int32_t(5);
-      const int32_t t162 = s.g_score;
-      C_ScoreBar t163 = s.p_bar;
-      t163.f_points = t162;
-      s.g_bar = t163;
+    // on-clause 6, programs/whack_a_mole.au:76
+    {
+      const bool& prev122 = s.p_won_11;
+      bool r123{};
+      if (prev122) {
+        const bool t124 = s.core.left;
+        bool r125{};
+        if (!t124) {
+          const bool t126 = s.core.right;
+          bool r127{};
+          if (!t126) {
+            const bool t128 = s.core.up;
+            bool r129{};
+            if (!t128) {
+              const bool t130 = s.core.down;
+              r129 = t130;
+            } else {
+              r129 = true;
+            }
+            r127 = r129;
+          } else {
+            r127 = true;
+          }
+          r125 = r127;
+        } else {
+          r125 = true;
+        }
+        r123 = r125;
+      } else {
+        r123 = false;
+      }
+      if (r123) {
+        s.core.covered[int32_t(5)] = 1;
+        s.g_won_9 = false;
+        s.u_won_10 = true;
+        s.g_score_12 = int32_t(0);
+        s.u_score_13 = true;
+        s.g_background_2 = int32_t(1);
+      }
     }
-    if (!s.u_won) {  // NEXT of won, programs/whack_a_mole.au:39
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_won = s.p_won;
+    // NEXT of bar, programs/whack_a_mole.au:42
+    if (!s.u_bar_7) {
+      const C3_ScoreBar& prev131 = s.p_bar_8;
+      const int32_t& g132 = s.g_score_12;
+      C3_ScoreBar upd133 = prev131;
+      upd133.f0 = g132;
+      s.g_bar_6 = std::move(upd133);
+      s.u_bar_7 = true;
     }
-    if (!s.u_score) {  // NEXT of score, programs/whack_a_mole.au:36
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_score = s.p_score;
+    // NEXT of won, programs/whack_a_mole.au:39
+    if (!s.u_won_10) {
+      const bool& prev134 = s.p_won_11;
+      s.g_won_9 = prev134;
+      s.u_won_10 = true;
     }
-    if (!s.u_moles) {  // NEXT of moles, programs/whack_a_mole.au:28
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_moles = s.p_moles;
+    // NEXT of score, programs/whack_a_mole.au:36
+    if (!s.u_score_13) {
+      const int32_t& prev135 = s.p_score_14;
+      s.g_score_12 = prev135;
+      s.u_score_13 = true;
     }
-    if (!s.u_burrows) {  // NEXT of burrows, programs/whack_a_mole.au:25
-      if (!s.core.have_prev) fail("prev used before the first step");
-      s.g_burrows = s.p_burrows;
+    // NEXT of moles, programs/whack_a_mole.au:28
+    if (!s.u_moles_16) {
+      const std::vector<C1_Mole>& prev136 = s.p_moles_17;
+      s.g_moles_15 = prev136;
+      s.u_moles_16 = true;
     }
-    if (!s.u_flashes) {  // NEXT of flashes, programs/whack_a_mole.au:32
-      if (!s.core.have_prev) fail("prev used before the first step");
-      std::vector<C_Flash> t164;
-      for (const C_Flash& t164_x : s.p_flashes) {
-        const C_Flash& a_f_165 = t164_x;
+    // NEXT of burrows, programs/whack_a_mole.au:25
+    if (!s.u_burrows_19) {
+      const std::vector<C0_Burrow>& prev137 = s.p_burrows_20;
+      s.g_burrows_18 = prev137;
+      s.u_burrows_19 = true;
+    }
+    // NEXT of flashes, programs/whack_a_mole.au:32
+    if (!s.u_flashes_22) {
+      const std::vector<C2_Flash>& prev138 = s.p_flashes_23;
+      std::vector<C2_Flash>& out139 = s.scratch.v.b9;
+      out139.clear();
+      for (const C2_Flash& x140 : prev138) {
         // inlined: function at programs/whack_a_mole.au:32
-        const bool t166 = a_f_165.f_glow > int32_t(1);
-        if (t166) t164.push_back(t164_x);
+        const bool t141 = (x140.f0 > int32_t(1));
+        if (t141) {
+          out139.push_back(x140);
+        }
       }
-      std::vector<C_Flash> t167;
-      t167.reserve(t164.size());
-      for (const C_Flash& t167_x : t164) {
-        const C_Flash& a_f_168 = t167_x;
+      std::vector<C2_Flash> out142{};
+      out142.reserve(size_t(int32_t(out139.size())));
+      for (const C2_Flash& x143 : out139) {
         // inlined: function at programs/whack_a_mole.au:33
-        const int32_t t169 = int32_t(6);
-        const int32_t t170 = sub(a_f_168.f_glow, int32_t(1));
-        C_Flash t171 = a_f_168;
-        t171.f_glow = t170;
-        t167.push_back(t171);
+        const int32_t t144 = sub(x143.f0, int32_t(1));
+        C2_Flash upd145 = x143;
+        upd145.f0 = t144;
+        out142.push_back(std::move(upd145));
       }
-      s.g_flashes = std::move(t167);
+      s.g_flashes_21 = std::move(out142);
+      s.u_flashes_22 = true;
     }
-    if (!s.u_time) {  // NEXT of time, programs/whack_a_mole.au:22
-      if (!s.core.have_prev) fail("prev used before the first step");
-      const int32_t t172 = add(s.p_time, int32_t(1));
-      s.g_time = t172;
+    // NEXT of time, programs/whack_a_mole.au:22
+    if (!s.u_time_25) {
+      const int32_t& prev146 = s.p_time_26;
+      const int32_t t147 = add(prev146, int32_t(1));
+      s.g_time_24 = t147;
+      s.u_time_25 = true;
     }
-    s.core.click = s.core.left = s.core.right = s.core.up = s.core.down = false;
+    s.core.clear_inputs();
   }
-
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
+    (void)s;
+    (void)paint;
+    (void)pal;
     s.core.occupied.clear(kGrid);
-    std::vector<Elem>& elems = s.scratch.v.render_elems;
-    if (paint) paint->begin(kGrid, pal[s.g_background]);
-    elems.clear();
-    for (const C_Burrow& t209 : s.g_burrows) {
-      render_Burrow(s, t209, elems);
+    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    std::vector<Elem>& elems1 = s.scratch.v.b10;
+    elems1.clear();
+    elems1.clear();
+    const std::vector<C0_Burrow>& g2 = s.g_burrows_18;
+    for (const C0_Burrow& x3 : g2) {
+      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(2)});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e4 : elems1) {
+      s.core.occupied.add(e4.position);
+      if (paint) paint->paint(e4.position, pal[e4.color]);
     }
-    elems.clear();
-    for (const C_Mole& t210 : s.g_moles) {
-      render_Mole(s, t210, elems);
+    elems1.clear();
+    const std::vector<C1_Mole>& g5 = s.g_moles_15;
+    for (const C1_Mole& x6 : g5) {
+      render_C1_Mole(s, x6, elems1);
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e7 : elems1) {
+      s.core.occupied.add(e7.position);
+      if (paint) paint->paint(e7.position, pal[e7.color]);
     }
-    elems.clear();
-    for (const C_Flash& t211 : s.g_flashes) {
-      render_Flash(s, t211, elems);
+    elems1.clear();
+    const std::vector<C2_Flash>& g8 = s.g_flashes_21;
+    for (const C2_Flash& x9 : g8) {
+      const int32_t colour10 = colour_11_C2_Flash(s, x9);
+      elems1.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10});
     }
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    for (const Elem& e11 : elems1) {
+      s.core.occupied.add(e11.position);
+      if (paint) paint->paint(e11.position, pal[e11.color]);
     }
-    elems.clear();
-    render_ScoreBar(s, s.g_bar, elems);
-    for (const Elem& e : elems) {
-      s.core.occupied.add(e.position);
-      if (paint) paint->paint(e.position, pal[e.color]);
+    elems1.clear();
+    const C3_ScoreBar& g12 = s.g_bar_6;
+    render_C3_ScoreBar(s, g12, elems1);
+    for (const Elem& e13 : elems1) {
+      s.core.occupied.add(e13.position);
+      if (paint) paint->paint(e13.position, pal[e13.color]);
     }
   }
-
   static uint64_t hash(const State& s) {
     Hash h;
     hash_core(h, s.core, kUsesRandom);
-    hash_value(h, s.g_GRID_SIZE);
-    hash_value(h, s.g_FRAME_RATE);
-    hash_value(h, s.g_background);
-    hash_value(h, s.g_burrowSpots);
-    hash_value(h, s.g_goal);
-    hash_value(h, s.g_time);
-    hash_value(h, s.g_burrows);
-    hash_value(h, s.g_moles);
-    hash_value(h, s.g_flashes);
-    hash_value(h, s.g_score);
-    hash_value(h, s.g_won);
-    hash_value(h, s.g_bar);
+    hash_value(h, s.g_GRID_SIZE_0);
+    hash_value(h, s.g_FRAME_RATE_1);
+    hash_value(h, s.g_background_2);
+    hash_value(h, s.g_SpecialConditionTriggered_3);
+    hash_value(h, s.g_burrowSpots_4);
+    hash_value(h, s.g_goal_5);
+    hash_value(h, s.g_bar_6);
+    hash_value(h, s.g_won_9);
+    hash_value(h, s.g_score_12);
+    hash_value(h, s.g_moles_15);
+    hash_value(h, s.g_burrows_18);
+    hash_value(h, s.g_flashes_21);
+    hash_value(h, s.g_time_24);
+    hash_value(h, s.g_click_27);
+    hash_value(h, s.d_click_28);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
     (void)s;
     (void)w;
-    save_value(w, s.g_GRID_SIZE);
-    save_value(w, s.g_FRAME_RATE);
-    save_value(w, s.g_background);
-    save_value(w, s.g_burrowSpots);
-    save_value(w, s.g_goal);
-    save_value(w, s.g_time);
-    save_value(w, s.g_burrows);
-    save_value(w, s.g_moles);
-    save_value(w, s.g_flashes);
-    save_value(w, s.g_score);
-    save_value(w, s.g_won);
-    save_value(w, s.g_bar);
+    save_value(w, s.g_GRID_SIZE_0);
+    save_value(w, s.g_FRAME_RATE_1);
+    save_value(w, s.g_background_2);
+    save_value(w, s.g_SpecialConditionTriggered_3);
+    save_value(w, s.g_burrowSpots_4);
+    save_value(w, s.g_goal_5);
+    save_value(w, s.g_bar_6);
+    save_value(w, s.g_won_9);
+    save_value(w, s.g_score_12);
+    save_value(w, s.g_moles_15);
+    save_value(w, s.g_burrows_18);
+    save_value(w, s.g_flashes_21);
+    save_value(w, s.g_time_24);
+    save_value(w, s.g_click_27);
+    save_value(w, s.d_click_28);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
     (void)r;
-    load_value(r, s.g_GRID_SIZE);
-    load_value(r, s.g_FRAME_RATE);
-    load_value(r, s.g_background);
-    load_value(r, s.g_burrowSpots);
-    load_value(r, s.g_goal);
-    load_value(r, s.g_time);
-    load_value(r, s.g_burrows);
-    load_value(r, s.g_moles);
-    load_value(r, s.g_flashes);
-    load_value(r, s.g_score);
-    load_value(r, s.g_won);
-    load_value(r, s.g_bar);
+    load_value(r, s.g_GRID_SIZE_0);
+    load_value(r, s.g_FRAME_RATE_1);
+    load_value(r, s.g_background_2);
+    load_value(r, s.g_SpecialConditionTriggered_3);
+    load_value(r, s.g_burrowSpots_4);
+    load_value(r, s.g_goal_5);
+    load_value(r, s.g_bar_6);
+    load_value(r, s.g_won_9);
+    load_value(r, s.g_score_12);
+    load_value(r, s.g_moles_15);
+    load_value(r, s.g_burrows_18);
+    load_value(r, s.g_flashes_21);
+    load_value(r, s.g_time_24);
+    load_value(r, s.g_click_27);
+    load_value(r, s.d_click_28);
   }
 };
 
 const char* const Prog::kColours[] = {
     "black",
-    "saddlebrown",
     "forestgreen",
+    "saddlebrown",
     "ttl",
     "khaki",
     "points",
     "glow",
-    "peru",
-    "burlywood",
     "white",
     "lightyellow",
+    "peru",
+    "burlywood",
     "gold",
     "darkgreen",
     nullptr};
+
+const ErrorSite Prog::kErrors[] = {
+    {58, 57, nullptr, true, 58, 57, ""},
+    {58, 70, nullptr, true, 58, 70, ""},
+    {71, 34, nullptr, true, 71, 34, ""},
+    {71, 65, nullptr, true, 71, 65, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {
   std::unique_ptr<autumn::Environment> operator()() const {

@@ -182,7 +182,9 @@ std::unique_ptr<Environment> make_compiled_environment(std::shared_ptr<const Pro
     if (why) *why = reason;
     return nullptr;
   }
-  return std::make_unique<ModuleEnvironment>(l.table, l.handle);
+  auto env = std::make_unique<ModuleEnvironment>(l.table, l.handle);
+  env->set_source_name(program->file.name);
+  return env;
 }
 
 }  // namespace autumn

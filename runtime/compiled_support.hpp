@@ -25,8 +25,11 @@
 #include <type_traits>
 #include <typeinfo>
 #include <unordered_set>
+#include <utility>
+#include <variant>
 #include <vector>
 
+#include "runtime/arith.hpp"
 #include "runtime/environment.hpp"
 #include "runtime/frame.hpp"
 #include "runtime/rng.hpp"
@@ -38,17 +41,36 @@ struct Error : std::runtime_error {
 };
 [[noreturn]] inline void fail(const std::string& msg) { throw Error(msg); }
 
-inline int32_t add(int32_t a, int32_t b) { return static_cast<int32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b)); }
-inline int32_t sub(int32_t a, int32_t b) { return static_cast<int32_t>(static_cast<uint32_t>(a) - static_cast<uint32_t>(b)); }
-inline int32_t mul(int32_t a, int32_t b) { return static_cast<int32_t>(static_cast<uint32_t>(a) * static_cast<uint32_t>(b)); }
-inline int32_t neg(int32_t a) { return static_cast<int32_t>(0u - static_cast<uint32_t>(a)); }
-inline int32_t idiv(int32_t a, int32_t b) {
-  if (b == 0 || (a == INT32_MIN && b == -1)) fail("division by zero or overflow");
-  return a / b;
-}
-inline int32_t imod(int32_t a, int32_t b) {
-  if (b == 0 || (a == INT32_MIN && b == -1)) fail("modulo by zero or overflow");
-  return a % b;
+using autumn::arith::add;
+using autumn::arith::mul;
+using autumn::arith::neg;
+using autumn::arith::sub;
+
+// Where an emitted `fail_at` is: the innermost construct, and the innermost one
+// of the user's program when that differs (an error inside the stdlib is
+// reported at the program's call, "inside" the stdlib line). Mirrors the
+// interpreter's RuntimeError locations (Interpreter::describe).
+struct ErrorSite {
+  int line, col;
+  const char* source;  // null: the program file; else "<stdlib>", "<trigger>", "<internal>"
+  bool in_program;
+  int program_line, program_col;
+  const char* prefix;  // "initialising 'x': " for start-up initialisers
+};
+struct LocatedError : std::runtime_error {
+  LocatedError(int site, const std::string& msg) : std::runtime_error(msg), site(site) {}
+  int site;
+};
+[[noreturn]] inline void fail_at(int site, const std::string& msg) { throw LocatedError(site, msg); }
+// "path:line:col: runtime error: message[ (inside <stdlib>:l:c)]", as the interpreter says it.
+inline std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg) {
+  const char* file = e.in_program ? nullptr : e.source;
+  const int line = e.in_program ? e.program_line : e.line, col = e.in_program ? e.program_col : e.col;
+  std::string out = std::string(file ? file : path.c_str()) + ":" + std::to_string(line) + ":" + std::to_string(col) +
+                    ": runtime error: " + e.prefix + msg;
+  if (e.in_program && e.source && std::string(e.source) != "<internal>")
+    out += " (inside " + std::string(e.source) + ":" + std::to_string(e.line) + ":" + std::to_string(e.col) + ")";
+  return out;
 }
 
 struct Unit {};  // the C++ value of a function or type: they exist only at compile time
@@ -72,6 +94,44 @@ struct Elem {
   Pos position;
   int32_t color = 0;
   bool operator==(const Elem&) const = default;
+};
+
+// A Cell instance: per argument its value, and -1 (a number constant) or the
+// index of the deferred argument the module evaluates (compiler/lower/spec_cells).
+struct CellV {
+  int32_t x = 0, y = 0, colour = 0;
+  int16_t dx = -1, dy = -1, dc = -1;
+  uint32_t uid = 0;
+  bool operator==(const CellV&) const = default;
+};
+
+// Identity numbers (compiler/lower/spec_values): objects whose identity a
+// program observes carry a uid, unique per object the reference makes; the
+// number an object shows is its uid unless an assignment transferred another
+// one onto it (the reference writes the old value's number into the shared
+// object, so every holder sees it).
+class IdTable {
+ public:
+  uint32_t fresh() { return next_++; }
+  uint32_t id_of(uint32_t uid) const {
+    auto it = std::lower_bound(remap_.begin(), remap_.end(), std::make_pair(uid, uint32_t{0}));
+    return it != remap_.end() && it->first == uid ? it->second : uid;
+  }
+  void transfer(uint32_t uid, uint32_t id) {
+    auto it = std::lower_bound(remap_.begin(), remap_.end(), std::make_pair(uid, uint32_t{0}));
+    if (it != remap_.end() && it->first == uid) it->second = id;
+    else remap_.insert(it, {uid, id});
+  }
+  uint32_t next() const { return next_; }
+  const std::vector<std::pair<uint32_t, uint32_t>>& remap() const { return remap_; }
+  void restore(uint32_t next, std::vector<std::pair<uint32_t, uint32_t>> remap) {
+    next_ = next;
+    remap_ = std::move(remap);
+  }
+
+ private:
+  uint32_t next_ = 1;
+  std::vector<std::pair<uint32_t, uint32_t>> remap_;  // sorted by uid
 };
 
 // Positions covered at the last host render; out-of-grid positions count too.
@@ -160,11 +220,16 @@ struct Core {
   bool click = false, left = false, right = false, up = false, down = false;
   int32_t click_x = -1, click_y = -1;
   bool have_prev = false;
-  bool click_defined = false;  // the global `click` exists once a pending click was read
-  Pos click_pos;
   Occupancy occupied;
   std::vector<uint8_t> covered;
   bool triggered = false;
+  IdTable ids;
+
+  void start(uint64_t seed, int on_clauses) {
+    rng.reseed(seed);
+    covered.assign(static_cast<size_t>(on_clauses), 0);
+  }
+  void clear_inputs() { click = left = right = up = down = false; }
 };
 
 struct Hash {
@@ -186,6 +251,23 @@ inline void hash_value(Hash& h, const Elem& e) {
   hash_value(h, e.position);
   hash_value(h, e.color);
 }
+inline void hash_value(Hash& h, const Unit&) { h.mix(0x55); }
+// Identities hash by their pattern, not their numbers (states reached by
+// different histories hash alike): the table holds no numbers of its own here.
+inline void hash_value(Hash& h, uint32_t uid) { h.mix(uid); }
+inline void hash_value(Hash& h, const CellV& c) {
+  h.mix(static_cast<uint32_t>(c.x));
+  h.mix(static_cast<uint32_t>(c.y));
+  h.mix(static_cast<uint32_t>(c.colour));
+  h.mix((static_cast<uint64_t>(static_cast<uint16_t>(c.dx)) << 32) | (static_cast<uint32_t>(static_cast<uint16_t>(c.dy)) << 16) |
+        static_cast<uint16_t>(c.dc));
+  h.mix(c.uid);
+}
+template <class... T>
+void hash_value(Hash& h, const std::variant<T...>& v) {
+  h.mix(v.index());
+  std::visit([&](const auto& x) { hash_value(h, x); }, v);
+}
 template <class T>
 void hash_value(Hash& h, const std::vector<T>& v) {
   h.mix(v.size());
@@ -195,8 +277,10 @@ void hash_value(Hash& h, const std::vector<T>& v) {
 // globals, which are (and states are hashed between host steps).
 inline void hash_core(Hash& h, const Core& c, bool uses_random) {
   if (uses_random) h.mix(c.rng.state());
-  hash_value(h, c.click_defined);
-  hash_value(h, c.click_pos);
+  for (const auto& [uid, id] : c.ids.remap()) {
+    h.mix(uid);
+    h.mix(id);
+  }
 }
 
 // Snapshots (Environment::save_state/load_state): the state that carries from
@@ -240,6 +324,13 @@ inline void save_value(SnapshotWriter& w, const Elem& e) {
   w.raw(e.color);
 }
 inline void save_value(SnapshotWriter&, const Unit&) {}
+inline void save_value(SnapshotWriter& w, uint32_t v) { w.raw(v); }
+inline void save_value(SnapshotWriter& w, const CellV& c) { w.raw(c); }
+template <class... T>
+void save_value(SnapshotWriter& w, const std::variant<T...>& v) {
+  w.raw(static_cast<uint8_t>(v.index()));
+  std::visit([&](const auto& x) { save_value(w, x); }, v);
+}
 template <class T>
 void save_value(SnapshotWriter& w, const std::vector<T>& v) {
   w.raw(static_cast<uint32_t>(v.size()));
@@ -261,6 +352,26 @@ inline void load_value(SnapshotReader& r, Elem& e) {
   r.raw(e.color);
 }
 inline void load_value(SnapshotReader&, Unit&) {}
+inline void load_value(SnapshotReader& r, uint32_t& v) { r.raw(v); }
+inline void load_value(SnapshotReader& r, CellV& c) { r.raw(c); }
+template <class V, size_t I = 0>
+void load_alternative(SnapshotReader& r, V& v, size_t index) {
+  if constexpr (I < std::variant_size_v<V>) {
+    if (index == I) {
+      load_value(r, v.template emplace<I>());
+      return;
+    }
+    load_alternative<V, I + 1>(r, v, index);
+  } else {
+    throw std::runtime_error("corrupt state snapshot");
+  }
+}
+template <class... T>
+void load_value(SnapshotReader& r, std::variant<T...>& v) {
+  uint8_t index = 0;
+  r.raw(index);
+  load_alternative(r, v, index);
+}
 template <class T>
 void load_value(SnapshotReader& r, std::vector<T>& v) {
   uint32_t n = 0;
@@ -282,23 +393,35 @@ inline void save_core(SnapshotWriter& w, const Core& c) {
   save_value(w, c.click_x);
   save_value(w, c.click_y);
   save_value(w, c.have_prev);
-  save_value(w, c.click_defined);
-  save_value(w, c.click_pos);
   save_value(w, c.covered);
   save_value(w, c.triggered);
+  w.raw(c.ids.next());
+  w.raw(static_cast<uint32_t>(c.ids.remap().size()));
+  for (const auto& [uid, id] : c.ids.remap()) {
+    w.raw(uid);
+    w.raw(id);
+  }
 }
 inline void load_core(SnapshotReader& r, Core& c) {
   uint32_t rng = 0;
   r.raw(rng);
   c.rng.set_state(rng);
-  c.click = c.left = c.right = c.up = c.down = false;
+  c.clear_inputs();
   load_value(r, c.click_x);
   load_value(r, c.click_y);
   load_value(r, c.have_prev);
-  load_value(r, c.click_defined);
-  load_value(r, c.click_pos);
   load_value(r, c.covered);
   load_value(r, c.triggered);
+  uint32_t next = 0, n = 0;
+  r.raw(next);
+  r.raw(n);
+  if (n > static_cast<size_t>(r.end - r.p) / 8) throw std::runtime_error("corrupt state snapshot");
+  std::vector<std::pair<uint32_t, uint32_t>> remap(n);
+  for (auto& [uid, id] : remap) {
+    r.raw(uid);
+    r.raw(id);
+  }
+  c.ids.restore(next, std::move(remap));
 }
 
 // The Environment adapter for a generated Program.
@@ -337,6 +460,7 @@ class CompiledEnvironment : public Environment {
     // every search thread write the same reference count.
     state_ = o->state_;
     frame_ = o->frame_;
+    source_name_ = o->source_name_;
     painter_ = o->painter_;
     failed_ = o->failed_;
     error_ = o->error_;
@@ -363,6 +487,7 @@ class CompiledEnvironment : public Environment {
     });
   }
   bool deterministic() const override { return !P::kUsesRandom; }
+  void set_source_name(const std::string& path) override { source_name_ = path; }
   int64_t random_draws() const override { return failed_ ? -1 : static_cast<int64_t>(state_.core.rng.draws()); }
   bool reseed_random(uint64_t seed) override {
     if (failed_) return false;
@@ -403,9 +528,17 @@ class CompiledEnvironment : public Environment {
       failed_ = false;
       error_.clear();
       return true;
+    } catch (const LocatedError& e) {
+      failed_ = true;
+      error_ = describe(source_name_, P::kErrors[e.site], e.what());
+      return false;
+    } catch (const std::bad_alloc&) {
+      failed_ = true;
+      error_ = source_name_ + ": runtime error: out of memory";
+      return false;
     } catch (const std::exception& e) {
       failed_ = true;
-      error_ = std::string(P::kProgramName) + ": runtime error: " + e.what();
+      error_ = source_name_ + ": runtime error: " + e.what();
       return false;
     }
   }
@@ -431,6 +564,7 @@ class CompiledEnvironment : public Environment {
   Painter painter_;
   bool failed_ = true;
   std::string error_ = "not started";
+  std::string source_name_ = P::kProgramName;  // the program's path, once the host names it
 };
 
 }  // namespace autumn::rt

@@ -83,6 +83,8 @@ class Environment {
     (void)seed;
     return false;
   }
+  // The program's path for error messages ("path:line:col: runtime error: ...").
+  virtual void set_source_name(const std::string& path) { (void)path; }
 };
 
 }  // namespace autumn

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define AUTUMN_MODULE_ABI_VERSION 3u
+#define AUTUMN_MODULE_ABI_VERSION 4u
 
 typedef struct autumn_env autumn_env; /* opaque */
 
@@ -56,6 +56,9 @@ typedef struct autumn_module_v1 {
    * so far, -1 unsupported; reseed_random: 1 done, 0 unsupported or failed. */
   int64_t (*random_draws)(const autumn_env*);
   int (*reseed_random)(autumn_env*, uint64_t seed);
+  /* v4: the program's path, named in runtime error messages (the module only knows
+   * the text it was built from; one module serves every path with that text). */
+  void (*set_source_name)(autumn_env*, const char* path);
 } autumn_module_v1;
 
 typedef const autumn_module_v1* (*autumn_module_entry_fn)(void);

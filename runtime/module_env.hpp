@@ -18,6 +18,7 @@ class ModuleEnvironment : public Environment {
   // `keepalive` holds whatever keeps the table's code loaded (a dlopen handle).
   ModuleEnvironment(const autumn_module_v1* table, std::shared_ptr<void> keepalive);
   ~ModuleEnvironment() override;
+  void set_source_name(const std::string& path) override;
   ModuleEnvironment(const ModuleEnvironment&) = delete;
   ModuleEnvironment& operator=(const ModuleEnvironment&) = delete;
 

@@ -1,21 +1,23 @@
 // lower — specialise a whole program into typed C++ (pass 4: lower).
 //
-// The lowering is a staged interpreter: it walks the program the way the
-// interpreter evaluates it, but instead of values it produces C++ code and
-// static types. Because every call is inlined at its call site, the dynamic
-// scope chain at each point is known statically, so dynamic scoping becomes
-// ordinary lexical resolution of C++ variables; the libstdc++ hash orders of
-// initialisation and NEXT, and the render order, are computed at compile time.
+// The lowering is a pipeline over a typed IR (docs/design.md, "The lowering"):
 //
-// Objects become structs with typed fields, globals members of one State struct,
-// lists std::vectors; strings become ids into a table of the program's literals.
-// Anything the lowering cannot prove (a polymorphic variable, a function chosen
-// at run time, recursion, identity-dependent removal, rotate, field mutation,
-// list equality by printed form, cells whose shape depends on data, ...) makes it
-// give up with a located reason; the emitter then falls back to the embedded
-// interpreter for that program, so exactness never depends on this pass.
+//   specialise      the staged interpreter: AST -> typed IR, every call inlined,
+//                   dynamic scopes resolved, types found by repeated walks
+//                   (specialise.hpp, spec_*.cpp)
+//   refs            names of places: references unless a store can intervene
+//   scratch         short-lived lists reuse their storage
+//   moves           last uses move
+//   print           the one C++ printer (print_cpp.hpp)
+//
+// Where a value's type can only be known at run time, that value alone is a
+// tagged variant (a "dynamic site", listed in the report); the rest of the
+// program stays typed. A few constructs cannot be expressed faithfully at all
+// (field assignment, rotate, recursion, ...): for those the whole program is not
+// specialised, with the located reason, and the emitter embeds the interpreter.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "compiler/analyse/program.hpp"
 
@@ -23,8 +25,9 @@ namespace autumn {
 
 struct Lowered {
   bool ok = false;
-  std::string reason;  // why not, with a location, when !ok
-  std::string code;    // the `struct Prog { ... };` definition and its tables
+  std::string reason;                       // why not, located, when !ok
+  std::string code;                         // the `struct Prog { ... };` definition and its tables
+  std::vector<std::string> dynamic_sites;   // "file:line:col: why" for each dynamic site
 };
 
 Lowered lower_program(const Program& program, const std::string& program_name);

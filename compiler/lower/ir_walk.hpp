@@ -1,0 +1,45 @@
+// ir_walk — a linear view of a function's statements for the IR passes.
+//
+// Numbers every statement in execution-text order (pre-order) and records, per
+// variable, where it is used and, per place (a state slot or a variable), where
+// it is stored; loops are recorded as position ranges. The passes (refs, moves,
+// scratch) answer their questions on these tables instead of re-walking trees.
+// Test: tests/lowering_test.cpp (IrPasses).
+#pragma once
+#include <map>
+#include <vector>
+
+#include "compiler/lower/ir.hpp"
+
+namespace autumn::lower::ir {
+
+// The variable or state slot a place expression names (its root).
+struct Root {
+  const Var* var = nullptr;
+  int slot = -1;
+  bool operator<(const Root& o) const { return var != o.var ? var < o.var : slot < o.slot; }
+  bool operator==(const Root& o) const { return var == o.var && slot == o.slot; }
+};
+Root root_of(const Node* n);  // var == nullptr && slot < 0: not a place
+
+struct Walk {
+  struct Loop {
+    int begin, end;  // positions of the loop statement and of its last nested statement
+  };
+  std::map<const Var*, std::vector<int>> uses;      // positions reading the variable
+  std::map<const Var*, int> declared;               // position of the introducing statement
+  std::map<Root, std::vector<int>> stores;          // positions writing the place
+  std::vector<int> opaque_stores;                   // calls of functions that store state
+  std::vector<Loop> loops;
+  std::map<const Stmt*, int> position;
+  std::vector<const Stmt*> at;                      // by position
+  int end = 0;
+};
+
+// `stores_state(f)`: whether calling module function f may store a state slot.
+Walk walk_function(const Function& f, const std::vector<bool>& stores_state);
+
+// Whether function f stores any state slot (directly).
+bool function_stores_state(const Function& f);
+
+}  // namespace autumn::lower::ir

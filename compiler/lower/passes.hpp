@@ -1,0 +1,16 @@
+// passes — the IR passes that run between specialisation and printing, each in
+// a file of its own (pass_*.cpp) with an example and a pointer to its test.
+//
+//   settle_references   pass_refs.cpp     Bind: reference or copy
+//   reuse_buffers       pass_scratch.cpp  short-lived lists keep their storage
+//   move_last_uses      pass_moves.cpp    a value's last use moves it
+#pragma once
+#include "compiler/lower/module.hpp"
+
+namespace autumn::lower {
+
+void settle_references(Module& m);
+void reuse_buffers(Module& m);
+void move_last_uses(Module& m);
+
+}  // namespace autumn::lower

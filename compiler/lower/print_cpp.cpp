@@ -1,0 +1,475 @@
+// print_cpp — the one place that prints C++: a Module to the `struct Prog`
+// definition that runtime/compiled_support.hpp's CompiledEnvironment runs.
+//
+// Indentation follows the statement tree; variables are named by their hint
+// and numbered per function in order of appearance. Nothing here decides
+// semantics: every operation is printed as the IR says, with the runtime's
+// helpers (compiled_support.hpp) for arithmetic, draws, occupancy and identity.
+// Test: the generated/ regeneration test and every compiled-engine test.
+#include "compiler/lower/print_cpp.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#include "runtime/frame.hpp"
+
+namespace autumn::lower {
+namespace {
+
+using namespace ir;
+
+std::string quoted(const std::string& s) {
+  // Every byte outside printable ASCII (and the quote and backslash) as an octal
+  // escape: three digits, so no following character can extend it.
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20 || c >= 0x7f || c == '?') {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\%03o", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out + "\"";
+}
+
+class Printer {
+ public:
+  explicit Printer(const Module& m) : m_(m) {}
+  std::string run();
+
+ private:
+  // --- types
+  std::string type(TypeP t) const {
+    switch (t->k) {
+      case TK::Int:
+      case TK::Str: return "int32_t";
+      case TK::Bool: return "bool";
+      case TK::Pos: return "Pos";
+      case TK::Elem: return "Elem";
+      case TK::Cell:
+      case TK::Deferred: return "CellV";
+      case TK::Obj: return m_.classes[t->cls].cpp;
+      case TK::List: return "std::vector<" + (t->elem ? type(t->elem) : std::string("int32_t")) + ">";
+      case TK::Sum: return "S" + std::to_string(t->id);
+      default: return "Unit";
+    }
+  }
+  // --- expressions
+  std::string name(const Var* v) {
+    auto it = names_.find(v);
+    if (it != names_.end()) return it->second;
+    std::string stem;
+    for (char c : v->hint) stem += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    if (stem.empty()) stem = "t";
+    std::string n = stem + std::to_string(++counter_);
+    names_[v] = n;
+    return n;
+  }
+  std::string expr(const Node* n);
+  std::string member(const Node* n);
+  std::string helper(const Node* n);
+  // --- statements
+  void line(const std::string& s) { out_ << std::string(2 * depth_, ' ') << s << "\n"; }
+  void block(const Block& b) {
+    ++depth_;
+    for (const Stmt* s : b) stmt(*s);
+    --depth_;
+  }
+  void stmt(const Stmt& s);
+  void function(const Function& f, int index);
+  // --- module parts
+  void classes();
+  void sums();
+  void state();
+  void snapshot_functions();
+  void tables();
+
+  const Module& m_;
+  std::ostringstream out_;
+  int depth_ = 1;
+  std::map<const Var*, std::string> names_;
+  int counter_ = 0;
+  std::vector<std::string> scratch_;  // members of Scratch
+  std::vector<TypeP> sums_;
+};
+
+std::string Printer::member(const Node* n) {
+  const std::string base = expr(n->a[0]);
+  switch (n->member) {
+    case Member::X: return base + ".x";
+    case Member::Y: return base + ".y";
+    case Member::Position: return base + ".position";
+    case Member::Color: return base + ".color";
+    case Member::Origin: return base + ".origin";
+    case Member::Field: return base + ".f" + std::to_string(n->index);
+    case Member::Uid: return base + ".uid";
+    case Member::CellX: return base + ".x";
+    case Member::CellY: return base + ".y";
+    case Member::CellColour: return base + ".colour";
+    case Member::CellDx: return "int32_t(" + base + ".dx)";
+    case Member::CellDy: return "int32_t(" + base + ".dy)";
+    case Member::CellDc: return "int32_t(" + base + ".dc)";
+    case Member::Cells: return base + ".cells";
+  }
+  return base;
+}
+
+std::string Printer::helper(const Node* n) {
+  auto arg = [&](size_t i) { return expr(n->a[i]); };
+  switch (n->helper) {
+    case Helper::RngNext: return "int32_t(s.core.rng.next(uint64_t(uint32_t(" + arg(0) + "))))";
+    case Helper::OccupancyFree: return "s.core.occupied.free(" + arg(0) + ")";
+    case Helper::IdOf: return "int32_t(s.core.ids.id_of(uint32_t(" + arg(0) + ")))";
+    case Helper::IdTransfer: return "s.core.ids.transfer(uint32_t(" + arg(0) + "), uint32_t(" + arg(1) + "))";
+    case Helper::NewUid: return "int32_t(s.core.ids.fresh())";
+    case Helper::Sqrt: return "int32_t(std::sqrt(double(" + arg(0) + ")))";
+    case Helper::DefineGlobal: return "(void)0";
+    case Helper::EraseGlobal: return "(void)0";
+    case Helper::ClickPos: return "Pos{s.core.click_x, s.core.click_y}";
+    case Helper::ClickDefine: return "(void)0";
+    case Helper::Reserve: return arg(0) + ".reserve(size_t(" + arg(1) + "))";
+    case Helper::Append: return arg(0) + ".insert(" + arg(0) + ".end(), " + arg(1) + ".begin(), " + arg(1) + ".end())";
+    case Helper::Clear: return arg(0) + ".clear()";
+    case Helper::StrOfInt: return "std::to_string(" + arg(0) + ")";
+    case Helper::StrOfStr: return "std::string(kStrings[" + arg(0) + "])";
+    case Helper::OccupancyClear: return "s.core.occupied.clear(kGrid)";
+    case Helper::OccupancyAdd: return "s.core.occupied.add(" + arg(0) + ")";
+    case Helper::PaintBegin: return "if (paint) paint->begin(kGrid, pal[" + arg(0) + "])";
+    case Helper::Paint: return "if (paint) paint->paint(" + arg(0) + ".position, pal[" + arg(0) + ".color])";
+    case Helper::SetTriggered: return "s.core.triggered = " + arg(0);
+    case Helper::Covered: return "s.core.covered[" + arg(0) + "] = 1";
+    case Helper::HavePrev: return "s.core.have_prev";
+    case Helper::InputFlag: {
+      static const char* const flags[] = {"click", "left", "right", "up", "down"};
+      return "s.core." + std::string(flags[n->a[0]->imm]);
+    }
+  }
+  return "(void)0";
+}
+
+std::string Printer::expr(const Node* n) {
+  auto a = [&](size_t i) { return expr(n->a[i]); };
+  auto list = [&](size_t from) {
+    std::string s;
+    for (size_t i = from; i < n->a.size(); ++i) s += (i > from ? ", " : "") + expr(n->a[i]);
+    return s;
+  };
+  switch (n->op) {
+    case Op::Lit:
+      if (n->type && n->type->k == TK::Bool) return n->imm ? "true" : "false";
+      return "int32_t(" + std::to_string(n->imm) + (n->imm < -2147483647 ? "LL" : "") + ")";
+    case Op::Text: return "std::string(" + quoted(n->text) + ")";
+    case Op::Local: return name(n->var);
+    case Op::Global:
+    case Op::Slot: return "s." + m_.slots[n->slot].name;
+    case Op::Member: return member(n);
+    case Op::Add: return "add(" + a(0) + ", " + a(1) + ")";
+    case Op::Sub: return "sub(" + a(0) + ", " + a(1) + ")";
+    case Op::Mul: return "mul(" + a(0) + ", " + a(1) + ")";
+    case Op::Neg: return "neg(" + a(0) + ")";
+    case Op::Div: return "autumn::arith::div_unchecked(" + a(0) + ", " + a(1) + ")";
+    case Op::Mod: return "autumn::arith::mod_unchecked(" + a(0) + ", " + a(1) + ")";
+    case Op::Lt: return "(" + a(0) + " < " + a(1) + ")";
+    case Op::Le: return "(" + a(0) + " <= " + a(1) + ")";
+    case Op::Gt: return "(" + a(0) + " > " + a(1) + ")";
+    case Op::Ge: return "(" + a(0) + " >= " + a(1) + ")";
+    case Op::Eq: return "(" + a(0) + " == " + a(1) + ")";
+    case Op::Ne: return "(" + a(0) + " != " + a(1) + ")";
+    case Op::Not: return "!" + a(0);
+    case Op::And: return "(" + a(0) + " && " + a(1) + ")";
+    case Op::Or: return "(" + a(0) + " || " + a(1) + ")";
+    case Op::MakePos: return "Pos{" + a(0) + ", " + a(1) + "}";
+    case Op::MakeElem: return "Elem{" + a(0) + ", " + a(1) + "}";
+    case Op::MakeObj: return m_.classes[n->index].cpp + "{" + list(0) + "}";
+    case Op::MakeCell: {
+      std::string s = "CellV{" + a(0) + ", " + a(1) + ", " + a(2) + ", int16_t(" + a(3) + "), int16_t(" + a(4) +
+                      "), int16_t(" + a(5) + ")";
+      if (n->a.size() > 6) s += ", uint32_t(" + a(6) + ")";
+      return s + "}";
+    }
+    case Op::MakeList: return type(n->type) + "{" + list(0) + "}";
+    case Op::MakeSum: return type(n->type) + "{std::in_place_index<" + std::to_string(n->index) + ">, " + a(0) + "}";
+    case Op::SumIs: return "(" + a(0) + ".index() == " + std::to_string(n->index) + ")";
+    case Op::SumGet: return "std::get<" + std::to_string(n->index) + ">(" + a(0) + ")";
+    case Op::Size: return "int32_t(" + a(0) + ".size())";
+    case Op::Empty: return a(0) + ".empty()";
+    case Op::Index: return a(0) + "[size_t(" + a(1) + ")]";
+    case Op::Front: return a(0) + ".front()";
+    case Op::Back: return a(0) + ".back()";
+    case Op::Call: return helper(n);
+    case Op::FnCall: return m_.functions[n->index]->name + "(s" + (n->a.empty() ? "" : ", " + list(0)) + ")";
+    case Op::Concat: {
+      std::string s = "std::string()";
+      for (size_t i = 0; i < n->a.size(); ++i) s += " + " + expr(n->a[i]);
+      return s;
+    }
+  }
+  return "/* ? */";
+}
+
+void Printer::stmt(const Stmt& s) {
+  switch (s.k) {
+    case SK::Let:
+      line((s.var->moved ? "" : "const ") + type(s.var->type) + " " + name(s.var) + " = " + expr(s.a) + ";");
+      return;
+    case SK::Decl:
+      if (s.var->scratch) {
+        std::string b = "b" + std::to_string(scratch_.size());
+        scratch_.push_back(type(s.var->type) + " " + b + ";");
+        line(type(s.var->type) + "& " + name(s.var) + " = s.scratch.v." + b + ";");
+        line(name(s.var) + ".clear();");
+        if (s.a) line(name(s.var) + " = " + expr(s.a) + ";");
+        return;
+      }
+      line(type(s.var->type) + " " + name(s.var) + (s.a ? " = " + expr(s.a) : std::string("{}")) + ";");
+      return;
+    case SK::Bind:
+      line("const " + type(s.var->type) + (s.var->is_ref ? "& " : " ") + name(s.var) + " = " + expr(s.a) + ";");
+      return;
+    case SK::Set:
+      line(expr(s.a) + " = " + (s.move_value ? "std::move(" + expr(s.b) + ")" : expr(s.b)) + ";");
+      return;
+    case SK::Push:
+      line(expr(s.a) + ".push_back(" + (s.move_value ? "std::move(" + expr(s.b) + ")" : expr(s.b)) + ");");
+      return;
+    case SK::Eval: line(expr(s.a) + ";"); return;
+    case SK::If:
+      line("if (" + expr(s.a) + ") {");
+      block(s.body);
+      if (!s.other.empty()) {
+        line("} else {");
+        block(s.other);
+      }
+      line("}");
+      return;
+    case SK::ForEach:
+      line("for (const " + type(s.var->type) + "& " + name(s.var) + " : " + expr(s.a) + ") {");
+      block(s.body);
+      line("}");
+      return;
+    case SK::ForRange: {
+      const std::string v = name(s.var);
+      line("for (int32_t " + v + " = " + expr(s.a) + ", " + v + "_end = " + expr(s.b) + "; " + v + " < " + v +
+           "_end; ++" + v + ") {");
+      block(s.body);
+      line("}");
+      return;
+    }
+    case SK::Switch: {
+      const bool sum = s.a->type && s.a->type->k == TK::Sum;
+      line("switch (" + expr(s.a) + (sum ? ".index()" : "") + ") {");
+      for (const auto& [k, b] : s.cases) {
+        line("  case " + std::to_string(k) + ": {");
+        ++depth_;
+        block(b);
+        --depth_;
+        line("    break;");
+        line("  }");
+      }
+      line("  default: break;");
+      line("}");
+      return;
+    }
+    case SK::Block:
+      line("{");
+      block(s.body);
+      line("}");
+      return;
+    case SK::Break: line("break;"); return;
+    case SK::Return: line("return " + expr(s.a) + ";"); return;
+    case SK::Fail: line("fail_at(" + std::to_string(s.loc) + ", " + expr(s.a) + ");"); return;
+    case SK::Comment: line("// " + s.text); return;
+  }
+}
+
+void Printer::function(const Function& f, int index) {
+  (void)index;
+  names_.clear();
+  counter_ = 0;
+  std::string head;
+  switch (f.kind) {
+    case Function::Start: head = "static void start(State& s, uint64_t seed) {"; break;
+    case Function::Step: head = "static void step(State& s) {"; break;
+    case Function::Render:
+      head = "static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {";
+      break;
+    default: {
+      head = "static " + std::string(f.ret ? type(f.ret) : "void") + " " + f.name + "(State& s";
+      for (const Var* p : f.params)
+        head += std::string(", ") + (p->mut ? "" : "const ") + type(p->type) + "& " + name(p);
+      head += ") {";
+    }
+  }
+  line(head);
+  ++depth_;
+  line("(void)s;");
+  if (f.kind == Function::Start) line("s.core.start(seed, kOnClauses);");
+  if (f.kind == Function::Step) line("s.core.have_prev = true;");
+  if (f.kind == Function::Render) line("(void)paint;\n    (void)pal;");
+  --depth_;
+  block(f.body);
+  ++depth_;
+  if (f.kind == Function::Start) line("render(s, nullptr, {});");
+  if (f.kind == Function::Step) line("s.core.clear_inputs();");
+  if (f.ret) line("return {};");
+  --depth_;
+  line("}");
+}
+
+void Printer::classes() {
+  for (const ClassInfo& c : m_.classes) {
+    line("struct " + c.cpp + " {");
+    ++depth_;
+    for (size_t i = 0; i < c.fields.size(); ++i)
+      line((c.field_types[i] ? type(c.field_types[i]) : std::string("Unit")) + " f" + std::to_string(i) + ";");
+    line("Pos origin;");
+    if (c.mode == CellMode::Stored) line("std::vector<CellV> cells;");
+    if (c.tracked) line("uint32_t uid = 0;");
+    auto each = [&](const std::string& call, const std::string& v) {
+      for (size_t i = 0; i < c.fields.size(); ++i) line("  " + call + v + ".f" + std::to_string(i) + ");");
+      line("  " + call + v + ".origin);");
+      if (c.mode == CellMode::Stored) line("  " + call + v + ".cells);");
+      if (c.tracked) line("  " + call + v + ".uid);");
+    };
+    line("friend void hash_value(Hash& h, const " + c.cpp + "& v) {");
+    each("hash_value(h, ", "v");
+    line("}");
+    line("friend void save_value(SnapshotWriter& w, const " + c.cpp + "& v) {");
+    each("save_value(w, ", "v");
+    line("}");
+    line("friend void load_value(SnapshotReader& r, " + c.cpp + "& v) {");
+    each("load_value(r, ", "v");
+    line("}");
+    --depth_;
+    line("};");
+  }
+}
+
+void Printer::sums() {
+  for (TypeP t : sums_) {
+    std::string alts;
+    for (size_t i = 0; i < t->alts.size(); ++i) alts += (i ? ", " : "") + type(t->alts[i]);
+    line("using " + type(t) + " = std::variant<" + alts + ">;");
+  }
+}
+
+void Printer::state() {
+  line("struct Scratch {");
+  for (const std::string& s : scratch_) line("  " + s);
+  line("};");
+  line("struct State {");
+  ++depth_;
+  line("Core core;");
+  line("NoCopy<Scratch> scratch;");
+  for (const Slot& s : m_.slots) line((s.type ? type(s.type) : std::string("bool")) + " " + s.name + "{};");
+  --depth_;
+  line("};");
+}
+
+void Printer::snapshot_functions() {
+  auto each = [&](const std::string& call) {
+    for (const Slot& s : m_.slots)
+      if (s.in_snapshot) line("  " + call + "s." + s.name + ");");
+  };
+  line("static uint64_t hash(const State& s) {");
+  line("  Hash h;");
+  line("  hash_core(h, s.core, kUsesRandom);");
+  each("hash_value(h, ");
+  line("  return h.h;");
+  line("}");
+  line("static void save(const State& s, SnapshotWriter& w) {");
+  line("  (void)s;");
+  line("  (void)w;");
+  each("save_value(w, ");
+  line("}");
+  line("static void load(State& s, SnapshotReader& r) {");
+  line("  (void)s;");
+  line("  (void)r;");
+  each("load_value(r, ");
+  line("}");
+}
+
+// Every Sum type the module uses, alternatives before the sums holding them.
+static void collect_sums(const Module& m, std::vector<TypeP>& out) {
+  std::function<void(TypeP)> add = [&](TypeP t) {
+    if (!t) return;
+    if (t->k == TK::List) add(t->elem);
+    if (t->k != TK::Sum) return;
+    for (TypeP a : t->alts) add(a);
+    if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
+  };
+  for (const Var& v : m.arena.vars) add(v.type);
+  for (const Node& n : m.arena.nodes) add(n.type);
+  for (const Slot& s : m.slots) add(s.type);
+  for (const ClassInfo& c : m.classes)
+    for (TypeP t : c.field_types) add(t);
+}
+
+std::string Printer::run() {
+  collect_sums(m_, sums_);
+  // Functions first (into a buffer): they decide the scratch members.
+  std::ostringstream functions;
+  std::swap(out_, functions);
+  for (size_t i = 0; i < m_.functions.size(); ++i)
+    if (m_.functions[i]->kind == Function::Colour || m_.functions[i]->kind == Function::Helper) function(*m_.functions[i], static_cast<int>(i));
+  for (size_t i = 0; i < m_.functions.size(); ++i)
+    if (m_.functions[i]->kind != Function::Colour && m_.functions[i]->kind != Function::Helper) function(*m_.functions[i], static_cast<int>(i));
+  snapshot_functions();
+  std::swap(out_, functions);
+
+  out_ << "struct Prog {\n";
+  line("static constexpr const char* kProgramName = " + quoted(m_.name) + ";");
+  line("static constexpr int kOnClauses = " + std::to_string(m_.on_clauses) + ";");
+  line(std::string("static constexpr bool kUsesRandom = ") + (m_.uses_random ? "true" : "false") + ";");
+  line("static constexpr int kGrid = " + std::to_string(m_.grid) + ";");
+  line("static const char* const kColours[];");
+  line("static const ErrorSite kErrors[];");
+  out_ << "\n";
+  // Declarations in dependency order: a class's fields may be sums of earlier classes.
+  classes();
+  sums();
+  out_ << "\n";
+  state();
+  out_ << "\n";
+  out_ << functions.str();
+  out_ << "};\n\n";
+  tables();
+  return out_.str();
+}
+
+void Printer::tables() {
+  out_ << "const char* const Prog::kColours[] = {\n";
+  for (const std::string& q : m_.strings) {
+    std::string inner = q.size() >= 2 ? q.substr(1, q.size() - 2) : q;
+    out_ << "    " << quoted(lower_ascii(inner)) << ",\n";
+  }
+  out_ << "    nullptr};\n\n";
+  out_ << "const ErrorSite Prog::kErrors[] = {\n";
+  auto source = [](SourceId id) {
+    switch (id) {
+      case SourceId::Program: return "nullptr";
+      case SourceId::Stdlib: return "\"<stdlib>\"";
+      case SourceId::Trigger: return "\"<trigger>\"";
+      case SourceId::Internal: return "\"<internal>\"";
+    }
+    return "nullptr";
+  };
+  for (const ErrorLoc& l : m_.locations)
+    out_ << "    {" << l.at.line << ", " << l.at.col << ", " << source(l.at.source) << ", "
+         << (l.in_program ? "true" : "false") << ", " << l.program_at.line << ", " << l.program_at.col << ", "
+         << quoted(l.prefix) << "},\n";
+  out_ << "    {0, 0, nullptr, false, 0, 0, \"\"}};\n";
+}
+
+}  // namespace
+
+std::string print_cpp(const Module& m) { return Printer(m).run(); }
+
+}  // namespace autumn::lower

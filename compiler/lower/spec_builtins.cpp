@@ -1,0 +1,407 @@
+// spec_builtins — the native builtins, dispatched on the Builtin enum of
+// compiler/analyse/builtins.hpp, each as compiler/interpret/builtins.cpp does it:
+// the same argument checks and texts, the same order of calls and draws.
+//
+// Builtins that call a function argument (map, filter, foldl, any, updateObj,
+// removeObj with a predicate) become loops whose body is the inlined function.
+// Over a list known at compile time inside a constructor (cell shapes), the loop
+// is unrolled so the cells fold to constants:
+//
+//   (map (--> i (Cell i 0 "red")) (range 0 3))   in an object's cell expression
+//   -> three constant cells, no code at run time.
+#include <algorithm>
+
+#include "compiler/lower/specialise.hpp"
+
+namespace autumn::lower {
+namespace {
+
+ir::Stmt* detached(Specialiser& sp, ir::SK k) {
+  bool was = sp.dead_;
+  sp.dead_ = true;
+  ir::Stmt* s = sp.emit(k);
+  sp.dead_ = was;
+  return s;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Argument checks (the interpreter's need/list_arg/func_arg/num_arg)
+
+bool Specialiser::need(Builtin b, size_t n, size_t count) {
+  if (n == count) return true;
+  fail(std::string(builtin_name(b)) + " takes " + std::to_string(count) + " argument(s), got " + std::to_string(n));
+  return false;
+}
+
+bool Specialiser::check_kind(Builtin b, const std::vector<SVal>& a, size_t i, TK k, const char* what) {
+  if (a[i].type->k == k || a[i].type->k == TK::Never) return !dead_;
+  fail(std::string(builtin_name(b)) + ": argument " + std::to_string(i + 1) + " must be " + what + ", got " +
+       type_string(a[i].type));
+  return false;
+}
+
+ir::Node* Specialiser::int_text(ir::Node* n) { return call(ir::Helper::StrOfInt, nullptr, {n}); }
+
+SVal Specialiser::call1(const SVal& f, const SVal& x, const Expr& at) {
+  std::vector<SVal> args{x};
+  return call_value(f, args, at);
+}
+
+// GRID_SIZE as builtins look it up: dynamically, by name.
+SVal Specialiser::grid_size(const Expr& at) {
+  SVal g = read_name(p_.names.GRID_SIZE, at);
+  if (g.type->k != TK::Int && g.type->k != TK::Never) {
+    fail("GRID_SIZE must be a number");
+    return never();
+  }
+  return g;
+}
+
+// ---------------------------------------------------------------------------
+
+SVal Specialiser::call_builtin(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  // A value of several types: one case per type (a dynamic site).
+  for (size_t i = 0; i < a.size(); ++i)
+    if (is_sum(a[i].type) && a[i].type->alts[0]->k != TK::Func) {
+      dynamic_site(std::string("the argument of ") + builtin_name(b) + " has several possible types");
+      return split(a[i], [&, i](const SVal& x) {
+        std::vector<SVal> narrowed = a;
+        narrowed[i] = x;
+        return call_builtin(b, narrowed, at);
+      });
+    }
+  switch (b) {
+    case Builtin::Map:
+    case Builtin::Filter:
+    case Builtin::Any:
+    case Builtin::Foldl:
+      return builtin_iterate(b, a, at);
+    case Builtin::Concat:
+    case Builtin::Length:
+    case Builtin::Head:
+    case Builtin::Tail:
+    case Builtin::At:
+    case Builtin::Range:
+    case Builtin::ArrayEqual:
+    case Builtin::IsList:
+    case Builtin::Print:
+    case Builtin::Sqrt:
+      return builtin_lists(b, a, at);
+    case Builtin::UniformChoice:
+    case Builtin::RandomPositions:
+    case Builtin::AllPositions:
+    case Builtin::AdjPositions:
+    case Builtin::IsFreePos:
+    case Builtin::IsWithinBounds:
+      return builtin_grid(b, a, at);
+    case Builtin::AddObj:
+    case Builtin::UpdateObj:
+    case Builtin::RemoveObj:
+      return builtin_objects(b, a, at);
+    case Builtin::Clicked:
+    case Builtin::Left:
+    case Builtin::Right:
+    case Builtin::Up:
+    case Builtin::Down:
+      return builtin_inputs(b, a, at);
+    case Builtin::Defined:
+    case Builtin::AllObjs:
+    case Builtin::Prev:
+      return builtin_globals(b, a, at);
+    case Builtin::RenderAll: unsupported("renderAll called by the program");
+    case Builtin::Rotate: unsupported("rotate (it turns the cells every copy of the object shares)");
+  }
+  return never();
+}
+
+// ---------------------------------------------------------------------------
+// map, filter, any, foldl
+
+SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  const size_t n = a.size();
+  if (b == Builtin::Any) {
+    if (n != 1 && n != 2) {
+      fail("any takes 1 or 2 arguments, got " + std::to_string(n));
+      return never();
+    }
+  } else if (!need(b, n, b == Builtin::Foldl ? 3 : 2)) {
+    return never();
+  }
+  const size_t fi = 0, li = b == Builtin::Foldl ? 2 : n - 1;
+  const bool with_fn = !(b == Builtin::Any && n == 1);
+  if (with_fn && a[fi].type->k != TK::Func && !is_sum(a[fi].type)) {
+    fail(std::string(builtin_name(b)) + ": argument 1 must be a function, got " + type_string(a[fi].type));
+    return never();
+  }
+  if (!check_kind(b, a, li, TK::List, "a list")) return never();
+  const SVal l = a[li];
+  if (b == Builtin::Foldl) return fold(a[0], a[1], l, at);
+  auto apply = [&](const SVal& x) { return with_fn ? call1(a[fi], x, at) : x; };
+  if (!l.type->elem) {  // statically empty: the function is never called
+    if (b == Builtin::Any) return SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)};
+    return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+  }
+  if (unroll(l)) {  // fold inside constructors: keeps cell shapes constant
+    std::vector<SVal> out;
+    for (ir::Node* item : l.konst->a) {
+      SVal x{l.type->elem, item, item};
+      SVal y = apply(x);
+      if (dead_) return never();
+      if (b == Builtin::Map) out.push_back(y);
+      else {
+        ir::Node* t = truthy(y);
+        if (t->op != ir::Op::Lit) return iterate_loop(b, a, l, at, apply);  // not constant after all
+        if (t->imm && b == Builtin::Any) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+        if (t->imm) out.push_back(x);
+      }
+    }
+    if (b == Builtin::Any) return SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)};
+    return make_list(out);
+  }
+  return iterate_loop(b, a, l, at, apply);
+}
+
+bool Specialiser::unroll(const SVal& l) const {
+  return !constructing_.empty() && l.konst && l.konst->op == ir::Op::MakeList && l.konst->a.size() <= 4096;
+}
+
+SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, const Expr& at,
+                               const std::function<SVal(const SVal&)>& apply) {
+  (void)a;
+  (void)at;
+  SVal src = let(l, "src");
+  ir::Stmt* loop = detached(*this, ir::SK::ForEach);
+  loop->var = var(l.type->elem, "x");
+  loop->a = src.code;
+  SVal x{l.type->elem, local(loop->var)};
+  SVal y;
+  bool body_alive = true;
+  in_block(loop->body, [&] {
+    y = apply(x);
+    body_alive = !dead_;
+  });
+  TypeP rt = b == Builtin::Map ? (body_alive && y.type ? y.type : T().never()) : l.type->elem;
+  if (b == Builtin::Map && (rt->k == TK::Func || rt->k == TK::Class))
+    unsupported("map producing functions");
+  if (b == Builtin::Map && !y.type) unsupported("map whose function has no value");
+  TypeP out_t = b == Builtin::Any ? T().bool_() : (rt->k == TK::Never ? T().empty_list() : T().list(rt));
+  ir::Var* out = decl(out_t, b == Builtin::Any ? lit(T().bool_(), 0) : nullptr, b == Builtin::Any ? "any" : "out");
+  if (b == Builtin::Map && rt->k != TK::Never)
+    emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Size, T().int_(), {src.code})}));
+  if (!dead_) block_->push_back(loop);
+  if (body_alive)
+    in_block(loop->body, [&] {
+      if (b == Builtin::Map) {
+        if (rt->k == TK::Never) return;
+        emit_push(local(out), y.code);
+        return;
+      }
+      ir::Node* cond = truthy(y);
+      ir::Stmt* s = emit(ir::SK::If);
+      s->a = cond;
+      in_block(s->body, [&] {
+        if (b == Builtin::Any) {
+          emit_set(local(out), lit(T().bool_(), 1));
+          emit(ir::SK::Break);
+        } else {
+          emit_push(local(out), x.code);
+        }
+      });
+    });
+  return built(out);
+}
+
+// foldl: the accumulator's type is the join of the initial value's and the
+// function's results; a result that does not fit widens it for the next walk.
+SVal Specialiser::fold(const SVal& f, const SVal& init, const SVal& l, const Expr& at) {
+  std::pair<const void*, Sym> key{&at, -1};
+  TypeP acc_t = init.type;
+  if (auto it = h_.locals.find(key); it != h_.locals.end()) acc_t = T().join(acc_t, it->second);
+  if (!l.type->elem) return init;
+  if (unroll(l)) {
+    SVal acc = init;
+    for (ir::Node* item : l.konst->a) {
+      std::vector<SVal> args{acc, SVal{l.type->elem, item, item}};
+      acc = let(call_value(f, args, at));
+      if (dead_) return never();
+    }
+    return acc;
+  }
+  ir::Var* acc = decl(acc_t, coerce(init, acc_t).code, "acc");
+  SVal src = let(l, "src");
+  ir::Stmt* loop = emit(ir::SK::ForEach);
+  loop->var = var(l.type->elem, "x");
+  loop->a = src.code;
+  in_block(loop->body, [&] {
+    SVal accv = let(SVal{acc_t, local(acc)}, "a");
+    std::vector<SVal> args{accv, SVal{l.type->elem, local(loop->var)}};
+    SVal y = call_value(f, args, at);
+    if (dead_ || !y.type) return;
+    if (!T().fits(y.type, acc_t)) {
+      h_.locals[key] = T().join(acc_t, y.type);
+      h_.changed = true;
+      h_.last_change = "foldl accumulator";
+      return;
+    }
+    emit_set(local(acc), coerce(y, acc_t).code);
+  });
+  return let(SVal{acc_t, local(acc)}, "folded");
+}
+
+// ---------------------------------------------------------------------------
+// concat, length, head, tail, at, range, arrayEqual, isList, print, sqrt
+
+SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  const size_t n = a.size();
+  auto known_bool = [&](bool v) { return SVal{T().bool_(), lit(T().bool_(), v), lit(T().bool_(), v)}; };
+  switch (b) {
+    case Builtin::IsList:
+      if (!need(b, n, 1)) return never();
+      return known_bool(a[0].type->k == TK::List);
+    case Builtin::Print:
+      if (!need(b, n, 1)) return never();
+      return a[0];
+    case Builtin::Sqrt: {
+      if (!need(b, n, 1) || !check_kind(b, a, 0, TK::Int, "a number")) return never();
+      ir::Stmt* s = emit(ir::SK::If);
+      s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
+      in_block(s->body, [&] { fail("sqrt of a negative number"); });
+      return let(SVal{T().int_(), call(ir::Helper::Sqrt, T().int_(), {a[0].code})});
+    }
+    case Builtin::Length:
+      if (!need(b, n, 1) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+      if (!a[0].type->elem) return SVal{T().int_(), lit(T().int_(), 0), lit(T().int_(), 0)};
+      if (a[0].konst && a[0].konst->op == ir::Op::MakeList) {
+        auto c = static_cast<int64_t>(a[0].konst->a.size());
+        return SVal{T().int_(), lit(T().int_(), c), lit(T().int_(), c)};
+      }
+      return let(SVal{T().int_(), node(ir::Op::Size, T().int_(), {a[0].code})});
+    case Builtin::Head:
+    case Builtin::Tail: {
+      if (!need(b, n, 1) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+      const char* what = b == Builtin::Head ? "head of an empty list" : "tail of an empty list";
+      if (!a[0].type->elem) {
+        fail(what);
+        return never();
+      }
+      if (a[0].konst && a[0].konst->op == ir::Op::MakeList && !a[0].konst->a.empty()) {
+        ir::Node* k = b == Builtin::Head ? a[0].konst->a.front() : a[0].konst->a.back();
+        return SVal{a[0].type->elem, k, is_const(k) ? k : nullptr};
+      }
+      ir::Stmt* s = emit(ir::SK::If);
+      s->a = node(ir::Op::Empty, T().bool_(), {a[0].code});
+      in_block(s->body, [&] { fail(what); });
+      return let(SVal{a[0].type->elem, node(b == Builtin::Head ? ir::Op::Front : ir::Op::Back, a[0].type->elem, {a[0].code})});
+    }
+    case Builtin::At: return builtin_at(a);
+    case Builtin::Concat: return builtin_concat(a);
+    case Builtin::Range: {
+      if (!need(b, n, 2) || !check_kind(b, a, 0, TK::Int, "a number") || !check_kind(b, a, 1, TK::Int, "a number"))
+        return never();
+      auto lo = const_int(a[0]), hi = const_int(a[1]);
+      if (lo && hi && *hi - *lo <= 4096) {
+        std::vector<SVal> items;
+        for (int64_t i = *lo; i < *hi; ++i) items.push_back(SVal{T().int_(), lit(T().int_(), i), lit(T().int_(), i)});
+        if (!items.empty() && (!constructing_.empty() || items.size() <= 16)) return make_list(items);
+      }
+      ir::Var* out = decl(T().list(T().int_()), nullptr, "range");
+      out->scratch = true;
+      ir::Stmt* loop = emit(ir::SK::ForRange);
+      loop->var = var(T().int_(), "i");
+      loop->a = a[0].code;
+      loop->b = a[1].code;
+      in_block(loop->body, [&] {
+        emit_push(local(out), local(loop->var));
+      });
+      return built(out);
+    }
+    case Builtin::ArrayEqual: return builtin_array_equal(a);
+    default: break;
+  }
+  (void)at;
+  return never();
+}
+
+SVal Specialiser::builtin_at(std::vector<SVal>& a) {
+  const Builtin b = Builtin::At;
+  if (!need(b, a.size(), 2) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+  if (!a[0].type->elem) {
+    fail("at: empty list");
+    return never();
+  }
+  ir::Stmt* s = emit(ir::SK::If);
+  s->a = node(ir::Op::Empty, T().bool_(), {a[0].code});
+  in_block(s->body, [&] { fail("at: empty list"); });
+  if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
+  ir::Node* i = a[1].code;
+  ir::Stmt* r = emit(ir::SK::If);
+  r->a = node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {i, lit(T().int_(), 0)}),
+                                        node(ir::Op::Ge, T().bool_(), {i, node(ir::Op::Size, T().int_(), {a[0].code})})});
+  in_block(r->body, [&] { fail({text("at: index "), int_text(i), text(" out of bounds")}); });
+  return let(SVal{a[0].type->elem, node(ir::Op::Index, a[0].type->elem, {a[0].code, i})});
+}
+
+SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
+  const Builtin b = Builtin::Concat;
+  if (!need(b, a.size(), 1) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+  const SVal l = a[0];
+  if (!l.type->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+  TypeP inner = l.type->elem;
+  if (inner->k != TK::List) {
+    if (is_sum(inner)) unsupported("concat of a list holding lists and other values");
+    fail("concat: every element must be a list");
+    return never();
+  }
+  if (l.konst && l.konst->op == ir::Op::MakeList) {  // fold
+    std::vector<SVal> items;
+    bool ok = true;
+    for (ir::Node* part : l.konst->a) {
+      if (part->op != ir::Op::MakeList) ok = false;
+      else
+        for (ir::Node* x : part->a) items.push_back(SVal{inner->elem ? inner->elem : T().never(), x, x});
+    }
+    if (ok && (!constructing_.empty() || items.size() <= 16)) return items.empty() ? SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())} : make_list(items);
+  }
+  if (!inner->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+  SVal src = let(l, "src");
+  ir::Var* out = decl(inner, nullptr, "cat");
+  ir::Stmt* loop = emit(ir::SK::ForEach);
+  loop->var = var(inner, "part");
+  loop->a = src.code;
+  in_block(loop->body, [&] { emit_eval(call(ir::Helper::Append, nullptr, {local(out), local(loop->var)})); });
+  return built(out);
+}
+
+SVal Specialiser::builtin_array_equal(std::vector<SVal>& a) {
+  const Builtin b = Builtin::ArrayEqual;
+  if (!need(b, a.size(), 2) || !check_kind(b, a, 0, TK::List, "a list") || !check_kind(b, a, 1, TK::List, "a list"))
+    return never();
+  TypeP out_t = T().list(T().bool_());
+  if (!a[0].type->elem || !a[1].type->elem) {
+    if (a[0].type->elem || a[1].type->elem) {
+      ir::Stmt* s = emit(ir::SK::If);
+      s->a = node(ir::Op::Not, T().bool_(), {node(ir::Op::Empty, T().bool_(), {a[a[0].type->elem ? 0 : 1].code})});
+      in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
+    }
+    return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+  }
+  ir::Stmt* s = emit(ir::SK::If);
+  s->a = node(ir::Op::Ne, T().bool_(), {node(ir::Op::Size, T().int_(), {a[0].code}), node(ir::Op::Size, T().int_(), {a[1].code})});
+  in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
+  ir::Var* out = decl(out_t, nullptr, "eqs");
+  ir::Stmt* loop = emit(ir::SK::ForRange);
+  loop->var = var(T().int_(), "i");
+  loop->a = lit(T().int_(), 0);
+  loop->b = node(ir::Op::Size, T().int_(), {a[0].code});
+  in_block(loop->body, [&] {
+    SVal x = let(SVal{a[0].type->elem, node(ir::Op::Index, a[0].type->elem, {a[0].code, local(loop->var)})});
+    SVal y = let(SVal{a[1].type->elem, node(ir::Op::Index, a[1].type->elem, {a[1].code, local(loop->var)})});
+    SVal e = equals(x, y);
+    emit_push(local(out), e.code);
+  });
+  return built(out);
+}
+
+}  // namespace autumn::lower

@@ -1,0 +1,502 @@
+// spec_builtins_state — the builtins that touch more than their arguments: the
+// random generator, the occupancy of the last render, the inputs, the globals
+// (defined, allObjs, prev, one-argument removeObj) and object copies (addObj,
+// updateObj, removeObj). Same checks, texts and order as
+// compiler/interpret/builtins.cpp.
+#include <algorithm>
+
+#include "compiler/lower/specialise.hpp"
+
+namespace autumn::lower {
+
+// ---------------------------------------------------------------------------
+// uniformChoice, randomPositions, allPositions, adjPositions, isFreePos, isWithinBounds
+
+SVal Specialiser::builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  const size_t n = a.size();
+  switch (b) {
+    case Builtin::UniformChoice: return builtin_uniform_choice(a);
+    case Builtin::RandomPositions: {
+      if (!need(b, n, 2) || !check_kind(b, a, 0, TK::Int, "a number")) return never();
+      ir::Stmt* s = emit(ir::SK::If);
+      s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
+      in_block(s->body, [&] { fail("randomPositions: the grid size must not be negative"); });
+      if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
+      ir::Var* out = decl(T().list(T().pos()), nullptr, "rpos");
+      ir::Stmt* loop = emit(ir::SK::ForRange);
+      loop->var = var(T().int_(), "i");
+      loop->a = lit(T().int_(), 0);
+      loop->b = a[1].code;
+      in_block(loop->body, [&] {
+        SVal x = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {a[0].code})});
+        SVal y = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {a[0].code})});
+        emit_push(local(out), make_position(x, y).code);
+      });
+      return built(out);
+    }
+    case Builtin::AllPositions: {
+      if (n < 1 || n > 2) {
+        fail("allPositions takes 1 or 2 arguments");
+        return never();
+      }
+      auto size = [&](size_t i) {
+        if (!check_kind(b, a, i, TK::Int, "a number")) return false;
+        ir::Stmt* s = emit(ir::SK::If);
+        s->a = node(ir::Op::Lt, T().bool_(), {a[i].code, lit(T().int_(), 0)});
+        in_block(s->body, [&] { fail("allPositions: negative size"); });
+        return !dead_;
+      };
+      if (!size(0) || (n == 2 && !size(1))) return never();
+      ir::Var* out = decl(T().list(T().pos()), nullptr, "apos");
+      out->scratch = true;
+      ir::Stmt* outer = emit(ir::SK::ForRange);
+      outer->var = var(T().int_(), "i");
+      outer->a = lit(T().int_(), 0);
+      outer->b = a[0].code;
+      in_block(outer->body, [&] {
+        ir::Stmt* inner = emit(ir::SK::ForRange);
+        inner->var = var(T().int_(), "j");
+        inner->a = lit(T().int_(), 0);
+        inner->b = a[n - 1].code;
+        in_block(inner->body, [&] {
+          emit_push(local(out), make_position(SVal{T().int_(), local(outer->var)}, SVal{T().int_(), local(inner->var)}).code);
+        });
+      });
+      return built(out);
+    }
+    case Builtin::AdjPositions: {
+      if (!need(b, n, 1)) return never();
+      if (a[0].type->k != TK::Pos) {
+        fail("adjPositions: the argument must be a Position");
+        return never();
+      }
+      SVal g = grid_size(at);
+      if (dead_) return never();
+      SVal p = let(a[0]);
+      ir::Var* out = decl(T().list(T().pos()), nullptr, "adj");
+      out->scratch = true;
+      ir::Node* x = member(p.code, ir::Member::X, T().int_());
+      ir::Node* y = member(p.code, ir::Member::Y, T().int_());
+      ir::Node* one = lit(T().int_(), 1);
+      const std::pair<ir::Node*, ir::Node*> cand[4] = {
+          {node(ir::Op::Sub, T().int_(), {x, one}), y}, {node(ir::Op::Add, T().int_(), {x, one}), y},
+          {x, node(ir::Op::Sub, T().int_(), {y, one})}, {x, node(ir::Op::Add, T().int_(), {y, one})}};
+      for (const auto& [cx, cy] : cand) {
+        SVal vx = let(SVal{T().int_(), cx}), vy = let(SVal{T().int_(), cy});
+        ir::Node* zero = lit(T().int_(), 0);
+        ir::Stmt* s = emit(ir::SK::If);
+        s->a = node(ir::Op::And, T().bool_(),
+                    {node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vx.code, zero}),
+                                                     node(ir::Op::Lt, T().bool_(), {vx.code, g.code})}),
+                     node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vy.code, zero}),
+                                                     node(ir::Op::Lt, T().bool_(), {vy.code, g.code})})});
+        in_block(s->body, [&] {
+          emit_push(local(out), make_position(vx, vy).code);
+        });
+      }
+      return built(out);
+    }
+    case Builtin::IsFreePos:
+      if (!need(b, n, 1)) return never();
+      if (a[0].type->k != TK::Pos) {
+        fail("isFreePos: the argument must be a Position");
+        return never();
+      }
+      return let(SVal{T().bool_(), call(ir::Helper::OccupancyFree, T().bool_(), {a[0].code})});
+    case Builtin::IsWithinBounds: {
+      if (!need(b, n, 1)) return never();
+      SVal elems = render_value(a[0], at);
+      SVal g = grid_size(at);
+      if (dead_) return never();
+      ir::Var* r = decl(T().bool_(), lit(T().bool_(), 1), "within");
+      if (!renders(a[0].type)) return built(r);
+      ir::Stmt* loop = emit(ir::SK::ForEach);
+      loop->var = var(T().elem(), "e");
+      loop->a = elems.code;
+      in_block(loop->body, [&] {
+        ir::Node* p = member(local(loop->var), ir::Member::Position, T().pos());
+        ir::Node* x = member(p, ir::Member::X, T().int_());
+        ir::Node* y = member(p, ir::Member::Y, T().int_());
+        ir::Node* zero = lit(T().int_(), 0);
+        ir::Stmt* s = emit(ir::SK::If);
+        s->a = node(ir::Op::Or, T().bool_(),
+                    {node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {x, zero}), node(ir::Op::Ge, T().bool_(), {x, g.code})}),
+                     node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {y, zero}), node(ir::Op::Ge, T().bool_(), {y, g.code})})});
+        in_block(s->body, [&] {
+          emit_set(local(r), lit(T().bool_(), 0));
+          emit(ir::SK::Break);
+        });
+      });
+      return built(r);
+    }
+    default: break;
+  }
+  return never();
+}
+
+SVal Specialiser::builtin_uniform_choice(std::vector<SVal>& a) {
+  const Builtin b = Builtin::UniformChoice;
+  const size_t n = a.size();
+  if (n == 0) {
+    fail("uniformChoice needs a list");
+    return never();
+  }
+  if (!check_kind(b, a, 0, TK::List, "a list")) return never();
+  const SVal l = a[0];
+  if (!l.type->elem) {
+    fail("uniformChoice of an empty list");
+    return never();
+  }
+  ir::Stmt* s = emit(ir::SK::If);
+  s->a = node(ir::Op::Empty, T().bool_(), {l.code});
+  in_block(s->body, [&] { fail("uniformChoice of an empty list"); });
+  auto draw = [&]() {
+    SVal i = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {node(ir::Op::Size, T().int_(), {l.code})})});
+    return node(ir::Op::Index, l.type->elem, {l.code, i.code});
+  };
+  if (n == 1) return let(SVal{l.type->elem, draw()});
+  if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
+  ir::Stmt* c = emit(ir::SK::If);
+  c->a = node(ir::Op::Lt, T().bool_(), {a[1].code, lit(T().int_(), 1)});
+  in_block(c->body, [&] { fail("uniformChoice: the count must be at least 1"); });
+  ir::Var* out = decl(l.type, nullptr, "choices");
+  ir::Stmt* loop = emit(ir::SK::ForRange);
+  loop->var = var(T().int_(), "i");
+  loop->a = lit(T().int_(), 0);
+  loop->b = a[1].code;
+  in_block(loop->body, [&] {
+    emit_push(local(out), draw());
+  });
+  return built(out);
+}
+
+// ---------------------------------------------------------------------------
+// clicked, left, right, up, down
+
+SVal Specialiser::builtin_inputs(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  if (b != Builtin::Clicked) {
+    const int kind = b == Builtin::Left ? 1 : b == Builtin::Right ? 2 : b == Builtin::Up ? 3 : 4;
+    return let(SVal{T().bool_(), call(ir::Helper::InputFlag, T().bool_(), {lit(T().int_(), kind)})});
+  }
+  ir::Var* r = decl(T().bool_(), lit(T().bool_(), 0), "clicked");
+  ir::Stmt* s = emit(ir::SK::If);
+  s->a = call(ir::Helper::InputFlag, T().bool_(), {lit(T().int_(), 0)});
+  in_block(s->body, [&] {
+    define_click();
+    if (a.empty()) {
+      emit_set(local(r), lit(T().bool_(), 1));
+      return;
+    }
+    if (a.size() > 1) {
+      fail("clicked takes 0 or 1 arguments, got " + std::to_string(a.size()));
+      return;
+    }
+    SVal elems = render_value(a[0], at);
+    if (!renders(a[0].type)) return;
+    SVal pos = let(SVal{T().pos(), call(ir::Helper::ClickPos, T().pos(), {})});
+    ir::Stmt* loop = emit(ir::SK::ForEach);
+    loop->var = var(T().elem(), "e");
+    loop->a = elems.code;
+    in_block(loop->body, [&] {
+      ir::Stmt* hit = emit(ir::SK::If);
+      hit->a = node(ir::Op::Eq, T().bool_(), {member(local(loop->var), ir::Member::Position, T().pos()), pos.code});
+      in_block(hit->body, [&] {
+        emit_set(local(r), lit(T().bool_(), 1));
+        emit(ir::SK::Break);
+      });
+    });
+  });
+  return built(r);
+}
+
+// The global `click` := the pending click (a fresh Position each time).
+void Specialiser::define_click() {
+  Global& g = global_slot(p_.names.click, T().pos());
+  g.state = Global::Runtime;
+  if (h_.runtime_defined.insert(p_.names.click).second) {
+    h_.changed = true;
+    h_.last_change = "click";
+  }
+  emit_set(slot(g.defined), lit(T().bool_(), 1));
+  if (m_.runtime_order) emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), g.sym)}));
+  emit_set(slot(g.value), call(ir::Helper::ClickPos, T().pos(), {}));
+}
+
+// ---------------------------------------------------------------------------
+// addObj, updateObj, removeObj
+
+SVal Specialiser::builtin_objects(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  const size_t n = a.size();
+  if (b == Builtin::AddObj) {
+    if (!need(b, n, 2) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+    const TK k = a[1].type->k;
+    if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell && k != TK::List) {
+      fail("addObj: the second argument must be an object or a list, got " + type_string(a[1].type));
+      return never();
+    }
+    return add_obj(a[0], a[1]);
+  }
+  if (b == Builtin::UpdateObj) return update_obj(a, at);
+  // removeObj
+  if (n == 0) {
+    fail("removeObj needs an argument (the reference interpreter crashes here)");
+    return never();
+  }
+  if (n == 1) return remove_global(a[0]);
+  if (n > 2) {
+    fail("removeObj takes 1 or 2 arguments, got " + std::to_string(n));
+    return never();
+  }
+  const TK wk = a[1].type->k;
+  if (wk != TK::Func && wk != TK::Obj && wk != TK::Pos && wk != TK::Elem && wk != TK::Cell && wk != TK::List) {
+    fail("removeObj: the second argument must be a function, an object or a list");
+    return never();
+  }
+  if (!check_kind(b, a, 0, TK::List, "a list")) return never();
+  return remove_from(a[0], a[1], at);
+}
+
+// addObj: a copy of the list with every element copied (fresh identities), then
+// the object appended (or the other list's elements).
+SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
+  TypeP et = l.type->elem;
+  TypeP xt = x.type->k == TK::List ? x.type->elem : x.type;
+  TypeP rt = et && xt ? T().join(et, xt) : et ? et : xt;
+  if (!rt) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list())};
+  if (is_sum(rt) && !is_object_like(rt)) dynamic_site("addObj mixes values of different types");
+  if (et && is_sum(et) && x.type->k != TK::List)
+    unsupported("addObj to a list that may hold objects of several classes");
+  TypeP lt = T().list(rt);
+  ir::Var* out = decl(lt, nullptr, "added");
+  if (et) {
+    ir::Node* extra = x.type->k == TK::List ? (x.type->elem ? node(ir::Op::Size, T().int_(), {x.code}) : lit(T().int_(), 0))
+                                            : lit(T().int_(), 1);
+    emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Add, T().int_(), {node(ir::Op::Size, T().int_(), {l.code}), extra})}));
+    ir::Stmt* loop = emit(ir::SK::ForEach);
+    loop->var = var(et, "x");
+    loop->a = l.code;
+    in_block(loop->body, [&] {
+      SVal e{et, local(loop->var)};
+      if (tracked(et)) e = renew_identity(e);
+      emit_push(local(out), coerce(e, rt).code);
+    });
+  }
+  if (x.type->k == TK::List) {
+    if (x.type->elem) {
+      ir::Stmt* loop = emit(ir::SK::ForEach);
+      loop->var = var(x.type->elem, "x");
+      loop->a = x.code;
+      in_block(loop->body, [&] {
+        emit_push(local(out), coerce(SVal{x.type->elem, local(loop->var)}, rt).code);
+      });
+    }
+  } else {
+    emit_push(local(out), coerce(x, rt).code);
+  }
+  return built(out);
+}
+
+// A copy of a tracked object with a fresh uid (copy_value).
+SVal Specialiser::renew_identity(const SVal& v) {
+  if (is_sum(v.type)) return split(v, [&](const SVal& a) { return renew_identity(a); });
+  ir::Var* c = decl(v.type, v.code, "copy");
+  emit_set(member(local(c), ir::Member::Uid, T().int_()), call(ir::Helper::NewUid, T().int_(), {}));
+  return built(c);
+}
+
+SVal Specialiser::update_obj(std::vector<SVal>& a, const Expr& at) {
+  const size_t n = a.size();
+  if (n < 2 || n > 3) {
+    fail("updateObj takes 2 or 3 arguments, got " + std::to_string(n));
+    return never();
+  }
+  if (a[0].type->k == TK::List) {
+    if (n == 2) {
+      std::vector<SVal> m{a[1], a[0]};
+      return call_builtin(Builtin::Map, m, at);
+    }
+    if (a[1].type->k != TK::Func || a[2].type->k != TK::Func) {
+      fail("updateObj: the second and third arguments must be functions");
+      return never();
+    }
+    return update_filtered(a[0], a[1], a[2], at);
+  }
+  const TK k = a[0].type->k;
+  if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell) {
+    fail("updateObj: the first argument must be an object or a list");
+    return never();
+  }
+  if (n == 2) {
+    if (a[1].type->k != TK::Func) {
+      fail("updateObj: argument 2 must be a function, got " + type_string(a[1].type));
+      return never();
+    }
+    return call1(a[1], a[0], at);
+  }
+  if (a[1].type->k != TK::Str) {
+    fail("updateObj: the field name must be a string");
+    return never();
+  }
+  if (!a[1].konst) unsupported("updateObj with a field name computed at run time");
+  std::string field = m_.strings[a[1].konst->imm];
+  if (!field.empty() && (field[0] == '"' || field[0] == '\'')) field = field.substr(1, field.size() - 2);
+  return set_field(a[0], field, a[2]);
+}
+
+// updateObj o "f" v: a copy (fresh identity) with the field replaced, unchecked.
+SVal Specialiser::set_field(const SVal& o, const std::string& field, const SVal& v) {
+  Sym s = p_.symbols.find(field);
+  if (o.type->k != TK::Obj) {
+    const std::string cn = class_name(o.type->k == TK::Pos ? kPositionClass : o.type->k == TK::Elem ? kElemClass : kCellClass);
+    unsupported("updateObj of a " + cn);
+  }
+  ClassInfo& ci = m_.classes[o.type->cls];
+  int index = -1;
+  for (size_t i = 0; i < ci.fields.size(); ++i)
+    if (ci.fields[i] == s) index = static_cast<int>(i);
+  const bool origin = s == p_.names.origin;
+  if (s == p_.names.elems) unsupported("updateObj of the elems field");
+  if (index < 0 && !origin) {
+    fail("updateObj: object of class '" + ci.name + "' has no field '" + field + "'");
+    return never();
+  }
+  if (origin && v.type->k != TK::Pos) unsupported("updateObj giving origin a value that is not a Position");
+  ir::Var* c = decl(o.type, o.code, "upd");
+  if (origin) {
+    emit_set(member(local(c), ir::Member::Origin, T().pos()), v.code);
+  } else {
+    widen_field(o.type->cls, index, v.type);
+    TypeP ft = ci.field_types[index];
+    if (!T().fits(v.type, ft)) return never();
+    emit_set(member(local(c), ir::Member::Field, ft, index), coerce(v, ft).code);
+  }
+  if (tracked(o.type)) emit_set(member(local(c), ir::Member::Uid, T().int_()), call(ir::Helper::NewUid, T().int_(), {}));
+  return built(c);
+}
+
+// updateObj list f pred: f(x) where pred(x) holds, else x.
+SVal Specialiser::update_filtered(const SVal& l, const SVal& f, const SVal& pred, const Expr& at) {
+  if (!l.type->elem) return l;
+  TypeP et = l.type->elem;
+  ir::Var* out = decl(l.type, nullptr, "updated");
+  emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Size, T().int_(), {l.code})}));
+  SVal src = let(l, "src");
+  ir::Stmt* loop = emit(ir::SK::ForEach);
+  loop->var = var(et, "x");
+  loop->a = src.code;
+  in_block(loop->body, [&] {
+    SVal x{et, local(loop->var)};
+    SVal p = call1(pred, x, at);
+    if (dead_) return;
+    ir::Node* cond = truthy(p);
+    ir::Stmt* s = emit(ir::SK::If);
+    s->a = cond;
+    in_block(s->body, [&] {
+      SVal y = call1(f, x, at);
+      if (dead_) return;
+      if (!T().fits(y.type, et)) {
+        // list_add re-tags the list per element: mixed types need the tags.
+        unsupported("updateObj with a filter whose function changes the element type");
+      }
+      emit_push(local(out), coerce(y, et).code);
+    });
+    in_block(s->other, [&] {
+      emit_push(local(out), x.code);
+    });
+  });
+  return built(out);
+}
+
+// removeObj list f / list obj / list list.
+SVal Specialiser::remove_from(const SVal& l, const SVal& what, const Expr& at) {
+  if (!l.type->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list())};
+  TypeP et = l.type->elem;
+  if (what.type->k != TK::Func) {
+    note_identity(et);
+    note_identity(what.type->k == TK::List ? what.type->elem : what.type);
+  }
+  SVal src = let(l, "src");
+  ir::Var* out = decl(l.type, nullptr, "kept");
+  ir::Stmt* loop = emit(ir::SK::ForEach);
+  loop->var = var(et, "x");
+  loop->a = src.code;
+  in_block(loop->body, [&] {
+    SVal x{et, local(loop->var)};
+    ir::Node* keep = nullptr;
+    if (what.type->k == TK::Func) {
+      SVal p = call1(what, x, at);
+      if (dead_) return;
+      keep = node(ir::Op::Not, T().bool_(), {truthy(p)});
+    } else if (what.type->k != TK::List) {
+      keep = same_identity_any(x, {what}) ;
+      keep = node(ir::Op::Not, T().bool_(), {keep});
+    } else {
+      if (!what.type->elem) {
+        keep = lit(T().bool_(), 1);
+      } else {
+        ir::Var* found = decl(T().bool_(), lit(T().bool_(), 0), "found");
+        ir::Stmt* inner = emit(ir::SK::ForEach);
+        inner->var = var(what.type->elem, "y");
+        inner->a = what.code;
+        in_block(inner->body, [&] {
+          ir::Node* cond = same_identity_any(x, {SVal{what.type->elem, local(inner->var)}});
+          ir::Stmt* s = emit(ir::SK::If);
+          s->a = cond;
+          in_block(s->body, [&] {
+            emit_set(local(found), lit(T().bool_(), 1));
+            emit(ir::SK::Break);
+          });
+        });
+        keep = node(ir::Op::Not, T().bool_(), {local(found)});
+      }
+    }
+    ir::Stmt* s = emit(ir::SK::If);
+    s->a = keep;
+    in_block(s->body, [&] {
+      emit_push(local(out), x.code);
+    });
+  });
+  return built(out);
+}
+
+// Whether x is a heap value with the identity number of one of `others`.
+ir::Node* Specialiser::same_identity_any(const SVal& x, const std::vector<SVal>& others) {
+  ir::Node* any = lit(T().bool_(), 0);
+  for (const SVal& o : others) {
+    SVal r = split(x, [&](const SVal& a) {
+      return split(o, [&](const SVal& b) -> SVal {
+        if (!is_heap(a.type) || !is_heap(b.type)) return SVal{T().bool_(), lit(T().bool_(), 0)};
+        if (!tracked(a.type) || !tracked(b.type)) return SVal{T().bool_(), lit(T().bool_(), 0)};
+        return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {id_of(a), id_of(b)})});
+      });
+    });
+    any = node(ir::Op::Or, T().bool_(), {any, r.code});
+  }
+  return any;
+}
+
+// ---------------------------------------------------------------------------
+// defined, allObjs, prev (as a value), removeObj of one object
+
+SVal Specialiser::builtin_globals(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  if (b == Builtin::Prev) {
+    if (!need(b, a.size(), 1)) return never();
+    return prev_of_value(a[0], at);
+  }
+  if (b == Builtin::AllObjs) return all_objs();
+  if (!need(b, a.size(), 1)) return never();
+  if (a[0].type->k != TK::Str) {
+    fail("defined: the argument must be a string");
+    return never();
+  }
+  if (!a[0].konst) unsupported("defined of a name computed at run time");
+  std::string name = m_.strings[a[0].konst->imm];
+  if (!name.empty() && name[0] == '"') name = name.substr(1, name.size() - 2);
+  Sym s = p_.symbols.find(name);
+  Global* g = s >= 0 ? global(s) : nullptr;
+  if (!g || g->state == Global::Undefined) return SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)};
+  if (g->state == Global::Defined) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+  return let(SVal{T().bool_(), slot(g->defined)});
+}
+
+}  // namespace autumn::lower

@@ -1,0 +1,390 @@
+// spec_call — calls, inlining, object construction and field access.
+//
+// A lambda call is inlined: a new static scope binds the parameters to the
+// argument values, the body is specialised in place (so dynamic scoping resolves
+// the body's free names through the caller's scopes, as in the interpreter).
+// A parameter that no assignment anywhere can target is just a name for the
+// argument value; otherwise it is a variable of its own.
+//
+// Construction inlines the class's initializer (analyse builds it): the fields
+// and origin are the arguments, the cell expression runs in an Instance scope,
+// and its result becomes the object's cells (spec_cells.cpp decides whether
+// objects of the class need to carry them).
+#include <algorithm>
+
+#include "compiler/lower/specialise.hpp"
+
+namespace autumn::lower {
+
+std::string Specialiser::class_name(int c) const {
+  switch (c) {
+    case kPositionClass: return "Position";
+    case kCellClass: return "Cell";
+    case kElemClass: return "RenderedElem";
+    default: return c >= 0 ? m_.classes[c].name : std::string();  // primitive types have no name
+  }
+}
+
+std::optional<int> Specialiser::type_named(Sym s) const {
+  const WellKnownNames& n = p_.names;
+  if (s == n.Position) return kPositionClass;
+  if (s == n.Cell) return kCellClass;
+  if (s == n.RenderedElem) return kElemClass;
+  if (s == n.Bool) return kBoolType;
+  if (s == n.String) return kStringType;
+  if (s == n.Number || s == n.Int) return kNumberType;
+  if (s >= 0 && s < static_cast<Sym>(class_of_sym_.size()) && class_of_sym_[s] >= 0 && class_defined_[class_of_sym_[s]])
+    return class_of_sym_[s];
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------
+// Calls
+
+SVal Specialiser::lower_call(const Expr& e) {
+  const size_t nargs = e.kids.size() - 1;
+  if (e.kids[0]->kind == ExprKind::Get && e.kids[0]->name == p_.names.render) return call_render(e);
+  SVal callee = lower(*e.kids[0]);
+  if (dead_) return never();
+  auto args_of = [&]() {
+    std::vector<SVal> args;
+    for (size_t i = 1; i <= nargs && !dead_; ++i) args.push_back(let(lower_value(*e.kids[i]), "arg"));
+    return args;
+  };
+  if (callee.type && callee.type->k == TK::Class) {
+    const int c = callee.type->cls;
+    if (c <= kBoolType) {
+      fail("'" + std::string(c == kBoolType ? "Bool" : c == kStringType ? "String" : "Number") +
+           "' is not a class and cannot be called");
+      return never();
+    }
+    if (c == kCellClass) return construct_cell(e);
+    std::vector<SVal> args = args_of();
+    if (dead_) return never();
+    if (c == kPositionClass || c == kElemClass) return construct_builtin_class(c, args);
+    return construct(c, args, e);
+  }
+  if (callee.type && callee.type->k == TK::Deferred) return call_deferred(callee);
+  // (prev x) reads the name x in the snapshot: its argument is not evaluated.
+  if (callee.type && callee.type->k == TK::Func && callee.type->fn.kind == FuncRef::Native &&
+      callee.type->fn.builtin == Builtin::Prev)
+    return lower_prev(e);
+  if (!callee.type || !(callee.type->k == TK::Func || (is_sum(callee.type) && callee.type->alts[0]->k == TK::Func))) {
+    fail("only functions and classes can be called, got " + (callee.type ? type_string(callee.type) : "Unknown"));
+    return never();
+  }
+  std::vector<SVal> args = args_of();
+  if (dead_) return never();
+  return call_value(callee, args, e);
+}
+
+// ((.. o render) args...): the render method of o's class, called at once (the
+// stdlib's renderValue does this): o's rendered elements, a fresh list.
+SVal Specialiser::call_render(const Expr& e) {
+  const Expr& get = *e.kids[0];
+  loc_stack_.push_back(&get);
+  SVal o = lower_value(*get.kids[0]);
+  loc_stack_.pop_back();
+  if (dead_) return never();
+  return split(o, [&](const SVal& x) -> SVal {
+    bool field_named_render = false;
+    if (x.type->k == TK::Obj)
+      for (Sym f : m_.classes[x.type->cls].fields) field_named_render |= f == p_.names.render;
+    loc_stack_.push_back(&get);
+    SVal f = x.type->k == TK::Obj && !field_named_render ? SVal{} : get_field(x, p_.names.render, get.text);
+    loc_stack_.pop_back();
+    if (dead_) return never();
+    std::vector<SVal> args;
+    for (size_t i = 1; i < e.kids.size() && !dead_; ++i) args.push_back(let(lower_value(*e.kids[i]), "arg"));
+    if (dead_) return never();
+    if (!f.type) return render_value(x, e);
+    return call_value(f, args, e);
+  });
+}
+
+SVal Specialiser::call_value(const SVal& f, std::vector<SVal>& args, const Expr& at) {
+  if (is_sum(f.type)) {
+    dynamic_site("a call of a function chosen at run time");
+    return split(f, [&](const SVal& g) { return call_value(g, args, at); });
+  }
+  if (f.type->k == TK::Never) return never();
+  if (f.type->k == TK::Deferred) return call_deferred(f);
+  if (f.type->k != TK::Func) {
+    fail("only functions and classes can be called, got " + type_string(f.type));
+    return never();
+  }
+  const FuncRef& fr = f.type->fn;
+  switch (fr.kind) {
+    case FuncRef::Lambda: return inline_lambda(*fr.lambda, args, at);
+    case FuncRef::Native: return call_builtin(fr.builtin, args, at);
+    case FuncRef::Method: return call_render_method(fr.cls);
+  }
+  return never();
+}
+
+SVal Specialiser::inline_lambda(const Expr& lambda, std::vector<SVal>& args, const Expr& at, ScopeKind kind) {
+  (void)at;
+  if (args.size() < lambda.params.size()) {
+    fail("function called with " + std::to_string(args.size()) + " argument(s) but it takes " +
+         std::to_string(lambda.params.size()) + " (the reference interpreter crashes here)");
+    return never();
+  }
+  // Recursion is inlined while the argument types keep changing (renderValue on
+  // nested lists); the same lambda with the same argument types again is a loop.
+  std::vector<TypeP> sig;
+  for (const SVal& a : args) sig.push_back(a.type);
+  int depth = 0;
+  for (const auto& [l, s] : inline_sigs_)
+    if (l == &lambda) ++depth;
+  for (const auto& [l, s] : inline_sigs_)
+    if (l == &lambda && s == sig && depth >= 2) unsupported("recursion");
+  if (inline_sigs_.size() > 64) unsupported("calls nested too deeply to inline");
+  SScope* sc = push_scope(kind, &lambda);
+  for (size_t i = 0; i < lambda.params.size(); ++i) bind(*sc, lambda.params[i], args[i], {&lambda, lambda.params[i]});
+  if (lambda.loc.source == SourceId::Program) comment("inlined: function at " + where(lambda.loc));
+  inline_sigs_.emplace_back(&lambda, sig);
+  SVal r = lower(*lambda.kids[0]);
+  inline_sigs_.pop_back();
+  pop_scope();
+  if (dead_) return never();
+  if (!r.type || r.type->k == TK::Class) {
+    fail("the function body has no value");
+    return never();
+  }
+  return r;
+}
+
+// Binds a name in a scope (a later parameter of the same name replaces the
+// earlier one). The binding names the value itself, unless an assignment was
+// found to target it (then it is a variable of its own).
+void Specialiser::bind(SScope& sc, Sym p, const SVal& v, std::pair<const void*, Sym> key) {
+  sc.vars.erase(std::remove_if(sc.vars.begin(), sc.vars.end(), [&](const Binding& b) { return b.sym == p; }),
+                sc.vars.end());
+  Binding b;
+  b.sym = p;
+  b.key = key;
+  b.type = v.type;
+  b.konst = v.konst;
+  b.home = block_;
+  if (h_.mutable_bindings.count(key) && v.code && v.type->k != TK::Never) {
+    if (auto it = h_.locals.find(key); it != h_.locals.end()) b.type = T().join(it->second, v.type);
+    ir::Var* x = decl(b.type, coerce(v, b.type).code, "a_" + nm(p));
+    b.place = local(x);
+    b.mut = true;
+  } else {
+    b.place = v.code;
+  }
+  sc.vars.push_back(b);
+}
+
+SVal Specialiser::built(ir::Var* v) {
+  v->mut = false;
+  return SVal{v->type, local(v), nullptr, true};
+}
+
+// ---------------------------------------------------------------------------
+// Construction
+
+SVal Specialiser::construct_builtin_class(int c, std::vector<SVal>& args) {
+  const bool pos = c == kPositionClass;
+  const char* name = pos ? "Position" : "RenderedElem";
+  if (args.size() != 2) {
+    fail(std::string("'") + name + "' takes 2 field value(s), got " + std::to_string(args.size()));
+    return never();
+  }
+  const std::vector<std::pair<const char*, TypeP>> want =
+      pos ? std::vector<std::pair<const char*, TypeP>>{{"x", T().int_()}, {"y", T().int_()}}
+          : std::vector<std::pair<const char*, TypeP>>{{"position", T().pos()}, {"color", T().str()}};
+  for (size_t i = 0; i < 2; ++i) {
+    SVal ok = split(args[i], [&](const SVal& a) -> SVal {
+      if (a.type->k != TK::Never && type_string(a.type) != type_string(want[i].second) &&
+          !(a.type->k == TK::List && !a.type->elem)) {
+        fail(std::string("field '") + want[i].first + "' of '" + name + "' must be " + type_string(want[i].second) +
+             ", got " + type_string(a.type));
+        return never();
+      }
+      return a;
+    });
+    if (dead_) return never();
+    args[i] = coerce(ok, want[i].second);
+  }
+  if (pos) return make_position(args[0], args[1]);
+  return fresh_identity(let(SVal{T().elem(), node(ir::Op::MakeElem, T().elem(), {args[0].code, args[1].code})}));
+}
+
+SVal Specialiser::make_position(SVal x, SVal y) {
+  if (tracked(T().pos())) unsupported("identity of positions (removeObj or prev by a Position)");
+  SVal v{T().pos(), node(ir::Op::MakePos, T().pos(), {x.code, y.code})};
+  if (x.konst && y.konst) v.konst = node(ir::Op::MakePos, T().pos(), {x.konst, y.konst});
+  if (const_int(x) && const_int(y)) v.code = v.konst;
+  else v = let(v);
+  v.fresh = true;
+  return v;
+}
+
+SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
+  ClassInfo& ci = m_.classes[cls];
+  const Expr& ctor = *ci.stmt->constructor_body;
+  if (args.size() < ctor.params.size()) {
+    fail("function called with " + std::to_string(args.size()) + " argument(s) but it takes " +
+         std::to_string(ctor.params.size()) + " (the reference interpreter crashes here)");
+    return never();
+  }
+  // The initializer: (list f1 .. fn origin (let (= allCells CELLS) ...)) in an Instance scope.
+  SScope* sc = push_scope(ScopeKind::Instance, &ctor);
+  for (size_t i = 0; i < ctor.params.size(); ++i) bind(*sc, ctor.params[i], args[i], {&ctor, ctor.params[i]});
+  constructing_.push_back(cls);
+  const Expr& made = *ctor.kids[0];
+  std::vector<SVal> values;
+  for (size_t i = 0; i + 1 < made.kids.size() && !dead_; ++i) values.push_back(let(lower_value(*made.kids[i])));
+  SVal cells = dead_ ? never() : lower_value(*made.kids.back());
+  constructing_.pop_back();
+  pop_scope();
+  if (dead_) return never();
+  (void)at;
+  return make_instance(cls, values, cells);
+}
+
+// Field type checks of make_instance, then the struct.
+SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& cells) {
+  ClassInfo& ci = m_.classes[cls];
+  if (ci.unknown_field_type) {
+    // make_instance compares type strings; a field of unknown type cannot be printed.
+  }
+  for (size_t i = 0; i < ci.fields.size(); ++i) {
+    TypeP declared = declared_type(*ci.stmt->fields[i].type);
+    if (declared) {
+      const std::string want = type_string(declared);
+      split(values[i], [&](const SVal& v) -> SVal {
+        if (v.type->k == TK::Never) return v;
+        if (v.type->k == TK::List) {
+          if (!list_tag_may_pass(v.type, declared))
+            unsupported("a list field given a list of another element type (the check reads the list's type tag)");
+          return v;
+        }
+        if (type_string(v.type) != want)
+          fail("field '" + ci.field_names[i] + "' of '" + ci.name + "' must be " + want + ", got " +
+               type_string(v.type));
+        return v;
+      });
+      if (dead_) return never();
+    }
+    widen_field(cls, static_cast<int>(i), values[i].type);
+  }
+  if (values.back().type->k != TK::Pos) {
+    fail("field 'origin' of '" + ci.name + "' must be " + type_string(T().pos()) + ", got " +
+         type_string(values.back().type));
+    return never();
+  }
+  std::vector<ir::Node*> ops;
+  for (size_t i = 0; i < ci.fields.size(); ++i) {
+    TypeP ft = ci.field_types[i] ? ci.field_types[i] : values[i].type;
+    if (!T().fits(values[i].type, ft)) return never();  // widened: the next walk
+    ops.push_back(values[i].code ? coerce(values[i], ft).code : lit(T().int_(), 0));
+  }
+  ops.push_back(values.back().code);
+  if (!object_cells(cls, cells, ops)) return never();
+  if (tracked(T().obj(cls))) ops.push_back(call(ir::Helper::NewUid, T().int_(), {}));
+  ir::Node* n = node(ir::Op::MakeObj, T().obj(cls), ops);
+  n->index = cls;
+  return fresh_identity(let(SVal{T().obj(cls), n}, "o"));
+}
+
+void Specialiser::widen_field(int cls, int field, TypeP t) {
+  ClassInfo& ci = m_.classes[cls];
+  TypeP& ft = ci.field_types[field];
+  if (!ft) {
+    ft = t;
+    h_.fields[{cls, field}] = t;
+    return;
+  }
+  if (T().fits(t, ft)) return;
+  ft = T().join(ft, t);
+  h_.fields[{cls, field}] = ft;
+  h_.changed = true;
+  h_.last_change = "field '" + ci.field_names[field] + "' of '" + ci.name + "'";
+}
+
+// ---------------------------------------------------------------------------
+// Fields
+
+SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) {
+  return split(obj, [&](const SVal& o) -> SVal {
+    if (o.type->k == TK::Never) return o;
+    if (o.type->k == TK::Obj) {
+      ClassInfo& ci = m_.classes[o.type->cls];
+      for (size_t i = 0; i < ci.fields.size(); ++i)
+        if (ci.fields[i] == field) {
+          TypeP ft = ci.field_types[i];
+          if (!ft) {
+            h_.changed = true;
+            h_.last_change = "field '" + raw + "'";
+            return never();
+          }
+          return let(SVal{ft, member(o.code, ir::Member::Field, ft, static_cast<int>(i))});
+        }
+      if (field == p_.names.origin) return let(SVal{T().pos(), member(o.code, ir::Member::Origin, T().pos())});
+      if (field == p_.names.elems) return object_cell_list(o);
+      if (field == p_.names.render) {
+        bound_[o.type->cls] = BoundMethod{o, block_};
+        return SVal{T().func(FuncRef{FuncRef::Method, nullptr, Builtin::Map, o.type->cls}), nullptr};
+      }
+      fail("object of class '" + ci.name + "' has no field '" + raw + "'");
+      return never();
+    }
+    const WellKnownNames& n = p_.names;
+    if (o.type->k == TK::Pos && (field == n.x || field == n.y)) {
+      if (o.konst) {
+        ir::Node* k = o.konst->a[field == n.x ? 0 : 1];
+        return SVal{T().int_(), k, k};
+      }
+      return let(SVal{T().int_(), member(o.code, field == n.x ? ir::Member::X : ir::Member::Y, T().int_())});
+    }
+    if (o.type->k == TK::Elem && field == n.position) return let(SVal{T().pos(), member(o.code, ir::Member::Position, T().pos())});
+    if (o.type->k == TK::Elem && field == n.color) return let(SVal{T().str(), member(o.code, ir::Member::Color, T().str())});
+    if (o.type->k == TK::Cell && (field == n.x || field == n.y || field == n.color))
+      return SVal{T().deferred(field == n.x ? 0 : field == n.y ? 1 : 2), o.code, o.konst};
+    if (o.type->k == TK::Pos || o.type->k == TK::Elem || o.type->k == TK::Cell) {
+      fail("object of class '" + class_name(o.type->k == TK::Pos ? kPositionClass : o.type->k == TK::Elem ? kElemClass : kCellClass) +
+           "' has no field '" + raw + "'");
+      return never();
+    }
+    fail("(.. _ " + raw + "): only objects have fields, got " + type_string(o.type));
+    return never();
+  });
+}
+
+// The value of field `f` of an instance, by name (for equality).
+SVal Specialiser::instance_field(const SVal& v, Sym f) { return get_field(v, f, nm(f)); }
+
+// ---------------------------------------------------------------------------
+// Lists
+
+SVal Specialiser::make_list(const std::vector<SVal>& items) {
+  if (items.empty()) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+  TypeP et = T().never();
+  for (const SVal& v : items) et = T().join(et, v.type);
+  if (et->k == TK::Never) return never();
+  if (et->k == TK::Func || et->k == TK::Class) unsupported("a list of functions or types");
+  if (is_sum(et) && !is_object_like(et)) dynamic_site("a list holds values of different types");
+  TypeP lt = T().list(et);
+  std::vector<ir::Node*> codes, konsts;
+  bool all_const = true;
+  for (const SVal& v : items) {
+    codes.push_back(coerce(v, et).code);
+    if (v.konst && v.type == et) konsts.push_back(v.konst);
+    else all_const = false;
+  }
+  SVal out{lt, node(ir::Op::MakeList, lt, codes)};
+  if (all_const) out.konst = node(ir::Op::MakeList, lt, konsts);
+  out.fresh = true;
+  return let(out, "list");
+}
+
+// ---------------------------------------------------------------------------
+
+std::string Specialiser::where(SourceLoc loc) const {
+  return p_.file_name(loc.source) + ":" + std::to_string(loc.line);
+}
+
+}  // namespace autumn::lower

@@ -1,0 +1,535 @@
+// spec_cells — cells: construction with capture, and rendering.
+//
+// (Cell x y colour), as compiler/interpret/eval.cpp's construct_cell does it:
+// the names the arguments mention are copied, from every scope but the
+// outermost instance scope (the object's own fields), into a fresh scope S with
+// no parent; each argument is tried once in S alone. A number becomes a
+// constant; anything else, or an error, keeps the expression ("deferred"), to be
+// evaluated at every render in S over the render's own scopes (the rendered
+// object's fields, the render lambda's `e`, then whoever called render).
+//
+// At run time a cell is a CellV (runtime/compiled_support.hpp): three int32
+// values and, per argument, -1 (a constant) or the index of its DeferredArg in
+// the module. Deferred arguments whose value cannot change between renders
+// ("fixed": no effects, nothing but captured names) keep their value in the
+// cell; the others are evaluated by render code, a case per deferred argument.
+//
+// A class whose objects all get the same cells (the usual case: constant
+// offsets, colours that are literals or depend on fields) is rendered by code
+// specialised for those cells (CellMode::Static). Otherwise each object carries
+// its cells (CellMode::Stored). Example:
+//
+//   (object Water (: liquid Bool) (Cell 0 0 (if liquid then "blue" else "lightblue")))
+//   -> Static, one cell (0, 0), colour computed from the field `liquid` at each render.
+#include <algorithm>
+
+#include "compiler/lower/specialise.hpp"
+#include "compiler/parse/ast_print.hpp"
+
+namespace autumn::lower {
+namespace {
+
+void mentioned(const Expr& e, std::set<Sym>& out) {
+  if (e.kind == ExprKind::Var || e.kind == ExprKind::Get) out.insert(e.name);
+  for (const auto& k : e.kids) mentioned(*k, out);
+}
+
+ir::Node* clone_tree(const ir::Node* n, ir::Arena& arena) {
+  ir::Node* c = &arena.nodes.emplace_back(*n);
+  for (auto& k : c->a) k = clone_tree(k, arena);
+  return c;
+}
+
+bool same_tree(const ir::Node* a, const ir::Node* b) {
+  if (a->op != b->op || a->imm != b->imm || a->type != b->type || a->a.size() != b->a.size()) return false;
+  for (size_t i = 0; i < a->a.size(); ++i)
+    if (!same_tree(a->a[i], b->a[i])) return false;
+  return true;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Construction
+
+SVal Specialiser::construct_cell(const Expr& e) {
+  // 1. The capture scope: globals first, then every scope but the outermost
+  //    instance scope, inner copies replacing outer ones.
+  SScope capture;
+  auto put = [&](Sym n, SVal v) {
+    Binding* b = capture.find(n);
+    if (!b) {
+      capture.vars.push_back(Binding{});
+      b = &capture.vars.back();
+      b->sym = n;
+    }
+    b->type = v.type;
+    b->place = v.code;
+    captured_konst_[n] = v.konst;
+  };
+  captured_konst_.clear();
+  for (Sym n : e.cell_names)
+    if (Global* g = global(n); g && g->state != Global::Undefined) {
+      if (g->state == Global::Runtime) unsupported("a cell capturing a global that may not exist");
+      put(n, read_global(*g));
+    }
+  bool skipped = false;
+  for (SScope* sc : chain_) {
+    if (sc->kind == ScopeKind::Instance && !skipped) {
+      skipped = true;
+      continue;
+    }
+    for (Sym n : e.cell_names)
+      if (Binding* b = sc->find(n)) {
+        if (b->flag) unsupported("a cell capturing a name that may not be bound");
+        SVal v{b->type, b->place};
+        if (b->place && !b->mut) v.konst = is_const(b->place) ? b->place : nullptr;
+        v = let(v);
+        put(n, v);
+      }
+  }
+  // 2. Each argument tried in the capture scope alone.
+  std::vector<SVal> fields;   // x, y, colour: the value (constant or fixed)
+  std::vector<int> deferred;  // -1, or the DeferredArg index
+  for (size_t i = 1; i < e.kids.size(); ++i) {
+    int d = -1;
+    SVal v = trial(*e.kids[i], capture, static_cast<int>(i - 1), &d);
+    fields.push_back(v);
+    deferred.push_back(d);
+  }
+  if (e.kids.size() != 4) {
+    fail("'Cell' takes 3 field value(s), got " + std::to_string(e.kids.size() - 1));
+    return never();
+  }
+  std::vector<ir::Node*> ops, konsts;
+  bool known = true;
+  for (size_t i = 0; i < 3; ++i) {
+    ir::Node* value = fields[i].code ? fields[i].code : lit(T().int_(), 0);
+    ops.push_back(value);
+    ir::Node* k = fields[i].code ? fields[i].konst : lit(T().int_(), 0);
+    if (!k) known = false;
+    konsts.push_back(k);
+  }
+  for (int d : deferred) {
+    ops.push_back(lit(T().int_(), d));
+    konsts.push_back(lit(T().int_(), d));
+  }
+  SVal out{T().cell(), node(ir::Op::MakeCell, T().cell(), ops)};
+  if (known) out.konst = node(ir::Op::MakeCell, T().cell(), konsts);
+  if (tracked(T().cell())) {
+    out.code->a.push_back(call(ir::Helper::NewUid, T().int_(), {}));
+    out.konst = nullptr;
+  }
+  if (known && !tracked(T().cell())) out.code = out.konst;
+  else out = let(out, "cell");
+  out.fresh = true;
+  return out;
+}
+
+// One argument of a Cell, evaluated in the capture scope alone. Returns the
+// cell's stored value for it; *deferred_index is -1 for a number constant.
+SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferred_index) {
+  std::vector<SScope*> saved = chain_;
+  chain_ = {&capture};
+  ++capture_mode_;
+  capture_block_ = block_;
+  trial_failed_ = false;
+  const size_t effects_before = effects_;
+  const bool was_dead = dead_;
+  SVal v = lower_value(arg);
+  const bool failed = trial_failed_ || (dead_ && !was_dead);
+  dead_ = was_dead;
+  --capture_mode_;
+  chain_ = saved;
+  const bool pure = effects_ == effects_before;
+  if (!failed && v.type->k == TK::Int) {
+    *deferred_index = -1;
+    return v;
+  }
+  // Deferred.
+  DeferredArg d;
+  d.expr = &arg;
+  d.arg = which;
+  d.classes = constructing_;
+  std::set<Sym> names;
+  mentioned(arg, names);
+  bool runtime_capture = false;
+  for (Sym n : names)
+    if (Binding* b = capture.find(n)) {
+      if (b->type->k == TK::Func || b->type->k == TK::Class) d.captured_types.emplace_back(n, b->type);
+      else if (captured_konst_[n]) d.captured.emplace_back(n, captured_konst_[n]), d.captured_types.emplace_back(n, b->type);
+      else runtime_capture = true;
+    }
+  const TypeP want = which == 2 ? T().str() : T().int_();
+  d.fixed = !failed && pure && v.type == want;
+  if (!d.fixed && runtime_capture)
+    unsupported("a cell argument evaluated at render time that captures a value computed at run time");
+  const std::string text = "(" + ast_to_string(p_.symbols, arg) + ": Expr)";
+  auto it = std::find(m_.deferred_prints.begin(), m_.deferred_prints.end(), text);
+  d.print = static_cast<int>(it - m_.deferred_prints.begin());
+  if (it == m_.deferred_prints.end()) m_.deferred_prints.push_back(text);
+  *deferred_index = -1;
+  for (size_t i = 0; i < m_.deferred.size() && *deferred_index < 0; ++i) {
+    const DeferredArg& o = m_.deferred[i];
+    bool same = o.expr == d.expr && o.arg == d.arg && o.fixed == d.fixed && o.classes == d.classes &&
+                o.captured.size() == d.captured.size() && o.captured_types == d.captured_types;
+    for (size_t k = 0; same && k < d.captured.size(); ++k)
+      same = o.captured[k].first == d.captured[k].first && same_tree(o.captured[k].second, d.captured[k].second);
+    if (same) *deferred_index = static_cast<int>(i);
+  }
+  if (*deferred_index < 0) {
+    m_.deferred.push_back(d);
+    *deferred_index = static_cast<int>(m_.deferred.size() - 1);
+  }
+  if (d.fixed) return v;
+  return SVal{T().int_(), lit(T().int_(), 0), lit(T().int_(), 0)};
+}
+
+// ---------------------------------------------------------------------------
+// Which objects carry their cells
+
+bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*>& ops) {
+  ClassInfo& ci = m_.classes[cls];
+  TypeP want = T().list(T().cell());
+  if (cells.type->k != TK::List || (cells.type->elem && cells.type->elem != T().cell())) {
+    fail("field 'elems' of '" + ci.name + "' must be List<" + type_string(T().cell()) + ">, got " +
+         type_string(cells.type));
+    return false;
+  }
+  if (!h_.stored_cells.count(cls)) {
+    ir::Node* k = cells.konst;
+    if (k && ci.static_shape && same_tree(k, ci.static_shape)) return true;
+    if (k && !ci.static_shape) {
+      ci.static_shape = k;
+      h_.shapes[cls] = clone_tree(k, h_.arena);
+      return true;
+    }
+    h_.stored_cells.insert(cls);
+    h_.changed = true;
+    h_.last_change = "the cells of '" + ci.name + "' depend on how objects are made";
+    return false;
+  }
+  ci.mode = CellMode::Stored;
+  ops.push_back(coerce(cells, want).code);
+  return true;
+}
+
+// (.. o elems): the object's cell list.
+SVal Specialiser::object_cell_list(const SVal& o) {
+  ClassInfo& ci = m_.classes[o.type->cls];
+  TypeP lt = T().list(T().cell());
+  if (h_.stored_cells.count(o.type->cls)) return let(SVal{lt, member(o.code, ir::Member::Cells, lt)});
+  if (!ci.static_shape) {
+    h_.changed = true;
+    h_.last_change = "cells of '" + ci.name + "'";
+    return never();
+  }
+  return SVal{ci.static_shape->a.empty() ? T().empty_list() : lt, ci.static_shape, ci.static_shape};
+}
+
+// ---------------------------------------------------------------------------
+// Evaluating a deferred argument
+
+// The scopes a deferred argument is evaluated in: over the caller's chain, the
+// rendered object's fields (an Instance scope), the render lambda's scope, the
+// scope binding `e` to the cell, and the capture scope.
+SVal Specialiser::eval_deferred(int d, const SVal* obj, const SVal& cell) {
+  const DeferredArg& da = m_.deferred[d];
+  size_t pushed = 0;
+  if (obj) {
+    SScope* inst = push_scope(ScopeKind::Instance, nullptr);
+    ++pushed;
+    const ClassInfo& ci = m_.classes[obj->type->cls];
+    for (size_t i = 0; i < ci.fields.size(); ++i) bind(*inst, ci.fields[i], instance_field(*obj, ci.fields[i]), {&ci, ci.fields[i]});
+    bind(*inst, p_.names.origin, instance_field(*obj, p_.names.origin), {&ci, p_.names.origin});
+    bind(*inst, p_.names.elems, instance_field(*obj, p_.names.elems), {&ci, p_.names.elems});
+  }
+  push_scope(ScopeKind::Local, nullptr);
+  SScope* es = push_scope(ScopeKind::Local, nullptr);
+  bind(*es, p_.names.e, cell, {&da, p_.names.e});
+  SScope* cap = push_scope(ScopeKind::Local, nullptr);
+  pushed += 3;
+  for (const auto& [n, t] : da.captured_types) {
+    ir::Node* k = nullptr;
+    for (const auto& [m, kn] : da.captured)
+      if (m == n) k = kn;
+    bind(*cap, n, SVal{t, k, k}, {&da, n});
+  }
+  SVal v = lower_value(*da.expr);
+  for (size_t i = 0; i < pushed; ++i) pop_scope();
+  return v;
+}
+
+// ((.. c x)) outside a render: the argument's value, evaluated now.
+SVal Specialiser::call_deferred(const SVal& f) {
+  const int which = f.type->cls;
+  const ir::Node* k = f.konst;
+  if (k && k->op == ir::Op::MakeCell) {
+    const int d = static_cast<int>(k->a[3 + which]->imm);
+    if (d < 0 || m_.deferred[d].fixed) {
+      ir::Node* v = k->a[which];
+      return SVal{d < 0 || which < 2 ? T().int_() : T().str(), v, v};
+    }
+    return eval_deferred(d, nullptr, SVal{T().cell(), f.code, f.konst});
+  }
+  // A cell known only at run time: constants and fixed values are in the cell.
+  ir::Member m = which == 0 ? ir::Member::CellX : which == 1 ? ir::Member::CellY : ir::Member::CellColour;
+  for (const DeferredArg& da : m_.deferred)
+    if (da.arg == which && !da.fixed) unsupported("evaluating a cell argument of a cell made elsewhere");
+  TypeP t = which == 2 ? T().str() : T().int_();
+  if (which == 2) unsupported("the colour of a cell made elsewhere, as a value");
+  return let(SVal{t, member(f.code, m, t)});
+}
+
+// ---------------------------------------------------------------------------
+// Rendering
+
+// Appends the rendered elements of `v` (an object, a list of them, nested) to
+// the list `out`; anything else renders as nothing (native render_value).
+void Specialiser::render_into(const SVal& v, ir::Node* out) {
+  if (!v.type) return;
+  switch (v.type->k) {
+    case TK::Obj: render_object(v, out); return;
+    case TK::List: {
+      if (!v.type->elem || !renders(v.type->elem)) return;
+      ir::Stmt* loop = emit(ir::SK::ForEach);
+      loop->var = var(v.type->elem, "x");
+      loop->a = v.code;
+      in_block(loop->body, [&] { render_into(SVal{v.type->elem, local(loop->var)}, out); });
+      return;
+    }
+    case TK::Sum:
+      if (!renders(v.type)) return;
+      split(v, [&](const SVal& a) {
+        render_into(a, out);
+        return SVal{T().int_(), lit(T().int_(), 0)};
+      });
+      return;
+    default:
+      return;
+  }
+}
+
+bool Specialiser::renders(TypeP t) const {
+  if (t->k == TK::Obj) return true;
+  if (t->k == TK::List) return t->elem && renders(t->elem);
+  if (t->k == TK::Sum)
+    for (TypeP a : t->alts)
+      if (renders(a)) return true;
+  return false;
+}
+
+SVal Specialiser::render_value(const SVal& v, const Expr& at) {
+  (void)at;
+  ir::Var* out = var(T().list(T().elem()), "rendered");
+  out->scratch = true;
+  out->mut = true;
+  ir::Stmt* d = emit(ir::SK::Decl);
+  d->var = out;
+  if (renders(v.type)) render_into(v, local(out));
+  return built(out);
+}
+
+void Specialiser::render_object(const SVal& o, ir::Node* out) {
+  const int cls = o.type->cls;
+  ClassInfo& ci = m_.classes[cls];
+  if (h_.stored_cells.count(cls)) {
+    ir::Node* n = node(ir::Op::FnCall, nullptr, {o.code, out});
+    n->index = -1 - cls;  // settled to the class's render function in finish_classes
+    emit_eval(n);
+    return;
+  }
+  if (!ci.static_shape) {
+    h_.changed = true;
+    h_.last_change = "cells of '" + ci.name + "'";
+    return;
+  }
+  SVal ov = let(o, "obj");
+  ir::Node* origin = member(ov.code, ir::Member::Origin, T().pos());
+  for (const ir::Node* c : ci.static_shape->a) {
+    const int dx = static_cast<int>(c->a[3]->imm), dy = static_cast<int>(c->a[4]->imm), dc = static_cast<int>(c->a[5]->imm);
+    SVal cell{T().cell(), const_cast<ir::Node*>(c), const_cast<ir::Node*>(c)};
+    auto coord = [&](int which, int d, ir::Member m) -> SVal {
+      SVal base = SVal{T().int_(), member(origin, m, T().int_())};
+      if (d < 0 || m_.deferred[d].fixed)
+        return SVal{T().int_(), node(ir::Op::Add, T().int_(), {base.code, c->a[which]})};
+      SVal v = eval_deferred(d, &ov, cell);
+      if (v.type->k != TK::Int) {
+        fail("binary + needs two numbers, got Number and " + type_string(v.type));
+        return never();
+      }
+      return let(SVal{T().int_(), node(ir::Op::Add, T().int_(), {base.code, v.code})});
+    };
+    SVal x = coord(0, dx, ir::Member::X);
+    SVal y = coord(1, dy, ir::Member::Y);
+    if (dead_) return;
+    SVal colour;
+    if (dc < 0) {
+      fail("field 'color' of 'RenderedElem' must be String, got Number");
+      return;
+    }
+    if (m_.deferred[dc].fixed) colour = SVal{T().str(), c->a[2]};
+    else colour = deferred_colour(dc, ov, cell);
+    if (dead_) return;
+    emit_push(out, node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {x.code, y.code}), colour.code}));
+  }
+}
+
+// A live colour: a shared function of the object when the caller's scopes
+// cannot change what its names mean, else evaluated right here.
+SVal Specialiser::deferred_colour(int d, const SVal& o, const SVal& cell) {
+  const DeferredArg& da = m_.deferred[d];
+  std::set<Sym> names;
+  mentioned(*da.expr, names);
+  bool caller_matters = false;
+  const ClassInfo& ci = m_.classes[o.type->cls];
+  for (Sym n : names) {
+    if (n == p_.names.e || n == p_.names.origin || n == p_.names.elems) continue;
+    if (std::find(ci.fields.begin(), ci.fields.end(), n) != ci.fields.end()) continue;
+    bool captured = false;
+    for (const auto& [m, t] : da.captured_types) captured |= m == n;
+    if (captured) continue;
+    for (SScope* sc : chain_) caller_matters |= sc->find(n) != nullptr;
+  }
+  SVal v;
+  if (caller_matters || capture_mode_) {
+    v = eval_deferred(d, &o, cell);
+  } else {
+    int fn = colour_function(d, o.type->cls, cell);
+    ir::Node* n = node(ir::Op::FnCall, T().str(), {o.code});
+    n->index = fn;
+    v = let(SVal{T().str(), n}, "colour");
+  }
+  if (v.type->k != TK::Str && v.type->k != TK::Never) {
+    fail("field 'color' of 'RenderedElem' must be String, got " + type_string(v.type));
+    return never();
+  }
+  return v;
+}
+
+// The module function (State&, const C&) -> string id for deferred argument d
+// rendered in objects of class cls, made once per pair.
+int Specialiser::colour_function(int d, int cls, const SVal& cell) {
+  auto key = std::make_pair(d, cls);
+  if (auto it = colour_fns_.find(key); it != colour_fns_.end()) return it->second;
+  m_.functions.push_back(std::make_unique<ir::Function>());
+  ir::Function* f = m_.functions.back().get();
+  const int index = static_cast<int>(m_.functions.size() - 1);
+  colour_fns_[key] = index;
+  f->name = "colour_" + std::to_string(d) + "_" + m_.classes[cls].cpp;
+  f->kind = ir::Function::Colour;
+  f->ret = T().str();
+  ir::Var* o = var(T().obj(cls), "o");
+  f->params.push_back(o);
+  // Specialised with only the globals around it (the caller check above).
+  ir::Function* saved_fn = fn_;
+  ir::Block* saved_block = block_;
+  std::vector<SScope*> saved_chain = chain_;
+  const bool was_dead = dead_;
+  fn_ = f;
+  block_ = &f->body;
+  chain_.clear();
+  dead_ = false;
+  SVal ov{T().obj(cls), local(o)};
+  SVal v = eval_deferred(d, &ov, cell);
+  if (!dead_ && v.type->k == TK::Str) emit(ir::SK::Return)->a = v.code;
+  else if (!dead_) fail("field 'color' of 'RenderedElem' must be String, got " + type_string(v.type));
+  fn_ = saved_fn;
+  block_ = saved_block;
+  chain_ = saved_chain;
+  dead_ = was_dead;
+  return index;
+}
+
+SVal Specialiser::call_render_method(int cls) {
+  auto it = bound_.find(cls);
+  if (it == bound_.end() || it->second.block != block_)
+    unsupported("a render method called away from where it was fetched");
+  return render_value(it->second.obj, *loc_stack_.back());
+}
+
+// After the walk: each Stored class gets its render function (a loop over the
+// object's cells, a case per deferred argument such cells can hold).
+// The shapes earlier walks learnt, for code that renders objects before any is made.
+void Specialiser::load_shapes() {
+  for (const auto& [cls, shape] : h_.shapes)
+    if (!h_.stored_cells.count(cls)) m_.classes[cls].static_shape = clone_tree(shape, m_.arena);
+}
+
+void Specialiser::finish_classes() {
+  for (size_t c = 0; c < m_.classes.size(); ++c) {
+    ClassInfo& ci = m_.classes[c];
+    ci.tracked = tracked(T().obj(static_cast<int>(c)));
+    if (!h_.stored_cells.count(static_cast<int>(c))) {
+      ci.mode = CellMode::Static;
+      continue;
+    }
+    ci.mode = CellMode::Stored;
+    ci.render_fn = stored_render_function(static_cast<int>(c));
+  }
+  // Settle render calls of Stored classes.
+  for (ir::Node& n : m_.arena.nodes)
+    if (n.op == ir::Op::FnCall && n.index < 0) n.index = m_.classes[-1 - n.index].render_fn;
+}
+
+int Specialiser::stored_render_function(int cls) {
+  m_.functions.push_back(std::make_unique<ir::Function>());
+  ir::Function* f = m_.functions.back().get();
+  const int index = static_cast<int>(m_.functions.size() - 1);
+  f->name = "render_" + m_.classes[cls].cpp;
+  f->kind = ir::Function::Helper;
+  ir::Var* o = var(T().obj(cls), "o");
+  ir::Var* out = var(T().list(T().elem()), "out");
+  out->mut = true;
+  f->params = {o, out};
+  fn_ = f;
+  block_ = &f->body;
+  chain_.clear();
+  dead_ = false;
+  SVal ov{T().obj(cls), local(o)};
+  ir::Node* origin = member(local(o), ir::Member::Origin, T().pos());
+  ir::Stmt* loop = emit(ir::SK::ForEach);
+  loop->var = var(T().cell(), "c");
+  loop->a = member(local(o), ir::Member::Cells, T().list(T().cell()));
+  in_block(loop->body, [&] {
+    SVal cell{T().cell(), local(loop->var)};
+    auto arg = [&](int which, ir::Member m, TypeP t) -> SVal {
+      // The value in the cell, unless its argument is live: then evaluated here.
+      ir::Var* r = decl(t, member(local(loop->var), m, t), which == 0 ? "x" : which == 1 ? "y" : "colour");
+      ir::Member dm = which == 0 ? ir::Member::CellDx : which == 1 ? ir::Member::CellDy : ir::Member::CellDc;
+      std::vector<int> live;
+      for (size_t d = 0; d < m_.deferred.size(); ++d) {
+        const DeferredArg& da = m_.deferred[d];
+        const bool here = da.classes.empty() || std::count(da.classes.begin(), da.classes.end(), cls);
+        if (da.arg == which && !da.fixed && here) live.push_back(static_cast<int>(d));
+      }
+      if (!live.empty()) {
+        ir::Stmt* sw = emit(ir::SK::Switch);
+        sw->a = member(local(loop->var), dm, T().int_());
+        for (int d : live) {
+          sw->cases.emplace_back(d, ir::Block{});
+          in_block(sw->cases.back().second, [&] {
+            SVal v = eval_deferred(d, &ov, cell);
+            if (v.type == t) emit_set(local(r), v.code);
+            else if (v.type->k != TK::Never)
+              fail(which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + type_string(v.type)
+                              : "binary + needs two numbers, got Number and " + type_string(v.type));
+          });
+        }
+      }
+      return SVal{t, local(r)};
+    };
+    SVal x = arg(0, ir::Member::CellX, T().int_());
+    SVal y = arg(1, ir::Member::CellY, T().int_());
+    ir::Node* px = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::X, T().int_()), x.code});
+    ir::Node* py = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), y.code});
+    ir::Stmt* bad = emit(ir::SK::If);
+    bad->a = node(ir::Op::Eq, T().bool_(), {member(local(loop->var), ir::Member::CellDc, T().int_()), lit(T().int_(), -1)});
+    in_block(bad->body, [&] { fail("field 'color' of 'RenderedElem' must be String, got Number"); });
+    SVal colour = arg(2, ir::Member::CellColour, T().str());
+    emit_push(local(out), node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {px, py}), colour.code}));
+  });
+  return index;
+}
+
+}  // namespace autumn::lower

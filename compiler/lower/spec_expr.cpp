@@ -1,0 +1,236 @@
+// spec_expr — expressions, case by case as compiler/interpret/eval.cpp evaluates them.
+//
+// Each lower_* keeps the interpreter's order of evaluation (operands left to
+// right, both operands of arithmetic before the type check) and its error texts,
+// and folds what is known at compile time: literals, constant globals of the
+// start-up, `isList` of a static type, arithmetic on constants (with the same
+// runtime/arith.hpp functions the interpreter uses). Example:
+//
+//   (+ (.. o x) 1)      const int32_t t3 = add(t2.x, int32_t(1));
+//   (if (isList a) ..)  only the branch the static type of `a` selects
+#include <climits>
+
+#include "compiler/lower/specialise.hpp"
+#include "runtime/arith.hpp"
+
+namespace autumn::lower {
+
+SVal Specialiser::lower(const Expr& e) {
+  const bool unused = value_unused_;
+  value_unused_ = false;
+  if (dead_) return never();
+  loc_stack_.push_back(&e);
+  SVal v;
+  switch (e.kind) {
+    case ExprKind::Number: v = SVal{T().int_(), lit(T().int_(), e.number)}; v.konst = v.code; break;
+    case ExprKind::Bool: v = SVal{T().bool_(), lit(T().bool_(), e.boolean)}; v.konst = v.code; break;
+    case ExprKind::String: v = SVal{T().str(), lit(T().str(), string_id(e.text))}; v.konst = v.code; break;
+    case ExprKind::Var: v = lower_var(e); break;
+    case ExprKind::Binary: v = lower_binary(e); break;
+    case ExprKind::Logical: v = lower_logical(e); break;
+    case ExprKind::Unary: v = lower_unary(e); break;
+    case ExprKind::If: v = lower_if(e, unused); break;
+    case ExprKind::Let: v = lower_let(e, unused); break;
+    case ExprKind::List: v = lower_list(e); break;
+    case ExprKind::Lambda: v = SVal{T().func(FuncRef{FuncRef::Lambda, &e, Builtin::Map, -1}), nullptr}; break;
+    case ExprKind::Call: v = lower_call(e); break;
+    case ExprKind::Get: v = lower_get(e); break;
+    case ExprKind::Assign: v = lower_assign(e, unused); break;
+    case ExprKind::Set: unsupported("field assignment (= (.. o f) v) mutates an object every holder shares");
+    case ExprKind::InitNext: v = SVal{}; break;  // registers nothing here: start-up did
+    case ExprKind::TypeDecl:
+      if (e.type->is_list && !declared_type(*e.type->elem) && !e.type->elem->is_list) {
+        fail("unknown element type in a List type (types must be defined before use)");
+        v = never();
+        break;
+      }
+      if (chain_.empty()) global_decls_[e.name] = e.type.get();
+      else chain_.back()->declared.emplace_back(e.name, e.type.get());
+      v = SVal{};
+      break;
+  }
+  loc_stack_.pop_back();
+  if (dead_ && v.type && v.type->k != TK::Never) return never();
+  return v;
+}
+
+SVal Specialiser::lower_discarded(const Expr& e) {
+  value_unused_ = true;
+  return lower(e);
+}
+
+SVal Specialiser::lower_value(const Expr& e) {
+  SVal v = lower(e);
+  if (v.type && v.type->k != TK::Class) return v;
+  loc_stack_.push_back(&e);
+  if (!v.type) fail("this expression has no value (an initnext or type declaration cannot be used here)");
+  else fail("the type '" + class_name(v.type->cls) + "' can only be called, not used as a value");
+  loc_stack_.pop_back();
+  return never();
+}
+
+// ---------------------------------------------------------------------------
+
+SVal Specialiser::lower_var(const Expr& e) {
+  if (std::optional<int> c = type_named(e.name)) return SVal{T().cls(*c), nullptr};
+  return read_name(e.name, e);
+}
+
+SVal Specialiser::lower_binary(const Expr& e) {
+  SVal l = lower_value(*e.kids[0]);
+  SVal r = lower_value(*e.kids[1]);
+  if (dead_) return never();
+  if (e.op == BinOp::Eq) return equals(l, r);
+  if (e.op == BinOp::Ne) {
+    SVal eq = equals(l, r);
+    if (const_int(eq)) return SVal{T().bool_(), lit(T().bool_(), !*const_int(eq)), lit(T().bool_(), !*const_int(eq))};
+    return let(SVal{T().bool_(), node(ir::Op::Not, T().bool_(), {eq.code})});
+  }
+  if (e.op == BinOp::Unknown) {
+    fail("unknown binary operator '" + e.text + "'");
+    return never();
+  }
+  return split(l, [&](const SVal& a) {
+    return split(r, [&](const SVal& b) -> SVal {
+      if (a.type->k != TK::Int || b.type->k != TK::Int) {
+        fail("binary " + e.text + " needs two numbers, got " + type_string(a.type) + " and " + type_string(b.type));
+        return never();
+      }
+      return arithmetic(e, a, b);
+    });
+  });
+}
+
+// Two numbers: folded when both are known, else one IR operation (division
+// and modulo checked first, with runtime/arith.hpp's texts).
+SVal Specialiser::arithmetic(const Expr& e, const SVal& a, const SVal& b) {
+  const std::optional<int64_t> x = const_int(a), y = const_int(b);
+  auto known_int = [&](int32_t v) { return SVal{T().int_(), lit(T().int_(), v), lit(T().int_(), v)}; };
+  auto known_bool = [&](bool v) { return SVal{T().bool_(), lit(T().bool_(), v), lit(T().bool_(), v)}; };
+  const int32_t xi = x ? static_cast<int32_t>(*x) : 0, yi = y ? static_cast<int32_t>(*y) : 0;
+  ir::Op op = ir::Op::Add;
+  TypeP result = T().int_();
+  switch (e.op) {
+    case BinOp::Add: if (x && y) return known_int(arith::add(xi, yi)); op = ir::Op::Add; break;
+    case BinOp::Sub: if (x && y) return known_int(arith::sub(xi, yi)); op = ir::Op::Sub; break;
+    case BinOp::Mul: if (x && y) return known_int(arith::mul(xi, yi)); op = ir::Op::Mul; break;
+    case BinOp::Div:
+    case BinOp::Mod: {
+      if (x && y && arith::division_error(xi, yi, e.text).empty())
+        return known_int(e.op == BinOp::Div ? arith::div_unchecked(xi, yi) : arith::mod_unchecked(xi, yi));
+      SVal bb = let(b);
+      SVal aa = let(a);
+      if (!y || *y == 0) {
+        ir::Stmt* s = emit(ir::SK::If);
+        s->a = node(ir::Op::Eq, T().bool_(), {bb.code, lit(T().int_(), 0)});
+        in_block(s->body, [&] { fail(arith::division_error(1, 0, e.text)); });
+      }
+      if (!y || *y == -1) {
+        ir::Stmt* s = emit(ir::SK::If);
+        s->a = node(ir::Op::And, T().bool_(),
+                    {node(ir::Op::Eq, T().bool_(), {aa.code, lit(T().int_(), INT_MIN)}),
+                     node(ir::Op::Eq, T().bool_(), {bb.code, lit(T().int_(), -1)})});
+        in_block(s->body, [&] { fail(arith::division_error(INT_MIN, -1, e.text)); });
+      }
+      return let(SVal{T().int_(), node(e.op == BinOp::Div ? ir::Op::Div : ir::Op::Mod, T().int_(), {aa.code, bb.code})});
+    }
+    case BinOp::Lt: if (x && y) return known_bool(xi < yi); op = ir::Op::Lt; result = T().bool_(); break;
+    case BinOp::Le: if (x && y) return known_bool(xi <= yi); op = ir::Op::Le; result = T().bool_(); break;
+    case BinOp::Gt: if (x && y) return known_bool(xi > yi); op = ir::Op::Gt; result = T().bool_(); break;
+    case BinOp::Ge: if (x && y) return known_bool(xi >= yi); op = ir::Op::Ge; result = T().bool_(); break;
+    default: break;
+  }
+  return let(SVal{result, node(op, result, {a.code, b.code})});
+}
+
+SVal Specialiser::auto_call(SVal v) {
+  if (v.type->k != TK::Func && !(is_sum(v.type) && v.type->alts[0]->k == TK::Func)) return v;
+  std::vector<SVal> none;
+  return call_value(v, none, *loc_stack_.back());
+}
+
+SVal Specialiser::lower_logical(const Expr& e) {
+  SVal l = auto_call(lower_value(*e.kids[0]));
+  if (dead_) return never();
+  ir::Node* lt = truthy(l);
+  if (lt->op == ir::Op::Lit && (lt->imm != 0) == e.is_or) return SVal{T().bool_(), lit(T().bool_(), e.is_or)};
+  auto right = [&]() -> SVal {
+    SVal r = auto_call(lower_value(*e.kids[1]));
+    if (dead_) return never();
+    return let(SVal{T().bool_(), truthy(r)});
+  };
+  if (lt->op == ir::Op::Lit) return right();
+  ir::Node* go = e.is_or ? node(ir::Op::Not, T().bool_(), {lt}) : lt;
+  return join_branches(go, right, [&] { return SVal{T().bool_(), lit(T().bool_(), e.is_or)}; }, true);
+}
+
+SVal Specialiser::lower_unary(const Expr& e) {
+  SVal v = lower_value(*e.kids[0]);
+  return split(v, [&](const SVal& x) -> SVal {
+    if (x.type->k == TK::Never) return x;
+    if (e.unary == UnOp::Not) {
+      if (x.type->k != TK::Bool) {
+        fail("'!' needs a Bool, got " + type_string(x.type));
+        return never();
+      }
+      if (auto c = const_int(x)) return SVal{T().bool_(), lit(T().bool_(), !*c), lit(T().bool_(), !*c)};
+      return let(SVal{T().bool_(), node(ir::Op::Not, T().bool_(), {x.code})});
+    }
+    if (x.type->k != TK::Int) {
+      fail("unary " + e.text + " needs a number, got " + type_string(x.type));
+      return never();
+    }
+    if (e.unary == UnOp::Plus) return x;
+    if (auto c = const_int(x)) {
+      int32_t n = arith::neg(static_cast<int32_t>(*c));
+      return SVal{T().int_(), lit(T().int_(), n), lit(T().int_(), n)};
+    }
+    return let(SVal{T().int_(), node(ir::Op::Neg, T().int_(), {x.code})});
+  });
+}
+
+SVal Specialiser::lower_if(const Expr& e, bool unused) {
+  SVal c = lower_value(*e.kids[0]);
+  if (dead_) return never();
+  ir::Node* t = truthy(c);  // a function value is truthy and is not called
+  auto branch = [&](const Expr& k) {
+    return [&, kp = &k]() -> SVal { return unused ? lower_discarded(*kp) : lower(*kp); };
+  };
+  if (t->op == ir::Op::Lit) return branch(*e.kids[t->imm ? 1 : 2])();
+  return join_branches(t, branch(*e.kids[1]), branch(*e.kids[2]), !unused);
+}
+
+SVal Specialiser::lower_let(const Expr& e, bool unused) {
+  if (e.kids.empty()) {
+    fail("empty let");
+    return never();
+  }
+  push_scope(ScopeKind::Local, &e);
+  SVal last;
+  for (size_t i = 0; i < e.kids.size() && !dead_; ++i)
+    last = (i + 1 < e.kids.size() || unused) ? lower_discarded(*e.kids[i]) : lower(*e.kids[i]);
+  pop_scope();
+  if (dead_) return never();
+  if (!last.type || last.type->k == TK::Class) {
+    fail("the last expression of a let has no value");
+    return never();
+  }
+  return last;
+}
+
+SVal Specialiser::lower_list(const Expr& e) {
+  std::vector<SVal> items;
+  for (const auto& k : e.kids) {
+    items.push_back(let(lower_value(*k)));
+    if (dead_) return never();
+  }
+  return make_list(items);
+}
+
+SVal Specialiser::lower_get(const Expr& e) {
+  SVal o = lower_value(*e.kids[0]);
+  if (dead_) return never();
+  return get_field(o, e.name, e.text);
+}
+
+}  // namespace autumn::lower

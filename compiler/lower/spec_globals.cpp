@@ -1,0 +1,201 @@
+// spec_globals — what observes the global hash map: its iteration order
+// (allObjs, removeObj of one object, prev by identity), and prev.
+//
+// The reference keeps its globals in a std::unordered_map; runtime/hash_order
+// models libstdc++'s iteration order from the history of insertions. Start-up's
+// history is known here (every definition it makes, in order), so the order is
+// computed at compile time. After start-up the only key a step may add is
+// `click` (its first evaluation of `clicked` defines it); whether that insertion
+// reordered the map is also computed here, and the emitted code picks one of the
+// two orders by whether `click` exists. Erasing a key (removeObj) keeps the order
+// of the others. A program that defines new globals during a step and also
+// observes the order would need the order kept at run time: not supported yet.
+#include <algorithm>
+
+#include "compiler/lower/specialise.hpp"
+#include "runtime/hash_order.hpp"
+
+namespace autumn::lower {
+
+// The global map's iteration order after start-up, without and with `click`.
+std::vector<Sym> Specialiser::global_order(bool with_click) {
+  for (Sym s : h_.runtime_defined)
+    if (s != p_.names.click) unsupported("the global map's order is observed and a step defines new globals");
+  HashOrder order;
+  auto insert = [&](Sym s) { order.insert(s, p_.symbols.hash(s)); };
+  insert(p_.names.GRID_SIZE);
+  for (Sym s : p_.builtin_syms) insert(s);
+  for (Sym s : start_defines_) insert(s);
+  insert(p_.names.cacheRendered);
+  if (with_click) insert(p_.names.click);
+  std::vector<Sym> out;
+  for (int s : order.order()) out.push_back(s);
+  return out;
+}
+
+// Runs `visit` over the globals in map order: once if the order cannot change,
+// else in each of the two orders under a test of whether `click` exists.
+void Specialiser::for_each_global_in_order(const std::function<void(Global&)>& visit) {
+  auto walk = [&](bool with_click) {
+    for (Sym s : global_order(with_click)) {
+      Global* g = global(s);
+      if (!g || g->state == Global::Undefined || g->value < 0) continue;
+      if (g->state == Global::Runtime) {
+        ir::Stmt* s_if = emit(ir::SK::If);
+        s_if->a = slot(g->defined);
+        in_block(s_if->body, [&] { visit(*g); });
+      } else {
+        visit(*g);
+      }
+    }
+  };
+  Global* click = global(p_.names.click);
+  if (!click || click->value < 0 || global_order(false) == global_order(true)) {
+    walk(false);
+    return;
+  }
+  ir::Stmt* s = emit(ir::SK::If);
+  s->a = slot(click->defined);
+  in_block(s->body, [&] { walk(true); });
+  in_block(s->other, [&] { walk(false); });
+}
+
+// allObjs: every object (with a render method) in the globals, lists searched
+// recursively, in map order.
+SVal Specialiser::all_objs() {
+  std::vector<TypeP> classes;
+  std::function<void(TypeP)> objects_in = [&](TypeP t) {
+    if (!t) return;
+    if (t->k == TK::Obj && std::find(classes.begin(), classes.end(), t) == classes.end()) classes.push_back(t);
+    if (t->k == TK::List) objects_in(t->elem);
+    if (t->k == TK::Sum)
+      for (TypeP a : t->alts) objects_in(a);
+  };
+  for (auto& [s, g] : globals_)
+    if (g.state != Global::Undefined) objects_in(g.type);
+  if (classes.empty()) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list())};
+  TypeP u = T().sum(classes);
+  TypeP lt = T().list(u);
+  ir::Var* out = decl(lt, nullptr, "all");
+  std::function<void(const SVal&)> collect = [&](const SVal& v) {
+    if (v.type->k == TK::Obj) {
+      emit_push(local(out), coerce(v, u).code);
+    } else if (v.type->k == TK::List && v.type->elem && renders(v.type->elem)) {
+      ir::Stmt* loop = emit(ir::SK::ForEach);
+      loop->var = var(v.type->elem, "x");
+      loop->a = v.code;
+      in_block(loop->body, [&] { collect(SVal{v.type->elem, local(loop->var)}); });
+    } else if (is_sum(v.type) && renders(v.type)) {
+      split(v, [&](const SVal& a) {
+        collect(a);
+        return SVal{T().int_(), lit(T().int_(), 0)};
+      });
+    }
+  };
+  for_each_global_in_order([&](Global& g) {
+    if (renders(g.type)) collect(read_global(g));
+  });
+  return built(out);
+}
+
+// removeObj obj: erases the first global (map order) whose value has obj's
+// identity, and returns obj.
+SVal Specialiser::remove_global(const SVal& v) {
+  if (!is_heap(v.type) && !is_sum(v.type)) return v;
+  note_identity(v.type);
+  std::vector<Global*> candidates;
+  for (auto& [s, g] : globals_)
+    if (g.state != Global::Undefined && g.type && g.value >= 0 && is_heap(g.type) &&
+        (T().fits(v.type, g.type) || T().fits(g.type, v.type)) && tracked(g.type))
+      candidates.push_back(&g);
+  if (candidates.empty()) return v;
+  ir::Var* done = decl(T().bool_(), lit(T().bool_(), 0), "erased");
+  auto try_erase = [&](Global& g) {
+    if (std::find(candidates.begin(), candidates.end(), &g) == candidates.end()) return;
+    if (!h_.erasable.count(g.sym)) {
+      h_.erasable.insert(g.sym);
+      h_.changed = true;
+      h_.last_change = "global '" + nm(g.sym) + "' may be erased";
+      return;
+    }
+    ir::Node* same = same_identity_any(SVal{g.type, slot(g.value)}, {v});
+    ir::Stmt* s = emit(ir::SK::If);
+    s->a = node(ir::Op::And, T().bool_(), {node(ir::Op::Not, T().bool_(), {local(done)}), same});
+    in_block(s->body, [&] {
+      emit_set(slot(g.defined), lit(T().bool_(), 0));
+      emit_set(local(done), lit(T().bool_(), 1));
+    });
+  };
+  if (candidates.size() == 1) try_erase(*candidates[0]);
+  else for_each_global_in_order(try_erase);
+  return v;
+}
+
+// ---------------------------------------------------------------------------
+// prev
+
+SVal Specialiser::lower_prev(const Expr& call) {
+  const size_t nargs = call.kids.size() - 1;
+  if (nargs != 1) {
+    fail("prev takes 1 argument, got " + std::to_string(nargs));
+    return never();
+  }
+  const Expr& arg = *call.kids[1];
+  if (arg.kind == ExprKind::Var) return prev_of_name(arg.name);
+  SVal v = lower_value(arg);
+  if (dead_) return never();
+  return prev_of_value(v, call);
+}
+
+SVal Specialiser::prev_of_name(Sym s) {
+  if (!in_step_) {
+    fail("prev used before the first step");
+    return never();
+  }
+  Global* g = global(s);
+  if (!g || g->state == Global::Undefined) {
+    fail("prev: '" + nm(s) + "' had no value at the start of the step");
+    return never();
+  }
+  if (!g->type || (g->value < 0 && (g->type->k == TK::Func || g->type->k == TK::Class)))
+    return SVal{g->type ? g->type : T().never(), nullptr};  // a function: nothing to snapshot
+  if (!h_.prev_read.count(s) || g->prev < 0) {  // the next walk keeps a copy
+    if (h_.prev_read.insert(s).second) {
+      h_.changed = true;
+      h_.last_change = "prev of '" + nm(s) + "'";
+    }
+    return never();
+  }
+  if (g->prev_defined >= 0) {
+    ir::Stmt* st = emit(ir::SK::If);
+    st->a = node(ir::Op::Not, T().bool_(), {slot(g->prev_defined)});
+    in_block(st->body, [&] { fail("prev: '" + nm(s) + "' had no value at the start of the step"); });
+  }
+  return let(SVal{g->type, slot(g->prev)}, "prev");
+}
+
+SVal Specialiser::prev_of_value(const SVal& v, const Expr& at) {
+  (void)at;
+  if (!in_step_) {
+    fail("prev used before the first step");
+    return never();
+  }
+  if (v.type->k == TK::Str) {
+    if (!v.konst) unsupported("prev of a name computed at run time");
+    std::string name = m_.strings[v.konst->imm];
+    if (!name.empty() && name[0] == '"') name = name.substr(1, name.size() - 2);
+    Sym s = p_.symbols.find(name);
+    if (s < 0) {
+      fail("prev: '" + name + "' had no value at the start of the step");
+      return never();
+    }
+    return prev_of_name(s);
+  }
+  if (!is_heap(v.type)) {
+    fail("prev: no variable held this value at the start of the step");
+    return never();
+  }
+  unsupported("prev of a value (identity scan of the snapshot)");
+}
+
+}  // namespace autumn::lower

@@ -1,0 +1,336 @@
+// spec_host — the host algorithm, specialised: start-up, the step, the host render.
+//
+// Mirrors compiler/interpret/host.cpp statement for statement:
+//   start: GRID_SIZE and the builtins, the stdlib, SpecialConditionTriggered, the
+//          program's statements in source order (classes defined, on-clauses and
+//          initnext registered, everything else evaluated), the initialisers in
+//          INIT hash order, then a render;
+//   step:  the prev snapshot, updated flags cleared, the trigger, the on-clauses in
+//          source order, NEXT in hash order for variables no clause assigned and
+//          still defined;
+//   render: globals in the render order analyse computed, occupancy and frame.
+// Start-up runs once, so it is specialised with everything it knows: which
+// globals exist, their constant values. The step is specialised once for all
+// steps: what varies between steps (a global a step may erase or create) is
+// checked at run time.
+#include "compiler/analyse/render_order.hpp"
+#include "compiler/lower/specialise.hpp"
+#include "runtime/hash_order.hpp"
+
+namespace autumn::lower {
+namespace {
+
+void collect_assigned(const Expr& e, std::set<Sym>& out) {
+  if (e.kind == ExprKind::Assign) out.insert(e.name);
+  for (const auto& k : e.kids) collect_assigned(*k, out);
+}
+
+std::string cpp_ident(const std::string& s) {
+  std::string out;
+  for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  return out;
+}
+
+}  // namespace
+
+void Specialiser::run() {
+  class_of_sym_.assign(p_.symbols.size(), -1);
+  for (const Stmt& st : p_.stmts) {
+    if (st.kind != StmtKind::Object) continue;
+    ClassInfo c;
+    c.name = st.object_name;
+    c.cpp = "C" + std::to_string(m_.classes.size()) + "_" + cpp_ident(st.object_name);
+    c.sym = st.object_sym;
+    c.stmt = &st;
+    for (const auto& f : st.fields) {
+      c.fields.push_back(f.name);
+      c.field_names.push_back(f.name_text);
+    }
+    c.field_types.assign(c.fields.size(), nullptr);
+    if (class_of_sym_[st.object_sym] < 0) class_of_sym_[st.object_sym] = static_cast<int>(m_.classes.size());
+    else class_of_sym_[st.object_sym] = static_cast<int>(m_.classes.size());  // a later definition wins
+    m_.classes.push_back(std::move(c));
+  }
+  class_defined_.assign(m_.classes.size(), 0);
+  load_shapes();
+  for (const std::vector<Stmt>* stmts : {&p_.stdlib_stmts, &p_.stmts})
+    for (const Stmt& st : *stmts)
+      for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
+        if (e) collect_assigned(*e, assigned_);
+  if (p_.trigger) collect_assigned(*p_.trigger, assigned_);
+
+  // INIT/NEXT order: the hash order of the initnext names, inserted in declaration order.
+  HashOrder order;
+  for (const Stmt& st : p_.stmts)
+    if (st.kind == StmtKind::Expr && st.expr->kind == ExprKind::Assign &&
+        st.expr->kids[0]->kind == ExprKind::InitNext)
+      order.insert(st.expr->name, p_.symbols.hash(st.expr->name));
+  for (int s : order.order()) initnext_order_.push_back(s);
+
+  m_.uses_random = p_.uses_random;
+  specialise_start();
+  specialise_step();
+  specialise_render();
+  finish_classes();
+}
+
+// ---------------------------------------------------------------------------
+// start
+
+void Specialiser::specialise_start() {
+  m_.functions.push_back(std::make_unique<ir::Function>());
+  fn_ = m_.functions.back().get();
+  fn_->name = "start";
+  fn_->kind = ir::Function::Start;
+  m_.start_fn = static_cast<int>(m_.functions.size() - 1);
+  block_ = &fn_->body;
+  in_start_ = true;
+
+  Global& grid = global_slot(p_.names.GRID_SIZE, T().int_());
+  define_global(grid, SVal{T().int_(), lit(T().int_(), 16), lit(T().int_(), 16)});
+  for (int i = 0; i < kBuiltinCount; ++i) {
+    Global& g = globals_[p_.builtin_syms[i]];
+    g.sym = p_.builtin_syms[i];
+    g.type = T().func(FuncRef{FuncRef::Native, nullptr, static_cast<Builtin>(i), -1});
+    g.state = Global::Defined;
+  }
+  auto run_statement = [&](const Stmt& st) {
+    loc_stack_.push_back(st.expr.get());
+    lower_discarded(*st.expr);
+    loc_stack_.pop_back();
+  };
+  for (const Stmt& st : p_.stdlib_stmts)
+    if (st.kind == StmtKind::Expr) run_statement(st);
+  {
+    Expr at{ExprKind::Bool, SourceLoc{0, 0, SourceId::Internal}};
+    assign(p_.names.SpecialConditionTriggered, SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)}, at);
+  }
+  for (const Stmt& st : p_.stmts) {
+    if (st.kind == StmtKind::Object) {
+      int c = class_of_sym_[st.object_sym];
+      ClassInfo& ci = m_.classes[c];
+      for (size_t i = 0; i < st.fields.size(); ++i) {
+        TypeP declared = declared_type(*st.fields[i].type);
+        if (!declared) ci.unknown_field_type = true;
+        TypeP hinted = h_.fields.count({c, static_cast<int>(i)}) ? h_.fields[{c, static_cast<int>(i)}] : nullptr;
+        ci.field_types[i] = declared && hinted ? T().join(declared, hinted) : declared ? declared : hinted;
+      }
+      ci.type_string = "class " + ci.name + " {";
+      for (size_t i = 0; i < st.fields.size(); ++i) {
+        TypeP declared = declared_type(*st.fields[i].type);
+        ci.type_string += ci.field_names[i] + ": " + (declared ? type_string(declared) : std::string("?")) + ", ";
+      }
+      ci.type_string += "origin: " + type_string(T().pos()) + ", elems: List<" + type_string(T().cell()) + ">, }";
+      class_defined_[c] = 1;
+    } else if (st.kind == StmtKind::On) {
+      on_clauses_.push_back(&st);
+    } else if (st.expr->kind == ExprKind::Assign && st.expr->kids[0]->kind == ExprKind::InitNext) {
+      Global& g = globals_[st.expr->name];
+      g.sym = st.expr->name;
+      g.initnext = true;
+      g.init = st.expr->kids[0]->kids[0].get();
+      g.next = st.expr->kids[0]->kids[1].get();
+    } else {
+      run_statement(st);
+    }
+  }
+  m_.on_clauses = static_cast<int>(on_clauses_.size());
+  for (Sym s : initnext_order_) {
+    Global& g = globals_[s];
+    error_prefix_ = "initialising '" + nm(s) + "': ";
+    comment("init " + nm(s) + ", " + p_.file_name(g.init->loc.source) + ":" + std::to_string(g.init->loc.line));
+    loc_stack_.push_back(g.init);
+    SVal v = lower_value(*g.init);
+    loc_stack_.pop_back();
+    error_prefix_.clear();
+    if (v.type->k != TK::Never) define_global(g, v);
+  }
+  // The render that ends start-up defines cacheRendered (the printer calls it).
+  Global& cache = globals_[p_.names.cacheRendered];
+  cache.sym = p_.names.cacheRendered;
+  if (cache.state == Global::Undefined) cache.state = Global::Defined;
+  in_start_ = false;
+}
+
+// ---------------------------------------------------------------------------
+// step
+
+void Specialiser::specialise_step() {
+  m_.functions.push_back(std::make_unique<ir::Function>());
+  fn_ = m_.functions.back().get();
+  fn_->name = "step";
+  fn_->kind = ir::Function::Step;
+  m_.step_fn = static_cast<int>(m_.functions.size() - 1);
+  block_ = &fn_->body;
+  dead_ = false;
+  in_step_ = true;
+  chain_.clear();
+
+  // What a step may change about a global's existence is checked at run time.
+  for (auto* set : {&h_.erasable, &h_.runtime_defined})
+    for (Sym s : *set) {
+      Global& g = globals_[s];
+      g.sym = s;
+      g.state = Global::Runtime;
+    }
+  for (auto& [sym, g] : globals_)
+    if (g.state != Global::Undefined && h_.stored_in_step.count(sym) && g.constant && g.constant->type->k != TK::Func)
+      g.constant.reset();
+  // 1. The prev snapshot: the globals prev reads, as they are now.
+  for (Sym s : h_.prev_read) {
+    Global& g = globals_[s];
+    if (g.value < 0 || g.prev < 0) continue;
+    emit_set(slot(g.prev), slot(g.value));
+    if (g.prev_defined >= 0) emit_set(slot(g.prev_defined), g.defined >= 0 ? slot(g.defined) : lit(T().bool_(), 1));
+  }
+  // 2. Updated flags.
+  for (Sym s : initnext_order_) {
+    Global& g = globals_[s];
+    if (g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 0));
+  }
+  // 3. The trigger, on the state before this step's updates.
+  if (p_.trigger) {
+    loc_stack_.push_back(p_.trigger.get());
+    SVal c = lower_value(*p_.trigger);
+    if (!dead_) {
+      ir::Node* t = truthy(c);
+      SVal b = let(SVal{T().bool_(), t});
+      assign(p_.names.SpecialConditionTriggered, b, *p_.trigger);
+      emit_eval(call(ir::Helper::SetTriggered, nullptr, {b.code}));
+    }
+    loc_stack_.pop_back();
+  }
+  // 4. On-clauses in source order.
+  for (size_t i = 0; i < on_clauses_.size() && !dead_; ++i) {
+    const Stmt& st = *on_clauses_[i];
+    comment("on-clause " + std::to_string(i + 1) + ", " + p_.file_name(st.loc.source) + ":" +
+            std::to_string(st.loc.line));
+    ir::Stmt* blk = emit(ir::SK::Block);
+    in_block(blk->body, [&] {
+      loc_stack_.push_back(st.cond.get());
+      SVal c = lower_value(*st.cond);
+      ir::Node* fire = nullptr;
+      auto bad = [&](const SVal& v, bool from_fn) {
+        loc_stack_.push_back(st.cond.get());
+        fail(std::string(from_fn ? "an on-clause condition function must return a Bool, got "
+                                 : "an on-clause condition must be a Bool, got ") + type_string(v.type));
+        loc_stack_.pop_back();
+      };
+      if (c.type->k == TK::Func || (is_sum(c.type) && c.type->alts[0]->k == TK::Func)) {
+        std::vector<SVal> none;
+        SVal r = call_value(c, none, *st.cond);
+        if (r.type->k == TK::Bool) fire = r.code;
+        else if (r.type->k != TK::Never) bad(r, true);
+      } else if (c.type->k == TK::Bool) {
+        fire = c.code;
+      } else if (c.type->k != TK::Never) {
+        bad(c, false);
+      }
+      loc_stack_.pop_back();
+      if (dead_ || !fire) return;
+      ir::Stmt* s = emit(ir::SK::If);
+      s->a = fire;
+      in_block(s->body, [&] {
+        emit_eval(call(ir::Helper::Covered, nullptr, {lit(T().int_(), static_cast<int64_t>(i))}));
+        loc_stack_.push_back(st.body.get());
+        lower_value(*st.body);
+        loc_stack_.pop_back();
+        chain_.clear();
+      });
+    });
+  }
+  // 5. NEXT for every initnext variable no clause assigned, in hash order.
+  for (Sym s : initnext_order_) {
+    if (dead_) break;
+    Global& g = globals_[s];
+    if (g.value < 0) {  // its initialiser's type is not known yet (the next walk), or a function
+      if (g.type && (g.type->k == TK::Func || g.type->k == TK::Class)) unsupported("an initnext variable holding a function");
+      continue;
+    }
+    comment("NEXT of " + nm(s) + ", " + p_.file_name(g.next->loc.source) + ":" + std::to_string(g.next->loc.line));
+    ir::Node* run = node(ir::Op::Not, T().bool_(), {slot(g.updated)});
+    if (g.state == Global::Runtime) run = node(ir::Op::And, T().bool_(), {run, slot(g.defined)});
+    ir::Stmt* s_if = emit(ir::SK::If);
+    s_if->a = run;
+    in_block(s_if->body, [&] {
+      loc_stack_.push_back(g.next);
+      SVal v = lower_value(*g.next);
+      if (!dead_) assign(s, v, *g.next);
+      loc_stack_.pop_back();
+    });
+  }
+  in_step_ = false;
+}
+
+// ---------------------------------------------------------------------------
+// render
+
+void Specialiser::specialise_render() {
+  m_.functions.push_back(std::make_unique<ir::Function>());
+  fn_ = m_.functions.back().get();
+  fn_->name = "render";
+  fn_->kind = ir::Function::Render;
+  m_.render_fn = static_cast<int>(m_.functions.size() - 1);
+  block_ = &fn_->body;
+  dead_ = false;
+  chain_.clear();
+  Expr at{ExprKind::Var, SourceLoc{0, 0, SourceId::Internal}};
+  loc_stack_ = {&at};
+
+  Global* grid = global(p_.names.GRID_SIZE);
+  if (!grid || !grid->constant || grid->type->k != TK::Int) unsupported("GRID_SIZE changes while the program runs");
+  m_.grid = static_cast<int>(grid->constant->konst->imm);
+  if (m_.grid <= 0 || m_.grid > 4096) unsupported("GRID_SIZE " + std::to_string(m_.grid) + " cannot be painted");
+
+  emit_eval(call(ir::Helper::OccupancyClear, nullptr, {}));
+  Global* bg = global(p_.names.background);
+  ir::Node* background = bg && bg->state != Global::Undefined && bg->type == T().str() && bg->value >= 0
+                             ? slot(bg->value)
+                             : lit(T().str(), string_id("\"black\""));
+  if (bg && bg->state == Global::Runtime && bg->type == T().str())
+    background = nullptr;  // checked below
+  if (!background) unsupported("background may be erased");
+  emit_eval(call(ir::Helper::PaintBegin, nullptr, {background}));
+
+  ir::Var* elems = var(T().list(T().elem()), "elems");
+  elems->scratch = true;
+  ir::Stmt* d = emit(ir::SK::Decl);
+  d->var = elems;
+  elems->mut = true;
+  auto draw = [&](Global& g) {
+    emit_eval(call(ir::Helper::Clear, nullptr, {local(elems)}));
+    render_into(read_global(g), local(elems));
+    ir::Stmt* loop = emit(ir::SK::ForEach);
+    loop->var = var(T().elem(), "e");
+    loop->a = local(elems);
+    in_block(loop->body, [&] {
+      emit_eval(call(ir::Helper::OccupancyAdd, nullptr, {member(local(loop->var), ir::Member::Position, T().pos())}));
+      emit_eval(call(ir::Helper::Paint, nullptr, {local(loop->var)}));
+    });
+  };
+  std::vector<Sym> order = p_.render_order;
+  for (Sym s : h_.runtime_defined) order.push_back(s);  // TODO: first-definition order at run time
+  for (Sym s : order) {
+    Global* g = global(s);
+    if (!g || g->state == Global::Undefined || !g->type || g->value < 0) continue;
+    std::function<bool(TypeP)> renders = [&](TypeP t) {
+      if (t->k == TK::Obj) return true;
+      if (t->k == TK::List) return t->elem && renders(t->elem);
+      if (t->k == TK::Sum)
+        for (TypeP a : t->alts)
+          if (renders(a)) return true;
+      return false;
+    };
+    if (!renders(g->type)) continue;
+    if (g->state == Global::Runtime) {
+      ir::Stmt* s_if = emit(ir::SK::If);
+      s_if->a = slot(g->defined);
+      in_block(s_if->body, [&] { draw(*g); });
+    } else {
+      draw(*g);
+    }
+  }
+  loc_stack_.clear();
+}
+
+}  // namespace autumn::lower

@@ -1,0 +1,375 @@
+// spec_scope — names: lookup, assignment and definition over the static scope chain.
+//
+// The interpreter's scope chain is dynamic, but every call is inlined here, so at
+// each point the chain is a list of static scopes (chain_, outermost first) over
+// the globals. A name resolves to the innermost binding that has it. Whether a
+// binding exists can depend on the run (a `let` variable first assigned in one
+// branch of an `if`, a global that removeObj erased or an on-clause creates);
+// such bindings carry a run-time flag, and a lookup becomes a chain of guarded
+// candidates ending in an "undefined variable" error if none holds.
+//
+// Assignment follows eval.cpp's Interpreter::assign: the innermost scope holding
+// the name gets the value (type-checked by type string unless the value is a
+// list, and given the old value's identity), else the name is defined in the
+// current scope. New local names are declared at the start of their scope's
+// block (hoisted), so every branch and the code after it can see them.
+#include "compiler/lower/specialise.hpp"
+
+namespace autumn::lower {
+
+Global* Specialiser::global(Sym s) {
+  auto it = globals_.find(s);
+  return it == globals_.end() ? nullptr : &it->second;
+}
+
+static std::string slot_name(const std::string& prefix, const std::string& name) {
+  std::string out = prefix;
+  for (char c : name) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  return out;
+}
+
+// The global's state members, made when it first needs a value slot. The slot
+// type is the hint if one was learnt, else the first value's type.
+Global& Specialiser::global_slot(Sym s, TypeP t) {
+  Global& g = globals_[s];
+  g.sym = s;
+  if (g.value >= 0) return g;
+  if (auto it = h_.globals.find(s); it != h_.globals.end()) t = T().join(it->second, t);
+  g.type = t;
+  if (t->k == TK::Func || t->k == TK::Class || t->k == TK::Never) return g;  // nothing at run time
+  const std::string& n = nm(s);
+  auto add = [&](const std::string& prefix, TypeP type, ir::Slot::Kind kind, bool snapshot) {
+    m_.slots.push_back(ir::Slot{slot_name(prefix, n) + "_" + std::to_string(m_.slots.size()), type, kind, s, snapshot});
+    return static_cast<int>(m_.slots.size() - 1);
+  };
+  g.value = add("g_", t, ir::Slot::Value, true);
+  if (g.initnext) g.updated = add("u_", nullptr, ir::Slot::Updated, false);
+  if (h_.erasable.count(s) || h_.runtime_defined.count(s) || s == p_.names.click)
+    g.defined = add("d_", nullptr, ir::Slot::Defined, true);
+  if (h_.prev_read.count(s)) {
+    g.prev = add("p_", t, ir::Slot::Prev, false);
+    if (g.defined >= 0) g.prev_defined = add("pd_", nullptr, ir::Slot::PrevDefined, false);
+  }
+  return g;
+}
+
+SScope* Specialiser::push_scope(ScopeKind k, const void* site) {
+  scopes_.push_back(std::make_unique<SScope>());
+  SScope* sc = scopes_.back().get();
+  sc->kind = k;
+  sc->block = block_;
+  sc->hoist = block_->size();
+  (void)site;
+  chain_.push_back(sc);
+  return sc;
+}
+
+void Specialiser::pop_scope() {
+  chain_.pop_back();
+  scopes_.pop_back();
+}
+
+// ---------------------------------------------------------------------------
+// Lookup
+
+namespace {
+struct Candidate {
+  Binding* b = nullptr;
+  Global* g = nullptr;
+  ir::Node* guard = nullptr;  // null: certainly bound
+};
+}  // namespace
+
+static std::vector<Candidate> resolve(Specialiser& s, Sym sym) {
+  std::vector<Candidate> out;
+  for (auto it = s.chain_.rbegin(); it != s.chain_.rend(); ++it)
+    if (Binding* b = (*it)->find(sym)) {
+      out.push_back(Candidate{b, nullptr, b->flag ? s.local(b->flag) : nullptr});
+      if (!b->flag) return out;
+    }
+  if (s.capture_mode_) return out;  // a cell's capture scope has no parent
+  if (Global* g = s.global(sym); g && g->state != Global::Undefined) {
+    ir::Node* guard = g->state == Global::Runtime && g->defined >= 0 ? s.slot(g->defined) : nullptr;
+    out.push_back(Candidate{nullptr, g, guard});
+  }
+  return out;
+}
+
+SVal Specialiser::read_global(Global& g) {
+  if (g.constant && (g.constant->type->k == TK::Int || g.constant->type->k == TK::Bool ||
+                     g.constant->type->k == TK::Str || g.constant->type->k == TK::Func))
+    return *g.constant;
+  if (!g.type || g.value < 0) return SVal{g.type ? g.type : T().never(), nullptr};
+  SVal v = let(SVal{g.type, slot(g.value)}, "g");
+  if (g.constant) v.konst = g.constant->konst;
+  return v;
+}
+
+static SVal read_binding(Specialiser& s, Binding& b) {
+  ir::Node* k = !b.mut || b.home == s.block_ ? b.konst : nullptr;
+  if (!b.place) return SVal{b.type, nullptr, k};
+  SVal v = s.let(SVal{b.type, b.place}, "v");
+  v.konst = k;
+  return v;
+}
+
+SVal Specialiser::read_name(Sym s, const Expr& at) {
+  (void)at;
+  std::vector<Candidate> cands = resolve(*this, s);
+  auto read = [&](Candidate& c) { return c.b ? read_binding(*this, *c.b) : read_global(*c.g); };
+  if (!cands.empty() && !cands[0].guard) return read(cands[0]);
+  // Guarded: the first candidate bound at run time, else an error.
+  std::function<SVal(size_t)> chain = [&](size_t i) -> SVal {
+    if (i == cands.size()) {
+      fail("undefined variable '" + nm(s) + "'");
+      return never();
+    }
+    if (!cands[i].guard) return read(cands[i]);
+    return join_branches(cands[i].guard, [&] { return read(cands[i]); }, [&] { return chain(i + 1); }, true);
+  };
+  return chain(0);
+}
+
+// ---------------------------------------------------------------------------
+// Assignment and definition
+
+void Specialiser::check_declared(Sym s, const SVal& v) {
+  const TypeExpr* decl = nullptr;
+  for (auto it = chain_.rbegin(); it != chain_.rend() && !decl; ++it)
+    for (auto& [name, te] : (*it)->declared)
+      if (name == s) decl = te;
+  if (!decl) {
+    auto it = global_decls_.find(s);
+    if (it != global_decls_.end()) decl = it->second;
+  }
+  if (!decl || decl->is_list || !v.type || v.type->k == TK::Never) return;
+  TypeP dt = declared_type(*decl);
+  // An unknown declared type prints as nothing the value's type can equal.
+  const std::string want = dt ? type_string(dt) : std::string("?");
+  auto check = [&](const SVal& x) {
+    if (x.type->k == TK::List) return x;
+    if (want != type_string(x.type))
+      fail("cannot assign a value of type '" + type_string(x.type) + "' to '" + nm(s) + "', declared as '" + want +
+           "'");
+    return x;
+  };
+  split(v, check);
+}
+
+// Stores into an existing binding or global: the type check and identity rule of
+// Interpreter::assign.
+void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s, const std::function<void(TypeP)>& widen) {
+  if (v.type->k != TK::List) {
+    auto check_old = [&](const SVal& old) {
+      if (old.type->k == TK::Never) return old;
+      if (type_string(old.type) != type_string(v.type))
+        fail("cannot assign a value of type '" + type_string(v.type) + "' to variable '" + nm(s) + "' of type '" +
+             type_string(old.type) + "'");
+      return old;
+    };
+    split(SVal{slot_type, place}, check_old);
+    if (dead_) return;
+  }
+  if (tracked(v.type) || (is_heap(v.type) && tracked(slot_type))) transfer_identity(v, SVal{slot_type, place});
+  if (!T().fits(v.type, slot_type)) {
+    widen(T().join(slot_type, v.type));
+    return;
+  }
+  emit_set(place, coerce(v, slot_type).code);
+}
+
+void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
+  std::pair<const void*, Sym> key{site, s};
+  if (Binding* b = sc.find(s)) {  // a maybe-bound name of this scope, now bound
+    if (b->flag) emit_set(local(b->flag), lit(T().bool_(), 1));
+    b->konst = v.konst;
+    b->home = block_;
+    if (!T().fits(v.type, b->type)) {
+      h_.locals[b->key] = T().join(b->type, v.type);
+      h_.changed = true;
+      h_.last_change = "local '" + nm(s) + "'";
+      return;
+    }
+    if (b->place) emit_set(b->place, coerce(v, b->type).code);
+    return;
+  }
+  TypeP t = v.type;
+  if (auto it = h_.locals.find(key); it != h_.locals.end()) t = T().join(it->second, t);
+  Binding b;
+  b.sym = s;
+  b.type = t;
+  b.key = key;
+  b.mut = true;
+  // Declared where the scope begins, so that code after a branch can read it.
+  auto hoisted = [&](ir::Var* x, ir::Node* init) {
+    ir::Stmt* d = &(m_.arena.stmts.emplace_back());
+    d->k = ir::SK::Decl;
+    d->var = x;
+    d->a = init;
+    if (!dead_ || sc.block != block_) sc.block->insert(sc.block->begin() + sc.hoist++, d);
+  };
+  if (t->k != TK::Func && t->k != TK::Class && t->k != TK::Never) {
+    ir::Var* x = var(t, "l_" + nm(s));
+    x->mut = true;
+    hoisted(x, nullptr);
+    b.place = local(x);
+  }
+  b.konst = v.konst;
+  b.home = block_;
+  if (block_ != sc.block) {  // defined on some paths only
+    b.flag = var(T().bool_(), "has_" + nm(s));
+    b.flag->mut = true;
+    hoisted(b.flag, lit(T().bool_(), 0));
+    emit_set(local(b.flag), lit(T().bool_(), 1));
+  }
+  if (b.place) emit_set(b.place, coerce(v, t).code);
+  sc.vars.push_back(b);
+}
+
+// A function's value is all compile-time: a global holding one is a constant
+// while start-up assigns it on every path and no step assigns another.
+bool Specialiser::store_function(Global& g, const SVal& v) {
+  if (v.type->k != TK::Func && !(g.type && g.type->k == TK::Func && g.value < 0)) return false;
+  if (v.type->k != TK::Func || (g.type && g.type->k != TK::Func && g.state != Global::Undefined)) {
+    const std::string old = g.type ? type_string(g.type) : "";
+    if (v.type->k != TK::List && g.state != Global::Undefined && old != type_string(v.type))
+      fail("cannot assign a value of type '" + type_string(v.type) + "' to variable '" + nm(g.sym) + "' of type '" +
+           old + "'");
+    else if (!dead_) unsupported("a global holding a function and then another kind of value");
+    return true;
+  }
+  if (in_step_ || block_ != &fn_->body) {
+    if (g.constant && g.constant->type == v.type) return true;  // the same function again
+    unsupported("a global assigned a different function on some paths or while the program runs");
+  }
+  g.type = v.type;
+  g.constant = v;
+  if (g.state == Global::Undefined) {
+    g.state = Global::Defined;
+    if (in_start_) start_defines_.push_back(g.sym);
+  }
+  return true;
+}
+
+void Specialiser::define_global(Global& g, SVal v) {
+  if (store_function(g, v)) return;
+  if (g.value < 0 && v.type->k != TK::Func && v.type->k != TK::Class) global_slot(g.sym, v.type);
+  if (!g.type) g.type = v.type;
+  if (!T().fits(v.type, g.type)) {
+    h_.globals[g.sym] = T().join(g.type, v.type);
+    h_.changed = true;
+    h_.last_change = "global '" + nm(g.sym) + "'";
+    return;
+  }
+  if (in_step_) {
+    if (!h_.runtime_defined.count(g.sym) && g.state != Global::Runtime) {
+      h_.runtime_defined.insert(g.sym);
+      h_.changed = true;
+      h_.last_change = "'" + nm(g.sym) + "' is defined while the program runs";
+      return;
+    }
+  }
+  if (g.defined >= 0) emit_set(slot(g.defined), lit(T().bool_(), 1));
+  if (in_step_ && m_.runtime_order) emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), g.sym)}));
+  if (g.value >= 0) emit_set(slot(g.value), coerce(v, g.type).code);
+  if (g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 0));
+  if (g.state == Global::Undefined) {
+    g.state = Global::Defined;
+    if (in_start_) start_defines_.push_back(g.sym);
+  }
+  // Start-up knows the values it computes from constants (on every path).
+  if (in_start_ && v.konst && block_ == &fn_->body) g.constant = v;
+  else g.constant.reset();
+}
+
+void Specialiser::store_global(Global& g, SVal v, const Expr& at, bool mark_updated) {
+  (void)at;
+  if (in_step_ && !h_.stored_in_step.count(g.sym)) {
+    h_.stored_in_step.insert(g.sym);
+    if (g.constant) {  // a constant global that a step changes is not a constant
+      h_.changed = true;
+      h_.last_change = "global '" + nm(g.sym) + "' changes while the program runs";
+    }
+  }
+  if (store_function(g, v)) return;
+  if (g.value < 0) {
+    h_.globals[g.sym] = g.type ? T().join(g.type, v.type) : v.type;
+    h_.changed = true;
+    h_.last_change = "global '" + nm(g.sym) + "'";
+    return;
+  }
+  store_checked(g.type, slot(g.value), v, g.sym, [&](TypeP wider) {
+    h_.globals[g.sym] = wider;
+    h_.changed = true;
+    h_.last_change = "global '" + nm(g.sym) + "'";
+  });
+  if (mark_updated && g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 1));
+  if (in_start_ && v.konst && !dead_ && block_ == &fn_->body) g.constant = v;
+  else g.constant.reset();
+}
+
+void Specialiser::assign(Sym s, SVal v, const Expr& at) {
+  if (!v.type || v.type->k == TK::Never || dead_) return;
+  std::vector<Candidate> cands = resolve(*this, s);
+  auto store = [&](Candidate& c) {
+    if (c.g) {
+      store_global(*c.g, v, at, true);
+      return;
+    }
+    Binding& b = *c.b;
+    if (!b.mut) {  // a name for a value: the next walk gives it a variable of its own
+      if (h_.mutable_bindings.insert(b.key).second) {
+        h_.changed = true;
+        h_.last_change = "'" + nm(s) + "' is assigned";
+      }
+      return;
+    }
+    b.konst = v.konst;
+    b.home = block_;
+    if (!b.place) {  // a function-valued binding: only the same function fits
+      if (v.type != b.type) {
+        h_.locals[b.key] = T().join(b.type, v.type);
+        h_.changed = true;
+        h_.last_change = "local '" + nm(s) + "'";
+      }
+      return;
+    }
+    store_checked(b.type, b.place, v, s, [&](TypeP wider) {
+      h_.locals[b.key] = wider;
+      h_.changed = true;
+      h_.last_change = "local '" + nm(s) + "'";
+    });
+  };
+  auto define_here = [&] {
+    if (chain_.empty()) {
+      Global& g = globals_[s];
+      g.sym = s;
+      define_global(g, v);
+    } else {
+      define_local(*chain_.back(), s, v, &at);
+    }
+  };
+  std::function<void(size_t)> walk = [&](size_t i) {
+    if (i == cands.size()) return define_here();
+    if (!cands[i].guard) return store(cands[i]);
+    ir::Stmt* s_if = emit(ir::SK::If);
+    s_if->a = cands[i].guard;
+    in_block(s_if->body, [&] { store(cands[i]); });
+    in_block(s_if->other, [&] { walk(i + 1); });
+  };
+  walk(0);
+}
+
+SVal Specialiser::lower_assign(const Expr& e, bool unused) {
+  (void)unused;
+  const Expr& rhs = *e.kids[0];
+  if (rhs.kind == ExprKind::InitNext) unsupported("initnext evaluated while the program runs");
+  SVal v = lower_value(rhs);
+  if (v.type->k == TK::Never) return v;
+  v = let(v);
+  check_declared(e.name, v);
+  assign(e.name, v, e);
+  return v;
+}
+
+}  // namespace autumn::lower

@@ -1,0 +1,323 @@
+// spec_values — the value rules of compiler/interpret/values.cpp on static types:
+// truthiness, equality, conversion between types (into Sums, lists of wider
+// element types), case splits over Sums, and identity numbers.
+//
+// Identity (docs/design.md, "Identity"): objects of a type whose identity some
+// removeObj or prev observes carry a uid, unique per object the reference would
+// have made. The identity number an object shows is looked up by uid in a small
+// table that assignment's transfer rule writes (IdTransfer); copies share the
+// uid, so every holder of an object sees the transferred number, as every holder
+// of the reference's shared object does.
+#include <algorithm>
+
+#include "compiler/lower/specialise.hpp"
+
+namespace autumn::lower {
+
+std::optional<int64_t> Specialiser::const_int(const SVal& v) const {
+  const ir::Node* k = v.konst ? v.konst : v.code;
+  if (k && k->op == ir::Op::Lit && (v.type->k == TK::Int || v.type->k == TK::Bool)) return k->imm;
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------
+// Building an If or Switch whose branches produce a value
+
+namespace {
+// Appends `s` to the current block (a statement built detached).
+void attach(Specialiser& sp, ir::Stmt* s) {
+  if (!sp.dead_) sp.block_->push_back(s);
+}
+ir::Stmt* detached(Specialiser& sp, ir::SK k) {
+  bool was = sp.dead_;
+  sp.dead_ = true;  // emit() builds it without attaching
+  ir::Stmt* s = sp.emit(k);
+  sp.dead_ = was;
+  return s;
+}
+}  // namespace
+
+// Runs each producer in its own block, then declares the result (the join of
+// the values' types) before the statement and assigns it at the end of each block.
+static SVal join_blocks(Specialiser& sp, ir::Stmt* stmt, std::vector<ir::Block*> blocks,
+                        std::vector<std::function<SVal()>> producers, bool value_used) {
+  std::vector<SVal> results(blocks.size());
+  std::vector<bool> alive(blocks.size());
+  for (size_t i = 0; i < blocks.size(); ++i)
+    sp.in_block(*blocks[i], [&] {
+      results[i] = producers[i]();
+      alive[i] = !sp.dead_;
+    });
+  TypeP t = sp.T().never();
+  bool any_alive = false, no_value = false;
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    if (!alive[i]) continue;
+    any_alive = true;
+    if (!results[i].type || results[i].type->k == TK::Class) no_value = true;
+    else t = sp.T().join(t, results[i].type);
+  }
+  if (!value_used || no_value || t->k == TK::Never || t->k == TK::Func || t->k == TK::Class) {
+    attach(sp, stmt);
+    if (!any_alive) sp.dead_ = true;
+    if (no_value) return SVal{};
+    if (t->k == TK::Func) return SVal{t, nullptr};  // one function on every path
+    return SVal{any_alive ? t : sp.T().never(), nullptr};
+  }
+  if (t->k == TK::Sum && !is_object_like(t)) sp.dynamic_site("the branches give values of different types");
+  ir::Var* r = sp.decl(t, nullptr, "r");
+  attach(sp, stmt);
+  for (size_t i = 0; i < blocks.size(); ++i)
+    if (alive[i]) sp.in_block(*blocks[i], [&] { sp.emit_set(sp.local(r), sp.coerce(results[i], t).code); });
+  if (!any_alive) sp.dead_ = true;
+  r->mut = false;
+  return SVal{t, sp.local(r)};
+}
+
+SVal Specialiser::join_branches(ir::Node* cond, const std::function<SVal()>& then_f,
+                                const std::function<SVal()>& else_f, bool value_used) {
+  ir::Stmt* s = detached(*this, ir::SK::If);
+  s->a = cond;
+  return join_blocks(*this, s, {&s->body, &s->other}, {then_f, else_f}, value_used);
+}
+
+SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f) {
+  if (!v.type || !is_sum(v.type)) return f(v);
+  SVal x = let(v, "u");
+  ir::Stmt* s = detached(*this, ir::SK::Switch);
+  s->a = x.code;
+  std::vector<ir::Block*> blocks;
+  std::vector<std::function<SVal()>> producers;
+  s->cases.resize(x.type->alts.size());
+  for (size_t i = 0; i < x.type->alts.size(); ++i) {
+    s->cases[i].first = static_cast<int>(i);
+    blocks.push_back(&s->cases[i].second);
+    TypeP alt = x.type->alts[i];
+    producers.push_back([&, i, alt]() -> SVal {
+      ir::Node* get = node(ir::Op::SumGet, alt, {x.code});
+      get->index = static_cast<int>(i);
+      SVal part{alt, alt->k == TK::Func ? nullptr : get};
+      return f(let(part, "a"));
+    });
+  }
+  return join_blocks(*this, s, blocks, producers, true);
+}
+
+// ---------------------------------------------------------------------------
+// Conversion
+
+SVal Specialiser::coerce(SVal v, TypeP to) {
+  if (!v.type || v.type == to || v.type->k == TK::Never) return v;
+  if (is_list(v.type) && is_list(to)) {
+    if (!v.type->elem || v.code == nullptr) return SVal{to, node(ir::Op::MakeList, to), v.konst};
+    // Element by element into a list of the wider element type.
+    SVal src = let(v);
+    ir::Var* out = decl(to, nullptr, "conv");
+    emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Size, T().int_(), {src.code})}));
+    ir::Stmt* loop = emit(ir::SK::ForEach);
+    loop->var = var(v.type->elem, "x");
+    loop->a = src.code;
+    in_block(loop->body, [&] {
+      SVal e = coerce(SVal{v.type->elem, local(loop->var)}, to->elem);
+      emit_push(local(out), e.code);
+    });
+    return built(out);
+  }
+  if (is_sum(to)) {
+    if (is_sum(v.type))
+      return split(v, [&](const SVal& a) { return coerce(a, to); });
+    for (size_t i = 0; i < to->alts.size(); ++i)
+      if (T().fits(v.type, to->alts[i])) {
+        SVal inner = coerce(v, to->alts[i]);
+        ir::Node* n = node(ir::Op::MakeSum, to, {inner.code ? inner.code : lit(T().int_(), 0)});
+        n->index = static_cast<int>(i);
+        return SVal{to, n, nullptr, v.fresh};
+      }
+  }
+  unsupported("internal: no conversion from " + type_string(v.type) + " to " + type_string(to));
+}
+
+// ---------------------------------------------------------------------------
+// Truthiness and equality
+
+ir::Node* Specialiser::truthy(const SVal& v) {
+  switch (v.type->k) {
+    case TK::Bool: return v.code;
+    case TK::List: return v.type->elem ? node(ir::Op::Not, T().bool_(), {node(ir::Op::Empty, T().bool_(), {v.code})})
+                                       : lit(T().bool_(), 0);
+    case TK::Never: return lit(T().bool_(), 0);
+    case TK::Sum: return split(v, [&](const SVal& a) { return let(SVal{T().bool_(), truthy(a)}); }).code;
+    default: return lit(T().bool_(), 1);
+  }
+}
+
+// Field names of an instance type, as the interpreter's field_syms (user fields,
+// origin, elems for user classes).
+std::vector<Sym> Specialiser::instance_fields(TypeP t) {
+  const WellKnownNames& n = p_.names;
+  switch (t->k) {
+    case TK::Pos: return {n.x, n.y};
+    case TK::Elem: return {n.position, n.color};
+    case TK::Cell: return {n.x, n.y, n.color};
+    case TK::Obj: {
+      std::vector<Sym> f = m_.classes[t->cls].fields;
+      f.push_back(n.origin);
+      f.push_back(n.elems);
+      return f;
+    }
+    default: return {};
+  }
+}
+
+static bool is_instance(TypeP t) {
+  return t->k == TK::Pos || t->k == TK::Elem || t->k == TK::Cell || t->k == TK::Obj;
+}
+
+SVal Specialiser::equals(const SVal& a, const SVal& b) {
+  auto known = [&](bool v) { return SVal{T().bool_(), lit(T().bool_(), v), lit(T().bool_(), v)}; };
+  return split(a, [&](const SVal& x) {
+    return split(b, [&](const SVal& y) -> SVal {
+      const TK l = x.type->k, r = y.type->k;
+      if (l == TK::Never || r == TK::Never) return never();
+      auto cx = const_int(x), cy = const_int(y);
+      switch (l) {
+        case TK::Int:
+          if (r == TK::Int) return cx && cy ? known(*cx == *cy) : let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
+          if (r == TK::Bool) {  // asymmetric, as in the reference
+            if (cx && cy) return known(*cx == (*cy ? 1 : 0));
+            ir::Node* as_int = node(ir::Op::Ne, T().int_(), {y.code, lit(T().bool_(), 0)});  // bool -> 0/1
+            return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {x.code, as_int})});
+          }
+          return known(false);
+        case TK::Bool:
+        case TK::Str:
+          if (r != l) return known(false);
+          if (cx && cy) return known(*cx == *cy);
+          return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
+        case TK::Func:
+          if (r != TK::Func) return known(false);
+          if (x.type->fn.kind == FuncRef::Native && y.type == x.type) return known(true);
+          if (x.type != y.type) return known(false);
+          unsupported("equality of two function values made by the same lambda");
+        case TK::List:
+          if (r != TK::List) return known(false);
+          return list_equals(x, y);
+        default:
+          if (!is_instance(x.type)) return known(false);
+          if (!is_instance(y.type)) return known(false);
+          return instance_equals(x, y);
+      }
+    });
+  });
+}
+
+// Instances are equal when they have the same field names and every field of the
+// left one equals the right one's field of that name.
+SVal Specialiser::instance_equals(const SVal& x, const SVal& y) {
+  std::vector<Sym> fx = instance_fields(x.type), fy = instance_fields(y.type);
+  std::vector<Sym> sx = fx, sy = fy;
+  std::sort(sx.begin(), sx.end());
+  std::sort(sy.begin(), sy.end());
+  if (sx != sy) return SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)};
+  if (x.type == y.type && x.type->k != TK::Obj && x.type->k != TK::Cell)
+    return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
+  // Field by field, stopping at the first difference (as the interpreter does:
+  // the comparison itself cannot raise errors or draw, so order is not observable).
+  ir::Var* r = decl(T().bool_(), lit(T().bool_(), 1), "same");
+  ir::Block* outer = block_;
+  ir::Block* cur = block_;
+  for (Sym f : fx) {
+    block_ = cur;
+    SVal eq;
+    if (f == p_.names.elems) {
+      eq = cells_equal(x, y);
+    } else {
+      SVal a = instance_field(x, f), b = instance_field(y, f);
+      eq = equals(a, b);
+    }
+    ir::Stmt* s = emit(ir::SK::If);
+    s->a = node(ir::Op::Not, T().bool_(), {eq.code});
+    s->body.push_back(&m_.arena.stmts.emplace_back());
+    s->body.back()->k = ir::SK::Set;
+    s->body.back()->a = local(r);
+    s->body.back()->b = lit(T().bool_(), 0);
+    cur = &s->other;
+  }
+  block_ = outer;
+  return built(r);
+}
+
+// The `elems` of two objects compared (by printed form, as lists): objects of a
+// class whose cells are the same for every object print the same cells.
+SVal Specialiser::cells_equal(const SVal& x, const SVal& y) {
+  const bool xs = !h_.stored_cells.count(x.type->cls), ys = !h_.stored_cells.count(y.type->cls);
+  if (xs && ys && x.type->cls == y.type->cls) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+  unsupported("equality of objects whose cells may differ (it compares the cells' printed forms)");
+}
+
+// Lists compare by printed form, type tag included (values.cpp). Empty lists all
+// print alike; beyond that the tags would have to be kept at run time.
+SVal Specialiser::list_equals(const SVal& x, const SVal& y) {
+  if (!x.type->elem && !y.type->elem) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+  if (!x.type->elem || !y.type->elem) {
+    const SVal& other = x.type->elem ? x : y;
+    return let(SVal{T().bool_(), node(ir::Op::Empty, T().bool_(), {other.code})});
+  }
+  unsupported("equality of lists (it compares printed forms, list type tags included)");
+}
+
+bool Specialiser::list_tag_may_pass(TypeP value, TypeP declared) {
+  if (!value->elem) return true;
+  return declared->k == TK::List && type_string(value) == type_string(declared);
+}
+
+// ---------------------------------------------------------------------------
+// Identity
+
+bool Specialiser::tracked(TypeP t) const { return h_.tracked.count(t) > 0; }
+
+void Specialiser::note_identity(TypeP t) {
+  if (!t) return;
+  if (is_sum(t)) {
+    for (TypeP a : t->alts) note_identity(a);
+    return;
+  }
+  if (!is_instance(t)) {
+    if (t->k == TK::List) unsupported("identity of a list (removeObj or prev by a list value)");
+    return;
+  }
+  m_.uses_ids = true;
+  if (h_.tracked.insert(t).second) {
+    h_.changed = true;
+    h_.last_change = "identity of " + type_string(t);
+  }
+}
+
+ir::Node* Specialiser::id_of(const SVal& v) {
+  if (!tracked(v.type)) return lit(T().int_(), -1);  // not yet known to matter: the next walk tracks it
+  return call(ir::Helper::IdOf, T().int_(), {member(v.code, ir::Member::Uid, T().int_())});
+}
+
+SVal Specialiser::fresh_identity(SVal v) {
+  v.fresh = true;
+  return v;
+}
+
+// Assignment to an existing variable gives the new value the old value's
+// identity number (a fresh one when the old value was not an object).
+void Specialiser::transfer_identity(const SVal& v, const SVal& old) {
+  if (!tracked(v.type)) return;
+  ir::Node* uid = member(v.code, ir::Member::Uid, T().int_());
+  ir::Node* id = nullptr;
+  if (tracked(old.type)) {
+    id = id_of(old);
+  } else if (is_sum(old.type)) {
+    id = split(old, [&](const SVal& a) {
+           return SVal{T().int_(), tracked(a.type) ? id_of(a) : call(ir::Helper::NewUid, T().int_(), {})};
+         }).code;
+  } else {
+    id = call(ir::Helper::NewUid, T().int_(), {});
+  }
+  emit_eval(call(ir::Helper::IdTransfer, nullptr, {uid, id}));
+}
+
+}  // namespace autumn::lower

@@ -1,0 +1,324 @@
+// specialise — the staged interpreter: program AST to typed IR (pass 2 of lower).
+//
+// The specialiser walks the program the way the interpreter evaluates it
+// (compiler/interpret/eval.cpp is the model for every case) but, instead of
+// values, it produces IR and static types. Every call is inlined at its call
+// site, so the dynamic scope chain at each point is known statically: a name
+// resolves to a C++ variable, a state slot, or a chain of them guarded by
+// run-time "is it bound now?" flags where binding depends on the run. Start-up
+// is specialised statement by statement, the step once for all steps.
+//
+// Types are found by the same walk (the "typing walk"): a run starts from the
+// types it has learnt so far (Hints: globals, locals by definition site, object
+// fields, which objects need identity, which globals can be erased); where a
+// value does not fit the type a slot was given, the slot's type is widened in
+// the hints and the walk is repeated. The IR of a walk whose hints changed is
+// dropped. The final walk's IR is the module.
+//
+// Split over spec_*.cpp by topic: scopes and assignment (spec_scope), expressions
+// (spec_expr), calls and objects (spec_call), builtins (spec_builtins), cells and
+// rendering (spec_cells), values: equality, truthiness, coercion, type strings,
+// sums (spec_values), the host algorithm: start, step, render (spec_host).
+#pragma once
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "compiler/analyse/program.hpp"
+#include "compiler/lower/module.hpp"
+
+namespace autumn::lower {
+
+// The lowering gives up on a program only for constructs it cannot express
+// faithfully at all; the emitter then embeds the interpreter (module.hpp).
+struct Unsupported {
+  std::string why;
+  SourceLoc loc;
+};
+
+// A value during specialisation.
+struct SVal {
+  TypeP type = nullptr;       // null: no value (an initnext or type declaration)
+  ir::Node* code = nullptr;   // null for values with nothing at run time (functions, classes)
+  ir::Node* konst = nullptr;  // the value when known at compile time (Lit, MakePos, MakeList trees)
+  bool fresh = false;         // just made: nobody else holds this object
+};
+
+// Type hints: what earlier walks learnt. Keys of locals are their defining
+// construct (an assignment, or a lambda for its parameters) and the name.
+struct Hints {
+  std::map<Sym, TypeP> globals;
+  std::map<std::pair<const void*, Sym>, TypeP> locals;
+  std::map<std::pair<int, int>, TypeP> fields;  // (class, field)
+  std::set<TypeP> tracked;                      // types whose identity is observed
+  std::set<Sym> erasable;                       // globals removeObj may erase
+  std::set<Sym> runtime_defined;                // globals first defined during a step
+  std::set<Sym> stored_in_step;                 // globals some step code assigns
+  std::set<Sym> prev_read;                      // globals read through prev
+  std::set<int> stored_cells;                   // classes whose objects carry their cells
+  std::set<std::pair<const void*, Sym>> mutable_bindings;  // parameters some assignment targets
+  std::map<int, ir::Node*> shapes;              // class -> the cells all its objects have (in `arena`)
+  ir::Arena arena;
+  bool changed = false;
+  std::string last_change;                      // for the report when walks do not settle
+};
+
+enum class ScopeKind : uint8_t { Local, Instance };
+
+struct Binding {
+  Sym sym = -1;
+  TypeP type = nullptr;      // the slot's static type
+  ir::Node* place = nullptr; // a Local (mutable) or an immutable value
+  ir::Var* flag = nullptr;   // maybe-bound: this bool says whether it is bound now
+  bool mut = false;
+  std::pair<const void*, Sym> key;
+  ir::Node* konst = nullptr;   // the value when known at compile time...
+  ir::Block* home = nullptr;   // ...valid in this block only, for a mutable binding
+};
+
+struct SScope {
+  ScopeKind kind = ScopeKind::Local;
+  std::vector<Binding> vars;
+  std::vector<std::pair<Sym, const TypeExpr*>> declared;
+  ir::Block* block = nullptr;  // declarations of names this scope defines go here...
+  size_t hoist = 0;            // ...before this statement (so every branch sees them)
+  Binding* find(Sym s) {
+    for (auto it = vars.rbegin(); it != vars.rend(); ++it)
+      if (it->sym == s) return &*it;
+    return nullptr;
+  }
+};
+
+// A global of the program: its state slots and what is known about it here.
+struct Global {
+  Sym sym = -1;
+  TypeP type = nullptr;          // slot type (Func/Class values have no slot)
+  int value = -1, defined = -1, updated = -1, prev = -1, prev_defined = -1;
+  enum State : uint8_t { Undefined, Defined, Runtime } state = Undefined;
+  bool initnext = false;
+  const Expr* init = nullptr;
+  const Expr* next = nullptr;
+  std::optional<SVal> constant;  // start-up: a value known at compile time
+};
+
+class Specialiser {
+ public:
+  Specialiser(const Program& p, Module& m, Hints& hints);
+  // One walk over the whole program. Throws Unsupported.
+  void run();
+
+  // --- shared by the spec_*.cpp files -------------------------------------------
+  // Builder
+  ir::Function* fn_ = nullptr;
+  ir::Block* block_ = nullptr;
+  bool dead_ = false;  // an error has certainly been raised: what follows never runs
+  ir::Node* node(ir::Op op, TypeP t, std::vector<ir::Node*> a = {});
+  ir::Node* lit(TypeP t, int64_t v);
+  ir::Node* text(const std::string& s);
+  ir::Node* local(ir::Var* v);
+  ir::Node* slot(int s);
+  ir::Node* member(ir::Node* base, ir::Member m, TypeP t, int index = 0);
+  ir::Node* call(ir::Helper h, TypeP t, std::vector<ir::Node*> a);
+  ir::Var* var(TypeP t, const std::string& hint);
+  ir::Stmt* emit(ir::SK k);
+  void emit_set(ir::Node* place, ir::Node* value);
+  void emit_eval(ir::Node* n);
+  void emit_push(ir::Node* list, ir::Node* value);  // value computed (and emitted) before
+  SVal let(SVal v, const std::string& hint = "t");  // into an immutable temporary
+  ir::Var* decl(TypeP t, ir::Node* init, const std::string& hint);
+  void comment(const std::string& text);
+  // Runs `f` with its statements going into `b` (and dead_ local to it).
+  void in_block(ir::Block& b, const std::function<void()>& f);
+  void fail(const std::string& msg);                  // a static message
+  void fail(std::vector<ir::Node*> message_parts);    // strings and StrOfInt nodes
+  SVal never();                                       // the value of dead code
+
+  // Types and naming
+  Types& T() { return m_.types; }
+  const std::string& nm(Sym s) const { return p_.name(s); }
+  int string_id(const std::string& quoted);
+  std::string type_string(TypeP t);          // the reference's type string
+  TypeP declared_type(const TypeExpr& te);   // a (: x T) declaration; null: unknown name
+  void dynamic_site(const std::string& why);
+  [[noreturn]] void unsupported(const std::string& why);
+
+  // Effects emitted so far (helper calls that change state, stores to state):
+  // a cell argument whose trial evaluation has none can be kept as a value.
+  size_t effects_ = 0;
+  std::map<Sym, const TypeExpr*> global_decls_;  // (: x T) at the top level
+
+  // Values (spec_values.cpp)
+  SVal coerce(SVal v, TypeP to);             // v must fit `to`
+  ir::Node* truthy(const SVal& v);           // Bool node
+  SVal equals(const SVal& a, const SVal& b);
+  SVal split(const SVal& v, const std::function<SVal(const SVal&)>& per_alternative);
+  SVal join_branches(ir::Node* cond, const std::function<SVal()>& then_f, const std::function<SVal()>& else_f,
+                     bool value_used);
+  std::optional<int64_t> const_int(const SVal& v) const;
+  bool is_const(const ir::Node* n) const;
+  void note_identity(TypeP t);               // identity numbers of t are observed
+  bool tracked(TypeP t) const;
+  ir::Node* id_of(const SVal& v);            // the identity number an object shows
+  SVal fresh_identity(SVal v);               // a just-made object (its uid is fresh)
+  void transfer_identity(const SVal& v, const SVal& old);
+  std::vector<Sym> instance_fields(TypeP t);
+  SVal instance_equals(const SVal& x, const SVal& y);
+  SVal list_equals(const SVal& x, const SVal& y);
+  SVal cells_equal(const SVal& x, const SVal& y);
+
+  // Expressions (spec_expr.cpp)
+  SVal lower(const Expr& e);
+  SVal lower_value(const Expr& e);           // errors on no-value and type values
+  SVal lower_discarded(const Expr& e);       // a statement: the value is not used
+  bool value_unused_ = false;
+  SVal lower_var(const Expr& e);
+  SVal lower_binary(const Expr& e);
+  SVal lower_logical(const Expr& e);
+  SVal lower_unary(const Expr& e);
+  SVal lower_if(const Expr& e, bool unused);
+  SVal lower_let(const Expr& e, bool unused);
+  SVal lower_list(const Expr& e);
+  SVal lower_get(const Expr& e);
+  SVal arithmetic(const Expr& e, const SVal& a, const SVal& b);
+  SVal get_field(const SVal& obj, Sym field, const std::string& raw);
+  SVal auto_call(SVal v);                    // and/or and on-clauses call function values
+
+  // Scopes and assignment (spec_scope.cpp)
+  std::vector<SScope*> chain_;
+  std::vector<std::unique_ptr<SScope>> scopes_;  // owns the scopes push_scope made, innermost last
+  std::map<Sym, Global> globals_;
+  Global* global(Sym s);                     // null: never a global
+  Global& global_slot(Sym s, TypeP t);       // the global's slots, made on first use
+  SVal read_name(Sym s, const Expr& at);
+  SVal read_global(Global& g);
+  void assign(Sym s, SVal v, const Expr& at);
+  SVal lower_assign(const Expr& e, bool unused);
+  void define_local(SScope& sc, Sym s, SVal v, const void* site);
+  void define_global(Global& g, SVal v);
+  bool store_function(Global& g, const SVal& v);
+  void store_global(Global& g, SVal v, const Expr& at, bool mark_updated);
+  void store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s, const std::function<void(TypeP)>& widen);
+  void check_declared(Sym s, const SVal& v);
+  SScope* push_scope(ScopeKind k, const void* site);
+  void pop_scope();
+  bool assigned_anywhere(Sym s) const { return assigned_.count(s) > 0; }
+
+  // Calls and objects (spec_call.cpp)
+  SVal lower_call(const Expr& e);
+  SVal call_value(const SVal& f, std::vector<SVal>& args, const Expr& at);
+  SVal call_render(const Expr& e);
+  SVal inline_lambda(const Expr& lambda, std::vector<SVal>& args, const Expr& at, ScopeKind kind = ScopeKind::Local);
+  SVal construct(int cls, std::vector<SVal>& args, const Expr& at);
+  SVal make_position(SVal x, SVal y);
+  SVal construct_builtin_class(int c, std::vector<SVal>& args);
+  SVal make_instance(int cls, std::vector<SVal>& values, const SVal& cells);
+  void widen_field(int cls, int field, TypeP t);
+  void bind(SScope& sc, Sym s, const SVal& v, std::pair<const void*, Sym> key);
+  SVal built(ir::Var* v);  // a list or value finished building: immutable from here
+  SVal instance_field(const SVal& v, Sym f);
+  SVal make_list(const std::vector<SVal>& items);
+  bool list_tag_may_pass(TypeP value, TypeP declared);
+  std::string class_name(int c) const;
+  std::optional<int> type_named(Sym s) const;
+  std::string where(SourceLoc loc) const;
+  std::vector<std::pair<const Expr*, std::vector<TypeP>>> inline_sigs_;  // inlined calls, innermost last
+  struct BoundMethod {
+    SVal obj;
+    ir::Block* block = nullptr;
+  };
+  std::map<int, BoundMethod> bound_;  // class -> the instance whose render was fetched last
+
+  // Builtins (spec_builtins.cpp, spec_builtins_state.cpp)
+  SVal call_builtin(Builtin b, std::vector<SVal>& args, const Expr& at);
+  bool need(Builtin b, size_t n, size_t count);
+  bool check_kind(Builtin b, const std::vector<SVal>& a, size_t i, TK k, const char* what);
+  ir::Node* int_text(ir::Node* n);
+  SVal call1(const SVal& f, const SVal& x, const Expr& at);
+  SVal grid_size(const Expr& at);
+  SVal builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& at);
+  bool unroll(const SVal& l) const;
+  SVal iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, const Expr& at,
+                    const std::function<SVal(const SVal&)>& apply);
+  SVal fold(const SVal& f, const SVal& init, const SVal& l, const Expr& at);
+  SVal builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_at(std::vector<SVal>& a);
+  SVal builtin_concat(std::vector<SVal>& a);
+  SVal builtin_array_equal(std::vector<SVal>& a);
+  SVal builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_uniform_choice(std::vector<SVal>& a);
+  SVal builtin_inputs(Builtin b, std::vector<SVal>& a, const Expr& at);
+  void define_click();
+  SVal builtin_objects(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal add_obj(const SVal& l, const SVal& x);
+  SVal renew_identity(const SVal& v);
+  SVal update_obj(std::vector<SVal>& a, const Expr& at);
+  SVal set_field(const SVal& o, const std::string& field, const SVal& v);
+  SVal update_filtered(const SVal& l, const SVal& f, const SVal& pred, const Expr& at);
+  SVal remove_from(const SVal& l, const SVal& what, const Expr& at);
+  ir::Node* same_identity_any(const SVal& x, const std::vector<SVal>& others);
+  SVal builtin_globals(Builtin b, std::vector<SVal>& a, const Expr& at);
+
+  // The global map (spec_globals.cpp)
+  std::vector<Sym> start_defines_;  // start-up's definitions, in order (the map's history)
+  std::vector<Sym> global_order(bool with_click);
+  void for_each_global_in_order(const std::function<void(Global&)>& visit);
+  SVal all_objs();
+  SVal remove_global(const SVal& v);
+  SVal lower_prev(const Expr& call);
+  SVal prev_of_name(Sym s);
+  SVal prev_of_value(const SVal& v, const Expr& at);
+
+  // Cells and rendering (spec_cells.cpp)
+  SVal construct_cell(const Expr& e);
+  SVal trial(const Expr& arg, SScope& capture, int which, int* deferred_index);
+  int capture_mode_ = 0;               // > 0: evaluating a cell argument in its capture scope
+  ir::Block* capture_block_ = nullptr;
+  bool trial_failed_ = false;
+  std::map<Sym, ir::Node*> captured_konst_;
+  bool object_cells(int cls, const SVal& cells, std::vector<ir::Node*>& ops);
+  SVal object_cell_list(const SVal& o);
+  SVal eval_deferred(int d, const SVal* obj, const SVal& cell);
+  SVal call_deferred(const SVal& f);
+  SVal render_value(const SVal& v, const Expr& at);  // List<Elem>
+  void render_into(const SVal& v, ir::Node* out);
+  void render_object(const SVal& o, ir::Node* out);
+  bool renders(TypeP t) const;
+  SVal deferred_colour(int d, const SVal& o, const SVal& cell);
+  int colour_function(int d, int cls, const SVal& cell);
+  std::map<std::pair<int, int>, int> colour_fns_;
+  SVal call_render_method(int cls);
+  void finish_classes();
+  void load_shapes();
+  int stored_render_function(int cls);
+  std::vector<int> constructing_;                    // classes whose constructor is running
+
+  // The host algorithm (spec_host.cpp)
+  void specialise_start();
+  void specialise_step();
+  void specialise_render();
+  bool in_start_ = false;
+  bool in_step_ = false;
+
+  // Error locations: the constructs being lowered, innermost last.
+  std::vector<const Expr*> loc_stack_;
+  std::string error_prefix_;
+  int location();
+
+  const Program& p_;
+  Module& m_;
+  Hints& h_;
+  std::set<Sym> assigned_;           // every name some assignment targets
+  std::vector<const Stmt*> on_clauses_;
+  std::vector<Sym> initnext_order_;  // initnext names in hash (INIT/NEXT) order
+  std::vector<int> class_of_sym_;    // class index by symbol, -1
+  std::vector<char> class_defined_;  // start-up: the object statement has run
+};
+
+// Runs walks until the hints settle; fills the module. Throws Unsupported.
+void specialise_program(const Program& p, Module& m);
+
+}  // namespace autumn::lower
