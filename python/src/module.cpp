@@ -6,6 +6,7 @@
 // what the reference's binding raises. std::invalid_argument becomes ValueError
 // (pybind11's default), so bad actions and arguments are ValueErrors.
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include "compiler/read/source.hpp"
 #include "python/src/bindings.hpp"

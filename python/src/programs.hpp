@@ -5,11 +5,11 @@
 // that makes a fresh Interpreter and run_script()s the same program on every
 // reset, as MARAProtocol does, parses it once. The standard library argument
 // follows the reference's run_script: empty means the file
-// autumnstdlib/stdlib.sexp under the working directory (which is the bundled
-// text; without the file the bundled text is used rather than none); a text
-// equal to the bundled one up to surrounding blank space is the bundled one, and
-// only then can the compiled engine serve the program (modules are built with
-// the bundled library).
+// autumnstdlib/stdlib.sexp under the working directory (without the file the
+// bundled library is used rather than none); a text that parses to the bundled
+// library's statements (the reference's own file does: same definitions, other
+// layout and comments) is the bundled library, and only then can the compiled
+// engine serve the program (modules are built with the bundled library).
 #pragma once
 #include <memory>
 #include <optional>
