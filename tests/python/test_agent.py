@@ -31,9 +31,9 @@ def test_program_compile_and_run():
 def test_make_task_then_solve(tmp_path):
     out = tmp_path / "prompts" / "sokoban_mfp.json"
     task = autumnc.make_task("mfp", SOKOBAN, seed=1, steps=8, out=out, extend_colours=True)
-    assert task["type"] == "mfp" and out.exists()
+    assert task["type"] == "masked_frame_prediction" and out.exists()
     result = autumnc.solve(out, rollouts=50, threads=1)
-    assert result["type"] == "mfp" and result["program"] == task["program"]
+    assert result["type"] == task["type"] and result["program"] == task["program"]
     assert "result" in result and result["threads"] == 1
     with pytest.raises(ValueError):
         autumnc.make_task("guess", SOKOBAN)
