@@ -6,6 +6,8 @@
 
 namespace autumn::py {
 
+constexpr size_t kSlotsPerThread = 32;
+
 bool decode_action(int64_t a, int grid, Action* out) {
   if (a < 0 || a >= 5 + static_cast<int64_t>(grid) * grid) return false;
   if (a < 5) {
@@ -100,15 +102,19 @@ void SlotSet::step(const int64_t* actions, const Buffers& out) {
       throw std::invalid_argument("action " + std::to_string(actions[i]) + " of environment " + std::to_string(i) +
                                   " is not in 0.." + std::to_string(4 + grid_ * grid_) +
                                   " (0 noop, 1-4 left/right/up/down, 5 + y*W + x click)");
-  std::vector<std::string> errors(pool_.size());
-  pool_.parallel_for(pool_.size(), [&](size_t chunk) {
-    const size_t per = (n + pool_.size() - 1) / pool_.size();
+  // Waking the workers costs more than a few slots' steps: small batches run here.
+  const size_t chunks = std::min<size_t>(pool_.size(), (n + kSlotsPerThread - 1) / kSlotsPerThread);
+  std::vector<std::string> errors(chunks);
+  auto body = [&](size_t chunk) {
+    const size_t per = (n + chunks - 1) / chunks;
     try {
       for (size_t i = chunk * per; i < std::min(n, (chunk + 1) * per); ++i) step_slot(i, decoded[i], out);
     } catch (const std::exception& e) {
       errors[chunk] = e.what();
     }
-  });
+  };
+  if (chunks == 1) body(0);
+  else pool_.parallel_for(chunks, body);
   for (const auto& e : errors)
     if (!e.empty()) throw std::runtime_error(e);
 }

@@ -100,8 +100,8 @@ def test_vecenv_equals_single_environments(program):
 
 
 def test_vecenv_results_do_not_depend_on_threads():
-    one, h1 = run_vec(FIREWORKS, 9, 1, 15)
-    two, h2 = run_vec(FIREWORKS, 9, 2, 15)
+    one, h1 = run_vec(FIREWORKS, 100, 1, 15)  # 100 slots: two chunks on two threads
+    two, h2 = run_vec(FIREWORKS, 100, 2, 15)
     assert np.array_equal(h1, h2)
     for a, b in zip(one[1:], two[1:]):
         assert all(np.array_equal(x, y) for x, y in zip(a, b))
