@@ -155,11 +155,12 @@ const std::string& Program::file_name(SourceId id) const {
   return internal;
 }
 
-std::shared_ptr<const Program> load_program(SourceFile file, const std::optional<std::string>& trigger) {
+std::shared_ptr<const Program> load_program(SourceFile file, const std::optional<std::string>& trigger,
+                                            const std::optional<std::string>& stdlib) {
   auto p = std::make_shared<Program>();
   p->file = std::move(file);
   p->file.id = SourceId::Program;
-  p->stdlib = SourceFile{"<stdlib>", stdlib_text(), SourceId::Stdlib};
+  p->stdlib = SourceFile{"<stdlib>", stdlib ? *stdlib : stdlib_text(), SourceId::Stdlib};
   SymbolTable& syms = p->symbols;
 
   // Builtins and their global order come first so that symbol ids are stable.

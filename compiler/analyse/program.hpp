@@ -67,8 +67,11 @@ struct Program {
 };
 
 // Throws CompileError for unreadable or unparsable input.
+// `stdlib`: another standard library text in place of the bundled one (the
+// Python binding's run_script takes it as an argument).
 std::shared_ptr<const Program> load_program(SourceFile file,
-                                            const std::optional<std::string>& trigger = std::nullopt);
+                                            const std::optional<std::string>& trigger = std::nullopt,
+                                            const std::optional<std::string>& stdlib = std::nullopt);
 // Reads a file from disk first; a missing file is a CompileError at 0:0.
 std::shared_ptr<const Program> load_program_file(const std::string& path,
                                                  const std::optional<std::string>& trigger = std::nullopt);

@@ -166,7 +166,7 @@ int Interpreter::render(std::vector<RenderedCell>* cells) {
       const auto& xy = pos.as<InstanceObj>()->fields;
       if (!xy[0].is(VKind::Number) || !xy[1].is(VKind::Number) || !colour.is(VKind::String))
         fail("malformed rendered element");
-      out.push_back(RenderedCell{xy[0].num, xy[1].num, colour.str});
+      out.push_back(RenderedCell{xy[0].num, xy[1].num, colour.str, s});
       occupied_.insert((static_cast<int64_t>(xy[0].num) << 32) ^ static_cast<uint32_t>(xy[1].num));
       all.as<ListObj>()->items.push_back(r);
     }

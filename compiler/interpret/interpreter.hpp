@@ -49,6 +49,7 @@ class RuntimeError : public std::runtime_error {
 struct RenderedCell {
   int x, y;
   const std::string* color;  // with quotes
+  Sym name = -1;             // the global it was drawn from (the render_all() JSON key)
 };
 
 class Interpreter {
@@ -79,6 +80,16 @@ class Interpreter {
   // The random generator (the particle filter's seed groups, environment.hpp).
   WrappedMinstd& rng() { return rng_; }
   const WrappedMinstd& rng() const { return rng_; }
+
+  // --- the reference's host API beyond the Environment protocol (host_api.cpp),
+  // for the Python binding. press() sets an input for the next step without
+  // stepping (the reference host may set several); the others run between steps
+  // against the global scope and may throw RuntimeError like step().
+  void press(const Action& input);
+  std::string evaluate_to_string(const Expr& e);  // the value's printed form, "NULL" for none
+  void execute_statement(const Stmt& st);         // tmp_execute_stmt; `st` must outlive this
+  std::string environment_string();               // get_environment_string()
+  int frame_rate() const;                         // FRAME_RATE; 16 when undefined, -1 when not a Number
 
  private:
   friend struct Builtins;

@@ -1,0 +1,55 @@
+"""The simulator agent and program tools, returning what the CLI prints as JSON.
+
+``solve(task)`` is ``autumn solve TASK --json``; ``make_task(kind, program)`` is
+``autumn make-task`` (the task as a dict; written to ``out`` when given);
+``Program(path).run(...)`` is ``autumn run --json``, ``.check(traces)`` is
+``autumn check`` as a dict, ``.compile()`` reports what the compiled engine made
+of the program.
+"""
+import json
+import os
+
+from . import _core
+
+
+def solve(task, engine="compiled", rollouts=10000, threads=0, seed=0, max_steps=200, policy="novelty",
+          depth=12, nodes=10000000, search="auto", max_plan=200, time_limit=120.0, programs=None,
+          answers=None):
+    """Answer an AutumnBench task file (MFP, change detection or planning)."""
+    return json.loads(_core._solve(os.fspath(task), engine, rollouts, threads, seed, max_steps, policy, depth,
+                                   nodes, search, max_plan, float(time_limit),
+                                   os.fspath(programs) if programs else "",
+                                   os.fspath(answers) if answers else ""))
+
+
+def make_task(kind, program, seed=0, steps=None, out=None, env_seed=0, engine="compiled", batch=200,
+              masked_frames=3, extend_colours=False):
+    """Generate an "mfp" or "planning" task for a program file."""
+    return json.loads(_core._make_task(kind, os.fspath(program), seed, -1 if steps is None else steps,
+                                       os.fspath(out) if out else "", env_seed, engine, batch, masked_frames,
+                                       extend_colours))
+
+
+class Program:
+    """An Autumn program file (optionally with a trigger condition)."""
+
+    def __init__(self, path, trigger=None):
+        self.path = os.fspath(path)
+        self.trigger = trigger
+        if not os.path.isfile(self.path):
+            raise FileNotFoundError(f"no Autumn program at {self.path!r}")
+
+    def compile(self):
+        """Find or build the compiled module: {"ok", "kind", "seconds", "warnings", ...}."""
+        return json.loads(_core._compile(self.path, self.trigger))
+
+    def run(self, seed=0, actions=(), engine="compiled"):
+        """One episode as a trace dict (the conformance format), like ``autumn run --json``."""
+        return json.loads(_core._run(self.path, seed, list(actions), self.trigger, engine))
+
+    def check(self, traces, engine="compiled"):
+        """Replay a trace file, like ``autumn check``: counts and mismatch reports."""
+        return json.loads(_core._check(self.path, os.fspath(traces), engine))
+
+    def __repr__(self):
+        return f"autumnc.Program({self.path!r})"

@@ -1,0 +1,79 @@
+"""autumnc.Env and autumnc.VecEnv: Gymnasium-shaped faces of the C++ core.
+
+Actions are integers: 0 noop, 1 left, 2 right, 3 up, 4 down, and 5 + y*W + x a
+click on cell (x, y). Observations are uint8 arrays [H, W] of colour ids
+(``autumnc.colour_names()[id]`` is the colour; ids 0..39 are AutumnBench's
+color_dict.yaml). Autumn programs have no reward: it is 1.0 on steps where the
+program's trigger condition (``trigger=``) held, else 0.0. A runtime error of
+the program terminates the episode (``info["error"]``, or ``info["errors"]``
+by environment index for VecEnv). ``max_episode_steps`` truncates episodes.
+"""
+import os
+
+from . import _core
+from .spaces import Box, Discrete
+
+
+def _program_text(program):
+    """(text, name) of a path, an ``autumnc.Program`` or program text."""
+    path = getattr(program, "path", program)
+    if isinstance(path, (str, os.PathLike)) and os.path.isfile(path):
+        with open(path, "r", encoding="utf-8") as f:
+            return f.read(), os.fspath(path)
+    if isinstance(program, str) and program.lstrip().startswith("("):
+        return program, "<program>"
+    raise FileNotFoundError(f"no Autumn program at {program!r} (give a path or the program text)")
+
+
+def _spaces(grid):
+    return Discrete(5 + grid * grid), Box(0, 255, (grid, grid))
+
+
+class Env(_core._Env):
+    """One Autumn episode: ``reset(seed=None, options=None) -> (obs, info)``,
+    ``step(action) -> (obs, reward, terminated, truncated, info)``.
+
+    engine: "auto" (compiled when the module is ready; the interpreter serves
+    while it compiles and the next reset moves over), "compiled" (waits for the
+    module) or "interp".
+    """
+
+    metadata = {"render_modes": []}
+
+    def __init__(self, program, seed=0, engine="auto", trigger=None, max_episode_steps=None):
+        text, name = _program_text(program)
+        super().__init__(text, name, seed, engine, trigger, max_episode_steps or 0)
+        self.action_space, self.observation_space = _spaces(self.grid_size)
+
+    def close(self):
+        pass
+
+    def __repr__(self):
+        return f"autumnc.Env(grid={self.grid_size}, engine={self.engine!r})"
+
+
+class VecEnv(_core._VecEnv):
+    """``num_envs`` episodes stepped together in C++ worker threads.
+
+    ``step(actions)`` takes N integers and returns ``(obs [N,H,W] uint8,
+    rewards [N] float32, terminated [N] bool, truncated [N] bool, info)``; the
+    arrays are the same objects on every call, overwritten in place (copy what
+    you keep). An episode that ended is reset by the next step, which ignores
+    its action. Episode k of environment i uses seed ``seed + i + k*N``.
+    ``clone(ids)`` / ``restore(ids, states)`` copy environments out and back;
+    ``state_hash()`` digests each one. Results do not depend on num_threads
+    (0: one per core). engine "auto" waits for the compiled module and falls
+    back to the interpreter if it cannot be built.
+    """
+
+    def __init__(self, program, num_envs, num_threads=0, seed=0, engine="auto", trigger=None,
+                 max_episode_steps=None):
+        text, name = _program_text(program)
+        super().__init__(text, name, num_envs, num_threads, seed, engine, trigger, max_episode_steps or 0)
+        self.single_action_space, self.single_observation_space = _spaces(self.grid_size)
+
+    def close(self):
+        pass
+
+    def __repr__(self):
+        return f"autumnc.VecEnv(num_envs={self.num_envs}, grid={self.grid_size}, threads={self.num_threads})"

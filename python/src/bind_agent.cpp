@@ -1,0 +1,176 @@
+// bind_agent — the simulator agent and program tools, as the CLI runs them.
+//
+// Each function builds the same JSON object as the corresponding `autumn`
+// command prints with --json (solve; run; make-task writes the task itself) and
+// returns it as text, which autumnc/agent.py turns into a dict. The GIL is
+// released while they work. compile() has no CLI twin: it reports what the
+// compiled engine made of a program (module found or built, specialised or the
+// embedded interpreter, how long it took).
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <filesystem>
+
+#include "harness/agent/change_detection.hpp"
+#include "harness/agent/make_task.hpp"
+#include "harness/agent/mfp.hpp"
+#include "harness/agent/planning.hpp"
+#include "harness/engine.hpp"
+#include "harness/trace_check.hpp"
+#include "python/src/bindings.hpp"
+#include "python/src/module_broker.hpp"
+
+namespace pb = pybind11;
+
+namespace autumn::py_bind {
+namespace {
+
+using namespace autumn::agent;
+
+std::string solve(const std::string& task_file, const SolveOptions& o, unsigned threads) {
+  Task task = load_task(task_file);
+  ThreadPool pool(threads);
+  nlohmann::json out = {{"task", task_file}, {"type", type_name(task.type)}, {"program", task.program}};
+  switch (task.type) {
+    case TaskType::MaskedFramePrediction: out["result"] = mfp_json(solve_mfp(task, o, pool)); break;
+    case TaskType::ChangeDetection:
+      out["wrong_program"] = task.wrong_program;
+      out["result"] = cd_json(solve_cd(task, o, pool));
+      break;
+    case TaskType::Planning: out["result"] = planning_json(solve_planning(task, o, pool)); break;
+  }
+  out["threads"] = pool.size();
+  return out.dump();
+}
+
+std::string make(const MakeTaskOptions& o) {
+  ThreadPool pool(0);
+  MadeTask made = make_task(o, pool);
+  if (!o.out.empty()) write_task(made, o);
+  return made.task.dump();
+}
+
+std::unique_ptr<Environment> engine_env(const std::string& engine, std::shared_ptr<const Program> p) {
+  std::string why;
+  auto env = make_environment(engine, std::move(p), &why);
+  if (!env) throw std::runtime_error(why);
+  return env;
+}
+
+std::string run(const std::string& path, uint64_t seed, const std::vector<std::string>& action_texts,
+                const std::optional<std::string>& trigger, const std::string& engine) {
+  std::vector<Action> actions;
+  for (const auto& t : action_texts) {
+    std::string why;
+    auto a = parse_action(t, &why);
+    if (!a) throw std::invalid_argument(why);
+    actions.push_back(*a);
+  }
+  auto env = engine_env(engine, load_program_file(path, trigger));
+  nlohmann::json frames = nlohmann::json::array(), triggers = nlohmann::json::array(),
+                 done = nlohmann::json::array();
+  bool ok = env->reset(seed);
+  if (ok) frames.push_back(frame_rows(env->frame(), env->palette()));
+  for (size_t i = 0; ok && i < actions.size(); ++i) {
+    if (!(ok = env->step(actions[i]))) break;
+    done.push_back(format_action(actions[i]));
+    frames.push_back(frame_rows(env->frame(), env->palette()));
+    if (trigger) triggers.push_back(env->triggered());
+  }
+  nlohmann::json trace = {{"seed", seed}, {"actions", done}, {"frames", frames}};
+  if (trigger) trace["trigger"] = triggers;
+  nlohmann::json out = {{"program", std::filesystem::path(path).stem().string()},
+                        {"grid_size", env->frame().size},
+                        {"traces", nlohmann::json::array({trace})}};
+  if (trigger) out["triggering_condition"] = *trigger;
+  if (!ok) out["error"] = env->error();
+  return out.dump();
+}
+
+std::string check(const std::string& path, const std::string& traces, const std::string& engine) {
+  TraceFile file = load_trace_file(traces);
+  std::optional<std::string> trigger = file.triggering_condition;
+  auto env = engine_env(engine, load_program_file(path, trigger));
+  CheckResult r = check_traces(*env, file);
+  return nlohmann::json({{"traces", r.traces},
+                         {"frames_total", r.frames_total},
+                         {"frames_matched", r.frames_matched},
+                         {"triggers_total", r.triggers_total},
+                         {"triggers_matched", r.triggers_matched},
+                         {"mismatches", r.mismatches},
+                         {"ok", r.ok()}})
+      .dump();
+}
+
+std::string compile(const std::string& path, const std::optional<std::string>& trigger) {
+  auto program = load_program_file(path, trigger);
+  std::shared_ptr<const py::Prototype> p = py::request_compiled(program).get();
+  nlohmann::json out = {{"program", path}, {"warnings", program->warnings}, {"ok", p->env != nullptr}};
+  if (p->env) {
+    out["kind"] = p->specialised ? "specialised" : "embedded";
+    out["grid_size"] = p->env->frame().size;
+  } else {
+    out["error"] = p->why;
+  }
+  out["seconds"] = p->seconds;
+  return out.dump();
+}
+
+}  // namespace
+
+void bind_agent(pb::module_& m) {
+  m.def(
+      "_solve",
+      [](const std::string& task, const std::string& engine, uint64_t rollouts, unsigned threads, uint64_t seed,
+         int max_steps, const std::string& policy, int depth, uint64_t nodes, const std::string& search,
+         int max_plan, double time_limit, const std::string& programs, const std::string& answers) {
+        SolveOptions o;
+        o.engine = engine;
+        o.rollouts = rollouts;
+        o.seed = seed;
+        o.max_steps = max_steps;
+        o.policy = policy;
+        o.depth = depth;
+        o.nodes = nodes;
+        o.search = search;
+        o.max_plan = max_plan;
+        o.time_limit = time_limit;
+        if (!programs.empty()) o.programs_dir = programs;
+        if (!answers.empty()) o.answers = answers;
+        pb::gil_scoped_release release;
+        return solve(task, o, threads);
+      });
+  m.def("_make_task", [](const std::string& kind, const std::string& program, uint64_t seed, int steps,
+                         const std::string& out, uint64_t env_seed, const std::string& engine, uint64_t batch,
+                         int masked_frames, bool extend_colours) {
+    MakeTaskOptions o;
+    o.kind = kind;
+    o.program = program;
+    o.seed = seed;
+    o.steps = steps;
+    o.out = out;
+    o.env_seed = env_seed;
+    o.engine = engine;
+    o.batch = batch;
+    o.masked_frames = masked_frames;
+    o.extend_colours = extend_colours;
+    if (kind != "mfp" && kind != "planning") throw std::invalid_argument("kind must be 'mfp' or 'planning'");
+    pb::gil_scoped_release release;
+    return make(o);
+  });
+  m.def("_run", [](const std::string& path, uint64_t seed, const std::vector<std::string>& actions,
+                   const std::optional<std::string>& trigger, const std::string& engine) {
+    pb::gil_scoped_release release;
+    return run(path, seed, actions, trigger, engine);
+  });
+  m.def("_check", [](const std::string& path, const std::string& traces, const std::string& engine) {
+    pb::gil_scoped_release release;
+    return check(path, traces, engine);
+  });
+  m.def("_compile", [](const std::string& path, const std::optional<std::string>& trigger) {
+    pb::gil_scoped_release release;
+    return compile(path, trigger);
+  });
+}
+
+}  // namespace autumn::py_bind

@@ -1,0 +1,73 @@
+#include "python/src/module_broker.hpp"
+
+#include <chrono>
+#include <mutex>
+#include <unordered_map>
+
+#include "compiler/emit/emit_module.hpp"
+#include "harness/module_cache.hpp"
+
+namespace autumn::py {
+namespace {
+
+std::shared_ptr<const Prototype> build(std::shared_ptr<const Program> program) {
+  auto p = std::make_shared<Prototype>();
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_ptr<Environment> env = make_compiled_environment(program, &p->why);
+  p->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!env) return p;
+  env->reset(0);
+  std::vector<uint8_t> probe;
+  p->specialised = !env->failed() && env->save_state(probe);
+  p->env = std::move(env);
+  return p;
+}
+
+std::mutex mu;
+auto* futures = new std::unordered_map<uint64_t, PrototypeFuture>();  // never destroyed: see below
+
+}  // namespace
+
+PrototypeFuture request_compiled(const std::shared_ptr<const Program>& program) {
+  std::optional<std::string> trigger;
+  if (!program->trigger_text.empty()) trigger = program->trigger_text;
+  const uint64_t key = module_source_hash(program->file.text, trigger);
+  std::lock_guard<std::mutex> lock(mu);
+  auto it = futures->find(key);
+  if (it != futures->end()) return it->second;
+  // std::async's future would block process exit until a compile finishes; a
+  // detached thread and a promise do not (the map is leaked on purpose so that
+  // a compile still running at exit finds it alive).
+  auto promise = std::make_shared<std::promise<std::shared_ptr<const Prototype>>>();
+  PrototypeFuture f = promise->get_future().share();
+  (*futures)[key] = f;
+  std::thread([promise, program] {
+    try {
+      promise->set_value(build(program));
+    } catch (const std::exception& e) {
+      auto p = std::make_shared<Prototype>();
+      p->why = e.what();
+      promise->set_value(p);
+    }
+  }).detach();
+  return f;
+}
+
+void wait_for_compiles() {
+  std::vector<PrototypeFuture> pending;
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    for (auto& [key, f] : *futures) pending.push_back(f);
+  }
+  for (auto& f : pending) f.wait();
+}
+
+bool is_ready(const PrototypeFuture& f) {
+  return f.valid() && f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+std::unique_ptr<Environment> instantiate(const Prototype& p) {
+  return p.env ? p.env->clone() : nullptr;
+}
+
+}  // namespace autumn::py

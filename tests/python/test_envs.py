@@ -1,0 +1,188 @@
+"""autumnc.Env and autumnc.VecEnv: Gymnasium shapes, exactness against single
+environments and the interpreter, thread-count independence, the GIL released,
+clone/restore, and clear errors."""
+import os
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import autumnc
+from conftest import PROGRAMS, bundled_program
+
+SOKOBAN = os.path.join(PROGRAMS, "sokoban.au")
+FIREWORKS = os.path.join(PROGRAMS, "fireworks.au")
+
+
+def actions_for(env_grid, n, seed):
+    rng = np.random.default_rng(seed)
+    return rng.integers(0, 5 + env_grid * env_grid, size=n)
+
+
+def test_env_shapes_and_spaces():
+    env = autumnc.Env(SOKOBAN, seed=3)
+    obs, info = env.reset()
+    g = env.grid_size
+    assert obs.shape == (g, g) and obs.dtype == np.uint8 and info == {}
+    assert env.action_space.n == 5 + g * g and env.observation_space.contains(obs)
+    obs, reward, terminated, truncated, info = env.step(1)
+    assert (reward, terminated, truncated) == (0.0, False, False)
+    with pytest.raises(ValueError):
+        env.step(5 + g * g)
+    with pytest.raises(ValueError):
+        env.step(-1)
+
+
+def test_env_reset_equals_a_fresh_run_script(stdlib):
+    env = autumnc.Env(FIREWORKS, seed=7, engine="compiled")
+    g = env.grid_size
+    acts = actions_for(g, 30, 1)
+    for _ in range(2):  # the second episode starts from the saved initial state
+        obs, _ = env.reset()
+        i = autumnc.Interpreter("interp")
+        i.run_script(bundled_program("fireworks"), stdlib, "", 7)
+        assert np.array_equal(obs, i.render_grid())
+        for a in acts:
+            obs = env.step(int(a))[0]
+            if a == 0:
+                pass
+            elif a < 5:
+                getattr(i, ["left", "right", "up", "down"][a - 1])()
+            else:
+                i.click(int((a - 5) % g), int((a - 5) // g))
+            i.step()
+            assert np.array_equal(obs, i.render_grid())
+
+
+def test_env_truncates_and_requires_reset():
+    env = autumnc.Env(SOKOBAN, max_episode_steps=3)
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(0)
+    env.reset()
+    results = [env.step(0) for _ in range(3)]
+    assert [r[3] for r in results] == [False, False, True]
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(0)
+
+
+def run_vec(program, n, threads, steps, seed=0, engine="compiled"):
+    vec = autumnc.VecEnv(program, n, num_threads=threads, seed=seed, engine=engine, max_episode_steps=7)
+    obs, _ = vec.reset()
+    out = [obs.copy()]
+    for t in range(steps):
+        obs, rew, term, trunc, info = vec.step(actions_for(vec.grid_size, n, t))
+        out.append((obs.copy(), rew.copy(), term.copy(), trunc.copy()))
+    return out, vec.state_hash()
+
+
+@pytest.mark.parametrize("program", [SOKOBAN, FIREWORKS])
+def test_vecenv_equals_single_environments(program):
+    n, steps = 5, 12
+    batched, _ = run_vec(program, n, 2, steps, seed=11)
+    g = batched[0].shape[1]
+    for i in range(n):
+        env = autumnc.Env(program, seed=11 + i, engine="interp", max_episode_steps=7)
+        obs, _ = env.reset()
+        assert np.array_equal(batched[0][i], obs)
+        done, episode = False, 0
+        for t in range(steps):
+            if done:  # autoreset: the next episode's seed
+                episode += 1
+                obs, _ = env.reset(seed=11 + i + episode * n)
+                assert np.array_equal(batched[t + 1][0][i], obs)
+                done = False
+                continue
+            obs, rew, term, trunc, _ = env.step(int(actions_for(g, n, t)[i]))
+            assert np.array_equal(batched[t + 1][0][i], obs), (i, t)
+            assert batched[t + 1][3][i] == trunc
+            done = term or trunc
+
+
+def test_vecenv_results_do_not_depend_on_threads():
+    one, h1 = run_vec(FIREWORKS, 100, 1, 15)  # 100 slots: two chunks on two threads
+    two, h2 = run_vec(FIREWORKS, 100, 2, 15)
+    assert np.array_equal(h1, h2)
+    for a, b in zip(one[1:], two[1:]):
+        assert all(np.array_equal(x, y) for x, y in zip(a, b))
+
+
+def test_vecenv_clone_restore_round_trip():
+    vec = autumnc.VecEnv(FIREWORKS, 4, seed=2)
+    vec.reset()
+    g = vec.grid_size
+    for t in range(5):
+        vec.step(actions_for(g, 4, t))
+    saved, hashes = vec.clone([0, 1, 2, 3]), vec.state_hash().copy()
+    future = [vec.step(actions_for(g, 4, 100 + t))[0].copy() for t in range(5)]
+    vec.restore([0, 1, 2, 3], saved)
+    assert np.array_equal(vec.state_hash(), hashes)
+    assert all(np.array_equal(vec.step(actions_for(g, 4, 100 + t))[0], f) for t, f in enumerate(future))
+    vec.restore([3], [saved[0]])  # a state moves to another slot
+    assert vec.state_hash()[3] == hashes[0]
+    with pytest.raises(IndexError):
+        vec.clone([4])
+
+
+def test_vecenv_bad_input():
+    vec = autumnc.VecEnv(SOKOBAN, 3)
+    with pytest.raises(ValueError):
+        vec.step([0, 1])
+    with pytest.raises(ValueError):
+        vec.step([0, 1, 10**6])
+    with pytest.raises(ValueError):
+        autumnc.VecEnv(SOKOBAN, 0)
+    with pytest.raises(FileNotFoundError):
+        autumnc.VecEnv("/nonexistent.au", 2)
+    with pytest.raises(autumnc.ParseError):
+        autumnc.VecEnv("(program (= x (+ 1 ", 2)
+
+
+def test_runtime_error_terminates_with_info():
+    program = "(program (= GRID_SIZE 4) (= n (initnext 0 (+ (prev n) 1))) (on (== n 2) (= n (+ n \"s\"))))"
+    vec = autumnc.VecEnv(program, 2, engine="interp")
+    vec.step([0, 0])
+    vec.step([0, 0])
+    obs, rew, term, trunc, info = vec.step([0, 0])
+    assert term.all() and set(info["errors"]) == {0, 1} and "runtime error" in info["errors"][0]
+    obs, rew, term, trunc, info = vec.step([0, 0])  # autoreset
+    assert not term.any()
+    env = autumnc.Env(program, engine="interp")
+    env.reset()
+    env.step(0)
+    env.step(0)
+    _, _, terminated, _, info = env.step(0)
+    assert terminated and "runtime error" in info["error"]
+
+
+def test_python_threads_run_while_vecenv_steps():
+    """With a 0.2 s switch interval the main thread does not hand the GIL over during
+    a step of a few milliseconds, so the other thread can only progress inside step()
+    if step() released it."""
+    vec = autumnc.VecEnv(FIREWORKS, 4096, num_threads=1)
+    counter, stop = [0], threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            counter[0] += 1
+
+    old = sys.getswitchinterval()
+    t = threading.Thread(target=spin)
+    t.start()
+    time.sleep(0.05)
+    sys.setswitchinterval(0.2)
+    try:
+        acts = np.zeros(4096, dtype=np.int64)
+        progressed = 0
+        for _ in range(20):
+            before = counter[0]
+            vec.step(acts)
+            progressed += counter[0] > before
+            if progressed:
+                break
+    finally:
+        sys.setswitchinterval(old)
+        stop.set()
+        t.join()
+    assert progressed >= 1
