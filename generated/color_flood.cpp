@@ -389,16 +389,16 @@ struct Prog {
         bool clicked44 = false;
         if (s.core.click) {
           s.d_click_16 = true;
-          s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
-          std::vector<Elem>& rendered45 = s.scratch.v.b5;
-          rendered45.clear();
-          for (const C0_Tile& x46 : prev43) {
-            const int32_t colour47 = colour_2_C0_Tile(s, x46);
-            rendered45.push_back(Elem{Pos{add(x46.origin.x, int32_t(0)), add(x46.origin.y, int32_t(0))}, colour47});
+          const Pos t45 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_15 = t45;
+          std::vector<Elem>& rendered46 = s.scratch.v.b5;
+          rendered46.clear();
+          for (const C0_Tile& x47 : prev43) {
+            const int32_t colour48 = colour_2_C0_Tile(s, x47);
+            rendered46.push_back(Elem{Pos{add(x47.origin.x, int32_t(0)), add(x47.origin.y, int32_t(0))}, colour48});
           }
-          const Pos t48 = Pos{s.core.click_x, s.core.click_y};
-          for (const Elem& e49 : rendered45) {
-            if ((e49.position == t48)) {
+          for (const Elem& e49 : rendered46) {
+            if ((e49.position == Pos{s.core.click_x, s.core.click_y})) {
               clicked44 = true;
               break;
             }
@@ -421,14 +421,14 @@ struct Prog {
           bool clicked55 = false;
           if (s.core.click) {
             s.d_click_16 = true;
-            s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered56 = s.scratch.v.b7;
-            rendered56.clear();
-            const int32_t colour57 = colour_2_C0_Tile(s, x54);
-            rendered56.push_back(Elem{Pos{add(x54.origin.x, int32_t(0)), add(x54.origin.y, int32_t(0))}, colour57});
-            const Pos t58 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e59 : rendered56) {
-              if ((e59.position == t58)) {
+            const Pos t56 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_15 = t56;
+            std::vector<Elem>& rendered57 = s.scratch.v.b7;
+            rendered57.clear();
+            const int32_t colour58 = colour_2_C0_Tile(s, x54);
+            rendered57.push_back(Elem{Pos{add(x54.origin.x, int32_t(0)), add(x54.origin.y, int32_t(0))}, colour58});
+            for (const Elem& e59 : rendered57) {
+              if ((e59.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked55 = true;
                 break;
               }
@@ -507,16 +507,16 @@ struct Prog {
         bool clicked83 = false;
         if (s.core.click) {
           s.d_click_16 = true;
-          s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
-          std::vector<Elem>& rendered84 = s.scratch.v.b9;
-          rendered84.clear();
-          for (const C1_Swatch& x85 : prev82) {
-            const int32_t colour86 = colour_1_C1_Swatch(s, x85);
-            rendered84.push_back(Elem{Pos{add(x85.origin.x, int32_t(0)), add(x85.origin.y, int32_t(0))}, colour86});
+          const Pos t84 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_15 = t84;
+          std::vector<Elem>& rendered85 = s.scratch.v.b9;
+          rendered85.clear();
+          for (const C1_Swatch& x86 : prev82) {
+            const int32_t colour87 = colour_1_C1_Swatch(s, x86);
+            rendered85.push_back(Elem{Pos{add(x86.origin.x, int32_t(0)), add(x86.origin.y, int32_t(0))}, colour87});
           }
-          const Pos t87 = Pos{s.core.click_x, s.core.click_y};
-          for (const Elem& e88 : rendered84) {
-            if ((e88.position == t87)) {
+          for (const Elem& e88 : rendered85) {
+            if ((e88.position == Pos{s.core.click_x, s.core.click_y})) {
               clicked83 = true;
               break;
             }
@@ -539,14 +539,14 @@ struct Prog {
           bool clicked94 = false;
           if (s.core.click) {
             s.d_click_16 = true;
-            s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered95 = s.scratch.v.b11;
-            rendered95.clear();
-            const int32_t colour96 = colour_1_C1_Swatch(s, x93);
-            rendered95.push_back(Elem{Pos{add(x93.origin.x, int32_t(0)), add(x93.origin.y, int32_t(0))}, colour96});
-            const Pos t97 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e98 : rendered95) {
-              if ((e98.position == t97)) {
+            const Pos t95 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_15 = t95;
+            std::vector<Elem>& rendered96 = s.scratch.v.b11;
+            rendered96.clear();
+            const int32_t colour97 = colour_1_C1_Swatch(s, x93);
+            rendered96.push_back(Elem{Pos{add(x93.origin.x, int32_t(0)), add(x93.origin.y, int32_t(0))}, colour97});
+            for (const Elem& e98 : rendered96) {
+              if ((e98.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked94 = true;
                 break;
               }
@@ -626,7 +626,8 @@ struct Prog {
           bool clicked122 = false;
           if (s.core.click) {
             s.d_click_16 = true;
-            s.g_click_15 = Pos{s.core.click_x, s.core.click_y};
+            const Pos t123 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_15 = t123;
             clicked122 = true;
           }
           r121 = clicked122;
@@ -646,69 +647,69 @@ struct Prog {
         if ((int32_t(7) < int32_t(0))) {
           fail_at(5, std::string() + std::string("allPositions: negative size"));
         }
-        std::vector<Pos>& apos123 = s.scratch.v.b13;
-        apos123.clear();
-        for (int32_t i124 = int32_t(0), i124_end = int32_t(8); i124 < i124_end; ++i124) {
-          for (int32_t j125 = int32_t(0), j125_end = int32_t(7); j125 < j125_end; ++j125) {
-            const Pos t126 = Pos{i124, j125};
-            apos123.push_back(t126);
+        std::vector<Pos>& apos124 = s.scratch.v.b13;
+        apos124.clear();
+        for (int32_t i125 = int32_t(0), i125_end = int32_t(8); i125 < i125_end; ++i125) {
+          for (int32_t j126 = int32_t(0), j126_end = int32_t(7); j126 < j126_end; ++j126) {
+            const Pos t127 = Pos{i125, j126};
+            apos124.push_back(t127);
           }
         }
-        std::vector<C0_Tile> out127{};
-        out127.reserve(size_t(int32_t(apos123.size())));
-        for (const Pos& x128 : apos123) {
+        std::vector<C0_Tile> out128{};
+        out128.reserve(size_t(int32_t(apos124.size())));
+        for (const Pos& x129 : apos124) {
           // inlined: function at programs/color_flood.au:18
-          const std::vector<int32_t>& g129 = s.g_palette_4;
-          if (g129.empty()) {
+          const std::vector<int32_t>& g130 = s.g_palette_4;
+          if (g130.empty()) {
             fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t130 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g129.size())))));
-          const int32_t t131 = g129[size_t(t130)];
-          const Pos& g132 = s.g_corner_5;
-          const bool t133 = (x128 == g132);
-          CellV l_allCells134{};
-          const CellV t135 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
-          l_allCells134 = t135;
-          const CellV& v136 = l_allCells134;
-          const CellV& v137 = l_allCells134;
-          const std::vector<CellV> list138 = std::vector<CellV>{v137};
-          C0_Tile o139 = C0_Tile{t131, t133, x128};
-          out127.push_back(std::move(o139));
+          const int32_t t131 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g130.size())))));
+          const int32_t t132 = g130[size_t(t131)];
+          const Pos& g133 = s.g_corner_5;
+          const bool t134 = (x129 == g133);
+          CellV l_allCells135{};
+          const CellV t136 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+          l_allCells135 = t136;
+          const CellV& v137 = l_allCells135;
+          const CellV& v138 = l_allCells135;
+          const std::vector<CellV> list139 = std::vector<CellV>{v138};
+          C0_Tile o140 = C0_Tile{t132, t134, x129};
+          out128.push_back(std::move(o140));
         }
-        s.g_tiles_12 = std::move(out127);
+        s.g_tiles_12 = std::move(out128);
         s.u_tiles_13 = true;
       }
     }
     // NEXT of lamps, programs/color_flood.au:29
     if (!s.u_lamps_7) {
-      const C2_Lamps& prev140 = s.p_lamps_8;
-      const std::vector<C0_Tile>& g141 = s.g_tiles_12;
+      const C2_Lamps& prev141 = s.p_lamps_8;
+      const std::vector<C0_Tile>& g142 = s.g_tiles_12;
       // inlined: function at programs/color_flood.au:31
-      bool any142 = false;
-      for (const C0_Tile& x143 : g141) {
+      bool any143 = false;
+      for (const C0_Tile& x144 : g142) {
         // inlined: function at programs/color_flood.au:31
-        const bool t144 = !x143.f1;
-        if (t144) {
-          any142 = true;
+        const bool t145 = !x144.f1;
+        if (t145) {
+          any143 = true;
           break;
         }
       }
-      const bool t145 = !any142;
-      C2_Lamps upd146 = prev140;
-      upd146.f0 = t145;
-      s.g_lamps_6 = std::move(upd146);
+      const bool t146 = !any143;
+      C2_Lamps upd147 = prev141;
+      upd147.f0 = t146;
+      s.g_lamps_6 = std::move(upd147);
       s.u_lamps_7 = true;
     }
     // NEXT of swatches, programs/color_flood.au:25
     if (!s.u_swatches_10) {
-      const std::vector<C1_Swatch>& prev147 = s.p_swatches_11;
-      s.g_swatches_9 = prev147;
+      const std::vector<C1_Swatch>& prev148 = s.p_swatches_11;
+      s.g_swatches_9 = prev148;
       s.u_swatches_10 = true;
     }
     // NEXT of tiles, programs/color_flood.au:21
     if (!s.u_tiles_13) {
-      const std::vector<C0_Tile>& prev148 = s.p_tiles_14;
-      s.g_tiles_12 = prev148;
+      const std::vector<C0_Tile>& prev149 = s.p_tiles_14;
+      s.g_tiles_12 = prev149;
       s.u_tiles_13 = true;
     }
     s.core.clear_inputs();

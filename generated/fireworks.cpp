@@ -408,189 +408,190 @@ struct Prog {
       bool clicked82 = false;
       if (s.core.click) {
         s.d_click_18 = true;
-        s.g_click_17 = Pos{s.core.click_x, s.core.click_y};
+        const Pos t83 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_17 = t83;
         clicked82 = true;
       }
-      bool r83{};
+      bool r84{};
       if (clicked82) {
-        const std::vector<C1_Rocket>& g84 = s.g_rockets_11;
-        const int32_t t85 = int32_t(g84.size());
-        const bool t86 = (t85 < int32_t(8));
-        r83 = t86;
+        const std::vector<C1_Rocket>& g85 = s.g_rockets_11;
+        const int32_t t86 = int32_t(g85.size());
+        const bool t87 = (t86 < int32_t(8));
+        r84 = t87;
       } else {
-        r83 = false;
+        r84 = false;
       }
-      if (r83) {
+      if (r84) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_Rocket>& g87 = s.g_rockets_11;
-        Pos r88{};
+        const std::vector<C1_Rocket>& g88 = s.g_rockets_11;
+        Pos r89{};
         if (s.d_click_18) {
-          const Pos& g89 = s.g_click_17;
-          r88 = g89;
+          const Pos& g90 = s.g_click_17;
+          r89 = g90;
         } else {
           fail_at(1, std::string() + std::string("undefined variable 'click'"));
         }
-        const std::vector<int32_t>& g90 = s.g_palette_4;
-        if (g90.empty()) {
+        const std::vector<int32_t>& g91 = s.g_palette_4;
+        if (g91.empty()) {
           fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t91 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g90.size())))));
-        const int32_t t92 = g90[size_t(t91)];
-        Pos r93{};
+        const int32_t t92 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g91.size())))));
+        const int32_t t93 = g91[size_t(t92)];
+        Pos r94{};
         if (s.d_click_18) {
-          const Pos& g94 = s.g_click_17;
-          r93 = g94;
+          const Pos& g95 = s.g_click_17;
+          r94 = g95;
         } else {
           fail_at(3, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t95 = Pos{r93.x, int32_t(18)};
-        std::vector<CellV> l_allCells96{};
-        const CellV t97 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
-        const CellV t98 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
-        std::vector<CellV> list99 = std::vector<CellV>{t97, t98};
-        l_allCells96 = std::move(list99);
-        const std::vector<CellV>& v100 = l_allCells96;
-        const std::vector<CellV>& v101 = l_allCells96;
-        C1_Rocket o102 = C1_Rocket{r88.y, t92, t95, v101};
-        std::vector<C1_Rocket> added103{};
-        added103.reserve(size_t(add(int32_t(g87.size()), int32_t(1))));
-        for (const C1_Rocket& x104 : g87) {
-          added103.push_back(x104);
+        const Pos t96 = Pos{r94.x, int32_t(18)};
+        std::vector<CellV> l_allCells97{};
+        const CellV t98 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+        const CellV t99 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+        std::vector<CellV> list100 = std::vector<CellV>{t98, t99};
+        l_allCells97 = std::move(list100);
+        const std::vector<CellV>& v101 = l_allCells97;
+        const std::vector<CellV>& v102 = l_allCells97;
+        C1_Rocket o103 = C1_Rocket{r89.y, t93, t96, v102};
+        std::vector<C1_Rocket> added104{};
+        added104.reserve(size_t(add(int32_t(g88.size()), int32_t(1))));
+        for (const C1_Rocket& x105 : g88) {
+          added104.push_back(x105);
         }
-        added103.push_back(std::move(o102));
-        s.g_rockets_11 = std::move(added103);
+        added104.push_back(std::move(o103));
+        s.g_rockets_11 = std::move(added104);
         s.u_rockets_12 = true;
       }
     }
     // on-clause 5, programs/fireworks.au:55
     {
-      const bool t105 = s.core.up;
-      bool r106{};
-      if (t105) {
-        const std::vector<C1_Rocket>& g107 = s.g_rockets_11;
-        const int32_t t108 = int32_t(g107.size());
-        const bool t109 = (t108 < int32_t(8));
-        r106 = t109;
+      const bool t106 = s.core.up;
+      bool r107{};
+      if (t106) {
+        const std::vector<C1_Rocket>& g108 = s.g_rockets_11;
+        const int32_t t109 = int32_t(g108.size());
+        const bool t110 = (t109 < int32_t(8));
+        r107 = t110;
       } else {
-        r106 = false;
+        r107 = false;
       }
-      if (r106) {
+      if (r107) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C1_Rocket>& g110 = s.g_rockets_11;
+        const std::vector<C1_Rocket>& g111 = s.g_rockets_11;
         if (std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)}.empty()) {
           fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t111 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)}.size())))));
-        const int32_t t112 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)}[size_t(t111)];
-        const std::vector<int32_t>& g113 = s.g_palette_4;
-        if (g113.empty()) {
+        const int32_t t112 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)}.size())))));
+        const int32_t t113 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)}[size_t(t112)];
+        const std::vector<int32_t>& g114 = s.g_palette_4;
+        if (g114.empty()) {
           fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t114 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g113.size())))));
-        const int32_t t115 = g113[size_t(t114)];
-        const C0_Pad& g116 = s.g_pad_14;
-        const Pos t117 = Pos{g116.origin.x, int32_t(18)};
-        std::vector<CellV> l_allCells118{};
-        const CellV t119 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
-        const CellV t120 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
-        std::vector<CellV> list121 = std::vector<CellV>{t119, t120};
-        l_allCells118 = std::move(list121);
-        const std::vector<CellV>& v122 = l_allCells118;
-        const std::vector<CellV>& v123 = l_allCells118;
-        C1_Rocket o124 = C1_Rocket{t112, t115, t117, v123};
-        std::vector<C1_Rocket> added125{};
-        added125.reserve(size_t(add(int32_t(g110.size()), int32_t(1))));
-        for (const C1_Rocket& x126 : g110) {
-          added125.push_back(x126);
+        const int32_t t115 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g114.size())))));
+        const int32_t t116 = g114[size_t(t115)];
+        const C0_Pad& g117 = s.g_pad_14;
+        const Pos t118 = Pos{g117.origin.x, int32_t(18)};
+        std::vector<CellV> l_allCells119{};
+        const CellV t120 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+        const CellV t121 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+        std::vector<CellV> list122 = std::vector<CellV>{t120, t121};
+        l_allCells119 = std::move(list122);
+        const std::vector<CellV>& v123 = l_allCells119;
+        const std::vector<CellV>& v124 = l_allCells119;
+        C1_Rocket o125 = C1_Rocket{t113, t116, t118, v124};
+        std::vector<C1_Rocket> added126{};
+        added126.reserve(size_t(add(int32_t(g111.size()), int32_t(1))));
+        for (const C1_Rocket& x127 : g111) {
+          added126.push_back(x127);
         }
-        added125.push_back(std::move(o124));
-        s.g_rockets_11 = std::move(added125);
+        added126.push_back(std::move(o125));
+        s.g_rockets_11 = std::move(added126);
         s.u_rockets_12 = true;
       }
     }
     // on-clause 6, programs/fireworks.au:59
     {
-      const bool t127 = s.core.down;
-      bool r128{};
-      if (t127) {
-        const std::vector<C1_Rocket>& g129 = s.g_rockets_11;
-        const int32_t t130 = int32_t(g129.size());
-        const bool t131 = (t130 < int32_t(8));
-        r128 = t131;
+      const bool t128 = s.core.down;
+      bool r129{};
+      if (t128) {
+        const std::vector<C1_Rocket>& g130 = s.g_rockets_11;
+        const int32_t t131 = int32_t(g130.size());
+        const bool t132 = (t131 < int32_t(8));
+        r129 = t132;
       } else {
-        r128 = false;
+        r129 = false;
       }
-      if (r128) {
+      if (r129) {
         s.core.covered[int32_t(5)] = 1;
-        const std::vector<C1_Rocket>& g132 = s.g_rockets_11;
+        const std::vector<C1_Rocket>& g133 = s.g_rockets_11;
         if ((int32_t(20) < int32_t(0))) {
           fail_at(6, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
-        std::vector<Pos>& rpos133 = s.scratch.v.b10;
-        rpos133.clear();
-        for (int32_t i134 = int32_t(0), i134_end = int32_t(3); i134 < i134_end; ++i134) {
-          const int32_t t135 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
+        std::vector<Pos>& rpos134 = s.scratch.v.b10;
+        rpos134.clear();
+        for (int32_t i135 = int32_t(0), i135_end = int32_t(3); i135 < i135_end; ++i135) {
           const int32_t t136 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
-          const Pos t137 = Pos{t135, t136};
-          rpos133.push_back(t137);
+          const int32_t t137 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
+          const Pos t138 = Pos{t136, t137};
+          rpos134.push_back(t138);
         }
-        std::vector<C1_Rocket>& out138 = s.scratch.v.b11;
-        out138.clear();
-        out138.reserve(size_t(int32_t(rpos133.size())));
-        for (const Pos& x139 : rpos133) {
+        std::vector<C1_Rocket>& out139 = s.scratch.v.b11;
+        out139.clear();
+        out139.reserve(size_t(int32_t(rpos134.size())));
+        for (const Pos& x140 : rpos134) {
           // inlined: function at programs/fireworks.au:61
-          const bool t140 = (int32_t(12) < x139.y);
-          int32_t r141{};
-          if (t140) {
-            r141 = int32_t(12);
+          const bool t141 = (int32_t(12) < x140.y);
+          int32_t r142{};
+          if (t141) {
+            r142 = int32_t(12);
           } else {
-            r141 = x139.y;
+            r142 = x140.y;
           }
-          const std::vector<int32_t>& g142 = s.g_palette_4;
-          if (g142.empty()) {
+          const std::vector<int32_t>& g143 = s.g_palette_4;
+          if (g143.empty()) {
             fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t143 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g142.size())))));
-          const int32_t t144 = g142[size_t(t143)];
-          const Pos t145 = Pos{x139.x, int32_t(18)};
-          std::vector<CellV> l_allCells146{};
-          const CellV t147 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
-          const CellV t148 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
-          std::vector<CellV> list149 = std::vector<CellV>{t147, t148};
-          l_allCells146 = std::move(list149);
-          const std::vector<CellV>& v150 = l_allCells146;
-          const std::vector<CellV>& v151 = l_allCells146;
-          C1_Rocket o152 = C1_Rocket{r141, t144, t145, v151};
-          out138.push_back(std::move(o152));
+          const int32_t t144 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g143.size())))));
+          const int32_t t145 = g143[size_t(t144)];
+          const Pos t146 = Pos{x140.x, int32_t(18)};
+          std::vector<CellV> l_allCells147{};
+          const CellV t148 = CellV{int32_t(0), int32_t(0), int32_t(10), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+          const CellV t149 = CellV{int32_t(0), int32_t(1), int32_t(11), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(5))};
+          std::vector<CellV> list150 = std::vector<CellV>{t148, t149};
+          l_allCells147 = std::move(list150);
+          const std::vector<CellV>& v151 = l_allCells147;
+          const std::vector<CellV>& v152 = l_allCells147;
+          C1_Rocket o153 = C1_Rocket{r142, t145, t146, v152};
+          out139.push_back(std::move(o153));
         }
-        std::vector<C1_Rocket> added153{};
-        added153.reserve(size_t(add(int32_t(g132.size()), int32_t(out138.size()))));
-        for (const C1_Rocket& x154 : g132) {
-          added153.push_back(x154);
+        std::vector<C1_Rocket> added154{};
+        added154.reserve(size_t(add(int32_t(g133.size()), int32_t(out139.size()))));
+        for (const C1_Rocket& x155 : g133) {
+          added154.push_back(x155);
         }
-        for (const C1_Rocket& x155 : out138) {
-          added153.push_back(x155);
+        for (const C1_Rocket& x156 : out139) {
+          added154.push_back(x156);
         }
-        s.g_rockets_11 = std::move(added153);
+        s.g_rockets_11 = std::move(added154);
         s.u_rockets_12 = true;
       }
     }
     // NEXT of sparks, programs/fireworks.au:28
     if (!s.u_sparks_9) {
-      const std::vector<C2_Spark>& prev156 = s.p_sparks_10;
-      s.g_sparks_8 = prev156;
+      const std::vector<C2_Spark>& prev157 = s.p_sparks_10;
+      s.g_sparks_8 = prev157;
       s.u_sparks_9 = true;
     }
     // NEXT of rockets, programs/fireworks.au:25
     if (!s.u_rockets_12) {
-      const std::vector<C1_Rocket>& prev157 = s.p_rockets_13;
-      s.g_rockets_11 = prev157;
+      const std::vector<C1_Rocket>& prev158 = s.p_rockets_13;
+      s.g_rockets_11 = prev158;
       s.u_rockets_12 = true;
     }
     // NEXT of pad, programs/fireworks.au:22
     if (!s.u_pad_15) {
-      const C0_Pad& prev158 = s.p_pad_16;
-      s.g_pad_14 = prev158;
+      const C0_Pad& prev159 = s.p_pad_16;
+      s.g_pad_14 = prev159;
       s.u_pad_15 = true;
     }
     s.core.clear_inputs();

@@ -1189,16 +1189,16 @@ struct Prog {
       bool clicked325 = false;
       if (s.core.click) {
         s.d_click_29 = true;
-        s.g_click_28 = Pos{s.core.click_x, s.core.click_y};
-        std::vector<Elem>& rendered326 = s.scratch.v.b18;
-        rendered326.clear();
-        for (const C1_House& x327 : prev324) {
-          const int32_t colour328 = colour_3_C1_House(s, x327);
-          rendered326.push_back(Elem{Pos{add(x327.origin.x, int32_t(0)), add(x327.origin.y, int32_t(0))}, colour328});
+        const Pos t326 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_28 = t326;
+        std::vector<Elem>& rendered327 = s.scratch.v.b18;
+        rendered327.clear();
+        for (const C1_House& x328 : prev324) {
+          const int32_t colour329 = colour_3_C1_House(s, x328);
+          rendered327.push_back(Elem{Pos{add(x328.origin.x, int32_t(0)), add(x328.origin.y, int32_t(0))}, colour329});
         }
-        const Pos t329 = Pos{s.core.click_x, s.core.click_y};
-        for (const Elem& e330 : rendered326) {
-          if ((e330.position == t329)) {
+        for (const Elem& e330 : rendered327) {
+          if ((e330.position == Pos{s.core.click_x, s.core.click_y})) {
             clicked325 = true;
             break;
           }
@@ -1214,14 +1214,14 @@ struct Prog {
           bool clicked334 = false;
           if (s.core.click) {
             s.d_click_29 = true;
-            s.g_click_28 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered335 = s.scratch.v.b19;
-            rendered335.clear();
-            const int32_t colour336 = colour_3_C1_House(s, x333);
-            rendered335.push_back(Elem{Pos{add(x333.origin.x, int32_t(0)), add(x333.origin.y, int32_t(0))}, colour336});
-            const Pos t337 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e338 : rendered335) {
-              if ((e338.position == t337)) {
+            const Pos t335 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_28 = t335;
+            std::vector<Elem>& rendered336 = s.scratch.v.b19;
+            rendered336.clear();
+            const int32_t colour337 = colour_3_C1_House(s, x333);
+            rendered336.push_back(Elem{Pos{add(x333.origin.x, int32_t(0)), add(x333.origin.y, int32_t(0))}, colour337});
+            for (const Elem& e338 : rendered336) {
+              if ((e338.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked334 = true;
                 break;
               }
@@ -1247,15 +1247,15 @@ struct Prog {
       bool clicked341 = false;
       if (s.core.click) {
         s.d_click_29 = true;
-        s.g_click_28 = Pos{s.core.click_x, s.core.click_y};
-        std::vector<Elem>& rendered342 = s.scratch.v.b20;
-        rendered342.clear();
-        for (const C3_Sandbag& x343 : prev340) {
-          render_C3_Sandbag(s, x343, rendered342);
+        const Pos t342 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_28 = t342;
+        std::vector<Elem>& rendered343 = s.scratch.v.b20;
+        rendered343.clear();
+        for (const C3_Sandbag& x344 : prev340) {
+          render_C3_Sandbag(s, x344, rendered343);
         }
-        const Pos t344 = Pos{s.core.click_x, s.core.click_y};
-        for (const Elem& e345 : rendered342) {
-          if ((e345.position == t344)) {
+        for (const Elem& e345 : rendered343) {
+          if ((e345.position == Pos{s.core.click_x, s.core.click_y})) {
             clicked341 = true;
             break;
           }
@@ -1270,13 +1270,13 @@ struct Prog {
           bool clicked349 = false;
           if (s.core.click) {
             s.d_click_29 = true;
-            s.g_click_28 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered350 = s.scratch.v.b21;
-            rendered350.clear();
-            render_C3_Sandbag(s, x348, rendered350);
-            const Pos t351 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e352 : rendered350) {
-              if ((e352.position == t351)) {
+            const Pos t350 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_28 = t350;
+            std::vector<Elem>& rendered351 = s.scratch.v.b21;
+            rendered351.clear();
+            render_C3_Sandbag(s, x348, rendered351);
+            for (const Elem& e352 : rendered351) {
+              if ((e352.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked349 = true;
                 break;
               }
@@ -1295,242 +1295,243 @@ struct Prog {
       bool clicked353 = false;
       if (s.core.click) {
         s.d_click_29 = true;
-        s.g_click_28 = Pos{s.core.click_x, s.core.click_y};
+        const Pos t354 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_28 = t354;
         clicked353 = true;
       }
-      bool r354{};
+      bool r355{};
       if (clicked353) {
-        Pos r355{};
+        Pos r356{};
         if (s.d_click_29) {
-          const Pos& g356 = s.g_click_28;
-          r355 = g356;
+          const Pos& g357 = s.g_click_28;
+          r356 = g357;
         } else {
           fail_at(4, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t357 = s.core.occupied.free(r355);
-        bool r358{};
-        if (t357) {
-          const std::vector<C3_Sandbag>& g359 = s.g_bags_10;
-          const int32_t t360 = int32_t(g359.size());
-          const bool t361 = (t360 < int32_t(15));
-          r358 = t361;
+        const bool t358 = s.core.occupied.free(r356);
+        bool r359{};
+        if (t358) {
+          const std::vector<C3_Sandbag>& g360 = s.g_bags_10;
+          const int32_t t361 = int32_t(g360.size());
+          const bool t362 = (t361 < int32_t(15));
+          r359 = t362;
         } else {
-          r358 = false;
+          r359 = false;
         }
-        r354 = r358;
+        r355 = r359;
       } else {
-        r354 = false;
+        r355 = false;
       }
-      if (r354) {
+      if (r355) {
         s.core.covered[int32_t(5)] = 1;
-        const std::vector<C3_Sandbag>& g362 = s.g_bags_10;
-        Pos r363{};
+        const std::vector<C3_Sandbag>& g363 = s.g_bags_10;
+        Pos r364{};
         if (s.d_click_29) {
-          const Pos& g364 = s.g_click_28;
-          r363 = g364;
+          const Pos& g365 = s.g_click_28;
+          r364 = g365;
         } else {
           fail_at(5, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r365{};
+        Pos r366{};
         if (s.d_click_29) {
-          const Pos& g366 = s.g_click_28;
-          r365 = g366;
+          const Pos& g367 = s.g_click_28;
+          r366 = g367;
         } else {
           fail_at(6, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t367 = Pos{r363.x, r365.y};
-        CellV l_allCells368{};
-        const CellV t369 = CellV{int32_t(0), int32_t(0), int32_t(9), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(7))};
-        l_allCells368 = t369;
-        const CellV& v370 = l_allCells368;
-        const CellV& v371 = l_allCells368;
-        const std::vector<CellV> list372 = std::vector<CellV>{v371};
-        C3_Sandbag o373 = C3_Sandbag{t367, list372, int32_t(s.core.ids.fresh())};
-        std::vector<C3_Sandbag> added374{};
-        added374.reserve(size_t(add(int32_t(g362.size()), int32_t(1))));
-        for (const C3_Sandbag& x375 : g362) {
-          C3_Sandbag copy376 = x375;
-          copy376.uid = int32_t(s.core.ids.fresh());
-          added374.push_back(std::move(copy376));
+        const Pos t368 = Pos{r364.x, r366.y};
+        CellV l_allCells369{};
+        const CellV t370 = CellV{int32_t(0), int32_t(0), int32_t(9), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(7))};
+        l_allCells369 = t370;
+        const CellV& v371 = l_allCells369;
+        const CellV& v372 = l_allCells369;
+        const std::vector<CellV> list373 = std::vector<CellV>{v372};
+        C3_Sandbag o374 = C3_Sandbag{t368, list373, int32_t(s.core.ids.fresh())};
+        std::vector<C3_Sandbag> added375{};
+        added375.reserve(size_t(add(int32_t(g363.size()), int32_t(1))));
+        for (const C3_Sandbag& x376 : g363) {
+          C3_Sandbag copy377 = x376;
+          copy377.uid = int32_t(s.core.ids.fresh());
+          added375.push_back(std::move(copy377));
         }
-        added374.push_back(std::move(o373));
-        s.g_bags_10 = std::move(added374);
+        added375.push_back(std::move(o374));
+        s.g_bags_10 = std::move(added375);
         s.u_bags_11 = true;
       }
     }
     // on-clause 7, programs/flood_defense.au:68
     {
-      const bool t377 = s.core.left;
-      if (t377) {
+      const bool t378 = s.core.left;
+      if (t378) {
         s.core.covered[int32_t(6)] = 1;
-        const C5_Spring& prev378 = s.p_spring_15;
+        const C5_Spring& prev379 = s.p_spring_15;
         // inlined: function at programs/flood_defense.au:47
-        const int32_t t379 = add(prev378.origin.x, int32_t(-1));
-        const int32_t t380 = add(prev378.origin.y, int32_t(0));
-        const Pos t381 = Pos{t379, t380};
-        C5_Spring upd382 = prev378;
-        upd382.origin = t381;
-        upd382.uid = int32_t(s.core.ids.fresh());
-        std::vector<Elem>& rendered383 = s.scratch.v.b22;
-        rendered383.clear();
-        rendered383.push_back(Elem{Pos{add(upd382.origin.x, int32_t(-1)), add(upd382.origin.y, int32_t(0))}, int32_t(2)});
-        rendered383.push_back(Elem{Pos{add(upd382.origin.x, int32_t(0)), add(upd382.origin.y, int32_t(0))}, int32_t(2)});
-        rendered383.push_back(Elem{Pos{add(upd382.origin.x, int32_t(1)), add(upd382.origin.y, int32_t(0))}, int32_t(2)});
-        bool within384 = true;
-        for (const Elem& e385 : rendered383) {
-          if ((((e385.position.x < int32_t(0)) || (e385.position.x >= int32_t(16))) || ((e385.position.y < int32_t(0)) || (e385.position.y >= int32_t(16))))) {
-            within384 = false;
+        const int32_t t380 = add(prev379.origin.x, int32_t(-1));
+        const int32_t t381 = add(prev379.origin.y, int32_t(0));
+        const Pos t382 = Pos{t380, t381};
+        C5_Spring upd383 = prev379;
+        upd383.origin = t382;
+        upd383.uid = int32_t(s.core.ids.fresh());
+        std::vector<Elem>& rendered384 = s.scratch.v.b22;
+        rendered384.clear();
+        rendered384.push_back(Elem{Pos{add(upd383.origin.x, int32_t(-1)), add(upd383.origin.y, int32_t(0))}, int32_t(2)});
+        rendered384.push_back(Elem{Pos{add(upd383.origin.x, int32_t(0)), add(upd383.origin.y, int32_t(0))}, int32_t(2)});
+        rendered384.push_back(Elem{Pos{add(upd383.origin.x, int32_t(1)), add(upd383.origin.y, int32_t(0))}, int32_t(2)});
+        bool within385 = true;
+        for (const Elem& e386 : rendered384) {
+          if ((((e386.position.x < int32_t(0)) || (e386.position.x >= int32_t(16))) || ((e386.position.y < int32_t(0)) || (e386.position.y >= int32_t(16))))) {
+            within385 = false;
             break;
           }
         }
-        C5_Spring r386{};
-        if (within384) {
-          const int32_t t387 = add(prev378.origin.x, int32_t(-1));
-          const int32_t t388 = add(prev378.origin.y, int32_t(0));
-          const Pos t389 = Pos{t387, t388};
-          C5_Spring upd390 = prev378;
-          upd390.origin = t389;
-          upd390.uid = int32_t(s.core.ids.fresh());
-          r386 = std::move(upd390);
+        C5_Spring r387{};
+        if (within385) {
+          const int32_t t388 = add(prev379.origin.x, int32_t(-1));
+          const int32_t t389 = add(prev379.origin.y, int32_t(0));
+          const Pos t390 = Pos{t388, t389};
+          C5_Spring upd391 = prev379;
+          upd391.origin = t390;
+          upd391.uid = int32_t(s.core.ids.fresh());
+          r387 = std::move(upd391);
         } else {
-          r386 = prev378;
+          r387 = prev379;
         }
-        s.core.ids.transfer(uint32_t(r386.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
-        s.g_spring_13 = std::move(r386);
+        s.core.ids.transfer(uint32_t(r387.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
+        s.g_spring_13 = std::move(r387);
         s.u_spring_14 = true;
       }
     }
     // on-clause 8, programs/flood_defense.au:69
     {
-      const bool t391 = s.core.right;
-      if (t391) {
+      const bool t392 = s.core.right;
+      if (t392) {
         s.core.covered[int32_t(7)] = 1;
-        const C5_Spring& prev392 = s.p_spring_15;
+        const C5_Spring& prev393 = s.p_spring_15;
         // inlined: function at programs/flood_defense.au:47
-        const int32_t t393 = add(prev392.origin.x, int32_t(1));
-        const int32_t t394 = add(prev392.origin.y, int32_t(0));
-        const Pos t395 = Pos{t393, t394};
-        C5_Spring upd396 = prev392;
-        upd396.origin = t395;
-        upd396.uid = int32_t(s.core.ids.fresh());
-        std::vector<Elem>& rendered397 = s.scratch.v.b23;
-        rendered397.clear();
-        rendered397.push_back(Elem{Pos{add(upd396.origin.x, int32_t(-1)), add(upd396.origin.y, int32_t(0))}, int32_t(2)});
-        rendered397.push_back(Elem{Pos{add(upd396.origin.x, int32_t(0)), add(upd396.origin.y, int32_t(0))}, int32_t(2)});
-        rendered397.push_back(Elem{Pos{add(upd396.origin.x, int32_t(1)), add(upd396.origin.y, int32_t(0))}, int32_t(2)});
-        bool within398 = true;
-        for (const Elem& e399 : rendered397) {
-          if ((((e399.position.x < int32_t(0)) || (e399.position.x >= int32_t(16))) || ((e399.position.y < int32_t(0)) || (e399.position.y >= int32_t(16))))) {
-            within398 = false;
+        const int32_t t394 = add(prev393.origin.x, int32_t(1));
+        const int32_t t395 = add(prev393.origin.y, int32_t(0));
+        const Pos t396 = Pos{t394, t395};
+        C5_Spring upd397 = prev393;
+        upd397.origin = t396;
+        upd397.uid = int32_t(s.core.ids.fresh());
+        std::vector<Elem>& rendered398 = s.scratch.v.b23;
+        rendered398.clear();
+        rendered398.push_back(Elem{Pos{add(upd397.origin.x, int32_t(-1)), add(upd397.origin.y, int32_t(0))}, int32_t(2)});
+        rendered398.push_back(Elem{Pos{add(upd397.origin.x, int32_t(0)), add(upd397.origin.y, int32_t(0))}, int32_t(2)});
+        rendered398.push_back(Elem{Pos{add(upd397.origin.x, int32_t(1)), add(upd397.origin.y, int32_t(0))}, int32_t(2)});
+        bool within399 = true;
+        for (const Elem& e400 : rendered398) {
+          if ((((e400.position.x < int32_t(0)) || (e400.position.x >= int32_t(16))) || ((e400.position.y < int32_t(0)) || (e400.position.y >= int32_t(16))))) {
+            within399 = false;
             break;
           }
         }
-        C5_Spring r400{};
-        if (within398) {
-          const int32_t t401 = add(prev392.origin.x, int32_t(1));
-          const int32_t t402 = add(prev392.origin.y, int32_t(0));
-          const Pos t403 = Pos{t401, t402};
-          C5_Spring upd404 = prev392;
-          upd404.origin = t403;
-          upd404.uid = int32_t(s.core.ids.fresh());
-          r400 = std::move(upd404);
+        C5_Spring r401{};
+        if (within399) {
+          const int32_t t402 = add(prev393.origin.x, int32_t(1));
+          const int32_t t403 = add(prev393.origin.y, int32_t(0));
+          const Pos t404 = Pos{t402, t403};
+          C5_Spring upd405 = prev393;
+          upd405.origin = t404;
+          upd405.uid = int32_t(s.core.ids.fresh());
+          r401 = std::move(upd405);
         } else {
-          r400 = prev392;
+          r401 = prev393;
         }
-        s.core.ids.transfer(uint32_t(r400.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
-        s.g_spring_13 = std::move(r400);
+        s.core.ids.transfer(uint32_t(r401.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
+        s.g_spring_13 = std::move(r401);
         s.u_spring_14 = true;
       }
     }
     // on-clause 9, programs/flood_defense.au:70
     {
-      const bool t405 = s.core.up;
-      if (t405) {
+      const bool t406 = s.core.up;
+      if (t406) {
         s.core.covered[int32_t(8)] = 1;
-        const C5_Spring& prev406 = s.p_spring_15;
         const C5_Spring& prev407 = s.p_spring_15;
-        const int32_t t408 = sub(prev407.f0, int32_t(1));
-        const bool t409 = (int32_t(1) < t408);
-        int32_t r410{};
-        if (t409) {
-          r410 = t408;
+        const C5_Spring& prev408 = s.p_spring_15;
+        const int32_t t409 = sub(prev408.f0, int32_t(1));
+        const bool t410 = (int32_t(1) < t409);
+        int32_t r411{};
+        if (t410) {
+          r411 = t409;
         } else {
-          r410 = int32_t(1);
+          r411 = int32_t(1);
         }
-        C5_Spring upd411 = prev406;
-        upd411.f0 = r410;
-        upd411.uid = int32_t(s.core.ids.fresh());
-        s.core.ids.transfer(uint32_t(upd411.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
-        s.g_spring_13 = std::move(upd411);
+        C5_Spring upd412 = prev407;
+        upd412.f0 = r411;
+        upd412.uid = int32_t(s.core.ids.fresh());
+        s.core.ids.transfer(uint32_t(upd412.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
+        s.g_spring_13 = std::move(upd412);
         s.u_spring_14 = true;
       }
     }
     // on-clause 10, programs/flood_defense.au:71
     {
-      const bool t412 = s.core.down;
-      if (t412) {
+      const bool t413 = s.core.down;
+      if (t413) {
         s.core.covered[int32_t(9)] = 1;
-        const C5_Spring& prev413 = s.p_spring_15;
         const C5_Spring& prev414 = s.p_spring_15;
-        const int32_t t415 = add(prev414.f0, int32_t(1));
-        const bool t416 = (int32_t(4) < t415);
-        int32_t r417{};
-        if (t416) {
-          r417 = int32_t(4);
+        const C5_Spring& prev415 = s.p_spring_15;
+        const int32_t t416 = add(prev415.f0, int32_t(1));
+        const bool t417 = (int32_t(4) < t416);
+        int32_t r418{};
+        if (t417) {
+          r418 = int32_t(4);
         } else {
-          r417 = t415;
+          r418 = t416;
         }
-        C5_Spring upd418 = prev413;
-        upd418.f0 = r417;
-        upd418.uid = int32_t(s.core.ids.fresh());
-        s.core.ids.transfer(uint32_t(upd418.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
-        s.g_spring_13 = std::move(upd418);
+        C5_Spring upd419 = prev414;
+        upd419.f0 = r418;
+        upd419.uid = int32_t(s.core.ids.fresh());
+        s.core.ids.transfer(uint32_t(upd419.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
+        s.g_spring_13 = std::move(upd419);
         s.u_spring_14 = true;
       }
     }
     // NEXT of water, programs/flood_defense.au:41
     if (!s.u_water_8) {
-      const std::vector<C4_Water>& prev419 = s.p_water_9;
-      s.g_water_7 = prev419;
+      const std::vector<C4_Water>& prev420 = s.p_water_9;
+      s.g_water_7 = prev420;
       s.u_water_8 = true;
     }
     // NEXT of bags, programs/flood_defense.au:38
     if (!s.u_bags_11) {
-      const std::vector<C3_Sandbag>& prev420 = s.p_bags_12;
-      s.g_bags_10 = prev420;
+      const std::vector<C3_Sandbag>& prev421 = s.p_bags_12;
+      s.g_bags_10 = prev421;
       s.u_bags_11 = true;
     }
     // NEXT of spring, programs/flood_defense.au:44
     if (!s.u_spring_14) {
-      const C5_Spring& prev421 = s.p_spring_15;
-      s.core.ids.transfer(uint32_t(prev421.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
-      s.g_spring_13 = prev421;
+      const C5_Spring& prev422 = s.p_spring_15;
+      s.core.ids.transfer(uint32_t(prev422.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_13.uid)))));
+      s.g_spring_13 = prev422;
       s.u_spring_14 = true;
     }
     // NEXT of houses, programs/flood_defense.au:35
     if (!s.u_houses_17) {
-      const std::vector<C1_House>& prev422 = s.p_houses_18;
-      s.g_houses_16 = prev422;
+      const std::vector<C1_House>& prev423 = s.p_houses_18;
+      s.g_houses_16 = prev423;
       s.u_houses_17 = true;
     }
     // NEXT of drain, programs/flood_defense.au:31
     if (!s.u_drain_20) {
-      const C2_Drain& prev423 = s.p_drain_21;
-      s.core.ids.transfer(uint32_t(prev423.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_19.uid)))));
-      s.g_drain_19 = prev423;
+      const C2_Drain& prev424 = s.p_drain_21;
+      s.core.ids.transfer(uint32_t(prev424.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_19.uid)))));
+      s.g_drain_19 = prev424;
       s.u_drain_20 = true;
     }
     // NEXT of earth, programs/flood_defense.au:28
     if (!s.u_earth_23) {
-      const std::vector<C0_Earth>& prev424 = s.p_earth_24;
-      s.g_earth_22 = prev424;
+      const std::vector<C0_Earth>& prev425 = s.p_earth_24;
+      s.g_earth_22 = prev425;
       s.u_earth_23 = true;
     }
     // NEXT of time, programs/flood_defense.au:22
     if (!s.u_time_26) {
-      const int32_t& prev425 = s.p_time_27;
-      const int32_t t426 = add(prev425, int32_t(1));
-      s.g_time_25 = t426;
+      const int32_t& prev426 = s.p_time_27;
+      const int32_t t427 = add(prev426, int32_t(1));
+      s.g_time_25 = t427;
       s.u_time_26 = true;
     }
     s.core.clear_inputs();

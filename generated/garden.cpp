@@ -667,16 +667,16 @@ struct Prog {
       bool clicked75 = false;
       if (s.core.click) {
         s.d_click_23 = true;
-        s.g_click_22 = Pos{s.core.click_x, s.core.click_y};
-        std::vector<Elem>& rendered76 = s.scratch.v.b8;
-        rendered76.clear();
-        for (const C3_Plant& x77 : prev74) {
-          const int32_t colour78 = colour_12_C3_Plant(s, x77);
-          rendered76.push_back(Elem{Pos{add(x77.origin.x, int32_t(0)), add(x77.origin.y, int32_t(0))}, colour78});
+        const Pos t76 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_22 = t76;
+        std::vector<Elem>& rendered77 = s.scratch.v.b8;
+        rendered77.clear();
+        for (const C3_Plant& x78 : prev74) {
+          const int32_t colour79 = colour_12_C3_Plant(s, x78);
+          rendered77.push_back(Elem{Pos{add(x78.origin.x, int32_t(0)), add(x78.origin.y, int32_t(0))}, colour79});
         }
-        const Pos t79 = Pos{s.core.click_x, s.core.click_y};
-        for (const Elem& e80 : rendered76) {
-          if ((e80.position == t79)) {
+        for (const Elem& e80 : rendered77) {
+          if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
             clicked75 = true;
             break;
           }
@@ -692,14 +692,14 @@ struct Prog {
           bool clicked84 = false;
           if (s.core.click) {
             s.d_click_23 = true;
-            s.g_click_22 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered85 = s.scratch.v.b10;
-            rendered85.clear();
-            const int32_t colour86 = colour_12_C3_Plant(s, x83);
-            rendered85.push_back(Elem{Pos{add(x83.origin.x, int32_t(0)), add(x83.origin.y, int32_t(0))}, colour86});
-            const Pos t87 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e88 : rendered85) {
-              if ((e88.position == t87)) {
+            const Pos t85 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_22 = t85;
+            std::vector<Elem>& rendered86 = s.scratch.v.b10;
+            rendered86.clear();
+            const int32_t colour87 = colour_12_C3_Plant(s, x83);
+            rendered86.push_back(Elem{Pos{add(x83.origin.x, int32_t(0)), add(x83.origin.y, int32_t(0))}, colour87});
+            for (const Elem& e88 : rendered86) {
+              if ((e88.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked84 = true;
                 break;
               }
@@ -746,14 +746,14 @@ struct Prog {
           bool clicked103 = false;
           if (s.core.click) {
             s.d_click_23 = true;
-            s.g_click_22 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered104 = s.scratch.v.b11;
-            rendered104.clear();
-            const int32_t colour105 = colour_12_C3_Plant(s, x102);
-            rendered104.push_back(Elem{Pos{add(x102.origin.x, int32_t(0)), add(x102.origin.y, int32_t(0))}, colour105});
-            const Pos t106 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e107 : rendered104) {
-              if ((e107.position == t106)) {
+            const Pos t104 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_22 = t104;
+            std::vector<Elem>& rendered105 = s.scratch.v.b11;
+            rendered105.clear();
+            const int32_t colour106 = colour_12_C3_Plant(s, x102);
+            rendered105.push_back(Elem{Pos{add(x102.origin.x, int32_t(0)), add(x102.origin.y, int32_t(0))}, colour106});
+            for (const Elem& e107 : rendered105) {
+              if ((e107.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked103 = true;
                 break;
               }
@@ -772,236 +772,237 @@ struct Prog {
       bool clicked108 = false;
       if (s.core.click) {
         s.d_click_23 = true;
-        s.g_click_22 = Pos{s.core.click_x, s.core.click_y};
+        const Pos t109 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_22 = t109;
         clicked108 = true;
       }
-      bool r109{};
+      bool r110{};
       if (clicked108) {
-        Pos r110{};
+        Pos r111{};
         if (s.d_click_23) {
-          const Pos& g111 = s.g_click_22;
-          r110 = g111;
+          const Pos& g112 = s.g_click_22;
+          r111 = g112;
         } else {
           fail_at(1, std::string() + std::string("undefined variable 'click'"));
         }
         // inlined: function at programs/garden.au:41
-        const bool t112 = (r110.y >= int32_t(2));
-        bool r113{};
-        if (t112) {
-          const bool t114 = (r110.y <= int32_t(10));
-          r113 = t114;
+        const bool t113 = (r111.y >= int32_t(2));
+        bool r114{};
+        if (t113) {
+          const bool t115 = (r111.y <= int32_t(10));
+          r114 = t115;
         } else {
-          r113 = false;
+          r114 = false;
         }
-        bool r115{};
-        if (r113) {
-          Pos r116{};
+        bool r116{};
+        if (r114) {
+          Pos r117{};
           if (s.d_click_23) {
-            const Pos& g117 = s.g_click_22;
-            r116 = g117;
+            const Pos& g118 = s.g_click_22;
+            r117 = g118;
           } else {
             fail_at(2, std::string() + std::string("undefined variable 'click'"));
           }
-          const bool t118 = s.core.occupied.free(r116);
-          bool r119{};
-          if (t118) {
-            const std::vector<C3_Plant>& g120 = s.g_plants_13;
-            const int32_t t121 = int32_t(g120.size());
-            const bool t122 = (t121 < int32_t(20));
-            r119 = t122;
+          const bool t119 = s.core.occupied.free(r117);
+          bool r120{};
+          if (t119) {
+            const std::vector<C3_Plant>& g121 = s.g_plants_13;
+            const int32_t t122 = int32_t(g121.size());
+            const bool t123 = (t122 < int32_t(20));
+            r120 = t123;
           } else {
-            r119 = false;
+            r120 = false;
           }
-          r115 = r119;
+          r116 = r120;
         } else {
-          r115 = false;
+          r116 = false;
         }
-        r109 = r115;
+        r110 = r116;
       } else {
-        r109 = false;
+        r110 = false;
       }
-      if (r109) {
+      if (r110) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C3_Plant>& g123 = s.g_plants_13;
-        const std::vector<int32_t>& g124 = s.g_petals_4;
-        if (g124.empty()) {
+        const std::vector<C3_Plant>& g124 = s.g_plants_13;
+        const std::vector<int32_t>& g125 = s.g_petals_4;
+        if (g125.empty()) {
           fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t125 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g124.size())))));
-        const int32_t t126 = g124[size_t(t125)];
-        Pos r127{};
+        const int32_t t126 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g125.size())))));
+        const int32_t t127 = g125[size_t(t126)];
+        Pos r128{};
         if (s.d_click_23) {
-          const Pos& g128 = s.g_click_22;
-          r127 = g128;
+          const Pos& g129 = s.g_click_22;
+          r128 = g129;
         } else {
           fail_at(4, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r129{};
+        Pos r130{};
         if (s.d_click_23) {
-          const Pos& g130 = s.g_click_22;
-          r129 = g130;
+          const Pos& g131 = s.g_click_22;
+          r130 = g131;
         } else {
           fail_at(5, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t131 = Pos{r127.x, r129.y};
-        CellV l_allCells132{};
-        const CellV t133 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
-        l_allCells132 = t133;
-        const CellV& v134 = l_allCells132;
-        const CellV& v135 = l_allCells132;
-        const std::vector<CellV> list136 = std::vector<CellV>{v135};
-        C3_Plant o137 = C3_Plant{int32_t(0), t126, t131};
-        std::vector<C3_Plant> added138{};
-        added138.reserve(size_t(add(int32_t(g123.size()), int32_t(1))));
-        for (const C3_Plant& x139 : g123) {
-          added138.push_back(x139);
+        const Pos t132 = Pos{r128.x, r130.y};
+        CellV l_allCells133{};
+        const CellV t134 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
+        l_allCells133 = t134;
+        const CellV& v135 = l_allCells133;
+        const CellV& v136 = l_allCells133;
+        const std::vector<CellV> list137 = std::vector<CellV>{v136};
+        C3_Plant o138 = C3_Plant{int32_t(0), t127, t132};
+        std::vector<C3_Plant> added139{};
+        added139.reserve(size_t(add(int32_t(g124.size()), int32_t(1))));
+        for (const C3_Plant& x140 : g124) {
+          added139.push_back(x140);
         }
-        added138.push_back(std::move(o137));
-        s.g_plants_13 = std::move(added138);
+        added139.push_back(std::move(o138));
+        s.g_plants_13 = std::move(added139);
         s.u_plants_14 = true;
       }
     }
     // on-clause 5, programs/garden.au:69
     {
-      const bool t140 = s.core.left;
-      if (t140) {
+      const bool t141 = s.core.left;
+      if (t141) {
         s.core.covered[int32_t(4)] = 1;
-        const C0_Cloud& prev141 = s.p_cloud_18;
+        const C0_Cloud& prev142 = s.p_cloud_18;
         // inlined: function at programs/garden.au:42
-        int32_t l_nx142{};
-        const int32_t t143 = add(prev141.origin.x, int32_t(-1));
-        l_nx142 = t143;
-        const int32_t& v144 = l_nx142;
-        const bool t145 = (v144 >= int32_t(1));
-        bool r146{};
-        if (t145) {
-          const int32_t& v147 = l_nx142;
-          const bool t148 = (v147 <= int32_t(9));
-          r146 = t148;
+        int32_t l_nx143{};
+        const int32_t t144 = add(prev142.origin.x, int32_t(-1));
+        l_nx143 = t144;
+        const int32_t& v145 = l_nx143;
+        const bool t146 = (v145 >= int32_t(1));
+        bool r147{};
+        if (t146) {
+          const int32_t& v148 = l_nx143;
+          const bool t149 = (v148 <= int32_t(9));
+          r147 = t149;
         } else {
-          r146 = false;
+          r147 = false;
         }
-        C0_Cloud r149{};
-        if (r146) {
-          const int32_t& v150 = l_nx142;
-          const Pos t151 = Pos{v150, int32_t(0)};
-          C0_Cloud upd152 = prev141;
-          upd152.origin = t151;
-          r149 = std::move(upd152);
+        C0_Cloud r150{};
+        if (r147) {
+          const int32_t& v151 = l_nx143;
+          const Pos t152 = Pos{v151, int32_t(0)};
+          C0_Cloud upd153 = prev142;
+          upd153.origin = t152;
+          r150 = std::move(upd153);
         } else {
-          r149 = prev141;
+          r150 = prev142;
         }
-        s.g_cloud_16 = std::move(r149);
+        s.g_cloud_16 = std::move(r150);
         s.u_cloud_17 = true;
       }
     }
     // on-clause 6, programs/garden.au:70
     {
-      const bool t153 = s.core.right;
-      if (t153) {
+      const bool t154 = s.core.right;
+      if (t154) {
         s.core.covered[int32_t(5)] = 1;
-        const C0_Cloud& prev154 = s.p_cloud_18;
+        const C0_Cloud& prev155 = s.p_cloud_18;
         // inlined: function at programs/garden.au:42
-        int32_t l_nx155{};
-        const int32_t t156 = add(prev154.origin.x, int32_t(1));
-        l_nx155 = t156;
-        const int32_t& v157 = l_nx155;
-        const bool t158 = (v157 >= int32_t(1));
-        bool r159{};
-        if (t158) {
-          const int32_t& v160 = l_nx155;
-          const bool t161 = (v160 <= int32_t(9));
-          r159 = t161;
+        int32_t l_nx156{};
+        const int32_t t157 = add(prev155.origin.x, int32_t(1));
+        l_nx156 = t157;
+        const int32_t& v158 = l_nx156;
+        const bool t159 = (v158 >= int32_t(1));
+        bool r160{};
+        if (t159) {
+          const int32_t& v161 = l_nx156;
+          const bool t162 = (v161 <= int32_t(9));
+          r160 = t162;
         } else {
-          r159 = false;
+          r160 = false;
         }
-        C0_Cloud r162{};
-        if (r159) {
-          const int32_t& v163 = l_nx155;
-          const Pos t164 = Pos{v163, int32_t(0)};
-          C0_Cloud upd165 = prev154;
-          upd165.origin = t164;
-          r162 = std::move(upd165);
+        C0_Cloud r163{};
+        if (r160) {
+          const int32_t& v164 = l_nx156;
+          const Pos t165 = Pos{v164, int32_t(0)};
+          C0_Cloud upd166 = prev155;
+          upd166.origin = t165;
+          r163 = std::move(upd166);
         } else {
-          r162 = prev154;
+          r163 = prev155;
         }
-        s.g_cloud_16 = std::move(r162);
+        s.g_cloud_16 = std::move(r163);
         s.u_cloud_17 = true;
       }
     }
     // on-clause 7, programs/garden.au:71
     {
-      const bool t166 = s.core.down;
-      if (t166) {
+      const bool t167 = s.core.down;
+      if (t167) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C2_Drop>& g167 = s.g_drops_10;
-        const C0_Cloud& g168 = s.g_cloud_16;
+        const std::vector<C2_Drop>& g168 = s.g_drops_10;
+        const C0_Cloud& g169 = s.g_cloud_16;
         if (std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)}.empty()) {
           fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t169 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)}.size())))));
-        const int32_t t170 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)}[size_t(t169)];
-        const int32_t t171 = add(g168.origin.x, t170);
-        const Pos t172 = Pos{t171, int32_t(1)};
-        CellV l_allCells173{};
-        const CellV t174 = CellV{int32_t(0), int32_t(0), int32_t(14), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(17))};
-        l_allCells173 = t174;
-        const CellV& v175 = l_allCells173;
-        const CellV& v176 = l_allCells173;
-        const std::vector<CellV> list177 = std::vector<CellV>{v176};
-        C2_Drop o178 = C2_Drop{t172, list177};
-        std::vector<C2_Drop> added179{};
-        added179.reserve(size_t(add(int32_t(g167.size()), int32_t(1))));
-        for (const C2_Drop& x180 : g167) {
-          added179.push_back(x180);
+        const int32_t t170 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)}.size())))));
+        const int32_t t171 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)}[size_t(t170)];
+        const int32_t t172 = add(g169.origin.x, t171);
+        const Pos t173 = Pos{t172, int32_t(1)};
+        CellV l_allCells174{};
+        const CellV t175 = CellV{int32_t(0), int32_t(0), int32_t(14), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(17))};
+        l_allCells174 = t175;
+        const CellV& v176 = l_allCells174;
+        const CellV& v177 = l_allCells174;
+        const std::vector<CellV> list178 = std::vector<CellV>{v177};
+        C2_Drop o179 = C2_Drop{t173, list178};
+        std::vector<C2_Drop> added180{};
+        added180.reserve(size_t(add(int32_t(g168.size()), int32_t(1))));
+        for (const C2_Drop& x181 : g168) {
+          added180.push_back(x181);
         }
-        added179.push_back(std::move(o178));
-        s.g_drops_10 = std::move(added179);
+        added180.push_back(std::move(o179));
+        s.g_drops_10 = std::move(added180);
         s.u_drops_11 = true;
       }
     }
     // on-clause 8, programs/garden.au:72
     {
-      const bool t181 = s.core.up;
-      if (t181) {
+      const bool t182 = s.core.up;
+      if (t182) {
         s.core.covered[int32_t(7)] = 1;
-        const C1_Sun& prev182 = s.p_sun_21;
         const C1_Sun& prev183 = s.p_sun_21;
-        const bool t184 = !prev183.f0;
-        C1_Sun upd185 = prev182;
-        upd185.f0 = t184;
-        s.g_sun_19 = std::move(upd185);
+        const C1_Sun& prev184 = s.p_sun_21;
+        const bool t185 = !prev184.f0;
+        C1_Sun upd186 = prev183;
+        upd186.f0 = t185;
+        s.g_sun_19 = std::move(upd186);
         s.u_sun_20 = true;
       }
     }
     // NEXT of basket, programs/garden.au:37
     if (!s.u_basket_8) {
-      const C4_Basket& prev186 = s.p_basket_9;
-      s.g_basket_7 = prev186;
+      const C4_Basket& prev187 = s.p_basket_9;
+      s.g_basket_7 = prev187;
       s.u_basket_8 = true;
     }
     // NEXT of drops, programs/garden.au:34
     if (!s.u_drops_11) {
-      const std::vector<C2_Drop>& prev187 = s.p_drops_12;
-      s.g_drops_10 = prev187;
+      const std::vector<C2_Drop>& prev188 = s.p_drops_12;
+      s.g_drops_10 = prev188;
       s.u_drops_11 = true;
     }
     // NEXT of plants, programs/garden.au:31
     if (!s.u_plants_14) {
-      const std::vector<C3_Plant>& prev188 = s.p_plants_15;
-      s.g_plants_13 = prev188;
+      const std::vector<C3_Plant>& prev189 = s.p_plants_15;
+      s.g_plants_13 = prev189;
       s.u_plants_14 = true;
     }
     // NEXT of cloud, programs/garden.au:28
     if (!s.u_cloud_17) {
-      const C0_Cloud& prev189 = s.p_cloud_18;
-      s.g_cloud_16 = prev189;
+      const C0_Cloud& prev190 = s.p_cloud_18;
+      s.g_cloud_16 = prev190;
       s.u_cloud_17 = true;
     }
     // NEXT of sun, programs/garden.au:25
     if (!s.u_sun_20) {
-      const C1_Sun& prev190 = s.p_sun_21;
-      s.g_sun_19 = prev190;
+      const C1_Sun& prev191 = s.p_sun_21;
+      s.g_sun_19 = prev191;
       s.u_sun_20 = true;
     }
     s.core.clear_inputs();

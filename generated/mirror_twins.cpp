@@ -1650,15 +1650,15 @@ struct Prog {
       bool clicked473 = false;
       if (s.core.click) {
         s.d_click_26 = true;
-        s.g_click_25 = Pos{s.core.click_x, s.core.click_y};
-        std::vector<Elem>& rendered474 = s.scratch.v.b41;
-        rendered474.clear();
-        for (const C0_Wall& x475 : prev472) {
-          rendered474.push_back(Elem{Pos{add(x475.origin.x, int32_t(0)), add(x475.origin.y, int32_t(0))}, int32_t(6)});
+        const Pos t474 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_25 = t474;
+        std::vector<Elem>& rendered475 = s.scratch.v.b41;
+        rendered475.clear();
+        for (const C0_Wall& x476 : prev472) {
+          rendered475.push_back(Elem{Pos{add(x476.origin.x, int32_t(0)), add(x476.origin.y, int32_t(0))}, int32_t(6)});
         }
-        const Pos t476 = Pos{s.core.click_x, s.core.click_y};
-        for (const Elem& e477 : rendered474) {
-          if ((e477.position == t476)) {
+        for (const Elem& e477 : rendered475) {
+          if ((e477.position == Pos{s.core.click_x, s.core.click_y})) {
             clicked473 = true;
             break;
           }
@@ -1673,13 +1673,13 @@ struct Prog {
           bool clicked481 = false;
           if (s.core.click) {
             s.d_click_26 = true;
-            s.g_click_25 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered482 = s.scratch.v.b42;
-            rendered482.clear();
-            rendered482.push_back(Elem{Pos{add(x480.origin.x, int32_t(0)), add(x480.origin.y, int32_t(0))}, int32_t(6)});
-            const Pos t483 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e484 : rendered482) {
-              if ((e484.position == t483)) {
+            const Pos t482 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_25 = t482;
+            std::vector<Elem>& rendered483 = s.scratch.v.b42;
+            rendered483.clear();
+            rendered483.push_back(Elem{Pos{add(x480.origin.x, int32_t(0)), add(x480.origin.y, int32_t(0))}, int32_t(6)});
+            for (const Elem& e484 : rendered483) {
+              if ((e484.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked481 = true;
                 break;
               }
@@ -1699,115 +1699,116 @@ struct Prog {
       bool clicked486 = false;
       if (s.core.click) {
         s.d_click_26 = true;
-        s.g_click_25 = Pos{s.core.click_x, s.core.click_y};
+        const Pos t487 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_25 = t487;
         clicked486 = true;
       }
-      bool r487{};
+      bool r488{};
       if (clicked486) {
-        Pos r488{};
+        Pos r489{};
         if (s.d_click_26) {
-          const Pos& g489 = s.g_click_25;
-          r488 = g489;
+          const Pos& g490 = s.g_click_25;
+          r489 = g490;
         } else {
           fail_at(6, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t490 = (r488.y >= int32_t(1));
-        bool r491{};
-        if (t490) {
-          Pos r492{};
+        const bool t491 = (r489.y >= int32_t(1));
+        bool r492{};
+        if (t491) {
+          Pos r493{};
           if (s.d_click_26) {
-            const Pos& g493 = s.g_click_25;
-            r492 = g493;
+            const Pos& g494 = s.g_click_25;
+            r493 = g494;
           } else {
             fail_at(7, std::string() + std::string("undefined variable 'click'"));
           }
-          const bool t494 = s.core.occupied.free(r492);
-          bool r495{};
-          if (t494) {
-            const std::vector<C0_Wall>& g496 = s.g_walls_19;
-            const int32_t t497 = int32_t(g496.size());
-            const bool t498 = (t497 < int32_t(25));
-            r495 = t498;
+          const bool t495 = s.core.occupied.free(r493);
+          bool r496{};
+          if (t495) {
+            const std::vector<C0_Wall>& g497 = s.g_walls_19;
+            const int32_t t498 = int32_t(g497.size());
+            const bool t499 = (t498 < int32_t(25));
+            r496 = t499;
           } else {
-            r495 = false;
+            r496 = false;
           }
-          r491 = r495;
+          r492 = r496;
         } else {
-          r491 = false;
+          r492 = false;
         }
-        r487 = r491;
+        r488 = r492;
       } else {
-        r487 = false;
+        r488 = false;
       }
-      if (r487) {
+      if (r488) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C0_Wall>& g499 = s.g_walls_19;
-        Pos r500{};
+        const std::vector<C0_Wall>& g500 = s.g_walls_19;
+        Pos r501{};
         if (s.d_click_26) {
-          const Pos& g501 = s.g_click_25;
-          r500 = g501;
+          const Pos& g502 = s.g_click_25;
+          r501 = g502;
         } else {
           fail_at(8, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r502{};
+        Pos r503{};
         if (s.d_click_26) {
-          const Pos& g503 = s.g_click_25;
-          r502 = g503;
+          const Pos& g504 = s.g_click_25;
+          r503 = g504;
         } else {
           fail_at(9, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t504 = Pos{r500.x, r502.y};
-        CellV l_allCells505{};
-        const CellV t506 = CellV{int32_t(0), int32_t(0), int32_t(6), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
-        l_allCells505 = t506;
-        const CellV& v507 = l_allCells505;
-        const CellV& v508 = l_allCells505;
-        const std::vector<CellV> list509 = std::vector<CellV>{v508};
-        C0_Wall o510 = C0_Wall{t504};
-        std::vector<C0_Wall> added511{};
-        added511.reserve(size_t(add(int32_t(g499.size()), int32_t(1))));
-        for (const C0_Wall& x512 : g499) {
-          added511.push_back(x512);
+        const Pos t505 = Pos{r501.x, r503.y};
+        CellV l_allCells506{};
+        const CellV t507 = CellV{int32_t(0), int32_t(0), int32_t(6), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+        l_allCells506 = t507;
+        const CellV& v508 = l_allCells506;
+        const CellV& v509 = l_allCells506;
+        const std::vector<CellV> list510 = std::vector<CellV>{v509};
+        C0_Wall o511 = C0_Wall{t505};
+        std::vector<C0_Wall> added512{};
+        added512.reserve(size_t(add(int32_t(g500.size()), int32_t(1))));
+        for (const C0_Wall& x513 : g500) {
+          added512.push_back(x513);
         }
-        added511.push_back(std::move(o510));
-        s.g_walls_19 = std::move(added511);
+        added512.push_back(std::move(o511));
+        s.g_walls_19 = std::move(added512);
         s.u_walls_20 = true;
       }
     }
     // NEXT of red, programs/mirror_twins.au:42
     if (!s.u_red_8) {
-      const C2_Twin& prev513 = s.p_red_9;
-      s.g_red_7 = prev513;
+      const C2_Twin& prev514 = s.p_red_9;
+      s.g_red_7 = prev514;
       s.u_red_8 = true;
     }
     // NEXT of blue, programs/mirror_twins.au:39
     if (!s.u_blue_11) {
-      const C2_Twin& prev514 = s.p_blue_12;
-      s.g_blue_10 = prev514;
+      const C2_Twin& prev515 = s.p_blue_12;
+      s.g_blue_10 = prev515;
       s.u_blue_11 = true;
     }
     // NEXT of redGoal, programs/mirror_twins.au:36
     if (!s.u_redGoal_14) {
-      const C1_Goal& prev515 = s.p_redGoal_15;
-      s.g_redGoal_13 = prev515;
+      const C1_Goal& prev516 = s.p_redGoal_15;
+      s.g_redGoal_13 = prev516;
       s.u_redGoal_14 = true;
     }
     // NEXT of blueGoal, programs/mirror_twins.au:33
     if (!s.u_blueGoal_17) {
-      const C1_Goal& prev516 = s.p_blueGoal_18;
-      s.g_blueGoal_16 = prev516;
+      const C1_Goal& prev517 = s.p_blueGoal_18;
+      s.g_blueGoal_16 = prev517;
       s.u_blueGoal_17 = true;
     }
     // NEXT of walls, programs/mirror_twins.au:30
     if (!s.u_walls_20) {
-      const std::vector<C0_Wall>& prev517 = s.p_walls_21;
-      s.g_walls_19 = prev517;
+      const std::vector<C0_Wall>& prev518 = s.p_walls_21;
+      s.g_walls_19 = prev518;
       s.u_walls_20 = true;
     }
     // NEXT of stars, programs/mirror_twins.au:27
     if (!s.u_stars_23) {
-      const C3_Stars& prev518 = s.p_stars_24;
-      s.g_stars_22 = prev518;
+      const C3_Stars& prev519 = s.p_stars_24;
+      s.g_stars_22 = prev519;
       s.u_stars_23 = true;
     }
     s.core.clear_inputs();

@@ -985,58 +985,59 @@ struct Prog {
       bool clicked302 = false;
       if (s.core.click) {
         s.d_click_20 = true;
-        s.g_click_19 = Pos{s.core.click_x, s.core.click_y};
+        const Pos t303 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_19 = t303;
         clicked302 = true;
       }
-      bool r303{};
+      bool r304{};
       if (clicked302) {
-        const C3_Dog& prev304 = s.p_dog_15;
-        bool clicked305 = false;
+        const C3_Dog& prev305 = s.p_dog_15;
+        bool clicked306 = false;
         if (s.core.click) {
           s.d_click_20 = true;
-          s.g_click_19 = Pos{s.core.click_x, s.core.click_y};
-          std::vector<Elem>& rendered306 = s.scratch.v.b24;
-          rendered306.clear();
-          rendered306.push_back(Elem{Pos{add(prev304.origin.x, int32_t(0)), add(prev304.origin.y, int32_t(0))}, int32_t(0)});
           const Pos t307 = Pos{s.core.click_x, s.core.click_y};
-          for (const Elem& e308 : rendered306) {
-            if ((e308.position == t307)) {
-              clicked305 = true;
+          s.g_click_19 = t307;
+          std::vector<Elem>& rendered308 = s.scratch.v.b24;
+          rendered308.clear();
+          rendered308.push_back(Elem{Pos{add(prev305.origin.x, int32_t(0)), add(prev305.origin.y, int32_t(0))}, int32_t(0)});
+          for (const Elem& e309 : rendered308) {
+            if ((e309.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked306 = true;
               break;
             }
           }
         }
-        const bool t309 = !clicked305;
-        r303 = t309;
+        const bool t310 = !clicked306;
+        r304 = t310;
       } else {
-        r303 = false;
+        r304 = false;
       }
-      if (r303) {
+      if (r304) {
         s.core.covered[int32_t(6)] = 1;
-        Pos r310{};
+        Pos r311{};
         if (s.d_click_20) {
-          const Pos& g311 = s.g_click_19;
-          r310 = g311;
+          const Pos& g312 = s.g_click_19;
+          r311 = g312;
         } else {
           fail_at(3, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r312{};
+        Pos r313{};
         if (s.d_click_20) {
-          const Pos& g313 = s.g_click_19;
-          r312 = g313;
+          const Pos& g314 = s.g_click_19;
+          r313 = g314;
         } else {
           fail_at(4, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t314 = Pos{r310.x, r312.y};
-        CellV l_allCells315{};
-        const CellV t316 = CellV{int32_t(0), int32_t(0), int32_t(4), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
-        l_allCells315 = t316;
-        const CellV& v317 = l_allCells315;
-        const CellV& v318 = l_allCells315;
-        const std::vector<CellV> list319 = std::vector<CellV>{v318};
-        const C1_Flag o320 = C1_Flag{t314};
-        std::vector<C1_Flag> list321 = std::vector<C1_Flag>{o320};
-        s.g_flags_10 = std::move(list321);
+        const Pos t315 = Pos{r311.x, r313.y};
+        CellV l_allCells316{};
+        const CellV t317 = CellV{int32_t(0), int32_t(0), int32_t(4), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(3))};
+        l_allCells316 = t317;
+        const CellV& v318 = l_allCells316;
+        const CellV& v319 = l_allCells316;
+        const std::vector<CellV> list320 = std::vector<CellV>{v319};
+        const C1_Flag o321 = C1_Flag{t315};
+        std::vector<C1_Flag> list322 = std::vector<C1_Flag>{o321};
+        s.g_flags_10 = std::move(list322);
         s.u_flags_11 = true;
       }
     }
@@ -1044,557 +1045,557 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(7)] = 1;
-        const std::vector<C2_Sheep>& prev322 = s.p_sheep_9;
-        std::vector<C2_Sheep> acc323 = std::vector<C2_Sheep>{};
-        for (const C2_Sheep& x324 : prev322) {
-          const std::vector<C2_Sheep>& a325 = acc323;
+        const std::vector<C2_Sheep>& prev323 = s.p_sheep_9;
+        std::vector<C2_Sheep> acc324 = std::vector<C2_Sheep>{};
+        for (const C2_Sheep& x325 : prev323) {
+          const std::vector<C2_Sheep>& a326 = acc324;
           // inlined: function at programs/sheepdog.au:80
           // inlined: function at programs/sheepdog.au:53
-          C2_Sheep r326{};
-          if (x324.f0) {
-            r326 = x324;
+          C2_Sheep r327{};
+          if (x325.f0) {
+            r327 = x325;
           } else {
-            Pos l_wish327{};
-            C2_Sheep l_there328{};
-            const C3_Dog& g329 = s.g_dog_13;
-            Pos l_delta330{};
-            const int32_t t331 = sub(g329.origin.x, x324.origin.x);
-            const int32_t t332 = sub(g329.origin.y, x324.origin.y);
-            const Pos t333 = Pos{t331, t332};
-            l_delta330 = t333;
-            const Pos& v334 = l_delta330;
-            const bool t335 = (v334.x < int32_t(0));
-            int32_t r336{};
-            if (t335) {
-              const int32_t t337 = neg(v334.x);
-              r336 = t337;
+            Pos l_wish328{};
+            C2_Sheep l_there329{};
+            const C3_Dog& g330 = s.g_dog_13;
+            Pos l_delta331{};
+            const int32_t t332 = sub(g330.origin.x, x325.origin.x);
+            const int32_t t333 = sub(g330.origin.y, x325.origin.y);
+            const Pos t334 = Pos{t332, t333};
+            l_delta331 = t334;
+            const Pos& v335 = l_delta331;
+            const bool t336 = (v335.x < int32_t(0));
+            int32_t r337{};
+            if (t336) {
+              const int32_t t338 = neg(v335.x);
+              r337 = t338;
             } else {
-              r336 = v334.x;
+              r337 = v335.x;
             }
-            const Pos& v338 = l_delta330;
-            const bool t339 = (v338.y < int32_t(0));
-            int32_t r340{};
-            if (t339) {
-              const int32_t t341 = neg(v338.y);
-              r340 = t341;
+            const Pos& v339 = l_delta331;
+            const bool t340 = (v339.y < int32_t(0));
+            int32_t r341{};
+            if (t340) {
+              const int32_t t342 = neg(v339.y);
+              r341 = t342;
             } else {
-              r340 = v338.y;
+              r341 = v339.y;
             }
-            const int32_t t342 = add(r336, r340);
-            const bool t343 = (t342 <= int32_t(3));
-            Pos r344{};
-            if (t343) {
+            const int32_t t343 = add(r337, r341);
+            const bool t344 = (t343 <= int32_t(3));
+            Pos r345{};
+            if (t344) {
               // inlined: function at programs/sheepdog.au:43
-              Pos l_u345{};
-              const C3_Dog& g346 = s.g_dog_13;
-              Pos l_delta347{};
-              int32_t l_sign_x348{};
-              int32_t l_sign_y349{};
-              const int32_t t350 = sub(g346.origin.x, x324.origin.x);
-              const int32_t t351 = sub(g346.origin.y, x324.origin.y);
-              const Pos t352 = Pos{t350, t351};
-              l_delta347 = t352;
-              const Pos& v353 = l_delta347;
-              const bool t354 = (v353.x == int32_t(0));
-              int32_t r355{};
-              if (t354) {
-                r355 = int32_t(0);
+              Pos l_u346{};
+              const C3_Dog& g347 = s.g_dog_13;
+              Pos l_delta348{};
+              int32_t l_sign_x349{};
+              int32_t l_sign_y350{};
+              const int32_t t351 = sub(g347.origin.x, x325.origin.x);
+              const int32_t t352 = sub(g347.origin.y, x325.origin.y);
+              const Pos t353 = Pos{t351, t352};
+              l_delta348 = t353;
+              const Pos& v354 = l_delta348;
+              const bool t355 = (v354.x == int32_t(0));
+              int32_t r356{};
+              if (t355) {
+                r356 = int32_t(0);
               } else {
-                const bool t356 = (v353.x < int32_t(0));
-                int32_t r357{};
-                if (t356) {
-                  r357 = int32_t(-1);
+                const bool t357 = (v354.x < int32_t(0));
+                int32_t r358{};
+                if (t357) {
+                  r358 = int32_t(-1);
                 } else {
-                  r357 = int32_t(1);
+                  r358 = int32_t(1);
                 }
-                r355 = r357;
+                r356 = r358;
               }
-              l_sign_x348 = r355;
-              const Pos& v358 = l_delta347;
-              const bool t359 = (v358.y == int32_t(0));
-              int32_t r360{};
-              if (t359) {
-                r360 = int32_t(0);
+              l_sign_x349 = r356;
+              const Pos& v359 = l_delta348;
+              const bool t360 = (v359.y == int32_t(0));
+              int32_t r361{};
+              if (t360) {
+                r361 = int32_t(0);
               } else {
-                const bool t361 = (v358.y < int32_t(0));
-                int32_t r362{};
-                if (t361) {
-                  r362 = int32_t(-1);
+                const bool t362 = (v359.y < int32_t(0));
+                int32_t r363{};
+                if (t362) {
+                  r363 = int32_t(-1);
                 } else {
-                  r362 = int32_t(1);
+                  r363 = int32_t(1);
                 }
-                r360 = r362;
+                r361 = r363;
               }
-              l_sign_y349 = r360;
-              const int32_t& v363 = l_sign_x348;
-              const bool t364 = (v363 < int32_t(0));
-              int32_t r365{};
-              if (t364) {
-                const int32_t t366 = neg(v363);
-                r365 = t366;
+              l_sign_y350 = r361;
+              const int32_t& v364 = l_sign_x349;
+              const bool t365 = (v364 < int32_t(0));
+              int32_t r366{};
+              if (t365) {
+                const int32_t t367 = neg(v364);
+                r366 = t367;
               } else {
-                r365 = v363;
+                r366 = v364;
               }
-              const bool t367 = (r365 == int32_t(1));
-              bool r368{};
-              if (t367) {
-                const int32_t& v369 = l_sign_y349;
-                const bool t370 = (v369 < int32_t(0));
-                int32_t r371{};
-                if (t370) {
-                  const int32_t t372 = neg(v369);
-                  r371 = t372;
+              const bool t368 = (r366 == int32_t(1));
+              bool r369{};
+              if (t368) {
+                const int32_t& v370 = l_sign_y350;
+                const bool t371 = (v370 < int32_t(0));
+                int32_t r372{};
+                if (t371) {
+                  const int32_t t373 = neg(v370);
+                  r372 = t373;
                 } else {
-                  r371 = v369;
+                  r372 = v370;
                 }
-                const bool t373 = (r371 == int32_t(1));
-                r368 = t373;
+                const bool t374 = (r372 == int32_t(1));
+                r369 = t374;
               } else {
-                r368 = false;
+                r369 = false;
               }
-              Pos r374{};
-              if (r368) {
-                const int32_t& v375 = l_sign_x348;
-                const Pos t376 = Pos{v375, int32_t(0)};
-                r374 = t376;
+              Pos r375{};
+              if (r369) {
+                const int32_t& v376 = l_sign_x349;
+                const Pos t377 = Pos{v376, int32_t(0)};
+                r375 = t377;
               } else {
-                const int32_t& v377 = l_sign_x348;
-                const int32_t& v378 = l_sign_y349;
-                const Pos t379 = Pos{v377, v378};
-                r374 = t379;
+                const int32_t& v378 = l_sign_x349;
+                const int32_t& v379 = l_sign_y350;
+                const Pos t380 = Pos{v378, v379};
+                r375 = t380;
               }
-              l_u345 = r374;
-              const Pos& v380 = l_u345;
-              const int32_t t381 = neg(v380.x);
-              const Pos& v382 = l_u345;
-              const int32_t t383 = neg(v382.y);
-              const Pos t384 = Pos{t381, t383};
-              r344 = t384;
+              l_u346 = r375;
+              const Pos& v381 = l_u346;
+              const int32_t t382 = neg(v381.x);
+              const Pos& v383 = l_u346;
+              const int32_t t384 = neg(v383.y);
+              const Pos t385 = Pos{t382, t384};
+              r345 = t385;
             } else {
-              const std::vector<Pos>& g385 = s.g_wanderSteps_5;
-              if (g385.empty()) {
+              const std::vector<Pos>& g386 = s.g_wanderSteps_5;
+              if (g386.empty()) {
                 fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
               }
-              const int32_t t386 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g385.size())))));
-              const Pos t387 = g385[size_t(t386)];
-              r344 = t387;
+              const int32_t t387 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g386.size())))));
+              const Pos t388 = g386[size_t(t387)];
+              r345 = t388;
             }
-            l_wish327 = r344;
-            const Pos& v388 = l_wish327;
+            l_wish328 = r345;
+            const Pos& v389 = l_wish328;
             // inlined: function at programs/sheepdog.au:52
-            const int32_t t389 = add(x324.origin.x, v388.x);
-            const int32_t t390 = add(x324.origin.y, v388.y);
-            const Pos t391 = Pos{t389, t390};
-            C2_Sheep upd392 = x324;
-            upd392.origin = t391;
-            std::vector<Elem>& rendered393 = s.scratch.v.b25;
-            rendered393.clear();
-            const int32_t colour394 = colour_0_C2_Sheep(s, upd392);
-            rendered393.push_back(Elem{Pos{add(upd392.origin.x, int32_t(0)), add(upd392.origin.y, int32_t(0))}, colour394});
-            bool within395 = true;
-            for (const Elem& e396 : rendered393) {
-              if ((((e396.position.x < int32_t(0)) || (e396.position.x >= int32_t(16))) || ((e396.position.y < int32_t(0)) || (e396.position.y >= int32_t(16))))) {
-                within395 = false;
+            const int32_t t390 = add(x325.origin.x, v389.x);
+            const int32_t t391 = add(x325.origin.y, v389.y);
+            const Pos t392 = Pos{t390, t391};
+            C2_Sheep upd393 = x325;
+            upd393.origin = t392;
+            std::vector<Elem>& rendered394 = s.scratch.v.b25;
+            rendered394.clear();
+            const int32_t colour395 = colour_0_C2_Sheep(s, upd393);
+            rendered394.push_back(Elem{Pos{add(upd393.origin.x, int32_t(0)), add(upd393.origin.y, int32_t(0))}, colour395});
+            bool within396 = true;
+            for (const Elem& e397 : rendered394) {
+              if ((((e397.position.x < int32_t(0)) || (e397.position.x >= int32_t(16))) || ((e397.position.y < int32_t(0)) || (e397.position.y >= int32_t(16))))) {
+                within396 = false;
                 break;
               }
             }
-            bool r397{};
-            if (within395) {
-              const int32_t t398 = add(x324.origin.x, v388.x);
-              const int32_t t399 = add(x324.origin.y, v388.y);
-              const Pos t400 = Pos{t398, t399};
-              C2_Sheep upd401 = x324;
-              upd401.origin = t400;
+            bool r398{};
+            if (within396) {
+              const int32_t t399 = add(x325.origin.x, v389.x);
+              const int32_t t400 = add(x325.origin.y, v389.y);
+              const Pos t401 = Pos{t399, t400};
+              C2_Sheep upd402 = x325;
+              upd402.origin = t401;
               // inlined: function at programs/sheepdog.au:49
               // inlined: function at programs/sheepdog.au:48
               // inlined: function at programs/sheepdog.au:21
-              const bool t402 = (upd401.origin.x >= int32_t(10));
-              bool r403{};
-              if (t402) {
-                const bool t404 = (upd401.origin.y <= int32_t(5));
-                r403 = t404;
+              const bool t403 = (upd402.origin.x >= int32_t(10));
+              bool r404{};
+              if (t403) {
+                const bool t405 = (upd402.origin.y <= int32_t(5));
+                r404 = t405;
               } else {
-                r403 = false;
+                r404 = false;
               }
-              bool r405{};
-              if (r403) {
-                const bool t406 = (upd401.origin.x == int32_t(10));
-                bool r407{};
-                if (!t406) {
-                  const bool t408 = (upd401.origin.x == int32_t(15));
-                  r407 = t408;
+              bool r406{};
+              if (r404) {
+                const bool t407 = (upd402.origin.x == int32_t(10));
+                bool r408{};
+                if (!t407) {
+                  const bool t409 = (upd402.origin.x == int32_t(15));
+                  r408 = t409;
                 } else {
-                  r407 = true;
+                  r408 = true;
                 }
-                bool r409{};
-                if (!r407) {
-                  const bool t410 = (upd401.origin.y == int32_t(0));
-                  bool r411{};
-                  if (!t410) {
-                    const bool t412 = (upd401.origin.y == int32_t(5));
-                    r411 = t412;
+                bool r410{};
+                if (!r408) {
+                  const bool t411 = (upd402.origin.y == int32_t(0));
+                  bool r412{};
+                  if (!t411) {
+                    const bool t413 = (upd402.origin.y == int32_t(5));
+                    r412 = t413;
                   } else {
-                    r411 = true;
+                    r412 = true;
                   }
-                  r409 = r411;
+                  r410 = r412;
                 } else {
-                  r409 = true;
+                  r410 = true;
                 }
-                r405 = r409;
+                r406 = r410;
               } else {
-                r405 = false;
+                r406 = false;
               }
-              bool r413{};
-              if (r405) {
-                const std::vector<Pos>& g414 = s.g_gate_6;
-                bool any415 = false;
-                for (const Pos& x416 : g414) {
-                  const bool t417 = (x416 == upd401.origin);
-                  if (t417) {
-                    any415 = true;
+              bool r414{};
+              if (r406) {
+                const std::vector<Pos>& g415 = s.g_gate_6;
+                bool any416 = false;
+                for (const Pos& x417 : g415) {
+                  const bool t418 = (x417 == upd402.origin);
+                  if (t418) {
+                    any416 = true;
                     break;
                   }
                 }
-                const bool t418 = !any415;
-                r413 = t418;
+                const bool t419 = !any416;
+                r414 = t419;
               } else {
-                r413 = false;
+                r414 = false;
               }
-              bool r419{};
-              if (!r413) {
-                const C3_Dog& g420 = s.g_dog_13;
-                const bool t421 = (upd401.origin == g420.origin);
-                r419 = t421;
+              bool r420{};
+              if (!r414) {
+                const C3_Dog& g421 = s.g_dog_13;
+                const bool t422 = (upd402.origin == g421.origin);
+                r420 = t422;
               } else {
-                r419 = true;
+                r420 = true;
               }
-              bool r422{};
-              if (!r419) {
-                bool any423 = false;
-                for (const C2_Sheep& x424 : a325) {
+              bool r423{};
+              if (!r420) {
+                bool any424 = false;
+                for (const C2_Sheep& x425 : a326) {
                   // inlined: function at programs/sheepdog.au:51
-                  const bool t425 = (x424.origin == upd401.origin);
-                  if (t425) {
-                    any423 = true;
+                  const bool t426 = (x425.origin == upd402.origin);
+                  if (t426) {
+                    any424 = true;
                     break;
                   }
                 }
-                bool r426{};
-                if (!any423) {
-                  const std::vector<C2_Sheep>& prev427 = s.p_sheep_9;
-                  bool any428 = false;
-                  for (const C2_Sheep& x429 : prev427) {
+                bool r427{};
+                if (!any424) {
+                  const std::vector<C2_Sheep>& prev428 = s.p_sheep_9;
+                  bool any429 = false;
+                  for (const C2_Sheep& x430 : prev428) {
                     // inlined: function at programs/sheepdog.au:51
-                    const bool t430 = (x429.origin == upd401.origin);
-                    if (t430) {
-                      any428 = true;
+                    const bool t431 = (x430.origin == upd402.origin);
+                    if (t431) {
+                      any429 = true;
                       break;
                     }
                   }
-                  r426 = any428;
+                  r427 = any429;
                 } else {
-                  r426 = true;
+                  r427 = true;
                 }
-                r422 = r426;
+                r423 = r427;
               } else {
-                r422 = true;
+                r423 = true;
               }
-              const bool t431 = !r422;
-              r397 = t431;
+              const bool t432 = !r423;
+              r398 = t432;
             } else {
-              r397 = false;
+              r398 = false;
             }
-            Pos r432{};
-            if (r397) {
-              const Pos& v433 = l_wish327;
-              r432 = v433;
+            Pos r433{};
+            if (r398) {
+              const Pos& v434 = l_wish328;
+              r433 = v434;
             } else {
-              const std::vector<Pos>& g434 = s.g_wanderSteps_5;
-              if (g434.empty()) {
+              const std::vector<Pos>& g435 = s.g_wanderSteps_5;
+              if (g435.empty()) {
                 fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
               }
-              const int32_t t435 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g434.size())))));
-              const Pos t436 = g434[size_t(t435)];
-              r432 = t436;
+              const int32_t t436 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g435.size())))));
+              const Pos t437 = g435[size_t(t436)];
+              r433 = t437;
             }
-            l_wish327 = r432;
-            const Pos& v437 = l_wish327;
+            l_wish328 = r433;
+            const Pos& v438 = l_wish328;
             // inlined: function at programs/sheepdog.au:52
-            const int32_t t438 = add(x324.origin.x, v437.x);
-            const int32_t t439 = add(x324.origin.y, v437.y);
-            const Pos t440 = Pos{t438, t439};
-            C2_Sheep upd441 = x324;
-            upd441.origin = t440;
-            std::vector<Elem>& rendered442 = s.scratch.v.b26;
-            rendered442.clear();
-            const int32_t colour443 = colour_0_C2_Sheep(s, upd441);
-            rendered442.push_back(Elem{Pos{add(upd441.origin.x, int32_t(0)), add(upd441.origin.y, int32_t(0))}, colour443});
-            bool within444 = true;
-            for (const Elem& e445 : rendered442) {
-              if ((((e445.position.x < int32_t(0)) || (e445.position.x >= int32_t(16))) || ((e445.position.y < int32_t(0)) || (e445.position.y >= int32_t(16))))) {
-                within444 = false;
+            const int32_t t439 = add(x325.origin.x, v438.x);
+            const int32_t t440 = add(x325.origin.y, v438.y);
+            const Pos t441 = Pos{t439, t440};
+            C2_Sheep upd442 = x325;
+            upd442.origin = t441;
+            std::vector<Elem>& rendered443 = s.scratch.v.b26;
+            rendered443.clear();
+            const int32_t colour444 = colour_0_C2_Sheep(s, upd442);
+            rendered443.push_back(Elem{Pos{add(upd442.origin.x, int32_t(0)), add(upd442.origin.y, int32_t(0))}, colour444});
+            bool within445 = true;
+            for (const Elem& e446 : rendered443) {
+              if ((((e446.position.x < int32_t(0)) || (e446.position.x >= int32_t(16))) || ((e446.position.y < int32_t(0)) || (e446.position.y >= int32_t(16))))) {
+                within445 = false;
                 break;
               }
             }
-            bool r446{};
-            if (within444) {
-              const int32_t t447 = add(x324.origin.x, v437.x);
-              const int32_t t448 = add(x324.origin.y, v437.y);
-              const Pos t449 = Pos{t447, t448};
-              C2_Sheep upd450 = x324;
-              upd450.origin = t449;
+            bool r447{};
+            if (within445) {
+              const int32_t t448 = add(x325.origin.x, v438.x);
+              const int32_t t449 = add(x325.origin.y, v438.y);
+              const Pos t450 = Pos{t448, t449};
+              C2_Sheep upd451 = x325;
+              upd451.origin = t450;
               // inlined: function at programs/sheepdog.au:49
               // inlined: function at programs/sheepdog.au:48
               // inlined: function at programs/sheepdog.au:21
-              const bool t451 = (upd450.origin.x >= int32_t(10));
-              bool r452{};
-              if (t451) {
-                const bool t453 = (upd450.origin.y <= int32_t(5));
-                r452 = t453;
+              const bool t452 = (upd451.origin.x >= int32_t(10));
+              bool r453{};
+              if (t452) {
+                const bool t454 = (upd451.origin.y <= int32_t(5));
+                r453 = t454;
               } else {
-                r452 = false;
+                r453 = false;
               }
-              bool r454{};
-              if (r452) {
-                const bool t455 = (upd450.origin.x == int32_t(10));
-                bool r456{};
-                if (!t455) {
-                  const bool t457 = (upd450.origin.x == int32_t(15));
-                  r456 = t457;
+              bool r455{};
+              if (r453) {
+                const bool t456 = (upd451.origin.x == int32_t(10));
+                bool r457{};
+                if (!t456) {
+                  const bool t458 = (upd451.origin.x == int32_t(15));
+                  r457 = t458;
                 } else {
-                  r456 = true;
+                  r457 = true;
                 }
-                bool r458{};
-                if (!r456) {
-                  const bool t459 = (upd450.origin.y == int32_t(0));
-                  bool r460{};
-                  if (!t459) {
-                    const bool t461 = (upd450.origin.y == int32_t(5));
-                    r460 = t461;
+                bool r459{};
+                if (!r457) {
+                  const bool t460 = (upd451.origin.y == int32_t(0));
+                  bool r461{};
+                  if (!t460) {
+                    const bool t462 = (upd451.origin.y == int32_t(5));
+                    r461 = t462;
                   } else {
-                    r460 = true;
+                    r461 = true;
                   }
-                  r458 = r460;
+                  r459 = r461;
                 } else {
-                  r458 = true;
+                  r459 = true;
                 }
-                r454 = r458;
+                r455 = r459;
               } else {
-                r454 = false;
+                r455 = false;
               }
-              bool r462{};
-              if (r454) {
-                const std::vector<Pos>& g463 = s.g_gate_6;
-                bool any464 = false;
-                for (const Pos& x465 : g463) {
-                  const bool t466 = (x465 == upd450.origin);
-                  if (t466) {
-                    any464 = true;
+              bool r463{};
+              if (r455) {
+                const std::vector<Pos>& g464 = s.g_gate_6;
+                bool any465 = false;
+                for (const Pos& x466 : g464) {
+                  const bool t467 = (x466 == upd451.origin);
+                  if (t467) {
+                    any465 = true;
                     break;
                   }
                 }
-                const bool t467 = !any464;
-                r462 = t467;
+                const bool t468 = !any465;
+                r463 = t468;
               } else {
-                r462 = false;
+                r463 = false;
               }
-              bool r468{};
-              if (!r462) {
-                const C3_Dog& g469 = s.g_dog_13;
-                const bool t470 = (upd450.origin == g469.origin);
-                r468 = t470;
+              bool r469{};
+              if (!r463) {
+                const C3_Dog& g470 = s.g_dog_13;
+                const bool t471 = (upd451.origin == g470.origin);
+                r469 = t471;
               } else {
-                r468 = true;
+                r469 = true;
               }
-              bool r471{};
-              if (!r468) {
-                bool any472 = false;
-                for (const C2_Sheep& x473 : a325) {
+              bool r472{};
+              if (!r469) {
+                bool any473 = false;
+                for (const C2_Sheep& x474 : a326) {
                   // inlined: function at programs/sheepdog.au:51
-                  const bool t474 = (x473.origin == upd450.origin);
-                  if (t474) {
-                    any472 = true;
+                  const bool t475 = (x474.origin == upd451.origin);
+                  if (t475) {
+                    any473 = true;
                     break;
                   }
                 }
-                bool r475{};
-                if (!any472) {
-                  const std::vector<C2_Sheep>& prev476 = s.p_sheep_9;
-                  bool any477 = false;
-                  for (const C2_Sheep& x478 : prev476) {
+                bool r476{};
+                if (!any473) {
+                  const std::vector<C2_Sheep>& prev477 = s.p_sheep_9;
+                  bool any478 = false;
+                  for (const C2_Sheep& x479 : prev477) {
                     // inlined: function at programs/sheepdog.au:51
-                    const bool t479 = (x478.origin == upd450.origin);
-                    if (t479) {
-                      any477 = true;
+                    const bool t480 = (x479.origin == upd451.origin);
+                    if (t480) {
+                      any478 = true;
                       break;
                     }
                   }
-                  r475 = any477;
+                  r476 = any478;
                 } else {
-                  r475 = true;
+                  r476 = true;
                 }
-                r471 = r475;
+                r472 = r476;
               } else {
-                r471 = true;
+                r472 = true;
               }
-              const bool t480 = !r471;
-              r446 = t480;
+              const bool t481 = !r472;
+              r447 = t481;
             } else {
-              r446 = false;
+              r447 = false;
             }
-            C2_Sheep r481{};
-            if (r446) {
-              const Pos& v482 = l_wish327;
-              const int32_t t483 = add(x324.origin.x, v482.x);
-              const int32_t t484 = add(x324.origin.y, v482.y);
-              const Pos t485 = Pos{t483, t484};
-              C2_Sheep upd486 = x324;
-              upd486.origin = t485;
-              r481 = std::move(upd486);
+            C2_Sheep r482{};
+            if (r447) {
+              const Pos& v483 = l_wish328;
+              const int32_t t484 = add(x325.origin.x, v483.x);
+              const int32_t t485 = add(x325.origin.y, v483.y);
+              const Pos t486 = Pos{t484, t485};
+              C2_Sheep upd487 = x325;
+              upd487.origin = t486;
+              r482 = std::move(upd487);
             } else {
-              r481 = x324;
+              r482 = x325;
             }
-            l_there328 = std::move(r481);
-            const C2_Sheep& v487 = l_there328;
-            const C2_Sheep& v488 = l_there328;
+            l_there329 = std::move(r482);
+            const C2_Sheep& v488 = l_there329;
+            const C2_Sheep& v489 = l_there329;
             // inlined: function at programs/sheepdog.au:23
-            const bool t489 = (v488.origin.x >= int32_t(11));
-            bool r490{};
-            if (t489) {
-              const bool t491 = (v488.origin.x <= int32_t(14));
-              r490 = t491;
+            const bool t490 = (v489.origin.x >= int32_t(11));
+            bool r491{};
+            if (t490) {
+              const bool t492 = (v489.origin.x <= int32_t(14));
+              r491 = t492;
             } else {
-              r490 = false;
+              r491 = false;
             }
-            bool r492{};
-            if (r490) {
-              const bool t493 = (v488.origin.y >= int32_t(1));
-              bool r494{};
-              if (t493) {
-                const bool t495 = (v488.origin.y <= int32_t(4));
-                r494 = t495;
+            bool r493{};
+            if (r491) {
+              const bool t494 = (v489.origin.y >= int32_t(1));
+              bool r495{};
+              if (t494) {
+                const bool t496 = (v489.origin.y <= int32_t(4));
+                r495 = t496;
               } else {
-                r494 = false;
+                r495 = false;
               }
-              r492 = r494;
+              r493 = r495;
             } else {
-              r492 = false;
+              r493 = false;
             }
-            C2_Sheep upd496 = v487;
-            upd496.f0 = r492;
-            r326 = std::move(upd496);
+            C2_Sheep upd497 = v488;
+            upd497.f0 = r493;
+            r327 = std::move(upd497);
           }
-          std::vector<C2_Sheep> added497{};
-          added497.reserve(size_t(add(int32_t(a325.size()), int32_t(1))));
-          for (const C2_Sheep& x498 : a325) {
-            added497.push_back(x498);
+          std::vector<C2_Sheep> added498{};
+          added498.reserve(size_t(add(int32_t(a326.size()), int32_t(1))));
+          for (const C2_Sheep& x499 : a326) {
+            added498.push_back(x499);
           }
-          added497.push_back(std::move(r326));
-          acc323 = std::move(added497);
+          added498.push_back(std::move(r327));
+          acc324 = std::move(added498);
         }
-        const std::vector<C2_Sheep>& folded499 = acc323;
-        s.g_sheep_7 = folded499;
+        const std::vector<C2_Sheep>& folded500 = acc324;
+        s.g_sheep_7 = folded500;
         s.u_sheep_8 = true;
       }
     }
     // on-clause 9, programs/sheepdog.au:82
     {
-      const std::vector<C2_Sheep>& g500 = s.g_sheep_7;
+      const std::vector<C2_Sheep>& g501 = s.g_sheep_7;
       // inlined: function at programs/sheepdog.au:39
-      bool any501 = false;
-      for (const C2_Sheep& x502 : g500) {
+      bool any502 = false;
+      for (const C2_Sheep& x503 : g501) {
         // inlined: function at programs/sheepdog.au:39
-        const bool t503 = !x502.f0;
-        if (t503) {
-          any501 = true;
+        const bool t504 = !x503.f0;
+        if (t504) {
+          any502 = true;
           break;
         }
       }
-      const bool t504 = !any501;
-      if (t504) {
+      const bool t505 = !any502;
+      if (t505) {
         s.core.covered[int32_t(8)] = 1;
         s.g_background_2 = int32_t(8);
       }
     }
     // on-clause 10, programs/sheepdog.au:83
     {
-      const std::vector<C2_Sheep>& prev505 = s.p_sheep_9;
+      const std::vector<C2_Sheep>& prev506 = s.p_sheep_9;
       // inlined: function at programs/sheepdog.au:39
-      bool any506 = false;
-      for (const C2_Sheep& x507 : prev505) {
+      bool any507 = false;
+      for (const C2_Sheep& x508 : prev506) {
         // inlined: function at programs/sheepdog.au:39
-        const bool t508 = !x507.f0;
-        if (t508) {
-          any506 = true;
+        const bool t509 = !x508.f0;
+        if (t509) {
+          any507 = true;
           break;
         }
       }
-      const bool t509 = !any506;
-      bool r510{};
-      if (t509) {
-        const C3_Dog& prev511 = s.p_dog_15;
-        bool clicked512 = false;
+      const bool t510 = !any507;
+      bool r511{};
+      if (t510) {
+        const C3_Dog& prev512 = s.p_dog_15;
+        bool clicked513 = false;
         if (s.core.click) {
           s.d_click_20 = true;
-          s.g_click_19 = Pos{s.core.click_x, s.core.click_y};
-          std::vector<Elem>& rendered513 = s.scratch.v.b27;
-          rendered513.clear();
-          rendered513.push_back(Elem{Pos{add(prev511.origin.x, int32_t(0)), add(prev511.origin.y, int32_t(0))}, int32_t(0)});
           const Pos t514 = Pos{s.core.click_x, s.core.click_y};
-          for (const Elem& e515 : rendered513) {
-            if ((e515.position == t514)) {
-              clicked512 = true;
+          s.g_click_19 = t514;
+          std::vector<Elem>& rendered515 = s.scratch.v.b27;
+          rendered515.clear();
+          rendered515.push_back(Elem{Pos{add(prev512.origin.x, int32_t(0)), add(prev512.origin.y, int32_t(0))}, int32_t(0)});
+          for (const Elem& e516 : rendered515) {
+            if ((e516.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked513 = true;
               break;
             }
           }
         }
-        r510 = clicked512;
+        r511 = clicked513;
       } else {
-        r510 = false;
+        r511 = false;
       }
-      if (r510) {
+      if (r511) {
         s.core.covered[int32_t(9)] = 1;
-        const std::vector<Pos>& g516 = s.g_sheepStarts_4;
-        std::vector<C2_Sheep> out517{};
-        out517.reserve(size_t(int32_t(g516.size())));
-        for (const Pos& x518 : g516) {
+        const std::vector<Pos>& g517 = s.g_sheepStarts_4;
+        std::vector<C2_Sheep> out518{};
+        out518.reserve(size_t(int32_t(g517.size())));
+        for (const Pos& x519 : g517) {
           // inlined: function at programs/sheepdog.au:84
-          CellV l_allCells519{};
-          const CellV t520 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-          l_allCells519 = t520;
-          const CellV& v521 = l_allCells519;
-          const CellV& v522 = l_allCells519;
-          const std::vector<CellV> list523 = std::vector<CellV>{v522};
-          C2_Sheep o524 = C2_Sheep{false, x518};
-          out517.push_back(std::move(o524));
+          CellV l_allCells520{};
+          const CellV t521 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+          l_allCells520 = t521;
+          const CellV& v522 = l_allCells520;
+          const CellV& v523 = l_allCells520;
+          const std::vector<CellV> list524 = std::vector<CellV>{v523};
+          C2_Sheep o525 = C2_Sheep{false, x519};
+          out518.push_back(std::move(o525));
         }
-        s.g_sheep_7 = std::move(out517);
+        s.g_sheep_7 = std::move(out518);
         s.u_sheep_8 = true;
         s.g_background_2 = int32_t(1);
       }
     }
     // NEXT of sheep, programs/sheepdog.au:34
     if (!s.u_sheep_8) {
-      const std::vector<C2_Sheep>& prev525 = s.p_sheep_9;
-      s.g_sheep_7 = prev525;
+      const std::vector<C2_Sheep>& prev526 = s.p_sheep_9;
+      s.g_sheep_7 = prev526;
       s.u_sheep_8 = true;
     }
     // NEXT of flags, programs/sheepdog.au:31
     if (!s.u_flags_11) {
-      const std::vector<C1_Flag>& prev526 = s.p_flags_12;
-      s.g_flags_10 = prev526;
+      const std::vector<C1_Flag>& prev527 = s.p_flags_12;
+      s.g_flags_10 = prev527;
       s.u_flags_11 = true;
     }
     // NEXT of dog, programs/sheepdog.au:37
     if (!s.u_dog_14) {
-      const C3_Dog& prev527 = s.p_dog_15;
-      s.g_dog_13 = prev527;
+      const C3_Dog& prev528 = s.p_dog_15;
+      s.g_dog_13 = prev528;
       s.u_dog_14 = true;
     }
     // NEXT of fences, programs/sheepdog.au:28
     if (!s.u_fences_17) {
-      const std::vector<C0_Fence>& prev528 = s.p_fences_18;
-      s.g_fences_16 = prev528;
+      const std::vector<C0_Fence>& prev529 = s.p_fences_18;
+      s.g_fences_16 = prev529;
       s.u_fences_17 = true;
     }
     s.core.clear_inputs();

@@ -508,15 +508,15 @@ struct Prog {
       bool clicked2 = false;
       if (s.core.click) {
         s.d_click_24 = true;
-        s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
-        std::vector<Elem>& rendered3 = s.scratch.v.b1;
-        rendered3.clear();
-        for (const C0_Flake& x4 : prev1) {
-          rendered3.push_back(Elem{Pos{add(x4.origin.x, int32_t(0)), add(x4.origin.y, int32_t(0))}, int32_t(9)});
+        const Pos t3 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_23 = t3;
+        std::vector<Elem>& rendered4 = s.scratch.v.b1;
+        rendered4.clear();
+        for (const C0_Flake& x5 : prev1) {
+          rendered4.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(9)});
         }
-        const Pos t5 = Pos{s.core.click_x, s.core.click_y};
-        for (const Elem& e6 : rendered3) {
-          if ((e6.position == t5)) {
+        for (const Elem& e6 : rendered4) {
+          if ((e6.position == Pos{s.core.click_x, s.core.click_y})) {
             clicked2 = true;
             break;
           }
@@ -531,13 +531,13 @@ struct Prog {
           bool clicked10 = false;
           if (s.core.click) {
             s.d_click_24 = true;
-            s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered11 = s.scratch.v.b2;
-            rendered11.clear();
-            rendered11.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(9)});
-            const Pos t12 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e13 : rendered11) {
-              if ((e13.position == t12)) {
+            const Pos t11 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_23 = t11;
+            std::vector<Elem>& rendered12 = s.scratch.v.b2;
+            rendered12.clear();
+            rendered12.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(9)});
+            for (const Elem& e13 : rendered12) {
+              if ((e13.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked10 = true;
                 break;
               }
@@ -589,15 +589,15 @@ struct Prog {
       bool clicked30 = false;
       if (s.core.click) {
         s.d_click_24 = true;
-        s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
-        std::vector<Elem>& rendered31 = s.scratch.v.b3;
-        rendered31.clear();
-        for (const C2_Rock& x32 : prev29) {
-          rendered31.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(3)});
+        const Pos t31 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_23 = t31;
+        std::vector<Elem>& rendered32 = s.scratch.v.b3;
+        rendered32.clear();
+        for (const C2_Rock& x33 : prev29) {
+          rendered32.push_back(Elem{Pos{add(x33.origin.x, int32_t(0)), add(x33.origin.y, int32_t(0))}, int32_t(3)});
         }
-        const Pos t33 = Pos{s.core.click_x, s.core.click_y};
-        for (const Elem& e34 : rendered31) {
-          if ((e34.position == t33)) {
+        for (const Elem& e34 : rendered32) {
+          if ((e34.position == Pos{s.core.click_x, s.core.click_y})) {
             clicked30 = true;
             break;
           }
@@ -612,13 +612,13 @@ struct Prog {
           bool clicked38 = false;
           if (s.core.click) {
             s.d_click_24 = true;
-            s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered39 = s.scratch.v.b4;
-            rendered39.clear();
-            rendered39.push_back(Elem{Pos{add(x37.origin.x, int32_t(0)), add(x37.origin.y, int32_t(0))}, int32_t(3)});
-            const Pos t40 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e41 : rendered39) {
-              if ((e41.position == t40)) {
+            const Pos t39 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_23 = t39;
+            std::vector<Elem>& rendered40 = s.scratch.v.b4;
+            rendered40.clear();
+            rendered40.push_back(Elem{Pos{add(x37.origin.x, int32_t(0)), add(x37.origin.y, int32_t(0))}, int32_t(3)});
+            for (const Elem& e41 : rendered40) {
+              if ((e41.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked38 = true;
                 break;
               }
@@ -638,64 +638,65 @@ struct Prog {
       bool clicked43 = false;
       if (s.core.click) {
         s.d_click_24 = true;
-        s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
+        const Pos t44 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_23 = t44;
         clicked43 = true;
       }
-      bool r44{};
+      bool r45{};
       if (clicked43) {
-        Pos r45{};
+        Pos r46{};
         if (s.d_click_24) {
-          const Pos& g46 = s.g_click_23;
-          r45 = g46;
+          const Pos& g47 = s.g_click_23;
+          r46 = g47;
         } else {
           fail_at(2, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t47 = s.core.occupied.free(r45);
-        bool r48{};
-        if (t47) {
-          const std::vector<C2_Rock>& g49 = s.g_rocks_14;
-          const int32_t t50 = int32_t(g49.size());
-          const bool t51 = (t50 < int32_t(12));
-          r48 = t51;
+        const bool t48 = s.core.occupied.free(r46);
+        bool r49{};
+        if (t48) {
+          const std::vector<C2_Rock>& g50 = s.g_rocks_14;
+          const int32_t t51 = int32_t(g50.size());
+          const bool t52 = (t51 < int32_t(12));
+          r49 = t52;
         } else {
-          r48 = false;
+          r49 = false;
         }
-        r44 = r48;
+        r45 = r49;
       } else {
-        r44 = false;
+        r45 = false;
       }
-      if (r44) {
+      if (r45) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C2_Rock>& g52 = s.g_rocks_14;
-        Pos r53{};
+        const std::vector<C2_Rock>& g53 = s.g_rocks_14;
+        Pos r54{};
         if (s.d_click_24) {
-          const Pos& g54 = s.g_click_23;
-          r53 = g54;
+          const Pos& g55 = s.g_click_23;
+          r54 = g55;
         } else {
           fail_at(3, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r55{};
+        Pos r56{};
         if (s.d_click_24) {
-          const Pos& g56 = s.g_click_23;
-          r55 = g56;
+          const Pos& g57 = s.g_click_23;
+          r56 = g57;
         } else {
           fail_at(4, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t57 = Pos{r53.x, r55.y};
-        CellV l_allCells58{};
-        const CellV t59 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
-        l_allCells58 = t59;
-        const CellV& v60 = l_allCells58;
-        const CellV& v61 = l_allCells58;
-        const std::vector<CellV> list62 = std::vector<CellV>{v61};
-        C2_Rock o63 = C2_Rock{t57};
-        std::vector<C2_Rock> added64{};
-        added64.reserve(size_t(add(int32_t(g52.size()), int32_t(1))));
-        for (const C2_Rock& x65 : g52) {
-          added64.push_back(x65);
+        const Pos t58 = Pos{r54.x, r56.y};
+        CellV l_allCells59{};
+        const CellV t60 = CellV{int32_t(0), int32_t(0), int32_t(3), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(2))};
+        l_allCells59 = t60;
+        const CellV& v61 = l_allCells59;
+        const CellV& v62 = l_allCells59;
+        const std::vector<CellV> list63 = std::vector<CellV>{v62};
+        C2_Rock o64 = C2_Rock{t58};
+        std::vector<C2_Rock> added65{};
+        added65.reserve(size_t(add(int32_t(g53.size()), int32_t(1))));
+        for (const C2_Rock& x66 : g53) {
+          added65.push_back(x66);
         }
-        added64.push_back(std::move(o63));
-        s.g_rocks_14 = std::move(added64);
+        added65.push_back(std::move(o64));
+        s.g_rocks_14 = std::move(added65);
         s.u_rocks_15 = true;
       }
     }
@@ -703,91 +704,91 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C0_Flake>& g66 = s.g_snow_8;
-        std::vector<C0_Flake> out67{};
-        out67.reserve(size_t(int32_t(g66.size())));
-        for (const C0_Flake& x68 : g66) {
-          const int32_t t69 = add(x68.origin.x, int32_t(0));
-          const int32_t t70 = add(x68.origin.y, int32_t(1));
-          const Pos t71 = Pos{t69, t70};
-          C0_Flake upd72 = x68;
-          upd72.origin = t71;
-          std::vector<Elem>& rendered73 = s.scratch.v.b5;
-          rendered73.clear();
-          rendered73.push_back(Elem{Pos{add(upd72.origin.x, int32_t(0)), add(upd72.origin.y, int32_t(0))}, int32_t(9)});
-          bool within74 = true;
-          for (const Elem& e75 : rendered73) {
-            if ((((e75.position.x < int32_t(0)) || (e75.position.x >= int32_t(16))) || ((e75.position.y < int32_t(0)) || (e75.position.y >= int32_t(16))))) {
-              within74 = false;
+        const std::vector<C0_Flake>& g67 = s.g_snow_8;
+        std::vector<C0_Flake> out68{};
+        out68.reserve(size_t(int32_t(g67.size())));
+        for (const C0_Flake& x69 : g67) {
+          const int32_t t70 = add(x69.origin.x, int32_t(0));
+          const int32_t t71 = add(x69.origin.y, int32_t(1));
+          const Pos t72 = Pos{t70, t71};
+          C0_Flake upd73 = x69;
+          upd73.origin = t72;
+          std::vector<Elem>& rendered74 = s.scratch.v.b5;
+          rendered74.clear();
+          rendered74.push_back(Elem{Pos{add(upd73.origin.x, int32_t(0)), add(upd73.origin.y, int32_t(0))}, int32_t(9)});
+          bool within75 = true;
+          for (const Elem& e76 : rendered74) {
+            if ((((e76.position.x < int32_t(0)) || (e76.position.x >= int32_t(16))) || ((e76.position.y < int32_t(0)) || (e76.position.y >= int32_t(16))))) {
+              within75 = false;
               break;
             }
           }
-          bool r76{};
-          if (within74) {
-            const int32_t t77 = add(x68.origin.x, int32_t(0));
-            const int32_t t78 = add(x68.origin.y, int32_t(1));
-            const Pos t79 = Pos{t77, t78};
-            C0_Flake upd80 = x68;
-            upd80.origin = t79;
-            std::vector<Elem>& l_prev_elems81 = s.scratch.v.b6;
-            l_prev_elems81.clear();
-            std::vector<Elem>& l_curr_elems82 = s.scratch.v.b7;
-            l_curr_elems82.clear();
-            std::vector<Elem>& l_filtered_elems83 = s.scratch.v.b8;
-            l_filtered_elems83.clear();
-            std::vector<Elem> rendered84{};
-            rendered84.push_back(Elem{Pos{add(x68.origin.x, int32_t(0)), add(x68.origin.y, int32_t(0))}, int32_t(9)});
-            l_prev_elems81 = std::move(rendered84);
+          bool r77{};
+          if (within75) {
+            const int32_t t78 = add(x69.origin.x, int32_t(0));
+            const int32_t t79 = add(x69.origin.y, int32_t(1));
+            const Pos t80 = Pos{t78, t79};
+            C0_Flake upd81 = x69;
+            upd81.origin = t80;
+            std::vector<Elem>& l_prev_elems82 = s.scratch.v.b6;
+            l_prev_elems82.clear();
+            std::vector<Elem>& l_curr_elems83 = s.scratch.v.b7;
+            l_curr_elems83.clear();
+            std::vector<Elem>& l_filtered_elems84 = s.scratch.v.b8;
+            l_filtered_elems84.clear();
             std::vector<Elem> rendered85{};
-            rendered85.push_back(Elem{Pos{add(upd80.origin.x, int32_t(0)), add(upd80.origin.y, int32_t(0))}, int32_t(9)});
-            l_curr_elems82 = std::move(rendered85);
-            const std::vector<Elem>& v86 = l_curr_elems82;
-            std::vector<Elem> out87{};
-            for (const Elem& x88 : v86) {
-              const std::vector<Elem>& v89 = l_prev_elems81;
-              bool any90 = false;
-              for (const Elem& x91 : v89) {
-                const bool t92 = (x91 == x88);
-                if (t92) {
-                  any90 = true;
+            rendered85.push_back(Elem{Pos{add(x69.origin.x, int32_t(0)), add(x69.origin.y, int32_t(0))}, int32_t(9)});
+            l_prev_elems82 = std::move(rendered85);
+            std::vector<Elem> rendered86{};
+            rendered86.push_back(Elem{Pos{add(upd81.origin.x, int32_t(0)), add(upd81.origin.y, int32_t(0))}, int32_t(9)});
+            l_curr_elems83 = std::move(rendered86);
+            const std::vector<Elem>& v87 = l_curr_elems83;
+            std::vector<Elem> out88{};
+            for (const Elem& x89 : v87) {
+              const std::vector<Elem>& v90 = l_prev_elems82;
+              bool any91 = false;
+              for (const Elem& x92 : v90) {
+                const bool t93 = (x92 == x89);
+                if (t93) {
+                  any91 = true;
                   break;
                 }
               }
-              const bool t93 = !any90;
-              if (t93) {
-                out87.push_back(x88);
+              const bool t94 = !any91;
+              if (t94) {
+                out88.push_back(x89);
               }
             }
-            l_filtered_elems83 = std::move(out87);
-            const std::vector<Elem>& v94 = l_filtered_elems83;
-            bool any95 = false;
-            for (const Elem& x96 : v94) {
-              const bool t97 = s.core.occupied.free(x96.position);
-              const bool t98 = !t97;
-              if (t98) {
-                any95 = true;
+            l_filtered_elems84 = std::move(out88);
+            const std::vector<Elem>& v95 = l_filtered_elems84;
+            bool any96 = false;
+            for (const Elem& x97 : v95) {
+              const bool t98 = s.core.occupied.free(x97.position);
+              const bool t99 = !t98;
+              if (t99) {
+                any96 = true;
                 break;
               }
             }
-            const bool t99 = !any95;
-            r76 = t99;
+            const bool t100 = !any96;
+            r77 = t100;
           } else {
-            r76 = false;
+            r77 = false;
           }
-          C0_Flake r100{};
-          if (r76) {
-            const int32_t t101 = add(x68.origin.x, int32_t(0));
-            const int32_t t102 = add(x68.origin.y, int32_t(1));
-            const Pos t103 = Pos{t101, t102};
-            C0_Flake upd104 = x68;
-            upd104.origin = t103;
-            r100 = std::move(upd104);
+          C0_Flake r101{};
+          if (r77) {
+            const int32_t t102 = add(x69.origin.x, int32_t(0));
+            const int32_t t103 = add(x69.origin.y, int32_t(1));
+            const Pos t104 = Pos{t102, t103};
+            C0_Flake upd105 = x69;
+            upd105.origin = t104;
+            r101 = std::move(upd105);
           } else {
-            r100 = x68;
+            r101 = x69;
           }
-          out67.push_back(std::move(r100));
+          out68.push_back(std::move(r101));
         }
-        s.g_snow_8 = std::move(out67);
+        s.g_snow_8 = std::move(out68);
         s.u_snow_9 = true;
       }
     }
@@ -795,407 +796,407 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C1_Melt>& g105 = s.g_melt_11;
+        const std::vector<C1_Melt>& g106 = s.g_melt_11;
         // inlined: function at programs/snowplow.au:41
-        std::vector<C1_Melt>& out106 = s.scratch.v.b9;
-        out106.clear();
-        out106.reserve(size_t(int32_t(g105.size())));
-        for (const C1_Melt& x107 : g105) {
+        std::vector<C1_Melt>& out107 = s.scratch.v.b9;
+        out107.clear();
+        out107.reserve(size_t(int32_t(g106.size())));
+        for (const C1_Melt& x108 : g106) {
           // inlined: function at programs/snowplow.au:43
-          const bool t108 = (x107.origin.y == int32_t(15));
-          const bool t109 = !t108;
-          bool r110{};
-          if (t109) {
-            const int32_t t111 = add(x107.origin.x, int32_t(0));
-            const int32_t t112 = add(x107.origin.y, int32_t(1));
-            const Pos t113 = Pos{t111, t112};
-            C1_Melt upd114 = x107;
-            upd114.origin = t113;
-            std::vector<Elem>& rendered115 = s.scratch.v.b10;
-            rendered115.clear();
-            const int32_t colour116 = colour_19_C1_Melt(s, upd114);
-            rendered115.push_back(Elem{Pos{add(upd114.origin.x, int32_t(0)), add(upd114.origin.y, int32_t(0))}, colour116});
-            bool any117 = false;
-            for (const Elem& x118 : rendered115) {
-              const bool t119 = s.core.occupied.free(x118.position);
-              const bool t120 = !t119;
-              if (t120) {
-                any117 = true;
+          const bool t109 = (x108.origin.y == int32_t(15));
+          const bool t110 = !t109;
+          bool r111{};
+          if (t110) {
+            const int32_t t112 = add(x108.origin.x, int32_t(0));
+            const int32_t t113 = add(x108.origin.y, int32_t(1));
+            const Pos t114 = Pos{t112, t113};
+            C1_Melt upd115 = x108;
+            upd115.origin = t114;
+            std::vector<Elem>& rendered116 = s.scratch.v.b10;
+            rendered116.clear();
+            const int32_t colour117 = colour_19_C1_Melt(s, upd115);
+            rendered116.push_back(Elem{Pos{add(upd115.origin.x, int32_t(0)), add(upd115.origin.y, int32_t(0))}, colour117});
+            bool any118 = false;
+            for (const Elem& x119 : rendered116) {
+              const bool t120 = s.core.occupied.free(x119.position);
+              const bool t121 = !t120;
+              if (t121) {
+                any118 = true;
                 break;
               }
             }
-            const bool t121 = !any117;
-            r110 = t121;
+            const bool t122 = !any118;
+            r111 = t122;
           } else {
-            r110 = false;
+            r111 = false;
           }
-          C1_Melt r122{};
-          if (r110) {
-            const int32_t t123 = add(x107.origin.x, int32_t(0));
-            const int32_t t124 = add(x107.origin.y, int32_t(1));
-            const Pos t125 = Pos{t123, t124};
-            C1_Melt upd126 = x107;
-            upd126.origin = t125;
-            r122 = std::move(upd126);
+          C1_Melt r123{};
+          if (r111) {
+            const int32_t t124 = add(x108.origin.x, int32_t(0));
+            const int32_t t125 = add(x108.origin.y, int32_t(1));
+            const Pos t126 = Pos{t124, t125};
+            C1_Melt upd127 = x108;
+            upd127.origin = t126;
+            r123 = std::move(upd127);
           } else {
-            std::vector<Pos>& l_nextRowPos127 = s.scratch.v.b11;
-            l_nextRowPos127.clear();
-            std::vector<Pos>& l_holes128 = s.scratch.v.b12;
-            l_holes128.clear();
-            const int32_t t129 = add(x107.origin.y, int32_t(1));
-            const Pos t130 = Pos{int32_t(0), t129};
-            const int32_t t131 = add(x107.origin.y, int32_t(2));
-            const Pos t132 = Pos{int32_t(16), t131};
-            int32_t l_xmin133{};
-            int32_t l_xmax134{};
-            int32_t l_ymin135{};
-            int32_t l_ymax136{};
-            std::vector<Pos> l_rectPos137{};
-            l_xmin133 = t130.x;
-            l_xmax134 = t132.x;
-            l_ymin135 = t130.y;
-            l_ymax136 = t132.y;
-            const int32_t& v138 = l_ymin135;
-            const int32_t& v139 = l_ymax136;
-            std::vector<int32_t>& range140 = s.scratch.v.b13;
-            range140.clear();
-            for (int32_t i141 = v138, i141_end = v139; i141 < i141_end; ++i141) {
-              range140.push_back(i141);
+            std::vector<Pos>& l_nextRowPos128 = s.scratch.v.b11;
+            l_nextRowPos128.clear();
+            std::vector<Pos>& l_holes129 = s.scratch.v.b12;
+            l_holes129.clear();
+            const int32_t t130 = add(x108.origin.y, int32_t(1));
+            const Pos t131 = Pos{int32_t(0), t130};
+            const int32_t t132 = add(x108.origin.y, int32_t(2));
+            const Pos t133 = Pos{int32_t(16), t132};
+            int32_t l_xmin134{};
+            int32_t l_xmax135{};
+            int32_t l_ymin136{};
+            int32_t l_ymax137{};
+            std::vector<Pos> l_rectPos138{};
+            l_xmin134 = t131.x;
+            l_xmax135 = t133.x;
+            l_ymin136 = t131.y;
+            l_ymax137 = t133.y;
+            const int32_t& v139 = l_ymin136;
+            const int32_t& v140 = l_ymax137;
+            std::vector<int32_t>& range141 = s.scratch.v.b13;
+            range141.clear();
+            for (int32_t i142 = v139, i142_end = v140; i142 < i142_end; ++i142) {
+              range141.push_back(i142);
             }
-            std::vector<std::vector<Pos>>& out142 = s.scratch.v.b14;
-            out142.clear();
-            out142.reserve(size_t(int32_t(range140.size())));
-            for (const int32_t& x143 : range140) {
-              const int32_t& v144 = l_xmin133;
-              const int32_t& v145 = l_xmax134;
-              std::vector<int32_t>& range146 = s.scratch.v.b15;
-              range146.clear();
-              for (int32_t i147 = v144, i147_end = v145; i147 < i147_end; ++i147) {
-                range146.push_back(i147);
+            std::vector<std::vector<Pos>>& out143 = s.scratch.v.b14;
+            out143.clear();
+            out143.reserve(size_t(int32_t(range141.size())));
+            for (const int32_t& x144 : range141) {
+              const int32_t& v145 = l_xmin134;
+              const int32_t& v146 = l_xmax135;
+              std::vector<int32_t>& range147 = s.scratch.v.b15;
+              range147.clear();
+              for (int32_t i148 = v145, i148_end = v146; i148 < i148_end; ++i148) {
+                range147.push_back(i148);
               }
-              std::vector<Pos> out148{};
-              out148.reserve(size_t(int32_t(range146.size())));
-              for (const int32_t& x149 : range146) {
-                const Pos t150 = Pos{x149, x143};
-                out148.push_back(t150);
+              std::vector<Pos> out149{};
+              out149.reserve(size_t(int32_t(range147.size())));
+              for (const int32_t& x150 : range147) {
+                const Pos t151 = Pos{x150, x144};
+                out149.push_back(t151);
               }
-              out142.push_back(std::move(out148));
+              out143.push_back(std::move(out149));
             }
-            std::vector<Pos> cat151{};
-            for (const std::vector<Pos>& part152 : out142) {
-              cat151.insert(cat151.end(), part152.begin(), part152.end());
+            std::vector<Pos> cat152{};
+            for (const std::vector<Pos>& part153 : out143) {
+              cat152.insert(cat152.end(), part153.begin(), part153.end());
             }
-            l_rectPos137 = std::move(cat151);
-            const std::vector<Pos>& v153 = l_rectPos137;
-            l_nextRowPos127 = v153;
-            const std::vector<Pos>& v154 = l_nextRowPos127;
-            std::vector<Pos> out155{};
-            for (const Pos& x156 : v154) {
-              const bool t157 = (x156.y == int32_t(16));
-              const bool t158 = !t157;
-              if (t158) {
-                out155.push_back(x156);
+            l_rectPos138 = std::move(cat152);
+            const std::vector<Pos>& v154 = l_rectPos138;
+            l_nextRowPos128 = v154;
+            const std::vector<Pos>& v155 = l_nextRowPos128;
+            std::vector<Pos> out156{};
+            for (const Pos& x157 : v155) {
+              const bool t158 = (x157.y == int32_t(16));
+              const bool t159 = !t158;
+              if (t159) {
+                out156.push_back(x157);
               }
             }
-            l_nextRowPos127 = std::move(out155);
-            const std::vector<Pos>& v159 = l_nextRowPos127;
-            std::vector<Pos> out160{};
-            for (const Pos& x161 : v159) {
-              const bool t162 = s.core.occupied.free(x161);
-              bool r163{};
-              if (t162) {
-                const int32_t t164 = add(x161.x, int32_t(0));
-                const int32_t t165 = add(x161.y, int32_t(-1));
-                const Pos t166 = Pos{t164, t165};
-                const bool t167 = s.core.occupied.free(t166);
-                r163 = t167;
+            l_nextRowPos128 = std::move(out156);
+            const std::vector<Pos>& v160 = l_nextRowPos128;
+            std::vector<Pos> out161{};
+            for (const Pos& x162 : v160) {
+              const bool t163 = s.core.occupied.free(x162);
+              bool r164{};
+              if (t163) {
+                const int32_t t165 = add(x162.x, int32_t(0));
+                const int32_t t166 = add(x162.y, int32_t(-1));
+                const Pos t167 = Pos{t165, t166};
+                const bool t168 = s.core.occupied.free(t167);
+                r164 = t168;
               } else {
-                r163 = false;
+                r164 = false;
               }
-              if (r163) {
-                out160.push_back(x161);
+              if (r164) {
+                out161.push_back(x162);
               }
             }
-            l_holes128 = std::move(out160);
-            const std::vector<Pos>& v168 = l_holes128;
-            const int32_t t169 = int32_t(v168.size());
-            const bool t170 = (t169 == int32_t(0));
-            C1_Melt r171{};
-            if (t170) {
-              r171 = x107;
+            l_holes129 = std::move(out161);
+            const std::vector<Pos>& v169 = l_holes129;
+            const int32_t t170 = int32_t(v169.size());
+            const bool t171 = (t170 == int32_t(0));
+            C1_Melt r172{};
+            if (t171) {
+              r172 = x108;
             } else {
-              Pos l_closestHole172{};
-              const int32_t t173 = int32_t(v168.size());
-              const bool t174 = (t173 == int32_t(0));
-              Pos r175{};
-              if (t174) {
-                r175 = x107.origin;
+              Pos l_closestHole173{};
+              const int32_t t174 = int32_t(v169.size());
+              const bool t175 = (t174 == int32_t(0));
+              Pos r176{};
+              if (t175) {
+                r176 = x108.origin;
               } else {
-                if (v168.empty()) {
+                if (v169.empty()) {
                   fail_at(5, std::string() + std::string("head of an empty list"));
                 }
-                const Pos t176 = v168.front();
-                Pos acc177 = t176;
-                for (const Pos& x178 : v168) {
-                  const Pos& a179 = acc177;
-                  Pos l_delta180{};
-                  const int32_t t181 = sub(x107.origin.x, a179.x);
-                  const int32_t t182 = sub(x107.origin.y, a179.y);
-                  const Pos t183 = Pos{t181, t182};
-                  l_delta180 = t183;
-                  const Pos& v184 = l_delta180;
-                  const Pos& v185 = l_delta180;
-                  const int32_t t186 = mul(v184.x, v185.x);
-                  const Pos& v187 = l_delta180;
-                  const Pos& v188 = l_delta180;
-                  const int32_t t189 = mul(v187.y, v188.y);
-                  const int32_t t190 = add(t186, t189);
-                  Pos l_delta191{};
-                  const int32_t t192 = sub(x107.origin.x, x178.x);
-                  const int32_t t193 = sub(x107.origin.y, x178.y);
-                  const Pos t194 = Pos{t192, t193};
-                  l_delta191 = t194;
-                  const Pos& v195 = l_delta191;
-                  const Pos& v196 = l_delta191;
-                  const int32_t t197 = mul(v195.x, v196.x);
-                  const Pos& v198 = l_delta191;
-                  const Pos& v199 = l_delta191;
-                  const int32_t t200 = mul(v198.y, v199.y);
-                  const int32_t t201 = add(t197, t200);
-                  const bool t202 = (t190 < t201);
-                  Pos r203{};
-                  if (t202) {
-                    r203 = a179;
+                const Pos t177 = v169.front();
+                Pos acc178 = t177;
+                for (const Pos& x179 : v169) {
+                  const Pos& a180 = acc178;
+                  Pos l_delta181{};
+                  const int32_t t182 = sub(x108.origin.x, a180.x);
+                  const int32_t t183 = sub(x108.origin.y, a180.y);
+                  const Pos t184 = Pos{t182, t183};
+                  l_delta181 = t184;
+                  const Pos& v185 = l_delta181;
+                  const Pos& v186 = l_delta181;
+                  const int32_t t187 = mul(v185.x, v186.x);
+                  const Pos& v188 = l_delta181;
+                  const Pos& v189 = l_delta181;
+                  const int32_t t190 = mul(v188.y, v189.y);
+                  const int32_t t191 = add(t187, t190);
+                  Pos l_delta192{};
+                  const int32_t t193 = sub(x108.origin.x, x179.x);
+                  const int32_t t194 = sub(x108.origin.y, x179.y);
+                  const Pos t195 = Pos{t193, t194};
+                  l_delta192 = t195;
+                  const Pos& v196 = l_delta192;
+                  const Pos& v197 = l_delta192;
+                  const int32_t t198 = mul(v196.x, v197.x);
+                  const Pos& v199 = l_delta192;
+                  const Pos& v200 = l_delta192;
+                  const int32_t t201 = mul(v199.y, v200.y);
+                  const int32_t t202 = add(t198, t201);
+                  const bool t203 = (t191 < t202);
+                  Pos r204{};
+                  if (t203) {
+                    r204 = a180;
                   } else {
-                    r203 = x178;
+                    r204 = x179;
                   }
-                  acc177 = r203;
+                  acc178 = r204;
                 }
-                const Pos& folded204 = acc177;
-                r175 = folded204;
+                const Pos& folded205 = acc178;
+                r176 = folded205;
               }
-              l_closestHole172 = r175;
-              const Pos& v205 = l_closestHole172;
-              Pos l_dir206{};
-              C1_Melt l_movedObj207{};
-              const int32_t t208 = add(v205.x, int32_t(0));
-              const int32_t t209 = add(v205.y, int32_t(-1));
-              const Pos t210 = Pos{t208, t209};
-              Pos l_delta211{};
-              int32_t l_sign_x212{};
-              int32_t l_sign_y213{};
-              const int32_t t214 = sub(t210.x, x107.origin.x);
-              const int32_t t215 = sub(t210.y, x107.origin.y);
-              const Pos t216 = Pos{t214, t215};
-              l_delta211 = t216;
-              const Pos& v217 = l_delta211;
-              const bool t218 = (v217.x == int32_t(0));
-              int32_t r219{};
-              if (t218) {
-                r219 = int32_t(0);
+              l_closestHole173 = r176;
+              const Pos& v206 = l_closestHole173;
+              Pos l_dir207{};
+              C1_Melt l_movedObj208{};
+              const int32_t t209 = add(v206.x, int32_t(0));
+              const int32_t t210 = add(v206.y, int32_t(-1));
+              const Pos t211 = Pos{t209, t210};
+              Pos l_delta212{};
+              int32_t l_sign_x213{};
+              int32_t l_sign_y214{};
+              const int32_t t215 = sub(t211.x, x108.origin.x);
+              const int32_t t216 = sub(t211.y, x108.origin.y);
+              const Pos t217 = Pos{t215, t216};
+              l_delta212 = t217;
+              const Pos& v218 = l_delta212;
+              const bool t219 = (v218.x == int32_t(0));
+              int32_t r220{};
+              if (t219) {
+                r220 = int32_t(0);
               } else {
-                const bool t220 = (v217.x < int32_t(0));
-                int32_t r221{};
-                if (t220) {
-                  r221 = int32_t(-1);
+                const bool t221 = (v218.x < int32_t(0));
+                int32_t r222{};
+                if (t221) {
+                  r222 = int32_t(-1);
                 } else {
-                  r221 = int32_t(1);
+                  r222 = int32_t(1);
                 }
-                r219 = r221;
+                r220 = r222;
               }
-              l_sign_x212 = r219;
-              const Pos& v222 = l_delta211;
-              const bool t223 = (v222.y == int32_t(0));
-              int32_t r224{};
-              if (t223) {
-                r224 = int32_t(0);
+              l_sign_x213 = r220;
+              const Pos& v223 = l_delta212;
+              const bool t224 = (v223.y == int32_t(0));
+              int32_t r225{};
+              if (t224) {
+                r225 = int32_t(0);
               } else {
-                const bool t225 = (v222.y < int32_t(0));
-                int32_t r226{};
-                if (t225) {
-                  r226 = int32_t(-1);
+                const bool t226 = (v223.y < int32_t(0));
+                int32_t r227{};
+                if (t226) {
+                  r227 = int32_t(-1);
                 } else {
-                  r226 = int32_t(1);
+                  r227 = int32_t(1);
                 }
-                r224 = r226;
+                r225 = r227;
               }
-              l_sign_y213 = r224;
-              const int32_t& v227 = l_sign_x212;
-              const bool t228 = (v227 < int32_t(0));
-              int32_t r229{};
-              if (t228) {
-                const int32_t t230 = neg(v227);
-                r229 = t230;
+              l_sign_y214 = r225;
+              const int32_t& v228 = l_sign_x213;
+              const bool t229 = (v228 < int32_t(0));
+              int32_t r230{};
+              if (t229) {
+                const int32_t t231 = neg(v228);
+                r230 = t231;
               } else {
-                r229 = v227;
+                r230 = v228;
               }
-              const bool t231 = (r229 == int32_t(1));
-              bool r232{};
-              if (t231) {
-                const int32_t& v233 = l_sign_y213;
-                const bool t234 = (v233 < int32_t(0));
-                int32_t r235{};
-                if (t234) {
-                  const int32_t t236 = neg(v233);
-                  r235 = t236;
+              const bool t232 = (r230 == int32_t(1));
+              bool r233{};
+              if (t232) {
+                const int32_t& v234 = l_sign_y214;
+                const bool t235 = (v234 < int32_t(0));
+                int32_t r236{};
+                if (t235) {
+                  const int32_t t237 = neg(v234);
+                  r236 = t237;
                 } else {
-                  r235 = v233;
+                  r236 = v234;
                 }
-                const bool t237 = (r235 == int32_t(1));
-                r232 = t237;
+                const bool t238 = (r236 == int32_t(1));
+                r233 = t238;
               } else {
-                r232 = false;
+                r233 = false;
               }
-              Pos r238{};
-              if (r232) {
-                const int32_t& v239 = l_sign_x212;
-                const Pos t240 = Pos{v239, int32_t(0)};
-                r238 = t240;
+              Pos r239{};
+              if (r233) {
+                const int32_t& v240 = l_sign_x213;
+                const Pos t241 = Pos{v240, int32_t(0)};
+                r239 = t241;
               } else {
-                const int32_t& v241 = l_sign_x212;
-                const int32_t& v242 = l_sign_y213;
-                const Pos t243 = Pos{v241, v242};
-                r238 = t243;
+                const int32_t& v242 = l_sign_x213;
+                const int32_t& v243 = l_sign_y214;
+                const Pos t244 = Pos{v242, v243};
+                r239 = t244;
               }
-              l_dir206 = r238;
-              const Pos& v244 = l_dir206;
-              const int32_t t245 = add(x107.origin.x, v244.x);
-              const int32_t t246 = add(x107.origin.y, v244.y);
-              const Pos t247 = Pos{t245, t246};
-              C1_Melt upd248 = x107;
-              upd248.origin = t247;
-              l_movedObj207 = std::move(upd248);
-              const int32_t t249 = add(v205.x, int32_t(0));
-              const int32_t t250 = add(v205.y, int32_t(-1));
-              const Pos t251 = Pos{t249, t250};
-              const bool t252 = s.core.occupied.free(t251);
-              bool r253{};
-              if (t252) {
-                const C1_Melt& v254 = l_movedObj207;
-                const bool t255 = s.core.occupied.free(v254.origin);
-                bool r256{};
-                if (t255) {
-                  const C1_Melt& v257 = l_movedObj207;
-                  std::vector<Elem>& rendered258 = s.scratch.v.b16;
-                  rendered258.clear();
-                  const int32_t colour259 = colour_19_C1_Melt(s, v257);
-                  rendered258.push_back(Elem{Pos{add(v257.origin.x, int32_t(0)), add(v257.origin.y, int32_t(0))}, colour259});
-                  bool within260 = true;
-                  for (const Elem& e261 : rendered258) {
-                    if ((((e261.position.x < int32_t(0)) || (e261.position.x >= int32_t(16))) || ((e261.position.y < int32_t(0)) || (e261.position.y >= int32_t(16))))) {
-                      within260 = false;
+              l_dir207 = r239;
+              const Pos& v245 = l_dir207;
+              const int32_t t246 = add(x108.origin.x, v245.x);
+              const int32_t t247 = add(x108.origin.y, v245.y);
+              const Pos t248 = Pos{t246, t247};
+              C1_Melt upd249 = x108;
+              upd249.origin = t248;
+              l_movedObj208 = std::move(upd249);
+              const int32_t t250 = add(v206.x, int32_t(0));
+              const int32_t t251 = add(v206.y, int32_t(-1));
+              const Pos t252 = Pos{t250, t251};
+              const bool t253 = s.core.occupied.free(t252);
+              bool r254{};
+              if (t253) {
+                const C1_Melt& v255 = l_movedObj208;
+                const bool t256 = s.core.occupied.free(v255.origin);
+                bool r257{};
+                if (t256) {
+                  const C1_Melt& v258 = l_movedObj208;
+                  std::vector<Elem>& rendered259 = s.scratch.v.b16;
+                  rendered259.clear();
+                  const int32_t colour260 = colour_19_C1_Melt(s, v258);
+                  rendered259.push_back(Elem{Pos{add(v258.origin.x, int32_t(0)), add(v258.origin.y, int32_t(0))}, colour260});
+                  bool within261 = true;
+                  for (const Elem& e262 : rendered259) {
+                    if ((((e262.position.x < int32_t(0)) || (e262.position.x >= int32_t(16))) || ((e262.position.y < int32_t(0)) || (e262.position.y >= int32_t(16))))) {
+                      within261 = false;
                       break;
                     }
                   }
-                  r256 = within260;
+                  r257 = within261;
                 } else {
-                  r256 = false;
+                  r257 = false;
                 }
-                r253 = r256;
+                r254 = r257;
               } else {
-                r253 = false;
+                r254 = false;
               }
-              C1_Melt r262{};
-              if (r253) {
-                const C1_Melt& v263 = l_movedObj207;
-                r262 = v263;
+              C1_Melt r263{};
+              if (r254) {
+                const C1_Melt& v264 = l_movedObj208;
+                r263 = v264;
               } else {
-                r262 = x107;
+                r263 = x108;
               }
-              r171 = std::move(r262);
+              r172 = std::move(r263);
             }
-            r122 = std::move(r171);
+            r123 = std::move(r172);
           }
-          const int32_t t264 = sub(x107.f0, int32_t(1));
-          C1_Melt upd265 = r122;
-          upd265.f0 = t264;
-          out106.push_back(std::move(upd265));
+          const int32_t t265 = sub(x108.f0, int32_t(1));
+          C1_Melt upd266 = r123;
+          upd266.f0 = t265;
+          out107.push_back(std::move(upd266));
         }
-        std::vector<C1_Melt> out266{};
-        for (const C1_Melt& x267 : out106) {
+        std::vector<C1_Melt> out267{};
+        for (const C1_Melt& x268 : out107) {
           // inlined: function at programs/snowplow.au:42
-          const bool t268 = (x267.f0 > int32_t(0));
-          if (t268) {
-            out266.push_back(x267);
+          const bool t269 = (x268.f0 > int32_t(0));
+          if (t269) {
+            out267.push_back(x268);
           }
         }
-        s.g_melt_11 = std::move(out266);
+        s.g_melt_11 = std::move(out267);
         s.u_melt_12 = true;
       }
     }
     // on-clause 6, programs/snowplow.au:59
     {
-      const bool t269 = s.core.left;
-      if (t269) {
+      const bool t270 = s.core.left;
+      if (t270) {
         s.core.covered[int32_t(5)] = 1;
-        const C3_Plow& prev270 = s.p_plow_7;
+        const C3_Plow& prev271 = s.p_plow_7;
         // inlined: function at programs/snowplow.au:38
-        const int32_t t271 = add(prev270.origin.x, int32_t(-1));
-        const int32_t t272 = add(prev270.origin.y, int32_t(0));
-        const Pos t273 = Pos{t271, t272};
-        C3_Plow upd274 = prev270;
-        upd274.origin = t273;
-        std::vector<Elem>& rendered275 = s.scratch.v.b17;
-        rendered275.clear();
-        rendered275.push_back(Elem{Pos{add(upd274.origin.x, int32_t(0)), add(upd274.origin.y, int32_t(0))}, int32_t(2)});
-        rendered275.push_back(Elem{Pos{add(upd274.origin.x, int32_t(1)), add(upd274.origin.y, int32_t(0))}, int32_t(2)});
-        bool within276 = true;
-        for (const Elem& e277 : rendered275) {
-          if ((((e277.position.x < int32_t(0)) || (e277.position.x >= int32_t(16))) || ((e277.position.y < int32_t(0)) || (e277.position.y >= int32_t(16))))) {
-            within276 = false;
+        const int32_t t272 = add(prev271.origin.x, int32_t(-1));
+        const int32_t t273 = add(prev271.origin.y, int32_t(0));
+        const Pos t274 = Pos{t272, t273};
+        C3_Plow upd275 = prev271;
+        upd275.origin = t274;
+        std::vector<Elem>& rendered276 = s.scratch.v.b17;
+        rendered276.clear();
+        rendered276.push_back(Elem{Pos{add(upd275.origin.x, int32_t(0)), add(upd275.origin.y, int32_t(0))}, int32_t(2)});
+        rendered276.push_back(Elem{Pos{add(upd275.origin.x, int32_t(1)), add(upd275.origin.y, int32_t(0))}, int32_t(2)});
+        bool within277 = true;
+        for (const Elem& e278 : rendered276) {
+          if ((((e278.position.x < int32_t(0)) || (e278.position.x >= int32_t(16))) || ((e278.position.y < int32_t(0)) || (e278.position.y >= int32_t(16))))) {
+            within277 = false;
             break;
           }
         }
-        C3_Plow r278{};
-        if (within276) {
-          const int32_t t279 = add(prev270.origin.x, int32_t(-1));
-          const int32_t t280 = add(prev270.origin.y, int32_t(0));
-          const Pos t281 = Pos{t279, t280};
-          C3_Plow upd282 = prev270;
-          upd282.origin = t281;
-          r278 = std::move(upd282);
+        C3_Plow r279{};
+        if (within277) {
+          const int32_t t280 = add(prev271.origin.x, int32_t(-1));
+          const int32_t t281 = add(prev271.origin.y, int32_t(0));
+          const Pos t282 = Pos{t280, t281};
+          C3_Plow upd283 = prev271;
+          upd283.origin = t282;
+          r279 = std::move(upd283);
         } else {
-          r278 = prev270;
+          r279 = prev271;
         }
-        s.g_plow_5 = std::move(r278);
+        s.g_plow_5 = std::move(r279);
         s.u_plow_6 = true;
       }
     }
     // on-clause 7, programs/snowplow.au:60
     {
-      const bool t283 = s.core.right;
-      if (t283) {
+      const bool t284 = s.core.right;
+      if (t284) {
         s.core.covered[int32_t(6)] = 1;
-        const C3_Plow& prev284 = s.p_plow_7;
+        const C3_Plow& prev285 = s.p_plow_7;
         // inlined: function at programs/snowplow.au:38
-        const int32_t t285 = add(prev284.origin.x, int32_t(1));
-        const int32_t t286 = add(prev284.origin.y, int32_t(0));
-        const Pos t287 = Pos{t285, t286};
-        C3_Plow upd288 = prev284;
-        upd288.origin = t287;
-        std::vector<Elem>& rendered289 = s.scratch.v.b18;
-        rendered289.clear();
-        rendered289.push_back(Elem{Pos{add(upd288.origin.x, int32_t(0)), add(upd288.origin.y, int32_t(0))}, int32_t(2)});
-        rendered289.push_back(Elem{Pos{add(upd288.origin.x, int32_t(1)), add(upd288.origin.y, int32_t(0))}, int32_t(2)});
-        bool within290 = true;
-        for (const Elem& e291 : rendered289) {
-          if ((((e291.position.x < int32_t(0)) || (e291.position.x >= int32_t(16))) || ((e291.position.y < int32_t(0)) || (e291.position.y >= int32_t(16))))) {
-            within290 = false;
+        const int32_t t286 = add(prev285.origin.x, int32_t(1));
+        const int32_t t287 = add(prev285.origin.y, int32_t(0));
+        const Pos t288 = Pos{t286, t287};
+        C3_Plow upd289 = prev285;
+        upd289.origin = t288;
+        std::vector<Elem>& rendered290 = s.scratch.v.b18;
+        rendered290.clear();
+        rendered290.push_back(Elem{Pos{add(upd289.origin.x, int32_t(0)), add(upd289.origin.y, int32_t(0))}, int32_t(2)});
+        rendered290.push_back(Elem{Pos{add(upd289.origin.x, int32_t(1)), add(upd289.origin.y, int32_t(0))}, int32_t(2)});
+        bool within291 = true;
+        for (const Elem& e292 : rendered290) {
+          if ((((e292.position.x < int32_t(0)) || (e292.position.x >= int32_t(16))) || ((e292.position.y < int32_t(0)) || (e292.position.y >= int32_t(16))))) {
+            within291 = false;
             break;
           }
         }
-        C3_Plow r292{};
-        if (within290) {
-          const int32_t t293 = add(prev284.origin.x, int32_t(1));
-          const int32_t t294 = add(prev284.origin.y, int32_t(0));
-          const Pos t295 = Pos{t293, t294};
-          C3_Plow upd296 = prev284;
-          upd296.origin = t295;
-          r292 = std::move(upd296);
+        C3_Plow r293{};
+        if (within291) {
+          const int32_t t294 = add(prev285.origin.x, int32_t(1));
+          const int32_t t295 = add(prev285.origin.y, int32_t(0));
+          const Pos t296 = Pos{t294, t295};
+          C3_Plow upd297 = prev285;
+          upd297.origin = t296;
+          r293 = std::move(upd297);
         } else {
-          r292 = prev284;
+          r293 = prev285;
         }
-        s.g_plow_5 = std::move(r292);
+        s.g_plow_5 = std::move(r293);
         s.u_plow_6 = true;
       }
     }
@@ -1203,220 +1204,220 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(7)] = 1;
-        const std::vector<C0_Flake>& g297 = s.g_snow_8;
-        std::vector<C0_Flake> kept298{};
-        for (const C0_Flake& x299 : g297) {
+        const std::vector<C0_Flake>& g298 = s.g_snow_8;
+        std::vector<C0_Flake> kept299{};
+        for (const C0_Flake& x300 : g298) {
           // inlined: function at programs/snowplow.au:61
-          const C3_Plow& g300 = s.g_plow_5;
-          std::vector<Elem>& rendered301 = s.scratch.v.b19;
-          rendered301.clear();
-          rendered301.push_back(Elem{Pos{add(x299.origin.x, int32_t(0)), add(x299.origin.y, int32_t(0))}, int32_t(9)});
-          std::vector<Elem>& rendered302 = s.scratch.v.b20;
+          const C3_Plow& g301 = s.g_plow_5;
+          std::vector<Elem>& rendered302 = s.scratch.v.b19;
           rendered302.clear();
-          rendered302.push_back(Elem{Pos{add(g300.origin.x, int32_t(0)), add(g300.origin.y, int32_t(0))}, int32_t(2)});
-          rendered302.push_back(Elem{Pos{add(g300.origin.x, int32_t(1)), add(g300.origin.y, int32_t(0))}, int32_t(2)});
-          const int32_t t303 = int32_t(rendered301.size());
-          const bool t304 = (t303 == int32_t(0));
-          bool r305{};
-          if (!t304) {
-            const int32_t t306 = int32_t(rendered302.size());
-            const bool t307 = (t306 == int32_t(0));
-            r305 = t307;
+          rendered302.push_back(Elem{Pos{add(x300.origin.x, int32_t(0)), add(x300.origin.y, int32_t(0))}, int32_t(9)});
+          std::vector<Elem>& rendered303 = s.scratch.v.b20;
+          rendered303.clear();
+          rendered303.push_back(Elem{Pos{add(g301.origin.x, int32_t(0)), add(g301.origin.y, int32_t(0))}, int32_t(2)});
+          rendered303.push_back(Elem{Pos{add(g301.origin.x, int32_t(1)), add(g301.origin.y, int32_t(0))}, int32_t(2)});
+          const int32_t t304 = int32_t(rendered302.size());
+          const bool t305 = (t304 == int32_t(0));
+          bool r306{};
+          if (!t305) {
+            const int32_t t307 = int32_t(rendered303.size());
+            const bool t308 = (t307 == int32_t(0));
+            r306 = t308;
           } else {
-            r305 = true;
+            r306 = true;
           }
-          bool r308{};
-          if (r305) {
-            r308 = false;
+          bool r309{};
+          if (r306) {
+            r309 = false;
           } else {
-            bool any309 = false;
-            for (const Elem& x310 : rendered301) {
-              bool any311 = false;
-              for (const Elem& x312 : rendered302) {
-                const bool t313 = (x310.position == x312.position);
-                if (t313) {
-                  any311 = true;
+            bool any310 = false;
+            for (const Elem& x311 : rendered302) {
+              bool any312 = false;
+              for (const Elem& x313 : rendered303) {
+                const bool t314 = (x311.position == x313.position);
+                if (t314) {
+                  any312 = true;
                   break;
                 }
               }
-              if (any311) {
-                any309 = true;
+              if (any312) {
+                any310 = true;
                 break;
               }
             }
-            r308 = any309;
+            r309 = any310;
           }
-          if (!r308) {
-            kept298.push_back(x299);
+          if (!r309) {
+            kept299.push_back(x300);
           }
         }
-        s.g_snow_8 = std::move(kept298);
+        s.g_snow_8 = std::move(kept299);
         s.u_snow_9 = true;
       }
     }
     // on-clause 9, programs/snowplow.au:63
     {
-      const bool t314 = s.core.up;
-      if (t314) {
+      const bool t315 = s.core.up;
+      if (t315) {
         s.core.covered[int32_t(8)] = 1;
-        const C4_Cloud& prev315 = s.p_cloud_19;
         const C4_Cloud& prev316 = s.p_cloud_19;
-        const int32_t t317 = add(prev316.f0, int32_t(1));
-        const bool t318 = (int32_t(4) < t317);
-        int32_t r319{};
-        if (t318) {
-          r319 = int32_t(4);
+        const C4_Cloud& prev317 = s.p_cloud_19;
+        const int32_t t318 = add(prev317.f0, int32_t(1));
+        const bool t319 = (int32_t(4) < t318);
+        int32_t r320{};
+        if (t319) {
+          r320 = int32_t(4);
         } else {
-          r319 = t317;
+          r320 = t318;
         }
-        C4_Cloud upd320 = prev315;
-        upd320.f0 = r319;
-        s.g_cloud_17 = std::move(upd320);
+        C4_Cloud upd321 = prev316;
+        upd321.f0 = r320;
+        s.g_cloud_17 = std::move(upd321);
         s.u_cloud_18 = true;
       }
     }
     // on-clause 10, programs/snowplow.au:64
     {
-      const bool t321 = s.core.down;
-      if (t321) {
+      const bool t322 = s.core.down;
+      if (t322) {
         s.core.covered[int32_t(9)] = 1;
-        const C4_Cloud& prev322 = s.p_cloud_19;
         const C4_Cloud& prev323 = s.p_cloud_19;
-        const int32_t t324 = sub(prev323.f0, int32_t(1));
-        const bool t325 = (int32_t(1) < t324);
-        int32_t r326{};
-        if (t325) {
-          r326 = t324;
+        const C4_Cloud& prev324 = s.p_cloud_19;
+        const int32_t t325 = sub(prev324.f0, int32_t(1));
+        const bool t326 = (int32_t(1) < t325);
+        int32_t r327{};
+        if (t326) {
+          r327 = t325;
         } else {
-          r326 = int32_t(1);
+          r327 = int32_t(1);
         }
-        C4_Cloud upd327 = prev322;
-        upd327.f0 = r326;
-        s.g_cloud_17 = std::move(upd327);
+        C4_Cloud upd328 = prev323;
+        upd328.f0 = r327;
+        s.g_cloud_17 = std::move(upd328);
         s.u_cloud_18 = true;
       }
     }
     // on-clause 11, programs/snowplow.au:69
     {
-      const int32_t& g328 = s.g_time_20;
-      const C4_Cloud& g329 = s.g_cloud_17;
-      const int32_t t330 = sub(int32_t(5), g329.f0);
-      if ((t330 == int32_t(0))) {
+      const int32_t& g329 = s.g_time_20;
+      const C4_Cloud& g330 = s.g_cloud_17;
+      const int32_t t331 = sub(int32_t(5), g330.f0);
+      if ((t331 == int32_t(0))) {
         fail_at(6, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
-      if (((g328 == int32_t(-2147483648LL)) && (t330 == int32_t(-1)))) {
+      if (((g329 == int32_t(-2147483648LL)) && (t331 == int32_t(-1)))) {
         fail_at(6, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
-      const int32_t t331 = autumn::arith::mod_unchecked(g328, t330);
-      const bool t332 = (t331 == int32_t(0));
-      bool r333{};
-      if (t332) {
-        const std::vector<C0_Flake>& g334 = s.g_snow_8;
-        const int32_t t335 = int32_t(g334.size());
-        const bool t336 = (t335 < int32_t(70));
-        r333 = t336;
+      const int32_t t332 = autumn::arith::mod_unchecked(g329, t331);
+      const bool t333 = (t332 == int32_t(0));
+      bool r334{};
+      if (t333) {
+        const std::vector<C0_Flake>& g335 = s.g_snow_8;
+        const int32_t t336 = int32_t(g335.size());
+        const bool t337 = (t336 < int32_t(70));
+        r334 = t337;
       } else {
-        r333 = false;
+        r334 = false;
       }
-      if (r333) {
+      if (r334) {
         s.core.covered[int32_t(10)] = 1;
-        Pos l_drop337{};
-        C0_Flake l_flake338{};
+        Pos l_drop338{};
+        C0_Flake l_flake339{};
         if ((int32_t(255) < int32_t(0))) {
           fail_at(7, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
-        std::vector<Pos>& rpos339 = s.scratch.v.b21;
-        rpos339.clear();
-        for (int32_t i340 = int32_t(0), i340_end = int32_t(1); i340 < i340_end; ++i340) {
-          const int32_t t341 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+        std::vector<Pos>& rpos340 = s.scratch.v.b21;
+        rpos340.clear();
+        for (int32_t i341 = int32_t(0), i341_end = int32_t(1); i341 < i341_end; ++i341) {
           const int32_t t342 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-          const Pos t343 = Pos{t341, t342};
-          rpos339.push_back(t343);
+          const int32_t t343 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+          const Pos t344 = Pos{t342, t343};
+          rpos340.push_back(t344);
         }
-        if (rpos339.empty()) {
+        if (rpos340.empty()) {
           fail_at(8, std::string() + std::string("head of an empty list"));
         }
-        const Pos t344 = rpos339.front();
-        const int32_t t345 = autumn::arith::mod_unchecked(t344.x, int32_t(16));
-        const Pos t346 = Pos{t345, int32_t(1)};
-        l_drop337 = t346;
-        const Pos& v347 = l_drop337;
-        CellV l_allCells348{};
-        const CellV t349 = CellV{int32_t(0), int32_t(0), int32_t(9), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(20))};
-        l_allCells348 = t349;
-        const CellV& v350 = l_allCells348;
-        const CellV& v351 = l_allCells348;
-        const std::vector<CellV> list352 = std::vector<CellV>{v351};
-        C0_Flake o353 = C0_Flake{v347};
-        l_flake338 = std::move(o353);
-        const C0_Flake& v354 = l_flake338;
-        std::vector<Elem>& rendered355 = s.scratch.v.b22;
-        rendered355.clear();
-        rendered355.push_back(Elem{Pos{add(v354.origin.x, int32_t(0)), add(v354.origin.y, int32_t(0))}, int32_t(9)});
-        bool any356 = false;
-        for (const Elem& x357 : rendered355) {
-          const bool t358 = s.core.occupied.free(x357.position);
-          const bool t359 = !t358;
-          if (t359) {
-            any356 = true;
+        const Pos t345 = rpos340.front();
+        const int32_t t346 = autumn::arith::mod_unchecked(t345.x, int32_t(16));
+        const Pos t347 = Pos{t346, int32_t(1)};
+        l_drop338 = t347;
+        const Pos& v348 = l_drop338;
+        CellV l_allCells349{};
+        const CellV t350 = CellV{int32_t(0), int32_t(0), int32_t(9), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(20))};
+        l_allCells349 = t350;
+        const CellV& v351 = l_allCells349;
+        const CellV& v352 = l_allCells349;
+        const std::vector<CellV> list353 = std::vector<CellV>{v352};
+        C0_Flake o354 = C0_Flake{v348};
+        l_flake339 = std::move(o354);
+        const C0_Flake& v355 = l_flake339;
+        std::vector<Elem>& rendered356 = s.scratch.v.b22;
+        rendered356.clear();
+        rendered356.push_back(Elem{Pos{add(v355.origin.x, int32_t(0)), add(v355.origin.y, int32_t(0))}, int32_t(9)});
+        bool any357 = false;
+        for (const Elem& x358 : rendered356) {
+          const bool t359 = s.core.occupied.free(x358.position);
+          const bool t360 = !t359;
+          if (t360) {
+            any357 = true;
             break;
           }
         }
-        const bool t360 = !any356;
-        std::vector<C0_Flake> r361{};
-        if (t360) {
-          const std::vector<C0_Flake>& g362 = s.g_snow_8;
-          const C0_Flake& v363 = l_flake338;
-          std::vector<C0_Flake> added364{};
-          added364.reserve(size_t(add(int32_t(g362.size()), int32_t(1))));
-          for (const C0_Flake& x365 : g362) {
-            added364.push_back(x365);
+        const bool t361 = !any357;
+        std::vector<C0_Flake> r362{};
+        if (t361) {
+          const std::vector<C0_Flake>& g363 = s.g_snow_8;
+          const C0_Flake& v364 = l_flake339;
+          std::vector<C0_Flake> added365{};
+          added365.reserve(size_t(add(int32_t(g363.size()), int32_t(1))));
+          for (const C0_Flake& x366 : g363) {
+            added365.push_back(x366);
           }
-          added364.push_back(v363);
-          r361 = std::move(added364);
+          added365.push_back(v364);
+          r362 = std::move(added365);
         } else {
-          const std::vector<C0_Flake>& g366 = s.g_snow_8;
-          r361 = g366;
+          const std::vector<C0_Flake>& g367 = s.g_snow_8;
+          r362 = g367;
         }
-        s.g_snow_8 = std::move(r361);
+        s.g_snow_8 = std::move(r362);
         s.u_snow_9 = true;
       }
     }
     // NEXT of plow, programs/snowplow.au:35
     if (!s.u_plow_6) {
-      const C3_Plow& prev367 = s.p_plow_7;
-      s.g_plow_5 = prev367;
+      const C3_Plow& prev368 = s.p_plow_7;
+      s.g_plow_5 = prev368;
       s.u_plow_6 = true;
     }
     // NEXT of snow, programs/snowplow.au:29
     if (!s.u_snow_9) {
-      const std::vector<C0_Flake>& prev368 = s.p_snow_10;
-      s.g_snow_8 = prev368;
+      const std::vector<C0_Flake>& prev369 = s.p_snow_10;
+      s.g_snow_8 = prev369;
       s.u_snow_9 = true;
     }
     // NEXT of melt, programs/snowplow.au:32
     if (!s.u_melt_12) {
-      const std::vector<C1_Melt>& prev369 = s.p_melt_13;
-      s.g_melt_11 = prev369;
+      const std::vector<C1_Melt>& prev370 = s.p_melt_13;
+      s.g_melt_11 = prev370;
       s.u_melt_12 = true;
     }
     // NEXT of rocks, programs/snowplow.au:26
     if (!s.u_rocks_15) {
-      const std::vector<C2_Rock>& prev370 = s.p_rocks_16;
-      s.g_rocks_14 = prev370;
+      const std::vector<C2_Rock>& prev371 = s.p_rocks_16;
+      s.g_rocks_14 = prev371;
       s.u_rocks_15 = true;
     }
     // NEXT of cloud, programs/snowplow.au:21
     if (!s.u_cloud_18) {
-      const C4_Cloud& prev371 = s.p_cloud_19;
-      s.g_cloud_17 = prev371;
+      const C4_Cloud& prev372 = s.p_cloud_19;
+      s.g_cloud_17 = prev372;
       s.u_cloud_18 = true;
     }
     // NEXT of time, programs/snowplow.au:18
     if (!s.u_time_21) {
-      const int32_t& prev372 = s.p_time_22;
-      const int32_t t373 = add(prev372, int32_t(1));
-      s.g_time_20 = t373;
+      const int32_t& prev373 = s.p_time_22;
+      const int32_t t374 = add(prev373, int32_t(1));
+      s.g_time_20 = t374;
       s.u_time_21 = true;
     }
     s.core.clear_inputs();

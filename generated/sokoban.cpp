@@ -1308,13 +1308,13 @@ struct Prog {
       bool clicked390 = false;
       if (s.core.click) {
         s.d_click_24 = true;
-        s.g_click_23 = Pos{s.core.click_x, s.core.click_y};
-        std::vector<Elem>& rendered391 = s.scratch.v.b7;
-        rendered391.clear();
-        rendered391.push_back(Elem{Pos{add(g389.origin.x, int32_t(0)), add(g389.origin.y, int32_t(0))}, int32_t(2)});
-        const Pos t392 = Pos{s.core.click_x, s.core.click_y};
-        for (const Elem& e393 : rendered391) {
-          if ((e393.position == t392)) {
+        const Pos t391 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_23 = t391;
+        std::vector<Elem>& rendered392 = s.scratch.v.b7;
+        rendered392.clear();
+        rendered392.push_back(Elem{Pos{add(g389.origin.x, int32_t(0)), add(g389.origin.y, int32_t(0))}, int32_t(2)});
+        for (const Elem& e393 : rendered392) {
+          if ((e393.position == Pos{s.core.click_x, s.core.click_y})) {
             clicked390 = true;
             break;
           }

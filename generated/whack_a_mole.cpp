@@ -406,15 +406,15 @@ struct Prog {
         bool clicked5 = false;
         if (s.core.click) {
           s.d_click_28 = true;
-          s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
-          std::vector<Elem>& rendered6 = s.scratch.v.b0;
-          rendered6.clear();
-          for (const C1_Mole& x7 : prev4) {
-            render_C1_Mole(s, x7, rendered6);
+          const Pos t6 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_27 = t6;
+          std::vector<Elem>& rendered7 = s.scratch.v.b0;
+          rendered7.clear();
+          for (const C1_Mole& x8 : prev4) {
+            render_C1_Mole(s, x8, rendered7);
           }
-          const Pos t8 = Pos{s.core.click_x, s.core.click_y};
-          for (const Elem& e9 : rendered6) {
-            if ((e9.position == t8)) {
+          for (const Elem& e9 : rendered7) {
+            if ((e9.position == Pos{s.core.click_x, s.core.click_y})) {
               clicked5 = true;
               break;
             }
@@ -453,13 +453,13 @@ struct Prog {
           bool clicked20 = false;
           if (s.core.click) {
             s.d_click_28 = true;
-            s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered21 = s.scratch.v.b3;
-            rendered21.clear();
-            render_C1_Mole(s, x19, rendered21);
-            const Pos t22 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e23 : rendered21) {
-              if ((e23.position == t22)) {
+            const Pos t21 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_27 = t21;
+            std::vector<Elem>& rendered22 = s.scratch.v.b3;
+            rendered22.clear();
+            render_C1_Mole(s, x19, rendered22);
+            for (const Elem& e23 : rendered22) {
+              if ((e23.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked20 = true;
                 break;
               }
@@ -525,223 +525,225 @@ struct Prog {
         bool clicked46 = false;
         if (s.core.click) {
           s.d_click_28 = true;
-          s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
+          const Pos t47 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_27 = t47;
           clicked46 = true;
         }
-        bool r47{};
+        bool r48{};
         if (clicked46) {
-          const std::vector<C1_Mole>& prev48 = s.p_moles_17;
-          bool clicked49 = false;
+          const std::vector<C1_Mole>& prev49 = s.p_moles_17;
+          bool clicked50 = false;
           if (s.core.click) {
             s.d_click_28 = true;
-            s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
-            std::vector<Elem>& rendered50 = s.scratch.v.b4;
-            rendered50.clear();
-            for (const C1_Mole& x51 : prev48) {
-              render_C1_Mole(s, x51, rendered50);
+            const Pos t51 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_27 = t51;
+            std::vector<Elem>& rendered52 = s.scratch.v.b4;
+            rendered52.clear();
+            for (const C1_Mole& x53 : prev49) {
+              render_C1_Mole(s, x53, rendered52);
             }
-            const Pos t52 = Pos{s.core.click_x, s.core.click_y};
-            for (const Elem& e53 : rendered50) {
-              if ((e53.position == t52)) {
-                clicked49 = true;
+            for (const Elem& e54 : rendered52) {
+              if ((e54.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked50 = true;
                 break;
               }
             }
           }
-          const bool t54 = !clicked49;
-          r47 = t54;
+          const bool t55 = !clicked50;
+          r48 = t55;
         } else {
-          r47 = false;
+          r48 = false;
         }
-        r45 = r47;
+        r45 = r48;
       } else {
         r45 = false;
       }
       if (r45) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C1_Mole>& prev55 = s.p_moles_17;
+        const std::vector<C1_Mole>& prev56 = s.p_moles_17;
         // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C1_Mole>& out56 = s.scratch.v.b5;
-        out56.clear();
-        out56.reserve(size_t(int32_t(prev55.size())));
-        for (const C1_Mole& x57 : prev55) {
+        std::vector<C1_Mole>& out57 = s.scratch.v.b5;
+        out57.clear();
+        out57.reserve(size_t(int32_t(prev56.size())));
+        for (const C1_Mole& x58 : prev56) {
           // inlined: function at programs/whack_a_mole.au:47
-          const int32_t t58 = sub(x57.f0, int32_t(1));
-          C1_Mole upd59 = x57;
-          upd59.f0 = t58;
-          out56.push_back(std::move(upd59));
+          const int32_t t59 = sub(x58.f0, int32_t(1));
+          C1_Mole upd60 = x58;
+          upd60.f0 = t59;
+          out57.push_back(std::move(upd60));
         }
-        std::vector<C1_Mole> out60{};
-        for (const C1_Mole& x61 : out56) {
+        std::vector<C1_Mole> out61{};
+        for (const C1_Mole& x62 : out57) {
           // inlined: function at programs/whack_a_mole.au:46
-          const bool t62 = (x61.f0 > int32_t(0));
-          if (t62) {
-            out60.push_back(x61);
+          const bool t63 = (x62.f0 > int32_t(0));
+          if (t63) {
+            out61.push_back(x62);
           }
         }
-        s.g_moles_15 = std::move(out60);
+        s.g_moles_15 = std::move(out61);
         s.u_moles_16 = true;
-        const int32_t& prev63 = s.p_score_14;
-        const int32_t t64 = sub(prev63, int32_t(1));
-        const bool t65 = (int32_t(0) < t64);
-        int32_t r66{};
-        if (t65) {
-          r66 = t64;
+        const int32_t& prev64 = s.p_score_14;
+        const int32_t t65 = sub(prev64, int32_t(1));
+        const bool t66 = (int32_t(0) < t65);
+        int32_t r67{};
+        if (t66) {
+          r67 = t65;
         } else {
-          r66 = int32_t(0);
+          r67 = int32_t(0);
         }
-        s.g_score_12 = r66;
+        s.g_score_12 = r67;
         s.u_score_13 = true;
       }
     }
     // on-clause 3, programs/whack_a_mole.au:67
     {
-      const bool& g67 = s.g_won_9;
-      bool r68{};
-      if (!g67) {
-        bool clicked69 = false;
+      const bool& g68 = s.g_won_9;
+      bool r69{};
+      if (!g68) {
+        bool clicked70 = false;
         if (s.core.click) {
           s.d_click_28 = true;
-          s.g_click_27 = Pos{s.core.click_x, s.core.click_y};
-          clicked69 = true;
+          const Pos t71 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_27 = t71;
+          clicked70 = true;
         }
-        const bool t70 = !clicked69;
-        r68 = t70;
+        const bool t72 = !clicked70;
+        r69 = t72;
       } else {
-        r68 = true;
+        r69 = true;
       }
-      if (r68) {
+      if (r69) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C1_Mole>& prev71 = s.p_moles_17;
+        const std::vector<C1_Mole>& prev73 = s.p_moles_17;
         // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C1_Mole>& out72 = s.scratch.v.b6;
-        out72.clear();
-        out72.reserve(size_t(int32_t(prev71.size())));
-        for (const C1_Mole& x73 : prev71) {
+        std::vector<C1_Mole>& out74 = s.scratch.v.b6;
+        out74.clear();
+        out74.reserve(size_t(int32_t(prev73.size())));
+        for (const C1_Mole& x75 : prev73) {
           // inlined: function at programs/whack_a_mole.au:47
-          const int32_t t74 = sub(x73.f0, int32_t(1));
-          C1_Mole upd75 = x73;
-          upd75.f0 = t74;
-          out72.push_back(std::move(upd75));
+          const int32_t t76 = sub(x75.f0, int32_t(1));
+          C1_Mole upd77 = x75;
+          upd77.f0 = t76;
+          out74.push_back(std::move(upd77));
         }
-        std::vector<C1_Mole> out76{};
-        for (const C1_Mole& x77 : out72) {
+        std::vector<C1_Mole> out78{};
+        for (const C1_Mole& x79 : out74) {
           // inlined: function at programs/whack_a_mole.au:46
-          const bool t78 = (x77.f0 > int32_t(0));
-          if (t78) {
-            out76.push_back(x77);
+          const bool t80 = (x79.f0 > int32_t(0));
+          if (t80) {
+            out78.push_back(x79);
           }
         }
-        s.g_moles_15 = std::move(out76);
+        s.g_moles_15 = std::move(out78);
         s.u_moles_16 = true;
       }
     }
     // on-clause 4, programs/whack_a_mole.au:70
     {
-      const bool& g79 = s.g_won_9;
-      const bool t80 = !g79;
-      bool r81{};
-      if (t80) {
-        const int32_t& g82 = s.g_time_24;
-        const int32_t t83 = autumn::arith::mod_unchecked(g82, int32_t(2));
-        const bool t84 = (t83 == int32_t(0));
-        bool r85{};
-        if (t84) {
-          const std::vector<C1_Mole>& g86 = s.g_moles_15;
+      const bool& g81 = s.g_won_9;
+      const bool t82 = !g81;
+      bool r83{};
+      if (t82) {
+        const int32_t& g84 = s.g_time_24;
+        const int32_t t85 = autumn::arith::mod_unchecked(g84, int32_t(2));
+        const bool t86 = (t85 == int32_t(0));
+        bool r87{};
+        if (t86) {
+          const std::vector<C1_Mole>& g88 = s.g_moles_15;
           // inlined: function at programs/whack_a_mole.au:50
-          const std::vector<Pos>& g87 = s.g_burrowSpots_4;
-          std::vector<Pos>& out88 = s.scratch.v.b7;
-          out88.clear();
-          for (const Pos& x89 : g87) {
+          const std::vector<Pos>& g89 = s.g_burrowSpots_4;
+          std::vector<Pos>& out90 = s.scratch.v.b7;
+          out90.clear();
+          for (const Pos& x91 : g89) {
             // inlined: function at programs/whack_a_mole.au:51
-            bool any90 = false;
-            for (const C1_Mole& x91 : g86) {
+            bool any92 = false;
+            for (const C1_Mole& x93 : g88) {
               // inlined: function at programs/whack_a_mole.au:51
-              const bool t92 = (x91.origin == x89);
-              if (t92) {
-                any90 = true;
+              const bool t94 = (x93.origin == x91);
+              if (t94) {
+                any92 = true;
                 break;
               }
             }
-            const bool t93 = !any90;
-            if (t93) {
-              out88.push_back(x89);
+            const bool t95 = !any92;
+            if (t95) {
+              out90.push_back(x91);
             }
           }
-          const int32_t t94 = int32_t(out88.size());
-          const bool t95 = (t94 > int32_t(0));
-          r85 = t95;
+          const int32_t t96 = int32_t(out90.size());
+          const bool t97 = (t96 > int32_t(0));
+          r87 = t97;
         } else {
-          r85 = false;
+          r87 = false;
         }
-        r81 = r85;
+        r83 = r87;
       } else {
-        r81 = false;
+        r83 = false;
       }
-      if (r81) {
+      if (r83) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_Mole>& g96 = s.g_moles_15;
+        const std::vector<C1_Mole>& g98 = s.g_moles_15;
         if (std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)}.empty()) {
           fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t97 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)}.size())))));
-        const int32_t t98 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)}[size_t(t97)];
-        const std::vector<C1_Mole>& g99 = s.g_moles_15;
+        const int32_t t99 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)}.size())))));
+        const int32_t t100 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)}[size_t(t99)];
+        const std::vector<C1_Mole>& g101 = s.g_moles_15;
         // inlined: function at programs/whack_a_mole.au:50
-        const std::vector<Pos>& g100 = s.g_burrowSpots_4;
-        std::vector<Pos>& out101 = s.scratch.v.b8;
-        out101.clear();
-        for (const Pos& x102 : g100) {
+        const std::vector<Pos>& g102 = s.g_burrowSpots_4;
+        std::vector<Pos>& out103 = s.scratch.v.b8;
+        out103.clear();
+        for (const Pos& x104 : g102) {
           // inlined: function at programs/whack_a_mole.au:51
-          bool any103 = false;
-          for (const C1_Mole& x104 : g99) {
+          bool any105 = false;
+          for (const C1_Mole& x106 : g101) {
             // inlined: function at programs/whack_a_mole.au:51
-            const bool t105 = (x104.origin == x102);
-            if (t105) {
-              any103 = true;
+            const bool t107 = (x106.origin == x104);
+            if (t107) {
+              any105 = true;
               break;
             }
           }
-          const bool t106 = !any103;
-          if (t106) {
-            out101.push_back(x102);
+          const bool t108 = !any105;
+          if (t108) {
+            out103.push_back(x104);
           }
         }
-        if (out101.empty()) {
+        if (out103.empty()) {
           fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t107 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out101.size())))));
-        const Pos t108 = out101[size_t(t107)];
-        CellV l_allCells109{};
-        const CellV t110 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
-        l_allCells109 = t110;
-        const CellV& v111 = l_allCells109;
-        const CellV& v112 = l_allCells109;
-        const std::vector<CellV> list113 = std::vector<CellV>{v112};
-        C1_Mole o114 = C1_Mole{t98, t108, list113};
-        std::vector<C1_Mole> added115{};
-        added115.reserve(size_t(add(int32_t(g96.size()), int32_t(1))));
-        for (const C1_Mole& x116 : g96) {
-          added115.push_back(x116);
+        const int32_t t109 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out103.size())))));
+        const Pos t110 = out103[size_t(t109)];
+        CellV l_allCells111{};
+        const CellV t112 = CellV{int32_t(0), int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(12))};
+        l_allCells111 = t112;
+        const CellV& v113 = l_allCells111;
+        const CellV& v114 = l_allCells111;
+        const std::vector<CellV> list115 = std::vector<CellV>{v114};
+        C1_Mole o116 = C1_Mole{t100, t110, list115};
+        std::vector<C1_Mole> added117{};
+        added117.reserve(size_t(add(int32_t(g98.size()), int32_t(1))));
+        for (const C1_Mole& x118 : g98) {
+          added117.push_back(x118);
         }
-        added115.push_back(std::move(o114));
-        s.g_moles_15 = std::move(added115);
+        added117.push_back(std::move(o116));
+        s.g_moles_15 = std::move(added117);
         s.u_moles_16 = true;
       }
     }
     // on-clause 5, programs/whack_a_mole.au:73
     {
-      const bool& g117 = s.g_won_9;
-      const bool t118 = !g117;
-      bool r119{};
-      if (t118) {
-        const int32_t& g120 = s.g_score_12;
-        const bool t121 = (g120 >= int32_t(10));
-        r119 = t121;
+      const bool& g119 = s.g_won_9;
+      const bool t120 = !g119;
+      bool r121{};
+      if (t120) {
+        const int32_t& g122 = s.g_score_12;
+        const bool t123 = (g122 >= int32_t(10));
+        r121 = t123;
       } else {
-        r119 = false;
+        r121 = false;
       }
-      if (r119) {
+      if (r121) {
         s.core.covered[int32_t(4)] = 1;
         s.g_won_9 = true;
         s.u_won_10 = true;
@@ -752,36 +754,36 @@ struct Prog {
     }
     // on-clause 6, programs/whack_a_mole.au:76
     {
-      const bool& prev122 = s.p_won_11;
-      bool r123{};
-      if (prev122) {
-        const bool t124 = s.core.left;
-        bool r125{};
-        if (!t124) {
-          const bool t126 = s.core.right;
-          bool r127{};
-          if (!t126) {
-            const bool t128 = s.core.up;
-            bool r129{};
-            if (!t128) {
-              const bool t130 = s.core.down;
-              r129 = t130;
+      const bool& prev124 = s.p_won_11;
+      bool r125{};
+      if (prev124) {
+        const bool t126 = s.core.left;
+        bool r127{};
+        if (!t126) {
+          const bool t128 = s.core.right;
+          bool r129{};
+          if (!t128) {
+            const bool t130 = s.core.up;
+            bool r131{};
+            if (!t130) {
+              const bool t132 = s.core.down;
+              r131 = t132;
             } else {
-              r129 = true;
+              r131 = true;
             }
-            r127 = r129;
+            r129 = r131;
           } else {
-            r127 = true;
+            r129 = true;
           }
-          r125 = r127;
+          r127 = r129;
         } else {
-          r125 = true;
+          r127 = true;
         }
-        r123 = r125;
+        r125 = r127;
       } else {
-        r123 = false;
+        r125 = false;
       }
-      if (r123) {
+      if (r125) {
         s.core.covered[int32_t(5)] = 1;
         s.g_won_9 = false;
         s.u_won_10 = true;
@@ -792,66 +794,66 @@ struct Prog {
     }
     // NEXT of bar, programs/whack_a_mole.au:42
     if (!s.u_bar_7) {
-      const C3_ScoreBar& prev131 = s.p_bar_8;
-      const int32_t& g132 = s.g_score_12;
-      C3_ScoreBar upd133 = prev131;
-      upd133.f0 = g132;
-      s.g_bar_6 = std::move(upd133);
+      const C3_ScoreBar& prev133 = s.p_bar_8;
+      const int32_t& g134 = s.g_score_12;
+      C3_ScoreBar upd135 = prev133;
+      upd135.f0 = g134;
+      s.g_bar_6 = std::move(upd135);
       s.u_bar_7 = true;
     }
     // NEXT of won, programs/whack_a_mole.au:39
     if (!s.u_won_10) {
-      const bool& prev134 = s.p_won_11;
-      s.g_won_9 = prev134;
+      const bool& prev136 = s.p_won_11;
+      s.g_won_9 = prev136;
       s.u_won_10 = true;
     }
     // NEXT of score, programs/whack_a_mole.au:36
     if (!s.u_score_13) {
-      const int32_t& prev135 = s.p_score_14;
-      s.g_score_12 = prev135;
+      const int32_t& prev137 = s.p_score_14;
+      s.g_score_12 = prev137;
       s.u_score_13 = true;
     }
     // NEXT of moles, programs/whack_a_mole.au:28
     if (!s.u_moles_16) {
-      const std::vector<C1_Mole>& prev136 = s.p_moles_17;
-      s.g_moles_15 = prev136;
+      const std::vector<C1_Mole>& prev138 = s.p_moles_17;
+      s.g_moles_15 = prev138;
       s.u_moles_16 = true;
     }
     // NEXT of burrows, programs/whack_a_mole.au:25
     if (!s.u_burrows_19) {
-      const std::vector<C0_Burrow>& prev137 = s.p_burrows_20;
-      s.g_burrows_18 = prev137;
+      const std::vector<C0_Burrow>& prev139 = s.p_burrows_20;
+      s.g_burrows_18 = prev139;
       s.u_burrows_19 = true;
     }
     // NEXT of flashes, programs/whack_a_mole.au:32
     if (!s.u_flashes_22) {
-      const std::vector<C2_Flash>& prev138 = s.p_flashes_23;
-      std::vector<C2_Flash>& out139 = s.scratch.v.b9;
-      out139.clear();
-      for (const C2_Flash& x140 : prev138) {
+      const std::vector<C2_Flash>& prev140 = s.p_flashes_23;
+      std::vector<C2_Flash>& out141 = s.scratch.v.b9;
+      out141.clear();
+      for (const C2_Flash& x142 : prev140) {
         // inlined: function at programs/whack_a_mole.au:32
-        const bool t141 = (x140.f0 > int32_t(1));
-        if (t141) {
-          out139.push_back(x140);
+        const bool t143 = (x142.f0 > int32_t(1));
+        if (t143) {
+          out141.push_back(x142);
         }
       }
-      std::vector<C2_Flash> out142{};
-      out142.reserve(size_t(int32_t(out139.size())));
-      for (const C2_Flash& x143 : out139) {
+      std::vector<C2_Flash> out144{};
+      out144.reserve(size_t(int32_t(out141.size())));
+      for (const C2_Flash& x145 : out141) {
         // inlined: function at programs/whack_a_mole.au:33
-        const int32_t t144 = sub(x143.f0, int32_t(1));
-        C2_Flash upd145 = x143;
-        upd145.f0 = t144;
-        out142.push_back(std::move(upd145));
+        const int32_t t146 = sub(x145.f0, int32_t(1));
+        C2_Flash upd147 = x145;
+        upd147.f0 = t146;
+        out144.push_back(std::move(upd147));
       }
-      s.g_flashes_21 = std::move(out142);
+      s.g_flashes_21 = std::move(out144);
       s.u_flashes_22 = true;
     }
     // NEXT of time, programs/whack_a_mole.au:22
     if (!s.u_time_25) {
-      const int32_t& prev146 = s.p_time_26;
-      const int32_t t147 = add(prev146, int32_t(1));
-      s.g_time_24 = t147;
+      const int32_t& prev148 = s.p_time_26;
+      const int32_t t149 = add(prev148, int32_t(1));
+      s.g_time_24 = t149;
       s.u_time_25 = true;
     }
     s.core.clear_inputs();

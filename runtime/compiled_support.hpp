@@ -96,6 +96,15 @@ struct Elem {
   bool operator==(const Elem&) const = default;
 };
 
+// A Position whose identity the program observes (removeObj by a Position):
+// equal as a Position, whatever the uid.
+struct PosU {
+  int32_t x = 0, y = 0;
+  uint32_t uid = 0;
+  operator Pos() const { return Pos{x, y}; }
+  bool operator==(const PosU& o) const { return x == o.x && y == o.y; }
+};
+
 // A Cell instance: per argument its value, and -1 (a number constant) or the
 // index of the deferred argument the module evaluates (compiler/lower/spec_cells).
 struct CellV {
@@ -252,6 +261,10 @@ inline void hash_value(Hash& h, const Elem& e) {
   hash_value(h, e.color);
 }
 inline void hash_value(Hash& h, const Unit&) { h.mix(0x55); }
+inline void hash_value(Hash& h, const PosU& p) {
+  hash_value(h, Pos{p.x, p.y});
+  h.mix(p.uid);
+}
 // Identities hash by their pattern, not their numbers (states reached by
 // different histories hash alike): the table holds no numbers of its own here.
 inline void hash_value(Hash& h, uint32_t uid) { h.mix(uid); }
@@ -326,6 +339,7 @@ inline void save_value(SnapshotWriter& w, const Elem& e) {
 inline void save_value(SnapshotWriter&, const Unit&) {}
 inline void save_value(SnapshotWriter& w, uint32_t v) { w.raw(v); }
 inline void save_value(SnapshotWriter& w, const CellV& c) { w.raw(c); }
+inline void save_value(SnapshotWriter& w, const PosU& p) { w.raw(p); }
 template <class... T>
 void save_value(SnapshotWriter& w, const std::variant<T...>& v) {
   w.raw(static_cast<uint8_t>(v.index()));
@@ -354,6 +368,7 @@ inline void load_value(SnapshotReader& r, Elem& e) {
 inline void load_value(SnapshotReader&, Unit&) {}
 inline void load_value(SnapshotReader& r, uint32_t& v) { r.raw(v); }
 inline void load_value(SnapshotReader& r, CellV& c) { r.raw(c); }
+inline void load_value(SnapshotReader& r, PosU& p) { r.raw(p); }
 template <class V, size_t I = 0>
 void load_alternative(SnapshotReader& r, V& v, size_t index) {
   if constexpr (I < std::variant_size_v<V>) {

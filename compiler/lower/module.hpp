@@ -94,6 +94,7 @@ struct Module {
   int on_clauses = 0;
   bool uses_random = false;
   bool uses_ids = false;             // identity numbers are observed
+  bool pos_tracked = false;          // Positions carry identities (PosU)
   bool runtime_order = false;        // the global map order is kept at run time
   int start_fn = -1, step_fn = -1, render_fn = -1;
   std::string program_path;          // for comments
@@ -110,7 +111,7 @@ struct Module {
     dynamic_sites.clear();
     deferred.clear();
     deferred_prints.clear();
-    uses_ids = runtime_order = false;
+    uses_ids = runtime_order = pos_tracked = false;
     start_fn = step_fn = render_fn = -1;
   }
 };

@@ -51,7 +51,7 @@ class Printer {
       case TK::Int:
       case TK::Str: return "int32_t";
       case TK::Bool: return "bool";
-      case TK::Pos: return "Pos";
+      case TK::Pos: return m_.pos_tracked ? "PosU" : "Pos";
       case TK::Elem: return "Elem";
       case TK::Cell:
       case TK::Deferred: return "CellV";
@@ -185,7 +185,9 @@ std::string Printer::expr(const Node* n) {
     case Op::Not: return "!" + a(0);
     case Op::And: return "(" + a(0) + " && " + a(1) + ")";
     case Op::Or: return "(" + a(0) + " || " + a(1) + ")";
-    case Op::MakePos: return "Pos{" + a(0) + ", " + a(1) + "}";
+    case Op::MakePos:
+      if (n->a.size() > 2) return "PosU{" + a(0) + ", " + a(1) + ", uint32_t(" + a(2) + ")}";
+      return "Pos{" + a(0) + ", " + a(1) + "}";
     case Op::MakeElem: return "Elem{" + a(0) + ", " + a(1) + "}";
     case Op::MakeObj: return m_.classes[n->index].cpp + "{" + list(0) + "}";
     case Op::MakeCell: {

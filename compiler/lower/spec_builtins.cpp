@@ -164,7 +164,8 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
 }
 
 bool Specialiser::unroll(const SVal& l) const {
-  return !constructing_.empty() && l.konst && l.konst->op == ir::Op::MakeList && l.konst->a.size() <= 4096;
+  return !constructing_.empty() && l.konst && l.konst->op == ir::Op::MakeList && l.konst->a.size() <= 4096 &&
+         !tracked(l.type->elem);
 }
 
 SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, const Expr& at,
@@ -286,7 +287,7 @@ SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at)
         fail(what);
         return never();
       }
-      if (a[0].konst && a[0].konst->op == ir::Op::MakeList && !a[0].konst->a.empty()) {
+      if (a[0].konst && a[0].konst->op == ir::Op::MakeList && !a[0].konst->a.empty() && !tracked(a[0].type->elem)) {
         ir::Node* k = b == Builtin::Head ? a[0].konst->a.front() : a[0].konst->a.back();
         return SVal{a[0].type->elem, k, is_const(k) ? k : nullptr};
       }
@@ -354,7 +355,7 @@ SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
     fail("concat: every element must be a list");
     return never();
   }
-  if (l.konst && l.konst->op == ir::Op::MakeList) {  // fold
+  if (l.konst && l.konst->op == ir::Op::MakeList && !(inner->elem && tracked(inner->elem))) {  // fold
     std::vector<SVal> items;
     bool ok = true;
     for (ir::Node* part : l.konst->a) {

@@ -193,7 +193,7 @@ SVal Specialiser::builtin_inputs(Builtin b, std::vector<SVal>& a, const Expr& at
     }
     SVal elems = render_value(a[0], at);
     if (!renders(a[0].type)) return;
-    SVal pos = let(SVal{T().pos(), call(ir::Helper::ClickPos, T().pos(), {})});
+    SVal pos{T().pos(), call(ir::Helper::ClickPos, T().pos(), {})};  // a plain Pos, compared by value
     ir::Stmt* loop = emit(ir::SK::ForEach);
     loop->var = var(T().elem(), "e");
     loop->a = elems.code;
@@ -219,7 +219,12 @@ void Specialiser::define_click() {
   }
   emit_set(slot(g.defined), lit(T().bool_(), 1));
   if (m_.runtime_order) emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), g.sym)}));
-  emit_set(slot(g.value), call(ir::Helper::ClickPos, T().pos(), {}));
+  // The pending click as a new Position (a plain Pos: no identity of its own yet).
+  ir::Node* click = call(ir::Helper::ClickPos, T().pos(), {});
+  SVal p = tracked(T().pos()) ? make_position(SVal{T().int_(), member(click, ir::Member::X, T().int_())},
+                                              SVal{T().int_(), member(click, ir::Member::Y, T().int_())})
+                              : let(SVal{T().pos(), click});
+  emit_set(slot(g.value), p.code);
 }
 
 // ---------------------------------------------------------------------------

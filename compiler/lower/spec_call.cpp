@@ -213,11 +213,16 @@ SVal Specialiser::construct_builtin_class(int c, std::vector<SVal>& args) {
 }
 
 SVal Specialiser::make_position(SVal x, SVal y) {
-  if (tracked(T().pos())) unsupported("identity of positions (removeObj or prev by a Position)");
   SVal v{T().pos(), node(ir::Op::MakePos, T().pos(), {x.code, y.code})};
   if (x.konst && y.konst) v.konst = node(ir::Op::MakePos, T().pos(), {x.konst, y.konst});
-  if (const_int(x) && const_int(y)) v.code = v.konst;
-  else v = let(v);
+  if (tracked(T().pos())) {  // every Position the reference makes is a new object
+    v.code->a.push_back(call(ir::Helper::NewUid, T().int_(), {}));
+    v = let(v);
+  } else if (const_int(x) && const_int(y)) {
+    v.code = v.konst;
+  } else {
+    v = let(v);
+  }
   v.fresh = true;
   return v;
 }
@@ -340,7 +345,15 @@ SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) 
       }
       return let(SVal{T().int_(), member(o.code, field == n.x ? ir::Member::X : ir::Member::Y, T().int_())});
     }
-    if (o.type->k == TK::Elem && field == n.position) return let(SVal{T().pos(), member(o.code, ir::Member::Position, T().pos())});
+    if (o.type->k == TK::Elem && field == n.position) {
+      ir::Node* at = member(o.code, ir::Member::Position, T().pos());
+      if (!tracked(T().pos())) return let(SVal{T().pos(), at});
+      SVal p{T().pos(), at};
+      // The rendered element's Position, with an identity of its own (the
+      // reference's same object on every read: not modelled).
+      return make_position(SVal{T().int_(), member(p.code, ir::Member::X, T().int_())},
+                           SVal{T().int_(), member(p.code, ir::Member::Y, T().int_())});
+    }
     if (o.type->k == TK::Elem && field == n.color) return let(SVal{T().str(), member(o.code, ir::Member::Color, T().str())});
     if (o.type->k == TK::Cell && (field == n.x || field == n.y || field == n.color))
       return SVal{T().deferred(field == n.x ? 0 : field == n.y ? 1 : 2), o.code, o.konst};

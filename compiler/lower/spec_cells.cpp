@@ -196,6 +196,12 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
          type_string(cells.type));
     return false;
   }
+  if (!h_.stored_cells.count(cls) && tracked(T().cell())) {  // cells with identities live in the objects
+    h_.stored_cells.insert(cls);
+    h_.changed = true;
+    h_.last_change = "cells of '" + ci.name + "' carry identities";
+    return false;
+  }
   if (!h_.stored_cells.count(cls)) {
     ir::Node* k = cells.konst;
     if (k && ci.static_shape && same_tree(k, ci.static_shape)) return true;
@@ -218,7 +224,15 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
 SVal Specialiser::object_cell_list(const SVal& o) {
   ClassInfo& ci = m_.classes[o.type->cls];
   TypeP lt = T().list(T().cell());
-  if (h_.stored_cells.count(o.type->cls)) return let(SVal{lt, member(o.code, ir::Member::Cells, lt)});
+  if (h_.stored_cells.count(o.type->cls) || tracked(T().cell())) {
+    if (!h_.stored_cells.count(o.type->cls)) {
+      h_.stored_cells.insert(o.type->cls);
+      h_.changed = true;
+      h_.last_change = "cells of '" + ci.name + "' carry identities";
+      return never();
+    }
+    return let(SVal{lt, member(o.code, ir::Member::Cells, lt)});
+  }
   if (!ci.static_shape) {
     h_.changed = true;
     h_.last_change = "cells of '" + ci.name + "'";
@@ -457,6 +471,7 @@ void Specialiser::load_shapes() {
 }
 
 void Specialiser::finish_classes() {
+  m_.pos_tracked = tracked(T().pos());
   for (size_t c = 0; c < m_.classes.size(); ++c) {
     ClassInfo& ci = m_.classes[c];
     ci.tracked = tracked(T().obj(static_cast<int>(c)));

@@ -285,6 +285,7 @@ void Specialiser::note_identity(TypeP t) {
     if (t->k == TK::List) unsupported("identity of a list (removeObj or prev by a list value)");
     return;
   }
+  if (t->k == TK::Elem) unsupported("identity of rendered elements (removeObj or prev by one)");
   m_.uses_ids = true;
   if (h_.tracked.insert(t).second) {
     h_.changed = true;
