@@ -1,9 +1,17 @@
 // autumnc — compile an Autumn program into a C++ environment module.
 //
-//   autumnc PROGRAM [-o DIR] [--name NAME] [--trigger EXPR]
+//   autumnc PROGRAM [-o DIR] [--name NAME] [--trigger EXPR] [-v] [--strict]
 //
-// Writes DIR/NAME.cpp (see compiler/emit/emit_module.hpp for what it contains).
-// Bad programs are reported as file:line:col: error: ... with exit status 1.
+// Writes DIR/NAME.cpp (compiler/emit/emit_module.hpp says what it contains) and
+// one line on stderr saying how it lowered:
+//
+//   prog.au: specialised, 0 dynamic sites
+//   prog.au: specialised, 3 dynamic sites (-v lists them)
+//   prog.au: not specialised (file:line:col: why); the module embeds the interpreter
+//
+// --strict makes a dynamic site or a program that does not specialise an error.
+// Exit status: 0 written, 1 the program is bad (file:line:col: error: ...) or
+// --strict refused it or the file cannot be written, 2 usage.
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
@@ -13,47 +21,91 @@
 
 #include "compiler/analyse/program.hpp"
 #include "compiler/emit/emit_module.hpp"
+#include "compiler/lower/lower.hpp"
 
-int main(int argc, char** argv) {
-  CLI::App app{"autumnc: compile an Autumn program into a C++ environment module"};
-  std::string program_path, out_dir = ".", name, trigger;
-  app.add_option("PROGRAM", program_path, "Autumn program (.au or .sexp)")->required();
-  app.add_option("-o,--out", out_dir, "Output directory (created if missing)")->default_val(".");
-  app.add_option("--name", name, "Module name (default: the program's file name)");
-  app.add_option("--trigger", trigger, "Compile in a change-detection trigger condition");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+namespace {
+
+struct Options {
+  std::string program_path;
+  std::string out_dir = ".";
+  std::string name;
+  std::string trigger;
+  bool verbose = false;
+  bool strict = false;
+};
+
+void register_options(CLI::App& app, Options& o) {
+  app.add_option("PROGRAM", o.program_path, "Autumn program (.au or .sexp)")->required();
+  app.add_option("-o,--out", o.out_dir, "Output directory (created if missing)")->default_val(".");
+  app.add_option("--name", o.name, "Module name (default: the program's file name)");
+  app.add_option("--trigger", o.trigger, "Compile in a change-detection trigger condition");
+  app.add_flag("-v,--verbose", o.verbose, "List every dynamic site with its location and reason");
+  app.add_flag("--strict", o.strict, "Fail (exit 1) unless the program specialises with no dynamic site");
+}
+
+// The one-line summary, and with -v one line per dynamic site.
+int report(const Options& o, const autumn::Lowered& lowered) {
+  const size_t n = lowered.dynamic_sites.size();
+  if (!lowered.ok) {
+    std::cerr << o.program_path << ": not specialised (" << lowered.reason
+              << "); the module embeds the interpreter\n";
+    return o.strict ? 1 : 0;
   }
+  std::cerr << o.program_path << ": specialised, " << n << " dynamic site" << (n == 1 ? "" : "s");
+  if (n && !o.verbose) std::cerr << " (-v lists them)";
+  std::cerr << "\n";
+  if (o.verbose)
+    for (const std::string& d : lowered.dynamic_sites) std::cerr << "  " << d << "\n";
+  return o.strict && n ? 1 : 0;
+}
 
-  std::ifstream in(program_path, std::ios::binary);
+int run(const Options& o) {
+  std::ifstream in(o.program_path, std::ios::binary);
   if (!in) {
-    std::cerr << program_path << ":0:0: error: cannot open file\n";
+    std::cerr << o.program_path << ":0:0: error: cannot open file\n";
     return 1;
   }
   std::stringstream buf;
   buf << in.rdbuf();
   autumn::ModuleSource src;
-  src.program_path = program_path;
+  src.program_path = o.program_path;
   src.program_text = buf.str();
-  if (!trigger.empty()) src.trigger = trigger;
-  src.name = autumn::module_identifier(name.empty() ? std::filesystem::path(program_path).stem().string() : name);
+  if (!o.trigger.empty()) src.trigger = o.trigger;
+  src.name = autumn::module_identifier(
+      o.name.empty() ? std::filesystem::path(o.program_path).stem().string() : o.name);
   try {
-    auto program = autumn::load_program(autumn::SourceFile{program_path, src.program_text}, src.trigger);
+    auto program = autumn::load_program(autumn::SourceFile{o.program_path, src.program_text}, src.trigger);
     for (const auto& w : program->warnings) std::cerr << w << "\n";
   } catch (const autumn::CompileError& e) {
     std::cerr << e.formatted() << "\n";
     return 1;
   }
+  autumn::Lowered lowered;
+  const std::string module = autumn::emit_module(src, &lowered);
+  const int status = report(o, lowered);
+  if (status) return status;
   std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  const auto out_path = std::filesystem::path(out_dir) / (src.name + ".cpp");
+  std::filesystem::create_directories(o.out_dir, ec);
+  const auto out_path = std::filesystem::path(o.out_dir) / (src.name + ".cpp");
   std::ofstream out(out_path, std::ios::binary);
   if (!out) {
     std::cerr << "autumnc: cannot write " << out_path.string() << "\n";
     return 1;
   }
-  out << autumn::emit_module(src);
+  out << module;
   return out ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"autumnc: compile an Autumn program into a C++ environment module"};
+  Options o;
+  register_options(app, o);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  return run(o);
 }

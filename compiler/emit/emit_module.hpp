@@ -4,11 +4,10 @@
 // a per-module name, and under autumn_module_v1_entry when built as a shared
 // library (-DAUTUMN_MODULE_SHARED).
 //
-// Lowering today is "embedded": the module carries the program text and runs it
-// on the reference-exact interpreter, so it is exact by construction for every
-// program. Specialised lowerings (typed state structs, direct calls, baked-in
-// hash and render orders) are to replace it construct by construct; the embedded
-// lowering stays as the fallback for what analysis cannot prove.
+// The module is specialised code from compiler/lower when the lowering can
+// express the program (every known program; values whose type is only known at
+// run time are tagged variants there), else "embedded": the program text run by
+// the reference-exact interpreter inside the module. Either way it is exact.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -30,6 +29,9 @@ uint64_t module_source_hash(const std::string& program_text, const std::optional
 // Turns a file stem into a valid C identifier ("ajl-snake" -> "ajl_snake").
 std::string module_identifier(const std::string& stem);
 
-std::string emit_module(const ModuleSource& src);
+struct Lowered;
+// The module's source; *report (if given) says whether it specialised, why not,
+// and its dynamic sites.
+std::string emit_module(const ModuleSource& src, Lowered* report = nullptr);
 
 }  // namespace autumn

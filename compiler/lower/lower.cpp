@@ -20,8 +20,8 @@ Lowered lower_program(const Program& program, const std::string& program_name) {
   try {
     lower::specialise_program(program, m);
     lower::settle_references(m);
-    lower::reuse_buffers(m);
     lower::move_last_uses(m);
+    lower::reuse_buffers(m);
     out.code = lower::print_cpp(m);
     out.ok = true;
     for (const lower::DynamicSite& d : m.dynamic_sites) out.dynamic_sites.push_back(located(program, d.loc, d.why));

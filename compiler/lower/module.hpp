@@ -84,6 +84,7 @@ struct Module {
   std::vector<ir::Slot> slots;
   std::vector<std::unique_ptr<ir::Function>> functions;
   ir::Arena arena;
+  ir::Arena lasting;  // nodes that outlive a walk (learnt shapes, cell captures): never cleared
   std::vector<std::string> strings;  // string literals by id, quotes included
   std::vector<ErrorLoc> locations;
   std::vector<TypeP> sums;           // the Sum types the code uses (variants to define)
@@ -105,12 +106,12 @@ struct Module {
     slots.clear();
     functions.clear();
     arena = ir::Arena{};
-    strings.clear();
+    // `strings` stays too: string ids appear in the shapes and constants hints keep.
     locations.clear();
     sums.clear();
     dynamic_sites.clear();
-    deferred.clear();
-    deferred_prints.clear();
+    // `deferred` stays: cells made in one walk name their arguments by index,
+    // and shapes learnt in one walk are compared in the next.
     uses_ids = runtime_order = pos_tracked = false;
     start_fn = step_fn = render_fn = -1;
   }

@@ -35,7 +35,7 @@ void move_last_uses(Module& m) {
       if ((s->k != SK::Set && s->k != SK::Push) || s->b->op != Op::Local) continue;
       Var* v = s->b->var;
       auto it = intro.find(v);
-      if (it == intro.end() || (it->second->k != SK::Decl && it->second->k != SK::Let) || v->scratch) continue;
+      if (it == intro.end() || (it->second->k != SK::Decl && it->second->k != SK::Let)) continue;
       if (!owns_memory(v->type)) continue;
       const int at = w.position.at(s);
       const auto& uses = w.uses.at(v);

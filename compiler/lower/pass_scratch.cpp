@@ -71,9 +71,11 @@ void scan(const Block& b, std::set<const Var*>& escaped, std::vector<Var*>& cand
         escapes(s->b, escaped);
         break;
       case SK::Set:
-        // Assigning into the list copies into its storage; the list assigned escapes.
+        // Assigning into the list copies into its storage. The list assigned
+        // escapes, unless this is its last use: then it is swapped into place
+        // (the place's old storage becomes the buffer).
         if (s->a->op != Op::Local) escapes(s->a, escaped);
-        escapes(s->b, escaped);
+        if (!(s->move_value && s->b->op == Op::Local)) escapes(s->b, escaped);
         break;
       case SK::ForEach:
         if (s->a->op != Op::Local) escapes(s->a, escaped);

@@ -20,7 +20,9 @@ namespace {
 
 using namespace ir;
 
-std::string quoted(const std::string& s) {
+}  // namespace
+
+std::string cpp_string_literal(const std::string& s) {
   // Every byte outside printable ASCII (and the quote and backslash) as an octal
   // escape: three digits, so no following character can extend it.
   std::string out = "\"";
@@ -38,6 +40,10 @@ std::string quoted(const std::string& s) {
   }
   return out + "\"";
 }
+
+namespace {
+
+std::string quoted(const std::string& s) { return cpp_string_literal(s); }
 
 class Printer {
  public:
@@ -236,6 +242,10 @@ void Printer::stmt(const Stmt& s) {
       line("const " + type(s.var->type) + (s.var->is_ref ? "& " : " ") + name(s.var) + " = " + expr(s.a) + ";");
       return;
     case SK::Set:
+      if (s.move_value && s.b->op == Op::Local && s.b->var->scratch) {
+        line("std::swap(" + expr(s.a) + ", " + expr(s.b) + ");");  // the old storage becomes the buffer
+        return;
+      }
       line(expr(s.a) + " = " + (s.move_value ? "std::move(" + expr(s.b) + ")" : expr(s.b)) + ";");
       return;
     case SK::Push:

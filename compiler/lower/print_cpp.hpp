@@ -9,4 +9,8 @@ namespace autumn::lower {
 
 std::string print_cpp(const Module& m);
 
+// A C++ string literal holding exactly these bytes (every byte outside printable
+// ASCII, and ? " \\, escaped in octal: no trigraph, no escape can run on).
+std::string cpp_string_literal(const std::string& s);
+
 }  // namespace autumn::lower

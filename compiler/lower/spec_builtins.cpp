@@ -242,8 +242,7 @@ SVal Specialiser::fold(const SVal& f, const SVal& init, const SVal& l, const Exp
     if (dead_ || !y.type) return;
     if (!T().fits(y.type, acc_t)) {
       h_.locals[key] = T().join(acc_t, y.type);
-      h_.changed = true;
-      h_.last_change = "foldl accumulator";
+      learn("foldl accumulator");
       return;
     }
     emit_set(local(acc), coerce(y, acc_t).code);

@@ -214,8 +214,7 @@ void Specialiser::define_click() {
   Global& g = global_slot(p_.names.click, T().pos());
   g.state = Global::Runtime;
   if (h_.runtime_defined.insert(p_.names.click).second) {
-    h_.changed = true;
-    h_.last_change = "click";
+    learn("click");
   }
   emit_set(slot(g.defined), lit(T().bool_(), 1));
   if (m_.runtime_order) emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), g.sym)}));

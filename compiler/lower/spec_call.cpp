@@ -242,8 +242,23 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
   const Expr& made = *ctor.kids[0];
   std::vector<SVal> values;
   for (size_t i = 0; i + 1 < made.kids.size() && !dead_; ++i) values.push_back(let(lower_value(*made.kids[i])));
-  SVal cells = dead_ ? never() : lower_value(*made.kids.back());
+  // The cells are computed aside: when every object of the class gets the same
+  // constant cells and computing them has no effect, the objects do not carry
+  // them and nothing of that computation needs to run.
+  ir::Block cells_block;
+  SVal cells;
+  const size_t effects_before = effects_;
+  bool died = dead_;
+  if (!died)
+    in_block(cells_block, [&] {
+      cells = lower_value(*made.kids.back());
+      died = dead_;
+    });
   constructing_.pop_back();
+  const bool pure = effects_ == effects_before && !has_fail(cells_block);
+  const bool shared = !h_.stored_cells.count(cls) && !tracked(T().cell()) && cells.konst;
+  if (!(pure && shared) && !dead_) block_->insert(block_->end(), cells_block.begin(), cells_block.end());
+  dead_ = dead_ || died;
   pop_scope();
   if (dead_) return never();
   (void)at;
@@ -306,8 +321,7 @@ void Specialiser::widen_field(int cls, int field, TypeP t) {
   if (T().fits(t, ft)) return;
   ft = T().join(ft, t);
   h_.fields[{cls, field}] = ft;
-  h_.changed = true;
-  h_.last_change = "field '" + ci.field_names[field] + "' of '" + ci.name + "'";
+  learn("field '" + ci.field_names[field] + "' of '" + ci.name + "'");
 }
 
 // ---------------------------------------------------------------------------
@@ -322,8 +336,7 @@ SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) 
         if (ci.fields[i] == field) {
           TypeP ft = ci.field_types[i];
           if (!ft) {
-            h_.changed = true;
-            h_.last_change = "field '" + raw + "'";
+            learn("field '" + raw + "'");
             return never();
           }
           return let(SVal{ft, member(o.code, ir::Member::Field, ft, static_cast<int>(i))});

@@ -65,6 +65,7 @@ SVal Specialiser::construct_cell(const Expr& e) {
     }
     b->type = v.type;
     b->place = v.code;
+    b->konst = v.konst;
     captured_konst_[n] = v.konst;
   };
   captured_konst_.clear();
@@ -157,7 +158,8 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
   for (Sym n : names)
     if (Binding* b = capture.find(n)) {
       if (b->type->k == TK::Func || b->type->k == TK::Class) d.captured_types.emplace_back(n, b->type);
-      else if (captured_konst_[n]) d.captured.emplace_back(n, captured_konst_[n]), d.captured_types.emplace_back(n, b->type);
+      else if (captured_konst_[n])
+        d.captured.emplace_back(n, clone_tree(captured_konst_[n], m_.lasting)), d.captured_types.emplace_back(n, b->type);
       else runtime_capture = true;
     }
   const TypeP want = which == 2 ? T().str() : T().int_();
@@ -198,8 +200,7 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
   }
   if (!h_.stored_cells.count(cls) && tracked(T().cell())) {  // cells with identities live in the objects
     h_.stored_cells.insert(cls);
-    h_.changed = true;
-    h_.last_change = "cells of '" + ci.name + "' carry identities";
+    learn("cells of '" + ci.name + "' carry identities");
     return false;
   }
   if (!h_.stored_cells.count(cls)) {
@@ -207,12 +208,11 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
     if (k && ci.static_shape && same_tree(k, ci.static_shape)) return true;
     if (k && !ci.static_shape) {
       ci.static_shape = k;
-      h_.shapes[cls] = clone_tree(k, h_.arena);
+      h_.shapes[cls] = clone_tree(k, m_.lasting);
       return true;
     }
     h_.stored_cells.insert(cls);
-    h_.changed = true;
-    h_.last_change = "the cells of '" + ci.name + "' depend on how objects are made";
+    learn("the cells of '" + ci.name + "' depend on how objects are made");
     return false;
   }
   ci.mode = CellMode::Stored;
@@ -227,15 +227,13 @@ SVal Specialiser::object_cell_list(const SVal& o) {
   if (h_.stored_cells.count(o.type->cls) || tracked(T().cell())) {
     if (!h_.stored_cells.count(o.type->cls)) {
       h_.stored_cells.insert(o.type->cls);
-      h_.changed = true;
-      h_.last_change = "cells of '" + ci.name + "' carry identities";
+      learn("cells of '" + ci.name + "' carry identities");
       return never();
     }
     return let(SVal{lt, member(o.code, ir::Member::Cells, lt)});
   }
   if (!ci.static_shape) {
-    h_.changed = true;
-    h_.last_change = "cells of '" + ci.name + "'";
+    learn("cells of '" + ci.name + "'");
     return never();
   }
   return SVal{ci.static_shape->a.empty() ? T().empty_list() : lt, ci.static_shape, ci.static_shape};
@@ -354,8 +352,7 @@ void Specialiser::render_object(const SVal& o, ir::Node* out) {
     return;
   }
   if (!ci.static_shape) {
-    h_.changed = true;
-    h_.last_change = "cells of '" + ci.name + "'";
+    learn("cells of '" + ci.name + "'");
     return;
   }
   SVal ov = let(o, "obj");

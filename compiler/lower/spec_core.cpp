@@ -7,6 +7,8 @@
 // runs. `dead_` is set, statements are still built but not attached, and values
 // have type Never, which fits every slot. Blocks restore the flag of their parent.
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 
 #include "compiler/lower/specialise.hpp"
 
@@ -132,8 +134,20 @@ static bool stable(const ir::Node* n) {
   return false;
 }
 
+// Whether a block raises an error on some path.
+bool has_fail(const ir::Block& b) {
+  for (const ir::Stmt* s : b) {
+    if (s->k == ir::SK::Fail || has_fail(s->body) || has_fail(s->other)) return true;
+    for (const auto& [k, c] : s->cases)
+      if (has_fail(c)) return true;
+  }
+  return false;
+}
+
 SVal Specialiser::let(SVal v, const std::string& hint) {
-  if (!v.code || v.type->k == TK::Never || stable(v.code) || is_const(v.code)) return v;
+  // Constants are printed where used, except lists (a vector built at every use).
+  if (!v.code || v.type->k == TK::Never || stable(v.code) || (is_const(v.code) && v.code->op != ir::Op::MakeList))
+    return v;
   ir::Var* t = var(v.type, hint);
   // Reads of places (a global, a variable) are Binds: a reference unless a store
   // can intervene (pass_refs); computed values are immutable temporaries.
@@ -166,6 +180,13 @@ void Specialiser::in_block(ir::Block& b, const std::function<void()>& f) {
 }
 
 SVal Specialiser::never() { return SVal{T().never(), nullptr}; }
+
+// A hint changed: the walk will be repeated (AUTUMN_LOWER_TRACE=1 prints why).
+void Specialiser::learn(const std::string& what) {
+  h_.changed = true;
+  h_.last_change = what;
+  if (std::getenv("AUTUMN_LOWER_TRACE")) std::fprintf(stderr, "  learnt: %s\n", what.c_str());
+}
 
 // ---------------------------------------------------------------------------
 // Errors
@@ -289,6 +310,8 @@ void specialise_program(const Program& p, Module& m) {
     hints.changed = false;
     Specialiser s(p, m, hints);
     s.run();
+    if (std::getenv("AUTUMN_LOWER_TRACE"))  // which hint each walk learnt (debugging the lowering)
+      std::fprintf(stderr, "walk %d: %s\n", walk, hints.changed ? hints.last_change.c_str() : "settled");
     if (!hints.changed) return;
   }
   throw Unsupported{"the types of some variables do not settle (" + hints.last_change + ")", SourceLoc{}};

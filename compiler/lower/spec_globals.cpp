@@ -114,8 +114,7 @@ SVal Specialiser::remove_global(const SVal& v) {
     if (std::find(candidates.begin(), candidates.end(), &g) == candidates.end()) return;
     if (!h_.erasable.count(g.sym)) {
       h_.erasable.insert(g.sym);
-      h_.changed = true;
-      h_.last_change = "global '" + nm(g.sym) + "' may be erased";
+      learn("global '" + nm(g.sym) + "' may be erased");
       return;
     }
     ir::Node* same = same_identity_any(SVal{g.type, slot(g.value)}, {v});
@@ -161,8 +160,7 @@ SVal Specialiser::prev_of_name(Sym s) {
     return SVal{g->type ? g->type : T().never(), nullptr};  // a function: nothing to snapshot
   if (!h_.prev_read.count(s) || g->prev < 0) {  // the next walk keeps a copy
     if (h_.prev_read.insert(s).second) {
-      h_.changed = true;
-      h_.last_change = "prev of '" + nm(s) + "'";
+      learn("prev of '" + nm(s) + "'");
     }
     return never();
   }

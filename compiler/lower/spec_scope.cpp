@@ -186,8 +186,7 @@ void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
     b->home = block_;
     if (!T().fits(v.type, b->type)) {
       h_.locals[b->key] = T().join(b->type, v.type);
-      h_.changed = true;
-      h_.last_change = "local '" + nm(s) + "'";
+      learn("local '" + nm(s) + "'");
       return;
     }
     if (b->place) emit_set(b->place, coerce(v, b->type).code);
@@ -257,15 +256,13 @@ void Specialiser::define_global(Global& g, SVal v) {
   if (!g.type) g.type = v.type;
   if (!T().fits(v.type, g.type)) {
     h_.globals[g.sym] = T().join(g.type, v.type);
-    h_.changed = true;
-    h_.last_change = "global '" + nm(g.sym) + "'";
+    learn("global '" + nm(g.sym) + "'");
     return;
   }
   if (in_step_) {
     if (!h_.runtime_defined.count(g.sym) && g.state != Global::Runtime) {
       h_.runtime_defined.insert(g.sym);
-      h_.changed = true;
-      h_.last_change = "'" + nm(g.sym) + "' is defined while the program runs";
+      learn("'" + nm(g.sym) + "' is defined while the program runs");
       return;
     }
   }
@@ -287,21 +284,18 @@ void Specialiser::store_global(Global& g, SVal v, const Expr& at, bool mark_upda
   if (in_step_ && !h_.stored_in_step.count(g.sym)) {
     h_.stored_in_step.insert(g.sym);
     if (g.constant) {  // a constant global that a step changes is not a constant
-      h_.changed = true;
-      h_.last_change = "global '" + nm(g.sym) + "' changes while the program runs";
+      learn("global '" + nm(g.sym) + "' changes while the program runs");
     }
   }
   if (store_function(g, v)) return;
   if (g.value < 0) {
     h_.globals[g.sym] = g.type ? T().join(g.type, v.type) : v.type;
-    h_.changed = true;
-    h_.last_change = "global '" + nm(g.sym) + "'";
+    learn("global '" + nm(g.sym) + "'");
     return;
   }
   store_checked(g.type, slot(g.value), v, g.sym, [&](TypeP wider) {
     h_.globals[g.sym] = wider;
-    h_.changed = true;
-    h_.last_change = "global '" + nm(g.sym) + "'";
+    learn("global '" + nm(g.sym) + "'");
   });
   if (mark_updated && g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 1));
   if (in_start_ && v.konst && !dead_ && block_ == &fn_->body) g.constant = v;
@@ -319,8 +313,7 @@ void Specialiser::assign(Sym s, SVal v, const Expr& at) {
     Binding& b = *c.b;
     if (!b.mut) {  // a name for a value: the next walk gives it a variable of its own
       if (h_.mutable_bindings.insert(b.key).second) {
-        h_.changed = true;
-        h_.last_change = "'" + nm(s) + "' is assigned";
+        learn("'" + nm(s) + "' is assigned");
       }
       return;
     }
@@ -329,15 +322,13 @@ void Specialiser::assign(Sym s, SVal v, const Expr& at) {
     if (!b.place) {  // a function-valued binding: only the same function fits
       if (v.type != b.type) {
         h_.locals[b.key] = T().join(b.type, v.type);
-        h_.changed = true;
-        h_.last_change = "local '" + nm(s) + "'";
+        learn("local '" + nm(s) + "'");
       }
       return;
     }
     store_checked(b.type, b.place, v, s, [&](TypeP wider) {
       h_.locals[b.key] = wider;
-      h_.changed = true;
-      h_.last_change = "local '" + nm(s) + "'";
+      learn("local '" + nm(s) + "'");
     });
   };
   auto define_here = [&] {

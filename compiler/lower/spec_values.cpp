@@ -288,8 +288,7 @@ void Specialiser::note_identity(TypeP t) {
   if (t->k == TK::Elem) unsupported("identity of rendered elements (removeObj or prev by one)");
   m_.uses_ids = true;
   if (h_.tracked.insert(t).second) {
-    h_.changed = true;
-    h_.last_change = "identity of " + type_string(t);
+    learn("identity of " + type_string(t));
   }
 }
 

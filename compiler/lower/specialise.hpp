@@ -61,8 +61,7 @@ struct Hints {
   std::set<Sym> prev_read;                      // globals read through prev
   std::set<int> stored_cells;                   // classes whose objects carry their cells
   std::set<std::pair<const void*, Sym>> mutable_bindings;  // parameters some assignment targets
-  std::map<int, ir::Node*> shapes;              // class -> the cells all its objects have (in `arena`)
-  ir::Arena arena;
+  std::map<int, ir::Node*> shapes;              // class -> the cells all its objects have (in Module::lasting)
   bool changed = false;
   std::string last_change;                      // for the report when walks do not settle
 };
@@ -144,6 +143,7 @@ class Specialiser {
   std::string type_string(TypeP t);          // the reference's type string
   TypeP declared_type(const TypeExpr& te);   // a (: x T) declaration; null: unknown name
   void dynamic_site(const std::string& why);
+  void learn(const std::string& what);
   [[noreturn]] void unsupported(const std::string& why);
 
   // Effects emitted so far (helper calls that change state, stores to state):
@@ -317,6 +317,8 @@ class Specialiser {
   std::vector<int> class_of_sym_;    // class index by symbol, -1
   std::vector<char> class_defined_;  // start-up: the object statement has run
 };
+
+bool has_fail(const ir::Block& b);
 
 // Runs walks until the hints settle; fills the module. Throws Unsupported.
 void specialise_program(const Program& p, Module& m);
