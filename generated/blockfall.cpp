@@ -63,7 +63,7 @@ struct Prog {
       load_value(r, v.origin);
     }
   };
-  using S129 = std::variant<C0_Piece, std::vector<C1_Block>>;
+  using S128 = std::variant<C0_Piece, std::vector<C1_Block>>;
 
   struct Scratch {
     std::vector<CellV> b0;
@@ -116,7 +116,7 @@ struct Prog {
     std::vector<int32_t> b47;
     std::vector<CellV> b48;
     std::vector<Elem> b49;
-    std::vector<std::vector<Elem>> b50;
+    std::vector<Elem> b50;
     std::vector<Elem> b51;
     std::vector<Elem> b52;
     std::vector<Elem> b53;
@@ -125,7 +125,10 @@ struct Prog {
     std::vector<Elem> b56;
     std::vector<Elem> b57;
     std::vector<Elem> b58;
-    std::vector<Elem> b59;
+    C0_Piece p_piece_10{};
+    bool sv_piece_11{};
+    std::vector<C1_Block> p_stack_14{};
+    bool sv_stack_15{};
   };
   struct State {
     Core core;
@@ -140,10 +143,8 @@ struct Prog {
     Pos g_spawnAt_7{};
     C0_Piece g_piece_8{};
     bool u_piece_9{};
-    C0_Piece p_piece_10{};
-    std::vector<C1_Block> g_stack_11{};
-    bool u_stack_12{};
-    std::vector<C1_Block> p_stack_13{};
+    std::vector<C1_Block> g_stack_12{};
+    bool u_stack_13{};
   };
 
   static int32_t colour_1_C1_Block(State& s, const C1_Block& o1) {
@@ -188,16 +189,16 @@ struct Prog {
     s.g_SpecialConditionTriggered_3 = false;
     s.g_GRID_SIZE_0 = int32_t(8);
     s.g_background_2 = int32_t(1);
-    const std::vector<Pos> list1 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}};
-    const std::vector<Pos> list2 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(0), int32_t(1)}};
-    const std::vector<Pos> list3 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(1), int32_t(1)}};
-    const std::vector<Pos> list4 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(0), int32_t(1)}};
-    const std::vector<Pos> list5 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(1), int32_t(1)}};
-    const std::vector<Pos> list6 = std::vector<Pos>{Pos{int32_t(1), int32_t(0)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(1), int32_t(1)}};
-    const std::vector<Pos> list7 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(2), int32_t(0)}};
-    const std::vector<Pos> list8 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(0), int32_t(2)}};
-    const std::vector<Pos> list9 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(1), int32_t(1)}};
-    std::vector<std::vector<Pos>> list10 = std::vector<std::vector<Pos>>{list1, list2, list3, list4, list5, list6, list7, list8, list9};
+    std::vector<Pos> list1 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}};
+    std::vector<Pos> list2 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(0), int32_t(1)}};
+    std::vector<Pos> list3 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(1), int32_t(1)}};
+    std::vector<Pos> list4 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(0), int32_t(1)}};
+    std::vector<Pos> list5 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(1), int32_t(1)}};
+    std::vector<Pos> list6 = std::vector<Pos>{Pos{int32_t(1), int32_t(0)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(1), int32_t(1)}};
+    std::vector<Pos> list7 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(2), int32_t(0)}};
+    std::vector<Pos> list8 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(0), int32_t(2)}};
+    std::vector<Pos> list9 = std::vector<Pos>{Pos{int32_t(0), int32_t(0)}, Pos{int32_t(1), int32_t(0)}, Pos{int32_t(0), int32_t(1)}, Pos{int32_t(1), int32_t(1)}};
+    std::vector<std::vector<Pos>> list10 = std::vector<std::vector<Pos>>{std::move(list1), std::move(list2), std::move(list3), std::move(list4), std::move(list5), std::move(list6), std::move(list7), std::move(list8), std::move(list9)};
     s.g_shapes_4 = std::move(list10);
     std::vector<int32_t> list11 = std::vector<int32_t>{int32_t(1), int32_t(0), int32_t(3), int32_t(4), int32_t(5), int32_t(2), int32_t(7), int32_t(6), int32_t(8)};
     s.g_turnOf_5 = std::move(list11);
@@ -226,34 +227,31 @@ struct Prog {
     out20.reserve(size_t(int32_t(t19.size())));
     for (const Pos& x21 : t19) {
       // inlined: function at programs/blockfall.au:24
-      const std::vector<int32_t>& g22 = s.g_hues_6;
-      const CellV cell23 = CellV{x21.x, x21.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-      out20.push_back(cell23);
+      const CellV cell22 = CellV{x21.x, x21.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+      out20.push_back(cell22);
     }
     std::swap(l_allCells17, out20);
-    const std::vector<CellV>& v24 = l_allCells17;
-    const std::vector<CellV>& v25 = l_allCells17;
-    C0_Piece o26 = C0_Piece{t15, g16, v25};
-    s.g_piece_8 = std::move(o26);
+    C0_Piece o23 = C0_Piece{t15, g16, std::move(l_allCells17)};
+    s.g_piece_8 = std::move(o23);
     s.u_piece_9 = false;
     // init stack, programs/blockfall.au:28
-    s.g_stack_11 = std::vector<C1_Block>{};
-    s.u_stack_12 = false;
+    s.g_stack_12 = std::vector<C1_Block>{};
+    s.u_stack_13 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_stack_13 = s.g_stack_11;
-    s.p_piece_10 = s.g_piece_8;
+    s.scratch.v.sv_stack_15 = false;
+    s.scratch.v.sv_piece_11 = false;
     s.u_piece_9 = false;
-    s.u_stack_12 = false;
+    s.u_stack_13 = false;
     // on-clause 1, programs/blockfall.au:45
     {
       const bool t1 = s.core.left;
       if (t1) {
         s.core.covered[int32_t(0)] = 1;
-        const C0_Piece& prev2 = s.p_piece_10;
+        const C0_Piece& prev2 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
         const int32_t t3 = add(prev2.origin.x, int32_t(-1));
         const int32_t t4 = add(prev2.origin.y, int32_t(0));
         const Pos t5 = Pos{t3, t4};
@@ -290,392 +288,385 @@ struct Prog {
           rendered19.clear();
           render_C0_Piece(s, upd14, rendered19);
           std::swap(l_curr_elems16, rendered19);
-          const std::vector<Elem>& v20 = l_curr_elems16;
-          std::vector<Elem>& out21 = s.scratch.v.b7;
-          out21.clear();
-          for (const Elem& x22 : v20) {
-            const std::vector<Elem>& v23 = l_prev_elems15;
-            bool any24 = false;
-            for (const Elem& x25 : v23) {
-              const bool t26 = (x25 == x22);
-              if (t26) {
-                any24 = true;
+          std::vector<Elem>& out20 = s.scratch.v.b7;
+          out20.clear();
+          for (const Elem& x21 : l_curr_elems16) {
+            bool any22 = false;
+            for (const Elem& x23 : l_prev_elems15) {
+              const bool t24 = (x23 == x21);
+              if (t24) {
+                any22 = true;
                 break;
               }
             }
-            const bool t27 = !any24;
-            if (t27) {
-              out21.push_back(x22);
+            const bool t25 = !any22;
+            if (t25) {
+              out20.push_back(x21);
             }
           }
-          std::swap(l_filtered_elems17, out21);
-          const std::vector<Elem>& v28 = l_filtered_elems17;
-          bool any29 = false;
-          for (const Elem& x30 : v28) {
-            const bool t31 = s.core.occupied.free(x30.position);
-            const bool t32 = !t31;
-            if (t32) {
-              any29 = true;
+          std::swap(l_filtered_elems17, out20);
+          bool any26 = false;
+          for (const Elem& x27 : l_filtered_elems17) {
+            const bool t28 = s.core.occupied.free(x27.position);
+            const bool t29 = !t28;
+            if (t29) {
+              any26 = true;
               break;
             }
           }
-          const bool t33 = !any29;
-          r10 = t33;
+          const bool t30 = !any26;
+          r10 = t30;
         } else {
           r10 = false;
         }
-        C0_Piece r34{};
+        C0_Piece r31{};
         if (r10) {
-          const int32_t t35 = add(prev2.origin.x, int32_t(-1));
-          const int32_t t36 = add(prev2.origin.y, int32_t(0));
-          const Pos t37 = Pos{t35, t36};
-          C0_Piece upd38 = prev2;
-          upd38.origin = t37;
-          r34 = std::move(upd38);
+          const int32_t t32 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t33 = add(prev2.origin.y, int32_t(0));
+          const Pos t34 = Pos{t32, t33};
+          C0_Piece upd35 = prev2;
+          upd35.origin = t34;
+          r31 = std::move(upd35);
         } else {
-          r34 = prev2;
+          r31 = prev2;
         }
-        s.g_piece_8 = std::move(r34);
+        if (!s.scratch.v.sv_piece_11) {
+          s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+          s.scratch.v.sv_piece_11 = true;
+        }
+        s.g_piece_8 = std::move(r31);
         s.u_piece_9 = true;
       }
     }
     // on-clause 2, programs/blockfall.au:46
     {
-      const bool t39 = s.core.right;
-      if (t39) {
+      const bool t36 = s.core.right;
+      if (t36) {
         s.core.covered[int32_t(1)] = 1;
-        const C0_Piece& prev40 = s.p_piece_10;
-        bool l_wbound41{};
-        bool l_fr42{};
-        C0_Piece l_ret43{};
-        const int32_t t44 = add(prev40.origin.x, int32_t(1));
-        const int32_t t45 = add(prev40.origin.y, int32_t(0));
-        const Pos t46 = Pos{t44, t45};
-        C0_Piece upd47 = prev40;
-        upd47.origin = t46;
-        std::vector<Elem>& rendered48 = s.scratch.v.b8;
-        rendered48.clear();
-        render_C0_Piece(s, upd47, rendered48);
-        bool within49 = true;
-        for (const Elem& e50 : rendered48) {
-          if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(8))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(8))))) {
-            within49 = false;
+        const C0_Piece& prev37 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+        bool l_wbound38{};
+        bool l_fr39{};
+        C0_Piece l_ret40{};
+        const int32_t t41 = add(prev37.origin.x, int32_t(1));
+        const int32_t t42 = add(prev37.origin.y, int32_t(0));
+        const Pos t43 = Pos{t41, t42};
+        C0_Piece upd44 = prev37;
+        upd44.origin = t43;
+        std::vector<Elem>& rendered45 = s.scratch.v.b8;
+        rendered45.clear();
+        render_C0_Piece(s, upd44, rendered45);
+        bool within46 = true;
+        for (const Elem& e47 : rendered45) {
+          if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(8))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(8))))) {
+            within46 = false;
             break;
           }
         }
-        l_wbound41 = within49;
-        const int32_t t51 = add(prev40.origin.x, int32_t(1));
-        const int32_t t52 = add(prev40.origin.y, int32_t(0));
-        const Pos t53 = Pos{t51, t52};
-        C0_Piece upd54 = prev40;
-        upd54.origin = t53;
-        std::vector<Elem>& l_prev_elems55 = s.scratch.v.b9;
-        l_prev_elems55.clear();
-        std::vector<Elem>& l_curr_elems56 = s.scratch.v.b10;
-        l_curr_elems56.clear();
-        std::vector<Elem>& l_filtered_elems57 = s.scratch.v.b11;
-        l_filtered_elems57.clear();
-        std::vector<Elem>& rendered58 = s.scratch.v.b12;
-        rendered58.clear();
-        render_C0_Piece(s, prev40, rendered58);
-        std::swap(l_prev_elems55, rendered58);
-        std::vector<Elem>& rendered59 = s.scratch.v.b13;
-        rendered59.clear();
-        render_C0_Piece(s, upd54, rendered59);
-        std::swap(l_curr_elems56, rendered59);
-        const std::vector<Elem>& v60 = l_curr_elems56;
-        std::vector<Elem>& out61 = s.scratch.v.b14;
-        out61.clear();
-        for (const Elem& x62 : v60) {
-          const std::vector<Elem>& v63 = l_prev_elems55;
-          bool any64 = false;
-          for (const Elem& x65 : v63) {
-            const bool t66 = (x65 == x62);
-            if (t66) {
-              any64 = true;
+        l_wbound38 = within46;
+        const int32_t t48 = add(prev37.origin.x, int32_t(1));
+        const int32_t t49 = add(prev37.origin.y, int32_t(0));
+        const Pos t50 = Pos{t48, t49};
+        C0_Piece upd51 = prev37;
+        upd51.origin = t50;
+        std::vector<Elem>& l_prev_elems52 = s.scratch.v.b9;
+        l_prev_elems52.clear();
+        std::vector<Elem>& l_curr_elems53 = s.scratch.v.b10;
+        l_curr_elems53.clear();
+        std::vector<Elem>& l_filtered_elems54 = s.scratch.v.b11;
+        l_filtered_elems54.clear();
+        std::vector<Elem>& rendered55 = s.scratch.v.b12;
+        rendered55.clear();
+        render_C0_Piece(s, prev37, rendered55);
+        std::swap(l_prev_elems52, rendered55);
+        std::vector<Elem>& rendered56 = s.scratch.v.b13;
+        rendered56.clear();
+        render_C0_Piece(s, upd51, rendered56);
+        std::swap(l_curr_elems53, rendered56);
+        std::vector<Elem>& out57 = s.scratch.v.b14;
+        out57.clear();
+        for (const Elem& x58 : l_curr_elems53) {
+          bool any59 = false;
+          for (const Elem& x60 : l_prev_elems52) {
+            const bool t61 = (x60 == x58);
+            if (t61) {
+              any59 = true;
               break;
             }
           }
-          const bool t67 = !any64;
-          if (t67) {
-            out61.push_back(x62);
+          const bool t62 = !any59;
+          if (t62) {
+            out57.push_back(x58);
           }
         }
-        std::swap(l_filtered_elems57, out61);
-        const std::vector<Elem>& v68 = l_filtered_elems57;
-        bool any69 = false;
-        for (const Elem& x70 : v68) {
-          const bool t71 = s.core.occupied.free(x70.position);
-          const bool t72 = !t71;
-          if (t72) {
-            any69 = true;
+        std::swap(l_filtered_elems54, out57);
+        bool any63 = false;
+        for (const Elem& x64 : l_filtered_elems54) {
+          const bool t65 = s.core.occupied.free(x64.position);
+          const bool t66 = !t65;
+          if (t66) {
+            any63 = true;
             break;
           }
         }
-        const bool t73 = !any69;
-        l_fr42 = t73;
-        const bool& v74 = l_wbound41;
-        bool r75{};
-        if (v74) {
-          const bool& v76 = l_fr42;
-          r75 = v76;
+        const bool t67 = !any63;
+        l_fr39 = t67;
+        bool r68{};
+        if (l_wbound38) {
+          r68 = l_fr39;
         } else {
-          r75 = false;
+          r68 = false;
         }
-        C0_Piece r77{};
-        if (r75) {
-          const int32_t t78 = add(prev40.origin.x, int32_t(1));
-          const int32_t t79 = add(prev40.origin.y, int32_t(0));
-          const Pos t80 = Pos{t78, t79};
-          C0_Piece upd81 = prev40;
-          upd81.origin = t80;
-          r77 = std::move(upd81);
+        C0_Piece r69{};
+        if (r68) {
+          const int32_t t70 = add(prev37.origin.x, int32_t(1));
+          const int32_t t71 = add(prev37.origin.y, int32_t(0));
+          const Pos t72 = Pos{t70, t71};
+          C0_Piece upd73 = prev37;
+          upd73.origin = t72;
+          r69 = std::move(upd73);
         } else {
-          r77 = prev40;
+          r69 = prev37;
         }
-        l_ret43 = std::move(r77);
-        const C0_Piece& v82 = l_ret43;
-        s.g_piece_8 = v82;
+        l_ret40 = std::move(r69);
+        if (!s.scratch.v.sv_piece_11) {
+          s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+          s.scratch.v.sv_piece_11 = true;
+        }
+        s.g_piece_8 = std::move(l_ret40);
         s.u_piece_9 = true;
       }
     }
     // on-clause 3, programs/blockfall.au:47
     {
-      const bool t83 = s.core.up;
-      bool r84{};
-      if (t83) {
-        const C0_Piece& prev85 = s.p_piece_10;
+      const bool t74 = s.core.up;
+      bool r75{};
+      if (t74) {
+        const C0_Piece& prev76 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
         // inlined: function at programs/blockfall.au:33
-        const std::vector<int32_t>& g86 = s.g_turnOf_5;
-        if (g86.empty()) {
+        const std::vector<int32_t>& g77 = s.g_turnOf_5;
+        if (g77.empty()) {
           fail_at(2, std::string() + std::string("at: empty list"));
         }
-        if (((prev85.f0 < int32_t(0)) || (prev85.f0 >= int32_t(g86.size())))) {
-          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev85.f0) + std::string(" out of bounds"));
+        if (((prev76.f0 < int32_t(0)) || (prev76.f0 >= int32_t(g77.size())))) {
+          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev76.f0) + std::string(" out of bounds"));
         }
-        const int32_t t87 = g86[size_t(prev85.f0)];
-        std::vector<CellV> l_allCells88{};
-        const std::vector<std::vector<Pos>>& g89 = s.g_shapes_4;
-        if (g89.empty()) {
+        const int32_t t78 = g77[size_t(prev76.f0)];
+        std::vector<CellV> l_allCells79{};
+        const std::vector<std::vector<Pos>>& g80 = s.g_shapes_4;
+        if (g80.empty()) {
           fail_at(3, std::string() + std::string("at: empty list"));
         }
-        if (((t87 < int32_t(0)) || (t87 >= int32_t(g89.size())))) {
-          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t87) + std::string(" out of bounds"));
+        if (((t78 < int32_t(0)) || (t78 >= int32_t(g80.size())))) {
+          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t78) + std::string(" out of bounds"));
         }
-        const std::vector<Pos> t90 = g89[size_t(t87)];
-        std::vector<CellV>& out91 = s.scratch.v.b15;
-        out91.clear();
-        out91.reserve(size_t(int32_t(t90.size())));
-        for (const Pos& x92 : t90) {
+        const std::vector<Pos> t81 = g80[size_t(t78)];
+        std::vector<CellV>& out82 = s.scratch.v.b15;
+        out82.clear();
+        out82.reserve(size_t(int32_t(t81.size())));
+        for (const Pos& x83 : t81) {
           // inlined: function at programs/blockfall.au:24
-          const std::vector<int32_t>& g93 = s.g_hues_6;
-          const CellV cell94 = CellV{x92.x, x92.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-          out91.push_back(cell94);
+          const CellV cell84 = CellV{x83.x, x83.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+          out82.push_back(cell84);
         }
-        std::swap(l_allCells88, out91);
-        const std::vector<CellV>& v95 = l_allCells88;
-        const std::vector<CellV>& v96 = l_allCells88;
-        const C0_Piece o97 = C0_Piece{t87, prev85.origin, v96};
-        const C0_Piece& prev98 = s.p_piece_10;
+        std::swap(l_allCells79, out82);
+        const C0_Piece o85 = C0_Piece{t78, prev76.origin, std::move(l_allCells79)};
+        const C0_Piece& prev86 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
         // inlined: function at programs/blockfall.au:34
-        std::vector<Elem>& rendered99 = s.scratch.v.b16;
-        rendered99.clear();
-        render_C0_Piece(s, o97, rendered99);
-        bool within100 = true;
-        for (const Elem& e101 : rendered99) {
-          if ((((e101.position.x < int32_t(0)) || (e101.position.x >= int32_t(8))) || ((e101.position.y < int32_t(0)) || (e101.position.y >= int32_t(8))))) {
-            within100 = false;
+        std::vector<Elem>& rendered87 = s.scratch.v.b16;
+        rendered87.clear();
+        render_C0_Piece(s, o85, rendered87);
+        bool within88 = true;
+        for (const Elem& e89 : rendered87) {
+          if ((((e89.position.x < int32_t(0)) || (e89.position.x >= int32_t(8))) || ((e89.position.y < int32_t(0)) || (e89.position.y >= int32_t(8))))) {
+            within88 = false;
             break;
           }
         }
-        bool r102{};
-        if (within100) {
-          std::vector<Elem>& l_prev_elems103 = s.scratch.v.b17;
-          l_prev_elems103.clear();
-          std::vector<Elem>& l_curr_elems104 = s.scratch.v.b18;
-          l_curr_elems104.clear();
-          std::vector<Elem>& l_filtered_elems105 = s.scratch.v.b19;
-          l_filtered_elems105.clear();
-          std::vector<Elem>& rendered106 = s.scratch.v.b20;
-          rendered106.clear();
-          render_C0_Piece(s, prev98, rendered106);
-          std::swap(l_prev_elems103, rendered106);
-          std::vector<Elem>& rendered107 = s.scratch.v.b21;
-          rendered107.clear();
-          render_C0_Piece(s, o97, rendered107);
-          std::swap(l_curr_elems104, rendered107);
-          const std::vector<Elem>& v108 = l_curr_elems104;
-          std::vector<Elem>& out109 = s.scratch.v.b22;
-          out109.clear();
-          for (const Elem& x110 : v108) {
-            const std::vector<Elem>& v111 = l_prev_elems103;
-            bool any112 = false;
-            for (const Elem& x113 : v111) {
-              const bool t114 = (x113 == x110);
-              if (t114) {
-                any112 = true;
+        bool r90{};
+        if (within88) {
+          std::vector<Elem>& l_prev_elems91 = s.scratch.v.b17;
+          l_prev_elems91.clear();
+          std::vector<Elem>& l_curr_elems92 = s.scratch.v.b18;
+          l_curr_elems92.clear();
+          std::vector<Elem>& l_filtered_elems93 = s.scratch.v.b19;
+          l_filtered_elems93.clear();
+          std::vector<Elem>& rendered94 = s.scratch.v.b20;
+          rendered94.clear();
+          render_C0_Piece(s, prev86, rendered94);
+          std::swap(l_prev_elems91, rendered94);
+          std::vector<Elem>& rendered95 = s.scratch.v.b21;
+          rendered95.clear();
+          render_C0_Piece(s, o85, rendered95);
+          std::swap(l_curr_elems92, rendered95);
+          std::vector<Elem>& out96 = s.scratch.v.b22;
+          out96.clear();
+          for (const Elem& x97 : l_curr_elems92) {
+            bool any98 = false;
+            for (const Elem& x99 : l_prev_elems91) {
+              const bool t100 = (x99 == x97);
+              if (t100) {
+                any98 = true;
                 break;
               }
             }
-            const bool t115 = !any112;
-            if (t115) {
-              out109.push_back(x110);
+            const bool t101 = !any98;
+            if (t101) {
+              out96.push_back(x97);
             }
           }
-          std::swap(l_filtered_elems105, out109);
-          const std::vector<Elem>& v116 = l_filtered_elems105;
-          bool any117 = false;
-          for (const Elem& x118 : v116) {
-            const bool t119 = s.core.occupied.free(x118.position);
-            const bool t120 = !t119;
-            if (t120) {
-              any117 = true;
+          std::swap(l_filtered_elems93, out96);
+          bool any102 = false;
+          for (const Elem& x103 : l_filtered_elems93) {
+            const bool t104 = s.core.occupied.free(x103.position);
+            const bool t105 = !t104;
+            if (t105) {
+              any102 = true;
               break;
             }
           }
-          const bool t121 = !any117;
-          r102 = t121;
+          const bool t106 = !any102;
+          r90 = t106;
         } else {
-          r102 = false;
+          r90 = false;
         }
-        r84 = r102;
+        r75 = r90;
       } else {
-        r84 = false;
+        r75 = false;
       }
-      if (r84) {
+      if (r75) {
         s.core.covered[int32_t(2)] = 1;
-        const C0_Piece& prev122 = s.p_piece_10;
+        const C0_Piece& prev107 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
         // inlined: function at programs/blockfall.au:33
-        const std::vector<int32_t>& g123 = s.g_turnOf_5;
-        if (g123.empty()) {
+        const std::vector<int32_t>& g108 = s.g_turnOf_5;
+        if (g108.empty()) {
           fail_at(2, std::string() + std::string("at: empty list"));
         }
-        if (((prev122.f0 < int32_t(0)) || (prev122.f0 >= int32_t(g123.size())))) {
-          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev122.f0) + std::string(" out of bounds"));
+        if (((prev107.f0 < int32_t(0)) || (prev107.f0 >= int32_t(g108.size())))) {
+          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev107.f0) + std::string(" out of bounds"));
         }
-        const int32_t t124 = g123[size_t(prev122.f0)];
-        std::vector<CellV> l_allCells125{};
-        const std::vector<std::vector<Pos>>& g126 = s.g_shapes_4;
-        if (g126.empty()) {
+        const int32_t t109 = g108[size_t(prev107.f0)];
+        std::vector<CellV> l_allCells110{};
+        const std::vector<std::vector<Pos>>& g111 = s.g_shapes_4;
+        if (g111.empty()) {
           fail_at(3, std::string() + std::string("at: empty list"));
         }
-        if (((t124 < int32_t(0)) || (t124 >= int32_t(g126.size())))) {
-          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t124) + std::string(" out of bounds"));
+        if (((t109 < int32_t(0)) || (t109 >= int32_t(g111.size())))) {
+          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t109) + std::string(" out of bounds"));
         }
-        const std::vector<Pos> t127 = g126[size_t(t124)];
-        std::vector<CellV>& out128 = s.scratch.v.b23;
-        out128.clear();
-        out128.reserve(size_t(int32_t(t127.size())));
-        for (const Pos& x129 : t127) {
+        const std::vector<Pos> t112 = g111[size_t(t109)];
+        std::vector<CellV>& out113 = s.scratch.v.b23;
+        out113.clear();
+        out113.reserve(size_t(int32_t(t112.size())));
+        for (const Pos& x114 : t112) {
           // inlined: function at programs/blockfall.au:24
-          const std::vector<int32_t>& g130 = s.g_hues_6;
-          const CellV cell131 = CellV{x129.x, x129.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-          out128.push_back(cell131);
+          const CellV cell115 = CellV{x114.x, x114.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+          out113.push_back(cell115);
         }
-        std::swap(l_allCells125, out128);
-        const std::vector<CellV>& v132 = l_allCells125;
-        const std::vector<CellV>& v133 = l_allCells125;
-        C0_Piece o134 = C0_Piece{t124, prev122.origin, v133};
-        s.g_piece_8 = std::move(o134);
+        std::swap(l_allCells110, out113);
+        C0_Piece o116 = C0_Piece{t109, prev107.origin, std::move(l_allCells110)};
+        if (!s.scratch.v.sv_piece_11) {
+          s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+          s.scratch.v.sv_piece_11 = true;
+        }
+        s.g_piece_8 = std::move(o116);
         s.u_piece_9 = true;
       }
     }
     // on-clause 4, programs/blockfall.au:48
     {
-      const bool t135 = s.core.down;
-      if (t135) {
+      const bool t117 = s.core.down;
+      if (t117) {
         s.core.covered[int32_t(3)] = 1;
-        const C0_Piece& prev136 = s.p_piece_10;
-        const std::vector<int32_t> list137 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
-        C0_Piece acc138 = prev136;
-        for (const int32_t& x139 : list137) {
-          const C0_Piece& a140 = acc138;
+        const C0_Piece& prev118 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+        const std::vector<int32_t> list119 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
+        C0_Piece acc120 = prev118;
+        for (const int32_t& x121 : list119) {
           // inlined: function at programs/blockfall.au:48
-          const int32_t t141 = add(a140.origin.x, int32_t(0));
-          const int32_t t142 = add(a140.origin.y, int32_t(1));
-          const Pos t143 = Pos{t141, t142};
-          C0_Piece upd144 = a140;
-          upd144.origin = t143;
-          std::vector<Elem>& rendered145 = s.scratch.v.b24;
-          rendered145.clear();
-          render_C0_Piece(s, upd144, rendered145);
-          bool within146 = true;
-          for (const Elem& e147 : rendered145) {
-            if ((((e147.position.x < int32_t(0)) || (e147.position.x >= int32_t(8))) || ((e147.position.y < int32_t(0)) || (e147.position.y >= int32_t(8))))) {
-              within146 = false;
+          const int32_t t122 = add(acc120.origin.x, int32_t(0));
+          const int32_t t123 = add(acc120.origin.y, int32_t(1));
+          const Pos t124 = Pos{t122, t123};
+          C0_Piece upd125 = acc120;
+          upd125.origin = t124;
+          std::vector<Elem>& rendered126 = s.scratch.v.b24;
+          rendered126.clear();
+          render_C0_Piece(s, upd125, rendered126);
+          bool within127 = true;
+          for (const Elem& e128 : rendered126) {
+            if ((((e128.position.x < int32_t(0)) || (e128.position.x >= int32_t(8))) || ((e128.position.y < int32_t(0)) || (e128.position.y >= int32_t(8))))) {
+              within127 = false;
               break;
             }
           }
-          bool r148{};
-          if (within146) {
-            const int32_t t149 = add(a140.origin.x, int32_t(0));
-            const int32_t t150 = add(a140.origin.y, int32_t(1));
-            const Pos t151 = Pos{t149, t150};
-            C0_Piece upd152 = a140;
-            upd152.origin = t151;
-            std::vector<Elem>& l_prev_elems153 = s.scratch.v.b25;
-            l_prev_elems153.clear();
-            std::vector<Elem>& l_curr_elems154 = s.scratch.v.b26;
-            l_curr_elems154.clear();
-            std::vector<Elem>& l_filtered_elems155 = s.scratch.v.b27;
-            l_filtered_elems155.clear();
-            std::vector<Elem>& rendered156 = s.scratch.v.b28;
-            rendered156.clear();
-            render_C0_Piece(s, a140, rendered156);
-            std::swap(l_prev_elems153, rendered156);
-            std::vector<Elem>& rendered157 = s.scratch.v.b29;
-            rendered157.clear();
-            render_C0_Piece(s, upd152, rendered157);
-            std::swap(l_curr_elems154, rendered157);
-            const std::vector<Elem>& v158 = l_curr_elems154;
-            std::vector<Elem>& out159 = s.scratch.v.b30;
-            out159.clear();
-            for (const Elem& x160 : v158) {
-              const std::vector<Elem>& v161 = l_prev_elems153;
-              bool any162 = false;
-              for (const Elem& x163 : v161) {
-                const bool t164 = (x163 == x160);
-                if (t164) {
-                  any162 = true;
+          bool r129{};
+          if (within127) {
+            const int32_t t130 = add(acc120.origin.x, int32_t(0));
+            const int32_t t131 = add(acc120.origin.y, int32_t(1));
+            const Pos t132 = Pos{t130, t131};
+            C0_Piece upd133 = acc120;
+            upd133.origin = t132;
+            std::vector<Elem>& l_prev_elems134 = s.scratch.v.b25;
+            l_prev_elems134.clear();
+            std::vector<Elem>& l_curr_elems135 = s.scratch.v.b26;
+            l_curr_elems135.clear();
+            std::vector<Elem>& l_filtered_elems136 = s.scratch.v.b27;
+            l_filtered_elems136.clear();
+            std::vector<Elem>& rendered137 = s.scratch.v.b28;
+            rendered137.clear();
+            render_C0_Piece(s, acc120, rendered137);
+            std::swap(l_prev_elems134, rendered137);
+            std::vector<Elem>& rendered138 = s.scratch.v.b29;
+            rendered138.clear();
+            render_C0_Piece(s, upd133, rendered138);
+            std::swap(l_curr_elems135, rendered138);
+            std::vector<Elem>& out139 = s.scratch.v.b30;
+            out139.clear();
+            for (const Elem& x140 : l_curr_elems135) {
+              bool any141 = false;
+              for (const Elem& x142 : l_prev_elems134) {
+                const bool t143 = (x142 == x140);
+                if (t143) {
+                  any141 = true;
                   break;
                 }
               }
-              const bool t165 = !any162;
-              if (t165) {
-                out159.push_back(x160);
+              const bool t144 = !any141;
+              if (t144) {
+                out139.push_back(x140);
               }
             }
-            std::swap(l_filtered_elems155, out159);
-            const std::vector<Elem>& v166 = l_filtered_elems155;
-            bool any167 = false;
-            for (const Elem& x168 : v166) {
-              const bool t169 = s.core.occupied.free(x168.position);
-              const bool t170 = !t169;
-              if (t170) {
-                any167 = true;
+            std::swap(l_filtered_elems136, out139);
+            bool any145 = false;
+            for (const Elem& x146 : l_filtered_elems136) {
+              const bool t147 = s.core.occupied.free(x146.position);
+              const bool t148 = !t147;
+              if (t148) {
+                any145 = true;
                 break;
               }
             }
-            const bool t171 = !any167;
-            r148 = t171;
+            const bool t149 = !any145;
+            r129 = t149;
           } else {
-            r148 = false;
+            r129 = false;
           }
-          C0_Piece r172{};
-          if (r148) {
-            const int32_t t173 = add(a140.origin.x, int32_t(0));
-            const int32_t t174 = add(a140.origin.y, int32_t(1));
-            const Pos t175 = Pos{t173, t174};
-            C0_Piece upd176 = a140;
-            upd176.origin = t175;
-            r172 = std::move(upd176);
+          C0_Piece r150{};
+          if (r129) {
+            const int32_t t151 = add(acc120.origin.x, int32_t(0));
+            const int32_t t152 = add(acc120.origin.y, int32_t(1));
+            const Pos t153 = Pos{t151, t152};
+            C0_Piece upd154 = acc120;
+            upd154.origin = t153;
+            r150 = std::move(upd154);
           } else {
-            r172 = a140;
+            r150 = acc120;
           }
-          acc138 = std::move(r172);
+          acc120 = std::move(r150);
         }
-        const C0_Piece& folded177 = acc138;
-        s.g_piece_8 = folded177;
+        if (!s.scratch.v.sv_piece_11) {
+          s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+          s.scratch.v.sv_piece_11 = true;
+        }
+        s.g_piece_8 = std::move(acc120);
         s.u_piece_9 = true;
       }
     }
@@ -683,379 +674,383 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(4)] = 1;
-        const C0_Piece& g178 = s.g_piece_8;
+        const C0_Piece& g155 = s.g_piece_8;
         // inlined: function at programs/blockfall.au:35
-        const int32_t t179 = add(g178.origin.x, int32_t(0));
-        const int32_t t180 = add(g178.origin.y, int32_t(1));
-        const Pos t181 = Pos{t179, t180};
-        C0_Piece upd182 = g178;
-        upd182.origin = t181;
-        std::vector<Elem>& rendered183 = s.scratch.v.b31;
-        rendered183.clear();
-        render_C0_Piece(s, upd182, rendered183);
-        bool within184 = true;
-        for (const Elem& e185 : rendered183) {
-          if ((((e185.position.x < int32_t(0)) || (e185.position.x >= int32_t(8))) || ((e185.position.y < int32_t(0)) || (e185.position.y >= int32_t(8))))) {
-            within184 = false;
+        const int32_t t156 = add(g155.origin.x, int32_t(0));
+        const int32_t t157 = add(g155.origin.y, int32_t(1));
+        const Pos t158 = Pos{t156, t157};
+        C0_Piece upd159 = g155;
+        upd159.origin = t158;
+        std::vector<Elem>& rendered160 = s.scratch.v.b31;
+        rendered160.clear();
+        render_C0_Piece(s, upd159, rendered160);
+        bool within161 = true;
+        for (const Elem& e162 : rendered160) {
+          if ((((e162.position.x < int32_t(0)) || (e162.position.x >= int32_t(8))) || ((e162.position.y < int32_t(0)) || (e162.position.y >= int32_t(8))))) {
+            within161 = false;
             break;
           }
         }
-        bool r186{};
-        if (within184) {
-          const int32_t t187 = add(g178.origin.x, int32_t(0));
-          const int32_t t188 = add(g178.origin.y, int32_t(1));
-          const Pos t189 = Pos{t187, t188};
-          C0_Piece upd190 = g178;
-          upd190.origin = t189;
-          std::vector<Elem>& l_prev_elems191 = s.scratch.v.b32;
-          l_prev_elems191.clear();
-          std::vector<Elem>& l_curr_elems192 = s.scratch.v.b33;
-          l_curr_elems192.clear();
-          std::vector<Elem>& l_filtered_elems193 = s.scratch.v.b34;
-          l_filtered_elems193.clear();
-          std::vector<Elem>& rendered194 = s.scratch.v.b35;
-          rendered194.clear();
-          render_C0_Piece(s, g178, rendered194);
-          std::swap(l_prev_elems191, rendered194);
-          std::vector<Elem>& rendered195 = s.scratch.v.b36;
-          rendered195.clear();
-          render_C0_Piece(s, upd190, rendered195);
-          std::swap(l_curr_elems192, rendered195);
-          const std::vector<Elem>& v196 = l_curr_elems192;
-          std::vector<Elem>& out197 = s.scratch.v.b37;
-          out197.clear();
-          for (const Elem& x198 : v196) {
-            const std::vector<Elem>& v199 = l_prev_elems191;
-            bool any200 = false;
-            for (const Elem& x201 : v199) {
-              const bool t202 = (x201 == x198);
-              if (t202) {
-                any200 = true;
+        bool r163{};
+        if (within161) {
+          const int32_t t164 = add(g155.origin.x, int32_t(0));
+          const int32_t t165 = add(g155.origin.y, int32_t(1));
+          const Pos t166 = Pos{t164, t165};
+          C0_Piece upd167 = g155;
+          upd167.origin = t166;
+          std::vector<Elem>& l_prev_elems168 = s.scratch.v.b32;
+          l_prev_elems168.clear();
+          std::vector<Elem>& l_curr_elems169 = s.scratch.v.b33;
+          l_curr_elems169.clear();
+          std::vector<Elem>& l_filtered_elems170 = s.scratch.v.b34;
+          l_filtered_elems170.clear();
+          std::vector<Elem>& rendered171 = s.scratch.v.b35;
+          rendered171.clear();
+          render_C0_Piece(s, g155, rendered171);
+          std::swap(l_prev_elems168, rendered171);
+          std::vector<Elem>& rendered172 = s.scratch.v.b36;
+          rendered172.clear();
+          render_C0_Piece(s, upd167, rendered172);
+          std::swap(l_curr_elems169, rendered172);
+          std::vector<Elem>& out173 = s.scratch.v.b37;
+          out173.clear();
+          for (const Elem& x174 : l_curr_elems169) {
+            bool any175 = false;
+            for (const Elem& x176 : l_prev_elems168) {
+              const bool t177 = (x176 == x174);
+              if (t177) {
+                any175 = true;
                 break;
               }
             }
-            const bool t203 = !any200;
-            if (t203) {
-              out197.push_back(x198);
+            const bool t178 = !any175;
+            if (t178) {
+              out173.push_back(x174);
             }
           }
-          std::swap(l_filtered_elems193, out197);
-          const std::vector<Elem>& v204 = l_filtered_elems193;
-          bool any205 = false;
-          for (const Elem& x206 : v204) {
-            const bool t207 = s.core.occupied.free(x206.position);
-            const bool t208 = !t207;
-            if (t208) {
-              any205 = true;
+          std::swap(l_filtered_elems170, out173);
+          bool any179 = false;
+          for (const Elem& x180 : l_filtered_elems170) {
+            const bool t181 = s.core.occupied.free(x180.position);
+            const bool t182 = !t181;
+            if (t182) {
+              any179 = true;
               break;
             }
           }
-          const bool t209 = !any205;
-          r186 = t209;
+          const bool t183 = !any179;
+          r163 = t183;
         } else {
-          r186 = false;
+          r163 = false;
         }
-        C0_Piece r210{};
-        if (r186) {
-          const int32_t t211 = add(g178.origin.x, int32_t(0));
-          const int32_t t212 = add(g178.origin.y, int32_t(1));
-          const Pos t213 = Pos{t211, t212};
-          C0_Piece upd214 = g178;
-          upd214.origin = t213;
-          r210 = std::move(upd214);
+        C0_Piece r184{};
+        if (r163) {
+          const int32_t t185 = add(g155.origin.x, int32_t(0));
+          const int32_t t186 = add(g155.origin.y, int32_t(1));
+          const Pos t187 = Pos{t185, t186};
+          C0_Piece upd188 = g155;
+          upd188.origin = t187;
+          r184 = std::move(upd188);
         } else {
-          r210 = g178;
+          r184 = g155;
         }
-        const bool t215 = (r210.origin == g178.origin);
-        S129 r216{};
-        if (t215) {
-          const std::vector<C1_Block>& g217 = s.g_stack_11;
-          const C0_Piece& g218 = s.g_piece_8;
+        const bool t189 = (r184.origin == g155.origin);
+        S128 r190{};
+        if (t189) {
+          const std::vector<C1_Block>& g191 = s.g_stack_12;
+          const C0_Piece& g192 = s.g_piece_8;
           // inlined: function at programs/blockfall.au:36
-          std::vector<Elem>& rendered219 = s.scratch.v.b38;
-          rendered219.clear();
-          render_C0_Piece(s, g218, rendered219);
-          std::vector<C1_Block>& out220 = s.scratch.v.b39;
-          out220.clear();
-          out220.reserve(size_t(int32_t(rendered219.size())));
-          for (const Elem& x221 : rendered219) {
+          std::vector<Elem>& rendered193 = s.scratch.v.b38;
+          rendered193.clear();
+          render_C0_Piece(s, g192, rendered193);
+          std::vector<C1_Block>& out194 = s.scratch.v.b39;
+          out194.clear();
+          out194.reserve(size_t(int32_t(rendered193.size())));
+          for (const Elem& x195 : rendered193) {
             // inlined: function at programs/blockfall.au:36
-            C1_Block o222 = C1_Block{x221.color, x221.position};
-            out220.push_back(std::move(o222));
+            C1_Block o196 = C1_Block{x195.color, x195.position};
+            out194.push_back(std::move(o196));
           }
-          std::vector<C1_Block>& added223 = s.scratch.v.b40;
-          added223.clear();
-          added223.reserve(size_t(add(int32_t(g217.size()), int32_t(out220.size()))));
-          for (const C1_Block& x224 : g217) {
-            added223.push_back(x224);
+          std::vector<C1_Block>& added197 = s.scratch.v.b40;
+          added197.clear();
+          added197.reserve(size_t(add(int32_t(g191.size()), int32_t(out194.size()))));
+          for (const C1_Block& x198 : g191) {
+            added197.push_back(x198);
           }
-          for (const C1_Block& x225 : out220) {
-            added223.push_back(x225);
+          for (const C1_Block& x199 : out194) {
+            added197.push_back(x199);
           }
           // inlined: function at programs/blockfall.au:40
-          std::vector<int32_t>& l_full226 = s.scratch.v.b41;
-          l_full226.clear();
-          std::vector<C1_Block>& l_kept227 = s.scratch.v.b42;
-          l_kept227.clear();
-          const std::vector<int32_t> list228 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
-          std::vector<int32_t>& out229 = s.scratch.v.b43;
-          out229.clear();
-          for (const int32_t& x230 : list228) {
+          std::vector<int32_t>& l_full200 = s.scratch.v.b41;
+          l_full200.clear();
+          std::vector<C1_Block>& l_kept201 = s.scratch.v.b42;
+          l_kept201.clear();
+          const std::vector<int32_t> list202 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
+          std::vector<int32_t>& out203 = s.scratch.v.b43;
+          out203.clear();
+          for (const int32_t& x204 : list202) {
             // inlined: function at programs/blockfall.au:41
             // inlined: function at programs/blockfall.au:39
-            std::vector<C1_Block>& out231 = s.scratch.v.b44;
-            out231.clear();
-            for (const C1_Block& x232 : added223) {
+            std::vector<C1_Block>& out205 = s.scratch.v.b44;
+            out205.clear();
+            for (const C1_Block& x206 : added197) {
               // inlined: function at programs/blockfall.au:39
-              const bool t233 = (x232.origin.y == x230);
-              if (t233) {
-                out231.push_back(x232);
+              const bool t207 = (x206.origin.y == x204);
+              if (t207) {
+                out205.push_back(x206);
               }
             }
-            const int32_t t234 = int32_t(out231.size());
-            const bool t235 = (t234 == int32_t(8));
-            if (t235) {
-              out229.push_back(x230);
+            const int32_t t208 = int32_t(out205.size());
+            const bool t209 = (t208 == int32_t(8));
+            if (t209) {
+              out203.push_back(x204);
             }
           }
-          std::swap(l_full226, out229);
-          std::vector<C1_Block>& out236 = s.scratch.v.b45;
-          out236.clear();
-          for (const C1_Block& x237 : added223) {
+          std::swap(l_full200, out203);
+          std::vector<C1_Block>& out210 = s.scratch.v.b45;
+          out210.clear();
+          for (const C1_Block& x211 : added197) {
             // inlined: function at programs/blockfall.au:42
-            const std::vector<int32_t>& v238 = l_full226;
-            bool any239 = false;
-            for (const int32_t& x240 : v238) {
-              const bool t241 = (x240 == x237.origin.y);
-              if (t241) {
-                any239 = true;
+            bool any212 = false;
+            for (const int32_t& x213 : l_full200) {
+              const bool t214 = (x213 == x211.origin.y);
+              if (t214) {
+                any212 = true;
                 break;
               }
             }
-            const bool t242 = !any239;
-            if (t242) {
-              out236.push_back(x237);
+            const bool t215 = !any212;
+            if (t215) {
+              out210.push_back(x211);
             }
           }
-          std::swap(l_kept227, out236);
-          const std::vector<C1_Block>& v243 = l_kept227;
-          std::vector<C1_Block>& out244 = s.scratch.v.b46;
-          out244.clear();
-          out244.reserve(size_t(int32_t(v243.size())));
-          for (const C1_Block& x245 : v243) {
+          std::swap(l_kept201, out210);
+          std::vector<C1_Block>& out216 = s.scratch.v.b46;
+          out216.clear();
+          out216.reserve(size_t(int32_t(l_kept201.size())));
+          for (const C1_Block& x217 : l_kept201) {
             // inlined: function at programs/blockfall.au:43
-            const std::vector<int32_t>& v246 = l_full226;
-            std::vector<int32_t>& out247 = s.scratch.v.b47;
-            out247.clear();
-            for (const int32_t& x248 : v246) {
+            std::vector<int32_t>& out218 = s.scratch.v.b47;
+            out218.clear();
+            for (const int32_t& x219 : l_full200) {
               // inlined: function at programs/blockfall.au:43
-              const bool t249 = (x248 > x245.origin.y);
-              if (t249) {
-                out247.push_back(x248);
+              const bool t220 = (x219 > x217.origin.y);
+              if (t220) {
+                out218.push_back(x219);
               }
             }
-            const int32_t t250 = int32_t(out247.size());
-            const Pos t251 = Pos{int32_t(0), t250};
-            const int32_t t252 = add(x245.origin.x, t251.x);
-            const int32_t t253 = add(x245.origin.y, t251.y);
-            const Pos t254 = Pos{t252, t253};
-            C1_Block upd255 = x245;
-            upd255.origin = t254;
-            out244.push_back(std::move(upd255));
+            const int32_t t221 = int32_t(out218.size());
+            const Pos t222 = Pos{int32_t(0), t221};
+            const int32_t t223 = add(x217.origin.x, t222.x);
+            const int32_t t224 = add(x217.origin.y, t222.y);
+            const Pos t225 = Pos{t223, t224};
+            C1_Block upd226 = x217;
+            upd226.origin = t225;
+            out216.push_back(std::move(upd226));
           }
-          std::swap(s.g_stack_11, out244);
-          s.u_stack_12 = true;
-          const std::vector<int32_t> list256 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
-          if (list256.empty()) {
+          if (!s.scratch.v.sv_stack_15) {
+            s.scratch.v.p_stack_14 = std::move(s.g_stack_12);
+            s.scratch.v.sv_stack_15 = true;
+          }
+          std::swap(s.g_stack_12, out216);
+          s.u_stack_13 = true;
+          const std::vector<int32_t> list227 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
+          if (list227.empty()) {
             fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t257 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list256.size())))));
-          const int32_t t258 = list256[size_t(t257)];
-          const Pos& g259 = s.g_spawnAt_7;
-          std::vector<CellV> l_allCells260{};
-          const std::vector<std::vector<Pos>>& g261 = s.g_shapes_4;
-          if (g261.empty()) {
+          const int32_t t228 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list227.size())))));
+          const int32_t t229 = list227[size_t(t228)];
+          const Pos& g230 = s.g_spawnAt_7;
+          std::vector<CellV> l_allCells231{};
+          const std::vector<std::vector<Pos>>& g232 = s.g_shapes_4;
+          if (g232.empty()) {
             fail_at(3, std::string() + std::string("at: empty list"));
           }
-          if (((t258 < int32_t(0)) || (t258 >= int32_t(g261.size())))) {
-            fail_at(3, std::string() + std::string("at: index ") + std::to_string(t258) + std::string(" out of bounds"));
+          if (((t229 < int32_t(0)) || (t229 >= int32_t(g232.size())))) {
+            fail_at(3, std::string() + std::string("at: index ") + std::to_string(t229) + std::string(" out of bounds"));
           }
-          const std::vector<Pos> t262 = g261[size_t(t258)];
-          std::vector<CellV>& out263 = s.scratch.v.b48;
-          out263.clear();
-          out263.reserve(size_t(int32_t(t262.size())));
-          for (const Pos& x264 : t262) {
+          const std::vector<Pos> t233 = g232[size_t(t229)];
+          std::vector<CellV>& out234 = s.scratch.v.b48;
+          out234.clear();
+          out234.reserve(size_t(int32_t(t233.size())));
+          for (const Pos& x235 : t233) {
             // inlined: function at programs/blockfall.au:24
-            const std::vector<int32_t>& g265 = s.g_hues_6;
-            const CellV cell266 = CellV{x264.x, x264.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-            out263.push_back(cell266);
+            const CellV cell236 = CellV{x235.x, x235.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+            out234.push_back(cell236);
           }
-          std::swap(l_allCells260, out263);
-          const std::vector<CellV>& v267 = l_allCells260;
-          const std::vector<CellV>& v268 = l_allCells260;
-          C0_Piece o269 = C0_Piece{t258, g259, v268};
-          s.g_piece_8 = std::move(o269);
+          std::swap(l_allCells231, out234);
+          C0_Piece o237 = C0_Piece{t229, g230, std::move(l_allCells231)};
+          if (!s.scratch.v.sv_piece_11) {
+            s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+            s.scratch.v.sv_piece_11 = true;
+          }
+          s.g_piece_8 = std::move(o237);
           s.u_piece_9 = true;
-          const C0_Piece& g270 = s.g_piece_8;
-          const std::vector<C1_Block>& g271 = s.g_stack_11;
-          std::vector<Elem>& rendered272 = s.scratch.v.b49;
-          rendered272.clear();
-          render_C0_Piece(s, g270, rendered272);
-          std::vector<std::vector<Elem>>& out273 = s.scratch.v.b50;
-          out273.clear();
-          out273.reserve(size_t(int32_t(g271.size())));
-          for (const C1_Block& x274 : g271) {
-            std::vector<Elem> rendered275{};
-            const int32_t colour276 = colour_1_C1_Block(s, x274);
-            rendered275.push_back(Elem{Pos{add(x274.origin.x, int32_t(0)), add(x274.origin.y, int32_t(0))}, colour276});
-            out273.push_back(std::move(rendered275));
+          const C0_Piece& g238 = s.g_piece_8;
+          const std::vector<C1_Block>& g239 = s.g_stack_12;
+          std::vector<Elem>& rendered240 = s.scratch.v.b49;
+          rendered240.clear();
+          render_C0_Piece(s, g238, rendered240);
+          std::vector<Elem>& rendered241 = s.scratch.v.b50;
+          rendered241.clear();
+          for (const C1_Block& x242 : g239) {
+            const int32_t colour243 = colour_1_C1_Block(s, x242);
+            rendered241.push_back(Elem{Pos{add(x242.origin.x, int32_t(0)), add(x242.origin.y, int32_t(0))}, colour243});
           }
-          std::vector<Elem>& cat277 = s.scratch.v.b51;
-          cat277.clear();
-          for (const std::vector<Elem>& part278 : out273) {
-            cat277.insert(cat277.end(), part278.begin(), part278.end());
-          }
-          const int32_t t279 = int32_t(rendered272.size());
-          const bool t280 = (t279 == int32_t(0));
-          bool r281{};
-          if (!t280) {
-            const int32_t t282 = int32_t(cat277.size());
-            const bool t283 = (t282 == int32_t(0));
-            r281 = t283;
+          const int32_t t244 = int32_t(rendered240.size());
+          const bool t245 = (t244 == int32_t(0));
+          bool r246{};
+          if (!t245) {
+            const int32_t t247 = int32_t(rendered241.size());
+            const bool t248 = (t247 == int32_t(0));
+            r246 = t248;
           } else {
-            r281 = true;
+            r246 = true;
           }
-          bool r284{};
-          if (r281) {
-            r284 = false;
+          bool r249{};
+          if (r246) {
+            r249 = false;
           } else {
-            bool any285 = false;
-            for (const Elem& x286 : rendered272) {
-              bool any287 = false;
-              for (const Elem& x288 : cat277) {
-                const bool t289 = (x286.position == x288.position);
-                if (t289) {
-                  any287 = true;
+            bool any250 = false;
+            for (const Elem& x251 : rendered240) {
+              bool any252 = false;
+              for (const Elem& x253 : rendered241) {
+                const bool t254 = (x251.position == x253.position);
+                if (t254) {
+                  any252 = true;
                   break;
                 }
               }
-              if (any287) {
-                any285 = true;
+              if (any252) {
+                any250 = true;
                 break;
               }
             }
-            r284 = any285;
+            r249 = any250;
           }
-          std::vector<C1_Block> r290{};
-          if (r284) {
-            r290 = std::vector<C1_Block>{};
+          std::vector<C1_Block> r255{};
+          if (r249) {
+            r255 = std::vector<C1_Block>{};
           } else {
-            const std::vector<C1_Block>& g291 = s.g_stack_11;
-            r290 = g291;
+            const std::vector<C1_Block>& g256 = s.g_stack_12;
+            r255 = g256;
           }
-          s.g_stack_11 = r290;
-          s.u_stack_12 = true;
-          r216 = S129{std::in_place_index<1>, r290};
+          if (!s.scratch.v.sv_stack_15) {
+            s.scratch.v.p_stack_14 = std::move(s.g_stack_12);
+            s.scratch.v.sv_stack_15 = true;
+          }
+          s.g_stack_12 = r255;
+          s.u_stack_13 = true;
+          r190 = S128{std::in_place_index<1>, std::move(r255)};
         } else {
-          const C0_Piece& g292 = s.g_piece_8;
-          const int32_t t293 = add(g292.origin.x, int32_t(0));
-          const int32_t t294 = add(g292.origin.y, int32_t(1));
-          const Pos t295 = Pos{t293, t294};
-          C0_Piece upd296 = g292;
-          upd296.origin = t295;
-          std::vector<Elem>& rendered297 = s.scratch.v.b52;
-          rendered297.clear();
-          render_C0_Piece(s, upd296, rendered297);
-          bool within298 = true;
-          for (const Elem& e299 : rendered297) {
-            if ((((e299.position.x < int32_t(0)) || (e299.position.x >= int32_t(8))) || ((e299.position.y < int32_t(0)) || (e299.position.y >= int32_t(8))))) {
-              within298 = false;
+          const C0_Piece& g257 = s.g_piece_8;
+          const int32_t t258 = add(g257.origin.x, int32_t(0));
+          const int32_t t259 = add(g257.origin.y, int32_t(1));
+          const Pos t260 = Pos{t258, t259};
+          C0_Piece upd261 = g257;
+          upd261.origin = t260;
+          std::vector<Elem>& rendered262 = s.scratch.v.b51;
+          rendered262.clear();
+          render_C0_Piece(s, upd261, rendered262);
+          bool within263 = true;
+          for (const Elem& e264 : rendered262) {
+            if ((((e264.position.x < int32_t(0)) || (e264.position.x >= int32_t(8))) || ((e264.position.y < int32_t(0)) || (e264.position.y >= int32_t(8))))) {
+              within263 = false;
               break;
             }
           }
-          bool r300{};
-          if (within298) {
-            const int32_t t301 = add(g292.origin.x, int32_t(0));
-            const int32_t t302 = add(g292.origin.y, int32_t(1));
-            const Pos t303 = Pos{t301, t302};
-            C0_Piece upd304 = g292;
-            upd304.origin = t303;
-            std::vector<Elem>& l_prev_elems305 = s.scratch.v.b53;
-            l_prev_elems305.clear();
-            std::vector<Elem>& l_curr_elems306 = s.scratch.v.b54;
-            l_curr_elems306.clear();
-            std::vector<Elem>& l_filtered_elems307 = s.scratch.v.b55;
-            l_filtered_elems307.clear();
-            std::vector<Elem>& rendered308 = s.scratch.v.b56;
-            rendered308.clear();
-            render_C0_Piece(s, g292, rendered308);
-            std::swap(l_prev_elems305, rendered308);
-            std::vector<Elem>& rendered309 = s.scratch.v.b57;
-            rendered309.clear();
-            render_C0_Piece(s, upd304, rendered309);
-            std::swap(l_curr_elems306, rendered309);
-            const std::vector<Elem>& v310 = l_curr_elems306;
-            std::vector<Elem>& out311 = s.scratch.v.b58;
-            out311.clear();
-            for (const Elem& x312 : v310) {
-              const std::vector<Elem>& v313 = l_prev_elems305;
-              bool any314 = false;
-              for (const Elem& x315 : v313) {
-                const bool t316 = (x315 == x312);
-                if (t316) {
-                  any314 = true;
+          bool r265{};
+          if (within263) {
+            const int32_t t266 = add(g257.origin.x, int32_t(0));
+            const int32_t t267 = add(g257.origin.y, int32_t(1));
+            const Pos t268 = Pos{t266, t267};
+            C0_Piece upd269 = g257;
+            upd269.origin = t268;
+            std::vector<Elem>& l_prev_elems270 = s.scratch.v.b52;
+            l_prev_elems270.clear();
+            std::vector<Elem>& l_curr_elems271 = s.scratch.v.b53;
+            l_curr_elems271.clear();
+            std::vector<Elem>& l_filtered_elems272 = s.scratch.v.b54;
+            l_filtered_elems272.clear();
+            std::vector<Elem>& rendered273 = s.scratch.v.b55;
+            rendered273.clear();
+            render_C0_Piece(s, g257, rendered273);
+            std::swap(l_prev_elems270, rendered273);
+            std::vector<Elem>& rendered274 = s.scratch.v.b56;
+            rendered274.clear();
+            render_C0_Piece(s, upd269, rendered274);
+            std::swap(l_curr_elems271, rendered274);
+            std::vector<Elem>& out275 = s.scratch.v.b57;
+            out275.clear();
+            for (const Elem& x276 : l_curr_elems271) {
+              bool any277 = false;
+              for (const Elem& x278 : l_prev_elems270) {
+                const bool t279 = (x278 == x276);
+                if (t279) {
+                  any277 = true;
                   break;
                 }
               }
-              const bool t317 = !any314;
-              if (t317) {
-                out311.push_back(x312);
+              const bool t280 = !any277;
+              if (t280) {
+                out275.push_back(x276);
               }
             }
-            std::swap(l_filtered_elems307, out311);
-            const std::vector<Elem>& v318 = l_filtered_elems307;
-            bool any319 = false;
-            for (const Elem& x320 : v318) {
-              const bool t321 = s.core.occupied.free(x320.position);
-              const bool t322 = !t321;
-              if (t322) {
-                any319 = true;
+            std::swap(l_filtered_elems272, out275);
+            bool any281 = false;
+            for (const Elem& x282 : l_filtered_elems272) {
+              const bool t283 = s.core.occupied.free(x282.position);
+              const bool t284 = !t283;
+              if (t284) {
+                any281 = true;
                 break;
               }
             }
-            const bool t323 = !any319;
-            r300 = t323;
+            const bool t285 = !any281;
+            r265 = t285;
           } else {
-            r300 = false;
+            r265 = false;
           }
-          C0_Piece r324{};
-          if (r300) {
-            const int32_t t325 = add(g292.origin.x, int32_t(0));
-            const int32_t t326 = add(g292.origin.y, int32_t(1));
-            const Pos t327 = Pos{t325, t326};
-            C0_Piece upd328 = g292;
-            upd328.origin = t327;
-            r324 = std::move(upd328);
+          C0_Piece r286{};
+          if (r265) {
+            const int32_t t287 = add(g257.origin.x, int32_t(0));
+            const int32_t t288 = add(g257.origin.y, int32_t(1));
+            const Pos t289 = Pos{t287, t288};
+            C0_Piece upd290 = g257;
+            upd290.origin = t289;
+            r286 = std::move(upd290);
           } else {
-            r324 = g292;
+            r286 = g257;
           }
-          s.g_piece_8 = r324;
+          if (!s.scratch.v.sv_piece_11) {
+            s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+            s.scratch.v.sv_piece_11 = true;
+          }
+          s.g_piece_8 = r286;
           s.u_piece_9 = true;
-          r216 = S129{std::in_place_index<0>, r324};
+          r190 = S128{std::in_place_index<0>, std::move(r286)};
         }
       }
     }
     // NEXT of piece, programs/blockfall.au:31
     if (!s.u_piece_9) {
-      const C0_Piece& prev329 = s.p_piece_10;
-      s.g_piece_8 = prev329;
+      const C0_Piece prev291 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+      if (!s.scratch.v.sv_piece_11) {
+        s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+        s.scratch.v.sv_piece_11 = true;
+      }
+      s.g_piece_8 = prev291;
       s.u_piece_9 = true;
     }
     // NEXT of stack, programs/blockfall.au:28
-    if (!s.u_stack_12) {
-      const std::vector<C1_Block>& prev330 = s.p_stack_13;
-      s.g_stack_11 = prev330;
-      s.u_stack_12 = true;
+    if (!s.u_stack_13) {
+      const std::vector<C1_Block> prev292 = (s.scratch.v.sv_stack_15 ? s.scratch.v.p_stack_14 : s.g_stack_12);
+      if (!s.scratch.v.sv_stack_15) {
+        s.scratch.v.p_stack_14 = std::move(s.g_stack_12);
+        s.scratch.v.sv_stack_15 = true;
+      }
+      s.g_stack_12 = prev292;
+      s.u_stack_13 = true;
     }
     s.core.clear_inputs();
   }
@@ -1065,10 +1060,10 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b59;
+    std::vector<Elem>& elems1 = s.scratch.v.b58;
     elems1.clear();
     elems1.clear();
-    const std::vector<C1_Block>& g2 = s.g_stack_11;
+    const std::vector<C1_Block>& g2 = s.g_stack_12;
     for (const C1_Block& x3 : g2) {
       const int32_t colour4 = colour_1_C1_Block(s, x3);
       elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, colour4});
@@ -1097,7 +1092,7 @@ struct Prog {
     hash_value(h, s.g_hues_6);
     hash_value(h, s.g_spawnAt_7);
     hash_value(h, s.g_piece_8);
-    hash_value(h, s.g_stack_11);
+    hash_value(h, s.g_stack_12);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -1112,7 +1107,7 @@ struct Prog {
     save_value(w, s.g_hues_6);
     save_value(w, s.g_spawnAt_7);
     save_value(w, s.g_piece_8);
-    save_value(w, s.g_stack_11);
+    save_value(w, s.g_stack_12);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -1126,7 +1121,7 @@ struct Prog {
     load_value(r, s.g_hues_6);
     load_value(r, s.g_spawnAt_7);
     load_value(r, s.g_piece_8);
-    load_value(r, s.g_stack_11);
+    load_value(r, s.g_stack_12);
   }
 };
 

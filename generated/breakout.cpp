@@ -115,6 +115,18 @@ struct Prog {
     std::vector<C2_Brick> b20;
     std::vector<C2_Brick> b21;
     std::vector<Elem> b22;
+    int32_t p_lives_7{};
+    bool sv_lives_8{};
+    C3_Hearts p_hud_11{};
+    bool sv_hud_12{};
+    bool p_launched_15{};
+    bool sv_launched_16{};
+    std::vector<C2_Brick> p_bricks_19{};
+    bool sv_bricks_20{};
+    C1_Ball p_ball_23{};
+    bool sv_ball_24{};
+    C0_Paddle p_paddle_27{};
+    bool sv_paddle_28{};
   };
   struct State {
     Core core;
@@ -126,22 +138,16 @@ struct Prog {
     int32_t g_padRow_4{};
     int32_t g_lives_5{};
     bool u_lives_6{};
-    int32_t p_lives_7{};
-    C3_Hearts g_hud_8{};
-    bool u_hud_9{};
-    C3_Hearts p_hud_10{};
-    bool g_launched_11{};
-    bool u_launched_12{};
-    bool p_launched_13{};
-    std::vector<C2_Brick> g_bricks_14{};
-    bool u_bricks_15{};
-    std::vector<C2_Brick> p_bricks_16{};
-    C1_Ball g_ball_17{};
-    bool u_ball_18{};
-    C1_Ball p_ball_19{};
-    C0_Paddle g_paddle_20{};
-    bool u_paddle_21{};
-    C0_Paddle p_paddle_22{};
+    C3_Hearts g_hud_9{};
+    bool u_hud_10{};
+    bool g_launched_13{};
+    bool u_launched_14{};
+    std::vector<C2_Brick> g_bricks_17{};
+    bool u_bricks_18{};
+    C1_Ball g_ball_21{};
+    bool u_ball_22{};
+    C0_Paddle g_paddle_25{};
+    bool u_paddle_26{};
   };
 
   static int32_t colour_3_C2_Brick(State& s, const C2_Brick& o1) {
@@ -215,11 +221,11 @@ struct Prog {
     s.u_lives_6 = false;
     // init hud, programs/breakout.au:42
     C3_Hearts o1 = C3_Hearts{int32_t(3), Pos{int32_t(0), int32_t(0)}};
-    s.g_hud_8 = std::move(o1);
-    s.u_hud_9 = false;
+    s.g_hud_9 = std::move(o1);
+    s.u_hud_10 = false;
     // init launched, programs/breakout.au:36
-    s.g_launched_11 = false;
-    s.u_launched_12 = false;
+    s.g_launched_13 = false;
+    s.u_launched_14 = false;
     // init bricks, programs/breakout.au:33
     // inlined: function at programs/breakout.au:20
     const std::vector<int32_t> list2 = std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)};
@@ -259,39 +265,39 @@ struct Prog {
         out13.push_back(x14);
       }
     }
-    std::swap(s.g_bricks_14, out13);
-    s.u_bricks_15 = false;
+    std::swap(s.g_bricks_17, out13);
+    s.u_bricks_18 = false;
     // init ball, programs/breakout.au:30
     C1_Ball o18 = C1_Ball{int32_t(1), int32_t(-1), Pos{int32_t(5), int32_t(10)}};
-    s.g_ball_17 = std::move(o18);
-    s.u_ball_18 = false;
+    s.g_ball_21 = std::move(o18);
+    s.u_ball_22 = false;
     // init paddle, programs/breakout.au:27
     C0_Paddle o19 = C0_Paddle{Pos{int32_t(5), int32_t(11)}};
-    s.g_paddle_20 = std::move(o19);
-    s.u_paddle_21 = false;
+    s.g_paddle_25 = std::move(o19);
+    s.u_paddle_26 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_paddle_22 = s.g_paddle_20;
-    s.p_ball_19 = s.g_ball_17;
-    s.p_bricks_16 = s.g_bricks_14;
-    s.p_launched_13 = s.g_launched_11;
-    s.p_lives_7 = s.g_lives_5;
-    s.p_hud_10 = s.g_hud_8;
+    s.scratch.v.sv_paddle_28 = false;
+    s.scratch.v.sv_ball_24 = false;
+    s.scratch.v.sv_bricks_20 = false;
+    s.scratch.v.sv_launched_16 = false;
+    s.scratch.v.sv_lives_8 = false;
+    s.scratch.v.sv_hud_12 = false;
     s.u_lives_6 = false;
-    s.u_hud_9 = false;
-    s.u_launched_12 = false;
-    s.u_bricks_15 = false;
-    s.u_ball_18 = false;
-    s.u_paddle_21 = false;
+    s.u_hud_10 = false;
+    s.u_launched_14 = false;
+    s.u_bricks_18 = false;
+    s.u_ball_22 = false;
+    s.u_paddle_26 = false;
     // on-clause 1, programs/breakout.au:71
     {
       const bool t1 = s.core.left;
       if (t1) {
         s.core.covered[int32_t(0)] = 1;
-        const C0_Paddle& prev2 = s.p_paddle_22;
+        const C0_Paddle& prev2 = (s.scratch.v.sv_paddle_28 ? s.scratch.v.p_paddle_27 : s.g_paddle_25);
         const int32_t t3 = add(prev2.origin.x, int32_t(-1));
         const int32_t t4 = add(prev2.origin.y, int32_t(0));
         const Pos t5 = Pos{t3, t4};
@@ -334,764 +340,811 @@ struct Prog {
           rendered19.push_back(Elem{Pos{add(upd14.origin.x, int32_t(0)), add(upd14.origin.y, int32_t(0))}, int32_t(3)});
           rendered19.push_back(Elem{Pos{add(upd14.origin.x, int32_t(1)), add(upd14.origin.y, int32_t(0))}, int32_t(3)});
           std::swap(l_curr_elems16, rendered19);
-          const std::vector<Elem>& v20 = l_curr_elems16;
-          std::vector<Elem>& out21 = s.scratch.v.b9;
-          out21.clear();
-          for (const Elem& x22 : v20) {
-            const std::vector<Elem>& v23 = l_prev_elems15;
-            bool any24 = false;
-            for (const Elem& x25 : v23) {
-              const bool t26 = (x25 == x22);
-              if (t26) {
-                any24 = true;
+          std::vector<Elem>& out20 = s.scratch.v.b9;
+          out20.clear();
+          for (const Elem& x21 : l_curr_elems16) {
+            bool any22 = false;
+            for (const Elem& x23 : l_prev_elems15) {
+              const bool t24 = (x23 == x21);
+              if (t24) {
+                any22 = true;
                 break;
               }
             }
-            const bool t27 = !any24;
-            if (t27) {
-              out21.push_back(x22);
+            const bool t25 = !any22;
+            if (t25) {
+              out20.push_back(x21);
             }
           }
-          std::swap(l_filtered_elems17, out21);
-          const std::vector<Elem>& v28 = l_filtered_elems17;
-          bool any29 = false;
-          for (const Elem& x30 : v28) {
-            const bool t31 = s.core.occupied.free(x30.position);
-            const bool t32 = !t31;
-            if (t32) {
-              any29 = true;
+          std::swap(l_filtered_elems17, out20);
+          bool any26 = false;
+          for (const Elem& x27 : l_filtered_elems17) {
+            const bool t28 = s.core.occupied.free(x27.position);
+            const bool t29 = !t28;
+            if (t29) {
+              any26 = true;
               break;
             }
           }
-          const bool t33 = !any29;
-          r10 = t33;
+          const bool t30 = !any26;
+          r10 = t30;
         } else {
           r10 = false;
         }
-        C0_Paddle r34{};
+        C0_Paddle r31{};
         if (r10) {
-          const int32_t t35 = add(prev2.origin.x, int32_t(-1));
-          const int32_t t36 = add(prev2.origin.y, int32_t(0));
-          const Pos t37 = Pos{t35, t36};
-          C0_Paddle upd38 = prev2;
-          upd38.origin = t37;
-          r34 = std::move(upd38);
+          const int32_t t32 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t33 = add(prev2.origin.y, int32_t(0));
+          const Pos t34 = Pos{t32, t33};
+          C0_Paddle upd35 = prev2;
+          upd35.origin = t34;
+          r31 = std::move(upd35);
         } else {
-          r34 = prev2;
+          r31 = prev2;
         }
-        s.g_paddle_20 = std::move(r34);
-        s.u_paddle_21 = true;
+        if (!s.scratch.v.sv_paddle_28) {
+          s.scratch.v.p_paddle_27 = std::move(s.g_paddle_25);
+          s.scratch.v.sv_paddle_28 = true;
+        }
+        s.g_paddle_25 = std::move(r31);
+        s.u_paddle_26 = true;
       }
     }
     // on-clause 2, programs/breakout.au:72
     {
-      const bool t39 = s.core.right;
-      if (t39) {
+      const bool t36 = s.core.right;
+      if (t36) {
         s.core.covered[int32_t(1)] = 1;
-        const C0_Paddle& prev40 = s.p_paddle_22;
-        bool l_wbound41{};
-        bool l_fr42{};
-        C0_Paddle l_ret43{};
-        const int32_t t44 = add(prev40.origin.x, int32_t(1));
-        const int32_t t45 = add(prev40.origin.y, int32_t(0));
-        const Pos t46 = Pos{t44, t45};
-        C0_Paddle upd47 = prev40;
-        upd47.origin = t46;
-        std::vector<Elem>& rendered48 = s.scratch.v.b10;
-        rendered48.clear();
-        rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(-1)), add(upd47.origin.y, int32_t(0))}, int32_t(3)});
-        rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(0)), add(upd47.origin.y, int32_t(0))}, int32_t(3)});
-        rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(1)), add(upd47.origin.y, int32_t(0))}, int32_t(3)});
-        bool within49 = true;
-        for (const Elem& e50 : rendered48) {
-          if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(12))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(12))))) {
-            within49 = false;
+        const C0_Paddle& prev37 = (s.scratch.v.sv_paddle_28 ? s.scratch.v.p_paddle_27 : s.g_paddle_25);
+        bool l_wbound38{};
+        bool l_fr39{};
+        C0_Paddle l_ret40{};
+        const int32_t t41 = add(prev37.origin.x, int32_t(1));
+        const int32_t t42 = add(prev37.origin.y, int32_t(0));
+        const Pos t43 = Pos{t41, t42};
+        C0_Paddle upd44 = prev37;
+        upd44.origin = t43;
+        std::vector<Elem>& rendered45 = s.scratch.v.b10;
+        rendered45.clear();
+        rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(-1)), add(upd44.origin.y, int32_t(0))}, int32_t(3)});
+        rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(0)), add(upd44.origin.y, int32_t(0))}, int32_t(3)});
+        rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(1)), add(upd44.origin.y, int32_t(0))}, int32_t(3)});
+        bool within46 = true;
+        for (const Elem& e47 : rendered45) {
+          if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(12))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(12))))) {
+            within46 = false;
             break;
           }
         }
-        l_wbound41 = within49;
-        const int32_t t51 = add(prev40.origin.x, int32_t(1));
-        const int32_t t52 = add(prev40.origin.y, int32_t(0));
-        const Pos t53 = Pos{t51, t52};
-        C0_Paddle upd54 = prev40;
-        upd54.origin = t53;
-        std::vector<Elem>& l_prev_elems55 = s.scratch.v.b11;
-        l_prev_elems55.clear();
-        std::vector<Elem>& l_curr_elems56 = s.scratch.v.b12;
-        l_curr_elems56.clear();
-        std::vector<Elem>& l_filtered_elems57 = s.scratch.v.b13;
-        l_filtered_elems57.clear();
-        std::vector<Elem>& rendered58 = s.scratch.v.b14;
-        rendered58.clear();
-        rendered58.push_back(Elem{Pos{add(prev40.origin.x, int32_t(-1)), add(prev40.origin.y, int32_t(0))}, int32_t(3)});
-        rendered58.push_back(Elem{Pos{add(prev40.origin.x, int32_t(0)), add(prev40.origin.y, int32_t(0))}, int32_t(3)});
-        rendered58.push_back(Elem{Pos{add(prev40.origin.x, int32_t(1)), add(prev40.origin.y, int32_t(0))}, int32_t(3)});
-        std::swap(l_prev_elems55, rendered58);
-        std::vector<Elem>& rendered59 = s.scratch.v.b15;
-        rendered59.clear();
-        rendered59.push_back(Elem{Pos{add(upd54.origin.x, int32_t(-1)), add(upd54.origin.y, int32_t(0))}, int32_t(3)});
-        rendered59.push_back(Elem{Pos{add(upd54.origin.x, int32_t(0)), add(upd54.origin.y, int32_t(0))}, int32_t(3)});
-        rendered59.push_back(Elem{Pos{add(upd54.origin.x, int32_t(1)), add(upd54.origin.y, int32_t(0))}, int32_t(3)});
-        std::swap(l_curr_elems56, rendered59);
-        const std::vector<Elem>& v60 = l_curr_elems56;
-        std::vector<Elem>& out61 = s.scratch.v.b16;
-        out61.clear();
-        for (const Elem& x62 : v60) {
-          const std::vector<Elem>& v63 = l_prev_elems55;
-          bool any64 = false;
-          for (const Elem& x65 : v63) {
-            const bool t66 = (x65 == x62);
-            if (t66) {
-              any64 = true;
+        l_wbound38 = within46;
+        const int32_t t48 = add(prev37.origin.x, int32_t(1));
+        const int32_t t49 = add(prev37.origin.y, int32_t(0));
+        const Pos t50 = Pos{t48, t49};
+        C0_Paddle upd51 = prev37;
+        upd51.origin = t50;
+        std::vector<Elem>& l_prev_elems52 = s.scratch.v.b11;
+        l_prev_elems52.clear();
+        std::vector<Elem>& l_curr_elems53 = s.scratch.v.b12;
+        l_curr_elems53.clear();
+        std::vector<Elem>& l_filtered_elems54 = s.scratch.v.b13;
+        l_filtered_elems54.clear();
+        std::vector<Elem>& rendered55 = s.scratch.v.b14;
+        rendered55.clear();
+        rendered55.push_back(Elem{Pos{add(prev37.origin.x, int32_t(-1)), add(prev37.origin.y, int32_t(0))}, int32_t(3)});
+        rendered55.push_back(Elem{Pos{add(prev37.origin.x, int32_t(0)), add(prev37.origin.y, int32_t(0))}, int32_t(3)});
+        rendered55.push_back(Elem{Pos{add(prev37.origin.x, int32_t(1)), add(prev37.origin.y, int32_t(0))}, int32_t(3)});
+        std::swap(l_prev_elems52, rendered55);
+        std::vector<Elem>& rendered56 = s.scratch.v.b15;
+        rendered56.clear();
+        rendered56.push_back(Elem{Pos{add(upd51.origin.x, int32_t(-1)), add(upd51.origin.y, int32_t(0))}, int32_t(3)});
+        rendered56.push_back(Elem{Pos{add(upd51.origin.x, int32_t(0)), add(upd51.origin.y, int32_t(0))}, int32_t(3)});
+        rendered56.push_back(Elem{Pos{add(upd51.origin.x, int32_t(1)), add(upd51.origin.y, int32_t(0))}, int32_t(3)});
+        std::swap(l_curr_elems53, rendered56);
+        std::vector<Elem>& out57 = s.scratch.v.b16;
+        out57.clear();
+        for (const Elem& x58 : l_curr_elems53) {
+          bool any59 = false;
+          for (const Elem& x60 : l_prev_elems52) {
+            const bool t61 = (x60 == x58);
+            if (t61) {
+              any59 = true;
               break;
             }
           }
-          const bool t67 = !any64;
-          if (t67) {
-            out61.push_back(x62);
+          const bool t62 = !any59;
+          if (t62) {
+            out57.push_back(x58);
           }
         }
-        std::swap(l_filtered_elems57, out61);
-        const std::vector<Elem>& v68 = l_filtered_elems57;
-        bool any69 = false;
-        for (const Elem& x70 : v68) {
-          const bool t71 = s.core.occupied.free(x70.position);
-          const bool t72 = !t71;
-          if (t72) {
-            any69 = true;
+        std::swap(l_filtered_elems54, out57);
+        bool any63 = false;
+        for (const Elem& x64 : l_filtered_elems54) {
+          const bool t65 = s.core.occupied.free(x64.position);
+          const bool t66 = !t65;
+          if (t66) {
+            any63 = true;
             break;
           }
         }
-        const bool t73 = !any69;
-        l_fr42 = t73;
-        const bool& v74 = l_wbound41;
-        bool r75{};
-        if (v74) {
-          const bool& v76 = l_fr42;
-          r75 = v76;
+        const bool t67 = !any63;
+        l_fr39 = t67;
+        bool r68{};
+        if (l_wbound38) {
+          r68 = l_fr39;
         } else {
-          r75 = false;
+          r68 = false;
         }
-        C0_Paddle r77{};
-        if (r75) {
-          const int32_t t78 = add(prev40.origin.x, int32_t(1));
-          const int32_t t79 = add(prev40.origin.y, int32_t(0));
-          const Pos t80 = Pos{t78, t79};
-          C0_Paddle upd81 = prev40;
-          upd81.origin = t80;
-          r77 = std::move(upd81);
+        C0_Paddle r69{};
+        if (r68) {
+          const int32_t t70 = add(prev37.origin.x, int32_t(1));
+          const int32_t t71 = add(prev37.origin.y, int32_t(0));
+          const Pos t72 = Pos{t70, t71};
+          C0_Paddle upd73 = prev37;
+          upd73.origin = t72;
+          r69 = std::move(upd73);
         } else {
-          r77 = prev40;
+          r69 = prev37;
         }
-        l_ret43 = std::move(r77);
-        const C0_Paddle& v82 = l_ret43;
-        s.g_paddle_20 = v82;
-        s.u_paddle_21 = true;
+        l_ret40 = std::move(r69);
+        if (!s.scratch.v.sv_paddle_28) {
+          s.scratch.v.p_paddle_27 = std::move(s.g_paddle_25);
+          s.scratch.v.sv_paddle_28 = true;
+        }
+        s.g_paddle_25 = std::move(l_ret40);
+        s.u_paddle_26 = true;
       }
     }
     // on-clause 3, programs/breakout.au:74
     {
-      const bool& prev83 = s.p_launched_13;
-      bool r84{};
-      if (prev83) {
-        const C1_Ball& prev85 = s.p_ball_19;
-        const C0_Paddle& prev86 = s.p_paddle_22;
+      const bool& prev74 = (s.scratch.v.sv_launched_16 ? s.scratch.v.p_launched_15 : s.g_launched_13);
+      bool r75{};
+      if (prev74) {
+        const C1_Ball& prev76 = (s.scratch.v.sv_ball_24 ? s.scratch.v.p_ball_23 : s.g_ball_21);
+        const C0_Paddle& prev77 = (s.scratch.v.sv_paddle_28 ? s.scratch.v.p_paddle_27 : s.g_paddle_25);
         // inlined: function at programs/breakout.au:55
         // inlined: function at programs/breakout.au:50
         // inlined: function at programs/breakout.au:45
-        int32_t l_ax87{};
-        const int32_t t88 = add(prev85.origin.x, prev85.f0);
-        l_ax87 = t88;
-        const int32_t& v89 = l_ax87;
-        const bool t90 = (v89 < int32_t(0));
-        bool r91{};
-        if (!t90) {
-          const int32_t& v92 = l_ax87;
-          const bool t93 = (v92 >= int32_t(12));
-          r91 = t93;
+        int32_t l_ax78{};
+        const int32_t t79 = add(prev76.origin.x, prev76.f0);
+        l_ax78 = t79;
+        const bool t80 = (l_ax78 < int32_t(0));
+        bool r81{};
+        if (!t80) {
+          const bool t82 = (l_ax78 >= int32_t(12));
+          r81 = t82;
         } else {
-          r91 = true;
+          r81 = true;
         }
-        int32_t r94{};
-        if (r91) {
-          const int32_t t95 = neg(prev85.f0);
-          r94 = t95;
+        int32_t r83{};
+        if (r81) {
+          const int32_t t84 = neg(prev76.f0);
+          r83 = t84;
         } else {
-          r94 = prev85.f0;
+          r83 = prev76.f0;
         }
-        const int32_t t96 = add(prev85.origin.x, r94);
+        const int32_t t85 = add(prev76.origin.x, r83);
         // inlined: function at programs/breakout.au:48
-        const int32_t t97 = add(prev85.origin.y, prev85.f1);
-        const bool t98 = (t97 < int32_t(1));
-        int32_t r99{};
-        if (t98) {
-          const int32_t t100 = neg(prev85.f1);
-          r99 = t100;
+        const int32_t t86 = add(prev76.origin.y, prev76.f1);
+        const bool t87 = (t86 < int32_t(1));
+        int32_t r88{};
+        if (t87) {
+          const int32_t t89 = neg(prev76.f1);
+          r88 = t89;
         } else {
-          r99 = prev85.f1;
+          r88 = prev76.f1;
         }
-        const int32_t t101 = add(prev85.origin.y, r99);
-        const Pos t102 = Pos{t96, t101};
-        const bool t103 = (t102.y >= int32_t(11));
-        bool r104{};
-        if (t103) {
+        const int32_t t90 = add(prev76.origin.y, r88);
+        const Pos t91 = Pos{t85, t90};
+        const bool t92 = (t91.y >= int32_t(11));
+        bool r93{};
+        if (t92) {
           // inlined: function at programs/breakout.au:50
           // inlined: function at programs/breakout.au:45
-          int32_t l_ax105{};
-          const int32_t t106 = add(prev85.origin.x, prev85.f0);
-          l_ax105 = t106;
-          const int32_t& v107 = l_ax105;
-          const bool t108 = (v107 < int32_t(0));
-          bool r109{};
-          if (!t108) {
-            const int32_t& v110 = l_ax105;
-            const bool t111 = (v110 >= int32_t(12));
-            r109 = t111;
+          int32_t l_ax94{};
+          const int32_t t95 = add(prev76.origin.x, prev76.f0);
+          l_ax94 = t95;
+          const bool t96 = (l_ax94 < int32_t(0));
+          bool r97{};
+          if (!t96) {
+            const bool t98 = (l_ax94 >= int32_t(12));
+            r97 = t98;
           } else {
-            r109 = true;
+            r97 = true;
           }
-          int32_t r112{};
-          if (r109) {
-            const int32_t t113 = neg(prev85.f0);
-            r112 = t113;
+          int32_t r99{};
+          if (r97) {
+            const int32_t t100 = neg(prev76.f0);
+            r99 = t100;
           } else {
-            r112 = prev85.f0;
+            r99 = prev76.f0;
           }
-          const int32_t t114 = add(prev85.origin.x, r112);
+          const int32_t t101 = add(prev76.origin.x, r99);
           // inlined: function at programs/breakout.au:48
-          const int32_t t115 = add(prev85.origin.y, prev85.f1);
-          const bool t116 = (t115 < int32_t(1));
-          int32_t r117{};
-          if (t116) {
-            const int32_t t118 = neg(prev85.f1);
-            r117 = t118;
+          const int32_t t102 = add(prev76.origin.y, prev76.f1);
+          const bool t103 = (t102 < int32_t(1));
+          int32_t r104{};
+          if (t103) {
+            const int32_t t105 = neg(prev76.f1);
+            r104 = t105;
           } else {
-            r117 = prev85.f1;
+            r104 = prev76.f1;
           }
-          const int32_t t119 = add(prev85.origin.y, r117);
-          const Pos t120 = Pos{t114, t119};
+          const int32_t t106 = add(prev76.origin.y, r104);
+          const Pos t107 = Pos{t101, t106};
           // inlined: function at programs/breakout.au:53
-          const bool t121 = (t120.y == int32_t(11));
-          bool r122{};
-          if (t121) {
-            const int32_t t123 = sub(t120.x, prev86.origin.x);
-            const bool t124 = (t123 < int32_t(0));
-            int32_t r125{};
-            if (t124) {
-              const int32_t t126 = neg(t123);
-              r125 = t126;
+          const bool t108 = (t107.y == int32_t(11));
+          bool r109{};
+          if (t108) {
+            const int32_t t110 = sub(t107.x, prev77.origin.x);
+            const bool t111 = (t110 < int32_t(0));
+            int32_t r112{};
+            if (t111) {
+              const int32_t t113 = neg(t110);
+              r112 = t113;
             } else {
-              r125 = t123;
+              r112 = t110;
             }
-            const bool t127 = (r125 <= int32_t(1));
-            r122 = t127;
+            const bool t114 = (r112 <= int32_t(1));
+            r109 = t114;
           } else {
-            r122 = false;
+            r109 = false;
           }
-          const bool t128 = !r122;
-          r104 = t128;
+          const bool t115 = !r109;
+          r93 = t115;
         } else {
-          r104 = false;
+          r93 = false;
         }
-        const bool t129 = !r104;
-        r84 = t129;
+        const bool t116 = !r93;
+        r75 = t116;
       } else {
-        r84 = false;
+        r75 = false;
       }
-      if (r84) {
+      if (r75) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C2_Brick>& prev130 = s.p_bricks_16;
-        const C1_Ball& prev131 = s.p_ball_19;
+        const std::vector<C2_Brick>& prev117 = (s.scratch.v.sv_bricks_20 ? s.scratch.v.p_bricks_19 : s.g_bricks_17);
+        const C1_Ball& prev118 = (s.scratch.v.sv_ball_24 ? s.scratch.v.p_ball_23 : s.g_ball_21);
         // inlined: function at programs/breakout.au:50
         // inlined: function at programs/breakout.au:45
-        int32_t l_ax132{};
-        const int32_t t133 = add(prev131.origin.x, prev131.f0);
-        l_ax132 = t133;
-        const int32_t& v134 = l_ax132;
-        const bool t135 = (v134 < int32_t(0));
-        bool r136{};
-        if (!t135) {
-          const int32_t& v137 = l_ax132;
-          const bool t138 = (v137 >= int32_t(12));
-          r136 = t138;
+        int32_t l_ax119{};
+        const int32_t t120 = add(prev118.origin.x, prev118.f0);
+        l_ax119 = t120;
+        const bool t121 = (l_ax119 < int32_t(0));
+        bool r122{};
+        if (!t121) {
+          const bool t123 = (l_ax119 >= int32_t(12));
+          r122 = t123;
         } else {
-          r136 = true;
+          r122 = true;
         }
-        int32_t r139{};
-        if (r136) {
-          const int32_t t140 = neg(prev131.f0);
-          r139 = t140;
+        int32_t r124{};
+        if (r122) {
+          const int32_t t125 = neg(prev118.f0);
+          r124 = t125;
         } else {
-          r139 = prev131.f0;
+          r124 = prev118.f0;
         }
-        const int32_t t141 = add(prev131.origin.x, r139);
+        const int32_t t126 = add(prev118.origin.x, r124);
         // inlined: function at programs/breakout.au:48
-        const int32_t t142 = add(prev131.origin.y, prev131.f1);
-        const bool t143 = (t142 < int32_t(1));
-        int32_t r144{};
-        if (t143) {
-          const int32_t t145 = neg(prev131.f1);
-          r144 = t145;
+        const int32_t t127 = add(prev118.origin.y, prev118.f1);
+        const bool t128 = (t127 < int32_t(1));
+        int32_t r129{};
+        if (t128) {
+          const int32_t t130 = neg(prev118.f1);
+          r129 = t130;
         } else {
-          r144 = prev131.f1;
+          r129 = prev118.f1;
         }
-        const int32_t t146 = add(prev131.origin.y, r144);
-        const Pos t147 = Pos{t141, t146};
+        const int32_t t131 = add(prev118.origin.y, r129);
+        const Pos t132 = Pos{t126, t131};
         // inlined: function at programs/breakout.au:66
-        std::vector<C2_Brick>& kept148 = s.scratch.v.b17;
-        kept148.clear();
-        for (const C2_Brick& x149 : prev130) {
+        std::vector<C2_Brick>& kept133 = s.scratch.v.b17;
+        kept133.clear();
+        for (const C2_Brick& x134 : prev117) {
           // inlined: function at programs/breakout.au:67
-          const bool t150 = (x149.origin == t147);
-          bool r151{};
-          if (t150) {
-            const bool t152 = (x149.f0 <= int32_t(1));
-            r151 = t152;
+          const bool t135 = (x134.origin == t132);
+          bool r136{};
+          if (t135) {
+            const bool t137 = (x134.f0 <= int32_t(1));
+            r136 = t137;
           } else {
-            r151 = false;
+            r136 = false;
           }
-          if (!r151) {
-            kept148.push_back(x149);
+          if (!r136) {
+            kept133.push_back(x134);
           }
         }
-        std::vector<C2_Brick>& updated153 = s.scratch.v.b18;
-        updated153.clear();
-        updated153.reserve(size_t(int32_t(kept148.size())));
-        for (const C2_Brick& x154 : kept148) {
+        std::vector<C2_Brick>& updated138 = s.scratch.v.b18;
+        updated138.clear();
+        updated138.reserve(size_t(int32_t(kept133.size())));
+        for (const C2_Brick& x139 : kept133) {
           // inlined: function at programs/breakout.au:69
-          const bool t155 = (x154.origin == t147);
-          if (t155) {
+          const bool t140 = (x139.origin == t132);
+          if (t140) {
             // inlined: function at programs/breakout.au:68
-            const int32_t t156 = sub(x154.f0, int32_t(1));
-            C2_Brick upd157 = x154;
-            upd157.f0 = t156;
-            updated153.push_back(std::move(upd157));
+            const int32_t t141 = sub(x139.f0, int32_t(1));
+            C2_Brick upd142 = x139;
+            upd142.f0 = t141;
+            updated138.push_back(std::move(upd142));
           } else {
-            updated153.push_back(x154);
+            updated138.push_back(x139);
           }
         }
-        std::swap(s.g_bricks_14, updated153);
-        s.u_bricks_15 = true;
-        const C1_Ball& prev158 = s.p_ball_19;
-        const C0_Paddle& prev159 = s.p_paddle_22;
-        const std::vector<C2_Brick>& prev160 = s.p_bricks_16;
+        if (!s.scratch.v.sv_bricks_20) {
+          s.scratch.v.p_bricks_19 = std::move(s.g_bricks_17);
+          s.scratch.v.sv_bricks_20 = true;
+        }
+        std::swap(s.g_bricks_17, updated138);
+        s.u_bricks_18 = true;
+        const C1_Ball& prev143 = (s.scratch.v.sv_ball_24 ? s.scratch.v.p_ball_23 : s.g_ball_21);
+        const C0_Paddle& prev144 = (s.scratch.v.sv_paddle_28 ? s.scratch.v.p_paddle_27 : s.g_paddle_25);
+        const std::vector<C2_Brick>& prev145 = (s.scratch.v.sv_bricks_20 ? s.scratch.v.p_bricks_19 : s.g_bricks_17);
         // inlined: function at programs/breakout.au:57
-        Pos l_tgt161{};
+        Pos l_tgt146{};
         // inlined: function at programs/breakout.au:50
         // inlined: function at programs/breakout.au:45
-        int32_t l_ax162{};
-        const int32_t t163 = add(prev158.origin.x, prev158.f0);
-        l_ax162 = t163;
-        const int32_t& v164 = l_ax162;
-        const bool t165 = (v164 < int32_t(0));
-        bool r166{};
-        if (!t165) {
-          const int32_t& v167 = l_ax162;
-          const bool t168 = (v167 >= int32_t(12));
-          r166 = t168;
+        int32_t l_ax147{};
+        const int32_t t148 = add(prev143.origin.x, prev143.f0);
+        l_ax147 = t148;
+        const bool t149 = (l_ax147 < int32_t(0));
+        bool r150{};
+        if (!t149) {
+          const bool t151 = (l_ax147 >= int32_t(12));
+          r150 = t151;
         } else {
-          r166 = true;
+          r150 = true;
         }
-        int32_t r169{};
-        if (r166) {
-          const int32_t t170 = neg(prev158.f0);
-          r169 = t170;
+        int32_t r152{};
+        if (r150) {
+          const int32_t t153 = neg(prev143.f0);
+          r152 = t153;
         } else {
-          r169 = prev158.f0;
+          r152 = prev143.f0;
         }
-        const int32_t t171 = add(prev158.origin.x, r169);
+        const int32_t t154 = add(prev143.origin.x, r152);
         // inlined: function at programs/breakout.au:48
-        const int32_t t172 = add(prev158.origin.y, prev158.f1);
-        const bool t173 = (t172 < int32_t(1));
-        int32_t r174{};
-        if (t173) {
-          const int32_t t175 = neg(prev158.f1);
-          r174 = t175;
+        const int32_t t155 = add(prev143.origin.y, prev143.f1);
+        const bool t156 = (t155 < int32_t(1));
+        int32_t r157{};
+        if (t156) {
+          const int32_t t158 = neg(prev143.f1);
+          r157 = t158;
         } else {
-          r174 = prev158.f1;
+          r157 = prev143.f1;
         }
-        const int32_t t176 = add(prev158.origin.y, r174);
-        const Pos t177 = Pos{t171, t176};
-        l_tgt161 = t177;
-        const Pos& v178 = l_tgt161;
+        const int32_t t159 = add(prev143.origin.y, r157);
+        const Pos t160 = Pos{t154, t159};
+        l_tgt146 = t160;
         // inlined: function at programs/breakout.au:52
-        bool any179 = false;
-        for (const C2_Brick& x180 : prev160) {
+        bool any161 = false;
+        for (const C2_Brick& x162 : prev145) {
           // inlined: function at programs/breakout.au:52
-          const bool t181 = (x180.origin == v178);
-          if (t181) {
-            any179 = true;
+          const bool t163 = (x162.origin == l_tgt146);
+          if (t163) {
+            any161 = true;
             break;
           }
         }
-        C1_Ball r182{};
-        if (any179) {
+        C1_Ball r164{};
+        if (any161) {
           // inlined: function at programs/breakout.au:45
-          int32_t l_ax183{};
-          const int32_t t184 = add(prev158.origin.x, prev158.f0);
-          l_ax183 = t184;
-          const int32_t& v185 = l_ax183;
-          const bool t186 = (v185 < int32_t(0));
-          bool r187{};
-          if (!t186) {
-            const int32_t& v188 = l_ax183;
-            const bool t189 = (v188 >= int32_t(12));
-            r187 = t189;
+          int32_t l_ax165{};
+          const int32_t t166 = add(prev143.origin.x, prev143.f0);
+          l_ax165 = t166;
+          const bool t167 = (l_ax165 < int32_t(0));
+          bool r168{};
+          if (!t167) {
+            const bool t169 = (l_ax165 >= int32_t(12));
+            r168 = t169;
           } else {
-            r187 = true;
+            r168 = true;
           }
-          int32_t r190{};
-          if (r187) {
-            const int32_t t191 = neg(prev158.f0);
-            r190 = t191;
+          int32_t r170{};
+          if (r168) {
+            const int32_t t171 = neg(prev143.f0);
+            r170 = t171;
           } else {
-            r190 = prev158.f0;
+            r170 = prev143.f0;
           }
           // inlined: function at programs/breakout.au:48
-          const int32_t t192 = add(prev158.origin.y, prev158.f1);
-          const bool t193 = (t192 < int32_t(1));
-          int32_t r194{};
-          if (t193) {
-            const int32_t t195 = neg(prev158.f1);
-            r194 = t195;
+          const int32_t t172 = add(prev143.origin.y, prev143.f1);
+          const bool t173 = (t172 < int32_t(1));
+          int32_t r174{};
+          if (t173) {
+            const int32_t t175 = neg(prev143.f1);
+            r174 = t175;
           } else {
-            r194 = prev158.f1;
+            r174 = prev143.f1;
           }
-          const int32_t t196 = neg(r194);
-          C1_Ball o197 = C1_Ball{r190, t196, prev158.origin};
-          r182 = std::move(o197);
+          const int32_t t176 = neg(r174);
+          C1_Ball o177 = C1_Ball{r170, t176, prev143.origin};
+          r164 = std::move(o177);
         } else {
-          const Pos& v198 = l_tgt161;
           // inlined: function at programs/breakout.au:53
-          const bool t199 = (v198.y == int32_t(11));
-          bool r200{};
-          if (t199) {
-            const int32_t t201 = sub(v198.x, prev159.origin.x);
-            const bool t202 = (t201 < int32_t(0));
-            int32_t r203{};
-            if (t202) {
-              const int32_t t204 = neg(t201);
-              r203 = t204;
+          const bool t178 = (l_tgt146.y == int32_t(11));
+          bool r179{};
+          if (t178) {
+            const int32_t t180 = sub(l_tgt146.x, prev144.origin.x);
+            const bool t181 = (t180 < int32_t(0));
+            int32_t r182{};
+            if (t181) {
+              const int32_t t183 = neg(t180);
+              r182 = t183;
             } else {
-              r203 = t201;
+              r182 = t180;
             }
-            const bool t205 = (r203 <= int32_t(1));
-            r200 = t205;
+            const bool t184 = (r182 <= int32_t(1));
+            r179 = t184;
           } else {
-            r200 = false;
+            r179 = false;
           }
-          C1_Ball r206{};
-          if (r200) {
-            const Pos& v207 = l_tgt161;
-            const int32_t t208 = sub(v207.x, prev159.origin.x);
-            C1_Ball o209 = C1_Ball{t208, int32_t(-1), prev158.origin};
-            r206 = std::move(o209);
+          C1_Ball r185{};
+          if (r179) {
+            const int32_t t186 = sub(l_tgt146.x, prev144.origin.x);
+            C1_Ball o187 = C1_Ball{t186, int32_t(-1), prev143.origin};
+            r185 = std::move(o187);
           } else {
             // inlined: function at programs/breakout.au:45
-            int32_t l_ax210{};
-            const int32_t t211 = add(prev158.origin.x, prev158.f0);
-            l_ax210 = t211;
-            const int32_t& v212 = l_ax210;
-            const bool t213 = (v212 < int32_t(0));
-            bool r214{};
-            if (!t213) {
-              const int32_t& v215 = l_ax210;
-              const bool t216 = (v215 >= int32_t(12));
-              r214 = t216;
+            int32_t l_ax188{};
+            const int32_t t189 = add(prev143.origin.x, prev143.f0);
+            l_ax188 = t189;
+            const bool t190 = (l_ax188 < int32_t(0));
+            bool r191{};
+            if (!t190) {
+              const bool t192 = (l_ax188 >= int32_t(12));
+              r191 = t192;
             } else {
-              r214 = true;
+              r191 = true;
             }
-            int32_t r217{};
-            if (r214) {
-              const int32_t t218 = neg(prev158.f0);
-              r217 = t218;
+            int32_t r193{};
+            if (r191) {
+              const int32_t t194 = neg(prev143.f0);
+              r193 = t194;
             } else {
-              r217 = prev158.f0;
+              r193 = prev143.f0;
             }
             // inlined: function at programs/breakout.au:48
-            const int32_t t219 = add(prev158.origin.y, prev158.f1);
-            const bool t220 = (t219 < int32_t(1));
-            int32_t r221{};
-            if (t220) {
-              const int32_t t222 = neg(prev158.f1);
-              r221 = t222;
+            const int32_t t195 = add(prev143.origin.y, prev143.f1);
+            const bool t196 = (t195 < int32_t(1));
+            int32_t r197{};
+            if (t196) {
+              const int32_t t198 = neg(prev143.f1);
+              r197 = t198;
             } else {
-              r221 = prev158.f1;
+              r197 = prev143.f1;
             }
-            const Pos& v223 = l_tgt161;
-            C1_Ball o224 = C1_Ball{r217, r221, v223};
-            r206 = std::move(o224);
+            C1_Ball o199 = C1_Ball{r193, r197, l_tgt146};
+            r185 = std::move(o199);
           }
-          r182 = std::move(r206);
+          r164 = std::move(r185);
         }
-        s.g_ball_17 = std::move(r182);
-        s.u_ball_18 = true;
+        if (!s.scratch.v.sv_ball_24) {
+          s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+          s.scratch.v.sv_ball_24 = true;
+        }
+        s.g_ball_21 = std::move(r164);
+        s.u_ball_22 = true;
       }
     }
     // on-clause 4, programs/breakout.au:80
     {
-      const bool& prev225 = s.p_launched_13;
-      bool r226{};
-      if (prev225) {
-        const C1_Ball& prev227 = s.p_ball_19;
-        const C0_Paddle& prev228 = s.p_paddle_22;
+      const bool& prev200 = (s.scratch.v.sv_launched_16 ? s.scratch.v.p_launched_15 : s.g_launched_13);
+      bool r201{};
+      if (prev200) {
+        const C1_Ball& prev202 = (s.scratch.v.sv_ball_24 ? s.scratch.v.p_ball_23 : s.g_ball_21);
+        const C0_Paddle& prev203 = (s.scratch.v.sv_paddle_28 ? s.scratch.v.p_paddle_27 : s.g_paddle_25);
         // inlined: function at programs/breakout.au:55
         // inlined: function at programs/breakout.au:50
         // inlined: function at programs/breakout.au:45
-        int32_t l_ax229{};
-        const int32_t t230 = add(prev227.origin.x, prev227.f0);
-        l_ax229 = t230;
-        const int32_t& v231 = l_ax229;
-        const bool t232 = (v231 < int32_t(0));
-        bool r233{};
-        if (!t232) {
-          const int32_t& v234 = l_ax229;
-          const bool t235 = (v234 >= int32_t(12));
-          r233 = t235;
+        int32_t l_ax204{};
+        const int32_t t205 = add(prev202.origin.x, prev202.f0);
+        l_ax204 = t205;
+        const bool t206 = (l_ax204 < int32_t(0));
+        bool r207{};
+        if (!t206) {
+          const bool t208 = (l_ax204 >= int32_t(12));
+          r207 = t208;
         } else {
-          r233 = true;
+          r207 = true;
         }
-        int32_t r236{};
-        if (r233) {
-          const int32_t t237 = neg(prev227.f0);
-          r236 = t237;
+        int32_t r209{};
+        if (r207) {
+          const int32_t t210 = neg(prev202.f0);
+          r209 = t210;
         } else {
-          r236 = prev227.f0;
+          r209 = prev202.f0;
         }
-        const int32_t t238 = add(prev227.origin.x, r236);
+        const int32_t t211 = add(prev202.origin.x, r209);
         // inlined: function at programs/breakout.au:48
-        const int32_t t239 = add(prev227.origin.y, prev227.f1);
-        const bool t240 = (t239 < int32_t(1));
-        int32_t r241{};
-        if (t240) {
-          const int32_t t242 = neg(prev227.f1);
-          r241 = t242;
+        const int32_t t212 = add(prev202.origin.y, prev202.f1);
+        const bool t213 = (t212 < int32_t(1));
+        int32_t r214{};
+        if (t213) {
+          const int32_t t215 = neg(prev202.f1);
+          r214 = t215;
         } else {
-          r241 = prev227.f1;
+          r214 = prev202.f1;
         }
-        const int32_t t243 = add(prev227.origin.y, r241);
-        const Pos t244 = Pos{t238, t243};
-        const bool t245 = (t244.y >= int32_t(11));
-        bool r246{};
-        if (t245) {
+        const int32_t t216 = add(prev202.origin.y, r214);
+        const Pos t217 = Pos{t211, t216};
+        const bool t218 = (t217.y >= int32_t(11));
+        bool r219{};
+        if (t218) {
           // inlined: function at programs/breakout.au:50
           // inlined: function at programs/breakout.au:45
-          int32_t l_ax247{};
-          const int32_t t248 = add(prev227.origin.x, prev227.f0);
-          l_ax247 = t248;
-          const int32_t& v249 = l_ax247;
-          const bool t250 = (v249 < int32_t(0));
-          bool r251{};
-          if (!t250) {
-            const int32_t& v252 = l_ax247;
-            const bool t253 = (v252 >= int32_t(12));
-            r251 = t253;
+          int32_t l_ax220{};
+          const int32_t t221 = add(prev202.origin.x, prev202.f0);
+          l_ax220 = t221;
+          const bool t222 = (l_ax220 < int32_t(0));
+          bool r223{};
+          if (!t222) {
+            const bool t224 = (l_ax220 >= int32_t(12));
+            r223 = t224;
           } else {
-            r251 = true;
+            r223 = true;
           }
-          int32_t r254{};
-          if (r251) {
-            const int32_t t255 = neg(prev227.f0);
-            r254 = t255;
+          int32_t r225{};
+          if (r223) {
+            const int32_t t226 = neg(prev202.f0);
+            r225 = t226;
           } else {
-            r254 = prev227.f0;
+            r225 = prev202.f0;
           }
-          const int32_t t256 = add(prev227.origin.x, r254);
+          const int32_t t227 = add(prev202.origin.x, r225);
           // inlined: function at programs/breakout.au:48
-          const int32_t t257 = add(prev227.origin.y, prev227.f1);
-          const bool t258 = (t257 < int32_t(1));
-          int32_t r259{};
-          if (t258) {
-            const int32_t t260 = neg(prev227.f1);
-            r259 = t260;
+          const int32_t t228 = add(prev202.origin.y, prev202.f1);
+          const bool t229 = (t228 < int32_t(1));
+          int32_t r230{};
+          if (t229) {
+            const int32_t t231 = neg(prev202.f1);
+            r230 = t231;
           } else {
-            r259 = prev227.f1;
+            r230 = prev202.f1;
           }
-          const int32_t t261 = add(prev227.origin.y, r259);
-          const Pos t262 = Pos{t256, t261};
+          const int32_t t232 = add(prev202.origin.y, r230);
+          const Pos t233 = Pos{t227, t232};
           // inlined: function at programs/breakout.au:53
-          const bool t263 = (t262.y == int32_t(11));
-          bool r264{};
-          if (t263) {
-            const int32_t t265 = sub(t262.x, prev228.origin.x);
-            const bool t266 = (t265 < int32_t(0));
-            int32_t r267{};
-            if (t266) {
-              const int32_t t268 = neg(t265);
-              r267 = t268;
+          const bool t234 = (t233.y == int32_t(11));
+          bool r235{};
+          if (t234) {
+            const int32_t t236 = sub(t233.x, prev203.origin.x);
+            const bool t237 = (t236 < int32_t(0));
+            int32_t r238{};
+            if (t237) {
+              const int32_t t239 = neg(t236);
+              r238 = t239;
             } else {
-              r267 = t265;
+              r238 = t236;
             }
-            const bool t269 = (r267 <= int32_t(1));
-            r264 = t269;
+            const bool t240 = (r238 <= int32_t(1));
+            r235 = t240;
           } else {
-            r264 = false;
+            r235 = false;
           }
-          const bool t270 = !r264;
-          r246 = t270;
+          const bool t241 = !r235;
+          r219 = t241;
         } else {
-          r246 = false;
+          r219 = false;
         }
-        r226 = r246;
+        r201 = r219;
       } else {
-        r226 = false;
+        r201 = false;
       }
-      if (r226) {
+      if (r201) {
         s.core.covered[int32_t(3)] = 1;
-        const int32_t& prev271 = s.p_lives_7;
-        const int32_t t272 = sub(prev271, int32_t(1));
-        s.g_lives_5 = t272;
+        const int32_t& prev242 = (s.scratch.v.sv_lives_8 ? s.scratch.v.p_lives_7 : s.g_lives_5);
+        const int32_t t243 = sub(prev242, int32_t(1));
+        if (!s.scratch.v.sv_lives_8) {
+          s.scratch.v.p_lives_7 = std::move(s.g_lives_5);
+          s.scratch.v.sv_lives_8 = true;
+        }
+        s.g_lives_5 = t243;
         s.u_lives_6 = true;
-        s.g_launched_11 = false;
-        s.u_launched_12 = true;
+        if (!s.scratch.v.sv_launched_16) {
+          s.scratch.v.p_launched_15 = std::move(s.g_launched_13);
+          s.scratch.v.sv_launched_16 = true;
+        }
+        s.g_launched_13 = false;
+        s.u_launched_14 = true;
       }
     }
     // on-clause 5, programs/breakout.au:84
     {
-      const bool& g273 = s.g_launched_11;
-      const bool t274 = !g273;
-      if (t274) {
+      const bool& g244 = s.g_launched_13;
+      const bool t245 = !g244;
+      if (t245) {
         s.core.covered[int32_t(4)] = 1;
-        const C1_Ball& g275 = s.g_ball_17;
-        const C0_Paddle& g276 = s.g_paddle_20;
-        const Pos t277 = Pos{g276.origin.x, int32_t(10)};
-        C1_Ball upd278 = g275;
-        upd278.origin = t277;
-        s.g_ball_17 = std::move(upd278);
-        s.u_ball_18 = true;
+        const C1_Ball& g246 = s.g_ball_21;
+        const C0_Paddle& g247 = s.g_paddle_25;
+        const Pos t248 = Pos{g247.origin.x, int32_t(10)};
+        C1_Ball upd249 = g246;
+        upd249.origin = t248;
+        if (!s.scratch.v.sv_ball_24) {
+          s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+          s.scratch.v.sv_ball_24 = true;
+        }
+        s.g_ball_21 = std::move(upd249);
+        s.u_ball_22 = true;
       }
     }
     // on-clause 6, programs/breakout.au:86
     {
-      const bool t279 = s.core.up;
-      bool r280{};
-      if (t279) {
-        const bool& prev281 = s.p_launched_13;
-        const bool t282 = !prev281;
-        r280 = t282;
+      const bool t250 = s.core.up;
+      bool r251{};
+      if (t250) {
+        const bool& prev252 = (s.scratch.v.sv_launched_16 ? s.scratch.v.p_launched_15 : s.g_launched_13);
+        const bool t253 = !prev252;
+        r251 = t253;
       } else {
-        r280 = false;
+        r251 = false;
       }
-      if (r280) {
+      if (r251) {
         s.core.covered[int32_t(5)] = 1;
-        s.g_launched_11 = true;
-        s.u_launched_12 = true;
-        const std::vector<int32_t> list283 = std::vector<int32_t>{int32_t(-1), int32_t(1)};
-        if (list283.empty()) {
+        if (!s.scratch.v.sv_launched_16) {
+          s.scratch.v.p_launched_15 = std::move(s.g_launched_13);
+          s.scratch.v.sv_launched_16 = true;
+        }
+        s.g_launched_13 = true;
+        s.u_launched_14 = true;
+        const std::vector<int32_t> list254 = std::vector<int32_t>{int32_t(-1), int32_t(1)};
+        if (list254.empty()) {
           fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t284 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list283.size())))));
-        const int32_t t285 = list283[size_t(t284)];
-        const C1_Ball& g286 = s.g_ball_17;
-        C1_Ball o287 = C1_Ball{t285, int32_t(-1), g286.origin};
-        s.g_ball_17 = std::move(o287);
-        s.u_ball_18 = true;
+        const int32_t t255 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list254.size())))));
+        const int32_t t256 = list254[size_t(t255)];
+        const C1_Ball& g257 = s.g_ball_21;
+        C1_Ball o258 = C1_Ball{t256, int32_t(-1), g257.origin};
+        if (!s.scratch.v.sv_ball_24) {
+          s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+          s.scratch.v.sv_ball_24 = true;
+        }
+        s.g_ball_21 = std::move(o258);
+        s.u_ball_22 = true;
       }
     }
     // on-clause 7, programs/breakout.au:89
     {
-      const std::vector<C2_Brick>& g288 = s.g_bricks_14;
-      const int32_t t289 = int32_t(g288.size());
-      const bool t290 = (t289 == int32_t(0));
-      bool r291{};
-      if (!t290) {
-        const int32_t& g292 = s.g_lives_5;
-        const bool t293 = (g292 <= int32_t(0));
-        r291 = t293;
+      const std::vector<C2_Brick>& g259 = s.g_bricks_17;
+      const int32_t t260 = int32_t(g259.size());
+      const bool t261 = (t260 == int32_t(0));
+      bool r262{};
+      if (!t261) {
+        const int32_t& g263 = s.g_lives_5;
+        const bool t264 = (g263 <= int32_t(0));
+        r262 = t264;
       } else {
-        r291 = true;
+        r262 = true;
       }
-      if (r291) {
+      if (r262) {
         s.core.covered[int32_t(6)] = 1;
         // inlined: function at programs/breakout.au:20
-        const std::vector<int32_t> list294 = std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)};
-        std::vector<std::vector<C2_Brick>>& out295 = s.scratch.v.b19;
-        out295.clear();
-        out295.reserve(size_t(int32_t(list294.size())));
-        for (const int32_t& x296 : list294) {
+        const std::vector<int32_t> list265 = std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)};
+        std::vector<std::vector<C2_Brick>>& out266 = s.scratch.v.b19;
+        out266.clear();
+        out266.reserve(size_t(int32_t(list265.size())));
+        for (const int32_t& x267 : list265) {
           // inlined: function at programs/breakout.au:22
-          const std::vector<int32_t> list297 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
-          std::vector<C2_Brick> out298{};
-          out298.reserve(size_t(int32_t(list297.size())));
-          for (const int32_t& x299 : list297) {
+          const std::vector<int32_t> list268 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
+          std::vector<C2_Brick> out269{};
+          out269.reserve(size_t(int32_t(list268.size())));
+          for (const int32_t& x270 : list268) {
             // inlined: function at programs/breakout.au:22
-            const int32_t t300 = sub(int32_t(5), x296);
-            const Pos t301 = Pos{x299, x296};
-            C2_Brick o302 = C2_Brick{t300, t301};
-            out298.push_back(std::move(o302));
+            const int32_t t271 = sub(int32_t(5), x267);
+            const Pos t272 = Pos{x270, x267};
+            C2_Brick o273 = C2_Brick{t271, t272};
+            out269.push_back(std::move(o273));
           }
-          out295.push_back(std::move(out298));
+          out266.push_back(std::move(out269));
         }
-        std::vector<C2_Brick>& cat303 = s.scratch.v.b20;
-        cat303.clear();
-        for (const std::vector<C2_Brick>& part304 : out295) {
-          cat303.insert(cat303.end(), part304.begin(), part304.end());
+        std::vector<C2_Brick>& cat274 = s.scratch.v.b20;
+        cat274.clear();
+        for (const std::vector<C2_Brick>& part275 : out266) {
+          cat274.insert(cat274.end(), part275.begin(), part275.end());
         }
-        std::vector<C2_Brick>& out305 = s.scratch.v.b21;
-        out305.clear();
-        for (const C2_Brick& x306 : cat303) {
+        std::vector<C2_Brick>& out276 = s.scratch.v.b21;
+        out276.clear();
+        for (const C2_Brick& x277 : cat274) {
           // inlined: function at programs/breakout.au:21
-          const std::vector<bool> list307 = std::vector<bool>{true, true, true, true, false};
-          if (list307.empty()) {
+          const std::vector<bool> list278 = std::vector<bool>{true, true, true, true, false};
+          if (list278.empty()) {
             fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t308 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list307.size())))));
-          const bool t309 = list307[size_t(t308)];
-          if (t309) {
-            out305.push_back(x306);
+          const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
+          const bool t280 = list278[size_t(t279)];
+          if (t280) {
+            out276.push_back(x277);
           }
         }
-        std::swap(s.g_bricks_14, out305);
-        s.u_bricks_15 = true;
+        if (!s.scratch.v.sv_bricks_20) {
+          s.scratch.v.p_bricks_19 = std::move(s.g_bricks_17);
+          s.scratch.v.sv_bricks_20 = true;
+        }
+        std::swap(s.g_bricks_17, out276);
+        s.u_bricks_18 = true;
+        if (!s.scratch.v.sv_lives_8) {
+          s.scratch.v.p_lives_7 = std::move(s.g_lives_5);
+          s.scratch.v.sv_lives_8 = true;
+        }
         s.g_lives_5 = int32_t(3);
         s.u_lives_6 = true;
-        s.g_launched_11 = false;
-        s.u_launched_12 = true;
-        const C0_Paddle& g310 = s.g_paddle_20;
-        const Pos t311 = Pos{g310.origin.x, int32_t(10)};
-        C1_Ball o312 = C1_Ball{int32_t(1), int32_t(-1), t311};
-        s.g_ball_17 = std::move(o312);
-        s.u_ball_18 = true;
+        if (!s.scratch.v.sv_launched_16) {
+          s.scratch.v.p_launched_15 = std::move(s.g_launched_13);
+          s.scratch.v.sv_launched_16 = true;
+        }
+        s.g_launched_13 = false;
+        s.u_launched_14 = true;
+        const C0_Paddle& g281 = s.g_paddle_25;
+        const Pos t282 = Pos{g281.origin.x, int32_t(10)};
+        C1_Ball o283 = C1_Ball{int32_t(1), int32_t(-1), t282};
+        if (!s.scratch.v.sv_ball_24) {
+          s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+          s.scratch.v.sv_ball_24 = true;
+        }
+        s.g_ball_21 = std::move(o283);
+        s.u_ball_22 = true;
       }
     }
     // NEXT of lives, programs/breakout.au:39
     if (!s.u_lives_6) {
-      const int32_t& prev313 = s.p_lives_7;
-      s.g_lives_5 = prev313;
+      const int32_t prev284 = (s.scratch.v.sv_lives_8 ? s.scratch.v.p_lives_7 : s.g_lives_5);
+      if (!s.scratch.v.sv_lives_8) {
+        s.scratch.v.p_lives_7 = std::move(s.g_lives_5);
+        s.scratch.v.sv_lives_8 = true;
+      }
+      s.g_lives_5 = prev284;
       s.u_lives_6 = true;
     }
     // NEXT of hud, programs/breakout.au:42
-    if (!s.u_hud_9) {
-      const C3_Hearts& prev314 = s.p_hud_10;
-      const int32_t& g315 = s.g_lives_5;
-      C3_Hearts upd316 = prev314;
-      upd316.f0 = g315;
-      s.g_hud_8 = std::move(upd316);
-      s.u_hud_9 = true;
+    if (!s.u_hud_10) {
+      const C3_Hearts& prev285 = (s.scratch.v.sv_hud_12 ? s.scratch.v.p_hud_11 : s.g_hud_9);
+      const int32_t& g286 = s.g_lives_5;
+      C3_Hearts upd287 = prev285;
+      upd287.f0 = g286;
+      if (!s.scratch.v.sv_hud_12) {
+        s.scratch.v.p_hud_11 = std::move(s.g_hud_9);
+        s.scratch.v.sv_hud_12 = true;
+      }
+      s.g_hud_9 = std::move(upd287);
+      s.u_hud_10 = true;
     }
     // NEXT of launched, programs/breakout.au:36
-    if (!s.u_launched_12) {
-      const bool& prev317 = s.p_launched_13;
-      s.g_launched_11 = prev317;
-      s.u_launched_12 = true;
+    if (!s.u_launched_14) {
+      const bool prev288 = (s.scratch.v.sv_launched_16 ? s.scratch.v.p_launched_15 : s.g_launched_13);
+      if (!s.scratch.v.sv_launched_16) {
+        s.scratch.v.p_launched_15 = std::move(s.g_launched_13);
+        s.scratch.v.sv_launched_16 = true;
+      }
+      s.g_launched_13 = prev288;
+      s.u_launched_14 = true;
     }
     // NEXT of bricks, programs/breakout.au:33
-    if (!s.u_bricks_15) {
-      const std::vector<C2_Brick>& prev318 = s.p_bricks_16;
-      s.g_bricks_14 = prev318;
-      s.u_bricks_15 = true;
+    if (!s.u_bricks_18) {
+      const std::vector<C2_Brick> prev289 = (s.scratch.v.sv_bricks_20 ? s.scratch.v.p_bricks_19 : s.g_bricks_17);
+      if (!s.scratch.v.sv_bricks_20) {
+        s.scratch.v.p_bricks_19 = std::move(s.g_bricks_17);
+        s.scratch.v.sv_bricks_20 = true;
+      }
+      s.g_bricks_17 = prev289;
+      s.u_bricks_18 = true;
     }
     // NEXT of ball, programs/breakout.au:30
-    if (!s.u_ball_18) {
-      const C1_Ball& prev319 = s.p_ball_19;
-      s.g_ball_17 = prev319;
-      s.u_ball_18 = true;
+    if (!s.u_ball_22) {
+      const C1_Ball prev290 = (s.scratch.v.sv_ball_24 ? s.scratch.v.p_ball_23 : s.g_ball_21);
+      if (!s.scratch.v.sv_ball_24) {
+        s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+        s.scratch.v.sv_ball_24 = true;
+      }
+      s.g_ball_21 = prev290;
+      s.u_ball_22 = true;
     }
     // NEXT of paddle, programs/breakout.au:27
-    if (!s.u_paddle_21) {
-      const C0_Paddle& prev320 = s.p_paddle_22;
-      s.g_paddle_20 = prev320;
-      s.u_paddle_21 = true;
+    if (!s.u_paddle_26) {
+      const C0_Paddle prev291 = (s.scratch.v.sv_paddle_28 ? s.scratch.v.p_paddle_27 : s.g_paddle_25);
+      if (!s.scratch.v.sv_paddle_28) {
+        s.scratch.v.p_paddle_27 = std::move(s.g_paddle_25);
+        s.scratch.v.sv_paddle_28 = true;
+      }
+      s.g_paddle_25 = prev291;
+      s.u_paddle_26 = true;
     }
     s.core.clear_inputs();
   }
@@ -1104,7 +1157,7 @@ struct Prog {
     std::vector<Elem>& elems1 = s.scratch.v.b22;
     elems1.clear();
     elems1.clear();
-    const C0_Paddle& g2 = s.g_paddle_20;
+    const C0_Paddle& g2 = s.g_paddle_25;
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(-1)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
@@ -1113,14 +1166,14 @@ struct Prog {
       if (paint) paint->paint(e3.position, pal[e3.color]);
     }
     elems1.clear();
-    const C1_Ball& g4 = s.g_ball_17;
+    const C1_Ball& g4 = s.g_ball_21;
     elems1.push_back(Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(2)});
     for (const Elem& e5 : elems1) {
       s.core.occupied.add(e5.position);
       if (paint) paint->paint(e5.position, pal[e5.color]);
     }
     elems1.clear();
-    const std::vector<C2_Brick>& g6 = s.g_bricks_14;
+    const std::vector<C2_Brick>& g6 = s.g_bricks_17;
     for (const C2_Brick& x7 : g6) {
       const int32_t colour8 = colour_3_C2_Brick(s, x7);
       elems1.push_back(Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8});
@@ -1130,7 +1183,7 @@ struct Prog {
       if (paint) paint->paint(e9.position, pal[e9.color]);
     }
     elems1.clear();
-    const C3_Hearts& g10 = s.g_hud_8;
+    const C3_Hearts& g10 = s.g_hud_9;
     const int32_t colour11 = colour_0_C3_Hearts(s, g10);
     elems1.push_back(Elem{Pos{add(g10.origin.x, int32_t(0)), add(g10.origin.y, int32_t(0))}, colour11});
     const int32_t colour12 = colour_1_C3_Hearts(s, g10);
@@ -1151,11 +1204,11 @@ struct Prog {
     hash_value(h, s.g_SpecialConditionTriggered_3);
     hash_value(h, s.g_padRow_4);
     hash_value(h, s.g_lives_5);
-    hash_value(h, s.g_hud_8);
-    hash_value(h, s.g_launched_11);
-    hash_value(h, s.g_bricks_14);
-    hash_value(h, s.g_ball_17);
-    hash_value(h, s.g_paddle_20);
+    hash_value(h, s.g_hud_9);
+    hash_value(h, s.g_launched_13);
+    hash_value(h, s.g_bricks_17);
+    hash_value(h, s.g_ball_21);
+    hash_value(h, s.g_paddle_25);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -1167,11 +1220,11 @@ struct Prog {
     save_value(w, s.g_SpecialConditionTriggered_3);
     save_value(w, s.g_padRow_4);
     save_value(w, s.g_lives_5);
-    save_value(w, s.g_hud_8);
-    save_value(w, s.g_launched_11);
-    save_value(w, s.g_bricks_14);
-    save_value(w, s.g_ball_17);
-    save_value(w, s.g_paddle_20);
+    save_value(w, s.g_hud_9);
+    save_value(w, s.g_launched_13);
+    save_value(w, s.g_bricks_17);
+    save_value(w, s.g_ball_21);
+    save_value(w, s.g_paddle_25);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -1182,11 +1235,11 @@ struct Prog {
     load_value(r, s.g_SpecialConditionTriggered_3);
     load_value(r, s.g_padRow_4);
     load_value(r, s.g_lives_5);
-    load_value(r, s.g_hud_8);
-    load_value(r, s.g_launched_11);
-    load_value(r, s.g_bricks_14);
-    load_value(r, s.g_ball_17);
-    load_value(r, s.g_paddle_20);
+    load_value(r, s.g_hud_9);
+    load_value(r, s.g_launched_13);
+    load_value(r, s.g_bricks_17);
+    load_value(r, s.g_ball_21);
+    load_value(r, s.g_paddle_25);
   }
 };
 

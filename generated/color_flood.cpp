@@ -107,6 +107,12 @@ struct Prog {
     std::vector<Pos> b24;
     std::vector<C0_Tile> b25;
     std::vector<Elem> b26;
+    C2_Lamps p_lamps_8{};
+    bool sv_lamps_9{};
+    std::vector<C1_Swatch> p_swatches_12{};
+    bool sv_swatches_13{};
+    std::vector<C0_Tile> p_tiles_16{};
+    bool sv_tiles_17{};
   };
   struct State {
     Core core;
@@ -119,15 +125,12 @@ struct Prog {
     Pos g_corner_5{};
     C2_Lamps g_lamps_6{};
     bool u_lamps_7{};
-    C2_Lamps p_lamps_8{};
-    std::vector<C1_Swatch> g_swatches_9{};
-    bool u_swatches_10{};
-    std::vector<C1_Swatch> p_swatches_11{};
-    std::vector<C0_Tile> g_tiles_12{};
-    bool u_tiles_13{};
-    std::vector<C0_Tile> p_tiles_14{};
-    Pos g_click_15{};
-    bool d_click_16{};
+    std::vector<C1_Swatch> g_swatches_10{};
+    bool u_swatches_11{};
+    std::vector<C0_Tile> g_tiles_14{};
+    bool u_tiles_15{};
+    Pos g_click_18{};
+    bool d_click_19{};
   };
 
   static int32_t colour_2_C0_Tile(State& s, const C0_Tile& o1) {
@@ -187,8 +190,8 @@ struct Prog {
       C1_Swatch o9 = C1_Swatch{t7, t8};
       out4.push_back(std::move(o9));
     }
-    std::swap(s.g_swatches_9, out4);
-    s.u_swatches_10 = false;
+    std::swap(s.g_swatches_10, out4);
+    s.u_swatches_11 = false;
     // init tiles, programs/color_flood.au:21
     // inlined: function at programs/color_flood.au:17
     if ((int32_t(8) < int32_t(0))) {
@@ -221,24 +224,24 @@ struct Prog {
       C0_Tile o21 = C0_Tile{t18, t20, x15};
       out14.push_back(std::move(o21));
     }
-    std::swap(s.g_tiles_12, out14);
-    s.u_tiles_13 = false;
+    std::swap(s.g_tiles_14, out14);
+    s.u_tiles_15 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_tiles_14 = s.g_tiles_12;
-    s.p_swatches_11 = s.g_swatches_9;
-    s.p_lamps_8 = s.g_lamps_6;
+    s.scratch.v.sv_tiles_17 = false;
+    s.scratch.v.sv_swatches_13 = false;
+    s.scratch.v.sv_lamps_9 = false;
     s.u_lamps_7 = false;
-    s.u_swatches_10 = false;
-    s.u_tiles_13 = false;
+    s.u_swatches_11 = false;
+    s.u_tiles_15 = false;
     // on-clause 1, programs/color_flood.au:49
     {
       if (true) {
         s.core.covered[int32_t(0)] = 1;
-        const std::vector<C0_Tile>& prev1 = s.p_tiles_14;
+        const std::vector<C0_Tile>& prev1 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
         // inlined: function at programs/color_flood.au:37
         std::vector<Pos>& l_wetSpots2 = s.scratch.v.b3;
         l_wetSpots2.clear();
@@ -271,359 +274,359 @@ struct Prog {
           }
         }
         std::swap(l_wetOnes8, out9);
-        const std::vector<C0_Tile>& v11 = l_wetOnes8;
-        const int32_t t12 = int32_t(v11.size());
-        const bool t13 = (t12 > int32_t(0));
-        int32_t r14{};
-        if (t13) {
-          const std::vector<C0_Tile>& v15 = l_wetOnes8;
-          if (v15.empty()) {
+        const int32_t t11 = int32_t(l_wetOnes8.size());
+        const bool t12 = (t11 > int32_t(0));
+        int32_t r13{};
+        if (t12) {
+          if (l_wetOnes8.empty()) {
             fail_at(3, std::string() + std::string("head of an empty list"));
           }
-          const C0_Tile t16 = v15.front();
-          r14 = t16.f0;
+          const C0_Tile t14 = l_wetOnes8.front();
+          r13 = t14.f0;
         } else {
-          r14 = int32_t(6);
+          r13 = int32_t(6);
         }
-        l_fh3 = r14;
-        std::vector<C0_Tile>& updated17 = s.scratch.v.b8;
-        updated17.clear();
-        updated17.reserve(size_t(int32_t(prev1.size())));
-        for (const C0_Tile& x18 : prev1) {
+        l_fh3 = r13;
+        std::vector<C0_Tile>& updated15 = s.scratch.v.b8;
+        updated15.clear();
+        updated15.reserve(size_t(int32_t(prev1.size())));
+        for (const C0_Tile& x16 : prev1) {
           // inlined: function at programs/color_flood.au:41
-          const bool t19 = !x18.f1;
-          bool r20{};
-          if (t19) {
-            const int32_t& v21 = l_fh3;
-            const bool t22 = (x18.f0 == v21);
-            bool r23{};
-            if (t22) {
-              std::vector<Pos>& adj24 = s.scratch.v.b9;
-              adj24.clear();
-              const int32_t t25 = sub(x18.origin.x, int32_t(1));
-              if ((((t25 >= int32_t(0)) && (t25 < int32_t(8))) && ((x18.origin.y >= int32_t(0)) && (x18.origin.y < int32_t(8))))) {
-                const Pos t26 = Pos{t25, x18.origin.y};
-                adj24.push_back(t26);
+          const bool t17 = !x16.f1;
+          bool r18{};
+          if (t17) {
+            const bool t19 = (x16.f0 == l_fh3);
+            bool r20{};
+            if (t19) {
+              std::vector<Pos>& adj21 = s.scratch.v.b9;
+              adj21.clear();
+              const int32_t t22 = sub(x16.origin.x, int32_t(1));
+              if ((((t22 >= int32_t(0)) && (t22 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
+                const Pos t23 = Pos{t22, x16.origin.y};
+                adj21.push_back(t23);
               }
-              const int32_t t27 = add(x18.origin.x, int32_t(1));
-              if ((((t27 >= int32_t(0)) && (t27 < int32_t(8))) && ((x18.origin.y >= int32_t(0)) && (x18.origin.y < int32_t(8))))) {
-                const Pos t28 = Pos{t27, x18.origin.y};
-                adj24.push_back(t28);
+              const int32_t t24 = add(x16.origin.x, int32_t(1));
+              if ((((t24 >= int32_t(0)) && (t24 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
+                const Pos t25 = Pos{t24, x16.origin.y};
+                adj21.push_back(t25);
               }
-              const int32_t t29 = sub(x18.origin.y, int32_t(1));
-              if ((((x18.origin.x >= int32_t(0)) && (x18.origin.x < int32_t(8))) && ((t29 >= int32_t(0)) && (t29 < int32_t(8))))) {
-                const Pos t30 = Pos{x18.origin.x, t29};
-                adj24.push_back(t30);
+              const int32_t t26 = sub(x16.origin.y, int32_t(1));
+              if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t26 >= int32_t(0)) && (t26 < int32_t(8))))) {
+                const Pos t27 = Pos{x16.origin.x, t26};
+                adj21.push_back(t27);
               }
-              const int32_t t31 = add(x18.origin.y, int32_t(1));
-              if ((((x18.origin.x >= int32_t(0)) && (x18.origin.x < int32_t(8))) && ((t31 >= int32_t(0)) && (t31 < int32_t(8))))) {
-                const Pos t32 = Pos{x18.origin.x, t31};
-                adj24.push_back(t32);
+              const int32_t t28 = add(x16.origin.y, int32_t(1));
+              if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t28 >= int32_t(0)) && (t28 < int32_t(8))))) {
+                const Pos t29 = Pos{x16.origin.x, t28};
+                adj21.push_back(t29);
               }
-              bool any33 = false;
-              for (const Pos& x34 : adj24) {
+              bool any30 = false;
+              for (const Pos& x31 : adj21) {
                 // inlined: function at programs/color_flood.au:42
-                const std::vector<Pos>& v35 = l_wetSpots2;
-                bool any36 = false;
-                for (const Pos& x37 : v35) {
-                  const bool t38 = (x37 == x34);
-                  if (t38) {
-                    any36 = true;
+                bool any32 = false;
+                for (const Pos& x33 : l_wetSpots2) {
+                  const bool t34 = (x33 == x31);
+                  if (t34) {
+                    any32 = true;
                     break;
                   }
                 }
-                if (any36) {
-                  any33 = true;
+                if (any32) {
+                  any30 = true;
                   break;
                 }
               }
-              r23 = any33;
+              r20 = any30;
             } else {
-              r23 = false;
+              r20 = false;
             }
-            r20 = r23;
+            r18 = r20;
           } else {
-            r20 = false;
+            r18 = false;
           }
-          if (r20) {
+          if (r18) {
             // inlined: function at programs/color_flood.au:40
-            C0_Tile upd39 = x18;
-            upd39.f1 = true;
-            updated17.push_back(std::move(upd39));
+            C0_Tile upd35 = x16;
+            upd35.f1 = true;
+            updated15.push_back(std::move(upd35));
           } else {
-            updated17.push_back(x18);
+            updated15.push_back(x16);
           }
         }
-        std::swap(s.g_tiles_12, updated17);
-        s.u_tiles_13 = true;
+        if (!s.scratch.v.sv_tiles_17) {
+          s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+          s.scratch.v.sv_tiles_17 = true;
+        }
+        std::swap(s.g_tiles_14, updated15);
+        s.u_tiles_15 = true;
       }
     }
     // on-clause 2, programs/color_flood.au:51
     {
-      const C2_Lamps& prev40 = s.p_lamps_8;
-      const bool t41 = !prev40.f0;
-      bool r42{};
-      if (t41) {
-        const std::vector<C0_Tile>& prev43 = s.p_tiles_14;
-        bool clicked44 = false;
+      const C2_Lamps& prev36 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
+      const bool t37 = !prev36.f0;
+      bool r38{};
+      if (t37) {
+        const std::vector<C0_Tile>& prev39 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
+        bool clicked40 = false;
         if (s.core.click) {
-          s.d_click_16 = true;
-          const Pos t45 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_15 = t45;
-          std::vector<Elem>& rendered46 = s.scratch.v.b10;
-          rendered46.clear();
-          for (const C0_Tile& x47 : prev43) {
-            const int32_t colour48 = colour_2_C0_Tile(s, x47);
-            rendered46.push_back(Elem{Pos{add(x47.origin.x, int32_t(0)), add(x47.origin.y, int32_t(0))}, colour48});
+          s.d_click_19 = true;
+          const Pos t41 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_18 = t41;
+          std::vector<Elem>& rendered42 = s.scratch.v.b10;
+          rendered42.clear();
+          for (const C0_Tile& x43 : prev39) {
+            const int32_t colour44 = colour_2_C0_Tile(s, x43);
+            rendered42.push_back(Elem{Pos{add(x43.origin.x, int32_t(0)), add(x43.origin.y, int32_t(0))}, colour44});
           }
-          for (const Elem& e49 : rendered46) {
-            if ((e49.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked44 = true;
+          for (const Elem& e45 : rendered42) {
+            if ((e45.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked40 = true;
               break;
             }
           }
         }
-        r42 = clicked44;
+        r38 = clicked40;
       } else {
-        r42 = false;
+        r38 = false;
       }
-      if (r42) {
+      if (r38) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C0_Tile>& g50 = s.g_tiles_12;
-        const std::vector<C0_Tile>& prev51 = s.p_tiles_14;
+        const std::vector<C0_Tile>& g46 = s.g_tiles_14;
+        const std::vector<C0_Tile>& prev47 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
         // inlined: function at programs/color_flood.au:45
-        std::vector<C0_Tile>& l_hit52 = s.scratch.v.b11;
-        l_hit52.clear();
-        std::vector<C0_Tile>& out53 = s.scratch.v.b12;
-        out53.clear();
-        for (const C0_Tile& x54 : prev51) {
+        std::vector<C0_Tile>& l_hit48 = s.scratch.v.b11;
+        l_hit48.clear();
+        std::vector<C0_Tile>& out49 = s.scratch.v.b12;
+        out49.clear();
+        for (const C0_Tile& x50 : prev47) {
           // inlined: function at programs/color_flood.au:46
-          bool clicked55 = false;
+          bool clicked51 = false;
           if (s.core.click) {
-            s.d_click_16 = true;
-            const Pos t56 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_15 = t56;
-            std::vector<Elem>& rendered57 = s.scratch.v.b13;
-            rendered57.clear();
-            const int32_t colour58 = colour_2_C0_Tile(s, x54);
-            rendered57.push_back(Elem{Pos{add(x54.origin.x, int32_t(0)), add(x54.origin.y, int32_t(0))}, colour58});
-            for (const Elem& e59 : rendered57) {
-              if ((e59.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked55 = true;
+            s.d_click_19 = true;
+            const Pos t52 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_18 = t52;
+            std::vector<Elem>& rendered53 = s.scratch.v.b13;
+            rendered53.clear();
+            const int32_t colour54 = colour_2_C0_Tile(s, x50);
+            rendered53.push_back(Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour54});
+            for (const Elem& e55 : rendered53) {
+              if ((e55.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked51 = true;
                 break;
               }
             }
           }
-          if (clicked55) {
-            out53.push_back(x54);
+          if (clicked51) {
+            out49.push_back(x50);
           }
         }
-        std::swap(l_hit52, out53);
-        const std::vector<C0_Tile>& v60 = l_hit52;
-        const int32_t t61 = int32_t(v60.size());
-        const bool t62 = (t61 > int32_t(0));
-        int32_t r63{};
-        if (t62) {
-          const std::vector<C0_Tile>& v64 = l_hit52;
-          if (v64.empty()) {
+        std::swap(l_hit48, out49);
+        const int32_t t56 = int32_t(l_hit48.size());
+        const bool t57 = (t56 > int32_t(0));
+        int32_t r58{};
+        if (t57) {
+          if (l_hit48.empty()) {
             fail_at(4, std::string() + std::string("head of an empty list"));
           }
-          const C0_Tile t65 = v64.front();
-          r63 = t65.f0;
+          const C0_Tile t59 = l_hit48.front();
+          r58 = t59.f0;
         } else {
-          const std::vector<C0_Tile>& g66 = s.g_tiles_12;
+          const std::vector<C0_Tile>& g60 = s.g_tiles_14;
           // inlined: function at programs/color_flood.au:32
-          std::vector<C0_Tile>& l_wetOnes67 = s.scratch.v.b14;
-          l_wetOnes67.clear();
-          std::vector<C0_Tile>& out68 = s.scratch.v.b15;
-          out68.clear();
-          for (const C0_Tile& x69 : g66) {
+          std::vector<C0_Tile>& l_wetOnes61 = s.scratch.v.b14;
+          l_wetOnes61.clear();
+          std::vector<C0_Tile>& out62 = s.scratch.v.b15;
+          out62.clear();
+          for (const C0_Tile& x63 : g60) {
             // inlined: function at programs/color_flood.au:33
-            if (x69.f1) {
-              out68.push_back(x69);
+            if (x63.f1) {
+              out62.push_back(x63);
             }
           }
-          std::swap(l_wetOnes67, out68);
-          const std::vector<C0_Tile>& v70 = l_wetOnes67;
-          const int32_t t71 = int32_t(v70.size());
-          const bool t72 = (t71 > int32_t(0));
-          int32_t r73{};
-          if (t72) {
-            const std::vector<C0_Tile>& v74 = l_wetOnes67;
-            if (v74.empty()) {
+          std::swap(l_wetOnes61, out62);
+          const int32_t t64 = int32_t(l_wetOnes61.size());
+          const bool t65 = (t64 > int32_t(0));
+          int32_t r66{};
+          if (t65) {
+            if (l_wetOnes61.empty()) {
               fail_at(3, std::string() + std::string("head of an empty list"));
             }
-            const C0_Tile t75 = v74.front();
-            r73 = t75.f0;
+            const C0_Tile t67 = l_wetOnes61.front();
+            r66 = t67.f0;
           } else {
-            r73 = int32_t(6);
+            r66 = int32_t(6);
           }
-          r63 = r73;
+          r58 = r66;
         }
         // inlined: function at programs/color_flood.au:44
-        std::vector<C0_Tile>& updated76 = s.scratch.v.b16;
-        updated76.clear();
-        updated76.reserve(size_t(int32_t(g50.size())));
-        for (const C0_Tile& x77 : g50) {
+        std::vector<C0_Tile>& updated68 = s.scratch.v.b16;
+        updated68.clear();
+        updated68.reserve(size_t(int32_t(g46.size())));
+        for (const C0_Tile& x69 : g46) {
           // inlined: function at programs/color_flood.au:44
-          if (x77.f1) {
+          if (x69.f1) {
             // inlined: function at programs/color_flood.au:44
-            C0_Tile upd78 = x77;
-            upd78.f0 = r63;
-            updated76.push_back(std::move(upd78));
+            C0_Tile upd70 = x69;
+            upd70.f0 = r58;
+            updated68.push_back(std::move(upd70));
           } else {
-            updated76.push_back(x77);
+            updated68.push_back(x69);
           }
         }
-        std::swap(s.g_tiles_12, updated76);
-        s.u_tiles_13 = true;
+        if (!s.scratch.v.sv_tiles_17) {
+          s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+          s.scratch.v.sv_tiles_17 = true;
+        }
+        std::swap(s.g_tiles_14, updated68);
+        s.u_tiles_15 = true;
       }
     }
     // on-clause 3, programs/color_flood.au:53
     {
-      const C2_Lamps& prev79 = s.p_lamps_8;
-      const bool t80 = !prev79.f0;
-      bool r81{};
-      if (t80) {
-        const std::vector<C1_Swatch>& prev82 = s.p_swatches_11;
-        bool clicked83 = false;
+      const C2_Lamps& prev71 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
+      const bool t72 = !prev71.f0;
+      bool r73{};
+      if (t72) {
+        const std::vector<C1_Swatch>& prev74 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
+        bool clicked75 = false;
         if (s.core.click) {
-          s.d_click_16 = true;
-          const Pos t84 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_15 = t84;
-          std::vector<Elem>& rendered85 = s.scratch.v.b17;
-          rendered85.clear();
-          for (const C1_Swatch& x86 : prev82) {
-            const int32_t colour87 = colour_1_C1_Swatch(s, x86);
-            rendered85.push_back(Elem{Pos{add(x86.origin.x, int32_t(0)), add(x86.origin.y, int32_t(0))}, colour87});
+          s.d_click_19 = true;
+          const Pos t76 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_18 = t76;
+          std::vector<Elem>& rendered77 = s.scratch.v.b17;
+          rendered77.clear();
+          for (const C1_Swatch& x78 : prev74) {
+            const int32_t colour79 = colour_1_C1_Swatch(s, x78);
+            rendered77.push_back(Elem{Pos{add(x78.origin.x, int32_t(0)), add(x78.origin.y, int32_t(0))}, colour79});
           }
-          for (const Elem& e88 : rendered85) {
-            if ((e88.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked83 = true;
+          for (const Elem& e80 : rendered77) {
+            if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked75 = true;
               break;
             }
           }
         }
-        r81 = clicked83;
+        r73 = clicked75;
       } else {
-        r81 = false;
+        r73 = false;
       }
-      if (r81) {
+      if (r73) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C0_Tile>& g89 = s.g_tiles_12;
-        const std::vector<C1_Swatch>& prev90 = s.p_swatches_11;
+        const std::vector<C0_Tile>& g81 = s.g_tiles_14;
+        const std::vector<C1_Swatch>& prev82 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
         // inlined: function at programs/color_flood.au:45
-        std::vector<C1_Swatch>& l_hit91 = s.scratch.v.b18;
-        l_hit91.clear();
-        std::vector<C1_Swatch>& out92 = s.scratch.v.b19;
-        out92.clear();
-        for (const C1_Swatch& x93 : prev90) {
+        std::vector<C1_Swatch>& l_hit83 = s.scratch.v.b18;
+        l_hit83.clear();
+        std::vector<C1_Swatch>& out84 = s.scratch.v.b19;
+        out84.clear();
+        for (const C1_Swatch& x85 : prev82) {
           // inlined: function at programs/color_flood.au:46
-          bool clicked94 = false;
+          bool clicked86 = false;
           if (s.core.click) {
-            s.d_click_16 = true;
-            const Pos t95 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_15 = t95;
-            std::vector<Elem>& rendered96 = s.scratch.v.b20;
-            rendered96.clear();
-            const int32_t colour97 = colour_1_C1_Swatch(s, x93);
-            rendered96.push_back(Elem{Pos{add(x93.origin.x, int32_t(0)), add(x93.origin.y, int32_t(0))}, colour97});
-            for (const Elem& e98 : rendered96) {
-              if ((e98.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked94 = true;
+            s.d_click_19 = true;
+            const Pos t87 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_18 = t87;
+            std::vector<Elem>& rendered88 = s.scratch.v.b20;
+            rendered88.clear();
+            const int32_t colour89 = colour_1_C1_Swatch(s, x85);
+            rendered88.push_back(Elem{Pos{add(x85.origin.x, int32_t(0)), add(x85.origin.y, int32_t(0))}, colour89});
+            for (const Elem& e90 : rendered88) {
+              if ((e90.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked86 = true;
                 break;
               }
             }
           }
-          if (clicked94) {
-            out92.push_back(x93);
+          if (clicked86) {
+            out84.push_back(x85);
           }
         }
-        std::swap(l_hit91, out92);
-        const std::vector<C1_Swatch>& v99 = l_hit91;
-        const int32_t t100 = int32_t(v99.size());
-        const bool t101 = (t100 > int32_t(0));
-        int32_t r102{};
-        if (t101) {
-          const std::vector<C1_Swatch>& v103 = l_hit91;
-          if (v103.empty()) {
+        std::swap(l_hit83, out84);
+        const int32_t t91 = int32_t(l_hit83.size());
+        const bool t92 = (t91 > int32_t(0));
+        int32_t r93{};
+        if (t92) {
+          if (l_hit83.empty()) {
             fail_at(4, std::string() + std::string("head of an empty list"));
           }
-          const C1_Swatch t104 = v103.front();
-          r102 = t104.f0;
+          const C1_Swatch t94 = l_hit83.front();
+          r93 = t94.f0;
         } else {
-          const std::vector<C0_Tile>& g105 = s.g_tiles_12;
+          const std::vector<C0_Tile>& g95 = s.g_tiles_14;
           // inlined: function at programs/color_flood.au:32
-          std::vector<C0_Tile>& l_wetOnes106 = s.scratch.v.b21;
-          l_wetOnes106.clear();
-          std::vector<C0_Tile>& out107 = s.scratch.v.b22;
-          out107.clear();
-          for (const C0_Tile& x108 : g105) {
+          std::vector<C0_Tile>& l_wetOnes96 = s.scratch.v.b21;
+          l_wetOnes96.clear();
+          std::vector<C0_Tile>& out97 = s.scratch.v.b22;
+          out97.clear();
+          for (const C0_Tile& x98 : g95) {
             // inlined: function at programs/color_flood.au:33
-            if (x108.f1) {
-              out107.push_back(x108);
+            if (x98.f1) {
+              out97.push_back(x98);
             }
           }
-          std::swap(l_wetOnes106, out107);
-          const std::vector<C0_Tile>& v109 = l_wetOnes106;
-          const int32_t t110 = int32_t(v109.size());
-          const bool t111 = (t110 > int32_t(0));
-          int32_t r112{};
-          if (t111) {
-            const std::vector<C0_Tile>& v113 = l_wetOnes106;
-            if (v113.empty()) {
+          std::swap(l_wetOnes96, out97);
+          const int32_t t99 = int32_t(l_wetOnes96.size());
+          const bool t100 = (t99 > int32_t(0));
+          int32_t r101{};
+          if (t100) {
+            if (l_wetOnes96.empty()) {
               fail_at(3, std::string() + std::string("head of an empty list"));
             }
-            const C0_Tile t114 = v113.front();
-            r112 = t114.f0;
+            const C0_Tile t102 = l_wetOnes96.front();
+            r101 = t102.f0;
           } else {
-            r112 = int32_t(6);
+            r101 = int32_t(6);
           }
-          r102 = r112;
+          r93 = r101;
         }
         // inlined: function at programs/color_flood.au:44
-        std::vector<C0_Tile>& updated115 = s.scratch.v.b23;
-        updated115.clear();
-        updated115.reserve(size_t(int32_t(g89.size())));
-        for (const C0_Tile& x116 : g89) {
+        std::vector<C0_Tile>& updated103 = s.scratch.v.b23;
+        updated103.clear();
+        updated103.reserve(size_t(int32_t(g81.size())));
+        for (const C0_Tile& x104 : g81) {
           // inlined: function at programs/color_flood.au:44
-          if (x116.f1) {
+          if (x104.f1) {
             // inlined: function at programs/color_flood.au:44
-            C0_Tile upd117 = x116;
-            upd117.f0 = r102;
-            updated115.push_back(std::move(upd117));
+            C0_Tile upd105 = x104;
+            upd105.f0 = r93;
+            updated103.push_back(std::move(upd105));
           } else {
-            updated115.push_back(x116);
+            updated103.push_back(x104);
           }
         }
-        std::swap(s.g_tiles_12, updated115);
-        s.u_tiles_13 = true;
+        if (!s.scratch.v.sv_tiles_17) {
+          s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+          s.scratch.v.sv_tiles_17 = true;
+        }
+        std::swap(s.g_tiles_14, updated103);
+        s.u_tiles_15 = true;
       }
     }
     // on-clause 4, programs/color_flood.au:56
     {
-      const bool t118 = s.core.down;
-      bool r119{};
-      if (!t118) {
-        const C2_Lamps& prev120 = s.p_lamps_8;
-        bool r121{};
-        if (prev120.f0) {
-          bool clicked122 = false;
+      const bool t106 = s.core.down;
+      bool r107{};
+      if (!t106) {
+        const C2_Lamps& prev108 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
+        bool r109{};
+        if (prev108.f0) {
+          bool clicked110 = false;
           if (s.core.click) {
-            s.d_click_16 = true;
-            const Pos t123 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_15 = t123;
-            clicked122 = true;
+            s.d_click_19 = true;
+            const Pos t111 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_18 = t111;
+            clicked110 = true;
           }
-          r121 = clicked122;
+          r109 = clicked110;
         } else {
-          r121 = false;
+          r109 = false;
         }
-        r119 = r121;
+        r107 = r109;
       } else {
-        r119 = true;
+        r107 = true;
       }
-      if (r119) {
+      if (r107) {
         s.core.covered[int32_t(3)] = 1;
         // inlined: function at programs/color_flood.au:17
         if ((int32_t(8) < int32_t(0))) {
@@ -632,65 +635,81 @@ struct Prog {
         if ((int32_t(7) < int32_t(0))) {
           fail_at(5, std::string() + std::string("allPositions: negative size"));
         }
-        std::vector<Pos>& apos124 = s.scratch.v.b24;
-        apos124.clear();
-        for (int32_t i125 = int32_t(0), i125_end = int32_t(8); i125 < i125_end; ++i125) {
-          for (int32_t j126 = int32_t(0), j126_end = int32_t(7); j126 < j126_end; ++j126) {
-            const Pos t127 = Pos{i125, j126};
-            apos124.push_back(t127);
+        std::vector<Pos>& apos112 = s.scratch.v.b24;
+        apos112.clear();
+        for (int32_t i113 = int32_t(0), i113_end = int32_t(8); i113 < i113_end; ++i113) {
+          for (int32_t j114 = int32_t(0), j114_end = int32_t(7); j114 < j114_end; ++j114) {
+            const Pos t115 = Pos{i113, j114};
+            apos112.push_back(t115);
           }
         }
-        std::vector<C0_Tile>& out128 = s.scratch.v.b25;
-        out128.clear();
-        out128.reserve(size_t(int32_t(apos124.size())));
-        for (const Pos& x129 : apos124) {
+        std::vector<C0_Tile>& out116 = s.scratch.v.b25;
+        out116.clear();
+        out116.reserve(size_t(int32_t(apos112.size())));
+        for (const Pos& x117 : apos112) {
           // inlined: function at programs/color_flood.au:18
-          const std::vector<int32_t>& g130 = s.g_palette_4;
-          if (g130.empty()) {
+          const std::vector<int32_t>& g118 = s.g_palette_4;
+          if (g118.empty()) {
             fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t131 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g130.size())))));
-          const int32_t t132 = g130[size_t(t131)];
-          const Pos& g133 = s.g_corner_5;
-          const bool t134 = (x129 == g133);
-          C0_Tile o135 = C0_Tile{t132, t134, x129};
-          out128.push_back(std::move(o135));
+          const int32_t t119 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g118.size())))));
+          const int32_t t120 = g118[size_t(t119)];
+          const Pos& g121 = s.g_corner_5;
+          const bool t122 = (x117 == g121);
+          C0_Tile o123 = C0_Tile{t120, t122, x117};
+          out116.push_back(std::move(o123));
         }
-        std::swap(s.g_tiles_12, out128);
-        s.u_tiles_13 = true;
+        if (!s.scratch.v.sv_tiles_17) {
+          s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+          s.scratch.v.sv_tiles_17 = true;
+        }
+        std::swap(s.g_tiles_14, out116);
+        s.u_tiles_15 = true;
       }
     }
     // NEXT of lamps, programs/color_flood.au:29
     if (!s.u_lamps_7) {
-      const C2_Lamps& prev136 = s.p_lamps_8;
-      const std::vector<C0_Tile>& g137 = s.g_tiles_12;
+      const C2_Lamps& prev124 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
+      const std::vector<C0_Tile>& g125 = s.g_tiles_14;
       // inlined: function at programs/color_flood.au:31
-      bool any138 = false;
-      for (const C0_Tile& x139 : g137) {
+      bool any126 = false;
+      for (const C0_Tile& x127 : g125) {
         // inlined: function at programs/color_flood.au:31
-        const bool t140 = !x139.f1;
-        if (t140) {
-          any138 = true;
+        const bool t128 = !x127.f1;
+        if (t128) {
+          any126 = true;
           break;
         }
       }
-      const bool t141 = !any138;
-      C2_Lamps upd142 = prev136;
-      upd142.f0 = t141;
-      s.g_lamps_6 = std::move(upd142);
+      const bool t129 = !any126;
+      C2_Lamps upd130 = prev124;
+      upd130.f0 = t129;
+      if (!s.scratch.v.sv_lamps_9) {
+        s.scratch.v.p_lamps_8 = std::move(s.g_lamps_6);
+        s.scratch.v.sv_lamps_9 = true;
+      }
+      s.g_lamps_6 = std::move(upd130);
       s.u_lamps_7 = true;
     }
     // NEXT of swatches, programs/color_flood.au:25
-    if (!s.u_swatches_10) {
-      const std::vector<C1_Swatch>& prev143 = s.p_swatches_11;
-      s.g_swatches_9 = prev143;
-      s.u_swatches_10 = true;
+    if (!s.u_swatches_11) {
+      const std::vector<C1_Swatch> prev131 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
+      if (!s.scratch.v.sv_swatches_13) {
+        s.scratch.v.p_swatches_12 = std::move(s.g_swatches_10);
+        s.scratch.v.sv_swatches_13 = true;
+      }
+      s.g_swatches_10 = prev131;
+      s.u_swatches_11 = true;
     }
     // NEXT of tiles, programs/color_flood.au:21
-    if (!s.u_tiles_13) {
-      const std::vector<C0_Tile>& prev144 = s.p_tiles_14;
-      s.g_tiles_12 = prev144;
-      s.u_tiles_13 = true;
+    if (!s.u_tiles_15) {
+      const std::vector<C0_Tile> prev132 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
+      if (!s.scratch.v.sv_tiles_17) {
+        s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+        s.scratch.v.sv_tiles_17 = true;
+      }
+      s.g_tiles_14 = prev132;
+      s.u_tiles_15 = true;
     }
     s.core.clear_inputs();
   }
@@ -703,7 +722,7 @@ struct Prog {
     std::vector<Elem>& elems1 = s.scratch.v.b26;
     elems1.clear();
     elems1.clear();
-    const std::vector<C0_Tile>& g2 = s.g_tiles_12;
+    const std::vector<C0_Tile>& g2 = s.g_tiles_14;
     for (const C0_Tile& x3 : g2) {
       const int32_t colour4 = colour_2_C0_Tile(s, x3);
       elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, colour4});
@@ -713,7 +732,7 @@ struct Prog {
       if (paint) paint->paint(e5.position, pal[e5.color]);
     }
     elems1.clear();
-    const std::vector<C1_Swatch>& g6 = s.g_swatches_9;
+    const std::vector<C1_Swatch>& g6 = s.g_swatches_10;
     for (const C1_Swatch& x7 : g6) {
       const int32_t colour8 = colour_1_C1_Swatch(s, x7);
       elems1.push_back(Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8});
@@ -745,10 +764,10 @@ struct Prog {
     hash_value(h, s.g_palette_4);
     hash_value(h, s.g_corner_5);
     hash_value(h, s.g_lamps_6);
-    hash_value(h, s.g_swatches_9);
-    hash_value(h, s.g_tiles_12);
-    hash_value(h, s.g_click_15);
-    hash_value(h, s.d_click_16);
+    hash_value(h, s.g_swatches_10);
+    hash_value(h, s.g_tiles_14);
+    hash_value(h, s.g_click_18);
+    hash_value(h, s.d_click_19);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -761,10 +780,10 @@ struct Prog {
     save_value(w, s.g_palette_4);
     save_value(w, s.g_corner_5);
     save_value(w, s.g_lamps_6);
-    save_value(w, s.g_swatches_9);
-    save_value(w, s.g_tiles_12);
-    save_value(w, s.g_click_15);
-    save_value(w, s.d_click_16);
+    save_value(w, s.g_swatches_10);
+    save_value(w, s.g_tiles_14);
+    save_value(w, s.g_click_18);
+    save_value(w, s.d_click_19);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -776,10 +795,10 @@ struct Prog {
     load_value(r, s.g_palette_4);
     load_value(r, s.g_corner_5);
     load_value(r, s.g_lamps_6);
-    load_value(r, s.g_swatches_9);
-    load_value(r, s.g_tiles_12);
-    load_value(r, s.g_click_15);
-    load_value(r, s.d_click_16);
+    load_value(r, s.g_swatches_10);
+    load_value(r, s.g_tiles_14);
+    load_value(r, s.g_click_18);
+    load_value(r, s.d_click_19);
   }
 };
 

@@ -105,6 +105,12 @@ struct Prog {
     std::vector<C1_Rocket> b14;
     std::vector<C1_Rocket> b15;
     std::vector<Elem> b16;
+    std::vector<C2_Spark> p_sparks_10{};
+    bool sv_sparks_11{};
+    std::vector<C1_Rocket> p_rockets_14{};
+    bool sv_rockets_15{};
+    C0_Pad p_pad_18{};
+    bool sv_pad_19{};
   };
   struct State {
     Core core;
@@ -119,15 +125,12 @@ struct Prog {
     int32_t g_maxRockets_7{};
     std::vector<C2_Spark> g_sparks_8{};
     bool u_sparks_9{};
-    std::vector<C2_Spark> p_sparks_10{};
-    std::vector<C1_Rocket> g_rockets_11{};
-    bool u_rockets_12{};
-    std::vector<C1_Rocket> p_rockets_13{};
-    C0_Pad g_pad_14{};
-    bool u_pad_15{};
-    C0_Pad p_pad_16{};
-    Pos g_click_17{};
-    bool d_click_18{};
+    std::vector<C1_Rocket> g_rockets_12{};
+    bool u_rockets_13{};
+    C0_Pad g_pad_16{};
+    bool u_pad_17{};
+    Pos g_click_20{};
+    bool d_click_21{};
   };
 
   static int32_t colour_5_C2_Spark(State& s, const C2_Spark& o1) {
@@ -162,28 +165,28 @@ struct Prog {
     s.g_sparks_8 = std::vector<C2_Spark>{};
     s.u_sparks_9 = false;
     // init rockets, programs/fireworks.au:25
-    s.g_rockets_11 = std::vector<C1_Rocket>{};
-    s.u_rockets_12 = false;
+    s.g_rockets_12 = std::vector<C1_Rocket>{};
+    s.u_rockets_13 = false;
     // init pad, programs/fireworks.au:22
     C0_Pad o3 = C0_Pad{Pos{int32_t(10), int32_t(19)}};
-    s.g_pad_14 = std::move(o3);
-    s.u_pad_15 = false;
+    s.g_pad_16 = std::move(o3);
+    s.u_pad_17 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_pad_16 = s.g_pad_14;
-    s.p_rockets_13 = s.g_rockets_11;
-    s.p_sparks_10 = s.g_sparks_8;
+    s.scratch.v.sv_pad_19 = false;
+    s.scratch.v.sv_rockets_15 = false;
+    s.scratch.v.sv_sparks_11 = false;
     s.u_sparks_9 = false;
-    s.u_rockets_12 = false;
-    s.u_pad_15 = false;
+    s.u_rockets_13 = false;
+    s.u_pad_17 = false;
     // on-clause 1, programs/fireworks.au:43
     {
       if (true) {
         s.core.covered[int32_t(0)] = 1;
-        const std::vector<C2_Spark>& prev1 = s.p_sparks_10;
+        const std::vector<C2_Spark>& prev1 = (s.scratch.v.sv_sparks_11 ? s.scratch.v.p_sparks_10 : s.g_sparks_8);
         // inlined: function at programs/fireworks.au:35
         std::vector<C2_Spark>& out2 = s.scratch.v.b0;
         out2.clear();
@@ -227,7 +230,7 @@ struct Prog {
             out11.push_back(x12);
           }
         }
-        const std::vector<C1_Rocket>& prev19 = s.p_rockets_13;
+        const std::vector<C1_Rocket>& prev19 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
         std::vector<C1_Rocket>& out20 = s.scratch.v.b3;
         out20.clear();
         for (const C1_Rocket& x21 : prev19) {
@@ -255,306 +258,345 @@ struct Prog {
           out30.reserve(size_t(int32_t(g29.size())));
           for (const Pos& x31 : g29) {
             // inlined: function at programs/fireworks.au:33
-            const int32_t& v32 = l_span25;
-            C2_Spark o33 = C2_Spark{x31.x, x31.y, v32, x24.f1, x24.origin};
-            out30.push_back(std::move(o33));
+            C2_Spark o32 = C2_Spark{x31.x, x31.y, l_span25, x24.f1, x24.origin};
+            out30.push_back(std::move(o32));
           }
           out23.push_back(std::move(out30));
         }
-        std::vector<C2_Spark>& cat34 = s.scratch.v.b5;
-        cat34.clear();
-        for (const std::vector<C2_Spark>& part35 : out23) {
-          cat34.insert(cat34.end(), part35.begin(), part35.end());
+        std::vector<C2_Spark>& cat33 = s.scratch.v.b5;
+        cat33.clear();
+        for (const std::vector<C2_Spark>& part34 : out23) {
+          cat33.insert(cat33.end(), part34.begin(), part34.end());
         }
-        std::vector<C2_Spark>& added36 = s.scratch.v.b6;
-        added36.clear();
-        added36.reserve(size_t(add(int32_t(out11.size()), int32_t(cat34.size()))));
-        for (const C2_Spark& x37 : out11) {
-          added36.push_back(x37);
+        std::vector<C2_Spark>& added35 = s.scratch.v.b6;
+        added35.clear();
+        added35.reserve(size_t(add(int32_t(out11.size()), int32_t(cat33.size()))));
+        for (const C2_Spark& x36 : out11) {
+          added35.push_back(x36);
         }
-        for (const C2_Spark& x38 : cat34) {
-          added36.push_back(x38);
+        for (const C2_Spark& x37 : cat33) {
+          added35.push_back(x37);
         }
-        std::swap(s.g_sparks_8, added36);
+        if (!s.scratch.v.sv_sparks_11) {
+          s.scratch.v.p_sparks_10 = std::move(s.g_sparks_8);
+          s.scratch.v.sv_sparks_11 = true;
+        }
+        std::swap(s.g_sparks_8, added35);
         s.u_sparks_9 = true;
-        const std::vector<C1_Rocket>& prev39 = s.p_rockets_13;
-        std::vector<C1_Rocket>& out40 = s.scratch.v.b7;
-        out40.clear();
-        for (const C1_Rocket& x41 : prev39) {
+        const std::vector<C1_Rocket>& prev38 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
+        std::vector<C1_Rocket>& out39 = s.scratch.v.b7;
+        out39.clear();
+        for (const C1_Rocket& x40 : prev38) {
           // inlined: function at programs/fireworks.au:46
           // inlined: function at programs/fireworks.au:39
-          const bool t42 = (x41.origin.y <= x41.f0);
-          const bool t43 = !t42;
-          if (t43) {
-            out40.push_back(x41);
+          const bool t41 = (x40.origin.y <= x40.f0);
+          const bool t42 = !t41;
+          if (t42) {
+            out39.push_back(x40);
           }
         }
-        std::vector<C1_Rocket>& out44 = s.scratch.v.b8;
-        out44.clear();
-        out44.reserve(size_t(int32_t(out40.size())));
-        for (const C1_Rocket& x45 : out40) {
-          const int32_t t46 = add(x45.origin.x, int32_t(0));
-          const int32_t t47 = add(x45.origin.y, int32_t(-1));
-          const Pos t48 = Pos{t46, t47};
-          C1_Rocket upd49 = x45;
-          upd49.origin = t48;
-          out44.push_back(std::move(upd49));
+        std::vector<C1_Rocket>& out43 = s.scratch.v.b8;
+        out43.clear();
+        out43.reserve(size_t(int32_t(out39.size())));
+        for (const C1_Rocket& x44 : out39) {
+          const int32_t t45 = add(x44.origin.x, int32_t(0));
+          const int32_t t46 = add(x44.origin.y, int32_t(-1));
+          const Pos t47 = Pos{t45, t46};
+          C1_Rocket upd48 = x44;
+          upd48.origin = t47;
+          out43.push_back(std::move(upd48));
         }
-        std::swap(s.g_rockets_11, out44);
-        s.u_rockets_12 = true;
+        if (!s.scratch.v.sv_rockets_15) {
+          s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+          s.scratch.v.sv_rockets_15 = true;
+        }
+        std::swap(s.g_rockets_12, out43);
+        s.u_rockets_13 = true;
       }
     }
     // on-clause 2, programs/fireworks.au:49
     {
-      const bool t50 = s.core.left;
-      if (t50) {
+      const bool t49 = s.core.left;
+      if (t49) {
         s.core.covered[int32_t(1)] = 1;
-        const C0_Pad& prev51 = s.p_pad_16;
+        const C0_Pad& prev50 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
         // inlined: function at programs/fireworks.au:41
-        const int32_t t52 = add(prev51.origin.x, int32_t(-1));
-        const int32_t t53 = add(prev51.origin.y, int32_t(0));
-        const Pos t54 = Pos{t52, t53};
-        C0_Pad upd55 = prev51;
-        upd55.origin = t54;
-        std::vector<Elem>& rendered56 = s.scratch.v.b9;
-        rendered56.clear();
-        rendered56.push_back(Elem{Pos{add(upd55.origin.x, int32_t(-1)), add(upd55.origin.y, int32_t(0))}, int32_t(6)});
-        rendered56.push_back(Elem{Pos{add(upd55.origin.x, int32_t(0)), add(upd55.origin.y, int32_t(0))}, int32_t(6)});
-        rendered56.push_back(Elem{Pos{add(upd55.origin.x, int32_t(1)), add(upd55.origin.y, int32_t(0))}, int32_t(6)});
-        bool within57 = true;
-        for (const Elem& e58 : rendered56) {
-          if ((((e58.position.x < int32_t(0)) || (e58.position.x >= int32_t(20))) || ((e58.position.y < int32_t(0)) || (e58.position.y >= int32_t(20))))) {
-            within57 = false;
+        const int32_t t51 = add(prev50.origin.x, int32_t(-1));
+        const int32_t t52 = add(prev50.origin.y, int32_t(0));
+        const Pos t53 = Pos{t51, t52};
+        C0_Pad upd54 = prev50;
+        upd54.origin = t53;
+        std::vector<Elem>& rendered55 = s.scratch.v.b9;
+        rendered55.clear();
+        rendered55.push_back(Elem{Pos{add(upd54.origin.x, int32_t(-1)), add(upd54.origin.y, int32_t(0))}, int32_t(6)});
+        rendered55.push_back(Elem{Pos{add(upd54.origin.x, int32_t(0)), add(upd54.origin.y, int32_t(0))}, int32_t(6)});
+        rendered55.push_back(Elem{Pos{add(upd54.origin.x, int32_t(1)), add(upd54.origin.y, int32_t(0))}, int32_t(6)});
+        bool within56 = true;
+        for (const Elem& e57 : rendered55) {
+          if ((((e57.position.x < int32_t(0)) || (e57.position.x >= int32_t(20))) || ((e57.position.y < int32_t(0)) || (e57.position.y >= int32_t(20))))) {
+            within56 = false;
             break;
           }
         }
-        C0_Pad r59{};
-        if (within57) {
-          const int32_t t60 = add(prev51.origin.x, int32_t(-1));
-          const int32_t t61 = add(prev51.origin.y, int32_t(0));
-          const Pos t62 = Pos{t60, t61};
-          C0_Pad upd63 = prev51;
-          upd63.origin = t62;
-          r59 = std::move(upd63);
+        C0_Pad r58{};
+        if (within56) {
+          const int32_t t59 = add(prev50.origin.x, int32_t(-1));
+          const int32_t t60 = add(prev50.origin.y, int32_t(0));
+          const Pos t61 = Pos{t59, t60};
+          C0_Pad upd62 = prev50;
+          upd62.origin = t61;
+          r58 = std::move(upd62);
         } else {
-          r59 = prev51;
+          r58 = prev50;
         }
-        s.g_pad_14 = std::move(r59);
-        s.u_pad_15 = true;
+        if (!s.scratch.v.sv_pad_19) {
+          s.scratch.v.p_pad_18 = std::move(s.g_pad_16);
+          s.scratch.v.sv_pad_19 = true;
+        }
+        s.g_pad_16 = std::move(r58);
+        s.u_pad_17 = true;
       }
     }
     // on-clause 3, programs/fireworks.au:50
     {
-      const bool t64 = s.core.right;
-      if (t64) {
+      const bool t63 = s.core.right;
+      if (t63) {
         s.core.covered[int32_t(2)] = 1;
-        const C0_Pad& prev65 = s.p_pad_16;
+        const C0_Pad& prev64 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
         // inlined: function at programs/fireworks.au:41
-        const int32_t t66 = add(prev65.origin.x, int32_t(1));
-        const int32_t t67 = add(prev65.origin.y, int32_t(0));
-        const Pos t68 = Pos{t66, t67};
-        C0_Pad upd69 = prev65;
-        upd69.origin = t68;
-        std::vector<Elem>& rendered70 = s.scratch.v.b10;
-        rendered70.clear();
-        rendered70.push_back(Elem{Pos{add(upd69.origin.x, int32_t(-1)), add(upd69.origin.y, int32_t(0))}, int32_t(6)});
-        rendered70.push_back(Elem{Pos{add(upd69.origin.x, int32_t(0)), add(upd69.origin.y, int32_t(0))}, int32_t(6)});
-        rendered70.push_back(Elem{Pos{add(upd69.origin.x, int32_t(1)), add(upd69.origin.y, int32_t(0))}, int32_t(6)});
-        bool within71 = true;
-        for (const Elem& e72 : rendered70) {
-          if ((((e72.position.x < int32_t(0)) || (e72.position.x >= int32_t(20))) || ((e72.position.y < int32_t(0)) || (e72.position.y >= int32_t(20))))) {
-            within71 = false;
+        const int32_t t65 = add(prev64.origin.x, int32_t(1));
+        const int32_t t66 = add(prev64.origin.y, int32_t(0));
+        const Pos t67 = Pos{t65, t66};
+        C0_Pad upd68 = prev64;
+        upd68.origin = t67;
+        std::vector<Elem>& rendered69 = s.scratch.v.b10;
+        rendered69.clear();
+        rendered69.push_back(Elem{Pos{add(upd68.origin.x, int32_t(-1)), add(upd68.origin.y, int32_t(0))}, int32_t(6)});
+        rendered69.push_back(Elem{Pos{add(upd68.origin.x, int32_t(0)), add(upd68.origin.y, int32_t(0))}, int32_t(6)});
+        rendered69.push_back(Elem{Pos{add(upd68.origin.x, int32_t(1)), add(upd68.origin.y, int32_t(0))}, int32_t(6)});
+        bool within70 = true;
+        for (const Elem& e71 : rendered69) {
+          if ((((e71.position.x < int32_t(0)) || (e71.position.x >= int32_t(20))) || ((e71.position.y < int32_t(0)) || (e71.position.y >= int32_t(20))))) {
+            within70 = false;
             break;
           }
         }
-        C0_Pad r73{};
-        if (within71) {
-          const int32_t t74 = add(prev65.origin.x, int32_t(1));
-          const int32_t t75 = add(prev65.origin.y, int32_t(0));
-          const Pos t76 = Pos{t74, t75};
-          C0_Pad upd77 = prev65;
-          upd77.origin = t76;
-          r73 = std::move(upd77);
+        C0_Pad r72{};
+        if (within70) {
+          const int32_t t73 = add(prev64.origin.x, int32_t(1));
+          const int32_t t74 = add(prev64.origin.y, int32_t(0));
+          const Pos t75 = Pos{t73, t74};
+          C0_Pad upd76 = prev64;
+          upd76.origin = t75;
+          r72 = std::move(upd76);
         } else {
-          r73 = prev65;
+          r72 = prev64;
         }
-        s.g_pad_14 = std::move(r73);
-        s.u_pad_15 = true;
+        if (!s.scratch.v.sv_pad_19) {
+          s.scratch.v.p_pad_18 = std::move(s.g_pad_16);
+          s.scratch.v.sv_pad_19 = true;
+        }
+        s.g_pad_16 = std::move(r72);
+        s.u_pad_17 = true;
       }
     }
     // on-clause 4, programs/fireworks.au:52
     {
-      bool clicked78 = false;
+      bool clicked77 = false;
       if (s.core.click) {
-        s.d_click_18 = true;
-        const Pos t79 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_17 = t79;
-        clicked78 = true;
+        s.d_click_21 = true;
+        const Pos t78 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_20 = t78;
+        clicked77 = true;
       }
-      bool r80{};
-      if (clicked78) {
-        const std::vector<C1_Rocket>& g81 = s.g_rockets_11;
-        const int32_t t82 = int32_t(g81.size());
-        const bool t83 = (t82 < int32_t(8));
-        r80 = t83;
+      bool r79{};
+      if (clicked77) {
+        const std::vector<C1_Rocket>& g80 = s.g_rockets_12;
+        const int32_t t81 = int32_t(g80.size());
+        const bool t82 = (t81 < int32_t(8));
+        r79 = t82;
       } else {
-        r80 = false;
+        r79 = false;
       }
-      if (r80) {
+      if (r79) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_Rocket>& g84 = s.g_rockets_11;
-        Pos r85{};
-        if (s.d_click_18) {
-          const Pos& g86 = s.g_click_17;
-          r85 = g86;
+        const std::vector<C1_Rocket>& g83 = s.g_rockets_12;
+        Pos r84{};
+        if (s.d_click_21) {
+          const Pos& g85 = s.g_click_20;
+          r84 = g85;
         } else {
           fail_at(1, std::string() + std::string("undefined variable 'click'"));
         }
-        const std::vector<int32_t>& g87 = s.g_palette_4;
-        if (g87.empty()) {
+        const std::vector<int32_t>& g86 = s.g_palette_4;
+        if (g86.empty()) {
           fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t88 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g87.size())))));
-        const int32_t t89 = g87[size_t(t88)];
-        Pos r90{};
-        if (s.d_click_18) {
-          const Pos& g91 = s.g_click_17;
-          r90 = g91;
+        const int32_t t87 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g86.size())))));
+        const int32_t t88 = g86[size_t(t87)];
+        Pos r89{};
+        if (s.d_click_21) {
+          const Pos& g90 = s.g_click_20;
+          r89 = g90;
         } else {
           fail_at(3, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t92 = Pos{r90.x, int32_t(18)};
-        C1_Rocket o93 = C1_Rocket{r85.y, t89, t92};
-        std::vector<C1_Rocket>& added94 = s.scratch.v.b11;
-        added94.clear();
-        added94.reserve(size_t(add(int32_t(g84.size()), int32_t(1))));
-        for (const C1_Rocket& x95 : g84) {
-          added94.push_back(x95);
+        const Pos t91 = Pos{r89.x, int32_t(18)};
+        C1_Rocket o92 = C1_Rocket{r84.y, t88, t91};
+        std::vector<C1_Rocket>& added93 = s.scratch.v.b11;
+        added93.clear();
+        added93.reserve(size_t(add(int32_t(g83.size()), int32_t(1))));
+        for (const C1_Rocket& x94 : g83) {
+          added93.push_back(x94);
         }
-        added94.push_back(std::move(o93));
-        std::swap(s.g_rockets_11, added94);
-        s.u_rockets_12 = true;
+        added93.push_back(std::move(o92));
+        if (!s.scratch.v.sv_rockets_15) {
+          s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+          s.scratch.v.sv_rockets_15 = true;
+        }
+        std::swap(s.g_rockets_12, added93);
+        s.u_rockets_13 = true;
       }
     }
     // on-clause 5, programs/fireworks.au:55
     {
-      const bool t96 = s.core.up;
-      bool r97{};
-      if (t96) {
-        const std::vector<C1_Rocket>& g98 = s.g_rockets_11;
-        const int32_t t99 = int32_t(g98.size());
-        const bool t100 = (t99 < int32_t(8));
-        r97 = t100;
+      const bool t95 = s.core.up;
+      bool r96{};
+      if (t95) {
+        const std::vector<C1_Rocket>& g97 = s.g_rockets_12;
+        const int32_t t98 = int32_t(g97.size());
+        const bool t99 = (t98 < int32_t(8));
+        r96 = t99;
       } else {
-        r97 = false;
+        r96 = false;
       }
-      if (r97) {
+      if (r96) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C1_Rocket>& g101 = s.g_rockets_11;
-        const std::vector<int32_t> list102 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
-        if (list102.empty()) {
+        const std::vector<C1_Rocket>& g100 = s.g_rockets_12;
+        const std::vector<int32_t> list101 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
+        if (list101.empty()) {
           fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t103 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list102.size())))));
-        const int32_t t104 = list102[size_t(t103)];
-        const std::vector<int32_t>& g105 = s.g_palette_4;
-        if (g105.empty()) {
+        const int32_t t102 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list101.size())))));
+        const int32_t t103 = list101[size_t(t102)];
+        const std::vector<int32_t>& g104 = s.g_palette_4;
+        if (g104.empty()) {
           fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t106 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g105.size())))));
-        const int32_t t107 = g105[size_t(t106)];
-        const C0_Pad& g108 = s.g_pad_14;
-        const Pos t109 = Pos{g108.origin.x, int32_t(18)};
-        C1_Rocket o110 = C1_Rocket{t104, t107, t109};
-        std::vector<C1_Rocket>& added111 = s.scratch.v.b12;
-        added111.clear();
-        added111.reserve(size_t(add(int32_t(g101.size()), int32_t(1))));
-        for (const C1_Rocket& x112 : g101) {
-          added111.push_back(x112);
+        const int32_t t105 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g104.size())))));
+        const int32_t t106 = g104[size_t(t105)];
+        const C0_Pad& g107 = s.g_pad_16;
+        const Pos t108 = Pos{g107.origin.x, int32_t(18)};
+        C1_Rocket o109 = C1_Rocket{t103, t106, t108};
+        std::vector<C1_Rocket>& added110 = s.scratch.v.b12;
+        added110.clear();
+        added110.reserve(size_t(add(int32_t(g100.size()), int32_t(1))));
+        for (const C1_Rocket& x111 : g100) {
+          added110.push_back(x111);
         }
-        added111.push_back(std::move(o110));
-        std::swap(s.g_rockets_11, added111);
-        s.u_rockets_12 = true;
+        added110.push_back(std::move(o109));
+        if (!s.scratch.v.sv_rockets_15) {
+          s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+          s.scratch.v.sv_rockets_15 = true;
+        }
+        std::swap(s.g_rockets_12, added110);
+        s.u_rockets_13 = true;
       }
     }
     // on-clause 6, programs/fireworks.au:59
     {
-      const bool t113 = s.core.down;
-      bool r114{};
-      if (t113) {
-        const std::vector<C1_Rocket>& g115 = s.g_rockets_11;
-        const int32_t t116 = int32_t(g115.size());
-        const bool t117 = (t116 < int32_t(8));
-        r114 = t117;
+      const bool t112 = s.core.down;
+      bool r113{};
+      if (t112) {
+        const std::vector<C1_Rocket>& g114 = s.g_rockets_12;
+        const int32_t t115 = int32_t(g114.size());
+        const bool t116 = (t115 < int32_t(8));
+        r113 = t116;
       } else {
-        r114 = false;
+        r113 = false;
       }
-      if (r114) {
+      if (r113) {
         s.core.covered[int32_t(5)] = 1;
-        const std::vector<C1_Rocket>& g118 = s.g_rockets_11;
+        const std::vector<C1_Rocket>& g117 = s.g_rockets_12;
         if ((int32_t(20) < int32_t(0))) {
           fail_at(6, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
-        std::vector<Pos>& rpos119 = s.scratch.v.b13;
-        rpos119.clear();
-        for (int32_t i120 = int32_t(0), i120_end = int32_t(3); i120 < i120_end; ++i120) {
+        std::vector<Pos>& rpos118 = s.scratch.v.b13;
+        rpos118.clear();
+        for (int32_t i119 = int32_t(0), i119_end = int32_t(3); i119 < i119_end; ++i119) {
+          const int32_t t120 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
           const int32_t t121 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
-          const int32_t t122 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
-          const Pos t123 = Pos{t121, t122};
-          rpos119.push_back(t123);
+          const Pos t122 = Pos{t120, t121};
+          rpos118.push_back(t122);
         }
-        std::vector<C1_Rocket>& out124 = s.scratch.v.b14;
-        out124.clear();
-        out124.reserve(size_t(int32_t(rpos119.size())));
-        for (const Pos& x125 : rpos119) {
+        std::vector<C1_Rocket>& out123 = s.scratch.v.b14;
+        out123.clear();
+        out123.reserve(size_t(int32_t(rpos118.size())));
+        for (const Pos& x124 : rpos118) {
           // inlined: function at programs/fireworks.au:61
-          const bool t126 = (int32_t(12) < x125.y);
-          int32_t r127{};
-          if (t126) {
-            r127 = int32_t(12);
+          const bool t125 = (int32_t(12) < x124.y);
+          int32_t r126{};
+          if (t125) {
+            r126 = int32_t(12);
           } else {
-            r127 = x125.y;
+            r126 = x124.y;
           }
-          const std::vector<int32_t>& g128 = s.g_palette_4;
-          if (g128.empty()) {
+          const std::vector<int32_t>& g127 = s.g_palette_4;
+          if (g127.empty()) {
             fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t129 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g128.size())))));
-          const int32_t t130 = g128[size_t(t129)];
-          const Pos t131 = Pos{x125.x, int32_t(18)};
-          C1_Rocket o132 = C1_Rocket{r127, t130, t131};
-          out124.push_back(std::move(o132));
+          const int32_t t128 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g127.size())))));
+          const int32_t t129 = g127[size_t(t128)];
+          const Pos t130 = Pos{x124.x, int32_t(18)};
+          C1_Rocket o131 = C1_Rocket{r126, t129, t130};
+          out123.push_back(std::move(o131));
         }
-        std::vector<C1_Rocket>& added133 = s.scratch.v.b15;
-        added133.clear();
-        added133.reserve(size_t(add(int32_t(g118.size()), int32_t(out124.size()))));
-        for (const C1_Rocket& x134 : g118) {
-          added133.push_back(x134);
+        std::vector<C1_Rocket>& added132 = s.scratch.v.b15;
+        added132.clear();
+        added132.reserve(size_t(add(int32_t(g117.size()), int32_t(out123.size()))));
+        for (const C1_Rocket& x133 : g117) {
+          added132.push_back(x133);
         }
-        for (const C1_Rocket& x135 : out124) {
-          added133.push_back(x135);
+        for (const C1_Rocket& x134 : out123) {
+          added132.push_back(x134);
         }
-        std::swap(s.g_rockets_11, added133);
-        s.u_rockets_12 = true;
+        if (!s.scratch.v.sv_rockets_15) {
+          s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+          s.scratch.v.sv_rockets_15 = true;
+        }
+        std::swap(s.g_rockets_12, added132);
+        s.u_rockets_13 = true;
       }
     }
     // NEXT of sparks, programs/fireworks.au:28
     if (!s.u_sparks_9) {
-      const std::vector<C2_Spark>& prev136 = s.p_sparks_10;
-      s.g_sparks_8 = prev136;
+      const std::vector<C2_Spark> prev135 = (s.scratch.v.sv_sparks_11 ? s.scratch.v.p_sparks_10 : s.g_sparks_8);
+      if (!s.scratch.v.sv_sparks_11) {
+        s.scratch.v.p_sparks_10 = std::move(s.g_sparks_8);
+        s.scratch.v.sv_sparks_11 = true;
+      }
+      s.g_sparks_8 = prev135;
       s.u_sparks_9 = true;
     }
     // NEXT of rockets, programs/fireworks.au:25
-    if (!s.u_rockets_12) {
-      const std::vector<C1_Rocket>& prev137 = s.p_rockets_13;
-      s.g_rockets_11 = prev137;
-      s.u_rockets_12 = true;
+    if (!s.u_rockets_13) {
+      const std::vector<C1_Rocket> prev136 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
+      if (!s.scratch.v.sv_rockets_15) {
+        s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+        s.scratch.v.sv_rockets_15 = true;
+      }
+      s.g_rockets_12 = prev136;
+      s.u_rockets_13 = true;
     }
     // NEXT of pad, programs/fireworks.au:22
-    if (!s.u_pad_15) {
-      const C0_Pad& prev138 = s.p_pad_16;
-      s.g_pad_14 = prev138;
-      s.u_pad_15 = true;
+    if (!s.u_pad_17) {
+      const C0_Pad prev137 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
+      if (!s.scratch.v.sv_pad_19) {
+        s.scratch.v.p_pad_18 = std::move(s.g_pad_16);
+        s.scratch.v.sv_pad_19 = true;
+      }
+      s.g_pad_16 = prev137;
+      s.u_pad_17 = true;
     }
     s.core.clear_inputs();
   }
@@ -567,7 +609,7 @@ struct Prog {
     std::vector<Elem>& elems1 = s.scratch.v.b16;
     elems1.clear();
     elems1.clear();
-    const C0_Pad& g2 = s.g_pad_14;
+    const C0_Pad& g2 = s.g_pad_16;
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(-1)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
@@ -576,7 +618,7 @@ struct Prog {
       if (paint) paint->paint(e3.position, pal[e3.color]);
     }
     elems1.clear();
-    const std::vector<C1_Rocket>& g4 = s.g_rockets_11;
+    const std::vector<C1_Rocket>& g4 = s.g_rockets_12;
     for (const C1_Rocket& x5 : g4) {
       elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(8)});
       elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(1))}, int32_t(9)});
@@ -608,10 +650,10 @@ struct Prog {
     hash_value(h, s.g_launchRow_6);
     hash_value(h, s.g_maxRockets_7);
     hash_value(h, s.g_sparks_8);
-    hash_value(h, s.g_rockets_11);
-    hash_value(h, s.g_pad_14);
-    hash_value(h, s.g_click_17);
-    hash_value(h, s.d_click_18);
+    hash_value(h, s.g_rockets_12);
+    hash_value(h, s.g_pad_16);
+    hash_value(h, s.g_click_20);
+    hash_value(h, s.d_click_21);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -626,10 +668,10 @@ struct Prog {
     save_value(w, s.g_launchRow_6);
     save_value(w, s.g_maxRockets_7);
     save_value(w, s.g_sparks_8);
-    save_value(w, s.g_rockets_11);
-    save_value(w, s.g_pad_14);
-    save_value(w, s.g_click_17);
-    save_value(w, s.d_click_18);
+    save_value(w, s.g_rockets_12);
+    save_value(w, s.g_pad_16);
+    save_value(w, s.g_click_20);
+    save_value(w, s.d_click_21);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -643,10 +685,10 @@ struct Prog {
     load_value(r, s.g_launchRow_6);
     load_value(r, s.g_maxRockets_7);
     load_value(r, s.g_sparks_8);
-    load_value(r, s.g_rockets_11);
-    load_value(r, s.g_pad_14);
-    load_value(r, s.g_click_17);
-    load_value(r, s.d_click_18);
+    load_value(r, s.g_rockets_12);
+    load_value(r, s.g_pad_16);
+    load_value(r, s.g_click_20);
+    load_value(r, s.d_click_21);
   }
 };
 

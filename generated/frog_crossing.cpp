@@ -139,18 +139,29 @@ struct Prog {
     std::vector<Elem> b8;
     std::vector<Elem> b9;
     std::vector<Elem> b10;
-    std::vector<std::vector<Elem>> b11;
+    std::vector<Elem> b11;
     std::vector<Elem> b12;
     std::vector<Elem> b13;
-    std::vector<std::vector<Elem>> b14;
+    std::vector<Elem> b14;
     std::vector<Elem> b15;
-    std::vector<Elem> b16;
-    std::vector<std::vector<Elem>> b17;
-    std::vector<Elem> b18;
-    std::vector<C2_Pad> b19;
-    std::vector<C2_Pad> b20;
-    std::vector<C2_Pad> b21;
-    std::vector<Elem> b22;
+    std::vector<C2_Pad> b16;
+    std::vector<C2_Pad> b17;
+    std::vector<C2_Pad> b18;
+    std::vector<Elem> b19;
+    C4_Frog p_frog_9{};
+    bool sv_frog_10{};
+    C5_Lives p_lives_13{};
+    bool sv_lives_14{};
+    std::vector<C3_Car> p_cars_17{};
+    bool sv_cars_18{};
+    std::vector<C1_Verge> p_verges_21{};
+    bool sv_verges_22{};
+    std::vector<C2_Pad> p_pads_25{};
+    bool sv_pads_26{};
+    C0_River p_river_29{};
+    bool sv_river_30{};
+    int32_t p_time_33{};
+    bool sv_time_34{};
   };
   struct State {
     Core core;
@@ -164,25 +175,18 @@ struct Prog {
     std::vector<std::vector<int32_t>> g_lanes_6{};
     C4_Frog g_frog_7{};
     bool u_frog_8{};
-    C4_Frog p_frog_9{};
-    C5_Lives g_lives_10{};
-    bool u_lives_11{};
-    C5_Lives p_lives_12{};
-    std::vector<C3_Car> g_cars_13{};
-    bool u_cars_14{};
-    std::vector<C3_Car> p_cars_15{};
-    std::vector<C1_Verge> g_verges_16{};
-    bool u_verges_17{};
-    std::vector<C1_Verge> p_verges_18{};
-    std::vector<C2_Pad> g_pads_19{};
-    bool u_pads_20{};
-    std::vector<C2_Pad> p_pads_21{};
-    C0_River g_river_22{};
-    bool u_river_23{};
-    C0_River p_river_24{};
-    int32_t g_time_25{};
-    bool u_time_26{};
-    int32_t p_time_27{};
+    C5_Lives g_lives_11{};
+    bool u_lives_12{};
+    std::vector<C3_Car> g_cars_15{};
+    bool u_cars_16{};
+    std::vector<C1_Verge> g_verges_19{};
+    bool u_verges_20{};
+    std::vector<C2_Pad> g_pads_23{};
+    bool u_pads_24{};
+    C0_River g_river_27{};
+    bool u_river_28{};
+    int32_t g_time_31{};
+    bool u_time_32{};
   };
 
   static int32_t colour_6_C2_Pad(State& s, const C2_Pad& o1) {
@@ -263,14 +267,14 @@ struct Prog {
     s.g_background_2 = int32_t(1);
     s.g_frogStart_4 = Pos{int32_t(4), int32_t(9)};
     s.g_loop_5 = int32_t(12);
-    const std::vector<int32_t> list1 = std::vector<int32_t>{int32_t(1), int32_t(1), int32_t(2), int32_t(1), int32_t(3)};
-    const std::vector<int32_t> list2 = std::vector<int32_t>{int32_t(2), int32_t(-1), int32_t(1), int32_t(2), int32_t(2)};
-    const std::vector<int32_t> list3 = std::vector<int32_t>{int32_t(3), int32_t(1), int32_t(3), int32_t(2), int32_t(2)};
-    const std::vector<int32_t> list4 = std::vector<int32_t>{int32_t(5), int32_t(-1), int32_t(2), int32_t(1), int32_t(3)};
-    const std::vector<int32_t> list5 = std::vector<int32_t>{int32_t(6), int32_t(1), int32_t(1), int32_t(1), int32_t(2)};
-    const std::vector<int32_t> list6 = std::vector<int32_t>{int32_t(7), int32_t(-1), int32_t(3), int32_t(2), int32_t(2)};
-    const std::vector<int32_t> list7 = std::vector<int32_t>{int32_t(8), int32_t(1), int32_t(2), int32_t(1), int32_t(3)};
-    std::vector<std::vector<int32_t>> list8 = std::vector<std::vector<int32_t>>{list1, list2, list3, list4, list5, list6, list7};
+    std::vector<int32_t> list1 = std::vector<int32_t>{int32_t(1), int32_t(1), int32_t(2), int32_t(1), int32_t(3)};
+    std::vector<int32_t> list2 = std::vector<int32_t>{int32_t(2), int32_t(-1), int32_t(1), int32_t(2), int32_t(2)};
+    std::vector<int32_t> list3 = std::vector<int32_t>{int32_t(3), int32_t(1), int32_t(3), int32_t(2), int32_t(2)};
+    std::vector<int32_t> list4 = std::vector<int32_t>{int32_t(5), int32_t(-1), int32_t(2), int32_t(1), int32_t(3)};
+    std::vector<int32_t> list5 = std::vector<int32_t>{int32_t(6), int32_t(1), int32_t(1), int32_t(1), int32_t(2)};
+    std::vector<int32_t> list6 = std::vector<int32_t>{int32_t(7), int32_t(-1), int32_t(3), int32_t(2), int32_t(2)};
+    std::vector<int32_t> list7 = std::vector<int32_t>{int32_t(8), int32_t(1), int32_t(2), int32_t(1), int32_t(3)};
+    std::vector<std::vector<int32_t>> list8 = std::vector<std::vector<int32_t>>{std::move(list1), std::move(list2), std::move(list3), std::move(list4), std::move(list5), std::move(list6), std::move(list7)};
     s.g_lanes_6 = std::move(list8);
     // init frog, programs/frog_crossing.au:52
     const Pos& g9 = s.g_frogStart_4;
@@ -279,8 +283,8 @@ struct Prog {
     s.u_frog_8 = false;
     // init lives, programs/frog_crossing.au:49
     C5_Lives o11 = C5_Lives{int32_t(3), Pos{int32_t(7), int32_t(9)}};
-    s.g_lives_10 = std::move(o11);
-    s.u_lives_11 = false;
+    s.g_lives_11 = std::move(o11);
+    s.u_lives_12 = false;
     // init cars, programs/frog_crossing.au:46
     const std::vector<std::vector<int32_t>>& g12 = s.g_lanes_6;
     std::vector<std::vector<C3_Car>>& out13 = s.scratch.v.b0;
@@ -363,99 +367,95 @@ struct Prog {
         } else {
           r32 = int32_t(4);
         }
-        const int32_t& v33 = l_start15;
-        const int32_t& v34 = l_gap16;
-        const int32_t t35 = mul(x26, v34);
-        const int32_t t36 = add(v33, t35);
-        const int32_t t37 = autumn::arith::mod_unchecked(t36, int32_t(12));
-        const int32_t t38 = sub(t37, int32_t(1));
+        const int32_t t33 = mul(x26, l_gap16);
+        const int32_t t34 = add(l_start15, t33);
+        const int32_t t35 = autumn::arith::mod_unchecked(t34, int32_t(12));
+        const int32_t t36 = sub(t35, int32_t(1));
         if (x14.empty()) {
           fail_at(8, std::string() + std::string("at: empty list"));
         }
         if (((int32_t(0) < int32_t(0)) || (int32_t(0) >= int32_t(x14.size())))) {
           fail_at(8, std::string() + std::string("at: index ") + std::to_string(int32_t(0)) + std::string(" out of bounds"));
         }
-        const int32_t t39 = x14[size_t(int32_t(0))];
-        const Pos t40 = Pos{t38, t39};
-        std::vector<CellV> l_allCells41{};
-        std::vector<int32_t>& range42 = s.scratch.v.b2;
-        range42.clear();
-        for (int32_t i43 = int32_t(0), i43_end = t29; i43 < i43_end; ++i43) {
-          range42.push_back(i43);
+        const int32_t t37 = x14[size_t(int32_t(0))];
+        const Pos t38 = Pos{t36, t37};
+        std::vector<CellV> l_allCells39{};
+        std::vector<int32_t>& range40 = s.scratch.v.b2;
+        range40.clear();
+        for (int32_t i41 = int32_t(0), i41_end = t29; i41 < i41_end; ++i41) {
+          range40.push_back(i41);
         }
-        std::vector<CellV>& out44 = s.scratch.v.b3;
-        out44.clear();
-        out44.reserve(size_t(int32_t(range42.size())));
-        for (const int32_t& x45 : range42) {
+        std::vector<CellV>& out42 = s.scratch.v.b3;
+        out42.clear();
+        out42.reserve(size_t(int32_t(range40.size())));
+        for (const int32_t& x43 : range40) {
           // inlined: function at programs/frog_crossing.au:14
-          const CellV cell46 = CellV{x45, int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
-          out44.push_back(cell46);
+          const CellV cell44 = CellV{x43, int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+          out42.push_back(cell44);
         }
-        std::swap(l_allCells41, out44);
-        const std::vector<CellV>& v47 = l_allCells41;
-        const std::vector<CellV>& v48 = l_allCells41;
-        C3_Car o49 = C3_Car{t27, t28, t29, r32, t40, v48};
-        out25.push_back(std::move(o49));
+        std::swap(l_allCells39, out42);
+        C3_Car o45 = C3_Car{t27, t28, t29, r32, t38, std::move(l_allCells39)};
+        out25.push_back(std::move(o45));
       }
       out13.push_back(std::move(out25));
     }
-    std::vector<C3_Car>& cat50 = s.scratch.v.b4;
-    cat50.clear();
-    for (const std::vector<C3_Car>& part51 : out13) {
-      cat50.insert(cat50.end(), part51.begin(), part51.end());
+    std::vector<C3_Car>& cat46 = s.scratch.v.b4;
+    cat46.clear();
+    for (const std::vector<C3_Car>& part47 : out13) {
+      cat46.insert(cat46.end(), part47.begin(), part47.end());
     }
-    std::swap(s.g_cars_13, cat50);
-    s.u_cars_14 = false;
+    std::swap(s.g_cars_15, cat46);
+    s.u_cars_16 = false;
     // init verges, programs/frog_crossing.au:39
-    const C1_Verge o52 = C1_Verge{Pos{int32_t(0), int32_t(4)}};
-    const C1_Verge o53 = C1_Verge{Pos{int32_t(0), int32_t(9)}};
-    std::vector<C1_Verge> list54 = std::vector<C1_Verge>{o52, o53};
-    s.g_verges_16 = std::move(list54);
-    s.u_verges_17 = false;
+    C1_Verge o48 = C1_Verge{Pos{int32_t(0), int32_t(4)}};
+    C1_Verge o49 = C1_Verge{Pos{int32_t(0), int32_t(9)}};
+    std::vector<C1_Verge> list50 = std::vector<C1_Verge>{std::move(o48), std::move(o49)};
+    s.g_verges_19 = std::move(list50);
+    s.u_verges_20 = false;
     // init pads, programs/frog_crossing.au:42
-    const C2_Pad o55 = C2_Pad{false, Pos{int32_t(1), int32_t(0)}};
-    const C2_Pad o56 = C2_Pad{false, Pos{int32_t(5), int32_t(0)}};
-    const C2_Pad o57 = C2_Pad{false, Pos{int32_t(8), int32_t(0)}};
-    std::vector<C2_Pad> list58 = std::vector<C2_Pad>{o55, o56, o57};
-    s.g_pads_19 = std::move(list58);
-    s.u_pads_20 = false;
+    C2_Pad o51 = C2_Pad{false, Pos{int32_t(1), int32_t(0)}};
+    C2_Pad o52 = C2_Pad{false, Pos{int32_t(5), int32_t(0)}};
+    C2_Pad o53 = C2_Pad{false, Pos{int32_t(8), int32_t(0)}};
+    std::vector<C2_Pad> list54 = std::vector<C2_Pad>{std::move(o51), std::move(o52), std::move(o53)};
+    s.g_pads_23 = std::move(list54);
+    s.u_pads_24 = false;
     // init river, programs/frog_crossing.au:36
-    C0_River o59 = C0_River{Pos{int32_t(0), int32_t(0)}};
-    s.g_river_22 = std::move(o59);
-    s.u_river_23 = false;
+    C0_River o55 = C0_River{Pos{int32_t(0), int32_t(0)}};
+    s.g_river_27 = std::move(o55);
+    s.u_river_28 = false;
     // init time, programs/frog_crossing.au:33
-    s.g_time_25 = int32_t(0);
-    s.u_time_26 = false;
+    s.g_time_31 = int32_t(0);
+    s.u_time_32 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_time_27 = s.g_time_25;
-    s.p_river_24 = s.g_river_22;
-    s.p_verges_18 = s.g_verges_16;
-    s.p_pads_21 = s.g_pads_19;
-    s.p_cars_15 = s.g_cars_13;
-    s.p_lives_12 = s.g_lives_10;
-    s.p_frog_9 = s.g_frog_7;
+    s.scratch.v.sv_time_34 = false;
+    s.scratch.v.sv_river_30 = false;
+    s.scratch.v.sv_verges_22 = false;
+    s.scratch.v.sv_pads_26 = false;
+    s.scratch.v.sv_cars_18 = false;
+    s.scratch.v.sv_lives_14 = false;
+    s.scratch.v.sv_frog_10 = false;
     s.u_frog_8 = false;
-    s.u_lives_11 = false;
-    s.u_cars_14 = false;
-    s.u_verges_17 = false;
-    s.u_pads_20 = false;
-    s.u_river_23 = false;
-    s.u_time_26 = false;
+    s.u_lives_12 = false;
+    s.u_cars_16 = false;
+    s.u_verges_20 = false;
+    s.u_pads_24 = false;
+    s.u_river_28 = false;
+    s.u_time_32 = false;
     // on-clause 1, programs/frog_crossing.au:63
     {
       if (true) {
         s.core.covered[int32_t(0)] = 1;
-        const std::vector<C3_Car>& prev1 = s.p_cars_15;
+        const std::vector<C3_Car>& prev1 = (s.scratch.v.sv_cars_18 ? s.scratch.v.p_cars_17 : s.g_cars_15);
         std::vector<C3_Car>& out2 = s.scratch.v.b5;
         out2.clear();
         out2.reserve(size_t(int32_t(prev1.size())));
         for (const C3_Car& x3 : prev1) {
           // inlined: function at programs/frog_crossing.au:54
-          const int32_t& g4 = s.g_time_25;
+          const int32_t& g4 = s.g_time_31;
           if ((x3.f0 == int32_t(0))) {
             fail_at(9, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
           }
@@ -479,8 +479,12 @@ struct Prog {
           }
           out2.push_back(std::move(r7));
         }
-        std::swap(s.g_cars_13, out2);
-        s.u_cars_14 = true;
+        if (!s.scratch.v.sv_cars_18) {
+          s.scratch.v.p_cars_17 = std::move(s.g_cars_15);
+          s.scratch.v.sv_cars_18 = true;
+        }
+        std::swap(s.g_cars_15, out2);
+        s.u_cars_16 = true;
       }
     }
     // on-clause 2, programs/frog_crossing.au:65
@@ -488,7 +492,7 @@ struct Prog {
       const bool t14 = s.core.left;
       if (t14) {
         s.core.covered[int32_t(1)] = 1;
-        const C4_Frog& prev15 = s.p_frog_9;
+        const C4_Frog& prev15 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
         // inlined: function at programs/frog_crossing.au:59
         const int32_t t16 = add(prev15.origin.x, int32_t(-1));
         const int32_t t17 = add(prev15.origin.y, int32_t(0));
@@ -516,6 +520,10 @@ struct Prog {
         } else {
           r23 = prev15;
         }
+        if (!s.scratch.v.sv_frog_10) {
+          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          s.scratch.v.sv_frog_10 = true;
+        }
         s.g_frog_7 = std::move(r23);
         s.u_frog_8 = true;
       }
@@ -525,7 +533,7 @@ struct Prog {
       const bool t28 = s.core.right;
       if (t28) {
         s.core.covered[int32_t(2)] = 1;
-        const C4_Frog& prev29 = s.p_frog_9;
+        const C4_Frog& prev29 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
         // inlined: function at programs/frog_crossing.au:59
         const int32_t t30 = add(prev29.origin.x, int32_t(1));
         const int32_t t31 = add(prev29.origin.y, int32_t(0));
@@ -553,6 +561,10 @@ struct Prog {
         } else {
           r37 = prev29;
         }
+        if (!s.scratch.v.sv_frog_10) {
+          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          s.scratch.v.sv_frog_10 = true;
+        }
         s.g_frog_7 = std::move(r37);
         s.u_frog_8 = true;
       }
@@ -562,7 +574,7 @@ struct Prog {
       const bool t42 = s.core.up;
       if (t42) {
         s.core.covered[int32_t(3)] = 1;
-        const C4_Frog& prev43 = s.p_frog_9;
+        const C4_Frog& prev43 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
         // inlined: function at programs/frog_crossing.au:59
         const int32_t t44 = add(prev43.origin.x, int32_t(0));
         const int32_t t45 = add(prev43.origin.y, int32_t(-1));
@@ -590,6 +602,10 @@ struct Prog {
         } else {
           r51 = prev43;
         }
+        if (!s.scratch.v.sv_frog_10) {
+          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          s.scratch.v.sv_frog_10 = true;
+        }
         s.g_frog_7 = std::move(r51);
         s.u_frog_8 = true;
       }
@@ -599,7 +615,7 @@ struct Prog {
       const bool t56 = s.core.down;
       if (t56) {
         s.core.covered[int32_t(4)] = 1;
-        const C4_Frog& prev57 = s.p_frog_9;
+        const C4_Frog& prev57 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
         // inlined: function at programs/frog_crossing.au:59
         const int32_t t58 = add(prev57.origin.x, int32_t(0));
         const int32_t t59 = add(prev57.origin.y, int32_t(1));
@@ -627,6 +643,10 @@ struct Prog {
         } else {
           r65 = prev57;
         }
+        if (!s.scratch.v.sv_frog_10) {
+          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          s.scratch.v.sv_frog_10 = true;
+        }
         s.g_frog_7 = std::move(r65);
         s.u_frog_8 = true;
       }
@@ -634,376 +654,416 @@ struct Prog {
     // on-clause 6, programs/frog_crossing.au:71
     {
       const C4_Frog& g70 = s.g_frog_7;
-      const std::vector<C3_Car>& g71 = s.g_cars_13;
+      const std::vector<C3_Car>& g71 = s.g_cars_15;
       std::vector<Elem>& rendered72 = s.scratch.v.b10;
       rendered72.clear();
       rendered72.push_back(Elem{Pos{add(g70.origin.x, int32_t(0)), add(g70.origin.y, int32_t(0))}, int32_t(2)});
-      std::vector<std::vector<Elem>>& out73 = s.scratch.v.b11;
-      out73.clear();
-      out73.reserve(size_t(int32_t(g71.size())));
+      std::vector<Elem>& rendered73 = s.scratch.v.b11;
+      rendered73.clear();
       for (const C3_Car& x74 : g71) {
-        std::vector<Elem> rendered75{};
-        render_C3_Car(s, x74, rendered75);
-        out73.push_back(std::move(rendered75));
+        render_C3_Car(s, x74, rendered73);
       }
-      std::vector<Elem>& cat76 = s.scratch.v.b12;
-      cat76.clear();
-      for (const std::vector<Elem>& part77 : out73) {
-        cat76.insert(cat76.end(), part77.begin(), part77.end());
+      const int32_t t75 = int32_t(rendered72.size());
+      const bool t76 = (t75 == int32_t(0));
+      bool r77{};
+      if (!t76) {
+        const int32_t t78 = int32_t(rendered73.size());
+        const bool t79 = (t78 == int32_t(0));
+        r77 = t79;
+      } else {
+        r77 = true;
       }
-      const int32_t t78 = int32_t(rendered72.size());
-      const bool t79 = (t78 == int32_t(0));
       bool r80{};
-      if (!t79) {
-        const int32_t t81 = int32_t(cat76.size());
-        const bool t82 = (t81 == int32_t(0));
-        r80 = t82;
+      if (r77) {
+        r80 = false;
       } else {
-        r80 = true;
-      }
-      bool r83{};
-      if (r80) {
-        r83 = false;
-      } else {
-        bool any84 = false;
-        for (const Elem& x85 : rendered72) {
-          bool any86 = false;
-          for (const Elem& x87 : cat76) {
-            const bool t88 = (x85.position == x87.position);
-            if (t88) {
-              any86 = true;
+        bool any81 = false;
+        for (const Elem& x82 : rendered72) {
+          bool any83 = false;
+          for (const Elem& x84 : rendered73) {
+            const bool t85 = (x82.position == x84.position);
+            if (t85) {
+              any83 = true;
               break;
             }
           }
-          if (any86) {
-            any84 = true;
+          if (any83) {
+            any81 = true;
             break;
           }
         }
-        r83 = any84;
+        r80 = any81;
       }
-      bool r89{};
-      if (!r83) {
-        const C4_Frog& prev90 = s.p_frog_9;
-        const std::vector<C3_Car>& g91 = s.g_cars_13;
-        std::vector<Elem>& rendered92 = s.scratch.v.b13;
-        rendered92.clear();
-        rendered92.push_back(Elem{Pos{add(prev90.origin.x, int32_t(0)), add(prev90.origin.y, int32_t(0))}, int32_t(2)});
-        std::vector<std::vector<Elem>>& out93 = s.scratch.v.b14;
-        out93.clear();
-        out93.reserve(size_t(int32_t(g91.size())));
-        for (const C3_Car& x94 : g91) {
-          std::vector<Elem> rendered95{};
-          render_C3_Car(s, x94, rendered95);
-          out93.push_back(std::move(rendered95));
+      bool r86{};
+      if (!r80) {
+        const C4_Frog& prev87 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
+        const std::vector<C3_Car>& g88 = s.g_cars_15;
+        std::vector<Elem>& rendered89 = s.scratch.v.b12;
+        rendered89.clear();
+        rendered89.push_back(Elem{Pos{add(prev87.origin.x, int32_t(0)), add(prev87.origin.y, int32_t(0))}, int32_t(2)});
+        std::vector<Elem>& rendered90 = s.scratch.v.b13;
+        rendered90.clear();
+        for (const C3_Car& x91 : g88) {
+          render_C3_Car(s, x91, rendered90);
         }
-        std::vector<Elem>& cat96 = s.scratch.v.b15;
-        cat96.clear();
-        for (const std::vector<Elem>& part97 : out93) {
-          cat96.insert(cat96.end(), part97.begin(), part97.end());
-        }
-        const int32_t t98 = int32_t(rendered92.size());
-        const bool t99 = (t98 == int32_t(0));
-        bool r100{};
-        if (!t99) {
-          const int32_t t101 = int32_t(cat96.size());
-          const bool t102 = (t101 == int32_t(0));
-          r100 = t102;
+        const int32_t t92 = int32_t(rendered89.size());
+        const bool t93 = (t92 == int32_t(0));
+        bool r94{};
+        if (!t93) {
+          const int32_t t95 = int32_t(rendered90.size());
+          const bool t96 = (t95 == int32_t(0));
+          r94 = t96;
         } else {
-          r100 = true;
+          r94 = true;
         }
-        bool r103{};
-        if (r100) {
-          r103 = false;
+        bool r97{};
+        if (r94) {
+          r97 = false;
         } else {
-          bool any104 = false;
-          for (const Elem& x105 : rendered92) {
-            bool any106 = false;
-            for (const Elem& x107 : cat96) {
-              const bool t108 = (x105.position == x107.position);
-              if (t108) {
-                any106 = true;
+          bool any98 = false;
+          for (const Elem& x99 : rendered89) {
+            bool any100 = false;
+            for (const Elem& x101 : rendered90) {
+              const bool t102 = (x99.position == x101.position);
+              if (t102) {
+                any100 = true;
                 break;
               }
             }
-            if (any106) {
-              any104 = true;
+            if (any100) {
+              any98 = true;
               break;
             }
           }
-          r103 = any104;
+          r97 = any98;
         }
-        bool r109{};
-        if (r103) {
-          const C4_Frog& g110 = s.g_frog_7;
-          const std::vector<C3_Car>& prev111 = s.p_cars_15;
-          std::vector<Elem>& rendered112 = s.scratch.v.b16;
-          rendered112.clear();
-          rendered112.push_back(Elem{Pos{add(g110.origin.x, int32_t(0)), add(g110.origin.y, int32_t(0))}, int32_t(2)});
-          std::vector<std::vector<Elem>>& out113 = s.scratch.v.b17;
-          out113.clear();
-          out113.reserve(size_t(int32_t(prev111.size())));
-          for (const C3_Car& x114 : prev111) {
-            std::vector<Elem> rendered115{};
-            render_C3_Car(s, x114, rendered115);
-            out113.push_back(std::move(rendered115));
+        bool r103{};
+        if (r97) {
+          const C4_Frog& g104 = s.g_frog_7;
+          const std::vector<C3_Car>& prev105 = (s.scratch.v.sv_cars_18 ? s.scratch.v.p_cars_17 : s.g_cars_15);
+          std::vector<Elem>& rendered106 = s.scratch.v.b14;
+          rendered106.clear();
+          rendered106.push_back(Elem{Pos{add(g104.origin.x, int32_t(0)), add(g104.origin.y, int32_t(0))}, int32_t(2)});
+          std::vector<Elem>& rendered107 = s.scratch.v.b15;
+          rendered107.clear();
+          for (const C3_Car& x108 : prev105) {
+            render_C3_Car(s, x108, rendered107);
           }
-          std::vector<Elem>& cat116 = s.scratch.v.b18;
-          cat116.clear();
-          for (const std::vector<Elem>& part117 : out113) {
-            cat116.insert(cat116.end(), part117.begin(), part117.end());
-          }
-          const int32_t t118 = int32_t(rendered112.size());
-          const bool t119 = (t118 == int32_t(0));
-          bool r120{};
-          if (!t119) {
-            const int32_t t121 = int32_t(cat116.size());
-            const bool t122 = (t121 == int32_t(0));
-            r120 = t122;
+          const int32_t t109 = int32_t(rendered106.size());
+          const bool t110 = (t109 == int32_t(0));
+          bool r111{};
+          if (!t110) {
+            const int32_t t112 = int32_t(rendered107.size());
+            const bool t113 = (t112 == int32_t(0));
+            r111 = t113;
           } else {
-            r120 = true;
+            r111 = true;
           }
-          bool r123{};
-          if (r120) {
-            r123 = false;
+          bool r114{};
+          if (r111) {
+            r114 = false;
           } else {
-            bool any124 = false;
-            for (const Elem& x125 : rendered112) {
-              bool any126 = false;
-              for (const Elem& x127 : cat116) {
-                const bool t128 = (x125.position == x127.position);
-                if (t128) {
-                  any126 = true;
+            bool any115 = false;
+            for (const Elem& x116 : rendered106) {
+              bool any117 = false;
+              for (const Elem& x118 : rendered107) {
+                const bool t119 = (x116.position == x118.position);
+                if (t119) {
+                  any117 = true;
                   break;
                 }
               }
-              if (any126) {
-                any124 = true;
+              if (any117) {
+                any115 = true;
                 break;
               }
             }
-            r123 = any124;
+            r114 = any115;
           }
-          r109 = r123;
+          r103 = r114;
         } else {
-          r109 = false;
+          r103 = false;
         }
-        r89 = r109;
+        r86 = r103;
       } else {
-        r89 = true;
+        r86 = true;
       }
-      if (r89) {
+      if (r86) {
         s.core.covered[int32_t(5)] = 1;
-        const Pos& g129 = s.g_frogStart_4;
-        C4_Frog o130 = C4_Frog{g129};
-        s.g_frog_7 = std::move(o130);
+        const Pos& g120 = s.g_frogStart_4;
+        C4_Frog o121 = C4_Frog{g120};
+        if (!s.scratch.v.sv_frog_10) {
+          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          s.scratch.v.sv_frog_10 = true;
+        }
+        s.g_frog_7 = std::move(o121);
         s.u_frog_8 = true;
         // inlined: function at programs/frog_crossing.au:61
-        const C5_Lives& g131 = s.g_lives_10;
-        const C5_Lives& g132 = s.g_lives_10;
-        const int32_t t133 = sub(g132.f0, int32_t(1));
-        C5_Lives upd134 = g131;
-        upd134.f0 = t133;
-        s.g_lives_10 = std::move(upd134);
-        s.u_lives_11 = true;
+        const C5_Lives& g122 = s.g_lives_11;
+        const C5_Lives& g123 = s.g_lives_11;
+        const int32_t t124 = sub(g123.f0, int32_t(1));
+        C5_Lives upd125 = g122;
+        upd125.f0 = t124;
+        if (!s.scratch.v.sv_lives_14) {
+          s.scratch.v.p_lives_13 = std::move(s.g_lives_11);
+          s.scratch.v.sv_lives_14 = true;
+        }
+        s.g_lives_11 = std::move(upd125);
+        s.u_lives_12 = true;
       }
     }
     // on-clause 7, programs/frog_crossing.au:74
     {
-      const C4_Frog& g135 = s.g_frog_7;
-      const bool t136 = (g135.origin.y == int32_t(0));
-      bool r137{};
-      if (t136) {
-        const C4_Frog& g138 = s.g_frog_7;
+      const C4_Frog& g126 = s.g_frog_7;
+      const bool t127 = (g126.origin.y == int32_t(0));
+      bool r128{};
+      if (t127) {
+        const C4_Frog& g129 = s.g_frog_7;
         // inlined: function at programs/frog_crossing.au:60
-        const std::vector<C2_Pad>& g139 = s.g_pads_19;
-        bool any140 = false;
-        for (const C2_Pad& x141 : g139) {
+        const std::vector<C2_Pad>& g130 = s.g_pads_23;
+        bool any131 = false;
+        for (const C2_Pad& x132 : g130) {
           // inlined: function at programs/frog_crossing.au:60
-          const bool t142 = (x141.origin == g138.origin);
-          bool r143{};
-          if (t142) {
-            const bool t144 = !x141.f0;
-            r143 = t144;
+          const bool t133 = (x132.origin == g129.origin);
+          bool r134{};
+          if (t133) {
+            const bool t135 = !x132.f0;
+            r134 = t135;
           } else {
-            r143 = false;
+            r134 = false;
           }
-          if (r143) {
-            any140 = true;
+          if (r134) {
+            any131 = true;
             break;
           }
         }
-        r137 = any140;
+        r128 = any131;
       } else {
-        r137 = false;
+        r128 = false;
       }
-      if (r137) {
+      if (r128) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C2_Pad>& g145 = s.g_pads_19;
-        std::vector<C2_Pad>& updated146 = s.scratch.v.b19;
-        updated146.clear();
-        updated146.reserve(size_t(int32_t(g145.size())));
-        for (const C2_Pad& x147 : g145) {
+        const std::vector<C2_Pad>& g136 = s.g_pads_23;
+        std::vector<C2_Pad>& updated137 = s.scratch.v.b16;
+        updated137.clear();
+        updated137.reserve(size_t(int32_t(g136.size())));
+        for (const C2_Pad& x138 : g136) {
           // inlined: function at programs/frog_crossing.au:76
-          const C4_Frog& g148 = s.g_frog_7;
-          const bool t149 = (x147.origin == g148.origin);
-          if (t149) {
+          const C4_Frog& g139 = s.g_frog_7;
+          const bool t140 = (x138.origin == g139.origin);
+          if (t140) {
             // inlined: function at programs/frog_crossing.au:76
-            C2_Pad upd150 = x147;
-            upd150.f0 = true;
-            updated146.push_back(std::move(upd150));
+            C2_Pad upd141 = x138;
+            upd141.f0 = true;
+            updated137.push_back(std::move(upd141));
           } else {
-            updated146.push_back(x147);
+            updated137.push_back(x138);
           }
         }
-        std::swap(s.g_pads_19, updated146);
-        s.u_pads_20 = true;
-        const Pos& g151 = s.g_frogStart_4;
-        C4_Frog o152 = C4_Frog{g151};
-        s.g_frog_7 = std::move(o152);
+        if (!s.scratch.v.sv_pads_26) {
+          s.scratch.v.p_pads_25 = std::move(s.g_pads_23);
+          s.scratch.v.sv_pads_26 = true;
+        }
+        std::swap(s.g_pads_23, updated137);
+        s.u_pads_24 = true;
+        const Pos& g142 = s.g_frogStart_4;
+        C4_Frog o143 = C4_Frog{g142};
+        if (!s.scratch.v.sv_frog_10) {
+          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          s.scratch.v.sv_frog_10 = true;
+        }
+        s.g_frog_7 = std::move(o143);
         s.u_frog_8 = true;
       }
     }
     // on-clause 8, programs/frog_crossing.au:80
     {
-      const C4_Frog& g153 = s.g_frog_7;
-      const bool t154 = (g153.origin.y == int32_t(0));
-      bool r155{};
-      if (t154) {
-        const C4_Frog& g156 = s.g_frog_7;
+      const C4_Frog& g144 = s.g_frog_7;
+      const bool t145 = (g144.origin.y == int32_t(0));
+      bool r146{};
+      if (t145) {
+        const C4_Frog& g147 = s.g_frog_7;
         // inlined: function at programs/frog_crossing.au:60
-        const std::vector<C2_Pad>& g157 = s.g_pads_19;
-        bool any158 = false;
-        for (const C2_Pad& x159 : g157) {
+        const std::vector<C2_Pad>& g148 = s.g_pads_23;
+        bool any149 = false;
+        for (const C2_Pad& x150 : g148) {
           // inlined: function at programs/frog_crossing.au:60
-          const bool t160 = (x159.origin == g156.origin);
-          bool r161{};
-          if (t160) {
-            const bool t162 = !x159.f0;
-            r161 = t162;
+          const bool t151 = (x150.origin == g147.origin);
+          bool r152{};
+          if (t151) {
+            const bool t153 = !x150.f0;
+            r152 = t153;
           } else {
-            r161 = false;
+            r152 = false;
           }
-          if (r161) {
-            any158 = true;
+          if (r152) {
+            any149 = true;
             break;
           }
         }
-        const bool t163 = !any158;
-        r155 = t163;
+        const bool t154 = !any149;
+        r146 = t154;
       } else {
-        r155 = false;
+        r146 = false;
       }
-      if (r155) {
+      if (r146) {
         s.core.covered[int32_t(7)] = 1;
-        const Pos& g164 = s.g_frogStart_4;
-        C4_Frog o165 = C4_Frog{g164};
-        s.g_frog_7 = std::move(o165);
+        const Pos& g155 = s.g_frogStart_4;
+        C4_Frog o156 = C4_Frog{g155};
+        if (!s.scratch.v.sv_frog_10) {
+          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          s.scratch.v.sv_frog_10 = true;
+        }
+        s.g_frog_7 = std::move(o156);
         s.u_frog_8 = true;
         // inlined: function at programs/frog_crossing.au:61
-        const C5_Lives& g166 = s.g_lives_10;
-        const C5_Lives& g167 = s.g_lives_10;
-        const int32_t t168 = sub(g167.f0, int32_t(1));
-        C5_Lives upd169 = g166;
-        upd169.f0 = t168;
-        s.g_lives_10 = std::move(upd169);
-        s.u_lives_11 = true;
+        const C5_Lives& g157 = s.g_lives_11;
+        const C5_Lives& g158 = s.g_lives_11;
+        const int32_t t159 = sub(g158.f0, int32_t(1));
+        C5_Lives upd160 = g157;
+        upd160.f0 = t159;
+        if (!s.scratch.v.sv_lives_14) {
+          s.scratch.v.p_lives_13 = std::move(s.g_lives_11);
+          s.scratch.v.sv_lives_14 = true;
+        }
+        s.g_lives_11 = std::move(upd160);
+        s.u_lives_12 = true;
       }
     }
     // on-clause 9, programs/frog_crossing.au:83
     {
-      const std::vector<C2_Pad>& g170 = s.g_pads_19;
-      bool any171 = false;
-      for (const C2_Pad& x172 : g170) {
+      const std::vector<C2_Pad>& g161 = s.g_pads_23;
+      bool any162 = false;
+      for (const C2_Pad& x163 : g161) {
         // inlined: function at programs/frog_crossing.au:83
-        const bool t173 = !x172.f0;
-        if (t173) {
-          any171 = true;
+        const bool t164 = !x163.f0;
+        if (t164) {
+          any162 = true;
           break;
         }
       }
-      const bool t174 = !any171;
-      if (t174) {
+      const bool t165 = !any162;
+      if (t165) {
         s.core.covered[int32_t(8)] = 1;
-        const std::vector<C2_Pad>& g175 = s.g_pads_19;
-        std::vector<C2_Pad>& out176 = s.scratch.v.b20;
-        out176.clear();
-        out176.reserve(size_t(int32_t(g175.size())));
-        for (const C2_Pad& x177 : g175) {
+        const std::vector<C2_Pad>& g166 = s.g_pads_23;
+        std::vector<C2_Pad>& out167 = s.scratch.v.b17;
+        out167.clear();
+        out167.reserve(size_t(int32_t(g166.size())));
+        for (const C2_Pad& x168 : g166) {
           // inlined: function at programs/frog_crossing.au:84
-          C2_Pad upd178 = x177;
-          upd178.f0 = false;
-          out176.push_back(std::move(upd178));
+          C2_Pad upd169 = x168;
+          upd169.f0 = false;
+          out167.push_back(std::move(upd169));
         }
-        std::swap(s.g_pads_19, out176);
-        s.u_pads_20 = true;
+        if (!s.scratch.v.sv_pads_26) {
+          s.scratch.v.p_pads_25 = std::move(s.g_pads_23);
+          s.scratch.v.sv_pads_26 = true;
+        }
+        std::swap(s.g_pads_23, out167);
+        s.u_pads_24 = true;
       }
     }
     // on-clause 10, programs/frog_crossing.au:86
     {
-      const C5_Lives& g179 = s.g_lives_10;
-      const bool t180 = (g179.f0 <= int32_t(0));
-      if (t180) {
+      const C5_Lives& g170 = s.g_lives_11;
+      const bool t171 = (g170.f0 <= int32_t(0));
+      if (t171) {
         s.core.covered[int32_t(9)] = 1;
-        C5_Lives o181 = C5_Lives{int32_t(3), Pos{int32_t(7), int32_t(9)}};
-        s.g_lives_10 = std::move(o181);
-        s.u_lives_11 = true;
-        const std::vector<C2_Pad>& g182 = s.g_pads_19;
-        std::vector<C2_Pad>& out183 = s.scratch.v.b21;
-        out183.clear();
-        out183.reserve(size_t(int32_t(g182.size())));
-        for (const C2_Pad& x184 : g182) {
-          // inlined: function at programs/frog_crossing.au:87
-          C2_Pad upd185 = x184;
-          upd185.f0 = false;
-          out183.push_back(std::move(upd185));
+        C5_Lives o172 = C5_Lives{int32_t(3), Pos{int32_t(7), int32_t(9)}};
+        if (!s.scratch.v.sv_lives_14) {
+          s.scratch.v.p_lives_13 = std::move(s.g_lives_11);
+          s.scratch.v.sv_lives_14 = true;
         }
-        std::swap(s.g_pads_19, out183);
-        s.u_pads_20 = true;
+        s.g_lives_11 = std::move(o172);
+        s.u_lives_12 = true;
+        const std::vector<C2_Pad>& g173 = s.g_pads_23;
+        std::vector<C2_Pad>& out174 = s.scratch.v.b18;
+        out174.clear();
+        out174.reserve(size_t(int32_t(g173.size())));
+        for (const C2_Pad& x175 : g173) {
+          // inlined: function at programs/frog_crossing.au:87
+          C2_Pad upd176 = x175;
+          upd176.f0 = false;
+          out174.push_back(std::move(upd176));
+        }
+        if (!s.scratch.v.sv_pads_26) {
+          s.scratch.v.p_pads_25 = std::move(s.g_pads_23);
+          s.scratch.v.sv_pads_26 = true;
+        }
+        std::swap(s.g_pads_23, out174);
+        s.u_pads_24 = true;
       }
     }
     // NEXT of frog, programs/frog_crossing.au:52
     if (!s.u_frog_8) {
-      const C4_Frog& prev186 = s.p_frog_9;
-      s.g_frog_7 = prev186;
+      const C4_Frog prev177 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
+      if (!s.scratch.v.sv_frog_10) {
+        s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+        s.scratch.v.sv_frog_10 = true;
+      }
+      s.g_frog_7 = prev177;
       s.u_frog_8 = true;
     }
     // NEXT of lives, programs/frog_crossing.au:49
-    if (!s.u_lives_11) {
-      const C5_Lives& prev187 = s.p_lives_12;
-      s.g_lives_10 = prev187;
-      s.u_lives_11 = true;
+    if (!s.u_lives_12) {
+      const C5_Lives prev178 = (s.scratch.v.sv_lives_14 ? s.scratch.v.p_lives_13 : s.g_lives_11);
+      if (!s.scratch.v.sv_lives_14) {
+        s.scratch.v.p_lives_13 = std::move(s.g_lives_11);
+        s.scratch.v.sv_lives_14 = true;
+      }
+      s.g_lives_11 = prev178;
+      s.u_lives_12 = true;
     }
     // NEXT of cars, programs/frog_crossing.au:46
-    if (!s.u_cars_14) {
-      const std::vector<C3_Car>& prev188 = s.p_cars_15;
-      s.g_cars_13 = prev188;
-      s.u_cars_14 = true;
+    if (!s.u_cars_16) {
+      const std::vector<C3_Car> prev179 = (s.scratch.v.sv_cars_18 ? s.scratch.v.p_cars_17 : s.g_cars_15);
+      if (!s.scratch.v.sv_cars_18) {
+        s.scratch.v.p_cars_17 = std::move(s.g_cars_15);
+        s.scratch.v.sv_cars_18 = true;
+      }
+      s.g_cars_15 = prev179;
+      s.u_cars_16 = true;
     }
     // NEXT of verges, programs/frog_crossing.au:39
-    if (!s.u_verges_17) {
-      const std::vector<C1_Verge>& prev189 = s.p_verges_18;
-      s.g_verges_16 = prev189;
-      s.u_verges_17 = true;
+    if (!s.u_verges_20) {
+      const std::vector<C1_Verge> prev180 = (s.scratch.v.sv_verges_22 ? s.scratch.v.p_verges_21 : s.g_verges_19);
+      if (!s.scratch.v.sv_verges_22) {
+        s.scratch.v.p_verges_21 = std::move(s.g_verges_19);
+        s.scratch.v.sv_verges_22 = true;
+      }
+      s.g_verges_19 = prev180;
+      s.u_verges_20 = true;
     }
     // NEXT of pads, programs/frog_crossing.au:43
-    if (!s.u_pads_20) {
-      const std::vector<C2_Pad>& prev190 = s.p_pads_21;
-      s.g_pads_19 = prev190;
-      s.u_pads_20 = true;
+    if (!s.u_pads_24) {
+      const std::vector<C2_Pad> prev181 = (s.scratch.v.sv_pads_26 ? s.scratch.v.p_pads_25 : s.g_pads_23);
+      if (!s.scratch.v.sv_pads_26) {
+        s.scratch.v.p_pads_25 = std::move(s.g_pads_23);
+        s.scratch.v.sv_pads_26 = true;
+      }
+      s.g_pads_23 = prev181;
+      s.u_pads_24 = true;
     }
     // NEXT of river, programs/frog_crossing.au:36
-    if (!s.u_river_23) {
-      const C0_River& prev191 = s.p_river_24;
-      s.g_river_22 = prev191;
-      s.u_river_23 = true;
+    if (!s.u_river_28) {
+      const C0_River prev182 = (s.scratch.v.sv_river_30 ? s.scratch.v.p_river_29 : s.g_river_27);
+      if (!s.scratch.v.sv_river_30) {
+        s.scratch.v.p_river_29 = std::move(s.g_river_27);
+        s.scratch.v.sv_river_30 = true;
+      }
+      s.g_river_27 = prev182;
+      s.u_river_28 = true;
     }
     // NEXT of time, programs/frog_crossing.au:33
-    if (!s.u_time_26) {
-      const int32_t& prev192 = s.p_time_27;
-      const int32_t t193 = add(prev192, int32_t(1));
-      s.g_time_25 = t193;
-      s.u_time_26 = true;
+    if (!s.u_time_32) {
+      const int32_t& prev183 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
+      const int32_t t184 = add(prev183, int32_t(1));
+      if (!s.scratch.v.sv_time_34) {
+        s.scratch.v.p_time_33 = std::move(s.g_time_31);
+        s.scratch.v.sv_time_34 = true;
+      }
+      s.g_time_31 = t184;
+      s.u_time_32 = true;
     }
     s.core.clear_inputs();
   }
@@ -1013,10 +1073,10 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b22;
+    std::vector<Elem>& elems1 = s.scratch.v.b19;
     elems1.clear();
     elems1.clear();
-    const C0_River& g2 = s.g_river_22;
+    const C0_River& g2 = s.g_river_27;
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(2)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
@@ -1032,7 +1092,7 @@ struct Prog {
       if (paint) paint->paint(e3.position, pal[e3.color]);
     }
     elems1.clear();
-    const std::vector<C1_Verge>& g4 = s.g_verges_16;
+    const std::vector<C1_Verge>& g4 = s.g_verges_19;
     for (const C1_Verge& x5 : g4) {
       elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
       elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(1)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
@@ -1050,7 +1110,7 @@ struct Prog {
       if (paint) paint->paint(e6.position, pal[e6.color]);
     }
     elems1.clear();
-    const std::vector<C2_Pad>& g7 = s.g_pads_19;
+    const std::vector<C2_Pad>& g7 = s.g_pads_23;
     for (const C2_Pad& x8 : g7) {
       const int32_t colour9 = colour_6_C2_Pad(s, x8);
       elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
@@ -1060,7 +1120,7 @@ struct Prog {
       if (paint) paint->paint(e10.position, pal[e10.color]);
     }
     elems1.clear();
-    const std::vector<C3_Car>& g11 = s.g_cars_13;
+    const std::vector<C3_Car>& g11 = s.g_cars_15;
     for (const C3_Car& x12 : g11) {
       render_C3_Car(s, x12, elems1);
     }
@@ -1069,7 +1129,7 @@ struct Prog {
       if (paint) paint->paint(e13.position, pal[e13.color]);
     }
     elems1.clear();
-    const C5_Lives& g14 = s.g_lives_10;
+    const C5_Lives& g14 = s.g_lives_11;
     const int32_t colour15 = colour_1_C5_Lives(s, g14);
     elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(0)), add(g14.origin.y, int32_t(0))}, colour15});
     const int32_t colour16 = colour_2_C5_Lives(s, g14);
@@ -1099,12 +1159,12 @@ struct Prog {
     hash_value(h, s.g_loop_5);
     hash_value(h, s.g_lanes_6);
     hash_value(h, s.g_frog_7);
-    hash_value(h, s.g_lives_10);
-    hash_value(h, s.g_cars_13);
-    hash_value(h, s.g_verges_16);
-    hash_value(h, s.g_pads_19);
-    hash_value(h, s.g_river_22);
-    hash_value(h, s.g_time_25);
+    hash_value(h, s.g_lives_11);
+    hash_value(h, s.g_cars_15);
+    hash_value(h, s.g_verges_19);
+    hash_value(h, s.g_pads_23);
+    hash_value(h, s.g_river_27);
+    hash_value(h, s.g_time_31);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -1118,12 +1178,12 @@ struct Prog {
     save_value(w, s.g_loop_5);
     save_value(w, s.g_lanes_6);
     save_value(w, s.g_frog_7);
-    save_value(w, s.g_lives_10);
-    save_value(w, s.g_cars_13);
-    save_value(w, s.g_verges_16);
-    save_value(w, s.g_pads_19);
-    save_value(w, s.g_river_22);
-    save_value(w, s.g_time_25);
+    save_value(w, s.g_lives_11);
+    save_value(w, s.g_cars_15);
+    save_value(w, s.g_verges_19);
+    save_value(w, s.g_pads_23);
+    save_value(w, s.g_river_27);
+    save_value(w, s.g_time_31);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -1136,12 +1196,12 @@ struct Prog {
     load_value(r, s.g_loop_5);
     load_value(r, s.g_lanes_6);
     load_value(r, s.g_frog_7);
-    load_value(r, s.g_lives_10);
-    load_value(r, s.g_cars_13);
-    load_value(r, s.g_verges_16);
-    load_value(r, s.g_pads_19);
-    load_value(r, s.g_river_22);
-    load_value(r, s.g_time_25);
+    load_value(r, s.g_lives_11);
+    load_value(r, s.g_cars_15);
+    load_value(r, s.g_verges_19);
+    load_value(r, s.g_pads_23);
+    load_value(r, s.g_river_27);
+    load_value(r, s.g_time_31);
   }
 };
 

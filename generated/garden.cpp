@@ -108,21 +108,29 @@ struct Prog {
     std::vector<C2_Drop> b1;
     std::vector<C3_Plant> b2;
     std::vector<Elem> b3;
-    std::vector<std::vector<Elem>> b4;
-    std::vector<Elem> b5;
-    std::vector<C2_Drop> b6;
+    std::vector<Elem> b4;
+    std::vector<C2_Drop> b5;
+    std::vector<Elem> b6;
     std::vector<Elem> b7;
-    std::vector<std::vector<Elem>> b8;
+    std::vector<C3_Plant> b8;
     std::vector<Elem> b9;
     std::vector<C3_Plant> b10;
     std::vector<Elem> b11;
     std::vector<C3_Plant> b12;
     std::vector<Elem> b13;
     std::vector<C3_Plant> b14;
-    std::vector<Elem> b15;
-    std::vector<C3_Plant> b16;
-    std::vector<C2_Drop> b17;
-    std::vector<Elem> b18;
+    std::vector<C2_Drop> b15;
+    std::vector<Elem> b16;
+    C4_Basket p_basket_9{};
+    bool sv_basket_10{};
+    std::vector<C2_Drop> p_drops_13{};
+    bool sv_drops_14{};
+    std::vector<C3_Plant> p_plants_17{};
+    bool sv_plants_18{};
+    C0_Cloud p_cloud_21{};
+    bool sv_cloud_22{};
+    C1_Sun p_sun_25{};
+    bool sv_sun_26{};
   };
   struct State {
     Core core;
@@ -136,21 +144,16 @@ struct Prog {
     int32_t g_maxPlants_6{};
     C4_Basket g_basket_7{};
     bool u_basket_8{};
-    C4_Basket p_basket_9{};
-    std::vector<C2_Drop> g_drops_10{};
-    bool u_drops_11{};
-    std::vector<C2_Drop> p_drops_12{};
-    std::vector<C3_Plant> g_plants_13{};
-    bool u_plants_14{};
-    std::vector<C3_Plant> p_plants_15{};
-    C0_Cloud g_cloud_16{};
-    bool u_cloud_17{};
-    C0_Cloud p_cloud_18{};
-    C1_Sun g_sun_19{};
-    bool u_sun_20{};
-    C1_Sun p_sun_21{};
-    Pos g_click_22{};
-    bool d_click_23{};
+    std::vector<C2_Drop> g_drops_11{};
+    bool u_drops_12{};
+    std::vector<C3_Plant> g_plants_15{};
+    bool u_plants_16{};
+    C0_Cloud g_cloud_19{};
+    bool u_cloud_20{};
+    C1_Sun g_sun_23{};
+    bool u_sun_24{};
+    Pos g_click_27{};
+    bool d_click_28{};
   };
 
   static int32_t colour_12_C3_Plant(State& s, const C3_Plant& o1) {
@@ -354,44 +357,44 @@ struct Prog {
     s.g_basket_7 = std::move(o3);
     s.u_basket_8 = false;
     // init drops, programs/garden.au:34
-    s.g_drops_10 = std::vector<C2_Drop>{};
-    s.u_drops_11 = false;
+    s.g_drops_11 = std::vector<C2_Drop>{};
+    s.u_drops_12 = false;
     // init plants, programs/garden.au:31
-    const C3_Plant o4 = C3_Plant{int32_t(1), int32_t(2), Pos{int32_t(3), int32_t(8)}};
-    const C3_Plant o5 = C3_Plant{int32_t(0), int32_t(3), Pos{int32_t(8), int32_t(6)}};
-    std::vector<C3_Plant> list6 = std::vector<C3_Plant>{o4, o5};
-    s.g_plants_13 = std::move(list6);
-    s.u_plants_14 = false;
+    C3_Plant o4 = C3_Plant{int32_t(1), int32_t(2), Pos{int32_t(3), int32_t(8)}};
+    C3_Plant o5 = C3_Plant{int32_t(0), int32_t(3), Pos{int32_t(8), int32_t(6)}};
+    std::vector<C3_Plant> list6 = std::vector<C3_Plant>{std::move(o4), std::move(o5)};
+    s.g_plants_15 = std::move(list6);
+    s.u_plants_16 = false;
     // init cloud, programs/garden.au:28
     C0_Cloud o7 = C0_Cloud{Pos{int32_t(5), int32_t(0)}};
-    s.g_cloud_16 = std::move(o7);
-    s.u_cloud_17 = false;
+    s.g_cloud_19 = std::move(o7);
+    s.u_cloud_20 = false;
     // init sun, programs/garden.au:25
     C1_Sun o8 = C1_Sun{true, Pos{int32_t(11), int32_t(0)}};
-    s.g_sun_19 = std::move(o8);
-    s.u_sun_20 = false;
+    s.g_sun_23 = std::move(o8);
+    s.u_sun_24 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_sun_21 = s.g_sun_19;
-    s.p_cloud_18 = s.g_cloud_16;
-    s.p_plants_15 = s.g_plants_13;
-    s.p_drops_12 = s.g_drops_10;
-    s.p_basket_9 = s.g_basket_7;
+    s.scratch.v.sv_sun_26 = false;
+    s.scratch.v.sv_cloud_22 = false;
+    s.scratch.v.sv_plants_18 = false;
+    s.scratch.v.sv_drops_14 = false;
+    s.scratch.v.sv_basket_10 = false;
     s.u_basket_8 = false;
-    s.u_drops_11 = false;
-    s.u_plants_14 = false;
-    s.u_cloud_17 = false;
-    s.u_sun_20 = false;
+    s.u_drops_12 = false;
+    s.u_plants_16 = false;
+    s.u_cloud_20 = false;
+    s.u_sun_24 = false;
     // on-clause 1, programs/garden.au:47
     {
       if (true) {
         s.core.covered[int32_t(0)] = 1;
         std::vector<C2_Drop>& l_fallen1 = s.scratch.v.b0;
         l_fallen1.clear();
-        const std::vector<C2_Drop>& prev2 = s.p_drops_12;
+        const std::vector<C2_Drop>& prev2 = (s.scratch.v.sv_drops_14 ? s.scratch.v.p_drops_13 : s.g_drops_11);
         std::vector<C2_Drop>& out3 = s.scratch.v.b1;
         out3.clear();
         out3.reserve(size_t(int32_t(prev2.size())));
@@ -404,532 +407,568 @@ struct Prog {
           out3.push_back(std::move(upd8));
         }
         std::swap(l_fallen1, out3);
-        const std::vector<C3_Plant>& prev9 = s.p_plants_15;
+        const std::vector<C3_Plant>& prev9 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
         std::vector<C3_Plant>& updated10 = s.scratch.v.b2;
         updated10.clear();
         updated10.reserve(size_t(int32_t(prev9.size())));
         for (const C3_Plant& x11 : prev9) {
           // inlined: function at programs/garden.au:50
-          const std::vector<C2_Drop>& v12 = l_fallen1;
-          std::vector<Elem>& rendered13 = s.scratch.v.b3;
-          rendered13.clear();
-          const int32_t colour14 = colour_12_C3_Plant(s, x11);
-          rendered13.push_back(Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, colour14});
-          std::vector<std::vector<Elem>>& out15 = s.scratch.v.b4;
-          out15.clear();
-          out15.reserve(size_t(int32_t(v12.size())));
-          for (const C2_Drop& x16 : v12) {
-            std::vector<Elem> rendered17{};
-            rendered17.push_back(Elem{Pos{add(x16.origin.x, int32_t(0)), add(x16.origin.y, int32_t(0))}, int32_t(12)});
-            out15.push_back(std::move(rendered17));
+          std::vector<Elem>& rendered12 = s.scratch.v.b3;
+          rendered12.clear();
+          const int32_t colour13 = colour_12_C3_Plant(s, x11);
+          rendered12.push_back(Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, colour13});
+          std::vector<Elem>& rendered14 = s.scratch.v.b4;
+          rendered14.clear();
+          for (const C2_Drop& x15 : l_fallen1) {
+            rendered14.push_back(Elem{Pos{add(x15.origin.x, int32_t(0)), add(x15.origin.y, int32_t(0))}, int32_t(12)});
           }
-          std::vector<Elem>& cat18 = s.scratch.v.b5;
-          cat18.clear();
-          for (const std::vector<Elem>& part19 : out15) {
-            cat18.insert(cat18.end(), part19.begin(), part19.end());
-          }
-          const int32_t t20 = int32_t(rendered13.size());
-          const bool t21 = (t20 == int32_t(0));
-          bool r22{};
-          if (!t21) {
-            const int32_t t23 = int32_t(cat18.size());
-            const bool t24 = (t23 == int32_t(0));
-            r22 = t24;
+          const int32_t t16 = int32_t(rendered12.size());
+          const bool t17 = (t16 == int32_t(0));
+          bool r18{};
+          if (!t17) {
+            const int32_t t19 = int32_t(rendered14.size());
+            const bool t20 = (t19 == int32_t(0));
+            r18 = t20;
           } else {
-            r22 = true;
+            r18 = true;
           }
-          bool r25{};
-          if (r22) {
-            r25 = false;
+          bool r21{};
+          if (r18) {
+            r21 = false;
           } else {
-            bool any26 = false;
-            for (const Elem& x27 : rendered13) {
-              bool any28 = false;
-              for (const Elem& x29 : cat18) {
-                const bool t30 = (x27.position == x29.position);
-                if (t30) {
-                  any28 = true;
+            bool any22 = false;
+            for (const Elem& x23 : rendered12) {
+              bool any24 = false;
+              for (const Elem& x25 : rendered14) {
+                const bool t26 = (x23.position == x25.position);
+                if (t26) {
+                  any24 = true;
                   break;
                 }
               }
-              if (any28) {
-                any26 = true;
+              if (any24) {
+                any22 = true;
                 break;
               }
             }
-            r25 = any26;
+            r21 = any22;
           }
-          if (r25) {
+          if (r21) {
             // inlined: function at programs/garden.au:40
-            const int32_t t31 = add(x11.f0, int32_t(1));
-            const bool t32 = (int32_t(3) < t31);
-            int32_t r33{};
-            if (t32) {
-              r33 = int32_t(3);
+            const int32_t t27 = add(x11.f0, int32_t(1));
+            const bool t28 = (int32_t(3) < t27);
+            int32_t r29{};
+            if (t28) {
+              r29 = int32_t(3);
             } else {
-              r33 = t31;
+              r29 = t27;
             }
-            C3_Plant upd34 = x11;
-            upd34.f0 = r33;
-            updated10.push_back(std::move(upd34));
+            C3_Plant upd30 = x11;
+            upd30.f0 = r29;
+            updated10.push_back(std::move(upd30));
           } else {
             updated10.push_back(x11);
           }
         }
-        std::swap(s.g_plants_13, updated10);
-        s.u_plants_14 = true;
-        const std::vector<C2_Drop>& v35 = l_fallen1;
-        std::vector<C2_Drop>& out36 = s.scratch.v.b6;
-        out36.clear();
-        for (const C2_Drop& x37 : v35) {
+        if (!s.scratch.v.sv_plants_18) {
+          s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+          s.scratch.v.sv_plants_18 = true;
+        }
+        std::swap(s.g_plants_15, updated10);
+        s.u_plants_16 = true;
+        std::vector<C2_Drop>& out31 = s.scratch.v.b5;
+        out31.clear();
+        for (const C2_Drop& x32 : l_fallen1) {
           // inlined: function at programs/garden.au:51
-          const bool t38 = (x37.origin.y < int32_t(11));
-          bool r39{};
-          if (t38) {
-            const std::vector<C3_Plant>& prev40 = s.p_plants_15;
-            std::vector<Elem>& rendered41 = s.scratch.v.b7;
-            rendered41.clear();
-            rendered41.push_back(Elem{Pos{add(x37.origin.x, int32_t(0)), add(x37.origin.y, int32_t(0))}, int32_t(12)});
-            std::vector<std::vector<Elem>>& out42 = s.scratch.v.b8;
-            out42.clear();
-            out42.reserve(size_t(int32_t(prev40.size())));
-            for (const C3_Plant& x43 : prev40) {
-              std::vector<Elem> rendered44{};
-              const int32_t colour45 = colour_12_C3_Plant(s, x43);
-              rendered44.push_back(Elem{Pos{add(x43.origin.x, int32_t(0)), add(x43.origin.y, int32_t(0))}, colour45});
-              out42.push_back(std::move(rendered44));
+          const bool t33 = (x32.origin.y < int32_t(11));
+          bool r34{};
+          if (t33) {
+            const std::vector<C3_Plant>& prev35 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+            std::vector<Elem>& rendered36 = s.scratch.v.b6;
+            rendered36.clear();
+            rendered36.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(12)});
+            std::vector<Elem>& rendered37 = s.scratch.v.b7;
+            rendered37.clear();
+            for (const C3_Plant& x38 : prev35) {
+              const int32_t colour39 = colour_12_C3_Plant(s, x38);
+              rendered37.push_back(Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, colour39});
             }
-            std::vector<Elem>& cat46 = s.scratch.v.b9;
-            cat46.clear();
-            for (const std::vector<Elem>& part47 : out42) {
-              cat46.insert(cat46.end(), part47.begin(), part47.end());
-            }
-            const int32_t t48 = int32_t(rendered41.size());
-            const bool t49 = (t48 == int32_t(0));
-            bool r50{};
-            if (!t49) {
-              const int32_t t51 = int32_t(cat46.size());
-              const bool t52 = (t51 == int32_t(0));
-              r50 = t52;
+            const int32_t t40 = int32_t(rendered36.size());
+            const bool t41 = (t40 == int32_t(0));
+            bool r42{};
+            if (!t41) {
+              const int32_t t43 = int32_t(rendered37.size());
+              const bool t44 = (t43 == int32_t(0));
+              r42 = t44;
             } else {
-              r50 = true;
+              r42 = true;
             }
-            bool r53{};
-            if (r50) {
-              r53 = false;
+            bool r45{};
+            if (r42) {
+              r45 = false;
             } else {
-              bool any54 = false;
-              for (const Elem& x55 : rendered41) {
-                bool any56 = false;
-                for (const Elem& x57 : cat46) {
-                  const bool t58 = (x55.position == x57.position);
-                  if (t58) {
-                    any56 = true;
+              bool any46 = false;
+              for (const Elem& x47 : rendered36) {
+                bool any48 = false;
+                for (const Elem& x49 : rendered37) {
+                  const bool t50 = (x47.position == x49.position);
+                  if (t50) {
+                    any48 = true;
                     break;
                   }
                 }
-                if (any56) {
-                  any54 = true;
+                if (any48) {
+                  any46 = true;
                   break;
                 }
               }
-              r53 = any54;
+              r45 = any46;
             }
-            const bool t59 = !r53;
-            r39 = t59;
+            const bool t51 = !r45;
+            r34 = t51;
           } else {
-            r39 = false;
+            r34 = false;
           }
-          if (r39) {
-            out36.push_back(x37);
+          if (r34) {
+            out31.push_back(x32);
           }
         }
-        std::swap(s.g_drops_10, out36);
-        s.u_drops_11 = true;
+        if (!s.scratch.v.sv_drops_14) {
+          s.scratch.v.p_drops_13 = std::move(s.g_drops_11);
+          s.scratch.v.sv_drops_14 = true;
+        }
+        std::swap(s.g_drops_11, out31);
+        s.u_drops_12 = true;
       }
     }
     // on-clause 2, programs/garden.au:55
     {
-      const C1_Sun& g60 = s.g_sun_19;
-      if (g60.f0) {
+      const C1_Sun& g52 = s.g_sun_23;
+      if (g52.f0) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C3_Plant>& g61 = s.g_plants_13;
-        std::vector<C3_Plant>& updated62 = s.scratch.v.b10;
-        updated62.clear();
-        updated62.reserve(size_t(int32_t(g61.size())));
-        for (const C3_Plant& x63 : g61) {
+        const std::vector<C3_Plant>& g53 = s.g_plants_15;
+        std::vector<C3_Plant>& updated54 = s.scratch.v.b8;
+        updated54.clear();
+        updated54.reserve(size_t(int32_t(g53.size())));
+        for (const C3_Plant& x55 : g53) {
           // inlined: function at programs/garden.au:56
           // inlined: function at programs/garden.au:39
-          const bool t64 = (x63.f0 == int32_t(3));
-          const bool t65 = !t64;
-          bool r66{};
-          if (t65) {
-            const std::vector<bool>& g67 = s.g_growChance_5;
-            if (g67.empty()) {
+          const bool t56 = (x55.f0 == int32_t(3));
+          const bool t57 = !t56;
+          bool r58{};
+          if (t57) {
+            const std::vector<bool>& g59 = s.g_growChance_5;
+            if (g59.empty()) {
               fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
             }
-            const int32_t t68 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g67.size())))));
-            const bool t69 = g67[size_t(t68)];
-            r66 = t69;
+            const int32_t t60 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g59.size())))));
+            const bool t61 = g59[size_t(t60)];
+            r58 = t61;
           } else {
-            r66 = false;
+            r58 = false;
           }
-          if (r66) {
+          if (r58) {
             // inlined: function at programs/garden.au:40
-            const int32_t t70 = add(x63.f0, int32_t(1));
-            const bool t71 = (int32_t(3) < t70);
-            int32_t r72{};
-            if (t71) {
-              r72 = int32_t(3);
+            const int32_t t62 = add(x55.f0, int32_t(1));
+            const bool t63 = (int32_t(3) < t62);
+            int32_t r64{};
+            if (t63) {
+              r64 = int32_t(3);
             } else {
-              r72 = t70;
+              r64 = t62;
             }
-            C3_Plant upd73 = x63;
-            upd73.f0 = r72;
-            updated62.push_back(std::move(upd73));
+            C3_Plant upd65 = x55;
+            upd65.f0 = r64;
+            updated54.push_back(std::move(upd65));
           } else {
-            updated62.push_back(x63);
+            updated54.push_back(x55);
           }
         }
-        std::swap(s.g_plants_13, updated62);
-        s.u_plants_14 = true;
+        if (!s.scratch.v.sv_plants_18) {
+          s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+          s.scratch.v.sv_plants_18 = true;
+        }
+        std::swap(s.g_plants_15, updated54);
+        s.u_plants_16 = true;
       }
     }
     // on-clause 3, programs/garden.au:58
     {
-      const std::vector<C3_Plant>& prev74 = s.p_plants_15;
-      bool clicked75 = false;
+      const std::vector<C3_Plant>& prev66 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+      bool clicked67 = false;
       if (s.core.click) {
-        s.d_click_23 = true;
-        const Pos t76 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_22 = t76;
-        std::vector<Elem>& rendered77 = s.scratch.v.b11;
-        rendered77.clear();
-        for (const C3_Plant& x78 : prev74) {
-          const int32_t colour79 = colour_12_C3_Plant(s, x78);
-          rendered77.push_back(Elem{Pos{add(x78.origin.x, int32_t(0)), add(x78.origin.y, int32_t(0))}, colour79});
+        s.d_click_28 = true;
+        const Pos t68 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_27 = t68;
+        std::vector<Elem>& rendered69 = s.scratch.v.b9;
+        rendered69.clear();
+        for (const C3_Plant& x70 : prev66) {
+          const int32_t colour71 = colour_12_C3_Plant(s, x70);
+          rendered69.push_back(Elem{Pos{add(x70.origin.x, int32_t(0)), add(x70.origin.y, int32_t(0))}, colour71});
         }
-        for (const Elem& e80 : rendered77) {
-          if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked75 = true;
+        for (const Elem& e72 : rendered69) {
+          if ((e72.position == Pos{s.core.click_x, s.core.click_y})) {
+            clicked67 = true;
             break;
           }
         }
       }
-      if (clicked75) {
+      if (clicked67) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C3_Plant>& prev81 = s.p_plants_15;
-        std::vector<C3_Plant>& out82 = s.scratch.v.b12;
-        out82.clear();
-        for (const C3_Plant& x83 : prev81) {
+        const std::vector<C3_Plant>& prev73 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+        std::vector<C3_Plant>& out74 = s.scratch.v.b10;
+        out74.clear();
+        for (const C3_Plant& x75 : prev73) {
           // inlined: function at programs/garden.au:60
-          bool clicked84 = false;
+          bool clicked76 = false;
           if (s.core.click) {
-            s.d_click_23 = true;
-            const Pos t85 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_22 = t85;
-            std::vector<Elem>& rendered86 = s.scratch.v.b13;
-            rendered86.clear();
-            const int32_t colour87 = colour_12_C3_Plant(s, x83);
-            rendered86.push_back(Elem{Pos{add(x83.origin.x, int32_t(0)), add(x83.origin.y, int32_t(0))}, colour87});
-            for (const Elem& e88 : rendered86) {
-              if ((e88.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked84 = true;
+            s.d_click_28 = true;
+            const Pos t77 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_27 = t77;
+            std::vector<Elem>& rendered78 = s.scratch.v.b11;
+            rendered78.clear();
+            const int32_t colour79 = colour_12_C3_Plant(s, x75);
+            rendered78.push_back(Elem{Pos{add(x75.origin.x, int32_t(0)), add(x75.origin.y, int32_t(0))}, colour79});
+            for (const Elem& e80 : rendered78) {
+              if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked76 = true;
                 break;
               }
             }
           }
-          if (clicked84) {
-            out82.push_back(x83);
+          if (clicked76) {
+            out74.push_back(x75);
           }
         }
-        bool any89 = false;
-        for (const C3_Plant& x90 : out82) {
+        bool any81 = false;
+        for (const C3_Plant& x82 : out74) {
           // inlined: function at programs/garden.au:39
-          const bool t91 = (x90.f0 == int32_t(3));
-          if (t91) {
-            any89 = true;
+          const bool t83 = (x82.f0 == int32_t(3));
+          if (t83) {
+            any81 = true;
             break;
           }
         }
-        C4_Basket r92{};
-        if (any89) {
-          const C4_Basket& g93 = s.g_basket_7;
-          const C4_Basket& g94 = s.g_basket_7;
-          const int32_t t95 = add(g94.f0, int32_t(1));
-          const bool t96 = (int32_t(12) < t95);
-          int32_t r97{};
-          if (t96) {
-            r97 = int32_t(12);
+        C4_Basket r84{};
+        if (any81) {
+          const C4_Basket& g85 = s.g_basket_7;
+          const C4_Basket& g86 = s.g_basket_7;
+          const int32_t t87 = add(g86.f0, int32_t(1));
+          const bool t88 = (int32_t(12) < t87);
+          int32_t r89{};
+          if (t88) {
+            r89 = int32_t(12);
           } else {
-            r97 = t95;
+            r89 = t87;
           }
-          C4_Basket upd98 = g93;
-          upd98.f0 = r97;
-          r92 = std::move(upd98);
+          C4_Basket upd90 = g85;
+          upd90.f0 = r89;
+          r84 = std::move(upd90);
         } else {
-          const C4_Basket& g99 = s.g_basket_7;
-          r92 = g99;
+          const C4_Basket& g91 = s.g_basket_7;
+          r84 = g91;
         }
-        s.g_basket_7 = std::move(r92);
+        if (!s.scratch.v.sv_basket_10) {
+          s.scratch.v.p_basket_9 = std::move(s.g_basket_7);
+          s.scratch.v.sv_basket_10 = true;
+        }
+        s.g_basket_7 = std::move(r84);
         s.u_basket_8 = true;
-        const std::vector<C3_Plant>& g100 = s.g_plants_13;
-        std::vector<C3_Plant>& kept101 = s.scratch.v.b14;
-        kept101.clear();
-        for (const C3_Plant& x102 : g100) {
+        const std::vector<C3_Plant>& g92 = s.g_plants_15;
+        std::vector<C3_Plant>& kept93 = s.scratch.v.b12;
+        kept93.clear();
+        for (const C3_Plant& x94 : g92) {
           // inlined: function at programs/garden.au:63
-          bool clicked103 = false;
+          bool clicked95 = false;
           if (s.core.click) {
-            s.d_click_23 = true;
-            const Pos t104 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_22 = t104;
-            std::vector<Elem>& rendered105 = s.scratch.v.b15;
-            rendered105.clear();
-            const int32_t colour106 = colour_12_C3_Plant(s, x102);
-            rendered105.push_back(Elem{Pos{add(x102.origin.x, int32_t(0)), add(x102.origin.y, int32_t(0))}, colour106});
-            for (const Elem& e107 : rendered105) {
-              if ((e107.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked103 = true;
+            s.d_click_28 = true;
+            const Pos t96 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_27 = t96;
+            std::vector<Elem>& rendered97 = s.scratch.v.b13;
+            rendered97.clear();
+            const int32_t colour98 = colour_12_C3_Plant(s, x94);
+            rendered97.push_back(Elem{Pos{add(x94.origin.x, int32_t(0)), add(x94.origin.y, int32_t(0))}, colour98});
+            for (const Elem& e99 : rendered97) {
+              if ((e99.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked95 = true;
                 break;
               }
             }
           }
-          if (!clicked103) {
-            kept101.push_back(x102);
+          if (!clicked95) {
+            kept93.push_back(x94);
           }
         }
-        std::swap(s.g_plants_13, kept101);
-        s.u_plants_14 = true;
+        if (!s.scratch.v.sv_plants_18) {
+          s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+          s.scratch.v.sv_plants_18 = true;
+        }
+        std::swap(s.g_plants_15, kept93);
+        s.u_plants_16 = true;
       }
     }
     // on-clause 4, programs/garden.au:66
     {
-      bool clicked108 = false;
+      bool clicked100 = false;
       if (s.core.click) {
-        s.d_click_23 = true;
-        const Pos t109 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_22 = t109;
-        clicked108 = true;
+        s.d_click_28 = true;
+        const Pos t101 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_27 = t101;
+        clicked100 = true;
       }
-      bool r110{};
-      if (clicked108) {
-        Pos r111{};
-        if (s.d_click_23) {
-          const Pos& g112 = s.g_click_22;
-          r111 = g112;
+      bool r102{};
+      if (clicked100) {
+        Pos r103{};
+        if (s.d_click_28) {
+          const Pos& g104 = s.g_click_27;
+          r103 = g104;
         } else {
           fail_at(1, std::string() + std::string("undefined variable 'click'"));
         }
         // inlined: function at programs/garden.au:41
-        const bool t113 = (r111.y >= int32_t(2));
-        bool r114{};
-        if (t113) {
-          const bool t115 = (r111.y <= int32_t(10));
-          r114 = t115;
+        const bool t105 = (r103.y >= int32_t(2));
+        bool r106{};
+        if (t105) {
+          const bool t107 = (r103.y <= int32_t(10));
+          r106 = t107;
         } else {
-          r114 = false;
+          r106 = false;
         }
-        bool r116{};
-        if (r114) {
-          Pos r117{};
-          if (s.d_click_23) {
-            const Pos& g118 = s.g_click_22;
-            r117 = g118;
+        bool r108{};
+        if (r106) {
+          Pos r109{};
+          if (s.d_click_28) {
+            const Pos& g110 = s.g_click_27;
+            r109 = g110;
           } else {
             fail_at(2, std::string() + std::string("undefined variable 'click'"));
           }
-          const bool t119 = s.core.occupied.free(r117);
-          bool r120{};
-          if (t119) {
-            const std::vector<C3_Plant>& g121 = s.g_plants_13;
-            const int32_t t122 = int32_t(g121.size());
-            const bool t123 = (t122 < int32_t(20));
-            r120 = t123;
+          const bool t111 = s.core.occupied.free(r109);
+          bool r112{};
+          if (t111) {
+            const std::vector<C3_Plant>& g113 = s.g_plants_15;
+            const int32_t t114 = int32_t(g113.size());
+            const bool t115 = (t114 < int32_t(20));
+            r112 = t115;
           } else {
-            r120 = false;
+            r112 = false;
           }
-          r116 = r120;
+          r108 = r112;
         } else {
-          r116 = false;
+          r108 = false;
         }
-        r110 = r116;
+        r102 = r108;
       } else {
-        r110 = false;
+        r102 = false;
       }
-      if (r110) {
+      if (r102) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C3_Plant>& g124 = s.g_plants_13;
-        const std::vector<int32_t>& g125 = s.g_petals_4;
-        if (g125.empty()) {
+        const std::vector<C3_Plant>& g116 = s.g_plants_15;
+        const std::vector<int32_t>& g117 = s.g_petals_4;
+        if (g117.empty()) {
           fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t126 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g125.size())))));
-        const int32_t t127 = g125[size_t(t126)];
-        Pos r128{};
-        if (s.d_click_23) {
-          const Pos& g129 = s.g_click_22;
-          r128 = g129;
+        const int32_t t118 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g117.size())))));
+        const int32_t t119 = g117[size_t(t118)];
+        Pos r120{};
+        if (s.d_click_28) {
+          const Pos& g121 = s.g_click_27;
+          r120 = g121;
         } else {
           fail_at(4, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r130{};
-        if (s.d_click_23) {
-          const Pos& g131 = s.g_click_22;
-          r130 = g131;
+        Pos r122{};
+        if (s.d_click_28) {
+          const Pos& g123 = s.g_click_27;
+          r122 = g123;
         } else {
           fail_at(5, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t132 = Pos{r128.x, r130.y};
-        C3_Plant o133 = C3_Plant{int32_t(0), t127, t132};
-        std::vector<C3_Plant>& added134 = s.scratch.v.b16;
-        added134.clear();
-        added134.reserve(size_t(add(int32_t(g124.size()), int32_t(1))));
-        for (const C3_Plant& x135 : g124) {
-          added134.push_back(x135);
+        const Pos t124 = Pos{r120.x, r122.y};
+        C3_Plant o125 = C3_Plant{int32_t(0), t119, t124};
+        std::vector<C3_Plant>& added126 = s.scratch.v.b14;
+        added126.clear();
+        added126.reserve(size_t(add(int32_t(g116.size()), int32_t(1))));
+        for (const C3_Plant& x127 : g116) {
+          added126.push_back(x127);
         }
-        added134.push_back(std::move(o133));
-        std::swap(s.g_plants_13, added134);
-        s.u_plants_14 = true;
+        added126.push_back(std::move(o125));
+        if (!s.scratch.v.sv_plants_18) {
+          s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+          s.scratch.v.sv_plants_18 = true;
+        }
+        std::swap(s.g_plants_15, added126);
+        s.u_plants_16 = true;
       }
     }
     // on-clause 5, programs/garden.au:69
     {
-      const bool t136 = s.core.left;
-      if (t136) {
+      const bool t128 = s.core.left;
+      if (t128) {
         s.core.covered[int32_t(4)] = 1;
-        const C0_Cloud& prev137 = s.p_cloud_18;
+        const C0_Cloud& prev129 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
         // inlined: function at programs/garden.au:42
-        int32_t l_nx138{};
-        const int32_t t139 = add(prev137.origin.x, int32_t(-1));
-        l_nx138 = t139;
-        const int32_t& v140 = l_nx138;
-        const bool t141 = (v140 >= int32_t(1));
-        bool r142{};
-        if (t141) {
-          const int32_t& v143 = l_nx138;
-          const bool t144 = (v143 <= int32_t(9));
-          r142 = t144;
+        int32_t l_nx130{};
+        const int32_t t131 = add(prev129.origin.x, int32_t(-1));
+        l_nx130 = t131;
+        const bool t132 = (l_nx130 >= int32_t(1));
+        bool r133{};
+        if (t132) {
+          const bool t134 = (l_nx130 <= int32_t(9));
+          r133 = t134;
         } else {
-          r142 = false;
+          r133 = false;
         }
-        C0_Cloud r145{};
-        if (r142) {
-          const int32_t& v146 = l_nx138;
-          const Pos t147 = Pos{v146, int32_t(0)};
-          C0_Cloud upd148 = prev137;
-          upd148.origin = t147;
-          r145 = std::move(upd148);
+        C0_Cloud r135{};
+        if (r133) {
+          const Pos t136 = Pos{l_nx130, int32_t(0)};
+          C0_Cloud upd137 = prev129;
+          upd137.origin = t136;
+          r135 = std::move(upd137);
         } else {
-          r145 = prev137;
+          r135 = prev129;
         }
-        s.g_cloud_16 = std::move(r145);
-        s.u_cloud_17 = true;
+        if (!s.scratch.v.sv_cloud_22) {
+          s.scratch.v.p_cloud_21 = std::move(s.g_cloud_19);
+          s.scratch.v.sv_cloud_22 = true;
+        }
+        s.g_cloud_19 = std::move(r135);
+        s.u_cloud_20 = true;
       }
     }
     // on-clause 6, programs/garden.au:70
     {
-      const bool t149 = s.core.right;
-      if (t149) {
+      const bool t138 = s.core.right;
+      if (t138) {
         s.core.covered[int32_t(5)] = 1;
-        const C0_Cloud& prev150 = s.p_cloud_18;
+        const C0_Cloud& prev139 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
         // inlined: function at programs/garden.au:42
-        int32_t l_nx151{};
-        const int32_t t152 = add(prev150.origin.x, int32_t(1));
-        l_nx151 = t152;
-        const int32_t& v153 = l_nx151;
-        const bool t154 = (v153 >= int32_t(1));
-        bool r155{};
-        if (t154) {
-          const int32_t& v156 = l_nx151;
-          const bool t157 = (v156 <= int32_t(9));
-          r155 = t157;
+        int32_t l_nx140{};
+        const int32_t t141 = add(prev139.origin.x, int32_t(1));
+        l_nx140 = t141;
+        const bool t142 = (l_nx140 >= int32_t(1));
+        bool r143{};
+        if (t142) {
+          const bool t144 = (l_nx140 <= int32_t(9));
+          r143 = t144;
         } else {
-          r155 = false;
+          r143 = false;
         }
-        C0_Cloud r158{};
-        if (r155) {
-          const int32_t& v159 = l_nx151;
-          const Pos t160 = Pos{v159, int32_t(0)};
-          C0_Cloud upd161 = prev150;
-          upd161.origin = t160;
-          r158 = std::move(upd161);
+        C0_Cloud r145{};
+        if (r143) {
+          const Pos t146 = Pos{l_nx140, int32_t(0)};
+          C0_Cloud upd147 = prev139;
+          upd147.origin = t146;
+          r145 = std::move(upd147);
         } else {
-          r158 = prev150;
+          r145 = prev139;
         }
-        s.g_cloud_16 = std::move(r158);
-        s.u_cloud_17 = true;
+        if (!s.scratch.v.sv_cloud_22) {
+          s.scratch.v.p_cloud_21 = std::move(s.g_cloud_19);
+          s.scratch.v.sv_cloud_22 = true;
+        }
+        s.g_cloud_19 = std::move(r145);
+        s.u_cloud_20 = true;
       }
     }
     // on-clause 7, programs/garden.au:71
     {
-      const bool t162 = s.core.down;
-      if (t162) {
+      const bool t148 = s.core.down;
+      if (t148) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C2_Drop>& g163 = s.g_drops_10;
-        const C0_Cloud& g164 = s.g_cloud_16;
-        const std::vector<int32_t> list165 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
-        if (list165.empty()) {
+        const std::vector<C2_Drop>& g149 = s.g_drops_11;
+        const C0_Cloud& g150 = s.g_cloud_19;
+        const std::vector<int32_t> list151 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
+        if (list151.empty()) {
           fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t166 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list165.size())))));
-        const int32_t t167 = list165[size_t(t166)];
-        const int32_t t168 = add(g164.origin.x, t167);
-        const Pos t169 = Pos{t168, int32_t(1)};
-        C2_Drop o170 = C2_Drop{t169};
-        std::vector<C2_Drop>& added171 = s.scratch.v.b17;
-        added171.clear();
-        added171.reserve(size_t(add(int32_t(g163.size()), int32_t(1))));
-        for (const C2_Drop& x172 : g163) {
-          added171.push_back(x172);
+        const int32_t t152 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list151.size())))));
+        const int32_t t153 = list151[size_t(t152)];
+        const int32_t t154 = add(g150.origin.x, t153);
+        const Pos t155 = Pos{t154, int32_t(1)};
+        C2_Drop o156 = C2_Drop{t155};
+        std::vector<C2_Drop>& added157 = s.scratch.v.b15;
+        added157.clear();
+        added157.reserve(size_t(add(int32_t(g149.size()), int32_t(1))));
+        for (const C2_Drop& x158 : g149) {
+          added157.push_back(x158);
         }
-        added171.push_back(std::move(o170));
-        std::swap(s.g_drops_10, added171);
-        s.u_drops_11 = true;
+        added157.push_back(std::move(o156));
+        if (!s.scratch.v.sv_drops_14) {
+          s.scratch.v.p_drops_13 = std::move(s.g_drops_11);
+          s.scratch.v.sv_drops_14 = true;
+        }
+        std::swap(s.g_drops_11, added157);
+        s.u_drops_12 = true;
       }
     }
     // on-clause 8, programs/garden.au:72
     {
-      const bool t173 = s.core.up;
-      if (t173) {
+      const bool t159 = s.core.up;
+      if (t159) {
         s.core.covered[int32_t(7)] = 1;
-        const C1_Sun& prev174 = s.p_sun_21;
-        const C1_Sun& prev175 = s.p_sun_21;
-        const bool t176 = !prev175.f0;
-        C1_Sun upd177 = prev174;
-        upd177.f0 = t176;
-        s.g_sun_19 = std::move(upd177);
-        s.u_sun_20 = true;
+        const C1_Sun& prev160 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+        const C1_Sun& prev161 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+        const bool t162 = !prev161.f0;
+        C1_Sun upd163 = prev160;
+        upd163.f0 = t162;
+        if (!s.scratch.v.sv_sun_26) {
+          s.scratch.v.p_sun_25 = std::move(s.g_sun_23);
+          s.scratch.v.sv_sun_26 = true;
+        }
+        s.g_sun_23 = std::move(upd163);
+        s.u_sun_24 = true;
       }
     }
     // NEXT of basket, programs/garden.au:37
     if (!s.u_basket_8) {
-      const C4_Basket& prev178 = s.p_basket_9;
-      s.g_basket_7 = prev178;
+      const C4_Basket prev164 = (s.scratch.v.sv_basket_10 ? s.scratch.v.p_basket_9 : s.g_basket_7);
+      if (!s.scratch.v.sv_basket_10) {
+        s.scratch.v.p_basket_9 = std::move(s.g_basket_7);
+        s.scratch.v.sv_basket_10 = true;
+      }
+      s.g_basket_7 = prev164;
       s.u_basket_8 = true;
     }
     // NEXT of drops, programs/garden.au:34
-    if (!s.u_drops_11) {
-      const std::vector<C2_Drop>& prev179 = s.p_drops_12;
-      s.g_drops_10 = prev179;
-      s.u_drops_11 = true;
+    if (!s.u_drops_12) {
+      const std::vector<C2_Drop> prev165 = (s.scratch.v.sv_drops_14 ? s.scratch.v.p_drops_13 : s.g_drops_11);
+      if (!s.scratch.v.sv_drops_14) {
+        s.scratch.v.p_drops_13 = std::move(s.g_drops_11);
+        s.scratch.v.sv_drops_14 = true;
+      }
+      s.g_drops_11 = prev165;
+      s.u_drops_12 = true;
     }
     // NEXT of plants, programs/garden.au:31
-    if (!s.u_plants_14) {
-      const std::vector<C3_Plant>& prev180 = s.p_plants_15;
-      s.g_plants_13 = prev180;
-      s.u_plants_14 = true;
+    if (!s.u_plants_16) {
+      const std::vector<C3_Plant> prev166 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+      if (!s.scratch.v.sv_plants_18) {
+        s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+        s.scratch.v.sv_plants_18 = true;
+      }
+      s.g_plants_15 = prev166;
+      s.u_plants_16 = true;
     }
     // NEXT of cloud, programs/garden.au:28
-    if (!s.u_cloud_17) {
-      const C0_Cloud& prev181 = s.p_cloud_18;
-      s.g_cloud_16 = prev181;
-      s.u_cloud_17 = true;
+    if (!s.u_cloud_20) {
+      const C0_Cloud prev167 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
+      if (!s.scratch.v.sv_cloud_22) {
+        s.scratch.v.p_cloud_21 = std::move(s.g_cloud_19);
+        s.scratch.v.sv_cloud_22 = true;
+      }
+      s.g_cloud_19 = prev167;
+      s.u_cloud_20 = true;
     }
     // NEXT of sun, programs/garden.au:25
-    if (!s.u_sun_20) {
-      const C1_Sun& prev182 = s.p_sun_21;
-      s.g_sun_19 = prev182;
-      s.u_sun_20 = true;
+    if (!s.u_sun_24) {
+      const C1_Sun prev168 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+      if (!s.scratch.v.sv_sun_26) {
+        s.scratch.v.p_sun_25 = std::move(s.g_sun_23);
+        s.scratch.v.sv_sun_26 = true;
+      }
+      s.g_sun_23 = prev168;
+      s.u_sun_24 = true;
     }
     s.core.clear_inputs();
   }
@@ -939,10 +978,10 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b18;
+    std::vector<Elem>& elems1 = s.scratch.v.b16;
     elems1.clear();
     elems1.clear();
-    const C1_Sun& g2 = s.g_sun_19;
+    const C1_Sun& g2 = s.g_sun_23;
     const int32_t colour3 = colour_16_C1_Sun(s, g2);
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, colour3});
     for (const Elem& e4 : elems1) {
@@ -950,7 +989,7 @@ struct Prog {
       if (paint) paint->paint(e4.position, pal[e4.color]);
     }
     elems1.clear();
-    const C0_Cloud& g5 = s.g_cloud_16;
+    const C0_Cloud& g5 = s.g_cloud_19;
     elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(-1)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
     elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
     elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(1)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
@@ -959,7 +998,7 @@ struct Prog {
       if (paint) paint->paint(e6.position, pal[e6.color]);
     }
     elems1.clear();
-    const std::vector<C3_Plant>& g7 = s.g_plants_13;
+    const std::vector<C3_Plant>& g7 = s.g_plants_15;
     for (const C3_Plant& x8 : g7) {
       const int32_t colour9 = colour_12_C3_Plant(s, x8);
       elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
@@ -969,7 +1008,7 @@ struct Prog {
       if (paint) paint->paint(e10.position, pal[e10.color]);
     }
     elems1.clear();
-    const std::vector<C2_Drop>& g11 = s.g_drops_10;
+    const std::vector<C2_Drop>& g11 = s.g_drops_11;
     for (const C2_Drop& x12 : g11) {
       elems1.push_back(Elem{Pos{add(x12.origin.x, int32_t(0)), add(x12.origin.y, int32_t(0))}, int32_t(12)});
     }
@@ -1019,12 +1058,12 @@ struct Prog {
     hash_value(h, s.g_growChance_5);
     hash_value(h, s.g_maxPlants_6);
     hash_value(h, s.g_basket_7);
-    hash_value(h, s.g_drops_10);
-    hash_value(h, s.g_plants_13);
-    hash_value(h, s.g_cloud_16);
-    hash_value(h, s.g_sun_19);
-    hash_value(h, s.g_click_22);
-    hash_value(h, s.d_click_23);
+    hash_value(h, s.g_drops_11);
+    hash_value(h, s.g_plants_15);
+    hash_value(h, s.g_cloud_19);
+    hash_value(h, s.g_sun_23);
+    hash_value(h, s.g_click_27);
+    hash_value(h, s.d_click_28);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -1038,12 +1077,12 @@ struct Prog {
     save_value(w, s.g_growChance_5);
     save_value(w, s.g_maxPlants_6);
     save_value(w, s.g_basket_7);
-    save_value(w, s.g_drops_10);
-    save_value(w, s.g_plants_13);
-    save_value(w, s.g_cloud_16);
-    save_value(w, s.g_sun_19);
-    save_value(w, s.g_click_22);
-    save_value(w, s.d_click_23);
+    save_value(w, s.g_drops_11);
+    save_value(w, s.g_plants_15);
+    save_value(w, s.g_cloud_19);
+    save_value(w, s.g_sun_23);
+    save_value(w, s.g_click_27);
+    save_value(w, s.d_click_28);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -1056,12 +1095,12 @@ struct Prog {
     load_value(r, s.g_growChance_5);
     load_value(r, s.g_maxPlants_6);
     load_value(r, s.g_basket_7);
-    load_value(r, s.g_drops_10);
-    load_value(r, s.g_plants_13);
-    load_value(r, s.g_cloud_16);
-    load_value(r, s.g_sun_19);
-    load_value(r, s.g_click_22);
-    load_value(r, s.d_click_23);
+    load_value(r, s.g_drops_11);
+    load_value(r, s.g_plants_15);
+    load_value(r, s.g_cloud_19);
+    load_value(r, s.g_sun_23);
+    load_value(r, s.g_click_27);
+    load_value(r, s.d_click_28);
   }
 };
 

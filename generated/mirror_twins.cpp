@@ -95,48 +95,52 @@ struct Prog {
     std::vector<C0_Wall> b4;
     std::vector<Elem> b5;
     std::vector<Elem> b6;
-    std::vector<std::vector<Elem>> b7;
+    std::vector<Elem> b7;
     std::vector<Elem> b8;
     std::vector<Elem> b9;
     std::vector<Elem> b10;
-    std::vector<std::vector<Elem>> b11;
+    std::vector<Elem> b11;
     std::vector<Elem> b12;
     std::vector<Elem> b13;
     std::vector<Elem> b14;
-    std::vector<std::vector<Elem>> b15;
+    std::vector<Elem> b15;
     std::vector<Elem> b16;
     std::vector<Elem> b17;
     std::vector<Elem> b18;
-    std::vector<std::vector<Elem>> b19;
+    std::vector<Elem> b19;
     std::vector<Elem> b20;
     std::vector<Elem> b21;
     std::vector<Elem> b22;
-    std::vector<std::vector<Elem>> b23;
+    std::vector<Elem> b23;
     std::vector<Elem> b24;
     std::vector<Elem> b25;
     std::vector<Elem> b26;
-    std::vector<std::vector<Elem>> b27;
+    std::vector<Elem> b27;
     std::vector<Elem> b28;
-    std::vector<Elem> b29;
-    std::vector<Elem> b30;
-    std::vector<std::vector<Elem>> b31;
-    std::vector<Elem> b32;
-    std::vector<Elem> b33;
-    std::vector<Elem> b34;
-    std::vector<std::vector<Elem>> b35;
+    std::vector<Pos> b29;
+    std::vector<Pos> b30;
+    std::vector<Pos> b31;
+    std::vector<Pos> b32;
+    std::vector<Pos> b33;
+    std::vector<Pos> b34;
+    std::vector<Pos> b35;
     std::vector<Elem> b36;
-    std::vector<Pos> b37;
-    std::vector<Pos> b38;
-    std::vector<Pos> b39;
-    std::vector<Pos> b40;
-    std::vector<Pos> b41;
-    std::vector<Pos> b42;
-    std::vector<Pos> b43;
-    std::vector<Elem> b44;
-    std::vector<C0_Wall> b45;
-    std::vector<Elem> b46;
-    std::vector<C0_Wall> b47;
-    std::vector<Elem> b48;
+    std::vector<C0_Wall> b37;
+    std::vector<Elem> b38;
+    std::vector<C0_Wall> b39;
+    std::vector<Elem> b40;
+    C2_Twin p_red_9{};
+    bool sv_red_10{};
+    C2_Twin p_blue_13{};
+    bool sv_blue_14{};
+    C1_Goal p_redGoal_17{};
+    bool sv_redGoal_18{};
+    C1_Goal p_blueGoal_21{};
+    bool sv_blueGoal_22{};
+    std::vector<C0_Wall> p_walls_25{};
+    bool sv_walls_26{};
+    C3_Stars p_stars_29{};
+    bool sv_stars_30{};
   };
   struct State {
     Core core;
@@ -150,24 +154,18 @@ struct Prog {
     std::vector<Pos> g_startOpen_6{};
     C2_Twin g_red_7{};
     bool u_red_8{};
-    C2_Twin p_red_9{};
-    C2_Twin g_blue_10{};
-    bool u_blue_11{};
-    C2_Twin p_blue_12{};
-    C1_Goal g_redGoal_13{};
-    bool u_redGoal_14{};
-    C1_Goal p_redGoal_15{};
-    C1_Goal g_blueGoal_16{};
-    bool u_blueGoal_17{};
-    C1_Goal p_blueGoal_18{};
-    std::vector<C0_Wall> g_walls_19{};
-    bool u_walls_20{};
-    std::vector<C0_Wall> p_walls_21{};
-    C3_Stars g_stars_22{};
-    bool u_stars_23{};
-    C3_Stars p_stars_24{};
-    Pos g_click_25{};
-    bool d_click_26{};
+    C2_Twin g_blue_11{};
+    bool u_blue_12{};
+    C1_Goal g_redGoal_15{};
+    bool u_redGoal_16{};
+    C1_Goal g_blueGoal_19{};
+    bool u_blueGoal_20{};
+    std::vector<C0_Wall> g_walls_23{};
+    bool u_walls_24{};
+    C3_Stars g_stars_27{};
+    bool u_stars_28{};
+    Pos g_click_31{};
+    bool d_click_32{};
   };
 
   static int32_t colour_0_C2_Twin(State& s, const C2_Twin& o1) {
@@ -331,20 +329,17 @@ struct Prog {
       const bool t8 = (x7.y >= int32_t(1));
       bool r9{};
       if (t8) {
-        const std::vector<Pos>& g10 = s.g_wallSpots_4;
-        const std::vector<Pos> list11 = std::vector<Pos>{Pos{int32_t(3), int32_t(5)}, Pos{int32_t(6), int32_t(5)}};
-        const std::vector<std::vector<Pos>> list12 = std::vector<std::vector<Pos>>{g10, list11};
-        const std::vector<Pos> list13 = std::vector<Pos>{Pos{int32_t(2), int32_t(2)}, Pos{int32_t(3), int32_t(2)}, Pos{int32_t(7), int32_t(3)}, Pos{int32_t(5), int32_t(4)}, Pos{int32_t(1), int32_t(5)}, Pos{int32_t(8), int32_t(6)}, Pos{int32_t(4), int32_t(7)}, Pos{int32_t(6), int32_t(7)}, Pos{int32_t(2), int32_t(8)}, Pos{int32_t(7), int32_t(9)}, Pos{int32_t(3), int32_t(5)}, Pos{int32_t(6), int32_t(5)}};
-        bool any14 = false;
-        for (const Pos& x15 : list13) {
-          const bool t16 = (x15 == x7);
-          if (t16) {
-            any14 = true;
+        const std::vector<Pos> list10 = std::vector<Pos>{Pos{int32_t(2), int32_t(2)}, Pos{int32_t(3), int32_t(2)}, Pos{int32_t(7), int32_t(3)}, Pos{int32_t(5), int32_t(4)}, Pos{int32_t(1), int32_t(5)}, Pos{int32_t(8), int32_t(6)}, Pos{int32_t(4), int32_t(7)}, Pos{int32_t(6), int32_t(7)}, Pos{int32_t(2), int32_t(8)}, Pos{int32_t(7), int32_t(9)}, Pos{int32_t(3), int32_t(5)}, Pos{int32_t(6), int32_t(5)}};
+        bool any11 = false;
+        for (const Pos& x12 : list10) {
+          const bool t13 = (x12 == x7);
+          if (t13) {
+            any11 = true;
             break;
           }
         }
-        const bool t17 = !any14;
-        r9 = t17;
+        const bool t14 = !any11;
+        r9 = t14;
       } else {
         r9 = false;
       }
@@ -354,86 +349,86 @@ struct Prog {
     }
     std::swap(s.g_startOpen_6, out6);
     // init red, programs/mirror_twins.au:42
-    C2_Twin o18 = C2_Twin{int32_t(2), Pos{int32_t(6), int32_t(5)}};
-    s.g_red_7 = std::move(o18);
+    C2_Twin o15 = C2_Twin{int32_t(2), Pos{int32_t(6), int32_t(5)}};
+    s.g_red_7 = std::move(o15);
     s.u_red_8 = false;
     // init blue, programs/mirror_twins.au:39
-    C2_Twin o19 = C2_Twin{int32_t(3), Pos{int32_t(3), int32_t(5)}};
-    s.g_blue_10 = std::move(o19);
-    s.u_blue_11 = false;
+    C2_Twin o16 = C2_Twin{int32_t(3), Pos{int32_t(3), int32_t(5)}};
+    s.g_blue_11 = std::move(o16);
+    s.u_blue_12 = false;
     // init redGoal, programs/mirror_twins.au:36
-    const std::vector<Pos>& g20 = s.g_startOpen_6;
+    const std::vector<Pos>& g17 = s.g_startOpen_6;
     // inlined: function at programs/mirror_twins.au:21
-    std::vector<Pos>& out21 = s.scratch.v.b2;
-    out21.clear();
-    for (const Pos& x22 : g20) {
+    std::vector<Pos>& out18 = s.scratch.v.b2;
+    out18.clear();
+    for (const Pos& x19 : g17) {
       // inlined: function at programs/mirror_twins.au:21
-      const bool t23 = (x22.x >= int32_t(5));
-      if (t23) {
-        out21.push_back(x22);
+      const bool t20 = (x19.x >= int32_t(5));
+      if (t20) {
+        out18.push_back(x19);
       }
     }
-    if (out21.empty()) {
+    if (out18.empty()) {
       fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
     }
-    const int32_t t24 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out21.size())))));
-    const Pos t25 = out21[size_t(t24)];
-    C1_Goal o26 = C1_Goal{int32_t(4), t25};
-    s.g_redGoal_13 = std::move(o26);
-    s.u_redGoal_14 = false;
+    const int32_t t21 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out18.size())))));
+    const Pos t22 = out18[size_t(t21)];
+    C1_Goal o23 = C1_Goal{int32_t(4), t22};
+    s.g_redGoal_15 = std::move(o23);
+    s.u_redGoal_16 = false;
     // init blueGoal, programs/mirror_twins.au:33
-    const std::vector<Pos>& g27 = s.g_startOpen_6;
+    const std::vector<Pos>& g24 = s.g_startOpen_6;
     // inlined: function at programs/mirror_twins.au:20
-    std::vector<Pos>& out28 = s.scratch.v.b3;
-    out28.clear();
-    for (const Pos& x29 : g27) {
+    std::vector<Pos>& out25 = s.scratch.v.b3;
+    out25.clear();
+    for (const Pos& x26 : g24) {
       // inlined: function at programs/mirror_twins.au:20
-      const bool t30 = (x29.x < int32_t(5));
-      if (t30) {
-        out28.push_back(x29);
+      const bool t27 = (x26.x < int32_t(5));
+      if (t27) {
+        out25.push_back(x26);
       }
     }
-    if (out28.empty()) {
+    if (out25.empty()) {
       fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
     }
-    const int32_t t31 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out28.size())))));
-    const Pos t32 = out28[size_t(t31)];
-    C1_Goal o33 = C1_Goal{int32_t(5), t32};
-    s.g_blueGoal_16 = std::move(o33);
-    s.u_blueGoal_17 = false;
+    const int32_t t28 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out25.size())))));
+    const Pos t29 = out25[size_t(t28)];
+    C1_Goal o30 = C1_Goal{int32_t(5), t29};
+    s.g_blueGoal_19 = std::move(o30);
+    s.u_blueGoal_20 = false;
     // init walls, programs/mirror_twins.au:30
-    const std::vector<Pos>& g34 = s.g_wallSpots_4;
-    std::vector<C0_Wall>& out35 = s.scratch.v.b4;
-    out35.clear();
-    out35.reserve(size_t(int32_t(g34.size())));
-    for (const Pos& x36 : g34) {
+    const std::vector<Pos>& g31 = s.g_wallSpots_4;
+    std::vector<C0_Wall>& out32 = s.scratch.v.b4;
+    out32.clear();
+    out32.reserve(size_t(int32_t(g31.size())));
+    for (const Pos& x33 : g31) {
       // inlined: function at programs/mirror_twins.au:30
-      C0_Wall o37 = C0_Wall{x36};
-      out35.push_back(std::move(o37));
+      C0_Wall o34 = C0_Wall{x33};
+      out32.push_back(std::move(o34));
     }
-    std::swap(s.g_walls_19, out35);
-    s.u_walls_20 = false;
+    std::swap(s.g_walls_23, out32);
+    s.u_walls_24 = false;
     // init stars, programs/mirror_twins.au:27
-    C3_Stars o38 = C3_Stars{int32_t(0), Pos{int32_t(0), int32_t(0)}};
-    s.g_stars_22 = std::move(o38);
-    s.u_stars_23 = false;
+    C3_Stars o35 = C3_Stars{int32_t(0), Pos{int32_t(0), int32_t(0)}};
+    s.g_stars_27 = std::move(o35);
+    s.u_stars_28 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_stars_24 = s.g_stars_22;
-    s.p_walls_21 = s.g_walls_19;
-    s.p_blueGoal_18 = s.g_blueGoal_16;
-    s.p_redGoal_15 = s.g_redGoal_13;
-    s.p_blue_12 = s.g_blue_10;
-    s.p_red_9 = s.g_red_7;
+    s.scratch.v.sv_stars_30 = false;
+    s.scratch.v.sv_walls_26 = false;
+    s.scratch.v.sv_blueGoal_22 = false;
+    s.scratch.v.sv_redGoal_18 = false;
+    s.scratch.v.sv_blue_14 = false;
+    s.scratch.v.sv_red_10 = false;
     s.u_red_8 = false;
-    s.u_blue_11 = false;
-    s.u_redGoal_14 = false;
-    s.u_blueGoal_17 = false;
-    s.u_walls_20 = false;
-    s.u_stars_23 = false;
+    s.u_blue_12 = false;
+    s.u_redGoal_16 = false;
+    s.u_blueGoal_20 = false;
+    s.u_walls_24 = false;
+    s.u_stars_28 = false;
     // on-clause 1, programs/mirror_twins.au:65
     {
       const bool t1 = s.core.left;
@@ -443,8 +438,8 @@ struct Prog {
         C2_Twin l_nb2{};
         C2_Twin l_nr3{};
         bool l_clash4{};
-        const C2_Twin& prev5 = s.p_blue_12;
-        const C2_Twin& prev6 = s.p_red_9;
+        const C2_Twin& prev5 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+        const C2_Twin& prev6 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
         // inlined: function at programs/mirror_twins.au:46
         C2_Twin l_nt7{};
         const int32_t t8 = add(prev5.origin.x, int32_t(-1));
@@ -453,1307 +448,1251 @@ struct Prog {
         C2_Twin upd11 = prev5;
         upd11.origin = t10;
         l_nt7 = std::move(upd11);
-        const C2_Twin& v12 = l_nt7;
-        std::vector<Elem>& rendered13 = s.scratch.v.b5;
-        rendered13.clear();
-        const int32_t colour14 = colour_0_C2_Twin(s, v12);
-        rendered13.push_back(Elem{Pos{add(v12.origin.x, int32_t(0)), add(v12.origin.y, int32_t(0))}, colour14});
-        bool within15 = true;
-        for (const Elem& e16 : rendered13) {
-          if ((((e16.position.x < int32_t(0)) || (e16.position.x >= int32_t(10))) || ((e16.position.y < int32_t(0)) || (e16.position.y >= int32_t(10))))) {
-            within15 = false;
+        std::vector<Elem>& rendered12 = s.scratch.v.b5;
+        rendered12.clear();
+        const int32_t colour13 = colour_0_C2_Twin(s, l_nt7);
+        rendered12.push_back(Elem{Pos{add(l_nt7.origin.x, int32_t(0)), add(l_nt7.origin.y, int32_t(0))}, colour13});
+        bool within14 = true;
+        for (const Elem& e15 : rendered12) {
+          if ((((e15.position.x < int32_t(0)) || (e15.position.x >= int32_t(10))) || ((e15.position.y < int32_t(0)) || (e15.position.y >= int32_t(10))))) {
+            within14 = false;
             break;
           }
         }
-        bool r17{};
-        if (within15) {
-          const C2_Twin& v18 = l_nt7;
-          const bool t19 = (v18.origin.y >= int32_t(1));
-          r17 = t19;
+        bool r16{};
+        if (within14) {
+          const bool t17 = (l_nt7.origin.y >= int32_t(1));
+          r16 = t17;
         } else {
-          r17 = false;
+          r16 = false;
         }
-        bool r20{};
-        if (r17) {
-          const C2_Twin& v21 = l_nt7;
-          const std::vector<C0_Wall>& g22 = s.g_walls_19;
-          std::vector<Elem>& rendered23 = s.scratch.v.b6;
-          rendered23.clear();
-          const int32_t colour24 = colour_0_C2_Twin(s, v21);
-          rendered23.push_back(Elem{Pos{add(v21.origin.x, int32_t(0)), add(v21.origin.y, int32_t(0))}, colour24});
-          std::vector<std::vector<Elem>>& out25 = s.scratch.v.b7;
-          out25.clear();
-          out25.reserve(size_t(int32_t(g22.size())));
-          for (const C0_Wall& x26 : g22) {
-            std::vector<Elem> rendered27{};
-            rendered27.push_back(Elem{Pos{add(x26.origin.x, int32_t(0)), add(x26.origin.y, int32_t(0))}, int32_t(6)});
-            out25.push_back(std::move(rendered27));
+        bool r18{};
+        if (r16) {
+          const std::vector<C0_Wall>& g19 = s.g_walls_23;
+          std::vector<Elem>& rendered20 = s.scratch.v.b6;
+          rendered20.clear();
+          const int32_t colour21 = colour_0_C2_Twin(s, l_nt7);
+          rendered20.push_back(Elem{Pos{add(l_nt7.origin.x, int32_t(0)), add(l_nt7.origin.y, int32_t(0))}, colour21});
+          std::vector<Elem>& rendered22 = s.scratch.v.b7;
+          rendered22.clear();
+          for (const C0_Wall& x23 : g19) {
+            rendered22.push_back(Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)});
           }
-          std::vector<Elem>& cat28 = s.scratch.v.b8;
-          cat28.clear();
-          for (const std::vector<Elem>& part29 : out25) {
-            cat28.insert(cat28.end(), part29.begin(), part29.end());
-          }
-          const int32_t t30 = int32_t(rendered23.size());
-          const bool t31 = (t30 == int32_t(0));
-          bool r32{};
-          if (!t31) {
-            const int32_t t33 = int32_t(cat28.size());
-            const bool t34 = (t33 == int32_t(0));
-            r32 = t34;
+          const int32_t t24 = int32_t(rendered20.size());
+          const bool t25 = (t24 == int32_t(0));
+          bool r26{};
+          if (!t25) {
+            const int32_t t27 = int32_t(rendered22.size());
+            const bool t28 = (t27 == int32_t(0));
+            r26 = t28;
           } else {
-            r32 = true;
+            r26 = true;
           }
-          bool r35{};
-          if (r32) {
-            r35 = false;
+          bool r29{};
+          if (r26) {
+            r29 = false;
           } else {
-            bool any36 = false;
-            for (const Elem& x37 : rendered23) {
-              bool any38 = false;
-              for (const Elem& x39 : cat28) {
-                const bool t40 = (x37.position == x39.position);
-                if (t40) {
-                  any38 = true;
+            bool any30 = false;
+            for (const Elem& x31 : rendered20) {
+              bool any32 = false;
+              for (const Elem& x33 : rendered22) {
+                const bool t34 = (x31.position == x33.position);
+                if (t34) {
+                  any32 = true;
                   break;
                 }
               }
-              if (any38) {
-                any36 = true;
+              if (any32) {
+                any30 = true;
                 break;
               }
             }
-            r35 = any36;
+            r29 = any30;
           }
-          const bool t41 = !r35;
-          bool r42{};
-          if (t41) {
-            const C2_Twin& v43 = l_nt7;
-            const bool t44 = (v43.origin == prev6.origin);
-            const bool t45 = !t44;
-            r42 = t45;
+          const bool t35 = !r29;
+          bool r36{};
+          if (t35) {
+            const bool t37 = (l_nt7.origin == prev6.origin);
+            const bool t38 = !t37;
+            r36 = t38;
           } else {
-            r42 = false;
+            r36 = false;
           }
-          r20 = r42;
+          r18 = r36;
         } else {
-          r20 = false;
+          r18 = false;
         }
-        C2_Twin r46{};
-        if (r20) {
-          const C2_Twin& v47 = l_nt7;
-          r46 = v47;
+        C2_Twin r39{};
+        if (r18) {
+          r39 = std::move(l_nt7);
         } else {
-          r46 = prev5;
+          r39 = prev5;
         }
-        l_nb2 = std::move(r46);
-        const C2_Twin& prev48 = s.p_red_9;
+        l_nb2 = std::move(r39);
+        const C2_Twin& prev40 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
         // inlined: function at programs/mirror_twins.au:44
-        const C2_Twin& prev49 = s.p_blue_12;
+        const C2_Twin& prev41 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
         // inlined: function at programs/mirror_twins.au:46
-        C2_Twin l_nt50{};
-        const int32_t t51 = add(prev48.origin.x, int32_t(1));
-        const int32_t t52 = add(prev48.origin.y, int32_t(0));
-        const Pos t53 = Pos{t51, t52};
-        C2_Twin upd54 = prev48;
-        upd54.origin = t53;
-        l_nt50 = std::move(upd54);
-        const C2_Twin& v55 = l_nt50;
-        std::vector<Elem>& rendered56 = s.scratch.v.b9;
-        rendered56.clear();
-        const int32_t colour57 = colour_0_C2_Twin(s, v55);
-        rendered56.push_back(Elem{Pos{add(v55.origin.x, int32_t(0)), add(v55.origin.y, int32_t(0))}, colour57});
-        bool within58 = true;
-        for (const Elem& e59 : rendered56) {
-          if ((((e59.position.x < int32_t(0)) || (e59.position.x >= int32_t(10))) || ((e59.position.y < int32_t(0)) || (e59.position.y >= int32_t(10))))) {
-            within58 = false;
+        C2_Twin l_nt42{};
+        const int32_t t43 = add(prev40.origin.x, int32_t(1));
+        const int32_t t44 = add(prev40.origin.y, int32_t(0));
+        const Pos t45 = Pos{t43, t44};
+        C2_Twin upd46 = prev40;
+        upd46.origin = t45;
+        l_nt42 = std::move(upd46);
+        std::vector<Elem>& rendered47 = s.scratch.v.b8;
+        rendered47.clear();
+        const int32_t colour48 = colour_0_C2_Twin(s, l_nt42);
+        rendered47.push_back(Elem{Pos{add(l_nt42.origin.x, int32_t(0)), add(l_nt42.origin.y, int32_t(0))}, colour48});
+        bool within49 = true;
+        for (const Elem& e50 : rendered47) {
+          if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(10))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(10))))) {
+            within49 = false;
             break;
           }
         }
-        bool r60{};
-        if (within58) {
-          const C2_Twin& v61 = l_nt50;
-          const bool t62 = (v61.origin.y >= int32_t(1));
-          r60 = t62;
+        bool r51{};
+        if (within49) {
+          const bool t52 = (l_nt42.origin.y >= int32_t(1));
+          r51 = t52;
         } else {
-          r60 = false;
+          r51 = false;
         }
-        bool r63{};
-        if (r60) {
-          const C2_Twin& v64 = l_nt50;
-          const std::vector<C0_Wall>& g65 = s.g_walls_19;
-          std::vector<Elem>& rendered66 = s.scratch.v.b10;
-          rendered66.clear();
-          const int32_t colour67 = colour_0_C2_Twin(s, v64);
-          rendered66.push_back(Elem{Pos{add(v64.origin.x, int32_t(0)), add(v64.origin.y, int32_t(0))}, colour67});
-          std::vector<std::vector<Elem>>& out68 = s.scratch.v.b11;
-          out68.clear();
-          out68.reserve(size_t(int32_t(g65.size())));
-          for (const C0_Wall& x69 : g65) {
-            std::vector<Elem> rendered70{};
-            rendered70.push_back(Elem{Pos{add(x69.origin.x, int32_t(0)), add(x69.origin.y, int32_t(0))}, int32_t(6)});
-            out68.push_back(std::move(rendered70));
+        bool r53{};
+        if (r51) {
+          const std::vector<C0_Wall>& g54 = s.g_walls_23;
+          std::vector<Elem>& rendered55 = s.scratch.v.b9;
+          rendered55.clear();
+          const int32_t colour56 = colour_0_C2_Twin(s, l_nt42);
+          rendered55.push_back(Elem{Pos{add(l_nt42.origin.x, int32_t(0)), add(l_nt42.origin.y, int32_t(0))}, colour56});
+          std::vector<Elem>& rendered57 = s.scratch.v.b10;
+          rendered57.clear();
+          for (const C0_Wall& x58 : g54) {
+            rendered57.push_back(Elem{Pos{add(x58.origin.x, int32_t(0)), add(x58.origin.y, int32_t(0))}, int32_t(6)});
           }
-          std::vector<Elem>& cat71 = s.scratch.v.b12;
-          cat71.clear();
-          for (const std::vector<Elem>& part72 : out68) {
-            cat71.insert(cat71.end(), part72.begin(), part72.end());
-          }
-          const int32_t t73 = int32_t(rendered66.size());
-          const bool t74 = (t73 == int32_t(0));
-          bool r75{};
-          if (!t74) {
-            const int32_t t76 = int32_t(cat71.size());
-            const bool t77 = (t76 == int32_t(0));
-            r75 = t77;
+          const int32_t t59 = int32_t(rendered55.size());
+          const bool t60 = (t59 == int32_t(0));
+          bool r61{};
+          if (!t60) {
+            const int32_t t62 = int32_t(rendered57.size());
+            const bool t63 = (t62 == int32_t(0));
+            r61 = t63;
           } else {
-            r75 = true;
+            r61 = true;
           }
-          bool r78{};
-          if (r75) {
-            r78 = false;
+          bool r64{};
+          if (r61) {
+            r64 = false;
           } else {
-            bool any79 = false;
-            for (const Elem& x80 : rendered66) {
-              bool any81 = false;
-              for (const Elem& x82 : cat71) {
-                const bool t83 = (x80.position == x82.position);
-                if (t83) {
-                  any81 = true;
+            bool any65 = false;
+            for (const Elem& x66 : rendered55) {
+              bool any67 = false;
+              for (const Elem& x68 : rendered57) {
+                const bool t69 = (x66.position == x68.position);
+                if (t69) {
+                  any67 = true;
                   break;
                 }
               }
-              if (any81) {
-                any79 = true;
+              if (any67) {
+                any65 = true;
                 break;
               }
             }
-            r78 = any79;
+            r64 = any65;
           }
-          const bool t84 = !r78;
-          bool r85{};
-          if (t84) {
-            const C2_Twin& v86 = l_nt50;
-            const bool t87 = (v86.origin == prev49.origin);
-            const bool t88 = !t87;
-            r85 = t88;
+          const bool t70 = !r64;
+          bool r71{};
+          if (t70) {
+            const bool t72 = (l_nt42.origin == prev41.origin);
+            const bool t73 = !t72;
+            r71 = t73;
           } else {
-            r85 = false;
+            r71 = false;
           }
-          r63 = r85;
+          r53 = r71;
         } else {
-          r63 = false;
+          r53 = false;
         }
-        C2_Twin r89{};
-        if (r63) {
-          const C2_Twin& v90 = l_nt50;
-          r89 = v90;
+        C2_Twin r74{};
+        if (r53) {
+          r74 = std::move(l_nt42);
         } else {
-          r89 = prev48;
+          r74 = prev40;
         }
-        l_nr3 = std::move(r89);
-        const C2_Twin& v91 = l_nb2;
-        const C2_Twin& v92 = l_nr3;
-        const bool t93 = (v91.origin == v92.origin);
-        l_clash4 = t93;
-        const bool& v94 = l_clash4;
-        C2_Twin r95{};
-        if (v94) {
-          const C2_Twin& prev96 = s.p_blue_12;
-          r95 = prev96;
+        l_nr3 = std::move(r74);
+        const bool t75 = (l_nb2.origin == l_nr3.origin);
+        l_clash4 = t75;
+        C2_Twin r76{};
+        if (l_clash4) {
+          const C2_Twin& prev77 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+          r76 = prev77;
         } else {
-          const C2_Twin& v97 = l_nb2;
-          r95 = v97;
+          r76 = std::move(l_nb2);
         }
-        s.g_blue_10 = std::move(r95);
-        s.u_blue_11 = true;
-        const bool& v98 = l_clash4;
-        C2_Twin r99{};
-        if (v98) {
-          const C2_Twin& prev100 = s.p_red_9;
-          r99 = prev100;
+        if (!s.scratch.v.sv_blue_14) {
+          s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+          s.scratch.v.sv_blue_14 = true;
+        }
+        s.g_blue_11 = std::move(r76);
+        s.u_blue_12 = true;
+        C2_Twin r78{};
+        if (l_clash4) {
+          const C2_Twin& prev79 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
+          r78 = prev79;
         } else {
-          const C2_Twin& v101 = l_nr3;
-          r99 = v101;
+          r78 = std::move(l_nr3);
         }
-        s.g_red_7 = std::move(r99);
+        if (!s.scratch.v.sv_red_10) {
+          s.scratch.v.p_red_9 = std::move(s.g_red_7);
+          s.scratch.v.sv_red_10 = true;
+        }
+        s.g_red_7 = std::move(r78);
         s.u_red_8 = true;
       }
     }
     // on-clause 2, programs/mirror_twins.au:66
     {
-      const bool t102 = s.core.right;
-      if (t102) {
+      const bool t80 = s.core.right;
+      if (t80) {
         s.core.covered[int32_t(1)] = 1;
         // inlined: function at programs/mirror_twins.au:53
-        C2_Twin l_nb103{};
-        C2_Twin l_nr104{};
-        bool l_clash105{};
-        const C2_Twin& prev106 = s.p_blue_12;
-        const C2_Twin& prev107 = s.p_red_9;
+        C2_Twin l_nb81{};
+        C2_Twin l_nr82{};
+        bool l_clash83{};
+        const C2_Twin& prev84 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+        const C2_Twin& prev85 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
         // inlined: function at programs/mirror_twins.au:46
-        C2_Twin l_nt108{};
-        const int32_t t109 = add(prev106.origin.x, int32_t(1));
-        const int32_t t110 = add(prev106.origin.y, int32_t(0));
-        const Pos t111 = Pos{t109, t110};
-        C2_Twin upd112 = prev106;
-        upd112.origin = t111;
-        l_nt108 = std::move(upd112);
-        const C2_Twin& v113 = l_nt108;
-        std::vector<Elem>& rendered114 = s.scratch.v.b13;
-        rendered114.clear();
-        const int32_t colour115 = colour_0_C2_Twin(s, v113);
-        rendered114.push_back(Elem{Pos{add(v113.origin.x, int32_t(0)), add(v113.origin.y, int32_t(0))}, colour115});
-        bool within116 = true;
-        for (const Elem& e117 : rendered114) {
-          if ((((e117.position.x < int32_t(0)) || (e117.position.x >= int32_t(10))) || ((e117.position.y < int32_t(0)) || (e117.position.y >= int32_t(10))))) {
-            within116 = false;
+        C2_Twin l_nt86{};
+        const int32_t t87 = add(prev84.origin.x, int32_t(1));
+        const int32_t t88 = add(prev84.origin.y, int32_t(0));
+        const Pos t89 = Pos{t87, t88};
+        C2_Twin upd90 = prev84;
+        upd90.origin = t89;
+        l_nt86 = std::move(upd90);
+        std::vector<Elem>& rendered91 = s.scratch.v.b11;
+        rendered91.clear();
+        const int32_t colour92 = colour_0_C2_Twin(s, l_nt86);
+        rendered91.push_back(Elem{Pos{add(l_nt86.origin.x, int32_t(0)), add(l_nt86.origin.y, int32_t(0))}, colour92});
+        bool within93 = true;
+        for (const Elem& e94 : rendered91) {
+          if ((((e94.position.x < int32_t(0)) || (e94.position.x >= int32_t(10))) || ((e94.position.y < int32_t(0)) || (e94.position.y >= int32_t(10))))) {
+            within93 = false;
             break;
           }
         }
-        bool r118{};
-        if (within116) {
-          const C2_Twin& v119 = l_nt108;
-          const bool t120 = (v119.origin.y >= int32_t(1));
-          r118 = t120;
+        bool r95{};
+        if (within93) {
+          const bool t96 = (l_nt86.origin.y >= int32_t(1));
+          r95 = t96;
         } else {
-          r118 = false;
+          r95 = false;
         }
-        bool r121{};
-        if (r118) {
-          const C2_Twin& v122 = l_nt108;
-          const std::vector<C0_Wall>& g123 = s.g_walls_19;
-          std::vector<Elem>& rendered124 = s.scratch.v.b14;
-          rendered124.clear();
-          const int32_t colour125 = colour_0_C2_Twin(s, v122);
-          rendered124.push_back(Elem{Pos{add(v122.origin.x, int32_t(0)), add(v122.origin.y, int32_t(0))}, colour125});
-          std::vector<std::vector<Elem>>& out126 = s.scratch.v.b15;
-          out126.clear();
-          out126.reserve(size_t(int32_t(g123.size())));
-          for (const C0_Wall& x127 : g123) {
-            std::vector<Elem> rendered128{};
-            rendered128.push_back(Elem{Pos{add(x127.origin.x, int32_t(0)), add(x127.origin.y, int32_t(0))}, int32_t(6)});
-            out126.push_back(std::move(rendered128));
+        bool r97{};
+        if (r95) {
+          const std::vector<C0_Wall>& g98 = s.g_walls_23;
+          std::vector<Elem>& rendered99 = s.scratch.v.b12;
+          rendered99.clear();
+          const int32_t colour100 = colour_0_C2_Twin(s, l_nt86);
+          rendered99.push_back(Elem{Pos{add(l_nt86.origin.x, int32_t(0)), add(l_nt86.origin.y, int32_t(0))}, colour100});
+          std::vector<Elem>& rendered101 = s.scratch.v.b13;
+          rendered101.clear();
+          for (const C0_Wall& x102 : g98) {
+            rendered101.push_back(Elem{Pos{add(x102.origin.x, int32_t(0)), add(x102.origin.y, int32_t(0))}, int32_t(6)});
           }
-          std::vector<Elem>& cat129 = s.scratch.v.b16;
-          cat129.clear();
-          for (const std::vector<Elem>& part130 : out126) {
-            cat129.insert(cat129.end(), part130.begin(), part130.end());
-          }
-          const int32_t t131 = int32_t(rendered124.size());
-          const bool t132 = (t131 == int32_t(0));
-          bool r133{};
-          if (!t132) {
-            const int32_t t134 = int32_t(cat129.size());
-            const bool t135 = (t134 == int32_t(0));
-            r133 = t135;
+          const int32_t t103 = int32_t(rendered99.size());
+          const bool t104 = (t103 == int32_t(0));
+          bool r105{};
+          if (!t104) {
+            const int32_t t106 = int32_t(rendered101.size());
+            const bool t107 = (t106 == int32_t(0));
+            r105 = t107;
           } else {
-            r133 = true;
+            r105 = true;
           }
-          bool r136{};
-          if (r133) {
-            r136 = false;
+          bool r108{};
+          if (r105) {
+            r108 = false;
           } else {
-            bool any137 = false;
-            for (const Elem& x138 : rendered124) {
-              bool any139 = false;
-              for (const Elem& x140 : cat129) {
-                const bool t141 = (x138.position == x140.position);
-                if (t141) {
-                  any139 = true;
+            bool any109 = false;
+            for (const Elem& x110 : rendered99) {
+              bool any111 = false;
+              for (const Elem& x112 : rendered101) {
+                const bool t113 = (x110.position == x112.position);
+                if (t113) {
+                  any111 = true;
                   break;
                 }
               }
-              if (any139) {
-                any137 = true;
+              if (any111) {
+                any109 = true;
                 break;
               }
             }
-            r136 = any137;
+            r108 = any109;
           }
-          const bool t142 = !r136;
-          bool r143{};
-          if (t142) {
-            const C2_Twin& v144 = l_nt108;
-            const bool t145 = (v144.origin == prev107.origin);
-            const bool t146 = !t145;
-            r143 = t146;
+          const bool t114 = !r108;
+          bool r115{};
+          if (t114) {
+            const bool t116 = (l_nt86.origin == prev85.origin);
+            const bool t117 = !t116;
+            r115 = t117;
           } else {
-            r143 = false;
+            r115 = false;
           }
-          r121 = r143;
+          r97 = r115;
         } else {
-          r121 = false;
+          r97 = false;
         }
-        C2_Twin r147{};
-        if (r121) {
-          const C2_Twin& v148 = l_nt108;
-          r147 = v148;
+        C2_Twin r118{};
+        if (r97) {
+          r118 = std::move(l_nt86);
         } else {
-          r147 = prev106;
+          r118 = prev84;
         }
-        l_nb103 = std::move(r147);
-        const C2_Twin& prev149 = s.p_red_9;
+        l_nb81 = std::move(r118);
+        const C2_Twin& prev119 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
         // inlined: function at programs/mirror_twins.au:44
-        const C2_Twin& prev150 = s.p_blue_12;
+        const C2_Twin& prev120 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
         // inlined: function at programs/mirror_twins.au:46
-        C2_Twin l_nt151{};
-        const int32_t t152 = add(prev149.origin.x, int32_t(-1));
-        const int32_t t153 = add(prev149.origin.y, int32_t(0));
-        const Pos t154 = Pos{t152, t153};
-        C2_Twin upd155 = prev149;
-        upd155.origin = t154;
-        l_nt151 = std::move(upd155);
-        const C2_Twin& v156 = l_nt151;
-        std::vector<Elem>& rendered157 = s.scratch.v.b17;
-        rendered157.clear();
-        const int32_t colour158 = colour_0_C2_Twin(s, v156);
-        rendered157.push_back(Elem{Pos{add(v156.origin.x, int32_t(0)), add(v156.origin.y, int32_t(0))}, colour158});
-        bool within159 = true;
-        for (const Elem& e160 : rendered157) {
-          if ((((e160.position.x < int32_t(0)) || (e160.position.x >= int32_t(10))) || ((e160.position.y < int32_t(0)) || (e160.position.y >= int32_t(10))))) {
-            within159 = false;
+        C2_Twin l_nt121{};
+        const int32_t t122 = add(prev119.origin.x, int32_t(-1));
+        const int32_t t123 = add(prev119.origin.y, int32_t(0));
+        const Pos t124 = Pos{t122, t123};
+        C2_Twin upd125 = prev119;
+        upd125.origin = t124;
+        l_nt121 = std::move(upd125);
+        std::vector<Elem>& rendered126 = s.scratch.v.b14;
+        rendered126.clear();
+        const int32_t colour127 = colour_0_C2_Twin(s, l_nt121);
+        rendered126.push_back(Elem{Pos{add(l_nt121.origin.x, int32_t(0)), add(l_nt121.origin.y, int32_t(0))}, colour127});
+        bool within128 = true;
+        for (const Elem& e129 : rendered126) {
+          if ((((e129.position.x < int32_t(0)) || (e129.position.x >= int32_t(10))) || ((e129.position.y < int32_t(0)) || (e129.position.y >= int32_t(10))))) {
+            within128 = false;
             break;
           }
         }
-        bool r161{};
-        if (within159) {
-          const C2_Twin& v162 = l_nt151;
-          const bool t163 = (v162.origin.y >= int32_t(1));
-          r161 = t163;
+        bool r130{};
+        if (within128) {
+          const bool t131 = (l_nt121.origin.y >= int32_t(1));
+          r130 = t131;
         } else {
-          r161 = false;
+          r130 = false;
         }
-        bool r164{};
-        if (r161) {
-          const C2_Twin& v165 = l_nt151;
-          const std::vector<C0_Wall>& g166 = s.g_walls_19;
-          std::vector<Elem>& rendered167 = s.scratch.v.b18;
-          rendered167.clear();
-          const int32_t colour168 = colour_0_C2_Twin(s, v165);
-          rendered167.push_back(Elem{Pos{add(v165.origin.x, int32_t(0)), add(v165.origin.y, int32_t(0))}, colour168});
-          std::vector<std::vector<Elem>>& out169 = s.scratch.v.b19;
-          out169.clear();
-          out169.reserve(size_t(int32_t(g166.size())));
-          for (const C0_Wall& x170 : g166) {
-            std::vector<Elem> rendered171{};
-            rendered171.push_back(Elem{Pos{add(x170.origin.x, int32_t(0)), add(x170.origin.y, int32_t(0))}, int32_t(6)});
-            out169.push_back(std::move(rendered171));
+        bool r132{};
+        if (r130) {
+          const std::vector<C0_Wall>& g133 = s.g_walls_23;
+          std::vector<Elem>& rendered134 = s.scratch.v.b15;
+          rendered134.clear();
+          const int32_t colour135 = colour_0_C2_Twin(s, l_nt121);
+          rendered134.push_back(Elem{Pos{add(l_nt121.origin.x, int32_t(0)), add(l_nt121.origin.y, int32_t(0))}, colour135});
+          std::vector<Elem>& rendered136 = s.scratch.v.b16;
+          rendered136.clear();
+          for (const C0_Wall& x137 : g133) {
+            rendered136.push_back(Elem{Pos{add(x137.origin.x, int32_t(0)), add(x137.origin.y, int32_t(0))}, int32_t(6)});
           }
-          std::vector<Elem>& cat172 = s.scratch.v.b20;
-          cat172.clear();
-          for (const std::vector<Elem>& part173 : out169) {
-            cat172.insert(cat172.end(), part173.begin(), part173.end());
-          }
-          const int32_t t174 = int32_t(rendered167.size());
-          const bool t175 = (t174 == int32_t(0));
-          bool r176{};
-          if (!t175) {
-            const int32_t t177 = int32_t(cat172.size());
-            const bool t178 = (t177 == int32_t(0));
-            r176 = t178;
+          const int32_t t138 = int32_t(rendered134.size());
+          const bool t139 = (t138 == int32_t(0));
+          bool r140{};
+          if (!t139) {
+            const int32_t t141 = int32_t(rendered136.size());
+            const bool t142 = (t141 == int32_t(0));
+            r140 = t142;
           } else {
-            r176 = true;
+            r140 = true;
           }
-          bool r179{};
-          if (r176) {
-            r179 = false;
+          bool r143{};
+          if (r140) {
+            r143 = false;
           } else {
-            bool any180 = false;
-            for (const Elem& x181 : rendered167) {
-              bool any182 = false;
-              for (const Elem& x183 : cat172) {
-                const bool t184 = (x181.position == x183.position);
-                if (t184) {
-                  any182 = true;
+            bool any144 = false;
+            for (const Elem& x145 : rendered134) {
+              bool any146 = false;
+              for (const Elem& x147 : rendered136) {
+                const bool t148 = (x145.position == x147.position);
+                if (t148) {
+                  any146 = true;
                   break;
                 }
               }
-              if (any182) {
-                any180 = true;
+              if (any146) {
+                any144 = true;
                 break;
               }
             }
-            r179 = any180;
+            r143 = any144;
           }
-          const bool t185 = !r179;
-          bool r186{};
-          if (t185) {
-            const C2_Twin& v187 = l_nt151;
-            const bool t188 = (v187.origin == prev150.origin);
-            const bool t189 = !t188;
-            r186 = t189;
+          const bool t149 = !r143;
+          bool r150{};
+          if (t149) {
+            const bool t151 = (l_nt121.origin == prev120.origin);
+            const bool t152 = !t151;
+            r150 = t152;
           } else {
-            r186 = false;
+            r150 = false;
           }
-          r164 = r186;
+          r132 = r150;
         } else {
-          r164 = false;
+          r132 = false;
         }
-        C2_Twin r190{};
-        if (r164) {
-          const C2_Twin& v191 = l_nt151;
-          r190 = v191;
+        C2_Twin r153{};
+        if (r132) {
+          r153 = std::move(l_nt121);
         } else {
-          r190 = prev149;
+          r153 = prev119;
         }
-        l_nr104 = std::move(r190);
-        const C2_Twin& v192 = l_nb103;
-        const C2_Twin& v193 = l_nr104;
-        const bool t194 = (v192.origin == v193.origin);
-        l_clash105 = t194;
-        const bool& v195 = l_clash105;
-        C2_Twin r196{};
-        if (v195) {
-          const C2_Twin& prev197 = s.p_blue_12;
-          r196 = prev197;
+        l_nr82 = std::move(r153);
+        const bool t154 = (l_nb81.origin == l_nr82.origin);
+        l_clash83 = t154;
+        C2_Twin r155{};
+        if (l_clash83) {
+          const C2_Twin& prev156 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+          r155 = prev156;
         } else {
-          const C2_Twin& v198 = l_nb103;
-          r196 = v198;
+          r155 = std::move(l_nb81);
         }
-        s.g_blue_10 = std::move(r196);
-        s.u_blue_11 = true;
-        const bool& v199 = l_clash105;
-        C2_Twin r200{};
-        if (v199) {
-          const C2_Twin& prev201 = s.p_red_9;
-          r200 = prev201;
+        if (!s.scratch.v.sv_blue_14) {
+          s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+          s.scratch.v.sv_blue_14 = true;
+        }
+        s.g_blue_11 = std::move(r155);
+        s.u_blue_12 = true;
+        C2_Twin r157{};
+        if (l_clash83) {
+          const C2_Twin& prev158 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
+          r157 = prev158;
         } else {
-          const C2_Twin& v202 = l_nr104;
-          r200 = v202;
+          r157 = std::move(l_nr82);
         }
-        s.g_red_7 = std::move(r200);
+        if (!s.scratch.v.sv_red_10) {
+          s.scratch.v.p_red_9 = std::move(s.g_red_7);
+          s.scratch.v.sv_red_10 = true;
+        }
+        s.g_red_7 = std::move(r157);
         s.u_red_8 = true;
       }
     }
     // on-clause 3, programs/mirror_twins.au:67
     {
-      const bool t203 = s.core.up;
-      if (t203) {
+      const bool t159 = s.core.up;
+      if (t159) {
         s.core.covered[int32_t(2)] = 1;
         // inlined: function at programs/mirror_twins.au:53
-        C2_Twin l_nb204{};
-        C2_Twin l_nr205{};
-        bool l_clash206{};
-        const C2_Twin& prev207 = s.p_blue_12;
-        const C2_Twin& prev208 = s.p_red_9;
+        C2_Twin l_nb160{};
+        C2_Twin l_nr161{};
+        bool l_clash162{};
+        const C2_Twin& prev163 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+        const C2_Twin& prev164 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
         // inlined: function at programs/mirror_twins.au:46
-        C2_Twin l_nt209{};
-        const int32_t t210 = add(prev207.origin.x, int32_t(0));
-        const int32_t t211 = add(prev207.origin.y, int32_t(-1));
-        const Pos t212 = Pos{t210, t211};
-        C2_Twin upd213 = prev207;
-        upd213.origin = t212;
-        l_nt209 = std::move(upd213);
-        const C2_Twin& v214 = l_nt209;
-        std::vector<Elem>& rendered215 = s.scratch.v.b21;
-        rendered215.clear();
-        const int32_t colour216 = colour_0_C2_Twin(s, v214);
-        rendered215.push_back(Elem{Pos{add(v214.origin.x, int32_t(0)), add(v214.origin.y, int32_t(0))}, colour216});
-        bool within217 = true;
-        for (const Elem& e218 : rendered215) {
-          if ((((e218.position.x < int32_t(0)) || (e218.position.x >= int32_t(10))) || ((e218.position.y < int32_t(0)) || (e218.position.y >= int32_t(10))))) {
-            within217 = false;
+        C2_Twin l_nt165{};
+        const int32_t t166 = add(prev163.origin.x, int32_t(0));
+        const int32_t t167 = add(prev163.origin.y, int32_t(-1));
+        const Pos t168 = Pos{t166, t167};
+        C2_Twin upd169 = prev163;
+        upd169.origin = t168;
+        l_nt165 = std::move(upd169);
+        std::vector<Elem>& rendered170 = s.scratch.v.b17;
+        rendered170.clear();
+        const int32_t colour171 = colour_0_C2_Twin(s, l_nt165);
+        rendered170.push_back(Elem{Pos{add(l_nt165.origin.x, int32_t(0)), add(l_nt165.origin.y, int32_t(0))}, colour171});
+        bool within172 = true;
+        for (const Elem& e173 : rendered170) {
+          if ((((e173.position.x < int32_t(0)) || (e173.position.x >= int32_t(10))) || ((e173.position.y < int32_t(0)) || (e173.position.y >= int32_t(10))))) {
+            within172 = false;
             break;
           }
         }
-        bool r219{};
-        if (within217) {
-          const C2_Twin& v220 = l_nt209;
-          const bool t221 = (v220.origin.y >= int32_t(1));
-          r219 = t221;
+        bool r174{};
+        if (within172) {
+          const bool t175 = (l_nt165.origin.y >= int32_t(1));
+          r174 = t175;
         } else {
-          r219 = false;
+          r174 = false;
         }
-        bool r222{};
-        if (r219) {
-          const C2_Twin& v223 = l_nt209;
-          const std::vector<C0_Wall>& g224 = s.g_walls_19;
-          std::vector<Elem>& rendered225 = s.scratch.v.b22;
-          rendered225.clear();
-          const int32_t colour226 = colour_0_C2_Twin(s, v223);
-          rendered225.push_back(Elem{Pos{add(v223.origin.x, int32_t(0)), add(v223.origin.y, int32_t(0))}, colour226});
-          std::vector<std::vector<Elem>>& out227 = s.scratch.v.b23;
-          out227.clear();
-          out227.reserve(size_t(int32_t(g224.size())));
-          for (const C0_Wall& x228 : g224) {
-            std::vector<Elem> rendered229{};
-            rendered229.push_back(Elem{Pos{add(x228.origin.x, int32_t(0)), add(x228.origin.y, int32_t(0))}, int32_t(6)});
-            out227.push_back(std::move(rendered229));
+        bool r176{};
+        if (r174) {
+          const std::vector<C0_Wall>& g177 = s.g_walls_23;
+          std::vector<Elem>& rendered178 = s.scratch.v.b18;
+          rendered178.clear();
+          const int32_t colour179 = colour_0_C2_Twin(s, l_nt165);
+          rendered178.push_back(Elem{Pos{add(l_nt165.origin.x, int32_t(0)), add(l_nt165.origin.y, int32_t(0))}, colour179});
+          std::vector<Elem>& rendered180 = s.scratch.v.b19;
+          rendered180.clear();
+          for (const C0_Wall& x181 : g177) {
+            rendered180.push_back(Elem{Pos{add(x181.origin.x, int32_t(0)), add(x181.origin.y, int32_t(0))}, int32_t(6)});
           }
-          std::vector<Elem>& cat230 = s.scratch.v.b24;
-          cat230.clear();
-          for (const std::vector<Elem>& part231 : out227) {
-            cat230.insert(cat230.end(), part231.begin(), part231.end());
-          }
-          const int32_t t232 = int32_t(rendered225.size());
-          const bool t233 = (t232 == int32_t(0));
-          bool r234{};
-          if (!t233) {
-            const int32_t t235 = int32_t(cat230.size());
-            const bool t236 = (t235 == int32_t(0));
-            r234 = t236;
+          const int32_t t182 = int32_t(rendered178.size());
+          const bool t183 = (t182 == int32_t(0));
+          bool r184{};
+          if (!t183) {
+            const int32_t t185 = int32_t(rendered180.size());
+            const bool t186 = (t185 == int32_t(0));
+            r184 = t186;
           } else {
-            r234 = true;
+            r184 = true;
           }
-          bool r237{};
-          if (r234) {
-            r237 = false;
+          bool r187{};
+          if (r184) {
+            r187 = false;
           } else {
-            bool any238 = false;
-            for (const Elem& x239 : rendered225) {
-              bool any240 = false;
-              for (const Elem& x241 : cat230) {
-                const bool t242 = (x239.position == x241.position);
-                if (t242) {
-                  any240 = true;
+            bool any188 = false;
+            for (const Elem& x189 : rendered178) {
+              bool any190 = false;
+              for (const Elem& x191 : rendered180) {
+                const bool t192 = (x189.position == x191.position);
+                if (t192) {
+                  any190 = true;
                   break;
                 }
               }
-              if (any240) {
-                any238 = true;
+              if (any190) {
+                any188 = true;
                 break;
               }
             }
-            r237 = any238;
+            r187 = any188;
           }
-          const bool t243 = !r237;
-          bool r244{};
-          if (t243) {
-            const C2_Twin& v245 = l_nt209;
-            const bool t246 = (v245.origin == prev208.origin);
-            const bool t247 = !t246;
-            r244 = t247;
+          const bool t193 = !r187;
+          bool r194{};
+          if (t193) {
+            const bool t195 = (l_nt165.origin == prev164.origin);
+            const bool t196 = !t195;
+            r194 = t196;
           } else {
-            r244 = false;
+            r194 = false;
           }
-          r222 = r244;
+          r176 = r194;
         } else {
-          r222 = false;
+          r176 = false;
         }
-        C2_Twin r248{};
-        if (r222) {
-          const C2_Twin& v249 = l_nt209;
-          r248 = v249;
+        C2_Twin r197{};
+        if (r176) {
+          r197 = std::move(l_nt165);
         } else {
-          r248 = prev207;
+          r197 = prev163;
         }
-        l_nb204 = std::move(r248);
-        const C2_Twin& prev250 = s.p_red_9;
+        l_nb160 = std::move(r197);
+        const C2_Twin& prev198 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
         // inlined: function at programs/mirror_twins.au:44
-        const C2_Twin& prev251 = s.p_blue_12;
+        const C2_Twin& prev199 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
         // inlined: function at programs/mirror_twins.au:46
-        C2_Twin l_nt252{};
-        const int32_t t253 = add(prev250.origin.x, int32_t(0));
-        const int32_t t254 = add(prev250.origin.y, int32_t(-1));
-        const Pos t255 = Pos{t253, t254};
-        C2_Twin upd256 = prev250;
-        upd256.origin = t255;
-        l_nt252 = std::move(upd256);
-        const C2_Twin& v257 = l_nt252;
-        std::vector<Elem>& rendered258 = s.scratch.v.b25;
-        rendered258.clear();
-        const int32_t colour259 = colour_0_C2_Twin(s, v257);
-        rendered258.push_back(Elem{Pos{add(v257.origin.x, int32_t(0)), add(v257.origin.y, int32_t(0))}, colour259});
-        bool within260 = true;
-        for (const Elem& e261 : rendered258) {
-          if ((((e261.position.x < int32_t(0)) || (e261.position.x >= int32_t(10))) || ((e261.position.y < int32_t(0)) || (e261.position.y >= int32_t(10))))) {
-            within260 = false;
+        C2_Twin l_nt200{};
+        const int32_t t201 = add(prev198.origin.x, int32_t(0));
+        const int32_t t202 = add(prev198.origin.y, int32_t(-1));
+        const Pos t203 = Pos{t201, t202};
+        C2_Twin upd204 = prev198;
+        upd204.origin = t203;
+        l_nt200 = std::move(upd204);
+        std::vector<Elem>& rendered205 = s.scratch.v.b20;
+        rendered205.clear();
+        const int32_t colour206 = colour_0_C2_Twin(s, l_nt200);
+        rendered205.push_back(Elem{Pos{add(l_nt200.origin.x, int32_t(0)), add(l_nt200.origin.y, int32_t(0))}, colour206});
+        bool within207 = true;
+        for (const Elem& e208 : rendered205) {
+          if ((((e208.position.x < int32_t(0)) || (e208.position.x >= int32_t(10))) || ((e208.position.y < int32_t(0)) || (e208.position.y >= int32_t(10))))) {
+            within207 = false;
             break;
           }
         }
-        bool r262{};
-        if (within260) {
-          const C2_Twin& v263 = l_nt252;
-          const bool t264 = (v263.origin.y >= int32_t(1));
-          r262 = t264;
+        bool r209{};
+        if (within207) {
+          const bool t210 = (l_nt200.origin.y >= int32_t(1));
+          r209 = t210;
         } else {
-          r262 = false;
+          r209 = false;
         }
-        bool r265{};
-        if (r262) {
-          const C2_Twin& v266 = l_nt252;
-          const std::vector<C0_Wall>& g267 = s.g_walls_19;
-          std::vector<Elem>& rendered268 = s.scratch.v.b26;
-          rendered268.clear();
-          const int32_t colour269 = colour_0_C2_Twin(s, v266);
-          rendered268.push_back(Elem{Pos{add(v266.origin.x, int32_t(0)), add(v266.origin.y, int32_t(0))}, colour269});
-          std::vector<std::vector<Elem>>& out270 = s.scratch.v.b27;
-          out270.clear();
-          out270.reserve(size_t(int32_t(g267.size())));
-          for (const C0_Wall& x271 : g267) {
-            std::vector<Elem> rendered272{};
-            rendered272.push_back(Elem{Pos{add(x271.origin.x, int32_t(0)), add(x271.origin.y, int32_t(0))}, int32_t(6)});
-            out270.push_back(std::move(rendered272));
+        bool r211{};
+        if (r209) {
+          const std::vector<C0_Wall>& g212 = s.g_walls_23;
+          std::vector<Elem>& rendered213 = s.scratch.v.b21;
+          rendered213.clear();
+          const int32_t colour214 = colour_0_C2_Twin(s, l_nt200);
+          rendered213.push_back(Elem{Pos{add(l_nt200.origin.x, int32_t(0)), add(l_nt200.origin.y, int32_t(0))}, colour214});
+          std::vector<Elem>& rendered215 = s.scratch.v.b22;
+          rendered215.clear();
+          for (const C0_Wall& x216 : g212) {
+            rendered215.push_back(Elem{Pos{add(x216.origin.x, int32_t(0)), add(x216.origin.y, int32_t(0))}, int32_t(6)});
           }
-          std::vector<Elem>& cat273 = s.scratch.v.b28;
-          cat273.clear();
-          for (const std::vector<Elem>& part274 : out270) {
-            cat273.insert(cat273.end(), part274.begin(), part274.end());
-          }
-          const int32_t t275 = int32_t(rendered268.size());
-          const bool t276 = (t275 == int32_t(0));
-          bool r277{};
-          if (!t276) {
-            const int32_t t278 = int32_t(cat273.size());
-            const bool t279 = (t278 == int32_t(0));
-            r277 = t279;
+          const int32_t t217 = int32_t(rendered213.size());
+          const bool t218 = (t217 == int32_t(0));
+          bool r219{};
+          if (!t218) {
+            const int32_t t220 = int32_t(rendered215.size());
+            const bool t221 = (t220 == int32_t(0));
+            r219 = t221;
           } else {
-            r277 = true;
+            r219 = true;
           }
-          bool r280{};
-          if (r277) {
-            r280 = false;
+          bool r222{};
+          if (r219) {
+            r222 = false;
           } else {
-            bool any281 = false;
-            for (const Elem& x282 : rendered268) {
-              bool any283 = false;
-              for (const Elem& x284 : cat273) {
-                const bool t285 = (x282.position == x284.position);
-                if (t285) {
-                  any283 = true;
+            bool any223 = false;
+            for (const Elem& x224 : rendered213) {
+              bool any225 = false;
+              for (const Elem& x226 : rendered215) {
+                const bool t227 = (x224.position == x226.position);
+                if (t227) {
+                  any225 = true;
                   break;
                 }
               }
-              if (any283) {
-                any281 = true;
+              if (any225) {
+                any223 = true;
                 break;
               }
             }
-            r280 = any281;
+            r222 = any223;
           }
-          const bool t286 = !r280;
-          bool r287{};
-          if (t286) {
-            const C2_Twin& v288 = l_nt252;
-            const bool t289 = (v288.origin == prev251.origin);
-            const bool t290 = !t289;
-            r287 = t290;
+          const bool t228 = !r222;
+          bool r229{};
+          if (t228) {
+            const bool t230 = (l_nt200.origin == prev199.origin);
+            const bool t231 = !t230;
+            r229 = t231;
           } else {
-            r287 = false;
+            r229 = false;
           }
-          r265 = r287;
+          r211 = r229;
         } else {
-          r265 = false;
+          r211 = false;
         }
-        C2_Twin r291{};
-        if (r265) {
-          const C2_Twin& v292 = l_nt252;
-          r291 = v292;
+        C2_Twin r232{};
+        if (r211) {
+          r232 = std::move(l_nt200);
         } else {
-          r291 = prev250;
+          r232 = prev198;
         }
-        l_nr205 = std::move(r291);
-        const C2_Twin& v293 = l_nb204;
-        const C2_Twin& v294 = l_nr205;
-        const bool t295 = (v293.origin == v294.origin);
-        l_clash206 = t295;
-        const bool& v296 = l_clash206;
-        C2_Twin r297{};
-        if (v296) {
-          const C2_Twin& prev298 = s.p_blue_12;
-          r297 = prev298;
+        l_nr161 = std::move(r232);
+        const bool t233 = (l_nb160.origin == l_nr161.origin);
+        l_clash162 = t233;
+        C2_Twin r234{};
+        if (l_clash162) {
+          const C2_Twin& prev235 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+          r234 = prev235;
         } else {
-          const C2_Twin& v299 = l_nb204;
-          r297 = v299;
+          r234 = std::move(l_nb160);
         }
-        s.g_blue_10 = std::move(r297);
-        s.u_blue_11 = true;
-        const bool& v300 = l_clash206;
-        C2_Twin r301{};
-        if (v300) {
-          const C2_Twin& prev302 = s.p_red_9;
-          r301 = prev302;
+        if (!s.scratch.v.sv_blue_14) {
+          s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+          s.scratch.v.sv_blue_14 = true;
+        }
+        s.g_blue_11 = std::move(r234);
+        s.u_blue_12 = true;
+        C2_Twin r236{};
+        if (l_clash162) {
+          const C2_Twin& prev237 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
+          r236 = prev237;
         } else {
-          const C2_Twin& v303 = l_nr205;
-          r301 = v303;
+          r236 = std::move(l_nr161);
         }
-        s.g_red_7 = std::move(r301);
+        if (!s.scratch.v.sv_red_10) {
+          s.scratch.v.p_red_9 = std::move(s.g_red_7);
+          s.scratch.v.sv_red_10 = true;
+        }
+        s.g_red_7 = std::move(r236);
         s.u_red_8 = true;
       }
     }
     // on-clause 4, programs/mirror_twins.au:68
     {
-      const bool t304 = s.core.down;
-      if (t304) {
+      const bool t238 = s.core.down;
+      if (t238) {
         s.core.covered[int32_t(3)] = 1;
         // inlined: function at programs/mirror_twins.au:53
-        C2_Twin l_nb305{};
-        C2_Twin l_nr306{};
-        bool l_clash307{};
-        const C2_Twin& prev308 = s.p_blue_12;
-        const C2_Twin& prev309 = s.p_red_9;
+        C2_Twin l_nb239{};
+        C2_Twin l_nr240{};
+        bool l_clash241{};
+        const C2_Twin& prev242 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+        const C2_Twin& prev243 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
         // inlined: function at programs/mirror_twins.au:46
-        C2_Twin l_nt310{};
-        const int32_t t311 = add(prev308.origin.x, int32_t(0));
-        const int32_t t312 = add(prev308.origin.y, int32_t(1));
-        const Pos t313 = Pos{t311, t312};
-        C2_Twin upd314 = prev308;
-        upd314.origin = t313;
-        l_nt310 = std::move(upd314);
-        const C2_Twin& v315 = l_nt310;
-        std::vector<Elem>& rendered316 = s.scratch.v.b29;
-        rendered316.clear();
-        const int32_t colour317 = colour_0_C2_Twin(s, v315);
-        rendered316.push_back(Elem{Pos{add(v315.origin.x, int32_t(0)), add(v315.origin.y, int32_t(0))}, colour317});
-        bool within318 = true;
-        for (const Elem& e319 : rendered316) {
-          if ((((e319.position.x < int32_t(0)) || (e319.position.x >= int32_t(10))) || ((e319.position.y < int32_t(0)) || (e319.position.y >= int32_t(10))))) {
-            within318 = false;
+        C2_Twin l_nt244{};
+        const int32_t t245 = add(prev242.origin.x, int32_t(0));
+        const int32_t t246 = add(prev242.origin.y, int32_t(1));
+        const Pos t247 = Pos{t245, t246};
+        C2_Twin upd248 = prev242;
+        upd248.origin = t247;
+        l_nt244 = std::move(upd248);
+        std::vector<Elem>& rendered249 = s.scratch.v.b23;
+        rendered249.clear();
+        const int32_t colour250 = colour_0_C2_Twin(s, l_nt244);
+        rendered249.push_back(Elem{Pos{add(l_nt244.origin.x, int32_t(0)), add(l_nt244.origin.y, int32_t(0))}, colour250});
+        bool within251 = true;
+        for (const Elem& e252 : rendered249) {
+          if ((((e252.position.x < int32_t(0)) || (e252.position.x >= int32_t(10))) || ((e252.position.y < int32_t(0)) || (e252.position.y >= int32_t(10))))) {
+            within251 = false;
             break;
           }
         }
-        bool r320{};
-        if (within318) {
-          const C2_Twin& v321 = l_nt310;
-          const bool t322 = (v321.origin.y >= int32_t(1));
-          r320 = t322;
+        bool r253{};
+        if (within251) {
+          const bool t254 = (l_nt244.origin.y >= int32_t(1));
+          r253 = t254;
         } else {
-          r320 = false;
+          r253 = false;
         }
-        bool r323{};
-        if (r320) {
-          const C2_Twin& v324 = l_nt310;
-          const std::vector<C0_Wall>& g325 = s.g_walls_19;
-          std::vector<Elem>& rendered326 = s.scratch.v.b30;
-          rendered326.clear();
-          const int32_t colour327 = colour_0_C2_Twin(s, v324);
-          rendered326.push_back(Elem{Pos{add(v324.origin.x, int32_t(0)), add(v324.origin.y, int32_t(0))}, colour327});
-          std::vector<std::vector<Elem>>& out328 = s.scratch.v.b31;
-          out328.clear();
-          out328.reserve(size_t(int32_t(g325.size())));
-          for (const C0_Wall& x329 : g325) {
-            std::vector<Elem> rendered330{};
-            rendered330.push_back(Elem{Pos{add(x329.origin.x, int32_t(0)), add(x329.origin.y, int32_t(0))}, int32_t(6)});
-            out328.push_back(std::move(rendered330));
+        bool r255{};
+        if (r253) {
+          const std::vector<C0_Wall>& g256 = s.g_walls_23;
+          std::vector<Elem>& rendered257 = s.scratch.v.b24;
+          rendered257.clear();
+          const int32_t colour258 = colour_0_C2_Twin(s, l_nt244);
+          rendered257.push_back(Elem{Pos{add(l_nt244.origin.x, int32_t(0)), add(l_nt244.origin.y, int32_t(0))}, colour258});
+          std::vector<Elem>& rendered259 = s.scratch.v.b25;
+          rendered259.clear();
+          for (const C0_Wall& x260 : g256) {
+            rendered259.push_back(Elem{Pos{add(x260.origin.x, int32_t(0)), add(x260.origin.y, int32_t(0))}, int32_t(6)});
           }
-          std::vector<Elem>& cat331 = s.scratch.v.b32;
-          cat331.clear();
-          for (const std::vector<Elem>& part332 : out328) {
-            cat331.insert(cat331.end(), part332.begin(), part332.end());
-          }
-          const int32_t t333 = int32_t(rendered326.size());
-          const bool t334 = (t333 == int32_t(0));
-          bool r335{};
-          if (!t334) {
-            const int32_t t336 = int32_t(cat331.size());
-            const bool t337 = (t336 == int32_t(0));
-            r335 = t337;
+          const int32_t t261 = int32_t(rendered257.size());
+          const bool t262 = (t261 == int32_t(0));
+          bool r263{};
+          if (!t262) {
+            const int32_t t264 = int32_t(rendered259.size());
+            const bool t265 = (t264 == int32_t(0));
+            r263 = t265;
           } else {
-            r335 = true;
+            r263 = true;
           }
-          bool r338{};
-          if (r335) {
-            r338 = false;
+          bool r266{};
+          if (r263) {
+            r266 = false;
           } else {
-            bool any339 = false;
-            for (const Elem& x340 : rendered326) {
-              bool any341 = false;
-              for (const Elem& x342 : cat331) {
-                const bool t343 = (x340.position == x342.position);
-                if (t343) {
-                  any341 = true;
+            bool any267 = false;
+            for (const Elem& x268 : rendered257) {
+              bool any269 = false;
+              for (const Elem& x270 : rendered259) {
+                const bool t271 = (x268.position == x270.position);
+                if (t271) {
+                  any269 = true;
                   break;
                 }
               }
-              if (any341) {
-                any339 = true;
+              if (any269) {
+                any267 = true;
                 break;
               }
             }
-            r338 = any339;
+            r266 = any267;
           }
-          const bool t344 = !r338;
-          bool r345{};
-          if (t344) {
-            const C2_Twin& v346 = l_nt310;
-            const bool t347 = (v346.origin == prev309.origin);
-            const bool t348 = !t347;
-            r345 = t348;
+          const bool t272 = !r266;
+          bool r273{};
+          if (t272) {
+            const bool t274 = (l_nt244.origin == prev243.origin);
+            const bool t275 = !t274;
+            r273 = t275;
           } else {
-            r345 = false;
+            r273 = false;
           }
-          r323 = r345;
+          r255 = r273;
         } else {
-          r323 = false;
+          r255 = false;
         }
-        C2_Twin r349{};
-        if (r323) {
-          const C2_Twin& v350 = l_nt310;
-          r349 = v350;
+        C2_Twin r276{};
+        if (r255) {
+          r276 = std::move(l_nt244);
         } else {
-          r349 = prev308;
+          r276 = prev242;
         }
-        l_nb305 = std::move(r349);
-        const C2_Twin& prev351 = s.p_red_9;
+        l_nb239 = std::move(r276);
+        const C2_Twin& prev277 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
         // inlined: function at programs/mirror_twins.au:44
-        const C2_Twin& prev352 = s.p_blue_12;
+        const C2_Twin& prev278 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
         // inlined: function at programs/mirror_twins.au:46
-        C2_Twin l_nt353{};
-        const int32_t t354 = add(prev351.origin.x, int32_t(0));
-        const int32_t t355 = add(prev351.origin.y, int32_t(1));
-        const Pos t356 = Pos{t354, t355};
-        C2_Twin upd357 = prev351;
-        upd357.origin = t356;
-        l_nt353 = std::move(upd357);
-        const C2_Twin& v358 = l_nt353;
-        std::vector<Elem>& rendered359 = s.scratch.v.b33;
-        rendered359.clear();
-        const int32_t colour360 = colour_0_C2_Twin(s, v358);
-        rendered359.push_back(Elem{Pos{add(v358.origin.x, int32_t(0)), add(v358.origin.y, int32_t(0))}, colour360});
-        bool within361 = true;
-        for (const Elem& e362 : rendered359) {
-          if ((((e362.position.x < int32_t(0)) || (e362.position.x >= int32_t(10))) || ((e362.position.y < int32_t(0)) || (e362.position.y >= int32_t(10))))) {
-            within361 = false;
+        C2_Twin l_nt279{};
+        const int32_t t280 = add(prev277.origin.x, int32_t(0));
+        const int32_t t281 = add(prev277.origin.y, int32_t(1));
+        const Pos t282 = Pos{t280, t281};
+        C2_Twin upd283 = prev277;
+        upd283.origin = t282;
+        l_nt279 = std::move(upd283);
+        std::vector<Elem>& rendered284 = s.scratch.v.b26;
+        rendered284.clear();
+        const int32_t colour285 = colour_0_C2_Twin(s, l_nt279);
+        rendered284.push_back(Elem{Pos{add(l_nt279.origin.x, int32_t(0)), add(l_nt279.origin.y, int32_t(0))}, colour285});
+        bool within286 = true;
+        for (const Elem& e287 : rendered284) {
+          if ((((e287.position.x < int32_t(0)) || (e287.position.x >= int32_t(10))) || ((e287.position.y < int32_t(0)) || (e287.position.y >= int32_t(10))))) {
+            within286 = false;
             break;
           }
         }
-        bool r363{};
-        if (within361) {
-          const C2_Twin& v364 = l_nt353;
-          const bool t365 = (v364.origin.y >= int32_t(1));
-          r363 = t365;
+        bool r288{};
+        if (within286) {
+          const bool t289 = (l_nt279.origin.y >= int32_t(1));
+          r288 = t289;
         } else {
-          r363 = false;
+          r288 = false;
         }
-        bool r366{};
-        if (r363) {
-          const C2_Twin& v367 = l_nt353;
-          const std::vector<C0_Wall>& g368 = s.g_walls_19;
-          std::vector<Elem>& rendered369 = s.scratch.v.b34;
-          rendered369.clear();
-          const int32_t colour370 = colour_0_C2_Twin(s, v367);
-          rendered369.push_back(Elem{Pos{add(v367.origin.x, int32_t(0)), add(v367.origin.y, int32_t(0))}, colour370});
-          std::vector<std::vector<Elem>>& out371 = s.scratch.v.b35;
-          out371.clear();
-          out371.reserve(size_t(int32_t(g368.size())));
-          for (const C0_Wall& x372 : g368) {
-            std::vector<Elem> rendered373{};
-            rendered373.push_back(Elem{Pos{add(x372.origin.x, int32_t(0)), add(x372.origin.y, int32_t(0))}, int32_t(6)});
-            out371.push_back(std::move(rendered373));
+        bool r290{};
+        if (r288) {
+          const std::vector<C0_Wall>& g291 = s.g_walls_23;
+          std::vector<Elem>& rendered292 = s.scratch.v.b27;
+          rendered292.clear();
+          const int32_t colour293 = colour_0_C2_Twin(s, l_nt279);
+          rendered292.push_back(Elem{Pos{add(l_nt279.origin.x, int32_t(0)), add(l_nt279.origin.y, int32_t(0))}, colour293});
+          std::vector<Elem>& rendered294 = s.scratch.v.b28;
+          rendered294.clear();
+          for (const C0_Wall& x295 : g291) {
+            rendered294.push_back(Elem{Pos{add(x295.origin.x, int32_t(0)), add(x295.origin.y, int32_t(0))}, int32_t(6)});
           }
-          std::vector<Elem>& cat374 = s.scratch.v.b36;
-          cat374.clear();
-          for (const std::vector<Elem>& part375 : out371) {
-            cat374.insert(cat374.end(), part375.begin(), part375.end());
-          }
-          const int32_t t376 = int32_t(rendered369.size());
-          const bool t377 = (t376 == int32_t(0));
-          bool r378{};
-          if (!t377) {
-            const int32_t t379 = int32_t(cat374.size());
-            const bool t380 = (t379 == int32_t(0));
-            r378 = t380;
+          const int32_t t296 = int32_t(rendered292.size());
+          const bool t297 = (t296 == int32_t(0));
+          bool r298{};
+          if (!t297) {
+            const int32_t t299 = int32_t(rendered294.size());
+            const bool t300 = (t299 == int32_t(0));
+            r298 = t300;
           } else {
-            r378 = true;
+            r298 = true;
           }
-          bool r381{};
-          if (r378) {
-            r381 = false;
+          bool r301{};
+          if (r298) {
+            r301 = false;
           } else {
-            bool any382 = false;
-            for (const Elem& x383 : rendered369) {
-              bool any384 = false;
-              for (const Elem& x385 : cat374) {
-                const bool t386 = (x383.position == x385.position);
-                if (t386) {
-                  any384 = true;
+            bool any302 = false;
+            for (const Elem& x303 : rendered292) {
+              bool any304 = false;
+              for (const Elem& x305 : rendered294) {
+                const bool t306 = (x303.position == x305.position);
+                if (t306) {
+                  any304 = true;
                   break;
                 }
               }
-              if (any384) {
-                any382 = true;
+              if (any304) {
+                any302 = true;
                 break;
               }
             }
-            r381 = any382;
+            r301 = any302;
           }
-          const bool t387 = !r381;
-          bool r388{};
-          if (t387) {
-            const C2_Twin& v389 = l_nt353;
-            const bool t390 = (v389.origin == prev352.origin);
-            const bool t391 = !t390;
-            r388 = t391;
+          const bool t307 = !r301;
+          bool r308{};
+          if (t307) {
+            const bool t309 = (l_nt279.origin == prev278.origin);
+            const bool t310 = !t309;
+            r308 = t310;
           } else {
-            r388 = false;
+            r308 = false;
           }
-          r366 = r388;
+          r290 = r308;
         } else {
-          r366 = false;
+          r290 = false;
         }
-        C2_Twin r392{};
-        if (r366) {
-          const C2_Twin& v393 = l_nt353;
-          r392 = v393;
+        C2_Twin r311{};
+        if (r290) {
+          r311 = std::move(l_nt279);
         } else {
-          r392 = prev351;
+          r311 = prev277;
         }
-        l_nr306 = std::move(r392);
-        const C2_Twin& v394 = l_nb305;
-        const C2_Twin& v395 = l_nr306;
-        const bool t396 = (v394.origin == v395.origin);
-        l_clash307 = t396;
-        const bool& v397 = l_clash307;
-        C2_Twin r398{};
-        if (v397) {
-          const C2_Twin& prev399 = s.p_blue_12;
-          r398 = prev399;
+        l_nr240 = std::move(r311);
+        const bool t312 = (l_nb239.origin == l_nr240.origin);
+        l_clash241 = t312;
+        C2_Twin r313{};
+        if (l_clash241) {
+          const C2_Twin& prev314 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+          r313 = prev314;
         } else {
-          const C2_Twin& v400 = l_nb305;
-          r398 = v400;
+          r313 = std::move(l_nb239);
         }
-        s.g_blue_10 = std::move(r398);
-        s.u_blue_11 = true;
-        const bool& v401 = l_clash307;
-        C2_Twin r402{};
-        if (v401) {
-          const C2_Twin& prev403 = s.p_red_9;
-          r402 = prev403;
+        if (!s.scratch.v.sv_blue_14) {
+          s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+          s.scratch.v.sv_blue_14 = true;
+        }
+        s.g_blue_11 = std::move(r313);
+        s.u_blue_12 = true;
+        C2_Twin r315{};
+        if (l_clash241) {
+          const C2_Twin& prev316 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
+          r315 = prev316;
         } else {
-          const C2_Twin& v404 = l_nr306;
-          r402 = v404;
+          r315 = std::move(l_nr240);
         }
-        s.g_red_7 = std::move(r402);
+        if (!s.scratch.v.sv_red_10) {
+          s.scratch.v.p_red_9 = std::move(s.g_red_7);
+          s.scratch.v.sv_red_10 = true;
+        }
+        s.g_red_7 = std::move(r315);
         s.u_red_8 = true;
       }
     }
     // on-clause 5, programs/mirror_twins.au:70
     {
-      const C2_Twin& g405 = s.g_blue_10;
-      const C1_Goal& g406 = s.g_blueGoal_16;
-      const bool t407 = (g405.origin == g406.origin);
-      bool r408{};
-      if (t407) {
-        const C2_Twin& g409 = s.g_red_7;
-        const C1_Goal& g410 = s.g_redGoal_13;
-        const bool t411 = (g409.origin == g410.origin);
-        r408 = t411;
+      const C2_Twin& g317 = s.g_blue_11;
+      const C1_Goal& g318 = s.g_blueGoal_19;
+      const bool t319 = (g317.origin == g318.origin);
+      bool r320{};
+      if (t319) {
+        const C2_Twin& g321 = s.g_red_7;
+        const C1_Goal& g322 = s.g_redGoal_15;
+        const bool t323 = (g321.origin == g322.origin);
+        r320 = t323;
       } else {
-        r408 = false;
+        r320 = false;
       }
-      if (r408) {
+      if (r320) {
         s.core.covered[int32_t(4)] = 1;
-        std::vector<Pos>& l_spots412 = s.scratch.v.b37;
-        l_spots412.clear();
-        const C3_Stars& g413 = s.g_stars_22;
-        const C3_Stars& g414 = s.g_stars_22;
-        const int32_t t415 = add(g414.f0, int32_t(1));
-        const bool t416 = (int32_t(10) < t415);
-        int32_t r417{};
-        if (t416) {
-          r417 = int32_t(10);
+        std::vector<Pos>& l_spots324 = s.scratch.v.b29;
+        l_spots324.clear();
+        const C3_Stars& g325 = s.g_stars_27;
+        const C3_Stars& g326 = s.g_stars_27;
+        const int32_t t327 = add(g326.f0, int32_t(1));
+        const bool t328 = (int32_t(10) < t327);
+        int32_t r329{};
+        if (t328) {
+          r329 = int32_t(10);
         } else {
-          r417 = t415;
+          r329 = t327;
         }
-        C3_Stars upd418 = g413;
-        upd418.f0 = r417;
-        s.g_stars_22 = std::move(upd418);
-        s.u_stars_23 = true;
+        C3_Stars upd330 = g325;
+        upd330.f0 = r329;
+        if (!s.scratch.v.sv_stars_30) {
+          s.scratch.v.p_stars_29 = std::move(s.g_stars_27);
+          s.scratch.v.sv_stars_30 = true;
+        }
+        s.g_stars_27 = std::move(upd330);
+        s.u_stars_28 = true;
         // inlined: function at programs/mirror_twins.au:61
         if ((int32_t(10) < int32_t(0))) {
           fail_at(3, std::string() + std::string("allPositions: negative size"));
         }
-        std::vector<Pos>& apos419 = s.scratch.v.b38;
-        apos419.clear();
-        for (int32_t i420 = int32_t(0), i420_end = int32_t(10); i420 < i420_end; ++i420) {
-          for (int32_t j421 = int32_t(0), j421_end = int32_t(10); j421 < j421_end; ++j421) {
-            const Pos t422 = Pos{i420, j421};
-            apos419.push_back(t422);
+        std::vector<Pos>& apos331 = s.scratch.v.b30;
+        apos331.clear();
+        for (int32_t i332 = int32_t(0), i332_end = int32_t(10); i332 < i332_end; ++i332) {
+          for (int32_t j333 = int32_t(0), j333_end = int32_t(10); j333 < j333_end; ++j333) {
+            const Pos t334 = Pos{i332, j333};
+            apos331.push_back(t334);
           }
         }
-        std::vector<Pos>& out423 = s.scratch.v.b39;
-        out423.clear();
-        for (const Pos& x424 : apos419) {
+        std::vector<Pos>& out335 = s.scratch.v.b31;
+        out335.clear();
+        for (const Pos& x336 : apos331) {
           // inlined: function at programs/mirror_twins.au:61
-          const bool t425 = (x424.y >= int32_t(1));
-          bool r426{};
-          if (t425) {
+          const bool t337 = (x336.y >= int32_t(1));
+          bool r338{};
+          if (t337) {
             // inlined: function at programs/mirror_twins.au:45
-            const std::vector<C0_Wall>& g427 = s.g_walls_19;
-            bool any428 = false;
-            for (const C0_Wall& x429 : g427) {
+            const std::vector<C0_Wall>& g339 = s.g_walls_23;
+            bool any340 = false;
+            for (const C0_Wall& x341 : g339) {
               // inlined: function at programs/mirror_twins.au:45
-              const bool t430 = (x429.origin == x424);
-              if (t430) {
-                any428 = true;
+              const bool t342 = (x341.origin == x336);
+              if (t342) {
+                any340 = true;
                 break;
               }
             }
-            const bool t431 = !any428;
-            bool r432{};
-            if (t431) {
-              const C2_Twin& g433 = s.g_blue_10;
-              const bool t434 = (x424 == g433.origin);
-              const bool t435 = !t434;
-              bool r436{};
-              if (t435) {
-                const C2_Twin& g437 = s.g_red_7;
-                const bool t438 = (x424 == g437.origin);
-                const bool t439 = !t438;
-                r436 = t439;
+            const bool t343 = !any340;
+            bool r344{};
+            if (t343) {
+              const C2_Twin& g345 = s.g_blue_11;
+              const bool t346 = (x336 == g345.origin);
+              const bool t347 = !t346;
+              bool r348{};
+              if (t347) {
+                const C2_Twin& g349 = s.g_red_7;
+                const bool t350 = (x336 == g349.origin);
+                const bool t351 = !t350;
+                r348 = t351;
               } else {
-                r436 = false;
+                r348 = false;
               }
-              r432 = r436;
+              r344 = r348;
             } else {
-              r432 = false;
+              r344 = false;
             }
-            r426 = r432;
+            r338 = r344;
           } else {
-            r426 = false;
+            r338 = false;
           }
-          if (r426) {
-            out423.push_back(x424);
+          if (r338) {
+            out335.push_back(x336);
           }
         }
-        std::swap(l_spots412, out423);
-        const std::vector<Pos>& v440 = l_spots412;
+        std::swap(l_spots324, out335);
         // inlined: function at programs/mirror_twins.au:20
-        std::vector<Pos>& out441 = s.scratch.v.b40;
-        out441.clear();
-        for (const Pos& x442 : v440) {
+        std::vector<Pos>& out352 = s.scratch.v.b32;
+        out352.clear();
+        for (const Pos& x353 : l_spots324) {
           // inlined: function at programs/mirror_twins.au:20
-          const bool t443 = (x442.x < int32_t(5));
-          if (t443) {
-            out441.push_back(x442);
+          const bool t354 = (x353.x < int32_t(5));
+          if (t354) {
+            out352.push_back(x353);
           }
         }
-        const int32_t t444 = int32_t(out441.size());
-        const bool t445 = (t444 > int32_t(0));
-        C1_Goal r446{};
-        if (t445) {
-          const C1_Goal& g447 = s.g_blueGoal_16;
-          const std::vector<Pos>& v448 = l_spots412;
+        const int32_t t355 = int32_t(out352.size());
+        const bool t356 = (t355 > int32_t(0));
+        C1_Goal r357{};
+        if (t356) {
+          const C1_Goal& g358 = s.g_blueGoal_19;
           // inlined: function at programs/mirror_twins.au:20
-          std::vector<Pos>& out449 = s.scratch.v.b41;
-          out449.clear();
-          for (const Pos& x450 : v448) {
+          std::vector<Pos>& out359 = s.scratch.v.b33;
+          out359.clear();
+          for (const Pos& x360 : l_spots324) {
             // inlined: function at programs/mirror_twins.au:20
-            const bool t451 = (x450.x < int32_t(5));
-            if (t451) {
-              out449.push_back(x450);
+            const bool t361 = (x360.x < int32_t(5));
+            if (t361) {
+              out359.push_back(x360);
             }
           }
-          if (out449.empty()) {
+          if (out359.empty()) {
             fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t452 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out449.size())))));
-          const Pos t453 = out449[size_t(t452)];
-          C1_Goal upd454 = g447;
-          upd454.origin = t453;
-          r446 = std::move(upd454);
+          const int32_t t362 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out359.size())))));
+          const Pos t363 = out359[size_t(t362)];
+          C1_Goal upd364 = g358;
+          upd364.origin = t363;
+          r357 = std::move(upd364);
         } else {
-          const C1_Goal& g455 = s.g_blueGoal_16;
-          r446 = g455;
+          const C1_Goal& g365 = s.g_blueGoal_19;
+          r357 = g365;
         }
-        s.g_blueGoal_16 = std::move(r446);
-        s.u_blueGoal_17 = true;
-        const std::vector<Pos>& v456 = l_spots412;
+        if (!s.scratch.v.sv_blueGoal_22) {
+          s.scratch.v.p_blueGoal_21 = std::move(s.g_blueGoal_19);
+          s.scratch.v.sv_blueGoal_22 = true;
+        }
+        s.g_blueGoal_19 = std::move(r357);
+        s.u_blueGoal_20 = true;
         // inlined: function at programs/mirror_twins.au:21
-        std::vector<Pos>& out457 = s.scratch.v.b42;
-        out457.clear();
-        for (const Pos& x458 : v456) {
+        std::vector<Pos>& out366 = s.scratch.v.b34;
+        out366.clear();
+        for (const Pos& x367 : l_spots324) {
           // inlined: function at programs/mirror_twins.au:21
-          const bool t459 = (x458.x >= int32_t(5));
-          if (t459) {
-            out457.push_back(x458);
+          const bool t368 = (x367.x >= int32_t(5));
+          if (t368) {
+            out366.push_back(x367);
           }
         }
-        const int32_t t460 = int32_t(out457.size());
-        const bool t461 = (t460 > int32_t(0));
-        C1_Goal r462{};
-        if (t461) {
-          const C1_Goal& g463 = s.g_redGoal_13;
-          const std::vector<Pos>& v464 = l_spots412;
+        const int32_t t369 = int32_t(out366.size());
+        const bool t370 = (t369 > int32_t(0));
+        C1_Goal r371{};
+        if (t370) {
+          const C1_Goal& g372 = s.g_redGoal_15;
           // inlined: function at programs/mirror_twins.au:21
-          std::vector<Pos>& out465 = s.scratch.v.b43;
-          out465.clear();
-          for (const Pos& x466 : v464) {
+          std::vector<Pos>& out373 = s.scratch.v.b35;
+          out373.clear();
+          for (const Pos& x374 : l_spots324) {
             // inlined: function at programs/mirror_twins.au:21
-            const bool t467 = (x466.x >= int32_t(5));
-            if (t467) {
-              out465.push_back(x466);
+            const bool t375 = (x374.x >= int32_t(5));
+            if (t375) {
+              out373.push_back(x374);
             }
           }
-          if (out465.empty()) {
+          if (out373.empty()) {
             fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t468 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out465.size())))));
-          const Pos t469 = out465[size_t(t468)];
-          C1_Goal upd470 = g463;
-          upd470.origin = t469;
-          r462 = std::move(upd470);
+          const int32_t t376 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out373.size())))));
+          const Pos t377 = out373[size_t(t376)];
+          C1_Goal upd378 = g372;
+          upd378.origin = t377;
+          r371 = std::move(upd378);
         } else {
-          const C1_Goal& g471 = s.g_redGoal_13;
-          r462 = g471;
+          const C1_Goal& g379 = s.g_redGoal_15;
+          r371 = g379;
         }
-        s.g_redGoal_13 = std::move(r462);
-        s.u_redGoal_14 = true;
+        if (!s.scratch.v.sv_redGoal_18) {
+          s.scratch.v.p_redGoal_17 = std::move(s.g_redGoal_15);
+          s.scratch.v.sv_redGoal_18 = true;
+        }
+        s.g_redGoal_15 = std::move(r371);
+        s.u_redGoal_16 = true;
       }
     }
     // on-clause 6, programs/mirror_twins.au:78
     {
-      const std::vector<C0_Wall>& prev472 = s.p_walls_21;
-      bool clicked473 = false;
+      const std::vector<C0_Wall>& prev380 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
+      bool clicked381 = false;
       if (s.core.click) {
-        s.d_click_26 = true;
-        const Pos t474 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_25 = t474;
-        std::vector<Elem>& rendered475 = s.scratch.v.b44;
-        rendered475.clear();
-        for (const C0_Wall& x476 : prev472) {
-          rendered475.push_back(Elem{Pos{add(x476.origin.x, int32_t(0)), add(x476.origin.y, int32_t(0))}, int32_t(6)});
+        s.d_click_32 = true;
+        const Pos t382 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_31 = t382;
+        std::vector<Elem>& rendered383 = s.scratch.v.b36;
+        rendered383.clear();
+        for (const C0_Wall& x384 : prev380) {
+          rendered383.push_back(Elem{Pos{add(x384.origin.x, int32_t(0)), add(x384.origin.y, int32_t(0))}, int32_t(6)});
         }
-        for (const Elem& e477 : rendered475) {
-          if ((e477.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked473 = true;
+        for (const Elem& e385 : rendered383) {
+          if ((e385.position == Pos{s.core.click_x, s.core.click_y})) {
+            clicked381 = true;
             break;
           }
         }
       }
-      if (clicked473) {
+      if (clicked381) {
         s.core.covered[int32_t(5)] = 1;
-        const std::vector<C0_Wall>& prev478 = s.p_walls_21;
-        std::vector<C0_Wall>& out479 = s.scratch.v.b45;
-        out479.clear();
-        for (const C0_Wall& x480 : prev478) {
+        const std::vector<C0_Wall>& prev386 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
+        std::vector<C0_Wall>& out387 = s.scratch.v.b37;
+        out387.clear();
+        for (const C0_Wall& x388 : prev386) {
           // inlined: function at programs/mirror_twins.au:78
-          bool clicked481 = false;
+          bool clicked389 = false;
           if (s.core.click) {
-            s.d_click_26 = true;
-            const Pos t482 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_25 = t482;
-            std::vector<Elem>& rendered483 = s.scratch.v.b46;
-            rendered483.clear();
-            rendered483.push_back(Elem{Pos{add(x480.origin.x, int32_t(0)), add(x480.origin.y, int32_t(0))}, int32_t(6)});
-            for (const Elem& e484 : rendered483) {
-              if ((e484.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked481 = true;
+            s.d_click_32 = true;
+            const Pos t390 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_31 = t390;
+            std::vector<Elem>& rendered391 = s.scratch.v.b38;
+            rendered391.clear();
+            rendered391.push_back(Elem{Pos{add(x388.origin.x, int32_t(0)), add(x388.origin.y, int32_t(0))}, int32_t(6)});
+            for (const Elem& e392 : rendered391) {
+              if ((e392.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked389 = true;
                 break;
               }
             }
           }
-          const bool t485 = !clicked481;
-          if (t485) {
-            out479.push_back(x480);
+          const bool t393 = !clicked389;
+          if (t393) {
+            out387.push_back(x388);
           }
         }
-        std::swap(s.g_walls_19, out479);
-        s.u_walls_20 = true;
+        if (!s.scratch.v.sv_walls_26) {
+          s.scratch.v.p_walls_25 = std::move(s.g_walls_23);
+          s.scratch.v.sv_walls_26 = true;
+        }
+        std::swap(s.g_walls_23, out387);
+        s.u_walls_24 = true;
       }
     }
     // on-clause 7, programs/mirror_twins.au:79
     {
-      bool clicked486 = false;
+      bool clicked394 = false;
       if (s.core.click) {
-        s.d_click_26 = true;
-        const Pos t487 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_25 = t487;
-        clicked486 = true;
+        s.d_click_32 = true;
+        const Pos t395 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_31 = t395;
+        clicked394 = true;
       }
-      bool r488{};
-      if (clicked486) {
-        Pos r489{};
-        if (s.d_click_26) {
-          const Pos& g490 = s.g_click_25;
-          r489 = g490;
+      bool r396{};
+      if (clicked394) {
+        Pos r397{};
+        if (s.d_click_32) {
+          const Pos& g398 = s.g_click_31;
+          r397 = g398;
         } else {
           fail_at(6, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t491 = (r489.y >= int32_t(1));
-        bool r492{};
-        if (t491) {
-          Pos r493{};
-          if (s.d_click_26) {
-            const Pos& g494 = s.g_click_25;
-            r493 = g494;
+        const bool t399 = (r397.y >= int32_t(1));
+        bool r400{};
+        if (t399) {
+          Pos r401{};
+          if (s.d_click_32) {
+            const Pos& g402 = s.g_click_31;
+            r401 = g402;
           } else {
             fail_at(7, std::string() + std::string("undefined variable 'click'"));
           }
-          const bool t495 = s.core.occupied.free(r493);
-          bool r496{};
-          if (t495) {
-            const std::vector<C0_Wall>& g497 = s.g_walls_19;
-            const int32_t t498 = int32_t(g497.size());
-            const bool t499 = (t498 < int32_t(25));
-            r496 = t499;
+          const bool t403 = s.core.occupied.free(r401);
+          bool r404{};
+          if (t403) {
+            const std::vector<C0_Wall>& g405 = s.g_walls_23;
+            const int32_t t406 = int32_t(g405.size());
+            const bool t407 = (t406 < int32_t(25));
+            r404 = t407;
           } else {
-            r496 = false;
+            r404 = false;
           }
-          r492 = r496;
+          r400 = r404;
         } else {
-          r492 = false;
+          r400 = false;
         }
-        r488 = r492;
+        r396 = r400;
       } else {
-        r488 = false;
+        r396 = false;
       }
-      if (r488) {
+      if (r396) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C0_Wall>& g500 = s.g_walls_19;
-        Pos r501{};
-        if (s.d_click_26) {
-          const Pos& g502 = s.g_click_25;
-          r501 = g502;
+        const std::vector<C0_Wall>& g408 = s.g_walls_23;
+        Pos r409{};
+        if (s.d_click_32) {
+          const Pos& g410 = s.g_click_31;
+          r409 = g410;
         } else {
           fail_at(8, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r503{};
-        if (s.d_click_26) {
-          const Pos& g504 = s.g_click_25;
-          r503 = g504;
+        Pos r411{};
+        if (s.d_click_32) {
+          const Pos& g412 = s.g_click_31;
+          r411 = g412;
         } else {
           fail_at(9, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t505 = Pos{r501.x, r503.y};
-        C0_Wall o506 = C0_Wall{t505};
-        std::vector<C0_Wall>& added507 = s.scratch.v.b47;
-        added507.clear();
-        added507.reserve(size_t(add(int32_t(g500.size()), int32_t(1))));
-        for (const C0_Wall& x508 : g500) {
-          added507.push_back(x508);
+        const Pos t413 = Pos{r409.x, r411.y};
+        C0_Wall o414 = C0_Wall{t413};
+        std::vector<C0_Wall>& added415 = s.scratch.v.b39;
+        added415.clear();
+        added415.reserve(size_t(add(int32_t(g408.size()), int32_t(1))));
+        for (const C0_Wall& x416 : g408) {
+          added415.push_back(x416);
         }
-        added507.push_back(std::move(o506));
-        std::swap(s.g_walls_19, added507);
-        s.u_walls_20 = true;
+        added415.push_back(std::move(o414));
+        if (!s.scratch.v.sv_walls_26) {
+          s.scratch.v.p_walls_25 = std::move(s.g_walls_23);
+          s.scratch.v.sv_walls_26 = true;
+        }
+        std::swap(s.g_walls_23, added415);
+        s.u_walls_24 = true;
       }
     }
     // NEXT of red, programs/mirror_twins.au:42
     if (!s.u_red_8) {
-      const C2_Twin& prev509 = s.p_red_9;
-      s.g_red_7 = prev509;
+      const C2_Twin prev417 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
+      if (!s.scratch.v.sv_red_10) {
+        s.scratch.v.p_red_9 = std::move(s.g_red_7);
+        s.scratch.v.sv_red_10 = true;
+      }
+      s.g_red_7 = prev417;
       s.u_red_8 = true;
     }
     // NEXT of blue, programs/mirror_twins.au:39
-    if (!s.u_blue_11) {
-      const C2_Twin& prev510 = s.p_blue_12;
-      s.g_blue_10 = prev510;
-      s.u_blue_11 = true;
+    if (!s.u_blue_12) {
+      const C2_Twin prev418 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+      if (!s.scratch.v.sv_blue_14) {
+        s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+        s.scratch.v.sv_blue_14 = true;
+      }
+      s.g_blue_11 = prev418;
+      s.u_blue_12 = true;
     }
     // NEXT of redGoal, programs/mirror_twins.au:36
-    if (!s.u_redGoal_14) {
-      const C1_Goal& prev511 = s.p_redGoal_15;
-      s.g_redGoal_13 = prev511;
-      s.u_redGoal_14 = true;
+    if (!s.u_redGoal_16) {
+      const C1_Goal prev419 = (s.scratch.v.sv_redGoal_18 ? s.scratch.v.p_redGoal_17 : s.g_redGoal_15);
+      if (!s.scratch.v.sv_redGoal_18) {
+        s.scratch.v.p_redGoal_17 = std::move(s.g_redGoal_15);
+        s.scratch.v.sv_redGoal_18 = true;
+      }
+      s.g_redGoal_15 = prev419;
+      s.u_redGoal_16 = true;
     }
     // NEXT of blueGoal, programs/mirror_twins.au:33
-    if (!s.u_blueGoal_17) {
-      const C1_Goal& prev512 = s.p_blueGoal_18;
-      s.g_blueGoal_16 = prev512;
-      s.u_blueGoal_17 = true;
+    if (!s.u_blueGoal_20) {
+      const C1_Goal prev420 = (s.scratch.v.sv_blueGoal_22 ? s.scratch.v.p_blueGoal_21 : s.g_blueGoal_19);
+      if (!s.scratch.v.sv_blueGoal_22) {
+        s.scratch.v.p_blueGoal_21 = std::move(s.g_blueGoal_19);
+        s.scratch.v.sv_blueGoal_22 = true;
+      }
+      s.g_blueGoal_19 = prev420;
+      s.u_blueGoal_20 = true;
     }
     // NEXT of walls, programs/mirror_twins.au:30
-    if (!s.u_walls_20) {
-      const std::vector<C0_Wall>& prev513 = s.p_walls_21;
-      s.g_walls_19 = prev513;
-      s.u_walls_20 = true;
+    if (!s.u_walls_24) {
+      const std::vector<C0_Wall> prev421 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
+      if (!s.scratch.v.sv_walls_26) {
+        s.scratch.v.p_walls_25 = std::move(s.g_walls_23);
+        s.scratch.v.sv_walls_26 = true;
+      }
+      s.g_walls_23 = prev421;
+      s.u_walls_24 = true;
     }
     // NEXT of stars, programs/mirror_twins.au:27
-    if (!s.u_stars_23) {
-      const C3_Stars& prev514 = s.p_stars_24;
-      s.g_stars_22 = prev514;
-      s.u_stars_23 = true;
+    if (!s.u_stars_28) {
+      const C3_Stars prev422 = (s.scratch.v.sv_stars_30 ? s.scratch.v.p_stars_29 : s.g_stars_27);
+      if (!s.scratch.v.sv_stars_30) {
+        s.scratch.v.p_stars_29 = std::move(s.g_stars_27);
+        s.scratch.v.sv_stars_30 = true;
+      }
+      s.g_stars_27 = prev422;
+      s.u_stars_28 = true;
     }
     s.core.clear_inputs();
   }
@@ -1763,10 +1702,10 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b48;
+    std::vector<Elem>& elems1 = s.scratch.v.b40;
     elems1.clear();
     elems1.clear();
-    const C3_Stars& g2 = s.g_stars_22;
+    const C3_Stars& g2 = s.g_stars_27;
     const int32_t colour3 = colour_3_C3_Stars(s, g2);
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, colour3});
     const int32_t colour4 = colour_4_C3_Stars(s, g2);
@@ -1792,7 +1731,7 @@ struct Prog {
       if (paint) paint->paint(e13.position, pal[e13.color]);
     }
     elems1.clear();
-    const std::vector<C0_Wall>& g14 = s.g_walls_19;
+    const std::vector<C0_Wall>& g14 = s.g_walls_23;
     for (const C0_Wall& x15 : g14) {
       elems1.push_back(Elem{Pos{add(x15.origin.x, int32_t(0)), add(x15.origin.y, int32_t(0))}, int32_t(6)});
     }
@@ -1801,7 +1740,7 @@ struct Prog {
       if (paint) paint->paint(e16.position, pal[e16.color]);
     }
     elems1.clear();
-    const C1_Goal& g17 = s.g_blueGoal_16;
+    const C1_Goal& g17 = s.g_blueGoal_19;
     const int32_t colour18 = colour_1_C1_Goal(s, g17);
     elems1.push_back(Elem{Pos{add(g17.origin.x, int32_t(0)), add(g17.origin.y, int32_t(0))}, colour18});
     for (const Elem& e19 : elems1) {
@@ -1809,7 +1748,7 @@ struct Prog {
       if (paint) paint->paint(e19.position, pal[e19.color]);
     }
     elems1.clear();
-    const C1_Goal& g20 = s.g_redGoal_13;
+    const C1_Goal& g20 = s.g_redGoal_15;
     const int32_t colour21 = colour_1_C1_Goal(s, g20);
     elems1.push_back(Elem{Pos{add(g20.origin.x, int32_t(0)), add(g20.origin.y, int32_t(0))}, colour21});
     for (const Elem& e22 : elems1) {
@@ -1817,7 +1756,7 @@ struct Prog {
       if (paint) paint->paint(e22.position, pal[e22.color]);
     }
     elems1.clear();
-    const C2_Twin& g23 = s.g_blue_10;
+    const C2_Twin& g23 = s.g_blue_11;
     const int32_t colour24 = colour_0_C2_Twin(s, g23);
     elems1.push_back(Elem{Pos{add(g23.origin.x, int32_t(0)), add(g23.origin.y, int32_t(0))}, colour24});
     for (const Elem& e25 : elems1) {
@@ -1844,13 +1783,13 @@ struct Prog {
     hash_value(h, s.g_maxWalls_5);
     hash_value(h, s.g_startOpen_6);
     hash_value(h, s.g_red_7);
-    hash_value(h, s.g_blue_10);
-    hash_value(h, s.g_redGoal_13);
-    hash_value(h, s.g_blueGoal_16);
-    hash_value(h, s.g_walls_19);
-    hash_value(h, s.g_stars_22);
-    hash_value(h, s.g_click_25);
-    hash_value(h, s.d_click_26);
+    hash_value(h, s.g_blue_11);
+    hash_value(h, s.g_redGoal_15);
+    hash_value(h, s.g_blueGoal_19);
+    hash_value(h, s.g_walls_23);
+    hash_value(h, s.g_stars_27);
+    hash_value(h, s.g_click_31);
+    hash_value(h, s.d_click_32);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -1864,13 +1803,13 @@ struct Prog {
     save_value(w, s.g_maxWalls_5);
     save_value(w, s.g_startOpen_6);
     save_value(w, s.g_red_7);
-    save_value(w, s.g_blue_10);
-    save_value(w, s.g_redGoal_13);
-    save_value(w, s.g_blueGoal_16);
-    save_value(w, s.g_walls_19);
-    save_value(w, s.g_stars_22);
-    save_value(w, s.g_click_25);
-    save_value(w, s.d_click_26);
+    save_value(w, s.g_blue_11);
+    save_value(w, s.g_redGoal_15);
+    save_value(w, s.g_blueGoal_19);
+    save_value(w, s.g_walls_23);
+    save_value(w, s.g_stars_27);
+    save_value(w, s.g_click_31);
+    save_value(w, s.d_click_32);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -1883,13 +1822,13 @@ struct Prog {
     load_value(r, s.g_maxWalls_5);
     load_value(r, s.g_startOpen_6);
     load_value(r, s.g_red_7);
-    load_value(r, s.g_blue_10);
-    load_value(r, s.g_redGoal_13);
-    load_value(r, s.g_blueGoal_16);
-    load_value(r, s.g_walls_19);
-    load_value(r, s.g_stars_22);
-    load_value(r, s.g_click_25);
-    load_value(r, s.d_click_26);
+    load_value(r, s.g_blue_11);
+    load_value(r, s.g_redGoal_15);
+    load_value(r, s.g_blueGoal_19);
+    load_value(r, s.g_walls_23);
+    load_value(r, s.g_stars_27);
+    load_value(r, s.g_click_31);
+    load_value(r, s.d_click_32);
   }
 };
 

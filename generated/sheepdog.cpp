@@ -131,6 +131,14 @@ struct Prog {
     std::vector<Elem> b48;
     std::vector<C2_Sheep> b49;
     std::vector<Elem> b50;
+    std::vector<C2_Sheep> p_sheep_9{};
+    bool sv_sheep_10{};
+    std::vector<C1_Flag> p_flags_13{};
+    bool sv_flags_14{};
+    C3_Dog p_dog_17{};
+    bool sv_dog_18{};
+    std::vector<C0_Fence> p_fences_21{};
+    bool sv_fences_22{};
   };
   struct State {
     Core core;
@@ -144,18 +152,14 @@ struct Prog {
     std::vector<Pos> g_gate_6{};
     std::vector<C2_Sheep> g_sheep_7{};
     bool u_sheep_8{};
-    std::vector<C2_Sheep> p_sheep_9{};
-    std::vector<C1_Flag> g_flags_10{};
-    bool u_flags_11{};
-    std::vector<C1_Flag> p_flags_12{};
-    C3_Dog g_dog_13{};
-    bool u_dog_14{};
-    C3_Dog p_dog_15{};
-    std::vector<C0_Fence> g_fences_16{};
-    bool u_fences_17{};
-    std::vector<C0_Fence> p_fences_18{};
-    Pos g_click_19{};
-    bool d_click_20{};
+    std::vector<C1_Flag> g_flags_11{};
+    bool u_flags_12{};
+    C3_Dog g_dog_15{};
+    bool u_dog_16{};
+    std::vector<C0_Fence> g_fences_19{};
+    bool u_fences_20{};
+    Pos g_click_23{};
+    bool d_click_24{};
   };
 
   static int32_t colour_0_C2_Sheep(State& s, const C2_Sheep& o1) {
@@ -198,12 +202,12 @@ struct Prog {
     std::swap(s.g_sheep_7, out5);
     s.u_sheep_8 = false;
     // init flags, programs/sheepdog.au:31
-    s.g_flags_10 = std::vector<C1_Flag>{};
-    s.u_flags_11 = false;
+    s.g_flags_11 = std::vector<C1_Flag>{};
+    s.u_flags_12 = false;
     // init dog, programs/sheepdog.au:37
     C3_Dog o8 = C3_Dog{Pos{int32_t(1), int32_t(14)}};
-    s.g_dog_13 = std::move(o8);
-    s.u_dog_14 = false;
+    s.g_dog_15 = std::move(o8);
+    s.u_dog_16 = false;
     // init fences, programs/sheepdog.au:26
     if ((int32_t(16) < int32_t(0))) {
       fail_at(0, std::string() + std::string("allPositions: negative size"));
@@ -285,27 +289,27 @@ struct Prog {
       C0_Fence o34 = C0_Fence{x33};
       out32.push_back(std::move(o34));
     }
-    std::swap(s.g_fences_16, out32);
-    s.u_fences_17 = false;
+    std::swap(s.g_fences_19, out32);
+    s.u_fences_20 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_fences_18 = s.g_fences_16;
-    s.p_flags_12 = s.g_flags_10;
-    s.p_sheep_9 = s.g_sheep_7;
-    s.p_dog_15 = s.g_dog_13;
+    s.scratch.v.sv_fences_22 = false;
+    s.scratch.v.sv_flags_14 = false;
+    s.scratch.v.sv_sheep_10 = false;
+    s.scratch.v.sv_dog_18 = false;
     s.u_sheep_8 = false;
-    s.u_flags_11 = false;
-    s.u_dog_14 = false;
-    s.u_fences_17 = false;
+    s.u_flags_12 = false;
+    s.u_dog_16 = false;
+    s.u_fences_20 = false;
     // on-clause 1, programs/sheepdog.au:68
     {
       const bool t1 = s.core.left;
       if (t1) {
         s.core.covered[int32_t(0)] = 1;
-        const C3_Dog& prev2 = s.p_dog_15;
+        const C3_Dog& prev2 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
         const int32_t t3 = add(prev2.origin.x, int32_t(-1));
         const int32_t t4 = add(prev2.origin.y, int32_t(0));
         const Pos t5 = Pos{t3, t4};
@@ -342,1285 +346,1294 @@ struct Prog {
           rendered19.clear();
           rendered19.push_back(Elem{Pos{add(upd14.origin.x, int32_t(0)), add(upd14.origin.y, int32_t(0))}, int32_t(0)});
           std::swap(l_curr_elems16, rendered19);
-          const std::vector<Elem>& v20 = l_curr_elems16;
-          std::vector<Elem>& out21 = s.scratch.v.b10;
-          out21.clear();
-          for (const Elem& x22 : v20) {
-            const std::vector<Elem>& v23 = l_prev_elems15;
-            bool any24 = false;
-            for (const Elem& x25 : v23) {
-              const bool t26 = (x25 == x22);
-              if (t26) {
-                any24 = true;
+          std::vector<Elem>& out20 = s.scratch.v.b10;
+          out20.clear();
+          for (const Elem& x21 : l_curr_elems16) {
+            bool any22 = false;
+            for (const Elem& x23 : l_prev_elems15) {
+              const bool t24 = (x23 == x21);
+              if (t24) {
+                any22 = true;
                 break;
               }
             }
-            const bool t27 = !any24;
-            if (t27) {
-              out21.push_back(x22);
+            const bool t25 = !any22;
+            if (t25) {
+              out20.push_back(x21);
             }
           }
-          std::swap(l_filtered_elems17, out21);
-          const std::vector<Elem>& v28 = l_filtered_elems17;
-          bool any29 = false;
-          for (const Elem& x30 : v28) {
-            const bool t31 = s.core.occupied.free(x30.position);
-            const bool t32 = !t31;
-            if (t32) {
-              any29 = true;
+          std::swap(l_filtered_elems17, out20);
+          bool any26 = false;
+          for (const Elem& x27 : l_filtered_elems17) {
+            const bool t28 = s.core.occupied.free(x27.position);
+            const bool t29 = !t28;
+            if (t29) {
+              any26 = true;
               break;
             }
           }
-          const bool t33 = !any29;
-          r10 = t33;
+          const bool t30 = !any26;
+          r10 = t30;
         } else {
           r10 = false;
         }
-        C3_Dog r34{};
+        C3_Dog r31{};
         if (r10) {
-          const int32_t t35 = add(prev2.origin.x, int32_t(-1));
-          const int32_t t36 = add(prev2.origin.y, int32_t(0));
-          const Pos t37 = Pos{t35, t36};
-          C3_Dog upd38 = prev2;
-          upd38.origin = t37;
-          r34 = std::move(upd38);
+          const int32_t t32 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t33 = add(prev2.origin.y, int32_t(0));
+          const Pos t34 = Pos{t32, t33};
+          C3_Dog upd35 = prev2;
+          upd35.origin = t34;
+          r31 = std::move(upd35);
         } else {
-          r34 = prev2;
+          r31 = prev2;
         }
-        s.g_dog_13 = std::move(r34);
-        s.u_dog_14 = true;
-        const std::vector<int32_t> t39 = std::vector<int32_t>{};
-        s.g_flags_10 = std::vector<C1_Flag>{};
-        s.u_flags_11 = true;
+        if (!s.scratch.v.sv_dog_18) {
+          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          s.scratch.v.sv_dog_18 = true;
+        }
+        s.g_dog_15 = std::move(r31);
+        s.u_dog_16 = true;
+        if (!s.scratch.v.sv_flags_14) {
+          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          s.scratch.v.sv_flags_14 = true;
+        }
+        s.g_flags_11 = std::vector<C1_Flag>{};
+        s.u_flags_12 = true;
       }
     }
     // on-clause 2, programs/sheepdog.au:69
     {
-      const bool t40 = s.core.right;
-      if (t40) {
+      const bool t36 = s.core.right;
+      if (t36) {
         s.core.covered[int32_t(1)] = 1;
-        const C3_Dog& prev41 = s.p_dog_15;
-        bool l_wbound42{};
-        bool l_fr43{};
-        C3_Dog l_ret44{};
-        const int32_t t45 = add(prev41.origin.x, int32_t(1));
-        const int32_t t46 = add(prev41.origin.y, int32_t(0));
-        const Pos t47 = Pos{t45, t46};
-        C3_Dog upd48 = prev41;
-        upd48.origin = t47;
-        std::vector<Elem>& rendered49 = s.scratch.v.b11;
-        rendered49.clear();
-        rendered49.push_back(Elem{Pos{add(upd48.origin.x, int32_t(0)), add(upd48.origin.y, int32_t(0))}, int32_t(0)});
-        bool within50 = true;
-        for (const Elem& e51 : rendered49) {
-          if ((((e51.position.x < int32_t(0)) || (e51.position.x >= int32_t(16))) || ((e51.position.y < int32_t(0)) || (e51.position.y >= int32_t(16))))) {
-            within50 = false;
+        const C3_Dog& prev37 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+        bool l_wbound38{};
+        bool l_fr39{};
+        C3_Dog l_ret40{};
+        const int32_t t41 = add(prev37.origin.x, int32_t(1));
+        const int32_t t42 = add(prev37.origin.y, int32_t(0));
+        const Pos t43 = Pos{t41, t42};
+        C3_Dog upd44 = prev37;
+        upd44.origin = t43;
+        std::vector<Elem>& rendered45 = s.scratch.v.b11;
+        rendered45.clear();
+        rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(0)), add(upd44.origin.y, int32_t(0))}, int32_t(0)});
+        bool within46 = true;
+        for (const Elem& e47 : rendered45) {
+          if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(16))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(16))))) {
+            within46 = false;
             break;
           }
         }
-        l_wbound42 = within50;
-        const int32_t t52 = add(prev41.origin.x, int32_t(1));
-        const int32_t t53 = add(prev41.origin.y, int32_t(0));
-        const Pos t54 = Pos{t52, t53};
-        C3_Dog upd55 = prev41;
-        upd55.origin = t54;
-        std::vector<Elem>& l_prev_elems56 = s.scratch.v.b12;
-        l_prev_elems56.clear();
-        std::vector<Elem>& l_curr_elems57 = s.scratch.v.b13;
-        l_curr_elems57.clear();
-        std::vector<Elem>& l_filtered_elems58 = s.scratch.v.b14;
-        l_filtered_elems58.clear();
-        std::vector<Elem>& rendered59 = s.scratch.v.b15;
-        rendered59.clear();
-        rendered59.push_back(Elem{Pos{add(prev41.origin.x, int32_t(0)), add(prev41.origin.y, int32_t(0))}, int32_t(0)});
-        std::swap(l_prev_elems56, rendered59);
-        std::vector<Elem>& rendered60 = s.scratch.v.b16;
-        rendered60.clear();
-        rendered60.push_back(Elem{Pos{add(upd55.origin.x, int32_t(0)), add(upd55.origin.y, int32_t(0))}, int32_t(0)});
-        std::swap(l_curr_elems57, rendered60);
-        const std::vector<Elem>& v61 = l_curr_elems57;
-        std::vector<Elem>& out62 = s.scratch.v.b17;
-        out62.clear();
-        for (const Elem& x63 : v61) {
-          const std::vector<Elem>& v64 = l_prev_elems56;
-          bool any65 = false;
-          for (const Elem& x66 : v64) {
-            const bool t67 = (x66 == x63);
-            if (t67) {
-              any65 = true;
+        l_wbound38 = within46;
+        const int32_t t48 = add(prev37.origin.x, int32_t(1));
+        const int32_t t49 = add(prev37.origin.y, int32_t(0));
+        const Pos t50 = Pos{t48, t49};
+        C3_Dog upd51 = prev37;
+        upd51.origin = t50;
+        std::vector<Elem>& l_prev_elems52 = s.scratch.v.b12;
+        l_prev_elems52.clear();
+        std::vector<Elem>& l_curr_elems53 = s.scratch.v.b13;
+        l_curr_elems53.clear();
+        std::vector<Elem>& l_filtered_elems54 = s.scratch.v.b14;
+        l_filtered_elems54.clear();
+        std::vector<Elem>& rendered55 = s.scratch.v.b15;
+        rendered55.clear();
+        rendered55.push_back(Elem{Pos{add(prev37.origin.x, int32_t(0)), add(prev37.origin.y, int32_t(0))}, int32_t(0)});
+        std::swap(l_prev_elems52, rendered55);
+        std::vector<Elem>& rendered56 = s.scratch.v.b16;
+        rendered56.clear();
+        rendered56.push_back(Elem{Pos{add(upd51.origin.x, int32_t(0)), add(upd51.origin.y, int32_t(0))}, int32_t(0)});
+        std::swap(l_curr_elems53, rendered56);
+        std::vector<Elem>& out57 = s.scratch.v.b17;
+        out57.clear();
+        for (const Elem& x58 : l_curr_elems53) {
+          bool any59 = false;
+          for (const Elem& x60 : l_prev_elems52) {
+            const bool t61 = (x60 == x58);
+            if (t61) {
+              any59 = true;
               break;
             }
           }
-          const bool t68 = !any65;
-          if (t68) {
-            out62.push_back(x63);
+          const bool t62 = !any59;
+          if (t62) {
+            out57.push_back(x58);
           }
         }
-        std::swap(l_filtered_elems58, out62);
-        const std::vector<Elem>& v69 = l_filtered_elems58;
-        bool any70 = false;
-        for (const Elem& x71 : v69) {
-          const bool t72 = s.core.occupied.free(x71.position);
-          const bool t73 = !t72;
-          if (t73) {
-            any70 = true;
+        std::swap(l_filtered_elems54, out57);
+        bool any63 = false;
+        for (const Elem& x64 : l_filtered_elems54) {
+          const bool t65 = s.core.occupied.free(x64.position);
+          const bool t66 = !t65;
+          if (t66) {
+            any63 = true;
             break;
           }
         }
-        const bool t74 = !any70;
-        l_fr43 = t74;
-        const bool& v75 = l_wbound42;
-        bool r76{};
-        if (v75) {
-          const bool& v77 = l_fr43;
-          r76 = v77;
+        const bool t67 = !any63;
+        l_fr39 = t67;
+        bool r68{};
+        if (l_wbound38) {
+          r68 = l_fr39;
         } else {
-          r76 = false;
+          r68 = false;
         }
-        C3_Dog r78{};
-        if (r76) {
-          const int32_t t79 = add(prev41.origin.x, int32_t(1));
-          const int32_t t80 = add(prev41.origin.y, int32_t(0));
-          const Pos t81 = Pos{t79, t80};
-          C3_Dog upd82 = prev41;
-          upd82.origin = t81;
-          r78 = std::move(upd82);
+        C3_Dog r69{};
+        if (r68) {
+          const int32_t t70 = add(prev37.origin.x, int32_t(1));
+          const int32_t t71 = add(prev37.origin.y, int32_t(0));
+          const Pos t72 = Pos{t70, t71};
+          C3_Dog upd73 = prev37;
+          upd73.origin = t72;
+          r69 = std::move(upd73);
         } else {
-          r78 = prev41;
+          r69 = prev37;
         }
-        l_ret44 = std::move(r78);
-        const C3_Dog& v83 = l_ret44;
-        s.g_dog_13 = v83;
-        s.u_dog_14 = true;
-        const std::vector<int32_t> t84 = std::vector<int32_t>{};
-        s.g_flags_10 = std::vector<C1_Flag>{};
-        s.u_flags_11 = true;
+        l_ret40 = std::move(r69);
+        if (!s.scratch.v.sv_dog_18) {
+          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          s.scratch.v.sv_dog_18 = true;
+        }
+        s.g_dog_15 = std::move(l_ret40);
+        s.u_dog_16 = true;
+        if (!s.scratch.v.sv_flags_14) {
+          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          s.scratch.v.sv_flags_14 = true;
+        }
+        s.g_flags_11 = std::vector<C1_Flag>{};
+        s.u_flags_12 = true;
       }
     }
     // on-clause 3, programs/sheepdog.au:70
     {
-      const bool t85 = s.core.up;
-      if (t85) {
+      const bool t74 = s.core.up;
+      if (t74) {
         s.core.covered[int32_t(2)] = 1;
-        const C3_Dog& prev86 = s.p_dog_15;
-        const int32_t t87 = add(prev86.origin.x, int32_t(0));
-        const int32_t t88 = add(prev86.origin.y, int32_t(-1));
-        const Pos t89 = Pos{t87, t88};
-        C3_Dog upd90 = prev86;
-        upd90.origin = t89;
-        std::vector<Elem>& rendered91 = s.scratch.v.b18;
-        rendered91.clear();
-        rendered91.push_back(Elem{Pos{add(upd90.origin.x, int32_t(0)), add(upd90.origin.y, int32_t(0))}, int32_t(0)});
-        bool within92 = true;
-        for (const Elem& e93 : rendered91) {
-          if ((((e93.position.x < int32_t(0)) || (e93.position.x >= int32_t(16))) || ((e93.position.y < int32_t(0)) || (e93.position.y >= int32_t(16))))) {
-            within92 = false;
+        const C3_Dog& prev75 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+        const int32_t t76 = add(prev75.origin.x, int32_t(0));
+        const int32_t t77 = add(prev75.origin.y, int32_t(-1));
+        const Pos t78 = Pos{t76, t77};
+        C3_Dog upd79 = prev75;
+        upd79.origin = t78;
+        std::vector<Elem>& rendered80 = s.scratch.v.b18;
+        rendered80.clear();
+        rendered80.push_back(Elem{Pos{add(upd79.origin.x, int32_t(0)), add(upd79.origin.y, int32_t(0))}, int32_t(0)});
+        bool within81 = true;
+        for (const Elem& e82 : rendered80) {
+          if ((((e82.position.x < int32_t(0)) || (e82.position.x >= int32_t(16))) || ((e82.position.y < int32_t(0)) || (e82.position.y >= int32_t(16))))) {
+            within81 = false;
             break;
           }
         }
-        bool r94{};
-        if (within92) {
-          const int32_t t95 = add(prev86.origin.x, int32_t(0));
-          const int32_t t96 = add(prev86.origin.y, int32_t(-1));
-          const Pos t97 = Pos{t95, t96};
-          C3_Dog upd98 = prev86;
-          upd98.origin = t97;
-          std::vector<Elem>& l_prev_elems99 = s.scratch.v.b19;
-          l_prev_elems99.clear();
-          std::vector<Elem>& l_curr_elems100 = s.scratch.v.b20;
-          l_curr_elems100.clear();
-          std::vector<Elem>& l_filtered_elems101 = s.scratch.v.b21;
-          l_filtered_elems101.clear();
-          std::vector<Elem>& rendered102 = s.scratch.v.b22;
-          rendered102.clear();
-          rendered102.push_back(Elem{Pos{add(prev86.origin.x, int32_t(0)), add(prev86.origin.y, int32_t(0))}, int32_t(0)});
-          std::swap(l_prev_elems99, rendered102);
-          std::vector<Elem>& rendered103 = s.scratch.v.b23;
-          rendered103.clear();
-          rendered103.push_back(Elem{Pos{add(upd98.origin.x, int32_t(0)), add(upd98.origin.y, int32_t(0))}, int32_t(0)});
-          std::swap(l_curr_elems100, rendered103);
-          const std::vector<Elem>& v104 = l_curr_elems100;
-          std::vector<Elem>& out105 = s.scratch.v.b24;
-          out105.clear();
-          for (const Elem& x106 : v104) {
-            const std::vector<Elem>& v107 = l_prev_elems99;
-            bool any108 = false;
-            for (const Elem& x109 : v107) {
-              const bool t110 = (x109 == x106);
-              if (t110) {
-                any108 = true;
+        bool r83{};
+        if (within81) {
+          const int32_t t84 = add(prev75.origin.x, int32_t(0));
+          const int32_t t85 = add(prev75.origin.y, int32_t(-1));
+          const Pos t86 = Pos{t84, t85};
+          C3_Dog upd87 = prev75;
+          upd87.origin = t86;
+          std::vector<Elem>& l_prev_elems88 = s.scratch.v.b19;
+          l_prev_elems88.clear();
+          std::vector<Elem>& l_curr_elems89 = s.scratch.v.b20;
+          l_curr_elems89.clear();
+          std::vector<Elem>& l_filtered_elems90 = s.scratch.v.b21;
+          l_filtered_elems90.clear();
+          std::vector<Elem>& rendered91 = s.scratch.v.b22;
+          rendered91.clear();
+          rendered91.push_back(Elem{Pos{add(prev75.origin.x, int32_t(0)), add(prev75.origin.y, int32_t(0))}, int32_t(0)});
+          std::swap(l_prev_elems88, rendered91);
+          std::vector<Elem>& rendered92 = s.scratch.v.b23;
+          rendered92.clear();
+          rendered92.push_back(Elem{Pos{add(upd87.origin.x, int32_t(0)), add(upd87.origin.y, int32_t(0))}, int32_t(0)});
+          std::swap(l_curr_elems89, rendered92);
+          std::vector<Elem>& out93 = s.scratch.v.b24;
+          out93.clear();
+          for (const Elem& x94 : l_curr_elems89) {
+            bool any95 = false;
+            for (const Elem& x96 : l_prev_elems88) {
+              const bool t97 = (x96 == x94);
+              if (t97) {
+                any95 = true;
                 break;
               }
             }
-            const bool t111 = !any108;
-            if (t111) {
-              out105.push_back(x106);
+            const bool t98 = !any95;
+            if (t98) {
+              out93.push_back(x94);
             }
           }
-          std::swap(l_filtered_elems101, out105);
-          const std::vector<Elem>& v112 = l_filtered_elems101;
-          bool any113 = false;
-          for (const Elem& x114 : v112) {
-            const bool t115 = s.core.occupied.free(x114.position);
-            const bool t116 = !t115;
-            if (t116) {
-              any113 = true;
+          std::swap(l_filtered_elems90, out93);
+          bool any99 = false;
+          for (const Elem& x100 : l_filtered_elems90) {
+            const bool t101 = s.core.occupied.free(x100.position);
+            const bool t102 = !t101;
+            if (t102) {
+              any99 = true;
               break;
             }
           }
-          const bool t117 = !any113;
-          r94 = t117;
+          const bool t103 = !any99;
+          r83 = t103;
         } else {
-          r94 = false;
+          r83 = false;
         }
-        C3_Dog r118{};
-        if (r94) {
-          const int32_t t119 = add(prev86.origin.x, int32_t(0));
-          const int32_t t120 = add(prev86.origin.y, int32_t(-1));
-          const Pos t121 = Pos{t119, t120};
-          C3_Dog upd122 = prev86;
-          upd122.origin = t121;
-          r118 = std::move(upd122);
+        C3_Dog r104{};
+        if (r83) {
+          const int32_t t105 = add(prev75.origin.x, int32_t(0));
+          const int32_t t106 = add(prev75.origin.y, int32_t(-1));
+          const Pos t107 = Pos{t105, t106};
+          C3_Dog upd108 = prev75;
+          upd108.origin = t107;
+          r104 = std::move(upd108);
         } else {
-          r118 = prev86;
+          r104 = prev75;
         }
-        s.g_dog_13 = std::move(r118);
-        s.u_dog_14 = true;
-        const std::vector<int32_t> t123 = std::vector<int32_t>{};
-        s.g_flags_10 = std::vector<C1_Flag>{};
-        s.u_flags_11 = true;
+        if (!s.scratch.v.sv_dog_18) {
+          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          s.scratch.v.sv_dog_18 = true;
+        }
+        s.g_dog_15 = std::move(r104);
+        s.u_dog_16 = true;
+        if (!s.scratch.v.sv_flags_14) {
+          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          s.scratch.v.sv_flags_14 = true;
+        }
+        s.g_flags_11 = std::vector<C1_Flag>{};
+        s.u_flags_12 = true;
       }
     }
     // on-clause 4, programs/sheepdog.au:71
     {
-      const bool t124 = s.core.down;
-      if (t124) {
+      const bool t109 = s.core.down;
+      if (t109) {
         s.core.covered[int32_t(3)] = 1;
-        const C3_Dog& prev125 = s.p_dog_15;
-        const int32_t t126 = add(prev125.origin.x, int32_t(0));
-        const int32_t t127 = add(prev125.origin.y, int32_t(1));
-        const Pos t128 = Pos{t126, t127};
-        C3_Dog upd129 = prev125;
-        upd129.origin = t128;
-        std::vector<Elem>& rendered130 = s.scratch.v.b25;
-        rendered130.clear();
-        rendered130.push_back(Elem{Pos{add(upd129.origin.x, int32_t(0)), add(upd129.origin.y, int32_t(0))}, int32_t(0)});
-        bool within131 = true;
-        for (const Elem& e132 : rendered130) {
-          if ((((e132.position.x < int32_t(0)) || (e132.position.x >= int32_t(16))) || ((e132.position.y < int32_t(0)) || (e132.position.y >= int32_t(16))))) {
-            within131 = false;
+        const C3_Dog& prev110 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+        const int32_t t111 = add(prev110.origin.x, int32_t(0));
+        const int32_t t112 = add(prev110.origin.y, int32_t(1));
+        const Pos t113 = Pos{t111, t112};
+        C3_Dog upd114 = prev110;
+        upd114.origin = t113;
+        std::vector<Elem>& rendered115 = s.scratch.v.b25;
+        rendered115.clear();
+        rendered115.push_back(Elem{Pos{add(upd114.origin.x, int32_t(0)), add(upd114.origin.y, int32_t(0))}, int32_t(0)});
+        bool within116 = true;
+        for (const Elem& e117 : rendered115) {
+          if ((((e117.position.x < int32_t(0)) || (e117.position.x >= int32_t(16))) || ((e117.position.y < int32_t(0)) || (e117.position.y >= int32_t(16))))) {
+            within116 = false;
             break;
           }
         }
-        bool r133{};
-        if (within131) {
-          const int32_t t134 = add(prev125.origin.x, int32_t(0));
-          const int32_t t135 = add(prev125.origin.y, int32_t(1));
-          const Pos t136 = Pos{t134, t135};
-          C3_Dog upd137 = prev125;
-          upd137.origin = t136;
-          std::vector<Elem>& l_prev_elems138 = s.scratch.v.b26;
-          l_prev_elems138.clear();
-          std::vector<Elem>& l_curr_elems139 = s.scratch.v.b27;
-          l_curr_elems139.clear();
-          std::vector<Elem>& l_filtered_elems140 = s.scratch.v.b28;
-          l_filtered_elems140.clear();
-          std::vector<Elem>& rendered141 = s.scratch.v.b29;
-          rendered141.clear();
-          rendered141.push_back(Elem{Pos{add(prev125.origin.x, int32_t(0)), add(prev125.origin.y, int32_t(0))}, int32_t(0)});
-          std::swap(l_prev_elems138, rendered141);
-          std::vector<Elem>& rendered142 = s.scratch.v.b30;
-          rendered142.clear();
-          rendered142.push_back(Elem{Pos{add(upd137.origin.x, int32_t(0)), add(upd137.origin.y, int32_t(0))}, int32_t(0)});
-          std::swap(l_curr_elems139, rendered142);
-          const std::vector<Elem>& v143 = l_curr_elems139;
-          std::vector<Elem>& out144 = s.scratch.v.b31;
-          out144.clear();
-          for (const Elem& x145 : v143) {
-            const std::vector<Elem>& v146 = l_prev_elems138;
-            bool any147 = false;
-            for (const Elem& x148 : v146) {
-              const bool t149 = (x148 == x145);
-              if (t149) {
-                any147 = true;
+        bool r118{};
+        if (within116) {
+          const int32_t t119 = add(prev110.origin.x, int32_t(0));
+          const int32_t t120 = add(prev110.origin.y, int32_t(1));
+          const Pos t121 = Pos{t119, t120};
+          C3_Dog upd122 = prev110;
+          upd122.origin = t121;
+          std::vector<Elem>& l_prev_elems123 = s.scratch.v.b26;
+          l_prev_elems123.clear();
+          std::vector<Elem>& l_curr_elems124 = s.scratch.v.b27;
+          l_curr_elems124.clear();
+          std::vector<Elem>& l_filtered_elems125 = s.scratch.v.b28;
+          l_filtered_elems125.clear();
+          std::vector<Elem>& rendered126 = s.scratch.v.b29;
+          rendered126.clear();
+          rendered126.push_back(Elem{Pos{add(prev110.origin.x, int32_t(0)), add(prev110.origin.y, int32_t(0))}, int32_t(0)});
+          std::swap(l_prev_elems123, rendered126);
+          std::vector<Elem>& rendered127 = s.scratch.v.b30;
+          rendered127.clear();
+          rendered127.push_back(Elem{Pos{add(upd122.origin.x, int32_t(0)), add(upd122.origin.y, int32_t(0))}, int32_t(0)});
+          std::swap(l_curr_elems124, rendered127);
+          std::vector<Elem>& out128 = s.scratch.v.b31;
+          out128.clear();
+          for (const Elem& x129 : l_curr_elems124) {
+            bool any130 = false;
+            for (const Elem& x131 : l_prev_elems123) {
+              const bool t132 = (x131 == x129);
+              if (t132) {
+                any130 = true;
                 break;
               }
             }
-            const bool t150 = !any147;
-            if (t150) {
-              out144.push_back(x145);
+            const bool t133 = !any130;
+            if (t133) {
+              out128.push_back(x129);
             }
           }
-          std::swap(l_filtered_elems140, out144);
-          const std::vector<Elem>& v151 = l_filtered_elems140;
-          bool any152 = false;
-          for (const Elem& x153 : v151) {
-            const bool t154 = s.core.occupied.free(x153.position);
-            const bool t155 = !t154;
-            if (t155) {
-              any152 = true;
+          std::swap(l_filtered_elems125, out128);
+          bool any134 = false;
+          for (const Elem& x135 : l_filtered_elems125) {
+            const bool t136 = s.core.occupied.free(x135.position);
+            const bool t137 = !t136;
+            if (t137) {
+              any134 = true;
               break;
             }
           }
-          const bool t156 = !any152;
-          r133 = t156;
+          const bool t138 = !any134;
+          r118 = t138;
         } else {
-          r133 = false;
+          r118 = false;
         }
-        C3_Dog r157{};
-        if (r133) {
-          const int32_t t158 = add(prev125.origin.x, int32_t(0));
-          const int32_t t159 = add(prev125.origin.y, int32_t(1));
-          const Pos t160 = Pos{t158, t159};
-          C3_Dog upd161 = prev125;
-          upd161.origin = t160;
-          r157 = std::move(upd161);
+        C3_Dog r139{};
+        if (r118) {
+          const int32_t t140 = add(prev110.origin.x, int32_t(0));
+          const int32_t t141 = add(prev110.origin.y, int32_t(1));
+          const Pos t142 = Pos{t140, t141};
+          C3_Dog upd143 = prev110;
+          upd143.origin = t142;
+          r139 = std::move(upd143);
         } else {
-          r157 = prev125;
+          r139 = prev110;
         }
-        s.g_dog_13 = std::move(r157);
-        s.u_dog_14 = true;
-        const std::vector<int32_t> t162 = std::vector<int32_t>{};
-        s.g_flags_10 = std::vector<C1_Flag>{};
-        s.u_flags_11 = true;
+        if (!s.scratch.v.sv_dog_18) {
+          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          s.scratch.v.sv_dog_18 = true;
+        }
+        s.g_dog_15 = std::move(r139);
+        s.u_dog_16 = true;
+        if (!s.scratch.v.sv_flags_14) {
+          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          s.scratch.v.sv_flags_14 = true;
+        }
+        s.g_flags_11 = std::vector<C1_Flag>{};
+        s.u_flags_12 = true;
       }
     }
     // on-clause 5, programs/sheepdog.au:73
     {
-      const std::vector<C1_Flag>& prev163 = s.p_flags_12;
-      const int32_t t164 = int32_t(prev163.size());
-      const bool t165 = (t164 > int32_t(0));
-      bool r166{};
-      if (t165) {
+      const std::vector<C1_Flag>& prev144 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
+      const int32_t t145 = int32_t(prev144.size());
+      const bool t146 = (t145 > int32_t(0));
+      bool r147{};
+      if (t146) {
         // inlined: function at programs/sheepdog.au:40
-        const bool t167 = s.core.left;
-        bool r168{};
-        if (!t167) {
-          const bool t169 = s.core.right;
-          bool r170{};
-          if (!t169) {
-            const bool t171 = s.core.up;
-            bool r172{};
-            if (!t171) {
-              const bool t173 = s.core.down;
-              r172 = t173;
+        const bool t148 = s.core.left;
+        bool r149{};
+        if (!t148) {
+          const bool t150 = s.core.right;
+          bool r151{};
+          if (!t150) {
+            const bool t152 = s.core.up;
+            bool r153{};
+            if (!t152) {
+              const bool t154 = s.core.down;
+              r153 = t154;
             } else {
-              r172 = true;
+              r153 = true;
             }
-            r170 = r172;
+            r151 = r153;
           } else {
-            r170 = true;
+            r151 = true;
           }
-          r168 = r170;
+          r149 = r151;
         } else {
-          r168 = true;
+          r149 = true;
         }
-        const bool t174 = !r168;
-        r166 = t174;
+        const bool t155 = !r149;
+        r147 = t155;
       } else {
-        r166 = false;
+        r147 = false;
       }
-      if (r166) {
+      if (r147) {
         s.core.covered[int32_t(4)] = 1;
-        const C3_Dog& prev175 = s.p_dog_15;
-        const std::vector<C1_Flag>& prev176 = s.p_flags_12;
-        if (prev176.empty()) {
+        const C3_Dog& prev156 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+        const std::vector<C1_Flag>& prev157 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
+        if (prev157.empty()) {
           fail_at(1, std::string() + std::string("head of an empty list"));
         }
-        const C1_Flag t177 = prev176.front();
+        const C1_Flag t158 = prev157.front();
         // inlined: function at programs/sheepdog.au:62
-        Pos l_v178{};
-        C3_Dog l_tryFirst179{};
-        Pos l_delta180{};
-        int32_t l_sign_x181{};
-        int32_t l_sign_y182{};
-        const int32_t t183 = sub(t177.origin.x, prev175.origin.x);
-        const int32_t t184 = sub(t177.origin.y, prev175.origin.y);
-        const Pos t185 = Pos{t183, t184};
-        l_delta180 = t185;
-        const Pos& v186 = l_delta180;
-        const bool t187 = (v186.x == int32_t(0));
-        int32_t r188{};
-        if (t187) {
-          r188 = int32_t(0);
+        Pos l_v159{};
+        C3_Dog l_tryFirst160{};
+        Pos l_delta161{};
+        int32_t l_sign_x162{};
+        int32_t l_sign_y163{};
+        const int32_t t164 = sub(t158.origin.x, prev156.origin.x);
+        const int32_t t165 = sub(t158.origin.y, prev156.origin.y);
+        const Pos t166 = Pos{t164, t165};
+        l_delta161 = t166;
+        const bool t167 = (l_delta161.x == int32_t(0));
+        int32_t r168{};
+        if (t167) {
+          r168 = int32_t(0);
         } else {
-          const bool t189 = (v186.x < int32_t(0));
-          int32_t r190{};
-          if (t189) {
-            r190 = int32_t(-1);
+          const bool t169 = (l_delta161.x < int32_t(0));
+          int32_t r170{};
+          if (t169) {
+            r170 = int32_t(-1);
           } else {
-            r190 = int32_t(1);
+            r170 = int32_t(1);
           }
-          r188 = r190;
+          r168 = r170;
         }
-        l_sign_x181 = r188;
-        const Pos& v191 = l_delta180;
-        const bool t192 = (v191.y == int32_t(0));
-        int32_t r193{};
-        if (t192) {
-          r193 = int32_t(0);
+        l_sign_x162 = r168;
+        const bool t171 = (l_delta161.y == int32_t(0));
+        int32_t r172{};
+        if (t171) {
+          r172 = int32_t(0);
         } else {
-          const bool t194 = (v191.y < int32_t(0));
-          int32_t r195{};
-          if (t194) {
-            r195 = int32_t(-1);
+          const bool t173 = (l_delta161.y < int32_t(0));
+          int32_t r174{};
+          if (t173) {
+            r174 = int32_t(-1);
           } else {
-            r195 = int32_t(1);
+            r174 = int32_t(1);
           }
-          r193 = r195;
+          r172 = r174;
         }
-        l_sign_y182 = r193;
-        const int32_t& v196 = l_sign_x181;
-        const bool t197 = (v196 < int32_t(0));
-        int32_t r198{};
-        if (t197) {
-          const int32_t t199 = neg(v196);
-          r198 = t199;
+        l_sign_y163 = r172;
+        const bool t175 = (l_sign_x162 < int32_t(0));
+        int32_t r176{};
+        if (t175) {
+          const int32_t t177 = neg(l_sign_x162);
+          r176 = t177;
         } else {
-          r198 = v196;
+          r176 = l_sign_x162;
         }
-        const bool t200 = (r198 == int32_t(1));
-        bool r201{};
-        if (t200) {
-          const int32_t& v202 = l_sign_y182;
-          const bool t203 = (v202 < int32_t(0));
-          int32_t r204{};
-          if (t203) {
-            const int32_t t205 = neg(v202);
-            r204 = t205;
+        const bool t178 = (r176 == int32_t(1));
+        bool r179{};
+        if (t178) {
+          const bool t180 = (l_sign_y163 < int32_t(0));
+          int32_t r181{};
+          if (t180) {
+            const int32_t t182 = neg(l_sign_y163);
+            r181 = t182;
           } else {
-            r204 = v202;
+            r181 = l_sign_y163;
           }
-          const bool t206 = (r204 == int32_t(1));
-          r201 = t206;
+          const bool t183 = (r181 == int32_t(1));
+          r179 = t183;
         } else {
-          r201 = false;
+          r179 = false;
         }
-        Pos r207{};
-        if (r201) {
-          const int32_t& v208 = l_sign_x181;
-          const Pos t209 = Pos{v208, int32_t(0)};
-          r207 = t209;
+        Pos r184{};
+        if (r179) {
+          const Pos t185 = Pos{l_sign_x162, int32_t(0)};
+          r184 = t185;
         } else {
-          const int32_t& v210 = l_sign_x181;
-          const int32_t& v211 = l_sign_y182;
-          const Pos t212 = Pos{v210, v211};
-          r207 = t212;
+          const Pos t186 = Pos{l_sign_x162, l_sign_y163};
+          r184 = t186;
         }
-        l_v178 = r207;
-        const Pos& v213 = l_v178;
-        const Pos& v214 = l_v178;
-        const Pos t215 = Pos{v213.x, v214.y};
-        const int32_t t216 = add(prev175.origin.x, t215.x);
-        const int32_t t217 = add(prev175.origin.y, t215.y);
-        const Pos t218 = Pos{t216, t217};
-        C3_Dog upd219 = prev175;
-        upd219.origin = t218;
-        std::vector<Elem>& l_prev_elems220 = s.scratch.v.b32;
-        l_prev_elems220.clear();
-        std::vector<Elem>& l_curr_elems221 = s.scratch.v.b33;
-        l_curr_elems221.clear();
-        std::vector<Elem>& l_filtered_elems222 = s.scratch.v.b34;
-        l_filtered_elems222.clear();
-        std::vector<Elem>& rendered223 = s.scratch.v.b35;
-        rendered223.clear();
-        rendered223.push_back(Elem{Pos{add(prev175.origin.x, int32_t(0)), add(prev175.origin.y, int32_t(0))}, int32_t(0)});
-        std::swap(l_prev_elems220, rendered223);
-        std::vector<Elem>& rendered224 = s.scratch.v.b36;
-        rendered224.clear();
-        rendered224.push_back(Elem{Pos{add(upd219.origin.x, int32_t(0)), add(upd219.origin.y, int32_t(0))}, int32_t(0)});
-        std::swap(l_curr_elems221, rendered224);
-        const std::vector<Elem>& v225 = l_curr_elems221;
-        std::vector<Elem>& out226 = s.scratch.v.b37;
-        out226.clear();
-        for (const Elem& x227 : v225) {
-          const std::vector<Elem>& v228 = l_prev_elems220;
-          bool any229 = false;
-          for (const Elem& x230 : v228) {
-            const bool t231 = (x230 == x227);
-            if (t231) {
-              any229 = true;
+        l_v159 = r184;
+        const Pos t187 = Pos{l_v159.x, l_v159.y};
+        const int32_t t188 = add(prev156.origin.x, t187.x);
+        const int32_t t189 = add(prev156.origin.y, t187.y);
+        const Pos t190 = Pos{t188, t189};
+        C3_Dog upd191 = prev156;
+        upd191.origin = t190;
+        std::vector<Elem>& l_prev_elems192 = s.scratch.v.b32;
+        l_prev_elems192.clear();
+        std::vector<Elem>& l_curr_elems193 = s.scratch.v.b33;
+        l_curr_elems193.clear();
+        std::vector<Elem>& l_filtered_elems194 = s.scratch.v.b34;
+        l_filtered_elems194.clear();
+        std::vector<Elem>& rendered195 = s.scratch.v.b35;
+        rendered195.clear();
+        rendered195.push_back(Elem{Pos{add(prev156.origin.x, int32_t(0)), add(prev156.origin.y, int32_t(0))}, int32_t(0)});
+        std::swap(l_prev_elems192, rendered195);
+        std::vector<Elem>& rendered196 = s.scratch.v.b36;
+        rendered196.clear();
+        rendered196.push_back(Elem{Pos{add(upd191.origin.x, int32_t(0)), add(upd191.origin.y, int32_t(0))}, int32_t(0)});
+        std::swap(l_curr_elems193, rendered196);
+        std::vector<Elem>& out197 = s.scratch.v.b37;
+        out197.clear();
+        for (const Elem& x198 : l_curr_elems193) {
+          bool any199 = false;
+          for (const Elem& x200 : l_prev_elems192) {
+            const bool t201 = (x200 == x198);
+            if (t201) {
+              any199 = true;
               break;
             }
           }
-          const bool t232 = !any229;
-          if (t232) {
-            out226.push_back(x227);
+          const bool t202 = !any199;
+          if (t202) {
+            out197.push_back(x198);
           }
         }
-        std::swap(l_filtered_elems222, out226);
-        const std::vector<Elem>& v233 = l_filtered_elems222;
-        bool any234 = false;
-        for (const Elem& x235 : v233) {
-          const bool t236 = s.core.occupied.free(x235.position);
-          const bool t237 = !t236;
-          if (t237) {
-            any234 = true;
+        std::swap(l_filtered_elems194, out197);
+        bool any203 = false;
+        for (const Elem& x204 : l_filtered_elems194) {
+          const bool t205 = s.core.occupied.free(x204.position);
+          const bool t206 = !t205;
+          if (t206) {
+            any203 = true;
             break;
           }
         }
-        const bool t238 = !any234;
-        C3_Dog r239{};
-        if (t238) {
-          const Pos t240 = Pos{v213.x, v214.y};
-          const int32_t t241 = add(prev175.origin.x, t240.x);
-          const int32_t t242 = add(prev175.origin.y, t240.y);
-          const Pos t243 = Pos{t241, t242};
-          C3_Dog upd244 = prev175;
-          upd244.origin = t243;
-          r239 = std::move(upd244);
+        const bool t207 = !any203;
+        C3_Dog r208{};
+        if (t207) {
+          const Pos t209 = Pos{l_v159.x, l_v159.y};
+          const int32_t t210 = add(prev156.origin.x, t209.x);
+          const int32_t t211 = add(prev156.origin.y, t209.y);
+          const Pos t212 = Pos{t210, t211};
+          C3_Dog upd213 = prev156;
+          upd213.origin = t212;
+          r208 = std::move(upd213);
         } else {
-          r239 = prev175;
+          r208 = prev156;
         }
-        l_tryFirst179 = std::move(r239);
-        const C3_Dog& v245 = l_tryFirst179;
-        const bool t246 = (v245.origin == prev175.origin);
-        const bool t247 = !t246;
-        C3_Dog r248{};
-        if (t247) {
-          const C3_Dog& v249 = l_tryFirst179;
-          r248 = v249;
+        l_tryFirst160 = std::move(r208);
+        const bool t214 = (l_tryFirst160.origin == prev156.origin);
+        const bool t215 = !t214;
+        C3_Dog r216{};
+        if (t215) {
+          r216 = std::move(l_tryFirst160);
         } else {
-          const int32_t t250 = sub(t177.origin.y, prev175.origin.y);
-          const bool t251 = (t250 == int32_t(0));
-          int32_t r252{};
-          if (t251) {
-            r252 = int32_t(0);
+          const int32_t t217 = sub(t158.origin.y, prev156.origin.y);
+          const bool t218 = (t217 == int32_t(0));
+          int32_t r219{};
+          if (t218) {
+            r219 = int32_t(0);
           } else {
-            const bool t253 = (t250 < int32_t(0));
-            int32_t r254{};
-            if (t253) {
-              r254 = int32_t(-1);
+            const bool t220 = (t217 < int32_t(0));
+            int32_t r221{};
+            if (t220) {
+              r221 = int32_t(-1);
             } else {
-              r254 = int32_t(1);
+              r221 = int32_t(1);
             }
-            r252 = r254;
+            r219 = r221;
           }
-          const Pos t255 = Pos{int32_t(0), r252};
-          const int32_t t256 = add(prev175.origin.x, t255.x);
-          const int32_t t257 = add(prev175.origin.y, t255.y);
-          const Pos t258 = Pos{t256, t257};
-          C3_Dog upd259 = prev175;
-          upd259.origin = t258;
-          std::vector<Elem>& l_prev_elems260 = s.scratch.v.b38;
-          l_prev_elems260.clear();
-          std::vector<Elem>& l_curr_elems261 = s.scratch.v.b39;
-          l_curr_elems261.clear();
-          std::vector<Elem>& l_filtered_elems262 = s.scratch.v.b40;
-          l_filtered_elems262.clear();
-          std::vector<Elem>& rendered263 = s.scratch.v.b41;
-          rendered263.clear();
-          rendered263.push_back(Elem{Pos{add(prev175.origin.x, int32_t(0)), add(prev175.origin.y, int32_t(0))}, int32_t(0)});
-          std::swap(l_prev_elems260, rendered263);
-          std::vector<Elem>& rendered264 = s.scratch.v.b42;
-          rendered264.clear();
-          rendered264.push_back(Elem{Pos{add(upd259.origin.x, int32_t(0)), add(upd259.origin.y, int32_t(0))}, int32_t(0)});
-          std::swap(l_curr_elems261, rendered264);
-          const std::vector<Elem>& v265 = l_curr_elems261;
-          std::vector<Elem>& out266 = s.scratch.v.b43;
-          out266.clear();
-          for (const Elem& x267 : v265) {
-            const std::vector<Elem>& v268 = l_prev_elems260;
-            bool any269 = false;
-            for (const Elem& x270 : v268) {
-              const bool t271 = (x270 == x267);
-              if (t271) {
-                any269 = true;
+          const Pos t222 = Pos{int32_t(0), r219};
+          const int32_t t223 = add(prev156.origin.x, t222.x);
+          const int32_t t224 = add(prev156.origin.y, t222.y);
+          const Pos t225 = Pos{t223, t224};
+          C3_Dog upd226 = prev156;
+          upd226.origin = t225;
+          std::vector<Elem>& l_prev_elems227 = s.scratch.v.b38;
+          l_prev_elems227.clear();
+          std::vector<Elem>& l_curr_elems228 = s.scratch.v.b39;
+          l_curr_elems228.clear();
+          std::vector<Elem>& l_filtered_elems229 = s.scratch.v.b40;
+          l_filtered_elems229.clear();
+          std::vector<Elem>& rendered230 = s.scratch.v.b41;
+          rendered230.clear();
+          rendered230.push_back(Elem{Pos{add(prev156.origin.x, int32_t(0)), add(prev156.origin.y, int32_t(0))}, int32_t(0)});
+          std::swap(l_prev_elems227, rendered230);
+          std::vector<Elem>& rendered231 = s.scratch.v.b42;
+          rendered231.clear();
+          rendered231.push_back(Elem{Pos{add(upd226.origin.x, int32_t(0)), add(upd226.origin.y, int32_t(0))}, int32_t(0)});
+          std::swap(l_curr_elems228, rendered231);
+          std::vector<Elem>& out232 = s.scratch.v.b43;
+          out232.clear();
+          for (const Elem& x233 : l_curr_elems228) {
+            bool any234 = false;
+            for (const Elem& x235 : l_prev_elems227) {
+              const bool t236 = (x235 == x233);
+              if (t236) {
+                any234 = true;
                 break;
               }
             }
-            const bool t272 = !any269;
-            if (t272) {
-              out266.push_back(x267);
+            const bool t237 = !any234;
+            if (t237) {
+              out232.push_back(x233);
             }
           }
-          std::swap(l_filtered_elems262, out266);
-          const std::vector<Elem>& v273 = l_filtered_elems262;
-          bool any274 = false;
-          for (const Elem& x275 : v273) {
-            const bool t276 = s.core.occupied.free(x275.position);
-            const bool t277 = !t276;
-            if (t277) {
-              any274 = true;
+          std::swap(l_filtered_elems229, out232);
+          bool any238 = false;
+          for (const Elem& x239 : l_filtered_elems229) {
+            const bool t240 = s.core.occupied.free(x239.position);
+            const bool t241 = !t240;
+            if (t241) {
+              any238 = true;
               break;
             }
           }
-          const bool t278 = !any274;
-          C3_Dog r279{};
-          if (t278) {
-            const Pos t280 = Pos{int32_t(0), r252};
-            const int32_t t281 = add(prev175.origin.x, t280.x);
-            const int32_t t282 = add(prev175.origin.y, t280.y);
-            const Pos t283 = Pos{t281, t282};
-            C3_Dog upd284 = prev175;
-            upd284.origin = t283;
-            r279 = std::move(upd284);
+          const bool t242 = !any238;
+          C3_Dog r243{};
+          if (t242) {
+            const Pos t244 = Pos{int32_t(0), r219};
+            const int32_t t245 = add(prev156.origin.x, t244.x);
+            const int32_t t246 = add(prev156.origin.y, t244.y);
+            const Pos t247 = Pos{t245, t246};
+            C3_Dog upd248 = prev156;
+            upd248.origin = t247;
+            r243 = std::move(upd248);
           } else {
-            r279 = prev175;
+            r243 = prev156;
           }
-          r248 = std::move(r279);
+          r216 = std::move(r243);
         }
-        s.g_dog_13 = std::move(r248);
-        s.u_dog_14 = true;
+        if (!s.scratch.v.sv_dog_18) {
+          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          s.scratch.v.sv_dog_18 = true;
+        }
+        s.g_dog_15 = std::move(r216);
+        s.u_dog_16 = true;
       }
     }
     // on-clause 6, programs/sheepdog.au:75
     {
-      const std::vector<C1_Flag>& g285 = s.g_flags_10;
-      const int32_t t286 = int32_t(g285.size());
-      const bool t287 = (t286 > int32_t(0));
-      bool r288{};
-      if (t287) {
-        const C3_Dog& g289 = s.g_dog_13;
-        const std::vector<C1_Flag>& g290 = s.g_flags_10;
-        if (g290.empty()) {
+      const std::vector<C1_Flag>& g249 = s.g_flags_11;
+      const int32_t t250 = int32_t(g249.size());
+      const bool t251 = (t250 > int32_t(0));
+      bool r252{};
+      if (t251) {
+        const C3_Dog& g253 = s.g_dog_15;
+        const std::vector<C1_Flag>& g254 = s.g_flags_11;
+        if (g254.empty()) {
           fail_at(2, std::string() + std::string("head of an empty list"));
         }
-        const C1_Flag t291 = g290.front();
-        Pos l_delta292{};
-        const int32_t t293 = sub(t291.origin.x, g289.origin.x);
-        const int32_t t294 = sub(t291.origin.y, g289.origin.y);
-        const Pos t295 = Pos{t293, t294};
-        l_delta292 = t295;
-        const Pos& v296 = l_delta292;
-        const bool t297 = (v296.x < int32_t(0));
-        int32_t r298{};
-        if (t297) {
-          const int32_t t299 = neg(v296.x);
-          r298 = t299;
+        const C1_Flag t255 = g254.front();
+        Pos l_delta256{};
+        const int32_t t257 = sub(t255.origin.x, g253.origin.x);
+        const int32_t t258 = sub(t255.origin.y, g253.origin.y);
+        const Pos t259 = Pos{t257, t258};
+        l_delta256 = t259;
+        const bool t260 = (l_delta256.x < int32_t(0));
+        int32_t r261{};
+        if (t260) {
+          const int32_t t262 = neg(l_delta256.x);
+          r261 = t262;
         } else {
-          r298 = v296.x;
+          r261 = l_delta256.x;
         }
-        const Pos& v300 = l_delta292;
-        const bool t301 = (v300.y < int32_t(0));
-        int32_t r302{};
-        if (t301) {
-          const int32_t t303 = neg(v300.y);
-          r302 = t303;
+        const bool t263 = (l_delta256.y < int32_t(0));
+        int32_t r264{};
+        if (t263) {
+          const int32_t t265 = neg(l_delta256.y);
+          r264 = t265;
         } else {
-          r302 = v300.y;
+          r264 = l_delta256.y;
         }
-        const int32_t t304 = add(r298, r302);
-        const bool t305 = (t304 <= int32_t(1));
-        r288 = t305;
+        const int32_t t266 = add(r261, r264);
+        const bool t267 = (t266 <= int32_t(1));
+        r252 = t267;
       } else {
-        r288 = false;
+        r252 = false;
       }
-      if (r288) {
+      if (r252) {
         s.core.covered[int32_t(5)] = 1;
-        const std::vector<int32_t> t306 = std::vector<int32_t>{};
-        s.g_flags_10 = std::vector<C1_Flag>{};
-        s.u_flags_11 = true;
+        if (!s.scratch.v.sv_flags_14) {
+          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          s.scratch.v.sv_flags_14 = true;
+        }
+        s.g_flags_11 = std::vector<C1_Flag>{};
+        s.u_flags_12 = true;
       }
     }
     // on-clause 7, programs/sheepdog.au:77
     {
-      bool clicked307 = false;
+      bool clicked268 = false;
       if (s.core.click) {
-        s.d_click_20 = true;
-        const Pos t308 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_19 = t308;
-        clicked307 = true;
+        s.d_click_24 = true;
+        const Pos t269 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_23 = t269;
+        clicked268 = true;
       }
-      bool r309{};
-      if (clicked307) {
-        const C3_Dog& prev310 = s.p_dog_15;
-        bool clicked311 = false;
+      bool r270{};
+      if (clicked268) {
+        const C3_Dog& prev271 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+        bool clicked272 = false;
         if (s.core.click) {
-          s.d_click_20 = true;
-          const Pos t312 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_19 = t312;
-          std::vector<Elem>& rendered313 = s.scratch.v.b44;
-          rendered313.clear();
-          rendered313.push_back(Elem{Pos{add(prev310.origin.x, int32_t(0)), add(prev310.origin.y, int32_t(0))}, int32_t(0)});
-          for (const Elem& e314 : rendered313) {
-            if ((e314.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked311 = true;
+          s.d_click_24 = true;
+          const Pos t273 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_23 = t273;
+          std::vector<Elem>& rendered274 = s.scratch.v.b44;
+          rendered274.clear();
+          rendered274.push_back(Elem{Pos{add(prev271.origin.x, int32_t(0)), add(prev271.origin.y, int32_t(0))}, int32_t(0)});
+          for (const Elem& e275 : rendered274) {
+            if ((e275.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked272 = true;
               break;
             }
           }
         }
-        const bool t315 = !clicked311;
-        r309 = t315;
+        const bool t276 = !clicked272;
+        r270 = t276;
       } else {
-        r309 = false;
+        r270 = false;
       }
-      if (r309) {
+      if (r270) {
         s.core.covered[int32_t(6)] = 1;
-        Pos r316{};
-        if (s.d_click_20) {
-          const Pos& g317 = s.g_click_19;
-          r316 = g317;
+        Pos r277{};
+        if (s.d_click_24) {
+          const Pos& g278 = s.g_click_23;
+          r277 = g278;
         } else {
           fail_at(3, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r318{};
-        if (s.d_click_20) {
-          const Pos& g319 = s.g_click_19;
-          r318 = g319;
+        Pos r279{};
+        if (s.d_click_24) {
+          const Pos& g280 = s.g_click_23;
+          r279 = g280;
         } else {
           fail_at(4, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t320 = Pos{r316.x, r318.y};
-        const C1_Flag o321 = C1_Flag{t320};
-        std::vector<C1_Flag> list322 = std::vector<C1_Flag>{o321};
-        s.g_flags_10 = std::move(list322);
-        s.u_flags_11 = true;
+        const Pos t281 = Pos{r277.x, r279.y};
+        C1_Flag o282 = C1_Flag{t281};
+        std::vector<C1_Flag> list283 = std::vector<C1_Flag>{std::move(o282)};
+        if (!s.scratch.v.sv_flags_14) {
+          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          s.scratch.v.sv_flags_14 = true;
+        }
+        s.g_flags_11 = std::move(list283);
+        s.u_flags_12 = true;
       }
     }
     // on-clause 8, programs/sheepdog.au:80
     {
       if (true) {
         s.core.covered[int32_t(7)] = 1;
-        const std::vector<int32_t> arg323 = std::vector<int32_t>{};
-        const std::vector<C2_Sheep>& prev324 = s.p_sheep_9;
-        std::vector<C2_Sheep> acc325 = std::vector<C2_Sheep>{};
-        for (const C2_Sheep& x326 : prev324) {
-          const std::vector<C2_Sheep>& a327 = acc325;
+        const std::vector<C2_Sheep>& prev284 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+        std::vector<C2_Sheep> acc285 = std::vector<C2_Sheep>{};
+        for (const C2_Sheep& x286 : prev284) {
           // inlined: function at programs/sheepdog.au:80
           // inlined: function at programs/sheepdog.au:53
-          C2_Sheep r328{};
-          if (x326.f0) {
-            r328 = x326;
+          C2_Sheep r287{};
+          if (x286.f0) {
+            r287 = x286;
           } else {
-            Pos l_wish329{};
-            C2_Sheep l_there330{};
-            const C3_Dog& g331 = s.g_dog_13;
-            Pos l_delta332{};
-            const int32_t t333 = sub(g331.origin.x, x326.origin.x);
-            const int32_t t334 = sub(g331.origin.y, x326.origin.y);
-            const Pos t335 = Pos{t333, t334};
-            l_delta332 = t335;
-            const Pos& v336 = l_delta332;
-            const bool t337 = (v336.x < int32_t(0));
-            int32_t r338{};
-            if (t337) {
-              const int32_t t339 = neg(v336.x);
-              r338 = t339;
+            Pos l_wish288{};
+            C2_Sheep l_there289{};
+            const C3_Dog& g290 = s.g_dog_15;
+            Pos l_delta291{};
+            const int32_t t292 = sub(g290.origin.x, x286.origin.x);
+            const int32_t t293 = sub(g290.origin.y, x286.origin.y);
+            const Pos t294 = Pos{t292, t293};
+            l_delta291 = t294;
+            const bool t295 = (l_delta291.x < int32_t(0));
+            int32_t r296{};
+            if (t295) {
+              const int32_t t297 = neg(l_delta291.x);
+              r296 = t297;
             } else {
-              r338 = v336.x;
+              r296 = l_delta291.x;
             }
-            const Pos& v340 = l_delta332;
-            const bool t341 = (v340.y < int32_t(0));
-            int32_t r342{};
-            if (t341) {
-              const int32_t t343 = neg(v340.y);
-              r342 = t343;
+            const bool t298 = (l_delta291.y < int32_t(0));
+            int32_t r299{};
+            if (t298) {
+              const int32_t t300 = neg(l_delta291.y);
+              r299 = t300;
             } else {
-              r342 = v340.y;
+              r299 = l_delta291.y;
             }
-            const int32_t t344 = add(r338, r342);
-            const bool t345 = (t344 <= int32_t(3));
-            Pos r346{};
-            if (t345) {
+            const int32_t t301 = add(r296, r299);
+            const bool t302 = (t301 <= int32_t(3));
+            Pos r303{};
+            if (t302) {
               // inlined: function at programs/sheepdog.au:43
-              Pos l_u347{};
-              const C3_Dog& g348 = s.g_dog_13;
-              Pos l_delta349{};
-              int32_t l_sign_x350{};
-              int32_t l_sign_y351{};
-              const int32_t t352 = sub(g348.origin.x, x326.origin.x);
-              const int32_t t353 = sub(g348.origin.y, x326.origin.y);
-              const Pos t354 = Pos{t352, t353};
-              l_delta349 = t354;
-              const Pos& v355 = l_delta349;
-              const bool t356 = (v355.x == int32_t(0));
-              int32_t r357{};
-              if (t356) {
-                r357 = int32_t(0);
+              Pos l_u304{};
+              const C3_Dog& g305 = s.g_dog_15;
+              Pos l_delta306{};
+              int32_t l_sign_x307{};
+              int32_t l_sign_y308{};
+              const int32_t t309 = sub(g305.origin.x, x286.origin.x);
+              const int32_t t310 = sub(g305.origin.y, x286.origin.y);
+              const Pos t311 = Pos{t309, t310};
+              l_delta306 = t311;
+              const bool t312 = (l_delta306.x == int32_t(0));
+              int32_t r313{};
+              if (t312) {
+                r313 = int32_t(0);
               } else {
-                const bool t358 = (v355.x < int32_t(0));
-                int32_t r359{};
-                if (t358) {
-                  r359 = int32_t(-1);
+                const bool t314 = (l_delta306.x < int32_t(0));
+                int32_t r315{};
+                if (t314) {
+                  r315 = int32_t(-1);
                 } else {
-                  r359 = int32_t(1);
+                  r315 = int32_t(1);
                 }
-                r357 = r359;
+                r313 = r315;
               }
-              l_sign_x350 = r357;
-              const Pos& v360 = l_delta349;
-              const bool t361 = (v360.y == int32_t(0));
-              int32_t r362{};
-              if (t361) {
-                r362 = int32_t(0);
+              l_sign_x307 = r313;
+              const bool t316 = (l_delta306.y == int32_t(0));
+              int32_t r317{};
+              if (t316) {
+                r317 = int32_t(0);
               } else {
-                const bool t363 = (v360.y < int32_t(0));
-                int32_t r364{};
-                if (t363) {
-                  r364 = int32_t(-1);
+                const bool t318 = (l_delta306.y < int32_t(0));
+                int32_t r319{};
+                if (t318) {
+                  r319 = int32_t(-1);
                 } else {
-                  r364 = int32_t(1);
+                  r319 = int32_t(1);
                 }
-                r362 = r364;
+                r317 = r319;
               }
-              l_sign_y351 = r362;
-              const int32_t& v365 = l_sign_x350;
-              const bool t366 = (v365 < int32_t(0));
-              int32_t r367{};
-              if (t366) {
-                const int32_t t368 = neg(v365);
-                r367 = t368;
+              l_sign_y308 = r317;
+              const bool t320 = (l_sign_x307 < int32_t(0));
+              int32_t r321{};
+              if (t320) {
+                const int32_t t322 = neg(l_sign_x307);
+                r321 = t322;
               } else {
-                r367 = v365;
+                r321 = l_sign_x307;
               }
-              const bool t369 = (r367 == int32_t(1));
-              bool r370{};
-              if (t369) {
-                const int32_t& v371 = l_sign_y351;
-                const bool t372 = (v371 < int32_t(0));
-                int32_t r373{};
-                if (t372) {
-                  const int32_t t374 = neg(v371);
-                  r373 = t374;
+              const bool t323 = (r321 == int32_t(1));
+              bool r324{};
+              if (t323) {
+                const bool t325 = (l_sign_y308 < int32_t(0));
+                int32_t r326{};
+                if (t325) {
+                  const int32_t t327 = neg(l_sign_y308);
+                  r326 = t327;
                 } else {
-                  r373 = v371;
+                  r326 = l_sign_y308;
                 }
-                const bool t375 = (r373 == int32_t(1));
-                r370 = t375;
+                const bool t328 = (r326 == int32_t(1));
+                r324 = t328;
               } else {
-                r370 = false;
+                r324 = false;
               }
-              Pos r376{};
-              if (r370) {
-                const int32_t& v377 = l_sign_x350;
-                const Pos t378 = Pos{v377, int32_t(0)};
-                r376 = t378;
+              Pos r329{};
+              if (r324) {
+                const Pos t330 = Pos{l_sign_x307, int32_t(0)};
+                r329 = t330;
               } else {
-                const int32_t& v379 = l_sign_x350;
-                const int32_t& v380 = l_sign_y351;
-                const Pos t381 = Pos{v379, v380};
-                r376 = t381;
+                const Pos t331 = Pos{l_sign_x307, l_sign_y308};
+                r329 = t331;
               }
-              l_u347 = r376;
-              const Pos& v382 = l_u347;
-              const int32_t t383 = neg(v382.x);
-              const Pos& v384 = l_u347;
-              const int32_t t385 = neg(v384.y);
-              const Pos t386 = Pos{t383, t385};
-              r346 = t386;
+              l_u304 = r329;
+              const int32_t t332 = neg(l_u304.x);
+              const int32_t t333 = neg(l_u304.y);
+              const Pos t334 = Pos{t332, t333};
+              r303 = t334;
             } else {
-              const std::vector<Pos>& g387 = s.g_wanderSteps_5;
-              if (g387.empty()) {
+              const std::vector<Pos>& g335 = s.g_wanderSteps_5;
+              if (g335.empty()) {
                 fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
               }
-              const int32_t t388 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g387.size())))));
-              const Pos t389 = g387[size_t(t388)];
-              r346 = t389;
+              const int32_t t336 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g335.size())))));
+              const Pos t337 = g335[size_t(t336)];
+              r303 = t337;
             }
-            l_wish329 = r346;
-            const Pos& v390 = l_wish329;
+            l_wish288 = r303;
             // inlined: function at programs/sheepdog.au:52
-            const int32_t t391 = add(x326.origin.x, v390.x);
-            const int32_t t392 = add(x326.origin.y, v390.y);
-            const Pos t393 = Pos{t391, t392};
-            C2_Sheep upd394 = x326;
-            upd394.origin = t393;
-            std::vector<Elem>& rendered395 = s.scratch.v.b45;
-            rendered395.clear();
-            const int32_t colour396 = colour_0_C2_Sheep(s, upd394);
-            rendered395.push_back(Elem{Pos{add(upd394.origin.x, int32_t(0)), add(upd394.origin.y, int32_t(0))}, colour396});
-            bool within397 = true;
-            for (const Elem& e398 : rendered395) {
-              if ((((e398.position.x < int32_t(0)) || (e398.position.x >= int32_t(16))) || ((e398.position.y < int32_t(0)) || (e398.position.y >= int32_t(16))))) {
-                within397 = false;
+            const int32_t t338 = add(x286.origin.x, l_wish288.x);
+            const int32_t t339 = add(x286.origin.y, l_wish288.y);
+            const Pos t340 = Pos{t338, t339};
+            C2_Sheep upd341 = x286;
+            upd341.origin = t340;
+            std::vector<Elem>& rendered342 = s.scratch.v.b45;
+            rendered342.clear();
+            const int32_t colour343 = colour_0_C2_Sheep(s, upd341);
+            rendered342.push_back(Elem{Pos{add(upd341.origin.x, int32_t(0)), add(upd341.origin.y, int32_t(0))}, colour343});
+            bool within344 = true;
+            for (const Elem& e345 : rendered342) {
+              if ((((e345.position.x < int32_t(0)) || (e345.position.x >= int32_t(16))) || ((e345.position.y < int32_t(0)) || (e345.position.y >= int32_t(16))))) {
+                within344 = false;
                 break;
               }
             }
-            bool r399{};
-            if (within397) {
-              const int32_t t400 = add(x326.origin.x, v390.x);
-              const int32_t t401 = add(x326.origin.y, v390.y);
-              const Pos t402 = Pos{t400, t401};
-              C2_Sheep upd403 = x326;
-              upd403.origin = t402;
+            bool r346{};
+            if (within344) {
+              const int32_t t347 = add(x286.origin.x, l_wish288.x);
+              const int32_t t348 = add(x286.origin.y, l_wish288.y);
+              const Pos t349 = Pos{t347, t348};
+              C2_Sheep upd350 = x286;
+              upd350.origin = t349;
               // inlined: function at programs/sheepdog.au:49
               // inlined: function at programs/sheepdog.au:48
               // inlined: function at programs/sheepdog.au:21
-              const bool t404 = (upd403.origin.x >= int32_t(10));
-              bool r405{};
-              if (t404) {
-                const bool t406 = (upd403.origin.y <= int32_t(5));
-                r405 = t406;
+              const bool t351 = (upd350.origin.x >= int32_t(10));
+              bool r352{};
+              if (t351) {
+                const bool t353 = (upd350.origin.y <= int32_t(5));
+                r352 = t353;
               } else {
-                r405 = false;
+                r352 = false;
               }
-              bool r407{};
-              if (r405) {
-                const bool t408 = (upd403.origin.x == int32_t(10));
-                bool r409{};
-                if (!t408) {
-                  const bool t410 = (upd403.origin.x == int32_t(15));
-                  r409 = t410;
+              bool r354{};
+              if (r352) {
+                const bool t355 = (upd350.origin.x == int32_t(10));
+                bool r356{};
+                if (!t355) {
+                  const bool t357 = (upd350.origin.x == int32_t(15));
+                  r356 = t357;
                 } else {
-                  r409 = true;
+                  r356 = true;
                 }
-                bool r411{};
-                if (!r409) {
-                  const bool t412 = (upd403.origin.y == int32_t(0));
-                  bool r413{};
-                  if (!t412) {
-                    const bool t414 = (upd403.origin.y == int32_t(5));
-                    r413 = t414;
+                bool r358{};
+                if (!r356) {
+                  const bool t359 = (upd350.origin.y == int32_t(0));
+                  bool r360{};
+                  if (!t359) {
+                    const bool t361 = (upd350.origin.y == int32_t(5));
+                    r360 = t361;
                   } else {
-                    r413 = true;
+                    r360 = true;
                   }
-                  r411 = r413;
+                  r358 = r360;
                 } else {
-                  r411 = true;
+                  r358 = true;
                 }
-                r407 = r411;
+                r354 = r358;
               } else {
-                r407 = false;
+                r354 = false;
               }
-              bool r415{};
-              if (r407) {
-                const std::vector<Pos>& g416 = s.g_gate_6;
-                bool any417 = false;
-                for (const Pos& x418 : g416) {
-                  const bool t419 = (x418 == upd403.origin);
-                  if (t419) {
-                    any417 = true;
+              bool r362{};
+              if (r354) {
+                const std::vector<Pos>& g363 = s.g_gate_6;
+                bool any364 = false;
+                for (const Pos& x365 : g363) {
+                  const bool t366 = (x365 == upd350.origin);
+                  if (t366) {
+                    any364 = true;
                     break;
                   }
                 }
-                const bool t420 = !any417;
-                r415 = t420;
+                const bool t367 = !any364;
+                r362 = t367;
               } else {
-                r415 = false;
+                r362 = false;
               }
-              bool r421{};
-              if (!r415) {
-                const C3_Dog& g422 = s.g_dog_13;
-                const bool t423 = (upd403.origin == g422.origin);
-                r421 = t423;
+              bool r368{};
+              if (!r362) {
+                const C3_Dog& g369 = s.g_dog_15;
+                const bool t370 = (upd350.origin == g369.origin);
+                r368 = t370;
               } else {
-                r421 = true;
+                r368 = true;
               }
-              bool r424{};
-              if (!r421) {
-                bool any425 = false;
-                for (const C2_Sheep& x426 : a327) {
+              bool r371{};
+              if (!r368) {
+                bool any372 = false;
+                for (const C2_Sheep& x373 : acc285) {
                   // inlined: function at programs/sheepdog.au:51
-                  const bool t427 = (x426.origin == upd403.origin);
-                  if (t427) {
-                    any425 = true;
+                  const bool t374 = (x373.origin == upd350.origin);
+                  if (t374) {
+                    any372 = true;
                     break;
                   }
                 }
-                bool r428{};
-                if (!any425) {
-                  const std::vector<C2_Sheep>& prev429 = s.p_sheep_9;
-                  bool any430 = false;
-                  for (const C2_Sheep& x431 : prev429) {
+                bool r375{};
+                if (!any372) {
+                  const std::vector<C2_Sheep>& prev376 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+                  bool any377 = false;
+                  for (const C2_Sheep& x378 : prev376) {
                     // inlined: function at programs/sheepdog.au:51
-                    const bool t432 = (x431.origin == upd403.origin);
-                    if (t432) {
-                      any430 = true;
+                    const bool t379 = (x378.origin == upd350.origin);
+                    if (t379) {
+                      any377 = true;
                       break;
                     }
                   }
-                  r428 = any430;
+                  r375 = any377;
                 } else {
-                  r428 = true;
+                  r375 = true;
                 }
-                r424 = r428;
+                r371 = r375;
               } else {
-                r424 = true;
+                r371 = true;
               }
-              const bool t433 = !r424;
-              r399 = t433;
+              const bool t380 = !r371;
+              r346 = t380;
             } else {
-              r399 = false;
+              r346 = false;
             }
-            Pos r434{};
-            if (r399) {
-              const Pos& v435 = l_wish329;
-              r434 = v435;
+            Pos r381{};
+            if (r346) {
+              r381 = l_wish288;
             } else {
-              const std::vector<Pos>& g436 = s.g_wanderSteps_5;
-              if (g436.empty()) {
+              const std::vector<Pos>& g382 = s.g_wanderSteps_5;
+              if (g382.empty()) {
                 fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
               }
-              const int32_t t437 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g436.size())))));
-              const Pos t438 = g436[size_t(t437)];
-              r434 = t438;
+              const int32_t t383 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g382.size())))));
+              const Pos t384 = g382[size_t(t383)];
+              r381 = t384;
             }
-            l_wish329 = r434;
-            const Pos& v439 = l_wish329;
+            l_wish288 = r381;
             // inlined: function at programs/sheepdog.au:52
-            const int32_t t440 = add(x326.origin.x, v439.x);
-            const int32_t t441 = add(x326.origin.y, v439.y);
-            const Pos t442 = Pos{t440, t441};
-            C2_Sheep upd443 = x326;
-            upd443.origin = t442;
-            std::vector<Elem>& rendered444 = s.scratch.v.b46;
-            rendered444.clear();
-            const int32_t colour445 = colour_0_C2_Sheep(s, upd443);
-            rendered444.push_back(Elem{Pos{add(upd443.origin.x, int32_t(0)), add(upd443.origin.y, int32_t(0))}, colour445});
-            bool within446 = true;
-            for (const Elem& e447 : rendered444) {
-              if ((((e447.position.x < int32_t(0)) || (e447.position.x >= int32_t(16))) || ((e447.position.y < int32_t(0)) || (e447.position.y >= int32_t(16))))) {
-                within446 = false;
+            const int32_t t385 = add(x286.origin.x, l_wish288.x);
+            const int32_t t386 = add(x286.origin.y, l_wish288.y);
+            const Pos t387 = Pos{t385, t386};
+            C2_Sheep upd388 = x286;
+            upd388.origin = t387;
+            std::vector<Elem>& rendered389 = s.scratch.v.b46;
+            rendered389.clear();
+            const int32_t colour390 = colour_0_C2_Sheep(s, upd388);
+            rendered389.push_back(Elem{Pos{add(upd388.origin.x, int32_t(0)), add(upd388.origin.y, int32_t(0))}, colour390});
+            bool within391 = true;
+            for (const Elem& e392 : rendered389) {
+              if ((((e392.position.x < int32_t(0)) || (e392.position.x >= int32_t(16))) || ((e392.position.y < int32_t(0)) || (e392.position.y >= int32_t(16))))) {
+                within391 = false;
                 break;
               }
             }
-            bool r448{};
-            if (within446) {
-              const int32_t t449 = add(x326.origin.x, v439.x);
-              const int32_t t450 = add(x326.origin.y, v439.y);
-              const Pos t451 = Pos{t449, t450};
-              C2_Sheep upd452 = x326;
-              upd452.origin = t451;
+            bool r393{};
+            if (within391) {
+              const int32_t t394 = add(x286.origin.x, l_wish288.x);
+              const int32_t t395 = add(x286.origin.y, l_wish288.y);
+              const Pos t396 = Pos{t394, t395};
+              C2_Sheep upd397 = x286;
+              upd397.origin = t396;
               // inlined: function at programs/sheepdog.au:49
               // inlined: function at programs/sheepdog.au:48
               // inlined: function at programs/sheepdog.au:21
-              const bool t453 = (upd452.origin.x >= int32_t(10));
-              bool r454{};
-              if (t453) {
-                const bool t455 = (upd452.origin.y <= int32_t(5));
-                r454 = t455;
+              const bool t398 = (upd397.origin.x >= int32_t(10));
+              bool r399{};
+              if (t398) {
+                const bool t400 = (upd397.origin.y <= int32_t(5));
+                r399 = t400;
               } else {
-                r454 = false;
+                r399 = false;
               }
-              bool r456{};
-              if (r454) {
-                const bool t457 = (upd452.origin.x == int32_t(10));
-                bool r458{};
-                if (!t457) {
-                  const bool t459 = (upd452.origin.x == int32_t(15));
-                  r458 = t459;
+              bool r401{};
+              if (r399) {
+                const bool t402 = (upd397.origin.x == int32_t(10));
+                bool r403{};
+                if (!t402) {
+                  const bool t404 = (upd397.origin.x == int32_t(15));
+                  r403 = t404;
                 } else {
-                  r458 = true;
+                  r403 = true;
                 }
-                bool r460{};
-                if (!r458) {
-                  const bool t461 = (upd452.origin.y == int32_t(0));
-                  bool r462{};
-                  if (!t461) {
-                    const bool t463 = (upd452.origin.y == int32_t(5));
-                    r462 = t463;
+                bool r405{};
+                if (!r403) {
+                  const bool t406 = (upd397.origin.y == int32_t(0));
+                  bool r407{};
+                  if (!t406) {
+                    const bool t408 = (upd397.origin.y == int32_t(5));
+                    r407 = t408;
                   } else {
-                    r462 = true;
+                    r407 = true;
                   }
-                  r460 = r462;
+                  r405 = r407;
                 } else {
-                  r460 = true;
+                  r405 = true;
                 }
-                r456 = r460;
+                r401 = r405;
               } else {
-                r456 = false;
+                r401 = false;
               }
-              bool r464{};
-              if (r456) {
-                const std::vector<Pos>& g465 = s.g_gate_6;
-                bool any466 = false;
-                for (const Pos& x467 : g465) {
-                  const bool t468 = (x467 == upd452.origin);
-                  if (t468) {
-                    any466 = true;
+              bool r409{};
+              if (r401) {
+                const std::vector<Pos>& g410 = s.g_gate_6;
+                bool any411 = false;
+                for (const Pos& x412 : g410) {
+                  const bool t413 = (x412 == upd397.origin);
+                  if (t413) {
+                    any411 = true;
                     break;
                   }
                 }
-                const bool t469 = !any466;
-                r464 = t469;
+                const bool t414 = !any411;
+                r409 = t414;
               } else {
-                r464 = false;
+                r409 = false;
               }
-              bool r470{};
-              if (!r464) {
-                const C3_Dog& g471 = s.g_dog_13;
-                const bool t472 = (upd452.origin == g471.origin);
-                r470 = t472;
+              bool r415{};
+              if (!r409) {
+                const C3_Dog& g416 = s.g_dog_15;
+                const bool t417 = (upd397.origin == g416.origin);
+                r415 = t417;
               } else {
-                r470 = true;
+                r415 = true;
               }
-              bool r473{};
-              if (!r470) {
-                bool any474 = false;
-                for (const C2_Sheep& x475 : a327) {
+              bool r418{};
+              if (!r415) {
+                bool any419 = false;
+                for (const C2_Sheep& x420 : acc285) {
                   // inlined: function at programs/sheepdog.au:51
-                  const bool t476 = (x475.origin == upd452.origin);
-                  if (t476) {
-                    any474 = true;
+                  const bool t421 = (x420.origin == upd397.origin);
+                  if (t421) {
+                    any419 = true;
                     break;
                   }
                 }
-                bool r477{};
-                if (!any474) {
-                  const std::vector<C2_Sheep>& prev478 = s.p_sheep_9;
-                  bool any479 = false;
-                  for (const C2_Sheep& x480 : prev478) {
+                bool r422{};
+                if (!any419) {
+                  const std::vector<C2_Sheep>& prev423 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+                  bool any424 = false;
+                  for (const C2_Sheep& x425 : prev423) {
                     // inlined: function at programs/sheepdog.au:51
-                    const bool t481 = (x480.origin == upd452.origin);
-                    if (t481) {
-                      any479 = true;
+                    const bool t426 = (x425.origin == upd397.origin);
+                    if (t426) {
+                      any424 = true;
                       break;
                     }
                   }
-                  r477 = any479;
+                  r422 = any424;
                 } else {
-                  r477 = true;
+                  r422 = true;
                 }
-                r473 = r477;
+                r418 = r422;
               } else {
-                r473 = true;
+                r418 = true;
               }
-              const bool t482 = !r473;
-              r448 = t482;
+              const bool t427 = !r418;
+              r393 = t427;
             } else {
-              r448 = false;
+              r393 = false;
             }
-            C2_Sheep r483{};
-            if (r448) {
-              const Pos& v484 = l_wish329;
-              const int32_t t485 = add(x326.origin.x, v484.x);
-              const int32_t t486 = add(x326.origin.y, v484.y);
-              const Pos t487 = Pos{t485, t486};
-              C2_Sheep upd488 = x326;
-              upd488.origin = t487;
-              r483 = std::move(upd488);
+            C2_Sheep r428{};
+            if (r393) {
+              const int32_t t429 = add(x286.origin.x, l_wish288.x);
+              const int32_t t430 = add(x286.origin.y, l_wish288.y);
+              const Pos t431 = Pos{t429, t430};
+              C2_Sheep upd432 = x286;
+              upd432.origin = t431;
+              r428 = std::move(upd432);
             } else {
-              r483 = x326;
+              r428 = x286;
             }
-            l_there330 = std::move(r483);
-            const C2_Sheep& v489 = l_there330;
-            const C2_Sheep& v490 = l_there330;
+            l_there289 = std::move(r428);
             // inlined: function at programs/sheepdog.au:23
-            const bool t491 = (v490.origin.x >= int32_t(11));
-            bool r492{};
-            if (t491) {
-              const bool t493 = (v490.origin.x <= int32_t(14));
-              r492 = t493;
+            const bool t433 = (l_there289.origin.x >= int32_t(11));
+            bool r434{};
+            if (t433) {
+              const bool t435 = (l_there289.origin.x <= int32_t(14));
+              r434 = t435;
             } else {
-              r492 = false;
+              r434 = false;
             }
-            bool r494{};
-            if (r492) {
-              const bool t495 = (v490.origin.y >= int32_t(1));
-              bool r496{};
-              if (t495) {
-                const bool t497 = (v490.origin.y <= int32_t(4));
-                r496 = t497;
+            bool r436{};
+            if (r434) {
+              const bool t437 = (l_there289.origin.y >= int32_t(1));
+              bool r438{};
+              if (t437) {
+                const bool t439 = (l_there289.origin.y <= int32_t(4));
+                r438 = t439;
               } else {
-                r496 = false;
+                r438 = false;
               }
-              r494 = r496;
+              r436 = r438;
             } else {
-              r494 = false;
+              r436 = false;
             }
-            C2_Sheep upd498 = v489;
-            upd498.f0 = r494;
-            r328 = std::move(upd498);
+            C2_Sheep upd440 = l_there289;
+            upd440.f0 = r436;
+            r287 = std::move(upd440);
           }
-          std::vector<C2_Sheep>& added499 = s.scratch.v.b47;
-          added499.clear();
-          added499.reserve(size_t(add(int32_t(a327.size()), int32_t(1))));
-          for (const C2_Sheep& x500 : a327) {
-            added499.push_back(x500);
+          std::vector<C2_Sheep>& added441 = s.scratch.v.b47;
+          added441.clear();
+          added441.reserve(size_t(add(int32_t(acc285.size()), int32_t(1))));
+          for (const C2_Sheep& x442 : acc285) {
+            added441.push_back(x442);
           }
-          added499.push_back(std::move(r328));
-          std::swap(acc325, added499);
+          added441.push_back(std::move(r287));
+          std::swap(acc285, added441);
         }
-        const std::vector<C2_Sheep>& folded501 = acc325;
-        s.g_sheep_7 = folded501;
+        if (!s.scratch.v.sv_sheep_10) {
+          s.scratch.v.p_sheep_9 = std::move(s.g_sheep_7);
+          s.scratch.v.sv_sheep_10 = true;
+        }
+        s.g_sheep_7 = std::move(acc285);
         s.u_sheep_8 = true;
       }
     }
     // on-clause 9, programs/sheepdog.au:82
     {
-      const std::vector<C2_Sheep>& g502 = s.g_sheep_7;
+      const std::vector<C2_Sheep>& g443 = s.g_sheep_7;
       // inlined: function at programs/sheepdog.au:39
-      bool any503 = false;
-      for (const C2_Sheep& x504 : g502) {
+      bool any444 = false;
+      for (const C2_Sheep& x445 : g443) {
         // inlined: function at programs/sheepdog.au:39
-        const bool t505 = !x504.f0;
-        if (t505) {
-          any503 = true;
+        const bool t446 = !x445.f0;
+        if (t446) {
+          any444 = true;
           break;
         }
       }
-      const bool t506 = !any503;
-      if (t506) {
+      const bool t447 = !any444;
+      if (t447) {
         s.core.covered[int32_t(8)] = 1;
         s.g_background_2 = int32_t(5);
       }
     }
     // on-clause 10, programs/sheepdog.au:83
     {
-      const std::vector<C2_Sheep>& prev507 = s.p_sheep_9;
+      const std::vector<C2_Sheep>& prev448 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
       // inlined: function at programs/sheepdog.au:39
-      bool any508 = false;
-      for (const C2_Sheep& x509 : prev507) {
+      bool any449 = false;
+      for (const C2_Sheep& x450 : prev448) {
         // inlined: function at programs/sheepdog.au:39
-        const bool t510 = !x509.f0;
-        if (t510) {
-          any508 = true;
+        const bool t451 = !x450.f0;
+        if (t451) {
+          any449 = true;
           break;
         }
       }
-      const bool t511 = !any508;
-      bool r512{};
-      if (t511) {
-        const C3_Dog& prev513 = s.p_dog_15;
-        bool clicked514 = false;
+      const bool t452 = !any449;
+      bool r453{};
+      if (t452) {
+        const C3_Dog& prev454 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+        bool clicked455 = false;
         if (s.core.click) {
-          s.d_click_20 = true;
-          const Pos t515 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_19 = t515;
-          std::vector<Elem>& rendered516 = s.scratch.v.b48;
-          rendered516.clear();
-          rendered516.push_back(Elem{Pos{add(prev513.origin.x, int32_t(0)), add(prev513.origin.y, int32_t(0))}, int32_t(0)});
-          for (const Elem& e517 : rendered516) {
-            if ((e517.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked514 = true;
+          s.d_click_24 = true;
+          const Pos t456 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_23 = t456;
+          std::vector<Elem>& rendered457 = s.scratch.v.b48;
+          rendered457.clear();
+          rendered457.push_back(Elem{Pos{add(prev454.origin.x, int32_t(0)), add(prev454.origin.y, int32_t(0))}, int32_t(0)});
+          for (const Elem& e458 : rendered457) {
+            if ((e458.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked455 = true;
               break;
             }
           }
         }
-        r512 = clicked514;
+        r453 = clicked455;
       } else {
-        r512 = false;
+        r453 = false;
       }
-      if (r512) {
+      if (r453) {
         s.core.covered[int32_t(9)] = 1;
-        const std::vector<Pos>& g518 = s.g_sheepStarts_4;
-        std::vector<C2_Sheep>& out519 = s.scratch.v.b49;
-        out519.clear();
-        out519.reserve(size_t(int32_t(g518.size())));
-        for (const Pos& x520 : g518) {
+        const std::vector<Pos>& g459 = s.g_sheepStarts_4;
+        std::vector<C2_Sheep>& out460 = s.scratch.v.b49;
+        out460.clear();
+        out460.reserve(size_t(int32_t(g459.size())));
+        for (const Pos& x461 : g459) {
           // inlined: function at programs/sheepdog.au:84
-          C2_Sheep o521 = C2_Sheep{false, x520};
-          out519.push_back(std::move(o521));
+          C2_Sheep o462 = C2_Sheep{false, x461};
+          out460.push_back(std::move(o462));
         }
-        std::swap(s.g_sheep_7, out519);
+        if (!s.scratch.v.sv_sheep_10) {
+          s.scratch.v.p_sheep_9 = std::move(s.g_sheep_7);
+          s.scratch.v.sv_sheep_10 = true;
+        }
+        std::swap(s.g_sheep_7, out460);
         s.u_sheep_8 = true;
         s.g_background_2 = int32_t(1);
       }
     }
     // NEXT of sheep, programs/sheepdog.au:34
     if (!s.u_sheep_8) {
-      const std::vector<C2_Sheep>& prev522 = s.p_sheep_9;
-      s.g_sheep_7 = prev522;
+      const std::vector<C2_Sheep> prev463 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+      if (!s.scratch.v.sv_sheep_10) {
+        s.scratch.v.p_sheep_9 = std::move(s.g_sheep_7);
+        s.scratch.v.sv_sheep_10 = true;
+      }
+      s.g_sheep_7 = prev463;
       s.u_sheep_8 = true;
     }
     // NEXT of flags, programs/sheepdog.au:31
-    if (!s.u_flags_11) {
-      const std::vector<C1_Flag>& prev523 = s.p_flags_12;
-      s.g_flags_10 = prev523;
-      s.u_flags_11 = true;
+    if (!s.u_flags_12) {
+      const std::vector<C1_Flag> prev464 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
+      if (!s.scratch.v.sv_flags_14) {
+        s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+        s.scratch.v.sv_flags_14 = true;
+      }
+      s.g_flags_11 = prev464;
+      s.u_flags_12 = true;
     }
     // NEXT of dog, programs/sheepdog.au:37
-    if (!s.u_dog_14) {
-      const C3_Dog& prev524 = s.p_dog_15;
-      s.g_dog_13 = prev524;
-      s.u_dog_14 = true;
+    if (!s.u_dog_16) {
+      const C3_Dog prev465 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+      if (!s.scratch.v.sv_dog_18) {
+        s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+        s.scratch.v.sv_dog_18 = true;
+      }
+      s.g_dog_15 = prev465;
+      s.u_dog_16 = true;
     }
     // NEXT of fences, programs/sheepdog.au:28
-    if (!s.u_fences_17) {
-      const std::vector<C0_Fence>& prev525 = s.p_fences_18;
-      s.g_fences_16 = prev525;
-      s.u_fences_17 = true;
+    if (!s.u_fences_20) {
+      const std::vector<C0_Fence> prev466 = (s.scratch.v.sv_fences_22 ? s.scratch.v.p_fences_21 : s.g_fences_19);
+      if (!s.scratch.v.sv_fences_22) {
+        s.scratch.v.p_fences_21 = std::move(s.g_fences_19);
+        s.scratch.v.sv_fences_22 = true;
+      }
+      s.g_fences_19 = prev466;
+      s.u_fences_20 = true;
     }
     s.core.clear_inputs();
   }
@@ -1633,7 +1646,7 @@ struct Prog {
     std::vector<Elem>& elems1 = s.scratch.v.b50;
     elems1.clear();
     elems1.clear();
-    const std::vector<C0_Fence>& g2 = s.g_fences_16;
+    const std::vector<C0_Fence>& g2 = s.g_fences_19;
     for (const C0_Fence& x3 : g2) {
       elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(2)});
     }
@@ -1642,7 +1655,7 @@ struct Prog {
       if (paint) paint->paint(e4.position, pal[e4.color]);
     }
     elems1.clear();
-    const std::vector<C1_Flag>& g5 = s.g_flags_10;
+    const std::vector<C1_Flag>& g5 = s.g_flags_11;
     for (const C1_Flag& x6 : g5) {
       elems1.push_back(Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(4)});
     }
@@ -1661,7 +1674,7 @@ struct Prog {
       if (paint) paint->paint(e11.position, pal[e11.color]);
     }
     elems1.clear();
-    const C3_Dog& g12 = s.g_dog_13;
+    const C3_Dog& g12 = s.g_dog_15;
     elems1.push_back(Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, int32_t(0)});
     for (const Elem& e13 : elems1) {
       s.core.occupied.add(e13.position);
@@ -1679,11 +1692,11 @@ struct Prog {
     hash_value(h, s.g_wanderSteps_5);
     hash_value(h, s.g_gate_6);
     hash_value(h, s.g_sheep_7);
-    hash_value(h, s.g_flags_10);
-    hash_value(h, s.g_dog_13);
-    hash_value(h, s.g_fences_16);
-    hash_value(h, s.g_click_19);
-    hash_value(h, s.d_click_20);
+    hash_value(h, s.g_flags_11);
+    hash_value(h, s.g_dog_15);
+    hash_value(h, s.g_fences_19);
+    hash_value(h, s.g_click_23);
+    hash_value(h, s.d_click_24);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -1697,11 +1710,11 @@ struct Prog {
     save_value(w, s.g_wanderSteps_5);
     save_value(w, s.g_gate_6);
     save_value(w, s.g_sheep_7);
-    save_value(w, s.g_flags_10);
-    save_value(w, s.g_dog_13);
-    save_value(w, s.g_fences_16);
-    save_value(w, s.g_click_19);
-    save_value(w, s.d_click_20);
+    save_value(w, s.g_flags_11);
+    save_value(w, s.g_dog_15);
+    save_value(w, s.g_fences_19);
+    save_value(w, s.g_click_23);
+    save_value(w, s.d_click_24);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -1714,11 +1727,11 @@ struct Prog {
     load_value(r, s.g_wanderSteps_5);
     load_value(r, s.g_gate_6);
     load_value(r, s.g_sheep_7);
-    load_value(r, s.g_flags_10);
-    load_value(r, s.g_dog_13);
-    load_value(r, s.g_fences_16);
-    load_value(r, s.g_click_19);
-    load_value(r, s.d_click_20);
+    load_value(r, s.g_flags_11);
+    load_value(r, s.g_dog_15);
+    load_value(r, s.g_fences_19);
+    load_value(r, s.g_click_23);
+    load_value(r, s.d_click_24);
   }
 };
 

@@ -116,24 +116,37 @@ struct Prog {
     std::vector<Elem> b17;
     std::vector<Pos> b18;
     std::vector<Pos> b19;
-    std::vector<int32_t> b20;
-    std::vector<std::vector<Pos>> b21;
-    std::vector<int32_t> b22;
-    std::vector<Pos> b23;
+    std::vector<Pos> b20;
+    std::vector<int32_t> b21;
+    std::vector<std::vector<Pos>> b22;
+    std::vector<int32_t> b23;
     std::vector<Pos> b24;
     std::vector<Pos> b25;
-    std::vector<Elem> b26;
-    std::vector<C1_Melt> b27;
-    std::vector<Elem> b28;
+    std::vector<Pos> b26;
+    std::vector<Elem> b27;
+    std::vector<C1_Melt> b28;
     std::vector<Elem> b29;
-    std::vector<C0_Flake> b30;
-    std::vector<Elem> b31;
+    std::vector<Elem> b30;
+    std::vector<C0_Flake> b31;
     std::vector<Elem> b32;
-    std::vector<Pos> b33;
-    std::vector<Elem> b34;
-    std::vector<C0_Flake> b35;
+    std::vector<Elem> b33;
+    std::vector<Pos> b34;
+    std::vector<Elem> b35;
     std::vector<C0_Flake> b36;
-    std::vector<Elem> b37;
+    std::vector<C0_Flake> b37;
+    std::vector<Elem> b38;
+    C3_Plow p_plow_7{};
+    bool sv_plow_8{};
+    std::vector<C0_Flake> p_snow_11{};
+    bool sv_snow_12{};
+    std::vector<C1_Melt> p_melt_15{};
+    bool sv_melt_16{};
+    std::vector<C2_Rock> p_rocks_19{};
+    bool sv_rocks_20{};
+    C4_Cloud p_cloud_23{};
+    bool sv_cloud_24{};
+    int32_t p_time_27{};
+    bool sv_time_28{};
   };
   struct State {
     Core core;
@@ -145,24 +158,18 @@ struct Prog {
     int32_t g_maxSnow_4{};
     C3_Plow g_plow_5{};
     bool u_plow_6{};
-    C3_Plow p_plow_7{};
-    std::vector<C0_Flake> g_snow_8{};
-    bool u_snow_9{};
-    std::vector<C0_Flake> p_snow_10{};
-    std::vector<C1_Melt> g_melt_11{};
-    bool u_melt_12{};
-    std::vector<C1_Melt> p_melt_13{};
-    std::vector<C2_Rock> g_rocks_14{};
-    bool u_rocks_15{};
-    std::vector<C2_Rock> p_rocks_16{};
-    C4_Cloud g_cloud_17{};
-    bool u_cloud_18{};
-    C4_Cloud p_cloud_19{};
-    int32_t g_time_20{};
-    bool u_time_21{};
-    int32_t p_time_22{};
-    Pos g_click_23{};
-    bool d_click_24{};
+    std::vector<C0_Flake> g_snow_9{};
+    bool u_snow_10{};
+    std::vector<C1_Melt> g_melt_13{};
+    bool u_melt_14{};
+    std::vector<C2_Rock> g_rocks_17{};
+    bool u_rocks_18{};
+    C4_Cloud g_cloud_21{};
+    bool u_cloud_22{};
+    int32_t g_time_25{};
+    bool u_time_26{};
+    Pos g_click_29{};
+    bool d_click_30{};
   };
 
   static int32_t colour_19_C1_Melt(State& s, const C1_Melt& o1) {
@@ -401,52 +408,52 @@ struct Prog {
     s.g_plow_5 = std::move(o1);
     s.u_plow_6 = false;
     // init snow, programs/snowplow.au:29
-    s.g_snow_8 = std::vector<C0_Flake>{};
-    s.u_snow_9 = false;
+    s.g_snow_9 = std::vector<C0_Flake>{};
+    s.u_snow_10 = false;
     // init melt, programs/snowplow.au:32
-    s.g_melt_11 = std::vector<C1_Melt>{};
-    s.u_melt_12 = false;
+    s.g_melt_13 = std::vector<C1_Melt>{};
+    s.u_melt_14 = false;
     // init rocks, programs/snowplow.au:24
-    const C2_Rock o2 = C2_Rock{Pos{int32_t(4), int32_t(11)}};
-    const C2_Rock o3 = C2_Rock{Pos{int32_t(5), int32_t(11)}};
-    const C2_Rock o4 = C2_Rock{Pos{int32_t(6), int32_t(11)}};
-    const C2_Rock o5 = C2_Rock{Pos{int32_t(11), int32_t(9)}};
-    const C2_Rock o6 = C2_Rock{Pos{int32_t(12), int32_t(9)}};
-    std::vector<C2_Rock> list7 = std::vector<C2_Rock>{o2, o3, o4, o5, o6};
-    s.g_rocks_14 = std::move(list7);
-    s.u_rocks_15 = false;
+    C2_Rock o2 = C2_Rock{Pos{int32_t(4), int32_t(11)}};
+    C2_Rock o3 = C2_Rock{Pos{int32_t(5), int32_t(11)}};
+    C2_Rock o4 = C2_Rock{Pos{int32_t(6), int32_t(11)}};
+    C2_Rock o5 = C2_Rock{Pos{int32_t(11), int32_t(9)}};
+    C2_Rock o6 = C2_Rock{Pos{int32_t(12), int32_t(9)}};
+    std::vector<C2_Rock> list7 = std::vector<C2_Rock>{std::move(o2), std::move(o3), std::move(o4), std::move(o5), std::move(o6)};
+    s.g_rocks_17 = std::move(list7);
+    s.u_rocks_18 = false;
     // init cloud, programs/snowplow.au:21
     C4_Cloud o8 = C4_Cloud{int32_t(2), Pos{int32_t(0), int32_t(0)}};
-    s.g_cloud_17 = std::move(o8);
-    s.u_cloud_18 = false;
+    s.g_cloud_21 = std::move(o8);
+    s.u_cloud_22 = false;
     // init time, programs/snowplow.au:18
-    s.g_time_20 = int32_t(0);
-    s.u_time_21 = false;
+    s.g_time_25 = int32_t(0);
+    s.u_time_26 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_time_22 = s.g_time_20;
-    s.p_cloud_19 = s.g_cloud_17;
-    s.p_rocks_16 = s.g_rocks_14;
-    s.p_snow_10 = s.g_snow_8;
-    s.p_melt_13 = s.g_melt_11;
-    s.p_plow_7 = s.g_plow_5;
+    s.scratch.v.sv_time_28 = false;
+    s.scratch.v.sv_cloud_24 = false;
+    s.scratch.v.sv_rocks_20 = false;
+    s.scratch.v.sv_snow_12 = false;
+    s.scratch.v.sv_melt_16 = false;
+    s.scratch.v.sv_plow_8 = false;
     s.u_plow_6 = false;
-    s.u_snow_9 = false;
-    s.u_melt_12 = false;
-    s.u_rocks_15 = false;
-    s.u_cloud_18 = false;
-    s.u_time_21 = false;
+    s.u_snow_10 = false;
+    s.u_melt_14 = false;
+    s.u_rocks_18 = false;
+    s.u_cloud_22 = false;
+    s.u_time_26 = false;
     // on-clause 1, programs/snowplow.au:45
     {
-      const std::vector<C0_Flake>& prev1 = s.p_snow_10;
+      const std::vector<C0_Flake>& prev1 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
       bool clicked2 = false;
       if (s.core.click) {
-        s.d_click_24 = true;
+        s.d_click_30 = true;
         const Pos t3 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_23 = t3;
+        s.g_click_29 = t3;
         std::vector<Elem>& rendered4 = s.scratch.v.b0;
         rendered4.clear();
         for (const C0_Flake& x5 : prev1) {
@@ -461,16 +468,16 @@ struct Prog {
       }
       if (clicked2) {
         s.core.covered[int32_t(0)] = 1;
-        const std::vector<C0_Flake>& prev7 = s.p_snow_10;
+        const std::vector<C0_Flake>& prev7 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
         std::vector<C0_Flake>& out8 = s.scratch.v.b1;
         out8.clear();
         for (const C0_Flake& x9 : prev7) {
           // inlined: function at programs/snowplow.au:47
           bool clicked10 = false;
           if (s.core.click) {
-            s.d_click_24 = true;
+            s.d_click_30 = true;
             const Pos t11 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_23 = t11;
+            s.g_click_29 = t11;
             std::vector<Elem>& rendered12 = s.scratch.v.b2;
             rendered12.clear();
             rendered12.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(6)});
@@ -486,19 +493,23 @@ struct Prog {
             out8.push_back(x9);
           }
         }
-        std::swap(s.g_snow_8, out8);
-        s.u_snow_9 = true;
-        const std::vector<C1_Melt>& prev15 = s.p_melt_13;
+        if (!s.scratch.v.sv_snow_12) {
+          s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+          s.scratch.v.sv_snow_12 = true;
+        }
+        std::swap(s.g_snow_9, out8);
+        s.u_snow_10 = true;
+        const std::vector<C1_Melt>& prev15 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
         Pos r16{};
-        if (s.d_click_24) {
-          const Pos& g17 = s.g_click_23;
+        if (s.d_click_30) {
+          const Pos& g17 = s.g_click_29;
           r16 = g17;
         } else {
           fail_at(0, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r18{};
-        if (s.d_click_24) {
-          const Pos& g19 = s.g_click_23;
+        if (s.d_click_30) {
+          const Pos& g19 = s.g_click_29;
           r18 = g19;
         } else {
           fail_at(1, std::string() + std::string("undefined variable 'click'"));
@@ -512,18 +523,22 @@ struct Prog {
           added22.push_back(x23);
         }
         added22.push_back(std::move(o21));
-        std::swap(s.g_melt_11, added22);
-        s.u_melt_12 = true;
+        if (!s.scratch.v.sv_melt_16) {
+          s.scratch.v.p_melt_15 = std::move(s.g_melt_13);
+          s.scratch.v.sv_melt_16 = true;
+        }
+        std::swap(s.g_melt_13, added22);
+        s.u_melt_14 = true;
       }
     }
     // on-clause 2, programs/snowplow.au:51
     {
-      const std::vector<C2_Rock>& prev24 = s.p_rocks_16;
+      const std::vector<C2_Rock>& prev24 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
       bool clicked25 = false;
       if (s.core.click) {
-        s.d_click_24 = true;
+        s.d_click_30 = true;
         const Pos t26 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_23 = t26;
+        s.g_click_29 = t26;
         std::vector<Elem>& rendered27 = s.scratch.v.b4;
         rendered27.clear();
         for (const C2_Rock& x28 : prev24) {
@@ -538,16 +553,16 @@ struct Prog {
       }
       if (clicked25) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C2_Rock>& prev30 = s.p_rocks_16;
+        const std::vector<C2_Rock>& prev30 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
         std::vector<C2_Rock>& out31 = s.scratch.v.b5;
         out31.clear();
         for (const C2_Rock& x32 : prev30) {
           // inlined: function at programs/snowplow.au:51
           bool clicked33 = false;
           if (s.core.click) {
-            s.d_click_24 = true;
+            s.d_click_30 = true;
             const Pos t34 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_23 = t34;
+            s.g_click_29 = t34;
             std::vector<Elem>& rendered35 = s.scratch.v.b6;
             rendered35.clear();
             rendered35.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(3)});
@@ -563,24 +578,28 @@ struct Prog {
             out31.push_back(x32);
           }
         }
-        std::swap(s.g_rocks_14, out31);
-        s.u_rocks_15 = true;
+        if (!s.scratch.v.sv_rocks_20) {
+          s.scratch.v.p_rocks_19 = std::move(s.g_rocks_17);
+          s.scratch.v.sv_rocks_20 = true;
+        }
+        std::swap(s.g_rocks_17, out31);
+        s.u_rocks_18 = true;
       }
     }
     // on-clause 3, programs/snowplow.au:53
     {
       bool clicked38 = false;
       if (s.core.click) {
-        s.d_click_24 = true;
+        s.d_click_30 = true;
         const Pos t39 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_23 = t39;
+        s.g_click_29 = t39;
         clicked38 = true;
       }
       bool r40{};
       if (clicked38) {
         Pos r41{};
-        if (s.d_click_24) {
-          const Pos& g42 = s.g_click_23;
+        if (s.d_click_30) {
+          const Pos& g42 = s.g_click_29;
           r41 = g42;
         } else {
           fail_at(2, std::string() + std::string("undefined variable 'click'"));
@@ -588,7 +607,7 @@ struct Prog {
         const bool t43 = s.core.occupied.free(r41);
         bool r44{};
         if (t43) {
-          const std::vector<C2_Rock>& g45 = s.g_rocks_14;
+          const std::vector<C2_Rock>& g45 = s.g_rocks_17;
           const int32_t t46 = int32_t(g45.size());
           const bool t47 = (t46 < int32_t(12));
           r44 = t47;
@@ -601,17 +620,17 @@ struct Prog {
       }
       if (r40) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C2_Rock>& g48 = s.g_rocks_14;
+        const std::vector<C2_Rock>& g48 = s.g_rocks_17;
         Pos r49{};
-        if (s.d_click_24) {
-          const Pos& g50 = s.g_click_23;
+        if (s.d_click_30) {
+          const Pos& g50 = s.g_click_29;
           r49 = g50;
         } else {
           fail_at(3, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r51{};
-        if (s.d_click_24) {
-          const Pos& g52 = s.g_click_23;
+        if (s.d_click_30) {
+          const Pos& g52 = s.g_click_29;
           r51 = g52;
         } else {
           fail_at(4, std::string() + std::string("undefined variable 'click'"));
@@ -625,15 +644,19 @@ struct Prog {
           added55.push_back(x56);
         }
         added55.push_back(std::move(o54));
-        std::swap(s.g_rocks_14, added55);
-        s.u_rocks_15 = true;
+        if (!s.scratch.v.sv_rocks_20) {
+          s.scratch.v.p_rocks_19 = std::move(s.g_rocks_17);
+          s.scratch.v.sv_rocks_20 = true;
+        }
+        std::swap(s.g_rocks_17, added55);
+        s.u_rocks_18 = true;
       }
     }
     // on-clause 4, programs/snowplow.au:56
     {
       if (true) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C0_Flake>& g57 = s.g_snow_8;
+        const std::vector<C0_Flake>& g57 = s.g_snow_9;
         std::vector<C0_Flake>& out58 = s.scratch.v.b8;
         out58.clear();
         out58.reserve(size_t(int32_t(g57.size())));
@@ -674,466 +697,450 @@ struct Prog {
             rendered76.clear();
             rendered76.push_back(Elem{Pos{add(upd71.origin.x, int32_t(0)), add(upd71.origin.y, int32_t(0))}, int32_t(6)});
             std::swap(l_curr_elems73, rendered76);
-            const std::vector<Elem>& v77 = l_curr_elems73;
-            std::vector<Elem>& out78 = s.scratch.v.b15;
-            out78.clear();
-            for (const Elem& x79 : v77) {
-              const std::vector<Elem>& v80 = l_prev_elems72;
-              bool any81 = false;
-              for (const Elem& x82 : v80) {
-                const bool t83 = (x82 == x79);
-                if (t83) {
-                  any81 = true;
+            std::vector<Elem>& out77 = s.scratch.v.b15;
+            out77.clear();
+            for (const Elem& x78 : l_curr_elems73) {
+              bool any79 = false;
+              for (const Elem& x80 : l_prev_elems72) {
+                const bool t81 = (x80 == x78);
+                if (t81) {
+                  any79 = true;
                   break;
                 }
               }
-              const bool t84 = !any81;
-              if (t84) {
-                out78.push_back(x79);
+              const bool t82 = !any79;
+              if (t82) {
+                out77.push_back(x78);
               }
             }
-            std::swap(l_filtered_elems74, out78);
-            const std::vector<Elem>& v85 = l_filtered_elems74;
-            bool any86 = false;
-            for (const Elem& x87 : v85) {
-              const bool t88 = s.core.occupied.free(x87.position);
-              const bool t89 = !t88;
-              if (t89) {
-                any86 = true;
+            std::swap(l_filtered_elems74, out77);
+            bool any83 = false;
+            for (const Elem& x84 : l_filtered_elems74) {
+              const bool t85 = s.core.occupied.free(x84.position);
+              const bool t86 = !t85;
+              if (t86) {
+                any83 = true;
                 break;
               }
             }
-            const bool t90 = !any86;
-            r67 = t90;
+            const bool t87 = !any83;
+            r67 = t87;
           } else {
             r67 = false;
           }
-          C0_Flake r91{};
+          C0_Flake r88{};
           if (r67) {
-            const int32_t t92 = add(x59.origin.x, int32_t(0));
-            const int32_t t93 = add(x59.origin.y, int32_t(1));
-            const Pos t94 = Pos{t92, t93};
-            C0_Flake upd95 = x59;
-            upd95.origin = t94;
-            r91 = std::move(upd95);
+            const int32_t t89 = add(x59.origin.x, int32_t(0));
+            const int32_t t90 = add(x59.origin.y, int32_t(1));
+            const Pos t91 = Pos{t89, t90};
+            C0_Flake upd92 = x59;
+            upd92.origin = t91;
+            r88 = std::move(upd92);
           } else {
-            r91 = x59;
+            r88 = x59;
           }
-          out58.push_back(std::move(r91));
+          out58.push_back(std::move(r88));
         }
-        std::swap(s.g_snow_8, out58);
-        s.u_snow_9 = true;
+        if (!s.scratch.v.sv_snow_12) {
+          s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+          s.scratch.v.sv_snow_12 = true;
+        }
+        std::swap(s.g_snow_9, out58);
+        s.u_snow_10 = true;
       }
     }
     // on-clause 5, programs/snowplow.au:57
     {
       if (true) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C1_Melt>& g96 = s.g_melt_11;
+        const std::vector<C1_Melt>& g93 = s.g_melt_13;
         // inlined: function at programs/snowplow.au:41
-        std::vector<C1_Melt>& out97 = s.scratch.v.b16;
-        out97.clear();
-        out97.reserve(size_t(int32_t(g96.size())));
-        for (const C1_Melt& x98 : g96) {
+        std::vector<C1_Melt>& out94 = s.scratch.v.b16;
+        out94.clear();
+        out94.reserve(size_t(int32_t(g93.size())));
+        for (const C1_Melt& x95 : g93) {
           // inlined: function at programs/snowplow.au:43
-          const bool t99 = (x98.origin.y == int32_t(15));
-          const bool t100 = !t99;
-          bool r101{};
-          if (t100) {
-            const int32_t t102 = add(x98.origin.x, int32_t(0));
-            const int32_t t103 = add(x98.origin.y, int32_t(1));
-            const Pos t104 = Pos{t102, t103};
-            C1_Melt upd105 = x98;
-            upd105.origin = t104;
-            std::vector<Elem>& rendered106 = s.scratch.v.b17;
-            rendered106.clear();
-            const int32_t colour107 = colour_19_C1_Melt(s, upd105);
-            rendered106.push_back(Elem{Pos{add(upd105.origin.x, int32_t(0)), add(upd105.origin.y, int32_t(0))}, colour107});
-            bool any108 = false;
-            for (const Elem& x109 : rendered106) {
-              const bool t110 = s.core.occupied.free(x109.position);
-              const bool t111 = !t110;
-              if (t111) {
-                any108 = true;
+          const bool t96 = (x95.origin.y == int32_t(15));
+          const bool t97 = !t96;
+          bool r98{};
+          if (t97) {
+            const int32_t t99 = add(x95.origin.x, int32_t(0));
+            const int32_t t100 = add(x95.origin.y, int32_t(1));
+            const Pos t101 = Pos{t99, t100};
+            C1_Melt upd102 = x95;
+            upd102.origin = t101;
+            std::vector<Elem>& rendered103 = s.scratch.v.b17;
+            rendered103.clear();
+            const int32_t colour104 = colour_19_C1_Melt(s, upd102);
+            rendered103.push_back(Elem{Pos{add(upd102.origin.x, int32_t(0)), add(upd102.origin.y, int32_t(0))}, colour104});
+            bool any105 = false;
+            for (const Elem& x106 : rendered103) {
+              const bool t107 = s.core.occupied.free(x106.position);
+              const bool t108 = !t107;
+              if (t108) {
+                any105 = true;
                 break;
               }
             }
-            const bool t112 = !any108;
-            r101 = t112;
+            const bool t109 = !any105;
+            r98 = t109;
           } else {
-            r101 = false;
+            r98 = false;
           }
-          C1_Melt r113{};
-          if (r101) {
-            const int32_t t114 = add(x98.origin.x, int32_t(0));
-            const int32_t t115 = add(x98.origin.y, int32_t(1));
-            const Pos t116 = Pos{t114, t115};
-            C1_Melt upd117 = x98;
-            upd117.origin = t116;
-            r113 = std::move(upd117);
+          C1_Melt r110{};
+          if (r98) {
+            const int32_t t111 = add(x95.origin.x, int32_t(0));
+            const int32_t t112 = add(x95.origin.y, int32_t(1));
+            const Pos t113 = Pos{t111, t112};
+            C1_Melt upd114 = x95;
+            upd114.origin = t113;
+            r110 = std::move(upd114);
           } else {
-            std::vector<Pos>& l_nextRowPos118 = s.scratch.v.b18;
-            l_nextRowPos118.clear();
-            std::vector<Pos>& l_holes119 = s.scratch.v.b19;
-            l_holes119.clear();
-            const int32_t t120 = add(x98.origin.y, int32_t(1));
-            const Pos t121 = Pos{int32_t(0), t120};
-            const int32_t t122 = add(x98.origin.y, int32_t(2));
-            const Pos t123 = Pos{int32_t(16), t122};
-            int32_t l_xmin124{};
-            int32_t l_xmax125{};
-            int32_t l_ymin126{};
-            int32_t l_ymax127{};
-            std::vector<Pos> l_rectPos128{};
-            l_xmin124 = t121.x;
-            l_xmax125 = t123.x;
-            l_ymin126 = t121.y;
-            l_ymax127 = t123.y;
-            const int32_t& v129 = l_ymin126;
-            const int32_t& v130 = l_ymax127;
-            std::vector<int32_t>& range131 = s.scratch.v.b20;
-            range131.clear();
-            for (int32_t i132 = v129, i132_end = v130; i132 < i132_end; ++i132) {
-              range131.push_back(i132);
+            std::vector<Pos>& l_nextRowPos115 = s.scratch.v.b18;
+            l_nextRowPos115.clear();
+            std::vector<Pos>& l_holes116 = s.scratch.v.b19;
+            l_holes116.clear();
+            const int32_t t117 = add(x95.origin.y, int32_t(1));
+            const Pos t118 = Pos{int32_t(0), t117};
+            const int32_t t119 = add(x95.origin.y, int32_t(2));
+            const Pos t120 = Pos{int32_t(16), t119};
+            int32_t l_xmin121{};
+            int32_t l_xmax122{};
+            int32_t l_ymin123{};
+            int32_t l_ymax124{};
+            std::vector<Pos>& l_rectPos125 = s.scratch.v.b20;
+            l_rectPos125.clear();
+            l_xmin121 = t118.x;
+            l_xmax122 = t120.x;
+            l_ymin123 = t118.y;
+            l_ymax124 = t120.y;
+            std::vector<int32_t>& range126 = s.scratch.v.b21;
+            range126.clear();
+            for (int32_t i127 = l_ymin123, i127_end = l_ymax124; i127 < i127_end; ++i127) {
+              range126.push_back(i127);
             }
-            std::vector<std::vector<Pos>>& out133 = s.scratch.v.b21;
-            out133.clear();
-            out133.reserve(size_t(int32_t(range131.size())));
-            for (const int32_t& x134 : range131) {
-              const int32_t& v135 = l_xmin124;
-              const int32_t& v136 = l_xmax125;
-              std::vector<int32_t>& range137 = s.scratch.v.b22;
-              range137.clear();
-              for (int32_t i138 = v135, i138_end = v136; i138 < i138_end; ++i138) {
-                range137.push_back(i138);
+            std::vector<std::vector<Pos>>& out128 = s.scratch.v.b22;
+            out128.clear();
+            out128.reserve(size_t(int32_t(range126.size())));
+            for (const int32_t& x129 : range126) {
+              std::vector<int32_t>& range130 = s.scratch.v.b23;
+              range130.clear();
+              for (int32_t i131 = l_xmin121, i131_end = l_xmax122; i131 < i131_end; ++i131) {
+                range130.push_back(i131);
               }
-              std::vector<Pos> out139{};
-              out139.reserve(size_t(int32_t(range137.size())));
-              for (const int32_t& x140 : range137) {
-                const Pos t141 = Pos{x140, x134};
-                out139.push_back(t141);
+              std::vector<Pos> out132{};
+              out132.reserve(size_t(int32_t(range130.size())));
+              for (const int32_t& x133 : range130) {
+                const Pos t134 = Pos{x133, x129};
+                out132.push_back(t134);
               }
-              out133.push_back(std::move(out139));
+              out128.push_back(std::move(out132));
             }
-            std::vector<Pos>& cat142 = s.scratch.v.b23;
-            cat142.clear();
-            for (const std::vector<Pos>& part143 : out133) {
-              cat142.insert(cat142.end(), part143.begin(), part143.end());
+            std::vector<Pos>& cat135 = s.scratch.v.b24;
+            cat135.clear();
+            for (const std::vector<Pos>& part136 : out128) {
+              cat135.insert(cat135.end(), part136.begin(), part136.end());
             }
-            std::swap(l_rectPos128, cat142);
-            const std::vector<Pos>& v144 = l_rectPos128;
-            l_nextRowPos118 = v144;
-            const std::vector<Pos>& v145 = l_nextRowPos118;
-            std::vector<Pos>& out146 = s.scratch.v.b24;
-            out146.clear();
-            for (const Pos& x147 : v145) {
-              const bool t148 = (x147.y == int32_t(16));
-              const bool t149 = !t148;
-              if (t149) {
-                out146.push_back(x147);
+            std::swap(l_rectPos125, cat135);
+            std::swap(l_nextRowPos115, l_rectPos125);
+            std::vector<Pos>& out137 = s.scratch.v.b25;
+            out137.clear();
+            for (const Pos& x138 : l_nextRowPos115) {
+              const bool t139 = (x138.y == int32_t(16));
+              const bool t140 = !t139;
+              if (t140) {
+                out137.push_back(x138);
               }
             }
-            std::swap(l_nextRowPos118, out146);
-            const std::vector<Pos>& v150 = l_nextRowPos118;
-            std::vector<Pos>& out151 = s.scratch.v.b25;
-            out151.clear();
-            for (const Pos& x152 : v150) {
-              const bool t153 = s.core.occupied.free(x152);
-              bool r154{};
-              if (t153) {
-                const int32_t t155 = add(x152.x, int32_t(0));
-                const int32_t t156 = add(x152.y, int32_t(-1));
-                const Pos t157 = Pos{t155, t156};
-                const bool t158 = s.core.occupied.free(t157);
-                r154 = t158;
+            std::swap(l_nextRowPos115, out137);
+            std::vector<Pos>& out141 = s.scratch.v.b26;
+            out141.clear();
+            for (const Pos& x142 : l_nextRowPos115) {
+              const bool t143 = s.core.occupied.free(x142);
+              bool r144{};
+              if (t143) {
+                const int32_t t145 = add(x142.x, int32_t(0));
+                const int32_t t146 = add(x142.y, int32_t(-1));
+                const Pos t147 = Pos{t145, t146};
+                const bool t148 = s.core.occupied.free(t147);
+                r144 = t148;
               } else {
-                r154 = false;
+                r144 = false;
               }
-              if (r154) {
-                out151.push_back(x152);
+              if (r144) {
+                out141.push_back(x142);
               }
             }
-            std::swap(l_holes119, out151);
-            const std::vector<Pos>& v159 = l_holes119;
-            const int32_t t160 = int32_t(v159.size());
-            const bool t161 = (t160 == int32_t(0));
-            C1_Melt r162{};
-            if (t161) {
-              r162 = x98;
+            std::swap(l_holes116, out141);
+            const int32_t t149 = int32_t(l_holes116.size());
+            const bool t150 = (t149 == int32_t(0));
+            C1_Melt r151{};
+            if (t150) {
+              r151 = x95;
             } else {
-              Pos l_closestHole163{};
-              const int32_t t164 = int32_t(v159.size());
-              const bool t165 = (t164 == int32_t(0));
-              Pos r166{};
-              if (t165) {
-                r166 = x98.origin;
+              Pos l_closestHole152{};
+              const int32_t t153 = int32_t(l_holes116.size());
+              const bool t154 = (t153 == int32_t(0));
+              Pos r155{};
+              if (t154) {
+                r155 = x95.origin;
               } else {
-                if (v159.empty()) {
+                if (l_holes116.empty()) {
                   fail_at(5, std::string() + std::string("head of an empty list"));
                 }
-                const Pos t167 = v159.front();
-                Pos acc168 = t167;
-                for (const Pos& x169 : v159) {
-                  const Pos& a170 = acc168;
-                  Pos l_delta171{};
-                  const int32_t t172 = sub(x98.origin.x, a170.x);
-                  const int32_t t173 = sub(x98.origin.y, a170.y);
-                  const Pos t174 = Pos{t172, t173};
-                  l_delta171 = t174;
-                  const Pos& v175 = l_delta171;
-                  const Pos& v176 = l_delta171;
-                  const int32_t t177 = mul(v175.x, v176.x);
-                  const Pos& v178 = l_delta171;
-                  const Pos& v179 = l_delta171;
-                  const int32_t t180 = mul(v178.y, v179.y);
-                  const int32_t t181 = add(t177, t180);
-                  Pos l_delta182{};
-                  const int32_t t183 = sub(x98.origin.x, x169.x);
-                  const int32_t t184 = sub(x98.origin.y, x169.y);
-                  const Pos t185 = Pos{t183, t184};
-                  l_delta182 = t185;
-                  const Pos& v186 = l_delta182;
-                  const Pos& v187 = l_delta182;
-                  const int32_t t188 = mul(v186.x, v187.x);
-                  const Pos& v189 = l_delta182;
-                  const Pos& v190 = l_delta182;
-                  const int32_t t191 = mul(v189.y, v190.y);
-                  const int32_t t192 = add(t188, t191);
-                  const bool t193 = (t181 < t192);
-                  Pos r194{};
-                  if (t193) {
-                    r194 = a170;
+                const Pos t156 = l_holes116.front();
+                Pos acc157 = t156;
+                for (const Pos& x158 : l_holes116) {
+                  Pos l_delta159{};
+                  const int32_t t160 = sub(x95.origin.x, acc157.x);
+                  const int32_t t161 = sub(x95.origin.y, acc157.y);
+                  const Pos t162 = Pos{t160, t161};
+                  l_delta159 = t162;
+                  const int32_t t163 = mul(l_delta159.x, l_delta159.x);
+                  const int32_t t164 = mul(l_delta159.y, l_delta159.y);
+                  const int32_t t165 = add(t163, t164);
+                  Pos l_delta166{};
+                  const int32_t t167 = sub(x95.origin.x, x158.x);
+                  const int32_t t168 = sub(x95.origin.y, x158.y);
+                  const Pos t169 = Pos{t167, t168};
+                  l_delta166 = t169;
+                  const int32_t t170 = mul(l_delta166.x, l_delta166.x);
+                  const int32_t t171 = mul(l_delta166.y, l_delta166.y);
+                  const int32_t t172 = add(t170, t171);
+                  const bool t173 = (t165 < t172);
+                  Pos r174{};
+                  if (t173) {
+                    r174 = acc157;
                   } else {
-                    r194 = x169;
+                    r174 = x158;
                   }
-                  acc168 = r194;
+                  acc157 = r174;
                 }
-                const Pos& folded195 = acc168;
-                r166 = folded195;
+                r155 = acc157;
               }
-              l_closestHole163 = r166;
-              const Pos& v196 = l_closestHole163;
-              Pos l_dir197{};
-              C1_Melt l_movedObj198{};
-              const int32_t t199 = add(v196.x, int32_t(0));
-              const int32_t t200 = add(v196.y, int32_t(-1));
-              const Pos t201 = Pos{t199, t200};
-              Pos l_delta202{};
-              int32_t l_sign_x203{};
-              int32_t l_sign_y204{};
-              const int32_t t205 = sub(t201.x, x98.origin.x);
-              const int32_t t206 = sub(t201.y, x98.origin.y);
-              const Pos t207 = Pos{t205, t206};
-              l_delta202 = t207;
-              const Pos& v208 = l_delta202;
-              const bool t209 = (v208.x == int32_t(0));
-              int32_t r210{};
-              if (t209) {
-                r210 = int32_t(0);
+              l_closestHole152 = r155;
+              Pos l_dir175{};
+              C1_Melt l_movedObj176{};
+              const int32_t t177 = add(l_closestHole152.x, int32_t(0));
+              const int32_t t178 = add(l_closestHole152.y, int32_t(-1));
+              const Pos t179 = Pos{t177, t178};
+              Pos l_delta180{};
+              int32_t l_sign_x181{};
+              int32_t l_sign_y182{};
+              const int32_t t183 = sub(t179.x, x95.origin.x);
+              const int32_t t184 = sub(t179.y, x95.origin.y);
+              const Pos t185 = Pos{t183, t184};
+              l_delta180 = t185;
+              const bool t186 = (l_delta180.x == int32_t(0));
+              int32_t r187{};
+              if (t186) {
+                r187 = int32_t(0);
               } else {
-                const bool t211 = (v208.x < int32_t(0));
-                int32_t r212{};
-                if (t211) {
-                  r212 = int32_t(-1);
+                const bool t188 = (l_delta180.x < int32_t(0));
+                int32_t r189{};
+                if (t188) {
+                  r189 = int32_t(-1);
                 } else {
-                  r212 = int32_t(1);
+                  r189 = int32_t(1);
                 }
-                r210 = r212;
+                r187 = r189;
               }
-              l_sign_x203 = r210;
-              const Pos& v213 = l_delta202;
-              const bool t214 = (v213.y == int32_t(0));
-              int32_t r215{};
-              if (t214) {
-                r215 = int32_t(0);
+              l_sign_x181 = r187;
+              const bool t190 = (l_delta180.y == int32_t(0));
+              int32_t r191{};
+              if (t190) {
+                r191 = int32_t(0);
               } else {
-                const bool t216 = (v213.y < int32_t(0));
-                int32_t r217{};
-                if (t216) {
-                  r217 = int32_t(-1);
+                const bool t192 = (l_delta180.y < int32_t(0));
+                int32_t r193{};
+                if (t192) {
+                  r193 = int32_t(-1);
                 } else {
-                  r217 = int32_t(1);
+                  r193 = int32_t(1);
                 }
-                r215 = r217;
+                r191 = r193;
               }
-              l_sign_y204 = r215;
-              const int32_t& v218 = l_sign_x203;
-              const bool t219 = (v218 < int32_t(0));
-              int32_t r220{};
-              if (t219) {
-                const int32_t t221 = neg(v218);
-                r220 = t221;
+              l_sign_y182 = r191;
+              const bool t194 = (l_sign_x181 < int32_t(0));
+              int32_t r195{};
+              if (t194) {
+                const int32_t t196 = neg(l_sign_x181);
+                r195 = t196;
               } else {
-                r220 = v218;
+                r195 = l_sign_x181;
               }
-              const bool t222 = (r220 == int32_t(1));
-              bool r223{};
-              if (t222) {
-                const int32_t& v224 = l_sign_y204;
-                const bool t225 = (v224 < int32_t(0));
-                int32_t r226{};
-                if (t225) {
-                  const int32_t t227 = neg(v224);
-                  r226 = t227;
+              const bool t197 = (r195 == int32_t(1));
+              bool r198{};
+              if (t197) {
+                const bool t199 = (l_sign_y182 < int32_t(0));
+                int32_t r200{};
+                if (t199) {
+                  const int32_t t201 = neg(l_sign_y182);
+                  r200 = t201;
                 } else {
-                  r226 = v224;
+                  r200 = l_sign_y182;
                 }
-                const bool t228 = (r226 == int32_t(1));
-                r223 = t228;
+                const bool t202 = (r200 == int32_t(1));
+                r198 = t202;
               } else {
-                r223 = false;
+                r198 = false;
               }
-              Pos r229{};
-              if (r223) {
-                const int32_t& v230 = l_sign_x203;
-                const Pos t231 = Pos{v230, int32_t(0)};
-                r229 = t231;
+              Pos r203{};
+              if (r198) {
+                const Pos t204 = Pos{l_sign_x181, int32_t(0)};
+                r203 = t204;
               } else {
-                const int32_t& v232 = l_sign_x203;
-                const int32_t& v233 = l_sign_y204;
-                const Pos t234 = Pos{v232, v233};
-                r229 = t234;
+                const Pos t205 = Pos{l_sign_x181, l_sign_y182};
+                r203 = t205;
               }
-              l_dir197 = r229;
-              const Pos& v235 = l_dir197;
-              const int32_t t236 = add(x98.origin.x, v235.x);
-              const int32_t t237 = add(x98.origin.y, v235.y);
-              const Pos t238 = Pos{t236, t237};
-              C1_Melt upd239 = x98;
-              upd239.origin = t238;
-              l_movedObj198 = std::move(upd239);
-              const int32_t t240 = add(v196.x, int32_t(0));
-              const int32_t t241 = add(v196.y, int32_t(-1));
-              const Pos t242 = Pos{t240, t241};
-              const bool t243 = s.core.occupied.free(t242);
-              bool r244{};
-              if (t243) {
-                const C1_Melt& v245 = l_movedObj198;
-                const bool t246 = s.core.occupied.free(v245.origin);
-                bool r247{};
-                if (t246) {
-                  const C1_Melt& v248 = l_movedObj198;
-                  std::vector<Elem>& rendered249 = s.scratch.v.b26;
-                  rendered249.clear();
-                  const int32_t colour250 = colour_19_C1_Melt(s, v248);
-                  rendered249.push_back(Elem{Pos{add(v248.origin.x, int32_t(0)), add(v248.origin.y, int32_t(0))}, colour250});
-                  bool within251 = true;
-                  for (const Elem& e252 : rendered249) {
-                    if ((((e252.position.x < int32_t(0)) || (e252.position.x >= int32_t(16))) || ((e252.position.y < int32_t(0)) || (e252.position.y >= int32_t(16))))) {
-                      within251 = false;
+              l_dir175 = r203;
+              const int32_t t206 = add(x95.origin.x, l_dir175.x);
+              const int32_t t207 = add(x95.origin.y, l_dir175.y);
+              const Pos t208 = Pos{t206, t207};
+              C1_Melt upd209 = x95;
+              upd209.origin = t208;
+              l_movedObj176 = std::move(upd209);
+              const int32_t t210 = add(l_closestHole152.x, int32_t(0));
+              const int32_t t211 = add(l_closestHole152.y, int32_t(-1));
+              const Pos t212 = Pos{t210, t211};
+              const bool t213 = s.core.occupied.free(t212);
+              bool r214{};
+              if (t213) {
+                const bool t215 = s.core.occupied.free(l_movedObj176.origin);
+                bool r216{};
+                if (t215) {
+                  std::vector<Elem>& rendered217 = s.scratch.v.b27;
+                  rendered217.clear();
+                  const int32_t colour218 = colour_19_C1_Melt(s, l_movedObj176);
+                  rendered217.push_back(Elem{Pos{add(l_movedObj176.origin.x, int32_t(0)), add(l_movedObj176.origin.y, int32_t(0))}, colour218});
+                  bool within219 = true;
+                  for (const Elem& e220 : rendered217) {
+                    if ((((e220.position.x < int32_t(0)) || (e220.position.x >= int32_t(16))) || ((e220.position.y < int32_t(0)) || (e220.position.y >= int32_t(16))))) {
+                      within219 = false;
                       break;
                     }
                   }
-                  r247 = within251;
+                  r216 = within219;
                 } else {
-                  r247 = false;
+                  r216 = false;
                 }
-                r244 = r247;
+                r214 = r216;
               } else {
-                r244 = false;
+                r214 = false;
               }
-              C1_Melt r253{};
-              if (r244) {
-                const C1_Melt& v254 = l_movedObj198;
-                r253 = v254;
+              C1_Melt r221{};
+              if (r214) {
+                r221 = std::move(l_movedObj176);
               } else {
-                r253 = x98;
+                r221 = x95;
               }
-              r162 = std::move(r253);
+              r151 = std::move(r221);
             }
-            r113 = std::move(r162);
+            r110 = std::move(r151);
           }
-          const int32_t t255 = sub(x98.f0, int32_t(1));
-          C1_Melt upd256 = r113;
-          upd256.f0 = t255;
-          out97.push_back(std::move(upd256));
+          const int32_t t222 = sub(x95.f0, int32_t(1));
+          C1_Melt upd223 = r110;
+          upd223.f0 = t222;
+          out94.push_back(std::move(upd223));
         }
-        std::vector<C1_Melt>& out257 = s.scratch.v.b27;
-        out257.clear();
-        for (const C1_Melt& x258 : out97) {
+        std::vector<C1_Melt>& out224 = s.scratch.v.b28;
+        out224.clear();
+        for (const C1_Melt& x225 : out94) {
           // inlined: function at programs/snowplow.au:42
-          const bool t259 = (x258.f0 > int32_t(0));
-          if (t259) {
-            out257.push_back(x258);
+          const bool t226 = (x225.f0 > int32_t(0));
+          if (t226) {
+            out224.push_back(x225);
           }
         }
-        std::swap(s.g_melt_11, out257);
-        s.u_melt_12 = true;
+        if (!s.scratch.v.sv_melt_16) {
+          s.scratch.v.p_melt_15 = std::move(s.g_melt_13);
+          s.scratch.v.sv_melt_16 = true;
+        }
+        std::swap(s.g_melt_13, out224);
+        s.u_melt_14 = true;
       }
     }
     // on-clause 6, programs/snowplow.au:59
     {
-      const bool t260 = s.core.left;
-      if (t260) {
+      const bool t227 = s.core.left;
+      if (t227) {
         s.core.covered[int32_t(5)] = 1;
-        const C3_Plow& prev261 = s.p_plow_7;
+        const C3_Plow& prev228 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
         // inlined: function at programs/snowplow.au:38
-        const int32_t t262 = add(prev261.origin.x, int32_t(-1));
-        const int32_t t263 = add(prev261.origin.y, int32_t(0));
-        const Pos t264 = Pos{t262, t263};
-        C3_Plow upd265 = prev261;
-        upd265.origin = t264;
-        std::vector<Elem>& rendered266 = s.scratch.v.b28;
-        rendered266.clear();
-        rendered266.push_back(Elem{Pos{add(upd265.origin.x, int32_t(0)), add(upd265.origin.y, int32_t(0))}, int32_t(2)});
-        rendered266.push_back(Elem{Pos{add(upd265.origin.x, int32_t(1)), add(upd265.origin.y, int32_t(0))}, int32_t(2)});
-        bool within267 = true;
-        for (const Elem& e268 : rendered266) {
-          if ((((e268.position.x < int32_t(0)) || (e268.position.x >= int32_t(16))) || ((e268.position.y < int32_t(0)) || (e268.position.y >= int32_t(16))))) {
-            within267 = false;
+        const int32_t t229 = add(prev228.origin.x, int32_t(-1));
+        const int32_t t230 = add(prev228.origin.y, int32_t(0));
+        const Pos t231 = Pos{t229, t230};
+        C3_Plow upd232 = prev228;
+        upd232.origin = t231;
+        std::vector<Elem>& rendered233 = s.scratch.v.b29;
+        rendered233.clear();
+        rendered233.push_back(Elem{Pos{add(upd232.origin.x, int32_t(0)), add(upd232.origin.y, int32_t(0))}, int32_t(2)});
+        rendered233.push_back(Elem{Pos{add(upd232.origin.x, int32_t(1)), add(upd232.origin.y, int32_t(0))}, int32_t(2)});
+        bool within234 = true;
+        for (const Elem& e235 : rendered233) {
+          if ((((e235.position.x < int32_t(0)) || (e235.position.x >= int32_t(16))) || ((e235.position.y < int32_t(0)) || (e235.position.y >= int32_t(16))))) {
+            within234 = false;
             break;
           }
         }
-        C3_Plow r269{};
-        if (within267) {
-          const int32_t t270 = add(prev261.origin.x, int32_t(-1));
-          const int32_t t271 = add(prev261.origin.y, int32_t(0));
-          const Pos t272 = Pos{t270, t271};
-          C3_Plow upd273 = prev261;
-          upd273.origin = t272;
-          r269 = std::move(upd273);
+        C3_Plow r236{};
+        if (within234) {
+          const int32_t t237 = add(prev228.origin.x, int32_t(-1));
+          const int32_t t238 = add(prev228.origin.y, int32_t(0));
+          const Pos t239 = Pos{t237, t238};
+          C3_Plow upd240 = prev228;
+          upd240.origin = t239;
+          r236 = std::move(upd240);
         } else {
-          r269 = prev261;
+          r236 = prev228;
         }
-        s.g_plow_5 = std::move(r269);
+        if (!s.scratch.v.sv_plow_8) {
+          s.scratch.v.p_plow_7 = std::move(s.g_plow_5);
+          s.scratch.v.sv_plow_8 = true;
+        }
+        s.g_plow_5 = std::move(r236);
         s.u_plow_6 = true;
       }
     }
     // on-clause 7, programs/snowplow.au:60
     {
-      const bool t274 = s.core.right;
-      if (t274) {
+      const bool t241 = s.core.right;
+      if (t241) {
         s.core.covered[int32_t(6)] = 1;
-        const C3_Plow& prev275 = s.p_plow_7;
+        const C3_Plow& prev242 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
         // inlined: function at programs/snowplow.au:38
-        const int32_t t276 = add(prev275.origin.x, int32_t(1));
-        const int32_t t277 = add(prev275.origin.y, int32_t(0));
-        const Pos t278 = Pos{t276, t277};
-        C3_Plow upd279 = prev275;
-        upd279.origin = t278;
-        std::vector<Elem>& rendered280 = s.scratch.v.b29;
-        rendered280.clear();
-        rendered280.push_back(Elem{Pos{add(upd279.origin.x, int32_t(0)), add(upd279.origin.y, int32_t(0))}, int32_t(2)});
-        rendered280.push_back(Elem{Pos{add(upd279.origin.x, int32_t(1)), add(upd279.origin.y, int32_t(0))}, int32_t(2)});
-        bool within281 = true;
-        for (const Elem& e282 : rendered280) {
-          if ((((e282.position.x < int32_t(0)) || (e282.position.x >= int32_t(16))) || ((e282.position.y < int32_t(0)) || (e282.position.y >= int32_t(16))))) {
-            within281 = false;
+        const int32_t t243 = add(prev242.origin.x, int32_t(1));
+        const int32_t t244 = add(prev242.origin.y, int32_t(0));
+        const Pos t245 = Pos{t243, t244};
+        C3_Plow upd246 = prev242;
+        upd246.origin = t245;
+        std::vector<Elem>& rendered247 = s.scratch.v.b30;
+        rendered247.clear();
+        rendered247.push_back(Elem{Pos{add(upd246.origin.x, int32_t(0)), add(upd246.origin.y, int32_t(0))}, int32_t(2)});
+        rendered247.push_back(Elem{Pos{add(upd246.origin.x, int32_t(1)), add(upd246.origin.y, int32_t(0))}, int32_t(2)});
+        bool within248 = true;
+        for (const Elem& e249 : rendered247) {
+          if ((((e249.position.x < int32_t(0)) || (e249.position.x >= int32_t(16))) || ((e249.position.y < int32_t(0)) || (e249.position.y >= int32_t(16))))) {
+            within248 = false;
             break;
           }
         }
-        C3_Plow r283{};
-        if (within281) {
-          const int32_t t284 = add(prev275.origin.x, int32_t(1));
-          const int32_t t285 = add(prev275.origin.y, int32_t(0));
-          const Pos t286 = Pos{t284, t285};
-          C3_Plow upd287 = prev275;
-          upd287.origin = t286;
-          r283 = std::move(upd287);
+        C3_Plow r250{};
+        if (within248) {
+          const int32_t t251 = add(prev242.origin.x, int32_t(1));
+          const int32_t t252 = add(prev242.origin.y, int32_t(0));
+          const Pos t253 = Pos{t251, t252};
+          C3_Plow upd254 = prev242;
+          upd254.origin = t253;
+          r250 = std::move(upd254);
         } else {
-          r283 = prev275;
+          r250 = prev242;
         }
-        s.g_plow_5 = std::move(r283);
+        if (!s.scratch.v.sv_plow_8) {
+          s.scratch.v.p_plow_7 = std::move(s.g_plow_5);
+          s.scratch.v.sv_plow_8 = true;
+        }
+        s.g_plow_5 = std::move(r250);
         s.u_plow_6 = true;
       }
     }
@@ -1141,218 +1148,255 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(7)] = 1;
-        const std::vector<C0_Flake>& g288 = s.g_snow_8;
-        std::vector<C0_Flake>& kept289 = s.scratch.v.b30;
-        kept289.clear();
-        for (const C0_Flake& x290 : g288) {
+        const std::vector<C0_Flake>& g255 = s.g_snow_9;
+        std::vector<C0_Flake>& kept256 = s.scratch.v.b31;
+        kept256.clear();
+        for (const C0_Flake& x257 : g255) {
           // inlined: function at programs/snowplow.au:61
-          const C3_Plow& g291 = s.g_plow_5;
-          std::vector<Elem>& rendered292 = s.scratch.v.b31;
-          rendered292.clear();
-          rendered292.push_back(Elem{Pos{add(x290.origin.x, int32_t(0)), add(x290.origin.y, int32_t(0))}, int32_t(6)});
-          std::vector<Elem>& rendered293 = s.scratch.v.b32;
-          rendered293.clear();
-          rendered293.push_back(Elem{Pos{add(g291.origin.x, int32_t(0)), add(g291.origin.y, int32_t(0))}, int32_t(2)});
-          rendered293.push_back(Elem{Pos{add(g291.origin.x, int32_t(1)), add(g291.origin.y, int32_t(0))}, int32_t(2)});
-          const int32_t t294 = int32_t(rendered292.size());
-          const bool t295 = (t294 == int32_t(0));
-          bool r296{};
-          if (!t295) {
-            const int32_t t297 = int32_t(rendered293.size());
-            const bool t298 = (t297 == int32_t(0));
-            r296 = t298;
+          const C3_Plow& g258 = s.g_plow_5;
+          std::vector<Elem>& rendered259 = s.scratch.v.b32;
+          rendered259.clear();
+          rendered259.push_back(Elem{Pos{add(x257.origin.x, int32_t(0)), add(x257.origin.y, int32_t(0))}, int32_t(6)});
+          std::vector<Elem>& rendered260 = s.scratch.v.b33;
+          rendered260.clear();
+          rendered260.push_back(Elem{Pos{add(g258.origin.x, int32_t(0)), add(g258.origin.y, int32_t(0))}, int32_t(2)});
+          rendered260.push_back(Elem{Pos{add(g258.origin.x, int32_t(1)), add(g258.origin.y, int32_t(0))}, int32_t(2)});
+          const int32_t t261 = int32_t(rendered259.size());
+          const bool t262 = (t261 == int32_t(0));
+          bool r263{};
+          if (!t262) {
+            const int32_t t264 = int32_t(rendered260.size());
+            const bool t265 = (t264 == int32_t(0));
+            r263 = t265;
           } else {
-            r296 = true;
+            r263 = true;
           }
-          bool r299{};
-          if (r296) {
-            r299 = false;
+          bool r266{};
+          if (r263) {
+            r266 = false;
           } else {
-            bool any300 = false;
-            for (const Elem& x301 : rendered292) {
-              bool any302 = false;
-              for (const Elem& x303 : rendered293) {
-                const bool t304 = (x301.position == x303.position);
-                if (t304) {
-                  any302 = true;
+            bool any267 = false;
+            for (const Elem& x268 : rendered259) {
+              bool any269 = false;
+              for (const Elem& x270 : rendered260) {
+                const bool t271 = (x268.position == x270.position);
+                if (t271) {
+                  any269 = true;
                   break;
                 }
               }
-              if (any302) {
-                any300 = true;
+              if (any269) {
+                any267 = true;
                 break;
               }
             }
-            r299 = any300;
+            r266 = any267;
           }
-          if (!r299) {
-            kept289.push_back(x290);
+          if (!r266) {
+            kept256.push_back(x257);
           }
         }
-        std::swap(s.g_snow_8, kept289);
-        s.u_snow_9 = true;
+        if (!s.scratch.v.sv_snow_12) {
+          s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+          s.scratch.v.sv_snow_12 = true;
+        }
+        std::swap(s.g_snow_9, kept256);
+        s.u_snow_10 = true;
       }
     }
     // on-clause 9, programs/snowplow.au:63
     {
-      const bool t305 = s.core.up;
-      if (t305) {
+      const bool t272 = s.core.up;
+      if (t272) {
         s.core.covered[int32_t(8)] = 1;
-        const C4_Cloud& prev306 = s.p_cloud_19;
-        const C4_Cloud& prev307 = s.p_cloud_19;
-        const int32_t t308 = add(prev307.f0, int32_t(1));
-        const bool t309 = (int32_t(4) < t308);
-        int32_t r310{};
-        if (t309) {
-          r310 = int32_t(4);
+        const C4_Cloud& prev273 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const C4_Cloud& prev274 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const int32_t t275 = add(prev274.f0, int32_t(1));
+        const bool t276 = (int32_t(4) < t275);
+        int32_t r277{};
+        if (t276) {
+          r277 = int32_t(4);
         } else {
-          r310 = t308;
+          r277 = t275;
         }
-        C4_Cloud upd311 = prev306;
-        upd311.f0 = r310;
-        s.g_cloud_17 = std::move(upd311);
-        s.u_cloud_18 = true;
+        C4_Cloud upd278 = prev273;
+        upd278.f0 = r277;
+        if (!s.scratch.v.sv_cloud_24) {
+          s.scratch.v.p_cloud_23 = std::move(s.g_cloud_21);
+          s.scratch.v.sv_cloud_24 = true;
+        }
+        s.g_cloud_21 = std::move(upd278);
+        s.u_cloud_22 = true;
       }
     }
     // on-clause 10, programs/snowplow.au:64
     {
-      const bool t312 = s.core.down;
-      if (t312) {
+      const bool t279 = s.core.down;
+      if (t279) {
         s.core.covered[int32_t(9)] = 1;
-        const C4_Cloud& prev313 = s.p_cloud_19;
-        const C4_Cloud& prev314 = s.p_cloud_19;
-        const int32_t t315 = sub(prev314.f0, int32_t(1));
-        const bool t316 = (int32_t(1) < t315);
-        int32_t r317{};
-        if (t316) {
-          r317 = t315;
+        const C4_Cloud& prev280 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const C4_Cloud& prev281 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const int32_t t282 = sub(prev281.f0, int32_t(1));
+        const bool t283 = (int32_t(1) < t282);
+        int32_t r284{};
+        if (t283) {
+          r284 = t282;
         } else {
-          r317 = int32_t(1);
+          r284 = int32_t(1);
         }
-        C4_Cloud upd318 = prev313;
-        upd318.f0 = r317;
-        s.g_cloud_17 = std::move(upd318);
-        s.u_cloud_18 = true;
+        C4_Cloud upd285 = prev280;
+        upd285.f0 = r284;
+        if (!s.scratch.v.sv_cloud_24) {
+          s.scratch.v.p_cloud_23 = std::move(s.g_cloud_21);
+          s.scratch.v.sv_cloud_24 = true;
+        }
+        s.g_cloud_21 = std::move(upd285);
+        s.u_cloud_22 = true;
       }
     }
     // on-clause 11, programs/snowplow.au:69
     {
-      const int32_t& g319 = s.g_time_20;
-      const C4_Cloud& g320 = s.g_cloud_17;
-      const int32_t t321 = sub(int32_t(5), g320.f0);
-      if ((t321 == int32_t(0))) {
+      const int32_t& g286 = s.g_time_25;
+      const C4_Cloud& g287 = s.g_cloud_21;
+      const int32_t t288 = sub(int32_t(5), g287.f0);
+      if ((t288 == int32_t(0))) {
         fail_at(6, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
-      if (((g319 == int32_t(-2147483648LL)) && (t321 == int32_t(-1)))) {
+      if (((g286 == int32_t(-2147483648LL)) && (t288 == int32_t(-1)))) {
         fail_at(6, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
-      const int32_t t322 = autumn::arith::mod_unchecked(g319, t321);
-      const bool t323 = (t322 == int32_t(0));
-      bool r324{};
-      if (t323) {
-        const std::vector<C0_Flake>& g325 = s.g_snow_8;
-        const int32_t t326 = int32_t(g325.size());
-        const bool t327 = (t326 < int32_t(70));
-        r324 = t327;
+      const int32_t t289 = autumn::arith::mod_unchecked(g286, t288);
+      const bool t290 = (t289 == int32_t(0));
+      bool r291{};
+      if (t290) {
+        const std::vector<C0_Flake>& g292 = s.g_snow_9;
+        const int32_t t293 = int32_t(g292.size());
+        const bool t294 = (t293 < int32_t(70));
+        r291 = t294;
       } else {
-        r324 = false;
+        r291 = false;
       }
-      if (r324) {
+      if (r291) {
         s.core.covered[int32_t(10)] = 1;
-        Pos l_drop328{};
-        C0_Flake l_flake329{};
+        Pos l_drop295{};
+        C0_Flake l_flake296{};
         if ((int32_t(255) < int32_t(0))) {
           fail_at(7, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
-        std::vector<Pos>& rpos330 = s.scratch.v.b33;
-        rpos330.clear();
-        for (int32_t i331 = int32_t(0), i331_end = int32_t(1); i331 < i331_end; ++i331) {
-          const int32_t t332 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-          const int32_t t333 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-          const Pos t334 = Pos{t332, t333};
-          rpos330.push_back(t334);
+        std::vector<Pos>& rpos297 = s.scratch.v.b34;
+        rpos297.clear();
+        for (int32_t i298 = int32_t(0), i298_end = int32_t(1); i298 < i298_end; ++i298) {
+          const int32_t t299 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+          const int32_t t300 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+          const Pos t301 = Pos{t299, t300};
+          rpos297.push_back(t301);
         }
-        if (rpos330.empty()) {
+        if (rpos297.empty()) {
           fail_at(8, std::string() + std::string("head of an empty list"));
         }
-        const Pos t335 = rpos330.front();
-        const int32_t t336 = autumn::arith::mod_unchecked(t335.x, int32_t(16));
-        const Pos t337 = Pos{t336, int32_t(1)};
-        l_drop328 = t337;
-        const Pos& v338 = l_drop328;
-        C0_Flake o339 = C0_Flake{v338};
-        l_flake329 = std::move(o339);
-        const C0_Flake& v340 = l_flake329;
-        std::vector<Elem>& rendered341 = s.scratch.v.b34;
-        rendered341.clear();
-        rendered341.push_back(Elem{Pos{add(v340.origin.x, int32_t(0)), add(v340.origin.y, int32_t(0))}, int32_t(6)});
-        bool any342 = false;
-        for (const Elem& x343 : rendered341) {
-          const bool t344 = s.core.occupied.free(x343.position);
-          const bool t345 = !t344;
-          if (t345) {
-            any342 = true;
+        const Pos t302 = rpos297.front();
+        const int32_t t303 = autumn::arith::mod_unchecked(t302.x, int32_t(16));
+        const Pos t304 = Pos{t303, int32_t(1)};
+        l_drop295 = t304;
+        C0_Flake o305 = C0_Flake{l_drop295};
+        l_flake296 = std::move(o305);
+        std::vector<Elem>& rendered306 = s.scratch.v.b35;
+        rendered306.clear();
+        rendered306.push_back(Elem{Pos{add(l_flake296.origin.x, int32_t(0)), add(l_flake296.origin.y, int32_t(0))}, int32_t(6)});
+        bool any307 = false;
+        for (const Elem& x308 : rendered306) {
+          const bool t309 = s.core.occupied.free(x308.position);
+          const bool t310 = !t309;
+          if (t310) {
+            any307 = true;
             break;
           }
         }
-        const bool t346 = !any342;
-        std::vector<C0_Flake>& r347 = s.scratch.v.b35;
-        r347.clear();
-        if (t346) {
-          const std::vector<C0_Flake>& g348 = s.g_snow_8;
-          const C0_Flake& v349 = l_flake329;
-          std::vector<C0_Flake>& added350 = s.scratch.v.b36;
-          added350.clear();
-          added350.reserve(size_t(add(int32_t(g348.size()), int32_t(1))));
-          for (const C0_Flake& x351 : g348) {
-            added350.push_back(x351);
+        const bool t311 = !any307;
+        std::vector<C0_Flake>& r312 = s.scratch.v.b36;
+        r312.clear();
+        if (t311) {
+          const std::vector<C0_Flake>& g313 = s.g_snow_9;
+          std::vector<C0_Flake>& added314 = s.scratch.v.b37;
+          added314.clear();
+          added314.reserve(size_t(add(int32_t(g313.size()), int32_t(1))));
+          for (const C0_Flake& x315 : g313) {
+            added314.push_back(x315);
           }
-          added350.push_back(v349);
-          std::swap(r347, added350);
+          added314.push_back(std::move(l_flake296));
+          std::swap(r312, added314);
         } else {
-          const std::vector<C0_Flake>& g352 = s.g_snow_8;
-          r347 = g352;
+          const std::vector<C0_Flake>& g316 = s.g_snow_9;
+          r312 = g316;
         }
-        std::swap(s.g_snow_8, r347);
-        s.u_snow_9 = true;
+        if (!s.scratch.v.sv_snow_12) {
+          s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+          s.scratch.v.sv_snow_12 = true;
+        }
+        std::swap(s.g_snow_9, r312);
+        s.u_snow_10 = true;
       }
     }
     // NEXT of plow, programs/snowplow.au:35
     if (!s.u_plow_6) {
-      const C3_Plow& prev353 = s.p_plow_7;
-      s.g_plow_5 = prev353;
+      const C3_Plow prev317 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
+      if (!s.scratch.v.sv_plow_8) {
+        s.scratch.v.p_plow_7 = std::move(s.g_plow_5);
+        s.scratch.v.sv_plow_8 = true;
+      }
+      s.g_plow_5 = prev317;
       s.u_plow_6 = true;
     }
     // NEXT of snow, programs/snowplow.au:29
-    if (!s.u_snow_9) {
-      const std::vector<C0_Flake>& prev354 = s.p_snow_10;
-      s.g_snow_8 = prev354;
-      s.u_snow_9 = true;
+    if (!s.u_snow_10) {
+      const std::vector<C0_Flake> prev318 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
+      if (!s.scratch.v.sv_snow_12) {
+        s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+        s.scratch.v.sv_snow_12 = true;
+      }
+      s.g_snow_9 = prev318;
+      s.u_snow_10 = true;
     }
     // NEXT of melt, programs/snowplow.au:32
-    if (!s.u_melt_12) {
-      const std::vector<C1_Melt>& prev355 = s.p_melt_13;
-      s.g_melt_11 = prev355;
-      s.u_melt_12 = true;
+    if (!s.u_melt_14) {
+      const std::vector<C1_Melt> prev319 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
+      if (!s.scratch.v.sv_melt_16) {
+        s.scratch.v.p_melt_15 = std::move(s.g_melt_13);
+        s.scratch.v.sv_melt_16 = true;
+      }
+      s.g_melt_13 = prev319;
+      s.u_melt_14 = true;
     }
     // NEXT of rocks, programs/snowplow.au:26
-    if (!s.u_rocks_15) {
-      const std::vector<C2_Rock>& prev356 = s.p_rocks_16;
-      s.g_rocks_14 = prev356;
-      s.u_rocks_15 = true;
+    if (!s.u_rocks_18) {
+      const std::vector<C2_Rock> prev320 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
+      if (!s.scratch.v.sv_rocks_20) {
+        s.scratch.v.p_rocks_19 = std::move(s.g_rocks_17);
+        s.scratch.v.sv_rocks_20 = true;
+      }
+      s.g_rocks_17 = prev320;
+      s.u_rocks_18 = true;
     }
     // NEXT of cloud, programs/snowplow.au:21
-    if (!s.u_cloud_18) {
-      const C4_Cloud& prev357 = s.p_cloud_19;
-      s.g_cloud_17 = prev357;
-      s.u_cloud_18 = true;
+    if (!s.u_cloud_22) {
+      const C4_Cloud prev321 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+      if (!s.scratch.v.sv_cloud_24) {
+        s.scratch.v.p_cloud_23 = std::move(s.g_cloud_21);
+        s.scratch.v.sv_cloud_24 = true;
+      }
+      s.g_cloud_21 = prev321;
+      s.u_cloud_22 = true;
     }
     // NEXT of time, programs/snowplow.au:18
-    if (!s.u_time_21) {
-      const int32_t& prev358 = s.p_time_22;
-      const int32_t t359 = add(prev358, int32_t(1));
-      s.g_time_20 = t359;
-      s.u_time_21 = true;
+    if (!s.u_time_26) {
+      const int32_t& prev322 = (s.scratch.v.sv_time_28 ? s.scratch.v.p_time_27 : s.g_time_25);
+      const int32_t t323 = add(prev322, int32_t(1));
+      if (!s.scratch.v.sv_time_28) {
+        s.scratch.v.p_time_27 = std::move(s.g_time_25);
+        s.scratch.v.sv_time_28 = true;
+      }
+      s.g_time_25 = t323;
+      s.u_time_26 = true;
     }
     s.core.clear_inputs();
   }
@@ -1362,10 +1406,10 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b37;
+    std::vector<Elem>& elems1 = s.scratch.v.b38;
     elems1.clear();
     elems1.clear();
-    const C4_Cloud& g2 = s.g_cloud_17;
+    const C4_Cloud& g2 = s.g_cloud_21;
     const int32_t colour3 = colour_3_C4_Cloud(s, g2);
     elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, colour3});
     const int32_t colour4 = colour_4_C4_Cloud(s, g2);
@@ -1403,7 +1447,7 @@ struct Prog {
       if (paint) paint->paint(e19.position, pal[e19.color]);
     }
     elems1.clear();
-    const std::vector<C2_Rock>& g20 = s.g_rocks_14;
+    const std::vector<C2_Rock>& g20 = s.g_rocks_17;
     for (const C2_Rock& x21 : g20) {
       elems1.push_back(Elem{Pos{add(x21.origin.x, int32_t(0)), add(x21.origin.y, int32_t(0))}, int32_t(3)});
     }
@@ -1412,7 +1456,7 @@ struct Prog {
       if (paint) paint->paint(e22.position, pal[e22.color]);
     }
     elems1.clear();
-    const std::vector<C0_Flake>& g23 = s.g_snow_8;
+    const std::vector<C0_Flake>& g23 = s.g_snow_9;
     for (const C0_Flake& x24 : g23) {
       elems1.push_back(Elem{Pos{add(x24.origin.x, int32_t(0)), add(x24.origin.y, int32_t(0))}, int32_t(6)});
     }
@@ -1421,7 +1465,7 @@ struct Prog {
       if (paint) paint->paint(e25.position, pal[e25.color]);
     }
     elems1.clear();
-    const std::vector<C1_Melt>& g26 = s.g_melt_11;
+    const std::vector<C1_Melt>& g26 = s.g_melt_13;
     for (const C1_Melt& x27 : g26) {
       const int32_t colour28 = colour_19_C1_Melt(s, x27);
       elems1.push_back(Elem{Pos{add(x27.origin.x, int32_t(0)), add(x27.origin.y, int32_t(0))}, colour28});
@@ -1448,13 +1492,13 @@ struct Prog {
     hash_value(h, s.g_SpecialConditionTriggered_3);
     hash_value(h, s.g_maxSnow_4);
     hash_value(h, s.g_plow_5);
-    hash_value(h, s.g_snow_8);
-    hash_value(h, s.g_melt_11);
-    hash_value(h, s.g_rocks_14);
-    hash_value(h, s.g_cloud_17);
-    hash_value(h, s.g_time_20);
-    hash_value(h, s.g_click_23);
-    hash_value(h, s.d_click_24);
+    hash_value(h, s.g_snow_9);
+    hash_value(h, s.g_melt_13);
+    hash_value(h, s.g_rocks_17);
+    hash_value(h, s.g_cloud_21);
+    hash_value(h, s.g_time_25);
+    hash_value(h, s.g_click_29);
+    hash_value(h, s.d_click_30);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -1466,13 +1510,13 @@ struct Prog {
     save_value(w, s.g_SpecialConditionTriggered_3);
     save_value(w, s.g_maxSnow_4);
     save_value(w, s.g_plow_5);
-    save_value(w, s.g_snow_8);
-    save_value(w, s.g_melt_11);
-    save_value(w, s.g_rocks_14);
-    save_value(w, s.g_cloud_17);
-    save_value(w, s.g_time_20);
-    save_value(w, s.g_click_23);
-    save_value(w, s.d_click_24);
+    save_value(w, s.g_snow_9);
+    save_value(w, s.g_melt_13);
+    save_value(w, s.g_rocks_17);
+    save_value(w, s.g_cloud_21);
+    save_value(w, s.g_time_25);
+    save_value(w, s.g_click_29);
+    save_value(w, s.d_click_30);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -1483,13 +1527,13 @@ struct Prog {
     load_value(r, s.g_SpecialConditionTriggered_3);
     load_value(r, s.g_maxSnow_4);
     load_value(r, s.g_plow_5);
-    load_value(r, s.g_snow_8);
-    load_value(r, s.g_melt_11);
-    load_value(r, s.g_rocks_14);
-    load_value(r, s.g_cloud_17);
-    load_value(r, s.g_time_20);
-    load_value(r, s.g_click_23);
-    load_value(r, s.d_click_24);
+    load_value(r, s.g_snow_9);
+    load_value(r, s.g_melt_13);
+    load_value(r, s.g_rocks_17);
+    load_value(r, s.g_cloud_21);
+    load_value(r, s.g_time_25);
+    load_value(r, s.g_click_29);
+    load_value(r, s.d_click_30);
   }
 };
 

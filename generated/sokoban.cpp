@@ -97,8 +97,8 @@ struct Prog {
     std::vector<C1_Goal> b2;
     std::vector<Pos> b3;
     std::vector<Pos> b4;
-    std::vector<C0_Wall> b5;
-    std::vector<C2_Crate> b6;
+    std::vector<Pos> b5;
+    std::vector<C0_Wall> b6;
     std::vector<C2_Crate> b7;
     std::vector<C2_Crate> b8;
     std::vector<C2_Crate> b9;
@@ -110,10 +110,21 @@ struct Prog {
     std::vector<C2_Crate> b15;
     std::vector<C2_Crate> b16;
     std::vector<C2_Crate> b17;
-    std::vector<Elem> b18;
-    std::vector<C2_Crate> b19;
+    std::vector<C2_Crate> b18;
+    std::vector<Elem> b19;
     std::vector<C2_Crate> b20;
-    std::vector<Elem> b21;
+    std::vector<C2_Crate> b21;
+    std::vector<Elem> b22;
+    C4_Button p_reset_10{};
+    bool sv_reset_11{};
+    std::vector<C2_Crate> p_crates_14{};
+    bool sv_crates_15{};
+    std::vector<C1_Goal> p_goals_18{};
+    bool sv_goals_19{};
+    C3_Keeper p_keeper_22{};
+    bool sv_keeper_23{};
+    std::vector<C0_Wall> p_walls_26{};
+    bool sv_walls_27{};
   };
   struct State {
     Core core;
@@ -128,21 +139,16 @@ struct Prog {
     Pos g_keeperStart_7{};
     C4_Button g_reset_8{};
     bool u_reset_9{};
-    C4_Button p_reset_10{};
-    std::vector<C2_Crate> g_crates_11{};
-    bool u_crates_12{};
-    std::vector<C2_Crate> p_crates_13{};
-    std::vector<C1_Goal> g_goals_14{};
-    bool u_goals_15{};
-    std::vector<C1_Goal> p_goals_16{};
-    C3_Keeper g_keeper_17{};
-    bool u_keeper_18{};
-    C3_Keeper p_keeper_19{};
-    std::vector<C0_Wall> g_walls_20{};
-    bool u_walls_21{};
-    std::vector<C0_Wall> p_walls_22{};
-    Pos g_click_23{};
-    bool d_click_24{};
+    std::vector<C2_Crate> g_crates_12{};
+    bool u_crates_13{};
+    std::vector<C1_Goal> g_goals_16{};
+    bool u_goals_17{};
+    C3_Keeper g_keeper_20{};
+    bool u_keeper_21{};
+    std::vector<C0_Wall> g_walls_24{};
+    bool u_walls_25{};
+    Pos g_click_28{};
+    bool d_click_29{};
   };
 
   static int32_t colour_1_C2_Crate(State& s, const C2_Crate& o1) {
@@ -206,8 +212,8 @@ struct Prog {
       upd15.f0 = any12;
       out9.push_back(std::move(upd15));
     }
-    std::swap(s.g_crates_11, out9);
-    s.u_crates_12 = false;
+    std::swap(s.g_crates_12, out9);
+    s.u_crates_13 = false;
     // init goals, programs/sokoban.au:34
     const std::vector<Pos>& g16 = s.g_goalSpots_5;
     std::vector<C1_Goal>& out17 = s.scratch.v.b2;
@@ -218,13 +224,13 @@ struct Prog {
       C1_Goal o19 = C1_Goal{x18};
       out17.push_back(std::move(o19));
     }
-    std::swap(s.g_goals_14, out17);
-    s.u_goals_15 = false;
+    std::swap(s.g_goals_16, out17);
+    s.u_goals_17 = false;
     // init keeper, programs/sokoban.au:40
     const Pos& g20 = s.g_keeperStart_7;
     C3_Keeper o21 = C3_Keeper{g20};
-    s.g_keeper_17 = std::move(o21);
-    s.u_keeper_18 = false;
+    s.g_keeper_20 = std::move(o21);
+    s.u_keeper_21 = false;
     // init walls, programs/sokoban.au:28
     if ((int32_t(8) < int32_t(0))) {
       fail_at(0, std::string() + std::string("allPositions: negative size"));
@@ -237,7 +243,8 @@ struct Prog {
         apos22.push_back(t25);
       }
     }
-    std::vector<Pos> out26{};
+    std::vector<Pos>& out26 = s.scratch.v.b4;
+    out26.clear();
     for (const Pos& x27 : apos22) {
       // inlined: function at programs/sokoban.au:29
       // inlined: function at programs/sokoban.au:21
@@ -276,37 +283,35 @@ struct Prog {
       }
     }
     const std::vector<Pos>& g38 = s.g_innerWalls_4;
-    const std::vector<std::vector<Pos>> list39 = std::vector<std::vector<Pos>>{out26, g38};
-    std::vector<Pos>& cat40 = s.scratch.v.b4;
-    cat40.clear();
-    for (const std::vector<Pos>& part41 : list39) {
-      cat40.insert(cat40.end(), part41.begin(), part41.end());
-    }
-    std::vector<C0_Wall>& out42 = s.scratch.v.b5;
-    out42.clear();
-    out42.reserve(size_t(int32_t(cat40.size())));
-    for (const Pos& x43 : cat40) {
+    std::vector<Pos>& cat39 = s.scratch.v.b5;
+    cat39.clear();
+    cat39.insert(cat39.end(), out26.begin(), out26.end());
+    cat39.insert(cat39.end(), g38.begin(), g38.end());
+    std::vector<C0_Wall>& out40 = s.scratch.v.b6;
+    out40.clear();
+    out40.reserve(size_t(int32_t(cat39.size())));
+    for (const Pos& x41 : cat39) {
       // inlined: function at programs/sokoban.au:28
-      C0_Wall o44 = C0_Wall{x43};
-      out42.push_back(std::move(o44));
+      C0_Wall o42 = C0_Wall{x41};
+      out40.push_back(std::move(o42));
     }
-    std::swap(s.g_walls_20, out42);
-    s.u_walls_21 = false;
+    std::swap(s.g_walls_24, out40);
+    s.u_walls_25 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_walls_22 = s.g_walls_20;
-    s.p_goals_16 = s.g_goals_14;
-    s.p_crates_13 = s.g_crates_11;
-    s.p_keeper_19 = s.g_keeper_17;
-    s.p_reset_10 = s.g_reset_8;
+    s.scratch.v.sv_walls_27 = false;
+    s.scratch.v.sv_goals_19 = false;
+    s.scratch.v.sv_crates_15 = false;
+    s.scratch.v.sv_keeper_23 = false;
+    s.scratch.v.sv_reset_11 = false;
     s.u_reset_9 = false;
-    s.u_crates_12 = false;
-    s.u_goals_15 = false;
-    s.u_keeper_18 = false;
-    s.u_walls_21 = false;
+    s.u_crates_13 = false;
+    s.u_goals_17 = false;
+    s.u_keeper_21 = false;
+    s.u_walls_25 = false;
     // on-clause 1, programs/sokoban.au:61
     {
       const bool t1 = s.core.left;
@@ -315,11 +320,11 @@ struct Prog {
         // inlined: function at programs/sokoban.au:56
         // inlined: function at programs/sokoban.au:51
         // inlined: function at programs/sokoban.au:50
-        const C3_Keeper& prev2 = s.p_keeper_19;
+        const C3_Keeper& prev2 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
         const int32_t t3 = add(prev2.origin.x, int32_t(-1));
         const int32_t t4 = add(prev2.origin.y, int32_t(0));
         const Pos t5 = Pos{t3, t4};
-        const std::vector<C2_Crate>& prev6 = s.p_crates_13;
+        const std::vector<C2_Crate>& prev6 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any7 = false;
         for (const C2_Crate& x8 : prev6) {
@@ -333,17 +338,17 @@ struct Prog {
         bool r10{};
         if (any7) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev11 = s.p_keeper_19;
+          const C3_Keeper& prev11 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t12 = add(prev11.origin.x, int32_t(-1));
           const int32_t t13 = add(prev11.origin.y, int32_t(0));
           const Pos t14 = Pos{t12, t13};
           const int32_t t15 = add(t14.x, int32_t(-1));
           const int32_t t16 = add(t14.y, int32_t(0));
           const Pos t17 = Pos{t15, t16};
-          const std::vector<C2_Crate>& prev18 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev18 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g19 = s.g_walls_20;
+          const std::vector<C0_Wall>& g19 = s.g_walls_24;
           bool any20 = false;
           for (const C0_Wall& x21 : g19) {
             // inlined: function at programs/sokoban.au:45
@@ -374,17 +379,17 @@ struct Prog {
         } else {
           r10 = false;
         }
-        std::vector<C2_Crate>& r28 = s.scratch.v.b6;
+        std::vector<C2_Crate>& r28 = s.scratch.v.b7;
         r28.clear();
         if (r10) {
-          const std::vector<C2_Crate>& prev29 = s.p_crates_13;
-          std::vector<C2_Crate>& updated30 = s.scratch.v.b7;
+          const std::vector<C2_Crate>& prev29 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+          std::vector<C2_Crate>& updated30 = s.scratch.v.b8;
           updated30.clear();
           updated30.reserve(size_t(int32_t(prev29.size())));
           for (const C2_Crate& x31 : prev29) {
             // inlined: function at programs/sokoban.au:58
             // inlined: function at programs/sokoban.au:50
-            const C3_Keeper& prev32 = s.p_keeper_19;
+            const C3_Keeper& prev32 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
             const int32_t t33 = add(prev32.origin.x, int32_t(-1));
             const int32_t t34 = add(prev32.origin.y, int32_t(0));
             const Pos t35 = Pos{t33, t34};
@@ -402,7 +407,7 @@ struct Prog {
             }
           }
           // inlined: function at programs/sokoban.au:24
-          std::vector<C2_Crate>& out41 = s.scratch.v.b8;
+          std::vector<C2_Crate>& out41 = s.scratch.v.b9;
           out41.clear();
           out41.reserve(size_t(int32_t(updated30.size())));
           for (const C2_Crate& x42 : updated30) {
@@ -422,11 +427,15 @@ struct Prog {
           }
           std::swap(r28, out41);
         } else {
-          const std::vector<C2_Crate>& prev48 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev48 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           r28 = prev48;
         }
-        std::swap(s.g_crates_11, r28);
-        s.u_crates_12 = true;
+        if (!s.scratch.v.sv_crates_15) {
+          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          s.scratch.v.sv_crates_15 = true;
+        }
+        std::swap(s.g_crates_12, r28);
+        s.u_crates_13 = true;
       }
     }
     // on-clause 2, programs/sokoban.au:62
@@ -438,11 +447,11 @@ struct Prog {
         // inlined: function at programs/sokoban.au:53
         // inlined: function at programs/sokoban.au:51
         // inlined: function at programs/sokoban.au:50
-        const C3_Keeper& prev50 = s.p_keeper_19;
+        const C3_Keeper& prev50 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
         const int32_t t51 = add(prev50.origin.x, int32_t(-1));
         const int32_t t52 = add(prev50.origin.y, int32_t(0));
         const Pos t53 = Pos{t51, t52};
-        const std::vector<C2_Crate>& prev54 = s.p_crates_13;
+        const std::vector<C2_Crate>& prev54 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any55 = false;
         for (const C2_Crate& x56 : prev54) {
@@ -456,17 +465,17 @@ struct Prog {
         bool r58{};
         if (any55) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev59 = s.p_keeper_19;
+          const C3_Keeper& prev59 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t60 = add(prev59.origin.x, int32_t(-1));
           const int32_t t61 = add(prev59.origin.y, int32_t(0));
           const Pos t62 = Pos{t60, t61};
           const int32_t t63 = add(t62.x, int32_t(-1));
           const int32_t t64 = add(t62.y, int32_t(0));
           const Pos t65 = Pos{t63, t64};
-          const std::vector<C2_Crate>& prev66 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev66 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g67 = s.g_walls_20;
+          const std::vector<C0_Wall>& g67 = s.g_walls_24;
           bool any68 = false;
           for (const C0_Wall& x69 : g67) {
             // inlined: function at programs/sokoban.au:45
@@ -500,14 +509,14 @@ struct Prog {
         bool r76{};
         if (!r58) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev77 = s.p_keeper_19;
+          const C3_Keeper& prev77 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t78 = add(prev77.origin.x, int32_t(-1));
           const int32_t t79 = add(prev77.origin.y, int32_t(0));
           const Pos t80 = Pos{t78, t79};
-          const std::vector<C2_Crate>& prev81 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev81 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g82 = s.g_walls_20;
+          const std::vector<C0_Wall>& g82 = s.g_walls_24;
           bool any83 = false;
           for (const C0_Wall& x84 : g82) {
             // inlined: function at programs/sokoban.au:45
@@ -540,7 +549,7 @@ struct Prog {
         }
         C3_Keeper r91{};
         if (r76) {
-          const C3_Keeper& prev92 = s.p_keeper_19;
+          const C3_Keeper& prev92 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t93 = add(prev92.origin.x, int32_t(-1));
           const int32_t t94 = add(prev92.origin.y, int32_t(0));
           const Pos t95 = Pos{t93, t94};
@@ -548,11 +557,15 @@ struct Prog {
           upd96.origin = t95;
           r91 = std::move(upd96);
         } else {
-          const C3_Keeper& prev97 = s.p_keeper_19;
+          const C3_Keeper& prev97 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           r91 = prev97;
         }
-        s.g_keeper_17 = std::move(r91);
-        s.u_keeper_18 = true;
+        if (!s.scratch.v.sv_keeper_23) {
+          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          s.scratch.v.sv_keeper_23 = true;
+        }
+        s.g_keeper_20 = std::move(r91);
+        s.u_keeper_21 = true;
       }
     }
     // on-clause 3, programs/sokoban.au:63
@@ -563,11 +576,11 @@ struct Prog {
         // inlined: function at programs/sokoban.au:56
         // inlined: function at programs/sokoban.au:51
         // inlined: function at programs/sokoban.au:50
-        const C3_Keeper& prev99 = s.p_keeper_19;
+        const C3_Keeper& prev99 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
         const int32_t t100 = add(prev99.origin.x, int32_t(1));
         const int32_t t101 = add(prev99.origin.y, int32_t(0));
         const Pos t102 = Pos{t100, t101};
-        const std::vector<C2_Crate>& prev103 = s.p_crates_13;
+        const std::vector<C2_Crate>& prev103 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any104 = false;
         for (const C2_Crate& x105 : prev103) {
@@ -581,17 +594,17 @@ struct Prog {
         bool r107{};
         if (any104) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev108 = s.p_keeper_19;
+          const C3_Keeper& prev108 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t109 = add(prev108.origin.x, int32_t(1));
           const int32_t t110 = add(prev108.origin.y, int32_t(0));
           const Pos t111 = Pos{t109, t110};
           const int32_t t112 = add(t111.x, int32_t(1));
           const int32_t t113 = add(t111.y, int32_t(0));
           const Pos t114 = Pos{t112, t113};
-          const std::vector<C2_Crate>& prev115 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev115 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g116 = s.g_walls_20;
+          const std::vector<C0_Wall>& g116 = s.g_walls_24;
           bool any117 = false;
           for (const C0_Wall& x118 : g116) {
             // inlined: function at programs/sokoban.au:45
@@ -622,17 +635,17 @@ struct Prog {
         } else {
           r107 = false;
         }
-        std::vector<C2_Crate>& r125 = s.scratch.v.b9;
+        std::vector<C2_Crate>& r125 = s.scratch.v.b10;
         r125.clear();
         if (r107) {
-          const std::vector<C2_Crate>& prev126 = s.p_crates_13;
-          std::vector<C2_Crate>& updated127 = s.scratch.v.b10;
+          const std::vector<C2_Crate>& prev126 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+          std::vector<C2_Crate>& updated127 = s.scratch.v.b11;
           updated127.clear();
           updated127.reserve(size_t(int32_t(prev126.size())));
           for (const C2_Crate& x128 : prev126) {
             // inlined: function at programs/sokoban.au:58
             // inlined: function at programs/sokoban.au:50
-            const C3_Keeper& prev129 = s.p_keeper_19;
+            const C3_Keeper& prev129 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
             const int32_t t130 = add(prev129.origin.x, int32_t(1));
             const int32_t t131 = add(prev129.origin.y, int32_t(0));
             const Pos t132 = Pos{t130, t131};
@@ -650,7 +663,7 @@ struct Prog {
             }
           }
           // inlined: function at programs/sokoban.au:24
-          std::vector<C2_Crate>& out138 = s.scratch.v.b11;
+          std::vector<C2_Crate>& out138 = s.scratch.v.b12;
           out138.clear();
           out138.reserve(size_t(int32_t(updated127.size())));
           for (const C2_Crate& x139 : updated127) {
@@ -670,11 +683,15 @@ struct Prog {
           }
           std::swap(r125, out138);
         } else {
-          const std::vector<C2_Crate>& prev145 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev145 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           r125 = prev145;
         }
-        std::swap(s.g_crates_11, r125);
-        s.u_crates_12 = true;
+        if (!s.scratch.v.sv_crates_15) {
+          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          s.scratch.v.sv_crates_15 = true;
+        }
+        std::swap(s.g_crates_12, r125);
+        s.u_crates_13 = true;
       }
     }
     // on-clause 4, programs/sokoban.au:64
@@ -686,11 +703,11 @@ struct Prog {
         // inlined: function at programs/sokoban.au:53
         // inlined: function at programs/sokoban.au:51
         // inlined: function at programs/sokoban.au:50
-        const C3_Keeper& prev147 = s.p_keeper_19;
+        const C3_Keeper& prev147 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
         const int32_t t148 = add(prev147.origin.x, int32_t(1));
         const int32_t t149 = add(prev147.origin.y, int32_t(0));
         const Pos t150 = Pos{t148, t149};
-        const std::vector<C2_Crate>& prev151 = s.p_crates_13;
+        const std::vector<C2_Crate>& prev151 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any152 = false;
         for (const C2_Crate& x153 : prev151) {
@@ -704,17 +721,17 @@ struct Prog {
         bool r155{};
         if (any152) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev156 = s.p_keeper_19;
+          const C3_Keeper& prev156 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t157 = add(prev156.origin.x, int32_t(1));
           const int32_t t158 = add(prev156.origin.y, int32_t(0));
           const Pos t159 = Pos{t157, t158};
           const int32_t t160 = add(t159.x, int32_t(1));
           const int32_t t161 = add(t159.y, int32_t(0));
           const Pos t162 = Pos{t160, t161};
-          const std::vector<C2_Crate>& prev163 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev163 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g164 = s.g_walls_20;
+          const std::vector<C0_Wall>& g164 = s.g_walls_24;
           bool any165 = false;
           for (const C0_Wall& x166 : g164) {
             // inlined: function at programs/sokoban.au:45
@@ -748,14 +765,14 @@ struct Prog {
         bool r173{};
         if (!r155) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev174 = s.p_keeper_19;
+          const C3_Keeper& prev174 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t175 = add(prev174.origin.x, int32_t(1));
           const int32_t t176 = add(prev174.origin.y, int32_t(0));
           const Pos t177 = Pos{t175, t176};
-          const std::vector<C2_Crate>& prev178 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev178 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g179 = s.g_walls_20;
+          const std::vector<C0_Wall>& g179 = s.g_walls_24;
           bool any180 = false;
           for (const C0_Wall& x181 : g179) {
             // inlined: function at programs/sokoban.au:45
@@ -788,7 +805,7 @@ struct Prog {
         }
         C3_Keeper r188{};
         if (r173) {
-          const C3_Keeper& prev189 = s.p_keeper_19;
+          const C3_Keeper& prev189 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t190 = add(prev189.origin.x, int32_t(1));
           const int32_t t191 = add(prev189.origin.y, int32_t(0));
           const Pos t192 = Pos{t190, t191};
@@ -796,11 +813,15 @@ struct Prog {
           upd193.origin = t192;
           r188 = std::move(upd193);
         } else {
-          const C3_Keeper& prev194 = s.p_keeper_19;
+          const C3_Keeper& prev194 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           r188 = prev194;
         }
-        s.g_keeper_17 = std::move(r188);
-        s.u_keeper_18 = true;
+        if (!s.scratch.v.sv_keeper_23) {
+          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          s.scratch.v.sv_keeper_23 = true;
+        }
+        s.g_keeper_20 = std::move(r188);
+        s.u_keeper_21 = true;
       }
     }
     // on-clause 5, programs/sokoban.au:65
@@ -811,11 +832,11 @@ struct Prog {
         // inlined: function at programs/sokoban.au:56
         // inlined: function at programs/sokoban.au:51
         // inlined: function at programs/sokoban.au:50
-        const C3_Keeper& prev196 = s.p_keeper_19;
+        const C3_Keeper& prev196 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
         const int32_t t197 = add(prev196.origin.x, int32_t(0));
         const int32_t t198 = add(prev196.origin.y, int32_t(-1));
         const Pos t199 = Pos{t197, t198};
-        const std::vector<C2_Crate>& prev200 = s.p_crates_13;
+        const std::vector<C2_Crate>& prev200 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any201 = false;
         for (const C2_Crate& x202 : prev200) {
@@ -829,17 +850,17 @@ struct Prog {
         bool r204{};
         if (any201) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev205 = s.p_keeper_19;
+          const C3_Keeper& prev205 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t206 = add(prev205.origin.x, int32_t(0));
           const int32_t t207 = add(prev205.origin.y, int32_t(-1));
           const Pos t208 = Pos{t206, t207};
           const int32_t t209 = add(t208.x, int32_t(0));
           const int32_t t210 = add(t208.y, int32_t(-1));
           const Pos t211 = Pos{t209, t210};
-          const std::vector<C2_Crate>& prev212 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev212 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g213 = s.g_walls_20;
+          const std::vector<C0_Wall>& g213 = s.g_walls_24;
           bool any214 = false;
           for (const C0_Wall& x215 : g213) {
             // inlined: function at programs/sokoban.au:45
@@ -870,17 +891,17 @@ struct Prog {
         } else {
           r204 = false;
         }
-        std::vector<C2_Crate>& r222 = s.scratch.v.b12;
+        std::vector<C2_Crate>& r222 = s.scratch.v.b13;
         r222.clear();
         if (r204) {
-          const std::vector<C2_Crate>& prev223 = s.p_crates_13;
-          std::vector<C2_Crate>& updated224 = s.scratch.v.b13;
+          const std::vector<C2_Crate>& prev223 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+          std::vector<C2_Crate>& updated224 = s.scratch.v.b14;
           updated224.clear();
           updated224.reserve(size_t(int32_t(prev223.size())));
           for (const C2_Crate& x225 : prev223) {
             // inlined: function at programs/sokoban.au:58
             // inlined: function at programs/sokoban.au:50
-            const C3_Keeper& prev226 = s.p_keeper_19;
+            const C3_Keeper& prev226 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
             const int32_t t227 = add(prev226.origin.x, int32_t(0));
             const int32_t t228 = add(prev226.origin.y, int32_t(-1));
             const Pos t229 = Pos{t227, t228};
@@ -898,7 +919,7 @@ struct Prog {
             }
           }
           // inlined: function at programs/sokoban.au:24
-          std::vector<C2_Crate>& out235 = s.scratch.v.b14;
+          std::vector<C2_Crate>& out235 = s.scratch.v.b15;
           out235.clear();
           out235.reserve(size_t(int32_t(updated224.size())));
           for (const C2_Crate& x236 : updated224) {
@@ -918,11 +939,15 @@ struct Prog {
           }
           std::swap(r222, out235);
         } else {
-          const std::vector<C2_Crate>& prev242 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev242 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           r222 = prev242;
         }
-        std::swap(s.g_crates_11, r222);
-        s.u_crates_12 = true;
+        if (!s.scratch.v.sv_crates_15) {
+          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          s.scratch.v.sv_crates_15 = true;
+        }
+        std::swap(s.g_crates_12, r222);
+        s.u_crates_13 = true;
       }
     }
     // on-clause 6, programs/sokoban.au:66
@@ -934,11 +959,11 @@ struct Prog {
         // inlined: function at programs/sokoban.au:53
         // inlined: function at programs/sokoban.au:51
         // inlined: function at programs/sokoban.au:50
-        const C3_Keeper& prev244 = s.p_keeper_19;
+        const C3_Keeper& prev244 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
         const int32_t t245 = add(prev244.origin.x, int32_t(0));
         const int32_t t246 = add(prev244.origin.y, int32_t(-1));
         const Pos t247 = Pos{t245, t246};
-        const std::vector<C2_Crate>& prev248 = s.p_crates_13;
+        const std::vector<C2_Crate>& prev248 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any249 = false;
         for (const C2_Crate& x250 : prev248) {
@@ -952,17 +977,17 @@ struct Prog {
         bool r252{};
         if (any249) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev253 = s.p_keeper_19;
+          const C3_Keeper& prev253 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t254 = add(prev253.origin.x, int32_t(0));
           const int32_t t255 = add(prev253.origin.y, int32_t(-1));
           const Pos t256 = Pos{t254, t255};
           const int32_t t257 = add(t256.x, int32_t(0));
           const int32_t t258 = add(t256.y, int32_t(-1));
           const Pos t259 = Pos{t257, t258};
-          const std::vector<C2_Crate>& prev260 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev260 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g261 = s.g_walls_20;
+          const std::vector<C0_Wall>& g261 = s.g_walls_24;
           bool any262 = false;
           for (const C0_Wall& x263 : g261) {
             // inlined: function at programs/sokoban.au:45
@@ -996,14 +1021,14 @@ struct Prog {
         bool r270{};
         if (!r252) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev271 = s.p_keeper_19;
+          const C3_Keeper& prev271 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t272 = add(prev271.origin.x, int32_t(0));
           const int32_t t273 = add(prev271.origin.y, int32_t(-1));
           const Pos t274 = Pos{t272, t273};
-          const std::vector<C2_Crate>& prev275 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev275 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g276 = s.g_walls_20;
+          const std::vector<C0_Wall>& g276 = s.g_walls_24;
           bool any277 = false;
           for (const C0_Wall& x278 : g276) {
             // inlined: function at programs/sokoban.au:45
@@ -1036,7 +1061,7 @@ struct Prog {
         }
         C3_Keeper r285{};
         if (r270) {
-          const C3_Keeper& prev286 = s.p_keeper_19;
+          const C3_Keeper& prev286 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t287 = add(prev286.origin.x, int32_t(0));
           const int32_t t288 = add(prev286.origin.y, int32_t(-1));
           const Pos t289 = Pos{t287, t288};
@@ -1044,11 +1069,15 @@ struct Prog {
           upd290.origin = t289;
           r285 = std::move(upd290);
         } else {
-          const C3_Keeper& prev291 = s.p_keeper_19;
+          const C3_Keeper& prev291 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           r285 = prev291;
         }
-        s.g_keeper_17 = std::move(r285);
-        s.u_keeper_18 = true;
+        if (!s.scratch.v.sv_keeper_23) {
+          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          s.scratch.v.sv_keeper_23 = true;
+        }
+        s.g_keeper_20 = std::move(r285);
+        s.u_keeper_21 = true;
       }
     }
     // on-clause 7, programs/sokoban.au:67
@@ -1059,11 +1088,11 @@ struct Prog {
         // inlined: function at programs/sokoban.au:56
         // inlined: function at programs/sokoban.au:51
         // inlined: function at programs/sokoban.au:50
-        const C3_Keeper& prev293 = s.p_keeper_19;
+        const C3_Keeper& prev293 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
         const int32_t t294 = add(prev293.origin.x, int32_t(0));
         const int32_t t295 = add(prev293.origin.y, int32_t(1));
         const Pos t296 = Pos{t294, t295};
-        const std::vector<C2_Crate>& prev297 = s.p_crates_13;
+        const std::vector<C2_Crate>& prev297 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any298 = false;
         for (const C2_Crate& x299 : prev297) {
@@ -1077,17 +1106,17 @@ struct Prog {
         bool r301{};
         if (any298) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev302 = s.p_keeper_19;
+          const C3_Keeper& prev302 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t303 = add(prev302.origin.x, int32_t(0));
           const int32_t t304 = add(prev302.origin.y, int32_t(1));
           const Pos t305 = Pos{t303, t304};
           const int32_t t306 = add(t305.x, int32_t(0));
           const int32_t t307 = add(t305.y, int32_t(1));
           const Pos t308 = Pos{t306, t307};
-          const std::vector<C2_Crate>& prev309 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev309 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g310 = s.g_walls_20;
+          const std::vector<C0_Wall>& g310 = s.g_walls_24;
           bool any311 = false;
           for (const C0_Wall& x312 : g310) {
             // inlined: function at programs/sokoban.au:45
@@ -1118,17 +1147,17 @@ struct Prog {
         } else {
           r301 = false;
         }
-        std::vector<C2_Crate>& r319 = s.scratch.v.b15;
+        std::vector<C2_Crate>& r319 = s.scratch.v.b16;
         r319.clear();
         if (r301) {
-          const std::vector<C2_Crate>& prev320 = s.p_crates_13;
-          std::vector<C2_Crate>& updated321 = s.scratch.v.b16;
+          const std::vector<C2_Crate>& prev320 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+          std::vector<C2_Crate>& updated321 = s.scratch.v.b17;
           updated321.clear();
           updated321.reserve(size_t(int32_t(prev320.size())));
           for (const C2_Crate& x322 : prev320) {
             // inlined: function at programs/sokoban.au:58
             // inlined: function at programs/sokoban.au:50
-            const C3_Keeper& prev323 = s.p_keeper_19;
+            const C3_Keeper& prev323 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
             const int32_t t324 = add(prev323.origin.x, int32_t(0));
             const int32_t t325 = add(prev323.origin.y, int32_t(1));
             const Pos t326 = Pos{t324, t325};
@@ -1146,7 +1175,7 @@ struct Prog {
             }
           }
           // inlined: function at programs/sokoban.au:24
-          std::vector<C2_Crate>& out332 = s.scratch.v.b17;
+          std::vector<C2_Crate>& out332 = s.scratch.v.b18;
           out332.clear();
           out332.reserve(size_t(int32_t(updated321.size())));
           for (const C2_Crate& x333 : updated321) {
@@ -1166,11 +1195,15 @@ struct Prog {
           }
           std::swap(r319, out332);
         } else {
-          const std::vector<C2_Crate>& prev339 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev339 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           r319 = prev339;
         }
-        std::swap(s.g_crates_11, r319);
-        s.u_crates_12 = true;
+        if (!s.scratch.v.sv_crates_15) {
+          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          s.scratch.v.sv_crates_15 = true;
+        }
+        std::swap(s.g_crates_12, r319);
+        s.u_crates_13 = true;
       }
     }
     // on-clause 8, programs/sokoban.au:68
@@ -1182,11 +1215,11 @@ struct Prog {
         // inlined: function at programs/sokoban.au:53
         // inlined: function at programs/sokoban.au:51
         // inlined: function at programs/sokoban.au:50
-        const C3_Keeper& prev341 = s.p_keeper_19;
+        const C3_Keeper& prev341 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
         const int32_t t342 = add(prev341.origin.x, int32_t(0));
         const int32_t t343 = add(prev341.origin.y, int32_t(1));
         const Pos t344 = Pos{t342, t343};
-        const std::vector<C2_Crate>& prev345 = s.p_crates_13;
+        const std::vector<C2_Crate>& prev345 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any346 = false;
         for (const C2_Crate& x347 : prev345) {
@@ -1200,17 +1233,17 @@ struct Prog {
         bool r349{};
         if (any346) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev350 = s.p_keeper_19;
+          const C3_Keeper& prev350 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t351 = add(prev350.origin.x, int32_t(0));
           const int32_t t352 = add(prev350.origin.y, int32_t(1));
           const Pos t353 = Pos{t351, t352};
           const int32_t t354 = add(t353.x, int32_t(0));
           const int32_t t355 = add(t353.y, int32_t(1));
           const Pos t356 = Pos{t354, t355};
-          const std::vector<C2_Crate>& prev357 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev357 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g358 = s.g_walls_20;
+          const std::vector<C0_Wall>& g358 = s.g_walls_24;
           bool any359 = false;
           for (const C0_Wall& x360 : g358) {
             // inlined: function at programs/sokoban.au:45
@@ -1244,14 +1277,14 @@ struct Prog {
         bool r367{};
         if (!r349) {
           // inlined: function at programs/sokoban.au:50
-          const C3_Keeper& prev368 = s.p_keeper_19;
+          const C3_Keeper& prev368 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t369 = add(prev368.origin.x, int32_t(0));
           const int32_t t370 = add(prev368.origin.y, int32_t(1));
           const Pos t371 = Pos{t369, t370};
-          const std::vector<C2_Crate>& prev372 = s.p_crates_13;
+          const std::vector<C2_Crate>& prev372 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
           // inlined: function at programs/sokoban.au:47
           // inlined: function at programs/sokoban.au:45
-          const std::vector<C0_Wall>& g373 = s.g_walls_20;
+          const std::vector<C0_Wall>& g373 = s.g_walls_24;
           bool any374 = false;
           for (const C0_Wall& x375 : g373) {
             // inlined: function at programs/sokoban.au:45
@@ -1284,7 +1317,7 @@ struct Prog {
         }
         C3_Keeper r382{};
         if (r367) {
-          const C3_Keeper& prev383 = s.p_keeper_19;
+          const C3_Keeper& prev383 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           const int32_t t384 = add(prev383.origin.x, int32_t(0));
           const int32_t t385 = add(prev383.origin.y, int32_t(1));
           const Pos t386 = Pos{t384, t385};
@@ -1292,11 +1325,15 @@ struct Prog {
           upd387.origin = t386;
           r382 = std::move(upd387);
         } else {
-          const C3_Keeper& prev388 = s.p_keeper_19;
+          const C3_Keeper& prev388 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
           r382 = prev388;
         }
-        s.g_keeper_17 = std::move(r382);
-        s.u_keeper_18 = true;
+        if (!s.scratch.v.sv_keeper_23) {
+          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          s.scratch.v.sv_keeper_23 = true;
+        }
+        s.g_keeper_20 = std::move(r382);
+        s.u_keeper_21 = true;
       }
     }
     // on-clause 9, programs/sokoban.au:70
@@ -1304,10 +1341,10 @@ struct Prog {
       const C4_Button& g389 = s.g_reset_8;
       bool clicked390 = false;
       if (s.core.click) {
-        s.d_click_24 = true;
+        s.d_click_29 = true;
         const Pos t391 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_23 = t391;
-        std::vector<Elem>& rendered392 = s.scratch.v.b18;
+        s.g_click_28 = t391;
+        std::vector<Elem>& rendered392 = s.scratch.v.b19;
         rendered392.clear();
         rendered392.push_back(Elem{Pos{add(g389.origin.x, int32_t(0)), add(g389.origin.y, int32_t(0))}, int32_t(2)});
         for (const Elem& e393 : rendered392) {
@@ -1320,7 +1357,7 @@ struct Prog {
       if (clicked390) {
         s.core.covered[int32_t(8)] = 1;
         const std::vector<Pos>& g394 = s.g_crateStarts_6;
-        std::vector<C2_Crate>& out395 = s.scratch.v.b19;
+        std::vector<C2_Crate>& out395 = s.scratch.v.b20;
         out395.clear();
         out395.reserve(size_t(int32_t(g394.size())));
         for (const Pos& x396 : g394) {
@@ -1329,7 +1366,7 @@ struct Prog {
           out395.push_back(std::move(o397));
         }
         // inlined: function at programs/sokoban.au:24
-        std::vector<C2_Crate>& out398 = s.scratch.v.b20;
+        std::vector<C2_Crate>& out398 = s.scratch.v.b21;
         out398.clear();
         out398.reserve(size_t(int32_t(out395.size())));
         for (const C2_Crate& x399 : out395) {
@@ -1347,17 +1384,25 @@ struct Prog {
           upd404.f0 = any401;
           out398.push_back(std::move(upd404));
         }
-        std::swap(s.g_crates_11, out398);
-        s.u_crates_12 = true;
+        if (!s.scratch.v.sv_crates_15) {
+          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          s.scratch.v.sv_crates_15 = true;
+        }
+        std::swap(s.g_crates_12, out398);
+        s.u_crates_13 = true;
         const Pos& g405 = s.g_keeperStart_7;
         C3_Keeper o406 = C3_Keeper{g405};
-        s.g_keeper_17 = std::move(o406);
-        s.u_keeper_18 = true;
+        if (!s.scratch.v.sv_keeper_23) {
+          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          s.scratch.v.sv_keeper_23 = true;
+        }
+        s.g_keeper_20 = std::move(o406);
+        s.u_keeper_21 = true;
       }
     }
     // on-clause 10, programs/sokoban.au:76
     {
-      const std::vector<C2_Crate>& g407 = s.g_crates_11;
+      const std::vector<C2_Crate>& g407 = s.g_crates_12;
       // inlined: function at programs/sokoban.au:23
       bool any408 = false;
       for (const C2_Crate& x409 : g407) {
@@ -1376,7 +1421,7 @@ struct Prog {
     }
     // on-clause 11, programs/sokoban.au:77
     {
-      const std::vector<C2_Crate>& g412 = s.g_crates_11;
+      const std::vector<C2_Crate>& g412 = s.g_crates_12;
       // inlined: function at programs/sokoban.au:23
       bool any413 = false;
       for (const C2_Crate& x414 : g412) {
@@ -1396,33 +1441,53 @@ struct Prog {
     }
     // NEXT of reset, programs/sokoban.au:43
     if (!s.u_reset_9) {
-      const C4_Button& prev418 = s.p_reset_10;
+      const C4_Button prev418 = (s.scratch.v.sv_reset_11 ? s.scratch.v.p_reset_10 : s.g_reset_8);
+      if (!s.scratch.v.sv_reset_11) {
+        s.scratch.v.p_reset_10 = std::move(s.g_reset_8);
+        s.scratch.v.sv_reset_11 = true;
+      }
       s.g_reset_8 = prev418;
       s.u_reset_9 = true;
     }
     // NEXT of crates, programs/sokoban.au:37
-    if (!s.u_crates_12) {
-      const std::vector<C2_Crate>& prev419 = s.p_crates_13;
-      s.g_crates_11 = prev419;
-      s.u_crates_12 = true;
+    if (!s.u_crates_13) {
+      const std::vector<C2_Crate> prev419 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+      if (!s.scratch.v.sv_crates_15) {
+        s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+        s.scratch.v.sv_crates_15 = true;
+      }
+      s.g_crates_12 = prev419;
+      s.u_crates_13 = true;
     }
     // NEXT of goals, programs/sokoban.au:34
-    if (!s.u_goals_15) {
-      const std::vector<C1_Goal>& prev420 = s.p_goals_16;
-      s.g_goals_14 = prev420;
-      s.u_goals_15 = true;
+    if (!s.u_goals_17) {
+      const std::vector<C1_Goal> prev420 = (s.scratch.v.sv_goals_19 ? s.scratch.v.p_goals_18 : s.g_goals_16);
+      if (!s.scratch.v.sv_goals_19) {
+        s.scratch.v.p_goals_18 = std::move(s.g_goals_16);
+        s.scratch.v.sv_goals_19 = true;
+      }
+      s.g_goals_16 = prev420;
+      s.u_goals_17 = true;
     }
     // NEXT of keeper, programs/sokoban.au:40
-    if (!s.u_keeper_18) {
-      const C3_Keeper& prev421 = s.p_keeper_19;
-      s.g_keeper_17 = prev421;
-      s.u_keeper_18 = true;
+    if (!s.u_keeper_21) {
+      const C3_Keeper prev421 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
+      if (!s.scratch.v.sv_keeper_23) {
+        s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+        s.scratch.v.sv_keeper_23 = true;
+      }
+      s.g_keeper_20 = prev421;
+      s.u_keeper_21 = true;
     }
     // NEXT of walls, programs/sokoban.au:31
-    if (!s.u_walls_21) {
-      const std::vector<C0_Wall>& prev422 = s.p_walls_22;
-      s.g_walls_20 = prev422;
-      s.u_walls_21 = true;
+    if (!s.u_walls_25) {
+      const std::vector<C0_Wall> prev422 = (s.scratch.v.sv_walls_27 ? s.scratch.v.p_walls_26 : s.g_walls_24);
+      if (!s.scratch.v.sv_walls_27) {
+        s.scratch.v.p_walls_26 = std::move(s.g_walls_24);
+        s.scratch.v.sv_walls_27 = true;
+      }
+      s.g_walls_24 = prev422;
+      s.u_walls_25 = true;
     }
     s.core.clear_inputs();
   }
@@ -1432,10 +1497,10 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b21;
+    std::vector<Elem>& elems1 = s.scratch.v.b22;
     elems1.clear();
     elems1.clear();
-    const std::vector<C0_Wall>& g2 = s.g_walls_20;
+    const std::vector<C0_Wall>& g2 = s.g_walls_24;
     for (const C0_Wall& x3 : g2) {
       elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(6)});
     }
@@ -1444,7 +1509,7 @@ struct Prog {
       if (paint) paint->paint(e4.position, pal[e4.color]);
     }
     elems1.clear();
-    const std::vector<C1_Goal>& g5 = s.g_goals_14;
+    const std::vector<C1_Goal>& g5 = s.g_goals_16;
     for (const C1_Goal& x6 : g5) {
       elems1.push_back(Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(4)});
     }
@@ -1453,7 +1518,7 @@ struct Prog {
       if (paint) paint->paint(e7.position, pal[e7.color]);
     }
     elems1.clear();
-    const std::vector<C2_Crate>& g8 = s.g_crates_11;
+    const std::vector<C2_Crate>& g8 = s.g_crates_12;
     for (const C2_Crate& x9 : g8) {
       const int32_t colour10 = colour_1_C2_Crate(s, x9);
       elems1.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10});
@@ -1463,7 +1528,7 @@ struct Prog {
       if (paint) paint->paint(e11.position, pal[e11.color]);
     }
     elems1.clear();
-    const C3_Keeper& g12 = s.g_keeper_17;
+    const C3_Keeper& g12 = s.g_keeper_20;
     elems1.push_back(Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, int32_t(5)});
     for (const Elem& e13 : elems1) {
       s.core.occupied.add(e13.position);
@@ -1489,12 +1554,12 @@ struct Prog {
     hash_value(h, s.g_crateStarts_6);
     hash_value(h, s.g_keeperStart_7);
     hash_value(h, s.g_reset_8);
-    hash_value(h, s.g_crates_11);
-    hash_value(h, s.g_goals_14);
-    hash_value(h, s.g_keeper_17);
-    hash_value(h, s.g_walls_20);
-    hash_value(h, s.g_click_23);
-    hash_value(h, s.d_click_24);
+    hash_value(h, s.g_crates_12);
+    hash_value(h, s.g_goals_16);
+    hash_value(h, s.g_keeper_20);
+    hash_value(h, s.g_walls_24);
+    hash_value(h, s.g_click_28);
+    hash_value(h, s.d_click_29);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -1509,12 +1574,12 @@ struct Prog {
     save_value(w, s.g_crateStarts_6);
     save_value(w, s.g_keeperStart_7);
     save_value(w, s.g_reset_8);
-    save_value(w, s.g_crates_11);
-    save_value(w, s.g_goals_14);
-    save_value(w, s.g_keeper_17);
-    save_value(w, s.g_walls_20);
-    save_value(w, s.g_click_23);
-    save_value(w, s.d_click_24);
+    save_value(w, s.g_crates_12);
+    save_value(w, s.g_goals_16);
+    save_value(w, s.g_keeper_20);
+    save_value(w, s.g_walls_24);
+    save_value(w, s.g_click_28);
+    save_value(w, s.d_click_29);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -1528,12 +1593,12 @@ struct Prog {
     load_value(r, s.g_crateStarts_6);
     load_value(r, s.g_keeperStart_7);
     load_value(r, s.g_reset_8);
-    load_value(r, s.g_crates_11);
-    load_value(r, s.g_goals_14);
-    load_value(r, s.g_keeper_17);
-    load_value(r, s.g_walls_20);
-    load_value(r, s.g_click_23);
-    load_value(r, s.d_click_24);
+    load_value(r, s.g_crates_12);
+    load_value(r, s.g_goals_16);
+    load_value(r, s.g_keeper_20);
+    load_value(r, s.g_walls_24);
+    load_value(r, s.g_click_28);
+    load_value(r, s.d_click_29);
   }
 };
 

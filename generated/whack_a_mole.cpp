@@ -106,6 +106,20 @@ struct Prog {
     std::vector<C2_Flash> b15;
     std::vector<C2_Flash> b16;
     std::vector<Elem> b17;
+    C3_ScoreBar p_bar_8{};
+    bool sv_bar_9{};
+    bool p_won_12{};
+    bool sv_won_13{};
+    int32_t p_score_16{};
+    bool sv_score_17{};
+    std::vector<C1_Mole> p_moles_20{};
+    bool sv_moles_21{};
+    std::vector<C0_Burrow> p_burrows_24{};
+    bool sv_burrows_25{};
+    std::vector<C2_Flash> p_flashes_28{};
+    bool sv_flashes_29{};
+    int32_t p_time_32{};
+    bool sv_time_33{};
   };
   struct State {
     Core core;
@@ -118,27 +132,20 @@ struct Prog {
     int32_t g_goal_5{};
     C3_ScoreBar g_bar_6{};
     bool u_bar_7{};
-    C3_ScoreBar p_bar_8{};
-    bool g_won_9{};
-    bool u_won_10{};
-    bool p_won_11{};
-    int32_t g_score_12{};
-    bool u_score_13{};
-    int32_t p_score_14{};
-    std::vector<C1_Mole> g_moles_15{};
-    bool u_moles_16{};
-    std::vector<C1_Mole> p_moles_17{};
-    std::vector<C0_Burrow> g_burrows_18{};
-    bool u_burrows_19{};
-    std::vector<C0_Burrow> p_burrows_20{};
-    std::vector<C2_Flash> g_flashes_21{};
-    bool u_flashes_22{};
-    std::vector<C2_Flash> p_flashes_23{};
-    int32_t g_time_24{};
-    bool u_time_25{};
-    int32_t p_time_26{};
-    Pos g_click_27{};
-    bool d_click_28{};
+    bool g_won_10{};
+    bool u_won_11{};
+    int32_t g_score_14{};
+    bool u_score_15{};
+    std::vector<C1_Mole> g_moles_18{};
+    bool u_moles_19{};
+    std::vector<C0_Burrow> g_burrows_22{};
+    bool u_burrows_23{};
+    std::vector<C2_Flash> g_flashes_26{};
+    bool u_flashes_27{};
+    int32_t g_time_30{};
+    bool u_time_31{};
+    Pos g_click_34{};
+    bool d_click_35{};
   };
 
   static int32_t colour_11_C1_Mole(State& s, const C1_Mole& o1) {
@@ -303,14 +310,14 @@ struct Prog {
     s.g_bar_6 = std::move(o2);
     s.u_bar_7 = false;
     // init won, programs/whack_a_mole.au:39
-    s.g_won_9 = false;
-    s.u_won_10 = false;
+    s.g_won_10 = false;
+    s.u_won_11 = false;
     // init score, programs/whack_a_mole.au:36
-    s.g_score_12 = int32_t(0);
-    s.u_score_13 = false;
+    s.g_score_14 = int32_t(0);
+    s.u_score_15 = false;
     // init moles, programs/whack_a_mole.au:28
-    s.g_moles_15 = std::vector<C1_Mole>{};
-    s.u_moles_16 = false;
+    s.g_moles_18 = std::vector<C1_Mole>{};
+    s.u_moles_19 = false;
     // init burrows, programs/whack_a_mole.au:25
     const std::vector<Pos>& g3 = s.g_burrowSpots_4;
     std::vector<C0_Burrow>& out4 = s.scratch.v.b0;
@@ -321,45 +328,45 @@ struct Prog {
       C0_Burrow o6 = C0_Burrow{x5};
       out4.push_back(std::move(o6));
     }
-    std::swap(s.g_burrows_18, out4);
-    s.u_burrows_19 = false;
+    std::swap(s.g_burrows_22, out4);
+    s.u_burrows_23 = false;
     // init flashes, programs/whack_a_mole.au:31
-    s.g_flashes_21 = std::vector<C2_Flash>{};
-    s.u_flashes_22 = false;
+    s.g_flashes_26 = std::vector<C2_Flash>{};
+    s.u_flashes_27 = false;
     // init time, programs/whack_a_mole.au:22
-    s.g_time_24 = int32_t(0);
-    s.u_time_25 = false;
+    s.g_time_30 = int32_t(0);
+    s.u_time_31 = false;
     render(s, nullptr, {});
   }
   static void step(State& s) {
     (void)s;
     s.core.have_prev = true;
-    s.p_time_26 = s.g_time_24;
-    s.p_burrows_20 = s.g_burrows_18;
-    s.p_moles_17 = s.g_moles_15;
-    s.p_flashes_23 = s.g_flashes_21;
-    s.p_score_14 = s.g_score_12;
-    s.p_won_11 = s.g_won_9;
-    s.p_bar_8 = s.g_bar_6;
+    s.scratch.v.sv_time_33 = false;
+    s.scratch.v.sv_burrows_25 = false;
+    s.scratch.v.sv_moles_21 = false;
+    s.scratch.v.sv_flashes_29 = false;
+    s.scratch.v.sv_score_17 = false;
+    s.scratch.v.sv_won_13 = false;
+    s.scratch.v.sv_bar_9 = false;
     s.u_bar_7 = false;
-    s.u_won_10 = false;
-    s.u_score_13 = false;
-    s.u_moles_16 = false;
-    s.u_burrows_19 = false;
-    s.u_flashes_22 = false;
-    s.u_time_25 = false;
+    s.u_won_11 = false;
+    s.u_score_15 = false;
+    s.u_moles_19 = false;
+    s.u_burrows_23 = false;
+    s.u_flashes_27 = false;
+    s.u_time_31 = false;
     // on-clause 1, programs/whack_a_mole.au:54
     {
-      const bool& g1 = s.g_won_9;
+      const bool& g1 = s.g_won_10;
       const bool t2 = !g1;
       bool r3{};
       if (t2) {
-        const std::vector<C1_Mole>& prev4 = s.p_moles_17;
+        const std::vector<C1_Mole>& prev4 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         bool clicked5 = false;
         if (s.core.click) {
-          s.d_click_28 = true;
+          s.d_click_35 = true;
           const Pos t6 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_27 = t6;
+          s.g_click_34 = t6;
           std::vector<Elem>& rendered7 = s.scratch.v.b1;
           rendered7.clear();
           for (const C1_Mole& x8 : prev4) {
@@ -379,7 +386,7 @@ struct Prog {
       }
       if (r3) {
         s.core.covered[int32_t(0)] = 1;
-        const std::vector<C1_Mole>& prev11 = s.p_moles_17;
+        const std::vector<C1_Mole>& prev11 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C1_Mole>& out12 = s.scratch.v.b2;
         out12.clear();
@@ -406,9 +413,9 @@ struct Prog {
           // inlined: function at programs/whack_a_mole.au:56
           bool clicked21 = false;
           if (s.core.click) {
-            s.d_click_28 = true;
+            s.d_click_35 = true;
             const Pos t22 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_27 = t22;
+            s.g_click_34 = t22;
             std::vector<Elem>& rendered23 = s.scratch.v.b5;
             rendered23.clear();
             const int32_t colour24 = colour_11_C1_Mole(s, x20);
@@ -425,9 +432,13 @@ struct Prog {
             out19.push_back(x20);
           }
         }
-        std::swap(s.g_moles_15, out19);
-        s.u_moles_16 = true;
-        const int32_t& prev27 = s.p_score_14;
+        if (!s.scratch.v.sv_moles_21) {
+          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          s.scratch.v.sv_moles_21 = true;
+        }
+        std::swap(s.g_moles_18, out19);
+        s.u_moles_19 = true;
+        const int32_t& prev27 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
         const int32_t t28 = add(prev27, int32_t(1));
         const bool t29 = (int32_t(10) < t28);
         int32_t r30{};
@@ -436,19 +447,23 @@ struct Prog {
         } else {
           r30 = t28;
         }
-        s.g_score_12 = r30;
-        s.u_score_13 = true;
-        const std::vector<C2_Flash>& g31 = s.g_flashes_21;
+        if (!s.scratch.v.sv_score_17) {
+          s.scratch.v.p_score_16 = std::move(s.g_score_14);
+          s.scratch.v.sv_score_17 = true;
+        }
+        s.g_score_14 = r30;
+        s.u_score_15 = true;
+        const std::vector<C2_Flash>& g31 = s.g_flashes_26;
         Pos r32{};
-        if (s.d_click_28) {
-          const Pos& g33 = s.g_click_27;
+        if (s.d_click_35) {
+          const Pos& g33 = s.g_click_34;
           r32 = g33;
         } else {
           fail_at(0, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r34{};
-        if (s.d_click_28) {
-          const Pos& g35 = s.g_click_27;
+        if (s.d_click_35) {
+          const Pos& g35 = s.g_click_34;
           r34 = g35;
         } else {
           fail_at(1, std::string() + std::string("undefined variable 'click'"));
@@ -462,31 +477,35 @@ struct Prog {
           added38.push_back(x39);
         }
         added38.push_back(std::move(o37));
-        std::swap(s.g_flashes_21, added38);
-        s.u_flashes_22 = true;
+        if (!s.scratch.v.sv_flashes_29) {
+          s.scratch.v.p_flashes_28 = std::move(s.g_flashes_26);
+          s.scratch.v.sv_flashes_29 = true;
+        }
+        std::swap(s.g_flashes_26, added38);
+        s.u_flashes_27 = true;
       }
     }
     // on-clause 2, programs/whack_a_mole.au:61
     {
-      const bool& g40 = s.g_won_9;
+      const bool& g40 = s.g_won_10;
       const bool t41 = !g40;
       bool r42{};
       if (t41) {
         bool clicked43 = false;
         if (s.core.click) {
-          s.d_click_28 = true;
+          s.d_click_35 = true;
           const Pos t44 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_27 = t44;
+          s.g_click_34 = t44;
           clicked43 = true;
         }
         bool r45{};
         if (clicked43) {
-          const std::vector<C1_Mole>& prev46 = s.p_moles_17;
+          const std::vector<C1_Mole>& prev46 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
           bool clicked47 = false;
           if (s.core.click) {
-            s.d_click_28 = true;
+            s.d_click_35 = true;
             const Pos t48 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_27 = t48;
+            s.g_click_34 = t48;
             std::vector<Elem>& rendered49 = s.scratch.v.b7;
             rendered49.clear();
             for (const C1_Mole& x50 : prev46) {
@@ -511,7 +530,7 @@ struct Prog {
       }
       if (r42) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C1_Mole>& prev54 = s.p_moles_17;
+        const std::vector<C1_Mole>& prev54 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C1_Mole>& out55 = s.scratch.v.b8;
         out55.clear();
@@ -532,9 +551,13 @@ struct Prog {
             out59.push_back(x60);
           }
         }
-        std::swap(s.g_moles_15, out59);
-        s.u_moles_16 = true;
-        const int32_t& prev62 = s.p_score_14;
+        if (!s.scratch.v.sv_moles_21) {
+          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          s.scratch.v.sv_moles_21 = true;
+        }
+        std::swap(s.g_moles_18, out59);
+        s.u_moles_19 = true;
+        const int32_t& prev62 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
         const int32_t t63 = sub(prev62, int32_t(1));
         const bool t64 = (int32_t(0) < t63);
         int32_t r65{};
@@ -543,20 +566,24 @@ struct Prog {
         } else {
           r65 = int32_t(0);
         }
-        s.g_score_12 = r65;
-        s.u_score_13 = true;
+        if (!s.scratch.v.sv_score_17) {
+          s.scratch.v.p_score_16 = std::move(s.g_score_14);
+          s.scratch.v.sv_score_17 = true;
+        }
+        s.g_score_14 = r65;
+        s.u_score_15 = true;
       }
     }
     // on-clause 3, programs/whack_a_mole.au:67
     {
-      const bool& g66 = s.g_won_9;
+      const bool& g66 = s.g_won_10;
       bool r67{};
       if (!g66) {
         bool clicked68 = false;
         if (s.core.click) {
-          s.d_click_28 = true;
+          s.d_click_35 = true;
           const Pos t69 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_27 = t69;
+          s.g_click_34 = t69;
           clicked68 = true;
         }
         const bool t70 = !clicked68;
@@ -566,7 +593,7 @@ struct Prog {
       }
       if (r67) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C1_Mole>& prev71 = s.p_moles_17;
+        const std::vector<C1_Mole>& prev71 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C1_Mole>& out72 = s.scratch.v.b10;
         out72.clear();
@@ -587,22 +614,26 @@ struct Prog {
             out76.push_back(x77);
           }
         }
-        std::swap(s.g_moles_15, out76);
-        s.u_moles_16 = true;
+        if (!s.scratch.v.sv_moles_21) {
+          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          s.scratch.v.sv_moles_21 = true;
+        }
+        std::swap(s.g_moles_18, out76);
+        s.u_moles_19 = true;
       }
     }
     // on-clause 4, programs/whack_a_mole.au:70
     {
-      const bool& g79 = s.g_won_9;
+      const bool& g79 = s.g_won_10;
       const bool t80 = !g79;
       bool r81{};
       if (t80) {
-        const int32_t& g82 = s.g_time_24;
+        const int32_t& g82 = s.g_time_30;
         const int32_t t83 = autumn::arith::mod_unchecked(g82, int32_t(2));
         const bool t84 = (t83 == int32_t(0));
         bool r85{};
         if (t84) {
-          const std::vector<C1_Mole>& g86 = s.g_moles_15;
+          const std::vector<C1_Mole>& g86 = s.g_moles_18;
           // inlined: function at programs/whack_a_mole.au:50
           const std::vector<Pos>& g87 = s.g_burrowSpots_4;
           std::vector<Pos>& out88 = s.scratch.v.b12;
@@ -635,14 +666,14 @@ struct Prog {
       }
       if (r81) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_Mole>& g96 = s.g_moles_15;
+        const std::vector<C1_Mole>& g96 = s.g_moles_18;
         const std::vector<int32_t> list97 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
         if (list97.empty()) {
           fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t98 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list97.size())))));
         const int32_t t99 = list97[size_t(t98)];
-        const std::vector<C1_Mole>& g100 = s.g_moles_15;
+        const std::vector<C1_Mole>& g100 = s.g_moles_18;
         // inlined: function at programs/whack_a_mole.au:50
         const std::vector<Pos>& g101 = s.g_burrowSpots_4;
         std::vector<Pos>& out102 = s.scratch.v.b13;
@@ -676,17 +707,21 @@ struct Prog {
           added111.push_back(x112);
         }
         added111.push_back(std::move(o110));
-        std::swap(s.g_moles_15, added111);
-        s.u_moles_16 = true;
+        if (!s.scratch.v.sv_moles_21) {
+          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          s.scratch.v.sv_moles_21 = true;
+        }
+        std::swap(s.g_moles_18, added111);
+        s.u_moles_19 = true;
       }
     }
     // on-clause 5, programs/whack_a_mole.au:73
     {
-      const bool& g113 = s.g_won_9;
+      const bool& g113 = s.g_won_10;
       const bool t114 = !g113;
       bool r115{};
       if (t114) {
-        const int32_t& g116 = s.g_score_12;
+        const int32_t& g116 = s.g_score_14;
         const bool t117 = (g116 >= int32_t(10));
         r115 = t117;
       } else {
@@ -694,118 +729,161 @@ struct Prog {
       }
       if (r115) {
         s.core.covered[int32_t(4)] = 1;
-        s.g_won_9 = true;
-        s.u_won_10 = true;
+        if (!s.scratch.v.sv_won_13) {
+          s.scratch.v.p_won_12 = std::move(s.g_won_10);
+          s.scratch.v.sv_won_13 = true;
+        }
+        s.g_won_10 = true;
+        s.u_won_11 = true;
         s.g_background_2 = int32_t(3);
-        const std::vector<int32_t> t118 = std::vector<int32_t>{};
-        s.g_moles_15 = std::vector<C1_Mole>{};
-        s.u_moles_16 = true;
+        if (!s.scratch.v.sv_moles_21) {
+          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          s.scratch.v.sv_moles_21 = true;
+        }
+        s.g_moles_18 = std::vector<C1_Mole>{};
+        s.u_moles_19 = true;
       }
     }
     // on-clause 6, programs/whack_a_mole.au:76
     {
-      const bool& prev119 = s.p_won_11;
-      bool r120{};
-      if (prev119) {
-        const bool t121 = s.core.left;
-        bool r122{};
-        if (!t121) {
-          const bool t123 = s.core.right;
-          bool r124{};
-          if (!t123) {
-            const bool t125 = s.core.up;
-            bool r126{};
-            if (!t125) {
-              const bool t127 = s.core.down;
-              r126 = t127;
+      const bool& prev118 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
+      bool r119{};
+      if (prev118) {
+        const bool t120 = s.core.left;
+        bool r121{};
+        if (!t120) {
+          const bool t122 = s.core.right;
+          bool r123{};
+          if (!t122) {
+            const bool t124 = s.core.up;
+            bool r125{};
+            if (!t124) {
+              const bool t126 = s.core.down;
+              r125 = t126;
             } else {
-              r126 = true;
+              r125 = true;
             }
-            r124 = r126;
+            r123 = r125;
           } else {
-            r124 = true;
+            r123 = true;
           }
-          r122 = r124;
+          r121 = r123;
         } else {
-          r122 = true;
+          r121 = true;
         }
-        r120 = r122;
+        r119 = r121;
       } else {
-        r120 = false;
+        r119 = false;
       }
-      if (r120) {
+      if (r119) {
         s.core.covered[int32_t(5)] = 1;
-        s.g_won_9 = false;
-        s.u_won_10 = true;
-        s.g_score_12 = int32_t(0);
-        s.u_score_13 = true;
+        if (!s.scratch.v.sv_won_13) {
+          s.scratch.v.p_won_12 = std::move(s.g_won_10);
+          s.scratch.v.sv_won_13 = true;
+        }
+        s.g_won_10 = false;
+        s.u_won_11 = true;
+        if (!s.scratch.v.sv_score_17) {
+          s.scratch.v.p_score_16 = std::move(s.g_score_14);
+          s.scratch.v.sv_score_17 = true;
+        }
+        s.g_score_14 = int32_t(0);
+        s.u_score_15 = true;
         s.g_background_2 = int32_t(1);
       }
     }
     // NEXT of bar, programs/whack_a_mole.au:42
     if (!s.u_bar_7) {
-      const C3_ScoreBar& prev128 = s.p_bar_8;
-      const int32_t& g129 = s.g_score_12;
-      C3_ScoreBar upd130 = prev128;
-      upd130.f0 = g129;
-      s.g_bar_6 = std::move(upd130);
+      const C3_ScoreBar& prev127 = (s.scratch.v.sv_bar_9 ? s.scratch.v.p_bar_8 : s.g_bar_6);
+      const int32_t& g128 = s.g_score_14;
+      C3_ScoreBar upd129 = prev127;
+      upd129.f0 = g128;
+      if (!s.scratch.v.sv_bar_9) {
+        s.scratch.v.p_bar_8 = std::move(s.g_bar_6);
+        s.scratch.v.sv_bar_9 = true;
+      }
+      s.g_bar_6 = std::move(upd129);
       s.u_bar_7 = true;
     }
     // NEXT of won, programs/whack_a_mole.au:39
-    if (!s.u_won_10) {
-      const bool& prev131 = s.p_won_11;
-      s.g_won_9 = prev131;
-      s.u_won_10 = true;
+    if (!s.u_won_11) {
+      const bool prev130 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
+      if (!s.scratch.v.sv_won_13) {
+        s.scratch.v.p_won_12 = std::move(s.g_won_10);
+        s.scratch.v.sv_won_13 = true;
+      }
+      s.g_won_10 = prev130;
+      s.u_won_11 = true;
     }
     // NEXT of score, programs/whack_a_mole.au:36
-    if (!s.u_score_13) {
-      const int32_t& prev132 = s.p_score_14;
-      s.g_score_12 = prev132;
-      s.u_score_13 = true;
+    if (!s.u_score_15) {
+      const int32_t prev131 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
+      if (!s.scratch.v.sv_score_17) {
+        s.scratch.v.p_score_16 = std::move(s.g_score_14);
+        s.scratch.v.sv_score_17 = true;
+      }
+      s.g_score_14 = prev131;
+      s.u_score_15 = true;
     }
     // NEXT of moles, programs/whack_a_mole.au:28
-    if (!s.u_moles_16) {
-      const std::vector<C1_Mole>& prev133 = s.p_moles_17;
-      s.g_moles_15 = prev133;
-      s.u_moles_16 = true;
+    if (!s.u_moles_19) {
+      const std::vector<C1_Mole> prev132 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+      if (!s.scratch.v.sv_moles_21) {
+        s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+        s.scratch.v.sv_moles_21 = true;
+      }
+      s.g_moles_18 = prev132;
+      s.u_moles_19 = true;
     }
     // NEXT of burrows, programs/whack_a_mole.au:25
-    if (!s.u_burrows_19) {
-      const std::vector<C0_Burrow>& prev134 = s.p_burrows_20;
-      s.g_burrows_18 = prev134;
-      s.u_burrows_19 = true;
+    if (!s.u_burrows_23) {
+      const std::vector<C0_Burrow> prev133 = (s.scratch.v.sv_burrows_25 ? s.scratch.v.p_burrows_24 : s.g_burrows_22);
+      if (!s.scratch.v.sv_burrows_25) {
+        s.scratch.v.p_burrows_24 = std::move(s.g_burrows_22);
+        s.scratch.v.sv_burrows_25 = true;
+      }
+      s.g_burrows_22 = prev133;
+      s.u_burrows_23 = true;
     }
     // NEXT of flashes, programs/whack_a_mole.au:32
-    if (!s.u_flashes_22) {
-      const std::vector<C2_Flash>& prev135 = s.p_flashes_23;
-      std::vector<C2_Flash>& out136 = s.scratch.v.b15;
-      out136.clear();
-      for (const C2_Flash& x137 : prev135) {
+    if (!s.u_flashes_27) {
+      const std::vector<C2_Flash>& prev134 = (s.scratch.v.sv_flashes_29 ? s.scratch.v.p_flashes_28 : s.g_flashes_26);
+      std::vector<C2_Flash>& out135 = s.scratch.v.b15;
+      out135.clear();
+      for (const C2_Flash& x136 : prev134) {
         // inlined: function at programs/whack_a_mole.au:32
-        const bool t138 = (x137.f0 > int32_t(1));
-        if (t138) {
-          out136.push_back(x137);
+        const bool t137 = (x136.f0 > int32_t(1));
+        if (t137) {
+          out135.push_back(x136);
         }
       }
-      std::vector<C2_Flash>& out139 = s.scratch.v.b16;
-      out139.clear();
-      out139.reserve(size_t(int32_t(out136.size())));
-      for (const C2_Flash& x140 : out136) {
+      std::vector<C2_Flash>& out138 = s.scratch.v.b16;
+      out138.clear();
+      out138.reserve(size_t(int32_t(out135.size())));
+      for (const C2_Flash& x139 : out135) {
         // inlined: function at programs/whack_a_mole.au:33
-        const int32_t t141 = sub(x140.f0, int32_t(1));
-        C2_Flash upd142 = x140;
-        upd142.f0 = t141;
-        out139.push_back(std::move(upd142));
+        const int32_t t140 = sub(x139.f0, int32_t(1));
+        C2_Flash upd141 = x139;
+        upd141.f0 = t140;
+        out138.push_back(std::move(upd141));
       }
-      std::swap(s.g_flashes_21, out139);
-      s.u_flashes_22 = true;
+      if (!s.scratch.v.sv_flashes_29) {
+        s.scratch.v.p_flashes_28 = std::move(s.g_flashes_26);
+        s.scratch.v.sv_flashes_29 = true;
+      }
+      std::swap(s.g_flashes_26, out138);
+      s.u_flashes_27 = true;
     }
     // NEXT of time, programs/whack_a_mole.au:22
-    if (!s.u_time_25) {
-      const int32_t& prev143 = s.p_time_26;
-      const int32_t t144 = add(prev143, int32_t(1));
-      s.g_time_24 = t144;
-      s.u_time_25 = true;
+    if (!s.u_time_31) {
+      const int32_t& prev142 = (s.scratch.v.sv_time_33 ? s.scratch.v.p_time_32 : s.g_time_30);
+      const int32_t t143 = add(prev142, int32_t(1));
+      if (!s.scratch.v.sv_time_33) {
+        s.scratch.v.p_time_32 = std::move(s.g_time_30);
+        s.scratch.v.sv_time_33 = true;
+      }
+      s.g_time_30 = t143;
+      s.u_time_31 = true;
     }
     s.core.clear_inputs();
   }
@@ -818,7 +896,7 @@ struct Prog {
     std::vector<Elem>& elems1 = s.scratch.v.b17;
     elems1.clear();
     elems1.clear();
-    const std::vector<C0_Burrow>& g2 = s.g_burrows_18;
+    const std::vector<C0_Burrow>& g2 = s.g_burrows_22;
     for (const C0_Burrow& x3 : g2) {
       elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(2)});
     }
@@ -827,7 +905,7 @@ struct Prog {
       if (paint) paint->paint(e4.position, pal[e4.color]);
     }
     elems1.clear();
-    const std::vector<C1_Mole>& g5 = s.g_moles_15;
+    const std::vector<C1_Mole>& g5 = s.g_moles_18;
     for (const C1_Mole& x6 : g5) {
       const int32_t colour7 = colour_11_C1_Mole(s, x6);
       elems1.push_back(Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7});
@@ -837,7 +915,7 @@ struct Prog {
       if (paint) paint->paint(e8.position, pal[e8.color]);
     }
     elems1.clear();
-    const std::vector<C2_Flash>& g9 = s.g_flashes_21;
+    const std::vector<C2_Flash>& g9 = s.g_flashes_26;
     for (const C2_Flash& x10 : g9) {
       const int32_t colour11 = colour_12_C2_Flash(s, x10);
       elems1.push_back(Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11});
@@ -883,14 +961,14 @@ struct Prog {
     hash_value(h, s.g_burrowSpots_4);
     hash_value(h, s.g_goal_5);
     hash_value(h, s.g_bar_6);
-    hash_value(h, s.g_won_9);
-    hash_value(h, s.g_score_12);
-    hash_value(h, s.g_moles_15);
-    hash_value(h, s.g_burrows_18);
-    hash_value(h, s.g_flashes_21);
-    hash_value(h, s.g_time_24);
-    hash_value(h, s.g_click_27);
-    hash_value(h, s.d_click_28);
+    hash_value(h, s.g_won_10);
+    hash_value(h, s.g_score_14);
+    hash_value(h, s.g_moles_18);
+    hash_value(h, s.g_burrows_22);
+    hash_value(h, s.g_flashes_26);
+    hash_value(h, s.g_time_30);
+    hash_value(h, s.g_click_34);
+    hash_value(h, s.d_click_35);
     return h.h;
   }
   static void save(const State& s, SnapshotWriter& w) {
@@ -903,14 +981,14 @@ struct Prog {
     save_value(w, s.g_burrowSpots_4);
     save_value(w, s.g_goal_5);
     save_value(w, s.g_bar_6);
-    save_value(w, s.g_won_9);
-    save_value(w, s.g_score_12);
-    save_value(w, s.g_moles_15);
-    save_value(w, s.g_burrows_18);
-    save_value(w, s.g_flashes_21);
-    save_value(w, s.g_time_24);
-    save_value(w, s.g_click_27);
-    save_value(w, s.d_click_28);
+    save_value(w, s.g_won_10);
+    save_value(w, s.g_score_14);
+    save_value(w, s.g_moles_18);
+    save_value(w, s.g_burrows_22);
+    save_value(w, s.g_flashes_26);
+    save_value(w, s.g_time_30);
+    save_value(w, s.g_click_34);
+    save_value(w, s.d_click_35);
   }
   static void load(State& s, SnapshotReader& r) {
     (void)s;
@@ -922,14 +1000,14 @@ struct Prog {
     load_value(r, s.g_burrowSpots_4);
     load_value(r, s.g_goal_5);
     load_value(r, s.g_bar_6);
-    load_value(r, s.g_won_9);
-    load_value(r, s.g_score_12);
-    load_value(r, s.g_moles_15);
-    load_value(r, s.g_burrows_18);
-    load_value(r, s.g_flashes_21);
-    load_value(r, s.g_time_24);
-    load_value(r, s.g_click_27);
-    load_value(r, s.d_click_28);
+    load_value(r, s.g_won_10);
+    load_value(r, s.g_score_14);
+    load_value(r, s.g_moles_18);
+    load_value(r, s.g_burrows_22);
+    load_value(r, s.g_flashes_26);
+    load_value(r, s.g_time_30);
+    load_value(r, s.g_click_34);
+    load_value(r, s.d_click_35);
   }
 };
 

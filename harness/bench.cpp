@@ -11,6 +11,30 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// Steps per second over the action sequence, replayed from `start` until at
+// least kMinSeconds have passed (a fast engine runs 300 steps in microseconds,
+// too short to time once). `step` is Environment::step or ::advance.
+constexpr double kMinSeconds = 0.2;
+template <class Step>
+double rate(const Environment& start, const std::vector<Action>& actions, Step step, size_t* done_first) {
+  size_t steps = 0;
+  double elapsed = 0;
+  for (int rep = 0; rep == 0 || elapsed < kMinSeconds; ++rep) {
+    auto env = start.clone();
+    auto t0 = Clock::now();
+    size_t done = 0;
+    for (const Action& a : actions) {
+      if (!step(*env, a)) break;
+      ++done;
+    }
+    elapsed += seconds_since(t0);
+    steps += done;
+    if (rep == 0 && done_first) *done_first = done;
+    if (done == 0) break;
+  }
+  return elapsed > 0 ? steps / elapsed : 0;
+}
+
 }  // namespace
 
 BenchRow bench_program(const std::string& name, const std::shared_ptr<const Program>& program,
@@ -44,29 +68,16 @@ BenchRow bench_program(const std::string& name, const std::shared_ptr<const Prog
       }
     }
     auto start_state = env->clone();
-    // With render (the protocol).
-    auto t0 = Clock::now();
     size_t done = 0;
-    for (const Action& a : actions) {
-      if (!env->step(a)) break;
-      ++done;
-    }
-    double t = seconds_since(t0);
+    // With render (the protocol), then without.
+    f.steps_per_s = rate(*start_state, actions, [](Environment& e, const Action& a) { return e.step(a); }, &done);
+    f.steps_per_s_no_render =
+        rate(*start_state, actions, [](Environment& e, const Action& a) { return e.advance(a); }, nullptr);
     f.steps = done;
-    f.steps_per_s = t > 0 ? done / t : 0;
-    // Without render.
-    auto bare = start_state->clone();
-    t0 = Clock::now();
-    size_t bare_done = 0;
-    for (const Action& a : actions) {
-      if (!bare->advance(a)) break;
-      ++bare_done;
-    }
-    t = seconds_since(t0);
-    f.steps_per_s_no_render = t > 0 ? bare_done / t : 0;
+    for (size_t i = 0; i < done; ++i) env->step(actions[i]);
     // Clone cost, on the final state of the protocol run.
     const int clones = 200;
-    t0 = Clock::now();
+    auto t0 = Clock::now();
     for (int i = 0; i < clones; ++i) {
       auto c = env->clone();
       (void)c;

@@ -26,7 +26,13 @@ DiffResult diff_engines(const std::shared_ptr<const Program>& program, const Dif
                        o.engine_b + (okb ? " ran on" : " failed (" + b->error() + ")");
         return false;
       }
-      if (!oka) return false;  // both failed at the same step: agreement, episode over
+      if (!oka) {  // both failed at the same step: they must say the same, and the episode is over
+        ++r.errored;
+        if (a->error() != b->error())
+          r.divergence = where + ": both failed, with different errors:\n  " + o.engine_a + ": " + a->error() +
+                         "\n  " + o.engine_b + ": " + b->error();
+        return false;
+      }
       if (frame_rows(a->frame(), a->palette()) != frame_rows(b->frame(), b->palette())) {
         r.divergence = where + ": frames differ";
         return false;

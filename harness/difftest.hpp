@@ -2,7 +2,8 @@
 //
 // Both engines run the same seeds and the same (randomly chosen, reproducible)
 // actions; after every step the frames, the trigger value, the coverage count and
-// the success of the step must agree. The first divergence is reported.
+// the success of the step must agree, and when both fail, their error messages.
+// The first divergence is reported.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -22,6 +23,7 @@ struct DiffOptions {
 struct DiffResult {
   size_t episodes = 0;
   size_t steps = 0;             // steps compared (both engines)
+  size_t errored = 0;           // episodes that ended in the same runtime error on both engines
   bool setup_failed = false;    // an engine could not be built
   std::string divergence;       // empty when the engines agreed everywhere
 };

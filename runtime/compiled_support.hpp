@@ -223,6 +223,36 @@ class Painter {
   std::vector<uint32_t> painted_;
 };
 
+// Cells rotate turned (compiler/lower: builtin_rotate): per group of objects made
+// by one construction, the number of quarter turns its shared cells have had.
+class RotationTable {
+ public:
+  void turn(uint32_t group) {
+    auto it = std::lower_bound(turns_.begin(), turns_.end(), std::make_pair(group, uint32_t{0}));
+    if (it != turns_.end() && it->first == group) ++it->second;
+    else turns_.insert(it, {group, 1});
+  }
+  uint32_t of(uint32_t group) const {
+    auto it = std::lower_bound(turns_.begin(), turns_.end(), std::make_pair(group, uint32_t{0}));
+    return it != turns_.end() && it->first == group ? it->second : 0;
+  }
+  const std::vector<std::pair<uint32_t, uint32_t>>& turns() const { return turns_; }
+  void restore(std::vector<std::pair<uint32_t, uint32_t>> t) { turns_ = std::move(t); }
+
+ private:
+  std::vector<std::pair<uint32_t, uint32_t>> turns_;  // sorted by group; absent: no turn
+};
+
+// A cell offset turned (x, y) -> (-y, x) `turns` times (wrapping negation).
+inline Pos rotated(int32_t turns, int32_t x, int32_t y) {
+  for (int32_t i = 0; i < (turns & 3); ++i) {
+    const int32_t nx = neg(y);
+    y = x;
+    x = nx;
+  }
+  return Pos{x, y};
+}
+
 // Interpreter-independent state every specialised program has.
 struct Core {
   WrappedMinstd rng;
@@ -233,6 +263,7 @@ struct Core {
   std::vector<uint8_t> covered;
   bool triggered = false;
   IdTable ids;
+  RotationTable rot;
 
   void start(uint64_t seed, int on_clauses) {
     rng.reseed(seed);
@@ -293,6 +324,10 @@ inline void hash_core(Hash& h, const Core& c, bool uses_random) {
   for (const auto& [uid, id] : c.ids.remap()) {
     h.mix(uid);
     h.mix(id);
+  }
+  for (const auto& [group, turns] : c.rot.turns()) {
+    h.mix(group);
+    h.mix(turns);
   }
 }
 
@@ -416,6 +451,11 @@ inline void save_core(SnapshotWriter& w, const Core& c) {
     w.raw(uid);
     w.raw(id);
   }
+  w.raw(static_cast<uint32_t>(c.rot.turns().size()));
+  for (const auto& [group, turns] : c.rot.turns()) {
+    w.raw(group);
+    w.raw(turns);
+  }
 }
 inline void load_core(SnapshotReader& r, Core& c) {
   uint32_t rng = 0;
@@ -437,6 +477,15 @@ inline void load_core(SnapshotReader& r, Core& c) {
     r.raw(id);
   }
   c.ids.restore(next, std::move(remap));
+  uint32_t groups = 0;
+  r.raw(groups);
+  if (groups > static_cast<size_t>(r.end - r.p) / 8) throw std::runtime_error("corrupt state snapshot");
+  std::vector<std::pair<uint32_t, uint32_t>> turns(groups);
+  for (auto& [group, t] : turns) {
+    r.raw(group);
+    r.raw(t);
+  }
+  c.rot.restore(std::move(turns));
 }
 
 // The Environment adapter for a generated Program.

@@ -143,7 +143,17 @@ void Interpreter::step(const Action& input) {
     if (is_updated(s)) continue;
     if (!gdefined_[s]) continue;  // erased by removeObj
     Value v = eval_value(*next_expr_[s]);
-    assign(s, std::move(v));
+    try {
+      assign(s, std::move(v));
+    } catch (RuntimeError& e) {  // the assignment's own checks: located at the NEXT expression
+      if (!e.located) {
+        e.loc = next_expr_[s]->loc;
+        e.located = true;
+        e.program_loc = e.loc;
+        e.in_program = e.loc.source == SourceId::Program;
+      }
+      throw;
+    }
   }
   // 6. Inputs last only for one step.
   click_ = left_ = right_ = up_ = down_ = false;

@@ -47,6 +47,7 @@ enum class Member : uint8_t {
   X, Y,                 // Pos
   Position, Color,      // Elem
   Origin, Field, Uid,   // Obj (Field: user field `index`), Uid on any tracked object
+  Group,                // Obj: the cells it shares with every object of its construction (rotate)
   CellX, CellY, CellColour,  // Cell: the values (constants, fixed deferred values)
   CellDx, CellDy, CellDc,    // Cell: -1 or the DeferredArg of each argument
   Cells,                     // Obj: the object's own cell list (CellMode::Stored)
@@ -77,6 +78,9 @@ enum class Helper : uint8_t {
   Covered,        // (clause index): the on-clause fired
   HavePrev,       // () -> bool: a step has begun (prev is usable)
   InputFlag,      // (kind: 0 click, 1 left, 2 right, 3 up, 4 down) -> bool
+  RotTurn,        // (group): rotate turned the group's cells a quarter
+  RotOf,          // (group) -> how many quarter turns the group's cells have had
+  Rotated,        // (turns, x, y) -> Pos: a cell offset turned (x, y) -> (-y, x) that many times
 };
 
 enum class Op : uint8_t {
@@ -98,6 +102,7 @@ enum class Op : uint8_t {
   Call,       // helper(a...)
   FnCall,     // call of module function `index` (recursive functions, render, colour)
   Concat,     // strings: a[0] + a[1] + ... (error texts)
+  Select,     // a[0] ? a[1] : a[2] (places of one type: the result names one of them)
 };
 
 struct Node {
@@ -128,6 +133,7 @@ struct Stmt {
   std::vector<std::pair<int, Block>> cases;  // Switch: alternative index -> block
   int loc = -1;         // Fail: index into Module::locations
   bool move_value = false;  // Set, Push: b is a variable's last use, moved from (pass_moves)
+  uint32_t move_operands = 0;  // Let, Decl, Set, Push: the value's operands (bits) moved from
   std::string text;     // Comment
 };
 

@@ -60,6 +60,7 @@ class Walker {
       case SK::Push:
         store(s.a, pos);
         uses(s.b, pos);
+        if (s.move_value) store(s.b, pos);  // moved from: its place changes too
         break;
       case SK::ForEach: {
         block(s.body);

@@ -20,6 +20,8 @@ Lowered lower_program(const Program& program, const std::string& program_name) {
   try {
     lower::specialise_program(program, m);
     lower::settle_references(m);
+    lower::resolve_aliases(m);
+    lower::remove_dead_names(m);
     lower::move_last_uses(m);
     lower::reuse_buffers(m);
     out.code = lower::print_cpp(m);

@@ -37,11 +37,12 @@ struct ClassInfo {
   std::vector<std::string> field_names;  // as written
   std::vector<TypeP> field_types;        // static types of the values the fields hold
   std::string type_string;               // the reference's "class A {f: T, ..., }"
-  bool unknown_field_type = false;       // stringifying the class is an error
+  std::string unknown_field;             // a field of unknown type: stringifying the class is an error
   CellMode mode = CellMode::Static;
   std::vector<StaticCell> cells;         // Static
   std::string cells_print;               // Static: printed form of the cell list
   bool tracked = false;                  // objects carry identity (uid)
+  bool rotatable = false;                // objects carry the group of cells rotate turns (group)
   ir::Node* static_shape = nullptr;       // Static: the cell list every object has (MakeList of MakeCell)
   int render_fn = -1;                    // Stored: the module function rendering one object
 };

@@ -36,10 +36,18 @@ std::vector<const Var*> names_of(const Var* v, const std::map<const Var*, std::v
   return out;
 }
 
-bool must_copy(const Walk& w, int at, const Root& root, const std::vector<int>& uses) {
+// The places a Bind names: its root, or both of a Select's (prev: the snapshot or the global).
+std::vector<Root> roots_of(const Node* n) {
+  if (n->op == Op::Select) return {root_of(n->a[1]), root_of(n->a[2])};
+  return {root_of(n)};
+}
+
+bool must_copy(const Walk& w, int at, const std::vector<Root>& roots, const std::vector<int>& uses) {
   std::vector<int> stores;
-  if (auto it = w.stores.find(root); it != w.stores.end()) stores = it->second;
-  if (root.slot >= 0) stores.insert(stores.end(), w.opaque_stores.begin(), w.opaque_stores.end());
+  for (const Root& root : roots) {
+    if (auto it = w.stores.find(root); it != w.stores.end()) stores.insert(stores.end(), it->second.begin(), it->second.end());
+    if (root.slot >= 0) stores.insert(stores.end(), w.opaque_stores.begin(), w.opaque_stores.end());
+  }
   for (int s : stores) {
     if (s <= at) continue;
     for (int u : uses)
@@ -69,11 +77,11 @@ void settle_references(Module& m) {
       if (s->k == SK::Bind && s->a->op == Op::Local) bound_from[s->a->var].push_back(s->var);
     for (const Stmt* s : w.at) {
       if (s->k != SK::Bind) continue;
-      Root root = root_of(s->a);
+      std::vector<Root> roots = roots_of(s->a);
       std::vector<int> uses;
       for (const Var* v : names_of(s->var, bound_from))
         if (auto it = w.uses.find(v); it != w.uses.end()) uses.insert(uses.end(), it->second.begin(), it->second.end());
-      s->var->is_ref = !must_copy(w, w.position.at(s), root, uses);
+      s->var->is_ref = !must_copy(w, w.position.at(s), roots, uses);
     }
   }
 }

@@ -2,6 +2,8 @@
 // a file of its own (pass_*.cpp) with an example and a pointer to its test.
 //
 //   settle_references   pass_refs.cpp     Bind: reference or copy
+//   resolve_aliases     pass_aliases.cpp  a reference to a local is the local
+//   remove_dead_names   pass_dead.cpp     unused pure names are not computed
 //   reuse_buffers       pass_scratch.cpp  short-lived lists keep their storage
 //   move_last_uses      pass_moves.cpp    a value's last use moves it
 #pragma once
@@ -10,6 +12,8 @@
 namespace autumn::lower {
 
 void settle_references(Module& m);
+void resolve_aliases(Module& m);
+void remove_dead_names(Module& m);
 void reuse_buffers(Module& m);
 void move_last_uses(Module& m);
 

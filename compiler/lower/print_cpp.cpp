@@ -45,6 +45,12 @@ namespace {
 
 std::string quoted(const std::string& s) { return cpp_string_literal(s); }
 
+// The prev snapshot lives only within a step (the step's first store to a
+// global moves its value there), so copies of the state leave it behind.
+bool in_scratch(const Slot& s) {
+  return s.kind == Slot::Prev || s.kind == Slot::Saved || s.kind == Slot::PrevDefined;
+}
+
 class Printer {
  public:
   explicit Printer(const Module& m) : m_(m) {}
@@ -104,6 +110,8 @@ class Printer {
   int counter_ = 0;
   std::vector<std::string> scratch_;  // members of Scratch
   std::vector<TypeP> sums_;
+  const Node* moving_node_ = nullptr;  // the statement's value whose operands (mask) are moved from
+  uint32_t moving_mask_ = 0;
 };
 
 std::string Printer::member(const Node* n) {
@@ -116,6 +124,7 @@ std::string Printer::member(const Node* n) {
     case Member::Origin: return base + ".origin";
     case Member::Field: return base + ".f" + std::to_string(n->index);
     case Member::Uid: return base + ".uid";
+    case Member::Group: return base + ".group";
     case Member::CellX: return base + ".x";
     case Member::CellY: return base + ".y";
     case Member::CellColour: return base + ".colour";
@@ -152,6 +161,9 @@ std::string Printer::helper(const Node* n) {
     case Helper::SetTriggered: return "s.core.triggered = " + arg(0);
     case Helper::Covered: return "s.core.covered[" + arg(0) + "] = 1";
     case Helper::HavePrev: return "s.core.have_prev";
+    case Helper::RotTurn: return "s.core.rot.turn(uint32_t(" + arg(0) + "))";
+    case Helper::RotOf: return "int32_t(s.core.rot.of(uint32_t(" + arg(0) + ")))";
+    case Helper::Rotated: return "rotated(" + arg(0) + ", " + arg(1) + ", " + arg(2) + ")";
     case Helper::InputFlag: {
       static const char* const flags[] = {"click", "left", "right", "up", "down"};
       return "s.core." + std::string(flags[n->a[0]->imm]);
@@ -161,10 +173,15 @@ std::string Printer::helper(const Node* n) {
 }
 
 std::string Printer::expr(const Node* n) {
-  auto a = [&](size_t i) { return expr(n->a[i]); };
+  uint32_t moving = 0;
+  if (n == moving_node_) {
+    moving = moving_mask_;
+    moving_node_ = nullptr;
+  }
+  auto a = [&](size_t i) { return (moving >> i) & 1 ? "std::move(" + expr(n->a[i]) + ")" : expr(n->a[i]); };
   auto list = [&](size_t from) {
     std::string s;
-    for (size_t i = from; i < n->a.size(); ++i) s += (i > from ? ", " : "") + expr(n->a[i]);
+    for (size_t i = from; i < n->a.size(); ++i) s += (i > from ? ", " : "") + a(i);
     return s;
   };
   switch (n->op) {
@@ -174,7 +191,7 @@ std::string Printer::expr(const Node* n) {
     case Op::Text: return "std::string(" + quoted(n->text) + ")";
     case Op::Local: return name(n->var);
     case Op::Global:
-    case Op::Slot: return "s." + m_.slots[n->slot].name;
+    case Op::Slot: return (in_scratch(m_.slots[n->slot]) ? "s.scratch.v." : "s.") + m_.slots[n->slot].name;
     case Op::Member: return member(n);
     case Op::Add: return "add(" + a(0) + ", " + a(1) + ")";
     case Op::Sub: return "sub(" + a(0) + ", " + a(1) + ")";
@@ -213,6 +230,7 @@ std::string Printer::expr(const Node* n) {
     case Op::Back: return a(0) + ".back()";
     case Op::Call: return helper(n);
     case Op::FnCall: return m_.functions[n->index]->name + "(s" + (n->a.empty() ? "" : ", " + list(0)) + ")";
+    case Op::Select: return "(" + a(0) + " ? " + a(1) + " : " + a(2) + ")";
     case Op::Concat: {
       std::string s = "std::string()";
       for (size_t i = 0; i < n->a.size(); ++i) s += " + " + expr(n->a[i]);
@@ -223,6 +241,10 @@ std::string Printer::expr(const Node* n) {
 }
 
 void Printer::stmt(const Stmt& s) {
+  if (s.move_operands) {
+    moving_node_ = s.k == SK::Let || s.k == SK::Decl ? s.a : s.b;
+    moving_mask_ = s.move_operands;
+  }
   switch (s.k) {
     case SK::Let:
       line((s.var->moved ? "" : "const ") + type(s.var->type) + " " + name(s.var) + " = " + expr(s.a) + ";");
@@ -344,11 +366,13 @@ void Printer::classes() {
     line("Pos origin;");
     if (c.mode == CellMode::Stored) line("std::vector<CellV> cells;");
     if (c.tracked) line("uint32_t uid = 0;");
+    if (c.rotatable) line("uint32_t group = 0;");
     auto each = [&](const std::string& call, const std::string& v) {
       for (size_t i = 0; i < c.fields.size(); ++i) line("  " + call + v + ".f" + std::to_string(i) + ");");
       line("  " + call + v + ".origin);");
       if (c.mode == CellMode::Stored) line("  " + call + v + ".cells);");
       if (c.tracked) line("  " + call + v + ".uid);");
+      if (c.rotatable) line("  " + call + v + ".group);");
     };
     line("friend void hash_value(Hash& h, const " + c.cpp + "& v) {");
     each("hash_value(h, ", "v");
@@ -375,12 +399,15 @@ void Printer::sums() {
 void Printer::state() {
   line("struct Scratch {");
   for (const std::string& s : scratch_) line("  " + s);
+  for (const Slot& s : m_.slots)
+    if (in_scratch(s)) line("  " + (s.type ? type(s.type) : std::string("bool")) + " " + s.name + "{};");
   line("};");
   line("struct State {");
   ++depth_;
   line("Core core;");
   line("NoCopy<Scratch> scratch;");
-  for (const Slot& s : m_.slots) line((s.type ? type(s.type) : std::string("bool")) + " " + s.name + "{};");
+  for (const Slot& s : m_.slots)
+    if (!in_scratch(s)) line((s.type ? type(s.type) : std::string("bool")) + " " + s.name + "{};");
   --depth_;
   line("};");
 }

@@ -111,7 +111,7 @@ SVal Specialiser::call_builtin(Builtin b, std::vector<SVal>& a, const Expr& at) 
     case Builtin::Prev:
       return builtin_globals(b, a, at);
     case Builtin::RenderAll: unsupported("renderAll called by the program");
-    case Builtin::Rotate: unsupported("rotate (it turns the cells every copy of the object shares)");
+    case Builtin::Rotate: return builtin_rotate(a);
   }
   return never();
 }
@@ -365,8 +365,12 @@ SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
     if (ok && (!constructing_.empty() || items.size() <= 16)) return items.empty() ? SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())} : make_list(items);
   }
   if (!inner->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
-  SVal src = let(l, "src");
   ir::Var* out = decl(inner, nullptr, "cat");
+  if (!l.parts.empty()) {  // (concat (list a b ...)): the parts are known, no list of lists is needed
+    for (ir::Node* part : l.parts) emit_eval(call(ir::Helper::Append, nullptr, {local(out), part}));
+    return built(out);
+  }
+  SVal src = let(l, "src");
   ir::Stmt* loop = emit(ir::SK::ForEach);
   loop->var = var(inner, "part");
   loop->a = src.code;

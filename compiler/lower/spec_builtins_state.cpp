@@ -479,6 +479,31 @@ ir::Node* Specialiser::same_identity_any(const SVal& x, const std::vector<SVal>&
   return any;
 }
 
+// rotate o: a copy of o (a fresh identity), and the cells o shares with every
+// object of its construction turn (x, y) -> (-y, x), in place: all those
+// objects, prev's included, turn with it. Objects of a class rotate is applied
+// to carry the group of cells they share; the state counts each group's turns.
+SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
+  if (!need(Builtin::Rotate, a.size(), 1)) return never();
+  const TK k = a[0].type->k;
+  if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell) {
+    fail("rotate: the argument must be an object");
+    return never();
+  }
+  if (k != TK::Obj) {
+    fail("rotate: the object has no cells");
+    return never();
+  }
+  const int cls = a[0].type->cls;
+  if (h_.rotated.insert(cls).second) {
+    learn("rotate turns '" + m_.classes[cls].name + "'");
+    return never();
+  }
+  emit_eval(call(ir::Helper::RotTurn, nullptr, {member(a[0].code, ir::Member::Group, T().int_())}));
+  if (!tracked(a[0].type)) return a[0];
+  return renew_identity(a[0]);
+}
+
 // ---------------------------------------------------------------------------
 // defined, allObjs, prev (as a value), removeObj of one object
 

@@ -122,8 +122,46 @@ SVal Specialiser::call_value(const SVal& f, std::vector<SVal>& args, const Expr&
   return never();
 }
 
+// The stdlib's renderValue on objects (or lists of them, nested) renders each
+// object in order and concatenates: rendering straight into one list does the
+// same without a list per element, as long as the names its body uses (map,
+// concat, isList, renderValue) still mean the stdlib's here.
+bool Specialiser::render_value_shortcut(const Expr& lambda, const std::vector<SVal>& args) {
+  if (args.empty() || !is_stdlib_render_value(lambda)) return false;
+  std::function<bool(TypeP)> objects = [&](TypeP t) {
+    if (t->k == TK::Obj) return true;
+    if (t->k == TK::List) return !t->elem || objects(t->elem);
+    if (t->k == TK::Sum)
+      for (TypeP a : t->alts)
+        if (!objects(a)) return false;
+    return t->k == TK::Sum;
+  };
+  if (!objects(args[0].type)) return false;
+  auto means = [&](const char* name, const std::function<bool(TypeP)>& ok) {
+    Sym s = p_.symbols.find(name);
+    for (SScope* sc : chain_)
+      if (sc->find(s)) return false;
+    Global* g = global(s);
+    SVal v = g && g->state == Global::Defined ? read_global(*g) : SVal{};
+    return v.type && ok(v.type);
+  };
+  auto native = [&](Builtin b) {
+    return [b](TypeP t) { return t->k == TK::Func && t->fn.kind == FuncRef::Native && t->fn.builtin == b; };
+  };
+  return means("map", native(Builtin::Map)) && means("concat", native(Builtin::Concat)) &&
+         means("isList", native(Builtin::IsList)) &&
+         means("renderValue", [&](TypeP t) { return t->k == TK::Func && t->fn.lambda == &lambda; });
+}
+
+bool Specialiser::is_stdlib_render_value(const Expr& lambda) const {
+  for (const Stmt& st : p_.stdlib_stmts)
+    if (st.kind == StmtKind::Expr && st.expr->kind == ExprKind::Assign && nm(st.expr->name) == "renderValue")
+      return st.expr->kids[0].get() == &lambda;
+  return false;
+}
+
 SVal Specialiser::inline_lambda(const Expr& lambda, std::vector<SVal>& args, const Expr& at, ScopeKind kind) {
-  (void)at;
+  if (kind == ScopeKind::Local && render_value_shortcut(lambda, args)) return render_value(args[0], at);
   if (args.size() < lambda.params.size()) {
     fail("function called with " + std::to_string(args.size()) + " argument(s) but it takes " +
          std::to_string(lambda.params.size()) + " (the reference interpreter crashes here)");
@@ -268,15 +306,13 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
 // Field type checks of make_instance, then the struct.
 SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& cells) {
   ClassInfo& ci = m_.classes[cls];
-  if (ci.unknown_field_type) {
-    // make_instance compares type strings; a field of unknown type cannot be printed.
-  }
   for (size_t i = 0; i < ci.fields.size(); ++i) {
     TypeP declared = declared_type(*ci.stmt->fields[i].type);
     if (declared) {
       const std::string want = type_string(declared);
       split(values[i], [&](const SVal& v) -> SVal {
         if (v.type->k == TK::Never) return v;
+        if (!check_printable(v.type) || !check_printable(declared)) return v;
         if (v.type->k == TK::List) {
           if (!list_tag_may_pass(v.type, declared))
             unsupported("a list field given a list of another element type (the check reads the list's type tag)");
@@ -305,6 +341,7 @@ SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& 
   ops.push_back(values.back().code);
   if (!object_cells(cls, cells, ops)) return never();
   if (tracked(T().obj(cls))) ops.push_back(call(ir::Helper::NewUid, T().int_(), {}));
+  if (h_.rotated.count(cls)) ops.push_back(call(ir::Helper::NewUid, T().int_(), {}));  // a new group of cells
   ir::Node* n = node(ir::Op::MakeObj, T().obj(cls), ops);
   n->index = cls;
   return fresh_identity(let(SVal{T().obj(cls), n}, "o"));
@@ -404,6 +441,7 @@ SVal Specialiser::make_list(const std::vector<SVal>& items) {
   SVal out{lt, node(ir::Op::MakeList, lt, codes)};
   if (all_const) out.konst = node(ir::Op::MakeList, lt, konsts);
   out.fresh = true;
+  out.parts = codes;
   return let(out, "list");
 }
 

@@ -223,6 +223,7 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
 // (.. o elems): the object's cell list.
 SVal Specialiser::object_cell_list(const SVal& o) {
   ClassInfo& ci = m_.classes[o.type->cls];
+  if (h_.rotated.count(o.type->cls)) unsupported("the cells of an object rotate turns, as a value");
   TypeP lt = T().list(T().cell());
   if (h_.stored_cells.count(o.type->cls) || tracked(T().cell())) {
     if (!h_.stored_cells.count(o.type->cls)) {
@@ -254,7 +255,10 @@ SVal Specialiser::eval_deferred(int d, const SVal* obj, const SVal& cell) {
     const ClassInfo& ci = m_.classes[obj->type->cls];
     for (size_t i = 0; i < ci.fields.size(); ++i) bind(*inst, ci.fields[i], instance_field(*obj, ci.fields[i]), {&ci, ci.fields[i]});
     bind(*inst, p_.names.origin, instance_field(*obj, p_.names.origin), {&ci, p_.names.origin});
-    bind(*inst, p_.names.elems, instance_field(*obj, p_.names.elems), {&ci, p_.names.elems});
+    std::set<Sym> names;
+    mentioned(*da.expr, names);
+    if (names.count(p_.names.elems))  // (only then: a rotated object's cells have no value here)
+      bind(*inst, p_.names.elems, instance_field(*obj, p_.names.elems), {&ci, p_.names.elems});
   }
   push_scope(ScopeKind::Local, nullptr);
   SScope* es = push_scope(ScopeKind::Local, nullptr);
@@ -357,23 +361,32 @@ void Specialiser::render_object(const SVal& o, ir::Node* out) {
   }
   SVal ov = let(o, "obj");
   ir::Node* origin = member(ov.code, ir::Member::Origin, T().pos());
+  SVal turns;
+  if (h_.rotated.count(cls))
+    turns = let(SVal{T().int_(), call(ir::Helper::RotOf, T().int_(), {member(ov.code, ir::Member::Group, T().int_())})});
   for (const ir::Node* c : ci.static_shape->a) {
     const int dx = static_cast<int>(c->a[3]->imm), dy = static_cast<int>(c->a[4]->imm), dc = static_cast<int>(c->a[5]->imm);
     SVal cell{T().cell(), const_cast<ir::Node*>(c), const_cast<ir::Node*>(c)};
-    auto coord = [&](int which, int d, ir::Member m) -> SVal {
-      SVal base = SVal{T().int_(), member(origin, m, T().int_())};
-      if (d < 0 || m_.deferred[d].fixed)
-        return SVal{T().int_(), node(ir::Op::Add, T().int_(), {base.code, c->a[which]})};
+    auto offset = [&](int which, int d) -> SVal {
+      if (d < 0 || m_.deferred[d].fixed) return SVal{T().int_(), c->a[which]};
       SVal v = eval_deferred(d, &ov, cell);
       if (v.type->k != TK::Int) {
         fail("binary + needs two numbers, got Number and " + type_string(v.type));
         return never();
       }
-      return let(SVal{T().int_(), node(ir::Op::Add, T().int_(), {base.code, v.code})});
+      return v;
     };
-    SVal x = coord(0, dx, ir::Member::X);
-    SVal y = coord(1, dy, ir::Member::Y);
+    SVal cx = offset(0, dx), cy = offset(1, dy);
     if (dead_) return;
+    ir::Node* ox = cx.code;
+    ir::Node* oy = cy.code;
+    if (turns.code) {  // rotate turned this object's cells
+      SVal r = let(SVal{T().pos(), call(ir::Helper::Rotated, T().pos(), {turns.code, cx.code, cy.code})});
+      ox = member(r.code, ir::Member::X, T().int_());
+      oy = member(r.code, ir::Member::Y, T().int_());
+    }
+    SVal x{T().int_(), node(ir::Op::Add, T().int_(), {member(origin, ir::Member::X, T().int_()), ox})};
+    SVal y{T().int_(), node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), oy})};
     SVal colour;
     if (dc < 0) {
       fail("field 'color' of 'RenderedElem' must be String, got Number");
@@ -469,6 +482,7 @@ void Specialiser::load_shapes() {
 
 void Specialiser::finish_classes() {
   m_.pos_tracked = tracked(T().pos());
+  for (size_t c = 0; c < m_.classes.size(); ++c) m_.classes[c].rotatable = h_.rotated.count(static_cast<int>(c)) > 0;
   for (size_t c = 0; c < m_.classes.size(); ++c) {
     ClassInfo& ci = m_.classes[c];
     ci.tracked = tracked(T().obj(static_cast<int>(c)));
@@ -533,8 +547,16 @@ int Specialiser::stored_render_function(int cls) {
     };
     SVal x = arg(0, ir::Member::CellX, T().int_());
     SVal y = arg(1, ir::Member::CellY, T().int_());
-    ir::Node* px = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::X, T().int_()), x.code});
-    ir::Node* py = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), y.code});
+    ir::Node* ox = x.code;
+    ir::Node* oy = y.code;
+    if (h_.rotated.count(cls)) {
+      ir::Node* turns = call(ir::Helper::RotOf, T().int_(), {member(local(o), ir::Member::Group, T().int_())});
+      SVal r = let(SVal{T().pos(), call(ir::Helper::Rotated, T().pos(), {turns, x.code, y.code})});
+      ox = member(r.code, ir::Member::X, T().int_());
+      oy = member(r.code, ir::Member::Y, T().int_());
+    }
+    ir::Node* px = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::X, T().int_()), ox});
+    ir::Node* py = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), oy});
     ir::Stmt* bad = emit(ir::SK::If);
     bad->a = node(ir::Op::Eq, T().bool_(), {member(local(loop->var), ir::Member::CellDc, T().int_()), lit(T().int_(), -1)});
     in_block(bad->body, [&] { fail("field 'color' of 'RenderedElem' must be String, got Number"); });

@@ -151,7 +151,8 @@ SVal Specialiser::let(SVal v, const std::string& hint) {
   ir::Var* t = var(v.type, hint);
   // Reads of places (a global, a variable) are Binds: a reference unless a store
   // can intervene (pass_refs); computed values are immutable temporaries.
-  const bool place = v.code->op == ir::Op::Global || v.code->op == ir::Op::Slot || v.code->op == ir::Op::Local;
+  const bool place = v.code->op == ir::Op::Global || v.code->op == ir::Op::Slot || v.code->op == ir::Op::Local ||
+                     v.code->op == ir::Op::Select;
   ir::Stmt* s = emit(place ? ir::SK::Bind : ir::SK::Let);
   s->var = t;
   s->a = v.code;
@@ -279,6 +280,18 @@ std::string Specialiser::type_string(TypeP t) {
     case TK::Never: return "Unknown";
   }
   return "Unknown";
+}
+
+// The interpreter builds a type string where it compares types (assignment,
+// declared types, construction, list tags); for a class with a field of unknown
+// type that is an error (the reference crashes). Emits it when `t` is such a class.
+bool Specialiser::check_printable(TypeP t) {
+  if (t->k == TK::List && t->elem) return check_printable(t->elem);
+  if (t->k != TK::Obj) return true;
+  const ClassInfo& c = m_.classes[t->cls];
+  if (c.unknown_field.empty()) return true;
+  fail("class '" + c.name + "' has field '" + c.unknown_field + "' of an unknown type (the reference interpreter crashes here)");
+  return false;
 }
 
 TypeP Specialiser::declared_type(const TypeExpr& te) {

@@ -169,7 +169,23 @@ SVal Specialiser::prev_of_name(Sym s) {
     st->a = node(ir::Op::Not, T().bool_(), {slot(g->prev_defined)});
     in_block(st->body, [&] { fail("prev: '" + nm(s) + "' had no value at the start of the step"); });
   }
-  return let(SVal{g->type, slot(g->prev)}, "prev");
+  ir::Node* value = node(ir::Op::Select, g->type, {slot(g->saved), slot(g->prev), slot(g->value)});
+  return let(SVal{g->type, value}, "prev");
+}
+
+// Before the step's first store to a global prev reads: its value moves into
+// the snapshot (nothing else holds it; prev reads the global until now).
+void Specialiser::save_for_prev(Global& g) {
+  if (!in_step_ || g.prev < 0 || g.saved < 0) return;
+  ir::Stmt* s_if = emit(ir::SK::If);
+  s_if->a = node(ir::Op::Not, T().bool_(), {slot(g.saved)});
+  in_block(s_if->body, [&] {
+    ir::Stmt* mv = emit(ir::SK::Set);
+    mv->a = slot(g.prev);
+    mv->b = slot(g.value);
+    mv->move_value = true;
+    emit_set(slot(g.saved), lit(T().bool_(), 1));
+  });
 }
 
 SVal Specialiser::prev_of_value(const SVal& v, const Expr& at) {

@@ -111,7 +111,7 @@ void Specialiser::specialise_start() {
       ClassInfo& ci = m_.classes[c];
       for (size_t i = 0; i < st.fields.size(); ++i) {
         TypeP declared = declared_type(*st.fields[i].type);
-        if (!declared) ci.unknown_field_type = true;
+        if (!declared && ci.unknown_field.empty()) ci.unknown_field = ci.field_names[i];
         TypeP hinted = h_.fields.count({c, static_cast<int>(i)}) ? h_.fields[{c, static_cast<int>(i)}] : nullptr;
         ci.field_types[i] = declared && hinted ? T().join(declared, hinted) : declared ? declared : hinted;
       }
@@ -172,15 +172,18 @@ void Specialiser::specialise_step() {
       Global& g = globals_[s];
       g.sym = s;
       g.state = Global::Runtime;
+      if (g.value < 0 && h_.globals.count(s)) global_slot(s, h_.globals[s]);  // first defined by a step
     }
   for (auto& [sym, g] : globals_)
     if (g.state != Global::Undefined && h_.stored_in_step.count(sym) && g.constant && g.constant->type->k != TK::Func)
       g.constant.reset();
-  // 1. The prev snapshot: the globals prev reads, as they are now.
+  // 1. The prev snapshot: the globals prev reads, as they are now. Not copied:
+  //    a global's value moves into its snapshot at the step's first store to it
+  //    (save_for_prev), and prev reads the global until then.
   for (Sym s : h_.prev_read) {
     Global& g = globals_[s];
     if (g.value < 0 || g.prev < 0) continue;
-    emit_set(slot(g.prev), slot(g.value));
+    emit_set(slot(g.saved), lit(T().bool_(), 0));
     if (g.prev_defined >= 0) emit_set(slot(g.prev_defined), g.defined >= 0 ? slot(g.defined) : lit(T().bool_(), 1));
   }
   // 2. Updated flags.
@@ -233,6 +236,7 @@ void Specialiser::specialise_step() {
       in_block(s->body, [&] {
         emit_eval(call(ir::Helper::Covered, nullptr, {lit(T().int_(), static_cast<int64_t>(i))}));
         loc_stack_.push_back(st.body.get());
+        value_unused_ = true;  // its value is only checked to exist
         lower_value(*st.body);
         loc_stack_.pop_back();
         chain_.clear();

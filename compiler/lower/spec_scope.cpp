@@ -48,6 +48,7 @@ Global& Specialiser::global_slot(Sym s, TypeP t) {
     g.defined = add("d_", nullptr, ir::Slot::Defined, true);
   if (h_.prev_read.count(s)) {
     g.prev = add("p_", t, ir::Slot::Prev, false);
+    g.saved = add("sv_", nullptr, ir::Slot::Saved, false);
     if (g.defined >= 0) g.prev_defined = add("pd_", nullptr, ir::Slot::PrevDefined, false);
   }
   return g;
@@ -148,6 +149,8 @@ void Specialiser::check_declared(Sym s, const SVal& v) {
   const std::string want = dt ? type_string(dt) : std::string("?");
   auto check = [&](const SVal& x) {
     if (x.type->k == TK::List) return x;
+    if (dt && !check_printable(dt)) return x;
+    if (!check_printable(x.type)) return x;
     if (want != type_string(x.type))
       fail("cannot assign a value of type '" + type_string(x.type) + "' to '" + nm(s) + "', declared as '" + want +
            "'");
@@ -158,10 +161,12 @@ void Specialiser::check_declared(Sym s, const SVal& v) {
 
 // Stores into an existing binding or global: the type check and identity rule of
 // Interpreter::assign.
-void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s, const std::function<void(TypeP)>& widen) {
+void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s, const std::function<void(TypeP)>& widen,
+                                const std::function<void()>& before_write) {
   if (v.type->k != TK::List) {
     auto check_old = [&](const SVal& old) {
       if (old.type->k == TK::Never) return old;
+      if (!check_printable(old.type) || !check_printable(v.type)) return old;
       if (type_string(old.type) != type_string(v.type))
         fail("cannot assign a value of type '" + type_string(v.type) + "' to variable '" + nm(s) + "' of type '" +
              type_string(old.type) + "'");
@@ -175,7 +180,9 @@ void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s,
     widen(T().join(slot_type, v.type));
     return;
   }
-  emit_set(place, coerce(v, slot_type).code);
+  ir::Node* value = coerce(v, slot_type).code;
+  if (before_write) before_write();
+  emit_set(place, value);
 }
 
 void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
@@ -262,10 +269,12 @@ void Specialiser::define_global(Global& g, SVal v) {
   if (in_step_) {
     if (!h_.runtime_defined.count(g.sym) && g.state != Global::Runtime) {
       h_.runtime_defined.insert(g.sym);
+      if (!h_.globals.count(g.sym) && g.type) h_.globals[g.sym] = g.type;
       learn("'" + nm(g.sym) + "' is defined while the program runs");
       return;
     }
   }
+  save_for_prev(g);
   if (g.defined >= 0) emit_set(slot(g.defined), lit(T().bool_(), 1));
   if (in_step_ && m_.runtime_order) emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), g.sym)}));
   if (g.value >= 0) emit_set(slot(g.value), coerce(v, g.type).code);
@@ -293,10 +302,13 @@ void Specialiser::store_global(Global& g, SVal v, const Expr& at, bool mark_upda
     learn("global '" + nm(g.sym) + "'");
     return;
   }
-  store_checked(g.type, slot(g.value), v, g.sym, [&](TypeP wider) {
-    h_.globals[g.sym] = wider;
-    learn("global '" + nm(g.sym) + "'");
-  });
+  store_checked(
+      g.type, slot(g.value), v, g.sym,
+      [&](TypeP wider) {
+        h_.globals[g.sym] = wider;
+        learn("global '" + nm(g.sym) + "'");
+      },
+      [&] { save_for_prev(g); });
   if (mark_updated && g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 1));
   if (in_start_ && v.konst && !dead_ && block_ == &fn_->body) g.constant = v;
   else g.constant.reset();

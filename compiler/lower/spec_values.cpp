@@ -250,7 +250,12 @@ SVal Specialiser::instance_equals(const SVal& x, const SVal& y) {
 // class whose cells are the same for every object print the same cells.
 SVal Specialiser::cells_equal(const SVal& x, const SVal& y) {
   const bool xs = !h_.stored_cells.count(x.type->cls), ys = !h_.stored_cells.count(y.type->cls);
-  if (xs && ys && x.type->cls == y.type->cls) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+  if (xs && ys && x.type->cls == y.type->cls) {
+    if (!h_.rotated.count(x.type->cls)) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+    // Each rotate wraps the coordinates' expressions once more: equal prints, equal turns.
+    auto turns = [&](const SVal& v) { return call(ir::Helper::RotOf, T().int_(), {member(v.code, ir::Member::Group, T().int_())}); };
+    return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {turns(x), turns(y)})});
+  }
   unsupported("equality of objects whose cells may differ (it compares the cells' printed forms)");
 }
 

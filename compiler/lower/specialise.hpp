@@ -46,6 +46,7 @@ struct SVal {
   ir::Node* code = nullptr;   // null for values with nothing at run time (functions, classes)
   ir::Node* konst = nullptr;  // the value when known at compile time (Lit, MakePos, MakeList trees)
   bool fresh = false;         // just made: nobody else holds this object
+  std::vector<ir::Node*> parts;  // a list literal: its elements' values (concat appends them directly)
 };
 
 // Type hints: what earlier walks learnt. Keys of locals are their defining
@@ -60,6 +61,7 @@ struct Hints {
   std::set<Sym> stored_in_step;                 // globals some step code assigns
   std::set<Sym> prev_read;                      // globals read through prev
   std::set<int> stored_cells;                   // classes whose objects carry their cells
+  std::set<int> rotated;                        // classes rotate turns (objects carry a cell group)
   std::set<std::pair<const void*, Sym>> mutable_bindings;  // parameters some assignment targets
   std::map<int, ir::Node*> shapes;              // class -> the cells all its objects have (in Module::lasting)
   bool changed = false;
@@ -97,6 +99,7 @@ struct Global {
   Sym sym = -1;
   TypeP type = nullptr;          // slot type (Func/Class values have no slot)
   int value = -1, defined = -1, updated = -1, prev = -1, prev_defined = -1;
+  int saved = -1;  // the step's first store moved the value into `prev`
   enum State : uint8_t { Undefined, Defined, Runtime } state = Undefined;
   bool initnext = false;
   const Expr* init = nullptr;
@@ -142,6 +145,7 @@ class Specialiser {
   int string_id(const std::string& quoted);
   std::string type_string(TypeP t);          // the reference's type string
   TypeP declared_type(const TypeExpr& te);   // a (: x T) declaration; null: unknown name
+  bool check_printable(TypeP t);             // false: the type string is an error (emitted)
   void dynamic_site(const std::string& why);
   void learn(const std::string& what);
   [[noreturn]] void unsupported(const std::string& why);
@@ -201,7 +205,8 @@ class Specialiser {
   void define_global(Global& g, SVal v);
   bool store_function(Global& g, const SVal& v);
   void store_global(Global& g, SVal v, const Expr& at, bool mark_updated);
-  void store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s, const std::function<void(TypeP)>& widen);
+  void store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s, const std::function<void(TypeP)>& widen,
+                     const std::function<void()>& before_write = nullptr);
   void check_declared(Sym s, const SVal& v);
   SScope* push_scope(ScopeKind k, const void* site);
   void pop_scope();
@@ -211,6 +216,8 @@ class Specialiser {
   SVal lower_call(const Expr& e);
   SVal call_value(const SVal& f, std::vector<SVal>& args, const Expr& at);
   SVal call_render(const Expr& e);
+  bool render_value_shortcut(const Expr& lambda, const std::vector<SVal>& args);
+  bool is_stdlib_render_value(const Expr& lambda) const;
   SVal inline_lambda(const Expr& lambda, std::vector<SVal>& args, const Expr& at, ScopeKind kind = ScopeKind::Local);
   SVal construct(int cls, std::vector<SVal>& args, const Expr& at);
   SVal make_position(SVal x, SVal y);
@@ -261,6 +268,7 @@ class Specialiser {
   SVal remove_from(const SVal& l, const SVal& what, const Expr& at);
   ir::Node* same_identity_any(const SVal& x, const std::vector<SVal>& others);
   SVal builtin_globals(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_rotate(std::vector<SVal>& a);
 
   // The global map (spec_globals.cpp)
   std::vector<Sym> start_defines_;  // start-up's definitions, in order (the map's history)
@@ -270,6 +278,7 @@ class Specialiser {
   SVal remove_global(const SVal& v);
   SVal lower_prev(const Expr& call);
   SVal prev_of_name(Sym s);
+  void save_for_prev(Global& g);
   SVal prev_of_value(const SVal& v, const Expr& at);
 
   // Cells and rendering (spec_cells.cpp)

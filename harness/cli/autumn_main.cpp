@@ -284,7 +284,7 @@ int cmd_difftest(const std::vector<std::string>& args, const DiffOptions& o) {
     std::cerr << "autumn difftest: no programs given\n";
     return 1;
   }
-  size_t steps = 0, episodes = 0;
+  size_t steps = 0, episodes = 0, errored = 0;
   int failures = 0;
   for (const auto& f : files) {
     auto program = load_or_report(f.string(), std::nullopt);
@@ -295,13 +295,14 @@ int cmd_difftest(const std::vector<std::string>& args, const DiffOptions& o) {
     DiffResult r = diff_engines(program, o);
     steps += r.steps;
     episodes += r.episodes;
+    errored += r.errored;
     if (!r.divergence.empty()) {
       ++failures;
       fmt::print("DIVERGED {}: {}\n", f.string(), r.divergence);
     }
   }
-  fmt::print("{} programs, {} episodes, {} steps compared ({} vs {}): {} diverged\n", files.size(), episodes, steps,
-             o.engine_a, o.engine_b, failures);
+  fmt::print("{} programs, {} episodes ({} ended in the same runtime error), {} steps compared ({} vs {}): {} diverged\n",
+             files.size(), episodes, errored, steps, o.engine_a, o.engine_b, failures);
   return failures ? 1 : 0;
 }
 
