@@ -146,6 +146,11 @@ Loaded find_or_build(const Program& program, std::string* why) {
     std::ofstream(cpp, std::ios::binary) << emit_module(src);
     int status = 0;
     std::string out = run_command(compile_command(cpp, tmp_so), &status);
+    if (status != 0 && std::getenv("AUTUMN_STRICT_MODULES")) {  // the tests: a lowering bug must fail
+      fs::remove(cpp, ec);
+      *why = "the specialised module for " + program.file.name + " did not compile:\n" + out.substr(0, 4000);
+      return {};
+    }
     if (status != 0) {
       // A specialised module that does not compile is a bug in the lowering; the
       // embedded lowering keeps the engine usable (and exact) meanwhile.

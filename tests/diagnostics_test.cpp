@@ -8,6 +8,7 @@
 
 #include "compiler/analyse/program.hpp"
 #include "compiler/interpret/interpreted_env.hpp"
+#include "harness/engine.hpp"
 #include "test_support.hpp"
 
 namespace autumn {
@@ -57,16 +58,22 @@ TEST_P(RuntimeFailure, EndsEpisodeWithLocatedMessage) {
   std::string why;
   auto actions = parse_action_list(header(text, "actions"), &why);
   ASSERT_TRUE(actions) << why;
-  InterpretedEnvironment env(load_program(SourceFile{path, text}));
-  bool ok = env.reset(7);
-  for (size_t i = 0; ok && i < actions->size(); ++i) ok = env.step((*actions)[i]);
-  ASSERT_FALSE(ok) << path << ": expected a runtime error";
-  EXPECT_TRUE(env.failed());
-  EXPECT_FALSE(env.step(Action::noop())) << "a failed episode must refuse further steps";
-  const size_t colon = expect.find(": ");
-  const std::string where = path + ":" + expect.substr(0, colon) + ": runtime error: ";
-  EXPECT_EQ(env.error().rfind(where, 0), 0u) << "got: " << env.error() << "\nwant prefix: " << where;
-  EXPECT_NE(env.error().find(expect.substr(colon + 2)), std::string::npos) << "got: " << env.error();
+  auto program = load_program(SourceFile{path, text});
+  // Both engines, with the same text: the compiled module carries its source's locations.
+  for (const char* engine : {"interp", "compiled"}) {
+    std::string why;
+    auto env = make_environment(engine, program, &why);
+    ASSERT_TRUE(env) << why;
+    bool ok = env->reset(7);
+    for (size_t i = 0; ok && i < actions->size(); ++i) ok = env->step((*actions)[i]);
+    ASSERT_FALSE(ok) << path << " (" << engine << "): expected a runtime error";
+    EXPECT_TRUE(env->failed());
+    EXPECT_FALSE(env->step(Action::noop())) << "a failed episode must refuse further steps";
+    const size_t colon = expect.find(": ");
+    const std::string where = path + ":" + expect.substr(0, colon) + ": runtime error: ";
+    EXPECT_EQ(env->error().rfind(where, 0), 0u) << engine << " got: " << env->error() << "\nwant prefix: " << where;
+    EXPECT_NE(env->error().find(expect.substr(colon + 2)), std::string::npos) << engine << " got: " << env->error();
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Files, RuntimeFailure,

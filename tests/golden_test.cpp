@@ -2,6 +2,9 @@
 // reference quirk, with their expected transcript stored in the file itself below
 // a marker line (as ";; "-prefixed comments, so the file stays a valid program).
 //
+// One expectation, both engines: the transcript is produced by the interpreter
+// and by the compiled engine, and each must equal the expected one.
+//
 // On a mismatch the test prints the first differing line with context. To accept
 // new output after an intended change, re-bless:  AUTUMN_BLESS=1 ctest -R Golden
 #include <gtest/gtest.h>
@@ -11,6 +14,7 @@
 
 #include "compiler/analyse/program.hpp"
 #include "compiler/interpret/interpreted_env.hpp"
+#include "harness/engine.hpp"
 #include "harness/transcript.hpp"
 #include "test_support.hpp"
 
@@ -54,7 +58,8 @@ TEST_P(Golden, TranscriptMatches) {
   auto actions = parse_action_list(testing::header(source, "actions"), &why);
   ASSERT_TRUE(actions) << why;
   uint64_t seed = std::stoull(testing::header(source, "seed").empty() ? "0" : testing::header(source, "seed"));
-  InterpretedEnvironment env(load_program(SourceFile{path.filename().string(), source}));
+  auto program = load_program(SourceFile{path.filename().string(), source});
+  InterpretedEnvironment env(program);
   Transcript t = run_transcript(env, seed, *actions, false);
 
   if (std::getenv("AUTUMN_BLESS")) {
@@ -67,7 +72,11 @@ TEST_P(Golden, TranscriptMatches) {
   }
   ASSERT_FALSE(expected.empty()) << path << " has no expected transcript; run with AUTUMN_BLESS=1";
   EXPECT_TRUE(t.ok) << t.text;
-  EXPECT_EQ(t.text, expected) << readable_diff(expected, t.text);
+  EXPECT_EQ(t.text, expected) << "interpreter: " << readable_diff(expected, t.text);
+  auto compiled = make_environment("compiled", program, &why);
+  ASSERT_TRUE(compiled) << why;
+  Transcript c = run_transcript(*compiled, seed, *actions, false);
+  EXPECT_EQ(c.text, expected) << "compiled: " << readable_diff(expected, c.text);
 }
 
 INSTANTIATE_TEST_SUITE_P(Files, Golden,

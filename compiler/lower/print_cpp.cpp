@@ -187,6 +187,7 @@ std::string Printer::expr(const Node* n) {
   switch (n->op) {
     case Op::Lit:
       if (n->type && n->type->k == TK::Bool) return n->imm ? "true" : "false";
+      if (n->type && (n->type->k == TK::Func || n->type->k == TK::Class)) return "Unit{}";
       return "int32_t(" + std::to_string(n->imm) + (n->imm < -2147483647 ? "LL" : "") + ")";
     case Op::Text: return "std::string(" + quoted(n->text) + ")";
     case Op::Local: return name(n->var);

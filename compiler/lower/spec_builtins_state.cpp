@@ -267,7 +267,7 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
   TypeP xt = x.type->k == TK::List ? x.type->elem : x.type;
   TypeP rt = et && xt ? T().join(et, xt) : et ? et : xt;
   if (!rt) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list())};
-  if (is_sum(rt) && !is_object_like(rt)) dynamic_site("addObj mixes values of different types");
+  if (is_sum(rt) && !is_typed_variant(rt)) dynamic_site("addObj mixes values of different types");
   if (et && is_sum(et) && x.type->k != TK::List)
     unsupported("addObj to a list that may hold objects of several classes");
   TypeP lt = T().list(rt);

@@ -103,8 +103,7 @@ SVal Specialiser::call_render(const Expr& e) {
 }
 
 SVal Specialiser::call_value(const SVal& f, std::vector<SVal>& args, const Expr& at) {
-  if (is_sum(f.type)) {
-    dynamic_site("a call of a function chosen at run time");
+  if (is_sum(f.type)) {  // which function is decided at run time: a case per function
     return split(f, [&](const SVal& g) { return call_value(g, args, at); });
   }
   if (f.type->k == TK::Never) return never();
@@ -429,7 +428,7 @@ SVal Specialiser::make_list(const std::vector<SVal>& items) {
   for (const SVal& v : items) et = T().join(et, v.type);
   if (et->k == TK::Never) return never();
   if (et->k == TK::Func || et->k == TK::Class) unsupported("a list of functions or types");
-  if (is_sum(et) && !is_object_like(et)) dynamic_site("a list holds values of different types");
+  if (is_sum(et) && !is_typed_variant(et)) dynamic_site("a list holds values of different types");
   TypeP lt = T().list(et);
   std::vector<ir::Node*> codes, konsts;
   bool all_const = true;

@@ -163,18 +163,23 @@ void Specialiser::check_declared(Sym s, const SVal& v) {
 // Interpreter::assign.
 void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s, const std::function<void(TypeP)>& widen,
                                 const std::function<void()>& before_write) {
-  if (v.type->k != TK::List) {
+  // Unless the new value is a list, the old and new values' type strings must agree
+  // (each alternative of either, when one holds a variant).
+  auto check_new = [&](const SVal& nv) {
+    if (nv.type->k == TK::List || nv.type->k == TK::Never) return nv;
     auto check_old = [&](const SVal& old) {
       if (old.type->k == TK::Never) return old;
-      if (!check_printable(old.type) || !check_printable(v.type)) return old;
-      if (type_string(old.type) != type_string(v.type))
-        fail("cannot assign a value of type '" + type_string(v.type) + "' to variable '" + nm(s) + "' of type '" +
+      if (!check_printable(old.type) || !check_printable(nv.type)) return old;
+      if (type_string(old.type) != type_string(nv.type))
+        fail("cannot assign a value of type '" + type_string(nv.type) + "' to variable '" + nm(s) + "' of type '" +
              type_string(old.type) + "'");
       return old;
     };
     split(SVal{slot_type, place}, check_old);
-    if (dead_) return;
-  }
+    return nv;
+  };
+  split(v, check_new);
+  if (dead_) return;
   if (tracked(v.type) || (is_heap(v.type) && tracked(slot_type))) transfer_identity(v, SVal{slot_type, place});
   if (!T().fits(v.type, slot_type)) {
     widen(T().join(slot_type, v.type));

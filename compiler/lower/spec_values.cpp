@@ -40,7 +40,7 @@ ir::Stmt* detached(Specialiser& sp, ir::SK k) {
 // Runs each producer in its own block, then declares the result (the join of
 // the values' types) before the statement and assigns it at the end of each block.
 static SVal join_blocks(Specialiser& sp, ir::Stmt* stmt, std::vector<ir::Block*> blocks,
-                        std::vector<std::function<SVal()>> producers, bool value_used) {
+                        std::vector<std::function<SVal()>> producers, bool value_used, bool report) {
   std::vector<SVal> results(blocks.size());
   std::vector<bool> alive(blocks.size());
   for (size_t i = 0; i < blocks.size(); ++i)
@@ -63,7 +63,7 @@ static SVal join_blocks(Specialiser& sp, ir::Stmt* stmt, std::vector<ir::Block*>
     if (t->k == TK::Func) return SVal{t, nullptr};  // one function on every path
     return SVal{any_alive ? t : sp.T().never(), nullptr};
   }
-  if (t->k == TK::Sum && !is_object_like(t)) sp.dynamic_site("the branches give values of different types");
+  if (report && t->k == TK::Sum && !is_typed_variant(t)) sp.dynamic_site("the branches give values of different types");
   ir::Var* r = sp.decl(t, nullptr, "r");
   attach(sp, stmt);
   for (size_t i = 0; i < blocks.size(); ++i)
@@ -77,7 +77,7 @@ SVal Specialiser::join_branches(ir::Node* cond, const std::function<SVal()>& the
                                 const std::function<SVal()>& else_f, bool value_used) {
   ir::Stmt* s = detached(*this, ir::SK::If);
   s->a = cond;
-  return join_blocks(*this, s, {&s->body, &s->other}, {then_f, else_f}, value_used);
+  return join_blocks(*this, s, {&s->body, &s->other}, {then_f, else_f}, value_used, true);
 }
 
 SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f) {
@@ -99,7 +99,7 @@ SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f
       return f(let(part, "a"));
     });
   }
-  return join_blocks(*this, s, blocks, producers, true);
+  return join_blocks(*this, s, blocks, producers, true, false);
 }
 
 // ---------------------------------------------------------------------------
@@ -128,7 +128,7 @@ SVal Specialiser::coerce(SVal v, TypeP to) {
     for (size_t i = 0; i < to->alts.size(); ++i)
       if (T().fits(v.type, to->alts[i])) {
         SVal inner = coerce(v, to->alts[i]);
-        ir::Node* n = node(ir::Op::MakeSum, to, {inner.code ? inner.code : lit(T().int_(), 0)});
+        ir::Node* n = node(ir::Op::MakeSum, to, {inner.code ? inner.code : lit(to->alts[i], 0)});
         n->index = static_cast<int>(i);
         return SVal{to, n, nullptr, v.fresh};
       }

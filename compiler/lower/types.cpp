@@ -123,6 +123,14 @@ bool Types::fits(TypeP v, TypeP slot) const {
   return false;
 }
 
+bool is_typed_variant(TypeP t) {
+  if (is_object_like(t)) return true;
+  if (!is_sum(t)) return t->k == TK::Func;
+  for (TypeP a : t->alts)
+    if (a->k != TK::Func) return false;
+  return true;
+}
+
 bool is_object_like(TypeP t) {
   if (t->k == TK::Obj) return true;
   if (!is_sum(t)) return false;

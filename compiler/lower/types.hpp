@@ -105,5 +105,8 @@ inline bool is_heap(TypeP t) {
 }
 // Whether every alternative of a Sum (or the type itself) is an instance of a user class.
 bool is_object_like(TypeP t);
+// A Sum that is a typed variant rather than a dynamic value: all alternatives
+// objects of user classes, or all functions (which carry nothing at run time).
+bool is_typed_variant(TypeP t);
 
 }  // namespace autumn::lower
