@@ -33,8 +33,8 @@ std::optional<int> Specialiser::type_named(Sym s) const {
   if (s == n.Bool) return kBoolType;
   if (s == n.String) return kStringType;
   if (s == n.Number || s == n.Int) return kNumberType;
-  if (s >= 0 && s < static_cast<Sym>(class_of_sym_.size()) && class_of_sym_[s] >= 0 && class_defined_[class_of_sym_[s]])
-    return class_of_sym_[s];
+  if (s >= 0 && s < static_cast<Sym>(f_.class_of_sym.size()) && f_.class_of_sym[s] >= 0 && class_defined_[f_.class_of_sym[s]])
+    return f_.class_of_sym[s];
   return std::nullopt;
 }
 
@@ -126,7 +126,7 @@ SVal Specialiser::call_value(const SVal& f, std::vector<SVal>& args, const Expr&
 // same without a list per element, as long as the names its body uses (map,
 // concat, isList, renderValue) still mean the stdlib's here.
 bool Specialiser::render_value_shortcut(const Expr& lambda, const std::vector<SVal>& args) {
-  if (args.empty() || !is_stdlib_render_value(lambda)) return false;
+  if (args.empty() || &lambda != f_.stdlib_render_value) return false;
   std::function<bool(TypeP)> objects = [&](TypeP t) {
     if (t->k == TK::Obj) return true;
     if (t->k == TK::List) return !t->elem || objects(t->elem);
@@ -150,13 +150,6 @@ bool Specialiser::render_value_shortcut(const Expr& lambda, const std::vector<SV
   return means("map", native(Builtin::Map)) && means("concat", native(Builtin::Concat)) &&
          means("isList", native(Builtin::IsList)) &&
          means("renderValue", [&](TypeP t) { return t->k == TK::Func && t->fn.lambda == &lambda; });
-}
-
-bool Specialiser::is_stdlib_render_value(const Expr& lambda) const {
-  for (const Stmt& st : p_.stdlib_stmts)
-    if (st.kind == StmtKind::Expr && st.expr->kind == ExprKind::Assign && nm(st.expr->name) == "renderValue")
-      return st.expr->kids[0].get() == &lambda;
-  return false;
 }
 
 SVal Specialiser::inline_lambda(const Expr& lambda, std::vector<SVal>& args, const Expr& at, ScopeKind kind) {

@@ -14,7 +14,7 @@
 
 namespace autumn::lower {
 
-Specialiser::Specialiser(const Program& p, Module& m, Hints& h) : p_(p), m_(m), h_(h) {}
+Specialiser::Specialiser(const Program& p, const Facts& f, Module& m, Hints& h) : p_(p), m_(m), h_(h), f_(f) {}
 
 // ---------------------------------------------------------------------------
 // Builder
@@ -306,9 +306,9 @@ TypeP Specialiser::declared_type(const TypeExpr& te) {
   if (n == "Position") return T().pos();
   if (n == "Cell") return T().cell();
   if (n == "RenderedElem") return T().elem();
-  if (te.sym >= 0 && te.sym < static_cast<Sym>(class_of_sym_.size()) && class_of_sym_[te.sym] >= 0 &&
-      class_defined_[class_of_sym_[te.sym]])
-    return T().obj(class_of_sym_[te.sym]);
+  if (te.sym >= 0 && te.sym < static_cast<Sym>(f_.class_of_sym.size()) && f_.class_of_sym[te.sym] >= 0 &&
+      class_defined_[f_.class_of_sym[te.sym]])
+    return T().obj(f_.class_of_sym[te.sym]);
   return nullptr;
 }
 
@@ -316,12 +316,13 @@ TypeP Specialiser::declared_type(const TypeExpr& te) {
 // The driver
 
 void specialise_program(const Program& p, Module& m) {
+  const Facts facts = program_facts(p);
   Hints hints;
   constexpr int kMaxWalks = 12;
   for (int walk = 0; walk < kMaxWalks; ++walk) {
     m.clear_for_walk();
     hints.changed = false;
-    Specialiser s(p, m, hints);
+    Specialiser s(p, facts, m, hints);
     s.run();
     if (std::getenv("AUTUMN_LOWER_TRACE"))  // which hint each walk learnt (debugging the lowering)
       std::fprintf(stderr, "walk %d: %s\n", walk, hints.changed ? hints.last_change.c_str() : "settled");

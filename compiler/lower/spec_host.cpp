@@ -15,58 +15,12 @@
 // checked at run time.
 #include "compiler/analyse/render_order.hpp"
 #include "compiler/lower/specialise.hpp"
-#include "runtime/hash_order.hpp"
 
 namespace autumn::lower {
-namespace {
-
-void collect_assigned(const Expr& e, std::set<Sym>& out) {
-  if (e.kind == ExprKind::Assign) out.insert(e.name);
-  for (const auto& k : e.kids) collect_assigned(*k, out);
-}
-
-std::string cpp_ident(const std::string& s) {
-  std::string out;
-  for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-  return out;
-}
-
-}  // namespace
-
 void Specialiser::run() {
-  class_of_sym_.assign(p_.symbols.size(), -1);
-  for (const Stmt& st : p_.stmts) {
-    if (st.kind != StmtKind::Object) continue;
-    ClassInfo c;
-    c.name = st.object_name;
-    c.cpp = "C" + std::to_string(m_.classes.size()) + "_" + cpp_ident(st.object_name);
-    c.sym = st.object_sym;
-    c.stmt = &st;
-    for (const auto& f : st.fields) {
-      c.fields.push_back(f.name);
-      c.field_names.push_back(f.name_text);
-    }
-    c.field_types.assign(c.fields.size(), nullptr);
-    if (class_of_sym_[st.object_sym] < 0) class_of_sym_[st.object_sym] = static_cast<int>(m_.classes.size());
-    else class_of_sym_[st.object_sym] = static_cast<int>(m_.classes.size());  // a later definition wins
-    m_.classes.push_back(std::move(c));
-  }
+  m_.classes = f_.classes;
   class_defined_.assign(m_.classes.size(), 0);
   load_shapes();
-  for (const std::vector<Stmt>* stmts : {&p_.stdlib_stmts, &p_.stmts})
-    for (const Stmt& st : *stmts)
-      for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
-        if (e) collect_assigned(*e, assigned_);
-  if (p_.trigger) collect_assigned(*p_.trigger, assigned_);
-
-  // INIT/NEXT order: the hash order of the initnext names, inserted in declaration order.
-  HashOrder order;
-  for (const Stmt& st : p_.stmts)
-    if (st.kind == StmtKind::Expr && st.expr->kind == ExprKind::Assign &&
-        st.expr->kids[0]->kind == ExprKind::InitNext)
-      order.insert(st.expr->name, p_.symbols.hash(st.expr->name));
-  for (int s : order.order()) initnext_order_.push_back(s);
-
   m_.uses_random = p_.uses_random;
   specialise_start();
   specialise_step();
@@ -107,7 +61,7 @@ void Specialiser::specialise_start() {
   }
   for (const Stmt& st : p_.stmts) {
     if (st.kind == StmtKind::Object) {
-      int c = class_of_sym_[st.object_sym];
+      int c = f_.class_of_sym[st.object_sym];
       ClassInfo& ci = m_.classes[c];
       for (size_t i = 0; i < st.fields.size(); ++i) {
         TypeP declared = declared_type(*st.fields[i].type);
@@ -123,7 +77,7 @@ void Specialiser::specialise_start() {
       ci.type_string += "origin: " + type_string(T().pos()) + ", elems: List<" + type_string(T().cell()) + ">, }";
       class_defined_[c] = 1;
     } else if (st.kind == StmtKind::On) {
-      on_clauses_.push_back(&st);
+      continue;  // registered in the facts
     } else if (st.expr->kind == ExprKind::Assign && st.expr->kids[0]->kind == ExprKind::InitNext) {
       Global& g = globals_[st.expr->name];
       g.sym = st.expr->name;
@@ -134,8 +88,8 @@ void Specialiser::specialise_start() {
       run_statement(st);
     }
   }
-  m_.on_clauses = static_cast<int>(on_clauses_.size());
-  for (Sym s : initnext_order_) {
+  m_.on_clauses = static_cast<int>(f_.on_clauses.size());
+  for (Sym s : f_.initnext_order) {
     Global& g = globals_[s];
     error_prefix_ = "initialising '" + nm(s) + "': ";
     comment("init " + nm(s) + ", " + p_.file_name(g.init->loc.source) + ":" + std::to_string(g.init->loc.line));
@@ -187,7 +141,7 @@ void Specialiser::specialise_step() {
     if (g.prev_defined >= 0) emit_set(slot(g.prev_defined), g.defined >= 0 ? slot(g.defined) : lit(T().bool_(), 1));
   }
   // 2. Updated flags.
-  for (Sym s : initnext_order_) {
+  for (Sym s : f_.initnext_order) {
     Global& g = globals_[s];
     if (g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 0));
   }
@@ -204,8 +158,8 @@ void Specialiser::specialise_step() {
     loc_stack_.pop_back();
   }
   // 4. On-clauses in source order.
-  for (size_t i = 0; i < on_clauses_.size() && !dead_; ++i) {
-    const Stmt& st = *on_clauses_[i];
+  for (size_t i = 0; i < f_.on_clauses.size() && !dead_; ++i) {
+    const Stmt& st = *f_.on_clauses[i];
     comment("on-clause " + std::to_string(i + 1) + ", " + p_.file_name(st.loc.source) + ":" +
             std::to_string(st.loc.line));
     ir::Stmt* blk = emit(ir::SK::Block);
@@ -244,7 +198,7 @@ void Specialiser::specialise_step() {
     });
   }
   // 5. NEXT for every initnext variable no clause assigned, in hash order.
-  for (Sym s : initnext_order_) {
+  for (Sym s : f_.initnext_order) {
     if (dead_) break;
     Global& g = globals_[s];
     if (g.value < 0) {  // its initialiser's type is not known yet (the next walk), or a function

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "compiler/analyse/program.hpp"
+#include "compiler/lower/facts.hpp"
 #include "compiler/lower/module.hpp"
 
 namespace autumn::lower {
@@ -109,7 +110,7 @@ struct Global {
 
 class Specialiser {
  public:
-  Specialiser(const Program& p, Module& m, Hints& hints);
+  Specialiser(const Program& p, const Facts& f, Module& m, Hints& hints);
   // One walk over the whole program. Throws Unsupported.
   void run();
 
@@ -210,14 +211,13 @@ class Specialiser {
   void check_declared(Sym s, const SVal& v);
   SScope* push_scope(ScopeKind k, const void* site);
   void pop_scope();
-  bool assigned_anywhere(Sym s) const { return assigned_.count(s) > 0; }
+  bool assigned_anywhere(Sym s) const { return f_.assigned.count(s) > 0; }
 
   // Calls and objects (spec_call.cpp)
   SVal lower_call(const Expr& e);
   SVal call_value(const SVal& f, std::vector<SVal>& args, const Expr& at);
   SVal call_render(const Expr& e);
   bool render_value_shortcut(const Expr& lambda, const std::vector<SVal>& args);
-  bool is_stdlib_render_value(const Expr& lambda) const;
   SVal inline_lambda(const Expr& lambda, std::vector<SVal>& args, const Expr& at, ScopeKind kind = ScopeKind::Local);
   SVal construct(int cls, std::vector<SVal>& args, const Expr& at);
   SVal make_position(SVal x, SVal y);
@@ -320,10 +320,7 @@ class Specialiser {
   const Program& p_;
   Module& m_;
   Hints& h_;
-  std::set<Sym> assigned_;           // every name some assignment targets
-  std::vector<const Stmt*> on_clauses_;
-  std::vector<Sym> initnext_order_;  // initnext names in hash (INIT/NEXT) order
-  std::vector<int> class_of_sym_;    // class index by symbol, -1
+  const Facts& f_;
   std::vector<char> class_defined_;  // start-up: the object statement has run
 };
 
