@@ -79,15 +79,15 @@ struct Prog {
     std::vector<Elem> b12;
     std::vector<Elem> b13;
     std::vector<Elem> b14;
-    std::vector<CellV> b15;
+    std::vector<Elem> b15;
     std::vector<Elem> b16;
     std::vector<Elem> b17;
     std::vector<Elem> b18;
     std::vector<Elem> b19;
     std::vector<Elem> b20;
-    std::vector<Elem> b21;
+    std::vector<CellV> b21;
     std::vector<Elem> b22;
-    std::vector<CellV> b23;
+    std::vector<Elem> b23;
     std::vector<Elem> b24;
     std::vector<Elem> b25;
     std::vector<Elem> b26;
@@ -96,34 +96,54 @@ struct Prog {
     std::vector<Elem> b29;
     std::vector<Elem> b30;
     std::vector<Elem> b31;
-    std::vector<Elem> b32;
+    std::vector<CellV> b32;
     std::vector<Elem> b33;
     std::vector<Elem> b34;
     std::vector<Elem> b35;
     std::vector<Elem> b36;
     std::vector<Elem> b37;
     std::vector<Elem> b38;
-    std::vector<C1_Block> b39;
-    std::vector<C1_Block> b40;
-    std::vector<int32_t> b41;
-    std::vector<C1_Block> b42;
-    std::vector<int32_t> b43;
-    std::vector<C1_Block> b44;
-    std::vector<C1_Block> b45;
-    std::vector<C1_Block> b46;
-    std::vector<int32_t> b47;
-    std::vector<CellV> b48;
+    std::vector<Elem> b39;
+    std::vector<Elem> b40;
+    std::vector<Elem> b41;
+    std::vector<Elem> b42;
+    std::vector<Elem> b43;
+    std::vector<Elem> b44;
+    std::vector<Elem> b45;
+    std::vector<Elem> b46;
+    std::vector<Elem> b47;
+    std::vector<Elem> b48;
     std::vector<Elem> b49;
     std::vector<Elem> b50;
-    std::vector<C1_Block> b51;
+    std::vector<Elem> b51;
     std::vector<Elem> b52;
     std::vector<Elem> b53;
     std::vector<Elem> b54;
-    std::vector<Elem> b55;
-    std::vector<Elem> b56;
-    std::vector<Elem> b57;
-    std::vector<Elem> b58;
-    std::vector<Elem> b59;
+    std::vector<C1_Block> b55;
+    std::vector<C1_Block> b56;
+    std::vector<int32_t> b57;
+    std::vector<C1_Block> b58;
+    std::vector<int32_t> b59;
+    std::vector<C1_Block> b60;
+    std::vector<C1_Block> b61;
+    std::vector<C1_Block> b62;
+    std::vector<int32_t> b63;
+    std::vector<CellV> b64;
+    std::vector<Elem> b65;
+    std::vector<Elem> b66;
+    std::vector<Elem> b67;
+    std::vector<C1_Block> b68;
+    std::vector<Elem> b69;
+    std::vector<Elem> b70;
+    std::vector<Elem> b71;
+    std::vector<Elem> b72;
+    std::vector<Elem> b73;
+    std::vector<Elem> b74;
+    std::vector<Elem> b75;
+    std::vector<Elem> b76;
+    std::vector<Elem> b77;
+    std::vector<Elem> b78;
+    std::vector<Elem> b79;
     C0_Piece p_piece_10{};
     bool sv_piece_11{};
     std::vector<C1_Block> p_stack_14{};
@@ -258,414 +278,474 @@ struct Prog {
         upd6.origin = t5;
         std::vector<Elem>& rendered7 = s.scratch.v.b1;
         rendered7.clear();
-        render_C0_Piece(s, upd6, rendered7);
-        bool within8 = true;
-        for (const Elem& e9 : rendered7) {
-          if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(8))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(8))))) {
-            within8 = false;
+        std::vector<Elem>& cells8 = s.scratch.v.b2;
+        cells8.clear();
+        render_C0_Piece(s, upd6, cells8);
+        for (const Elem& e9 : cells8) {
+          rendered7.push_back(e9);
+        }
+        bool within10 = true;
+        for (const Elem& e11 : rendered7) {
+          if ((((e11.position.x < int32_t(0)) || (e11.position.x >= int32_t(8))) || ((e11.position.y < int32_t(0)) || (e11.position.y >= int32_t(8))))) {
+            within10 = false;
             break;
           }
         }
-        bool r10{};
-        if (within8) {
-          const int32_t t11 = add(prev2.origin.x, int32_t(-1));
-          const int32_t t12 = add(prev2.origin.y, int32_t(0));
-          const Pos t13 = Pos{t11, t12};
-          C0_Piece upd14 = prev2;
-          upd14.origin = t13;
-          std::vector<Elem>& l_prev_elems15 = s.scratch.v.b2;
-          l_prev_elems15.clear();
-          std::vector<Elem>& l_curr_elems16 = s.scratch.v.b3;
-          l_curr_elems16.clear();
-          std::vector<Elem>& l_filtered_elems17 = s.scratch.v.b4;
-          l_filtered_elems17.clear();
-          std::vector<Elem>& rendered18 = s.scratch.v.b5;
-          rendered18.clear();
-          render_C0_Piece(s, prev2, rendered18);
-          std::swap(l_prev_elems15, rendered18);
-          std::vector<Elem>& rendered19 = s.scratch.v.b6;
-          rendered19.clear();
-          render_C0_Piece(s, upd14, rendered19);
-          std::swap(l_curr_elems16, rendered19);
-          std::vector<Elem>& out20 = s.scratch.v.b7;
-          out20.clear();
-          for (const Elem& x21 : l_curr_elems16) {
-            bool any22 = false;
-            for (const Elem& x23 : l_prev_elems15) {
-              const bool t24 = (x23 == x21);
-              if (t24) {
-                any22 = true;
+        bool r12{};
+        if (within10) {
+          const int32_t t13 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t14 = add(prev2.origin.y, int32_t(0));
+          const Pos t15 = Pos{t13, t14};
+          C0_Piece upd16 = prev2;
+          upd16.origin = t15;
+          std::vector<Elem>& l_prev_elems17 = s.scratch.v.b3;
+          l_prev_elems17.clear();
+          std::vector<Elem>& l_curr_elems18 = s.scratch.v.b4;
+          l_curr_elems18.clear();
+          std::vector<Elem>& l_filtered_elems19 = s.scratch.v.b5;
+          l_filtered_elems19.clear();
+          std::vector<Elem>& rendered20 = s.scratch.v.b6;
+          rendered20.clear();
+          std::vector<Elem>& cells21 = s.scratch.v.b7;
+          cells21.clear();
+          render_C0_Piece(s, prev2, cells21);
+          for (const Elem& e22 : cells21) {
+            rendered20.push_back(e22);
+          }
+          std::swap(l_prev_elems17, rendered20);
+          std::vector<Elem>& rendered23 = s.scratch.v.b8;
+          rendered23.clear();
+          std::vector<Elem>& cells24 = s.scratch.v.b9;
+          cells24.clear();
+          render_C0_Piece(s, upd16, cells24);
+          for (const Elem& e25 : cells24) {
+            rendered23.push_back(e25);
+          }
+          std::swap(l_curr_elems18, rendered23);
+          std::vector<Elem>& out26 = s.scratch.v.b10;
+          out26.clear();
+          for (const Elem& x27 : l_curr_elems18) {
+            bool any28 = false;
+            for (const Elem& x29 : l_prev_elems17) {
+              const bool t30 = (x29 == x27);
+              if (t30) {
+                any28 = true;
                 break;
               }
             }
-            const bool t25 = !any22;
-            if (t25) {
-              out20.push_back(x21);
+            const bool t31 = !any28;
+            if (t31) {
+              out26.push_back(x27);
             }
           }
-          std::swap(l_filtered_elems17, out20);
-          bool any26 = false;
-          for (const Elem& x27 : l_filtered_elems17) {
-            const bool t28 = s.core.occupied.free(x27.position);
-            const bool t29 = !t28;
-            if (t29) {
-              any26 = true;
+          std::swap(l_filtered_elems19, out26);
+          bool any32 = false;
+          for (const Elem& x33 : l_filtered_elems19) {
+            const bool t34 = s.core.occupied.free(x33.position);
+            const bool t35 = !t34;
+            if (t35) {
+              any32 = true;
               break;
             }
           }
-          const bool t30 = !any26;
-          r10 = t30;
+          const bool t36 = !any32;
+          r12 = t36;
         } else {
-          r10 = false;
+          r12 = false;
         }
-        C0_Piece r31{};
-        if (r10) {
-          const int32_t t32 = add(prev2.origin.x, int32_t(-1));
-          const int32_t t33 = add(prev2.origin.y, int32_t(0));
-          const Pos t34 = Pos{t32, t33};
-          C0_Piece upd35 = prev2;
-          upd35.origin = t34;
-          r31 = std::move(upd35);
+        C0_Piece r37{};
+        if (r12) {
+          const int32_t t38 = add(prev2.origin.x, int32_t(-1));
+          const int32_t t39 = add(prev2.origin.y, int32_t(0));
+          const Pos t40 = Pos{t38, t39};
+          C0_Piece upd41 = prev2;
+          upd41.origin = t40;
+          r37 = std::move(upd41);
         } else {
-          r31 = prev2;
+          r37 = prev2;
         }
         if (!s.scratch.v.sv_piece_11) {
-          s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+          std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
           s.scratch.v.sv_piece_11 = true;
         }
-        s.g_piece_8 = std::move(r31);
+        s.g_piece_8 = std::move(r37);
         s.u_piece_9 = true;
       }
     }
     // on-clause 2, programs/blockfall.au:46
     {
-      const bool t36 = s.core.right;
-      if (t36) {
+      const bool t42 = s.core.right;
+      if (t42) {
         s.core.covered[int32_t(1)] = 1;
-        const C0_Piece& prev37 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
-        bool l_wbound38{};
-        bool l_fr39{};
-        C0_Piece l_ret40{};
-        const int32_t t41 = add(prev37.origin.x, int32_t(1));
-        const int32_t t42 = add(prev37.origin.y, int32_t(0));
-        const Pos t43 = Pos{t41, t42};
-        C0_Piece upd44 = prev37;
-        upd44.origin = t43;
-        std::vector<Elem>& rendered45 = s.scratch.v.b8;
-        rendered45.clear();
-        render_C0_Piece(s, upd44, rendered45);
-        bool within46 = true;
-        for (const Elem& e47 : rendered45) {
-          if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(8))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(8))))) {
-            within46 = false;
+        const C0_Piece& prev43 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+        bool l_wbound44{};
+        bool l_fr45{};
+        C0_Piece l_ret46{};
+        const int32_t t47 = add(prev43.origin.x, int32_t(1));
+        const int32_t t48 = add(prev43.origin.y, int32_t(0));
+        const Pos t49 = Pos{t47, t48};
+        C0_Piece upd50 = prev43;
+        upd50.origin = t49;
+        std::vector<Elem>& rendered51 = s.scratch.v.b11;
+        rendered51.clear();
+        std::vector<Elem>& cells52 = s.scratch.v.b12;
+        cells52.clear();
+        render_C0_Piece(s, upd50, cells52);
+        for (const Elem& e53 : cells52) {
+          rendered51.push_back(e53);
+        }
+        bool within54 = true;
+        for (const Elem& e55 : rendered51) {
+          if ((((e55.position.x < int32_t(0)) || (e55.position.x >= int32_t(8))) || ((e55.position.y < int32_t(0)) || (e55.position.y >= int32_t(8))))) {
+            within54 = false;
             break;
           }
         }
-        l_wbound38 = within46;
-        const int32_t t48 = add(prev37.origin.x, int32_t(1));
-        const int32_t t49 = add(prev37.origin.y, int32_t(0));
-        const Pos t50 = Pos{t48, t49};
-        C0_Piece upd51 = prev37;
-        upd51.origin = t50;
-        std::vector<Elem>& l_prev_elems52 = s.scratch.v.b9;
-        l_prev_elems52.clear();
-        std::vector<Elem>& l_curr_elems53 = s.scratch.v.b10;
-        l_curr_elems53.clear();
-        std::vector<Elem>& l_filtered_elems54 = s.scratch.v.b11;
-        l_filtered_elems54.clear();
-        std::vector<Elem>& rendered55 = s.scratch.v.b12;
-        rendered55.clear();
-        render_C0_Piece(s, prev37, rendered55);
-        std::swap(l_prev_elems52, rendered55);
-        std::vector<Elem>& rendered56 = s.scratch.v.b13;
-        rendered56.clear();
-        render_C0_Piece(s, upd51, rendered56);
-        std::swap(l_curr_elems53, rendered56);
-        std::vector<Elem>& out57 = s.scratch.v.b14;
-        out57.clear();
-        for (const Elem& x58 : l_curr_elems53) {
-          bool any59 = false;
-          for (const Elem& x60 : l_prev_elems52) {
-            const bool t61 = (x60 == x58);
-            if (t61) {
-              any59 = true;
+        l_wbound44 = within54;
+        const int32_t t56 = add(prev43.origin.x, int32_t(1));
+        const int32_t t57 = add(prev43.origin.y, int32_t(0));
+        const Pos t58 = Pos{t56, t57};
+        C0_Piece upd59 = prev43;
+        upd59.origin = t58;
+        std::vector<Elem>& l_prev_elems60 = s.scratch.v.b13;
+        l_prev_elems60.clear();
+        std::vector<Elem>& l_curr_elems61 = s.scratch.v.b14;
+        l_curr_elems61.clear();
+        std::vector<Elem>& l_filtered_elems62 = s.scratch.v.b15;
+        l_filtered_elems62.clear();
+        std::vector<Elem>& rendered63 = s.scratch.v.b16;
+        rendered63.clear();
+        std::vector<Elem>& cells64 = s.scratch.v.b17;
+        cells64.clear();
+        render_C0_Piece(s, prev43, cells64);
+        for (const Elem& e65 : cells64) {
+          rendered63.push_back(e65);
+        }
+        std::swap(l_prev_elems60, rendered63);
+        std::vector<Elem>& rendered66 = s.scratch.v.b18;
+        rendered66.clear();
+        std::vector<Elem>& cells67 = s.scratch.v.b19;
+        cells67.clear();
+        render_C0_Piece(s, upd59, cells67);
+        for (const Elem& e68 : cells67) {
+          rendered66.push_back(e68);
+        }
+        std::swap(l_curr_elems61, rendered66);
+        std::vector<Elem>& out69 = s.scratch.v.b20;
+        out69.clear();
+        for (const Elem& x70 : l_curr_elems61) {
+          bool any71 = false;
+          for (const Elem& x72 : l_prev_elems60) {
+            const bool t73 = (x72 == x70);
+            if (t73) {
+              any71 = true;
               break;
             }
           }
-          const bool t62 = !any59;
-          if (t62) {
-            out57.push_back(x58);
+          const bool t74 = !any71;
+          if (t74) {
+            out69.push_back(x70);
           }
         }
-        std::swap(l_filtered_elems54, out57);
-        bool any63 = false;
-        for (const Elem& x64 : l_filtered_elems54) {
-          const bool t65 = s.core.occupied.free(x64.position);
-          const bool t66 = !t65;
-          if (t66) {
-            any63 = true;
+        std::swap(l_filtered_elems62, out69);
+        bool any75 = false;
+        for (const Elem& x76 : l_filtered_elems62) {
+          const bool t77 = s.core.occupied.free(x76.position);
+          const bool t78 = !t77;
+          if (t78) {
+            any75 = true;
             break;
           }
         }
-        const bool t67 = !any63;
-        l_fr39 = t67;
-        bool r68{};
-        if (l_wbound38) {
-          r68 = l_fr39;
+        const bool t79 = !any75;
+        l_fr45 = t79;
+        bool r80{};
+        if (l_wbound44) {
+          r80 = l_fr45;
         } else {
-          r68 = false;
+          r80 = false;
         }
-        C0_Piece r69{};
-        if (r68) {
-          const int32_t t70 = add(prev37.origin.x, int32_t(1));
-          const int32_t t71 = add(prev37.origin.y, int32_t(0));
-          const Pos t72 = Pos{t70, t71};
-          C0_Piece upd73 = prev37;
-          upd73.origin = t72;
-          r69 = std::move(upd73);
+        C0_Piece r81{};
+        if (r80) {
+          const int32_t t82 = add(prev43.origin.x, int32_t(1));
+          const int32_t t83 = add(prev43.origin.y, int32_t(0));
+          const Pos t84 = Pos{t82, t83};
+          C0_Piece upd85 = prev43;
+          upd85.origin = t84;
+          r81 = std::move(upd85);
         } else {
-          r69 = prev37;
+          r81 = prev43;
         }
-        l_ret40 = std::move(r69);
+        l_ret46 = std::move(r81);
         if (!s.scratch.v.sv_piece_11) {
-          s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+          std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
           s.scratch.v.sv_piece_11 = true;
         }
-        s.g_piece_8 = std::move(l_ret40);
+        s.g_piece_8 = std::move(l_ret46);
         s.u_piece_9 = true;
       }
     }
     // on-clause 3, programs/blockfall.au:47
     {
-      const bool t74 = s.core.up;
-      bool r75{};
-      if (t74) {
-        const C0_Piece& prev76 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+      const bool t86 = s.core.up;
+      bool r87{};
+      if (t86) {
+        const C0_Piece& prev88 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
         // inlined: function at programs/blockfall.au:33
-        const std::vector<int32_t>& g77 = s.g_turnOf_5;
-        if (g77.empty()) {
+        const std::vector<int32_t>& g89 = s.g_turnOf_5;
+        if (g89.empty()) {
           fail_at(2, std::string() + std::string("at: empty list"));
         }
-        if (((prev76.f0 < int32_t(0)) || (prev76.f0 >= int32_t(g77.size())))) {
-          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev76.f0) + std::string(" out of bounds"));
+        if (((prev88.f0 < int32_t(0)) || (prev88.f0 >= int32_t(g89.size())))) {
+          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev88.f0) + std::string(" out of bounds"));
         }
-        const int32_t t78 = g77[size_t(prev76.f0)];
-        std::vector<CellV> l_allCells79{};
-        const std::vector<std::vector<Pos>>& g80 = s.g_shapes_4;
-        if (g80.empty()) {
+        const int32_t t90 = g89[size_t(prev88.f0)];
+        std::vector<CellV> l_allCells91{};
+        const std::vector<std::vector<Pos>>& g92 = s.g_shapes_4;
+        if (g92.empty()) {
           fail_at(3, std::string() + std::string("at: empty list"));
         }
-        if (((t78 < int32_t(0)) || (t78 >= int32_t(g80.size())))) {
-          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t78) + std::string(" out of bounds"));
+        if (((t90 < int32_t(0)) || (t90 >= int32_t(g92.size())))) {
+          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t90) + std::string(" out of bounds"));
         }
-        const std::vector<Pos> t81 = g80[size_t(t78)];
-        std::vector<CellV>& out82 = s.scratch.v.b15;
-        out82.clear();
-        out82.reserve(size_t(int32_t(t81.size())));
-        for (const Pos& x83 : t81) {
+        const std::vector<Pos> t93 = g92[size_t(t90)];
+        std::vector<CellV>& out94 = s.scratch.v.b21;
+        out94.clear();
+        out94.reserve(size_t(int32_t(t93.size())));
+        for (const Pos& x95 : t93) {
           // inlined: function at programs/blockfall.au:24
-          const CellV cell84 = CellV{x83.x, x83.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-          out82.push_back(cell84);
+          const CellV cell96 = CellV{x95.x, x95.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+          out94.push_back(cell96);
         }
-        std::swap(l_allCells79, out82);
-        const C0_Piece o85 = C0_Piece{t78, prev76.origin, std::move(l_allCells79)};
-        const C0_Piece& prev86 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+        std::swap(l_allCells91, out94);
+        const C0_Piece o97 = C0_Piece{t90, prev88.origin, std::move(l_allCells91)};
+        const C0_Piece& prev98 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
         // inlined: function at programs/blockfall.au:34
-        std::vector<Elem>& rendered87 = s.scratch.v.b16;
-        rendered87.clear();
-        render_C0_Piece(s, o85, rendered87);
-        bool within88 = true;
-        for (const Elem& e89 : rendered87) {
-          if ((((e89.position.x < int32_t(0)) || (e89.position.x >= int32_t(8))) || ((e89.position.y < int32_t(0)) || (e89.position.y >= int32_t(8))))) {
-            within88 = false;
+        std::vector<Elem>& rendered99 = s.scratch.v.b22;
+        rendered99.clear();
+        std::vector<Elem>& cells100 = s.scratch.v.b23;
+        cells100.clear();
+        render_C0_Piece(s, o97, cells100);
+        for (const Elem& e101 : cells100) {
+          rendered99.push_back(e101);
+        }
+        bool within102 = true;
+        for (const Elem& e103 : rendered99) {
+          if ((((e103.position.x < int32_t(0)) || (e103.position.x >= int32_t(8))) || ((e103.position.y < int32_t(0)) || (e103.position.y >= int32_t(8))))) {
+            within102 = false;
             break;
           }
         }
-        bool r90{};
-        if (within88) {
-          std::vector<Elem>& l_prev_elems91 = s.scratch.v.b17;
-          l_prev_elems91.clear();
-          std::vector<Elem>& l_curr_elems92 = s.scratch.v.b18;
-          l_curr_elems92.clear();
-          std::vector<Elem>& l_filtered_elems93 = s.scratch.v.b19;
-          l_filtered_elems93.clear();
-          std::vector<Elem>& rendered94 = s.scratch.v.b20;
-          rendered94.clear();
-          render_C0_Piece(s, prev86, rendered94);
-          std::swap(l_prev_elems91, rendered94);
-          std::vector<Elem>& rendered95 = s.scratch.v.b21;
-          rendered95.clear();
-          render_C0_Piece(s, o85, rendered95);
-          std::swap(l_curr_elems92, rendered95);
-          std::vector<Elem>& out96 = s.scratch.v.b22;
-          out96.clear();
-          for (const Elem& x97 : l_curr_elems92) {
-            bool any98 = false;
-            for (const Elem& x99 : l_prev_elems91) {
-              const bool t100 = (x99 == x97);
-              if (t100) {
-                any98 = true;
+        bool r104{};
+        if (within102) {
+          std::vector<Elem>& l_prev_elems105 = s.scratch.v.b24;
+          l_prev_elems105.clear();
+          std::vector<Elem>& l_curr_elems106 = s.scratch.v.b25;
+          l_curr_elems106.clear();
+          std::vector<Elem>& l_filtered_elems107 = s.scratch.v.b26;
+          l_filtered_elems107.clear();
+          std::vector<Elem>& rendered108 = s.scratch.v.b27;
+          rendered108.clear();
+          std::vector<Elem>& cells109 = s.scratch.v.b28;
+          cells109.clear();
+          render_C0_Piece(s, prev98, cells109);
+          for (const Elem& e110 : cells109) {
+            rendered108.push_back(e110);
+          }
+          std::swap(l_prev_elems105, rendered108);
+          std::vector<Elem>& rendered111 = s.scratch.v.b29;
+          rendered111.clear();
+          std::vector<Elem>& cells112 = s.scratch.v.b30;
+          cells112.clear();
+          render_C0_Piece(s, o97, cells112);
+          for (const Elem& e113 : cells112) {
+            rendered111.push_back(e113);
+          }
+          std::swap(l_curr_elems106, rendered111);
+          std::vector<Elem>& out114 = s.scratch.v.b31;
+          out114.clear();
+          for (const Elem& x115 : l_curr_elems106) {
+            bool any116 = false;
+            for (const Elem& x117 : l_prev_elems105) {
+              const bool t118 = (x117 == x115);
+              if (t118) {
+                any116 = true;
                 break;
               }
             }
-            const bool t101 = !any98;
-            if (t101) {
-              out96.push_back(x97);
+            const bool t119 = !any116;
+            if (t119) {
+              out114.push_back(x115);
             }
           }
-          std::swap(l_filtered_elems93, out96);
-          bool any102 = false;
-          for (const Elem& x103 : l_filtered_elems93) {
-            const bool t104 = s.core.occupied.free(x103.position);
-            const bool t105 = !t104;
-            if (t105) {
-              any102 = true;
+          std::swap(l_filtered_elems107, out114);
+          bool any120 = false;
+          for (const Elem& x121 : l_filtered_elems107) {
+            const bool t122 = s.core.occupied.free(x121.position);
+            const bool t123 = !t122;
+            if (t123) {
+              any120 = true;
               break;
             }
           }
-          const bool t106 = !any102;
-          r90 = t106;
+          const bool t124 = !any120;
+          r104 = t124;
         } else {
-          r90 = false;
+          r104 = false;
         }
-        r75 = r90;
+        r87 = r104;
       } else {
-        r75 = false;
+        r87 = false;
       }
-      if (r75) {
+      if (r87) {
         s.core.covered[int32_t(2)] = 1;
-        const C0_Piece& prev107 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+        const C0_Piece& prev125 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
         // inlined: function at programs/blockfall.au:33
-        const std::vector<int32_t>& g108 = s.g_turnOf_5;
-        if (g108.empty()) {
+        const std::vector<int32_t>& g126 = s.g_turnOf_5;
+        if (g126.empty()) {
           fail_at(2, std::string() + std::string("at: empty list"));
         }
-        if (((prev107.f0 < int32_t(0)) || (prev107.f0 >= int32_t(g108.size())))) {
-          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev107.f0) + std::string(" out of bounds"));
+        if (((prev125.f0 < int32_t(0)) || (prev125.f0 >= int32_t(g126.size())))) {
+          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev125.f0) + std::string(" out of bounds"));
         }
-        const int32_t t109 = g108[size_t(prev107.f0)];
-        std::vector<CellV> l_allCells110{};
-        const std::vector<std::vector<Pos>>& g111 = s.g_shapes_4;
-        if (g111.empty()) {
+        const int32_t t127 = g126[size_t(prev125.f0)];
+        std::vector<CellV> l_allCells128{};
+        const std::vector<std::vector<Pos>>& g129 = s.g_shapes_4;
+        if (g129.empty()) {
           fail_at(3, std::string() + std::string("at: empty list"));
         }
-        if (((t109 < int32_t(0)) || (t109 >= int32_t(g111.size())))) {
-          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t109) + std::string(" out of bounds"));
+        if (((t127 < int32_t(0)) || (t127 >= int32_t(g129.size())))) {
+          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t127) + std::string(" out of bounds"));
         }
-        const std::vector<Pos> t112 = g111[size_t(t109)];
-        std::vector<CellV>& out113 = s.scratch.v.b23;
-        out113.clear();
-        out113.reserve(size_t(int32_t(t112.size())));
-        for (const Pos& x114 : t112) {
+        const std::vector<Pos> t130 = g129[size_t(t127)];
+        std::vector<CellV>& out131 = s.scratch.v.b32;
+        out131.clear();
+        out131.reserve(size_t(int32_t(t130.size())));
+        for (const Pos& x132 : t130) {
           // inlined: function at programs/blockfall.au:24
-          const CellV cell115 = CellV{x114.x, x114.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-          out113.push_back(cell115);
+          const CellV cell133 = CellV{x132.x, x132.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+          out131.push_back(cell133);
         }
-        std::swap(l_allCells110, out113);
-        C0_Piece o116 = C0_Piece{t109, prev107.origin, std::move(l_allCells110)};
+        std::swap(l_allCells128, out131);
+        C0_Piece o134 = C0_Piece{t127, prev125.origin, std::move(l_allCells128)};
         if (!s.scratch.v.sv_piece_11) {
-          s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+          std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
           s.scratch.v.sv_piece_11 = true;
         }
-        s.g_piece_8 = std::move(o116);
+        s.g_piece_8 = std::move(o134);
         s.u_piece_9 = true;
       }
     }
     // on-clause 4, programs/blockfall.au:48
     {
-      const bool t117 = s.core.down;
-      if (t117) {
+      const bool t135 = s.core.down;
+      if (t135) {
         s.core.covered[int32_t(3)] = 1;
-        const C0_Piece& prev118 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
-        const std::vector<int32_t> list119 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
-        C0_Piece acc120 = prev118;
-        for (const int32_t& x121 : list119) {
+        const C0_Piece& prev136 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+        const std::vector<int32_t> list137 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
+        C0_Piece acc138 = prev136;
+        for (const int32_t& x139 : list137) {
           // inlined: function at programs/blockfall.au:48
-          const int32_t t122 = add(acc120.origin.x, int32_t(0));
-          const int32_t t123 = add(acc120.origin.y, int32_t(1));
-          const Pos t124 = Pos{t122, t123};
-          C0_Piece upd125 = acc120;
-          upd125.origin = t124;
-          std::vector<Elem>& rendered126 = s.scratch.v.b24;
-          rendered126.clear();
-          render_C0_Piece(s, upd125, rendered126);
-          bool within127 = true;
-          for (const Elem& e128 : rendered126) {
-            if ((((e128.position.x < int32_t(0)) || (e128.position.x >= int32_t(8))) || ((e128.position.y < int32_t(0)) || (e128.position.y >= int32_t(8))))) {
-              within127 = false;
+          const int32_t t140 = add(acc138.origin.x, int32_t(0));
+          const int32_t t141 = add(acc138.origin.y, int32_t(1));
+          const Pos t142 = Pos{t140, t141};
+          C0_Piece upd143 = acc138;
+          upd143.origin = t142;
+          std::vector<Elem>& rendered144 = s.scratch.v.b33;
+          rendered144.clear();
+          std::vector<Elem>& cells145 = s.scratch.v.b34;
+          cells145.clear();
+          render_C0_Piece(s, upd143, cells145);
+          for (const Elem& e146 : cells145) {
+            rendered144.push_back(e146);
+          }
+          bool within147 = true;
+          for (const Elem& e148 : rendered144) {
+            if ((((e148.position.x < int32_t(0)) || (e148.position.x >= int32_t(8))) || ((e148.position.y < int32_t(0)) || (e148.position.y >= int32_t(8))))) {
+              within147 = false;
               break;
             }
           }
-          bool r129{};
-          if (within127) {
-            const int32_t t130 = add(acc120.origin.x, int32_t(0));
-            const int32_t t131 = add(acc120.origin.y, int32_t(1));
-            const Pos t132 = Pos{t130, t131};
-            C0_Piece upd133 = acc120;
-            upd133.origin = t132;
-            std::vector<Elem>& l_prev_elems134 = s.scratch.v.b25;
-            l_prev_elems134.clear();
-            std::vector<Elem>& l_curr_elems135 = s.scratch.v.b26;
-            l_curr_elems135.clear();
-            std::vector<Elem>& l_filtered_elems136 = s.scratch.v.b27;
-            l_filtered_elems136.clear();
-            std::vector<Elem>& rendered137 = s.scratch.v.b28;
-            rendered137.clear();
-            render_C0_Piece(s, acc120, rendered137);
-            std::swap(l_prev_elems134, rendered137);
-            std::vector<Elem>& rendered138 = s.scratch.v.b29;
-            rendered138.clear();
-            render_C0_Piece(s, upd133, rendered138);
-            std::swap(l_curr_elems135, rendered138);
-            std::vector<Elem>& out139 = s.scratch.v.b30;
-            out139.clear();
-            for (const Elem& x140 : l_curr_elems135) {
-              bool any141 = false;
-              for (const Elem& x142 : l_prev_elems134) {
-                const bool t143 = (x142 == x140);
-                if (t143) {
-                  any141 = true;
+          bool r149{};
+          if (within147) {
+            const int32_t t150 = add(acc138.origin.x, int32_t(0));
+            const int32_t t151 = add(acc138.origin.y, int32_t(1));
+            const Pos t152 = Pos{t150, t151};
+            C0_Piece upd153 = acc138;
+            upd153.origin = t152;
+            std::vector<Elem>& l_prev_elems154 = s.scratch.v.b35;
+            l_prev_elems154.clear();
+            std::vector<Elem>& l_curr_elems155 = s.scratch.v.b36;
+            l_curr_elems155.clear();
+            std::vector<Elem>& l_filtered_elems156 = s.scratch.v.b37;
+            l_filtered_elems156.clear();
+            std::vector<Elem>& rendered157 = s.scratch.v.b38;
+            rendered157.clear();
+            std::vector<Elem>& cells158 = s.scratch.v.b39;
+            cells158.clear();
+            render_C0_Piece(s, acc138, cells158);
+            for (const Elem& e159 : cells158) {
+              rendered157.push_back(e159);
+            }
+            std::swap(l_prev_elems154, rendered157);
+            std::vector<Elem>& rendered160 = s.scratch.v.b40;
+            rendered160.clear();
+            std::vector<Elem>& cells161 = s.scratch.v.b41;
+            cells161.clear();
+            render_C0_Piece(s, upd153, cells161);
+            for (const Elem& e162 : cells161) {
+              rendered160.push_back(e162);
+            }
+            std::swap(l_curr_elems155, rendered160);
+            std::vector<Elem>& out163 = s.scratch.v.b42;
+            out163.clear();
+            for (const Elem& x164 : l_curr_elems155) {
+              bool any165 = false;
+              for (const Elem& x166 : l_prev_elems154) {
+                const bool t167 = (x166 == x164);
+                if (t167) {
+                  any165 = true;
                   break;
                 }
               }
-              const bool t144 = !any141;
-              if (t144) {
-                out139.push_back(x140);
+              const bool t168 = !any165;
+              if (t168) {
+                out163.push_back(x164);
               }
             }
-            std::swap(l_filtered_elems136, out139);
-            bool any145 = false;
-            for (const Elem& x146 : l_filtered_elems136) {
-              const bool t147 = s.core.occupied.free(x146.position);
-              const bool t148 = !t147;
-              if (t148) {
-                any145 = true;
+            std::swap(l_filtered_elems156, out163);
+            bool any169 = false;
+            for (const Elem& x170 : l_filtered_elems156) {
+              const bool t171 = s.core.occupied.free(x170.position);
+              const bool t172 = !t171;
+              if (t172) {
+                any169 = true;
                 break;
               }
             }
-            const bool t149 = !any145;
-            r129 = t149;
+            const bool t173 = !any169;
+            r149 = t173;
           } else {
-            r129 = false;
+            r149 = false;
           }
-          C0_Piece r150{};
-          if (r129) {
-            const int32_t t151 = add(acc120.origin.x, int32_t(0));
-            const int32_t t152 = add(acc120.origin.y, int32_t(1));
-            const Pos t153 = Pos{t151, t152};
-            C0_Piece upd154 = acc120;
-            upd154.origin = t153;
-            r150 = std::move(upd154);
+          C0_Piece r174{};
+          if (r149) {
+            const int32_t t175 = add(acc138.origin.x, int32_t(0));
+            const int32_t t176 = add(acc138.origin.y, int32_t(1));
+            const Pos t177 = Pos{t175, t176};
+            C0_Piece upd178 = acc138;
+            upd178.origin = t177;
+            r174 = std::move(upd178);
           } else {
-            r150 = acc120;
+            r174 = acc138;
           }
-          acc120 = std::move(r150);
+          acc138 = std::move(r174);
         }
         if (!s.scratch.v.sv_piece_11) {
-          s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+          std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
           s.scratch.v.sv_piece_11 = true;
         }
-        s.g_piece_8 = std::move(acc120);
+        s.g_piece_8 = std::move(acc138);
         s.u_piece_9 = true;
       }
     }
@@ -673,380 +753,420 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(4)] = 1;
-        const C0_Piece& g155 = s.g_piece_8;
+        const C0_Piece& g179 = s.g_piece_8;
         // inlined: function at programs/blockfall.au:35
-        const int32_t t156 = add(g155.origin.x, int32_t(0));
-        const int32_t t157 = add(g155.origin.y, int32_t(1));
-        const Pos t158 = Pos{t156, t157};
-        C0_Piece upd159 = g155;
-        upd159.origin = t158;
-        std::vector<Elem>& rendered160 = s.scratch.v.b31;
-        rendered160.clear();
-        render_C0_Piece(s, upd159, rendered160);
-        bool within161 = true;
-        for (const Elem& e162 : rendered160) {
-          if ((((e162.position.x < int32_t(0)) || (e162.position.x >= int32_t(8))) || ((e162.position.y < int32_t(0)) || (e162.position.y >= int32_t(8))))) {
-            within161 = false;
+        const int32_t t180 = add(g179.origin.x, int32_t(0));
+        const int32_t t181 = add(g179.origin.y, int32_t(1));
+        const Pos t182 = Pos{t180, t181};
+        C0_Piece upd183 = g179;
+        upd183.origin = t182;
+        std::vector<Elem>& rendered184 = s.scratch.v.b43;
+        rendered184.clear();
+        std::vector<Elem>& cells185 = s.scratch.v.b44;
+        cells185.clear();
+        render_C0_Piece(s, upd183, cells185);
+        for (const Elem& e186 : cells185) {
+          rendered184.push_back(e186);
+        }
+        bool within187 = true;
+        for (const Elem& e188 : rendered184) {
+          if ((((e188.position.x < int32_t(0)) || (e188.position.x >= int32_t(8))) || ((e188.position.y < int32_t(0)) || (e188.position.y >= int32_t(8))))) {
+            within187 = false;
             break;
           }
         }
-        bool r163{};
-        if (within161) {
-          const int32_t t164 = add(g155.origin.x, int32_t(0));
-          const int32_t t165 = add(g155.origin.y, int32_t(1));
-          const Pos t166 = Pos{t164, t165};
-          C0_Piece upd167 = g155;
-          upd167.origin = t166;
-          std::vector<Elem>& l_prev_elems168 = s.scratch.v.b32;
-          l_prev_elems168.clear();
-          std::vector<Elem>& l_curr_elems169 = s.scratch.v.b33;
-          l_curr_elems169.clear();
-          std::vector<Elem>& l_filtered_elems170 = s.scratch.v.b34;
-          l_filtered_elems170.clear();
-          std::vector<Elem>& rendered171 = s.scratch.v.b35;
-          rendered171.clear();
-          render_C0_Piece(s, g155, rendered171);
-          std::swap(l_prev_elems168, rendered171);
-          std::vector<Elem>& rendered172 = s.scratch.v.b36;
-          rendered172.clear();
-          render_C0_Piece(s, upd167, rendered172);
-          std::swap(l_curr_elems169, rendered172);
-          std::vector<Elem>& out173 = s.scratch.v.b37;
-          out173.clear();
-          for (const Elem& x174 : l_curr_elems169) {
-            bool any175 = false;
-            for (const Elem& x176 : l_prev_elems168) {
-              const bool t177 = (x176 == x174);
-              if (t177) {
-                any175 = true;
+        bool r189{};
+        if (within187) {
+          const int32_t t190 = add(g179.origin.x, int32_t(0));
+          const int32_t t191 = add(g179.origin.y, int32_t(1));
+          const Pos t192 = Pos{t190, t191};
+          C0_Piece upd193 = g179;
+          upd193.origin = t192;
+          std::vector<Elem>& l_prev_elems194 = s.scratch.v.b45;
+          l_prev_elems194.clear();
+          std::vector<Elem>& l_curr_elems195 = s.scratch.v.b46;
+          l_curr_elems195.clear();
+          std::vector<Elem>& l_filtered_elems196 = s.scratch.v.b47;
+          l_filtered_elems196.clear();
+          std::vector<Elem>& rendered197 = s.scratch.v.b48;
+          rendered197.clear();
+          std::vector<Elem>& cells198 = s.scratch.v.b49;
+          cells198.clear();
+          render_C0_Piece(s, g179, cells198);
+          for (const Elem& e199 : cells198) {
+            rendered197.push_back(e199);
+          }
+          std::swap(l_prev_elems194, rendered197);
+          std::vector<Elem>& rendered200 = s.scratch.v.b50;
+          rendered200.clear();
+          std::vector<Elem>& cells201 = s.scratch.v.b51;
+          cells201.clear();
+          render_C0_Piece(s, upd193, cells201);
+          for (const Elem& e202 : cells201) {
+            rendered200.push_back(e202);
+          }
+          std::swap(l_curr_elems195, rendered200);
+          std::vector<Elem>& out203 = s.scratch.v.b52;
+          out203.clear();
+          for (const Elem& x204 : l_curr_elems195) {
+            bool any205 = false;
+            for (const Elem& x206 : l_prev_elems194) {
+              const bool t207 = (x206 == x204);
+              if (t207) {
+                any205 = true;
                 break;
               }
             }
-            const bool t178 = !any175;
-            if (t178) {
-              out173.push_back(x174);
+            const bool t208 = !any205;
+            if (t208) {
+              out203.push_back(x204);
             }
           }
-          std::swap(l_filtered_elems170, out173);
-          bool any179 = false;
-          for (const Elem& x180 : l_filtered_elems170) {
-            const bool t181 = s.core.occupied.free(x180.position);
-            const bool t182 = !t181;
-            if (t182) {
-              any179 = true;
+          std::swap(l_filtered_elems196, out203);
+          bool any209 = false;
+          for (const Elem& x210 : l_filtered_elems196) {
+            const bool t211 = s.core.occupied.free(x210.position);
+            const bool t212 = !t211;
+            if (t212) {
+              any209 = true;
               break;
             }
           }
-          const bool t183 = !any179;
-          r163 = t183;
+          const bool t213 = !any209;
+          r189 = t213;
         } else {
-          r163 = false;
+          r189 = false;
         }
-        C0_Piece r184{};
-        if (r163) {
-          const int32_t t185 = add(g155.origin.x, int32_t(0));
-          const int32_t t186 = add(g155.origin.y, int32_t(1));
-          const Pos t187 = Pos{t185, t186};
-          C0_Piece upd188 = g155;
-          upd188.origin = t187;
-          r184 = std::move(upd188);
+        C0_Piece r214{};
+        if (r189) {
+          const int32_t t215 = add(g179.origin.x, int32_t(0));
+          const int32_t t216 = add(g179.origin.y, int32_t(1));
+          const Pos t217 = Pos{t215, t216};
+          C0_Piece upd218 = g179;
+          upd218.origin = t217;
+          r214 = std::move(upd218);
         } else {
-          r184 = g155;
+          r214 = g179;
         }
-        const bool t189 = (r184.origin == g155.origin);
-        if (t189) {
-          const std::vector<C1_Block>& g190 = s.g_stack_12;
-          const C0_Piece& g191 = s.g_piece_8;
+        const bool t219 = (r214.origin == g179.origin);
+        if (t219) {
+          const std::vector<C1_Block>& g220 = s.g_stack_12;
+          const C0_Piece& g221 = s.g_piece_8;
           // inlined: function at programs/blockfall.au:36
-          std::vector<Elem>& rendered192 = s.scratch.v.b38;
-          rendered192.clear();
-          render_C0_Piece(s, g191, rendered192);
-          std::vector<C1_Block>& out193 = s.scratch.v.b39;
-          out193.clear();
-          out193.reserve(size_t(int32_t(rendered192.size())));
-          for (const Elem& x194 : rendered192) {
+          std::vector<Elem>& rendered222 = s.scratch.v.b53;
+          rendered222.clear();
+          std::vector<Elem>& cells223 = s.scratch.v.b54;
+          cells223.clear();
+          render_C0_Piece(s, g221, cells223);
+          for (const Elem& e224 : cells223) {
+            rendered222.push_back(e224);
+          }
+          std::vector<C1_Block>& out225 = s.scratch.v.b55;
+          out225.clear();
+          out225.reserve(size_t(int32_t(rendered222.size())));
+          for (const Elem& x226 : rendered222) {
             // inlined: function at programs/blockfall.au:36
-            C1_Block o195 = C1_Block{x194.color, x194.position};
-            out193.push_back(std::move(o195));
+            C1_Block o227 = C1_Block{x226.color, x226.position};
+            out225.push_back(std::move(o227));
           }
-          std::vector<C1_Block>& added196 = s.scratch.v.b40;
-          added196.clear();
-          added196.reserve(size_t(add(int32_t(g190.size()), int32_t(out193.size()))));
-          for (const C1_Block& x197 : g190) {
-            added196.push_back(x197);
+          std::vector<C1_Block>& added228 = s.scratch.v.b56;
+          added228.clear();
+          added228.reserve(size_t(add(int32_t(g220.size()), int32_t(out225.size()))));
+          for (const C1_Block& x229 : g220) {
+            added228.push_back(x229);
           }
-          for (const C1_Block& x198 : out193) {
-            added196.push_back(x198);
+          for (const C1_Block& x230 : out225) {
+            added228.push_back(x230);
           }
           // inlined: function at programs/blockfall.au:40
-          std::vector<int32_t>& l_full199 = s.scratch.v.b41;
-          l_full199.clear();
-          std::vector<C1_Block>& l_kept200 = s.scratch.v.b42;
-          l_kept200.clear();
-          const std::vector<int32_t> list201 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
-          std::vector<int32_t>& out202 = s.scratch.v.b43;
-          out202.clear();
-          for (const int32_t& x203 : list201) {
+          std::vector<int32_t>& l_full231 = s.scratch.v.b57;
+          l_full231.clear();
+          std::vector<C1_Block>& l_kept232 = s.scratch.v.b58;
+          l_kept232.clear();
+          const std::vector<int32_t> list233 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
+          std::vector<int32_t>& out234 = s.scratch.v.b59;
+          out234.clear();
+          for (const int32_t& x235 : list233) {
             // inlined: function at programs/blockfall.au:41
             // inlined: function at programs/blockfall.au:39
-            std::vector<C1_Block>& out204 = s.scratch.v.b44;
-            out204.clear();
-            for (const C1_Block& x205 : added196) {
+            std::vector<C1_Block>& out236 = s.scratch.v.b60;
+            out236.clear();
+            for (const C1_Block& x237 : added228) {
               // inlined: function at programs/blockfall.au:39
-              const bool t206 = (x205.origin.y == x203);
-              if (t206) {
-                out204.push_back(x205);
+              const bool t238 = (x237.origin.y == x235);
+              if (t238) {
+                out236.push_back(x237);
               }
             }
-            const int32_t t207 = int32_t(out204.size());
-            const bool t208 = (t207 == int32_t(8));
-            if (t208) {
-              out202.push_back(x203);
+            const int32_t t239 = int32_t(out236.size());
+            const bool t240 = (t239 == int32_t(8));
+            if (t240) {
+              out234.push_back(x235);
             }
           }
-          std::swap(l_full199, out202);
-          std::vector<C1_Block>& out209 = s.scratch.v.b45;
-          out209.clear();
-          for (const C1_Block& x210 : added196) {
+          std::swap(l_full231, out234);
+          std::vector<C1_Block>& out241 = s.scratch.v.b61;
+          out241.clear();
+          for (const C1_Block& x242 : added228) {
             // inlined: function at programs/blockfall.au:42
-            bool any211 = false;
-            for (const int32_t& x212 : l_full199) {
-              const bool t213 = (x212 == x210.origin.y);
-              if (t213) {
-                any211 = true;
+            bool any243 = false;
+            for (const int32_t& x244 : l_full231) {
+              const bool t245 = (x244 == x242.origin.y);
+              if (t245) {
+                any243 = true;
                 break;
               }
             }
-            const bool t214 = !any211;
-            if (t214) {
-              out209.push_back(x210);
+            const bool t246 = !any243;
+            if (t246) {
+              out241.push_back(x242);
             }
           }
-          std::swap(l_kept200, out209);
-          std::vector<C1_Block>& out215 = s.scratch.v.b46;
-          out215.clear();
-          out215.reserve(size_t(int32_t(l_kept200.size())));
-          for (const C1_Block& x216 : l_kept200) {
+          std::swap(l_kept232, out241);
+          std::vector<C1_Block>& out247 = s.scratch.v.b62;
+          out247.clear();
+          out247.reserve(size_t(int32_t(l_kept232.size())));
+          for (const C1_Block& x248 : l_kept232) {
             // inlined: function at programs/blockfall.au:43
-            std::vector<int32_t>& out217 = s.scratch.v.b47;
-            out217.clear();
-            for (const int32_t& x218 : l_full199) {
+            std::vector<int32_t>& out249 = s.scratch.v.b63;
+            out249.clear();
+            for (const int32_t& x250 : l_full231) {
               // inlined: function at programs/blockfall.au:43
-              const bool t219 = (x218 > x216.origin.y);
-              if (t219) {
-                out217.push_back(x218);
+              const bool t251 = (x250 > x248.origin.y);
+              if (t251) {
+                out249.push_back(x250);
               }
             }
-            const int32_t t220 = int32_t(out217.size());
-            const Pos t221 = Pos{int32_t(0), t220};
-            const int32_t t222 = add(x216.origin.x, t221.x);
-            const int32_t t223 = add(x216.origin.y, t221.y);
-            const Pos t224 = Pos{t222, t223};
-            C1_Block upd225 = x216;
-            upd225.origin = t224;
-            out215.push_back(std::move(upd225));
+            const int32_t t252 = int32_t(out249.size());
+            const Pos t253 = Pos{int32_t(0), t252};
+            const int32_t t254 = add(x248.origin.x, t253.x);
+            const int32_t t255 = add(x248.origin.y, t253.y);
+            const Pos t256 = Pos{t254, t255};
+            C1_Block upd257 = x248;
+            upd257.origin = t256;
+            out247.push_back(std::move(upd257));
           }
           if (!s.scratch.v.sv_stack_15) {
-            s.scratch.v.p_stack_14 = std::move(s.g_stack_12);
+            std::swap(s.scratch.v.p_stack_14, s.g_stack_12);
             s.scratch.v.sv_stack_15 = true;
           }
-          std::swap(s.g_stack_12, out215);
+          std::swap(s.g_stack_12, out247);
           s.u_stack_13 = true;
-          const std::vector<int32_t> list226 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
-          if (list226.empty()) {
+          const std::vector<int32_t> list258 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
+          if (list258.empty()) {
             fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t227 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list226.size())))));
-          const int32_t t228 = list226[size_t(t227)];
-          const Pos& g229 = s.g_spawnAt_7;
-          std::vector<CellV> l_allCells230{};
-          const std::vector<std::vector<Pos>>& g231 = s.g_shapes_4;
-          if (g231.empty()) {
+          const int32_t t259 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list258.size())))));
+          const int32_t t260 = list258[size_t(t259)];
+          const Pos& g261 = s.g_spawnAt_7;
+          std::vector<CellV> l_allCells262{};
+          const std::vector<std::vector<Pos>>& g263 = s.g_shapes_4;
+          if (g263.empty()) {
             fail_at(3, std::string() + std::string("at: empty list"));
           }
-          if (((t228 < int32_t(0)) || (t228 >= int32_t(g231.size())))) {
-            fail_at(3, std::string() + std::string("at: index ") + std::to_string(t228) + std::string(" out of bounds"));
+          if (((t260 < int32_t(0)) || (t260 >= int32_t(g263.size())))) {
+            fail_at(3, std::string() + std::string("at: index ") + std::to_string(t260) + std::string(" out of bounds"));
           }
-          const std::vector<Pos> t232 = g231[size_t(t228)];
-          std::vector<CellV>& out233 = s.scratch.v.b48;
-          out233.clear();
-          out233.reserve(size_t(int32_t(t232.size())));
-          for (const Pos& x234 : t232) {
+          const std::vector<Pos> t264 = g263[size_t(t260)];
+          std::vector<CellV>& out265 = s.scratch.v.b64;
+          out265.clear();
+          out265.reserve(size_t(int32_t(t264.size())));
+          for (const Pos& x266 : t264) {
             // inlined: function at programs/blockfall.au:24
-            const CellV cell235 = CellV{x234.x, x234.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-            out233.push_back(cell235);
+            const CellV cell267 = CellV{x266.x, x266.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+            out265.push_back(cell267);
           }
-          std::swap(l_allCells230, out233);
-          C0_Piece o236 = C0_Piece{t228, g229, std::move(l_allCells230)};
+          std::swap(l_allCells262, out265);
+          C0_Piece o268 = C0_Piece{t260, g261, std::move(l_allCells262)};
           if (!s.scratch.v.sv_piece_11) {
-            s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+            std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
             s.scratch.v.sv_piece_11 = true;
           }
-          s.g_piece_8 = std::move(o236);
+          s.g_piece_8 = std::move(o268);
           s.u_piece_9 = true;
-          const C0_Piece& g237 = s.g_piece_8;
-          const std::vector<C1_Block>& g238 = s.g_stack_12;
-          std::vector<Elem>& rendered239 = s.scratch.v.b49;
-          rendered239.clear();
-          render_C0_Piece(s, g237, rendered239);
-          std::vector<Elem>& rendered240 = s.scratch.v.b50;
-          rendered240.clear();
-          for (const C1_Block& x241 : g238) {
-            const int32_t colour242 = colour_1_C1_Block(s, x241);
-            rendered240.push_back(Elem{Pos{add(x241.origin.x, int32_t(0)), add(x241.origin.y, int32_t(0))}, colour242});
+          const C0_Piece& g269 = s.g_piece_8;
+          const std::vector<C1_Block>& g270 = s.g_stack_12;
+          std::vector<Elem>& rendered271 = s.scratch.v.b65;
+          rendered271.clear();
+          std::vector<Elem>& cells272 = s.scratch.v.b66;
+          cells272.clear();
+          render_C0_Piece(s, g269, cells272);
+          for (const Elem& e273 : cells272) {
+            rendered271.push_back(e273);
           }
-          const int32_t t243 = int32_t(rendered239.size());
-          const bool t244 = (t243 == int32_t(0));
-          bool r245{};
-          if (!t244) {
-            const int32_t t246 = int32_t(rendered240.size());
-            const bool t247 = (t246 == int32_t(0));
-            r245 = t247;
-          } else {
-            r245 = true;
+          std::vector<Elem>& rendered274 = s.scratch.v.b67;
+          rendered274.clear();
+          for (const C1_Block& x275 : g270) {
+            const int32_t colour276 = colour_1_C1_Block(s, x275);
+            rendered274.push_back(Elem{Pos{add(x275.origin.x, int32_t(0)), add(x275.origin.y, int32_t(0))}, colour276});
           }
-          bool r248{};
-          if (r245) {
-            r248 = false;
+          const int32_t t277 = int32_t(rendered271.size());
+          const bool t278 = (t277 == int32_t(0));
+          bool r279{};
+          if (!t278) {
+            const int32_t t280 = int32_t(rendered274.size());
+            const bool t281 = (t280 == int32_t(0));
+            r279 = t281;
           } else {
-            bool any249 = false;
-            for (const Elem& x250 : rendered239) {
-              bool any251 = false;
-              for (const Elem& x252 : rendered240) {
-                const bool t253 = (x250.position == x252.position);
-                if (t253) {
-                  any251 = true;
+            r279 = true;
+          }
+          bool r282{};
+          if (r279) {
+            r282 = false;
+          } else {
+            bool any283 = false;
+            for (const Elem& x284 : rendered271) {
+              bool any285 = false;
+              for (const Elem& x286 : rendered274) {
+                const bool t287 = (x284.position == x286.position);
+                if (t287) {
+                  any285 = true;
                   break;
                 }
               }
-              if (any251) {
-                any249 = true;
+              if (any285) {
+                any283 = true;
                 break;
               }
             }
-            r248 = any249;
+            r282 = any283;
           }
-          std::vector<C1_Block>& r254 = s.scratch.v.b51;
-          r254.clear();
-          if (r248) {
-            r254 = std::vector<C1_Block>{};
+          std::vector<C1_Block>& r288 = s.scratch.v.b68;
+          r288.clear();
+          if (r282) {
+            r288 = std::vector<C1_Block>{};
           } else {
-            const std::vector<C1_Block>& g255 = s.g_stack_12;
-            r254 = g255;
+            const std::vector<C1_Block>& g289 = s.g_stack_12;
+            r288 = g289;
           }
           if (!s.scratch.v.sv_stack_15) {
-            s.scratch.v.p_stack_14 = std::move(s.g_stack_12);
+            std::swap(s.scratch.v.p_stack_14, s.g_stack_12);
             s.scratch.v.sv_stack_15 = true;
           }
-          std::swap(s.g_stack_12, r254);
+          std::swap(s.g_stack_12, r288);
           s.u_stack_13 = true;
         } else {
-          const C0_Piece& g256 = s.g_piece_8;
-          const int32_t t257 = add(g256.origin.x, int32_t(0));
-          const int32_t t258 = add(g256.origin.y, int32_t(1));
-          const Pos t259 = Pos{t257, t258};
-          C0_Piece upd260 = g256;
-          upd260.origin = t259;
-          std::vector<Elem>& rendered261 = s.scratch.v.b52;
-          rendered261.clear();
-          render_C0_Piece(s, upd260, rendered261);
-          bool within262 = true;
-          for (const Elem& e263 : rendered261) {
-            if ((((e263.position.x < int32_t(0)) || (e263.position.x >= int32_t(8))) || ((e263.position.y < int32_t(0)) || (e263.position.y >= int32_t(8))))) {
-              within262 = false;
+          const C0_Piece& g290 = s.g_piece_8;
+          const int32_t t291 = add(g290.origin.x, int32_t(0));
+          const int32_t t292 = add(g290.origin.y, int32_t(1));
+          const Pos t293 = Pos{t291, t292};
+          C0_Piece upd294 = g290;
+          upd294.origin = t293;
+          std::vector<Elem>& rendered295 = s.scratch.v.b69;
+          rendered295.clear();
+          std::vector<Elem>& cells296 = s.scratch.v.b70;
+          cells296.clear();
+          render_C0_Piece(s, upd294, cells296);
+          for (const Elem& e297 : cells296) {
+            rendered295.push_back(e297);
+          }
+          bool within298 = true;
+          for (const Elem& e299 : rendered295) {
+            if ((((e299.position.x < int32_t(0)) || (e299.position.x >= int32_t(8))) || ((e299.position.y < int32_t(0)) || (e299.position.y >= int32_t(8))))) {
+              within298 = false;
               break;
             }
           }
-          bool r264{};
-          if (within262) {
-            const int32_t t265 = add(g256.origin.x, int32_t(0));
-            const int32_t t266 = add(g256.origin.y, int32_t(1));
-            const Pos t267 = Pos{t265, t266};
-            C0_Piece upd268 = g256;
-            upd268.origin = t267;
-            std::vector<Elem>& l_prev_elems269 = s.scratch.v.b53;
-            l_prev_elems269.clear();
-            std::vector<Elem>& l_curr_elems270 = s.scratch.v.b54;
-            l_curr_elems270.clear();
-            std::vector<Elem>& l_filtered_elems271 = s.scratch.v.b55;
-            l_filtered_elems271.clear();
-            std::vector<Elem>& rendered272 = s.scratch.v.b56;
-            rendered272.clear();
-            render_C0_Piece(s, g256, rendered272);
-            std::swap(l_prev_elems269, rendered272);
-            std::vector<Elem>& rendered273 = s.scratch.v.b57;
-            rendered273.clear();
-            render_C0_Piece(s, upd268, rendered273);
-            std::swap(l_curr_elems270, rendered273);
-            std::vector<Elem>& out274 = s.scratch.v.b58;
-            out274.clear();
-            for (const Elem& x275 : l_curr_elems270) {
-              bool any276 = false;
-              for (const Elem& x277 : l_prev_elems269) {
-                const bool t278 = (x277 == x275);
-                if (t278) {
-                  any276 = true;
+          bool r300{};
+          if (within298) {
+            const int32_t t301 = add(g290.origin.x, int32_t(0));
+            const int32_t t302 = add(g290.origin.y, int32_t(1));
+            const Pos t303 = Pos{t301, t302};
+            C0_Piece upd304 = g290;
+            upd304.origin = t303;
+            std::vector<Elem>& l_prev_elems305 = s.scratch.v.b71;
+            l_prev_elems305.clear();
+            std::vector<Elem>& l_curr_elems306 = s.scratch.v.b72;
+            l_curr_elems306.clear();
+            std::vector<Elem>& l_filtered_elems307 = s.scratch.v.b73;
+            l_filtered_elems307.clear();
+            std::vector<Elem>& rendered308 = s.scratch.v.b74;
+            rendered308.clear();
+            std::vector<Elem>& cells309 = s.scratch.v.b75;
+            cells309.clear();
+            render_C0_Piece(s, g290, cells309);
+            for (const Elem& e310 : cells309) {
+              rendered308.push_back(e310);
+            }
+            std::swap(l_prev_elems305, rendered308);
+            std::vector<Elem>& rendered311 = s.scratch.v.b76;
+            rendered311.clear();
+            std::vector<Elem>& cells312 = s.scratch.v.b77;
+            cells312.clear();
+            render_C0_Piece(s, upd304, cells312);
+            for (const Elem& e313 : cells312) {
+              rendered311.push_back(e313);
+            }
+            std::swap(l_curr_elems306, rendered311);
+            std::vector<Elem>& out314 = s.scratch.v.b78;
+            out314.clear();
+            for (const Elem& x315 : l_curr_elems306) {
+              bool any316 = false;
+              for (const Elem& x317 : l_prev_elems305) {
+                const bool t318 = (x317 == x315);
+                if (t318) {
+                  any316 = true;
                   break;
                 }
               }
-              const bool t279 = !any276;
-              if (t279) {
-                out274.push_back(x275);
+              const bool t319 = !any316;
+              if (t319) {
+                out314.push_back(x315);
               }
             }
-            std::swap(l_filtered_elems271, out274);
-            bool any280 = false;
-            for (const Elem& x281 : l_filtered_elems271) {
-              const bool t282 = s.core.occupied.free(x281.position);
-              const bool t283 = !t282;
-              if (t283) {
-                any280 = true;
+            std::swap(l_filtered_elems307, out314);
+            bool any320 = false;
+            for (const Elem& x321 : l_filtered_elems307) {
+              const bool t322 = s.core.occupied.free(x321.position);
+              const bool t323 = !t322;
+              if (t323) {
+                any320 = true;
                 break;
               }
             }
-            const bool t284 = !any280;
-            r264 = t284;
+            const bool t324 = !any320;
+            r300 = t324;
           } else {
-            r264 = false;
+            r300 = false;
           }
-          C0_Piece r285{};
-          if (r264) {
-            const int32_t t286 = add(g256.origin.x, int32_t(0));
-            const int32_t t287 = add(g256.origin.y, int32_t(1));
-            const Pos t288 = Pos{t286, t287};
-            C0_Piece upd289 = g256;
-            upd289.origin = t288;
-            r285 = std::move(upd289);
+          C0_Piece r325{};
+          if (r300) {
+            const int32_t t326 = add(g290.origin.x, int32_t(0));
+            const int32_t t327 = add(g290.origin.y, int32_t(1));
+            const Pos t328 = Pos{t326, t327};
+            C0_Piece upd329 = g290;
+            upd329.origin = t328;
+            r325 = std::move(upd329);
           } else {
-            r285 = g256;
+            r325 = g290;
           }
           if (!s.scratch.v.sv_piece_11) {
-            s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+            std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
             s.scratch.v.sv_piece_11 = true;
           }
-          s.g_piece_8 = std::move(r285);
+          s.g_piece_8 = std::move(r325);
           s.u_piece_9 = true;
         }
       }
     }
     // NEXT of piece, programs/blockfall.au:31
-    if (!s.u_piece_9) {
-      const C0_Piece prev290 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+    if ((!s.u_piece_9 && s.scratch.v.sv_piece_11)) {
+      const C0_Piece prev330 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
       if (!s.scratch.v.sv_piece_11) {
-        s.scratch.v.p_piece_10 = std::move(s.g_piece_8);
+        std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
         s.scratch.v.sv_piece_11 = true;
       }
-      s.g_piece_8 = prev290;
+      s.g_piece_8 = prev330;
       s.u_piece_9 = true;
     }
     // NEXT of stack, programs/blockfall.au:28
-    if (!s.u_stack_13) {
-      const std::vector<C1_Block> prev291 = (s.scratch.v.sv_stack_15 ? s.scratch.v.p_stack_14 : s.g_stack_12);
+    if ((!s.u_stack_13 && s.scratch.v.sv_stack_15)) {
+      const std::vector<C1_Block> prev331 = (s.scratch.v.sv_stack_15 ? s.scratch.v.p_stack_14 : s.g_stack_12);
       if (!s.scratch.v.sv_stack_15) {
-        s.scratch.v.p_stack_14 = std::move(s.g_stack_12);
+        std::swap(s.scratch.v.p_stack_14, s.g_stack_12);
         s.scratch.v.sv_stack_15 = true;
       }
-      s.g_stack_12 = prev291;
+      s.g_stack_12 = prev331;
       s.u_stack_13 = true;
     }
     s.core.clear_inputs();
@@ -1057,22 +1177,18 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b59;
-    elems1.clear();
-    elems1.clear();
-    const std::vector<C1_Block>& g2 = s.g_stack_12;
-    for (const C1_Block& x3 : g2) {
-      const int32_t colour4 = colour_1_C1_Block(s, x3);
-      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, colour4});
+    const std::vector<C1_Block>& g1 = s.g_stack_12;
+    for (const C1_Block& x2 : g1) {
+      const int32_t colour3 = colour_1_C1_Block(s, x2);
+      const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
+      s.core.occupied.add(e4.position);
+      if (paint) paint->paint(e4.position, pal[e4.color]);
     }
-    for (const Elem& e5 : elems1) {
-      s.core.occupied.add(e5.position);
-      if (paint) paint->paint(e5.position, pal[e5.color]);
-    }
-    elems1.clear();
-    const C0_Piece& g6 = s.g_piece_8;
-    render_C0_Piece(s, g6, elems1);
-    for (const Elem& e7 : elems1) {
+    const C0_Piece& g5 = s.g_piece_8;
+    std::vector<Elem>& cells6 = s.scratch.v.b79;
+    cells6.clear();
+    render_C0_Piece(s, g5, cells6);
+    for (const Elem& e7 : cells6) {
       s.core.occupied.add(e7.position);
       if (paint) paint->paint(e7.position, pal[e7.color]);
     }

@@ -114,7 +114,6 @@ struct Prog {
     std::vector<std::vector<C2_Brick>> b19;
     std::vector<C2_Brick> b20;
     std::vector<C2_Brick> b21;
-    std::vector<Elem> b22;
     int32_t p_lives_7{};
     bool sv_lives_8{};
     C3_Hearts p_hud_11{};
@@ -383,7 +382,7 @@ struct Prog {
           r31 = prev2;
         }
         if (!s.scratch.v.sv_paddle_28) {
-          s.scratch.v.p_paddle_27 = std::move(s.g_paddle_25);
+          std::swap(s.scratch.v.p_paddle_27, s.g_paddle_25);
           s.scratch.v.sv_paddle_28 = true;
         }
         s.g_paddle_25 = std::move(r31);
@@ -487,7 +486,7 @@ struct Prog {
         }
         l_ret40 = std::move(r69);
         if (!s.scratch.v.sv_paddle_28) {
-          s.scratch.v.p_paddle_27 = std::move(s.g_paddle_25);
+          std::swap(s.scratch.v.p_paddle_27, s.g_paddle_25);
           s.scratch.v.sv_paddle_28 = true;
         }
         s.g_paddle_25 = std::move(l_ret40);
@@ -670,7 +669,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_bricks_20) {
-          s.scratch.v.p_bricks_19 = std::move(s.g_bricks_17);
+          std::swap(s.scratch.v.p_bricks_19, s.g_bricks_17);
           s.scratch.v.sv_bricks_20 = true;
         }
         std::swap(s.g_bricks_17, updated138);
@@ -818,7 +817,7 @@ struct Prog {
           r164 = std::move(r185);
         }
         if (!s.scratch.v.sv_ball_24) {
-          s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+          std::swap(s.scratch.v.p_ball_23, s.g_ball_21);
           s.scratch.v.sv_ball_24 = true;
         }
         s.g_ball_21 = std::move(r164);
@@ -934,13 +933,13 @@ struct Prog {
         const int32_t& prev242 = (s.scratch.v.sv_lives_8 ? s.scratch.v.p_lives_7 : s.g_lives_5);
         const int32_t t243 = sub(prev242, int32_t(1));
         if (!s.scratch.v.sv_lives_8) {
-          s.scratch.v.p_lives_7 = std::move(s.g_lives_5);
+          std::swap(s.scratch.v.p_lives_7, s.g_lives_5);
           s.scratch.v.sv_lives_8 = true;
         }
         s.g_lives_5 = t243;
         s.u_lives_6 = true;
         if (!s.scratch.v.sv_launched_16) {
-          s.scratch.v.p_launched_15 = std::move(s.g_launched_13);
+          std::swap(s.scratch.v.p_launched_15, s.g_launched_13);
           s.scratch.v.sv_launched_16 = true;
         }
         s.g_launched_13 = false;
@@ -959,7 +958,7 @@ struct Prog {
         C1_Ball upd249 = g246;
         upd249.origin = t248;
         if (!s.scratch.v.sv_ball_24) {
-          s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+          std::swap(s.scratch.v.p_ball_23, s.g_ball_21);
           s.scratch.v.sv_ball_24 = true;
         }
         s.g_ball_21 = std::move(upd249);
@@ -980,7 +979,7 @@ struct Prog {
       if (r251) {
         s.core.covered[int32_t(5)] = 1;
         if (!s.scratch.v.sv_launched_16) {
-          s.scratch.v.p_launched_15 = std::move(s.g_launched_13);
+          std::swap(s.scratch.v.p_launched_15, s.g_launched_13);
           s.scratch.v.sv_launched_16 = true;
         }
         s.g_launched_13 = true;
@@ -994,7 +993,7 @@ struct Prog {
         const C1_Ball& g257 = s.g_ball_21;
         C1_Ball o258 = C1_Ball{t256, int32_t(-1), g257.origin};
         if (!s.scratch.v.sv_ball_24) {
-          s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+          std::swap(s.scratch.v.p_ball_23, s.g_ball_21);
           s.scratch.v.sv_ball_24 = true;
         }
         s.g_ball_21 = std::move(o258);
@@ -1055,19 +1054,19 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_bricks_20) {
-          s.scratch.v.p_bricks_19 = std::move(s.g_bricks_17);
+          std::swap(s.scratch.v.p_bricks_19, s.g_bricks_17);
           s.scratch.v.sv_bricks_20 = true;
         }
         std::swap(s.g_bricks_17, out276);
         s.u_bricks_18 = true;
         if (!s.scratch.v.sv_lives_8) {
-          s.scratch.v.p_lives_7 = std::move(s.g_lives_5);
+          std::swap(s.scratch.v.p_lives_7, s.g_lives_5);
           s.scratch.v.sv_lives_8 = true;
         }
         s.g_lives_5 = int32_t(3);
         s.u_lives_6 = true;
         if (!s.scratch.v.sv_launched_16) {
-          s.scratch.v.p_launched_15 = std::move(s.g_launched_13);
+          std::swap(s.scratch.v.p_launched_15, s.g_launched_13);
           s.scratch.v.sv_launched_16 = true;
         }
         s.g_launched_13 = false;
@@ -1076,7 +1075,7 @@ struct Prog {
         const Pos t282 = Pos{g281.origin.x, int32_t(10)};
         C1_Ball o283 = C1_Ball{int32_t(1), int32_t(-1), t282};
         if (!s.scratch.v.sv_ball_24) {
-          s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+          std::swap(s.scratch.v.p_ball_23, s.g_ball_21);
           s.scratch.v.sv_ball_24 = true;
         }
         s.g_ball_21 = std::move(o283);
@@ -1084,10 +1083,10 @@ struct Prog {
       }
     }
     // NEXT of lives, programs/breakout.au:39
-    if (!s.u_lives_6) {
+    if ((!s.u_lives_6 && s.scratch.v.sv_lives_8)) {
       const int32_t prev284 = (s.scratch.v.sv_lives_8 ? s.scratch.v.p_lives_7 : s.g_lives_5);
       if (!s.scratch.v.sv_lives_8) {
-        s.scratch.v.p_lives_7 = std::move(s.g_lives_5);
+        std::swap(s.scratch.v.p_lives_7, s.g_lives_5);
         s.scratch.v.sv_lives_8 = true;
       }
       s.g_lives_5 = prev284;
@@ -1100,47 +1099,47 @@ struct Prog {
       C3_Hearts upd287 = prev285;
       upd287.f0 = g286;
       if (!s.scratch.v.sv_hud_12) {
-        s.scratch.v.p_hud_11 = std::move(s.g_hud_9);
+        std::swap(s.scratch.v.p_hud_11, s.g_hud_9);
         s.scratch.v.sv_hud_12 = true;
       }
       s.g_hud_9 = std::move(upd287);
       s.u_hud_10 = true;
     }
     // NEXT of launched, programs/breakout.au:36
-    if (!s.u_launched_14) {
+    if ((!s.u_launched_14 && s.scratch.v.sv_launched_16)) {
       const bool prev288 = (s.scratch.v.sv_launched_16 ? s.scratch.v.p_launched_15 : s.g_launched_13);
       if (!s.scratch.v.sv_launched_16) {
-        s.scratch.v.p_launched_15 = std::move(s.g_launched_13);
+        std::swap(s.scratch.v.p_launched_15, s.g_launched_13);
         s.scratch.v.sv_launched_16 = true;
       }
       s.g_launched_13 = prev288;
       s.u_launched_14 = true;
     }
     // NEXT of bricks, programs/breakout.au:33
-    if (!s.u_bricks_18) {
+    if ((!s.u_bricks_18 && s.scratch.v.sv_bricks_20)) {
       const std::vector<C2_Brick> prev289 = (s.scratch.v.sv_bricks_20 ? s.scratch.v.p_bricks_19 : s.g_bricks_17);
       if (!s.scratch.v.sv_bricks_20) {
-        s.scratch.v.p_bricks_19 = std::move(s.g_bricks_17);
+        std::swap(s.scratch.v.p_bricks_19, s.g_bricks_17);
         s.scratch.v.sv_bricks_20 = true;
       }
       s.g_bricks_17 = prev289;
       s.u_bricks_18 = true;
     }
     // NEXT of ball, programs/breakout.au:30
-    if (!s.u_ball_22) {
+    if ((!s.u_ball_22 && s.scratch.v.sv_ball_24)) {
       const C1_Ball prev290 = (s.scratch.v.sv_ball_24 ? s.scratch.v.p_ball_23 : s.g_ball_21);
       if (!s.scratch.v.sv_ball_24) {
-        s.scratch.v.p_ball_23 = std::move(s.g_ball_21);
+        std::swap(s.scratch.v.p_ball_23, s.g_ball_21);
         s.scratch.v.sv_ball_24 = true;
       }
       s.g_ball_21 = prev290;
       s.u_ball_22 = true;
     }
     // NEXT of paddle, programs/breakout.au:27
-    if (!s.u_paddle_26) {
+    if ((!s.u_paddle_26 && s.scratch.v.sv_paddle_28)) {
       const C0_Paddle prev291 = (s.scratch.v.sv_paddle_28 ? s.scratch.v.p_paddle_27 : s.g_paddle_25);
       if (!s.scratch.v.sv_paddle_28) {
-        s.scratch.v.p_paddle_27 = std::move(s.g_paddle_25);
+        std::swap(s.scratch.v.p_paddle_27, s.g_paddle_25);
         s.scratch.v.sv_paddle_28 = true;
       }
       s.g_paddle_25 = prev291;
@@ -1154,46 +1153,40 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b22;
-    elems1.clear();
-    elems1.clear();
-    const C0_Paddle& g2 = s.g_paddle_25;
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(-1)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, int32_t(3)});
-    for (const Elem& e3 : elems1) {
-      s.core.occupied.add(e3.position);
-      if (paint) paint->paint(e3.position, pal[e3.color]);
+    const C0_Paddle& g1 = s.g_paddle_25;
+    const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
+    s.core.occupied.add(e2.position);
+    if (paint) paint->paint(e2.position, pal[e2.color]);
+    const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
+    s.core.occupied.add(e3.position);
+    if (paint) paint->paint(e3.position, pal[e3.color]);
+    const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
+    s.core.occupied.add(e4.position);
+    if (paint) paint->paint(e4.position, pal[e4.color]);
+    const C1_Ball& g5 = s.g_ball_21;
+    const Elem e6 = Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(2)};
+    s.core.occupied.add(e6.position);
+    if (paint) paint->paint(e6.position, pal[e6.color]);
+    const std::vector<C2_Brick>& g7 = s.g_bricks_17;
+    for (const C2_Brick& x8 : g7) {
+      const int32_t colour9 = colour_3_C2_Brick(s, x8);
+      const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
+      s.core.occupied.add(e10.position);
+      if (paint) paint->paint(e10.position, pal[e10.color]);
     }
-    elems1.clear();
-    const C1_Ball& g4 = s.g_ball_21;
-    elems1.push_back(Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(2)});
-    for (const Elem& e5 : elems1) {
-      s.core.occupied.add(e5.position);
-      if (paint) paint->paint(e5.position, pal[e5.color]);
-    }
-    elems1.clear();
-    const std::vector<C2_Brick>& g6 = s.g_bricks_17;
-    for (const C2_Brick& x7 : g6) {
-      const int32_t colour8 = colour_3_C2_Brick(s, x7);
-      elems1.push_back(Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8});
-    }
-    for (const Elem& e9 : elems1) {
-      s.core.occupied.add(e9.position);
-      if (paint) paint->paint(e9.position, pal[e9.color]);
-    }
-    elems1.clear();
-    const C3_Hearts& g10 = s.g_hud_9;
-    const int32_t colour11 = colour_0_C3_Hearts(s, g10);
-    elems1.push_back(Elem{Pos{add(g10.origin.x, int32_t(0)), add(g10.origin.y, int32_t(0))}, colour11});
-    const int32_t colour12 = colour_1_C3_Hearts(s, g10);
-    elems1.push_back(Elem{Pos{add(g10.origin.x, int32_t(1)), add(g10.origin.y, int32_t(0))}, colour12});
-    const int32_t colour13 = colour_2_C3_Hearts(s, g10);
-    elems1.push_back(Elem{Pos{add(g10.origin.x, int32_t(2)), add(g10.origin.y, int32_t(0))}, colour13});
-    for (const Elem& e14 : elems1) {
-      s.core.occupied.add(e14.position);
-      if (paint) paint->paint(e14.position, pal[e14.color]);
-    }
+    const C3_Hearts& g11 = s.g_hud_9;
+    const int32_t colour12 = colour_0_C3_Hearts(s, g11);
+    const Elem e13 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, colour12};
+    s.core.occupied.add(e13.position);
+    if (paint) paint->paint(e13.position, pal[e13.color]);
+    const int32_t colour14 = colour_1_C3_Hearts(s, g11);
+    const Elem e15 = Elem{Pos{add(g11.origin.x, int32_t(1)), add(g11.origin.y, int32_t(0))}, colour14};
+    s.core.occupied.add(e15.position);
+    if (paint) paint->paint(e15.position, pal[e15.color]);
+    const int32_t colour16 = colour_2_C3_Hearts(s, g11);
+    const Elem e17 = Elem{Pos{add(g11.origin.x, int32_t(2)), add(g11.origin.y, int32_t(0))}, colour16};
+    s.core.occupied.add(e17.position);
+    if (paint) paint->paint(e17.position, pal[e17.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -106,7 +106,6 @@ struct Prog {
     std::vector<C0_Tile> b23;
     std::vector<Pos> b24;
     std::vector<C0_Tile> b25;
-    std::vector<Elem> b26;
     C2_Lamps p_lamps_8{};
     bool sv_lamps_9{};
     std::vector<C1_Swatch> p_swatches_12{};
@@ -354,7 +353,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_tiles_17) {
-          s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+          std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
           s.scratch.v.sv_tiles_17 = true;
         }
         std::swap(s.g_tiles_14, updated15);
@@ -475,7 +474,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_tiles_17) {
-          s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+          std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
           s.scratch.v.sv_tiles_17 = true;
         }
         std::swap(s.g_tiles_14, updated68);
@@ -596,7 +595,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_tiles_17) {
-          s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+          std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
           s.scratch.v.sv_tiles_17 = true;
         }
         std::swap(s.g_tiles_14, updated103);
@@ -660,7 +659,7 @@ struct Prog {
           out116.push_back(std::move(o123));
         }
         if (!s.scratch.v.sv_tiles_17) {
-          s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+          std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
           s.scratch.v.sv_tiles_17 = true;
         }
         std::swap(s.g_tiles_14, out116);
@@ -685,27 +684,27 @@ struct Prog {
       C2_Lamps upd130 = prev124;
       upd130.f0 = t129;
       if (!s.scratch.v.sv_lamps_9) {
-        s.scratch.v.p_lamps_8 = std::move(s.g_lamps_6);
+        std::swap(s.scratch.v.p_lamps_8, s.g_lamps_6);
         s.scratch.v.sv_lamps_9 = true;
       }
       s.g_lamps_6 = std::move(upd130);
       s.u_lamps_7 = true;
     }
     // NEXT of swatches, programs/color_flood.au:25
-    if (!s.u_swatches_11) {
+    if ((!s.u_swatches_11 && s.scratch.v.sv_swatches_13)) {
       const std::vector<C1_Swatch> prev131 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
       if (!s.scratch.v.sv_swatches_13) {
-        s.scratch.v.p_swatches_12 = std::move(s.g_swatches_10);
+        std::swap(s.scratch.v.p_swatches_12, s.g_swatches_10);
         s.scratch.v.sv_swatches_13 = true;
       }
       s.g_swatches_10 = prev131;
       s.u_swatches_11 = true;
     }
     // NEXT of tiles, programs/color_flood.au:21
-    if (!s.u_tiles_15) {
+    if ((!s.u_tiles_15 && s.scratch.v.sv_tiles_17)) {
       const std::vector<C0_Tile> prev132 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
       if (!s.scratch.v.sv_tiles_17) {
-        s.scratch.v.p_tiles_16 = std::move(s.g_tiles_14);
+        std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
         s.scratch.v.sv_tiles_17 = true;
       }
       s.g_tiles_14 = prev132;
@@ -719,40 +718,33 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b26;
-    elems1.clear();
-    elems1.clear();
-    const std::vector<C0_Tile>& g2 = s.g_tiles_14;
-    for (const C0_Tile& x3 : g2) {
-      const int32_t colour4 = colour_2_C0_Tile(s, x3);
-      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, colour4});
+    const std::vector<C0_Tile>& g1 = s.g_tiles_14;
+    for (const C0_Tile& x2 : g1) {
+      const int32_t colour3 = colour_2_C0_Tile(s, x2);
+      const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
+      s.core.occupied.add(e4.position);
+      if (paint) paint->paint(e4.position, pal[e4.color]);
     }
-    for (const Elem& e5 : elems1) {
-      s.core.occupied.add(e5.position);
-      if (paint) paint->paint(e5.position, pal[e5.color]);
+    const std::vector<C1_Swatch>& g5 = s.g_swatches_10;
+    for (const C1_Swatch& x6 : g5) {
+      const int32_t colour7 = colour_1_C1_Swatch(s, x6);
+      const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
+      s.core.occupied.add(e8.position);
+      if (paint) paint->paint(e8.position, pal[e8.color]);
     }
-    elems1.clear();
-    const std::vector<C1_Swatch>& g6 = s.g_swatches_10;
-    for (const C1_Swatch& x7 : g6) {
-      const int32_t colour8 = colour_1_C1_Swatch(s, x7);
-      elems1.push_back(Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8});
-    }
-    for (const Elem& e9 : elems1) {
-      s.core.occupied.add(e9.position);
-      if (paint) paint->paint(e9.position, pal[e9.color]);
-    }
-    elems1.clear();
-    const C2_Lamps& g10 = s.g_lamps_6;
-    const int32_t colour11 = colour_0_C2_Lamps(s, g10);
-    elems1.push_back(Elem{Pos{add(g10.origin.x, int32_t(0)), add(g10.origin.y, int32_t(0))}, colour11});
-    const int32_t colour12 = colour_0_C2_Lamps(s, g10);
-    elems1.push_back(Elem{Pos{add(g10.origin.x, int32_t(1)), add(g10.origin.y, int32_t(0))}, colour12});
-    const int32_t colour13 = colour_0_C2_Lamps(s, g10);
-    elems1.push_back(Elem{Pos{add(g10.origin.x, int32_t(2)), add(g10.origin.y, int32_t(0))}, colour13});
-    for (const Elem& e14 : elems1) {
-      s.core.occupied.add(e14.position);
-      if (paint) paint->paint(e14.position, pal[e14.color]);
-    }
+    const C2_Lamps& g9 = s.g_lamps_6;
+    const int32_t colour10 = colour_0_C2_Lamps(s, g9);
+    const Elem e11 = Elem{Pos{add(g9.origin.x, int32_t(0)), add(g9.origin.y, int32_t(0))}, colour10};
+    s.core.occupied.add(e11.position);
+    if (paint) paint->paint(e11.position, pal[e11.color]);
+    const int32_t colour12 = colour_0_C2_Lamps(s, g9);
+    const Elem e13 = Elem{Pos{add(g9.origin.x, int32_t(1)), add(g9.origin.y, int32_t(0))}, colour12};
+    s.core.occupied.add(e13.position);
+    if (paint) paint->paint(e13.position, pal[e13.color]);
+    const int32_t colour14 = colour_0_C2_Lamps(s, g9);
+    const Elem e15 = Elem{Pos{add(g9.origin.x, int32_t(2)), add(g9.origin.y, int32_t(0))}, colour14};
+    s.core.occupied.add(e15.position);
+    if (paint) paint->paint(e15.position, pal[e15.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

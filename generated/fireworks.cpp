@@ -104,7 +104,6 @@ struct Prog {
     std::vector<Pos> b13;
     std::vector<C1_Rocket> b14;
     std::vector<C1_Rocket> b15;
-    std::vector<Elem> b16;
     std::vector<C2_Spark> p_sparks_10{};
     bool sv_sparks_11{};
     std::vector<C1_Rocket> p_rockets_14{};
@@ -278,7 +277,7 @@ struct Prog {
           added35.push_back(x37);
         }
         if (!s.scratch.v.sv_sparks_11) {
-          s.scratch.v.p_sparks_10 = std::move(s.g_sparks_8);
+          std::swap(s.scratch.v.p_sparks_10, s.g_sparks_8);
           s.scratch.v.sv_sparks_11 = true;
         }
         std::swap(s.g_sparks_8, added35);
@@ -307,7 +306,7 @@ struct Prog {
           out43.push_back(std::move(upd48));
         }
         if (!s.scratch.v.sv_rockets_15) {
-          s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+          std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
           s.scratch.v.sv_rockets_15 = true;
         }
         std::swap(s.g_rockets_12, out43);
@@ -350,7 +349,7 @@ struct Prog {
           r58 = prev50;
         }
         if (!s.scratch.v.sv_pad_19) {
-          s.scratch.v.p_pad_18 = std::move(s.g_pad_16);
+          std::swap(s.scratch.v.p_pad_18, s.g_pad_16);
           s.scratch.v.sv_pad_19 = true;
         }
         s.g_pad_16 = std::move(r58);
@@ -393,7 +392,7 @@ struct Prog {
           r72 = prev64;
         }
         if (!s.scratch.v.sv_pad_19) {
-          s.scratch.v.p_pad_18 = std::move(s.g_pad_16);
+          std::swap(s.scratch.v.p_pad_18, s.g_pad_16);
           s.scratch.v.sv_pad_19 = true;
         }
         s.g_pad_16 = std::move(r72);
@@ -451,7 +450,7 @@ struct Prog {
         }
         added93.push_back(std::move(o92));
         if (!s.scratch.v.sv_rockets_15) {
-          s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+          std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
           s.scratch.v.sv_rockets_15 = true;
         }
         std::swap(s.g_rockets_12, added93);
@@ -496,7 +495,7 @@ struct Prog {
         }
         added110.push_back(std::move(o109));
         if (!s.scratch.v.sv_rockets_15) {
-          s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+          std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
           s.scratch.v.sv_rockets_15 = true;
         }
         std::swap(s.g_rockets_12, added110);
@@ -561,7 +560,7 @@ struct Prog {
           added132.push_back(x134);
         }
         if (!s.scratch.v.sv_rockets_15) {
-          s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+          std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
           s.scratch.v.sv_rockets_15 = true;
         }
         std::swap(s.g_rockets_12, added132);
@@ -569,30 +568,30 @@ struct Prog {
       }
     }
     // NEXT of sparks, programs/fireworks.au:28
-    if (!s.u_sparks_9) {
+    if ((!s.u_sparks_9 && s.scratch.v.sv_sparks_11)) {
       const std::vector<C2_Spark> prev135 = (s.scratch.v.sv_sparks_11 ? s.scratch.v.p_sparks_10 : s.g_sparks_8);
       if (!s.scratch.v.sv_sparks_11) {
-        s.scratch.v.p_sparks_10 = std::move(s.g_sparks_8);
+        std::swap(s.scratch.v.p_sparks_10, s.g_sparks_8);
         s.scratch.v.sv_sparks_11 = true;
       }
       s.g_sparks_8 = prev135;
       s.u_sparks_9 = true;
     }
     // NEXT of rockets, programs/fireworks.au:25
-    if (!s.u_rockets_13) {
+    if ((!s.u_rockets_13 && s.scratch.v.sv_rockets_15)) {
       const std::vector<C1_Rocket> prev136 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
       if (!s.scratch.v.sv_rockets_15) {
-        s.scratch.v.p_rockets_14 = std::move(s.g_rockets_12);
+        std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
         s.scratch.v.sv_rockets_15 = true;
       }
       s.g_rockets_12 = prev136;
       s.u_rockets_13 = true;
     }
     // NEXT of pad, programs/fireworks.au:22
-    if (!s.u_pad_17) {
+    if ((!s.u_pad_17 && s.scratch.v.sv_pad_19)) {
       const C0_Pad prev137 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
       if (!s.scratch.v.sv_pad_19) {
-        s.scratch.v.p_pad_18 = std::move(s.g_pad_16);
+        std::swap(s.scratch.v.p_pad_18, s.g_pad_16);
         s.scratch.v.sv_pad_19 = true;
       }
       s.g_pad_16 = prev137;
@@ -606,36 +605,31 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b16;
-    elems1.clear();
-    elems1.clear();
-    const C0_Pad& g2 = s.g_pad_16;
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(-1)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    for (const Elem& e3 : elems1) {
-      s.core.occupied.add(e3.position);
-      if (paint) paint->paint(e3.position, pal[e3.color]);
+    const C0_Pad& g1 = s.g_pad_16;
+    const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e2.position);
+    if (paint) paint->paint(e2.position, pal[e2.color]);
+    const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e3.position);
+    if (paint) paint->paint(e3.position, pal[e3.color]);
+    const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e4.position);
+    if (paint) paint->paint(e4.position, pal[e4.color]);
+    const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
+    for (const C1_Rocket& x6 : g5) {
+      const Elem e7 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(8)};
+      s.core.occupied.add(e7.position);
+      if (paint) paint->paint(e7.position, pal[e7.color]);
+      const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(1))}, int32_t(9)};
+      s.core.occupied.add(e8.position);
+      if (paint) paint->paint(e8.position, pal[e8.color]);
     }
-    elems1.clear();
-    const std::vector<C1_Rocket>& g4 = s.g_rockets_12;
-    for (const C1_Rocket& x5 : g4) {
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(8)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(1))}, int32_t(9)});
-    }
-    for (const Elem& e6 : elems1) {
-      s.core.occupied.add(e6.position);
-      if (paint) paint->paint(e6.position, pal[e6.color]);
-    }
-    elems1.clear();
-    const std::vector<C2_Spark>& g7 = s.g_sparks_8;
-    for (const C2_Spark& x8 : g7) {
-      const int32_t colour9 = colour_5_C2_Spark(s, x8);
-      elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
-    }
-    for (const Elem& e10 : elems1) {
-      s.core.occupied.add(e10.position);
-      if (paint) paint->paint(e10.position, pal[e10.color]);
+    const std::vector<C2_Spark>& g9 = s.g_sparks_8;
+    for (const C2_Spark& x10 : g9) {
+      const int32_t colour11 = colour_5_C2_Spark(s, x10);
+      const Elem e12 = Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11};
+      s.core.occupied.add(e12.position);
+      if (paint) paint->paint(e12.position, pal[e12.color]);
     }
   }
   static uint64_t hash(const State& s) {

@@ -166,7 +166,6 @@ struct Prog {
     std::vector<C3_Sandbag> b30;
     std::vector<Elem> b31;
     std::vector<Elem> b32;
-    std::vector<Elem> b33;
     std::vector<C4_Water> p_water_9{};
     bool sv_water_10{};
     std::vector<C3_Sandbag> p_bags_13{};
@@ -607,7 +606,7 @@ struct Prog {
           out2.push_back(std::move(r17));
         }
         if (!s.scratch.v.sv_water_10) {
-          s.scratch.v.p_water_9 = std::move(s.g_water_7);
+          std::swap(s.scratch.v.p_water_9, s.g_water_7);
           s.scratch.v.sv_water_10 = true;
         }
         std::swap(s.g_water_7, out2);
@@ -755,7 +754,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_water_10) {
-          s.scratch.v.p_water_9 = std::move(s.g_water_7);
+          std::swap(s.scratch.v.p_water_9, s.g_water_7);
           s.scratch.v.sv_water_10 = true;
         }
         std::swap(s.g_water_7, kept162);
@@ -810,7 +809,7 @@ struct Prog {
         }
         added195.push_back(std::move(o194));
         if (!s.scratch.v.sv_water_10) {
-          s.scratch.v.p_water_9 = std::move(s.g_water_7);
+          std::swap(s.scratch.v.p_water_9, s.g_water_7);
           s.scratch.v.sv_water_10 = true;
         }
         std::swap(s.g_water_7, added195);
@@ -1016,7 +1015,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_houses_22) {
-          s.scratch.v.p_houses_21 = std::move(s.g_houses_19);
+          std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
           s.scratch.v.sv_houses_22 = true;
         }
         std::swap(s.g_houses_19, updated199);
@@ -1079,7 +1078,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_houses_22) {
-          s.scratch.v.p_houses_21 = std::move(s.g_houses_19);
+          std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
           s.scratch.v.sv_houses_22 = true;
         }
         std::swap(s.g_houses_19, updated268);
@@ -1133,7 +1132,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_bags_14) {
-          s.scratch.v.p_bags_13 = std::move(s.g_bags_11);
+          std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
           s.scratch.v.sv_bags_14 = true;
         }
         std::swap(s.g_bags_11, kept283);
@@ -1201,7 +1200,7 @@ struct Prog {
         }
         added306.push_back(std::move(o305));
         if (!s.scratch.v.sv_bags_14) {
-          s.scratch.v.p_bags_13 = std::move(s.g_bags_11);
+          std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
           s.scratch.v.sv_bags_14 = true;
         }
         std::swap(s.g_bags_11, added306);
@@ -1247,7 +1246,7 @@ struct Prog {
         }
         s.core.ids.transfer(uint32_t(r318.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
-          s.scratch.v.p_spring_17 = std::move(s.g_spring_15);
+          std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
         s.g_spring_15 = std::move(r318);
@@ -1293,7 +1292,7 @@ struct Prog {
         }
         s.core.ids.transfer(uint32_t(r332.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
-          s.scratch.v.p_spring_17 = std::move(s.g_spring_15);
+          std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
         s.g_spring_15 = std::move(r332);
@@ -1320,7 +1319,7 @@ struct Prog {
         upd343.uid = int32_t(s.core.ids.fresh());
         s.core.ids.transfer(uint32_t(upd343.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
-          s.scratch.v.p_spring_17 = std::move(s.g_spring_15);
+          std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
         s.g_spring_15 = std::move(upd343);
@@ -1347,7 +1346,7 @@ struct Prog {
         upd350.uid = int32_t(s.core.ids.fresh());
         s.core.ids.transfer(uint32_t(upd350.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
-          s.scratch.v.p_spring_17 = std::move(s.g_spring_15);
+          std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
         s.g_spring_15 = std::move(upd350);
@@ -1355,62 +1354,62 @@ struct Prog {
       }
     }
     // NEXT of water, programs/flood_defense.au:41
-    if (!s.u_water_8) {
+    if ((!s.u_water_8 && s.scratch.v.sv_water_10)) {
       const std::vector<C4_Water> prev351 = (s.scratch.v.sv_water_10 ? s.scratch.v.p_water_9 : s.g_water_7);
       if (!s.scratch.v.sv_water_10) {
-        s.scratch.v.p_water_9 = std::move(s.g_water_7);
+        std::swap(s.scratch.v.p_water_9, s.g_water_7);
         s.scratch.v.sv_water_10 = true;
       }
       s.g_water_7 = prev351;
       s.u_water_8 = true;
     }
     // NEXT of bags, programs/flood_defense.au:38
-    if (!s.u_bags_12) {
+    if ((!s.u_bags_12 && s.scratch.v.sv_bags_14)) {
       const std::vector<C3_Sandbag> prev352 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
       if (!s.scratch.v.sv_bags_14) {
-        s.scratch.v.p_bags_13 = std::move(s.g_bags_11);
+        std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
         s.scratch.v.sv_bags_14 = true;
       }
       s.g_bags_11 = prev352;
       s.u_bags_12 = true;
     }
     // NEXT of spring, programs/flood_defense.au:44
-    if (!s.u_spring_16) {
+    if ((!s.u_spring_16 && s.scratch.v.sv_spring_18)) {
       const C5_Spring prev353 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
       s.core.ids.transfer(uint32_t(prev353.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
       if (!s.scratch.v.sv_spring_18) {
-        s.scratch.v.p_spring_17 = std::move(s.g_spring_15);
+        std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
         s.scratch.v.sv_spring_18 = true;
       }
       s.g_spring_15 = prev353;
       s.u_spring_16 = true;
     }
     // NEXT of houses, programs/flood_defense.au:35
-    if (!s.u_houses_20) {
+    if ((!s.u_houses_20 && s.scratch.v.sv_houses_22)) {
       const std::vector<C1_House> prev354 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
       if (!s.scratch.v.sv_houses_22) {
-        s.scratch.v.p_houses_21 = std::move(s.g_houses_19);
+        std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
         s.scratch.v.sv_houses_22 = true;
       }
       s.g_houses_19 = prev354;
       s.u_houses_20 = true;
     }
     // NEXT of drain, programs/flood_defense.au:31
-    if (!s.u_drain_24) {
+    if ((!s.u_drain_24 && s.scratch.v.sv_drain_26)) {
       const C2_Drain prev355 = (s.scratch.v.sv_drain_26 ? s.scratch.v.p_drain_25 : s.g_drain_23);
       s.core.ids.transfer(uint32_t(prev355.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_23.uid)))));
       if (!s.scratch.v.sv_drain_26) {
-        s.scratch.v.p_drain_25 = std::move(s.g_drain_23);
+        std::swap(s.scratch.v.p_drain_25, s.g_drain_23);
         s.scratch.v.sv_drain_26 = true;
       }
       s.g_drain_23 = prev355;
       s.u_drain_24 = true;
     }
     // NEXT of earth, programs/flood_defense.au:28
-    if (!s.u_earth_28) {
+    if ((!s.u_earth_28 && s.scratch.v.sv_earth_30)) {
       const std::vector<C0_Earth> prev356 = (s.scratch.v.sv_earth_30 ? s.scratch.v.p_earth_29 : s.g_earth_27);
       if (!s.scratch.v.sv_earth_30) {
-        s.scratch.v.p_earth_29 = std::move(s.g_earth_27);
+        std::swap(s.scratch.v.p_earth_29, s.g_earth_27);
         s.scratch.v.sv_earth_30 = true;
       }
       s.g_earth_27 = prev356;
@@ -1421,7 +1420,7 @@ struct Prog {
       const int32_t& prev357 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
       const int32_t t358 = add(prev357, int32_t(1));
       if (!s.scratch.v.sv_time_34) {
-        s.scratch.v.p_time_33 = std::move(s.g_time_31);
+        std::swap(s.scratch.v.p_time_33, s.g_time_31);
         s.scratch.v.sv_time_34 = true;
       }
       s.g_time_31 = t358;
@@ -1435,61 +1434,45 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b33;
-    elems1.clear();
-    elems1.clear();
-    const std::vector<C0_Earth>& g2 = s.g_earth_27;
-    for (const C0_Earth& x3 : g2) {
-      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(3)});
+    const std::vector<C0_Earth>& g1 = s.g_earth_27;
+    for (const C0_Earth& x2 : g1) {
+      const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(3)};
+      s.core.occupied.add(e3.position);
+      if (paint) paint->paint(e3.position, pal[e3.color]);
     }
-    for (const Elem& e4 : elems1) {
-      s.core.occupied.add(e4.position);
-      if (paint) paint->paint(e4.position, pal[e4.color]);
+    const C2_Drain& g4 = s.g_drain_23;
+    const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(0)};
+    s.core.occupied.add(e5.position);
+    if (paint) paint->paint(e5.position, pal[e5.color]);
+    const std::vector<C1_House>& g6 = s.g_houses_19;
+    for (const C1_House& x7 : g6) {
+      const int32_t colour8 = colour_3_C1_House(s, x7);
+      const Elem e9 = Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8};
+      s.core.occupied.add(e9.position);
+      if (paint) paint->paint(e9.position, pal[e9.color]);
     }
-    elems1.clear();
-    const C2_Drain& g5 = s.g_drain_23;
-    elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(0)});
-    for (const Elem& e6 : elems1) {
-      s.core.occupied.add(e6.position);
-      if (paint) paint->paint(e6.position, pal[e6.color]);
+    const std::vector<C3_Sandbag>& g10 = s.g_bags_11;
+    for (const C3_Sandbag& x11 : g10) {
+      const Elem e12 = Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, int32_t(8)};
+      s.core.occupied.add(e12.position);
+      if (paint) paint->paint(e12.position, pal[e12.color]);
     }
-    elems1.clear();
-    const std::vector<C1_House>& g7 = s.g_houses_19;
-    for (const C1_House& x8 : g7) {
-      const int32_t colour9 = colour_3_C1_House(s, x8);
-      elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
+    const std::vector<C4_Water>& g13 = s.g_water_7;
+    for (const C4_Water& x14 : g13) {
+      const Elem e15 = Elem{Pos{add(x14.origin.x, int32_t(0)), add(x14.origin.y, int32_t(0))}, int32_t(4)};
+      s.core.occupied.add(e15.position);
+      if (paint) paint->paint(e15.position, pal[e15.color]);
     }
-    for (const Elem& e10 : elems1) {
-      s.core.occupied.add(e10.position);
-      if (paint) paint->paint(e10.position, pal[e10.color]);
-    }
-    elems1.clear();
-    const std::vector<C3_Sandbag>& g11 = s.g_bags_11;
-    for (const C3_Sandbag& x12 : g11) {
-      elems1.push_back(Elem{Pos{add(x12.origin.x, int32_t(0)), add(x12.origin.y, int32_t(0))}, int32_t(8)});
-    }
-    for (const Elem& e13 : elems1) {
-      s.core.occupied.add(e13.position);
-      if (paint) paint->paint(e13.position, pal[e13.color]);
-    }
-    elems1.clear();
-    const std::vector<C4_Water>& g14 = s.g_water_7;
-    for (const C4_Water& x15 : g14) {
-      elems1.push_back(Elem{Pos{add(x15.origin.x, int32_t(0)), add(x15.origin.y, int32_t(0))}, int32_t(4)});
-    }
-    for (const Elem& e16 : elems1) {
-      s.core.occupied.add(e16.position);
-      if (paint) paint->paint(e16.position, pal[e16.color]);
-    }
-    elems1.clear();
-    const C5_Spring& g17 = s.g_spring_15;
-    elems1.push_back(Elem{Pos{add(g17.origin.x, int32_t(-1)), add(g17.origin.y, int32_t(0))}, int32_t(2)});
-    elems1.push_back(Elem{Pos{add(g17.origin.x, int32_t(0)), add(g17.origin.y, int32_t(0))}, int32_t(2)});
-    elems1.push_back(Elem{Pos{add(g17.origin.x, int32_t(1)), add(g17.origin.y, int32_t(0))}, int32_t(2)});
-    for (const Elem& e18 : elems1) {
-      s.core.occupied.add(e18.position);
-      if (paint) paint->paint(e18.position, pal[e18.color]);
-    }
+    const C5_Spring& g16 = s.g_spring_15;
+    const Elem e17 = Elem{Pos{add(g16.origin.x, int32_t(-1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
+    s.core.occupied.add(e17.position);
+    if (paint) paint->paint(e17.position, pal[e17.color]);
+    const Elem e18 = Elem{Pos{add(g16.origin.x, int32_t(0)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
+    s.core.occupied.add(e18.position);
+    if (paint) paint->paint(e18.position, pal[e18.color]);
+    const Elem e19 = Elem{Pos{add(g16.origin.x, int32_t(1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
+    s.core.occupied.add(e19.position);
+    if (paint) paint->paint(e19.position, pal[e19.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -144,10 +144,13 @@ struct Prog {
     std::vector<Elem> b13;
     std::vector<Elem> b14;
     std::vector<Elem> b15;
-    std::vector<C2_Pad> b16;
-    std::vector<C2_Pad> b17;
-    std::vector<C2_Pad> b18;
-    std::vector<Elem> b19;
+    std::vector<Elem> b16;
+    std::vector<Elem> b17;
+    std::vector<Elem> b18;
+    std::vector<C2_Pad> b19;
+    std::vector<C2_Pad> b20;
+    std::vector<C2_Pad> b21;
+    std::vector<Elem> b22;
     C4_Frog p_frog_9{};
     bool sv_frog_10{};
     C5_Lives p_lives_13{};
@@ -480,7 +483,7 @@ struct Prog {
           out2.push_back(std::move(r7));
         }
         if (!s.scratch.v.sv_cars_18) {
-          s.scratch.v.p_cars_17 = std::move(s.g_cars_15);
+          std::swap(s.scratch.v.p_cars_17, s.g_cars_15);
           s.scratch.v.sv_cars_18 = true;
         }
         std::swap(s.g_cars_15, out2);
@@ -521,7 +524,7 @@ struct Prog {
           r23 = prev15;
         }
         if (!s.scratch.v.sv_frog_10) {
-          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          std::swap(s.scratch.v.p_frog_9, s.g_frog_7);
           s.scratch.v.sv_frog_10 = true;
         }
         s.g_frog_7 = std::move(r23);
@@ -562,7 +565,7 @@ struct Prog {
           r37 = prev29;
         }
         if (!s.scratch.v.sv_frog_10) {
-          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          std::swap(s.scratch.v.p_frog_9, s.g_frog_7);
           s.scratch.v.sv_frog_10 = true;
         }
         s.g_frog_7 = std::move(r37);
@@ -603,7 +606,7 @@ struct Prog {
           r51 = prev43;
         }
         if (!s.scratch.v.sv_frog_10) {
-          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          std::swap(s.scratch.v.p_frog_9, s.g_frog_7);
           s.scratch.v.sv_frog_10 = true;
         }
         s.g_frog_7 = std::move(r51);
@@ -644,7 +647,7 @@ struct Prog {
           r65 = prev57;
         }
         if (!s.scratch.v.sv_frog_10) {
-          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          std::swap(s.scratch.v.p_frog_9, s.g_frog_7);
           s.scratch.v.sv_frog_10 = true;
         }
         s.g_frog_7 = std::move(r65);
@@ -661,408 +664,423 @@ struct Prog {
       std::vector<Elem>& rendered73 = s.scratch.v.b11;
       rendered73.clear();
       for (const C3_Car& x74 : g71) {
-        render_C3_Car(s, x74, rendered73);
+        std::vector<Elem>& cells75 = s.scratch.v.b12;
+        cells75.clear();
+        render_C3_Car(s, x74, cells75);
+        for (const Elem& e76 : cells75) {
+          rendered73.push_back(e76);
+        }
       }
-      const int32_t t75 = int32_t(rendered72.size());
-      const bool t76 = (t75 == int32_t(0));
-      bool r77{};
-      if (!t76) {
-        const int32_t t78 = int32_t(rendered73.size());
-        const bool t79 = (t78 == int32_t(0));
-        r77 = t79;
+      const int32_t t77 = int32_t(rendered72.size());
+      const bool t78 = (t77 == int32_t(0));
+      bool r79{};
+      if (!t78) {
+        const int32_t t80 = int32_t(rendered73.size());
+        const bool t81 = (t80 == int32_t(0));
+        r79 = t81;
       } else {
-        r77 = true;
+        r79 = true;
       }
-      bool r80{};
-      if (r77) {
-        r80 = false;
+      bool r82{};
+      if (r79) {
+        r82 = false;
       } else {
-        bool any81 = false;
-        for (const Elem& x82 : rendered72) {
-          bool any83 = false;
-          for (const Elem& x84 : rendered73) {
-            const bool t85 = (x82.position == x84.position);
-            if (t85) {
-              any83 = true;
+        bool any83 = false;
+        for (const Elem& x84 : rendered72) {
+          bool any85 = false;
+          for (const Elem& x86 : rendered73) {
+            const bool t87 = (x84.position == x86.position);
+            if (t87) {
+              any85 = true;
               break;
             }
           }
-          if (any83) {
-            any81 = true;
+          if (any85) {
+            any83 = true;
             break;
           }
         }
-        r80 = any81;
+        r82 = any83;
       }
-      bool r86{};
-      if (!r80) {
-        const C4_Frog& prev87 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
-        const std::vector<C3_Car>& g88 = s.g_cars_15;
-        std::vector<Elem>& rendered89 = s.scratch.v.b12;
-        rendered89.clear();
-        rendered89.push_back(Elem{Pos{add(prev87.origin.x, int32_t(0)), add(prev87.origin.y, int32_t(0))}, int32_t(2)});
-        std::vector<Elem>& rendered90 = s.scratch.v.b13;
-        rendered90.clear();
-        for (const C3_Car& x91 : g88) {
-          render_C3_Car(s, x91, rendered90);
+      bool r88{};
+      if (!r82) {
+        const C4_Frog& prev89 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
+        const std::vector<C3_Car>& g90 = s.g_cars_15;
+        std::vector<Elem>& rendered91 = s.scratch.v.b13;
+        rendered91.clear();
+        rendered91.push_back(Elem{Pos{add(prev89.origin.x, int32_t(0)), add(prev89.origin.y, int32_t(0))}, int32_t(2)});
+        std::vector<Elem>& rendered92 = s.scratch.v.b14;
+        rendered92.clear();
+        for (const C3_Car& x93 : g90) {
+          std::vector<Elem>& cells94 = s.scratch.v.b15;
+          cells94.clear();
+          render_C3_Car(s, x93, cells94);
+          for (const Elem& e95 : cells94) {
+            rendered92.push_back(e95);
+          }
         }
-        const int32_t t92 = int32_t(rendered89.size());
-        const bool t93 = (t92 == int32_t(0));
-        bool r94{};
-        if (!t93) {
-          const int32_t t95 = int32_t(rendered90.size());
-          const bool t96 = (t95 == int32_t(0));
-          r94 = t96;
+        const int32_t t96 = int32_t(rendered91.size());
+        const bool t97 = (t96 == int32_t(0));
+        bool r98{};
+        if (!t97) {
+          const int32_t t99 = int32_t(rendered92.size());
+          const bool t100 = (t99 == int32_t(0));
+          r98 = t100;
         } else {
-          r94 = true;
+          r98 = true;
         }
-        bool r97{};
-        if (r94) {
-          r97 = false;
+        bool r101{};
+        if (r98) {
+          r101 = false;
         } else {
-          bool any98 = false;
-          for (const Elem& x99 : rendered89) {
-            bool any100 = false;
-            for (const Elem& x101 : rendered90) {
-              const bool t102 = (x99.position == x101.position);
-              if (t102) {
-                any100 = true;
+          bool any102 = false;
+          for (const Elem& x103 : rendered91) {
+            bool any104 = false;
+            for (const Elem& x105 : rendered92) {
+              const bool t106 = (x103.position == x105.position);
+              if (t106) {
+                any104 = true;
                 break;
               }
             }
-            if (any100) {
-              any98 = true;
+            if (any104) {
+              any102 = true;
               break;
             }
           }
-          r97 = any98;
+          r101 = any102;
         }
-        bool r103{};
-        if (r97) {
-          const C4_Frog& g104 = s.g_frog_7;
-          const std::vector<C3_Car>& prev105 = (s.scratch.v.sv_cars_18 ? s.scratch.v.p_cars_17 : s.g_cars_15);
-          std::vector<Elem>& rendered106 = s.scratch.v.b14;
-          rendered106.clear();
-          rendered106.push_back(Elem{Pos{add(g104.origin.x, int32_t(0)), add(g104.origin.y, int32_t(0))}, int32_t(2)});
-          std::vector<Elem>& rendered107 = s.scratch.v.b15;
-          rendered107.clear();
-          for (const C3_Car& x108 : prev105) {
-            render_C3_Car(s, x108, rendered107);
+        bool r107{};
+        if (r101) {
+          const C4_Frog& g108 = s.g_frog_7;
+          const std::vector<C3_Car>& prev109 = (s.scratch.v.sv_cars_18 ? s.scratch.v.p_cars_17 : s.g_cars_15);
+          std::vector<Elem>& rendered110 = s.scratch.v.b16;
+          rendered110.clear();
+          rendered110.push_back(Elem{Pos{add(g108.origin.x, int32_t(0)), add(g108.origin.y, int32_t(0))}, int32_t(2)});
+          std::vector<Elem>& rendered111 = s.scratch.v.b17;
+          rendered111.clear();
+          for (const C3_Car& x112 : prev109) {
+            std::vector<Elem>& cells113 = s.scratch.v.b18;
+            cells113.clear();
+            render_C3_Car(s, x112, cells113);
+            for (const Elem& e114 : cells113) {
+              rendered111.push_back(e114);
+            }
           }
-          const int32_t t109 = int32_t(rendered106.size());
-          const bool t110 = (t109 == int32_t(0));
-          bool r111{};
-          if (!t110) {
-            const int32_t t112 = int32_t(rendered107.size());
-            const bool t113 = (t112 == int32_t(0));
-            r111 = t113;
+          const int32_t t115 = int32_t(rendered110.size());
+          const bool t116 = (t115 == int32_t(0));
+          bool r117{};
+          if (!t116) {
+            const int32_t t118 = int32_t(rendered111.size());
+            const bool t119 = (t118 == int32_t(0));
+            r117 = t119;
           } else {
-            r111 = true;
+            r117 = true;
           }
-          bool r114{};
-          if (r111) {
-            r114 = false;
+          bool r120{};
+          if (r117) {
+            r120 = false;
           } else {
-            bool any115 = false;
-            for (const Elem& x116 : rendered106) {
-              bool any117 = false;
-              for (const Elem& x118 : rendered107) {
-                const bool t119 = (x116.position == x118.position);
-                if (t119) {
-                  any117 = true;
+            bool any121 = false;
+            for (const Elem& x122 : rendered110) {
+              bool any123 = false;
+              for (const Elem& x124 : rendered111) {
+                const bool t125 = (x122.position == x124.position);
+                if (t125) {
+                  any123 = true;
                   break;
                 }
               }
-              if (any117) {
-                any115 = true;
+              if (any123) {
+                any121 = true;
                 break;
               }
             }
-            r114 = any115;
+            r120 = any121;
           }
-          r103 = r114;
+          r107 = r120;
         } else {
-          r103 = false;
+          r107 = false;
         }
-        r86 = r103;
+        r88 = r107;
       } else {
-        r86 = true;
+        r88 = true;
       }
-      if (r86) {
+      if (r88) {
         s.core.covered[int32_t(5)] = 1;
-        const Pos& g120 = s.g_frogStart_4;
-        C4_Frog o121 = C4_Frog{g120};
+        const Pos& g126 = s.g_frogStart_4;
+        C4_Frog o127 = C4_Frog{g126};
         if (!s.scratch.v.sv_frog_10) {
-          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          std::swap(s.scratch.v.p_frog_9, s.g_frog_7);
           s.scratch.v.sv_frog_10 = true;
         }
-        s.g_frog_7 = std::move(o121);
+        s.g_frog_7 = std::move(o127);
         s.u_frog_8 = true;
         // inlined: function at programs/frog_crossing.au:61
-        const C5_Lives& g122 = s.g_lives_11;
-        const C5_Lives& g123 = s.g_lives_11;
-        const int32_t t124 = sub(g123.f0, int32_t(1));
-        C5_Lives upd125 = g122;
-        upd125.f0 = t124;
+        const C5_Lives& g128 = s.g_lives_11;
+        const C5_Lives& g129 = s.g_lives_11;
+        const int32_t t130 = sub(g129.f0, int32_t(1));
+        C5_Lives upd131 = g128;
+        upd131.f0 = t130;
         if (!s.scratch.v.sv_lives_14) {
-          s.scratch.v.p_lives_13 = std::move(s.g_lives_11);
+          std::swap(s.scratch.v.p_lives_13, s.g_lives_11);
           s.scratch.v.sv_lives_14 = true;
         }
-        s.g_lives_11 = std::move(upd125);
+        s.g_lives_11 = std::move(upd131);
         s.u_lives_12 = true;
       }
     }
     // on-clause 7, programs/frog_crossing.au:74
     {
-      const C4_Frog& g126 = s.g_frog_7;
-      const bool t127 = (g126.origin.y == int32_t(0));
-      bool r128{};
-      if (t127) {
-        const C4_Frog& g129 = s.g_frog_7;
+      const C4_Frog& g132 = s.g_frog_7;
+      const bool t133 = (g132.origin.y == int32_t(0));
+      bool r134{};
+      if (t133) {
+        const C4_Frog& g135 = s.g_frog_7;
         // inlined: function at programs/frog_crossing.au:60
-        const std::vector<C2_Pad>& g130 = s.g_pads_23;
-        bool any131 = false;
-        for (const C2_Pad& x132 : g130) {
+        const std::vector<C2_Pad>& g136 = s.g_pads_23;
+        bool any137 = false;
+        for (const C2_Pad& x138 : g136) {
           // inlined: function at programs/frog_crossing.au:60
-          const bool t133 = (x132.origin == g129.origin);
-          bool r134{};
-          if (t133) {
-            const bool t135 = !x132.f0;
-            r134 = t135;
+          const bool t139 = (x138.origin == g135.origin);
+          bool r140{};
+          if (t139) {
+            const bool t141 = !x138.f0;
+            r140 = t141;
           } else {
-            r134 = false;
+            r140 = false;
           }
-          if (r134) {
-            any131 = true;
+          if (r140) {
+            any137 = true;
             break;
           }
         }
-        r128 = any131;
+        r134 = any137;
       } else {
-        r128 = false;
+        r134 = false;
       }
-      if (r128) {
+      if (r134) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C2_Pad>& g136 = s.g_pads_23;
-        std::vector<C2_Pad>& updated137 = s.scratch.v.b16;
-        updated137.clear();
-        updated137.reserve(size_t(int32_t(g136.size())));
-        for (const C2_Pad& x138 : g136) {
+        const std::vector<C2_Pad>& g142 = s.g_pads_23;
+        std::vector<C2_Pad>& updated143 = s.scratch.v.b19;
+        updated143.clear();
+        updated143.reserve(size_t(int32_t(g142.size())));
+        for (const C2_Pad& x144 : g142) {
           // inlined: function at programs/frog_crossing.au:76
-          const C4_Frog& g139 = s.g_frog_7;
-          const bool t140 = (x138.origin == g139.origin);
-          if (t140) {
+          const C4_Frog& g145 = s.g_frog_7;
+          const bool t146 = (x144.origin == g145.origin);
+          if (t146) {
             // inlined: function at programs/frog_crossing.au:76
-            C2_Pad upd141 = x138;
-            upd141.f0 = true;
-            updated137.push_back(std::move(upd141));
+            C2_Pad upd147 = x144;
+            upd147.f0 = true;
+            updated143.push_back(std::move(upd147));
           } else {
-            updated137.push_back(x138);
+            updated143.push_back(x144);
           }
         }
         if (!s.scratch.v.sv_pads_26) {
-          s.scratch.v.p_pads_25 = std::move(s.g_pads_23);
+          std::swap(s.scratch.v.p_pads_25, s.g_pads_23);
           s.scratch.v.sv_pads_26 = true;
         }
-        std::swap(s.g_pads_23, updated137);
+        std::swap(s.g_pads_23, updated143);
         s.u_pads_24 = true;
-        const Pos& g142 = s.g_frogStart_4;
-        C4_Frog o143 = C4_Frog{g142};
+        const Pos& g148 = s.g_frogStart_4;
+        C4_Frog o149 = C4_Frog{g148};
         if (!s.scratch.v.sv_frog_10) {
-          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          std::swap(s.scratch.v.p_frog_9, s.g_frog_7);
           s.scratch.v.sv_frog_10 = true;
         }
-        s.g_frog_7 = std::move(o143);
+        s.g_frog_7 = std::move(o149);
         s.u_frog_8 = true;
       }
     }
     // on-clause 8, programs/frog_crossing.au:80
     {
-      const C4_Frog& g144 = s.g_frog_7;
-      const bool t145 = (g144.origin.y == int32_t(0));
-      bool r146{};
-      if (t145) {
-        const C4_Frog& g147 = s.g_frog_7;
+      const C4_Frog& g150 = s.g_frog_7;
+      const bool t151 = (g150.origin.y == int32_t(0));
+      bool r152{};
+      if (t151) {
+        const C4_Frog& g153 = s.g_frog_7;
         // inlined: function at programs/frog_crossing.au:60
-        const std::vector<C2_Pad>& g148 = s.g_pads_23;
-        bool any149 = false;
-        for (const C2_Pad& x150 : g148) {
+        const std::vector<C2_Pad>& g154 = s.g_pads_23;
+        bool any155 = false;
+        for (const C2_Pad& x156 : g154) {
           // inlined: function at programs/frog_crossing.au:60
-          const bool t151 = (x150.origin == g147.origin);
-          bool r152{};
-          if (t151) {
-            const bool t153 = !x150.f0;
-            r152 = t153;
+          const bool t157 = (x156.origin == g153.origin);
+          bool r158{};
+          if (t157) {
+            const bool t159 = !x156.f0;
+            r158 = t159;
           } else {
-            r152 = false;
+            r158 = false;
           }
-          if (r152) {
-            any149 = true;
+          if (r158) {
+            any155 = true;
             break;
           }
         }
-        const bool t154 = !any149;
-        r146 = t154;
+        const bool t160 = !any155;
+        r152 = t160;
       } else {
-        r146 = false;
+        r152 = false;
       }
-      if (r146) {
+      if (r152) {
         s.core.covered[int32_t(7)] = 1;
-        const Pos& g155 = s.g_frogStart_4;
-        C4_Frog o156 = C4_Frog{g155};
+        const Pos& g161 = s.g_frogStart_4;
+        C4_Frog o162 = C4_Frog{g161};
         if (!s.scratch.v.sv_frog_10) {
-          s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+          std::swap(s.scratch.v.p_frog_9, s.g_frog_7);
           s.scratch.v.sv_frog_10 = true;
         }
-        s.g_frog_7 = std::move(o156);
+        s.g_frog_7 = std::move(o162);
         s.u_frog_8 = true;
         // inlined: function at programs/frog_crossing.au:61
-        const C5_Lives& g157 = s.g_lives_11;
-        const C5_Lives& g158 = s.g_lives_11;
-        const int32_t t159 = sub(g158.f0, int32_t(1));
-        C5_Lives upd160 = g157;
-        upd160.f0 = t159;
+        const C5_Lives& g163 = s.g_lives_11;
+        const C5_Lives& g164 = s.g_lives_11;
+        const int32_t t165 = sub(g164.f0, int32_t(1));
+        C5_Lives upd166 = g163;
+        upd166.f0 = t165;
         if (!s.scratch.v.sv_lives_14) {
-          s.scratch.v.p_lives_13 = std::move(s.g_lives_11);
+          std::swap(s.scratch.v.p_lives_13, s.g_lives_11);
           s.scratch.v.sv_lives_14 = true;
         }
-        s.g_lives_11 = std::move(upd160);
+        s.g_lives_11 = std::move(upd166);
         s.u_lives_12 = true;
       }
     }
     // on-clause 9, programs/frog_crossing.au:83
     {
-      const std::vector<C2_Pad>& g161 = s.g_pads_23;
-      bool any162 = false;
-      for (const C2_Pad& x163 : g161) {
+      const std::vector<C2_Pad>& g167 = s.g_pads_23;
+      bool any168 = false;
+      for (const C2_Pad& x169 : g167) {
         // inlined: function at programs/frog_crossing.au:83
-        const bool t164 = !x163.f0;
-        if (t164) {
-          any162 = true;
+        const bool t170 = !x169.f0;
+        if (t170) {
+          any168 = true;
           break;
         }
       }
-      const bool t165 = !any162;
-      if (t165) {
+      const bool t171 = !any168;
+      if (t171) {
         s.core.covered[int32_t(8)] = 1;
-        const std::vector<C2_Pad>& g166 = s.g_pads_23;
-        std::vector<C2_Pad>& out167 = s.scratch.v.b17;
-        out167.clear();
-        out167.reserve(size_t(int32_t(g166.size())));
-        for (const C2_Pad& x168 : g166) {
+        const std::vector<C2_Pad>& g172 = s.g_pads_23;
+        std::vector<C2_Pad>& out173 = s.scratch.v.b20;
+        out173.clear();
+        out173.reserve(size_t(int32_t(g172.size())));
+        for (const C2_Pad& x174 : g172) {
           // inlined: function at programs/frog_crossing.au:84
-          C2_Pad upd169 = x168;
-          upd169.f0 = false;
-          out167.push_back(std::move(upd169));
+          C2_Pad upd175 = x174;
+          upd175.f0 = false;
+          out173.push_back(std::move(upd175));
         }
         if (!s.scratch.v.sv_pads_26) {
-          s.scratch.v.p_pads_25 = std::move(s.g_pads_23);
+          std::swap(s.scratch.v.p_pads_25, s.g_pads_23);
           s.scratch.v.sv_pads_26 = true;
         }
-        std::swap(s.g_pads_23, out167);
+        std::swap(s.g_pads_23, out173);
         s.u_pads_24 = true;
       }
     }
     // on-clause 10, programs/frog_crossing.au:86
     {
-      const C5_Lives& g170 = s.g_lives_11;
-      const bool t171 = (g170.f0 <= int32_t(0));
-      if (t171) {
+      const C5_Lives& g176 = s.g_lives_11;
+      const bool t177 = (g176.f0 <= int32_t(0));
+      if (t177) {
         s.core.covered[int32_t(9)] = 1;
-        C5_Lives o172 = C5_Lives{int32_t(3), Pos{int32_t(7), int32_t(9)}};
+        C5_Lives o178 = C5_Lives{int32_t(3), Pos{int32_t(7), int32_t(9)}};
         if (!s.scratch.v.sv_lives_14) {
-          s.scratch.v.p_lives_13 = std::move(s.g_lives_11);
+          std::swap(s.scratch.v.p_lives_13, s.g_lives_11);
           s.scratch.v.sv_lives_14 = true;
         }
-        s.g_lives_11 = std::move(o172);
+        s.g_lives_11 = std::move(o178);
         s.u_lives_12 = true;
-        const std::vector<C2_Pad>& g173 = s.g_pads_23;
-        std::vector<C2_Pad>& out174 = s.scratch.v.b18;
-        out174.clear();
-        out174.reserve(size_t(int32_t(g173.size())));
-        for (const C2_Pad& x175 : g173) {
+        const std::vector<C2_Pad>& g179 = s.g_pads_23;
+        std::vector<C2_Pad>& out180 = s.scratch.v.b21;
+        out180.clear();
+        out180.reserve(size_t(int32_t(g179.size())));
+        for (const C2_Pad& x181 : g179) {
           // inlined: function at programs/frog_crossing.au:87
-          C2_Pad upd176 = x175;
-          upd176.f0 = false;
-          out174.push_back(std::move(upd176));
+          C2_Pad upd182 = x181;
+          upd182.f0 = false;
+          out180.push_back(std::move(upd182));
         }
         if (!s.scratch.v.sv_pads_26) {
-          s.scratch.v.p_pads_25 = std::move(s.g_pads_23);
+          std::swap(s.scratch.v.p_pads_25, s.g_pads_23);
           s.scratch.v.sv_pads_26 = true;
         }
-        std::swap(s.g_pads_23, out174);
+        std::swap(s.g_pads_23, out180);
         s.u_pads_24 = true;
       }
     }
     // NEXT of frog, programs/frog_crossing.au:52
-    if (!s.u_frog_8) {
-      const C4_Frog prev177 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
+    if ((!s.u_frog_8 && s.scratch.v.sv_frog_10)) {
+      const C4_Frog prev183 = (s.scratch.v.sv_frog_10 ? s.scratch.v.p_frog_9 : s.g_frog_7);
       if (!s.scratch.v.sv_frog_10) {
-        s.scratch.v.p_frog_9 = std::move(s.g_frog_7);
+        std::swap(s.scratch.v.p_frog_9, s.g_frog_7);
         s.scratch.v.sv_frog_10 = true;
       }
-      s.g_frog_7 = prev177;
+      s.g_frog_7 = prev183;
       s.u_frog_8 = true;
     }
     // NEXT of lives, programs/frog_crossing.au:49
-    if (!s.u_lives_12) {
-      const C5_Lives prev178 = (s.scratch.v.sv_lives_14 ? s.scratch.v.p_lives_13 : s.g_lives_11);
+    if ((!s.u_lives_12 && s.scratch.v.sv_lives_14)) {
+      const C5_Lives prev184 = (s.scratch.v.sv_lives_14 ? s.scratch.v.p_lives_13 : s.g_lives_11);
       if (!s.scratch.v.sv_lives_14) {
-        s.scratch.v.p_lives_13 = std::move(s.g_lives_11);
+        std::swap(s.scratch.v.p_lives_13, s.g_lives_11);
         s.scratch.v.sv_lives_14 = true;
       }
-      s.g_lives_11 = prev178;
+      s.g_lives_11 = prev184;
       s.u_lives_12 = true;
     }
     // NEXT of cars, programs/frog_crossing.au:46
-    if (!s.u_cars_16) {
-      const std::vector<C3_Car> prev179 = (s.scratch.v.sv_cars_18 ? s.scratch.v.p_cars_17 : s.g_cars_15);
+    if ((!s.u_cars_16 && s.scratch.v.sv_cars_18)) {
+      const std::vector<C3_Car> prev185 = (s.scratch.v.sv_cars_18 ? s.scratch.v.p_cars_17 : s.g_cars_15);
       if (!s.scratch.v.sv_cars_18) {
-        s.scratch.v.p_cars_17 = std::move(s.g_cars_15);
+        std::swap(s.scratch.v.p_cars_17, s.g_cars_15);
         s.scratch.v.sv_cars_18 = true;
       }
-      s.g_cars_15 = prev179;
+      s.g_cars_15 = prev185;
       s.u_cars_16 = true;
     }
     // NEXT of verges, programs/frog_crossing.au:39
-    if (!s.u_verges_20) {
-      const std::vector<C1_Verge> prev180 = (s.scratch.v.sv_verges_22 ? s.scratch.v.p_verges_21 : s.g_verges_19);
+    if ((!s.u_verges_20 && s.scratch.v.sv_verges_22)) {
+      const std::vector<C1_Verge> prev186 = (s.scratch.v.sv_verges_22 ? s.scratch.v.p_verges_21 : s.g_verges_19);
       if (!s.scratch.v.sv_verges_22) {
-        s.scratch.v.p_verges_21 = std::move(s.g_verges_19);
+        std::swap(s.scratch.v.p_verges_21, s.g_verges_19);
         s.scratch.v.sv_verges_22 = true;
       }
-      s.g_verges_19 = prev180;
+      s.g_verges_19 = prev186;
       s.u_verges_20 = true;
     }
     // NEXT of pads, programs/frog_crossing.au:43
-    if (!s.u_pads_24) {
-      const std::vector<C2_Pad> prev181 = (s.scratch.v.sv_pads_26 ? s.scratch.v.p_pads_25 : s.g_pads_23);
+    if ((!s.u_pads_24 && s.scratch.v.sv_pads_26)) {
+      const std::vector<C2_Pad> prev187 = (s.scratch.v.sv_pads_26 ? s.scratch.v.p_pads_25 : s.g_pads_23);
       if (!s.scratch.v.sv_pads_26) {
-        s.scratch.v.p_pads_25 = std::move(s.g_pads_23);
+        std::swap(s.scratch.v.p_pads_25, s.g_pads_23);
         s.scratch.v.sv_pads_26 = true;
       }
-      s.g_pads_23 = prev181;
+      s.g_pads_23 = prev187;
       s.u_pads_24 = true;
     }
     // NEXT of river, programs/frog_crossing.au:36
-    if (!s.u_river_28) {
-      const C0_River prev182 = (s.scratch.v.sv_river_30 ? s.scratch.v.p_river_29 : s.g_river_27);
+    if ((!s.u_river_28 && s.scratch.v.sv_river_30)) {
+      const C0_River prev188 = (s.scratch.v.sv_river_30 ? s.scratch.v.p_river_29 : s.g_river_27);
       if (!s.scratch.v.sv_river_30) {
-        s.scratch.v.p_river_29 = std::move(s.g_river_27);
+        std::swap(s.scratch.v.p_river_29, s.g_river_27);
         s.scratch.v.sv_river_30 = true;
       }
-      s.g_river_27 = prev182;
+      s.g_river_27 = prev188;
       s.u_river_28 = true;
     }
     // NEXT of time, programs/frog_crossing.au:33
     if (!s.u_time_32) {
-      const int32_t& prev183 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
-      const int32_t t184 = add(prev183, int32_t(1));
+      const int32_t& prev189 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
+      const int32_t t190 = add(prev189, int32_t(1));
       if (!s.scratch.v.sv_time_34) {
-        s.scratch.v.p_time_33 = std::move(s.g_time_31);
+        std::swap(s.scratch.v.p_time_33, s.g_time_31);
         s.scratch.v.sv_time_34 = true;
       }
-      s.g_time_31 = t184;
+      s.g_time_31 = t190;
       s.u_time_32 = true;
     }
     s.core.clear_inputs();
@@ -1073,80 +1091,104 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b19;
-    elems1.clear();
-    elems1.clear();
-    const C0_River& g2 = s.g_river_27;
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(2)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(3)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(4)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(5)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(6)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(7)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(8)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(9)), add(g2.origin.y, int32_t(0))}, int32_t(6)});
-    for (const Elem& e3 : elems1) {
-      s.core.occupied.add(e3.position);
-      if (paint) paint->paint(e3.position, pal[e3.color]);
-    }
-    elems1.clear();
-    const std::vector<C1_Verge>& g4 = s.g_verges_19;
-    for (const C1_Verge& x5 : g4) {
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(1)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(2)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(3)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(4)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(5)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(6)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(7)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(8)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-      elems1.push_back(Elem{Pos{add(x5.origin.x, int32_t(9)), add(x5.origin.y, int32_t(0))}, int32_t(5)});
-    }
-    for (const Elem& e6 : elems1) {
-      s.core.occupied.add(e6.position);
-      if (paint) paint->paint(e6.position, pal[e6.color]);
-    }
-    elems1.clear();
-    const std::vector<C2_Pad>& g7 = s.g_pads_23;
-    for (const C2_Pad& x8 : g7) {
-      const int32_t colour9 = colour_6_C2_Pad(s, x8);
-      elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
-    }
-    for (const Elem& e10 : elems1) {
-      s.core.occupied.add(e10.position);
-      if (paint) paint->paint(e10.position, pal[e10.color]);
-    }
-    elems1.clear();
-    const std::vector<C3_Car>& g11 = s.g_cars_15;
-    for (const C3_Car& x12 : g11) {
-      render_C3_Car(s, x12, elems1);
-    }
-    for (const Elem& e13 : elems1) {
-      s.core.occupied.add(e13.position);
-      if (paint) paint->paint(e13.position, pal[e13.color]);
-    }
-    elems1.clear();
-    const C5_Lives& g14 = s.g_lives_11;
-    const int32_t colour15 = colour_1_C5_Lives(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(0)), add(g14.origin.y, int32_t(0))}, colour15});
-    const int32_t colour16 = colour_2_C5_Lives(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(1)), add(g14.origin.y, int32_t(0))}, colour16});
-    const int32_t colour17 = colour_3_C5_Lives(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(2)), add(g14.origin.y, int32_t(0))}, colour17});
-    for (const Elem& e18 : elems1) {
+    const C0_River& g1 = s.g_river_27;
+    const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e2.position);
+    if (paint) paint->paint(e2.position, pal[e2.color]);
+    const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e3.position);
+    if (paint) paint->paint(e3.position, pal[e3.color]);
+    const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e4.position);
+    if (paint) paint->paint(e4.position, pal[e4.color]);
+    const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e5.position);
+    if (paint) paint->paint(e5.position, pal[e5.color]);
+    const Elem e6 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e6.position);
+    if (paint) paint->paint(e6.position, pal[e6.color]);
+    const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e7.position);
+    if (paint) paint->paint(e7.position, pal[e7.color]);
+    const Elem e8 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e8.position);
+    if (paint) paint->paint(e8.position, pal[e8.color]);
+    const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e9.position);
+    if (paint) paint->paint(e9.position, pal[e9.color]);
+    const Elem e10 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e10.position);
+    if (paint) paint->paint(e10.position, pal[e10.color]);
+    const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
+    s.core.occupied.add(e11.position);
+    if (paint) paint->paint(e11.position, pal[e11.color]);
+    const std::vector<C1_Verge>& g12 = s.g_verges_19;
+    for (const C1_Verge& x13 : g12) {
+      const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+      s.core.occupied.add(e14.position);
+      if (paint) paint->paint(e14.position, pal[e14.color]);
+      const Elem e15 = Elem{Pos{add(x13.origin.x, int32_t(1)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+      s.core.occupied.add(e15.position);
+      if (paint) paint->paint(e15.position, pal[e15.color]);
+      const Elem e16 = Elem{Pos{add(x13.origin.x, int32_t(2)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+      s.core.occupied.add(e16.position);
+      if (paint) paint->paint(e16.position, pal[e16.color]);
+      const Elem e17 = Elem{Pos{add(x13.origin.x, int32_t(3)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+      s.core.occupied.add(e17.position);
+      if (paint) paint->paint(e17.position, pal[e17.color]);
+      const Elem e18 = Elem{Pos{add(x13.origin.x, int32_t(4)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e18.position);
       if (paint) paint->paint(e18.position, pal[e18.color]);
-    }
-    elems1.clear();
-    const C4_Frog& g19 = s.g_frog_7;
-    elems1.push_back(Elem{Pos{add(g19.origin.x, int32_t(0)), add(g19.origin.y, int32_t(0))}, int32_t(2)});
-    for (const Elem& e20 : elems1) {
+      const Elem e19 = Elem{Pos{add(x13.origin.x, int32_t(5)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+      s.core.occupied.add(e19.position);
+      if (paint) paint->paint(e19.position, pal[e19.color]);
+      const Elem e20 = Elem{Pos{add(x13.origin.x, int32_t(6)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e20.position);
       if (paint) paint->paint(e20.position, pal[e20.color]);
+      const Elem e21 = Elem{Pos{add(x13.origin.x, int32_t(7)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+      s.core.occupied.add(e21.position);
+      if (paint) paint->paint(e21.position, pal[e21.color]);
+      const Elem e22 = Elem{Pos{add(x13.origin.x, int32_t(8)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+      s.core.occupied.add(e22.position);
+      if (paint) paint->paint(e22.position, pal[e22.color]);
+      const Elem e23 = Elem{Pos{add(x13.origin.x, int32_t(9)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+      s.core.occupied.add(e23.position);
+      if (paint) paint->paint(e23.position, pal[e23.color]);
     }
+    const std::vector<C2_Pad>& g24 = s.g_pads_23;
+    for (const C2_Pad& x25 : g24) {
+      const int32_t colour26 = colour_6_C2_Pad(s, x25);
+      const Elem e27 = Elem{Pos{add(x25.origin.x, int32_t(0)), add(x25.origin.y, int32_t(0))}, colour26};
+      s.core.occupied.add(e27.position);
+      if (paint) paint->paint(e27.position, pal[e27.color]);
+    }
+    const std::vector<C3_Car>& g28 = s.g_cars_15;
+    for (const C3_Car& x29 : g28) {
+      std::vector<Elem>& cells30 = s.scratch.v.b22;
+      cells30.clear();
+      render_C3_Car(s, x29, cells30);
+      for (const Elem& e31 : cells30) {
+        s.core.occupied.add(e31.position);
+        if (paint) paint->paint(e31.position, pal[e31.color]);
+      }
+    }
+    const C5_Lives& g32 = s.g_lives_11;
+    const int32_t colour33 = colour_1_C5_Lives(s, g32);
+    const Elem e34 = Elem{Pos{add(g32.origin.x, int32_t(0)), add(g32.origin.y, int32_t(0))}, colour33};
+    s.core.occupied.add(e34.position);
+    if (paint) paint->paint(e34.position, pal[e34.color]);
+    const int32_t colour35 = colour_2_C5_Lives(s, g32);
+    const Elem e36 = Elem{Pos{add(g32.origin.x, int32_t(1)), add(g32.origin.y, int32_t(0))}, colour35};
+    s.core.occupied.add(e36.position);
+    if (paint) paint->paint(e36.position, pal[e36.color]);
+    const int32_t colour37 = colour_3_C5_Lives(s, g32);
+    const Elem e38 = Elem{Pos{add(g32.origin.x, int32_t(2)), add(g32.origin.y, int32_t(0))}, colour37};
+    s.core.occupied.add(e38.position);
+    if (paint) paint->paint(e38.position, pal[e38.color]);
+    const C4_Frog& g39 = s.g_frog_7;
+    const Elem e40 = Elem{Pos{add(g39.origin.x, int32_t(0)), add(g39.origin.y, int32_t(0))}, int32_t(2)};
+    s.core.occupied.add(e40.position);
+    if (paint) paint->paint(e40.position, pal[e40.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -120,7 +120,6 @@ struct Prog {
     std::vector<Elem> b13;
     std::vector<C3_Plant> b14;
     std::vector<C2_Drop> b15;
-    std::vector<Elem> b16;
     C4_Basket p_basket_9{};
     bool sv_basket_10{};
     std::vector<C2_Drop> p_drops_13{};
@@ -471,7 +470,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_plants_18) {
-          s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+          std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
           s.scratch.v.sv_plants_18 = true;
         }
         std::swap(s.g_plants_15, updated10);
@@ -534,7 +533,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_drops_14) {
-          s.scratch.v.p_drops_13 = std::move(s.g_drops_11);
+          std::swap(s.scratch.v.p_drops_13, s.g_drops_11);
           s.scratch.v.sv_drops_14 = true;
         }
         std::swap(s.g_drops_11, out31);
@@ -585,7 +584,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_plants_18) {
-          s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+          std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
           s.scratch.v.sv_plants_18 = true;
         }
         std::swap(s.g_plants_15, updated54);
@@ -669,7 +668,7 @@ struct Prog {
           r84 = g91;
         }
         if (!s.scratch.v.sv_basket_10) {
-          s.scratch.v.p_basket_9 = std::move(s.g_basket_7);
+          std::swap(s.scratch.v.p_basket_9, s.g_basket_7);
           s.scratch.v.sv_basket_10 = true;
         }
         s.g_basket_7 = std::move(r84);
@@ -700,7 +699,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_plants_18) {
-          s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+          std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
           s.scratch.v.sv_plants_18 = true;
         }
         std::swap(s.g_plants_15, kept93);
@@ -794,7 +793,7 @@ struct Prog {
         }
         added126.push_back(std::move(o125));
         if (!s.scratch.v.sv_plants_18) {
-          s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+          std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
           s.scratch.v.sv_plants_18 = true;
         }
         std::swap(s.g_plants_15, added126);
@@ -829,7 +828,7 @@ struct Prog {
           r135 = prev129;
         }
         if (!s.scratch.v.sv_cloud_22) {
-          s.scratch.v.p_cloud_21 = std::move(s.g_cloud_19);
+          std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
           s.scratch.v.sv_cloud_22 = true;
         }
         s.g_cloud_19 = std::move(r135);
@@ -864,7 +863,7 @@ struct Prog {
           r145 = prev139;
         }
         if (!s.scratch.v.sv_cloud_22) {
-          s.scratch.v.p_cloud_21 = std::move(s.g_cloud_19);
+          std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
           s.scratch.v.sv_cloud_22 = true;
         }
         s.g_cloud_19 = std::move(r145);
@@ -895,7 +894,7 @@ struct Prog {
         }
         added157.push_back(std::move(o156));
         if (!s.scratch.v.sv_drops_14) {
-          s.scratch.v.p_drops_13 = std::move(s.g_drops_11);
+          std::swap(s.scratch.v.p_drops_13, s.g_drops_11);
           s.scratch.v.sv_drops_14 = true;
         }
         std::swap(s.g_drops_11, added157);
@@ -913,7 +912,7 @@ struct Prog {
         C1_Sun upd163 = prev160;
         upd163.f0 = t162;
         if (!s.scratch.v.sv_sun_26) {
-          s.scratch.v.p_sun_25 = std::move(s.g_sun_23);
+          std::swap(s.scratch.v.p_sun_25, s.g_sun_23);
           s.scratch.v.sv_sun_26 = true;
         }
         s.g_sun_23 = std::move(upd163);
@@ -921,50 +920,50 @@ struct Prog {
       }
     }
     // NEXT of basket, programs/garden.au:37
-    if (!s.u_basket_8) {
+    if ((!s.u_basket_8 && s.scratch.v.sv_basket_10)) {
       const C4_Basket prev164 = (s.scratch.v.sv_basket_10 ? s.scratch.v.p_basket_9 : s.g_basket_7);
       if (!s.scratch.v.sv_basket_10) {
-        s.scratch.v.p_basket_9 = std::move(s.g_basket_7);
+        std::swap(s.scratch.v.p_basket_9, s.g_basket_7);
         s.scratch.v.sv_basket_10 = true;
       }
       s.g_basket_7 = prev164;
       s.u_basket_8 = true;
     }
     // NEXT of drops, programs/garden.au:34
-    if (!s.u_drops_12) {
+    if ((!s.u_drops_12 && s.scratch.v.sv_drops_14)) {
       const std::vector<C2_Drop> prev165 = (s.scratch.v.sv_drops_14 ? s.scratch.v.p_drops_13 : s.g_drops_11);
       if (!s.scratch.v.sv_drops_14) {
-        s.scratch.v.p_drops_13 = std::move(s.g_drops_11);
+        std::swap(s.scratch.v.p_drops_13, s.g_drops_11);
         s.scratch.v.sv_drops_14 = true;
       }
       s.g_drops_11 = prev165;
       s.u_drops_12 = true;
     }
     // NEXT of plants, programs/garden.au:31
-    if (!s.u_plants_16) {
+    if ((!s.u_plants_16 && s.scratch.v.sv_plants_18)) {
       const std::vector<C3_Plant> prev166 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
       if (!s.scratch.v.sv_plants_18) {
-        s.scratch.v.p_plants_17 = std::move(s.g_plants_15);
+        std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
         s.scratch.v.sv_plants_18 = true;
       }
       s.g_plants_15 = prev166;
       s.u_plants_16 = true;
     }
     // NEXT of cloud, programs/garden.au:28
-    if (!s.u_cloud_20) {
+    if ((!s.u_cloud_20 && s.scratch.v.sv_cloud_22)) {
       const C0_Cloud prev167 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
       if (!s.scratch.v.sv_cloud_22) {
-        s.scratch.v.p_cloud_21 = std::move(s.g_cloud_19);
+        std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
         s.scratch.v.sv_cloud_22 = true;
       }
       s.g_cloud_19 = prev167;
       s.u_cloud_20 = true;
     }
     // NEXT of sun, programs/garden.au:25
-    if (!s.u_sun_24) {
+    if ((!s.u_sun_24 && s.scratch.v.sv_sun_26)) {
       const C1_Sun prev168 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
       if (!s.scratch.v.sv_sun_26) {
-        s.scratch.v.p_sun_25 = std::move(s.g_sun_23);
+        std::swap(s.scratch.v.p_sun_25, s.g_sun_23);
         s.scratch.v.sv_sun_26 = true;
       }
       s.g_sun_23 = prev168;
@@ -978,74 +977,83 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b16;
-    elems1.clear();
-    elems1.clear();
-    const C1_Sun& g2 = s.g_sun_23;
-    const int32_t colour3 = colour_16_C1_Sun(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, colour3});
-    for (const Elem& e4 : elems1) {
-      s.core.occupied.add(e4.position);
-      if (paint) paint->paint(e4.position, pal[e4.color]);
+    const C1_Sun& g1 = s.g_sun_23;
+    const int32_t colour2 = colour_16_C1_Sun(s, g1);
+    const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
+    s.core.occupied.add(e3.position);
+    if (paint) paint->paint(e3.position, pal[e3.color]);
+    const C0_Cloud& g4 = s.g_cloud_19;
+    const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(-1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
+    s.core.occupied.add(e5.position);
+    if (paint) paint->paint(e5.position, pal[e5.color]);
+    const Elem e6 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
+    s.core.occupied.add(e6.position);
+    if (paint) paint->paint(e6.position, pal[e6.color]);
+    const Elem e7 = Elem{Pos{add(g4.origin.x, int32_t(1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
+    s.core.occupied.add(e7.position);
+    if (paint) paint->paint(e7.position, pal[e7.color]);
+    const std::vector<C3_Plant>& g8 = s.g_plants_15;
+    for (const C3_Plant& x9 : g8) {
+      const int32_t colour10 = colour_12_C3_Plant(s, x9);
+      const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
+      s.core.occupied.add(e11.position);
+      if (paint) paint->paint(e11.position, pal[e11.color]);
     }
-    elems1.clear();
-    const C0_Cloud& g5 = s.g_cloud_19;
-    elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(-1)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
-    elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
-    elems1.push_back(Elem{Pos{add(g5.origin.x, int32_t(1)), add(g5.origin.y, int32_t(0))}, int32_t(7)});
-    for (const Elem& e6 : elems1) {
-      s.core.occupied.add(e6.position);
-      if (paint) paint->paint(e6.position, pal[e6.color]);
+    const std::vector<C2_Drop>& g12 = s.g_drops_11;
+    for (const C2_Drop& x13 : g12) {
+      const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(12)};
+      s.core.occupied.add(e14.position);
+      if (paint) paint->paint(e14.position, pal[e14.color]);
     }
-    elems1.clear();
-    const std::vector<C3_Plant>& g7 = s.g_plants_15;
-    for (const C3_Plant& x8 : g7) {
-      const int32_t colour9 = colour_12_C3_Plant(s, x8);
-      elems1.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
-    }
-    for (const Elem& e10 : elems1) {
-      s.core.occupied.add(e10.position);
-      if (paint) paint->paint(e10.position, pal[e10.color]);
-    }
-    elems1.clear();
-    const std::vector<C2_Drop>& g11 = s.g_drops_11;
-    for (const C2_Drop& x12 : g11) {
-      elems1.push_back(Elem{Pos{add(x12.origin.x, int32_t(0)), add(x12.origin.y, int32_t(0))}, int32_t(12)});
-    }
-    for (const Elem& e13 : elems1) {
-      s.core.occupied.add(e13.position);
-      if (paint) paint->paint(e13.position, pal[e13.color]);
-    }
-    elems1.clear();
-    const C4_Basket& g14 = s.g_basket_7;
-    const int32_t colour15 = colour_0_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(0)), add(g14.origin.y, int32_t(0))}, colour15});
-    const int32_t colour16 = colour_1_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(1)), add(g14.origin.y, int32_t(0))}, colour16});
-    const int32_t colour17 = colour_2_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(2)), add(g14.origin.y, int32_t(0))}, colour17});
-    const int32_t colour18 = colour_3_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(3)), add(g14.origin.y, int32_t(0))}, colour18});
-    const int32_t colour19 = colour_4_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(4)), add(g14.origin.y, int32_t(0))}, colour19});
-    const int32_t colour20 = colour_5_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(5)), add(g14.origin.y, int32_t(0))}, colour20});
-    const int32_t colour21 = colour_6_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(6)), add(g14.origin.y, int32_t(0))}, colour21});
-    const int32_t colour22 = colour_7_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(7)), add(g14.origin.y, int32_t(0))}, colour22});
-    const int32_t colour23 = colour_8_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(8)), add(g14.origin.y, int32_t(0))}, colour23});
-    const int32_t colour24 = colour_9_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(9)), add(g14.origin.y, int32_t(0))}, colour24});
-    const int32_t colour25 = colour_10_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(10)), add(g14.origin.y, int32_t(0))}, colour25});
-    const int32_t colour26 = colour_11_C4_Basket(s, g14);
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(11)), add(g14.origin.y, int32_t(0))}, colour26});
-    for (const Elem& e27 : elems1) {
-      s.core.occupied.add(e27.position);
-      if (paint) paint->paint(e27.position, pal[e27.color]);
-    }
+    const C4_Basket& g15 = s.g_basket_7;
+    const int32_t colour16 = colour_0_C4_Basket(s, g15);
+    const Elem e17 = Elem{Pos{add(g15.origin.x, int32_t(0)), add(g15.origin.y, int32_t(0))}, colour16};
+    s.core.occupied.add(e17.position);
+    if (paint) paint->paint(e17.position, pal[e17.color]);
+    const int32_t colour18 = colour_1_C4_Basket(s, g15);
+    const Elem e19 = Elem{Pos{add(g15.origin.x, int32_t(1)), add(g15.origin.y, int32_t(0))}, colour18};
+    s.core.occupied.add(e19.position);
+    if (paint) paint->paint(e19.position, pal[e19.color]);
+    const int32_t colour20 = colour_2_C4_Basket(s, g15);
+    const Elem e21 = Elem{Pos{add(g15.origin.x, int32_t(2)), add(g15.origin.y, int32_t(0))}, colour20};
+    s.core.occupied.add(e21.position);
+    if (paint) paint->paint(e21.position, pal[e21.color]);
+    const int32_t colour22 = colour_3_C4_Basket(s, g15);
+    const Elem e23 = Elem{Pos{add(g15.origin.x, int32_t(3)), add(g15.origin.y, int32_t(0))}, colour22};
+    s.core.occupied.add(e23.position);
+    if (paint) paint->paint(e23.position, pal[e23.color]);
+    const int32_t colour24 = colour_4_C4_Basket(s, g15);
+    const Elem e25 = Elem{Pos{add(g15.origin.x, int32_t(4)), add(g15.origin.y, int32_t(0))}, colour24};
+    s.core.occupied.add(e25.position);
+    if (paint) paint->paint(e25.position, pal[e25.color]);
+    const int32_t colour26 = colour_5_C4_Basket(s, g15);
+    const Elem e27 = Elem{Pos{add(g15.origin.x, int32_t(5)), add(g15.origin.y, int32_t(0))}, colour26};
+    s.core.occupied.add(e27.position);
+    if (paint) paint->paint(e27.position, pal[e27.color]);
+    const int32_t colour28 = colour_6_C4_Basket(s, g15);
+    const Elem e29 = Elem{Pos{add(g15.origin.x, int32_t(6)), add(g15.origin.y, int32_t(0))}, colour28};
+    s.core.occupied.add(e29.position);
+    if (paint) paint->paint(e29.position, pal[e29.color]);
+    const int32_t colour30 = colour_7_C4_Basket(s, g15);
+    const Elem e31 = Elem{Pos{add(g15.origin.x, int32_t(7)), add(g15.origin.y, int32_t(0))}, colour30};
+    s.core.occupied.add(e31.position);
+    if (paint) paint->paint(e31.position, pal[e31.color]);
+    const int32_t colour32 = colour_8_C4_Basket(s, g15);
+    const Elem e33 = Elem{Pos{add(g15.origin.x, int32_t(8)), add(g15.origin.y, int32_t(0))}, colour32};
+    s.core.occupied.add(e33.position);
+    if (paint) paint->paint(e33.position, pal[e33.color]);
+    const int32_t colour34 = colour_9_C4_Basket(s, g15);
+    const Elem e35 = Elem{Pos{add(g15.origin.x, int32_t(9)), add(g15.origin.y, int32_t(0))}, colour34};
+    s.core.occupied.add(e35.position);
+    if (paint) paint->paint(e35.position, pal[e35.color]);
+    const int32_t colour36 = colour_10_C4_Basket(s, g15);
+    const Elem e37 = Elem{Pos{add(g15.origin.x, int32_t(10)), add(g15.origin.y, int32_t(0))}, colour36};
+    s.core.occupied.add(e37.position);
+    if (paint) paint->paint(e37.position, pal[e37.color]);
+    const int32_t colour38 = colour_11_C4_Basket(s, g15);
+    const Elem e39 = Elem{Pos{add(g15.origin.x, int32_t(11)), add(g15.origin.y, int32_t(0))}, colour38};
+    s.core.occupied.add(e39.position);
+    if (paint) paint->paint(e39.position, pal[e39.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

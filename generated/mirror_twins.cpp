@@ -128,7 +128,6 @@ struct Prog {
     std::vector<C0_Wall> b37;
     std::vector<Elem> b38;
     std::vector<C0_Wall> b39;
-    std::vector<Elem> b40;
     C2_Twin p_red_9{};
     bool sv_red_10{};
     C2_Twin p_blue_13{};
@@ -631,7 +630,7 @@ struct Prog {
           r76 = std::move(l_nb2);
         }
         if (!s.scratch.v.sv_blue_14) {
-          s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+          std::swap(s.scratch.v.p_blue_13, s.g_blue_11);
           s.scratch.v.sv_blue_14 = true;
         }
         s.g_blue_11 = std::move(r76);
@@ -644,7 +643,7 @@ struct Prog {
           r78 = std::move(l_nr3);
         }
         if (!s.scratch.v.sv_red_10) {
-          s.scratch.v.p_red_9 = std::move(s.g_red_7);
+          std::swap(s.scratch.v.p_red_9, s.g_red_7);
           s.scratch.v.sv_red_10 = true;
         }
         s.g_red_7 = std::move(r78);
@@ -853,7 +852,7 @@ struct Prog {
           r155 = std::move(l_nb81);
         }
         if (!s.scratch.v.sv_blue_14) {
-          s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+          std::swap(s.scratch.v.p_blue_13, s.g_blue_11);
           s.scratch.v.sv_blue_14 = true;
         }
         s.g_blue_11 = std::move(r155);
@@ -866,7 +865,7 @@ struct Prog {
           r157 = std::move(l_nr82);
         }
         if (!s.scratch.v.sv_red_10) {
-          s.scratch.v.p_red_9 = std::move(s.g_red_7);
+          std::swap(s.scratch.v.p_red_9, s.g_red_7);
           s.scratch.v.sv_red_10 = true;
         }
         s.g_red_7 = std::move(r157);
@@ -1075,7 +1074,7 @@ struct Prog {
           r234 = std::move(l_nb160);
         }
         if (!s.scratch.v.sv_blue_14) {
-          s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+          std::swap(s.scratch.v.p_blue_13, s.g_blue_11);
           s.scratch.v.sv_blue_14 = true;
         }
         s.g_blue_11 = std::move(r234);
@@ -1088,7 +1087,7 @@ struct Prog {
           r236 = std::move(l_nr161);
         }
         if (!s.scratch.v.sv_red_10) {
-          s.scratch.v.p_red_9 = std::move(s.g_red_7);
+          std::swap(s.scratch.v.p_red_9, s.g_red_7);
           s.scratch.v.sv_red_10 = true;
         }
         s.g_red_7 = std::move(r236);
@@ -1297,7 +1296,7 @@ struct Prog {
           r313 = std::move(l_nb239);
         }
         if (!s.scratch.v.sv_blue_14) {
-          s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+          std::swap(s.scratch.v.p_blue_13, s.g_blue_11);
           s.scratch.v.sv_blue_14 = true;
         }
         s.g_blue_11 = std::move(r313);
@@ -1310,7 +1309,7 @@ struct Prog {
           r315 = std::move(l_nr240);
         }
         if (!s.scratch.v.sv_red_10) {
-          s.scratch.v.p_red_9 = std::move(s.g_red_7);
+          std::swap(s.scratch.v.p_red_9, s.g_red_7);
           s.scratch.v.sv_red_10 = true;
         }
         s.g_red_7 = std::move(r315);
@@ -1348,7 +1347,7 @@ struct Prog {
         C3_Stars upd330 = g325;
         upd330.f0 = r329;
         if (!s.scratch.v.sv_stars_30) {
-          s.scratch.v.p_stars_29 = std::move(s.g_stars_27);
+          std::swap(s.scratch.v.p_stars_29, s.g_stars_27);
           s.scratch.v.sv_stars_30 = true;
         }
         s.g_stars_27 = std::move(upd330);
@@ -1449,7 +1448,7 @@ struct Prog {
           r357 = g365;
         }
         if (!s.scratch.v.sv_blueGoal_22) {
-          s.scratch.v.p_blueGoal_21 = std::move(s.g_blueGoal_19);
+          std::swap(s.scratch.v.p_blueGoal_21, s.g_blueGoal_19);
           s.scratch.v.sv_blueGoal_22 = true;
         }
         s.g_blueGoal_19 = std::move(r357);
@@ -1492,7 +1491,7 @@ struct Prog {
           r371 = g379;
         }
         if (!s.scratch.v.sv_redGoal_18) {
-          s.scratch.v.p_redGoal_17 = std::move(s.g_redGoal_15);
+          std::swap(s.scratch.v.p_redGoal_17, s.g_redGoal_15);
           s.scratch.v.sv_redGoal_18 = true;
         }
         s.g_redGoal_15 = std::move(r371);
@@ -1547,7 +1546,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_walls_26) {
-          s.scratch.v.p_walls_25 = std::move(s.g_walls_23);
+          std::swap(s.scratch.v.p_walls_25, s.g_walls_23);
           s.scratch.v.sv_walls_26 = true;
         }
         std::swap(s.g_walls_23, out387);
@@ -1627,7 +1626,7 @@ struct Prog {
         }
         added415.push_back(std::move(o414));
         if (!s.scratch.v.sv_walls_26) {
-          s.scratch.v.p_walls_25 = std::move(s.g_walls_23);
+          std::swap(s.scratch.v.p_walls_25, s.g_walls_23);
           s.scratch.v.sv_walls_26 = true;
         }
         std::swap(s.g_walls_23, added415);
@@ -1635,60 +1634,60 @@ struct Prog {
       }
     }
     // NEXT of red, programs/mirror_twins.au:42
-    if (!s.u_red_8) {
+    if ((!s.u_red_8 && s.scratch.v.sv_red_10)) {
       const C2_Twin prev417 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
       if (!s.scratch.v.sv_red_10) {
-        s.scratch.v.p_red_9 = std::move(s.g_red_7);
+        std::swap(s.scratch.v.p_red_9, s.g_red_7);
         s.scratch.v.sv_red_10 = true;
       }
       s.g_red_7 = prev417;
       s.u_red_8 = true;
     }
     // NEXT of blue, programs/mirror_twins.au:39
-    if (!s.u_blue_12) {
+    if ((!s.u_blue_12 && s.scratch.v.sv_blue_14)) {
       const C2_Twin prev418 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
       if (!s.scratch.v.sv_blue_14) {
-        s.scratch.v.p_blue_13 = std::move(s.g_blue_11);
+        std::swap(s.scratch.v.p_blue_13, s.g_blue_11);
         s.scratch.v.sv_blue_14 = true;
       }
       s.g_blue_11 = prev418;
       s.u_blue_12 = true;
     }
     // NEXT of redGoal, programs/mirror_twins.au:36
-    if (!s.u_redGoal_16) {
+    if ((!s.u_redGoal_16 && s.scratch.v.sv_redGoal_18)) {
       const C1_Goal prev419 = (s.scratch.v.sv_redGoal_18 ? s.scratch.v.p_redGoal_17 : s.g_redGoal_15);
       if (!s.scratch.v.sv_redGoal_18) {
-        s.scratch.v.p_redGoal_17 = std::move(s.g_redGoal_15);
+        std::swap(s.scratch.v.p_redGoal_17, s.g_redGoal_15);
         s.scratch.v.sv_redGoal_18 = true;
       }
       s.g_redGoal_15 = prev419;
       s.u_redGoal_16 = true;
     }
     // NEXT of blueGoal, programs/mirror_twins.au:33
-    if (!s.u_blueGoal_20) {
+    if ((!s.u_blueGoal_20 && s.scratch.v.sv_blueGoal_22)) {
       const C1_Goal prev420 = (s.scratch.v.sv_blueGoal_22 ? s.scratch.v.p_blueGoal_21 : s.g_blueGoal_19);
       if (!s.scratch.v.sv_blueGoal_22) {
-        s.scratch.v.p_blueGoal_21 = std::move(s.g_blueGoal_19);
+        std::swap(s.scratch.v.p_blueGoal_21, s.g_blueGoal_19);
         s.scratch.v.sv_blueGoal_22 = true;
       }
       s.g_blueGoal_19 = prev420;
       s.u_blueGoal_20 = true;
     }
     // NEXT of walls, programs/mirror_twins.au:30
-    if (!s.u_walls_24) {
+    if ((!s.u_walls_24 && s.scratch.v.sv_walls_26)) {
       const std::vector<C0_Wall> prev421 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
       if (!s.scratch.v.sv_walls_26) {
-        s.scratch.v.p_walls_25 = std::move(s.g_walls_23);
+        std::swap(s.scratch.v.p_walls_25, s.g_walls_23);
         s.scratch.v.sv_walls_26 = true;
       }
       s.g_walls_23 = prev421;
       s.u_walls_24 = true;
     }
     // NEXT of stars, programs/mirror_twins.au:27
-    if (!s.u_stars_28) {
+    if ((!s.u_stars_28 && s.scratch.v.sv_stars_30)) {
       const C3_Stars prev422 = (s.scratch.v.sv_stars_30 ? s.scratch.v.p_stars_29 : s.g_stars_27);
       if (!s.scratch.v.sv_stars_30) {
-        s.scratch.v.p_stars_29 = std::move(s.g_stars_27);
+        std::swap(s.scratch.v.p_stars_29, s.g_stars_27);
         s.scratch.v.sv_stars_30 = true;
       }
       s.g_stars_27 = prev422;
@@ -1702,75 +1701,73 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b40;
-    elems1.clear();
-    elems1.clear();
-    const C3_Stars& g2 = s.g_stars_27;
-    const int32_t colour3 = colour_3_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, colour3});
-    const int32_t colour4 = colour_4_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, colour4});
-    const int32_t colour5 = colour_5_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(2)), add(g2.origin.y, int32_t(0))}, colour5});
-    const int32_t colour6 = colour_6_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(3)), add(g2.origin.y, int32_t(0))}, colour6});
-    const int32_t colour7 = colour_7_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(4)), add(g2.origin.y, int32_t(0))}, colour7});
-    const int32_t colour8 = colour_8_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(5)), add(g2.origin.y, int32_t(0))}, colour8});
-    const int32_t colour9 = colour_9_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(6)), add(g2.origin.y, int32_t(0))}, colour9});
-    const int32_t colour10 = colour_10_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(7)), add(g2.origin.y, int32_t(0))}, colour10});
-    const int32_t colour11 = colour_11_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(8)), add(g2.origin.y, int32_t(0))}, colour11});
-    const int32_t colour12 = colour_12_C3_Stars(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(9)), add(g2.origin.y, int32_t(0))}, colour12});
-    for (const Elem& e13 : elems1) {
-      s.core.occupied.add(e13.position);
-      if (paint) paint->paint(e13.position, pal[e13.color]);
+    const C3_Stars& g1 = s.g_stars_27;
+    const int32_t colour2 = colour_3_C3_Stars(s, g1);
+    const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
+    s.core.occupied.add(e3.position);
+    if (paint) paint->paint(e3.position, pal[e3.color]);
+    const int32_t colour4 = colour_4_C3_Stars(s, g1);
+    const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, colour4};
+    s.core.occupied.add(e5.position);
+    if (paint) paint->paint(e5.position, pal[e5.color]);
+    const int32_t colour6 = colour_5_C3_Stars(s, g1);
+    const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, colour6};
+    s.core.occupied.add(e7.position);
+    if (paint) paint->paint(e7.position, pal[e7.color]);
+    const int32_t colour8 = colour_6_C3_Stars(s, g1);
+    const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, colour8};
+    s.core.occupied.add(e9.position);
+    if (paint) paint->paint(e9.position, pal[e9.color]);
+    const int32_t colour10 = colour_7_C3_Stars(s, g1);
+    const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, colour10};
+    s.core.occupied.add(e11.position);
+    if (paint) paint->paint(e11.position, pal[e11.color]);
+    const int32_t colour12 = colour_8_C3_Stars(s, g1);
+    const Elem e13 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, colour12};
+    s.core.occupied.add(e13.position);
+    if (paint) paint->paint(e13.position, pal[e13.color]);
+    const int32_t colour14 = colour_9_C3_Stars(s, g1);
+    const Elem e15 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, colour14};
+    s.core.occupied.add(e15.position);
+    if (paint) paint->paint(e15.position, pal[e15.color]);
+    const int32_t colour16 = colour_10_C3_Stars(s, g1);
+    const Elem e17 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, colour16};
+    s.core.occupied.add(e17.position);
+    if (paint) paint->paint(e17.position, pal[e17.color]);
+    const int32_t colour18 = colour_11_C3_Stars(s, g1);
+    const Elem e19 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, colour18};
+    s.core.occupied.add(e19.position);
+    if (paint) paint->paint(e19.position, pal[e19.color]);
+    const int32_t colour20 = colour_12_C3_Stars(s, g1);
+    const Elem e21 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, colour20};
+    s.core.occupied.add(e21.position);
+    if (paint) paint->paint(e21.position, pal[e21.color]);
+    const std::vector<C0_Wall>& g22 = s.g_walls_23;
+    for (const C0_Wall& x23 : g22) {
+      const Elem e24 = Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)};
+      s.core.occupied.add(e24.position);
+      if (paint) paint->paint(e24.position, pal[e24.color]);
     }
-    elems1.clear();
-    const std::vector<C0_Wall>& g14 = s.g_walls_23;
-    for (const C0_Wall& x15 : g14) {
-      elems1.push_back(Elem{Pos{add(x15.origin.x, int32_t(0)), add(x15.origin.y, int32_t(0))}, int32_t(6)});
-    }
-    for (const Elem& e16 : elems1) {
-      s.core.occupied.add(e16.position);
-      if (paint) paint->paint(e16.position, pal[e16.color]);
-    }
-    elems1.clear();
-    const C1_Goal& g17 = s.g_blueGoal_19;
-    const int32_t colour18 = colour_1_C1_Goal(s, g17);
-    elems1.push_back(Elem{Pos{add(g17.origin.x, int32_t(0)), add(g17.origin.y, int32_t(0))}, colour18});
-    for (const Elem& e19 : elems1) {
-      s.core.occupied.add(e19.position);
-      if (paint) paint->paint(e19.position, pal[e19.color]);
-    }
-    elems1.clear();
-    const C1_Goal& g20 = s.g_redGoal_15;
-    const int32_t colour21 = colour_1_C1_Goal(s, g20);
-    elems1.push_back(Elem{Pos{add(g20.origin.x, int32_t(0)), add(g20.origin.y, int32_t(0))}, colour21});
-    for (const Elem& e22 : elems1) {
-      s.core.occupied.add(e22.position);
-      if (paint) paint->paint(e22.position, pal[e22.color]);
-    }
-    elems1.clear();
-    const C2_Twin& g23 = s.g_blue_11;
-    const int32_t colour24 = colour_0_C2_Twin(s, g23);
-    elems1.push_back(Elem{Pos{add(g23.origin.x, int32_t(0)), add(g23.origin.y, int32_t(0))}, colour24});
-    for (const Elem& e25 : elems1) {
-      s.core.occupied.add(e25.position);
-      if (paint) paint->paint(e25.position, pal[e25.color]);
-    }
-    elems1.clear();
-    const C2_Twin& g26 = s.g_red_7;
-    const int32_t colour27 = colour_0_C2_Twin(s, g26);
-    elems1.push_back(Elem{Pos{add(g26.origin.x, int32_t(0)), add(g26.origin.y, int32_t(0))}, colour27});
-    for (const Elem& e28 : elems1) {
-      s.core.occupied.add(e28.position);
-      if (paint) paint->paint(e28.position, pal[e28.color]);
-    }
+    const C1_Goal& g25 = s.g_blueGoal_19;
+    const int32_t colour26 = colour_1_C1_Goal(s, g25);
+    const Elem e27 = Elem{Pos{add(g25.origin.x, int32_t(0)), add(g25.origin.y, int32_t(0))}, colour26};
+    s.core.occupied.add(e27.position);
+    if (paint) paint->paint(e27.position, pal[e27.color]);
+    const C1_Goal& g28 = s.g_redGoal_15;
+    const int32_t colour29 = colour_1_C1_Goal(s, g28);
+    const Elem e30 = Elem{Pos{add(g28.origin.x, int32_t(0)), add(g28.origin.y, int32_t(0))}, colour29};
+    s.core.occupied.add(e30.position);
+    if (paint) paint->paint(e30.position, pal[e30.color]);
+    const C2_Twin& g31 = s.g_blue_11;
+    const int32_t colour32 = colour_0_C2_Twin(s, g31);
+    const Elem e33 = Elem{Pos{add(g31.origin.x, int32_t(0)), add(g31.origin.y, int32_t(0))}, colour32};
+    s.core.occupied.add(e33.position);
+    if (paint) paint->paint(e33.position, pal[e33.color]);
+    const C2_Twin& g34 = s.g_red_7;
+    const int32_t colour35 = colour_0_C2_Twin(s, g34);
+    const Elem e36 = Elem{Pos{add(g34.origin.x, int32_t(0)), add(g34.origin.y, int32_t(0))}, colour35};
+    s.core.occupied.add(e36.position);
+    if (paint) paint->paint(e36.position, pal[e36.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -130,7 +130,6 @@ struct Prog {
     std::vector<C2_Sheep> b47;
     std::vector<Elem> b48;
     std::vector<C2_Sheep> b49;
-    std::vector<Elem> b50;
     std::vector<C2_Sheep> p_sheep_9{};
     bool sv_sheep_10{};
     std::vector<C1_Flag> p_flags_13{};
@@ -389,13 +388,13 @@ struct Prog {
           r31 = prev2;
         }
         if (!s.scratch.v.sv_dog_18) {
-          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          std::swap(s.scratch.v.p_dog_17, s.g_dog_15);
           s.scratch.v.sv_dog_18 = true;
         }
         s.g_dog_15 = std::move(r31);
         s.u_dog_16 = true;
         if (!s.scratch.v.sv_flags_14) {
-          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
           s.scratch.v.sv_flags_14 = true;
         }
         s.g_flags_11 = std::vector<C1_Flag>{};
@@ -493,13 +492,13 @@ struct Prog {
         }
         l_ret40 = std::move(r69);
         if (!s.scratch.v.sv_dog_18) {
-          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          std::swap(s.scratch.v.p_dog_17, s.g_dog_15);
           s.scratch.v.sv_dog_18 = true;
         }
         s.g_dog_15 = std::move(l_ret40);
         s.u_dog_16 = true;
         if (!s.scratch.v.sv_flags_14) {
-          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
           s.scratch.v.sv_flags_14 = true;
         }
         s.g_flags_11 = std::vector<C1_Flag>{};
@@ -591,13 +590,13 @@ struct Prog {
           r104 = prev75;
         }
         if (!s.scratch.v.sv_dog_18) {
-          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          std::swap(s.scratch.v.p_dog_17, s.g_dog_15);
           s.scratch.v.sv_dog_18 = true;
         }
         s.g_dog_15 = std::move(r104);
         s.u_dog_16 = true;
         if (!s.scratch.v.sv_flags_14) {
-          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
           s.scratch.v.sv_flags_14 = true;
         }
         s.g_flags_11 = std::vector<C1_Flag>{};
@@ -689,13 +688,13 @@ struct Prog {
           r139 = prev110;
         }
         if (!s.scratch.v.sv_dog_18) {
-          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          std::swap(s.scratch.v.p_dog_17, s.g_dog_15);
           s.scratch.v.sv_dog_18 = true;
         }
         s.g_dog_15 = std::move(r139);
         s.u_dog_16 = true;
         if (!s.scratch.v.sv_flags_14) {
-          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
           s.scratch.v.sv_flags_14 = true;
         }
         s.g_flags_11 = std::vector<C1_Flag>{};
@@ -961,7 +960,7 @@ struct Prog {
           r216 = std::move(r243);
         }
         if (!s.scratch.v.sv_dog_18) {
-          s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+          std::swap(s.scratch.v.p_dog_17, s.g_dog_15);
           s.scratch.v.sv_dog_18 = true;
         }
         s.g_dog_15 = std::move(r216);
@@ -1011,7 +1010,7 @@ struct Prog {
       if (r252) {
         s.core.covered[int32_t(5)] = 1;
         if (!s.scratch.v.sv_flags_14) {
-          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
           s.scratch.v.sv_flags_14 = true;
         }
         s.g_flags_11 = std::vector<C1_Flag>{};
@@ -1070,7 +1069,7 @@ struct Prog {
         C1_Flag o282 = C1_Flag{t281};
         std::vector<C1_Flag> list283 = std::vector<C1_Flag>{std::move(o282)};
         if (!s.scratch.v.sv_flags_14) {
-          s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+          std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
           s.scratch.v.sv_flags_14 = true;
         }
         s.g_flags_11 = std::move(list283);
@@ -1513,7 +1512,7 @@ struct Prog {
           std::swap(acc285, added441);
         }
         if (!s.scratch.v.sv_sheep_10) {
-          s.scratch.v.p_sheep_9 = std::move(s.g_sheep_7);
+          std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
           s.scratch.v.sv_sheep_10 = true;
         }
         s.g_sheep_7 = std::move(acc285);
@@ -1587,7 +1586,7 @@ struct Prog {
           out460.push_back(std::move(o462));
         }
         if (!s.scratch.v.sv_sheep_10) {
-          s.scratch.v.p_sheep_9 = std::move(s.g_sheep_7);
+          std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
           s.scratch.v.sv_sheep_10 = true;
         }
         std::swap(s.g_sheep_7, out460);
@@ -1596,40 +1595,40 @@ struct Prog {
       }
     }
     // NEXT of sheep, programs/sheepdog.au:34
-    if (!s.u_sheep_8) {
+    if ((!s.u_sheep_8 && s.scratch.v.sv_sheep_10)) {
       const std::vector<C2_Sheep> prev463 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
       if (!s.scratch.v.sv_sheep_10) {
-        s.scratch.v.p_sheep_9 = std::move(s.g_sheep_7);
+        std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
         s.scratch.v.sv_sheep_10 = true;
       }
       s.g_sheep_7 = prev463;
       s.u_sheep_8 = true;
     }
     // NEXT of flags, programs/sheepdog.au:31
-    if (!s.u_flags_12) {
+    if ((!s.u_flags_12 && s.scratch.v.sv_flags_14)) {
       const std::vector<C1_Flag> prev464 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
       if (!s.scratch.v.sv_flags_14) {
-        s.scratch.v.p_flags_13 = std::move(s.g_flags_11);
+        std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
         s.scratch.v.sv_flags_14 = true;
       }
       s.g_flags_11 = prev464;
       s.u_flags_12 = true;
     }
     // NEXT of dog, programs/sheepdog.au:37
-    if (!s.u_dog_16) {
+    if ((!s.u_dog_16 && s.scratch.v.sv_dog_18)) {
       const C3_Dog prev465 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
       if (!s.scratch.v.sv_dog_18) {
-        s.scratch.v.p_dog_17 = std::move(s.g_dog_15);
+        std::swap(s.scratch.v.p_dog_17, s.g_dog_15);
         s.scratch.v.sv_dog_18 = true;
       }
       s.g_dog_15 = prev465;
       s.u_dog_16 = true;
     }
     // NEXT of fences, programs/sheepdog.au:28
-    if (!s.u_fences_20) {
+    if ((!s.u_fences_20 && s.scratch.v.sv_fences_22)) {
       const std::vector<C0_Fence> prev466 = (s.scratch.v.sv_fences_22 ? s.scratch.v.p_fences_21 : s.g_fences_19);
       if (!s.scratch.v.sv_fences_22) {
-        s.scratch.v.p_fences_21 = std::move(s.g_fences_19);
+        std::swap(s.scratch.v.p_fences_21, s.g_fences_19);
         s.scratch.v.sv_fences_22 = true;
       }
       s.g_fences_19 = prev466;
@@ -1643,43 +1642,29 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b50;
-    elems1.clear();
-    elems1.clear();
-    const std::vector<C0_Fence>& g2 = s.g_fences_19;
-    for (const C0_Fence& x3 : g2) {
-      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(2)});
+    const std::vector<C0_Fence>& g1 = s.g_fences_19;
+    for (const C0_Fence& x2 : g1) {
+      const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
+      s.core.occupied.add(e3.position);
+      if (paint) paint->paint(e3.position, pal[e3.color]);
     }
-    for (const Elem& e4 : elems1) {
-      s.core.occupied.add(e4.position);
-      if (paint) paint->paint(e4.position, pal[e4.color]);
+    const std::vector<C1_Flag>& g4 = s.g_flags_11;
+    for (const C1_Flag& x5 : g4) {
+      const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
+      s.core.occupied.add(e6.position);
+      if (paint) paint->paint(e6.position, pal[e6.color]);
     }
-    elems1.clear();
-    const std::vector<C1_Flag>& g5 = s.g_flags_11;
-    for (const C1_Flag& x6 : g5) {
-      elems1.push_back(Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(4)});
+    const std::vector<C2_Sheep>& g7 = s.g_sheep_7;
+    for (const C2_Sheep& x8 : g7) {
+      const int32_t colour9 = colour_0_C2_Sheep(s, x8);
+      const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
+      s.core.occupied.add(e10.position);
+      if (paint) paint->paint(e10.position, pal[e10.color]);
     }
-    for (const Elem& e7 : elems1) {
-      s.core.occupied.add(e7.position);
-      if (paint) paint->paint(e7.position, pal[e7.color]);
-    }
-    elems1.clear();
-    const std::vector<C2_Sheep>& g8 = s.g_sheep_7;
-    for (const C2_Sheep& x9 : g8) {
-      const int32_t colour10 = colour_0_C2_Sheep(s, x9);
-      elems1.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10});
-    }
-    for (const Elem& e11 : elems1) {
-      s.core.occupied.add(e11.position);
-      if (paint) paint->paint(e11.position, pal[e11.color]);
-    }
-    elems1.clear();
-    const C3_Dog& g12 = s.g_dog_15;
-    elems1.push_back(Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, int32_t(0)});
-    for (const Elem& e13 : elems1) {
-      s.core.occupied.add(e13.position);
-      if (paint) paint->paint(e13.position, pal[e13.color]);
-    }
+    const C3_Dog& g11 = s.g_dog_15;
+    const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(0)};
+    s.core.occupied.add(e12.position);
+    if (paint) paint->paint(e12.position, pal[e12.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

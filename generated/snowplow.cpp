@@ -134,7 +134,6 @@ struct Prog {
     std::vector<Elem> b35;
     std::vector<C0_Flake> b36;
     std::vector<C0_Flake> b37;
-    std::vector<Elem> b38;
     C3_Plow p_plow_7{};
     bool sv_plow_8{};
     std::vector<C0_Flake> p_snow_11{};
@@ -494,7 +493,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_snow_12) {
-          s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+          std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
         std::swap(s.g_snow_9, out8);
@@ -524,7 +523,7 @@ struct Prog {
         }
         added22.push_back(std::move(o21));
         if (!s.scratch.v.sv_melt_16) {
-          s.scratch.v.p_melt_15 = std::move(s.g_melt_13);
+          std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
           s.scratch.v.sv_melt_16 = true;
         }
         std::swap(s.g_melt_13, added22);
@@ -579,7 +578,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_rocks_20) {
-          s.scratch.v.p_rocks_19 = std::move(s.g_rocks_17);
+          std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
           s.scratch.v.sv_rocks_20 = true;
         }
         std::swap(s.g_rocks_17, out31);
@@ -645,7 +644,7 @@ struct Prog {
         }
         added55.push_back(std::move(o54));
         if (!s.scratch.v.sv_rocks_20) {
-          s.scratch.v.p_rocks_19 = std::move(s.g_rocks_17);
+          std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
           s.scratch.v.sv_rocks_20 = true;
         }
         std::swap(s.g_rocks_17, added55);
@@ -742,7 +741,7 @@ struct Prog {
           out58.push_back(std::move(r88));
         }
         if (!s.scratch.v.sv_snow_12) {
-          s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+          std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
         std::swap(s.g_snow_9, out58);
@@ -1053,7 +1052,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_melt_16) {
-          s.scratch.v.p_melt_15 = std::move(s.g_melt_13);
+          std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
           s.scratch.v.sv_melt_16 = true;
         }
         std::swap(s.g_melt_13, out224);
@@ -1095,7 +1094,7 @@ struct Prog {
           r236 = prev228;
         }
         if (!s.scratch.v.sv_plow_8) {
-          s.scratch.v.p_plow_7 = std::move(s.g_plow_5);
+          std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
           s.scratch.v.sv_plow_8 = true;
         }
         s.g_plow_5 = std::move(r236);
@@ -1137,7 +1136,7 @@ struct Prog {
           r250 = prev242;
         }
         if (!s.scratch.v.sv_plow_8) {
-          s.scratch.v.p_plow_7 = std::move(s.g_plow_5);
+          std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
           s.scratch.v.sv_plow_8 = true;
         }
         s.g_plow_5 = std::move(r250);
@@ -1197,7 +1196,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_snow_12) {
-          s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+          std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
         std::swap(s.g_snow_9, kept256);
@@ -1222,7 +1221,7 @@ struct Prog {
         C4_Cloud upd278 = prev273;
         upd278.f0 = r277;
         if (!s.scratch.v.sv_cloud_24) {
-          s.scratch.v.p_cloud_23 = std::move(s.g_cloud_21);
+          std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
           s.scratch.v.sv_cloud_24 = true;
         }
         s.g_cloud_21 = std::move(upd278);
@@ -1247,7 +1246,7 @@ struct Prog {
         C4_Cloud upd285 = prev280;
         upd285.f0 = r284;
         if (!s.scratch.v.sv_cloud_24) {
-          s.scratch.v.p_cloud_23 = std::move(s.g_cloud_21);
+          std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
           s.scratch.v.sv_cloud_24 = true;
         }
         s.g_cloud_21 = std::move(upd285);
@@ -1330,7 +1329,7 @@ struct Prog {
           r312 = g316;
         }
         if (!s.scratch.v.sv_snow_12) {
-          s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+          std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
         std::swap(s.g_snow_9, r312);
@@ -1338,50 +1337,50 @@ struct Prog {
       }
     }
     // NEXT of plow, programs/snowplow.au:35
-    if (!s.u_plow_6) {
+    if ((!s.u_plow_6 && s.scratch.v.sv_plow_8)) {
       const C3_Plow prev317 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
       if (!s.scratch.v.sv_plow_8) {
-        s.scratch.v.p_plow_7 = std::move(s.g_plow_5);
+        std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
         s.scratch.v.sv_plow_8 = true;
       }
       s.g_plow_5 = prev317;
       s.u_plow_6 = true;
     }
     // NEXT of snow, programs/snowplow.au:29
-    if (!s.u_snow_10) {
+    if ((!s.u_snow_10 && s.scratch.v.sv_snow_12)) {
       const std::vector<C0_Flake> prev318 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
       if (!s.scratch.v.sv_snow_12) {
-        s.scratch.v.p_snow_11 = std::move(s.g_snow_9);
+        std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
         s.scratch.v.sv_snow_12 = true;
       }
       s.g_snow_9 = prev318;
       s.u_snow_10 = true;
     }
     // NEXT of melt, programs/snowplow.au:32
-    if (!s.u_melt_14) {
+    if ((!s.u_melt_14 && s.scratch.v.sv_melt_16)) {
       const std::vector<C1_Melt> prev319 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
       if (!s.scratch.v.sv_melt_16) {
-        s.scratch.v.p_melt_15 = std::move(s.g_melt_13);
+        std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
         s.scratch.v.sv_melt_16 = true;
       }
       s.g_melt_13 = prev319;
       s.u_melt_14 = true;
     }
     // NEXT of rocks, programs/snowplow.au:26
-    if (!s.u_rocks_18) {
+    if ((!s.u_rocks_18 && s.scratch.v.sv_rocks_20)) {
       const std::vector<C2_Rock> prev320 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
       if (!s.scratch.v.sv_rocks_20) {
-        s.scratch.v.p_rocks_19 = std::move(s.g_rocks_17);
+        std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
         s.scratch.v.sv_rocks_20 = true;
       }
       s.g_rocks_17 = prev320;
       s.u_rocks_18 = true;
     }
     // NEXT of cloud, programs/snowplow.au:21
-    if (!s.u_cloud_22) {
+    if ((!s.u_cloud_22 && s.scratch.v.sv_cloud_24)) {
       const C4_Cloud prev321 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
       if (!s.scratch.v.sv_cloud_24) {
-        s.scratch.v.p_cloud_23 = std::move(s.g_cloud_21);
+        std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
         s.scratch.v.sv_cloud_24 = true;
       }
       s.g_cloud_21 = prev321;
@@ -1392,7 +1391,7 @@ struct Prog {
       const int32_t& prev322 = (s.scratch.v.sv_time_28 ? s.scratch.v.p_time_27 : s.g_time_25);
       const int32_t t323 = add(prev322, int32_t(1));
       if (!s.scratch.v.sv_time_28) {
-        s.scratch.v.p_time_27 = std::move(s.g_time_25);
+        std::swap(s.scratch.v.p_time_27, s.g_time_25);
         s.scratch.v.sv_time_28 = true;
       }
       s.g_time_25 = t323;
@@ -1406,82 +1405,97 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b38;
-    elems1.clear();
-    elems1.clear();
-    const C4_Cloud& g2 = s.g_cloud_21;
-    const int32_t colour3 = colour_3_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(0)), add(g2.origin.y, int32_t(0))}, colour3});
-    const int32_t colour4 = colour_4_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(1)), add(g2.origin.y, int32_t(0))}, colour4});
-    const int32_t colour5 = colour_5_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(2)), add(g2.origin.y, int32_t(0))}, colour5});
-    const int32_t colour6 = colour_6_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(3)), add(g2.origin.y, int32_t(0))}, colour6});
-    const int32_t colour7 = colour_7_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(4)), add(g2.origin.y, int32_t(0))}, colour7});
-    const int32_t colour8 = colour_8_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(5)), add(g2.origin.y, int32_t(0))}, colour8});
-    const int32_t colour9 = colour_9_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(6)), add(g2.origin.y, int32_t(0))}, colour9});
-    const int32_t colour10 = colour_10_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(7)), add(g2.origin.y, int32_t(0))}, colour10});
-    const int32_t colour11 = colour_11_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(8)), add(g2.origin.y, int32_t(0))}, colour11});
-    const int32_t colour12 = colour_12_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(9)), add(g2.origin.y, int32_t(0))}, colour12});
-    const int32_t colour13 = colour_13_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(10)), add(g2.origin.y, int32_t(0))}, colour13});
-    const int32_t colour14 = colour_14_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(11)), add(g2.origin.y, int32_t(0))}, colour14});
-    const int32_t colour15 = colour_15_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(12)), add(g2.origin.y, int32_t(0))}, colour15});
-    const int32_t colour16 = colour_16_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(13)), add(g2.origin.y, int32_t(0))}, colour16});
-    const int32_t colour17 = colour_17_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(14)), add(g2.origin.y, int32_t(0))}, colour17});
-    const int32_t colour18 = colour_18_C4_Cloud(s, g2);
-    elems1.push_back(Elem{Pos{add(g2.origin.x, int32_t(15)), add(g2.origin.y, int32_t(0))}, colour18});
-    for (const Elem& e19 : elems1) {
-      s.core.occupied.add(e19.position);
-      if (paint) paint->paint(e19.position, pal[e19.color]);
+    const C4_Cloud& g1 = s.g_cloud_21;
+    const int32_t colour2 = colour_3_C4_Cloud(s, g1);
+    const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
+    s.core.occupied.add(e3.position);
+    if (paint) paint->paint(e3.position, pal[e3.color]);
+    const int32_t colour4 = colour_4_C4_Cloud(s, g1);
+    const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, colour4};
+    s.core.occupied.add(e5.position);
+    if (paint) paint->paint(e5.position, pal[e5.color]);
+    const int32_t colour6 = colour_5_C4_Cloud(s, g1);
+    const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, colour6};
+    s.core.occupied.add(e7.position);
+    if (paint) paint->paint(e7.position, pal[e7.color]);
+    const int32_t colour8 = colour_6_C4_Cloud(s, g1);
+    const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, colour8};
+    s.core.occupied.add(e9.position);
+    if (paint) paint->paint(e9.position, pal[e9.color]);
+    const int32_t colour10 = colour_7_C4_Cloud(s, g1);
+    const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, colour10};
+    s.core.occupied.add(e11.position);
+    if (paint) paint->paint(e11.position, pal[e11.color]);
+    const int32_t colour12 = colour_8_C4_Cloud(s, g1);
+    const Elem e13 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, colour12};
+    s.core.occupied.add(e13.position);
+    if (paint) paint->paint(e13.position, pal[e13.color]);
+    const int32_t colour14 = colour_9_C4_Cloud(s, g1);
+    const Elem e15 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, colour14};
+    s.core.occupied.add(e15.position);
+    if (paint) paint->paint(e15.position, pal[e15.color]);
+    const int32_t colour16 = colour_10_C4_Cloud(s, g1);
+    const Elem e17 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, colour16};
+    s.core.occupied.add(e17.position);
+    if (paint) paint->paint(e17.position, pal[e17.color]);
+    const int32_t colour18 = colour_11_C4_Cloud(s, g1);
+    const Elem e19 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, colour18};
+    s.core.occupied.add(e19.position);
+    if (paint) paint->paint(e19.position, pal[e19.color]);
+    const int32_t colour20 = colour_12_C4_Cloud(s, g1);
+    const Elem e21 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, colour20};
+    s.core.occupied.add(e21.position);
+    if (paint) paint->paint(e21.position, pal[e21.color]);
+    const int32_t colour22 = colour_13_C4_Cloud(s, g1);
+    const Elem e23 = Elem{Pos{add(g1.origin.x, int32_t(10)), add(g1.origin.y, int32_t(0))}, colour22};
+    s.core.occupied.add(e23.position);
+    if (paint) paint->paint(e23.position, pal[e23.color]);
+    const int32_t colour24 = colour_14_C4_Cloud(s, g1);
+    const Elem e25 = Elem{Pos{add(g1.origin.x, int32_t(11)), add(g1.origin.y, int32_t(0))}, colour24};
+    s.core.occupied.add(e25.position);
+    if (paint) paint->paint(e25.position, pal[e25.color]);
+    const int32_t colour26 = colour_15_C4_Cloud(s, g1);
+    const Elem e27 = Elem{Pos{add(g1.origin.x, int32_t(12)), add(g1.origin.y, int32_t(0))}, colour26};
+    s.core.occupied.add(e27.position);
+    if (paint) paint->paint(e27.position, pal[e27.color]);
+    const int32_t colour28 = colour_16_C4_Cloud(s, g1);
+    const Elem e29 = Elem{Pos{add(g1.origin.x, int32_t(13)), add(g1.origin.y, int32_t(0))}, colour28};
+    s.core.occupied.add(e29.position);
+    if (paint) paint->paint(e29.position, pal[e29.color]);
+    const int32_t colour30 = colour_17_C4_Cloud(s, g1);
+    const Elem e31 = Elem{Pos{add(g1.origin.x, int32_t(14)), add(g1.origin.y, int32_t(0))}, colour30};
+    s.core.occupied.add(e31.position);
+    if (paint) paint->paint(e31.position, pal[e31.color]);
+    const int32_t colour32 = colour_18_C4_Cloud(s, g1);
+    const Elem e33 = Elem{Pos{add(g1.origin.x, int32_t(15)), add(g1.origin.y, int32_t(0))}, colour32};
+    s.core.occupied.add(e33.position);
+    if (paint) paint->paint(e33.position, pal[e33.color]);
+    const std::vector<C2_Rock>& g34 = s.g_rocks_17;
+    for (const C2_Rock& x35 : g34) {
+      const Elem e36 = Elem{Pos{add(x35.origin.x, int32_t(0)), add(x35.origin.y, int32_t(0))}, int32_t(3)};
+      s.core.occupied.add(e36.position);
+      if (paint) paint->paint(e36.position, pal[e36.color]);
     }
-    elems1.clear();
-    const std::vector<C2_Rock>& g20 = s.g_rocks_17;
-    for (const C2_Rock& x21 : g20) {
-      elems1.push_back(Elem{Pos{add(x21.origin.x, int32_t(0)), add(x21.origin.y, int32_t(0))}, int32_t(3)});
+    const std::vector<C0_Flake>& g37 = s.g_snow_9;
+    for (const C0_Flake& x38 : g37) {
+      const Elem e39 = Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, int32_t(6)};
+      s.core.occupied.add(e39.position);
+      if (paint) paint->paint(e39.position, pal[e39.color]);
     }
-    for (const Elem& e22 : elems1) {
-      s.core.occupied.add(e22.position);
-      if (paint) paint->paint(e22.position, pal[e22.color]);
+    const std::vector<C1_Melt>& g40 = s.g_melt_13;
+    for (const C1_Melt& x41 : g40) {
+      const int32_t colour42 = colour_19_C1_Melt(s, x41);
+      const Elem e43 = Elem{Pos{add(x41.origin.x, int32_t(0)), add(x41.origin.y, int32_t(0))}, colour42};
+      s.core.occupied.add(e43.position);
+      if (paint) paint->paint(e43.position, pal[e43.color]);
     }
-    elems1.clear();
-    const std::vector<C0_Flake>& g23 = s.g_snow_9;
-    for (const C0_Flake& x24 : g23) {
-      elems1.push_back(Elem{Pos{add(x24.origin.x, int32_t(0)), add(x24.origin.y, int32_t(0))}, int32_t(6)});
-    }
-    for (const Elem& e25 : elems1) {
-      s.core.occupied.add(e25.position);
-      if (paint) paint->paint(e25.position, pal[e25.color]);
-    }
-    elems1.clear();
-    const std::vector<C1_Melt>& g26 = s.g_melt_13;
-    for (const C1_Melt& x27 : g26) {
-      const int32_t colour28 = colour_19_C1_Melt(s, x27);
-      elems1.push_back(Elem{Pos{add(x27.origin.x, int32_t(0)), add(x27.origin.y, int32_t(0))}, colour28});
-    }
-    for (const Elem& e29 : elems1) {
-      s.core.occupied.add(e29.position);
-      if (paint) paint->paint(e29.position, pal[e29.color]);
-    }
-    elems1.clear();
-    const C3_Plow& g30 = s.g_plow_5;
-    elems1.push_back(Elem{Pos{add(g30.origin.x, int32_t(0)), add(g30.origin.y, int32_t(0))}, int32_t(2)});
-    elems1.push_back(Elem{Pos{add(g30.origin.x, int32_t(1)), add(g30.origin.y, int32_t(0))}, int32_t(2)});
-    for (const Elem& e31 : elems1) {
-      s.core.occupied.add(e31.position);
-      if (paint) paint->paint(e31.position, pal[e31.color]);
-    }
+    const C3_Plow& g44 = s.g_plow_5;
+    const Elem e45 = Elem{Pos{add(g44.origin.x, int32_t(0)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
+    s.core.occupied.add(e45.position);
+    if (paint) paint->paint(e45.position, pal[e45.color]);
+    const Elem e46 = Elem{Pos{add(g44.origin.x, int32_t(1)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
+    s.core.occupied.add(e46.position);
+    if (paint) paint->paint(e46.position, pal[e46.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -114,7 +114,6 @@ struct Prog {
     std::vector<Elem> b19;
     std::vector<C2_Crate> b20;
     std::vector<C2_Crate> b21;
-    std::vector<Elem> b22;
     C4_Button p_reset_10{};
     bool sv_reset_11{};
     std::vector<C2_Crate> p_crates_14{};
@@ -431,7 +430,7 @@ struct Prog {
           r28 = prev48;
         }
         if (!s.scratch.v.sv_crates_15) {
-          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
           s.scratch.v.sv_crates_15 = true;
         }
         std::swap(s.g_crates_12, r28);
@@ -561,7 +560,7 @@ struct Prog {
           r91 = prev97;
         }
         if (!s.scratch.v.sv_keeper_23) {
-          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          std::swap(s.scratch.v.p_keeper_22, s.g_keeper_20);
           s.scratch.v.sv_keeper_23 = true;
         }
         s.g_keeper_20 = std::move(r91);
@@ -687,7 +686,7 @@ struct Prog {
           r125 = prev145;
         }
         if (!s.scratch.v.sv_crates_15) {
-          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
           s.scratch.v.sv_crates_15 = true;
         }
         std::swap(s.g_crates_12, r125);
@@ -817,7 +816,7 @@ struct Prog {
           r188 = prev194;
         }
         if (!s.scratch.v.sv_keeper_23) {
-          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          std::swap(s.scratch.v.p_keeper_22, s.g_keeper_20);
           s.scratch.v.sv_keeper_23 = true;
         }
         s.g_keeper_20 = std::move(r188);
@@ -943,7 +942,7 @@ struct Prog {
           r222 = prev242;
         }
         if (!s.scratch.v.sv_crates_15) {
-          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
           s.scratch.v.sv_crates_15 = true;
         }
         std::swap(s.g_crates_12, r222);
@@ -1073,7 +1072,7 @@ struct Prog {
           r285 = prev291;
         }
         if (!s.scratch.v.sv_keeper_23) {
-          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          std::swap(s.scratch.v.p_keeper_22, s.g_keeper_20);
           s.scratch.v.sv_keeper_23 = true;
         }
         s.g_keeper_20 = std::move(r285);
@@ -1199,7 +1198,7 @@ struct Prog {
           r319 = prev339;
         }
         if (!s.scratch.v.sv_crates_15) {
-          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
           s.scratch.v.sv_crates_15 = true;
         }
         std::swap(s.g_crates_12, r319);
@@ -1329,7 +1328,7 @@ struct Prog {
           r382 = prev388;
         }
         if (!s.scratch.v.sv_keeper_23) {
-          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          std::swap(s.scratch.v.p_keeper_22, s.g_keeper_20);
           s.scratch.v.sv_keeper_23 = true;
         }
         s.g_keeper_20 = std::move(r382);
@@ -1385,7 +1384,7 @@ struct Prog {
           out398.push_back(std::move(upd404));
         }
         if (!s.scratch.v.sv_crates_15) {
-          s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+          std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
           s.scratch.v.sv_crates_15 = true;
         }
         std::swap(s.g_crates_12, out398);
@@ -1393,7 +1392,7 @@ struct Prog {
         const Pos& g405 = s.g_keeperStart_7;
         C3_Keeper o406 = C3_Keeper{g405};
         if (!s.scratch.v.sv_keeper_23) {
-          s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+          std::swap(s.scratch.v.p_keeper_22, s.g_keeper_20);
           s.scratch.v.sv_keeper_23 = true;
         }
         s.g_keeper_20 = std::move(o406);
@@ -1440,50 +1439,50 @@ struct Prog {
       }
     }
     // NEXT of reset, programs/sokoban.au:43
-    if (!s.u_reset_9) {
+    if ((!s.u_reset_9 && s.scratch.v.sv_reset_11)) {
       const C4_Button prev418 = (s.scratch.v.sv_reset_11 ? s.scratch.v.p_reset_10 : s.g_reset_8);
       if (!s.scratch.v.sv_reset_11) {
-        s.scratch.v.p_reset_10 = std::move(s.g_reset_8);
+        std::swap(s.scratch.v.p_reset_10, s.g_reset_8);
         s.scratch.v.sv_reset_11 = true;
       }
       s.g_reset_8 = prev418;
       s.u_reset_9 = true;
     }
     // NEXT of crates, programs/sokoban.au:37
-    if (!s.u_crates_13) {
+    if ((!s.u_crates_13 && s.scratch.v.sv_crates_15)) {
       const std::vector<C2_Crate> prev419 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
       if (!s.scratch.v.sv_crates_15) {
-        s.scratch.v.p_crates_14 = std::move(s.g_crates_12);
+        std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
         s.scratch.v.sv_crates_15 = true;
       }
       s.g_crates_12 = prev419;
       s.u_crates_13 = true;
     }
     // NEXT of goals, programs/sokoban.au:34
-    if (!s.u_goals_17) {
+    if ((!s.u_goals_17 && s.scratch.v.sv_goals_19)) {
       const std::vector<C1_Goal> prev420 = (s.scratch.v.sv_goals_19 ? s.scratch.v.p_goals_18 : s.g_goals_16);
       if (!s.scratch.v.sv_goals_19) {
-        s.scratch.v.p_goals_18 = std::move(s.g_goals_16);
+        std::swap(s.scratch.v.p_goals_18, s.g_goals_16);
         s.scratch.v.sv_goals_19 = true;
       }
       s.g_goals_16 = prev420;
       s.u_goals_17 = true;
     }
     // NEXT of keeper, programs/sokoban.au:40
-    if (!s.u_keeper_21) {
+    if ((!s.u_keeper_21 && s.scratch.v.sv_keeper_23)) {
       const C3_Keeper prev421 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
       if (!s.scratch.v.sv_keeper_23) {
-        s.scratch.v.p_keeper_22 = std::move(s.g_keeper_20);
+        std::swap(s.scratch.v.p_keeper_22, s.g_keeper_20);
         s.scratch.v.sv_keeper_23 = true;
       }
       s.g_keeper_20 = prev421;
       s.u_keeper_21 = true;
     }
     // NEXT of walls, programs/sokoban.au:31
-    if (!s.u_walls_25) {
+    if ((!s.u_walls_25 && s.scratch.v.sv_walls_27)) {
       const std::vector<C0_Wall> prev422 = (s.scratch.v.sv_walls_27 ? s.scratch.v.p_walls_26 : s.g_walls_24);
       if (!s.scratch.v.sv_walls_27) {
-        s.scratch.v.p_walls_26 = std::move(s.g_walls_24);
+        std::swap(s.scratch.v.p_walls_26, s.g_walls_24);
         s.scratch.v.sv_walls_27 = true;
       }
       s.g_walls_24 = prev422;
@@ -1497,50 +1496,33 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b22;
-    elems1.clear();
-    elems1.clear();
-    const std::vector<C0_Wall>& g2 = s.g_walls_24;
-    for (const C0_Wall& x3 : g2) {
-      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(6)});
+    const std::vector<C0_Wall>& g1 = s.g_walls_24;
+    for (const C0_Wall& x2 : g1) {
+      const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(6)};
+      s.core.occupied.add(e3.position);
+      if (paint) paint->paint(e3.position, pal[e3.color]);
     }
-    for (const Elem& e4 : elems1) {
-      s.core.occupied.add(e4.position);
-      if (paint) paint->paint(e4.position, pal[e4.color]);
+    const std::vector<C1_Goal>& g4 = s.g_goals_16;
+    for (const C1_Goal& x5 : g4) {
+      const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
+      s.core.occupied.add(e6.position);
+      if (paint) paint->paint(e6.position, pal[e6.color]);
     }
-    elems1.clear();
-    const std::vector<C1_Goal>& g5 = s.g_goals_16;
-    for (const C1_Goal& x6 : g5) {
-      elems1.push_back(Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(4)});
+    const std::vector<C2_Crate>& g7 = s.g_crates_12;
+    for (const C2_Crate& x8 : g7) {
+      const int32_t colour9 = colour_1_C2_Crate(s, x8);
+      const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
+      s.core.occupied.add(e10.position);
+      if (paint) paint->paint(e10.position, pal[e10.color]);
     }
-    for (const Elem& e7 : elems1) {
-      s.core.occupied.add(e7.position);
-      if (paint) paint->paint(e7.position, pal[e7.color]);
-    }
-    elems1.clear();
-    const std::vector<C2_Crate>& g8 = s.g_crates_12;
-    for (const C2_Crate& x9 : g8) {
-      const int32_t colour10 = colour_1_C2_Crate(s, x9);
-      elems1.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10});
-    }
-    for (const Elem& e11 : elems1) {
-      s.core.occupied.add(e11.position);
-      if (paint) paint->paint(e11.position, pal[e11.color]);
-    }
-    elems1.clear();
-    const C3_Keeper& g12 = s.g_keeper_20;
-    elems1.push_back(Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, int32_t(5)});
-    for (const Elem& e13 : elems1) {
-      s.core.occupied.add(e13.position);
-      if (paint) paint->paint(e13.position, pal[e13.color]);
-    }
-    elems1.clear();
-    const C4_Button& g14 = s.g_reset_8;
-    elems1.push_back(Elem{Pos{add(g14.origin.x, int32_t(0)), add(g14.origin.y, int32_t(0))}, int32_t(2)});
-    for (const Elem& e15 : elems1) {
-      s.core.occupied.add(e15.position);
-      if (paint) paint->paint(e15.position, pal[e15.color]);
-    }
+    const C3_Keeper& g11 = s.g_keeper_20;
+    const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(5)};
+    s.core.occupied.add(e12.position);
+    if (paint) paint->paint(e12.position, pal[e12.color]);
+    const C4_Button& g13 = s.g_reset_8;
+    const Elem e14 = Elem{Pos{add(g13.origin.x, int32_t(0)), add(g13.origin.y, int32_t(0))}, int32_t(2)};
+    s.core.occupied.add(e14.position);
+    if (paint) paint->paint(e14.position, pal[e14.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -105,7 +105,6 @@ struct Prog {
     std::vector<C1_Mole> b14;
     std::vector<C2_Flash> b15;
     std::vector<C2_Flash> b16;
-    std::vector<Elem> b17;
     C3_ScoreBar p_bar_8{};
     bool sv_bar_9{};
     bool p_won_12{};
@@ -433,7 +432,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_moles_21) {
-          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
         std::swap(s.g_moles_18, out19);
@@ -448,7 +447,7 @@ struct Prog {
           r30 = t28;
         }
         if (!s.scratch.v.sv_score_17) {
-          s.scratch.v.p_score_16 = std::move(s.g_score_14);
+          std::swap(s.scratch.v.p_score_16, s.g_score_14);
           s.scratch.v.sv_score_17 = true;
         }
         s.g_score_14 = r30;
@@ -478,7 +477,7 @@ struct Prog {
         }
         added38.push_back(std::move(o37));
         if (!s.scratch.v.sv_flashes_29) {
-          s.scratch.v.p_flashes_28 = std::move(s.g_flashes_26);
+          std::swap(s.scratch.v.p_flashes_28, s.g_flashes_26);
           s.scratch.v.sv_flashes_29 = true;
         }
         std::swap(s.g_flashes_26, added38);
@@ -552,7 +551,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_moles_21) {
-          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
         std::swap(s.g_moles_18, out59);
@@ -567,7 +566,7 @@ struct Prog {
           r65 = int32_t(0);
         }
         if (!s.scratch.v.sv_score_17) {
-          s.scratch.v.p_score_16 = std::move(s.g_score_14);
+          std::swap(s.scratch.v.p_score_16, s.g_score_14);
           s.scratch.v.sv_score_17 = true;
         }
         s.g_score_14 = r65;
@@ -615,7 +614,7 @@ struct Prog {
           }
         }
         if (!s.scratch.v.sv_moles_21) {
-          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
         std::swap(s.g_moles_18, out76);
@@ -708,7 +707,7 @@ struct Prog {
         }
         added111.push_back(std::move(o110));
         if (!s.scratch.v.sv_moles_21) {
-          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
         std::swap(s.g_moles_18, added111);
@@ -730,14 +729,14 @@ struct Prog {
       if (r115) {
         s.core.covered[int32_t(4)] = 1;
         if (!s.scratch.v.sv_won_13) {
-          s.scratch.v.p_won_12 = std::move(s.g_won_10);
+          std::swap(s.scratch.v.p_won_12, s.g_won_10);
           s.scratch.v.sv_won_13 = true;
         }
         s.g_won_10 = true;
         s.u_won_11 = true;
         s.g_background_2 = int32_t(3);
         if (!s.scratch.v.sv_moles_21) {
-          s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+          std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
         s.g_moles_18 = std::vector<C1_Mole>{};
@@ -778,13 +777,13 @@ struct Prog {
       if (r119) {
         s.core.covered[int32_t(5)] = 1;
         if (!s.scratch.v.sv_won_13) {
-          s.scratch.v.p_won_12 = std::move(s.g_won_10);
+          std::swap(s.scratch.v.p_won_12, s.g_won_10);
           s.scratch.v.sv_won_13 = true;
         }
         s.g_won_10 = false;
         s.u_won_11 = true;
         if (!s.scratch.v.sv_score_17) {
-          s.scratch.v.p_score_16 = std::move(s.g_score_14);
+          std::swap(s.scratch.v.p_score_16, s.g_score_14);
           s.scratch.v.sv_score_17 = true;
         }
         s.g_score_14 = int32_t(0);
@@ -799,47 +798,47 @@ struct Prog {
       C3_ScoreBar upd129 = prev127;
       upd129.f0 = g128;
       if (!s.scratch.v.sv_bar_9) {
-        s.scratch.v.p_bar_8 = std::move(s.g_bar_6);
+        std::swap(s.scratch.v.p_bar_8, s.g_bar_6);
         s.scratch.v.sv_bar_9 = true;
       }
       s.g_bar_6 = std::move(upd129);
       s.u_bar_7 = true;
     }
     // NEXT of won, programs/whack_a_mole.au:39
-    if (!s.u_won_11) {
+    if ((!s.u_won_11 && s.scratch.v.sv_won_13)) {
       const bool prev130 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
       if (!s.scratch.v.sv_won_13) {
-        s.scratch.v.p_won_12 = std::move(s.g_won_10);
+        std::swap(s.scratch.v.p_won_12, s.g_won_10);
         s.scratch.v.sv_won_13 = true;
       }
       s.g_won_10 = prev130;
       s.u_won_11 = true;
     }
     // NEXT of score, programs/whack_a_mole.au:36
-    if (!s.u_score_15) {
+    if ((!s.u_score_15 && s.scratch.v.sv_score_17)) {
       const int32_t prev131 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
       if (!s.scratch.v.sv_score_17) {
-        s.scratch.v.p_score_16 = std::move(s.g_score_14);
+        std::swap(s.scratch.v.p_score_16, s.g_score_14);
         s.scratch.v.sv_score_17 = true;
       }
       s.g_score_14 = prev131;
       s.u_score_15 = true;
     }
     // NEXT of moles, programs/whack_a_mole.au:28
-    if (!s.u_moles_19) {
+    if ((!s.u_moles_19 && s.scratch.v.sv_moles_21)) {
       const std::vector<C1_Mole> prev132 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
       if (!s.scratch.v.sv_moles_21) {
-        s.scratch.v.p_moles_20 = std::move(s.g_moles_18);
+        std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
         s.scratch.v.sv_moles_21 = true;
       }
       s.g_moles_18 = prev132;
       s.u_moles_19 = true;
     }
     // NEXT of burrows, programs/whack_a_mole.au:25
-    if (!s.u_burrows_23) {
+    if ((!s.u_burrows_23 && s.scratch.v.sv_burrows_25)) {
       const std::vector<C0_Burrow> prev133 = (s.scratch.v.sv_burrows_25 ? s.scratch.v.p_burrows_24 : s.g_burrows_22);
       if (!s.scratch.v.sv_burrows_25) {
-        s.scratch.v.p_burrows_24 = std::move(s.g_burrows_22);
+        std::swap(s.scratch.v.p_burrows_24, s.g_burrows_22);
         s.scratch.v.sv_burrows_25 = true;
       }
       s.g_burrows_22 = prev133;
@@ -868,7 +867,7 @@ struct Prog {
         out138.push_back(std::move(upd141));
       }
       if (!s.scratch.v.sv_flashes_29) {
-        s.scratch.v.p_flashes_28 = std::move(s.g_flashes_26);
+        std::swap(s.scratch.v.p_flashes_28, s.g_flashes_26);
         s.scratch.v.sv_flashes_29 = true;
       }
       std::swap(s.g_flashes_26, out138);
@@ -879,7 +878,7 @@ struct Prog {
       const int32_t& prev142 = (s.scratch.v.sv_time_33 ? s.scratch.v.p_time_32 : s.g_time_30);
       const int32_t t143 = add(prev142, int32_t(1));
       if (!s.scratch.v.sv_time_33) {
-        s.scratch.v.p_time_32 = std::move(s.g_time_30);
+        std::swap(s.scratch.v.p_time_32, s.g_time_30);
         s.scratch.v.sv_time_33 = true;
       }
       s.g_time_30 = t143;
@@ -893,63 +892,67 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid);
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
-    std::vector<Elem>& elems1 = s.scratch.v.b17;
-    elems1.clear();
-    elems1.clear();
-    const std::vector<C0_Burrow>& g2 = s.g_burrows_22;
-    for (const C0_Burrow& x3 : g2) {
-      elems1.push_back(Elem{Pos{add(x3.origin.x, int32_t(0)), add(x3.origin.y, int32_t(0))}, int32_t(2)});
+    const std::vector<C0_Burrow>& g1 = s.g_burrows_22;
+    for (const C0_Burrow& x2 : g1) {
+      const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
+      s.core.occupied.add(e3.position);
+      if (paint) paint->paint(e3.position, pal[e3.color]);
     }
-    for (const Elem& e4 : elems1) {
-      s.core.occupied.add(e4.position);
-      if (paint) paint->paint(e4.position, pal[e4.color]);
+    const std::vector<C1_Mole>& g4 = s.g_moles_18;
+    for (const C1_Mole& x5 : g4) {
+      const int32_t colour6 = colour_11_C1_Mole(s, x5);
+      const Elem e7 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, colour6};
+      s.core.occupied.add(e7.position);
+      if (paint) paint->paint(e7.position, pal[e7.color]);
     }
-    elems1.clear();
-    const std::vector<C1_Mole>& g5 = s.g_moles_18;
-    for (const C1_Mole& x6 : g5) {
-      const int32_t colour7 = colour_11_C1_Mole(s, x6);
-      elems1.push_back(Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7});
+    const std::vector<C2_Flash>& g8 = s.g_flashes_26;
+    for (const C2_Flash& x9 : g8) {
+      const int32_t colour10 = colour_12_C2_Flash(s, x9);
+      const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
+      s.core.occupied.add(e11.position);
+      if (paint) paint->paint(e11.position, pal[e11.color]);
     }
-    for (const Elem& e8 : elems1) {
-      s.core.occupied.add(e8.position);
-      if (paint) paint->paint(e8.position, pal[e8.color]);
-    }
-    elems1.clear();
-    const std::vector<C2_Flash>& g9 = s.g_flashes_26;
-    for (const C2_Flash& x10 : g9) {
-      const int32_t colour11 = colour_12_C2_Flash(s, x10);
-      elems1.push_back(Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11});
-    }
-    for (const Elem& e12 : elems1) {
-      s.core.occupied.add(e12.position);
-      if (paint) paint->paint(e12.position, pal[e12.color]);
-    }
-    elems1.clear();
-    const C3_ScoreBar& g13 = s.g_bar_6;
-    const int32_t colour14 = colour_0_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(0)), add(g13.origin.y, int32_t(0))}, colour14});
-    const int32_t colour15 = colour_1_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(1)), add(g13.origin.y, int32_t(0))}, colour15});
-    const int32_t colour16 = colour_2_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(2)), add(g13.origin.y, int32_t(0))}, colour16});
-    const int32_t colour17 = colour_3_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(3)), add(g13.origin.y, int32_t(0))}, colour17});
-    const int32_t colour18 = colour_4_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(4)), add(g13.origin.y, int32_t(0))}, colour18});
-    const int32_t colour19 = colour_5_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(5)), add(g13.origin.y, int32_t(0))}, colour19});
-    const int32_t colour20 = colour_6_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(6)), add(g13.origin.y, int32_t(0))}, colour20});
-    const int32_t colour21 = colour_7_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(7)), add(g13.origin.y, int32_t(0))}, colour21});
-    const int32_t colour22 = colour_8_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(8)), add(g13.origin.y, int32_t(0))}, colour22});
-    const int32_t colour23 = colour_9_C3_ScoreBar(s, g13);
-    elems1.push_back(Elem{Pos{add(g13.origin.x, int32_t(9)), add(g13.origin.y, int32_t(0))}, colour23});
-    for (const Elem& e24 : elems1) {
-      s.core.occupied.add(e24.position);
-      if (paint) paint->paint(e24.position, pal[e24.color]);
-    }
+    const C3_ScoreBar& g12 = s.g_bar_6;
+    const int32_t colour13 = colour_0_C3_ScoreBar(s, g12);
+    const Elem e14 = Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, colour13};
+    s.core.occupied.add(e14.position);
+    if (paint) paint->paint(e14.position, pal[e14.color]);
+    const int32_t colour15 = colour_1_C3_ScoreBar(s, g12);
+    const Elem e16 = Elem{Pos{add(g12.origin.x, int32_t(1)), add(g12.origin.y, int32_t(0))}, colour15};
+    s.core.occupied.add(e16.position);
+    if (paint) paint->paint(e16.position, pal[e16.color]);
+    const int32_t colour17 = colour_2_C3_ScoreBar(s, g12);
+    const Elem e18 = Elem{Pos{add(g12.origin.x, int32_t(2)), add(g12.origin.y, int32_t(0))}, colour17};
+    s.core.occupied.add(e18.position);
+    if (paint) paint->paint(e18.position, pal[e18.color]);
+    const int32_t colour19 = colour_3_C3_ScoreBar(s, g12);
+    const Elem e20 = Elem{Pos{add(g12.origin.x, int32_t(3)), add(g12.origin.y, int32_t(0))}, colour19};
+    s.core.occupied.add(e20.position);
+    if (paint) paint->paint(e20.position, pal[e20.color]);
+    const int32_t colour21 = colour_4_C3_ScoreBar(s, g12);
+    const Elem e22 = Elem{Pos{add(g12.origin.x, int32_t(4)), add(g12.origin.y, int32_t(0))}, colour21};
+    s.core.occupied.add(e22.position);
+    if (paint) paint->paint(e22.position, pal[e22.color]);
+    const int32_t colour23 = colour_5_C3_ScoreBar(s, g12);
+    const Elem e24 = Elem{Pos{add(g12.origin.x, int32_t(5)), add(g12.origin.y, int32_t(0))}, colour23};
+    s.core.occupied.add(e24.position);
+    if (paint) paint->paint(e24.position, pal[e24.color]);
+    const int32_t colour25 = colour_6_C3_ScoreBar(s, g12);
+    const Elem e26 = Elem{Pos{add(g12.origin.x, int32_t(6)), add(g12.origin.y, int32_t(0))}, colour25};
+    s.core.occupied.add(e26.position);
+    if (paint) paint->paint(e26.position, pal[e26.color]);
+    const int32_t colour27 = colour_7_C3_ScoreBar(s, g12);
+    const Elem e28 = Elem{Pos{add(g12.origin.x, int32_t(7)), add(g12.origin.y, int32_t(0))}, colour27};
+    s.core.occupied.add(e28.position);
+    if (paint) paint->paint(e28.position, pal[e28.color]);
+    const int32_t colour29 = colour_8_C3_ScoreBar(s, g12);
+    const Elem e30 = Elem{Pos{add(g12.origin.x, int32_t(8)), add(g12.origin.y, int32_t(0))}, colour29};
+    s.core.occupied.add(e30.position);
+    if (paint) paint->paint(e30.position, pal[e30.color]);
+    const int32_t colour31 = colour_9_C3_ScoreBar(s, g12);
+    const Elem e32 = Elem{Pos{add(g12.origin.x, int32_t(9)), add(g12.origin.y, int32_t(0))}, colour31};
+    s.core.occupied.add(e32.position);
+    if (paint) paint->paint(e32.position, pal[e32.color]);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -18,8 +18,11 @@ ModuleEnvironment::~ModuleEnvironment() {
 
 bool ModuleEnvironment::sync(int ok) {
   failed_ = !ok;
-  error_ = failed_ ? table_->error(handle_) : "";
-  if (failed_) return false;
+  if (failed_) {
+    error_ = table_->error(handle_);
+    return false;
+  }
+  if (!error_.empty()) error_.clear();
   stale_ = true;
   return true;
 }

@@ -17,6 +17,7 @@
 //   Set     a = b;                    a is a place
 //   Push    a.push_back(b);
 //   Eval    a;                        a helper call for its effect
+//   Swap    std::swap(a, b);          two places exchange values (storage is recycled)
 //   If / ForEach / ForRange / Switch / Block / Break / Return / Fail / Comment
 //
 // Invariant: a place (Local, Global, Slot, Field of a place) read by an
@@ -119,7 +120,7 @@ struct Node {
 };
 
 enum class SK : uint8_t { Let, Decl, Bind, Set, Push, Eval, If, ForEach, ForRange, Switch, Block, Break,
-                          Return, Fail, Comment };
+                          Return, Fail, Comment, Swap };
 
 struct Stmt;
 using Block = std::vector<Stmt*>;

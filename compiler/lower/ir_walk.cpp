@@ -56,6 +56,12 @@ class Walker {
     w_.at.push_back(&s);
     if (s.var) w_.declared[s.var] = pos;
     switch (s.k) {
+      case SK::Swap:
+        store(s.a, pos);
+        store(s.b, pos);
+        uses(s.a, pos);
+        uses(s.b, pos);
+        break;
       case SK::Set:
       case SK::Push:
         store(s.a, pos);

@@ -275,6 +275,7 @@ void Printer::stmt(const Stmt& s) {
       line(expr(s.a) + ".push_back(" + (s.move_value ? "std::move(" + expr(s.b) + ")" : expr(s.b)) + ");");
       return;
     case SK::Eval: line(expr(s.a) + ";"); return;
+    case SK::Swap: line("std::swap(" + expr(s.a) + ", " + expr(s.b) + ");"); return;
     case SK::If:
       line("if (" + expr(s.a) + ") {");
       block(s.body);

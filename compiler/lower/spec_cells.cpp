@@ -300,30 +300,36 @@ SVal Specialiser::call_deferred(const SVal& f) {
 // ---------------------------------------------------------------------------
 // Rendering
 
-// Appends the rendered elements of `v` (an object, a list of them, nested) to
-// the list `out`; anything else renders as nothing (native render_value).
-void Specialiser::render_into(const SVal& v, ir::Node* out) {
+// Hands the rendered elements of `v` (an object, a list of them, nested) to
+// `sink` in render order; anything else renders as nothing (native
+// render_value). The sink appends them to a list, or (the host render) marks
+// occupancy and paints them at once.
+void Specialiser::render_into(const SVal& v, const ElemSink& sink) {
   if (!v.type) return;
   switch (v.type->k) {
-    case TK::Obj: render_object(v, out); return;
+    case TK::Obj: render_object(v, sink); return;
     case TK::List: {
       if (!v.type->elem || !renders(v.type->elem)) return;
       ir::Stmt* loop = emit(ir::SK::ForEach);
       loop->var = var(v.type->elem, "x");
       loop->a = v.code;
-      in_block(loop->body, [&] { render_into(SVal{v.type->elem, local(loop->var)}, out); });
+      in_block(loop->body, [&] { render_into(SVal{v.type->elem, local(loop->var)}, sink); });
       return;
     }
     case TK::Sum:
       if (!renders(v.type)) return;
       split(v, [&](const SVal& a) {
-        render_into(a, out);
+        render_into(a, sink);
         return SVal{T().int_(), lit(T().int_(), 0)};
       });
       return;
     default:
       return;
   }
+}
+
+void Specialiser::render_into(const SVal& v, ir::Node* out) {
+  render_into(v, [&](ir::Node* elem) { emit_push(out, elem); });
 }
 
 bool Specialiser::renders(TypeP t) const {
@@ -346,13 +352,21 @@ SVal Specialiser::render_value(const SVal& v, const Expr& at) {
   return built(out);
 }
 
-void Specialiser::render_object(const SVal& o, ir::Node* out) {
+void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
   const int cls = o.type->cls;
   ClassInfo& ci = m_.classes[cls];
-  if (h_.stored_cells.count(cls)) {
-    ir::Node* n = node(ir::Op::FnCall, nullptr, {o.code, out});
+  if (h_.stored_cells.count(cls)) {  // the class's render function, into a buffer
+    ir::Var* out = var(T().list(T().elem()), "cells");
+    out->scratch = true;
+    out->mut = true;
+    emit(ir::SK::Decl)->var = out;
+    ir::Node* n = node(ir::Op::FnCall, nullptr, {o.code, local(out)});
     n->index = -1 - cls;  // settled to the class's render function in finish_classes
     emit_eval(n);
+    ir::Stmt* loop = emit(ir::SK::ForEach);
+    loop->var = var(T().elem(), "e");
+    loop->a = local(out);
+    in_block(loop->body, [&] { sink(local(loop->var)); });
     return;
   }
   if (!ci.static_shape) {
@@ -395,7 +409,7 @@ void Specialiser::render_object(const SVal& o, ir::Node* out) {
     if (m_.deferred[dc].fixed) colour = SVal{T().str(), c->a[2]};
     else colour = deferred_colour(dc, ov, cell);
     if (dead_) return;
-    emit_push(out, node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {x.code, y.code}), colour.code}));
+    sink(node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {x.code, y.code}), colour.code}));
   }
 }
 

@@ -174,16 +174,17 @@ SVal Specialiser::prev_of_name(Sym s) {
 }
 
 // Before the step's first store to a global prev reads: its value moves into
-// the snapshot (nothing else holds it; prev reads the global until now).
+// the snapshot (nothing else holds it; prev reads the global until now). A swap:
+// the store that follows at once overwrites what the global receives, and the
+// snapshot's old storage is reused instead of freed.
 void Specialiser::save_for_prev(Global& g) {
   if (!in_step_ || g.prev < 0 || g.saved < 0) return;
   ir::Stmt* s_if = emit(ir::SK::If);
   s_if->a = node(ir::Op::Not, T().bool_(), {slot(g.saved)});
   in_block(s_if->body, [&] {
-    ir::Stmt* mv = emit(ir::SK::Set);
-    mv->a = slot(g.prev);
-    mv->b = slot(g.value);
-    mv->move_value = true;
+    ir::Stmt* sw = emit(ir::SK::Swap);
+    sw->a = slot(g.prev);
+    sw->b = slot(g.value);
     emit_set(slot(g.saved), lit(T().bool_(), 1));
   });
 }

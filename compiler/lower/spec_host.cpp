@@ -208,6 +208,15 @@ void Specialiser::specialise_step() {
     comment("NEXT of " + nm(s) + ", " + p_.file_name(g.next->loc.source) + ":" + std::to_string(g.next->loc.line));
     ir::Node* run = node(ir::Op::Not, T().bool_(), {slot(g.updated)});
     if (g.state == Global::Runtime) run = node(ir::Op::And, T().bool_(), {run, slot(g.defined)});
+    // (prev x) as x's own NEXT, the usual idiom: while nothing stored x in this
+    // step, x holds that very value (assigning it to itself changes nothing).
+    // (Unless the assignment's type check itself fails: a class that cannot be printed.)
+    auto printable = [&](TypeP t) { return t->k != TK::Obj || m_.classes[t->cls].unknown_field.empty(); };
+    bool checkable = printable(g.type);
+    if (is_sum(g.type))
+      for (TypeP a : g.type->alts) checkable = checkable && printable(a);
+    if (is_own_prev(*g.next, s) && g.saved >= 0 && checkable)
+      run = node(ir::Op::And, T().bool_(), {run, slot(g.saved)});
     ir::Stmt* s_if = emit(ir::SK::If);
     s_if->a = run;
     in_block(s_if->body, [&] {
@@ -218,6 +227,15 @@ void Specialiser::specialise_step() {
     });
   }
   in_step_ = false;
+}
+
+// Whether `e` is (prev x) with the builtin prev, for the global x.
+bool Specialiser::is_own_prev(const Expr& e, Sym x) {
+  if (e.kind != ExprKind::Call || e.kids.size() != 2 || e.kids[0]->kind != ExprKind::Var) return false;
+  if (e.kids[1]->kind != ExprKind::Var || e.kids[1]->name != x) return false;
+  Global* prev = global(e.kids[0]->name);
+  return prev && prev->type && prev->type->k == TK::Func && prev->type->fn.kind == FuncRef::Native &&
+         prev->type->fn.builtin == Builtin::Prev && !prev->constant;
 }
 
 // ---------------------------------------------------------------------------
@@ -250,20 +268,12 @@ void Specialiser::specialise_render() {
   if (!background) unsupported("background may be erased");
   emit_eval(call(ir::Helper::PaintBegin, nullptr, {background}));
 
-  ir::Var* elems = var(T().list(T().elem()), "elems");
-  elems->scratch = true;
-  ir::Stmt* d = emit(ir::SK::Decl);
-  d->var = elems;
-  elems->mut = true;
+  // Every rendered element marks the occupancy and is painted, in render order.
   auto draw = [&](Global& g) {
-    emit_eval(call(ir::Helper::Clear, nullptr, {local(elems)}));
-    render_into(read_global(g), local(elems));
-    ir::Stmt* loop = emit(ir::SK::ForEach);
-    loop->var = var(T().elem(), "e");
-    loop->a = local(elems);
-    in_block(loop->body, [&] {
-      emit_eval(call(ir::Helper::OccupancyAdd, nullptr, {member(local(loop->var), ir::Member::Position, T().pos())}));
-      emit_eval(call(ir::Helper::Paint, nullptr, {local(loop->var)}));
+    render_into(read_global(g), [&](ir::Node* elem) {
+      SVal e = let(SVal{T().elem(), elem}, "e");
+      emit_eval(call(ir::Helper::OccupancyAdd, nullptr, {member(e.code, ir::Member::Position, T().pos())}));
+      emit_eval(call(ir::Helper::Paint, nullptr, {e.code}));
     });
   };
   std::vector<Sym> order = p_.render_order;

@@ -293,8 +293,10 @@ class Specialiser {
   SVal eval_deferred(int d, const SVal* obj, const SVal& cell);
   SVal call_deferred(const SVal& f);
   SVal render_value(const SVal& v, const Expr& at);  // List<Elem>
+  using ElemSink = std::function<void(ir::Node* elem)>;
+  void render_into(const SVal& v, const ElemSink& sink);
   void render_into(const SVal& v, ir::Node* out);
-  void render_object(const SVal& o, ir::Node* out);
+  void render_object(const SVal& o, const ElemSink& sink);
   bool renders(TypeP t) const;
   SVal deferred_colour(int d, const SVal& o, const SVal& cell);
   int colour_function(int d, int cls, const SVal& cell);
@@ -309,6 +311,7 @@ class Specialiser {
   void specialise_start();
   void specialise_step();
   void specialise_render();
+  bool is_own_prev(const Expr& e, Sym x);
   bool in_start_ = false;
   bool in_step_ = false;
 
