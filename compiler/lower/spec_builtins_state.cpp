@@ -13,125 +13,139 @@ namespace autumn::lower {
 // uniformChoice, randomPositions, allPositions, adjPositions, isFreePos, isWithinBounds
 
 SVal Specialiser::builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at) {
-  const size_t n = a.size();
   switch (b) {
     case Builtin::UniformChoice: return builtin_uniform_choice(a);
-    case Builtin::RandomPositions: {
-      if (!need(b, n, 2) || !check_kind(b, a, 0, TK::Int, "a number")) return never();
-      ir::Stmt* s = emit(ir::SK::If);
-      s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
-      in_block(s->body, [&] { fail("randomPositions: the grid size must not be negative"); });
-      if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
-      ir::Var* out = decl(T().list(T().pos()), nullptr, "rpos");
-      ir::Stmt* loop = emit(ir::SK::ForRange);
-      loop->var = var(T().int_(), "i");
-      loop->a = lit(T().int_(), 0);
-      loop->b = a[1].code;
-      in_block(loop->body, [&] {
-        SVal x = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {a[0].code})});
-        SVal y = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {a[0].code})});
-        emit_push(local(out), make_position(x, y).code);
-      });
-      return built(out);
-    }
-    case Builtin::AllPositions: {
-      if (n < 1 || n > 2) {
-        fail("allPositions takes 1 or 2 arguments");
-        return never();
-      }
-      auto size = [&](size_t i) {
-        if (!check_kind(b, a, i, TK::Int, "a number")) return false;
-        ir::Stmt* s = emit(ir::SK::If);
-        s->a = node(ir::Op::Lt, T().bool_(), {a[i].code, lit(T().int_(), 0)});
-        in_block(s->body, [&] { fail("allPositions: negative size"); });
-        return !dead_;
-      };
-      if (!size(0) || (n == 2 && !size(1))) return never();
-      ir::Var* out = decl(T().list(T().pos()), nullptr, "apos");
-      out->scratch = true;
-      ir::Stmt* outer = emit(ir::SK::ForRange);
-      outer->var = var(T().int_(), "i");
-      outer->a = lit(T().int_(), 0);
-      outer->b = a[0].code;
-      in_block(outer->body, [&] {
-        ir::Stmt* inner = emit(ir::SK::ForRange);
-        inner->var = var(T().int_(), "j");
-        inner->a = lit(T().int_(), 0);
-        inner->b = a[n - 1].code;
-        in_block(inner->body, [&] {
-          emit_push(local(out), make_position(SVal{T().int_(), local(outer->var)}, SVal{T().int_(), local(inner->var)}).code);
-        });
-      });
-      return built(out);
-    }
-    case Builtin::AdjPositions: {
-      if (!need(b, n, 1)) return never();
-      if (a[0].type->k != TK::Pos) {
-        fail("adjPositions: the argument must be a Position");
-        return never();
-      }
-      SVal g = grid_size(at);
-      if (dead_) return never();
-      SVal p = let(a[0]);
-      ir::Var* out = decl(T().list(T().pos()), nullptr, "adj");
-      out->scratch = true;
-      ir::Node* x = member(p.code, ir::Member::X, T().int_());
-      ir::Node* y = member(p.code, ir::Member::Y, T().int_());
-      ir::Node* one = lit(T().int_(), 1);
-      const std::pair<ir::Node*, ir::Node*> cand[4] = {
-          {node(ir::Op::Sub, T().int_(), {x, one}), y}, {node(ir::Op::Add, T().int_(), {x, one}), y},
-          {x, node(ir::Op::Sub, T().int_(), {y, one})}, {x, node(ir::Op::Add, T().int_(), {y, one})}};
-      for (const auto& [cx, cy] : cand) {
-        SVal vx = let(SVal{T().int_(), cx}), vy = let(SVal{T().int_(), cy});
-        ir::Node* zero = lit(T().int_(), 0);
-        ir::Stmt* s = emit(ir::SK::If);
-        s->a = node(ir::Op::And, T().bool_(),
-                    {node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vx.code, zero}),
-                                                     node(ir::Op::Lt, T().bool_(), {vx.code, g.code})}),
-                     node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vy.code, zero}),
-                                                     node(ir::Op::Lt, T().bool_(), {vy.code, g.code})})});
-        in_block(s->body, [&] {
-          emit_push(local(out), make_position(vx, vy).code);
-        });
-      }
-      return built(out);
-    }
+    case Builtin::RandomPositions: return builtin_random_positions(a);
+    case Builtin::AllPositions: return builtin_all_positions(a);
+    case Builtin::AdjPositions: return builtin_adj_positions(a, at);
     case Builtin::IsFreePos:
-      if (!need(b, n, 1)) return never();
+      if (!need(b, a.size(), 1)) return never();
       if (a[0].type->k != TK::Pos) {
         fail("isFreePos: the argument must be a Position");
         return never();
       }
       return let(SVal{T().bool_(), call(ir::Helper::OccupancyFree, T().bool_(), {a[0].code})});
-    case Builtin::IsWithinBounds: {
-      if (!need(b, n, 1)) return never();
-      SVal elems = render_value(a[0], at);
-      SVal g = grid_size(at);
-      if (dead_) return never();
-      ir::Var* r = decl(T().bool_(), lit(T().bool_(), 1), "within");
-      if (!renders(a[0].type)) return built(r);
-      ir::Stmt* loop = emit(ir::SK::ForEach);
-      loop->var = var(T().elem(), "e");
-      loop->a = elems.code;
-      in_block(loop->body, [&] {
-        ir::Node* p = member(local(loop->var), ir::Member::Position, T().pos());
-        ir::Node* x = member(p, ir::Member::X, T().int_());
-        ir::Node* y = member(p, ir::Member::Y, T().int_());
-        ir::Node* zero = lit(T().int_(), 0);
-        ir::Stmt* s = emit(ir::SK::If);
-        s->a = node(ir::Op::Or, T().bool_(),
-                    {node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {x, zero}), node(ir::Op::Ge, T().bool_(), {x, g.code})}),
-                     node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {y, zero}), node(ir::Op::Ge, T().bool_(), {y, g.code})})});
-        in_block(s->body, [&] {
-          emit_set(local(r), lit(T().bool_(), 0));
-          emit(ir::SK::Break);
-        });
-      });
-      return built(r);
-    }
-    default: break;
+    case Builtin::IsWithinBounds: return builtin_within_bounds(a, at);
+    default: return never();
   }
-  return never();
+}
+
+SVal Specialiser::builtin_random_positions(std::vector<SVal>& a) {
+  const Builtin b = Builtin::RandomPositions;
+  const size_t n = a.size();
+  if (!need(b, n, 2) || !check_kind(b, a, 0, TK::Int, "a number")) return never();
+  ir::Stmt* s = emit(ir::SK::If);
+  s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
+  in_block(s->body, [&] { fail("randomPositions: the grid size must not be negative"); });
+  if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
+  ir::Var* out = decl(T().list(T().pos()), nullptr, "rpos");
+  ir::Stmt* loop = emit(ir::SK::ForRange);
+  loop->var = var(T().int_(), "i");
+  loop->a = lit(T().int_(), 0);
+  loop->b = a[1].code;
+  in_block(loop->body, [&] {
+    SVal x = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {a[0].code})});
+    SVal y = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {a[0].code})});
+    emit_push(local(out), make_position(x, y).code);
+  });
+  return built(out);
+}
+
+SVal Specialiser::builtin_all_positions(std::vector<SVal>& a) {
+  const Builtin b = Builtin::AllPositions;
+  const size_t n = a.size();
+  if (n < 1 || n > 2) {
+    fail("allPositions takes 1 or 2 arguments");
+    return never();
+  }
+  auto size = [&](size_t i) {
+    if (!check_kind(b, a, i, TK::Int, "a number")) return false;
+    ir::Stmt* s = emit(ir::SK::If);
+    s->a = node(ir::Op::Lt, T().bool_(), {a[i].code, lit(T().int_(), 0)});
+    in_block(s->body, [&] { fail("allPositions: negative size"); });
+    return !dead_;
+  };
+  if (!size(0) || (n == 2 && !size(1))) return never();
+  ir::Var* out = decl(T().list(T().pos()), nullptr, "apos");
+  out->scratch = true;
+  ir::Stmt* outer = emit(ir::SK::ForRange);
+  outer->var = var(T().int_(), "i");
+  outer->a = lit(T().int_(), 0);
+  outer->b = a[0].code;
+  in_block(outer->body, [&] {
+    ir::Stmt* inner = emit(ir::SK::ForRange);
+    inner->var = var(T().int_(), "j");
+    inner->a = lit(T().int_(), 0);
+    inner->b = a[n - 1].code;
+    in_block(inner->body, [&] {
+      emit_push(local(out), make_position(SVal{T().int_(), local(outer->var)}, SVal{T().int_(), local(inner->var)}).code);
+    });
+  });
+  return built(out);
+}
+
+SVal Specialiser::builtin_adj_positions(std::vector<SVal>& a, const Expr& at) {
+  const Builtin b = Builtin::AdjPositions;
+  const size_t n = a.size();
+  if (!need(b, n, 1)) return never();
+  if (a[0].type->k != TK::Pos) {
+    fail("adjPositions: the argument must be a Position");
+    return never();
+  }
+  SVal g = grid_size(at);
+  if (dead_) return never();
+  SVal p = let(a[0]);
+  ir::Var* out = decl(T().list(T().pos()), nullptr, "adj");
+  out->scratch = true;
+  ir::Node* x = member(p.code, ir::Member::X, T().int_());
+  ir::Node* y = member(p.code, ir::Member::Y, T().int_());
+  ir::Node* one = lit(T().int_(), 1);
+  const std::pair<ir::Node*, ir::Node*> cand[4] = {
+      {node(ir::Op::Sub, T().int_(), {x, one}), y}, {node(ir::Op::Add, T().int_(), {x, one}), y},
+      {x, node(ir::Op::Sub, T().int_(), {y, one})}, {x, node(ir::Op::Add, T().int_(), {y, one})}};
+  for (const auto& [cx, cy] : cand) {
+    SVal vx = let(SVal{T().int_(), cx}), vy = let(SVal{T().int_(), cy});
+    ir::Node* zero = lit(T().int_(), 0);
+    ir::Stmt* s = emit(ir::SK::If);
+    s->a = node(ir::Op::And, T().bool_(),
+                {node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vx.code, zero}),
+                                                 node(ir::Op::Lt, T().bool_(), {vx.code, g.code})}),
+                 node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vy.code, zero}),
+                                                 node(ir::Op::Lt, T().bool_(), {vy.code, g.code})})});
+    in_block(s->body, [&] {
+      emit_push(local(out), make_position(vx, vy).code);
+    });
+  }
+  return built(out);
+}
+
+SVal Specialiser::builtin_within_bounds(std::vector<SVal>& a, const Expr& at) {
+  const Builtin b = Builtin::IsWithinBounds;
+  const size_t n = a.size();
+  if (!need(b, n, 1)) return never();
+  SVal elems = render_value(a[0], at);
+  SVal g = grid_size(at);
+  if (dead_) return never();
+  ir::Var* r = decl(T().bool_(), lit(T().bool_(), 1), "within");
+  if (!renders(a[0].type)) return built(r);
+  ir::Stmt* loop = emit(ir::SK::ForEach);
+  loop->var = var(T().elem(), "e");
+  loop->a = elems.code;
+  in_block(loop->body, [&] {
+    ir::Node* p = member(local(loop->var), ir::Member::Position, T().pos());
+    ir::Node* x = member(p, ir::Member::X, T().int_());
+    ir::Node* y = member(p, ir::Member::Y, T().int_());
+    ir::Node* zero = lit(T().int_(), 0);
+    ir::Stmt* s = emit(ir::SK::If);
+    s->a = node(ir::Op::Or, T().bool_(),
+                {node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {x, zero}), node(ir::Op::Ge, T().bool_(), {x, g.code})}),
+                 node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {y, zero}), node(ir::Op::Ge, T().bool_(), {y, g.code})})});
+    in_block(s->body, [&] {
+      emit_set(local(r), lit(T().bool_(), 0));
+      emit(ir::SK::Break);
+    });
+  });
+  return built(r);
 }
 
 SVal Specialiser::builtin_uniform_choice(std::vector<SVal>& a) {

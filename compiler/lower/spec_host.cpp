@@ -158,75 +158,83 @@ void Specialiser::specialise_step() {
     loc_stack_.pop_back();
   }
   // 4. On-clauses in source order.
-  for (size_t i = 0; i < f_.on_clauses.size() && !dead_; ++i) {
-    const Stmt& st = *f_.on_clauses[i];
-    comment("on-clause " + std::to_string(i + 1) + ", " + p_.file_name(st.loc.source) + ":" +
-            std::to_string(st.loc.line));
-    ir::Stmt* blk = emit(ir::SK::Block);
-    in_block(blk->body, [&] {
-      loc_stack_.push_back(st.cond.get());
-      SVal c = lower_value(*st.cond);
-      ir::Node* fire = nullptr;
-      auto bad = [&](const SVal& v, bool from_fn) {
-        loc_stack_.push_back(st.cond.get());
-        fail(std::string(from_fn ? "an on-clause condition function must return a Bool, got "
-                                 : "an on-clause condition must be a Bool, got ") + type_string(v.type));
-        loc_stack_.pop_back();
-      };
-      if (c.type->k == TK::Func || (is_sum(c.type) && c.type->alts[0]->k == TK::Func)) {
-        std::vector<SVal> none;
-        SVal r = call_value(c, none, *st.cond);
-        if (r.type->k == TK::Bool) fire = r.code;
-        else if (r.type->k != TK::Never) bad(r, true);
-      } else if (c.type->k == TK::Bool) {
-        fire = c.code;
-      } else if (c.type->k != TK::Never) {
-        bad(c, false);
-      }
-      loc_stack_.pop_back();
-      if (dead_ || !fire) return;
-      ir::Stmt* s = emit(ir::SK::If);
-      s->a = fire;
-      in_block(s->body, [&] {
-        emit_eval(call(ir::Helper::Covered, nullptr, {lit(T().int_(), static_cast<int64_t>(i))}));
-        loc_stack_.push_back(st.body.get());
-        value_unused_ = true;  // its value is only checked to exist
-        lower_value(*st.body);
-        loc_stack_.pop_back();
-        chain_.clear();
-      });
-    });
-  }
+  for (size_t i = 0; i < f_.on_clauses.size() && !dead_; ++i) on_clause(i, *f_.on_clauses[i]);
   // 5. NEXT for every initnext variable no clause assigned, in hash order.
   for (Sym s : f_.initnext_order) {
     if (dead_) break;
-    Global& g = globals_[s];
-    if (g.value < 0) {  // its initialiser's type is not known yet (the next walk), or a function
-      if (g.type && (g.type->k == TK::Func || g.type->k == TK::Class)) unsupported("an initnext variable holding a function");
-      continue;
-    }
-    comment("NEXT of " + nm(s) + ", " + p_.file_name(g.next->loc.source) + ":" + std::to_string(g.next->loc.line));
-    ir::Node* run = node(ir::Op::Not, T().bool_(), {slot(g.updated)});
-    if (g.state == Global::Runtime) run = node(ir::Op::And, T().bool_(), {run, slot(g.defined)});
-    // (prev x) as x's own NEXT, the usual idiom: while nothing stored x in this
-    // step, x holds that very value (assigning it to itself changes nothing).
-    // (Unless the assignment's type check itself fails: a class that cannot be printed.)
-    auto printable = [&](TypeP t) { return t->k != TK::Obj || m_.classes[t->cls].unknown_field.empty(); };
-    bool checkable = printable(g.type);
-    if (is_sum(g.type))
-      for (TypeP a : g.type->alts) checkable = checkable && printable(a);
-    if (is_own_prev(*g.next, s) && g.saved >= 0 && checkable)
-      run = node(ir::Op::And, T().bool_(), {run, slot(g.saved)});
-    ir::Stmt* s_if = emit(ir::SK::If);
-    s_if->a = run;
-    in_block(s_if->body, [&] {
-      loc_stack_.push_back(g.next);
-      SVal v = lower_value(*g.next);
-      if (!dead_) assign(s, v, *g.next);
-      loc_stack_.pop_back();
-    });
+    next_update(s);
   }
   in_step_ = false;
+}
+
+// One on-clause: its condition (a Bool, or a function called with no arguments
+// that must return one), then, when it holds, its body.
+void Specialiser::on_clause(size_t i, const Stmt& st) {
+  comment("on-clause " + std::to_string(i + 1) + ", " + p_.file_name(st.loc.source) + ":" +
+          std::to_string(st.loc.line));
+  ir::Stmt* blk = emit(ir::SK::Block);
+  in_block(blk->body, [&] {
+    loc_stack_.push_back(st.cond.get());
+    SVal c = lower_value(*st.cond);
+    ir::Node* fire = nullptr;
+    auto bad = [&](const SVal& v, bool from_fn) {
+      loc_stack_.push_back(st.cond.get());
+      fail(std::string(from_fn ? "an on-clause condition function must return a Bool, got "
+                               : "an on-clause condition must be a Bool, got ") + type_string(v.type));
+      loc_stack_.pop_back();
+    };
+    if (c.type->k == TK::Func || (is_sum(c.type) && c.type->alts[0]->k == TK::Func)) {
+      std::vector<SVal> none;
+      SVal r = call_value(c, none, *st.cond);
+      if (r.type->k == TK::Bool) fire = r.code;
+      else if (r.type->k != TK::Never) bad(r, true);
+    } else if (c.type->k == TK::Bool) {
+      fire = c.code;
+    } else if (c.type->k != TK::Never) {
+      bad(c, false);
+    }
+    loc_stack_.pop_back();
+    if (dead_ || !fire) return;
+    ir::Stmt* s = emit(ir::SK::If);
+    s->a = fire;
+    in_block(s->body, [&] {
+      emit_eval(call(ir::Helper::Covered, nullptr, {lit(T().int_(), static_cast<int64_t>(i))}));
+      loc_stack_.push_back(st.body.get());
+      value_unused_ = true;  // its value is only checked to exist
+      lower_value(*st.body);
+      loc_stack_.pop_back();
+      chain_.clear();
+    });
+  });
+}
+
+// NEXT of one initnext variable: when no clause assigned it and it is defined.
+void Specialiser::next_update(Sym s) {
+  Global& g = globals_[s];
+  if (g.value < 0) {  // its initialiser's type is not known yet (the next walk), or a function
+    if (g.type && (g.type->k == TK::Func || g.type->k == TK::Class)) unsupported("an initnext variable holding a function");
+    return;
+  }
+  comment("NEXT of " + nm(s) + ", " + p_.file_name(g.next->loc.source) + ":" + std::to_string(g.next->loc.line));
+  ir::Node* run = node(ir::Op::Not, T().bool_(), {slot(g.updated)});
+  if (g.state == Global::Runtime) run = node(ir::Op::And, T().bool_(), {run, slot(g.defined)});
+  // (prev x) as x's own NEXT, the usual idiom: while nothing stored x in this
+  // step, x holds that very value (assigning it to itself changes nothing).
+  // (Unless the assignment's type check itself fails: a class that cannot be printed.)
+  auto printable = [&](TypeP t) { return t->k != TK::Obj || m_.classes[t->cls].unknown_field.empty(); };
+  bool checkable = printable(g.type);
+  if (is_sum(g.type))
+    for (TypeP a : g.type->alts) checkable = checkable && printable(a);
+  if (is_own_prev(*g.next, s) && g.saved >= 0 && checkable)
+    run = node(ir::Op::And, T().bool_(), {run, slot(g.saved)});
+  ir::Stmt* s_if = emit(ir::SK::If);
+  s_if->a = run;
+  in_block(s_if->body, [&] {
+    loc_stack_.push_back(g.next);
+    SVal v = lower_value(*g.next);
+    if (!dead_) assign(s, v, *g.next);
+    loc_stack_.pop_back();
+  });
 }
 
 // Whether `e` is (prev x) with the builtin prev, for the global x.

@@ -257,6 +257,10 @@ class Specialiser {
   SVal builtin_array_equal(std::vector<SVal>& a);
   SVal builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at);
   SVal builtin_uniform_choice(std::vector<SVal>& a);
+  SVal builtin_random_positions(std::vector<SVal>& a);
+  SVal builtin_all_positions(std::vector<SVal>& a);
+  SVal builtin_adj_positions(std::vector<SVal>& a, const Expr& at);
+  SVal builtin_within_bounds(std::vector<SVal>& a, const Expr& at);
   SVal builtin_inputs(Builtin b, std::vector<SVal>& a, const Expr& at);
   void define_click();
   SVal builtin_objects(Builtin b, std::vector<SVal>& a, const Expr& at);
@@ -311,6 +315,8 @@ class Specialiser {
   void specialise_start();
   void specialise_step();
   void specialise_render();
+  void on_clause(size_t i, const Stmt& st);
+  void next_update(Sym s);
   bool is_own_prev(const Expr& e, Sym x);
   bool in_start_ = false;
   bool in_step_ = false;
