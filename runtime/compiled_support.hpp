@@ -32,6 +32,7 @@
 #include "runtime/arith.hpp"
 #include "runtime/environment.hpp"
 #include "runtime/frame.hpp"
+#include "runtime/hash_order.hpp"
 #include "runtime/rng.hpp"
 
 namespace autumn::rt {
@@ -486,6 +487,58 @@ inline void load_core(SnapshotReader& r, Core& c) {
     r.raw(t);
   }
   c.rot.restore(std::move(turns));
+}
+
+// The global map's key order, kept at run time by a program that defines globals
+// during steps (or erases them) and also observes the order (allObjs, removeObj
+// of one object): the same insert/erase history as the interpreter's map, so the
+// same iteration order. Keys are the program's symbol numbers. Only modules with
+// Module::runtime_order have one (State::order).
+struct GlobalOrder {
+  HashOrder map;
+  void define(int sym, uint64_t hash) { map.insert(sym, hash); }
+  void erase(int sym) { map.erase(sym); }
+  std::vector<int32_t> keys() const {
+    std::vector<int32_t> out;
+    out.reserve(map.size());
+    map.for_each([&](int k) { out.push_back(k); });
+    return out;
+  }
+};
+// The order is part of the state: two states whose maps iterate differently may
+// diverge later, so they hash and save differently.
+inline void hash_value(Hash& h, const GlobalOrder& o) {
+  h.mix(o.map.bucket_count());
+  o.map.for_each([&](int k) { h.mix(static_cast<uint32_t>(k)); });
+}
+inline void save_value(SnapshotWriter& w, const GlobalOrder& o) {
+  w.raw(static_cast<uint64_t>(o.map.bucket_count()));
+  w.raw(static_cast<uint64_t>(o.map.next_resize()));
+  w.raw(static_cast<uint32_t>(o.map.size()));
+  o.map.for_each([&](int k) {
+    w.raw(static_cast<int32_t>(k));
+    w.raw(o.map.hash_of(k));
+  });
+}
+inline void load_value(SnapshotReader& r, GlobalOrder& o) {
+  uint64_t buckets = 0, resize = 0;
+  uint32_t n = 0;
+  r.raw(buckets);
+  r.raw(resize);
+  r.raw(n);
+  if (n > static_cast<size_t>(r.end - r.p) / 12) throw std::runtime_error("corrupt state snapshot");
+  std::vector<std::pair<int, uint64_t>> keys(n);
+  for (auto& [k, hash] : keys) {
+    int32_t key = 0;
+    r.raw(key);
+    r.raw(hash);
+    k = key;
+  }
+  try {
+    o.map.restore(buckets, resize, keys);
+  } catch (const std::invalid_argument&) {
+    throw std::runtime_error("corrupt state snapshot");
+  }
 }
 
 // The Environment adapter for a generated Program.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <stdexcept>
 
 namespace autumn {
@@ -120,6 +121,27 @@ void HashOrder::erase(int key) {
   next_[key] = kNone;
   present_[key] = 0;
   --count_;
+}
+
+void HashOrder::restore(size_t bucket_count, size_t next_resize, const std::vector<std::pair<int, uint64_t>>& keys) {
+  if (bucket_count == 0 || bucket_count > kPrimes[std::size(kPrimes) - 1] || keys.size() > bucket_count)
+    throw std::invalid_argument("HashOrder: bad bucket count");
+  *this = HashOrder{};
+  bucket_count_ = bucket_count;
+  next_resize_ = next_resize;
+  buckets_.assign(bucket_count, kNone);
+  int prev = kHead;
+  for (const auto& [key, hash] : keys) {
+    if (key < 0 || contains(key)) throw std::invalid_argument("HashOrder: bad key");
+    grow_to(key);
+    hash_[key] = hash;
+    present_[key] = 1;
+    ++count_;
+    link(prev, key);
+    next_[key] = kNone;
+    if (buckets_[bucket_of(key)] == kNone) buckets_[bucket_of(key)] = prev;
+    prev = key;
+  }
 }
 
 std::vector<int> HashOrder::order() const {

@@ -15,12 +15,16 @@
 //   HashOrder::contains(key)
 //   HashOrder::for_each(f)         f(key) in iteration order
 //   HashOrder::order()             the keys in iteration order
+//   HashOrder::bucket_count(), next_resize(), hash_of(key)
+//   HashOrder::restore(buckets, next_resize, [(key, hash)] in iteration order)
+//                                  rebuilds the map those three describe (snapshots)
 //
 // Invariant: two HashOrders fed the same insert/erase sequence iterate identically,
 // and identically to std::unordered_map<std::string,...> under libstdc++ (GCC 12).
 #pragma once
 #include <cstdint>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace autumn {
@@ -36,6 +40,13 @@ class HashOrder {
   }
   size_t size() const { return count_; }
   std::vector<int> order() const;
+  size_t bucket_count() const { return bucket_count_; }
+  size_t next_resize() const { return next_resize_; }
+  uint64_t hash_of(int key) const { return hash_[key]; }
+  // The iteration order, bucket count and resize threshold determine the map:
+  // bucket b's entry is the node before b's first node in the list. Throws
+  // std::invalid_argument on a description no history produces.
+  void restore(size_t bucket_count, size_t next_resize, const std::vector<std::pair<int, uint64_t>>& keys);
   template <class F>
   void for_each(F&& f) const {
     for (int p = first_; p != kNone; p = next_[p]) f(p);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -50,6 +51,46 @@ TEST(HashOrder, MatchesStdUnorderedMapUnderRandomInsertErase) {
     for (const auto& [name, k] : real) want.push_back(k);
     ASSERT_EQ(model.order(), want) << "round " << round;
   }
+}
+
+// A map rebuilt from its snapshot (order, bucket count, resize threshold) goes
+// on exactly as the original under any further history.
+TEST(HashOrder, RestoredMapContinuesLikeTheOriginal) {
+  std::mt19937 rng(777);
+  for (int round = 0; round < 200; ++round) {
+    const int universe = 3 + static_cast<int>(rng() % 200);
+    std::vector<std::string> names;
+    for (int i = 0; i < universe; ++i) names.push_back("g" + std::to_string(rng() % 100000) + "_" + std::to_string(i));
+    std::unordered_map<std::string, int> real;
+    HashOrder model;
+    auto step = [&](HashOrder& h) {
+      int k = static_cast<int>(rng() % universe);
+      if (rng() % 3 == 0) {
+        real.erase(names[k]);
+        h.erase(k);
+      } else {
+        real.emplace(names[k], k);
+        h.insert(k, libstdcxx_string_hash(names[k]));
+      }
+    };
+    for (int op = static_cast<int>(rng() % 300); op > 0; --op) step(model);
+    std::vector<std::pair<int, uint64_t>> keys;
+    for (int k : model.order()) keys.emplace_back(k, model.hash_of(k));
+    HashOrder restored;
+    restored.restore(model.bucket_count(), model.next_resize(), keys);
+    ASSERT_EQ(restored.order(), model.order());
+    for (int op = static_cast<int>(rng() % 300); op > 0; --op) step(restored);
+    std::vector<int> want;
+    for (const auto& [name, k] : real) want.push_back(k);
+    ASSERT_EQ(restored.order(), want) << "round " << round;
+  }
+}
+
+TEST(HashOrder, RestoreRejectsImpossibleDescriptions) {
+  HashOrder h;
+  EXPECT_THROW(h.restore(0, 0, {}), std::invalid_argument);
+  EXPECT_THROW(h.restore(13, 13, {{1, 5}, {1, 5}}), std::invalid_argument);
+  EXPECT_THROW(h.restore(13, 13, {{-1, 5}}), std::invalid_argument);
 }
 
 }  // namespace

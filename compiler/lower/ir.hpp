@@ -62,8 +62,9 @@ enum class Helper : uint8_t {
   IdTransfer,     // (uid of the new value, id of the old one): assignment's rule
   NewUid,         // () -> uint32
   Sqrt,           // (n) -> floor(sqrt(n)), n >= 0
-  DefineGlobal,   // (symbol): the runtime map order learns a new key
-  EraseGlobal,    // (symbol)
+  DefineGlobal,   // (symbol): the run-time map order learns a key (no-op if present)
+  EraseGlobal,    // (symbol): the run-time map order forgets a key
+  OrderKeys,      // () -> List<Int>: the global symbols in the run-time map order
   ClickPos,       // () -> Pos of the pending click
   ClickDefine,    // (): the global `click` := the pending click
   Reserve,        // (list, n)

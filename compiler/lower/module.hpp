@@ -5,6 +5,8 @@
 // Produced by the specialiser (specialise.hpp), rewritten by the IR passes,
 // printed by print_cpp.hpp.
 #pragma once
+#include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -97,7 +99,8 @@ struct Module {
   bool uses_random = false;
   bool uses_ids = false;             // identity numbers are observed
   bool pos_tracked = false;          // Positions carry identities (PosU)
-  bool runtime_order = false;        // the global map order is kept at run time
+  bool runtime_order = false;        // the global map order is kept at run time (State::order)
+  std::map<int, uint64_t> order_hashes;  // symbol -> its name's std::hash, for DefineGlobal
   int start_fn = -1, step_fn = -1, render_fn = -1;
   std::string program_path;          // for comments
 

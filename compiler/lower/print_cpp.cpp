@@ -145,8 +145,10 @@ std::string Printer::helper(const Node* n) {
     case Helper::IdTransfer: return "s.core.ids.transfer(uint32_t(" + arg(0) + "), uint32_t(" + arg(1) + "))";
     case Helper::NewUid: return "int32_t(s.core.ids.fresh())";
     case Helper::Sqrt: return "int32_t(std::sqrt(double(" + arg(0) + ")))";
-    case Helper::DefineGlobal: return "(void)0";
-    case Helper::EraseGlobal: return "(void)0";
+    case Helper::DefineGlobal:
+      return "s.order.define(" + arg(0) + ", " + std::to_string(m_.order_hashes.at(static_cast<int>(n->a[0]->imm))) + "ULL)";
+    case Helper::EraseGlobal: return "s.order.erase(" + arg(0) + ")";
+    case Helper::OrderKeys: return "s.order.keys()";
     case Helper::ClickPos: return "Pos{s.core.click_x, s.core.click_y}";
     case Helper::ClickDefine: return "(void)0";
     case Helper::Reserve: return arg(0) + ".reserve(size_t(" + arg(1) + "))";
@@ -408,6 +410,7 @@ void Printer::state() {
   ++depth_;
   line("Core core;");
   line("NoCopy<Scratch> scratch;");
+  if (m_.runtime_order) line("GlobalOrder order;");
   for (const Slot& s : m_.slots)
     if (!in_scratch(s)) line((s.type ? type(s.type) : std::string("bool")) + " " + s.name + "{};");
   --depth_;
@@ -416,6 +419,7 @@ void Printer::state() {
 
 void Printer::snapshot_functions() {
   auto each = [&](const std::string& call) {
+    if (m_.runtime_order) line("  " + call + "s.order);");
     for (const Slot& s : m_.slots)
       if (s.in_snapshot) line("  " + call + "s." + s.name + ");");
   };

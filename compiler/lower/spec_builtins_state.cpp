@@ -231,7 +231,7 @@ void Specialiser::define_click() {
     learn("click");
   }
   emit_set(slot(g.defined), lit(T().bool_(), 1));
-  if (m_.runtime_order) emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), g.sym)}));
+  order_insert(g.sym);
   // The pending click as a new Position (a plain Pos: no identity of its own yet).
   ir::Node* click = call(ir::Helper::ClickPos, T().pos(), {});
   SVal p = tracked(T().pos()) ? make_position(SVal{T().int_(), member(click, ir::Member::X, T().int_())},

@@ -69,6 +69,7 @@ ir::Node* Specialiser::call(ir::Helper h, TypeP t, std::vector<ir::Node*> a) {
     case ir::Helper::IdTransfer:
     case ir::Helper::DefineGlobal:
     case ir::Helper::EraseGlobal:
+    case ir::Helper::OrderKeys:
     case ir::Helper::ClickDefine:
     case ir::Helper::Covered:
     case ir::Helper::SetTriggered:

@@ -4,12 +4,22 @@
 // The reference keeps its globals in a std::unordered_map; runtime/hash_order
 // models libstdc++'s iteration order from the history of insertions. Start-up's
 // history is known here (every definition it makes, in order), so the order is
-// computed at compile time. After start-up the only key a step may add is
-// `click` (its first evaluation of `clicked` defines it); whether that insertion
-// reordered the map is also computed here, and the emitted code picks one of the
-// two orders by whether `click` exists. Erasing a key (removeObj) keeps the order
-// of the others. A program that defines new globals during a step and also
-// observes the order would need the order kept at run time: not supported yet.
+// computed at compile time. When the only key a step may add is `click` (its
+// first evaluation of `clicked` defines it), whether that insertion reordered
+// the map is also computed here, and the emitted code picks one of the two
+// orders by whether `click` exists. Erasing a key (removeObj) keeps the order of
+// the others.
+//
+// A program whose steps define other globals, or define keys after erasing
+// some, changes the order in ways only the run decides. When a step observes
+// the order in such a program, the module keeps the map's history at run time
+// (State::order, a HashOrder fed the same inserts and erasures as the
+// interpreter's map) and the observers loop over its keys:
+//
+//   before: (allObjs) in a step  ->  if (d_late) push(g_late); push(g_base);
+//   after:                       ->  for (k : s.order.keys())
+//                                      if (k == 12) { push(g_base); } else if (k == 31) { push(g_late); }
+#include <algorithm>
 #include <algorithm>
 
 #include "compiler/lower/specialise.hpp"
@@ -19,8 +29,6 @@ namespace autumn::lower {
 
 // The global map's iteration order after start-up, without and with `click`.
 std::vector<Sym> Specialiser::global_order(bool with_click) {
-  for (Sym s : h_.runtime_defined)
-    if (s != p_.names.click) unsupported("the global map's order is observed and a step defines new globals");
   HashOrder order;
   auto insert = [&](Sym s) { order.insert(s, p_.symbols.hash(s)); };
   insert(p_.names.GRID_SIZE);
@@ -33,9 +41,68 @@ std::vector<Sym> Specialiser::global_order(bool with_click) {
   return out;
 }
 
+// Whether a step may change the map's order other than by defining `click` on
+// an intact map (see the top of this file).
+bool Specialiser::order_changes_in_steps() const {
+  for (Sym s : h_.runtime_defined)
+    if (s != p_.names.click) return true;
+  if (h_.erasable.empty()) return false;
+  if (h_.runtime_defined.count(p_.names.click)) return true;
+  for (Sym s : h_.erasable)
+    if (h_.stored_in_step.count(s)) return true;
+  return false;
+}
+
+// The run-time order learns s (a first definition, or one after an erasure).
+void Specialiser::order_insert(Sym s) {
+  if (!m_.runtime_order) return;
+  m_.order_hashes[s] = p_.symbols.hash(s);
+  emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), s)}));
+}
+
+// g's first definition: start-up's history gains it.
+void Specialiser::note_definition(Global& g) {
+  if (g.state != Global::Undefined) return;
+  g.state = Global::Defined;
+  if (!in_start_) return;
+  start_defines_.push_back(g.sym);
+  order_insert(g.sym);
+}
+
+// `visit` for each global in the run-time order: a loop over the keys, with a
+// branch per global that has a value slot.
+void Specialiser::walk_runtime_order(const std::function<void(Global&)>& visit) {
+  std::vector<Global*> held;
+  for (auto& [s, g] : globals_)
+    if (g.state != Global::Undefined && g.value >= 0) held.push_back(&g);
+  if (held.empty()) return;
+  ir::Var* keys = decl(T().list(T().int_()), call(ir::Helper::OrderKeys, T().list(T().int_()), {}), "keys");
+  ir::Stmt* loop = emit(ir::SK::ForEach);
+  loop->var = var(T().int_(), "key");
+  loop->a = local(keys);
+  in_block(loop->body, [&] {
+    for (Global* g : held) {
+      ir::Stmt* s_if = emit(ir::SK::If);
+      s_if->a = node(ir::Op::Eq, T().bool_(), {local(loop->var), lit(T().int_(), g->sym)});
+      in_block(s_if->body, [&] { visit(*g); });
+      block_ = &s_if->other;  // else if ...
+    }
+  });
+}
+
 // Runs `visit` over the globals in map order: once if the order cannot change,
-// else in each of the two orders under a test of whether `click` exists.
+// else in each of the two orders under a test of whether `click` exists, or
+// over the order kept at run time.
 void Specialiser::for_each_global_in_order(const std::function<void(Global&)>& visit) {
+  if (in_step_ && order_changes_in_steps()) {
+    if (!h_.runtime_order) {
+      h_.runtime_order = true;
+      learn("the global map's order is kept at run time");
+      return;
+    }
+    walk_runtime_order(visit);
+    return;
+  }
   auto walk = [&](bool with_click) {
     for (Sym s : global_order(with_click)) {
       Global* g = global(s);
@@ -123,6 +190,7 @@ SVal Specialiser::remove_global(const SVal& v) {
     in_block(s->body, [&] {
       emit_set(slot(g.defined), lit(T().bool_(), 0));
       emit_set(local(done), lit(T().bool_(), 1));
+      if (m_.runtime_order) emit_eval(call(ir::Helper::EraseGlobal, nullptr, {lit(T().int_(), g.sym)}));
     });
   };
   if (candidates.size() == 1) try_erase(*candidates[0]);

@@ -22,6 +22,7 @@ void Specialiser::run() {
   class_defined_.assign(m_.classes.size(), 0);
   load_shapes();
   m_.uses_random = p_.uses_random;
+  m_.runtime_order = h_.runtime_order;
   specialise_start();
   specialise_step();
   specialise_render();
@@ -47,6 +48,7 @@ void Specialiser::specialise_start() {
     g.sym = p_.builtin_syms[i];
     g.type = T().func(FuncRef{FuncRef::Native, nullptr, static_cast<Builtin>(i), -1});
     g.state = Global::Defined;
+    order_insert(g.sym);
   }
   auto run_statement = [&](const Stmt& st) {
     loc_stack_.push_back(st.expr.get());
@@ -102,7 +104,7 @@ void Specialiser::specialise_start() {
   // The render that ends start-up defines cacheRendered (the printer calls it).
   Global& cache = globals_[p_.names.cacheRendered];
   cache.sym = p_.names.cacheRendered;
-  if (cache.state == Global::Undefined) cache.state = Global::Defined;
+  note_definition(cache);
   in_start_ = false;
 }
 

@@ -255,10 +255,7 @@ bool Specialiser::store_function(Global& g, const SVal& v) {
   }
   g.type = v.type;
   g.constant = v;
-  if (g.state == Global::Undefined) {
-    g.state = Global::Defined;
-    if (in_start_) start_defines_.push_back(g.sym);
-  }
+  note_definition(g);
   return true;
 }
 
@@ -281,13 +278,10 @@ void Specialiser::define_global(Global& g, SVal v) {
   }
   save_for_prev(g);
   if (g.defined >= 0) emit_set(slot(g.defined), lit(T().bool_(), 1));
-  if (in_step_ && m_.runtime_order) emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), g.sym)}));
+  if (in_step_ && (h_.runtime_defined.count(g.sym) || h_.erasable.count(g.sym))) order_insert(g.sym);
   if (g.value >= 0) emit_set(slot(g.value), coerce(v, g.type).code);
   if (g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 0));
-  if (g.state == Global::Undefined) {
-    g.state = Global::Defined;
-    if (in_start_) start_defines_.push_back(g.sym);
-  }
+  note_definition(g);
   // Start-up knows the values it computes from constants (on every path).
   if (in_start_ && v.konst && block_ == &fn_->body) g.constant = v;
   else g.constant.reset();

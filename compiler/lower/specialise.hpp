@@ -61,6 +61,7 @@ struct Hints {
   std::set<Sym> runtime_defined;                // globals first defined during a step
   std::set<Sym> stored_in_step;                 // globals some step code assigns
   std::set<Sym> prev_read;                      // globals read through prev
+  bool runtime_order = false;                   // a step observes a map order steps change
   std::set<int> stored_cells;                   // classes whose objects carry their cells
   std::set<int> rotated;                        // classes rotate turns (objects carry a cell group)
   std::set<std::pair<const void*, Sym>> mutable_bindings;  // parameters some assignment targets
@@ -278,6 +279,10 @@ class Specialiser {
   std::vector<Sym> start_defines_;  // start-up's definitions, in order (the map's history)
   std::vector<Sym> global_order(bool with_click);
   void for_each_global_in_order(const std::function<void(Global&)>& visit);
+  bool order_changes_in_steps() const;
+  void walk_runtime_order(const std::function<void(Global&)>& visit);
+  void order_insert(Sym s);         // the run-time order (when kept) learns s
+  void note_definition(Global& g);  // g's first definition
   SVal all_objs();
   SVal remove_global(const SVal& v);
   SVal lower_prev(const Expr& call);
