@@ -241,18 +241,18 @@ struct Prog {
     s.g_bags_11 = std::vector<C3_Sandbag>{};
     s.u_bags_12 = false;
     // init spring, programs/flood_defense.au:44
-    C5_Spring o2 = C5_Spring{int32_t(2), Pos{int32_t(5), int32_t(0)}, int32_t(s.core.ids.fresh())};
+    C5_Spring o2 = C5_Spring{int32_t(2), Pos{int32_t(5), int32_t(0)}, s.core.ids.fresh()};
     s.g_spring_15 = std::move(o2);
     s.u_spring_16 = false;
     // init houses, programs/flood_defense.au:34
-    C1_House o3 = C1_House{false, Pos{int32_t(11), int32_t(13)}, int32_t(s.core.ids.fresh())};
-    C1_House o4 = C1_House{false, Pos{int32_t(13), int32_t(13)}, int32_t(s.core.ids.fresh())};
-    C1_House o5 = C1_House{false, Pos{int32_t(15), int32_t(13)}, int32_t(s.core.ids.fresh())};
+    C1_House o3 = C1_House{false, Pos{int32_t(11), int32_t(13)}, s.core.ids.fresh()};
+    C1_House o4 = C1_House{false, Pos{int32_t(13), int32_t(13)}, s.core.ids.fresh()};
+    C1_House o5 = C1_House{false, Pos{int32_t(15), int32_t(13)}, s.core.ids.fresh()};
     std::vector<C1_House> list6 = std::vector<C1_House>{std::move(o3), std::move(o4), std::move(o5)};
     s.g_houses_19 = std::move(list6);
     s.u_houses_20 = false;
     // init drain, programs/flood_defense.au:31
-    C2_Drain o7 = C2_Drain{Pos{int32_t(0), int32_t(14)}, int32_t(s.core.ids.fresh())};
+    C2_Drain o7 = C2_Drain{Pos{int32_t(0), int32_t(14)}, s.core.ids.fresh()};
     s.g_drain_23 = std::move(o7);
     s.u_drain_24 = false;
     // init earth, programs/flood_defense.au:25
@@ -281,7 +281,7 @@ struct Prog {
         // inlined: function at programs/flood_defense.au:25
         const int32_t t17 = sub(int32_t(15), x16);
         const Pos t18 = Pos{x10, t17};
-        C0_Earth o19 = C0_Earth{t18, int32_t(s.core.ids.fresh())};
+        C0_Earth o19 = C0_Earth{t18, s.core.ids.fresh()};
         out15.push_back(std::move(o19));
       }
       out9.push_back(std::move(out15));
@@ -333,7 +333,7 @@ struct Prog {
             const Pos t9 = Pos{t7, t8};
             C4_Water upd10 = x3;
             upd10.origin = t9;
-            upd10.uid = int32_t(s.core.ids.fresh());
+            upd10.uid = s.core.ids.fresh();
             std::vector<Elem>& rendered11 = s.scratch.v.b4;
             rendered11.clear();
             rendered11.push_back(Elem{Pos{add(upd10.origin.x, int32_t(0)), add(upd10.origin.y, int32_t(0))}, int32_t(4)});
@@ -358,7 +358,7 @@ struct Prog {
             const Pos t20 = Pos{t18, t19};
             C4_Water upd21 = x3;
             upd21.origin = t20;
-            upd21.uid = int32_t(s.core.ids.fresh());
+            upd21.uid = s.core.ids.fresh();
             r17 = std::move(upd21);
           } else {
             std::vector<Pos>& l_nextRowPos22 = s.scratch.v.b5;
@@ -564,7 +564,7 @@ struct Prog {
               const Pos t115 = Pos{t113, t114};
               C4_Water upd116 = x3;
               upd116.origin = t115;
-              upd116.uid = int32_t(s.core.ids.fresh());
+              upd116.uid = s.core.ids.fresh();
               l_movedObj83 = std::move(upd116);
               const int32_t t117 = add(l_closestHole59.x, int32_t(0));
               const int32_t t118 = add(l_closestHole59.y, int32_t(-1));
@@ -798,13 +798,13 @@ struct Prog {
         // inlined: function at programs/flood_defense.au:48
         const C5_Spring& g192 = s.g_spring_15;
         const Pos t193 = Pos{g192.origin.x, int32_t(1)};
-        C4_Water o194 = C4_Water{t193, int32_t(s.core.ids.fresh())};
+        C4_Water o194 = C4_Water{t193, s.core.ids.fresh()};
         std::vector<C4_Water>& added195 = s.scratch.v.b18;
         added195.clear();
         added195.reserve(size_t(add(int32_t(g191.size()), int32_t(1))));
         for (const C4_Water& x196 : g191) {
           C4_Water copy197 = x196;
-          copy197.uid = int32_t(s.core.ids.fresh());
+          copy197.uid = s.core.ids.fresh();
           added195.push_back(std::move(copy197));
         }
         added195.push_back(std::move(o194));
@@ -1008,7 +1008,7 @@ struct Prog {
             // inlined: function at programs/flood_defense.au:60
             C1_House upd259 = x200;
             upd259.f0 = true;
-            upd259.uid = int32_t(s.core.ids.fresh());
+            upd259.uid = s.core.ids.fresh();
             updated199.push_back(std::move(upd259));
           } else {
             updated199.push_back(x200);
@@ -1071,7 +1071,7 @@ struct Prog {
             // inlined: function at programs/flood_defense.au:63
             C1_House upd275 = x269;
             upd275.f0 = false;
-            upd275.uid = int32_t(s.core.ids.fresh());
+            upd275.uid = s.core.ids.fresh();
             updated268.push_back(std::move(upd275));
           } else {
             updated268.push_back(x269);
@@ -1189,13 +1189,13 @@ struct Prog {
           fail_at(5, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t304 = Pos{r300.x, r302.y};
-        C3_Sandbag o305 = C3_Sandbag{t304, int32_t(s.core.ids.fresh())};
+        C3_Sandbag o305 = C3_Sandbag{t304, s.core.ids.fresh()};
         std::vector<C3_Sandbag>& added306 = s.scratch.v.b30;
         added306.clear();
         added306.reserve(size_t(add(int32_t(g299.size()), int32_t(1))));
         for (const C3_Sandbag& x307 : g299) {
           C3_Sandbag copy308 = x307;
-          copy308.uid = int32_t(s.core.ids.fresh());
+          copy308.uid = s.core.ids.fresh();
           added306.push_back(std::move(copy308));
         }
         added306.push_back(std::move(o305));
@@ -1219,7 +1219,7 @@ struct Prog {
         const Pos t313 = Pos{t311, t312};
         C5_Spring upd314 = prev310;
         upd314.origin = t313;
-        upd314.uid = int32_t(s.core.ids.fresh());
+        upd314.uid = s.core.ids.fresh();
         std::vector<Elem>& rendered315 = s.scratch.v.b31;
         rendered315.clear();
         rendered315.push_back(Elem{Pos{add(upd314.origin.x, int32_t(-1)), add(upd314.origin.y, int32_t(0))}, int32_t(2)});
@@ -1239,7 +1239,7 @@ struct Prog {
           const Pos t321 = Pos{t319, t320};
           C5_Spring upd322 = prev310;
           upd322.origin = t321;
-          upd322.uid = int32_t(s.core.ids.fresh());
+          upd322.uid = s.core.ids.fresh();
           r318 = std::move(upd322);
         } else {
           r318 = prev310;
@@ -1265,7 +1265,7 @@ struct Prog {
         const Pos t327 = Pos{t325, t326};
         C5_Spring upd328 = prev324;
         upd328.origin = t327;
-        upd328.uid = int32_t(s.core.ids.fresh());
+        upd328.uid = s.core.ids.fresh();
         std::vector<Elem>& rendered329 = s.scratch.v.b32;
         rendered329.clear();
         rendered329.push_back(Elem{Pos{add(upd328.origin.x, int32_t(-1)), add(upd328.origin.y, int32_t(0))}, int32_t(2)});
@@ -1285,7 +1285,7 @@ struct Prog {
           const Pos t335 = Pos{t333, t334};
           C5_Spring upd336 = prev324;
           upd336.origin = t335;
-          upd336.uid = int32_t(s.core.ids.fresh());
+          upd336.uid = s.core.ids.fresh();
           r332 = std::move(upd336);
         } else {
           r332 = prev324;
@@ -1316,7 +1316,7 @@ struct Prog {
         }
         C5_Spring upd343 = prev338;
         upd343.f0 = r342;
-        upd343.uid = int32_t(s.core.ids.fresh());
+        upd343.uid = s.core.ids.fresh();
         s.core.ids.transfer(uint32_t(upd343.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
@@ -1343,7 +1343,7 @@ struct Prog {
         }
         C5_Spring upd350 = prev345;
         upd350.f0 = r349;
-        upd350.uid = int32_t(s.core.ids.fresh());
+        upd350.uid = s.core.ids.fresh();
         s.core.ids.transfer(uint32_t(upd350.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);

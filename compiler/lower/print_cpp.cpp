@@ -143,7 +143,7 @@ std::string Printer::helper(const Node* n) {
     case Helper::OccupancyFree: return "s.core.occupied.free(" + arg(0) + ")";
     case Helper::IdOf: return "int32_t(s.core.ids.id_of(uint32_t(" + arg(0) + ")))";
     case Helper::IdTransfer: return "s.core.ids.transfer(uint32_t(" + arg(0) + "), uint32_t(" + arg(1) + "))";
-    case Helper::NewUid: return "int32_t(s.core.ids.fresh())";
+    case Helper::NewUid: return "s.core.ids.fresh()";  // uint32_t, as the uid members
     case Helper::Sqrt: return "int32_t(std::sqrt(double(" + arg(0) + ")))";
     case Helper::DefineGlobal:
       return "s.order.define(" + arg(0) + ", " + std::to_string(m_.order_hashes.at(static_cast<int>(n->a[0]->imm))) + "ULL)";

@@ -278,6 +278,7 @@ std::string Specialiser::type_string(TypeP t) {
     case TK::Func: return "AutumnFunc";
     case TK::Class:
     case TK::Sum:
+    case TK::Deferred:
     case TK::Never: return "Unknown";
   }
   return "Unknown";
