@@ -9,9 +9,13 @@
 //   list-length  elements of any one list the program builds
 //   objects      object instances (of the program's classes) in the state
 //   cells        list elements and object fields: in the state after start-up and
-//                after every step, and created by the evaluation of one start-up
-//                or step (so no single step can exhaust memory)
-//   calls        function calls made by one start-up or step (so no step hangs)
+//                after every step, and created by the program in one step (so no
+//                single step can exhaust memory)
+//   calls        function calls the program makes in one step (so no step hangs)
+//
+// "One step" is also the start-up and each host render, counted separately; only
+// the program's own constructs count (its expressions and the stdlib's, cell
+// expressions included), not the engines' rendering machinery.
 //
 // The state is counted as values (a list held twice counts twice, as the
 // compiled engine's copies do), from the globals, at the end of start-up and of
@@ -35,7 +39,7 @@ struct Limits {
   int64_t list_length = 1'000'000;
   int64_t objects = 1'000'000;
   int64_t cells = 10'000'000;
-  int64_t calls = 100'000'000;
+  int64_t calls = 10'000'000;
   bool operator==(const Limits&) const = default;
 };
 
@@ -50,9 +54,11 @@ inline std::string raise_hint(std::string_view key) {
   return " (--limits " + std::string(key) + "=N raises it)";
 }
 
+// `callee`: the called name as written, or empty for a function without one.
 inline std::string call_depth_error(int64_t limit, std::string_view callee) {
-  return "call depth limit exceeded: more than " + std::to_string(limit) + " nested calls, calling '" +
-         std::string(callee) + "'" + raise_hint("call-depth");
+  return "call depth limit exceeded: more than " + std::to_string(limit) + " nested calls, calling " +
+         (callee.empty() ? std::string("an unnamed function") : "'" + std::string(callee) + "'") +
+         raise_hint("call-depth");
 }
 inline std::string list_length_error(int64_t length, int64_t limit) {
   return "list too long: " + std::to_string(length) + " elements, the limit is " + std::to_string(limit) +

@@ -9,7 +9,6 @@
 #include <algorithm>
 
 #include "compiler/interpret/interpreter.hpp"
-#include "compiler/parse/ast_print.hpp"
 
 namespace autumn::interp {
 
@@ -43,10 +42,6 @@ void Interpreter::fail_call_depth(const Expr& lambda, const Expr* site) {
     else if (callee.kind == ExprKind::Get) name = callee.text;
   }
   if (name.empty() && &lambda == program_->render_lambda.get()) name = "render";
-  if (name.empty()) {
-    name = ast_to_string(program_->symbols, lambda);
-    if (name.size() > 40) name = name.substr(0, 37) + "...";
-  }
   fail(limits::call_depth_error(limits_.call_depth, name));
 }
 

@@ -53,9 +53,11 @@ std::unique_ptr<Environment> make_env(const std::string& engine, std::shared_ptr
 
 // Adds --limits to a subcommand; the value is parsed into g_limits after parsing.
 void add_limits_option(CLI::App* cmd, std::string& spec) {
+  const Limits d;
   cmd->add_option("--limits", spec,
-                  "Episode budget, KEY=N,...: call-depth (default 10000), list-length (1000000), objects "
-                  "(1000000), cells (10000000), calls (100000000)");
+                  fmt::format("Episode budget, KEY=N,...: call-depth (default {}), list-length ({}), objects ({}), "
+                              "cells ({}), calls ({})",
+                              d.call_depth, d.list_length, d.objects, d.cells, d.calls));
 }
 
 struct RunOptions {
