@@ -385,6 +385,9 @@ Value Interpreter::call_lambda(const Expr& lambda, std::vector<Value>& args, Sco
   return r;
 }
 
+// An error in the method's own machinery (a colour that is not a String, a
+// coordinate that is not a Number) is the program's: it is reported at the cell
+// argument evaluated last, the one whose value did not fit.
 Value Interpreter::call_render_method(TypeObj* cls) {
   Nest machinery(internal_);  // nothing the method itself builds is counted
   Ref<InstanceObj> self = cls->bound;
@@ -393,9 +396,18 @@ Value Interpreter::call_render_method(TypeObj* cls) {
   env_ = sc;
   for (size_t i = 0; i < cls->field_syms.size(); ++i) define(sc.get(), cls->field_syms[i], self->fields[i]);
   std::vector<Value> none;
-  Value r = call_lambda(*program_->render_lambda, none);
-  env_ = sc->parent;
-  return r;
+  last_cell_arg_ = SourceLoc{};
+  try {
+    Value r = call_lambda(*program_->render_lambda, none);
+    env_ = sc->parent;
+    return r;
+  } catch (RuntimeError& e) {
+    if (!e.in_program && last_cell_arg_.line > 0 && last_cell_arg_.source == SourceId::Program) {
+      e.program_loc = last_cell_arg_;
+      e.in_program = true;
+    }
+    throw;
+  }
 }
 
 Value Interpreter::call_deferred(DeferredObj* d) {
@@ -405,6 +417,7 @@ Value Interpreter::call_deferred(DeferredObj* d) {
     int64_t saved;
     ~Counted() { flag = saved; }
   } counted{internal_, std::exchange(internal_, 0)};
+  last_cell_arg_ = d->expr->loc;
   Ref<Scope> cenv = d->env;
   cenv->parent = env_;  // captured names win; the rest resolves through the caller
   Ref<Scope> saved = env_;

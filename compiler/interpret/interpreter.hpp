@@ -210,6 +210,7 @@ class Interpreter {
   int64_t step_cells_ = 0, step_calls_ = 0;
   int64_t internal_ = 0;                    // > 0: inside rendering machinery, nothing is counted
   const char* stack_floor_ = nullptr;      // deep_stack.hpp
+  SourceLoc last_cell_arg_;                // the cell argument a render evaluated last
   WrappedMinstd rng_;
   int id_counter_ = 0;
 
