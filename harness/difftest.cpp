@@ -15,6 +15,8 @@ DiffResult diff_engines(const std::shared_ptr<const Program>& program, const Dif
     r.divergence = why;
     return r;
   }
+  a->set_limits(o.limits);
+  b->set_limits(o.limits);
   for (int k = 0; k < o.seeds && r.divergence.empty(); ++k) {
     const uint64_t seed = o.first_seed + static_cast<uint64_t>(k);
     ++r.episodes;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "compiler/analyse/program.hpp"
+#include "runtime/limits.hpp"
 
 namespace autumn {
 
@@ -18,6 +19,7 @@ struct DiffOptions {
   int seeds = 8;
   int steps = 200;
   uint64_t first_seed = 0;
+  Limits limits;  // both engines run under these
 };
 
 struct DiffResult {

@@ -36,6 +36,15 @@ std::string first_difference(const std::vector<std::string>& expected, const Fra
 
 }  // namespace
 
+std::string json_error_text(const std::exception& e) {
+  std::string s = e.what();
+  if (s.rfind("[json.exception.", 0) == 0)
+    if (size_t close = s.find("] "); close != std::string::npos) s = s.substr(close + 2);
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
 TraceFile load_trace_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open trace file");
@@ -43,7 +52,7 @@ TraceFile load_trace_file(const std::string& path) {
   try {
     in >> j;
   } catch (const std::exception& e) {
-    throw std::runtime_error(path + ": not valid JSON (" + std::string(e.what()) + ")");
+    throw std::runtime_error(path + ": not valid JSON (" + json_error_text(e) + ")");
   }
   TraceFile f;
   try {
@@ -72,7 +81,7 @@ TraceFile load_trace_file(const std::string& path) {
       f.traces.push_back(std::move(tr));
     }
   } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": malformed trace file (" + std::string(e.what()) + ")");
+    throw std::runtime_error(path + ": malformed trace file (" + json_error_text(e) + ")");
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(path + ": " + e.what());
   }

@@ -33,6 +33,10 @@ struct TraceFile {
 };
 
 // Throws std::runtime_error with a one-line reason for unreadable or malformed files.
+// A JSON library exception's message without its "[json.exception.x.N] " tag,
+// on one line, for "file: ..." messages.
+std::string json_error_text(const std::exception& e);
+
 TraceFile load_trace_file(const std::string& path);
 
 struct CheckResult {

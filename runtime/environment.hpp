@@ -14,7 +14,8 @@
 //
 // A runtime error inside the program ends the episode: failed() becomes true,
 // error() names the construct and its source location, and further steps are
-// refused (they return false). Errors never escape as exceptions.
+// refused (they return false). Errors never escape as exceptions. Every episode
+// runs under the limits of runtime/limits.hpp (set_limits; defaults otherwise).
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -23,6 +24,7 @@
 
 #include "runtime/action.hpp"
 #include "runtime/frame.hpp"
+#include "runtime/limits.hpp"
 
 namespace autumn {
 
@@ -85,6 +87,9 @@ class Environment {
   }
   // The program's path for error messages ("path:line:col: runtime error: ...").
   virtual void set_source_name(const std::string& path) { (void)path; }
+  // The episode's budget (runtime/limits.hpp), from the next reset() on; clones
+  // keep it. Engines that do not enforce a limit ignore it.
+  virtual void set_limits(const Limits& limits) { (void)limits; }
 };
 
 }  // namespace autumn

@@ -17,9 +17,14 @@
 extern "C" {
 #endif
 
-#define AUTUMN_MODULE_ABI_VERSION 4u
+#define AUTUMN_MODULE_ABI_VERSION 5u
 
 typedef struct autumn_env autumn_env; /* opaque */
+
+/* v5: an episode's resource limits (runtime/limits.hpp: struct Limits, same order). */
+typedef struct autumn_limits {
+  int64_t call_depth, list_length, objects, cells, calls;
+} autumn_limits;
 
 /* Action kinds, as in runtime/action.hpp. */
 enum { AUTUMN_NOOP = 0, AUTUMN_LEFT = 1, AUTUMN_RIGHT = 2, AUTUMN_UP = 3, AUTUMN_DOWN = 4, AUTUMN_CLICK = 5 };
@@ -59,6 +64,8 @@ typedef struct autumn_module_v1 {
   /* v4: the program's path, named in runtime error messages (the module only knows
    * the text it was built from; one module serves every path with that text). */
   void (*set_source_name)(autumn_env*, const char* path);
+  /* v5: the limits of the episodes from the next reset on (copied). */
+  void (*set_limits)(autumn_env*, const autumn_limits* limits);
 } autumn_module_v1;
 
 typedef const autumn_module_v1* (*autumn_module_entry_fn)(void);

@@ -67,6 +67,10 @@ bool ModuleEnvironment::deterministic() const { return table_->deterministic(han
 int64_t ModuleEnvironment::random_draws() const { return failed_ ? -1 : table_->random_draws(handle_); }
 bool ModuleEnvironment::reseed_random(uint64_t seed) { return !failed_ && table_->reseed_random(handle_, seed) != 0; }
 void ModuleEnvironment::set_source_name(const std::string& path) { table_->set_source_name(handle_, path.c_str()); }
+void ModuleEnvironment::set_limits(const Limits& l) {
+  const autumn_limits c{l.call_depth, l.list_length, l.objects, l.cells, l.calls};
+  table_->set_limits(handle_, &c);
+}
 
 std::unique_ptr<Environment> ModuleEnvironment::clone() const {
   auto copy = std::unique_ptr<ModuleEnvironment>(

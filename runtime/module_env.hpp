@@ -19,6 +19,7 @@ class ModuleEnvironment : public Environment {
   ModuleEnvironment(const autumn_module_v1* table, std::shared_ptr<void> keepalive);
   ~ModuleEnvironment() override;
   void set_source_name(const std::string& path) override;
+  void set_limits(const Limits& limits) override;
   ModuleEnvironment(const ModuleEnvironment&) = delete;
   ModuleEnvironment& operator=(const ModuleEnvironment&) = delete;
 

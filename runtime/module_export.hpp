@@ -73,6 +73,9 @@ struct ModuleExporter {
     t.random_draws = [](const autumn_env* h) { return env(h).random_draws(); };
     t.reseed_random = [](autumn_env* h, uint64_t seed) { return env(h).reseed_random(seed) ? 1 : 0; };
     t.set_source_name = [](autumn_env* h, const char* path) { env(h).set_source_name(path); };
+    t.set_limits = [](autumn_env* h, const autumn_limits* l) {
+      env(h).set_limits(Limits{l->call_depth, l->list_length, l->objects, l->cells, l->calls});
+    };
     return t;
   }
 };

@@ -90,4 +90,93 @@ TEST(Cli, MalformedTraceFileIsAOneLineError) {
   EXPECT_NE(r.out.find("malformed trace file"), std::string::npos) << r.out;
 }
 
+// --- robustness: bad programs among good ones, limits, nesting (runtime/limits.hpp)
+
+namespace fs = std::filesystem;
+
+// A folder holding a good program and three that used to crash or stop a run.
+fs::path mixed_folder() {
+  const fs::path dir = fs::temp_directory_path() / "autumn_cli_mixed";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::copy_file(golden("stale_occupancy.au"), dir / "a_good.au");
+  std::ofstream(dir / "b_unclosed.au") << "(program (= x 1)";
+  std::ofstream(dir / "c_recursion.au") << "(program (= GRID_SIZE 4) (= f (fn (n) (f n))) (= x (initnext (f 1) 2)))";
+  std::string deep = "(program (= x ";
+  for (int i = 0; i < 20000; ++i) deep += "(+ 1 ";
+  deep += "1" + std::string(20000, ')') + "))";
+  std::ofstream(dir / "d_deep.au") << deep;
+  return dir;
+}
+
+TEST(Cli, SurveyReportsBadProgramsInTheirRowsAndGoesOn) {
+  Result r = run("survey " + mixed_folder().string() + " --steps 5");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("b_unclosed.au:1:1: error: unclosed '('"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("c_recursion.au:1:39: runtime error: initialising 'x': call depth limit exceeded"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("d_deep.au:1:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("nested too deeply"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("4 programs, 5 steps, 6 frames, 3 failed"), std::string::npos) << r.out;
+}
+
+TEST(Cli, SurveyWithoutAnEngineMarksTheRow) {
+  // The module cache cannot be created, so the compiled engine has no module to offer.
+  const fs::path dir = fs::temp_directory_path() / "autumn_cli_noengine";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "p.au") << "(program (= GRID_SIZE 3) (= x (initnext 1 (+ x 1))))";
+  Result r = autumn::testing::run_cli("survey " + dir.string() + " --steps 2 --engine compiled",
+                     "AUTUMN_CACHE_DIR=/proc/autumn-no-cache " + std::string(AUTUMN_CLI));
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("engine error"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 programs, 0 steps, 0 frames, 1 failed"), std::string::npos) << r.out;
+}
+
+TEST(Cli, DifftestGoesOnPastBadPrograms) {
+  const fs::path dir = mixed_folder();
+  fs::remove(dir / "d_deep.au");
+  Result r = run("difftest " + dir.string() + " --seeds 1 --steps 3");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("FAILED " + (dir / "b_unclosed.au").string() + ": the program does not load"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("3 programs, 2 episodes (1 ended in the same runtime error)"), std::string::npos) << r.out;
+}
+
+TEST(Cli, LimitsFlag) {
+  Result bad = run("run " + golden("stale_occupancy.au") + " --limits cells=0");
+  EXPECT_EQ(bad.status, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--limits: 'cells=0': N must be a positive integer"), std::string::npos) << bad.out;
+  const std::string prog = (autumn::testing::source_dir() / "tests/limits/list_length.au").string();
+  Result r = run("run " + prog + " --steps 12 --limits list-length=1000");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("list_length.au:8:28: runtime error: list too long: 1024 elements, the limit is 1000"),
+            std::string::npos)
+      << r.out;
+  Result raised = run("run " + prog + " --steps 12 --limits list-length=5000");
+  EXPECT_EQ(raised.status, 0) << raised.out;
+}
+
+TEST(Cli, DeeplyNestedTriggerIsALocatedError) {
+  std::string trigger;
+  for (int i = 0; i < 3000; ++i) trigger += "(! ";
+  trigger += "true" + std::string(3000, ')');
+  Result r = run("run " + golden("stale_occupancy.au") + " --trigger '" + trigger + "'");
+  EXPECT_EQ(r.status, 1) << r.out.substr(0, 500);
+  EXPECT_NE(r.out.find("<trigger>:1:"), std::string::npos) << r.out.substr(0, 500);
+  EXPECT_NE(r.out.find("nested too deeply"), std::string::npos) << r.out.substr(0, 500);
+}
+
+TEST(Cli, AutumncRefusesABadGridSizeAtCompileTime) {
+  const fs::path p = fs::temp_directory_path() / "autumnc_grid_zero.au";
+  std::ofstream(p) << "(program\n  (= GRID_SIZE 0))\n";
+  Result r = autumn::testing::run_cli(p.string() + " -o " + (fs::temp_directory_path() / "autumnc_out").string(), AUTUMNC_CLI);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find(p.string() + ":2:3: error: GRID_SIZE must be a number from 1 to 4096, got 0"),
+            std::string::npos)
+      << r.out;
+}
+
 }  // namespace

@@ -70,9 +70,9 @@ struct CliResult {
   std::string out;  // stdout and stderr
 };
 
-// Runs the autumn binary built with the tests.
-inline CliResult run_cli(const std::string& args) {
-  std::string cmd = std::string(AUTUMN_CLI) + " " + args + " 2>&1";
+// Runs the autumn binary built with the tests (or another command line).
+inline CliResult run_cli(const std::string& args, const std::string& binary = AUTUMN_CLI) {
+  std::string cmd = binary + " " + args + " 2>&1";
   CliResult r{0, ""};
   FILE* p = popen(cmd.c_str(), "r");
   std::array<char, 4096> buf;

@@ -9,6 +9,7 @@
 #include "compiler/analyse/render_order.hpp"
 #include "compiler/parse/parser.hpp"
 #include "compiler/read/sexpr.hpp"
+#include "runtime/limits.hpp"
 
 namespace autumn {
 namespace {
@@ -142,6 +143,49 @@ void compute_render_order(Program& p) {
   p.start_defines_conditionally = conditional;
 }
 
+// Program::definitions: top-level assignments first, then any assignment, each
+// pass over the program and then the stdlib, in source order.
+void compute_definitions(Program& p) {
+  p.definitions.assign(p.symbols.size(), SourceLoc{});
+  auto note = [&](Sym s, SourceLoc at) {
+    if (p.definitions[s].line == 0) p.definitions[s] = at;
+  };
+  std::function<void(const Expr&)> anywhere = [&](const Expr& e) {
+    if (e.kind == ExprKind::Assign) note(e.name, e.loc);
+    for (const auto& k : e.kids) anywhere(*k);
+  };
+  for (const auto* stmts : {&p.stmts, &p.stdlib_stmts})
+    for (const Stmt& st : *stmts)
+      if (st.kind == StmtKind::Expr && st.expr->kind == ExprKind::Assign) note(st.expr->name, st.expr->loc);
+  for (const auto* stmts : {&p.stmts, &p.stdlib_stmts})
+    for (const Stmt& st : *stmts)
+      for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
+        if (e) anywhere(*e);
+}
+
+// A top-level (= GRID_SIZE literal) outside the paintable range is refused when
+// the program is loaded, at the definition (so autumnc refuses it too). Computed
+// values are checked at every render (the interpreter and compiled modules).
+void check_grid_size(const Program& p) {
+  for (const Stmt& st : p.stmts) {
+    if (st.kind != StmtKind::Expr || st.expr->kind != ExprKind::Assign || st.expr->name != p.names.GRID_SIZE) continue;
+    const Expr& v = *st.expr->kids[0];
+    std::string why;
+    if (v.kind == ExprKind::Number) {
+      why = limits::grid_size_error(v.number);
+    } else if (v.kind == ExprKind::Unary && v.unary == UnOp::Neg && v.kids[0]->kind == ExprKind::Number) {
+      why = limits::grid_size_error(-static_cast<int64_t>(v.kids[0]->number));
+    } else if (v.kind == ExprKind::String || v.kind == ExprKind::Bool || v.kind == ExprKind::List ||
+               v.kind == ExprKind::Lambda) {
+      why = limits::grid_size_type_error(v.kind == ExprKind::String ? "String"
+                                         : v.kind == ExprKind::Bool ? "Bool"
+                                         : v.kind == ExprKind::List ? "list"
+                                                                    : "function");
+    }
+    if (!why.empty()) throw CompileError(p.file.name, st.expr->loc, why);
+  }
+}
+
 }  // namespace
 
 const std::string& Program::file_name(SourceId id) const {
@@ -251,6 +295,8 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
   }
   if (p->trigger) check_unbound(*p, *p->trigger, bound, reported, p->warnings);
 
+  check_grid_size(*p);
+  compute_definitions(*p);
   compute_render_order(*p);
 
   std::function<bool(const Expr&)> mentions_rng = [&](const Expr& e) {

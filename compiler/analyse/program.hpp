@@ -49,6 +49,11 @@ struct Program {
   // initnext declarations, then first definitions, cacheRendered last. Globals
   // first defined later are drawn after these, in first-definition order.
   std::vector<Sym> render_order;
+  // Per symbol, where the program defines it, for errors about a global's value
+  // (GRID_SIZE's range, the state budget): its first top-level assignment, else
+  // its first assignment anywhere, in the program and then the stdlib; line 0
+  // when nothing assigns it.
+  std::vector<SourceLoc> definitions;
   // True when a top-level statement defines a global only on some paths (inside an
   // `if` or the right operand of and/or), so its place in render_order depends on
   // the run; such globals are not in render_order.

@@ -3,7 +3,8 @@
 // Each builtin checks its arguments as the reference does and builds its result
 // list the same way, because the way a list is built decides its type tag
 // (inferred from the elements, the shared default tag, or re-tagged per append),
-// and tags are visible through list equality.
+// and tags are visible through list equality. Every list a builtin builds is
+// length-checked before it is built and its cells counted (runtime/limits.hpp).
 #include <cmath>
 #include <functional>
 #include <unordered_set>
@@ -20,13 +21,15 @@ int64_t pos_key(int x, int y) { return (static_cast<int64_t>(x) << 32) ^ static_
 // Renders an object, or a (nested) list of objects, by calling each object's
 // render method; anything else renders as nothing.
 Value Interpreter::render_value(const Value& v) {
+  Nest nest(value_depth_);
+  check_value_depth();
   if (v.is(VKind::List)) {
     std::vector<Value> all;
     for (const Value& item : v.as<ListObj>()->items) {
       Value part = render_value(item);
       for (const Value& r : part.as<ListObj>()->items) all.push_back(r);
     }
-    return make_list(std::move(all));
+    return make_list(std::move(all));  // rendering machinery: not counted
   }
   if (v.is(VKind::Instance) && v.as<InstanceObj>()->cls->has_render) {
     Value method = get_field(v, names_.render, "render");
@@ -70,10 +73,12 @@ Value Interpreter::all_objs() {
   Value out = make_empty_list();
   ListObj* list = out.as<ListObj>();
   std::function<void(const Value&)> collect = [&](const Value& v) {
+    Nest nest(value_depth_);
+    check_value_depth();
     if (v.is(VKind::List)) {
       for (const Value& item : v.as<ListObj>()->items) collect(item);
     } else if (v.is(VKind::Instance) && v.as<InstanceObj>()->cls->has_render) {
-      list->items.push_back(v);
+      append(list, v);
     }
   };
   gorder_.for_each([&](int s) { collect(gvalues_[s]); });
@@ -123,7 +128,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       ListObj* l = list_arg(1);
       Value out = make_empty_list();
       std::vector<Value> items = l->items;  // the callback may not change what we iterate
-      for (const Value& x : items) out.as<ListObj>()->items.push_back(call1(f, x));
+      for (const Value& x : items) append(out.as<ListObj>(), call1(f, x));
       return out;
     }
     case Builtin::Filter: {
@@ -151,11 +156,16 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
     case Builtin::Concat: {
       need(1);
       ListObj* l = list_arg(0);
-      Value out = make_empty_list();
+      int64_t total = 0;
       for (const Value& x : l->items) {
         if (!x.is(VKind::List)) fail("concat: every element must be a list");
-        for (const Value& y : x.as<ListObj>()->items) out.as<ListObj>()->items.push_back(y);
+        total += static_cast<int64_t>(x.as<ListObj>()->items.size());
       }
+      check_length(total);
+      count_cells(total);
+      Value out = make_empty_list();
+      for (const Value& x : l->items)
+        for (const Value& y : x.as<ListObj>()->items) out.as<ListObj>()->items.push_back(y);
       return out;
     }
     case Builtin::Length: need(1); return Value::number(static_cast<int32_t>(list_arg(0)->items.size()));
@@ -185,7 +195,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       for (Sym s : order) {
         if (!gdefined_[s]) continue;
         Value r = render_value(gvalues_[s]);
-        for (const Value& e : r.as<ListObj>()->items) out.as<ListObj>()->items.push_back(e);
+        for (const Value& e : r.as<ListObj>()->items) append(out.as<ListObj>(), e);
       }
       Ref<Scope> saved = env_;
       env_ = global_;
@@ -235,6 +245,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       if (n == 1) return l->items[rng_.next(l->items.size())];
       int32_t count = num_arg(1);
       if (count < 1) fail("uniformChoice: the count must be at least 1");
+      check_length(count);
       Value out = make_empty_list();
       std::vector<Value> items = l->items;
       for (int32_t i = 0; i < count; ++i) list_add(out.as<ListObj>(), items[rng_.next(items.size())]);
@@ -251,6 +262,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       const int32_t cand[4][2] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
       for (auto& c : cand)
         if (c[0] >= 0 && c[0] < g && c[1] >= 0 && c[1] < g) out.push_back(make_position(c[0], c[1]));
+      count_cells(static_cast<int64_t>(out.size()));
       return make_list(std::move(out));
     }
     case Builtin::AddObj: {
@@ -258,12 +270,13 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       ListObj* l = list_arg(0);
       if (!args[1].is(VKind::Instance) && !args[1].is(VKind::List))
         fail("addObj: the second argument must be an object or a list, got " + type_string(type_of(args[1])));
+      const size_t added = args[1].is(VKind::Instance) ? 1 : args[1].as<ListObj>()->items.size();
+      check_length(static_cast<int64_t>(l->items.size() + added));
       Value out = copy_value(args[0]);  // every existing element is copied (fresh ids)
-      (void)l;
       if (args[1].is(VKind::Instance)) {
         list_add(out.as<ListObj>(), args[1]);
       } else {
-        for (const Value& x : args[1].as<ListObj>()->items) out.as<ListObj>()->items.push_back(x);
+        for (const Value& x : args[1].as<ListObj>()->items) append(out.as<ListObj>(), x);
       }
       return out;
     }
@@ -278,6 +291,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
     case Builtin::Range: {
       need(2);
       int32_t a = num_arg(0), c = num_arg(1);
+      check_length(static_cast<int64_t>(c) - a);
       Value out = make_empty_list();
       for (int32_t i = a; i < c; ++i) list_add(out.as<ListObj>(), Value::number(i));
       return out;
@@ -318,6 +332,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
         for (const Value& x : items)
           if (!(x.is_heap() && ids.count(x.obj->id))) kept.push_back(x);
       }
+      count_cells(static_cast<int64_t>(kept.size()));
       return make_list(std::move(kept));
     }
     case Builtin::UpdateObj: {
@@ -357,6 +372,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       int32_t bound = num_arg(0);
       if (bound < 0) fail("randomPositions: the grid size must not be negative");
       int32_t count = num_arg(1);
+      check_length(count);
       Value out = make_empty_list();
       for (int32_t i = 0; i < count; ++i) {
         int32_t x = static_cast<int32_t>(rng_.next(static_cast<uint64_t>(bound)));
@@ -374,6 +390,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
         h = num_arg(1);
         if (h < 0) fail("allPositions: negative size");
       }
+      check_length(static_cast<int64_t>(w) * h);
       Value out = make_empty_list();
       for (int32_t i = 0; i < w; ++i)
         for (int32_t j = 0; j < h; ++j) list_add(out.as<ListObj>(), make_position(i, j));
@@ -426,6 +443,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
         Value old_x = c->fields[xi];
         DeferredObj* xd = old_x.as<DeferredObj>();
         DeferredObj* yd = c->fields[yi].as<DeferredObj>();
+        if (yd->turns >= limits::kMaxValueNesting) fail(limits::rotation_nesting_error());
         Expr neg{ExprKind::Unary, yd->expr->loc};
         neg.unary = UnOp::Neg;
         neg.text = "-";
@@ -434,6 +452,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
         nx->id = next_id();
         nx->expr = make_expr(std::move(neg));
         nx->env = xd->env;
+        nx->turns = yd->turns + 1;
         c->fields[xi] = Value::heap(VKind::Deferred, nx);
         c->fields[yi] = old_x;
       }

@@ -6,14 +6,28 @@
 // the reference: the only place an error is caught and evaluation continues is
 // the trial evaluation of Cell arguments, which then runs in whatever scope the
 // failed expression left behind.
+//
+// Depth: eval() counts its own nesting (kMaxEvalNesting, with the deep stack's
+// floor as a last resort) and call_lambda the call depth and the step's calls
+// (runtime/limits.hpp); running out of memory inside an expression becomes a
+// located error at that expression.
+#include <new>
+#include <stdexcept>
+#include <utility>
+
 #include "compiler/interpret/interpreter.hpp"
+#include "compiler/parse/ast_print.hpp"
 #include "runtime/arith.hpp"
 
 namespace autumn::interp {
 
+// Nested eval() calls allowed: far above call-depth x ordinary nesting, and
+// what the deep stack holds in any build (about 1 KiB a level under ASan).
+constexpr int64_t kMaxEvalNesting = 400'000;
+
 void Interpreter::fail(const std::string& msg) { throw RuntimeError(msg); }
 
-static void locate(RuntimeError& err, const Expr& e) {
+void locate(RuntimeError& err, const Expr& e) {
   if (!err.located) {
     err.loc = e.loc;
     err.located = true;
@@ -140,7 +154,11 @@ Value Interpreter::eval_value(const Expr& e) {
 }
 
 Value Interpreter::eval(const Expr& e) {
+  Nest nest(eval_depth_);
   try {
+    if (eval_depth_ > kMaxEvalNesting || stack_exhausted(stack_floor_))
+      fail("evaluation nested too deeply: more than " + std::to_string(kMaxEvalNesting) +
+           " levels of expressions and calls");
     switch (e.kind) {
       case ExprKind::Number: return Value::number(e.number);
       case ExprKind::String: return Value::string(&e.text);
@@ -212,6 +230,8 @@ Value Interpreter::eval(const Expr& e) {
         std::vector<Value> items;
         items.reserve(e.kids.size());
         for (const auto& k : e.kids) items.push_back(eval_value(*k));
+        check_length(static_cast<int64_t>(items.size()));
+        count_cells(static_cast<int64_t>(items.size()));
         return make_list(std::move(items));
       }
       case ExprKind::Lambda: return make_function(FuncObj::Kind::Lambda, Builtin::Map, &e, nullptr);
@@ -244,6 +264,14 @@ Value Interpreter::eval(const Expr& e) {
   } catch (RuntimeError& err) {
     locate(err, e);
     throw;
+  } catch (const std::bad_alloc&) {
+    RuntimeError err("out of memory");
+    locate(err, e);
+    throw err;
+  } catch (const std::length_error&) {
+    RuntimeError err("out of memory");
+    locate(err, e);
+    throw err;
   }
 }
 
@@ -304,7 +332,7 @@ Value Interpreter::eval_call(const Expr& e) {
     args.reserve(nargs);
     for (size_t i = 1; i <= nargs; ++i) args.push_back(eval_value(*e.kids[i]));
     if (cls->object) {
-      Value made = call_lambda(*cls->object->constructor_body, args, ScopeKind::Instance);
+      Value made = call_lambda(*cls->object->constructor_body, args, ScopeKind::Instance, &e);
       if (made.is(VKind::List)) args = made.as<ListObj>()->items;
     }
     return make_instance(cls, std::move(args));
@@ -328,20 +356,23 @@ Value Interpreter::eval_call(const Expr& e) {
   args.reserve(nargs);
   for (size_t i = 1; i <= nargs; ++i) args.push_back(eval_value(*e.kids[i]));
   if (f->kind == FuncObj::Kind::Native) return call_builtin(f->builtin, args);
-  return call_function(callee, args);
+  return call_function(callee, args, &e);
 }
 
-Value Interpreter::call_function(const Value& fv, std::vector<Value>& args) {
+Value Interpreter::call_function(const Value& fv, std::vector<Value>& args, const Expr* site) {
   FuncObj* f = fv.as<FuncObj>();
   switch (f->kind) {
     case FuncObj::Kind::Native: return call_builtin(f->builtin, args);
-    case FuncObj::Kind::Lambda: return call_lambda(*f->lambda, args);
+    case FuncObj::Kind::Lambda: return call_lambda(*f->lambda, args, ScopeKind::Local, site);
     case FuncObj::Kind::Method: return call_render_method(f->cls);
   }
   fail("bad function");
 }
 
-Value Interpreter::call_lambda(const Expr& lambda, std::vector<Value>& args, ScopeKind kind) {
+Value Interpreter::call_lambda(const Expr& lambda, std::vector<Value>& args, ScopeKind kind, const Expr* site) {
+  Nest depth(call_depth_);
+  if (call_depth_ > limits_.call_depth) fail_call_depth(lambda, site);
+  if (!internal_ && ++step_calls_ > limits_.calls) fail(limits::calls_error(limits_.calls));
   Ref<Scope> sc = new_scope(kind, env_);
   env_ = sc;
   if (args.size() < lambda.params.size())
@@ -354,19 +385,39 @@ Value Interpreter::call_lambda(const Expr& lambda, std::vector<Value>& args, Sco
   return r;
 }
 
+// An error in the method's own machinery (a colour that is not a String, a
+// coordinate that is not a Number) is the program's: it is reported at the cell
+// argument evaluated last, the one whose value did not fit.
 Value Interpreter::call_render_method(TypeObj* cls) {
+  Nest machinery(internal_);  // nothing the method itself builds is counted
   Ref<InstanceObj> self = cls->bound;
   if (!self) fail("render method called without an object");
   Ref<Scope> sc = new_scope(ScopeKind::Instance, env_);
   env_ = sc;
   for (size_t i = 0; i < cls->field_syms.size(); ++i) define(sc.get(), cls->field_syms[i], self->fields[i]);
   std::vector<Value> none;
-  Value r = call_lambda(*program_->render_lambda, none);
-  env_ = sc->parent;
-  return r;
+  last_cell_arg_ = SourceLoc{};
+  try {
+    Value r = call_lambda(*program_->render_lambda, none);
+    env_ = sc->parent;
+    return r;
+  } catch (RuntimeError& e) {
+    if (!e.in_program && last_cell_arg_.line > 0 && last_cell_arg_.source == SourceId::Program) {
+      e.program_loc = last_cell_arg_;
+      e.in_program = true;
+    }
+    throw;
+  }
 }
 
 Value Interpreter::call_deferred(DeferredObj* d) {
+  // A cell's expression is the program's own, even when a render evaluates it.
+  struct Counted {
+    int64_t& flag;
+    int64_t saved;
+    ~Counted() { flag = saved; }
+  } counted{internal_, std::exchange(internal_, 0)};
+  last_cell_arg_ = d->expr->loc;
   Ref<Scope> cenv = d->env;
   cenv->parent = env_;  // captured names win; the rest resolves through the caller
   Ref<Scope> saved = env_;

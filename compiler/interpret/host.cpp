@@ -4,7 +4,10 @@
 // the program's statements in source order, initialisers in initnext hash order,
 // then a render. step(): prev snapshot, clear updated flags, trigger, on-clauses in
 // source order against live state, NEXT for variables no clause assigned (hash
-// order), clear inputs. Nothing is rendered during a step.
+// order), clear inputs. Nothing is rendered during a step. Each public entry runs
+// on the deep stack with fresh budgets (interpreter.hpp); start-up and every step
+// end with check_state(), and the render checks GRID_SIZE against its range,
+// reporting at its definition.
 #include "compiler/interpret/interpreter.hpp"
 
 namespace autumn::interp {
@@ -43,6 +46,14 @@ Interpreter::~Interpreter() {
 }
 
 void Interpreter::start(uint64_t seed) {
+  entry([&] {
+    start_up(seed);
+    check_state();
+    render_all(nullptr);
+  });
+}
+
+void Interpreter::start_up(uint64_t seed) {
   rng_.reseed(seed);
   define_global(names_.GRID_SIZE, Value::number(16));
   for (int i = 0; i < kBuiltinCount; ++i) {
@@ -77,10 +88,39 @@ void Interpreter::start(uint64_t seed) {
       throw wrapped;
     }
   }
-  render(nullptr);
 }
 
 void Interpreter::step(const Action& input) {
+  entry([&] {
+    step_once(input);
+    check_state();
+  });
+}
+
+// An on-clause's condition: a Bool, or a function of no arguments returning one.
+bool Interpreter::condition_holds(const Stmt& st) {
+  auto located = [&](const std::string& msg) {
+    RuntimeError e(msg);
+    locate(e, *st.cond);
+    return e;
+  };
+  Value c = eval_value(*st.cond);
+  if (c.is(VKind::Bool)) return c.num != 0;
+  if (!c.is(VKind::Function)) throw located("an on-clause condition must be a Bool, got " + type_string(type_of(c)));
+  std::vector<Value> none;
+  Value r;
+  try {
+    r = call_function(c, none);
+  } catch (RuntimeError& e) {
+    locate(e, *st.cond);
+    throw;
+  }
+  if (!r.is(VKind::Bool))
+    throw located("an on-clause condition function must return a Bool, got " + type_string(type_of(r)));
+  return r.num != 0;
+}
+
+void Interpreter::step_once(const Action& input) {
   switch (input.kind) {
     case Action::Kind::Noop: break;
     case Action::Kind::Left: left_ = true; break;
@@ -108,31 +148,7 @@ void Interpreter::step(const Action& input) {
   // 4. On-clauses in source order, each seeing the effects of the earlier ones.
   for (size_t i = 0; i < on_clauses_.size(); ++i) {
     const Stmt& st = *on_clauses_[i];
-    Value c = eval_value(*st.cond);
-    bool fire;
-    if (c.is(VKind::Bool)) {
-      fire = c.num != 0;
-    } else if (c.is(VKind::Function)) {
-      std::vector<Value> none;
-      Value r = call_function(c, none);
-      if (!r.is(VKind::Bool)) {
-        RuntimeError e("an on-clause condition function must return a Bool, got " + type_string(type_of(r)));
-        e.loc = st.cond->loc;
-        e.located = true;
-        e.program_loc = st.cond->loc;
-        e.in_program = true;
-        throw e;
-      }
-      fire = r.num != 0;
-    } else {
-      RuntimeError e("an on-clause condition must be a Bool, got " + type_string(type_of(c)));
-      e.loc = st.cond->loc;
-      e.located = true;
-      e.program_loc = st.cond->loc;
-      e.in_program = true;
-      throw e;
-    }
-    if (fire) {
+    if (condition_holds(st)) {
       covered_[i] = 1;
       eval_value(*st.body);
     }
@@ -162,6 +178,35 @@ void Interpreter::step(const Action& input) {
 std::vector<Sym> Interpreter::render_order() const { return render_order_.order(); }
 
 int Interpreter::render(std::vector<RenderedCell>* cells) {
+  int size = 0;
+  entry([&] { size = render_all(cells); });
+  return size;
+}
+
+int Interpreter::step_and_render(const Action& input, std::vector<RenderedCell>* cells) {
+  int size = 0;
+  entry([&] {
+    step_once(input);
+    check_state();
+    begin_budget();
+    size = render_all(cells);
+  });
+  return size;
+}
+
+int Interpreter::start_and_render(uint64_t seed, std::vector<RenderedCell>* cells) {
+  int size = 0;
+  entry([&] {
+    start_up(seed);
+    check_state();
+    render_all(nullptr);
+    begin_budget();
+    size = render_all(cells);
+  });
+  return size;
+}
+
+int Interpreter::render_all(std::vector<RenderedCell>* cells) {
   occupied_.clear();
   std::vector<RenderedCell> local;
   std::vector<RenderedCell>& out = cells ? *cells : local;
@@ -182,7 +227,9 @@ int Interpreter::render(std::vector<RenderedCell>* cells) {
     }
   }
   Value* g = lookup(names_.GRID_SIZE);
-  if (!g || !g->is(VKind::Number)) fail("GRID_SIZE must be a number when rendering");
+  if (!g) fail_at_definition(names_.GRID_SIZE, "GRID_SIZE is not defined when rendering");
+  if (!g->is(VKind::Number)) fail_at_definition(names_.GRID_SIZE, limits::grid_size_type_error(type_string(type_of(*g))));
+  if (std::string why = limits::grid_size_error(g->num); !why.empty()) fail_at_definition(names_.GRID_SIZE, why);
   int size = g->num;
   assign(names_.cacheRendered, all);
   return size;
@@ -208,7 +255,9 @@ int Interpreter::covered_on_clause_count() const {
 
 std::string Interpreter::describe(const RuntimeError& e) const {
   SourceLoc at = e.in_program ? e.program_loc : e.loc;
-  std::string msg = format_diagnostic(program_->file_name(at.source), at, "runtime error", e.what());
+  const std::string& file =
+      at.source == SourceId::Program && !source_name_.empty() ? source_name_ : program_->file_name(at.source);
+  std::string msg = format_diagnostic(file, at, "runtime error", e.what());
   if (e.in_program && e.located && e.loc.source != SourceId::Program && e.loc.source != SourceId::Internal)
     msg += " (inside " + program_->file_name(e.loc.source) + ":" + std::to_string(e.loc.line) + ":" +
            std::to_string(e.loc.col) + ")";

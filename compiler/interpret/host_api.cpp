@@ -31,20 +31,25 @@ void Interpreter::press(const Action& input) {
 }
 
 std::string Interpreter::evaluate_to_string(const Expr& e) {
-  env_ = global_;
-  Value v = eval(e);
-  if (v.is(VKind::None)) return "NULL";
-  return value_string(v);
+  std::string out;
+  entry([&] {
+    env_ = global_;
+    Value v = eval(e);
+    out = v.is(VKind::None) ? "NULL" : value_string(v);
+  });
+  return out;
 }
 
 // tmpExecuteStmt: an assignment runs (an initnext one also defines its variable
 // with the initial value at once), an on-clause is added, anything else runs.
 void Interpreter::execute_statement(const Stmt& st) {
-  env_ = global_;
-  run_statement(st);
-  if (st.kind != StmtKind::Expr || st.expr->kind != ExprKind::Assign) return;
-  const Expr& value = *st.expr->kids.at(0);
-  if (value.kind == ExprKind::InitNext) define_global(st.expr->name, eval_value(*value.kids.at(0)));
+  entry([&] {
+    env_ = global_;
+    run_statement(st);
+    if (st.kind != StmtKind::Expr || st.expr->kind != ExprKind::Assign) return;
+    const Expr& value = *st.expr->kids.at(0);
+    if (value.kind == ExprKind::InitNext) define_global(st.expr->name, eval_value(*value.kids.at(0)));
+  });
 }
 
 int Interpreter::frame_rate() const {
@@ -70,6 +75,12 @@ std::string json_escaped(const std::string& s) {
 }  // namespace
 
 std::string Interpreter::environment_string() {
+  std::string out;
+  entry([&] { out = environment_text(); });
+  return out;
+}
+
+std::string Interpreter::environment_text() {
   const SymbolTable& syms = program_->symbols;
   // The reference copies the global map into a second map, in the first one's
   // iteration order, and prints that one.

@@ -15,18 +15,15 @@ bool InterpretedEnvironment::guarded(F&& f) {
   } catch (const interp::RuntimeError& e) {
     error_ = interp_->describe(e);
   } catch (const std::bad_alloc&) {
-    error_ = program_->file.name + ": runtime error: out of memory";
+    error_ = name() + ": runtime error: out of memory";
   } catch (const std::exception& e) {
-    error_ = program_->file.name + ": runtime error: " + e.what();
+    error_ = name() + ": runtime error: " + e.what();
   }
   failed_ = true;
   return false;
 }
 
-void InterpretedEnvironment::host_render() {
-  int size = interp_->render(&cells_);
-  if (size <= 0 || size > 4096)
-    throw interp::RuntimeError("GRID_SIZE " + std::to_string(size) + " cannot be painted");
+void InterpretedEnvironment::paint(int size) {
   uint16_t bg = palette_.id(lower_ascii(interp_->background()));
   frame_.size = size;
   frame_.cells.assign(static_cast<size_t>(size) * size, bg);
@@ -39,28 +36,40 @@ void InterpretedEnvironment::host_render() {
   triggered_ = interp_->triggered();
 }
 
+const std::string& InterpretedEnvironment::name() const {
+  return source_name_.empty() ? program_->file.name : source_name_;
+}
+
+void InterpretedEnvironment::set_source_name(const std::string& path) {
+  source_name_ = path;
+  if (interp_) interp_->set_source_name(path);
+}
+
+void InterpretedEnvironment::set_limits(const Limits& limits) {
+  limits_ = limits;
+  if (interp_) interp_->set_limits(limits);
+}
+
 bool InterpretedEnvironment::reset(uint64_t seed) {
   interp_ = std::make_unique<interp::Interpreter>(program_);
+  interp_->set_source_name(source_name_);
+  interp_->set_limits(limits_);
   failed_ = false;
   error_.clear();
   triggered_ = false;
-  return guarded([&] {
-    interp_->start(seed);
-    host_render();
-  });
+  return guarded([&] { paint(interp_->start_and_render(seed, &cells_)); });
 }
 
 bool InterpretedEnvironment::step(const Action& action) {
   if (failed_) return false;
-  return guarded([&] {
-    interp_->step(action);
-    host_render();
-  });
+  return guarded([&] { paint(interp_->step_and_render(action, &cells_)); });
 }
 
 std::unique_ptr<Environment> InterpretedEnvironment::clone() const {
   auto copy = std::make_unique<InterpretedEnvironment>(program_);
-  if (interp_) copy->interp_ = interp_->clone();
+  if (interp_ && !failed_) copy->interp_ = interp_->clone();  // a failed state may be half-updated
+  copy->source_name_ = source_name_;
+  copy->limits_ = limits_;
   copy->palette_ = palette_;
   copy->frame_ = frame_;
   copy->triggered_ = triggered_;

@@ -3,6 +3,8 @@
 // reset() runs the reference's host sequence: start (which renders once
 // internally) and then the host's own render_all(), a second render that matters
 // because deferred cell colours may draw random numbers at every render.
+// Limits and the source name given by the host apply from the next reset on
+// (and to clones). A failed episode's clone is failed too and shares nothing.
 #pragma once
 #include <memory>
 #include <vector>
@@ -37,14 +39,19 @@ class InterpretedEnvironment : public Environment {
     interp_->rng().reseed(seed);
     return true;
   }
+  void set_source_name(const std::string& path) override;
+  void set_limits(const Limits& limits) override;
 
  private:
   template <class F>
   bool guarded(F&& f);
-  void host_render();
+  void paint(int size);  // the frame from the host render's cells_ (size checked by the interpreter)
+  const std::string& name() const;  // the program's path in messages
 
   std::shared_ptr<const Program> program_;
   std::unique_ptr<interp::Interpreter> interp_;
+  std::string source_name_;  // empty: the program's own file name
+  Limits limits_;
   std::vector<interp::RenderedCell> cells_;
   Palette palette_;
   Frame frame_;

@@ -18,6 +18,13 @@
 //   render(&cells)                the host render_all(): refreshes occupancy
 //   triggered(), coverage
 // Errors are thrown as RuntimeError; after one, the interpreter must not be used.
+//
+// Limits (runtime/limits.hpp): every public entry that evaluates runs on the deep
+// stack (deep_stack.hpp) with fresh per-step budgets; eval() counts its nesting,
+// call_lambda the call depth and the step's calls, the list builders the list
+// lengths and the cells created, and check_state() the state after start-up and
+// after every step. Only the program's constructs count: the machinery of
+// rendering (render methods, flattening) does not, deferred cell expressions do.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -28,10 +35,12 @@
 
 #include "compiler/analyse/program.hpp"
 #include "compiler/analyse/render_order.hpp"
+#include "compiler/interpret/deep_stack.hpp"
 #include "compiler/interpret/scope.hpp"
 #include "compiler/interpret/value.hpp"
 #include "runtime/action.hpp"
 #include "runtime/hash_order.hpp"
+#include "runtime/limits.hpp"
 #include "runtime/rng.hpp"
 
 namespace autumn::interp {
@@ -44,6 +53,9 @@ class RuntimeError : public std::runtime_error {
   SourceLoc program_loc;  // innermost construct in the user's program
   bool in_program = false;
 };
+
+// Sets err's locations to e's unless an inner construct already did.
+void locate(RuntimeError& err, const Expr& e);
 
 // One rendered cell of the host render, in render order.
 struct RenderedCell {
@@ -64,6 +76,10 @@ class Interpreter {
   // Host render_all(): fills `cells` (may be null), refreshes occupancy, assigns
   // cacheRendered, returns GRID_SIZE.
   int render(std::vector<RenderedCell>* cells);
+  // step() then render() (start() then render()) in one entry: the host's
+  // sequence, switching to the deep stack once instead of twice.
+  int step_and_render(const Action& input, std::vector<RenderedCell>* cells);
+  int start_and_render(uint64_t seed, std::vector<RenderedCell>* cells);
   std::string background() const;  // `background` without its quotes
 
   bool triggered() const;
@@ -71,6 +87,11 @@ class Interpreter {
   int covered_on_clause_count() const;
   // "file:line:col: runtime error: message"
   std::string describe(const RuntimeError& e) const;
+  // The path named for the program's own locations in describe() (a compiled
+  // module knows only its text; the host names the file).
+  void set_source_name(std::string path) { source_name_ = std::move(path); }
+  void set_limits(const Limits& l) { limits_ = l; }
+  const Limits& limits() const { return limits_; }
   // A deep copy sharing nothing mutable with this one (safe to use on another
   // thread); taken between steps.
   std::unique_ptr<Interpreter> clone() const;
@@ -95,14 +116,23 @@ class Interpreter {
   friend struct Builtins;
   using Bindings = std::vector<Binding>;
 
+  // --- start-up and steps (host.cpp), inside an entry
+  void start_up(uint64_t seed);
+  void step_once(const Action& input);
+  bool condition_holds(const Stmt& on_clause);
+  int render_all(std::vector<RenderedCell>* cells);
+  std::string environment_text();
+
   // --- evaluation (eval.cpp)
   Value eval(const Expr& e);
   Value eval_value(const Expr& e);  // errors on types and non-values
   Value eval_call(const Expr& e);
   Value eval_assign(const Expr& e);
   Value construct_cell(const Expr& e, TypeObj* cls);
-  Value call_function(const Value& f, std::vector<Value>& args);
-  Value call_lambda(const Expr& lambda, std::vector<Value>& args, ScopeKind kind = ScopeKind::Local);
+  Value call_function(const Value& f, std::vector<Value>& args, const Expr* site = nullptr);
+  // `site`: the call expression, for naming the callee when the depth limit stops it.
+  Value call_lambda(const Expr& lambda, std::vector<Value>& args, ScopeKind kind = ScopeKind::Local,
+                    const Expr* site = nullptr);
   Value call_deferred(DeferredObj* d);
   Value call_render_method(TypeObj* cls);
   Value get_field(const Value& obj, Sym field, const std::string& raw);
@@ -147,11 +177,40 @@ class Interpreter {
   int grid_size_for_render();
 
   [[noreturn]] void fail(const std::string& msg);
+
+  // --- limits (limits.cpp)
+  // Runs an entry's work (start-up, a step, a render, a host API call) on the
+  // deep stack with fresh budgets.
+  template <class F>
+  void entry(F&& f);
+  void begin_budget();
+  void count_cells(int64_t n);             // cells created (lists, fields, printed values)
+  void check_length(int64_t n);            // a list of n elements is about to exist
+  void append(ListObj* list, Value v);     // push_back, counted and length-checked
+  [[noreturn]] void fail_call_depth(const Expr& lambda, const Expr* site);
+  [[noreturn]] void fail_at_definition(Sym s, const std::string& msg);
+  void check_state();                      // the state's objects, cells and nesting
+  struct Nest {                            // RAII depth counter
+    explicit Nest(int64_t& d) : d_(++d) {}
+    ~Nest() { --d_; }
+    int64_t& d_;
+  };
+  // Inside a Nest over value_depth_: fails past limits::kMaxValueNesting.
+  void check_value_depth() {
+    if (value_depth_ > limits::kMaxValueNesting) fail(limits::value_nesting_error());
+  }
   struct CopyOnly {};
   Interpreter(const Interpreter& other, CopyOnly);
 
   std::shared_ptr<const Program> program_;
   const WellKnownNames& names_;
+  std::string source_name_;  // empty: the program's own file name
+  Limits limits_;
+  int64_t eval_depth_ = 0, call_depth_ = 0, value_depth_ = 0;
+  int64_t step_cells_ = 0, step_calls_ = 0;
+  int64_t internal_ = 0;                    // > 0: inside rendering machinery, nothing is counted
+  const char* stack_floor_ = nullptr;      // deep_stack.hpp
+  SourceLoc last_cell_arg_;                // the cell argument a render evaluated last
   WrappedMinstd rng_;
   int id_counter_ = 0;
 
@@ -190,5 +249,14 @@ class Interpreter {
   TypeRef t_number_, t_string_, t_bool_, t_unknown_, t_func_, t_expr_, t_default_list_;
   TypeRef c_position_, c_cell_, c_rendered_;
 };
+
+template <class F>
+void Interpreter::entry(F&& f) {
+  on_deep_stack([&] {
+    stack_floor_ = stack_floor();
+    begin_budget();
+    f();
+  });
+}
 
 }  // namespace autumn::interp

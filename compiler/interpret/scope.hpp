@@ -31,6 +31,11 @@ struct Scope : Obj {
       if (b.sym == s) return &b;
     return nullptr;
   }
+  void release_children(Dying& dying) override {
+    parent.release_into(dying);
+    for (auto& b : vars) b.value.obj.release_into(dying);
+    for (auto& d : declared) d.second.release_into(dying);
+  }
 };
 
 }  // namespace autumn::interp

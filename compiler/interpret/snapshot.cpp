@@ -9,6 +9,9 @@
 // state_hash() walks the same graph in a fixed order. Identity numbers matter only
 // through equality, so they are hashed as first-encounter indices: two states
 // reached by different histories but with the same structure hash alike.
+//
+// Both walk iteratively (a work list, not the C++ stack): a failed episode may
+// hold values nested as deep as memory allows, and clones run on any thread.
 #include <algorithm>
 #include <functional>
 #include <unordered_map>
@@ -18,6 +21,8 @@
 namespace autumn::interp {
 namespace {
 
+// copy_obj() makes an object's shell (its plain fields) and queues it; finish()
+// fills the queued shells' references, which queues their children in turn.
 class GraphCopier {
  public:
   template <class T>
@@ -38,10 +43,25 @@ class GraphCopier {
   Obj* copy_obj(const Obj* o) {
     if (!o) return nullptr;
     if (auto it = memo_.find(o); it != memo_.end()) return it->second;
+    Obj* n = shell(o);
+    n->id = o->id;
+    memo_[o] = n;
+    queue_.emplace_back(o, n);
+    return n;
+  }
+  // Fills every queued shell; call once after the roots are copied.
+  void finish() {
+    while (!queue_.empty()) {
+      auto [o, n] = queue_.back();
+      queue_.pop_back();
+      fill(o, n);
+    }
+  }
+
+ private:
+  static Obj* shell(const Obj* o) {
     if (auto* t = dynamic_cast<const TypeObj*>(o)) {
       auto* n = new TypeObj;
-      memo_[o] = n;
-      n->id = t->id;
       n->kind = t->kind;
       n->name = t->name;
       n->field_syms = t->field_syms;
@@ -50,59 +70,57 @@ class GraphCopier {
       n->has_render = t->has_render;
       n->cached_str = t->cached_str;
       n->str_ready = t->str_ready;
-      n->elem = copy(t->elem);
-      for (const auto& ft : t->field_types) n->field_types.push_back(copy(ft));
-      n->bound = copy(t->bound);
-      n->render_method = copy(t->render_method);
       return n;
     }
-    if (auto* l = dynamic_cast<const ListObj*>(o)) {
-      auto* n = new ListObj;
-      memo_[o] = n;
-      n->id = l->id;
-      n->items = copy(l->items);
-      n->tag = copy(l->tag);
-      return n;
-    }
-    if (auto* in = dynamic_cast<const InstanceObj*>(o)) {
-      auto* n = new InstanceObj;
-      memo_[o] = n;
-      n->id = in->id;
-      n->cls = copy(in->cls);
-      n->fields = copy(in->fields);
-      return n;
-    }
+    if (dynamic_cast<const ListObj*>(o)) return new ListObj;
+    if (dynamic_cast<const InstanceObj*>(o)) return new InstanceObj;
     if (auto* f = dynamic_cast<const FuncObj*>(o)) {
       auto* n = new FuncObj;
-      memo_[o] = n;
-      n->id = f->id;
       n->kind = f->kind;
       n->builtin = f->builtin;
       n->lambda = f->lambda;
-      n->cls = static_cast<TypeObj*>(copy_obj(f->cls));
       return n;
     }
     if (auto* d = dynamic_cast<const DeferredObj*>(o)) {
       auto* n = new DeferredObj;
-      memo_[o] = n;
-      n->id = d->id;
       n->expr = d->expr;
-      n->env = copy(d->env);
+      n->turns = d->turns;
       return n;
     }
-    auto* s = dynamic_cast<const Scope*>(o);
     auto* n = new Scope;
-    memo_[o] = n;
-    n->id = s->id;
-    n->kind = s->kind;
-    n->parent = copy(s->parent);
-    for (const auto& b : s->vars) n->vars.push_back(Binding{b.sym, copy(b.value), b.updated});
-    for (const auto& [sym, t] : s->declared) n->declared.emplace_back(sym, copy(t));
+    n->kind = dynamic_cast<const Scope*>(o)->kind;
     return n;
   }
+  void fill(const Obj* o, Obj* to) {
+    if (auto* t = dynamic_cast<const TypeObj*>(o)) {
+      auto* n = static_cast<TypeObj*>(to);
+      n->elem = copy(t->elem);
+      for (const auto& ft : t->field_types) n->field_types.push_back(copy(ft));
+      n->bound = copy(t->bound);
+      n->render_method = copy(t->render_method);
+    } else if (auto* l = dynamic_cast<const ListObj*>(o)) {
+      auto* n = static_cast<ListObj*>(to);
+      n->items = copy(l->items);
+      n->tag = copy(l->tag);
+    } else if (auto* in = dynamic_cast<const InstanceObj*>(o)) {
+      auto* n = static_cast<InstanceObj*>(to);
+      n->cls = copy(in->cls);
+      n->fields = copy(in->fields);
+    } else if (auto* f = dynamic_cast<const FuncObj*>(o)) {
+      static_cast<FuncObj*>(to)->cls = static_cast<TypeObj*>(copy_obj(f->cls));
+    } else if (auto* d = dynamic_cast<const DeferredObj*>(o)) {
+      static_cast<DeferredObj*>(to)->env = copy(d->env);
+    } else {
+      auto* s = dynamic_cast<const Scope*>(o);
+      auto* n = static_cast<Scope*>(to);
+      n->parent = copy(s->parent);
+      for (const auto& b : s->vars) n->vars.push_back(Binding{b.sym, copy(b.value), b.updated});
+      for (const auto& [sym, t] : s->declared) n->declared.emplace_back(sym, copy(t));
+    }
+  }
 
- private:
   std::unordered_map<const Obj*, Obj*> memo_;
+  std::vector<std::pair<const Obj*, Obj*>> queue_;
 };
 
 struct Hasher {
@@ -129,7 +147,12 @@ struct Hasher {
 }  // namespace
 
 Interpreter::Interpreter(const Interpreter& o, CopyOnly)
-    : program_(o.program_), names_(o.names_), rng_(o.rng_), id_counter_(o.id_counter_) {
+    : program_(o.program_),
+      names_(o.names_),
+      source_name_(o.source_name_),
+      limits_(o.limits_),
+      rng_(o.rng_),
+      id_counter_(o.id_counter_) {
   GraphCopier c;
   t_number_ = c.copy(o.t_number_);
   t_string_ = c.copy(o.t_string_);
@@ -168,6 +191,7 @@ Interpreter::Interpreter(const Interpreter& o, CopyOnly)
   click_y_ = o.click_y_;
   occupied_ = o.occupied_;
   for (const auto& t : o.classes_) classes_.push_back(c.copy(t));
+  c.finish();
 }
 
 std::unique_ptr<Interpreter> Interpreter::clone() const {
@@ -187,7 +211,17 @@ static uint64_t expr_hash(const Expr& e) {
 
 uint64_t Interpreter::state_hash() {
   Hasher hs;
-  std::function<void(const Value&)> value = [&](const Value& v) {
+  // Pre-order over a work list: a task mixes a constant or visits a value, whose
+  // children are pushed in reverse so that they are visited in order.
+  struct Task {
+    const Value* v;
+    uint64_t constant;
+  };
+  std::vector<Task> work;
+  auto push_all = [&](const std::vector<Value>& vs) {
+    for (auto it = vs.rbegin(); it != vs.rend(); ++it) work.push_back({&*it, 0});
+  };
+  auto visit = [&](const Value& v) {
     hs.mix(static_cast<uint64_t>(v.kind));
     switch (v.kind) {
       case VKind::Number:
@@ -203,7 +237,7 @@ uint64_t Interpreter::state_hash() {
           hs.mix(1);
         }
         hs.mix(l->items.size());
-        for (const Value& x : l->items) value(x);
+        push_all(l->items);
         return;
       }
       case VKind::Instance: {
@@ -211,7 +245,7 @@ uint64_t Interpreter::state_hash() {
         hs.mix_id(in->id);
         if (!hs.first_visit(in)) return;
         hs.mix_str(in->cls->name);
-        for (const Value& x : in->fields) value(x);
+        push_all(in->fields);
         return;
       }
       case VKind::Function: {
@@ -228,13 +262,22 @@ uint64_t Interpreter::state_hash() {
         if (!hs.first_visit(d)) return;
         hs.mix(expr_hash(*d->expr));
         if (d->env && hs.first_visit(d->env.get()))
-          for (const Binding& b : d->env->vars) {
-            hs.mix(static_cast<uint64_t>(b.sym));
-            value(b.value);
+          for (auto b = d->env->vars.rbegin(); b != d->env->vars.rend(); ++b) {
+            work.push_back({&b->value, 0});
+            work.push_back({nullptr, static_cast<uint64_t>(b->sym)});
           }
         return;
       }
       default: return;
+    }
+  };
+  auto value = [&](const Value& root) {
+    work.push_back({&root, 0});
+    while (!work.empty()) {
+      Task t = work.back();
+      work.pop_back();
+      if (t.v) visit(*t.v);
+      else hs.mix(t.constant);
     }
   };
   if (program_->uses_random) hs.mix(rng_.state());

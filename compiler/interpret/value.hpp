@@ -10,7 +10,9 @@
 //    which include the tag, and tag inference compares tag objects by identity.
 //  * Types (classes, primitive type names) appear as values only as callees.
 // Heap objects use a non-atomic intrusive reference count: an interpreter and all
-// its values belong to one thread.
+// its values belong to one thread. Destruction is iterative (destroy()): a list
+// nested a million deep, which a program can build in one step, dies without
+// recursing once per level.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -22,11 +24,53 @@
 
 namespace autumn::interp {
 
+struct Obj;
+
+// The objects waiting to be deleted by destroy(): a few inline, more on the heap.
+class Dying {
+ public:
+  void push_back(Obj* o) {
+    if (n_ < kInline) inline_[n_++] = o;
+    else more_.push_back(o);
+  }
+  bool empty() const { return n_ == 0 && more_.empty(); }
+  Obj* pop() {
+    if (!more_.empty()) {
+      Obj* o = more_.back();
+      more_.pop_back();
+      return o;
+    }
+    return inline_[--n_];
+  }
+
+ private:
+  static constexpr size_t kInline = 32;
+  Obj* inline_[kInline];
+  size_t n_ = 0;
+  std::vector<Obj*> more_;
+};
+
 struct Obj {
   int refs = 0;
   int id = 0;
   virtual ~Obj() = default;
+  // Gives up every reference this object holds: those it holds last are
+  // appended to `dying` (still counted as one reference), the others released.
+  virtual void release_children(Dying& dying) { (void)dying; }
 };
+
+// Deletes `root` (whose count reached zero) and whatever dies with it, without
+// recursion.
+inline void destroy(Obj* root) {
+  Dying dying;
+  root->release_children(dying);
+  delete root;
+  while (!dying.empty()) {
+    Obj* o = dying.pop();
+    o->release_children(dying);
+    delete o;
+  }
+}
 
 template <class T>
 class Ref {
@@ -40,7 +84,14 @@ class Ref {
   ~Ref() { reset(); }
   Ref& operator=(Ref o) noexcept { std::swap(p_, o.p_); return *this; }
   void reset() {
-    if (p_ && --p_->refs == 0) delete p_;
+    if (p_ && --p_->refs == 0) destroy(p_);
+    p_ = nullptr;
+  }
+  // reset() for an owner being destroyed: a last reference goes to `dying`.
+  void release_into(Dying& dying) {
+    if (!p_) return;
+    if (p_->refs == 1) dying.push_back(p_);
+    else --p_->refs;
     p_ = nullptr;
   }
   T* get() const { return p_; }
@@ -96,6 +147,13 @@ struct TypeObj : Obj {
   mutable std::string cached_str;
   mutable bool str_ready = false;
 
+  void release_children(Dying& dying) override {
+    elem.release_into(dying);
+    for (auto& t : field_types) t.release_into(dying);
+    bound.release_into(dying);
+    render_method.release_into(dying);
+  }
+
   int field_index(Sym s) const {
     for (size_t i = 0; i < field_syms.size(); ++i)
       if (field_syms[i] == s) return static_cast<int>(i);
@@ -106,11 +164,19 @@ struct TypeObj : Obj {
 struct ListObj : Obj {
   std::vector<Value> items;
   TypeRef tag;  // a List type, or the bare Unknown type (mixed literal)
+  void release_children(Dying& dying) override {
+    for (Value& v : items) v.obj.release_into(dying);
+    tag.release_into(dying);
+  }
 };
 
 struct InstanceObj : Obj {
   TypeRef cls;
   std::vector<Value> fields;  // in class field order
+  void release_children(Dying& dying) override {
+    for (Value& v : fields) v.obj.release_into(dying);
+    cls.release_into(dying);
+  }
 };
 
 struct FuncObj : Obj {
@@ -122,7 +188,9 @@ struct FuncObj : Obj {
 
 struct DeferredObj : Obj {
   ExprPtr expr;
+  int turns = 0;   // rotations wrapped around the original expression (bounded)
   Ref<Scope> env;  // the capture scope; re-parented to the caller while evaluated
+  void release_children(Dying& dying) override;  // values.cpp (needs Scope)
 };
 
 }  // namespace autumn::interp

@@ -8,6 +8,8 @@
 
 namespace autumn::interp {
 
+void DeferredObj::release_children(Dying& dying) { env.release_into(dying); }
+
 TypeRef Interpreter::make_type(TypeKind k, TypeRef elem) {
   Ref<TypeObj> t(new TypeObj);
   t->kind = k;
@@ -51,6 +53,8 @@ TypeObj* Interpreter::type_of(const Value& v) {
 
 const std::string& Interpreter::type_string(TypeObj* t) {
   if (t->str_ready) return t->cached_str;
+  Nest nest(value_depth_);
+  check_value_depth();
   std::string s;
   switch (t->kind) {
     case TypeKind::Number: s = "Number"; break;
@@ -103,6 +107,8 @@ Value Interpreter::make_empty_list() {
 }
 
 void Interpreter::list_add(ListObj* list, Value v) {
+  check_length(static_cast<int64_t>(list->items.size()) + 1);
+  count_cells(1);
   TypeObj* tag = list->tag.get();
   if (tag->kind != TypeKind::List) fail("cannot append to a list of mixed element types");
   TypeObj* elem = tag->elem.get();
@@ -125,6 +131,7 @@ Value Interpreter::make_instance(TypeObj* cls, std::vector<Value> fields) {
     if (have != want && have != "List<Unknown>" && want != "List<Unknown>")
       fail("field '" + cls->field_names[i] + "' of '" + cls->name + "' must be " + want + ", got " + have);
   }
+  count_cells(static_cast<int64_t>(fields.size()));
   InstanceObj* in = new InstanceObj;
   in->id = next_id();
   in->cls = TypeRef(cls);
@@ -137,8 +144,11 @@ Value Interpreter::make_position(int x, int y) {
 }
 
 Value Interpreter::copy_value(const Value& v) {
+  Nest nest(value_depth_);
+  check_value_depth();
   switch (v.kind) {
     case VKind::List: {
+      count_cells(static_cast<int64_t>(v.as<ListObj>()->items.size()));
       std::vector<Value> items;
       for (const Value& item : v.as<ListObj>()->items) items.push_back(copy_value(item));
       return make_list(std::move(items));
@@ -152,6 +162,7 @@ Value Interpreter::copy_value(const Value& v) {
       d->id = next_id();
       d->expr = v.as<DeferredObj>()->expr;
       d->env = v.as<DeferredObj>()->env;
+      d->turns = v.as<DeferredObj>()->turns;
       return Value::heap(VKind::Deferred, d);
     }
     default:
@@ -172,6 +183,9 @@ bool Interpreter::truthy(const Value& v) const {
 // Printed forms
 
 std::string Interpreter::value_string(const Value& v) {
+  Nest nest(value_depth_);
+  check_value_depth();
+  count_cells(1);  // printing is work proportional to the value: budgeted like building it
   switch (v.kind) {
     case VKind::Number: return "(" + std::to_string(v.num) + ": N)";
     case VKind::String: return "(" + *v.str + ": S)";
@@ -224,6 +238,8 @@ std::string Interpreter::value_string(const Value& v) {
 }
 
 bool Interpreter::equals(const Value& a, const Value& b) {
+  Nest nest(value_depth_);
+  check_value_depth();
   switch (a.kind) {
     case VKind::Number:
       if (b.is(VKind::Number)) return a.num == b.num;

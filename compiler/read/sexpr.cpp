@@ -2,6 +2,8 @@
 
 #include <cctype>
 
+#include "runtime/limits.hpp"
+
 namespace autumn {
 namespace {
 
@@ -40,6 +42,9 @@ class Reader {
       }
       SourceLoc here = loc();
       if (c == '(') {
+        // Every later pass recurses over this tree: its depth is bounded here.
+        if (stack.size() > static_cast<size_t>(limits::kMaxSyntaxNesting))
+          throw CompileError(file_.name, here, limits::syntax_nesting_error());
         advance();
         stack.push_back(Sexp{true, false, "", {}, here, {}});
       } else if (c == ')') {

@@ -11,7 +11,9 @@
 //    is re-escaped (a backslash before ' " ? \ \a \b), so `alive?` reads as
 //    `alive\?`. This matters for raw field names in (.. o f) and object names.
 // Unlike the reference (which crashes on unbalanced input) every problem is a
-// CompileError with the location of the offending character.
+// CompileError with the location of the offending character. Lists nest at most
+// limits::kMaxSyntaxNesting deep (runtime/limits.hpp), so the parser, the
+// analysis and the back ends, which recurse over the tree, never run out of stack.
 #pragma once
 #include <string>
 #include <vector>

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "harness/engine.hpp"
+#include "harness/trace_check.hpp"
 
 namespace autumn::agent {
 
@@ -395,8 +396,8 @@ Task load_task(const fs::path& file) {
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw TaskError(file.filename().string() + ": not valid JSON: " + e.what());
+  } catch (const json::exception& e) {  // a syntax error, or a number out of range (1e400)
+    throw TaskError(file.filename().string() + ": not valid JSON: " + json_error_text(e));
   }
   return parse_task(j, file, ColourTable::for_task(file));
 }

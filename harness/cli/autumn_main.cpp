@@ -2,7 +2,8 @@
 // traces. One binary, one subcommand per job; every subcommand has --help.
 //
 // Exit codes: 0 success; 1 the program or input is bad, or a check failed;
-// 2 bad command-line usage.
+// 2 bad command-line usage. Commands over many programs report a bad one in its
+// row and go on. --limits sets the episodes' budget (runtime/limits.hpp).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -39,11 +40,24 @@ std::shared_ptr<const Program> load_or_report(const std::string& path, const std
   }
 }
 
+// The episodes' limits, set once from --limits before any command runs.
+Limits g_limits;
+
 std::unique_ptr<Environment> make_env(const std::string& engine, std::shared_ptr<const Program> p) {
   std::string why;
   auto env = make_environment(engine, std::move(p), &why);
   if (!env) std::cerr << "autumn: " << why << "\n";
+  else env->set_limits(g_limits);
   return env;
+}
+
+// Adds --limits to a subcommand; the value is parsed into g_limits after parsing.
+void add_limits_option(CLI::App* cmd, std::string& spec) {
+  const Limits d;
+  cmd->add_option("--limits", spec,
+                  fmt::format("Episode budget, KEY=N,...: call-depth (default {}), list-length ({}), objects ({}), "
+                              "cells ({}), calls ({})",
+                              d.call_depth, d.list_length, d.objects, d.cells, d.calls));
 }
 
 struct RunOptions {
@@ -180,6 +194,11 @@ int cmd_survey(const std::string& dir, int steps, uint64_t seed, const std::stri
       continue;
     }
     auto env = make_env(engine, program);
+    if (!env) {
+      fmt::print("{:<36} {:>5} {:>6} {:>7} {:>9} {:>9} {:>9}  {}\n", name, "-", 0, 0, 0, "-", 0, "engine error");
+      ++failures;
+      continue;
+    }
     auto t0 = std::chrono::steady_clock::now();
     bool ok = env->reset(seed);
     size_t frames = ok ? 1 : 0, done = 0;
@@ -290,6 +309,7 @@ int cmd_difftest(const std::vector<std::string>& args, const DiffOptions& o) {
     auto program = load_or_report(f.string(), std::nullopt);
     if (!program) {
       ++failures;
+      fmt::print("FAILED {}: the program does not load\n", f.string());
       continue;
     }
     DiffResult r = diff_engines(program, o);
@@ -365,11 +385,24 @@ int main(int argc, char** argv) {
   diff_cmd->add_option("--engine", diff.engine_b, "Engine compared with interp")
       ->check(CLI::IsMember(engine_names()))->default_val("compiled");
 
+  std::string limits_spec;
+  for (CLI::App* cmd : {run_cmd, check_cmd, survey_cmd, diff_cmd}) add_limits_option(cmd, limits_spec);
+
   autumn::agent::add_agent_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
+  }
+  if (!limits_spec.empty()) {
+    std::string why;
+    auto parsed = limits::parse(limits_spec, &why);
+    if (!parsed) {
+      std::cerr << "autumn: --limits: " << why << "\n";
+      return 2;
+    }
+    g_limits = *parsed;
+    diff.limits = *parsed;
   }
   if (*run_cmd) return cmd_run(run);
   if (*check_cmd) return cmd_check(check_program, check_traces_path, check_engine, check_quiet);

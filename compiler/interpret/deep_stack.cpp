@@ -1,0 +1,127 @@
+// deep_stack — one lazily reserved fiber stack per thread (deep_stack.hpp).
+//
+// The fiber is made once per thread and never ends: each run_on_deep_stack
+// switches into its loop, which runs the job and switches back (two context
+// switches, one signal-mask call each). Only the pages the evaluation touches
+// are committed.
+#include "compiler/interpret/deep_stack.hpp"
+
+#include <pthread.h>
+#include <sys/mman.h>
+#include <ucontext.h>
+
+#include <new>
+#include <utility>
+
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define AUTUMN_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define AUTUMN_ASAN 1
+#endif
+#ifdef AUTUMN_ASAN
+#include <sanitizer/common_interface_defs.h>
+#endif
+
+namespace autumn::interp {
+namespace {
+
+struct DeepStack {
+  char* base = nullptr;  // lowest address of the mapping (a guard page first)
+  bool started = false;  // the fiber waits in loop()
+  bool active = false;   // this thread runs on it now
+  ucontext_t fiber{}, caller{};
+  void (*fn)(void*) = nullptr;
+  void* arg = nullptr;
+  std::exception_ptr error;
+  // For AddressSanitizer: the stack we came from, and each side's fake stack.
+  const void* caller_bottom = nullptr;
+  size_t caller_size = 0;
+  void* fiber_fake = nullptr;
+
+  ~DeepStack() {
+    if (base) munmap(base, kDeepStackBytes);  // the suspended fiber owns nothing else
+  }
+  void start();
+};
+
+thread_local DeepStack tls_stack;
+
+// The fiber's body: runs one job per switch in, then switches back out.
+void loop() {
+  DeepStack& d = tls_stack;
+  for (;;) {
+#ifdef AUTUMN_ASAN
+    __sanitizer_finish_switch_fiber(d.fiber_fake, &d.caller_bottom, &d.caller_size);
+#endif
+    try {
+      d.fn(d.arg);
+    } catch (...) {
+      d.error = std::current_exception();
+    }
+#ifdef AUTUMN_ASAN
+    __sanitizer_start_switch_fiber(&d.fiber_fake, d.caller_bottom, d.caller_size);
+#endif
+    swapcontext(&d.fiber, &d.caller);
+  }
+}
+
+void DeepStack::start() {
+  void* p = mmap(nullptr, kDeepStackBytes, PROT_READ | PROT_WRITE,
+                 MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE | MAP_STACK, -1, 0);
+  if (p == MAP_FAILED) throw std::bad_alloc();
+  base = static_cast<char*>(p);
+  mprotect(base, 4096, PROT_NONE);  // an overflow faults instead of writing below
+  getcontext(&fiber);
+  fiber.uc_stack.ss_sp = base;
+  fiber.uc_stack.ss_size = kDeepStackBytes;
+  fiber.uc_link = nullptr;
+  makecontext(&fiber, loop, 0);
+  started = true;
+}
+
+// The current thread's stack bounds (a thread that is not the deep stack).
+const char* thread_stack_floor() {
+  thread_local const char* floor = [] {
+    pthread_attr_t attr;
+    void* addr = nullptr;
+    size_t size = 0;
+    if (pthread_getattr_np(pthread_self(), &attr) != 0) return static_cast<const char*>(nullptr);
+    pthread_attr_getstack(&attr, &addr, &size);
+    pthread_attr_destroy(&attr);
+    return size > 2 * kStackReserve ? static_cast<const char*>(addr) + kStackReserve : nullptr;
+  }();
+  return floor;
+}
+
+}  // namespace
+
+void run_on_deep_stack(void (*fn)(void*), void* arg) {
+  DeepStack& d = tls_stack;
+  if (d.active) return fn(arg);
+  if (!d.started) d.start();
+  d.fn = fn;
+  d.arg = arg;
+  d.error = nullptr;
+  d.active = true;
+#ifdef AUTUMN_ASAN
+  void* fake_stack = nullptr;
+  __sanitizer_start_switch_fiber(&fake_stack, d.base, kDeepStackBytes);
+#endif
+  swapcontext(&d.caller, &d.fiber);
+#ifdef AUTUMN_ASAN
+  __sanitizer_finish_switch_fiber(fake_stack, nullptr, nullptr);
+#endif
+  d.active = false;
+  if (d.error) std::rethrow_exception(std::exchange(d.error, nullptr));
+}
+
+const char* stack_floor() {
+  const DeepStack& d = tls_stack;
+  if (d.active) return d.base + kStackReserve;
+  return thread_stack_floor();
+}
+
+}  // namespace autumn::interp

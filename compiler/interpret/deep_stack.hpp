@@ -1,0 +1,42 @@
+// deep_stack — the interpreter evaluates on a stack sized for its limits.
+//
+// Evaluation is a recursive tree walk, and the call-depth limit (runtime/limits)
+// allows 10,000 nested calls by default, each several C++ frames: more than a
+// thread's usual 8 MiB. Rather than rewrite the walk, every entry into the
+// interpreter (start, step, render, the host API) runs on a per-thread stack of
+// kDeepStackBytes, reserved once per thread and committed only as it is touched
+// (a ucontext fiber: same thread, so thread-locals and exceptions behave;
+// AddressSanitizer is told about each switch). Re-entry while already on it runs
+// directly. The depth counters, not the stack, decide where evaluation stops, so
+// results never depend on the thread or the build; as a last resort
+// stack_exhausted() reports a nearly full stack, which the interpreter turns into
+// its ordinary nesting error instead of overflowing.
+#pragma once
+#include <cstddef>
+#include <exception>
+#include <type_traits>
+
+namespace autumn::interp {
+
+constexpr size_t kDeepStackBytes = size_t{1} << 30;  // reserved, not committed
+constexpr size_t kStackReserve = size_t{256} << 10;  // what stack_exhausted() keeps free
+
+// Runs fn(arg) on this thread's deep stack (directly when already there).
+// Exceptions thrown by fn are rethrown to the caller.
+void run_on_deep_stack(void (*fn)(void*), void* arg);
+
+template <class F>
+void on_deep_stack(F&& f) {
+  using Fn = std::remove_reference_t<F>;
+  run_on_deep_stack([](void* p) { (*static_cast<Fn*>(p))(); }, const_cast<void*>(static_cast<const void*>(&f)));
+}
+
+// The lowest usable address of the stack the caller runs on (for the
+// interpreter's cheap check), or null when unknown.
+const char* stack_floor();
+inline bool stack_exhausted(const char* floor) {
+  char here;
+  return floor && &here < floor;
+}
+
+}  // namespace autumn::interp

@@ -1,0 +1,231 @@
+// Limits and robustness (runtime/limits.hpp): inputs that used to crash, hang or
+// report no location end with one located message, on both engines.
+//
+// tests/limits/*.au: each file's "; limits:" header (the --limits syntax) is the
+// budget, "; actions:" run after reset, and the episode must end with
+// "FILE:LINE:COL: runtime error: ...TEXT..." from "; expect-runtime-error:".
+// Programs the interpreter runs inside the compiled module (recursion makes the
+// lowering give up) pass on the compiled engine already. Specialised code does
+// not enforce the budget (nor locate render errors) yet: for specialised
+// programs that the compiled engine does not get right, the test is SKIPPED
+// with the reason and what the compiled engine said.
+#include <gtest/gtest.h>
+
+#include <pthread.h>
+
+#include "compiler/analyse/program.hpp"
+#include "compiler/interpret/interpreted_env.hpp"
+#include "compiler/lower/lower.hpp"
+#include "harness/agent/task_file.hpp"
+#include "harness/engine.hpp"
+#include "harness/trace_check.hpp"
+#include "runtime/limits.hpp"
+#include "test_support.hpp"
+
+namespace autumn {
+namespace {
+
+using testing::header;
+using testing::read_text;
+
+struct Outcome {
+  bool failed = false;
+  std::string error;
+};
+
+Outcome run_episode(Environment& env, const std::vector<Action>& actions) {
+  bool ok = env.reset(3);
+  for (size_t i = 0; ok && i < actions.size(); ++i) ok = env.step(actions[i]);
+  return {!ok, ok ? "" : env.error()};
+}
+
+class LimitProgram : public ::testing::TestWithParam<std::filesystem::path> {};
+
+TEST_P(LimitProgram, EndsWithLocatedMessageOnBothEngines) {
+  const std::string path = GetParam().string();
+  const std::string text = read_text(GetParam());
+  const std::string expect = header(text, "expect-runtime-error");
+  ASSERT_FALSE(expect.empty()) << path;
+  std::string why;
+  auto limits = limits::parse(header(text, "limits"), &why);
+  ASSERT_TRUE(limits) << why;
+  auto actions = parse_action_list(header(text, "actions"), &why);
+  ASSERT_TRUE(actions) << why;
+  auto program = load_program(SourceFile{path, text});
+  const size_t colon = expect.find(": ");
+  const std::string where = path + ":" + expect.substr(0, colon) + ": runtime error: ";
+  const std::string message = expect.substr(colon + 2);
+  std::string pending;
+  for (const char* engine : {"interp", "compiled"}) {
+    auto env = make_environment(engine, program, &why);
+    ASSERT_TRUE(env) << why;
+    env->set_limits(*limits);
+    Outcome o = run_episode(*env, *actions);
+    const bool right = o.failed && o.error.rfind(where, 0) == 0 && o.error.find(message) != std::string::npos;
+    if (!right && std::string(engine) == "compiled" && lower_program(*program, "p").ok) {
+      pending = "compiled engine: the program is specialised and its emitted code does not report this yet "
+                "(runtime/limits.hpp; docs/design.md, Limits); it said: " +
+                (o.failed ? o.error : std::string("nothing, the episode ran on"));
+      continue;
+    }
+    ASSERT_TRUE(o.failed) << engine << ": expected a runtime error";
+    EXPECT_EQ(o.error.rfind(where, 0), 0u) << engine << " got: " << o.error << "\nwant prefix: " << where;
+    EXPECT_NE(o.error.find(message), std::string::npos) << engine << " got: " << o.error;
+    EXPECT_EQ(o.error.find('\n'), std::string::npos) << "one line: " << o.error;
+    auto copy = env->clone();  // a failed episode clones (and is destroyed) without trouble
+    EXPECT_TRUE(copy->failed());
+  }
+  if (!pending.empty()) GTEST_SKIP() << pending;
+}
+
+std::string name_of(const ::testing::TestParamInfo<std::filesystem::path>& info) { return info.param.stem().string(); }
+
+INSTANTIATE_TEST_SUITE_P(Files, LimitProgram,
+                         ::testing::ValuesIn(testing::files_in(testing::source_dir() / "tests/limits", ".au")),
+                         name_of);
+
+// --- the limits raise as documented, and evaluation does not use the caller's stack
+
+std::shared_ptr<const Program> limits_program(const char* name) {
+  return load_program_file((testing::source_dir() / "tests/limits" / name).string());
+}
+
+// Runs f on a thread with a 256 KiB stack: a deep evaluation must not need it.
+template <class F>
+void on_small_stack(F f) {
+  pthread_attr_t attr;
+  pthread_attr_init(&attr);
+  pthread_attr_setstacksize(&attr, 256 << 10);
+  pthread_t t;
+  auto body = [](void* p) -> void* {
+    (*static_cast<F*>(p))();
+    return nullptr;
+  };
+  ASSERT_EQ(pthread_create(&t, &attr, body, &f), 0);
+  pthread_join(t, nullptr);
+  pthread_attr_destroy(&attr);
+}
+
+TEST(Limits, DeepRecursionRunsWhenTheLimitAllowsIt) {
+  auto program = limits_program("call_depth_finite.au");
+  bool ok = false;
+  std::string error;
+  on_small_stack([&] {
+    InterpretedEnvironment env(program);
+    Limits l;
+    l.call_depth = 10'001;
+    env.set_limits(l);
+    ok = env.reset(0) && env.step(Action::noop());
+    error = env.error();
+  });
+  EXPECT_TRUE(ok) << error;
+}
+
+TEST(Limits, UnboundedRecursionOnASmallStackIsAnError) {
+  auto program = limits_program("call_depth_unbounded.au");
+  std::string error;
+  on_small_stack([&] {
+    InterpretedEnvironment env(program);
+    EXPECT_FALSE(env.reset(0));
+    error = env.error();
+  });
+  EXPECT_NE(error.find("call depth limit exceeded"), std::string::npos) << error;
+}
+
+TEST(Limits, ParseTheLimitsFlag) {
+  std::string why;
+  auto l = limits::parse("call-depth=50,cells=7", &why);
+  ASSERT_TRUE(l) << why;
+  EXPECT_EQ(l->call_depth, 50);
+  EXPECT_EQ(l->cells, 7);
+  EXPECT_EQ(l->list_length, Limits{}.list_length);
+  EXPECT_TRUE(limits::parse("", &why));
+  for (const char* bad : {"depth=3", "cells", "cells=0", "cells=-4", "cells=1x", "cells=99999999999999999999"}) {
+    EXPECT_FALSE(limits::parse(bad, &why)) << bad;
+    EXPECT_FALSE(why.empty());
+  }
+}
+
+TEST(Limits, ClonesKeepTheLimits) {
+  auto program = limits_program("list_length.au");
+  InterpretedEnvironment env(program);
+  Limits l;
+  l.list_length = 1000;
+  env.set_limits(l);
+  ASSERT_TRUE(env.reset(0));
+  auto copy = env.clone();
+  bool ok = true;
+  for (int i = 0; ok && i < 12; ++i) ok = copy->step(Action::noop());
+  EXPECT_FALSE(ok);
+  EXPECT_NE(copy->error().find("the limit is 1000"), std::string::npos) << copy->error();
+}
+
+// --- syntax nesting: the reader refuses what every pass would recurse over
+
+std::string nested(int depth) {
+  std::string s;
+  for (int i = 0; i < depth; ++i) s += "(+ 1 ";
+  s += "1";
+  for (int i = 0; i < depth; ++i) s += ")";
+  return s;
+}
+
+TEST(Limits, DeeplyNestedProgramIsALocatedLoadError) {
+  const std::string text = "(program (= GRID_SIZE 4)\n  (= x " + nested(20'000) + "))";
+  try {
+    load_program(SourceFile{"deep.au", text});
+    FAIL() << "loaded";
+  } catch (const CompileError& e) {
+    EXPECT_EQ(e.formatted().rfind("deep.au:2:", 0), 0u) << e.formatted();
+    EXPECT_NE(e.formatted().find(limits::syntax_nesting_error()), std::string::npos) << e.formatted();
+  }
+}
+
+TEST(Limits, DeeplyNestedTriggerIsALocatedLoadError) {
+  try {
+    load_program(SourceFile{"p.au", "(program (= GRID_SIZE 4))"}, nested(5'000));
+    FAIL() << "loaded";
+  } catch (const CompileError& e) {
+    EXPECT_EQ(e.formatted().rfind("<trigger>:1:", 0), 0u) << e.formatted();
+  }
+}
+
+TEST(Limits, NestingJustUnderTheLimitLoadsAndRuns) {
+  // (program (= x NESTED)) puts NESTED's outermost list at depth 3.
+  const std::string text = "(program (= GRID_SIZE 4) (= x " + nested(limits::kMaxSyntaxNesting - 2) + "))";
+  auto program = load_program(SourceFile{"ok.au", text});
+  InterpretedEnvironment env(program);
+  EXPECT_TRUE(env.reset(0)) << env.error();
+}
+
+// --- loaders: every library exception is a one-line message naming the file
+
+TEST(Limits, TaskSeedOutOfRangeIsAOneLineError) {
+  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_seed.json";
+  std::ofstream(path) << R"({"type": "change_detection", "program": "ice", "wrong_program": "ice_wrong", "seed": 1e400})";
+  try {
+    agent::load_task(path);
+    FAIL() << "loaded";
+  } catch (const agent::TaskError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("autumn_limits_seed.json"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("[json.exception"), std::string::npos) << "no raw library text: " << msg;
+  }
+}
+
+TEST(Limits, TraceFileWithWrongTypesIsAOneLineError) {
+  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_trace.json";
+  std::ofstream(path) << R"({"traces": [{"seed": 1e400, "actions": [], "frames": [[]]}]})";
+  try {
+    load_trace_file(path.string());
+    FAIL() << "loaded";
+  } catch (const std::exception& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(path.string() + ": ", 0), 0u) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
+
+}  // namespace
+}  // namespace autumn
