@@ -1,0 +1,145 @@
+#include "harness/cli/cli_common.hpp"
+
+#include <unistd.h>
+
+#include <condition_variable>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "harness/engine.hpp"
+
+namespace autumn::cli {
+
+bool& warnings_are_errors() {
+  static bool on = false;
+  return on;
+}
+
+std::shared_ptr<const Program> load_or_report(const std::string& path, const std::optional<std::string>& trigger) {
+  try {
+    auto p = load_program_file(path, trigger);
+    for (const auto& w : p->warnings) std::cerr << w << "\n";
+    if (warnings_are_errors() && !p->warnings.empty()) {
+      std::cerr << path << ": error: " << p->warnings.size() << " warning" << (p->warnings.size() == 1 ? "" : "s")
+                << " treated as errors (--Werror)\n";
+      return nullptr;
+    }
+    return p;
+  } catch (const CompileError& e) {
+    std::cerr << e.formatted() << "\n";
+    return nullptr;
+  }
+}
+
+std::unique_ptr<Environment> make_env(const std::string& command, const std::string& engine,
+                                      std::shared_ptr<const Program> program) {
+  std::string why;
+  auto env = make_episode_environment(engine, std::move(program), &why);
+  if (!env) std::cerr << "autumn " << command << ": " << why << "\n";
+  return env;
+}
+
+namespace {
+
+std::optional<std::string> read_action_file(const std::string& command, const std::string& file) {
+  std::ifstream in(file);
+  if (!in) {
+    std::cerr << "autumn " << command << ": cannot open actions file '" << file << "'\n";
+    return std::nullopt;
+  }
+  std::string text, line;
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+    text += (text.empty() ? "" : ",") + line;
+  }
+  return text;
+}
+
+}  // namespace
+
+std::optional<std::vector<Action>> read_actions(const std::string& command, const std::string& text,
+                                                const std::string& file, int steps) {
+  std::string action_text = text;
+  if (!file.empty()) {
+    auto t = read_action_file(command, file);
+    if (!t) return std::nullopt;
+    action_text = *t;
+  }
+  std::string why;
+  auto actions = parse_action_list(action_text, &why);
+  if (!actions) {
+    std::cerr << "autumn " << command << ": " << why << "\n";
+    return std::nullopt;
+  }
+  if (steps >= 0) {
+    if (static_cast<size_t>(steps) < actions->size()) {
+      std::cerr << "autumn " << command << ": " << actions->size() << " actions given but --steps is " << steps << "\n";
+      return std::nullopt;
+    }
+    actions->resize(static_cast<size_t>(steps), Action::noop());
+  }
+  return actions;
+}
+
+void warn_clicks_outside(const std::string& command, const std::vector<Action>& actions, int grid) {
+  for (size_t i = 0; i < actions.size(); ++i) {
+    const Action& a = actions[i];
+    if (a.kind == Action::Kind::Click && (a.x < 0 || a.y < 0 || a.x >= grid || a.y >= grid))
+      std::cerr << "autumn " << command << ": warning: action " << i + 1 << " (" << format_action(a)
+                << ") is outside the " << grid << "x" << grid << " grid (cells 0.." << grid - 1
+                << "); the program still receives it\n";
+  }
+}
+
+// ---------------------------------------------------------------------------- Progress
+
+Progress::Progress(std::string command, size_t total) : command_(std::move(command)), total_(total), tty_(isatty(2)) {}
+
+void Progress::item(size_t index, const std::string& name) {
+  if (total_ < 2) return;
+  if (tty_) std::cerr << "\r\033[K" << command_ << ": " << index + 1 << "/" << total_ << " " << name << std::flush;
+  else std::cerr << command_ << ": " << index + 1 << "/" << total_ << " " << name << "\n";
+}
+
+void Progress::done() {
+  if (total_ >= 2 && tty_) std::cerr << "\r\033[K" << std::flush;
+}
+
+// ---------------------------------------------------------------------------- Heartbeat
+
+struct Heartbeat::Impl {
+  std::mutex mu;
+  std::condition_variable cv;
+  bool stop = false;
+  bool printed = false;
+  std::thread thread;
+};
+
+Heartbeat::Heartbeat(std::string label) : impl_(std::make_unique<Impl>()) {
+  const bool tty = isatty(2);
+  impl_->thread = std::thread([impl = impl_.get(), label = std::move(label), tty] {
+    const auto start = std::chrono::steady_clock::now();
+    const auto period = std::chrono::seconds(tty ? 1 : 10);
+    std::unique_lock<std::mutex> lock(impl->mu);
+    while (!impl->cv.wait_for(lock, period, [impl] { return impl->stop; })) {
+      const auto s = std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - start);
+      std::cerr << (tty ? "\r\033[K" : "") << label << ": " << s.count() << " s" << (tty ? "" : "\n") << std::flush;
+      impl->printed = true;
+    }
+    if (impl->printed && tty) std::cerr << "\r\033[K" << std::flush;
+  });
+}
+
+Heartbeat::~Heartbeat() {
+  {
+    std::lock_guard<std::mutex> lock(impl_->mu);
+    impl_->stop = true;
+  }
+  impl_->cv.notify_all();
+  impl_->thread.join();
+}
+
+}  // namespace autumn::cli
