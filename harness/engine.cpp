@@ -20,6 +20,7 @@ std::unique_ptr<Environment> make_environment(const std::string& engine, std::sh
 
 std::unique_ptr<Environment> make_episode_environment(const std::string& engine, std::shared_ptr<const Program> program,
                                                       std::string* why) {
+  if (engine == "compiled") return make_compiled_episode_environment(std::move(program), why);
   return make_environment(engine, std::move(program), why);
 }
 
