@@ -1,9 +1,12 @@
 #include "harness/render_images.hpp"
 
+#include <fcntl.h>
 #include <gif_lib.h>
 #include <png.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -144,8 +147,13 @@ struct GifWriter {
   std::string path;
   explicit GifWriter(const std::string& p) : path(p) {
     int err = 0;
-    gif = EGifOpenFileName(p.c_str(), false, &err);
-    if (!gif) throw std::runtime_error(gif_error("cannot write", p, err));
+    const int fd = open(p.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);  // giflib's own open makes it 0600
+    if (fd < 0) throw std::runtime_error("cannot write " + p + ": " + std::strerror(errno));
+    gif = EGifOpenFileHandle(fd, &err);
+    if (!gif) {
+      ::close(fd);
+      throw std::runtime_error(gif_error("cannot write", p, err));
+    }
     EGifSetGifVersion(gif, true);
   }
   ~GifWriter() {

@@ -4,8 +4,8 @@
 // function (its options and --help) and a run function returning the exit
 // status; add_*_command() ties the three together into a Subcommand that main()
 // dispatches on. This header holds the pieces several of them use: exit codes,
-// loading a program with its warnings, building an engine, reading actions,
-// progress lines on stderr.
+// loading a program with its warnings, building an engine, reading actions
+// (progress lines on stderr are harness/progress.hpp).
 //
 // Exit codes, everywhere: 0 done; 1 the program, the input or a task failed (a
 // check mismatched, an engine could not be built, no answer was found); 2 the
@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "compiler/analyse/program.hpp"
+#include "harness/progress.hpp"
 #include "runtime/environment.hpp"
 
 namespace autumn::cli {
@@ -54,33 +55,5 @@ std::optional<std::vector<Action>> read_actions(const std::string& command, cons
 // Warns (on stderr) about clicks outside a grid of `grid` cells a side: the
 // program receives them, but they land on no cell.
 void warn_clicks_outside(const std::string& command, const std::vector<Action>& actions, int grid);
-
-// Progress on stderr for commands that can run longer than a second: redrawn in
-// place on a terminal, a line per item otherwise. Silent for a single item.
-class Progress {
- public:
-  Progress(std::string command, size_t total);
-  void item(size_t index, const std::string& name);  // before item `index` (0-based)
-  void done();
-
- private:
-  std::string command_;
-  size_t total_;
-  bool tty_;
-};
-
-// A one-line note on stderr every few seconds while a long step runs ("solve:
-// 12 s"), so that a silent search does not look hung. Stops when destroyed.
-class Heartbeat {
- public:
-  explicit Heartbeat(std::string label);
-  ~Heartbeat();
-  Heartbeat(const Heartbeat&) = delete;
-  Heartbeat& operator=(const Heartbeat&) = delete;
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-};
 
 }  // namespace autumn::cli
