@@ -1,5 +1,6 @@
 #include "harness/module_build.hpp"
 
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -41,7 +42,9 @@ std::string script() {
   return s;
 }
 
-// Starts the script in a new session; returns the pid, or -1.
+// Starts the script in a new session, its standard streams on /dev/null (a
+// caller reading our output to its end must not wait for the compiler); returns
+// the pid, or -1.
 pid_t spawn_compile(const std::vector<std::string>& args) {
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -49,8 +52,14 @@ pid_t spawn_compile(const std::vector<std::string>& args) {
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSID);
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&files, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&files, 2, "/dev/null", O_WRONLY, 0);
   pid_t pid = -1;
-  int rc = posix_spawn(&pid, "/bin/sh", nullptr, &attr, argv.data(), environ);
+  int rc = posix_spawn(&pid, "/bin/sh", &files, &attr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
   posix_spawnattr_destroy(&attr);
   return rc == 0 ? pid : -1;
 }

@@ -239,8 +239,7 @@ std::string emit(const Program& p, const std::string& name, bool embedded) {
 
 // Emits and compiles the module (the embedded lowering if the specialised code
 // does not compile, unless AUTUMN_STRICT_MODULES), then loads it.
-ModulePtr build(std::shared_ptr<const Program> p, fs::path so) {
-  EmitGuard guard;
+ModulePtr build(std::shared_ptr<const Program> p, fs::path so, EmitGuard& guard) {
   const auto trigger = trigger_of(*p);
   const std::string tag = std::to_string(getpid()) + "-" + hex(std::hash<std::thread::id>()(std::this_thread::get_id()));
   const fs::path text = text_path(so, module_source_hash(p->file.text, trigger));
@@ -276,9 +275,10 @@ ModuleFuture start_build(const std::shared_ptr<const Program>& p, const fs::path
   (void)registered;
   auto promise = std::make_shared<std::promise<ModulePtr>>();
   ModuleFuture f = promise->get_future().share();
-  std::thread([promise, p, so] {
+  auto guard = std::make_shared<EmitGuard>();  // counted before the thread starts: exit may come first
+  std::thread([promise, p, so, guard] {
     try {
-      promise->set_value(build(p, so));
+      promise->set_value(build(p, so, *guard));
     } catch (const std::exception& e) {
       auto m = std::make_shared<Module>();
       m->why = std::string("building the module failed: ") + e.what();
