@@ -10,17 +10,26 @@
 //   prog.au: not specialised (file:line:col: why); the module embeds the interpreter
 //
 // --strict makes a dynamic site or a program that does not specialise an error.
+// A program that cannot run is refused with a located error: one that does not
+// read or parse, a GRID_SIZE that cannot be painted, or a start-up that fails (the
+// interpreter starts it with the benchmark's seed 0 first: a type error it meets
+// there is proven). Warnings (compiler/analyse/lint.hpp) are printed; --Werror
+// makes them errors.
 // Exit status: 0 written, 1 the program is bad (file:line:col: error: ...) or
 // --strict refused it or the file cannot be written, 2 usage.
 #include <CLI/CLI.hpp>
+
+#include <algorithm>
 
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include "compiler/analyse/lint.hpp"
 #include "compiler/analyse/program.hpp"
 #include "compiler/emit/emit_module.hpp"
+#include "compiler/interpret/interpreted_env.hpp"
 #include "compiler/lower/lower.hpp"
 
 namespace {
@@ -32,6 +41,7 @@ struct Options {
   std::string trigger;
   bool verbose = false;
   bool strict = false;
+  bool werror = false;
 };
 
 void register_options(CLI::App& app, Options& o) {
@@ -41,6 +51,7 @@ void register_options(CLI::App& app, Options& o) {
   app.add_option("--trigger", o.trigger, "Compile in a change-detection trigger condition");
   app.add_flag("-v,--verbose", o.verbose, "List every dynamic site with its location and reason");
   app.add_flag("--strict", o.strict, "Fail (exit 1) unless the program specialises with no dynamic site");
+  app.add_flag("--Werror", o.werror, "Treat warnings as errors");
 }
 
 // The one-line summary, and with -v one line per dynamic site.
@@ -59,6 +70,30 @@ int report(const Options& o, const autumn::Lowered& lowered) {
   return o.strict && n ? 1 : 0;
 }
 
+// Loads the program, prints its warnings and refuses one that cannot run.
+bool can_run(const Options& o, const autumn::ModuleSource& src) {
+  std::shared_ptr<const autumn::Program> program;
+  try {
+    program = autumn::load_program(autumn::SourceFile{o.program_path, src.program_text}, src.trigger);
+  } catch (const autumn::CompileError& e) {
+    std::cerr << e.formatted() << "\n";
+    return false;
+  }
+  for (const auto& w : program->warnings) std::cerr << w << "\n";
+  if (o.werror && !program->warnings.empty()) {
+    std::cerr << o.program_path << ": error: " << program->warnings.size() << " warning"
+              << (program->warnings.size() == 1 ? "" : "s") << " treated as errors (--Werror)\n";
+    return false;
+  }
+  autumn::InterpretedEnvironment trial(program);
+  if (!trial.reset(0)) {
+    std::cerr << trial.error() << "\n"
+              << o.program_path << ": error: the program fails at start-up (seed 0), so it cannot run\n";
+    return false;
+  }
+  return true;
+}
+
 int run(const Options& o) {
   std::ifstream in(o.program_path, std::ios::binary);
   if (!in) {
@@ -73,13 +108,7 @@ int run(const Options& o) {
   if (!o.trigger.empty()) src.trigger = o.trigger;
   src.name = autumn::module_identifier(
       o.name.empty() ? std::filesystem::path(o.program_path).stem().string() : o.name);
-  try {
-    auto program = autumn::load_program(autumn::SourceFile{o.program_path, src.program_text}, src.trigger);
-    for (const auto& w : program->warnings) std::cerr << w << "\n";
-  } catch (const autumn::CompileError& e) {
-    std::cerr << e.formatted() << "\n";
-    return 1;
-  }
+  if (!can_run(o, src)) return 1;
   autumn::Lowered lowered;
   const std::string module = autumn::emit_module(src, &lowered);
   const int status = report(o, lowered);

@@ -30,6 +30,7 @@ DiffResult diff_engines(const std::shared_ptr<const Program>& program, const Dif
       }
       if (!oka) {  // both failed at the same step: they must say the same, and the episode is over
         ++r.errored;
+        if (r.first_error.empty()) r.first_error = where + ": " + a->error();
         if (a->error() != b->error())
           r.divergence = where + ": both failed, with different errors:\n  " + o.engine_a + ": " + a->error() +
                          "\n  " + o.engine_b + ": " + b->error();

@@ -26,6 +26,7 @@ struct DiffResult {
   size_t episodes = 0;
   size_t steps = 0;             // steps compared (both engines)
   size_t errored = 0;           // episodes that ended in the same runtime error on both engines
+  std::string first_error;      // the error of the first such episode
   bool setup_failed = false;    // an engine could not be built
   std::string divergence;       // empty when the engines agreed everywhere
 };

@@ -18,4 +18,10 @@ std::unique_ptr<Environment> make_environment(const std::string& engine, std::sh
   return nullptr;
 }
 
+std::unique_ptr<Environment> make_episode_environment(const std::string& engine, std::shared_ptr<const Program> program,
+                                                      std::string* why) {
+  if (engine == "compiled") return make_compiled_episode_environment(std::move(program), why);
+  return make_environment(engine, std::move(program), why);
+}
+
 }  // namespace autumn

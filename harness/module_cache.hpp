@@ -1,14 +1,23 @@
 // module_cache — the "compiled" engine: find or build a module for any program.
 //
-// Order of lookup, by the module's source hash (program text + trigger):
-//  1. modules built into this binary from generated/ (no compile at run time);
-//  2. the on-disk cache ($AUTUMN_CACHE_DIR, else $XDG_CACHE_HOME/autumnc, else
-//     ~/.cache/autumnc), keyed by source hash, compiler and flags;
-//  3. otherwise emit the module with the emitter autumnc uses, compile it with the
-//     C++ compiler this project was built with into a shared library in the cache,
-//     and load it.
+// Order of lookup:
+//  1. modules already loaded in this process, by the exact program text;
+//  2. modules built into this binary from generated/ (no compile at run time);
+//  3. the on-disk cache ($AUTUMN_CACHE_DIR, else $XDG_CACHE_HOME/autumnc, else
+//     ~/.cache/autumnc; if that cannot be written, a private directory under the
+//     system's temporary directory, with a warning), keyed by the program's
+//     s-expressions (harness/module_key: comments and layout are not part of the
+//     key), the compiler, its flags, the libraries linked and the runtime headers;
+//  4. otherwise the module is emitted with the emitter autumnc uses and compiled
+//     by the C++ compiler this project was built with ("autumn: compiling
+//     prog.au (first use)" on stderr), against the precompiled runtime header
+//     when the build made one. The compile runs as a separate process that
+//     finishes and fills the cache even if this process exits first.
+// A module built from a text that differs only in layout reports runtime errors
+// at the locations of the text being run (module_key's LocationMap).
 // Failures (a compiler error, a module with another ABI version) come back as a
-// message, never a crash.
+// message, never a crash; with no writable cache at all the engine falls back to
+// the interpreter, with a warning.
 #pragma once
 #include <memory>
 #include <string>
@@ -19,7 +28,19 @@
 
 namespace autumn {
 
+// Waits for a compile when one is needed.
 std::unique_ptr<Environment> make_compiled_environment(std::shared_ptr<const Program> program, std::string* why);
+
+// For one episode: never waits. When the module is not at hand it starts the
+// compile and returns an environment whose first steps the interpreter runs;
+// it switches to the module, state carried over, once that is loaded
+// (harness/warm_env.hpp).
+std::unique_ptr<Environment> make_compiled_episode_environment(std::shared_ptr<const Program> program,
+                                                               std::string* why);
+
+// Builds and loads the module if needed, before timed work (solve): *seconds is
+// the time spent waiting for a compile (0 when the module was at hand).
+bool prepare_compiled_module(const std::shared_ptr<const Program>& program, double* seconds, std::string* why);
 
 // The modules built into this binary (generated/), by entry function.
 struct BuiltinModules {

@@ -101,7 +101,11 @@ CheckResult check_traces(Environment& env, const TraceFile& file) {
       continue;
     }
     std::string diff = first_difference(t.frames[0], env.frame(), env.palette());
+    auto note_frames = [&](const std::string& at, const std::vector<std::string>& expected) {
+      if (!r.first_frame_mismatch) r.first_frame_mismatch = FrameMismatch{at, expected, frame_rows(env.frame(), env.palette())};
+    };
     if (!diff.empty()) {
+      note_frames(where + ", frame 0 (after start)", t.frames[0]);
       r.mismatches.push_back(where + ", frame 0 (after start): " + diff);
       continue;
     }
@@ -114,6 +118,7 @@ CheckResult check_traces(Environment& env, const TraceFile& file) {
       }
       diff = first_difference(t.frames[i + 1], env.frame(), env.palette());
       if (!diff.empty()) {
+        note_frames(at, t.frames[i + 1]);
         r.mismatches.push_back(at + ": " + diff);
         break;
       }

@@ -39,6 +39,12 @@ std::string json_error_text(const std::exception& e);
 
 TraceFile load_trace_file(const std::string& path);
 
+// The first frame that differed: what the trace expected and what the engine drew.
+struct FrameMismatch {
+  std::string where;  // "trace 0 (seed 3), step 5 (left)"
+  std::vector<std::string> expected, got;  // rows
+};
+
 struct CheckResult {
   size_t frames_total = 0;
   size_t frames_matched = 0;
@@ -46,6 +52,7 @@ struct CheckResult {
   size_t triggers_matched = 0;
   size_t traces = 0;
   std::vector<std::string> mismatches;  // one readable report per failing trace
+  std::optional<FrameMismatch> first_frame_mismatch;
   bool ok() const { return frames_matched == frames_total && triggers_matched == triggers_total; }
 };
 

@@ -16,10 +16,15 @@ ModuleEnvironment::~ModuleEnvironment() {
   if (handle_) table_->destroy(handle_);
 }
 
+std::string ModuleEnvironment::module_error() const {
+  std::string e = table_->error(handle_);
+  return rewriter_ ? (*rewriter_)(e) : e;
+}
+
 bool ModuleEnvironment::sync(int ok) {
   failed_ = !ok;
   if (failed_) {
-    error_ = table_->error(handle_);
+    error_ = module_error();
     return false;
   }
   if (!error_.empty()) error_.clear();
@@ -30,19 +35,34 @@ bool ModuleEnvironment::sync(int ok) {
 void ModuleEnvironment::pull() const {
   if (!stale_ || failed_) return;
   stale_ = false;
-  const int n = table_->palette_size(handle_);
-  if (static_cast<int>(remap_.size()) < n && palette_.use_count() > 1) palette_ = std::make_shared<Palette>(*palette_);
-  while (static_cast<int>(remap_.size()) < n) {
-    remap_.push_back(palette_->id(table_->palette_name(handle_, static_cast<int>(remap_.size()))));
-    remap_identity_ = remap_identity_ && remap_.back() == remap_.size() - 1;
-  }
   frame_.size = table_->grid_size(handle_);
   const uint16_t* cells = table_->cells(handle_);
   const size_t count = static_cast<size_t>(frame_.size) * frame_.size;
   frame_.cells.resize(count);
-  if (remap_identity_) std::copy(cells, cells + count, frame_.cells.begin());
-  else
-    for (size_t i = 0; i < count; ++i) frame_.cells[i] = remap_[cells[i]];
+  if (remap_identity_ && !remap_.empty()) {  // every id below remap_.size() named in order
+    const uint16_t limit = static_cast<uint16_t>(remap_.size());
+    size_t i = 0;
+    for (; i < count && cells[i] < limit; ++i) frame_.cells[i] = cells[i];
+    if (i == count) return;
+  }
+  for (size_t i = 0; i < count; ++i) {
+    const uint16_t m = cells[i];
+    if (m >= remap_.size() || remap_[m] == kUnnamed) name_colour(m);
+    frame_.cells[i] = remap_[m];
+  }
+}
+
+// A module's palette names every string of the program (a specialised module
+// interns them all at start, "origin" and "left" included); the host palette
+// takes a name only when a frame shows it, so that it holds colours only, as the
+// interpreter's does.
+void ModuleEnvironment::name_colour(uint16_t module_id) const {
+  if (module_id >= remap_.size()) remap_.resize(module_id + 1, kUnnamed);
+  if (palette_.use_count() > 1) palette_ = std::make_shared<Palette>(*palette_);
+  remap_[module_id] = palette_->id(table_->palette_name(handle_, module_id));
+  bool identity = true;
+  for (size_t i = 0; i < remap_.size() && identity; ++i) identity = remap_[i] == i;
+  remap_identity_ = identity;
 }
 
 bool ModuleEnvironment::reset(uint64_t seed) { return sync(table_->reset(handle_, seed)); }
@@ -55,7 +75,7 @@ bool ModuleEnvironment::step(const Action& a) {
 bool ModuleEnvironment::advance(const Action& a) {
   if (failed_) return false;
   failed_ = !table_->advance(handle_, static_cast<int>(a.kind), a.x, a.y);
-  if (failed_) error_ = table_->error(handle_);
+  if (failed_) error_ = module_error();
   return !failed_;
 }
 
@@ -75,6 +95,7 @@ void ModuleEnvironment::set_limits(const Limits& l) {
 std::unique_ptr<Environment> ModuleEnvironment::clone() const {
   auto copy = std::unique_ptr<ModuleEnvironment>(
       new ModuleEnvironment(table_, keepalive_, table_->clone(handle_)));
+  copy->rewriter_ = rewriter_;
   copy->palette_ = palette_;
   copy->remap_ = remap_;
   copy->remap_identity_ = remap_identity_;
@@ -96,6 +117,7 @@ bool ModuleEnvironment::copy_from(const Environment& other) {
   // again on demand. Comparing first keeps the shared count untouched in the
   // usual case, where every copy descends from one root.
   if (palette_ != o->palette_) palette_ = o->palette_;
+  if (rewriter_ != o->rewriter_) rewriter_ = o->rewriter_;
   if (remap_ != o->remap_) {
     remap_ = o->remap_;
     remap_identity_ = o->remap_identity_;

@@ -2,9 +2,11 @@
 //
 // Owns one module environment handle. Frames are copied out of the module after
 // each reset/step and colour names mirrored into a host-side Palette, so callers
-// see an ordinary Environment. The palette is shared between clones and copied
-// only when one of them meets a colour the others have not named yet.
+// see an ordinary Environment. The host palette holds only the names frames have
+// shown (colours, not every string of the program); it is shared between clones
+// and copied only when one of them meets a colour the others have not named yet.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -20,6 +22,11 @@ class ModuleEnvironment : public Environment {
   ~ModuleEnvironment() override;
   void set_source_name(const std::string& path) override;
   void set_limits(const Limits& limits) override;
+  // Applied to every error message the module reports: a module can serve a text
+  // that differs from the one it was built from only in layout and comments, and
+  // then names locations of the other text (harness/module_key.hpp).
+  using ErrorRewriter = std::function<std::string(const std::string&)>;
+  void set_error_rewriter(std::shared_ptr<const ErrorRewriter> rewriter) { rewriter_ = std::move(rewriter); }
   ModuleEnvironment(const ModuleEnvironment&) = delete;
   ModuleEnvironment& operator=(const ModuleEnvironment&) = delete;
 
@@ -52,13 +59,17 @@ class ModuleEnvironment : public Environment {
   ModuleEnvironment(const autumn_module_v1* table, std::shared_ptr<void> keepalive, autumn_env* handle);
   bool sync(int ok);
   void pull() const;  // copies the module's frame on first use after a step
+  void name_colour(uint16_t module_id) const;
+  static constexpr uint16_t kUnnamed = 0xffff;
+  std::string module_error() const;
 
   const autumn_module_v1* table_;
   std::shared_ptr<void> keepalive_;
+  std::shared_ptr<const ErrorRewriter> rewriter_;
   autumn_env* handle_;
   mutable std::shared_ptr<Palette> palette_;  // copy-on-write between clones
-  mutable std::vector<uint16_t> remap_;  // module palette id -> host palette id
-  mutable bool remap_identity_ = true;   // remap_[i] == i for all i: frames are copied as they are
+  mutable std::vector<uint16_t> remap_;  // module palette id -> host palette id (kUnnamed: not yet shown)
+  mutable bool remap_identity_ = true;   // remap_[i] == i for all i: frames below remap_.size() copy as they are
   mutable Frame frame_;
   mutable bool stale_ = true;
   bool failed_ = true;

@@ -610,7 +610,8 @@ TEST(AgentEval, TabulatesAFolder) {
 
 TEST(AgentCli, SolveAndErrors) {
   REQUIRE_ICE();
-  CliRun mfp = cli("solve " + (ice_dir() / "prompts/ice_mfp.json").string() + " --rollouts 100 --json");
+  CliRun mfp = testing::run_cli("solve " + (ice_dir() / "prompts/ice_mfp.json").string() + " --rollouts 100 --json",
+                                true);
   ASSERT_EQ(mfp.status, 0) << mfp.out;
   auto j = nlohmann::json::parse(mfp.out);
   EXPECT_EQ(j["result"]["choice"], 3);

@@ -70,9 +70,12 @@ struct CliResult {
   std::string out;  // stdout and stderr
 };
 
-// Runs the autumn binary built with the tests (or another command line).
-inline CliResult run_cli(const std::string& args, const std::string& binary = AUTUMN_CLI) {
-  std::string cmd = binary + " " + args + " 2>&1";
+// Runs the autumn binary built with the tests (or `binary`); `out` holds stdout and
+// stderr, or with stdout_only stdout alone (for JSON output while notes go to stderr).
+// `env`: variable assignments for the command ("AUTUMN_CACHE_DIR=/x").
+inline CliResult run_cli(const std::string& args, bool stdout_only = false, const std::string& env = "",
+                         const std::string& binary = AUTUMN_CLI) {
+  std::string cmd = (env.empty() ? "" : env + " ") + binary + " " + args + (stdout_only ? " 2>/dev/null" : " 2>&1");
   CliResult r{0, ""};
   FILE* p = popen(cmd.c_str(), "r");
   std::array<char, 4096> buf;

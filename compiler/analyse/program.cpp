@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "compiler/analyse/builtins.hpp"
+#include "compiler/analyse/lint.hpp"
 #include "compiler/analyse/render_order.hpp"
 #include "compiler/parse/parser.hpp"
 #include "compiler/read/sexpr.hpp"
@@ -294,6 +295,7 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
     if (st.kind == StmtKind::Expr) check_unbound(*p, *st.expr, bound, reported, p->warnings);
   }
   if (p->trigger) check_unbound(*p, *p->trigger, bound, reported, p->warnings);
+  lint_program(*p, p->warnings);
 
   check_grid_size(*p);
   compute_definitions(*p);

@@ -15,8 +15,11 @@
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
+#include "harness/agent/solve_pictures.hpp"
 #include "harness/engine.hpp"
+#include "harness/module_cache.hpp"
 #include "harness/program_files.hpp"
+#include "harness/progress.hpp"
 
 namespace autumn::agent {
 
@@ -28,7 +31,7 @@ struct State {
   CLI::App* eval = nullptr;
   CLI::App* bench = nullptr;
   SolveOptions solve_opts;
-  std::string task_file, programs_dir, answers_file;
+  std::string task_file, programs_dir, answers_file, render_dir;
   unsigned threads = 0;
   bool json = false;
   MakeTaskOptions make_opts;
@@ -89,6 +92,24 @@ int fail(const std::string& cmd, const std::string& why) {
   return 1;
 }
 
+// Builds the task's compiled modules before the solver's clock starts (compile
+// time is not solve time); returns the seconds spent compiling.
+double prepare_modules(const Task& task, const SolveOptions& o) {
+  if (o.engine != "compiled") return 0;
+  std::vector<std::pair<std::string, std::optional<std::string>>> programs = {{task.program, std::nullopt}};
+  if (task.type == TaskType::ChangeDetection)
+    programs.emplace_back(task.wrong_program,
+                          o.answers ? std::optional<std::string>(load_trigger_condition(*o.answers)) : std::nullopt);
+  double total = 0;
+  for (const auto& [name, trigger] : programs) {
+    double seconds = 0;
+    std::string why;  // a module that cannot be built fails the solver, which says why
+    prepare_compiled_module(load_program_checked(task_program_path(task, o, name), trigger), &seconds, &why);
+    total += seconds;
+  }
+  return total;
+}
+
 int run_solve(State& s) {
   try {
     SolveOptions o = s.solve_opts;
@@ -97,12 +118,18 @@ int run_solve(State& s) {
     Task task = load_task(s.task_file);
     ThreadPool pool(s.threads);
     nlohmann::json out = {{"task", s.task_file}, {"type", type_name(task.type)}, {"program", task.program}};
+    out["compile_seconds"] = prepare_modules(task, o);
     std::string text;
+    bool answered = false;
+    std::vector<std::string> pictures;
+    Heartbeat heartbeat("autumn solve: " + task.name);
     switch (task.type) {
       case TaskType::MaskedFramePrediction: {
         MfpResult r = solve_mfp(task, o, pool);
         out["result"] = mfp_json(r);
         text = mfp_summary(r);
+        answered = r.choice >= 0;
+        if (!s.render_dir.empty()) pictures = render_mfp(task, r, s.render_dir);
         break;
       }
       case TaskType::ChangeDetection: {
@@ -110,15 +137,20 @@ int run_solve(State& s) {
         CdResult r = solve_cd(task, o, pool);
         out["result"] = cd_json(r);
         text = cd_summary(r);
+        answered = r.detected.has_value();
+        if (!s.render_dir.empty()) pictures = render_cd(task, o, r, s.render_dir);
         break;
       }
       case TaskType::Planning: {
         PlanResult r = solve_planning(task, o, pool);
         out["result"] = planning_json(r);
         text = planning_summary(r);
+        answered = r.found;
+        if (!s.render_dir.empty()) pictures = render_plan(task, o, r, s.render_dir);
         break;
       }
     }
+    for (const std::string& p : pictures) std::cerr << "autumn solve: wrote " << p << "\n";
     out["threads"] = pool.size();
     if (s.json) {
       std::cout << out.dump() << "\n";
@@ -126,7 +158,8 @@ int run_solve(State& s) {
       fmt::print("task: {} ({}, program {}, {} threads)\n{}", s.task_file, type_name(task.type), task.program,
                  pool.size(), text);
     }
-    return 0;
+    if (!answered) std::cerr << "autumn solve: no answer found (exit status 1)\n";
+    return answered ? 0 : 1;
   } catch (const std::exception& e) {
     return fail("solve", e.what());
   }
@@ -205,6 +238,9 @@ void add_agent_commands(CLI::App& app) {
   s.solve->add_option("--answers", s.answers_file, "Change detection: answers file with the trigger condition, to score")
       ->check(CLI::ExistingFile);
   s.solve->add_flag("--json", s.json, "Print one JSON object");
+  s.solve->add_option("--render", s.render_dir,
+                      "Write pictures of the answer into DIR: the plan (GIF and PNG), the chosen MFP answer, "
+                      "the change-detection episode");
   add_search_options(s.solve, s.solve_opts, s.threads);
 
   s.make = app.add_subcommand("make-task", "Generate an MFP or planning task for a program");

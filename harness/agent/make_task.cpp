@@ -53,10 +53,19 @@ std::optional<Episode> random_episode(Environment& env, uint64_t env_seed, int s
   return ep;
 }
 
-// Makes every colour of the episode a table colour (or fails).
+// Makes every colour the episode's frames show a table colour (or fails). Only
+// painted colours count: a compiled module's palette also names the program's
+// other string literals ("origin" in the stdlib's move helpers).
 void cover_colours(const Episode& ep, const std::string& program, bool extend, ColourTable& colours, bool& extended) {
-  for (size_t i = 0; i < ep.palette.size(); ++i) {
-    const std::string& name = ep.palette.name(static_cast<uint16_t>(i));
+  // In order of first appearance (frames in order, cells row-major), so that
+  // both engines extend the table alike.
+  std::vector<bool> seen(ep.palette.size());
+  std::vector<uint16_t> painted;
+  for (const Frame& f : ep.frames)
+    for (uint16_t c : f.cells)
+      if (!seen[c]) seen[c] = true, painted.push_back(c);
+  for (uint16_t i : painted) {
+    const std::string& name = ep.palette.name(i);
     if (colours.find(name) >= 0) continue;
     if (!extend)
       throw TaskError(fmt::format("colour '{}' of program '{}' is not in the colour table{} (--extend-colours adds it)",

@@ -1,0 +1,297 @@
+#include "compiler/analyse/lint.hpp"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "compiler/analyse/colour_names.hpp"
+#include "compiler/analyse/program.hpp"
+#include "compiler/parse/token.hpp"
+#include "compiler/read/sexpr.hpp"
+#include "runtime/frame.hpp"
+
+namespace autumn {
+namespace {
+
+std::string plural(size_t n, const char* word) { return std::to_string(n) + " " + word + (n == 1 ? "" : "s"); }
+
+// A symbol atom as the author wrote it (the reader re-escapes ' " ? \).
+std::string unescaped(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i)
+    if (!(text[i] == '\\' && i + 1 < text.size())) out += text[i];
+    else out += text[++i];
+  return out;
+}
+
+// ---------------------------------------------------------------------------- bindings
+
+// What the names of the program and the stdlib are bound to, everywhere.
+struct Bindings {
+  std::map<Sym, std::set<int>> lambda_arity;  // names assigned lambdas: their parameter counts
+  std::set<Sym> other;                        // names bound to anything else somewhere
+  std::map<Sym, size_t> class_fields;         // object classes (last definition)
+
+  void collect(const Expr& e) {
+    if (e.kind == ExprKind::Assign) {
+      if (e.kids[0]->kind == ExprKind::Lambda) lambda_arity[e.name].insert(static_cast<int>(e.kids[0]->params.size()));
+      else other.insert(e.name);
+    }
+    if (e.kind == ExprKind::Lambda) other.insert(e.params.begin(), e.params.end());
+    for (const auto& k : e.kids) collect(*k);
+  }
+  void collect(const std::vector<Stmt>& stmts) {
+    for (const Stmt& st : stmts) {
+      if (st.kind == StmtKind::Object) {
+        class_fields[st.object_sym] = st.fields.size();
+        for (const auto& f : st.fields) other.insert(f.name);
+      }
+      for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
+        if (e) collect(*e);
+    }
+  }
+  // The one parameter count of a function bound only to lambdas, if it has one.
+  std::optional<int> arity(Sym s) const {
+    auto it = lambda_arity.find(s);
+    if (it == lambda_arity.end() || other.count(s) || it->second.size() != 1) return std::nullopt;
+    return *it->second.begin();
+  }
+  bool is_function(const Program& p, Sym s) const {
+    if (other.count(s) || class_fields.count(s)) return false;
+    return lambda_arity.count(s) || p.builtin_of(s).has_value();
+  }
+};
+
+// ---------------------------------------------------------------------------- the linter
+
+class Linter {
+ public:
+  Linter(const Program& p, std::vector<std::string>& out) : p_(p), out_(out) {
+    b_.collect(p.stdlib_stmts);
+    b_.collect(p.stmts);
+  }
+  void run();
+
+ private:
+  void warn(SourceLoc loc, const std::string& msg) { found_.emplace_back(loc, msg); }
+  // s-expression checks
+  void atoms(const Sexp& s, bool field_position);
+  void truncated_atom(const Sexp& s);
+  void non_calls(const Sexp& s, bool calls_functions);
+  // syntax-tree checks
+  void expr(const Expr& e);
+  void call_arity(const Expr& call);
+  void colours(const Expr& e);
+  void statements();
+  void type_name(const TypeExprPtr& t, SourceLoc loc, const std::set<Sym>& classes, bool field);
+  void declared_literal(const Expr& assign, const std::map<Sym, std::string>& declared);
+
+  const Program& p_;
+  std::vector<std::string>& out_;
+  std::vector<std::pair<SourceLoc, std::string>> found_;
+  Bindings b_;
+};
+
+void Linter::run() {
+  const Sexp root = read_sexprs(p_.file);
+  if (!root.items.empty()) {
+    atoms(root.items[0], false);
+    non_calls(root.items[0], false);
+  }
+  statements();
+  for (const Stmt& st : p_.stmts)
+    for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
+      if (e) expr(*e);
+  std::stable_sort(found_.begin(), found_.end(), [](const auto& a, const auto& b) {
+    return std::pair(a.first.line, a.first.col) < std::pair(b.first.line, b.first.col);
+  });
+  for (const auto& [loc, msg] : found_) out_.push_back(format_diagnostic(p_.file.name, loc, "warning", msg));
+}
+
+// Every symbol atom, except the raw field name of (.. o f) and object names.
+void Linter::atoms(const Sexp& s, bool field_position) {
+  if (!s.is_list) {
+    if (!s.is_string && !field_position) truncated_atom(s);
+    return;
+  }
+  const std::string head = !s.items.empty() && !s.items[0].is_list ? s.items[0].text : "";
+  for (size_t i = 0; i < s.items.size(); ++i)
+    atoms(s.items[i], (head == ".." || head == "object") && i == (head == ".." ? 2u : 1u));
+}
+
+void Linter::truncated_atom(const Sexp& s) {
+  const std::vector<Token> toks = lex_atom(s.text);
+  if (toks.empty()) return;
+  size_t first = 0;
+  if ((toks[0].type == Tok::Minus || toks[0].type == Tok::Plus) && toks.size() > 1 && toks[1].type == Tok::Number)
+    first = 1;  // "-2.7": unary minus of the number after it
+  const Token& t = toks[first];
+  if (t.type != Tok::Number && t.type != Tok::Identifier) return;
+  std::string used;
+  for (size_t i = 0; i <= first; ++i) used += toks[i].lexeme;
+  const std::string written = unescaped(s.text);
+  if (t.type == Tok::Number && (t.lexeme.find('.') != std::string::npos || used != s.text)) {
+    const std::string whole = used.substr(0, used.find('.'));
+    warn(s.loc, "'" + written + "' reads as the integer " + whole + " (Autumn numbers are whole numbers)");
+  } else if (t.type == Tok::Identifier && used != s.text) {
+    warn(s.loc, "'" + written + "' reads as the name '" + t.lexeme +
+                    "' (names end at the first character that is not a letter, digit or underscore)");
+  }
+}
+
+// (f) with f a function, where function values are not called.
+void Linter::non_calls(const Sexp& s, bool calls_functions) {
+  if (!s.is_list || s.items.empty()) return;
+  const Sexp& h = s.items[0];
+  if (s.items.size() == 1 && !h.is_list && !h.is_string && !calls_functions) {
+    const std::vector<Token> toks = lex_atom(h.text);
+    if (!toks.empty() && toks[0].type == Tok::Identifier && toks[0].lexeme != "list") {
+      const Sym sym = p_.symbols.find(toks[0].lexeme);
+      if (sym >= 0 && b_.is_function(p_, sym))
+        warn(s.loc, "'(" + toks[0].lexeme + ")' is the function '" + toks[0].lexeme + "' itself, not a call " +
+                        "(a call with no arguments is written '((" + toks[0].lexeme + "))')");
+    }
+  }
+  const std::string head = h.is_list ? "" : h.text;
+  if (head == ":") return;  // types
+  const bool logical = head == "and" || head == "or" || head == "&" || head == "|" || head == "&&" || head == "||";
+  for (size_t i = 0; i < s.items.size(); ++i) {
+    if ((head == "fn" || head == "-->") && i == 1) continue;  // parameters
+    const bool callee = i == 0 && h.is_list;                  // ((f) ...) calls f
+    const bool auto_call = (head == "on" && i == 1) || (logical && i > 0);
+    non_calls(s.items[i], callee || auto_call);
+  }
+}
+
+// ---------------------------------------------------------------------------- calls and colours
+
+void Linter::expr(const Expr& e) {
+  if (e.kind == ExprKind::Call) call_arity(e);
+  if (e.kind == ExprKind::Call && e.kids[0]->kind == ExprKind::Var && e.kids.size() >= 4 &&
+      p_.name(e.kids[0]->name) == "Cell")
+    colours(*e.kids[3]);
+  if (e.kind == ExprKind::Assign && e.name == p_.names.background) colours(*e.kids[0]);
+  for (const auto& k : e.kids) expr(*k);
+}
+
+void Linter::call_arity(const Expr& call) {
+  const Expr& callee = *call.kids[0];
+  if (callee.kind != ExprKind::Var) return;
+  const size_t given = call.kids.size() - 1;
+  const std::string name = p_.name(callee.name);
+  if (auto c = b_.class_fields.find(callee.name); c != b_.class_fields.end()) {
+    const size_t want = c->second + 1;  // the fields, then the origin
+    if (given != want)
+      warn(call.loc, "object '" + name + "' is made from " + plural(c->second, "field") + " and an origin Position (" +
+                         std::to_string(want) + " arguments) but is given " + std::to_string(given) +
+                         (given > want ? "; the extra ones are ignored" : "; that is an error at run time"));
+    return;
+  }
+  if (auto b = p_.builtin_of(callee.name); b && !b_.other.count(callee.name) && !b_.lambda_arity.count(callee.name)) {
+    const BuiltinInfo& info = builtin_info(*b);
+    if (given < info.min_args || (info.max_args != kAnyArity && given > info.max_args))
+      warn(call.loc, "'" + name + "' takes " +
+                         (info.min_args == info.max_args ? std::to_string(info.min_args)
+                                                         : std::to_string(info.min_args) + " to " +
+                                                               std::to_string(info.max_args)) +
+                         " argument" + (info.max_args == 1 ? "" : "s") + " but is given " + std::to_string(given) +
+                         "; that is an error at run time");
+    return;
+  }
+  if (auto a = b_.arity(callee.name); a && static_cast<int>(given) != *a)
+    warn(call.loc, "'" + name + "' takes " + plural(static_cast<size_t>(*a), "argument") + " but is given " +
+                       std::to_string(given) +
+                       (static_cast<int>(given) > *a ? "; the extra ones are ignored"
+                                                     : "; the call is an error at run time"));
+}
+
+// String literals that end up as a colour.
+void Linter::colours(const Expr& e) {
+  switch (e.kind) {
+    case ExprKind::String: {
+      const std::string name = lower_ascii(e.text.size() >= 2 ? e.text.substr(1, e.text.size() - 2) : e.text);
+      if (colour_rgb(name)) return;
+      auto near = closest_colour(name);
+      warn(e.loc, "\"" + name + "\" is not a colour the benchmark draws (it is drawn black)" +
+                      (near ? "; did you mean \"" + std::string(*near) + "\"?" : std::string()));
+      return;
+    }
+    case ExprKind::If:
+      colours(*e.kids[1]);
+      colours(*e.kids[2]);
+      return;
+    case ExprKind::Let:
+      if (!e.kids.empty()) colours(*e.kids.back());
+      return;
+    case ExprKind::InitNext:
+      colours(*e.kids[0]);
+      colours(*e.kids[1]);
+      return;
+    default:
+      return;
+  }
+}
+
+// ---------------------------------------------------------------------------- statements
+
+void Linter::statements() {
+  std::map<std::string, SourceLoc> objects;
+  std::set<Sym> classes;
+  std::map<Sym, std::string> declared;
+  for (const Stmt& st : p_.stmts) {
+    if (st.kind == StmtKind::Object) {
+      auto [it, fresh] = objects.emplace(st.object_name, st.loc);
+      if (!fresh)
+        warn(st.loc, "object '" + st.object_name + "' is defined again (first at line " +
+                         std::to_string(it->second.line) + "); this definition replaces the earlier one");
+      for (const auto& f : st.fields) type_name(f.type, f.loc, classes, true);
+      classes.insert(st.object_sym);
+    }
+    if (st.kind != StmtKind::Expr) continue;
+    const Expr& e = *st.expr;
+    if (e.kind == ExprKind::TypeDecl) {
+      type_name(e.type, e.loc, classes, false);
+      if (e.type && !e.type->is_list) declared[e.name] = e.type->name;
+    }
+    if (e.kind == ExprKind::Assign) declared_literal(e, declared);
+  }
+}
+
+void Linter::type_name(const TypeExprPtr& t, SourceLoc loc, const std::set<Sym>& classes, bool field) {
+  if (!t) return;
+  if (t->is_list) return type_name(t->elem, loc, classes, field);
+  for (const char* b : kBuiltinTypeNames)
+    if (t->name == b) return;
+  if (t->sym >= 0 && classes.count(t->sym)) return;
+  warn(loc, "'" + t->name + "' is not a type (Bool, String, Number, Int, Position, Cell, RenderedElem, or an object "
+                            "defined above)" +
+                (field ? "; printing an object of this class fails at run time" : std::string()));
+}
+
+const char* literal_type(const Expr& e) {
+  switch (e.kind) {
+    case ExprKind::Number: return "Number";
+    case ExprKind::String: return "String";
+    case ExprKind::Bool: return "Bool";
+    default: return nullptr;
+  }
+}
+
+void Linter::declared_literal(const Expr& assign, const std::map<Sym, std::string>& declared) {
+  auto it = declared.find(assign.name);
+  if (it == declared.end()) return;
+  std::string want = it->second == "Int" ? "Number" : it->second;
+  if (want != "Number" && want != "String" && want != "Bool") return;
+  const Expr& v = assign.kids[0]->kind == ExprKind::InitNext ? *assign.kids[0]->kids[0] : *assign.kids[0];
+  const char* got = literal_type(v);
+  if (got && want != got)
+    warn(v.loc, "'" + p_.name(assign.name) + "' is declared " + it->second + " but is given a " + got);
+}
+
+}  // namespace
+
+void lint_program(const Program& p, std::vector<std::string>& warnings) {
+  Linter(p, warnings).run();
+}
+
+}  // namespace autumn

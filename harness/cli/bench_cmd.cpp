@@ -1,0 +1,124 @@
+// autumn bench — interpreter versus compiled engine per program: steps/s with
+// and without the host render, and the cost of clone() (harness/bench.hpp).
+#include <fmt/core.h>
+
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "harness/bench.hpp"
+#include "harness/cli/commands.hpp"
+#include "harness/engine.hpp"
+#include "harness/program_files.hpp"
+
+namespace autumn::cli {
+namespace {
+
+struct BenchOptions {
+  std::vector<std::string> programs;
+  size_t steps = 1000;
+  uint64_t seed = 0;
+  bool json = false;
+  std::string only;
+};
+
+void register_bench(CLI::App* cmd, BenchOptions& o) {
+  cmd->add_option("PROGRAMS", o.programs, "Program files or folders")->required();
+  cmd->add_option("--steps", o.steps, "Steps per program")->default_val(1000);
+  cmd->add_option("--seed", o.seed, "Seed for the programs and the action policy")->default_val(0);
+  cmd->add_flag("--json", o.json, "Print JSON");
+  cmd->add_option("--only", o.only, "Run one engine only (for profiling)")->check(CLI::IsMember(engine_names()));
+}
+
+int run_one_engine(const BenchOptions& o, const std::vector<std::filesystem::path>& files) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& f : files) {
+    auto program = load_or_report(f.string(), std::nullopt);
+    if (!program) return kExitFailed;
+    BenchRow row = bench_program(f.stem().string(), program, {o.only}, o.steps, o.seed);
+    const auto& e = row.engines[0];
+    if (o.json)
+      rows.push_back({{"program", row.program}, {"engine", o.only}, {"steps_per_s", e.steps_per_s},
+                      {"steps_per_s_no_render", e.steps_per_s_no_render}, {"clone_ns", e.clone_ns}, {"error", e.error}});
+    else
+      fmt::print("{:<32} {} {:.0f} steps/s (render) {:.0f} steps/s (bare) clone {:.0f} ns{}\n", row.program, o.only,
+                 e.steps_per_s, e.steps_per_s_no_render, e.clone_ns, e.ok ? "" : "  " + e.error);
+  }
+  if (o.json) std::cout << nlohmann::json({{"rows", rows}}).dump(2) << "\n";
+  return kExitOk;
+}
+
+constexpr const char* kHeader = "{:<32} {:>4} {:>6} {:>13} {:>13} {:>13} {:>13} {:>12} {:>12} {:>8}\n";
+
+nlohmann::json row_json(const BenchRow& row, const std::vector<std::string>& engines, double ratio) {
+  nlohmann::json r = {{"program", row.program}, {"grid", row.grid}, {"steps", row.engines[0].steps}, {"ratio", ratio}};
+  for (size_t i = 0; i < engines.size(); ++i)
+    r[engines[i]] = {{"ok", row.engines[i].ok},
+                     {"steps_per_s", row.engines[i].steps_per_s},
+                     {"steps_per_s_no_render", row.engines[i].steps_per_s_no_render},
+                     {"clone_ns", row.engines[i].clone_ns},
+                     {"error", row.engines[i].error}};
+  return r;
+}
+
+int run_bench(const BenchOptions& o) {
+  auto files = expand_programs(o.programs);
+  if (files.empty()) {
+    std::cerr << "autumn bench: no programs given\n";
+    return kExitUsage;
+  }
+  if (!o.only.empty()) return run_one_engine(o, files);
+  const std::vector<std::string> engines = {"interp", "compiled"};
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<double> ratios, compiled_us;
+  if (!o.json)
+    fmt::print(kHeader, "program", "grid", "steps", "interp st/s", "compiled st/s", "interp bare/s", "comp bare/s",
+               "interp cl ns", "comp cl ns", "ratio x");
+  int failures = 0;
+  Progress progress("bench", files.size());
+  for (size_t i = 0; i < files.size(); ++i) {
+    const auto& f = files[i];
+    progress.item(i, f.stem().string());
+    auto program = load_or_report(f.string(), std::nullopt);
+    if (!program) {
+      ++failures;
+      continue;
+    }
+    BenchRow row = bench_program(f.stem().string(), program, engines, o.steps, o.seed);
+    const auto& in = row.engines[0];
+    const auto& co = row.engines[1];
+    double ratio = (in.ok && co.ok && in.steps_per_s > 0) ? co.steps_per_s / in.steps_per_s : 0;
+    if (ratio > 0) ratios.push_back(ratio), compiled_us.push_back(1e6 / co.steps_per_s);
+    if (!in.ok || !co.ok) ++failures;
+    if (o.json) {
+      rows.push_back(row_json(row, engines, ratio));
+      continue;
+    }
+    progress.done();
+    fmt::print("{:<32} {:>4} {:>6} {:>13.0f} {:>13.0f} {:>13.0f} {:>13.0f} {:>12.0f} {:>12.0f} {:>7.1f}x\n", row.program,
+               row.grid, in.steps, in.steps_per_s, co.steps_per_s, in.steps_per_s_no_render, co.steps_per_s_no_render,
+               in.clone_ns, co.clone_ns, ratio);
+    for (const auto& e : row.engines)
+      if (!e.error.empty()) std::cerr << "  " << row.program << ": " << e.error << "\n";
+  }
+  progress.done();
+  if (o.json)
+    std::cout << nlohmann::json({{"rows", rows}, {"median_ratio", median(ratios)},
+                                 {"median_compiled_step_us", median(compiled_us)}})
+                     .dump(2)
+              << "\n";
+  else
+    fmt::print("median over {} programs: compiled/interp {:.1f}x, compiled step {:.2f} us (render included)\n",
+               ratios.size(), median(ratios), median(compiled_us));
+  return failures ? kExitFailed : kExitOk;
+}
+
+}  // namespace
+
+Subcommand add_bench_command(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  CLI::App* cmd = app.add_subcommand("bench", "Interpreter vs compiled engine: steps/s with and without render, clone cost");
+  register_bench(cmd, *o);
+  return {cmd, [o] { return run_bench(*o); }};
+}
+
+}  // namespace autumn::cli

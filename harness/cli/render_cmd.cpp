@@ -1,0 +1,93 @@
+// autumn render — an episode as pictures: an animated GIF (one frame per step)
+// or a PNG strip of the frames, in the benchmark's colours
+// (harness/render_images.hpp). Same episode options as `autumn run`.
+#include <iostream>
+
+#include "harness/cli/commands.hpp"
+#include "harness/engine.hpp"
+#include "harness/episode.hpp"
+#include "harness/render_images.hpp"
+
+namespace autumn::cli {
+namespace {
+
+struct RenderOptions {
+  std::string program;
+  uint64_t seed = 0;
+  std::string actions;
+  std::string actions_file;
+  int steps = -1;
+  std::string out;
+  int scale = 16;
+  bool grid_lines = false;
+  int delay_ms = 250;
+  int columns = 8;
+  std::string engine = "interp";
+};
+
+bool has_suffix(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+void register_render(CLI::App* cmd, RenderOptions& o) {
+  cmd->add_option("PROGRAM", o.program, "Autumn program (.au or .sexp)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--seed", o.seed, "Interpreter seed (the benchmark's default is 0)")->default_val(0);
+  auto* acts = cmd->add_option("--actions", o.actions, "Comma-separated actions: noop, left, right, up, down, click X Y");
+  cmd->add_option("--actions-file", o.actions_file, "File with one action per line ('#' comments)")->excludes(acts);
+  cmd->add_option("--steps", o.steps, "Number of steps (missing actions are noop)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--out", o.out, "FILE.gif (animated, one frame per step) or FILE.png (a strip of all frames)")
+      ->required()
+      ->check([](const std::string& p) {
+        return has_suffix(p, ".gif") || has_suffix(p, ".png") ? "" : "--out must end in .gif or .png";
+      });
+  cmd->add_option("--scale", o.scale, "Pixels per cell side")->default_val(16)->check(CLI::Range(1, 256));
+  cmd->add_flag("--grid-lines", o.grid_lines, "Draw a dark line between cells");
+  cmd->add_option("--delay-ms", o.delay_ms, "GIF: time each frame is shown")->default_val(250)->check(CLI::Range(10, 60000));
+  cmd->add_option("--columns", o.columns, "PNG: frames per row of the strip")->default_val(8)->check(CLI::Range(1, 1000));
+  cmd->add_option("--engine", o.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("interp");
+}
+
+void write_pictures(const RenderOptions& o, const EpisodeFrames& ep) {
+  std::vector<Image> images;
+  for (const auto& rows : ep.frames) images.push_back(draw(picture_of_rows(rows), {o.scale, o.grid_lines}));
+  if (has_suffix(o.out, ".gif")) write_gif(o.out, images, o.delay_ms);
+  else write_png(o.out, tile(images, o.columns));
+}
+
+int run_render(const RenderOptions& o) {
+  auto actions = read_actions("render", o.actions, o.actions_file, o.steps);
+  if (!actions) return kExitFailed;
+  auto program = load_or_report(o.program, std::nullopt);
+  if (!program) return kExitFailed;
+  auto env = make_env("render", o.engine, program);
+  if (!env) return kExitFailed;
+  EpisodeFrames ep = run_episode(*env, o.seed, *actions);
+  if (ep.grid) warn_clicks_outside("render", *actions, ep.grid);
+  if (!ep.frames.empty()) {
+    try {
+      write_pictures(o, ep);
+    } catch (const std::exception& e) {
+      std::cerr << "autumn render: " << e.what() << "\n";
+      return kExitFailed;
+    }
+    std::cerr << "autumn render: wrote " << o.out << " (" << ep.frames.size() << " frame"
+              << (ep.frames.size() == 1 ? "" : "s") << ", " << ep.grid << "x" << ep.grid << " cells)\n";
+  }
+  if (!ep.ok()) {
+    std::cerr << ep.error << "\n";
+    return kExitFailed;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+Subcommand add_render_command(CLI::App& app) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand("render", "Draw an episode: an animated GIF or a PNG strip of its frames");
+  register_render(cmd, *o);
+  add_limits_option(cmd);
+  return {cmd, [o] { return run_render(*o); }};
+}
+
+}  // namespace autumn::cli

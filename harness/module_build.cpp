@@ -1,0 +1,109 @@
+#include "harness/module_build.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+extern char** environ;
+
+namespace autumn {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The precompiled runtime header, when the build made one (CMake: autumn_module_pch).
+std::string pch_flag() {
+  const fs::path header = AUTUMN_MODULE_PCH;
+  std::error_code ec;
+  if (header.empty() || !fs::exists(header.string() + ".gch", ec)) return "";
+  return " -include '" + header.string() + "'";
+}
+
+std::string compiler_flags() {
+  return std::string(AUTUMN_CXX) + " -std=c++20 -O2 -fPIC -shared -fvisibility=hidden -DAUTUMN_MODULE_SHARED";
+}
+
+// sh -c SCRIPT sh CPP TMP_SO SO LOG: compile, rename into place, clean up.
+constexpr const char* kScript =
+    "CMD \"$1\" -o \"$2\" LIBS -Wl,-Bsymbolic >\"$4\" 2>&1 && mv -f \"$2\" \"$3\"; s=$?; "
+    "rm -f \"$1\"; if [ $s -eq 0 ]; then rm -f \"$4\"; else rm -f \"$2\"; fi; exit $s";
+
+std::string script() {
+  std::string s = kScript;
+  s.replace(s.find("CMD"), 3, compiler_flags() + pch_flag() + " -I'" + AUTUMN_MODULE_INCLUDE + "'");
+  s.replace(s.find("LIBS"), 4, AUTUMN_MODULE_LIBS);
+  return s;
+}
+
+// Starts the script in a new session, its standard streams on /dev/null (a
+// caller reading our output to its end must not wait for the compiler); returns
+// the pid, or -1.
+pid_t spawn_compile(const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSID);
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&files, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&files, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  int rc = posix_spawn(&pid, "/bin/sh", &files, &attr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  posix_spawnattr_destroy(&attr);
+  return rc == 0 ? pid : -1;
+}
+
+std::string read_log(const fs::path& log) {
+  std::ifstream in(log, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str().substr(0, 4000);
+}
+
+}  // namespace
+
+std::string module_compiler_signature() {
+  return compiler_flags() + " " + AUTUMN_CXX_VERSION + " " + AUTUMN_MODULE_LIBS;
+}
+
+CompileOutcome compile_module(const std::string& source, const fs::path& so, const std::string& tag,
+                              const std::function<void()>& started) {
+  CompileOutcome out;
+  const fs::path base = so.parent_path() / (so.stem().string() + "." + tag);
+  // The module is written under a name that is not "*.so" and renamed into place
+  // when whole: a reader listing or loading modules never sees a partial one.
+  const fs::path cpp = base.string() + ".cpp", tmp = base.string() + ".so.part", log = base.string() + ".log";
+  std::ofstream(cpp, std::ios::binary) << source;
+  if (!fs::exists(cpp)) {
+    started();
+    out.output = "cannot write " + cpp.string();
+    return out;
+  }
+  pid_t pid = spawn_compile({"sh", "-c", script(), "sh", cpp.string(), tmp.string(), so.string(), log.string()});
+  started();
+  if (pid < 0) {
+    out.output = std::string("cannot start the C++ compiler: ") + std::strerror(errno);
+    return out;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  out.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  out.output = read_log(log);
+  std::error_code ec;
+  fs::remove(log, ec);
+  return out;
+}
+
+}  // namespace autumn

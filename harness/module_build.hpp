@@ -1,0 +1,29 @@
+// module_build — one C++ compile of an emitted module into the module cache.
+//
+// The compiler runs in a process of its own (a new session, through /bin/sh):
+// it writes a temporary shared library and renames it into place, so a cache
+// entry appears whole or not at all, and a compile started by a short-lived
+// command (`autumn run --steps 3`) still finishes and fills the cache after that
+// command exits. The caller's thread waits for it when it wants the result.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace autumn {
+
+// The compiler and flags every module is built with (part of the cache key).
+std::string module_compiler_signature();
+
+struct CompileOutcome {
+  bool ok = false;
+  std::string output;  // the compiler's messages (first few thousand characters)
+};
+
+// Compiles `source` into the shared library `so` (temporary files beside it,
+// named with `tag`). Calls `started` once the compiler process runs (or could
+// not be started), then blocks until it ends.
+CompileOutcome compile_module(const std::string& source, const std::filesystem::path& so, const std::string& tag,
+                              const std::function<void()>& started);
+
+}  // namespace autumn

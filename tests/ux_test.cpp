@@ -1,0 +1,373 @@
+// What a researcher sees: pictures of episodes (decoded back and compared pixel
+// by pixel with the frames), first runs of the compiled engine (the interpreter
+// serves while the module compiles; the cache ignores comments; error locations
+// follow the text being run), make-task on every program with either engine,
+// and truthful output (exit codes, errored episodes, JSON where there are tables).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <thread>
+
+#include "compiler/analyse/colour_names.hpp"
+#include "compiler/interpret/interpreted_env.hpp"
+#include "harness/module_key.hpp"
+#include "harness/render_images.hpp"
+#include "harness/warm_env.hpp"
+#include "test_support.hpp"
+
+namespace autumn {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::run_cli;
+
+fs::path scratch_root() { return fs::temp_directory_path() / ("autumn_ux_test_" + std::to_string(getpid())); }
+struct ScratchCleanup {
+  ~ScratchCleanup() {
+    std::error_code ec;
+    fs::remove_all(scratch_root(), ec);
+  }
+} cleanup;
+
+fs::path scratch(const std::string& name) {
+  fs::path d = scratch_root() / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+fs::path ice_dir() { return testing::shared_dir() / "tasks" / "autumnbench"; }
+#define REQUIRE_ICE() \
+  if (!fs::exists(ice_dir() / "prompts")) GTEST_SKIP() << "SKIPPED LOUDLY: no AutumnBench example tasks at " << ice_dir()
+
+std::string program_path(const char* name) { return (testing::source_dir() / "programs" / name).string(); }
+
+// The last line of `out` that parses as JSON (notes go to stderr, which run_cli merges).
+nlohmann::json last_json(const std::string& out) {
+  std::istringstream in(out);
+  nlohmann::json j;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] == '{') j = nlohmann::json::parse(line, nullptr, false);
+  return j;
+}
+
+// The frames of one episode, as `autumn run --json` prints them.
+std::vector<std::vector<std::string>> run_frames(const std::string& prog, const std::string& actions) {
+  auto r = run_cli("run " + prog + " --json --actions '" + actions + "'", true);
+  EXPECT_EQ(r.status, 0) << r.out;
+  return last_json(r.out)["traces"][0]["frames"].get<std::vector<std::vector<std::string>>>();
+}
+
+// The colour name of cell (x, y) of a frame in the trace format.
+std::string cell_name(const std::vector<std::string>& rows, int x, int y) {
+  std::istringstream in(rows[static_cast<size_t>(y)]);
+  std::string name;
+  for (int i = 0; i <= x; ++i) in >> name;
+  return name;
+}
+
+// Every cell of `frame` drawn at (x0, y0) with `scale` pixels a cell (plus one
+// for grid lines) shows its colour at the cell's centre.
+void expect_frame_at(const Image& im, int x0, int y0, const std::vector<std::string>& rows, int scale) {
+  for (int y = 0; y < static_cast<int>(rows.size()); ++y)
+    for (int x = 0; x < static_cast<int>(rows.size()); ++x) {
+      const uint32_t want = colour_rgb(cell_name(rows, x, y)).value_or(kUnknownColourRgb);
+      ASSERT_EQ(im.at(x0 + x * scale + scale / 2, y0 + y * scale + scale / 2), want)
+          << "cell " << x << "," << y << " (" << cell_name(rows, x, y) << ")";
+    }
+}
+
+// ---------------------------------------------------------------------------- pictures
+
+TEST(Pictures, PngAndGifRoundTrip) {
+  Picture p;
+  p.width = 3, p.height = 2;
+  p.rgb = {0xff0000, 0x00ff00, 0x0000ff, 0xffffff, 0x000000, 0x708090};
+  const Image a = draw(p, {4, false}), b = draw(p, {4, true});
+  EXPECT_EQ(a.width, 12);
+  EXPECT_EQ(b.width, 13);  // one more line closes the grid
+  const fs::path dir = scratch("roundtrip");
+  write_png((dir / "a.png").string(), a);
+  EXPECT_EQ(read_png((dir / "a.png").string()), a);
+  write_gif((dir / "ab.gif").string(), {b, b}, 100);
+  std::vector<Image> frames = read_gif((dir / "ab.gif").string());
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0], b);
+  EXPECT_EQ(frames[1], b);
+  EXPECT_THROW(write_png("/nonexistent/dir/x.png", a), std::runtime_error);
+  EXPECT_THROW(read_gif((dir / "a.png").string()), std::runtime_error);
+}
+
+TEST(Pictures, ColourNamesAreTheBenchmarks) {
+  EXPECT_EQ(colour_rgb("green"), 0x008000u);  // CSS green, as matplotlib draws it
+  EXPECT_EQ(colour_rgb("gray"), colour_rgb("grey"));
+  EXPECT_EQ(colour_rgb("mediumpurple"), 0x9370dbu);
+  EXPECT_FALSE(colour_rgb("brwn"));
+  EXPECT_EQ(closest_colour("brwn"), "brown");
+  EXPECT_EQ(cell_rgb("NoSuchColour"), kUnknownColourRgb);
+  // Every colour of the benchmark's colour table is drawable (0, transparent, masks).
+  for (const char* c : {"black", "gray", "grey", "gold", "green", "mediumpurple", "purple", "white", "yellow",
+                        "blue", "red", "orange", "sandybrown", "brown", "pink", "lightblue", "orangered", "skyblue",
+                        "lightcyan", "lightgreen", "magenta", "darkgray", "darkgrey", "darkblue", "darkgreen",
+                        "darkred", "tan", "lightpink", "crimson", "goldenrod", "steelblue", "coral", "silver",
+                        "seagreen", "limegreen", "cyan", "lightgray", "maroon", "darkorange"})
+    EXPECT_TRUE(colour_rgb(c)) << c;
+}
+
+TEST(Pictures, RenderWritesTheEpisode) {
+  const fs::path dir = scratch("render");
+  const std::string actions = "left,left,click 3 4,up,noop";
+  const auto frames = run_frames(program_path("sokoban.au"), actions);
+  auto gif = run_cli("render " + program_path("sokoban.au") + " --actions '" + actions + "' --scale 5 --out " +
+                     (dir / "e.gif").string());
+  ASSERT_EQ(gif.status, 0) << gif.out;
+  std::vector<Image> images = read_gif((dir / "e.gif").string());
+  ASSERT_EQ(images.size(), frames.size());
+  for (size_t i = 0; i < images.size(); ++i) expect_frame_at(images[i], 0, 0, frames[i], 5);
+
+  auto png = run_cli("render " + program_path("sokoban.au") + " --actions '" + actions + "' --scale 5 --grid-lines " +
+                     "--columns 4 --out " + (dir / "e.png").string());
+  ASSERT_EQ(png.status, 0) << png.out;
+  const Image strip = read_png((dir / "e.png").string());
+  const int side = 8 * 5 + 1, gap = 4;  // 8x8 cells, 5 px each, grid lines
+  EXPECT_EQ(strip.width, 4 * side + 3 * gap);
+  EXPECT_EQ(strip.height, 2 * side + gap);
+  for (size_t i = 0; i < frames.size(); ++i)
+    expect_frame_at(strip, static_cast<int>(i % 4) * (side + gap) + 1, static_cast<int>(i / 4) * (side + gap) + 1,
+                    frames[i], 5);
+
+  EXPECT_EQ(run_cli("render " + program_path("sokoban.au") + " --out x.jpg").status, 2);
+  auto unwritable = run_cli("render " + program_path("sokoban.au") + " --out /nonexistent/x.png");
+  EXPECT_EQ(unwritable.status, 1);
+  EXPECT_NE(unwritable.out.find("cannot write /nonexistent/x.png"), std::string::npos) << unwritable.out;
+}
+
+// The public ice planning task: one command writes the plan as a GIF and a PNG;
+// both decode to the frames the plan produces.
+TEST(Pictures, IcePlanningPlan) {
+  REQUIRE_ICE();
+  const fs::path dir = scratch("ice_plan");
+  auto r = run_cli("solve " + (ice_dir() / "prompts/ice_planning.json").string() + " --json --render " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  nlohmann::json j = last_json(r.out);
+  std::string actions;
+  for (const auto& a : j["result"]["plan"]) actions += (actions.empty() ? "" : ",") + a.get<std::string>();
+  const auto frames = run_frames((ice_dir() / "programs/ice.sexp").string(), actions);
+  std::vector<Image> gif = read_gif((dir / "ice_planning_plan.gif").string());
+  ASSERT_EQ(gif.size(), frames.size());
+  for (size_t i = 0; i < gif.size(); ++i) expect_frame_at(gif[i], 1, 1, frames[i], 16);
+  const Image png = read_png((dir / "ice_planning_plan.png").string());
+  const int side = 16 * 16 + 1, gap = 4;
+  for (size_t i = 0; i < frames.size(); ++i)
+    expect_frame_at(png, static_cast<int>(i % 8) * (side + gap) + 1, static_cast<int>(i / 8) * (side + gap) + 1,
+                    frames[i], 16);
+  std::cout << "ice planning plan: " << frames.size() - 1 << " actions, " << dir / "ice_planning_plan.gif" << "\n";
+}
+
+TEST(Pictures, CheckDrawsTheFirstMismatch) {
+  const fs::path dir = scratch("check");
+  const std::string trace = (dir / "t.json").string();
+  ASSERT_EQ(run_cli("run " + program_path("sokoban.au") + " --steps 2 --json > " + trace).status, 0);
+  nlohmann::json t = nlohmann::json::parse(testing::read_text(trace));
+  std::string row = t["traces"][0]["frames"][1][2];
+  row.replace(0, row.find(' '), "red");  // cell (0, 2) of frame 1
+  t["traces"][0]["frames"][1][2] = row;
+  std::ofstream(trace) << t.dump();
+  auto r = run_cli("check " + program_path("sokoban.au") + " " + trace + " --diff-png " + (dir / "d.png").string());
+  EXPECT_EQ(r.status, 1) << r.out;
+  const Image im = read_png((dir / "d.png").string());
+  const int side = 8 * 16 + 1, gap = 8;
+  EXPECT_EQ(im.width, 3 * side + 2 * gap);
+  EXPECT_EQ(im.at(8, 2 * 16 + 8), 0xff0000u);                       // expected: red
+  EXPECT_NE(im.at(side + gap + 8, 2 * 16 + 8), 0xff0000u);          // got: not red
+  EXPECT_EQ(im.at(2 * (side + gap) + 8, 2 * 16 + 8), 0xff0000u);    // difference: marked
+  EXPECT_EQ(im.at(2 * (side + gap) + 8 + 16, 2 * 16 + 8), 0x202020u);  // the next cell agrees
+}
+
+// ---------------------------------------------------------------------------- first runs
+
+TEST(ModuleKey, CommentsAndLayoutDoNotCount) {
+  const std::string a = "(program\n  (= GRID_SIZE 8) ; eight\n  (= x 1))\n";
+  const std::string b = "; a header\n(program (= GRID_SIZE 8)\n\n\n (= x 1))";
+  const std::string c = "(program (= GRID_SIZE 8) (= x 2))";
+  EXPECT_EQ(canonical_program_hash(a, std::nullopt), canonical_program_hash(b, std::nullopt));
+  EXPECT_NE(canonical_program_hash(a, std::nullopt), canonical_program_hash(c, std::nullopt));
+  EXPECT_NE(canonical_program_hash(a, std::nullopt), canonical_program_hash(a, "x"));
+  // A string and a symbol with the same letters, and atoms that would print alike, differ.
+  EXPECT_NE(canonical_program_hash("(a \"b\")", std::nullopt), canonical_program_hash("(a b)", std::nullopt));
+  EXPECT_NE(canonical_program_hash("(\"a b\")", std::nullopt), canonical_program_hash("(\"a\" \"b\")", std::nullopt));
+  EXPECT_FALSE(canonical_program_hash("(unclosed", std::nullopt));
+
+  LocationMap map(a, b);
+  EXPECT_EQ(map.rewrite("p.au:3:3: runtime error: boom", "p.au"), "p.au:5:2: runtime error: boom");
+  EXPECT_EQ(map.rewrite("<stdlib>:3:3: runtime error: boom", "p.au"), "<stdlib>:3:3: runtime error: boom");
+  EXPECT_EQ(map.rewrite("p.au:9:9: runtime error: boom", "p.au"), "p.au:9:9: runtime error: boom");
+}
+
+// A source that becomes ready after `wait` polls and hands out `make()`.
+CompiledSource ready_after(int wait, std::function<std::unique_ptr<Environment>()> make) {
+  auto polls = std::make_shared<int>(0);
+  return [=](std::string*) -> std::unique_ptr<Environment> { return ++*polls > wait ? make() : nullptr; };
+}
+
+TEST(WarmStart, SwitchesWithTheStateCarriedOver) {
+  auto program = load_program_file(program_path("whack_a_mole.au"));
+  std::vector<Action> actions;
+  std::mt19937 rng(5);
+  for (int i = 0; i < 40; ++i) actions.push_back(i % 3 ? Action::click(rng() % 8, rng() % 8) : Action::noop());
+  InterpretedEnvironment reference(program);
+  WarmingEnvironment warm(program, ready_after(12, [&]() -> std::unique_ptr<Environment> {
+                            return std::make_unique<InterpretedEnvironment>(program);
+                          }));
+  ASSERT_TRUE(reference.reset(3));
+  ASSERT_TRUE(warm.reset(3));
+  for (size_t i = 0; i < actions.size(); ++i) {
+    ASSERT_TRUE(reference.step(actions[i]));
+    ASSERT_TRUE(warm.step(actions[i]));
+    ASSERT_EQ(frame_rows(warm.frame(), warm.palette()), frame_rows(reference.frame(), reference.palette())) << i;
+    EXPECT_EQ(warm.switched(), i >= 11) << i;
+  }
+}
+
+TEST(WarmStart, KeepsTheInterpreterWhenTheEnginesDisagree) {
+  auto program = load_program_file(program_path("whack_a_mole.au"));
+  auto other = load_program_file(program_path("sokoban.au"));
+  WarmingEnvironment warm(program, ready_after(2, [&]() -> std::unique_ptr<Environment> {
+                            return std::make_unique<InterpretedEnvironment>(other);
+                          }));
+  InterpretedEnvironment reference(program);
+  ASSERT_TRUE(warm.reset(0) && reference.reset(0));
+  for (int i = 0; i < 6; ++i) {
+    ASSERT_TRUE(warm.step(Action::click(i, i)) && reference.step(Action::click(i, i)));
+    EXPECT_EQ(frame_rows(warm.frame(), warm.palette()), frame_rows(reference.frame(), reference.palette()));
+  }
+  EXPECT_FALSE(warm.switched());
+}
+
+// A 16x16 program no cache has seen: a fresh constant makes its text (and key) new.
+std::string fresh_program(const fs::path& dir, const std::string& name) {
+  std::string text = testing::read_text(testing::source_dir() / "programs/sheepdog.au");
+  const auto nonce = std::chrono::steady_clock::now().time_since_epoch().count() ^ getpid();
+  text.insert(text.find("(program") + 8, "\n  (= uxTestNonce " + std::to_string(nonce % 1000000007) + ")");
+  std::ofstream(dir / name) << text;
+  return (dir / name).string();
+}
+
+std::vector<fs::path> modules_in(const fs::path& dir) { return testing::files_in(dir, ".so"); }
+
+TEST(FirstRun, AnswersAtOnceAndCompilesBehind) {
+  const fs::path dir = scratch("first_run"), cache = dir / "cache";
+  const std::string prog = fresh_program(dir, "fresh16.au");
+  const std::string env = "AUTUMN_CACHE_DIR=" + cache.string();
+  const auto t0 = std::chrono::steady_clock::now();
+  auto first = run_cli("run " + prog + " --engine compiled --steps 1", false, env);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_EQ(first.status, 0) << first.out;
+  EXPECT_NE(first.out.find("compiling " + prog + " (first use)"), std::string::npos) << first.out;
+  std::cout << "first --engine compiled result of a new 16x16 program: " << seconds << " s (target 0.5 s)\n";
+  RecordProperty("first_run_seconds", std::to_string(seconds));
+  EXPECT_LT(seconds, 1.5) << "the interpreter serves the first steps";
+  // The compile finishes by itself after the command has exited.
+  for (int i = 0; i < 600 && modules_in(cache).empty(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_EQ(modules_in(cache).size(), 1u);
+  // A comment-only edit is the same module: no compile, and errors name the edited text.
+  std::ofstream(prog, std::ios::app) << "\n; a comment added later\n";
+  auto again = run_cli("run " + prog + " --engine compiled --steps 1", false, env);
+  EXPECT_EQ(again.status, 0) << again.out;
+  EXPECT_EQ(again.out.find("compiling"), std::string::npos) << again.out;
+  EXPECT_EQ(modules_in(cache).size(), 1u);
+}
+
+TEST(FirstRun, ErrorsAreLocatedInTheTextBeingRun) {
+  const fs::path dir = scratch("relocate"), cache = dir / "cache";
+  const std::string original = testing::read_text(testing::source_dir() / "tests/runtime_errors/undefined_variable.au");
+  std::ofstream(dir / "a.au") << original;
+  std::ofstream(dir / "b.au") << "; moved down three lines\n\n\n" << original;
+  const std::string env = "AUTUMN_CACHE_DIR=" + cache.string();
+  auto a = run_cli("difftest " + (dir / "a.au").string() + " --seeds 1", false, env);
+  EXPECT_EQ(a.status, 0) << a.out;
+  auto b = run_cli("run " + (dir / "b.au").string() + " --engine compiled --actions left", false, env);
+  EXPECT_EQ(b.status, 1);
+  EXPECT_EQ(b.out.find("compiling"), std::string::npos) << "the module of a.au serves b.au: " << b.out;
+  EXPECT_NE(b.out.find("b.au:9:22: runtime error: undefined variable 'nosuch'"), std::string::npos) << b.out;
+}
+
+TEST(FirstRun, UnwritableCacheFallsBack) {
+  const fs::path dir = scratch("unwritable");
+  const std::string fresh = (dir / "p.au").string();
+  std::ofstream(fresh) << "(program (= GRID_SIZE 4) (= uxUnwritable " << getpid() << "))";
+  // A cache path under a regular file cannot be created, even by root.
+  auto tmp = run_cli("run " + fresh + " --engine compiled", false,
+                     "AUTUMN_CACHE_DIR=/etc/passwd/sub TMPDIR=" + dir.string());
+  EXPECT_EQ(tmp.status, 0) << tmp.out;
+  EXPECT_NE(tmp.out.find("cannot write the module cache /etc/passwd/sub"), std::string::npos) << tmp.out;
+  EXPECT_NE(tmp.out.find("using " + (dir / "autumnc-cache-").string()), std::string::npos) << tmp.out;
+  auto none = run_cli("difftest " + fresh + " --seeds 1 --steps 3", false,
+                      "AUTUMN_CACHE_DIR=/etc/passwd/sub TMPDIR=/etc/passwd");
+  EXPECT_EQ(none.status, 0) << none.out;
+  EXPECT_NE(none.out.find("running " + fresh + " on the interpreter"), std::string::npos) << none.out;
+}
+
+// ---------------------------------------------------------------------------- honest output
+
+TEST(MakeTask, EveryProgramWithEitherEngine) {
+  const fs::path dir = scratch("make_task");
+  for (const auto& p : testing::files_in(testing::source_dir() / "programs", ".au"))
+    for (const char* kind : {"mfp", "planning"})
+      for (const char* engine : {"compiled", "interp"}) {
+        const fs::path out = dir / engine / "prompts" / (p.stem().string() + "_" + kind + ".json");
+        auto r = run_cli(std::string("make-task ") + kind + " " + p.string() + " --engine " + engine +
+                         " --extend-colours --out " + out.string());
+        ASSERT_EQ(r.status, 0) << r.out;
+        EXPECT_EQ(r.out.find("origin"), std::string::npos) << r.out;
+      }
+  for (const auto& f : testing::files_in(dir / "interp" / "prompts", ".json"))
+    EXPECT_EQ(testing::read_text(f), testing::read_text(dir / "compiled" / "prompts" / f.filename())) << f;
+  EXPECT_EQ(testing::read_text(dir / "interp" / "color_dict.yaml"), testing::read_text(dir / "compiled" / "color_dict.yaml"));
+  EXPECT_EQ(testing::read_text(dir / "compiled" / "color_dict.yaml").find("origin"), std::string::npos);
+}
+
+TEST(HonestOutput, SolveWithoutAnAnswerExitsOne) {
+  REQUIRE_ICE();
+  auto r = run_cli("solve " + (ice_dir() / "prompts/ice_planning.json").string() +
+                   " --search bfs --depth 1 --nodes 50 --json");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("no answer found"), std::string::npos) << r.out;
+  EXPECT_EQ(last_json(r.out)["result"]["found"], false);
+}
+
+TEST(HonestOutput, DifftestListsErroredEpisodes) {
+  const std::string prog = (testing::source_dir() / "tests/runtime_errors/division_by_zero.au").string();
+  auto text = run_cli("difftest " + prog + " --seeds 2 --steps 20");
+  EXPECT_EQ(text.status, 0) << text.out;
+  EXPECT_NE(text.out.find("ERRORED"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("2 episodes: 0 ran every step, 2 ended in the same runtime error"), std::string::npos)
+      << text.out;
+  auto json = run_cli("difftest " + prog + " --seeds 2 --steps 20 --json", true);
+  nlohmann::json j = last_json(json.out);
+  EXPECT_EQ(j["programs"][0]["errored_episodes"], 2);
+  EXPECT_EQ(j["programs"][0]["status"], "agreed");
+}
+
+TEST(HonestOutput, TablesHaveJson) {
+  auto survey = run_cli("survey " + (testing::source_dir() / "programs").string() + " --steps 5 --json", true);
+  EXPECT_EQ(survey.status, 0) << survey.out;
+  nlohmann::json s = last_json(survey.out);
+  EXPECT_EQ(s["programs"].size(), testing::files_in(testing::source_dir() / "programs", ".au").size());
+  EXPECT_EQ(s["programs"][0]["steps"], 5);
+  auto check = run_cli("check " + program_path("sokoban.au") + " /nonexistent.json --json");
+  EXPECT_EQ(check.status, 2) << check.out;  // CLI11: the file does not exist
+}
+
+TEST(HonestOutput, ClicksOutsideTheGridAreWarned) {
+  auto r = run_cli("run " + program_path("sokoban.au") + " --actions 'click 8 0,click 2 2'");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: action 1 (click 8 0) is outside the 8x8 grid"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("action 2 (click 2 2)"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace autumn
