@@ -94,9 +94,10 @@ TEST(Cli, MalformedTraceFileIsAOneLineError) {
 
 namespace fs = std::filesystem;
 
-// A folder holding a good program and three that used to crash or stop a run.
-fs::path mixed_folder() {
-  const fs::path dir = fs::temp_directory_path() / "autumn_cli_mixed";
+// A folder holding a good program and three that used to crash or stop a run. Each test
+// names its own folder: ctest runs tests in parallel, and one test must not edit another's.
+fs::path mixed_folder(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("autumn_cli_mixed_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   fs::copy_file(golden("stale_occupancy.au"), dir / "a_good.au");
@@ -110,7 +111,7 @@ fs::path mixed_folder() {
 }
 
 TEST(Cli, SurveyReportsBadProgramsInTheirRowsAndGoesOn) {
-  Result r = run("survey " + mixed_folder().string() + " --steps 5");
+  Result r = run("survey " + mixed_folder("survey").string() + " --steps 5");
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("b_unclosed.au:1:1: error: unclosed '('"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("c_recursion.au:1:39: runtime error: initialising 'x': call depth limit exceeded"),
@@ -135,7 +136,7 @@ TEST(Cli, SurveyWithoutAnEngineMarksTheRow) {
 }
 
 TEST(Cli, DifftestGoesOnPastBadPrograms) {
-  const fs::path dir = mixed_folder();
+  const fs::path dir = mixed_folder("difftest");
   fs::remove(dir / "d_deep.au");
   Result r = run("difftest " + dir.string() + " --seeds 1 --steps 3");
   EXPECT_EQ(r.status, 1) << r.out;
