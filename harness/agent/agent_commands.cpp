@@ -65,12 +65,16 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
   cmd->add_option("--policy", o.policy, "Change detection exploration policy")
       ->check(CLI::IsMember({"novelty", "random"}))
       ->default_val("novelty");
-  cmd->add_option("--depth", o.depth, "Planning: BFS depth limit")->default_val(12)->check(CLI::NonNegativeNumber);
+  cmd->add_option("--depth", o.depth, "Planning: BFS cost limit (layers)")->default_val(12)->check(CLI::NonNegativeNumber);
   cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(10000000)->check(CLI::PositiveNumber);
-  cmd->add_option("--search", o.search, "Planning: bfs (shortest), best-first, or auto (bfs, then best-first)")
+  cmd->add_option("--search", o.search, "Planning: bfs (proven cheapest), best-first, or auto (bfs, focused bfs, "
+                                        "bfs by moves, best-first)")
       ->check(CLI::IsMember({"auto", "bfs", "best-first"}))
       ->default_val("auto");
-  cmd->add_option("--max-plan", o.max_plan, "Planning: best-first plan length limit")
+  cmd->add_option("--cost", o.cost, "Planning: what a plan costs: steps (every action) or moves (noop is free)")
+      ->check(CLI::IsMember({"steps", "moves"}))
+      ->default_val("steps");
+  cmd->add_option("--max-plan", o.max_plan, "Planning: plan length limit (steps)")
       ->default_val(200)
       ->check(CLI::PositiveNumber);
   cmd->add_option("--keep-states", o.keep_states,

@@ -1,49 +1,39 @@
-// planning — find actions that bring the environment's frame to the goal on the mask.
+// planning — find the fewest actions that bring the frame to the goal on the mask.
 //
-// The environment starts from reset(task seed) (default 0, the benchmark's). For a
-// stochastic program this is the privileged oracle of the AutumnBench paper: the
-// planner simulates with the environment's own seed, and says so in its report.
+// The planner simulates the task's program from reset(seed) with the seed the
+// task states, else 0 — the benchmark's; it never reads an answers file. A plan
+// is open-loop, so for a stochastic program it holds for that seed only (the
+// report says so).
 //
-// bfs: breadth-first search over the full action set (click_model.hpp: noop,
-// four arrows, clicks — merged when the program provably cannot tell click
-// positions apart), deduplicating states by state_hash(). Each layer is expanded
-// in chunks on the thread pool: a thread copies the parent into a scratch
-// environment per action (copy_from), steps and hashes, and keeps only states not
-// seen before, as snapshots (save_state) — or as environments, up to keep_states,
-// for engines without snapshots (the rest are replayed from the root). The seen
-// set is sharded by hash so duplicates are settled in parallel; the winner of a
-// duplicate, the first goal and the next layer's order are fixed by (shard,
-// parent, action), never by the thread count, so neither is the plan. The first
-// goal found is at the shallowest depth: a shortest plan. Limits: --depth,
-// --nodes, --time-limit.
+// Cost: "steps" (default) counts every action; "moves" counts actions other than
+// noop (waiting is free; the benchmark's optimal_actions_count for the public ice
+// task counts this way). Plans are capped at max_plan steps either way.
 //
-// best-first: greedy best-first search, same action set and state dedup, each
-// node's successors generated in parallel; depth limit max_plan. Priority: the
-// distance to the goal on the mask — cells whose "is background" differs first
-// (the goal's most common masked colour is its background), then all differing
-// cells — at its best on the successor's noop future: the successor itself and
-// the frames it passes while left alone (noops until the frame stops changing,
-// at most 2*GRID_SIZE; a goal frame on the way ends the search). Things that
-// fall or slide count where they come to rest, things that keep moving (a global
-// velocity, endless gravity) where they pass the goal. Ties: fewer steps, then
-// first generated. A first pass also prunes successors whose frame and settled
-// frame were both already generated (hidden-state variants that look alike would
-// otherwise flood the plateaus); if it fails, a second pass runs
-// without that pruning. The plan is then shortened by dropping single actions
-// while the goal stays reached. Not guaranteed shortest. Open nodes keep their
-// environments up to keep_states; the others are replayed from the root.
+// Strategies (one file each, each with its account): plan_bfs (exact, by cost
+// layers), plan_best_first (greedy, for goals beyond BFS's reach), plan_shorten
+// (cut, drop and shortcut passes on a found plan). They share plan_problem: the
+// search model (clicks that change nothing merge with noop when `click` is
+// step-local), the one goal test, the action set, the one clock.
 //
-// auto (default): bfs with a quarter of the node budget, then best-first with
-// the rest. When clicks are told apart by position (a click on every cell, so
-// full layers beyond the first are unaffordable), bfs first runs one layer over
-// the full action set, then focused stages with clicks only near the cells where
-// the goal differs from the initial frame (within 0 cells; clicks whose effect
-// reaches those cells under noops; within 1, 3 cells) and then within the mask's
-// bounding box, an eighth of the node budget and of the time left each; then
-// best-first over the clicks near (within 1) or reaching the changes, then over
-// the full action set. A focused plan is the
-// shortest among focused plans; it is proven shortest only when it is at most
-// one action longer than the deepest full layer searched.
+// --search auto (default), in order, each stage on a share of what is left:
+//  1. BFS over the full action set (half the budget; a tenth when clicks are
+//     told apart by position, whose layers are wide). A plan found here is
+//     proven cheapest; otherwise no plan costs <= the layers searched
+//     ("proven_bound").
+//  2. Clicks told apart by position: BFS stages with clicks only near the cells
+//     where the goal differs from the start (on them; clicks whose effect reaches
+//     them under noops; within 1 and 3 cells; the goal region), an eighth of the
+//     budget each. A plan here is proven cheapest when it costs at most
+//     proven_bound + 1.
+//  3. Cost "steps": BFS by moves (noop free) over the same actions, for goals
+//     reached by a few actions and a long wait (things that fall, grow, drift).
+//  4. Best-first (pruning look-alike states, then without), over clicks near or
+//     reaching the changes first when clicks are positional.
+// A plan from stages 3–4 goes through plan_shorten; the result is replayed on the
+// program itself (not the search model) to the goal: `verified`.
+// --search bfs runs stage 1 alone with the whole budget, --search best-first stage 4.
+// Results do not depend on --threads; only a time limit can make them depend on
+// the machine.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
@@ -56,28 +46,38 @@ namespace autumn::agent {
 struct PlanResult {
   bool found = false;
   std::vector<Action> plan;
-  std::string method;           // "bfs", "bfs, clicks within ..." or "best-first" (which search found the plan)
-  bool shortest = false;        // the plan is provably shortest (bfs found it)
-  std::string note;             // why a search stopped
-  int bfs_depth_done = 0;       // BFS layers fully explored
-  uint64_t nodes = 0;           // successor states generated (one environment step each)
+  std::string cost = "steps";   // what the search minimised
+  std::string method;           // the stage that found the plan
+  bool shortest = false;        // proven cheapest under `cost`
+  int proven_bound = 0;         // no plan costs <= this (from full BFS layers); meaningful when !shortest
+  std::string note;             // why stages stopped
+  int bfs_depth_done = 0;       // full-action BFS layers completely searched
+  uint64_t nodes = 0;           // successor states generated (environment steps), all stages
   uint64_t lookahead_steps = 0; // best-first: noop steps of the settling look-ahead
-  uint64_t distinct = 0;        // distinct states seen
-  size_t actions = 0;           // size of the action set
+  uint64_t distinct = 0;        // distinct states seen, summed over stages
+  size_t actions = 0;           // size of the full action set
   std::string click_use;
+  std::string model;            // "program" or "click-reset model"
+  std::string model_note;       // why the click-reset model was not used
+  size_t found_length = 0;      // before shortening
+  int shortcuts = 0;
   bool stochastic = false;
   uint64_t env_seed = 0;
-  bool verified = false;        // the plan replays on a fresh environment to the goal
-  double seconds = 0;           // the whole solve: loading, set-up, search, verification
+  bool verified = false;        // the plan replays on the program (fresh environment) to the goal
+  double seconds = 0;           // the whole solve
   double search_seconds = 0;    // the searches alone (what nodes/s figures of the search use)
-  bool exhausted = false;       // a search saw every reachable state within its limits
+  bool exhausted = false;       // the full BFS saw every reachable state within its limits
   bool timed_out = false;       // the time limit stopped a search
 };
 
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool);
-// Replays `plan` from reset(task seed); true when some frame on the way (the
-// initial one included) matches the goal on the mask.
-bool plan_reaches_goal(const Task& task, const SolveOptions& opts, const std::vector<Action>& plan);
+// Replays `plan` on the task's program from reset(task seed); true when some
+// frame on the way (the initial one included) matches the goal on the mask.
+bool plan_reaches_goal(const Task& task, const SolveOptions& opts, const std::vector<Action>& plan,
+                       uint64_t env_seed);
+inline bool plan_reaches_goal(const Task& task, const SolveOptions& opts, const std::vector<Action>& plan) {
+  return plan_reaches_goal(task, opts, plan, task.env_seed);
+}
 nlohmann::json planning_json(const PlanResult& r);
 std::string planning_summary(const PlanResult& r);
 

@@ -21,9 +21,10 @@ struct SolveOptions {
   int max_steps = 200;
   std::string policy = "novelty";   // novelty | random
   // planning
-  int depth = 12;
+  int depth = 12;                   // BFS cost limit
   uint64_t nodes = 10000000;
   std::string search = "auto";      // auto | bfs | best-first
+  std::string cost = "steps";       // steps: every action costs 1; moves: noop (waiting) is free
   int max_plan = 200;               // best-first depth limit
   uint64_t keep_states = 10000;     // search environments kept in memory when the engine has no
                                     // snapshots (save_state); others are replayed

@@ -447,6 +447,15 @@ std::shared_ptr<const Program> load_program_checked(const fs::path& path, const 
   }
 }
 
+std::shared_ptr<const Program> load_program_checked_text(const std::string& text, const std::string& name,
+                                                         const std::optional<std::string>& trigger) {
+  try {
+    return load_program(SourceFile{name, text, SourceId::Program}, trigger);
+  } catch (const CompileError& e) {
+    throw TaskError(e.formatted());
+  }
+}
+
 std::unique_ptr<Environment> make_env_checked(const std::string& engine, std::shared_ptr<const Program> program) {
   std::string why;
   auto env = make_environment(engine, std::move(program), &why);

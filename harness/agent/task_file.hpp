@@ -153,6 +153,9 @@ fs::path resolve_program(const fs::path& dir, const std::string& name);
 // Loads a program; a CompileError becomes a TaskError carrying its formatted text.
 std::shared_ptr<const Program> load_program_checked(const fs::path& path,
                                                     const std::optional<std::string>& trigger = std::nullopt);
+// The same for program text held in memory; `name` is what messages call it.
+std::shared_ptr<const Program> load_program_checked_text(const std::string& text, const std::string& name,
+                                                         const std::optional<std::string>& trigger = std::nullopt);
 std::unique_ptr<Environment> make_env_checked(const std::string& engine, std::shared_ptr<const Program> program);
 
 // The "condition" of a change-detection answers file.

@@ -1,0 +1,325 @@
+#include "harness/agent/plan_bfs.hpp"
+
+#include <fmt/core.h>
+
+#include <absl/container/flat_hash_set.h>
+
+#include <atomic>
+
+namespace autumn::agent {
+
+namespace {
+
+using HashSet = absl::flat_hash_set<uint64_t>;
+constexpr int kShardBits = 6;
+constexpr size_t kShards = size_t{1} << kShardBits;
+size_t shard_of(uint64_t h) { return static_cast<size_t>(h >> (64 - kShardBits)); }
+
+class LayeredBfs {
+ public:
+  LayeredBfs(PlanProblem& p, const BfsSpec& spec)
+      : p_(p), spec_(spec), start_(spec.start ? *spec.start : p.root()), A_(spec.actions.size()) {}
+
+  BfsOutcome run();
+
+ private:
+  struct Open {
+    int64_t node = 0;
+    uint32_t buffer = 0;  // snapshot: buffer, offset, size in its layer
+    uint32_t size = 0;
+    uint64_t offset = 0;
+    std::unique_ptr<Environment> env;  // without snapshots; null: replayed
+  };
+  struct Layer {
+    std::vector<Open> open;
+    std::vector<std::vector<uint8_t>> buffers;
+  };
+  struct Fresh {
+    uint64_t index;  // (parent - begin) * A + action
+    uint64_t hash;
+    uint64_t offset;
+    uint32_t size;
+    uint32_t buffer;
+    bool hit, free;
+    std::unique_ptr<Environment> env;
+  };
+  struct Worker {
+    std::unique_ptr<Environment> parent, scratch, replay_root;
+    HashSet local;
+    FrameColours colours;
+    std::vector<uint8_t> bytes[2];  // this chunk's new states: [0] this layer (free), [1] the next
+    std::vector<std::vector<Fresh>> fresh = std::vector<std::vector<Fresh>>(kShards);
+  };
+
+  bool is_free(size_t a) const { return !spec_.free.empty() && spec_.free[a]; }
+  bool hit(const Environment& e, uint64_t h, Worker& W) const {
+    return (spec_.targets && spec_.targets->contains(h)) || (spec_.goal && p_.goal().reached(e, W.colours));
+  }
+  std::vector<Action> path(int64_t node) const;
+  std::unique_ptr<Environment> replay(int64_t node, const Environment& from) const;
+  const Environment* load_parent(Open& open, Worker& W, std::unique_ptr<Environment>& owned, bool take) const;
+  void expand_parent(size_t begin, size_t k, Worker& W, bool free_phase);
+  bool expand_chunk(size_t begin, size_t end, bool free_phase);
+  // One phase of a layer over cur_.open (which grows in the free phase); a plan
+  // or a stop ends the search (returns true, out_ set).
+  bool phase(int layer, bool free_phase, int64_t& hit_node);
+  void dedup();
+  void place(size_t begin);
+  BfsOutcome finish(int64_t node, bool found);
+  int target_of(int64_t node) const;
+
+  PlanProblem& p_;
+  const BfsSpec& spec_;
+  const Environment& start_;
+  const size_t A_;
+  size_t free_count_[2] = {0, 0};  // actions per parent in a phase: [0] costing, [1] free
+  size_t chunk_parents_ = 0;
+  ThreadPool serial_{1};
+  std::vector<HashSet> seen_ = std::vector<HashSet>(kShards);
+  std::vector<Node> nodes_;
+  Layer cur_, next_;
+  bool snapshots_ = false;
+  uint64_t kept_ = 0;  // environments held (no snapshots)
+  bool keep_env_ = false;
+  uint32_t buffer_base_[2] = {0, 0};
+  std::vector<Worker> workers_;
+  std::vector<std::vector<Fresh*>> won_ = std::vector<std::vector<Fresh*>>(kShards);
+  std::vector<uint64_t> first_hit_ = std::vector<uint64_t>(kShards);
+  BfsOutcome out_;
+  bool stopped_ = false;
+  std::vector<uint64_t> hash_of_;  // per node, for target lookups
+};
+
+std::vector<Action> LayeredBfs::path(int64_t node) const {
+  std::vector<Action> plan;
+  for (int64_t n = node; n > 0; n = nodes_[n].parent) plan.push_back(spec_.actions[nodes_[n].action]);
+  std::reverse(plan.begin(), plan.end());
+  return plan;
+}
+
+std::unique_ptr<Environment> LayeredBfs::replay(int64_t node, const Environment& from) const {
+  auto e = from.clone();
+  for (const Action& a : path(node))
+    if (!e->step(a)) throw TaskError("replaying a search path failed: " + e->error());
+  return e;
+}
+
+const Environment* LayeredBfs::load_parent(Open& open, Worker& W, std::unique_ptr<Environment>& owned,
+                                           bool take) const {
+  if (snapshots_) {
+    if (!W.parent->load_state(cur_.buffers[open.buffer].data() + open.offset, open.size))
+      throw TaskError("restoring a search state failed: " + W.parent->error());
+    return W.parent.get();
+  }
+  if (!take) return open.env ? open.env.get() : (owned = replay(open.node, *W.replay_root)).get();
+  owned = std::move(open.env);
+  if (!owned) owned = replay(open.node, *W.replay_root);
+  return owned.get();
+}
+
+void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phase) {
+  Open& open = cur_.open[begin + k];
+  if (nodes_[open.node].depth >= spec_.max_steps) return;
+  std::unique_ptr<Environment> owned;
+  const Environment* parent = load_parent(open, W, owned, !free_phase);
+  for (size_t a = 0; a < A_; ++a) {
+    if (is_free(a) != free_phase) continue;
+    if (!W.scratch || !W.scratch->copy_from(*parent)) W.scratch = parent->clone();
+    if (!W.scratch->step(spec_.actions[a])) continue;
+    const uint64_t h = W.scratch->state_hash();
+    if (seen_[shard_of(h)].contains(h) || !W.local.insert(h).second) continue;
+    const int side = is_free(a) ? 0 : 1;
+    std::vector<uint8_t>& bytes = W.bytes[side];
+    Fresh f{k * A_ + a, h, bytes.size(), 0, 0, hit(*W.scratch, h, W), side == 0, nullptr};
+    f.buffer = buffer_base_[side] + static_cast<uint32_t>(&W - workers_.data());
+    if (snapshots_) {
+      W.scratch->save_state(bytes);
+      f.size = static_cast<uint32_t>(bytes.size() - f.offset);
+    } else if (keep_env_) {
+      f.env = std::move(W.scratch);
+    }
+    W.fresh[shard_of(h)].push_back(std::move(f));
+  }
+}
+
+// Expands cur_.open[begin, end) by the free actions or by the others; false when
+// the time limit stopped it.
+bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
+  if (!free_phase)
+    for (size_t i = begin; i < end; ++i)
+      if (cur_.open[i].env) --kept_;  // the threads take (and free) the parents' environments
+  keep_env_ = !snapshots_ && kept_ < p_.opts().keep_states;
+  buffer_base_[0] = static_cast<uint32_t>(cur_.buffers.size());
+  buffer_base_[1] = static_cast<uint32_t>(next_.buffers.size());
+  std::atomic<bool> timed_out{false};
+  // Waking the threads costs more than a small chunk's work (deep, narrow
+  // searches): those run on the calling thread, with the same results.
+  ThreadPool& pool = (end - begin) * A_ < 1024 ? serial_ : p_.pool();
+  pool.parallel_for_worker(end - begin, [&](size_t k, unsigned w) {
+    // A chunk can take long on a slow engine: the time limit is also checked per parent.
+    if (timed_out.load(std::memory_order_relaxed) || spec_.limit.out_of_time()) {
+      timed_out = true;
+      return;
+    }
+    expand_parent(begin, k, workers_[w], free_phase);
+  });
+  if (timed_out) return false;
+  out_.nodes += (end - begin) * free_count_[free_phase ? 1 : 0];
+  for (Worker& W : workers_) {
+    W.local.clear();
+    cur_.buffers.push_back(std::move(W.bytes[0]));
+    next_.buffers.push_back(std::move(W.bytes[1]));
+    W.bytes[0] = {};
+    W.bytes[1] = {};
+  }
+  return true;
+}
+
+void LayeredBfs::dedup() {
+  p_.pool().parallel_for(kShards, [&](size_t sh) {
+    won_[sh].clear();
+    first_hit_[sh] = UINT64_MAX;
+    std::vector<size_t> at(workers_.size(), 0);
+    for (;;) {
+      Fresh* f = nullptr;
+      size_t from = 0;
+      for (size_t w = 0; w < workers_.size(); ++w) {
+        auto& list = workers_[w].fresh[sh];
+        if (at[w] < list.size() && (!f || list[at[w]].index < f->index)) f = &list[at[w]], from = w;
+      }
+      if (!f) break;
+      ++at[from];
+      if (!seen_[sh].insert(f->hash).second) continue;
+      won_[sh].push_back(f);
+      if (f->hit) first_hit_[sh] = std::min(first_hit_[sh], f->index);
+    }
+  });
+}
+
+// Winners become nodes: free ones join this layer, the others the next.
+void LayeredBfs::place(size_t begin) {
+  std::vector<size_t> offset(kShards + 1, 0);
+  for (size_t sh = 0; sh < kShards; ++sh) offset[sh + 1] = offset[sh] + won_[sh].size();
+  const size_t node_base = nodes_.size();
+  nodes_.resize(node_base + offset[kShards]);
+  hash_of_.resize(nodes_.size());
+  std::vector<Open> placed(offset[kShards]);
+  std::vector<uint8_t> free(offset[kShards]);
+  p_.pool().parallel_for(kShards, [&](size_t sh) {
+    for (size_t j = 0; j < won_[sh].size(); ++j) {
+      Fresh& f = *won_[sh][j];
+      const size_t slot = offset[sh] + j;
+      const Open& parent = cur_.open[begin + f.index / A_];
+      nodes_[node_base + slot] = {parent.node, static_cast<int32_t>(f.index % A_),
+                                  nodes_[parent.node].depth + 1};
+      hash_of_[node_base + slot] = f.hash;
+      Open& o = placed[slot];
+      o.node = static_cast<int64_t>(node_base + slot);
+      o.buffer = f.buffer;
+      o.offset = f.offset;
+      o.size = f.size;
+      o.env = std::move(f.env);
+      free[slot] = f.free;
+    }
+  });
+  for (size_t i = 0; i < placed.size(); ++i) {
+    kept_ += placed[i].env ? 1 : 0;
+    (free[i] ? cur_ : next_).open.push_back(std::move(placed[i]));
+  }
+  for (Worker& W : workers_)
+    for (auto& list : W.fresh) list.clear();
+}
+
+int LayeredBfs::target_of(int64_t node) const {
+  if (!spec_.targets) return -1;
+  auto it = spec_.targets->find(hash_of_[node]);
+  return it == spec_.targets->end() ? -1 : it->second;
+}
+
+BfsOutcome LayeredBfs::finish(int64_t node, bool found) {
+  for (const HashSet& s : seen_) out_.distinct += s.size();
+  if (found) {
+    out_.found = true;
+    out_.plan = path(node);
+    out_.target = target_of(node);
+    FrameColours colours;
+    auto e = replay(node, start_);
+    if (spec_.goal && p_.goal().reached(*e, colours)) out_.target = -1;
+  }
+  return std::move(out_);
+}
+
+bool LayeredBfs::phase(int layer, bool free_phase, int64_t& hit_node) {
+  // cur_.open grows during the free phase: each chunk ends where the open list
+  // ended when it began, and the next starts there.
+  for (size_t begin = 0, end = 0; begin < cur_.open.size(); begin = end) {
+    end = std::min(cur_.open.size(), begin + chunk_parents_);
+    if (out_.nodes >= spec_.limit.nodes) {
+      out_.note = fmt::format("bfs ({} actions): node budget spent at depth {}", A_, layer + 1);
+      return true;
+    }
+    if (spec_.limit.out_of_time() || !expand_chunk(begin, end, free_phase)) {
+      out_.timed_out = spec_.limit.clock->out_of_time();
+      out_.note = fmt::format("bfs ({} actions): {} at depth {}", A_, spec_.limit.time_note(), layer + 1);
+      return true;
+    }
+    dedup();
+    const uint64_t index = *std::min_element(first_hit_.begin(), first_hit_.end());
+    const size_t placed_from = nodes_.size();
+    place(begin);
+    if (index == UINT64_MAX) continue;
+    // The hit's node: winners were placed shard by shard; find it by (parent, action).
+    const int64_t parent = cur_.open[begin + index / A_].node;
+    for (size_t n = placed_from; n < nodes_.size() && hit_node < 0; ++n)
+      if (nodes_[n].parent == parent && nodes_[n].action == static_cast<int32_t>(index % A_)) hit_node = static_cast<int64_t>(n);
+    out_.cost = layer + (free_phase ? 0 : 1);
+    return true;
+  }
+  return false;
+}
+
+BfsOutcome LayeredBfs::run() {
+  nodes_ = {{-1, -1, 0}};
+  const uint64_t h0 = start_.state_hash();
+  hash_of_ = {h0};
+  seen_[shard_of(h0)].insert(h0);
+  {
+    FrameColours colours;
+    if ((spec_.targets && spec_.targets->contains(h0)) || (spec_.goal && p_.goal().reached(start_, colours)))
+      return finish(0, true);
+  }
+  for (size_t a = 0; a < A_; ++a) ++free_count_[is_free(a) ? 1 : 0];
+  cur_.buffers.resize(1);
+  snapshots_ = start_.save_state(cur_.buffers[0]);
+  cur_.open.resize(1);
+  cur_.open[0].size = static_cast<uint32_t>(cur_.buffers[0].size());
+  if (!snapshots_) cur_.open[0].env = start_.clone(), kept_ = 1;
+  workers_.resize(p_.pool().size());
+  for (Worker& W : workers_) W.parent = start_.clone(), W.replay_root = start_.clone();  // one thread clones
+  chunk_parents_ = std::max<size_t>(256, 65536 / std::max<size_t>(A_, 1));
+  for (int layer = 0; layer < spec_.max_cost; ++layer) {
+    // The layer's closure under free actions first, so that no state of this
+    // cost is first met as the next layer's.
+    int64_t hit_node = -1;
+    if ((free_count_[1] > 0 && phase(layer, true, hit_node)) || phase(layer, false, hit_node))
+      return finish(hit_node, hit_node >= 0);
+    // Without free actions the next layer is complete once generated; with them
+    // only its closure, built in the next round, completes it.
+    out_.depth_done = layer + (free_count_[1] > 0 ? 0 : 1);
+    cur_ = std::move(next_);
+    next_ = Layer{};
+    if (cur_.open.empty()) {
+      out_.exhausted = true;
+      out_.note = fmt::format("bfs ({} actions): every reachable state seen by cost {}", A_, layer + 1);
+      return finish(0, false);
+    }
+  }
+  out_.note = fmt::format("bfs ({} actions): no plan of cost <= {}", A_, spec_.max_cost);
+  return finish(0, false);
+}
+
+}  // namespace
+
+BfsOutcome bfs(PlanProblem& problem, const BfsSpec& spec) { return LayeredBfs(problem, spec).run(); }
+
+}  // namespace autumn::agent

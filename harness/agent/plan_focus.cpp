@@ -1,0 +1,70 @@
+#include "harness/agent/plan_focus.hpp"
+
+namespace autumn::agent {
+
+std::vector<Action> near_clicks(const PlanProblem& p, const std::vector<Action>& all,
+                                const std::vector<uint32_t>& cells, int r, bool box) {
+  const int n = p.grid();
+  std::vector<uint8_t> near(static_cast<size_t>(n) * n, 0);
+  auto mark = [&](int x0, int y0, int x1, int y1) {
+    for (int y = std::max(0, y0 - r); y <= std::min(n - 1, y1 + r); ++y)
+      for (int x = std::max(0, x0 - r); x <= std::min(n - 1, x1 + r); ++x) near[static_cast<size_t>(y) * n + x] = 1;
+  };
+  int bx0 = n, by0 = n, bx1 = -1, by1 = -1;
+  for (uint32_t i : cells) {
+    const int x = static_cast<int>(i) % n, y = static_cast<int>(i) / n;
+    if (box) bx0 = std::min(bx0, x), by0 = std::min(by0, y), bx1 = std::max(bx1, x), by1 = std::max(by1, y);
+    else mark(x, y, x, y);
+  }
+  if (box && bx1 >= 0) mark(bx0, by0, bx1, by1);
+  std::vector<Action> out;
+  for (const Action& a : all)
+    if (a.kind != Action::Kind::Click ||
+        (a.x >= 0 && a.y >= 0 && a.x < n && a.y < n && near[static_cast<size_t>(a.y) * n + a.x]))
+      out.push_back(a);
+  return out;
+}
+
+std::vector<Action> reaching_clicks(PlanProblem& p, const std::vector<Action>& all, const std::vector<uint32_t>& cells) {
+  const int steps = std::max(1, std::min(p.opts().depth, 2 * p.grid()));
+  std::vector<TaskFrame> baseline;
+  {
+    auto e = p.root().clone();
+    for (int t = 0; t < steps && e->step(Action::noop()); ++t) baseline.push_back(p.frame_of(*e));
+  }
+  std::vector<Action> clicks;
+  for (const Action& a : all)
+    if (a.kind == Action::Kind::Click) clicks.push_back(a);
+  std::vector<uint8_t> reaches(clicks.size(), 0);
+  std::vector<std::unique_ptr<Environment>> envs;
+  for (size_t i = 0; i < clicks.size(); ++i) envs.push_back(p.root().clone());  // cloned here: one thread
+  p.pool().parallel_for(clicks.size(), [&](size_t i) {
+    Environment& e = *envs[i];
+    for (size_t t = 0; t < baseline.size() && !reaches[i]; ++t) {
+      if (!e.step(t == 0 ? clicks[i] : Action::noop())) break;
+      const TaskFrame f = p.frame_of(e);
+      for (uint32_t c : cells)
+        if (c < f.size() && f[c] != baseline[t][c]) reaches[i] = 1;
+    }
+    envs[i].reset();
+  });
+  std::vector<Action> out;
+  size_t k = 0;
+  for (const Action& a : all)
+    if (a.kind != Action::Kind::Click || reaches[k++]) out.push_back(a);
+  return out;
+}
+
+std::vector<Action> unite(const std::vector<Action>& all, const std::vector<Action>& a, const std::vector<Action>& b) {
+  std::vector<Action> out;
+  size_t i = 0, j = 0;
+  for (const Action& x : all) {
+    bool in = false;
+    if (i < a.size() && a[i] == x) ++i, in = true;
+    if (j < b.size() && b[j] == x) ++j, in = true;
+    if (in) out.push_back(x);
+  }
+  return out;
+}
+
+}  // namespace autumn::agent

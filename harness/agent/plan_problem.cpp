@@ -1,0 +1,189 @@
+#include "harness/agent/plan_problem.hpp"
+
+#include <fmt/core.h>
+
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <unordered_map>
+
+namespace autumn::agent {
+
+// ---------------------------------------------------------------------------- goal
+
+Goal::Goal(const Task& task) : task_(task) {
+  std::unordered_map<int16_t, int> counts;
+  for (size_t i = 0; i < task.goal.cells.size(); ++i)
+    if (task.mask.cells[i]) {
+      ++counts[task.goal.cells[i]];
+      mask_.push_back(static_cast<uint32_t>(i));
+    }
+  int best = -1;
+  for (const auto& [c, n] : counts)
+    if (n > best || (n == best && c < background_)) best = n, background_ = c;
+  order_ = mask_;
+}
+
+bool Goal::reached(const TaskFrame& f) const {
+  if (f.size() != task_.mask.cells.size()) return false;
+  for (uint32_t i : order_)
+    if (f[i] != task_.goal.cells[i]) return false;
+  return true;
+}
+
+bool Goal::reached(const Environment& e, FrameColours& colours) const {
+  const Frame& f = e.frame();
+  if (f.cells.size() != task_.mask.cells.size()) return false;
+  const std::vector<int16_t>& colour_of = colours.ids(e.palette(), task_.colours);
+  for (uint32_t i : order_)
+    if (colour_of[f.cells[i]] != task_.goal.cells[i]) return false;
+  return true;
+}
+
+Goal::Dist Goal::distance(const TaskFrame& f) const {
+  Dist d;
+  if (f.size() != task_.mask.cells.size()) return {cells() + 1, cells() + 1};  // GRID_SIZE changed
+  for (uint32_t i : mask_) {
+    const int16_t g = task_.goal.cells[i];
+    if (g != f[i]) {
+      ++d.colour;
+      if ((g == background_) != (f[i] == background_)) ++d.shape;
+    }
+  }
+  return d;
+}
+
+std::vector<uint32_t> Goal::differing(const TaskFrame& f) const {
+  std::vector<uint32_t> out;
+  for (uint32_t i : mask_)
+    if (i < f.size() && f[i] != task_.goal.cells[i]) out.push_back(i);
+  return out;
+}
+
+void Goal::order_tests(const TaskFrame& first) {
+  order_ = differing(first);
+  std::vector<uint8_t> in(task_.mask.cells.size(), 0);
+  for (uint32_t i : order_) in[i] = 1;
+  for (uint32_t i : mask_)
+    if (!in[i]) order_.push_back(i);
+}
+
+// ---------------------------------------------------------------------------- clock
+
+std::string Limit::time_note() const {
+  if (clock->out_of_time()) return fmt::format("time limit {} s reached", clock->time_limit());
+  return "its share of the time limit spent";
+}
+
+// ---------------------------------------------------------------------------- problem
+
+namespace {
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return buf.str();
+}
+
+}  // namespace
+
+PlanProblem::PlanProblem(const Task& task, const SolveOptions& opts, ThreadPool& pool)
+    : task_(task), opts_(opts), pool_(pool), goal_(task), clock_(opts.time_limit, opts.nodes) {
+  const fs::path path = task_program_path(task, opts, task.program);
+  auto program = load_program_checked(path);
+  root_ = make_env_checked(opts.engine, program);
+  if (!root_->reset(task.env_seed)) throw TaskError(task.program + ": " + root_->error());
+  grid_ = root_->frame().size;
+  if (grid_ != task.goal.width)
+    throw TaskError(fmt::format("{}: goal is {}x{} but program '{}' has GRID_SIZE {}", task.file.filename().string(),
+                                task.goal.width, task.goal.height, task.program, grid_));
+  stochastic_ = !root_->deterministic();
+  inputs_ = analyse_inputs(*program);
+  actions_ = search_actions(inputs_, grid_);
+  goal_.order_tests(frame_of(*root_));
+  choose_model(program, path);
+}
+
+// Switches the root to the click-reset model when the analysis allows it and the
+// model agrees with the program on random episodes.
+void PlanProblem::choose_model(std::shared_ptr<const Program> program, const std::string& path) {
+  if (inputs_.clicks == ClickUse::None) return;
+  if (!inputs_.click_step_local) {
+    model_note_ = "click is not step-local: " + inputs_.click_note;
+    return;
+  }
+  std::optional<std::string> text = click_reset_program(read_text(path));
+  if (!text) return;
+  std::unique_ptr<Environment> model;
+  try {
+    model = make_env_checked(opts_.engine, load_program_checked_text(*text, path + " (click-reset model)"));
+  } catch (const TaskError& e) {
+    model_note_ = std::string("the click-reset model failed to load: ") + e.what();
+    return;
+  }
+  if (!model->reset(task_.env_seed) || !models_agree(*root_, *model)) {
+    model_note_ = "the click-reset model disagreed with the program on a random episode";
+    return;
+  }
+  root_ = std::move(model);
+  model_ = "click-reset model";
+}
+
+// Four random episodes of 24 steps (clicks on every other step): equal frames.
+bool PlanProblem::models_agree(const Environment& a, const Environment& b) const {
+  std::mt19937_64 rng(0x5eed);
+  for (int episode = 0; episode < 4; ++episode) {
+    auto x = a.clone(), y = b.clone();
+    for (int t = 0; t < 24; ++t) {
+      Action act = t % 2 ? Action::click(static_cast<int>(rng() % grid_), static_cast<int>(rng() % grid_))
+                         : actions_[rng() % actions_.size()];
+      const bool ok_x = x->step(act), ok_y = y->step(act);
+      if (ok_x != ok_y) return false;
+      if (!ok_x) break;
+      if (frame_of(*x) != frame_of(*y)) return false;
+    }
+  }
+  return true;
+}
+
+Limit PlanProblem::share(double fraction, uint64_t spent) const {
+  Limit l;
+  l.clock = &clock_;
+  const uint64_t left = clock_.node_budget() - std::min(clock_.node_budget(), spent);
+  l.nodes = static_cast<uint64_t>(static_cast<double>(left) * fraction);
+  if (clock_.time_limit() > 0 && fraction < 1)
+    l.deadline = clock_.seconds() + std::max(0.0, clock_.time_limit() - clock_.seconds()) * fraction;
+  return l;
+}
+
+std::vector<TaskFrame> PlanProblem::replay_frames(const std::vector<Action>& plan, const Environment* start) const {
+  auto e = (start ? *start : *root_).clone();
+  std::vector<TaskFrame> frames = {frame_of(*e)};
+  for (const Action& a : plan) {
+    if (!e->step(a)) break;
+    frames.push_back(frame_of(*e));
+  }
+  return frames;
+}
+
+int PlanProblem::first_goal(const std::vector<Action>& plan) const {
+  std::vector<TaskFrame> frames = replay_frames(plan);
+  for (size_t i = 0; i < frames.size(); ++i)
+    if (goal_.reached(frames[i])) return static_cast<int>(i);
+  return -1;
+}
+
+std::string plan_text(const std::vector<Action>& plan) {
+  std::string s;
+  for (size_t i = 0; i < plan.size(); ++i) s += (i ? ", " : "") + format_action(plan[i]);
+  return s.empty() ? "(none needed)" : s;
+}
+
+size_t moves_of(const std::vector<Action>& plan) {
+  size_t n = 0;
+  for (const Action& a : plan) n += a.kind != Action::Kind::Noop;
+  return n;
+}
+
+}  // namespace autumn::agent

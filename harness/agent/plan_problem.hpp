@@ -1,0 +1,150 @@
+// plan_problem — what every planning strategy shares: the search model, the one
+// goal test, the action set, the one clock, and the search tree.
+//
+// The search model is the task's program, or its step-local-click model
+// (click_model.hpp) when the analysis allows it and the two agree frame for frame
+// on a few random episodes (a guard against a mistake in the analysis): there
+// clicks that change nothing merge with noop. Plans are always replayed on the
+// program itself (planning.cpp). The environment is reset with the seed the
+// agent assumes (SolveOptions::env_seed, default 0: the benchmark's).
+//
+// Goal: the masked cells of the goal grid; reached(frame) is the only goal test.
+// distance() ranks frames for best-first: `shape` counts cells where one side
+// shows the goal's background (its most common masked colour) and the other does
+// not, `colour` all differing cells.
+//
+// Clock: one stopwatch started with the solve; the time limit and node budget
+// are the whole solve's. A strategy runs under a Limit, a share of what is left
+// (a deadline on that clock and a node count), so later stages still get their
+// turn on a slow engine. Without a time limit nothing depends on timing.
+//
+// Tree: nodes (parent, action index into the strategy's action list, depth);
+// path() rebuilds a plan. Strategies build their own trees.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/agent/click_model.hpp"
+#include "harness/agent/solve_common.hpp"
+
+namespace autumn::agent {
+
+class Goal {
+ public:
+  explicit Goal(const Task& task);
+  struct Dist {
+    int shape = 0, colour = 0;
+    int64_t key(int cells) const { return static_cast<int64_t>(shape) * (cells + 1) + colour; }
+  };
+  bool reached(const TaskFrame& f) const;
+  // The same test on an environment's frame, mapped through a thread's colour map.
+  bool reached(const Environment& e, FrameColours& colours) const;
+  Dist distance(const TaskFrame& f) const;
+  int cells() const { return static_cast<int>(mask_.size()); }
+  const std::vector<uint32_t>& mask_cells() const { return mask_; }
+  // Masked cells where `f` differs from the goal.
+  std::vector<uint32_t> differing(const TaskFrame& f) const;
+  // Tests cells where the goal differs from `first` before the others (a state
+  // not at the goal usually fails on one of them at once).
+  void order_tests(const TaskFrame& first);
+  const ColourTable& colours() const { return task_.colours; }
+
+ private:
+  const Task& task_;
+  std::vector<uint32_t> mask_;   // masked cells, row-major
+  std::vector<uint32_t> order_;  // masked cells in test order
+  int16_t background_ = 0;
+};
+
+class Clock {
+ public:
+  Clock(double time_limit, uint64_t nodes) : time_limit_(time_limit), nodes_(nodes) {}
+  double seconds() const { return watch_.seconds(); }
+  bool out_of_time() const { return time_limit_ > 0 && seconds() > time_limit_; }
+  double time_limit() const { return time_limit_; }
+  uint64_t node_budget() const { return nodes_; }
+
+ private:
+  Stopwatch watch_;
+  double time_limit_;
+  uint64_t nodes_;
+};
+
+// What a strategy may spend: up to `nodes` successors of its own, until
+// `deadline` on the clock (0: the clock's own time limit only).
+struct Limit {
+  const Clock* clock = nullptr;
+  uint64_t nodes = 0;
+  double deadline = 0;
+  bool out_of_time() const { return clock->out_of_time() || (deadline > 0 && clock->seconds() > deadline); }
+  // Why it stopped, for notes.
+  std::string time_note() const;
+};
+
+struct Node {
+  int64_t parent;
+  int32_t action;
+  int32_t depth;
+};
+
+// What one strategy run reports.
+struct SearchOutcome {
+  bool found = false;
+  std::vector<Action> plan;
+  uint64_t nodes = 0;     // successors generated (environment steps)
+  uint64_t distinct = 0;  // distinct states seen
+  uint64_t lookahead_steps = 0;
+  int depth_done = 0;     // layers fully searched (bfs)
+  bool exhausted = false; // every reachable state seen within the depth limit
+  bool timed_out = false;
+  std::string note;       // why it stopped without a plan
+};
+
+class PlanProblem {
+ public:
+  PlanProblem(const Task& task, const SolveOptions& opts, ThreadPool& pool);
+
+  const Task& task() const { return task_; }
+  const SolveOptions& opts() const { return opts_; }
+  ThreadPool& pool() { return pool_; }
+  const Goal& goal() const { return goal_; }
+  const Environment& root() const { return *root_; }
+  const Clock& clock() const { return clock_; }
+  const InputUse& inputs() const { return inputs_; }
+  const std::vector<Action>& actions() const { return actions_; }
+  int grid() const { return grid_; }
+  bool stochastic() const { return stochastic_; }
+  const std::string& model() const { return model_; }  // "program" or "click-reset model"
+  const std::string& model_note() const { return model_note_; }
+  // A share of what is left: `fraction` of the remaining time and of the nodes
+  // not yet `spent`.
+  Limit share(double fraction, uint64_t spent) const;
+  TaskFrame frame_of(const Environment& e) const { return task_frame(e.frame(), e.palette(), task_.colours); }
+  // Frame after each of `plan`'s actions from `start` (the root when null); stops early on a failed step.
+  std::vector<TaskFrame> replay_frames(const std::vector<Action>& plan, const Environment* start = nullptr) const;
+  // Index of the first frame of `plan` (0: the start) at the goal, or -1.
+  int first_goal(const std::vector<Action>& plan) const;
+
+ private:
+  void choose_model(std::shared_ptr<const Program> program, const std::string& path);
+  bool models_agree(const Environment& a, const Environment& b) const;
+
+  const Task& task_;
+  const SolveOptions& opts_;
+  ThreadPool& pool_;
+  Goal goal_;
+  Clock clock_;
+  InputUse inputs_;
+  std::unique_ptr<Environment> root_;
+  std::vector<Action> actions_;
+  int grid_ = 0;
+  bool stochastic_ = false;
+  std::string model_ = "program", model_note_;
+};
+
+// Plans as text, for notes and summaries.
+std::string plan_text(const std::vector<Action>& plan);
+size_t moves_of(const std::vector<Action>& plan);  // actions other than noop
+
+}  // namespace autumn::agent
