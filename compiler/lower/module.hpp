@@ -93,6 +93,14 @@ struct Module {
   std::vector<TypeP> sums;           // the Sum types the code uses (variants to define)
   std::vector<DynamicSite> dynamic_sites;
   std::vector<DeferredArg> deferred;
+  // Cell arguments that are number constants where a colour is due (the cell
+  // fails when rendered): the argument and the classes being constructed. A
+  // MakeCell with such a colour has `index` = 1 + its entry here.
+  struct NumberColour {
+    const Expr* expr = nullptr;
+    std::vector<int> classes;
+  };
+  std::vector<NumberColour> number_colours;
   std::vector<std::string> deferred_prints;  // printed forms of deferred arguments, by print id
   int grid = 16;
   int on_clauses = 0;

@@ -117,6 +117,11 @@ SVal Specialiser::construct_cell(const Expr& e) {
   }
   SVal out{T().cell(), node(ir::Op::MakeCell, T().cell(), ops)};
   if (known) out.konst = node(ir::Op::MakeCell, T().cell(), konsts);
+  if (deferred[2] < 0) {
+    m_.number_colours.push_back(Module::NumberColour{e.kids[3].get(), constructing_});
+    out.code->index = static_cast<int>(m_.number_colours.size());
+    if (out.konst) out.konst->index = out.code->index;
+  }
   if (tracked(T().cell())) {
     out.code->a.push_back(call(ir::Helper::NewUid, T().int_(), {}));
     out.konst = nullptr;
@@ -385,7 +390,7 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
       if (d < 0 || m_.deferred[d].fixed) return SVal{T().int_(), c->a[which]};
       SVal v = eval_deferred(d, &ov, cell);
       if (v.type->k != TK::Int) {
-        fail("binary + needs two numbers, got Number and " + type_string(v.type));
+        fail_at_cell_arg(m_.deferred[d].expr, "binary + needs two numbers, got Number and " + type_string(v.type));
         return never();
       }
       return v;
@@ -403,7 +408,8 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
     SVal y{T().int_(), node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), oy})};
     SVal colour;
     if (dc < 0) {
-      fail("field 'color' of 'RenderedElem' must be String, got Number");
+      const Expr* arg = c->index > 0 ? m_.number_colours[c->index - 1].expr : nullptr;
+      fail_at_cell_arg(arg, "field 'color' of 'RenderedElem' must be String, got Number");
       return;
     }
     if (m_.deferred[dc].fixed) colour = SVal{T().str(), c->a[2]};
@@ -439,7 +445,7 @@ SVal Specialiser::deferred_colour(int d, const SVal& o, const SVal& cell) {
     v = let(SVal{T().str(), n}, "colour");
   }
   if (v.type->k != TK::Str && v.type->k != TK::Never) {
-    fail("field 'color' of 'RenderedElem' must be String, got " + type_string(v.type));
+    fail_at_cell_arg(da.expr, "field 'color' of 'RenderedElem' must be String, got " + type_string(v.type));
     return never();
   }
   return v;
@@ -471,7 +477,8 @@ int Specialiser::colour_function(int d, int cls, const SVal& cell) {
   SVal ov{T().obj(cls), local(o)};
   SVal v = eval_deferred(d, &ov, cell);
   if (!dead_ && v.type->k == TK::Str) emit(ir::SK::Return)->a = v.code;
-  else if (!dead_) fail("field 'color' of 'RenderedElem' must be String, got " + type_string(v.type));
+  else if (!dead_)
+    fail_at_cell_arg(m_.deferred[d].expr, "field 'color' of 'RenderedElem' must be String, got " + type_string(v.type));
   fn_ = saved_fn;
   block_ = saved_block;
   chain_ = saved_chain;
@@ -495,6 +502,11 @@ void Specialiser::load_shapes() {
 }
 
 void Specialiser::finish_classes() {
+  // A render helper named the number colour it knew of; a cell made later must not name another.
+  for (const auto& [cls, used] : number_colour_uses_)
+    for (const Module::NumberColour& n : m_.number_colours)
+      if ((n.classes.empty() || std::count(n.classes.begin(), n.classes.end(), cls)) && n.expr != used)
+        unsupported("cells of one class with number colours in several places");
   m_.pos_tracked = tracked(T().pos());
   for (size_t c = 0; c < m_.classes.size(); ++c) m_.classes[c].rotatable = h_.rotated.count(static_cast<int>(c)) > 0;
   for (size_t c = 0; c < m_.classes.size(); ++c) {
@@ -552,8 +564,9 @@ int Specialiser::stored_render_function(int cls) {
             SVal v = eval_deferred(d, &ov, cell);
             if (v.type == t) emit_set(local(r), v.code);
             else if (v.type->k != TK::Never)
-              fail(which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + type_string(v.type)
-                              : "binary + needs two numbers, got Number and " + type_string(v.type));
+              fail_at_cell_arg(m_.deferred[d].expr,
+                               which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + type_string(v.type)
+                                          : "binary + needs two numbers, got Number and " + type_string(v.type));
           });
         }
       }
@@ -573,11 +586,36 @@ int Specialiser::stored_render_function(int cls) {
     ir::Node* py = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), oy});
     ir::Stmt* bad = emit(ir::SK::If);
     bad->a = node(ir::Op::Eq, T().bool_(), {member(local(loop->var), ir::Member::CellDc, T().int_()), lit(T().int_(), -1)});
-    in_block(bad->body, [&] { fail("field 'color' of 'RenderedElem' must be String, got Number"); });
+    in_block(bad->body, [&] {
+      fail_at_cell_arg(number_colour_of(cls), "field 'color' of 'RenderedElem' must be String, got Number");
+    });
     SVal colour = arg(2, ir::Member::CellColour, T().str());
     emit_push(local(out), node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {px, py}), colour.code}));
   });
   return index;
+}
+
+// ---------------------------------------------------------------------------
+// Errors of the render itself
+
+void Specialiser::fail_at_cell_arg(const Expr* arg, const std::string& msg) {
+  bool placed = false;
+  for (const Expr* e : loc_stack_) placed |= e->loc.source == SourceId::Program;
+  if (placed || !arg) return fail(msg);
+  loc_stack_.push_back(arg);
+  fail(msg);
+  loc_stack_.pop_back();
+}
+
+const Expr* Specialiser::number_colour_of(int cls) {
+  const Expr* found = nullptr;
+  for (const Module::NumberColour& n : m_.number_colours) {
+    if (!n.classes.empty() && !std::count(n.classes.begin(), n.classes.end(), cls)) continue;
+    if (found && found != n.expr) unsupported("cells of one class with number colours in several places");
+    found = n.expr;
+  }
+  number_colour_uses_.emplace_back(cls, found);
+  return found;
 }
 
 }  // namespace autumn::lower

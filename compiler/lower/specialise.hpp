@@ -308,6 +308,14 @@ class Specialiser {
   void render_object(const SVal& o, const ElemSink& sink);
   bool renders(TypeP t) const;
   SVal deferred_colour(int d, const SVal& o, const SVal& cell);
+  // A render's own error (a colour that is not a String, a coordinate that is not
+  // a Number) is the program's, at the cell argument evaluated last: `arg`,
+  // unless the error already has a place in the program.
+  void fail_at_cell_arg(const Expr* arg, const std::string& msg);
+  // The one number-colour argument of cells of `cls` (null when none is known);
+  // checked again by finish_classes, when every cell has been made.
+  const Expr* number_colour_of(int cls);
+  std::vector<std::pair<int, const Expr*>> number_colour_uses_;
   int colour_function(int d, int cls, const SVal& cell);
   std::map<std::pair<int, int>, int> colour_fns_;
   SVal call_render_method(int cls);
