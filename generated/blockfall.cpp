@@ -177,17 +177,17 @@ struct Prog {
       int32_t x4 = c3.x;
       int32_t y5 = c3.y;
       if ((int32_t(c3.dc) == int32_t(-1))) {
-        fail_at(5, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+        fail_at(6, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
       }
       int32_t colour6 = c3.colour;
       switch (int32_t(c3.dc)) {
         case 0: {
           const std::vector<int32_t> v7 = std::vector<int32_t>{int32_t(2), int32_t(2), int32_t(3), int32_t(3), int32_t(3), int32_t(3), int32_t(4), int32_t(4), int32_t(5)};
           if (v7.empty()) {
-            fail_at(6, std::string() + std::string("at: empty list"));
+            fail_at(7, std::string() + std::string("at: empty list"));
           }
           if (((o1.f0 < int32_t(0)) || (o1.f0 >= int32_t(v7.size())))) {
-            fail_at(6, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
+            fail_at(7, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
           }
           const int32_t t8 = v7[size_t(o1.f0)];
           colour6 = t8;
@@ -869,6 +869,7 @@ struct Prog {
             C1_Block o227 = C1_Block{x226.color, x226.position};
             out225.push_back(std::move(o227));
           }
+          check_length(s.core, 4, int64_t(g220.size()) + int64_t(int32_t(out225.size())));
           std::vector<C1_Block>& added228 = s.scratch.v.b56;
           added228.clear();
           added228.reserve(size_t(add(int32_t(g220.size()), int32_t(out225.size()))));
@@ -954,7 +955,7 @@ struct Prog {
           s.u_stack_13 = true;
           const std::vector<int32_t> list258 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
           if (list258.empty()) {
-            fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t259 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list258.size())))));
           const int32_t t260 = list258[size_t(t259)];
@@ -1253,6 +1254,7 @@ const ErrorSite Prog::kErrors[] = {
     {24, 86, nullptr, true, 24, 86, "initialising 'piece': "},
     {33, 28, nullptr, true, 33, 28, ""},
     {24, 86, nullptr, true, 24, 86, ""},
+    {54, 29, nullptr, true, 54, 29, ""},
     {55, 25, nullptr, true, 55, 25, ""},
     {0, 0, nullptr, false, 0, 0, ""},
     {24, 69, nullptr, true, 24, 69, ""},

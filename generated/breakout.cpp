@@ -245,6 +245,7 @@ struct Prog {
       }
       out3.push_back(std::move(out6));
     }
+    check_length(s.core, 0, total_size(out3));
     std::vector<C2_Brick>& cat11 = s.scratch.v.b1;
     cat11.clear();
     for (const std::vector<C2_Brick>& part12 : out3) {
@@ -256,7 +257,7 @@ struct Prog {
       // inlined: function at programs/breakout.au:21
       const std::vector<bool> list15 = std::vector<bool>{true, true, true, true, false};
       if (list15.empty()) {
-        fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
+        fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
       }
       const int32_t t16 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list15.size())))));
       const bool t17 = list15[size_t(t16)];
@@ -986,7 +987,7 @@ struct Prog {
         s.u_launched_14 = true;
         const std::vector<int32_t> list254 = std::vector<int32_t>{int32_t(-1), int32_t(1)};
         if (list254.empty()) {
-          fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t255 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list254.size())))));
         const int32_t t256 = list254[size_t(t255)];
@@ -1034,6 +1035,7 @@ struct Prog {
           }
           out266.push_back(std::move(out269));
         }
+        check_length(s.core, 3, total_size(out266));
         std::vector<C2_Brick>& cat274 = s.scratch.v.b20;
         cat274.clear();
         for (const std::vector<C2_Brick>& part275 : out266) {
@@ -1045,7 +1047,7 @@ struct Prog {
           // inlined: function at programs/breakout.au:21
           const std::vector<bool> list278 = std::vector<bool>{true, true, true, true, false};
           if (list278.empty()) {
-            fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
           const bool t280 = list278[size_t(t279)];
@@ -1252,8 +1254,10 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {22, 7, nullptr, true, 22, 7, "initialising 'bricks': "},
     {21, 20, nullptr, true, 21, 20, "initialising 'bricks': "},
     {87, 42, nullptr, true, 87, 42, ""},
+    {22, 7, nullptr, true, 22, 7, ""},
     {21, 20, nullptr, true, 21, 20, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 

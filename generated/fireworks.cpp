@@ -262,11 +262,13 @@ struct Prog {
           }
           out23.push_back(std::move(out30));
         }
+        check_length(s.core, 1, total_size(out23));
         std::vector<C2_Spark>& cat33 = s.scratch.v.b5;
         cat33.clear();
         for (const std::vector<C2_Spark>& part34 : out23) {
           cat33.insert(cat33.end(), part34.begin(), part34.end());
         }
+        check_length(s.core, 2, int64_t(out11.size()) + int64_t(int32_t(cat33.size())));
         std::vector<C2_Spark>& added35 = s.scratch.v.b6;
         added35.clear();
         added35.reserve(size_t(add(int32_t(out11.size()), int32_t(cat33.size()))));
@@ -425,11 +427,11 @@ struct Prog {
           const Pos& g85 = s.g_click_20;
           r84 = g85;
         } else {
-          fail_at(1, std::string() + std::string("undefined variable 'click'"));
+          fail_at(3, std::string() + std::string("undefined variable 'click'"));
         }
         const std::vector<int32_t>& g86 = s.g_palette_4;
         if (g86.empty()) {
-          fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t87 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g86.size())))));
         const int32_t t88 = g86[size_t(t87)];
@@ -438,10 +440,11 @@ struct Prog {
           const Pos& g90 = s.g_click_20;
           r89 = g90;
         } else {
-          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+          fail_at(5, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t91 = Pos{r89.x, int32_t(18)};
         C1_Rocket o92 = C1_Rocket{r84.y, t88, t91};
+        check_length(s.core, 6, int64_t(g83.size()) + int64_t(int32_t(1)));
         std::vector<C1_Rocket>& added93 = s.scratch.v.b11;
         added93.clear();
         added93.reserve(size_t(add(int32_t(g83.size()), int32_t(1))));
@@ -474,19 +477,20 @@ struct Prog {
         const std::vector<C1_Rocket>& g100 = s.g_rockets_12;
         const std::vector<int32_t> list101 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
         if (list101.empty()) {
-          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t102 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list101.size())))));
         const int32_t t103 = list101[size_t(t102)];
         const std::vector<int32_t>& g104 = s.g_palette_4;
         if (g104.empty()) {
-          fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(8, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t105 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g104.size())))));
         const int32_t t106 = g104[size_t(t105)];
         const C0_Pad& g107 = s.g_pad_16;
         const Pos t108 = Pos{g107.origin.x, int32_t(18)};
         C1_Rocket o109 = C1_Rocket{t103, t106, t108};
+        check_length(s.core, 9, int64_t(g100.size()) + int64_t(int32_t(1)));
         std::vector<C1_Rocket>& added110 = s.scratch.v.b12;
         added110.clear();
         added110.reserve(size_t(add(int32_t(g100.size()), int32_t(1))));
@@ -518,7 +522,7 @@ struct Prog {
         s.core.covered[int32_t(5)] = 1;
         const std::vector<C1_Rocket>& g117 = s.g_rockets_12;
         if ((int32_t(20) < int32_t(0))) {
-          fail_at(6, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(10, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
         std::vector<Pos>& rpos118 = s.scratch.v.b13;
         rpos118.clear();
@@ -542,7 +546,7 @@ struct Prog {
           }
           const std::vector<int32_t>& g127 = s.g_palette_4;
           if (g127.empty()) {
-            fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(11, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t128 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g127.size())))));
           const int32_t t129 = g127[size_t(t128)];
@@ -550,6 +554,7 @@ struct Prog {
           C1_Rocket o131 = C1_Rocket{r126, t129, t130};
           out123.push_back(std::move(o131));
         }
+        check_length(s.core, 12, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
         std::vector<C1_Rocket>& added132 = s.scratch.v.b15;
         added132.clear();
         added132.reserve(size_t(add(int32_t(g117.size()), int32_t(out123.size()))));
@@ -703,13 +708,18 @@ const char* const Prog::kColours[] = {
 
 const ErrorSite Prog::kErrors[] = {
     {32, 15, nullptr, true, 32, 15, ""},
+    {45, 46, nullptr, true, 45, 46, ""},
+    {45, 17, nullptr, true, 45, 17, ""},
     {53, 44, nullptr, true, 53, 44, ""},
     {53, 53, nullptr, true, 53, 53, ""},
     {53, 91, nullptr, true, 53, 91, ""},
+    {53, 16, nullptr, true, 53, 16, ""},
     {56, 40, nullptr, true, 56, 40, ""},
     {56, 74, nullptr, true, 56, 74, ""},
+    {56, 16, nullptr, true, 56, 16, ""},
     {62, 12, nullptr, true, 62, 12, ""},
     {61, 45, nullptr, true, 61, 45, ""},
+    {60, 16, nullptr, true, 60, 16, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

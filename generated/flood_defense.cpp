@@ -270,6 +270,7 @@ struct Prog {
         fail_at(0, std::string() + std::string("at: index ") + std::to_string(x10) + std::string(" out of bounds"));
       }
       const int32_t t12 = g11[size_t(x10)];
+      check_length(s.core, 1, int64_t(t12) - int64_t(int32_t(0)));
       std::vector<int32_t>& range13 = s.scratch.v.b1;
       range13.clear();
       for (int32_t i14 = int32_t(0), i14_end = t12; i14 < i14_end; ++i14) {
@@ -286,6 +287,7 @@ struct Prog {
       }
       out9.push_back(std::move(out15));
     }
+    check_length(s.core, 2, total_size(out9));
     std::vector<C0_Earth>& cat20 = s.scratch.v.b2;
     cat20.clear();
     for (const std::vector<C0_Earth>& part21 : out9) {
@@ -379,6 +381,7 @@ struct Prog {
             l_xmax29 = t27.x;
             l_ymin30 = t25.y;
             l_ymax31 = t27.y;
+            check_length(s.core, 3, int64_t(l_ymax31) - int64_t(l_ymin30));
             std::vector<int32_t>& range33 = s.scratch.v.b8;
             range33.clear();
             for (int32_t i34 = l_ymin30, i34_end = l_ymax31; i34 < i34_end; ++i34) {
@@ -388,6 +391,7 @@ struct Prog {
             out35.clear();
             out35.reserve(size_t(int32_t(range33.size())));
             for (const int32_t& x36 : range33) {
+              check_length(s.core, 4, int64_t(l_xmax29) - int64_t(l_xmin28));
               std::vector<int32_t>& range37 = s.scratch.v.b10;
               range37.clear();
               for (int32_t i38 = l_xmin28, i38_end = l_xmax29; i38 < i38_end; ++i38) {
@@ -401,6 +405,7 @@ struct Prog {
               }
               out35.push_back(std::move(out39));
             }
+            check_length(s.core, 5, total_size(out35));
             std::vector<Pos>& cat42 = s.scratch.v.b11;
             cat42.clear();
             for (const std::vector<Pos>& part43 : out35) {
@@ -451,7 +456,7 @@ struct Prog {
                 r62 = x3.origin;
               } else {
                 if (l_holes23.empty()) {
-                  fail_at(1, std::string() + std::string("head of an empty list"));
+                  fail_at(6, std::string() + std::string("head of an empty list"));
                 }
                 const Pos t63 = l_holes23.front();
                 Pos acc64 = t63;
@@ -635,6 +640,7 @@ struct Prog {
         all130.push_back(S136{std::in_place_index<5>, g139});
         const C5_Spring& g140 = s.g_spring_15;
         all130.push_back(S136{std::in_place_index<4>, g140});
+        check_appended_length(s.core, 7, int64_t(all130.size()));
         std::vector<S136>& out141 = s.scratch.v.b16;
         out141.clear();
         for (const S136& x142 : all130) {
@@ -766,10 +772,10 @@ struct Prog {
       const int32_t& g179 = s.g_time_31;
       const C5_Spring& g180 = s.g_spring_15;
       if ((g180.f0 == int32_t(0))) {
-        fail_at(2, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        fail_at(8, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
       if (((g179 == int32_t(-2147483648LL)) && (g180.f0 == int32_t(-1)))) {
-        fail_at(2, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+        fail_at(8, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
       const int32_t t181 = autumn::arith::mod_unchecked(g179, g180.f0);
       const bool t182 = (t181 == int32_t(0));
@@ -799,6 +805,7 @@ struct Prog {
         const C5_Spring& g192 = s.g_spring_15;
         const Pos t193 = Pos{g192.origin.x, int32_t(1)};
         C4_Water o194 = C4_Water{t193, s.core.ids.fresh()};
+        check_length(s.core, 9, int64_t(g191.size()) + int64_t(int32_t(1)));
         std::vector<C4_Water>& added195 = s.scratch.v.b18;
         added195.clear();
         added195.reserve(size_t(add(int32_t(g191.size()), int32_t(1))));
@@ -852,6 +859,7 @@ struct Prog {
             all203.push_back(S136{std::in_place_index<5>, g212});
             const C5_Spring& g213 = s.g_spring_15;
             all203.push_back(S136{std::in_place_index<4>, g213});
+            check_appended_length(s.core, 10, int64_t(all203.size()));
             std::vector<S136>& out214 = s.scratch.v.b21;
             out214.clear();
             for (const S136& x215 : all203) {
@@ -1155,7 +1163,7 @@ struct Prog {
           const Pos& g293 = s.g_click_35;
           r292 = g293;
         } else {
-          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+          fail_at(11, std::string() + std::string("undefined variable 'click'"));
         }
         const bool t294 = s.core.occupied.free(r292);
         bool r295{};
@@ -1179,17 +1187,18 @@ struct Prog {
           const Pos& g301 = s.g_click_35;
           r300 = g301;
         } else {
-          fail_at(4, std::string() + std::string("undefined variable 'click'"));
+          fail_at(12, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r302{};
         if (s.d_click_36) {
           const Pos& g303 = s.g_click_35;
           r302 = g303;
         } else {
-          fail_at(5, std::string() + std::string("undefined variable 'click'"));
+          fail_at(13, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t304 = Pos{r300.x, r302.y};
         C3_Sandbag o305 = C3_Sandbag{t304, s.core.ids.fresh()};
+        check_length(s.core, 14, int64_t(g299.size()) + int64_t(int32_t(1)));
         std::vector<C3_Sandbag>& added306 = s.scratch.v.b30;
         added306.clear();
         added306.reserve(size_t(add(int32_t(g299.size()), int32_t(1))));
@@ -1553,11 +1562,20 @@ const char* const Prog::kColours[] = {
 
 const ErrorSite Prog::kErrors[] = {
     {26, 57, nullptr, true, 26, 57, "initialising 'earth': "},
+    {26, 48, nullptr, true, 26, 48, "initialising 'earth': "},
+    {25, 22, nullptr, true, 25, 22, "initialising 'earth': "},
+    {62, 34, "<stdlib>", true, 53, 16, ""},
+    {61, 69, "<stdlib>", true, 53, 16, ""},
+    {61, 21, "<stdlib>", true, 53, 16, ""},
     {134, 19, "<stdlib>", true, 53, 16, ""},
+    {84, 68, "<stdlib>", true, 54, 33, ""},
     {57, 14, nullptr, true, 57, 14, ""},
+    {58, 14, nullptr, true, 58, 14, ""},
+    {84, 68, "<stdlib>", true, 46, 30, ""},
     {65, 32, nullptr, true, 65, 32, ""},
     {66, 49, nullptr, true, 66, 49, ""},
     {66, 62, nullptr, true, 66, 62, ""},
+    {66, 13, nullptr, true, 66, 13, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

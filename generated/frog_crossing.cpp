@@ -245,7 +245,7 @@ struct Prog {
       int32_t x4 = c3.x;
       int32_t y5 = c3.y;
       if ((int32_t(c3.dc) == int32_t(-1))) {
-        fail_at(10, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+        fail_at(13, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
       }
       int32_t colour6 = c3.colour;
       switch (int32_t(c3.dc)) {
@@ -326,6 +326,7 @@ struct Prog {
         fail_at(3, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
       }
       const int32_t t22 = x14[size_t(int32_t(4))];
+      check_length(s.core, 4, int64_t(t22) - int64_t(int32_t(0)));
       std::vector<int32_t>& range23 = s.scratch.v.b1;
       range23.clear();
       for (int32_t i24 = int32_t(0), i24_end = t22; i24 < i24_end; ++i24) {
@@ -336,31 +337,31 @@ struct Prog {
       for (const int32_t& x26 : range23) {
         // inlined: function at programs/frog_crossing.au:28
         if (x14.empty()) {
-          fail_at(4, std::string() + std::string("at: empty list"));
+          fail_at(5, std::string() + std::string("at: empty list"));
         }
         if (((int32_t(2) < int32_t(0)) || (int32_t(2) >= int32_t(x14.size())))) {
-          fail_at(4, std::string() + std::string("at: index ") + std::to_string(int32_t(2)) + std::string(" out of bounds"));
+          fail_at(5, std::string() + std::string("at: index ") + std::to_string(int32_t(2)) + std::string(" out of bounds"));
         }
         const int32_t t27 = x14[size_t(int32_t(2))];
         if (x14.empty()) {
-          fail_at(5, std::string() + std::string("at: empty list"));
+          fail_at(6, std::string() + std::string("at: empty list"));
         }
         if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
-          fail_at(5, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
+          fail_at(6, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
         }
         const int32_t t28 = x14[size_t(int32_t(1))];
         if (x14.empty()) {
-          fail_at(6, std::string() + std::string("at: empty list"));
+          fail_at(7, std::string() + std::string("at: empty list"));
         }
         if (((int32_t(3) < int32_t(0)) || (int32_t(3) >= int32_t(x14.size())))) {
-          fail_at(6, std::string() + std::string("at: index ") + std::to_string(int32_t(3)) + std::string(" out of bounds"));
+          fail_at(7, std::string() + std::string("at: index ") + std::to_string(int32_t(3)) + std::string(" out of bounds"));
         }
         const int32_t t29 = x14[size_t(int32_t(3))];
         if (x14.empty()) {
-          fail_at(7, std::string() + std::string("at: empty list"));
+          fail_at(8, std::string() + std::string("at: empty list"));
         }
         if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
-          fail_at(7, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
+          fail_at(8, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
         }
         const int32_t t30 = x14[size_t(int32_t(1))];
         const bool t31 = (t30 == int32_t(1));
@@ -375,14 +376,15 @@ struct Prog {
         const int32_t t35 = autumn::arith::mod_unchecked(t34, int32_t(12));
         const int32_t t36 = sub(t35, int32_t(1));
         if (x14.empty()) {
-          fail_at(8, std::string() + std::string("at: empty list"));
+          fail_at(9, std::string() + std::string("at: empty list"));
         }
         if (((int32_t(0) < int32_t(0)) || (int32_t(0) >= int32_t(x14.size())))) {
-          fail_at(8, std::string() + std::string("at: index ") + std::to_string(int32_t(0)) + std::string(" out of bounds"));
+          fail_at(9, std::string() + std::string("at: index ") + std::to_string(int32_t(0)) + std::string(" out of bounds"));
         }
         const int32_t t37 = x14[size_t(int32_t(0))];
         const Pos t38 = Pos{t36, t37};
         std::vector<CellV> l_allCells39{};
+        check_length(s.core, 10, int64_t(t29) - int64_t(int32_t(0)));
         std::vector<int32_t>& range40 = s.scratch.v.b2;
         range40.clear();
         for (int32_t i41 = int32_t(0), i41_end = t29; i41 < i41_end; ++i41) {
@@ -402,6 +404,7 @@ struct Prog {
       }
       out13.push_back(std::move(out25));
     }
+    check_length(s.core, 11, total_size(out13));
     std::vector<C3_Car>& cat46 = s.scratch.v.b4;
     cat46.clear();
     for (const std::vector<C3_Car>& part47 : out13) {
@@ -460,10 +463,10 @@ struct Prog {
           // inlined: function at programs/frog_crossing.au:54
           const int32_t& g4 = s.g_time_31;
           if ((x3.f0 == int32_t(0))) {
-            fail_at(9, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+            fail_at(12, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
           }
           if (((g4 == int32_t(-2147483648LL)) && (x3.f0 == int32_t(-1)))) {
-            fail_at(9, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+            fail_at(12, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
           }
           const int32_t t5 = autumn::arith::mod_unchecked(g4, x3.f0);
           const bool t6 = (t5 == int32_t(0));
@@ -1268,11 +1271,14 @@ const ErrorSite Prog::kErrors[] = {
     {27, 20, nullptr, true, 27, 20, "initialising 'cars': "},
     {27, 12, nullptr, true, 27, 12, "initialising 'cars': "},
     {30, 19, nullptr, true, 30, 19, "initialising 'cars': "},
+    {30, 10, nullptr, true, 30, 10, "initialising 'cars': "},
     {28, 22, nullptr, true, 28, 22, "initialising 'cars': "},
     {28, 32, nullptr, true, 28, 32, "initialising 'cars': "},
     {28, 42, nullptr, true, 28, 42, "initialising 'cars': "},
     {28, 60, nullptr, true, 28, 60, "initialising 'cars': "},
     {29, 67, nullptr, true, 29, 67, "initialising 'cars': "},
+    {14, 33, nullptr, true, 14, 33, "initialising 'cars': "},
+    {46, 21, nullptr, true, 46, 21, "initialising 'cars': "},
     {55, 13, nullptr, true, 55, 13, ""},
     {0, 0, nullptr, false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};

@@ -785,6 +785,7 @@ struct Prog {
         }
         const Pos t124 = Pos{r120.x, r122.y};
         C3_Plant o125 = C3_Plant{int32_t(0), t119, t124};
+        check_length(s.core, 6, int64_t(g116.size()) + int64_t(int32_t(1)));
         std::vector<C3_Plant>& added126 = s.scratch.v.b14;
         added126.clear();
         added126.reserve(size_t(add(int32_t(g116.size()), int32_t(1))));
@@ -879,13 +880,14 @@ struct Prog {
         const C0_Cloud& g150 = s.g_cloud_19;
         const std::vector<int32_t> list151 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
         if (list151.empty()) {
-          fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t152 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list151.size())))));
         const int32_t t153 = list151[size_t(t152)];
         const int32_t t154 = add(g150.origin.x, t153);
         const Pos t155 = Pos{t154, int32_t(1)};
         C2_Drop o156 = C2_Drop{t155};
+        check_length(s.core, 8, int64_t(g149.size()) + int64_t(int32_t(1)));
         std::vector<C2_Drop>& added157 = s.scratch.v.b15;
         added157.clear();
         added157.reserve(size_t(add(int32_t(g149.size()), int32_t(1))));
@@ -1142,7 +1144,9 @@ const ErrorSite Prog::kErrors[] = {
     {67, 39, nullptr, true, 67, 39, ""},
     {67, 76, nullptr, true, 67, 76, ""},
     {67, 89, nullptr, true, 67, 89, ""},
+    {67, 15, nullptr, true, 67, 15, ""},
     {71, 79, nullptr, true, 71, 79, ""},
+    {71, 21, nullptr, true, 71, 21, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

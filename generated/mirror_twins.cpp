@@ -1618,6 +1618,7 @@ struct Prog {
         }
         const Pos t413 = Pos{r409.x, r411.y};
         C0_Wall o414 = C0_Wall{t413};
+        check_length(s.core, 10, int64_t(g408.size()) + int64_t(int32_t(1)));
         std::vector<C0_Wall>& added415 = s.scratch.v.b39;
         added415.clear();
         added415.reserve(size_t(add(int32_t(g408.size()), int32_t(1))));
@@ -1854,6 +1855,7 @@ const ErrorSite Prog::kErrors[] = {
     {79, 55, nullptr, true, 79, 55, ""},
     {80, 48, nullptr, true, 80, 48, ""},
     {80, 61, nullptr, true, 80, 61, ""},
+    {80, 14, nullptr, true, 80, 14, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -1502,6 +1502,7 @@ struct Prog {
             upd440.f0 = r436;
             r287 = std::move(upd440);
           }
+          check_length(s.core, 7, int64_t(acc285.size()) + int64_t(int32_t(1)));
           std::vector<C2_Sheep>& added441 = s.scratch.v.b47;
           added441.clear();
           added441.reserve(size_t(add(int32_t(acc285.size()), int32_t(1))));
@@ -1740,6 +1741,7 @@ const ErrorSite Prog::kErrors[] = {
     {78, 53, nullptr, true, 78, 53, ""},
     {56, 66, nullptr, true, 56, 66, ""},
     {57, 58, nullptr, true, 57, 58, ""},
+    {80, 41, nullptr, true, 80, 41, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

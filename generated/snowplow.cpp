@@ -515,6 +515,7 @@ struct Prog {
         }
         const Pos t20 = Pos{r16.x, r18.y};
         C1_Melt o21 = C1_Melt{int32_t(10), t20};
+        check_length(s.core, 2, int64_t(prev15.size()) + int64_t(int32_t(1)));
         std::vector<C1_Melt>& added22 = s.scratch.v.b3;
         added22.clear();
         added22.reserve(size_t(add(int32_t(prev15.size()), int32_t(1))));
@@ -601,7 +602,7 @@ struct Prog {
           const Pos& g42 = s.g_click_29;
           r41 = g42;
         } else {
-          fail_at(2, std::string() + std::string("undefined variable 'click'"));
+          fail_at(3, std::string() + std::string("undefined variable 'click'"));
         }
         const bool t43 = s.core.occupied.free(r41);
         bool r44{};
@@ -625,17 +626,18 @@ struct Prog {
           const Pos& g50 = s.g_click_29;
           r49 = g50;
         } else {
-          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+          fail_at(4, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r51{};
         if (s.d_click_30) {
           const Pos& g52 = s.g_click_29;
           r51 = g52;
         } else {
-          fail_at(4, std::string() + std::string("undefined variable 'click'"));
+          fail_at(5, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t53 = Pos{r49.x, r51.y};
         C2_Rock o54 = C2_Rock{t53};
+        check_length(s.core, 6, int64_t(g48.size()) + int64_t(int32_t(1)));
         std::vector<C2_Rock>& added55 = s.scratch.v.b7;
         added55.clear();
         added55.reserve(size_t(add(int32_t(g48.size()), int32_t(1))));
@@ -813,6 +815,7 @@ struct Prog {
             l_xmax122 = t120.x;
             l_ymin123 = t118.y;
             l_ymax124 = t120.y;
+            check_length(s.core, 7, int64_t(l_ymax124) - int64_t(l_ymin123));
             std::vector<int32_t>& range126 = s.scratch.v.b21;
             range126.clear();
             for (int32_t i127 = l_ymin123, i127_end = l_ymax124; i127 < i127_end; ++i127) {
@@ -822,6 +825,7 @@ struct Prog {
             out128.clear();
             out128.reserve(size_t(int32_t(range126.size())));
             for (const int32_t& x129 : range126) {
+              check_length(s.core, 8, int64_t(l_xmax122) - int64_t(l_xmin121));
               std::vector<int32_t>& range130 = s.scratch.v.b23;
               range130.clear();
               for (int32_t i131 = l_xmin121, i131_end = l_xmax122; i131 < i131_end; ++i131) {
@@ -835,6 +839,7 @@ struct Prog {
               }
               out128.push_back(std::move(out132));
             }
+            check_length(s.core, 9, total_size(out128));
             std::vector<Pos>& cat135 = s.scratch.v.b24;
             cat135.clear();
             for (const std::vector<Pos>& part136 : out128) {
@@ -885,7 +890,7 @@ struct Prog {
                 r155 = x95.origin;
               } else {
                 if (l_holes116.empty()) {
-                  fail_at(5, std::string() + std::string("head of an empty list"));
+                  fail_at(10, std::string() + std::string("head of an empty list"));
                 }
                 const Pos t156 = l_holes116.front();
                 Pos acc157 = t156;
@@ -1259,10 +1264,10 @@ struct Prog {
       const C4_Cloud& g287 = s.g_cloud_21;
       const int32_t t288 = sub(int32_t(5), g287.f0);
       if ((t288 == int32_t(0))) {
-        fail_at(6, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        fail_at(11, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
       if (((g286 == int32_t(-2147483648LL)) && (t288 == int32_t(-1)))) {
-        fail_at(6, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+        fail_at(11, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
       const int32_t t289 = autumn::arith::mod_unchecked(g286, t288);
       const bool t290 = (t289 == int32_t(0));
@@ -1280,7 +1285,7 @@ struct Prog {
         Pos l_drop295{};
         C0_Flake l_flake296{};
         if ((int32_t(255) < int32_t(0))) {
-          fail_at(7, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(12, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
         std::vector<Pos>& rpos297 = s.scratch.v.b34;
         rpos297.clear();
@@ -1291,7 +1296,7 @@ struct Prog {
           rpos297.push_back(t301);
         }
         if (rpos297.empty()) {
-          fail_at(8, std::string() + std::string("head of an empty list"));
+          fail_at(13, std::string() + std::string("head of an empty list"));
         }
         const Pos t302 = rpos297.front();
         const int32_t t303 = autumn::arith::mod_unchecked(t302.x, int32_t(16));
@@ -1316,6 +1321,7 @@ struct Prog {
         r312.clear();
         if (t311) {
           const std::vector<C0_Flake>& g313 = s.g_snow_9;
+          check_length(s.core, 14, int64_t(g313.size()) + int64_t(int32_t(1)));
           std::vector<C0_Flake>& added314 = s.scratch.v.b37;
           added314.clear();
           added314.reserve(size_t(add(int32_t(g313.size()), int32_t(1))));
@@ -1569,13 +1575,19 @@ const char* const Prog::kColours[] = {
 const ErrorSite Prog::kErrors[] = {
     {48, 58, nullptr, true, 48, 58, ""},
     {48, 71, nullptr, true, 48, 71, ""},
+    {48, 15, nullptr, true, 48, 15, ""},
     {53, 32, nullptr, true, 53, 32, ""},
     {54, 48, nullptr, true, 54, 48, ""},
     {54, 61, nullptr, true, 54, 61, ""},
+    {54, 14, nullptr, true, 54, 14, ""},
+    {62, 34, "<stdlib>", true, 43, 36, ""},
+    {61, 69, "<stdlib>", true, 43, 36, ""},
+    {61, 21, "<stdlib>", true, 43, 36, ""},
     {134, 19, "<stdlib>", true, 43, 36, ""},
     {69, 14, nullptr, true, 69, 14, ""},
     {71, 38, nullptr, true, 71, 38, ""},
     {71, 32, nullptr, true, 71, 32, ""},
+    {73, 39, nullptr, true, 73, 39, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

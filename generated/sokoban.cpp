@@ -282,6 +282,7 @@ struct Prog {
       }
     }
     const std::vector<Pos>& g38 = s.g_innerWalls_4;
+    check_length(s.core, 1, int64_t(out26.size()) + int64_t(g38.size()));
     std::vector<Pos>& cat39 = s.scratch.v.b5;
     cat39.clear();
     cat39.insert(cat39.end(), out26.begin(), out26.end());
@@ -1600,6 +1601,7 @@ const char* const Prog::kColours[] = {
 
 const ErrorSite Prog::kErrors[] = {
     {29, 79, nullptr, true, 29, 79, "initialising 'walls': "},
+    {29, 10, nullptr, true, 29, 10, "initialising 'walls': "},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

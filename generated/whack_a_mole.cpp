@@ -469,6 +469,7 @@ struct Prog {
         }
         const Pos t36 = Pos{r32.x, r34.y};
         C2_Flash o37 = C2_Flash{int32_t(2), t36};
+        check_length(s.core, 2, int64_t(g31.size()) + int64_t(int32_t(1)));
         std::vector<C2_Flash>& added38 = s.scratch.v.b6;
         added38.clear();
         added38.reserve(size_t(add(int32_t(g31.size()), int32_t(1))));
@@ -668,7 +669,7 @@ struct Prog {
         const std::vector<C1_Mole>& g96 = s.g_moles_18;
         const std::vector<int32_t> list97 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
         if (list97.empty()) {
-          fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t98 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list97.size())))));
         const int32_t t99 = list97[size_t(t98)];
@@ -694,11 +695,12 @@ struct Prog {
           }
         }
         if (out102.empty()) {
-          fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t108 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out102.size())))));
         const Pos t109 = out102[size_t(t108)];
         C1_Mole o110 = C1_Mole{t99, t109};
+        check_length(s.core, 5, int64_t(g96.size()) + int64_t(int32_t(1)));
         std::vector<C1_Mole>& added111 = s.scratch.v.b14;
         added111.clear();
         added111.reserve(size_t(add(int32_t(g96.size()), int32_t(1))));
@@ -1033,8 +1035,10 @@ const char* const Prog::kColours[] = {
 const ErrorSite Prog::kErrors[] = {
     {58, 57, nullptr, true, 58, 57, ""},
     {58, 70, nullptr, true, 58, 70, ""},
+    {58, 18, nullptr, true, 58, 18, ""},
     {71, 34, nullptr, true, 71, 34, ""},
     {71, 65, nullptr, true, 71, 65, ""},
+    {71, 14, nullptr, true, 71, 14, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -265,6 +265,7 @@ struct Core {
   bool triggered = false;
   IdTable ids;
   RotationTable rot;
+  int64_t list_limit = Limits{}.list_length;  // the episode's list-length budget (runtime/limits.hpp)
 
   void start(uint64_t seed, int on_clauses) {
     rng.reseed(seed);
@@ -272,6 +273,22 @@ struct Core {
   }
   void clear_inputs() { click = left = right = up = down = false; }
 };
+
+// limits.hpp's list-length rule in emitted code: a list of `n` elements is about
+// to be built at `site`.
+inline void check_length(const Core& c, int site, int64_t n) {
+  if (n > c.list_limit) fail_at(site, limits::list_length_error(n, c.list_limit));
+}
+// A list built element by element (allObjs) fails at the first element too many.
+inline void check_appended_length(const Core& c, int site, int64_t n) {
+  if (n > c.list_limit) fail_at(site, limits::list_length_error(c.list_limit + 1, c.list_limit));
+}
+template <class L>
+int64_t total_size(const L& lists) {
+  int64_t t = 0;
+  for (const auto& l : lists) t += static_cast<int64_t>(l.size());
+  return t;
+}
 
 struct Hash {
   uint64_t h = 0x9e3779b97f4a7c15ULL;
@@ -548,6 +565,7 @@ class CompiledEnvironment : public Environment {
   CompiledEnvironment() : tables_(shared_tables()) {}
   bool reset(uint64_t seed) override {
     state_ = typename P::State{};
+    state_.core.list_limit = limits_.list_length;
     return guarded([&] {
       P::start(state_, seed);
       painter_.bind(&frame_);
@@ -578,6 +596,7 @@ class CompiledEnvironment : public Environment {
     state_ = o->state_;
     frame_ = o->frame_;
     source_name_ = o->source_name_;
+    limits_ = o->limits_;
     painter_ = o->painter_;
     failed_ = o->failed_;
     error_ = o->error_;
@@ -605,6 +624,9 @@ class CompiledEnvironment : public Environment {
   }
   bool deterministic() const override { return !P::kUsesRandom; }
   void set_source_name(const std::string& path) override { source_name_ = path; }
+  // Specialised code enforces the list-length budget (and the fixed limits);
+  // the others are the interpreter's alone (docs/design.md, "Limits").
+  void set_limits(const Limits& l) override { limits_ = limits::normalised(l); }
   int64_t random_draws() const override { return failed_ ? -1 : static_cast<int64_t>(state_.core.rng.draws()); }
   bool reseed_random(uint64_t seed) override {
     if (failed_) return false;
@@ -682,6 +704,7 @@ class CompiledEnvironment : public Environment {
   bool failed_ = true;
   std::string error_ = "not started";
   std::string source_name_ = P::kProgramName;  // the program's path, once the host names it
+  Limits limits_;                              // applied at each reset (state_.core.list_limit)
 };
 
 }  // namespace autumn::rt

@@ -47,6 +47,9 @@ namespace limits {
 
 constexpr int kMaxSyntaxNesting = 1000;  // nested parentheses in a program or trigger
 constexpr int kMaxValueNesting = 1000;   // lists/objects inside each other; rotations of one cell
+// The smallest list-length budget: every list a program's text spells out (a
+// literal, a range of constants) up to this length needs no check at run time.
+constexpr int64_t kMinListLength = 1000;
 constexpr int32_t kMinGridSize = 1;
 constexpr int32_t kMaxGridSize = 4096;
 
@@ -104,6 +107,12 @@ inline std::string grid_size_type_error(std::string_view type) {
 // "--limits" syntax: comma-separated KEY=N (keys as in the table above), each
 // N a positive integer. Unnamed keys keep `base`'s values. nullopt (and *why)
 // for anything else.
+// The limits an engine applies: as given, with list-length at least kMinListLength.
+inline Limits normalised(Limits l) {
+  if (l.list_length < kMinListLength) l.list_length = kMinListLength;
+  return l;
+}
+
 inline std::optional<Limits> parse(std::string_view spec, std::string* why, Limits base = {}) {
   auto bad = [&](const std::string& msg) -> std::optional<Limits> {
     if (why) *why = msg;
@@ -123,6 +132,8 @@ inline std::optional<Limits> parse(std::string_view spec, std::string* why, Limi
       n = n * 10 + (c - '0');
     }
     if (n <= 0) return bad("'" + std::string(item) + "': N must be a positive integer");
+    if (key == "list-length" && n < kMinListLength)
+      return bad("'" + std::string(item) + "': list-length must be at least " + std::to_string(kMinListLength));
     if (key == "call-depth") base.call_depth = n;
     else if (key == "list-length") base.list_length = n;
     else if (key == "objects") base.objects = n;

@@ -90,7 +90,7 @@ class Interpreter {
   // The path named for the program's own locations in describe() (a compiled
   // module knows only its text; the host names the file).
   void set_source_name(std::string path) { source_name_ = std::move(path); }
-  void set_limits(const Limits& l) { limits_ = l; }
+  void set_limits(const Limits& l) { limits_ = limits::normalised(l); }
   const Limits& limits() const { return limits_; }
   // A deep copy sharing nothing mutable with this one (safe to use on another
   // thread); taken between steps.

@@ -83,7 +83,20 @@ enum class Helper : uint8_t {
   RotTurn,        // (group): rotate turned the group's cells a quarter
   RotOf,          // (group) -> how many quarter turns the group's cells have had
   Rotated,        // (turns, x, y) -> Pos: a cell offset turned (x, y) -> (-y, x) that many times
+  CheckLength,    // (...): the list-length budget; imm: error site; index: a LengthOf saying how
+                  // the length is formed from the arguments
 };
+
+// How Helper::CheckLength forms the length of the list about to be built.
+enum LengthOf : int { kLengthIs = 0, kLengthSpan, kLengthArea, kLengthSizes, kLengthSizePlus, kLengthAppended,
+                      kLengthTotal };
+//   kLengthIs        a0                     (a count)
+//   kLengthSpan      a1 - a0                (range)
+//   kLengthArea      a0 * a1                (allPositions)
+//   kLengthSizes     size(a0) + size(a1)... (concat of known parts)
+//   kLengthSizePlus  size(a0) + a1          (addObj)
+//   kLengthAppended  size(a0), built one element at a time (allObjs)
+//   kLengthTotal     sum of the sizes of a0's elements (concat of a list of lists)
 
 enum class Op : uint8_t {
   Lit,        // imm (Int; Bool 0/1; Str: string id)

@@ -1,7 +1,8 @@
 // pass_scratch — lists rebuilt every time their code runs keep their storage.
 //
 // A list declared empty (a map's result, a render's output, range) whose value
-// never leaves its block — it is only filled, iterated, measured or indexed —
+// never leaves its block — it is only filled, iterated, measured (its length
+// checked against the budget) or indexed —
 // can live in a buffer of the state that is cleared instead of freed, so a step
 // allocates nothing for it after the first:
 //
@@ -38,7 +39,8 @@ void escapes(const Node* n, std::set<const Var*>& out) {
       if (n->a[0]->op != Op::Local) escapes(n->a[0], out);
       return;
     case Op::Call:
-      if (n->helper == Helper::Reserve || n->helper == Helper::Clear || n->helper == Helper::Append) {
+      if (n->helper == Helper::Reserve || n->helper == Helper::Clear || n->helper == Helper::Append ||
+          n->helper == Helper::CheckLength) {  // the check measures its lists
         for (const Node* k : n->a)
           if (k->op != Op::Local) escapes(k, out);
         return;

@@ -87,6 +87,7 @@ class Printer {
   std::string expr(const Node* n);
   std::string member(const Node* n);
   std::string helper(const Node* n);
+  std::string check_length(const Node* n);  // Helper::CheckLength
   // --- statements
   void line(const std::string& s) { out_ << std::string(2 * depth_, ' ') << s << "\n"; }
   void block(const Block& b) {
@@ -136,6 +137,25 @@ std::string Printer::member(const Node* n) {
   return base;
 }
 
+std::string Printer::check_length(const Node* n) {
+  auto i64 = [&](size_t i) { return "int64_t(" + expr(n->a[i]) + ")"; };
+  auto size = [&](size_t i) { return "int64_t(" + expr(n->a[i]) + ".size())"; };
+  const std::string site = std::to_string(n->imm);
+  std::string len;
+  switch (n->index) {
+    case kLengthIs: len = i64(0); break;
+    case kLengthSpan: len = i64(1) + " - " + i64(0); break;
+    case kLengthArea: len = i64(0) + " * " + i64(1); break;
+    case kLengthSizes:
+      for (size_t i = 0; i < n->a.size(); ++i) len += (i ? " + " : "") + size(i);
+      break;
+    case kLengthSizePlus: len = size(0) + " + " + i64(1); break;
+    case kLengthAppended: return "check_appended_length(s.core, " + site + ", " + size(0) + ")";
+    case kLengthTotal: len = "total_size(" + expr(n->a[0]) + ")"; break;
+  }
+  return "check_length(s.core, " + site + ", " + len + ")";
+}
+
 std::string Printer::helper(const Node* n) {
   auto arg = [&](size_t i) { return expr(n->a[i]); };
   switch (n->helper) {
@@ -166,6 +186,7 @@ std::string Printer::helper(const Node* n) {
     case Helper::RotTurn: return "s.core.rot.turn(uint32_t(" + arg(0) + "))";
     case Helper::RotOf: return "int32_t(s.core.rot.of(uint32_t(" + arg(0) + ")))";
     case Helper::Rotated: return "rotated(" + arg(0) + ", " + arg(1) + ", " + arg(2) + ")";
+    case Helper::CheckLength: return check_length(n);
     case Helper::InputFlag: {
       static const char* const flags[] = {"click", "left", "right", "up", "down"};
       return "s.core." + std::string(flags[n->a[0]->imm]);

@@ -301,6 +301,9 @@ SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at)
       if (!need(b, n, 2) || !check_kind(b, a, 0, TK::Int, "a number") || !check_kind(b, a, 1, TK::Int, "a number"))
         return never();
       auto lo = const_int(a[0]), hi = const_int(a[1]);
+      std::optional<int64_t> known;
+      if (lo && hi) known = *hi - *lo;
+      check_length(ir::kLengthSpan, {a[0].code, a[1].code}, known);
       if (lo && hi && *hi - *lo <= 4096) {
         std::vector<SVal> items;
         for (int64_t i = *lo; i < *hi; ++i) items.push_back(SVal{T().int_(), lit(T().int_(), i), lit(T().int_(), i)});
@@ -354,6 +357,7 @@ SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
     fail("concat: every element must be a list");
     return never();
   }
+  bool checked = false;  // the list-length budget
   if (l.konst && l.konst->op == ir::Op::MakeList && !(inner->elem && tracked(inner->elem))) {  // fold
     std::vector<SVal> items;
     bool ok = true;
@@ -362,15 +366,23 @@ SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
       else
         for (ir::Node* x : part->a) items.push_back(SVal{inner->elem ? inner->elem : T().never(), x, x});
     }
+    if (ok) {
+      check_length(ir::kLengthIs, {lit(T().int_(), static_cast<int64_t>(items.size()))},
+                   static_cast<int64_t>(items.size()));
+      checked = true;
+    }
     if (ok && (!constructing_.empty() || items.size() <= 16)) return items.empty() ? SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())} : make_list(items);
   }
   if (!inner->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
-  ir::Var* out = decl(inner, nullptr, "cat");
   if (!l.parts.empty()) {  // (concat (list a b ...)): the parts are known, no list of lists is needed
+    if (!checked) check_length(ir::kLengthSizes, l.parts);
+    ir::Var* out = decl(inner, nullptr, "cat");
     for (ir::Node* part : l.parts) emit_eval(call(ir::Helper::Append, nullptr, {local(out), part}));
     return built(out);
   }
   SVal src = let(l, "src");
+  if (!checked) check_length(ir::kLengthTotal, {src.code});
+  ir::Var* out = decl(inner, nullptr, "cat");
   ir::Stmt* loop = emit(ir::SK::ForEach);
   loop->var = var(inner, "part");
   loop->a = src.code;

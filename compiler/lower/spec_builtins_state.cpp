@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "compiler/lower/specialise.hpp"
+#include "runtime/limits.hpp"
 
 namespace autumn::lower {
 
@@ -38,6 +39,7 @@ SVal Specialiser::builtin_random_positions(std::vector<SVal>& a) {
   s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
   in_block(s->body, [&] { fail("randomPositions: the grid size must not be negative"); });
   if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
+  check_length(ir::kLengthIs, {a[1].code}, const_int(a[1]));
   ir::Var* out = decl(T().list(T().pos()), nullptr, "rpos");
   ir::Stmt* loop = emit(ir::SK::ForRange);
   loop->var = var(T().int_(), "i");
@@ -66,6 +68,9 @@ SVal Specialiser::builtin_all_positions(std::vector<SVal>& a) {
     return !dead_;
   };
   if (!size(0) || (n == 2 && !size(1))) return never();
+  std::optional<int64_t> known;
+  if (auto w = const_int(a[0]), h = const_int(a[n - 1]); w && h) known = *w * *h;
+  check_length(ir::kLengthArea, {a[0].code, a[n - 1].code}, known);
   ir::Var* out = decl(T().list(T().pos()), nullptr, "apos");
   out->scratch = true;
   ir::Stmt* outer = emit(ir::SK::ForRange);
@@ -173,6 +178,7 @@ SVal Specialiser::builtin_uniform_choice(std::vector<SVal>& a) {
   ir::Stmt* c = emit(ir::SK::If);
   c->a = node(ir::Op::Lt, T().bool_(), {a[1].code, lit(T().int_(), 1)});
   in_block(c->body, [&] { fail("uniformChoice: the count must be at least 1"); });
+  check_length(ir::kLengthIs, {a[1].code}, const_int(a[1]));
   ir::Var* out = decl(l.type, nullptr, "choices");
   ir::Stmt* loop = emit(ir::SK::ForRange);
   loop->var = var(T().int_(), "i");
@@ -285,6 +291,12 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
   if (et && is_sum(et) && x.type->k != TK::List)
     unsupported("addObj to a list that may hold objects of several classes");
   TypeP lt = T().list(rt);
+  if (et) {  // an empty list gets at most the elements of x, a list already within the budget
+    ir::Node* added = x.type->k != TK::List ? lit(T().int_(), 1)
+                      : x.type->elem        ? node(ir::Op::Size, T().int_(), {x.code})
+                                            : lit(T().int_(), 0);
+    check_length(ir::kLengthSizePlus, {l.code, added});
+  }
   ir::Var* out = decl(lt, nullptr, "added");
   if (et) {
     ir::Node* extra = x.type->k == TK::List ? (x.type->elem ? node(ir::Op::Size, T().int_(), {x.code}) : lit(T().int_(), 0))
@@ -513,6 +525,11 @@ SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
     learn("rotate turns '" + m_.classes[cls].name + "'");
     return never();
   }
+  // Each turn wraps the cells' offsets once more: their number is a fixed limit.
+  ir::Stmt* deep = emit(ir::SK::If);
+  deep->a = node(ir::Op::Ge, T().bool_(), {call(ir::Helper::RotOf, T().int_(), {member(a[0].code, ir::Member::Group, T().int_())}),
+                                           lit(T().int_(), limits::kMaxValueNesting)});
+  in_block(deep->body, [&] { fail(limits::rotation_nesting_error()); });
   emit_eval(call(ir::Helper::RotTurn, nullptr, {member(a[0].code, ir::Member::Group, T().int_())}));
   if (!tracked(a[0].type)) return a[0];
   return renew_identity(a[0]);

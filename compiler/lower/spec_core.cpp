@@ -11,6 +11,7 @@
 #include <cstdlib>
 
 #include "compiler/lower/specialise.hpp"
+#include "runtime/limits.hpp"
 
 namespace autumn::lower {
 
@@ -229,6 +230,15 @@ void Specialiser::fail(std::vector<ir::Node*> parts) {
   s->a = node(ir::Op::Concat, nullptr, std::move(parts));
   s->loc = location();
   dead_ = true;
+}
+
+void Specialiser::check_length(ir::LengthOf how, std::vector<ir::Node*> args, std::optional<int64_t> known) {
+  if (known && *known <= limits::kMinListLength) return;
+  if (capture_mode_) unsupported("a cell argument that builds a list the list-length budget may refuse");
+  ir::Node* c = call(ir::Helper::CheckLength, nullptr, std::move(args));
+  c->index = how;
+  c->imm = location();
+  emit_eval(c);
 }
 
 void Specialiser::unsupported(const std::string& why) {

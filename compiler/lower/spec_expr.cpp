@@ -224,6 +224,7 @@ SVal Specialiser::lower_list(const Expr& e) {
     items.push_back(let(lower_value(*k)));
     if (dead_) return never();
   }
+  check_length(ir::kLengthIs, {lit(T().int_(), static_cast<int64_t>(items.size()))}, static_cast<int64_t>(items.size()));
   return make_list(items);
 }
 

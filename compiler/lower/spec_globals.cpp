@@ -20,7 +20,6 @@
 //   after:                       ->  for (k : s.order.keys())
 //                                      if (k == 12) { push(g_base); } else if (k == 31) { push(g_late); }
 #include <algorithm>
-#include <algorithm>
 
 #include "compiler/lower/specialise.hpp"
 #include "runtime/hash_order.hpp"
@@ -162,6 +161,7 @@ SVal Specialiser::all_objs() {
   for_each_global_in_order([&](Global& g) {
     if (renders(g.type)) collect(read_global(g));
   });
+  check_length(ir::kLengthAppended, {local(out)});
   return built(out);
 }
 

@@ -138,6 +138,10 @@ class Specialiser {
   // Runs `f` with its statements going into `b` (and dead_ local to it).
   void in_block(ir::Block& b, const std::function<void()>& f);
   void fail(const std::string& msg);                  // a static message
+  // The list-length budget (runtime/limits.hpp) before a list is built: its
+  // length formed by `how` (ir::LengthOf) from `args`; `known`, when the
+  // length is known now (no check when it is within every budget).
+  void check_length(ir::LengthOf how, std::vector<ir::Node*> args, std::optional<int64_t> known = std::nullopt);
   void fail(std::vector<ir::Node*> message_parts);    // strings and StrOfInt nodes
   SVal never();                                       // the value of dead code
 
