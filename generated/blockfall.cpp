@@ -35,6 +35,17 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.cells);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Piece& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * int64_t(v.cells.size());  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Piece& v) {
       save_value(w, v.f0);
       save_value(w, v.origin);
@@ -52,6 +63,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C1_Block& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Block& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Block& v) {
       save_value(w, v.f0);
@@ -177,17 +199,17 @@ struct Prog {
       int32_t x4 = c3.x;
       int32_t y5 = c3.y;
       if ((int32_t(c3.dc) == int32_t(-1))) {
-        fail_at(6, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+        fail_at(12, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
       }
       int32_t colour6 = c3.colour;
       switch (int32_t(c3.dc)) {
         case 0: {
           const std::vector<int32_t> v7 = std::vector<int32_t>{int32_t(2), int32_t(2), int32_t(3), int32_t(3), int32_t(3), int32_t(3), int32_t(4), int32_t(4), int32_t(5)};
           if (v7.empty()) {
-            fail_at(7, std::string() + std::string("at: empty list"));
+            fail_at(19, std::string() + std::string("at: empty list"));
           }
           if (((o1.f0 < int32_t(0)) || (o1.f0 >= int32_t(v7.size())))) {
-            fail_at(7, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
+            fail_at(19, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
           }
           const int32_t t8 = v7[size_t(o1.f0)];
           colour6 = t8;
@@ -256,6 +278,19 @@ struct Prog {
     // init stack, programs/blockfall.au:28
     s.g_stack_12 = std::vector<C1_Block>{};
     s.u_stack_13 = false;
+    s.core.tally = StateTally{};
+    const std::vector<C1_Block>& g24 = s.g_stack_12;
+    tally_global(s.core, 2, "stack", g24);
+    const C0_Piece& g25 = s.g_piece_8;
+    tally_global(s.core, 3, "piece", g25);
+    const Pos& g26 = s.g_spawnAt_7;
+    tally_global(s.core, 4, "spawnAt", g26);
+    const std::vector<int32_t>& g27 = s.g_turnOf_5;
+    tally_global(s.core, 5, "turnOf", g27);
+    const std::vector<int32_t>& g28 = s.g_hues_6;
+    tally_global(s.core, 6, "hues", g28);
+    const std::vector<std::vector<Pos>>& g29 = s.g_shapes_4;
+    tally_global(s.core, 7, "shapes", g29);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -494,19 +529,19 @@ struct Prog {
         // inlined: function at programs/blockfall.au:33
         const std::vector<int32_t>& g89 = s.g_turnOf_5;
         if (g89.empty()) {
-          fail_at(2, std::string() + std::string("at: empty list"));
+          fail_at(8, std::string() + std::string("at: empty list"));
         }
         if (((prev88.f0 < int32_t(0)) || (prev88.f0 >= int32_t(g89.size())))) {
-          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev88.f0) + std::string(" out of bounds"));
+          fail_at(8, std::string() + std::string("at: index ") + std::to_string(prev88.f0) + std::string(" out of bounds"));
         }
         const int32_t t90 = g89[size_t(prev88.f0)];
         std::vector<CellV> l_allCells91{};
         const std::vector<std::vector<Pos>>& g92 = s.g_shapes_4;
         if (g92.empty()) {
-          fail_at(3, std::string() + std::string("at: empty list"));
+          fail_at(9, std::string() + std::string("at: empty list"));
         }
         if (((t90 < int32_t(0)) || (t90 >= int32_t(g92.size())))) {
-          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t90) + std::string(" out of bounds"));
+          fail_at(9, std::string() + std::string("at: index ") + std::to_string(t90) + std::string(" out of bounds"));
         }
         const std::vector<Pos> t93 = g92[size_t(t90)];
         std::vector<CellV>& out94 = s.scratch.v.b21;
@@ -603,19 +638,19 @@ struct Prog {
         // inlined: function at programs/blockfall.au:33
         const std::vector<int32_t>& g126 = s.g_turnOf_5;
         if (g126.empty()) {
-          fail_at(2, std::string() + std::string("at: empty list"));
+          fail_at(8, std::string() + std::string("at: empty list"));
         }
         if (((prev125.f0 < int32_t(0)) || (prev125.f0 >= int32_t(g126.size())))) {
-          fail_at(2, std::string() + std::string("at: index ") + std::to_string(prev125.f0) + std::string(" out of bounds"));
+          fail_at(8, std::string() + std::string("at: index ") + std::to_string(prev125.f0) + std::string(" out of bounds"));
         }
         const int32_t t127 = g126[size_t(prev125.f0)];
         std::vector<CellV> l_allCells128{};
         const std::vector<std::vector<Pos>>& g129 = s.g_shapes_4;
         if (g129.empty()) {
-          fail_at(3, std::string() + std::string("at: empty list"));
+          fail_at(9, std::string() + std::string("at: empty list"));
         }
         if (((t127 < int32_t(0)) || (t127 >= int32_t(g129.size())))) {
-          fail_at(3, std::string() + std::string("at: index ") + std::to_string(t127) + std::string(" out of bounds"));
+          fail_at(9, std::string() + std::string("at: index ") + std::to_string(t127) + std::string(" out of bounds"));
         }
         const std::vector<Pos> t130 = g129[size_t(t127)];
         std::vector<CellV>& out131 = s.scratch.v.b32;
@@ -869,7 +904,7 @@ struct Prog {
             C1_Block o227 = C1_Block{x226.color, x226.position};
             out225.push_back(std::move(o227));
           }
-          check_length(s.core, 4, int64_t(g220.size()) + int64_t(int32_t(out225.size())));
+          check_length(s.core, 10, int64_t(g220.size()) + int64_t(int32_t(out225.size())));
           std::vector<C1_Block>& added228 = s.scratch.v.b56;
           added228.clear();
           added228.reserve(size_t(add(int32_t(g220.size()), int32_t(out225.size()))));
@@ -955,7 +990,7 @@ struct Prog {
           s.u_stack_13 = true;
           const std::vector<int32_t> list258 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
           if (list258.empty()) {
-            fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(11, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t259 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list258.size())))));
           const int32_t t260 = list258[size_t(t259)];
@@ -963,10 +998,10 @@ struct Prog {
           std::vector<CellV> l_allCells262{};
           const std::vector<std::vector<Pos>>& g263 = s.g_shapes_4;
           if (g263.empty()) {
-            fail_at(3, std::string() + std::string("at: empty list"));
+            fail_at(9, std::string() + std::string("at: empty list"));
           }
           if (((t260 < int32_t(0)) || (t260 >= int32_t(g263.size())))) {
-            fail_at(3, std::string() + std::string("at: index ") + std::to_string(t260) + std::string(" out of bounds"));
+            fail_at(9, std::string() + std::string("at: index ") + std::to_string(t260) + std::string(" out of bounds"));
           }
           const std::vector<Pos> t264 = g263[size_t(t260)];
           std::vector<CellV>& out265 = s.scratch.v.b64;
@@ -1170,19 +1205,34 @@ struct Prog {
       s.g_stack_12 = prev331;
       s.u_stack_13 = true;
     }
+    s.core.tally = StateTally{};
+    tally_rendered(s.core, 12, "cacheRendered");
+    const std::vector<C1_Block>& g332 = s.g_stack_12;
+    tally_global(s.core, 13, "stack", g332);
+    const C0_Piece& g333 = s.g_piece_8;
+    tally_global(s.core, 14, "piece", g333);
+    const Pos& g334 = s.g_spawnAt_7;
+    tally_global(s.core, 15, "spawnAt", g334);
+    const std::vector<int32_t>& g335 = s.g_turnOf_5;
+    tally_global(s.core, 16, "turnOf", g335);
+    const std::vector<int32_t>& g336 = s.g_hues_6;
+    tally_global(s.core, 17, "hues", g336);
+    const std::vector<std::vector<Pos>>& g337 = s.g_shapes_4;
+    tally_global(s.core, 18, "shapes", g337);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C1_Block>& g1 = s.g_stack_12;
     for (const C1_Block& x2 : g1) {
       const int32_t colour3 = colour_1_C1_Block(s, x2);
       const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
       s.core.occupied.add(e4.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e4.position, pal[e4.color]);
     }
     const C0_Piece& g5 = s.g_piece_8;
@@ -1191,6 +1241,7 @@ struct Prog {
     render_C0_Piece(s, g5, cells6);
     for (const Elem& e7 : cells6) {
       s.core.occupied.add(e7.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e7.position, pal[e7.color]);
     }
   }
@@ -1252,11 +1303,23 @@ const char* const Prog::kColours[] = {
 const ErrorSite Prog::kErrors[] = {
     {31, 29, nullptr, true, 31, 29, "initialising 'piece': "},
     {24, 86, nullptr, true, 24, 86, "initialising 'piece': "},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {22, 3, nullptr, true, 22, 3, ""},
+    {20, 3, nullptr, true, 20, 3, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {11, 3, nullptr, true, 11, 3, ""},
     {33, 28, nullptr, true, 33, 28, ""},
     {24, 86, nullptr, true, 24, 86, ""},
     {54, 29, nullptr, true, 54, 29, ""},
     {55, 25, nullptr, true, 55, 25, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {22, 3, nullptr, true, 22, 3, ""},
+    {20, 3, nullptr, true, 20, 3, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {11, 3, nullptr, true, 11, 3, ""},
     {24, 69, nullptr, true, 24, 69, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 

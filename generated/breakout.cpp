@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Paddle& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Paddle& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Paddle& v) {
       save_value(w, v.origin);
     }
@@ -46,6 +55,19 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.f1);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Ball& v) {
+      ++t.objects;
+      t.cells += 4;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f1);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Ball& v) {
       save_value(w, v.f0);
@@ -65,6 +87,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Brick& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C2_Brick& v) {
       save_value(w, v.f0);
       save_value(w, v.origin);
@@ -80,6 +113,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C3_Hearts& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C3_Hearts& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C3_Hearts& v) {
       save_value(w, v.f0);
@@ -275,6 +319,15 @@ struct Prog {
     C0_Paddle o19 = C0_Paddle{Pos{int32_t(5), int32_t(11)}};
     s.g_paddle_25 = std::move(o19);
     s.u_paddle_26 = false;
+    s.core.tally = StateTally{};
+    const C0_Paddle& g20 = s.g_paddle_25;
+    tally_global(s.core, 2, "paddle", g20);
+    const C1_Ball& g21 = s.g_ball_21;
+    tally_global(s.core, 3, "ball", g21);
+    const std::vector<C2_Brick>& g22 = s.g_bricks_17;
+    tally_global(s.core, 4, "bricks", g22);
+    const C3_Hearts& g23 = s.g_hud_9;
+    tally_global(s.core, 5, "hud", g23);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -987,7 +1040,7 @@ struct Prog {
         s.u_launched_14 = true;
         const std::vector<int32_t> list254 = std::vector<int32_t>{int32_t(-1), int32_t(1)};
         if (list254.empty()) {
-          fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t255 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list254.size())))));
         const int32_t t256 = list254[size_t(t255)];
@@ -1035,7 +1088,7 @@ struct Prog {
           }
           out266.push_back(std::move(out269));
         }
-        check_length(s.core, 3, total_size(out266));
+        check_length(s.core, 7, total_size(out266));
         std::vector<C2_Brick>& cat274 = s.scratch.v.b20;
         cat274.clear();
         for (const std::vector<C2_Brick>& part275 : out266) {
@@ -1047,7 +1100,7 @@ struct Prog {
           // inlined: function at programs/breakout.au:21
           const std::vector<bool> list278 = std::vector<bool>{true, true, true, true, false};
           if (list278.empty()) {
-            fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(8, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
           const bool t280 = list278[size_t(t279)];
@@ -1147,47 +1200,65 @@ struct Prog {
       s.g_paddle_25 = prev291;
       s.u_paddle_26 = true;
     }
+    s.core.tally = StateTally{};
+    tally_rendered(s.core, 9, "cacheRendered");
+    const C0_Paddle& g292 = s.g_paddle_25;
+    tally_global(s.core, 10, "paddle", g292);
+    const C1_Ball& g293 = s.g_ball_21;
+    tally_global(s.core, 11, "ball", g293);
+    const std::vector<C2_Brick>& g294 = s.g_bricks_17;
+    tally_global(s.core, 12, "bricks", g294);
+    const C3_Hearts& g295 = s.g_hud_9;
+    tally_global(s.core, 13, "hud", g295);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const C0_Paddle& g1 = s.g_paddle_25;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e2.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e2.position, pal[e2.color]);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e3.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e3.position, pal[e3.color]);
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e4.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e4.position, pal[e4.color]);
     const C1_Ball& g5 = s.g_ball_21;
     const Elem e6 = Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e6.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e6.position, pal[e6.color]);
     const std::vector<C2_Brick>& g7 = s.g_bricks_17;
     for (const C2_Brick& x8 : g7) {
       const int32_t colour9 = colour_3_C2_Brick(s, x8);
       const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
       s.core.occupied.add(e10.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e10.position, pal[e10.color]);
     }
     const C3_Hearts& g11 = s.g_hud_9;
     const int32_t colour12 = colour_0_C3_Hearts(s, g11);
     const Elem e13 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e13.position, pal[e13.color]);
     const int32_t colour14 = colour_1_C3_Hearts(s, g11);
     const Elem e15 = Elem{Pos{add(g11.origin.x, int32_t(1)), add(g11.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e15.position, pal[e15.color]);
     const int32_t colour16 = colour_2_C3_Hearts(s, g11);
     const Elem e17 = Elem{Pos{add(g11.origin.x, int32_t(2)), add(g11.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e17.position, pal[e17.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1256,9 +1327,18 @@ const char* const Prog::kColours[] = {
 const ErrorSite Prog::kErrors[] = {
     {22, 7, nullptr, true, 22, 7, "initialising 'bricks': "},
     {21, 20, nullptr, true, 21, 20, "initialising 'bricks': "},
+    {27, 3, nullptr, true, 27, 3, ""},
+    {30, 3, nullptr, true, 30, 3, ""},
+    {33, 3, nullptr, true, 33, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
     {87, 42, nullptr, true, 87, 42, ""},
     {22, 7, nullptr, true, 22, 7, ""},
     {21, 20, nullptr, true, 21, 20, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {27, 3, nullptr, true, 27, 3, ""},
+    {30, 3, nullptr, true, 30, 3, ""},
+    {33, 3, nullptr, true, 33, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -35,6 +35,19 @@ struct Prog {
       hash_value(h, v.f1);
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Tile& v) {
+      ++t.objects;
+      t.cells += 4;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f1);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Tile& v) {
       save_value(w, v.f0);
       save_value(w, v.f1);
@@ -53,6 +66,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Swatch& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C1_Swatch& v) {
       save_value(w, v.f0);
       save_value(w, v.origin);
@@ -68,6 +92,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C2_Lamps& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Lamps& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C2_Lamps& v) {
       save_value(w, v.f0);
@@ -225,6 +260,17 @@ struct Prog {
     }
     std::swap(s.g_tiles_14, out14);
     s.u_tiles_15 = false;
+    s.core.tally = StateTally{};
+    const C2_Lamps& g22 = s.g_lamps_6;
+    tally_global(s.core, 3, "lamps", g22);
+    const std::vector<C1_Swatch>& g23 = s.g_swatches_10;
+    tally_global(s.core, 4, "swatches", g23);
+    const std::vector<int32_t>& g24 = s.g_palette_4;
+    tally_global(s.core, 5, "palette", g24);
+    const std::vector<C0_Tile>& g25 = s.g_tiles_14;
+    tally_global(s.core, 6, "tiles", g25);
+    const Pos& g26 = s.g_corner_5;
+    tally_global(s.core, 7, "corner", g26);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -278,7 +324,7 @@ struct Prog {
         int32_t r13{};
         if (t12) {
           if (l_wetOnes8.empty()) {
-            fail_at(3, std::string() + std::string("head of an empty list"));
+            fail_at(8, std::string() + std::string("head of an empty list"));
           }
           const C0_Tile t14 = l_wetOnes8.front();
           r13 = t14.f0;
@@ -426,7 +472,7 @@ struct Prog {
         int32_t r58{};
         if (t57) {
           if (l_hit48.empty()) {
-            fail_at(4, std::string() + std::string("head of an empty list"));
+            fail_at(9, std::string() + std::string("head of an empty list"));
           }
           const C0_Tile t59 = l_hit48.front();
           r58 = t59.f0;
@@ -449,7 +495,7 @@ struct Prog {
           int32_t r66{};
           if (t65) {
             if (l_wetOnes61.empty()) {
-              fail_at(3, std::string() + std::string("head of an empty list"));
+              fail_at(8, std::string() + std::string("head of an empty list"));
             }
             const C0_Tile t67 = l_wetOnes61.front();
             r66 = t67.f0;
@@ -547,7 +593,7 @@ struct Prog {
         int32_t r93{};
         if (t92) {
           if (l_hit83.empty()) {
-            fail_at(4, std::string() + std::string("head of an empty list"));
+            fail_at(9, std::string() + std::string("head of an empty list"));
           }
           const C1_Swatch t94 = l_hit83.front();
           r93 = t94.f0;
@@ -570,7 +616,7 @@ struct Prog {
           int32_t r101{};
           if (t100) {
             if (l_wetOnes96.empty()) {
-              fail_at(3, std::string() + std::string("head of an empty list"));
+              fail_at(8, std::string() + std::string("head of an empty list"));
             }
             const C0_Tile t102 = l_wetOnes96.front();
             r101 = t102.f0;
@@ -629,10 +675,10 @@ struct Prog {
         s.core.covered[int32_t(3)] = 1;
         // inlined: function at programs/color_flood.au:17
         if ((int32_t(8) < int32_t(0))) {
-          fail_at(5, std::string() + std::string("allPositions: negative size"));
+          fail_at(10, std::string() + std::string("allPositions: negative size"));
         }
         if ((int32_t(7) < int32_t(0))) {
-          fail_at(5, std::string() + std::string("allPositions: negative size"));
+          fail_at(10, std::string() + std::string("allPositions: negative size"));
         }
         std::vector<Pos>& apos112 = s.scratch.v.b24;
         apos112.clear();
@@ -649,7 +695,7 @@ struct Prog {
           // inlined: function at programs/color_flood.au:18
           const std::vector<int32_t>& g118 = s.g_palette_4;
           if (g118.empty()) {
-            fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(11, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t119 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g118.size())))));
           const int32_t t120 = g118[size_t(t119)];
@@ -710,19 +756,50 @@ struct Prog {
       s.g_tiles_14 = prev132;
       s.u_tiles_15 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_19) {
+      tally_rendered(s.core, 12, "cacheRendered");
+      const C2_Lamps& g133 = s.g_lamps_6;
+      tally_global(s.core, 13, "lamps", g133);
+      if (s.d_click_19) {
+        const Pos& g134 = s.g_click_18;
+        tally_global(s.core, 14, "click", g134);
+      }
+      const std::vector<C1_Swatch>& g135 = s.g_swatches_10;
+      tally_global(s.core, 15, "swatches", g135);
+      const std::vector<int32_t>& g136 = s.g_palette_4;
+      tally_global(s.core, 16, "palette", g136);
+      const std::vector<C0_Tile>& g137 = s.g_tiles_14;
+      tally_global(s.core, 17, "tiles", g137);
+      const Pos& g138 = s.g_corner_5;
+      tally_global(s.core, 18, "corner", g138);
+    } else {
+      tally_rendered(s.core, 19, "cacheRendered");
+      const C2_Lamps& g139 = s.g_lamps_6;
+      tally_global(s.core, 20, "lamps", g139);
+      const std::vector<C1_Swatch>& g140 = s.g_swatches_10;
+      tally_global(s.core, 21, "swatches", g140);
+      const std::vector<int32_t>& g141 = s.g_palette_4;
+      tally_global(s.core, 22, "palette", g141);
+      const std::vector<C0_Tile>& g142 = s.g_tiles_14;
+      tally_global(s.core, 23, "tiles", g142);
+      const Pos& g143 = s.g_corner_5;
+      tally_global(s.core, 24, "corner", g143);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Tile>& g1 = s.g_tiles_14;
     for (const C0_Tile& x2 : g1) {
       const int32_t colour3 = colour_2_C0_Tile(s, x2);
       const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
       s.core.occupied.add(e4.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e4.position, pal[e4.color]);
     }
     const std::vector<C1_Swatch>& g5 = s.g_swatches_10;
@@ -730,20 +807,24 @@ struct Prog {
       const int32_t colour7 = colour_1_C1_Swatch(s, x6);
       const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
       s.core.occupied.add(e8.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e8.position, pal[e8.color]);
     }
     const C2_Lamps& g9 = s.g_lamps_6;
     const int32_t colour10 = colour_0_C2_Lamps(s, g9);
     const Elem e11 = Elem{Pos{add(g9.origin.x, int32_t(0)), add(g9.origin.y, int32_t(0))}, colour10};
     s.core.occupied.add(e11.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e11.position, pal[e11.color]);
     const int32_t colour12 = colour_0_C2_Lamps(s, g9);
     const Elem e13 = Elem{Pos{add(g9.origin.x, int32_t(1)), add(g9.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e13.position, pal[e13.color]);
     const int32_t colour14 = colour_0_C2_Lamps(s, g9);
     const Elem e15 = Elem{Pos{add(g9.origin.x, int32_t(2)), add(g9.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e15.position, pal[e15.color]);
   }
   static uint64_t hash(const State& s) {
@@ -813,10 +894,28 @@ const ErrorSite Prog::kErrors[] = {
     {24, 45, nullptr, true, 24, 45, "initialising 'swatches': "},
     {18, 65, nullptr, true, 18, 65, "initialising 'tiles': "},
     {18, 23, nullptr, true, 18, 23, "initialising 'tiles': "},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {24, 3, nullptr, true, 24, 3, ""},
+    {14, 3, nullptr, true, 14, 3, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {15, 3, nullptr, true, 15, 3, ""},
     {34, 41, nullptr, true, 34, 41, ""},
     {47, 37, nullptr, true, 47, 37, ""},
     {18, 65, nullptr, true, 18, 65, ""},
     {18, 23, nullptr, true, 18, 23, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {24, 3, nullptr, true, 24, 3, ""},
+    {14, 3, nullptr, true, 14, 3, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {15, 3, nullptr, true, 15, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {24, 3, nullptr, true, 24, 3, ""},
+    {14, 3, nullptr, true, 14, 3, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {15, 3, nullptr, true, 15, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Pad& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Pad& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Pad& v) {
       save_value(w, v.origin);
     }
@@ -46,6 +55,19 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.f1);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Rocket& v) {
+      ++t.objects;
+      t.cells += 4;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f1);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Rocket& v) {
       save_value(w, v.f0);
@@ -70,6 +92,23 @@ struct Prog {
       hash_value(h, v.f2);
       hash_value(h, v.f3);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Spark& v) {
+      ++t.objects;
+      t.cells += 6;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f3);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f2);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f1);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C2_Spark& v) {
       save_value(w, v.f0);
@@ -170,6 +209,17 @@ struct Prog {
     C0_Pad o3 = C0_Pad{Pos{int32_t(10), int32_t(19)}};
     s.g_pad_16 = std::move(o3);
     s.u_pad_17 = false;
+    s.core.tally = StateTally{};
+    const C0_Pad& g4 = s.g_pad_16;
+    tally_global(s.core, 0, "pad", g4);
+    const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
+    tally_global(s.core, 1, "rockets", g5);
+    const std::vector<C2_Spark>& g6 = s.g_sparks_8;
+    tally_global(s.core, 2, "sparks", g6);
+    const std::vector<Pos>& g7 = s.g_compass_5;
+    tally_global(s.core, 3, "compass", g7);
+    const std::vector<int32_t>& g8 = s.g_palette_4;
+    tally_global(s.core, 4, "palette", g8);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -247,7 +297,7 @@ struct Prog {
           int32_t l_span25{};
           const std::vector<int32_t> list26 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)};
           if (list26.empty()) {
-            fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t27 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list26.size())))));
           const int32_t t28 = list26[size_t(t27)];
@@ -262,13 +312,13 @@ struct Prog {
           }
           out23.push_back(std::move(out30));
         }
-        check_length(s.core, 1, total_size(out23));
+        check_length(s.core, 6, total_size(out23));
         std::vector<C2_Spark>& cat33 = s.scratch.v.b5;
         cat33.clear();
         for (const std::vector<C2_Spark>& part34 : out23) {
           cat33.insert(cat33.end(), part34.begin(), part34.end());
         }
-        check_length(s.core, 2, int64_t(out11.size()) + int64_t(int32_t(cat33.size())));
+        check_length(s.core, 7, int64_t(out11.size()) + int64_t(int32_t(cat33.size())));
         std::vector<C2_Spark>& added35 = s.scratch.v.b6;
         added35.clear();
         added35.reserve(size_t(add(int32_t(out11.size()), int32_t(cat33.size()))));
@@ -427,11 +477,11 @@ struct Prog {
           const Pos& g85 = s.g_click_20;
           r84 = g85;
         } else {
-          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+          fail_at(8, std::string() + std::string("undefined variable 'click'"));
         }
         const std::vector<int32_t>& g86 = s.g_palette_4;
         if (g86.empty()) {
-          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(9, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t87 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g86.size())))));
         const int32_t t88 = g86[size_t(t87)];
@@ -440,11 +490,11 @@ struct Prog {
           const Pos& g90 = s.g_click_20;
           r89 = g90;
         } else {
-          fail_at(5, std::string() + std::string("undefined variable 'click'"));
+          fail_at(10, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t91 = Pos{r89.x, int32_t(18)};
         C1_Rocket o92 = C1_Rocket{r84.y, t88, t91};
-        check_length(s.core, 6, int64_t(g83.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 11, int64_t(g83.size()) + int64_t(int32_t(1)));
         std::vector<C1_Rocket>& added93 = s.scratch.v.b11;
         added93.clear();
         added93.reserve(size_t(add(int32_t(g83.size()), int32_t(1))));
@@ -477,20 +527,20 @@ struct Prog {
         const std::vector<C1_Rocket>& g100 = s.g_rockets_12;
         const std::vector<int32_t> list101 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
         if (list101.empty()) {
-          fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(12, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t102 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list101.size())))));
         const int32_t t103 = list101[size_t(t102)];
         const std::vector<int32_t>& g104 = s.g_palette_4;
         if (g104.empty()) {
-          fail_at(8, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(13, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t105 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g104.size())))));
         const int32_t t106 = g104[size_t(t105)];
         const C0_Pad& g107 = s.g_pad_16;
         const Pos t108 = Pos{g107.origin.x, int32_t(18)};
         C1_Rocket o109 = C1_Rocket{t103, t106, t108};
-        check_length(s.core, 9, int64_t(g100.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 14, int64_t(g100.size()) + int64_t(int32_t(1)));
         std::vector<C1_Rocket>& added110 = s.scratch.v.b12;
         added110.clear();
         added110.reserve(size_t(add(int32_t(g100.size()), int32_t(1))));
@@ -522,7 +572,7 @@ struct Prog {
         s.core.covered[int32_t(5)] = 1;
         const std::vector<C1_Rocket>& g117 = s.g_rockets_12;
         if ((int32_t(20) < int32_t(0))) {
-          fail_at(10, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(15, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
         std::vector<Pos>& rpos118 = s.scratch.v.b13;
         rpos118.clear();
@@ -546,7 +596,7 @@ struct Prog {
           }
           const std::vector<int32_t>& g127 = s.g_palette_4;
           if (g127.empty()) {
-            fail_at(11, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(16, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t128 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g127.size())))));
           const int32_t t129 = g127[size_t(t128)];
@@ -554,7 +604,7 @@ struct Prog {
           C1_Rocket o131 = C1_Rocket{r126, t129, t130};
           out123.push_back(std::move(o131));
         }
-        check_length(s.core, 12, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
+        check_length(s.core, 17, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
         std::vector<C1_Rocket>& added132 = s.scratch.v.b15;
         added132.clear();
         added132.reserve(size_t(add(int32_t(g117.size()), int32_t(out123.size()))));
@@ -602,31 +652,66 @@ struct Prog {
       s.g_pad_16 = prev137;
       s.u_pad_17 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_21) {
+      const C0_Pad& g138 = s.g_pad_16;
+      tally_global(s.core, 18, "pad", g138);
+      const std::vector<C1_Rocket>& g139 = s.g_rockets_12;
+      tally_global(s.core, 19, "rockets", g139);
+      tally_rendered(s.core, 20, "cacheRendered");
+      const std::vector<C2_Spark>& g140 = s.g_sparks_8;
+      tally_global(s.core, 21, "sparks", g140);
+      const std::vector<Pos>& g141 = s.g_compass_5;
+      tally_global(s.core, 22, "compass", g141);
+      if (s.d_click_21) {
+        const Pos& g142 = s.g_click_20;
+        tally_global(s.core, 23, "click", g142);
+      }
+      const std::vector<int32_t>& g143 = s.g_palette_4;
+      tally_global(s.core, 24, "palette", g143);
+    } else {
+      const C0_Pad& g144 = s.g_pad_16;
+      tally_global(s.core, 25, "pad", g144);
+      const std::vector<C1_Rocket>& g145 = s.g_rockets_12;
+      tally_global(s.core, 26, "rockets", g145);
+      tally_rendered(s.core, 27, "cacheRendered");
+      const std::vector<C2_Spark>& g146 = s.g_sparks_8;
+      tally_global(s.core, 28, "sparks", g146);
+      const std::vector<Pos>& g147 = s.g_compass_5;
+      tally_global(s.core, 29, "compass", g147);
+      const std::vector<int32_t>& g148 = s.g_palette_4;
+      tally_global(s.core, 30, "palette", g148);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const C0_Pad& g1 = s.g_pad_16;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e2.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e2.position, pal[e2.color]);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e3.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e3.position, pal[e3.color]);
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e4.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e4.position, pal[e4.color]);
     const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
     for (const C1_Rocket& x6 : g5) {
       const Elem e7 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(8)};
       s.core.occupied.add(e7.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e7.position, pal[e7.color]);
       const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(1))}, int32_t(9)};
       s.core.occupied.add(e8.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e8.position, pal[e8.color]);
     }
     const std::vector<C2_Spark>& g9 = s.g_sparks_8;
@@ -634,6 +719,7 @@ struct Prog {
       const int32_t colour11 = colour_5_C2_Spark(s, x10);
       const Elem e12 = Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11};
       s.core.occupied.add(e12.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e12.position, pal[e12.color]);
     }
   }
@@ -707,6 +793,11 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {22, 3, nullptr, true, 22, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {15, 3, nullptr, true, 15, 3, ""},
     {32, 15, nullptr, true, 32, 15, ""},
     {45, 46, nullptr, true, 45, 46, ""},
     {45, 17, nullptr, true, 45, 17, ""},
@@ -720,6 +811,19 @@ const ErrorSite Prog::kErrors[] = {
     {62, 12, nullptr, true, 62, 12, ""},
     {61, 45, nullptr, true, 61, 45, ""},
     {60, 16, nullptr, true, 60, 16, ""},
+    {22, 3, nullptr, true, 22, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {15, 3, nullptr, true, 15, 3, ""},
+    {22, 3, nullptr, true, 22, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {15, 3, nullptr, true, 15, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

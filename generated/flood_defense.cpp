@@ -33,6 +33,15 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Earth& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Earth& v) {
       save_value(w, v.origin);
       save_value(w, v.uid);
@@ -50,6 +59,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
       hash_value(h, v.uid);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_House& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_House& v) {
       save_value(w, v.f0);
@@ -69,6 +89,15 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Drain& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C2_Drain& v) {
       save_value(w, v.origin);
       save_value(w, v.uid);
@@ -85,6 +114,15 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C3_Sandbag& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C3_Sandbag& v) {
       save_value(w, v.origin);
       save_value(w, v.uid);
@@ -100,6 +138,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C4_Water& v) {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C4_Water& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C4_Water& v) {
       save_value(w, v.origin);
@@ -118,6 +165,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
       hash_value(h, v.uid);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C5_Spring& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C5_Spring& v) {
       save_value(w, v.f0);
@@ -298,6 +356,21 @@ struct Prog {
     // init time, programs/flood_defense.au:22
     s.g_time_31 = int32_t(0);
     s.u_time_32 = false;
+    s.core.tally = StateTally{};
+    const std::vector<C1_House>& g22 = s.g_houses_19;
+    tally_global(s.core, 3, "houses", g22);
+    const std::vector<C3_Sandbag>& g23 = s.g_bags_11;
+    tally_global(s.core, 4, "bags", g23);
+    const std::vector<C4_Water>& g24 = s.g_water_7;
+    tally_global(s.core, 5, "water", g24);
+    const std::vector<C0_Earth>& g25 = s.g_earth_27;
+    tally_global(s.core, 6, "earth", g25);
+    const C2_Drain& g26 = s.g_drain_23;
+    tally_global(s.core, 7, "drain", g26);
+    const std::vector<int32_t>& g27 = s.g_heights_4;
+    tally_global(s.core, 8, "heights", g27);
+    const C5_Spring& g28 = s.g_spring_15;
+    tally_global(s.core, 9, "spring", g28);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -381,7 +454,7 @@ struct Prog {
             l_xmax29 = t27.x;
             l_ymin30 = t25.y;
             l_ymax31 = t27.y;
-            check_length(s.core, 3, int64_t(l_ymax31) - int64_t(l_ymin30));
+            check_length(s.core, 10, int64_t(l_ymax31) - int64_t(l_ymin30));
             std::vector<int32_t>& range33 = s.scratch.v.b8;
             range33.clear();
             for (int32_t i34 = l_ymin30, i34_end = l_ymax31; i34 < i34_end; ++i34) {
@@ -391,7 +464,7 @@ struct Prog {
             out35.clear();
             out35.reserve(size_t(int32_t(range33.size())));
             for (const int32_t& x36 : range33) {
-              check_length(s.core, 4, int64_t(l_xmax29) - int64_t(l_xmin28));
+              check_length(s.core, 11, int64_t(l_xmax29) - int64_t(l_xmin28));
               std::vector<int32_t>& range37 = s.scratch.v.b10;
               range37.clear();
               for (int32_t i38 = l_xmin28, i38_end = l_xmax29; i38 < i38_end; ++i38) {
@@ -405,7 +478,7 @@ struct Prog {
               }
               out35.push_back(std::move(out39));
             }
-            check_length(s.core, 5, total_size(out35));
+            check_length(s.core, 12, total_size(out35));
             std::vector<Pos>& cat42 = s.scratch.v.b11;
             cat42.clear();
             for (const std::vector<Pos>& part43 : out35) {
@@ -456,7 +529,7 @@ struct Prog {
                 r62 = x3.origin;
               } else {
                 if (l_holes23.empty()) {
-                  fail_at(6, std::string() + std::string("head of an empty list"));
+                  fail_at(13, std::string() + std::string("head of an empty list"));
                 }
                 const Pos t63 = l_holes23.front();
                 Pos acc64 = t63;
@@ -640,7 +713,7 @@ struct Prog {
         all130.push_back(S136{std::in_place_index<5>, g139});
         const C5_Spring& g140 = s.g_spring_15;
         all130.push_back(S136{std::in_place_index<4>, g140});
-        check_appended_length(s.core, 7, int64_t(all130.size()));
+        check_appended_length(s.core, 14, int64_t(all130.size()));
         std::vector<S136>& out141 = s.scratch.v.b16;
         out141.clear();
         for (const S136& x142 : all130) {
@@ -772,10 +845,10 @@ struct Prog {
       const int32_t& g179 = s.g_time_31;
       const C5_Spring& g180 = s.g_spring_15;
       if ((g180.f0 == int32_t(0))) {
-        fail_at(8, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        fail_at(15, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
       if (((g179 == int32_t(-2147483648LL)) && (g180.f0 == int32_t(-1)))) {
-        fail_at(8, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+        fail_at(15, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
       const int32_t t181 = autumn::arith::mod_unchecked(g179, g180.f0);
       const bool t182 = (t181 == int32_t(0));
@@ -805,7 +878,7 @@ struct Prog {
         const C5_Spring& g192 = s.g_spring_15;
         const Pos t193 = Pos{g192.origin.x, int32_t(1)};
         C4_Water o194 = C4_Water{t193, s.core.ids.fresh()};
-        check_length(s.core, 9, int64_t(g191.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 16, int64_t(g191.size()) + int64_t(int32_t(1)));
         std::vector<C4_Water>& added195 = s.scratch.v.b18;
         added195.clear();
         added195.reserve(size_t(add(int32_t(g191.size()), int32_t(1))));
@@ -859,7 +932,7 @@ struct Prog {
             all203.push_back(S136{std::in_place_index<5>, g212});
             const C5_Spring& g213 = s.g_spring_15;
             all203.push_back(S136{std::in_place_index<4>, g213});
-            check_appended_length(s.core, 10, int64_t(all203.size()));
+            check_appended_length(s.core, 17, int64_t(all203.size()));
             std::vector<S136>& out214 = s.scratch.v.b21;
             out214.clear();
             for (const S136& x215 : all203) {
@@ -1163,7 +1236,7 @@ struct Prog {
           const Pos& g293 = s.g_click_35;
           r292 = g293;
         } else {
-          fail_at(11, std::string() + std::string("undefined variable 'click'"));
+          fail_at(18, std::string() + std::string("undefined variable 'click'"));
         }
         const bool t294 = s.core.occupied.free(r292);
         bool r295{};
@@ -1187,18 +1260,18 @@ struct Prog {
           const Pos& g301 = s.g_click_35;
           r300 = g301;
         } else {
-          fail_at(12, std::string() + std::string("undefined variable 'click'"));
+          fail_at(19, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r302{};
         if (s.d_click_36) {
           const Pos& g303 = s.g_click_35;
           r302 = g303;
         } else {
-          fail_at(13, std::string() + std::string("undefined variable 'click'"));
+          fail_at(20, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t304 = Pos{r300.x, r302.y};
         C3_Sandbag o305 = C3_Sandbag{t304, s.core.ids.fresh()};
-        check_length(s.core, 14, int64_t(g299.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 21, int64_t(g299.size()) + int64_t(int32_t(1)));
         std::vector<C3_Sandbag>& added306 = s.scratch.v.b30;
         added306.clear();
         added306.reserve(size_t(add(int32_t(g299.size()), int32_t(1))));
@@ -1435,52 +1508,98 @@ struct Prog {
       s.g_time_31 = t358;
       s.u_time_32 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_36) {
+      tally_rendered(s.core, 22, "cacheRendered");
+      const std::vector<C1_House>& g359 = s.g_houses_19;
+      tally_global(s.core, 23, "houses", g359);
+      const std::vector<C3_Sandbag>& g360 = s.g_bags_11;
+      tally_global(s.core, 24, "bags", g360);
+      const std::vector<C4_Water>& g361 = s.g_water_7;
+      tally_global(s.core, 25, "water", g361);
+      if (s.d_click_36) {
+        const Pos& g362 = s.g_click_35;
+        tally_global(s.core, 26, "click", g362);
+      }
+      const std::vector<C0_Earth>& g363 = s.g_earth_27;
+      tally_global(s.core, 27, "earth", g363);
+      const C2_Drain& g364 = s.g_drain_23;
+      tally_global(s.core, 28, "drain", g364);
+      const std::vector<int32_t>& g365 = s.g_heights_4;
+      tally_global(s.core, 29, "heights", g365);
+      const C5_Spring& g366 = s.g_spring_15;
+      tally_global(s.core, 30, "spring", g366);
+    } else {
+      tally_rendered(s.core, 31, "cacheRendered");
+      const std::vector<C1_House>& g367 = s.g_houses_19;
+      tally_global(s.core, 32, "houses", g367);
+      const std::vector<C3_Sandbag>& g368 = s.g_bags_11;
+      tally_global(s.core, 33, "bags", g368);
+      const std::vector<C4_Water>& g369 = s.g_water_7;
+      tally_global(s.core, 34, "water", g369);
+      const std::vector<C0_Earth>& g370 = s.g_earth_27;
+      tally_global(s.core, 35, "earth", g370);
+      const C2_Drain& g371 = s.g_drain_23;
+      tally_global(s.core, 36, "drain", g371);
+      const std::vector<int32_t>& g372 = s.g_heights_4;
+      tally_global(s.core, 37, "heights", g372);
+      const C5_Spring& g373 = s.g_spring_15;
+      tally_global(s.core, 38, "spring", g373);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Earth>& g1 = s.g_earth_27;
     for (const C0_Earth& x2 : g1) {
       const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(3)};
       s.core.occupied.add(e3.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e3.position, pal[e3.color]);
     }
     const C2_Drain& g4 = s.g_drain_23;
     const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(0)};
     s.core.occupied.add(e5.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e5.position, pal[e5.color]);
     const std::vector<C1_House>& g6 = s.g_houses_19;
     for (const C1_House& x7 : g6) {
       const int32_t colour8 = colour_3_C1_House(s, x7);
       const Elem e9 = Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8};
       s.core.occupied.add(e9.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e9.position, pal[e9.color]);
     }
     const std::vector<C3_Sandbag>& g10 = s.g_bags_11;
     for (const C3_Sandbag& x11 : g10) {
       const Elem e12 = Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, int32_t(8)};
       s.core.occupied.add(e12.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e12.position, pal[e12.color]);
     }
     const std::vector<C4_Water>& g13 = s.g_water_7;
     for (const C4_Water& x14 : g13) {
       const Elem e15 = Elem{Pos{add(x14.origin.x, int32_t(0)), add(x14.origin.y, int32_t(0))}, int32_t(4)};
       s.core.occupied.add(e15.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e15.position, pal[e15.color]);
     }
     const C5_Spring& g16 = s.g_spring_15;
     const Elem e17 = Elem{Pos{add(g16.origin.x, int32_t(-1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e17.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e17.position, pal[e17.color]);
     const Elem e18 = Elem{Pos{add(g16.origin.x, int32_t(0)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e18.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e18.position, pal[e18.color]);
     const Elem e19 = Elem{Pos{add(g16.origin.x, int32_t(1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e19.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e19.position, pal[e19.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1564,6 +1683,13 @@ const ErrorSite Prog::kErrors[] = {
     {26, 57, nullptr, true, 26, 57, "initialising 'earth': "},
     {26, 48, nullptr, true, 26, 48, "initialising 'earth': "},
     {25, 22, nullptr, true, 25, 22, "initialising 'earth': "},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {38, 3, nullptr, true, 38, 3, ""},
+    {41, 3, nullptr, true, 41, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {44, 3, nullptr, true, 44, 3, ""},
     {62, 34, "<stdlib>", true, 53, 16, ""},
     {61, 69, "<stdlib>", true, 53, 16, ""},
     {61, 21, "<stdlib>", true, 53, 16, ""},
@@ -1576,6 +1702,23 @@ const ErrorSite Prog::kErrors[] = {
     {66, 49, nullptr, true, 66, 49, ""},
     {66, 62, nullptr, true, 66, 62, ""},
     {66, 13, nullptr, true, 66, 13, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {38, 3, nullptr, true, 38, 3, ""},
+    {41, 3, nullptr, true, 41, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {44, 3, nullptr, true, 44, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {38, 3, nullptr, true, 38, 3, ""},
+    {41, 3, nullptr, true, 41, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {44, 3, nullptr, true, 44, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

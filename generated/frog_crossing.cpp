@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_River& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_River& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_River& v) {
       save_value(w, v.origin);
     }
@@ -42,6 +51,15 @@ struct Prog {
     Pos origin;
     friend void hash_value(Hash& h, const C1_Verge& v) {
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Verge& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Verge& v) {
       save_value(w, v.origin);
@@ -56,6 +74,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C2_Pad& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Pad& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C2_Pad& v) {
       save_value(w, v.f0);
@@ -81,6 +110,23 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.cells);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C3_Car& v) {
+      ++t.objects;
+      t.cells += 6;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * int64_t(v.cells.size());  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f3);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f2);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f1);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C3_Car& v) {
       save_value(w, v.f0);
       save_value(w, v.f1);
@@ -103,6 +149,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C4_Frog& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C4_Frog& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C4_Frog& v) {
       save_value(w, v.origin);
     }
@@ -116,6 +171,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C5_Lives& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C5_Lives& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C5_Lives& v) {
       save_value(w, v.f0);
@@ -245,7 +311,7 @@ struct Prog {
       int32_t x4 = c3.x;
       int32_t y5 = c3.y;
       if ((int32_t(c3.dc) == int32_t(-1))) {
-        fail_at(13, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+        fail_at(21, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
       }
       int32_t colour6 = c3.colour;
       switch (int32_t(c3.dc)) {
@@ -432,6 +498,23 @@ struct Prog {
     // init time, programs/frog_crossing.au:33
     s.g_time_31 = int32_t(0);
     s.u_time_32 = false;
+    s.core.tally = StateTally{};
+    const C0_River& g56 = s.g_river_27;
+    tally_global(s.core, 12, "river", g56);
+    const std::vector<C2_Pad>& g57 = s.g_pads_23;
+    tally_global(s.core, 13, "pads", g57);
+    const std::vector<C3_Car>& g58 = s.g_cars_15;
+    tally_global(s.core, 14, "cars", g58);
+    const C5_Lives& g59 = s.g_lives_11;
+    tally_global(s.core, 15, "lives", g59);
+    const Pos& g60 = s.g_frogStart_4;
+    tally_global(s.core, 16, "frogStart", g60);
+    const C4_Frog& g61 = s.g_frog_7;
+    tally_global(s.core, 17, "frog", g61);
+    const std::vector<std::vector<int32_t>>& g62 = s.g_lanes_6;
+    tally_global(s.core, 18, "lanes", g62);
+    const std::vector<C1_Verge>& g63 = s.g_verges_19;
+    tally_global(s.core, 19, "verges", g63);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -463,10 +546,10 @@ struct Prog {
           // inlined: function at programs/frog_crossing.au:54
           const int32_t& g4 = s.g_time_31;
           if ((x3.f0 == int32_t(0))) {
-            fail_at(12, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+            fail_at(20, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
           }
           if (((g4 == int32_t(-2147483648LL)) && (x3.f0 == int32_t(-1)))) {
-            fail_at(12, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+            fail_at(20, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
           }
           const int32_t t5 = autumn::arith::mod_unchecked(g4, x3.f0);
           const bool t6 = (t5 == int32_t(0));
@@ -1086,76 +1169,114 @@ struct Prog {
       s.g_time_31 = t190;
       s.u_time_32 = true;
     }
+    s.core.tally = StateTally{};
+    tally_rendered(s.core, 21, "cacheRendered");
+    const C0_River& g191 = s.g_river_27;
+    tally_global(s.core, 22, "river", g191);
+    const std::vector<C2_Pad>& g192 = s.g_pads_23;
+    tally_global(s.core, 23, "pads", g192);
+    const std::vector<C3_Car>& g193 = s.g_cars_15;
+    tally_global(s.core, 24, "cars", g193);
+    const C5_Lives& g194 = s.g_lives_11;
+    tally_global(s.core, 25, "lives", g194);
+    const Pos& g195 = s.g_frogStart_4;
+    tally_global(s.core, 26, "frogStart", g195);
+    const C4_Frog& g196 = s.g_frog_7;
+    tally_global(s.core, 27, "frog", g196);
+    const std::vector<std::vector<int32_t>>& g197 = s.g_lanes_6;
+    tally_global(s.core, 28, "lanes", g197);
+    const std::vector<C1_Verge>& g198 = s.g_verges_19;
+    tally_global(s.core, 29, "verges", g198);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const C0_River& g1 = s.g_river_27;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e2.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e2.position, pal[e2.color]);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e3.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e3.position, pal[e3.color]);
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e4.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e4.position, pal[e4.color]);
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e5.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e5.position, pal[e5.color]);
     const Elem e6 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e6.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e6.position, pal[e6.color]);
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e7.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e7.position, pal[e7.color]);
     const Elem e8 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e8.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e8.position, pal[e8.color]);
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e9.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e9.position, pal[e9.color]);
     const Elem e10 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e10.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e10.position, pal[e10.color]);
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e11.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e11.position, pal[e11.color]);
     const std::vector<C1_Verge>& g12 = s.g_verges_19;
     for (const C1_Verge& x13 : g12) {
       const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e14.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e14.position, pal[e14.color]);
       const Elem e15 = Elem{Pos{add(x13.origin.x, int32_t(1)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e15.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e15.position, pal[e15.color]);
       const Elem e16 = Elem{Pos{add(x13.origin.x, int32_t(2)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e16.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e16.position, pal[e16.color]);
       const Elem e17 = Elem{Pos{add(x13.origin.x, int32_t(3)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e17.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e17.position, pal[e17.color]);
       const Elem e18 = Elem{Pos{add(x13.origin.x, int32_t(4)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e18.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e18.position, pal[e18.color]);
       const Elem e19 = Elem{Pos{add(x13.origin.x, int32_t(5)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e19.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e19.position, pal[e19.color]);
       const Elem e20 = Elem{Pos{add(x13.origin.x, int32_t(6)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e20.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e20.position, pal[e20.color]);
       const Elem e21 = Elem{Pos{add(x13.origin.x, int32_t(7)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e21.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e21.position, pal[e21.color]);
       const Elem e22 = Elem{Pos{add(x13.origin.x, int32_t(8)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e22.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e22.position, pal[e22.color]);
       const Elem e23 = Elem{Pos{add(x13.origin.x, int32_t(9)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e23.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e23.position, pal[e23.color]);
     }
     const std::vector<C2_Pad>& g24 = s.g_pads_23;
@@ -1163,6 +1284,7 @@ struct Prog {
       const int32_t colour26 = colour_6_C2_Pad(s, x25);
       const Elem e27 = Elem{Pos{add(x25.origin.x, int32_t(0)), add(x25.origin.y, int32_t(0))}, colour26};
       s.core.occupied.add(e27.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e27.position, pal[e27.color]);
     }
     const std::vector<C3_Car>& g28 = s.g_cars_15;
@@ -1172,6 +1294,7 @@ struct Prog {
       render_C3_Car(s, x29, cells30);
       for (const Elem& e31 : cells30) {
         s.core.occupied.add(e31.position);
+        ++s.core.rendered;
         if (paint) paint->paint(e31.position, pal[e31.color]);
       }
     }
@@ -1179,18 +1302,22 @@ struct Prog {
     const int32_t colour33 = colour_1_C5_Lives(s, g32);
     const Elem e34 = Elem{Pos{add(g32.origin.x, int32_t(0)), add(g32.origin.y, int32_t(0))}, colour33};
     s.core.occupied.add(e34.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e34.position, pal[e34.color]);
     const int32_t colour35 = colour_2_C5_Lives(s, g32);
     const Elem e36 = Elem{Pos{add(g32.origin.x, int32_t(1)), add(g32.origin.y, int32_t(0))}, colour35};
     s.core.occupied.add(e36.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e36.position, pal[e36.color]);
     const int32_t colour37 = colour_3_C5_Lives(s, g32);
     const Elem e38 = Elem{Pos{add(g32.origin.x, int32_t(2)), add(g32.origin.y, int32_t(0))}, colour37};
     s.core.occupied.add(e38.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e38.position, pal[e38.color]);
     const C4_Frog& g39 = s.g_frog_7;
     const Elem e40 = Elem{Pos{add(g39.origin.x, int32_t(0)), add(g39.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e40.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e40.position, pal[e40.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1279,8 +1406,24 @@ const ErrorSite Prog::kErrors[] = {
     {29, 67, nullptr, true, 29, 67, "initialising 'cars': "},
     {14, 33, nullptr, true, 14, 33, "initialising 'cars': "},
     {46, 21, nullptr, true, 46, 21, "initialising 'cars': "},
+    {36, 3, nullptr, true, 36, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
+    {46, 3, nullptr, true, 46, 3, ""},
+    {49, 3, nullptr, true, 49, 3, ""},
+    {19, 3, nullptr, true, 19, 3, ""},
+    {52, 3, nullptr, true, 52, 3, ""},
+    {22, 3, nullptr, true, 22, 3, ""},
+    {39, 3, nullptr, true, 39, 3, ""},
     {55, 13, nullptr, true, 55, 13, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {36, 3, nullptr, true, 36, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
+    {46, 3, nullptr, true, 46, 3, ""},
+    {49, 3, nullptr, true, 49, 3, ""},
+    {19, 3, nullptr, true, 19, 3, ""},
+    {52, 3, nullptr, true, 52, 3, ""},
+    {22, 3, nullptr, true, 22, 3, ""},
+    {39, 3, nullptr, true, 39, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Cloud& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Cloud& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Cloud& v) {
       save_value(w, v.origin);
     }
@@ -45,6 +54,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Sun& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C1_Sun& v) {
       save_value(w, v.f0);
       save_value(w, v.origin);
@@ -58,6 +78,15 @@ struct Prog {
     Pos origin;
     friend void hash_value(Hash& h, const C2_Drop& v) {
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Drop& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C2_Drop& v) {
       save_value(w, v.origin);
@@ -74,6 +103,19 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.f1);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C3_Plant& v) {
+      ++t.objects;
+      t.cells += 4;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f1);
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C3_Plant& v) {
       save_value(w, v.f0);
@@ -92,6 +134,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C4_Basket& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C4_Basket& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C4_Basket& v) {
       save_value(w, v.f0);
@@ -372,6 +425,21 @@ struct Prog {
     C1_Sun o8 = C1_Sun{true, Pos{int32_t(11), int32_t(0)}};
     s.g_sun_23 = std::move(o8);
     s.u_sun_24 = false;
+    s.core.tally = StateTally{};
+    const C0_Cloud& g9 = s.g_cloud_19;
+    tally_global(s.core, 0, "cloud", g9);
+    const std::vector<C3_Plant>& g10 = s.g_plants_15;
+    tally_global(s.core, 1, "plants", g10);
+    const std::vector<int32_t>& g11 = s.g_petals_4;
+    tally_global(s.core, 2, "petals", g11);
+    const std::vector<bool>& g12 = s.g_growChance_5;
+    tally_global(s.core, 3, "growChance", g12);
+    const std::vector<C2_Drop>& g13 = s.g_drops_11;
+    tally_global(s.core, 4, "drops", g13);
+    const C4_Basket& g14 = s.g_basket_7;
+    tally_global(s.core, 5, "basket", g14);
+    const C1_Sun& g15 = s.g_sun_23;
+    tally_global(s.core, 6, "sun", g15);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -558,7 +626,7 @@ struct Prog {
           if (t57) {
             const std::vector<bool>& g59 = s.g_growChance_5;
             if (g59.empty()) {
-              fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
+              fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
             }
             const int32_t t60 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g59.size())))));
             const bool t61 = g59[size_t(t60)];
@@ -722,7 +790,7 @@ struct Prog {
           const Pos& g104 = s.g_click_27;
           r103 = g104;
         } else {
-          fail_at(1, std::string() + std::string("undefined variable 'click'"));
+          fail_at(8, std::string() + std::string("undefined variable 'click'"));
         }
         // inlined: function at programs/garden.au:41
         const bool t105 = (r103.y >= int32_t(2));
@@ -740,7 +808,7 @@ struct Prog {
             const Pos& g110 = s.g_click_27;
             r109 = g110;
           } else {
-            fail_at(2, std::string() + std::string("undefined variable 'click'"));
+            fail_at(9, std::string() + std::string("undefined variable 'click'"));
           }
           const bool t111 = s.core.occupied.free(r109);
           bool r112{};
@@ -765,7 +833,7 @@ struct Prog {
         const std::vector<C3_Plant>& g116 = s.g_plants_15;
         const std::vector<int32_t>& g117 = s.g_petals_4;
         if (g117.empty()) {
-          fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(10, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t118 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g117.size())))));
         const int32_t t119 = g117[size_t(t118)];
@@ -774,18 +842,18 @@ struct Prog {
           const Pos& g121 = s.g_click_27;
           r120 = g121;
         } else {
-          fail_at(4, std::string() + std::string("undefined variable 'click'"));
+          fail_at(11, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r122{};
         if (s.d_click_28) {
           const Pos& g123 = s.g_click_27;
           r122 = g123;
         } else {
-          fail_at(5, std::string() + std::string("undefined variable 'click'"));
+          fail_at(12, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t124 = Pos{r120.x, r122.y};
         C3_Plant o125 = C3_Plant{int32_t(0), t119, t124};
-        check_length(s.core, 6, int64_t(g116.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 13, int64_t(g116.size()) + int64_t(int32_t(1)));
         std::vector<C3_Plant>& added126 = s.scratch.v.b14;
         added126.clear();
         added126.reserve(size_t(add(int32_t(g116.size()), int32_t(1))));
@@ -880,14 +948,14 @@ struct Prog {
         const C0_Cloud& g150 = s.g_cloud_19;
         const std::vector<int32_t> list151 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
         if (list151.empty()) {
-          fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(14, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t152 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list151.size())))));
         const int32_t t153 = list151[size_t(t152)];
         const int32_t t154 = add(g150.origin.x, t153);
         const Pos t155 = Pos{t154, int32_t(1)};
         C2_Drop o156 = C2_Drop{t155};
-        check_length(s.core, 8, int64_t(g149.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 15, int64_t(g149.size()) + int64_t(int32_t(1)));
         std::vector<C2_Drop>& added157 = s.scratch.v.b15;
         added157.clear();
         added157.reserve(size_t(add(int32_t(g149.size()), int32_t(1))));
@@ -971,90 +1039,146 @@ struct Prog {
       s.g_sun_23 = prev168;
       s.u_sun_24 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_28) {
+      tally_rendered(s.core, 16, "cacheRendered");
+      const C0_Cloud& g169 = s.g_cloud_19;
+      tally_global(s.core, 17, "cloud", g169);
+      const std::vector<C3_Plant>& g170 = s.g_plants_15;
+      tally_global(s.core, 18, "plants", g170);
+      const std::vector<int32_t>& g171 = s.g_petals_4;
+      tally_global(s.core, 19, "petals", g171);
+      if (s.d_click_28) {
+        const Pos& g172 = s.g_click_27;
+        tally_global(s.core, 20, "click", g172);
+      }
+      const std::vector<bool>& g173 = s.g_growChance_5;
+      tally_global(s.core, 21, "growChance", g173);
+      const std::vector<C2_Drop>& g174 = s.g_drops_11;
+      tally_global(s.core, 22, "drops", g174);
+      const C4_Basket& g175 = s.g_basket_7;
+      tally_global(s.core, 23, "basket", g175);
+      const C1_Sun& g176 = s.g_sun_23;
+      tally_global(s.core, 24, "sun", g176);
+    } else {
+      tally_rendered(s.core, 25, "cacheRendered");
+      const C0_Cloud& g177 = s.g_cloud_19;
+      tally_global(s.core, 26, "cloud", g177);
+      const std::vector<C3_Plant>& g178 = s.g_plants_15;
+      tally_global(s.core, 27, "plants", g178);
+      const std::vector<int32_t>& g179 = s.g_petals_4;
+      tally_global(s.core, 28, "petals", g179);
+      const std::vector<bool>& g180 = s.g_growChance_5;
+      tally_global(s.core, 29, "growChance", g180);
+      const std::vector<C2_Drop>& g181 = s.g_drops_11;
+      tally_global(s.core, 30, "drops", g181);
+      const C4_Basket& g182 = s.g_basket_7;
+      tally_global(s.core, 31, "basket", g182);
+      const C1_Sun& g183 = s.g_sun_23;
+      tally_global(s.core, 32, "sun", g183);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const C1_Sun& g1 = s.g_sun_23;
     const int32_t colour2 = colour_16_C1_Sun(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e3.position, pal[e3.color]);
     const C0_Cloud& g4 = s.g_cloud_19;
     const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(-1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e5.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e5.position, pal[e5.color]);
     const Elem e6 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e6.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e6.position, pal[e6.color]);
     const Elem e7 = Elem{Pos{add(g4.origin.x, int32_t(1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e7.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e7.position, pal[e7.color]);
     const std::vector<C3_Plant>& g8 = s.g_plants_15;
     for (const C3_Plant& x9 : g8) {
       const int32_t colour10 = colour_12_C3_Plant(s, x9);
       const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
       s.core.occupied.add(e11.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e11.position, pal[e11.color]);
     }
     const std::vector<C2_Drop>& g12 = s.g_drops_11;
     for (const C2_Drop& x13 : g12) {
       const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(12)};
       s.core.occupied.add(e14.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e14.position, pal[e14.color]);
     }
     const C4_Basket& g15 = s.g_basket_7;
     const int32_t colour16 = colour_0_C4_Basket(s, g15);
     const Elem e17 = Elem{Pos{add(g15.origin.x, int32_t(0)), add(g15.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e17.position, pal[e17.color]);
     const int32_t colour18 = colour_1_C4_Basket(s, g15);
     const Elem e19 = Elem{Pos{add(g15.origin.x, int32_t(1)), add(g15.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e19.position, pal[e19.color]);
     const int32_t colour20 = colour_2_C4_Basket(s, g15);
     const Elem e21 = Elem{Pos{add(g15.origin.x, int32_t(2)), add(g15.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e21.position, pal[e21.color]);
     const int32_t colour22 = colour_3_C4_Basket(s, g15);
     const Elem e23 = Elem{Pos{add(g15.origin.x, int32_t(3)), add(g15.origin.y, int32_t(0))}, colour22};
     s.core.occupied.add(e23.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e23.position, pal[e23.color]);
     const int32_t colour24 = colour_4_C4_Basket(s, g15);
     const Elem e25 = Elem{Pos{add(g15.origin.x, int32_t(4)), add(g15.origin.y, int32_t(0))}, colour24};
     s.core.occupied.add(e25.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e25.position, pal[e25.color]);
     const int32_t colour26 = colour_5_C4_Basket(s, g15);
     const Elem e27 = Elem{Pos{add(g15.origin.x, int32_t(5)), add(g15.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e27.position, pal[e27.color]);
     const int32_t colour28 = colour_6_C4_Basket(s, g15);
     const Elem e29 = Elem{Pos{add(g15.origin.x, int32_t(6)), add(g15.origin.y, int32_t(0))}, colour28};
     s.core.occupied.add(e29.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e29.position, pal[e29.color]);
     const int32_t colour30 = colour_7_C4_Basket(s, g15);
     const Elem e31 = Elem{Pos{add(g15.origin.x, int32_t(7)), add(g15.origin.y, int32_t(0))}, colour30};
     s.core.occupied.add(e31.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e31.position, pal[e31.color]);
     const int32_t colour32 = colour_8_C4_Basket(s, g15);
     const Elem e33 = Elem{Pos{add(g15.origin.x, int32_t(8)), add(g15.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e33.position, pal[e33.color]);
     const int32_t colour34 = colour_9_C4_Basket(s, g15);
     const Elem e35 = Elem{Pos{add(g15.origin.x, int32_t(9)), add(g15.origin.y, int32_t(0))}, colour34};
     s.core.occupied.add(e35.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e35.position, pal[e35.color]);
     const int32_t colour36 = colour_10_C4_Basket(s, g15);
     const Elem e37 = Elem{Pos{add(g15.origin.x, int32_t(10)), add(g15.origin.y, int32_t(0))}, colour36};
     s.core.occupied.add(e37.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e37.position, pal[e37.color]);
     const int32_t colour38 = colour_11_C4_Basket(s, g15);
     const Elem e39 = Elem{Pos{add(g15.origin.x, int32_t(11)), add(g15.origin.y, int32_t(0))}, colour38};
     s.core.occupied.add(e39.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e39.position, pal[e39.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1138,6 +1262,13 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {28, 3, nullptr, true, 28, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {20, 3, nullptr, true, 20, 3, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
     {56, 61, nullptr, true, 56, 61, ""},
     {66, 27, nullptr, true, 66, 27, ""},
     {66, 48, nullptr, true, 66, 48, ""},
@@ -1147,6 +1278,23 @@ const ErrorSite Prog::kErrors[] = {
     {67, 15, nullptr, true, 67, 15, ""},
     {71, 79, nullptr, true, 71, 79, ""},
     {71, 21, nullptr, true, 71, 21, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {20, 3, nullptr, true, 20, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {20, 3, nullptr, true, 20, 3, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

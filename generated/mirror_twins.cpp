@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Wall& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Wall& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Wall& v) {
       save_value(w, v.origin);
     }
@@ -44,6 +53,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C1_Goal& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Goal& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Goal& v) {
       save_value(w, v.f0);
@@ -61,6 +81,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Twin& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C2_Twin& v) {
       save_value(w, v.f0);
       save_value(w, v.origin);
@@ -76,6 +107,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C3_Stars& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C3_Stars& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C3_Stars& v) {
       save_value(w, v.f0);
@@ -411,6 +453,23 @@ struct Prog {
     C3_Stars o35 = C3_Stars{int32_t(0), Pos{int32_t(0), int32_t(0)}};
     s.g_stars_27 = std::move(o35);
     s.u_stars_28 = false;
+    s.core.tally = StateTally{};
+    const std::vector<C0_Wall>& g36 = s.g_walls_23;
+    tally_global(s.core, 3, "walls", g36);
+    const C2_Twin& g37 = s.g_red_7;
+    tally_global(s.core, 4, "red", g37);
+    const std::vector<Pos>& g38 = s.g_wallSpots_4;
+    tally_global(s.core, 5, "wallSpots", g38);
+    const std::vector<Pos>& g39 = s.g_startOpen_6;
+    tally_global(s.core, 6, "startOpen", g39);
+    const C2_Twin& g40 = s.g_blue_11;
+    tally_global(s.core, 7, "blue", g40);
+    const C1_Goal& g41 = s.g_blueGoal_19;
+    tally_global(s.core, 8, "blueGoal", g41);
+    const C3_Stars& g42 = s.g_stars_27;
+    tally_global(s.core, 9, "stars", g42);
+    const C1_Goal& g43 = s.g_redGoal_15;
+    tally_global(s.core, 10, "redGoal", g43);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1354,7 +1413,7 @@ struct Prog {
         s.u_stars_28 = true;
         // inlined: function at programs/mirror_twins.au:61
         if ((int32_t(10) < int32_t(0))) {
-          fail_at(3, std::string() + std::string("allPositions: negative size"));
+          fail_at(11, std::string() + std::string("allPositions: negative size"));
         }
         std::vector<Pos>& apos331 = s.scratch.v.b30;
         apos331.clear();
@@ -1436,7 +1495,7 @@ struct Prog {
             }
           }
           if (out359.empty()) {
-            fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(12, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t362 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out359.size())))));
           const Pos t363 = out359[size_t(t362)];
@@ -1479,7 +1538,7 @@ struct Prog {
             }
           }
           if (out373.empty()) {
-            fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(13, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t376 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out373.size())))));
           const Pos t377 = out373[size_t(t376)];
@@ -1569,7 +1628,7 @@ struct Prog {
           const Pos& g398 = s.g_click_31;
           r397 = g398;
         } else {
-          fail_at(6, std::string() + std::string("undefined variable 'click'"));
+          fail_at(14, std::string() + std::string("undefined variable 'click'"));
         }
         const bool t399 = (r397.y >= int32_t(1));
         bool r400{};
@@ -1579,7 +1638,7 @@ struct Prog {
             const Pos& g402 = s.g_click_31;
             r401 = g402;
           } else {
-            fail_at(7, std::string() + std::string("undefined variable 'click'"));
+            fail_at(15, std::string() + std::string("undefined variable 'click'"));
           }
           const bool t403 = s.core.occupied.free(r401);
           bool r404{};
@@ -1607,18 +1666,18 @@ struct Prog {
           const Pos& g410 = s.g_click_31;
           r409 = g410;
         } else {
-          fail_at(8, std::string() + std::string("undefined variable 'click'"));
+          fail_at(16, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r411{};
         if (s.d_click_32) {
           const Pos& g412 = s.g_click_31;
           r411 = g412;
         } else {
-          fail_at(9, std::string() + std::string("undefined variable 'click'"));
+          fail_at(17, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t413 = Pos{r409.x, r411.y};
         C0_Wall o414 = C0_Wall{t413};
-        check_length(s.core, 10, int64_t(g408.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 18, int64_t(g408.size()) + int64_t(int32_t(1)));
         std::vector<C0_Wall>& added415 = s.scratch.v.b39;
         added415.clear();
         added415.reserve(size_t(add(int32_t(g408.size()), int32_t(1))));
@@ -1694,80 +1753,137 @@ struct Prog {
       s.g_stars_27 = prev422;
       s.u_stars_28 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_32) {
+      tally_rendered(s.core, 19, "cacheRendered");
+      const std::vector<C0_Wall>& g423 = s.g_walls_23;
+      tally_global(s.core, 20, "walls", g423);
+      const C2_Twin& g424 = s.g_red_7;
+      tally_global(s.core, 21, "red", g424);
+      const std::vector<Pos>& g425 = s.g_wallSpots_4;
+      tally_global(s.core, 22, "wallSpots", g425);
+      if (s.d_click_32) {
+        const Pos& g426 = s.g_click_31;
+        tally_global(s.core, 23, "click", g426);
+      }
+      const std::vector<Pos>& g427 = s.g_startOpen_6;
+      tally_global(s.core, 24, "startOpen", g427);
+      const C2_Twin& g428 = s.g_blue_11;
+      tally_global(s.core, 25, "blue", g428);
+      const C1_Goal& g429 = s.g_blueGoal_19;
+      tally_global(s.core, 26, "blueGoal", g429);
+      const C3_Stars& g430 = s.g_stars_27;
+      tally_global(s.core, 27, "stars", g430);
+      const C1_Goal& g431 = s.g_redGoal_15;
+      tally_global(s.core, 28, "redGoal", g431);
+    } else {
+      tally_rendered(s.core, 29, "cacheRendered");
+      const std::vector<C0_Wall>& g432 = s.g_walls_23;
+      tally_global(s.core, 30, "walls", g432);
+      const C2_Twin& g433 = s.g_red_7;
+      tally_global(s.core, 31, "red", g433);
+      const std::vector<Pos>& g434 = s.g_wallSpots_4;
+      tally_global(s.core, 32, "wallSpots", g434);
+      const std::vector<Pos>& g435 = s.g_startOpen_6;
+      tally_global(s.core, 33, "startOpen", g435);
+      const C2_Twin& g436 = s.g_blue_11;
+      tally_global(s.core, 34, "blue", g436);
+      const C1_Goal& g437 = s.g_blueGoal_19;
+      tally_global(s.core, 35, "blueGoal", g437);
+      const C3_Stars& g438 = s.g_stars_27;
+      tally_global(s.core, 36, "stars", g438);
+      const C1_Goal& g439 = s.g_redGoal_15;
+      tally_global(s.core, 37, "redGoal", g439);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const C3_Stars& g1 = s.g_stars_27;
     const int32_t colour2 = colour_3_C3_Stars(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e3.position, pal[e3.color]);
     const int32_t colour4 = colour_4_C3_Stars(s, g1);
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, colour4};
     s.core.occupied.add(e5.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e5.position, pal[e5.color]);
     const int32_t colour6 = colour_5_C3_Stars(s, g1);
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, colour6};
     s.core.occupied.add(e7.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e7.position, pal[e7.color]);
     const int32_t colour8 = colour_6_C3_Stars(s, g1);
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, colour8};
     s.core.occupied.add(e9.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e9.position, pal[e9.color]);
     const int32_t colour10 = colour_7_C3_Stars(s, g1);
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, colour10};
     s.core.occupied.add(e11.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e11.position, pal[e11.color]);
     const int32_t colour12 = colour_8_C3_Stars(s, g1);
     const Elem e13 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e13.position, pal[e13.color]);
     const int32_t colour14 = colour_9_C3_Stars(s, g1);
     const Elem e15 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e15.position, pal[e15.color]);
     const int32_t colour16 = colour_10_C3_Stars(s, g1);
     const Elem e17 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e17.position, pal[e17.color]);
     const int32_t colour18 = colour_11_C3_Stars(s, g1);
     const Elem e19 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e19.position, pal[e19.color]);
     const int32_t colour20 = colour_12_C3_Stars(s, g1);
     const Elem e21 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e21.position, pal[e21.color]);
     const std::vector<C0_Wall>& g22 = s.g_walls_23;
     for (const C0_Wall& x23 : g22) {
       const Elem e24 = Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)};
       s.core.occupied.add(e24.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e24.position, pal[e24.color]);
     }
     const C1_Goal& g25 = s.g_blueGoal_19;
     const int32_t colour26 = colour_1_C1_Goal(s, g25);
     const Elem e27 = Elem{Pos{add(g25.origin.x, int32_t(0)), add(g25.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e27.position, pal[e27.color]);
     const C1_Goal& g28 = s.g_redGoal_15;
     const int32_t colour29 = colour_1_C1_Goal(s, g28);
     const Elem e30 = Elem{Pos{add(g28.origin.x, int32_t(0)), add(g28.origin.y, int32_t(0))}, colour29};
     s.core.occupied.add(e30.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e30.position, pal[e30.color]);
     const C2_Twin& g31 = s.g_blue_11;
     const int32_t colour32 = colour_0_C2_Twin(s, g31);
     const Elem e33 = Elem{Pos{add(g31.origin.x, int32_t(0)), add(g31.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e33.position, pal[e33.color]);
     const C2_Twin& g34 = s.g_red_7;
     const int32_t colour35 = colour_0_C2_Twin(s, g34);
     const Elem e36 = Elem{Pos{add(g34.origin.x, int32_t(0)), add(g34.origin.y, int32_t(0))}, colour35};
     s.core.occupied.add(e36.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e36.position, pal[e36.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1848,6 +1964,14 @@ const ErrorSite Prog::kErrors[] = {
     {24, 24, nullptr, true, 24, 24, ""},
     {36, 43, nullptr, true, 36, 43, "initialising 'redGoal': "},
     {33, 46, nullptr, true, 33, 46, "initialising 'blueGoal': "},
+    {30, 3, nullptr, true, 30, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {23, 3, nullptr, true, 23, 3, ""},
+    {39, 3, nullptr, true, 39, 3, ""},
+    {33, 3, nullptr, true, 33, 3, ""},
+    {27, 3, nullptr, true, 27, 3, ""},
+    {36, 3, nullptr, true, 36, 3, ""},
     {63, 33, nullptr, true, 63, 33, ""},
     {74, 89, nullptr, true, 74, 89, ""},
     {75, 87, nullptr, true, 75, 87, ""},
@@ -1856,6 +1980,25 @@ const ErrorSite Prog::kErrors[] = {
     {80, 48, nullptr, true, 80, 48, ""},
     {80, 61, nullptr, true, 80, 61, ""},
     {80, 14, nullptr, true, 80, 14, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {30, 3, nullptr, true, 30, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {23, 3, nullptr, true, 23, 3, ""},
+    {39, 3, nullptr, true, 39, 3, ""},
+    {33, 3, nullptr, true, 33, 3, ""},
+    {27, 3, nullptr, true, 27, 3, ""},
+    {36, 3, nullptr, true, 36, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {30, 3, nullptr, true, 30, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {23, 3, nullptr, true, 23, 3, ""},
+    {39, 3, nullptr, true, 39, 3, ""},
+    {33, 3, nullptr, true, 33, 3, ""},
+    {27, 3, nullptr, true, 27, 3, ""},
+    {36, 3, nullptr, true, 36, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Fence& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Fence& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Fence& v) {
       save_value(w, v.origin);
     }
@@ -42,6 +51,15 @@ struct Prog {
     Pos origin;
     friend void hash_value(Hash& h, const C1_Flag& v) {
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Flag& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Flag& v) {
       save_value(w, v.origin);
@@ -57,6 +75,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Sheep& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C2_Sheep& v) {
       save_value(w, v.f0);
       save_value(w, v.origin);
@@ -70,6 +99,15 @@ struct Prog {
     Pos origin;
     friend void hash_value(Hash& h, const C3_Dog& v) {
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C3_Dog& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C3_Dog& v) {
       save_value(w, v.origin);
@@ -290,6 +328,21 @@ struct Prog {
     }
     std::swap(s.g_fences_19, out32);
     s.u_fences_20 = false;
+    s.core.tally = StateTally{};
+    const std::vector<C0_Fence>& g35 = s.g_fences_19;
+    tally_global(s.core, 1, "fences", g35);
+    const C3_Dog& g36 = s.g_dog_15;
+    tally_global(s.core, 2, "dog", g36);
+    const std::vector<C2_Sheep>& g37 = s.g_sheep_7;
+    tally_global(s.core, 3, "sheep", g37);
+    const std::vector<Pos>& g38 = s.g_gate_6;
+    tally_global(s.core, 4, "gate", g38);
+    const std::vector<Pos>& g39 = s.g_wanderSteps_5;
+    tally_global(s.core, 5, "wanderSteps", g39);
+    const std::vector<Pos>& g40 = s.g_sheepStarts_4;
+    tally_global(s.core, 6, "sheepStarts", g40);
+    const std::vector<C1_Flag>& g41 = s.g_flags_11;
+    tally_global(s.core, 7, "flags", g41);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -741,7 +794,7 @@ struct Prog {
         const C3_Dog& prev156 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
         const std::vector<C1_Flag>& prev157 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
         if (prev157.empty()) {
-          fail_at(1, std::string() + std::string("head of an empty list"));
+          fail_at(8, std::string() + std::string("head of an empty list"));
         }
         const C1_Flag t158 = prev157.front();
         // inlined: function at programs/sheepdog.au:62
@@ -977,7 +1030,7 @@ struct Prog {
         const C3_Dog& g253 = s.g_dog_15;
         const std::vector<C1_Flag>& g254 = s.g_flags_11;
         if (g254.empty()) {
-          fail_at(2, std::string() + std::string("head of an empty list"));
+          fail_at(9, std::string() + std::string("head of an empty list"));
         }
         const C1_Flag t255 = g254.front();
         Pos l_delta256{};
@@ -1056,14 +1109,14 @@ struct Prog {
           const Pos& g278 = s.g_click_23;
           r277 = g278;
         } else {
-          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+          fail_at(10, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r279{};
         if (s.d_click_24) {
           const Pos& g280 = s.g_click_23;
           r279 = g280;
         } else {
-          fail_at(4, std::string() + std::string("undefined variable 'click'"));
+          fail_at(11, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t281 = Pos{r277.x, r279.y};
         C1_Flag o282 = C1_Flag{t281};
@@ -1197,7 +1250,7 @@ struct Prog {
             } else {
               const std::vector<Pos>& g335 = s.g_wanderSteps_5;
               if (g335.empty()) {
-                fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
+                fail_at(12, std::string() + std::string("uniformChoice of an empty list"));
               }
               const int32_t t336 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g335.size())))));
               const Pos t337 = g335[size_t(t336)];
@@ -1333,7 +1386,7 @@ struct Prog {
             } else {
               const std::vector<Pos>& g382 = s.g_wanderSteps_5;
               if (g382.empty()) {
-                fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
+                fail_at(13, std::string() + std::string("uniformChoice of an empty list"));
               }
               const int32_t t383 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g382.size())))));
               const Pos t384 = g382[size_t(t383)];
@@ -1502,7 +1555,7 @@ struct Prog {
             upd440.f0 = r436;
             r287 = std::move(upd440);
           }
-          check_length(s.core, 7, int64_t(acc285.size()) + int64_t(int32_t(1)));
+          check_length(s.core, 14, int64_t(acc285.size()) + int64_t(int32_t(1)));
           std::vector<C2_Sheep>& added441 = s.scratch.v.b47;
           added441.clear();
           added441.reserve(size_t(add(int32_t(acc285.size()), int32_t(1))));
@@ -1635,24 +1688,64 @@ struct Prog {
       s.g_fences_19 = prev466;
       s.u_fences_20 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_24) {
+      tally_rendered(s.core, 15, "cacheRendered");
+      const std::vector<C0_Fence>& g467 = s.g_fences_19;
+      tally_global(s.core, 16, "fences", g467);
+      const C3_Dog& g468 = s.g_dog_15;
+      tally_global(s.core, 17, "dog", g468);
+      const std::vector<C2_Sheep>& g469 = s.g_sheep_7;
+      tally_global(s.core, 18, "sheep", g469);
+      const std::vector<Pos>& g470 = s.g_gate_6;
+      tally_global(s.core, 19, "gate", g470);
+      const std::vector<Pos>& g471 = s.g_wanderSteps_5;
+      tally_global(s.core, 20, "wanderSteps", g471);
+      const std::vector<Pos>& g472 = s.g_sheepStarts_4;
+      tally_global(s.core, 21, "sheepStarts", g472);
+      if (s.d_click_24) {
+        const Pos& g473 = s.g_click_23;
+        tally_global(s.core, 22, "click", g473);
+      }
+      const std::vector<C1_Flag>& g474 = s.g_flags_11;
+      tally_global(s.core, 23, "flags", g474);
+    } else {
+      tally_rendered(s.core, 24, "cacheRendered");
+      const std::vector<C0_Fence>& g475 = s.g_fences_19;
+      tally_global(s.core, 25, "fences", g475);
+      const C3_Dog& g476 = s.g_dog_15;
+      tally_global(s.core, 26, "dog", g476);
+      const std::vector<C2_Sheep>& g477 = s.g_sheep_7;
+      tally_global(s.core, 27, "sheep", g477);
+      const std::vector<Pos>& g478 = s.g_gate_6;
+      tally_global(s.core, 28, "gate", g478);
+      const std::vector<Pos>& g479 = s.g_wanderSteps_5;
+      tally_global(s.core, 29, "wanderSteps", g479);
+      const std::vector<Pos>& g480 = s.g_sheepStarts_4;
+      tally_global(s.core, 30, "sheepStarts", g480);
+      const std::vector<C1_Flag>& g481 = s.g_flags_11;
+      tally_global(s.core, 31, "flags", g481);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Fence>& g1 = s.g_fences_19;
     for (const C0_Fence& x2 : g1) {
       const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
       s.core.occupied.add(e3.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e3.position, pal[e3.color]);
     }
     const std::vector<C1_Flag>& g4 = s.g_flags_11;
     for (const C1_Flag& x5 : g4) {
       const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
       s.core.occupied.add(e6.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e6.position, pal[e6.color]);
     }
     const std::vector<C2_Sheep>& g7 = s.g_sheep_7;
@@ -1660,11 +1753,13 @@ struct Prog {
       const int32_t colour9 = colour_0_C2_Sheep(s, x8);
       const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
       s.core.occupied.add(e10.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e10.position, pal[e10.color]);
     }
     const C3_Dog& g11 = s.g_dog_15;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(0)};
     s.core.occupied.add(e12.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e12.position, pal[e12.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1735,6 +1830,13 @@ const char* const Prog::kColours[] = {
 
 const ErrorSite Prog::kErrors[] = {
     {27, 44, nullptr, true, 27, 44, "initialising 'fences': "},
+    {26, 3, nullptr, true, 26, 3, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {19, 3, nullptr, true, 19, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
     {74, 33, nullptr, true, 74, 33, ""},
     {75, 65, nullptr, true, 75, 65, ""},
     {78, 40, nullptr, true, 78, 40, ""},
@@ -1742,6 +1844,23 @@ const ErrorSite Prog::kErrors[] = {
     {56, 66, nullptr, true, 56, 66, ""},
     {57, 58, nullptr, true, 57, 58, ""},
     {80, 41, nullptr, true, 80, 41, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {26, 3, nullptr, true, 26, 3, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {19, 3, nullptr, true, 19, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {26, 3, nullptr, true, 26, 3, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {19, 3, nullptr, true, 19, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

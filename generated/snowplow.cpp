@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Flake& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Flake& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Flake& v) {
       save_value(w, v.origin);
     }
@@ -44,6 +53,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C1_Melt& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Melt& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Melt& v) {
       save_value(w, v.f0);
@@ -59,6 +79,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C2_Rock& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Rock& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C2_Rock& v) {
       save_value(w, v.origin);
     }
@@ -70,6 +99,15 @@ struct Prog {
     Pos origin;
     friend void hash_value(Hash& h, const C3_Plow& v) {
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C3_Plow& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C3_Plow& v) {
       save_value(w, v.origin);
@@ -84,6 +122,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C4_Cloud& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C4_Cloud& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C4_Cloud& v) {
       save_value(w, v.f0);
@@ -428,6 +477,17 @@ struct Prog {
     // init time, programs/snowplow.au:18
     s.g_time_25 = int32_t(0);
     s.u_time_26 = false;
+    s.core.tally = StateTally{};
+    const C4_Cloud& g9 = s.g_cloud_21;
+    tally_global(s.core, 0, "cloud", g9);
+    const std::vector<C2_Rock>& g10 = s.g_rocks_17;
+    tally_global(s.core, 1, "rocks", g10);
+    const std::vector<C1_Melt>& g11 = s.g_melt_13;
+    tally_global(s.core, 2, "melt", g11);
+    const C3_Plow& g12 = s.g_plow_5;
+    tally_global(s.core, 3, "plow", g12);
+    const std::vector<C0_Flake>& g13 = s.g_snow_9;
+    tally_global(s.core, 4, "snow", g13);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -504,18 +564,18 @@ struct Prog {
           const Pos& g17 = s.g_click_29;
           r16 = g17;
         } else {
-          fail_at(0, std::string() + std::string("undefined variable 'click'"));
+          fail_at(5, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r18{};
         if (s.d_click_30) {
           const Pos& g19 = s.g_click_29;
           r18 = g19;
         } else {
-          fail_at(1, std::string() + std::string("undefined variable 'click'"));
+          fail_at(6, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t20 = Pos{r16.x, r18.y};
         C1_Melt o21 = C1_Melt{int32_t(10), t20};
-        check_length(s.core, 2, int64_t(prev15.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 7, int64_t(prev15.size()) + int64_t(int32_t(1)));
         std::vector<C1_Melt>& added22 = s.scratch.v.b3;
         added22.clear();
         added22.reserve(size_t(add(int32_t(prev15.size()), int32_t(1))));
@@ -602,7 +662,7 @@ struct Prog {
           const Pos& g42 = s.g_click_29;
           r41 = g42;
         } else {
-          fail_at(3, std::string() + std::string("undefined variable 'click'"));
+          fail_at(8, std::string() + std::string("undefined variable 'click'"));
         }
         const bool t43 = s.core.occupied.free(r41);
         bool r44{};
@@ -626,18 +686,18 @@ struct Prog {
           const Pos& g50 = s.g_click_29;
           r49 = g50;
         } else {
-          fail_at(4, std::string() + std::string("undefined variable 'click'"));
+          fail_at(9, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r51{};
         if (s.d_click_30) {
           const Pos& g52 = s.g_click_29;
           r51 = g52;
         } else {
-          fail_at(5, std::string() + std::string("undefined variable 'click'"));
+          fail_at(10, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t53 = Pos{r49.x, r51.y};
         C2_Rock o54 = C2_Rock{t53};
-        check_length(s.core, 6, int64_t(g48.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 11, int64_t(g48.size()) + int64_t(int32_t(1)));
         std::vector<C2_Rock>& added55 = s.scratch.v.b7;
         added55.clear();
         added55.reserve(size_t(add(int32_t(g48.size()), int32_t(1))));
@@ -815,7 +875,7 @@ struct Prog {
             l_xmax122 = t120.x;
             l_ymin123 = t118.y;
             l_ymax124 = t120.y;
-            check_length(s.core, 7, int64_t(l_ymax124) - int64_t(l_ymin123));
+            check_length(s.core, 12, int64_t(l_ymax124) - int64_t(l_ymin123));
             std::vector<int32_t>& range126 = s.scratch.v.b21;
             range126.clear();
             for (int32_t i127 = l_ymin123, i127_end = l_ymax124; i127 < i127_end; ++i127) {
@@ -825,7 +885,7 @@ struct Prog {
             out128.clear();
             out128.reserve(size_t(int32_t(range126.size())));
             for (const int32_t& x129 : range126) {
-              check_length(s.core, 8, int64_t(l_xmax122) - int64_t(l_xmin121));
+              check_length(s.core, 13, int64_t(l_xmax122) - int64_t(l_xmin121));
               std::vector<int32_t>& range130 = s.scratch.v.b23;
               range130.clear();
               for (int32_t i131 = l_xmin121, i131_end = l_xmax122; i131 < i131_end; ++i131) {
@@ -839,7 +899,7 @@ struct Prog {
               }
               out128.push_back(std::move(out132));
             }
-            check_length(s.core, 9, total_size(out128));
+            check_length(s.core, 14, total_size(out128));
             std::vector<Pos>& cat135 = s.scratch.v.b24;
             cat135.clear();
             for (const std::vector<Pos>& part136 : out128) {
@@ -890,7 +950,7 @@ struct Prog {
                 r155 = x95.origin;
               } else {
                 if (l_holes116.empty()) {
-                  fail_at(10, std::string() + std::string("head of an empty list"));
+                  fail_at(15, std::string() + std::string("head of an empty list"));
                 }
                 const Pos t156 = l_holes116.front();
                 Pos acc157 = t156;
@@ -1264,10 +1324,10 @@ struct Prog {
       const C4_Cloud& g287 = s.g_cloud_21;
       const int32_t t288 = sub(int32_t(5), g287.f0);
       if ((t288 == int32_t(0))) {
-        fail_at(11, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        fail_at(16, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
       if (((g286 == int32_t(-2147483648LL)) && (t288 == int32_t(-1)))) {
-        fail_at(11, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+        fail_at(16, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
       const int32_t t289 = autumn::arith::mod_unchecked(g286, t288);
       const bool t290 = (t289 == int32_t(0));
@@ -1285,7 +1345,7 @@ struct Prog {
         Pos l_drop295{};
         C0_Flake l_flake296{};
         if ((int32_t(255) < int32_t(0))) {
-          fail_at(12, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(17, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
         std::vector<Pos>& rpos297 = s.scratch.v.b34;
         rpos297.clear();
@@ -1296,7 +1356,7 @@ struct Prog {
           rpos297.push_back(t301);
         }
         if (rpos297.empty()) {
-          fail_at(13, std::string() + std::string("head of an empty list"));
+          fail_at(18, std::string() + std::string("head of an empty list"));
         }
         const Pos t302 = rpos297.front();
         const int32_t t303 = autumn::arith::mod_unchecked(t302.x, int32_t(16));
@@ -1321,7 +1381,7 @@ struct Prog {
         r312.clear();
         if (t311) {
           const std::vector<C0_Flake>& g313 = s.g_snow_9;
-          check_length(s.core, 14, int64_t(g313.size()) + int64_t(int32_t(1)));
+          check_length(s.core, 19, int64_t(g313.size()) + int64_t(int32_t(1)));
           std::vector<C0_Flake>& added314 = s.scratch.v.b37;
           added314.clear();
           added314.reserve(size_t(add(int32_t(g313.size()), int32_t(1))));
@@ -1403,89 +1463,137 @@ struct Prog {
       s.g_time_25 = t323;
       s.u_time_26 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_30) {
+      tally_rendered(s.core, 20, "cacheRendered");
+      const C4_Cloud& g324 = s.g_cloud_21;
+      tally_global(s.core, 21, "cloud", g324);
+      const std::vector<C2_Rock>& g325 = s.g_rocks_17;
+      tally_global(s.core, 22, "rocks", g325);
+      const std::vector<C1_Melt>& g326 = s.g_melt_13;
+      tally_global(s.core, 23, "melt", g326);
+      const C3_Plow& g327 = s.g_plow_5;
+      tally_global(s.core, 24, "plow", g327);
+      if (s.d_click_30) {
+        const Pos& g328 = s.g_click_29;
+        tally_global(s.core, 25, "click", g328);
+      }
+      const std::vector<C0_Flake>& g329 = s.g_snow_9;
+      tally_global(s.core, 26, "snow", g329);
+    } else {
+      tally_rendered(s.core, 27, "cacheRendered");
+      const C4_Cloud& g330 = s.g_cloud_21;
+      tally_global(s.core, 28, "cloud", g330);
+      const std::vector<C2_Rock>& g331 = s.g_rocks_17;
+      tally_global(s.core, 29, "rocks", g331);
+      const std::vector<C1_Melt>& g332 = s.g_melt_13;
+      tally_global(s.core, 30, "melt", g332);
+      const C3_Plow& g333 = s.g_plow_5;
+      tally_global(s.core, 31, "plow", g333);
+      const std::vector<C0_Flake>& g334 = s.g_snow_9;
+      tally_global(s.core, 32, "snow", g334);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const C4_Cloud& g1 = s.g_cloud_21;
     const int32_t colour2 = colour_3_C4_Cloud(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e3.position, pal[e3.color]);
     const int32_t colour4 = colour_4_C4_Cloud(s, g1);
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, colour4};
     s.core.occupied.add(e5.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e5.position, pal[e5.color]);
     const int32_t colour6 = colour_5_C4_Cloud(s, g1);
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, colour6};
     s.core.occupied.add(e7.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e7.position, pal[e7.color]);
     const int32_t colour8 = colour_6_C4_Cloud(s, g1);
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, colour8};
     s.core.occupied.add(e9.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e9.position, pal[e9.color]);
     const int32_t colour10 = colour_7_C4_Cloud(s, g1);
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, colour10};
     s.core.occupied.add(e11.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e11.position, pal[e11.color]);
     const int32_t colour12 = colour_8_C4_Cloud(s, g1);
     const Elem e13 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e13.position, pal[e13.color]);
     const int32_t colour14 = colour_9_C4_Cloud(s, g1);
     const Elem e15 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e15.position, pal[e15.color]);
     const int32_t colour16 = colour_10_C4_Cloud(s, g1);
     const Elem e17 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e17.position, pal[e17.color]);
     const int32_t colour18 = colour_11_C4_Cloud(s, g1);
     const Elem e19 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e19.position, pal[e19.color]);
     const int32_t colour20 = colour_12_C4_Cloud(s, g1);
     const Elem e21 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e21.position, pal[e21.color]);
     const int32_t colour22 = colour_13_C4_Cloud(s, g1);
     const Elem e23 = Elem{Pos{add(g1.origin.x, int32_t(10)), add(g1.origin.y, int32_t(0))}, colour22};
     s.core.occupied.add(e23.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e23.position, pal[e23.color]);
     const int32_t colour24 = colour_14_C4_Cloud(s, g1);
     const Elem e25 = Elem{Pos{add(g1.origin.x, int32_t(11)), add(g1.origin.y, int32_t(0))}, colour24};
     s.core.occupied.add(e25.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e25.position, pal[e25.color]);
     const int32_t colour26 = colour_15_C4_Cloud(s, g1);
     const Elem e27 = Elem{Pos{add(g1.origin.x, int32_t(12)), add(g1.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e27.position, pal[e27.color]);
     const int32_t colour28 = colour_16_C4_Cloud(s, g1);
     const Elem e29 = Elem{Pos{add(g1.origin.x, int32_t(13)), add(g1.origin.y, int32_t(0))}, colour28};
     s.core.occupied.add(e29.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e29.position, pal[e29.color]);
     const int32_t colour30 = colour_17_C4_Cloud(s, g1);
     const Elem e31 = Elem{Pos{add(g1.origin.x, int32_t(14)), add(g1.origin.y, int32_t(0))}, colour30};
     s.core.occupied.add(e31.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e31.position, pal[e31.color]);
     const int32_t colour32 = colour_18_C4_Cloud(s, g1);
     const Elem e33 = Elem{Pos{add(g1.origin.x, int32_t(15)), add(g1.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e33.position, pal[e33.color]);
     const std::vector<C2_Rock>& g34 = s.g_rocks_17;
     for (const C2_Rock& x35 : g34) {
       const Elem e36 = Elem{Pos{add(x35.origin.x, int32_t(0)), add(x35.origin.y, int32_t(0))}, int32_t(3)};
       s.core.occupied.add(e36.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e36.position, pal[e36.color]);
     }
     const std::vector<C0_Flake>& g37 = s.g_snow_9;
     for (const C0_Flake& x38 : g37) {
       const Elem e39 = Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, int32_t(6)};
       s.core.occupied.add(e39.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e39.position, pal[e39.color]);
     }
     const std::vector<C1_Melt>& g40 = s.g_melt_13;
@@ -1493,14 +1601,17 @@ struct Prog {
       const int32_t colour42 = colour_19_C1_Melt(s, x41);
       const Elem e43 = Elem{Pos{add(x41.origin.x, int32_t(0)), add(x41.origin.y, int32_t(0))}, colour42};
       s.core.occupied.add(e43.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e43.position, pal[e43.color]);
     }
     const C3_Plow& g44 = s.g_plow_5;
     const Elem e45 = Elem{Pos{add(g44.origin.x, int32_t(0)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e45.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e45.position, pal[e45.color]);
     const Elem e46 = Elem{Pos{add(g44.origin.x, int32_t(1)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e46.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e46.position, pal[e46.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1573,6 +1684,11 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {21, 3, nullptr, true, 21, 3, ""},
+    {24, 3, nullptr, true, 24, 3, ""},
+    {32, 3, nullptr, true, 32, 3, ""},
+    {35, 3, nullptr, true, 35, 3, ""},
+    {29, 3, nullptr, true, 29, 3, ""},
     {48, 58, nullptr, true, 48, 58, ""},
     {48, 71, nullptr, true, 48, 71, ""},
     {48, 15, nullptr, true, 48, 15, ""},
@@ -1588,6 +1704,19 @@ const ErrorSite Prog::kErrors[] = {
     {71, 38, nullptr, true, 71, 38, ""},
     {71, 32, nullptr, true, 71, 32, ""},
     {73, 39, nullptr, true, 73, 39, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {24, 3, nullptr, true, 24, 3, ""},
+    {32, 3, nullptr, true, 32, 3, ""},
+    {35, 3, nullptr, true, 35, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {29, 3, nullptr, true, 29, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {21, 3, nullptr, true, 21, 3, ""},
+    {24, 3, nullptr, true, 24, 3, ""},
+    {32, 3, nullptr, true, 32, 3, ""},
+    {35, 3, nullptr, true, 35, 3, ""},
+    {29, 3, nullptr, true, 29, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

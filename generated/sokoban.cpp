@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Wall& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Wall& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Wall& v) {
       save_value(w, v.origin);
     }
@@ -42,6 +51,15 @@ struct Prog {
     Pos origin;
     friend void hash_value(Hash& h, const C1_Goal& v) {
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Goal& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Goal& v) {
       save_value(w, v.origin);
@@ -57,6 +75,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Crate& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C2_Crate& v) {
       save_value(w, v.f0);
       save_value(w, v.origin);
@@ -71,6 +100,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C3_Keeper& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C3_Keeper& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C3_Keeper& v) {
       save_value(w, v.origin);
     }
@@ -82,6 +120,15 @@ struct Prog {
     Pos origin;
     friend void hash_value(Hash& h, const C4_Button& v) {
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C4_Button& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C4_Button& v) {
       save_value(w, v.origin);
@@ -297,6 +344,25 @@ struct Prog {
     }
     std::swap(s.g_walls_24, out40);
     s.u_walls_25 = false;
+    s.core.tally = StateTally{};
+    const std::vector<C0_Wall>& g43 = s.g_walls_24;
+    tally_global(s.core, 2, "walls", g43);
+    const std::vector<C1_Goal>& g44 = s.g_goals_16;
+    tally_global(s.core, 3, "goals", g44);
+    const C4_Button& g45 = s.g_reset_8;
+    tally_global(s.core, 4, "reset", g45);
+    const std::vector<Pos>& g46 = s.g_crateStarts_6;
+    tally_global(s.core, 5, "crateStarts", g46);
+    const std::vector<Pos>& g47 = s.g_goalSpots_5;
+    tally_global(s.core, 6, "goalSpots", g47);
+    const std::vector<C2_Crate>& g48 = s.g_crates_12;
+    tally_global(s.core, 7, "crates", g48);
+    const std::vector<Pos>& g49 = s.g_innerWalls_4;
+    tally_global(s.core, 8, "innerWalls", g49);
+    const Pos& g50 = s.g_keeperStart_7;
+    tally_global(s.core, 9, "keeperStart", g50);
+    const C3_Keeper& g51 = s.g_keeper_20;
+    tally_global(s.core, 10, "keeper", g51);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1489,24 +1555,72 @@ struct Prog {
       s.g_walls_24 = prev422;
       s.u_walls_25 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_29) {
+      tally_rendered(s.core, 11, "cacheRendered");
+      const std::vector<C0_Wall>& g423 = s.g_walls_24;
+      tally_global(s.core, 12, "walls", g423);
+      const std::vector<C1_Goal>& g424 = s.g_goals_16;
+      tally_global(s.core, 13, "goals", g424);
+      const C4_Button& g425 = s.g_reset_8;
+      tally_global(s.core, 14, "reset", g425);
+      const std::vector<Pos>& g426 = s.g_crateStarts_6;
+      tally_global(s.core, 15, "crateStarts", g426);
+      const std::vector<Pos>& g427 = s.g_goalSpots_5;
+      tally_global(s.core, 16, "goalSpots", g427);
+      if (s.d_click_29) {
+        const Pos& g428 = s.g_click_28;
+        tally_global(s.core, 17, "click", g428);
+      }
+      const std::vector<C2_Crate>& g429 = s.g_crates_12;
+      tally_global(s.core, 18, "crates", g429);
+      const std::vector<Pos>& g430 = s.g_innerWalls_4;
+      tally_global(s.core, 19, "innerWalls", g430);
+      const Pos& g431 = s.g_keeperStart_7;
+      tally_global(s.core, 20, "keeperStart", g431);
+      const C3_Keeper& g432 = s.g_keeper_20;
+      tally_global(s.core, 21, "keeper", g432);
+    } else {
+      tally_rendered(s.core, 22, "cacheRendered");
+      const std::vector<C0_Wall>& g433 = s.g_walls_24;
+      tally_global(s.core, 23, "walls", g433);
+      const std::vector<C1_Goal>& g434 = s.g_goals_16;
+      tally_global(s.core, 24, "goals", g434);
+      const C4_Button& g435 = s.g_reset_8;
+      tally_global(s.core, 25, "reset", g435);
+      const std::vector<Pos>& g436 = s.g_crateStarts_6;
+      tally_global(s.core, 26, "crateStarts", g436);
+      const std::vector<Pos>& g437 = s.g_goalSpots_5;
+      tally_global(s.core, 27, "goalSpots", g437);
+      const std::vector<C2_Crate>& g438 = s.g_crates_12;
+      tally_global(s.core, 28, "crates", g438);
+      const std::vector<Pos>& g439 = s.g_innerWalls_4;
+      tally_global(s.core, 29, "innerWalls", g439);
+      const Pos& g440 = s.g_keeperStart_7;
+      tally_global(s.core, 30, "keeperStart", g440);
+      const C3_Keeper& g441 = s.g_keeper_20;
+      tally_global(s.core, 31, "keeper", g441);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Wall>& g1 = s.g_walls_24;
     for (const C0_Wall& x2 : g1) {
       const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(6)};
       s.core.occupied.add(e3.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e3.position, pal[e3.color]);
     }
     const std::vector<C1_Goal>& g4 = s.g_goals_16;
     for (const C1_Goal& x5 : g4) {
       const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
       s.core.occupied.add(e6.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e6.position, pal[e6.color]);
     }
     const std::vector<C2_Crate>& g7 = s.g_crates_12;
@@ -1514,15 +1628,18 @@ struct Prog {
       const int32_t colour9 = colour_1_C2_Crate(s, x8);
       const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
       s.core.occupied.add(e10.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e10.position, pal[e10.color]);
     }
     const C3_Keeper& g11 = s.g_keeper_20;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(5)};
     s.core.occupied.add(e12.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e12.position, pal[e12.color]);
     const C4_Button& g13 = s.g_reset_8;
     const Elem e14 = Elem{Pos{add(g13.origin.x, int32_t(0)), add(g13.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e14.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e14.position, pal[e14.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1602,6 +1719,36 @@ const char* const Prog::kColours[] = {
 const ErrorSite Prog::kErrors[] = {
     {29, 79, nullptr, true, 29, 79, "initialising 'walls': "},
     {29, 10, nullptr, true, 29, 10, "initialising 'walls': "},
+    {27, 3, nullptr, true, 27, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {43, 3, nullptr, true, 43, 3, ""},
+    {18, 3, nullptr, true, 18, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {19, 3, nullptr, true, 19, 3, ""},
+    {40, 3, nullptr, true, 40, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {27, 3, nullptr, true, 27, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {43, 3, nullptr, true, 43, 3, ""},
+    {18, 3, nullptr, true, 18, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {19, 3, nullptr, true, 19, 3, ""},
+    {40, 3, nullptr, true, 40, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {27, 3, nullptr, true, 27, 3, ""},
+    {34, 3, nullptr, true, 34, 3, ""},
+    {43, 3, nullptr, true, 43, 3, ""},
+    {18, 3, nullptr, true, 18, 3, ""},
+    {17, 3, nullptr, true, 17, 3, ""},
+    {37, 3, nullptr, true, 37, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {19, 3, nullptr, true, 19, 3, ""},
+    {40, 3, nullptr, true, 40, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

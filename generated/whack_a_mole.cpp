@@ -31,6 +31,15 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Burrow& v) {
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C0_Burrow& v) {
+      ++t.objects;
+      t.cells += 2;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C0_Burrow& v) {
       save_value(w, v.origin);
     }
@@ -44,6 +53,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C1_Mole& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C1_Mole& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C1_Mole& v) {
       save_value(w, v.f0);
@@ -61,6 +81,17 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    friend bool tally_value(Tally& t, const Core& c, const C2_Flash& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
+    }
     friend void save_value(SnapshotWriter& w, const C2_Flash& v) {
       save_value(w, v.f0);
       save_value(w, v.origin);
@@ -76,6 +107,17 @@ struct Prog {
     friend void hash_value(Hash& h, const C3_ScoreBar& v) {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
+    }
+    friend bool tally_value(Tally& t, const Core& c, const C3_ScoreBar& v) {
+      ++t.objects;
+      t.cells += 3;
+      if (tally_over(t, c)) return true;
+      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      if (tally_over(t, c)) return true;
+      t.cells += 2;  // origin
+      if (tally_over(t, c)) return true;
+      tally_value(t, c, v.f0);
+      return true;
     }
     friend void save_value(SnapshotWriter& w, const C3_ScoreBar& v) {
       save_value(w, v.f0);
@@ -335,6 +377,17 @@ struct Prog {
     // init time, programs/whack_a_mole.au:22
     s.g_time_30 = int32_t(0);
     s.u_time_31 = false;
+    s.core.tally = StateTally{};
+    const std::vector<C2_Flash>& g7 = s.g_flashes_26;
+    tally_global(s.core, 0, "flashes", g7);
+    const std::vector<C0_Burrow>& g8 = s.g_burrows_22;
+    tally_global(s.core, 1, "burrows", g8);
+    const C3_ScoreBar& g9 = s.g_bar_6;
+    tally_global(s.core, 2, "bar", g9);
+    const std::vector<Pos>& g10 = s.g_burrowSpots_4;
+    tally_global(s.core, 3, "burrowSpots", g10);
+    const std::vector<C1_Mole>& g11 = s.g_moles_18;
+    tally_global(s.core, 4, "moles", g11);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -458,18 +511,18 @@ struct Prog {
           const Pos& g33 = s.g_click_34;
           r32 = g33;
         } else {
-          fail_at(0, std::string() + std::string("undefined variable 'click'"));
+          fail_at(5, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r34{};
         if (s.d_click_35) {
           const Pos& g35 = s.g_click_34;
           r34 = g35;
         } else {
-          fail_at(1, std::string() + std::string("undefined variable 'click'"));
+          fail_at(6, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t36 = Pos{r32.x, r34.y};
         C2_Flash o37 = C2_Flash{int32_t(2), t36};
-        check_length(s.core, 2, int64_t(g31.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 7, int64_t(g31.size()) + int64_t(int32_t(1)));
         std::vector<C2_Flash>& added38 = s.scratch.v.b6;
         added38.clear();
         added38.reserve(size_t(add(int32_t(g31.size()), int32_t(1))));
@@ -669,7 +722,7 @@ struct Prog {
         const std::vector<C1_Mole>& g96 = s.g_moles_18;
         const std::vector<int32_t> list97 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
         if (list97.empty()) {
-          fail_at(3, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(8, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t98 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list97.size())))));
         const int32_t t99 = list97[size_t(t98)];
@@ -695,12 +748,12 @@ struct Prog {
           }
         }
         if (out102.empty()) {
-          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(9, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t108 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out102.size())))));
         const Pos t109 = out102[size_t(t108)];
         C1_Mole o110 = C1_Mole{t99, t109};
-        check_length(s.core, 5, int64_t(g96.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 10, int64_t(g96.size()) + int64_t(int32_t(1)));
         std::vector<C1_Mole>& added111 = s.scratch.v.b14;
         added111.clear();
         added111.reserve(size_t(add(int32_t(g96.size()), int32_t(1))));
@@ -886,18 +939,49 @@ struct Prog {
       s.g_time_30 = t143;
       s.u_time_31 = true;
     }
+    s.core.tally = StateTally{};
+    if (s.d_click_35) {
+      tally_rendered(s.core, 11, "cacheRendered");
+      const std::vector<C2_Flash>& g144 = s.g_flashes_26;
+      tally_global(s.core, 12, "flashes", g144);
+      const std::vector<C0_Burrow>& g145 = s.g_burrows_22;
+      tally_global(s.core, 13, "burrows", g145);
+      const C3_ScoreBar& g146 = s.g_bar_6;
+      tally_global(s.core, 14, "bar", g146);
+      const std::vector<Pos>& g147 = s.g_burrowSpots_4;
+      tally_global(s.core, 15, "burrowSpots", g147);
+      if (s.d_click_35) {
+        const Pos& g148 = s.g_click_34;
+        tally_global(s.core, 16, "click", g148);
+      }
+      const std::vector<C1_Mole>& g149 = s.g_moles_18;
+      tally_global(s.core, 17, "moles", g149);
+    } else {
+      tally_rendered(s.core, 18, "cacheRendered");
+      const std::vector<C2_Flash>& g150 = s.g_flashes_26;
+      tally_global(s.core, 19, "flashes", g150);
+      const std::vector<C0_Burrow>& g151 = s.g_burrows_22;
+      tally_global(s.core, 20, "burrows", g151);
+      const C3_ScoreBar& g152 = s.g_bar_6;
+      tally_global(s.core, 21, "bar", g152);
+      const std::vector<Pos>& g153 = s.g_burrowSpots_4;
+      tally_global(s.core, 22, "burrowSpots", g153);
+      const std::vector<C1_Mole>& g154 = s.g_moles_18;
+      tally_global(s.core, 23, "moles", g154);
+    }
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid);
+    s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Burrow>& g1 = s.g_burrows_22;
     for (const C0_Burrow& x2 : g1) {
       const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
       s.core.occupied.add(e3.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e3.position, pal[e3.color]);
     }
     const std::vector<C1_Mole>& g4 = s.g_moles_18;
@@ -905,6 +989,7 @@ struct Prog {
       const int32_t colour6 = colour_11_C1_Mole(s, x5);
       const Elem e7 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, colour6};
       s.core.occupied.add(e7.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e7.position, pal[e7.color]);
     }
     const std::vector<C2_Flash>& g8 = s.g_flashes_26;
@@ -912,48 +997,59 @@ struct Prog {
       const int32_t colour10 = colour_12_C2_Flash(s, x9);
       const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
       s.core.occupied.add(e11.position);
+      ++s.core.rendered;
       if (paint) paint->paint(e11.position, pal[e11.color]);
     }
     const C3_ScoreBar& g12 = s.g_bar_6;
     const int32_t colour13 = colour_0_C3_ScoreBar(s, g12);
     const Elem e14 = Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, colour13};
     s.core.occupied.add(e14.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e14.position, pal[e14.color]);
     const int32_t colour15 = colour_1_C3_ScoreBar(s, g12);
     const Elem e16 = Elem{Pos{add(g12.origin.x, int32_t(1)), add(g12.origin.y, int32_t(0))}, colour15};
     s.core.occupied.add(e16.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e16.position, pal[e16.color]);
     const int32_t colour17 = colour_2_C3_ScoreBar(s, g12);
     const Elem e18 = Elem{Pos{add(g12.origin.x, int32_t(2)), add(g12.origin.y, int32_t(0))}, colour17};
     s.core.occupied.add(e18.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e18.position, pal[e18.color]);
     const int32_t colour19 = colour_3_C3_ScoreBar(s, g12);
     const Elem e20 = Elem{Pos{add(g12.origin.x, int32_t(3)), add(g12.origin.y, int32_t(0))}, colour19};
     s.core.occupied.add(e20.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e20.position, pal[e20.color]);
     const int32_t colour21 = colour_4_C3_ScoreBar(s, g12);
     const Elem e22 = Elem{Pos{add(g12.origin.x, int32_t(4)), add(g12.origin.y, int32_t(0))}, colour21};
     s.core.occupied.add(e22.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e22.position, pal[e22.color]);
     const int32_t colour23 = colour_5_C3_ScoreBar(s, g12);
     const Elem e24 = Elem{Pos{add(g12.origin.x, int32_t(5)), add(g12.origin.y, int32_t(0))}, colour23};
     s.core.occupied.add(e24.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e24.position, pal[e24.color]);
     const int32_t colour25 = colour_6_C3_ScoreBar(s, g12);
     const Elem e26 = Elem{Pos{add(g12.origin.x, int32_t(6)), add(g12.origin.y, int32_t(0))}, colour25};
     s.core.occupied.add(e26.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e26.position, pal[e26.color]);
     const int32_t colour27 = colour_7_C3_ScoreBar(s, g12);
     const Elem e28 = Elem{Pos{add(g12.origin.x, int32_t(7)), add(g12.origin.y, int32_t(0))}, colour27};
     s.core.occupied.add(e28.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e28.position, pal[e28.color]);
     const int32_t colour29 = colour_8_C3_ScoreBar(s, g12);
     const Elem e30 = Elem{Pos{add(g12.origin.x, int32_t(8)), add(g12.origin.y, int32_t(0))}, colour29};
     s.core.occupied.add(e30.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e30.position, pal[e30.color]);
     const int32_t colour31 = colour_9_C3_ScoreBar(s, g12);
     const Elem e32 = Elem{Pos{add(g12.origin.x, int32_t(9)), add(g12.origin.y, int32_t(0))}, colour31};
     s.core.occupied.add(e32.position);
+    ++s.core.rendered;
     if (paint) paint->paint(e32.position, pal[e32.color]);
   }
   static uint64_t hash(const State& s) {
@@ -1033,12 +1129,30 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {31, 3, nullptr, true, 31, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
     {58, 57, nullptr, true, 58, 57, ""},
     {58, 70, nullptr, true, 58, 70, ""},
     {58, 18, nullptr, true, 58, 18, ""},
     {71, 34, nullptr, true, 71, 34, ""},
     {71, 65, nullptr, true, 71, 65, ""},
     {71, 14, nullptr, true, 71, 14, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
+    {0, 0, nullptr, false, 0, 0, ""},
+    {31, 3, nullptr, true, 31, 3, ""},
+    {25, 3, nullptr, true, 25, 3, ""},
+    {42, 3, nullptr, true, 42, 3, ""},
+    {16, 3, nullptr, true, 16, 3, ""},
+    {28, 3, nullptr, true, 28, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -255,6 +255,24 @@ inline Pos rotated(int32_t turns, int32_t x, int32_t y) {
 }
 
 // Interpreter-independent state every specialised program has.
+// limits.hpp's state rule, as the interpreter counts it (compiler/interpret/
+// limits.cpp): after start-up and every step, each global holding a list or an
+// instance is counted as a tree — a list its length, an instance its fields, an
+// object one more object — depth first with children last to first, stopping
+// once the global alone passes a limit; the totals over the globals in map order
+// may not pass the limits, and an excess is reported at the definition of the
+// global with the largest count so far.
+struct Tally {
+  int64_t objects = 0, cells = 0;
+};
+struct StateTally {
+  Tally total;
+  int64_t max_objects = -1, max_cells = -1;
+  int site_objects = -1, site_cells = -1;  // where the largest globals are defined
+  const char* name_objects = "";
+  const char* name_cells = "";
+};
+
 struct Core {
   WrappedMinstd rng;
   bool click = false, left = false, right = false, up = false, down = false;
@@ -266,6 +284,9 @@ struct Core {
   IdTable ids;
   RotationTable rot;
   int64_t list_limit = Limits{}.list_length;  // the episode's list-length budget (runtime/limits.hpp)
+  int64_t objects_limit = Limits{}.objects, cells_limit = Limits{}.cells;
+  StateTally tally;      // scratch of the state check at the end of start-up and of each step
+  int64_t rendered = 0;  // elements the last host render drew: what cacheRendered holds
 
   void start(uint64_t seed, int on_clauses) {
     rng.reseed(seed);
@@ -289,6 +310,59 @@ int64_t total_size(const L& lists) {
   for (const auto& l : lists) t += static_cast<int64_t>(l.size());
   return t;
 }
+
+// Tallies of values (see StateTally). Each returns false for a value that is
+// not a list or an instance (not counted). Leaves add cells only, so a run of
+// them is added at once: where inside it the interpreter stops cannot change
+// the object count or which global is the largest.
+inline bool tally_over(const Tally& t, const Core& c) { return t.objects > c.objects_limit || t.cells > c.cells_limit; }
+inline bool tally_value(Tally&, const Core&, int32_t) { return false; }
+inline bool tally_value(Tally&, const Core&, uint32_t) { return false; }
+inline bool tally_value(Tally&, const Core&, bool) { return false; }
+inline bool tally_value(Tally&, const Core&, const Unit&) { return false; }
+inline bool tally_value(Tally& t, const Core&, const Pos&) { return t.cells += 2, true; }
+inline bool tally_value(Tally& t, const Core&, const PosU&) { return t.cells += 2, true; }
+inline bool tally_value(Tally& t, const Core&, const CellV&) { return t.cells += 3, true; }
+inline bool tally_value(Tally& t, const Core&, const Elem&) { return t.cells += 4, true; }  // + its Position
+template <class T>
+constexpr int64_t tally_leaf_cells() {
+  if constexpr (std::is_same_v<T, Pos> || std::is_same_v<T, PosU>) return 2;
+  else if constexpr (std::is_same_v<T, CellV>) return 3;
+  else if constexpr (std::is_same_v<T, Elem>) return 4;
+  else if constexpr (std::is_arithmetic_v<T>) return 0;
+  else return -1;  // may hold objects: counted one by one
+}
+template <class T>
+bool tally_value(Tally& t, const Core& c, const std::vector<T>& v) {
+  t.cells += static_cast<int64_t>(v.size());
+  if constexpr (tally_leaf_cells<T>() >= 0) {
+    if (!tally_over(t, c)) t.cells += tally_leaf_cells<T>() * static_cast<int64_t>(v.size());
+  } else {
+    for (auto it = v.rbegin(); it != v.rend() && !tally_over(t, c); ++it) tally_value(t, c, *it);
+  }
+  return true;
+}
+template <class... T>
+bool tally_value(Tally& t, const Core& c, const std::variant<T...>& v) {
+  return std::visit([&](const auto& x) { return tally_value(t, c, x); }, v);
+}
+inline void tally_add(Core& c, int site, const char* name, const Tally& one) {
+  StateTally& s = c.tally;
+  if (one.objects > s.max_objects) s.max_objects = one.objects, s.site_objects = site, s.name_objects = name;
+  if (one.cells > s.max_cells) s.max_cells = one.cells, s.site_cells = site, s.name_cells = name;
+  s.total.objects += one.objects;
+  s.total.cells += one.cells;
+  if (s.total.objects > c.objects_limit) fail_at(s.site_objects, limits::objects_error(c.objects_limit, s.name_objects));
+  if (s.total.cells > c.cells_limit) fail_at(s.site_cells, limits::state_cells_error(c.cells_limit, s.name_cells));
+}
+// One global of the state check, defined at `site`.
+template <class T>
+void tally_global(Core& c, int site, const char* name, const T& v) {
+  Tally one;
+  if (tally_value(one, c, v)) tally_add(c, site, name, one);
+}
+// cacheRendered: the list of the last render's elements (RenderedElem: 2 fields and a Position).
+inline void tally_rendered(Core& c, int site, const char* name) { tally_add(c, site, name, Tally{0, 5 * c.rendered}); }
 
 struct Hash {
   uint64_t h = 0x9e3779b97f4a7c15ULL;
@@ -566,6 +640,8 @@ class CompiledEnvironment : public Environment {
   bool reset(uint64_t seed) override {
     state_ = typename P::State{};
     state_.core.list_limit = limits_.list_length;
+    state_.core.objects_limit = limits_.objects;
+    state_.core.cells_limit = limits_.cells;
     return guarded([&] {
       P::start(state_, seed);
       painter_.bind(&frame_);
@@ -624,8 +700,9 @@ class CompiledEnvironment : public Environment {
   }
   bool deterministic() const override { return !P::kUsesRandom; }
   void set_source_name(const std::string& path) override { source_name_ = path; }
-  // Specialised code enforces the list-length budget (and the fixed limits);
-  // the others are the interpreter's alone (docs/design.md, "Limits").
+  // Specialised code enforces the list-length, objects and state-cells budgets
+  // (and the fixed limits); the per-step cells and calls budgets are the
+  // interpreter's alone (docs/design.md, "Limits").
   void set_limits(const Limits& l) override { limits_ = limits::normalised(l); }
   int64_t random_draws() const override { return failed_ ? -1 : static_cast<int64_t>(state_.core.rng.draws()); }
   bool reseed_random(uint64_t seed) override {

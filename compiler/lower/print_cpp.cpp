@@ -88,6 +88,7 @@ class Printer {
   std::string member(const Node* n);
   std::string helper(const Node* n);
   std::string check_length(const Node* n);  // Helper::CheckLength
+  void tally_function(const ClassInfo& c);
   // --- statements
   void line(const std::string& s) { out_ << std::string(2 * depth_, ' ') << s << "\n"; }
   void block(const Block& b) {
@@ -176,10 +177,12 @@ std::string Printer::helper(const Node* n) {
     case Helper::Clear: return arg(0) + ".clear()";
     case Helper::StrOfInt: return "std::to_string(" + arg(0) + ")";
     case Helper::StrOfStr: return "std::string(kStrings[" + arg(0) + "])";
-    case Helper::OccupancyClear: return "s.core.occupied.clear(kGrid)";
+    case Helper::OccupancyClear: return "s.core.occupied.clear(kGrid), s.core.rendered = 0";
     case Helper::OccupancyAdd: return "s.core.occupied.add(" + arg(0) + ")";
     case Helper::PaintBegin: return "if (paint) paint->begin(kGrid, pal[" + arg(0) + "])";
-    case Helper::Paint: return "if (paint) paint->paint(" + arg(0) + ".position, pal[" + arg(0) + ".color])";
+    case Helper::Paint:
+      return "++s.core.rendered;\n" + std::string(2 * depth_, ' ') + "if (paint) paint->paint(" + arg(0) +
+             ".position, pal[" + arg(0) + ".color])";
     case Helper::SetTriggered: return "s.core.triggered = " + arg(0);
     case Helper::Covered: return "s.core.covered[" + arg(0) + "] = 1";
     case Helper::HavePrev: return "s.core.have_prev";
@@ -187,6 +190,10 @@ std::string Printer::helper(const Node* n) {
     case Helper::RotOf: return "int32_t(s.core.rot.of(uint32_t(" + arg(0) + ")))";
     case Helper::Rotated: return "rotated(" + arg(0) + ", " + arg(1) + ", " + arg(2) + ")";
     case Helper::CheckLength: return check_length(n);
+    case Helper::TallyBegin: return "s.core.tally = StateTally{}";
+    case Helper::TallyGlobal:
+      return "tally_global(s.core, " + std::to_string(n->imm) + ", " + quoted(n->text) + ", " + arg(0) + ")";
+    case Helper::TallyRendered: return "tally_rendered(s.core, " + std::to_string(n->imm) + ", " + quoted(n->text) + ")";
     case Helper::InputFlag: {
       static const char* const flags[] = {"click", "left", "right", "up", "down"};
       return "s.core." + std::string(flags[n->a[0]->imm]);
@@ -402,6 +409,7 @@ void Printer::classes() {
     line("friend void hash_value(Hash& h, const " + c.cpp + "& v) {");
     each("hash_value(h, ", "v");
     line("}");
+    tally_function(c);
     line("friend void save_value(SnapshotWriter& w, const " + c.cpp + "& v) {");
     each("save_value(w, ", "v");
     line("}");
@@ -411,6 +419,27 @@ void Printer::classes() {
     --depth_;
     line("};");
   }
+}
+
+// The state check's count of one object (StateTally): the object, its fields with
+// origin and elems, then its children last to first: elems (the list and its
+// cells), origin, the fields in reverse.
+void Printer::tally_function(const ClassInfo& c) {
+  const std::string fields = std::to_string(c.fields.size() + 2);
+  line("friend bool tally_value(Tally& t, const Core& c, const " + c.cpp + "& v) {");
+  line("  ++t.objects;");
+  line("  t.cells += " + fields + ";");
+  const std::string cells = c.mode == CellMode::Stored ? "int64_t(v.cells.size())" : std::to_string(c.cells.size());
+  line("  if (tally_over(t, c)) return true;");
+  line("  t.cells += 4 * " + cells + ";  // elems: the list, and each Cell's 3 fields");
+  line("  if (tally_over(t, c)) return true;");
+  line("  t.cells += 2;  // origin");
+  for (size_t i = c.fields.size(); i-- > 0;) {
+    line("  if (tally_over(t, c)) return true;");
+    line("  tally_value(t, c, v.f" + std::to_string(i) + ");");
+  }
+  line("  return true;");
+  line("}");
 }
 
 void Printer::sums() {

@@ -70,10 +70,10 @@ void Specialiser::note_definition(Global& g) {
 
 // `visit` for each global in the run-time order: a loop over the keys, with a
 // branch per global that has a value slot.
-void Specialiser::walk_runtime_order(const std::function<void(Global&)>& visit) {
+void Specialiser::walk_runtime_order(const std::function<void(Global&)>& visit, bool slotless) {
   std::vector<Global*> held;
   for (auto& [s, g] : globals_)
-    if (g.state != Global::Undefined && g.value >= 0) held.push_back(&g);
+    if (g.state != Global::Undefined && (g.value >= 0 || slotless)) held.push_back(&g);
   if (held.empty()) return;
   ir::Var* keys = decl(T().list(T().int_()), call(ir::Helper::OrderKeys, T().list(T().int_()), {}), "keys");
   ir::Stmt* loop = emit(ir::SK::ForEach);
@@ -92,21 +92,21 @@ void Specialiser::walk_runtime_order(const std::function<void(Global&)>& visit) 
 // Runs `visit` over the globals in map order: once if the order cannot change,
 // else in each of the two orders under a test of whether `click` exists, or
 // over the order kept at run time.
-void Specialiser::for_each_global_in_order(const std::function<void(Global&)>& visit) {
+void Specialiser::for_each_global_in_order(const std::function<void(Global&)>& visit, bool slotless) {
   if (in_step_ && order_changes_in_steps()) {
     if (!h_.runtime_order) {
       h_.runtime_order = true;
       learn("the global map's order is kept at run time");
       return;
     }
-    walk_runtime_order(visit);
+    walk_runtime_order(visit, slotless);
     return;
   }
   auto walk = [&](bool with_click) {
     for (Sym s : global_order(with_click)) {
       Global* g = global(s);
-      if (!g || g->state == Global::Undefined || g->value < 0) continue;
-      if (g->state == Global::Runtime) {
+      if (!g || g->state == Global::Undefined || (g->value < 0 && !slotless)) continue;
+      if (g->state == Global::Runtime && g->defined >= 0) {
         ir::Stmt* s_if = emit(ir::SK::If);
         s_if->a = slot(g->defined);
         in_block(s_if->body, [&] { visit(*g); });
@@ -124,6 +124,48 @@ void Specialiser::for_each_global_in_order(const std::function<void(Global&)>& v
   s->a = slot(click->defined);
   in_block(s->body, [&] { walk(true); });
   in_block(s->other, [&] { walk(false); });
+}
+
+// The state check: every global holding a list or an instance, in map order,
+// counted by the runtime's tally_global (runtime/compiled_support.hpp,
+// StateTally); an excess is reported at the definition of the largest global.
+void Specialiser::check_state() {
+  if (dead_) return;
+  emit_eval(call(ir::Helper::TallyBegin, nullptr, {}));
+  auto site = [&](Sym s) {
+    ErrorLoc l;
+    const SourceLoc at = static_cast<size_t>(s) < p_.definitions.size() ? p_.definitions[s] : SourceLoc{};
+    l.at = at;
+    l.in_program = at.line > 0 && at.source == SourceId::Program;
+    l.program_at = at;
+    m_.locations.push_back(l);
+    return static_cast<int64_t>(m_.locations.size() - 1);
+  };
+  auto counted = [&](TypeP t) {
+    if (!t) return false;
+    if (t->k == TK::List || t->k == TK::Pos || t->k == TK::Cell || t->k == TK::Elem || t->k == TK::Obj) return true;
+    if (t->k == TK::Sum)
+      for (TypeP a : t->alts)
+        if (a->k == TK::List || a->k == TK::Pos || a->k == TK::Cell || a->k == TK::Elem || a->k == TK::Obj) return true;
+    return false;
+  };
+  for_each_global_in_order(
+      [&](Global& g) {
+        if (g.sym == p_.names.cacheRendered) {
+          ir::Node* c = call(ir::Helper::TallyRendered, nullptr, {});
+          c->imm = site(g.sym);
+          c->text = p_.name(g.sym);
+          emit_eval(c);
+          return;
+        }
+        if (g.value < 0 || !counted(g.type)) return;
+        SVal v = read_global(g);
+        ir::Node* c = call(ir::Helper::TallyGlobal, nullptr, {v.code});
+        c->imm = site(g.sym);
+        c->text = p_.name(g.sym);
+        emit_eval(c);
+      },
+      true);
 }
 
 // allObjs: every object (with a render method) in the globals, lists searched

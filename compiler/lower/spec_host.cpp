@@ -101,6 +101,7 @@ void Specialiser::specialise_start() {
     error_prefix_.clear();
     if (v.type->k != TK::Never) define_global(g, v);
   }
+  check_state();
   // The render that ends start-up defines cacheRendered (the printer calls it).
   Global& cache = globals_[p_.names.cacheRendered];
   cache.sym = p_.names.cacheRendered;
@@ -166,6 +167,8 @@ void Specialiser::specialise_step() {
     if (dead_) break;
     next_update(s);
   }
+  // 6. The state budget.
+  check_state();
   in_step_ = false;
 }
 

@@ -282,9 +282,12 @@ class Specialiser {
   // The global map (spec_globals.cpp)
   std::vector<Sym> start_defines_;  // start-up's definitions, in order (the map's history)
   std::vector<Sym> global_order(bool with_click);
-  void for_each_global_in_order(const std::function<void(Global&)>& visit);
+  // `slotless`: also the defined globals without a slot (constants, cacheRendered).
+  void for_each_global_in_order(const std::function<void(Global&)>& visit, bool slotless = false);
+  // The state budget (runtime/limits.hpp) at the end of start-up and of a step.
+  void check_state();
   bool order_changes_in_steps() const;
-  void walk_runtime_order(const std::function<void(Global&)>& visit);
+  void walk_runtime_order(const std::function<void(Global&)>& visit, bool slotless);
   void order_insert(Sym s);         // the run-time order (when kept) learns s
   void note_definition(Global& g);  // g's first definition
   SVal all_objs();
