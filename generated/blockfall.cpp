@@ -35,6 +35,7 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.cells);
     }
+    static constexpr int64_t kTally = -1;
     friend bool tally_value(Tally& t, const Core& c, const C0_Piece& v) {
       ++t.objects;
       t.cells += 3;
@@ -64,11 +65,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Block& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -278,7 +280,7 @@ struct Prog {
     // init stack, programs/blockfall.au:28
     s.g_stack_12 = std::vector<C1_Block>{};
     s.u_stack_13 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const std::vector<C1_Block>& g24 = s.g_stack_12;
     tally_global(s.core, 2, "stack", g24);
     const C0_Piece& g25 = s.g_piece_8;
@@ -1205,7 +1207,7 @@ struct Prog {
       s.g_stack_12 = prev331;
       s.u_stack_13 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     tally_rendered(s.core, 12, "cacheRendered");
     const std::vector<C1_Block>& g332 = s.g_stack_12;
     tally_global(s.core, 13, "stack", g332);

@@ -31,11 +31,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Paddle& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 16;
     friend bool tally_value(Tally& t, const Core& c, const C0_Paddle& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 3;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -56,11 +57,12 @@ struct Prog {
       hash_value(h, v.f1);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 10;
     friend bool tally_value(Tally& t, const Core& c, const C1_Ball& v) {
       ++t.objects;
       t.cells += 4;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -87,11 +89,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Brick& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -114,11 +117,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 17;
     friend bool tally_value(Tally& t, const Core& c, const C3_Hearts& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 3;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -319,7 +323,7 @@ struct Prog {
     C0_Paddle o19 = C0_Paddle{Pos{int32_t(5), int32_t(11)}};
     s.g_paddle_25 = std::move(o19);
     s.u_paddle_26 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const C0_Paddle& g20 = s.g_paddle_25;
     tally_global(s.core, 2, "paddle", g20);
     const C1_Ball& g21 = s.g_ball_21;
@@ -1200,7 +1204,7 @@ struct Prog {
       s.g_paddle_25 = prev291;
       s.u_paddle_26 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     tally_rendered(s.core, 9, "cacheRendered");
     const C0_Paddle& g292 = s.g_paddle_25;
     tally_global(s.core, 10, "paddle", g292);

@@ -35,11 +35,12 @@ struct Prog {
       hash_value(h, v.f1);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 10;
     friend bool tally_value(Tally& t, const Core& c, const C0_Tile& v) {
       ++t.objects;
       t.cells += 4;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -66,11 +67,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Swatch& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -93,11 +95,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 17;
     friend bool tally_value(Tally& t, const Core& c, const C2_Lamps& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 3;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -260,7 +263,7 @@ struct Prog {
     }
     std::swap(s.g_tiles_14, out14);
     s.u_tiles_15 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const C2_Lamps& g22 = s.g_lamps_6;
     tally_global(s.core, 3, "lamps", g22);
     const std::vector<C1_Swatch>& g23 = s.g_swatches_10;
@@ -756,7 +759,7 @@ struct Prog {
       s.g_tiles_14 = prev132;
       s.u_tiles_15 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     if (s.d_click_19) {
       tally_rendered(s.core, 12, "cacheRendered");
       const C2_Lamps& g133 = s.g_lamps_6;

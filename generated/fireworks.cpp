@@ -31,11 +31,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Pad& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 16;
     friend bool tally_value(Tally& t, const Core& c, const C0_Pad& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 3;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -56,11 +57,12 @@ struct Prog {
       hash_value(h, v.f1);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 14;
     friend bool tally_value(Tally& t, const Core& c, const C1_Rocket& v) {
       ++t.objects;
       t.cells += 4;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 2;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -93,11 +95,12 @@ struct Prog {
       hash_value(h, v.f3);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 12;
     friend bool tally_value(Tally& t, const Core& c, const C2_Spark& v) {
       ++t.objects;
       t.cells += 6;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -209,7 +212,7 @@ struct Prog {
     C0_Pad o3 = C0_Pad{Pos{int32_t(10), int32_t(19)}};
     s.g_pad_16 = std::move(o3);
     s.u_pad_17 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const C0_Pad& g4 = s.g_pad_16;
     tally_global(s.core, 0, "pad", g4);
     const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
@@ -652,7 +655,7 @@ struct Prog {
       s.g_pad_16 = prev137;
       s.u_pad_17 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     if (s.d_click_21) {
       const C0_Pad& g138 = s.g_pad_16;
       tally_global(s.core, 18, "pad", g138);

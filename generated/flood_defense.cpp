@@ -33,11 +33,12 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Earth& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -60,11 +61,12 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_House& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -89,11 +91,12 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C2_Drain& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -114,11 +117,12 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C3_Sandbag& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -139,11 +143,12 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C4_Water& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -166,11 +171,12 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.uid);
     }
+    static constexpr int64_t kTally = 17;
     friend bool tally_value(Tally& t, const Core& c, const C5_Spring& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 3;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -356,7 +362,7 @@ struct Prog {
     // init time, programs/flood_defense.au:22
     s.g_time_31 = int32_t(0);
     s.u_time_32 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const std::vector<C1_House>& g22 = s.g_houses_19;
     tally_global(s.core, 3, "houses", g22);
     const std::vector<C3_Sandbag>& g23 = s.g_bags_11;
@@ -1508,7 +1514,7 @@ struct Prog {
       s.g_time_31 = t358;
       s.u_time_32 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     if (s.d_click_36) {
       tally_rendered(s.core, 22, "cacheRendered");
       const std::vector<C1_House>& g359 = s.g_houses_19;

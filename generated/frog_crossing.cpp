@@ -31,11 +31,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_River& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 44;
     friend bool tally_value(Tally& t, const Core& c, const C0_River& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 10;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -52,11 +53,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C1_Verge& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 44;
     friend bool tally_value(Tally& t, const Core& c, const C1_Verge& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 10;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -75,11 +77,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Pad& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -110,6 +113,7 @@ struct Prog {
       hash_value(h, v.origin);
       hash_value(h, v.cells);
     }
+    static constexpr int64_t kTally = -1;
     friend bool tally_value(Tally& t, const Core& c, const C3_Car& v) {
       ++t.objects;
       t.cells += 6;
@@ -149,11 +153,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C4_Frog& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C4_Frog& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -172,11 +177,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 17;
     friend bool tally_value(Tally& t, const Core& c, const C5_Lives& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 3;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -498,7 +504,7 @@ struct Prog {
     // init time, programs/frog_crossing.au:33
     s.g_time_31 = int32_t(0);
     s.u_time_32 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const C0_River& g56 = s.g_river_27;
     tally_global(s.core, 12, "river", g56);
     const std::vector<C2_Pad>& g57 = s.g_pads_23;
@@ -1169,7 +1175,7 @@ struct Prog {
       s.g_time_31 = t190;
       s.u_time_32 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     tally_rendered(s.core, 21, "cacheRendered");
     const C0_River& g191 = s.g_river_27;
     tally_global(s.core, 22, "river", g191);

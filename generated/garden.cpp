@@ -31,11 +31,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Cloud& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 16;
     friend bool tally_value(Tally& t, const Core& c, const C0_Cloud& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 3;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -54,11 +55,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Sun& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -79,11 +81,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C2_Drop& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C2_Drop& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -104,11 +107,12 @@ struct Prog {
       hash_value(h, v.f1);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 10;
     friend bool tally_value(Tally& t, const Core& c, const C3_Plant& v) {
       ++t.objects;
       t.cells += 4;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -135,11 +139,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 53;
     friend bool tally_value(Tally& t, const Core& c, const C4_Basket& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 12;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -425,7 +430,7 @@ struct Prog {
     C1_Sun o8 = C1_Sun{true, Pos{int32_t(11), int32_t(0)}};
     s.g_sun_23 = std::move(o8);
     s.u_sun_24 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const C0_Cloud& g9 = s.g_cloud_19;
     tally_global(s.core, 0, "cloud", g9);
     const std::vector<C3_Plant>& g10 = s.g_plants_15;
@@ -1039,7 +1044,7 @@ struct Prog {
       s.g_sun_23 = prev168;
       s.u_sun_24 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     if (s.d_click_28) {
       tally_rendered(s.core, 16, "cacheRendered");
       const C0_Cloud& g169 = s.g_cloud_19;

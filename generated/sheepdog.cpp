@@ -31,11 +31,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Fence& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Fence& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -52,11 +53,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C1_Flag& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C1_Flag& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -75,11 +77,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Sheep& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -100,11 +103,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C3_Dog& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C3_Dog& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -328,7 +332,7 @@ struct Prog {
     }
     std::swap(s.g_fences_19, out32);
     s.u_fences_20 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const std::vector<C0_Fence>& g35 = s.g_fences_19;
     tally_global(s.core, 1, "fences", g35);
     const C3_Dog& g36 = s.g_dog_15;
@@ -1688,7 +1692,7 @@ struct Prog {
       s.g_fences_19 = prev466;
       s.u_fences_20 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     if (s.d_click_24) {
       tally_rendered(s.core, 15, "cacheRendered");
       const std::vector<C0_Fence>& g467 = s.g_fences_19;

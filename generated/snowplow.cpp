@@ -31,11 +31,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Flake& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Flake& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -54,11 +55,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Melt& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -79,11 +81,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C2_Rock& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C2_Rock& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -100,11 +103,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C3_Plow& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 12;
     friend bool tally_value(Tally& t, const Core& c, const C3_Plow& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 2;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -123,11 +127,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 69;
     friend bool tally_value(Tally& t, const Core& c, const C4_Cloud& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 16;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -477,7 +482,7 @@ struct Prog {
     // init time, programs/snowplow.au:18
     s.g_time_25 = int32_t(0);
     s.u_time_26 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const C4_Cloud& g9 = s.g_cloud_21;
     tally_global(s.core, 0, "cloud", g9);
     const std::vector<C2_Rock>& g10 = s.g_rocks_17;
@@ -1463,7 +1468,7 @@ struct Prog {
       s.g_time_25 = t323;
       s.u_time_26 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     if (s.d_click_30) {
       tally_rendered(s.core, 20, "cacheRendered");
       const C4_Cloud& g324 = s.g_cloud_21;

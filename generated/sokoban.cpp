@@ -31,11 +31,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Wall& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Wall& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -52,11 +53,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C1_Goal& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C1_Goal& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -75,11 +77,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Crate& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -100,11 +103,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C3_Keeper& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C3_Keeper& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -121,11 +125,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C4_Button& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C4_Button& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -344,7 +349,7 @@ struct Prog {
     }
     std::swap(s.g_walls_24, out40);
     s.u_walls_25 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const std::vector<C0_Wall>& g43 = s.g_walls_24;
     tally_global(s.core, 2, "walls", g43);
     const std::vector<C1_Goal>& g44 = s.g_goals_16;
@@ -1555,7 +1560,7 @@ struct Prog {
       s.g_walls_24 = prev422;
       s.u_walls_25 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     if (s.d_click_29) {
       tally_rendered(s.core, 11, "cacheRendered");
       const std::vector<C0_Wall>& g423 = s.g_walls_24;

@@ -31,11 +31,12 @@ struct Prog {
     friend void hash_value(Hash& h, const C0_Burrow& v) {
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Burrow& v) {
       ++t.objects;
       t.cells += 2;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       return true;
@@ -54,11 +55,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Mole& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -81,11 +83,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Flash& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 1;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -108,11 +111,12 @@ struct Prog {
       hash_value(h, v.f0);
       hash_value(h, v.origin);
     }
+    static constexpr int64_t kTally = 45;
     friend bool tally_value(Tally& t, const Core& c, const C3_ScoreBar& v) {
       ++t.objects;
       t.cells += 3;
       if (tally_over(t, c)) return true;
-      t.cells += 4 * 0;  // elems: the list, and each Cell's 3 fields
+      t.cells += 4 * 10;  // elems: the list, and each Cell's 3 fields
       if (tally_over(t, c)) return true;
       t.cells += 2;  // origin
       if (tally_over(t, c)) return true;
@@ -377,7 +381,7 @@ struct Prog {
     // init time, programs/whack_a_mole.au:22
     s.g_time_30 = int32_t(0);
     s.u_time_31 = false;
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     const std::vector<C2_Flash>& g7 = s.g_flashes_26;
     tally_global(s.core, 0, "flashes", g7);
     const std::vector<C0_Burrow>& g8 = s.g_burrows_22;
@@ -939,7 +943,7 @@ struct Prog {
       s.g_time_30 = t143;
       s.u_time_31 = true;
     }
-    s.core.tally = StateTally{};
+    s.core.tally.v = StateTally{};
     if (s.d_click_35) {
       tally_rendered(s.core, 11, "cacheRendered");
       const std::vector<C2_Flash>& g144 = s.g_flashes_26;

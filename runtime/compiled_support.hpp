@@ -285,7 +285,7 @@ struct Core {
   RotationTable rot;
   int64_t list_limit = Limits{}.list_length;  // the episode's list-length budget (runtime/limits.hpp)
   int64_t objects_limit = Limits{}.objects, cells_limit = Limits{}.cells;
-  StateTally tally;      // scratch of the state check at the end of start-up and of each step
+  NoCopy<StateTally> tally;  // scratch of the state check at the end of start-up and of each step
   int64_t rendered = 0;  // elements the last host render drew: what cacheRendered holds
 
   void start(uint64_t seed, int on_clauses) {
@@ -332,11 +332,28 @@ constexpr int64_t tally_leaf_cells() {
   else if constexpr (std::is_arithmetic_v<T>) return 0;
   else return -1;  // may hold objects: counted one by one
 }
+// Objects of a class with a constant count (T::kTally cells each) are counted
+// at once too: the interpreter stops before the first object that finds the
+// count past a limit, and that object is found by arithmetic. (It may stop
+// inside an object, past a limit already: that changes neither the object count
+// nor which global is the largest for the limit that is passed.)
+template <class T>
+int64_t tally_constant_cells() {
+  if constexpr (requires { T::kTally; }) return T::kTally;
+  else return -1;
+}
 template <class T>
 bool tally_value(Tally& t, const Core& c, const std::vector<T>& v) {
   t.cells += static_cast<int64_t>(v.size());
   if constexpr (tally_leaf_cells<T>() >= 0) {
     if (!tally_over(t, c)) t.cells += tally_leaf_cells<T>() * static_cast<int64_t>(v.size());
+  } else if (const int64_t k = tally_constant_cells<T>(); k > 0) {
+    int64_t j = static_cast<int64_t>(v.size());                         // objects visited
+    j = std::min(j, std::max<int64_t>(0, c.objects_limit - t.objects + 1));  // before objects pass
+    j = std::min(j, std::max<int64_t>(0, (c.cells_limit - t.cells) / k + 1));  // before cells pass
+    if (t.cells > c.cells_limit) j = 0;
+    t.objects += j;
+    t.cells += j * k;
   } else {
     for (auto it = v.rbegin(); it != v.rend() && !tally_over(t, c); ++it) tally_value(t, c, *it);
   }
@@ -347,7 +364,7 @@ bool tally_value(Tally& t, const Core& c, const std::variant<T...>& v) {
   return std::visit([&](const auto& x) { return tally_value(t, c, x); }, v);
 }
 inline void tally_add(Core& c, int site, const char* name, const Tally& one) {
-  StateTally& s = c.tally;
+  StateTally& s = c.tally.v;
   if (one.objects > s.max_objects) s.max_objects = one.objects, s.site_objects = site, s.name_objects = name;
   if (one.cells > s.max_cells) s.max_cells = one.cells, s.site_cells = site, s.name_cells = name;
   s.total.objects += one.objects;

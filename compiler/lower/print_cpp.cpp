@@ -190,7 +190,7 @@ std::string Printer::helper(const Node* n) {
     case Helper::RotOf: return "int32_t(s.core.rot.of(uint32_t(" + arg(0) + ")))";
     case Helper::Rotated: return "rotated(" + arg(0) + ", " + arg(1) + ", " + arg(2) + ")";
     case Helper::CheckLength: return check_length(n);
-    case Helper::TallyBegin: return "s.core.tally = StateTally{}";
+    case Helper::TallyBegin: return "s.core.tally.v = StateTally{}";
     case Helper::TallyGlobal:
       return "tally_global(s.core, " + std::to_string(n->imm) + ", " + quoted(n->text) + ", " + arg(0) + ")";
     case Helper::TallyRendered: return "tally_rendered(s.core, " + std::to_string(n->imm) + ", " + quoted(n->text) + ")";
@@ -424,12 +424,20 @@ void Printer::classes() {
 // The state check's count of one object (StateTally): the object, its fields with
 // origin and elems, then its children last to first: elems (the list and its
 // cells), origin, the fields in reverse.
+// kTally: the cells of an object whose count never varies (its cells fixed, no
+// field holding a list or an instance), or -1.
 void Printer::tally_function(const ClassInfo& c) {
   const std::string fields = std::to_string(c.fields.size() + 2);
+  const size_t shape = c.static_shape ? c.static_shape->a.size() : 0;
+  bool constant = c.mode == CellMode::Static;
+  for (TypeP t : c.field_types)
+    constant = constant && (!t || t->k == TK::Int || t->k == TK::Bool || t->k == TK::Str || t->k == TK::Func);
+  const int64_t k = static_cast<int64_t>(c.fields.size()) + 2 + 2 + 4 * static_cast<int64_t>(shape);
+  line("static constexpr int64_t kTally = " + std::to_string(constant ? k : -1) + ";");
   line("friend bool tally_value(Tally& t, const Core& c, const " + c.cpp + "& v) {");
   line("  ++t.objects;");
   line("  t.cells += " + fields + ";");
-  const std::string cells = c.mode == CellMode::Stored ? "int64_t(v.cells.size())" : std::to_string(c.cells.size());
+  const std::string cells = c.mode == CellMode::Stored ? "int64_t(v.cells.size())" : std::to_string(shape);
   line("  if (tally_over(t, c)) return true;");
   line("  t.cells += 4 * " + cells + ";  // elems: the list, and each Cell's 3 fields");
   line("  if (tally_over(t, c)) return true;");
