@@ -369,5 +369,22 @@ TEST(HonestOutput, ClicksOutsideTheGridAreWarned) {
   EXPECT_EQ(r.out.find("action 2 (click 2 2)"), std::string::npos) << r.out;
 }
 
+// A task whose reference plan clicks outside its 8x8 grid: solve says so and still answers.
+TEST(HonestOutput, SolveWarnsOfTaskClicksOutsideTheGrid) {
+  const fs::path dir = scratch("solve_clicks"), generated = testing::source_dir() / "tasks/generated";
+  nlohmann::json task = nlohmann::json::parse(testing::read_text(generated / "prompts/sokoban_planning.json"));
+  task["reference_plan"].push_back({{"type", "click"}, {"x", 9}, {"y", 2}});
+  task["reference_plan"].push_back({{"type", "click"}, {"x", 3}, {"y", 3}});
+  fs::create_directories(dir / "prompts");
+  fs::copy_file(generated / "color_dict.yaml", dir / "color_dict.yaml");
+  std::ofstream(dir / "prompts/clicks.json") << task.dump();
+  auto r = run_cli("solve " + (dir / "prompts/clicks.json").string() + " --programs " +
+                   (generated / "programs").string() + " --json");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: clicks.json: click 9 2 is outside the 8x8 grid"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("click 3 3 is outside"), std::string::npos) << r.out;
+  EXPECT_EQ(last_json(r.out)["result"]["found"], true) << r.out;
+}
+
 }  // namespace
 }  // namespace autumn
