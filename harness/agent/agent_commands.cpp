@@ -96,24 +96,6 @@ int fail(const std::string& cmd, const std::string& why) {
   return 1;
 }
 
-// Builds the task's compiled modules before the solver's clock starts (compile
-// time is not solve time); returns the seconds spent compiling.
-double prepare_modules(const Task& task, const SolveOptions& o) {
-  if (o.engine != "compiled") return 0;
-  std::vector<std::pair<std::string, std::optional<std::string>>> programs = {{task.program, std::nullopt}};
-  if (task.type == TaskType::ChangeDetection)
-    programs.emplace_back(task.wrong_program,
-                          o.answers ? std::optional<std::string>(load_trigger_condition(*o.answers)) : std::nullopt);
-  double total = 0;
-  for (const auto& [name, trigger] : programs) {
-    double seconds = 0;
-    std::string why;  // a module that cannot be built fails the solver, which says why
-    prepare_compiled_module(load_program_checked(task_program_path(task, o, name), trigger), &seconds, &why);
-    total += seconds;
-  }
-  return total;
-}
-
 // Clicks outside the task's grid reach the program but land on no cell: say so.
 void warn_clicks_outside(const Task& task) {
   const int grid = task.type == TaskType::MaskedFramePrediction ? task.observations[0].grid.width
