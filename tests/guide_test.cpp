@@ -4,6 +4,9 @@
 // show, as `autumn run` prints them. Every example runs on the interpreter and
 // on the compiled engine; both must print exactly the block. AUTUMN_BLESS=1
 // rewrites the blocks from the interpreter (the compiled engine must still agree).
+// An ```autumn block without a ```frames block after it is a failure, not a
+// fragment to skip: fragments use a plain ``` fence. Examples stay small (at most
+// 8x8) so that compiling each on demand keeps the test to seconds.
 //
 // The guide's reference must also name every builtin of the builtin table
 // (compiler/analyse/builtins.hpp) and every function of the standard library, so
@@ -33,6 +36,7 @@ struct Example {
   std::string expected;                  // the frames, as `autumn run` prints them
   size_t frames_begin = 0, frames_end = 0;  // the ```frames block's body in the guide's text
   int line = 0;                          // of the program, for messages
+  bool has_frames = false;
 };
 
 std::vector<Example> examples(const std::string& text) {
@@ -46,7 +50,11 @@ std::vector<Example> examples(const std::string& text) {
     ex.line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(body), '\n'));
     size_t next = end + close.size();
     while (next < text.size() && text[next] == '\n') ++next;
-    if (text.compare(next, frames_open.size(), frames_open) != 0) continue;  // a fragment, not an example
+    ex.has_frames = text.compare(next, frames_open.size(), frames_open) == 0;
+    if (!ex.has_frames) {
+      out.push_back(ex);
+      continue;
+    }
     ex.frames_begin = next + frames_open.size();
     ex.frames_end = text.find(close, ex.frames_begin);
     std::istringstream block(text.substr(ex.frames_begin, ex.frames_end - ex.frames_begin));
@@ -91,6 +99,10 @@ TEST(Guide, EveryExampleShowsItsFramesOnBothEngines) {
   for (auto it = all.rbegin(); it != all.rend(); ++it) {
     const Example& ex = *it;
     SCOPED_TRACE("example at docs/language.md:" + std::to_string(ex.line));
+    if (!ex.has_frames) {
+      ADD_FAILURE() << "an ```autumn block needs a ```frames block after it (a fragment takes a plain ``` fence)";
+      continue;
+    }
     std::string interp;
     try {
       interp = run_example(ex, "interp");
@@ -101,6 +113,10 @@ TEST(Guide, EveryExampleShowsItsFramesOnBothEngines) {
     if (bless) text.replace(ex.frames_begin, ex.frames_end - ex.frames_begin, header(ex) + interp);
     else EXPECT_EQ(interp, ex.expected) << "(AUTUMN_BLESS=1 rewrites the frames from the interpreter)";
     EXPECT_EQ(interp.find("# error"), std::string::npos) << "examples run without errors";
+    std::istringstream frames(interp);
+    int rows = 0;
+    for (std::string row; std::getline(frames, row) && (rows == 0 || row[0] != '#');) rows += row[0] != '#';
+    EXPECT_LE(rows, 8) << "examples stay within 8x8 grids";
   }
   if (bless) std::ofstream(kGuide, std::ios::binary) << text;
 }

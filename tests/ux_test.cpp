@@ -339,6 +339,24 @@ TEST(HonestOutput, SolveWithoutAnAnswerExitsOne) {
   EXPECT_EQ(last_json(r.out)["result"]["found"], false);
 }
 
+// eval compiles a task's modules before its clock starts, as solve does.
+TEST(HonestOutput, EvalDoesNotCountCompilesAsSolveTime) {
+  REQUIRE_ICE();
+  const fs::path dir = scratch("eval_compile");
+  fs::create_directories(dir / "tasks/prompts");
+  for (const char* f : {"programs", "answers", "color_dict.yaml"}) fs::create_symlink(ice_dir() / f, dir / "tasks" / f);
+  fs::create_symlink(ice_dir() / "prompts/ice_cd.json", dir / "tasks/prompts/ice_cd.json");
+  auto r = run_cli("eval " + (dir / "tasks").string() + " --json", true, "AUTUMN_CACHE_DIR=" + (dir / "cache").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  const nlohmann::json task = last_json(r.out)["tasks"][0];
+  EXPECT_EQ(task["score"], 1.0) << r.out;
+  // The wrong program is compiled on first use (a second or more); detecting the change takes milliseconds.
+  EXPECT_GT(task["compile_seconds"].get<double>(), 0.2) << r.out;
+  EXPECT_LT(task["seconds"].get<double>(), task["compile_seconds"].get<double>() / 4) << r.out;
+  auto text = run_cli("eval " + (dir / "tasks").string(), false, "AUTUMN_CACHE_DIR=" + (dir / "cache2").string());
+  EXPECT_NE(text.out.find("s compiling modules, not counted)"), std::string::npos) << text.out;
+}
+
 TEST(HonestOutput, DifftestListsErroredEpisodes) {
   const std::string prog = (testing::source_dir() / "tests/runtime_errors/division_by_zero.au").string();
   auto text = run_cli("difftest " + prog + " --seeds 2 --steps 20");
@@ -367,6 +385,23 @@ TEST(HonestOutput, ClicksOutsideTheGridAreWarned) {
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("warning: action 1 (click 8 0) is outside the 8x8 grid"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("action 2 (click 2 2)"), std::string::npos) << r.out;
+}
+
+// A task whose reference plan clicks outside its 8x8 grid: solve says so and still answers.
+TEST(HonestOutput, SolveWarnsOfTaskClicksOutsideTheGrid) {
+  const fs::path dir = scratch("solve_clicks"), generated = testing::source_dir() / "tasks/generated";
+  nlohmann::json task = nlohmann::json::parse(testing::read_text(generated / "prompts/sokoban_planning.json"));
+  task["reference_plan"].push_back({{"type", "click"}, {"x", 9}, {"y", 2}});
+  task["reference_plan"].push_back({{"type", "click"}, {"x", 3}, {"y", 3}});
+  fs::create_directories(dir / "prompts");
+  fs::copy_file(generated / "color_dict.yaml", dir / "color_dict.yaml");
+  std::ofstream(dir / "prompts/clicks.json") << task.dump();
+  auto r = run_cli("solve " + (dir / "prompts/clicks.json").string() + " --programs " +
+                   (generated / "programs").string() + " --json");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: clicks.json: click 9 2 is outside the 8x8 grid"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("click 3 3 is outside"), std::string::npos) << r.out;
+  EXPECT_EQ(last_json(r.out)["result"]["found"], true) << r.out;
 }
 
 }  // namespace

@@ -96,22 +96,18 @@ int fail(const std::string& cmd, const std::string& why) {
   return 1;
 }
 
-// Builds the task's compiled modules before the solver's clock starts (compile
-// time is not solve time); returns the seconds spent compiling.
-double prepare_modules(const Task& task, const SolveOptions& o) {
-  if (o.engine != "compiled") return 0;
-  std::vector<std::pair<std::string, std::optional<std::string>>> programs = {{task.program, std::nullopt}};
-  if (task.type == TaskType::ChangeDetection)
-    programs.emplace_back(task.wrong_program,
-                          o.answers ? std::optional<std::string>(load_trigger_condition(*o.answers)) : std::nullopt);
-  double total = 0;
-  for (const auto& [name, trigger] : programs) {
-    double seconds = 0;
-    std::string why;  // a module that cannot be built fails the solver, which says why
-    prepare_compiled_module(load_program_checked(task_program_path(task, o, name), trigger), &seconds, &why);
-    total += seconds;
-  }
-  return total;
+// Clicks outside the task's grid reach the program but land on no cell: say so.
+void warn_clicks_outside(const Task& task) {
+  const int grid = task.type == TaskType::MaskedFramePrediction ? task.observations[0].grid.width
+                   : task.type == TaskType::Planning           ? task.goal.width
+                                                                : 0;
+  std::vector<Action> actions = task.reference_plan;
+  for (const Observation& o : task.observations)
+    if (o.action) actions.push_back(*o.action);
+  for (const Action& a : actions)
+    if (grid > 0 && a.kind == Action::Kind::Click && (a.x < 0 || a.y < 0 || a.x >= grid || a.y >= grid))
+      std::cerr << "autumn solve: warning: " << task.file.filename().string() << ": " << format_action(a)
+                << " is outside the " << grid << "x" << grid << " grid; the program still receives it\n";
 }
 
 int run_solve(State& s) {
@@ -120,6 +116,7 @@ int run_solve(State& s) {
     if (!s.programs_dir.empty()) o.programs_dir = s.programs_dir;
     if (!s.answers_file.empty()) o.answers = s.answers_file;
     Task task = load_task(s.task_file);
+    warn_clicks_outside(task);
     ThreadPool pool(s.threads);
     nlohmann::json out = {{"task", s.task_file}, {"type", type_name(task.type)}, {"program", task.program}};
     out["compile_seconds"] = prepare_modules(task, o);

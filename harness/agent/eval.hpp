@@ -7,7 +7,8 @@
 // <task folder>/../answers/<program>_change_detection.json exists ("-"
 // otherwise); planning 1 when the plan replays to the goal on the mask, else 0.
 // A task that cannot be loaded or solved is a row with an error and counts as a
-// failure (exit status 1).
+// failure (exit status 1). A task's modules are compiled before its clock starts:
+// compile time is reported apart (compile_seconds), never as solve time.
 #pragma once
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -23,7 +24,8 @@ struct EvalRow {
   std::string task;  // path relative to the evaluated folder
   std::string type;  // mfp, cd, planning ("?" if unreadable)
   std::optional<double> score;
-  double seconds = 0;
+  double seconds = 0;          // solving, compiles excluded
+  double compile_seconds = 0;  // building the task's modules on first use
   double throughput = 0;
   std::string unit;    // rollouts/s, steps/s, nodes/s
   std::string detail;  // choice / detection step / plan length

@@ -1,5 +1,7 @@
 #include "harness/agent/solve_common.hpp"
 
+#include "harness/module_cache.hpp"
+
 namespace autumn::agent {
 
 fs::path task_program_path(const Task& task, const SolveOptions& opts, const std::string& name) {
@@ -12,6 +14,22 @@ Action random_action(std::mt19937_64& rng, int grid, int arrows) {
   if (r < 2) return Action::noop();
   if (r < 2 + arrows) return Action{static_cast<Action::Kind>(1 + rng() % 4)};
   return Action::click(static_cast<int>(rng() % grid), static_cast<int>(rng() % grid));
+}
+
+double prepare_modules(const Task& task, const SolveOptions& o) {
+  if (o.engine != "compiled") return 0;
+  std::vector<std::pair<std::string, std::optional<std::string>>> programs = {{task.program, std::nullopt}};
+  if (task.type == TaskType::ChangeDetection)
+    programs.emplace_back(task.wrong_program,
+                          o.answers ? std::optional<std::string>(load_trigger_condition(*o.answers)) : std::nullopt);
+  double total = 0;
+  for (const auto& [name, trigger] : programs) {
+    double seconds = 0;
+    std::string why;  // a module that cannot be built fails the solver, which says why
+    prepare_compiled_module(load_program_checked(task_program_path(task, o, name), trigger), &seconds, &why);
+    total += seconds;
+  }
+  return total;
 }
 
 }  // namespace autumn::agent

@@ -34,6 +34,13 @@ struct SolveOptions {
 // The program file a task names, from opts.programs_dir or the task's default.
 fs::path task_program_path(const Task& task, const SolveOptions& opts, const std::string& name);
 
+// Builds the task's compiled modules (its program, and for change detection the
+// wrong program with the answers' trigger) before a solver's clock starts, so
+// compile time is never counted as solve time; returns the seconds spent
+// compiling (0 for other engines or when every module is cached). A module that
+// cannot be built is left for the solver, which reports why.
+double prepare_modules(const Task& task, const SolveOptions& opts);
+
 class Stopwatch {
  public:
   double seconds() const {
