@@ -1,6 +1,6 @@
 // autumnc — compile an Autumn program into a C++ environment module.
 //
-//   autumnc PROGRAM [-o DIR] [--name NAME] [--trigger EXPR] [-v] [--strict]
+//   autumnc PROGRAM [-o DIR] [--name NAME] [--trigger EXPR] [-v] [--strict] [--embedded]
 //
 // Writes DIR/NAME.cpp (compiler/emit/emit_module.hpp says what it contains) and
 // one line on stderr saying how it lowered:
@@ -14,7 +14,8 @@
 // read or parse, a GRID_SIZE that cannot be painted, or a start-up that fails (the
 // interpreter starts it with the benchmark's seed 0 first: a type error it meets
 // there is proven). Warnings (compiler/analyse/lint.hpp) are printed; --Werror
-// makes them errors.
+// makes them errors. --embedded skips the specialiser (the module embeds the
+// interpreter).
 // Exit status: 0 written, 1 the program is bad (file:line:col: error: ...) or
 // --strict refused it or the file cannot be written, 2 usage.
 #include <CLI/CLI.hpp>
@@ -42,6 +43,7 @@ struct Options {
   bool verbose = false;
   bool strict = false;
   bool werror = false;
+  bool embedded = false;
 };
 
 void register_options(CLI::App& app, Options& o) {
@@ -52,6 +54,7 @@ void register_options(CLI::App& app, Options& o) {
   app.add_flag("-v,--verbose", o.verbose, "List every dynamic site with its location and reason");
   app.add_flag("--strict", o.strict, "Fail (exit 1) unless the program specialises with no dynamic site");
   app.add_flag("--Werror", o.werror, "Treat warnings as errors");
+  app.add_flag("--embedded", o.embedded, "Emit the embedded module (the interpreter runs the program text)");
 }
 
 // The one-line summary, and with -v one line per dynamic site.
@@ -106,6 +109,7 @@ int run(const Options& o) {
   src.program_path = o.program_path;
   src.program_text = buf.str();
   if (!o.trigger.empty()) src.trigger = o.trigger;
+  src.force_embedded = o.embedded;
   src.name = autumn::module_identifier(
       o.name.empty() ? std::filesystem::path(o.program_path).stem().string() : o.name);
   if (!can_run(o, src)) return 1;

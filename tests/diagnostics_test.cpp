@@ -60,7 +60,7 @@ TEST_P(RuntimeFailure, EndsEpisodeWithLocatedMessage) {
   ASSERT_TRUE(actions) << why;
   auto program = load_program(SourceFile{path, text});
   // Both engines, with the same text: the compiled module carries its source's locations.
-  for (const char* engine : {"interp", "compiled"}) {
+  for (const std::string& engine : testing::test_engines()) {
     std::string why;
     auto env = make_environment(engine, program, &why);
     ASSERT_TRUE(env) << why;

@@ -57,7 +57,7 @@ TEST_P(LimitProgram, EndsWithLocatedMessageOnBothEngines) {
   const std::string where = path + ":" + expect.substr(0, colon) + ": runtime error: ";
   const std::string message = expect.substr(colon + 2);
   std::string pending;
-  for (const char* engine : {"interp", "compiled"}) {
+  for (const std::string& engine : testing::test_engines()) {
     auto env = make_environment(engine, program, &why);
     ASSERT_TRUE(env) << why;
     env->set_limits(*limits);
@@ -66,7 +66,7 @@ TEST_P(LimitProgram, EndsWithLocatedMessageOnBothEngines) {
     // The per-step budgets (cells created, calls made) are the interpreter's alone.
     const bool per_step = message.find("this step created") != std::string::npos ||
                           message.find("this step made") != std::string::npos;
-    if (!right && per_step && std::string(engine) == "compiled" && lower_program(*program, "p").ok) {
+    if (!right && per_step && engine == "compiled" && lower_program(*program, "p").ok) {
       pending = "compiled engine: the program is specialised and its emitted code does not enforce the per-step "
                 "budgets (runtime/limits.hpp; docs/design.md, Limits); it said: " +
                 (o.failed ? o.error : std::string("nothing, the episode ran on"));
@@ -163,7 +163,7 @@ TEST(Limits, ListLengthBelowTheFloorIsTheFloorOnBothEngines) {
   auto program = load_program(SourceFile{"four.au", "(program (= GRID_SIZE 4) (= xs (initnext (list 1 2 3 4) xs)))"});
   Limits l;
   l.list_length = 3;
-  for (const char* engine : {"interp", "compiled"}) {
+  for (const std::string& engine : testing::test_engines()) {
     std::string why;
     auto env = make_environment(engine, program, &why);
     ASSERT_TRUE(env) << why;

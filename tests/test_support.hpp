@@ -65,6 +65,16 @@ inline std::vector<std::string> trace_names() {
   return names;
 }
 
+// The engines the two-engine suites check: both, unless AUTUMN_TEST_ENGINES
+// names some (comma-separated; scripts/sanitize.sh sets "interp").
+inline std::vector<std::string> test_engines() {
+  std::vector<std::string> out;
+  const char* env = std::getenv("AUTUMN_TEST_ENGINES");
+  std::stringstream in(env && *env ? env : "interp,compiled");
+  for (std::string e; std::getline(in, e, ',');) out.push_back(e);
+  return out;
+}
+
 struct CliResult {
   int status;
   std::string out;  // stdout and stderr

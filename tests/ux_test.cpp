@@ -170,7 +170,7 @@ TEST(Pictures, IcePlanningPlan) {
 TEST(Pictures, CheckDrawsTheFirstMismatch) {
   const fs::path dir = scratch("check");
   const std::string trace = (dir / "t.json").string();
-  ASSERT_EQ(run_cli("run " + program_path("sokoban.au") + " --steps 2 --json > " + trace).status, 0);
+  ASSERT_EQ(run_cli("run " + program_path("sokoban.au") + " --steps 2 --json > " + trace, true).status, 0);
   nlohmann::json t = nlohmann::json::parse(testing::read_text(trace));
   std::string row = t["traces"][0]["frames"][1][2];
   row.replace(0, row.find(' '), "red");  // cell (0, 2) of frame 1

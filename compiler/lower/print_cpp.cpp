@@ -208,7 +208,8 @@ std::string Printer::expr(const Node* n) {
     moving = moving_mask_;
     moving_node_ = nullptr;
   }
-  auto a = [&](size_t i) { return (moving >> i) & 1 ? "std::move(" + expr(n->a[i]) + ")" : expr(n->a[i]); };
+  // The move mask covers the first 32 operands (pass_moves sets no others).
+  auto a = [&](size_t i) { return i < 32 && (moving >> i) & 1 ? "std::move(" + expr(n->a[i]) + ")" : expr(n->a[i]); };
   auto list = [&](size_t from) {
     std::string s;
     for (size_t i = from; i < n->a.size(); ++i) s += (i > from ? ", " : "") + a(i);
