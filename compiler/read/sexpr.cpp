@@ -7,6 +7,19 @@
 namespace autumn {
 namespace {
 
+// A character as an error message shows it: itself if printable ASCII, else
+// \xNN, so that a message stays on one line whatever the input holds.
+std::string shown_char(char c) {
+  const auto u = static_cast<unsigned char>(c);
+  if (u >= 0x20 && u < 0x7f) return std::string(1, c);
+  static const char* const kHex = "0123456789abcdef";
+  return std::string("\\x") + kHex[u >> 4] + kHex[u & 15];
+}
+
+}  // namespace
+
+namespace {
+
 constexpr char kEscapeNames[] = {'\'', '"', '?', '\\', 'a', 'b', 'f', 'n', 'r', 't', 'v'};
 constexpr char kEscapeValues[] = {'\'', '"', '?', '\\', '\a', '\b', '\f', '\n', '\r', '\t', '\v'};
 
@@ -111,7 +124,7 @@ class Reader {
         for (; i < 11; ++i)
           if (kEscapeNames[i] == e) break;
         if (i == 11)
-          throw CompileError(file_.name, at, std::string("invalid escape '\\") + e + "' in string");
+          throw CompileError(file_.name, at, "invalid escape '\\" + shown_char(e) + "' in string");
         out += kEscapeValues[i];
         advance();
         continue;
