@@ -420,12 +420,18 @@ Value Interpreter::call_deferred(DeferredObj* d) {
   last_cell_arg_ = d->expr->loc;
   Ref<Scope> cenv = d->env;
   cenv->parent = env_;  // captured names win; the rest resolves through the caller
-  Ref<Scope> saved = env_;
+  // Undone on the way out, an error included: the caller's scope may hold this
+  // cell, and a parent link left behind would make a cycle that is never freed.
+  struct Restore {
+    Interpreter& in;
+    Ref<Scope> cenv, saved;
+    ~Restore() {
+      cenv->parent.reset();
+      in.env_ = saved;
+    }
+  } restore{*this, cenv, env_};
   env_ = cenv;
-  Value v = eval(*d->expr);
-  cenv->parent.reset();
-  env_ = saved;
-  return v;
+  return eval(*d->expr);
 }
 
 // (Cell X Y COLOUR): each argument is tried once in a parentless scope holding
