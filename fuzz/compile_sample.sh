@@ -19,7 +19,12 @@ for ((k = 0; k < total && loaded < n; k += step)); do
   f=$corpus/${files[$k]}
   for mode in "" --embedded; do
     rm -f "$out"/*.cpp
-    build/autumnc "$f" -o "$out" --name m $mode >/dev/null 2>&1 || continue 2  # does not load: nothing to emit
+    if ! build/autumnc "$f" -o "$out" --name m $mode >"$out/log" 2>&1; then
+      [ -z "$mode" ] && continue 2  # does not load: nothing to emit
+      echo "compile_sample.sh: autumnc $mode failed on $f, which loads:" >&2
+      head -5 "$out/log" >&2
+      exit 1
+    fi
     if ! g++ -std=c++20 -fsyntax-only -I. "$out/m.cpp" 2>"$out/err"; then
       echo "compile_sample.sh: the module emitted for $f${mode:+ ($mode)} does not compile:" >&2
       head -20 "$out/err" >&2
