@@ -7,13 +7,14 @@
 namespace autumn {
 namespace {
 
-// A character as an error message shows it: itself if printable ASCII, else
-// \xNN, so that a message stays on one line whatever the input holds.
+// The character after a backslash as an error message shows it: itself if
+// printable ASCII, else xNN (so '\x0a' for a newline), so that a message stays on
+// one line whatever the input holds.
 std::string shown_char(char c) {
   const auto u = static_cast<unsigned char>(c);
   if (u >= 0x20 && u < 0x7f) return std::string(1, c);
   static const char* const kHex = "0123456789abcdef";
-  return std::string("\\x") + kHex[u >> 4] + kHex[u & 15];
+  return std::string("x") + kHex[u >> 4] + kHex[u & 15];
 }
 
 }  // namespace
