@@ -208,10 +208,10 @@ struct Prog {
         case 0: {
           const std::vector<int32_t> v7 = std::vector<int32_t>{int32_t(2), int32_t(2), int32_t(3), int32_t(3), int32_t(3), int32_t(3), int32_t(4), int32_t(4), int32_t(5)};
           if (v7.empty()) {
-            fail_at(19, std::string() + std::string("at: empty list"));
+            fail_at(13, std::string() + std::string("at: empty list"));
           }
           if (((o1.f0 < int32_t(0)) || (o1.f0 >= int32_t(v7.size())))) {
-            fail_at(19, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
+            fail_at(13, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
           }
           const int32_t t8 = v7[size_t(o1.f0)];
           colour6 = t8;
@@ -1210,17 +1210,17 @@ struct Prog {
     s.core.tally.v = StateTally{};
     tally_rendered(s.core, 12, "cacheRendered");
     const std::vector<C1_Block>& g332 = s.g_stack_12;
-    tally_global(s.core, 13, "stack", g332);
+    tally_global(s.core, 2, "stack", g332);
     const C0_Piece& g333 = s.g_piece_8;
-    tally_global(s.core, 14, "piece", g333);
+    tally_global(s.core, 3, "piece", g333);
     const Pos& g334 = s.g_spawnAt_7;
-    tally_global(s.core, 15, "spawnAt", g334);
+    tally_global(s.core, 4, "spawnAt", g334);
     const std::vector<int32_t>& g335 = s.g_turnOf_5;
-    tally_global(s.core, 16, "turnOf", g335);
+    tally_global(s.core, 5, "turnOf", g335);
     const std::vector<int32_t>& g336 = s.g_hues_6;
-    tally_global(s.core, 17, "hues", g336);
+    tally_global(s.core, 6, "hues", g336);
     const std::vector<std::vector<Pos>>& g337 = s.g_shapes_4;
-    tally_global(s.core, 18, "shapes", g337);
+    tally_global(s.core, 7, "shapes", g337);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
@@ -1234,8 +1234,7 @@ struct Prog {
       const int32_t colour3 = colour_1_C1_Block(s, x2);
       const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
       s.core.occupied.add(e4.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e4.position, pal[e4.color]);
+      ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
     }
     const C0_Piece& g5 = s.g_piece_8;
     std::vector<Elem>& cells6 = s.scratch.v.b79;
@@ -1243,8 +1242,7 @@ struct Prog {
     render_C0_Piece(s, g5, cells6);
     for (const Elem& e7 : cells6) {
       s.core.occupied.add(e7.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e7.position, pal[e7.color]);
+      ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
     }
   }
   static uint64_t hash(const State& s) {
@@ -1316,12 +1314,6 @@ const ErrorSite Prog::kErrors[] = {
     {54, 29, nullptr, true, 54, 29, ""},
     {55, 25, nullptr, true, 55, 25, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
-    {22, 3, nullptr, true, 22, 3, ""},
-    {20, 3, nullptr, true, 20, 3, ""},
-    {21, 3, nullptr, true, 21, 3, ""},
-    {11, 3, nullptr, true, 11, 3, ""},
     {24, 69, nullptr, true, 24, 69, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 

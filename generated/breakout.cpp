@@ -1207,13 +1207,13 @@ struct Prog {
     s.core.tally.v = StateTally{};
     tally_rendered(s.core, 9, "cacheRendered");
     const C0_Paddle& g292 = s.g_paddle_25;
-    tally_global(s.core, 10, "paddle", g292);
+    tally_global(s.core, 2, "paddle", g292);
     const C1_Ball& g293 = s.g_ball_21;
-    tally_global(s.core, 11, "ball", g293);
+    tally_global(s.core, 3, "ball", g293);
     const std::vector<C2_Brick>& g294 = s.g_bricks_17;
-    tally_global(s.core, 12, "bricks", g294);
+    tally_global(s.core, 4, "bricks", g294);
     const C3_Hearts& g295 = s.g_hud_9;
-    tally_global(s.core, 13, "hud", g295);
+    tally_global(s.core, 5, "hud", g295);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
@@ -1225,45 +1225,37 @@ struct Prog {
     const C0_Paddle& g1 = s.g_paddle_25;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e2.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e2.position, pal[e2.color]);
+    ++s.core.rendered, paint ? paint->paint(e2.position, pal[e2.color]) : void();
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e3.position, pal[e3.color]);
+    ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e4.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e4.position, pal[e4.color]);
+    ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
     const C1_Ball& g5 = s.g_ball_21;
     const Elem e6 = Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e6.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e6.position, pal[e6.color]);
+    ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
     const std::vector<C2_Brick>& g7 = s.g_bricks_17;
     for (const C2_Brick& x8 : g7) {
       const int32_t colour9 = colour_3_C2_Brick(s, x8);
       const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
       s.core.occupied.add(e10.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e10.position, pal[e10.color]);
+      ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
     }
     const C3_Hearts& g11 = s.g_hud_9;
     const int32_t colour12 = colour_0_C3_Hearts(s, g11);
     const Elem e13 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e13.position, pal[e13.color]);
+    ++s.core.rendered, paint ? paint->paint(e13.position, pal[e13.color]) : void();
     const int32_t colour14 = colour_1_C3_Hearts(s, g11);
     const Elem e15 = Elem{Pos{add(g11.origin.x, int32_t(1)), add(g11.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e15.position, pal[e15.color]);
+    ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
     const int32_t colour16 = colour_2_C3_Hearts(s, g11);
     const Elem e17 = Elem{Pos{add(g11.origin.x, int32_t(2)), add(g11.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e17.position, pal[e17.color]);
+    ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1339,10 +1331,6 @@ const ErrorSite Prog::kErrors[] = {
     {22, 7, nullptr, true, 22, 7, ""},
     {21, 20, nullptr, true, 21, 20, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {27, 3, nullptr, true, 27, 3, ""},
-    {30, 3, nullptr, true, 30, 3, ""},
-    {33, 3, nullptr, true, 33, 3, ""},
-    {42, 3, nullptr, true, 42, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

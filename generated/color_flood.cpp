@@ -763,31 +763,31 @@ struct Prog {
     if (s.d_click_19) {
       tally_rendered(s.core, 12, "cacheRendered");
       const C2_Lamps& g133 = s.g_lamps_6;
-      tally_global(s.core, 13, "lamps", g133);
+      tally_global(s.core, 3, "lamps", g133);
       if (s.d_click_19) {
         const Pos& g134 = s.g_click_18;
-        tally_global(s.core, 14, "click", g134);
+        tally_global(s.core, 12, "click", g134);
       }
       const std::vector<C1_Swatch>& g135 = s.g_swatches_10;
-      tally_global(s.core, 15, "swatches", g135);
+      tally_global(s.core, 4, "swatches", g135);
       const std::vector<int32_t>& g136 = s.g_palette_4;
-      tally_global(s.core, 16, "palette", g136);
+      tally_global(s.core, 5, "palette", g136);
       const std::vector<C0_Tile>& g137 = s.g_tiles_14;
-      tally_global(s.core, 17, "tiles", g137);
+      tally_global(s.core, 6, "tiles", g137);
       const Pos& g138 = s.g_corner_5;
-      tally_global(s.core, 18, "corner", g138);
+      tally_global(s.core, 7, "corner", g138);
     } else {
-      tally_rendered(s.core, 19, "cacheRendered");
+      tally_rendered(s.core, 12, "cacheRendered");
       const C2_Lamps& g139 = s.g_lamps_6;
-      tally_global(s.core, 20, "lamps", g139);
+      tally_global(s.core, 3, "lamps", g139);
       const std::vector<C1_Swatch>& g140 = s.g_swatches_10;
-      tally_global(s.core, 21, "swatches", g140);
+      tally_global(s.core, 4, "swatches", g140);
       const std::vector<int32_t>& g141 = s.g_palette_4;
-      tally_global(s.core, 22, "palette", g141);
+      tally_global(s.core, 5, "palette", g141);
       const std::vector<C0_Tile>& g142 = s.g_tiles_14;
-      tally_global(s.core, 23, "tiles", g142);
+      tally_global(s.core, 6, "tiles", g142);
       const Pos& g143 = s.g_corner_5;
-      tally_global(s.core, 24, "corner", g143);
+      tally_global(s.core, 7, "corner", g143);
     }
     s.core.clear_inputs();
   }
@@ -802,33 +802,28 @@ struct Prog {
       const int32_t colour3 = colour_2_C0_Tile(s, x2);
       const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
       s.core.occupied.add(e4.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e4.position, pal[e4.color]);
+      ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
     }
     const std::vector<C1_Swatch>& g5 = s.g_swatches_10;
     for (const C1_Swatch& x6 : g5) {
       const int32_t colour7 = colour_1_C1_Swatch(s, x6);
       const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
       s.core.occupied.add(e8.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e8.position, pal[e8.color]);
+      ++s.core.rendered, paint ? paint->paint(e8.position, pal[e8.color]) : void();
     }
     const C2_Lamps& g9 = s.g_lamps_6;
     const int32_t colour10 = colour_0_C2_Lamps(s, g9);
     const Elem e11 = Elem{Pos{add(g9.origin.x, int32_t(0)), add(g9.origin.y, int32_t(0))}, colour10};
     s.core.occupied.add(e11.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e11.position, pal[e11.color]);
+    ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
     const int32_t colour12 = colour_0_C2_Lamps(s, g9);
     const Elem e13 = Elem{Pos{add(g9.origin.x, int32_t(1)), add(g9.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e13.position, pal[e13.color]);
+    ++s.core.rendered, paint ? paint->paint(e13.position, pal[e13.color]) : void();
     const int32_t colour14 = colour_0_C2_Lamps(s, g9);
     const Elem e15 = Elem{Pos{add(g9.origin.x, int32_t(2)), add(g9.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e15.position, pal[e15.color]);
+    ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -907,18 +902,6 @@ const ErrorSite Prog::kErrors[] = {
     {18, 65, nullptr, true, 18, 65, ""},
     {18, 23, nullptr, true, 18, 23, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {24, 3, nullptr, true, 24, 3, ""},
-    {14, 3, nullptr, true, 14, 3, ""},
-    {21, 3, nullptr, true, 21, 3, ""},
-    {15, 3, nullptr, true, 15, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
-    {24, 3, nullptr, true, 24, 3, ""},
-    {14, 3, nullptr, true, 14, 3, ""},
-    {21, 3, nullptr, true, 21, 3, ""},
-    {15, 3, nullptr, true, 15, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

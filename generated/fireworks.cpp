@@ -658,32 +658,32 @@ struct Prog {
     s.core.tally.v = StateTally{};
     if (s.d_click_21) {
       const C0_Pad& g138 = s.g_pad_16;
-      tally_global(s.core, 18, "pad", g138);
+      tally_global(s.core, 0, "pad", g138);
       const std::vector<C1_Rocket>& g139 = s.g_rockets_12;
-      tally_global(s.core, 19, "rockets", g139);
-      tally_rendered(s.core, 20, "cacheRendered");
+      tally_global(s.core, 1, "rockets", g139);
+      tally_rendered(s.core, 18, "cacheRendered");
       const std::vector<C2_Spark>& g140 = s.g_sparks_8;
-      tally_global(s.core, 21, "sparks", g140);
+      tally_global(s.core, 2, "sparks", g140);
       const std::vector<Pos>& g141 = s.g_compass_5;
-      tally_global(s.core, 22, "compass", g141);
+      tally_global(s.core, 3, "compass", g141);
       if (s.d_click_21) {
         const Pos& g142 = s.g_click_20;
-        tally_global(s.core, 23, "click", g142);
+        tally_global(s.core, 18, "click", g142);
       }
       const std::vector<int32_t>& g143 = s.g_palette_4;
-      tally_global(s.core, 24, "palette", g143);
+      tally_global(s.core, 4, "palette", g143);
     } else {
       const C0_Pad& g144 = s.g_pad_16;
-      tally_global(s.core, 25, "pad", g144);
+      tally_global(s.core, 0, "pad", g144);
       const std::vector<C1_Rocket>& g145 = s.g_rockets_12;
-      tally_global(s.core, 26, "rockets", g145);
-      tally_rendered(s.core, 27, "cacheRendered");
+      tally_global(s.core, 1, "rockets", g145);
+      tally_rendered(s.core, 18, "cacheRendered");
       const std::vector<C2_Spark>& g146 = s.g_sparks_8;
-      tally_global(s.core, 28, "sparks", g146);
+      tally_global(s.core, 2, "sparks", g146);
       const std::vector<Pos>& g147 = s.g_compass_5;
-      tally_global(s.core, 29, "compass", g147);
+      tally_global(s.core, 3, "compass", g147);
       const std::vector<int32_t>& g148 = s.g_palette_4;
-      tally_global(s.core, 30, "palette", g148);
+      tally_global(s.core, 4, "palette", g148);
     }
     s.core.clear_inputs();
   }
@@ -696,34 +696,28 @@ struct Prog {
     const C0_Pad& g1 = s.g_pad_16;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e2.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e2.position, pal[e2.color]);
+    ++s.core.rendered, paint ? paint->paint(e2.position, pal[e2.color]) : void();
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e3.position, pal[e3.color]);
+    ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e4.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e4.position, pal[e4.color]);
+    ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
     const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
     for (const C1_Rocket& x6 : g5) {
       const Elem e7 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(8)};
       s.core.occupied.add(e7.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e7.position, pal[e7.color]);
+      ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
       const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(1))}, int32_t(9)};
       s.core.occupied.add(e8.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e8.position, pal[e8.color]);
+      ++s.core.rendered, paint ? paint->paint(e8.position, pal[e8.color]) : void();
     }
     const std::vector<C2_Spark>& g9 = s.g_sparks_8;
     for (const C2_Spark& x10 : g9) {
       const int32_t colour11 = colour_5_C2_Spark(s, x10);
       const Elem e12 = Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11};
       s.core.occupied.add(e12.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e12.position, pal[e12.color]);
+      ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
     }
   }
   static uint64_t hash(const State& s) {
@@ -814,19 +808,7 @@ const ErrorSite Prog::kErrors[] = {
     {62, 12, nullptr, true, 62, 12, ""},
     {61, 45, nullptr, true, 61, 45, ""},
     {60, 16, nullptr, true, 60, 16, ""},
-    {22, 3, nullptr, true, 22, 3, ""},
-    {25, 3, nullptr, true, 25, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
-    {16, 3, nullptr, true, 16, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {15, 3, nullptr, true, 15, 3, ""},
-    {22, 3, nullptr, true, 22, 3, ""},
-    {25, 3, nullptr, true, 25, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
-    {16, 3, nullptr, true, 16, 3, ""},
-    {15, 3, nullptr, true, 15, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -1518,39 +1518,39 @@ struct Prog {
     if (s.d_click_36) {
       tally_rendered(s.core, 22, "cacheRendered");
       const std::vector<C1_House>& g359 = s.g_houses_19;
-      tally_global(s.core, 23, "houses", g359);
+      tally_global(s.core, 3, "houses", g359);
       const std::vector<C3_Sandbag>& g360 = s.g_bags_11;
-      tally_global(s.core, 24, "bags", g360);
+      tally_global(s.core, 4, "bags", g360);
       const std::vector<C4_Water>& g361 = s.g_water_7;
-      tally_global(s.core, 25, "water", g361);
+      tally_global(s.core, 5, "water", g361);
       if (s.d_click_36) {
         const Pos& g362 = s.g_click_35;
-        tally_global(s.core, 26, "click", g362);
+        tally_global(s.core, 22, "click", g362);
       }
       const std::vector<C0_Earth>& g363 = s.g_earth_27;
-      tally_global(s.core, 27, "earth", g363);
+      tally_global(s.core, 6, "earth", g363);
       const C2_Drain& g364 = s.g_drain_23;
-      tally_global(s.core, 28, "drain", g364);
+      tally_global(s.core, 7, "drain", g364);
       const std::vector<int32_t>& g365 = s.g_heights_4;
-      tally_global(s.core, 29, "heights", g365);
+      tally_global(s.core, 8, "heights", g365);
       const C5_Spring& g366 = s.g_spring_15;
-      tally_global(s.core, 30, "spring", g366);
+      tally_global(s.core, 9, "spring", g366);
     } else {
-      tally_rendered(s.core, 31, "cacheRendered");
+      tally_rendered(s.core, 22, "cacheRendered");
       const std::vector<C1_House>& g367 = s.g_houses_19;
-      tally_global(s.core, 32, "houses", g367);
+      tally_global(s.core, 3, "houses", g367);
       const std::vector<C3_Sandbag>& g368 = s.g_bags_11;
-      tally_global(s.core, 33, "bags", g368);
+      tally_global(s.core, 4, "bags", g368);
       const std::vector<C4_Water>& g369 = s.g_water_7;
-      tally_global(s.core, 34, "water", g369);
+      tally_global(s.core, 5, "water", g369);
       const std::vector<C0_Earth>& g370 = s.g_earth_27;
-      tally_global(s.core, 35, "earth", g370);
+      tally_global(s.core, 6, "earth", g370);
       const C2_Drain& g371 = s.g_drain_23;
-      tally_global(s.core, 36, "drain", g371);
+      tally_global(s.core, 7, "drain", g371);
       const std::vector<int32_t>& g372 = s.g_heights_4;
-      tally_global(s.core, 37, "heights", g372);
+      tally_global(s.core, 8, "heights", g372);
       const C5_Spring& g373 = s.g_spring_15;
-      tally_global(s.core, 38, "spring", g373);
+      tally_global(s.core, 9, "spring", g373);
     }
     s.core.clear_inputs();
   }
@@ -1564,49 +1564,41 @@ struct Prog {
     for (const C0_Earth& x2 : g1) {
       const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(3)};
       s.core.occupied.add(e3.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e3.position, pal[e3.color]);
+      ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     }
     const C2_Drain& g4 = s.g_drain_23;
     const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(0)};
     s.core.occupied.add(e5.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e5.position, pal[e5.color]);
+    ++s.core.rendered, paint ? paint->paint(e5.position, pal[e5.color]) : void();
     const std::vector<C1_House>& g6 = s.g_houses_19;
     for (const C1_House& x7 : g6) {
       const int32_t colour8 = colour_3_C1_House(s, x7);
       const Elem e9 = Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8};
       s.core.occupied.add(e9.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e9.position, pal[e9.color]);
+      ++s.core.rendered, paint ? paint->paint(e9.position, pal[e9.color]) : void();
     }
     const std::vector<C3_Sandbag>& g10 = s.g_bags_11;
     for (const C3_Sandbag& x11 : g10) {
       const Elem e12 = Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, int32_t(8)};
       s.core.occupied.add(e12.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e12.position, pal[e12.color]);
+      ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
     }
     const std::vector<C4_Water>& g13 = s.g_water_7;
     for (const C4_Water& x14 : g13) {
       const Elem e15 = Elem{Pos{add(x14.origin.x, int32_t(0)), add(x14.origin.y, int32_t(0))}, int32_t(4)};
       s.core.occupied.add(e15.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e15.position, pal[e15.color]);
+      ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
     }
     const C5_Spring& g16 = s.g_spring_15;
     const Elem e17 = Elem{Pos{add(g16.origin.x, int32_t(-1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e17.position, pal[e17.color]);
+    ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
     const Elem e18 = Elem{Pos{add(g16.origin.x, int32_t(0)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e18.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e18.position, pal[e18.color]);
+    ++s.core.rendered, paint ? paint->paint(e18.position, pal[e18.color]) : void();
     const Elem e19 = Elem{Pos{add(g16.origin.x, int32_t(1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e19.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e19.position, pal[e19.color]);
+    ++s.core.rendered, paint ? paint->paint(e19.position, pal[e19.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1709,22 +1701,6 @@ const ErrorSite Prog::kErrors[] = {
     {66, 62, nullptr, true, 66, 62, ""},
     {66, 13, nullptr, true, 66, 13, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {34, 3, nullptr, true, 34, 3, ""},
-    {38, 3, nullptr, true, 38, 3, ""},
-    {41, 3, nullptr, true, 41, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {25, 3, nullptr, true, 25, 3, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
-    {17, 3, nullptr, true, 17, 3, ""},
-    {44, 3, nullptr, true, 44, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {34, 3, nullptr, true, 34, 3, ""},
-    {38, 3, nullptr, true, 38, 3, ""},
-    {41, 3, nullptr, true, 41, 3, ""},
-    {25, 3, nullptr, true, 25, 3, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
-    {17, 3, nullptr, true, 17, 3, ""},
-    {44, 3, nullptr, true, 44, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -1178,21 +1178,21 @@ struct Prog {
     s.core.tally.v = StateTally{};
     tally_rendered(s.core, 21, "cacheRendered");
     const C0_River& g191 = s.g_river_27;
-    tally_global(s.core, 22, "river", g191);
+    tally_global(s.core, 12, "river", g191);
     const std::vector<C2_Pad>& g192 = s.g_pads_23;
-    tally_global(s.core, 23, "pads", g192);
+    tally_global(s.core, 13, "pads", g192);
     const std::vector<C3_Car>& g193 = s.g_cars_15;
-    tally_global(s.core, 24, "cars", g193);
+    tally_global(s.core, 14, "cars", g193);
     const C5_Lives& g194 = s.g_lives_11;
-    tally_global(s.core, 25, "lives", g194);
+    tally_global(s.core, 15, "lives", g194);
     const Pos& g195 = s.g_frogStart_4;
-    tally_global(s.core, 26, "frogStart", g195);
+    tally_global(s.core, 16, "frogStart", g195);
     const C4_Frog& g196 = s.g_frog_7;
-    tally_global(s.core, 27, "frog", g196);
+    tally_global(s.core, 17, "frog", g196);
     const std::vector<std::vector<int32_t>>& g197 = s.g_lanes_6;
-    tally_global(s.core, 28, "lanes", g197);
+    tally_global(s.core, 18, "lanes", g197);
     const std::vector<C1_Verge>& g198 = s.g_verges_19;
-    tally_global(s.core, 29, "verges", g198);
+    tally_global(s.core, 19, "verges", g198);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
@@ -1204,94 +1204,73 @@ struct Prog {
     const C0_River& g1 = s.g_river_27;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e2.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e2.position, pal[e2.color]);
+    ++s.core.rendered, paint ? paint->paint(e2.position, pal[e2.color]) : void();
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e3.position, pal[e3.color]);
+    ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e4.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e4.position, pal[e4.color]);
+    ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e5.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e5.position, pal[e5.color]);
+    ++s.core.rendered, paint ? paint->paint(e5.position, pal[e5.color]) : void();
     const Elem e6 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e6.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e6.position, pal[e6.color]);
+    ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e7.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e7.position, pal[e7.color]);
+    ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
     const Elem e8 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e8.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e8.position, pal[e8.color]);
+    ++s.core.rendered, paint ? paint->paint(e8.position, pal[e8.color]) : void();
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e9.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e9.position, pal[e9.color]);
+    ++s.core.rendered, paint ? paint->paint(e9.position, pal[e9.color]) : void();
     const Elem e10 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e10.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e10.position, pal[e10.color]);
+    ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e11.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e11.position, pal[e11.color]);
+    ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
     const std::vector<C1_Verge>& g12 = s.g_verges_19;
     for (const C1_Verge& x13 : g12) {
       const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e14.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e14.position, pal[e14.color]);
+      ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
       const Elem e15 = Elem{Pos{add(x13.origin.x, int32_t(1)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e15.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e15.position, pal[e15.color]);
+      ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
       const Elem e16 = Elem{Pos{add(x13.origin.x, int32_t(2)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e16.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e16.position, pal[e16.color]);
+      ++s.core.rendered, paint ? paint->paint(e16.position, pal[e16.color]) : void();
       const Elem e17 = Elem{Pos{add(x13.origin.x, int32_t(3)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e17.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e17.position, pal[e17.color]);
+      ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
       const Elem e18 = Elem{Pos{add(x13.origin.x, int32_t(4)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e18.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e18.position, pal[e18.color]);
+      ++s.core.rendered, paint ? paint->paint(e18.position, pal[e18.color]) : void();
       const Elem e19 = Elem{Pos{add(x13.origin.x, int32_t(5)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e19.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e19.position, pal[e19.color]);
+      ++s.core.rendered, paint ? paint->paint(e19.position, pal[e19.color]) : void();
       const Elem e20 = Elem{Pos{add(x13.origin.x, int32_t(6)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e20.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e20.position, pal[e20.color]);
+      ++s.core.rendered, paint ? paint->paint(e20.position, pal[e20.color]) : void();
       const Elem e21 = Elem{Pos{add(x13.origin.x, int32_t(7)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e21.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e21.position, pal[e21.color]);
+      ++s.core.rendered, paint ? paint->paint(e21.position, pal[e21.color]) : void();
       const Elem e22 = Elem{Pos{add(x13.origin.x, int32_t(8)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e22.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e22.position, pal[e22.color]);
+      ++s.core.rendered, paint ? paint->paint(e22.position, pal[e22.color]) : void();
       const Elem e23 = Elem{Pos{add(x13.origin.x, int32_t(9)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
       s.core.occupied.add(e23.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e23.position, pal[e23.color]);
+      ++s.core.rendered, paint ? paint->paint(e23.position, pal[e23.color]) : void();
     }
     const std::vector<C2_Pad>& g24 = s.g_pads_23;
     for (const C2_Pad& x25 : g24) {
       const int32_t colour26 = colour_6_C2_Pad(s, x25);
       const Elem e27 = Elem{Pos{add(x25.origin.x, int32_t(0)), add(x25.origin.y, int32_t(0))}, colour26};
       s.core.occupied.add(e27.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e27.position, pal[e27.color]);
+      ++s.core.rendered, paint ? paint->paint(e27.position, pal[e27.color]) : void();
     }
     const std::vector<C3_Car>& g28 = s.g_cars_15;
     for (const C3_Car& x29 : g28) {
@@ -1300,31 +1279,26 @@ struct Prog {
       render_C3_Car(s, x29, cells30);
       for (const Elem& e31 : cells30) {
         s.core.occupied.add(e31.position);
-        ++s.core.rendered;
-        if (paint) paint->paint(e31.position, pal[e31.color]);
+        ++s.core.rendered, paint ? paint->paint(e31.position, pal[e31.color]) : void();
       }
     }
     const C5_Lives& g32 = s.g_lives_11;
     const int32_t colour33 = colour_1_C5_Lives(s, g32);
     const Elem e34 = Elem{Pos{add(g32.origin.x, int32_t(0)), add(g32.origin.y, int32_t(0))}, colour33};
     s.core.occupied.add(e34.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e34.position, pal[e34.color]);
+    ++s.core.rendered, paint ? paint->paint(e34.position, pal[e34.color]) : void();
     const int32_t colour35 = colour_2_C5_Lives(s, g32);
     const Elem e36 = Elem{Pos{add(g32.origin.x, int32_t(1)), add(g32.origin.y, int32_t(0))}, colour35};
     s.core.occupied.add(e36.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e36.position, pal[e36.color]);
+    ++s.core.rendered, paint ? paint->paint(e36.position, pal[e36.color]) : void();
     const int32_t colour37 = colour_3_C5_Lives(s, g32);
     const Elem e38 = Elem{Pos{add(g32.origin.x, int32_t(2)), add(g32.origin.y, int32_t(0))}, colour37};
     s.core.occupied.add(e38.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e38.position, pal[e38.color]);
+    ++s.core.rendered, paint ? paint->paint(e38.position, pal[e38.color]) : void();
     const C4_Frog& g39 = s.g_frog_7;
     const Elem e40 = Elem{Pos{add(g39.origin.x, int32_t(0)), add(g39.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e40.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e40.position, pal[e40.color]);
+    ++s.core.rendered, paint ? paint->paint(e40.position, pal[e40.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1422,14 +1396,6 @@ const ErrorSite Prog::kErrors[] = {
     {39, 3, nullptr, true, 39, 3, ""},
     {55, 13, nullptr, true, 55, 13, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {36, 3, nullptr, true, 36, 3, ""},
-    {42, 3, nullptr, true, 42, 3, ""},
-    {46, 3, nullptr, true, 46, 3, ""},
-    {49, 3, nullptr, true, 49, 3, ""},
-    {19, 3, nullptr, true, 19, 3, ""},
-    {52, 3, nullptr, true, 52, 3, ""},
-    {22, 3, nullptr, true, 22, 3, ""},
-    {39, 3, nullptr, true, 39, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -1048,39 +1048,39 @@ struct Prog {
     if (s.d_click_28) {
       tally_rendered(s.core, 16, "cacheRendered");
       const C0_Cloud& g169 = s.g_cloud_19;
-      tally_global(s.core, 17, "cloud", g169);
+      tally_global(s.core, 0, "cloud", g169);
       const std::vector<C3_Plant>& g170 = s.g_plants_15;
-      tally_global(s.core, 18, "plants", g170);
+      tally_global(s.core, 1, "plants", g170);
       const std::vector<int32_t>& g171 = s.g_petals_4;
-      tally_global(s.core, 19, "petals", g171);
+      tally_global(s.core, 2, "petals", g171);
       if (s.d_click_28) {
         const Pos& g172 = s.g_click_27;
-        tally_global(s.core, 20, "click", g172);
+        tally_global(s.core, 16, "click", g172);
       }
       const std::vector<bool>& g173 = s.g_growChance_5;
-      tally_global(s.core, 21, "growChance", g173);
+      tally_global(s.core, 3, "growChance", g173);
       const std::vector<C2_Drop>& g174 = s.g_drops_11;
-      tally_global(s.core, 22, "drops", g174);
+      tally_global(s.core, 4, "drops", g174);
       const C4_Basket& g175 = s.g_basket_7;
-      tally_global(s.core, 23, "basket", g175);
+      tally_global(s.core, 5, "basket", g175);
       const C1_Sun& g176 = s.g_sun_23;
-      tally_global(s.core, 24, "sun", g176);
+      tally_global(s.core, 6, "sun", g176);
     } else {
-      tally_rendered(s.core, 25, "cacheRendered");
+      tally_rendered(s.core, 16, "cacheRendered");
       const C0_Cloud& g177 = s.g_cloud_19;
-      tally_global(s.core, 26, "cloud", g177);
+      tally_global(s.core, 0, "cloud", g177);
       const std::vector<C3_Plant>& g178 = s.g_plants_15;
-      tally_global(s.core, 27, "plants", g178);
+      tally_global(s.core, 1, "plants", g178);
       const std::vector<int32_t>& g179 = s.g_petals_4;
-      tally_global(s.core, 28, "petals", g179);
+      tally_global(s.core, 2, "petals", g179);
       const std::vector<bool>& g180 = s.g_growChance_5;
-      tally_global(s.core, 29, "growChance", g180);
+      tally_global(s.core, 3, "growChance", g180);
       const std::vector<C2_Drop>& g181 = s.g_drops_11;
-      tally_global(s.core, 30, "drops", g181);
+      tally_global(s.core, 4, "drops", g181);
       const C4_Basket& g182 = s.g_basket_7;
-      tally_global(s.core, 31, "basket", g182);
+      tally_global(s.core, 5, "basket", g182);
       const C1_Sun& g183 = s.g_sun_23;
-      tally_global(s.core, 32, "sun", g183);
+      tally_global(s.core, 6, "sun", g183);
     }
     s.core.clear_inputs();
   }
@@ -1094,97 +1094,79 @@ struct Prog {
     const int32_t colour2 = colour_16_C1_Sun(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e3.position, pal[e3.color]);
+    ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     const C0_Cloud& g4 = s.g_cloud_19;
     const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(-1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e5.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e5.position, pal[e5.color]);
+    ++s.core.rendered, paint ? paint->paint(e5.position, pal[e5.color]) : void();
     const Elem e6 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e6.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e6.position, pal[e6.color]);
+    ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
     const Elem e7 = Elem{Pos{add(g4.origin.x, int32_t(1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e7.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e7.position, pal[e7.color]);
+    ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
     const std::vector<C3_Plant>& g8 = s.g_plants_15;
     for (const C3_Plant& x9 : g8) {
       const int32_t colour10 = colour_12_C3_Plant(s, x9);
       const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
       s.core.occupied.add(e11.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e11.position, pal[e11.color]);
+      ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
     }
     const std::vector<C2_Drop>& g12 = s.g_drops_11;
     for (const C2_Drop& x13 : g12) {
       const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(12)};
       s.core.occupied.add(e14.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e14.position, pal[e14.color]);
+      ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
     }
     const C4_Basket& g15 = s.g_basket_7;
     const int32_t colour16 = colour_0_C4_Basket(s, g15);
     const Elem e17 = Elem{Pos{add(g15.origin.x, int32_t(0)), add(g15.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e17.position, pal[e17.color]);
+    ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
     const int32_t colour18 = colour_1_C4_Basket(s, g15);
     const Elem e19 = Elem{Pos{add(g15.origin.x, int32_t(1)), add(g15.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e19.position, pal[e19.color]);
+    ++s.core.rendered, paint ? paint->paint(e19.position, pal[e19.color]) : void();
     const int32_t colour20 = colour_2_C4_Basket(s, g15);
     const Elem e21 = Elem{Pos{add(g15.origin.x, int32_t(2)), add(g15.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e21.position, pal[e21.color]);
+    ++s.core.rendered, paint ? paint->paint(e21.position, pal[e21.color]) : void();
     const int32_t colour22 = colour_3_C4_Basket(s, g15);
     const Elem e23 = Elem{Pos{add(g15.origin.x, int32_t(3)), add(g15.origin.y, int32_t(0))}, colour22};
     s.core.occupied.add(e23.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e23.position, pal[e23.color]);
+    ++s.core.rendered, paint ? paint->paint(e23.position, pal[e23.color]) : void();
     const int32_t colour24 = colour_4_C4_Basket(s, g15);
     const Elem e25 = Elem{Pos{add(g15.origin.x, int32_t(4)), add(g15.origin.y, int32_t(0))}, colour24};
     s.core.occupied.add(e25.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e25.position, pal[e25.color]);
+    ++s.core.rendered, paint ? paint->paint(e25.position, pal[e25.color]) : void();
     const int32_t colour26 = colour_5_C4_Basket(s, g15);
     const Elem e27 = Elem{Pos{add(g15.origin.x, int32_t(5)), add(g15.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e27.position, pal[e27.color]);
+    ++s.core.rendered, paint ? paint->paint(e27.position, pal[e27.color]) : void();
     const int32_t colour28 = colour_6_C4_Basket(s, g15);
     const Elem e29 = Elem{Pos{add(g15.origin.x, int32_t(6)), add(g15.origin.y, int32_t(0))}, colour28};
     s.core.occupied.add(e29.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e29.position, pal[e29.color]);
+    ++s.core.rendered, paint ? paint->paint(e29.position, pal[e29.color]) : void();
     const int32_t colour30 = colour_7_C4_Basket(s, g15);
     const Elem e31 = Elem{Pos{add(g15.origin.x, int32_t(7)), add(g15.origin.y, int32_t(0))}, colour30};
     s.core.occupied.add(e31.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e31.position, pal[e31.color]);
+    ++s.core.rendered, paint ? paint->paint(e31.position, pal[e31.color]) : void();
     const int32_t colour32 = colour_8_C4_Basket(s, g15);
     const Elem e33 = Elem{Pos{add(g15.origin.x, int32_t(8)), add(g15.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e33.position, pal[e33.color]);
+    ++s.core.rendered, paint ? paint->paint(e33.position, pal[e33.color]) : void();
     const int32_t colour34 = colour_9_C4_Basket(s, g15);
     const Elem e35 = Elem{Pos{add(g15.origin.x, int32_t(9)), add(g15.origin.y, int32_t(0))}, colour34};
     s.core.occupied.add(e35.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e35.position, pal[e35.color]);
+    ++s.core.rendered, paint ? paint->paint(e35.position, pal[e35.color]) : void();
     const int32_t colour36 = colour_10_C4_Basket(s, g15);
     const Elem e37 = Elem{Pos{add(g15.origin.x, int32_t(10)), add(g15.origin.y, int32_t(0))}, colour36};
     s.core.occupied.add(e37.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e37.position, pal[e37.color]);
+    ++s.core.rendered, paint ? paint->paint(e37.position, pal[e37.color]) : void();
     const int32_t colour38 = colour_11_C4_Basket(s, g15);
     const Elem e39 = Elem{Pos{add(g15.origin.x, int32_t(11)), add(g15.origin.y, int32_t(0))}, colour38};
     s.core.occupied.add(e39.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e39.position, pal[e39.color]);
+    ++s.core.rendered, paint ? paint->paint(e39.position, pal[e39.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1284,22 +1266,6 @@ const ErrorSite Prog::kErrors[] = {
     {71, 79, nullptr, true, 71, 79, ""},
     {71, 21, nullptr, true, 71, 21, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
-    {20, 3, nullptr, true, 20, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {21, 3, nullptr, true, 21, 3, ""},
-    {34, 3, nullptr, true, 34, 3, ""},
-    {37, 3, nullptr, true, 37, 3, ""},
-    {25, 3, nullptr, true, 25, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
-    {20, 3, nullptr, true, 20, 3, ""},
-    {21, 3, nullptr, true, 21, 3, ""},
-    {34, 3, nullptr, true, 34, 3, ""},
-    {37, 3, nullptr, true, 37, 3, ""},
-    {25, 3, nullptr, true, 25, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -1761,43 +1761,43 @@ struct Prog {
     if (s.d_click_32) {
       tally_rendered(s.core, 19, "cacheRendered");
       const std::vector<C0_Wall>& g423 = s.g_walls_23;
-      tally_global(s.core, 20, "walls", g423);
+      tally_global(s.core, 3, "walls", g423);
       const C2_Twin& g424 = s.g_red_7;
-      tally_global(s.core, 21, "red", g424);
+      tally_global(s.core, 4, "red", g424);
       const std::vector<Pos>& g425 = s.g_wallSpots_4;
-      tally_global(s.core, 22, "wallSpots", g425);
+      tally_global(s.core, 5, "wallSpots", g425);
       if (s.d_click_32) {
         const Pos& g426 = s.g_click_31;
-        tally_global(s.core, 23, "click", g426);
+        tally_global(s.core, 19, "click", g426);
       }
       const std::vector<Pos>& g427 = s.g_startOpen_6;
-      tally_global(s.core, 24, "startOpen", g427);
+      tally_global(s.core, 6, "startOpen", g427);
       const C2_Twin& g428 = s.g_blue_11;
-      tally_global(s.core, 25, "blue", g428);
+      tally_global(s.core, 7, "blue", g428);
       const C1_Goal& g429 = s.g_blueGoal_19;
-      tally_global(s.core, 26, "blueGoal", g429);
+      tally_global(s.core, 8, "blueGoal", g429);
       const C3_Stars& g430 = s.g_stars_27;
-      tally_global(s.core, 27, "stars", g430);
+      tally_global(s.core, 9, "stars", g430);
       const C1_Goal& g431 = s.g_redGoal_15;
-      tally_global(s.core, 28, "redGoal", g431);
+      tally_global(s.core, 10, "redGoal", g431);
     } else {
-      tally_rendered(s.core, 29, "cacheRendered");
+      tally_rendered(s.core, 19, "cacheRendered");
       const std::vector<C0_Wall>& g432 = s.g_walls_23;
-      tally_global(s.core, 30, "walls", g432);
+      tally_global(s.core, 3, "walls", g432);
       const C2_Twin& g433 = s.g_red_7;
-      tally_global(s.core, 31, "red", g433);
+      tally_global(s.core, 4, "red", g433);
       const std::vector<Pos>& g434 = s.g_wallSpots_4;
-      tally_global(s.core, 32, "wallSpots", g434);
+      tally_global(s.core, 5, "wallSpots", g434);
       const std::vector<Pos>& g435 = s.g_startOpen_6;
-      tally_global(s.core, 33, "startOpen", g435);
+      tally_global(s.core, 6, "startOpen", g435);
       const C2_Twin& g436 = s.g_blue_11;
-      tally_global(s.core, 34, "blue", g436);
+      tally_global(s.core, 7, "blue", g436);
       const C1_Goal& g437 = s.g_blueGoal_19;
-      tally_global(s.core, 35, "blueGoal", g437);
+      tally_global(s.core, 8, "blueGoal", g437);
       const C3_Stars& g438 = s.g_stars_27;
-      tally_global(s.core, 36, "stars", g438);
+      tally_global(s.core, 9, "stars", g438);
       const C1_Goal& g439 = s.g_redGoal_15;
-      tally_global(s.core, 37, "redGoal", g439);
+      tally_global(s.core, 10, "redGoal", g439);
     }
     s.core.clear_inputs();
   }
@@ -1811,84 +1811,69 @@ struct Prog {
     const int32_t colour2 = colour_3_C3_Stars(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e3.position, pal[e3.color]);
+    ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     const int32_t colour4 = colour_4_C3_Stars(s, g1);
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, colour4};
     s.core.occupied.add(e5.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e5.position, pal[e5.color]);
+    ++s.core.rendered, paint ? paint->paint(e5.position, pal[e5.color]) : void();
     const int32_t colour6 = colour_5_C3_Stars(s, g1);
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, colour6};
     s.core.occupied.add(e7.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e7.position, pal[e7.color]);
+    ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
     const int32_t colour8 = colour_6_C3_Stars(s, g1);
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, colour8};
     s.core.occupied.add(e9.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e9.position, pal[e9.color]);
+    ++s.core.rendered, paint ? paint->paint(e9.position, pal[e9.color]) : void();
     const int32_t colour10 = colour_7_C3_Stars(s, g1);
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, colour10};
     s.core.occupied.add(e11.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e11.position, pal[e11.color]);
+    ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
     const int32_t colour12 = colour_8_C3_Stars(s, g1);
     const Elem e13 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e13.position, pal[e13.color]);
+    ++s.core.rendered, paint ? paint->paint(e13.position, pal[e13.color]) : void();
     const int32_t colour14 = colour_9_C3_Stars(s, g1);
     const Elem e15 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e15.position, pal[e15.color]);
+    ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
     const int32_t colour16 = colour_10_C3_Stars(s, g1);
     const Elem e17 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e17.position, pal[e17.color]);
+    ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
     const int32_t colour18 = colour_11_C3_Stars(s, g1);
     const Elem e19 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e19.position, pal[e19.color]);
+    ++s.core.rendered, paint ? paint->paint(e19.position, pal[e19.color]) : void();
     const int32_t colour20 = colour_12_C3_Stars(s, g1);
     const Elem e21 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e21.position, pal[e21.color]);
+    ++s.core.rendered, paint ? paint->paint(e21.position, pal[e21.color]) : void();
     const std::vector<C0_Wall>& g22 = s.g_walls_23;
     for (const C0_Wall& x23 : g22) {
       const Elem e24 = Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)};
       s.core.occupied.add(e24.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e24.position, pal[e24.color]);
+      ++s.core.rendered, paint ? paint->paint(e24.position, pal[e24.color]) : void();
     }
     const C1_Goal& g25 = s.g_blueGoal_19;
     const int32_t colour26 = colour_1_C1_Goal(s, g25);
     const Elem e27 = Elem{Pos{add(g25.origin.x, int32_t(0)), add(g25.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e27.position, pal[e27.color]);
+    ++s.core.rendered, paint ? paint->paint(e27.position, pal[e27.color]) : void();
     const C1_Goal& g28 = s.g_redGoal_15;
     const int32_t colour29 = colour_1_C1_Goal(s, g28);
     const Elem e30 = Elem{Pos{add(g28.origin.x, int32_t(0)), add(g28.origin.y, int32_t(0))}, colour29};
     s.core.occupied.add(e30.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e30.position, pal[e30.color]);
+    ++s.core.rendered, paint ? paint->paint(e30.position, pal[e30.color]) : void();
     const C2_Twin& g31 = s.g_blue_11;
     const int32_t colour32 = colour_0_C2_Twin(s, g31);
     const Elem e33 = Elem{Pos{add(g31.origin.x, int32_t(0)), add(g31.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e33.position, pal[e33.color]);
+    ++s.core.rendered, paint ? paint->paint(e33.position, pal[e33.color]) : void();
     const C2_Twin& g34 = s.g_red_7;
     const int32_t colour35 = colour_0_C2_Twin(s, g34);
     const Elem e36 = Elem{Pos{add(g34.origin.x, int32_t(0)), add(g34.origin.y, int32_t(0))}, colour35};
     s.core.occupied.add(e36.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e36.position, pal[e36.color]);
+    ++s.core.rendered, paint ? paint->paint(e36.position, pal[e36.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1985,24 +1970,6 @@ const ErrorSite Prog::kErrors[] = {
     {80, 61, nullptr, true, 80, 61, ""},
     {80, 14, nullptr, true, 80, 14, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {30, 3, nullptr, true, 30, 3, ""},
-    {42, 3, nullptr, true, 42, 3, ""},
-    {17, 3, nullptr, true, 17, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {23, 3, nullptr, true, 23, 3, ""},
-    {39, 3, nullptr, true, 39, 3, ""},
-    {33, 3, nullptr, true, 33, 3, ""},
-    {27, 3, nullptr, true, 27, 3, ""},
-    {36, 3, nullptr, true, 36, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {30, 3, nullptr, true, 30, 3, ""},
-    {42, 3, nullptr, true, 42, 3, ""},
-    {17, 3, nullptr, true, 17, 3, ""},
-    {23, 3, nullptr, true, 23, 3, ""},
-    {39, 3, nullptr, true, 39, 3, ""},
-    {33, 3, nullptr, true, 33, 3, ""},
-    {27, 3, nullptr, true, 27, 3, ""},
-    {36, 3, nullptr, true, 36, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -1696,39 +1696,39 @@ struct Prog {
     if (s.d_click_24) {
       tally_rendered(s.core, 15, "cacheRendered");
       const std::vector<C0_Fence>& g467 = s.g_fences_19;
-      tally_global(s.core, 16, "fences", g467);
+      tally_global(s.core, 1, "fences", g467);
       const C3_Dog& g468 = s.g_dog_15;
-      tally_global(s.core, 17, "dog", g468);
+      tally_global(s.core, 2, "dog", g468);
       const std::vector<C2_Sheep>& g469 = s.g_sheep_7;
-      tally_global(s.core, 18, "sheep", g469);
+      tally_global(s.core, 3, "sheep", g469);
       const std::vector<Pos>& g470 = s.g_gate_6;
-      tally_global(s.core, 19, "gate", g470);
+      tally_global(s.core, 4, "gate", g470);
       const std::vector<Pos>& g471 = s.g_wanderSteps_5;
-      tally_global(s.core, 20, "wanderSteps", g471);
+      tally_global(s.core, 5, "wanderSteps", g471);
       const std::vector<Pos>& g472 = s.g_sheepStarts_4;
-      tally_global(s.core, 21, "sheepStarts", g472);
+      tally_global(s.core, 6, "sheepStarts", g472);
       if (s.d_click_24) {
         const Pos& g473 = s.g_click_23;
-        tally_global(s.core, 22, "click", g473);
+        tally_global(s.core, 15, "click", g473);
       }
       const std::vector<C1_Flag>& g474 = s.g_flags_11;
-      tally_global(s.core, 23, "flags", g474);
+      tally_global(s.core, 7, "flags", g474);
     } else {
-      tally_rendered(s.core, 24, "cacheRendered");
+      tally_rendered(s.core, 15, "cacheRendered");
       const std::vector<C0_Fence>& g475 = s.g_fences_19;
-      tally_global(s.core, 25, "fences", g475);
+      tally_global(s.core, 1, "fences", g475);
       const C3_Dog& g476 = s.g_dog_15;
-      tally_global(s.core, 26, "dog", g476);
+      tally_global(s.core, 2, "dog", g476);
       const std::vector<C2_Sheep>& g477 = s.g_sheep_7;
-      tally_global(s.core, 27, "sheep", g477);
+      tally_global(s.core, 3, "sheep", g477);
       const std::vector<Pos>& g478 = s.g_gate_6;
-      tally_global(s.core, 28, "gate", g478);
+      tally_global(s.core, 4, "gate", g478);
       const std::vector<Pos>& g479 = s.g_wanderSteps_5;
-      tally_global(s.core, 29, "wanderSteps", g479);
+      tally_global(s.core, 5, "wanderSteps", g479);
       const std::vector<Pos>& g480 = s.g_sheepStarts_4;
-      tally_global(s.core, 30, "sheepStarts", g480);
+      tally_global(s.core, 6, "sheepStarts", g480);
       const std::vector<C1_Flag>& g481 = s.g_flags_11;
-      tally_global(s.core, 31, "flags", g481);
+      tally_global(s.core, 7, "flags", g481);
     }
     s.core.clear_inputs();
   }
@@ -1742,29 +1742,25 @@ struct Prog {
     for (const C0_Fence& x2 : g1) {
       const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
       s.core.occupied.add(e3.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e3.position, pal[e3.color]);
+      ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     }
     const std::vector<C1_Flag>& g4 = s.g_flags_11;
     for (const C1_Flag& x5 : g4) {
       const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
       s.core.occupied.add(e6.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e6.position, pal[e6.color]);
+      ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
     }
     const std::vector<C2_Sheep>& g7 = s.g_sheep_7;
     for (const C2_Sheep& x8 : g7) {
       const int32_t colour9 = colour_0_C2_Sheep(s, x8);
       const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
       s.core.occupied.add(e10.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e10.position, pal[e10.color]);
+      ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
     }
     const C3_Dog& g11 = s.g_dog_15;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(0)};
     s.core.occupied.add(e12.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e12.position, pal[e12.color]);
+    ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1849,22 +1845,6 @@ const ErrorSite Prog::kErrors[] = {
     {57, 58, nullptr, true, 57, 58, ""},
     {80, 41, nullptr, true, 80, 41, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {26, 3, nullptr, true, 26, 3, ""},
-    {37, 3, nullptr, true, 37, 3, ""},
-    {34, 3, nullptr, true, 34, 3, ""},
-    {19, 3, nullptr, true, 19, 3, ""},
-    {17, 3, nullptr, true, 17, 3, ""},
-    {16, 3, nullptr, true, 16, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {26, 3, nullptr, true, 26, 3, ""},
-    {37, 3, nullptr, true, 37, 3, ""},
-    {34, 3, nullptr, true, 34, 3, ""},
-    {19, 3, nullptr, true, 19, 3, ""},
-    {17, 3, nullptr, true, 17, 3, ""},
-    {16, 3, nullptr, true, 16, 3, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -1472,31 +1472,31 @@ struct Prog {
     if (s.d_click_30) {
       tally_rendered(s.core, 20, "cacheRendered");
       const C4_Cloud& g324 = s.g_cloud_21;
-      tally_global(s.core, 21, "cloud", g324);
+      tally_global(s.core, 0, "cloud", g324);
       const std::vector<C2_Rock>& g325 = s.g_rocks_17;
-      tally_global(s.core, 22, "rocks", g325);
+      tally_global(s.core, 1, "rocks", g325);
       const std::vector<C1_Melt>& g326 = s.g_melt_13;
-      tally_global(s.core, 23, "melt", g326);
+      tally_global(s.core, 2, "melt", g326);
       const C3_Plow& g327 = s.g_plow_5;
-      tally_global(s.core, 24, "plow", g327);
+      tally_global(s.core, 3, "plow", g327);
       if (s.d_click_30) {
         const Pos& g328 = s.g_click_29;
-        tally_global(s.core, 25, "click", g328);
+        tally_global(s.core, 20, "click", g328);
       }
       const std::vector<C0_Flake>& g329 = s.g_snow_9;
-      tally_global(s.core, 26, "snow", g329);
+      tally_global(s.core, 4, "snow", g329);
     } else {
-      tally_rendered(s.core, 27, "cacheRendered");
+      tally_rendered(s.core, 20, "cacheRendered");
       const C4_Cloud& g330 = s.g_cloud_21;
-      tally_global(s.core, 28, "cloud", g330);
+      tally_global(s.core, 0, "cloud", g330);
       const std::vector<C2_Rock>& g331 = s.g_rocks_17;
-      tally_global(s.core, 29, "rocks", g331);
+      tally_global(s.core, 1, "rocks", g331);
       const std::vector<C1_Melt>& g332 = s.g_melt_13;
-      tally_global(s.core, 30, "melt", g332);
+      tally_global(s.core, 2, "melt", g332);
       const C3_Plow& g333 = s.g_plow_5;
-      tally_global(s.core, 31, "plow", g333);
+      tally_global(s.core, 3, "plow", g333);
       const std::vector<C0_Flake>& g334 = s.g_snow_9;
-      tally_global(s.core, 32, "snow", g334);
+      tally_global(s.core, 4, "snow", g334);
     }
     s.core.clear_inputs();
   }
@@ -1510,114 +1510,93 @@ struct Prog {
     const int32_t colour2 = colour_3_C4_Cloud(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e3.position, pal[e3.color]);
+    ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     const int32_t colour4 = colour_4_C4_Cloud(s, g1);
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, colour4};
     s.core.occupied.add(e5.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e5.position, pal[e5.color]);
+    ++s.core.rendered, paint ? paint->paint(e5.position, pal[e5.color]) : void();
     const int32_t colour6 = colour_5_C4_Cloud(s, g1);
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, colour6};
     s.core.occupied.add(e7.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e7.position, pal[e7.color]);
+    ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
     const int32_t colour8 = colour_6_C4_Cloud(s, g1);
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, colour8};
     s.core.occupied.add(e9.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e9.position, pal[e9.color]);
+    ++s.core.rendered, paint ? paint->paint(e9.position, pal[e9.color]) : void();
     const int32_t colour10 = colour_7_C4_Cloud(s, g1);
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, colour10};
     s.core.occupied.add(e11.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e11.position, pal[e11.color]);
+    ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
     const int32_t colour12 = colour_8_C4_Cloud(s, g1);
     const Elem e13 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e13.position, pal[e13.color]);
+    ++s.core.rendered, paint ? paint->paint(e13.position, pal[e13.color]) : void();
     const int32_t colour14 = colour_9_C4_Cloud(s, g1);
     const Elem e15 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e15.position, pal[e15.color]);
+    ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
     const int32_t colour16 = colour_10_C4_Cloud(s, g1);
     const Elem e17 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e17.position, pal[e17.color]);
+    ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
     const int32_t colour18 = colour_11_C4_Cloud(s, g1);
     const Elem e19 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e19.position, pal[e19.color]);
+    ++s.core.rendered, paint ? paint->paint(e19.position, pal[e19.color]) : void();
     const int32_t colour20 = colour_12_C4_Cloud(s, g1);
     const Elem e21 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e21.position, pal[e21.color]);
+    ++s.core.rendered, paint ? paint->paint(e21.position, pal[e21.color]) : void();
     const int32_t colour22 = colour_13_C4_Cloud(s, g1);
     const Elem e23 = Elem{Pos{add(g1.origin.x, int32_t(10)), add(g1.origin.y, int32_t(0))}, colour22};
     s.core.occupied.add(e23.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e23.position, pal[e23.color]);
+    ++s.core.rendered, paint ? paint->paint(e23.position, pal[e23.color]) : void();
     const int32_t colour24 = colour_14_C4_Cloud(s, g1);
     const Elem e25 = Elem{Pos{add(g1.origin.x, int32_t(11)), add(g1.origin.y, int32_t(0))}, colour24};
     s.core.occupied.add(e25.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e25.position, pal[e25.color]);
+    ++s.core.rendered, paint ? paint->paint(e25.position, pal[e25.color]) : void();
     const int32_t colour26 = colour_15_C4_Cloud(s, g1);
     const Elem e27 = Elem{Pos{add(g1.origin.x, int32_t(12)), add(g1.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e27.position, pal[e27.color]);
+    ++s.core.rendered, paint ? paint->paint(e27.position, pal[e27.color]) : void();
     const int32_t colour28 = colour_16_C4_Cloud(s, g1);
     const Elem e29 = Elem{Pos{add(g1.origin.x, int32_t(13)), add(g1.origin.y, int32_t(0))}, colour28};
     s.core.occupied.add(e29.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e29.position, pal[e29.color]);
+    ++s.core.rendered, paint ? paint->paint(e29.position, pal[e29.color]) : void();
     const int32_t colour30 = colour_17_C4_Cloud(s, g1);
     const Elem e31 = Elem{Pos{add(g1.origin.x, int32_t(14)), add(g1.origin.y, int32_t(0))}, colour30};
     s.core.occupied.add(e31.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e31.position, pal[e31.color]);
+    ++s.core.rendered, paint ? paint->paint(e31.position, pal[e31.color]) : void();
     const int32_t colour32 = colour_18_C4_Cloud(s, g1);
     const Elem e33 = Elem{Pos{add(g1.origin.x, int32_t(15)), add(g1.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e33.position, pal[e33.color]);
+    ++s.core.rendered, paint ? paint->paint(e33.position, pal[e33.color]) : void();
     const std::vector<C2_Rock>& g34 = s.g_rocks_17;
     for (const C2_Rock& x35 : g34) {
       const Elem e36 = Elem{Pos{add(x35.origin.x, int32_t(0)), add(x35.origin.y, int32_t(0))}, int32_t(3)};
       s.core.occupied.add(e36.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e36.position, pal[e36.color]);
+      ++s.core.rendered, paint ? paint->paint(e36.position, pal[e36.color]) : void();
     }
     const std::vector<C0_Flake>& g37 = s.g_snow_9;
     for (const C0_Flake& x38 : g37) {
       const Elem e39 = Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, int32_t(6)};
       s.core.occupied.add(e39.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e39.position, pal[e39.color]);
+      ++s.core.rendered, paint ? paint->paint(e39.position, pal[e39.color]) : void();
     }
     const std::vector<C1_Melt>& g40 = s.g_melt_13;
     for (const C1_Melt& x41 : g40) {
       const int32_t colour42 = colour_19_C1_Melt(s, x41);
       const Elem e43 = Elem{Pos{add(x41.origin.x, int32_t(0)), add(x41.origin.y, int32_t(0))}, colour42};
       s.core.occupied.add(e43.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e43.position, pal[e43.color]);
+      ++s.core.rendered, paint ? paint->paint(e43.position, pal[e43.color]) : void();
     }
     const C3_Plow& g44 = s.g_plow_5;
     const Elem e45 = Elem{Pos{add(g44.origin.x, int32_t(0)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e45.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e45.position, pal[e45.color]);
+    ++s.core.rendered, paint ? paint->paint(e45.position, pal[e45.color]) : void();
     const Elem e46 = Elem{Pos{add(g44.origin.x, int32_t(1)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e46.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e46.position, pal[e46.color]);
+    ++s.core.rendered, paint ? paint->paint(e46.position, pal[e46.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1710,18 +1689,6 @@ const ErrorSite Prog::kErrors[] = {
     {71, 32, nullptr, true, 71, 32, ""},
     {73, 39, nullptr, true, 73, 39, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {21, 3, nullptr, true, 21, 3, ""},
-    {24, 3, nullptr, true, 24, 3, ""},
-    {32, 3, nullptr, true, 32, 3, ""},
-    {35, 3, nullptr, true, 35, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {29, 3, nullptr, true, 29, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {21, 3, nullptr, true, 21, 3, ""},
-    {24, 3, nullptr, true, 24, 3, ""},
-    {32, 3, nullptr, true, 32, 3, ""},
-    {35, 3, nullptr, true, 35, 3, ""},
-    {29, 3, nullptr, true, 29, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

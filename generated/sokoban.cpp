@@ -1564,47 +1564,47 @@ struct Prog {
     if (s.d_click_29) {
       tally_rendered(s.core, 11, "cacheRendered");
       const std::vector<C0_Wall>& g423 = s.g_walls_24;
-      tally_global(s.core, 12, "walls", g423);
+      tally_global(s.core, 2, "walls", g423);
       const std::vector<C1_Goal>& g424 = s.g_goals_16;
-      tally_global(s.core, 13, "goals", g424);
+      tally_global(s.core, 3, "goals", g424);
       const C4_Button& g425 = s.g_reset_8;
-      tally_global(s.core, 14, "reset", g425);
+      tally_global(s.core, 4, "reset", g425);
       const std::vector<Pos>& g426 = s.g_crateStarts_6;
-      tally_global(s.core, 15, "crateStarts", g426);
+      tally_global(s.core, 5, "crateStarts", g426);
       const std::vector<Pos>& g427 = s.g_goalSpots_5;
-      tally_global(s.core, 16, "goalSpots", g427);
+      tally_global(s.core, 6, "goalSpots", g427);
       if (s.d_click_29) {
         const Pos& g428 = s.g_click_28;
-        tally_global(s.core, 17, "click", g428);
+        tally_global(s.core, 11, "click", g428);
       }
       const std::vector<C2_Crate>& g429 = s.g_crates_12;
-      tally_global(s.core, 18, "crates", g429);
+      tally_global(s.core, 7, "crates", g429);
       const std::vector<Pos>& g430 = s.g_innerWalls_4;
-      tally_global(s.core, 19, "innerWalls", g430);
+      tally_global(s.core, 8, "innerWalls", g430);
       const Pos& g431 = s.g_keeperStart_7;
-      tally_global(s.core, 20, "keeperStart", g431);
+      tally_global(s.core, 9, "keeperStart", g431);
       const C3_Keeper& g432 = s.g_keeper_20;
-      tally_global(s.core, 21, "keeper", g432);
+      tally_global(s.core, 10, "keeper", g432);
     } else {
-      tally_rendered(s.core, 22, "cacheRendered");
+      tally_rendered(s.core, 11, "cacheRendered");
       const std::vector<C0_Wall>& g433 = s.g_walls_24;
-      tally_global(s.core, 23, "walls", g433);
+      tally_global(s.core, 2, "walls", g433);
       const std::vector<C1_Goal>& g434 = s.g_goals_16;
-      tally_global(s.core, 24, "goals", g434);
+      tally_global(s.core, 3, "goals", g434);
       const C4_Button& g435 = s.g_reset_8;
-      tally_global(s.core, 25, "reset", g435);
+      tally_global(s.core, 4, "reset", g435);
       const std::vector<Pos>& g436 = s.g_crateStarts_6;
-      tally_global(s.core, 26, "crateStarts", g436);
+      tally_global(s.core, 5, "crateStarts", g436);
       const std::vector<Pos>& g437 = s.g_goalSpots_5;
-      tally_global(s.core, 27, "goalSpots", g437);
+      tally_global(s.core, 6, "goalSpots", g437);
       const std::vector<C2_Crate>& g438 = s.g_crates_12;
-      tally_global(s.core, 28, "crates", g438);
+      tally_global(s.core, 7, "crates", g438);
       const std::vector<Pos>& g439 = s.g_innerWalls_4;
-      tally_global(s.core, 29, "innerWalls", g439);
+      tally_global(s.core, 8, "innerWalls", g439);
       const Pos& g440 = s.g_keeperStart_7;
-      tally_global(s.core, 30, "keeperStart", g440);
+      tally_global(s.core, 9, "keeperStart", g440);
       const C3_Keeper& g441 = s.g_keeper_20;
-      tally_global(s.core, 31, "keeper", g441);
+      tally_global(s.core, 10, "keeper", g441);
     }
     s.core.clear_inputs();
   }
@@ -1618,34 +1618,29 @@ struct Prog {
     for (const C0_Wall& x2 : g1) {
       const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(6)};
       s.core.occupied.add(e3.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e3.position, pal[e3.color]);
+      ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     }
     const std::vector<C1_Goal>& g4 = s.g_goals_16;
     for (const C1_Goal& x5 : g4) {
       const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
       s.core.occupied.add(e6.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e6.position, pal[e6.color]);
+      ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
     }
     const std::vector<C2_Crate>& g7 = s.g_crates_12;
     for (const C2_Crate& x8 : g7) {
       const int32_t colour9 = colour_1_C2_Crate(s, x8);
       const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
       s.core.occupied.add(e10.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e10.position, pal[e10.color]);
+      ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
     }
     const C3_Keeper& g11 = s.g_keeper_20;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(5)};
     s.core.occupied.add(e12.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e12.position, pal[e12.color]);
+    ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
     const C4_Button& g13 = s.g_reset_8;
     const Elem e14 = Elem{Pos{add(g13.origin.x, int32_t(0)), add(g13.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e14.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e14.position, pal[e14.color]);
+    ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1734,26 +1729,6 @@ const ErrorSite Prog::kErrors[] = {
     {19, 3, nullptr, true, 19, 3, ""},
     {40, 3, nullptr, true, 40, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {27, 3, nullptr, true, 27, 3, ""},
-    {34, 3, nullptr, true, 34, 3, ""},
-    {43, 3, nullptr, true, 43, 3, ""},
-    {18, 3, nullptr, true, 18, 3, ""},
-    {17, 3, nullptr, true, 17, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {37, 3, nullptr, true, 37, 3, ""},
-    {16, 3, nullptr, true, 16, 3, ""},
-    {19, 3, nullptr, true, 19, 3, ""},
-    {40, 3, nullptr, true, 40, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {27, 3, nullptr, true, 27, 3, ""},
-    {34, 3, nullptr, true, 34, 3, ""},
-    {43, 3, nullptr, true, 43, 3, ""},
-    {18, 3, nullptr, true, 18, 3, ""},
-    {17, 3, nullptr, true, 17, 3, ""},
-    {37, 3, nullptr, true, 37, 3, ""},
-    {16, 3, nullptr, true, 16, 3, ""},
-    {19, 3, nullptr, true, 19, 3, ""},
-    {40, 3, nullptr, true, 40, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -947,31 +947,31 @@ struct Prog {
     if (s.d_click_35) {
       tally_rendered(s.core, 11, "cacheRendered");
       const std::vector<C2_Flash>& g144 = s.g_flashes_26;
-      tally_global(s.core, 12, "flashes", g144);
+      tally_global(s.core, 0, "flashes", g144);
       const std::vector<C0_Burrow>& g145 = s.g_burrows_22;
-      tally_global(s.core, 13, "burrows", g145);
+      tally_global(s.core, 1, "burrows", g145);
       const C3_ScoreBar& g146 = s.g_bar_6;
-      tally_global(s.core, 14, "bar", g146);
+      tally_global(s.core, 2, "bar", g146);
       const std::vector<Pos>& g147 = s.g_burrowSpots_4;
-      tally_global(s.core, 15, "burrowSpots", g147);
+      tally_global(s.core, 3, "burrowSpots", g147);
       if (s.d_click_35) {
         const Pos& g148 = s.g_click_34;
-        tally_global(s.core, 16, "click", g148);
+        tally_global(s.core, 11, "click", g148);
       }
       const std::vector<C1_Mole>& g149 = s.g_moles_18;
-      tally_global(s.core, 17, "moles", g149);
+      tally_global(s.core, 4, "moles", g149);
     } else {
-      tally_rendered(s.core, 18, "cacheRendered");
+      tally_rendered(s.core, 11, "cacheRendered");
       const std::vector<C2_Flash>& g150 = s.g_flashes_26;
-      tally_global(s.core, 19, "flashes", g150);
+      tally_global(s.core, 0, "flashes", g150);
       const std::vector<C0_Burrow>& g151 = s.g_burrows_22;
-      tally_global(s.core, 20, "burrows", g151);
+      tally_global(s.core, 1, "burrows", g151);
       const C3_ScoreBar& g152 = s.g_bar_6;
-      tally_global(s.core, 21, "bar", g152);
+      tally_global(s.core, 2, "bar", g152);
       const std::vector<Pos>& g153 = s.g_burrowSpots_4;
-      tally_global(s.core, 22, "burrowSpots", g153);
+      tally_global(s.core, 3, "burrowSpots", g153);
       const std::vector<C1_Mole>& g154 = s.g_moles_18;
-      tally_global(s.core, 23, "moles", g154);
+      tally_global(s.core, 4, "moles", g154);
     }
     s.core.clear_inputs();
   }
@@ -985,76 +985,63 @@ struct Prog {
     for (const C0_Burrow& x2 : g1) {
       const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
       s.core.occupied.add(e3.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e3.position, pal[e3.color]);
+      ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
     }
     const std::vector<C1_Mole>& g4 = s.g_moles_18;
     for (const C1_Mole& x5 : g4) {
       const int32_t colour6 = colour_11_C1_Mole(s, x5);
       const Elem e7 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, colour6};
       s.core.occupied.add(e7.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e7.position, pal[e7.color]);
+      ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
     }
     const std::vector<C2_Flash>& g8 = s.g_flashes_26;
     for (const C2_Flash& x9 : g8) {
       const int32_t colour10 = colour_12_C2_Flash(s, x9);
       const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
       s.core.occupied.add(e11.position);
-      ++s.core.rendered;
-      if (paint) paint->paint(e11.position, pal[e11.color]);
+      ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
     }
     const C3_ScoreBar& g12 = s.g_bar_6;
     const int32_t colour13 = colour_0_C3_ScoreBar(s, g12);
     const Elem e14 = Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, colour13};
     s.core.occupied.add(e14.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e14.position, pal[e14.color]);
+    ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
     const int32_t colour15 = colour_1_C3_ScoreBar(s, g12);
     const Elem e16 = Elem{Pos{add(g12.origin.x, int32_t(1)), add(g12.origin.y, int32_t(0))}, colour15};
     s.core.occupied.add(e16.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e16.position, pal[e16.color]);
+    ++s.core.rendered, paint ? paint->paint(e16.position, pal[e16.color]) : void();
     const int32_t colour17 = colour_2_C3_ScoreBar(s, g12);
     const Elem e18 = Elem{Pos{add(g12.origin.x, int32_t(2)), add(g12.origin.y, int32_t(0))}, colour17};
     s.core.occupied.add(e18.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e18.position, pal[e18.color]);
+    ++s.core.rendered, paint ? paint->paint(e18.position, pal[e18.color]) : void();
     const int32_t colour19 = colour_3_C3_ScoreBar(s, g12);
     const Elem e20 = Elem{Pos{add(g12.origin.x, int32_t(3)), add(g12.origin.y, int32_t(0))}, colour19};
     s.core.occupied.add(e20.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e20.position, pal[e20.color]);
+    ++s.core.rendered, paint ? paint->paint(e20.position, pal[e20.color]) : void();
     const int32_t colour21 = colour_4_C3_ScoreBar(s, g12);
     const Elem e22 = Elem{Pos{add(g12.origin.x, int32_t(4)), add(g12.origin.y, int32_t(0))}, colour21};
     s.core.occupied.add(e22.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e22.position, pal[e22.color]);
+    ++s.core.rendered, paint ? paint->paint(e22.position, pal[e22.color]) : void();
     const int32_t colour23 = colour_5_C3_ScoreBar(s, g12);
     const Elem e24 = Elem{Pos{add(g12.origin.x, int32_t(5)), add(g12.origin.y, int32_t(0))}, colour23};
     s.core.occupied.add(e24.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e24.position, pal[e24.color]);
+    ++s.core.rendered, paint ? paint->paint(e24.position, pal[e24.color]) : void();
     const int32_t colour25 = colour_6_C3_ScoreBar(s, g12);
     const Elem e26 = Elem{Pos{add(g12.origin.x, int32_t(6)), add(g12.origin.y, int32_t(0))}, colour25};
     s.core.occupied.add(e26.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e26.position, pal[e26.color]);
+    ++s.core.rendered, paint ? paint->paint(e26.position, pal[e26.color]) : void();
     const int32_t colour27 = colour_7_C3_ScoreBar(s, g12);
     const Elem e28 = Elem{Pos{add(g12.origin.x, int32_t(7)), add(g12.origin.y, int32_t(0))}, colour27};
     s.core.occupied.add(e28.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e28.position, pal[e28.color]);
+    ++s.core.rendered, paint ? paint->paint(e28.position, pal[e28.color]) : void();
     const int32_t colour29 = colour_8_C3_ScoreBar(s, g12);
     const Elem e30 = Elem{Pos{add(g12.origin.x, int32_t(8)), add(g12.origin.y, int32_t(0))}, colour29};
     s.core.occupied.add(e30.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e30.position, pal[e30.color]);
+    ++s.core.rendered, paint ? paint->paint(e30.position, pal[e30.color]) : void();
     const int32_t colour31 = colour_9_C3_ScoreBar(s, g12);
     const Elem e32 = Elem{Pos{add(g12.origin.x, int32_t(9)), add(g12.origin.y, int32_t(0))}, colour31};
     s.core.occupied.add(e32.position);
-    ++s.core.rendered;
-    if (paint) paint->paint(e32.position, pal[e32.color]);
+    ++s.core.rendered, paint ? paint->paint(e32.position, pal[e32.color]) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1145,18 +1132,6 @@ const ErrorSite Prog::kErrors[] = {
     {71, 65, nullptr, true, 71, 65, ""},
     {71, 14, nullptr, true, 71, 14, ""},
     {0, 0, nullptr, false, 0, 0, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
-    {25, 3, nullptr, true, 25, 3, ""},
-    {42, 3, nullptr, true, 42, 3, ""},
-    {16, 3, nullptr, true, 16, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
-    {0, 0, nullptr, false, 0, 0, ""},
-    {31, 3, nullptr, true, 31, 3, ""},
-    {25, 3, nullptr, true, 25, 3, ""},
-    {42, 3, nullptr, true, 42, 3, ""},
-    {16, 3, nullptr, true, 16, 3, ""},
-    {28, 3, nullptr, true, 28, 3, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -204,6 +204,11 @@ int Specialiser::location() {
       break;
     }
   l.prefix = error_prefix_;
+  return intern_location(l);
+}
+
+// The index of `l` among the module's error sites, added if new.
+int Specialiser::intern_location(const ErrorLoc& l) {
   for (size_t i = 0; i < m_.locations.size(); ++i) {
     const ErrorLoc& o = m_.locations[i];
     if (o.at.line == l.at.line && o.at.col == l.at.col && o.at.source == l.at.source &&

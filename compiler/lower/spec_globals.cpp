@@ -138,16 +138,14 @@ void Specialiser::check_state() {
     l.at = at;
     l.in_program = at.line > 0 && at.source == SourceId::Program;
     l.program_at = at;
-    m_.locations.push_back(l);
-    return static_cast<int64_t>(m_.locations.size() - 1);
+    return static_cast<int64_t>(intern_location(l));
+  };
+  // A list or an instance (the interpreter counts nothing else), or a sum that may hold one.
+  auto container = [](TypeP t) {
+    return t->k == TK::List || t->k == TK::Pos || t->k == TK::Cell || t->k == TK::Elem || t->k == TK::Obj;
   };
   auto counted = [&](TypeP t) {
-    if (!t) return false;
-    if (t->k == TK::List || t->k == TK::Pos || t->k == TK::Cell || t->k == TK::Elem || t->k == TK::Obj) return true;
-    if (t->k == TK::Sum)
-      for (TypeP a : t->alts)
-        if (a->k == TK::List || a->k == TK::Pos || a->k == TK::Cell || a->k == TK::Elem || a->k == TK::Obj) return true;
-    return false;
+    return t && (container(t) || (t->k == TK::Sum && std::any_of(t->alts.begin(), t->alts.end(), container)));
   };
   for_each_global_in_order(
       [&](Global& g) {

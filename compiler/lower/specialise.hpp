@@ -345,6 +345,7 @@ class Specialiser {
   std::vector<const Expr*> loc_stack_;
   std::string error_prefix_;
   int location();
+  int intern_location(const ErrorLoc& l);
 
   const Program& p_;
   Module& m_;
