@@ -443,12 +443,31 @@ fs::path generate(const fs::path& root, const std::string& kind, const std::stri
   return o.out;
 }
 
+// The answers file a generated task was written with (beside prompts/).
+Answers answers_of(const fs::path& task_file) {
+  std::optional<fs::path> file = find_answers(load_task(task_file));
+  if (!file) throw std::runtime_error("no answers file for " + task_file.string());
+  return load_answers(*file);
+}
+
+// A blind prompt: nothing a solver must not see.
+bool is_blind(const fs::path& task_file) {
+  std::ifstream in(task_file);
+  nlohmann::json j = nlohmann::json::parse(in);
+  for (const char* key : {"seed", "answer", "correct_idx", "reference_plan", "generator"})
+    if (j.contains(key)) return false;
+  return true;
+}
+
 TEST(AgentMakeTask, MfpRoundTrip) {
   fs::path root = scratch("mfp");
   for (const char* program : {"blockfall", "sokoban", "whack_a_mole"}) {
     fs::path file = generate(root, "mfp", program, 7, 12);
     Task task = load_task(file);
-    ASSERT_TRUE(task.answer) << program;
+    EXPECT_TRUE(is_blind(file)) << program;
+    EXPECT_FALSE(task.answer) << program;
+    const std::optional<int> answer = answers_of(file).correct_idx;
+    ASSERT_TRUE(answer) << program;
     EXPECT_EQ(task.choices.size(), 6u);
     std::set<std::vector<int16_t>> distinct;
     for (const Grid& g : task.choices) distinct.insert(g.cells);
@@ -456,12 +475,12 @@ TEST(AgentMakeTask, MfpRoundTrip) {
     ThreadPool one(1), two(2);
     MfpResult a = solve_mfp(task, small(), one);
     MfpResult b = solve_mfp(task, small(), two);
-    EXPECT_EQ(a.choice, *task.answer) << program << "\n" << mfp_summary(a);
+    EXPECT_EQ(a.choice, *answer) << program << "\n" << mfp_summary(a);
     EXPECT_EQ(a.counts, b.counts) << program;
     EXPECT_EQ(a.env_steps, b.env_steps) << program;
     // Only the answer is supported by any accepted rollout.
     for (size_t c = 0; c < a.counts.size(); ++c)
-      if (static_cast<int>(c) != *task.answer) {
+      if (static_cast<int>(c) != *answer) {
         EXPECT_EQ(a.counts[c], 0u) << program << " choice " << c;
       }
   }
@@ -487,8 +506,10 @@ TEST(AgentMakeTask, PlanningRoundTrip) {
   for (const char* program : {"frog_crossing", "blockfall", "sokoban"}) {
     fs::path file = generate(root, "planning", program, 3, 4);
     Task task = load_task(file);
-    ASSERT_EQ(task.reference_plan.size(), 4u);
-    EXPECT_TRUE(replays_to_goal(task, task.reference_plan)) << program;
+    EXPECT_TRUE(is_blind(file)) << program;
+    const std::vector<Action> reference = answers_of(file).reference_plan;
+    ASSERT_EQ(reference.size(), 4u);
+    EXPECT_TRUE(replays_to_goal(task, reference)) << program;
     ThreadPool pool(2);
     PlanResult r = solve_planning(task, SolveOptions{}, pool);
     ASSERT_TRUE(r.found) << program << "\n" << planning_summary(r);
@@ -567,7 +588,7 @@ TEST(AgentCdPairs, EveryPairIsDetectedAtItsChange) {
   for (const auto& file : tasks) {
     Task task = load_task(file);
     SolveOptions o = small();
-    o.answers = default_answers_file(task);
+    o.answers = find_answers(task);
     ASSERT_TRUE(o.answers) << file;
     CdResult r = solve_cd(task, o, pool);
     ASSERT_TRUE(r.detected) << file << "\n" << cd_summary(r);
@@ -589,6 +610,68 @@ TEST(AgentCdPairs, OriginalProgramsNeverLookChanged) {
     EXPECT_FALSE(r.detected) << file << "\n" << cd_summary(r);
     EXPECT_EQ(r.steps, 40);
   }
+}
+
+// ------------------------------------------------------------------ blind tasks: an unknown seed
+
+// A long trajectory of a stochastic program from a seed the task does not state:
+// rejection over whole episodes keeps nothing; the filter must keep samples to the
+// end and name the true choice, identically on one thread and on two.
+TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
+  fs::path root = scratch("unknown_seed");
+  MakeTaskOptions m;
+  m.kind = "mfp";
+  m.program = autumn::testing::source_dir() / "programs" / "whack_a_mole.au";
+  m.seed = 5;
+  m.steps = 60;
+  m.env_seed = 987654;
+  m.batch = 50;
+  m.extend_colours = true;
+  m.out = root / "prompts" / "whack_a_mole_mfp.json";
+  ThreadPool pool(2), one(1);
+  write_task(make_task(m, pool), m);
+  ASSERT_TRUE(is_blind(m.out));
+  Task task = load_task(m.out);
+  SolveOptions o = small(2000);
+  o.engine = "compiled";
+  MfpResult a = solve_mfp(task, o, pool);
+  ASSERT_TRUE(a.smc) << mfp_summary(a);
+  EXPECT_FALSE(a.stated_seed_consistent) << "seed 0 should not explain an episode of seed 987654";
+  EXPECT_FALSE(a.smc_died_at) << mfp_summary(a);
+  EXPECT_GT(a.smc_ess_min, 0.0);
+  EXPECT_EQ(a.choice, answers_of(m.out).correct_idx) << mfp_summary(a);
+  MfpResult b = solve_mfp(task, o, one);
+  EXPECT_EQ(a.counts, b.counts) << "the filter must not depend on the thread count";
+  EXPECT_EQ(a.choice, b.choice);
+}
+
+// The world runs the ORIGINAL stochastic program from a seed the agent does not
+// know: the stated-seed episode soon fails, and the filter must then explain
+// every observation (no false change) for the whole episode.
+TEST(AgentCdPairs, StochasticOriginalFromAnUnknownSeedNeverLooksChanged) {
+  fs::path dir = autumn::testing::source_dir() / "tasks" / "cd";
+  fs::path root = scratch("cd_unknown_seed");
+  std::ofstream(root / "world.json") << R"({"seed": 424242})";
+  ThreadPool pool(2);
+  int stochastic = 0;
+  for (const auto& file : find_tasks(dir)) {
+    Task task = load_task(file);
+    task.wrong_program = task.program;
+    SolveOptions o = small(2000);
+    o.engine = "compiled";
+    o.max_steps = 40;
+    o.answers = root / "world.json";
+    CdResult r = solve_cd(task, o, pool);
+    EXPECT_EQ(r.world_seed, 424242u);
+    EXPECT_FALSE(r.detected) << file << "\n" << cd_summary(r);
+    EXPECT_EQ(r.steps, 40);
+    if (!r.deterministic) {
+      ++stochastic;
+      EXPECT_FALSE(r.exact_consistent) << file << ": the world's seed is not the stated one";
+      EXPECT_GT(r.smc_ess_min, 0.0) << file;
+    }
+  }
+  EXPECT_GE(stochastic, 1) << "no stochastic pair: the test would prove nothing";
 }
 
 // ------------------------------------------------------------------ eval and the CLI
@@ -614,6 +697,14 @@ TEST(AgentEval, TabulatesAFolder) {
   }
   std::string table = eval_table(rows);
   EXPECT_NE(table.find("2 tasks, 2 scored, total score 2.000"), std::string::npos) << table;
+  // Scored from the answers files alone: the prompts carry no answer.
+  for (const auto& r : rows) EXPECT_TRUE(r.answers) << r.task;
+  std::string types = eval_type_table(rows);
+  EXPECT_NE(types.find("planning stochastic"), std::string::npos) << types;  // blockfall draws its pieces
+  const auto& plan_row = rows[0].type == "planning" ? rows[0] : rows[1];
+  ASSERT_TRUE(plan_row.reference_length && plan_row.plan_length);
+  EXPECT_EQ(*plan_row.reference_length, 3);
+  EXPECT_NE(types.find(*plan_row.plan_length <= 3 ? "1/1" : "0/1"), std::string::npos) << types;
 
   CliRun json = cli("eval " + root.string() + " --json --rollouts 50 --threads 2");
   EXPECT_EQ(json.status, 0) << json.out;

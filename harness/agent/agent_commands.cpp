@@ -202,7 +202,7 @@ int run_eval_cmd(State& s) {
     ThreadPool pool(s.eval_threads);
     std::vector<EvalRow> rows = run_eval(s.eval_dir, s.eval_opts, pool, progress_bar());
     if (s.eval_json) std::cout << eval_json(rows).dump() << "\n";
-    else fmt::print("{}", eval_table(rows));
+    else fmt::print("{}\n{}", eval_table(rows), eval_type_table(rows));
     for (const auto& r : rows)
       if (!r.error.empty()) return 1;
     return 0;
@@ -236,7 +236,7 @@ void add_agent_commands(CLI::App& app) {
   s.solve->add_option("TASK", s.task_file, "Task file (JSON)")->required()->check(CLI::ExistingFile);
   s.solve->add_option("--programs", s.programs_dir, "Folder of the task's programs (default: programs/ beside the task's folder)")
       ->check(CLI::ExistingDirectory);
-  s.solve->add_option("--answers", s.answers_file, "Change detection: answers file with the trigger condition, to score")
+  s.solve->add_option("--answers", s.answers_file, "Answers file, read only to report and score: MFP correct_idx, change detection's condition and world seed")
       ->check(CLI::ExistingFile);
   s.solve->add_flag("--json", s.json, "Print one JSON object");
   s.solve->add_option("--render", s.render_dir,
@@ -251,7 +251,10 @@ void add_agent_commands(CLI::App& app) {
   s.make->add_option("--steps", s.make_opts.steps, "Actions in the task (default: mfp 20, planning 4)")
       ->check(CLI::PositiveNumber);
   s.make->add_option("--out", s.make_out, "Output task file (default: stdout); under prompts/ the program is copied "
-                                          "to the sibling programs/");
+                                          "to the sibling programs/ and the answers go to the sibling answers/");
+  s.make->add_option("--answers", s.make_opts.answers_out,
+                     "Answers file (seed, correct_idx / reference_plan) (default: answers/TASK.json beside prompts/, "
+                     "else TASK.answers.json beside the task)");
   s.make->add_option("--env-seed", s.make_opts.env_seed, "Interpreter seed of the environment")->default_val(0);
   s.make->add_option("--batch", s.make_opts.batch, "MFP: rollouts whose outcomes no distractor may equal")
       ->default_val(200)

@@ -77,7 +77,7 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
         Task task = parse_task(made.task, path, made.colours);
         MfpResult r = solve_mfp(task, so, many);
         row.mfp_ran = true;
-        row.mfp_correct = r.expected && r.choice == *r.expected;
+        row.mfp_correct = r.choice == made.answers.at("correct_idx").get<int>();
         row.mfp_seconds = r.seconds;
         row.mfp_rollouts_per_s = per_second(static_cast<double>(r.rollouts), r.seconds);
       } catch (const std::exception& e) {

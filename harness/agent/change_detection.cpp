@@ -8,6 +8,7 @@
 
 #include "harness/agent/click_model.hpp"
 #include "harness/agent/particles.hpp"
+#include "harness/agent/smc.hpp"
 
 namespace autumn::agent {
 
@@ -22,6 +23,82 @@ double cd_score(int t, int t_star) {
   return 1.377 * f - 1.178;
 }
 
+namespace {
+
+// The agent's model of the ORIGINAL program: the exact stated-seed episode while
+// it explains every observation, then sequential Monte Carlo over an unknown
+// seed (smc.hpp), filtered afresh over the whole history when it first takes
+// over and once more whenever all its samples die, before a change is declared.
+class Model {
+ public:
+  Model(const Task& task, const SolveOptions& opts, ThreadPool& pool, const Environment& probe, CdResult& r)
+      : task_(task), opts_(opts), pool_(pool), probe_(probe), r_(r), exact_(probe.clone()) {}
+
+  // Advances the model by `action` (none: the initial frame) and says whether
+  // it can still produce the observed frame.
+  bool explains(const std::optional<Action>& action, const TaskFrame& frame, int size) {
+    if (action) history_.push_back({*action, frame, size});
+    else first_ = {Action::noop(), frame, size};
+    if (exact_) {
+      bool ok = !action || exact_->step(*action);
+      ++exact_steps_;
+      if (ok && matches(*exact_, frame, size)) return true;
+      exact_.reset();
+      r_.exact_consistent = false;
+      if (r_.deterministic) return false;
+      return explain_afresh();
+    }
+    if (smc_ && smc_->step(*action, keep_for(frame, size))) return note(*smc_), true;
+    return explain_afresh();
+  }
+  const Environment& predictor() const { return exact_ ? *exact_ : *smc_->samples().front().env; }
+  uint64_t env_steps() const { return exact_steps_ + smc_steps_ + (smc_ ? smc_->env_steps() : 0); }
+
+ private:
+  struct Seen {
+    Action action;
+    TaskFrame frame;
+    int size;
+  };
+  bool matches(const Environment& e, const TaskFrame& frame, int size) const {
+    return e.frame().size == size && task_frame(e.frame(), e.palette(), task_.colours) == frame;
+  }
+  static FramePredicate keep_for(const TaskFrame& frame, int size) {
+    return [&frame, size](const TaskFrame& f, int sz) { return sz == size && f == frame; };
+  }
+  void note(const SmcSet& s) {
+    r_.smc_ess_min = r_.smc_ess_min < 0 ? s.ess_min() : std::min(r_.smc_ess_min, s.ess_min());
+    r_.peak_particles = std::max(r_.peak_particles, s.peak());
+  }
+  // A new filter over the whole history; false (and no filter) when it dies.
+  bool explain_afresh() {
+    if (smc_) smc_steps_ += smc_->env_steps();
+    ++r_.smc_restarts;
+    smc_ = std::make_unique<SmcSet>(pool_, task_.colours, std::max<uint64_t>(opts_.rollouts, 1),
+                                    opts_.seed + r_.smc_restarts);
+    bool ok = smc_->start(probe_, keep_for(first_.frame, first_.size));
+    for (size_t t = 0; ok && t < history_.size(); ++t)
+      ok = smc_->step(history_[t].action, keep_for(history_[t].frame, history_[t].size));
+    if (ok) return note(*smc_), true;
+    smc_steps_ += smc_->env_steps();
+    smc_.reset();
+    return false;
+  }
+
+  const Task& task_;
+  const SolveOptions& opts_;
+  ThreadPool& pool_;
+  const Environment& probe_;
+  CdResult& r_;
+  std::unique_ptr<Environment> exact_;  // the stated-seed episode, while it explains everything
+  std::unique_ptr<SmcSet> smc_;         // afterwards: the filter, while it keeps samples
+  Seen first_;
+  std::vector<Seen> history_;           // every observation after the first, with its action
+  uint64_t exact_steps_ = 0, smc_steps_ = 0;
+};
+
+}  // namespace
+
 CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
   if (task.type != TaskType::ChangeDetection) throw TaskError(task.file.string() + ": not a change-detection task");
   Stopwatch clock;
@@ -29,29 +106,31 @@ CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) 
   r.policy = opts.policy;
   if (opts.policy != "novelty" && opts.policy != "random") throw TaskError("unknown policy '" + opts.policy + "'");
   std::optional<std::string> trigger;
-  if (opts.answers) trigger = load_trigger_condition(*opts.answers);
+  r.world_seed = task.env_seed;
+  if (opts.answers) {
+    Answers answers = load_answers(*opts.answers);
+    trigger = answers.condition;
+    if (answers.seed) r.world_seed = *answers.seed;
+  }
   if (trigger) r.trigger = *trigger;
 
   auto original = load_program_checked(task_program_path(task, opts, task.program));
   auto changed = load_program_checked(task_program_path(task, opts, task.wrong_program), trigger);
   ClickUse clicks = analyse_click_use(*original);
   auto env = make_env_checked(opts.engine, changed);
-  if (!env->reset(task.env_seed)) throw TaskError(task.wrong_program + ": " + env->error());
+  if (!env->reset(r.world_seed)) throw TaskError(task.wrong_program + ": " + env->error());
   const int grid = env->frame().size;
 
   std::vector<char> cond;  // cond[k]: trigger condition on the state after step k
   TaskFrame observed = task_frame(env->frame(), env->palette(), task.colours);
   int observed_size = grid;
-  FramePredicate keep = [&](const TaskFrame& f, int size) { return size == observed_size && f == observed; };
 
   auto probe = make_env_checked(opts.engine, original);
-  if (!probe->reset(0)) throw TaskError(task.program + ": " + probe->error());
+  if (!probe->reset(task.env_seed)) throw TaskError(task.program + ": " + probe->error());
   r.deterministic = probe->deterministic();
-  std::vector<uint64_t> seeds = rollout_seeds(opts.seed, std::max<uint64_t>(opts.rollouts, 1), task.env_seed);
-  r.particles = r.deterministic ? 1 : seeds.size();
-  ParticleSet set(pool, task.colours);
-  set.start([&] { return probe->clone(); }, seeds, r.deterministic, keep);
-  if (set.empty()) r.detected = 0;
+  r.particles = r.deterministic ? 1 : std::max<uint64_t>(opts.rollouts, 1);
+  Model model(task, opts, pool, *probe, r);
+  if (!model.explains(std::nullopt, observed, observed_size)) r.detected = 0;
 
   std::mt19937_64 rng(opts.seed ^ 0x9e3779b97f4a7c15ull);
   std::unordered_map<uint64_t, uint64_t> visits;
@@ -67,9 +146,9 @@ CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) 
     for (int i = 0; i < n_clicks; ++i)
       cands.push_back(Action::click(static_cast<int>(rng() % grid), static_cast<int>(rng() % grid)));
     // Never touch one environment from two threads: clone on the caller first.
-    const Environment& model = *set.particles().front().env;
+    const Environment& predictor = model.predictor();
     std::vector<std::unique_ptr<Environment>> clones;
-    for (size_t i = 0; i < cands.size(); ++i) clones.push_back(model.clone());
+    for (size_t i = 0; i < cands.size(); ++i) clones.push_back(predictor.clone());
     std::vector<uint64_t> score(cands.size(), UINT64_MAX);
     pool.parallel_for(cands.size(), [&](size_t i) {
       Environment* e = clones[i].get();
@@ -102,8 +181,7 @@ CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) 
     observed = task_frame(env->frame(), env->palette(), task.colours);
     observed_size = env->frame().size;
     ++visits[frame_digest(observed)];
-    set.step(a, keep);
-    if (set.empty()) r.detected = t;
+    if (!model.explains(a, observed, observed_size)) r.detected = t;
   }
 
   if (trigger) {
@@ -122,8 +200,7 @@ CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) 
     else if (!r.t_star) r.score = 0.0;  // t* > detection + 1
     else r.score = cd_score(*r.detected, *r.t_star);
   }
-  r.env_steps = set.env_steps() + prediction_steps;
-  r.peak_particles = set.peak();
+  r.env_steps = model.env_steps() + prediction_steps;
   r.seconds = clock.seconds();
   return r;
 }
@@ -141,6 +218,10 @@ nlohmann::json cd_json(const CdResult& r) {
                       {"env_steps", r.env_steps},
                       {"seconds", r.seconds},
                       {"steps_per_second", per_second(static_cast<double>(r.env_steps), r.seconds)}};
+  j["world_seed"] = r.world_seed;
+  j["exact_consistent"] = r.exact_consistent;
+  j["smc_ess_min"] = r.smc_ess_min < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.smc_ess_min);
+  j["smc_restarts"] = r.smc_restarts;
   if (!r.env_error.empty()) j["env_error"] = r.env_error;
   if (!r.trigger.empty()) {
     j["t_star"] = r.t_star ? nlohmann::json(*r.t_star) : nlohmann::json(nullptr);
@@ -157,8 +238,13 @@ std::string cd_summary(const CdResult& r) {
   std::string acts;
   for (size_t i = 0; i < r.actions.size(); ++i) acts += (i ? ", " : "") + format_action(r.actions[i]);
   s += fmt::format("actions ({} policy): {}\n", r.policy, acts.empty() ? "-" : acts);
-  s += fmt::format("original program: {}, {} particle(s) at start, peak {}\n",
-                   r.deterministic ? "deterministic" : "stochastic", r.particles, r.peak_particles);
+  if (r.deterministic)
+    s += "original program: deterministic, one exact episode\n";
+  else
+    s += fmt::format("original program: stochastic; stated-seed episode {}; {} Monte Carlo filter(s) of {} samples, "
+                     "effective particles >= {:.1f}, peak {} distinct states\n",
+                     r.exact_consistent ? "explained everything" : "contradicted", r.smc_restarts, r.particles,
+                     std::max(0.0, r.smc_ess_min), r.peak_particles);
   if (!r.trigger.empty()) {
     s += fmt::format("change condition first holds on the state after step {}\n",
                      r.t_star ? std::to_string(*r.t_star) : std::string("(not within the episode)"));

@@ -1,14 +1,16 @@
 // change_detection — act in the changed environment and report the first step
 // whose observation the original program cannot explain.
 //
-// The environment is the task's wrong_program (with the answers' trigger
-// condition loaded when scoring, exactly as the benchmark runs it), reset with the
-// task's seed (default 0). The agent keeps a particle set of ORIGINAL-program
-// episodes: one episode for a deterministic program, otherwise --rollouts episodes
-// with seeds from rollout_seeds(). Every observation advances the set by the action
-// taken and filters it by the observed frame (equal states merged, nothing
-// replayed); the detection step is the first step after which no particle is left
-// (0 if the initial frame already differs).
+// The environment (the world) is the task's wrong_program (with the answers'
+// trigger condition loaded when scoring, exactly as the benchmark runs it), reset
+// with the answers' seed when an answers file is given, else the task's (default
+// 0). The agent never reads that seed. Its model of the ORIGINAL program is the
+// exact episode under the stated seed (the task's, else 0) while that explains
+// every observation; a deterministic program then differs at the change. For a
+// stochastic program, sequential Monte Carlo over an unknown seed (smc.hpp,
+// --rollouts samples) takes over, filtered over the whole history, and is filtered
+// afresh once more whenever all its samples die. The detection step is the first
+// step no model explains (0 if the initial frame already differs).
 //
 // Policies: "random" — seeded noop/arrows/clicks; "novelty" (default) — for each
 // candidate action (noop, the four arrows, one or more clicks) predict the next
@@ -42,7 +44,11 @@ struct CdResult {
   std::vector<Action> actions;
   std::string policy;
   bool deterministic = false;   // of the original program
-  uint64_t particles = 0;       // episodes the set started with
+  uint64_t particles = 0;       // samples of the Monte Carlo filter (stochastic programs)
+  uint64_t world_seed = 0;      // the environment's seed (answers file, else the task's)
+  bool exact_consistent = true; // the stated-seed episode explained every observation
+  double smc_ess_min = -1;      // effective particles, minimum over the filters' steps (-1: no filter)
+  int smc_restarts = 0;         // filters started over the whole history
   size_t peak_particles = 0;
   uint64_t env_steps = 0;       // particle + policy-prediction steps
   std::string env_error;        // the changed program failed (episode ended)

@@ -26,18 +26,22 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
     Task task = load_task(file);
     row.type = short_name(task.type);
     SolveOptions opts = base;
-    if (task.type == TaskType::ChangeDetection) opts.answers = default_answers_file(task);
+    opts.answers = find_answers(task);  // scoring only: the solvers never read it
+    Answers answers;
+    if (opts.answers) answers = load_answers(*opts.answers);
+    row.answers = opts.answers.has_value();
     row.compile_seconds = prepare_modules(task, opts);
     clock.emplace();
     switch (task.type) {
       case TaskType::MaskedFramePrediction: {
         MfpResult r = solve_mfp(task, opts, pool);
-        if (task.answer) row.score = r.choice == *task.answer ? 1.0 : 0.0;
+        if (r.expected) row.score = r.choice == *r.expected ? 1.0 : 0.0;
         row.throughput = per_second(static_cast<double>(r.rollouts), r.seconds);
         row.unit = "rollouts/s";
         row.detail = r.choice >= 0 ? fmt::format("choice {} ({}/{} accepted)", r.choice, r.counts[r.choice], r.accepted)
                                    : std::string("no choice supported");
-        if (task.answer) row.detail += fmt::format(", answer {}", *task.answer);
+        if (r.expected) row.detail += fmt::format(", answer {}", *r.expected);
+        row.stochastic = !r.deterministic;
         row.result = mfp_json(r);
         break;
       }
@@ -49,16 +53,26 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         row.detail = r.detected ? fmt::format("detected at step {}", *r.detected)
                                 : fmt::format("no change in {} steps", r.steps);
         if (r.t_star) row.detail += fmt::format(", t* = {}", *r.t_star);
+        row.stochastic = !r.deterministic;
         row.result = cd_json(r);
         break;
       }
       case TaskType::Planning: {
         PlanResult r = solve_planning(task, opts, pool);
-        row.score = r.found && r.verified ? 1.0 : 0.0;
+        // Judged in the world the task was made in: the answers' seed.
+        bool reaches = r.found && (answers.seed && *answers.seed != task.env_seed
+                                       ? plan_reaches_goal(task, opts, r.plan, *answers.seed)
+                                       : r.verified);
+        row.score = reaches ? 1.0 : 0.0;
+        row.stochastic = r.stochastic;
+        const std::vector<Action>& ref = answers.reference_plan.empty() ? task.reference_plan : answers.reference_plan;
+        if (!ref.empty()) row.reference_length = static_cast<int>(ref.size());
+        if (r.found) row.plan_length = static_cast<int>(r.plan.size());
         row.throughput = per_second(static_cast<double>(r.nodes), r.seconds);
         row.unit = "nodes/s";
         row.detail = r.found ? fmt::format("plan of {} ({}{})", r.plan.size(), r.method, r.shortest ? ", shortest" : "")
                              : std::string("no plan");
+        if (row.reference_length) row.detail += fmt::format(", generator's K = {}", *row.reference_length);
         row.result = planning_json(r);
         break;
       }
@@ -123,6 +137,48 @@ std::string eval_table(const std::vector<EvalRow>& rows) {
   return s;
 }
 
+std::string eval_type_table(const std::vector<EvalRow>& rows) {
+  struct Group {
+    size_t tasks = 0, errors = 0, scored = 0, with_k = 0, within_k = 0, plans = 0;
+    double score = 0, seconds = 0, plan_len = 0, k_len = 0;
+  };
+  std::vector<std::pair<std::string, Group>> groups;
+  auto group = [&](const std::string& name) -> Group& {
+    for (auto& [n, g] : groups)
+      if (n == name) return g;
+    groups.push_back({name, Group{}});
+    return groups.back().second;
+  };
+  for (const char* type : {"mfp", "cd", "planning"})
+    for (const char* kind : {"deterministic", "stochastic"}) {
+      std::string name = fmt::format("{} {}", type, kind);
+      for (const auto& r : rows) {
+        if (r.type != type || r.stochastic != (kind[0] == 's')) continue;
+        Group& g = group(name);
+        ++g.tasks;
+        g.seconds += r.seconds;
+        if (!r.error.empty()) ++g.errors;
+        else if (r.score) ++g.scored, g.score += *r.score;
+        if (r.reference_length) {
+          ++g.with_k;
+          if (r.plan_length && *r.plan_length <= *r.reference_length && r.score && *r.score > 0) ++g.within_k;
+        }
+        if (r.plan_length && r.reference_length) ++g.plans, g.plan_len += *r.plan_length, g.k_len += *r.reference_length;
+      }
+    }
+  const size_t errored = std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return r.type == "?"; });
+  std::string s = fmt::format("{:<24} {:>5} {:>6} {:>6} {:>10} {:>12} {:>16} {:>9}\n", "type", "tasks", "errors",
+                              "scored", "mean score", "plans <= K", "mean len / K", "time s");
+  for (const auto& [name, g] : groups)
+    s += fmt::format("{:<24} {:>5} {:>6} {:>6} {:>10} {:>12} {:>16} {:>9.1f}\n", name, g.tasks, g.errors, g.scored,
+                     g.scored ? fmt::format("{:.3f}", g.score / g.scored) : "-",
+                     g.with_k ? fmt::format("{}/{}", g.within_k, g.with_k) : "-",
+                     g.plans ? fmt::format("{:.1f} / {:.1f}", g.plan_len / g.plans, g.k_len / g.plans) : "-",
+                     g.seconds);
+  if (errored) s += fmt::format("{:<24} {:>5} {:>6}\n", "unreadable", errored, errored);
+  return s;
+}
+
 nlohmann::json eval_json(const std::vector<EvalRow>& rows) {
   nlohmann::json tasks = nlohmann::json::array();
   for (const auto& r : rows) {
@@ -133,7 +189,11 @@ nlohmann::json eval_json(const std::vector<EvalRow>& rows) {
                         {"compile_seconds", r.compile_seconds},
                         {"throughput", r.throughput},
                         {"unit", r.unit},
-                        {"detail", r.detail}};
+                        {"detail", r.detail},
+                        {"answers", r.answers},
+                        {"stochastic", r.stochastic}};
+    if (r.plan_length) j["plan_length"] = *r.plan_length;
+    if (r.reference_length) j["reference_length"] = *r.reference_length;
     if (!r.error.empty()) j["error"] = r.error;
     else j["result"] = r.result;
     tasks.push_back(j);

@@ -1,11 +1,14 @@
 // eval — run every task under a folder and tabulate scores and throughput.
 //
 // Tasks are the *.json files (recursively, sorted by path) whose "type" is one of
-// the three task types; other JSON files (answers, traces) are skipped. Scores:
-// MFP 1/0 when the task carries its answer ("-" otherwise, as for the public ice
-// task); change detection by the paper's formula when
-// <task folder>/../answers/<program>_change_detection.json exists ("-"
-// otherwise); planning 1 when the plan replays to the goal on the mask, else 0.
+// the three task types; other JSON files (answers, traces) are skipped. A task's
+// answers file (find_answers: answers/<task>.json beside prompts/, the benchmark's
+// answers/<program>_change_detection.json, or <task>.answers.json) is read only to
+// score, after the solver. Scores: MFP 1/0 against its correct_idx ("-" without
+// one, as for the public ice task); change detection by the paper's formula with
+// its condition ("-" without); planning 1 when the plan replays to the goal on the
+// mask in the world the task was made in (the answers' seed), else 0.
+// eval_type_table() sums the rows per task type (and deterministic/stochastic).
 // A task that cannot be loaded or solved is a row with an error and counts as a
 // failure (exit status 1). A task's modules are compiled before its clock starts:
 // compile time is reported apart (compile_seconds), never as solve time.
@@ -31,6 +34,10 @@ struct EvalRow {
   std::string detail;  // choice / detection step / plan length
   std::string error;
   nlohmann::json result;
+  bool answers = false;                 // an answers file was found
+  bool stochastic = false;              // the task's program draws random numbers
+  std::optional<int> plan_length;       // planning: the plan found
+  std::optional<int> reference_length;  // planning: the generator's K (its reference plan)
 };
 
 std::vector<fs::path> find_tasks(const fs::path& dir);
@@ -39,6 +46,9 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
 std::vector<EvalRow> run_eval(const fs::path& dir, const SolveOptions& opts, ThreadPool& pool,
                               const std::function<void(size_t, size_t, const std::string&)>& progress = {});
 std::string eval_table(const std::vector<EvalRow>& rows);
+// Per task type (and program kind): tasks, errors, scored, mean score, planning's
+// plans no longer than K, mean plan length against mean K, and time.
+std::string eval_type_table(const std::vector<EvalRow>& rows);
 nlohmann::json eval_json(const std::vector<EvalRow>& rows);
 
 }  // namespace autumn::agent

@@ -86,9 +86,11 @@ Grid masked(const TaskFrame& f, int size, const std::optional<Rect>& hide) {
 }
 
 json base_task(const char* type, const MakeTaskOptions& opts) {
-  return {{"type", type},
-          {"program", opts.program.stem().string()},
-          {"seed", opts.env_seed},
+  return {{"type", type}, {"program", opts.program.stem().string()}};
+}
+
+json base_answers(const MakeTaskOptions& opts) {
+  return {{"seed", opts.env_seed},
           {"generator", {{"tool", "autumn make-task"}, {"seed", opts.seed}, {"steps", opts.steps}}}};
 }
 
@@ -195,7 +197,8 @@ MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> pr
   made.task = base_task("masked_frame_prediction", opts);
   made.task["observations"] = observations;
   made.task["choices"] = choices;
-  made.task["answer"] = answer_index;
+  made.answers = base_answers(opts);
+  made.answers["correct_idx"] = answer_index;
   made.colours = colours;
   return made;
 }
@@ -234,7 +237,8 @@ MadeTask make_planning(const MakeTaskOptions& opts, std::shared_ptr<const Progra
     made.task = base_task("planning", opts);
     made.task["goal"] = goal_grid.to_json();
     made.task["mask"] = mask.to_json();
-    made.task["reference_plan"] = plan;
+    made.answers = base_answers(opts);
+    made.answers["reference_plan"] = plan;
     made.colours = colours;
     return made;
   }
@@ -260,7 +264,7 @@ void format_value(const json& j, int indent, std::string& out) {
     // Task keys in reading order; anything else after them, alphabetically.
     static const std::vector<std::string> order = {"type",  "program", "wrong_program", "seed", "observations",
                                                    "action", "masked_grid", "choices", "answer", "goal",
-                                                   "mask", "reference_plan", "generator"};
+                                                   "mask", "correct_idx", "reference_plan", "condition", "t_star", "generator"};
     std::vector<std::string> keys;
     for (const auto& k : order)
       if (j.contains(k)) keys.push_back(k);
@@ -316,7 +320,7 @@ MadeTask make_task(const MakeTaskOptions& in, ThreadPool& pool) {
   auto program = load_program_checked(opts.program);
   ColourTable colours = opts.out.empty() ? ColourTable() : ColourTable::for_task(opts.out);
   MadeTask made = opts.kind == "mfp" ? make_mfp(opts, program, pool, colours) : make_planning(opts, program, colours);
-  made.task["generator"]["steps"] = opts.steps;
+  made.answers["generator"]["steps"] = opts.steps;
   return made;
 }
 
@@ -326,6 +330,12 @@ std::vector<std::string> write_task(const MadeTask& made, const MakeTaskOptions&
   if (opts.out.empty()) {
     fmt::print("{}", text);
     if (made.colours_extended) notes.push_back("colours were added to the table; without --out the table is not written");
+    if (opts.answers_out.empty()) {
+      notes.push_back("the answers (seed, answer) are not kept without --out or --answers");
+    } else {
+      write_all(opts.answers_out, format_task_json(made.answers));
+      notes.push_back("wrote the answers " + opts.answers_out.string());
+    }
     return notes;
   }
   fs::path out = opts.out;
@@ -335,6 +345,13 @@ std::vector<std::string> write_task(const MadeTask& made, const MakeTaskOptions&
   notes.push_back("wrote " + out.string());
   fs::path root = dir.filename() == "prompts" ? dir.parent_path() : dir;
   if (root.empty()) root = ".";
+  fs::path answers = opts.answers_out;
+  if (answers.empty())
+    answers = dir.filename() == "prompts" ? root / "answers" / (out.stem().string() + ".json")
+                                          : dir / (out.stem().string() + ".answers.json");
+  if (!answers.parent_path().empty()) fs::create_directories(answers.parent_path());
+  write_all(answers, format_task_json(made.answers));
+  notes.push_back("wrote the answers " + answers.string());
   if (dir.filename() == "prompts") {
     fs::path programs = root / "programs";
     fs::create_directories(programs);

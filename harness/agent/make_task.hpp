@@ -7,11 +7,16 @@
 // batch (`batch` interpreter seeds from rollout_seeds(), the same actions), so
 // across that batch only the answer is consistent with the program. Distractors
 // come from the same rectangle at earlier steps, shifted rectangles of the final
-// frame, then recolourings of the answer. The task carries "answer".
+// frame, then recolourings of the answer. The answers file holds correct_idx.
 //
 // planning: the goal is the frame after a seeded random sequence of --steps
 // actions that changes the frame; the mask is the bounding box of the changed
-// cells grown by one cell. The task carries "reference_plan".
+// cells grown by one cell. The answers file holds the reference_plan.
+//
+// Blind layout, as the benchmark keeps it: the prompt holds only what a solver
+// may see (type, program, observations/choices or goal/mask); the environment
+// seed, the answer and the generator's settings go to an answers file (see
+// write_task), which only `autumn eval` reads.
 //
 // Colours: a frame colour missing from the colour table is an error unless
 // extend_colours, which appends it (and the colour table is written next to the
@@ -38,16 +43,20 @@ struct MakeTaskOptions {
   uint64_t batch = 200;
   int masked_frames = 3;
   bool extend_colours = false;
+  fs::path answers_out;  // empty: the default beside the task (write_task)
 };
 
 struct MadeTask {
-  nlohmann::json task;
+  nlohmann::json task;     // the prompt
+  nlohmann::json answers;  // seed, correct_idx / reference_plan, generator
   ColourTable colours;
   bool colours_extended = false;
 };
 
 MadeTask make_task(const MakeTaskOptions& opts, ThreadPool& pool);
-// Writes the task (and program copy / colour table, see above); returns notes.
+// Writes the task, its answers (opts.answers_out, else <root>/answers/<name>.json
+// when the task is under prompts/, else <name>.answers.json beside it), the
+// program copy and colour table (see above); returns notes.
 std::vector<std::string> write_task(const MadeTask& made, const MakeTaskOptions& opts);
 // JSON with grids (arrays of number arrays) kept one row per line.
 std::string format_task_json(const nlohmann::json& j);

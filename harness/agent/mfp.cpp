@@ -2,13 +2,84 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+
 #include "harness/agent/particles.hpp"
+#include "harness/agent/smc.hpp"
 
 namespace autumn::agent {
 
 namespace {
-constexpr uint64_t kBatch = 4096;
+
+// Adds `weight` to the choice the frame's masked region equals (or to unmatched).
+void tally(const Task& task, int size, const TaskFrame& frame, uint64_t weight, MfpResult& r) {
+  r.accepted += weight;
+  Grid region = crop(frame, size, task.masked);
+  for (size_t c = 0; c < task.choices.size(); ++c)
+    if (task.choices[c] == region) {
+      r.counts[c] += weight;
+      return;  // choices are distinct in well-formed tasks; count the first
+    }
+  r.unmatched += weight;
 }
+
+// The stated-seed hypothesis: the task's seed (the benchmark's 0 when it states
+// none) replayed exactly. The index of the choice it shows, -1 for none, or
+// nullopt when the episode contradicts an observation.
+std::optional<int> stated_seed_choice(const Task& task, const Environment& probe, int size, MfpResult& r) {
+  auto env = probe.clone();
+  bool ok = env->reset(task.env_seed);
+  ++r.env_steps;
+  for (size_t t = 0; ok && t < task.observations.size(); ++t) {
+    if (t > 0) ok = env->step(*task.observations[t].action), ++r.env_steps;
+    ok = ok && consistent(task_frame(env->frame(), env->palette(), task.colours), size, task.observations[t].grid);
+  }
+  if (!ok) return std::nullopt;
+  Grid region = crop(task_frame(env->frame(), env->palette(), task.colours), size, task.masked);
+  for (size_t c = 0; c < task.choices.size(); ++c)
+    if (task.choices[c] == region) return static_cast<int>(c);
+  return -1;
+}
+
+// Stochastic programs: the stated-seed hypothesis H0 and sequential Monte Carlo
+// over an unknown seed H1 (smc.hpp), equal prior odds. H0 predicts its frame with
+// probability 1; H1's likelihood is the filter's estimate. The answer is the
+// choice of highest posterior probability.
+void solve_stochastic(const Task& task, const SolveOptions& opts, ThreadPool& pool, const Environment& probe, int size,
+                      MfpResult& r) {
+  std::optional<int> h0 = stated_seed_choice(task, probe, size, r);
+  r.stated_seed_consistent = h0.has_value();
+  SmcSet smc(pool, task.colours, r.rollouts, opts.seed);
+  const Grid* obs = &task.observations[0].grid;
+  FramePredicate keep = [&obs](const TaskFrame& f, int sz) { return consistent(f, sz, *obs); };
+  bool alive = smc.start(probe, keep);
+  for (size_t t = 1; alive && t < task.observations.size(); ++t) {
+    obs = &task.observations[t].grid;
+    alive = smc.step(*task.observations[t].action, keep);
+    if (!alive) r.smc_died_at = static_cast<int>(t);
+  }
+  if (!alive && !r.smc_died_at) r.smc_died_at = 0;
+  r.smc = true;
+  r.smc_ess_min = smc.ess_min();
+  r.smc_retries = smc.retries();
+  r.env_steps += smc.env_steps();
+  r.peak_particles = smc.peak();
+  if (alive)
+    for (const SmcSample& s : smc.samples()) tally(task, size, s.frame, s.count, r);
+  // Posterior over the two hypotheses, then over the choices.
+  double w0 = h0 ? 1.0 : 0.0, w1 = alive ? std::exp(smc.log_likelihood()) : 0.0;
+  if (w0 + w1 <= 0) return;
+  r.posterior_stated_seed = w0 / (w0 + w1);
+  std::vector<double> p(task.choices.size(), 0.0);
+  if (h0 && *h0 >= 0) p[*h0] += r.posterior_stated_seed;
+  for (size_t c = 0; c < p.size(); ++c)
+    if (r.accepted) p[c] += (1 - r.posterior_stated_seed) * static_cast<double>(r.counts[c]) / r.accepted;
+  r.probabilities = p;
+  for (size_t c = 0; c < p.size(); ++c)
+    if (p[c] > 0 && (r.choice < 0 || p[c] > p[r.choice])) r.choice = static_cast<int>(c);
+}
+
+}  // namespace
 
 MfpResult solve_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
   if (task.type != TaskType::MaskedFramePrediction) throw TaskError(task.file.string() + ": not an MFP task");
@@ -17,6 +88,8 @@ MfpResult solve_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool
   r.rollouts = std::max<uint64_t>(opts.rollouts, 1);
   r.counts.assign(task.choices.size(), 0);
   r.expected = task.answer;
+  if (opts.answers)  // for the report only; the solver never looks at it
+    if (Answers a = load_answers(*opts.answers); a.correct_idx) r.expected = a.correct_idx;
 
   auto program = load_program_checked(task_program_path(task, opts, task.program));
   auto probe = make_env_checked(opts.engine, program);
@@ -28,39 +101,27 @@ MfpResult solve_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool
                                 task_size, task_size, task.program, size));
   r.deterministic = probe->deterministic();
 
-  // Particles are clones of the probe (building an engine's environment may be costly).
-  auto make = [&] { return probe->clone(); };
-  std::vector<uint64_t> seeds = rollout_seeds(opts.seed, r.rollouts, task.env_seed);
-  for (uint64_t begin = 0; begin < seeds.size(); begin += kBatch) {
-    std::vector<uint64_t> batch(seeds.begin() + begin, seeds.begin() + std::min<uint64_t>(seeds.size(), begin + kBatch));
-    if (r.deterministic) batch = seeds;  // one rollout stands for all of them
+  if (r.deterministic) {
+    // One rollout stands for all of them (particles.hpp): the seed is never read.
     ParticleSet set(pool, task.colours);
     const Grid* obs = &task.observations[0].grid;
     FramePredicate keep = [&obs](const TaskFrame& f, int sz) { return consistent(f, sz, *obs); };
-    set.start(make, batch, r.deterministic, keep);
+    set.start([&] { return probe->clone(); }, rollout_seeds(opts.seed, r.rollouts, task.env_seed), true, keep);
     for (size_t t = 1; t < task.observations.size() && !set.empty(); ++t) {
       obs = &task.observations[t].grid;
       set.step(*task.observations[t].action, keep);
     }
-    for (const Particle& p : set.particles()) {
-      r.accepted += p.weight;
-      Grid region = crop(p.frame, size, task.masked);
-      bool matched = false;
-      for (size_t c = 0; c < task.choices.size(); ++c)
-        if (task.choices[c] == region) {
-          r.counts[c] += p.weight;
-          matched = true;
-          break;  // choices are distinct in well-formed tasks; count the first
-        }
-      if (!matched) r.unmatched += p.weight;
-    }
+    for (const Particle& p : set.particles()) tally(task, size, p.frame, p.weight, r);
     r.env_steps += set.env_steps();
-    r.peak_particles = std::max(r.peak_particles, set.peak());
-    if (r.deterministic) break;
+    r.peak_particles = set.peak();
+    int best = -1;
+    for (size_t c = 0; c < r.counts.size(); ++c)
+      if (r.counts[c] > 0 && (best < 0 || r.counts[c] > r.counts[best])) best = static_cast<int>(c);
+    r.choice = best;
+    r.seconds = clock.seconds();
+    return r;
   }
-  uint64_t best = 0;
-  for (size_t c = 0; c < r.counts.size(); ++c)
-    if (r.counts[c] > best) best = r.counts[c], r.choice = static_cast<int>(c);
+  solve_stochastic(task, opts, pool, *probe, size, r);
   r.seconds = clock.seconds();
   return r;
 }
@@ -77,6 +138,13 @@ nlohmann::json mfp_json(const MfpResult& r) {
                       {"peak_particles", r.peak_particles},
                       {"seconds", r.seconds},
                       {"rollouts_per_second", per_second(static_cast<double>(r.rollouts), r.seconds)}};
+  if (r.smc)
+    j["smc"] = {{"stated_seed_consistent", r.stated_seed_consistent},
+                {"died_at", r.smc_died_at ? nlohmann::json(*r.smc_died_at) : nlohmann::json(nullptr)},
+                {"ess_min", r.smc_ess_min},
+                {"retries", r.smc_retries},
+                {"posterior_stated_seed", r.posterior_stated_seed},
+                {"probabilities", r.probabilities}};
   if (r.expected) {
     j["expected"] = *r.expected;
     j["correct"] = r.choice == *r.expected;
@@ -86,7 +154,9 @@ nlohmann::json mfp_json(const MfpResult& r) {
 
 std::string mfp_summary(const MfpResult& r) {
   std::string s;
-  if (r.choice >= 0)
+  if (r.choice >= 0 && r.smc)
+    s += fmt::format("answer: choice {} (posterior probability {:.3f})\n", r.choice, r.probabilities[r.choice]);
+  else if (r.choice >= 0)
     s += fmt::format("answer: choice {} ({} of {} accepted rollouts)\n", r.choice, r.counts[r.choice], r.accepted);
   else
     s += fmt::format("answer: none (no accepted rollout matches a choice)\n");
@@ -95,6 +165,18 @@ std::string mfp_summary(const MfpResult& r) {
   s += fmt::format("\nrollouts: {}, accepted {} ({:.2f}%), matching no choice {}{}\n", r.rollouts, r.accepted,
                    r.rollouts ? 100.0 * r.accepted / r.rollouts : 0.0, r.unmatched,
                    r.deterministic ? " (deterministic program: one rollout stands for all)" : "");
+  if (r.smc) {
+    s += fmt::format("stochastic program: stated seed {}; sequential Monte Carlo {}, effective particles >= {:.1f}\n",
+                     r.stated_seed_consistent ? "explains the observations" : "contradicted",
+                     r.smc_died_at ? fmt::format("explains no sample at observation {}", *r.smc_died_at)
+                                   : std::string("kept samples to the end"),
+                     r.smc_ess_min);
+    if (!r.probabilities.empty()) {
+      s += fmt::format("posterior: stated seed {:.3f}; choices", r.posterior_stated_seed);
+      for (size_t c = 0; c < r.probabilities.size(); ++c) s += fmt::format(" [{}] {:.3f}", c, r.probabilities[c]);
+      s += "\n";
+    }
+  }
   s += fmt::format("work: {} environment steps, peak {} live particles\n", r.env_steps, r.peak_particles);
   s += fmt::format("time: {:.3f} s, {:.0f} rollouts/s\n", r.seconds, per_second(static_cast<double>(r.rollouts), r.seconds));
   if (r.expected)

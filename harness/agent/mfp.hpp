@@ -1,13 +1,18 @@
-// mfp — masked frame prediction by rejection sampling over interpreter seeds.
+// mfp — masked frame prediction: which choice fills the masked rectangle.
 //
-// N rollouts (seeds from rollout_seeds(--seed, N)) replay the task's actions in
-// lock-step; a rollout dies at the first observed frame whose unmasked cells it
-// contradicts. The survivors' final frames are cropped to the masked rectangle and
-// tallied against the choices; the answer is the most supported choice (ties: the
-// lowest index). Deterministic programs run one rollout that counts N times, and
-// equal states are merged every step (see particles.hpp), so the tallies are
-// exactly those of N independent rollouts. Seeds are processed in batches of
-// kBatch to bound memory; batching does not change the tallies.
+// Deterministic programs: one exact rollout replays the task's actions; if its
+// frames agree with every observation's unmasked cells, its final frame cropped to
+// the masked rectangle names the answer (reported as standing for all --rollouts).
+//
+// Stochastic programs (the task does not say its seed, as in the benchmark):
+// two hypotheses. H0, the stated seed (the task's "seed", else the benchmark's 0),
+// is replayed exactly and either contradicts an observation or predicts one frame
+// with probability 1. H1, an unknown seed, is explored by sequential Monte Carlo
+// (smc.hpp) with --rollouts samples, filtered observation by observation; the
+// filter estimates the likelihood of the observations under H1. With equal prior
+// odds, the answer is the choice of highest posterior probability
+// P(H0|obs)[H0's choice] + P(H1|obs) share of H1's samples showing it.
+// A task no hypothesis explains has no answer (choice -1).
 #pragma once
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -28,7 +33,15 @@ struct MfpResult {
   uint64_t env_steps = 0;  // resets + steps actually executed
   size_t peak_particles = 0;
   double seconds = 0;
-  std::optional<int> expected;  // the task's "answer", if it has one
+  std::optional<int> expected;  // the answers file's correct_idx (or the task's "answer")
+  // Stochastic programs only (smc = true).
+  bool smc = false;
+  bool stated_seed_consistent = false;  // H0 explains every observation
+  std::optional<int> smc_died_at;       // observation no sample explained
+  double smc_ess_min = 0;               // effective particles, minimum over steps
+  uint64_t smc_retries = 0;             // steps that needed more children per sample
+  double posterior_stated_seed = 0;     // P(H0 | observations)
+  std::vector<double> probabilities;    // posterior probability of each choice  // the task's "answer", if it has one
 };
 
 MfpResult solve_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool);

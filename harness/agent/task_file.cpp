@@ -471,11 +471,48 @@ std::string load_trigger_condition(const fs::path& answers_file) {
   return string_field(j, "condition", w);
 }
 
-std::optional<fs::path> default_answers_file(const Task& task) {
+Answers load_answers(const fs::path& file) {
+  const std::string w = file.filename().string();
+  json j;
+  try {
+    j = json::parse(read_file(file));
+  } catch (const json::exception& e) {
+    throw TaskError(w + ": not valid JSON: " + json_error_text(e));
+  }
+  if (!j.is_object()) throw TaskError(w + ": an answers file is a JSON object");
+  Answers a;
+  a.file = file;
+  if (auto it = j.find("seed"); it != j.end()) {
+    if (!it->is_number_unsigned()) throw TaskError(w + ": field \"seed\" must be a non-negative integer");
+    a.seed = it->get<uint64_t>();
+  }
+  for (const char* key : {"correct_idx", "answer"})
+    if (auto it = j.find(key); it != j.end() && !a.correct_idx) {
+      if (!it->is_number_unsigned()) throw TaskError(fmt::format("{}: \"{}\" must be a choice index", w, key));
+      a.correct_idx = it->get<int>();
+    }
+  if (auto it = j.find("reference_plan"); it != j.end()) {
+    if (!it->is_array()) throw TaskError(w + ": \"reference_plan\" must be an array of actions");
+    for (size_t i = 0; i < it->size(); ++i)
+      a.reference_plan.push_back(action_from_json((*it)[i], fmt::format("{}: reference_plan[{}]", w, i)));
+  }
+  if (j.contains("condition")) a.condition = string_field(j, "condition", w);
+  if (auto it = j.find("t_star"); it != j.end()) {
+    if (!it->is_number_unsigned()) throw TaskError(w + ": field \"t_star\" must be a non-negative integer");
+    a.t_star = it->get<int>();
+  }
+  return a;
+}
+
+std::optional<fs::path> find_answers(const Task& task) {
   fs::path dir = task.file.parent_path();
   if (dir.empty()) dir = ".";
-  fs::path p = (dir / ".." / "answers" / (task.program + "_change_detection.json")).lexically_normal();
-  if (fs::is_regular_file(p)) return p;
+  std::vector<fs::path> candidates = {dir / ".." / "answers" / (task.name + ".json")};
+  if (task.type == TaskType::ChangeDetection)
+    candidates.push_back(dir / ".." / "answers" / (task.program + "_change_detection.json"));
+  candidates.push_back(dir / (task.name + ".answers.json"));
+  for (const fs::path& c : candidates)
+    if (fs::is_regular_file(c)) return c.lexically_normal();
   return std::nullopt;
 }
 

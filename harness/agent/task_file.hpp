@@ -17,7 +17,9 @@
 // Extensions to the released format (all optional): "answer" (index of the
 // correct MFP choice; "correct_idx" is accepted too), "seed" (the environment's
 // interpreter seed; default 0, the benchmark's), "reference_plan" (planning: the
-// action list that generated the goal).
+// action list that generated the goal). Tasks made by `autumn make-task` carry
+// none of them: like the benchmark, they keep what the solver must not see in an
+// answers file beside the prompts (Answers below), which only scoring reads.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -160,7 +162,22 @@ std::unique_ptr<Environment> make_env_checked(const std::string& engine, std::sh
 
 // The "condition" of a change-detection answers file.
 std::string load_trigger_condition(const fs::path& answers_file);
-// <task folder>/../answers/<program>_change_detection.json when it exists.
-std::optional<fs::path> default_answers_file(const Task& task);
+
+// An answers file: what a task's generator knows and its solver must never read.
+// Every field is optional; the benchmark's own (ice_change_detection.json) has
+// only "condition".
+struct Answers {
+  fs::path file;
+  std::optional<uint64_t> seed;         // the environment's interpreter seed
+  std::optional<int> correct_idx;       // mfp: the index of the true choice
+  std::vector<Action> reference_plan;   // planning: the actions that made the goal
+  std::optional<std::string> condition; // cd: the trigger condition of the change
+  std::optional<int> t_star;            // cd: the first state on which it holds
+};
+Answers load_answers(const fs::path& file);
+// The answers of a task, first found of: <task folder>/../answers/<task name>.json,
+// <task folder>/../answers/<program>_change_detection.json (change detection, the
+// benchmark's name), <task folder>/<task name>.answers.json.
+std::optional<fs::path> find_answers(const Task& task);
 
 }  // namespace autumn::agent

@@ -23,11 +23,17 @@ def solve(task, engine="compiled", rollouts=10000, threads=0, seed=0, max_steps=
 
 
 def make_task(kind, program, seed=0, steps=None, out=None, env_seed=0, engine="compiled", batch=200,
-              masked_frames=3, extend_colours=False):
-    """Generate an "mfp" or "planning" task for a program file."""
-    return json.loads(_core._make_task(kind, os.fspath(program), seed, -1 if steps is None else steps,
+              masked_frames=3, extend_colours=False, answers=None, with_answers=False):
+    """Generate an "mfp" or "planning" task for a program file.
+
+    Returns the prompt (what a solver may see); with ``with_answers=True`` a pair
+    ``(prompt, answers)`` (the environment seed, correct_idx or reference_plan).
+    ``out`` writes both as ``autumn make-task --out`` does; ``answers`` names the
+    answers file."""
+    made = json.loads(_core._make_task(kind, os.fspath(program), seed, -1 if steps is None else steps,
                                        os.fspath(out) if out else "", env_seed, engine, batch, masked_frames,
-                                       extend_colours))
+                                       extend_colours, os.fspath(answers) if answers else ""))
+    return (made["task"], made["answers"]) if with_answers else made["task"]
 
 
 class Program:

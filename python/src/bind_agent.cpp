@@ -46,8 +46,8 @@ std::string solve(const std::string& task_file, const SolveOptions& o, unsigned 
 std::string make(const MakeTaskOptions& o) {
   ThreadPool pool(0);
   MadeTask made = make_task(o, pool);
-  if (!o.out.empty()) write_task(made, o);
-  return made.task.dump();
+  if (!o.out.empty() || !o.answers_out.empty()) write_task(made, o);
+  return nlohmann::json{{"task", made.task}, {"answers", made.answers}}.dump();
 }
 
 std::unique_ptr<Environment> engine_env(const std::string& engine, std::shared_ptr<const Program> p) {
@@ -142,7 +142,7 @@ void bind_agent(pb::module_& m) {
       });
   m.def("_make_task", [](const std::string& kind, const std::string& program, uint64_t seed, int steps,
                          const std::string& out, uint64_t env_seed, const std::string& engine, uint64_t batch,
-                         int masked_frames, bool extend_colours) {
+                         int masked_frames, bool extend_colours, const std::string& answers) {
     MakeTaskOptions o;
     o.kind = kind;
     o.program = program;
@@ -154,6 +154,7 @@ void bind_agent(pb::module_& m) {
     o.batch = batch;
     o.masked_frames = masked_frames;
     o.extend_colours = extend_colours;
+    o.answers_out = answers;
     if (kind != "mfp" && kind != "planning") throw std::invalid_argument("kind must be 'mfp' or 'planning'");
     pb::gil_scoped_release release;
     return make(o);

@@ -32,6 +32,11 @@ def test_make_task_then_solve(tmp_path):
     out = tmp_path / "prompts" / "sokoban_mfp.json"
     task = autumnc.make_task("mfp", SOKOBAN, seed=1, steps=8, out=out, extend_colours=True)
     assert task["type"] == "masked_frame_prediction" and out.exists()
+    assert "seed" not in task and "answer" not in task  # blind: the answers live apart
+    answers = json.loads((tmp_path / "answers" / "sokoban_mfp.json").read_text())
+    assert 0 <= answers["correct_idx"] < 6 and answers["seed"] == 0
+    prompt, again = autumnc.make_task("mfp", SOKOBAN, seed=1, steps=8, extend_colours=True, with_answers=True)
+    assert prompt == task and again == answers
     result = autumnc.solve(out, rollouts=50, threads=1)
     assert result["type"] == task["type"] and result["program"] == task["program"]
     assert "result" in result and result["threads"] == 1

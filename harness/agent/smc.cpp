@@ -1,0 +1,147 @@
+// smc — see smc.hpp for the algorithm; this file keeps to its mechanics:
+// proposing children in chunks, merging survivors, systematic resampling.
+#include "harness/agent/smc.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace autumn::agent {
+
+namespace {
+constexpr size_t kChunk = 2048;           // children alive at once while proposing
+constexpr uint64_t kRetries[] = {1, 8, 64};  // children per sample, tried in turn
+
+struct Child {
+  std::unique_ptr<Environment> env;
+  uint64_t seed = 0;
+  uint64_t count = 0;  // population share it stands for (times the step's multiplier)
+  bool alive = false;
+  bool drew = true;
+  TaskFrame frame;
+};
+}  // namespace
+
+SmcSet::SmcSet(ThreadPool& pool, const ColourTable& colours, uint64_t n, uint64_t seed)
+    : pool_(pool), colours_(colours), n_(std::max<uint64_t>(n, 1)), rng_(seed ^ 0x5e3c0a11d1f7b2a9ull) {}
+
+bool SmcSet::start(const Environment& model, const FramePredicate& keep) {
+  Op op = [](Environment& e, uint64_t seed) { return e.reset(seed); };
+  for (uint64_t mult : kRetries) {
+    if (propagate({{&model, n_}}, op, keep, mult, /*from_reset=*/true)) return true;
+    ++retries_;
+  }
+  return false;
+}
+
+bool SmcSet::step(const Action& action, const FramePredicate& keep) {
+  Op op = [&action](Environment& e, uint64_t seed) { return e.reseed_random(seed) && e.step(action); };
+  std::vector<Parent> parents;
+  for (const SmcSample& s : samples_) parents.push_back({s.env.get(), s.count});
+  for (uint64_t mult : kRetries) {
+    if (propagate(parents, op, keep, mult, /*from_reset=*/false)) return true;
+    ++retries_;
+  }
+  return false;
+}
+
+// Proposes parents[i].children * mult children of every parent, keeps those
+// `keep` accepts, and on success replaces the population by their resampling.
+bool SmcSet::propagate(const std::vector<Parent>& parents, const Op& op, const FramePredicate& keep, uint64_t mult,
+                       bool from_reset) {
+  next_.clear();
+  index_.clear();
+  uint64_t proposed = 0, accepted = 0;
+  auto judge = [&](Child& c) {
+    // A reset starts the count afresh: it drew when the count is not zero.
+    int64_t before = from_reset ? 0 : c.env->random_draws();
+    c.alive = op(*c.env, c.seed);
+    c.drew = before < 0 || c.env->random_draws() != before;
+    if (!c.alive) return;
+    c.frame = task_frame(c.env->frame(), c.env->palette(), colours_);
+    c.alive = keep(c.frame, c.env->frame().size);
+  };
+  // First child of every parent; a parent whose step drew nothing is done.
+  std::vector<uint64_t> rest(parents.size(), 0);
+  for (size_t begin = 0; begin < parents.size(); begin += kChunk) {
+    size_t end = std::min(parents.size(), begin + kChunk);
+    std::vector<Child> chunk(end - begin);
+    for (size_t i = begin; i < end; ++i) chunk[i - begin] = {parents[i].env->clone(), rng_(), 1};
+    pool_.parallel_for(chunk.size(), [&](size_t k) { judge(chunk[k]); });
+    env_steps_ += chunk.size();
+    for (size_t i = begin; i < end; ++i) {
+      Child& c = chunk[i - begin];
+      uint64_t total = parents[i].children * mult;
+      if (!c.drew) c.count = total;
+      else rest[i] = total - 1;
+      proposed += c.count;
+      if (c.alive) accepted += c.count, adopt(std::move(c.env), std::move(c.frame), c.count);
+    }
+  }
+  // The other children of parents that drew, in parent order.
+  std::vector<Child> chunk;
+  auto flush = [&] {
+    pool_.parallel_for(chunk.size(), [&](size_t k) { judge(chunk[k]); });
+    env_steps_ += chunk.size();
+    for (Child& c : chunk) {
+      proposed += 1;
+      if (c.alive) accepted += 1, adopt(std::move(c.env), std::move(c.frame), 1);
+    }
+    chunk.clear();
+  };
+  for (size_t i = 0; i < parents.size(); ++i)
+    for (uint64_t k = 0; k < rest[i]; ++k) {
+      chunk.push_back({parents[i].env->clone(), rng_(), 1});
+      if (chunk.size() == kChunk) flush();
+    }
+  flush();
+  if (accepted == 0) return false;
+  double rate = static_cast<double>(accepted) / static_cast<double>(proposed);
+  log_likelihood_ += std::log(rate);
+  double ess = rate * static_cast<double>(n_);
+  ess_min_ = ess_min_ < 0 ? ess : std::min(ess_min_, ess);
+  resample();
+  return true;
+}
+
+void SmcSet::adopt(std::unique_ptr<Environment> env, TaskFrame frame, uint64_t count) {
+  uint64_t hash = env->state_hash();
+  std::vector<size_t>& same = index_[hash];
+  for (size_t k : same)
+    if (next_[k].frame == frame) {
+      next_[k].count += count;
+      return;
+    }
+  same.push_back(next_.size());
+  next_.push_back({std::move(env), count, hash, std::move(frame)});
+  peak_ = std::max(peak_, next_.size());
+}
+
+// Systematic resampling of next_ (weights = counts) to n_ samples: one uniform
+// offset, n_ evenly spaced positions over the cumulative weights.
+void SmcSet::resample() {
+  uint64_t total = 0;
+  for (const SmcSample& s : next_) total += s.count;
+  const double stride = static_cast<double>(total) / static_cast<double>(n_);
+  double pos = std::uniform_real_distribution<double>(0.0, 1.0)(rng_) * stride;
+  double cumulative = 0;
+  samples_.clear();
+  for (SmcSample& s : next_) {
+    cumulative += static_cast<double>(s.count);
+    uint64_t take = 0;
+    while (pos < cumulative) ++take, pos += stride;
+    if (take == 0) continue;
+    s.count = take;
+    samples_.push_back(std::move(s));
+  }
+  // Rounding can leave the total a sample short or long: the last state absorbs it.
+  uint64_t sum = 0;
+  for (const SmcSample& s : samples_) sum += s.count;
+  if (sum != n_ && !samples_.empty()) {
+    SmcSample& last = samples_.back();
+    last.count = sum > n_ ? last.count - std::min(last.count - 1, sum - n_) : last.count + (n_ - sum);
+  }
+  next_.clear();
+  index_.clear();
+}
+
+}  // namespace autumn::agent

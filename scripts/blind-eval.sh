@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Blind evaluation over every program: makes an MFP task (environment seed 7,
+# not the benchmark's 0, so a solver that assumed the seed would be caught), a
+# planning task (K = 8 actions) and a change-detection task for each program of
+# the given folders, in the benchmark's layout (prompts/ without seeds or
+# answers, answers/ apart), then runs `autumn eval` over them and prints the
+# per-task table and the per-type table.
+#
+#   bash scripts/blind-eval.sh [OUT] [PROGRAM_DIR...]
+#
+# OUT (default /tmp/autumn-blind) is emptied first and must be outside the
+# repository; the default folders are programs/ and ../shared/conformance/programs.
+# A program for which a task cannot be made is listed and skipped (some programs
+# never change their frame, or fail under random actions).
+set -euo pipefail
+repo="$(cd "$(dirname "$0")/.." && pwd)"
+out="${1:-/tmp/autumn-blind}"
+shift || true
+dirs=("$@")
+((${#dirs[@]})) || dirs=("$repo/programs" "$repo/../shared/conformance/programs")
+autumn="$repo/build/autumn"
+[ -x "$autumn" ] || { echo "blind-eval: $autumn not built (run scripts/bootstrap.sh)" >&2; exit 1; }
+out_abs="$(mkdir -p "$out" && cd "$out" && pwd)"
+case "$out_abs/" in "$repo"/*) echo "blind-eval: OUT must be outside the repository" >&2; exit 1 ;; esac
+rm -rf "$out_abs"
+mkdir -p "$out_abs/prompts"
+
+made=0
+skipped=()
+for dir in "${dirs[@]}"; do
+  [ -d "$dir" ] || { echo "blind-eval: no folder $dir" >&2; exit 1; }
+  for program in "$dir"/*.au "$dir"/*.sexp; do
+    [ -e "$program" ] || continue
+    name="$(basename "${program%.*}")"
+    for kind in mfp planning cd; do
+      args=(make-task "$kind" "$program" --seed 3 --extend-colours --out "$out_abs/prompts/${name}_${kind}.json")
+      case "$kind" in
+        mfp) args+=(--env-seed 7) ;;
+        planning) args+=(--steps 8) ;;
+      esac
+      if msg="$("$autumn" "${args[@]}" 2>&1)"; then
+        made=$((made + 1))
+      else
+        skipped+=("$name $kind: $(echo "$msg" | tail -1)")
+      fi
+    done
+    echo "blind-eval: made tasks for $name ($made so far)" >&2
+  done
+done
+echo "blind-eval: $made tasks in $out_abs, ${#skipped[@]} skipped" >&2
+for s in "${skipped[@]+"${skipped[@]}"}"; do echo "  skipped: $s" >&2; done
+"$autumn" eval "$out_abs" --engine compiled
