@@ -2,6 +2,7 @@
 // generation, evaluation and the CLI. Every test runs the real interpreter on
 // real tasks and checks real outcomes; rollout counts stay small except where
 // determinism makes them free.
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -21,6 +22,7 @@
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/click_model.hpp"
 #include "harness/agent/eval.hpp"
+#include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/particles.hpp"
@@ -672,6 +674,100 @@ TEST(AgentCdPairs, StochasticOriginalFromAnUnknownSeedNeverLooksChanged) {
     }
   }
   EXPECT_GE(stochastic, 1) << "no stochastic pair: the test would prove nothing";
+}
+
+// ------------------------------------------------------------------ generated change-detection tasks
+
+MakeTaskOptions cd_options(const fs::path& root, const fs::path& program, uint64_t seed) {
+  MakeTaskOptions o;
+  o.kind = "cd";
+  o.program = program;
+  o.seed = seed;
+  o.engine = "interp";
+  o.out = root / "prompts" / (program.stem().string() + "_cd.json");
+  return o;
+}
+
+std::vector<fs::path> our_programs() {
+  std::vector<fs::path> programs;
+  for (const auto& e : fs::directory_iterator(autumn::testing::source_dir() / "programs"))
+    if (e.path().extension() == ".au") programs.push_back(e.path());
+  std::sort(programs.begin(), programs.end());
+  return programs;
+}
+
+// Every program of ours gets a change the solver detects exactly at t*.
+TEST(AgentMakeCd, EveryProgramIsDetectedAtItsChange) {
+  fs::path root = scratch("make_cd");
+  auto programs = our_programs();
+  ASSERT_GE(programs.size(), 12u);
+  ThreadPool pool(2);
+  for (const fs::path& program : programs) {
+    MakeTaskOptions o = cd_options(root, program, 3);
+    MadeCd made = make_cd(o);
+    write_cd(made, o);
+    const std::string stem = program.stem().string();
+    fs::path answers = root / "answers" / (stem + "_change_detection.json");
+    ASSERT_TRUE(fs::exists(root / "programs" / (stem + "_wrong.au"))) << stem;
+    auto j = nlohmann::json::parse(std::ifstream(answers));
+    EXPECT_EQ(j["condition"], fmt::format(">= cdClock {}", made.steps)) << stem;
+    EXPECT_EQ(j["t_star"], made.steps) << stem << ": " << made.change;
+    Task task = load_task(o.out);
+    EXPECT_EQ(task.wrong_program, stem + "_wrong");
+    SolveOptions so = small();
+    so.answers = answers;
+    CdResult r = solve_cd(task, so, pool);
+    ASSERT_TRUE(r.detected) << stem << ": " << made.change << "\n" << cd_summary(r);
+    EXPECT_EQ(r.t_star, made.t_star) << stem;
+    EXPECT_DOUBLE_EQ(r.score.value_or(-1), 1.0) << stem << ": " << made.change << "\n" << cd_summary(r);
+  }
+}
+
+// Independently of the generator's own check: other random action sequences see
+// the changed program look exactly like the original before t*.
+TEST(AgentMakeCd, ChangedProgramMatchesTheOriginalBeforeTStar) {
+  fs::path root = scratch("make_cd_frames");
+  ColourTable colours;
+  for (const char* name : {"whack_a_mole", "frog_crossing", "sokoban", "fireworks"}) {
+    fs::path program = autumn::testing::source_dir() / "programs" / (std::string(name) + ".au");
+    MakeTaskOptions o = cd_options(root, program, 11);
+    o.steps = 9;
+    MadeCd made = make_cd(o);
+    ASSERT_EQ(made.t_star, 9) << name;
+    auto original = load_program_checked(program);
+    auto changed = load_program_checked_text(made.changed_text, "changed", ">= cdClock 9");
+    for (uint64_t seed : {101u, 202u, 303u}) {
+      auto a = make_env_checked("interp", original), b = make_env_checked("interp", changed);
+      ASSERT_TRUE(a->reset(0) && b->reset(0));
+      std::mt19937_64 rng(seed);
+      for (int t = 1; t <= made.t_star - 1; ++t) {
+        Action act = random_action(rng, a->frame().size, 5);
+        if (!a->step(act)) break;  // the original fails: nothing more to compare
+        ASSERT_TRUE(b->step(act)) << name << " step " << t;
+        EXPECT_FALSE(b->triggered()) << name << " step " << t;
+        ASSERT_EQ(task_frame(a->frame(), a->palette(), colours), task_frame(b->frame(), b->palette(), colours))
+            << name << " differs at step " << t << " before t* " << made.t_star << " (" << made.change << ")";
+      }
+    }
+  }
+}
+
+TEST(AgentMakeCd, OutputMustBeUnderPrompts) {
+  fs::path root = scratch("make_cd_errors");
+  fs::path program = autumn::testing::source_dir() / "programs" / "sokoban.au";
+  MakeTaskOptions o = cd_options(root, program, 1);
+  o.out = root / "sokoban_cd.json";
+  EXPECT_THROW(make_cd(o), TaskError);
+  o.out.clear();
+  EXPECT_THROW(make_cd(o), TaskError);
+  testing::CliResult none = testing::run_cli("make-task cd " + program.string());
+  EXPECT_NE(none.status, 0);
+  EXPECT_NE(none.out.find("cd needs --out"), std::string::npos) << none.out;
+  // A differing changed program already there is never overwritten.
+  o = cd_options(root, program, 1);
+  fs::create_directories(root / "programs");
+  std::ofstream(root / "programs" / "sokoban_wrong.au") << "(program)";
+  EXPECT_THROW(write_cd(make_cd(o), o), TaskError);
 }
 
 // ------------------------------------------------------------------ eval and the CLI

@@ -12,6 +12,7 @@
 #include "harness/agent/bench_agent.hpp"
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/eval.hpp"
+#include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
@@ -171,6 +172,11 @@ int run_make(State& s) {
     MakeTaskOptions o = s.make_opts;
     o.program = s.make_program;
     if (!s.make_out.empty()) o.out = s.make_out;
+    if (o.kind == "cd") {
+      if (o.out.empty()) return fail("make-task", "cd needs --out DIR/prompts/NAME_cd.json");
+      for (const auto& note : write_cd(make_cd(o), o)) std::cerr << note << "\n";
+      return 0;
+    }
     ThreadPool pool(0);
     MadeTask made = make_task(o, pool);
     for (const auto& note : write_task(made, o)) std::cerr << note << "\n";
@@ -244,14 +250,18 @@ void add_agent_commands(CLI::App& app) {
                       "the change-detection episode");
   add_search_options(s.solve, s.solve_opts, s.threads);
 
-  s.make = app.add_subcommand("make-task", "Generate an MFP or planning task for a program");
-  s.make->add_option("KIND", s.make_opts.kind, "mfp or planning")->required()->check(CLI::IsMember({"mfp", "planning"}));
+  s.make = app.add_subcommand("make-task", "Generate an MFP, planning or change-detection task for a program");
+  s.make->add_option("KIND", s.make_opts.kind, "mfp, planning or cd")
+      ->required()
+      ->check(CLI::IsMember({"mfp", "planning", "cd"}));
   s.make->add_option("PROGRAM", s.make_program, "Autumn program (.au or .sexp)")->required()->check(CLI::ExistingFile);
   s.make->add_option("--seed", s.make_opts.seed, "Seed of the generator (actions, mask, distractors)")->default_val(0);
-  s.make->add_option("--steps", s.make_opts.steps, "Actions in the task (default: mfp 20, planning 4)")
+  s.make->add_option("--steps", s.make_opts.steps, "Actions in the task (default: mfp 20, planning 4); cd: the clock value K "
+                                                 "the change starts at (default: seeded in 6..20)")
       ->check(CLI::PositiveNumber);
   s.make->add_option("--out", s.make_out, "Output task file (default: stdout); under prompts/ the program is copied "
-                                          "to the sibling programs/ and the answers go to the sibling answers/");
+                                          "to the sibling programs/ and the answers go to the sibling answers/ "
+                                          "(cd: required, and the changed program goes to programs/ too)");
   s.make->add_option("--answers", s.make_opts.answers_out,
                      "Answers file (seed, correct_idx / reference_plan) (default: answers/TASK.json beside prompts/, "
                      "else TASK.answers.json beside the task)");

@@ -313,7 +313,8 @@ std::string format_task_json(const json& j) {
 
 MadeTask make_task(const MakeTaskOptions& in, ThreadPool& pool) {
   MakeTaskOptions opts = in;
-  if (opts.kind != "mfp" && opts.kind != "planning") throw TaskError("unknown task kind '" + opts.kind + "' (mfp, planning)");
+  if (opts.kind == "cd") throw TaskError("change-detection tasks are made by make_cd() (make_cd.hpp)");
+  if (opts.kind != "mfp" && opts.kind != "planning") throw TaskError("unknown task kind '" + opts.kind + "' (mfp, planning, cd)");
   if (opts.steps < 0) opts.steps = opts.kind == "mfp" ? 20 : 4;
   if (opts.kind == "mfp" && opts.steps < 1) throw TaskError("an MFP task needs --steps >= 1");
   if (opts.kind == "planning" && opts.steps < 1) throw TaskError("a planning task needs --steps >= 1");
