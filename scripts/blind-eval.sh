@@ -26,14 +26,17 @@ rm -rf "$out_abs"
 mkdir -p "$out_abs/prompts"
 
 made=0
+n=0
 skipped=()
 for dir in "${dirs[@]}"; do
   [ -d "$dir" ] || { echo "blind-eval: no folder $dir" >&2; exit 1; }
   for program in "$dir"/*.au "$dir"/*.sexp; do
     [ -e "$program" ] || continue
     name="$(basename "${program%.*}")"
+    n=$((n + 1))
     for kind in mfp planning cd; do
-      args=(make-task "$kind" "$program" --seed 3 --extend-colours --out "$out_abs/prompts/${name}_${kind}.json")
+      # A seed per program, so the change's clock value K differs between programs.
+      args=(make-task "$kind" "$program" --seed "$n" --extend-colours --out "$out_abs/prompts/${name}_${kind}.json")
       case "$kind" in
         mfp) args+=(--env-seed 7) ;;
         planning) args+=(--steps 8) ;;

@@ -628,6 +628,7 @@ TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
   m.steps = 60;
   m.env_seed = 987654;
   m.batch = 50;
+  m.engine = "compiled";
   m.extend_colours = true;
   m.out = root / "prompts" / "whack_a_mole_mfp.json";
   ThreadPool pool(2), one(1);

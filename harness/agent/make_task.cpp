@@ -7,7 +7,10 @@
 #include <set>
 #include <sstream>
 
+#include <map>
+
 #include "harness/agent/particles.hpp"
+#include "harness/agent/smc.hpp"
 #include "harness/agent/solve_common.hpp"
 
 namespace autumn::agent {
@@ -85,6 +88,73 @@ Grid masked(const TaskFrame& f, int size, const std::optional<Rect>& hide) {
   return g;
 }
 
+// Random candidate rectangles, best first: content that changed since the start
+// and since the frame before the masked ones scores, distinct colours break ties.
+std::vector<Rect> ranked_rectangles(const std::vector<TaskFrame>& frames, int size, int recent, std::mt19937_64& rng) {
+  const TaskFrame& last = frames.back();
+  int max_side = std::max(2, std::min(6, size / 2));
+  std::vector<std::pair<int, Rect>> scored;
+  for (int c = 0; c < 200; ++c) {
+    Rect r;
+    r.w = 2 + static_cast<int>(rng() % (max_side - 1));
+    r.h = 2 + static_cast<int>(rng() % (max_side - 1));
+    r.w = std::min(r.w, size), r.h = std::min(r.h, size);
+    r.x = static_cast<int>(rng() % (size - r.w + 1));
+    r.y = static_cast<int>(rng() % (size - r.h + 1));
+    int score = 0;
+    std::set<int16_t> distinct;
+    for (int y = r.y; y < r.y + r.h; ++y)
+      for (int x = r.x; x < r.x + r.w; ++x) {
+        size_t i = static_cast<size_t>(y) * size + x;
+        score += (last[i] != frames[0][i]) + 2 * (last[i] != frames[recent][i]);
+        distinct.insert(last[i]);
+      }
+    scored.push_back({score * 4 + static_cast<int>(distinct.size()), r});
+  }
+  // Stable: among equal scores the earlier draw first (as the single best always was).
+  std::stable_sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Rect> out;
+  for (const auto& [score, r] : scored) out.push_back(r);
+  return out;
+}
+
+// Masked-region contents -> samples showing them.
+using Outcomes = std::map<std::vector<int16_t>, uint64_t>;
+constexpr uint64_t kPosteriorSamples = 1000;
+constexpr size_t kRectangles = 32;  // best-ranked rectangles tried
+
+// What a blind solver could infer: sequential Monte Carlo over an unknown seed
+// (smc.hpp) conditioned on the task's frames before `first_masked` (shared by
+// every rectangle: nullptr when the filter finds no explanation)...
+std::unique_ptr<SmcSet> unmasked_prefix(const Environment& model, const Episode& ep, const std::vector<TaskFrame>& frames,
+                                        int size, int first_masked, uint64_t seed, ThreadPool& pool,
+                                        const ColourTable& colours) {
+  auto smc = std::make_unique<SmcSet>(pool, colours, kPosteriorSamples, seed ^ 0xb1d5eedull);
+  Grid obs;
+  FramePredicate keep = [&obs](const TaskFrame& f, int sz) { return consistent(f, sz, obs); };
+  for (int t = 0; t < first_masked; ++t) {
+    obs = masked(frames[t], size, std::nullopt);
+    if (!(t == 0 ? smc->start(model, keep) : smc->step(ep.actions[t - 1], keep))) return nullptr;
+  }
+  return smc;
+}
+
+// ...then on the masked frames with `hide` masked: the final masked contents of
+// its samples, or nullopt when nothing explains them.
+std::optional<Outcomes> posterior_outcomes(const SmcSet& prefix, const Episode& ep, const std::vector<TaskFrame>& frames,
+                                           int size, const Rect& hide, int first_masked) {
+  std::unique_ptr<SmcSet> smc = prefix.fork();
+  Grid obs;
+  FramePredicate keep = [&obs](const TaskFrame& f, int sz) { return consistent(f, sz, obs); };
+  for (size_t t = first_masked; t < frames.size(); ++t) {
+    obs = masked(frames[t], size, hide);
+    if (!smc->step(ep.actions[t - 1], keep)) return std::nullopt;
+  }
+  Outcomes out;
+  for (const SmcSample& s : smc->samples()) out[crop(s.frame, size, hide).cells] += s.count;
+  return out;
+}
+
 json base_task(const char* type, const MakeTaskOptions& opts) {
   return {{"type", type}, {"program", opts.program.stem().string()}};
 }
@@ -119,32 +189,31 @@ MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> pr
   batch.start([&] { return env->clone(); }, seeds, env->deterministic(), all);
   for (const Action& a : ep->actions) batch.step(a, all);
 
-  // The rectangle: among random candidates, the one whose content changed most.
-  int max_side = std::max(2, std::min(6, size / 2));
-  Rect best;
-  int best_score = -1;
+  // The rectangle: among random candidates, the ones whose content changed most.
   int recent = std::max(0, K - std::max(1, opts.masked_frames));
-  for (int c = 0; c < 200; ++c) {
-    Rect r;
-    r.w = 2 + static_cast<int>(rng() % (max_side - 1));
-    r.h = 2 + static_cast<int>(rng() % (max_side - 1));
-    r.w = std::min(r.w, size), r.h = std::min(r.h, size);
-    r.x = static_cast<int>(rng() % (size - r.w + 1));
-    r.y = static_cast<int>(rng() % (size - r.h + 1));
-    int score = 0;
-    std::set<int16_t> distinct;
-    for (int y = r.y; y < r.y + r.h; ++y)
-      for (int x = r.x; x < r.x + r.w; ++x) {
-        size_t i = static_cast<size_t>(y) * size + x;
-        score += (last[i] != frames[0][i]) + 2 * (last[i] != frames[recent][i]);
-        distinct.insert(last[i]);
-      }
-    score = score * 4 + static_cast<int>(distinct.size());
-    if (score > best_score) best_score = score, best = r;
-  }
-
+  const int first_masked = K - std::max(1, std::min(opts.masked_frames, K + 1)) + 1;
+  std::vector<Rect> candidates = ranked_rectangles(frames, size, recent, rng);
+  Rect best = candidates.front();
   Grid answer = crop(last, size, best);
   std::set<std::vector<int16_t>> taken = {answer.cells};
+  if (!env->deterministic()) {
+    // A blind solver sees the observations, not the seed: prefer a rectangle whose
+    // hidden content they make predictable (see the header).
+    double best_share = 0;
+    std::unique_ptr<SmcSet> prefix =
+        first_masked > 0 ? unmasked_prefix(*env, *ep, frames, size, first_masked, opts.seed, pool, colours) : nullptr;
+    for (size_t c = 0; prefix && c < candidates.size() && c < kRectangles && best_share < 0.5; ++c) {
+      std::optional<Outcomes> out = posterior_outcomes(*prefix, *ep, frames, size, candidates[c], first_masked);
+      if (!out) continue;
+      const Grid a = crop(last, size, candidates[c]);
+      auto it = out->find(a.cells);
+      double share = it == out->end() ? 0.0 : static_cast<double>(it->second) / kPosteriorSamples;
+      if (share <= best_share) continue;
+      best_share = share, best = candidates[c], answer = a;
+      taken = {answer.cells};
+      for (const auto& [cells, n] : *out) taken.insert(cells);
+    }
+  }
   for (const Particle& p : batch.particles()) taken.insert(crop(p.frame, size, best).cells);
   std::vector<Grid> pool_grids;
   for (int t = K - 1; t >= 0; --t) pool_grids.push_back(crop(frames[t], size, best));
@@ -186,7 +255,6 @@ MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> pr
   json choices = json::array();
   for (int i = 0, d = 0; i < 6; ++i) choices.push_back(i == answer_index ? answer.to_json() : distractors[d++].to_json());
   json observations = json::array();
-  int first_masked = K - std::max(1, std::min(opts.masked_frames, K + 1)) + 1;
   for (int t = 0; t <= K; ++t) {
     std::optional<Rect> hide;
     if (t >= first_masked) hide = best;

@@ -3,7 +3,14 @@
 // mfp: a seeded random action sequence of --steps actions from reset(env seed);
 // the final `masked_frames` frames hide one rectangle (chosen among random
 // rectangles for how much its content changes); six choices, exactly one the true
-// content. Every distractor differs from the masked content of every rollout in a
+// content. For a stochastic program the task must be fair to a solver that does
+// not know the seed: for the best-ranked rectangles in turn (at most 32), a
+// sequential Monte Carlo filter over an unknown seed (smc.hpp, 1000 samples)
+// conditioned on the task's observations says which contents the observations
+// allow; the first rectangle whose true content is at least half of that
+// posterior is taken (else the one where it is most probable; else, when the
+// filter explains nothing, the best-ranked one), and no distractor may be any
+// content the posterior allows. Every distractor differs from the masked content of every rollout in a
 // batch (`batch` interpreter seeds from rollout_seeds(), the same actions), so
 // across that batch only the answer is consistent with the program. Distractors
 // come from the same rectangle at earlier steps, shifted rectangles of the final

@@ -24,6 +24,18 @@ struct Child {
 SmcSet::SmcSet(ThreadPool& pool, const ColourTable& colours, uint64_t n, uint64_t seed)
     : pool_(pool), colours_(colours), n_(std::max<uint64_t>(n, 1)), rng_(seed ^ 0x5e3c0a11d1f7b2a9ull) {}
 
+std::unique_ptr<SmcSet> SmcSet::fork() const {
+  auto copy = std::make_unique<SmcSet>(pool_, colours_, n_, 0);
+  copy->rng_ = rng_;
+  for (const SmcSample& s : samples_) copy->samples_.push_back({s.env->clone(), s.count, s.hash, s.frame});
+  copy->log_likelihood_ = log_likelihood_;
+  copy->ess_min_ = ess_min_;
+  copy->env_steps_ = env_steps_;
+  copy->retries_ = retries_;
+  copy->peak_ = peak_;
+  return copy;
+}
+
 bool SmcSet::start(const Environment& model, const FramePredicate& keep) {
   Op op = [](Environment& e, uint64_t seed) { return e.reset(seed); };
   for (uint64_t mult : kRetries) {

@@ -55,6 +55,10 @@ class SmcSet {
   // Advances every sample by `action`; false when no child explains the frame.
   bool step(const Action& action, const FramePredicate& keep);
 
+  // An independent copy (every sample's environment cloned, the same generator
+  // state): filters that share a prefix of observations run it once.
+  std::unique_ptr<SmcSet> fork() const;
+
   const std::vector<SmcSample>& samples() const { return samples_; }
   uint64_t size() const { return n_; }
   double log_likelihood() const { return log_likelihood_; }
