@@ -43,6 +43,7 @@ TEST_P(Diagnostic, ReportsLocatedError) {
     EXPECT_EQ(got.rfind(where, 0), 0u) << "got: " << got << "\nwant prefix: " << where;
     EXPECT_NE(got.find(expect.substr(colon + 2)), std::string::npos) << "got: " << got;
     EXPECT_EQ(got.find('\n'), std::string::npos) << "one line: " << got;
+    EXPECT_EQ(got.find('\r'), std::string::npos) << "one line: " << got;
   }
 }
 

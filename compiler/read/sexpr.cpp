@@ -151,7 +151,12 @@ class Reader {
 void snippet_into(const Sexp& s, std::string& out, size_t limit) {
   if (out.size() > limit) return;
   if (!s.is_list) {
-    out += s.text;
+    // Control bytes (a raw CR inside a string literal) shown as \xNN: one line.
+    for (char c : s.text) {
+      const auto u = static_cast<unsigned char>(c);
+      if (u < 0x20 || u == 0x7f) out += "\\" + shown_char(c);
+      else out += c;
+    }
     return;
   }
   out += '(';
