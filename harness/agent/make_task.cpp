@@ -129,7 +129,7 @@ constexpr size_t kRectangles = 32;  // best-ranked rectangles tried
 std::unique_ptr<SmcSet> unmasked_prefix(const Environment& model, const Episode& ep, const std::vector<TaskFrame>& frames,
                                         int size, int first_masked, uint64_t seed, ThreadPool& pool,
                                         const ColourTable& colours) {
-  auto smc = std::make_unique<SmcSet>(pool, colours, kPosteriorSamples, seed ^ 0xb1d5eedull);
+  auto smc = std::make_unique<SmcSet>(pool, colours, kPosteriorSamples, seed ^ 0xb1d5eedull, /*max_growth=*/8);
   Grid obs;
   FramePredicate keep = [&obs](const TaskFrame& f, int sz) { return consistent(f, sz, obs); };
   for (int t = 0; t < first_masked; ++t) {

@@ -5,7 +5,8 @@
 // rectangles for how much its content changes); six choices, exactly one the true
 // content. For a stochastic program the task must be fair to a solver that does
 // not know the seed: for the best-ranked rectangles in turn (at most 32), a
-// sequential Monte Carlo filter over an unknown seed (smc.hpp, 1000 samples)
+// sequential Monte Carlo filter over an unknown seed (smc.hpp, 1000 samples, at most
+// 8 children per sample: a generator's check, not a solver)
 // conditioned on the task's observations says which contents the observations
 // allow; the first rectangle whose true content is at least half of that
 // posterior is taken (else the one where it is most probable; else, when the

@@ -21,11 +21,15 @@ struct Child {
 };
 }  // namespace
 
-SmcSet::SmcSet(ThreadPool& pool, const ColourTable& colours, uint64_t n, uint64_t seed)
-    : pool_(pool), colours_(colours), n_(std::max<uint64_t>(n, 1)), rng_(seed ^ 0x5e3c0a11d1f7b2a9ull) {}
+SmcSet::SmcSet(ThreadPool& pool, const ColourTable& colours, uint64_t n, uint64_t seed, uint64_t max_growth)
+    : pool_(pool),
+      colours_(colours),
+      n_(std::max<uint64_t>(n, 1)),
+      max_growth_(max_growth),
+      rng_(seed ^ 0x5e3c0a11d1f7b2a9ull) {}
 
 std::unique_ptr<SmcSet> SmcSet::fork() const {
-  auto copy = std::make_unique<SmcSet>(pool_, colours_, n_, 0);
+  auto copy = std::make_unique<SmcSet>(pool_, colours_, n_, 0, max_growth_);
   copy->rng_ = rng_;
   for (const SmcSample& s : samples_) copy->samples_.push_back({s.env->clone(), s.count, s.hash, s.frame});
   copy->log_likelihood_ = log_likelihood_;
@@ -39,6 +43,7 @@ std::unique_ptr<SmcSet> SmcSet::fork() const {
 bool SmcSet::start(const Environment& model, const FramePredicate& keep) {
   Op op = [](Environment& e, uint64_t seed) { return e.reset(seed); };
   for (uint64_t mult : kRetries) {
+    if (mult > max_growth_) break;
     if (propagate({{&model, n_}}, op, keep, mult, /*from_reset=*/true)) return true;
     ++retries_;
   }
@@ -50,6 +55,7 @@ bool SmcSet::step(const Action& action, const FramePredicate& keep) {
   std::vector<Parent> parents;
   for (const SmcSample& s : samples_) parents.push_back({s.env.get(), s.count});
   for (uint64_t mult : kRetries) {
+    if (mult > max_growth_) break;
     if (propagate(parents, op, keep, mult, /*from_reset=*/false)) return true;
     ++retries_;
   }

@@ -10,7 +10,8 @@
 // generator, then step()), keeps the children whose frame the predicate accepts,
 // merges them, and resamples the survivors back to N (systematic resampling).
 // A step under which no child survives is retried with 8, then 64 children per
-// sample (an unlikely observation is not an impossible one); only then does it
+// sample (an unlikely observation is not an impossible one; a caller may allow
+// fewer with max_growth, 1 for none); only then does it
 // report that nothing explains the observation, leaving the population as it was.
 //
 // A sample's step that draws no random number (random_draws() unchanged) would
@@ -48,7 +49,7 @@ struct SmcSample {
 
 class SmcSet {
  public:
-  SmcSet(ThreadPool& pool, const ColourTable& colours, uint64_t n, uint64_t seed);
+  SmcSet(ThreadPool& pool, const ColourTable& colours, uint64_t n, uint64_t seed, uint64_t max_growth = 64);
 
   // N fresh episodes: clones of `model` reset with fresh seeds, filtered by `keep`.
   bool start(const Environment& model, const FramePredicate& keep);
@@ -82,6 +83,7 @@ class SmcSet {
   ThreadPool& pool_;
   const ColourTable& colours_;
   const uint64_t n_;
+  const uint64_t max_growth_;  // most children per sample a step may try (1, 8 or 64)
   std::mt19937_64 rng_;
   // The population. Invariant between calls: distinct (hash, frame), counts sum to n_.
   std::vector<SmcSample> samples_;
