@@ -11,16 +11,20 @@ namespace autumn::agent {
 
 namespace {
 
-// Adds `weight` to the choice the frame's masked region equals (or to unmatched).
-void tally(const Task& task, int size, const TaskFrame& frame, uint64_t weight, MfpResult& r) {
-  r.accepted += weight;
+// The choice the frame's masked region equals (the first: choices are distinct
+// in well-formed tasks), or -1.
+int choice_shown(const Task& task, int size, const TaskFrame& frame) {
   Grid region = crop(frame, size, task.masked);
   for (size_t c = 0; c < task.choices.size(); ++c)
-    if (task.choices[c] == region) {
-      r.counts[c] += weight;
-      return;  // choices are distinct in well-formed tasks; count the first
-    }
-  r.unmatched += weight;
+    if (task.choices[c] == region) return static_cast<int>(c);
+  return -1;
+}
+
+// Adds `weight` to the choice the frame shows (or to unmatched).
+void tally(const Task& task, int size, const TaskFrame& frame, uint64_t weight, MfpResult& r) {
+  r.accepted += weight;
+  int c = choice_shown(task, size, frame);
+  (c >= 0 ? r.counts[c] : r.unmatched) += weight;
 }
 
 // The stated-seed hypothesis: the task's seed (the benchmark's 0 when it states
@@ -35,10 +39,7 @@ std::optional<int> stated_seed_choice(const Task& task, const Environment& probe
     ok = ok && consistent(task_frame(env->frame(), env->palette(), task.colours), size, task.observations[t].grid);
   }
   if (!ok) return std::nullopt;
-  Grid region = crop(task_frame(env->frame(), env->palette(), task.colours), size, task.masked);
-  for (size_t c = 0; c < task.choices.size(); ++c)
-    if (task.choices[c] == region) return static_cast<int>(c);
-  return -1;
+  return choice_shown(task, size, task_frame(env->frame(), env->palette(), task.colours));
 }
 
 // Stochastic programs: the stated-seed hypothesis H0 and sequential Monte Carlo
