@@ -439,7 +439,8 @@ fs::path generate(const fs::path& root, const std::string& kind, const std::stri
   o.steps = steps;
   o.batch = 50;
   o.extend_colours = true;
-  o.out = root / "prompts" / (program + "_" + kind + ".json");
+  // Named by the program's stem: a path must never send the task beside the program.
+  o.out = root / "prompts" / (o.program.stem().string() + "_" + kind + ".json");
   ThreadPool pool(2);
   write_task(make_task(o, pool), o);
   return o.out;
