@@ -200,18 +200,17 @@ const std::string& Program::file_name(SourceId id) const {
   return internal;
 }
 
-std::shared_ptr<const Program> load_program(SourceFile file, const std::optional<std::string>& trigger,
-                                            const std::optional<std::string>& stdlib) {
-  auto p = std::make_shared<Program>();
-  p->file = std::move(file);
-  p->file.id = SourceId::Program;
-  p->stdlib = SourceFile{"<stdlib>", stdlib ? *stdlib : stdlib_text(), SourceId::Stdlib};
-  SymbolTable& syms = p->symbols;
+namespace {
 
+// The names every program interns first, in this order, so that builtin and
+// prelude symbol ids are the same in every Program (the stdlib parse below
+// relies on it). Interning is idempotent: a second call only fills p.names.
+void intern_prelude(Program& p) {
+  SymbolTable& syms = p.symbols;
   // Builtins and their global order come first so that symbol ids are stable.
   syms.intern("GRID_SIZE");
-  for (int i = 0; i < kBuiltinCount; ++i) p->builtin_syms[i] = syms.intern(builtin_table()[i].name);
-  auto& n = p->names;
+  for (int i = 0; i < kBuiltinCount; ++i) p.builtin_syms[i] = syms.intern(builtin_table()[i].name);
+  auto& n = p.names;
   n.GRID_SIZE = syms.intern("GRID_SIZE");
   n.FRAME_RATE = syms.intern("FRAME_RATE");
   n.background = syms.intern("background");
@@ -236,9 +235,43 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
   n.Cell = syms.intern("Cell");
   n.RenderedElem = syms.intern("RenderedElem");
 
-  {
+}
+
+// The default stdlib parsed once per process, after the prelude: its symbol
+// table and statements are the start of every program loaded without a
+// stdlib override. Statements hold shared immutable expressions, so copies share
+// them. Thread-safe (static initialisation).
+const Program& default_stdlib_parse() {
+  static const Program parsed = [] {
+    Program p;
+    p.stdlib = SourceFile{"<stdlib>", stdlib_text(), SourceId::Stdlib};
+    intern_prelude(p);
+    Parser parser(p.stdlib, p.symbols);
+    p.stdlib_stmts = parser.parse_program(read_sexprs(p.stdlib)).stmts;
+    return p;
+  }();
+  return parsed;
+}
+
+}  // namespace
+
+std::shared_ptr<const Program> load_program(SourceFile file, const std::optional<std::string>& trigger,
+                                            const std::optional<std::string>& stdlib) {
+  auto p = std::make_shared<Program>();
+  p->file = std::move(file);
+  p->file.id = SourceId::Program;
+  p->stdlib = SourceFile{"<stdlib>", stdlib ? *stdlib : stdlib_text(), SourceId::Stdlib};
+  SymbolTable& syms = p->symbols;
+  if (stdlib) {
+    intern_prelude(*p);
     Parser parser(p->stdlib, syms);
     p->stdlib_stmts = parser.parse_program(read_sexprs(p->stdlib)).stmts;
+  } else {
+    // The default stdlib parses the same way every time: start from its parse.
+    const Program& cached = default_stdlib_parse();
+    syms = cached.symbols;
+    p->stdlib_stmts = cached.stdlib_stmts;
+    intern_prelude(*p);  // only looks the prelude's names up again
   }
   {
     Parser parser(p->file, syms);
