@@ -191,6 +191,10 @@ void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s,
 }
 
 void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
+  // A cell argument's capture scope (construct_cell) owns no block to declare
+  // in: an assignment inside a cell argument is the embedded engine's (found by
+  // fuzz_emit: tests/lowering/assign_in_cell_argument.au).
+  if (!sc.block) unsupported("an assignment inside a cell argument");
   std::pair<const void*, Sym> key{site, s};
   if (Binding* b = sc.find(s)) {  // a maybe-bound name of this scope, now bound
     if (b->flag) emit_set(local(b->flag), lit(T().bool_(), 1));
