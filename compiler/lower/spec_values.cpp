@@ -82,6 +82,13 @@ SVal Specialiser::join_branches(ir::Node* cond, const std::function<SVal()>& the
 
 SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f) {
   if (!v.type || !is_sum(v.type)) return f(v);
+  // Found by fuzz_emit (tests/lowering/deep_sum_splits.au): autumnc overflowed its stack.
+  if (split_depth_ >= kMaxSplitDepth) unsupported("values of union types nested too deeply to specialise");
+  struct Depth {
+    int& d;
+    explicit Depth(int& x) : d(++x) {}
+    ~Depth() { --d; }
+  } depth(split_depth_);
   SVal x = let(v, "u");
   ir::Stmt* s = detached(*this, ir::SK::Switch);
   s->a = x.code;

@@ -301,6 +301,11 @@ class Specialiser {
   SVal construct_cell(const Expr& e);
   SVal trial(const Expr& arg, SScope& capture, int which, int* deferred_index);
   int capture_mode_ = 0;               // > 0: evaluating a cell argument in its capture scope
+  // Nested split()s in progress. Each nests the next alternative's code in a
+  // switch case, so a chain of sum-typed values multiplies code and C++ stack:
+  // beyond kMaxSplitDepth the program is the embedded engine's.
+  int split_depth_ = 0;
+  static constexpr int kMaxSplitDepth = 12;
   ir::Block* capture_block_ = nullptr;
   bool trial_failed_ = false;
   std::map<Sym, ir::Node*> captured_konst_;
