@@ -75,6 +75,11 @@ bool WarmingEnvironment::reseed_random(uint64_t seed) {
   return active_->reseed_random(seed);
 }
 
+bool WarmingEnvironment::set_draw_script(autumn_draw_script* script) {
+  can_switch_ = false;
+  return active_->set_draw_script(script);
+}
+
 void WarmingEnvironment::set_source_name(const std::string& path) {
   source_name_ = path;
   active_->set_source_name(path);

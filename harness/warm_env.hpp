@@ -53,6 +53,7 @@ class WarmingEnvironment : public Environment {
   bool deterministic() const override { return active_->deterministic(); }
   int64_t random_draws() const override { return active_->random_draws(); }
   bool reseed_random(uint64_t seed) override;
+  bool set_draw_script(autumn_draw_script* script) override;
   void set_source_name(const std::string& path) override;
   void set_limits(const Limits& limits) override;
 

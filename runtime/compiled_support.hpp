@@ -727,6 +727,11 @@ class CompiledEnvironment : public Environment {
     state_.core.rng.reseed(seed);
     return true;
   }
+  // The generator keeps its script across reset() and copy_from() (rng.hpp).
+  bool set_draw_script(autumn_draw_script* script) override {
+    state_.core.rng.set_script(script);
+    return true;
+  }
 
  private:
   bool run_step(const Action& a, bool render) {

@@ -25,6 +25,7 @@
 #include "runtime/action.hpp"
 #include "runtime/frame.hpp"
 #include "runtime/limits.hpp"
+#include "runtime/module_abi.h"
 
 namespace autumn {
 
@@ -83,6 +84,13 @@ class Environment {
   virtual int64_t random_draws() const { return -1; }
   virtual bool reseed_random(uint64_t seed) {
     (void)seed;
+    return false;
+  }
+  // Draw scripts (rng.hpp, module_abi.h): sets or (nullptr) clears the script
+  // this environment's random draws follow, from the next draw on, resets
+  // included; clones do not inherit it. False when not supported.
+  virtual bool set_draw_script(autumn_draw_script* script) {
+    (void)script;
     return false;
   }
   // The program's path for error messages ("path:line:col: runtime error: ...").

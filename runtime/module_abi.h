@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define AUTUMN_MODULE_ABI_VERSION 5u
+#define AUTUMN_MODULE_ABI_VERSION 6u
 
 typedef struct autumn_env autumn_env; /* opaque */
 
@@ -25,6 +25,19 @@ typedef struct autumn_env autumn_env; /* opaque */
 typedef struct autumn_limits {
   int64_t call_depth, list_length, objects, cells, calls;
 } autumn_limits;
+
+/* v6: a draw script (runtime/rng.hpp): inference at the level of random numbers.
+ * While a script is set on an environment, its k-th random draw (k = drawn, then
+ * drawn is incremented) returns forced[k] % bound when k < forced_count and
+ * forced[k] >= 0, and records its bound in bounds[k] when k < capacity. The
+ * caller owns the script and keeps it alive while it is set. */
+typedef struct autumn_draw_script {
+  const int64_t* forced;
+  uint64_t forced_count;
+  uint64_t* bounds;
+  uint64_t capacity;
+  uint64_t drawn;
+} autumn_draw_script;
 
 /* Action kinds, as in runtime/action.hpp. */
 enum { AUTUMN_NOOP = 0, AUTUMN_LEFT = 1, AUTUMN_RIGHT = 2, AUTUMN_UP = 3, AUTUMN_DOWN = 4, AUTUMN_CLICK = 5 };
@@ -66,6 +79,8 @@ typedef struct autumn_module_v1 {
   void (*set_source_name)(autumn_env*, const char* path);
   /* v5: the limits of the episodes from the next reset on (copied). */
   void (*set_limits)(autumn_env*, const autumn_limits* limits);
+  /* v6: sets (or, with NULL, clears) the draw script; 1 done, 0 unsupported. */
+  int (*set_draw_script)(autumn_env*, autumn_draw_script* script);
 } autumn_module_v1;
 
 typedef const autumn_module_v1* (*autumn_module_entry_fn)(void);

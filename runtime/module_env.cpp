@@ -86,6 +86,9 @@ uint64_t ModuleEnvironment::state_hash() const { return table_->state_hash(handl
 bool ModuleEnvironment::deterministic() const { return table_->deterministic(handle_) != 0; }
 int64_t ModuleEnvironment::random_draws() const { return failed_ ? -1 : table_->random_draws(handle_); }
 bool ModuleEnvironment::reseed_random(uint64_t seed) { return !failed_ && table_->reseed_random(handle_, seed) != 0; }
+bool ModuleEnvironment::set_draw_script(autumn_draw_script* script) {
+  return table_->set_draw_script(handle_, script) != 0;
+}
 void ModuleEnvironment::set_source_name(const std::string& path) { table_->set_source_name(handle_, path.c_str()); }
 void ModuleEnvironment::set_limits(const Limits& l) {
   const autumn_limits c{l.call_depth, l.list_length, l.objects, l.cells, l.calls};

@@ -54,6 +54,7 @@ class ModuleEnvironment : public Environment {
   bool deterministic() const override;
   int64_t random_draws() const override;
   bool reseed_random(uint64_t seed) override;
+  bool set_draw_script(autumn_draw_script* script) override;
 
  private:
   ModuleEnvironment(const autumn_module_v1* table, std::shared_ptr<void> keepalive, autumn_env* handle);

@@ -76,6 +76,7 @@ struct ModuleExporter {
     t.set_limits = [](autumn_env* h, const autumn_limits* l) {
       env(h).set_limits(Limits{l->call_depth, l->list_length, l->objects, l->cells, l->calls});
     };
+    t.set_draw_script = [](autumn_env* h, autumn_draw_script* s) { return env(h).set_draw_script(s) ? 1 : 0; };
     return t;
   }
 };

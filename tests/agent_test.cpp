@@ -21,6 +21,8 @@
 
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/click_model.hpp"
+#include "harness/agent/draw_search.hpp"
+#include "harness/agent/smc.hpp"
 #include "harness/agent/eval.hpp"
 #include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
@@ -857,6 +859,87 @@ TEST(AgentCli, BenchAgentPrintsFigures) {
   CliRun none = cli("bench-agent " + program + " --grid 7");
   EXPECT_EQ(none.status, 1);
   EXPECT_NE(none.out.find("no program has GRID_SIZE 7"), std::string::npos) << none.out;
+}
+
+// A draw script forces what random draws return and records their bounds; both
+// engines follow it draw for draw (same bounds, same frame), a clone does not
+// inherit it, and clearing it gives the seed's own episode back.
+TEST(AgentDrawSearch, ScriptsForceDrawsAlikeOnBothEngines) {
+  auto program = load_program_checked(autumn::testing::source_dir() / "programs" / "color_flood.au");
+  auto interp = make_env_checked("interp", program);
+  auto compiled = make_env_checked("compiled", program);
+  std::vector<int64_t> forced(63);
+  for (size_t k = 0; k < forced.size(); ++k) forced[k] = static_cast<int64_t>((k * 7) % 5);
+  std::vector<uint64_t> bounds_i(128, 0), bounds_c(128, 0);
+  autumn_draw_script si{forced.data(), forced.size(), bounds_i.data(), bounds_i.size(), 0};
+  autumn_draw_script sc{forced.data(), forced.size(), bounds_c.data(), bounds_c.size(), 0};
+  ASSERT_TRUE(interp->set_draw_script(&si));
+  ASSERT_TRUE(compiled->set_draw_script(&sc));
+  ASSERT_TRUE(interp->reset(99));
+  ASSERT_TRUE(compiled->reset(99));
+  EXPECT_EQ(si.drawn, 56u);  // one uniformChoice per tile of the 8x7 board
+  EXPECT_EQ(si.drawn, sc.drawn);
+  EXPECT_EQ(bounds_i, bounds_c);
+  EXPECT_EQ(bounds_i[0], 5u);
+  ColourTable colours;  // palette ids are each engine's own: compare colour names
+  auto names = [&](const Environment& e) { return task_frame(e.frame(), e.palette(), colours); };
+  EXPECT_EQ(names(*interp), names(*compiled));
+
+  // Changing one forced draw repaints exactly one tile, on both engines alike.
+  const std::vector<uint16_t> before = compiled->frame().cells;
+  forced[10] = (forced[10] + 1) % 5;
+  si.drawn = sc.drawn = 0;
+  ASSERT_TRUE(interp->reset(99));
+  ASSERT_TRUE(compiled->reset(99));
+  EXPECT_EQ(names(*interp), names(*compiled));
+  int changed = 0;
+  for (size_t i = 0; i < before.size(); ++i) changed += before[i] != compiled->frame().cells[i];
+  EXPECT_EQ(changed, 1);
+  // A clone steps on its own generator; clearing the script restores the seed's episode.
+  auto clone = compiled->clone();
+  const uint64_t drawn = sc.drawn;
+  ASSERT_TRUE(clone->reset(99));
+  EXPECT_EQ(sc.drawn, drawn);
+  ASSERT_TRUE(compiled->set_draw_script(nullptr));
+  ASSERT_TRUE(compiled->reset(99));
+  EXPECT_EQ(names(*compiled), names(*clone));
+  EXPECT_NE(names(*compiled), names(*interp));
+}
+
+// color_flood draws its whole first frame: no seed proposed at random shows a
+// given board (5^-56), so the filter's start from seeds fails, and the draw
+// search finds the board exactly, on both engines.
+TEST(AgentDrawSearch, FindsARandomFirstFrame) {
+  auto program = load_program_checked(autumn::testing::source_dir() / "programs" / "color_flood.au");
+  ColourTable colours;
+  ThreadPool pool(2);
+  for (const char* engine : {"interp", "compiled"}) {
+    auto model = make_env_checked(engine, program);
+    auto world = model->clone();
+    ASSERT_TRUE(world->reset(424242));
+    TaskFrame want = task_frame(world->frame(), world->palette(), colours);
+    const int size = world->frame().size;
+    Grid first{size, size, want};
+    FramePredicate keep = [&](const TaskFrame& f, int sz) { return consistent(f, sz, first); };
+    SmcSet seeds_only(pool, colours, 200, 5, 8);
+    EXPECT_FALSE(seeds_only.start(*model, keep)) << engine;
+    DrawSearchStats stats;
+    auto found = search_start_draws(pool, *model, colours, first, 5, 4, stats);
+    ASSERT_FALSE(found.empty()) << engine;
+    EXPECT_GE(stats.found, 1) << engine;
+    EXPECT_GT(stats.resets, 56u) << engine;
+    for (const auto& e : found) EXPECT_EQ(task_frame(e->frame(), e->palette(), colours), want) << engine;
+    // The filter falls back on the search when given the observation, and the
+    // states it keeps play on: the next frame after a click matches the world's.
+    SmcSet smc(pool, colours, 200, 5, 8);
+    ASSERT_TRUE(smc.start(*model, keep, &first)) << engine;
+    EXPECT_GE(smc.draw_search().found, 1) << engine;
+    const Action click = Action::click(0, 7);
+    ASSERT_TRUE(world->step(click));
+    want = task_frame(world->frame(), world->palette(), colours);
+    first = Grid{size, size, want};
+    ASSERT_TRUE(smc.step(click, keep, &first)) << engine;
+  }
 }
 
 }  // namespace

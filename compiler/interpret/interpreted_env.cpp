@@ -54,6 +54,7 @@ bool InterpretedEnvironment::reset(uint64_t seed) {
   interp_ = std::make_unique<interp::Interpreter>(program_);
   interp_->set_source_name(source_name_);
   interp_->set_limits(limits_);
+  interp_->rng().set_script(script_);
   failed_ = false;
   error_.clear();
   triggered_ = false;

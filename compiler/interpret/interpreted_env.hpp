@@ -39,6 +39,11 @@ class InterpretedEnvironment : public Environment {
     interp_->rng().reseed(seed);
     return true;
   }
+  bool set_draw_script(autumn_draw_script* script) override {
+    script_ = script;
+    if (interp_) interp_->rng().set_script(script);
+    return true;
+  }
   void set_source_name(const std::string& path) override;
   void set_limits(const Limits& limits) override;
 
@@ -52,6 +57,7 @@ class InterpretedEnvironment : public Environment {
   std::unique_ptr<interp::Interpreter> interp_;
   std::string source_name_;  // empty: the program's own file name
   Limits limits_;
+  autumn_draw_script* script_ = nullptr;  // given to every interpreter reset() makes; clones start without
   std::vector<interp::RenderedCell> cells_;
   Palette palette_;
   Frame frame_;

@@ -53,10 +53,10 @@ void solve_stochastic(const Task& task, const SolveOptions& opts, ThreadPool& po
   SmcSet smc(pool, task.colours, r.rollouts, opts.seed);
   const Grid* obs = &task.observations[0].grid;
   FramePredicate keep = [&obs](const TaskFrame& f, int sz) { return consistent(f, sz, *obs); };
-  bool alive = smc.start(probe, keep);
+  bool alive = smc.start(probe, keep, obs);
   for (size_t t = 1; alive && t < task.observations.size(); ++t) {
     obs = &task.observations[t].grid;
-    alive = smc.step(*task.observations[t].action, keep);
+    alive = smc.step(*task.observations[t].action, keep, obs);
     if (!alive) r.smc_died_at = static_cast<int>(t);
   }
   if (!alive && !r.smc_died_at) r.smc_died_at = 0;

@@ -10,6 +10,7 @@ namespace autumn::agent {
 namespace {
 constexpr size_t kChunk = 2048;           // children alive at once while proposing
 constexpr uint64_t kRetries[] = {1, 8, 64};  // children per sample, tried in turn
+constexpr int kDrawSearchStarts = 8;         // descents when no start-up agrees (draw_search.hpp)
 
 struct Child {
   std::unique_ptr<Environment> env;
@@ -40,26 +41,65 @@ std::unique_ptr<SmcSet> SmcSet::fork() const {
   return copy;
 }
 
-bool SmcSet::start(const Environment& model, const FramePredicate& keep) {
+bool SmcSet::start(const Environment& model, const FramePredicate& keep, const Grid* first) {
   Op op = [](Environment& e, uint64_t seed) { return e.reset(seed); };
+  uint64_t proposed = 0;
   for (uint64_t mult : kRetries) {
     if (mult > max_growth_) break;
     if (propagate({{&model, n_}}, op, keep, mult, /*from_reset=*/true)) return true;
+    proposed += proposed_;
     ++retries_;
   }
-  return false;
+  if (!first) return false;
+  return adopt_found(search_start_draws(pool_, model, colours_, *first, rng_(), kDrawSearchStarts, draw_search_),
+                     keep, proposed);
 }
 
-bool SmcSet::step(const Action& action, const FramePredicate& keep) {
+// The population becomes `states` (those `keep` accepts), split evenly; the
+// observation's likelihood is bounded by 1 / (2 x proposed), as nothing of
+// `proposed` children agreed.
+bool SmcSet::adopt_found(std::vector<std::unique_ptr<Environment>> states, const FramePredicate& keep,
+                         uint64_t proposed) {
+  std::erase_if(states, [&](const std::unique_ptr<Environment>& e) {
+    return !keep(task_frame(e->frame(), e->palette(), colours_), e->frame().size);
+  });
+  if (states.empty()) return false;
+  samples_.clear();
+  const uint64_t k = states.size();
+  for (uint64_t i = 0; i < k; ++i) {
+    TaskFrame frame = task_frame(states[i]->frame(), states[i]->palette(), colours_);
+    uint64_t hash = states[i]->state_hash();
+    samples_.push_back({std::move(states[i]), n_ / k + (i < n_ % k ? 1 : 0), hash, std::move(frame)});
+  }
+  std::erase_if(samples_, [](const SmcSample& s) { return s.count == 0; });
+  peak_ = std::max(peak_, samples_.size());
+  log_likelihood_ -= std::log(2.0 * static_cast<double>(std::max<uint64_t>(proposed, 1)));
+  const double ess = static_cast<double>(samples_.size());
+  ess_min_ = ess_min_ < 0 ? ess : std::min(ess_min_, ess);
+  return true;
+}
+
+bool SmcSet::step(const Action& action, const FramePredicate& keep, const Grid* obs) {
   Op op = [&action](Environment& e, uint64_t seed) { return e.reseed_random(seed) && e.step(action); };
   std::vector<Parent> parents;
   for (const SmcSample& s : samples_) parents.push_back({s.env.get(), s.count});
+  uint64_t proposed = 0;
   for (uint64_t mult : kRetries) {
     if (mult > max_growth_) break;
     if (propagate(parents, op, keep, mult, /*from_reset=*/false)) return true;
+    proposed += proposed_;
     ++retries_;
   }
-  return false;
+  if (!obs) return false;
+  // The heaviest samples (at most kDrawSearchStarts, ties in population order)
+  // are the parents of the draw search.
+  std::vector<size_t> order(samples_.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return samples_[a].count > samples_[b].count; });
+  order.resize(std::min<size_t>(order.size(), kDrawSearchStarts));
+  std::vector<const Environment*> chosen;
+  for (size_t i : order) chosen.push_back(samples_[i].env.get());
+  return adopt_found(search_step_draws(pool_, chosen, action, colours_, *obs, rng_(), draw_search_), keep, proposed);
 }
 
 // Proposes parents[i].children * mult children of every parent, keeps those
@@ -112,6 +152,7 @@ bool SmcSet::propagate(const std::vector<Parent>& parents, const Op& op, const F
       if (chunk.size() == kChunk) flush();
     }
   flush();
+  proposed_ = proposed;
   if (accepted == 0) return false;
   double rate = static_cast<double>(accepted) / static_cast<double>(proposed);
   log_likelihood_ += std::log(rate);

@@ -34,6 +34,7 @@
 #include <random>
 #include <vector>
 
+#include "harness/agent/draw_search.hpp"
 #include "harness/agent/particles.hpp"
 #include "harness/agent/task_file.hpp"
 #include "harness/agent/thread_pool.hpp"
@@ -52,9 +53,16 @@ class SmcSet {
   SmcSet(ThreadPool& pool, const ColourTable& colours, uint64_t n, uint64_t seed, uint64_t max_growth = 64);
 
   // N fresh episodes: clones of `model` reset with fresh seeds, filtered by `keep`.
-  bool start(const Environment& model, const FramePredicate& keep);
+  // When no seed's start-up is kept and the first observation is given, the
+  // start states come from a search over the draws themselves (draw_search.hpp):
+  // the population is split evenly over the distinct states it finds, and the
+  // first observation's likelihood is taken as 1 / (2 x the start-ups proposed),
+  // a bound, since none of them agreed.
+  bool start(const Environment& model, const FramePredicate& keep, const Grid* first = nullptr);
   // Advances every sample by `action`; false when no child explains the frame.
-  bool step(const Action& action, const FramePredicate& keep);
+  // With the observation given, a step no child explains falls back on the draw
+  // search from the heaviest samples, as start() does.
+  bool step(const Action& action, const FramePredicate& keep, const Grid* obs = nullptr);
 
   // An independent copy (every sample's environment cloned, the same generator
   // state): filters that share a prefix of observations run it once.
@@ -67,6 +75,7 @@ class SmcSet {
   uint64_t env_steps() const { return env_steps_; }
   uint64_t retries() const { return retries_; }  // steps that needed 8 or 64 children per sample
   size_t peak() const { return peak_; }
+  const DrawSearchStats& draw_search() const { return draw_search_; }  // starts 0: not used
 
  private:
   // One child operation: reset(seed) for start, reseed_random(seed) + step otherwise.
@@ -78,6 +87,7 @@ class SmcSet {
   bool propagate(const std::vector<Parent>& parents, const Op& op, const FramePredicate& keep, uint64_t mult,
                  bool from_reset);
   void adopt(std::unique_ptr<Environment> env, TaskFrame frame, uint64_t count);
+  bool adopt_found(std::vector<std::unique_ptr<Environment>> states, const FramePredicate& keep, uint64_t proposed);
   void resample();
 
   ThreadPool& pool_;
@@ -93,6 +103,8 @@ class SmcSet {
   double log_likelihood_ = 0, ess_min_ = -1;
   uint64_t env_steps_ = 0, retries_ = 0;
   size_t peak_ = 0;
+  uint64_t proposed_ = 0;  // children proposed by the last propagate()
+  DrawSearchStats draw_search_;
 };
 
 }  // namespace autumn::agent
