@@ -227,6 +227,12 @@ void wait_for_emitters() {
   state().emit_cv.wait(lock, [] { return state().emitting == 0; });
 }
 
+}  // namespace
+
+void finish_module_emits() { wait_for_emitters(); }
+
+namespace {
+
 std::string emit(const Program& p, const std::string& name, bool embedded) {
   ModuleSource src;
   src.name = name;

@@ -42,6 +42,12 @@ std::unique_ptr<Environment> make_compiled_episode_environment(std::shared_ptr<c
 // the time spent waiting for a compile (0 when the module was at hand).
 bool prepare_compiled_module(const std::shared_ptr<const Program>& program, double* seconds, std::string* why);
 
+// Waits until no thread is emitting a module (the compiler processes they
+// started run on by themselves). A program's main calls it before returning:
+// emitter threads use function-local statics, and those first built after the
+// atexit handler that also waits was registered are destroyed before it runs.
+void finish_module_emits();
+
 // The modules built into this binary (generated/), by entry function.
 struct BuiltinModules {
   const autumn_module_entry_fn* entries;

@@ -280,7 +280,9 @@ int Specialiser::string_id(const std::string& quoted) {
 }
 
 std::string Specialiser::type_string(TypeP t) {
-  static const std::string pos = "class Position {x: Number, y: Number, }";
+  // Not a static std::string: a module may be lowered on a background thread
+  // while the process exits (harness/module_cache.hpp).
+  const std::string pos = "class Position {x: Number, y: Number, }";
   switch (t->k) {
     case TK::Int: return "Number";
     case TK::Bool: return "Bool";

@@ -11,6 +11,7 @@
 
 #include "harness/agent/agent_commands.hpp"
 #include "harness/cli/commands.hpp"
+#include "harness/module_cache.hpp"
 
 int main(int argc, char** argv) {
   using namespace autumn::cli;
@@ -27,8 +28,13 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? kExitOk : kExitUsage;
   }
   if (!parse_limits_option()) return kExitUsage;
+  int rc = -1;
   for (const Subcommand& c : commands)
-    if (c.app->parsed()) return c.run();
-  if (int rc = autumn::agent::run_agent_command(app); rc >= 0) return rc;
-  return kExitUsage;
+    if (c.app->parsed()) rc = c.run();
+  if (rc < 0) rc = autumn::agent::run_agent_command(app);
+  if (rc < 0) rc = kExitUsage;
+  // Before static destruction: a module emitted in the background must not
+  // outlive the statics it reads (module_cache.hpp).
+  autumn::finish_module_emits();
+  return rc;
 }
