@@ -22,7 +22,9 @@
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/click_model.hpp"
 #include "harness/agent/draw_search.hpp"
+#include "harness/agent/seed_inversion.hpp"
 #include "harness/agent/smc.hpp"
+#include "runtime/rng.hpp"
 #include "harness/agent/eval.hpp"
 #include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
@@ -620,8 +622,10 @@ TEST(AgentCdPairs, OriginalProgramsNeverLookChanged) {
 // ------------------------------------------------------------------ blind tasks: an unknown seed
 
 // A long trajectory of a stochastic program from a seed the task does not state:
-// rejection over whole episodes keeps nothing; the filter must keep samples to the
-// end and name the true choice, identically on one thread and on two.
+// rejection over whole episodes keeps nothing; the filter (seed inversion off)
+// must keep samples to the end and name the true choice, identically on one
+// thread and on two. With seed inversion on, the world's seed is recovered from
+// the draws the frames show and the answer is the same.
 TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
   fs::path root = scratch("unknown_seed");
   MakeTaskOptions m;
@@ -640,8 +644,10 @@ TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
   Task task = load_task(m.out);
   SolveOptions o = small(2000);
   o.engine = "compiled";
+  o.seed_inversion = false;
   MfpResult a = solve_mfp(task, o, pool);
   ASSERT_TRUE(a.smc) << mfp_summary(a);
+  EXPECT_FALSE(a.inverted);
   EXPECT_FALSE(a.stated_seed_consistent) << "seed 0 should not explain an episode of seed 987654";
   EXPECT_FALSE(a.smc_died_at) << mfp_summary(a);
   EXPECT_GT(a.smc_ess_min, 0.0);
@@ -649,6 +655,12 @@ TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
   MfpResult b = solve_mfp(task, o, one);
   EXPECT_EQ(a.counts, b.counts) << "the filter must not depend on the thread count";
   EXPECT_EQ(a.choice, b.choice);
+  o.seed_inversion = true;
+  MfpResult c = solve_mfp(task, o, pool), d = solve_mfp(task, o, one);
+  EXPECT_TRUE(c.inverted) << mfp_summary(c);
+  EXPECT_GE(c.seeds_consistent, 1u);
+  EXPECT_EQ(c.choice, answers_of(m.out).correct_idx) << mfp_summary(c);
+  EXPECT_EQ(c.counts, d.counts) << "the inversion must not depend on the thread count";
 }
 
 // The world runs the ORIGINAL stochastic program from a seed the agent does not
@@ -939,6 +951,78 @@ TEST(AgentDrawSearch, FindsARandomFirstFrame) {
     want = task_frame(world->frame(), world->palette(), colours);
     first = Grid{size, size, want};
     ASSERT_TRUE(smc.step(click, keep, &first)) << engine;
+  }
+}
+
+// Seed inversion: the draws a known seed's stream gives come back to that seed,
+// with the first draws unpinned too (the walk back through them), and every
+// seed returned reproduces the pinned values.
+TEST(AgentSeedInversion, FindsTheSeedOfAStream) {
+  ThreadPool pool(2);
+  const uint64_t bounds[] = {5, 20, 3, 5, 5, 20, 16, 16, 5, 3, 20, 5, 5, 16, 3, 5, 20, 5, 5, 16};
+  for (uint32_t seed : {7u, 123456789u, 4000000000u}) {
+    for (size_t unpinned_head : {size_t{0}, size_t{3}}) {
+      DrawExplanation e;
+      WrappedMinstd g(seed);
+      for (uint64_t b : bounds) {
+        e.bounds.push_back(b);
+        e.values.push_back(static_cast<int64_t>(g.next(b)));
+        e.pinned.push_back(e.pinned.size() >= unpinned_head);
+      }
+      SeedInversion inv = invert_start_draws(pool, e, 256);
+      ASSERT_TRUE(inv.complete) << seed;
+      EXPECT_GT(inv.pinned_bits, 40) << seed;
+      EXPECT_TRUE(std::binary_search(inv.seeds.begin(), inv.seeds.end(), seed)) << seed << " " << unpinned_head;
+      for (uint32_t s : inv.seeds) {
+        WrappedMinstd h(s);
+        for (size_t k = 0; k < e.values.size(); ++k) {
+          int64_t v = static_cast<int64_t>(h.next(e.bounds[k]));
+          if (e.pinned[k]) ASSERT_EQ(v, e.values[k]) << "seed " << s << " draw " << k;
+        }
+      }
+    }
+  }
+}
+
+// On a program: color_flood's episode from an unknown seed is explained draw by
+// draw, and inverting the explanation gives seeds whose exact episode is the
+// world's (the world's own seed among them), on both engines.
+TEST(AgentSeedInversion, RecoversAWorldSeedFromItsFrames) {
+  auto program = load_program_checked(autumn::testing::source_dir() / "programs" / "color_flood.au");
+  ColourTable colours;
+  ThreadPool pool(2);
+  const uint64_t world_seed = 3141592653u;
+  const std::vector<Action> actions = {Action::click(2, 7), Action::noop(), Action{Action::Kind::Down, 0, 0},
+                                       Action::click(1, 1)};
+  for (const char* engine : {"interp", "compiled"}) {
+    auto model = make_env_checked(engine, program);
+    auto world = model->clone();
+    ASSERT_TRUE(world->reset(world_seed));
+    std::vector<Observation> obs;
+    auto observe = [&](std::optional<Action> a) {
+      TaskFrame f = task_frame(world->frame(), world->palette(), colours);
+      obs.push_back({a, Grid{world->frame().size, world->frame().size, f}});
+    };
+    observe(std::nullopt);
+    for (const Action& a : actions) {
+      ASSERT_TRUE(world->step(a));
+      observe(a);
+    }
+    auto ex = explain_episode_draws(*model, colours, obs, 11);
+    ASSERT_TRUE(ex.has_value()) << engine;
+    EXPECT_GE(ex->values.size(), 112u) << engine;  // two boards of 56 tiles
+    SeedInversion inv = invert_start_draws(pool, *ex, 256);
+    ASSERT_TRUE(inv.complete) << engine;
+    EXPECT_TRUE(std::binary_search(inv.seeds.begin(), inv.seeds.end(), static_cast<uint32_t>(world_seed))) << engine;
+    for (uint32_t s : inv.seeds) {
+      auto replay = model->clone();
+      ASSERT_TRUE(replay->reset(s));
+      bool same = consistent(task_frame(replay->frame(), replay->palette(), colours), replay->frame().size, obs[0].grid);
+      for (size_t t = 1; t < obs.size() && same; ++t)
+        same = replay->step(*obs[t].action) &&
+               consistent(task_frame(replay->frame(), replay->palette(), colours), replay->frame().size, obs[t].grid);
+      EXPECT_TRUE(same) << engine << " seed " << s;  // 223 bits pinned: no stranger matches
+    }
   }
 }
 

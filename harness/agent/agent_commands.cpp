@@ -59,6 +59,9 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
       ->default_val(10000)
       ->check(CLI::PositiveNumber);
   cmd->add_option("--threads", threads, "Worker threads (0: all cores)")->default_val(0);
+  cmd->add_flag("!--no-seed-inversion", o.seed_inversion,
+                "MFP on stochastic programs: skip recovering the world's seed from the observed draws and "
+                "use the sequential Monte Carlo filter alone");
   cmd->add_option("--seed", o.seed, "Seed of the agent's own randomness (rollout seeds, policy)")->default_val(0);
   cmd->add_option("--max-steps", o.max_steps, "Change detection: episode length cap")
       ->default_val(200)

@@ -134,6 +134,117 @@ class Descent {
   uint64_t resets_ = 0;
 };
 
+// The episode-wide explanation: one script over reset() and every step.
+class Explainer {
+ public:
+  Explainer(const Environment& model, const ColourTable& colours, const std::vector<Observation>& obs, uint64_t seed)
+      : model_(model), colours_(colours), obs_(obs), rng_(seed), bounds_(kMaxDraws) {
+    base_seed_ = rng_();
+  }
+
+  std::optional<DrawExplanation> run() {
+    std::vector<size_t> drawn_by(obs_.size());  // draws made up to and including observation t
+    for (size_t t = 0; t < obs_.size(); ++t) {
+      int64_t score = evaluate(t);
+      if (score == kFailed) return std::nullopt;
+      const size_t from = values_.size();
+      extend();
+      score = evaluate(t);
+      // The step's own draws first; then every draw, as a hidden earlier draw
+      // (a rocket's burst height) may be what this frame shows first.
+      for (size_t lo : {from, size_t{0}})
+        for (int sweep = 0; sweep < kMaxSweeps && score > 0 && runs_ <= kMaxRuns; ++sweep) {
+          const int64_t before = score;
+          for (size_t k = lo; k < values_.size() && score > 0; ++k) score = improve(k, t, score);
+          if (score == before) break;
+        }
+      if (score != 0 || runs_ > kMaxRuns) return std::nullopt;
+      drawn_by[t] = values_.size();
+    }
+    DrawExplanation e;
+    const size_t last = obs_.size() - 1;
+    if (evaluate(last) != 0) return std::nullopt;
+    values_.resize(std::min(values_.size(), drawn_));
+    e.values = values_;
+    e.bounds.assign(bounds_.begin(), bounds_.begin() + static_cast<std::ptrdiff_t>(values_.size()));
+    for (size_t k = 0; k < values_.size(); ++k) {
+      bool pinned = e.bounds[k] <= kMaxValues;  // a larger bound is only sampled: never counted as pinned
+      const int64_t keep = values_[k];
+      for (int64_t a = 0; pinned && a < static_cast<int64_t>(e.bounds[k]); ++a) {
+        if (a == keep) continue;
+        values_[k] = a;
+        if (evaluate(last) == 0) pinned = false;
+      }
+      values_[k] = keep;
+      e.pinned.push_back(pinned);
+      if (runs_ > kMaxRuns) return std::nullopt;
+    }
+    e.env_steps = steps_;
+    return e;
+  }
+
+ private:
+  static constexpr uint64_t kMaxRuns = 20000;  // episode replays one explanation may take
+
+  // Disagreeing cells over observations 0..upto under the current values.
+  int64_t evaluate(size_t upto) {
+    script_ = autumn_draw_script{values_.data(), values_.size(), bounds_.data(), bounds_.size(), 0};
+    ++runs_;
+    auto env = model_.clone();
+    ++steps_;
+    if (!env->set_draw_script(&script_) || !env->reset(base_seed_)) return kFailed;
+    int64_t n = 0;
+    for (size_t t = 0; t <= upto; ++t) {
+      if (t > 0) {
+        ++steps_;
+        if (!obs_[t].action || !env->step(*obs_[t].action)) return kFailed;
+      }
+      frames_.map(env->frame(), env->palette(), colours_, frame_);
+      const Grid& g = obs_[t].grid;
+      if (frame_.size() != g.cells.size()) return kFailed;
+      for (size_t i = 0; i < frame_.size(); ++i) n += g.cells[i] != 0 && g.cells[i] != frame_[i];
+    }
+    drawn_ = std::min<size_t>(script_.drawn, kMaxDraws);
+    return n;
+  }
+
+  void extend() {
+    while (values_.size() < drawn_) values_.push_back(static_cast<int64_t>(rng_() % bounds_[values_.size()]));
+  }
+
+  int64_t improve(size_t k, size_t upto, int64_t score) {
+    const uint64_t bound = bounds_[k];
+    const int64_t keep = values_[k];
+    int64_t best = score, best_v = keep;
+    for (uint64_t i = 0; i < std::min(bound, kMaxValues); ++i) {
+      const int64_t a = bound <= kMaxValues ? static_cast<int64_t>(i) : static_cast<int64_t>(rng_() % bound);
+      if (a == keep) continue;
+      values_[k] = a;
+      const int64_t s = evaluate(upto);
+      if (s < best) best = s, best_v = a;
+    }
+    values_[k] = best_v;
+    const int64_t now = evaluate(upto);
+    extend();
+    return now;
+  }
+
+  const Environment& model_;
+  const ColourTable& colours_;
+  const std::vector<Observation>& obs_;
+  std::mt19937_64 rng_;
+  uint64_t base_seed_ = 0;
+  // The script and its arrays. Invariant: values_.size() <= kMaxDraws; drawn_ =
+  // the draws of the last replay.
+  autumn_draw_script script_{};
+  std::vector<int64_t> values_;
+  std::vector<uint64_t> bounds_;
+  size_t drawn_ = 0;
+  FrameColours frames_;
+  TaskFrame frame_;
+  uint64_t runs_ = 0, steps_ = 0;
+};
+
 // Runs one descent per trial in parallel (trial i with the i-th seed drawn from
 // `seed`) and keeps the distinct agreeing states in trial order.
 std::vector<std::unique_ptr<Environment>> descend(ThreadPool& pool, const std::vector<Trial>& trials,
@@ -176,6 +287,12 @@ std::vector<std::unique_ptr<Environment>> search_start_draws(ThreadPool& pool, c
   };
   return descend(pool, std::vector<Trial>(static_cast<size_t>(std::max(starts, 0)), reset), colours, first, seed,
                  stats);
+}
+
+std::optional<DrawExplanation> explain_episode_draws(const Environment& model, const ColourTable& colours,
+                                                     const std::vector<Observation>& observations, uint64_t seed) {
+  if (observations.empty()) return std::nullopt;
+  return Explainer(model, colours, observations, seed).run();
 }
 
 std::vector<std::unique_ptr<Environment>> search_step_draws(ThreadPool& pool,

@@ -27,6 +27,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "harness/agent/task_file.hpp"
@@ -54,5 +55,22 @@ std::vector<std::unique_ptr<Environment>> search_step_draws(ThreadPool& pool,
                                                             const std::vector<const Environment*>& parents,
                                                             const Action& action, const ColourTable& colours,
                                                             const Grid& obs, uint64_t seed, DrawSearchStats& stats);
+
+// One explanation of a whole observed episode, for seed inversion
+// (seed_inversion.hpp): the values of every draw from reset() on, in order (one
+// script spans the episode, as one generator stream does), their bounds, and
+// which values the frames pin down (no other value of that draw alone keeps
+// every frame agreeing). Built observation by observation: the draws a step
+// adds are chosen by coordinate descent with the earlier ones fixed. nullopt
+// when some observation is not explained or the work exceeds a budget of
+// episode replays.
+struct DrawExplanation {
+  std::vector<int64_t> values;
+  std::vector<uint64_t> bounds;
+  std::vector<bool> pinned;
+  uint64_t env_steps = 0;  // resets + steps run
+};
+std::optional<DrawExplanation> explain_episode_draws(const Environment& model, const ColourTable& colours,
+                                                     const std::vector<Observation>& observations, uint64_t seed);
 
 }  // namespace autumn::agent

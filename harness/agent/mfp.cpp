@@ -4,7 +4,9 @@
 
 #include <cmath>
 
+#include "harness/agent/draw_search.hpp"
 #include "harness/agent/particles.hpp"
+#include "harness/agent/seed_inversion.hpp"
 #include "harness/agent/smc.hpp"
 
 namespace autumn::agent {
@@ -27,12 +29,12 @@ void tally(const Task& task, int size, const TaskFrame& frame, uint64_t weight, 
   (c >= 0 ? r.counts[c] : r.unmatched) += weight;
 }
 
-// The stated-seed hypothesis: the task's seed (the benchmark's 0 when it states
-// none) replayed exactly. The index of the choice it shows, -1 for none, or
-// nullopt when the episode contradicts an observation.
-std::optional<int> stated_seed_choice(const Task& task, const Environment& probe, int size, MfpResult& r) {
+// One seed replayed exactly (the stated-seed hypothesis: the task's seed, the
+// benchmark's 0 when it states none). The index of the choice it shows, -1 for
+// none, or nullopt when the episode contradicts an observation.
+std::optional<int> seed_choice(const Task& task, const Environment& probe, int size, uint64_t seed, MfpResult& r) {
   auto env = probe.clone();
-  bool ok = env->reset(task.env_seed);
+  bool ok = env->reset(seed);
   ++r.env_steps;
   for (size_t t = 0; ok && t < task.observations.size(); ++t) {
     if (t > 0) ok = env->step(*task.observations[t].action), ++r.env_steps;
@@ -42,14 +44,53 @@ std::optional<int> stated_seed_choice(const Task& task, const Environment& probe
   return choice_shown(task, size, task_frame(env->frame(), env->palette(), task.colours));
 }
 
+// Seed inversion: when the observations pin enough of the episode's draws
+// (seed_inversion.hpp), the world is one of few seeds, each replayed exactly.
+// Their likelihood: |consistent seeds| / 2^32 under a uniform prior over seeds.
+// False when it cannot decide (more than kMaxSeeds seeds give the pinned draws,
+// or none of them explains every observation: the draws were explained by
+// values the world did not draw, e.g. two sparks' directions swapped).
+constexpr size_t kMaxSeeds = 256;
+bool solve_by_inversion(const Task& task, const SolveOptions& opts, ThreadPool& pool, const Environment& probe,
+                        int size, std::optional<int> h0, MfpResult& r) {
+  auto ex = explain_episode_draws(probe, task.colours, task.observations, opts.seed);
+  if (!ex) return false;
+  r.env_steps += ex->env_steps;
+  SeedInversion inv = invert_start_draws(pool, *ex, kMaxSeeds);
+  r.pinned_bits = inv.pinned_bits;
+  r.seeds_matching_draws = inv.seeds.size();
+  if (!inv.complete || inv.seeds.empty()) return false;
+  for (uint32_t seed : inv.seeds) {
+    std::optional<int> c = seed_choice(task, probe, size, seed, r);
+    if (!c) continue;
+    ++r.seeds_consistent;
+    r.accepted += 1;
+    (*c >= 0 ? r.counts[*c] : r.unmatched) += 1;
+  }
+  if (r.seeds_consistent == 0) return false;
+  r.inverted = true;
+  double w0 = h0 ? 1.0 : 0.0, w1 = static_cast<double>(r.seeds_consistent) / 4294967296.0;
+  r.posterior_stated_seed = w0 / (w0 + w1);
+  std::vector<double> p(task.choices.size(), 0.0);
+  if (h0 && *h0 >= 0) p[*h0] += r.posterior_stated_seed;
+  for (size_t c = 0; c < p.size(); ++c)
+    p[c] += (1 - r.posterior_stated_seed) * static_cast<double>(r.counts[c]) / static_cast<double>(r.seeds_consistent);
+  r.probabilities = p;
+  for (size_t c = 0; c < p.size(); ++c)
+    if (p[c] > 0 && (r.choice < 0 || p[c] > p[r.choice])) r.choice = static_cast<int>(c);
+  return true;
+}
+
 // Stochastic programs: the stated-seed hypothesis H0 and sequential Monte Carlo
 // over an unknown seed H1 (smc.hpp), equal prior odds. H0 predicts its frame with
 // probability 1; H1's likelihood is the filter's estimate. The answer is the
 // choice of highest posterior probability.
 void solve_stochastic(const Task& task, const SolveOptions& opts, ThreadPool& pool, const Environment& probe, int size,
                       MfpResult& r) {
-  std::optional<int> h0 = stated_seed_choice(task, probe, size, r);
+  std::optional<int> h0 = seed_choice(task, probe, size, task.env_seed, r);
   r.stated_seed_consistent = h0.has_value();
+  r.smc = true;
+  if (opts.seed_inversion && solve_by_inversion(task, opts, pool, probe, size, h0, r)) return;
   SmcSet smc(pool, task.colours, r.rollouts, opts.seed);
   const Grid* obs = &task.observations[0].grid;
   FramePredicate keep = [&obs](const TaskFrame& f, int sz) { return consistent(f, sz, *obs); };
@@ -145,7 +186,12 @@ nlohmann::json mfp_json(const MfpResult& r) {
                 {"ess_min", r.smc_ess_min},
                 {"retries", r.smc_retries},
                 {"posterior_stated_seed", r.posterior_stated_seed},
-                {"probabilities", r.probabilities}};
+                {"probabilities", r.probabilities},
+                {"seed_inversion",
+                 {{"used", r.inverted},
+                  {"pinned_bits", r.pinned_bits},
+                  {"seeds_matching_draws", r.seeds_matching_draws},
+                  {"seeds_consistent", r.seeds_consistent}}}};
   if (r.expected) {
     j["expected"] = *r.expected;
     j["correct"] = r.choice == *r.expected;
@@ -166,17 +212,22 @@ std::string mfp_summary(const MfpResult& r) {
   s += fmt::format("\nrollouts: {}, accepted {} ({:.2f}%), matching no choice {}{}\n", r.rollouts, r.accepted,
                    r.rollouts ? 100.0 * r.accepted / r.rollouts : 0.0, r.unmatched,
                    r.deterministic ? " (deterministic program: one rollout stands for all)" : "");
-  if (r.smc) {
+  if (r.inverted) {
+    s += fmt::format("stochastic program: stated seed {}; the observations pin {:.0f} bits of the episode's draws: "
+                     "{} seed(s) of 2^32 give them, {} explain every observation\n",
+                     r.stated_seed_consistent ? "explains the observations" : "contradicted", r.pinned_bits,
+                     r.seeds_matching_draws, r.seeds_consistent);
+  } else if (r.smc) {
     s += fmt::format("stochastic program: stated seed {}; sequential Monte Carlo {}, effective particles >= {:.1f}\n",
                      r.stated_seed_consistent ? "explains the observations" : "contradicted",
                      r.smc_died_at ? fmt::format("explains no sample at observation {}", *r.smc_died_at)
                                    : std::string("kept samples to the end"),
                      r.smc_ess_min);
-    if (!r.probabilities.empty()) {
-      s += fmt::format("posterior: stated seed {:.3f}; choices", r.posterior_stated_seed);
-      for (size_t c = 0; c < r.probabilities.size(); ++c) s += fmt::format(" [{}] {:.3f}", c, r.probabilities[c]);
-      s += "\n";
-    }
+  }
+  if (r.smc && !r.probabilities.empty()) {
+    s += fmt::format("posterior: stated seed {:.3f}; choices", r.posterior_stated_seed);
+    for (size_t c = 0; c < r.probabilities.size(); ++c) s += fmt::format(" [{}] {:.3f}", c, r.probabilities[c]);
+    s += "\n";
   }
   s += fmt::format("work: {} environment steps, peak {} live particles\n", r.env_steps, r.peak_particles);
   s += fmt::format("time: {:.3f} s, {:.0f} rollouts/s\n", r.seconds, per_second(static_cast<double>(r.rollouts), r.seconds));

@@ -41,7 +41,13 @@ struct MfpResult {
   double smc_ess_min = 0;               // effective particles, minimum over steps
   uint64_t smc_retries = 0;             // steps that needed more children per sample
   double posterior_stated_seed = 0;     // P(H0 | observations)
-  std::vector<double> probabilities;    // posterior probability of each choice  // the task's "answer", if it has one
+  std::vector<double> probabilities;    // posterior probability of each choice
+  // Seed inversion (seed_inversion.hpp): the seeds whose start-up draws are the
+  // first frame's and whose exact episode explains every observation.
+  bool inverted = false;                // the inversion ran to completion and some seed explains everything
+  double pinned_bits = 0;               // what the first frame pinned
+  uint64_t seeds_matching_draws = 0;    // seeds the enumeration returned
+  uint64_t seeds_consistent = 0;        // of those, seeds whose whole episode agrees
 };
 
 MfpResult solve_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool);

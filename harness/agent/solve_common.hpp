@@ -16,6 +16,7 @@ struct SolveOptions {
   fs::path programs_dir;      // empty: default_programs_dir(task file)
   uint64_t rollouts = 10000;  // MFP rollouts; CD particles for stochastic programs
   uint64_t seed = 0;          // the agent's own randomness (rollout seeds, policy)
+  bool seed_inversion = true;  // MFP, stochastic programs: try seed_inversion.hpp before the filter
   // change detection
   std::optional<fs::path> answers;  // trigger condition used only to score
   int max_steps = 200;
