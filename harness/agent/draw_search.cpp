@@ -20,26 +20,57 @@ constexpr int64_t kFailed = std::numeric_limits<int64_t>::max();
 
 using Trial = std::function<std::unique_ptr<Environment>(autumn_draw_script& script, uint64_t seed)>;
 
+// The draws one script forces, shared by a descent and an explanation.
+// Invariant: values.size() <= kMaxDraws; drawn = the draws the last run made,
+// bounds[0..drawn) their bounds.
+struct DrawVector {
+  explicit DrawVector(uint64_t seed) : rng(seed), bounds(kMaxDraws) { base_seed = rng(); }
+  // The script for the next run: the current values, the count from zero.
+  autumn_draw_script& arm() {
+    script = autumn_draw_script{values.data(), values.size(), bounds.data(), bounds.size(), 0};
+    return script;
+  }
+  void ran() { drawn = std::min<size_t>(script.drawn, kMaxDraws); }
+  // Random values for draws the last run made beyond those already fixed.
+  void extend() {
+    while (values.size() < drawn) values.push_back(static_cast<int64_t>(rng() % bounds[values.size()]));
+  }
+
+  std::mt19937_64 rng;
+  uint64_t base_seed = 0;  // the seed runs reset or reseed with (unforced draws)
+  autumn_draw_script script{};
+  std::vector<int64_t> values;
+  std::vector<uint64_t> bounds;
+  size_t drawn = 0;
+};
+
+// Cells of `frame` that disagree with the observation's unmasked cells; kFailed
+// when the sizes differ.
+int64_t disagreeing(const TaskFrame& frame, const Grid& obs) {
+  if (frame.size() != obs.cells.size()) return kFailed;
+  int64_t n = 0;
+  for (size_t i = 0; i < frame.size(); ++i) n += obs.cells[i] != 0 && obs.cells[i] != frame[i];
+  return n;
+}
+
 class Descent {
  public:
   // `trial` runs the start-up or step under the script it is given and returns
   // the environment after it, nullptr when the episode failed.
   Descent(Trial trial, const ColourTable& colours, const Grid& obs, uint64_t seed)
-      : trial_(std::move(trial)), colours_(colours), first_(obs), rng_(seed), bounds_(kMaxDraws) {
-    base_seed_ = rng_();
-  }
+      : trial_(std::move(trial)), colours_(colours), first_(obs), d_(seed) {}
 
   // An agreeing start state, or nullptr.
   std::unique_ptr<Environment> run() {
     int64_t score = evaluate();
     if (score == kFailed) return nullptr;
-    extend();  // every draw the start-up made is forced from here on
+    d_.extend();  // every draw the start-up made is forced from here on
     score = evaluate();
     for (int sweep = 0; sweep < kMaxSweeps && score > 0; ++sweep) {
       int64_t before = score;
-      for (size_t k = 0; k < values_.size() && score > 0; ++k) score = improve({k}, score);
+      for (size_t k = 0; k < d_.values.size() && score > 0; ++k) score = improve({k}, score);
       if (score == before)
-        for (size_t k = 0; k + 1 < values_.size() && score == before; ++k) score = improve({k, k + 1}, score);
+        for (size_t k = 0; k + 1 < d_.values.size() && score == before; ++k) score = improve({k, k + 1}, score);
       if (score == before) break;
     }
     if (score != 0) return nullptr;
@@ -53,35 +84,22 @@ class Descent {
   // Mismatching cells of reset() under the current values (kFailed when the
   // start-up fails or the grid differs); refreshes the recorded bounds.
   int64_t evaluate() {
-    script_.forced = values_.data();
-    script_.forced_count = values_.size();
-    script_.bounds = bounds_.data();
-    script_.capacity = bounds_.size();
-    script_.drawn = 0;
     ++resets_;
-    env_ = trial_(script_, base_seed_);
+    env_ = trial_(d_.arm(), d_.base_seed);
     if (!env_) return kFailed;
-    drawn_ = std::min<size_t>(script_.drawn, kMaxDraws);
+    d_.ran();
     frames_.map(env_->frame(), env_->palette(), colours_, frame_);
-    if (frame_.size() != first_.cells.size()) return kFailed;
-    int64_t n = 0;
-    for (size_t i = 0; i < frame_.size(); ++i) n += first_.cells[i] != 0 && first_.cells[i] != frame_[i];
-    return n;
-  }
-
-  // Values for draws the last start-up made beyond those already fixed.
-  void extend() {
-    while (values_.size() < drawn_) values_.push_back(static_cast<int64_t>(rng_() % bounds_[values_.size()]));
+    return disagreeing(frame_, first_);
   }
 
   // Values to try for draw k (all of them up to kMaxValues, else a sample).
   std::vector<int64_t> candidates(size_t k, uint64_t cap) {
-    const uint64_t bound = k < drawn_ ? bounds_[k] : 1;
+    const uint64_t bound = k < d_.drawn ? d_.bounds[k] : 1;
     std::vector<int64_t> out;
     if (bound <= cap) {
       for (uint64_t v = 0; v < bound; ++v) out.push_back(static_cast<int64_t>(v));
     } else {
-      for (uint64_t i = 0; i < cap; ++i) out.push_back(static_cast<int64_t>(rng_() % bound));
+      for (uint64_t i = 0; i < cap; ++i) out.push_back(static_cast<int64_t>(d_.rng() % bound));
     }
     return out;
   }
@@ -93,41 +111,35 @@ class Descent {
     for (size_t k : ks) options.push_back(candidates(k, ks.size() == 1 ? kMaxValues : 32));
     if (ks.size() == 2 && options[0].size() * options[1].size() > kMaxPair) return score;
     std::vector<int64_t> best(ks.size()), current(ks.size());
-    for (size_t i = 0; i < ks.size(); ++i) best[i] = current[i] = values_[ks[i]];
+    std::vector<int64_t>& values = d_.values;
+    for (size_t i = 0; i < ks.size(); ++i) best[i] = current[i] = values[ks[i]];
     int64_t best_score = score;
     std::vector<size_t> at(ks.size(), 0);
     while (true) {
-      for (size_t i = 0; i < ks.size(); ++i) values_[ks[i]] = options[i][at[i]];
+      for (size_t i = 0; i < ks.size(); ++i) values[ks[i]] = options[i][at[i]];
       bool same = true;
-      for (size_t i = 0; i < ks.size(); ++i) same = same && values_[ks[i]] == current[i];
+      for (size_t i = 0; i < ks.size(); ++i) same = same && values[ks[i]] == current[i];
       if (!same) {
         int64_t s = evaluate();
         if (s < best_score) {
           best_score = s;
-          for (size_t i = 0; i < ks.size(); ++i) best[i] = values_[ks[i]];
+          for (size_t i = 0; i < ks.size(); ++i) best[i] = values[ks[i]];
         }
       }
       size_t i = 0;  // next combination (odometer)
       while (i < ks.size() && ++at[i] == options[i].size()) at[i++] = 0;
       if (i == ks.size()) break;
     }
-    for (size_t i = 0; i < ks.size(); ++i) values_[ks[i]] = best[i];
+    for (size_t i = 0; i < ks.size(); ++i) values[ks[i]] = best[i];
     int64_t now = evaluate();  // the bounds of the kept values
-    extend();
+    d_.extend();
     return now;
   }
 
+  Trial trial_;
   const ColourTable& colours_;
   const Grid& first_;  // the observation
-  std::mt19937_64 rng_;
-  uint64_t base_seed_ = 0;
-  // The script the environment follows; values_ and bounds_ are its arrays.
-  // Invariant: values_.size() <= kMaxDraws; drawn_ = draws of the last start-up.
-  autumn_draw_script script_{};
-  std::vector<int64_t> values_;
-  std::vector<uint64_t> bounds_;
-  size_t drawn_ = 0;
-  Trial trial_;
+  DrawVector d_;
   std::unique_ptr<Environment> env_;  // after the last trial
   FrameColours frames_;
   TaskFrame frame_;
@@ -138,44 +150,40 @@ class Descent {
 class Explainer {
  public:
   Explainer(const Environment& model, const ColourTable& colours, const std::vector<Observation>& obs, uint64_t seed)
-      : model_(model), colours_(colours), obs_(obs), rng_(seed), bounds_(kMaxDraws) {
-    base_seed_ = rng_();
-  }
+      : model_(model), colours_(colours), obs_(obs), d_(seed) {}
 
   std::optional<DrawExplanation> run() {
-    std::vector<size_t> drawn_by(obs_.size());  // draws made up to and including observation t
     for (size_t t = 0; t < obs_.size(); ++t) {
       int64_t score = evaluate(t);
       if (score == kFailed) return std::nullopt;
-      const size_t from = values_.size();
-      extend();
+      const size_t from = d_.values.size();
+      d_.extend();
       score = evaluate(t);
       // The step's own draws first; then every draw, as a hidden earlier draw
       // (a rocket's burst height) may be what this frame shows first.
       for (size_t lo : {from, size_t{0}})
         for (int sweep = 0; sweep < kMaxSweeps && score > 0 && runs_ <= kMaxRuns; ++sweep) {
           const int64_t before = score;
-          for (size_t k = lo; k < values_.size() && score > 0; ++k) score = improve(k, t, score);
+          for (size_t k = lo; k < d_.values.size() && score > 0; ++k) score = improve(k, t, score);
           if (score == before) break;
         }
       if (score != 0 || runs_ > kMaxRuns) return std::nullopt;
-      drawn_by[t] = values_.size();
     }
     DrawExplanation e;
     const size_t last = obs_.size() - 1;
     if (evaluate(last) != 0) return std::nullopt;
-    values_.resize(std::min(values_.size(), drawn_));
-    e.values = values_;
-    e.bounds.assign(bounds_.begin(), bounds_.begin() + static_cast<std::ptrdiff_t>(values_.size()));
-    for (size_t k = 0; k < values_.size(); ++k) {
+    d_.values.resize(std::min(d_.values.size(), d_.drawn));
+    e.values = d_.values;
+    e.bounds.assign(d_.bounds.begin(), d_.bounds.begin() + static_cast<std::ptrdiff_t>(d_.values.size()));
+    for (size_t k = 0; k < d_.values.size(); ++k) {
       bool pinned = e.bounds[k] <= kMaxValues;  // a larger bound is only sampled: never counted as pinned
-      const int64_t keep = values_[k];
+      const int64_t keep = d_.values[k];
       for (int64_t a = 0; pinned && a < static_cast<int64_t>(e.bounds[k]); ++a) {
         if (a == keep) continue;
-        values_[k] = a;
+        d_.values[k] = a;
         if (evaluate(last) == 0) pinned = false;
       }
-      values_[k] = keep;
+      d_.values[k] = keep;
       e.pinned.push_back(pinned);
       if (runs_ > kMaxRuns) return std::nullopt;
     }
@@ -188,11 +196,10 @@ class Explainer {
 
   // Disagreeing cells over observations 0..upto under the current values.
   int64_t evaluate(size_t upto) {
-    script_ = autumn_draw_script{values_.data(), values_.size(), bounds_.data(), bounds_.size(), 0};
     ++runs_;
     auto env = model_.clone();
     ++steps_;
-    if (!env->set_draw_script(&script_) || !env->reset(base_seed_)) return kFailed;
+    if (!env->set_draw_script(&d_.arm()) || !env->reset(d_.base_seed)) return kFailed;
     int64_t n = 0;
     for (size_t t = 0; t <= upto; ++t) {
       if (t > 0) {
@@ -200,46 +207,35 @@ class Explainer {
         if (!obs_[t].action || !env->step(*obs_[t].action)) return kFailed;
       }
       frames_.map(env->frame(), env->palette(), colours_, frame_);
-      const Grid& g = obs_[t].grid;
-      if (frame_.size() != g.cells.size()) return kFailed;
-      for (size_t i = 0; i < frame_.size(); ++i) n += g.cells[i] != 0 && g.cells[i] != frame_[i];
+      const int64_t d = disagreeing(frame_, obs_[t].grid);
+      if (d == kFailed) return kFailed;
+      n += d;
     }
-    drawn_ = std::min<size_t>(script_.drawn, kMaxDraws);
+    d_.ran();
     return n;
   }
 
-  void extend() {
-    while (values_.size() < drawn_) values_.push_back(static_cast<int64_t>(rng_() % bounds_[values_.size()]));
-  }
-
   int64_t improve(size_t k, size_t upto, int64_t score) {
-    const uint64_t bound = bounds_[k];
-    const int64_t keep = values_[k];
+    const uint64_t bound = d_.bounds[k];
+    const int64_t keep = d_.values[k];
     int64_t best = score, best_v = keep;
     for (uint64_t i = 0; i < std::min(bound, kMaxValues); ++i) {
-      const int64_t a = bound <= kMaxValues ? static_cast<int64_t>(i) : static_cast<int64_t>(rng_() % bound);
+      const int64_t a = bound <= kMaxValues ? static_cast<int64_t>(i) : static_cast<int64_t>(d_.rng() % bound);
       if (a == keep) continue;
-      values_[k] = a;
+      d_.values[k] = a;
       const int64_t s = evaluate(upto);
       if (s < best) best = s, best_v = a;
     }
-    values_[k] = best_v;
+    d_.values[k] = best_v;
     const int64_t now = evaluate(upto);
-    extend();
+    d_.extend();
     return now;
   }
 
   const Environment& model_;
   const ColourTable& colours_;
   const std::vector<Observation>& obs_;
-  std::mt19937_64 rng_;
-  uint64_t base_seed_ = 0;
-  // The script and its arrays. Invariant: values_.size() <= kMaxDraws; drawn_ =
-  // the draws of the last replay.
-  autumn_draw_script script_{};
-  std::vector<int64_t> values_;
-  std::vector<uint64_t> bounds_;
-  size_t drawn_ = 0;
+  DrawVector d_;
   FrameColours frames_;
   TaskFrame frame_;
   uint64_t runs_ = 0, steps_ = 0;
