@@ -197,29 +197,33 @@ struct Prog {
   }
   static void render_C0_Piece(State& s, const C0_Piece& o1, std::vector<Elem>& out2) {
     (void)s;
-    for (const CellV& c3 : o1.cells) {
-      int32_t x4 = c3.x;
-      int32_t y5 = c3.y;
-      if ((int32_t(c3.dc) == int32_t(-1))) {
-        fail_at(12, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
-      }
-      int32_t colour6 = c3.colour;
-      switch (int32_t(c3.dc)) {
-        case 0: {
-          const std::vector<int32_t> v7 = std::vector<int32_t>{int32_t(2), int32_t(2), int32_t(3), int32_t(3), int32_t(3), int32_t(3), int32_t(4), int32_t(4), int32_t(5)};
-          if (v7.empty()) {
-            fail_at(13, std::string() + std::string("at: empty list"));
-          }
-          if (((o1.f0 < int32_t(0)) || (o1.f0 >= int32_t(v7.size())))) {
-            fail_at(13, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
-          }
-          const int32_t t8 = v7[size_t(o1.f0)];
-          colour6 = t8;
-          break;
+    {
+      const auto& c3_list = o1.cells;
+      charge_loop(s.core, 63, int64_t(c3_list.size()));
+      for (const CellV& c3 : c3_list) {
+        int32_t x4 = c3.x;
+        int32_t y5 = c3.y;
+        if ((int32_t(c3.dc) == int32_t(-1))) {
+          fail_at(63, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
         }
-        default: break;
+        int32_t colour6 = c3.colour;
+        switch (int32_t(c3.dc)) {
+          case 0: {
+            const std::vector<int32_t> v7 = std::vector<int32_t>{int32_t(2), int32_t(2), int32_t(3), int32_t(3), int32_t(3), int32_t(3), int32_t(4), int32_t(4), int32_t(5)};
+            if (v7.empty()) {
+              fail_at(65, std::string() + std::string("at: empty list"));
+            }
+            if (((o1.f0 < int32_t(0)) || (o1.f0 >= int32_t(v7.size())))) {
+              fail_at(65, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
+            }
+            const int32_t t8 = v7[size_t(o1.f0)];
+            colour6 = t8;
+            break;
+          }
+          default: break;
+        }
+        out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
       }
-      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
     }
   }
   static void start(State& s, uint64_t seed) {
@@ -268,10 +272,14 @@ struct Prog {
     std::vector<CellV>& out20 = s.scratch.v.b0;
     out20.clear();
     out20.reserve(size_t(int32_t(t19.size())));
-    for (const Pos& x21 : t19) {
-      // inlined: function at programs/blockfall.au:24
-      const CellV cell22 = CellV{x21.x, x21.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-      out20.push_back(cell22);
+    {
+      const auto& x21_list = t19;
+      charge_loop(s.core, 2, int64_t(x21_list.size()));
+      for (const Pos& x21 : x21_list) {
+        // inlined: function at programs/blockfall.au:24
+        const CellV cell22 = CellV{x21.x, x21.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+        out20.push_back(cell22);
+      }
     }
     std::swap(l_allCells17, out20);
     C0_Piece o23 = C0_Piece{t15, g16, std::move(l_allCells17)};
@@ -282,17 +290,17 @@ struct Prog {
     s.u_stack_13 = false;
     s.core.tally.v = StateTally{};
     const std::vector<C1_Block>& g24 = s.g_stack_12;
-    tally_global(s.core, 2, "stack", g24);
+    tally_global(s.core, 3, "stack", g24);
     const C0_Piece& g25 = s.g_piece_8;
-    tally_global(s.core, 3, "piece", g25);
+    tally_global(s.core, 4, "piece", g25);
     const Pos& g26 = s.g_spawnAt_7;
-    tally_global(s.core, 4, "spawnAt", g26);
+    tally_global(s.core, 5, "spawnAt", g26);
     const std::vector<int32_t>& g27 = s.g_turnOf_5;
-    tally_global(s.core, 5, "turnOf", g27);
+    tally_global(s.core, 6, "turnOf", g27);
     const std::vector<int32_t>& g28 = s.g_hues_6;
-    tally_global(s.core, 6, "hues", g28);
+    tally_global(s.core, 7, "hues", g28);
     const std::vector<std::vector<Pos>>& g29 = s.g_shapes_4;
-    tally_global(s.core, 7, "shapes", g29);
+    tally_global(s.core, 8, "shapes", g29);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -318,14 +326,22 @@ struct Prog {
         std::vector<Elem>& cells8 = s.scratch.v.b2;
         cells8.clear();
         render_C0_Piece(s, upd6, cells8);
-        for (const Elem& e9 : cells8) {
-          rendered7.push_back(e9);
+        {
+          const auto& e9_list = cells8;
+          charge_loop(s.core, 9, int64_t(e9_list.size()));
+          for (const Elem& e9 : e9_list) {
+            rendered7.push_back(e9);
+          }
         }
         bool within10 = true;
-        for (const Elem& e11 : rendered7) {
-          if ((((e11.position.x < int32_t(0)) || (e11.position.x >= int32_t(8))) || ((e11.position.y < int32_t(0)) || (e11.position.y >= int32_t(8))))) {
-            within10 = false;
-            break;
+        {
+          const auto& e11_list = rendered7;
+          charge_loop(s.core, 9, int64_t(e11_list.size()));
+          for (const Elem& e11 : e11_list) {
+            if ((((e11.position.x < int32_t(0)) || (e11.position.x >= int32_t(8))) || ((e11.position.y < int32_t(0)) || (e11.position.y >= int32_t(8))))) {
+              within10 = false;
+              break;
+            }
           }
         }
         bool r12{};
@@ -346,8 +362,12 @@ struct Prog {
           std::vector<Elem>& cells21 = s.scratch.v.b7;
           cells21.clear();
           render_C0_Piece(s, prev2, cells21);
-          for (const Elem& e22 : cells21) {
-            rendered20.push_back(e22);
+          {
+            const auto& e22_list = cells21;
+            charge_loop(s.core, 10, int64_t(e22_list.size()));
+            for (const Elem& e22 : e22_list) {
+              rendered20.push_back(e22);
+            }
           }
           std::swap(l_prev_elems17, rendered20);
           std::vector<Elem>& rendered23 = s.scratch.v.b8;
@@ -355,34 +375,50 @@ struct Prog {
           std::vector<Elem>& cells24 = s.scratch.v.b9;
           cells24.clear();
           render_C0_Piece(s, upd16, cells24);
-          for (const Elem& e25 : cells24) {
-            rendered23.push_back(e25);
+          {
+            const auto& e25_list = cells24;
+            charge_loop(s.core, 11, int64_t(e25_list.size()));
+            for (const Elem& e25 : e25_list) {
+              rendered23.push_back(e25);
+            }
           }
           std::swap(l_curr_elems18, rendered23);
           std::vector<Elem>& out26 = s.scratch.v.b10;
           out26.clear();
-          for (const Elem& x27 : l_curr_elems18) {
-            bool any28 = false;
-            for (const Elem& x29 : l_prev_elems17) {
-              const bool t30 = (x29 == x27);
-              if (t30) {
-                any28 = true;
-                break;
+          {
+            const auto& x27_list = l_curr_elems18;
+            charge_loop(s.core, 12, int64_t(x27_list.size()));
+            for (const Elem& x27 : x27_list) {
+              bool any28 = false;
+              {
+                const auto& x29_list = l_prev_elems17;
+                charge_loop(s.core, 13, int64_t(x29_list.size()));
+                for (const Elem& x29 : x29_list) {
+                  const bool t30 = (x29 == x27);
+                  if (t30) {
+                    any28 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t31 = !any28;
-            if (t31) {
-              out26.push_back(x27);
+              const bool t31 = !any28;
+              if (t31) {
+                out26.push_back(x27);
+              }
             }
           }
           std::swap(l_filtered_elems19, out26);
           bool any32 = false;
-          for (const Elem& x33 : l_filtered_elems19) {
-            const bool t34 = s.core.occupied.free(x33.position);
-            const bool t35 = !t34;
-            if (t35) {
-              any32 = true;
-              break;
+          {
+            const auto& x33_list = l_filtered_elems19;
+            charge_loop(s.core, 14, int64_t(x33_list.size()));
+            for (const Elem& x33 : x33_list) {
+              const bool t34 = s.core.occupied.free(x33.position);
+              const bool t35 = !t34;
+              if (t35) {
+                any32 = true;
+                break;
+              }
             }
           }
           const bool t36 = !any32;
@@ -428,14 +464,22 @@ struct Prog {
         std::vector<Elem>& cells52 = s.scratch.v.b12;
         cells52.clear();
         render_C0_Piece(s, upd50, cells52);
-        for (const Elem& e53 : cells52) {
-          rendered51.push_back(e53);
+        {
+          const auto& e53_list = cells52;
+          charge_loop(s.core, 15, int64_t(e53_list.size()));
+          for (const Elem& e53 : e53_list) {
+            rendered51.push_back(e53);
+          }
         }
         bool within54 = true;
-        for (const Elem& e55 : rendered51) {
-          if ((((e55.position.x < int32_t(0)) || (e55.position.x >= int32_t(8))) || ((e55.position.y < int32_t(0)) || (e55.position.y >= int32_t(8))))) {
-            within54 = false;
-            break;
+        {
+          const auto& e55_list = rendered51;
+          charge_loop(s.core, 15, int64_t(e55_list.size()));
+          for (const Elem& e55 : e55_list) {
+            if ((((e55.position.x < int32_t(0)) || (e55.position.x >= int32_t(8))) || ((e55.position.y < int32_t(0)) || (e55.position.y >= int32_t(8))))) {
+              within54 = false;
+              break;
+            }
           }
         }
         l_wbound44 = within54;
@@ -455,8 +499,12 @@ struct Prog {
         std::vector<Elem>& cells64 = s.scratch.v.b17;
         cells64.clear();
         render_C0_Piece(s, prev43, cells64);
-        for (const Elem& e65 : cells64) {
-          rendered63.push_back(e65);
+        {
+          const auto& e65_list = cells64;
+          charge_loop(s.core, 16, int64_t(e65_list.size()));
+          for (const Elem& e65 : e65_list) {
+            rendered63.push_back(e65);
+          }
         }
         std::swap(l_prev_elems60, rendered63);
         std::vector<Elem>& rendered66 = s.scratch.v.b18;
@@ -464,34 +512,50 @@ struct Prog {
         std::vector<Elem>& cells67 = s.scratch.v.b19;
         cells67.clear();
         render_C0_Piece(s, upd59, cells67);
-        for (const Elem& e68 : cells67) {
-          rendered66.push_back(e68);
+        {
+          const auto& e68_list = cells67;
+          charge_loop(s.core, 17, int64_t(e68_list.size()));
+          for (const Elem& e68 : e68_list) {
+            rendered66.push_back(e68);
+          }
         }
         std::swap(l_curr_elems61, rendered66);
         std::vector<Elem>& out69 = s.scratch.v.b20;
         out69.clear();
-        for (const Elem& x70 : l_curr_elems61) {
-          bool any71 = false;
-          for (const Elem& x72 : l_prev_elems60) {
-            const bool t73 = (x72 == x70);
-            if (t73) {
-              any71 = true;
-              break;
+        {
+          const auto& x70_list = l_curr_elems61;
+          charge_loop(s.core, 18, int64_t(x70_list.size()));
+          for (const Elem& x70 : x70_list) {
+            bool any71 = false;
+            {
+              const auto& x72_list = l_prev_elems60;
+              charge_loop(s.core, 19, int64_t(x72_list.size()));
+              for (const Elem& x72 : x72_list) {
+                const bool t73 = (x72 == x70);
+                if (t73) {
+                  any71 = true;
+                  break;
+                }
+              }
             }
-          }
-          const bool t74 = !any71;
-          if (t74) {
-            out69.push_back(x70);
+            const bool t74 = !any71;
+            if (t74) {
+              out69.push_back(x70);
+            }
           }
         }
         std::swap(l_filtered_elems62, out69);
         bool any75 = false;
-        for (const Elem& x76 : l_filtered_elems62) {
-          const bool t77 = s.core.occupied.free(x76.position);
-          const bool t78 = !t77;
-          if (t78) {
-            any75 = true;
-            break;
+        {
+          const auto& x76_list = l_filtered_elems62;
+          charge_loop(s.core, 20, int64_t(x76_list.size()));
+          for (const Elem& x76 : x76_list) {
+            const bool t77 = s.core.occupied.free(x76.position);
+            const bool t78 = !t77;
+            if (t78) {
+              any75 = true;
+              break;
+            }
           }
         }
         const bool t79 = !any75;
@@ -531,28 +595,32 @@ struct Prog {
         // inlined: function at programs/blockfall.au:33
         const std::vector<int32_t>& g89 = s.g_turnOf_5;
         if (g89.empty()) {
-          fail_at(8, std::string() + std::string("at: empty list"));
+          fail_at(21, std::string() + std::string("at: empty list"));
         }
         if (((prev88.f0 < int32_t(0)) || (prev88.f0 >= int32_t(g89.size())))) {
-          fail_at(8, std::string() + std::string("at: index ") + std::to_string(prev88.f0) + std::string(" out of bounds"));
+          fail_at(21, std::string() + std::string("at: index ") + std::to_string(prev88.f0) + std::string(" out of bounds"));
         }
         const int32_t t90 = g89[size_t(prev88.f0)];
         std::vector<CellV> l_allCells91{};
         const std::vector<std::vector<Pos>>& g92 = s.g_shapes_4;
         if (g92.empty()) {
-          fail_at(9, std::string() + std::string("at: empty list"));
+          fail_at(22, std::string() + std::string("at: empty list"));
         }
         if (((t90 < int32_t(0)) || (t90 >= int32_t(g92.size())))) {
-          fail_at(9, std::string() + std::string("at: index ") + std::to_string(t90) + std::string(" out of bounds"));
+          fail_at(22, std::string() + std::string("at: index ") + std::to_string(t90) + std::string(" out of bounds"));
         }
         const std::vector<Pos> t93 = g92[size_t(t90)];
         std::vector<CellV>& out94 = s.scratch.v.b21;
         out94.clear();
         out94.reserve(size_t(int32_t(t93.size())));
-        for (const Pos& x95 : t93) {
-          // inlined: function at programs/blockfall.au:24
-          const CellV cell96 = CellV{x95.x, x95.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-          out94.push_back(cell96);
+        {
+          const auto& x95_list = t93;
+          charge_loop(s.core, 23, int64_t(x95_list.size()));
+          for (const Pos& x95 : x95_list) {
+            // inlined: function at programs/blockfall.au:24
+            const CellV cell96 = CellV{x95.x, x95.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+            out94.push_back(cell96);
+          }
         }
         std::swap(l_allCells91, out94);
         const C0_Piece o97 = C0_Piece{t90, prev88.origin, std::move(l_allCells91)};
@@ -563,14 +631,22 @@ struct Prog {
         std::vector<Elem>& cells100 = s.scratch.v.b23;
         cells100.clear();
         render_C0_Piece(s, o97, cells100);
-        for (const Elem& e101 : cells100) {
-          rendered99.push_back(e101);
+        {
+          const auto& e101_list = cells100;
+          charge_loop(s.core, 24, int64_t(e101_list.size()));
+          for (const Elem& e101 : e101_list) {
+            rendered99.push_back(e101);
+          }
         }
         bool within102 = true;
-        for (const Elem& e103 : rendered99) {
-          if ((((e103.position.x < int32_t(0)) || (e103.position.x >= int32_t(8))) || ((e103.position.y < int32_t(0)) || (e103.position.y >= int32_t(8))))) {
-            within102 = false;
-            break;
+        {
+          const auto& e103_list = rendered99;
+          charge_loop(s.core, 24, int64_t(e103_list.size()));
+          for (const Elem& e103 : e103_list) {
+            if ((((e103.position.x < int32_t(0)) || (e103.position.x >= int32_t(8))) || ((e103.position.y < int32_t(0)) || (e103.position.y >= int32_t(8))))) {
+              within102 = false;
+              break;
+            }
           }
         }
         bool r104{};
@@ -586,8 +662,12 @@ struct Prog {
           std::vector<Elem>& cells109 = s.scratch.v.b28;
           cells109.clear();
           render_C0_Piece(s, prev98, cells109);
-          for (const Elem& e110 : cells109) {
-            rendered108.push_back(e110);
+          {
+            const auto& e110_list = cells109;
+            charge_loop(s.core, 25, int64_t(e110_list.size()));
+            for (const Elem& e110 : e110_list) {
+              rendered108.push_back(e110);
+            }
           }
           std::swap(l_prev_elems105, rendered108);
           std::vector<Elem>& rendered111 = s.scratch.v.b29;
@@ -595,34 +675,50 @@ struct Prog {
           std::vector<Elem>& cells112 = s.scratch.v.b30;
           cells112.clear();
           render_C0_Piece(s, o97, cells112);
-          for (const Elem& e113 : cells112) {
-            rendered111.push_back(e113);
+          {
+            const auto& e113_list = cells112;
+            charge_loop(s.core, 26, int64_t(e113_list.size()));
+            for (const Elem& e113 : e113_list) {
+              rendered111.push_back(e113);
+            }
           }
           std::swap(l_curr_elems106, rendered111);
           std::vector<Elem>& out114 = s.scratch.v.b31;
           out114.clear();
-          for (const Elem& x115 : l_curr_elems106) {
-            bool any116 = false;
-            for (const Elem& x117 : l_prev_elems105) {
-              const bool t118 = (x117 == x115);
-              if (t118) {
-                any116 = true;
-                break;
+          {
+            const auto& x115_list = l_curr_elems106;
+            charge_loop(s.core, 27, int64_t(x115_list.size()));
+            for (const Elem& x115 : x115_list) {
+              bool any116 = false;
+              {
+                const auto& x117_list = l_prev_elems105;
+                charge_loop(s.core, 28, int64_t(x117_list.size()));
+                for (const Elem& x117 : x117_list) {
+                  const bool t118 = (x117 == x115);
+                  if (t118) {
+                    any116 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t119 = !any116;
-            if (t119) {
-              out114.push_back(x115);
+              const bool t119 = !any116;
+              if (t119) {
+                out114.push_back(x115);
+              }
             }
           }
           std::swap(l_filtered_elems107, out114);
           bool any120 = false;
-          for (const Elem& x121 : l_filtered_elems107) {
-            const bool t122 = s.core.occupied.free(x121.position);
-            const bool t123 = !t122;
-            if (t123) {
-              any120 = true;
-              break;
+          {
+            const auto& x121_list = l_filtered_elems107;
+            charge_loop(s.core, 29, int64_t(x121_list.size()));
+            for (const Elem& x121 : x121_list) {
+              const bool t122 = s.core.occupied.free(x121.position);
+              const bool t123 = !t122;
+              if (t123) {
+                any120 = true;
+                break;
+              }
             }
           }
           const bool t124 = !any120;
@@ -640,28 +736,32 @@ struct Prog {
         // inlined: function at programs/blockfall.au:33
         const std::vector<int32_t>& g126 = s.g_turnOf_5;
         if (g126.empty()) {
-          fail_at(8, std::string() + std::string("at: empty list"));
+          fail_at(21, std::string() + std::string("at: empty list"));
         }
         if (((prev125.f0 < int32_t(0)) || (prev125.f0 >= int32_t(g126.size())))) {
-          fail_at(8, std::string() + std::string("at: index ") + std::to_string(prev125.f0) + std::string(" out of bounds"));
+          fail_at(21, std::string() + std::string("at: index ") + std::to_string(prev125.f0) + std::string(" out of bounds"));
         }
         const int32_t t127 = g126[size_t(prev125.f0)];
         std::vector<CellV> l_allCells128{};
         const std::vector<std::vector<Pos>>& g129 = s.g_shapes_4;
         if (g129.empty()) {
-          fail_at(9, std::string() + std::string("at: empty list"));
+          fail_at(22, std::string() + std::string("at: empty list"));
         }
         if (((t127 < int32_t(0)) || (t127 >= int32_t(g129.size())))) {
-          fail_at(9, std::string() + std::string("at: index ") + std::to_string(t127) + std::string(" out of bounds"));
+          fail_at(22, std::string() + std::string("at: index ") + std::to_string(t127) + std::string(" out of bounds"));
         }
         const std::vector<Pos> t130 = g129[size_t(t127)];
         std::vector<CellV>& out131 = s.scratch.v.b32;
         out131.clear();
         out131.reserve(size_t(int32_t(t130.size())));
-        for (const Pos& x132 : t130) {
-          // inlined: function at programs/blockfall.au:24
-          const CellV cell133 = CellV{x132.x, x132.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-          out131.push_back(cell133);
+        {
+          const auto& x132_list = t130;
+          charge_loop(s.core, 23, int64_t(x132_list.size()));
+          for (const Pos& x132 : x132_list) {
+            // inlined: function at programs/blockfall.au:24
+            const CellV cell133 = CellV{x132.x, x132.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+            out131.push_back(cell133);
+          }
         }
         std::swap(l_allCells128, out131);
         C0_Piece o134 = C0_Piece{t127, prev125.origin, std::move(l_allCells128)};
@@ -681,102 +781,134 @@ struct Prog {
         const C0_Piece& prev136 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
         const std::vector<int32_t> list137 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
         C0_Piece acc138 = prev136;
-        for (const int32_t& x139 : list137) {
-          // inlined: function at programs/blockfall.au:48
-          const int32_t t140 = add(acc138.origin.x, int32_t(0));
-          const int32_t t141 = add(acc138.origin.y, int32_t(1));
-          const Pos t142 = Pos{t140, t141};
-          C0_Piece upd143 = acc138;
-          upd143.origin = t142;
-          std::vector<Elem>& rendered144 = s.scratch.v.b33;
-          rendered144.clear();
-          std::vector<Elem>& cells145 = s.scratch.v.b34;
-          cells145.clear();
-          render_C0_Piece(s, upd143, cells145);
-          for (const Elem& e146 : cells145) {
-            rendered144.push_back(e146);
-          }
-          bool within147 = true;
-          for (const Elem& e148 : rendered144) {
-            if ((((e148.position.x < int32_t(0)) || (e148.position.x >= int32_t(8))) || ((e148.position.y < int32_t(0)) || (e148.position.y >= int32_t(8))))) {
-              within147 = false;
-              break;
+        {
+          const auto& x139_list = list137;
+          charge_loop(s.core, 30, int64_t(x139_list.size()));
+          for (const int32_t& x139 : x139_list) {
+            // inlined: function at programs/blockfall.au:48
+            const int32_t t140 = add(acc138.origin.x, int32_t(0));
+            const int32_t t141 = add(acc138.origin.y, int32_t(1));
+            const Pos t142 = Pos{t140, t141};
+            C0_Piece upd143 = acc138;
+            upd143.origin = t142;
+            std::vector<Elem>& rendered144 = s.scratch.v.b33;
+            rendered144.clear();
+            std::vector<Elem>& cells145 = s.scratch.v.b34;
+            cells145.clear();
+            render_C0_Piece(s, upd143, cells145);
+            {
+              const auto& e146_list = cells145;
+              charge_loop(s.core, 31, int64_t(e146_list.size()));
+              for (const Elem& e146 : e146_list) {
+                rendered144.push_back(e146);
+              }
             }
-          }
-          bool r149{};
-          if (within147) {
-            const int32_t t150 = add(acc138.origin.x, int32_t(0));
-            const int32_t t151 = add(acc138.origin.y, int32_t(1));
-            const Pos t152 = Pos{t150, t151};
-            C0_Piece upd153 = acc138;
-            upd153.origin = t152;
-            std::vector<Elem>& l_prev_elems154 = s.scratch.v.b35;
-            l_prev_elems154.clear();
-            std::vector<Elem>& l_curr_elems155 = s.scratch.v.b36;
-            l_curr_elems155.clear();
-            std::vector<Elem>& l_filtered_elems156 = s.scratch.v.b37;
-            l_filtered_elems156.clear();
-            std::vector<Elem>& rendered157 = s.scratch.v.b38;
-            rendered157.clear();
-            std::vector<Elem>& cells158 = s.scratch.v.b39;
-            cells158.clear();
-            render_C0_Piece(s, acc138, cells158);
-            for (const Elem& e159 : cells158) {
-              rendered157.push_back(e159);
-            }
-            std::swap(l_prev_elems154, rendered157);
-            std::vector<Elem>& rendered160 = s.scratch.v.b40;
-            rendered160.clear();
-            std::vector<Elem>& cells161 = s.scratch.v.b41;
-            cells161.clear();
-            render_C0_Piece(s, upd153, cells161);
-            for (const Elem& e162 : cells161) {
-              rendered160.push_back(e162);
-            }
-            std::swap(l_curr_elems155, rendered160);
-            std::vector<Elem>& out163 = s.scratch.v.b42;
-            out163.clear();
-            for (const Elem& x164 : l_curr_elems155) {
-              bool any165 = false;
-              for (const Elem& x166 : l_prev_elems154) {
-                const bool t167 = (x166 == x164);
-                if (t167) {
-                  any165 = true;
+            bool within147 = true;
+            {
+              const auto& e148_list = rendered144;
+              charge_loop(s.core, 31, int64_t(e148_list.size()));
+              for (const Elem& e148 : e148_list) {
+                if ((((e148.position.x < int32_t(0)) || (e148.position.x >= int32_t(8))) || ((e148.position.y < int32_t(0)) || (e148.position.y >= int32_t(8))))) {
+                  within147 = false;
                   break;
                 }
               }
-              const bool t168 = !any165;
-              if (t168) {
-                out163.push_back(x164);
-              }
             }
-            std::swap(l_filtered_elems156, out163);
-            bool any169 = false;
-            for (const Elem& x170 : l_filtered_elems156) {
-              const bool t171 = s.core.occupied.free(x170.position);
-              const bool t172 = !t171;
-              if (t172) {
-                any169 = true;
-                break;
+            bool r149{};
+            if (within147) {
+              const int32_t t150 = add(acc138.origin.x, int32_t(0));
+              const int32_t t151 = add(acc138.origin.y, int32_t(1));
+              const Pos t152 = Pos{t150, t151};
+              C0_Piece upd153 = acc138;
+              upd153.origin = t152;
+              std::vector<Elem>& l_prev_elems154 = s.scratch.v.b35;
+              l_prev_elems154.clear();
+              std::vector<Elem>& l_curr_elems155 = s.scratch.v.b36;
+              l_curr_elems155.clear();
+              std::vector<Elem>& l_filtered_elems156 = s.scratch.v.b37;
+              l_filtered_elems156.clear();
+              std::vector<Elem>& rendered157 = s.scratch.v.b38;
+              rendered157.clear();
+              std::vector<Elem>& cells158 = s.scratch.v.b39;
+              cells158.clear();
+              render_C0_Piece(s, acc138, cells158);
+              {
+                const auto& e159_list = cells158;
+                charge_loop(s.core, 32, int64_t(e159_list.size()));
+                for (const Elem& e159 : e159_list) {
+                  rendered157.push_back(e159);
+                }
               }
+              std::swap(l_prev_elems154, rendered157);
+              std::vector<Elem>& rendered160 = s.scratch.v.b40;
+              rendered160.clear();
+              std::vector<Elem>& cells161 = s.scratch.v.b41;
+              cells161.clear();
+              render_C0_Piece(s, upd153, cells161);
+              {
+                const auto& e162_list = cells161;
+                charge_loop(s.core, 33, int64_t(e162_list.size()));
+                for (const Elem& e162 : e162_list) {
+                  rendered160.push_back(e162);
+                }
+              }
+              std::swap(l_curr_elems155, rendered160);
+              std::vector<Elem>& out163 = s.scratch.v.b42;
+              out163.clear();
+              {
+                const auto& x164_list = l_curr_elems155;
+                charge_loop(s.core, 34, int64_t(x164_list.size()));
+                for (const Elem& x164 : x164_list) {
+                  bool any165 = false;
+                  {
+                    const auto& x166_list = l_prev_elems154;
+                    charge_loop(s.core, 35, int64_t(x166_list.size()));
+                    for (const Elem& x166 : x166_list) {
+                      const bool t167 = (x166 == x164);
+                      if (t167) {
+                        any165 = true;
+                        break;
+                      }
+                    }
+                  }
+                  const bool t168 = !any165;
+                  if (t168) {
+                    out163.push_back(x164);
+                  }
+                }
+              }
+              std::swap(l_filtered_elems156, out163);
+              bool any169 = false;
+              {
+                const auto& x170_list = l_filtered_elems156;
+                charge_loop(s.core, 36, int64_t(x170_list.size()));
+                for (const Elem& x170 : x170_list) {
+                  const bool t171 = s.core.occupied.free(x170.position);
+                  const bool t172 = !t171;
+                  if (t172) {
+                    any169 = true;
+                    break;
+                  }
+                }
+              }
+              const bool t173 = !any169;
+              r149 = t173;
+            } else {
+              r149 = false;
             }
-            const bool t173 = !any169;
-            r149 = t173;
-          } else {
-            r149 = false;
+            C0_Piece r174{};
+            if (r149) {
+              const int32_t t175 = add(acc138.origin.x, int32_t(0));
+              const int32_t t176 = add(acc138.origin.y, int32_t(1));
+              const Pos t177 = Pos{t175, t176};
+              C0_Piece upd178 = acc138;
+              upd178.origin = t177;
+              r174 = std::move(upd178);
+            } else {
+              r174 = acc138;
+            }
+            acc138 = std::move(r174);
           }
-          C0_Piece r174{};
-          if (r149) {
-            const int32_t t175 = add(acc138.origin.x, int32_t(0));
-            const int32_t t176 = add(acc138.origin.y, int32_t(1));
-            const Pos t177 = Pos{t175, t176};
-            C0_Piece upd178 = acc138;
-            upd178.origin = t177;
-            r174 = std::move(upd178);
-          } else {
-            r174 = acc138;
-          }
-          acc138 = std::move(r174);
         }
         if (!s.scratch.v.sv_piece_11) {
           std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
@@ -802,14 +934,22 @@ struct Prog {
         std::vector<Elem>& cells185 = s.scratch.v.b44;
         cells185.clear();
         render_C0_Piece(s, upd183, cells185);
-        for (const Elem& e186 : cells185) {
-          rendered184.push_back(e186);
+        {
+          const auto& e186_list = cells185;
+          charge_loop(s.core, 37, int64_t(e186_list.size()));
+          for (const Elem& e186 : e186_list) {
+            rendered184.push_back(e186);
+          }
         }
         bool within187 = true;
-        for (const Elem& e188 : rendered184) {
-          if ((((e188.position.x < int32_t(0)) || (e188.position.x >= int32_t(8))) || ((e188.position.y < int32_t(0)) || (e188.position.y >= int32_t(8))))) {
-            within187 = false;
-            break;
+        {
+          const auto& e188_list = rendered184;
+          charge_loop(s.core, 37, int64_t(e188_list.size()));
+          for (const Elem& e188 : e188_list) {
+            if ((((e188.position.x < int32_t(0)) || (e188.position.x >= int32_t(8))) || ((e188.position.y < int32_t(0)) || (e188.position.y >= int32_t(8))))) {
+              within187 = false;
+              break;
+            }
           }
         }
         bool r189{};
@@ -830,8 +970,12 @@ struct Prog {
           std::vector<Elem>& cells198 = s.scratch.v.b49;
           cells198.clear();
           render_C0_Piece(s, g179, cells198);
-          for (const Elem& e199 : cells198) {
-            rendered197.push_back(e199);
+          {
+            const auto& e199_list = cells198;
+            charge_loop(s.core, 38, int64_t(e199_list.size()));
+            for (const Elem& e199 : e199_list) {
+              rendered197.push_back(e199);
+            }
           }
           std::swap(l_prev_elems194, rendered197);
           std::vector<Elem>& rendered200 = s.scratch.v.b50;
@@ -839,34 +983,50 @@ struct Prog {
           std::vector<Elem>& cells201 = s.scratch.v.b51;
           cells201.clear();
           render_C0_Piece(s, upd193, cells201);
-          for (const Elem& e202 : cells201) {
-            rendered200.push_back(e202);
+          {
+            const auto& e202_list = cells201;
+            charge_loop(s.core, 39, int64_t(e202_list.size()));
+            for (const Elem& e202 : e202_list) {
+              rendered200.push_back(e202);
+            }
           }
           std::swap(l_curr_elems195, rendered200);
           std::vector<Elem>& out203 = s.scratch.v.b52;
           out203.clear();
-          for (const Elem& x204 : l_curr_elems195) {
-            bool any205 = false;
-            for (const Elem& x206 : l_prev_elems194) {
-              const bool t207 = (x206 == x204);
-              if (t207) {
-                any205 = true;
-                break;
+          {
+            const auto& x204_list = l_curr_elems195;
+            charge_loop(s.core, 40, int64_t(x204_list.size()));
+            for (const Elem& x204 : x204_list) {
+              bool any205 = false;
+              {
+                const auto& x206_list = l_prev_elems194;
+                charge_loop(s.core, 41, int64_t(x206_list.size()));
+                for (const Elem& x206 : x206_list) {
+                  const bool t207 = (x206 == x204);
+                  if (t207) {
+                    any205 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t208 = !any205;
-            if (t208) {
-              out203.push_back(x204);
+              const bool t208 = !any205;
+              if (t208) {
+                out203.push_back(x204);
+              }
             }
           }
           std::swap(l_filtered_elems196, out203);
           bool any209 = false;
-          for (const Elem& x210 : l_filtered_elems196) {
-            const bool t211 = s.core.occupied.free(x210.position);
-            const bool t212 = !t211;
-            if (t212) {
-              any209 = true;
-              break;
+          {
+            const auto& x210_list = l_filtered_elems196;
+            charge_loop(s.core, 42, int64_t(x210_list.size()));
+            for (const Elem& x210 : x210_list) {
+              const bool t211 = s.core.occupied.free(x210.position);
+              const bool t212 = !t211;
+              if (t212) {
+                any209 = true;
+                break;
+              }
             }
           }
           const bool t213 = !any209;
@@ -895,26 +1055,42 @@ struct Prog {
           std::vector<Elem>& cells223 = s.scratch.v.b54;
           cells223.clear();
           render_C0_Piece(s, g221, cells223);
-          for (const Elem& e224 : cells223) {
-            rendered222.push_back(e224);
+          {
+            const auto& e224_list = cells223;
+            charge_loop(s.core, 43, int64_t(e224_list.size()));
+            for (const Elem& e224 : e224_list) {
+              rendered222.push_back(e224);
+            }
           }
           std::vector<C1_Block>& out225 = s.scratch.v.b55;
           out225.clear();
           out225.reserve(size_t(int32_t(rendered222.size())));
-          for (const Elem& x226 : rendered222) {
-            // inlined: function at programs/blockfall.au:36
-            C1_Block o227 = C1_Block{x226.color, x226.position};
-            out225.push_back(std::move(o227));
+          {
+            const auto& x226_list = rendered222;
+            charge_loop(s.core, 44, int64_t(x226_list.size()));
+            for (const Elem& x226 : x226_list) {
+              // inlined: function at programs/blockfall.au:36
+              C1_Block o227 = C1_Block{x226.color, x226.position};
+              out225.push_back(std::move(o227));
+            }
           }
-          check_length(s.core, 10, int64_t(g220.size()) + int64_t(int32_t(out225.size())));
+          check_length(s.core, 45, int64_t(g220.size()) + int64_t(int32_t(out225.size())));
           std::vector<C1_Block>& added228 = s.scratch.v.b56;
           added228.clear();
           added228.reserve(size_t(add(int32_t(g220.size()), int32_t(out225.size()))));
-          for (const C1_Block& x229 : g220) {
-            added228.push_back(x229);
+          {
+            const auto& x229_list = g220;
+            charge_loop(s.core, 45, int64_t(x229_list.size()));
+            for (const C1_Block& x229 : x229_list) {
+              added228.push_back(x229);
+            }
           }
-          for (const C1_Block& x230 : out225) {
-            added228.push_back(x230);
+          {
+            const auto& x230_list = out225;
+            charge_loop(s.core, 45, int64_t(x230_list.size()));
+            for (const C1_Block& x230 : x230_list) {
+              added228.push_back(x230);
+            }
           }
           // inlined: function at programs/blockfall.au:40
           std::vector<int32_t>& l_full231 = s.scratch.v.b57;
@@ -924,65 +1100,89 @@ struct Prog {
           const std::vector<int32_t> list233 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
           std::vector<int32_t>& out234 = s.scratch.v.b59;
           out234.clear();
-          for (const int32_t& x235 : list233) {
-            // inlined: function at programs/blockfall.au:41
-            // inlined: function at programs/blockfall.au:39
-            std::vector<C1_Block>& out236 = s.scratch.v.b60;
-            out236.clear();
-            for (const C1_Block& x237 : added228) {
+          {
+            const auto& x235_list = list233;
+            charge_loop(s.core, 46, int64_t(x235_list.size()));
+            for (const int32_t& x235 : x235_list) {
+              // inlined: function at programs/blockfall.au:41
               // inlined: function at programs/blockfall.au:39
-              const bool t238 = (x237.origin.y == x235);
-              if (t238) {
-                out236.push_back(x237);
+              std::vector<C1_Block>& out236 = s.scratch.v.b60;
+              out236.clear();
+              {
+                const auto& x237_list = added228;
+                charge_loop(s.core, 47, int64_t(x237_list.size()));
+                for (const C1_Block& x237 : x237_list) {
+                  // inlined: function at programs/blockfall.au:39
+                  const bool t238 = (x237.origin.y == x235);
+                  if (t238) {
+                    out236.push_back(x237);
+                  }
+                }
               }
-            }
-            const int32_t t239 = int32_t(out236.size());
-            const bool t240 = (t239 == int32_t(8));
-            if (t240) {
-              out234.push_back(x235);
+              const int32_t t239 = int32_t(out236.size());
+              const bool t240 = (t239 == int32_t(8));
+              if (t240) {
+                out234.push_back(x235);
+              }
             }
           }
           std::swap(l_full231, out234);
           std::vector<C1_Block>& out241 = s.scratch.v.b61;
           out241.clear();
-          for (const C1_Block& x242 : added228) {
-            // inlined: function at programs/blockfall.au:42
-            bool any243 = false;
-            for (const int32_t& x244 : l_full231) {
-              const bool t245 = (x244 == x242.origin.y);
-              if (t245) {
-                any243 = true;
-                break;
+          {
+            const auto& x242_list = added228;
+            charge_loop(s.core, 48, int64_t(x242_list.size()));
+            for (const C1_Block& x242 : x242_list) {
+              // inlined: function at programs/blockfall.au:42
+              bool any243 = false;
+              {
+                const auto& x244_list = l_full231;
+                charge_loop(s.core, 49, int64_t(x244_list.size()));
+                for (const int32_t& x244 : x244_list) {
+                  const bool t245 = (x244 == x242.origin.y);
+                  if (t245) {
+                    any243 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t246 = !any243;
-            if (t246) {
-              out241.push_back(x242);
+              const bool t246 = !any243;
+              if (t246) {
+                out241.push_back(x242);
+              }
             }
           }
           std::swap(l_kept232, out241);
           std::vector<C1_Block>& out247 = s.scratch.v.b62;
           out247.clear();
           out247.reserve(size_t(int32_t(l_kept232.size())));
-          for (const C1_Block& x248 : l_kept232) {
-            // inlined: function at programs/blockfall.au:43
-            std::vector<int32_t>& out249 = s.scratch.v.b63;
-            out249.clear();
-            for (const int32_t& x250 : l_full231) {
+          {
+            const auto& x248_list = l_kept232;
+            charge_loop(s.core, 50, int64_t(x248_list.size()));
+            for (const C1_Block& x248 : x248_list) {
               // inlined: function at programs/blockfall.au:43
-              const bool t251 = (x250 > x248.origin.y);
-              if (t251) {
-                out249.push_back(x250);
+              std::vector<int32_t>& out249 = s.scratch.v.b63;
+              out249.clear();
+              {
+                const auto& x250_list = l_full231;
+                charge_loop(s.core, 51, int64_t(x250_list.size()));
+                for (const int32_t& x250 : x250_list) {
+                  // inlined: function at programs/blockfall.au:43
+                  const bool t251 = (x250 > x248.origin.y);
+                  if (t251) {
+                    out249.push_back(x250);
+                  }
+                }
               }
+              const int32_t t252 = int32_t(out249.size());
+              const Pos t253 = Pos{int32_t(0), t252};
+              const int32_t t254 = add(x248.origin.x, t253.x);
+              const int32_t t255 = add(x248.origin.y, t253.y);
+              const Pos t256 = Pos{t254, t255};
+              C1_Block upd257 = x248;
+              upd257.origin = t256;
+              out247.push_back(std::move(upd257));
             }
-            const int32_t t252 = int32_t(out249.size());
-            const Pos t253 = Pos{int32_t(0), t252};
-            const int32_t t254 = add(x248.origin.x, t253.x);
-            const int32_t t255 = add(x248.origin.y, t253.y);
-            const Pos t256 = Pos{t254, t255};
-            C1_Block upd257 = x248;
-            upd257.origin = t256;
-            out247.push_back(std::move(upd257));
           }
           if (!s.scratch.v.sv_stack_15) {
             std::swap(s.scratch.v.p_stack_14, s.g_stack_12);
@@ -992,7 +1192,7 @@ struct Prog {
           s.u_stack_13 = true;
           const std::vector<int32_t> list258 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
           if (list258.empty()) {
-            fail_at(11, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(52, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t259 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list258.size())))));
           const int32_t t260 = list258[size_t(t259)];
@@ -1000,19 +1200,23 @@ struct Prog {
           std::vector<CellV> l_allCells262{};
           const std::vector<std::vector<Pos>>& g263 = s.g_shapes_4;
           if (g263.empty()) {
-            fail_at(9, std::string() + std::string("at: empty list"));
+            fail_at(22, std::string() + std::string("at: empty list"));
           }
           if (((t260 < int32_t(0)) || (t260 >= int32_t(g263.size())))) {
-            fail_at(9, std::string() + std::string("at: index ") + std::to_string(t260) + std::string(" out of bounds"));
+            fail_at(22, std::string() + std::string("at: index ") + std::to_string(t260) + std::string(" out of bounds"));
           }
           const std::vector<Pos> t264 = g263[size_t(t260)];
           std::vector<CellV>& out265 = s.scratch.v.b64;
           out265.clear();
           out265.reserve(size_t(int32_t(t264.size())));
-          for (const Pos& x266 : t264) {
-            // inlined: function at programs/blockfall.au:24
-            const CellV cell267 = CellV{x266.x, x266.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-            out265.push_back(cell267);
+          {
+            const auto& x266_list = t264;
+            charge_loop(s.core, 23, int64_t(x266_list.size()));
+            for (const Pos& x266 : x266_list) {
+              // inlined: function at programs/blockfall.au:24
+              const CellV cell267 = CellV{x266.x, x266.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+              out265.push_back(cell267);
+            }
           }
           std::swap(l_allCells262, out265);
           C0_Piece o268 = C0_Piece{t260, g261, std::move(l_allCells262)};
@@ -1029,14 +1233,22 @@ struct Prog {
           std::vector<Elem>& cells272 = s.scratch.v.b66;
           cells272.clear();
           render_C0_Piece(s, g269, cells272);
-          for (const Elem& e273 : cells272) {
-            rendered271.push_back(e273);
+          {
+            const auto& e273_list = cells272;
+            charge_loop(s.core, 53, int64_t(e273_list.size()));
+            for (const Elem& e273 : e273_list) {
+              rendered271.push_back(e273);
+            }
           }
           std::vector<Elem>& rendered274 = s.scratch.v.b67;
           rendered274.clear();
-          for (const C1_Block& x275 : g270) {
-            const int32_t colour276 = colour_1_C1_Block(s, x275);
-            rendered274.push_back(Elem{Pos{add(x275.origin.x, int32_t(0)), add(x275.origin.y, int32_t(0))}, colour276});
+          {
+            const auto& x275_list = g270;
+            charge_loop(s.core, 54, int64_t(x275_list.size()));
+            for (const C1_Block& x275 : x275_list) {
+              const int32_t colour276 = colour_1_C1_Block(s, x275);
+              rendered274.push_back(Elem{Pos{add(x275.origin.x, int32_t(0)), add(x275.origin.y, int32_t(0))}, colour276});
+            }
           }
           const int32_t t277 = int32_t(rendered271.size());
           const bool t278 = (t277 == int32_t(0));
@@ -1053,18 +1265,26 @@ struct Prog {
             r282 = false;
           } else {
             bool any283 = false;
-            for (const Elem& x284 : rendered271) {
-              bool any285 = false;
-              for (const Elem& x286 : rendered274) {
-                const bool t287 = (x284.position == x286.position);
-                if (t287) {
-                  any285 = true;
+            {
+              const auto& x284_list = rendered271;
+              charge_loop(s.core, 55, int64_t(x284_list.size()));
+              for (const Elem& x284 : x284_list) {
+                bool any285 = false;
+                {
+                  const auto& x286_list = rendered274;
+                  charge_loop(s.core, 56, int64_t(x286_list.size()));
+                  for (const Elem& x286 : x286_list) {
+                    const bool t287 = (x284.position == x286.position);
+                    if (t287) {
+                      any285 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any285) {
+                  any283 = true;
                   break;
                 }
-              }
-              if (any285) {
-                any283 = true;
-                break;
               }
             }
             r282 = any283;
@@ -1095,14 +1315,22 @@ struct Prog {
           std::vector<Elem>& cells296 = s.scratch.v.b70;
           cells296.clear();
           render_C0_Piece(s, upd294, cells296);
-          for (const Elem& e297 : cells296) {
-            rendered295.push_back(e297);
+          {
+            const auto& e297_list = cells296;
+            charge_loop(s.core, 57, int64_t(e297_list.size()));
+            for (const Elem& e297 : e297_list) {
+              rendered295.push_back(e297);
+            }
           }
           bool within298 = true;
-          for (const Elem& e299 : rendered295) {
-            if ((((e299.position.x < int32_t(0)) || (e299.position.x >= int32_t(8))) || ((e299.position.y < int32_t(0)) || (e299.position.y >= int32_t(8))))) {
-              within298 = false;
-              break;
+          {
+            const auto& e299_list = rendered295;
+            charge_loop(s.core, 57, int64_t(e299_list.size()));
+            for (const Elem& e299 : e299_list) {
+              if ((((e299.position.x < int32_t(0)) || (e299.position.x >= int32_t(8))) || ((e299.position.y < int32_t(0)) || (e299.position.y >= int32_t(8))))) {
+                within298 = false;
+                break;
+              }
             }
           }
           bool r300{};
@@ -1123,8 +1351,12 @@ struct Prog {
             std::vector<Elem>& cells309 = s.scratch.v.b75;
             cells309.clear();
             render_C0_Piece(s, g290, cells309);
-            for (const Elem& e310 : cells309) {
-              rendered308.push_back(e310);
+            {
+              const auto& e310_list = cells309;
+              charge_loop(s.core, 58, int64_t(e310_list.size()));
+              for (const Elem& e310 : e310_list) {
+                rendered308.push_back(e310);
+              }
             }
             std::swap(l_prev_elems305, rendered308);
             std::vector<Elem>& rendered311 = s.scratch.v.b76;
@@ -1132,34 +1364,50 @@ struct Prog {
             std::vector<Elem>& cells312 = s.scratch.v.b77;
             cells312.clear();
             render_C0_Piece(s, upd304, cells312);
-            for (const Elem& e313 : cells312) {
-              rendered311.push_back(e313);
+            {
+              const auto& e313_list = cells312;
+              charge_loop(s.core, 59, int64_t(e313_list.size()));
+              for (const Elem& e313 : e313_list) {
+                rendered311.push_back(e313);
+              }
             }
             std::swap(l_curr_elems306, rendered311);
             std::vector<Elem>& out314 = s.scratch.v.b78;
             out314.clear();
-            for (const Elem& x315 : l_curr_elems306) {
-              bool any316 = false;
-              for (const Elem& x317 : l_prev_elems305) {
-                const bool t318 = (x317 == x315);
-                if (t318) {
-                  any316 = true;
-                  break;
+            {
+              const auto& x315_list = l_curr_elems306;
+              charge_loop(s.core, 60, int64_t(x315_list.size()));
+              for (const Elem& x315 : x315_list) {
+                bool any316 = false;
+                {
+                  const auto& x317_list = l_prev_elems305;
+                  charge_loop(s.core, 61, int64_t(x317_list.size()));
+                  for (const Elem& x317 : x317_list) {
+                    const bool t318 = (x317 == x315);
+                    if (t318) {
+                      any316 = true;
+                      break;
+                    }
+                  }
                 }
-              }
-              const bool t319 = !any316;
-              if (t319) {
-                out314.push_back(x315);
+                const bool t319 = !any316;
+                if (t319) {
+                  out314.push_back(x315);
+                }
               }
             }
             std::swap(l_filtered_elems307, out314);
             bool any320 = false;
-            for (const Elem& x321 : l_filtered_elems307) {
-              const bool t322 = s.core.occupied.free(x321.position);
-              const bool t323 = !t322;
-              if (t323) {
-                any320 = true;
-                break;
+            {
+              const auto& x321_list = l_filtered_elems307;
+              charge_loop(s.core, 62, int64_t(x321_list.size()));
+              for (const Elem& x321 : x321_list) {
+                const bool t322 = s.core.occupied.free(x321.position);
+                const bool t323 = !t322;
+                if (t323) {
+                  any320 = true;
+                  break;
+                }
               }
             }
             const bool t324 = !any320;
@@ -1208,19 +1456,19 @@ struct Prog {
       s.u_stack_13 = true;
     }
     s.core.tally.v = StateTally{};
-    tally_rendered(s.core, 12, "cacheRendered");
+    tally_rendered(s.core, 63, "cacheRendered");
     const std::vector<C1_Block>& g332 = s.g_stack_12;
-    tally_global(s.core, 2, "stack", g332);
+    tally_global(s.core, 3, "stack", g332);
     const C0_Piece& g333 = s.g_piece_8;
-    tally_global(s.core, 3, "piece", g333);
+    tally_global(s.core, 4, "piece", g333);
     const Pos& g334 = s.g_spawnAt_7;
-    tally_global(s.core, 4, "spawnAt", g334);
+    tally_global(s.core, 5, "spawnAt", g334);
     const std::vector<int32_t>& g335 = s.g_turnOf_5;
-    tally_global(s.core, 5, "turnOf", g335);
+    tally_global(s.core, 6, "turnOf", g335);
     const std::vector<int32_t>& g336 = s.g_hues_6;
-    tally_global(s.core, 6, "hues", g336);
+    tally_global(s.core, 7, "hues", g336);
     const std::vector<std::vector<Pos>>& g337 = s.g_shapes_4;
-    tally_global(s.core, 7, "shapes", g337);
+    tally_global(s.core, 8, "shapes", g337);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
@@ -1230,19 +1478,27 @@ struct Prog {
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C1_Block>& g1 = s.g_stack_12;
-    for (const C1_Block& x2 : g1) {
-      const int32_t colour3 = colour_1_C1_Block(s, x2);
-      const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
-      s.core.occupied.add(e4.position);
-      ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
+    {
+      const auto& x2_list = g1;
+      charge_loop(s.core, 64, int64_t(x2_list.size()));
+      for (const C1_Block& x2 : x2_list) {
+        const int32_t colour3 = colour_1_C1_Block(s, x2);
+        const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
+        s.core.occupied.add(e4.position);
+        ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
+      }
     }
     const C0_Piece& g5 = s.g_piece_8;
     std::vector<Elem>& cells6 = s.scratch.v.b79;
     cells6.clear();
     render_C0_Piece(s, g5, cells6);
-    for (const Elem& e7 : cells6) {
-      s.core.occupied.add(e7.position);
-      ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
+    {
+      const auto& e7_list = cells6;
+      charge_loop(s.core, 64, int64_t(e7_list.size()));
+      for (const Elem& e7 : e7_list) {
+        s.core.occupied.add(e7.position);
+        ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
+      }
     }
   }
   static uint64_t hash(const State& s) {
@@ -1303,17 +1559,69 @@ const char* const Prog::kColours[] = {
 const ErrorSite Prog::kErrors[] = {
     {31, 29, nullptr, true, 31, 29, "initialising 'piece': "},
     {24, 86, nullptr, true, 24, 86, "initialising 'piece': "},
+    {24, 33, nullptr, true, 24, 33, "initialising 'piece': "},
     {28, 3, nullptr, true, 28, 3, ""},
     {31, 3, nullptr, true, 31, 3, ""},
     {22, 3, nullptr, true, 22, 3, ""},
     {20, 3, nullptr, true, 20, 3, ""},
     {21, 3, nullptr, true, 21, 3, ""},
     {11, 3, nullptr, true, 11, 3, ""},
+    {166, 19, "<stdlib>", true, 45, 21, ""},
+    {152, 24, "<stdlib>", true, 45, 21, ""},
+    {153, 24, "<stdlib>", true, 45, 21, ""},
+    {154, 28, "<stdlib>", true, 45, 21, ""},
+    {149, 20, "<stdlib>", true, 45, 21, ""},
+    {155, 13, "<stdlib>", true, 45, 21, ""},
+    {170, 20, "<stdlib>", true, 46, 22, ""},
+    {152, 24, "<stdlib>", true, 46, 22, ""},
+    {153, 24, "<stdlib>", true, 46, 22, ""},
+    {154, 28, "<stdlib>", true, 46, 22, ""},
+    {149, 20, "<stdlib>", true, 46, 22, ""},
+    {155, 13, "<stdlib>", true, 46, 22, ""},
     {33, 28, nullptr, true, 33, 28, ""},
     {24, 86, nullptr, true, 24, 86, ""},
+    {24, 33, nullptr, true, 24, 33, ""},
+    {34, 25, nullptr, true, 34, 25, ""},
+    {152, 24, "<stdlib>", true, 34, 45, ""},
+    {153, 24, "<stdlib>", true, 34, 45, ""},
+    {154, 28, "<stdlib>", true, 34, 45, ""},
+    {149, 20, "<stdlib>", true, 34, 45, ""},
+    {155, 13, "<stdlib>", true, 34, 45, ""},
+    {48, 21, nullptr, true, 48, 21, ""},
+    {179, 14, "<stdlib>", true, 48, 39, ""},
+    {152, 24, "<stdlib>", true, 48, 39, ""},
+    {153, 24, "<stdlib>", true, 48, 39, ""},
+    {154, 28, "<stdlib>", true, 48, 39, ""},
+    {149, 20, "<stdlib>", true, 48, 39, ""},
+    {155, 13, "<stdlib>", true, 48, 39, ""},
+    {179, 14, "<stdlib>", true, 35, 29, ""},
+    {152, 24, "<stdlib>", true, 35, 29, ""},
+    {153, 24, "<stdlib>", true, 35, 29, ""},
+    {154, 28, "<stdlib>", true, 35, 29, ""},
+    {149, 20, "<stdlib>", true, 35, 29, ""},
+    {155, 13, "<stdlib>", true, 35, 29, ""},
+    {36, 76, nullptr, true, 36, 76, ""},
+    {36, 23, nullptr, true, 36, 23, ""},
     {54, 29, nullptr, true, 54, 29, ""},
+    {41, 13, nullptr, true, 41, 13, ""},
+    {39, 34, nullptr, true, 39, 34, ""},
+    {42, 13, nullptr, true, 42, 13, ""},
+    {149, 20, "<stdlib>", true, 42, 31, ""},
+    {43, 5, nullptr, true, 43, 5, ""},
+    {43, 45, nullptr, true, 43, 45, ""},
     {55, 25, nullptr, true, 55, 25, ""},
+    {147, 51, "<stdlib>", true, 56, 22, ""},
+    {147, 70, "<stdlib>", true, 56, 22, ""},
+    {143, 12, "<stdlib>", true, 56, 22, ""},
+    {143, 28, "<stdlib>", true, 56, 22, ""},
+    {179, 14, "<stdlib>", true, 57, 21, ""},
+    {152, 24, "<stdlib>", true, 57, 21, ""},
+    {153, 24, "<stdlib>", true, 57, 21, ""},
+    {154, 28, "<stdlib>", true, 57, 21, ""},
+    {149, 20, "<stdlib>", true, 57, 21, ""},
+    {155, 13, "<stdlib>", true, 57, 21, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {24, 69, nullptr, true, 24, 69, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 

@@ -279,38 +279,54 @@ struct Prog {
     std::vector<std::vector<C2_Brick>>& out3 = s.scratch.v.b0;
     out3.clear();
     out3.reserve(size_t(int32_t(list2.size())));
-    for (const int32_t& x4 : list2) {
-      // inlined: function at programs/breakout.au:22
-      const std::vector<int32_t> list5 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
-      std::vector<C2_Brick> out6{};
-      out6.reserve(size_t(int32_t(list5.size())));
-      for (const int32_t& x7 : list5) {
+    {
+      const auto& x4_list = list2;
+      charge_loop(s.core, 0, int64_t(x4_list.size()));
+      for (const int32_t& x4 : x4_list) {
         // inlined: function at programs/breakout.au:22
-        const int32_t t8 = sub(int32_t(5), x4);
-        const Pos t9 = Pos{x7, x4};
-        C2_Brick o10 = C2_Brick{t8, t9};
-        out6.push_back(std::move(o10));
+        const std::vector<int32_t> list5 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
+        std::vector<C2_Brick> out6{};
+        out6.reserve(size_t(int32_t(list5.size())));
+        {
+          const auto& x7_list = list5;
+          charge_loop(s.core, 1, int64_t(x7_list.size()));
+          for (const int32_t& x7 : x7_list) {
+            // inlined: function at programs/breakout.au:22
+            const int32_t t8 = sub(int32_t(5), x4);
+            const Pos t9 = Pos{x7, x4};
+            C2_Brick o10 = C2_Brick{t8, t9};
+            out6.push_back(std::move(o10));
+          }
+        }
+        out3.push_back(std::move(out6));
       }
-      out3.push_back(std::move(out6));
     }
-    check_length(s.core, 0, total_size(out3));
+    check_length(s.core, 2, total_size(out3));
     std::vector<C2_Brick>& cat11 = s.scratch.v.b1;
     cat11.clear();
-    for (const std::vector<C2_Brick>& part12 : out3) {
-      cat11.insert(cat11.end(), part12.begin(), part12.end());
+    {
+      const auto& part12_list = out3;
+      charge_loop(s.core, 2, int64_t(part12_list.size()));
+      for (const std::vector<C2_Brick>& part12 : part12_list) {
+        cat11.insert(cat11.end(), part12.begin(), part12.end());
+      }
     }
     std::vector<C2_Brick>& out13 = s.scratch.v.b2;
     out13.clear();
-    for (const C2_Brick& x14 : cat11) {
-      // inlined: function at programs/breakout.au:21
-      const std::vector<bool> list15 = std::vector<bool>{true, true, true, true, false};
-      if (list15.empty()) {
-        fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
-      }
-      const int32_t t16 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list15.size())))));
-      const bool t17 = list15[size_t(t16)];
-      if (t17) {
-        out13.push_back(x14);
+    {
+      const auto& x14_list = cat11;
+      charge_loop(s.core, 3, int64_t(x14_list.size()));
+      for (const C2_Brick& x14 : x14_list) {
+        // inlined: function at programs/breakout.au:21
+        const std::vector<bool> list15 = std::vector<bool>{true, true, true, true, false};
+        if (list15.empty()) {
+          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t16 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list15.size())))));
+        const bool t17 = list15[size_t(t16)];
+        if (t17) {
+          out13.push_back(x14);
+        }
       }
     }
     std::swap(s.g_bricks_17, out13);
@@ -325,13 +341,13 @@ struct Prog {
     s.u_paddle_26 = false;
     s.core.tally.v = StateTally{};
     const C0_Paddle& g20 = s.g_paddle_25;
-    tally_global(s.core, 2, "paddle", g20);
+    tally_global(s.core, 5, "paddle", g20);
     const C1_Ball& g21 = s.g_ball_21;
-    tally_global(s.core, 3, "ball", g21);
+    tally_global(s.core, 6, "ball", g21);
     const std::vector<C2_Brick>& g22 = s.g_bricks_17;
-    tally_global(s.core, 4, "bricks", g22);
+    tally_global(s.core, 7, "bricks", g22);
     const C3_Hearts& g23 = s.g_hud_9;
-    tally_global(s.core, 5, "hud", g23);
+    tally_global(s.core, 8, "hud", g23);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -366,10 +382,14 @@ struct Prog {
         rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(0)), add(upd6.origin.y, int32_t(0))}, int32_t(3)});
         rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(1)), add(upd6.origin.y, int32_t(0))}, int32_t(3)});
         bool within8 = true;
-        for (const Elem& e9 : rendered7) {
-          if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(12))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(12))))) {
-            within8 = false;
-            break;
+        {
+          const auto& e9_list = rendered7;
+          charge_loop(s.core, 9, int64_t(e9_list.size()));
+          for (const Elem& e9 : e9_list) {
+            if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(12))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(12))))) {
+              within8 = false;
+              break;
+            }
           }
         }
         bool r10{};
@@ -399,28 +419,40 @@ struct Prog {
           std::swap(l_curr_elems16, rendered19);
           std::vector<Elem>& out20 = s.scratch.v.b9;
           out20.clear();
-          for (const Elem& x21 : l_curr_elems16) {
-            bool any22 = false;
-            for (const Elem& x23 : l_prev_elems15) {
-              const bool t24 = (x23 == x21);
-              if (t24) {
-                any22 = true;
-                break;
+          {
+            const auto& x21_list = l_curr_elems16;
+            charge_loop(s.core, 10, int64_t(x21_list.size()));
+            for (const Elem& x21 : x21_list) {
+              bool any22 = false;
+              {
+                const auto& x23_list = l_prev_elems15;
+                charge_loop(s.core, 11, int64_t(x23_list.size()));
+                for (const Elem& x23 : x23_list) {
+                  const bool t24 = (x23 == x21);
+                  if (t24) {
+                    any22 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t25 = !any22;
-            if (t25) {
-              out20.push_back(x21);
+              const bool t25 = !any22;
+              if (t25) {
+                out20.push_back(x21);
+              }
             }
           }
           std::swap(l_filtered_elems17, out20);
           bool any26 = false;
-          for (const Elem& x27 : l_filtered_elems17) {
-            const bool t28 = s.core.occupied.free(x27.position);
-            const bool t29 = !t28;
-            if (t29) {
-              any26 = true;
-              break;
+          {
+            const auto& x27_list = l_filtered_elems17;
+            charge_loop(s.core, 12, int64_t(x27_list.size()));
+            for (const Elem& x27 : x27_list) {
+              const bool t28 = s.core.occupied.free(x27.position);
+              const bool t29 = !t28;
+              if (t29) {
+                any26 = true;
+                break;
+              }
             }
           }
           const bool t30 = !any26;
@@ -467,10 +499,14 @@ struct Prog {
         rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(0)), add(upd44.origin.y, int32_t(0))}, int32_t(3)});
         rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(1)), add(upd44.origin.y, int32_t(0))}, int32_t(3)});
         bool within46 = true;
-        for (const Elem& e47 : rendered45) {
-          if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(12))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(12))))) {
-            within46 = false;
-            break;
+        {
+          const auto& e47_list = rendered45;
+          charge_loop(s.core, 13, int64_t(e47_list.size()));
+          for (const Elem& e47 : e47_list) {
+            if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(12))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(12))))) {
+              within46 = false;
+              break;
+            }
           }
         }
         l_wbound38 = within46;
@@ -499,28 +535,40 @@ struct Prog {
         std::swap(l_curr_elems53, rendered56);
         std::vector<Elem>& out57 = s.scratch.v.b16;
         out57.clear();
-        for (const Elem& x58 : l_curr_elems53) {
-          bool any59 = false;
-          for (const Elem& x60 : l_prev_elems52) {
-            const bool t61 = (x60 == x58);
-            if (t61) {
-              any59 = true;
-              break;
+        {
+          const auto& x58_list = l_curr_elems53;
+          charge_loop(s.core, 14, int64_t(x58_list.size()));
+          for (const Elem& x58 : x58_list) {
+            bool any59 = false;
+            {
+              const auto& x60_list = l_prev_elems52;
+              charge_loop(s.core, 15, int64_t(x60_list.size()));
+              for (const Elem& x60 : x60_list) {
+                const bool t61 = (x60 == x58);
+                if (t61) {
+                  any59 = true;
+                  break;
+                }
+              }
             }
-          }
-          const bool t62 = !any59;
-          if (t62) {
-            out57.push_back(x58);
+            const bool t62 = !any59;
+            if (t62) {
+              out57.push_back(x58);
+            }
           }
         }
         std::swap(l_filtered_elems54, out57);
         bool any63 = false;
-        for (const Elem& x64 : l_filtered_elems54) {
-          const bool t65 = s.core.occupied.free(x64.position);
-          const bool t66 = !t65;
-          if (t66) {
-            any63 = true;
-            break;
+        {
+          const auto& x64_list = l_filtered_elems54;
+          charge_loop(s.core, 16, int64_t(x64_list.size()));
+          for (const Elem& x64 : x64_list) {
+            const bool t65 = s.core.occupied.free(x64.position);
+            const bool t66 = !t65;
+            if (t66) {
+              any63 = true;
+              break;
+            }
           }
         }
         const bool t67 = !any63;
@@ -696,34 +744,42 @@ struct Prog {
         // inlined: function at programs/breakout.au:66
         std::vector<C2_Brick>& kept133 = s.scratch.v.b17;
         kept133.clear();
-        for (const C2_Brick& x134 : prev117) {
-          // inlined: function at programs/breakout.au:67
-          const bool t135 = (x134.origin == t132);
-          bool r136{};
-          if (t135) {
-            const bool t137 = (x134.f0 <= int32_t(1));
-            r136 = t137;
-          } else {
-            r136 = false;
-          }
-          if (!r136) {
-            kept133.push_back(x134);
+        {
+          const auto& x134_list = prev117;
+          charge_loop(s.core, 17, int64_t(x134_list.size()));
+          for (const C2_Brick& x134 : x134_list) {
+            // inlined: function at programs/breakout.au:67
+            const bool t135 = (x134.origin == t132);
+            bool r136{};
+            if (t135) {
+              const bool t137 = (x134.f0 <= int32_t(1));
+              r136 = t137;
+            } else {
+              r136 = false;
+            }
+            if (!r136) {
+              kept133.push_back(x134);
+            }
           }
         }
         std::vector<C2_Brick>& updated138 = s.scratch.v.b18;
         updated138.clear();
         updated138.reserve(size_t(int32_t(kept133.size())));
-        for (const C2_Brick& x139 : kept133) {
-          // inlined: function at programs/breakout.au:69
-          const bool t140 = (x139.origin == t132);
-          if (t140) {
-            // inlined: function at programs/breakout.au:68
-            const int32_t t141 = sub(x139.f0, int32_t(1));
-            C2_Brick upd142 = x139;
-            upd142.f0 = t141;
-            updated138.push_back(std::move(upd142));
-          } else {
-            updated138.push_back(x139);
+        {
+          const auto& x139_list = kept133;
+          charge_loop(s.core, 18, int64_t(x139_list.size()));
+          for (const C2_Brick& x139 : x139_list) {
+            // inlined: function at programs/breakout.au:69
+            const bool t140 = (x139.origin == t132);
+            if (t140) {
+              // inlined: function at programs/breakout.au:68
+              const int32_t t141 = sub(x139.f0, int32_t(1));
+              C2_Brick upd142 = x139;
+              upd142.f0 = t141;
+              updated138.push_back(std::move(upd142));
+            } else {
+              updated138.push_back(x139);
+            }
           }
         }
         if (!s.scratch.v.sv_bricks_20) {
@@ -773,12 +829,16 @@ struct Prog {
         l_tgt146 = t160;
         // inlined: function at programs/breakout.au:52
         bool any161 = false;
-        for (const C2_Brick& x162 : prev145) {
-          // inlined: function at programs/breakout.au:52
-          const bool t163 = (x162.origin == l_tgt146);
-          if (t163) {
-            any161 = true;
-            break;
+        {
+          const auto& x162_list = prev145;
+          charge_loop(s.core, 19, int64_t(x162_list.size()));
+          for (const C2_Brick& x162 : x162_list) {
+            // inlined: function at programs/breakout.au:52
+            const bool t163 = (x162.origin == l_tgt146);
+            if (t163) {
+              any161 = true;
+              break;
+            }
           }
         }
         C1_Ball r164{};
@@ -1044,7 +1104,7 @@ struct Prog {
         s.u_launched_14 = true;
         const std::vector<int32_t> list254 = std::vector<int32_t>{int32_t(-1), int32_t(1)};
         if (list254.empty()) {
-          fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(20, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t255 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list254.size())))));
         const int32_t t256 = list254[size_t(t255)];
@@ -1078,38 +1138,54 @@ struct Prog {
         std::vector<std::vector<C2_Brick>>& out266 = s.scratch.v.b19;
         out266.clear();
         out266.reserve(size_t(int32_t(list265.size())));
-        for (const int32_t& x267 : list265) {
-          // inlined: function at programs/breakout.au:22
-          const std::vector<int32_t> list268 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
-          std::vector<C2_Brick> out269{};
-          out269.reserve(size_t(int32_t(list268.size())));
-          for (const int32_t& x270 : list268) {
+        {
+          const auto& x267_list = list265;
+          charge_loop(s.core, 21, int64_t(x267_list.size()));
+          for (const int32_t& x267 : x267_list) {
             // inlined: function at programs/breakout.au:22
-            const int32_t t271 = sub(int32_t(5), x267);
-            const Pos t272 = Pos{x270, x267};
-            C2_Brick o273 = C2_Brick{t271, t272};
-            out269.push_back(std::move(o273));
+            const std::vector<int32_t> list268 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
+            std::vector<C2_Brick> out269{};
+            out269.reserve(size_t(int32_t(list268.size())));
+            {
+              const auto& x270_list = list268;
+              charge_loop(s.core, 22, int64_t(x270_list.size()));
+              for (const int32_t& x270 : x270_list) {
+                // inlined: function at programs/breakout.au:22
+                const int32_t t271 = sub(int32_t(5), x267);
+                const Pos t272 = Pos{x270, x267};
+                C2_Brick o273 = C2_Brick{t271, t272};
+                out269.push_back(std::move(o273));
+              }
+            }
+            out266.push_back(std::move(out269));
           }
-          out266.push_back(std::move(out269));
         }
-        check_length(s.core, 7, total_size(out266));
+        check_length(s.core, 23, total_size(out266));
         std::vector<C2_Brick>& cat274 = s.scratch.v.b20;
         cat274.clear();
-        for (const std::vector<C2_Brick>& part275 : out266) {
-          cat274.insert(cat274.end(), part275.begin(), part275.end());
+        {
+          const auto& part275_list = out266;
+          charge_loop(s.core, 23, int64_t(part275_list.size()));
+          for (const std::vector<C2_Brick>& part275 : part275_list) {
+            cat274.insert(cat274.end(), part275.begin(), part275.end());
+          }
         }
         std::vector<C2_Brick>& out276 = s.scratch.v.b21;
         out276.clear();
-        for (const C2_Brick& x277 : cat274) {
-          // inlined: function at programs/breakout.au:21
-          const std::vector<bool> list278 = std::vector<bool>{true, true, true, true, false};
-          if (list278.empty()) {
-            fail_at(8, std::string() + std::string("uniformChoice of an empty list"));
-          }
-          const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
-          const bool t280 = list278[size_t(t279)];
-          if (t280) {
-            out276.push_back(x277);
+        {
+          const auto& x277_list = cat274;
+          charge_loop(s.core, 24, int64_t(x277_list.size()));
+          for (const C2_Brick& x277 : x277_list) {
+            // inlined: function at programs/breakout.au:21
+            const std::vector<bool> list278 = std::vector<bool>{true, true, true, true, false};
+            if (list278.empty()) {
+              fail_at(25, std::string() + std::string("uniformChoice of an empty list"));
+            }
+            const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
+            const bool t280 = list278[size_t(t279)];
+            if (t280) {
+              out276.push_back(x277);
+            }
           }
         }
         if (!s.scratch.v.sv_bricks_20) {
@@ -1205,15 +1281,15 @@ struct Prog {
       s.u_paddle_26 = true;
     }
     s.core.tally.v = StateTally{};
-    tally_rendered(s.core, 9, "cacheRendered");
+    tally_rendered(s.core, 26, "cacheRendered");
     const C0_Paddle& g292 = s.g_paddle_25;
-    tally_global(s.core, 2, "paddle", g292);
+    tally_global(s.core, 5, "paddle", g292);
     const C1_Ball& g293 = s.g_ball_21;
-    tally_global(s.core, 3, "ball", g293);
+    tally_global(s.core, 6, "ball", g293);
     const std::vector<C2_Brick>& g294 = s.g_bricks_17;
-    tally_global(s.core, 4, "bricks", g294);
+    tally_global(s.core, 7, "bricks", g294);
     const C3_Hearts& g295 = s.g_hud_9;
-    tally_global(s.core, 5, "hud", g295);
+    tally_global(s.core, 8, "hud", g295);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
@@ -1237,11 +1313,15 @@ struct Prog {
     s.core.occupied.add(e6.position);
     ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
     const std::vector<C2_Brick>& g7 = s.g_bricks_17;
-    for (const C2_Brick& x8 : g7) {
-      const int32_t colour9 = colour_3_C2_Brick(s, x8);
-      const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
-      s.core.occupied.add(e10.position);
-      ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
+    {
+      const auto& x8_list = g7;
+      charge_loop(s.core, 27, int64_t(x8_list.size()));
+      for (const C2_Brick& x8 : x8_list) {
+        const int32_t colour9 = colour_3_C2_Brick(s, x8);
+        const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
+        s.core.occupied.add(e10.position);
+        ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
+      }
     }
     const C3_Hearts& g11 = s.g_hud_9;
     const int32_t colour12 = colour_0_C3_Hearts(s, g11);
@@ -1321,16 +1401,34 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {22, 15, nullptr, true, 22, 15, "initialising 'bricks': "},
+    {22, 29, nullptr, true, 22, 29, "initialising 'bricks': "},
     {22, 7, nullptr, true, 22, 7, "initialising 'bricks': "},
+    {21, 5, nullptr, true, 21, 5, "initialising 'bricks': "},
     {21, 20, nullptr, true, 21, 20, "initialising 'bricks': "},
     {27, 3, nullptr, true, 27, 3, ""},
     {30, 3, nullptr, true, 30, 3, ""},
     {33, 3, nullptr, true, 33, 3, ""},
     {42, 3, nullptr, true, 42, 3, ""},
+    {166, 19, "<stdlib>", true, 71, 22, ""},
+    {154, 28, "<stdlib>", true, 71, 22, ""},
+    {149, 20, "<stdlib>", true, 71, 22, ""},
+    {155, 13, "<stdlib>", true, 71, 22, ""},
+    {170, 20, "<stdlib>", true, 72, 23, ""},
+    {154, 28, "<stdlib>", true, 72, 23, ""},
+    {149, 20, "<stdlib>", true, 72, 23, ""},
+    {155, 13, "<stdlib>", true, 72, 23, ""},
+    {67, 16, nullptr, true, 67, 16, ""},
+    {67, 5, nullptr, true, 67, 5, ""},
+    {52, 25, nullptr, true, 52, 25, ""},
     {87, 42, nullptr, true, 87, 42, ""},
+    {22, 15, nullptr, true, 22, 15, ""},
+    {22, 29, nullptr, true, 22, 29, ""},
     {22, 7, nullptr, true, 22, 7, ""},
+    {21, 5, nullptr, true, 21, 5, ""},
     {21, 20, nullptr, true, 21, 20, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -213,67 +213,83 @@ struct Prog {
     std::vector<C1_Swatch>& out4 = s.scratch.v.b0;
     out4.clear();
     out4.reserve(size_t(int32_t(list3.size())));
-    for (const int32_t& x5 : list3) {
-      // inlined: function at programs/color_flood.au:24
-      const std::vector<int32_t>& g6 = s.g_palette_4;
-      if (g6.empty()) {
-        fail_at(0, std::string() + std::string("at: empty list"));
+    {
+      const auto& x5_list = list3;
+      charge_loop(s.core, 0, int64_t(x5_list.size()));
+      for (const int32_t& x5 : x5_list) {
+        // inlined: function at programs/color_flood.au:24
+        const std::vector<int32_t>& g6 = s.g_palette_4;
+        if (g6.empty()) {
+          fail_at(1, std::string() + std::string("at: empty list"));
+        }
+        if (((x5 < int32_t(0)) || (x5 >= int32_t(g6.size())))) {
+          fail_at(1, std::string() + std::string("at: index ") + std::to_string(x5) + std::string(" out of bounds"));
+        }
+        const int32_t t7 = g6[size_t(x5)];
+        const Pos t8 = Pos{x5, int32_t(7)};
+        C1_Swatch o9 = C1_Swatch{t7, t8};
+        out4.push_back(std::move(o9));
       }
-      if (((x5 < int32_t(0)) || (x5 >= int32_t(g6.size())))) {
-        fail_at(0, std::string() + std::string("at: index ") + std::to_string(x5) + std::string(" out of bounds"));
-      }
-      const int32_t t7 = g6[size_t(x5)];
-      const Pos t8 = Pos{x5, int32_t(7)};
-      C1_Swatch o9 = C1_Swatch{t7, t8};
-      out4.push_back(std::move(o9));
     }
     std::swap(s.g_swatches_10, out4);
     s.u_swatches_11 = false;
     // init tiles, programs/color_flood.au:21
     // inlined: function at programs/color_flood.au:17
     if ((int32_t(8) < int32_t(0))) {
-      fail_at(1, std::string() + std::string("allPositions: negative size"));
+      fail_at(2, std::string() + std::string("allPositions: negative size"));
     }
     if ((int32_t(7) < int32_t(0))) {
-      fail_at(1, std::string() + std::string("allPositions: negative size"));
+      fail_at(2, std::string() + std::string("allPositions: negative size"));
     }
     std::vector<Pos>& apos10 = s.scratch.v.b1;
     apos10.clear();
-    for (int32_t i11 = int32_t(0), i11_end = int32_t(8); i11 < i11_end; ++i11) {
-      for (int32_t j12 = int32_t(0), j12_end = int32_t(7); j12 < j12_end; ++j12) {
-        const Pos t13 = Pos{i11, j12};
-        apos10.push_back(t13);
+    {
+      const int32_t i11_first = int32_t(0), i11_end = int32_t(8);
+      charge_loop(s.core, 2, int64_t(i11_end) - i11_first);
+      for (int32_t i11 = i11_first; i11 < i11_end; ++i11) {
+        {
+          const int32_t j12_first = int32_t(0), j12_end = int32_t(7);
+          charge_loop(s.core, 2, int64_t(j12_end) - j12_first);
+          for (int32_t j12 = j12_first; j12 < j12_end; ++j12) {
+            const Pos t13 = Pos{i11, j12};
+            apos10.push_back(t13);
+          }
+        }
       }
     }
     std::vector<C0_Tile>& out14 = s.scratch.v.b2;
     out14.clear();
     out14.reserve(size_t(int32_t(apos10.size())));
-    for (const Pos& x15 : apos10) {
-      // inlined: function at programs/color_flood.au:18
-      const std::vector<int32_t>& g16 = s.g_palette_4;
-      if (g16.empty()) {
-        fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+    {
+      const auto& x15_list = apos10;
+      charge_loop(s.core, 3, int64_t(x15_list.size()));
+      for (const Pos& x15 : x15_list) {
+        // inlined: function at programs/color_flood.au:18
+        const std::vector<int32_t>& g16 = s.g_palette_4;
+        if (g16.empty()) {
+          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t17 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g16.size())))));
+        const int32_t t18 = g16[size_t(t17)];
+        const Pos& g19 = s.g_corner_5;
+        const bool t20 = (x15 == g19);
+        C0_Tile o21 = C0_Tile{t18, t20, x15};
+        out14.push_back(std::move(o21));
       }
-      const int32_t t17 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g16.size())))));
-      const int32_t t18 = g16[size_t(t17)];
-      const Pos& g19 = s.g_corner_5;
-      const bool t20 = (x15 == g19);
-      C0_Tile o21 = C0_Tile{t18, t20, x15};
-      out14.push_back(std::move(o21));
     }
     std::swap(s.g_tiles_14, out14);
     s.u_tiles_15 = false;
     s.core.tally.v = StateTally{};
     const C2_Lamps& g22 = s.g_lamps_6;
-    tally_global(s.core, 3, "lamps", g22);
+    tally_global(s.core, 5, "lamps", g22);
     const std::vector<C1_Swatch>& g23 = s.g_swatches_10;
-    tally_global(s.core, 4, "swatches", g23);
+    tally_global(s.core, 6, "swatches", g23);
     const std::vector<int32_t>& g24 = s.g_palette_4;
-    tally_global(s.core, 5, "palette", g24);
+    tally_global(s.core, 7, "palette", g24);
     const std::vector<C0_Tile>& g25 = s.g_tiles_14;
-    tally_global(s.core, 6, "tiles", g25);
+    tally_global(s.core, 8, "tiles", g25);
     const Pos& g26 = s.g_corner_5;
-    tally_global(s.core, 7, "corner", g26);
+    tally_global(s.core, 9, "corner", g26);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -296,18 +312,26 @@ struct Prog {
         int32_t l_fh3{};
         std::vector<C0_Tile>& out4 = s.scratch.v.b4;
         out4.clear();
-        for (const C0_Tile& x5 : prev1) {
-          // inlined: function at programs/color_flood.au:38
-          if (x5.f1) {
-            out4.push_back(x5);
+        {
+          const auto& x5_list = prev1;
+          charge_loop(s.core, 10, int64_t(x5_list.size()));
+          for (const C0_Tile& x5 : x5_list) {
+            // inlined: function at programs/color_flood.au:38
+            if (x5.f1) {
+              out4.push_back(x5);
+            }
           }
         }
         std::vector<Pos>& out6 = s.scratch.v.b5;
         out6.clear();
         out6.reserve(size_t(int32_t(out4.size())));
-        for (const C0_Tile& x7 : out4) {
-          // inlined: function at programs/color_flood.au:38
-          out6.push_back(x7.origin);
+        {
+          const auto& x7_list = out4;
+          charge_loop(s.core, 11, int64_t(x7_list.size()));
+          for (const C0_Tile& x7 : x7_list) {
+            // inlined: function at programs/color_flood.au:38
+            out6.push_back(x7.origin);
+          }
         }
         std::swap(l_wetSpots2, out6);
         // inlined: function at programs/color_flood.au:32
@@ -315,10 +339,14 @@ struct Prog {
         l_wetOnes8.clear();
         std::vector<C0_Tile>& out9 = s.scratch.v.b7;
         out9.clear();
-        for (const C0_Tile& x10 : prev1) {
-          // inlined: function at programs/color_flood.au:33
-          if (x10.f1) {
-            out9.push_back(x10);
+        {
+          const auto& x10_list = prev1;
+          charge_loop(s.core, 12, int64_t(x10_list.size()));
+          for (const C0_Tile& x10 : x10_list) {
+            // inlined: function at programs/color_flood.au:33
+            if (x10.f1) {
+              out9.push_back(x10);
+            }
           }
         }
         std::swap(l_wetOnes8, out9);
@@ -327,7 +355,7 @@ struct Prog {
         int32_t r13{};
         if (t12) {
           if (l_wetOnes8.empty()) {
-            fail_at(8, std::string() + std::string("head of an empty list"));
+            fail_at(13, std::string() + std::string("head of an empty list"));
           }
           const C0_Tile t14 = l_wetOnes8.front();
           r13 = t14.f0;
@@ -338,67 +366,79 @@ struct Prog {
         std::vector<C0_Tile>& updated15 = s.scratch.v.b8;
         updated15.clear();
         updated15.reserve(size_t(int32_t(prev1.size())));
-        for (const C0_Tile& x16 : prev1) {
-          // inlined: function at programs/color_flood.au:41
-          const bool t17 = !x16.f1;
-          bool r18{};
-          if (t17) {
-            const bool t19 = (x16.f0 == l_fh3);
-            bool r20{};
-            if (t19) {
-              std::vector<Pos>& adj21 = s.scratch.v.b9;
-              adj21.clear();
-              const int32_t t22 = sub(x16.origin.x, int32_t(1));
-              if ((((t22 >= int32_t(0)) && (t22 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
-                const Pos t23 = Pos{t22, x16.origin.y};
-                adj21.push_back(t23);
-              }
-              const int32_t t24 = add(x16.origin.x, int32_t(1));
-              if ((((t24 >= int32_t(0)) && (t24 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
-                const Pos t25 = Pos{t24, x16.origin.y};
-                adj21.push_back(t25);
-              }
-              const int32_t t26 = sub(x16.origin.y, int32_t(1));
-              if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t26 >= int32_t(0)) && (t26 < int32_t(8))))) {
-                const Pos t27 = Pos{x16.origin.x, t26};
-                adj21.push_back(t27);
-              }
-              const int32_t t28 = add(x16.origin.y, int32_t(1));
-              if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t28 >= int32_t(0)) && (t28 < int32_t(8))))) {
-                const Pos t29 = Pos{x16.origin.x, t28};
-                adj21.push_back(t29);
-              }
-              bool any30 = false;
-              for (const Pos& x31 : adj21) {
-                // inlined: function at programs/color_flood.au:42
-                bool any32 = false;
-                for (const Pos& x33 : l_wetSpots2) {
-                  const bool t34 = (x33 == x31);
-                  if (t34) {
-                    any32 = true;
-                    break;
+        {
+          const auto& x16_list = prev1;
+          charge_loop(s.core, 14, int64_t(x16_list.size()));
+          for (const C0_Tile& x16 : x16_list) {
+            // inlined: function at programs/color_flood.au:41
+            const bool t17 = !x16.f1;
+            bool r18{};
+            if (t17) {
+              const bool t19 = (x16.f0 == l_fh3);
+              bool r20{};
+              if (t19) {
+                std::vector<Pos>& adj21 = s.scratch.v.b9;
+                adj21.clear();
+                const int32_t t22 = sub(x16.origin.x, int32_t(1));
+                if ((((t22 >= int32_t(0)) && (t22 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
+                  const Pos t23 = Pos{t22, x16.origin.y};
+                  adj21.push_back(t23);
+                }
+                const int32_t t24 = add(x16.origin.x, int32_t(1));
+                if ((((t24 >= int32_t(0)) && (t24 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
+                  const Pos t25 = Pos{t24, x16.origin.y};
+                  adj21.push_back(t25);
+                }
+                const int32_t t26 = sub(x16.origin.y, int32_t(1));
+                if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t26 >= int32_t(0)) && (t26 < int32_t(8))))) {
+                  const Pos t27 = Pos{x16.origin.x, t26};
+                  adj21.push_back(t27);
+                }
+                const int32_t t28 = add(x16.origin.y, int32_t(1));
+                if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t28 >= int32_t(0)) && (t28 < int32_t(8))))) {
+                  const Pos t29 = Pos{x16.origin.x, t28};
+                  adj21.push_back(t29);
+                }
+                bool any30 = false;
+                {
+                  const auto& x31_list = adj21;
+                  charge_loop(s.core, 15, int64_t(x31_list.size()));
+                  for (const Pos& x31 : x31_list) {
+                    // inlined: function at programs/color_flood.au:42
+                    bool any32 = false;
+                    {
+                      const auto& x33_list = l_wetSpots2;
+                      charge_loop(s.core, 16, int64_t(x33_list.size()));
+                      for (const Pos& x33 : x33_list) {
+                        const bool t34 = (x33 == x31);
+                        if (t34) {
+                          any32 = true;
+                          break;
+                        }
+                      }
+                    }
+                    if (any32) {
+                      any30 = true;
+                      break;
+                    }
                   }
                 }
-                if (any32) {
-                  any30 = true;
-                  break;
-                }
+                r20 = any30;
+              } else {
+                r20 = false;
               }
-              r20 = any30;
+              r18 = r20;
             } else {
-              r20 = false;
+              r18 = false;
             }
-            r18 = r20;
-          } else {
-            r18 = false;
-          }
-          if (r18) {
-            // inlined: function at programs/color_flood.au:40
-            C0_Tile upd35 = x16;
-            upd35.f1 = true;
-            updated15.push_back(std::move(upd35));
-          } else {
-            updated15.push_back(x16);
+            if (r18) {
+              // inlined: function at programs/color_flood.au:40
+              C0_Tile upd35 = x16;
+              upd35.f1 = true;
+              updated15.push_back(std::move(upd35));
+            } else {
+              updated15.push_back(x16);
+            }
           }
         }
         if (!s.scratch.v.sv_tiles_17) {
@@ -423,14 +463,22 @@ struct Prog {
           s.g_click_18 = t41;
           std::vector<Elem>& rendered42 = s.scratch.v.b10;
           rendered42.clear();
-          for (const C0_Tile& x43 : prev39) {
-            const int32_t colour44 = colour_2_C0_Tile(s, x43);
-            rendered42.push_back(Elem{Pos{add(x43.origin.x, int32_t(0)), add(x43.origin.y, int32_t(0))}, colour44});
+          {
+            const auto& x43_list = prev39;
+            charge_loop(s.core, 17, int64_t(x43_list.size()));
+            for (const C0_Tile& x43 : x43_list) {
+              const int32_t colour44 = colour_2_C0_Tile(s, x43);
+              rendered42.push_back(Elem{Pos{add(x43.origin.x, int32_t(0)), add(x43.origin.y, int32_t(0))}, colour44});
+            }
           }
-          for (const Elem& e45 : rendered42) {
-            if ((e45.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked40 = true;
-              break;
+          {
+            const auto& e45_list = rendered42;
+            charge_loop(s.core, 17, int64_t(e45_list.size()));
+            for (const Elem& e45 : e45_list) {
+              if ((e45.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked40 = true;
+                break;
+              }
             }
           }
         }
@@ -447,26 +495,34 @@ struct Prog {
         l_hit48.clear();
         std::vector<C0_Tile>& out49 = s.scratch.v.b12;
         out49.clear();
-        for (const C0_Tile& x50 : prev47) {
-          // inlined: function at programs/color_flood.au:46
-          bool clicked51 = false;
-          if (s.core.click) {
-            s.d_click_19 = true;
-            const Pos t52 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_18 = t52;
-            std::vector<Elem>& rendered53 = s.scratch.v.b13;
-            rendered53.clear();
-            const int32_t colour54 = colour_2_C0_Tile(s, x50);
-            rendered53.push_back(Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour54});
-            for (const Elem& e55 : rendered53) {
-              if ((e55.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked51 = true;
-                break;
+        {
+          const auto& x50_list = prev47;
+          charge_loop(s.core, 18, int64_t(x50_list.size()));
+          for (const C0_Tile& x50 : x50_list) {
+            // inlined: function at programs/color_flood.au:46
+            bool clicked51 = false;
+            if (s.core.click) {
+              s.d_click_19 = true;
+              const Pos t52 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_18 = t52;
+              std::vector<Elem>& rendered53 = s.scratch.v.b13;
+              rendered53.clear();
+              const int32_t colour54 = colour_2_C0_Tile(s, x50);
+              rendered53.push_back(Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour54});
+              {
+                const auto& e55_list = rendered53;
+                charge_loop(s.core, 19, int64_t(e55_list.size()));
+                for (const Elem& e55 : e55_list) {
+                  if ((e55.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked51 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          if (clicked51) {
-            out49.push_back(x50);
+            if (clicked51) {
+              out49.push_back(x50);
+            }
           }
         }
         std::swap(l_hit48, out49);
@@ -475,7 +531,7 @@ struct Prog {
         int32_t r58{};
         if (t57) {
           if (l_hit48.empty()) {
-            fail_at(9, std::string() + std::string("head of an empty list"));
+            fail_at(20, std::string() + std::string("head of an empty list"));
           }
           const C0_Tile t59 = l_hit48.front();
           r58 = t59.f0;
@@ -486,10 +542,14 @@ struct Prog {
           l_wetOnes61.clear();
           std::vector<C0_Tile>& out62 = s.scratch.v.b15;
           out62.clear();
-          for (const C0_Tile& x63 : g60) {
-            // inlined: function at programs/color_flood.au:33
-            if (x63.f1) {
-              out62.push_back(x63);
+          {
+            const auto& x63_list = g60;
+            charge_loop(s.core, 12, int64_t(x63_list.size()));
+            for (const C0_Tile& x63 : x63_list) {
+              // inlined: function at programs/color_flood.au:33
+              if (x63.f1) {
+                out62.push_back(x63);
+              }
             }
           }
           std::swap(l_wetOnes61, out62);
@@ -498,7 +558,7 @@ struct Prog {
           int32_t r66{};
           if (t65) {
             if (l_wetOnes61.empty()) {
-              fail_at(8, std::string() + std::string("head of an empty list"));
+              fail_at(13, std::string() + std::string("head of an empty list"));
             }
             const C0_Tile t67 = l_wetOnes61.front();
             r66 = t67.f0;
@@ -511,15 +571,19 @@ struct Prog {
         std::vector<C0_Tile>& updated68 = s.scratch.v.b16;
         updated68.clear();
         updated68.reserve(size_t(int32_t(g46.size())));
-        for (const C0_Tile& x69 : g46) {
-          // inlined: function at programs/color_flood.au:44
-          if (x69.f1) {
+        {
+          const auto& x69_list = g46;
+          charge_loop(s.core, 21, int64_t(x69_list.size()));
+          for (const C0_Tile& x69 : x69_list) {
             // inlined: function at programs/color_flood.au:44
-            C0_Tile upd70 = x69;
-            upd70.f0 = r58;
-            updated68.push_back(std::move(upd70));
-          } else {
-            updated68.push_back(x69);
+            if (x69.f1) {
+              // inlined: function at programs/color_flood.au:44
+              C0_Tile upd70 = x69;
+              upd70.f0 = r58;
+              updated68.push_back(std::move(upd70));
+            } else {
+              updated68.push_back(x69);
+            }
           }
         }
         if (!s.scratch.v.sv_tiles_17) {
@@ -544,14 +608,22 @@ struct Prog {
           s.g_click_18 = t76;
           std::vector<Elem>& rendered77 = s.scratch.v.b17;
           rendered77.clear();
-          for (const C1_Swatch& x78 : prev74) {
-            const int32_t colour79 = colour_1_C1_Swatch(s, x78);
-            rendered77.push_back(Elem{Pos{add(x78.origin.x, int32_t(0)), add(x78.origin.y, int32_t(0))}, colour79});
+          {
+            const auto& x78_list = prev74;
+            charge_loop(s.core, 22, int64_t(x78_list.size()));
+            for (const C1_Swatch& x78 : x78_list) {
+              const int32_t colour79 = colour_1_C1_Swatch(s, x78);
+              rendered77.push_back(Elem{Pos{add(x78.origin.x, int32_t(0)), add(x78.origin.y, int32_t(0))}, colour79});
+            }
           }
-          for (const Elem& e80 : rendered77) {
-            if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked75 = true;
-              break;
+          {
+            const auto& e80_list = rendered77;
+            charge_loop(s.core, 22, int64_t(e80_list.size()));
+            for (const Elem& e80 : e80_list) {
+              if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked75 = true;
+                break;
+              }
             }
           }
         }
@@ -568,26 +640,34 @@ struct Prog {
         l_hit83.clear();
         std::vector<C1_Swatch>& out84 = s.scratch.v.b19;
         out84.clear();
-        for (const C1_Swatch& x85 : prev82) {
-          // inlined: function at programs/color_flood.au:46
-          bool clicked86 = false;
-          if (s.core.click) {
-            s.d_click_19 = true;
-            const Pos t87 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_18 = t87;
-            std::vector<Elem>& rendered88 = s.scratch.v.b20;
-            rendered88.clear();
-            const int32_t colour89 = colour_1_C1_Swatch(s, x85);
-            rendered88.push_back(Elem{Pos{add(x85.origin.x, int32_t(0)), add(x85.origin.y, int32_t(0))}, colour89});
-            for (const Elem& e90 : rendered88) {
-              if ((e90.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked86 = true;
-                break;
+        {
+          const auto& x85_list = prev82;
+          charge_loop(s.core, 18, int64_t(x85_list.size()));
+          for (const C1_Swatch& x85 : x85_list) {
+            // inlined: function at programs/color_flood.au:46
+            bool clicked86 = false;
+            if (s.core.click) {
+              s.d_click_19 = true;
+              const Pos t87 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_18 = t87;
+              std::vector<Elem>& rendered88 = s.scratch.v.b20;
+              rendered88.clear();
+              const int32_t colour89 = colour_1_C1_Swatch(s, x85);
+              rendered88.push_back(Elem{Pos{add(x85.origin.x, int32_t(0)), add(x85.origin.y, int32_t(0))}, colour89});
+              {
+                const auto& e90_list = rendered88;
+                charge_loop(s.core, 19, int64_t(e90_list.size()));
+                for (const Elem& e90 : e90_list) {
+                  if ((e90.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked86 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          if (clicked86) {
-            out84.push_back(x85);
+            if (clicked86) {
+              out84.push_back(x85);
+            }
           }
         }
         std::swap(l_hit83, out84);
@@ -596,7 +676,7 @@ struct Prog {
         int32_t r93{};
         if (t92) {
           if (l_hit83.empty()) {
-            fail_at(9, std::string() + std::string("head of an empty list"));
+            fail_at(20, std::string() + std::string("head of an empty list"));
           }
           const C1_Swatch t94 = l_hit83.front();
           r93 = t94.f0;
@@ -607,10 +687,14 @@ struct Prog {
           l_wetOnes96.clear();
           std::vector<C0_Tile>& out97 = s.scratch.v.b22;
           out97.clear();
-          for (const C0_Tile& x98 : g95) {
-            // inlined: function at programs/color_flood.au:33
-            if (x98.f1) {
-              out97.push_back(x98);
+          {
+            const auto& x98_list = g95;
+            charge_loop(s.core, 12, int64_t(x98_list.size()));
+            for (const C0_Tile& x98 : x98_list) {
+              // inlined: function at programs/color_flood.au:33
+              if (x98.f1) {
+                out97.push_back(x98);
+              }
             }
           }
           std::swap(l_wetOnes96, out97);
@@ -619,7 +703,7 @@ struct Prog {
           int32_t r101{};
           if (t100) {
             if (l_wetOnes96.empty()) {
-              fail_at(8, std::string() + std::string("head of an empty list"));
+              fail_at(13, std::string() + std::string("head of an empty list"));
             }
             const C0_Tile t102 = l_wetOnes96.front();
             r101 = t102.f0;
@@ -632,15 +716,19 @@ struct Prog {
         std::vector<C0_Tile>& updated103 = s.scratch.v.b23;
         updated103.clear();
         updated103.reserve(size_t(int32_t(g81.size())));
-        for (const C0_Tile& x104 : g81) {
-          // inlined: function at programs/color_flood.au:44
-          if (x104.f1) {
+        {
+          const auto& x104_list = g81;
+          charge_loop(s.core, 21, int64_t(x104_list.size()));
+          for (const C0_Tile& x104 : x104_list) {
             // inlined: function at programs/color_flood.au:44
-            C0_Tile upd105 = x104;
-            upd105.f0 = r93;
-            updated103.push_back(std::move(upd105));
-          } else {
-            updated103.push_back(x104);
+            if (x104.f1) {
+              // inlined: function at programs/color_flood.au:44
+              C0_Tile upd105 = x104;
+              upd105.f0 = r93;
+              updated103.push_back(std::move(upd105));
+            } else {
+              updated103.push_back(x104);
+            }
           }
         }
         if (!s.scratch.v.sv_tiles_17) {
@@ -678,34 +766,46 @@ struct Prog {
         s.core.covered[int32_t(3)] = 1;
         // inlined: function at programs/color_flood.au:17
         if ((int32_t(8) < int32_t(0))) {
-          fail_at(10, std::string() + std::string("allPositions: negative size"));
+          fail_at(23, std::string() + std::string("allPositions: negative size"));
         }
         if ((int32_t(7) < int32_t(0))) {
-          fail_at(10, std::string() + std::string("allPositions: negative size"));
+          fail_at(23, std::string() + std::string("allPositions: negative size"));
         }
         std::vector<Pos>& apos112 = s.scratch.v.b24;
         apos112.clear();
-        for (int32_t i113 = int32_t(0), i113_end = int32_t(8); i113 < i113_end; ++i113) {
-          for (int32_t j114 = int32_t(0), j114_end = int32_t(7); j114 < j114_end; ++j114) {
-            const Pos t115 = Pos{i113, j114};
-            apos112.push_back(t115);
+        {
+          const int32_t i113_first = int32_t(0), i113_end = int32_t(8);
+          charge_loop(s.core, 23, int64_t(i113_end) - i113_first);
+          for (int32_t i113 = i113_first; i113 < i113_end; ++i113) {
+            {
+              const int32_t j114_first = int32_t(0), j114_end = int32_t(7);
+              charge_loop(s.core, 23, int64_t(j114_end) - j114_first);
+              for (int32_t j114 = j114_first; j114 < j114_end; ++j114) {
+                const Pos t115 = Pos{i113, j114};
+                apos112.push_back(t115);
+              }
+            }
           }
         }
         std::vector<C0_Tile>& out116 = s.scratch.v.b25;
         out116.clear();
         out116.reserve(size_t(int32_t(apos112.size())));
-        for (const Pos& x117 : apos112) {
-          // inlined: function at programs/color_flood.au:18
-          const std::vector<int32_t>& g118 = s.g_palette_4;
-          if (g118.empty()) {
-            fail_at(11, std::string() + std::string("uniformChoice of an empty list"));
+        {
+          const auto& x117_list = apos112;
+          charge_loop(s.core, 24, int64_t(x117_list.size()));
+          for (const Pos& x117 : x117_list) {
+            // inlined: function at programs/color_flood.au:18
+            const std::vector<int32_t>& g118 = s.g_palette_4;
+            if (g118.empty()) {
+              fail_at(25, std::string() + std::string("uniformChoice of an empty list"));
+            }
+            const int32_t t119 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g118.size())))));
+            const int32_t t120 = g118[size_t(t119)];
+            const Pos& g121 = s.g_corner_5;
+            const bool t122 = (x117 == g121);
+            C0_Tile o123 = C0_Tile{t120, t122, x117};
+            out116.push_back(std::move(o123));
           }
-          const int32_t t119 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g118.size())))));
-          const int32_t t120 = g118[size_t(t119)];
-          const Pos& g121 = s.g_corner_5;
-          const bool t122 = (x117 == g121);
-          C0_Tile o123 = C0_Tile{t120, t122, x117};
-          out116.push_back(std::move(o123));
         }
         if (!s.scratch.v.sv_tiles_17) {
           std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
@@ -721,12 +821,16 @@ struct Prog {
       const std::vector<C0_Tile>& g125 = s.g_tiles_14;
       // inlined: function at programs/color_flood.au:31
       bool any126 = false;
-      for (const C0_Tile& x127 : g125) {
-        // inlined: function at programs/color_flood.au:31
-        const bool t128 = !x127.f1;
-        if (t128) {
-          any126 = true;
-          break;
+      {
+        const auto& x127_list = g125;
+        charge_loop(s.core, 26, int64_t(x127_list.size()));
+        for (const C0_Tile& x127 : x127_list) {
+          // inlined: function at programs/color_flood.au:31
+          const bool t128 = !x127.f1;
+          if (t128) {
+            any126 = true;
+            break;
+          }
         }
       }
       const bool t129 = !any126;
@@ -761,33 +865,33 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_19) {
-      tally_rendered(s.core, 12, "cacheRendered");
+      tally_rendered(s.core, 27, "cacheRendered");
       const C2_Lamps& g133 = s.g_lamps_6;
-      tally_global(s.core, 3, "lamps", g133);
+      tally_global(s.core, 5, "lamps", g133);
       if (s.d_click_19) {
         const Pos& g134 = s.g_click_18;
-        tally_global(s.core, 12, "click", g134);
+        tally_global(s.core, 27, "click", g134);
       }
       const std::vector<C1_Swatch>& g135 = s.g_swatches_10;
-      tally_global(s.core, 4, "swatches", g135);
+      tally_global(s.core, 6, "swatches", g135);
       const std::vector<int32_t>& g136 = s.g_palette_4;
-      tally_global(s.core, 5, "palette", g136);
+      tally_global(s.core, 7, "palette", g136);
       const std::vector<C0_Tile>& g137 = s.g_tiles_14;
-      tally_global(s.core, 6, "tiles", g137);
+      tally_global(s.core, 8, "tiles", g137);
       const Pos& g138 = s.g_corner_5;
-      tally_global(s.core, 7, "corner", g138);
+      tally_global(s.core, 9, "corner", g138);
     } else {
-      tally_rendered(s.core, 12, "cacheRendered");
+      tally_rendered(s.core, 27, "cacheRendered");
       const C2_Lamps& g139 = s.g_lamps_6;
-      tally_global(s.core, 3, "lamps", g139);
+      tally_global(s.core, 5, "lamps", g139);
       const std::vector<C1_Swatch>& g140 = s.g_swatches_10;
-      tally_global(s.core, 4, "swatches", g140);
+      tally_global(s.core, 6, "swatches", g140);
       const std::vector<int32_t>& g141 = s.g_palette_4;
-      tally_global(s.core, 5, "palette", g141);
+      tally_global(s.core, 7, "palette", g141);
       const std::vector<C0_Tile>& g142 = s.g_tiles_14;
-      tally_global(s.core, 6, "tiles", g142);
+      tally_global(s.core, 8, "tiles", g142);
       const Pos& g143 = s.g_corner_5;
-      tally_global(s.core, 7, "corner", g143);
+      tally_global(s.core, 9, "corner", g143);
     }
     s.core.clear_inputs();
   }
@@ -798,18 +902,26 @@ struct Prog {
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Tile>& g1 = s.g_tiles_14;
-    for (const C0_Tile& x2 : g1) {
-      const int32_t colour3 = colour_2_C0_Tile(s, x2);
-      const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
-      s.core.occupied.add(e4.position);
-      ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
+    {
+      const auto& x2_list = g1;
+      charge_loop(s.core, 28, int64_t(x2_list.size()));
+      for (const C0_Tile& x2 : x2_list) {
+        const int32_t colour3 = colour_2_C0_Tile(s, x2);
+        const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
+        s.core.occupied.add(e4.position);
+        ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
+      }
     }
     const std::vector<C1_Swatch>& g5 = s.g_swatches_10;
-    for (const C1_Swatch& x6 : g5) {
-      const int32_t colour7 = colour_1_C1_Swatch(s, x6);
-      const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
-      s.core.occupied.add(e8.position);
-      ++s.core.rendered, paint ? paint->paint(e8.position, pal[e8.color]) : void();
+    {
+      const auto& x6_list = g5;
+      charge_loop(s.core, 28, int64_t(x6_list.size()));
+      for (const C1_Swatch& x6 : x6_list) {
+        const int32_t colour7 = colour_1_C1_Swatch(s, x6);
+        const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
+        s.core.occupied.add(e8.position);
+        ++s.core.rendered, paint ? paint->paint(e8.position, pal[e8.color]) : void();
+      }
     }
     const C2_Lamps& g9 = s.g_lamps_6;
     const int32_t colour10 = colour_0_C2_Lamps(s, g9);
@@ -889,19 +1001,35 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {24, 25, nullptr, true, 24, 25, "initialising 'swatches': "},
     {24, 45, nullptr, true, 24, 45, "initialising 'swatches': "},
     {18, 65, nullptr, true, 18, 65, "initialising 'tiles': "},
+    {18, 5, nullptr, true, 18, 5, "initialising 'tiles': "},
     {18, 23, nullptr, true, 18, 23, "initialising 'tiles': "},
     {28, 3, nullptr, true, 28, 3, ""},
     {24, 3, nullptr, true, 24, 3, ""},
     {14, 3, nullptr, true, 14, 3, ""},
     {21, 3, nullptr, true, 21, 3, ""},
     {15, 3, nullptr, true, 15, 3, ""},
+    {38, 44, nullptr, true, 38, 44, ""},
+    {38, 17, nullptr, true, 38, 17, ""},
+    {33, 16, nullptr, true, 33, 16, ""},
     {34, 41, nullptr, true, 34, 41, ""},
+    {40, 5, nullptr, true, 40, 5, ""},
+    {42, 39, nullptr, true, 42, 39, ""},
+    {149, 20, "<stdlib>", true, 42, 51, ""},
+    {51, 36, nullptr, true, 51, 36, ""},
+    {46, 12, nullptr, true, 46, 12, ""},
+    {46, 27, nullptr, true, 46, 27, ""},
     {47, 37, nullptr, true, 47, 37, ""},
+    {44, 29, nullptr, true, 44, 29, ""},
+    {53, 36, nullptr, true, 53, 36, ""},
     {18, 65, nullptr, true, 18, 65, ""},
+    {18, 5, nullptr, true, 18, 5, ""},
     {18, 23, nullptr, true, 18, 23, ""},
+    {31, 25, nullptr, true, 31, 25, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

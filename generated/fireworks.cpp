@@ -243,93 +243,129 @@ struct Prog {
         std::vector<C2_Spark>& out2 = s.scratch.v.b0;
         out2.clear();
         out2.reserve(size_t(int32_t(prev1.size())));
-        for (const C2_Spark& x3 : prev1) {
-          // inlined: function at programs/fireworks.au:37
-          const Pos t4 = Pos{x3.f0, x3.f1};
-          const int32_t t5 = add(x3.origin.x, t4.x);
-          const int32_t t6 = add(x3.origin.y, t4.y);
-          const Pos t7 = Pos{t5, t6};
-          C2_Spark upd8 = x3;
-          upd8.origin = t7;
-          const int32_t t9 = sub(x3.f2, int32_t(1));
-          C2_Spark upd10 = upd8;
-          upd10.f2 = t9;
-          out2.push_back(std::move(upd10));
+        {
+          const auto& x3_list = prev1;
+          charge_loop(s.core, 5, int64_t(x3_list.size()));
+          for (const C2_Spark& x3 : x3_list) {
+            // inlined: function at programs/fireworks.au:37
+            const Pos t4 = Pos{x3.f0, x3.f1};
+            const int32_t t5 = add(x3.origin.x, t4.x);
+            const int32_t t6 = add(x3.origin.y, t4.y);
+            const Pos t7 = Pos{t5, t6};
+            C2_Spark upd8 = x3;
+            upd8.origin = t7;
+            const int32_t t9 = sub(x3.f2, int32_t(1));
+            C2_Spark upd10 = upd8;
+            upd10.f2 = t9;
+            out2.push_back(std::move(upd10));
+          }
         }
         std::vector<C2_Spark>& out11 = s.scratch.v.b1;
         out11.clear();
-        for (const C2_Spark& x12 : out2) {
-          // inlined: function at programs/fireworks.au:36
-          const bool t13 = (x12.f2 > int32_t(0));
-          bool r14{};
-          if (t13) {
-            std::vector<Elem>& rendered15 = s.scratch.v.b2;
-            rendered15.clear();
-            const int32_t colour16 = colour_5_C2_Spark(s, x12);
-            rendered15.push_back(Elem{Pos{add(x12.origin.x, int32_t(0)), add(x12.origin.y, int32_t(0))}, colour16});
-            bool within17 = true;
-            for (const Elem& e18 : rendered15) {
-              if ((((e18.position.x < int32_t(0)) || (e18.position.x >= int32_t(20))) || ((e18.position.y < int32_t(0)) || (e18.position.y >= int32_t(20))))) {
-                within17 = false;
-                break;
+        {
+          const auto& x12_list = out2;
+          charge_loop(s.core, 6, int64_t(x12_list.size()));
+          for (const C2_Spark& x12 : x12_list) {
+            // inlined: function at programs/fireworks.au:36
+            const bool t13 = (x12.f2 > int32_t(0));
+            bool r14{};
+            if (t13) {
+              std::vector<Elem>& rendered15 = s.scratch.v.b2;
+              rendered15.clear();
+              const int32_t colour16 = colour_5_C2_Spark(s, x12);
+              rendered15.push_back(Elem{Pos{add(x12.origin.x, int32_t(0)), add(x12.origin.y, int32_t(0))}, colour16});
+              bool within17 = true;
+              {
+                const auto& e18_list = rendered15;
+                charge_loop(s.core, 7, int64_t(e18_list.size()));
+                for (const Elem& e18 : e18_list) {
+                  if ((((e18.position.x < int32_t(0)) || (e18.position.x >= int32_t(20))) || ((e18.position.y < int32_t(0)) || (e18.position.y >= int32_t(20))))) {
+                    within17 = false;
+                    break;
+                  }
+                }
               }
+              r14 = within17;
+            } else {
+              r14 = false;
             }
-            r14 = within17;
-          } else {
-            r14 = false;
-          }
-          if (r14) {
-            out11.push_back(x12);
+            if (r14) {
+              out11.push_back(x12);
+            }
           }
         }
         const std::vector<C1_Rocket>& prev19 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
         std::vector<C1_Rocket>& out20 = s.scratch.v.b3;
         out20.clear();
-        for (const C1_Rocket& x21 : prev19) {
-          // inlined: function at programs/fireworks.au:39
-          const bool t22 = (x21.origin.y <= x21.f0);
-          if (t22) {
-            out20.push_back(x21);
+        {
+          const auto& x21_list = prev19;
+          charge_loop(s.core, 8, int64_t(x21_list.size()));
+          for (const C1_Rocket& x21 : x21_list) {
+            // inlined: function at programs/fireworks.au:39
+            const bool t22 = (x21.origin.y <= x21.f0);
+            if (t22) {
+              out20.push_back(x21);
+            }
           }
         }
         std::vector<std::vector<C2_Spark>>& out23 = s.scratch.v.b4;
         out23.clear();
         out23.reserve(size_t(int32_t(out20.size())));
-        for (const C1_Rocket& x24 : out20) {
-          // inlined: function at programs/fireworks.au:30
-          int32_t l_span25{};
-          const std::vector<int32_t> list26 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)};
-          if (list26.empty()) {
-            fail_at(5, std::string() + std::string("uniformChoice of an empty list"));
+        {
+          const auto& x24_list = out20;
+          charge_loop(s.core, 9, int64_t(x24_list.size()));
+          for (const C1_Rocket& x24 : x24_list) {
+            // inlined: function at programs/fireworks.au:30
+            int32_t l_span25{};
+            const std::vector<int32_t> list26 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)};
+            if (list26.empty()) {
+              fail_at(10, std::string() + std::string("uniformChoice of an empty list"));
+            }
+            const int32_t t27 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list26.size())))));
+            const int32_t t28 = list26[size_t(t27)];
+            l_span25 = t28;
+            const std::vector<Pos>& g29 = s.g_compass_5;
+            std::vector<C2_Spark> out30{};
+            out30.reserve(size_t(int32_t(g29.size())));
+            {
+              const auto& x31_list = g29;
+              charge_loop(s.core, 11, int64_t(x31_list.size()));
+              for (const Pos& x31 : x31_list) {
+                // inlined: function at programs/fireworks.au:33
+                C2_Spark o32 = C2_Spark{x31.x, x31.y, l_span25, x24.f1, x24.origin};
+                out30.push_back(std::move(o32));
+              }
+            }
+            out23.push_back(std::move(out30));
           }
-          const int32_t t27 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list26.size())))));
-          const int32_t t28 = list26[size_t(t27)];
-          l_span25 = t28;
-          const std::vector<Pos>& g29 = s.g_compass_5;
-          std::vector<C2_Spark> out30{};
-          out30.reserve(size_t(int32_t(g29.size())));
-          for (const Pos& x31 : g29) {
-            // inlined: function at programs/fireworks.au:33
-            C2_Spark o32 = C2_Spark{x31.x, x31.y, l_span25, x24.f1, x24.origin};
-            out30.push_back(std::move(o32));
-          }
-          out23.push_back(std::move(out30));
         }
-        check_length(s.core, 6, total_size(out23));
+        check_length(s.core, 12, total_size(out23));
         std::vector<C2_Spark>& cat33 = s.scratch.v.b5;
         cat33.clear();
-        for (const std::vector<C2_Spark>& part34 : out23) {
-          cat33.insert(cat33.end(), part34.begin(), part34.end());
+        {
+          const auto& part34_list = out23;
+          charge_loop(s.core, 12, int64_t(part34_list.size()));
+          for (const std::vector<C2_Spark>& part34 : part34_list) {
+            cat33.insert(cat33.end(), part34.begin(), part34.end());
+          }
         }
-        check_length(s.core, 7, int64_t(out11.size()) + int64_t(int32_t(cat33.size())));
+        check_length(s.core, 13, int64_t(out11.size()) + int64_t(int32_t(cat33.size())));
         std::vector<C2_Spark>& added35 = s.scratch.v.b6;
         added35.clear();
         added35.reserve(size_t(add(int32_t(out11.size()), int32_t(cat33.size()))));
-        for (const C2_Spark& x36 : out11) {
-          added35.push_back(x36);
+        {
+          const auto& x36_list = out11;
+          charge_loop(s.core, 13, int64_t(x36_list.size()));
+          for (const C2_Spark& x36 : x36_list) {
+            added35.push_back(x36);
+          }
         }
-        for (const C2_Spark& x37 : cat33) {
-          added35.push_back(x37);
+        {
+          const auto& x37_list = cat33;
+          charge_loop(s.core, 13, int64_t(x37_list.size()));
+          for (const C2_Spark& x37 : x37_list) {
+            added35.push_back(x37);
+          }
         }
         if (!s.scratch.v.sv_sparks_11) {
           std::swap(s.scratch.v.p_sparks_10, s.g_sparks_8);
@@ -340,25 +376,33 @@ struct Prog {
         const std::vector<C1_Rocket>& prev38 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
         std::vector<C1_Rocket>& out39 = s.scratch.v.b7;
         out39.clear();
-        for (const C1_Rocket& x40 : prev38) {
-          // inlined: function at programs/fireworks.au:46
-          // inlined: function at programs/fireworks.au:39
-          const bool t41 = (x40.origin.y <= x40.f0);
-          const bool t42 = !t41;
-          if (t42) {
-            out39.push_back(x40);
+        {
+          const auto& x40_list = prev38;
+          charge_loop(s.core, 14, int64_t(x40_list.size()));
+          for (const C1_Rocket& x40 : x40_list) {
+            // inlined: function at programs/fireworks.au:46
+            // inlined: function at programs/fireworks.au:39
+            const bool t41 = (x40.origin.y <= x40.f0);
+            const bool t42 = !t41;
+            if (t42) {
+              out39.push_back(x40);
+            }
           }
         }
         std::vector<C1_Rocket>& out43 = s.scratch.v.b8;
         out43.clear();
         out43.reserve(size_t(int32_t(out39.size())));
-        for (const C1_Rocket& x44 : out39) {
-          const int32_t t45 = add(x44.origin.x, int32_t(0));
-          const int32_t t46 = add(x44.origin.y, int32_t(-1));
-          const Pos t47 = Pos{t45, t46};
-          C1_Rocket upd48 = x44;
-          upd48.origin = t47;
-          out43.push_back(std::move(upd48));
+        {
+          const auto& x44_list = out39;
+          charge_loop(s.core, 15, int64_t(x44_list.size()));
+          for (const C1_Rocket& x44 : x44_list) {
+            const int32_t t45 = add(x44.origin.x, int32_t(0));
+            const int32_t t46 = add(x44.origin.y, int32_t(-1));
+            const Pos t47 = Pos{t45, t46};
+            C1_Rocket upd48 = x44;
+            upd48.origin = t47;
+            out43.push_back(std::move(upd48));
+          }
         }
         if (!s.scratch.v.sv_rockets_15) {
           std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
@@ -386,10 +430,14 @@ struct Prog {
         rendered55.push_back(Elem{Pos{add(upd54.origin.x, int32_t(0)), add(upd54.origin.y, int32_t(0))}, int32_t(6)});
         rendered55.push_back(Elem{Pos{add(upd54.origin.x, int32_t(1)), add(upd54.origin.y, int32_t(0))}, int32_t(6)});
         bool within56 = true;
-        for (const Elem& e57 : rendered55) {
-          if ((((e57.position.x < int32_t(0)) || (e57.position.x >= int32_t(20))) || ((e57.position.y < int32_t(0)) || (e57.position.y >= int32_t(20))))) {
-            within56 = false;
-            break;
+        {
+          const auto& e57_list = rendered55;
+          charge_loop(s.core, 16, int64_t(e57_list.size()));
+          for (const Elem& e57 : e57_list) {
+            if ((((e57.position.x < int32_t(0)) || (e57.position.x >= int32_t(20))) || ((e57.position.y < int32_t(0)) || (e57.position.y >= int32_t(20))))) {
+              within56 = false;
+              break;
+            }
           }
         }
         C0_Pad r58{};
@@ -429,10 +477,14 @@ struct Prog {
         rendered69.push_back(Elem{Pos{add(upd68.origin.x, int32_t(0)), add(upd68.origin.y, int32_t(0))}, int32_t(6)});
         rendered69.push_back(Elem{Pos{add(upd68.origin.x, int32_t(1)), add(upd68.origin.y, int32_t(0))}, int32_t(6)});
         bool within70 = true;
-        for (const Elem& e71 : rendered69) {
-          if ((((e71.position.x < int32_t(0)) || (e71.position.x >= int32_t(20))) || ((e71.position.y < int32_t(0)) || (e71.position.y >= int32_t(20))))) {
-            within70 = false;
-            break;
+        {
+          const auto& e71_list = rendered69;
+          charge_loop(s.core, 16, int64_t(e71_list.size()));
+          for (const Elem& e71 : e71_list) {
+            if ((((e71.position.x < int32_t(0)) || (e71.position.x >= int32_t(20))) || ((e71.position.y < int32_t(0)) || (e71.position.y >= int32_t(20))))) {
+              within70 = false;
+              break;
+            }
           }
         }
         C0_Pad r72{};
@@ -480,11 +532,11 @@ struct Prog {
           const Pos& g85 = s.g_click_20;
           r84 = g85;
         } else {
-          fail_at(8, std::string() + std::string("undefined variable 'click'"));
+          fail_at(17, std::string() + std::string("undefined variable 'click'"));
         }
         const std::vector<int32_t>& g86 = s.g_palette_4;
         if (g86.empty()) {
-          fail_at(9, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(18, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t87 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g86.size())))));
         const int32_t t88 = g86[size_t(t87)];
@@ -493,16 +545,20 @@ struct Prog {
           const Pos& g90 = s.g_click_20;
           r89 = g90;
         } else {
-          fail_at(10, std::string() + std::string("undefined variable 'click'"));
+          fail_at(19, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t91 = Pos{r89.x, int32_t(18)};
         C1_Rocket o92 = C1_Rocket{r84.y, t88, t91};
-        check_length(s.core, 11, int64_t(g83.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 20, int64_t(g83.size()) + int64_t(int32_t(1)));
         std::vector<C1_Rocket>& added93 = s.scratch.v.b11;
         added93.clear();
         added93.reserve(size_t(add(int32_t(g83.size()), int32_t(1))));
-        for (const C1_Rocket& x94 : g83) {
-          added93.push_back(x94);
+        {
+          const auto& x94_list = g83;
+          charge_loop(s.core, 20, int64_t(x94_list.size()));
+          for (const C1_Rocket& x94 : x94_list) {
+            added93.push_back(x94);
+          }
         }
         added93.push_back(std::move(o92));
         if (!s.scratch.v.sv_rockets_15) {
@@ -530,25 +586,29 @@ struct Prog {
         const std::vector<C1_Rocket>& g100 = s.g_rockets_12;
         const std::vector<int32_t> list101 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
         if (list101.empty()) {
-          fail_at(12, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(21, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t102 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list101.size())))));
         const int32_t t103 = list101[size_t(t102)];
         const std::vector<int32_t>& g104 = s.g_palette_4;
         if (g104.empty()) {
-          fail_at(13, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(22, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t105 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g104.size())))));
         const int32_t t106 = g104[size_t(t105)];
         const C0_Pad& g107 = s.g_pad_16;
         const Pos t108 = Pos{g107.origin.x, int32_t(18)};
         C1_Rocket o109 = C1_Rocket{t103, t106, t108};
-        check_length(s.core, 14, int64_t(g100.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 23, int64_t(g100.size()) + int64_t(int32_t(1)));
         std::vector<C1_Rocket>& added110 = s.scratch.v.b12;
         added110.clear();
         added110.reserve(size_t(add(int32_t(g100.size()), int32_t(1))));
-        for (const C1_Rocket& x111 : g100) {
-          added110.push_back(x111);
+        {
+          const auto& x111_list = g100;
+          charge_loop(s.core, 23, int64_t(x111_list.size()));
+          for (const C1_Rocket& x111 : x111_list) {
+            added110.push_back(x111);
+          }
         }
         added110.push_back(std::move(o109));
         if (!s.scratch.v.sv_rockets_15) {
@@ -575,47 +635,63 @@ struct Prog {
         s.core.covered[int32_t(5)] = 1;
         const std::vector<C1_Rocket>& g117 = s.g_rockets_12;
         if ((int32_t(20) < int32_t(0))) {
-          fail_at(15, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(24, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
         std::vector<Pos>& rpos118 = s.scratch.v.b13;
         rpos118.clear();
-        for (int32_t i119 = int32_t(0), i119_end = int32_t(3); i119 < i119_end; ++i119) {
-          const int32_t t120 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
-          const int32_t t121 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
-          const Pos t122 = Pos{t120, t121};
-          rpos118.push_back(t122);
+        {
+          const int32_t i119_first = int32_t(0), i119_end = int32_t(3);
+          charge_loop(s.core, 24, int64_t(i119_end) - i119_first);
+          for (int32_t i119 = i119_first; i119 < i119_end; ++i119) {
+            const int32_t t120 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
+            const int32_t t121 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
+            const Pos t122 = Pos{t120, t121};
+            rpos118.push_back(t122);
+          }
         }
         std::vector<C1_Rocket>& out123 = s.scratch.v.b14;
         out123.clear();
         out123.reserve(size_t(int32_t(rpos118.size())));
-        for (const Pos& x124 : rpos118) {
-          // inlined: function at programs/fireworks.au:61
-          const bool t125 = (int32_t(12) < x124.y);
-          int32_t r126{};
-          if (t125) {
-            r126 = int32_t(12);
-          } else {
-            r126 = x124.y;
+        {
+          const auto& x124_list = rpos118;
+          charge_loop(s.core, 25, int64_t(x124_list.size()));
+          for (const Pos& x124 : x124_list) {
+            // inlined: function at programs/fireworks.au:61
+            const bool t125 = (int32_t(12) < x124.y);
+            int32_t r126{};
+            if (t125) {
+              r126 = int32_t(12);
+            } else {
+              r126 = x124.y;
+            }
+            const std::vector<int32_t>& g127 = s.g_palette_4;
+            if (g127.empty()) {
+              fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
+            }
+            const int32_t t128 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g127.size())))));
+            const int32_t t129 = g127[size_t(t128)];
+            const Pos t130 = Pos{x124.x, int32_t(18)};
+            C1_Rocket o131 = C1_Rocket{r126, t129, t130};
+            out123.push_back(std::move(o131));
           }
-          const std::vector<int32_t>& g127 = s.g_palette_4;
-          if (g127.empty()) {
-            fail_at(16, std::string() + std::string("uniformChoice of an empty list"));
-          }
-          const int32_t t128 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g127.size())))));
-          const int32_t t129 = g127[size_t(t128)];
-          const Pos t130 = Pos{x124.x, int32_t(18)};
-          C1_Rocket o131 = C1_Rocket{r126, t129, t130};
-          out123.push_back(std::move(o131));
         }
-        check_length(s.core, 17, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
+        check_length(s.core, 27, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
         std::vector<C1_Rocket>& added132 = s.scratch.v.b15;
         added132.clear();
         added132.reserve(size_t(add(int32_t(g117.size()), int32_t(out123.size()))));
-        for (const C1_Rocket& x133 : g117) {
-          added132.push_back(x133);
+        {
+          const auto& x133_list = g117;
+          charge_loop(s.core, 27, int64_t(x133_list.size()));
+          for (const C1_Rocket& x133 : x133_list) {
+            added132.push_back(x133);
+          }
         }
-        for (const C1_Rocket& x134 : out123) {
-          added132.push_back(x134);
+        {
+          const auto& x134_list = out123;
+          charge_loop(s.core, 27, int64_t(x134_list.size()));
+          for (const C1_Rocket& x134 : x134_list) {
+            added132.push_back(x134);
+          }
         }
         if (!s.scratch.v.sv_rockets_15) {
           std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
@@ -661,14 +737,14 @@ struct Prog {
       tally_global(s.core, 0, "pad", g138);
       const std::vector<C1_Rocket>& g139 = s.g_rockets_12;
       tally_global(s.core, 1, "rockets", g139);
-      tally_rendered(s.core, 18, "cacheRendered");
+      tally_rendered(s.core, 28, "cacheRendered");
       const std::vector<C2_Spark>& g140 = s.g_sparks_8;
       tally_global(s.core, 2, "sparks", g140);
       const std::vector<Pos>& g141 = s.g_compass_5;
       tally_global(s.core, 3, "compass", g141);
       if (s.d_click_21) {
         const Pos& g142 = s.g_click_20;
-        tally_global(s.core, 18, "click", g142);
+        tally_global(s.core, 28, "click", g142);
       }
       const std::vector<int32_t>& g143 = s.g_palette_4;
       tally_global(s.core, 4, "palette", g143);
@@ -677,7 +753,7 @@ struct Prog {
       tally_global(s.core, 0, "pad", g144);
       const std::vector<C1_Rocket>& g145 = s.g_rockets_12;
       tally_global(s.core, 1, "rockets", g145);
-      tally_rendered(s.core, 18, "cacheRendered");
+      tally_rendered(s.core, 28, "cacheRendered");
       const std::vector<C2_Spark>& g146 = s.g_sparks_8;
       tally_global(s.core, 2, "sparks", g146);
       const std::vector<Pos>& g147 = s.g_compass_5;
@@ -704,20 +780,28 @@ struct Prog {
     s.core.occupied.add(e4.position);
     ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
     const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
-    for (const C1_Rocket& x6 : g5) {
-      const Elem e7 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(8)};
-      s.core.occupied.add(e7.position);
-      ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
-      const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(1))}, int32_t(9)};
-      s.core.occupied.add(e8.position);
-      ++s.core.rendered, paint ? paint->paint(e8.position, pal[e8.color]) : void();
+    {
+      const auto& x6_list = g5;
+      charge_loop(s.core, 29, int64_t(x6_list.size()));
+      for (const C1_Rocket& x6 : x6_list) {
+        const Elem e7 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(8)};
+        s.core.occupied.add(e7.position);
+        ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
+        const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(1))}, int32_t(9)};
+        s.core.occupied.add(e8.position);
+        ++s.core.rendered, paint ? paint->paint(e8.position, pal[e8.color]) : void();
+      }
     }
     const std::vector<C2_Spark>& g9 = s.g_sparks_8;
-    for (const C2_Spark& x10 : g9) {
-      const int32_t colour11 = colour_5_C2_Spark(s, x10);
-      const Elem e12 = Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11};
-      s.core.occupied.add(e12.position);
-      ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
+    {
+      const auto& x10_list = g9;
+      charge_loop(s.core, 29, int64_t(x10_list.size()));
+      for (const C2_Spark& x10 : x10_list) {
+        const int32_t colour11 = colour_5_C2_Spark(s, x10);
+        const Elem e12 = Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11};
+        s.core.occupied.add(e12.position);
+        ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
+      }
     }
   }
   static uint64_t hash(const State& s) {
@@ -795,9 +879,18 @@ const ErrorSite Prog::kErrors[] = {
     {28, 3, nullptr, true, 28, 3, ""},
     {16, 3, nullptr, true, 16, 3, ""},
     {15, 3, nullptr, true, 15, 3, ""},
+    {37, 13, nullptr, true, 37, 13, ""},
+    {36, 5, nullptr, true, 36, 5, ""},
+    {36, 41, nullptr, true, 36, 41, ""},
+    {45, 65, nullptr, true, 45, 65, ""},
+    {45, 54, nullptr, true, 45, 54, ""},
     {32, 15, nullptr, true, 32, 15, ""},
+    {33, 7, nullptr, true, 33, 7, ""},
     {45, 46, nullptr, true, 45, 46, ""},
     {45, 17, nullptr, true, 45, 17, ""},
+    {46, 29, nullptr, true, 46, 29, ""},
+    {46, 18, nullptr, true, 46, 18, ""},
+    {41, 33, nullptr, true, 41, 33, ""},
     {53, 44, nullptr, true, 53, 44, ""},
     {53, 53, nullptr, true, 53, 53, ""},
     {53, 91, nullptr, true, 53, 91, ""},
@@ -806,9 +899,11 @@ const ErrorSite Prog::kErrors[] = {
     {56, 74, nullptr, true, 56, 74, ""},
     {56, 16, nullptr, true, 56, 16, ""},
     {62, 12, nullptr, true, 62, 12, ""},
+    {61, 7, nullptr, true, 61, 7, ""},
     {61, 45, nullptr, true, 61, 45, ""},
     {60, 16, nullptr, true, 60, 16, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

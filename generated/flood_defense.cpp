@@ -324,38 +324,54 @@ struct Prog {
     std::vector<std::vector<C0_Earth>>& out9 = s.scratch.v.b0;
     out9.clear();
     out9.reserve(size_t(int32_t(list8.size())));
-    for (const int32_t& x10 : list8) {
-      // inlined: function at programs/flood_defense.au:25
-      const std::vector<int32_t>& g11 = s.g_heights_4;
-      if (g11.empty()) {
-        fail_at(0, std::string() + std::string("at: empty list"));
-      }
-      if (((x10 < int32_t(0)) || (x10 >= int32_t(g11.size())))) {
-        fail_at(0, std::string() + std::string("at: index ") + std::to_string(x10) + std::string(" out of bounds"));
-      }
-      const int32_t t12 = g11[size_t(x10)];
-      check_length(s.core, 1, int64_t(t12) - int64_t(int32_t(0)));
-      std::vector<int32_t>& range13 = s.scratch.v.b1;
-      range13.clear();
-      for (int32_t i14 = int32_t(0), i14_end = t12; i14 < i14_end; ++i14) {
-        range13.push_back(i14);
-      }
-      std::vector<C0_Earth> out15{};
-      out15.reserve(size_t(int32_t(range13.size())));
-      for (const int32_t& x16 : range13) {
+    {
+      const auto& x10_list = list8;
+      charge_loop(s.core, 0, int64_t(x10_list.size()));
+      for (const int32_t& x10 : x10_list) {
         // inlined: function at programs/flood_defense.au:25
-        const int32_t t17 = sub(int32_t(15), x16);
-        const Pos t18 = Pos{x10, t17};
-        C0_Earth o19 = C0_Earth{t18, s.core.ids.fresh()};
-        out15.push_back(std::move(o19));
+        const std::vector<int32_t>& g11 = s.g_heights_4;
+        if (g11.empty()) {
+          fail_at(1, std::string() + std::string("at: empty list"));
+        }
+        if (((x10 < int32_t(0)) || (x10 >= int32_t(g11.size())))) {
+          fail_at(1, std::string() + std::string("at: index ") + std::to_string(x10) + std::string(" out of bounds"));
+        }
+        const int32_t t12 = g11[size_t(x10)];
+        check_length(s.core, 2, int64_t(t12) - int64_t(int32_t(0)));
+        std::vector<int32_t>& range13 = s.scratch.v.b1;
+        range13.clear();
+        {
+          const int32_t i14_first = int32_t(0), i14_end = t12;
+          charge_loop(s.core, 2, int64_t(i14_end) - i14_first);
+          for (int32_t i14 = i14_first; i14 < i14_end; ++i14) {
+            range13.push_back(i14);
+          }
+        }
+        std::vector<C0_Earth> out15{};
+        out15.reserve(size_t(int32_t(range13.size())));
+        {
+          const auto& x16_list = range13;
+          charge_loop(s.core, 3, int64_t(x16_list.size()));
+          for (const int32_t& x16 : x16_list) {
+            // inlined: function at programs/flood_defense.au:25
+            const int32_t t17 = sub(int32_t(15), x16);
+            const Pos t18 = Pos{x10, t17};
+            C0_Earth o19 = C0_Earth{t18, s.core.ids.fresh()};
+            out15.push_back(std::move(o19));
+          }
+        }
+        out9.push_back(std::move(out15));
       }
-      out9.push_back(std::move(out15));
     }
-    check_length(s.core, 2, total_size(out9));
+    check_length(s.core, 4, total_size(out9));
     std::vector<C0_Earth>& cat20 = s.scratch.v.b2;
     cat20.clear();
-    for (const std::vector<C0_Earth>& part21 : out9) {
-      cat20.insert(cat20.end(), part21.begin(), part21.end());
+    {
+      const auto& part21_list = out9;
+      charge_loop(s.core, 4, int64_t(part21_list.size()));
+      for (const std::vector<C0_Earth>& part21 : part21_list) {
+        cat20.insert(cat20.end(), part21.begin(), part21.end());
+      }
     }
     std::swap(s.g_earth_27, cat20);
     s.u_earth_28 = false;
@@ -364,19 +380,19 @@ struct Prog {
     s.u_time_32 = false;
     s.core.tally.v = StateTally{};
     const std::vector<C1_House>& g22 = s.g_houses_19;
-    tally_global(s.core, 3, "houses", g22);
+    tally_global(s.core, 5, "houses", g22);
     const std::vector<C3_Sandbag>& g23 = s.g_bags_11;
-    tally_global(s.core, 4, "bags", g23);
+    tally_global(s.core, 6, "bags", g23);
     const std::vector<C4_Water>& g24 = s.g_water_7;
-    tally_global(s.core, 5, "water", g24);
+    tally_global(s.core, 7, "water", g24);
     const std::vector<C0_Earth>& g25 = s.g_earth_27;
-    tally_global(s.core, 6, "earth", g25);
+    tally_global(s.core, 8, "earth", g25);
     const C2_Drain& g26 = s.g_drain_23;
-    tally_global(s.core, 7, "drain", g26);
+    tally_global(s.core, 9, "drain", g26);
     const std::vector<int32_t>& g27 = s.g_heights_4;
-    tally_global(s.core, 8, "heights", g27);
+    tally_global(s.core, 10, "heights", g27);
     const C5_Spring& g28 = s.g_spring_15;
-    tally_global(s.core, 9, "spring", g28);
+    tally_global(s.core, 11, "spring", g28);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -404,290 +420,334 @@ struct Prog {
         std::vector<C4_Water>& out2 = s.scratch.v.b3;
         out2.clear();
         out2.reserve(size_t(int32_t(prev1.size())));
-        for (const C4_Water& x3 : prev1) {
-          const bool t4 = (x3.origin.y == int32_t(15));
-          const bool t5 = !t4;
-          bool r6{};
-          if (t5) {
-            const int32_t t7 = add(x3.origin.x, int32_t(0));
-            const int32_t t8 = add(x3.origin.y, int32_t(1));
-            const Pos t9 = Pos{t7, t8};
-            C4_Water upd10 = x3;
-            upd10.origin = t9;
-            upd10.uid = s.core.ids.fresh();
-            std::vector<Elem>& rendered11 = s.scratch.v.b4;
-            rendered11.clear();
-            rendered11.push_back(Elem{Pos{add(upd10.origin.x, int32_t(0)), add(upd10.origin.y, int32_t(0))}, int32_t(4)});
-            bool any12 = false;
-            for (const Elem& x13 : rendered11) {
-              const bool t14 = s.core.occupied.free(x13.position);
-              const bool t15 = !t14;
-              if (t15) {
-                any12 = true;
-                break;
-              }
-            }
-            const bool t16 = !any12;
-            r6 = t16;
-          } else {
-            r6 = false;
-          }
-          C4_Water r17{};
-          if (r6) {
-            const int32_t t18 = add(x3.origin.x, int32_t(0));
-            const int32_t t19 = add(x3.origin.y, int32_t(1));
-            const Pos t20 = Pos{t18, t19};
-            C4_Water upd21 = x3;
-            upd21.origin = t20;
-            upd21.uid = s.core.ids.fresh();
-            r17 = std::move(upd21);
-          } else {
-            std::vector<Pos>& l_nextRowPos22 = s.scratch.v.b5;
-            l_nextRowPos22.clear();
-            std::vector<Pos>& l_holes23 = s.scratch.v.b6;
-            l_holes23.clear();
-            const int32_t t24 = add(x3.origin.y, int32_t(1));
-            const Pos t25 = Pos{int32_t(0), t24};
-            const int32_t t26 = add(x3.origin.y, int32_t(2));
-            const Pos t27 = Pos{int32_t(16), t26};
-            int32_t l_xmin28{};
-            int32_t l_xmax29{};
-            int32_t l_ymin30{};
-            int32_t l_ymax31{};
-            std::vector<Pos>& l_rectPos32 = s.scratch.v.b7;
-            l_rectPos32.clear();
-            l_xmin28 = t25.x;
-            l_xmax29 = t27.x;
-            l_ymin30 = t25.y;
-            l_ymax31 = t27.y;
-            check_length(s.core, 10, int64_t(l_ymax31) - int64_t(l_ymin30));
-            std::vector<int32_t>& range33 = s.scratch.v.b8;
-            range33.clear();
-            for (int32_t i34 = l_ymin30, i34_end = l_ymax31; i34 < i34_end; ++i34) {
-              range33.push_back(i34);
-            }
-            std::vector<std::vector<Pos>>& out35 = s.scratch.v.b9;
-            out35.clear();
-            out35.reserve(size_t(int32_t(range33.size())));
-            for (const int32_t& x36 : range33) {
-              check_length(s.core, 11, int64_t(l_xmax29) - int64_t(l_xmin28));
-              std::vector<int32_t>& range37 = s.scratch.v.b10;
-              range37.clear();
-              for (int32_t i38 = l_xmin28, i38_end = l_xmax29; i38 < i38_end; ++i38) {
-                range37.push_back(i38);
-              }
-              std::vector<Pos> out39{};
-              out39.reserve(size_t(int32_t(range37.size())));
-              for (const int32_t& x40 : range37) {
-                const Pos t41 = Pos{x40, x36};
-                out39.push_back(t41);
-              }
-              out35.push_back(std::move(out39));
-            }
-            check_length(s.core, 12, total_size(out35));
-            std::vector<Pos>& cat42 = s.scratch.v.b11;
-            cat42.clear();
-            for (const std::vector<Pos>& part43 : out35) {
-              cat42.insert(cat42.end(), part43.begin(), part43.end());
-            }
-            std::swap(l_rectPos32, cat42);
-            std::swap(l_nextRowPos22, l_rectPos32);
-            std::vector<Pos>& out44 = s.scratch.v.b12;
-            out44.clear();
-            for (const Pos& x45 : l_nextRowPos22) {
-              const bool t46 = (x45.y == int32_t(16));
-              const bool t47 = !t46;
-              if (t47) {
-                out44.push_back(x45);
-              }
-            }
-            std::swap(l_nextRowPos22, out44);
-            std::vector<Pos>& out48 = s.scratch.v.b13;
-            out48.clear();
-            for (const Pos& x49 : l_nextRowPos22) {
-              const bool t50 = s.core.occupied.free(x49);
-              bool r51{};
-              if (t50) {
-                const int32_t t52 = add(x49.x, int32_t(0));
-                const int32_t t53 = add(x49.y, int32_t(-1));
-                const Pos t54 = Pos{t52, t53};
-                const bool t55 = s.core.occupied.free(t54);
-                r51 = t55;
-              } else {
-                r51 = false;
-              }
-              if (r51) {
-                out48.push_back(x49);
-              }
-            }
-            std::swap(l_holes23, out48);
-            const int32_t t56 = int32_t(l_holes23.size());
-            const bool t57 = (t56 == int32_t(0));
-            C4_Water r58{};
-            if (t57) {
-              r58 = x3;
-            } else {
-              Pos l_closestHole59{};
-              const int32_t t60 = int32_t(l_holes23.size());
-              const bool t61 = (t60 == int32_t(0));
-              Pos r62{};
-              if (t61) {
-                r62 = x3.origin;
-              } else {
-                if (l_holes23.empty()) {
-                  fail_at(13, std::string() + std::string("head of an empty list"));
-                }
-                const Pos t63 = l_holes23.front();
-                Pos acc64 = t63;
-                for (const Pos& x65 : l_holes23) {
-                  Pos l_delta66{};
-                  const int32_t t67 = sub(x3.origin.x, acc64.x);
-                  const int32_t t68 = sub(x3.origin.y, acc64.y);
-                  const Pos t69 = Pos{t67, t68};
-                  l_delta66 = t69;
-                  const int32_t t70 = mul(l_delta66.x, l_delta66.x);
-                  const int32_t t71 = mul(l_delta66.y, l_delta66.y);
-                  const int32_t t72 = add(t70, t71);
-                  Pos l_delta73{};
-                  const int32_t t74 = sub(x3.origin.x, x65.x);
-                  const int32_t t75 = sub(x3.origin.y, x65.y);
-                  const Pos t76 = Pos{t74, t75};
-                  l_delta73 = t76;
-                  const int32_t t77 = mul(l_delta73.x, l_delta73.x);
-                  const int32_t t78 = mul(l_delta73.y, l_delta73.y);
-                  const int32_t t79 = add(t77, t78);
-                  const bool t80 = (t72 < t79);
-                  Pos r81{};
-                  if (t80) {
-                    r81 = acc64;
-                  } else {
-                    r81 = x65;
+        {
+          const auto& x3_list = prev1;
+          charge_loop(s.core, 12, int64_t(x3_list.size()));
+          for (const C4_Water& x3 : x3_list) {
+            const bool t4 = (x3.origin.y == int32_t(15));
+            const bool t5 = !t4;
+            bool r6{};
+            if (t5) {
+              const int32_t t7 = add(x3.origin.x, int32_t(0));
+              const int32_t t8 = add(x3.origin.y, int32_t(1));
+              const Pos t9 = Pos{t7, t8};
+              C4_Water upd10 = x3;
+              upd10.origin = t9;
+              upd10.uid = s.core.ids.fresh();
+              std::vector<Elem>& rendered11 = s.scratch.v.b4;
+              rendered11.clear();
+              rendered11.push_back(Elem{Pos{add(upd10.origin.x, int32_t(0)), add(upd10.origin.y, int32_t(0))}, int32_t(4)});
+              bool any12 = false;
+              {
+                const auto& x13_list = rendered11;
+                charge_loop(s.core, 13, int64_t(x13_list.size()));
+                for (const Elem& x13 : x13_list) {
+                  const bool t14 = s.core.occupied.free(x13.position);
+                  const bool t15 = !t14;
+                  if (t15) {
+                    any12 = true;
+                    break;
                   }
-                  acc64 = r81;
                 }
-                r62 = acc64;
               }
-              l_closestHole59 = r62;
-              Pos l_dir82{};
-              C4_Water l_movedObj83{};
-              const int32_t t84 = add(l_closestHole59.x, int32_t(0));
-              const int32_t t85 = add(l_closestHole59.y, int32_t(-1));
-              const Pos t86 = Pos{t84, t85};
-              Pos l_delta87{};
-              int32_t l_sign_x88{};
-              int32_t l_sign_y89{};
-              const int32_t t90 = sub(t86.x, x3.origin.x);
-              const int32_t t91 = sub(t86.y, x3.origin.y);
-              const Pos t92 = Pos{t90, t91};
-              l_delta87 = t92;
-              const bool t93 = (l_delta87.x == int32_t(0));
-              int32_t r94{};
-              if (t93) {
-                r94 = int32_t(0);
-              } else {
-                const bool t95 = (l_delta87.x < int32_t(0));
-                int32_t r96{};
-                if (t95) {
-                  r96 = int32_t(-1);
-                } else {
-                  r96 = int32_t(1);
+              const bool t16 = !any12;
+              r6 = t16;
+            } else {
+              r6 = false;
+            }
+            C4_Water r17{};
+            if (r6) {
+              const int32_t t18 = add(x3.origin.x, int32_t(0));
+              const int32_t t19 = add(x3.origin.y, int32_t(1));
+              const Pos t20 = Pos{t18, t19};
+              C4_Water upd21 = x3;
+              upd21.origin = t20;
+              upd21.uid = s.core.ids.fresh();
+              r17 = std::move(upd21);
+            } else {
+              std::vector<Pos>& l_nextRowPos22 = s.scratch.v.b5;
+              l_nextRowPos22.clear();
+              std::vector<Pos>& l_holes23 = s.scratch.v.b6;
+              l_holes23.clear();
+              const int32_t t24 = add(x3.origin.y, int32_t(1));
+              const Pos t25 = Pos{int32_t(0), t24};
+              const int32_t t26 = add(x3.origin.y, int32_t(2));
+              const Pos t27 = Pos{int32_t(16), t26};
+              int32_t l_xmin28{};
+              int32_t l_xmax29{};
+              int32_t l_ymin30{};
+              int32_t l_ymax31{};
+              std::vector<Pos>& l_rectPos32 = s.scratch.v.b7;
+              l_rectPos32.clear();
+              l_xmin28 = t25.x;
+              l_xmax29 = t27.x;
+              l_ymin30 = t25.y;
+              l_ymax31 = t27.y;
+              check_length(s.core, 14, int64_t(l_ymax31) - int64_t(l_ymin30));
+              std::vector<int32_t>& range33 = s.scratch.v.b8;
+              range33.clear();
+              {
+                const int32_t i34_first = l_ymin30, i34_end = l_ymax31;
+                charge_loop(s.core, 14, int64_t(i34_end) - i34_first);
+                for (int32_t i34 = i34_first; i34 < i34_end; ++i34) {
+                  range33.push_back(i34);
                 }
-                r94 = r96;
               }
-              l_sign_x88 = r94;
-              const bool t97 = (l_delta87.y == int32_t(0));
-              int32_t r98{};
-              if (t97) {
-                r98 = int32_t(0);
-              } else {
-                const bool t99 = (l_delta87.y < int32_t(0));
-                int32_t r100{};
-                if (t99) {
-                  r100 = int32_t(-1);
-                } else {
-                  r100 = int32_t(1);
-                }
-                r98 = r100;
-              }
-              l_sign_y89 = r98;
-              const bool t101 = (l_sign_x88 < int32_t(0));
-              int32_t r102{};
-              if (t101) {
-                const int32_t t103 = neg(l_sign_x88);
-                r102 = t103;
-              } else {
-                r102 = l_sign_x88;
-              }
-              const bool t104 = (r102 == int32_t(1));
-              bool r105{};
-              if (t104) {
-                const bool t106 = (l_sign_y89 < int32_t(0));
-                int32_t r107{};
-                if (t106) {
-                  const int32_t t108 = neg(l_sign_y89);
-                  r107 = t108;
-                } else {
-                  r107 = l_sign_y89;
-                }
-                const bool t109 = (r107 == int32_t(1));
-                r105 = t109;
-              } else {
-                r105 = false;
-              }
-              Pos r110{};
-              if (r105) {
-                const Pos t111 = Pos{l_sign_x88, int32_t(0)};
-                r110 = t111;
-              } else {
-                const Pos t112 = Pos{l_sign_x88, l_sign_y89};
-                r110 = t112;
-              }
-              l_dir82 = r110;
-              const int32_t t113 = add(x3.origin.x, l_dir82.x);
-              const int32_t t114 = add(x3.origin.y, l_dir82.y);
-              const Pos t115 = Pos{t113, t114};
-              C4_Water upd116 = x3;
-              upd116.origin = t115;
-              upd116.uid = s.core.ids.fresh();
-              l_movedObj83 = std::move(upd116);
-              const int32_t t117 = add(l_closestHole59.x, int32_t(0));
-              const int32_t t118 = add(l_closestHole59.y, int32_t(-1));
-              const Pos t119 = Pos{t117, t118};
-              const bool t120 = s.core.occupied.free(t119);
-              bool r121{};
-              if (t120) {
-                const bool t122 = s.core.occupied.free(l_movedObj83.origin);
-                bool r123{};
-                if (t122) {
-                  std::vector<Elem>& rendered124 = s.scratch.v.b14;
-                  rendered124.clear();
-                  rendered124.push_back(Elem{Pos{add(l_movedObj83.origin.x, int32_t(0)), add(l_movedObj83.origin.y, int32_t(0))}, int32_t(4)});
-                  bool within125 = true;
-                  for (const Elem& e126 : rendered124) {
-                    if ((((e126.position.x < int32_t(0)) || (e126.position.x >= int32_t(16))) || ((e126.position.y < int32_t(0)) || (e126.position.y >= int32_t(16))))) {
-                      within125 = false;
-                      break;
+              std::vector<std::vector<Pos>>& out35 = s.scratch.v.b9;
+              out35.clear();
+              out35.reserve(size_t(int32_t(range33.size())));
+              {
+                const auto& x36_list = range33;
+                charge_loop(s.core, 15, int64_t(x36_list.size()));
+                for (const int32_t& x36 : x36_list) {
+                  check_length(s.core, 16, int64_t(l_xmax29) - int64_t(l_xmin28));
+                  std::vector<int32_t>& range37 = s.scratch.v.b10;
+                  range37.clear();
+                  {
+                    const int32_t i38_first = l_xmin28, i38_end = l_xmax29;
+                    charge_loop(s.core, 16, int64_t(i38_end) - i38_first);
+                    for (int32_t i38 = i38_first; i38 < i38_end; ++i38) {
+                      range37.push_back(i38);
                     }
                   }
-                  r123 = within125;
-                } else {
-                  r123 = false;
+                  std::vector<Pos> out39{};
+                  out39.reserve(size_t(int32_t(range37.size())));
+                  {
+                    const auto& x40_list = range37;
+                    charge_loop(s.core, 17, int64_t(x40_list.size()));
+                    for (const int32_t& x40 : x40_list) {
+                      const Pos t41 = Pos{x40, x36};
+                      out39.push_back(t41);
+                    }
+                  }
+                  out35.push_back(std::move(out39));
                 }
-                r121 = r123;
-              } else {
-                r121 = false;
               }
-              C4_Water r127{};
-              if (r121) {
-                r127 = std::move(l_movedObj83);
-              } else {
-                r127 = x3;
+              check_length(s.core, 18, total_size(out35));
+              std::vector<Pos>& cat42 = s.scratch.v.b11;
+              cat42.clear();
+              {
+                const auto& part43_list = out35;
+                charge_loop(s.core, 18, int64_t(part43_list.size()));
+                for (const std::vector<Pos>& part43 : part43_list) {
+                  cat42.insert(cat42.end(), part43.begin(), part43.end());
+                }
               }
-              r58 = std::move(r127);
+              std::swap(l_rectPos32, cat42);
+              std::swap(l_nextRowPos22, l_rectPos32);
+              std::vector<Pos>& out44 = s.scratch.v.b12;
+              out44.clear();
+              {
+                const auto& x45_list = l_nextRowPos22;
+                charge_loop(s.core, 19, int64_t(x45_list.size()));
+                for (const Pos& x45 : x45_list) {
+                  const bool t46 = (x45.y == int32_t(16));
+                  const bool t47 = !t46;
+                  if (t47) {
+                    out44.push_back(x45);
+                  }
+                }
+              }
+              std::swap(l_nextRowPos22, out44);
+              std::vector<Pos>& out48 = s.scratch.v.b13;
+              out48.clear();
+              {
+                const auto& x49_list = l_nextRowPos22;
+                charge_loop(s.core, 20, int64_t(x49_list.size()));
+                for (const Pos& x49 : x49_list) {
+                  const bool t50 = s.core.occupied.free(x49);
+                  bool r51{};
+                  if (t50) {
+                    const int32_t t52 = add(x49.x, int32_t(0));
+                    const int32_t t53 = add(x49.y, int32_t(-1));
+                    const Pos t54 = Pos{t52, t53};
+                    const bool t55 = s.core.occupied.free(t54);
+                    r51 = t55;
+                  } else {
+                    r51 = false;
+                  }
+                  if (r51) {
+                    out48.push_back(x49);
+                  }
+                }
+              }
+              std::swap(l_holes23, out48);
+              const int32_t t56 = int32_t(l_holes23.size());
+              const bool t57 = (t56 == int32_t(0));
+              C4_Water r58{};
+              if (t57) {
+                r58 = x3;
+              } else {
+                Pos l_closestHole59{};
+                const int32_t t60 = int32_t(l_holes23.size());
+                const bool t61 = (t60 == int32_t(0));
+                Pos r62{};
+                if (t61) {
+                  r62 = x3.origin;
+                } else {
+                  if (l_holes23.empty()) {
+                    fail_at(21, std::string() + std::string("head of an empty list"));
+                  }
+                  const Pos t63 = l_holes23.front();
+                  Pos acc64 = t63;
+                  {
+                    const auto& x65_list = l_holes23;
+                    charge_loop(s.core, 22, int64_t(x65_list.size()));
+                    for (const Pos& x65 : x65_list) {
+                      Pos l_delta66{};
+                      const int32_t t67 = sub(x3.origin.x, acc64.x);
+                      const int32_t t68 = sub(x3.origin.y, acc64.y);
+                      const Pos t69 = Pos{t67, t68};
+                      l_delta66 = t69;
+                      const int32_t t70 = mul(l_delta66.x, l_delta66.x);
+                      const int32_t t71 = mul(l_delta66.y, l_delta66.y);
+                      const int32_t t72 = add(t70, t71);
+                      Pos l_delta73{};
+                      const int32_t t74 = sub(x3.origin.x, x65.x);
+                      const int32_t t75 = sub(x3.origin.y, x65.y);
+                      const Pos t76 = Pos{t74, t75};
+                      l_delta73 = t76;
+                      const int32_t t77 = mul(l_delta73.x, l_delta73.x);
+                      const int32_t t78 = mul(l_delta73.y, l_delta73.y);
+                      const int32_t t79 = add(t77, t78);
+                      const bool t80 = (t72 < t79);
+                      Pos r81{};
+                      if (t80) {
+                        r81 = acc64;
+                      } else {
+                        r81 = x65;
+                      }
+                      acc64 = r81;
+                    }
+                  }
+                  r62 = acc64;
+                }
+                l_closestHole59 = r62;
+                Pos l_dir82{};
+                C4_Water l_movedObj83{};
+                const int32_t t84 = add(l_closestHole59.x, int32_t(0));
+                const int32_t t85 = add(l_closestHole59.y, int32_t(-1));
+                const Pos t86 = Pos{t84, t85};
+                Pos l_delta87{};
+                int32_t l_sign_x88{};
+                int32_t l_sign_y89{};
+                const int32_t t90 = sub(t86.x, x3.origin.x);
+                const int32_t t91 = sub(t86.y, x3.origin.y);
+                const Pos t92 = Pos{t90, t91};
+                l_delta87 = t92;
+                const bool t93 = (l_delta87.x == int32_t(0));
+                int32_t r94{};
+                if (t93) {
+                  r94 = int32_t(0);
+                } else {
+                  const bool t95 = (l_delta87.x < int32_t(0));
+                  int32_t r96{};
+                  if (t95) {
+                    r96 = int32_t(-1);
+                  } else {
+                    r96 = int32_t(1);
+                  }
+                  r94 = r96;
+                }
+                l_sign_x88 = r94;
+                const bool t97 = (l_delta87.y == int32_t(0));
+                int32_t r98{};
+                if (t97) {
+                  r98 = int32_t(0);
+                } else {
+                  const bool t99 = (l_delta87.y < int32_t(0));
+                  int32_t r100{};
+                  if (t99) {
+                    r100 = int32_t(-1);
+                  } else {
+                    r100 = int32_t(1);
+                  }
+                  r98 = r100;
+                }
+                l_sign_y89 = r98;
+                const bool t101 = (l_sign_x88 < int32_t(0));
+                int32_t r102{};
+                if (t101) {
+                  const int32_t t103 = neg(l_sign_x88);
+                  r102 = t103;
+                } else {
+                  r102 = l_sign_x88;
+                }
+                const bool t104 = (r102 == int32_t(1));
+                bool r105{};
+                if (t104) {
+                  const bool t106 = (l_sign_y89 < int32_t(0));
+                  int32_t r107{};
+                  if (t106) {
+                    const int32_t t108 = neg(l_sign_y89);
+                    r107 = t108;
+                  } else {
+                    r107 = l_sign_y89;
+                  }
+                  const bool t109 = (r107 == int32_t(1));
+                  r105 = t109;
+                } else {
+                  r105 = false;
+                }
+                Pos r110{};
+                if (r105) {
+                  const Pos t111 = Pos{l_sign_x88, int32_t(0)};
+                  r110 = t111;
+                } else {
+                  const Pos t112 = Pos{l_sign_x88, l_sign_y89};
+                  r110 = t112;
+                }
+                l_dir82 = r110;
+                const int32_t t113 = add(x3.origin.x, l_dir82.x);
+                const int32_t t114 = add(x3.origin.y, l_dir82.y);
+                const Pos t115 = Pos{t113, t114};
+                C4_Water upd116 = x3;
+                upd116.origin = t115;
+                upd116.uid = s.core.ids.fresh();
+                l_movedObj83 = std::move(upd116);
+                const int32_t t117 = add(l_closestHole59.x, int32_t(0));
+                const int32_t t118 = add(l_closestHole59.y, int32_t(-1));
+                const Pos t119 = Pos{t117, t118};
+                const bool t120 = s.core.occupied.free(t119);
+                bool r121{};
+                if (t120) {
+                  const bool t122 = s.core.occupied.free(l_movedObj83.origin);
+                  bool r123{};
+                  if (t122) {
+                    std::vector<Elem>& rendered124 = s.scratch.v.b14;
+                    rendered124.clear();
+                    rendered124.push_back(Elem{Pos{add(l_movedObj83.origin.x, int32_t(0)), add(l_movedObj83.origin.y, int32_t(0))}, int32_t(4)});
+                    bool within125 = true;
+                    {
+                      const auto& e126_list = rendered124;
+                      charge_loop(s.core, 23, int64_t(e126_list.size()));
+                      for (const Elem& e126 : e126_list) {
+                        if ((((e126.position.x < int32_t(0)) || (e126.position.x >= int32_t(16))) || ((e126.position.y < int32_t(0)) || (e126.position.y >= int32_t(16))))) {
+                          within125 = false;
+                          break;
+                        }
+                      }
+                    }
+                    r123 = within125;
+                  } else {
+                    r123 = false;
+                  }
+                  r121 = r123;
+                } else {
+                  r121 = false;
+                }
+                C4_Water r127{};
+                if (r121) {
+                  r127 = std::move(l_movedObj83);
+                } else {
+                  r127 = x3;
+                }
+                r58 = std::move(r127);
+              }
+              r17 = std::move(r58);
             }
-            r17 = std::move(r58);
+            out2.push_back(std::move(r17));
           }
-          out2.push_back(std::move(r17));
         }
         if (!s.scratch.v.sv_water_10) {
           std::swap(s.scratch.v.p_water_9, s.g_water_7);
@@ -700,142 +760,170 @@ struct Prog {
         std::vector<S136>& all130 = s.scratch.v.b15;
         all130.clear();
         const std::vector<C1_House>& g131 = s.g_houses_19;
-        for (const C1_House& x132 : g131) {
-          all130.push_back(S136{std::in_place_index<1>, x132});
+        {
+          const auto& x132_list = g131;
+          charge_loop(s.core, 24, int64_t(x132_list.size()));
+          for (const C1_House& x132 : x132_list) {
+            all130.push_back(S136{std::in_place_index<1>, x132});
+          }
         }
         const std::vector<C3_Sandbag>& g133 = s.g_bags_11;
-        for (const C3_Sandbag& x134 : g133) {
-          all130.push_back(S136{std::in_place_index<2>, x134});
+        {
+          const auto& x134_list = g133;
+          charge_loop(s.core, 24, int64_t(x134_list.size()));
+          for (const C3_Sandbag& x134 : x134_list) {
+            all130.push_back(S136{std::in_place_index<2>, x134});
+          }
         }
         const std::vector<C4_Water>& g135 = s.g_water_7;
-        for (const C4_Water& x136 : g135) {
-          all130.push_back(S136{std::in_place_index<3>, x136});
+        {
+          const auto& x136_list = g135;
+          charge_loop(s.core, 24, int64_t(x136_list.size()));
+          for (const C4_Water& x136 : x136_list) {
+            all130.push_back(S136{std::in_place_index<3>, x136});
+          }
         }
         const std::vector<C0_Earth>& g137 = s.g_earth_27;
-        for (const C0_Earth& x138 : g137) {
-          all130.push_back(S136{std::in_place_index<0>, x138});
+        {
+          const auto& x138_list = g137;
+          charge_loop(s.core, 24, int64_t(x138_list.size()));
+          for (const C0_Earth& x138 : x138_list) {
+            all130.push_back(S136{std::in_place_index<0>, x138});
+          }
         }
         const C2_Drain& g139 = s.g_drain_23;
         all130.push_back(S136{std::in_place_index<5>, g139});
         const C5_Spring& g140 = s.g_spring_15;
         all130.push_back(S136{std::in_place_index<4>, g140});
-        check_appended_length(s.core, 14, int64_t(all130.size()));
+        check_appended_length(s.core, 24, int64_t(all130.size()));
         std::vector<S136>& out141 = s.scratch.v.b16;
         out141.clear();
-        for (const S136& x142 : all130) {
-          Pos r143{};
-          switch (x142.index()) {
-            case 0: {
-              const C0_Earth a144 = std::get<0>(x142);
-              r143 = a144.origin;
-              break;
-            }
-            case 1: {
-              const C1_House a145 = std::get<1>(x142);
-              r143 = a145.origin;
-              break;
-            }
-            case 2: {
-              const C3_Sandbag a146 = std::get<2>(x142);
-              r143 = a146.origin;
-              break;
-            }
-            case 3: {
-              const C4_Water a147 = std::get<3>(x142);
-              r143 = a147.origin;
-              break;
-            }
-            case 4: {
-              const C5_Spring a148 = std::get<4>(x142);
-              r143 = a148.origin;
-              break;
-            }
-            case 5: {
-              const C2_Drain a149 = std::get<5>(x142);
-              r143 = a149.origin;
-              break;
-            }
-            default: break;
-          }
-          Pos l_delta150{};
-          const int32_t t151 = sub(r143.x, g129.origin.x);
-          const int32_t t152 = sub(r143.y, g129.origin.y);
-          const Pos t153 = Pos{t151, t152};
-          l_delta150 = t153;
-          const bool t154 = (l_delta150.x < int32_t(0));
-          int32_t r155{};
-          if (t154) {
-            const int32_t t156 = neg(l_delta150.x);
-            r155 = t156;
-          } else {
-            r155 = l_delta150.x;
-          }
-          const bool t157 = (l_delta150.y < int32_t(0));
-          int32_t r158{};
-          if (t157) {
-            const int32_t t159 = neg(l_delta150.y);
-            r158 = t159;
-          } else {
-            r158 = l_delta150.y;
-          }
-          const int32_t t160 = add(r155, r158);
-          const bool t161 = (t160 <= int32_t(1));
-          if (t161) {
-            out141.push_back(x142);
-          }
-        }
-        std::vector<C4_Water>& kept162 = s.scratch.v.b17;
-        kept162.clear();
-        for (const C4_Water& x163 : g128) {
-          bool found164 = false;
-          for (const S136& y165 : out141) {
-            bool r166{};
-            switch (y165.index()) {
+        {
+          const auto& x142_list = all130;
+          charge_loop(s.core, 25, int64_t(x142_list.size()));
+          for (const S136& x142 : x142_list) {
+            Pos r143{};
+            switch (x142.index()) {
               case 0: {
-                const C0_Earth a167 = std::get<0>(y165);
-                const bool t168 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a167.uid))));
-                r166 = t168;
+                const C0_Earth a144 = std::get<0>(x142);
+                r143 = a144.origin;
                 break;
               }
               case 1: {
-                const C1_House a169 = std::get<1>(y165);
-                const bool t170 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a169.uid))));
-                r166 = t170;
+                const C1_House a145 = std::get<1>(x142);
+                r143 = a145.origin;
                 break;
               }
               case 2: {
-                const C3_Sandbag a171 = std::get<2>(y165);
-                const bool t172 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a171.uid))));
-                r166 = t172;
+                const C3_Sandbag a146 = std::get<2>(x142);
+                r143 = a146.origin;
                 break;
               }
               case 3: {
-                const C4_Water a173 = std::get<3>(y165);
-                const bool t174 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a173.uid))));
-                r166 = t174;
+                const C4_Water a147 = std::get<3>(x142);
+                r143 = a147.origin;
                 break;
               }
               case 4: {
-                const C5_Spring a175 = std::get<4>(y165);
-                const bool t176 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a175.uid))));
-                r166 = t176;
+                const C5_Spring a148 = std::get<4>(x142);
+                r143 = a148.origin;
                 break;
               }
               case 5: {
-                const C2_Drain a177 = std::get<5>(y165);
-                const bool t178 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a177.uid))));
-                r166 = t178;
+                const C2_Drain a149 = std::get<5>(x142);
+                r143 = a149.origin;
                 break;
               }
               default: break;
             }
-            if ((false || r166)) {
-              found164 = true;
-              break;
+            Pos l_delta150{};
+            const int32_t t151 = sub(r143.x, g129.origin.x);
+            const int32_t t152 = sub(r143.y, g129.origin.y);
+            const Pos t153 = Pos{t151, t152};
+            l_delta150 = t153;
+            const bool t154 = (l_delta150.x < int32_t(0));
+            int32_t r155{};
+            if (t154) {
+              const int32_t t156 = neg(l_delta150.x);
+              r155 = t156;
+            } else {
+              r155 = l_delta150.x;
+            }
+            const bool t157 = (l_delta150.y < int32_t(0));
+            int32_t r158{};
+            if (t157) {
+              const int32_t t159 = neg(l_delta150.y);
+              r158 = t159;
+            } else {
+              r158 = l_delta150.y;
+            }
+            const int32_t t160 = add(r155, r158);
+            const bool t161 = (t160 <= int32_t(1));
+            if (t161) {
+              out141.push_back(x142);
             }
           }
-          if (!found164) {
-            kept162.push_back(x163);
+        }
+        std::vector<C4_Water>& kept162 = s.scratch.v.b17;
+        kept162.clear();
+        {
+          const auto& x163_list = g128;
+          charge_loop(s.core, 26, int64_t(x163_list.size()));
+          for (const C4_Water& x163 : x163_list) {
+            bool found164 = false;
+            {
+              const auto& y165_list = out141;
+              charge_loop(s.core, 26, int64_t(y165_list.size()));
+              for (const S136& y165 : y165_list) {
+                bool r166{};
+                switch (y165.index()) {
+                  case 0: {
+                    const C0_Earth a167 = std::get<0>(y165);
+                    const bool t168 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a167.uid))));
+                    r166 = t168;
+                    break;
+                  }
+                  case 1: {
+                    const C1_House a169 = std::get<1>(y165);
+                    const bool t170 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a169.uid))));
+                    r166 = t170;
+                    break;
+                  }
+                  case 2: {
+                    const C3_Sandbag a171 = std::get<2>(y165);
+                    const bool t172 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a171.uid))));
+                    r166 = t172;
+                    break;
+                  }
+                  case 3: {
+                    const C4_Water a173 = std::get<3>(y165);
+                    const bool t174 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a173.uid))));
+                    r166 = t174;
+                    break;
+                  }
+                  case 4: {
+                    const C5_Spring a175 = std::get<4>(y165);
+                    const bool t176 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a175.uid))));
+                    r166 = t176;
+                    break;
+                  }
+                  case 5: {
+                    const C2_Drain a177 = std::get<5>(y165);
+                    const bool t178 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a177.uid))));
+                    r166 = t178;
+                    break;
+                  }
+                  default: break;
+                }
+                if ((false || r166)) {
+                  found164 = true;
+                  break;
+                }
+              }
+            }
+            if (!found164) {
+              kept162.push_back(x163);
+            }
           }
         }
         if (!s.scratch.v.sv_water_10) {
@@ -851,10 +939,10 @@ struct Prog {
       const int32_t& g179 = s.g_time_31;
       const C5_Spring& g180 = s.g_spring_15;
       if ((g180.f0 == int32_t(0))) {
-        fail_at(15, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        fail_at(27, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
       if (((g179 == int32_t(-2147483648LL)) && (g180.f0 == int32_t(-1)))) {
-        fail_at(15, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+        fail_at(27, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
       const int32_t t181 = autumn::arith::mod_unchecked(g179, g180.f0);
       const bool t182 = (t181 == int32_t(0));
@@ -884,14 +972,18 @@ struct Prog {
         const C5_Spring& g192 = s.g_spring_15;
         const Pos t193 = Pos{g192.origin.x, int32_t(1)};
         C4_Water o194 = C4_Water{t193, s.core.ids.fresh()};
-        check_length(s.core, 16, int64_t(g191.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 28, int64_t(g191.size()) + int64_t(int32_t(1)));
         std::vector<C4_Water>& added195 = s.scratch.v.b18;
         added195.clear();
         added195.reserve(size_t(add(int32_t(g191.size()), int32_t(1))));
-        for (const C4_Water& x196 : g191) {
-          C4_Water copy197 = x196;
-          copy197.uid = s.core.ids.fresh();
-          added195.push_back(std::move(copy197));
+        {
+          const auto& x196_list = g191;
+          charge_loop(s.core, 28, int64_t(x196_list.size()));
+          for (const C4_Water& x196 : x196_list) {
+            C4_Water copy197 = x196;
+            copy197.uid = s.core.ids.fresh();
+            added195.push_back(std::move(copy197));
+          }
         }
         added195.push_back(std::move(o194));
         if (!s.scratch.v.sv_water_10) {
@@ -910,195 +1002,235 @@ struct Prog {
         std::vector<C1_House>& updated199 = s.scratch.v.b19;
         updated199.clear();
         updated199.reserve(size_t(int32_t(prev198.size())));
-        for (const C1_House& x200 : prev198) {
-          // inlined: function at programs/flood_defense.au:60
-          const bool t201 = !x200.f0;
-          bool r202{};
-          if (t201) {
-            // inlined: function at programs/flood_defense.au:46
-            std::vector<S136>& all203 = s.scratch.v.b20;
-            all203.clear();
-            const std::vector<C1_House>& g204 = s.g_houses_19;
-            for (const C1_House& x205 : g204) {
-              all203.push_back(S136{std::in_place_index<1>, x205});
-            }
-            const std::vector<C3_Sandbag>& g206 = s.g_bags_11;
-            for (const C3_Sandbag& x207 : g206) {
-              all203.push_back(S136{std::in_place_index<2>, x207});
-            }
-            const std::vector<C4_Water>& g208 = s.g_water_7;
-            for (const C4_Water& x209 : g208) {
-              all203.push_back(S136{std::in_place_index<3>, x209});
-            }
-            const std::vector<C0_Earth>& g210 = s.g_earth_27;
-            for (const C0_Earth& x211 : g210) {
-              all203.push_back(S136{std::in_place_index<0>, x211});
-            }
-            const C2_Drain& g212 = s.g_drain_23;
-            all203.push_back(S136{std::in_place_index<5>, g212});
-            const C5_Spring& g213 = s.g_spring_15;
-            all203.push_back(S136{std::in_place_index<4>, g213});
-            check_appended_length(s.core, 17, int64_t(all203.size()));
-            std::vector<S136>& out214 = s.scratch.v.b21;
-            out214.clear();
-            for (const S136& x215 : all203) {
-              Pos r216{};
-              switch (x215.index()) {
-                case 0: {
-                  const C0_Earth a217 = std::get<0>(x215);
-                  r216 = a217.origin;
-                  break;
+        {
+          const auto& x200_list = prev198;
+          charge_loop(s.core, 29, int64_t(x200_list.size()));
+          for (const C1_House& x200 : x200_list) {
+            // inlined: function at programs/flood_defense.au:60
+            const bool t201 = !x200.f0;
+            bool r202{};
+            if (t201) {
+              // inlined: function at programs/flood_defense.au:46
+              std::vector<S136>& all203 = s.scratch.v.b20;
+              all203.clear();
+              const std::vector<C1_House>& g204 = s.g_houses_19;
+              {
+                const auto& x205_list = g204;
+                charge_loop(s.core, 30, int64_t(x205_list.size()));
+                for (const C1_House& x205 : x205_list) {
+                  all203.push_back(S136{std::in_place_index<1>, x205});
                 }
-                case 1: {
-                  const C1_House a218 = std::get<1>(x215);
-                  r216 = a218.origin;
-                  break;
-                }
-                case 2: {
-                  const C3_Sandbag a219 = std::get<2>(x215);
-                  r216 = a219.origin;
-                  break;
-                }
-                case 3: {
-                  const C4_Water a220 = std::get<3>(x215);
-                  r216 = a220.origin;
-                  break;
-                }
-                case 4: {
-                  const C5_Spring a221 = std::get<4>(x215);
-                  r216 = a221.origin;
-                  break;
-                }
-                case 5: {
-                  const C2_Drain a222 = std::get<5>(x215);
-                  r216 = a222.origin;
-                  break;
-                }
-                default: break;
               }
-              Pos l_delta223{};
-              const int32_t t224 = sub(r216.x, x200.origin.x);
-              const int32_t t225 = sub(r216.y, x200.origin.y);
-              const Pos t226 = Pos{t224, t225};
-              l_delta223 = t226;
-              const bool t227 = (l_delta223.x < int32_t(0));
-              int32_t r228{};
-              if (t227) {
-                const int32_t t229 = neg(l_delta223.x);
-                r228 = t229;
-              } else {
-                r228 = l_delta223.x;
+              const std::vector<C3_Sandbag>& g206 = s.g_bags_11;
+              {
+                const auto& x207_list = g206;
+                charge_loop(s.core, 30, int64_t(x207_list.size()));
+                for (const C3_Sandbag& x207 : x207_list) {
+                  all203.push_back(S136{std::in_place_index<2>, x207});
+                }
               }
-              const bool t230 = (l_delta223.y < int32_t(0));
-              int32_t r231{};
-              if (t230) {
-                const int32_t t232 = neg(l_delta223.y);
-                r231 = t232;
-              } else {
-                r231 = l_delta223.y;
+              const std::vector<C4_Water>& g208 = s.g_water_7;
+              {
+                const auto& x209_list = g208;
+                charge_loop(s.core, 30, int64_t(x209_list.size()));
+                for (const C4_Water& x209 : x209_list) {
+                  all203.push_back(S136{std::in_place_index<3>, x209});
+                }
               }
-              const int32_t t233 = add(r228, r231);
-              const bool t234 = (t233 <= int32_t(1));
-              if (t234) {
-                out214.push_back(x215);
+              const std::vector<C0_Earth>& g210 = s.g_earth_27;
+              {
+                const auto& x211_list = g210;
+                charge_loop(s.core, 30, int64_t(x211_list.size()));
+                for (const C0_Earth& x211 : x211_list) {
+                  all203.push_back(S136{std::in_place_index<0>, x211});
+                }
               }
-            }
-            const std::vector<C4_Water>& g235 = s.g_water_7;
-            std::vector<Elem>& rendered236 = s.scratch.v.b22;
-            rendered236.clear();
-            for (const S136& x237 : out214) {
-              int32_t r238{};
-              switch (x237.index()) {
-                case 0: {
-                  const C0_Earth a239 = std::get<0>(x237);
-                  rendered236.push_back(Elem{Pos{add(a239.origin.x, int32_t(0)), add(a239.origin.y, int32_t(0))}, int32_t(3)});
-                  r238 = int32_t(0);
-                  break;
-                }
-                case 1: {
-                  const C1_House a240 = std::get<1>(x237);
-                  const int32_t colour241 = colour_3_C1_House(s, a240);
-                  rendered236.push_back(Elem{Pos{add(a240.origin.x, int32_t(0)), add(a240.origin.y, int32_t(0))}, colour241});
-                  r238 = int32_t(0);
-                  break;
-                }
-                case 2: {
-                  const C3_Sandbag a242 = std::get<2>(x237);
-                  rendered236.push_back(Elem{Pos{add(a242.origin.x, int32_t(0)), add(a242.origin.y, int32_t(0))}, int32_t(8)});
-                  r238 = int32_t(0);
-                  break;
-                }
-                case 3: {
-                  const C4_Water a243 = std::get<3>(x237);
-                  rendered236.push_back(Elem{Pos{add(a243.origin.x, int32_t(0)), add(a243.origin.y, int32_t(0))}, int32_t(4)});
-                  r238 = int32_t(0);
-                  break;
-                }
-                case 4: {
-                  const C5_Spring a244 = std::get<4>(x237);
-                  rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(-1)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
-                  rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(0)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
-                  rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(1)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
-                  r238 = int32_t(0);
-                  break;
-                }
-                case 5: {
-                  const C2_Drain a245 = std::get<5>(x237);
-                  rendered236.push_back(Elem{Pos{add(a245.origin.x, int32_t(0)), add(a245.origin.y, int32_t(0))}, int32_t(0)});
-                  r238 = int32_t(0);
-                  break;
-                }
-                default: break;
-              }
-            }
-            std::vector<Elem>& rendered246 = s.scratch.v.b23;
-            rendered246.clear();
-            for (const C4_Water& x247 : g235) {
-              rendered246.push_back(Elem{Pos{add(x247.origin.x, int32_t(0)), add(x247.origin.y, int32_t(0))}, int32_t(4)});
-            }
-            const int32_t t248 = int32_t(rendered236.size());
-            const bool t249 = (t248 == int32_t(0));
-            bool r250{};
-            if (!t249) {
-              const int32_t t251 = int32_t(rendered246.size());
-              const bool t252 = (t251 == int32_t(0));
-              r250 = t252;
-            } else {
-              r250 = true;
-            }
-            bool r253{};
-            if (r250) {
-              r253 = false;
-            } else {
-              bool any254 = false;
-              for (const Elem& x255 : rendered236) {
-                bool any256 = false;
-                for (const Elem& x257 : rendered246) {
-                  const bool t258 = (x255.position == x257.position);
-                  if (t258) {
-                    any256 = true;
-                    break;
+              const C2_Drain& g212 = s.g_drain_23;
+              all203.push_back(S136{std::in_place_index<5>, g212});
+              const C5_Spring& g213 = s.g_spring_15;
+              all203.push_back(S136{std::in_place_index<4>, g213});
+              check_appended_length(s.core, 30, int64_t(all203.size()));
+              std::vector<S136>& out214 = s.scratch.v.b21;
+              out214.clear();
+              {
+                const auto& x215_list = all203;
+                charge_loop(s.core, 31, int64_t(x215_list.size()));
+                for (const S136& x215 : x215_list) {
+                  Pos r216{};
+                  switch (x215.index()) {
+                    case 0: {
+                      const C0_Earth a217 = std::get<0>(x215);
+                      r216 = a217.origin;
+                      break;
+                    }
+                    case 1: {
+                      const C1_House a218 = std::get<1>(x215);
+                      r216 = a218.origin;
+                      break;
+                    }
+                    case 2: {
+                      const C3_Sandbag a219 = std::get<2>(x215);
+                      r216 = a219.origin;
+                      break;
+                    }
+                    case 3: {
+                      const C4_Water a220 = std::get<3>(x215);
+                      r216 = a220.origin;
+                      break;
+                    }
+                    case 4: {
+                      const C5_Spring a221 = std::get<4>(x215);
+                      r216 = a221.origin;
+                      break;
+                    }
+                    case 5: {
+                      const C2_Drain a222 = std::get<5>(x215);
+                      r216 = a222.origin;
+                      break;
+                    }
+                    default: break;
+                  }
+                  Pos l_delta223{};
+                  const int32_t t224 = sub(r216.x, x200.origin.x);
+                  const int32_t t225 = sub(r216.y, x200.origin.y);
+                  const Pos t226 = Pos{t224, t225};
+                  l_delta223 = t226;
+                  const bool t227 = (l_delta223.x < int32_t(0));
+                  int32_t r228{};
+                  if (t227) {
+                    const int32_t t229 = neg(l_delta223.x);
+                    r228 = t229;
+                  } else {
+                    r228 = l_delta223.x;
+                  }
+                  const bool t230 = (l_delta223.y < int32_t(0));
+                  int32_t r231{};
+                  if (t230) {
+                    const int32_t t232 = neg(l_delta223.y);
+                    r231 = t232;
+                  } else {
+                    r231 = l_delta223.y;
+                  }
+                  const int32_t t233 = add(r228, r231);
+                  const bool t234 = (t233 <= int32_t(1));
+                  if (t234) {
+                    out214.push_back(x215);
                   }
                 }
-                if (any256) {
-                  any254 = true;
-                  break;
+              }
+              const std::vector<C4_Water>& g235 = s.g_water_7;
+              std::vector<Elem>& rendered236 = s.scratch.v.b22;
+              rendered236.clear();
+              {
+                const auto& x237_list = out214;
+                charge_loop(s.core, 32, int64_t(x237_list.size()));
+                for (const S136& x237 : x237_list) {
+                  int32_t r238{};
+                  switch (x237.index()) {
+                    case 0: {
+                      const C0_Earth a239 = std::get<0>(x237);
+                      rendered236.push_back(Elem{Pos{add(a239.origin.x, int32_t(0)), add(a239.origin.y, int32_t(0))}, int32_t(3)});
+                      r238 = int32_t(0);
+                      break;
+                    }
+                    case 1: {
+                      const C1_House a240 = std::get<1>(x237);
+                      const int32_t colour241 = colour_3_C1_House(s, a240);
+                      rendered236.push_back(Elem{Pos{add(a240.origin.x, int32_t(0)), add(a240.origin.y, int32_t(0))}, colour241});
+                      r238 = int32_t(0);
+                      break;
+                    }
+                    case 2: {
+                      const C3_Sandbag a242 = std::get<2>(x237);
+                      rendered236.push_back(Elem{Pos{add(a242.origin.x, int32_t(0)), add(a242.origin.y, int32_t(0))}, int32_t(8)});
+                      r238 = int32_t(0);
+                      break;
+                    }
+                    case 3: {
+                      const C4_Water a243 = std::get<3>(x237);
+                      rendered236.push_back(Elem{Pos{add(a243.origin.x, int32_t(0)), add(a243.origin.y, int32_t(0))}, int32_t(4)});
+                      r238 = int32_t(0);
+                      break;
+                    }
+                    case 4: {
+                      const C5_Spring a244 = std::get<4>(x237);
+                      rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(-1)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
+                      rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(0)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
+                      rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(1)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
+                      r238 = int32_t(0);
+                      break;
+                    }
+                    case 5: {
+                      const C2_Drain a245 = std::get<5>(x237);
+                      rendered236.push_back(Elem{Pos{add(a245.origin.x, int32_t(0)), add(a245.origin.y, int32_t(0))}, int32_t(0)});
+                      r238 = int32_t(0);
+                      break;
+                    }
+                    default: break;
+                  }
                 }
               }
-              r253 = any254;
+              std::vector<Elem>& rendered246 = s.scratch.v.b23;
+              rendered246.clear();
+              {
+                const auto& x247_list = g235;
+                charge_loop(s.core, 33, int64_t(x247_list.size()));
+                for (const C4_Water& x247 : x247_list) {
+                  rendered246.push_back(Elem{Pos{add(x247.origin.x, int32_t(0)), add(x247.origin.y, int32_t(0))}, int32_t(4)});
+                }
+              }
+              const int32_t t248 = int32_t(rendered236.size());
+              const bool t249 = (t248 == int32_t(0));
+              bool r250{};
+              if (!t249) {
+                const int32_t t251 = int32_t(rendered246.size());
+                const bool t252 = (t251 == int32_t(0));
+                r250 = t252;
+              } else {
+                r250 = true;
+              }
+              bool r253{};
+              if (r250) {
+                r253 = false;
+              } else {
+                bool any254 = false;
+                {
+                  const auto& x255_list = rendered236;
+                  charge_loop(s.core, 34, int64_t(x255_list.size()));
+                  for (const Elem& x255 : x255_list) {
+                    bool any256 = false;
+                    {
+                      const auto& x257_list = rendered246;
+                      charge_loop(s.core, 35, int64_t(x257_list.size()));
+                      for (const Elem& x257 : x257_list) {
+                        const bool t258 = (x255.position == x257.position);
+                        if (t258) {
+                          any256 = true;
+                          break;
+                        }
+                      }
+                    }
+                    if (any256) {
+                      any254 = true;
+                      break;
+                    }
+                  }
+                }
+                r253 = any254;
+              }
+              r202 = r253;
+            } else {
+              r202 = false;
             }
-            r202 = r253;
-          } else {
-            r202 = false;
-          }
-          if (r202) {
-            // inlined: function at programs/flood_defense.au:60
-            C1_House upd259 = x200;
-            upd259.f0 = true;
-            upd259.uid = s.core.ids.fresh();
-            updated199.push_back(std::move(upd259));
-          } else {
-            updated199.push_back(x200);
+            if (r202) {
+              // inlined: function at programs/flood_defense.au:60
+              C1_House upd259 = x200;
+              upd259.f0 = true;
+              upd259.uid = s.core.ids.fresh();
+              updated199.push_back(std::move(upd259));
+            } else {
+              updated199.push_back(x200);
+            }
           }
         }
         if (!s.scratch.v.sv_houses_22) {
@@ -1119,14 +1251,22 @@ struct Prog {
         s.g_click_35 = t262;
         std::vector<Elem>& rendered263 = s.scratch.v.b24;
         rendered263.clear();
-        for (const C1_House& x264 : prev260) {
-          const int32_t colour265 = colour_3_C1_House(s, x264);
-          rendered263.push_back(Elem{Pos{add(x264.origin.x, int32_t(0)), add(x264.origin.y, int32_t(0))}, colour265});
+        {
+          const auto& x264_list = prev260;
+          charge_loop(s.core, 36, int64_t(x264_list.size()));
+          for (const C1_House& x264 : x264_list) {
+            const int32_t colour265 = colour_3_C1_House(s, x264);
+            rendered263.push_back(Elem{Pos{add(x264.origin.x, int32_t(0)), add(x264.origin.y, int32_t(0))}, colour265});
+          }
         }
-        for (const Elem& e266 : rendered263) {
-          if ((e266.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked261 = true;
-            break;
+        {
+          const auto& e266_list = rendered263;
+          charge_loop(s.core, 36, int64_t(e266_list.size()));
+          for (const Elem& e266 : e266_list) {
+            if ((e266.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked261 = true;
+              break;
+            }
           }
         }
       }
@@ -1136,32 +1276,40 @@ struct Prog {
         std::vector<C1_House>& updated268 = s.scratch.v.b25;
         updated268.clear();
         updated268.reserve(size_t(int32_t(g267.size())));
-        for (const C1_House& x269 : g267) {
-          // inlined: function at programs/flood_defense.au:63
-          bool clicked270 = false;
-          if (s.core.click) {
-            s.d_click_36 = true;
-            const Pos t271 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_35 = t271;
-            std::vector<Elem>& rendered272 = s.scratch.v.b26;
-            rendered272.clear();
-            const int32_t colour273 = colour_3_C1_House(s, x269);
-            rendered272.push_back(Elem{Pos{add(x269.origin.x, int32_t(0)), add(x269.origin.y, int32_t(0))}, colour273});
-            for (const Elem& e274 : rendered272) {
-              if ((e274.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked270 = true;
-                break;
+        {
+          const auto& x269_list = g267;
+          charge_loop(s.core, 37, int64_t(x269_list.size()));
+          for (const C1_House& x269 : x269_list) {
+            // inlined: function at programs/flood_defense.au:63
+            bool clicked270 = false;
+            if (s.core.click) {
+              s.d_click_36 = true;
+              const Pos t271 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_35 = t271;
+              std::vector<Elem>& rendered272 = s.scratch.v.b26;
+              rendered272.clear();
+              const int32_t colour273 = colour_3_C1_House(s, x269);
+              rendered272.push_back(Elem{Pos{add(x269.origin.x, int32_t(0)), add(x269.origin.y, int32_t(0))}, colour273});
+              {
+                const auto& e274_list = rendered272;
+                charge_loop(s.core, 38, int64_t(e274_list.size()));
+                for (const Elem& e274 : e274_list) {
+                  if ((e274.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked270 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          if (clicked270) {
-            // inlined: function at programs/flood_defense.au:63
-            C1_House upd275 = x269;
-            upd275.f0 = false;
-            upd275.uid = s.core.ids.fresh();
-            updated268.push_back(std::move(upd275));
-          } else {
-            updated268.push_back(x269);
+            if (clicked270) {
+              // inlined: function at programs/flood_defense.au:63
+              C1_House upd275 = x269;
+              upd275.f0 = false;
+              upd275.uid = s.core.ids.fresh();
+              updated268.push_back(std::move(upd275));
+            } else {
+              updated268.push_back(x269);
+            }
           }
         }
         if (!s.scratch.v.sv_houses_22) {
@@ -1182,13 +1330,21 @@ struct Prog {
         s.g_click_35 = t278;
         std::vector<Elem>& rendered279 = s.scratch.v.b27;
         rendered279.clear();
-        for (const C3_Sandbag& x280 : prev276) {
-          rendered279.push_back(Elem{Pos{add(x280.origin.x, int32_t(0)), add(x280.origin.y, int32_t(0))}, int32_t(8)});
+        {
+          const auto& x280_list = prev276;
+          charge_loop(s.core, 39, int64_t(x280_list.size()));
+          for (const C3_Sandbag& x280 : x280_list) {
+            rendered279.push_back(Elem{Pos{add(x280.origin.x, int32_t(0)), add(x280.origin.y, int32_t(0))}, int32_t(8)});
+          }
         }
-        for (const Elem& e281 : rendered279) {
-          if ((e281.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked277 = true;
-            break;
+        {
+          const auto& e281_list = rendered279;
+          charge_loop(s.core, 39, int64_t(e281_list.size()));
+          for (const Elem& e281 : e281_list) {
+            if ((e281.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked277 = true;
+              break;
+            }
           }
         }
       }
@@ -1197,25 +1353,33 @@ struct Prog {
         const std::vector<C3_Sandbag>& prev282 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
         std::vector<C3_Sandbag>& kept283 = s.scratch.v.b28;
         kept283.clear();
-        for (const C3_Sandbag& x284 : prev282) {
-          // inlined: function at programs/flood_defense.au:64
-          bool clicked285 = false;
-          if (s.core.click) {
-            s.d_click_36 = true;
-            const Pos t286 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_35 = t286;
-            std::vector<Elem>& rendered287 = s.scratch.v.b29;
-            rendered287.clear();
-            rendered287.push_back(Elem{Pos{add(x284.origin.x, int32_t(0)), add(x284.origin.y, int32_t(0))}, int32_t(8)});
-            for (const Elem& e288 : rendered287) {
-              if ((e288.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked285 = true;
-                break;
+        {
+          const auto& x284_list = prev282;
+          charge_loop(s.core, 40, int64_t(x284_list.size()));
+          for (const C3_Sandbag& x284 : x284_list) {
+            // inlined: function at programs/flood_defense.au:64
+            bool clicked285 = false;
+            if (s.core.click) {
+              s.d_click_36 = true;
+              const Pos t286 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_35 = t286;
+              std::vector<Elem>& rendered287 = s.scratch.v.b29;
+              rendered287.clear();
+              rendered287.push_back(Elem{Pos{add(x284.origin.x, int32_t(0)), add(x284.origin.y, int32_t(0))}, int32_t(8)});
+              {
+                const auto& e288_list = rendered287;
+                charge_loop(s.core, 41, int64_t(e288_list.size()));
+                for (const Elem& e288 : e288_list) {
+                  if ((e288.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked285 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          if (!clicked285) {
-            kept283.push_back(x284);
+            if (!clicked285) {
+              kept283.push_back(x284);
+            }
           }
         }
         if (!s.scratch.v.sv_bags_14) {
@@ -1242,7 +1406,7 @@ struct Prog {
           const Pos& g293 = s.g_click_35;
           r292 = g293;
         } else {
-          fail_at(18, std::string() + std::string("undefined variable 'click'"));
+          fail_at(42, std::string() + std::string("undefined variable 'click'"));
         }
         const bool t294 = s.core.occupied.free(r292);
         bool r295{};
@@ -1266,25 +1430,29 @@ struct Prog {
           const Pos& g301 = s.g_click_35;
           r300 = g301;
         } else {
-          fail_at(19, std::string() + std::string("undefined variable 'click'"));
+          fail_at(43, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r302{};
         if (s.d_click_36) {
           const Pos& g303 = s.g_click_35;
           r302 = g303;
         } else {
-          fail_at(20, std::string() + std::string("undefined variable 'click'"));
+          fail_at(44, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t304 = Pos{r300.x, r302.y};
         C3_Sandbag o305 = C3_Sandbag{t304, s.core.ids.fresh()};
-        check_length(s.core, 21, int64_t(g299.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 45, int64_t(g299.size()) + int64_t(int32_t(1)));
         std::vector<C3_Sandbag>& added306 = s.scratch.v.b30;
         added306.clear();
         added306.reserve(size_t(add(int32_t(g299.size()), int32_t(1))));
-        for (const C3_Sandbag& x307 : g299) {
-          C3_Sandbag copy308 = x307;
-          copy308.uid = s.core.ids.fresh();
-          added306.push_back(std::move(copy308));
+        {
+          const auto& x307_list = g299;
+          charge_loop(s.core, 45, int64_t(x307_list.size()));
+          for (const C3_Sandbag& x307 : x307_list) {
+            C3_Sandbag copy308 = x307;
+            copy308.uid = s.core.ids.fresh();
+            added306.push_back(std::move(copy308));
+          }
         }
         added306.push_back(std::move(o305));
         if (!s.scratch.v.sv_bags_14) {
@@ -1314,10 +1482,14 @@ struct Prog {
         rendered315.push_back(Elem{Pos{add(upd314.origin.x, int32_t(0)), add(upd314.origin.y, int32_t(0))}, int32_t(2)});
         rendered315.push_back(Elem{Pos{add(upd314.origin.x, int32_t(1)), add(upd314.origin.y, int32_t(0))}, int32_t(2)});
         bool within316 = true;
-        for (const Elem& e317 : rendered315) {
-          if ((((e317.position.x < int32_t(0)) || (e317.position.x >= int32_t(16))) || ((e317.position.y < int32_t(0)) || (e317.position.y >= int32_t(16))))) {
-            within316 = false;
-            break;
+        {
+          const auto& e317_list = rendered315;
+          charge_loop(s.core, 46, int64_t(e317_list.size()));
+          for (const Elem& e317 : e317_list) {
+            if ((((e317.position.x < int32_t(0)) || (e317.position.x >= int32_t(16))) || ((e317.position.y < int32_t(0)) || (e317.position.y >= int32_t(16))))) {
+              within316 = false;
+              break;
+            }
           }
         }
         C5_Spring r318{};
@@ -1360,10 +1532,14 @@ struct Prog {
         rendered329.push_back(Elem{Pos{add(upd328.origin.x, int32_t(0)), add(upd328.origin.y, int32_t(0))}, int32_t(2)});
         rendered329.push_back(Elem{Pos{add(upd328.origin.x, int32_t(1)), add(upd328.origin.y, int32_t(0))}, int32_t(2)});
         bool within330 = true;
-        for (const Elem& e331 : rendered329) {
-          if ((((e331.position.x < int32_t(0)) || (e331.position.x >= int32_t(16))) || ((e331.position.y < int32_t(0)) || (e331.position.y >= int32_t(16))))) {
-            within330 = false;
-            break;
+        {
+          const auto& e331_list = rendered329;
+          charge_loop(s.core, 46, int64_t(e331_list.size()));
+          for (const Elem& e331 : e331_list) {
+            if ((((e331.position.x < int32_t(0)) || (e331.position.x >= int32_t(16))) || ((e331.position.y < int32_t(0)) || (e331.position.y >= int32_t(16))))) {
+              within330 = false;
+              break;
+            }
           }
         }
         C5_Spring r332{};
@@ -1516,41 +1692,41 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_36) {
-      tally_rendered(s.core, 22, "cacheRendered");
+      tally_rendered(s.core, 47, "cacheRendered");
       const std::vector<C1_House>& g359 = s.g_houses_19;
-      tally_global(s.core, 3, "houses", g359);
+      tally_global(s.core, 5, "houses", g359);
       const std::vector<C3_Sandbag>& g360 = s.g_bags_11;
-      tally_global(s.core, 4, "bags", g360);
+      tally_global(s.core, 6, "bags", g360);
       const std::vector<C4_Water>& g361 = s.g_water_7;
-      tally_global(s.core, 5, "water", g361);
+      tally_global(s.core, 7, "water", g361);
       if (s.d_click_36) {
         const Pos& g362 = s.g_click_35;
-        tally_global(s.core, 22, "click", g362);
+        tally_global(s.core, 47, "click", g362);
       }
       const std::vector<C0_Earth>& g363 = s.g_earth_27;
-      tally_global(s.core, 6, "earth", g363);
+      tally_global(s.core, 8, "earth", g363);
       const C2_Drain& g364 = s.g_drain_23;
-      tally_global(s.core, 7, "drain", g364);
+      tally_global(s.core, 9, "drain", g364);
       const std::vector<int32_t>& g365 = s.g_heights_4;
-      tally_global(s.core, 8, "heights", g365);
+      tally_global(s.core, 10, "heights", g365);
       const C5_Spring& g366 = s.g_spring_15;
-      tally_global(s.core, 9, "spring", g366);
+      tally_global(s.core, 11, "spring", g366);
     } else {
-      tally_rendered(s.core, 22, "cacheRendered");
+      tally_rendered(s.core, 47, "cacheRendered");
       const std::vector<C1_House>& g367 = s.g_houses_19;
-      tally_global(s.core, 3, "houses", g367);
+      tally_global(s.core, 5, "houses", g367);
       const std::vector<C3_Sandbag>& g368 = s.g_bags_11;
-      tally_global(s.core, 4, "bags", g368);
+      tally_global(s.core, 6, "bags", g368);
       const std::vector<C4_Water>& g369 = s.g_water_7;
-      tally_global(s.core, 5, "water", g369);
+      tally_global(s.core, 7, "water", g369);
       const std::vector<C0_Earth>& g370 = s.g_earth_27;
-      tally_global(s.core, 6, "earth", g370);
+      tally_global(s.core, 8, "earth", g370);
       const C2_Drain& g371 = s.g_drain_23;
-      tally_global(s.core, 7, "drain", g371);
+      tally_global(s.core, 9, "drain", g371);
       const std::vector<int32_t>& g372 = s.g_heights_4;
-      tally_global(s.core, 8, "heights", g372);
+      tally_global(s.core, 10, "heights", g372);
       const C5_Spring& g373 = s.g_spring_15;
-      tally_global(s.core, 9, "spring", g373);
+      tally_global(s.core, 11, "spring", g373);
     }
     s.core.clear_inputs();
   }
@@ -1561,33 +1737,49 @@ struct Prog {
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Earth>& g1 = s.g_earth_27;
-    for (const C0_Earth& x2 : g1) {
-      const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(3)};
-      s.core.occupied.add(e3.position);
-      ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+    {
+      const auto& x2_list = g1;
+      charge_loop(s.core, 48, int64_t(x2_list.size()));
+      for (const C0_Earth& x2 : x2_list) {
+        const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(3)};
+        s.core.occupied.add(e3.position);
+        ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+      }
     }
     const C2_Drain& g4 = s.g_drain_23;
     const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(0)};
     s.core.occupied.add(e5.position);
     ++s.core.rendered, paint ? paint->paint(e5.position, pal[e5.color]) : void();
     const std::vector<C1_House>& g6 = s.g_houses_19;
-    for (const C1_House& x7 : g6) {
-      const int32_t colour8 = colour_3_C1_House(s, x7);
-      const Elem e9 = Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8};
-      s.core.occupied.add(e9.position);
-      ++s.core.rendered, paint ? paint->paint(e9.position, pal[e9.color]) : void();
+    {
+      const auto& x7_list = g6;
+      charge_loop(s.core, 48, int64_t(x7_list.size()));
+      for (const C1_House& x7 : x7_list) {
+        const int32_t colour8 = colour_3_C1_House(s, x7);
+        const Elem e9 = Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8};
+        s.core.occupied.add(e9.position);
+        ++s.core.rendered, paint ? paint->paint(e9.position, pal[e9.color]) : void();
+      }
     }
     const std::vector<C3_Sandbag>& g10 = s.g_bags_11;
-    for (const C3_Sandbag& x11 : g10) {
-      const Elem e12 = Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, int32_t(8)};
-      s.core.occupied.add(e12.position);
-      ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
+    {
+      const auto& x11_list = g10;
+      charge_loop(s.core, 48, int64_t(x11_list.size()));
+      for (const C3_Sandbag& x11 : x11_list) {
+        const Elem e12 = Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, int32_t(8)};
+        s.core.occupied.add(e12.position);
+        ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
+      }
     }
     const std::vector<C4_Water>& g13 = s.g_water_7;
-    for (const C4_Water& x14 : g13) {
-      const Elem e15 = Elem{Pos{add(x14.origin.x, int32_t(0)), add(x14.origin.y, int32_t(0))}, int32_t(4)};
-      s.core.occupied.add(e15.position);
-      ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
+    {
+      const auto& x14_list = g13;
+      charge_loop(s.core, 48, int64_t(x14_list.size()));
+      for (const C4_Water& x14 : x14_list) {
+        const Elem e15 = Elem{Pos{add(x14.origin.x, int32_t(0)), add(x14.origin.y, int32_t(0))}, int32_t(4)};
+        s.core.occupied.add(e15.position);
+        ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
+      }
     }
     const C5_Spring& g16 = s.g_spring_15;
     const Elem e17 = Elem{Pos{add(g16.origin.x, int32_t(-1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
@@ -1678,8 +1870,10 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {25, 30, nullptr, true, 25, 30, "initialising 'earth': "},
     {26, 57, nullptr, true, 26, 57, "initialising 'earth': "},
     {26, 48, nullptr, true, 26, 48, "initialising 'earth': "},
+    {25, 44, nullptr, true, 25, 44, "initialising 'earth': "},
     {25, 22, nullptr, true, 25, 22, "initialising 'earth': "},
     {34, 3, nullptr, true, 34, 3, ""},
     {38, 3, nullptr, true, 38, 3, ""},
@@ -1688,19 +1882,43 @@ const ErrorSite Prog::kErrors[] = {
     {31, 3, nullptr, true, 31, 3, ""},
     {17, 3, nullptr, true, 17, 3, ""},
     {44, 3, nullptr, true, 44, 3, ""},
+    {53, 16, nullptr, true, 53, 16, ""},
+    {148, 25, "<stdlib>", true, 53, 16, ""},
     {62, 34, "<stdlib>", true, 53, 16, ""},
+    {61, 29, "<stdlib>", true, 53, 16, ""},
     {61, 69, "<stdlib>", true, 53, 16, ""},
+    {61, 41, "<stdlib>", true, 53, 16, ""},
     {61, 21, "<stdlib>", true, 53, 16, ""},
+    {195, 31, "<stdlib>", true, 53, 16, ""},
+    {196, 26, "<stdlib>", true, 53, 16, ""},
     {134, 19, "<stdlib>", true, 53, 16, ""},
+    {131, 12, "<stdlib>", true, 53, 16, ""},
+    {202, 57, "<stdlib>", true, 53, 16, ""},
     {84, 68, "<stdlib>", true, 54, 33, ""},
+    {84, 12, "<stdlib>", true, 54, 33, ""},
+    {54, 16, nullptr, true, 54, 16, ""},
     {57, 14, nullptr, true, 57, 14, ""},
     {58, 14, nullptr, true, 58, 14, ""},
+    {60, 22, nullptr, true, 60, 22, ""},
     {84, 68, "<stdlib>", true, 46, 30, ""},
+    {84, 12, "<stdlib>", true, 46, 30, ""},
+    {147, 51, "<stdlib>", true, 46, 18, ""},
+    {147, 70, "<stdlib>", true, 46, 18, ""},
+    {143, 12, "<stdlib>", true, 46, 18, ""},
+    {143, 28, "<stdlib>", true, 46, 18, ""},
+    {62, 7, nullptr, true, 62, 7, ""},
+    {63, 15, nullptr, true, 63, 15, ""},
+    {63, 78, nullptr, true, 63, 78, ""},
+    {64, 7, nullptr, true, 64, 7, ""},
+    {64, 37, nullptr, true, 64, 37, ""},
+    {64, 67, nullptr, true, 64, 67, ""},
     {65, 32, nullptr, true, 65, 32, ""},
     {66, 49, nullptr, true, 66, 49, ""},
     {66, 62, nullptr, true, 66, 62, ""},
     {66, 13, nullptr, true, 66, 13, ""},
+    {47, 31, nullptr, true, 47, 31, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

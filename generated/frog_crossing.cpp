@@ -313,21 +313,25 @@ struct Prog {
   }
   static void render_C3_Car(State& s, const C3_Car& o1, std::vector<Elem>& out2) {
     (void)s;
-    for (const CellV& c3 : o1.cells) {
-      int32_t x4 = c3.x;
-      int32_t y5 = c3.y;
-      if ((int32_t(c3.dc) == int32_t(-1))) {
-        fail_at(21, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
-      }
-      int32_t colour6 = c3.colour;
-      switch (int32_t(c3.dc)) {
-        case 4: {
-          colour6 = o1.f3;
-          break;
+    {
+      const auto& c3_list = o1.cells;
+      charge_loop(s.core, 40, int64_t(c3_list.size()));
+      for (const CellV& c3 : c3_list) {
+        int32_t x4 = c3.x;
+        int32_t y5 = c3.y;
+        if ((int32_t(c3.dc) == int32_t(-1))) {
+          fail_at(40, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
         }
-        default: break;
+        int32_t colour6 = c3.colour;
+        switch (int32_t(c3.dc)) {
+          case 4: {
+            colour6 = o1.f3;
+            break;
+          }
+          default: break;
+        }
+        out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
       }
-      out2.push_back(Elem{Pos{add(o1.origin.x, x4), add(o1.origin.y, y5)}, colour6});
     }
   }
   static void start(State& s, uint64_t seed) {
@@ -365,122 +369,146 @@ struct Prog {
     std::vector<std::vector<C3_Car>>& out13 = s.scratch.v.b0;
     out13.clear();
     out13.reserve(size_t(int32_t(g12.size())));
-    for (const std::vector<int32_t>& x14 : g12) {
-      // inlined: function at programs/frog_crossing.au:25
-      int32_t l_start15{};
-      int32_t l_gap16{};
-      const std::vector<int32_t> list17 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
-      if (list17.empty()) {
-        fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
-      }
-      const int32_t t18 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list17.size())))));
-      const int32_t t19 = list17[size_t(t18)];
-      l_start15 = t19;
-      if (x14.empty()) {
-        fail_at(1, std::string() + std::string("at: empty list"));
-      }
-      if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
-        fail_at(1, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
-      }
-      const int32_t t20 = x14[size_t(int32_t(4))];
-      if ((t20 == int32_t(0))) {
-        fail_at(2, std::string() + std::string("division by zero in '/' (the reference interpreter crashes here)"));
-      }
-      if (((int32_t(12) == int32_t(-2147483648LL)) && (t20 == int32_t(-1)))) {
-        fail_at(2, std::string() + std::string("integer overflow in '/' (the reference interpreter crashes here)"));
-      }
-      const int32_t t21 = autumn::arith::div_unchecked(int32_t(12), t20);
-      l_gap16 = t21;
-      if (x14.empty()) {
-        fail_at(3, std::string() + std::string("at: empty list"));
-      }
-      if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
-        fail_at(3, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
-      }
-      const int32_t t22 = x14[size_t(int32_t(4))];
-      check_length(s.core, 4, int64_t(t22) - int64_t(int32_t(0)));
-      std::vector<int32_t>& range23 = s.scratch.v.b1;
-      range23.clear();
-      for (int32_t i24 = int32_t(0), i24_end = t22; i24 < i24_end; ++i24) {
-        range23.push_back(i24);
-      }
-      std::vector<C3_Car> out25{};
-      out25.reserve(size_t(int32_t(range23.size())));
-      for (const int32_t& x26 : range23) {
-        // inlined: function at programs/frog_crossing.au:28
+    {
+      const auto& x14_list = g12;
+      charge_loop(s.core, 0, int64_t(x14_list.size()));
+      for (const std::vector<int32_t>& x14 : x14_list) {
+        // inlined: function at programs/frog_crossing.au:25
+        int32_t l_start15{};
+        int32_t l_gap16{};
+        const std::vector<int32_t> list17 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
+        if (list17.empty()) {
+          fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
+        }
+        const int32_t t18 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list17.size())))));
+        const int32_t t19 = list17[size_t(t18)];
+        l_start15 = t19;
         if (x14.empty()) {
-          fail_at(5, std::string() + std::string("at: empty list"));
+          fail_at(2, std::string() + std::string("at: empty list"));
         }
-        if (((int32_t(2) < int32_t(0)) || (int32_t(2) >= int32_t(x14.size())))) {
-          fail_at(5, std::string() + std::string("at: index ") + std::to_string(int32_t(2)) + std::string(" out of bounds"));
+        if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
+          fail_at(2, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
         }
-        const int32_t t27 = x14[size_t(int32_t(2))];
+        const int32_t t20 = x14[size_t(int32_t(4))];
+        if ((t20 == int32_t(0))) {
+          fail_at(3, std::string() + std::string("division by zero in '/' (the reference interpreter crashes here)"));
+        }
+        if (((int32_t(12) == int32_t(-2147483648LL)) && (t20 == int32_t(-1)))) {
+          fail_at(3, std::string() + std::string("integer overflow in '/' (the reference interpreter crashes here)"));
+        }
+        const int32_t t21 = autumn::arith::div_unchecked(int32_t(12), t20);
+        l_gap16 = t21;
         if (x14.empty()) {
-          fail_at(6, std::string() + std::string("at: empty list"));
+          fail_at(4, std::string() + std::string("at: empty list"));
         }
-        if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
-          fail_at(6, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
+        if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
+          fail_at(4, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
         }
-        const int32_t t28 = x14[size_t(int32_t(1))];
-        if (x14.empty()) {
-          fail_at(7, std::string() + std::string("at: empty list"));
+        const int32_t t22 = x14[size_t(int32_t(4))];
+        check_length(s.core, 5, int64_t(t22) - int64_t(int32_t(0)));
+        std::vector<int32_t>& range23 = s.scratch.v.b1;
+        range23.clear();
+        {
+          const int32_t i24_first = int32_t(0), i24_end = t22;
+          charge_loop(s.core, 5, int64_t(i24_end) - i24_first);
+          for (int32_t i24 = i24_first; i24 < i24_end; ++i24) {
+            range23.push_back(i24);
+          }
         }
-        if (((int32_t(3) < int32_t(0)) || (int32_t(3) >= int32_t(x14.size())))) {
-          fail_at(7, std::string() + std::string("at: index ") + std::to_string(int32_t(3)) + std::string(" out of bounds"));
+        std::vector<C3_Car> out25{};
+        out25.reserve(size_t(int32_t(range23.size())));
+        {
+          const auto& x26_list = range23;
+          charge_loop(s.core, 6, int64_t(x26_list.size()));
+          for (const int32_t& x26 : x26_list) {
+            // inlined: function at programs/frog_crossing.au:28
+            if (x14.empty()) {
+              fail_at(7, std::string() + std::string("at: empty list"));
+            }
+            if (((int32_t(2) < int32_t(0)) || (int32_t(2) >= int32_t(x14.size())))) {
+              fail_at(7, std::string() + std::string("at: index ") + std::to_string(int32_t(2)) + std::string(" out of bounds"));
+            }
+            const int32_t t27 = x14[size_t(int32_t(2))];
+            if (x14.empty()) {
+              fail_at(8, std::string() + std::string("at: empty list"));
+            }
+            if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
+              fail_at(8, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
+            }
+            const int32_t t28 = x14[size_t(int32_t(1))];
+            if (x14.empty()) {
+              fail_at(9, std::string() + std::string("at: empty list"));
+            }
+            if (((int32_t(3) < int32_t(0)) || (int32_t(3) >= int32_t(x14.size())))) {
+              fail_at(9, std::string() + std::string("at: index ") + std::to_string(int32_t(3)) + std::string(" out of bounds"));
+            }
+            const int32_t t29 = x14[size_t(int32_t(3))];
+            if (x14.empty()) {
+              fail_at(10, std::string() + std::string("at: empty list"));
+            }
+            if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
+              fail_at(10, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
+            }
+            const int32_t t30 = x14[size_t(int32_t(1))];
+            const bool t31 = (t30 == int32_t(1));
+            int32_t r32{};
+            if (t31) {
+              r32 = int32_t(3);
+            } else {
+              r32 = int32_t(4);
+            }
+            const int32_t t33 = mul(x26, l_gap16);
+            const int32_t t34 = add(l_start15, t33);
+            const int32_t t35 = autumn::arith::mod_unchecked(t34, int32_t(12));
+            const int32_t t36 = sub(t35, int32_t(1));
+            if (x14.empty()) {
+              fail_at(11, std::string() + std::string("at: empty list"));
+            }
+            if (((int32_t(0) < int32_t(0)) || (int32_t(0) >= int32_t(x14.size())))) {
+              fail_at(11, std::string() + std::string("at: index ") + std::to_string(int32_t(0)) + std::string(" out of bounds"));
+            }
+            const int32_t t37 = x14[size_t(int32_t(0))];
+            const Pos t38 = Pos{t36, t37};
+            std::vector<CellV> l_allCells39{};
+            check_length(s.core, 12, int64_t(t29) - int64_t(int32_t(0)));
+            std::vector<int32_t>& range40 = s.scratch.v.b2;
+            range40.clear();
+            {
+              const int32_t i41_first = int32_t(0), i41_end = t29;
+              charge_loop(s.core, 12, int64_t(i41_end) - i41_first);
+              for (int32_t i41 = i41_first; i41 < i41_end; ++i41) {
+                range40.push_back(i41);
+              }
+            }
+            std::vector<CellV>& out42 = s.scratch.v.b3;
+            out42.clear();
+            out42.reserve(size_t(int32_t(range40.size())));
+            {
+              const auto& x43_list = range40;
+              charge_loop(s.core, 13, int64_t(x43_list.size()));
+              for (const int32_t& x43 : x43_list) {
+                // inlined: function at programs/frog_crossing.au:14
+                const CellV cell44 = CellV{x43, int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+                out42.push_back(cell44);
+              }
+            }
+            std::swap(l_allCells39, out42);
+            C3_Car o45 = C3_Car{t27, t28, t29, r32, t38, std::move(l_allCells39)};
+            out25.push_back(std::move(o45));
+          }
         }
-        const int32_t t29 = x14[size_t(int32_t(3))];
-        if (x14.empty()) {
-          fail_at(8, std::string() + std::string("at: empty list"));
-        }
-        if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
-          fail_at(8, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
-        }
-        const int32_t t30 = x14[size_t(int32_t(1))];
-        const bool t31 = (t30 == int32_t(1));
-        int32_t r32{};
-        if (t31) {
-          r32 = int32_t(3);
-        } else {
-          r32 = int32_t(4);
-        }
-        const int32_t t33 = mul(x26, l_gap16);
-        const int32_t t34 = add(l_start15, t33);
-        const int32_t t35 = autumn::arith::mod_unchecked(t34, int32_t(12));
-        const int32_t t36 = sub(t35, int32_t(1));
-        if (x14.empty()) {
-          fail_at(9, std::string() + std::string("at: empty list"));
-        }
-        if (((int32_t(0) < int32_t(0)) || (int32_t(0) >= int32_t(x14.size())))) {
-          fail_at(9, std::string() + std::string("at: index ") + std::to_string(int32_t(0)) + std::string(" out of bounds"));
-        }
-        const int32_t t37 = x14[size_t(int32_t(0))];
-        const Pos t38 = Pos{t36, t37};
-        std::vector<CellV> l_allCells39{};
-        check_length(s.core, 10, int64_t(t29) - int64_t(int32_t(0)));
-        std::vector<int32_t>& range40 = s.scratch.v.b2;
-        range40.clear();
-        for (int32_t i41 = int32_t(0), i41_end = t29; i41 < i41_end; ++i41) {
-          range40.push_back(i41);
-        }
-        std::vector<CellV>& out42 = s.scratch.v.b3;
-        out42.clear();
-        out42.reserve(size_t(int32_t(range40.size())));
-        for (const int32_t& x43 : range40) {
-          // inlined: function at programs/frog_crossing.au:14
-          const CellV cell44 = CellV{x43, int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
-          out42.push_back(cell44);
-        }
-        std::swap(l_allCells39, out42);
-        C3_Car o45 = C3_Car{t27, t28, t29, r32, t38, std::move(l_allCells39)};
-        out25.push_back(std::move(o45));
+        out13.push_back(std::move(out25));
       }
-      out13.push_back(std::move(out25));
     }
-    check_length(s.core, 11, total_size(out13));
+    check_length(s.core, 14, total_size(out13));
     std::vector<C3_Car>& cat46 = s.scratch.v.b4;
     cat46.clear();
-    for (const std::vector<C3_Car>& part47 : out13) {
-      cat46.insert(cat46.end(), part47.begin(), part47.end());
+    {
+      const auto& part47_list = out13;
+      charge_loop(s.core, 14, int64_t(part47_list.size()));
+      for (const std::vector<C3_Car>& part47 : part47_list) {
+        cat46.insert(cat46.end(), part47.begin(), part47.end());
+      }
     }
     std::swap(s.g_cars_15, cat46);
     s.u_cars_16 = false;
@@ -506,21 +534,21 @@ struct Prog {
     s.u_time_32 = false;
     s.core.tally.v = StateTally{};
     const C0_River& g56 = s.g_river_27;
-    tally_global(s.core, 12, "river", g56);
+    tally_global(s.core, 15, "river", g56);
     const std::vector<C2_Pad>& g57 = s.g_pads_23;
-    tally_global(s.core, 13, "pads", g57);
+    tally_global(s.core, 16, "pads", g57);
     const std::vector<C3_Car>& g58 = s.g_cars_15;
-    tally_global(s.core, 14, "cars", g58);
+    tally_global(s.core, 17, "cars", g58);
     const C5_Lives& g59 = s.g_lives_11;
-    tally_global(s.core, 15, "lives", g59);
+    tally_global(s.core, 18, "lives", g59);
     const Pos& g60 = s.g_frogStart_4;
-    tally_global(s.core, 16, "frogStart", g60);
+    tally_global(s.core, 19, "frogStart", g60);
     const C4_Frog& g61 = s.g_frog_7;
-    tally_global(s.core, 17, "frog", g61);
+    tally_global(s.core, 20, "frog", g61);
     const std::vector<std::vector<int32_t>>& g62 = s.g_lanes_6;
-    tally_global(s.core, 18, "lanes", g62);
+    tally_global(s.core, 21, "lanes", g62);
     const std::vector<C1_Verge>& g63 = s.g_verges_19;
-    tally_global(s.core, 19, "verges", g63);
+    tally_global(s.core, 22, "verges", g63);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -548,31 +576,35 @@ struct Prog {
         std::vector<C3_Car>& out2 = s.scratch.v.b5;
         out2.clear();
         out2.reserve(size_t(int32_t(prev1.size())));
-        for (const C3_Car& x3 : prev1) {
-          // inlined: function at programs/frog_crossing.au:54
-          const int32_t& g4 = s.g_time_31;
-          if ((x3.f0 == int32_t(0))) {
-            fail_at(20, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        {
+          const auto& x3_list = prev1;
+          charge_loop(s.core, 23, int64_t(x3_list.size()));
+          for (const C3_Car& x3 : x3_list) {
+            // inlined: function at programs/frog_crossing.au:54
+            const int32_t& g4 = s.g_time_31;
+            if ((x3.f0 == int32_t(0))) {
+              fail_at(24, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+            }
+            if (((g4 == int32_t(-2147483648LL)) && (x3.f0 == int32_t(-1)))) {
+              fail_at(24, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+            }
+            const int32_t t5 = autumn::arith::mod_unchecked(g4, x3.f0);
+            const bool t6 = (t5 == int32_t(0));
+            C3_Car r7{};
+            if (t6) {
+              const int32_t t8 = add(x3.f1, int32_t(13));
+              const int32_t t9 = add(x3.origin.x, t8);
+              const int32_t t10 = autumn::arith::mod_unchecked(t9, int32_t(12));
+              const int32_t t11 = sub(t10, int32_t(1));
+              const Pos t12 = Pos{t11, x3.origin.y};
+              C3_Car upd13 = x3;
+              upd13.origin = t12;
+              r7 = std::move(upd13);
+            } else {
+              r7 = x3;
+            }
+            out2.push_back(std::move(r7));
           }
-          if (((g4 == int32_t(-2147483648LL)) && (x3.f0 == int32_t(-1)))) {
-            fail_at(20, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
-          }
-          const int32_t t5 = autumn::arith::mod_unchecked(g4, x3.f0);
-          const bool t6 = (t5 == int32_t(0));
-          C3_Car r7{};
-          if (t6) {
-            const int32_t t8 = add(x3.f1, int32_t(13));
-            const int32_t t9 = add(x3.origin.x, t8);
-            const int32_t t10 = autumn::arith::mod_unchecked(t9, int32_t(12));
-            const int32_t t11 = sub(t10, int32_t(1));
-            const Pos t12 = Pos{t11, x3.origin.y};
-            C3_Car upd13 = x3;
-            upd13.origin = t12;
-            r7 = std::move(upd13);
-          } else {
-            r7 = x3;
-          }
-          out2.push_back(std::move(r7));
         }
         if (!s.scratch.v.sv_cars_18) {
           std::swap(s.scratch.v.p_cars_17, s.g_cars_15);
@@ -598,10 +630,14 @@ struct Prog {
         rendered20.clear();
         rendered20.push_back(Elem{Pos{add(upd19.origin.x, int32_t(0)), add(upd19.origin.y, int32_t(0))}, int32_t(2)});
         bool within21 = true;
-        for (const Elem& e22 : rendered20) {
-          if ((((e22.position.x < int32_t(0)) || (e22.position.x >= int32_t(10))) || ((e22.position.y < int32_t(0)) || (e22.position.y >= int32_t(10))))) {
-            within21 = false;
-            break;
+        {
+          const auto& e22_list = rendered20;
+          charge_loop(s.core, 25, int64_t(e22_list.size()));
+          for (const Elem& e22 : e22_list) {
+            if ((((e22.position.x < int32_t(0)) || (e22.position.x >= int32_t(10))) || ((e22.position.y < int32_t(0)) || (e22.position.y >= int32_t(10))))) {
+              within21 = false;
+              break;
+            }
           }
         }
         C4_Frog r23{};
@@ -639,10 +675,14 @@ struct Prog {
         rendered34.clear();
         rendered34.push_back(Elem{Pos{add(upd33.origin.x, int32_t(0)), add(upd33.origin.y, int32_t(0))}, int32_t(2)});
         bool within35 = true;
-        for (const Elem& e36 : rendered34) {
-          if ((((e36.position.x < int32_t(0)) || (e36.position.x >= int32_t(10))) || ((e36.position.y < int32_t(0)) || (e36.position.y >= int32_t(10))))) {
-            within35 = false;
-            break;
+        {
+          const auto& e36_list = rendered34;
+          charge_loop(s.core, 25, int64_t(e36_list.size()));
+          for (const Elem& e36 : e36_list) {
+            if ((((e36.position.x < int32_t(0)) || (e36.position.x >= int32_t(10))) || ((e36.position.y < int32_t(0)) || (e36.position.y >= int32_t(10))))) {
+              within35 = false;
+              break;
+            }
           }
         }
         C4_Frog r37{};
@@ -680,10 +720,14 @@ struct Prog {
         rendered48.clear();
         rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(0)), add(upd47.origin.y, int32_t(0))}, int32_t(2)});
         bool within49 = true;
-        for (const Elem& e50 : rendered48) {
-          if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(10))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(10))))) {
-            within49 = false;
-            break;
+        {
+          const auto& e50_list = rendered48;
+          charge_loop(s.core, 25, int64_t(e50_list.size()));
+          for (const Elem& e50 : e50_list) {
+            if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(10))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(10))))) {
+              within49 = false;
+              break;
+            }
           }
         }
         C4_Frog r51{};
@@ -721,10 +765,14 @@ struct Prog {
         rendered62.clear();
         rendered62.push_back(Elem{Pos{add(upd61.origin.x, int32_t(0)), add(upd61.origin.y, int32_t(0))}, int32_t(2)});
         bool within63 = true;
-        for (const Elem& e64 : rendered62) {
-          if ((((e64.position.x < int32_t(0)) || (e64.position.x >= int32_t(10))) || ((e64.position.y < int32_t(0)) || (e64.position.y >= int32_t(10))))) {
-            within63 = false;
-            break;
+        {
+          const auto& e64_list = rendered62;
+          charge_loop(s.core, 25, int64_t(e64_list.size()));
+          for (const Elem& e64 : e64_list) {
+            if ((((e64.position.x < int32_t(0)) || (e64.position.x >= int32_t(10))) || ((e64.position.y < int32_t(0)) || (e64.position.y >= int32_t(10))))) {
+              within63 = false;
+              break;
+            }
           }
         }
         C4_Frog r65{};
@@ -755,12 +803,20 @@ struct Prog {
       rendered72.push_back(Elem{Pos{add(g70.origin.x, int32_t(0)), add(g70.origin.y, int32_t(0))}, int32_t(2)});
       std::vector<Elem>& rendered73 = s.scratch.v.b11;
       rendered73.clear();
-      for (const C3_Car& x74 : g71) {
-        std::vector<Elem>& cells75 = s.scratch.v.b12;
-        cells75.clear();
-        render_C3_Car(s, x74, cells75);
-        for (const Elem& e76 : cells75) {
-          rendered73.push_back(e76);
+      {
+        const auto& x74_list = g71;
+        charge_loop(s.core, 26, int64_t(x74_list.size()));
+        for (const C3_Car& x74 : x74_list) {
+          std::vector<Elem>& cells75 = s.scratch.v.b12;
+          cells75.clear();
+          render_C3_Car(s, x74, cells75);
+          {
+            const auto& e76_list = cells75;
+            charge_loop(s.core, 26, int64_t(e76_list.size()));
+            for (const Elem& e76 : e76_list) {
+              rendered73.push_back(e76);
+            }
+          }
         }
       }
       const int32_t t77 = int32_t(rendered72.size());
@@ -778,18 +834,26 @@ struct Prog {
         r82 = false;
       } else {
         bool any83 = false;
-        for (const Elem& x84 : rendered72) {
-          bool any85 = false;
-          for (const Elem& x86 : rendered73) {
-            const bool t87 = (x84.position == x86.position);
-            if (t87) {
-              any85 = true;
+        {
+          const auto& x84_list = rendered72;
+          charge_loop(s.core, 27, int64_t(x84_list.size()));
+          for (const Elem& x84 : x84_list) {
+            bool any85 = false;
+            {
+              const auto& x86_list = rendered73;
+              charge_loop(s.core, 28, int64_t(x86_list.size()));
+              for (const Elem& x86 : x86_list) {
+                const bool t87 = (x84.position == x86.position);
+                if (t87) {
+                  any85 = true;
+                  break;
+                }
+              }
+            }
+            if (any85) {
+              any83 = true;
               break;
             }
-          }
-          if (any85) {
-            any83 = true;
-            break;
           }
         }
         r82 = any83;
@@ -803,12 +867,20 @@ struct Prog {
         rendered91.push_back(Elem{Pos{add(prev89.origin.x, int32_t(0)), add(prev89.origin.y, int32_t(0))}, int32_t(2)});
         std::vector<Elem>& rendered92 = s.scratch.v.b14;
         rendered92.clear();
-        for (const C3_Car& x93 : g90) {
-          std::vector<Elem>& cells94 = s.scratch.v.b15;
-          cells94.clear();
-          render_C3_Car(s, x93, cells94);
-          for (const Elem& e95 : cells94) {
-            rendered92.push_back(e95);
+        {
+          const auto& x93_list = g90;
+          charge_loop(s.core, 29, int64_t(x93_list.size()));
+          for (const C3_Car& x93 : x93_list) {
+            std::vector<Elem>& cells94 = s.scratch.v.b15;
+            cells94.clear();
+            render_C3_Car(s, x93, cells94);
+            {
+              const auto& e95_list = cells94;
+              charge_loop(s.core, 29, int64_t(e95_list.size()));
+              for (const Elem& e95 : e95_list) {
+                rendered92.push_back(e95);
+              }
+            }
           }
         }
         const int32_t t96 = int32_t(rendered91.size());
@@ -826,18 +898,26 @@ struct Prog {
           r101 = false;
         } else {
           bool any102 = false;
-          for (const Elem& x103 : rendered91) {
-            bool any104 = false;
-            for (const Elem& x105 : rendered92) {
-              const bool t106 = (x103.position == x105.position);
-              if (t106) {
-                any104 = true;
+          {
+            const auto& x103_list = rendered91;
+            charge_loop(s.core, 30, int64_t(x103_list.size()));
+            for (const Elem& x103 : x103_list) {
+              bool any104 = false;
+              {
+                const auto& x105_list = rendered92;
+                charge_loop(s.core, 31, int64_t(x105_list.size()));
+                for (const Elem& x105 : x105_list) {
+                  const bool t106 = (x103.position == x105.position);
+                  if (t106) {
+                    any104 = true;
+                    break;
+                  }
+                }
+              }
+              if (any104) {
+                any102 = true;
                 break;
               }
-            }
-            if (any104) {
-              any102 = true;
-              break;
             }
           }
           r101 = any102;
@@ -851,12 +931,20 @@ struct Prog {
           rendered110.push_back(Elem{Pos{add(g108.origin.x, int32_t(0)), add(g108.origin.y, int32_t(0))}, int32_t(2)});
           std::vector<Elem>& rendered111 = s.scratch.v.b17;
           rendered111.clear();
-          for (const C3_Car& x112 : prev109) {
-            std::vector<Elem>& cells113 = s.scratch.v.b18;
-            cells113.clear();
-            render_C3_Car(s, x112, cells113);
-            for (const Elem& e114 : cells113) {
-              rendered111.push_back(e114);
+          {
+            const auto& x112_list = prev109;
+            charge_loop(s.core, 32, int64_t(x112_list.size()));
+            for (const C3_Car& x112 : x112_list) {
+              std::vector<Elem>& cells113 = s.scratch.v.b18;
+              cells113.clear();
+              render_C3_Car(s, x112, cells113);
+              {
+                const auto& e114_list = cells113;
+                charge_loop(s.core, 32, int64_t(e114_list.size()));
+                for (const Elem& e114 : e114_list) {
+                  rendered111.push_back(e114);
+                }
+              }
             }
           }
           const int32_t t115 = int32_t(rendered110.size());
@@ -874,18 +962,26 @@ struct Prog {
             r120 = false;
           } else {
             bool any121 = false;
-            for (const Elem& x122 : rendered110) {
-              bool any123 = false;
-              for (const Elem& x124 : rendered111) {
-                const bool t125 = (x122.position == x124.position);
-                if (t125) {
-                  any123 = true;
+            {
+              const auto& x122_list = rendered110;
+              charge_loop(s.core, 33, int64_t(x122_list.size()));
+              for (const Elem& x122 : x122_list) {
+                bool any123 = false;
+                {
+                  const auto& x124_list = rendered111;
+                  charge_loop(s.core, 34, int64_t(x124_list.size()));
+                  for (const Elem& x124 : x124_list) {
+                    const bool t125 = (x122.position == x124.position);
+                    if (t125) {
+                      any123 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any123) {
+                  any121 = true;
                   break;
                 }
-              }
-              if (any123) {
-                any121 = true;
-                break;
               }
             }
             r120 = any121;
@@ -932,19 +1028,23 @@ struct Prog {
         // inlined: function at programs/frog_crossing.au:60
         const std::vector<C2_Pad>& g136 = s.g_pads_23;
         bool any137 = false;
-        for (const C2_Pad& x138 : g136) {
-          // inlined: function at programs/frog_crossing.au:60
-          const bool t139 = (x138.origin == g135.origin);
-          bool r140{};
-          if (t139) {
-            const bool t141 = !x138.f0;
-            r140 = t141;
-          } else {
-            r140 = false;
-          }
-          if (r140) {
-            any137 = true;
-            break;
+        {
+          const auto& x138_list = g136;
+          charge_loop(s.core, 35, int64_t(x138_list.size()));
+          for (const C2_Pad& x138 : x138_list) {
+            // inlined: function at programs/frog_crossing.au:60
+            const bool t139 = (x138.origin == g135.origin);
+            bool r140{};
+            if (t139) {
+              const bool t141 = !x138.f0;
+              r140 = t141;
+            } else {
+              r140 = false;
+            }
+            if (r140) {
+              any137 = true;
+              break;
+            }
           }
         }
         r134 = any137;
@@ -957,17 +1057,21 @@ struct Prog {
         std::vector<C2_Pad>& updated143 = s.scratch.v.b19;
         updated143.clear();
         updated143.reserve(size_t(int32_t(g142.size())));
-        for (const C2_Pad& x144 : g142) {
-          // inlined: function at programs/frog_crossing.au:76
-          const C4_Frog& g145 = s.g_frog_7;
-          const bool t146 = (x144.origin == g145.origin);
-          if (t146) {
+        {
+          const auto& x144_list = g142;
+          charge_loop(s.core, 36, int64_t(x144_list.size()));
+          for (const C2_Pad& x144 : x144_list) {
             // inlined: function at programs/frog_crossing.au:76
-            C2_Pad upd147 = x144;
-            upd147.f0 = true;
-            updated143.push_back(std::move(upd147));
-          } else {
-            updated143.push_back(x144);
+            const C4_Frog& g145 = s.g_frog_7;
+            const bool t146 = (x144.origin == g145.origin);
+            if (t146) {
+              // inlined: function at programs/frog_crossing.au:76
+              C2_Pad upd147 = x144;
+              upd147.f0 = true;
+              updated143.push_back(std::move(upd147));
+            } else {
+              updated143.push_back(x144);
+            }
           }
         }
         if (!s.scratch.v.sv_pads_26) {
@@ -996,19 +1100,23 @@ struct Prog {
         // inlined: function at programs/frog_crossing.au:60
         const std::vector<C2_Pad>& g154 = s.g_pads_23;
         bool any155 = false;
-        for (const C2_Pad& x156 : g154) {
-          // inlined: function at programs/frog_crossing.au:60
-          const bool t157 = (x156.origin == g153.origin);
-          bool r158{};
-          if (t157) {
-            const bool t159 = !x156.f0;
-            r158 = t159;
-          } else {
-            r158 = false;
-          }
-          if (r158) {
-            any155 = true;
-            break;
+        {
+          const auto& x156_list = g154;
+          charge_loop(s.core, 35, int64_t(x156_list.size()));
+          for (const C2_Pad& x156 : x156_list) {
+            // inlined: function at programs/frog_crossing.au:60
+            const bool t157 = (x156.origin == g153.origin);
+            bool r158{};
+            if (t157) {
+              const bool t159 = !x156.f0;
+              r158 = t159;
+            } else {
+              r158 = false;
+            }
+            if (r158) {
+              any155 = true;
+              break;
+            }
           }
         }
         const bool t160 = !any155;
@@ -1044,12 +1152,16 @@ struct Prog {
     {
       const std::vector<C2_Pad>& g167 = s.g_pads_23;
       bool any168 = false;
-      for (const C2_Pad& x169 : g167) {
-        // inlined: function at programs/frog_crossing.au:83
-        const bool t170 = !x169.f0;
-        if (t170) {
-          any168 = true;
-          break;
+      {
+        const auto& x169_list = g167;
+        charge_loop(s.core, 37, int64_t(x169_list.size()));
+        for (const C2_Pad& x169 : x169_list) {
+          // inlined: function at programs/frog_crossing.au:83
+          const bool t170 = !x169.f0;
+          if (t170) {
+            any168 = true;
+            break;
+          }
         }
       }
       const bool t171 = !any168;
@@ -1059,11 +1171,15 @@ struct Prog {
         std::vector<C2_Pad>& out173 = s.scratch.v.b20;
         out173.clear();
         out173.reserve(size_t(int32_t(g172.size())));
-        for (const C2_Pad& x174 : g172) {
-          // inlined: function at programs/frog_crossing.au:84
-          C2_Pad upd175 = x174;
-          upd175.f0 = false;
-          out173.push_back(std::move(upd175));
+        {
+          const auto& x174_list = g172;
+          charge_loop(s.core, 38, int64_t(x174_list.size()));
+          for (const C2_Pad& x174 : x174_list) {
+            // inlined: function at programs/frog_crossing.au:84
+            C2_Pad upd175 = x174;
+            upd175.f0 = false;
+            out173.push_back(std::move(upd175));
+          }
         }
         if (!s.scratch.v.sv_pads_26) {
           std::swap(s.scratch.v.p_pads_25, s.g_pads_23);
@@ -1090,11 +1206,15 @@ struct Prog {
         std::vector<C2_Pad>& out180 = s.scratch.v.b21;
         out180.clear();
         out180.reserve(size_t(int32_t(g179.size())));
-        for (const C2_Pad& x181 : g179) {
-          // inlined: function at programs/frog_crossing.au:87
-          C2_Pad upd182 = x181;
-          upd182.f0 = false;
-          out180.push_back(std::move(upd182));
+        {
+          const auto& x181_list = g179;
+          charge_loop(s.core, 39, int64_t(x181_list.size()));
+          for (const C2_Pad& x181 : x181_list) {
+            // inlined: function at programs/frog_crossing.au:87
+            C2_Pad upd182 = x181;
+            upd182.f0 = false;
+            out180.push_back(std::move(upd182));
+          }
         }
         if (!s.scratch.v.sv_pads_26) {
           std::swap(s.scratch.v.p_pads_25, s.g_pads_23);
@@ -1176,23 +1296,23 @@ struct Prog {
       s.u_time_32 = true;
     }
     s.core.tally.v = StateTally{};
-    tally_rendered(s.core, 21, "cacheRendered");
+    tally_rendered(s.core, 40, "cacheRendered");
     const C0_River& g191 = s.g_river_27;
-    tally_global(s.core, 12, "river", g191);
+    tally_global(s.core, 15, "river", g191);
     const std::vector<C2_Pad>& g192 = s.g_pads_23;
-    tally_global(s.core, 13, "pads", g192);
+    tally_global(s.core, 16, "pads", g192);
     const std::vector<C3_Car>& g193 = s.g_cars_15;
-    tally_global(s.core, 14, "cars", g193);
+    tally_global(s.core, 17, "cars", g193);
     const C5_Lives& g194 = s.g_lives_11;
-    tally_global(s.core, 15, "lives", g194);
+    tally_global(s.core, 18, "lives", g194);
     const Pos& g195 = s.g_frogStart_4;
-    tally_global(s.core, 16, "frogStart", g195);
+    tally_global(s.core, 19, "frogStart", g195);
     const C4_Frog& g196 = s.g_frog_7;
-    tally_global(s.core, 17, "frog", g196);
+    tally_global(s.core, 20, "frog", g196);
     const std::vector<std::vector<int32_t>>& g197 = s.g_lanes_6;
-    tally_global(s.core, 18, "lanes", g197);
+    tally_global(s.core, 21, "lanes", g197);
     const std::vector<C1_Verge>& g198 = s.g_verges_19;
-    tally_global(s.core, 19, "verges", g198);
+    tally_global(s.core, 22, "verges", g198);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {
@@ -1233,53 +1353,69 @@ struct Prog {
     s.core.occupied.add(e11.position);
     ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
     const std::vector<C1_Verge>& g12 = s.g_verges_19;
-    for (const C1_Verge& x13 : g12) {
-      const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e14.position);
-      ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
-      const Elem e15 = Elem{Pos{add(x13.origin.x, int32_t(1)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e15.position);
-      ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
-      const Elem e16 = Elem{Pos{add(x13.origin.x, int32_t(2)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e16.position);
-      ++s.core.rendered, paint ? paint->paint(e16.position, pal[e16.color]) : void();
-      const Elem e17 = Elem{Pos{add(x13.origin.x, int32_t(3)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e17.position);
-      ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
-      const Elem e18 = Elem{Pos{add(x13.origin.x, int32_t(4)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e18.position);
-      ++s.core.rendered, paint ? paint->paint(e18.position, pal[e18.color]) : void();
-      const Elem e19 = Elem{Pos{add(x13.origin.x, int32_t(5)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e19.position);
-      ++s.core.rendered, paint ? paint->paint(e19.position, pal[e19.color]) : void();
-      const Elem e20 = Elem{Pos{add(x13.origin.x, int32_t(6)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e20.position);
-      ++s.core.rendered, paint ? paint->paint(e20.position, pal[e20.color]) : void();
-      const Elem e21 = Elem{Pos{add(x13.origin.x, int32_t(7)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e21.position);
-      ++s.core.rendered, paint ? paint->paint(e21.position, pal[e21.color]) : void();
-      const Elem e22 = Elem{Pos{add(x13.origin.x, int32_t(8)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e22.position);
-      ++s.core.rendered, paint ? paint->paint(e22.position, pal[e22.color]) : void();
-      const Elem e23 = Elem{Pos{add(x13.origin.x, int32_t(9)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-      s.core.occupied.add(e23.position);
-      ++s.core.rendered, paint ? paint->paint(e23.position, pal[e23.color]) : void();
+    {
+      const auto& x13_list = g12;
+      charge_loop(s.core, 41, int64_t(x13_list.size()));
+      for (const C1_Verge& x13 : x13_list) {
+        const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e14.position);
+        ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
+        const Elem e15 = Elem{Pos{add(x13.origin.x, int32_t(1)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e15.position);
+        ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
+        const Elem e16 = Elem{Pos{add(x13.origin.x, int32_t(2)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e16.position);
+        ++s.core.rendered, paint ? paint->paint(e16.position, pal[e16.color]) : void();
+        const Elem e17 = Elem{Pos{add(x13.origin.x, int32_t(3)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e17.position);
+        ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
+        const Elem e18 = Elem{Pos{add(x13.origin.x, int32_t(4)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e18.position);
+        ++s.core.rendered, paint ? paint->paint(e18.position, pal[e18.color]) : void();
+        const Elem e19 = Elem{Pos{add(x13.origin.x, int32_t(5)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e19.position);
+        ++s.core.rendered, paint ? paint->paint(e19.position, pal[e19.color]) : void();
+        const Elem e20 = Elem{Pos{add(x13.origin.x, int32_t(6)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e20.position);
+        ++s.core.rendered, paint ? paint->paint(e20.position, pal[e20.color]) : void();
+        const Elem e21 = Elem{Pos{add(x13.origin.x, int32_t(7)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e21.position);
+        ++s.core.rendered, paint ? paint->paint(e21.position, pal[e21.color]) : void();
+        const Elem e22 = Elem{Pos{add(x13.origin.x, int32_t(8)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e22.position);
+        ++s.core.rendered, paint ? paint->paint(e22.position, pal[e22.color]) : void();
+        const Elem e23 = Elem{Pos{add(x13.origin.x, int32_t(9)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
+        s.core.occupied.add(e23.position);
+        ++s.core.rendered, paint ? paint->paint(e23.position, pal[e23.color]) : void();
+      }
     }
     const std::vector<C2_Pad>& g24 = s.g_pads_23;
-    for (const C2_Pad& x25 : g24) {
-      const int32_t colour26 = colour_6_C2_Pad(s, x25);
-      const Elem e27 = Elem{Pos{add(x25.origin.x, int32_t(0)), add(x25.origin.y, int32_t(0))}, colour26};
-      s.core.occupied.add(e27.position);
-      ++s.core.rendered, paint ? paint->paint(e27.position, pal[e27.color]) : void();
+    {
+      const auto& x25_list = g24;
+      charge_loop(s.core, 41, int64_t(x25_list.size()));
+      for (const C2_Pad& x25 : x25_list) {
+        const int32_t colour26 = colour_6_C2_Pad(s, x25);
+        const Elem e27 = Elem{Pos{add(x25.origin.x, int32_t(0)), add(x25.origin.y, int32_t(0))}, colour26};
+        s.core.occupied.add(e27.position);
+        ++s.core.rendered, paint ? paint->paint(e27.position, pal[e27.color]) : void();
+      }
     }
     const std::vector<C3_Car>& g28 = s.g_cars_15;
-    for (const C3_Car& x29 : g28) {
-      std::vector<Elem>& cells30 = s.scratch.v.b22;
-      cells30.clear();
-      render_C3_Car(s, x29, cells30);
-      for (const Elem& e31 : cells30) {
-        s.core.occupied.add(e31.position);
-        ++s.core.rendered, paint ? paint->paint(e31.position, pal[e31.color]) : void();
+    {
+      const auto& x29_list = g28;
+      charge_loop(s.core, 41, int64_t(x29_list.size()));
+      for (const C3_Car& x29 : x29_list) {
+        std::vector<Elem>& cells30 = s.scratch.v.b22;
+        cells30.clear();
+        render_C3_Car(s, x29, cells30);
+        {
+          const auto& e31_list = cells30;
+          charge_loop(s.core, 41, int64_t(e31_list.size()));
+          for (const Elem& e31 : e31_list) {
+            s.core.occupied.add(e31.position);
+            ++s.core.rendered, paint ? paint->paint(e31.position, pal[e31.color]) : void();
+          }
+        }
       }
     }
     const C5_Lives& g32 = s.g_lives_11;
@@ -1374,17 +1510,20 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {46, 29, nullptr, true, 46, 29, "initialising 'cars': "},
     {26, 14, nullptr, true, 26, 14, "initialising 'cars': "},
     {27, 20, nullptr, true, 27, 20, "initialising 'cars': "},
     {27, 12, nullptr, true, 27, 12, "initialising 'cars': "},
     {30, 19, nullptr, true, 30, 19, "initialising 'cars': "},
     {30, 10, nullptr, true, 30, 10, "initialising 'cars': "},
+    {28, 5, nullptr, true, 28, 5, "initialising 'cars': "},
     {28, 22, nullptr, true, 28, 22, "initialising 'cars': "},
     {28, 32, nullptr, true, 28, 32, "initialising 'cars': "},
     {28, 42, nullptr, true, 28, 42, "initialising 'cars': "},
     {28, 60, nullptr, true, 28, 60, "initialising 'cars': "},
     {29, 67, nullptr, true, 29, 67, "initialising 'cars': "},
     {14, 33, nullptr, true, 14, 33, "initialising 'cars': "},
+    {14, 5, nullptr, true, 14, 5, "initialising 'cars': "},
     {46, 21, nullptr, true, 46, 21, "initialising 'cars': "},
     {36, 3, nullptr, true, 36, 3, ""},
     {42, 3, nullptr, true, 42, 3, ""},
@@ -1394,8 +1533,25 @@ const ErrorSite Prog::kErrors[] = {
     {52, 3, nullptr, true, 52, 3, ""},
     {22, 3, nullptr, true, 22, 3, ""},
     {39, 3, nullptr, true, 39, 3, ""},
+    {63, 20, nullptr, true, 63, 20, ""},
     {55, 13, nullptr, true, 55, 13, ""},
+    {59, 27, nullptr, true, 59, 27, ""},
+    {147, 70, "<stdlib>", true, 71, 10, ""},
+    {143, 12, "<stdlib>", true, 71, 10, ""},
+    {143, 28, "<stdlib>", true, 71, 10, ""},
+    {147, 70, "<stdlib>", true, 71, 36, ""},
+    {143, 12, "<stdlib>", true, 71, 36, ""},
+    {143, 28, "<stdlib>", true, 71, 36, ""},
+    {147, 70, "<stdlib>", true, 71, 66, ""},
+    {143, 12, "<stdlib>", true, 71, 66, ""},
+    {143, 28, "<stdlib>", true, 71, 66, ""},
+    {60, 24, nullptr, true, 60, 24, ""},
+    {76, 15, nullptr, true, 76, 15, ""},
+    {83, 10, nullptr, true, 83, 10, ""},
+    {84, 13, nullptr, true, 84, 13, ""},
+    {87, 53, nullptr, true, 87, 53, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -470,76 +470,96 @@ struct Prog {
         std::vector<C2_Drop>& out3 = s.scratch.v.b1;
         out3.clear();
         out3.reserve(size_t(int32_t(prev2.size())));
-        for (const C2_Drop& x4 : prev2) {
-          const int32_t t5 = add(x4.origin.x, int32_t(0));
-          const int32_t t6 = add(x4.origin.y, int32_t(1));
-          const Pos t7 = Pos{t5, t6};
-          C2_Drop upd8 = x4;
-          upd8.origin = t7;
-          out3.push_back(std::move(upd8));
+        {
+          const auto& x4_list = prev2;
+          charge_loop(s.core, 7, int64_t(x4_list.size()));
+          for (const C2_Drop& x4 : x4_list) {
+            const int32_t t5 = add(x4.origin.x, int32_t(0));
+            const int32_t t6 = add(x4.origin.y, int32_t(1));
+            const Pos t7 = Pos{t5, t6};
+            C2_Drop upd8 = x4;
+            upd8.origin = t7;
+            out3.push_back(std::move(upd8));
+          }
         }
         std::swap(l_fallen1, out3);
         const std::vector<C3_Plant>& prev9 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
         std::vector<C3_Plant>& updated10 = s.scratch.v.b2;
         updated10.clear();
         updated10.reserve(size_t(int32_t(prev9.size())));
-        for (const C3_Plant& x11 : prev9) {
-          // inlined: function at programs/garden.au:50
-          std::vector<Elem>& rendered12 = s.scratch.v.b3;
-          rendered12.clear();
-          const int32_t colour13 = colour_12_C3_Plant(s, x11);
-          rendered12.push_back(Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, colour13});
-          std::vector<Elem>& rendered14 = s.scratch.v.b4;
-          rendered14.clear();
-          for (const C2_Drop& x15 : l_fallen1) {
-            rendered14.push_back(Elem{Pos{add(x15.origin.x, int32_t(0)), add(x15.origin.y, int32_t(0))}, int32_t(12)});
-          }
-          const int32_t t16 = int32_t(rendered12.size());
-          const bool t17 = (t16 == int32_t(0));
-          bool r18{};
-          if (!t17) {
-            const int32_t t19 = int32_t(rendered14.size());
-            const bool t20 = (t19 == int32_t(0));
-            r18 = t20;
-          } else {
-            r18 = true;
-          }
-          bool r21{};
-          if (r18) {
-            r21 = false;
-          } else {
-            bool any22 = false;
-            for (const Elem& x23 : rendered12) {
-              bool any24 = false;
-              for (const Elem& x25 : rendered14) {
-                const bool t26 = (x23.position == x25.position);
-                if (t26) {
-                  any24 = true;
-                  break;
+        {
+          const auto& x11_list = prev9;
+          charge_loop(s.core, 8, int64_t(x11_list.size()));
+          for (const C3_Plant& x11 : x11_list) {
+            // inlined: function at programs/garden.au:50
+            std::vector<Elem>& rendered12 = s.scratch.v.b3;
+            rendered12.clear();
+            const int32_t colour13 = colour_12_C3_Plant(s, x11);
+            rendered12.push_back(Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, colour13});
+            std::vector<Elem>& rendered14 = s.scratch.v.b4;
+            rendered14.clear();
+            {
+              const auto& x15_list = l_fallen1;
+              charge_loop(s.core, 9, int64_t(x15_list.size()));
+              for (const C2_Drop& x15 : x15_list) {
+                rendered14.push_back(Elem{Pos{add(x15.origin.x, int32_t(0)), add(x15.origin.y, int32_t(0))}, int32_t(12)});
+              }
+            }
+            const int32_t t16 = int32_t(rendered12.size());
+            const bool t17 = (t16 == int32_t(0));
+            bool r18{};
+            if (!t17) {
+              const int32_t t19 = int32_t(rendered14.size());
+              const bool t20 = (t19 == int32_t(0));
+              r18 = t20;
+            } else {
+              r18 = true;
+            }
+            bool r21{};
+            if (r18) {
+              r21 = false;
+            } else {
+              bool any22 = false;
+              {
+                const auto& x23_list = rendered12;
+                charge_loop(s.core, 10, int64_t(x23_list.size()));
+                for (const Elem& x23 : x23_list) {
+                  bool any24 = false;
+                  {
+                    const auto& x25_list = rendered14;
+                    charge_loop(s.core, 11, int64_t(x25_list.size()));
+                    for (const Elem& x25 : x25_list) {
+                      const bool t26 = (x23.position == x25.position);
+                      if (t26) {
+                        any24 = true;
+                        break;
+                      }
+                    }
+                  }
+                  if (any24) {
+                    any22 = true;
+                    break;
+                  }
                 }
               }
-              if (any24) {
-                any22 = true;
-                break;
+              r21 = any22;
+            }
+            if (r21) {
+              // inlined: function at programs/garden.au:40
+              const int32_t t27 = add(x11.f0, int32_t(1));
+              const bool t28 = (int32_t(3) < t27);
+              int32_t r29{};
+              if (t28) {
+                r29 = int32_t(3);
+              } else {
+                r29 = t27;
               }
-            }
-            r21 = any22;
-          }
-          if (r21) {
-            // inlined: function at programs/garden.au:40
-            const int32_t t27 = add(x11.f0, int32_t(1));
-            const bool t28 = (int32_t(3) < t27);
-            int32_t r29{};
-            if (t28) {
-              r29 = int32_t(3);
+              C3_Plant upd30 = x11;
+              upd30.f0 = r29;
+              updated10.push_back(std::move(upd30));
             } else {
-              r29 = t27;
+              updated10.push_back(x11);
             }
-            C3_Plant upd30 = x11;
-            upd30.f0 = r29;
-            updated10.push_back(std::move(upd30));
-          } else {
-            updated10.push_back(x11);
           }
         }
         if (!s.scratch.v.sv_plants_18) {
@@ -550,59 +570,75 @@ struct Prog {
         s.u_plants_16 = true;
         std::vector<C2_Drop>& out31 = s.scratch.v.b5;
         out31.clear();
-        for (const C2_Drop& x32 : l_fallen1) {
-          // inlined: function at programs/garden.au:51
-          const bool t33 = (x32.origin.y < int32_t(11));
-          bool r34{};
-          if (t33) {
-            const std::vector<C3_Plant>& prev35 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
-            std::vector<Elem>& rendered36 = s.scratch.v.b6;
-            rendered36.clear();
-            rendered36.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(12)});
-            std::vector<Elem>& rendered37 = s.scratch.v.b7;
-            rendered37.clear();
-            for (const C3_Plant& x38 : prev35) {
-              const int32_t colour39 = colour_12_C3_Plant(s, x38);
-              rendered37.push_back(Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, colour39});
-            }
-            const int32_t t40 = int32_t(rendered36.size());
-            const bool t41 = (t40 == int32_t(0));
-            bool r42{};
-            if (!t41) {
-              const int32_t t43 = int32_t(rendered37.size());
-              const bool t44 = (t43 == int32_t(0));
-              r42 = t44;
-            } else {
-              r42 = true;
-            }
-            bool r45{};
-            if (r42) {
-              r45 = false;
-            } else {
-              bool any46 = false;
-              for (const Elem& x47 : rendered36) {
-                bool any48 = false;
-                for (const Elem& x49 : rendered37) {
-                  const bool t50 = (x47.position == x49.position);
-                  if (t50) {
-                    any48 = true;
-                    break;
-                  }
-                }
-                if (any48) {
-                  any46 = true;
-                  break;
+        {
+          const auto& x32_list = l_fallen1;
+          charge_loop(s.core, 12, int64_t(x32_list.size()));
+          for (const C2_Drop& x32 : x32_list) {
+            // inlined: function at programs/garden.au:51
+            const bool t33 = (x32.origin.y < int32_t(11));
+            bool r34{};
+            if (t33) {
+              const std::vector<C3_Plant>& prev35 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+              std::vector<Elem>& rendered36 = s.scratch.v.b6;
+              rendered36.clear();
+              rendered36.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(12)});
+              std::vector<Elem>& rendered37 = s.scratch.v.b7;
+              rendered37.clear();
+              {
+                const auto& x38_list = prev35;
+                charge_loop(s.core, 13, int64_t(x38_list.size()));
+                for (const C3_Plant& x38 : x38_list) {
+                  const int32_t colour39 = colour_12_C3_Plant(s, x38);
+                  rendered37.push_back(Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, colour39});
                 }
               }
-              r45 = any46;
+              const int32_t t40 = int32_t(rendered36.size());
+              const bool t41 = (t40 == int32_t(0));
+              bool r42{};
+              if (!t41) {
+                const int32_t t43 = int32_t(rendered37.size());
+                const bool t44 = (t43 == int32_t(0));
+                r42 = t44;
+              } else {
+                r42 = true;
+              }
+              bool r45{};
+              if (r42) {
+                r45 = false;
+              } else {
+                bool any46 = false;
+                {
+                  const auto& x47_list = rendered36;
+                  charge_loop(s.core, 14, int64_t(x47_list.size()));
+                  for (const Elem& x47 : x47_list) {
+                    bool any48 = false;
+                    {
+                      const auto& x49_list = rendered37;
+                      charge_loop(s.core, 15, int64_t(x49_list.size()));
+                      for (const Elem& x49 : x49_list) {
+                        const bool t50 = (x47.position == x49.position);
+                        if (t50) {
+                          any48 = true;
+                          break;
+                        }
+                      }
+                    }
+                    if (any48) {
+                      any46 = true;
+                      break;
+                    }
+                  }
+                }
+                r45 = any46;
+              }
+              const bool t51 = !r45;
+              r34 = t51;
+            } else {
+              r34 = false;
             }
-            const bool t51 = !r45;
-            r34 = t51;
-          } else {
-            r34 = false;
-          }
-          if (r34) {
-            out31.push_back(x32);
+            if (r34) {
+              out31.push_back(x32);
+            }
           }
         }
         if (!s.scratch.v.sv_drops_14) {
@@ -622,38 +658,42 @@ struct Prog {
         std::vector<C3_Plant>& updated54 = s.scratch.v.b8;
         updated54.clear();
         updated54.reserve(size_t(int32_t(g53.size())));
-        for (const C3_Plant& x55 : g53) {
-          // inlined: function at programs/garden.au:56
-          // inlined: function at programs/garden.au:39
-          const bool t56 = (x55.f0 == int32_t(3));
-          const bool t57 = !t56;
-          bool r58{};
-          if (t57) {
-            const std::vector<bool>& g59 = s.g_growChance_5;
-            if (g59.empty()) {
-              fail_at(7, std::string() + std::string("uniformChoice of an empty list"));
-            }
-            const int32_t t60 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g59.size())))));
-            const bool t61 = g59[size_t(t60)];
-            r58 = t61;
-          } else {
-            r58 = false;
-          }
-          if (r58) {
-            // inlined: function at programs/garden.au:40
-            const int32_t t62 = add(x55.f0, int32_t(1));
-            const bool t63 = (int32_t(3) < t62);
-            int32_t r64{};
-            if (t63) {
-              r64 = int32_t(3);
+        {
+          const auto& x55_list = g53;
+          charge_loop(s.core, 16, int64_t(x55_list.size()));
+          for (const C3_Plant& x55 : x55_list) {
+            // inlined: function at programs/garden.au:56
+            // inlined: function at programs/garden.au:39
+            const bool t56 = (x55.f0 == int32_t(3));
+            const bool t57 = !t56;
+            bool r58{};
+            if (t57) {
+              const std::vector<bool>& g59 = s.g_growChance_5;
+              if (g59.empty()) {
+                fail_at(17, std::string() + std::string("uniformChoice of an empty list"));
+              }
+              const int32_t t60 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g59.size())))));
+              const bool t61 = g59[size_t(t60)];
+              r58 = t61;
             } else {
-              r64 = t62;
+              r58 = false;
             }
-            C3_Plant upd65 = x55;
-            upd65.f0 = r64;
-            updated54.push_back(std::move(upd65));
-          } else {
-            updated54.push_back(x55);
+            if (r58) {
+              // inlined: function at programs/garden.au:40
+              const int32_t t62 = add(x55.f0, int32_t(1));
+              const bool t63 = (int32_t(3) < t62);
+              int32_t r64{};
+              if (t63) {
+                r64 = int32_t(3);
+              } else {
+                r64 = t62;
+              }
+              C3_Plant upd65 = x55;
+              upd65.f0 = r64;
+              updated54.push_back(std::move(upd65));
+            } else {
+              updated54.push_back(x55);
+            }
           }
         }
         if (!s.scratch.v.sv_plants_18) {
@@ -674,14 +714,22 @@ struct Prog {
         s.g_click_27 = t68;
         std::vector<Elem>& rendered69 = s.scratch.v.b9;
         rendered69.clear();
-        for (const C3_Plant& x70 : prev66) {
-          const int32_t colour71 = colour_12_C3_Plant(s, x70);
-          rendered69.push_back(Elem{Pos{add(x70.origin.x, int32_t(0)), add(x70.origin.y, int32_t(0))}, colour71});
+        {
+          const auto& x70_list = prev66;
+          charge_loop(s.core, 18, int64_t(x70_list.size()));
+          for (const C3_Plant& x70 : x70_list) {
+            const int32_t colour71 = colour_12_C3_Plant(s, x70);
+            rendered69.push_back(Elem{Pos{add(x70.origin.x, int32_t(0)), add(x70.origin.y, int32_t(0))}, colour71});
+          }
         }
-        for (const Elem& e72 : rendered69) {
-          if ((e72.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked67 = true;
-            break;
+        {
+          const auto& e72_list = rendered69;
+          charge_loop(s.core, 18, int64_t(e72_list.size()));
+          for (const Elem& e72 : e72_list) {
+            if ((e72.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked67 = true;
+              break;
+            }
           }
         }
       }
@@ -690,35 +738,47 @@ struct Prog {
         const std::vector<C3_Plant>& prev73 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
         std::vector<C3_Plant>& out74 = s.scratch.v.b10;
         out74.clear();
-        for (const C3_Plant& x75 : prev73) {
-          // inlined: function at programs/garden.au:60
-          bool clicked76 = false;
-          if (s.core.click) {
-            s.d_click_28 = true;
-            const Pos t77 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_27 = t77;
-            std::vector<Elem>& rendered78 = s.scratch.v.b11;
-            rendered78.clear();
-            const int32_t colour79 = colour_12_C3_Plant(s, x75);
-            rendered78.push_back(Elem{Pos{add(x75.origin.x, int32_t(0)), add(x75.origin.y, int32_t(0))}, colour79});
-            for (const Elem& e80 : rendered78) {
-              if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked76 = true;
-                break;
+        {
+          const auto& x75_list = prev73;
+          charge_loop(s.core, 19, int64_t(x75_list.size()));
+          for (const C3_Plant& x75 : x75_list) {
+            // inlined: function at programs/garden.au:60
+            bool clicked76 = false;
+            if (s.core.click) {
+              s.d_click_28 = true;
+              const Pos t77 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_27 = t77;
+              std::vector<Elem>& rendered78 = s.scratch.v.b11;
+              rendered78.clear();
+              const int32_t colour79 = colour_12_C3_Plant(s, x75);
+              rendered78.push_back(Elem{Pos{add(x75.origin.x, int32_t(0)), add(x75.origin.y, int32_t(0))}, colour79});
+              {
+                const auto& e80_list = rendered78;
+                charge_loop(s.core, 20, int64_t(e80_list.size()));
+                for (const Elem& e80 : e80_list) {
+                  if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked76 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          if (clicked76) {
-            out74.push_back(x75);
+            if (clicked76) {
+              out74.push_back(x75);
+            }
           }
         }
         bool any81 = false;
-        for (const C3_Plant& x82 : out74) {
-          // inlined: function at programs/garden.au:39
-          const bool t83 = (x82.f0 == int32_t(3));
-          if (t83) {
-            any81 = true;
-            break;
+        {
+          const auto& x82_list = out74;
+          charge_loop(s.core, 21, int64_t(x82_list.size()));
+          for (const C3_Plant& x82 : x82_list) {
+            // inlined: function at programs/garden.au:39
+            const bool t83 = (x82.f0 == int32_t(3));
+            if (t83) {
+              any81 = true;
+              break;
+            }
           }
         }
         C4_Basket r84{};
@@ -749,26 +809,34 @@ struct Prog {
         const std::vector<C3_Plant>& g92 = s.g_plants_15;
         std::vector<C3_Plant>& kept93 = s.scratch.v.b12;
         kept93.clear();
-        for (const C3_Plant& x94 : g92) {
-          // inlined: function at programs/garden.au:63
-          bool clicked95 = false;
-          if (s.core.click) {
-            s.d_click_28 = true;
-            const Pos t96 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_27 = t96;
-            std::vector<Elem>& rendered97 = s.scratch.v.b13;
-            rendered97.clear();
-            const int32_t colour98 = colour_12_C3_Plant(s, x94);
-            rendered97.push_back(Elem{Pos{add(x94.origin.x, int32_t(0)), add(x94.origin.y, int32_t(0))}, colour98});
-            for (const Elem& e99 : rendered97) {
-              if ((e99.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked95 = true;
-                break;
+        {
+          const auto& x94_list = g92;
+          charge_loop(s.core, 22, int64_t(x94_list.size()));
+          for (const C3_Plant& x94 : x94_list) {
+            // inlined: function at programs/garden.au:63
+            bool clicked95 = false;
+            if (s.core.click) {
+              s.d_click_28 = true;
+              const Pos t96 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_27 = t96;
+              std::vector<Elem>& rendered97 = s.scratch.v.b13;
+              rendered97.clear();
+              const int32_t colour98 = colour_12_C3_Plant(s, x94);
+              rendered97.push_back(Elem{Pos{add(x94.origin.x, int32_t(0)), add(x94.origin.y, int32_t(0))}, colour98});
+              {
+                const auto& e99_list = rendered97;
+                charge_loop(s.core, 23, int64_t(e99_list.size()));
+                for (const Elem& e99 : e99_list) {
+                  if ((e99.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked95 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          if (!clicked95) {
-            kept93.push_back(x94);
+            if (!clicked95) {
+              kept93.push_back(x94);
+            }
           }
         }
         if (!s.scratch.v.sv_plants_18) {
@@ -795,7 +863,7 @@ struct Prog {
           const Pos& g104 = s.g_click_27;
           r103 = g104;
         } else {
-          fail_at(8, std::string() + std::string("undefined variable 'click'"));
+          fail_at(24, std::string() + std::string("undefined variable 'click'"));
         }
         // inlined: function at programs/garden.au:41
         const bool t105 = (r103.y >= int32_t(2));
@@ -813,7 +881,7 @@ struct Prog {
             const Pos& g110 = s.g_click_27;
             r109 = g110;
           } else {
-            fail_at(9, std::string() + std::string("undefined variable 'click'"));
+            fail_at(25, std::string() + std::string("undefined variable 'click'"));
           }
           const bool t111 = s.core.occupied.free(r109);
           bool r112{};
@@ -838,7 +906,7 @@ struct Prog {
         const std::vector<C3_Plant>& g116 = s.g_plants_15;
         const std::vector<int32_t>& g117 = s.g_petals_4;
         if (g117.empty()) {
-          fail_at(10, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t118 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g117.size())))));
         const int32_t t119 = g117[size_t(t118)];
@@ -847,23 +915,27 @@ struct Prog {
           const Pos& g121 = s.g_click_27;
           r120 = g121;
         } else {
-          fail_at(11, std::string() + std::string("undefined variable 'click'"));
+          fail_at(27, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r122{};
         if (s.d_click_28) {
           const Pos& g123 = s.g_click_27;
           r122 = g123;
         } else {
-          fail_at(12, std::string() + std::string("undefined variable 'click'"));
+          fail_at(28, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t124 = Pos{r120.x, r122.y};
         C3_Plant o125 = C3_Plant{int32_t(0), t119, t124};
-        check_length(s.core, 13, int64_t(g116.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 29, int64_t(g116.size()) + int64_t(int32_t(1)));
         std::vector<C3_Plant>& added126 = s.scratch.v.b14;
         added126.clear();
         added126.reserve(size_t(add(int32_t(g116.size()), int32_t(1))));
-        for (const C3_Plant& x127 : g116) {
-          added126.push_back(x127);
+        {
+          const auto& x127_list = g116;
+          charge_loop(s.core, 29, int64_t(x127_list.size()));
+          for (const C3_Plant& x127 : x127_list) {
+            added126.push_back(x127);
+          }
         }
         added126.push_back(std::move(o125));
         if (!s.scratch.v.sv_plants_18) {
@@ -953,19 +1025,23 @@ struct Prog {
         const C0_Cloud& g150 = s.g_cloud_19;
         const std::vector<int32_t> list151 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
         if (list151.empty()) {
-          fail_at(14, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(30, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t152 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list151.size())))));
         const int32_t t153 = list151[size_t(t152)];
         const int32_t t154 = add(g150.origin.x, t153);
         const Pos t155 = Pos{t154, int32_t(1)};
         C2_Drop o156 = C2_Drop{t155};
-        check_length(s.core, 15, int64_t(g149.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 31, int64_t(g149.size()) + int64_t(int32_t(1)));
         std::vector<C2_Drop>& added157 = s.scratch.v.b15;
         added157.clear();
         added157.reserve(size_t(add(int32_t(g149.size()), int32_t(1))));
-        for (const C2_Drop& x158 : g149) {
-          added157.push_back(x158);
+        {
+          const auto& x158_list = g149;
+          charge_loop(s.core, 31, int64_t(x158_list.size()));
+          for (const C2_Drop& x158 : x158_list) {
+            added157.push_back(x158);
+          }
         }
         added157.push_back(std::move(o156));
         if (!s.scratch.v.sv_drops_14) {
@@ -1046,7 +1122,7 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_28) {
-      tally_rendered(s.core, 16, "cacheRendered");
+      tally_rendered(s.core, 32, "cacheRendered");
       const C0_Cloud& g169 = s.g_cloud_19;
       tally_global(s.core, 0, "cloud", g169);
       const std::vector<C3_Plant>& g170 = s.g_plants_15;
@@ -1055,7 +1131,7 @@ struct Prog {
       tally_global(s.core, 2, "petals", g171);
       if (s.d_click_28) {
         const Pos& g172 = s.g_click_27;
-        tally_global(s.core, 16, "click", g172);
+        tally_global(s.core, 32, "click", g172);
       }
       const std::vector<bool>& g173 = s.g_growChance_5;
       tally_global(s.core, 3, "growChance", g173);
@@ -1066,7 +1142,7 @@ struct Prog {
       const C1_Sun& g176 = s.g_sun_23;
       tally_global(s.core, 6, "sun", g176);
     } else {
-      tally_rendered(s.core, 16, "cacheRendered");
+      tally_rendered(s.core, 32, "cacheRendered");
       const C0_Cloud& g177 = s.g_cloud_19;
       tally_global(s.core, 0, "cloud", g177);
       const std::vector<C3_Plant>& g178 = s.g_plants_15;
@@ -1106,17 +1182,25 @@ struct Prog {
     s.core.occupied.add(e7.position);
     ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
     const std::vector<C3_Plant>& g8 = s.g_plants_15;
-    for (const C3_Plant& x9 : g8) {
-      const int32_t colour10 = colour_12_C3_Plant(s, x9);
-      const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
-      s.core.occupied.add(e11.position);
-      ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
+    {
+      const auto& x9_list = g8;
+      charge_loop(s.core, 33, int64_t(x9_list.size()));
+      for (const C3_Plant& x9 : x9_list) {
+        const int32_t colour10 = colour_12_C3_Plant(s, x9);
+        const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
+        s.core.occupied.add(e11.position);
+        ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
+      }
     }
     const std::vector<C2_Drop>& g12 = s.g_drops_11;
-    for (const C2_Drop& x13 : g12) {
-      const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(12)};
-      s.core.occupied.add(e14.position);
-      ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
+    {
+      const auto& x13_list = g12;
+      charge_loop(s.core, 33, int64_t(x13_list.size()));
+      for (const C2_Drop& x13 : x13_list) {
+        const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(12)};
+        s.core.occupied.add(e14.position);
+        ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
+      }
     }
     const C4_Basket& g15 = s.g_basket_7;
     const int32_t colour16 = colour_0_C4_Basket(s, g15);
@@ -1256,7 +1340,23 @@ const ErrorSite Prog::kErrors[] = {
     {34, 3, nullptr, true, 34, 3, ""},
     {37, 3, nullptr, true, 37, 3, ""},
     {25, 3, nullptr, true, 25, 3, ""},
+    {49, 17, nullptr, true, 49, 17, ""},
+    {50, 17, nullptr, true, 50, 17, ""},
+    {147, 70, "<stdlib>", true, 50, 54, ""},
+    {143, 12, "<stdlib>", true, 50, 54, ""},
+    {143, 28, "<stdlib>", true, 50, 54, ""},
+    {51, 16, nullptr, true, 51, 16, ""},
+    {147, 70, "<stdlib>", true, 51, 65, ""},
+    {143, 12, "<stdlib>", true, 51, 65, ""},
+    {143, 28, "<stdlib>", true, 51, 65, ""},
+    {56, 15, nullptr, true, 56, 15, ""},
     {56, 61, nullptr, true, 56, 61, ""},
+    {58, 7, nullptr, true, 58, 7, ""},
+    {60, 31, nullptr, true, 60, 31, ""},
+    {60, 46, nullptr, true, 60, 46, ""},
+    {60, 21, nullptr, true, 60, 21, ""},
+    {63, 17, nullptr, true, 63, 17, ""},
+    {63, 42, nullptr, true, 63, 42, ""},
     {66, 27, nullptr, true, 66, 27, ""},
     {66, 48, nullptr, true, 66, 48, ""},
     {67, 39, nullptr, true, 67, 39, ""},
@@ -1266,6 +1366,7 @@ const ErrorSite Prog::kErrors[] = {
     {71, 79, nullptr, true, 71, 79, ""},
     {71, 21, nullptr, true, 71, 21, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -361,35 +361,51 @@ struct Prog {
     }
     std::vector<Pos>& apos2 = s.scratch.v.b0;
     apos2.clear();
-    for (int32_t i3 = int32_t(0), i3_end = int32_t(10); i3 < i3_end; ++i3) {
-      for (int32_t j4 = int32_t(0), j4_end = int32_t(10); j4 < j4_end; ++j4) {
-        const Pos t5 = Pos{i3, j4};
-        apos2.push_back(t5);
+    {
+      const int32_t i3_first = int32_t(0), i3_end = int32_t(10);
+      charge_loop(s.core, 0, int64_t(i3_end) - i3_first);
+      for (int32_t i3 = i3_first; i3 < i3_end; ++i3) {
+        {
+          const int32_t j4_first = int32_t(0), j4_end = int32_t(10);
+          charge_loop(s.core, 0, int64_t(j4_end) - j4_first);
+          for (int32_t j4 = j4_first; j4 < j4_end; ++j4) {
+            const Pos t5 = Pos{i3, j4};
+            apos2.push_back(t5);
+          }
+        }
       }
     }
     std::vector<Pos>& out6 = s.scratch.v.b1;
     out6.clear();
-    for (const Pos& x7 : apos2) {
-      // inlined: function at programs/mirror_twins.au:23
-      const bool t8 = (x7.y >= int32_t(1));
-      bool r9{};
-      if (t8) {
-        const std::vector<Pos> list10 = std::vector<Pos>{Pos{int32_t(2), int32_t(2)}, Pos{int32_t(3), int32_t(2)}, Pos{int32_t(7), int32_t(3)}, Pos{int32_t(5), int32_t(4)}, Pos{int32_t(1), int32_t(5)}, Pos{int32_t(8), int32_t(6)}, Pos{int32_t(4), int32_t(7)}, Pos{int32_t(6), int32_t(7)}, Pos{int32_t(2), int32_t(8)}, Pos{int32_t(7), int32_t(9)}, Pos{int32_t(3), int32_t(5)}, Pos{int32_t(6), int32_t(5)}};
-        bool any11 = false;
-        for (const Pos& x12 : list10) {
-          const bool t13 = (x12 == x7);
-          if (t13) {
-            any11 = true;
-            break;
+    {
+      const auto& x7_list = apos2;
+      charge_loop(s.core, 1, int64_t(x7_list.size()));
+      for (const Pos& x7 : x7_list) {
+        // inlined: function at programs/mirror_twins.au:23
+        const bool t8 = (x7.y >= int32_t(1));
+        bool r9{};
+        if (t8) {
+          const std::vector<Pos> list10 = std::vector<Pos>{Pos{int32_t(2), int32_t(2)}, Pos{int32_t(3), int32_t(2)}, Pos{int32_t(7), int32_t(3)}, Pos{int32_t(5), int32_t(4)}, Pos{int32_t(1), int32_t(5)}, Pos{int32_t(8), int32_t(6)}, Pos{int32_t(4), int32_t(7)}, Pos{int32_t(6), int32_t(7)}, Pos{int32_t(2), int32_t(8)}, Pos{int32_t(7), int32_t(9)}, Pos{int32_t(3), int32_t(5)}, Pos{int32_t(6), int32_t(5)}};
+          bool any11 = false;
+          {
+            const auto& x12_list = list10;
+            charge_loop(s.core, 2, int64_t(x12_list.size()));
+            for (const Pos& x12 : x12_list) {
+              const bool t13 = (x12 == x7);
+              if (t13) {
+                any11 = true;
+                break;
+              }
+            }
           }
+          const bool t14 = !any11;
+          r9 = t14;
+        } else {
+          r9 = false;
         }
-        const bool t14 = !any11;
-        r9 = t14;
-      } else {
-        r9 = false;
-      }
-      if (r9) {
-        out6.push_back(x7);
+        if (r9) {
+          out6.push_back(x7);
+        }
       }
     }
     std::swap(s.g_startOpen_6, out6);
@@ -406,15 +422,19 @@ struct Prog {
     // inlined: function at programs/mirror_twins.au:21
     std::vector<Pos>& out18 = s.scratch.v.b2;
     out18.clear();
-    for (const Pos& x19 : g17) {
-      // inlined: function at programs/mirror_twins.au:21
-      const bool t20 = (x19.x >= int32_t(5));
-      if (t20) {
-        out18.push_back(x19);
+    {
+      const auto& x19_list = g17;
+      charge_loop(s.core, 3, int64_t(x19_list.size()));
+      for (const Pos& x19 : x19_list) {
+        // inlined: function at programs/mirror_twins.au:21
+        const bool t20 = (x19.x >= int32_t(5));
+        if (t20) {
+          out18.push_back(x19);
+        }
       }
     }
     if (out18.empty()) {
-      fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
+      fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
     }
     const int32_t t21 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out18.size())))));
     const Pos t22 = out18[size_t(t21)];
@@ -426,15 +446,19 @@ struct Prog {
     // inlined: function at programs/mirror_twins.au:20
     std::vector<Pos>& out25 = s.scratch.v.b3;
     out25.clear();
-    for (const Pos& x26 : g24) {
-      // inlined: function at programs/mirror_twins.au:20
-      const bool t27 = (x26.x < int32_t(5));
-      if (t27) {
-        out25.push_back(x26);
+    {
+      const auto& x26_list = g24;
+      charge_loop(s.core, 5, int64_t(x26_list.size()));
+      for (const Pos& x26 : x26_list) {
+        // inlined: function at programs/mirror_twins.au:20
+        const bool t27 = (x26.x < int32_t(5));
+        if (t27) {
+          out25.push_back(x26);
+        }
       }
     }
     if (out25.empty()) {
-      fail_at(2, std::string() + std::string("uniformChoice of an empty list"));
+      fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
     }
     const int32_t t28 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out25.size())))));
     const Pos t29 = out25[size_t(t28)];
@@ -446,10 +470,14 @@ struct Prog {
     std::vector<C0_Wall>& out32 = s.scratch.v.b4;
     out32.clear();
     out32.reserve(size_t(int32_t(g31.size())));
-    for (const Pos& x33 : g31) {
-      // inlined: function at programs/mirror_twins.au:30
-      C0_Wall o34 = C0_Wall{x33};
-      out32.push_back(std::move(o34));
+    {
+      const auto& x33_list = g31;
+      charge_loop(s.core, 7, int64_t(x33_list.size()));
+      for (const Pos& x33 : x33_list) {
+        // inlined: function at programs/mirror_twins.au:30
+        C0_Wall o34 = C0_Wall{x33};
+        out32.push_back(std::move(o34));
+      }
     }
     std::swap(s.g_walls_23, out32);
     s.u_walls_24 = false;
@@ -459,21 +487,21 @@ struct Prog {
     s.u_stars_28 = false;
     s.core.tally.v = StateTally{};
     const std::vector<C0_Wall>& g36 = s.g_walls_23;
-    tally_global(s.core, 3, "walls", g36);
+    tally_global(s.core, 8, "walls", g36);
     const C2_Twin& g37 = s.g_red_7;
-    tally_global(s.core, 4, "red", g37);
+    tally_global(s.core, 9, "red", g37);
     const std::vector<Pos>& g38 = s.g_wallSpots_4;
-    tally_global(s.core, 5, "wallSpots", g38);
+    tally_global(s.core, 10, "wallSpots", g38);
     const std::vector<Pos>& g39 = s.g_startOpen_6;
-    tally_global(s.core, 6, "startOpen", g39);
+    tally_global(s.core, 11, "startOpen", g39);
     const C2_Twin& g40 = s.g_blue_11;
-    tally_global(s.core, 7, "blue", g40);
+    tally_global(s.core, 12, "blue", g40);
     const C1_Goal& g41 = s.g_blueGoal_19;
-    tally_global(s.core, 8, "blueGoal", g41);
+    tally_global(s.core, 13, "blueGoal", g41);
     const C3_Stars& g42 = s.g_stars_27;
-    tally_global(s.core, 9, "stars", g42);
+    tally_global(s.core, 14, "stars", g42);
     const C1_Goal& g43 = s.g_redGoal_15;
-    tally_global(s.core, 10, "redGoal", g43);
+    tally_global(s.core, 15, "redGoal", g43);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -515,10 +543,14 @@ struct Prog {
         const int32_t colour13 = colour_0_C2_Twin(s, l_nt7);
         rendered12.push_back(Elem{Pos{add(l_nt7.origin.x, int32_t(0)), add(l_nt7.origin.y, int32_t(0))}, colour13});
         bool within14 = true;
-        for (const Elem& e15 : rendered12) {
-          if ((((e15.position.x < int32_t(0)) || (e15.position.x >= int32_t(10))) || ((e15.position.y < int32_t(0)) || (e15.position.y >= int32_t(10))))) {
-            within14 = false;
-            break;
+        {
+          const auto& e15_list = rendered12;
+          charge_loop(s.core, 16, int64_t(e15_list.size()));
+          for (const Elem& e15 : e15_list) {
+            if ((((e15.position.x < int32_t(0)) || (e15.position.x >= int32_t(10))) || ((e15.position.y < int32_t(0)) || (e15.position.y >= int32_t(10))))) {
+              within14 = false;
+              break;
+            }
           }
         }
         bool r16{};
@@ -537,8 +569,12 @@ struct Prog {
           rendered20.push_back(Elem{Pos{add(l_nt7.origin.x, int32_t(0)), add(l_nt7.origin.y, int32_t(0))}, colour21});
           std::vector<Elem>& rendered22 = s.scratch.v.b7;
           rendered22.clear();
-          for (const C0_Wall& x23 : g19) {
-            rendered22.push_back(Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)});
+          {
+            const auto& x23_list = g19;
+            charge_loop(s.core, 17, int64_t(x23_list.size()));
+            for (const C0_Wall& x23 : x23_list) {
+              rendered22.push_back(Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)});
+            }
           }
           const int32_t t24 = int32_t(rendered20.size());
           const bool t25 = (t24 == int32_t(0));
@@ -555,18 +591,26 @@ struct Prog {
             r29 = false;
           } else {
             bool any30 = false;
-            for (const Elem& x31 : rendered20) {
-              bool any32 = false;
-              for (const Elem& x33 : rendered22) {
-                const bool t34 = (x31.position == x33.position);
-                if (t34) {
-                  any32 = true;
+            {
+              const auto& x31_list = rendered20;
+              charge_loop(s.core, 18, int64_t(x31_list.size()));
+              for (const Elem& x31 : x31_list) {
+                bool any32 = false;
+                {
+                  const auto& x33_list = rendered22;
+                  charge_loop(s.core, 19, int64_t(x33_list.size()));
+                  for (const Elem& x33 : x33_list) {
+                    const bool t34 = (x31.position == x33.position);
+                    if (t34) {
+                      any32 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any32) {
+                  any30 = true;
                   break;
                 }
-              }
-              if (any32) {
-                any30 = true;
-                break;
               }
             }
             r29 = any30;
@@ -607,10 +651,14 @@ struct Prog {
         const int32_t colour48 = colour_0_C2_Twin(s, l_nt42);
         rendered47.push_back(Elem{Pos{add(l_nt42.origin.x, int32_t(0)), add(l_nt42.origin.y, int32_t(0))}, colour48});
         bool within49 = true;
-        for (const Elem& e50 : rendered47) {
-          if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(10))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(10))))) {
-            within49 = false;
-            break;
+        {
+          const auto& e50_list = rendered47;
+          charge_loop(s.core, 16, int64_t(e50_list.size()));
+          for (const Elem& e50 : e50_list) {
+            if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(10))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(10))))) {
+              within49 = false;
+              break;
+            }
           }
         }
         bool r51{};
@@ -629,8 +677,12 @@ struct Prog {
           rendered55.push_back(Elem{Pos{add(l_nt42.origin.x, int32_t(0)), add(l_nt42.origin.y, int32_t(0))}, colour56});
           std::vector<Elem>& rendered57 = s.scratch.v.b10;
           rendered57.clear();
-          for (const C0_Wall& x58 : g54) {
-            rendered57.push_back(Elem{Pos{add(x58.origin.x, int32_t(0)), add(x58.origin.y, int32_t(0))}, int32_t(6)});
+          {
+            const auto& x58_list = g54;
+            charge_loop(s.core, 17, int64_t(x58_list.size()));
+            for (const C0_Wall& x58 : x58_list) {
+              rendered57.push_back(Elem{Pos{add(x58.origin.x, int32_t(0)), add(x58.origin.y, int32_t(0))}, int32_t(6)});
+            }
           }
           const int32_t t59 = int32_t(rendered55.size());
           const bool t60 = (t59 == int32_t(0));
@@ -647,18 +699,26 @@ struct Prog {
             r64 = false;
           } else {
             bool any65 = false;
-            for (const Elem& x66 : rendered55) {
-              bool any67 = false;
-              for (const Elem& x68 : rendered57) {
-                const bool t69 = (x66.position == x68.position);
-                if (t69) {
-                  any67 = true;
+            {
+              const auto& x66_list = rendered55;
+              charge_loop(s.core, 18, int64_t(x66_list.size()));
+              for (const Elem& x66 : x66_list) {
+                bool any67 = false;
+                {
+                  const auto& x68_list = rendered57;
+                  charge_loop(s.core, 19, int64_t(x68_list.size()));
+                  for (const Elem& x68 : x68_list) {
+                    const bool t69 = (x66.position == x68.position);
+                    if (t69) {
+                      any67 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any67) {
+                  any65 = true;
                   break;
                 }
-              }
-              if (any67) {
-                any65 = true;
-                break;
               }
             }
             r64 = any65;
@@ -737,10 +797,14 @@ struct Prog {
         const int32_t colour92 = colour_0_C2_Twin(s, l_nt86);
         rendered91.push_back(Elem{Pos{add(l_nt86.origin.x, int32_t(0)), add(l_nt86.origin.y, int32_t(0))}, colour92});
         bool within93 = true;
-        for (const Elem& e94 : rendered91) {
-          if ((((e94.position.x < int32_t(0)) || (e94.position.x >= int32_t(10))) || ((e94.position.y < int32_t(0)) || (e94.position.y >= int32_t(10))))) {
-            within93 = false;
-            break;
+        {
+          const auto& e94_list = rendered91;
+          charge_loop(s.core, 16, int64_t(e94_list.size()));
+          for (const Elem& e94 : e94_list) {
+            if ((((e94.position.x < int32_t(0)) || (e94.position.x >= int32_t(10))) || ((e94.position.y < int32_t(0)) || (e94.position.y >= int32_t(10))))) {
+              within93 = false;
+              break;
+            }
           }
         }
         bool r95{};
@@ -759,8 +823,12 @@ struct Prog {
           rendered99.push_back(Elem{Pos{add(l_nt86.origin.x, int32_t(0)), add(l_nt86.origin.y, int32_t(0))}, colour100});
           std::vector<Elem>& rendered101 = s.scratch.v.b13;
           rendered101.clear();
-          for (const C0_Wall& x102 : g98) {
-            rendered101.push_back(Elem{Pos{add(x102.origin.x, int32_t(0)), add(x102.origin.y, int32_t(0))}, int32_t(6)});
+          {
+            const auto& x102_list = g98;
+            charge_loop(s.core, 17, int64_t(x102_list.size()));
+            for (const C0_Wall& x102 : x102_list) {
+              rendered101.push_back(Elem{Pos{add(x102.origin.x, int32_t(0)), add(x102.origin.y, int32_t(0))}, int32_t(6)});
+            }
           }
           const int32_t t103 = int32_t(rendered99.size());
           const bool t104 = (t103 == int32_t(0));
@@ -777,18 +845,26 @@ struct Prog {
             r108 = false;
           } else {
             bool any109 = false;
-            for (const Elem& x110 : rendered99) {
-              bool any111 = false;
-              for (const Elem& x112 : rendered101) {
-                const bool t113 = (x110.position == x112.position);
-                if (t113) {
-                  any111 = true;
+            {
+              const auto& x110_list = rendered99;
+              charge_loop(s.core, 18, int64_t(x110_list.size()));
+              for (const Elem& x110 : x110_list) {
+                bool any111 = false;
+                {
+                  const auto& x112_list = rendered101;
+                  charge_loop(s.core, 19, int64_t(x112_list.size()));
+                  for (const Elem& x112 : x112_list) {
+                    const bool t113 = (x110.position == x112.position);
+                    if (t113) {
+                      any111 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any111) {
+                  any109 = true;
                   break;
                 }
-              }
-              if (any111) {
-                any109 = true;
-                break;
               }
             }
             r108 = any109;
@@ -829,10 +905,14 @@ struct Prog {
         const int32_t colour127 = colour_0_C2_Twin(s, l_nt121);
         rendered126.push_back(Elem{Pos{add(l_nt121.origin.x, int32_t(0)), add(l_nt121.origin.y, int32_t(0))}, colour127});
         bool within128 = true;
-        for (const Elem& e129 : rendered126) {
-          if ((((e129.position.x < int32_t(0)) || (e129.position.x >= int32_t(10))) || ((e129.position.y < int32_t(0)) || (e129.position.y >= int32_t(10))))) {
-            within128 = false;
-            break;
+        {
+          const auto& e129_list = rendered126;
+          charge_loop(s.core, 16, int64_t(e129_list.size()));
+          for (const Elem& e129 : e129_list) {
+            if ((((e129.position.x < int32_t(0)) || (e129.position.x >= int32_t(10))) || ((e129.position.y < int32_t(0)) || (e129.position.y >= int32_t(10))))) {
+              within128 = false;
+              break;
+            }
           }
         }
         bool r130{};
@@ -851,8 +931,12 @@ struct Prog {
           rendered134.push_back(Elem{Pos{add(l_nt121.origin.x, int32_t(0)), add(l_nt121.origin.y, int32_t(0))}, colour135});
           std::vector<Elem>& rendered136 = s.scratch.v.b16;
           rendered136.clear();
-          for (const C0_Wall& x137 : g133) {
-            rendered136.push_back(Elem{Pos{add(x137.origin.x, int32_t(0)), add(x137.origin.y, int32_t(0))}, int32_t(6)});
+          {
+            const auto& x137_list = g133;
+            charge_loop(s.core, 17, int64_t(x137_list.size()));
+            for (const C0_Wall& x137 : x137_list) {
+              rendered136.push_back(Elem{Pos{add(x137.origin.x, int32_t(0)), add(x137.origin.y, int32_t(0))}, int32_t(6)});
+            }
           }
           const int32_t t138 = int32_t(rendered134.size());
           const bool t139 = (t138 == int32_t(0));
@@ -869,18 +953,26 @@ struct Prog {
             r143 = false;
           } else {
             bool any144 = false;
-            for (const Elem& x145 : rendered134) {
-              bool any146 = false;
-              for (const Elem& x147 : rendered136) {
-                const bool t148 = (x145.position == x147.position);
-                if (t148) {
-                  any146 = true;
+            {
+              const auto& x145_list = rendered134;
+              charge_loop(s.core, 18, int64_t(x145_list.size()));
+              for (const Elem& x145 : x145_list) {
+                bool any146 = false;
+                {
+                  const auto& x147_list = rendered136;
+                  charge_loop(s.core, 19, int64_t(x147_list.size()));
+                  for (const Elem& x147 : x147_list) {
+                    const bool t148 = (x145.position == x147.position);
+                    if (t148) {
+                      any146 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any146) {
+                  any144 = true;
                   break;
                 }
-              }
-              if (any146) {
-                any144 = true;
-                break;
               }
             }
             r143 = any144;
@@ -959,10 +1051,14 @@ struct Prog {
         const int32_t colour171 = colour_0_C2_Twin(s, l_nt165);
         rendered170.push_back(Elem{Pos{add(l_nt165.origin.x, int32_t(0)), add(l_nt165.origin.y, int32_t(0))}, colour171});
         bool within172 = true;
-        for (const Elem& e173 : rendered170) {
-          if ((((e173.position.x < int32_t(0)) || (e173.position.x >= int32_t(10))) || ((e173.position.y < int32_t(0)) || (e173.position.y >= int32_t(10))))) {
-            within172 = false;
-            break;
+        {
+          const auto& e173_list = rendered170;
+          charge_loop(s.core, 16, int64_t(e173_list.size()));
+          for (const Elem& e173 : e173_list) {
+            if ((((e173.position.x < int32_t(0)) || (e173.position.x >= int32_t(10))) || ((e173.position.y < int32_t(0)) || (e173.position.y >= int32_t(10))))) {
+              within172 = false;
+              break;
+            }
           }
         }
         bool r174{};
@@ -981,8 +1077,12 @@ struct Prog {
           rendered178.push_back(Elem{Pos{add(l_nt165.origin.x, int32_t(0)), add(l_nt165.origin.y, int32_t(0))}, colour179});
           std::vector<Elem>& rendered180 = s.scratch.v.b19;
           rendered180.clear();
-          for (const C0_Wall& x181 : g177) {
-            rendered180.push_back(Elem{Pos{add(x181.origin.x, int32_t(0)), add(x181.origin.y, int32_t(0))}, int32_t(6)});
+          {
+            const auto& x181_list = g177;
+            charge_loop(s.core, 17, int64_t(x181_list.size()));
+            for (const C0_Wall& x181 : x181_list) {
+              rendered180.push_back(Elem{Pos{add(x181.origin.x, int32_t(0)), add(x181.origin.y, int32_t(0))}, int32_t(6)});
+            }
           }
           const int32_t t182 = int32_t(rendered178.size());
           const bool t183 = (t182 == int32_t(0));
@@ -999,18 +1099,26 @@ struct Prog {
             r187 = false;
           } else {
             bool any188 = false;
-            for (const Elem& x189 : rendered178) {
-              bool any190 = false;
-              for (const Elem& x191 : rendered180) {
-                const bool t192 = (x189.position == x191.position);
-                if (t192) {
-                  any190 = true;
+            {
+              const auto& x189_list = rendered178;
+              charge_loop(s.core, 18, int64_t(x189_list.size()));
+              for (const Elem& x189 : x189_list) {
+                bool any190 = false;
+                {
+                  const auto& x191_list = rendered180;
+                  charge_loop(s.core, 19, int64_t(x191_list.size()));
+                  for (const Elem& x191 : x191_list) {
+                    const bool t192 = (x189.position == x191.position);
+                    if (t192) {
+                      any190 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any190) {
+                  any188 = true;
                   break;
                 }
-              }
-              if (any190) {
-                any188 = true;
-                break;
               }
             }
             r187 = any188;
@@ -1051,10 +1159,14 @@ struct Prog {
         const int32_t colour206 = colour_0_C2_Twin(s, l_nt200);
         rendered205.push_back(Elem{Pos{add(l_nt200.origin.x, int32_t(0)), add(l_nt200.origin.y, int32_t(0))}, colour206});
         bool within207 = true;
-        for (const Elem& e208 : rendered205) {
-          if ((((e208.position.x < int32_t(0)) || (e208.position.x >= int32_t(10))) || ((e208.position.y < int32_t(0)) || (e208.position.y >= int32_t(10))))) {
-            within207 = false;
-            break;
+        {
+          const auto& e208_list = rendered205;
+          charge_loop(s.core, 16, int64_t(e208_list.size()));
+          for (const Elem& e208 : e208_list) {
+            if ((((e208.position.x < int32_t(0)) || (e208.position.x >= int32_t(10))) || ((e208.position.y < int32_t(0)) || (e208.position.y >= int32_t(10))))) {
+              within207 = false;
+              break;
+            }
           }
         }
         bool r209{};
@@ -1073,8 +1185,12 @@ struct Prog {
           rendered213.push_back(Elem{Pos{add(l_nt200.origin.x, int32_t(0)), add(l_nt200.origin.y, int32_t(0))}, colour214});
           std::vector<Elem>& rendered215 = s.scratch.v.b22;
           rendered215.clear();
-          for (const C0_Wall& x216 : g212) {
-            rendered215.push_back(Elem{Pos{add(x216.origin.x, int32_t(0)), add(x216.origin.y, int32_t(0))}, int32_t(6)});
+          {
+            const auto& x216_list = g212;
+            charge_loop(s.core, 17, int64_t(x216_list.size()));
+            for (const C0_Wall& x216 : x216_list) {
+              rendered215.push_back(Elem{Pos{add(x216.origin.x, int32_t(0)), add(x216.origin.y, int32_t(0))}, int32_t(6)});
+            }
           }
           const int32_t t217 = int32_t(rendered213.size());
           const bool t218 = (t217 == int32_t(0));
@@ -1091,18 +1207,26 @@ struct Prog {
             r222 = false;
           } else {
             bool any223 = false;
-            for (const Elem& x224 : rendered213) {
-              bool any225 = false;
-              for (const Elem& x226 : rendered215) {
-                const bool t227 = (x224.position == x226.position);
-                if (t227) {
-                  any225 = true;
+            {
+              const auto& x224_list = rendered213;
+              charge_loop(s.core, 18, int64_t(x224_list.size()));
+              for (const Elem& x224 : x224_list) {
+                bool any225 = false;
+                {
+                  const auto& x226_list = rendered215;
+                  charge_loop(s.core, 19, int64_t(x226_list.size()));
+                  for (const Elem& x226 : x226_list) {
+                    const bool t227 = (x224.position == x226.position);
+                    if (t227) {
+                      any225 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any225) {
+                  any223 = true;
                   break;
                 }
-              }
-              if (any225) {
-                any223 = true;
-                break;
               }
             }
             r222 = any223;
@@ -1181,10 +1305,14 @@ struct Prog {
         const int32_t colour250 = colour_0_C2_Twin(s, l_nt244);
         rendered249.push_back(Elem{Pos{add(l_nt244.origin.x, int32_t(0)), add(l_nt244.origin.y, int32_t(0))}, colour250});
         bool within251 = true;
-        for (const Elem& e252 : rendered249) {
-          if ((((e252.position.x < int32_t(0)) || (e252.position.x >= int32_t(10))) || ((e252.position.y < int32_t(0)) || (e252.position.y >= int32_t(10))))) {
-            within251 = false;
-            break;
+        {
+          const auto& e252_list = rendered249;
+          charge_loop(s.core, 16, int64_t(e252_list.size()));
+          for (const Elem& e252 : e252_list) {
+            if ((((e252.position.x < int32_t(0)) || (e252.position.x >= int32_t(10))) || ((e252.position.y < int32_t(0)) || (e252.position.y >= int32_t(10))))) {
+              within251 = false;
+              break;
+            }
           }
         }
         bool r253{};
@@ -1203,8 +1331,12 @@ struct Prog {
           rendered257.push_back(Elem{Pos{add(l_nt244.origin.x, int32_t(0)), add(l_nt244.origin.y, int32_t(0))}, colour258});
           std::vector<Elem>& rendered259 = s.scratch.v.b25;
           rendered259.clear();
-          for (const C0_Wall& x260 : g256) {
-            rendered259.push_back(Elem{Pos{add(x260.origin.x, int32_t(0)), add(x260.origin.y, int32_t(0))}, int32_t(6)});
+          {
+            const auto& x260_list = g256;
+            charge_loop(s.core, 17, int64_t(x260_list.size()));
+            for (const C0_Wall& x260 : x260_list) {
+              rendered259.push_back(Elem{Pos{add(x260.origin.x, int32_t(0)), add(x260.origin.y, int32_t(0))}, int32_t(6)});
+            }
           }
           const int32_t t261 = int32_t(rendered257.size());
           const bool t262 = (t261 == int32_t(0));
@@ -1221,18 +1353,26 @@ struct Prog {
             r266 = false;
           } else {
             bool any267 = false;
-            for (const Elem& x268 : rendered257) {
-              bool any269 = false;
-              for (const Elem& x270 : rendered259) {
-                const bool t271 = (x268.position == x270.position);
-                if (t271) {
-                  any269 = true;
+            {
+              const auto& x268_list = rendered257;
+              charge_loop(s.core, 18, int64_t(x268_list.size()));
+              for (const Elem& x268 : x268_list) {
+                bool any269 = false;
+                {
+                  const auto& x270_list = rendered259;
+                  charge_loop(s.core, 19, int64_t(x270_list.size()));
+                  for (const Elem& x270 : x270_list) {
+                    const bool t271 = (x268.position == x270.position);
+                    if (t271) {
+                      any269 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any269) {
+                  any267 = true;
                   break;
                 }
-              }
-              if (any269) {
-                any267 = true;
-                break;
               }
             }
             r266 = any267;
@@ -1273,10 +1413,14 @@ struct Prog {
         const int32_t colour285 = colour_0_C2_Twin(s, l_nt279);
         rendered284.push_back(Elem{Pos{add(l_nt279.origin.x, int32_t(0)), add(l_nt279.origin.y, int32_t(0))}, colour285});
         bool within286 = true;
-        for (const Elem& e287 : rendered284) {
-          if ((((e287.position.x < int32_t(0)) || (e287.position.x >= int32_t(10))) || ((e287.position.y < int32_t(0)) || (e287.position.y >= int32_t(10))))) {
-            within286 = false;
-            break;
+        {
+          const auto& e287_list = rendered284;
+          charge_loop(s.core, 16, int64_t(e287_list.size()));
+          for (const Elem& e287 : e287_list) {
+            if ((((e287.position.x < int32_t(0)) || (e287.position.x >= int32_t(10))) || ((e287.position.y < int32_t(0)) || (e287.position.y >= int32_t(10))))) {
+              within286 = false;
+              break;
+            }
           }
         }
         bool r288{};
@@ -1295,8 +1439,12 @@ struct Prog {
           rendered292.push_back(Elem{Pos{add(l_nt279.origin.x, int32_t(0)), add(l_nt279.origin.y, int32_t(0))}, colour293});
           std::vector<Elem>& rendered294 = s.scratch.v.b28;
           rendered294.clear();
-          for (const C0_Wall& x295 : g291) {
-            rendered294.push_back(Elem{Pos{add(x295.origin.x, int32_t(0)), add(x295.origin.y, int32_t(0))}, int32_t(6)});
+          {
+            const auto& x295_list = g291;
+            charge_loop(s.core, 17, int64_t(x295_list.size()));
+            for (const C0_Wall& x295 : x295_list) {
+              rendered294.push_back(Elem{Pos{add(x295.origin.x, int32_t(0)), add(x295.origin.y, int32_t(0))}, int32_t(6)});
+            }
           }
           const int32_t t296 = int32_t(rendered292.size());
           const bool t297 = (t296 == int32_t(0));
@@ -1313,18 +1461,26 @@ struct Prog {
             r301 = false;
           } else {
             bool any302 = false;
-            for (const Elem& x303 : rendered292) {
-              bool any304 = false;
-              for (const Elem& x305 : rendered294) {
-                const bool t306 = (x303.position == x305.position);
-                if (t306) {
-                  any304 = true;
+            {
+              const auto& x303_list = rendered292;
+              charge_loop(s.core, 18, int64_t(x303_list.size()));
+              for (const Elem& x303 : x303_list) {
+                bool any304 = false;
+                {
+                  const auto& x305_list = rendered294;
+                  charge_loop(s.core, 19, int64_t(x305_list.size()));
+                  for (const Elem& x305 : x305_list) {
+                    const bool t306 = (x303.position == x305.position);
+                    if (t306) {
+                      any304 = true;
+                      break;
+                    }
+                  }
+                }
+                if (any304) {
+                  any302 = true;
                   break;
                 }
-              }
-              if (any304) {
-                any302 = true;
-                break;
               }
             }
             r301 = any302;
@@ -1417,70 +1573,90 @@ struct Prog {
         s.u_stars_28 = true;
         // inlined: function at programs/mirror_twins.au:61
         if ((int32_t(10) < int32_t(0))) {
-          fail_at(11, std::string() + std::string("allPositions: negative size"));
+          fail_at(20, std::string() + std::string("allPositions: negative size"));
         }
         std::vector<Pos>& apos331 = s.scratch.v.b30;
         apos331.clear();
-        for (int32_t i332 = int32_t(0), i332_end = int32_t(10); i332 < i332_end; ++i332) {
-          for (int32_t j333 = int32_t(0), j333_end = int32_t(10); j333 < j333_end; ++j333) {
-            const Pos t334 = Pos{i332, j333};
-            apos331.push_back(t334);
+        {
+          const int32_t i332_first = int32_t(0), i332_end = int32_t(10);
+          charge_loop(s.core, 20, int64_t(i332_end) - i332_first);
+          for (int32_t i332 = i332_first; i332 < i332_end; ++i332) {
+            {
+              const int32_t j333_first = int32_t(0), j333_end = int32_t(10);
+              charge_loop(s.core, 20, int64_t(j333_end) - j333_first);
+              for (int32_t j333 = j333_first; j333 < j333_end; ++j333) {
+                const Pos t334 = Pos{i332, j333};
+                apos331.push_back(t334);
+              }
+            }
           }
         }
         std::vector<Pos>& out335 = s.scratch.v.b31;
         out335.clear();
-        for (const Pos& x336 : apos331) {
-          // inlined: function at programs/mirror_twins.au:61
-          const bool t337 = (x336.y >= int32_t(1));
-          bool r338{};
-          if (t337) {
-            // inlined: function at programs/mirror_twins.au:45
-            const std::vector<C0_Wall>& g339 = s.g_walls_23;
-            bool any340 = false;
-            for (const C0_Wall& x341 : g339) {
+        {
+          const auto& x336_list = apos331;
+          charge_loop(s.core, 21, int64_t(x336_list.size()));
+          for (const Pos& x336 : x336_list) {
+            // inlined: function at programs/mirror_twins.au:61
+            const bool t337 = (x336.y >= int32_t(1));
+            bool r338{};
+            if (t337) {
               // inlined: function at programs/mirror_twins.au:45
-              const bool t342 = (x341.origin == x336);
-              if (t342) {
-                any340 = true;
-                break;
+              const std::vector<C0_Wall>& g339 = s.g_walls_23;
+              bool any340 = false;
+              {
+                const auto& x341_list = g339;
+                charge_loop(s.core, 22, int64_t(x341_list.size()));
+                for (const C0_Wall& x341 : x341_list) {
+                  // inlined: function at programs/mirror_twins.au:45
+                  const bool t342 = (x341.origin == x336);
+                  if (t342) {
+                    any340 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t343 = !any340;
-            bool r344{};
-            if (t343) {
-              const C2_Twin& g345 = s.g_blue_11;
-              const bool t346 = (x336 == g345.origin);
-              const bool t347 = !t346;
-              bool r348{};
-              if (t347) {
-                const C2_Twin& g349 = s.g_red_7;
-                const bool t350 = (x336 == g349.origin);
-                const bool t351 = !t350;
-                r348 = t351;
+              const bool t343 = !any340;
+              bool r344{};
+              if (t343) {
+                const C2_Twin& g345 = s.g_blue_11;
+                const bool t346 = (x336 == g345.origin);
+                const bool t347 = !t346;
+                bool r348{};
+                if (t347) {
+                  const C2_Twin& g349 = s.g_red_7;
+                  const bool t350 = (x336 == g349.origin);
+                  const bool t351 = !t350;
+                  r348 = t351;
+                } else {
+                  r348 = false;
+                }
+                r344 = r348;
               } else {
-                r348 = false;
+                r344 = false;
               }
-              r344 = r348;
+              r338 = r344;
             } else {
-              r344 = false;
+              r338 = false;
             }
-            r338 = r344;
-          } else {
-            r338 = false;
-          }
-          if (r338) {
-            out335.push_back(x336);
+            if (r338) {
+              out335.push_back(x336);
+            }
           }
         }
         std::swap(l_spots324, out335);
         // inlined: function at programs/mirror_twins.au:20
         std::vector<Pos>& out352 = s.scratch.v.b32;
         out352.clear();
-        for (const Pos& x353 : l_spots324) {
-          // inlined: function at programs/mirror_twins.au:20
-          const bool t354 = (x353.x < int32_t(5));
-          if (t354) {
-            out352.push_back(x353);
+        {
+          const auto& x353_list = l_spots324;
+          charge_loop(s.core, 23, int64_t(x353_list.size()));
+          for (const Pos& x353 : x353_list) {
+            // inlined: function at programs/mirror_twins.au:20
+            const bool t354 = (x353.x < int32_t(5));
+            if (t354) {
+              out352.push_back(x353);
+            }
           }
         }
         const int32_t t355 = int32_t(out352.size());
@@ -1491,15 +1667,19 @@ struct Prog {
           // inlined: function at programs/mirror_twins.au:20
           std::vector<Pos>& out359 = s.scratch.v.b33;
           out359.clear();
-          for (const Pos& x360 : l_spots324) {
-            // inlined: function at programs/mirror_twins.au:20
-            const bool t361 = (x360.x < int32_t(5));
-            if (t361) {
-              out359.push_back(x360);
+          {
+            const auto& x360_list = l_spots324;
+            charge_loop(s.core, 23, int64_t(x360_list.size()));
+            for (const Pos& x360 : x360_list) {
+              // inlined: function at programs/mirror_twins.au:20
+              const bool t361 = (x360.x < int32_t(5));
+              if (t361) {
+                out359.push_back(x360);
+              }
             }
           }
           if (out359.empty()) {
-            fail_at(12, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(24, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t362 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out359.size())))));
           const Pos t363 = out359[size_t(t362)];
@@ -1519,11 +1699,15 @@ struct Prog {
         // inlined: function at programs/mirror_twins.au:21
         std::vector<Pos>& out366 = s.scratch.v.b34;
         out366.clear();
-        for (const Pos& x367 : l_spots324) {
-          // inlined: function at programs/mirror_twins.au:21
-          const bool t368 = (x367.x >= int32_t(5));
-          if (t368) {
-            out366.push_back(x367);
+        {
+          const auto& x367_list = l_spots324;
+          charge_loop(s.core, 25, int64_t(x367_list.size()));
+          for (const Pos& x367 : x367_list) {
+            // inlined: function at programs/mirror_twins.au:21
+            const bool t368 = (x367.x >= int32_t(5));
+            if (t368) {
+              out366.push_back(x367);
+            }
           }
         }
         const int32_t t369 = int32_t(out366.size());
@@ -1534,15 +1718,19 @@ struct Prog {
           // inlined: function at programs/mirror_twins.au:21
           std::vector<Pos>& out373 = s.scratch.v.b35;
           out373.clear();
-          for (const Pos& x374 : l_spots324) {
-            // inlined: function at programs/mirror_twins.au:21
-            const bool t375 = (x374.x >= int32_t(5));
-            if (t375) {
-              out373.push_back(x374);
+          {
+            const auto& x374_list = l_spots324;
+            charge_loop(s.core, 25, int64_t(x374_list.size()));
+            for (const Pos& x374 : x374_list) {
+              // inlined: function at programs/mirror_twins.au:21
+              const bool t375 = (x374.x >= int32_t(5));
+              if (t375) {
+                out373.push_back(x374);
+              }
             }
           }
           if (out373.empty()) {
-            fail_at(13, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
           }
           const int32_t t376 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out373.size())))));
           const Pos t377 = out373[size_t(t376)];
@@ -1571,13 +1759,21 @@ struct Prog {
         s.g_click_31 = t382;
         std::vector<Elem>& rendered383 = s.scratch.v.b36;
         rendered383.clear();
-        for (const C0_Wall& x384 : prev380) {
-          rendered383.push_back(Elem{Pos{add(x384.origin.x, int32_t(0)), add(x384.origin.y, int32_t(0))}, int32_t(6)});
+        {
+          const auto& x384_list = prev380;
+          charge_loop(s.core, 27, int64_t(x384_list.size()));
+          for (const C0_Wall& x384 : x384_list) {
+            rendered383.push_back(Elem{Pos{add(x384.origin.x, int32_t(0)), add(x384.origin.y, int32_t(0))}, int32_t(6)});
+          }
         }
-        for (const Elem& e385 : rendered383) {
-          if ((e385.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked381 = true;
-            break;
+        {
+          const auto& e385_list = rendered383;
+          charge_loop(s.core, 27, int64_t(e385_list.size()));
+          for (const Elem& e385 : e385_list) {
+            if ((e385.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked381 = true;
+              break;
+            }
           }
         }
       }
@@ -1586,26 +1782,34 @@ struct Prog {
         const std::vector<C0_Wall>& prev386 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
         std::vector<C0_Wall>& out387 = s.scratch.v.b37;
         out387.clear();
-        for (const C0_Wall& x388 : prev386) {
-          // inlined: function at programs/mirror_twins.au:78
-          bool clicked389 = false;
-          if (s.core.click) {
-            s.d_click_32 = true;
-            const Pos t390 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_31 = t390;
-            std::vector<Elem>& rendered391 = s.scratch.v.b38;
-            rendered391.clear();
-            rendered391.push_back(Elem{Pos{add(x388.origin.x, int32_t(0)), add(x388.origin.y, int32_t(0))}, int32_t(6)});
-            for (const Elem& e392 : rendered391) {
-              if ((e392.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked389 = true;
-                break;
+        {
+          const auto& x388_list = prev386;
+          charge_loop(s.core, 28, int64_t(x388_list.size()));
+          for (const C0_Wall& x388 : x388_list) {
+            // inlined: function at programs/mirror_twins.au:78
+            bool clicked389 = false;
+            if (s.core.click) {
+              s.d_click_32 = true;
+              const Pos t390 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_31 = t390;
+              std::vector<Elem>& rendered391 = s.scratch.v.b38;
+              rendered391.clear();
+              rendered391.push_back(Elem{Pos{add(x388.origin.x, int32_t(0)), add(x388.origin.y, int32_t(0))}, int32_t(6)});
+              {
+                const auto& e392_list = rendered391;
+                charge_loop(s.core, 29, int64_t(e392_list.size()));
+                for (const Elem& e392 : e392_list) {
+                  if ((e392.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked389 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          const bool t393 = !clicked389;
-          if (t393) {
-            out387.push_back(x388);
+            const bool t393 = !clicked389;
+            if (t393) {
+              out387.push_back(x388);
+            }
           }
         }
         if (!s.scratch.v.sv_walls_26) {
@@ -1632,7 +1836,7 @@ struct Prog {
           const Pos& g398 = s.g_click_31;
           r397 = g398;
         } else {
-          fail_at(14, std::string() + std::string("undefined variable 'click'"));
+          fail_at(30, std::string() + std::string("undefined variable 'click'"));
         }
         const bool t399 = (r397.y >= int32_t(1));
         bool r400{};
@@ -1642,7 +1846,7 @@ struct Prog {
             const Pos& g402 = s.g_click_31;
             r401 = g402;
           } else {
-            fail_at(15, std::string() + std::string("undefined variable 'click'"));
+            fail_at(31, std::string() + std::string("undefined variable 'click'"));
           }
           const bool t403 = s.core.occupied.free(r401);
           bool r404{};
@@ -1670,23 +1874,27 @@ struct Prog {
           const Pos& g410 = s.g_click_31;
           r409 = g410;
         } else {
-          fail_at(16, std::string() + std::string("undefined variable 'click'"));
+          fail_at(32, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r411{};
         if (s.d_click_32) {
           const Pos& g412 = s.g_click_31;
           r411 = g412;
         } else {
-          fail_at(17, std::string() + std::string("undefined variable 'click'"));
+          fail_at(33, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t413 = Pos{r409.x, r411.y};
         C0_Wall o414 = C0_Wall{t413};
-        check_length(s.core, 18, int64_t(g408.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 34, int64_t(g408.size()) + int64_t(int32_t(1)));
         std::vector<C0_Wall>& added415 = s.scratch.v.b39;
         added415.clear();
         added415.reserve(size_t(add(int32_t(g408.size()), int32_t(1))));
-        for (const C0_Wall& x416 : g408) {
-          added415.push_back(x416);
+        {
+          const auto& x416_list = g408;
+          charge_loop(s.core, 34, int64_t(x416_list.size()));
+          for (const C0_Wall& x416 : x416_list) {
+            added415.push_back(x416);
+          }
         }
         added415.push_back(std::move(o414));
         if (!s.scratch.v.sv_walls_26) {
@@ -1759,45 +1967,45 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_32) {
-      tally_rendered(s.core, 19, "cacheRendered");
+      tally_rendered(s.core, 35, "cacheRendered");
       const std::vector<C0_Wall>& g423 = s.g_walls_23;
-      tally_global(s.core, 3, "walls", g423);
+      tally_global(s.core, 8, "walls", g423);
       const C2_Twin& g424 = s.g_red_7;
-      tally_global(s.core, 4, "red", g424);
+      tally_global(s.core, 9, "red", g424);
       const std::vector<Pos>& g425 = s.g_wallSpots_4;
-      tally_global(s.core, 5, "wallSpots", g425);
+      tally_global(s.core, 10, "wallSpots", g425);
       if (s.d_click_32) {
         const Pos& g426 = s.g_click_31;
-        tally_global(s.core, 19, "click", g426);
+        tally_global(s.core, 35, "click", g426);
       }
       const std::vector<Pos>& g427 = s.g_startOpen_6;
-      tally_global(s.core, 6, "startOpen", g427);
+      tally_global(s.core, 11, "startOpen", g427);
       const C2_Twin& g428 = s.g_blue_11;
-      tally_global(s.core, 7, "blue", g428);
+      tally_global(s.core, 12, "blue", g428);
       const C1_Goal& g429 = s.g_blueGoal_19;
-      tally_global(s.core, 8, "blueGoal", g429);
+      tally_global(s.core, 13, "blueGoal", g429);
       const C3_Stars& g430 = s.g_stars_27;
-      tally_global(s.core, 9, "stars", g430);
+      tally_global(s.core, 14, "stars", g430);
       const C1_Goal& g431 = s.g_redGoal_15;
-      tally_global(s.core, 10, "redGoal", g431);
+      tally_global(s.core, 15, "redGoal", g431);
     } else {
-      tally_rendered(s.core, 19, "cacheRendered");
+      tally_rendered(s.core, 35, "cacheRendered");
       const std::vector<C0_Wall>& g432 = s.g_walls_23;
-      tally_global(s.core, 3, "walls", g432);
+      tally_global(s.core, 8, "walls", g432);
       const C2_Twin& g433 = s.g_red_7;
-      tally_global(s.core, 4, "red", g433);
+      tally_global(s.core, 9, "red", g433);
       const std::vector<Pos>& g434 = s.g_wallSpots_4;
-      tally_global(s.core, 5, "wallSpots", g434);
+      tally_global(s.core, 10, "wallSpots", g434);
       const std::vector<Pos>& g435 = s.g_startOpen_6;
-      tally_global(s.core, 6, "startOpen", g435);
+      tally_global(s.core, 11, "startOpen", g435);
       const C2_Twin& g436 = s.g_blue_11;
-      tally_global(s.core, 7, "blue", g436);
+      tally_global(s.core, 12, "blue", g436);
       const C1_Goal& g437 = s.g_blueGoal_19;
-      tally_global(s.core, 8, "blueGoal", g437);
+      tally_global(s.core, 13, "blueGoal", g437);
       const C3_Stars& g438 = s.g_stars_27;
-      tally_global(s.core, 9, "stars", g438);
+      tally_global(s.core, 14, "stars", g438);
       const C1_Goal& g439 = s.g_redGoal_15;
-      tally_global(s.core, 10, "redGoal", g439);
+      tally_global(s.core, 15, "redGoal", g439);
     }
     s.core.clear_inputs();
   }
@@ -1849,10 +2057,14 @@ struct Prog {
     s.core.occupied.add(e21.position);
     ++s.core.rendered, paint ? paint->paint(e21.position, pal[e21.color]) : void();
     const std::vector<C0_Wall>& g22 = s.g_walls_23;
-    for (const C0_Wall& x23 : g22) {
-      const Elem e24 = Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)};
-      s.core.occupied.add(e24.position);
-      ++s.core.rendered, paint ? paint->paint(e24.position, pal[e24.color]) : void();
+    {
+      const auto& x23_list = g22;
+      charge_loop(s.core, 36, int64_t(x23_list.size()));
+      for (const C0_Wall& x23 : x23_list) {
+        const Elem e24 = Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)};
+        s.core.occupied.add(e24.position);
+        ++s.core.rendered, paint ? paint->paint(e24.position, pal[e24.color]) : void();
+      }
     }
     const C1_Goal& g25 = s.g_blueGoal_19;
     const int32_t colour26 = colour_1_C1_Goal(s, g25);
@@ -1951,8 +2163,13 @@ const char* const Prog::kColours[] = {
 
 const ErrorSite Prog::kErrors[] = {
     {24, 24, nullptr, true, 24, 24, ""},
+    {23, 16, nullptr, true, 23, 16, ""},
+    {149, 20, "<stdlib>", true, 23, 53, ""},
+    {21, 24, nullptr, true, 21, 24, "initialising 'redGoal': "},
     {36, 43, nullptr, true, 36, 43, "initialising 'redGoal': "},
+    {20, 24, nullptr, true, 20, 24, "initialising 'blueGoal': "},
     {33, 46, nullptr, true, 33, 46, "initialising 'blueGoal': "},
+    {30, 22, nullptr, true, 30, 22, "initialising 'walls': "},
     {30, 3, nullptr, true, 30, 3, ""},
     {42, 3, nullptr, true, 42, 3, ""},
     {17, 3, nullptr, true, 17, 3, ""},
@@ -1961,15 +2178,27 @@ const ErrorSite Prog::kErrors[] = {
     {33, 3, nullptr, true, 33, 3, ""},
     {27, 3, nullptr, true, 27, 3, ""},
     {36, 3, nullptr, true, 36, 3, ""},
+    {48, 15, nullptr, true, 48, 15, ""},
+    {147, 70, "<stdlib>", true, 49, 18, ""},
+    {143, 12, "<stdlib>", true, 49, 18, ""},
+    {143, 28, "<stdlib>", true, 49, 18, ""},
     {63, 33, nullptr, true, 63, 33, ""},
+    {61, 25, nullptr, true, 61, 25, ""},
+    {45, 21, nullptr, true, 45, 21, ""},
+    {20, 24, nullptr, true, 20, 24, ""},
     {74, 89, nullptr, true, 74, 89, ""},
+    {21, 24, nullptr, true, 21, 24, ""},
     {75, 87, nullptr, true, 75, 87, ""},
+    {78, 7, nullptr, true, 78, 7, ""},
+    {78, 39, nullptr, true, 78, 39, ""},
+    {78, 57, nullptr, true, 78, 57, ""},
     {79, 29, nullptr, true, 79, 29, ""},
     {79, 55, nullptr, true, 79, 55, ""},
     {80, 48, nullptr, true, 80, 48, ""},
     {80, 61, nullptr, true, 80, 61, ""},
     {80, 14, nullptr, true, 80, 14, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -235,10 +235,14 @@ struct Prog {
     std::vector<C2_Sheep>& out5 = s.scratch.v.b0;
     out5.clear();
     out5.reserve(size_t(int32_t(g4.size())));
-    for (const Pos& x6 : g4) {
-      // inlined: function at programs/sheepdog.au:34
-      C2_Sheep o7 = C2_Sheep{false, x6};
-      out5.push_back(std::move(o7));
+    {
+      const auto& x6_list = g4;
+      charge_loop(s.core, 0, int64_t(x6_list.size()));
+      for (const Pos& x6 : x6_list) {
+        // inlined: function at programs/sheepdog.au:34
+        C2_Sheep o7 = C2_Sheep{false, x6};
+        out5.push_back(std::move(o7));
+      }
     }
     std::swap(s.g_sheep_7, out5);
     s.u_sheep_8 = false;
@@ -251,102 +255,122 @@ struct Prog {
     s.u_dog_16 = false;
     // init fences, programs/sheepdog.au:26
     if ((int32_t(16) < int32_t(0))) {
-      fail_at(0, std::string() + std::string("allPositions: negative size"));
+      fail_at(1, std::string() + std::string("allPositions: negative size"));
     }
     std::vector<Pos>& apos9 = s.scratch.v.b1;
     apos9.clear();
-    for (int32_t i10 = int32_t(0), i10_end = int32_t(16); i10 < i10_end; ++i10) {
-      for (int32_t j11 = int32_t(0), j11_end = int32_t(16); j11 < j11_end; ++j11) {
-        const Pos t12 = Pos{i10, j11};
-        apos9.push_back(t12);
+    {
+      const int32_t i10_first = int32_t(0), i10_end = int32_t(16);
+      charge_loop(s.core, 1, int64_t(i10_end) - i10_first);
+      for (int32_t i10 = i10_first; i10 < i10_end; ++i10) {
+        {
+          const int32_t j11_first = int32_t(0), j11_end = int32_t(16);
+          charge_loop(s.core, 1, int64_t(j11_end) - j11_first);
+          for (int32_t j11 = j11_first; j11 < j11_end; ++j11) {
+            const Pos t12 = Pos{i10, j11};
+            apos9.push_back(t12);
+          }
+        }
       }
     }
     std::vector<Pos>& out13 = s.scratch.v.b2;
     out13.clear();
-    for (const Pos& x14 : apos9) {
-      // inlined: function at programs/sheepdog.au:48
-      // inlined: function at programs/sheepdog.au:21
-      const bool t15 = (x14.x >= int32_t(10));
-      bool r16{};
-      if (t15) {
-        const bool t17 = (x14.y <= int32_t(5));
-        r16 = t17;
-      } else {
-        r16 = false;
-      }
-      bool r18{};
-      if (r16) {
-        const bool t19 = (x14.x == int32_t(10));
-        bool r20{};
-        if (!t19) {
-          const bool t21 = (x14.x == int32_t(15));
-          r20 = t21;
+    {
+      const auto& x14_list = apos9;
+      charge_loop(s.core, 2, int64_t(x14_list.size()));
+      for (const Pos& x14 : x14_list) {
+        // inlined: function at programs/sheepdog.au:48
+        // inlined: function at programs/sheepdog.au:21
+        const bool t15 = (x14.x >= int32_t(10));
+        bool r16{};
+        if (t15) {
+          const bool t17 = (x14.y <= int32_t(5));
+          r16 = t17;
         } else {
-          r20 = true;
+          r16 = false;
         }
-        bool r22{};
-        if (!r20) {
-          const bool t23 = (x14.y == int32_t(0));
-          bool r24{};
-          if (!t23) {
-            const bool t25 = (x14.y == int32_t(5));
-            r24 = t25;
+        bool r18{};
+        if (r16) {
+          const bool t19 = (x14.x == int32_t(10));
+          bool r20{};
+          if (!t19) {
+            const bool t21 = (x14.x == int32_t(15));
+            r20 = t21;
           } else {
-            r24 = true;
+            r20 = true;
           }
-          r22 = r24;
+          bool r22{};
+          if (!r20) {
+            const bool t23 = (x14.y == int32_t(0));
+            bool r24{};
+            if (!t23) {
+              const bool t25 = (x14.y == int32_t(5));
+              r24 = t25;
+            } else {
+              r24 = true;
+            }
+            r22 = r24;
+          } else {
+            r22 = true;
+          }
+          r18 = r22;
         } else {
-          r22 = true;
+          r18 = false;
         }
-        r18 = r22;
-      } else {
-        r18 = false;
-      }
-      bool r26{};
-      if (r18) {
-        const std::vector<Pos>& g27 = s.g_gate_6;
-        bool any28 = false;
-        for (const Pos& x29 : g27) {
-          const bool t30 = (x29 == x14);
-          if (t30) {
-            any28 = true;
-            break;
+        bool r26{};
+        if (r18) {
+          const std::vector<Pos>& g27 = s.g_gate_6;
+          bool any28 = false;
+          {
+            const auto& x29_list = g27;
+            charge_loop(s.core, 3, int64_t(x29_list.size()));
+            for (const Pos& x29 : x29_list) {
+              const bool t30 = (x29 == x14);
+              if (t30) {
+                any28 = true;
+                break;
+              }
+            }
           }
+          const bool t31 = !any28;
+          r26 = t31;
+        } else {
+          r26 = false;
         }
-        const bool t31 = !any28;
-        r26 = t31;
-      } else {
-        r26 = false;
-      }
-      if (r26) {
-        out13.push_back(x14);
+        if (r26) {
+          out13.push_back(x14);
+        }
       }
     }
     std::vector<C0_Fence>& out32 = s.scratch.v.b3;
     out32.clear();
     out32.reserve(size_t(int32_t(out13.size())));
-    for (const Pos& x33 : out13) {
-      // inlined: function at programs/sheepdog.au:26
-      C0_Fence o34 = C0_Fence{x33};
-      out32.push_back(std::move(o34));
+    {
+      const auto& x33_list = out13;
+      charge_loop(s.core, 4, int64_t(x33_list.size()));
+      for (const Pos& x33 : x33_list) {
+        // inlined: function at programs/sheepdog.au:26
+        C0_Fence o34 = C0_Fence{x33};
+        out32.push_back(std::move(o34));
+      }
     }
     std::swap(s.g_fences_19, out32);
     s.u_fences_20 = false;
     s.core.tally.v = StateTally{};
     const std::vector<C0_Fence>& g35 = s.g_fences_19;
-    tally_global(s.core, 1, "fences", g35);
+    tally_global(s.core, 5, "fences", g35);
     const C3_Dog& g36 = s.g_dog_15;
-    tally_global(s.core, 2, "dog", g36);
+    tally_global(s.core, 6, "dog", g36);
     const std::vector<C2_Sheep>& g37 = s.g_sheep_7;
-    tally_global(s.core, 3, "sheep", g37);
+    tally_global(s.core, 7, "sheep", g37);
     const std::vector<Pos>& g38 = s.g_gate_6;
-    tally_global(s.core, 4, "gate", g38);
+    tally_global(s.core, 8, "gate", g38);
     const std::vector<Pos>& g39 = s.g_wanderSteps_5;
-    tally_global(s.core, 5, "wanderSteps", g39);
+    tally_global(s.core, 9, "wanderSteps", g39);
     const std::vector<Pos>& g40 = s.g_sheepStarts_4;
-    tally_global(s.core, 6, "sheepStarts", g40);
+    tally_global(s.core, 10, "sheepStarts", g40);
     const std::vector<C1_Flag>& g41 = s.g_flags_11;
-    tally_global(s.core, 7, "flags", g41);
+    tally_global(s.core, 11, "flags", g41);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -375,10 +399,14 @@ struct Prog {
         rendered7.clear();
         rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(0)), add(upd6.origin.y, int32_t(0))}, int32_t(0)});
         bool within8 = true;
-        for (const Elem& e9 : rendered7) {
-          if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(16))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(16))))) {
-            within8 = false;
-            break;
+        {
+          const auto& e9_list = rendered7;
+          charge_loop(s.core, 12, int64_t(e9_list.size()));
+          for (const Elem& e9 : e9_list) {
+            if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(16))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(16))))) {
+              within8 = false;
+              break;
+            }
           }
         }
         bool r10{};
@@ -404,28 +432,40 @@ struct Prog {
           std::swap(l_curr_elems16, rendered19);
           std::vector<Elem>& out20 = s.scratch.v.b10;
           out20.clear();
-          for (const Elem& x21 : l_curr_elems16) {
-            bool any22 = false;
-            for (const Elem& x23 : l_prev_elems15) {
-              const bool t24 = (x23 == x21);
-              if (t24) {
-                any22 = true;
-                break;
+          {
+            const auto& x21_list = l_curr_elems16;
+            charge_loop(s.core, 13, int64_t(x21_list.size()));
+            for (const Elem& x21 : x21_list) {
+              bool any22 = false;
+              {
+                const auto& x23_list = l_prev_elems15;
+                charge_loop(s.core, 14, int64_t(x23_list.size()));
+                for (const Elem& x23 : x23_list) {
+                  const bool t24 = (x23 == x21);
+                  if (t24) {
+                    any22 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t25 = !any22;
-            if (t25) {
-              out20.push_back(x21);
+              const bool t25 = !any22;
+              if (t25) {
+                out20.push_back(x21);
+              }
             }
           }
           std::swap(l_filtered_elems17, out20);
           bool any26 = false;
-          for (const Elem& x27 : l_filtered_elems17) {
-            const bool t28 = s.core.occupied.free(x27.position);
-            const bool t29 = !t28;
-            if (t29) {
-              any26 = true;
-              break;
+          {
+            const auto& x27_list = l_filtered_elems17;
+            charge_loop(s.core, 15, int64_t(x27_list.size()));
+            for (const Elem& x27 : x27_list) {
+              const bool t28 = s.core.occupied.free(x27.position);
+              const bool t29 = !t28;
+              if (t29) {
+                any26 = true;
+                break;
+              }
             }
           }
           const bool t30 = !any26;
@@ -476,10 +516,14 @@ struct Prog {
         rendered45.clear();
         rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(0)), add(upd44.origin.y, int32_t(0))}, int32_t(0)});
         bool within46 = true;
-        for (const Elem& e47 : rendered45) {
-          if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(16))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(16))))) {
-            within46 = false;
-            break;
+        {
+          const auto& e47_list = rendered45;
+          charge_loop(s.core, 16, int64_t(e47_list.size()));
+          for (const Elem& e47 : e47_list) {
+            if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(16))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(16))))) {
+              within46 = false;
+              break;
+            }
           }
         }
         l_wbound38 = within46;
@@ -504,28 +548,40 @@ struct Prog {
         std::swap(l_curr_elems53, rendered56);
         std::vector<Elem>& out57 = s.scratch.v.b17;
         out57.clear();
-        for (const Elem& x58 : l_curr_elems53) {
-          bool any59 = false;
-          for (const Elem& x60 : l_prev_elems52) {
-            const bool t61 = (x60 == x58);
-            if (t61) {
-              any59 = true;
-              break;
+        {
+          const auto& x58_list = l_curr_elems53;
+          charge_loop(s.core, 17, int64_t(x58_list.size()));
+          for (const Elem& x58 : x58_list) {
+            bool any59 = false;
+            {
+              const auto& x60_list = l_prev_elems52;
+              charge_loop(s.core, 18, int64_t(x60_list.size()));
+              for (const Elem& x60 : x60_list) {
+                const bool t61 = (x60 == x58);
+                if (t61) {
+                  any59 = true;
+                  break;
+                }
+              }
             }
-          }
-          const bool t62 = !any59;
-          if (t62) {
-            out57.push_back(x58);
+            const bool t62 = !any59;
+            if (t62) {
+              out57.push_back(x58);
+            }
           }
         }
         std::swap(l_filtered_elems54, out57);
         bool any63 = false;
-        for (const Elem& x64 : l_filtered_elems54) {
-          const bool t65 = s.core.occupied.free(x64.position);
-          const bool t66 = !t65;
-          if (t66) {
-            any63 = true;
-            break;
+        {
+          const auto& x64_list = l_filtered_elems54;
+          charge_loop(s.core, 19, int64_t(x64_list.size()));
+          for (const Elem& x64 : x64_list) {
+            const bool t65 = s.core.occupied.free(x64.position);
+            const bool t66 = !t65;
+            if (t66) {
+              any63 = true;
+              break;
+            }
           }
         }
         const bool t67 = !any63;
@@ -577,10 +633,14 @@ struct Prog {
         rendered80.clear();
         rendered80.push_back(Elem{Pos{add(upd79.origin.x, int32_t(0)), add(upd79.origin.y, int32_t(0))}, int32_t(0)});
         bool within81 = true;
-        for (const Elem& e82 : rendered80) {
-          if ((((e82.position.x < int32_t(0)) || (e82.position.x >= int32_t(16))) || ((e82.position.y < int32_t(0)) || (e82.position.y >= int32_t(16))))) {
-            within81 = false;
-            break;
+        {
+          const auto& e82_list = rendered80;
+          charge_loop(s.core, 20, int64_t(e82_list.size()));
+          for (const Elem& e82 : e82_list) {
+            if ((((e82.position.x < int32_t(0)) || (e82.position.x >= int32_t(16))) || ((e82.position.y < int32_t(0)) || (e82.position.y >= int32_t(16))))) {
+              within81 = false;
+              break;
+            }
           }
         }
         bool r83{};
@@ -606,28 +666,40 @@ struct Prog {
           std::swap(l_curr_elems89, rendered92);
           std::vector<Elem>& out93 = s.scratch.v.b24;
           out93.clear();
-          for (const Elem& x94 : l_curr_elems89) {
-            bool any95 = false;
-            for (const Elem& x96 : l_prev_elems88) {
-              const bool t97 = (x96 == x94);
-              if (t97) {
-                any95 = true;
-                break;
+          {
+            const auto& x94_list = l_curr_elems89;
+            charge_loop(s.core, 21, int64_t(x94_list.size()));
+            for (const Elem& x94 : x94_list) {
+              bool any95 = false;
+              {
+                const auto& x96_list = l_prev_elems88;
+                charge_loop(s.core, 22, int64_t(x96_list.size()));
+                for (const Elem& x96 : x96_list) {
+                  const bool t97 = (x96 == x94);
+                  if (t97) {
+                    any95 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t98 = !any95;
-            if (t98) {
-              out93.push_back(x94);
+              const bool t98 = !any95;
+              if (t98) {
+                out93.push_back(x94);
+              }
             }
           }
           std::swap(l_filtered_elems90, out93);
           bool any99 = false;
-          for (const Elem& x100 : l_filtered_elems90) {
-            const bool t101 = s.core.occupied.free(x100.position);
-            const bool t102 = !t101;
-            if (t102) {
-              any99 = true;
-              break;
+          {
+            const auto& x100_list = l_filtered_elems90;
+            charge_loop(s.core, 23, int64_t(x100_list.size()));
+            for (const Elem& x100 : x100_list) {
+              const bool t101 = s.core.occupied.free(x100.position);
+              const bool t102 = !t101;
+              if (t102) {
+                any99 = true;
+                break;
+              }
             }
           }
           const bool t103 = !any99;
@@ -675,10 +747,14 @@ struct Prog {
         rendered115.clear();
         rendered115.push_back(Elem{Pos{add(upd114.origin.x, int32_t(0)), add(upd114.origin.y, int32_t(0))}, int32_t(0)});
         bool within116 = true;
-        for (const Elem& e117 : rendered115) {
-          if ((((e117.position.x < int32_t(0)) || (e117.position.x >= int32_t(16))) || ((e117.position.y < int32_t(0)) || (e117.position.y >= int32_t(16))))) {
-            within116 = false;
-            break;
+        {
+          const auto& e117_list = rendered115;
+          charge_loop(s.core, 24, int64_t(e117_list.size()));
+          for (const Elem& e117 : e117_list) {
+            if ((((e117.position.x < int32_t(0)) || (e117.position.x >= int32_t(16))) || ((e117.position.y < int32_t(0)) || (e117.position.y >= int32_t(16))))) {
+              within116 = false;
+              break;
+            }
           }
         }
         bool r118{};
@@ -704,28 +780,40 @@ struct Prog {
           std::swap(l_curr_elems124, rendered127);
           std::vector<Elem>& out128 = s.scratch.v.b31;
           out128.clear();
-          for (const Elem& x129 : l_curr_elems124) {
-            bool any130 = false;
-            for (const Elem& x131 : l_prev_elems123) {
-              const bool t132 = (x131 == x129);
-              if (t132) {
-                any130 = true;
-                break;
+          {
+            const auto& x129_list = l_curr_elems124;
+            charge_loop(s.core, 25, int64_t(x129_list.size()));
+            for (const Elem& x129 : x129_list) {
+              bool any130 = false;
+              {
+                const auto& x131_list = l_prev_elems123;
+                charge_loop(s.core, 26, int64_t(x131_list.size()));
+                for (const Elem& x131 : x131_list) {
+                  const bool t132 = (x131 == x129);
+                  if (t132) {
+                    any130 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t133 = !any130;
-            if (t133) {
-              out128.push_back(x129);
+              const bool t133 = !any130;
+              if (t133) {
+                out128.push_back(x129);
+              }
             }
           }
           std::swap(l_filtered_elems125, out128);
           bool any134 = false;
-          for (const Elem& x135 : l_filtered_elems125) {
-            const bool t136 = s.core.occupied.free(x135.position);
-            const bool t137 = !t136;
-            if (t137) {
-              any134 = true;
-              break;
+          {
+            const auto& x135_list = l_filtered_elems125;
+            charge_loop(s.core, 27, int64_t(x135_list.size()));
+            for (const Elem& x135 : x135_list) {
+              const bool t136 = s.core.occupied.free(x135.position);
+              const bool t137 = !t136;
+              if (t137) {
+                any134 = true;
+                break;
+              }
             }
           }
           const bool t138 = !any134;
@@ -798,7 +886,7 @@ struct Prog {
         const C3_Dog& prev156 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
         const std::vector<C1_Flag>& prev157 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
         if (prev157.empty()) {
-          fail_at(8, std::string() + std::string("head of an empty list"));
+          fail_at(28, std::string() + std::string("head of an empty list"));
         }
         const C1_Flag t158 = prev157.front();
         // inlined: function at programs/sheepdog.au:62
@@ -896,28 +984,40 @@ struct Prog {
         std::swap(l_curr_elems193, rendered196);
         std::vector<Elem>& out197 = s.scratch.v.b37;
         out197.clear();
-        for (const Elem& x198 : l_curr_elems193) {
-          bool any199 = false;
-          for (const Elem& x200 : l_prev_elems192) {
-            const bool t201 = (x200 == x198);
-            if (t201) {
-              any199 = true;
-              break;
+        {
+          const auto& x198_list = l_curr_elems193;
+          charge_loop(s.core, 29, int64_t(x198_list.size()));
+          for (const Elem& x198 : x198_list) {
+            bool any199 = false;
+            {
+              const auto& x200_list = l_prev_elems192;
+              charge_loop(s.core, 30, int64_t(x200_list.size()));
+              for (const Elem& x200 : x200_list) {
+                const bool t201 = (x200 == x198);
+                if (t201) {
+                  any199 = true;
+                  break;
+                }
+              }
             }
-          }
-          const bool t202 = !any199;
-          if (t202) {
-            out197.push_back(x198);
+            const bool t202 = !any199;
+            if (t202) {
+              out197.push_back(x198);
+            }
           }
         }
         std::swap(l_filtered_elems194, out197);
         bool any203 = false;
-        for (const Elem& x204 : l_filtered_elems194) {
-          const bool t205 = s.core.occupied.free(x204.position);
-          const bool t206 = !t205;
-          if (t206) {
-            any203 = true;
-            break;
+        {
+          const auto& x204_list = l_filtered_elems194;
+          charge_loop(s.core, 31, int64_t(x204_list.size()));
+          for (const Elem& x204 : x204_list) {
+            const bool t205 = s.core.occupied.free(x204.position);
+            const bool t206 = !t205;
+            if (t206) {
+              any203 = true;
+              break;
+            }
           }
         }
         const bool t207 = !any203;
@@ -977,28 +1077,40 @@ struct Prog {
           std::swap(l_curr_elems228, rendered231);
           std::vector<Elem>& out232 = s.scratch.v.b43;
           out232.clear();
-          for (const Elem& x233 : l_curr_elems228) {
-            bool any234 = false;
-            for (const Elem& x235 : l_prev_elems227) {
-              const bool t236 = (x235 == x233);
-              if (t236) {
-                any234 = true;
-                break;
+          {
+            const auto& x233_list = l_curr_elems228;
+            charge_loop(s.core, 32, int64_t(x233_list.size()));
+            for (const Elem& x233 : x233_list) {
+              bool any234 = false;
+              {
+                const auto& x235_list = l_prev_elems227;
+                charge_loop(s.core, 33, int64_t(x235_list.size()));
+                for (const Elem& x235 : x235_list) {
+                  const bool t236 = (x235 == x233);
+                  if (t236) {
+                    any234 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t237 = !any234;
-            if (t237) {
-              out232.push_back(x233);
+              const bool t237 = !any234;
+              if (t237) {
+                out232.push_back(x233);
+              }
             }
           }
           std::swap(l_filtered_elems229, out232);
           bool any238 = false;
-          for (const Elem& x239 : l_filtered_elems229) {
-            const bool t240 = s.core.occupied.free(x239.position);
-            const bool t241 = !t240;
-            if (t241) {
-              any238 = true;
-              break;
+          {
+            const auto& x239_list = l_filtered_elems229;
+            charge_loop(s.core, 34, int64_t(x239_list.size()));
+            for (const Elem& x239 : x239_list) {
+              const bool t240 = s.core.occupied.free(x239.position);
+              const bool t241 = !t240;
+              if (t241) {
+                any238 = true;
+                break;
+              }
             }
           }
           const bool t242 = !any238;
@@ -1034,7 +1146,7 @@ struct Prog {
         const C3_Dog& g253 = s.g_dog_15;
         const std::vector<C1_Flag>& g254 = s.g_flags_11;
         if (g254.empty()) {
-          fail_at(9, std::string() + std::string("head of an empty list"));
+          fail_at(35, std::string() + std::string("head of an empty list"));
         }
         const C1_Flag t255 = g254.front();
         Pos l_delta256{};
@@ -1094,10 +1206,14 @@ struct Prog {
           std::vector<Elem>& rendered274 = s.scratch.v.b44;
           rendered274.clear();
           rendered274.push_back(Elem{Pos{add(prev271.origin.x, int32_t(0)), add(prev271.origin.y, int32_t(0))}, int32_t(0)});
-          for (const Elem& e275 : rendered274) {
-            if ((e275.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked272 = true;
-              break;
+          {
+            const auto& e275_list = rendered274;
+            charge_loop(s.core, 36, int64_t(e275_list.size()));
+            for (const Elem& e275 : e275_list) {
+              if ((e275.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked272 = true;
+                break;
+              }
             }
           }
         }
@@ -1113,14 +1229,14 @@ struct Prog {
           const Pos& g278 = s.g_click_23;
           r277 = g278;
         } else {
-          fail_at(10, std::string() + std::string("undefined variable 'click'"));
+          fail_at(37, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r279{};
         if (s.d_click_24) {
           const Pos& g280 = s.g_click_23;
           r279 = g280;
         } else {
-          fail_at(11, std::string() + std::string("undefined variable 'click'"));
+          fail_at(38, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t281 = Pos{r277.x, r279.y};
         C1_Flag o282 = C1_Flag{t281};
@@ -1139,435 +1255,475 @@ struct Prog {
         s.core.covered[int32_t(7)] = 1;
         const std::vector<C2_Sheep>& prev284 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
         std::vector<C2_Sheep> acc285 = std::vector<C2_Sheep>{};
-        for (const C2_Sheep& x286 : prev284) {
-          // inlined: function at programs/sheepdog.au:80
-          // inlined: function at programs/sheepdog.au:53
-          C2_Sheep r287{};
-          if (x286.f0) {
-            r287 = x286;
-          } else {
-            Pos l_wish288{};
-            C2_Sheep l_there289{};
-            const C3_Dog& g290 = s.g_dog_15;
-            Pos l_delta291{};
-            const int32_t t292 = sub(g290.origin.x, x286.origin.x);
-            const int32_t t293 = sub(g290.origin.y, x286.origin.y);
-            const Pos t294 = Pos{t292, t293};
-            l_delta291 = t294;
-            const bool t295 = (l_delta291.x < int32_t(0));
-            int32_t r296{};
-            if (t295) {
-              const int32_t t297 = neg(l_delta291.x);
-              r296 = t297;
+        {
+          const auto& x286_list = prev284;
+          charge_loop(s.core, 39, int64_t(x286_list.size()));
+          for (const C2_Sheep& x286 : x286_list) {
+            // inlined: function at programs/sheepdog.au:80
+            // inlined: function at programs/sheepdog.au:53
+            C2_Sheep r287{};
+            if (x286.f0) {
+              r287 = x286;
             } else {
-              r296 = l_delta291.x;
-            }
-            const bool t298 = (l_delta291.y < int32_t(0));
-            int32_t r299{};
-            if (t298) {
-              const int32_t t300 = neg(l_delta291.y);
-              r299 = t300;
-            } else {
-              r299 = l_delta291.y;
-            }
-            const int32_t t301 = add(r296, r299);
-            const bool t302 = (t301 <= int32_t(3));
-            Pos r303{};
-            if (t302) {
-              // inlined: function at programs/sheepdog.au:43
-              Pos l_u304{};
-              const C3_Dog& g305 = s.g_dog_15;
-              Pos l_delta306{};
-              int32_t l_sign_x307{};
-              int32_t l_sign_y308{};
-              const int32_t t309 = sub(g305.origin.x, x286.origin.x);
-              const int32_t t310 = sub(g305.origin.y, x286.origin.y);
-              const Pos t311 = Pos{t309, t310};
-              l_delta306 = t311;
-              const bool t312 = (l_delta306.x == int32_t(0));
-              int32_t r313{};
-              if (t312) {
-                r313 = int32_t(0);
+              Pos l_wish288{};
+              C2_Sheep l_there289{};
+              const C3_Dog& g290 = s.g_dog_15;
+              Pos l_delta291{};
+              const int32_t t292 = sub(g290.origin.x, x286.origin.x);
+              const int32_t t293 = sub(g290.origin.y, x286.origin.y);
+              const Pos t294 = Pos{t292, t293};
+              l_delta291 = t294;
+              const bool t295 = (l_delta291.x < int32_t(0));
+              int32_t r296{};
+              if (t295) {
+                const int32_t t297 = neg(l_delta291.x);
+                r296 = t297;
               } else {
-                const bool t314 = (l_delta306.x < int32_t(0));
-                int32_t r315{};
-                if (t314) {
-                  r315 = int32_t(-1);
+                r296 = l_delta291.x;
+              }
+              const bool t298 = (l_delta291.y < int32_t(0));
+              int32_t r299{};
+              if (t298) {
+                const int32_t t300 = neg(l_delta291.y);
+                r299 = t300;
+              } else {
+                r299 = l_delta291.y;
+              }
+              const int32_t t301 = add(r296, r299);
+              const bool t302 = (t301 <= int32_t(3));
+              Pos r303{};
+              if (t302) {
+                // inlined: function at programs/sheepdog.au:43
+                Pos l_u304{};
+                const C3_Dog& g305 = s.g_dog_15;
+                Pos l_delta306{};
+                int32_t l_sign_x307{};
+                int32_t l_sign_y308{};
+                const int32_t t309 = sub(g305.origin.x, x286.origin.x);
+                const int32_t t310 = sub(g305.origin.y, x286.origin.y);
+                const Pos t311 = Pos{t309, t310};
+                l_delta306 = t311;
+                const bool t312 = (l_delta306.x == int32_t(0));
+                int32_t r313{};
+                if (t312) {
+                  r313 = int32_t(0);
                 } else {
-                  r315 = int32_t(1);
-                }
-                r313 = r315;
-              }
-              l_sign_x307 = r313;
-              const bool t316 = (l_delta306.y == int32_t(0));
-              int32_t r317{};
-              if (t316) {
-                r317 = int32_t(0);
-              } else {
-                const bool t318 = (l_delta306.y < int32_t(0));
-                int32_t r319{};
-                if (t318) {
-                  r319 = int32_t(-1);
-                } else {
-                  r319 = int32_t(1);
-                }
-                r317 = r319;
-              }
-              l_sign_y308 = r317;
-              const bool t320 = (l_sign_x307 < int32_t(0));
-              int32_t r321{};
-              if (t320) {
-                const int32_t t322 = neg(l_sign_x307);
-                r321 = t322;
-              } else {
-                r321 = l_sign_x307;
-              }
-              const bool t323 = (r321 == int32_t(1));
-              bool r324{};
-              if (t323) {
-                const bool t325 = (l_sign_y308 < int32_t(0));
-                int32_t r326{};
-                if (t325) {
-                  const int32_t t327 = neg(l_sign_y308);
-                  r326 = t327;
-                } else {
-                  r326 = l_sign_y308;
-                }
-                const bool t328 = (r326 == int32_t(1));
-                r324 = t328;
-              } else {
-                r324 = false;
-              }
-              Pos r329{};
-              if (r324) {
-                const Pos t330 = Pos{l_sign_x307, int32_t(0)};
-                r329 = t330;
-              } else {
-                const Pos t331 = Pos{l_sign_x307, l_sign_y308};
-                r329 = t331;
-              }
-              l_u304 = r329;
-              const int32_t t332 = neg(l_u304.x);
-              const int32_t t333 = neg(l_u304.y);
-              const Pos t334 = Pos{t332, t333};
-              r303 = t334;
-            } else {
-              const std::vector<Pos>& g335 = s.g_wanderSteps_5;
-              if (g335.empty()) {
-                fail_at(12, std::string() + std::string("uniformChoice of an empty list"));
-              }
-              const int32_t t336 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g335.size())))));
-              const Pos t337 = g335[size_t(t336)];
-              r303 = t337;
-            }
-            l_wish288 = r303;
-            // inlined: function at programs/sheepdog.au:52
-            const int32_t t338 = add(x286.origin.x, l_wish288.x);
-            const int32_t t339 = add(x286.origin.y, l_wish288.y);
-            const Pos t340 = Pos{t338, t339};
-            C2_Sheep upd341 = x286;
-            upd341.origin = t340;
-            std::vector<Elem>& rendered342 = s.scratch.v.b45;
-            rendered342.clear();
-            const int32_t colour343 = colour_0_C2_Sheep(s, upd341);
-            rendered342.push_back(Elem{Pos{add(upd341.origin.x, int32_t(0)), add(upd341.origin.y, int32_t(0))}, colour343});
-            bool within344 = true;
-            for (const Elem& e345 : rendered342) {
-              if ((((e345.position.x < int32_t(0)) || (e345.position.x >= int32_t(16))) || ((e345.position.y < int32_t(0)) || (e345.position.y >= int32_t(16))))) {
-                within344 = false;
-                break;
-              }
-            }
-            bool r346{};
-            if (within344) {
-              const int32_t t347 = add(x286.origin.x, l_wish288.x);
-              const int32_t t348 = add(x286.origin.y, l_wish288.y);
-              const Pos t349 = Pos{t347, t348};
-              C2_Sheep upd350 = x286;
-              upd350.origin = t349;
-              // inlined: function at programs/sheepdog.au:49
-              // inlined: function at programs/sheepdog.au:48
-              // inlined: function at programs/sheepdog.au:21
-              const bool t351 = (upd350.origin.x >= int32_t(10));
-              bool r352{};
-              if (t351) {
-                const bool t353 = (upd350.origin.y <= int32_t(5));
-                r352 = t353;
-              } else {
-                r352 = false;
-              }
-              bool r354{};
-              if (r352) {
-                const bool t355 = (upd350.origin.x == int32_t(10));
-                bool r356{};
-                if (!t355) {
-                  const bool t357 = (upd350.origin.x == int32_t(15));
-                  r356 = t357;
-                } else {
-                  r356 = true;
-                }
-                bool r358{};
-                if (!r356) {
-                  const bool t359 = (upd350.origin.y == int32_t(0));
-                  bool r360{};
-                  if (!t359) {
-                    const bool t361 = (upd350.origin.y == int32_t(5));
-                    r360 = t361;
+                  const bool t314 = (l_delta306.x < int32_t(0));
+                  int32_t r315{};
+                  if (t314) {
+                    r315 = int32_t(-1);
                   } else {
-                    r360 = true;
+                    r315 = int32_t(1);
                   }
-                  r358 = r360;
+                  r313 = r315;
+                }
+                l_sign_x307 = r313;
+                const bool t316 = (l_delta306.y == int32_t(0));
+                int32_t r317{};
+                if (t316) {
+                  r317 = int32_t(0);
                 } else {
-                  r358 = true;
+                  const bool t318 = (l_delta306.y < int32_t(0));
+                  int32_t r319{};
+                  if (t318) {
+                    r319 = int32_t(-1);
+                  } else {
+                    r319 = int32_t(1);
+                  }
+                  r317 = r319;
                 }
-                r354 = r358;
+                l_sign_y308 = r317;
+                const bool t320 = (l_sign_x307 < int32_t(0));
+                int32_t r321{};
+                if (t320) {
+                  const int32_t t322 = neg(l_sign_x307);
+                  r321 = t322;
+                } else {
+                  r321 = l_sign_x307;
+                }
+                const bool t323 = (r321 == int32_t(1));
+                bool r324{};
+                if (t323) {
+                  const bool t325 = (l_sign_y308 < int32_t(0));
+                  int32_t r326{};
+                  if (t325) {
+                    const int32_t t327 = neg(l_sign_y308);
+                    r326 = t327;
+                  } else {
+                    r326 = l_sign_y308;
+                  }
+                  const bool t328 = (r326 == int32_t(1));
+                  r324 = t328;
+                } else {
+                  r324 = false;
+                }
+                Pos r329{};
+                if (r324) {
+                  const Pos t330 = Pos{l_sign_x307, int32_t(0)};
+                  r329 = t330;
+                } else {
+                  const Pos t331 = Pos{l_sign_x307, l_sign_y308};
+                  r329 = t331;
+                }
+                l_u304 = r329;
+                const int32_t t332 = neg(l_u304.x);
+                const int32_t t333 = neg(l_u304.y);
+                const Pos t334 = Pos{t332, t333};
+                r303 = t334;
               } else {
-                r354 = false;
+                const std::vector<Pos>& g335 = s.g_wanderSteps_5;
+                if (g335.empty()) {
+                  fail_at(40, std::string() + std::string("uniformChoice of an empty list"));
+                }
+                const int32_t t336 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g335.size())))));
+                const Pos t337 = g335[size_t(t336)];
+                r303 = t337;
               }
-              bool r362{};
-              if (r354) {
-                const std::vector<Pos>& g363 = s.g_gate_6;
-                bool any364 = false;
-                for (const Pos& x365 : g363) {
-                  const bool t366 = (x365 == upd350.origin);
-                  if (t366) {
-                    any364 = true;
+              l_wish288 = r303;
+              // inlined: function at programs/sheepdog.au:52
+              const int32_t t338 = add(x286.origin.x, l_wish288.x);
+              const int32_t t339 = add(x286.origin.y, l_wish288.y);
+              const Pos t340 = Pos{t338, t339};
+              C2_Sheep upd341 = x286;
+              upd341.origin = t340;
+              std::vector<Elem>& rendered342 = s.scratch.v.b45;
+              rendered342.clear();
+              const int32_t colour343 = colour_0_C2_Sheep(s, upd341);
+              rendered342.push_back(Elem{Pos{add(upd341.origin.x, int32_t(0)), add(upd341.origin.y, int32_t(0))}, colour343});
+              bool within344 = true;
+              {
+                const auto& e345_list = rendered342;
+                charge_loop(s.core, 41, int64_t(e345_list.size()));
+                for (const Elem& e345 : e345_list) {
+                  if ((((e345.position.x < int32_t(0)) || (e345.position.x >= int32_t(16))) || ((e345.position.y < int32_t(0)) || (e345.position.y >= int32_t(16))))) {
+                    within344 = false;
                     break;
                   }
                 }
-                const bool t367 = !any364;
-                r362 = t367;
-              } else {
-                r362 = false;
               }
-              bool r368{};
-              if (!r362) {
-                const C3_Dog& g369 = s.g_dog_15;
-                const bool t370 = (upd350.origin == g369.origin);
-                r368 = t370;
-              } else {
-                r368 = true;
-              }
-              bool r371{};
-              if (!r368) {
-                bool any372 = false;
-                for (const C2_Sheep& x373 : acc285) {
-                  // inlined: function at programs/sheepdog.au:51
-                  const bool t374 = (x373.origin == upd350.origin);
-                  if (t374) {
-                    any372 = true;
-                    break;
-                  }
+              bool r346{};
+              if (within344) {
+                const int32_t t347 = add(x286.origin.x, l_wish288.x);
+                const int32_t t348 = add(x286.origin.y, l_wish288.y);
+                const Pos t349 = Pos{t347, t348};
+                C2_Sheep upd350 = x286;
+                upd350.origin = t349;
+                // inlined: function at programs/sheepdog.au:49
+                // inlined: function at programs/sheepdog.au:48
+                // inlined: function at programs/sheepdog.au:21
+                const bool t351 = (upd350.origin.x >= int32_t(10));
+                bool r352{};
+                if (t351) {
+                  const bool t353 = (upd350.origin.y <= int32_t(5));
+                  r352 = t353;
+                } else {
+                  r352 = false;
                 }
-                bool r375{};
-                if (!any372) {
-                  const std::vector<C2_Sheep>& prev376 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
-                  bool any377 = false;
-                  for (const C2_Sheep& x378 : prev376) {
-                    // inlined: function at programs/sheepdog.au:51
-                    const bool t379 = (x378.origin == upd350.origin);
-                    if (t379) {
-                      any377 = true;
-                      break;
+                bool r354{};
+                if (r352) {
+                  const bool t355 = (upd350.origin.x == int32_t(10));
+                  bool r356{};
+                  if (!t355) {
+                    const bool t357 = (upd350.origin.x == int32_t(15));
+                    r356 = t357;
+                  } else {
+                    r356 = true;
+                  }
+                  bool r358{};
+                  if (!r356) {
+                    const bool t359 = (upd350.origin.y == int32_t(0));
+                    bool r360{};
+                    if (!t359) {
+                      const bool t361 = (upd350.origin.y == int32_t(5));
+                      r360 = t361;
+                    } else {
+                      r360 = true;
+                    }
+                    r358 = r360;
+                  } else {
+                    r358 = true;
+                  }
+                  r354 = r358;
+                } else {
+                  r354 = false;
+                }
+                bool r362{};
+                if (r354) {
+                  const std::vector<Pos>& g363 = s.g_gate_6;
+                  bool any364 = false;
+                  {
+                    const auto& x365_list = g363;
+                    charge_loop(s.core, 42, int64_t(x365_list.size()));
+                    for (const Pos& x365 : x365_list) {
+                      const bool t366 = (x365 == upd350.origin);
+                      if (t366) {
+                        any364 = true;
+                        break;
+                      }
                     }
                   }
-                  r375 = any377;
+                  const bool t367 = !any364;
+                  r362 = t367;
                 } else {
-                  r375 = true;
+                  r362 = false;
                 }
-                r371 = r375;
-              } else {
-                r371 = true;
-              }
-              const bool t380 = !r371;
-              r346 = t380;
-            } else {
-              r346 = false;
-            }
-            Pos r381{};
-            if (r346) {
-              r381 = l_wish288;
-            } else {
-              const std::vector<Pos>& g382 = s.g_wanderSteps_5;
-              if (g382.empty()) {
-                fail_at(13, std::string() + std::string("uniformChoice of an empty list"));
-              }
-              const int32_t t383 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g382.size())))));
-              const Pos t384 = g382[size_t(t383)];
-              r381 = t384;
-            }
-            l_wish288 = r381;
-            // inlined: function at programs/sheepdog.au:52
-            const int32_t t385 = add(x286.origin.x, l_wish288.x);
-            const int32_t t386 = add(x286.origin.y, l_wish288.y);
-            const Pos t387 = Pos{t385, t386};
-            C2_Sheep upd388 = x286;
-            upd388.origin = t387;
-            std::vector<Elem>& rendered389 = s.scratch.v.b46;
-            rendered389.clear();
-            const int32_t colour390 = colour_0_C2_Sheep(s, upd388);
-            rendered389.push_back(Elem{Pos{add(upd388.origin.x, int32_t(0)), add(upd388.origin.y, int32_t(0))}, colour390});
-            bool within391 = true;
-            for (const Elem& e392 : rendered389) {
-              if ((((e392.position.x < int32_t(0)) || (e392.position.x >= int32_t(16))) || ((e392.position.y < int32_t(0)) || (e392.position.y >= int32_t(16))))) {
-                within391 = false;
-                break;
-              }
-            }
-            bool r393{};
-            if (within391) {
-              const int32_t t394 = add(x286.origin.x, l_wish288.x);
-              const int32_t t395 = add(x286.origin.y, l_wish288.y);
-              const Pos t396 = Pos{t394, t395};
-              C2_Sheep upd397 = x286;
-              upd397.origin = t396;
-              // inlined: function at programs/sheepdog.au:49
-              // inlined: function at programs/sheepdog.au:48
-              // inlined: function at programs/sheepdog.au:21
-              const bool t398 = (upd397.origin.x >= int32_t(10));
-              bool r399{};
-              if (t398) {
-                const bool t400 = (upd397.origin.y <= int32_t(5));
-                r399 = t400;
-              } else {
-                r399 = false;
-              }
-              bool r401{};
-              if (r399) {
-                const bool t402 = (upd397.origin.x == int32_t(10));
-                bool r403{};
-                if (!t402) {
-                  const bool t404 = (upd397.origin.x == int32_t(15));
-                  r403 = t404;
+                bool r368{};
+                if (!r362) {
+                  const C3_Dog& g369 = s.g_dog_15;
+                  const bool t370 = (upd350.origin == g369.origin);
+                  r368 = t370;
                 } else {
-                  r403 = true;
+                  r368 = true;
                 }
-                bool r405{};
-                if (!r403) {
-                  const bool t406 = (upd397.origin.y == int32_t(0));
-                  bool r407{};
-                  if (!t406) {
-                    const bool t408 = (upd397.origin.y == int32_t(5));
-                    r407 = t408;
-                  } else {
-                    r407 = true;
-                  }
-                  r405 = r407;
-                } else {
-                  r405 = true;
-                }
-                r401 = r405;
-              } else {
-                r401 = false;
-              }
-              bool r409{};
-              if (r401) {
-                const std::vector<Pos>& g410 = s.g_gate_6;
-                bool any411 = false;
-                for (const Pos& x412 : g410) {
-                  const bool t413 = (x412 == upd397.origin);
-                  if (t413) {
-                    any411 = true;
-                    break;
-                  }
-                }
-                const bool t414 = !any411;
-                r409 = t414;
-              } else {
-                r409 = false;
-              }
-              bool r415{};
-              if (!r409) {
-                const C3_Dog& g416 = s.g_dog_15;
-                const bool t417 = (upd397.origin == g416.origin);
-                r415 = t417;
-              } else {
-                r415 = true;
-              }
-              bool r418{};
-              if (!r415) {
-                bool any419 = false;
-                for (const C2_Sheep& x420 : acc285) {
-                  // inlined: function at programs/sheepdog.au:51
-                  const bool t421 = (x420.origin == upd397.origin);
-                  if (t421) {
-                    any419 = true;
-                    break;
-                  }
-                }
-                bool r422{};
-                if (!any419) {
-                  const std::vector<C2_Sheep>& prev423 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
-                  bool any424 = false;
-                  for (const C2_Sheep& x425 : prev423) {
-                    // inlined: function at programs/sheepdog.au:51
-                    const bool t426 = (x425.origin == upd397.origin);
-                    if (t426) {
-                      any424 = true;
-                      break;
+                bool r371{};
+                if (!r368) {
+                  bool any372 = false;
+                  {
+                    const auto& x373_list = acc285;
+                    charge_loop(s.core, 43, int64_t(x373_list.size()));
+                    for (const C2_Sheep& x373 : x373_list) {
+                      // inlined: function at programs/sheepdog.au:51
+                      const bool t374 = (x373.origin == upd350.origin);
+                      if (t374) {
+                        any372 = true;
+                        break;
+                      }
                     }
                   }
-                  r422 = any424;
+                  bool r375{};
+                  if (!any372) {
+                    const std::vector<C2_Sheep>& prev376 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+                    bool any377 = false;
+                    {
+                      const auto& x378_list = prev376;
+                      charge_loop(s.core, 44, int64_t(x378_list.size()));
+                      for (const C2_Sheep& x378 : x378_list) {
+                        // inlined: function at programs/sheepdog.au:51
+                        const bool t379 = (x378.origin == upd350.origin);
+                        if (t379) {
+                          any377 = true;
+                          break;
+                        }
+                      }
+                    }
+                    r375 = any377;
+                  } else {
+                    r375 = true;
+                  }
+                  r371 = r375;
                 } else {
-                  r422 = true;
+                  r371 = true;
                 }
-                r418 = r422;
+                const bool t380 = !r371;
+                r346 = t380;
               } else {
-                r418 = true;
+                r346 = false;
               }
-              const bool t427 = !r418;
-              r393 = t427;
-            } else {
-              r393 = false;
-            }
-            C2_Sheep r428{};
-            if (r393) {
-              const int32_t t429 = add(x286.origin.x, l_wish288.x);
-              const int32_t t430 = add(x286.origin.y, l_wish288.y);
-              const Pos t431 = Pos{t429, t430};
-              C2_Sheep upd432 = x286;
-              upd432.origin = t431;
-              r428 = std::move(upd432);
-            } else {
-              r428 = x286;
-            }
-            l_there289 = std::move(r428);
-            // inlined: function at programs/sheepdog.au:23
-            const bool t433 = (l_there289.origin.x >= int32_t(11));
-            bool r434{};
-            if (t433) {
-              const bool t435 = (l_there289.origin.x <= int32_t(14));
-              r434 = t435;
-            } else {
-              r434 = false;
-            }
-            bool r436{};
-            if (r434) {
-              const bool t437 = (l_there289.origin.y >= int32_t(1));
-              bool r438{};
-              if (t437) {
-                const bool t439 = (l_there289.origin.y <= int32_t(4));
-                r438 = t439;
+              Pos r381{};
+              if (r346) {
+                r381 = l_wish288;
               } else {
-                r438 = false;
+                const std::vector<Pos>& g382 = s.g_wanderSteps_5;
+                if (g382.empty()) {
+                  fail_at(45, std::string() + std::string("uniformChoice of an empty list"));
+                }
+                const int32_t t383 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g382.size())))));
+                const Pos t384 = g382[size_t(t383)];
+                r381 = t384;
               }
-              r436 = r438;
-            } else {
-              r436 = false;
+              l_wish288 = r381;
+              // inlined: function at programs/sheepdog.au:52
+              const int32_t t385 = add(x286.origin.x, l_wish288.x);
+              const int32_t t386 = add(x286.origin.y, l_wish288.y);
+              const Pos t387 = Pos{t385, t386};
+              C2_Sheep upd388 = x286;
+              upd388.origin = t387;
+              std::vector<Elem>& rendered389 = s.scratch.v.b46;
+              rendered389.clear();
+              const int32_t colour390 = colour_0_C2_Sheep(s, upd388);
+              rendered389.push_back(Elem{Pos{add(upd388.origin.x, int32_t(0)), add(upd388.origin.y, int32_t(0))}, colour390});
+              bool within391 = true;
+              {
+                const auto& e392_list = rendered389;
+                charge_loop(s.core, 41, int64_t(e392_list.size()));
+                for (const Elem& e392 : e392_list) {
+                  if ((((e392.position.x < int32_t(0)) || (e392.position.x >= int32_t(16))) || ((e392.position.y < int32_t(0)) || (e392.position.y >= int32_t(16))))) {
+                    within391 = false;
+                    break;
+                  }
+                }
+              }
+              bool r393{};
+              if (within391) {
+                const int32_t t394 = add(x286.origin.x, l_wish288.x);
+                const int32_t t395 = add(x286.origin.y, l_wish288.y);
+                const Pos t396 = Pos{t394, t395};
+                C2_Sheep upd397 = x286;
+                upd397.origin = t396;
+                // inlined: function at programs/sheepdog.au:49
+                // inlined: function at programs/sheepdog.au:48
+                // inlined: function at programs/sheepdog.au:21
+                const bool t398 = (upd397.origin.x >= int32_t(10));
+                bool r399{};
+                if (t398) {
+                  const bool t400 = (upd397.origin.y <= int32_t(5));
+                  r399 = t400;
+                } else {
+                  r399 = false;
+                }
+                bool r401{};
+                if (r399) {
+                  const bool t402 = (upd397.origin.x == int32_t(10));
+                  bool r403{};
+                  if (!t402) {
+                    const bool t404 = (upd397.origin.x == int32_t(15));
+                    r403 = t404;
+                  } else {
+                    r403 = true;
+                  }
+                  bool r405{};
+                  if (!r403) {
+                    const bool t406 = (upd397.origin.y == int32_t(0));
+                    bool r407{};
+                    if (!t406) {
+                      const bool t408 = (upd397.origin.y == int32_t(5));
+                      r407 = t408;
+                    } else {
+                      r407 = true;
+                    }
+                    r405 = r407;
+                  } else {
+                    r405 = true;
+                  }
+                  r401 = r405;
+                } else {
+                  r401 = false;
+                }
+                bool r409{};
+                if (r401) {
+                  const std::vector<Pos>& g410 = s.g_gate_6;
+                  bool any411 = false;
+                  {
+                    const auto& x412_list = g410;
+                    charge_loop(s.core, 42, int64_t(x412_list.size()));
+                    for (const Pos& x412 : x412_list) {
+                      const bool t413 = (x412 == upd397.origin);
+                      if (t413) {
+                        any411 = true;
+                        break;
+                      }
+                    }
+                  }
+                  const bool t414 = !any411;
+                  r409 = t414;
+                } else {
+                  r409 = false;
+                }
+                bool r415{};
+                if (!r409) {
+                  const C3_Dog& g416 = s.g_dog_15;
+                  const bool t417 = (upd397.origin == g416.origin);
+                  r415 = t417;
+                } else {
+                  r415 = true;
+                }
+                bool r418{};
+                if (!r415) {
+                  bool any419 = false;
+                  {
+                    const auto& x420_list = acc285;
+                    charge_loop(s.core, 43, int64_t(x420_list.size()));
+                    for (const C2_Sheep& x420 : x420_list) {
+                      // inlined: function at programs/sheepdog.au:51
+                      const bool t421 = (x420.origin == upd397.origin);
+                      if (t421) {
+                        any419 = true;
+                        break;
+                      }
+                    }
+                  }
+                  bool r422{};
+                  if (!any419) {
+                    const std::vector<C2_Sheep>& prev423 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+                    bool any424 = false;
+                    {
+                      const auto& x425_list = prev423;
+                      charge_loop(s.core, 44, int64_t(x425_list.size()));
+                      for (const C2_Sheep& x425 : x425_list) {
+                        // inlined: function at programs/sheepdog.au:51
+                        const bool t426 = (x425.origin == upd397.origin);
+                        if (t426) {
+                          any424 = true;
+                          break;
+                        }
+                      }
+                    }
+                    r422 = any424;
+                  } else {
+                    r422 = true;
+                  }
+                  r418 = r422;
+                } else {
+                  r418 = true;
+                }
+                const bool t427 = !r418;
+                r393 = t427;
+              } else {
+                r393 = false;
+              }
+              C2_Sheep r428{};
+              if (r393) {
+                const int32_t t429 = add(x286.origin.x, l_wish288.x);
+                const int32_t t430 = add(x286.origin.y, l_wish288.y);
+                const Pos t431 = Pos{t429, t430};
+                C2_Sheep upd432 = x286;
+                upd432.origin = t431;
+                r428 = std::move(upd432);
+              } else {
+                r428 = x286;
+              }
+              l_there289 = std::move(r428);
+              // inlined: function at programs/sheepdog.au:23
+              const bool t433 = (l_there289.origin.x >= int32_t(11));
+              bool r434{};
+              if (t433) {
+                const bool t435 = (l_there289.origin.x <= int32_t(14));
+                r434 = t435;
+              } else {
+                r434 = false;
+              }
+              bool r436{};
+              if (r434) {
+                const bool t437 = (l_there289.origin.y >= int32_t(1));
+                bool r438{};
+                if (t437) {
+                  const bool t439 = (l_there289.origin.y <= int32_t(4));
+                  r438 = t439;
+                } else {
+                  r438 = false;
+                }
+                r436 = r438;
+              } else {
+                r436 = false;
+              }
+              C2_Sheep upd440 = l_there289;
+              upd440.f0 = r436;
+              r287 = std::move(upd440);
             }
-            C2_Sheep upd440 = l_there289;
-            upd440.f0 = r436;
-            r287 = std::move(upd440);
+            check_length(s.core, 46, int64_t(acc285.size()) + int64_t(int32_t(1)));
+            std::vector<C2_Sheep>& added441 = s.scratch.v.b47;
+            added441.clear();
+            added441.reserve(size_t(add(int32_t(acc285.size()), int32_t(1))));
+            {
+              const auto& x442_list = acc285;
+              charge_loop(s.core, 46, int64_t(x442_list.size()));
+              for (const C2_Sheep& x442 : x442_list) {
+                added441.push_back(x442);
+              }
+            }
+            added441.push_back(std::move(r287));
+            std::swap(acc285, added441);
           }
-          check_length(s.core, 14, int64_t(acc285.size()) + int64_t(int32_t(1)));
-          std::vector<C2_Sheep>& added441 = s.scratch.v.b47;
-          added441.clear();
-          added441.reserve(size_t(add(int32_t(acc285.size()), int32_t(1))));
-          for (const C2_Sheep& x442 : acc285) {
-            added441.push_back(x442);
-          }
-          added441.push_back(std::move(r287));
-          std::swap(acc285, added441);
         }
         if (!s.scratch.v.sv_sheep_10) {
           std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
@@ -1582,12 +1738,16 @@ struct Prog {
       const std::vector<C2_Sheep>& g443 = s.g_sheep_7;
       // inlined: function at programs/sheepdog.au:39
       bool any444 = false;
-      for (const C2_Sheep& x445 : g443) {
-        // inlined: function at programs/sheepdog.au:39
-        const bool t446 = !x445.f0;
-        if (t446) {
-          any444 = true;
-          break;
+      {
+        const auto& x445_list = g443;
+        charge_loop(s.core, 47, int64_t(x445_list.size()));
+        for (const C2_Sheep& x445 : x445_list) {
+          // inlined: function at programs/sheepdog.au:39
+          const bool t446 = !x445.f0;
+          if (t446) {
+            any444 = true;
+            break;
+          }
         }
       }
       const bool t447 = !any444;
@@ -1601,12 +1761,16 @@ struct Prog {
       const std::vector<C2_Sheep>& prev448 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
       // inlined: function at programs/sheepdog.au:39
       bool any449 = false;
-      for (const C2_Sheep& x450 : prev448) {
-        // inlined: function at programs/sheepdog.au:39
-        const bool t451 = !x450.f0;
-        if (t451) {
-          any449 = true;
-          break;
+      {
+        const auto& x450_list = prev448;
+        charge_loop(s.core, 47, int64_t(x450_list.size()));
+        for (const C2_Sheep& x450 : x450_list) {
+          // inlined: function at programs/sheepdog.au:39
+          const bool t451 = !x450.f0;
+          if (t451) {
+            any449 = true;
+            break;
+          }
         }
       }
       const bool t452 = !any449;
@@ -1621,10 +1785,14 @@ struct Prog {
           std::vector<Elem>& rendered457 = s.scratch.v.b48;
           rendered457.clear();
           rendered457.push_back(Elem{Pos{add(prev454.origin.x, int32_t(0)), add(prev454.origin.y, int32_t(0))}, int32_t(0)});
-          for (const Elem& e458 : rendered457) {
-            if ((e458.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked455 = true;
-              break;
+          {
+            const auto& e458_list = rendered457;
+            charge_loop(s.core, 48, int64_t(e458_list.size()));
+            for (const Elem& e458 : e458_list) {
+              if ((e458.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked455 = true;
+                break;
+              }
             }
           }
         }
@@ -1638,10 +1806,14 @@ struct Prog {
         std::vector<C2_Sheep>& out460 = s.scratch.v.b49;
         out460.clear();
         out460.reserve(size_t(int32_t(g459.size())));
-        for (const Pos& x461 : g459) {
-          // inlined: function at programs/sheepdog.au:84
-          C2_Sheep o462 = C2_Sheep{false, x461};
-          out460.push_back(std::move(o462));
+        {
+          const auto& x461_list = g459;
+          charge_loop(s.core, 49, int64_t(x461_list.size()));
+          for (const Pos& x461 : x461_list) {
+            // inlined: function at programs/sheepdog.au:84
+            C2_Sheep o462 = C2_Sheep{false, x461};
+            out460.push_back(std::move(o462));
+          }
         }
         if (!s.scratch.v.sv_sheep_10) {
           std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
@@ -1694,41 +1866,41 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_24) {
-      tally_rendered(s.core, 15, "cacheRendered");
+      tally_rendered(s.core, 50, "cacheRendered");
       const std::vector<C0_Fence>& g467 = s.g_fences_19;
-      tally_global(s.core, 1, "fences", g467);
+      tally_global(s.core, 5, "fences", g467);
       const C3_Dog& g468 = s.g_dog_15;
-      tally_global(s.core, 2, "dog", g468);
+      tally_global(s.core, 6, "dog", g468);
       const std::vector<C2_Sheep>& g469 = s.g_sheep_7;
-      tally_global(s.core, 3, "sheep", g469);
+      tally_global(s.core, 7, "sheep", g469);
       const std::vector<Pos>& g470 = s.g_gate_6;
-      tally_global(s.core, 4, "gate", g470);
+      tally_global(s.core, 8, "gate", g470);
       const std::vector<Pos>& g471 = s.g_wanderSteps_5;
-      tally_global(s.core, 5, "wanderSteps", g471);
+      tally_global(s.core, 9, "wanderSteps", g471);
       const std::vector<Pos>& g472 = s.g_sheepStarts_4;
-      tally_global(s.core, 6, "sheepStarts", g472);
+      tally_global(s.core, 10, "sheepStarts", g472);
       if (s.d_click_24) {
         const Pos& g473 = s.g_click_23;
-        tally_global(s.core, 15, "click", g473);
+        tally_global(s.core, 50, "click", g473);
       }
       const std::vector<C1_Flag>& g474 = s.g_flags_11;
-      tally_global(s.core, 7, "flags", g474);
+      tally_global(s.core, 11, "flags", g474);
     } else {
-      tally_rendered(s.core, 15, "cacheRendered");
+      tally_rendered(s.core, 50, "cacheRendered");
       const std::vector<C0_Fence>& g475 = s.g_fences_19;
-      tally_global(s.core, 1, "fences", g475);
+      tally_global(s.core, 5, "fences", g475);
       const C3_Dog& g476 = s.g_dog_15;
-      tally_global(s.core, 2, "dog", g476);
+      tally_global(s.core, 6, "dog", g476);
       const std::vector<C2_Sheep>& g477 = s.g_sheep_7;
-      tally_global(s.core, 3, "sheep", g477);
+      tally_global(s.core, 7, "sheep", g477);
       const std::vector<Pos>& g478 = s.g_gate_6;
-      tally_global(s.core, 4, "gate", g478);
+      tally_global(s.core, 8, "gate", g478);
       const std::vector<Pos>& g479 = s.g_wanderSteps_5;
-      tally_global(s.core, 5, "wanderSteps", g479);
+      tally_global(s.core, 9, "wanderSteps", g479);
       const std::vector<Pos>& g480 = s.g_sheepStarts_4;
-      tally_global(s.core, 6, "sheepStarts", g480);
+      tally_global(s.core, 10, "sheepStarts", g480);
       const std::vector<C1_Flag>& g481 = s.g_flags_11;
-      tally_global(s.core, 7, "flags", g481);
+      tally_global(s.core, 11, "flags", g481);
     }
     s.core.clear_inputs();
   }
@@ -1739,23 +1911,35 @@ struct Prog {
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Fence>& g1 = s.g_fences_19;
-    for (const C0_Fence& x2 : g1) {
-      const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
-      s.core.occupied.add(e3.position);
-      ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+    {
+      const auto& x2_list = g1;
+      charge_loop(s.core, 51, int64_t(x2_list.size()));
+      for (const C0_Fence& x2 : x2_list) {
+        const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
+        s.core.occupied.add(e3.position);
+        ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+      }
     }
     const std::vector<C1_Flag>& g4 = s.g_flags_11;
-    for (const C1_Flag& x5 : g4) {
-      const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
-      s.core.occupied.add(e6.position);
-      ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
+    {
+      const auto& x5_list = g4;
+      charge_loop(s.core, 51, int64_t(x5_list.size()));
+      for (const C1_Flag& x5 : x5_list) {
+        const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
+        s.core.occupied.add(e6.position);
+        ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
+      }
     }
     const std::vector<C2_Sheep>& g7 = s.g_sheep_7;
-    for (const C2_Sheep& x8 : g7) {
-      const int32_t colour9 = colour_0_C2_Sheep(s, x8);
-      const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
-      s.core.occupied.add(e10.position);
-      ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
+    {
+      const auto& x8_list = g7;
+      charge_loop(s.core, 51, int64_t(x8_list.size()));
+      for (const C2_Sheep& x8 : x8_list) {
+        const int32_t colour9 = colour_0_C2_Sheep(s, x8);
+        const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
+        s.core.occupied.add(e10.position);
+        ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
+      }
     }
     const C3_Dog& g11 = s.g_dog_15;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(0)};
@@ -1829,7 +2013,11 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {34, 22, nullptr, true, 34, 22, "initialising 'sheep': "},
     {27, 44, nullptr, true, 27, 44, "initialising 'fences': "},
+    {27, 28, nullptr, true, 27, 28, "initialising 'fences': "},
+    {149, 20, "<stdlib>", true, 48, 40, "initialising 'fences': "},
+    {26, 23, nullptr, true, 26, 23, "initialising 'fences': "},
     {26, 3, nullptr, true, 26, 3, ""},
     {37, 3, nullptr, true, 37, 3, ""},
     {34, 3, nullptr, true, 34, 3, ""},
@@ -1837,14 +2025,46 @@ const ErrorSite Prog::kErrors[] = {
     {17, 3, nullptr, true, 17, 3, ""},
     {16, 3, nullptr, true, 16, 3, ""},
     {31, 3, nullptr, true, 31, 3, ""},
+    {166, 19, "<stdlib>", true, 68, 24, ""},
+    {154, 28, "<stdlib>", true, 68, 24, ""},
+    {149, 20, "<stdlib>", true, 68, 24, ""},
+    {155, 13, "<stdlib>", true, 68, 24, ""},
+    {170, 20, "<stdlib>", true, 69, 25, ""},
+    {154, 28, "<stdlib>", true, 69, 25, ""},
+    {149, 20, "<stdlib>", true, 69, 25, ""},
+    {155, 13, "<stdlib>", true, 69, 25, ""},
+    {175, 14, "<stdlib>", true, 70, 22, ""},
+    {154, 28, "<stdlib>", true, 70, 22, ""},
+    {149, 20, "<stdlib>", true, 70, 22, ""},
+    {155, 13, "<stdlib>", true, 70, 22, ""},
+    {179, 14, "<stdlib>", true, 71, 24, ""},
+    {154, 28, "<stdlib>", true, 71, 24, ""},
+    {149, 20, "<stdlib>", true, 71, 24, ""},
+    {155, 13, "<stdlib>", true, 71, 24, ""},
     {74, 33, nullptr, true, 74, 33, ""},
+    {154, 28, "<stdlib>", true, 64, 17, ""},
+    {149, 20, "<stdlib>", true, 64, 17, ""},
+    {155, 13, "<stdlib>", true, 64, 17, ""},
+    {154, 28, "<stdlib>", true, 66, 7, ""},
+    {149, 20, "<stdlib>", true, 66, 7, ""},
+    {155, 13, "<stdlib>", true, 66, 7, ""},
     {75, 65, nullptr, true, 75, 65, ""},
+    {77, 21, nullptr, true, 77, 21, ""},
     {78, 40, nullptr, true, 78, 40, ""},
     {78, 53, nullptr, true, 78, 53, ""},
+    {80, 21, nullptr, true, 80, 21, ""},
     {56, 66, nullptr, true, 56, 66, ""},
+    {52, 35, nullptr, true, 52, 35, ""},
+    {149, 20, "<stdlib>", true, 48, 40, ""},
+    {51, 14, nullptr, true, 51, 14, ""},
+    {51, 56, nullptr, true, 51, 56, ""},
     {57, 58, nullptr, true, 57, 58, ""},
     {80, 41, nullptr, true, 80, 41, ""},
+    {39, 31, nullptr, true, 39, 31, ""},
+    {83, 35, nullptr, true, 83, 35, ""},
+    {84, 19, nullptr, true, 84, 19, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -520,13 +520,21 @@ struct Prog {
         s.g_click_29 = t3;
         std::vector<Elem>& rendered4 = s.scratch.v.b0;
         rendered4.clear();
-        for (const C0_Flake& x5 : prev1) {
-          rendered4.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(6)});
+        {
+          const auto& x5_list = prev1;
+          charge_loop(s.core, 5, int64_t(x5_list.size()));
+          for (const C0_Flake& x5 : x5_list) {
+            rendered4.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(6)});
+          }
         }
-        for (const Elem& e6 : rendered4) {
-          if ((e6.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked2 = true;
-            break;
+        {
+          const auto& e6_list = rendered4;
+          charge_loop(s.core, 5, int64_t(e6_list.size()));
+          for (const Elem& e6 : e6_list) {
+            if ((e6.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked2 = true;
+              break;
+            }
           }
         }
       }
@@ -535,26 +543,34 @@ struct Prog {
         const std::vector<C0_Flake>& prev7 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
         std::vector<C0_Flake>& out8 = s.scratch.v.b1;
         out8.clear();
-        for (const C0_Flake& x9 : prev7) {
-          // inlined: function at programs/snowplow.au:47
-          bool clicked10 = false;
-          if (s.core.click) {
-            s.d_click_30 = true;
-            const Pos t11 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_29 = t11;
-            std::vector<Elem>& rendered12 = s.scratch.v.b2;
-            rendered12.clear();
-            rendered12.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(6)});
-            for (const Elem& e13 : rendered12) {
-              if ((e13.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked10 = true;
-                break;
+        {
+          const auto& x9_list = prev7;
+          charge_loop(s.core, 6, int64_t(x9_list.size()));
+          for (const C0_Flake& x9 : x9_list) {
+            // inlined: function at programs/snowplow.au:47
+            bool clicked10 = false;
+            if (s.core.click) {
+              s.d_click_30 = true;
+              const Pos t11 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_29 = t11;
+              std::vector<Elem>& rendered12 = s.scratch.v.b2;
+              rendered12.clear();
+              rendered12.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(6)});
+              {
+                const auto& e13_list = rendered12;
+                charge_loop(s.core, 7, int64_t(e13_list.size()));
+                for (const Elem& e13 : e13_list) {
+                  if ((e13.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked10 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          const bool t14 = !clicked10;
-          if (t14) {
-            out8.push_back(x9);
+            const bool t14 = !clicked10;
+            if (t14) {
+              out8.push_back(x9);
+            }
           }
         }
         if (!s.scratch.v.sv_snow_12) {
@@ -569,23 +585,27 @@ struct Prog {
           const Pos& g17 = s.g_click_29;
           r16 = g17;
         } else {
-          fail_at(5, std::string() + std::string("undefined variable 'click'"));
+          fail_at(8, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r18{};
         if (s.d_click_30) {
           const Pos& g19 = s.g_click_29;
           r18 = g19;
         } else {
-          fail_at(6, std::string() + std::string("undefined variable 'click'"));
+          fail_at(9, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t20 = Pos{r16.x, r18.y};
         C1_Melt o21 = C1_Melt{int32_t(10), t20};
-        check_length(s.core, 7, int64_t(prev15.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 10, int64_t(prev15.size()) + int64_t(int32_t(1)));
         std::vector<C1_Melt>& added22 = s.scratch.v.b3;
         added22.clear();
         added22.reserve(size_t(add(int32_t(prev15.size()), int32_t(1))));
-        for (const C1_Melt& x23 : prev15) {
-          added22.push_back(x23);
+        {
+          const auto& x23_list = prev15;
+          charge_loop(s.core, 10, int64_t(x23_list.size()));
+          for (const C1_Melt& x23 : x23_list) {
+            added22.push_back(x23);
+          }
         }
         added22.push_back(std::move(o21));
         if (!s.scratch.v.sv_melt_16) {
@@ -606,13 +626,21 @@ struct Prog {
         s.g_click_29 = t26;
         std::vector<Elem>& rendered27 = s.scratch.v.b4;
         rendered27.clear();
-        for (const C2_Rock& x28 : prev24) {
-          rendered27.push_back(Elem{Pos{add(x28.origin.x, int32_t(0)), add(x28.origin.y, int32_t(0))}, int32_t(3)});
+        {
+          const auto& x28_list = prev24;
+          charge_loop(s.core, 11, int64_t(x28_list.size()));
+          for (const C2_Rock& x28 : x28_list) {
+            rendered27.push_back(Elem{Pos{add(x28.origin.x, int32_t(0)), add(x28.origin.y, int32_t(0))}, int32_t(3)});
+          }
         }
-        for (const Elem& e29 : rendered27) {
-          if ((e29.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked25 = true;
-            break;
+        {
+          const auto& e29_list = rendered27;
+          charge_loop(s.core, 11, int64_t(e29_list.size()));
+          for (const Elem& e29 : e29_list) {
+            if ((e29.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked25 = true;
+              break;
+            }
           }
         }
       }
@@ -621,26 +649,34 @@ struct Prog {
         const std::vector<C2_Rock>& prev30 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
         std::vector<C2_Rock>& out31 = s.scratch.v.b5;
         out31.clear();
-        for (const C2_Rock& x32 : prev30) {
-          // inlined: function at programs/snowplow.au:51
-          bool clicked33 = false;
-          if (s.core.click) {
-            s.d_click_30 = true;
-            const Pos t34 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_29 = t34;
-            std::vector<Elem>& rendered35 = s.scratch.v.b6;
-            rendered35.clear();
-            rendered35.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(3)});
-            for (const Elem& e36 : rendered35) {
-              if ((e36.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked33 = true;
-                break;
+        {
+          const auto& x32_list = prev30;
+          charge_loop(s.core, 12, int64_t(x32_list.size()));
+          for (const C2_Rock& x32 : x32_list) {
+            // inlined: function at programs/snowplow.au:51
+            bool clicked33 = false;
+            if (s.core.click) {
+              s.d_click_30 = true;
+              const Pos t34 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_29 = t34;
+              std::vector<Elem>& rendered35 = s.scratch.v.b6;
+              rendered35.clear();
+              rendered35.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(3)});
+              {
+                const auto& e36_list = rendered35;
+                charge_loop(s.core, 13, int64_t(e36_list.size()));
+                for (const Elem& e36 : e36_list) {
+                  if ((e36.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked33 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          const bool t37 = !clicked33;
-          if (t37) {
-            out31.push_back(x32);
+            const bool t37 = !clicked33;
+            if (t37) {
+              out31.push_back(x32);
+            }
           }
         }
         if (!s.scratch.v.sv_rocks_20) {
@@ -667,7 +703,7 @@ struct Prog {
           const Pos& g42 = s.g_click_29;
           r41 = g42;
         } else {
-          fail_at(8, std::string() + std::string("undefined variable 'click'"));
+          fail_at(14, std::string() + std::string("undefined variable 'click'"));
         }
         const bool t43 = s.core.occupied.free(r41);
         bool r44{};
@@ -691,23 +727,27 @@ struct Prog {
           const Pos& g50 = s.g_click_29;
           r49 = g50;
         } else {
-          fail_at(9, std::string() + std::string("undefined variable 'click'"));
+          fail_at(15, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r51{};
         if (s.d_click_30) {
           const Pos& g52 = s.g_click_29;
           r51 = g52;
         } else {
-          fail_at(10, std::string() + std::string("undefined variable 'click'"));
+          fail_at(16, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t53 = Pos{r49.x, r51.y};
         C2_Rock o54 = C2_Rock{t53};
-        check_length(s.core, 11, int64_t(g48.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 17, int64_t(g48.size()) + int64_t(int32_t(1)));
         std::vector<C2_Rock>& added55 = s.scratch.v.b7;
         added55.clear();
         added55.reserve(size_t(add(int32_t(g48.size()), int32_t(1))));
-        for (const C2_Rock& x56 : g48) {
-          added55.push_back(x56);
+        {
+          const auto& x56_list = g48;
+          charge_loop(s.core, 17, int64_t(x56_list.size()));
+          for (const C2_Rock& x56 : x56_list) {
+            added55.push_back(x56);
+          }
         }
         added55.push_back(std::move(o54));
         if (!s.scratch.v.sv_rocks_20) {
@@ -726,86 +766,106 @@ struct Prog {
         std::vector<C0_Flake>& out58 = s.scratch.v.b8;
         out58.clear();
         out58.reserve(size_t(int32_t(g57.size())));
-        for (const C0_Flake& x59 : g57) {
-          const int32_t t60 = add(x59.origin.x, int32_t(0));
-          const int32_t t61 = add(x59.origin.y, int32_t(1));
-          const Pos t62 = Pos{t60, t61};
-          C0_Flake upd63 = x59;
-          upd63.origin = t62;
-          std::vector<Elem>& rendered64 = s.scratch.v.b9;
-          rendered64.clear();
-          rendered64.push_back(Elem{Pos{add(upd63.origin.x, int32_t(0)), add(upd63.origin.y, int32_t(0))}, int32_t(6)});
-          bool within65 = true;
-          for (const Elem& e66 : rendered64) {
-            if ((((e66.position.x < int32_t(0)) || (e66.position.x >= int32_t(16))) || ((e66.position.y < int32_t(0)) || (e66.position.y >= int32_t(16))))) {
-              within65 = false;
-              break;
-            }
-          }
-          bool r67{};
-          if (within65) {
-            const int32_t t68 = add(x59.origin.x, int32_t(0));
-            const int32_t t69 = add(x59.origin.y, int32_t(1));
-            const Pos t70 = Pos{t68, t69};
-            C0_Flake upd71 = x59;
-            upd71.origin = t70;
-            std::vector<Elem>& l_prev_elems72 = s.scratch.v.b10;
-            l_prev_elems72.clear();
-            std::vector<Elem>& l_curr_elems73 = s.scratch.v.b11;
-            l_curr_elems73.clear();
-            std::vector<Elem>& l_filtered_elems74 = s.scratch.v.b12;
-            l_filtered_elems74.clear();
-            std::vector<Elem>& rendered75 = s.scratch.v.b13;
-            rendered75.clear();
-            rendered75.push_back(Elem{Pos{add(x59.origin.x, int32_t(0)), add(x59.origin.y, int32_t(0))}, int32_t(6)});
-            std::swap(l_prev_elems72, rendered75);
-            std::vector<Elem>& rendered76 = s.scratch.v.b14;
-            rendered76.clear();
-            rendered76.push_back(Elem{Pos{add(upd71.origin.x, int32_t(0)), add(upd71.origin.y, int32_t(0))}, int32_t(6)});
-            std::swap(l_curr_elems73, rendered76);
-            std::vector<Elem>& out77 = s.scratch.v.b15;
-            out77.clear();
-            for (const Elem& x78 : l_curr_elems73) {
-              bool any79 = false;
-              for (const Elem& x80 : l_prev_elems72) {
-                const bool t81 = (x80 == x78);
-                if (t81) {
-                  any79 = true;
+        {
+          const auto& x59_list = g57;
+          charge_loop(s.core, 18, int64_t(x59_list.size()));
+          for (const C0_Flake& x59 : x59_list) {
+            const int32_t t60 = add(x59.origin.x, int32_t(0));
+            const int32_t t61 = add(x59.origin.y, int32_t(1));
+            const Pos t62 = Pos{t60, t61};
+            C0_Flake upd63 = x59;
+            upd63.origin = t62;
+            std::vector<Elem>& rendered64 = s.scratch.v.b9;
+            rendered64.clear();
+            rendered64.push_back(Elem{Pos{add(upd63.origin.x, int32_t(0)), add(upd63.origin.y, int32_t(0))}, int32_t(6)});
+            bool within65 = true;
+            {
+              const auto& e66_list = rendered64;
+              charge_loop(s.core, 19, int64_t(e66_list.size()));
+              for (const Elem& e66 : e66_list) {
+                if ((((e66.position.x < int32_t(0)) || (e66.position.x >= int32_t(16))) || ((e66.position.y < int32_t(0)) || (e66.position.y >= int32_t(16))))) {
+                  within65 = false;
                   break;
                 }
               }
-              const bool t82 = !any79;
-              if (t82) {
-                out77.push_back(x78);
-              }
             }
-            std::swap(l_filtered_elems74, out77);
-            bool any83 = false;
-            for (const Elem& x84 : l_filtered_elems74) {
-              const bool t85 = s.core.occupied.free(x84.position);
-              const bool t86 = !t85;
-              if (t86) {
-                any83 = true;
-                break;
+            bool r67{};
+            if (within65) {
+              const int32_t t68 = add(x59.origin.x, int32_t(0));
+              const int32_t t69 = add(x59.origin.y, int32_t(1));
+              const Pos t70 = Pos{t68, t69};
+              C0_Flake upd71 = x59;
+              upd71.origin = t70;
+              std::vector<Elem>& l_prev_elems72 = s.scratch.v.b10;
+              l_prev_elems72.clear();
+              std::vector<Elem>& l_curr_elems73 = s.scratch.v.b11;
+              l_curr_elems73.clear();
+              std::vector<Elem>& l_filtered_elems74 = s.scratch.v.b12;
+              l_filtered_elems74.clear();
+              std::vector<Elem>& rendered75 = s.scratch.v.b13;
+              rendered75.clear();
+              rendered75.push_back(Elem{Pos{add(x59.origin.x, int32_t(0)), add(x59.origin.y, int32_t(0))}, int32_t(6)});
+              std::swap(l_prev_elems72, rendered75);
+              std::vector<Elem>& rendered76 = s.scratch.v.b14;
+              rendered76.clear();
+              rendered76.push_back(Elem{Pos{add(upd71.origin.x, int32_t(0)), add(upd71.origin.y, int32_t(0))}, int32_t(6)});
+              std::swap(l_curr_elems73, rendered76);
+              std::vector<Elem>& out77 = s.scratch.v.b15;
+              out77.clear();
+              {
+                const auto& x78_list = l_curr_elems73;
+                charge_loop(s.core, 20, int64_t(x78_list.size()));
+                for (const Elem& x78 : x78_list) {
+                  bool any79 = false;
+                  {
+                    const auto& x80_list = l_prev_elems72;
+                    charge_loop(s.core, 21, int64_t(x80_list.size()));
+                    for (const Elem& x80 : x80_list) {
+                      const bool t81 = (x80 == x78);
+                      if (t81) {
+                        any79 = true;
+                        break;
+                      }
+                    }
+                  }
+                  const bool t82 = !any79;
+                  if (t82) {
+                    out77.push_back(x78);
+                  }
+                }
               }
+              std::swap(l_filtered_elems74, out77);
+              bool any83 = false;
+              {
+                const auto& x84_list = l_filtered_elems74;
+                charge_loop(s.core, 22, int64_t(x84_list.size()));
+                for (const Elem& x84 : x84_list) {
+                  const bool t85 = s.core.occupied.free(x84.position);
+                  const bool t86 = !t85;
+                  if (t86) {
+                    any83 = true;
+                    break;
+                  }
+                }
+              }
+              const bool t87 = !any83;
+              r67 = t87;
+            } else {
+              r67 = false;
             }
-            const bool t87 = !any83;
-            r67 = t87;
-          } else {
-            r67 = false;
+            C0_Flake r88{};
+            if (r67) {
+              const int32_t t89 = add(x59.origin.x, int32_t(0));
+              const int32_t t90 = add(x59.origin.y, int32_t(1));
+              const Pos t91 = Pos{t89, t90};
+              C0_Flake upd92 = x59;
+              upd92.origin = t91;
+              r88 = std::move(upd92);
+            } else {
+              r88 = x59;
+            }
+            out58.push_back(std::move(r88));
           }
-          C0_Flake r88{};
-          if (r67) {
-            const int32_t t89 = add(x59.origin.x, int32_t(0));
-            const int32_t t90 = add(x59.origin.y, int32_t(1));
-            const Pos t91 = Pos{t89, t90};
-            C0_Flake upd92 = x59;
-            upd92.origin = t91;
-            r88 = std::move(upd92);
-          } else {
-            r88 = x59;
-          }
-          out58.push_back(std::move(r88));
         }
         if (!s.scratch.v.sv_snow_12) {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
@@ -824,301 +884,349 @@ struct Prog {
         std::vector<C1_Melt>& out94 = s.scratch.v.b16;
         out94.clear();
         out94.reserve(size_t(int32_t(g93.size())));
-        for (const C1_Melt& x95 : g93) {
-          // inlined: function at programs/snowplow.au:43
-          const bool t96 = (x95.origin.y == int32_t(15));
-          const bool t97 = !t96;
-          bool r98{};
-          if (t97) {
-            const int32_t t99 = add(x95.origin.x, int32_t(0));
-            const int32_t t100 = add(x95.origin.y, int32_t(1));
-            const Pos t101 = Pos{t99, t100};
-            C1_Melt upd102 = x95;
-            upd102.origin = t101;
-            std::vector<Elem>& rendered103 = s.scratch.v.b17;
-            rendered103.clear();
-            const int32_t colour104 = colour_19_C1_Melt(s, upd102);
-            rendered103.push_back(Elem{Pos{add(upd102.origin.x, int32_t(0)), add(upd102.origin.y, int32_t(0))}, colour104});
-            bool any105 = false;
-            for (const Elem& x106 : rendered103) {
-              const bool t107 = s.core.occupied.free(x106.position);
-              const bool t108 = !t107;
-              if (t108) {
-                any105 = true;
-                break;
-              }
-            }
-            const bool t109 = !any105;
-            r98 = t109;
-          } else {
-            r98 = false;
-          }
-          C1_Melt r110{};
-          if (r98) {
-            const int32_t t111 = add(x95.origin.x, int32_t(0));
-            const int32_t t112 = add(x95.origin.y, int32_t(1));
-            const Pos t113 = Pos{t111, t112};
-            C1_Melt upd114 = x95;
-            upd114.origin = t113;
-            r110 = std::move(upd114);
-          } else {
-            std::vector<Pos>& l_nextRowPos115 = s.scratch.v.b18;
-            l_nextRowPos115.clear();
-            std::vector<Pos>& l_holes116 = s.scratch.v.b19;
-            l_holes116.clear();
-            const int32_t t117 = add(x95.origin.y, int32_t(1));
-            const Pos t118 = Pos{int32_t(0), t117};
-            const int32_t t119 = add(x95.origin.y, int32_t(2));
-            const Pos t120 = Pos{int32_t(16), t119};
-            int32_t l_xmin121{};
-            int32_t l_xmax122{};
-            int32_t l_ymin123{};
-            int32_t l_ymax124{};
-            std::vector<Pos>& l_rectPos125 = s.scratch.v.b20;
-            l_rectPos125.clear();
-            l_xmin121 = t118.x;
-            l_xmax122 = t120.x;
-            l_ymin123 = t118.y;
-            l_ymax124 = t120.y;
-            check_length(s.core, 12, int64_t(l_ymax124) - int64_t(l_ymin123));
-            std::vector<int32_t>& range126 = s.scratch.v.b21;
-            range126.clear();
-            for (int32_t i127 = l_ymin123, i127_end = l_ymax124; i127 < i127_end; ++i127) {
-              range126.push_back(i127);
-            }
-            std::vector<std::vector<Pos>>& out128 = s.scratch.v.b22;
-            out128.clear();
-            out128.reserve(size_t(int32_t(range126.size())));
-            for (const int32_t& x129 : range126) {
-              check_length(s.core, 13, int64_t(l_xmax122) - int64_t(l_xmin121));
-              std::vector<int32_t>& range130 = s.scratch.v.b23;
-              range130.clear();
-              for (int32_t i131 = l_xmin121, i131_end = l_xmax122; i131 < i131_end; ++i131) {
-                range130.push_back(i131);
-              }
-              std::vector<Pos> out132{};
-              out132.reserve(size_t(int32_t(range130.size())));
-              for (const int32_t& x133 : range130) {
-                const Pos t134 = Pos{x133, x129};
-                out132.push_back(t134);
-              }
-              out128.push_back(std::move(out132));
-            }
-            check_length(s.core, 14, total_size(out128));
-            std::vector<Pos>& cat135 = s.scratch.v.b24;
-            cat135.clear();
-            for (const std::vector<Pos>& part136 : out128) {
-              cat135.insert(cat135.end(), part136.begin(), part136.end());
-            }
-            std::swap(l_rectPos125, cat135);
-            std::swap(l_nextRowPos115, l_rectPos125);
-            std::vector<Pos>& out137 = s.scratch.v.b25;
-            out137.clear();
-            for (const Pos& x138 : l_nextRowPos115) {
-              const bool t139 = (x138.y == int32_t(16));
-              const bool t140 = !t139;
-              if (t140) {
-                out137.push_back(x138);
-              }
-            }
-            std::swap(l_nextRowPos115, out137);
-            std::vector<Pos>& out141 = s.scratch.v.b26;
-            out141.clear();
-            for (const Pos& x142 : l_nextRowPos115) {
-              const bool t143 = s.core.occupied.free(x142);
-              bool r144{};
-              if (t143) {
-                const int32_t t145 = add(x142.x, int32_t(0));
-                const int32_t t146 = add(x142.y, int32_t(-1));
-                const Pos t147 = Pos{t145, t146};
-                const bool t148 = s.core.occupied.free(t147);
-                r144 = t148;
-              } else {
-                r144 = false;
-              }
-              if (r144) {
-                out141.push_back(x142);
-              }
-            }
-            std::swap(l_holes116, out141);
-            const int32_t t149 = int32_t(l_holes116.size());
-            const bool t150 = (t149 == int32_t(0));
-            C1_Melt r151{};
-            if (t150) {
-              r151 = x95;
-            } else {
-              Pos l_closestHole152{};
-              const int32_t t153 = int32_t(l_holes116.size());
-              const bool t154 = (t153 == int32_t(0));
-              Pos r155{};
-              if (t154) {
-                r155 = x95.origin;
-              } else {
-                if (l_holes116.empty()) {
-                  fail_at(15, std::string() + std::string("head of an empty list"));
-                }
-                const Pos t156 = l_holes116.front();
-                Pos acc157 = t156;
-                for (const Pos& x158 : l_holes116) {
-                  Pos l_delta159{};
-                  const int32_t t160 = sub(x95.origin.x, acc157.x);
-                  const int32_t t161 = sub(x95.origin.y, acc157.y);
-                  const Pos t162 = Pos{t160, t161};
-                  l_delta159 = t162;
-                  const int32_t t163 = mul(l_delta159.x, l_delta159.x);
-                  const int32_t t164 = mul(l_delta159.y, l_delta159.y);
-                  const int32_t t165 = add(t163, t164);
-                  Pos l_delta166{};
-                  const int32_t t167 = sub(x95.origin.x, x158.x);
-                  const int32_t t168 = sub(x95.origin.y, x158.y);
-                  const Pos t169 = Pos{t167, t168};
-                  l_delta166 = t169;
-                  const int32_t t170 = mul(l_delta166.x, l_delta166.x);
-                  const int32_t t171 = mul(l_delta166.y, l_delta166.y);
-                  const int32_t t172 = add(t170, t171);
-                  const bool t173 = (t165 < t172);
-                  Pos r174{};
-                  if (t173) {
-                    r174 = acc157;
-                  } else {
-                    r174 = x158;
+        {
+          const auto& x95_list = g93;
+          charge_loop(s.core, 23, int64_t(x95_list.size()));
+          for (const C1_Melt& x95 : x95_list) {
+            // inlined: function at programs/snowplow.au:43
+            const bool t96 = (x95.origin.y == int32_t(15));
+            const bool t97 = !t96;
+            bool r98{};
+            if (t97) {
+              const int32_t t99 = add(x95.origin.x, int32_t(0));
+              const int32_t t100 = add(x95.origin.y, int32_t(1));
+              const Pos t101 = Pos{t99, t100};
+              C1_Melt upd102 = x95;
+              upd102.origin = t101;
+              std::vector<Elem>& rendered103 = s.scratch.v.b17;
+              rendered103.clear();
+              const int32_t colour104 = colour_19_C1_Melt(s, upd102);
+              rendered103.push_back(Elem{Pos{add(upd102.origin.x, int32_t(0)), add(upd102.origin.y, int32_t(0))}, colour104});
+              bool any105 = false;
+              {
+                const auto& x106_list = rendered103;
+                charge_loop(s.core, 24, int64_t(x106_list.size()));
+                for (const Elem& x106 : x106_list) {
+                  const bool t107 = s.core.occupied.free(x106.position);
+                  const bool t108 = !t107;
+                  if (t108) {
+                    any105 = true;
+                    break;
                   }
-                  acc157 = r174;
                 }
-                r155 = acc157;
               }
-              l_closestHole152 = r155;
-              Pos l_dir175{};
-              C1_Melt l_movedObj176{};
-              const int32_t t177 = add(l_closestHole152.x, int32_t(0));
-              const int32_t t178 = add(l_closestHole152.y, int32_t(-1));
-              const Pos t179 = Pos{t177, t178};
-              Pos l_delta180{};
-              int32_t l_sign_x181{};
-              int32_t l_sign_y182{};
-              const int32_t t183 = sub(t179.x, x95.origin.x);
-              const int32_t t184 = sub(t179.y, x95.origin.y);
-              const Pos t185 = Pos{t183, t184};
-              l_delta180 = t185;
-              const bool t186 = (l_delta180.x == int32_t(0));
-              int32_t r187{};
-              if (t186) {
-                r187 = int32_t(0);
-              } else {
-                const bool t188 = (l_delta180.x < int32_t(0));
-                int32_t r189{};
-                if (t188) {
-                  r189 = int32_t(-1);
-                } else {
-                  r189 = int32_t(1);
+              const bool t109 = !any105;
+              r98 = t109;
+            } else {
+              r98 = false;
+            }
+            C1_Melt r110{};
+            if (r98) {
+              const int32_t t111 = add(x95.origin.x, int32_t(0));
+              const int32_t t112 = add(x95.origin.y, int32_t(1));
+              const Pos t113 = Pos{t111, t112};
+              C1_Melt upd114 = x95;
+              upd114.origin = t113;
+              r110 = std::move(upd114);
+            } else {
+              std::vector<Pos>& l_nextRowPos115 = s.scratch.v.b18;
+              l_nextRowPos115.clear();
+              std::vector<Pos>& l_holes116 = s.scratch.v.b19;
+              l_holes116.clear();
+              const int32_t t117 = add(x95.origin.y, int32_t(1));
+              const Pos t118 = Pos{int32_t(0), t117};
+              const int32_t t119 = add(x95.origin.y, int32_t(2));
+              const Pos t120 = Pos{int32_t(16), t119};
+              int32_t l_xmin121{};
+              int32_t l_xmax122{};
+              int32_t l_ymin123{};
+              int32_t l_ymax124{};
+              std::vector<Pos>& l_rectPos125 = s.scratch.v.b20;
+              l_rectPos125.clear();
+              l_xmin121 = t118.x;
+              l_xmax122 = t120.x;
+              l_ymin123 = t118.y;
+              l_ymax124 = t120.y;
+              check_length(s.core, 25, int64_t(l_ymax124) - int64_t(l_ymin123));
+              std::vector<int32_t>& range126 = s.scratch.v.b21;
+              range126.clear();
+              {
+                const int32_t i127_first = l_ymin123, i127_end = l_ymax124;
+                charge_loop(s.core, 25, int64_t(i127_end) - i127_first);
+                for (int32_t i127 = i127_first; i127 < i127_end; ++i127) {
+                  range126.push_back(i127);
                 }
-                r187 = r189;
               }
-              l_sign_x181 = r187;
-              const bool t190 = (l_delta180.y == int32_t(0));
-              int32_t r191{};
-              if (t190) {
-                r191 = int32_t(0);
-              } else {
-                const bool t192 = (l_delta180.y < int32_t(0));
-                int32_t r193{};
-                if (t192) {
-                  r193 = int32_t(-1);
-                } else {
-                  r193 = int32_t(1);
-                }
-                r191 = r193;
-              }
-              l_sign_y182 = r191;
-              const bool t194 = (l_sign_x181 < int32_t(0));
-              int32_t r195{};
-              if (t194) {
-                const int32_t t196 = neg(l_sign_x181);
-                r195 = t196;
-              } else {
-                r195 = l_sign_x181;
-              }
-              const bool t197 = (r195 == int32_t(1));
-              bool r198{};
-              if (t197) {
-                const bool t199 = (l_sign_y182 < int32_t(0));
-                int32_t r200{};
-                if (t199) {
-                  const int32_t t201 = neg(l_sign_y182);
-                  r200 = t201;
-                } else {
-                  r200 = l_sign_y182;
-                }
-                const bool t202 = (r200 == int32_t(1));
-                r198 = t202;
-              } else {
-                r198 = false;
-              }
-              Pos r203{};
-              if (r198) {
-                const Pos t204 = Pos{l_sign_x181, int32_t(0)};
-                r203 = t204;
-              } else {
-                const Pos t205 = Pos{l_sign_x181, l_sign_y182};
-                r203 = t205;
-              }
-              l_dir175 = r203;
-              const int32_t t206 = add(x95.origin.x, l_dir175.x);
-              const int32_t t207 = add(x95.origin.y, l_dir175.y);
-              const Pos t208 = Pos{t206, t207};
-              C1_Melt upd209 = x95;
-              upd209.origin = t208;
-              l_movedObj176 = std::move(upd209);
-              const int32_t t210 = add(l_closestHole152.x, int32_t(0));
-              const int32_t t211 = add(l_closestHole152.y, int32_t(-1));
-              const Pos t212 = Pos{t210, t211};
-              const bool t213 = s.core.occupied.free(t212);
-              bool r214{};
-              if (t213) {
-                const bool t215 = s.core.occupied.free(l_movedObj176.origin);
-                bool r216{};
-                if (t215) {
-                  std::vector<Elem>& rendered217 = s.scratch.v.b27;
-                  rendered217.clear();
-                  const int32_t colour218 = colour_19_C1_Melt(s, l_movedObj176);
-                  rendered217.push_back(Elem{Pos{add(l_movedObj176.origin.x, int32_t(0)), add(l_movedObj176.origin.y, int32_t(0))}, colour218});
-                  bool within219 = true;
-                  for (const Elem& e220 : rendered217) {
-                    if ((((e220.position.x < int32_t(0)) || (e220.position.x >= int32_t(16))) || ((e220.position.y < int32_t(0)) || (e220.position.y >= int32_t(16))))) {
-                      within219 = false;
-                      break;
+              std::vector<std::vector<Pos>>& out128 = s.scratch.v.b22;
+              out128.clear();
+              out128.reserve(size_t(int32_t(range126.size())));
+              {
+                const auto& x129_list = range126;
+                charge_loop(s.core, 26, int64_t(x129_list.size()));
+                for (const int32_t& x129 : x129_list) {
+                  check_length(s.core, 27, int64_t(l_xmax122) - int64_t(l_xmin121));
+                  std::vector<int32_t>& range130 = s.scratch.v.b23;
+                  range130.clear();
+                  {
+                    const int32_t i131_first = l_xmin121, i131_end = l_xmax122;
+                    charge_loop(s.core, 27, int64_t(i131_end) - i131_first);
+                    for (int32_t i131 = i131_first; i131 < i131_end; ++i131) {
+                      range130.push_back(i131);
                     }
                   }
-                  r216 = within219;
-                } else {
-                  r216 = false;
+                  std::vector<Pos> out132{};
+                  out132.reserve(size_t(int32_t(range130.size())));
+                  {
+                    const auto& x133_list = range130;
+                    charge_loop(s.core, 28, int64_t(x133_list.size()));
+                    for (const int32_t& x133 : x133_list) {
+                      const Pos t134 = Pos{x133, x129};
+                      out132.push_back(t134);
+                    }
+                  }
+                  out128.push_back(std::move(out132));
                 }
-                r214 = r216;
-              } else {
-                r214 = false;
               }
-              C1_Melt r221{};
-              if (r214) {
-                r221 = std::move(l_movedObj176);
-              } else {
-                r221 = x95;
+              check_length(s.core, 29, total_size(out128));
+              std::vector<Pos>& cat135 = s.scratch.v.b24;
+              cat135.clear();
+              {
+                const auto& part136_list = out128;
+                charge_loop(s.core, 29, int64_t(part136_list.size()));
+                for (const std::vector<Pos>& part136 : part136_list) {
+                  cat135.insert(cat135.end(), part136.begin(), part136.end());
+                }
               }
-              r151 = std::move(r221);
+              std::swap(l_rectPos125, cat135);
+              std::swap(l_nextRowPos115, l_rectPos125);
+              std::vector<Pos>& out137 = s.scratch.v.b25;
+              out137.clear();
+              {
+                const auto& x138_list = l_nextRowPos115;
+                charge_loop(s.core, 30, int64_t(x138_list.size()));
+                for (const Pos& x138 : x138_list) {
+                  const bool t139 = (x138.y == int32_t(16));
+                  const bool t140 = !t139;
+                  if (t140) {
+                    out137.push_back(x138);
+                  }
+                }
+              }
+              std::swap(l_nextRowPos115, out137);
+              std::vector<Pos>& out141 = s.scratch.v.b26;
+              out141.clear();
+              {
+                const auto& x142_list = l_nextRowPos115;
+                charge_loop(s.core, 31, int64_t(x142_list.size()));
+                for (const Pos& x142 : x142_list) {
+                  const bool t143 = s.core.occupied.free(x142);
+                  bool r144{};
+                  if (t143) {
+                    const int32_t t145 = add(x142.x, int32_t(0));
+                    const int32_t t146 = add(x142.y, int32_t(-1));
+                    const Pos t147 = Pos{t145, t146};
+                    const bool t148 = s.core.occupied.free(t147);
+                    r144 = t148;
+                  } else {
+                    r144 = false;
+                  }
+                  if (r144) {
+                    out141.push_back(x142);
+                  }
+                }
+              }
+              std::swap(l_holes116, out141);
+              const int32_t t149 = int32_t(l_holes116.size());
+              const bool t150 = (t149 == int32_t(0));
+              C1_Melt r151{};
+              if (t150) {
+                r151 = x95;
+              } else {
+                Pos l_closestHole152{};
+                const int32_t t153 = int32_t(l_holes116.size());
+                const bool t154 = (t153 == int32_t(0));
+                Pos r155{};
+                if (t154) {
+                  r155 = x95.origin;
+                } else {
+                  if (l_holes116.empty()) {
+                    fail_at(32, std::string() + std::string("head of an empty list"));
+                  }
+                  const Pos t156 = l_holes116.front();
+                  Pos acc157 = t156;
+                  {
+                    const auto& x158_list = l_holes116;
+                    charge_loop(s.core, 33, int64_t(x158_list.size()));
+                    for (const Pos& x158 : x158_list) {
+                      Pos l_delta159{};
+                      const int32_t t160 = sub(x95.origin.x, acc157.x);
+                      const int32_t t161 = sub(x95.origin.y, acc157.y);
+                      const Pos t162 = Pos{t160, t161};
+                      l_delta159 = t162;
+                      const int32_t t163 = mul(l_delta159.x, l_delta159.x);
+                      const int32_t t164 = mul(l_delta159.y, l_delta159.y);
+                      const int32_t t165 = add(t163, t164);
+                      Pos l_delta166{};
+                      const int32_t t167 = sub(x95.origin.x, x158.x);
+                      const int32_t t168 = sub(x95.origin.y, x158.y);
+                      const Pos t169 = Pos{t167, t168};
+                      l_delta166 = t169;
+                      const int32_t t170 = mul(l_delta166.x, l_delta166.x);
+                      const int32_t t171 = mul(l_delta166.y, l_delta166.y);
+                      const int32_t t172 = add(t170, t171);
+                      const bool t173 = (t165 < t172);
+                      Pos r174{};
+                      if (t173) {
+                        r174 = acc157;
+                      } else {
+                        r174 = x158;
+                      }
+                      acc157 = r174;
+                    }
+                  }
+                  r155 = acc157;
+                }
+                l_closestHole152 = r155;
+                Pos l_dir175{};
+                C1_Melt l_movedObj176{};
+                const int32_t t177 = add(l_closestHole152.x, int32_t(0));
+                const int32_t t178 = add(l_closestHole152.y, int32_t(-1));
+                const Pos t179 = Pos{t177, t178};
+                Pos l_delta180{};
+                int32_t l_sign_x181{};
+                int32_t l_sign_y182{};
+                const int32_t t183 = sub(t179.x, x95.origin.x);
+                const int32_t t184 = sub(t179.y, x95.origin.y);
+                const Pos t185 = Pos{t183, t184};
+                l_delta180 = t185;
+                const bool t186 = (l_delta180.x == int32_t(0));
+                int32_t r187{};
+                if (t186) {
+                  r187 = int32_t(0);
+                } else {
+                  const bool t188 = (l_delta180.x < int32_t(0));
+                  int32_t r189{};
+                  if (t188) {
+                    r189 = int32_t(-1);
+                  } else {
+                    r189 = int32_t(1);
+                  }
+                  r187 = r189;
+                }
+                l_sign_x181 = r187;
+                const bool t190 = (l_delta180.y == int32_t(0));
+                int32_t r191{};
+                if (t190) {
+                  r191 = int32_t(0);
+                } else {
+                  const bool t192 = (l_delta180.y < int32_t(0));
+                  int32_t r193{};
+                  if (t192) {
+                    r193 = int32_t(-1);
+                  } else {
+                    r193 = int32_t(1);
+                  }
+                  r191 = r193;
+                }
+                l_sign_y182 = r191;
+                const bool t194 = (l_sign_x181 < int32_t(0));
+                int32_t r195{};
+                if (t194) {
+                  const int32_t t196 = neg(l_sign_x181);
+                  r195 = t196;
+                } else {
+                  r195 = l_sign_x181;
+                }
+                const bool t197 = (r195 == int32_t(1));
+                bool r198{};
+                if (t197) {
+                  const bool t199 = (l_sign_y182 < int32_t(0));
+                  int32_t r200{};
+                  if (t199) {
+                    const int32_t t201 = neg(l_sign_y182);
+                    r200 = t201;
+                  } else {
+                    r200 = l_sign_y182;
+                  }
+                  const bool t202 = (r200 == int32_t(1));
+                  r198 = t202;
+                } else {
+                  r198 = false;
+                }
+                Pos r203{};
+                if (r198) {
+                  const Pos t204 = Pos{l_sign_x181, int32_t(0)};
+                  r203 = t204;
+                } else {
+                  const Pos t205 = Pos{l_sign_x181, l_sign_y182};
+                  r203 = t205;
+                }
+                l_dir175 = r203;
+                const int32_t t206 = add(x95.origin.x, l_dir175.x);
+                const int32_t t207 = add(x95.origin.y, l_dir175.y);
+                const Pos t208 = Pos{t206, t207};
+                C1_Melt upd209 = x95;
+                upd209.origin = t208;
+                l_movedObj176 = std::move(upd209);
+                const int32_t t210 = add(l_closestHole152.x, int32_t(0));
+                const int32_t t211 = add(l_closestHole152.y, int32_t(-1));
+                const Pos t212 = Pos{t210, t211};
+                const bool t213 = s.core.occupied.free(t212);
+                bool r214{};
+                if (t213) {
+                  const bool t215 = s.core.occupied.free(l_movedObj176.origin);
+                  bool r216{};
+                  if (t215) {
+                    std::vector<Elem>& rendered217 = s.scratch.v.b27;
+                    rendered217.clear();
+                    const int32_t colour218 = colour_19_C1_Melt(s, l_movedObj176);
+                    rendered217.push_back(Elem{Pos{add(l_movedObj176.origin.x, int32_t(0)), add(l_movedObj176.origin.y, int32_t(0))}, colour218});
+                    bool within219 = true;
+                    {
+                      const auto& e220_list = rendered217;
+                      charge_loop(s.core, 34, int64_t(e220_list.size()));
+                      for (const Elem& e220 : e220_list) {
+                        if ((((e220.position.x < int32_t(0)) || (e220.position.x >= int32_t(16))) || ((e220.position.y < int32_t(0)) || (e220.position.y >= int32_t(16))))) {
+                          within219 = false;
+                          break;
+                        }
+                      }
+                    }
+                    r216 = within219;
+                  } else {
+                    r216 = false;
+                  }
+                  r214 = r216;
+                } else {
+                  r214 = false;
+                }
+                C1_Melt r221{};
+                if (r214) {
+                  r221 = std::move(l_movedObj176);
+                } else {
+                  r221 = x95;
+                }
+                r151 = std::move(r221);
+              }
+              r110 = std::move(r151);
             }
-            r110 = std::move(r151);
+            const int32_t t222 = sub(x95.f0, int32_t(1));
+            C1_Melt upd223 = r110;
+            upd223.f0 = t222;
+            out94.push_back(std::move(upd223));
           }
-          const int32_t t222 = sub(x95.f0, int32_t(1));
-          C1_Melt upd223 = r110;
-          upd223.f0 = t222;
-          out94.push_back(std::move(upd223));
         }
         std::vector<C1_Melt>& out224 = s.scratch.v.b28;
         out224.clear();
-        for (const C1_Melt& x225 : out94) {
-          // inlined: function at programs/snowplow.au:42
-          const bool t226 = (x225.f0 > int32_t(0));
-          if (t226) {
-            out224.push_back(x225);
+        {
+          const auto& x225_list = out94;
+          charge_loop(s.core, 35, int64_t(x225_list.size()));
+          for (const C1_Melt& x225 : x225_list) {
+            // inlined: function at programs/snowplow.au:42
+            const bool t226 = (x225.f0 > int32_t(0));
+            if (t226) {
+              out224.push_back(x225);
+            }
           }
         }
         if (!s.scratch.v.sv_melt_16) {
@@ -1146,10 +1254,14 @@ struct Prog {
         rendered233.push_back(Elem{Pos{add(upd232.origin.x, int32_t(0)), add(upd232.origin.y, int32_t(0))}, int32_t(2)});
         rendered233.push_back(Elem{Pos{add(upd232.origin.x, int32_t(1)), add(upd232.origin.y, int32_t(0))}, int32_t(2)});
         bool within234 = true;
-        for (const Elem& e235 : rendered233) {
-          if ((((e235.position.x < int32_t(0)) || (e235.position.x >= int32_t(16))) || ((e235.position.y < int32_t(0)) || (e235.position.y >= int32_t(16))))) {
-            within234 = false;
-            break;
+        {
+          const auto& e235_list = rendered233;
+          charge_loop(s.core, 36, int64_t(e235_list.size()));
+          for (const Elem& e235 : e235_list) {
+            if ((((e235.position.x < int32_t(0)) || (e235.position.x >= int32_t(16))) || ((e235.position.y < int32_t(0)) || (e235.position.y >= int32_t(16))))) {
+              within234 = false;
+              break;
+            }
           }
         }
         C3_Plow r236{};
@@ -1188,10 +1300,14 @@ struct Prog {
         rendered247.push_back(Elem{Pos{add(upd246.origin.x, int32_t(0)), add(upd246.origin.y, int32_t(0))}, int32_t(2)});
         rendered247.push_back(Elem{Pos{add(upd246.origin.x, int32_t(1)), add(upd246.origin.y, int32_t(0))}, int32_t(2)});
         bool within248 = true;
-        for (const Elem& e249 : rendered247) {
-          if ((((e249.position.x < int32_t(0)) || (e249.position.x >= int32_t(16))) || ((e249.position.y < int32_t(0)) || (e249.position.y >= int32_t(16))))) {
-            within248 = false;
-            break;
+        {
+          const auto& e249_list = rendered247;
+          charge_loop(s.core, 36, int64_t(e249_list.size()));
+          for (const Elem& e249 : e249_list) {
+            if ((((e249.position.x < int32_t(0)) || (e249.position.x >= int32_t(16))) || ((e249.position.y < int32_t(0)) || (e249.position.y >= int32_t(16))))) {
+              within248 = false;
+              break;
+            }
           }
         }
         C3_Plow r250{};
@@ -1220,49 +1336,61 @@ struct Prog {
         const std::vector<C0_Flake>& g255 = s.g_snow_9;
         std::vector<C0_Flake>& kept256 = s.scratch.v.b31;
         kept256.clear();
-        for (const C0_Flake& x257 : g255) {
-          // inlined: function at programs/snowplow.au:61
-          const C3_Plow& g258 = s.g_plow_5;
-          std::vector<Elem>& rendered259 = s.scratch.v.b32;
-          rendered259.clear();
-          rendered259.push_back(Elem{Pos{add(x257.origin.x, int32_t(0)), add(x257.origin.y, int32_t(0))}, int32_t(6)});
-          std::vector<Elem>& rendered260 = s.scratch.v.b33;
-          rendered260.clear();
-          rendered260.push_back(Elem{Pos{add(g258.origin.x, int32_t(0)), add(g258.origin.y, int32_t(0))}, int32_t(2)});
-          rendered260.push_back(Elem{Pos{add(g258.origin.x, int32_t(1)), add(g258.origin.y, int32_t(0))}, int32_t(2)});
-          const int32_t t261 = int32_t(rendered259.size());
-          const bool t262 = (t261 == int32_t(0));
-          bool r263{};
-          if (!t262) {
-            const int32_t t264 = int32_t(rendered260.size());
-            const bool t265 = (t264 == int32_t(0));
-            r263 = t265;
-          } else {
-            r263 = true;
-          }
-          bool r266{};
-          if (r263) {
-            r266 = false;
-          } else {
-            bool any267 = false;
-            for (const Elem& x268 : rendered259) {
-              bool any269 = false;
-              for (const Elem& x270 : rendered260) {
-                const bool t271 = (x268.position == x270.position);
-                if (t271) {
-                  any269 = true;
-                  break;
+        {
+          const auto& x257_list = g255;
+          charge_loop(s.core, 37, int64_t(x257_list.size()));
+          for (const C0_Flake& x257 : x257_list) {
+            // inlined: function at programs/snowplow.au:61
+            const C3_Plow& g258 = s.g_plow_5;
+            std::vector<Elem>& rendered259 = s.scratch.v.b32;
+            rendered259.clear();
+            rendered259.push_back(Elem{Pos{add(x257.origin.x, int32_t(0)), add(x257.origin.y, int32_t(0))}, int32_t(6)});
+            std::vector<Elem>& rendered260 = s.scratch.v.b33;
+            rendered260.clear();
+            rendered260.push_back(Elem{Pos{add(g258.origin.x, int32_t(0)), add(g258.origin.y, int32_t(0))}, int32_t(2)});
+            rendered260.push_back(Elem{Pos{add(g258.origin.x, int32_t(1)), add(g258.origin.y, int32_t(0))}, int32_t(2)});
+            const int32_t t261 = int32_t(rendered259.size());
+            const bool t262 = (t261 == int32_t(0));
+            bool r263{};
+            if (!t262) {
+              const int32_t t264 = int32_t(rendered260.size());
+              const bool t265 = (t264 == int32_t(0));
+              r263 = t265;
+            } else {
+              r263 = true;
+            }
+            bool r266{};
+            if (r263) {
+              r266 = false;
+            } else {
+              bool any267 = false;
+              {
+                const auto& x268_list = rendered259;
+                charge_loop(s.core, 38, int64_t(x268_list.size()));
+                for (const Elem& x268 : x268_list) {
+                  bool any269 = false;
+                  {
+                    const auto& x270_list = rendered260;
+                    charge_loop(s.core, 39, int64_t(x270_list.size()));
+                    for (const Elem& x270 : x270_list) {
+                      const bool t271 = (x268.position == x270.position);
+                      if (t271) {
+                        any269 = true;
+                        break;
+                      }
+                    }
+                  }
+                  if (any269) {
+                    any267 = true;
+                    break;
+                  }
                 }
               }
-              if (any269) {
-                any267 = true;
-                break;
-              }
+              r266 = any267;
             }
-            r266 = any267;
-          }
-          if (!r266) {
-            kept256.push_back(x257);
+            if (!r266) {
+              kept256.push_back(x257);
+            }
           }
         }
         if (!s.scratch.v.sv_snow_12) {
@@ -1329,10 +1457,10 @@ struct Prog {
       const C4_Cloud& g287 = s.g_cloud_21;
       const int32_t t288 = sub(int32_t(5), g287.f0);
       if ((t288 == int32_t(0))) {
-        fail_at(16, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        fail_at(40, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
       if (((g286 == int32_t(-2147483648LL)) && (t288 == int32_t(-1)))) {
-        fail_at(16, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+        fail_at(40, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
       const int32_t t289 = autumn::arith::mod_unchecked(g286, t288);
       const bool t290 = (t289 == int32_t(0));
@@ -1350,18 +1478,22 @@ struct Prog {
         Pos l_drop295{};
         C0_Flake l_flake296{};
         if ((int32_t(255) < int32_t(0))) {
-          fail_at(17, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(41, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
         std::vector<Pos>& rpos297 = s.scratch.v.b34;
         rpos297.clear();
-        for (int32_t i298 = int32_t(0), i298_end = int32_t(1); i298 < i298_end; ++i298) {
-          const int32_t t299 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-          const int32_t t300 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-          const Pos t301 = Pos{t299, t300};
-          rpos297.push_back(t301);
+        {
+          const int32_t i298_first = int32_t(0), i298_end = int32_t(1);
+          charge_loop(s.core, 41, int64_t(i298_end) - i298_first);
+          for (int32_t i298 = i298_first; i298 < i298_end; ++i298) {
+            const int32_t t299 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+            const int32_t t300 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+            const Pos t301 = Pos{t299, t300};
+            rpos297.push_back(t301);
+          }
         }
         if (rpos297.empty()) {
-          fail_at(18, std::string() + std::string("head of an empty list"));
+          fail_at(42, std::string() + std::string("head of an empty list"));
         }
         const Pos t302 = rpos297.front();
         const int32_t t303 = autumn::arith::mod_unchecked(t302.x, int32_t(16));
@@ -1373,12 +1505,16 @@ struct Prog {
         rendered306.clear();
         rendered306.push_back(Elem{Pos{add(l_flake296.origin.x, int32_t(0)), add(l_flake296.origin.y, int32_t(0))}, int32_t(6)});
         bool any307 = false;
-        for (const Elem& x308 : rendered306) {
-          const bool t309 = s.core.occupied.free(x308.position);
-          const bool t310 = !t309;
-          if (t310) {
-            any307 = true;
-            break;
+        {
+          const auto& x308_list = rendered306;
+          charge_loop(s.core, 43, int64_t(x308_list.size()));
+          for (const Elem& x308 : x308_list) {
+            const bool t309 = s.core.occupied.free(x308.position);
+            const bool t310 = !t309;
+            if (t310) {
+              any307 = true;
+              break;
+            }
           }
         }
         const bool t311 = !any307;
@@ -1386,12 +1522,16 @@ struct Prog {
         r312.clear();
         if (t311) {
           const std::vector<C0_Flake>& g313 = s.g_snow_9;
-          check_length(s.core, 19, int64_t(g313.size()) + int64_t(int32_t(1)));
+          check_length(s.core, 44, int64_t(g313.size()) + int64_t(int32_t(1)));
           std::vector<C0_Flake>& added314 = s.scratch.v.b37;
           added314.clear();
           added314.reserve(size_t(add(int32_t(g313.size()), int32_t(1))));
-          for (const C0_Flake& x315 : g313) {
-            added314.push_back(x315);
+          {
+            const auto& x315_list = g313;
+            charge_loop(s.core, 44, int64_t(x315_list.size()));
+            for (const C0_Flake& x315 : x315_list) {
+              added314.push_back(x315);
+            }
           }
           added314.push_back(std::move(l_flake296));
           std::swap(r312, added314);
@@ -1470,7 +1610,7 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_30) {
-      tally_rendered(s.core, 20, "cacheRendered");
+      tally_rendered(s.core, 45, "cacheRendered");
       const C4_Cloud& g324 = s.g_cloud_21;
       tally_global(s.core, 0, "cloud", g324);
       const std::vector<C2_Rock>& g325 = s.g_rocks_17;
@@ -1481,12 +1621,12 @@ struct Prog {
       tally_global(s.core, 3, "plow", g327);
       if (s.d_click_30) {
         const Pos& g328 = s.g_click_29;
-        tally_global(s.core, 20, "click", g328);
+        tally_global(s.core, 45, "click", g328);
       }
       const std::vector<C0_Flake>& g329 = s.g_snow_9;
       tally_global(s.core, 4, "snow", g329);
     } else {
-      tally_rendered(s.core, 20, "cacheRendered");
+      tally_rendered(s.core, 45, "cacheRendered");
       const C4_Cloud& g330 = s.g_cloud_21;
       tally_global(s.core, 0, "cloud", g330);
       const std::vector<C2_Rock>& g331 = s.g_rocks_17;
@@ -1572,23 +1712,35 @@ struct Prog {
     s.core.occupied.add(e33.position);
     ++s.core.rendered, paint ? paint->paint(e33.position, pal[e33.color]) : void();
     const std::vector<C2_Rock>& g34 = s.g_rocks_17;
-    for (const C2_Rock& x35 : g34) {
-      const Elem e36 = Elem{Pos{add(x35.origin.x, int32_t(0)), add(x35.origin.y, int32_t(0))}, int32_t(3)};
-      s.core.occupied.add(e36.position);
-      ++s.core.rendered, paint ? paint->paint(e36.position, pal[e36.color]) : void();
+    {
+      const auto& x35_list = g34;
+      charge_loop(s.core, 46, int64_t(x35_list.size()));
+      for (const C2_Rock& x35 : x35_list) {
+        const Elem e36 = Elem{Pos{add(x35.origin.x, int32_t(0)), add(x35.origin.y, int32_t(0))}, int32_t(3)};
+        s.core.occupied.add(e36.position);
+        ++s.core.rendered, paint ? paint->paint(e36.position, pal[e36.color]) : void();
+      }
     }
     const std::vector<C0_Flake>& g37 = s.g_snow_9;
-    for (const C0_Flake& x38 : g37) {
-      const Elem e39 = Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, int32_t(6)};
-      s.core.occupied.add(e39.position);
-      ++s.core.rendered, paint ? paint->paint(e39.position, pal[e39.color]) : void();
+    {
+      const auto& x38_list = g37;
+      charge_loop(s.core, 46, int64_t(x38_list.size()));
+      for (const C0_Flake& x38 : x38_list) {
+        const Elem e39 = Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, int32_t(6)};
+        s.core.occupied.add(e39.position);
+        ++s.core.rendered, paint ? paint->paint(e39.position, pal[e39.color]) : void();
+      }
     }
     const std::vector<C1_Melt>& g40 = s.g_melt_13;
-    for (const C1_Melt& x41 : g40) {
-      const int32_t colour42 = colour_19_C1_Melt(s, x41);
-      const Elem e43 = Elem{Pos{add(x41.origin.x, int32_t(0)), add(x41.origin.y, int32_t(0))}, colour42};
-      s.core.occupied.add(e43.position);
-      ++s.core.rendered, paint ? paint->paint(e43.position, pal[e43.color]) : void();
+    {
+      const auto& x41_list = g40;
+      charge_loop(s.core, 46, int64_t(x41_list.size()));
+      for (const C1_Melt& x41 : x41_list) {
+        const int32_t colour42 = colour_19_C1_Melt(s, x41);
+        const Elem e43 = Elem{Pos{add(x41.origin.x, int32_t(0)), add(x41.origin.y, int32_t(0))}, colour42};
+        s.core.occupied.add(e43.position);
+        ++s.core.rendered, paint ? paint->paint(e43.position, pal[e43.color]) : void();
+      }
     }
     const C3_Plow& g44 = s.g_plow_5;
     const Elem e45 = Elem{Pos{add(g44.origin.x, int32_t(0)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
@@ -1673,22 +1825,48 @@ const ErrorSite Prog::kErrors[] = {
     {32, 3, nullptr, true, 32, 3, ""},
     {35, 3, nullptr, true, 35, 3, ""},
     {29, 3, nullptr, true, 29, 3, ""},
+    {45, 7, nullptr, true, 45, 7, ""},
+    {47, 15, nullptr, true, 47, 15, ""},
+    {47, 33, nullptr, true, 47, 33, ""},
     {48, 58, nullptr, true, 48, 58, ""},
     {48, 71, nullptr, true, 48, 71, ""},
     {48, 15, nullptr, true, 48, 15, ""},
+    {51, 7, nullptr, true, 51, 7, ""},
+    {51, 39, nullptr, true, 51, 39, ""},
+    {51, 57, nullptr, true, 51, 57, ""},
     {53, 32, nullptr, true, 53, 32, ""},
     {54, 48, nullptr, true, 54, 48, ""},
     {54, 61, nullptr, true, 54, 61, ""},
     {54, 14, nullptr, true, 54, 14, ""},
+    {56, 20, nullptr, true, 56, 20, ""},
+    {179, 14, "<stdlib>", true, 56, 20, ""},
+    {154, 28, "<stdlib>", true, 56, 20, ""},
+    {149, 20, "<stdlib>", true, 56, 20, ""},
+    {155, 13, "<stdlib>", true, 56, 20, ""},
+    {43, 13, nullptr, true, 43, 13, ""},
+    {148, 25, "<stdlib>", true, 43, 36, ""},
     {62, 34, "<stdlib>", true, 43, 36, ""},
+    {61, 29, "<stdlib>", true, 43, 36, ""},
     {61, 69, "<stdlib>", true, 43, 36, ""},
+    {61, 41, "<stdlib>", true, 43, 36, ""},
     {61, 21, "<stdlib>", true, 43, 36, ""},
+    {195, 31, "<stdlib>", true, 43, 36, ""},
+    {196, 26, "<stdlib>", true, 43, 36, ""},
     {134, 19, "<stdlib>", true, 43, 36, ""},
+    {131, 12, "<stdlib>", true, 43, 36, ""},
+    {202, 57, "<stdlib>", true, 43, 36, ""},
+    {42, 5, nullptr, true, 42, 5, ""},
+    {38, 33, nullptr, true, 38, 33, ""},
+    {61, 20, nullptr, true, 61, 20, ""},
+    {143, 12, "<stdlib>", true, 61, 43, ""},
+    {143, 28, "<stdlib>", true, 61, 43, ""},
     {69, 14, nullptr, true, 69, 14, ""},
     {71, 38, nullptr, true, 71, 38, ""},
     {71, 32, nullptr, true, 71, 32, ""},
+    {148, 25, "<stdlib>", true, 73, 19, ""},
     {73, 39, nullptr, true, 73, 39, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -239,29 +239,41 @@ struct Prog {
     std::vector<C2_Crate>& out6 = s.scratch.v.b0;
     out6.clear();
     out6.reserve(size_t(int32_t(g5.size())));
-    for (const Pos& x7 : g5) {
-      // inlined: function at programs/sokoban.au:37
-      C2_Crate o8 = C2_Crate{false, x7};
-      out6.push_back(std::move(o8));
+    {
+      const auto& x7_list = g5;
+      charge_loop(s.core, 0, int64_t(x7_list.size()));
+      for (const Pos& x7 : x7_list) {
+        // inlined: function at programs/sokoban.au:37
+        C2_Crate o8 = C2_Crate{false, x7};
+        out6.push_back(std::move(o8));
+      }
     }
     // inlined: function at programs/sokoban.au:24
     std::vector<C2_Crate>& out9 = s.scratch.v.b1;
     out9.clear();
     out9.reserve(size_t(int32_t(out6.size())));
-    for (const C2_Crate& x10 : out6) {
-      // inlined: function at programs/sokoban.au:24
-      const std::vector<Pos>& g11 = s.g_goalSpots_5;
-      bool any12 = false;
-      for (const Pos& x13 : g11) {
-        const bool t14 = (x13 == x10.origin);
-        if (t14) {
-          any12 = true;
-          break;
+    {
+      const auto& x10_list = out6;
+      charge_loop(s.core, 1, int64_t(x10_list.size()));
+      for (const C2_Crate& x10 : x10_list) {
+        // inlined: function at programs/sokoban.au:24
+        const std::vector<Pos>& g11 = s.g_goalSpots_5;
+        bool any12 = false;
+        {
+          const auto& x13_list = g11;
+          charge_loop(s.core, 2, int64_t(x13_list.size()));
+          for (const Pos& x13 : x13_list) {
+            const bool t14 = (x13 == x10.origin);
+            if (t14) {
+              any12 = true;
+              break;
+            }
+          }
         }
+        C2_Crate upd15 = x10;
+        upd15.f0 = any12;
+        out9.push_back(std::move(upd15));
       }
-      C2_Crate upd15 = x10;
-      upd15.f0 = any12;
-      out9.push_back(std::move(upd15));
     }
     std::swap(s.g_crates_12, out9);
     s.u_crates_13 = false;
@@ -270,10 +282,14 @@ struct Prog {
     std::vector<C1_Goal>& out17 = s.scratch.v.b2;
     out17.clear();
     out17.reserve(size_t(int32_t(g16.size())));
-    for (const Pos& x18 : g16) {
-      // inlined: function at programs/sokoban.au:34
-      C1_Goal o19 = C1_Goal{x18};
-      out17.push_back(std::move(o19));
+    {
+      const auto& x18_list = g16;
+      charge_loop(s.core, 3, int64_t(x18_list.size()));
+      for (const Pos& x18 : x18_list) {
+        // inlined: function at programs/sokoban.au:34
+        C1_Goal o19 = C1_Goal{x18};
+        out17.push_back(std::move(o19));
+      }
     }
     std::swap(s.g_goals_16, out17);
     s.u_goals_17 = false;
@@ -284,57 +300,69 @@ struct Prog {
     s.u_keeper_21 = false;
     // init walls, programs/sokoban.au:28
     if ((int32_t(8) < int32_t(0))) {
-      fail_at(0, std::string() + std::string("allPositions: negative size"));
+      fail_at(4, std::string() + std::string("allPositions: negative size"));
     }
     std::vector<Pos>& apos22 = s.scratch.v.b3;
     apos22.clear();
-    for (int32_t i23 = int32_t(0), i23_end = int32_t(8); i23 < i23_end; ++i23) {
-      for (int32_t j24 = int32_t(0), j24_end = int32_t(8); j24 < j24_end; ++j24) {
-        const Pos t25 = Pos{i23, j24};
-        apos22.push_back(t25);
+    {
+      const int32_t i23_first = int32_t(0), i23_end = int32_t(8);
+      charge_loop(s.core, 4, int64_t(i23_end) - i23_first);
+      for (int32_t i23 = i23_first; i23 < i23_end; ++i23) {
+        {
+          const int32_t j24_first = int32_t(0), j24_end = int32_t(8);
+          charge_loop(s.core, 4, int64_t(j24_end) - j24_first);
+          for (int32_t j24 = j24_first; j24 < j24_end; ++j24) {
+            const Pos t25 = Pos{i23, j24};
+            apos22.push_back(t25);
+          }
+        }
       }
     }
     std::vector<Pos>& out26 = s.scratch.v.b4;
     out26.clear();
-    for (const Pos& x27 : apos22) {
-      // inlined: function at programs/sokoban.au:29
-      // inlined: function at programs/sokoban.au:21
-      const bool t28 = (x27.x == int32_t(0));
-      bool r29{};
-      if (!t28) {
-        const bool t30 = (x27.x == int32_t(7));
-        r29 = t30;
-      } else {
-        r29 = true;
-      }
-      bool r31{};
-      if (!r29) {
-        const bool t32 = (x27.y == int32_t(0));
-        bool r33{};
-        if (!t32) {
-          const bool t34 = (x27.y == int32_t(7));
-          r33 = t34;
+    {
+      const auto& x27_list = apos22;
+      charge_loop(s.core, 5, int64_t(x27_list.size()));
+      for (const Pos& x27 : x27_list) {
+        // inlined: function at programs/sokoban.au:29
+        // inlined: function at programs/sokoban.au:21
+        const bool t28 = (x27.x == int32_t(0));
+        bool r29{};
+        if (!t28) {
+          const bool t30 = (x27.x == int32_t(7));
+          r29 = t30;
         } else {
-          r33 = true;
+          r29 = true;
         }
-        r31 = r33;
-      } else {
-        r31 = true;
-      }
-      bool r35{};
-      if (r31) {
-        const bool t36 = (x27 == Pos{int32_t(0), int32_t(0)});
-        const bool t37 = !t36;
-        r35 = t37;
-      } else {
-        r35 = false;
-      }
-      if (r35) {
-        out26.push_back(x27);
+        bool r31{};
+        if (!r29) {
+          const bool t32 = (x27.y == int32_t(0));
+          bool r33{};
+          if (!t32) {
+            const bool t34 = (x27.y == int32_t(7));
+            r33 = t34;
+          } else {
+            r33 = true;
+          }
+          r31 = r33;
+        } else {
+          r31 = true;
+        }
+        bool r35{};
+        if (r31) {
+          const bool t36 = (x27 == Pos{int32_t(0), int32_t(0)});
+          const bool t37 = !t36;
+          r35 = t37;
+        } else {
+          r35 = false;
+        }
+        if (r35) {
+          out26.push_back(x27);
+        }
       }
     }
     const std::vector<Pos>& g38 = s.g_innerWalls_4;
-    check_length(s.core, 1, int64_t(out26.size()) + int64_t(g38.size()));
+    check_length(s.core, 6, int64_t(out26.size()) + int64_t(g38.size()));
     std::vector<Pos>& cat39 = s.scratch.v.b5;
     cat39.clear();
     cat39.insert(cat39.end(), out26.begin(), out26.end());
@@ -342,32 +370,36 @@ struct Prog {
     std::vector<C0_Wall>& out40 = s.scratch.v.b6;
     out40.clear();
     out40.reserve(size_t(int32_t(cat39.size())));
-    for (const Pos& x41 : cat39) {
-      // inlined: function at programs/sokoban.au:28
-      C0_Wall o42 = C0_Wall{x41};
-      out40.push_back(std::move(o42));
+    {
+      const auto& x41_list = cat39;
+      charge_loop(s.core, 7, int64_t(x41_list.size()));
+      for (const Pos& x41 : x41_list) {
+        // inlined: function at programs/sokoban.au:28
+        C0_Wall o42 = C0_Wall{x41};
+        out40.push_back(std::move(o42));
+      }
     }
     std::swap(s.g_walls_24, out40);
     s.u_walls_25 = false;
     s.core.tally.v = StateTally{};
     const std::vector<C0_Wall>& g43 = s.g_walls_24;
-    tally_global(s.core, 2, "walls", g43);
+    tally_global(s.core, 8, "walls", g43);
     const std::vector<C1_Goal>& g44 = s.g_goals_16;
-    tally_global(s.core, 3, "goals", g44);
+    tally_global(s.core, 9, "goals", g44);
     const C4_Button& g45 = s.g_reset_8;
-    tally_global(s.core, 4, "reset", g45);
+    tally_global(s.core, 10, "reset", g45);
     const std::vector<Pos>& g46 = s.g_crateStarts_6;
-    tally_global(s.core, 5, "crateStarts", g46);
+    tally_global(s.core, 11, "crateStarts", g46);
     const std::vector<Pos>& g47 = s.g_goalSpots_5;
-    tally_global(s.core, 6, "goalSpots", g47);
+    tally_global(s.core, 12, "goalSpots", g47);
     const std::vector<C2_Crate>& g48 = s.g_crates_12;
-    tally_global(s.core, 7, "crates", g48);
+    tally_global(s.core, 13, "crates", g48);
     const std::vector<Pos>& g49 = s.g_innerWalls_4;
-    tally_global(s.core, 8, "innerWalls", g49);
+    tally_global(s.core, 14, "innerWalls", g49);
     const Pos& g50 = s.g_keeperStart_7;
-    tally_global(s.core, 9, "keeperStart", g50);
+    tally_global(s.core, 15, "keeperStart", g50);
     const C3_Keeper& g51 = s.g_keeper_20;
-    tally_global(s.core, 10, "keeper", g51);
+    tally_global(s.core, 16, "keeper", g51);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -398,12 +430,16 @@ struct Prog {
         const std::vector<C2_Crate>& prev6 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any7 = false;
-        for (const C2_Crate& x8 : prev6) {
-          // inlined: function at programs/sokoban.au:46
-          const bool t9 = (x8.origin == t5);
-          if (t9) {
-            any7 = true;
-            break;
+        {
+          const auto& x8_list = prev6;
+          charge_loop(s.core, 17, int64_t(x8_list.size()));
+          for (const C2_Crate& x8 : x8_list) {
+            // inlined: function at programs/sokoban.au:46
+            const bool t9 = (x8.origin == t5);
+            if (t9) {
+              any7 = true;
+              break;
+            }
           }
         }
         bool r10{};
@@ -421,24 +457,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g19 = s.g_walls_24;
           bool any20 = false;
-          for (const C0_Wall& x21 : g19) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t22 = (x21.origin == t17);
-            if (t22) {
-              any20 = true;
-              break;
+          {
+            const auto& x21_list = g19;
+            charge_loop(s.core, 18, int64_t(x21_list.size()));
+            for (const C0_Wall& x21 : x21_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t22 = (x21.origin == t17);
+              if (t22) {
+                any20 = true;
+                break;
+              }
             }
           }
           bool r23{};
           if (!any20) {
             // inlined: function at programs/sokoban.au:46
             bool any24 = false;
-            for (const C2_Crate& x25 : prev18) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t26 = (x25.origin == t17);
-              if (t26) {
-                any24 = true;
-                break;
+            {
+              const auto& x25_list = prev18;
+              charge_loop(s.core, 17, int64_t(x25_list.size()));
+              for (const C2_Crate& x25 : x25_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t26 = (x25.origin == t17);
+                if (t26) {
+                  any24 = true;
+                  break;
+                }
               }
             }
             r23 = any24;
@@ -457,44 +501,56 @@ struct Prog {
           std::vector<C2_Crate>& updated30 = s.scratch.v.b8;
           updated30.clear();
           updated30.reserve(size_t(int32_t(prev29.size())));
-          for (const C2_Crate& x31 : prev29) {
-            // inlined: function at programs/sokoban.au:58
-            // inlined: function at programs/sokoban.au:50
-            const C3_Keeper& prev32 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
-            const int32_t t33 = add(prev32.origin.x, int32_t(-1));
-            const int32_t t34 = add(prev32.origin.y, int32_t(0));
-            const Pos t35 = Pos{t33, t34};
-            const bool t36 = (x31.origin == t35);
-            if (t36) {
+          {
+            const auto& x31_list = prev29;
+            charge_loop(s.core, 19, int64_t(x31_list.size()));
+            for (const C2_Crate& x31 : x31_list) {
               // inlined: function at programs/sokoban.au:58
-              const int32_t t37 = add(x31.origin.x, int32_t(-1));
-              const int32_t t38 = add(x31.origin.y, int32_t(0));
-              const Pos t39 = Pos{t37, t38};
-              C2_Crate upd40 = x31;
-              upd40.origin = t39;
-              updated30.push_back(std::move(upd40));
-            } else {
-              updated30.push_back(x31);
+              // inlined: function at programs/sokoban.au:50
+              const C3_Keeper& prev32 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
+              const int32_t t33 = add(prev32.origin.x, int32_t(-1));
+              const int32_t t34 = add(prev32.origin.y, int32_t(0));
+              const Pos t35 = Pos{t33, t34};
+              const bool t36 = (x31.origin == t35);
+              if (t36) {
+                // inlined: function at programs/sokoban.au:58
+                const int32_t t37 = add(x31.origin.x, int32_t(-1));
+                const int32_t t38 = add(x31.origin.y, int32_t(0));
+                const Pos t39 = Pos{t37, t38};
+                C2_Crate upd40 = x31;
+                upd40.origin = t39;
+                updated30.push_back(std::move(upd40));
+              } else {
+                updated30.push_back(x31);
+              }
             }
           }
           // inlined: function at programs/sokoban.au:24
           std::vector<C2_Crate>& out41 = s.scratch.v.b9;
           out41.clear();
           out41.reserve(size_t(int32_t(updated30.size())));
-          for (const C2_Crate& x42 : updated30) {
-            // inlined: function at programs/sokoban.au:24
-            const std::vector<Pos>& g43 = s.g_goalSpots_5;
-            bool any44 = false;
-            for (const Pos& x45 : g43) {
-              const bool t46 = (x45 == x42.origin);
-              if (t46) {
-                any44 = true;
-                break;
+          {
+            const auto& x42_list = updated30;
+            charge_loop(s.core, 20, int64_t(x42_list.size()));
+            for (const C2_Crate& x42 : x42_list) {
+              // inlined: function at programs/sokoban.au:24
+              const std::vector<Pos>& g43 = s.g_goalSpots_5;
+              bool any44 = false;
+              {
+                const auto& x45_list = g43;
+                charge_loop(s.core, 21, int64_t(x45_list.size()));
+                for (const Pos& x45 : x45_list) {
+                  const bool t46 = (x45 == x42.origin);
+                  if (t46) {
+                    any44 = true;
+                    break;
+                  }
+                }
               }
+              C2_Crate upd47 = x42;
+              upd47.f0 = any44;
+              out41.push_back(std::move(upd47));
             }
-            C2_Crate upd47 = x42;
-            upd47.f0 = any44;
-            out41.push_back(std::move(upd47));
           }
           std::swap(r28, out41);
         } else {
@@ -525,12 +581,16 @@ struct Prog {
         const std::vector<C2_Crate>& prev54 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any55 = false;
-        for (const C2_Crate& x56 : prev54) {
-          // inlined: function at programs/sokoban.au:46
-          const bool t57 = (x56.origin == t53);
-          if (t57) {
-            any55 = true;
-            break;
+        {
+          const auto& x56_list = prev54;
+          charge_loop(s.core, 17, int64_t(x56_list.size()));
+          for (const C2_Crate& x56 : x56_list) {
+            // inlined: function at programs/sokoban.au:46
+            const bool t57 = (x56.origin == t53);
+            if (t57) {
+              any55 = true;
+              break;
+            }
           }
         }
         bool r58{};
@@ -548,24 +608,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g67 = s.g_walls_24;
           bool any68 = false;
-          for (const C0_Wall& x69 : g67) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t70 = (x69.origin == t65);
-            if (t70) {
-              any68 = true;
-              break;
+          {
+            const auto& x69_list = g67;
+            charge_loop(s.core, 18, int64_t(x69_list.size()));
+            for (const C0_Wall& x69 : x69_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t70 = (x69.origin == t65);
+              if (t70) {
+                any68 = true;
+                break;
+              }
             }
           }
           bool r71{};
           if (!any68) {
             // inlined: function at programs/sokoban.au:46
             bool any72 = false;
-            for (const C2_Crate& x73 : prev66) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t74 = (x73.origin == t65);
-              if (t74) {
-                any72 = true;
-                break;
+            {
+              const auto& x73_list = prev66;
+              charge_loop(s.core, 17, int64_t(x73_list.size()));
+              for (const C2_Crate& x73 : x73_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t74 = (x73.origin == t65);
+                if (t74) {
+                  any72 = true;
+                  break;
+                }
               }
             }
             r71 = any72;
@@ -589,24 +657,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g82 = s.g_walls_24;
           bool any83 = false;
-          for (const C0_Wall& x84 : g82) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t85 = (x84.origin == t80);
-            if (t85) {
-              any83 = true;
-              break;
+          {
+            const auto& x84_list = g82;
+            charge_loop(s.core, 18, int64_t(x84_list.size()));
+            for (const C0_Wall& x84 : x84_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t85 = (x84.origin == t80);
+              if (t85) {
+                any83 = true;
+                break;
+              }
             }
           }
           bool r86{};
           if (!any83) {
             // inlined: function at programs/sokoban.au:46
             bool any87 = false;
-            for (const C2_Crate& x88 : prev81) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t89 = (x88.origin == t80);
-              if (t89) {
-                any87 = true;
-                break;
+            {
+              const auto& x88_list = prev81;
+              charge_loop(s.core, 17, int64_t(x88_list.size()));
+              for (const C2_Crate& x88 : x88_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t89 = (x88.origin == t80);
+                if (t89) {
+                  any87 = true;
+                  break;
+                }
               }
             }
             r86 = any87;
@@ -654,12 +730,16 @@ struct Prog {
         const std::vector<C2_Crate>& prev103 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any104 = false;
-        for (const C2_Crate& x105 : prev103) {
-          // inlined: function at programs/sokoban.au:46
-          const bool t106 = (x105.origin == t102);
-          if (t106) {
-            any104 = true;
-            break;
+        {
+          const auto& x105_list = prev103;
+          charge_loop(s.core, 17, int64_t(x105_list.size()));
+          for (const C2_Crate& x105 : x105_list) {
+            // inlined: function at programs/sokoban.au:46
+            const bool t106 = (x105.origin == t102);
+            if (t106) {
+              any104 = true;
+              break;
+            }
           }
         }
         bool r107{};
@@ -677,24 +757,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g116 = s.g_walls_24;
           bool any117 = false;
-          for (const C0_Wall& x118 : g116) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t119 = (x118.origin == t114);
-            if (t119) {
-              any117 = true;
-              break;
+          {
+            const auto& x118_list = g116;
+            charge_loop(s.core, 18, int64_t(x118_list.size()));
+            for (const C0_Wall& x118 : x118_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t119 = (x118.origin == t114);
+              if (t119) {
+                any117 = true;
+                break;
+              }
             }
           }
           bool r120{};
           if (!any117) {
             // inlined: function at programs/sokoban.au:46
             bool any121 = false;
-            for (const C2_Crate& x122 : prev115) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t123 = (x122.origin == t114);
-              if (t123) {
-                any121 = true;
-                break;
+            {
+              const auto& x122_list = prev115;
+              charge_loop(s.core, 17, int64_t(x122_list.size()));
+              for (const C2_Crate& x122 : x122_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t123 = (x122.origin == t114);
+                if (t123) {
+                  any121 = true;
+                  break;
+                }
               }
             }
             r120 = any121;
@@ -713,44 +801,56 @@ struct Prog {
           std::vector<C2_Crate>& updated127 = s.scratch.v.b11;
           updated127.clear();
           updated127.reserve(size_t(int32_t(prev126.size())));
-          for (const C2_Crate& x128 : prev126) {
-            // inlined: function at programs/sokoban.au:58
-            // inlined: function at programs/sokoban.au:50
-            const C3_Keeper& prev129 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
-            const int32_t t130 = add(prev129.origin.x, int32_t(1));
-            const int32_t t131 = add(prev129.origin.y, int32_t(0));
-            const Pos t132 = Pos{t130, t131};
-            const bool t133 = (x128.origin == t132);
-            if (t133) {
+          {
+            const auto& x128_list = prev126;
+            charge_loop(s.core, 19, int64_t(x128_list.size()));
+            for (const C2_Crate& x128 : x128_list) {
               // inlined: function at programs/sokoban.au:58
-              const int32_t t134 = add(x128.origin.x, int32_t(1));
-              const int32_t t135 = add(x128.origin.y, int32_t(0));
-              const Pos t136 = Pos{t134, t135};
-              C2_Crate upd137 = x128;
-              upd137.origin = t136;
-              updated127.push_back(std::move(upd137));
-            } else {
-              updated127.push_back(x128);
+              // inlined: function at programs/sokoban.au:50
+              const C3_Keeper& prev129 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
+              const int32_t t130 = add(prev129.origin.x, int32_t(1));
+              const int32_t t131 = add(prev129.origin.y, int32_t(0));
+              const Pos t132 = Pos{t130, t131};
+              const bool t133 = (x128.origin == t132);
+              if (t133) {
+                // inlined: function at programs/sokoban.au:58
+                const int32_t t134 = add(x128.origin.x, int32_t(1));
+                const int32_t t135 = add(x128.origin.y, int32_t(0));
+                const Pos t136 = Pos{t134, t135};
+                C2_Crate upd137 = x128;
+                upd137.origin = t136;
+                updated127.push_back(std::move(upd137));
+              } else {
+                updated127.push_back(x128);
+              }
             }
           }
           // inlined: function at programs/sokoban.au:24
           std::vector<C2_Crate>& out138 = s.scratch.v.b12;
           out138.clear();
           out138.reserve(size_t(int32_t(updated127.size())));
-          for (const C2_Crate& x139 : updated127) {
-            // inlined: function at programs/sokoban.au:24
-            const std::vector<Pos>& g140 = s.g_goalSpots_5;
-            bool any141 = false;
-            for (const Pos& x142 : g140) {
-              const bool t143 = (x142 == x139.origin);
-              if (t143) {
-                any141 = true;
-                break;
+          {
+            const auto& x139_list = updated127;
+            charge_loop(s.core, 20, int64_t(x139_list.size()));
+            for (const C2_Crate& x139 : x139_list) {
+              // inlined: function at programs/sokoban.au:24
+              const std::vector<Pos>& g140 = s.g_goalSpots_5;
+              bool any141 = false;
+              {
+                const auto& x142_list = g140;
+                charge_loop(s.core, 21, int64_t(x142_list.size()));
+                for (const Pos& x142 : x142_list) {
+                  const bool t143 = (x142 == x139.origin);
+                  if (t143) {
+                    any141 = true;
+                    break;
+                  }
+                }
               }
+              C2_Crate upd144 = x139;
+              upd144.f0 = any141;
+              out138.push_back(std::move(upd144));
             }
-            C2_Crate upd144 = x139;
-            upd144.f0 = any141;
-            out138.push_back(std::move(upd144));
           }
           std::swap(r125, out138);
         } else {
@@ -781,12 +881,16 @@ struct Prog {
         const std::vector<C2_Crate>& prev151 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any152 = false;
-        for (const C2_Crate& x153 : prev151) {
-          // inlined: function at programs/sokoban.au:46
-          const bool t154 = (x153.origin == t150);
-          if (t154) {
-            any152 = true;
-            break;
+        {
+          const auto& x153_list = prev151;
+          charge_loop(s.core, 17, int64_t(x153_list.size()));
+          for (const C2_Crate& x153 : x153_list) {
+            // inlined: function at programs/sokoban.au:46
+            const bool t154 = (x153.origin == t150);
+            if (t154) {
+              any152 = true;
+              break;
+            }
           }
         }
         bool r155{};
@@ -804,24 +908,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g164 = s.g_walls_24;
           bool any165 = false;
-          for (const C0_Wall& x166 : g164) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t167 = (x166.origin == t162);
-            if (t167) {
-              any165 = true;
-              break;
+          {
+            const auto& x166_list = g164;
+            charge_loop(s.core, 18, int64_t(x166_list.size()));
+            for (const C0_Wall& x166 : x166_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t167 = (x166.origin == t162);
+              if (t167) {
+                any165 = true;
+                break;
+              }
             }
           }
           bool r168{};
           if (!any165) {
             // inlined: function at programs/sokoban.au:46
             bool any169 = false;
-            for (const C2_Crate& x170 : prev163) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t171 = (x170.origin == t162);
-              if (t171) {
-                any169 = true;
-                break;
+            {
+              const auto& x170_list = prev163;
+              charge_loop(s.core, 17, int64_t(x170_list.size()));
+              for (const C2_Crate& x170 : x170_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t171 = (x170.origin == t162);
+                if (t171) {
+                  any169 = true;
+                  break;
+                }
               }
             }
             r168 = any169;
@@ -845,24 +957,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g179 = s.g_walls_24;
           bool any180 = false;
-          for (const C0_Wall& x181 : g179) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t182 = (x181.origin == t177);
-            if (t182) {
-              any180 = true;
-              break;
+          {
+            const auto& x181_list = g179;
+            charge_loop(s.core, 18, int64_t(x181_list.size()));
+            for (const C0_Wall& x181 : x181_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t182 = (x181.origin == t177);
+              if (t182) {
+                any180 = true;
+                break;
+              }
             }
           }
           bool r183{};
           if (!any180) {
             // inlined: function at programs/sokoban.au:46
             bool any184 = false;
-            for (const C2_Crate& x185 : prev178) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t186 = (x185.origin == t177);
-              if (t186) {
-                any184 = true;
-                break;
+            {
+              const auto& x185_list = prev178;
+              charge_loop(s.core, 17, int64_t(x185_list.size()));
+              for (const C2_Crate& x185 : x185_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t186 = (x185.origin == t177);
+                if (t186) {
+                  any184 = true;
+                  break;
+                }
               }
             }
             r183 = any184;
@@ -910,12 +1030,16 @@ struct Prog {
         const std::vector<C2_Crate>& prev200 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any201 = false;
-        for (const C2_Crate& x202 : prev200) {
-          // inlined: function at programs/sokoban.au:46
-          const bool t203 = (x202.origin == t199);
-          if (t203) {
-            any201 = true;
-            break;
+        {
+          const auto& x202_list = prev200;
+          charge_loop(s.core, 17, int64_t(x202_list.size()));
+          for (const C2_Crate& x202 : x202_list) {
+            // inlined: function at programs/sokoban.au:46
+            const bool t203 = (x202.origin == t199);
+            if (t203) {
+              any201 = true;
+              break;
+            }
           }
         }
         bool r204{};
@@ -933,24 +1057,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g213 = s.g_walls_24;
           bool any214 = false;
-          for (const C0_Wall& x215 : g213) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t216 = (x215.origin == t211);
-            if (t216) {
-              any214 = true;
-              break;
+          {
+            const auto& x215_list = g213;
+            charge_loop(s.core, 18, int64_t(x215_list.size()));
+            for (const C0_Wall& x215 : x215_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t216 = (x215.origin == t211);
+              if (t216) {
+                any214 = true;
+                break;
+              }
             }
           }
           bool r217{};
           if (!any214) {
             // inlined: function at programs/sokoban.au:46
             bool any218 = false;
-            for (const C2_Crate& x219 : prev212) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t220 = (x219.origin == t211);
-              if (t220) {
-                any218 = true;
-                break;
+            {
+              const auto& x219_list = prev212;
+              charge_loop(s.core, 17, int64_t(x219_list.size()));
+              for (const C2_Crate& x219 : x219_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t220 = (x219.origin == t211);
+                if (t220) {
+                  any218 = true;
+                  break;
+                }
               }
             }
             r217 = any218;
@@ -969,44 +1101,56 @@ struct Prog {
           std::vector<C2_Crate>& updated224 = s.scratch.v.b14;
           updated224.clear();
           updated224.reserve(size_t(int32_t(prev223.size())));
-          for (const C2_Crate& x225 : prev223) {
-            // inlined: function at programs/sokoban.au:58
-            // inlined: function at programs/sokoban.au:50
-            const C3_Keeper& prev226 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
-            const int32_t t227 = add(prev226.origin.x, int32_t(0));
-            const int32_t t228 = add(prev226.origin.y, int32_t(-1));
-            const Pos t229 = Pos{t227, t228};
-            const bool t230 = (x225.origin == t229);
-            if (t230) {
+          {
+            const auto& x225_list = prev223;
+            charge_loop(s.core, 19, int64_t(x225_list.size()));
+            for (const C2_Crate& x225 : x225_list) {
               // inlined: function at programs/sokoban.au:58
-              const int32_t t231 = add(x225.origin.x, int32_t(0));
-              const int32_t t232 = add(x225.origin.y, int32_t(-1));
-              const Pos t233 = Pos{t231, t232};
-              C2_Crate upd234 = x225;
-              upd234.origin = t233;
-              updated224.push_back(std::move(upd234));
-            } else {
-              updated224.push_back(x225);
+              // inlined: function at programs/sokoban.au:50
+              const C3_Keeper& prev226 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
+              const int32_t t227 = add(prev226.origin.x, int32_t(0));
+              const int32_t t228 = add(prev226.origin.y, int32_t(-1));
+              const Pos t229 = Pos{t227, t228};
+              const bool t230 = (x225.origin == t229);
+              if (t230) {
+                // inlined: function at programs/sokoban.au:58
+                const int32_t t231 = add(x225.origin.x, int32_t(0));
+                const int32_t t232 = add(x225.origin.y, int32_t(-1));
+                const Pos t233 = Pos{t231, t232};
+                C2_Crate upd234 = x225;
+                upd234.origin = t233;
+                updated224.push_back(std::move(upd234));
+              } else {
+                updated224.push_back(x225);
+              }
             }
           }
           // inlined: function at programs/sokoban.au:24
           std::vector<C2_Crate>& out235 = s.scratch.v.b15;
           out235.clear();
           out235.reserve(size_t(int32_t(updated224.size())));
-          for (const C2_Crate& x236 : updated224) {
-            // inlined: function at programs/sokoban.au:24
-            const std::vector<Pos>& g237 = s.g_goalSpots_5;
-            bool any238 = false;
-            for (const Pos& x239 : g237) {
-              const bool t240 = (x239 == x236.origin);
-              if (t240) {
-                any238 = true;
-                break;
+          {
+            const auto& x236_list = updated224;
+            charge_loop(s.core, 20, int64_t(x236_list.size()));
+            for (const C2_Crate& x236 : x236_list) {
+              // inlined: function at programs/sokoban.au:24
+              const std::vector<Pos>& g237 = s.g_goalSpots_5;
+              bool any238 = false;
+              {
+                const auto& x239_list = g237;
+                charge_loop(s.core, 21, int64_t(x239_list.size()));
+                for (const Pos& x239 : x239_list) {
+                  const bool t240 = (x239 == x236.origin);
+                  if (t240) {
+                    any238 = true;
+                    break;
+                  }
+                }
               }
+              C2_Crate upd241 = x236;
+              upd241.f0 = any238;
+              out235.push_back(std::move(upd241));
             }
-            C2_Crate upd241 = x236;
-            upd241.f0 = any238;
-            out235.push_back(std::move(upd241));
           }
           std::swap(r222, out235);
         } else {
@@ -1037,12 +1181,16 @@ struct Prog {
         const std::vector<C2_Crate>& prev248 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any249 = false;
-        for (const C2_Crate& x250 : prev248) {
-          // inlined: function at programs/sokoban.au:46
-          const bool t251 = (x250.origin == t247);
-          if (t251) {
-            any249 = true;
-            break;
+        {
+          const auto& x250_list = prev248;
+          charge_loop(s.core, 17, int64_t(x250_list.size()));
+          for (const C2_Crate& x250 : x250_list) {
+            // inlined: function at programs/sokoban.au:46
+            const bool t251 = (x250.origin == t247);
+            if (t251) {
+              any249 = true;
+              break;
+            }
           }
         }
         bool r252{};
@@ -1060,24 +1208,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g261 = s.g_walls_24;
           bool any262 = false;
-          for (const C0_Wall& x263 : g261) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t264 = (x263.origin == t259);
-            if (t264) {
-              any262 = true;
-              break;
+          {
+            const auto& x263_list = g261;
+            charge_loop(s.core, 18, int64_t(x263_list.size()));
+            for (const C0_Wall& x263 : x263_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t264 = (x263.origin == t259);
+              if (t264) {
+                any262 = true;
+                break;
+              }
             }
           }
           bool r265{};
           if (!any262) {
             // inlined: function at programs/sokoban.au:46
             bool any266 = false;
-            for (const C2_Crate& x267 : prev260) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t268 = (x267.origin == t259);
-              if (t268) {
-                any266 = true;
-                break;
+            {
+              const auto& x267_list = prev260;
+              charge_loop(s.core, 17, int64_t(x267_list.size()));
+              for (const C2_Crate& x267 : x267_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t268 = (x267.origin == t259);
+                if (t268) {
+                  any266 = true;
+                  break;
+                }
               }
             }
             r265 = any266;
@@ -1101,24 +1257,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g276 = s.g_walls_24;
           bool any277 = false;
-          for (const C0_Wall& x278 : g276) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t279 = (x278.origin == t274);
-            if (t279) {
-              any277 = true;
-              break;
+          {
+            const auto& x278_list = g276;
+            charge_loop(s.core, 18, int64_t(x278_list.size()));
+            for (const C0_Wall& x278 : x278_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t279 = (x278.origin == t274);
+              if (t279) {
+                any277 = true;
+                break;
+              }
             }
           }
           bool r280{};
           if (!any277) {
             // inlined: function at programs/sokoban.au:46
             bool any281 = false;
-            for (const C2_Crate& x282 : prev275) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t283 = (x282.origin == t274);
-              if (t283) {
-                any281 = true;
-                break;
+            {
+              const auto& x282_list = prev275;
+              charge_loop(s.core, 17, int64_t(x282_list.size()));
+              for (const C2_Crate& x282 : x282_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t283 = (x282.origin == t274);
+                if (t283) {
+                  any281 = true;
+                  break;
+                }
               }
             }
             r280 = any281;
@@ -1166,12 +1330,16 @@ struct Prog {
         const std::vector<C2_Crate>& prev297 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any298 = false;
-        for (const C2_Crate& x299 : prev297) {
-          // inlined: function at programs/sokoban.au:46
-          const bool t300 = (x299.origin == t296);
-          if (t300) {
-            any298 = true;
-            break;
+        {
+          const auto& x299_list = prev297;
+          charge_loop(s.core, 17, int64_t(x299_list.size()));
+          for (const C2_Crate& x299 : x299_list) {
+            // inlined: function at programs/sokoban.au:46
+            const bool t300 = (x299.origin == t296);
+            if (t300) {
+              any298 = true;
+              break;
+            }
           }
         }
         bool r301{};
@@ -1189,24 +1357,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g310 = s.g_walls_24;
           bool any311 = false;
-          for (const C0_Wall& x312 : g310) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t313 = (x312.origin == t308);
-            if (t313) {
-              any311 = true;
-              break;
+          {
+            const auto& x312_list = g310;
+            charge_loop(s.core, 18, int64_t(x312_list.size()));
+            for (const C0_Wall& x312 : x312_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t313 = (x312.origin == t308);
+              if (t313) {
+                any311 = true;
+                break;
+              }
             }
           }
           bool r314{};
           if (!any311) {
             // inlined: function at programs/sokoban.au:46
             bool any315 = false;
-            for (const C2_Crate& x316 : prev309) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t317 = (x316.origin == t308);
-              if (t317) {
-                any315 = true;
-                break;
+            {
+              const auto& x316_list = prev309;
+              charge_loop(s.core, 17, int64_t(x316_list.size()));
+              for (const C2_Crate& x316 : x316_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t317 = (x316.origin == t308);
+                if (t317) {
+                  any315 = true;
+                  break;
+                }
               }
             }
             r314 = any315;
@@ -1225,44 +1401,56 @@ struct Prog {
           std::vector<C2_Crate>& updated321 = s.scratch.v.b17;
           updated321.clear();
           updated321.reserve(size_t(int32_t(prev320.size())));
-          for (const C2_Crate& x322 : prev320) {
-            // inlined: function at programs/sokoban.au:58
-            // inlined: function at programs/sokoban.au:50
-            const C3_Keeper& prev323 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
-            const int32_t t324 = add(prev323.origin.x, int32_t(0));
-            const int32_t t325 = add(prev323.origin.y, int32_t(1));
-            const Pos t326 = Pos{t324, t325};
-            const bool t327 = (x322.origin == t326);
-            if (t327) {
+          {
+            const auto& x322_list = prev320;
+            charge_loop(s.core, 19, int64_t(x322_list.size()));
+            for (const C2_Crate& x322 : x322_list) {
               // inlined: function at programs/sokoban.au:58
-              const int32_t t328 = add(x322.origin.x, int32_t(0));
-              const int32_t t329 = add(x322.origin.y, int32_t(1));
-              const Pos t330 = Pos{t328, t329};
-              C2_Crate upd331 = x322;
-              upd331.origin = t330;
-              updated321.push_back(std::move(upd331));
-            } else {
-              updated321.push_back(x322);
+              // inlined: function at programs/sokoban.au:50
+              const C3_Keeper& prev323 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
+              const int32_t t324 = add(prev323.origin.x, int32_t(0));
+              const int32_t t325 = add(prev323.origin.y, int32_t(1));
+              const Pos t326 = Pos{t324, t325};
+              const bool t327 = (x322.origin == t326);
+              if (t327) {
+                // inlined: function at programs/sokoban.au:58
+                const int32_t t328 = add(x322.origin.x, int32_t(0));
+                const int32_t t329 = add(x322.origin.y, int32_t(1));
+                const Pos t330 = Pos{t328, t329};
+                C2_Crate upd331 = x322;
+                upd331.origin = t330;
+                updated321.push_back(std::move(upd331));
+              } else {
+                updated321.push_back(x322);
+              }
             }
           }
           // inlined: function at programs/sokoban.au:24
           std::vector<C2_Crate>& out332 = s.scratch.v.b18;
           out332.clear();
           out332.reserve(size_t(int32_t(updated321.size())));
-          for (const C2_Crate& x333 : updated321) {
-            // inlined: function at programs/sokoban.au:24
-            const std::vector<Pos>& g334 = s.g_goalSpots_5;
-            bool any335 = false;
-            for (const Pos& x336 : g334) {
-              const bool t337 = (x336 == x333.origin);
-              if (t337) {
-                any335 = true;
-                break;
+          {
+            const auto& x333_list = updated321;
+            charge_loop(s.core, 20, int64_t(x333_list.size()));
+            for (const C2_Crate& x333 : x333_list) {
+              // inlined: function at programs/sokoban.au:24
+              const std::vector<Pos>& g334 = s.g_goalSpots_5;
+              bool any335 = false;
+              {
+                const auto& x336_list = g334;
+                charge_loop(s.core, 21, int64_t(x336_list.size()));
+                for (const Pos& x336 : x336_list) {
+                  const bool t337 = (x336 == x333.origin);
+                  if (t337) {
+                    any335 = true;
+                    break;
+                  }
+                }
               }
+              C2_Crate upd338 = x333;
+              upd338.f0 = any335;
+              out332.push_back(std::move(upd338));
             }
-            C2_Crate upd338 = x333;
-            upd338.f0 = any335;
-            out332.push_back(std::move(upd338));
           }
           std::swap(r319, out332);
         } else {
@@ -1293,12 +1481,16 @@ struct Prog {
         const std::vector<C2_Crate>& prev345 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
         // inlined: function at programs/sokoban.au:46
         bool any346 = false;
-        for (const C2_Crate& x347 : prev345) {
-          // inlined: function at programs/sokoban.au:46
-          const bool t348 = (x347.origin == t344);
-          if (t348) {
-            any346 = true;
-            break;
+        {
+          const auto& x347_list = prev345;
+          charge_loop(s.core, 17, int64_t(x347_list.size()));
+          for (const C2_Crate& x347 : x347_list) {
+            // inlined: function at programs/sokoban.au:46
+            const bool t348 = (x347.origin == t344);
+            if (t348) {
+              any346 = true;
+              break;
+            }
           }
         }
         bool r349{};
@@ -1316,24 +1508,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g358 = s.g_walls_24;
           bool any359 = false;
-          for (const C0_Wall& x360 : g358) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t361 = (x360.origin == t356);
-            if (t361) {
-              any359 = true;
-              break;
+          {
+            const auto& x360_list = g358;
+            charge_loop(s.core, 18, int64_t(x360_list.size()));
+            for (const C0_Wall& x360 : x360_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t361 = (x360.origin == t356);
+              if (t361) {
+                any359 = true;
+                break;
+              }
             }
           }
           bool r362{};
           if (!any359) {
             // inlined: function at programs/sokoban.au:46
             bool any363 = false;
-            for (const C2_Crate& x364 : prev357) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t365 = (x364.origin == t356);
-              if (t365) {
-                any363 = true;
-                break;
+            {
+              const auto& x364_list = prev357;
+              charge_loop(s.core, 17, int64_t(x364_list.size()));
+              for (const C2_Crate& x364 : x364_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t365 = (x364.origin == t356);
+                if (t365) {
+                  any363 = true;
+                  break;
+                }
               }
             }
             r362 = any363;
@@ -1357,24 +1557,32 @@ struct Prog {
           // inlined: function at programs/sokoban.au:45
           const std::vector<C0_Wall>& g373 = s.g_walls_24;
           bool any374 = false;
-          for (const C0_Wall& x375 : g373) {
-            // inlined: function at programs/sokoban.au:45
-            const bool t376 = (x375.origin == t371);
-            if (t376) {
-              any374 = true;
-              break;
+          {
+            const auto& x375_list = g373;
+            charge_loop(s.core, 18, int64_t(x375_list.size()));
+            for (const C0_Wall& x375 : x375_list) {
+              // inlined: function at programs/sokoban.au:45
+              const bool t376 = (x375.origin == t371);
+              if (t376) {
+                any374 = true;
+                break;
+              }
             }
           }
           bool r377{};
           if (!any374) {
             // inlined: function at programs/sokoban.au:46
             bool any378 = false;
-            for (const C2_Crate& x379 : prev372) {
-              // inlined: function at programs/sokoban.au:46
-              const bool t380 = (x379.origin == t371);
-              if (t380) {
-                any378 = true;
-                break;
+            {
+              const auto& x379_list = prev372;
+              charge_loop(s.core, 17, int64_t(x379_list.size()));
+              for (const C2_Crate& x379 : x379_list) {
+                // inlined: function at programs/sokoban.au:46
+                const bool t380 = (x379.origin == t371);
+                if (t380) {
+                  any378 = true;
+                  break;
+                }
               }
             }
             r377 = any378;
@@ -1418,10 +1626,14 @@ struct Prog {
         std::vector<Elem>& rendered392 = s.scratch.v.b19;
         rendered392.clear();
         rendered392.push_back(Elem{Pos{add(g389.origin.x, int32_t(0)), add(g389.origin.y, int32_t(0))}, int32_t(2)});
-        for (const Elem& e393 : rendered392) {
-          if ((e393.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked390 = true;
-            break;
+        {
+          const auto& e393_list = rendered392;
+          charge_loop(s.core, 22, int64_t(e393_list.size()));
+          for (const Elem& e393 : e393_list) {
+            if ((e393.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked390 = true;
+              break;
+            }
           }
         }
       }
@@ -1431,29 +1643,41 @@ struct Prog {
         std::vector<C2_Crate>& out395 = s.scratch.v.b20;
         out395.clear();
         out395.reserve(size_t(int32_t(g394.size())));
-        for (const Pos& x396 : g394) {
-          // inlined: function at programs/sokoban.au:72
-          C2_Crate o397 = C2_Crate{false, x396};
-          out395.push_back(std::move(o397));
+        {
+          const auto& x396_list = g394;
+          charge_loop(s.core, 23, int64_t(x396_list.size()));
+          for (const Pos& x396 : x396_list) {
+            // inlined: function at programs/sokoban.au:72
+            C2_Crate o397 = C2_Crate{false, x396};
+            out395.push_back(std::move(o397));
+          }
         }
         // inlined: function at programs/sokoban.au:24
         std::vector<C2_Crate>& out398 = s.scratch.v.b21;
         out398.clear();
         out398.reserve(size_t(int32_t(out395.size())));
-        for (const C2_Crate& x399 : out395) {
-          // inlined: function at programs/sokoban.au:24
-          const std::vector<Pos>& g400 = s.g_goalSpots_5;
-          bool any401 = false;
-          for (const Pos& x402 : g400) {
-            const bool t403 = (x402 == x399.origin);
-            if (t403) {
-              any401 = true;
-              break;
+        {
+          const auto& x399_list = out395;
+          charge_loop(s.core, 20, int64_t(x399_list.size()));
+          for (const C2_Crate& x399 : x399_list) {
+            // inlined: function at programs/sokoban.au:24
+            const std::vector<Pos>& g400 = s.g_goalSpots_5;
+            bool any401 = false;
+            {
+              const auto& x402_list = g400;
+              charge_loop(s.core, 21, int64_t(x402_list.size()));
+              for (const Pos& x402 : x402_list) {
+                const bool t403 = (x402 == x399.origin);
+                if (t403) {
+                  any401 = true;
+                  break;
+                }
+              }
             }
+            C2_Crate upd404 = x399;
+            upd404.f0 = any401;
+            out398.push_back(std::move(upd404));
           }
-          C2_Crate upd404 = x399;
-          upd404.f0 = any401;
-          out398.push_back(std::move(upd404));
         }
         if (!s.scratch.v.sv_crates_15) {
           std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
@@ -1476,12 +1700,16 @@ struct Prog {
       const std::vector<C2_Crate>& g407 = s.g_crates_12;
       // inlined: function at programs/sokoban.au:23
       bool any408 = false;
-      for (const C2_Crate& x409 : g407) {
-        // inlined: function at programs/sokoban.au:23
-        const bool t410 = !x409.f0;
-        if (t410) {
-          any408 = true;
-          break;
+      {
+        const auto& x409_list = g407;
+        charge_loop(s.core, 24, int64_t(x409_list.size()));
+        for (const C2_Crate& x409 : x409_list) {
+          // inlined: function at programs/sokoban.au:23
+          const bool t410 = !x409.f0;
+          if (t410) {
+            any408 = true;
+            break;
+          }
         }
       }
       const bool t411 = !any408;
@@ -1495,12 +1723,16 @@ struct Prog {
       const std::vector<C2_Crate>& g412 = s.g_crates_12;
       // inlined: function at programs/sokoban.au:23
       bool any413 = false;
-      for (const C2_Crate& x414 : g412) {
-        // inlined: function at programs/sokoban.au:23
-        const bool t415 = !x414.f0;
-        if (t415) {
-          any413 = true;
-          break;
+      {
+        const auto& x414_list = g412;
+        charge_loop(s.core, 24, int64_t(x414_list.size()));
+        for (const C2_Crate& x414 : x414_list) {
+          // inlined: function at programs/sokoban.au:23
+          const bool t415 = !x414.f0;
+          if (t415) {
+            any413 = true;
+            break;
+          }
         }
       }
       const bool t416 = !any413;
@@ -1562,49 +1794,49 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_29) {
-      tally_rendered(s.core, 11, "cacheRendered");
+      tally_rendered(s.core, 25, "cacheRendered");
       const std::vector<C0_Wall>& g423 = s.g_walls_24;
-      tally_global(s.core, 2, "walls", g423);
+      tally_global(s.core, 8, "walls", g423);
       const std::vector<C1_Goal>& g424 = s.g_goals_16;
-      tally_global(s.core, 3, "goals", g424);
+      tally_global(s.core, 9, "goals", g424);
       const C4_Button& g425 = s.g_reset_8;
-      tally_global(s.core, 4, "reset", g425);
+      tally_global(s.core, 10, "reset", g425);
       const std::vector<Pos>& g426 = s.g_crateStarts_6;
-      tally_global(s.core, 5, "crateStarts", g426);
+      tally_global(s.core, 11, "crateStarts", g426);
       const std::vector<Pos>& g427 = s.g_goalSpots_5;
-      tally_global(s.core, 6, "goalSpots", g427);
+      tally_global(s.core, 12, "goalSpots", g427);
       if (s.d_click_29) {
         const Pos& g428 = s.g_click_28;
-        tally_global(s.core, 11, "click", g428);
+        tally_global(s.core, 25, "click", g428);
       }
       const std::vector<C2_Crate>& g429 = s.g_crates_12;
-      tally_global(s.core, 7, "crates", g429);
+      tally_global(s.core, 13, "crates", g429);
       const std::vector<Pos>& g430 = s.g_innerWalls_4;
-      tally_global(s.core, 8, "innerWalls", g430);
+      tally_global(s.core, 14, "innerWalls", g430);
       const Pos& g431 = s.g_keeperStart_7;
-      tally_global(s.core, 9, "keeperStart", g431);
+      tally_global(s.core, 15, "keeperStart", g431);
       const C3_Keeper& g432 = s.g_keeper_20;
-      tally_global(s.core, 10, "keeper", g432);
+      tally_global(s.core, 16, "keeper", g432);
     } else {
-      tally_rendered(s.core, 11, "cacheRendered");
+      tally_rendered(s.core, 25, "cacheRendered");
       const std::vector<C0_Wall>& g433 = s.g_walls_24;
-      tally_global(s.core, 2, "walls", g433);
+      tally_global(s.core, 8, "walls", g433);
       const std::vector<C1_Goal>& g434 = s.g_goals_16;
-      tally_global(s.core, 3, "goals", g434);
+      tally_global(s.core, 9, "goals", g434);
       const C4_Button& g435 = s.g_reset_8;
-      tally_global(s.core, 4, "reset", g435);
+      tally_global(s.core, 10, "reset", g435);
       const std::vector<Pos>& g436 = s.g_crateStarts_6;
-      tally_global(s.core, 5, "crateStarts", g436);
+      tally_global(s.core, 11, "crateStarts", g436);
       const std::vector<Pos>& g437 = s.g_goalSpots_5;
-      tally_global(s.core, 6, "goalSpots", g437);
+      tally_global(s.core, 12, "goalSpots", g437);
       const std::vector<C2_Crate>& g438 = s.g_crates_12;
-      tally_global(s.core, 7, "crates", g438);
+      tally_global(s.core, 13, "crates", g438);
       const std::vector<Pos>& g439 = s.g_innerWalls_4;
-      tally_global(s.core, 8, "innerWalls", g439);
+      tally_global(s.core, 14, "innerWalls", g439);
       const Pos& g440 = s.g_keeperStart_7;
-      tally_global(s.core, 9, "keeperStart", g440);
+      tally_global(s.core, 15, "keeperStart", g440);
       const C3_Keeper& g441 = s.g_keeper_20;
-      tally_global(s.core, 10, "keeper", g441);
+      tally_global(s.core, 16, "keeper", g441);
     }
     s.core.clear_inputs();
   }
@@ -1615,23 +1847,35 @@ struct Prog {
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Wall>& g1 = s.g_walls_24;
-    for (const C0_Wall& x2 : g1) {
-      const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(6)};
-      s.core.occupied.add(e3.position);
-      ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+    {
+      const auto& x2_list = g1;
+      charge_loop(s.core, 26, int64_t(x2_list.size()));
+      for (const C0_Wall& x2 : x2_list) {
+        const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(6)};
+        s.core.occupied.add(e3.position);
+        ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+      }
     }
     const std::vector<C1_Goal>& g4 = s.g_goals_16;
-    for (const C1_Goal& x5 : g4) {
-      const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
-      s.core.occupied.add(e6.position);
-      ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
+    {
+      const auto& x5_list = g4;
+      charge_loop(s.core, 26, int64_t(x5_list.size()));
+      for (const C1_Goal& x5 : x5_list) {
+        const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
+        s.core.occupied.add(e6.position);
+        ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
+      }
     }
     const std::vector<C2_Crate>& g7 = s.g_crates_12;
-    for (const C2_Crate& x8 : g7) {
-      const int32_t colour9 = colour_1_C2_Crate(s, x8);
-      const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
-      s.core.occupied.add(e10.position);
-      ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
+    {
+      const auto& x8_list = g7;
+      charge_loop(s.core, 26, int64_t(x8_list.size()));
+      for (const C2_Crate& x8 : x8_list) {
+        const int32_t colour9 = colour_1_C2_Crate(s, x8);
+        const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
+        s.core.occupied.add(e10.position);
+        ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
+      }
     }
     const C3_Keeper& g11 = s.g_keeper_20;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(5)};
@@ -1717,8 +1961,14 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {37, 36, nullptr, true, 37, 36, "initialising 'crates': "},
+    {24, 27, nullptr, true, 24, 27, "initialising 'crates': "},
+    {149, 20, "<stdlib>", true, 24, 68, "initialising 'crates': "},
+    {34, 22, nullptr, true, 34, 22, "initialising 'goals': "},
     {29, 79, nullptr, true, 29, 79, "initialising 'walls': "},
+    {29, 24, nullptr, true, 29, 24, "initialising 'walls': "},
     {29, 10, nullptr, true, 29, 10, "initialising 'walls': "},
+    {28, 5, nullptr, true, 28, 5, "initialising 'walls': "},
     {27, 3, nullptr, true, 27, 3, ""},
     {34, 3, nullptr, true, 34, 3, ""},
     {43, 3, nullptr, true, 43, 3, ""},
@@ -1728,7 +1978,16 @@ const ErrorSite Prog::kErrors[] = {
     {16, 3, nullptr, true, 16, 3, ""},
     {19, 3, nullptr, true, 19, 3, ""},
     {40, 3, nullptr, true, 40, 3, ""},
+    {46, 25, nullptr, true, 46, 25, ""},
+    {45, 21, nullptr, true, 45, 21, ""},
+    {58, 25, nullptr, true, 58, 25, ""},
+    {24, 27, nullptr, true, 24, 27, ""},
+    {149, 20, "<stdlib>", true, 24, 68, ""},
+    {70, 7, nullptr, true, 70, 7, ""},
+    {72, 30, nullptr, true, 72, 30, ""},
+    {23, 26, nullptr, true, 23, 26, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

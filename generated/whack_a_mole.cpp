@@ -368,10 +368,14 @@ struct Prog {
     std::vector<C0_Burrow>& out4 = s.scratch.v.b0;
     out4.clear();
     out4.reserve(size_t(int32_t(g3.size())));
-    for (const Pos& x5 : g3) {
-      // inlined: function at programs/whack_a_mole.au:25
-      C0_Burrow o6 = C0_Burrow{x5};
-      out4.push_back(std::move(o6));
+    {
+      const auto& x5_list = g3;
+      charge_loop(s.core, 0, int64_t(x5_list.size()));
+      for (const Pos& x5 : x5_list) {
+        // inlined: function at programs/whack_a_mole.au:25
+        C0_Burrow o6 = C0_Burrow{x5};
+        out4.push_back(std::move(o6));
+      }
     }
     std::swap(s.g_burrows_22, out4);
     s.u_burrows_23 = false;
@@ -383,15 +387,15 @@ struct Prog {
     s.u_time_31 = false;
     s.core.tally.v = StateTally{};
     const std::vector<C2_Flash>& g7 = s.g_flashes_26;
-    tally_global(s.core, 0, "flashes", g7);
+    tally_global(s.core, 1, "flashes", g7);
     const std::vector<C0_Burrow>& g8 = s.g_burrows_22;
-    tally_global(s.core, 1, "burrows", g8);
+    tally_global(s.core, 2, "burrows", g8);
     const C3_ScoreBar& g9 = s.g_bar_6;
-    tally_global(s.core, 2, "bar", g9);
+    tally_global(s.core, 3, "bar", g9);
     const std::vector<Pos>& g10 = s.g_burrowSpots_4;
-    tally_global(s.core, 3, "burrowSpots", g10);
+    tally_global(s.core, 4, "burrowSpots", g10);
     const std::vector<C1_Mole>& g11 = s.g_moles_18;
-    tally_global(s.core, 4, "moles", g11);
+    tally_global(s.core, 5, "moles", g11);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -425,14 +429,22 @@ struct Prog {
           s.g_click_34 = t6;
           std::vector<Elem>& rendered7 = s.scratch.v.b1;
           rendered7.clear();
-          for (const C1_Mole& x8 : prev4) {
-            const int32_t colour9 = colour_11_C1_Mole(s, x8);
-            rendered7.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
+          {
+            const auto& x8_list = prev4;
+            charge_loop(s.core, 6, int64_t(x8_list.size()));
+            for (const C1_Mole& x8 : x8_list) {
+              const int32_t colour9 = colour_11_C1_Mole(s, x8);
+              rendered7.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
+            }
           }
-          for (const Elem& e10 : rendered7) {
-            if ((e10.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked5 = true;
-              break;
+          {
+            const auto& e10_list = rendered7;
+            charge_loop(s.core, 6, int64_t(e10_list.size()));
+            for (const Elem& e10 : e10_list) {
+              if ((e10.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked5 = true;
+                break;
+              }
             }
           }
         }
@@ -447,45 +459,61 @@ struct Prog {
         std::vector<C1_Mole>& out12 = s.scratch.v.b2;
         out12.clear();
         out12.reserve(size_t(int32_t(prev11.size())));
-        for (const C1_Mole& x13 : prev11) {
-          // inlined: function at programs/whack_a_mole.au:47
-          const int32_t t14 = sub(x13.f0, int32_t(1));
-          C1_Mole upd15 = x13;
-          upd15.f0 = t14;
-          out12.push_back(std::move(upd15));
+        {
+          const auto& x13_list = prev11;
+          charge_loop(s.core, 7, int64_t(x13_list.size()));
+          for (const C1_Mole& x13 : x13_list) {
+            // inlined: function at programs/whack_a_mole.au:47
+            const int32_t t14 = sub(x13.f0, int32_t(1));
+            C1_Mole upd15 = x13;
+            upd15.f0 = t14;
+            out12.push_back(std::move(upd15));
+          }
         }
         std::vector<C1_Mole>& out16 = s.scratch.v.b3;
         out16.clear();
-        for (const C1_Mole& x17 : out12) {
-          // inlined: function at programs/whack_a_mole.au:46
-          const bool t18 = (x17.f0 > int32_t(0));
-          if (t18) {
-            out16.push_back(x17);
+        {
+          const auto& x17_list = out12;
+          charge_loop(s.core, 8, int64_t(x17_list.size()));
+          for (const C1_Mole& x17 : x17_list) {
+            // inlined: function at programs/whack_a_mole.au:46
+            const bool t18 = (x17.f0 > int32_t(0));
+            if (t18) {
+              out16.push_back(x17);
+            }
           }
         }
         std::vector<C1_Mole>& out19 = s.scratch.v.b4;
         out19.clear();
-        for (const C1_Mole& x20 : out16) {
-          // inlined: function at programs/whack_a_mole.au:56
-          bool clicked21 = false;
-          if (s.core.click) {
-            s.d_click_35 = true;
-            const Pos t22 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_34 = t22;
-            std::vector<Elem>& rendered23 = s.scratch.v.b5;
-            rendered23.clear();
-            const int32_t colour24 = colour_11_C1_Mole(s, x20);
-            rendered23.push_back(Elem{Pos{add(x20.origin.x, int32_t(0)), add(x20.origin.y, int32_t(0))}, colour24});
-            for (const Elem& e25 : rendered23) {
-              if ((e25.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked21 = true;
-                break;
+        {
+          const auto& x20_list = out16;
+          charge_loop(s.core, 9, int64_t(x20_list.size()));
+          for (const C1_Mole& x20 : x20_list) {
+            // inlined: function at programs/whack_a_mole.au:56
+            bool clicked21 = false;
+            if (s.core.click) {
+              s.d_click_35 = true;
+              const Pos t22 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_34 = t22;
+              std::vector<Elem>& rendered23 = s.scratch.v.b5;
+              rendered23.clear();
+              const int32_t colour24 = colour_11_C1_Mole(s, x20);
+              rendered23.push_back(Elem{Pos{add(x20.origin.x, int32_t(0)), add(x20.origin.y, int32_t(0))}, colour24});
+              {
+                const auto& e25_list = rendered23;
+                charge_loop(s.core, 10, int64_t(e25_list.size()));
+                for (const Elem& e25 : e25_list) {
+                  if ((e25.position == Pos{s.core.click_x, s.core.click_y})) {
+                    clicked21 = true;
+                    break;
+                  }
+                }
               }
             }
-          }
-          const bool t26 = !clicked21;
-          if (t26) {
-            out19.push_back(x20);
+            const bool t26 = !clicked21;
+            if (t26) {
+              out19.push_back(x20);
+            }
           }
         }
         if (!s.scratch.v.sv_moles_21) {
@@ -515,23 +543,27 @@ struct Prog {
           const Pos& g33 = s.g_click_34;
           r32 = g33;
         } else {
-          fail_at(5, std::string() + std::string("undefined variable 'click'"));
+          fail_at(11, std::string() + std::string("undefined variable 'click'"));
         }
         Pos r34{};
         if (s.d_click_35) {
           const Pos& g35 = s.g_click_34;
           r34 = g35;
         } else {
-          fail_at(6, std::string() + std::string("undefined variable 'click'"));
+          fail_at(12, std::string() + std::string("undefined variable 'click'"));
         }
         const Pos t36 = Pos{r32.x, r34.y};
         C2_Flash o37 = C2_Flash{int32_t(2), t36};
-        check_length(s.core, 7, int64_t(g31.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 13, int64_t(g31.size()) + int64_t(int32_t(1)));
         std::vector<C2_Flash>& added38 = s.scratch.v.b6;
         added38.clear();
         added38.reserve(size_t(add(int32_t(g31.size()), int32_t(1))));
-        for (const C2_Flash& x39 : g31) {
-          added38.push_back(x39);
+        {
+          const auto& x39_list = g31;
+          charge_loop(s.core, 13, int64_t(x39_list.size()));
+          for (const C2_Flash& x39 : x39_list) {
+            added38.push_back(x39);
+          }
         }
         added38.push_back(std::move(o37));
         if (!s.scratch.v.sv_flashes_29) {
@@ -565,14 +597,22 @@ struct Prog {
             s.g_click_34 = t48;
             std::vector<Elem>& rendered49 = s.scratch.v.b7;
             rendered49.clear();
-            for (const C1_Mole& x50 : prev46) {
-              const int32_t colour51 = colour_11_C1_Mole(s, x50);
-              rendered49.push_back(Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour51});
+            {
+              const auto& x50_list = prev46;
+              charge_loop(s.core, 14, int64_t(x50_list.size()));
+              for (const C1_Mole& x50 : x50_list) {
+                const int32_t colour51 = colour_11_C1_Mole(s, x50);
+                rendered49.push_back(Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour51});
+              }
             }
-            for (const Elem& e52 : rendered49) {
-              if ((e52.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked47 = true;
-                break;
+            {
+              const auto& e52_list = rendered49;
+              charge_loop(s.core, 14, int64_t(e52_list.size()));
+              for (const Elem& e52 : e52_list) {
+                if ((e52.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked47 = true;
+                  break;
+                }
               }
             }
           }
@@ -592,20 +632,28 @@ struct Prog {
         std::vector<C1_Mole>& out55 = s.scratch.v.b8;
         out55.clear();
         out55.reserve(size_t(int32_t(prev54.size())));
-        for (const C1_Mole& x56 : prev54) {
-          // inlined: function at programs/whack_a_mole.au:47
-          const int32_t t57 = sub(x56.f0, int32_t(1));
-          C1_Mole upd58 = x56;
-          upd58.f0 = t57;
-          out55.push_back(std::move(upd58));
+        {
+          const auto& x56_list = prev54;
+          charge_loop(s.core, 7, int64_t(x56_list.size()));
+          for (const C1_Mole& x56 : x56_list) {
+            // inlined: function at programs/whack_a_mole.au:47
+            const int32_t t57 = sub(x56.f0, int32_t(1));
+            C1_Mole upd58 = x56;
+            upd58.f0 = t57;
+            out55.push_back(std::move(upd58));
+          }
         }
         std::vector<C1_Mole>& out59 = s.scratch.v.b9;
         out59.clear();
-        for (const C1_Mole& x60 : out55) {
-          // inlined: function at programs/whack_a_mole.au:46
-          const bool t61 = (x60.f0 > int32_t(0));
-          if (t61) {
-            out59.push_back(x60);
+        {
+          const auto& x60_list = out55;
+          charge_loop(s.core, 8, int64_t(x60_list.size()));
+          for (const C1_Mole& x60 : x60_list) {
+            // inlined: function at programs/whack_a_mole.au:46
+            const bool t61 = (x60.f0 > int32_t(0));
+            if (t61) {
+              out59.push_back(x60);
+            }
           }
         }
         if (!s.scratch.v.sv_moles_21) {
@@ -655,20 +703,28 @@ struct Prog {
         std::vector<C1_Mole>& out72 = s.scratch.v.b10;
         out72.clear();
         out72.reserve(size_t(int32_t(prev71.size())));
-        for (const C1_Mole& x73 : prev71) {
-          // inlined: function at programs/whack_a_mole.au:47
-          const int32_t t74 = sub(x73.f0, int32_t(1));
-          C1_Mole upd75 = x73;
-          upd75.f0 = t74;
-          out72.push_back(std::move(upd75));
+        {
+          const auto& x73_list = prev71;
+          charge_loop(s.core, 7, int64_t(x73_list.size()));
+          for (const C1_Mole& x73 : x73_list) {
+            // inlined: function at programs/whack_a_mole.au:47
+            const int32_t t74 = sub(x73.f0, int32_t(1));
+            C1_Mole upd75 = x73;
+            upd75.f0 = t74;
+            out72.push_back(std::move(upd75));
+          }
         }
         std::vector<C1_Mole>& out76 = s.scratch.v.b11;
         out76.clear();
-        for (const C1_Mole& x77 : out72) {
-          // inlined: function at programs/whack_a_mole.au:46
-          const bool t78 = (x77.f0 > int32_t(0));
-          if (t78) {
-            out76.push_back(x77);
+        {
+          const auto& x77_list = out72;
+          charge_loop(s.core, 8, int64_t(x77_list.size()));
+          for (const C1_Mole& x77 : x77_list) {
+            // inlined: function at programs/whack_a_mole.au:46
+            const bool t78 = (x77.f0 > int32_t(0));
+            if (t78) {
+              out76.push_back(x77);
+            }
           }
         }
         if (!s.scratch.v.sv_moles_21) {
@@ -695,20 +751,28 @@ struct Prog {
           const std::vector<Pos>& g87 = s.g_burrowSpots_4;
           std::vector<Pos>& out88 = s.scratch.v.b12;
           out88.clear();
-          for (const Pos& x89 : g87) {
-            // inlined: function at programs/whack_a_mole.au:51
-            bool any90 = false;
-            for (const C1_Mole& x91 : g86) {
+          {
+            const auto& x89_list = g87;
+            charge_loop(s.core, 15, int64_t(x89_list.size()));
+            for (const Pos& x89 : x89_list) {
               // inlined: function at programs/whack_a_mole.au:51
-              const bool t92 = (x91.origin == x89);
-              if (t92) {
-                any90 = true;
-                break;
+              bool any90 = false;
+              {
+                const auto& x91_list = g86;
+                charge_loop(s.core, 16, int64_t(x91_list.size()));
+                for (const C1_Mole& x91 : x91_list) {
+                  // inlined: function at programs/whack_a_mole.au:51
+                  const bool t92 = (x91.origin == x89);
+                  if (t92) {
+                    any90 = true;
+                    break;
+                  }
+                }
               }
-            }
-            const bool t93 = !any90;
-            if (t93) {
-              out88.push_back(x89);
+              const bool t93 = !any90;
+              if (t93) {
+                out88.push_back(x89);
+              }
             }
           }
           const int32_t t94 = int32_t(out88.size());
@@ -726,7 +790,7 @@ struct Prog {
         const std::vector<C1_Mole>& g96 = s.g_moles_18;
         const std::vector<int32_t> list97 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
         if (list97.empty()) {
-          fail_at(8, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(17, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t98 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list97.size())))));
         const int32_t t99 = list97[size_t(t98)];
@@ -735,34 +799,46 @@ struct Prog {
         const std::vector<Pos>& g101 = s.g_burrowSpots_4;
         std::vector<Pos>& out102 = s.scratch.v.b13;
         out102.clear();
-        for (const Pos& x103 : g101) {
-          // inlined: function at programs/whack_a_mole.au:51
-          bool any104 = false;
-          for (const C1_Mole& x105 : g100) {
+        {
+          const auto& x103_list = g101;
+          charge_loop(s.core, 15, int64_t(x103_list.size()));
+          for (const Pos& x103 : x103_list) {
             // inlined: function at programs/whack_a_mole.au:51
-            const bool t106 = (x105.origin == x103);
-            if (t106) {
-              any104 = true;
-              break;
+            bool any104 = false;
+            {
+              const auto& x105_list = g100;
+              charge_loop(s.core, 16, int64_t(x105_list.size()));
+              for (const C1_Mole& x105 : x105_list) {
+                // inlined: function at programs/whack_a_mole.au:51
+                const bool t106 = (x105.origin == x103);
+                if (t106) {
+                  any104 = true;
+                  break;
+                }
+              }
             }
-          }
-          const bool t107 = !any104;
-          if (t107) {
-            out102.push_back(x103);
+            const bool t107 = !any104;
+            if (t107) {
+              out102.push_back(x103);
+            }
           }
         }
         if (out102.empty()) {
-          fail_at(9, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(18, std::string() + std::string("uniformChoice of an empty list"));
         }
         const int32_t t108 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out102.size())))));
         const Pos t109 = out102[size_t(t108)];
         C1_Mole o110 = C1_Mole{t99, t109};
-        check_length(s.core, 10, int64_t(g96.size()) + int64_t(int32_t(1)));
+        check_length(s.core, 19, int64_t(g96.size()) + int64_t(int32_t(1)));
         std::vector<C1_Mole>& added111 = s.scratch.v.b14;
         added111.clear();
         added111.reserve(size_t(add(int32_t(g96.size()), int32_t(1))));
-        for (const C1_Mole& x112 : g96) {
-          added111.push_back(x112);
+        {
+          const auto& x112_list = g96;
+          charge_loop(s.core, 19, int64_t(x112_list.size()));
+          for (const C1_Mole& x112 : x112_list) {
+            added111.push_back(x112);
+          }
         }
         added111.push_back(std::move(o110));
         if (!s.scratch.v.sv_moles_21) {
@@ -908,22 +984,30 @@ struct Prog {
       const std::vector<C2_Flash>& prev134 = (s.scratch.v.sv_flashes_29 ? s.scratch.v.p_flashes_28 : s.g_flashes_26);
       std::vector<C2_Flash>& out135 = s.scratch.v.b15;
       out135.clear();
-      for (const C2_Flash& x136 : prev134) {
-        // inlined: function at programs/whack_a_mole.au:32
-        const bool t137 = (x136.f0 > int32_t(1));
-        if (t137) {
-          out135.push_back(x136);
+      {
+        const auto& x136_list = prev134;
+        charge_loop(s.core, 20, int64_t(x136_list.size()));
+        for (const C2_Flash& x136 : x136_list) {
+          // inlined: function at programs/whack_a_mole.au:32
+          const bool t137 = (x136.f0 > int32_t(1));
+          if (t137) {
+            out135.push_back(x136);
+          }
         }
       }
       std::vector<C2_Flash>& out138 = s.scratch.v.b16;
       out138.clear();
       out138.reserve(size_t(int32_t(out135.size())));
-      for (const C2_Flash& x139 : out135) {
-        // inlined: function at programs/whack_a_mole.au:33
-        const int32_t t140 = sub(x139.f0, int32_t(1));
-        C2_Flash upd141 = x139;
-        upd141.f0 = t140;
-        out138.push_back(std::move(upd141));
+      {
+        const auto& x139_list = out135;
+        charge_loop(s.core, 21, int64_t(x139_list.size()));
+        for (const C2_Flash& x139 : x139_list) {
+          // inlined: function at programs/whack_a_mole.au:33
+          const int32_t t140 = sub(x139.f0, int32_t(1));
+          C2_Flash upd141 = x139;
+          upd141.f0 = t140;
+          out138.push_back(std::move(upd141));
+        }
       }
       if (!s.scratch.v.sv_flashes_29) {
         std::swap(s.scratch.v.p_flashes_28, s.g_flashes_26);
@@ -945,33 +1029,33 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_35) {
-      tally_rendered(s.core, 11, "cacheRendered");
+      tally_rendered(s.core, 22, "cacheRendered");
       const std::vector<C2_Flash>& g144 = s.g_flashes_26;
-      tally_global(s.core, 0, "flashes", g144);
+      tally_global(s.core, 1, "flashes", g144);
       const std::vector<C0_Burrow>& g145 = s.g_burrows_22;
-      tally_global(s.core, 1, "burrows", g145);
+      tally_global(s.core, 2, "burrows", g145);
       const C3_ScoreBar& g146 = s.g_bar_6;
-      tally_global(s.core, 2, "bar", g146);
+      tally_global(s.core, 3, "bar", g146);
       const std::vector<Pos>& g147 = s.g_burrowSpots_4;
-      tally_global(s.core, 3, "burrowSpots", g147);
+      tally_global(s.core, 4, "burrowSpots", g147);
       if (s.d_click_35) {
         const Pos& g148 = s.g_click_34;
-        tally_global(s.core, 11, "click", g148);
+        tally_global(s.core, 22, "click", g148);
       }
       const std::vector<C1_Mole>& g149 = s.g_moles_18;
-      tally_global(s.core, 4, "moles", g149);
+      tally_global(s.core, 5, "moles", g149);
     } else {
-      tally_rendered(s.core, 11, "cacheRendered");
+      tally_rendered(s.core, 22, "cacheRendered");
       const std::vector<C2_Flash>& g150 = s.g_flashes_26;
-      tally_global(s.core, 0, "flashes", g150);
+      tally_global(s.core, 1, "flashes", g150);
       const std::vector<C0_Burrow>& g151 = s.g_burrows_22;
-      tally_global(s.core, 1, "burrows", g151);
+      tally_global(s.core, 2, "burrows", g151);
       const C3_ScoreBar& g152 = s.g_bar_6;
-      tally_global(s.core, 2, "bar", g152);
+      tally_global(s.core, 3, "bar", g152);
       const std::vector<Pos>& g153 = s.g_burrowSpots_4;
-      tally_global(s.core, 3, "burrowSpots", g153);
+      tally_global(s.core, 4, "burrowSpots", g153);
       const std::vector<C1_Mole>& g154 = s.g_moles_18;
-      tally_global(s.core, 4, "moles", g154);
+      tally_global(s.core, 5, "moles", g154);
     }
     s.core.clear_inputs();
   }
@@ -982,24 +1066,36 @@ struct Prog {
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, pal[s.g_background_2]);
     const std::vector<C0_Burrow>& g1 = s.g_burrows_22;
-    for (const C0_Burrow& x2 : g1) {
-      const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
-      s.core.occupied.add(e3.position);
-      ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+    {
+      const auto& x2_list = g1;
+      charge_loop(s.core, 23, int64_t(x2_list.size()));
+      for (const C0_Burrow& x2 : x2_list) {
+        const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
+        s.core.occupied.add(e3.position);
+        ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+      }
     }
     const std::vector<C1_Mole>& g4 = s.g_moles_18;
-    for (const C1_Mole& x5 : g4) {
-      const int32_t colour6 = colour_11_C1_Mole(s, x5);
-      const Elem e7 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, colour6};
-      s.core.occupied.add(e7.position);
-      ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
+    {
+      const auto& x5_list = g4;
+      charge_loop(s.core, 23, int64_t(x5_list.size()));
+      for (const C1_Mole& x5 : x5_list) {
+        const int32_t colour6 = colour_11_C1_Mole(s, x5);
+        const Elem e7 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, colour6};
+        s.core.occupied.add(e7.position);
+        ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
+      }
     }
     const std::vector<C2_Flash>& g8 = s.g_flashes_26;
-    for (const C2_Flash& x9 : g8) {
-      const int32_t colour10 = colour_12_C2_Flash(s, x9);
-      const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
-      s.core.occupied.add(e11.position);
-      ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
+    {
+      const auto& x9_list = g8;
+      charge_loop(s.core, 23, int64_t(x9_list.size()));
+      for (const C2_Flash& x9 : x9_list) {
+        const int32_t colour10 = colour_12_C2_Flash(s, x9);
+        const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
+        s.core.occupied.add(e11.position);
+        ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
+      }
     }
     const C3_ScoreBar& g12 = s.g_bar_6;
     const int32_t colour13 = colour_0_C3_ScoreBar(s, g12);
@@ -1120,18 +1216,30 @@ const char* const Prog::kColours[] = {
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {
+    {25, 24, nullptr, true, 25, 24, "initialising 'burrows': "},
     {31, 3, nullptr, true, 31, 3, ""},
     {25, 3, nullptr, true, 25, 3, ""},
     {42, 3, nullptr, true, 42, 3, ""},
     {16, 3, nullptr, true, 16, 3, ""},
     {28, 3, nullptr, true, 28, 3, ""},
+    {54, 18, nullptr, true, 54, 18, ""},
+    {47, 13, nullptr, true, 47, 13, ""},
+    {46, 5, nullptr, true, 46, 5, ""},
+    {56, 16, nullptr, true, 56, 16, ""},
+    {56, 34, nullptr, true, 56, 34, ""},
     {58, 57, nullptr, true, 58, 57, ""},
     {58, 70, nullptr, true, 58, 70, ""},
     {58, 18, nullptr, true, 58, 18, ""},
+    {61, 32, nullptr, true, 61, 32, ""},
+    {51, 5, nullptr, true, 51, 5, ""},
+    {51, 26, nullptr, true, 51, 26, ""},
     {71, 34, nullptr, true, 71, 34, ""},
     {71, 65, nullptr, true, 71, 65, ""},
     {71, 14, nullptr, true, 71, 14, ""},
+    {32, 16, nullptr, true, 32, 16, ""},
+    {32, 5, nullptr, true, 32, 5, ""},
     {0, 0, nullptr, false, 0, 0, ""},
+    {0, 0, "<internal>", false, 0, 0, ""},
     {0, 0, nullptr, false, 0, 0, ""}};
 
 struct MakeEnvironment {

@@ -285,6 +285,9 @@ struct Core {
   RotationTable rot;
   int64_t list_limit = Limits{}.list_length;  // the episode's list-length budget (runtime/limits.hpp)
   int64_t objects_limit = Limits{}.objects, cells_limit = Limits{}.cells;
+  // The calls budget as loop elements (limits.hpp): `visited` counts what this
+  // step's (or start-up's, or render's) loops were charged; reset before each.
+  int64_t visited = 0, visit_limit = Limits{}.calls;
   NoCopy<StateTally> tally;  // scratch of the state check at the end of start-up and of each step
   int64_t rendered = 0;  // elements the last host render drew: what cacheRendered holds
 
@@ -299,6 +302,12 @@ struct Core {
 // to be built at `site`.
 inline void check_length(const Core& c, int site, int64_t n) {
   if (n > c.list_limit) fail_at(site, limits::list_length_error(n, c.list_limit));
+}
+// A loop about to visit `n` elements (a list's, a range's) at `site`: charged
+// once, before it runs, against the step's budget (limits.hpp, calls).
+inline void charge_loop(Core& c, int site, int64_t n) {
+  c.visited += n > 0 ? n : 0;
+  if (c.visited > c.visit_limit) fail_at(site, limits::loop_elements_error(c.visit_limit));
 }
 // A list built element by element (allObjs) fails at the first element too many.
 inline void check_appended_length(const Core& c, int site, int64_t n) {
@@ -659,8 +668,10 @@ class CompiledEnvironment : public Environment {
     state_.core.list_limit = limits_.list_length;
     state_.core.objects_limit = limits_.objects;
     state_.core.cells_limit = limits_.cells;
+    state_.core.visit_limit = limits_.calls;
     return guarded([&] {
       P::start(state_, seed);
+      state_.core.visited = 0;
       painter_.bind(&frame_);
       P::render(state_, &painter_, tables_->pal);
     });
@@ -712,14 +723,15 @@ class CompiledEnvironment : public Environment {
       P::load(state_, r);
       if (r.p != r.end) throw std::runtime_error("state snapshot has trailing bytes");
       painter_.bind(&frame_);
+      state_.core.visited = 0;
       P::render(state_, &painter_, tables_->pal);
     });
   }
   bool deterministic() const override { return !P::kUsesRandom; }
   void set_source_name(const std::string& path) override { source_name_ = path; }
-  // Specialised code enforces the list-length, objects and state-cells budgets
-  // (and the fixed limits); the per-step cells and calls budgets are the
-  // interpreter's alone (docs/design.md, "Limits").
+  // Specialised code enforces the list-length, objects and state-cells budgets,
+  // the calls budget as loop elements (charge_loop), and the fixed limits; the
+  // per-step created-cells budget is the interpreter's alone (docs/design.md, "Limits").
   void set_limits(const Limits& l) override { limits_ = limits::normalised(l); }
   int64_t random_draws() const override { return failed_ ? -1 : static_cast<int64_t>(state_.core.rng.draws()); }
   bool reseed_random(uint64_t seed) override {
@@ -738,9 +750,11 @@ class CompiledEnvironment : public Environment {
     if (failed_) return false;
     return guarded([&] {
       latch(a);
+      state_.core.visited = 0;
       P::step(state_);
       if (!render) return;
       painter_.bind(&frame_);  // a clone copies the painter: point it at our own frame
+      state_.core.visited = 0;
       P::render(state_, &painter_, tables_->pal);
     });
   }

@@ -11,7 +11,13 @@
 //   cells        list elements and object fields: in the state after start-up and
 //                after every step, and created by the program in one step (so no
 //                single step can exhaust memory)
-//   calls        function calls the program makes in one step (so no step hangs)
+//   calls        function calls the program makes in one step (so no step hangs);
+//                specialised compiled code inlines its functions, so there the
+//                same number bounds the list elements and range steps its loops
+//                visit in one step (charged once per loop, before it runs): a
+//                step either engine finishes within the budget is the same step,
+//                but a step over it can fail at another construct, with the
+//                loops' text below.
 //
 // "One step" is also the start-up and each host render, counted separately; only
 // the program's own constructs count (its expressions and the stdlib's, cell
@@ -82,6 +88,10 @@ inline std::string created_cells_error(int64_t limit) {
 inline std::string calls_error(int64_t limit) {
   return "time budget exceeded: this step made more than " + std::to_string(limit) + " function calls" +
          raise_hint("calls");
+}
+inline std::string loop_elements_error(int64_t limit) {
+  return "time budget exceeded: this step's loops visited more than " + std::to_string(limit) +
+         " list elements" + raise_hint("calls");
 }
 inline std::string syntax_nesting_error() {
   return "nested too deeply: more than " + std::to_string(kMaxSyntaxNesting) + " levels of parentheses";

@@ -149,7 +149,7 @@ struct Stmt {
   Node* b = nullptr;    // value / high bound
   Block body, other;    // If: then, else; loops, Block: body; Switch: unused
   std::vector<std::pair<int, Block>> cases;  // Switch: alternative index -> block
-  int loc = -1;         // Fail: index into Module::locations
+  int loc = -1;         // Fail, ForEach, ForRange (the loop budget's site): index into Module::locations
   bool move_value = false;  // Set, Push: b is a variable's last use, moved from (pass_moves)
   uint32_t move_operands = 0;  // Let, Decl, Set, Push: the value's operands (bits) moved from
   std::string text;     // Comment

@@ -95,6 +95,8 @@ ir::Stmt* Specialiser::emit(ir::SK k) {
   m_.arena.stmts.emplace_back();
   ir::Stmt* s = &m_.arena.stmts.back();
   s->k = k;
+  // A loop charges the elements it visits where it is (limits.hpp, calls).
+  if (k == ir::SK::ForEach || k == ir::SK::ForRange) s->loc = location();
   if (!dead_) block_->push_back(s);
   return s;
 }
