@@ -220,6 +220,9 @@ void Specialiser::next_update(Sym s) {
     if (g.type && (g.type->k == TK::Func || g.type->k == TK::Class)) unsupported("an initnext variable holding a function");
     return;
   }
+  // A global whose value slot was made before it was known to be an initnext
+  // (GRID_SIZE, set up first) has no update flag (found by fuzz_emit).
+  if (g.updated < 0) unsupported("'" + nm(s) + "' defined by initnext");
   comment("NEXT of " + nm(s) + ", " + p_.file_name(g.next->loc.source) + ":" + std::to_string(g.next->loc.line));
   ir::Node* run = node(ir::Op::Not, T().bool_(), {slot(g.updated)});
   if (g.state == Global::Runtime) run = node(ir::Op::And, T().bool_(), {run, slot(g.defined)});
