@@ -34,10 +34,14 @@ class WrappedMinstd {
     return *this;
   }
   void reseed(uint64_t seed) { state_ = static_cast<uint32_t>(seed); }
+  // The generator's one rule: the state after a draw from state `s` (the
+  // product wraps in 32 bits before the modulo). seed_inversion walks it too.
+  static constexpr uint32_t kMultiplier = 48271u, kModulus = 2147483647u;
+  static uint32_t advance(uint32_t s) { return static_cast<uint32_t>(kMultiplier * s) % kModulus; }
   uint64_t next(uint64_t bound) {
     if (bound == 0) return 0;
     ++draws_;
-    state_ = static_cast<uint32_t>(48271u * state_) % 2147483647u;
+    state_ = advance(state_);
     if (script_) [[unlikely]]
       return scripted(state_ % bound, bound);
     return state_ % bound;

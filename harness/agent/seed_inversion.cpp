@@ -5,15 +5,17 @@
 #include <algorithm>
 #include <cmath>
 
+#include "runtime/rng.hpp"
+
 namespace autumn::agent {
 
 namespace {
 
-constexpr uint64_t kModulus = 2147483647u;  // 2^31 - 1
-constexpr uint64_t kMultiplier = 48271u;
+constexpr uint64_t kModulus = WrappedMinstd::kModulus;  // 2^31 - 1
+constexpr uint64_t kMultiplier = WrappedMinstd::kMultiplier;
 constexpr uint64_t kChunks = 256;
 
-uint32_t advance(uint32_t s) { return static_cast<uint32_t>(static_cast<uint32_t>(kMultiplier * s) % kModulus); }
+uint32_t advance(uint32_t s) { return WrappedMinstd::advance(s); }
 
 // 48271^-1 mod 2^32 (Newton's iteration: each step doubles the correct bits).
 uint32_t inverse_multiplier() {
