@@ -265,6 +265,11 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
          std::to_string(ctor.params.size()) + " (the reference interpreter crashes here)");
     return never();
   }
+  // A constructor that (through its cells) constructs its own class again
+  // recurses without a bound in this lowering, which inlines every constructor.
+  if (std::find(constructing_.begin(), constructing_.end(), cls) != constructing_.end()) {
+    unsupported("recursion: an object whose construction makes another of its class");
+  }
   // The initializer: (list f1 .. fn origin (let (= allCells CELLS) ...)) in an Instance scope.
   SScope* sc = push_scope(ScopeKind::Instance, &ctor);
   for (size_t i = 0; i < ctor.params.size(); ++i) bind(*sc, ctor.params[i], args[i], {&ctor, ctor.params[i]});
