@@ -31,6 +31,13 @@ void on_deep_stack(F&& f) {
   run_on_deep_stack([](void* p) { (*static_cast<Fn*>(p))(); }, const_cast<void*>(static_cast<const void*>(&f)));
 }
 
+// Call in every catch handler on the deep stack before rethrowing or going on.
+// AddressSanitizer cleans the frames an exception unwinds only when the stack
+// in use is under 64 MiB deep; deeper, their poison stays, and the next frames
+// written there (the rethrow's own) are reported as bugs that are not there.
+// This clears a window below the caller's frame; a no-op without ASan.
+void forget_unwound_frames();
+
 // The lowest usable address of the stack the caller runs on (for the
 // interpreter's cheap check), or null when unknown.
 const char* stack_floor();

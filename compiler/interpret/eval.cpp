@@ -262,13 +262,16 @@ Value Interpreter::eval(const Expr& e) {
     }
     fail("unknown expression");
   } catch (RuntimeError& err) {
+    forget_unwound_frames();
     locate(err, e);
     throw;
   } catch (const std::bad_alloc&) {
+    forget_unwound_frames();
     RuntimeError err("out of memory");
     locate(err, e);
     throw err;
   } catch (const std::length_error&) {
+    forget_unwound_frames();
     RuntimeError err("out of memory");
     locate(err, e);
     throw err;
@@ -402,6 +405,7 @@ Value Interpreter::call_render_method(TypeObj* cls) {
     env_ = sc->parent;
     return r;
   } catch (RuntimeError& e) {
+    forget_unwound_frames();
     if (!e.in_program && last_cell_arg_.line > 0 && last_cell_arg_.source == SourceId::Program) {
       e.program_loc = last_cell_arg_;
       e.in_program = true;
@@ -477,6 +481,7 @@ Value Interpreter::construct_cell(const Expr& e, TypeObj* cls) {
         d->expr = make_expr(std::move(lit));
       }
     } catch (RuntimeError&) {
+      forget_unwound_frames();
       // deferred; the scope the failure left behind stays current, as in the reference
     }
     fields.push_back(Value::heap(VKind::Deferred, d.get()));

@@ -80,6 +80,7 @@ void Interpreter::start_up(uint64_t seed) {
       Value v = eval_value(*init_expr_[s]);
       define(env_.get(), s, std::move(v));
     } catch (RuntimeError& e) {
+      forget_unwound_frames();
       RuntimeError wrapped("initialising '" + program_->name(s) + "': " + e.what());
       wrapped.loc = e.loc;
       wrapped.located = e.located;
@@ -112,6 +113,7 @@ bool Interpreter::condition_holds(const Stmt& st) {
   try {
     r = call_function(c, none);
   } catch (RuntimeError& e) {
+    forget_unwound_frames();
     locate(e, *st.cond);
     throw;
   }
@@ -162,6 +164,7 @@ void Interpreter::step_once(const Action& input) {
     try {
       assign(s, std::move(v));
     } catch (RuntimeError& e) {  // the assignment's own checks: located at the NEXT expression
+      forget_unwound_frames();
       if (!e.located) {
         e.loc = next_expr_[s]->loc;
         e.located = true;
