@@ -585,6 +585,37 @@ TEST(AgentPlanning, BestFirstFollowsThingsThatKeepMoving) {
   }
 }
 
+// Travel, best-first's tie-break: a thing one step from its goal square ranks
+// before the same thing six steps away, though both frames differ from the goal
+// in the same two cells; fewer differing cells still rank first.
+TEST(AgentPlanning, TravelDrawsThingsTowardsTheirGoalSquares) {
+  Task t;
+  t.type = TaskType::Planning;
+  t.goal = Grid{4, 4, std::vector<int16_t>(16, 0)};
+  t.goal.cells[15] = 5;  // the thing belongs at (3, 3)
+  t.mask = Grid{4, 4, std::vector<int16_t>(16, 1)};
+  Goal goal(t);
+  TaskFrame far(16, 0), near(16, 0), none(16, 0), there(16, 0), extra(16, 0);
+  far[0] = 5;     // (0, 0): 6 steps
+  near[11] = 5;   // (3, 2): 1 step
+  there[15] = 5;
+  extra[15] = 5;  // at its square, and a stray cell elsewhere
+  extra[1] = 7;
+  const Goal::Dist f = goal.distance(far, true), n = goal.distance(near, true), z = goal.distance(none, true);
+  EXPECT_EQ(f.colour, 2);
+  EXPECT_EQ(n.colour, 2);
+  EXPECT_EQ(f.shape, n.shape);
+  EXPECT_EQ(f.travel, 6);
+  EXPECT_EQ(n.travel, 1);
+  EXPECT_EQ(z.travel, 8) << "no cell of the colour: width + height";
+  EXPECT_LT(goal.rank(n), goal.rank(f));
+  EXPECT_EQ(goal.distance(far).travel, 0) << "travel only when asked";
+  const Goal::Dist at = goal.distance(there, true);
+  EXPECT_EQ(at.colour, 0);
+  EXPECT_EQ(at.travel, 0);
+  EXPECT_LT(goal.rank(goal.distance(extra, true)), goal.rank(n)) << "one differing cell beats two, whatever the travel";
+}
+
 // ------------------------------------------------------------------ the hand-written change-detection pairs
 
 TEST(AgentCdPairs, EveryPairIsDetectedAtItsChange) {

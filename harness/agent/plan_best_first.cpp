@@ -14,8 +14,8 @@ using HashSet = absl::flat_hash_set<uint64_t>;
 
 class BestFirst {
  public:
-  BestFirst(PlanProblem& p, const std::vector<Action>& actions, bool prune, const Limit& limit)
-      : p_(p), actions_(actions), prune_(prune), limit_(limit), lookahead_(p.pool().size()) {}
+  BestFirst(PlanProblem& p, const std::vector<Action>& actions, bool prune, bool travel, const Limit& limit)
+      : p_(p), actions_(actions), prune_(prune), travel_(travel), limit_(limit), lookahead_(p.pool().size()) {}
   SearchOutcome run();
 
  private:
@@ -56,6 +56,7 @@ class BestFirst {
   PlanProblem& p_;
   const std::vector<Action>& actions_;
   const bool prune_;
+  const bool travel_;
   const Limit limit_;
   std::vector<Lookahead> lookahead_;
   HashSet seen_, seen_frames_;
@@ -74,9 +75,9 @@ void BestFirst::expand_one(std::unique_ptr<Environment> e, size_t a, Lookahead& 
   if (seen_.count(h)) return;
   const Goal& goal = p_.goal();
   L.colours.map(e->frame(), e->palette(), goal.colours(), L.prev);
-  out.dist = goal.distance(L.prev);
+  out.dist = goal.distance(L.prev, travel_);
   out.frame_hash = frame_digest(L.prev);
-  out.key = out.dist.key(goal.cells());
+  out.key = goal.rank(out.dist);
   if (out.dist.colour > 0) settle(*e, L, out);
   out.hash = h;
   out.env = std::move(e);
@@ -95,13 +96,13 @@ void BestFirst::settle(const Environment& e, Lookahead& L, Succ& out) const {
     if (!probe->step(Action::noop())) break;
     ++out.steps;
     L.colours.map(probe->frame(), probe->palette(), goal.colours(), L.frame);
-    const Goal::Dist d = goal.distance(L.frame);
+    const Goal::Dist d = goal.distance(L.frame, travel_);
     if (d.colour == 0) {
       out.goal_noops = k;
       out.key = 0;
       return;
     }
-    out.key = std::min(out.key, d.key(goal.cells()));
+    out.key = std::min(out.key, goal.rank(d));
     if (L.frame == L.prev) break;
     L.prev.swap(L.frame);  // keeps both buffers
   }
@@ -210,9 +211,9 @@ SearchOutcome BestFirst::run() {
 
 }  // namespace
 
-SearchOutcome best_first(PlanProblem& problem, const std::vector<Action>& actions, bool prune_frames,
+SearchOutcome best_first(PlanProblem& problem, const std::vector<Action>& actions, bool prune_frames, bool travel,
                          const Limit& limit) {
-  return BestFirst(problem, actions, prune_frames, limit).run();
+  return BestFirst(problem, actions, prune_frames, travel, limit).run();
 }
 
 }  // namespace autumn::agent

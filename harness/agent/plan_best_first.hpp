@@ -11,7 +11,11 @@
 // generated. With `prune_frames`, successors whose frame and settled frame were
 // both already generated are dropped too (hidden-state variants that look alike
 // would otherwise flood the plateaus); the planner runs a second pass without
-// that pruning when the first fails. Not shortest: plan_shorten.hpp follows.
+// that pruning when the first fails. With `travel`, Goal::distance's travel
+// breaks ties between equal counts (objects drawn towards their goal squares);
+// it helps where objects must be walked across plateaus and misleads elsewhere
+// (a particle whose colour is nearer is not the one that will land), so the
+// planner runs it as a pass of its own. Not shortest: plan_shorten.hpp follows.
 // Open nodes keep their environments up to keep_states; the others are replayed
 // from the root. Deterministic: successors are merged in action order.
 #pragma once
@@ -19,7 +23,7 @@
 
 namespace autumn::agent {
 
-SearchOutcome best_first(PlanProblem& problem, const std::vector<Action>& actions, bool prune_frames,
+SearchOutcome best_first(PlanProblem& problem, const std::vector<Action>& actions, bool prune_frames, bool travel,
                          const Limit& limit);
 
 }  // namespace autumn::agent

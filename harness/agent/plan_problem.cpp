@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -40,7 +41,7 @@ bool Goal::reached(const Environment& e, FrameColours& colours) const {
   return true;
 }
 
-Goal::Dist Goal::distance(const TaskFrame& f) const {
+Goal::Dist Goal::distance(const TaskFrame& f, bool with_travel) const {
   Dist d;
   if (f.size() != task_.mask.cells.size()) return {cells() + 1, cells() + 1};  // GRID_SIZE changed
   for (uint32_t i : mask_) {
@@ -50,7 +51,42 @@ Goal::Dist Goal::distance(const TaskFrame& f) const {
       if ((g == background_) != (f[i] == background_)) ++d.shape;
     }
   }
+  if (with_travel && d.colour > 0) d.travel = travel(f);
   return d;
+}
+
+// One breadth-first distance transform per goal colour the differing cells
+// want, from every cell of the frame showing it (4-neighbour steps).
+int64_t Goal::travel(const TaskFrame& f) const {
+  const int w = task_.goal.width, h = task_.goal.height;
+  thread_local std::vector<int16_t> wanted;
+  thread_local std::vector<int> dist;
+  thread_local std::vector<uint32_t> queue;
+  wanted.clear();
+  for (uint32_t i : mask_) {
+    const int16_t g = task_.goal.cells[i];
+    if (g != f[i] && g != background_ && std::find(wanted.begin(), wanted.end(), g) == wanted.end()) wanted.push_back(g);
+  }
+  int64_t total = 0;
+  for (int16_t g : wanted) {
+    dist.assign(f.size(), -1);
+    queue.clear();
+    for (uint32_t i = 0; i < f.size(); ++i)
+      if (f[i] == g) dist[i] = 0, queue.push_back(i);
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const uint32_t i = queue[q];
+      const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
+      auto visit = [&](int nx, int ny) {
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;
+        const uint32_t j = static_cast<uint32_t>(ny * w + nx);
+        if (dist[j] < 0) dist[j] = dist[i] + 1, queue.push_back(j);
+      };
+      visit(x - 1, y), visit(x + 1, y), visit(x, y - 1), visit(x, y + 1);
+    }
+    for (uint32_t i : mask_)
+      if (task_.goal.cells[i] == g && f[i] != g) total += dist[i] < 0 ? travel_cap() : std::min(dist[i], travel_cap());
+  }
+  return total;
 }
 
 std::vector<uint32_t> Goal::differing(const TaskFrame& f) const {

@@ -11,7 +11,11 @@
 // Goal: the masked cells of the goal grid; reached(frame) is the only goal test.
 // distance() ranks frames for best-first: `shape` counts cells where one side
 // shows the goal's background (its most common masked colour) and the other does
-// not, `colour` all differing cells.
+// not, `colour` all differing cells, and (when asked) `travel` breaks their ties: for each
+// differing cell of a non-background goal colour, the grid distance to the
+// nearest cell of that colour in the frame. Moving an object towards its goal
+// square leaves the counts as they are (one wrong cell traded for another);
+// travel is what falls, so best-first is not blind on such plateaus.
 //
 // Clock: one stopwatch started with the solve; the time limit and node budget
 // are the whole solve's. A strategy runs under a Limit, a share of what is left
@@ -35,12 +39,17 @@ class Goal {
   explicit Goal(const Task& task);
   struct Dist {
     int shape = 0, colour = 0;
-    int64_t key(int cells) const { return static_cast<int64_t>(shape) * (cells + 1) + colour; }
+    int64_t travel = 0;  // at most cells() * travel_cap()
   };
+  // The priority of a distance: shape, then colour, then travel (smaller first).
+  int64_t rank(const Dist& d) const {
+    const int64_t counts = static_cast<int64_t>(d.shape) * (cells() + 1) + d.colour;
+    return counts * (static_cast<int64_t>(cells()) * travel_cap() + 1) + d.travel;
+  }
   bool reached(const TaskFrame& f) const;
   // The same test on an environment's frame, mapped through a thread's colour map.
   bool reached(const Environment& e, FrameColours& colours) const;
-  Dist distance(const TaskFrame& f) const;
+  Dist distance(const TaskFrame& f, bool with_travel = false) const;
   int cells() const { return static_cast<int>(mask_.size()); }
   const std::vector<uint32_t>& mask_cells() const { return mask_; }
   // Masked cells where `f` differs from the goal.
@@ -51,6 +60,10 @@ class Goal {
   const ColourTable& colours() const { return task_.colours; }
 
  private:
+  // A cell's travel when the frame shows none of its colour.
+  int travel_cap() const { return task_.goal.width + task_.goal.height; }
+  int64_t travel(const TaskFrame& f) const;
+
   const Task& task_;
   std::vector<uint32_t> mask_;   // masked cells, row-major
   std::vector<uint32_t> order_;  // masked cells in test order

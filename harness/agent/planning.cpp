@@ -123,14 +123,23 @@ class Planner {
   }
 
   bool best_first_stage(const std::vector<Action>& actions, const std::string& method) {
-    SearchOutcome o = best_first(p_, actions, true, p_.share(0.5, r_.nodes));
-    add(o);
-    if (!o.found && !out_of_time()) {
-      o = best_first(p_, actions, false, p_.share(1.0, r_.nodes));
+    // Frame pruning first, then travel as the tie-break, then neither pruning nor travel.
+    struct Pass {
+      bool prune, travel;
+      double share;
+    };
+    const Pass passes[] = {{true, false, 0.5}, {true, true, 0.5}, {false, false, 1.0}};
+    SearchOutcome o;
+    const Pass* used = nullptr;
+    for (const Pass& pass : passes) {
+      if (used && out_of_time()) break;
+      o = best_first(p_, actions, pass.prune, pass.travel, p_.share(pass.share, r_.nodes));
       add(o);
+      used = &pass;
+      if (o.found) break;
     }
     if (!o.found) return false;
-    found(o.plan, method, false);
+    found(o.plan, used->travel ? method + ", travel" : method, false);
     shorten(actions);
     return true;
   }
