@@ -585,6 +585,48 @@ TEST(AgentPlanning, BestFirstFollowsThingsThatKeepMoving) {
   }
 }
 
+// A mode button: clicking it shows nothing, but the next clicks place marks.
+// The goal's cells are far from the button, so no focused click set holds it by
+// position or effect; the mode-click probe (plan_focus.hpp) adds it, and BFS
+// over the cells the goal changes finds the shortest plan: button, three marks.
+TEST(AgentPlanning, FocusedSetsKeepTheModeButtons) {
+  fs::path root = scratch("modes");
+  fs::create_directories(root / "programs");
+  fs::create_directories(root / "prompts");
+  std::ofstream(root / "programs" / "modes.au") << R"((program
+  (= GRID_SIZE 16)
+  (object Mark (Cell 0 0 "red"))
+  (object Button (Cell 0 0 "gray"))
+  (= button (initnext (Button (Position 0 0)) (prev button)))
+  (= mode (initnext 0 (prev mode)))
+  (= marks (initnext (list) (prev marks)))
+  (on (clicked button) (= mode 1))
+  (on (& (& clicked (isFreePos click)) (== mode 1)) (= marks (addObj marks (Mark (Position (.. click x) (.. click y)))))))
+)";
+  Task task;
+  task.type = TaskType::Planning;
+  task.file = root / "prompts" / "modes_planning.json";
+  task.name = "modes_planning";
+  task.program = "modes";
+  auto env = make_environment("interp", load_program_file((root / "programs" / "modes.au").string()), nullptr);
+  ASSERT_TRUE(env && env->reset(0));
+  for (const Action& a : {Action::click(0, 0), Action::click(12, 11), Action::click(9, 14), Action::click(14, 6)})
+    ASSERT_TRUE(env->step(a));
+  const TaskFrame goal = task_frame(env->frame(), env->palette(), task.colours);
+  task.goal = Grid{16, 16, goal};
+  task.mask = Grid{16, 16, std::vector<int16_t>(goal.size(), 1)};
+  ThreadPool pool(2);
+  SolveOptions o;
+  o.nodes = 500'000;
+  PlanResult r = solve_planning(task, o, pool);
+  ASSERT_TRUE(r.found) << planning_summary(r);
+  EXPECT_EQ(r.method, "bfs, clicks on the cells the goal changes") << planning_summary(r);
+  ASSERT_EQ(r.plan.size(), 4u) << planning_summary(r);
+  EXPECT_EQ(r.plan[0], Action::click(0, 0));
+  EXPECT_TRUE(r.verified);
+  EXPECT_TRUE(replays_to_goal(task, r.plan));
+}
+
 // Travel, best-first's tie-break: a thing one step from its goal square ranks
 // before the same thing six steps away, though both frames differ from the goal
 // in the same two cells; fewer differing cells still rank first.

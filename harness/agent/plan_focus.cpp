@@ -1,5 +1,7 @@
 #include "harness/agent/plan_focus.hpp"
 
+#include <algorithm>
+
 namespace autumn::agent {
 
 std::vector<Action> near_clicks(const PlanProblem& p, const std::vector<Action>& all,
@@ -52,6 +54,42 @@ std::vector<Action> reaching_clicks(PlanProblem& p, const std::vector<Action>& a
   size_t k = 0;
   for (const Action& a : all)
     if (a.kind != Action::Kind::Click || reaches[k++]) out.push_back(a);
+  return out;
+}
+
+std::vector<Action> hidden_clicks(PlanProblem& p, const std::vector<Action>& all, const std::vector<uint32_t>& cells,
+                                  size_t max) {
+  if (cells.empty()) return {};
+  const int n = p.grid();
+  const Action probe = Action::click(static_cast<int>(cells[0]) % n, static_cast<int>(cells[0]) / n);
+  // The probe after a noop, and after each click that shows nothing.
+  auto quiet = p.root().clone();
+  if (!quiet->step(Action::noop())) return {};
+  const TaskFrame quiet_frame = p.frame_of(*quiet);
+  if (!quiet->step(probe)) return {};
+  const uint64_t quiet_probe = frame_digest(p.frame_of(*quiet));
+  std::vector<size_t> clicks;
+  for (size_t i = 0; i < all.size(); ++i)
+    if (all[i].kind == Action::Kind::Click) clicks.push_back(i);
+  std::vector<uint64_t> kind(clicks.size(), quiet_probe);  // quiet_probe: not a mode click
+  std::vector<std::unique_ptr<Environment>> envs;
+  for (size_t k = 0; k < clicks.size(); ++k) envs.push_back(p.root().clone());  // cloned here: one thread
+  p.pool().parallel_for(clicks.size(), [&](size_t k) {
+    Environment& e = *envs[k];
+    if (e.step(all[clicks[k]]) && p.frame_of(e) == quiet_frame && e.step(probe)) kind[k] = frame_digest(p.frame_of(e));
+    envs[k].reset();
+  });
+  std::vector<uint64_t> kinds;
+  std::vector<uint8_t> keep(all.size(), 0);
+  for (size_t k = 0; k < clicks.size(); ++k) {
+    if (kind[k] == quiet_probe || std::find(kinds.begin(), kinds.end(), kind[k]) != kinds.end()) continue;
+    kinds.push_back(kind[k]);
+    keep[clicks[k]] = 1;
+  }
+  if (kinds.size() > max) return {};
+  std::vector<Action> out;
+  for (size_t i = 0; i < all.size(); ++i)
+    if (keep[i]) out.push_back(all[i]);
   return out;
 }
 

@@ -9,6 +9,13 @@
 //                    of `cells` within min(depth, 2*GRID_SIZE) steps: a frame
 //                    differs from the noop baseline's there (a falling block
 //                    lands, a fill spreads, a button recolours something far away);
+//  hidden(cells, max): mode clicks: clicks that change nothing on screen but
+//                    change what a click on the first of `cells` then does (a
+//                    mode button: the next clicks place another thing). One
+//                    click per distinct probe result, none when there are more
+//                    than `max` kinds; joined to every focused set, whose
+//                    clicks may need a mode first. (The state alone cannot tell:
+//                    a program that keeps the last click differs after every one.)
 //  unite(a, b):      the actions of either.
 // `cells` is normally Goal::differing(root frame): where the goal differs from
 // the start. A plan over a focused set is the cheapest among such plans only.
@@ -20,6 +27,8 @@ namespace autumn::agent {
 std::vector<Action> near_clicks(const PlanProblem& p, const std::vector<Action>& all,
                                 const std::vector<uint32_t>& cells, int r, bool box);
 std::vector<Action> reaching_clicks(PlanProblem& p, const std::vector<Action>& all, const std::vector<uint32_t>& cells);
+std::vector<Action> hidden_clicks(PlanProblem& p, const std::vector<Action>& all, const std::vector<uint32_t>& cells,
+                                  size_t max = 16);
 std::vector<Action> unite(const std::vector<Action>& all, const std::vector<Action>& a, const std::vector<Action>& b);
 
 }  // namespace autumn::agent

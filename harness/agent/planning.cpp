@@ -86,12 +86,14 @@ class Planner {
       const char* what;
       std::vector<Action> actions;
     };
+    hidden_ = hidden_clicks(p_, all, changed);
+    auto with_hidden = [&](const std::vector<Action>& focus) { return unite(all, focus, hidden_); };
     const Focus stages[] = {
-        {"clicks on the cells the goal changes", near_clicks(p_, all, changed, 0, false)},
-        {"clicks whose effect reaches the cells the goal changes", reaching_clicks(p_, all, changed)},
-        {"clicks within 1 of the cells the goal changes", near_clicks(p_, all, changed, 1, false)},
-        {"clicks within 3 of the cells the goal changes", near_clicks(p_, all, changed, 3, false)},
-        {"clicks in the goal region", near_clicks(p_, all, p_.goal().mask_cells(), 0, true)},
+        {"clicks on the cells the goal changes", with_hidden(near_clicks(p_, all, changed, 0, false))},
+        {"clicks whose effect reaches the cells the goal changes", with_hidden(reaching_clicks(p_, all, changed))},
+        {"clicks within 1 of the cells the goal changes", with_hidden(near_clicks(p_, all, changed, 1, false))},
+        {"clicks within 3 of the cells the goal changes", with_hidden(near_clicks(p_, all, changed, 3, false))},
+        {"clicks in the goal region", with_hidden(near_clicks(p_, all, p_.goal().mask_cells(), 0, true))},
     };
     reaching_ = stages[1].actions;
     near1_ = stages[2].actions;
@@ -110,7 +112,7 @@ class Planner {
     return false;
   }
 
-  std::vector<Action> near_or_reaching() const { return unite(p_.actions(), reaching_, near1_); }
+  std::vector<Action> near_or_reaching() const { return unite(p_.actions(), reaching_, near1_); }  // hidden_ included
 
   // Stage 3 (cost steps): few moves and a long wait; the plan is then shortened in steps.
   bool moves_stage() {
@@ -157,7 +159,7 @@ class Planner {
   PlanProblem& p_;
   PlanResult& r_;
   const bool moves_;
-  std::vector<Action> reaching_, near1_;
+  std::vector<Action> reaching_, near1_, hidden_;  // focused_stages' sets (near1_ and reaching_ with hidden_)
 };
 
 bool at_goal(const Task& task, const Environment& env) {
