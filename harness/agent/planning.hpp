@@ -22,13 +22,15 @@
 //     ("proven_bound").
 //  2. Clicks told apart by position: BFS stages with clicks only near the cells
 //     where the goal differs from the start (on them; clicks whose effect reaches
-//     them under noops; within 1 and 3 cells; the goal region), an eighth of the
-//     budget each. A plan here is proven cheapest when it costs at most
-//     proven_bound + 1.
+//     them under noops; within 1 and 3 cells; the goal region), each joined by
+//     the mode clicks (clicks that show nothing but change what a later click
+//     does: a tool button), an eighth of the budget each. A plan here is proven
+//     cheapest when it costs at most proven_bound + 1.
 //  3. Cost "steps": BFS by moves (noop free) over the same actions, for goals
 //     reached by a few actions and a long wait (things that fall, grow, drift).
-//  4. Best-first (pruning look-alike states, then without), over clicks near or
-//     reaching the changes first when clicks are positional.
+//  4. Best-first (pruning look-alike states; then with travel breaking ties, so
+//     objects are drawn towards their goal squares; then neither), over clicks
+//     near or reaching the changes first when clicks are positional.
 // A plan from stages 3–4 goes through plan_shorten; the result is replayed on the
 // program itself (not the search model) to the goal: `verified`.
 // --search bfs runs stage 1 alone with the whole budget, --search best-first stage 4.
