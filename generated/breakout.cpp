@@ -384,7 +384,6 @@ struct Prog {
         bool within8 = true;
         {
           const auto& e9_list = rendered7;
-          charge_loop(s.core, 9, int64_t(e9_list.size()));
           for (const Elem& e9 : e9_list) {
             if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(12))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(12))))) {
               within8 = false;
@@ -501,7 +500,6 @@ struct Prog {
         bool within46 = true;
         {
           const auto& e47_list = rendered45;
-          charge_loop(s.core, 13, int64_t(e47_list.size()));
           for (const Elem& e47 : e47_list) {
             if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(12))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(12))))) {
               within46 = false;

@@ -245,11 +245,9 @@ struct Prog {
     apos10.clear();
     {
       const int32_t i11_first = int32_t(0), i11_end = int32_t(8);
-      charge_loop(s.core, 2, int64_t(i11_end) - i11_first);
       for (int32_t i11 = i11_first; i11 < i11_end; ++i11) {
         {
           const int32_t j12_first = int32_t(0), j12_end = int32_t(7);
-          charge_loop(s.core, 2, int64_t(j12_end) - j12_first);
           for (int32_t j12 = j12_first; j12 < j12_end; ++j12) {
             const Pos t13 = Pos{i11, j12};
             apos10.push_back(t13);
@@ -402,7 +400,6 @@ struct Prog {
                 bool any30 = false;
                 {
                   const auto& x31_list = adj21;
-                  charge_loop(s.core, 15, int64_t(x31_list.size()));
                   for (const Pos& x31 : x31_list) {
                     // inlined: function at programs/color_flood.au:42
                     bool any32 = false;
@@ -511,7 +508,6 @@ struct Prog {
               rendered53.push_back(Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour54});
               {
                 const auto& e55_list = rendered53;
-                charge_loop(s.core, 19, int64_t(e55_list.size()));
                 for (const Elem& e55 : e55_list) {
                   if ((e55.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked51 = true;
@@ -656,7 +652,6 @@ struct Prog {
               rendered88.push_back(Elem{Pos{add(x85.origin.x, int32_t(0)), add(x85.origin.y, int32_t(0))}, colour89});
               {
                 const auto& e90_list = rendered88;
-                charge_loop(s.core, 19, int64_t(e90_list.size()));
                 for (const Elem& e90 : e90_list) {
                   if ((e90.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked86 = true;
@@ -775,11 +770,9 @@ struct Prog {
         apos112.clear();
         {
           const int32_t i113_first = int32_t(0), i113_end = int32_t(8);
-          charge_loop(s.core, 23, int64_t(i113_end) - i113_first);
           for (int32_t i113 = i113_first; i113 < i113_end; ++i113) {
             {
               const int32_t j114_first = int32_t(0), j114_end = int32_t(7);
-              charge_loop(s.core, 23, int64_t(j114_end) - j114_first);
               for (int32_t j114 = j114_first; j114 < j114_end; ++j114) {
                 const Pos t115 = Pos{i113, j114};
                 apos112.push_back(t115);

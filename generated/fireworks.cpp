@@ -277,7 +277,6 @@ struct Prog {
               bool within17 = true;
               {
                 const auto& e18_list = rendered15;
-                charge_loop(s.core, 7, int64_t(e18_list.size()));
                 for (const Elem& e18 : e18_list) {
                   if ((((e18.position.x < int32_t(0)) || (e18.position.x >= int32_t(20))) || ((e18.position.y < int32_t(0)) || (e18.position.y >= int32_t(20))))) {
                     within17 = false;
@@ -432,7 +431,6 @@ struct Prog {
         bool within56 = true;
         {
           const auto& e57_list = rendered55;
-          charge_loop(s.core, 16, int64_t(e57_list.size()));
           for (const Elem& e57 : e57_list) {
             if ((((e57.position.x < int32_t(0)) || (e57.position.x >= int32_t(20))) || ((e57.position.y < int32_t(0)) || (e57.position.y >= int32_t(20))))) {
               within56 = false;
@@ -479,7 +477,6 @@ struct Prog {
         bool within70 = true;
         {
           const auto& e71_list = rendered69;
-          charge_loop(s.core, 16, int64_t(e71_list.size()));
           for (const Elem& e71 : e71_list) {
             if ((((e71.position.x < int32_t(0)) || (e71.position.x >= int32_t(20))) || ((e71.position.y < int32_t(0)) || (e71.position.y >= int32_t(20))))) {
               within70 = false;
@@ -641,7 +638,6 @@ struct Prog {
         rpos118.clear();
         {
           const int32_t i119_first = int32_t(0), i119_end = int32_t(3);
-          charge_loop(s.core, 24, int64_t(i119_end) - i119_first);
           for (int32_t i119 = i119_first; i119 < i119_end; ++i119) {
             const int32_t t120 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
             const int32_t t121 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));

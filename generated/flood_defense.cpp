@@ -440,7 +440,6 @@ struct Prog {
               bool any12 = false;
               {
                 const auto& x13_list = rendered11;
-                charge_loop(s.core, 13, int64_t(x13_list.size()));
                 for (const Elem& x13 : x13_list) {
                   const bool t14 = s.core.occupied.free(x13.position);
                   const bool t15 = !t14;
@@ -720,7 +719,6 @@ struct Prog {
                     bool within125 = true;
                     {
                       const auto& e126_list = rendered124;
-                      charge_loop(s.core, 23, int64_t(e126_list.size()));
                       for (const Elem& e126 : e126_list) {
                         if ((((e126.position.x < int32_t(0)) || (e126.position.x >= int32_t(16))) || ((e126.position.y < int32_t(0)) || (e126.position.y >= int32_t(16))))) {
                           within125 = false;
@@ -1292,7 +1290,6 @@ struct Prog {
               rendered272.push_back(Elem{Pos{add(x269.origin.x, int32_t(0)), add(x269.origin.y, int32_t(0))}, colour273});
               {
                 const auto& e274_list = rendered272;
-                charge_loop(s.core, 38, int64_t(e274_list.size()));
                 for (const Elem& e274 : e274_list) {
                   if ((e274.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked270 = true;
@@ -1368,7 +1365,6 @@ struct Prog {
               rendered287.push_back(Elem{Pos{add(x284.origin.x, int32_t(0)), add(x284.origin.y, int32_t(0))}, int32_t(8)});
               {
                 const auto& e288_list = rendered287;
-                charge_loop(s.core, 41, int64_t(e288_list.size()));
                 for (const Elem& e288 : e288_list) {
                   if ((e288.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked285 = true;
@@ -1484,7 +1480,6 @@ struct Prog {
         bool within316 = true;
         {
           const auto& e317_list = rendered315;
-          charge_loop(s.core, 46, int64_t(e317_list.size()));
           for (const Elem& e317 : e317_list) {
             if ((((e317.position.x < int32_t(0)) || (e317.position.x >= int32_t(16))) || ((e317.position.y < int32_t(0)) || (e317.position.y >= int32_t(16))))) {
               within316 = false;
@@ -1534,7 +1529,6 @@ struct Prog {
         bool within330 = true;
         {
           const auto& e331_list = rendered329;
-          charge_loop(s.core, 46, int64_t(e331_list.size()));
           for (const Elem& e331 : e331_list) {
             if ((((e331.position.x < int32_t(0)) || (e331.position.x >= int32_t(16))) || ((e331.position.y < int32_t(0)) || (e331.position.y >= int32_t(16))))) {
               within330 = false;

@@ -632,7 +632,6 @@ struct Prog {
         bool within21 = true;
         {
           const auto& e22_list = rendered20;
-          charge_loop(s.core, 25, int64_t(e22_list.size()));
           for (const Elem& e22 : e22_list) {
             if ((((e22.position.x < int32_t(0)) || (e22.position.x >= int32_t(10))) || ((e22.position.y < int32_t(0)) || (e22.position.y >= int32_t(10))))) {
               within21 = false;
@@ -677,7 +676,6 @@ struct Prog {
         bool within35 = true;
         {
           const auto& e36_list = rendered34;
-          charge_loop(s.core, 25, int64_t(e36_list.size()));
           for (const Elem& e36 : e36_list) {
             if ((((e36.position.x < int32_t(0)) || (e36.position.x >= int32_t(10))) || ((e36.position.y < int32_t(0)) || (e36.position.y >= int32_t(10))))) {
               within35 = false;
@@ -722,7 +720,6 @@ struct Prog {
         bool within49 = true;
         {
           const auto& e50_list = rendered48;
-          charge_loop(s.core, 25, int64_t(e50_list.size()));
           for (const Elem& e50 : e50_list) {
             if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(10))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(10))))) {
               within49 = false;
@@ -767,7 +764,6 @@ struct Prog {
         bool within63 = true;
         {
           const auto& e64_list = rendered62;
-          charge_loop(s.core, 25, int64_t(e64_list.size()));
           for (const Elem& e64 : e64_list) {
             if ((((e64.position.x < int32_t(0)) || (e64.position.x >= int32_t(10))) || ((e64.position.y < int32_t(0)) || (e64.position.y >= int32_t(10))))) {
               within63 = false;

@@ -754,7 +754,6 @@ struct Prog {
               rendered78.push_back(Elem{Pos{add(x75.origin.x, int32_t(0)), add(x75.origin.y, int32_t(0))}, colour79});
               {
                 const auto& e80_list = rendered78;
-                charge_loop(s.core, 20, int64_t(e80_list.size()));
                 for (const Elem& e80 : e80_list) {
                   if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked76 = true;
@@ -825,7 +824,6 @@ struct Prog {
               rendered97.push_back(Elem{Pos{add(x94.origin.x, int32_t(0)), add(x94.origin.y, int32_t(0))}, colour98});
               {
                 const auto& e99_list = rendered97;
-                charge_loop(s.core, 23, int64_t(e99_list.size()));
                 for (const Elem& e99 : e99_list) {
                   if ((e99.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked95 = true;

@@ -363,11 +363,9 @@ struct Prog {
     apos2.clear();
     {
       const int32_t i3_first = int32_t(0), i3_end = int32_t(10);
-      charge_loop(s.core, 0, int64_t(i3_end) - i3_first);
       for (int32_t i3 = i3_first; i3 < i3_end; ++i3) {
         {
           const int32_t j4_first = int32_t(0), j4_end = int32_t(10);
-          charge_loop(s.core, 0, int64_t(j4_end) - j4_first);
           for (int32_t j4 = j4_first; j4 < j4_end; ++j4) {
             const Pos t5 = Pos{i3, j4};
             apos2.push_back(t5);
@@ -545,7 +543,6 @@ struct Prog {
         bool within14 = true;
         {
           const auto& e15_list = rendered12;
-          charge_loop(s.core, 16, int64_t(e15_list.size()));
           for (const Elem& e15 : e15_list) {
             if ((((e15.position.x < int32_t(0)) || (e15.position.x >= int32_t(10))) || ((e15.position.y < int32_t(0)) || (e15.position.y >= int32_t(10))))) {
               within14 = false;
@@ -653,7 +650,6 @@ struct Prog {
         bool within49 = true;
         {
           const auto& e50_list = rendered47;
-          charge_loop(s.core, 16, int64_t(e50_list.size()));
           for (const Elem& e50 : e50_list) {
             if ((((e50.position.x < int32_t(0)) || (e50.position.x >= int32_t(10))) || ((e50.position.y < int32_t(0)) || (e50.position.y >= int32_t(10))))) {
               within49 = false;
@@ -799,7 +795,6 @@ struct Prog {
         bool within93 = true;
         {
           const auto& e94_list = rendered91;
-          charge_loop(s.core, 16, int64_t(e94_list.size()));
           for (const Elem& e94 : e94_list) {
             if ((((e94.position.x < int32_t(0)) || (e94.position.x >= int32_t(10))) || ((e94.position.y < int32_t(0)) || (e94.position.y >= int32_t(10))))) {
               within93 = false;
@@ -907,7 +902,6 @@ struct Prog {
         bool within128 = true;
         {
           const auto& e129_list = rendered126;
-          charge_loop(s.core, 16, int64_t(e129_list.size()));
           for (const Elem& e129 : e129_list) {
             if ((((e129.position.x < int32_t(0)) || (e129.position.x >= int32_t(10))) || ((e129.position.y < int32_t(0)) || (e129.position.y >= int32_t(10))))) {
               within128 = false;
@@ -1053,7 +1047,6 @@ struct Prog {
         bool within172 = true;
         {
           const auto& e173_list = rendered170;
-          charge_loop(s.core, 16, int64_t(e173_list.size()));
           for (const Elem& e173 : e173_list) {
             if ((((e173.position.x < int32_t(0)) || (e173.position.x >= int32_t(10))) || ((e173.position.y < int32_t(0)) || (e173.position.y >= int32_t(10))))) {
               within172 = false;
@@ -1161,7 +1154,6 @@ struct Prog {
         bool within207 = true;
         {
           const auto& e208_list = rendered205;
-          charge_loop(s.core, 16, int64_t(e208_list.size()));
           for (const Elem& e208 : e208_list) {
             if ((((e208.position.x < int32_t(0)) || (e208.position.x >= int32_t(10))) || ((e208.position.y < int32_t(0)) || (e208.position.y >= int32_t(10))))) {
               within207 = false;
@@ -1307,7 +1299,6 @@ struct Prog {
         bool within251 = true;
         {
           const auto& e252_list = rendered249;
-          charge_loop(s.core, 16, int64_t(e252_list.size()));
           for (const Elem& e252 : e252_list) {
             if ((((e252.position.x < int32_t(0)) || (e252.position.x >= int32_t(10))) || ((e252.position.y < int32_t(0)) || (e252.position.y >= int32_t(10))))) {
               within251 = false;
@@ -1415,7 +1406,6 @@ struct Prog {
         bool within286 = true;
         {
           const auto& e287_list = rendered284;
-          charge_loop(s.core, 16, int64_t(e287_list.size()));
           for (const Elem& e287 : e287_list) {
             if ((((e287.position.x < int32_t(0)) || (e287.position.x >= int32_t(10))) || ((e287.position.y < int32_t(0)) || (e287.position.y >= int32_t(10))))) {
               within286 = false;
@@ -1579,11 +1569,9 @@ struct Prog {
         apos331.clear();
         {
           const int32_t i332_first = int32_t(0), i332_end = int32_t(10);
-          charge_loop(s.core, 20, int64_t(i332_end) - i332_first);
           for (int32_t i332 = i332_first; i332 < i332_end; ++i332) {
             {
               const int32_t j333_first = int32_t(0), j333_end = int32_t(10);
-              charge_loop(s.core, 20, int64_t(j333_end) - j333_first);
               for (int32_t j333 = j333_first; j333 < j333_end; ++j333) {
                 const Pos t334 = Pos{i332, j333};
                 apos331.push_back(t334);
@@ -1797,7 +1785,6 @@ struct Prog {
               rendered391.push_back(Elem{Pos{add(x388.origin.x, int32_t(0)), add(x388.origin.y, int32_t(0))}, int32_t(6)});
               {
                 const auto& e392_list = rendered391;
-                charge_loop(s.core, 29, int64_t(e392_list.size()));
                 for (const Elem& e392 : e392_list) {
                   if ((e392.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked389 = true;

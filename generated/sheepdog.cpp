@@ -261,11 +261,9 @@ struct Prog {
     apos9.clear();
     {
       const int32_t i10_first = int32_t(0), i10_end = int32_t(16);
-      charge_loop(s.core, 1, int64_t(i10_end) - i10_first);
       for (int32_t i10 = i10_first; i10 < i10_end; ++i10) {
         {
           const int32_t j11_first = int32_t(0), j11_end = int32_t(16);
-          charge_loop(s.core, 1, int64_t(j11_end) - j11_first);
           for (int32_t j11 = j11_first; j11 < j11_end; ++j11) {
             const Pos t12 = Pos{i10, j11};
             apos9.push_back(t12);
@@ -401,7 +399,6 @@ struct Prog {
         bool within8 = true;
         {
           const auto& e9_list = rendered7;
-          charge_loop(s.core, 12, int64_t(e9_list.size()));
           for (const Elem& e9 : e9_list) {
             if ((((e9.position.x < int32_t(0)) || (e9.position.x >= int32_t(16))) || ((e9.position.y < int32_t(0)) || (e9.position.y >= int32_t(16))))) {
               within8 = false;
@@ -518,7 +515,6 @@ struct Prog {
         bool within46 = true;
         {
           const auto& e47_list = rendered45;
-          charge_loop(s.core, 16, int64_t(e47_list.size()));
           for (const Elem& e47 : e47_list) {
             if ((((e47.position.x < int32_t(0)) || (e47.position.x >= int32_t(16))) || ((e47.position.y < int32_t(0)) || (e47.position.y >= int32_t(16))))) {
               within46 = false;
@@ -635,7 +631,6 @@ struct Prog {
         bool within81 = true;
         {
           const auto& e82_list = rendered80;
-          charge_loop(s.core, 20, int64_t(e82_list.size()));
           for (const Elem& e82 : e82_list) {
             if ((((e82.position.x < int32_t(0)) || (e82.position.x >= int32_t(16))) || ((e82.position.y < int32_t(0)) || (e82.position.y >= int32_t(16))))) {
               within81 = false;
@@ -749,7 +744,6 @@ struct Prog {
         bool within116 = true;
         {
           const auto& e117_list = rendered115;
-          charge_loop(s.core, 24, int64_t(e117_list.size()));
           for (const Elem& e117 : e117_list) {
             if ((((e117.position.x < int32_t(0)) || (e117.position.x >= int32_t(16))) || ((e117.position.y < int32_t(0)) || (e117.position.y >= int32_t(16))))) {
               within116 = false;
@@ -1208,7 +1202,6 @@ struct Prog {
           rendered274.push_back(Elem{Pos{add(prev271.origin.x, int32_t(0)), add(prev271.origin.y, int32_t(0))}, int32_t(0)});
           {
             const auto& e275_list = rendered274;
-            charge_loop(s.core, 36, int64_t(e275_list.size()));
             for (const Elem& e275 : e275_list) {
               if ((e275.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked272 = true;
@@ -1393,7 +1386,6 @@ struct Prog {
               bool within344 = true;
               {
                 const auto& e345_list = rendered342;
-                charge_loop(s.core, 41, int64_t(e345_list.size()));
                 for (const Elem& e345 : e345_list) {
                   if ((((e345.position.x < int32_t(0)) || (e345.position.x >= int32_t(16))) || ((e345.position.y < int32_t(0)) || (e345.position.y >= int32_t(16))))) {
                     within344 = false;
@@ -1545,7 +1537,6 @@ struct Prog {
               bool within391 = true;
               {
                 const auto& e392_list = rendered389;
-                charge_loop(s.core, 41, int64_t(e392_list.size()));
                 for (const Elem& e392 : e392_list) {
                   if ((((e392.position.x < int32_t(0)) || (e392.position.x >= int32_t(16))) || ((e392.position.y < int32_t(0)) || (e392.position.y >= int32_t(16))))) {
                     within391 = false;
@@ -1787,7 +1778,6 @@ struct Prog {
           rendered457.push_back(Elem{Pos{add(prev454.origin.x, int32_t(0)), add(prev454.origin.y, int32_t(0))}, int32_t(0)});
           {
             const auto& e458_list = rendered457;
-            charge_loop(s.core, 48, int64_t(e458_list.size()));
             for (const Elem& e458 : e458_list) {
               if ((e458.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked455 = true;

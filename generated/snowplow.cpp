@@ -558,7 +558,6 @@ struct Prog {
               rendered12.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(6)});
               {
                 const auto& e13_list = rendered12;
-                charge_loop(s.core, 7, int64_t(e13_list.size()));
                 for (const Elem& e13 : e13_list) {
                   if ((e13.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked10 = true;
@@ -664,7 +663,6 @@ struct Prog {
               rendered35.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(3)});
               {
                 const auto& e36_list = rendered35;
-                charge_loop(s.core, 13, int64_t(e36_list.size()));
                 for (const Elem& e36 : e36_list) {
                   if ((e36.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked33 = true;
@@ -781,7 +779,6 @@ struct Prog {
             bool within65 = true;
             {
               const auto& e66_list = rendered64;
-              charge_loop(s.core, 19, int64_t(e66_list.size()));
               for (const Elem& e66 : e66_list) {
                 if ((((e66.position.x < int32_t(0)) || (e66.position.x >= int32_t(16))) || ((e66.position.y < int32_t(0)) || (e66.position.y >= int32_t(16))))) {
                   within65 = false;
@@ -905,7 +902,6 @@ struct Prog {
               bool any105 = false;
               {
                 const auto& x106_list = rendered103;
-                charge_loop(s.core, 24, int64_t(x106_list.size()));
                 for (const Elem& x106 : x106_list) {
                   const bool t107 = s.core.occupied.free(x106.position);
                   const bool t108 = !t107;
@@ -1184,7 +1180,6 @@ struct Prog {
                     bool within219 = true;
                     {
                       const auto& e220_list = rendered217;
-                      charge_loop(s.core, 34, int64_t(e220_list.size()));
                       for (const Elem& e220 : e220_list) {
                         if ((((e220.position.x < int32_t(0)) || (e220.position.x >= int32_t(16))) || ((e220.position.y < int32_t(0)) || (e220.position.y >= int32_t(16))))) {
                           within219 = false;
@@ -1256,7 +1251,6 @@ struct Prog {
         bool within234 = true;
         {
           const auto& e235_list = rendered233;
-          charge_loop(s.core, 36, int64_t(e235_list.size()));
           for (const Elem& e235 : e235_list) {
             if ((((e235.position.x < int32_t(0)) || (e235.position.x >= int32_t(16))) || ((e235.position.y < int32_t(0)) || (e235.position.y >= int32_t(16))))) {
               within234 = false;
@@ -1302,7 +1296,6 @@ struct Prog {
         bool within248 = true;
         {
           const auto& e249_list = rendered247;
-          charge_loop(s.core, 36, int64_t(e249_list.size()));
           for (const Elem& e249 : e249_list) {
             if ((((e249.position.x < int32_t(0)) || (e249.position.x >= int32_t(16))) || ((e249.position.y < int32_t(0)) || (e249.position.y >= int32_t(16))))) {
               within248 = false;
@@ -1484,7 +1477,6 @@ struct Prog {
         rpos297.clear();
         {
           const int32_t i298_first = int32_t(0), i298_end = int32_t(1);
-          charge_loop(s.core, 41, int64_t(i298_end) - i298_first);
           for (int32_t i298 = i298_first; i298 < i298_end; ++i298) {
             const int32_t t299 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
             const int32_t t300 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
@@ -1507,7 +1499,6 @@ struct Prog {
         bool any307 = false;
         {
           const auto& x308_list = rendered306;
-          charge_loop(s.core, 43, int64_t(x308_list.size()));
           for (const Elem& x308 : x308_list) {
             const bool t309 = s.core.occupied.free(x308.position);
             const bool t310 = !t309;

@@ -306,11 +306,9 @@ struct Prog {
     apos22.clear();
     {
       const int32_t i23_first = int32_t(0), i23_end = int32_t(8);
-      charge_loop(s.core, 4, int64_t(i23_end) - i23_first);
       for (int32_t i23 = i23_first; i23 < i23_end; ++i23) {
         {
           const int32_t j24_first = int32_t(0), j24_end = int32_t(8);
-          charge_loop(s.core, 4, int64_t(j24_end) - j24_first);
           for (int32_t j24 = j24_first; j24 < j24_end; ++j24) {
             const Pos t25 = Pos{i23, j24};
             apos22.push_back(t25);
@@ -1628,7 +1626,6 @@ struct Prog {
         rendered392.push_back(Elem{Pos{add(g389.origin.x, int32_t(0)), add(g389.origin.y, int32_t(0))}, int32_t(2)});
         {
           const auto& e393_list = rendered392;
-          charge_loop(s.core, 22, int64_t(e393_list.size()));
           for (const Elem& e393 : e393_list) {
             if ((e393.position == Pos{s.core.click_x, s.core.click_y})) {
               clicked390 = true;

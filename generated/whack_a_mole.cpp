@@ -501,7 +501,6 @@ struct Prog {
               rendered23.push_back(Elem{Pos{add(x20.origin.x, int32_t(0)), add(x20.origin.y, int32_t(0))}, colour24});
               {
                 const auto& e25_list = rendered23;
-                charge_loop(s.core, 10, int64_t(e25_list.size()));
                 for (const Elem& e25 : e25_list) {
                   if ((e25.position == Pos{s.core.click_x, s.core.click_y})) {
                     clicked21 = true;

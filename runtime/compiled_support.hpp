@@ -305,9 +305,14 @@ inline void check_length(const Core& c, int site, int64_t n) {
 }
 // A loop about to visit `n` elements (a list's, a range's) at `site`: charged
 // once, before it runs, against the step's budget (limits.hpp, calls).
+// The failure is out of line: charges sit in the hottest loops, and the message
+// built inline at each one cost more than the charge itself.
+[[noreturn, gnu::cold, gnu::noinline]] inline void fail_loop_budget(int site, int64_t limit) {
+  fail_at(site, limits::loop_elements_error(limit));
+}
 inline void charge_loop(Core& c, int site, int64_t n) {
   c.visited += n > 0 ? n : 0;
-  if (c.visited > c.visit_limit) fail_at(site, limits::loop_elements_error(c.visit_limit));
+  if (__builtin_expect(c.visited > c.visit_limit, 0)) fail_loop_budget(site, c.visit_limit);
 }
 // A list built element by element (allObjs) fails at the first element too many.
 inline void check_appended_length(const Core& c, int site, int64_t n) {

@@ -225,6 +225,44 @@ TEST(IrPasses, ListsThatStayInTheirBlockReuseStorage) {
   EXPECT_FALSE(escapes->scratch);
 }
 
+// A list filled by two pushes right before its loop is walked uncharged; one
+// filled in a loop, or by a call, or a long literal range, keeps its charge.
+TEST(IrPasses, ShortLoopsAreNotCharged) {
+  using lower::ir::SK;
+  using lower::ir::Op;
+  IrFixture x;
+  auto lit = [&](int64_t v) {
+    auto* n = x.node(Op::Lit, x.m.types.int_());
+    n->imm = v;
+    return n;
+  };
+  auto* two = x.var(x.list_t, true);
+  x.stmt(x.f->body, SK::Decl, two);
+  x.stmt(x.f->body, SK::Push, nullptr, x.use(two), lit(1));
+  x.stmt(x.f->body, SK::Push, nullptr, x.use(two), lit(2));
+  auto* short_loop = x.stmt(x.f->body, SK::ForEach, x.var(x.m.types.int_(), false), x.use(two));
+  auto* many = x.var(x.list_t, true);
+  x.stmt(x.f->body, SK::Decl, many);
+  auto* fill = x.stmt(x.f->body, SK::ForRange, x.var(x.m.types.int_(), false), lit(0), x.size_of(two));
+  x.stmt(fill->body, SK::Push, nullptr, x.use(many), lit(3));
+  auto* filled_in_loop = x.stmt(x.f->body, SK::ForEach, x.var(x.m.types.int_(), false), x.use(many));
+  auto* read = x.var(x.list_t, true);
+  x.stmt(x.f->body, SK::Decl, read);
+  x.stmt(x.f->body, SK::Eval, nullptr, x.node(Op::Call, x.m.types.int_(), {x.use(read)}));  // a call may fill it
+  auto* after_call = x.stmt(x.f->body, SK::ForEach, x.var(x.m.types.int_(), false), x.use(read));
+  auto* short_range = x.stmt(x.f->body, SK::ForRange, x.var(x.m.types.int_(), false), lit(0), lit(16));
+  auto* long_range = x.stmt(x.f->body, SK::ForRange, x.var(x.m.types.int_(), false), lit(0), lit(17));
+  auto* global_loop = x.stmt(x.f->body, SK::ForEach, x.var(x.m.types.int_(), false), x.global());
+  lower::spare_short_loops(x.m);
+  EXPECT_FALSE(short_loop->charged);
+  EXPECT_TRUE(filled_in_loop->charged);
+  EXPECT_TRUE(fill->charged) << "its bound is a list's size";
+  EXPECT_TRUE(after_call->charged);
+  EXPECT_FALSE(short_range->charged);
+  EXPECT_TRUE(long_range->charged);
+  EXPECT_TRUE(global_loop->charged);
+}
+
 TEST(IrPasses, UnusedPureNamesAreRemoved) {
   IrFixture x;
   auto* unused = x.var(x.list_t, false);

@@ -24,6 +24,7 @@ Lowered lower_program(const Program& program, const std::string& program_name) {
     lower::remove_dead_names(m);
     lower::move_last_uses(m);
     lower::reuse_buffers(m);
+    lower::spare_short_loops(m);
     out.code = lower::print_cpp(m);
     out.ok = true;
     for (const lower::DynamicSite& d : m.dynamic_sites) out.dynamic_sites.push_back(located(program, d.loc, d.why));

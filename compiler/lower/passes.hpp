@@ -6,6 +6,7 @@
 //   remove_dead_names   pass_dead.cpp     unused pure names are not computed
 //   reuse_buffers       pass_scratch.cpp  short-lived lists keep their storage
 //   move_last_uses      pass_moves.cpp    a value's last use moves it
+//   spare_short_loops   pass_loop_budget.cpp  loops of at most 16 known elements charge nothing
 #pragma once
 #include "compiler/lower/module.hpp"
 
@@ -16,5 +17,6 @@ void resolve_aliases(Module& m);
 void remove_dead_names(Module& m);
 void reuse_buffers(Module& m);
 void move_last_uses(Module& m);
+void spare_short_loops(Module& m);
 
 }  // namespace autumn::lower

@@ -316,11 +316,11 @@ void Printer::stmt(const Stmt& s) {
       line("}");
       return;
     case SK::ForEach: {
-      // The list is bound once: charged by its size, then walked.
+      // The list is bound once: charged by its size (unless short), then walked.
       const std::string l = name(s.var) + "_list";
       line("{");
       line("  const auto& " + l + " = " + expr(s.a) + ";");
-      line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
+      if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
       line("  for (const " + type(s.var->type) + "& " + name(s.var) + " : " + l + ") {");
       ++depth_;
       block(s.body);
@@ -333,7 +333,7 @@ void Printer::stmt(const Stmt& s) {
       const std::string v = name(s.var);
       line("{");
       line("  const int32_t " + v + "_first = " + expr(s.a) + ", " + v + "_end = " + expr(s.b) + ";");
-      line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + v + "_end) - " + v + "_first);");
+      if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + v + "_end) - " + v + "_first);");
       line("  for (int32_t " + v + " = " + v + "_first; " + v + " < " + v + "_end; ++" + v + ") {");
       ++depth_;
       block(s.body);
