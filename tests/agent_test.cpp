@@ -30,6 +30,7 @@
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/particles.hpp"
+#include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_problem.hpp"
 #include "harness/agent/planning.hpp"
 #include "harness/agent/task_file.hpp"
@@ -625,6 +626,36 @@ TEST(AgentPlanning, FocusedSetsKeepTheModeButtons) {
   EXPECT_EQ(r.plan[0], Action::click(0, 0));
   EXPECT_TRUE(r.verified);
   EXPECT_TRUE(replays_to_goal(task, r.plan));
+}
+
+// Snowplow after 25 random actions: snow falls on its own clock, so the goal
+// frame exists at about one moment; best-first and the beam scored by the
+// settled future set the scene and then wait for the snow (49 actions). The
+// beam scored at a fixed horizon (plan_beam.hpp) finds a plan no longer than
+// the generator's, and the same plan on one thread as on two.
+TEST(AgentPlanning, TimedGoalsGetPlansNoLongerThanTheGenerators) {
+  fs::path root = scratch("timed");
+  fs::path file = generate(root, "planning", "snowplow", 10, 25);
+  Task task = load_task(file);
+  ASSERT_EQ(answers_of(file).reference_plan.size(), 25u);
+  SolveOptions o;
+  o.engine = "compiled";
+  ThreadPool two(2), one(1);
+  PlanResult r = solve_planning(task, o, two);
+  ASSERT_TRUE(r.found) << planning_summary(r);
+  EXPECT_LE(r.plan.size(), 25u) << planning_summary(r);
+  EXPECT_NE(r.method.find("at horizon"), std::string::npos) << r.method;
+  EXPECT_TRUE(r.verified);
+  EXPECT_TRUE(replays_to_goal(task, r.plan));
+
+  PlanProblem p2(task, o, two), p1(task, o, one);
+  const SearchOutcome a = beam(p2, p2.actions(), {8, 25, true, p2.share(1.0, 0)});
+  const SearchOutcome b = beam(p1, p1.actions(), {8, 25, true, p1.share(1.0, 0)});
+  ASSERT_TRUE(a.found) << a.note;
+  EXPECT_LE(a.plan.size(), 25u);
+  EXPECT_TRUE(replays_to_goal(task, a.plan));
+  EXPECT_EQ(a.plan, b.plan) << "the beam must not depend on the thread count";
+  EXPECT_EQ(a.nodes, b.nodes);
 }
 
 // Travel, best-first's tie-break: a thing one step from its goal square ranks

@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_best_first.hpp"
 #include "harness/agent/plan_bfs.hpp"
 #include "harness/agent/plan_focus.hpp"
@@ -21,12 +22,21 @@ class Planner {
     const std::string& search = p_.opts().search;
     if (search == "bfs") return void(full_bfs(1.0));
     if (search == "best-first") return void(best_first_stage(p_.actions(), "best-first"));
+    if (search == "beam") {
+      if (positional()) focus_sets();
+      const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
+      if (beam_stage(focus, "beam", 0.5) && !out_of_time()) horizon_stage(focus, "beam");
+      return;
+    }
     if (full_bfs(positional() ? 0.1 : 0.5)) return;
     if (positional() && focused_stages()) return;
-    if (!moves_ && !out_of_time() && moves_stage()) return;
-    if (positional() && !out_of_time() && best_first_stage(near_or_reaching(), "best-first, clicks near or reaching the changes"))
-      return;
-    if (!out_of_time()) best_first_stage(p_.actions(), "best-first");
+    const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
+    const std::string focus_name = positional() ? ", clicks near or reaching the changes" : "";
+    bool got = !moves_ && !out_of_time() && moves_stage();
+    if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
+    if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
+    if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
+    if (got && !moves_ && !r_.shortest && !out_of_time()) horizon_stage(focus, "beam" + focus_name);
   }
 
  private:
@@ -78,27 +88,33 @@ class Planner {
     return true;
   }
 
-  // Stage 2: BFS over focused click sets; proven when no cheaper plan can exist.
-  bool focused_stages() {
+  struct Focus {
+    const char* what;
+    std::vector<Action> actions;
+  };
+  // The focused click sets, each joined by the mode clicks.
+  std::vector<Focus> focus_sets() {
     const std::vector<Action>& all = p_.actions();
     const std::vector<uint32_t> changed = p_.goal().differing(p_.frame_of(p_.root()));
-    struct Focus {
-      const char* what;
-      std::vector<Action> actions;
-    };
     hidden_ = hidden_clicks(p_, all, changed);
     auto with_hidden = [&](const std::vector<Action>& focus) { return unite(all, focus, hidden_); };
-    const Focus stages[] = {
+    std::vector<Focus> sets = {
         {"clicks on the cells the goal changes", with_hidden(near_clicks(p_, all, changed, 0, false))},
         {"clicks whose effect reaches the cells the goal changes", with_hidden(reaching_clicks(p_, all, changed))},
         {"clicks within 1 of the cells the goal changes", with_hidden(near_clicks(p_, all, changed, 1, false))},
         {"clicks within 3 of the cells the goal changes", with_hidden(near_clicks(p_, all, changed, 3, false))},
         {"clicks in the goal region", with_hidden(near_clicks(p_, all, p_.goal().mask_cells(), 0, true))},
     };
-    reaching_ = stages[1].actions;
-    near1_ = stages[2].actions;
+    reaching_ = sets[1].actions;
+    near1_ = sets[2].actions;
+    return sets;
+  }
+
+  // Stage 2: BFS over focused click sets; proven when no cheaper plan can exist.
+  bool focused_stages() {
+    const std::vector<Action>& all = p_.actions();
     std::vector<std::vector<Action>> tried;
-    for (const Focus& f : stages) {
+    for (const Focus& f : focus_sets()) {
       if (out_of_time()) break;
       if (f.actions.size() == all.size() || std::find(tried.begin(), tried.end(), f.actions) != tried.end()) continue;
       tried.push_back(f.actions);
@@ -146,6 +162,63 @@ class Planner {
     return true;
   }
 
+  // Stage 4: layered beam search (plan_beam.hpp) scored by the settled future,
+  // at widths 8 and 32, each plan found bounding the next search.
+  bool beam_stage(const std::vector<Action>& actions, const std::string& method, double share) {
+    const Limit limit = p_.share(share, r_.nodes);
+    const uint64_t start = r_.nodes;
+    std::vector<Action> best;
+    std::string how;
+    int max_len = p_.opts().max_plan;
+    for (size_t width : {8, 32}) {
+      while (max_len > 0 && !limit.out_of_time() && r_.nodes - start < limit.nodes) {
+        const SearchOutcome o = beam(p_, actions, {width, max_len, false, rest_of(limit, start)});
+        add(o);
+        if (!o.found) break;
+        best = o.plan;
+        how = fmt::format("{} {}", method, width);
+        max_len = static_cast<int>(best.size()) - 1;
+      }
+    }
+    if (best.empty()) return false;
+    found(best, how, false);
+    shorten(actions);
+    return true;
+  }
+
+  // Stage 6: a plan not proven cheapest, from stages 3-5, may be long because the
+  // goal exists at one moment that it reached late. Beam searches scored at a
+  // fixed horizon, horizons from the proven bound up to below the plan's
+  // length; the first plan found replaces it when shorter.
+  void horizon_stage(const std::vector<Action>& actions, const std::string& method) {
+    const Limit limit = p_.share(1.0, r_.nodes);
+    const uint64_t start = r_.nodes;
+    // Wide where the action set is small (arrows alone): about 2,000 successors a layer.
+    const size_t width = std::max<size_t>(8, 2048 / actions.size());
+    int horizon = r_.proven_bound + 1;
+    for (; horizon < static_cast<int>(r_.plan.size()); ++horizon) {
+      if (limit.out_of_time() || r_.nodes - start >= limit.nodes) break;
+      SearchOutcome o = beam(p_, actions, {width, horizon, true, rest_of(limit, start)});
+      o.note.clear();  // one note for all horizons, below
+      add(o);
+      if (!o.found) continue;
+      if (o.plan.size() < r_.plan.size()) {
+        found(o.plan, fmt::format("{} {} at horizon {}", method, width, horizon), false);
+        shorten(actions);
+      }
+      return;
+    }
+    if (horizon > r_.proven_bound + 1)
+      note(fmt::format("beam {} at horizons {}..{}: no shorter plan", width, r_.proven_bound + 1, horizon - 1));
+  }
+
+  // What is left of `limit` after the nodes spent since `start`.
+  Limit rest_of(const Limit& limit, uint64_t start) const {
+    Limit l = limit;
+    l.nodes = limit.nodes - std::min(limit.nodes, r_.nodes - start);
+    return l;
+  }
+
   void shorten(const std::vector<Action>& actions) {
     ShortenStats stats;
     r_.plan = shorten_plan(p_, r_.plan, actions, p_.share(1.0, r_.nodes), moves_, stats);
@@ -174,8 +247,8 @@ bool at_goal(const Task& task, const Environment& env) {
 
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
   if (task.type != TaskType::Planning) throw TaskError(task.file.string() + ": not a planning task");
-  if (opts.search != "auto" && opts.search != "bfs" && opts.search != "best-first")
-    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first)");
+  if (opts.search != "auto" && opts.search != "bfs" && opts.search != "best-first" && opts.search != "beam")
+    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam)");
   if (opts.cost != "steps" && opts.cost != "moves") throw TaskError("unknown cost '" + opts.cost + "' (steps, moves)");
   Stopwatch clock;
   PlanResult r;

@@ -10,7 +10,8 @@
 // task counts this way). Plans are capped at max_plan steps either way.
 //
 // Strategies (one file each, each with its account): plan_bfs (exact, by cost
-// layers), plan_best_first (greedy, for goals beyond BFS's reach), plan_shorten
+// layers), plan_beam (layered beam, scored by the settled future or at a fixed
+// horizon), plan_best_first (greedy, for goals beyond BFS's reach), plan_shorten
 // (cut, drop and shortcut passes on a found plan). They share plan_problem: the
 // search model (clicks that change nothing merge with noop when `click` is
 // step-local), the one goal test, the action set, the one clock.
@@ -28,12 +29,19 @@
 //     cheapest when it costs at most proven_bound + 1.
 //  3. Cost "steps": BFS by moves (noop free) over the same actions, for goals
 //     reached by a few actions and a long wait (things that fall, grow, drift).
-//  4. Best-first (pruning look-alike states; then with travel breaking ties, so
-//     objects are drawn towards their goal squares; then neither), over clicks
-//     near or reaching the changes first when clicks are positional.
-// A plan from stages 3–4 goes through plan_shorten; the result is replayed on the
+//  4. Beam search scored by the settled future (a tenth), over clicks near or
+//     reaching the changes when clicks are positional.
+//  5. Best-first (pruning look-alike states; then with travel breaking ties, so
+//     objects are drawn towards their goal squares; then neither), over the
+//     same clicks first, then all actions.
+//  6. A plan from stages 3–5 is long when the goal exists at one moment that it
+//     reached late (a world on its own clock): beam searches scored at a fixed
+//     horizon, horizons from proven_bound + 1 up, replace it with the first
+//     shorter plan they find.
+// A plan from stages 3–6 goes through plan_shorten; the result is replayed on the
 // program itself (not the search model) to the goal: `verified`.
-// --search bfs runs stage 1 alone with the whole budget, --search best-first stage 4.
+// --search bfs runs stage 1 alone with the whole budget, --search best-first stage
+// 5 over all actions, --search beam stages 4 (on half) and 6.
 // Results do not depend on --threads; only a time limit can make them depend on
 // the machine.
 #pragma once
