@@ -18,12 +18,24 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The precompiled runtime header, when the build made one (CMake: autumn_module_pch).
+// The precompiled runtime header, when the build made one (CMake:
+// autumn_module_pch) and it is newer than every runtime header: g++ does not
+// check the headers a PCH was made from, so a stale one would compile modules
+// against the old runtime (a partial rebuild that skipped the PCH target).
 std::string pch_flag() {
-  const fs::path header = AUTUMN_MODULE_PCH;
-  std::error_code ec;
-  if (header.empty() || !fs::exists(header.string() + ".gch", ec)) return "";
-  return " -include '" + header.string() + "'";
+  static const std::string flag = [] {
+    const fs::path header = AUTUMN_MODULE_PCH;
+    if (header.empty()) return std::string();
+    std::error_code ec;
+    const auto made = fs::last_write_time(header.string() + ".gch", ec);
+    if (ec) return std::string();
+    for (const auto& entry : fs::directory_iterator(fs::path(AUTUMN_MODULE_INCLUDE) / "runtime", ec)) {
+      std::error_code e2;
+      if (fs::last_write_time(entry.path(), e2) > made && !e2) return std::string();
+    }
+    return " -include '" + header.string() + "'";
+  }();
+  return flag;
 }
 
 std::string compiler_flags() {
