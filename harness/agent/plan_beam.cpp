@@ -15,7 +15,7 @@ class Beam {
  public:
   Beam(PlanProblem& p, const std::vector<Action>& actions, const BeamSpec& spec)
       : p_(p), actions_(actions), width_(spec.width), at_horizon_(spec.at_horizon), max_len_(spec.max_len),
-        limit_(spec.limit), scratch_(p.pool().size()) {}
+        limit_(spec.limit), scorers_(p.pool().size()) {}
   SearchOutcome run();
 
  private:
@@ -25,18 +25,12 @@ class Beam {
   };
   struct Succ {
     std::unique_ptr<Environment> env;
-    uint64_t hash = 0, look = 0;  // state hash; frame and noop-future digest
-    int64_t key = 0;              // best goal rank on the noop future
-    int goal_noops = -1;          // the goal shows after this many noops (0: at once)
-    uint64_t steps = 0;           // look-ahead steps run
-    bool ok = false;
-  };
-  struct Scratch {
-    FrameColours colours;
-    TaskFrame frame, prev;
+    uint64_t hash = 0;
+    Future future;
+    bool ok = false;  // false: the step failed or the state was already seen
   };
 
-  void expand_one(std::unique_ptr<Environment> e, size_t a, int noops, Scratch& s, Succ& out) const;
+  void expand_one(std::unique_ptr<Environment> e, size_t a, int noops, FutureScorer& scorer, Succ& out) const;
   std::vector<Action> path(int64_t node) const;
   SearchOutcome stop(const std::string& why);
 
@@ -46,40 +40,20 @@ class Beam {
   const bool at_horizon_;  // score at step max_len_ exactly, not at the best step
   const int max_len_;  // plans are at most this long: look-aheads end there too
   const Limit limit_;
-  std::vector<Scratch> scratch_;
+  std::vector<FutureScorer> scorers_;  // one per pool thread
   absl::flat_hash_set<uint64_t> seen_;
   std::vector<Node> nodes_;
   SearchOutcome out_;
 };
 
-// Steps `e` by action `a` and scores it by its noop future: the best distance on
-// frames until one repeats its predecessor (at most `noops`), or with
-// at_horizon_ the distance after exactly `noops`. Reads seen_ only.
-void Beam::expand_one(std::unique_ptr<Environment> e, size_t a, int noops, Scratch& s, Succ& out) const {
+// Steps `e` by action `a` and scores it by its noop future (FutureScorer):
+// settled, at most `noops` steps, or with at_horizon_ after exactly `noops`.
+// Reads seen_ only.
+void Beam::expand_one(std::unique_ptr<Environment> e, size_t a, int noops, FutureScorer& scorer, Succ& out) const {
   if (!e->step(actions_[a])) return;
   out.hash = e->state_hash();
   if (seen_.count(out.hash)) return;
-  const Goal& goal = p_.goal();
-  s.colours.map(e->frame(), e->palette(), goal.colours(), s.prev);
-  Goal::Dist d = goal.distance(s.prev);
-  out.key = goal.rank(d);
-  out.look = frame_digest(s.prev);
-  if (d.colour == 0) out.goal_noops = 0;
-  auto probe = d.colour == 0 ? nullptr : e->clone();
-  for (int k = 1; probe && k <= noops; ++k) {
-    if (!probe->step(Action::noop())) break;
-    ++out.steps;
-    s.colours.map(probe->frame(), probe->palette(), goal.colours(), s.frame);
-    d = goal.distance(s.frame);
-    if (d.colour == 0) {
-      out.goal_noops = k;
-      break;
-    }
-    out.key = at_horizon_ ? goal.rank(d) : std::min(out.key, goal.rank(d));
-    if (!at_horizon_ && s.frame == s.prev) break;
-    s.prev.swap(s.frame);
-  }
-  out.look = out.look * 0x9E3779B97F4A7C15ull ^ frame_digest(s.prev);
+  out.future = scorer.score(p_, *e, noops, at_horizon_, false);
   out.env = std::move(e);
   out.ok = true;
 }
@@ -119,36 +93,36 @@ SearchOutcome Beam::run() {
     }
     std::vector<Succ> succ(clones.size());
     p_.pool().parallel_for_worker(clones.size(), [&](size_t i, unsigned w) {
-      expand_one(std::move(clones[i]), i % A, noops, scratch_[w], succ[i]);
+      expand_one(std::move(clones[i]), i % A, noops, scorers_[w], succ[i]);
     });
     out_.nodes += succ.size();
-    for (const Succ& s : succ) out_.lookahead_steps += s.steps;
+    for (const Succ& s : succ) out_.lookahead_steps += s.future.steps;
     // A goal on the way: the first in generation order with the fewest steps.
     int64_t best_goal = -1;
     for (size_t i = 0; i < succ.size(); ++i)
-      if (succ[i].ok && succ[i].goal_noops >= 0 &&
-          (best_goal < 0 || succ[i].goal_noops < succ[static_cast<size_t>(best_goal)].goal_noops))
+      if (succ[i].ok && succ[i].future.goal_noops >= 0 &&
+          (best_goal < 0 || succ[i].future.goal_noops < succ[static_cast<size_t>(best_goal)].future.goal_noops))
         best_goal = static_cast<int64_t>(i);
     if (best_goal >= 0) {
       const Succ& s = succ[static_cast<size_t>(best_goal)];
       out_.found = true;
       out_.plan = path(layer[static_cast<size_t>(best_goal) / A].node);
       out_.plan.push_back(actions_[static_cast<size_t>(best_goal) % A]);
-      out_.plan.insert(out_.plan.end(), static_cast<size_t>(s.goal_noops), Action::noop());
+      out_.plan.insert(out_.plan.end(), static_cast<size_t>(s.future.goal_noops), Action::noop());
       return stop("");
     }
     std::vector<size_t> order(succ.size());
     std::iota(order.begin(), order.end(), size_t{0});
     std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
       if (succ[x].ok != succ[y].ok) return succ[x].ok;
-      return succ[x].key < succ[y].key;
+      return succ[x].future.key < succ[y].future.key;
     });
     std::vector<Member> next;
     absl::flat_hash_set<uint64_t> looks;
     for (size_t i : order) {
       Succ& s = succ[i];
       if (!s.ok || next.size() >= width_) break;
-      if (!seen_.insert(s.hash).second || !looks.insert(s.look).second) continue;
+      if (!seen_.insert(s.hash).second || !looks.insert(s.future.digest).second) continue;
       nodes_.push_back({layer[i / A].node, static_cast<int32_t>(i % A), depth + 1});
       next.push_back({std::move(s.env), static_cast<int64_t>(nodes_.size()) - 1});
     }

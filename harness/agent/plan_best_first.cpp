@@ -15,23 +15,15 @@ using HashSet = absl::flat_hash_set<uint64_t>;
 class BestFirst {
  public:
   BestFirst(PlanProblem& p, const std::vector<Action>& actions, bool prune, bool travel, const Limit& limit)
-      : p_(p), actions_(actions), prune_(prune), travel_(travel), limit_(limit), lookahead_(p.pool().size()) {}
+      : p_(p), actions_(actions), prune_(prune), travel_(travel), limit_(limit), scorers_(p.pool().size()) {}
   SearchOutcome run();
 
  private:
   struct Succ {
     std::unique_ptr<Environment> env;
-    uint64_t hash = 0, frame_hash = 0;
-    Goal::Dist dist;
-    bool ok = false;      // false: the step failed or the state was already seen
-    int64_t key = 0;      // priority (with the settling look-ahead)
-    int goal_noops = -1;  // look-ahead: the goal shows after this many noops
-    uint64_t steps = 0;   // look-ahead steps run
-  };
-  // A thread's reused buffers: frames are mapped without allocating.
-  struct Lookahead {
-    FrameColours colours;
-    TaskFrame frame, prev;
+    uint64_t hash = 0;
+    Future future;    // priority: future.key; frame pruning: future.digest
+    bool ok = false;  // false: the step failed or the state was already seen
   };
   struct Open {
     int64_t h;
@@ -44,8 +36,7 @@ class BestFirst {
     }
   };
 
-  void expand_one(std::unique_ptr<Environment> e, size_t a, Lookahead& L, Succ& out) const;
-  void settle(const Environment& e, Lookahead& L, Succ& out) const;
+  void expand_one(std::unique_ptr<Environment> e, size_t a, FutureScorer& scorer, Succ& out) const;
   std::vector<Succ> successors(const Open& top);
   int64_t add_node(int64_t parent, size_t action, int depth, std::unique_ptr<Environment>& env);
   std::unique_ptr<Environment> parent_env(int64_t node);
@@ -58,7 +49,7 @@ class BestFirst {
   const bool prune_;
   const bool travel_;
   const Limit limit_;
-  std::vector<Lookahead> lookahead_;
+  std::vector<FutureScorer> scorers_;  // one per pool thread
   HashSet seen_, seen_frames_;
   std::vector<Node> nodes_;
   std::vector<std::unique_ptr<Environment>> envs_;  // per node; null when not kept
@@ -68,45 +59,19 @@ class BestFirst {
 
 // The successor by action `a` of `e`, a fresh clone of its parent; not ok when
 // its state is already in seen_ (read-only here). Clones are made by the caller:
-// clone() is not safe to call concurrently on one environment.
-void BestFirst::expand_one(std::unique_ptr<Environment> e, size_t a, Lookahead& L, Succ& out) const {
+// clone() is not safe to call concurrently on one environment. Its priority is
+// its settled noop future (at most 2 * GRID_SIZE noops; FutureScorer), and the
+// future's digest joins its frame hash, so a state whose future differs (a
+// block in mid-air in another phase) is not pruned as a repeat of one that
+// looks alike now.
+void BestFirst::expand_one(std::unique_ptr<Environment> e, size_t a, FutureScorer& scorer, Succ& out) const {
   if (!e->step(actions_[a])) return;
   const uint64_t h = e->state_hash();
   if (seen_.count(h)) return;
-  const Goal& goal = p_.goal();
-  L.colours.map(e->frame(), e->palette(), goal.colours(), L.prev);
-  out.dist = goal.distance(L.prev, travel_);
-  out.frame_hash = frame_digest(L.prev);
-  out.key = goal.rank(out.dist);
-  if (out.dist.colour > 0) settle(*e, L, out);
+  out.future = scorer.score(p_, *e, 2 * p_.grid(), false, travel_);
   out.hash = h;
   out.env = std::move(e);
   out.ok = true;
-}
-
-// The look-ahead: from a copy of `e`, noops until the frame stops changing (at
-// most 2 * GRID_SIZE); the priority is the best distance on the way. The settled
-// frame joins the frame hash, so a state whose future differs (a block in mid-air
-// in another phase) is not pruned as a repeat of one that looks alike now.
-// L.prev holds e's frame on entry.
-void BestFirst::settle(const Environment& e, Lookahead& L, Succ& out) const {
-  auto probe = e.clone();
-  const Goal& goal = p_.goal();
-  for (int k = 1; k <= 2 * p_.grid(); ++k) {
-    if (!probe->step(Action::noop())) break;
-    ++out.steps;
-    L.colours.map(probe->frame(), probe->palette(), goal.colours(), L.frame);
-    const Goal::Dist d = goal.distance(L.frame, travel_);
-    if (d.colour == 0) {
-      out.goal_noops = k;
-      out.key = 0;
-      return;
-    }
-    out.key = std::min(out.key, goal.rank(d));
-    if (L.frame == L.prev) break;
-    L.prev.swap(L.frame);  // keeps both buffers
-  }
-  out.frame_hash = out.frame_hash * 0x9E3779B97F4A7C15ull ^ frame_digest(L.prev);
 }
 
 std::vector<BestFirst::Succ> BestFirst::successors(const Open& top) {
@@ -116,7 +81,7 @@ std::vector<BestFirst::Succ> BestFirst::successors(const Open& top) {
   for (size_t a = 0; a + 1 < A; ++a) clones.push_back(parent->clone());
   clones.push_back(std::move(parent));
   std::vector<Succ> succ(A);
-  p_.pool().parallel_for_worker(A, [&](size_t a, unsigned w) { expand_one(std::move(clones[a]), a, lookahead_[w], succ[a]); });
+  p_.pool().parallel_for_worker(A, [&](size_t a, unsigned w) { expand_one(std::move(clones[a]), a, scorers_[w], succ[a]); });
   out_.nodes += A;
   return succ;
 }
@@ -189,20 +154,20 @@ SearchOutcome BestFirst::run() {
     std::vector<std::unique_ptr<Environment>> trash;
     for (size_t a = 0; a < A; ++a) {
       Succ& s = succ[a];
-      out_.lookahead_steps += s.steps;
-      if (!s.ok || !seen_.insert(s.hash).second || (prune_ && !seen_frames_.insert(s.frame_hash).second)) {
+      out_.lookahead_steps += s.future.steps;
+      if (!s.ok || !seen_.insert(s.hash).second || (prune_ && !seen_frames_.insert(s.future.digest).second)) {
         if (s.env) trash.push_back(std::move(s.env));
         continue;
       }
       const int64_t id = add_node(top.node, a, top.g + 1, s.env);
       if (s.env) trash.push_back(std::move(s.env));
-      if (s.dist.colour == 0 || s.goal_noops > 0) {
+      if (s.future.goal_noops >= 0) {
         out_.found = true;
         out_.plan = path(id);
-        out_.plan.insert(out_.plan.end(), static_cast<size_t>(std::max(0, s.goal_noops)), Action::noop());
+        out_.plan.insert(out_.plan.end(), static_cast<size_t>(s.future.goal_noops), Action::noop());
         return stop("");
       }
-      open.push({s.key, top.g + 1, id});
+      open.push({s.future.key, top.g + 1, id});
     }
     discard(trash);
   }

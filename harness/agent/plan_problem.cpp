@@ -106,6 +106,36 @@ void Goal::order_tests(const TaskFrame& first) {
 
 // ---------------------------------------------------------------------------- clock
 
+Future FutureScorer::score(const PlanProblem& p, const Environment& e, int noops, bool at_end, bool travel) {
+  const Goal& goal = p.goal();
+  Future f;
+  colours_.map(e.frame(), e.palette(), goal.colours(), prev_);
+  Goal::Dist d = goal.distance(prev_, travel);
+  f.key = goal.rank(d);
+  f.digest = frame_digest(prev_);
+  if (d.colour == 0) {
+    f.goal_noops = 0;
+    return f;
+  }
+  auto probe = noops > 0 ? e.clone() : nullptr;
+  for (int k = 1; probe && k <= noops; ++k) {
+    if (!probe->step(Action::noop())) break;
+    ++f.steps;
+    colours_.map(probe->frame(), probe->palette(), goal.colours(), frame_);
+    d = goal.distance(frame_, travel);
+    if (d.colour == 0) {
+      f.goal_noops = k;
+      f.key = 0;
+      return f;
+    }
+    f.key = at_end ? goal.rank(d) : std::min(f.key, goal.rank(d));
+    if (!at_end && frame_ == prev_) break;
+    prev_.swap(frame_);  // keeps both buffers
+  }
+  f.digest = f.digest * 0x9E3779B97F4A7C15ull ^ frame_digest(prev_);
+  return f;
+}
+
 std::string Limit::time_note() const {
   if (clock->out_of_time()) return fmt::format("time limit {} s reached", clock->time_limit());
   return "its share of the time limit spent";

@@ -156,6 +156,30 @@ class PlanProblem {
   std::string model_ = "program", model_note_;
 };
 
+// A state's noop future, what best-first and the beam rank a successor by: from
+// a copy of the state, up to `noops` noop steps. `key` is the goal rank
+// (Goal::rank) at its best on the state's frame and the frames on the way,
+// which stop once a frame repeats its predecessor (things have come to rest);
+// or, with `at_end`, the rank after exactly `noops` steps. A goal frame on the
+// way stops it. `digest` joins the state's frame and the last frame seen, so
+// look-alike states whose futures differ are told apart. One scorer per thread
+// (it reuses its frame buffers).
+struct Future {
+  int64_t key = 0;
+  int goal_noops = -1;  // the goal shows after this many noops (0: at once)
+  uint64_t steps = 0;   // noop steps run
+  uint64_t digest = 0;
+};
+
+class FutureScorer {
+ public:
+  Future score(const PlanProblem& p, const Environment& e, int noops, bool at_end, bool travel);
+
+ private:
+  FrameColours colours_;
+  TaskFrame frame_, prev_;
+};
+
 // Plans as text, for notes and summaries.
 std::string plan_text(const std::vector<Action>& plan);
 size_t moves_of(const std::vector<Action>& plan);  // actions other than noop
