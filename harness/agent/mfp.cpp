@@ -44,6 +44,24 @@ std::optional<int> seed_choice(const Task& task, const Environment& probe, int s
   return choice_shown(task, size, task_frame(env->frame(), env->palette(), task.colours));
 }
 
+// The posterior over the two hypotheses, equal prior odds: H0, the stated seed
+// (it shows choice *h0 with probability 1, or contradicts the observations:
+// nullopt), and H1, an unknown seed of likelihood `w1`, whose choices are
+// distributed as r.counts over r.accepted samples; then the posterior over the
+// choices and the answer, the most probable one (the first on ties).
+void decide(std::optional<int> h0, double w1, MfpResult& r) {
+  const double w0 = h0 ? 1.0 : 0.0;
+  if (w0 + w1 <= 0) return;
+  r.posterior_stated_seed = w0 / (w0 + w1);
+  std::vector<double> p(r.counts.size(), 0.0);
+  if (h0 && *h0 >= 0) p[*h0] += r.posterior_stated_seed;
+  for (size_t c = 0; c < p.size(); ++c)
+    if (r.accepted) p[c] += (1 - r.posterior_stated_seed) * static_cast<double>(r.counts[c]) / static_cast<double>(r.accepted);
+  r.probabilities = p;
+  for (size_t c = 0; c < p.size(); ++c)
+    if (p[c] > 0 && (r.choice < 0 || p[c] > p[r.choice])) r.choice = static_cast<int>(c);
+}
+
 // Seed inversion: when the observations pin enough of the episode's draws
 // (seed_inversion.hpp), the world is one of few seeds, each replayed exactly.
 // Their likelihood: |consistent seeds| / 2^32 under a uniform prior over seeds.
@@ -69,15 +87,7 @@ bool solve_by_inversion(const Task& task, const SolveOptions& opts, ThreadPool& 
   }
   if (r.seeds_consistent == 0) return false;
   r.inverted = true;
-  double w0 = h0 ? 1.0 : 0.0, w1 = static_cast<double>(r.seeds_consistent) / 4294967296.0;
-  r.posterior_stated_seed = w0 / (w0 + w1);
-  std::vector<double> p(task.choices.size(), 0.0);
-  if (h0 && *h0 >= 0) p[*h0] += r.posterior_stated_seed;
-  for (size_t c = 0; c < p.size(); ++c)
-    p[c] += (1 - r.posterior_stated_seed) * static_cast<double>(r.counts[c]) / static_cast<double>(r.seeds_consistent);
-  r.probabilities = p;
-  for (size_t c = 0; c < p.size(); ++c)
-    if (p[c] > 0 && (r.choice < 0 || p[c] > p[r.choice])) r.choice = static_cast<int>(c);
+  decide(h0, static_cast<double>(r.seeds_consistent) / 4294967296.0, r);
   return true;
 }
 
@@ -108,17 +118,7 @@ void solve_stochastic(const Task& task, const SolveOptions& opts, ThreadPool& po
   r.peak_particles = smc.peak();
   if (alive)
     for (const SmcSample& s : smc.samples()) tally(task, size, s.frame, s.count, r);
-  // Posterior over the two hypotheses, then over the choices.
-  double w0 = h0 ? 1.0 : 0.0, w1 = alive ? std::exp(smc.log_likelihood()) : 0.0;
-  if (w0 + w1 <= 0) return;
-  r.posterior_stated_seed = w0 / (w0 + w1);
-  std::vector<double> p(task.choices.size(), 0.0);
-  if (h0 && *h0 >= 0) p[*h0] += r.posterior_stated_seed;
-  for (size_t c = 0; c < p.size(); ++c)
-    if (r.accepted) p[c] += (1 - r.posterior_stated_seed) * static_cast<double>(r.counts[c]) / r.accepted;
-  r.probabilities = p;
-  for (size_t c = 0; c < p.size(); ++c)
-    if (p[c] > 0 && (r.choice < 0 || p[c] > p[r.choice])) r.choice = static_cast<int>(c);
+  decide(h0, alive ? std::exp(smc.log_likelihood()) : 0.0, r);
 }
 
 }  // namespace
