@@ -31,6 +31,7 @@
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/particles.hpp"
 #include "harness/agent/plan_beam.hpp"
+#include "harness/agent/plan_focus.hpp"
 #include "harness/agent/plan_problem.hpp"
 #include "harness/agent/planning.hpp"
 #include "harness/agent/task_file.hpp"
@@ -658,6 +659,51 @@ TEST(AgentPlanning, TimedGoalsGetPlansNoLongerThanTheGenerators) {
   EXPECT_TRUE(replays_to_goal(task, a.plan));
   EXPECT_EQ(a.plan, b.plan) << "the beam must not depend on the thread count";
   EXPECT_EQ(a.nodes, b.nodes);
+}
+
+// A click whose effect takes longer than the BFS depth to reach the cells the
+// goal changes (a thrown rock rolls 14 cells): it belongs to the reaching set,
+// which the stages after BFS wait with, and BFS by moves finds click-and-wait.
+TEST(AgentPlanning, ReachingClicksWaitForSlowEffects) {
+  fs::path root = scratch("slow_effect");
+  fs::create_directories(root / "programs");
+  fs::create_directories(root / "prompts");
+  std::ofstream(root / "programs" / "throw.au") << R"((program
+  (= GRID_SIZE 16)
+  (object Rock (Cell 0 0 "red"))
+  (object Thrower (Cell 0 0 "blue"))
+  (= thrower (initnext (Thrower (Position 0 15)) (prev thrower)))
+  (= rocks (initnext (list) (updateObj (prev rocks) (--> r (moveRight r)))))
+  (on (clicked thrower) (= rocks (addObj (prev rocks) (Rock (Position 0 14))))))
+)";
+  Task task;
+  task.type = TaskType::Planning;
+  task.file = root / "prompts" / "throw_planning.json";
+  task.name = "throw_planning";
+  task.program = "throw";
+  auto env = make_environment("interp", load_program_file((root / "programs" / "throw.au").string()), nullptr);
+  ASSERT_TRUE(env && env->reset(0));
+  ASSERT_TRUE(env->step(Action::click(0, 15)));
+  for (int t = 0; t < 14; ++t) ASSERT_TRUE(env->step(Action::noop()));
+  const TaskFrame goal = task_frame(env->frame(), env->palette(), task.colours);
+  task.goal = Grid{16, 16, goal};
+  task.mask = Grid{16, 16, std::vector<int16_t>(goal.size(), 1)};
+  ThreadPool pool(2);
+  SolveOptions o;
+  o.nodes = 200'000;
+  o.depth = 12;
+  PlanProblem p(task, o, pool);
+  const std::vector<uint32_t> changed = p.goal().differing(p.frame_of(p.root()));
+  ASSERT_EQ(changed.size(), 1u) << "the rock at (14, 14)";
+  const std::vector<Action> reaching = reaching_clicks(p, p.actions(), changed);
+  EXPECT_NE(std::find(reaching.begin(), reaching.end(), Action::click(0, 15)), reaching.end());
+  EXPECT_EQ(std::count_if(reaching.begin(), reaching.end(), [](const Action& a) { return a.kind == Action::Kind::Click; }), 1)
+      << "only the thrower's click changes anything";
+  PlanResult r = solve_planning(task, o, pool);
+  ASSERT_TRUE(r.found) << planning_summary(r);
+  EXPECT_EQ(moves_of(r.plan), 1u) << planning_summary(r);
+  EXPECT_EQ(r.plan.size(), 15u) << planning_summary(r);
+  EXPECT_TRUE(replays_to_goal(task, r.plan));
 }
 
 // Travel, best-first's tie-break: a thing one step from its goal square ranks

@@ -123,18 +123,7 @@ bool Interpreter::condition_holds(const Stmt& st) {
 }
 
 void Interpreter::step_once(const Action& input) {
-  switch (input.kind) {
-    case Action::Kind::Noop: break;
-    case Action::Kind::Left: left_ = true; break;
-    case Action::Kind::Right: right_ = true; break;
-    case Action::Kind::Up: up_ = true; break;
-    case Action::Kind::Down: down_ = true; break;
-    case Action::Kind::Click:
-      click_ = true;
-      click_x_ = input.x;
-      click_y_ = input.y;
-      break;
-  }
+  press(input);
   // 1. Snapshot for prev: the values (shared, not deep-copied) and the map order.
   have_prev_ = true;
   prev_values_ = gvalues_;

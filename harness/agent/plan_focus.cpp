@@ -1,6 +1,7 @@
 #include "harness/agent/plan_focus.hpp"
 
 #include <algorithm>
+#include <functional>
 
 namespace autumn::agent {
 
@@ -27,34 +28,57 @@ std::vector<Action> near_clicks(const PlanProblem& p, const std::vector<Action>&
   return out;
 }
 
+namespace {
+
+// The clicks of `all`, in order.
+std::vector<Action> clicks_of(const std::vector<Action>& all) {
+  std::vector<Action> clicks;
+  for (const Action& a : all)
+    if (a.kind == Action::Kind::Click) clicks.push_back(a);
+  return clicks;
+}
+
+// Runs probe(env, k) for each click k of `clicks`, each on a clone of the root
+// of its own, in parallel.
+void probe_each(PlanProblem& p, const std::vector<Action>& clicks,
+                const std::function<void(Environment&, size_t)>& probe) {
+  std::vector<std::unique_ptr<Environment>> envs;
+  for (size_t k = 0; k < clicks.size(); ++k) envs.push_back(p.root().clone());  // cloned here: one thread
+  p.pool().parallel_for(clicks.size(), [&](size_t k) {
+    probe(*envs[k], k);
+    envs[k].reset();
+  });
+}
+
+// The non-click actions of `all` and its clicks k (in order) with keep[k].
+std::vector<Action> keep_clicks(const std::vector<Action>& all, const std::vector<uint8_t>& keep) {
+  std::vector<Action> out;
+  size_t k = 0;
+  for (const Action& a : all)
+    if (a.kind != Action::Kind::Click || keep[k++]) out.push_back(a);
+  return out;
+}
+
+}  // namespace
+
 std::vector<Action> reaching_clicks(PlanProblem& p, const std::vector<Action>& all, const std::vector<uint32_t>& cells) {
-  const int steps = std::max(1, std::min(p.opts().depth, 2 * p.grid()));
+  const int steps = std::max(1, 2 * p.grid());
   std::vector<TaskFrame> baseline;
   {
     auto e = p.root().clone();
     for (int t = 0; t < steps && e->step(Action::noop()); ++t) baseline.push_back(p.frame_of(*e));
   }
-  std::vector<Action> clicks;
-  for (const Action& a : all)
-    if (a.kind == Action::Kind::Click) clicks.push_back(a);
+  const std::vector<Action> clicks = clicks_of(all);
   std::vector<uint8_t> reaches(clicks.size(), 0);
-  std::vector<std::unique_ptr<Environment>> envs;
-  for (size_t i = 0; i < clicks.size(); ++i) envs.push_back(p.root().clone());  // cloned here: one thread
-  p.pool().parallel_for(clicks.size(), [&](size_t i) {
-    Environment& e = *envs[i];
-    for (size_t t = 0; t < baseline.size() && !reaches[i]; ++t) {
-      if (!e.step(t == 0 ? clicks[i] : Action::noop())) break;
+  probe_each(p, clicks, [&](Environment& e, size_t k) {
+    for (size_t t = 0; t < baseline.size() && !reaches[k]; ++t) {
+      if (!e.step(t == 0 ? clicks[k] : Action::noop())) break;
       const TaskFrame f = p.frame_of(e);
       for (uint32_t c : cells)
-        if (c < f.size() && f[c] != baseline[t][c]) reaches[i] = 1;
+        if (c < f.size() && f[c] != baseline[t][c]) reaches[k] = 1;
     }
-    envs[i].reset();
   });
-  std::vector<Action> out;
-  size_t k = 0;
-  for (const Action& a : all)
-    if (a.kind != Action::Kind::Click || reaches[k++]) out.push_back(a);
-  return out;
+  return keep_clicks(all, reaches);
 }
 
 std::vector<Action> hidden_clicks(PlanProblem& p, const std::vector<Action>& all, const std::vector<uint32_t>& cells,
@@ -68,28 +92,22 @@ std::vector<Action> hidden_clicks(PlanProblem& p, const std::vector<Action>& all
   const TaskFrame quiet_frame = p.frame_of(*quiet);
   if (!quiet->step(probe)) return {};
   const uint64_t quiet_probe = frame_digest(p.frame_of(*quiet));
-  std::vector<size_t> clicks;
-  for (size_t i = 0; i < all.size(); ++i)
-    if (all[i].kind == Action::Kind::Click) clicks.push_back(i);
+  const std::vector<Action> clicks = clicks_of(all);
   std::vector<uint64_t> kind(clicks.size(), quiet_probe);  // quiet_probe: not a mode click
-  std::vector<std::unique_ptr<Environment>> envs;
-  for (size_t k = 0; k < clicks.size(); ++k) envs.push_back(p.root().clone());  // cloned here: one thread
-  p.pool().parallel_for(clicks.size(), [&](size_t k) {
-    Environment& e = *envs[k];
-    if (e.step(all[clicks[k]]) && p.frame_of(e) == quiet_frame && e.step(probe)) kind[k] = frame_digest(p.frame_of(e));
-    envs[k].reset();
+  probe_each(p, clicks, [&](Environment& e, size_t k) {
+    if (e.step(clicks[k]) && p.frame_of(e) == quiet_frame && e.step(probe)) kind[k] = frame_digest(p.frame_of(e));
   });
   std::vector<uint64_t> kinds;
-  std::vector<uint8_t> keep(all.size(), 0);
+  std::vector<uint8_t> keep(clicks.size(), 0);
   for (size_t k = 0; k < clicks.size(); ++k) {
     if (kind[k] == quiet_probe || std::find(kinds.begin(), kinds.end(), kind[k]) != kinds.end()) continue;
     kinds.push_back(kind[k]);
-    keep[clicks[k]] = 1;
+    keep[k] = 1;
   }
   if (kinds.size() > max) return {};
   std::vector<Action> out;
-  for (size_t i = 0; i < all.size(); ++i)
-    if (keep[i]) out.push_back(all[i]);
+  for (const Action& a : keep_clicks(all, keep))
+    if (a.kind == Action::Kind::Click) out.push_back(a);
   return out;
 }
 

@@ -6,9 +6,10 @@
 //  near(cells, r):   clicks within Chebyshev distance r of one of `cells`
 //                    (with `box`, of their bounding box);
 //  reaching(cells):  clicks whose effect, from the root under noops, reaches one
-//                    of `cells` within min(depth, 2*GRID_SIZE) steps: a frame
-//                    differs from the noop baseline's there (a falling block
-//                    lands, a fill spreads, a button recolours something far away);
+//                    of `cells` within 2*GRID_SIZE steps (not only within the BFS
+//                    depth: the stages after BFS wait): a frame differs from the
+//                    noop baseline's there (a falling block lands, a fill spreads,
+//                    a thrown rock breaks a bottle across the grid);
 //  hidden(cells, max): mode clicks: clicks that change nothing on screen but
 //                    change what a click on the first of `cells` then does (a
 //                    mode button: the next clicks place another thing). One
