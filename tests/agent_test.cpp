@@ -589,15 +589,36 @@ TEST(AgentPlanning, BestFirstFollowsThingsThatKeepMoving) {
   }
 }
 
+// A planning task for PROGRAM_TEXT (written to a scratch programs/ folder as
+// NAME.au) whose goal is the whole frame after `actions` from reset(0); an empty
+// goal when the program fails.
+Task goal_of_actions(const std::string& name, const std::string& program_text, const std::vector<Action>& actions) {
+  fs::path root = scratch(name);
+  fs::create_directories(root / "programs");
+  fs::create_directories(root / "prompts");
+  std::ofstream(root / "programs" / (name + ".au")) << program_text;
+  Task task;
+  task.type = TaskType::Planning;
+  task.file = root / "prompts" / (name + "_planning.json");
+  task.name = name + "_planning";
+  task.program = name;
+  auto env = make_environment("interp", load_program_file((root / "programs" / (name + ".au")).string()), nullptr);
+  if (!env || !env->reset(0)) return task;
+  for (const Action& a : actions)
+    if (!env->step(a)) return task;
+  const TaskFrame goal = task_frame(env->frame(), env->palette(), task.colours);
+  const int n = env->frame().size;
+  task.goal = Grid{n, n, goal};
+  task.mask = Grid{n, n, std::vector<int16_t>(goal.size(), 1)};
+  return task;
+}
+
 // A mode button: clicking it shows nothing, but the next clicks place marks.
 // The goal's cells are far from the button, so no focused click set holds it by
 // position or effect; the mode-click probe (plan_focus.hpp) adds it, and BFS
 // over the cells the goal changes finds the shortest plan: button, three marks.
 TEST(AgentPlanning, FocusedSetsKeepTheModeButtons) {
-  fs::path root = scratch("modes");
-  fs::create_directories(root / "programs");
-  fs::create_directories(root / "prompts");
-  std::ofstream(root / "programs" / "modes.au") << R"((program
+  const Task task = goal_of_actions("modes", R"((program
   (= GRID_SIZE 16)
   (object Mark (Cell 0 0 "red"))
   (object Button (Cell 0 0 "gray"))
@@ -606,19 +627,8 @@ TEST(AgentPlanning, FocusedSetsKeepTheModeButtons) {
   (= marks (initnext (list) (prev marks)))
   (on (clicked button) (= mode 1))
   (on (& (& clicked (isFreePos click)) (== mode 1)) (= marks (addObj marks (Mark (Position (.. click x) (.. click y)))))))
-)";
-  Task task;
-  task.type = TaskType::Planning;
-  task.file = root / "prompts" / "modes_planning.json";
-  task.name = "modes_planning";
-  task.program = "modes";
-  auto env = make_environment("interp", load_program_file((root / "programs" / "modes.au").string()), nullptr);
-  ASSERT_TRUE(env && env->reset(0));
-  for (const Action& a : {Action::click(0, 0), Action::click(12, 11), Action::click(9, 14), Action::click(14, 6)})
-    ASSERT_TRUE(env->step(a));
-  const TaskFrame goal = task_frame(env->frame(), env->palette(), task.colours);
-  task.goal = Grid{16, 16, goal};
-  task.mask = Grid{16, 16, std::vector<int16_t>(goal.size(), 1)};
+)", {Action::click(0, 0), Action::click(12, 11), Action::click(9, 14), Action::click(14, 6)});
+  ASSERT_FALSE(task.goal.cells.empty());
   ThreadPool pool(2);
   SolveOptions o;
   o.nodes = 500'000;
@@ -665,29 +675,17 @@ TEST(AgentPlanning, TimedGoalsGetPlansNoLongerThanTheGenerators) {
 // goal changes (a thrown rock rolls 14 cells): it belongs to the reaching set,
 // which the stages after BFS wait with, and BFS by moves finds click-and-wait.
 TEST(AgentPlanning, ReachingClicksWaitForSlowEffects) {
-  fs::path root = scratch("slow_effect");
-  fs::create_directories(root / "programs");
-  fs::create_directories(root / "prompts");
-  std::ofstream(root / "programs" / "throw.au") << R"((program
+  std::vector<Action> throw_and_wait = {Action::click(0, 15)};
+  throw_and_wait.resize(15, Action::noop());
+  const Task task = goal_of_actions("throw", R"((program
   (= GRID_SIZE 16)
   (object Rock (Cell 0 0 "red"))
   (object Thrower (Cell 0 0 "blue"))
   (= thrower (initnext (Thrower (Position 0 15)) (prev thrower)))
   (= rocks (initnext (list) (updateObj (prev rocks) (--> r (moveRight r)))))
   (on (clicked thrower) (= rocks (addObj (prev rocks) (Rock (Position 0 14))))))
-)";
-  Task task;
-  task.type = TaskType::Planning;
-  task.file = root / "prompts" / "throw_planning.json";
-  task.name = "throw_planning";
-  task.program = "throw";
-  auto env = make_environment("interp", load_program_file((root / "programs" / "throw.au").string()), nullptr);
-  ASSERT_TRUE(env && env->reset(0));
-  ASSERT_TRUE(env->step(Action::click(0, 15)));
-  for (int t = 0; t < 14; ++t) ASSERT_TRUE(env->step(Action::noop()));
-  const TaskFrame goal = task_frame(env->frame(), env->palette(), task.colours);
-  task.goal = Grid{16, 16, goal};
-  task.mask = Grid{16, 16, std::vector<int16_t>(goal.size(), 1)};
+)", throw_and_wait);
+  ASSERT_FALSE(task.goal.cells.empty());
   ThreadPool pool(2);
   SolveOptions o;
   o.nodes = 200'000;

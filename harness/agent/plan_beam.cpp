@@ -58,12 +58,7 @@ void Beam::expand_one(std::unique_ptr<Environment> e, size_t a, int noops, Futur
   out.ok = true;
 }
 
-std::vector<Action> Beam::path(int64_t node) const {
-  std::vector<Action> plan;
-  for (int64_t n = node; n > 0; n = nodes_[n].parent) plan.push_back(actions_[nodes_[n].action]);
-  std::reverse(plan.begin(), plan.end());
-  return plan;
-}
+std::vector<Action> Beam::path(int64_t node) const { return path_to(nodes_, actions_, node); }
 
 SearchOutcome Beam::stop(const std::string& why) {
   out_.note = why;

@@ -110,12 +110,7 @@ std::unique_ptr<Environment> BestFirst::parent_env(int64_t node) {
   return e;
 }
 
-std::vector<Action> BestFirst::path(int64_t node) const {
-  std::vector<Action> plan;
-  for (int64_t n = node; n > 0; n = nodes_[n].parent) plan.push_back(actions_[nodes_[n].action]);
-  std::reverse(plan.begin(), plan.end());
-  return plan;
-}
+std::vector<Action> BestFirst::path(int64_t node) const { return path_to(nodes_, actions_, node); }
 
 SearchOutcome BestFirst::stop(const std::string& why) {
   out_.note = why;

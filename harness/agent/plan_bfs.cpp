@@ -90,12 +90,7 @@ class LayeredBfs {
   std::vector<uint64_t> hash_of_;  // per node, for target lookups
 };
 
-std::vector<Action> LayeredBfs::path(int64_t node) const {
-  std::vector<Action> plan;
-  for (int64_t n = node; n > 0; n = nodes_[n].parent) plan.push_back(spec_.actions[nodes_[n].action]);
-  std::reverse(plan.begin(), plan.end());
-  return plan;
-}
+std::vector<Action> LayeredBfs::path(int64_t node) const { return path_to(nodes_, spec_.actions, node); }
 
 std::unique_ptr<Environment> LayeredBfs::replay(int64_t node, const Environment& from) const {
   auto e = from.clone();

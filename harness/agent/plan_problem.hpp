@@ -101,6 +101,10 @@ struct Node {
   int32_t depth;
 };
 
+// The plan from the root (node 0) to `node`: the actions of its ancestors'
+// edges, first to last.
+std::vector<Action> path_to(const std::vector<Node>& nodes, const std::vector<Action>& actions, int64_t node);
+
 // What one strategy run reports.
 struct SearchOutcome {
   bool found = false;
