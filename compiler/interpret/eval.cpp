@@ -390,7 +390,8 @@ Value Interpreter::call_lambda(const Expr& lambda, std::vector<Value>& args, Sco
 
 // An error in the method's own machinery (a colour that is not a String, a
 // coordinate that is not a Number) is the program's: it is reported at the cell
-// argument evaluated last, the one whose value did not fit.
+// argument evaluated last, the one whose value did not fit; before any (an
+// origin that is not a Position), at the object's definition.
 Value Interpreter::call_render_method(TypeObj* cls) {
   Nest machinery(internal_);  // nothing the method itself builds is counted
   Ref<InstanceObj> self = cls->bound;
@@ -408,6 +409,9 @@ Value Interpreter::call_render_method(TypeObj* cls) {
     forget_unwound_frames();
     if (!e.in_program && last_cell_arg_.line > 0 && last_cell_arg_.source == SourceId::Program) {
       e.program_loc = last_cell_arg_;
+      e.in_program = true;
+    } else if (!e.in_program && cls->object) {
+      e.program_loc = cls->object->loc;
       e.in_program = true;
     }
     throw;
