@@ -23,7 +23,8 @@
 // and noop-future digest (hidden-state variants would fill the beam). Ties:
 // generation order (beam order, then action order), so results do not depend
 // on --threads. Not shortest: the planner shortens what this finds. The
-// planner runs growing widths (8, 32, 128) while its share lasts.
+// planner runs settled beams at widths 8 and 32, and horizon beams about 2,048
+// successors wide a layer (at least 8 states), while its share lasts.
 #pragma once
 #include "harness/agent/plan_problem.hpp"
 
