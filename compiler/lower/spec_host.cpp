@@ -65,6 +65,10 @@ void Specialiser::specialise_start() {
     if (st.kind == StmtKind::Object) {
       int c = f_.class_of_sym[st.object_sym];
       ClassInfo& ci = m_.classes[c];
+      // A name defined twice: each definition has a class, the later one is
+      // the name's; the lowering knows only one class per name (found by
+      // fuzz_emit: fields of the earlier written into the later's).
+      if (ci.stmt != &st) unsupported("object '" + ci.name + "' defined twice");
       for (size_t i = 0; i < st.fields.size(); ++i) {
         TypeP declared = declared_type(*st.fields[i].type);
         if (!declared && ci.unknown_field.empty()) ci.unknown_field = ci.field_names[i];
