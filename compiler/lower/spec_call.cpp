@@ -238,6 +238,10 @@ SVal Specialiser::construct_builtin_class(int c, std::vector<SVal>& args) {
     if (dead_) return never();
     args[i] = coerce(ok, want[i].second);
   }
+  // A coordinate that is never computed (a value the walk only reaches where
+  // evaluation has already failed) makes no Position either (found by fuzz_emit:
+  // a MakePos with a null operand crashed the printer).
+  if (args[0].type->k == TK::Never || args[1].type->k == TK::Never) return never();
   if (pos) return make_position(args[0], args[1]);
   return fresh_identity(let(SVal{T().elem(), node(ir::Op::MakeElem, T().elem(), {args[0].code, args[1].code})}));
 }
