@@ -224,6 +224,10 @@ SVal Specialiser::remove_global(const SVal& v) {
       learn("global '" + nm(g.sym) + "' may be erased");
       return;
     }
+    // A global whose slots were made before it was known to be erasable can
+    // have no definedness flag (found by fuzz_emit: an initnext whose next
+    // fails); such a program is the embedded engine's.
+    if (g.defined < 0) unsupported("removeObj erasing '" + nm(g.sym) + "', which has no definedness flag");
     ir::Node* same = same_identity_any(SVal{g.type, slot(g.value)}, {v});
     ir::Stmt* s = emit(ir::SK::If);
     s->a = node(ir::Op::And, T().bool_(), {node(ir::Op::Not, T().bool_(), {local(done)}), same});
