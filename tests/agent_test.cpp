@@ -33,6 +33,7 @@
 #include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_focus.hpp"
 #include "harness/agent/plan_problem.hpp"
+#include "harness/agent/plan_shorten.hpp"
 #include "harness/agent/planning.hpp"
 #include "harness/agent/task_file.hpp"
 #include "harness/agent/thread_pool.hpp"
@@ -702,6 +703,50 @@ TEST(AgentPlanning, ReachingClicksWaitForSlowEffects) {
   EXPECT_EQ(moves_of(r.plan), 1u) << planning_summary(r);
   EXPECT_EQ(r.plan.size(), 15u) << planning_summary(r);
   EXPECT_TRUE(replays_to_goal(task, r.plan));
+}
+
+// Blobs drift with the velocity the arrows set. The long plan sets the
+// velocity, waits for the first blob, stops it and then places the others where
+// they must end; the generator placed them while everything drifted, at cells
+// the drift then carries to the same places. Relocation (plan_shorten.hpp)
+// moves each late click into a waiting step at its drifted cell: 6 actions
+// become the generator's 4 (left, click 13 5, click 9 3, right). Drop cannot
+// (removing a wait changes how far the first blob drifts), nor can shortcuts
+// over the plan's own clicks.
+TEST(AgentPlanning, ShorteningMovesClicksIntoWaitingSteps) {
+  const std::string program = R"((program
+  (= GRID_SIZE 16)
+  (object Blob (Cell 0 0 "blue"))
+  (= blobs (initnext (list (Blob (Position 8 8))) (prev blobs)))
+  (= xVel (initnext 0 (prev xVel)))
+  (on (& clicked (isFreePos click)) (= blobs (addObj blobs (Blob (Position (.. click x) (.. click y))))))
+  (on (& left (!= (prev xVel) -1)) (= xVel (- (prev xVel) 1)))
+  (on (& right (!= (prev xVel) 1)) (= xVel (+ (prev xVel) 1)))
+  (on true (= blobs (updateObj blobs (--> b (move b (Position (prev xVel) 0))))))
+)
+)";
+  const Action left{Action::Kind::Left}, right{Action::Kind::Right};
+  const std::vector<Action> generator = {left, Action::click(13, 5), Action::click(9, 3), right};
+  const Task task = goal_of_actions("drift", program, generator);
+  ASSERT_FALSE(task.goal.cells.empty());
+  const std::vector<Action> slow = {left, Action::noop(), Action::noop(), right, Action::click(7, 3), Action::click(10, 5)};
+  ASSERT_TRUE(replays_to_goal(task, slow)) << "the long plan reaches the same frame";
+  ThreadPool two(2), one(1);
+  SolveOptions o;
+  o.nodes = 2'000'000;
+  PlanProblem p(task, o, two), p1(task, o, one);
+  // Shortcuts search the arrows and the plan's own clicks (as after a focused
+  // search); relocation tries every cell.
+  std::vector<Action> focused;
+  for (const Action& a : p.actions())
+    if (a.kind != Action::Kind::Click || a == slow[4] || a == slow[5]) focused.push_back(a);
+  ShortenStats stats, stats1;
+  const std::vector<Action> shorter = shorten_plan(p, slow, focused, p.share(1.0, 0), false, stats);
+  EXPECT_EQ(shorter, generator) << plan_text(shorter);
+  EXPECT_EQ(stats.relocated, 2);
+  EXPECT_TRUE(replays_to_goal(task, shorter));
+  EXPECT_EQ(shorten_plan(p1, slow, focused, p1.share(1.0, 0), false, stats1), shorter)
+      << "the result must not depend on the thread count";
 }
 
 // Travel, best-first's tie-break: a thing one step from its goal square ranks

@@ -98,6 +98,79 @@ std::vector<Action> shortcuts(PlanProblem& p, std::vector<Action> plan, const st
   return plan;
 }
 
+// Relocation: the plan without its click at step j and with click c in the
+// noop slot i. `base` is the state just before slot i in that plan (nullptr:
+// the goal already shows on the way there), `suffix` the actions after slot i.
+// Tries every click of `clicks` from `base` in parallel and returns the index
+// (in `clicks`) of the first in order whose replay reaches the goal, with the
+// number of the candidate's actions up to its first goal frame in `length`.
+int first_relocation(PlanProblem& p, const Environment& base, const std::vector<Action>& clicks,
+                     const std::vector<Action>& suffix, std::vector<FrameColours>& colours, int& length,
+                     ShortenStats& stats) {
+  std::vector<int> goal_at(clicks.size(), -1);
+  std::vector<std::unique_ptr<Environment>> envs;
+  envs.reserve(clicks.size());
+  for (size_t k = 0; k < clicks.size(); ++k) envs.push_back(base.clone());
+  p.pool().parallel_for_worker(clicks.size(), [&](size_t k, unsigned w) {
+    Environment& e = *envs[k];
+    if (e.step(clicks[k])) {
+      for (size_t t = 0;; ++t) {
+        if (p.goal().reached(e, colours[w])) {
+          goal_at[k] = static_cast<int>(t);
+          break;
+        }
+        if (t == suffix.size() || !e.step(suffix[t])) break;
+      }
+    }
+    envs[k].reset();
+  });
+  stats.nodes += clicks.size() * (suffix.size() + 1);
+  for (size_t k = 0; k < clicks.size(); ++k)
+    if (goal_at[k] >= 0) {
+      length = goal_at[k] + 1;  // the click, then goal_at[k] suffix actions
+      return static_cast<int>(k);
+    }
+  return -1;
+}
+
+// One relocation that shortens the plan by at least one action, or false.
+bool relocate_once(PlanProblem& p, std::vector<Action>& plan, const std::vector<Action>& clicks, const Limit& limit,
+                   ShortenStats& stats) {
+  std::vector<FrameColours> colours(p.pool().size());
+  const Trail t = trail_of(p, plan);
+  if (t.states.size() != plan.size() + 1) return false;
+  for (size_t j = plan.size(); j-- > 0;) {
+    if (plan[j].kind != Action::Kind::Click) continue;
+    for (size_t i = 0; i < plan.size(); ++i) {
+      if (plan[i].kind != Action::Kind::Noop) continue;
+      if (stats.nodes >= limit.nodes || limit.out_of_time()) return false;
+      // The candidate: plan without step j, slot i holding the click.
+      std::vector<Action> prefix, suffix;
+      for (size_t s = 0; s < plan.size(); ++s) {
+        if (s == j || s == i) continue;
+        (s < i ? prefix : suffix).push_back(plan[s]);
+      }
+      // The state before slot i: the trail's where the plans agree, then stepped.
+      const size_t common = std::min(i, j);
+      auto base = t.states[common]->clone();
+      bool usable = true;  // no failed step, no goal on the way (dropping step j alone: drop_single's case)
+      for (size_t s = common; s < prefix.size() && usable; ++s)
+        usable = base->step(prefix[s]) && !p.goal().reached(p.frame_of(*base));
+      if (!usable) continue;
+      int length = 0;
+      const int k = first_relocation(p, *base, clicks, suffix, colours, length, stats);
+      if (k < 0) continue;
+      prefix.push_back(clicks[static_cast<size_t>(k)]);
+      prefix.insert(prefix.end(), suffix.begin(), suffix.begin() + (length - 1));
+      if (prefix.size() >= plan.size() || p.first_goal(prefix) != static_cast<int>(prefix.size())) continue;
+      plan = std::move(prefix);
+      ++stats.relocated;
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<Action> shorten_plan(PlanProblem& problem, std::vector<Action> plan, const std::vector<Action>& actions,
@@ -105,6 +178,18 @@ std::vector<Action> shorten_plan(PlanProblem& problem, std::vector<Action> plan,
   stats.before = plan.size();
   plan = drop_single(problem, cut(problem, std::move(plan)));
   if (!keep_moves) plan = drop_single(problem, shortcuts(problem, std::move(plan), actions, limit, stats));
+  std::vector<Action> clicks;
+  for (const Action& a : problem.actions())
+    if (a.kind == Action::Kind::Click) clicks.push_back(a);
+  // Relocation gets a quarter of what is left, so the stages after shortening
+  // (the horizon beam) keep their turn.
+  Limit quarter = limit;
+  quarter.nodes = stats.nodes + (limit.nodes - std::min(limit.nodes, stats.nodes)) / 4;
+  const Clock& clock = *limit.clock;
+  const double end = limit.deadline > 0 ? limit.deadline : clock.time_limit();
+  if (end > 0) quarter.deadline = clock.seconds() + std::max(0.0, end - clock.seconds()) / 4;
+  if (!clicks.empty())
+    while (relocate_once(problem, plan, clicks, quarter, stats)) plan = drop_single(problem, std::move(plan));
   stats.after = plan.size();
   return plan;
 }

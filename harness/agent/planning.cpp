@@ -224,6 +224,7 @@ class Planner {
     r_.plan = shorten_plan(p_, r_.plan, actions, p_.share(1.0, r_.nodes), moves_, stats);
     r_.nodes += stats.nodes;
     r_.shortcuts = stats.shortcuts;
+    r_.relocated = stats.relocated;
     // A plan as cheap as the proven bound allows is proven after all.
     const int cost = static_cast<int>(moves_ ? moves_of(r_.plan) : r_.plan.size());
     if (cost <= r_.proven_bound + 1) r_.shortest = true;
@@ -300,6 +301,7 @@ nlohmann::json planning_json(const PlanResult& r) {
                       {"proven_bound", r.proven_bound},
                       {"found_length", or_null(r.found_length)},
                       {"shortcuts", r.shortcuts},
+                      {"relocated_clicks", r.relocated},
                       {"bfs_depth_done", r.bfs_depth_done},
                       {"nodes", r.nodes},
                       {"distinct_states", r.distinct},
@@ -328,8 +330,9 @@ std::string planning_summary(const PlanResult& r) {
                                 : fmt::format("not proven cheapest: no plan costs <= {} {}", r.proven_bound, r.cost),
                      plan_text(r.plan));
     if (r.found_length != r.plan.size())
-      s += fmt::format("shortened from {} actions ({} shortcut{})\n", r.found_length, r.shortcuts,
-                       r.shortcuts == 1 ? "" : "s");
+      s += fmt::format("shortened from {} actions ({} shortcut{}, {} click{} moved into a waiting step)\n",
+                       r.found_length, r.shortcuts, r.shortcuts == 1 ? "" : "s", r.relocated,
+                       r.relocated == 1 ? "" : "s");
     (void)cost;
     s += fmt::format("replayed on a fresh environment: {}\n", r.verified ? "reaches the goal" : "DOES NOT reach the goal");
   } else {

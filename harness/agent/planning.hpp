@@ -71,6 +71,7 @@ struct PlanResult {
   std::string model_note;       // why the click-reset model was not used
   size_t found_length = 0;      // before shortening
   int shortcuts = 0;
+  int relocated = 0;             // clicks moved into waiting steps by shortening
   bool stochastic = false;
   uint64_t env_seed = 0;
   bool verified = false;        // the plan replays on the program (fresh environment) to the goal
