@@ -31,6 +31,7 @@
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/particles.hpp"
 #include "harness/agent/plan_beam.hpp"
+#include "harness/agent/plan_fill.hpp"
 #include "harness/agent/plan_focus.hpp"
 #include "harness/agent/plan_problem.hpp"
 #include "harness/agent/plan_shorten.hpp"
@@ -747,6 +748,45 @@ TEST(AgentPlanning, ShorteningMovesClicksIntoWaitingSteps) {
   EXPECT_TRUE(replays_to_goal(task, shorter));
   EXPECT_EQ(shorten_plan(p1, slow, focused, p1.share(1.0, 0), false, stats1), shorter)
       << "the result must not depend on the thread count";
+}
+
+// The drift world again, but the goal is a moment of it still moving: the
+// velocity stays -1, so every blob keeps drifting after the last step. The
+// fill strategy (plan_fill.hpp) finds the arrows first (left, which brings the
+// first blob where the goal has it at step 4) and then the two clicks in the
+// waiting steps, at the cells the drift carries to the goal's blobs: a plan no
+// longer than the generator's, the same on one thread as on two.
+TEST(AgentPlanning, FillPlacesClicksInADriftingWorld) {
+  const std::string program = R"((program
+  (= GRID_SIZE 16)
+  (object Blob (Cell 0 0 "blue"))
+  (= blobs (initnext (list (Blob (Position 8 8))) (prev blobs)))
+  (= xVel (initnext 0 (prev xVel)))
+  (on (& clicked (isFreePos click)) (= blobs (addObj blobs (Blob (Position (.. click x) (.. click y))))))
+  (on (& left (!= (prev xVel) -1)) (= xVel (- (prev xVel) 1)))
+  (on (& right (!= (prev xVel) 1)) (= xVel (+ (prev xVel) 1)))
+  (on true (= blobs (updateObj blobs (--> b (move b (Position (prev xVel) 0))))))
+)
+)";
+  const Action left{Action::Kind::Left};
+  const std::vector<Action> generator = {Action::noop(), left, Action::click(13, 5), Action::noop(),
+                                         Action::click(9, 3)};
+  const Task task = goal_of_actions("drifting", program, generator);
+  ASSERT_FALSE(task.goal.cells.empty());
+  ThreadPool two(2), one(1);
+  SolveOptions o;
+  o.nodes = 5'000'000;
+  PlanProblem p2(task, o, two), p1(task, o, one);
+  FillSpec spec;
+  spec.limit = p2.share(1.0, 0);
+  const SearchOutcome a = fill_search(p2, p2.actions(), spec);
+  ASSERT_TRUE(a.found) << a.note;
+  EXPECT_LE(a.plan.size(), generator.size()) << plan_text(a.plan);
+  EXPECT_TRUE(replays_to_goal(task, a.plan)) << plan_text(a.plan);
+  spec.limit = p1.share(1.0, 0);
+  const SearchOutcome b = fill_search(p1, p1.actions(), spec);
+  EXPECT_EQ(a.plan, b.plan) << "the fill must not depend on the thread count";
+  EXPECT_EQ(a.nodes, b.nodes);
 }
 
 // Travel, best-first's tie-break: a thing one step from its goal square ranks

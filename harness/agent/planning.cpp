@@ -5,6 +5,7 @@
 #include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_best_first.hpp"
 #include "harness/agent/plan_bfs.hpp"
+#include "harness/agent/plan_fill.hpp"
 #include "harness/agent/plan_focus.hpp"
 #include "harness/agent/plan_shorten.hpp"
 
@@ -33,6 +34,7 @@ class Planner {
     const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
     const std::string focus_name = positional() ? ", clicks near or reaching the changes" : "";
     bool got = !moves_ && !out_of_time() && moves_stage();
+    if (!got && !moves_ && positional() && has_arrows() && !out_of_time()) got = fill_stage(focus);
     if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
     if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
     if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
@@ -137,6 +139,28 @@ class Planner {
     if (!o.found) return false;
     found(o.plan, "bfs by moves, then shortened", false);
     shorten(actions);
+    return true;
+  }
+
+  bool has_arrows() const {
+    for (const Action& a : p_.actions())
+      if (a.kind != Action::Kind::Noop && a.kind != Action::Kind::Click) return true;
+    return false;
+  }
+
+  // Stage 3b (cost steps): the arrows first, then clicks into their waiting
+  // steps (plan_fill.hpp), for worlds where the arrows set a mode that the
+  // things clicks place then follow; horizons from the proven bound up.
+  bool fill_stage(const std::vector<Action>& focus) {
+    FillSpec spec;
+    spec.first_horizon = r_.proven_bound + 1;
+    spec.last_horizon = std::min(p_.opts().max_plan, 12);
+    spec.limit = p_.share(0.25, r_.nodes);
+    const SearchOutcome o = fill_search(p_, p_.actions(), spec);
+    add(o);
+    if (!o.found) return false;
+    found(o.plan, "fill: arrows, then clicks in their waiting steps", false);
+    shorten(focus);
     return true;
   }
 

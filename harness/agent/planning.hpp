@@ -12,7 +12,8 @@
 // Strategies (one file each, each with its account): plan_bfs (exact, by cost
 // layers), plan_beam (layered beam, scored by the settled future or at a fixed
 // horizon), plan_best_first (greedy, for goals beyond BFS's reach), plan_shorten
-// (cut, drop and shortcut passes on a found plan). They share plan_problem: the
+// (cut, drop, shortcut and click-relocation passes on a found plan), plan_fill
+// (the arrows first, then clicks into their waiting steps). They share plan_problem: the
 // search model (clicks that change nothing merge with noop when `click` is
 // step-local), the one goal test, the action set, the one clock.
 //
@@ -29,6 +30,9 @@
 //     cheapest when it costs at most proven_bound + 1.
 //  3. Cost "steps": BFS by moves (noop free) over the same actions, for goals
 //     reached by a few actions and a long wait (things that fall, grow, drift).
+//  3b. Cost "steps", clicks told apart by position, and arrows in the action
+//     set: plan_fill (a quarter), horizons from proven_bound + 1 to 12, for
+//     worlds whose arrows set a mode (a velocity) that placed things follow.
 //  4. Beam search scored by the settled future (a tenth), over clicks near or
 //     reaching the changes when clicks are positional.
 //  5. Best-first (pruning look-alike states; then with travel breaking ties, so
@@ -38,7 +42,7 @@
 //     reached late (a world on its own clock): beam searches scored at a fixed
 //     horizon, horizons from proven_bound + 1 up, replace it with the first
 //     shorter plan they find.
-// A plan from stages 3–6 goes through plan_shorten; the result is replayed on the
+// A plan from stages 3–6 (3b included) goes through plan_shorten; the result is replayed on the
 // program itself (not the search model) to the goal: `verified`.
 // --search bfs runs stage 1 alone with the whole budget, --search best-first stage
 // 5 over all actions, --search beam stages 4 (on half) and 6.

@@ -1,0 +1,42 @@
+// plan_fill — the arrows first, then clicks into the waiting steps.
+//
+// Where the arrows set a mode that acts on everything (a velocity all blobs
+// drift with) and clicks place things, the goal is a moment of a moving world:
+// a click's thing ends where the later arrows carry it, so scoring a prefix by
+// its noop future (beam, best-first) ranks the right click below the wrong one.
+// This strategy splits the plan instead. For a horizon H:
+//  1. skeletons: every sequence of H non-click actions (noop and the arrows of
+//     the action set), layer by layer, one per distinct state (on a tie, the
+//     one with more noops: each noop is a slot a click can take); the best
+//     `skeletons` at layer H by the goal's rank, then more noops, then
+//     generation order;
+//  2. fill: for each skeleton, every click position (the problem's full set) is
+//     tried in every noop slot, each a rollout to step H; the (slot, click)
+//     pairs that bring the frame at H nearer the goal are then taken best
+//     first, one per slot, each kept only if the whole plan still improves
+//     (things placed by clicks rarely interact, so the gains mostly add up).
+// A goal frame on the way ends the search with that prefix. Horizons run from
+// `first_horizon` up while the limit lasts, so the first plan is also short.
+// Example (gravity_3, blobs drift with the velocity the arrows set, K = 8):
+// skeleton noop, left, right, up, up, left, noop, noop places the first blob;
+// the fill puts clicks in slots 0, 6 and 7 at the cells the drift carries to
+// the goal's blobs. Deterministic: pairs are compared in (slot, click) order.
+// Test: tests/agent_test.cpp (AgentPlanning.FillPlacesClicksInADriftingWorld).
+#pragma once
+#include "harness/agent/plan_problem.hpp"
+
+namespace autumn::agent {
+
+struct FillSpec {
+  int first_horizon = 1;
+  int last_horizon = 12;
+  size_t skeletons = 8;       // skeletons filled per horizon
+  size_t layer_width = 4096;  // distinct skeleton states kept per layer
+  Limit limit;
+};
+
+// `actions`: the skeletons' moves are its non-click actions; clicks come from
+// the problem's whole action set.
+SearchOutcome fill_search(PlanProblem& problem, const std::vector<Action>& actions, const FillSpec& spec);
+
+}  // namespace autumn::agent
