@@ -71,9 +71,10 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
       ->default_val("novelty");
   cmd->add_option("--depth", o.depth, "Planning: BFS cost limit (layers)")->default_val(12)->check(CLI::NonNegativeNumber);
   cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(10000000)->check(CLI::PositiveNumber);
-  cmd->add_option("--search", o.search, "Planning: bfs (proven cheapest), best-first, beam, or auto (bfs, focused bfs, "
-                                        "bfs by moves, beam, best-first)")
-      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam"}))
+  cmd->add_option("--search", o.search,
+                  "Planning: bfs (proven cheapest), best-first, beam, fill (arrows first, then clicks into their "
+                  "waiting steps), or auto (bfs, focused bfs, bfs by moves, fill, beam, best-first)")
+      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam", "fill"}))
       ->default_val("auto");
   cmd->add_option("--cost", o.cost, "Planning: what a plan costs: steps (every action) or moves (noop is free)")
       ->check(CLI::IsMember({"steps", "moves"}))

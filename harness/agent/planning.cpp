@@ -23,6 +23,7 @@ class Planner {
     const std::string& search = p_.opts().search;
     if (search == "bfs") return void(full_bfs(1.0));
     if (search == "best-first") return void(best_first_stage(p_.actions(), "best-first"));
+    if (search == "fill") return void(fill_stage(p_.actions(), 1.0));
     if (search == "beam") {
       if (positional()) focus_sets();
       const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
@@ -34,7 +35,7 @@ class Planner {
     const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
     const std::string focus_name = positional() ? ", clicks near or reaching the changes" : "";
     bool got = !moves_ && !out_of_time() && moves_stage();
-    if (!got && !moves_ && positional() && has_arrows() && !out_of_time()) got = fill_stage(focus);
+    if (!got && !moves_ && positional() && has_arrows() && !out_of_time()) got = fill_stage(focus, 0.25);
     if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
     if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
     if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
@@ -151,11 +152,11 @@ class Planner {
   // Stage 3b (cost steps): the arrows first, then clicks into their waiting
   // steps (plan_fill.hpp), for worlds where the arrows set a mode that the
   // things clicks place then follow; horizons from the proven bound up.
-  bool fill_stage(const std::vector<Action>& focus) {
+  bool fill_stage(const std::vector<Action>& focus, double share) {
     FillSpec spec;
     spec.first_horizon = r_.proven_bound + 1;
     spec.last_horizon = std::min(p_.opts().max_plan, 12);
-    spec.limit = p_.share(0.25, r_.nodes);
+    spec.limit = p_.share(share, r_.nodes);
     const SearchOutcome o = fill_search(p_, p_.actions(), spec);
     add(o);
     if (!o.found) return false;
@@ -272,8 +273,9 @@ bool at_goal(const Task& task, const Environment& env) {
 
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
   if (task.type != TaskType::Planning) throw TaskError(task.file.string() + ": not a planning task");
-  if (opts.search != "auto" && opts.search != "bfs" && opts.search != "best-first" && opts.search != "beam")
-    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam)");
+  if (opts.search != "auto" && opts.search != "bfs" && opts.search != "best-first" && opts.search != "beam" &&
+      opts.search != "fill")
+    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam, fill)");
   if (opts.cost != "steps" && opts.cost != "moves") throw TaskError("unknown cost '" + opts.cost + "' (steps, moves)");
   Stopwatch clock;
   PlanResult r;

@@ -45,7 +45,8 @@
 // A plan from stages 3–6 (3b included) goes through plan_shorten; the result is replayed on the
 // program itself (not the search model) to the goal: `verified`.
 // --search bfs runs stage 1 alone with the whole budget, --search best-first stage
-// 5 over all actions, --search beam stages 4 (on half) and 6.
+// 5 over all actions, --search beam stages 4 (on half) and 6, --search fill stage
+// 3b with the whole budget.
 // Results do not depend on --threads; only a time limit can make them depend on
 // the machine.
 #pragma once
