@@ -23,7 +23,7 @@ class Planner {
     const std::string& search = p_.opts().search;
     if (search == "bfs") return void(full_bfs(1.0));
     if (search == "best-first") return void(best_first_stage(p_.actions(), "best-first"));
-    if (search == "fill") return void(fill_stage(p_.actions(), 1.0));
+    if (search == "fill") return void(fill_stage(p_.actions(), 1.0, p_.opts().max_plan));
     if (search == "beam") {
       if (positional()) focus_sets();
       const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
@@ -34,8 +34,8 @@ class Planner {
     if (positional() && focused_stages()) return;
     const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
     const std::string focus_name = positional() ? ", clicks near or reaching the changes" : "";
-    bool got = !moves_ && !out_of_time() && moves_stage();
-    if (!got && !moves_ && positional() && has_arrows() && !out_of_time()) got = fill_stage(focus, 0.25);
+    bool got = !moves_ && positional() && has_arrows() && !out_of_time() && fill_stage(focus, 0.25, 12);
+    if (!got && !moves_ && !out_of_time()) got = moves_stage();
     if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
     if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
     if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
@@ -152,10 +152,10 @@ class Planner {
   // Stage 3b (cost steps): the arrows first, then clicks into their waiting
   // steps (plan_fill.hpp), for worlds where the arrows set a mode that the
   // things clicks place then follow; horizons from the proven bound up.
-  bool fill_stage(const std::vector<Action>& focus, double share) {
+  bool fill_stage(const std::vector<Action>& focus, double share, int last_horizon) {
     FillSpec spec;
     spec.first_horizon = r_.proven_bound + 1;
-    spec.last_horizon = std::min(p_.opts().max_plan, 12);
+    spec.last_horizon = std::min(p_.opts().max_plan, last_horizon);
     spec.limit = p_.share(share, r_.nodes);
     const SearchOutcome o = fill_search(p_, p_.actions(), spec);
     add(o);

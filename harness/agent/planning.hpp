@@ -28,11 +28,11 @@
 //     the mode clicks (clicks that show nothing but change what a later click
 //     does: a tool button), an eighth of the budget each. A plan here is proven
 //     cheapest when it costs at most proven_bound + 1.
-//  3. Cost "steps": BFS by moves (noop free) over the same actions, for goals
-//     reached by a few actions and a long wait (things that fall, grow, drift).
-//  3b. Cost "steps", clicks told apart by position, and arrows in the action
+//  3a. Cost "steps", clicks told apart by position, and arrows in the action
 //     set: plan_fill (a quarter), horizons from proven_bound + 1 to 12, for
 //     worlds whose arrows set a mode (a velocity) that placed things follow.
+//  3. Cost "steps": BFS by moves (noop free) over the same actions, for goals
+//     reached by a few actions and a long wait (things that fall, grow, drift).
 //  4. Beam search scored by the settled future (a tenth), over clicks near or
 //     reaching the changes when clicks are positional.
 //  5. Best-first (pruning look-alike states; then with travel breaking ties, so
@@ -42,11 +42,11 @@
 //     reached late (a world on its own clock): beam searches scored at a fixed
 //     horizon, horizons from proven_bound + 1 up, replace it with the first
 //     shorter plan they find.
-// A plan from stages 3–6 (3b included) goes through plan_shorten; the result is replayed on the
+// A plan from stages 3–6 (3a included) goes through plan_shorten; the result is replayed on the
 // program itself (not the search model) to the goal: `verified`.
 // --search bfs runs stage 1 alone with the whole budget, --search best-first stage
 // 5 over all actions, --search beam stages 4 (on half) and 6, --search fill stage
-// 3b with the whole budget.
+// 3a with the whole budget.
 // Results do not depend on --threads; only a time limit can make them depend on
 // the machine.
 #pragma once
