@@ -706,16 +706,9 @@ TEST(AgentPlanning, ReachingClicksWaitForSlowEffects) {
   EXPECT_TRUE(replays_to_goal(task, r.plan));
 }
 
-// Blobs drift with the velocity the arrows set. The long plan sets the
-// velocity, waits for the first blob, stops it and then places the others where
-// they must end; the generator placed them while everything drifted, at cells
-// the drift then carries to the same places. Relocation (plan_shorten.hpp)
-// moves each late click into a waiting step at its drifted cell: 6 actions
-// become the generator's 4 (left, click 13 5, click 9 3, right). Drop cannot
-// (removing a wait changes how far the first blob drifts), nor can shortcuts
-// over the plan's own clicks.
-TEST(AgentPlanning, ShorteningMovesClicksIntoWaitingSteps) {
-  const std::string program = R"((program
+// Blobs drift with the velocity the arrows set (every step each blob moves by
+// the previous step's velocity); clicks place blobs.
+const char* const kDriftProgram = R"((program
   (= GRID_SIZE 16)
   (object Blob (Cell 0 0 "blue"))
   (= blobs (initnext (list (Blob (Position 8 8))) (prev blobs)))
@@ -726,9 +719,19 @@ TEST(AgentPlanning, ShorteningMovesClicksIntoWaitingSteps) {
   (on true (= blobs (updateObj blobs (--> b (move b (Position (prev xVel) 0))))))
 )
 )";
+
+// In the drift world, the long plan sets the
+// velocity, waits for the first blob, stops it and then places the others where
+// they must end; the generator placed them while everything drifted, at cells
+// the drift then carries to the same places. Relocation (plan_shorten.hpp)
+// moves each late click into a waiting step at its drifted cell: 6 actions
+// become the generator's 4 (left, click 13 5, click 9 3, right). Drop cannot
+// (removing a wait changes how far the first blob drifts), nor can shortcuts
+// over the plan's own clicks.
+TEST(AgentPlanning, ShorteningMovesClicksIntoWaitingSteps) {
   const Action left{Action::Kind::Left}, right{Action::Kind::Right};
   const std::vector<Action> generator = {left, Action::click(13, 5), Action::click(9, 3), right};
-  const Task task = goal_of_actions("drift", program, generator);
+  const Task task = goal_of_actions("drift", kDriftProgram, generator);
   ASSERT_FALSE(task.goal.cells.empty());
   const std::vector<Action> slow = {left, Action::noop(), Action::noop(), right, Action::click(7, 3), Action::click(10, 5)};
   ASSERT_TRUE(replays_to_goal(task, slow)) << "the long plan reaches the same frame";
@@ -757,21 +760,10 @@ TEST(AgentPlanning, ShorteningMovesClicksIntoWaitingSteps) {
 // waiting steps, at the cells the drift carries to the goal's blobs: a plan no
 // longer than the generator's, the same on one thread as on two.
 TEST(AgentPlanning, FillPlacesClicksInADriftingWorld) {
-  const std::string program = R"((program
-  (= GRID_SIZE 16)
-  (object Blob (Cell 0 0 "blue"))
-  (= blobs (initnext (list (Blob (Position 8 8))) (prev blobs)))
-  (= xVel (initnext 0 (prev xVel)))
-  (on (& clicked (isFreePos click)) (= blobs (addObj blobs (Blob (Position (.. click x) (.. click y))))))
-  (on (& left (!= (prev xVel) -1)) (= xVel (- (prev xVel) 1)))
-  (on (& right (!= (prev xVel) 1)) (= xVel (+ (prev xVel) 1)))
-  (on true (= blobs (updateObj blobs (--> b (move b (Position (prev xVel) 0))))))
-)
-)";
   const Action left{Action::Kind::Left};
   const std::vector<Action> generator = {Action::noop(), left, Action::click(13, 5), Action::noop(),
                                          Action::click(9, 3)};
-  const Task task = goal_of_actions("drifting", program, generator);
+  const Task task = goal_of_actions("drifting", kDriftProgram, generator);
   ASSERT_FALSE(task.goal.cells.empty());
   ThreadPool two(2), one(1);
   SolveOptions o;
