@@ -17,10 +17,11 @@
 //     (things placed by clicks rarely interact, so the gains mostly add up).
 // A goal frame on the way ends the search with that prefix. Horizons run from
 // `first_horizon` up while the limit lasts, so the first plan is also short.
-// Example (gravity_3, blobs drift with the velocity the arrows set, K = 8):
-// skeleton noop, left, right, up, up, left, noop, noop places the first blob;
-// the fill puts clicks in slots 0, 6 and 7 at the cells the drift carries to
-// the goal's blobs. Deterministic: pairs are compared in (slot, click) order.
+// Example (gravity_3, blobs drift with the velocity the arrows set; the
+// generator's 8 actions were click, left, right, up, up, left, click, click):
+// at horizon 5 the skeleton up, left, noop, noop, noop brings the first blob to
+// its goal cell, and the fill puts clicks 37 24, 8 24 and 29 27 in the three
+// waiting steps. Deterministic: pairs are compared in (slot, click) order.
 // Test: tests/agent_test.cpp (AgentPlanning.FillPlacesClicksInADriftingWorld).
 #pragma once
 #include "harness/agent/plan_problem.hpp"
