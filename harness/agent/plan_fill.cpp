@@ -8,6 +8,8 @@
 #include <limits>
 #include <numeric>
 
+#include "harness/agent/plan_focus.hpp"
+
 namespace autumn::agent {
 
 namespace {
@@ -31,11 +33,9 @@ struct Rollout {
 class Fill {
  public:
   Fill(PlanProblem& p, const std::vector<Action>& actions, const FillSpec& spec)
-      : p_(p), spec_(spec), scorers_(p.pool().size()) {
+      : p_(p), spec_(spec), clicks_(clicks_of(p.actions())), scorers_(p.pool().size()) {
     for (const Action& a : actions)
       if (a.kind != Action::Kind::Click) moves_.push_back(a);
-    for (const Action& a : p.actions())
-      if (a.kind == Action::Kind::Click) clicks_.push_back(a);
   }
   SearchOutcome run();
 

@@ -28,15 +28,14 @@ std::vector<Action> near_clicks(const PlanProblem& p, const std::vector<Action>&
   return out;
 }
 
-namespace {
-
-// The clicks of `all`, in order.
 std::vector<Action> clicks_of(const std::vector<Action>& all) {
   std::vector<Action> clicks;
   for (const Action& a : all)
     if (a.kind == Action::Kind::Click) clicks.push_back(a);
   return clicks;
 }
+
+namespace {
 
 // Runs probe(env, k) for each click k of `clicks`, each on a clone of the root
 // of its own, in parallel.

@@ -30,6 +30,8 @@ std::vector<Action> near_clicks(const PlanProblem& p, const std::vector<Action>&
 std::vector<Action> reaching_clicks(PlanProblem& p, const std::vector<Action>& all, const std::vector<uint32_t>& cells);
 std::vector<Action> hidden_clicks(PlanProblem& p, const std::vector<Action>& all, const std::vector<uint32_t>& cells,
                                   size_t max = 16);
+// The clicks of `all`, in order.
+std::vector<Action> clicks_of(const std::vector<Action>& all);
 std::vector<Action> unite(const std::vector<Action>& all, const std::vector<Action>& a, const std::vector<Action>& b);
 
 }  // namespace autumn::agent

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "harness/agent/plan_bfs.hpp"
+#include "harness/agent/plan_focus.hpp"
 
 namespace autumn::agent {
 
@@ -99,8 +100,8 @@ std::vector<Action> shortcuts(PlanProblem& p, std::vector<Action> plan, const st
 }
 
 // Relocation: the plan without its click at step j and with click c in the
-// noop slot i. `base` is the state just before slot i in that plan (nullptr:
-// the goal already shows on the way there), `suffix` the actions after slot i.
+// noop slot i. `base` is the state just before slot i in that plan, `suffix`
+// the actions after slot i.
 // Tries every click of `clicks` from `base` in parallel and returns the index
 // (in `clicks`) of the first in order whose replay reaches the goal, with the
 // number of the candidate's actions up to its first goal frame in `length`.
@@ -178,9 +179,7 @@ std::vector<Action> shorten_plan(PlanProblem& problem, std::vector<Action> plan,
   stats.before = plan.size();
   plan = drop_single(problem, cut(problem, std::move(plan)));
   if (!keep_moves) plan = drop_single(problem, shortcuts(problem, std::move(plan), actions, limit, stats));
-  std::vector<Action> clicks;
-  for (const Action& a : problem.actions())
-    if (a.kind == Action::Kind::Click) clicks.push_back(a);
+  const std::vector<Action> clicks = clicks_of(problem.actions());
   // Relocation gets a quarter of what is left, so the stages after shortening
   // (the horizon beam) keep their turn.
   Limit quarter = limit;

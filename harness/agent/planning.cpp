@@ -149,7 +149,7 @@ class Planner {
     return false;
   }
 
-  // Stage 3b (cost steps): the arrows first, then clicks into their waiting
+  // Stage 3a (cost steps): the arrows first, then clicks into their waiting
   // steps (plan_fill.hpp), for worlds where the arrows set a mode that the
   // things clicks place then follow; horizons from the proven bound up.
   bool fill_stage(const std::vector<Action>& focus, double share, int last_horizon) {
