@@ -783,6 +783,56 @@ TEST(AgentPlanning, FillPlacesClicksInADriftingWorld) {
   EXPECT_EQ(a.nodes, b.nodes);
 }
 
+// Limit::fraction, the one rule for "a share of what is left" (stages of the
+// auto sequence, relocation's quarter): nodes left after `spent`, times the
+// share; a deadline that far towards the end in time, when there is one.
+TEST(AgentPlanning, LimitFractionSharesWhatIsLeft) {
+  const Clock untimed(0, 1000), timed(100, 1000);
+  const Limit whole{&untimed, 1000, 0};
+  const Limit quarter = whole.fraction(0.25, 200);
+  EXPECT_EQ(quarter.nodes, 200u);
+  EXPECT_EQ(quarter.deadline, 0) << "no end in time, no deadline";
+  EXPECT_EQ(whole.fraction(0.5, 5000).nodes, 0u) << "overspent: nothing left";
+  const Limit all{&timed, 1000, 0};
+  const Limit half = all.fraction(0.5, 0);
+  EXPECT_GT(half.deadline, 0);
+  EXPECT_LE(half.deadline, timed.seconds() + 50);
+  const Limit half_of_half = half.fraction(0.5, 0);
+  EXPECT_EQ(half_of_half.nodes, 250u);
+  EXPECT_LE(half_of_half.deadline, half.deadline) << "a share of a share ends no later";
+  EXPECT_LE(half_of_half.deadline, timed.seconds() + 25);
+  EXPECT_EQ(half.fraction(1.0, 0).deadline, half.deadline) << "the whole keeps its deadline";
+}
+
+// on_clones: each index runs once, on a clone of the base of its own (the base
+// is unchanged), in parallel, with the same results as one clone at a time.
+TEST(AgentPlanning, OnClonesStepsEachIndexOnItsOwnClone) {
+  const Task task = goal_of_actions("drift", kDriftProgram, {Action::click(3, 3)});
+  ThreadPool two(2);
+  SolveOptions o;
+  PlanProblem p(task, o, two);
+  const std::vector<Action> clicks = clicks_of(p.actions());
+  ASSERT_GT(clicks.size(), 100u);
+  const uint64_t before = p.root().state_hash();
+  std::vector<uint64_t> got(clicks.size(), 0);
+  std::vector<int> runs(clicks.size(), 0);
+  on_clones(p.pool(), p.root(), clicks.size(), [&](Environment& e, size_t k, unsigned w) {
+    EXPECT_LT(w, two.size());
+    ++runs[k];
+    if (e.step(clicks[k])) got[k] = e.state_hash();
+  });
+  EXPECT_EQ(p.root().state_hash(), before);
+  std::set<uint64_t> distinct;
+  for (size_t k = 0; k < clicks.size(); ++k) {
+    auto e = p.root().clone();
+    ASSERT_TRUE(e->step(clicks[k]));
+    EXPECT_EQ(got[k], e->state_hash()) << "click " << k;
+    EXPECT_EQ(runs[k], 1);
+    distinct.insert(got[k]);
+  }
+  EXPECT_GT(distinct.size(), 100u) << "clicks on free cells place blobs at different cells";
+}
+
 // Travel, best-first's tie-break: a thing one step from its goal square ranks
 // before the same thing six steps away, though both frames differ from the goal
 // in the same two cells; fewer differing cells still rank first.

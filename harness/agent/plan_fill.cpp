@@ -147,21 +147,16 @@ bool Fill::fill(std::vector<Action> plan, int64_t rank) {
       trail.push_back(trail.back()->clone());
       if (!trail.back()->step(plan[t])) return false;
     }
-    // Every click in every slot: cloned on this thread (an environment is never
-    // used by two threads at once), rolled out in parallel.
+    // Every click in every slot, rolled out in parallel.
     std::vector<Rollout> result(slots.size() * C);
     for (size_t k = 0; k < slots.size() && !spent(); ++k) {
       const size_t slot = slots[k];
-      std::vector<std::unique_ptr<Environment>> envs;
-      envs.reserve(C);
-      for (size_t c = 0; c < C; ++c) envs.push_back(trail[slot]->clone());
-      p_.pool().parallel_for_worker(C, [&](size_t c, unsigned w) {
+      on_clones(p_.pool(), *trail[slot], C, [&](Environment& e, size_t c, unsigned w) {
         std::vector<Action> tail(plan.begin() + static_cast<std::ptrdiff_t>(slot), plan.end());
         tail[0] = clicks_[c];
-        Rollout r = roll(*envs[c], tail, 0, scorers_[w]);
+        Rollout r = roll(e, tail, 0, scorers_[w]);
         if (r.goal_at >= 0) r.goal_at += static_cast<int>(slot);
         result[k * C + c] = r;
-        envs[c].reset();
       });
       out_.nodes += C * (plan.size() - slot);
     }

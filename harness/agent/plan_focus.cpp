@@ -1,7 +1,6 @@
 #include "harness/agent/plan_focus.hpp"
 
 #include <algorithm>
-#include <functional>
 
 namespace autumn::agent {
 
@@ -37,18 +36,6 @@ std::vector<Action> clicks_of(const std::vector<Action>& all) {
 
 namespace {
 
-// Runs probe(env, k) for each click k of `clicks`, each on a clone of the root
-// of its own, in parallel.
-void probe_each(PlanProblem& p, const std::vector<Action>& clicks,
-                const std::function<void(Environment&, size_t)>& probe) {
-  std::vector<std::unique_ptr<Environment>> envs;
-  for (size_t k = 0; k < clicks.size(); ++k) envs.push_back(p.root().clone());  // cloned here: one thread
-  p.pool().parallel_for(clicks.size(), [&](size_t k) {
-    probe(*envs[k], k);
-    envs[k].reset();
-  });
-}
-
 // The non-click actions of `all` and its clicks k (in order) with keep[k].
 std::vector<Action> keep_clicks(const std::vector<Action>& all, const std::vector<uint8_t>& keep) {
   std::vector<Action> out;
@@ -69,7 +56,7 @@ std::vector<Action> reaching_clicks(PlanProblem& p, const std::vector<Action>& a
   }
   const std::vector<Action> clicks = clicks_of(all);
   std::vector<uint8_t> reaches(clicks.size(), 0);
-  probe_each(p, clicks, [&](Environment& e, size_t k) {
+  on_clones(p.pool(), p.root(), clicks.size(), [&](Environment& e, size_t k, unsigned) {
     for (size_t t = 0; t < baseline.size() && !reaches[k]; ++t) {
       if (!e.step(t == 0 ? clicks[k] : Action::noop())) break;
       const TaskFrame f = p.frame_of(e);
@@ -93,7 +80,7 @@ std::vector<Action> hidden_clicks(PlanProblem& p, const std::vector<Action>& all
   const uint64_t quiet_probe = frame_digest(p.frame_of(*quiet));
   const std::vector<Action> clicks = clicks_of(all);
   std::vector<uint64_t> kind(clicks.size(), quiet_probe);  // quiet_probe: not a mode click
-  probe_each(p, clicks, [&](Environment& e, size_t k) {
+  on_clones(p.pool(), p.root(), clicks.size(), [&](Environment& e, size_t k, unsigned) {
     if (e.step(clicks[k]) && p.frame_of(e) == quiet_frame && e.step(probe)) kind[k] = frame_digest(p.frame_of(e));
   });
   std::vector<uint64_t> kinds;

@@ -143,6 +143,16 @@ std::vector<Action> path_to(const std::vector<Node>& nodes, const std::vector<Ac
   return plan;
 }
 
+Limit Limit::fraction(double f, uint64_t spent) const {
+  Limit l;
+  l.clock = clock;
+  l.nodes = static_cast<uint64_t>(static_cast<double>(nodes - std::min(nodes, spent)) * f);
+  const double end = deadline > 0 ? deadline : clock->time_limit();
+  l.deadline = deadline;
+  if (end > 0 && f < 1) l.deadline = clock->seconds() + std::max(0.0, end - clock->seconds()) * f;
+  return l;
+}
+
 std::string Limit::time_note() const {
   if (clock->out_of_time()) return fmt::format("time limit {} s reached", clock->time_limit());
   return "its share of the time limit spent";
@@ -221,13 +231,19 @@ bool PlanProblem::models_agree(const Environment& a, const Environment& b) const
 }
 
 Limit PlanProblem::share(double fraction, uint64_t spent) const {
-  Limit l;
-  l.clock = &clock_;
-  const uint64_t left = clock_.node_budget() - std::min(clock_.node_budget(), spent);
-  l.nodes = static_cast<uint64_t>(static_cast<double>(left) * fraction);
-  if (clock_.time_limit() > 0 && fraction < 1)
-    l.deadline = clock_.seconds() + std::max(0.0, clock_.time_limit() - clock_.seconds()) * fraction;
-  return l;
+  const Limit whole{&clock_, clock_.node_budget(), 0};
+  return whole.fraction(fraction, spent);
+}
+
+void on_clones(ThreadPool& pool, const Environment& base, size_t count,
+               const std::function<void(Environment&, size_t, unsigned)>& each) {
+  std::vector<std::unique_ptr<Environment>> envs;
+  envs.reserve(count);
+  for (size_t k = 0; k < count; ++k) envs.push_back(base.clone());
+  pool.parallel_for_worker(count, [&](size_t k, unsigned w) {
+    each(*envs[k], k, w);
+    envs[k].reset();
+  });
 }
 
 std::vector<TaskFrame> PlanProblem::replay_frames(const std::vector<Action>& plan, const Environment* start) const {

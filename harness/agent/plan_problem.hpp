@@ -25,6 +25,7 @@
 // Tree: nodes (parent, action index into the strategy's action list, depth);
 // path() rebuilds a plan. Strategies build their own trees.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -91,6 +92,10 @@ struct Limit {
   uint64_t nodes = 0;
   double deadline = 0;
   bool out_of_time() const { return clock->out_of_time() || (deadline > 0 && clock->seconds() > deadline); }
+  // `f` (0 < f <= 1) of what this limit leaves once `spent` of its nodes are
+  // gone: that share of the remaining nodes (counted from zero) and, when there
+  // is an end in time, a deadline that far between now and that end.
+  Limit fraction(double f, uint64_t spent) const;
   // Why it stopped, for notes.
   std::string time_note() const;
 };
@@ -183,6 +188,13 @@ class FutureScorer {
   FrameColours colours_;
   TaskFrame frame_, prev_;
 };
+
+// Runs each(env, k, worker) for every k < count on a clone of `base` of its own,
+// in parallel, and destroys each clone when its k is done. The clones are made
+// here, on the calling thread: an environment is never cloned from two threads
+// at once (an interpreted one cannot be). `worker` indexes per-thread scratch.
+void on_clones(ThreadPool& pool, const Environment& base, size_t count,
+               const std::function<void(Environment&, size_t, unsigned)>& each);
 
 // Plans as text, for notes and summaries.
 std::string plan_text(const std::vector<Action>& plan);

@@ -109,21 +109,15 @@ int first_relocation(PlanProblem& p, const Environment& base, const std::vector<
                      const std::vector<Action>& suffix, std::vector<FrameColours>& colours, int& length,
                      ShortenStats& stats) {
   std::vector<int> goal_at(clicks.size(), -1);
-  std::vector<std::unique_ptr<Environment>> envs;
-  envs.reserve(clicks.size());
-  for (size_t k = 0; k < clicks.size(); ++k) envs.push_back(base.clone());
-  p.pool().parallel_for_worker(clicks.size(), [&](size_t k, unsigned w) {
-    Environment& e = *envs[k];
-    if (e.step(clicks[k])) {
-      for (size_t t = 0;; ++t) {
-        if (p.goal().reached(e, colours[w])) {
-          goal_at[k] = static_cast<int>(t);
-          break;
-        }
-        if (t == suffix.size() || !e.step(suffix[t])) break;
+  on_clones(p.pool(), base, clicks.size(), [&](Environment& e, size_t k, unsigned w) {
+    if (!e.step(clicks[k])) return;
+    for (size_t t = 0;; ++t) {
+      if (p.goal().reached(e, colours[w])) {
+        goal_at[k] = static_cast<int>(t);
+        return;
       }
+      if (t == suffix.size() || !e.step(suffix[t])) return;
     }
-    envs[k].reset();
   });
   stats.nodes += clicks.size() * (suffix.size() + 1);
   for (size_t k = 0; k < clicks.size(); ++k)
@@ -182,11 +176,9 @@ std::vector<Action> shorten_plan(PlanProblem& problem, std::vector<Action> plan,
   const std::vector<Action> clicks = clicks_of(problem.actions());
   // Relocation gets a quarter of what is left, so the stages after shortening
   // (the horizon beam) keep their turn.
-  Limit quarter = limit;
-  quarter.nodes = stats.nodes + (limit.nodes - std::min(limit.nodes, stats.nodes)) / 4;
-  const Clock& clock = *limit.clock;
-  const double end = limit.deadline > 0 ? limit.deadline : clock.time_limit();
-  if (end > 0) quarter.deadline = clock.seconds() + std::max(0.0, end - clock.seconds()) / 4;
+  // relocate_once compares the whole shortening's node count with it.
+  Limit quarter = limit.fraction(0.25, stats.nodes);
+  quarter.nodes += stats.nodes;
   if (!clicks.empty())
     while (relocate_once(problem, plan, clicks, quarter, stats)) plan = drop_single(problem, std::move(plan));
   stats.after = plan.size();
