@@ -33,7 +33,8 @@ struct Rollout {
 class Fill {
  public:
   Fill(PlanProblem& p, const std::vector<Action>& actions, const FillSpec& spec)
-      : p_(p), spec_(spec), clicks_(clicks_of(p.actions())), scorers_(p.pool().size()) {
+      : p_(p), spec_(spec), clicks_(clicks_of(actions)), scorers_(p.pool().size()) {
+    layer_.push_back({p.root().clone(), {}, 0, kFailed});
     for (const Action& a : actions)
       if (a.kind != Action::Kind::Click) moves_.push_back(a);
   }
@@ -55,6 +56,11 @@ class Fill {
   std::vector<Action> moves_, clicks_;
   std::vector<FutureScorer> scorers_;  // one per pool thread
   SearchOutcome out_;
+  // The skeleton layer: every kept non-click sequence of depth_ steps, with the
+  // state after it. Horizons extend it; ranks are of its own frames, so a layer
+  // does not depend on the horizon it serves.
+  std::vector<Skeleton> layer_;
+  int depth_ = 0;
 };
 
 // Steps `e` through plan[from..]; the goal is tested on every frame after a step.
@@ -69,13 +75,14 @@ Rollout Fill::roll(Environment& e, const std::vector<Action>& plan, size_t from,
   return r;
 }
 
-// The layers of non-click sequences up to `horizon`, one per distinct state; the
-// best of the last layer. Sets out_.found when a layer shows the goal.
+// Extends the layer of non-click sequences to `horizon` steps (one per distinct
+// state; the best `layer_width` by rank when there are more) and returns the best
+// `skeletons` of it, plans and ranks only. Sets out_.found when a layer shows
+// the goal.
 std::vector<Skeleton> Fill::skeletons(int horizon) {
   const size_t A = moves_.size();
-  std::vector<Skeleton> layer;
-  layer.push_back({p_.root().clone(), {}, 0, kFailed});
-  for (int depth = 0; depth < horizon && !layer.empty(); ++depth) {
+  std::vector<Skeleton>& layer = layer_;
+  for (; depth_ < horizon && !layer.empty(); ++depth_) {
     if (spent()) return {};
     std::vector<Skeleton> succ(layer.size() * A);
     for (size_t i = 0; i < succ.size(); ++i) {
@@ -106,15 +113,23 @@ std::vector<Skeleton> Fill::skeletons(int horizon) {
     for (size_t i = 0; i < succ.size(); ++i) {
       if (succ[i].rank == kFailed) continue;
       const auto [it, fresh] = index.emplace(hash[i], next.size());
-      if (fresh) {
-        if (next.size() < spec_.layer_width) next.push_back(std::move(succ[i]));
-        else index.erase(it);
-      } else if (succ[i].noops > next[it->second].noops) {
-        next[it->second] = std::move(succ[i]);
-      }
+      if (fresh) next.push_back(std::move(succ[i]));
+      else if (succ[i].noops > next[it->second].noops) next[it->second] = std::move(succ[i]);
+    }
+    if (next.size() > spec_.layer_width) {
+      std::vector<size_t> keep(next.size());
+      std::iota(keep.begin(), keep.end(), size_t{0});
+      std::stable_sort(keep.begin(), keep.end(), [&](size_t x, size_t y) { return next[x].rank < next[y].rank; });
+      keep.resize(spec_.layer_width);
+      std::sort(keep.begin(), keep.end());
+      std::vector<Skeleton> kept;
+      kept.reserve(keep.size());
+      for (size_t i : keep) kept.push_back(std::move(next[i]));
+      next = std::move(kept);
     }
     layer = std::move(next);
   }
+  if (depth_ < horizon) return {};  // every sequence failed a step
   std::vector<size_t> order(layer.size());
   std::iota(order.begin(), order.end(), size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
@@ -125,8 +140,7 @@ std::vector<Skeleton> Fill::skeletons(int horizon) {
   for (size_t i : order) {
     if (best.size() >= spec_.skeletons) break;
     if (layer[i].noops == 0) continue;
-    layer[i].env.reset();
-    best.push_back(std::move(layer[i]));
+    best.push_back({nullptr, layer[i].plan, layer[i].noops, layer[i].rank});
   }
   return best;
 }
@@ -218,6 +232,7 @@ SearchOutcome Fill::run() {
       if (spent()) break;
       if (fill(std::move(s.plan), s.rank)) return std::move(out_);
     }
+    if (!spent()) out_.depth_done = horizon;
   }
   out_.timed_out = spec_.limit.clock->out_of_time();
   out_.note = horizon > spec_.first_horizon

@@ -10,8 +10,8 @@
 //     one with more noops: each noop is a slot a click can take); the best
 //     `skeletons` at layer H by the goal's rank, then more noops, then
 //     generation order;
-//  2. fill: for each skeleton, every click position (the problem's full set) is
-//     tried in every noop slot, each a rollout to step H; the (slot, click)
+//  2. fill: for each skeleton, every click of the action set is tried in
+//     every noop slot, each a rollout to step H; the (slot, click)
 //     pairs that bring the frame at H nearer the goal are then taken best
 //     first, one per slot, each kept only if the whole plan still improves
 //     (things placed by clicks rarely interact, so the gains mostly add up).
@@ -36,8 +36,8 @@ struct FillSpec {
   Limit limit;
 };
 
-// `actions`: the skeletons' moves are its non-click actions; clicks come from
-// the problem's whole action set.
+// `actions`: the skeletons' moves are its non-click actions, the fill's clicks
+// its clicks.
 SearchOutcome fill_search(PlanProblem& problem, const std::vector<Action>& actions, const FillSpec& spec);
 
 }  // namespace autumn::agent

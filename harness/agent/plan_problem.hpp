@@ -117,7 +117,7 @@ struct SearchOutcome {
   uint64_t nodes = 0;     // successors generated (environment steps)
   uint64_t distinct = 0;  // distinct states seen
   uint64_t lookahead_steps = 0;
-  int depth_done = 0;     // layers fully searched (bfs)
+  int depth_done = 0;     // layers fully searched (bfs); horizons fully tried (fill)
   bool exhausted = false; // every reachable state seen within the depth limit
   bool timed_out = false;
   std::string note;       // why it stopped without a plan

@@ -23,7 +23,7 @@ class Planner {
     const std::string& search = p_.opts().search;
     if (search == "bfs") return void(full_bfs(1.0));
     if (search == "best-first") return void(best_first_stage(p_.actions(), "best-first"));
-    if (search == "fill") return void(fill_stage(p_.actions(), 1.0, p_.opts().max_plan));
+    if (search == "fill") return void(fill_stage(p_.actions(), p_.actions(), 1.0, p_.opts().max_plan));
     if (search == "beam") {
       if (positional()) focus_sets();
       const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
@@ -34,9 +34,11 @@ class Planner {
     if (positional() && focused_stages()) return;
     const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
     const std::string focus_name = positional() ? ", clicks near or reaching the changes" : "";
-    bool got = !moves_ && positional() && has_arrows() && !out_of_time() && fill_stage(focus, 0.25, 12);
+    const bool fill = !moves_ && positional() && has_arrows();
+    bool got = fill && !out_of_time() && fill_stage(p_.actions(), focus, 0.25, 12);
     if (!got && !moves_ && !out_of_time()) got = moves_stage();
     if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
+    if (!got && fill && !out_of_time()) got = fill_stage(focus, focus, 0.5, p_.opts().max_plan);
     if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
     if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
     if (got && !moves_ && !r_.shortest && !out_of_time()) horizon_stage(focus, "beam" + focus_name);
@@ -151,13 +153,19 @@ class Planner {
 
   // Stage 3a (cost steps): the arrows first, then clicks into their waiting
   // steps (plan_fill.hpp), for worlds where the arrows set a mode that the
-  // things clicks place then follow; horizons from the proven bound up.
-  bool fill_stage(const std::vector<Action>& focus, double share, int last_horizon) {
+  // things clicks place then follow; horizons from the proven bound (or the
+  // last horizon an earlier fill stage tried) up to `last_horizon`. Stage 5
+  // runs it again on the horizons up to the plan length limit: a goal that is
+  // a late moment of a moving world (snow piling up while rocks are placed).
+  bool fill_stage(const std::vector<Action>& actions, const std::vector<Action>& focus, double share,
+                  int last_horizon) {
     FillSpec spec;
-    spec.first_horizon = r_.proven_bound + 1;
+    spec.first_horizon = std::max(r_.proven_bound, fill_done_) + 1;
     spec.last_horizon = std::min(p_.opts().max_plan, last_horizon);
+    if (spec.first_horizon > spec.last_horizon) return false;
     spec.limit = p_.share(share, r_.nodes);
-    const SearchOutcome o = fill_search(p_, p_.actions(), spec);
+    const SearchOutcome o = fill_search(p_, actions, spec);
+    fill_done_ = std::max(fill_done_, o.depth_done);
     add(o);
     if (!o.found) return false;
     found(o.plan, "fill: arrows, then clicks in their waiting steps", false);
@@ -259,6 +267,7 @@ class Planner {
   PlanResult& r_;
   const bool moves_;
   std::vector<Action> reaching_, near1_, hidden_;  // focused_stages' sets (near1_ and reaching_ with hidden_)
+  int fill_done_ = 0;  // horizons the fill stages have tried in full
 };
 
 bool at_goal(const Task& task, const Environment& env) {

@@ -35,6 +35,9 @@
 //     reached by a few actions and a long wait (things that fall, grow, drift).
 //  4. Beam search scored by the settled future (a tenth), over clicks near or
 //     reaching the changes when clicks are positional.
+//  4a. Where 3a ran: plan_fill again (half), on the horizons after the last one
+//     3a tried, up to --max-plan, for goals that are a late moment of a moving
+//     world (snow piling up in one column while the clicks place rocks).
 //  5. Best-first (pruning look-alike states; then with travel breaking ties, so
 //     objects are drawn towards their goal squares; then neither), over the
 //     same clicks first, then all actions.
@@ -42,11 +45,11 @@
 //     reached late (a world on its own clock): beam searches scored at a fixed
 //     horizon, horizons from proven_bound + 1 up, replace it with the first
 //     shorter plan they find.
-// A plan from stages 3–6 (3a included) goes through plan_shorten; the result is replayed on the
+// A plan from stages 3–6 (3a and 4a included) goes through plan_shorten; the result is replayed on the
 // program itself (not the search model) to the goal: `verified`.
 // --search bfs runs stage 1 alone with the whole budget, --search best-first stage
 // 5 over all actions, --search beam stages 4 (on half) and 6, --search fill stage
-// 3a with the whole budget.
+// 3a with the whole budget, on horizons up to --max-plan.
 // Results do not depend on --threads; only a time limit can make them depend on
 // the machine.
 #pragma once
