@@ -783,6 +783,32 @@ TEST(AgentPlanning, FillPlacesClicksInADriftingWorld) {
   EXPECT_EQ(a.nodes, b.nodes);
 }
 
+// The fill's skeleton layer, when it holds more states than layer_width, keeps
+// the best by rank, ties broken by the frame two waits later (with travel).
+// Here it may keep two. After one step "wait", "right" and "left" show the same
+// frame (the velocity moves the blob a step later), and right, the generator's,
+// is not first in generation order; the look-ahead shows it carrying the blob
+// towards its goal cell, so it is kept and the click goes into the waiting step
+// after it. (Without the tie-break, or with the first two generated, no plan.)
+TEST(AgentPlanning, FillKeepsTheBestSkeletonsWhenTheLayerIsFull) {
+  const Action right{Action::Kind::Right};
+  const std::vector<Action> generator = {right, Action::click(9, 3), Action::noop(), Action::noop(), Action::noop()};
+  const Task task = goal_of_actions("drift", kDriftProgram, generator);
+  ASSERT_FALSE(task.goal.cells.empty());
+  ThreadPool two(2);
+  SolveOptions o;
+  o.nodes = 5'000'000;
+  PlanProblem p(task, o, two);
+  FillSpec spec;
+  spec.layer_width = 2;
+  spec.limit = p.share(1.0, 0);
+  const SearchOutcome a = fill_search(p, p.actions(), spec);
+  ASSERT_TRUE(a.found) << a.note;
+  EXPECT_EQ(a.plan.size(), generator.size()) << plan_text(a.plan);
+  EXPECT_EQ(a.plan[0], right) << plan_text(a.plan);
+  EXPECT_TRUE(replays_to_goal(task, a.plan)) << plan_text(a.plan);
+}
+
 // Limit::fraction, the one rule for "a share of what is left" (stages of the
 // auto sequence, relocation's quarter): nodes left after `spent`, times the
 // share; a deadline that far towards the end in time, when there is one.

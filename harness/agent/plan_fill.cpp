@@ -15,6 +15,7 @@ namespace autumn::agent {
 namespace {
 
 constexpr int64_t kFailed = std::numeric_limits<int64_t>::max();
+constexpr int kLookAhead = 2;  // noop steps behind a layer's tie-break
 
 struct Skeleton {
   std::unique_ptr<Environment> env;  // the state after `plan` (dropped once ranked at the horizon)
@@ -117,9 +118,20 @@ std::vector<Skeleton> Fill::skeletons(int horizon) {
       else if (succ[i].noops > next[it->second].noops) next[it->second] = std::move(succ[i]);
     }
     if (next.size() > spec_.layer_width) {
+      // Ties on the frame are broken by the frame two waits later, with travel
+      // (plan_problem.hpp): an arrow often shows only a step after it (a
+      // velocity that moves things next step), and then as a thing nearer its
+      // goal cell.
+      std::vector<int64_t> ahead(next.size(), 0);
+      p_.pool().parallel_for_worker(next.size(), [&](size_t i, unsigned w) {
+        ahead[i] = scorers_[w].score(p_, *next[i].env, kLookAhead, true, true).key;
+      });
+      out_.lookahead_steps += next.size() * kLookAhead;
       std::vector<size_t> keep(next.size());
       std::iota(keep.begin(), keep.end(), size_t{0});
-      std::stable_sort(keep.begin(), keep.end(), [&](size_t x, size_t y) { return next[x].rank < next[y].rank; });
+      std::stable_sort(keep.begin(), keep.end(), [&](size_t x, size_t y) {
+        return next[x].rank != next[y].rank ? next[x].rank < next[y].rank : ahead[x] < ahead[y];
+      });
       keep.resize(spec_.layer_width);
       std::sort(keep.begin(), keep.end());
       std::vector<Skeleton> kept;

@@ -7,9 +7,11 @@
 // This strategy splits the plan instead. For a horizon H:
 //  1. skeletons: every sequence of H non-click actions (noop and the arrows of
 //     the action set), layer by layer, one per distinct state (on a tie, the
-//     one with more noops: each noop is a slot a click can take); the best
-//     `skeletons` at layer H by the goal's rank, then more noops, then
-//     generation order;
+//     one with more noops: each noop is a slot a click can take); a layer
+//     wider than `layer_width` keeps its best by the goal's rank, ties broken
+//     by the rank two noops later with travel (an arrow's effect often shows a
+//     step late). One layer serves every horizon. Then the best `skeletons` at
+//     layer H by rank, then more noops, then generation order;
 //  2. fill: for each skeleton, every click of the action set is tried in
 //     every noop slot, each a rollout to step H; the (slot, click)
 //     pairs that bring the frame at H nearer the goal are then taken best
@@ -22,7 +24,8 @@
 // at horizon 5 the skeleton up, left, noop, noop, noop brings the first blob to
 // its goal cell, and the fill puts clicks 37 24, 8 24 and 29 27 in the three
 // waiting steps. Deterministic: pairs are compared in (slot, click) order.
-// Test: tests/agent_test.cpp (AgentPlanning.FillPlacesClicksInADriftingWorld).
+// Tests: tests/agent_test.cpp (AgentPlanning.FillPlacesClicksInADriftingWorld,
+// AgentPlanning.FillKeepsTheBestSkeletonsWhenTheLayerIsFull).
 #pragma once
 #include "harness/agent/plan_problem.hpp"
 
