@@ -18,7 +18,7 @@ constexpr int64_t kFailed = std::numeric_limits<int64_t>::max();
 constexpr int kLookAhead = 2;  // noop steps behind a layer's tie-break
 
 struct Skeleton {
-  std::unique_ptr<Environment> env;  // the state after `plan` (dropped once ranked at the horizon)
+  std::unique_ptr<Environment> env;  // the state after `plan` (in the layer; null in skeletons()' result)
   std::vector<Action> plan;
   int noops = 0;
   int64_t rank = kFailed;

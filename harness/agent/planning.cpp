@@ -154,9 +154,11 @@ class Planner {
   // Stage 3a (cost steps): the arrows first, then clicks into their waiting
   // steps (plan_fill.hpp), for worlds where the arrows set a mode that the
   // things clicks place then follow; horizons from the proven bound (or the
-  // last horizon an earlier fill stage tried) up to `last_horizon`. Stage 5
+  // last horizon an earlier fill stage tried) up to `last_horizon`. Stage 4a
   // runs it again on the horizons up to the plan length limit: a goal that is
   // a late moment of a moving world (snow piling up while rocks are placed).
+  // `actions`: the skeletons' moves and the clicks filled in; `focus`: what
+  // shortening searches.
   bool fill_stage(const std::vector<Action>& actions, const std::vector<Action>& focus, double share,
                   int last_horizon) {
     FillSpec spec;
