@@ -64,6 +64,9 @@ TraceFile load_trace_file(const std::string& path) {
     if (!j.contains("traces") || !j["traces"].is_array()) throw std::runtime_error("missing \"traces\" array");
     for (const auto& t : j["traces"]) {
       Trace tr;
+      // get<uint64_t>() would wrap a negative seed silently.
+      if (!t.at("seed").is_number_unsigned())
+        throw std::runtime_error("trace " + std::to_string(f.traces.size()) + ": \"seed\" must be a non-negative integer");
       tr.seed = t.at("seed").get<uint64_t>();
       for (const auto& a : t.at("actions")) {
         std::string why;

@@ -261,5 +261,40 @@ TEST(Limits, TraceFileWithWrongTypesIsAOneLineError) {
   }
 }
 
+// Numbers the loaders would otherwise wrap silently (get<int>, get<uint64_t>).
+TEST(Limits, TraceSeedThatIsNegativeIsAnError) {
+  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_trace_seed.json";
+  std::ofstream(path) << R"({"traces": [{"seed": -1, "actions": [], "frames": [[]]}]})";
+  try {
+    load_trace_file(path.string());
+    FAIL() << "loaded";
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()), path.string() + ": trace 0: \"seed\" must be a non-negative integer");
+  }
+}
+
+TEST(Limits, TaskClickOutOfTheIntRangeIsAnError) {
+  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_click.json";
+  std::ofstream(path) << R"({"type": "masked_frame_prediction", "program": "p", "choices": [[[1]], [[2]]],
+    "observations": [{"masked_grid": [[1]]}, {"action": {"type": "click", "x": 1, "y": 99999999999},
+    "masked_grid": [[1]]}]})";
+  try {
+    agent::load_task(path);
+    FAIL() << "loaded";
+  } catch (const agent::TaskError& e) {
+    EXPECT_NE(std::string(e.what()).find("observations[1].action: click coordinates are out of the 32-bit range"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Limits, AnswersOutOfTheIntRangeAreErrors) {
+  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_answers.json";
+  for (const char* text : {R"({"correct_idx": 4294967296})", R"({"t_star": 4294967297})"}) {
+    std::ofstream(path) << text;
+    EXPECT_THROW(agent::load_answers(path), agent::TaskError) << text;
+  }
+}
+
 }  // namespace
 }  // namespace autumn

@@ -2,8 +2,10 @@
 
 #include <fmt/core.h>
 
+#include <climits>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <shared_mutex>
 #include <sstream>
 #include <unordered_map>
@@ -248,6 +250,18 @@ const json& field(const json& j, const char* key, const std::string& where) {
   return *it;
 }
 
+// A JSON integer that fits an int; nullopt for anything else (a float, a
+// string, or an integer out of range, which get<int>() would wrap silently).
+std::optional<int> as_int(const json& v) {
+  if (v.is_number_unsigned()) {
+    const uint64_t u = v.get<uint64_t>();
+    return u <= static_cast<uint64_t>(INT_MAX) ? std::optional<int>(static_cast<int>(u)) : std::nullopt;
+  }
+  if (!v.is_number_integer()) return std::nullopt;
+  const int64_t i = v.get<int64_t>();
+  return i >= INT_MIN && i <= INT_MAX ? std::optional<int>(static_cast<int>(i)) : std::nullopt;
+}
+
 std::string string_field(const json& j, const char* key, const std::string& where) {
   const json& v = field(j, key, where);
   if (!v.is_string() || v.get<std::string>().empty())
@@ -283,7 +297,9 @@ Action action_from_json(const json& j, const std::string& where) {
     const json& y = field(j, "y", where);
     if (!x.is_number_integer() || !y.is_number_integer())
       throw TaskError(where + ": click coordinates must be integers");
-    return Action::click(x.get<int>(), y.get<int>());
+    const std::optional<int> cx = as_int(x), cy = as_int(y);
+    if (!cx || !cy) throw TaskError(where + ": click coordinates are out of the 32-bit range");
+    return Action::click(*cx, *cy);
   }
   auto a = parse_action(type, &why);
   if (!a || a->kind == Action::Kind::Click) throw TaskError(fmt::format("{}: unknown action type '{}'", where, type));
@@ -488,8 +504,9 @@ Answers load_answers(const fs::path& file) {
   }
   for (const char* key : {"correct_idx", "answer"})
     if (auto it = j.find(key); it != j.end() && !a.correct_idx) {
-      if (!it->is_number_unsigned()) throw TaskError(fmt::format("{}: \"{}\" must be a choice index", w, key));
-      a.correct_idx = it->get<int>();
+      if (!it->is_number_unsigned() || !as_int(*it))
+        throw TaskError(fmt::format("{}: \"{}\" must be a choice index", w, key));
+      a.correct_idx = *as_int(*it);
     }
   if (auto it = j.find("reference_plan"); it != j.end()) {
     if (!it->is_array()) throw TaskError(w + ": \"reference_plan\" must be an array of actions");
@@ -498,8 +515,9 @@ Answers load_answers(const fs::path& file) {
   }
   if (j.contains("condition")) a.condition = string_field(j, "condition", w);
   if (auto it = j.find("t_star"); it != j.end()) {
-    if (!it->is_number_unsigned()) throw TaskError(w + ": field \"t_star\" must be a non-negative integer");
-    a.t_star = it->get<int>();
+    if (!it->is_number_unsigned() || !as_int(*it))
+      throw TaskError(w + ": field \"t_star\" must be a non-negative integer of at most 2^31 - 1");
+    a.t_star = *as_int(*it);
   }
   return a;
 }
