@@ -182,4 +182,32 @@ TEST(Cli, AutumncRefusesABadGridSizeAtCompileTime) {
       << r.out;
 }
 
+// Numeric options share one rule (harness/cli/number_options.hpp): CLI11 alone
+// would take a negative seed as 2^64 - 5 and a negative bench --steps as 2^64 - 3.
+TEST(Cli, NumericOptionsRejectWhatTheyWouldWrap) {
+  const std::string prog = golden("stale_occupancy.au");
+  struct Case {
+    std::string args, message;
+  };
+  const Case cases[] = {
+      {"run " + prog + " --seed -5", "--seed: -5 is not a whole number from 0 to 18446744073709551615"},
+      {"run " + prog + " --seed 18446744073709551616", "--seed: 18446744073709551616 is not a whole number from 0"},
+      {"run " + prog + " --seed 0x10", "--seed: 0x10 is not a whole number"},
+      {"run " + prog + " --steps -1", "--steps: -1 is not a whole number from 0 to 2147483647"},
+      {"bench " + prog + " --steps -3", "--steps: -3 is not a whole number from 0 to 2147483647"},
+      {"difftest " + prog + " --steps -3", "--steps: -3 is not a whole number from 0 to 2147483647"},
+      {"solve " + prog + " --threads 100000", "--threads: 100000 is not a whole number from 0 to 1024"},
+      {"solve " + prog + " --nodes 0", "--nodes: 0 is not a whole number from 1 to 18446744073709551615"},
+      {"solve " + prog + " --time-limit -1", "--time-limit: -1 is not a number of at least 0"},
+  };
+  for (const Case& c : cases) {
+    Result r = run(c.args);
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.message), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_EQ(r.out.find("1797693134862315708"), std::string::npos) << "no DBL_MAX in full: " << r.out;
+  }
+  Result ok = run("run " + prog + " --seed 18446744073709551615 --steps 1");
+  EXPECT_EQ(ok.status, 0) << ok.out;
+}
+
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "harness/agent/bench_agent.hpp"
 #include "harness/agent/change_detection.hpp"
+#include "harness/cli/number_options.hpp"
 #include "harness/agent/eval.hpp"
 #include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
@@ -57,20 +58,22 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
       ->default_val("compiled");
   cmd->add_option("--rollouts", o.rollouts, "MFP rollouts; particles for stochastic change detection")
       ->default_val(10000)
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--threads", threads, "Worker threads (0: all cores)")->default_val(0);
+      ->check(cli::big_count(1));
+  cmd->add_option("--threads", threads, "Worker threads (0: all cores)")->default_val(0)->check(cli::whole_number(0, 1024));
   cmd->add_flag("!--no-seed-inversion", o.seed_inversion,
                 "MFP on stochastic programs: skip recovering the world's seed from the observed draws and "
                 "use the sequential Monte Carlo filter alone");
-  cmd->add_option("--seed", o.seed, "Seed of the agent's own randomness (rollout seeds, policy)")->default_val(0);
+  cmd->add_option("--seed", o.seed, "Seed of the agent's own randomness (rollout seeds, policy)")
+      ->default_val(0)
+      ->check(cli::seed_number());
   cmd->add_option("--max-steps", o.max_steps, "Change detection: episode length cap")
       ->default_val(200)
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::int_count());
   cmd->add_option("--policy", o.policy, "Change detection exploration policy")
       ->check(CLI::IsMember({"novelty", "random"}))
       ->default_val("novelty");
-  cmd->add_option("--depth", o.depth, "Planning: BFS cost limit (layers)")->default_val(12)->check(CLI::NonNegativeNumber);
-  cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(10000000)->check(CLI::PositiveNumber);
+  cmd->add_option("--depth", o.depth, "Planning: BFS cost limit (layers)")->default_val(12)->check(cli::int_count());
+  cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(10000000)->check(cli::big_count(1));
   cmd->add_option("--search", o.search,
                   "Planning: bfs (proven cheapest), best-first, beam, fill (arrows first, then clicks into their "
                   "waiting steps), or auto (bfs, focused bfs, bfs by moves, fill, beam, best-first)")
@@ -81,17 +84,18 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
       ->default_val("steps");
   cmd->add_option("--max-plan", o.max_plan, "Planning: plan length limit (steps)")
       ->default_val(200)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::int_count(1));
   cmd->add_option("--keep-states", o.keep_states,
                   "Planning: search environments kept in memory when the engine cannot snapshot states "
                   "(the others are replayed from the start when needed)")
-      ->default_val(10000);
+      ->default_val(10000)
+      ->check(cli::big_count());
   cmd->add_option("--time-limit", o.time_limit,
                   "Planning: seconds for the whole search before giving up (0: no limit). Focused BFS stages "
                   "get an eighth of the time left each, so slow engines reach best-first; a search the limit "
                   "cuts short may depend on machine speed and --threads")
       ->default_val(120)
-      ->check(CLI::NonNegativeNumber);
+      ->check(cli::number_at_least(0, "0", "NONNEGATIVE"));
 }
 
 int fail(const std::string& cmd, const std::string& why) {
@@ -259,23 +263,27 @@ void add_agent_commands(CLI::App& app) {
       ->required()
       ->check(CLI::IsMember({"mfp", "planning", "cd"}));
   s.make->add_option("PROGRAM", s.make_program, "Autumn program (.au or .sexp)")->required()->check(CLI::ExistingFile);
-  s.make->add_option("--seed", s.make_opts.seed, "Seed of the generator (actions, mask, distractors)")->default_val(0);
+  s.make->add_option("--seed", s.make_opts.seed, "Seed of the generator (actions, mask, distractors)")
+      ->default_val(0)
+      ->check(cli::seed_number());
   s.make->add_option("--steps", s.make_opts.steps, "Actions in the task (default: mfp 20, planning 4); cd: the clock value K "
                                                  "the change starts at (default: seeded in 6..20)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::int_count(1));
   s.make->add_option("--out", s.make_out, "Output task file (default: stdout); under prompts/ the program is copied "
                                           "to the sibling programs/ and the answers go to the sibling answers/ "
                                           "(cd: required, and the changed program goes to programs/ too)");
   s.make->add_option("--answers", s.make_opts.answers_out,
                      "Answers file (seed, correct_idx / reference_plan) (default: answers/TASK.json beside prompts/, "
                      "else TASK.answers.json beside the task)");
-  s.make->add_option("--env-seed", s.make_opts.env_seed, "Interpreter seed of the environment")->default_val(0);
+  s.make->add_option("--env-seed", s.make_opts.env_seed, "Interpreter seed of the environment")
+      ->default_val(0)
+      ->check(cli::seed_number());
   s.make->add_option("--batch", s.make_opts.batch, "MFP: rollouts whose outcomes no distractor may equal")
       ->default_val(200)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::big_count(1));
   s.make->add_option("--masked-frames", s.make_opts.masked_frames, "MFP: final frames that hide the rectangle")
       ->default_val(3)
-      ->check(CLI::PositiveNumber);
+      ->check(cli::int_count(1));
   s.make->add_flag("--extend-colours", s.make_opts.extend_colours,
                    "Append colours missing from the colour table (and write the table next to the task)");
   s.make->add_option("--engine", s.make_opts.engine, "Execution engine")
@@ -293,16 +301,21 @@ void add_agent_commands(CLI::App& app) {
   s.bench->add_option("PROGRAMS", s.bench_paths, "Programs, or folders of programs")->required()->check(CLI::ExistingPath);
   s.bench->add_option("--engine", b.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("compiled");
   s.bench->add_option("--threads", b.threads, "Threads of the MFP query and the parallel BFS run (0: all cores)")
-      ->default_val(2);
-  s.bench->add_option("--rollouts", b.rollouts, "MFP rollouts")->default_val(10000)->check(CLI::PositiveNumber);
-  s.bench->add_option("--mfp-steps", b.mfp_steps, "Actions in the MFP trajectory")->default_val(70)->check(CLI::PositiveNumber);
-  s.bench->add_option("--seed", b.seed, "Seed of the generated MFP task and of the rollouts")->default_val(1);
+      ->default_val(2)
+      ->check(cli::whole_number(0, 1024));
+  s.bench->add_option("--rollouts", b.rollouts, "MFP rollouts")->default_val(10000)->check(cli::big_count(1));
+  s.bench->add_option("--mfp-steps", b.mfp_steps, "Actions in the MFP trajectory")->default_val(70)->check(cli::int_count(1));
+  s.bench->add_option("--seed", b.seed, "Seed of the generated MFP task and of the rollouts")
+      ->default_val(1)
+      ->check(cli::seed_number());
   s.bench->add_option("--bfs-nodes", b.bfs_nodes, "BFS: successors to generate per run")
       ->default_val(1000000)
-      ->check(CLI::PositiveNumber);
-  s.bench->add_option("--bfs-depth", b.bfs_depth, "BFS: depth limit")->default_val(12)->check(CLI::PositiveNumber);
-  s.bench->add_option("--seconds", b.seconds, "BFS: time limit per run")->default_val(10)->check(CLI::PositiveNumber);
-  s.bench->add_option("--grid", b.grid, "Only programs with this GRID_SIZE (0: all)")->default_val(16)->check(CLI::NonNegativeNumber);
+      ->check(cli::big_count(1));
+  s.bench->add_option("--bfs-depth", b.bfs_depth, "BFS: depth limit")->default_val(12)->check(cli::int_count(1));
+  s.bench->add_option("--seconds", b.seconds, "BFS: time limit per run")
+      ->default_val(10)
+      ->check(cli::number_at_least(0.001, "0.001", "POSITIVE"));
+  s.bench->add_option("--grid", b.grid, "Only programs with this GRID_SIZE (0: all)")->default_val(16)->check(cli::int_count());
   s.bench->add_option("--only", b.only, "Run only one measurement")->check(CLI::IsMember({"mfp", "bfs"}));
   s.bench->add_flag("--json", s.bench_json, "Print one JSON object");
 }

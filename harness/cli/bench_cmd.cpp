@@ -7,6 +7,7 @@
 
 #include "harness/bench.hpp"
 #include "harness/cli/commands.hpp"
+#include "harness/cli/number_options.hpp"
 #include "harness/engine.hpp"
 #include "harness/program_files.hpp"
 
@@ -23,8 +24,8 @@ struct BenchOptions {
 
 void register_bench(CLI::App* cmd, BenchOptions& o) {
   cmd->add_option("PROGRAMS", o.programs, "Program files or folders")->required();
-  cmd->add_option("--steps", o.steps, "Steps per program")->default_val(1000);
-  cmd->add_option("--seed", o.seed, "Seed for the programs and the action policy")->default_val(0);
+  cmd->add_option("--steps", o.steps, "Steps per program")->default_val(1000)->check(int_count());
+  cmd->add_option("--seed", o.seed, "Seed for the programs and the action policy")->default_val(0)->check(seed_number());
   cmd->add_flag("--json", o.json, "Print JSON");
   cmd->add_option("--only", o.only, "Run one engine only (for profiling)")->check(CLI::IsMember(engine_names()));
 }

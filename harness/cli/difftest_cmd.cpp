@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.hpp"
+#include "harness/cli/number_options.hpp"
 #include "harness/difftest.hpp"
 #include "harness/engine.hpp"
 #include "harness/program_files.hpp"
@@ -23,9 +24,9 @@ struct DifftestOptions {
 
 void register_difftest(CLI::App* cmd, DifftestOptions& o) {
   cmd->add_option("PROGRAMS", o.programs, "Program files or folders")->required();
-  cmd->add_option("--seeds", o.diff.seeds, "Episodes (seeds) per program")->default_val(8);
-  cmd->add_option("--steps", o.diff.steps, "Steps per episode")->default_val(200);
-  cmd->add_option("--first-seed", o.diff.first_seed, "First seed")->default_val(0);
+  cmd->add_option("--seeds", o.diff.seeds, "Episodes (seeds) per program")->default_val(8)->check(int_count());
+  cmd->add_option("--steps", o.diff.steps, "Steps per episode")->default_val(200)->check(int_count());
+  cmd->add_option("--first-seed", o.diff.first_seed, "First seed")->default_val(0)->check(seed_number());
   cmd->add_option("--engine", o.diff.engine_b, "Engine compared with interp")
       ->check(CLI::IsMember(engine_names()))
       ->default_val("compiled");

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "harness/cli/commands.hpp"
+#include "harness/cli/number_options.hpp"
 #include "harness/engine.hpp"
 #include "harness/episode.hpp"
 #include "harness/render_images.hpp"
@@ -31,10 +32,10 @@ bool has_suffix(const std::string& s, const std::string& suffix) {
 
 void register_render(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("PROGRAM", o.program, "Autumn program (.au or .sexp)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--seed", o.seed, "Interpreter seed (the benchmark's default is 0)")->default_val(0);
+  cmd->add_option("--seed", o.seed, "Interpreter seed (the benchmark's default is 0)")->default_val(0)->check(seed_number());
   auto* acts = cmd->add_option("--actions", o.actions, "Comma-separated actions: noop, left, right, up, down, click X Y");
   cmd->add_option("--actions-file", o.actions_file, "File with one action per line ('#' comments)")->excludes(acts);
-  cmd->add_option("--steps", o.steps, "Number of steps (missing actions are noop)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--steps", o.steps, "Number of steps (missing actions are noop)")->check(int_count());
   cmd->add_option("--out", o.out, "FILE.gif (animated, one frame per step) or FILE.png (a strip of all frames)")
       ->required()
       ->check([](const std::string& p) {

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.hpp"
+#include "harness/cli/number_options.hpp"
 #include "harness/engine.hpp"
 #include "harness/episode.hpp"
 
@@ -26,10 +27,10 @@ struct RunOptions {
 
 void register_run(CLI::App* cmd, RunOptions& o) {
   cmd->add_option("PROGRAM", o.program, "Autumn program (.au or .sexp)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--seed", o.seed, "Interpreter seed (the benchmark's default is 0)")->default_val(0);
+  cmd->add_option("--seed", o.seed, "Interpreter seed (the benchmark's default is 0)")->default_val(0)->check(seed_number());
   auto* acts = cmd->add_option("--actions", o.actions, "Comma-separated actions: noop, left, right, up, down, click X Y");
   cmd->add_option("--actions-file", o.actions_file, "File with one action per line ('#' comments)")->excludes(acts);
-  cmd->add_option("--steps", o.steps, "Number of steps (missing actions are noop)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--steps", o.steps, "Number of steps (missing actions are noop)")->check(int_count());
   cmd->add_option("--trigger", o.trigger, "Change-detection condition, without outer parentheses");
   cmd->add_flag("--json", o.json, "Print one JSON trace (the golden-trace format) instead of text");
   cmd->add_option("--engine", o.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("interp");

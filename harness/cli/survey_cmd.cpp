@@ -9,6 +9,7 @@
 #include <set>
 
 #include "harness/cli/commands.hpp"
+#include "harness/cli/number_options.hpp"
 #include "harness/engine.hpp"
 #include "harness/policy.hpp"
 #include "harness/program_files.hpp"
@@ -26,8 +27,8 @@ struct SurveyOptions {
 
 void register_survey(CLI::App* cmd, SurveyOptions& o) {
   cmd->add_option("DIR", o.dir, "Folder of .au/.sexp programs")->required();
-  cmd->add_option("--steps", o.steps, "Steps per program")->default_val(100)->check(CLI::NonNegativeNumber);
-  cmd->add_option("--seed", o.seed, "Seed for the programs and the random policy")->default_val(0);
+  cmd->add_option("--steps", o.steps, "Steps per program")->default_val(100)->check(int_count());
+  cmd->add_option("--seed", o.seed, "Seed for the programs and the random policy")->default_val(0)->check(seed_number());
   cmd->add_option("--engine", o.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("interp");
   cmd->add_flag("--json", o.json, "Print one JSON object instead of the table");
 }
