@@ -288,6 +288,16 @@ TEST(Limits, TaskClickOutOfTheIntRangeIsAnError) {
   }
 }
 
+TEST(Limits, TaskThatIsAFolderIsAnError) {
+  const auto dir = std::filesystem::temp_directory_path();
+  try {
+    agent::load_task(dir);
+    FAIL() << "loaded";
+  } catch (const agent::TaskError& e) {
+    EXPECT_EQ(std::string(e.what()), dir.string() + ": is a folder, not a file");
+  }
+}
+
 TEST(Limits, AnswersOutOfTheIntRangeAreErrors) {
   const auto path = std::filesystem::temp_directory_path() / "autumn_limits_answers.json";
   for (const char* text : {R"({"correct_idx": 4294967296})", R"({"t_star": 4294967297})"}) {

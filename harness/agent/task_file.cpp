@@ -35,6 +35,8 @@ std::string trim(std::string_view s) {
 }
 
 std::string read_file(const fs::path& p) {
+  std::error_code ec;
+  if (fs::is_directory(p, ec)) throw TaskError(p.string() + ": is a folder, not a file");
   std::ifstream in(p, std::ios::binary);
   if (!in) throw TaskError(p.string() + ": cannot open file");
   std::stringstream buf;
