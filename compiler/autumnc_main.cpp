@@ -98,9 +98,13 @@ bool can_run(const Options& o, const autumn::ModuleSource& src) {
 }
 
 int run(const Options& o) {
+  std::error_code folder_ec;
+  const bool folder = std::filesystem::is_directory(o.program_path, folder_ec);
   std::ifstream in(o.program_path, std::ios::binary);
-  if (!in) {
-    std::cerr << o.program_path << ":0:0: error: cannot open file\n";
+  if (folder || !in) {
+    std::cerr << autumn::format_diagnostic(o.program_path, autumn::SourceLoc{0, 0}, "error",
+                                           folder ? "is a folder, not a program file" : "cannot open file")
+              << "\n";
     return 1;
   }
   std::stringstream buf;

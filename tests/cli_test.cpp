@@ -182,6 +182,21 @@ TEST(Cli, AutumncRefusesABadGridSizeAtCompileTime) {
       << r.out;
 }
 
+// A file that cannot be read has no line: "file: error: ...", not "file:0:0:".
+TEST(Cli, UnreadableProgramIsAnErrorWithoutALine) {
+  const std::string out = " -o " + (fs::temp_directory_path() / "autumnc_out").string();
+  Result missing = autumn::testing::run_cli("/nonexistent/prog.au" + out, false, "", AUTUMNC_CLI);
+  EXPECT_EQ(missing.status, 1) << missing.out;
+  EXPECT_NE(missing.out.find("/nonexistent/prog.au: error: cannot open file"), std::string::npos) << missing.out;
+  const std::string dir = fs::temp_directory_path().string();
+  Result folder = autumn::testing::run_cli(dir + out, false, "", AUTUMNC_CLI);
+  EXPECT_EQ(folder.status, 1) << folder.out;
+  EXPECT_NE(folder.out.find(dir + ": error: is a folder, not a program file"), std::string::npos) << folder.out;
+  Result bench = run("bench /nonexistent/prog.au --steps 1");
+  EXPECT_EQ(bench.status, 1) << bench.out;
+  EXPECT_NE(bench.out.find("/nonexistent/prog.au: error: cannot open file"), std::string::npos) << bench.out;
+}
+
 // Numeric options share one rule (harness/cli/number_options.hpp): CLI11 alone
 // would take a negative seed as 2^64 - 5 and a negative bench --steps as 2^64 - 3.
 TEST(Cli, NumericOptionsRejectWhatTheyWouldWrap) {

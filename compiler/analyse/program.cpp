@@ -1,5 +1,6 @@
 #include "compiler/analyse/program.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -351,6 +352,8 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
 
 std::shared_ptr<const Program> load_program_file(const std::string& path,
                                                  const std::optional<std::string>& trigger) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw CompileError(path, SourceLoc{0, 0}, "is a folder, not a program file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CompileError(path, SourceLoc{0, 0}, "cannot open file");
   std::stringstream buf;
