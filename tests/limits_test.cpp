@@ -234,76 +234,74 @@ TEST(Limits, NestingJustUnderTheLimitLoadsAndRuns) {
 
 // --- loaders: every library exception is a one-line message naming the file
 
-TEST(Limits, TaskSeedOutOfRangeIsAOneLineError) {
-  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_seed.json";
-  std::ofstream(path) << R"({"type": "change_detection", "program": "ice", "wrong_program": "ice_wrong", "seed": 1e400})";
+// Writes `text` to the temporary file `name`, loads it with `load` and returns
+// the error's text ("loaded" when nothing was thrown).
+template <class Load>
+std::string load_error(const std::string& name, const std::string& text, Load load) {
+  const auto path = std::filesystem::temp_directory_path() / name;
+  std::ofstream(path) << text;
   try {
-    agent::load_task(path);
-    FAIL() << "loaded";
-  } catch (const agent::TaskError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find("autumn_limits_seed.json"), std::string::npos) << msg;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-    EXPECT_EQ(msg.find("[json.exception"), std::string::npos) << "no raw library text: " << msg;
+    load(path);
+  } catch (const std::exception& e) {
+    return e.what();
   }
+  return "loaded";
+}
+
+std::string task_error(const std::string& name, const std::string& text) {
+  return load_error(name, text, [](const std::filesystem::path& p) { agent::load_task(p); });
+}
+std::string trace_error(const std::string& name, const std::string& text) {
+  return load_error(name, text, [](const std::filesystem::path& p) { load_trace_file(p.string()); });
+}
+std::string temp(const std::string& name) { return (std::filesystem::temp_directory_path() / name).string(); }
+
+TEST(Limits, TaskSeedOutOfRangeIsAOneLineError) {
+  const std::string msg = task_error(
+      "autumn_limits_seed.json",
+      R"({"type": "change_detection", "program": "ice", "wrong_program": "ice_wrong", "seed": 1e400})");
+  EXPECT_NE(msg.find("autumn_limits_seed.json"), std::string::npos) << msg;
+  EXPECT_NE(msg, "loaded");
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("[json.exception"), std::string::npos) << "no raw library text: " << msg;
 }
 
 TEST(Limits, TraceFileWithWrongTypesIsAOneLineError) {
-  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_trace.json";
-  std::ofstream(path) << R"({"traces": [{"seed": 1e400, "actions": [], "frames": [[]]}]})";
-  try {
-    load_trace_file(path.string());
-    FAIL() << "loaded";
-  } catch (const std::exception& e) {
-    const std::string msg = e.what();
-    EXPECT_EQ(msg.rfind(path.string() + ": ", 0), 0u) << msg;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-  }
+  const std::string msg =
+      trace_error("autumn_limits_trace.json", R"({"traces": [{"seed": 1e400, "actions": [], "frames": [[]]}]})");
+  EXPECT_EQ(msg.rfind(temp("autumn_limits_trace.json") + ": ", 0), 0u) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
 }
 
 // Numbers the loaders would otherwise wrap silently (get<int>, get<uint64_t>).
 TEST(Limits, TraceSeedThatIsNegativeIsAnError) {
-  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_trace_seed.json";
-  std::ofstream(path) << R"({"traces": [{"seed": -1, "actions": [], "frames": [[]]}]})";
-  try {
-    load_trace_file(path.string());
-    FAIL() << "loaded";
-  } catch (const std::exception& e) {
-    EXPECT_EQ(std::string(e.what()), path.string() + ": trace 0: \"seed\" must be a non-negative integer");
-  }
+  EXPECT_EQ(trace_error("autumn_limits_trace_seed.json", R"({"traces": [{"seed": -1, "actions": [], "frames": [[]]}]})"),
+            temp("autumn_limits_trace_seed.json") + ": trace 0: \"seed\" must be a non-negative integer");
 }
 
 TEST(Limits, TaskClickOutOfTheIntRangeIsAnError) {
-  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_click.json";
-  std::ofstream(path) << R"({"type": "masked_frame_prediction", "program": "p", "choices": [[[1]], [[2]]],
+  const std::string msg = task_error("autumn_limits_click.json",
+                                     R"({"type": "masked_frame_prediction", "program": "p", "choices": [[[1]], [[2]]],
     "observations": [{"masked_grid": [[1]]}, {"action": {"type": "click", "x": 1, "y": 99999999999},
-    "masked_grid": [[1]]}]})";
-  try {
-    agent::load_task(path);
-    FAIL() << "loaded";
-  } catch (const agent::TaskError& e) {
-    EXPECT_NE(std::string(e.what()).find("observations[1].action: click coordinates are out of the 32-bit range"),
-              std::string::npos)
-        << e.what();
-  }
+    "masked_grid": [[1]]}]})");
+  EXPECT_NE(msg.find("observations[1].action: click coordinates are out of the 32-bit range"), std::string::npos)
+      << msg;
 }
 
 TEST(Limits, TaskThatIsAFolderIsAnError) {
   const auto dir = std::filesystem::temp_directory_path();
-  try {
-    agent::load_task(dir);
-    FAIL() << "loaded";
-  } catch (const agent::TaskError& e) {
-    EXPECT_EQ(std::string(e.what()), dir.string() + ": is a folder, not a file");
-  }
+  EXPECT_EQ(load_error("unused", "", [&](const std::filesystem::path&) { agent::load_task(dir); }),
+            dir.string() + ": is a folder, not a file");
 }
 
 TEST(Limits, AnswersOutOfTheIntRangeAreErrors) {
-  const auto path = std::filesystem::temp_directory_path() / "autumn_limits_answers.json";
-  for (const char* text : {R"({"correct_idx": 4294967296})", R"({"t_star": 4294967297})"}) {
-    std::ofstream(path) << text;
-    EXPECT_THROW(agent::load_answers(path), agent::TaskError) << text;
-  }
+  auto answers = [](const std::filesystem::path& p) { agent::load_answers(p); };
+  EXPECT_NE(load_error("autumn_limits_answers.json", R"({"correct_idx": 4294967296})", answers)
+                .find("\"correct_idx\" must be a choice index"),
+            std::string::npos);
+  EXPECT_NE(load_error("autumn_limits_answers.json", R"({"t_star": 4294967297})", answers)
+                .find("\"t_star\" must be a non-negative integer"),
+            std::string::npos);
 }
 
 }  // namespace
