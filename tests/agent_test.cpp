@@ -890,6 +890,24 @@ TEST(AgentPlanning, TravelDrawsThingsTowardsTheirGoalSquares) {
   EXPECT_LT(goal.rank(goal.distance(extra, true)), goal.rank(n)) << "one differing cell beats two, whatever the travel";
 }
 
+// eval's walk: tasks, and files meant as tasks that do not load (reported in
+// their row), but not answers files or other JSON.
+TEST(AgentEval, FindsTasksAndBrokenTaskFilesButNotAnswers) {
+  const fs::path dir = scratch("find_tasks");
+  fs::remove_all(dir);
+  fs::create_directories(dir / "prompts");
+  fs::create_directories(dir / "answers");
+  std::ofstream(dir / "prompts" / "a_mfp.json") << R"({"type": "masked_frame_prediction", "program": "p"})";
+  std::ofstream(dir / "prompts" / "b_riddle.json") << R"({"type": "riddle"})";
+  std::ofstream(dir / "prompts" / "c_cut.json") << R"({"type": "planning", "goal": [[1)";
+  std::ofstream(dir / "prompts" / "notes.txt") << "not json";
+  std::ofstream(dir / "answers" / "a_mfp.json") << R"({"seed": 3, "correct_idx": 1})";
+  std::ofstream(dir / "colours.json") << R"(["black", "red"])";
+  std::vector<std::string> found;
+  for (const fs::path& f : find_tasks(dir)) found.push_back(fs::relative(f, dir).string());
+  EXPECT_EQ(found, (std::vector<std::string>{"prompts/a_mfp.json", "prompts/b_riddle.json", "prompts/c_cut.json"}));
+}
+
 // ------------------------------------------------------------------ the hand-written change-detection pairs
 
 TEST(AgentCdPairs, EveryPairIsDetectedAtItsChange) {

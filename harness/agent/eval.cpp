@@ -12,7 +12,7 @@ std::vector<fs::path> find_tasks(const fs::path& dir) {
   if (!fs::is_directory(dir)) throw TaskError("'" + dir.string() + "' is not a directory");
   std::vector<fs::path> out;
   for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file() && looks_like_task(e.path())) out.push_back(e.path());
+    if (e.is_regular_file() && meant_as_task(e.path())) out.push_back(e.path());
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -420,16 +420,13 @@ Task load_task(const fs::path& file) {
   return parse_task(j, file, ColourTable::for_task(file));
 }
 
-bool looks_like_task(const fs::path& file) {
+bool meant_as_task(const fs::path& file) {
   if (file.extension() != ".json") return false;
   std::ifstream in(file, std::ios::binary);
-  if (!in) return false;
+  if (!in) return true;  // unreadable: loading it says why
   json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (!j.is_object()) return false;
-  auto it = j.find("type");
-  if (it == j.end() || !it->is_string()) return false;
-  std::string t = it->get<std::string>();
-  return t == "masked_frame_prediction" || t == "change_detection" || t == "planning";
+  if (j.is_discarded()) return true;  // not valid JSON: loading it says where
+  return j.is_object() && j.contains("type");
 }
 
 // ---------------------------------------------------------------------------- programs

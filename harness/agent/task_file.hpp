@@ -143,7 +143,10 @@ struct Task {
 
 Task parse_task(const nlohmann::json& j, const fs::path& file, ColourTable colours);
 Task load_task(const fs::path& file);  // colours from ColourTable::for_task
-bool looks_like_task(const fs::path& file);  // a JSON object with a known "type"
+// A .json file that is a task or was meant as one: a JSON object with a
+// "type", or a file that is not valid JSON (eval reports those in their row
+// rather than skip them). Answers files and colour tables have no "type".
+bool meant_as_task(const fs::path& file);
 
 nlohmann::json action_to_json(const Action& a);
 Action action_from_json(const nlohmann::json& j, const std::string& where);
