@@ -42,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const autumn::agent::TaskError& e) {
     check_message(e.what(), scratch().filename().string());
   }
-  (void)autumn::agent::looks_like_task(scratch());
+  (void)autumn::agent::meant_as_task(scratch());
   try {
     (void)autumn::load_trace_file(scratch().string());
   } catch (const std::runtime_error& e) {
