@@ -25,7 +25,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "compiler/analyse/lint.hpp"
 #include "compiler/analyse/program.hpp"
@@ -98,20 +97,14 @@ bool can_run(const Options& o, const autumn::ModuleSource& src) {
 }
 
 int run(const Options& o) {
-  std::error_code folder_ec;
-  const bool folder = std::filesystem::is_directory(o.program_path, folder_ec);
-  std::ifstream in(o.program_path, std::ios::binary);
-  if (folder || !in) {
-    std::cerr << autumn::format_diagnostic(o.program_path, autumn::SourceLoc{0, 0}, "error",
-                                           folder ? "is a folder, not a program file" : "cannot open file")
-              << "\n";
-    return 1;
-  }
-  std::stringstream buf;
-  buf << in.rdbuf();
   autumn::ModuleSource src;
   src.program_path = o.program_path;
-  src.program_text = buf.str();
+  try {
+    src.program_text = autumn::read_program_text(o.program_path);
+  } catch (const autumn::CompileError& e) {
+    std::cerr << e.formatted() << "\n";
+    return 1;
+  }
   if (!o.trigger.empty()) src.trigger = o.trigger;
   src.force_embedded = o.embedded;
   src.name = autumn::module_identifier(

@@ -350,15 +350,19 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
   return p;
 }
 
-std::shared_ptr<const Program> load_program_file(const std::string& path,
-                                                 const std::optional<std::string>& trigger) {
+std::string read_program_text(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw CompileError(path, SourceLoc{0, 0}, "is a folder, not a program file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CompileError(path, SourceLoc{0, 0}, "cannot open file");
   std::stringstream buf;
   buf << in.rdbuf();
-  return load_program(SourceFile{path, buf.str(), SourceId::Program}, trigger);
+  return buf.str();
+}
+
+std::shared_ptr<const Program> load_program_file(const std::string& path,
+                                                 const std::optional<std::string>& trigger) {
+  return load_program(SourceFile{path, read_program_text(path), SourceId::Program}, trigger);
 }
 
 }  // namespace autumn

@@ -77,7 +77,10 @@ struct Program {
 std::shared_ptr<const Program> load_program(SourceFile file,
                                             const std::optional<std::string>& trigger = std::nullopt,
                                             const std::optional<std::string>& stdlib = std::nullopt);
-// Reads a file from disk first; a missing file is a CompileError at 0:0.
+// A program file's text; a file that cannot be read (missing, a folder) is a
+// CompileError at line 0, "path: error: ...". autumnc reads its input with it too.
+std::string read_program_text(const std::string& path);
+// read_program_text, then load_program.
 std::shared_ptr<const Program> load_program_file(const std::string& path,
                                                  const std::optional<std::string>& trigger = std::nullopt);
 

@@ -11,13 +11,13 @@
 
 #include "harness/agent/bench_agent.hpp"
 #include "harness/agent/change_detection.hpp"
-#include "harness/cli/number_options.hpp"
 #include "harness/agent/eval.hpp"
 #include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
 #include "harness/agent/solve_pictures.hpp"
+#include "harness/cli/number_options.hpp"
 #include "harness/engine.hpp"
 #include "harness/module_cache.hpp"
 #include "harness/program_files.hpp"
@@ -59,7 +59,7 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
   cmd->add_option("--rollouts", o.rollouts, "MFP rollouts; particles for stochastic change detection")
       ->default_val(10000)
       ->check(cli::big_count(1));
-  cmd->add_option("--threads", threads, "Worker threads (0: all cores)")->default_val(0)->check(cli::whole_number(0, 1024));
+  cmd->add_option("--threads", threads, "Worker threads (0: all cores)")->default_val(0)->check(cli::thread_count());
   cmd->add_flag("!--no-seed-inversion", o.seed_inversion,
                 "MFP on stochastic programs: skip recovering the world's seed from the observed draws and "
                 "use the sequential Monte Carlo filter alone");
@@ -95,7 +95,7 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
                   "get an eighth of the time left each, so slow engines reach best-first; a search the limit "
                   "cuts short may depend on machine speed and --threads")
       ->default_val(120)
-      ->check(cli::number_at_least(0, "0", "NONNEGATIVE"));
+      ->check(cli::number_at_least(0, "NONNEGATIVE"));
 }
 
 int fail(const std::string& cmd, const std::string& why) {
@@ -302,7 +302,7 @@ void add_agent_commands(CLI::App& app) {
   s.bench->add_option("--engine", b.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("compiled");
   s.bench->add_option("--threads", b.threads, "Threads of the MFP query and the parallel BFS run (0: all cores)")
       ->default_val(2)
-      ->check(cli::whole_number(0, 1024));
+      ->check(cli::thread_count());
   s.bench->add_option("--rollouts", b.rollouts, "MFP rollouts")->default_val(10000)->check(cli::big_count(1));
   s.bench->add_option("--mfp-steps", b.mfp_steps, "Actions in the MFP trajectory")->default_val(70)->check(cli::int_count(1));
   s.bench->add_option("--seed", b.seed, "Seed of the generated MFP task and of the rollouts")
@@ -314,7 +314,7 @@ void add_agent_commands(CLI::App& app) {
   s.bench->add_option("--bfs-depth", b.bfs_depth, "BFS: depth limit")->default_val(12)->check(cli::int_count(1));
   s.bench->add_option("--seconds", b.seconds, "BFS: time limit per run")
       ->default_val(10)
-      ->check(cli::number_at_least(0.001, "0.001", "POSITIVE"));
+      ->check(cli::number_at_least(0.001, "POSITIVE"));
   s.bench->add_option("--grid", b.grid, "Only programs with this GRID_SIZE (0: all)")->default_val(16)->check(cli::int_count());
   s.bench->add_option("--only", b.only, "Run only one measurement")->check(CLI::IsMember({"mfp", "bfs"}));
   s.bench->add_flag("--json", s.bench_json, "Print one JSON object");

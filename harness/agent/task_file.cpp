@@ -503,9 +503,9 @@ Answers load_answers(const fs::path& file) {
   }
   for (const char* key : {"correct_idx", "answer"})
     if (auto it = j.find(key); it != j.end() && !a.correct_idx) {
-      if (!it->is_number_unsigned() || !as_int(*it))
-        throw TaskError(fmt::format("{}: \"{}\" must be a choice index", w, key));
-      a.correct_idx = *as_int(*it);
+      const std::optional<int> idx = it->is_number_unsigned() ? as_int(*it) : std::nullopt;
+      if (!idx) throw TaskError(fmt::format("{}: \"{}\" must be a choice index", w, key));
+      a.correct_idx = *idx;
     }
   if (auto it = j.find("reference_plan"); it != j.end()) {
     if (!it->is_array()) throw TaskError(w + ": \"reference_plan\" must be an array of actions");
@@ -514,9 +514,9 @@ Answers load_answers(const fs::path& file) {
   }
   if (j.contains("condition")) a.condition = string_field(j, "condition", w);
   if (auto it = j.find("t_star"); it != j.end()) {
-    if (!it->is_number_unsigned() || !as_int(*it))
-      throw TaskError(w + ": field \"t_star\" must be a non-negative integer of at most 2^31 - 1");
-    a.t_star = *as_int(*it);
+    const std::optional<int> t = it->is_number_unsigned() ? as_int(*it) : std::nullopt;
+    if (!t) throw TaskError(w + ": field \"t_star\" must be a non-negative integer of at most 2^31 - 1");
+    a.t_star = *t;
   }
   return a;
 }
