@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "runtime/arith.hpp"
+#include "runtime/diagnostic.hpp"
 #include "runtime/environment.hpp"
 #include "runtime/frame.hpp"
 #include "runtime/hash_order.hpp"
@@ -67,8 +68,7 @@ struct LocatedError : std::runtime_error {
 inline std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg) {
   const char* file = e.in_program ? nullptr : e.source;
   const int line = e.in_program ? e.program_line : e.line, col = e.in_program ? e.program_col : e.col;
-  std::string out = std::string(file ? file : path.c_str()) + ":" + std::to_string(line) + ":" + std::to_string(col) +
-                    ": runtime error: " + e.prefix + msg;
+  std::string out = diagnostic_prefix(file ? file : path, line, col, "runtime error") + e.prefix + msg;
   if (e.in_program && e.source && std::string(e.source) != "<internal>")
     out += " (inside " + std::string(e.source) + ":" + std::to_string(e.line) + ":" + std::to_string(e.col) + ")";
   return out;

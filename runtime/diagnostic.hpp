@@ -1,0 +1,22 @@
+// diagnostic — how every message names its place, decided once.
+//
+// The frontend's errors (format_diagnostic), the interpreter's runtime errors
+// and the compiled module's runtime errors all begin with this prefix, so the
+// two engines say the same text for the same failure:
+//
+//   prog.au:12:5: runtime error: ...   a place in the file
+//   prog.au: runtime error: ...        line 0: no place (the file could not be
+//                                      read, or the value no statement defines,
+//                                      such as cacheRendered, broke a limit)
+#pragma once
+
+#include <string>
+
+namespace autumn {
+
+inline std::string diagnostic_prefix(const std::string& file, int line, int col, const std::string& severity) {
+  if (line == 0) return file + ": " + severity + ": ";
+  return file + ":" + std::to_string(line) + ":" + std::to_string(col) + ": " + severity + ": ";
+}
+
+}  // namespace autumn
