@@ -183,7 +183,16 @@ class VecEnv {
     return pb::make_tuple(obs_, errors());
   }
 
-  pb::tuple step(const pb::array_t<int64_t, pb::array::c_style | pb::array::forcecast>& actions) {
+  // Actions are action ids: an array of integers (any integer dtype; a list of
+  // ints becomes one). Floats and bools are refused rather than truncated.
+  pb::tuple step(const pb::object& given) {
+    pb::array any = pb::module_::import("numpy").attr("asarray")(given);
+    const char kind = any.dtype().kind();
+    if (kind != 'i' && kind != 'u')
+      throw std::invalid_argument("actions must be integers (action ids), got an array of dtype " +
+                                  std::string(pb::str(any.dtype())));
+    auto actions = pb::array_t<int64_t, pb::array::c_style | pb::array::forcecast>::ensure(any);
+    if (!actions) throw pb::error_already_set();
     if (actions.ndim() != 1 || static_cast<size_t>(actions.shape(0)) != set_->size())
       throw std::invalid_argument("actions must be a 1-D array of " + std::to_string(set_->size()) + " integers");
     const int64_t* a = actions.data();

@@ -131,6 +131,12 @@ def test_vecenv_bad_input():
         vec.step([0, 1])
     with pytest.raises(ValueError):
         vec.step([0, 1, 10**6])
+    with pytest.raises(ValueError, match="integers"):  # not truncated to [0, 1, 2]
+        vec.step(np.array([0.0, 1.7, 2.2]))
+    with pytest.raises(ValueError, match="integers"):
+        vec.step([True, False, True])
+    obs = vec.step(np.array([0, 1, 2], dtype=np.uint8))[0]  # any integer dtype
+    assert obs.shape[0] == 3
     with pytest.raises(ValueError):
         autumnc.VecEnv(SOKOBAN, 0)
     with pytest.raises(FileNotFoundError):
