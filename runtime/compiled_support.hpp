@@ -70,7 +70,7 @@ inline std::string describe(const std::string& path, const ErrorSite& e, const s
   const int line = e.in_program ? e.program_line : e.line, col = e.in_program ? e.program_col : e.col;
   std::string out = diagnostic_prefix(file ? file : path, line, col, "runtime error") + e.prefix + msg;
   if (e.in_program && e.source && std::string(e.source) != "<internal>")
-    out += " (inside " + std::string(e.source) + ":" + std::to_string(e.line) + ":" + std::to_string(e.col) + ")";
+    out += diagnostic_inside(e.source, e.line, e.col);
   return out;
 }
 
@@ -791,11 +791,11 @@ class CompiledEnvironment : public Environment {
       return false;
     } catch (const std::bad_alloc&) {
       failed_ = true;
-      error_ = source_name_ + ": runtime error: out of memory";
+      error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + "out of memory";
       return false;
     } catch (const std::exception& e) {
       failed_ = true;
-      error_ = source_name_ + ": runtime error: " + e.what();
+      error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + e.what();
       return false;
     }
   }

@@ -1,8 +1,9 @@
 // diagnostic — how every message names its place, decided once.
 //
 // The frontend's errors (format_diagnostic), the interpreter's runtime errors
-// and the compiled module's runtime errors all begin with this prefix, so the
-// two engines say the same text for the same failure:
+// and the compiled module's runtime errors all begin with this prefix (and end
+// with the same "inside" suffix), so the two engines say the same text for the
+// same failure:
 //
 //   prog.au:12:5: runtime error: ...   a place in the file
 //   prog.au: runtime error: ...        line 0: no place (the file could not be
@@ -17,6 +18,12 @@ namespace autumn {
 inline std::string diagnostic_prefix(const std::string& file, int line, int col, const std::string& severity) {
   if (line == 0) return file + ": " + severity + ": ";
   return file + ":" + std::to_string(line) + ":" + std::to_string(col) + ": " + severity + ": ";
+}
+
+// The library place an error located in the program came from:
+// " (inside <stdlib>:40:3)".
+inline std::string diagnostic_inside(const std::string& source, int line, int col) {
+  return " (inside " + source + ":" + std::to_string(line) + ":" + std::to_string(col) + ")";
 }
 
 }  // namespace autumn

@@ -9,6 +9,7 @@
 // end with check_state(), and the render checks GRID_SIZE against its range,
 // reporting at its definition.
 #include "compiler/interpret/interpreter.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::interp {
 
@@ -251,8 +252,7 @@ std::string Interpreter::describe(const RuntimeError& e) const {
       at.source == SourceId::Program && !source_name_.empty() ? source_name_ : program_->file_name(at.source);
   std::string msg = format_diagnostic(file, at, "runtime error", e.what());
   if (e.in_program && e.located && e.loc.source != SourceId::Program && e.loc.source != SourceId::Internal)
-    msg += " (inside " + program_->file_name(e.loc.source) + ":" + std::to_string(e.loc.line) + ":" +
-           std::to_string(e.loc.col) + ")";
+    msg += diagnostic_inside(program_->file_name(e.loc.source), e.loc.line, e.loc.col);
   return msg;
 }
 

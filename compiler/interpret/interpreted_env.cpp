@@ -2,6 +2,8 @@
 
 #include <new>
 
+#include "runtime/diagnostic.hpp"
+
 namespace autumn {
 
 InterpretedEnvironment::InterpretedEnvironment(std::shared_ptr<const Program> program)
@@ -15,9 +17,9 @@ bool InterpretedEnvironment::guarded(F&& f) {
   } catch (const interp::RuntimeError& e) {
     error_ = interp_->describe(e);
   } catch (const std::bad_alloc&) {
-    error_ = name() + ": runtime error: out of memory";
+    error_ = diagnostic_prefix(name(), 0, 0, "runtime error") + "out of memory";
   } catch (const std::exception& e) {
-    error_ = name() + ": runtime error: " + e.what();
+    error_ = diagnostic_prefix(name(), 0, 0, "runtime error") + e.what();
   }
   failed_ = true;
   return false;

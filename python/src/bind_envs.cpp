@@ -186,7 +186,8 @@ class VecEnv {
   // Actions are action ids: an array of integers (any integer dtype; a list of
   // ints becomes one). Floats and bools are refused rather than truncated.
   pb::tuple step(const pb::object& given) {
-    pb::array any = pb::module_::import("numpy").attr("asarray")(given);
+    pb::array any = pb::array::ensure(given);
+    if (!any) throw pb::error_already_set();
     const char kind = any.dtype().kind();
     if (kind != 'i' && kind != 'u')
       throw std::invalid_argument("actions must be integers (action ids), got an array of dtype " +
