@@ -1147,6 +1147,26 @@ TEST(AgentEval, TabulatesAFolder) {
   auto j = nlohmann::json::parse(last);
   EXPECT_EQ(j["totals"]["tasks"], 2);
   EXPECT_EQ(j["totals"]["score"], 2.0);
+
+  // --json-out: the table on stdout and the same scores in the file, which may
+  // live in the folder evaluated (a second run does not take it for a task); a
+  // path that cannot be written fails before any task runs.
+  const fs::path report = root / "eval.json";
+  for (int run = 0; run < 2; ++run) {
+    CliRun both = cli("eval " + root.string() + " --json-out " + report.string() + " --rollouts 50 --threads 2");
+    EXPECT_EQ(both.status, 0) << both.out;
+    EXPECT_NE(both.out.find("2 tasks, 2 scored, total score 2.000"), std::string::npos) << both.out;
+  }
+  std::ifstream in(report);
+  ASSERT_TRUE(in) << report;
+  auto written = nlohmann::json::parse(in);
+  EXPECT_EQ(written["totals"]["score"], 2.0);
+  ASSERT_EQ(written["tasks"].size(), 2u);
+  for (const auto& t : written["tasks"]) EXPECT_EQ(t["score"], 1.0) << t["task"];
+  CliRun nowhere = cli("eval " + root.string() + " --json-out " + (root / "no" / "such" / "eval.json").string());
+  EXPECT_EQ(nowhere.status, 1);
+  EXPECT_NE(nowhere.out.find("autumn eval: cannot write"), std::string::npos) << nowhere.out;
+  EXPECT_EQ(nowhere.out.find("[#"), std::string::npos) << "failed after running tasks: " << nowhere.out;
 }
 
 TEST(AgentCli, SolveAndErrors) {

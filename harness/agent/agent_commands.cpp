@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <thread>
@@ -42,6 +43,7 @@ struct State {
   SolveOptions eval_opts;
   unsigned eval_threads = 0;
   bool eval_json = false;
+  std::string eval_json_out;  // also write the JSON object here (the table still prints)
   std::vector<std::string> bench_paths;
   BenchAgentOptions bench_opts;
   bool bench_json = false;
@@ -211,12 +213,29 @@ std::function<void(size_t, size_t, const std::string&)> progress_bar() {
   };
 }
 
+// A file that exists and may be written, or a new one in a folder that may be.
+bool can_write(const fs::path& p) {
+  std::error_code ec;
+  if (fs::exists(p, ec)) return !fs::is_directory(p, ec) && access(p.c_str(), W_OK) == 0;
+  const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+  return fs::is_directory(dir, ec) && access(dir.c_str(), W_OK) == 0;
+}
+
 int run_eval_cmd(State& s) {
   try {
+    // Checked before the (long) run, so a bad path fails at once; written after,
+    // so a file inside DIR is never scanned half-made (an eval JSON is not a task).
+    if (!s.eval_json_out.empty() && !can_write(s.eval_json_out))
+      return fail("eval", "cannot write " + s.eval_json_out);
     ThreadPool pool(s.eval_threads);
     std::vector<EvalRow> rows = run_eval(s.eval_dir, s.eval_opts, pool, progress_bar());
     if (s.eval_json) std::cout << eval_json(rows).dump() << "\n";
     else fmt::print("{}\n{}", eval_table(rows), eval_type_table(rows));
+    if (!s.eval_json_out.empty()) {
+      std::ofstream out(s.eval_json_out, std::ios::binary | std::ios::trunc);
+      out << eval_json(rows).dump(1) << "\n";
+      if (!out.flush()) return fail("eval", "cannot write " + s.eval_json_out);
+    }
     for (const auto& r : rows)
       if (!r.error.empty()) return 1;
     return 0;
@@ -293,6 +312,8 @@ void add_agent_commands(CLI::App& app) {
   s.eval = app.add_subcommand("eval", "Solve every task in a folder (recursively) and tabulate the scores");
   s.eval->add_option("DIR", s.eval_dir, "Folder of tasks")->required()->check(CLI::ExistingDirectory);
   s.eval->add_flag("--json", s.eval_json, "Print one JSON object");
+  s.eval->add_option("--json-out", s.eval_json_out, "Also write that JSON object to FILE (the table still prints)")
+      ->type_name("FILE");
   add_search_options(s.eval, s.eval_opts, s.eval_threads);
 
   BenchAgentOptions& b = s.bench_opts;

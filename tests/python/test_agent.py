@@ -2,6 +2,7 @@
 import json
 import os
 import subprocess
+import sys
 
 import pytest
 
@@ -51,3 +52,34 @@ def test_program_check_against_a_trace():
     p = autumnc.Program(os.path.join(CONFORMANCE, "programs", "ice.sexp"))
     r = p.check(os.path.join(CONFORMANCE, "traces", "ice.json"), engine="interp")
     assert r["ok"] and r["frames_matched"] == r["frames_total"] > 0
+
+
+def _check_plans(task_dir, rows, tmp_path):
+    """Runs scripts/check-plans.py over an eval JSON made of `rows`."""
+    report = tmp_path / "eval.json"
+    report.write_text(json.dumps({"tasks": rows, "totals": {}}))
+    package_root = os.path.dirname(os.path.dirname(os.path.abspath(autumnc.__file__)))
+    env = dict(os.environ, PYTHONPATH=package_root)  # the autumnc this suite imports
+    return subprocess.run([sys.executable, os.path.join(REPO, "scripts", "check-plans.py"), str(task_dir),
+                           str(report)], capture_output=True, text=True, env=env)
+
+
+def test_check_plans_replays_on_the_interpreter(tmp_path):
+    # The independent check of blind-eval's plans: a planner's plan reaches the
+    # goal on the interpreter; a plan cut to nothing does not, and the script
+    # then says the eval's score of 1 disagrees.
+    out = tmp_path / "prompts" / "sokoban_planning.json"
+    autumnc.make_task("planning", SOKOBAN, seed=4, steps=5, out=out, extend_colours=True)
+    solved = autumnc.solve(out, threads=1)["result"]
+    assert solved["found"] and solved["verified"]
+    row = {"task": "prompts/sokoban_planning.json", "type": "planning", "score": 1.0,
+           "reference_length": 5, "result": {"found": True, "plan": solved["plan"]}}
+    good = _check_plans(tmp_path, [row], tmp_path)
+    assert good.returncode == 0, good.stdout + good.stderr
+    assert "1 plans reach the goal on the interpreter" in good.stdout and "1/1 agree" in good.stdout
+    row["result"]["plan"] = []
+    bad = _check_plans(tmp_path, [row], tmp_path)
+    assert bad.returncode == 1 and "DISAGREE prompts/sokoban_planning.json" in bad.stdout
+    row["score"] = 0.0
+    assert _check_plans(tmp_path, [row], tmp_path).returncode == 0
+    assert _check_plans(tmp_path / "nowhere", [row], tmp_path).returncode == 2
