@@ -49,7 +49,9 @@ bool sweep(Block& b, const std::map<const Var*, int>& uses) {
   bool removed = false;
   for (size_t i = 0; i < b.size();) {
     Stmt* s = b[i];
-    removed |= sweep(s->body, uses) | sweep(s->other, uses);
+    const bool in_body = sweep(s->body, uses);  // both blocks are swept, whatever the first found
+    const bool in_other = sweep(s->other, uses);
+    removed = removed || in_body || in_other;
     for (auto& [k, c] : s->cases) removed |= sweep(c, uses);
     const bool dead = (s->k == SK::Let || s->k == SK::Bind) && !uses.count(s->var) && pure(s->a);
     if (dead) {

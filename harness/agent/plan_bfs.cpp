@@ -86,7 +86,6 @@ class LayeredBfs {
   std::vector<std::vector<Fresh*>> won_ = std::vector<std::vector<Fresh*>>(kShards);
   std::vector<uint64_t> first_hit_ = std::vector<uint64_t>(kShards);
   BfsOutcome out_;
-  bool stopped_ = false;
   std::vector<uint64_t> hash_of_;  // per node, for target lookups
 };
 
