@@ -15,9 +15,14 @@
 
 namespace autumn {
 
+// The place alone: "prog.au:12:5", or "prog.au" for line 0.
+inline std::string diagnostic_place(const std::string& file, int line, int col) {
+  if (line == 0) return file;
+  return file + ":" + std::to_string(line) + ":" + std::to_string(col);
+}
+
 inline std::string diagnostic_prefix(const std::string& file, int line, int col, const std::string& severity) {
-  if (line == 0) return file + ": " + severity + ": ";
-  return file + ":" + std::to_string(line) + ":" + std::to_string(col) + ": " + severity + ": ";
+  return diagnostic_place(file, line, col) + ": " + severity + ": ";
 }
 
 // The library place an error located in the program came from:

@@ -4,12 +4,15 @@
 #include "compiler/lower/passes.hpp"
 #include "compiler/lower/print_cpp.hpp"
 #include "compiler/lower/specialise.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn {
 
+// A reason the lowering gives (no severity: autumnc lists them under its own
+// heading), at its place when it has one.
 static std::string located(const Program& p, SourceLoc loc, const std::string& why) {
   if (!loc.line) return why;
-  return p.file_name(loc.source) + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.col) + ": " + why;
+  return diagnostic_place(p.file_name(loc.source), loc.line, loc.col) + ": " + why;
 }
 
 Lowered lower_program(const Program& program, const std::string& program_name) {
