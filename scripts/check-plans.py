@@ -5,10 +5,11 @@ The planner searches on the compiled engine and verifies its plan with its own
 replay. This script trusts none of that: for every planning task it reads the
 prompt (goal and mask), the answers file (the world's seed) and the plan from
 the eval JSON, replays the plan with the Python package on the tree-walking
-interpreter (`autumnc.Env(engine="interp")`), and compares colour *names* on the
-mask (the task's color_dict.yaml for the goal, `autumnc.colour_names()` for the
-frames), at every frame on the way, the first one included. It also counts the
-plans no longer than the generator's K.
+interpreter (`autumnc.Program.run(engine="interp")`: the frames of `autumn run
+--json`, colour names), and compares colour *names* on the mask (the goal's ids
+read through the task's color_dict.yaml, else AutumnBench's table), at every
+frame on the way, the first one included. It also counts the plans no longer
+than the generator's K.
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/check-plans.py TASK_DIR EVAL_JSON
 
@@ -43,17 +44,6 @@ def colour_table(task_dir, autumnc):
     return table
 
 
-def action_id(text, width):
-    words = text.split()
-    simple = {"noop": 0, "left": 1, "right": 2, "up": 3, "down": 4}
-    if len(words) == 1 and words[0] in simple:
-        return simple[words[0]]
-    if len(words) == 3 and words[0] == "click":
-        x, y = int(words[1]), int(words[2])
-        return 5 + y * width + x
-    die(f"unknown action {text!r}")
-
-
 def program_path(task_dir, name):
     for ext in (".au", ".sexp"):
         p = task_dir / "programs" / (name + ext)
@@ -63,29 +53,19 @@ def program_path(task_dir, name):
 
 
 def reaches(autumnc, task_dir, ids, prompt, seed, plan):
+    """True when some frame of the plan's episode on the interpreter (the first
+    one included) shows the goal's colours on the mask."""
     goal, mask = prompt["goal"], prompt["mask"]
-    env = autumnc.Env(str(program_path(task_dir, prompt["program"])), seed=seed, engine="interp")
-    obs, _ = env.reset(seed=seed)
-    height, width = len(goal), len(goal[0])
-    if obs.shape != (height, width):
-        return False
-
-    def at_goal(frame):
-        names = autumnc.colour_names()  # ids past AutumnBench's are added as programs load
-        return all(
-            not mask[y][x] or names[int(frame[y, x])] == ids.get(goal[y][x], f"?{goal[y][x]}")
-            for y in range(height)
-            for x in range(width)
-        )
-
-    if at_goal(obs):
-        return True
-    for act in plan:
-        obs, _, terminated, _, _ = env.step(action_id(act, width))
-        if at_goal(obs):
-            return True
-        if terminated:
+    want = [[ids.get(c, f"?{c}") for c in row] for row in goal]
+    program = autumnc.Program(str(program_path(task_dir, prompt["program"])))
+    frames = program.run(seed=seed, actions=plan, engine="interp")["traces"][0]["frames"]
+    for frame in frames:
+        rows = [line.split() for line in frame]
+        if [len(r) for r in rows] != [len(r) for r in want]:
             return False
+        if all(not m or got == exp for row, wrow, mrow in zip(rows, want, mask)
+               for got, exp, m in zip(row, wrow, mrow)):
+            return True
     return False
 
 
