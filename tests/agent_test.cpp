@@ -32,6 +32,7 @@
 #include "harness/agent/particles.hpp"
 #include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_fill.hpp"
+#include "harness/agent/plan_local.hpp"
 #include "harness/agent/plan_focus.hpp"
 #include "harness/agent/plan_problem.hpp"
 #include "harness/agent/plan_shorten.hpp"
@@ -807,6 +808,47 @@ TEST(AgentPlanning, FillKeepsTheBestSkeletonsWhenTheLayerIsFull) {
   EXPECT_EQ(a.plan.size(), generator.size()) << plan_text(a.plan);
   EXPECT_EQ(a.plan[0], right) << plan_text(a.plan);
   EXPECT_TRUE(replays_to_goal(task, a.plan)) << plan_text(a.plan);
+}
+
+// A moment where several things line up (plan_local.hpp): sprouts grow a
+// stage a step while the sun is up, so the goal after twelve steps shows four
+// plants at four stages and the sun down; each sowing click must come at its
+// own step. The generator's plan has 12 actions; local search over plans of 16
+// from noops finds one no longer, that replays to the goal, the same on one
+// thread as on two.
+TEST(AgentPlanning, LocalSearchLinesUpAMoment) {
+  const Action up{Action::Kind::Up};
+  const std::vector<Action> generator = {Action::click(2, 2), Action::noop(), Action::noop(), Action::click(5, 5),
+                                         up, Action::noop(), Action::click(7, 3), up, Action::noop(),
+                                         Action::click(1, 8), Action::noop(), up};
+  const Task task = goal_of_actions("sprouts", R"((program
+  (= GRID_SIZE 10)
+  (object Sprout (: stage Number)
+    (Cell 0 0 (if (== stage 0) then "tan" else (if (== stage 1) then "lightgreen" else (if (== stage 2) then "green" else "red")))))
+  (object Sun (: up Bool) (Cell 0 0 (if up then "gold" else "slateblue")))
+  (= sun (initnext (Sun true (Position 9 0)) (prev sun)))
+  (= sprouts (initnext (list) (prev sprouts)))
+  (on (.. sun up) (= sprouts (updateObj (prev sprouts) (--> s (updateObj s "stage" (min 3 (+ (.. s stage) 1)))))))
+  (on (& clicked (isFreePos click)) (= sprouts (addObj sprouts (Sprout 0 (Position (.. click x) (.. click y))))))
+  (on up (= sun (updateObj (prev sun) "up" (! (.. (prev sun) up)))))
+)
+)", generator);
+  ASSERT_FALSE(task.goal.cells.empty());
+  ThreadPool two(2), one(1);
+  SolveOptions o;
+  o.nodes = 3'000'000;
+  PlanProblem p2(task, o, two), p1(task, o, one);
+  LocalSpec spec;
+  spec.length = 16;
+  spec.limit = p2.share(1.0, 0);
+  const SearchOutcome a = local_search(p2, p2.actions(), spec);
+  ASSERT_TRUE(a.found) << a.note;
+  EXPECT_LE(a.plan.size(), generator.size()) << plan_text(a.plan);
+  EXPECT_TRUE(replays_to_goal(task, a.plan)) << plan_text(a.plan);
+  spec.limit = p1.share(1.0, 0);
+  const SearchOutcome b = local_search(p1, p1.actions(), spec);
+  EXPECT_EQ(a.plan, b.plan) << "local search must not depend on the thread count";
+  EXPECT_EQ(a.nodes, b.nodes);
 }
 
 // Limit::fraction, the one rule for "a share of what is left" (stages of the

@@ -78,8 +78,9 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
   cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(10000000)->check(cli::big_count(1));
   cmd->add_option("--search", o.search,
                   "Planning: bfs (proven cheapest), best-first, beam, fill (arrows first, then clicks into their "
-                  "waiting steps), or auto (bfs, focused bfs, bfs by moves, fill, beam, best-first)")
-      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam", "fill"}))
+                  "waiting steps), local (edits of whole plans), or auto (bfs, focused bfs, bfs by moves, fill, "
+                  "beam, local, best-first)")
+      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam", "fill", "local"}))
       ->default_val("auto");
   cmd->add_option("--cost", o.cost, "Planning: what a plan costs: steps (every action) or moves (noop is free)")
       ->check(CLI::IsMember({"steps", "moves"}))

@@ -7,6 +7,7 @@
 #include "harness/agent/plan_bfs.hpp"
 #include "harness/agent/plan_fill.hpp"
 #include "harness/agent/plan_focus.hpp"
+#include "harness/agent/plan_local.hpp"
 #include "harness/agent/plan_shorten.hpp"
 
 namespace autumn::agent {
@@ -24,6 +25,10 @@ class Planner {
     if (search == "bfs") return void(full_bfs(1.0));
     if (search == "best-first") return void(best_first_stage(p_.actions(), "best-first"));
     if (search == "fill") return void(fill_stage(p_.actions(), p_.actions(), 1.0, p_.opts().max_plan));
+    if (search == "local") {
+      if (positional()) focus_sets();
+      return void(local_stage(positional() ? near_or_reaching() : p_.actions(), 1.0));
+    }
     if (search == "beam") {
       if (positional()) focus_sets();
       const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
@@ -39,6 +44,7 @@ class Planner {
     if (!got && !moves_ && !out_of_time()) got = moves_stage();
     if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
     if (!got && fill && !out_of_time()) got = fill_stage(focus, focus, 0.5, p_.opts().max_plan);
+    if (!got && !out_of_time()) got = local_stage(focus, 0.6);
     if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
     if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
     if (got && !moves_ && !r_.shortest && !out_of_time()) horizon_stage(focus, "beam" + focus_name);
@@ -221,6 +227,35 @@ class Planner {
     return true;
   }
 
+  // Stage 4b: local search over whole plans (plan_local.hpp) of 32 actions,
+  // then of 64, each half of the share, for a goal that is one late moment of
+  // a busy world; then, while the share lasts, over plans one shorter than the
+  // best found (the goal may show earlier in a plan, so each is a new search).
+  bool local_stage(const std::vector<Action>& actions, double share) {
+    const Limit limit = p_.share(share, r_.nodes);
+    const uint64_t start = r_.nodes;
+    auto search = [&](int length, double part) {
+      LocalSpec spec;
+      spec.length = length;
+      spec.seed = p_.opts().seed;
+      spec.limit = rest_of(limit, start).fraction(part, 0);
+      const SearchOutcome o = local_search(p_, actions, spec);
+      add(o);
+      if (o.found) {
+        found(o.plan, fmt::format("local search over plans of {}", length), false);
+        shorten(actions);
+      }
+      return o.found;
+    };
+    const int max_plan = p_.opts().max_plan;
+    bool got = search(std::min(32, max_plan), 0.5);
+    if (!got && max_plan > 32 && !out_of_time()) got = search(std::min(64, max_plan), 1.0);
+    if (!got) return false;
+    while (!r_.shortest && r_.plan.size() > 1 && !limit.out_of_time() && r_.nodes - start < limit.nodes)
+      if (!search(static_cast<int>(r_.plan.size()) - 1, 0.5)) break;
+    return true;
+  }
+
   // Stage 6: a plan not proven cheapest, from stages 3-5, may be long because the
   // goal exists at one moment that it reached late. Beam searches scored at a
   // fixed horizon, horizons from the proven bound up to below the plan's
@@ -285,8 +320,8 @@ bool at_goal(const Task& task, const Environment& env) {
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
   if (task.type != TaskType::Planning) throw TaskError(task.file.string() + ": not a planning task");
   if (opts.search != "auto" && opts.search != "bfs" && opts.search != "best-first" && opts.search != "beam" &&
-      opts.search != "fill")
-    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam, fill)");
+      opts.search != "fill" && opts.search != "local")
+    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam, fill, local)");
   if (opts.cost != "steps" && opts.cost != "moves") throw TaskError("unknown cost '" + opts.cost + "' (steps, moves)");
   Stopwatch clock;
   PlanResult r;
