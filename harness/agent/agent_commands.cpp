@@ -75,7 +75,7 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
       ->check(CLI::IsMember({"novelty", "random"}))
       ->default_val("novelty");
   cmd->add_option("--depth", o.depth, "Planning: BFS cost limit (layers)")->default_val(12)->check(cli::int_count());
-  cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(10000000)->check(cli::big_count(1));
+  cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(30000000)->check(cli::big_count(1));
   cmd->add_option("--search", o.search,
                   "Planning: bfs (proven cheapest), best-first, beam, fill (arrows first, then clicks into their "
                   "waiting steps), local (edits of whole plans), or auto (bfs, focused bfs, bfs by moves, fill, "

@@ -35,6 +35,7 @@ class Planner {
       if (beam_stage(focus, "beam", 0.5) && !out_of_time()) horizon_stage(focus, "beam");
       return;
     }
+    reserve_ = static_cast<uint64_t>(static_cast<double>(p_.clock().node_budget()) * kLocalReserve);
     if (full_bfs(positional() ? 0.1 : 0.5)) return;
     if (positional() && focused_stages()) return;
     const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
@@ -44,7 +45,7 @@ class Planner {
     if (!got && !moves_ && !out_of_time()) got = moves_stage();
     if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
     if (!got && fill && !out_of_time()) got = fill_stage(focus, focus, 0.5, p_.opts().max_plan);
-    if (!got && !out_of_time()) got = local_stage(focus, 0.6);
+    if (!got && !out_of_time()) got = local_stage(focus, 0.8);
     if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
     if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
     if (got && !moves_ && !r_.shortest && !out_of_time()) horizon_stage(focus, "beam" + focus_name);
@@ -53,6 +54,8 @@ class Planner {
  private:
   bool positional() const { return p_.inputs().clicks == ClickUse::Position && p_.actions().size() > 6; }
   bool out_of_time() const { return p_.clock().out_of_time() || r_.nodes >= p_.clock().node_budget(); }
+  // `f` of what is left to the stages, the local stage's reserve kept back.
+  Limit share(double f) const { return p_.share(f, r_.nodes + reserve_); }
 
   void note(const std::string& why) {
     if (!why.empty()) r_.note += (r_.note.empty() ? "" : "; ") + why;
@@ -65,6 +68,7 @@ class Planner {
     if (!o.found) note(o.note);
   }
   void found(const std::vector<Action>& plan, const std::string& method, bool proven) {
+    reserve_ = 0;  // the local stage runs only while no plan is found
     r_.found = true;
     r_.plan = plan;
     r_.found_length = plan.size();
@@ -88,8 +92,8 @@ class Planner {
   }
 
   // Stage 1: the full action set under the task's cost; a plan is proven cheapest.
-  bool full_bfs(double share) {
-    BfsOutcome o = run_bfs(p_.actions(), moves_, p_.share(share, r_.nodes));
+  bool full_bfs(double part) {
+    BfsOutcome o = run_bfs(p_.actions(), moves_, share(part));
     r_.bfs_depth_done = o.depth_done;
     r_.proven_bound = o.depth_done;
     r_.exhausted = o.exhausted;
@@ -129,7 +133,7 @@ class Planner {
       if (out_of_time()) break;
       if (f.actions.size() == all.size() || std::find(tried.begin(), tried.end(), f.actions) != tried.end()) continue;
       tried.push_back(f.actions);
-      BfsOutcome o = run_bfs(f.actions, moves_, p_.share(1.0 / 8, r_.nodes));
+      BfsOutcome o = run_bfs(f.actions, moves_, share(1.0 / 8));
       if (!o.found) continue;
       const bool proven = o.cost <= r_.proven_bound + 1;
       found(o.plan, std::string(moves_ ? "bfs by moves, " : "bfs, ") + f.what, proven);
@@ -144,7 +148,7 @@ class Planner {
   // Stage 3 (cost steps): few moves and a long wait; the plan is then shortened in steps.
   bool moves_stage() {
     const std::vector<Action> actions = positional() ? near_or_reaching() : p_.actions();
-    BfsOutcome o = run_bfs(actions, true, p_.share(0.5, r_.nodes));
+    BfsOutcome o = run_bfs(actions, true, share(0.5));
     if (!o.found) return false;
     found(o.plan, "bfs by moves, then shortened", false);
     shorten(actions);
@@ -165,13 +169,13 @@ class Planner {
   // a late moment of a moving world (snow piling up while rocks are placed).
   // `actions`: the skeletons' moves and the clicks filled in; `focus`: what
   // shortening searches.
-  bool fill_stage(const std::vector<Action>& actions, const std::vector<Action>& focus, double share,
+  bool fill_stage(const std::vector<Action>& actions, const std::vector<Action>& focus, double part,
                   int last_horizon) {
     FillSpec spec;
     spec.first_horizon = std::max(r_.proven_bound, fill_done_) + 1;
     spec.last_horizon = std::min(p_.opts().max_plan, last_horizon);
     if (spec.first_horizon > spec.last_horizon) return false;
-    spec.limit = p_.share(share, r_.nodes);
+    spec.limit = share(part);
     const SearchOutcome o = fill_search(p_, actions, spec);
     fill_done_ = std::max(fill_done_, o.depth_done);
     add(o);
@@ -185,14 +189,14 @@ class Planner {
     // Frame pruning first, then travel as the tie-break, then neither pruning nor travel.
     struct Pass {
       bool prune, travel;
-      double share;
+      double part;
     };
     const Pass passes[] = {{true, false, 0.5}, {true, true, 0.5}, {false, false, 1.0}};
     SearchOutcome o;
     const Pass* used = nullptr;
     for (const Pass& pass : passes) {
       if (used && out_of_time()) break;
-      o = best_first(p_, actions, pass.prune, pass.travel, p_.share(pass.share, r_.nodes));
+      o = best_first(p_, actions, pass.prune, pass.travel, share(pass.part));
       add(o);
       used = &pass;
       if (o.found) break;
@@ -205,8 +209,8 @@ class Planner {
 
   // Stage 4: layered beam search (plan_beam.hpp) scored by the settled future,
   // at widths 8 and 32, each plan found bounding the next search.
-  bool beam_stage(const std::vector<Action>& actions, const std::string& method, double share) {
-    const Limit limit = p_.share(share, r_.nodes);
+  bool beam_stage(const std::vector<Action>& actions, const std::string& method, double part) {
+    const Limit limit = share(part);
     const uint64_t start = r_.nodes;
     std::vector<Action> best;
     std::string how;
@@ -231,8 +235,9 @@ class Planner {
   // then of 64, each half of the share, for a goal that is one late moment of
   // a busy world; then, while the share lasts, over plans one shorter than the
   // best found (the goal may show earlier in a plan, so each is a new search).
-  bool local_stage(const std::vector<Action>& actions, double share) {
-    const Limit limit = p_.share(share, r_.nodes);
+  bool local_stage(const std::vector<Action>& actions, double part) {
+    reserve_ = 0;
+    const Limit limit = share(part);
     const uint64_t start = r_.nodes;
     auto search = [&](int length, double part) {
       LocalSpec spec;
@@ -248,7 +253,7 @@ class Planner {
       return o.found;
     };
     const int max_plan = p_.opts().max_plan;
-    bool got = search(std::min(32, max_plan), 0.5);
+    bool got = search(std::min(32, max_plan), 0.7);
     if (!got && max_plan > 32 && !out_of_time()) got = search(std::min(64, max_plan), 1.0);
     if (!got) return false;
     while (!r_.shortest && r_.plan.size() > 1 && !limit.out_of_time() && r_.nodes - start < limit.nodes)
@@ -261,7 +266,7 @@ class Planner {
   // fixed horizon, horizons from the proven bound up to below the plan's
   // length; the first plan found replaces it when shorter.
   void horizon_stage(const std::vector<Action>& actions, const std::string& method) {
-    const Limit limit = p_.share(1.0, r_.nodes);
+    const Limit limit = share(1.0);
     const uint64_t start = r_.nodes;
     // Wide where the action set is small (arrows alone): about 2,000 successors a layer.
     const size_t width = std::max<size_t>(8, 2048 / actions.size());
@@ -291,7 +296,7 @@ class Planner {
 
   void shorten(const std::vector<Action>& actions) {
     ShortenStats stats;
-    r_.plan = shorten_plan(p_, r_.plan, actions, p_.share(1.0, r_.nodes), moves_, stats);
+    r_.plan = shorten_plan(p_, r_.plan, actions, share(1.0), moves_, stats);
     r_.nodes += stats.nodes;
     r_.shortcuts = stats.shortcuts;
     r_.relocated = stats.relocated;
@@ -305,6 +310,12 @@ class Planner {
   const bool moves_;
   std::vector<Action> reaching_, near1_, hidden_;  // focused_stages' sets (near1_ and reaching_ with hidden_)
   int fill_done_ = 0;  // horizons the fill stages have tried in full
+  // Nodes of the budget kept back for the local stage: every stage before it
+  // shares what is left without them (share()); zero once it runs or a plan is
+  // found. Local search edits whole plans from the start, so it needs steps by
+  // the million where the stages before it have spent a budget on layers.
+  static constexpr double kLocalReserve = 0.4;
+  uint64_t reserve_ = 0;
 };
 
 bool at_goal(const Task& task, const Environment& env) {

@@ -23,7 +23,7 @@ struct SolveOptions {
   std::string policy = "novelty";   // novelty | random
   // planning
   int depth = 12;                   // BFS cost limit
-  uint64_t nodes = 10000000;
+  uint64_t nodes = 30000000;
   std::string search = "auto";      // auto | bfs | best-first
   std::string cost = "steps";       // steps: every action costs 1; moves: noop (waiting) is free
   int max_plan = 200;               // best-first depth limit

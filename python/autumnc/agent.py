@@ -13,7 +13,7 @@ from . import _core
 
 
 def solve(task, engine="compiled", rollouts=10000, threads=0, seed=0, max_steps=200, policy="novelty",
-          depth=12, nodes=10000000, search="auto", max_plan=200, time_limit=120.0, programs=None,
+          depth=12, nodes=30000000, search="auto", max_plan=200, time_limit=120.0, programs=None,
           answers=None):
     """Answer an AutumnBench task file (MFP, change detection or planning)."""
     return json.loads(_core._solve(os.fspath(task), engine, rollouts, threads, seed, max_steps, policy, depth,
