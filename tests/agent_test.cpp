@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <set>
@@ -620,6 +621,22 @@ Task goal_of_actions(const std::string& name, const std::string& program_text, c
   return task;
 }
 
+// Runs one strategy (`search`, on a fresh PlanProblem) with two threads and
+// with one: a plan no longer than `longest` that replays to the goal, and the
+// same plan and node count both times (results never depend on --threads).
+void expect_plan_on_one_and_two(const Task& task, const SolveOptions& o, size_t longest,
+                                const std::function<SearchOutcome(PlanProblem&)>& search) {
+  ThreadPool two(2), one(1);
+  PlanProblem p2(task, o, two), p1(task, o, one);
+  const SearchOutcome a = search(p2);
+  ASSERT_TRUE(a.found) << a.note;
+  EXPECT_LE(a.plan.size(), longest) << plan_text(a.plan);
+  EXPECT_TRUE(replays_to_goal(task, a.plan)) << plan_text(a.plan);
+  const SearchOutcome b = search(p1);
+  EXPECT_EQ(a.plan, b.plan) << "the result must not depend on the thread count";
+  EXPECT_EQ(a.nodes, b.nodes);
+}
+
 // A mode button: clicking it shows nothing, but the next clicks place marks.
 // The goal's cells are far from the button, so no focused click set holds it by
 // position or effect; the mode-click probe (plan_focus.hpp) adds it, and BFS
@@ -770,20 +787,13 @@ TEST(AgentPlanning, FillPlacesClicksInADriftingWorld) {
                                          Action::click(9, 3)};
   const Task task = goal_of_actions("drifting", kDriftProgram, generator);
   ASSERT_FALSE(task.goal.cells.empty());
-  ThreadPool two(2), one(1);
   SolveOptions o;
   o.nodes = 5'000'000;
-  PlanProblem p2(task, o, two), p1(task, o, one);
-  FillSpec spec;
-  spec.limit = p2.share(1.0, 0);
-  const SearchOutcome a = fill_search(p2, p2.actions(), spec);
-  ASSERT_TRUE(a.found) << a.note;
-  EXPECT_LE(a.plan.size(), generator.size()) << plan_text(a.plan);
-  EXPECT_TRUE(replays_to_goal(task, a.plan)) << plan_text(a.plan);
-  spec.limit = p1.share(1.0, 0);
-  const SearchOutcome b = fill_search(p1, p1.actions(), spec);
-  EXPECT_EQ(a.plan, b.plan) << "the fill must not depend on the thread count";
-  EXPECT_EQ(a.nodes, b.nodes);
+  expect_plan_on_one_and_two(task, o, generator.size(), [](PlanProblem& p) {
+    FillSpec spec;
+    spec.limit = p.share(1.0, 0);
+    return fill_search(p, p.actions(), spec);
+  });
 }
 
 // The fill's skeleton layer, when it holds more states than layer_width, keeps
@@ -836,21 +846,14 @@ TEST(AgentPlanning, LocalSearchLinesUpAMoment) {
 )
 )", generator);
   ASSERT_FALSE(task.goal.cells.empty());
-  ThreadPool two(2), one(1);
   SolveOptions o;
   o.nodes = 3'000'000;
-  PlanProblem p2(task, o, two), p1(task, o, one);
-  LocalSpec spec;
-  spec.length = 16;
-  spec.limit = p2.share(1.0, 0);
-  const SearchOutcome a = local_search(p2, p2.actions(), spec);
-  ASSERT_TRUE(a.found) << a.note;
-  EXPECT_LE(a.plan.size(), generator.size()) << plan_text(a.plan);
-  EXPECT_TRUE(replays_to_goal(task, a.plan)) << plan_text(a.plan);
-  spec.limit = p1.share(1.0, 0);
-  const SearchOutcome b = local_search(p1, p1.actions(), spec);
-  EXPECT_EQ(a.plan, b.plan) << "local search must not depend on the thread count";
-  EXPECT_EQ(a.nodes, b.nodes);
+  expect_plan_on_one_and_two(task, o, generator.size(), [](PlanProblem& p) {
+    LocalSpec spec;
+    spec.length = 16;
+    spec.limit = p.share(1.0, 0);
+    return local_search(p, p.actions(), spec);
+  });
 }
 
 // Limit::fraction, the one rule for "a share of what is left" (stages of the
