@@ -45,7 +45,7 @@ class Local {
   // Steps `e` through plan[from..]; best_[from] carries the ranks before.
   Score roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const;
   bool adopt(std::vector<Action> plan, size_t from);
-  bool found(const std::vector<Action>& plan, int goal_at);
+  void found(const std::vector<Action>& plan, int goal_at);
 
   PlanProblem& p_;
   const LocalSpec spec_;
@@ -119,10 +119,9 @@ bool Local::adopt(std::vector<Action> plan, size_t from) {
   return true;
 }
 
-bool Local::found(const std::vector<Action>& plan, int goal_at) {
+void Local::found(const std::vector<Action>& plan, int goal_at) {
   out_.found = true;
   out_.plan.assign(plan.begin(), plan.begin() + goal_at);
-  return true;
 }
 
 SearchOutcome Local::run() {

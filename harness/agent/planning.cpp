@@ -231,19 +231,20 @@ class Planner {
     return true;
   }
 
-  // Stage 4b: local search over whole plans (plan_local.hpp) of 32 actions,
-  // then of 64, each half of the share, for a goal that is one late moment of
-  // a busy world; then, while the share lasts, over plans one shorter than the
-  // best found (the goal may show earlier in a plan, so each is a new search).
+  // Stage 4b: local search over whole plans (plan_local.hpp) of 32 actions
+  // (0.7 of the share), then of 64 (the rest), for a goal that is one late
+  // moment of a busy world; then, while the share lasts, over plans one shorter
+  // than the best found (half of what is left each; the goal may show earlier
+  // in a plan, so each is a new search).
   bool local_stage(const std::vector<Action>& actions, double part) {
     reserve_ = 0;
     const Limit limit = share(part);
     const uint64_t start = r_.nodes;
-    auto search = [&](int length, double part) {
+    auto search = [&](int length, double of_rest) {
       LocalSpec spec;
       spec.length = length;
       spec.seed = p_.opts().seed;
-      spec.limit = rest_of(limit, start).fraction(part, 0);
+      spec.limit = rest_of(limit, start).fraction(of_rest, 0);
       const SearchOutcome o = local_search(p_, actions, spec);
       add(o);
       if (o.found) {
