@@ -5,7 +5,6 @@
 #include <absl/container/flat_hash_map.h>
 
 #include <algorithm>
-#include <limits>
 #include <numeric>
 
 #include "harness/agent/plan_focus.hpp"
@@ -14,28 +13,20 @@ namespace autumn::agent {
 
 namespace {
 
-constexpr int64_t kFailed = std::numeric_limits<int64_t>::max();
 constexpr int kLookAhead = 2;  // noop steps behind a layer's tie-break
 
 struct Skeleton {
   std::unique_ptr<Environment> env;  // the state after `plan` (in the layer; null in skeletons()' result)
   std::vector<Action> plan;
   int noops = 0;
-  int64_t rank = kFailed;
-};
-
-// A rollout's outcome: the goal's rank at its last frame, or the number of
-// actions after which the goal first showed.
-struct Rollout {
-  int64_t rank = kFailed;
-  int goal_at = -1;
+  int64_t rank = kNoRank;
 };
 
 class Fill {
  public:
   Fill(PlanProblem& p, const std::vector<Action>& actions, const FillSpec& spec)
       : p_(p), spec_(spec), clicks_(clicks_of(actions)), scorers_(p.pool().size()) {
-    layer_.push_back({p.root().clone(), {}, 0, kFailed});
+    layer_.push_back({p.root().clone(), {}, 0, kNoRank});
     for (const Action& a : actions)
       if (a.kind != Action::Kind::Click) moves_.push_back(a);
   }
@@ -45,7 +36,7 @@ class Fill {
   bool spent() const { return out_.nodes >= spec_.limit.nodes || spec_.limit.out_of_time(); }
   std::vector<Skeleton> skeletons(int horizon);
   bool fill(std::vector<Action> plan, int64_t rank);
-  Rollout roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const;
+  TailRun roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const;
   void found(std::vector<Action> plan, int goal_at) {
     plan.resize(static_cast<size_t>(goal_at));
     out_.found = true;
@@ -64,16 +55,9 @@ class Fill {
   int depth_ = 0;
 };
 
-// Steps `e` through plan[from..]; the goal is tested on every frame after a step.
-Rollout Fill::roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const {
-  Rollout r;
-  for (size_t t = from; t < plan.size(); ++t) {
-    if (!e.step(plan[t])) return {};
-    const Future f = scorer.score(p_, e, 0, true, false);
-    if (f.goal_noops == 0) return {0, static_cast<int>(t + 1)};
-    r.rank = f.key;
-  }
-  return r;
+// A rollout's outcome (plan_problem.hpp): the goal's rank at its last frame.
+TailRun Fill::roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const {
+  return run_tail(p_, e, plan, from, scorer, RankAt::Last, false);
 }
 
 // Extends the layer of non-click sequences to `horizon` steps (one per distinct
@@ -97,10 +81,10 @@ std::vector<Skeleton> Fill::skeletons(int horizon) {
     std::vector<int> goal(succ.size(), -1);
     p_.pool().parallel_for_worker(succ.size(), [&](size_t i, unsigned w) {
       Skeleton& s = succ[i];
-      const Rollout r = roll(*s.env, s.plan, s.plan.size() - 1, scorers_[w]);
+      const TailRun r = roll(*s.env, s.plan, s.plan.size() - 1, scorers_[w]);
       s.rank = r.rank;
       goal[i] = r.goal_at;
-      if (r.rank != kFailed || r.goal_at >= 0) hash[i] = s.env->state_hash();
+      if (r.rank != kNoRank || r.goal_at >= 0) hash[i] = s.env->state_hash();
     });
     out_.nodes += succ.size();
     for (size_t i = 0; i < succ.size(); ++i)
@@ -112,7 +96,7 @@ std::vector<Skeleton> Fill::skeletons(int horizon) {
     std::vector<Skeleton> next;
     absl::flat_hash_map<uint64_t, size_t> index;
     for (size_t i = 0; i < succ.size(); ++i) {
-      if (succ[i].rank == kFailed) continue;
+      if (succ[i].rank == kNoRank) continue;
       const auto [it, fresh] = index.emplace(hash[i], next.size());
       if (fresh) next.push_back(std::move(succ[i]));
       else if (succ[i].noops > next[it->second].noops) next[it->second] = std::move(succ[i]);
@@ -174,13 +158,13 @@ bool Fill::fill(std::vector<Action> plan, int64_t rank) {
       if (!trail.back()->step(plan[t])) return false;
     }
     // Every click in every slot, rolled out in parallel.
-    std::vector<Rollout> result(slots.size() * C);
+    std::vector<TailRun> result(slots.size() * C);
     for (size_t k = 0; k < slots.size() && !spent(); ++k) {
       const size_t slot = slots[k];
       on_clones(p_.pool(), *trail[slot], C, [&](Environment& e, size_t c, unsigned w) {
         std::vector<Action> tail(plan.begin() + static_cast<std::ptrdiff_t>(slot), plan.end());
         tail[0] = clicks_[c];
-        Rollout r = roll(e, tail, 0, scorers_[w]);
+        TailRun r = roll(e, tail, 0, scorers_[w]);
         if (r.goal_at >= 0) r.goal_at += static_cast<int>(slot);
         result[k * C + c] = r;
       });
@@ -214,7 +198,7 @@ bool Fill::fill(std::vector<Action> plan, int64_t rank) {
       std::vector<Action> trial = plan;
       trial[slots[i / C]] = clicks_[i % C];
       auto e = p_.root().clone();
-      const Rollout r = roll(*e, trial, 0, scorer);
+      const TailRun r = roll(*e, trial, 0, scorer);
       out_.nodes += trial.size();
       if (r.goal_at >= 0) {
         found(std::move(trial), r.goal_at);

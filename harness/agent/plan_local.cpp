@@ -3,7 +3,6 @@
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <limits>
 #include <random>
 
 #include "harness/agent/plan_focus.hpp"
@@ -12,8 +11,6 @@ namespace autumn::agent {
 
 namespace {
 
-constexpr int64_t kFailed = std::numeric_limits<int64_t>::max();
-
 // One edit of a plan (see the header).
 struct Edit {
   enum class Kind { Replace, Insert, Delete, Swap } kind = Kind::Replace;
@@ -21,12 +18,6 @@ struct Edit {
   Action action;
 };
 
-// A plan's score: the rank at its best frame, and the step after which the
-// goal first showed (or -1).
-struct Score {
-  int64_t rank = kFailed;
-  int goal_at = -1;
-};
 
 class Local {
  public:
@@ -43,7 +34,7 @@ class Local {
   Edit draw();
   std::vector<Action> apply(const std::vector<Action>& plan, const Edit& e) const;
   // Steps `e` through plan[from..]; best_[from] carries the ranks before.
-  Score roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const;
+  TailRun roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const;
   bool adopt(std::vector<Action> plan, size_t from);
   void found(const std::vector<Action>& plan, int goal_at);
 
@@ -60,7 +51,7 @@ class Local {
   std::vector<Action> plan_;
   std::vector<std::unique_ptr<Environment>> trail_;
   std::vector<int64_t> best_;
-  int64_t score_ = kFailed;
+  int64_t score_ = kNoRank;
 };
 
 Edit Local::draw() {
@@ -84,15 +75,10 @@ std::vector<Action> Local::apply(const std::vector<Action>& plan, const Edit& e)
   return out;
 }
 
-Score Local::roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const {
-  Score s{best_[from], -1};
-  for (size_t t = from; t < plan.size(); ++t) {
-    if (!e.step(plan[t])) return {kFailed, -1};
-    const Future f = scorer.score(p_, e, 0, true, true);
-    if (f.goal_noops == 0) return {0, static_cast<int>(t + 1)};
-    s.rank = std::min(s.rank, f.key);
-  }
-  return s;
+// A plan's score (plan_problem.hpp): the rank at its best frame, the kept
+// prefix's best (best_[from]) included.
+TailRun Local::roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const {
+  return run_tail(p_, e, plan, from, scorer, RankAt::Best, true, best_[from]);
 }
 
 // Makes `plan` (equal to plan_ before step `from`) the plan being edited;
@@ -144,7 +130,7 @@ SearchOutcome Local::run() {
       plans[k] = apply(plan_, edits[k]);
       envs[k] = trail_[edits[k].at]->clone();
     }
-    std::vector<Score> scores(edits.size());
+    std::vector<TailRun> scores(edits.size());
     p_.pool().parallel_for_worker(edits.size(), [&](size_t k, unsigned w) {
       scores[k] = roll(*envs[k], plans[k], edits[k].at, scorers_[w]);
       envs[k].reset();
@@ -156,7 +142,7 @@ SearchOutcome Local::run() {
         found(plans[k], scores[k].goal_at);
         return std::move(out_);
       }
-      if (scores[k].rank != kFailed && scores[k].rank <= score_ && plans[k] != plan_ &&
+      if (scores[k].rank != kNoRank && scores[k].rank <= score_ && plans[k] != plan_ &&
           (pick == edits.size() || scores[k].rank < scores[pick].rank))
         pick = k;
     }

@@ -235,6 +235,18 @@ Limit PlanProblem::share(double fraction, uint64_t spent) const {
   return whole.fraction(fraction, spent);
 }
 
+TailRun run_tail(const PlanProblem& p, Environment& e, const std::vector<Action>& plan, size_t from,
+                 FutureScorer& scorer, RankAt at, bool travel, int64_t before) {
+  TailRun r{before, -1};
+  for (size_t t = from; t < plan.size(); ++t) {
+    if (!e.step(plan[t])) return {};
+    const Future f = scorer.score(p, e, 0, true, travel);
+    if (f.goal_noops == 0) return {0, static_cast<int>(t + 1)};
+    r.rank = at == RankAt::Last ? f.key : std::min(r.rank, f.key);
+  }
+  return r;
+}
+
 void on_clones(ThreadPool& pool, const Environment& base, size_t count,
                const std::function<void(Environment&, size_t, unsigned)>& each) {
   std::vector<std::unique_ptr<Environment>> envs;

@@ -26,6 +26,7 @@
 // path() rebuilds a plan. Strategies build their own trees.
 #pragma once
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -188,6 +189,21 @@ class FutureScorer {
   FrameColours colours_;
   TaskFrame frame_, prev_;
 };
+
+// A plan's tail run from a state, as the fill and local search judge a plan:
+// step `e` through plan[from..], testing the goal on every frame after a step.
+// goal_at is the number of plan actions after which the goal first shows (the
+// run stops there); otherwise rank is the goal's rank (FutureScorer::score, no
+// noops) at the last frame (RankAt::Last) or at the best frame, `before`
+// included (RankAt::Best). A step that fails gives {kNoRank, -1}.
+constexpr int64_t kNoRank = std::numeric_limits<int64_t>::max();
+struct TailRun {
+  int64_t rank = kNoRank;
+  int goal_at = -1;
+};
+enum class RankAt { Last, Best };
+TailRun run_tail(const PlanProblem& p, Environment& e, const std::vector<Action>& plan, size_t from,
+                 FutureScorer& scorer, RankAt at, bool travel, int64_t before = kNoRank);
 
 // Runs each(env, k, worker) for every k < count on a clone of `base` of its own,
 // in parallel, and destroys each clone when its k is done. The clones are made
