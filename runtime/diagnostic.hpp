@@ -28,7 +28,7 @@ inline std::string diagnostic_prefix(const std::string& file, int line, int col,
 // The library place an error located in the program came from:
 // " (inside <stdlib>:40:3)".
 inline std::string diagnostic_inside(const std::string& source, int line, int col) {
-  return " (inside " + source + ":" + std::to_string(line) + ":" + std::to_string(col) + ")";
+  return " (inside " + diagnostic_place(source, line, col) + ")";
 }
 
 }  // namespace autumn
