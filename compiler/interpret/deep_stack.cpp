@@ -13,14 +13,6 @@
 #include <new>
 #include <utility>
 
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define AUTUMN_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define AUTUMN_ASAN 1
-#endif
 #ifdef AUTUMN_ASAN
 #include <sanitizer/asan_interface.h>
 #include <sanitizer/common_interface_defs.h>
@@ -120,20 +112,24 @@ void run_on_deep_stack(void (*fn)(void*), void* arg) {
   if (d.error) std::rethrow_exception(std::exchange(d.error, nullptr));
 }
 
+#ifdef AUTUMN_ASAN
+thread_local const char* tls_deepest = nullptr;
+#endif
+
 void forget_unwound_frames() {
 #ifdef AUTUMN_ASAN
-  // The frames between two catch handlers are a few interpreter frames, well
-  // within the window; handlers run one after another up the stack, so the
-  // windows together cover every unwound frame.
+  // The unwound frames lie between the deepest point eval() noted and here,
+  // give or take the frames below the deepest eval() (builtins, the throw's
+  // own): a window below covers those.
   constexpr size_t kWindow = size_t{64} << 10;
   const DeepStack& d = tls_stack;
   char here;
   char* top = &here;
-  char* low = top - kWindow;
-  if (!d.active || top < d.base + 4096 + kWindow) {
-    if (!d.active) return;
-    low = d.base + 4096;
-  }
+  const char* deepest = tls_deepest && tls_deepest < top ? tls_deepest : top;
+  tls_deepest = top;
+  if (!d.active) return;
+  char* low = const_cast<char*>(deepest);
+  low = low - (d.base + 4096) > static_cast<std::ptrdiff_t>(kWindow) ? low - kWindow : d.base + 4096;
   __asan_unpoison_memory_region(low, static_cast<size_t>(top - low));
 #endif
 }

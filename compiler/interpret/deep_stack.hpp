@@ -16,6 +16,15 @@
 #include <exception>
 #include <type_traits>
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define AUTUMN_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define AUTUMN_ASAN 1
+#endif
+
 namespace autumn::interp {
 
 constexpr size_t kDeepStackBytes = size_t{1} << 30;  // reserved, not committed
@@ -35,8 +44,21 @@ void on_deep_stack(F&& f) {
 // AddressSanitizer cleans the frames an exception unwinds only when the stack
 // in use is under 64 MiB deep; deeper, their poison stays, and the next frames
 // written there (the rethrow's own) are reported as bugs that are not there.
-// This clears a window below the caller's frame; a no-op without ASan.
+// This clears from the caller's frame down to the deepest point noted since the
+// last call (note_stack_depth), and a window below it; a no-op without ASan.
 void forget_unwound_frames();
+
+// Notes how deep the stack has gone (eval() calls it on every frame); a no-op
+// without ASan.
+#ifdef AUTUMN_ASAN
+extern thread_local const char* tls_deepest;
+inline void note_stack_depth() {
+  char here;
+  if (!tls_deepest || &here < tls_deepest) tls_deepest = &here;
+}
+#else
+inline void note_stack_depth() {}
+#endif
 
 // The lowest usable address of the stack the caller runs on (for the
 // interpreter's cheap check), or null when unknown.

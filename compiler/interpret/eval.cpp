@@ -11,6 +11,8 @@
 // floor as a last resort) and call_lambda the call depth and the step's calls
 // (runtime/limits.hpp); running out of memory inside an expression becomes a
 // located error at that expression.
+#include <algorithm>
+#include <exception>
 #include <new>
 #include <stdexcept>
 #include <utility>
@@ -153,129 +155,151 @@ Value Interpreter::eval_value(const Expr& e) {
   return v;
 }
 
+// A frame is on eval_stack_ while it runs; a throw leaves it there for the
+// catch site to locate the error at (unwound()).
 Value Interpreter::eval(const Expr& e) {
   Nest nest(eval_depth_);
-  try {
-    if (eval_depth_ > kMaxEvalNesting || stack_exhausted(stack_floor_))
-      fail("evaluation nested too deeply: more than " + std::to_string(kMaxEvalNesting) +
-           " levels of expressions and calls");
-    switch (e.kind) {
-      case ExprKind::Number: return Value::number(e.number);
-      case ExprKind::String: return Value::string(&e.text);
-      case ExprKind::Bool: return Value::boolean(e.boolean);
-      case ExprKind::Var: {
-        if (TypeObj* t = lookup_type(e.name)) return Value::heap(VKind::Type, t);
-        if (Value* v = lookup(e.name)) return *v;
-        fail("undefined variable '" + program_->name(e.name) + "'");
-      }
-      case ExprKind::Binary: {
-        Value l = eval_value(*e.kids[0]);
-        Value r = eval_value(*e.kids[1]);
-        if (e.op == BinOp::Eq) return Value::boolean(equals(l, r));
-        if (e.op == BinOp::Ne) return Value::boolean(!equals(l, r));
-        if (e.op == BinOp::Unknown) fail("unknown binary operator '" + e.text + "'");
-        if (!l.is(VKind::Number) || !r.is(VKind::Number))
-          fail("binary " + e.text + " needs two numbers, got " + type_string(type_of(l)) + " and " +
-               type_string(type_of(r)));
-        const int32_t a = l.num, b = r.num;
-        switch (e.op) {
-          case BinOp::Add: return Value::number(arith::add(a, b));
-          case BinOp::Sub: return Value::number(arith::sub(a, b));
-          case BinOp::Mul: return Value::number(arith::mul(a, b));
-          case BinOp::Div:
-          case BinOp::Mod:
-            if (std::string why = arith::division_error(a, b, e.text); !why.empty()) fail(why);
-            return Value::number(e.op == BinOp::Div ? arith::div_unchecked(a, b) : arith::mod_unchecked(a, b));
-          case BinOp::Lt: return Value::boolean(l.num < r.num);
-          case BinOp::Le: return Value::boolean(l.num <= r.num);
-          case BinOp::Gt: return Value::boolean(l.num > r.num);
-          case BinOp::Ge: return Value::boolean(l.num >= r.num);
-          default: fail("unknown binary operator '" + e.text + "'");
-        }
-      }
-      case ExprKind::Logical: {
-        std::vector<Value> none;
-        Value l = eval_value(*e.kids[0]);
-        if (l.is(VKind::Function)) l = call_function(l, none);
-        if (e.is_or ? truthy(l) : !truthy(l)) return Value::boolean(e.is_or);
-        Value r = eval_value(*e.kids[1]);
-        if (r.is(VKind::Function)) r = call_function(r, none);
-        return Value::boolean(truthy(r));
-      }
-      case ExprKind::Unary: {
-        Value v = eval_value(*e.kids[0]);
-        if (e.unary == UnOp::Not) {
-          if (!v.is(VKind::Bool)) fail("'!' needs a Bool, got " + type_string(type_of(v)));
-          return Value::boolean(!v.num);
-        }
-        if (!v.is(VKind::Number)) fail("unary " + e.text + " needs a number, got " + type_string(type_of(v)));
-        if (e.unary == UnOp::Neg) return Value::number(arith::neg(v.num));
-        return v;
-      }
-      case ExprKind::If: {
-        Value c = eval_value(*e.kids[0]);
-        return truthy(c) ? eval(*e.kids[1]) : eval(*e.kids[2]);
-      }
-      case ExprKind::Let: {
-        Ref<Scope> sub = new_scope(ScopeKind::Local, env_);
-        env_ = sub;
-        Value ret;
-        for (const auto& k : e.kids) ret = eval(*k);
-        if (ret.is(VKind::None) || ret.is(VKind::Type))
-          fail(e.kids.empty() ? "empty let" : "the last expression of a let has no value");
-        env_ = sub->parent;
-        return ret;
-      }
-      case ExprKind::List: {
-        std::vector<Value> items;
-        items.reserve(e.kids.size());
-        for (const auto& k : e.kids) items.push_back(eval_value(*k));
-        check_length(static_cast<int64_t>(items.size()));
-        count_cells(static_cast<int64_t>(items.size()));
-        return make_list(std::move(items));
-      }
-      case ExprKind::Lambda: return make_function(FuncObj::Kind::Lambda, Builtin::Map, &e, nullptr);
-      case ExprKind::Call: return eval_call(e);
-      case ExprKind::Get: return get_field(eval_value(*e.kids[0]), e.name, e.text);
-      case ExprKind::Assign: return eval_assign(e);
-      case ExprKind::Set: {
-        Value obj = eval_value(*e.kids[0]);
-        if (!obj.is(VKind::Instance)) fail("only objects have fields, got " + type_string(type_of(obj)));
-        Value v = eval_value(*e.kids[1]);
-        InstanceObj* in = obj.as<InstanceObj>();
-        int i = in->cls->field_index(e.name);
-        if (i < 0) fail("object of class '" + in->cls->name + "' has no field '" + program_->name(e.name) + "'");
-        in->fields[i] = v;
-        return v;
-      }
-      case ExprKind::InitNext: return Value();
-      case ExprKind::TypeDecl: {
-        TypeRef t = resolve_type(*e.type);
-        for (auto& d : env_->declared)
-          if (d.first == e.name) {
-            d.second = t;
-            return Value();
-          }
-        env_->declared.emplace_back(e.name, t);
-        return Value();
+  eval_stack_.push_back(&e);
+  note_stack_depth();
+  if (eval_depth_ > kMaxEvalNesting || stack_exhausted(stack_floor_))
+    fail("evaluation nested too deeply: more than " + std::to_string(kMaxEvalNesting) +
+         " levels of expressions and calls");
+  Value v = eval_node(e);
+  eval_stack_.pop_back();
+  return v;
+}
+
+Value Interpreter::eval_node(const Expr& e) {
+  switch (e.kind) {
+    case ExprKind::Number: return Value::number(e.number);
+    case ExprKind::String: return Value::string(&e.text);
+    case ExprKind::Bool: return Value::boolean(e.boolean);
+    case ExprKind::Var: {
+      if (TypeObj* t = lookup_type(e.name)) return Value::heap(VKind::Type, t);
+      if (Value* v = lookup(e.name)) return *v;
+      fail("undefined variable '" + program_->name(e.name) + "'");
+    }
+    case ExprKind::Binary: {
+      Value l = eval_value(*e.kids[0]);
+      Value r = eval_value(*e.kids[1]);
+      if (e.op == BinOp::Eq) return Value::boolean(equals(l, r));
+      if (e.op == BinOp::Ne) return Value::boolean(!equals(l, r));
+      if (e.op == BinOp::Unknown) fail("unknown binary operator '" + e.text + "'");
+      if (!l.is(VKind::Number) || !r.is(VKind::Number))
+        fail("binary " + e.text + " needs two numbers, got " + type_string(type_of(l)) + " and " +
+             type_string(type_of(r)));
+      const int32_t a = l.num, b = r.num;
+      switch (e.op) {
+        case BinOp::Add: return Value::number(arith::add(a, b));
+        case BinOp::Sub: return Value::number(arith::sub(a, b));
+        case BinOp::Mul: return Value::number(arith::mul(a, b));
+        case BinOp::Div:
+        case BinOp::Mod:
+          if (std::string why = arith::division_error(a, b, e.text); !why.empty()) fail(why);
+          return Value::number(e.op == BinOp::Div ? arith::div_unchecked(a, b) : arith::mod_unchecked(a, b));
+        case BinOp::Lt: return Value::boolean(l.num < r.num);
+        case BinOp::Le: return Value::boolean(l.num <= r.num);
+        case BinOp::Gt: return Value::boolean(l.num > r.num);
+        case BinOp::Ge: return Value::boolean(l.num >= r.num);
+        default: fail("unknown binary operator '" + e.text + "'");
       }
     }
-    fail("unknown expression");
-  } catch (RuntimeError& err) {
-    forget_unwound_frames();
-    locate(err, e);
-    throw;
-  } catch (const std::bad_alloc&) {
-    forget_unwound_frames();
-    RuntimeError err("out of memory");
-    locate(err, e);
-    throw err;
-  } catch (const std::length_error&) {
-    forget_unwound_frames();
-    RuntimeError err("out of memory");
-    locate(err, e);
-    throw err;
+    case ExprKind::Logical: {
+      std::vector<Value> none;
+      Value l = eval_value(*e.kids[0]);
+      if (l.is(VKind::Function)) l = call_function(l, none);
+      if (e.is_or ? truthy(l) : !truthy(l)) return Value::boolean(e.is_or);
+      Value r = eval_value(*e.kids[1]);
+      if (r.is(VKind::Function)) r = call_function(r, none);
+      return Value::boolean(truthy(r));
+    }
+    case ExprKind::Unary: {
+      Value v = eval_value(*e.kids[0]);
+      if (e.unary == UnOp::Not) {
+        if (!v.is(VKind::Bool)) fail("'!' needs a Bool, got " + type_string(type_of(v)));
+        return Value::boolean(!v.num);
+      }
+      if (!v.is(VKind::Number)) fail("unary " + e.text + " needs a number, got " + type_string(type_of(v)));
+      if (e.unary == UnOp::Neg) return Value::number(arith::neg(v.num));
+      return v;
+    }
+    case ExprKind::If: {
+      Value c = eval_value(*e.kids[0]);
+      return truthy(c) ? eval(*e.kids[1]) : eval(*e.kids[2]);
+    }
+    case ExprKind::Let: {
+      Ref<Scope> sub = new_scope(ScopeKind::Local, env_);
+      env_ = sub;
+      Value ret;
+      for (const auto& k : e.kids) ret = eval(*k);
+      if (ret.is(VKind::None) || ret.is(VKind::Type))
+        fail(e.kids.empty() ? "empty let" : "the last expression of a let has no value");
+      env_ = sub->parent;
+      return ret;
+    }
+    case ExprKind::List: {
+      std::vector<Value> items;
+      items.reserve(e.kids.size());
+      for (const auto& k : e.kids) items.push_back(eval_value(*k));
+      check_length(static_cast<int64_t>(items.size()));
+      count_cells(static_cast<int64_t>(items.size()));
+      return make_list(std::move(items));
+    }
+    case ExprKind::Lambda: return make_function(FuncObj::Kind::Lambda, Builtin::Map, &e, nullptr);
+    case ExprKind::Call: return eval_call(e);
+    case ExprKind::Get: return get_field(eval_value(*e.kids[0]), e.name, e.text);
+    case ExprKind::Assign: return eval_assign(e);
+    case ExprKind::Set: {
+      Value obj = eval_value(*e.kids[0]);
+      if (!obj.is(VKind::Instance)) fail("only objects have fields, got " + type_string(type_of(obj)));
+      Value v = eval_value(*e.kids[1]);
+      InstanceObj* in = obj.as<InstanceObj>();
+      int i = in->cls->field_index(e.name);
+      if (i < 0) fail("object of class '" + in->cls->name + "' has no field '" + program_->name(e.name) + "'");
+      in->fields[i] = v;
+      return v;
+    }
+    case ExprKind::InitNext: return Value();
+    case ExprKind::TypeDecl: {
+      TypeRef t = resolve_type(*e.type);
+      for (auto& d : env_->declared)
+        if (d.first == e.name) {
+          d.second = t;
+          return Value();
+        }
+      env_->declared.emplace_back(e.name, t);
+      return Value();
+    }
   }
+  fail("unknown expression");
+}
+
+RuntimeError Interpreter::unwound(size_t height) {
+  RuntimeError err("");
+  try {
+    throw;
+  } catch (const RuntimeError& e) {
+    err = e;
+  } catch (...) {
+    std::exception_ptr other = std::current_exception();
+    bool memory = false;
+    try {
+      throw;
+    } catch (const std::bad_alloc&) {
+      memory = true;
+    } catch (const std::length_error&) {
+      memory = true;
+    } catch (...) {
+    }
+    if (!memory || eval_stack_.size() <= height) {
+      eval_stack_.resize(std::min(height, eval_stack_.size()));
+      std::rethrow_exception(other);
+    }
+    err = RuntimeError("out of memory");
+  }
+  for (size_t i = eval_stack_.size(); i > height; --i) locate(err, *eval_stack_[i - 1]);
+  eval_stack_.resize(std::min(height, eval_stack_.size()));
+  return err;
 }
 
 TypeRef Interpreter::resolve_type(const TypeExpr& t) {
@@ -401,12 +425,14 @@ Value Interpreter::call_render_method(TypeObj* cls) {
   for (size_t i = 0; i < cls->field_syms.size(); ++i) define(sc.get(), cls->field_syms[i], self->fields[i]);
   std::vector<Value> none;
   last_cell_arg_ = SourceLoc{};
+  const size_t height = eval_stack_.size();
   try {
     Value r = call_lambda(*program_->render_lambda, none);
     env_ = sc->parent;
     return r;
-  } catch (RuntimeError& e) {
+  } catch (...) {
     forget_unwound_frames();
+    RuntimeError e = unwound(height);
     if (!e.in_program && last_cell_arg_.line > 0 && last_cell_arg_.source == SourceId::Program) {
       e.program_loc = last_cell_arg_;
       e.in_program = true;
@@ -414,7 +440,7 @@ Value Interpreter::call_render_method(TypeObj* cls) {
       e.program_loc = cls->object->loc;
       e.in_program = true;
     }
-    throw;
+    throw e;
   }
 }
 
@@ -476,6 +502,7 @@ Value Interpreter::construct_cell(const Expr& e, TypeObj* cls) {
     d->id = next_id();
     d->env = capture;
     d->expr = arg;
+    const size_t height = eval_stack_.size();
     try {
       Value v = eval(*arg);
       if (v.is(VKind::None) || v.is(VKind::Type)) fail("a cell coordinate or colour must be a value");
@@ -484,9 +511,9 @@ Value Interpreter::construct_cell(const Expr& e, TypeObj* cls) {
         lit.number = v.num;
         d->expr = make_expr(std::move(lit));
       }
-    } catch (RuntimeError&) {
+    } catch (...) {
       forget_unwound_frames();
-      // deferred; the scope the failure left behind stays current, as in the reference
+      (void)unwound(height);  // deferred; the scope the failure left behind stays current, as in the reference
     }
     fields.push_back(Value::heap(VKind::Deferred, d.get()));
   }

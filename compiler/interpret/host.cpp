@@ -77,11 +77,13 @@ void Interpreter::start_up(uint64_t seed) {
 
   std::vector<int> order = init_map_order_.order();
   for (int s : order) {
+    const size_t height = eval_stack_.size();
     try {
       Value v = eval_value(*init_expr_[s]);
       define(env_.get(), s, std::move(v));
-    } catch (RuntimeError& e) {
+    } catch (...) {
       forget_unwound_frames();
+      const RuntimeError e = unwound(height);
       RuntimeError wrapped("initialising '" + program_->name(s) + "': " + e.what());
       wrapped.loc = e.loc;
       wrapped.located = e.located;
@@ -111,12 +113,14 @@ bool Interpreter::condition_holds(const Stmt& st) {
   if (!c.is(VKind::Function)) throw located("an on-clause condition must be a Bool, got " + type_string(type_of(c)));
   std::vector<Value> none;
   Value r;
+  const size_t height = eval_stack_.size();
   try {
     r = call_function(c, none);
-  } catch (RuntimeError& e) {
+  } catch (...) {
     forget_unwound_frames();
+    RuntimeError e = unwound(height);
     locate(e, *st.cond);
-    throw;
+    throw e;
   }
   if (!r.is(VKind::Bool))
     throw located("an on-clause condition function must return a Bool, got " + type_string(type_of(r)));

@@ -125,6 +125,7 @@ class Interpreter {
 
   // --- evaluation (eval.cpp)
   Value eval(const Expr& e);
+  Value eval_node(const Expr& e);  // eval()'s cases
   Value eval_value(const Expr& e);  // errors on types and non-values
   Value eval_call(const Expr& e);
   Value eval_assign(const Expr& e);
@@ -177,6 +178,12 @@ class Interpreter {
   int grid_size_for_render();
 
   [[noreturn]] void fail(const std::string& msg);
+  // In a catch (...) handler of a caller of eval(): the error being handled,
+  // located at the eval() frames it unwound (eval_stack_ above `height`, then
+  // cut off) innermost first, as if each frame had caught and located it.
+  // std::bad_alloc and std::length_error thrown inside such a frame become
+  // "out of memory"; any other exception is rethrown unchanged.
+  RuntimeError unwound(size_t height);
 
   // --- limits (limits.cpp)
   // Runs an entry's work (start-up, a step, a render, a host API call) on the
@@ -207,6 +214,15 @@ class Interpreter {
   std::string source_name_;  // empty: the program's own file name
   Limits limits_;
   int64_t eval_depth_ = 0, call_depth_ = 0, value_depth_ = 0;
+  // The eval() frames running now, outermost first: pushed on entry, popped on
+  // a normal return only, so a throw leaves its frames here. Invariant: at a
+  // catch site that saved the size as `height` before its call, the entries
+  // above `height` are exactly the frames the exception unwound; every such
+  // site hands them to unwound() (or cuts them off when it swallows the error)
+  // before going on. Errors are located here once instead of by a catch and
+  // rethrow in every frame (a rethrow per frame made recursion to the
+  // call-depth limit slow, and quadratic under ASan).
+  std::vector<const Expr*> eval_stack_;
   int64_t step_cells_ = 0, step_calls_ = 0;
   int64_t internal_ = 0;                    // > 0: inside rendering machinery, nothing is counted
   const char* stack_floor_ = nullptr;      // deep_stack.hpp
@@ -255,7 +271,13 @@ void Interpreter::entry(F&& f) {
   on_deep_stack([&] {
     stack_floor_ = stack_floor();
     begin_budget();
-    f();
+    const size_t height = eval_stack_.size();
+    try {
+      f();
+    } catch (...) {
+      forget_unwound_frames();
+      throw unwound(height);
+    }
   });
 }
 
