@@ -18,7 +18,6 @@ struct Edit {
   Action action;
 };
 
-
 class Local {
  public:
   Local(PlanProblem& p, const std::vector<Action>& actions, const LocalSpec& spec)
