@@ -822,6 +822,41 @@ TEST(AgentPlanning, FillKeepsTheBestSkeletonsWhenTheLayerIsFull) {
   EXPECT_TRUE(replays_to_goal(task, a.plan)) << plan_text(a.plan);
 }
 
+// fill_skeleton (plan_fill.hpp) on a skeleton without a single noop: left,
+// left, left. Once the velocity is -1 a left changes nothing (the program
+// guards it), so the second and third lefts are idle steps and take the two
+// clicks, at the cells the drift carries to the goal's blobs: the generator's
+// plan, the same on one thread as on two. The first left acts and keeps its
+// place. (With noops as the only slots there is nowhere to put a click.)
+TEST(AgentPlanning, SkeletonStageFillsIdleMoves) {
+  const Action left{Action::Kind::Left};
+  const std::vector<Action> generator = {left, Action::click(13, 5), Action::click(9, 3)};
+  const Task task = goal_of_actions("drifting", kDriftProgram, generator);
+  ASSERT_FALSE(task.goal.cells.empty());
+  SolveOptions o;
+  o.nodes = 2'000'000;
+  const std::vector<Action> skeleton = {left, left, left};
+  expect_plan_on_one_and_two(task, o, generator.size(), [&](PlanProblem& p) {
+    SearchOutcome out = fill_skeleton(p, p.actions(), skeleton, p.share(1.0, 0));
+    if (out.found) EXPECT_EQ(out.plan[0], left) << plan_text(out.plan);
+    return out;
+  });
+  // The skeleton stage's local search hands back its best plan of moves even
+  // though no plan of moves alone reaches the goal (clicks are needed).
+  ThreadPool two(2);
+  PlanProblem p(task, o, two);
+  std::vector<Action> moves, best;
+  for (const Action& a : p.actions())
+    if (a.kind != Action::Kind::Click) moves.push_back(a);
+  LocalSpec spec;
+  spec.length = 6;
+  spec.limit = p.share(0.01, 0);
+  const SearchOutcome l = local_search(p, moves, spec, &best);
+  EXPECT_FALSE(l.found);
+  ASSERT_EQ(best.size(), 6u);
+  for (const Action& a : best) EXPECT_NE(a.kind, Action::Kind::Click);
+}
+
 // A moment where several things line up (plan_local.hpp): sprouts grow a
 // stage a step while the sun is up, so the goal after twelve steps shows four
 // plants at four stages and the sun down; each sowing click must come at its

@@ -31,6 +31,7 @@ class Fill {
       if (a.kind != Action::Kind::Click) moves_.push_back(a);
   }
   SearchOutcome run();
+  SearchOutcome run_one(std::vector<Action> skeleton);
 
  private:
   bool spent() const { return out_.nodes >= spec_.limit.nodes || spec_.limit.out_of_time(); }
@@ -53,6 +54,7 @@ class Fill {
   // does not depend on the horizon it serves.
   std::vector<Skeleton> layer_;
   int depth_ = 0;
+  bool idle_moves_ = false;  // run_one: idle moves are slots too
 };
 
 // A rollout's outcome (plan_problem.hpp): the goal's rank at its last frame.
@@ -141,22 +143,31 @@ std::vector<Skeleton> Fill::skeletons(int horizon) {
   return best;
 }
 
+// A click cannot take a step whose action acts (the state after it differs
+// from the state after a noop); `after` is the state after `a`.
+bool idle(const Environment& before, const Action& a, const Environment& after) {
+  if (a.kind == Action::Kind::Click) return false;
+  auto wait = before.clone();
+  return wait->step(Action::noop()) && wait->state_hash() == after.state_hash();
+}
+
 // Fills `plan`'s noop slots with clicks (see the header); true when a plan
 // reaches the goal (out_ holds it).
 bool Fill::fill(std::vector<Action> plan, int64_t rank) {
   const size_t C = clicks_.size();
   for (int round = 0; round < 3 && !spent(); ++round) {
-    std::vector<size_t> slots;
-    for (size_t i = 0; i < plan.size(); ++i)
-      if (plan[i].kind == Action::Kind::Noop) slots.push_back(i);
-    if (slots.empty()) return false;
-    // The states before each step of the plan.
+    // The states before each step of the plan (and after the last).
     std::vector<std::unique_ptr<Environment>> trail;
     trail.push_back(p_.root().clone());
-    for (size_t t = 0; t + 1 < plan.size(); ++t) {
+    for (size_t t = 0; t < plan.size(); ++t) {
       trail.push_back(trail.back()->clone());
       if (!trail.back()->step(plan[t])) return false;
     }
+    std::vector<size_t> slots;
+    for (size_t i = 0; i < plan.size(); ++i)
+      if (plan[i].kind == Action::Kind::Noop || (idle_moves_ && idle(*trail[i], plan[i], *trail[i + 1])))
+        slots.push_back(i);
+    if (slots.empty()) return false;
     // Every click in every slot, rolled out in parallel.
     std::vector<TailRun> result(slots.size() * C);
     for (size_t k = 0; k < slots.size() && !spent(); ++k) {
@@ -237,7 +248,29 @@ SearchOutcome Fill::run() {
   return std::move(out_);
 }
 
+SearchOutcome Fill::run_one(std::vector<Action> skeleton) {
+  idle_moves_ = true;
+  if (clicks_.empty() || skeleton.empty()) {
+    out_.note = "fill: no clicks or no skeleton";
+    return std::move(out_);
+  }
+  auto e = p_.root().clone();
+  const TailRun r = roll(*e, skeleton, 0, scorers_[0]);
+  out_.nodes += skeleton.size();
+  if (r.goal_at >= 0) found(skeleton, r.goal_at);
+  else if (r.rank != kNoRank) fill(std::move(skeleton), r.rank);
+  if (!out_.found) out_.note = "fill: the skeleton's idle steps take no clicks that reach the goal";
+  return std::move(out_);
+}
+
 }  // namespace
+
+SearchOutcome fill_skeleton(PlanProblem& problem, const std::vector<Action>& actions,
+                            const std::vector<Action>& skeleton, const Limit& limit) {
+  FillSpec spec;
+  spec.limit = limit;
+  return Fill(problem, actions, spec).run_one(skeleton);
+}
 
 SearchOutcome fill_search(PlanProblem& problem, const std::vector<Action>& actions, const FillSpec& spec) {
   return Fill(problem, actions, spec).run();

@@ -25,7 +25,8 @@
 // its goal cell, and the fill puts clicks 37 24, 8 24 and 29 27 in the three
 // waiting steps. Deterministic: pairs are compared in (slot, click) order.
 // Tests: tests/agent_test.cpp (AgentPlanning.FillPlacesClicksInADriftingWorld,
-// AgentPlanning.FillKeepsTheBestSkeletonsWhenTheLayerIsFull).
+// AgentPlanning.FillKeepsTheBestSkeletonsWhenTheLayerIsFull,
+// AgentPlanning.SkeletonStageFillsIdleMoves).
 #pragma once
 #include "harness/agent/plan_problem.hpp"
 
@@ -42,5 +43,12 @@ struct FillSpec {
 // `actions`: the skeletons' moves are its non-click actions, the fill's clicks
 // its clicks.
 SearchOutcome fill_search(PlanProblem& problem, const std::vector<Action>& actions, const FillSpec& spec);
+
+// Step 2 alone, on a skeleton found elsewhere (the planner's skeleton stage),
+// judged at its last frame. Its slots are its noops and its idle moves: steps
+// whose action leaves the same state a noop would (an up at the fastest flow,
+// a left at the wall), which a click can take just as well.
+SearchOutcome fill_skeleton(PlanProblem& problem, const std::vector<Action>& actions,
+                            const std::vector<Action>& skeleton, const Limit& limit);
 
 }  // namespace autumn::agent

@@ -26,7 +26,7 @@ class Local {
     for (const Action& a : actions)
       if (a.kind != Action::Kind::Click) moves_.push_back(a);
   }
-  SearchOutcome run();
+  SearchOutcome run(std::vector<Action>* best);
 
  private:
   bool spent() const { return out_.nodes >= spec_.limit.nodes || spec_.limit.out_of_time(); }
@@ -109,7 +109,7 @@ void Local::found(const std::vector<Action>& plan, int goal_at) {
   out_.plan.assign(plan.begin(), plan.begin() + goal_at);
 }
 
-SearchOutcome Local::run() {
+SearchOutcome Local::run(std::vector<Action>* best) {
   trail_.push_back(p_.root().clone());
   best_.push_back(scorers_[0].score(p_, p_.root(), 0, true, true).key);
   if (!adopt(std::vector<Action>(L_, Action::noop()), 0)) {
@@ -158,6 +158,7 @@ SearchOutcome Local::run() {
     stale = 0;
     ++restarts;
   }
+  if (best) *best = std::move(best_plan);
   out_.timed_out = spec_.limit.clock->out_of_time();
   out_.note = fmt::format("local search over plans of {} ({} restarts): {}", L_, restarts,
                           out_.nodes >= spec_.limit.nodes ? "node budget spent" : spec_.limit.time_note());
@@ -166,8 +167,9 @@ SearchOutcome Local::run() {
 
 }  // namespace
 
-SearchOutcome local_search(PlanProblem& problem, const std::vector<Action>& actions, const LocalSpec& spec) {
-  return Local(problem, actions, spec).run();
+SearchOutcome local_search(PlanProblem& problem, const std::vector<Action>& actions, const LocalSpec& spec,
+                           std::vector<Action>* best) {
+  return Local(problem, actions, spec).run(best);
 }
 
 }  // namespace autumn::agent

@@ -34,6 +34,10 @@ struct LocalSpec {
   Limit limit;
 };
 
-SearchOutcome local_search(PlanProblem& problem, const std::vector<Action>& actions, const LocalSpec& spec);
+// `best`, when given: the best-ranked plan the search held (the starting
+// noops at least), for a caller that completes it (the planner's skeleton
+// stage, plan_fill.hpp's fill_skeleton).
+SearchOutcome local_search(PlanProblem& problem, const std::vector<Action>& actions, const LocalSpec& spec,
+                           std::vector<Action>* best = nullptr);
 
 }  // namespace autumn::agent

@@ -45,7 +45,8 @@ class Planner {
     if (!got && !moves_ && !out_of_time()) got = moves_stage();
     if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
     if (!got && fill && !out_of_time()) got = fill_stage(focus, focus, 0.5, p_.opts().max_plan);
-    if (!got && !out_of_time()) got = local_stage(focus, 0.8);
+    if (!got && !out_of_time()) got = local_stage(focus, 0.8, !fill);
+    if (!got && fill && !out_of_time()) got = skeleton_stage(focus, 0.8);
     if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
     if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
     if (got && !moves_ && !r_.shortest && !out_of_time()) horizon_stage(focus, "beam" + focus_name);
@@ -232,11 +233,12 @@ class Planner {
   }
 
   // Stage 4b: local search over whole plans (plan_local.hpp) of 32 actions
-  // (0.7 of the share), then of 64 (the rest), for a goal that is one late
-  // moment of a busy world; then, while the share lasts, over plans one shorter
-  // than the best found (half of what is left each; the goal may show earlier
-  // in a plan, so each is a new search).
-  bool local_stage(const std::vector<Action>& actions, double part) {
+  // (0.7 of the share), then of 64 (the rest; with `long_plans` only, else the
+  // rest goes back to the stages after), for a goal that is one late moment of
+  // a busy world; then, while the share lasts, over plans one shorter than the
+  // best found (half of what is left each; the goal may show earlier in a
+  // plan, so each is a new search).
+  bool local_stage(const std::vector<Action>& actions, double part, bool long_plans = true) {
     reserve_ = 0;
     const Limit limit = share(part);
     const uint64_t start = r_.nodes;
@@ -255,11 +257,68 @@ class Planner {
     };
     const int max_plan = p_.opts().max_plan;
     bool got = search(std::min(32, max_plan), 0.7);
-    if (!got && max_plan > 32 && !out_of_time()) got = search(std::min(64, max_plan), 1.0);
+    if (!got && long_plans && max_plan > 32 && !out_of_time()) got = search(std::min(64, max_plan), 1.0);
     if (!got) return false;
     while (!r_.shortest && r_.plan.size() > 1 && !limit.out_of_time() && r_.nodes - start < limit.nodes)
       if (!search(static_cast<int>(r_.plan.size()) - 1, 0.5)) break;
     return true;
+  }
+
+  // Stage 4c (worlds of arrows and placing clicks): a skeleton, then its
+  // clicks. Local search over the non-click actions alone (plan_local.hpp;
+  // plans of 32, 0.9 of the share) finds the skeleton whose best frame differs
+  // from the goal least, even where no skeleton reaches it; cut at that frame,
+  // its noops and idle moves take the clicks (plan_fill.hpp, fill_skeleton).
+  // Example (flood_defense, a goal 25 random actions away): the goal's water
+  // comes from the spring's moves alone, its five sandbags from clicks. Local
+  // search over moves finds skeletons that differ from the goal in the bag
+  // cells only; on one, cut at step 21, the fill puts the five bag clicks into
+  // its noops: a 21-action plan. But a skeleton that good takes about 30 s of
+  // search there, and within the default 120 s this stage gets about 10
+  // (skeletons stay 8 cells off); at 300 s it found one 5 cells off whose
+  // five slots the fill could not complete.
+  // Test: tests/agent_test.cpp (AgentPlanning.SkeletonStageFillsIdleMoves).
+  bool skeleton_stage(const std::vector<Action>& focus, double part) {
+    const Limit limit = share(part);
+    const uint64_t start = r_.nodes;
+    std::vector<Action> moves;
+    for (const Action& a : p_.actions())
+      if (a.kind != Action::Kind::Click) moves.push_back(a);
+    LocalSpec spec;
+    spec.length = std::min(32, p_.opts().max_plan);
+    spec.seed = p_.opts().seed;
+    spec.limit = limit.fraction(0.9, 0);
+    std::vector<Action> skeleton;
+    const SearchOutcome o = local_search(p_, moves, spec, &skeleton);
+    add(o);
+    if (o.found) {
+      found(o.plan, "local search over moves", false);
+      shorten(focus);
+      return true;
+    }
+    skeleton.resize(best_frame(skeleton));
+    if (skeleton.empty() || out_of_time()) return false;
+    const SearchOutcome f = fill_skeleton(p_, focus, skeleton, rest_of(limit, start));
+    add(f);
+    if (!f.found) return false;
+    found(f.plan, "skeleton: local search over moves, then clicks in its idle steps", false);
+    shorten(focus);
+    return true;
+  }
+
+  // The number of `plan`'s actions after which its frame is nearest the goal
+  // (by rank with travel, as local search judges; the first such frame).
+  size_t best_frame(const std::vector<Action>& plan) {
+    auto e = p_.root().clone();
+    FutureScorer scorer;
+    int64_t best = kNoRank;
+    size_t at = 0;
+    for (size_t t = 0; t < plan.size() && e->step(plan[t]); ++t) {
+      const int64_t rank = scorer.score(p_, *e, 0, true, true).key;
+      if (rank < best) best = rank, at = t + 1;
+    }
+    r_.nodes += plan.size();
+    return at;
   }
 
   // Stage 6: a plan not proven cheapest, from stages 3-5, may be long because the

@@ -38,6 +38,13 @@
 //  4a. Where 3a ran: plan_fill again (half), on the horizons after the last one
 //     3a tried, up to --max-plan, for goals that are a late moment of a moving
 //     world (snow piling up in one column while the clicks place rocks).
+//  4b. Local search over whole plans of 32 actions (plan_local; 0.8 of what is
+//     left, a node reserve of 0.4 kept for it until here), then of 64 except
+//     where 3a ran, then over plans one shorter than the best found.
+//  4c. Where 3a ran: a skeleton (local search over the non-click actions,
+//     kept at its best frame even without a goal), then clicks into its noops
+//     and idle moves (plan_fill's fill_skeleton): a moving world's moment plus
+//     things clicks placed.
 //  5. Best-first (pruning look-alike states; then with travel breaking ties, so
 //     objects are drawn towards their goal squares; then neither), over the
 //     same clicks first, then all actions.
@@ -45,7 +52,7 @@
 //     reached late (a world on its own clock): beam searches scored at a fixed
 //     horizon, horizons from proven_bound + 1 up, replace it with the first
 //     shorter plan they find.
-// A plan from stages 3–6 (3a and 4a included) goes through plan_shorten; the result is replayed on the
+// A plan from stages 3–6 (3a to 4c included) goes through plan_shorten; the result is replayed on the
 // program itself (not the search model) to the goal: `verified`.
 // --search bfs runs stage 1 alone with the whole budget, --search best-first stage
 // 5 over all actions, --search beam stages 4 (on half) and 6, --search fill stage
