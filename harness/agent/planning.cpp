@@ -309,15 +309,15 @@ class Planner {
   // The number of `plan`'s actions after which its frame is nearest the goal
   // (by rank with travel, as local search judges; the first such frame).
   size_t best_frame(const std::vector<Action>& plan) {
-    auto e = p_.root().clone();
-    FutureScorer scorer;
+    const std::vector<TaskFrame> frames = p_.replay_frames(plan);
+    r_.nodes += frames.size() - 1;
+    const Goal& goal = p_.goal();
     int64_t best = kNoRank;
     size_t at = 0;
-    for (size_t t = 0; t < plan.size() && e->step(plan[t]); ++t) {
-      const int64_t rank = scorer.score(p_, *e, 0, true, true).key;
-      if (rank < best) best = rank, at = t + 1;
+    for (size_t t = 1; t < frames.size(); ++t) {
+      const int64_t rank = goal.rank(goal.distance(frames[t], true));
+      if (rank < best) best = rank, at = t;
     }
-    r_.nodes += plan.size();
     return at;
   }
 
