@@ -12,6 +12,7 @@
 // (runtime/limits.hpp); running out of memory inside an expression becomes a
 // located error at that expression.
 #include <algorithm>
+#include <exception>
 #include <new>
 #include <stdexcept>
 #include <utility>
@@ -274,29 +275,30 @@ Value Interpreter::eval_node(const Expr& e) {
 }
 
 RuntimeError Interpreter::unwound(size_t height) {
-  forget_unwound_frames();
-  auto cut = [&] { eval_stack_.resize(std::min(height, eval_stack_.size())); };
-  RuntimeError err("out of memory");
+  RuntimeError err("");
   try {
     throw;
   } catch (const RuntimeError& e) {
     err = e;
-  } catch (const std::bad_alloc&) {
-    if (eval_stack_.size() <= height) {  // outside any eval frame: as it came
-      cut();
-      throw;
-    }
-  } catch (const std::length_error&) {
-    if (eval_stack_.size() <= height) {  // outside any eval frame: as it came
-      cut();
-      throw;
-    }
   } catch (...) {
-    cut();
-    throw;
+    std::exception_ptr other = std::current_exception();
+    bool memory = false;
+    try {
+      throw;
+    } catch (const std::bad_alloc&) {
+      memory = true;
+    } catch (const std::length_error&) {
+      memory = true;
+    } catch (...) {
+    }
+    if (!memory || eval_stack_.size() <= height) {
+      eval_stack_.resize(std::min(height, eval_stack_.size()));
+      std::rethrow_exception(other);
+    }
+    err = RuntimeError("out of memory");
   }
   for (size_t i = eval_stack_.size(); i > height; --i) locate(err, *eval_stack_[i - 1]);
-  cut();
+  eval_stack_.resize(std::min(height, eval_stack_.size()));
   return err;
 }
 
@@ -429,6 +431,7 @@ Value Interpreter::call_render_method(TypeObj* cls) {
     env_ = sc->parent;
     return r;
   } catch (...) {
+    forget_unwound_frames();
     RuntimeError e = unwound(height);
     if (!e.in_program && last_cell_arg_.line > 0 && last_cell_arg_.source == SourceId::Program) {
       e.program_loc = last_cell_arg_;
@@ -509,6 +512,7 @@ Value Interpreter::construct_cell(const Expr& e, TypeObj* cls) {
         d->expr = make_expr(std::move(lit));
       }
     } catch (...) {
+      forget_unwound_frames();
       (void)unwound(height);  // deferred; the scope the failure left behind stays current, as in the reference
     }
     fields.push_back(Value::heap(VKind::Deferred, d.get()));

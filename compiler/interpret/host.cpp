@@ -82,6 +82,7 @@ void Interpreter::start_up(uint64_t seed) {
       Value v = eval_value(*init_expr_[s]);
       define(env_.get(), s, std::move(v));
     } catch (...) {
+      forget_unwound_frames();
       const RuntimeError e = unwound(height);
       RuntimeError wrapped("initialising '" + program_->name(s) + "': " + e.what());
       wrapped.loc = e.loc;
@@ -116,6 +117,7 @@ bool Interpreter::condition_holds(const Stmt& st) {
   try {
     r = call_function(c, none);
   } catch (...) {
+    forget_unwound_frames();
     RuntimeError e = unwound(height);
     locate(e, *st.cond);
     throw e;

@@ -178,10 +178,9 @@ class Interpreter {
   int grid_size_for_render();
 
   [[noreturn]] void fail(const std::string& msg);
-  // In a catch (...) handler of a caller of eval(), first thing (it calls
-  // forget_unwound_frames): the error being handled, located at the eval()
-  // frames it unwound (eval_stack_ above `height`, then cut off) innermost
-  // first, as if each frame had caught and located it.
+  // In a catch (...) handler of a caller of eval(): the error being handled,
+  // located at the eval() frames it unwound (eval_stack_ above `height`, then
+  // cut off) innermost first, as if each frame had caught and located it.
   // std::bad_alloc and std::length_error thrown inside such a frame become
   // "out of memory"; any other exception is rethrown unchanged.
   RuntimeError unwound(size_t height);
@@ -276,6 +275,7 @@ void Interpreter::entry(F&& f) {
     try {
       f();
     } catch (...) {
+      forget_unwound_frames();
       throw unwound(height);
     }
   });
