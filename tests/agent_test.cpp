@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -827,7 +828,8 @@ TEST(AgentPlanning, FillKeepsTheBestSkeletonsWhenTheLayerIsFull) {
 // guards it), so the second and third lefts are idle steps and take the two
 // clicks, at the cells the drift carries to the goal's blobs: the generator's
 // plan, the same on one thread as on two. The first left acts and keeps its
-// place. (With noops as the only slots there is nowhere to put a click.)
+// place: a click there would lose the drift. (With noops as the only slots
+// there is nowhere to put a click.)
 TEST(AgentPlanning, SkeletonStageFillsIdleMoves) {
   const Action left{Action::Kind::Left};
   const std::vector<Action> generator = {left, Action::click(13, 5), Action::click(9, 3)};
@@ -855,6 +857,78 @@ TEST(AgentPlanning, SkeletonStageFillsIdleMoves) {
   EXPECT_FALSE(l.found);
   ASSERT_EQ(best.size(), 6u);
   for (const Action& a : best) EXPECT_NE(a.kind, Action::Kind::Click);
+}
+
+// The skeleton's steps that act but that the goal does not need take clicks
+// too: here each up counts in a variable nothing draws, so neither is a noop
+// nor an idle move, yet the two clicks go in their place (the left, which
+// sets the drift, keeps its place). The same on one thread and on two.
+const char* const kDriftCounterProgram = R"((program
+  (= GRID_SIZE 16)
+  (object Blob (Cell 0 0 "blue"))
+  (= blobs (initnext (list (Blob (Position 8 8))) (prev blobs)))
+  (= xVel (initnext 0 (prev xVel)))
+  (= ups (initnext 0 (prev ups)))
+  (on (& clicked (isFreePos click)) (= blobs (addObj blobs (Blob (Position (.. click x) (.. click y))))))
+  (on (& left (!= (prev xVel) -1)) (= xVel (- (prev xVel) 1)))
+  (on (& right (!= (prev xVel) 1)) (= xVel (+ (prev xVel) 1)))
+  (on up (= ups (+ (prev ups) 1)))
+  (on true (= blobs (updateObj blobs (--> b (move b (Position (prev xVel) 0))))))
+)
+)";
+
+TEST(AgentPlanning, SkeletonFillTakesMovesTheGoalDoesNotNeed) {
+  const Action left{Action::Kind::Left}, up{Action::Kind::Up};
+  const std::vector<Action> generator = {left, Action::click(13, 5), Action::click(9, 3)};
+  const Task task = goal_of_actions("drift_counter", kDriftCounterProgram, generator);
+  ASSERT_FALSE(task.goal.cells.empty());
+  SolveOptions o;
+  o.nodes = 2'000'000;
+  const std::vector<Action> skeleton = {left, up, up};
+  expect_plan_on_one_and_two(task, o, generator.size(), [&](PlanProblem& p) {
+    SearchOutcome out = fill_skeleton(p, p.actions(), skeleton, p.share(1.0, 0));
+    if (out.found) EXPECT_EQ(out.plan[0], left) << plan_text(out.plan);
+    return out;
+  });
+}
+
+// --search skeleton: local search over the moves alone cannot place the
+// sandbags, so it ends only when a skeleton it offers (LocalSpec::offer) is
+// completed by the fill. The best skeleton brings the cursor to its goal cell;
+// cut at its last best frame it keeps the still steps after that, where the
+// clicks go. The plan replays to the goal, is no longer than the generator's,
+// and is the same on one thread and on two (no time limit).
+TEST(AgentPlanning, SkeletonSearchEndsWhenAnOfferIsCompleted) {
+  const Action right{Action::Kind::Right};
+  const std::vector<Action> generator = {right, Action::click(1, 1), right, Action::click(3, 6)};
+  const Task task = goal_of_actions("cursor_bags", R"((program
+  (= GRID_SIZE 8)
+  (object Bag (Cell 0 0 "tan"))
+  (object Cursor (Cell 0 0 "red"))
+  (= cursor (initnext (Cursor (Position 4 4)) (prev cursor)))
+  (= bags (initnext (list) (prev bags)))
+  (on (& clicked (isFreePos click)) (= bags (addObj bags (Bag (Position (.. click x) (.. click y))))))
+  (on left (= cursor (move (prev cursor) (Position -1 0))))
+  (on right (= cursor (move (prev cursor) (Position 1 0))))
+)
+)", generator);
+  ASSERT_FALSE(task.goal.cells.empty());
+  SolveOptions o;
+  o.nodes = 200'000;
+  o.max_plan = 12;  // skeletons of 12 steps: a quicker test
+  o.time_limit = 0;
+  o.search = "skeleton";
+  ThreadPool two(2), one(1);
+  const PlanResult r = solve_planning(task, o, two);
+  ASSERT_TRUE(r.found) << planning_summary(r);
+  EXPECT_NE(r.method.find("skeleton"), std::string::npos) << r.method;
+  EXPECT_TRUE(r.verified);
+  EXPECT_LE(r.plan.size(), generator.size()) << plan_text(r.plan);
+  EXPECT_NE(r.note.find("a plan offered was completed"), std::string::npos)
+      << "the search ended on the completed offer, not on its budget: " << r.note;
+  const PlanResult r1 = solve_planning(task, o, one);
+  EXPECT_EQ(r1.plan, r.plan) << "the result must not depend on the thread count";
+  EXPECT_EQ(r1.nodes, r.nodes);
 }
 
 // A moment where several things line up (plan_local.hpp): sprouts grow a
@@ -970,6 +1044,65 @@ TEST(AgentPlanning, TravelDrawsThingsTowardsTheirGoalSquares) {
   EXPECT_EQ(at.colour, 0);
   EXPECT_EQ(at.travel, 0);
   EXPECT_LT(goal.rank(goal.distance(extra, true)), goal.rank(n)) << "one differing cell beats two, whatever the travel";
+}
+
+// Travel is each differing cell's breadth-first step distance (4-neighbour,
+// no obstacles) to the nearest cell of its goal colour, width + height when
+// the frame has none; checked against a plain breadth-first search on random
+// frames, sparse and dense, so both of Goal::travel's ways of computing it run.
+TEST(AgentPlanning, TravelIsTheStepDistance) {
+  std::mt19937_64 rng(7);
+  for (int round = 0; round < 300; ++round) {
+    const int w = 1 + static_cast<int>(rng() % 40), h = 1 + static_cast<int>(rng() % 40);
+    const int colours = 2 + static_cast<int>(rng() % 4);
+    const int density = 1 + static_cast<int>(rng() % 100);  // percent of non-background cells
+    const size_t n = static_cast<size_t>(w * h);
+    Task t;
+    t.type = TaskType::Planning;
+    t.goal = Grid{w, h, std::vector<int16_t>(n, 0)};
+    t.mask = Grid{w, h, std::vector<int16_t>(n, 1)};
+    TaskFrame f(n, 0);
+    auto draw = [&] { return static_cast<int16_t>(static_cast<int>(rng() % 100) < density ? 1 + rng() % colours : 0); };
+    for (size_t i = 0; i < n; ++i) {
+      t.goal.cells[i] = draw();
+      f[i] = draw();
+      if (rng() % 8 == 0) t.mask.cells[i] = 0;
+    }
+    const Goal goal(t);
+    // The reference: background is the masked goal's most common colour, ties to the smaller.
+    std::map<int16_t, int> count;
+    for (size_t i = 0; i < n; ++i)
+      if (t.mask.cells[i]) ++count[t.goal.cells[i]];
+    int16_t background = 0;
+    int most = -1;
+    for (const auto& [c, k] : count)
+      if (k > most) most = k, background = c;
+    int64_t expected = 0;
+    for (int16_t g = 0; g <= colours; ++g) {
+      if (g == background) continue;
+      std::vector<int> dist(n, -1);
+      std::deque<size_t> queue;
+      for (size_t i = 0; i < n; ++i)
+        if (f[i] == g) dist[i] = 0, queue.push_back(i);
+      while (!queue.empty()) {
+        const size_t i = queue.front();
+        queue.pop_front();
+        const int x = static_cast<int>(i) % w, y = static_cast<int>(i) / w;
+        const int dx[] = {-1, 1, 0, 0}, dy[] = {0, 0, -1, 1};
+        for (int k = 0; k < 4; ++k) {
+          const int nx = x + dx[k], ny = y + dy[k];
+          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+          const size_t j = static_cast<size_t>(ny * w + nx);
+          if (dist[j] < 0) dist[j] = dist[i] + 1, queue.push_back(j);
+        }
+      }
+      for (size_t i = 0; i < n; ++i)
+        if (t.mask.cells[i] && t.goal.cells[i] == g && f[i] != g) expected += dist[i] < 0 ? w + h : dist[i];
+    }
+    const Goal::Dist d = goal.distance(f, true);
+    ASSERT_EQ(d.colour > 0 ? d.travel : 0, d.colour > 0 ? expected : 0)
+        << "round " << round << ": " << w << "x" << h << ", density " << density;
+  }
 }
 
 // eval's walk: tasks, and files meant as tasks that do not load (reported in

@@ -78,9 +78,10 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
   cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(30000000)->check(cli::big_count(1));
   cmd->add_option("--search", o.search,
                   "Planning: bfs (proven cheapest), best-first, beam, fill (arrows first, then clicks into their "
-                  "waiting steps), local (edits of whole plans), or auto (bfs, focused bfs, bfs by moves, fill, "
-                  "beam, local, best-first)")
-      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam", "fill", "local"}))
+                  "waiting steps), local (edits of whole plans), skeleton (local search over the moves alone, then "
+                  "clicks into its steps), or auto (bfs, focused bfs, bfs by moves, fill, beam, local, skeleton, "
+                  "best-first)")
+      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam", "fill", "local", "skeleton"}))
       ->default_val("auto");
   cmd->add_option("--cost", o.cost, "Planning: what a plan costs: steps (every action) or moves (noop is free)")
       ->check(CLI::IsMember({"steps", "moves"}))

@@ -36,7 +36,7 @@ class Fill {
  private:
   bool spent() const { return out_.nodes >= spec_.limit.nodes || spec_.limit.out_of_time(); }
   std::vector<Skeleton> skeletons(int horizon);
-  bool fill(std::vector<Action> plan, int64_t rank);
+  bool fill(std::vector<Action> plan, int64_t rank, bool every_step);
   TailRun roll(Environment& e, const std::vector<Action>& plan, size_t from, FutureScorer& scorer) const;
   void found(std::vector<Action> plan, int goal_at) {
     plan.resize(static_cast<size_t>(goal_at));
@@ -54,7 +54,6 @@ class Fill {
   // does not depend on the horizon it serves.
   std::vector<Skeleton> layer_;
   int depth_ = 0;
-  bool idle_moves_ = false;  // run_one: idle moves are slots too
 };
 
 // A rollout's outcome (plan_problem.hpp): the goal's rank at its last frame.
@@ -143,17 +142,9 @@ std::vector<Skeleton> Fill::skeletons(int horizon) {
   return best;
 }
 
-// A click cannot take a step whose action acts (the state after it differs
-// from the state after a noop); `after` is the state after `a`.
-bool idle(const Environment& before, const Action& a, const Environment& after) {
-  if (a.kind == Action::Kind::Click) return false;
-  auto wait = before.clone();
-  return wait->step(Action::noop()) && wait->state_hash() == after.state_hash();
-}
-
-// Fills `plan`'s noop slots with clicks (see the header); true when a plan
-// reaches the goal (out_ holds it).
-bool Fill::fill(std::vector<Action> plan, int64_t rank) {
+// Fills `plan`'s slots with clicks (see the header): its noops, or with
+// `every_step` all its steps; true when a plan reaches the goal (out_ holds it).
+bool Fill::fill(std::vector<Action> plan, int64_t rank, bool every_step) {
   const size_t C = clicks_.size();
   for (int round = 0; round < 3 && !spent(); ++round) {
     // The states before each step of the plan (and after the last).
@@ -165,8 +156,7 @@ bool Fill::fill(std::vector<Action> plan, int64_t rank) {
     }
     std::vector<size_t> slots;
     for (size_t i = 0; i < plan.size(); ++i)
-      if (plan[i].kind == Action::Kind::Noop || (idle_moves_ && idle(*trail[i], plan[i], *trail[i + 1])))
-        slots.push_back(i);
+      if (plan[i].kind == Action::Kind::Noop || (every_step && plan[i].kind != Action::Kind::Click)) slots.push_back(i);
     if (slots.empty()) return false;
     // Every click in every slot, rolled out in parallel.
     std::vector<TailRun> result(slots.size() * C);
@@ -237,7 +227,7 @@ SearchOutcome Fill::run() {
     if (out_.found) return std::move(out_);
     for (Skeleton& s : best) {
       if (spent()) break;
-      if (fill(std::move(s.plan), s.rank)) return std::move(out_);
+      if (fill(std::move(s.plan), s.rank, false)) return std::move(out_);
     }
     if (!spent()) out_.depth_done = horizon;
   }
@@ -249,7 +239,6 @@ SearchOutcome Fill::run() {
 }
 
 SearchOutcome Fill::run_one(std::vector<Action> skeleton) {
-  idle_moves_ = true;
   if (clicks_.empty() || skeleton.empty()) {
     out_.note = "fill: no clicks or no skeleton";
     return std::move(out_);
@@ -258,8 +247,8 @@ SearchOutcome Fill::run_one(std::vector<Action> skeleton) {
   const TailRun r = roll(*e, skeleton, 0, scorers_[0]);
   out_.nodes += skeleton.size();
   if (r.goal_at >= 0) found(skeleton, r.goal_at);
-  else if (r.rank != kNoRank) fill(std::move(skeleton), r.rank);
-  if (!out_.found) out_.note = "fill: the skeleton's idle steps take no clicks that reach the goal";
+  else if (r.rank != kNoRank) fill(std::move(skeleton), r.rank, true);
+  if (!out_.found) out_.note = "fill: no clicks in the skeleton's steps reach the goal";
   return std::move(out_);
 }
 

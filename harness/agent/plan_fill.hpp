@@ -26,7 +26,8 @@
 // waiting steps. Deterministic: pairs are compared in (slot, click) order.
 // Tests: tests/agent_test.cpp (AgentPlanning.FillPlacesClicksInADriftingWorld,
 // AgentPlanning.FillKeepsTheBestSkeletonsWhenTheLayerIsFull,
-// AgentPlanning.SkeletonStageFillsIdleMoves).
+// AgentPlanning.SkeletonStageFillsIdleMoves,
+// AgentPlanning.SkeletonFillTakesMovesTheGoalDoesNotNeed).
 #pragma once
 #include "harness/agent/plan_problem.hpp"
 
@@ -45,9 +46,10 @@ struct FillSpec {
 SearchOutcome fill_search(PlanProblem& problem, const std::vector<Action>& actions, const FillSpec& spec);
 
 // Step 2 alone, on a skeleton found elsewhere (the planner's skeleton stage),
-// judged at its last frame. Its slots are its noops and its idle moves: steps
-// whose action leaves the same state a noop would (an up at the fastest flow,
-// a left at the wall), which a click can take just as well.
+// judged at its last frame. Every step is a slot: a click may also take the
+// place of a move, kept only if the whole plan improves, so moves that change
+// nothing (an up at the fastest flow, a left at the wall) or nothing the goal
+// shows give way to clicks, and the moves the goal needs keep their places.
 SearchOutcome fill_skeleton(PlanProblem& problem, const std::vector<Action>& actions,
                             const std::vector<Action>& skeleton, const Limit& limit);
 

@@ -120,6 +120,13 @@ SearchOutcome Local::run(std::vector<Action>* best) {
   int64_t best_score = score_;
   int stale = 0;
   uint64_t restarts = 0;
+  bool offered = false;  // best_plan has been offered (spec_.offer)
+  auto offer = [&] {
+    if (!spec_.offer || offered) return false;
+    offered = true;
+    return spec_.offer(best_plan);
+  };
+  bool taken = false;
   while (!spent()) {
     std::vector<Edit> edits(spec_.batch);
     for (Edit& e : edits) e = draw();
@@ -147,10 +154,11 @@ SearchOutcome Local::run(std::vector<Action>* best) {
     }
     if (pick < edits.size()) adopt(std::move(plans[pick]), edits[pick].at);  // scored, so its steps succeed
     if (score_ < best_score) {
-      best_score = score_, best_plan = plan_, stale = 0;
+      best_score = score_, best_plan = plan_, stale = 0, offered = false;
       continue;
     }
     if (++stale < spec_.patience) continue;
+    if ((taken = offer())) break;
     // A restart: the best plan, shaken by a few edits.
     std::vector<Action> kicked = best_plan;
     for (int n = 0; n < 3; ++n) kicked = apply(kicked, draw());
@@ -158,10 +166,13 @@ SearchOutcome Local::run(std::vector<Action>* best) {
     stale = 0;
     ++restarts;
   }
-  if (best) *best = std::move(best_plan);
-  out_.timed_out = spec_.limit.clock->out_of_time();
+  if (!taken) taken = offer();
+  out_.timed_out = !taken && spec_.limit.clock->out_of_time();
   out_.note = fmt::format("local search over plans of {} ({} restarts): {}", L_, restarts,
-                          out_.nodes >= spec_.limit.nodes ? "node budget spent" : spec_.limit.time_note());
+                          taken                                ? "a plan offered was completed"
+                          : out_.nodes >= spec_.limit.nodes ? "node budget spent"
+                                                               : spec_.limit.time_note());
+  if (best) *best = std::move(best_plan);
   return std::move(out_);
 }
 

@@ -22,6 +22,8 @@
 // planner shortens what this finds.
 // Test: tests/agent_test.cpp (AgentPlanning.LocalSearchLinesUpAMoment).
 #pragma once
+#include <functional>
+
 #include "harness/agent/plan_problem.hpp"
 
 namespace autumn::agent {
@@ -32,6 +34,11 @@ struct LocalSpec {
   int patience = 40;     // rounds without a new best before a restart
   uint64_t seed = 0;     // the agent's --seed
   Limit limit;
+  // When given: called with the best plan before each restart that follows a
+  // new best, and with the last best when the limit ends the search (if not
+  // offered before); true ends the search (a caller that completes plans and
+  // has completed this one).
+  std::function<bool(const std::vector<Action>&)> offer;
 };
 
 // `best`, when given: the best-ranked plan the search held (the starting

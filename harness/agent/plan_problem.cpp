@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -55,36 +56,75 @@ Goal::Dist Goal::distance(const TaskFrame& f, bool with_travel) const {
   return d;
 }
 
-// One breadth-first distance transform per goal colour the differing cells
-// want, from every cell of the frame showing it (4-neighbour steps).
+// A differing cell's travel is its step distance (4-neighbour steps, no
+// obstacles) to the nearest frame cell showing its goal colour, capped at
+// travel_cap(). On an open grid that distance is the Manhattan distance to the
+// nearest such cell, and it is never above (w - 1) + (h - 1), below the cap. So
+// per wanted colour: when there are few targets and sources, the minimum over
+// their pairs; else a two-pass city-block distance transform, which gives the
+// same minimum for every cell at once (a breadth-first search would too, at
+// several times the cost: this is the planner's hottest function in local
+// search). Test: tests/agent_test.cpp (AgentPlanning.TravelIsTheStepDistance).
 int64_t Goal::travel(const TaskFrame& f) const {
   const int w = task_.goal.width, h = task_.goal.height;
-  thread_local std::vector<int16_t> wanted;
+  struct Want {
+    int16_t colour;
+    std::vector<uint32_t> targets, sources;
+  };
+  thread_local std::vector<Want> wanted;
   thread_local std::vector<int> dist;
-  thread_local std::vector<uint32_t> queue;
-  wanted.clear();
+  size_t used = 0;  // wanted[0, used) are this call's; their vectors keep their capacity
   for (uint32_t i : mask_) {
     const int16_t g = task_.goal.cells[i];
-    if (g != f[i] && g != background_ && std::find(wanted.begin(), wanted.end(), g) == wanted.end()) wanted.push_back(g);
-  }
-  int64_t total = 0;
-  for (int16_t g : wanted) {
-    dist.assign(f.size(), -1);
-    queue.clear();
-    for (uint32_t i = 0; i < f.size(); ++i)
-      if (f[i] == g) dist[i] = 0, queue.push_back(i);
-    for (size_t q = 0; q < queue.size(); ++q) {
-      const uint32_t i = queue[q];
-      const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
-      auto visit = [&](int nx, int ny) {
-        if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;
-        const uint32_t j = static_cast<uint32_t>(ny * w + nx);
-        if (dist[j] < 0) dist[j] = dist[i] + 1, queue.push_back(j);
-      };
-      visit(x - 1, y), visit(x + 1, y), visit(x, y - 1), visit(x, y + 1);
+    if (g == f[i] || g == background_) continue;
+    size_t k = 0;
+    while (k < used && wanted[k].colour != g) ++k;
+    if (k == used) {
+      if (used == wanted.size()) wanted.emplace_back();
+      wanted[used].colour = g;
+      wanted[used].targets.clear();
+      wanted[used].sources.clear();
+      ++used;
     }
-    for (uint32_t i : mask_)
-      if (task_.goal.cells[i] == g && f[i] != g) total += dist[i] < 0 ? travel_cap() : std::min(dist[i], travel_cap());
+    wanted[k].targets.push_back(i);
+  }
+  if (used == 0) return 0;
+  for (uint32_t i = 0; i < f.size(); ++i)
+    for (size_t k = 0; k < used; ++k)
+      if (f[i] == wanted[k].colour) wanted[k].sources.push_back(i);
+  int64_t total = 0;
+  for (size_t k = 0; k < used; ++k) {
+    const Want& want = wanted[k];
+    if (want.sources.empty()) {
+      total += static_cast<int64_t>(want.targets.size()) * travel_cap();
+      continue;
+    }
+    if (want.targets.size() * want.sources.size() <= 4 * f.size()) {
+      for (uint32_t t : want.targets) {
+        const int tx = static_cast<int>(t % w), ty = static_cast<int>(t / w);
+        int best = w + h;
+        for (uint32_t s : want.sources)
+          best = std::min(best, std::abs(static_cast<int>(s % w) - tx) + std::abs(static_cast<int>(s / w) - ty));
+        total += best;
+      }
+      continue;
+    }
+    const int far = w + h;
+    dist.assign(f.size(), far);
+    for (uint32_t s : want.sources) dist[s] = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        int& d = dist[static_cast<size_t>(y * w + x)];
+        if (x > 0) d = std::min(d, dist[static_cast<size_t>(y * w + x - 1)] + 1);
+        if (y > 0) d = std::min(d, dist[static_cast<size_t>((y - 1) * w + x)] + 1);
+      }
+    for (int y = h - 1; y >= 0; --y)
+      for (int x = w - 1; x >= 0; --x) {
+        int& d = dist[static_cast<size_t>(y * w + x)];
+        if (x + 1 < w) d = std::min(d, dist[static_cast<size_t>(y * w + x + 1)] + 1);
+        if (y + 1 < h) d = std::min(d, dist[static_cast<size_t>((y + 1) * w + x)] + 1);
+      }
+    for (uint32_t t : want.targets) total += dist[t];
   }
   return total;
 }
@@ -230,8 +270,10 @@ bool PlanProblem::models_agree(const Environment& a, const Environment& b) const
   return true;
 }
 
-Limit PlanProblem::share(double fraction, uint64_t spent) const {
-  const Limit whole{&clock_, clock_.node_budget(), 0};
+Limit PlanProblem::share(double fraction, uint64_t spent, double keep_time) const {
+  Limit whole{&clock_, clock_.node_budget(), 0};
+  if (keep_time > 0 && clock_.time_limit() > 0)
+    whole.deadline = std::max(1e-9, clock_.time_limit() * (1 - keep_time));
   return whole.fraction(fraction, spent);
 }
 

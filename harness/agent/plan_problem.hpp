@@ -141,8 +141,9 @@ class PlanProblem {
   const std::string& model() const { return model_; }  // "program" or "click-reset model"
   const std::string& model_note() const { return model_note_; }
   // A share of what is left: `fraction` of the remaining time and of the nodes
-  // not yet `spent`.
-  Limit share(double fraction, uint64_t spent) const;
+  // not yet `spent`; with `keep_time`, the time left is counted to that
+  // fraction of the time limit before its end.
+  Limit share(double fraction, uint64_t spent, double keep_time = 0) const;
   TaskFrame frame_of(const Environment& e) const { return task_frame(e.frame(), e.palette(), task_.colours); }
   // Frame after each of `plan`'s actions from `start` (the root when null); stops early on a failed step.
   std::vector<TaskFrame> replay_frames(const std::vector<Action>& plan, const Environment* start = nullptr) const;

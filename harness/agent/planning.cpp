@@ -29,6 +29,10 @@ class Planner {
       if (positional()) focus_sets();
       return void(local_stage(positional() ? near_or_reaching() : p_.actions(), 1.0));
     }
+    if (search == "skeleton") {
+      if (positional()) focus_sets();
+      return void(skeleton_stage(positional() ? near_or_reaching() : p_.actions(), 1.0));
+    }
     if (search == "beam") {
       if (positional()) focus_sets();
       const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
@@ -56,7 +60,7 @@ class Planner {
   bool positional() const { return p_.inputs().clicks == ClickUse::Position && p_.actions().size() > 6; }
   bool out_of_time() const { return p_.clock().out_of_time() || r_.nodes >= p_.clock().node_budget(); }
   // `f` of what is left to the stages, the local stage's reserve kept back.
-  Limit share(double f) const { return p_.share(f, r_.nodes + reserve_); }
+  Limit share(double f) const { return p_.share(f, r_.nodes + reserve_, reserve_ > 0 ? kLocalTime : 0); }
 
   void note(const std::string& why) {
     if (!why.empty()) r_.note += (r_.note.empty() ? "" : "; ") + why;
@@ -69,7 +73,7 @@ class Planner {
     if (!o.found) note(o.note);
   }
   void found(const std::vector<Action>& plan, const std::string& method, bool proven) {
-    reserve_ = 0;  // the local stage runs only while no plan is found
+    reserve_ = 0;  // the local and skeleton stages run only while no plan is found
     r_.found = true;
     r_.plan = plan;
     r_.found_length = plan.size();
@@ -266,48 +270,57 @@ class Planner {
 
   // Stage 4c (worlds of arrows and placing clicks): a skeleton, then its
   // clicks. Local search over the non-click actions alone (plan_local.hpp;
-  // plans of 32, 0.9 of the share) finds the skeleton whose best frame differs
-  // from the goal least, even where no skeleton reaches it; cut at that frame,
-  // its noops and idle moves take the clicks (plan_fill.hpp, fill_skeleton).
+  // plans of 32, 0.9 of the share) offers its best skeleton before each
+  // restart that follows a new best, even where no skeleton reaches the goal;
+  // cut at its best frame, its steps take clicks (plan_fill.hpp,
+  // fill_skeleton), and the first skeleton so completed ends the stage.
   // Example (flood_defense, a goal 25 random actions away): the goal's water
   // comes from the spring's moves alone, its five sandbags from clicks. Local
-  // search over moves finds skeletons that differ from the goal in the bag
-  // cells only; on one, cut at step 21, the fill puts the five bag clicks into
-  // its noops: a 21-action plan. But a skeleton that good takes about 30 s of
-  // search there, and within the default 120 s this stage gets about 10
-  // (skeletons stay 8 cells off); at 300 s it found one 5 cells off whose
-  // five slots the fill could not complete.
-  // Test: tests/agent_test.cpp (AgentPlanning.SkeletonStageFillsIdleMoves).
+  // search over moves finds, after about 1.5 million steps, a skeleton that
+  // differs from the goal in the five bag cells only; the fill puts the bag
+  // clicks in place of a noop and four moves that the water does not need: a
+  // 25-action plan.
+  // Tests: tests/agent_test.cpp (AgentPlanning.SkeletonStageFillsIdleMoves,
+  // AgentPlanning.SkeletonSearchEndsWhenAnOfferIsCompleted).
   bool skeleton_stage(const std::vector<Action>& focus, double part) {
+    reserve_ = 0;
     const Limit limit = share(part);
-    const uint64_t start = r_.nodes;
     std::vector<Action> moves;
     for (const Action& a : p_.actions())
       if (a.kind != Action::Kind::Click) moves.push_back(a);
+    SearchOutcome filled;
+    size_t offers = 0;
     LocalSpec spec;
     spec.length = std::min(32, p_.opts().max_plan);
     spec.seed = p_.opts().seed;
     spec.limit = limit.fraction(0.9, 0);
-    std::vector<Action> skeleton;
-    const SearchOutcome o = local_search(p_, moves, spec, &skeleton);
+    spec.offer = [&](std::vector<Action> skeleton) {
+      skeleton.resize(best_frame(skeleton));
+      if (skeleton.empty() || limit.out_of_time()) return false;
+      ++offers;
+      filled = fill_skeleton(p_, focus, skeleton, limit);
+      r_.nodes += filled.nodes;
+      return filled.found;
+    };
+    const SearchOutcome o = local_search(p_, moves, spec);
     add(o);
     if (o.found) {
       found(o.plan, "local search over moves", false);
       shorten(focus);
       return true;
     }
-    skeleton.resize(best_frame(skeleton));
-    if (skeleton.empty() || out_of_time()) return false;
-    const SearchOutcome f = fill_skeleton(p_, focus, skeleton, rest_of(limit, start));
-    add(f);
-    if (!f.found) return false;
-    found(f.plan, "skeleton: local search over moves, then clicks in its idle steps", false);
+    if (!filled.found) {
+      note(fmt::format("fill: no clicks in the steps of {} skeleton{} reach the goal", offers, offers == 1 ? "" : "s"));
+      return false;
+    }
+    found(filled.plan, "skeleton: local search over moves, then clicks in its steps", false);
     shorten(focus);
     return true;
   }
 
   // The number of `plan`'s actions after which its frame is nearest the goal
-  // (by rank with travel, as local search judges; the first such frame).
+  // (by rank with travel, as local search judges; the last such frame, so a
+  // world that holds still after it keeps its later steps as slots for clicks).
   size_t best_frame(const std::vector<Action>& plan) {
     const std::vector<TaskFrame> frames = p_.replay_frames(plan);
     r_.nodes += frames.size() - 1;
@@ -316,7 +329,7 @@ class Planner {
     size_t at = 0;
     for (size_t t = 1; t < frames.size(); ++t) {
       const int64_t rank = goal.rank(goal.distance(frames[t], true));
-      if (rank < best) best = rank, at = t;
+      if (rank <= best) best = rank, at = t;
     }
     return at;
   }
@@ -370,11 +383,15 @@ class Planner {
   const bool moves_;
   std::vector<Action> reaching_, near1_, hidden_;  // focused_stages' sets (near1_ and reaching_ with hidden_)
   int fill_done_ = 0;  // horizons the fill stages have tried in full
-  // Nodes of the budget kept back for the local stage: every stage before it
-  // shares what is left without them (share()); zero once it runs or a plan is
-  // found. Local search edits whole plans from the start, so it needs steps by
-  // the million where the stages before it have spent a budget on layers.
-  static constexpr double kLocalReserve = 0.4;
+  // Nodes of the budget kept back for the local and skeleton stages: every
+  // stage before them shares what is left without them (share()), and the
+  // time up to kLocalTime of the time limit before its end (a slow program
+  // spends its time before its nodes: flood_defense, at about 130,000 steps a
+  // second, had spent 97 of its 120 s when local search began); zero once
+  // either runs or a plan is found. Local search edits whole plans from the
+  // start, so it needs steps by the million where the stages before it have
+  // spent a budget on layers.
+  static constexpr double kLocalReserve = 0.4, kLocalTime = 0.5;
   uint64_t reserve_ = 0;
 };
 
@@ -391,8 +408,8 @@ bool at_goal(const Task& task, const Environment& env) {
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
   if (task.type != TaskType::Planning) throw TaskError(task.file.string() + ": not a planning task");
   if (opts.search != "auto" && opts.search != "bfs" && opts.search != "best-first" && opts.search != "beam" &&
-      opts.search != "fill" && opts.search != "local")
-    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam, fill, local)");
+      opts.search != "fill" && opts.search != "local" && opts.search != "skeleton")
+    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam, fill, local, skeleton)");
   if (opts.cost != "steps" && opts.cost != "moves") throw TaskError("unknown cost '" + opts.cost + "' (steps, moves)");
   Stopwatch clock;
   PlanResult r;

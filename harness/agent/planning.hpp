@@ -39,12 +39,13 @@
 //     3a tried, up to --max-plan, for goals that are a late moment of a moving
 //     world (snow piling up in one column while the clicks place rocks).
 //  4b. Local search over whole plans of 32 actions (plan_local; 0.8 of what is
-//     left, a node reserve of 0.4 kept for it until here), then of 64 except
-//     where 3a ran, then over plans one shorter than the best found.
-//  4c. Where 3a ran: a skeleton (local search over the non-click actions,
-//     kept at its best frame even without a goal), then clicks into its noops
-//     and idle moves (plan_fill's fill_skeleton): a moving world's moment plus
-//     things clicks placed.
+//     left), then of 64 except where 3a ran, then over plans one shorter than
+//     the best found. Until 4b or 4c runs, the stages before keep back a node
+//     reserve of 0.4 of the budget and half the time limit for them.
+//  4c. Where 3a ran: a skeleton (local search over the non-click actions),
+//     whose best skeletons are offered, as it goes, to plan_fill's
+//     fill_skeleton, which puts clicks into their steps: a moving world's
+//     moment plus things clicks placed.
 //  5. Best-first (pruning look-alike states; then with travel breaking ties, so
 //     objects are drawn towards their goal squares; then neither), over the
 //     same clicks first, then all actions.
@@ -56,7 +57,8 @@
 // program itself (not the search model) to the goal: `verified`.
 // --search bfs runs stage 1 alone with the whole budget, --search best-first stage
 // 5 over all actions, --search beam stages 4 (on half) and 6, --search fill stage
-// 3a with the whole budget, on horizons up to --max-plan.
+// 3a with the whole budget, on horizons up to --max-plan, --search local and
+// --search skeleton stages 4b and 4c with the whole budget.
 // Results do not depend on --threads; only a time limit can make them depend on
 // the machine.
 #pragma once
