@@ -830,19 +830,31 @@ TEST(AgentPlanning, FillKeepsTheBestSkeletonsWhenTheLayerIsFull) {
 // plan, the same on one thread as on two. The first left acts and keeps its
 // place: a click there would lose the drift. (With noops as the only slots
 // there is nowhere to put a click.)
-TEST(AgentPlanning, SkeletonStageFillsIdleMoves) {
+// fill_skeleton on `skeleton` in a drift world whose goal the generator
+// (left, click 13 5, click 9 3) made: a plan no longer than the generator's
+// that keeps the first left (the drift), the same on one thread and on two.
+// Returns the task.
+Task expect_skeleton_filled(const std::string& name, const char* program, const std::vector<Action>& skeleton) {
   const Action left{Action::Kind::Left};
   const std::vector<Action> generator = {left, Action::click(13, 5), Action::click(9, 3)};
-  const Task task = goal_of_actions("drifting", kDriftProgram, generator);
-  ASSERT_FALSE(task.goal.cells.empty());
+  const Task task = goal_of_actions(name, program, generator);
+  EXPECT_FALSE(task.goal.cells.empty());
   SolveOptions o;
   o.nodes = 2'000'000;
-  const std::vector<Action> skeleton = {left, left, left};
   expect_plan_on_one_and_two(task, o, generator.size(), [&](PlanProblem& p) {
     SearchOutcome out = fill_skeleton(p, p.actions(), skeleton, p.share(1.0, 0));
     if (out.found) EXPECT_EQ(out.plan[0], left) << plan_text(out.plan);
     return out;
   });
+  return task;
+}
+
+TEST(AgentPlanning, SkeletonStageFillsIdleMoves) {
+  const Action left{Action::Kind::Left};
+  const Task task = expect_skeleton_filled("drifting", kDriftProgram, {left, left, left});
+  ASSERT_FALSE(task.goal.cells.empty());
+  SolveOptions o;
+  o.nodes = 2'000'000;
   // The skeleton stage's local search hands back its best plan of moves even
   // though no plan of moves alone reaches the goal (clicks are needed).
   ThreadPool two(2);
@@ -879,17 +891,7 @@ const char* const kDriftCounterProgram = R"((program
 
 TEST(AgentPlanning, SkeletonFillTakesMovesTheGoalDoesNotNeed) {
   const Action left{Action::Kind::Left}, up{Action::Kind::Up};
-  const std::vector<Action> generator = {left, Action::click(13, 5), Action::click(9, 3)};
-  const Task task = goal_of_actions("drift_counter", kDriftCounterProgram, generator);
-  ASSERT_FALSE(task.goal.cells.empty());
-  SolveOptions o;
-  o.nodes = 2'000'000;
-  const std::vector<Action> skeleton = {left, up, up};
-  expect_plan_on_one_and_two(task, o, generator.size(), [&](PlanProblem& p) {
-    SearchOutcome out = fill_skeleton(p, p.actions(), skeleton, p.share(1.0, 0));
-    if (out.found) EXPECT_EQ(out.plan[0], left) << plan_text(out.plan);
-    return out;
-  });
+  expect_skeleton_filled("drift_counter", kDriftCounterProgram, {left, up, up});
 }
 
 // --search skeleton: local search over the moves alone cannot place the
