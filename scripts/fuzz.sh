@@ -27,8 +27,12 @@ if [ "$target" = all ]; then
 fi
 case "$target" in frontend|interp|emit|task) ;; *) echo "fuzz.sh: unknown target '$target'" >&2; exit 2 ;; esac
 
-bash scripts/sanitize.sh configure
-nice -n 5 ninja -C "$tree" -j2 "fuzz_$target" >/dev/null
+# AUTUMN_FUZZ_PREBUILT=1 (scripts/test.sh, which runs two targets at once):
+# the targets are built already; two ninja runs must not share one tree.
+if [ -z "${AUTUMN_FUZZ_PREBUILT:-}" ]; then
+  bash scripts/sanitize.sh configure
+  nice -n 5 ninja -C "$tree" -j2 "fuzz_$target" >/dev/null
+fi
 
 seeds=$tree/seeds/$target corpus=$tree/corpus/$target artifacts=$tree/artifacts/$target
 rm -rf "$seeds"

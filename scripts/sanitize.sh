@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# sanitize.sh [configure] — the unit tests under AddressSanitizer and
+# sanitize.sh [configure|build|test] — the unit tests under AddressSanitizer and
 # UndefinedBehaviorSanitizer, in the clang-14 tree build-fuzz/ (shared with
-# scripts/fuzz.sh; configured on first use). "configure" only sets the tree up.
+# scripts/fuzz.sh; configured on first use). "configure" only sets the tree up,
+# "build" builds it, "test" runs the tests on it; nothing: build, then test.
 #
 # The compiled engine's suites that compile modules on demand are left out here
 # (they run the project's compiler per program, minutes under ASan, and the
@@ -21,12 +22,15 @@ if [ ! -f "$tree/build.ninja" ]; then
   cmake -S . -B "$tree" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DAUTUMN_SANITIZE=ON -DAUTUMN_FUZZ=ON -DAUTUMN_PYTHON=OFF >/dev/null
 fi
-[ "${1:-}" = configure ] && exit 0
+mode=${1:-all}
+case "$mode" in configure|build|test|all) ;; *) echo "sanitize.sh: unknown mode '$mode'" >&2; exit 2 ;; esac
+[ "$mode" = configure ] && exit 0
 
-nice -n 5 ninja -C "$tree" -j2 autumn_tests autumn autumnc
+if [ "$mode" != test ]; then nice -n 5 ninja -C "$tree" -j2 autumn_tests autumn autumnc; fi
+[ "$mode" = build ] && exit 0
 cd "$tree"
 # Suites that compile modules on demand (or run the Python package) stay in the release run.
 skip='CompiledConformance|Differential|LoweringFile|CopyAndSnapshot|CompiledEngine|EmitBytes|Agent|MakeTask|DifftestGoesOn|python|eval_nesting|readme_quick_start'
 ulimit -s 65536
 AUTUMN_TEST_ENGINES=interp ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --output-on-failure -j2 -E "$skip"
+  ctest --output-on-failure -j2 -E "$skip" --output-junit ctest-junit.xml

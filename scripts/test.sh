@@ -1,17 +1,81 @@
 #!/usr/bin/env bash
-# The whole test suite: build, then ctest (unit, diagnostics, golden, conformance,
-# guide, CLI and Python tests); then the unit tests again under AddressSanitizer
-# and UndefinedBehaviorSanitizer (scripts/sanitize.sh, a clang-14 tree), and a
-# short run of every libFuzzer target under both sanitizers (scripts/fuzz.sh,
-# AUTUMN_FUZZ_SECONDS each, default 40). The conformance corpus is read from
-# ../shared (AUTUMN_SHARED_DIR).
+# test.sh [--quick] — the test suite.
+#
+# Full (the README's test command; .ci/run calls exactly this): build, then
+# every ctest test of the release tree (unit, diagnostics, golden, conformance on
+# both engines, lowering, guide, CLI, agent and the Python package, one module
+# cache shared by the whole run so a program is compiled once); then the unit
+# tests again under AddressSanitizer and UndefinedBehaviorSanitizer
+# (scripts/sanitize.sh, a clang-14 tree) and a short run of every libFuzzer
+# target under both sanitizers (scripts/fuzz.sh, AUTUMN_FUZZ_SECONDS each,
+# default 40; two targets at a time, one core each). Ends with the time of each
+# stage and the ten slowest tests.
+#
+# --quick: the inner loop. The release build and the tests labelled "quick"
+# (tests/labels.cmake: the unit suites, the interpreter's conformance, the
+# lowering files, the fast agent, CLI and Python tests). It leaves out the
+# compiled engine's conformance and differential suites, the slow agent
+# searches, the sanitizer tree and the fuzzers. Under 3 minutes on a built tree.
+#
+# The conformance corpus is read from ../shared (AUTUMN_SHARED_DIR).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/bootstrap.sh
-(cd build && ctest --output-on-failure -j2)
-echo "== unit tests under ASan+UBSan (scripts/sanitize.sh)"
-bash scripts/sanitize.sh
-for target in frontend interp emit task; do
-  echo "== fuzz smoke: $target, ${AUTUMN_FUZZ_SECONDS:-40} s (scripts/fuzz.sh)"
-  bash scripts/fuzz.sh "$target" "${AUTUMN_FUZZ_SECONDS:-40}"
-done
+root=$PWD
+
+quick=0
+case "${1:-}" in
+  --quick) quick=1 ;;
+  "") ;;
+  -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  *) echo "test.sh: unknown option '$1' (use --quick, or nothing for the full suite)" >&2; exit 2 ;;
+esac
+
+# Stage timings, printed at the end whether the run passed or failed.
+stages=()
+stage_start=$SECONDS
+run_start=$SECONDS
+stage() {  # stage NAME COMMAND...: runs COMMAND, records its wall time
+  local name=$1
+  shift
+  echo "== $name"
+  local t0=$SECONDS status=0
+  "$@" || status=$?
+  stages+=("$(printf '%-34s %5d s  %s' "$name" $((SECONDS - t0)) "$([ $status -eq 0 ] && echo ok || echo "FAILED ($status)")")")
+  return $status
+}
+report() {
+  local status=$?
+  echo
+  echo "== stage times (wall clock)"
+  for s in "${stages[@]}"; do echo "  $s"; done
+  printf '  %-34s %5d s\n' "total" $((SECONDS - run_start))
+  local reports=()
+  for b in build build-fuzz; do [ -f "$b/ctest-junit.xml" ] && reports+=("$b"); done
+  if ((${#reports[@]})); then python3 scripts/slowest-tests.py "${reports[@]}" || true; fi
+  exit $status
+}
+trap report EXIT
+
+rm -f build/ctest-junit.xml build-fuzz/ctest-junit.xml
+stage "build (release)" bash scripts/bootstrap.sh
+if [ "$quick" = 1 ]; then
+  stage "ctest -L quick (release)" bash -c 'cd build && ctest --output-on-failure -j2 -L quick --output-junit ctest-junit.xml'
+  exit 0
+fi
+stage "ctest (release, every test)" bash -c 'cd build && ctest --output-on-failure -j2 --output-junit ctest-junit.xml'
+stage "build (ASan+UBSan tree)" bash scripts/sanitize.sh build
+stage "ctest under ASan+UBSan" bash scripts/sanitize.sh test
+stage "build (fuzz targets)" nice -n 5 ninja -C build-fuzz fuzz_frontend fuzz_interp fuzz_emit fuzz_task
+fuzz_pair() {  # two targets at once, one core each; both must pass
+  local s1=0 s2=0
+  AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh "$1" "${AUTUMN_FUZZ_SECONDS:-40}" > "build-fuzz/fuzz-$1.out" 2>&1 &
+  local p1=$!
+  AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh "$2" "${AUTUMN_FUZZ_SECONDS:-40}" > "build-fuzz/fuzz-$2.out" 2>&1 &
+  local p2=$!
+  wait $p1 || s1=$?
+  wait $p2 || s2=$?
+  cat "build-fuzz/fuzz-$1.out" "build-fuzz/fuzz-$2.out"
+  [ $s1 -eq 0 ] && [ $s2 -eq 0 ]
+}
+stage "fuzz smoke: frontend + interp" fuzz_pair frontend interp
+stage "fuzz smoke: emit + task" fuzz_pair emit task

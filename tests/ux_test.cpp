@@ -319,8 +319,10 @@ TEST(MakeTask, EveryProgramWithEitherEngine) {
     for (const char* kind : {"mfp", "planning"})
       for (const char* engine : {"compiled", "interp"}) {
         const fs::path out = dir / engine / "prompts" / (p.stem().string() + "_" + kind + ".json");
+        // --batch 20: the distractor check's rollouts (200 by default) on the
+        // interpreter were 15 s a program; 20 exercise the same code, on both engines.
         auto r = run_cli(std::string("make-task ") + kind + " " + p.string() + " --engine " + engine +
-                         " --extend-colours --out " + out.string());
+                         " --batch 20 --extend-colours --out " + out.string());
         ASSERT_EQ(r.status, 0) << r.out;
         EXPECT_EQ(r.out.find("origin"), std::string::npos) << r.out;
       }
