@@ -46,13 +46,15 @@ std::string compiler_flags() {
   return std::string(AUTUMN_CXX) + " -std=c++20 -O2 -fPIC -shared -fvisibility=hidden -DAUTUMN_MODULE_SHARED";
 }
 
-// sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST: compile, digest
-// the library into its manifest, rename both into place, clean up. The manifest
-// goes last: an entry without one is not loaded.
+// sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST: compile, make
+// the library 0600 (the linker makes it executable; it is only ever read), digest
+// it into its manifest, rename both into place, clean up. The manifest
+// goes first: a new module never stands in the cache without its manifest (a
+// module it replaces is refused, and rebuilt, until the new one follows).
 constexpr const char* kScript =
     "umask 077; CMD \"$1\" -o \"$2\" LIBS -Wl,-Bsymbolic >\"$4\" 2>&1 && "
-    "{ d=$(sha256sum <\"$2\") && printf '%sso %s\\n' \"$5\" \"${d%% *}\" >\"$6\" && mv -f \"$2\" \"$3\" && "
-    "mv -f \"$6\" \"$7\"; } 2>>\"$4\"; s=$?; "
+    "{ chmod 600 \"$2\" && d=$(sha256sum <\"$2\") && printf '%sso %s\\n' \"$5\" \"${d%% *}\" >\"$6\" && mv -f \"$6\" \"$7\" && "
+    "mv -f \"$2\" \"$3\"; } 2>>\"$4\"; s=$?; "
     "rm -f \"$1\" \"$6\"; if [ $s -eq 0 ]; then rm -f \"$4\"; else rm -f \"$2\"; fi; exit $s";
 
 std::string script() {
@@ -116,6 +118,7 @@ CompileOutcome compile_module(const std::string& source, const fs::path& so, con
   // when whole: a reader listing or loading modules never sees a partial one.
   const fs::path cpp = base.string() + ".cpp", tmp = base.string() + ".so.part", log = base.string() + ".log";
   const fs::path manifest = store::manifest_path(so), manifest_tmp = base.string() + ".manifest.part";
+  unlink(cpp.c_str());  // left by a killed compile whose pid and thread this one reuses
   if (std::string e = store::write_new_file(cpp, source); !e.empty()) {
     started();
     out.output = out.store_error = e;

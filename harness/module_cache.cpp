@@ -313,7 +313,7 @@ const autumn_module_v1* builtin_table(const Program& p) {
 // null when there is none. A refused entry is named on stderr (it is rebuilt).
 ModulePtr cached_module(const Entry& e, const Program& p) {
   struct stat st;
-  if (lstat(e.so.c_str(), &st) != 0 && lstat(e.manifest().c_str(), &st) != 0) return nullptr;
+  if (lstat(e.so.c_str(), &st) != 0) return nullptr;
   ModulePtr m = load_entry(e, trigger_of(p));
   if (m->table) return m;
   std::cerr << "autumn: cache entry " << e.so.string() << " refused (" << m->why << "); rebuilding\n";

@@ -189,6 +189,7 @@ std::string write_new_file(const fs::path& path, std::string_view bytes) {
 
 std::string publish_file(const fs::path& path, std::string_view bytes, const std::string& tag) {
   const fs::path tmp = path.string() + "." + tag + ".part";
+  unlink(tmp.c_str());  // left by a killed process whose pid and thread this one reuses
   if (std::string e = write_new_file(tmp, bytes); !e.empty()) return e;
   if (rename(tmp.c_str(), path.c_str()) == 0) return "";
   const std::string e = "cannot write " + path.string() + ": " + errno_text();

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -202,6 +203,20 @@ TEST_F(ModuleStore, CorruptModuleRebuilt) {
   bytes[bytes.size() / 2] ^= 0x5a;
   std::ofstream(so, std::ios::binary | std::ios::trunc) << bytes;
   expect_rebuilt(dir, so, "do not match the digest in its manifest");
+}
+
+TEST_F(ModuleStore, StaleTemporariesCleaned) {
+  const fs::path dir = fresh("stale"), cache = dir / "cache";
+  const auto hours_ago = fs::file_time_type::clock::now() - std::chrono::hours(2);
+  for (const char* name : {"m1.9-1.cpp", "m1.9-1.log", "m1.9-1.so.part", "probe.abc123", "m2.9-1.cpp"}) {
+    std::ofstream(cache / name) << "left by a killed compile";
+    if (std::string(name) != "m2.9-1.cpp") fs::last_write_time(cache / name, hours_ago);
+  }
+  auto r = run_cli("run " + program("a.au") + " --engine compiled --steps 1", false, env_for(cache, dir / "tmp"));
+  EXPECT_EQ(r.status, 0) << r.out;
+  for (const char* name : {"m1.9-1.cpp", "m1.9-1.log", "m1.9-1.so.part", "probe.abc123"})
+    EXPECT_FALSE(fs::exists(cache / name)) << name;
+  EXPECT_TRUE(fs::exists(cache / "m2.9-1.cpp")) << "a compile may still be writing a recent one";
 }
 
 }  // namespace
