@@ -16,6 +16,8 @@
 #include <fstream>
 #include <string>
 
+#include "compiler/emit/emit_module.hpp"
+#include "harness/module_cache.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -217,6 +219,20 @@ TEST_F(ModuleStore, StaleTemporariesCleaned) {
   for (const char* name : {"m1.9-1.cpp", "m1.9-1.log", "m1.9-1.so.part", "probe.abc123"})
     EXPECT_FALSE(fs::exists(cache / name)) << name;
   EXPECT_TRUE(fs::exists(cache / "m2.9-1.cpp")) << "a compile may still be writing a recent one";
+}
+
+// Built-in modules are used for the exact text of their program only: each one
+// carries that text, and its table was built from it.
+TEST(BuiltinModules, CarryTheFullTextOfTheirProgram) {
+  const autumn::BuiltinModules builtins = autumn::builtin_modules();
+  ASSERT_GT(builtins.count, 0u);
+  for (size_t i = 0; i < builtins.count; ++i) {
+    const autumn_module_v1* table = builtins.entries[i]();
+    const std::string text(builtins.texts[i]);
+    EXPECT_EQ(text, autumn::testing::read_text(autumn::testing::source_dir() / "programs" /
+                                               (std::string(table->program_name) + ".au")));
+    EXPECT_EQ(table->source_hash, autumn::module_source_hash(text, std::nullopt)) << table->program_name;
+  }
 }
 
 }  // namespace
