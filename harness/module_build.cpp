@@ -101,12 +101,10 @@ std::string module_compiler_signature() {
 
 namespace {
 
-// Why a compile that failed without a word failed: the cache directory cannot
-// be written (a full disk, a permission), or nothing found.
-std::string store_problem(const fs::path& dir, const std::string& log) {
-  if (!log.empty() && log.find("No space left on device") == std::string::npos) return "";
-  return store::probe_write(dir, 1 << 16);
-}
+// Whether a failed compile failed for want of the cache directory (a full disk,
+// a permission): "" or "cannot write in DIR: reason". The linker does not always
+// say (collect2 alone reports its exit status), so a megabyte is written to see.
+std::string store_problem(const fs::path& dir) { return store::probe_write(dir, 1 << 20); }
 
 }  // namespace
 
@@ -138,7 +136,7 @@ CompileOutcome compile_module(const std::string& source, const fs::path& so, con
   out.output = read_log(log);
   std::error_code ec;
   fs::remove(log, ec);
-  if (!out.ok) out.store_error = store_problem(so.parent_path(), out.output);
+  if (!out.ok) out.store_error = store_problem(so.parent_path());
   return out;
 }
 

@@ -214,12 +214,12 @@ std::string read_private_file(const fs::path& path, size_t limit, std::string* b
 std::string probe_write(const fs::path& dir, size_t bytes) {
   std::string probe = (dir / "probe.XXXXXX").string();
   const int fd = mkstemp(probe.data());  // 0600
-  if (fd < 0) return "cannot write " + probe + ": " + errno_text();
+  if (fd < 0) return "cannot write in " + dir.string() + ": " + errno_text();
   std::string e = write_all(fd, std::string(bytes, '\0'));
   if (e.empty() && bytes && fsync(fd) != 0) e = errno_text();
   close(fd);
   unlink(probe.c_str());
-  return e.empty() ? "" : "cannot write " + probe + ": " + e;
+  return e.empty() ? "" : "cannot write in " + dir.string() + ": " + e;
 }
 
 // ---------------------------------------------------------------------------- manifests

@@ -48,7 +48,7 @@ std::string write_new_file(const fs::path& path, std::string_view bytes);
 // Reads a regular file of this user without following a link; "" or "PATH: reason".
 std::string read_private_file(const fs::path& path, size_t limit, std::string* bytes);
 
-// Whether writing `bytes` bytes into `dir` works; "" or "cannot write PATH: reason"
+// Whether writing `bytes` bytes into `dir` works; "" or "cannot write in DIR: reason"
 // (names ENOSPC or EACCES when a compile failed without a word).
 std::string probe_write(const fs::path& dir, size_t bytes);
 

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -219,6 +220,19 @@ TEST_F(ModuleStore, StaleTemporariesCleaned) {
   for (const char* name : {"m1.9-1.cpp", "m1.9-1.log", "m1.9-1.so.part", "probe.abc123"})
     EXPECT_FALSE(fs::exists(cache / name)) << name;
   EXPECT_TRUE(fs::exists(cache / "m2.9-1.cpp")) << "a compile may still be writing a recent one";
+}
+
+TEST_F(ModuleStore, FullDiskIsNamed) {
+  const fs::path full = root() / "full";
+  fs::create_directories(full);
+  if (geteuid() != 0 || std::system(("mount -t tmpfs -o size=48k tmpfs " + full.string() + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "needs root and a tmpfs mount for a full disk";
+  auto r = run_cli("difftest " + program("a.au") + " --seeds 1 --steps 3", false, env_for(full / "cache", root() / "tmp"));
+  EXPECT_EQ(std::system(("umount " + full.string()).c_str()), 0);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("cannot write in " + (full / "cache").string() + ": No space left on device"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("did not compile"), std::string::npos) << r.out;
 }
 
 // Built-in modules are used for the exact text of their program only: each one
