@@ -286,9 +286,9 @@ ModuleFuture start_build(const std::shared_ptr<const Program>& p, const Entry& e
   std::thread([promise, p, e, guard] {
     try {
       promise->set_value(build(p, e, *guard));
-    } catch (const std::exception& e) {
+    } catch (const std::exception& ex) {
       auto m = std::make_shared<Module>();
-      m->why = std::string("building the module failed: ") + e.what();
+      m->why = std::string("building the module failed: ") + ex.what();
       promise->set_value(m);
     }
   }).detach();

@@ -18,6 +18,7 @@
 #include <iostream>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 namespace autumn::store {
 namespace {
@@ -244,23 +245,38 @@ std::optional<Manifest> parse_manifest(const std::string& text) {
 
 // ---------------------------------------------------------------------------- loading
 
+namespace {
+
+// A /proc/self/fd path to `fd` that names no library already loaded: glibc
+// recognises a loaded library by its name before it looks at the file, so a
+// descriptor number an earlier module was loaded from (and may still be loaded
+// under) is skipped by dup'ing past it. The numbers passed over go to *spare.
+std::string unused_fd_path(int* fd, std::vector<int>* spare) {
+  for (;;) {
+    const std::string path = "/proc/self/fd/" + std::to_string(*fd);
+    void* earlier = dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD);
+    if (!earlier) return path;
+    dlclose(earlier);
+    spare->push_back(*fd);
+    *fd = dup(*fd);
+    if (*fd < 0) return "";
+  }
+}
+
+}  // namespace
+
 std::shared_ptr<void> load_from_memory(const std::string& bytes, const std::string& name, std::string* why) {
-  const int fd = memfd_create(name.c_str(), MFD_CLOEXEC);
+  int fd = memfd_create(name.c_str(), MFD_CLOEXEC);
   if (fd < 0) return *why = "memfd_create: " + errno_text(), nullptr;
-  if (std::string e = write_all(fd, bytes); !e.empty()) {
-    close(fd);
-    return *why = "cannot copy the module into memory: " + e, nullptr;
-  }
-  const std::string path = "/proc/self/fd/" + std::to_string(fd);
-  void* h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!h) {
-    *why = std::string("cannot load compiled module: ") + dlerror();
-    close(fd);
-    return nullptr;
-  }
-  // The memory file stays open for the life of the process: glibc recognises a
-  // loaded library by its name, so another memory file given this descriptor
-  // number later would otherwise be served this library.
+  std::vector<int> spare;
+  std::string path;
+  if (std::string e = write_all(fd, bytes); !e.empty()) *why = "cannot copy the module into memory: " + e;
+  else if ((path = unused_fd_path(&fd, &spare)).empty()) *why = "dup: " + errno_text();
+  void* h = path.empty() ? nullptr : dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!h && !path.empty()) *why = std::string("cannot load compiled module: ") + dlerror();
+  for (int f : spare) close(f);
+  if (fd >= 0) close(fd);  // the library stays mapped
+  if (!h) return nullptr;
   return std::shared_ptr<void>(h, [](void* p) { dlclose(p); });
 }
 

@@ -7,6 +7,7 @@
 // the cases that must rebuild compile again (through `difftest`, which waits for
 // the module and compares it with the interpreter, so another program's module
 // would show as a divergence).
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -19,6 +20,7 @@
 
 #include "compiler/emit/emit_module.hpp"
 #include "harness/module_cache.hpp"
+#include "harness/module_store.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -206,6 +208,26 @@ TEST_F(ModuleStore, CorruptModuleRebuilt) {
   bytes[bytes.size() / 2] ^= 0x5a;
   std::ofstream(so, std::ios::binary | std::ios::trunc) << bytes;
   expect_rebuilt(dir, so, "do not match the digest in its manifest");
+}
+
+// In one process: A's module loaded (and kept), then B's from a new memory file
+// that may get the descriptor number A was loaded from; B must be B, not A's
+// handle again.
+TEST_F(ModuleStore, EveryLoadIsANewLibrary) {
+  const autumn_module_v1* tables[2] = {nullptr, nullptr};
+  std::shared_ptr<void> handles[2];
+  const char* texts[2] = {kProgramA, kProgramB};
+  for (int i = 0; i < 2; ++i) {
+    std::string why;
+    handles[i] = autumn::store::load_from_memory(
+        autumn::testing::read_text(with(entry_of(pristine(), texts[i]), ".so")), "test", &why);
+    ASSERT_TRUE(handles[i]) << why;
+    auto entry = reinterpret_cast<autumn_module_entry_fn>(dlsym(handles[i].get(), "autumn_module_v1_entry"));
+    ASSERT_TRUE(entry);
+    tables[i] = entry();
+    EXPECT_EQ(tables[i]->source_hash, autumn::module_source_hash(texts[i], std::nullopt));
+  }
+  EXPECT_NE(handles[0].get(), handles[1].get());
 }
 
 TEST_F(ModuleStore, StaleTemporariesCleaned) {
