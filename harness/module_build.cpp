@@ -48,13 +48,14 @@ std::string compiler_flags() {
 
 // sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST: compile, make
 // the library 0600 (the linker makes it executable; it is only ever read), digest
-// it into its manifest, rename both into place, clean up. The manifest
+// it into its manifest, rename both into place (-T: never into a directory
+// standing in their place), clean up. The manifest
 // goes first: a new module never stands in the cache without its manifest (a
 // module it replaces is refused, and rebuilt, until the new one follows).
 constexpr const char* kScript =
     "umask 077; CMD \"$1\" -o \"$2\" LIBS -Wl,-Bsymbolic >\"$4\" 2>&1 && "
-    "{ chmod 600 \"$2\" && d=$(sha256sum <\"$2\") && printf '%sso %s\\n' \"$5\" \"${d%% *}\" >\"$6\" && mv -f \"$6\" \"$7\" && "
-    "mv -f \"$2\" \"$3\"; } 2>>\"$4\"; s=$?; "
+    "{ chmod 600 \"$2\" && d=$(sha256sum <\"$2\") && printf '%sso %s\\n' \"$5\" \"${d%% *}\" >\"$6\" && mv -fT \"$6\" \"$7\" && "
+    "mv -fT \"$2\" \"$3\"; } 2>>\"$4\"; s=$?; "
     "rm -f \"$1\" \"$6\"; if [ $s -eq 0 ]; then rm -f \"$4\"; else rm -f \"$2\"; fi; exit $s";
 
 std::string script() {
