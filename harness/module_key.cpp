@@ -1,3 +1,6 @@
+// module_key — the canonical SHA-256 of a program (its s-expressions, as read) and
+// the exact program digest, plus the location map between two layouts of one
+// program (module_key.hpp).
 #include "harness/module_key.hpp"
 
 #include <string_view>

@@ -1,3 +1,5 @@
+// module_broker — one compiled prototype per exact program text (and trigger) for
+// the Python package; the module cache does the finding and building.
 #include "python/src/module_broker.hpp"
 
 #include <chrono>
