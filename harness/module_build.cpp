@@ -1,3 +1,5 @@
+// module_build — the compile of one module, as a detached shell process that
+// compiles, digests and renames into place (see module_build.hpp).
 #include "harness/module_build.hpp"
 
 #include <fcntl.h>
@@ -10,6 +12,8 @@
 #include <fstream>
 #include <sstream>
 #include <vector>
+
+#include "harness/module_store.hpp"
 
 extern char** environ;
 
@@ -42,10 +46,17 @@ std::string compiler_flags() {
   return std::string(AUTUMN_CXX) + " -std=c++20 -O2 -fPIC -shared -fvisibility=hidden -DAUTUMN_MODULE_SHARED";
 }
 
-// sh -c SCRIPT sh CPP TMP_SO SO LOG: compile, rename into place, clean up.
+// sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST: compile, make
+// the library 0600 (the linker makes it executable; it is only ever read), digest
+// it into its manifest, rename both into place (-T: never into a directory
+// standing in their place), clean up. The manifest
+// goes first: a new module never stands in the cache without its manifest (a
+// module it replaces is refused, and rebuilt, until the new one follows).
 constexpr const char* kScript =
-    "CMD \"$1\" -o \"$2\" LIBS -Wl,-Bsymbolic >\"$4\" 2>&1 && mv -f \"$2\" \"$3\"; s=$?; "
-    "rm -f \"$1\"; if [ $s -eq 0 ]; then rm -f \"$4\"; else rm -f \"$2\"; fi; exit $s";
+    "umask 077; CMD \"$1\" -o \"$2\" LIBS -Wl,-Bsymbolic >\"$4\" 2>&1 && "
+    "{ chmod 600 \"$2\" && d=$(sha256sum <\"$2\") && printf '%sso %s\\n' \"$5\" \"${d%% *}\" >\"$6\" && mv -fT \"$6\" \"$7\" && "
+    "mv -fT \"$2\" \"$3\"; } 2>>\"$4\"; s=$?; "
+    "rm -f \"$1\" \"$6\"; if [ $s -eq 0 ]; then rm -f \"$4\"; else rm -f \"$2\"; fi; exit $s";
 
 std::string script() {
   std::string s = kScript;
@@ -89,20 +100,31 @@ std::string module_compiler_signature() {
   return compiler_flags() + " " + AUTUMN_CXX_VERSION + " " + AUTUMN_MODULE_LIBS;
 }
 
+namespace {
+
+// Whether a failed compile failed for want of the cache directory (a full disk,
+// a permission): "" or "cannot write in DIR: reason". The linker does not always
+// say (collect2 alone reports its exit status), so a megabyte is written to see.
+std::string store_problem(const fs::path& dir) { return store::probe_write(dir, 1 << 20); }
+
+}  // namespace
+
 CompileOutcome compile_module(const std::string& source, const fs::path& so, const std::string& tag,
-                              const std::function<void()>& started) {
+                              const std::string& manifest_head, const std::function<void()>& started) {
   CompileOutcome out;
   const fs::path base = so.parent_path() / (so.stem().string() + "." + tag);
   // The module is written under a name that is not "*.so" and renamed into place
   // when whole: a reader listing or loading modules never sees a partial one.
   const fs::path cpp = base.string() + ".cpp", tmp = base.string() + ".so.part", log = base.string() + ".log";
-  std::ofstream(cpp, std::ios::binary) << source;
-  if (!fs::exists(cpp)) {
+  const fs::path manifest = store::manifest_path(so), manifest_tmp = base.string() + ".manifest.part";
+  unlink(cpp.c_str());  // left by a killed compile whose pid and thread this one reuses
+  if (std::string e = store::write_new_file(cpp, source); !e.empty()) {
     started();
-    out.output = "cannot write " + cpp.string();
+    out.output = out.store_error = e;
     return out;
   }
-  pid_t pid = spawn_compile({"sh", "-c", script(), "sh", cpp.string(), tmp.string(), so.string(), log.string()});
+  pid_t pid = spawn_compile({"sh", "-c", script(), "sh", cpp.string(), tmp.string(), so.string(), log.string(),
+                             manifest_head, manifest_tmp.string(), manifest.string()});
   started();
   if (pid < 0) {
     out.output = std::string("cannot start the C++ compiler: ") + std::strerror(errno);
@@ -115,6 +137,7 @@ CompileOutcome compile_module(const std::string& source, const fs::path& so, con
   out.output = read_log(log);
   std::error_code ec;
   fs::remove(log, ec);
+  if (!out.ok) out.store_error = store_problem(so.parent_path());
   return out;
 }
 

@@ -1,7 +1,8 @@
 // module_build — one C++ compile of an emitted module into the module cache.
 //
-// The compiler runs in a process of its own (a new session, through /bin/sh):
-// it writes a temporary shared library and renames it into place, so a cache
+// The compiler runs in a process of its own (a new session, through /bin/sh,
+// umask 077): it writes a temporary shared library, records its SHA-256 in the
+// entry's manifest (harness/module_store) and renames both into place, so a cache
 // entry appears whole or not at all, and a compile started by a short-lived
 // command (`autumn run --steps 3`) still finishes and fills the cache after that
 // command exits. The caller's thread waits for it when it wants the result.
@@ -17,13 +18,15 @@ std::string module_compiler_signature();
 
 struct CompileOutcome {
   bool ok = false;
-  std::string output;  // the compiler's messages (first few thousand characters)
+  std::string output;       // the compiler's messages (first few thousand characters)
+  std::string store_error;  // set when the cache could not be written (ENOSPC, EACCES), not the compiler's fault
 };
 
-// Compiles `source` into the shared library `so` (temporary files beside it,
-// named with `tag`). Calls `started` once the compiler process runs (or could
-// not be started), then blocks until it ends.
+// Compiles `source` into the shared library `so` and writes its manifest
+// (`manifest_head` plus the digest of the library's bytes); temporary files
+// beside it are named with `tag`. Calls `started` once the compiler process runs
+// (or could not be started), then blocks until it ends.
 CompileOutcome compile_module(const std::string& source, const std::filesystem::path& so, const std::string& tag,
-                              const std::function<void()>& started);
+                              const std::string& manifest_head, const std::function<void()>& started);
 
 }  // namespace autumn

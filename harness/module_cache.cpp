@@ -1,6 +1,9 @@
+// module_cache — lookup order, keys and builds of the compiled engine's modules
+// (module_cache.hpp); the store's checks are harness/module_store's.
 #include "harness/module_cache.hpp"
 
 #include <dlfcn.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -22,8 +25,10 @@
 
 #include "compiler/emit/emit_module.hpp"
 #include "compiler/interpret/interpreted_env.hpp"
+#include "harness/digest.hpp"
 #include "harness/module_build.hpp"
 #include "harness/module_key.hpp"
+#include "harness/module_store.hpp"
 #include "harness/warm_env.hpp"
 #include "runtime/module_env.hpp"
 
@@ -47,8 +52,8 @@ using ModuleFuture = std::shared_future<ModulePtr>;
 // its compiler when the process exits.
 struct CacheState {
   std::mutex mu;
-  std::unordered_map<uint64_t, ModuleFuture> by_text;  // exact source hash
-  std::unordered_map<uint64_t, ModuleFuture> by_key;   // cache key
+  std::unordered_map<std::string, ModuleFuture> by_text;  // program_digest of the exact text
+  std::unordered_map<std::string, ModuleFuture> by_key;   // cache key
   std::mutex emit_mu;
   std::condition_variable emit_cv;
   int emitting = 0;  // background threads inside the emitter (exit waits for them)
@@ -69,59 +74,14 @@ std::optional<std::string> trigger_of(const Program& p) {
   return p.trigger_text;
 }
 
-// ---------------------------------------------------------------------------- the cache directory
-
-// The system's temporary directory ($TMPDIR, else /tmp); empty when that is not a directory.
-fs::path temp_dir() {
-  std::error_code ec;
-  fs::path t = fs::temp_directory_path(ec);
-  return ec ? fs::path() : t;
-}
-
-fs::path configured_cache_dir() {
-  if (const char* d = std::getenv("AUTUMN_CACHE_DIR"); d && *d) return d;
-  if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return fs::path(d) / "autumnc";
-  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "autumnc";
-  return (temp_dir().empty() ? fs::path("/tmp") : temp_dir()) / "autumnc-cache";
-}
-
-// Creates `dir` and proves it writable with a probe file ("" or why not).
-std::string check_writable(const fs::path& dir) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) return ec.message();
-  std::string probe = (dir / "probe.XXXXXX").string();
-  int fd = mkstemp(probe.data());
-  if (fd < 0) return std::strerror(errno);
-  close(fd);
-  fs::remove(probe, ec);
-  return "";
-}
-
-// The configured directory, else a private temporary one (warned about once);
-// empty, with *why, when neither can be written.
-fs::path usable_cache_dir(std::string* why) {
-  static const auto chosen = [] {
-    std::pair<fs::path, std::string> r;
-    const fs::path dir = configured_cache_dir();
-    const std::string problem = check_writable(dir);
-    if (problem.empty()) return r.first = dir, r;
-    const fs::path tmp = temp_dir().empty() ? fs::path("$TMPDIR") : temp_dir() / ("autumnc-cache-" + std::to_string(getuid()));
-    const std::string tmp_problem = temp_dir().empty() ? "not a directory" : check_writable(tmp);
-    if (tmp_problem.empty()) {
-      std::cerr << "autumn: warning: cannot write the module cache " << dir.string() << " (" << problem << "); using "
-                << tmp.string() << "\n";
-      return r.first = tmp, r;
-    }
-    r.second = "no writable module cache (" + dir.string() + ": " + problem + "; " + tmp.string() + ": " +
-               tmp_problem + ")";
-    return r;
-  }();
-  if (chosen.first.empty()) *why = chosen.second;
-  return chosen.first;
-}
-
 // ---------------------------------------------------------------------------- keys
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 // The compiler, its flags, the libraries a module links, the lowering that wrote
 // it (autumn_emit) and the runtime headers it includes all decide what a cached
@@ -142,21 +102,21 @@ const std::string& key_salt() {
     for (const auto& entry : fs::directory_iterator(fs::path(AUTUMN_MODULE_INCLUDE) / "runtime", ec))
       if (entry.path().extension() == ".hpp" || entry.path().extension() == ".h") headers.push_back(entry.path());
     std::sort(headers.begin(), headers.end());
-    for (const auto& h : headers) {
-      std::ifstream in(h, std::ios::binary);
-      std::ostringstream text;
-      text << in.rdbuf();
-      s += " " + h.filename().string() + ":" + std::to_string(module_source_hash(text.str(), std::nullopt));
-    }
+    for (const auto& h : headers) s += " " + h.filename().string() + ":" + sha256_hex(read_text(h));
     return s;
   }();
   return salt;
 }
 
-uint64_t cache_key(const Program& p) {
-  const auto trigger = trigger_of(p);
-  const uint64_t program = canonical_program_hash(p.file.text, trigger).value_or(module_source_hash(p.file.text, trigger));
-  return module_source_hash(std::to_string(program), key_salt());
+// The SHA-256 of the salt and the program's canonical form (its exact text when
+// it does not read): the module's file name.
+std::string cache_key(const std::string& text, const std::optional<std::string>& trigger) {
+  Sha256 d;
+  d.piece("autumn module key v2");
+  d.piece(key_salt());
+  const auto canonical = canonical_program_hash(text, trigger);
+  d.piece(canonical ? "canonical " + *canonical : "exact " + program_digest(text, trigger));
+  return d.hex();
 }
 
 std::string hex(uint64_t v) {
@@ -167,35 +127,75 @@ std::string hex(uint64_t v) {
 
 // ---------------------------------------------------------------------------- loading
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+// The files of one cache entry: mKEY.so, mKEY.manifest, and the program text it
+// was built from, mKEY-PROGRAMDIGEST.au.
+struct Entry {
+  fs::path so;
+  std::string key;
+  fs::path manifest() const { return store::manifest_path(so); }
+  fs::path text(const std::string& program) const {
+    return so.parent_path() / (so.stem().string() + "-" + program + ".au");
+  }
+};
 
-// The text a cached module was built from sits beside it, named by its source hash.
-fs::path text_path(const fs::path& so, uint64_t source_hash) {
-  return so.parent_path() / (so.stem().string() + "-" + hex(source_hash) + ".au");
-}
-
-ModulePtr load_shared(const fs::path& so, const std::optional<std::string>& trigger) {
+ModulePtr refused(const std::string& why) {
   auto m = std::make_shared<Module>();
-  void* h = dlopen(so.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!h) return m->why = std::string("cannot load compiled module: ") + dlerror(), m;
-  m->handle = std::shared_ptr<void>(h, [](void* p) { dlclose(p); });
-  auto entry = reinterpret_cast<autumn_module_entry_fn>(dlsym(h, "autumn_module_v1_entry"));
-  if (!entry) return m->why = "compiled module " + so.string() + " has no autumn_module_v1_entry", m;
+  m->why = why;
+  return m;
+}
+
+// Checks the manifest and the program text against the program being run: the
+// module must have been built for this program (the same canonical form) by
+// this ABI. "" or the reason.
+std::string check_origin(const Entry& e, const std::optional<std::string>& trigger, store::Manifest* mf,
+                         std::string* built_from) {
+  std::string text;
+  if (std::string w = store::read_private_file(e.manifest(), 4096, &text); !w.empty()) return w;
+  auto parsed = store::parse_manifest(text);
+  if (!parsed) return e.manifest().string() + ": not a module manifest";
+  *mf = *parsed;
+  if (mf->abi != AUTUMN_MODULE_ABI_VERSION) return "built for ABI version " + std::to_string(mf->abi);
+  if (std::string w = store::read_private_file(e.text(mf->program), 64 << 20, built_from); !w.empty()) return w;
+  if (program_digest(*built_from, trigger) != mf->program) return "its program text does not match the manifest";
+  if (cache_key(*built_from, trigger) != e.key) return "it was built for another program";
+  return "";
+}
+
+// Reads the module's bytes and checks them against the manifest ("" or why not).
+std::string read_verified(const Entry& e, const store::Manifest& mf, std::string* bytes) {
+  if (std::string w = store::read_private_file(e.so, size_t(1) << 30, bytes); !w.empty()) return w;
+  if (sha256_hex(*bytes) != mf.so) return "its bytes do not match the digest in its manifest (truncated or changed)";
+  if (bytes->size() < 4 || bytes->compare(0, 4, "\x7f" "ELF") != 0) return "not an ELF shared library";
+  return "";
+}
+
+// The module of a verified entry, checked once more through its own table.
+ModulePtr open_module(const Entry& e, const std::string& bytes, std::string built_from,
+                      const std::optional<std::string>& trigger) {
+  auto m = std::make_shared<Module>();
+  m->handle = store::load_from_memory(bytes, "autumn-m" + e.key.substr(0, 16), &m->why);
+  if (!m->handle) return m;
+  auto entry = reinterpret_cast<autumn_module_entry_fn>(dlsym(m->handle.get(), "autumn_module_v1_entry"));
+  if (!entry) return refused("compiled module " + e.so.string() + " has no autumn_module_v1_entry");
   const autumn_module_v1* table = entry();
   if (table->abi_version != AUTUMN_MODULE_ABI_VERSION)
-    return m->why = "compiled module " + so.string() + " has ABI version " + std::to_string(table->abi_version) +
-                    ", expected " + std::to_string(AUTUMN_MODULE_ABI_VERSION),
-           m;
-  m->built_from = read_text(text_path(so, table->source_hash));
-  if (module_source_hash(m->built_from, trigger) != table->source_hash)
-    return m->why = "compiled module " + so.string() + " lacks the program text it was built from", m;
+    return refused("compiled module " + e.so.string() + " has ABI version " + std::to_string(table->abi_version) +
+                   ", expected " + std::to_string(AUTUMN_MODULE_ABI_VERSION));
+  if (table->source_hash != module_source_hash(built_from, trigger))
+    return refused("compiled module " + e.so.string() + " was not built from the program text beside it");
   m->table = table;
+  m->built_from = std::move(built_from);
   return m;
+}
+
+// Loads a cache entry only after checking it: the module for this program, or
+// why it was refused.
+ModulePtr load_entry(const Entry& e, const std::optional<std::string>& trigger) {
+  store::Manifest mf;
+  std::string built_from, bytes;
+  if (std::string w = check_origin(e, trigger, &mf, &built_from); !w.empty()) return refused(w);
+  if (std::string w = read_verified(e, mf, &bytes); !w.empty()) return refused(w);
+  return open_module(e, bytes, std::move(built_from), trigger);
 }
 
 // ---------------------------------------------------------------------------- building
@@ -244,93 +244,109 @@ std::string emit(const Program& p, const std::string& name, bool embedded) {
 }
 
 // Emits and compiles the module (the embedded lowering if the specialised code
-// does not compile, unless AUTUMN_STRICT_MODULES), then loads it.
-ModulePtr build(std::shared_ptr<const Program> p, fs::path so, EmitGuard& guard) {
-  const auto trigger = trigger_of(*p);
-  const std::string tag = std::to_string(getpid()) + "-" + hex(std::hash<std::thread::id>()(std::this_thread::get_id()));
-  const fs::path text = text_path(so, module_source_hash(p->file.text, trigger));
-  const fs::path text_tmp = text.string() + "." + tag;
-  std::ofstream(text_tmp, std::ios::binary) << p->file.text;
-  std::error_code ec;
-  fs::rename(text_tmp, text, ec);
-  CompileOutcome c = compile_module(emit(*p, so.stem().string(), false), so, tag, [&] { guard.release(); });
-  if (!c.ok && std::getenv("AUTUMN_STRICT_MODULES")) {  // the tests: a lowering bug must fail
-    auto m = std::make_shared<Module>();
-    m->why = "the specialised module for " + p->file.name + " did not compile:\n" + c.output;
-    return m;
-  }
-  if (!c.ok) {
-    // A specialised module that does not compile is a bug in the lowering; the
-    // embedded lowering keeps the engine usable (and exact) meanwhile.
-    std::cerr << "autumn: warning: the specialised module for " << p->file.name
-              << " did not compile; using the embedded interpreter. Compiler output:\n"
-              << c.output.substr(0, 2000) << "\n";
-    EmitGuard again;
-    c = compile_module(emit(*p, so.stem().string(), true), so, tag, [&] { again.release(); });
-  }
-  if (!c.ok) {
-    auto m = std::make_shared<Module>();
-    m->why = "the C++ compiler failed on the module for " + p->file.name + ":\n" + c.output;
-    return m;
-  }
-  return load_shared(so, trigger);
+// does not compile, unless AUTUMN_STRICT_MODULES); the outcome of the last compile.
+CompileOutcome compile_both_ways(const Program& p, const Entry& e, const std::string& tag, const std::string& head,
+                                 EmitGuard& guard) {
+  const std::string name = e.so.stem().string();
+  CompileOutcome c = compile_module(emit(p, name, false), e.so, tag, head, [&] { guard.release(); });
+  if (c.ok || !c.store_error.empty() || std::getenv("AUTUMN_STRICT_MODULES")) return c;  // strict: the tests
+  // A specialised module that does not compile is a bug in the lowering; the
+  // embedded lowering keeps the engine usable (and exact) meanwhile.
+  std::cerr << "autumn: warning: the specialised module for " << p.file.name
+            << " did not compile; using the embedded interpreter. Compiler output:\n"
+            << c.output.substr(0, 2000) << "\n";
+  EmitGuard again;
+  c = compile_module(emit(p, name, true), e.so, tag, head, [&] { again.release(); });
+  return c;
 }
 
-ModuleFuture start_build(const std::shared_ptr<const Program>& p, const fs::path& so) {
+// Writes the program text beside the entry, compiles, then loads the entry
+// through the same checks as any other.
+ModulePtr build(std::shared_ptr<const Program> p, Entry e, EmitGuard& guard) {
+  const auto trigger = trigger_of(*p);
+  const std::string tag = std::to_string(getpid()) + "-" + hex(std::hash<std::thread::id>()(std::this_thread::get_id()));
+  const std::string program = program_digest(p->file.text, trigger);
+  if (std::string w = store::publish_file(e.text(program), p->file.text, tag); !w.empty())
+    return refused("cannot build the module for " + p->file.name + ": " + w);
+  const CompileOutcome c =
+      compile_both_ways(*p, e, tag, store::manifest_head(AUTUMN_MODULE_ABI_VERSION, program), guard);
+  if (!c.store_error.empty()) return refused("cannot build the module for " + p->file.name + ": " + c.store_error);
+  if (!c.ok && std::getenv("AUTUMN_STRICT_MODULES"))
+    return refused("the specialised module for " + p->file.name + " did not compile:\n" + c.output);
+  if (!c.ok) return refused("the C++ compiler failed on the module for " + p->file.name + ":\n" + c.output);
+  return load_entry(e, trigger);
+}
+
+ModuleFuture start_build(const std::shared_ptr<const Program>& p, const Entry& e) {
   static const bool registered = [] { return std::atexit(wait_for_emitters) == 0; }();
   (void)registered;
   auto promise = std::make_shared<std::promise<ModulePtr>>();
   ModuleFuture f = promise->get_future().share();
   auto guard = std::make_shared<EmitGuard>();  // counted before the thread starts: exit may come first
-  std::thread([promise, p, so, guard] {
+  std::thread([promise, p, e, guard] {
     try {
-      promise->set_value(build(p, so, *guard));
-    } catch (const std::exception& e) {
+      promise->set_value(build(p, e, *guard));
+    } catch (const std::exception& ex) {
       auto m = std::make_shared<Module>();
-      m->why = std::string("building the module failed: ") + e.what();
+      m->why = std::string("building the module failed: ") + ex.what();
       promise->set_value(m);
     }
   }).detach();
   return f;
 }
 
-const autumn_module_v1* builtin_table(uint64_t source_hash) {
+// A module built into this binary, matched on the program's full text (and no
+// trigger), not on a hash alone.
+const autumn_module_v1* builtin_table(const Program& p) {
+  if (trigger_of(p)) return nullptr;
   BuiltinModules builtins = builtin_modules();
   for (size_t i = 0; i < builtins.count; ++i) {
+    if (builtins.texts[i] != p.file.text) continue;
     const autumn_module_v1* t = builtins.entries[i]();
-    if (t->source_hash == source_hash && t->abi_version == AUTUMN_MODULE_ABI_VERSION) return t;
+    if (t->source_hash == module_source_hash(p.file.text, std::nullopt) && t->abi_version == AUTUMN_MODULE_ABI_VERSION)
+      return t;
   }
   return nullptr;
+}
+
+// The cached module of a program when its entry exists and passes every check;
+// null when there is none. A refused entry is named on stderr (it is rebuilt).
+ModulePtr cached_module(const Entry& e, const Program& p) {
+  struct stat st;
+  if (lstat(e.so.c_str(), &st) != 0) return nullptr;
+  ModulePtr m = load_entry(e, trigger_of(p));
+  if (m->table) return m;
+  std::cerr << "autumn: cache entry " << e.so.string() << " refused (" << m->why << "); rebuilding\n";
+  return nullptr;
+}
+
+ModuleFuture no_cache(const std::string& why) {
+  auto m = std::make_shared<Module>();
+  m->why = why;
+  m->no_cache = true;
+  return ready(m);
 }
 
 // The module of a program: at hand (ready future), or being built (*started
 // says whether this call started the build).
 ModuleFuture request_module(const std::shared_ptr<const Program>& p, bool* started) {
   *started = false;
-  const uint64_t source_hash = module_source_hash(p->file.text, trigger_of(*p));
+  const auto trigger = trigger_of(*p);
+  const std::string exact = program_digest(p->file.text, trigger);
   CacheState& s = state();
   std::lock_guard<std::mutex> lock(s.mu);
-  if (auto it = s.by_text.find(source_hash); it != s.by_text.end()) return it->second;
-  if (const autumn_module_v1* t = builtin_table(source_hash))
-    return s.by_text[source_hash] = ready(std::make_shared<Module>(Module{t, nullptr, p->file.text, "", false}));
-  const uint64_t key = cache_key(*p);
-  if (auto it = s.by_key.find(key); it != s.by_key.end()) return s.by_text[source_hash] = it->second;
+  if (auto it = s.by_text.find(exact); it != s.by_text.end()) return it->second;
+  if (const autumn_module_v1* t = builtin_table(*p))
+    return s.by_text[exact] = ready(std::make_shared<Module>(Module{t, nullptr, p->file.text, "", false}));
+  const std::string key = cache_key(p->file.text, trigger);
+  if (auto it = s.by_key.find(key); it != s.by_key.end()) return s.by_text[exact] = it->second;
   std::string why;
-  const fs::path dir = usable_cache_dir(&why);
-  if (dir.empty()) {
-    auto m = std::make_shared<Module>();
-    m->why = why;
-    m->no_cache = true;
-    return s.by_text[source_hash] = ready(m);
-  }
-  const fs::path so = dir / ("m" + hex(key) + ".so");
-  std::error_code ec;
-  if (fs::exists(so, ec)) {
-    ModulePtr m = load_shared(so, trigger_of(*p));
-    if (m->table) return s.by_text[source_hash] = s.by_key[key] = ready(m);
-  }
+  const fs::path dir = store::cache_dir(&why);
+  if (dir.empty()) return s.by_text[exact] = no_cache(why);
+  const Entry e{dir / ("m" + key + ".so"), key};
+  if (ModulePtr m = cached_module(e, *p)) return s.by_text[exact] = s.by_key[key] = ready(m);
   *started = true;
-  return s.by_text[source_hash] = s.by_key[key] = start_build(p, so);
+  return s.by_text[exact] = s.by_key[key] = start_build(p, e);
 }
 
 std::unique_ptr<Environment> instantiate(const Module& m, const Program& p) {

@@ -2,12 +2,16 @@
 //
 // Order of lookup:
 //  1. modules already loaded in this process, by the exact program text;
-//  2. modules built into this binary from generated/ (no compile at run time);
-//  3. the on-disk cache ($AUTUMN_CACHE_DIR, else $XDG_CACHE_HOME/autumnc, else
-//     ~/.cache/autumnc; if that cannot be written, a private directory under the
-//     system's temporary directory, with a warning), keyed by the program's
-//     s-expressions (harness/module_key: comments and layout are not part of the
-//     key), the compiler, its flags, the libraries linked and the runtime headers;
+//  2. modules built into this binary from generated/, matched on the full
+//     program text (no compile at run time);
+//  3. the on-disk cache (harness/module_store: $AUTUMN_CACHE_DIR, else
+//     $XDG_CACHE_HOME/autumnc, else ~/.cache/autumnc; if that is unsafe or cannot
+//     be written, the private $TMPDIR/autumnc-cache-$UID, with a warning), keyed
+//     by the SHA-256 of the program's s-expressions (harness/module_key: comments
+//     and layout are not part of the key), the compiler, its flags, the libraries
+//     linked and the runtime headers. An entry is loaded only after its bytes,
+//     its program and its ABI are checked; one that fails is named on stderr and
+//     rebuilt;
 //  4. otherwise the module is emitted with the emitter autumnc uses and compiled
 //     by the C++ compiler this project was built with ("autumn: compiling
 //     prog.au (first use)" on stderr), against the precompiled runtime header
@@ -21,6 +25,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "compiler/analyse/program.hpp"
 #include "runtime/environment.hpp"
@@ -48,9 +53,12 @@ bool prepare_compiled_module(const std::shared_ptr<const Program>& program, doub
 // atexit handler that also waits was registered are destroyed before it runs.
 void finish_module_emits();
 
-// The modules built into this binary (generated/), by entry function.
+// The modules built into this binary (generated/), by entry function, each with
+// the text of the program it was built from (programs/NAME.au; empty when there
+// is none, and then the module is never used).
 struct BuiltinModules {
   const autumn_module_entry_fn* entries;
+  const std::string_view* texts;
   size_t count;
 };
 BuiltinModules builtin_modules();

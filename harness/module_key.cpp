@@ -1,35 +1,33 @@
+// module_key — the canonical SHA-256 of a program (its s-expressions, as read) and
+// the exact program digest, plus the location map between two layouts of one
+// program (module_key.hpp).
 #include "harness/module_key.hpp"
 
 #include <string_view>
 #include <vector>
 
 #include "compiler/read/sexpr.hpp"
+#include "harness/digest.hpp"
 
 namespace autumn {
 namespace {
 
-struct Fnv {
-  uint64_t h = 0xcbf29ce484222325ULL;
-  void byte(unsigned char c) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  void text(std::string_view s) {
-    for (char c : std::to_string(s.size())) byte(static_cast<unsigned char>(c));
-    byte(':');
-    for (char c : s) byte(static_cast<unsigned char>(c));
-  }
-};
-
-void feed(Fnv& f, const Sexp& s) {
+// The canonical form, fed as it is walked: atoms by kind and length-prefixed
+// text, lists by brackets.
+void feed(Sha256& d, const Sexp& s) {
   if (!s.is_list) {
-    f.byte(s.is_string ? 's' : 'a');
-    f.text(s.text);
+    d.update(s.is_string ? "s" : "a");
+    d.piece(s.text);
     return;
   }
-  f.byte('(');
-  for (const Sexp& k : s.items) feed(f, k);
-  f.byte(')');
+  d.update("(");
+  for (const Sexp& k : s.items) feed(d, k);
+  d.update(")");
+}
+
+void feed_trigger(Sha256& d, const std::optional<std::string>& trigger) {
+  d.update(trigger ? "T" : "N");
+  if (trigger) d.piece(*trigger);
 }
 
 std::optional<Sexp> read(const std::string& text) {
@@ -47,16 +45,23 @@ void locations(const Sexp& s, std::vector<std::pair<int, int>>& out) {
 
 }  // namespace
 
-std::optional<uint64_t> canonical_program_hash(const std::string& program_text,
-                                               const std::optional<std::string>& trigger) {
+std::optional<std::string> canonical_program_hash(const std::string& program_text,
+                                                  const std::optional<std::string>& trigger) {
   auto tree = read(program_text);
   if (!tree) return std::nullopt;
-  Fnv f;
-  f.text("autumn canonical v1");
-  feed(f, *tree);
-  f.byte(trigger ? 1 : 0);
-  if (trigger) f.text(*trigger);  // exact: trigger errors are located in its own text
-  return f.h;
+  Sha256 d;
+  d.piece("autumn canonical v2");
+  feed(d, *tree);
+  feed_trigger(d, trigger);  // exact: trigger errors are located in its own text
+  return d.hex();
+}
+
+std::string program_digest(const std::string& program_text, const std::optional<std::string>& trigger) {
+  Sha256 d;
+  d.piece("autumn program v1");
+  d.piece(program_text);
+  feed_trigger(d, trigger);
+  return d.hex();
 }
 
 LocationMap::LocationMap(const std::string& from, const std::string& to) {

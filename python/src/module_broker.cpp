@@ -1,3 +1,5 @@
+// module_broker — one compiled prototype per exact program text (and trigger) for
+// the Python package; the module cache does the finding and building.
 #include "python/src/module_broker.hpp"
 
 #include <chrono>
@@ -24,14 +26,15 @@ std::shared_ptr<const Prototype> build(std::shared_ptr<const Program> program) {
 }
 
 std::mutex mu;
-auto* futures = new std::unordered_map<uint64_t, PrototypeFuture>();  // never destroyed: see below
+auto* futures = new std::unordered_map<std::string, PrototypeFuture>();  // never destroyed: see below
 
 }  // namespace
 
 PrototypeFuture request_compiled(const std::shared_ptr<const Program>& program) {
   std::optional<std::string> trigger;
   if (!program->trigger_text.empty()) trigger = program->trigger_text;
-  const uint64_t key = module_source_hash(program->file.text, trigger);
+  // The exact text and trigger: a 64-bit hash could pair a program with another's module.
+  const std::string key = program->file.text + std::string(1, '\0') + (trigger ? "T" + *trigger : "N");
   std::lock_guard<std::mutex> lock(mu);
   auto it = futures->find(key);
   if (it != futures->end()) return it->second;

@@ -1,0 +1,274 @@
+// module_store_test — the module cache trusts nothing it loads (harness/module_store).
+//
+// Each case runs the autumn CLI with AUTUMN_CACHE_DIR (and TMPDIR, where the
+// private fallback cache goes) inside a fresh scratch directory. Compiles cost
+// a second or two each, so the suite compiles two tiny 5x5 programs once, into a
+// pristine cache, and every case tampers with its own copy of that cache; only
+// the cases that must rebuild compile again (through `difftest`, which waits for
+// the module and compares it with the interpreter, so another program's module
+// would show as a divergence).
+#include <dlfcn.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "compiler/emit/emit_module.hpp"
+#include "harness/module_cache.hpp"
+#include "harness/module_store.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using autumn::testing::run_cli;
+
+const char kProgramA[] = R"((program
+  (= GRID_SIZE 5)
+  (object Dot (Cell 0 0 "blue"))
+  (: dot Dot)
+  (= dot (initnext (Dot (Position 1 1)) (prev dot)))
+  (on left (= dot (moveLeftNoCollision (prev dot))))
+  (on right (= dot (moveRightNoCollision (prev dot)))))
+)";
+
+const char kProgramB[] = R"((program
+  (= GRID_SIZE 5)
+  (object Bar (list (Cell 0 0 "red") (Cell 1 0 "red")))
+  (: bar Bar)
+  (= bar (initnext (Bar (Position 2 3)) (prev bar)))
+  (on left (= bar (moveLeftNoCollision (prev bar))))
+  (on up (= bar (moveUpNoCollision (prev bar)))))
+)";
+
+fs::path root() { return fs::temp_directory_path() / ("autumn_module_store_test_" + std::to_string(getpid())); }
+fs::path pristine() { return root() / "pristine"; }
+std::string program(const char* name) { return (root() / name).string(); }
+
+std::string env_for(const fs::path& cache, const fs::path& tmp) {
+  return "AUTUMN_CACHE_DIR=" + cache.string() + " TMPDIR=" + tmp.string();
+}
+
+// The entry of the program whose text is `text`: "<cache>/m<key>" (its .so, its
+// .manifest and its program text m<key>-<digest>.au).
+fs::path entry_of(const fs::path& cache, const std::string& text) {
+  for (const auto& f : autumn::testing::files_in(cache, ".au"))
+    if (autumn::testing::read_text(f) == text) {
+      const std::string stem = f.stem().string();
+      return cache / stem.substr(0, stem.find('-'));
+    }
+  return {};
+}
+
+fs::path with(const fs::path& entry, const std::string& suffix) { return entry.string() + suffix; }
+
+class ModuleStore : public ::testing::Test {
+ protected:
+  // Compiles A and B once into the pristine cache.
+  static void SetUpTestSuite() {
+    fs::remove_all(root());
+    fs::create_directories(root() / "tmp");
+    std::ofstream(root() / "a.au") << kProgramA;
+    std::ofstream(root() / "b.au") << kProgramB;
+    for (const char* p : {"a.au", "b.au"}) {
+      auto r = run_cli("difftest " + program(p) + " --seeds 1 --steps 3", false, env_for(pristine(), root() / "tmp"));
+      ASSERT_EQ(r.status, 0) << r.out;
+    }
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(root(), ec);
+  }
+
+  // A copy of the pristine cache (modes kept) at <case>/cache, and <case>/tmp.
+  fs::path fresh(const std::string& name) {
+    const fs::path dir = root() / name;
+    fs::create_directories(dir / "tmp");
+    fs::copy(pristine(), dir / "cache", fs::copy_options::recursive);
+    return dir;
+  }
+
+  // `run` of A on both engines prints the same frames.
+  static void expect_frames_of_a(const std::string& env) {
+    const std::string run = "run " + program("a.au") + " --actions right,left,left";
+    auto compiled = run_cli(run + " --engine compiled", true, env);
+    auto interp = run_cli(run + " --engine interp", true);
+    EXPECT_EQ(compiled.status, 0);
+    EXPECT_EQ(compiled.out, interp.out);
+  }
+
+  // A tampered entry of A: refused with `reason` on one line, rebuilt, no signal;
+  // afterwards the entry loads without a word.
+  static void expect_rebuilt(const fs::path& dir, const fs::path& so, const std::string& reason) {
+    const std::string env = env_for(dir / "cache", dir / "tmp");
+    auto r = run_cli("difftest " + program("a.au") + " --seeds 1 --steps 3", false, env);
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("0 programs failed"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("autumn: cache entry " + so.string() + " refused ("),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find(reason), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("); rebuilding\n"), std::string::npos) << r.out;
+    auto again = run_cli("run " + program("a.au") + " --engine compiled --steps 1", false, env);
+    EXPECT_EQ(again.status, 0) << again.out;
+    EXPECT_EQ(again.out.find("autumn:"), std::string::npos) << again.out;
+    expect_frames_of_a(env);
+  }
+
+  // An unsafe cache directory is refused; the private fallback under TMPDIR
+  // (holding a copy of the pristine cache) serves A without a compile.
+  static void expect_refused(const fs::path& dir, const fs::path& unsafe, const std::string& reason) {
+    const fs::path fallback = dir / "tmp" / ("autumnc-cache-" + std::to_string(geteuid()));
+    fs::copy(pristine(), fallback, fs::copy_options::recursive);
+    const std::string env = env_for(unsafe, dir / "tmp");
+    auto r = run_cli("run " + program("a.au") + " --engine compiled --steps 1", false, env);
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("autumn: warning: refusing the module cache " + unsafe.string() + " (" + reason +
+                         "); using " + fallback.string() + "\n"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("compiling"), std::string::npos) << r.out;
+    EXPECT_TRUE(fs::is_empty(unsafe)) << "nothing is written into a refused directory";
+    expect_frames_of_a(env);
+  }
+};
+
+mode_t mode_of(const fs::path& p) {
+  struct stat st;
+  EXPECT_EQ(lstat(p.c_str(), &st), 0) << p;
+  return st.st_mode & 07777;
+}
+
+TEST_F(ModuleStore, DirectoriesAre0700AndFiles0600) {
+  ASSERT_FALSE(entry_of(pristine(), kProgramA).empty());
+  ASSERT_FALSE(entry_of(pristine(), kProgramB).empty());
+  EXPECT_EQ(mode_of(pristine()), 0700u);
+  int files = 0;
+  for (const auto& f : fs::directory_iterator(pristine())) {
+    EXPECT_EQ(mode_of(f.path()), 0600u) << f.path();
+    ++files;
+  }
+  EXPECT_EQ(files, 6) << "per program: the module, its manifest and its program text";
+}
+
+TEST_F(ModuleStore, WorldWritableDirectoryRefused) {
+  const fs::path dir = fresh("world_writable"), shared = dir / "shared";
+  fs::create_directories(shared);
+  ASSERT_EQ(chmod(shared.c_str(), 0777), 0);
+  expect_refused(dir, shared, "writable by other users (mode 0777)");
+}
+
+TEST_F(ModuleStore, DirectoryOfAnotherUserRefused) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to give a directory to uid 65534";
+  const fs::path dir = fresh("other_user"), theirs = dir / "theirs";
+  fs::create_directories(theirs);
+  ASSERT_EQ(chmod(theirs.c_str(), 0700), 0);
+  ASSERT_EQ(chown(theirs.c_str(), 65534, 65534), 0);
+  expect_refused(dir, theirs, "owned by uid 65534, not by this user (uid 0)");
+}
+
+TEST_F(ModuleStore, SymlinkedModuleNotFollowed) {
+  const fs::path dir = fresh("symlink");
+  const fs::path so = with(entry_of(dir / "cache", kProgramA), ".so"), elsewhere = dir / "elsewhere.so";
+  fs::rename(so, elsewhere);
+  fs::create_symlink(elsewhere, so);
+  const std::string before = autumn::testing::read_text(elsewhere);
+  expect_rebuilt(dir, so, "a symbolic link (not followed)");
+  EXPECT_FALSE(fs::is_symlink(so));
+  EXPECT_EQ(autumn::testing::read_text(elsewhere), before) << "the link's target is left alone";
+}
+
+TEST_F(ModuleStore, ModuleOfAnotherProgramRefused) {
+  const fs::path dir = fresh("other_program"), cache = dir / "cache";
+  const fs::path a = entry_of(cache, kProgramA), b = entry_of(cache, kProgramB);
+  // B's module, manifest and program text, under A's key.
+  for (const char* suffix : {".so", ".manifest"}) fs::copy_file(with(b, suffix), with(a, suffix), fs::copy_options::overwrite_existing);
+  for (const auto& f : autumn::testing::files_in(cache, ".au"))
+    if (f.string().starts_with(b.string() + "-"))
+      fs::copy_file(f, a.string() + f.string().substr(b.string().size()));
+  expect_rebuilt(dir, with(a, ".so"), "it was built for another program");
+}
+
+TEST_F(ModuleStore, TruncatedModuleRebuilt) {
+  const fs::path dir = fresh("truncated");
+  const fs::path so = with(entry_of(dir / "cache", kProgramA), ".so");
+  fs::resize_file(so, fs::file_size(so) / 2);
+  expect_rebuilt(dir, so, "do not match the digest in its manifest");
+}
+
+TEST_F(ModuleStore, CorruptModuleRebuilt) {
+  const fs::path dir = fresh("corrupt");
+  const fs::path so = with(entry_of(dir / "cache", kProgramA), ".so");
+  std::string bytes = autumn::testing::read_text(so);
+  bytes[bytes.size() / 2] ^= 0x5a;
+  std::ofstream(so, std::ios::binary | std::ios::trunc) << bytes;
+  expect_rebuilt(dir, so, "do not match the digest in its manifest");
+}
+
+// In one process: A's module loaded (and kept), then B's from a new memory file
+// that may get the descriptor number A was loaded from; B must be B, not A's
+// handle again.
+TEST_F(ModuleStore, EveryLoadIsANewLibrary) {
+  const autumn_module_v1* tables[2] = {nullptr, nullptr};
+  std::shared_ptr<void> handles[2];
+  const char* texts[2] = {kProgramA, kProgramB};
+  for (int i = 0; i < 2; ++i) {
+    std::string why;
+    handles[i] = autumn::store::load_from_memory(
+        autumn::testing::read_text(with(entry_of(pristine(), texts[i]), ".so")), "test", &why);
+    ASSERT_TRUE(handles[i]) << why;
+    auto entry = reinterpret_cast<autumn_module_entry_fn>(dlsym(handles[i].get(), "autumn_module_v1_entry"));
+    ASSERT_TRUE(entry);
+    tables[i] = entry();
+    EXPECT_EQ(tables[i]->source_hash, autumn::module_source_hash(texts[i], std::nullopt));
+  }
+  EXPECT_NE(handles[0].get(), handles[1].get());
+}
+
+TEST_F(ModuleStore, StaleTemporariesCleaned) {
+  const fs::path dir = fresh("stale"), cache = dir / "cache";
+  const auto hours_ago = fs::file_time_type::clock::now() - std::chrono::hours(2);
+  for (const char* name : {"m1.9-1.cpp", "m1.9-1.log", "m1.9-1.so.part", "probe.abc123", "m2.9-1.cpp"}) {
+    std::ofstream(cache / name) << "left by a killed compile";
+    if (std::string(name) != "m2.9-1.cpp") fs::last_write_time(cache / name, hours_ago);
+  }
+  auto r = run_cli("run " + program("a.au") + " --engine compiled --steps 1", false, env_for(cache, dir / "tmp"));
+  EXPECT_EQ(r.status, 0) << r.out;
+  for (const char* name : {"m1.9-1.cpp", "m1.9-1.log", "m1.9-1.so.part", "probe.abc123"})
+    EXPECT_FALSE(fs::exists(cache / name)) << name;
+  EXPECT_TRUE(fs::exists(cache / "m2.9-1.cpp")) << "a compile may still be writing a recent one";
+}
+
+TEST_F(ModuleStore, FullDiskIsNamed) {
+  const fs::path full = root() / "full";
+  fs::create_directories(full);
+  if (geteuid() != 0 || std::system(("mount -t tmpfs -o size=48k tmpfs " + full.string() + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "needs root and a tmpfs mount for a full disk";
+  auto r = run_cli("difftest " + program("a.au") + " --seeds 1 --steps 3", false, env_for(full / "cache", root() / "tmp"));
+  EXPECT_EQ(std::system(("umount " + full.string()).c_str()), 0);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("cannot write in " + (full / "cache").string() + ": No space left on device"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("did not compile"), std::string::npos) << r.out;
+}
+
+// Built-in modules are used for the exact text of their program only: each one
+// carries that text, and its table was built from it.
+TEST(BuiltinModules, CarryTheFullTextOfTheirProgram) {
+  const autumn::BuiltinModules builtins = autumn::builtin_modules();
+  ASSERT_GT(builtins.count, 0u);
+  for (size_t i = 0; i < builtins.count; ++i) {
+    const autumn_module_v1* table = builtins.entries[i]();
+    const std::string text(builtins.texts[i]);
+    EXPECT_EQ(text, autumn::testing::read_text(autumn::testing::source_dir() / "programs" /
+                                               (std::string(table->program_name) + ".au")));
+    EXPECT_EQ(table->source_hash, autumn::module_source_hash(text, std::nullopt)) << table->program_name;
+  }
+}
+
+}  // namespace
