@@ -124,7 +124,7 @@ std::string read_all(int fd, size_t size, std::string* bytes) {
   bytes->assign(size, '\0');
   size_t done = 0;
   while (done < size) {
-    const ssize_t n = read(fd, bytes->data() + done, size - done);
+    const ssize_t n = ::read(fd, bytes->data() + done, size - done);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) return errno_text();
     if (n == 0) break;  // shrank while being read

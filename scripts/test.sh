@@ -45,6 +45,7 @@ stage() {  # stage NAME COMMAND...: runs COMMAND, records its wall time
 }
 report() {
   local status=$?
+  [ -n "${sanitize_build:-}" ] && kill -- -"$sanitize_build" 2>/dev/null || true
   echo
   echo "== stage times (wall clock)"
   for s in "${stages[@]}"; do echo "  $s"; done
@@ -62,10 +63,24 @@ if [ "$quick" = 1 ]; then
   stage "ctest -L quick (release)" bash -c 'cd build && ctest --output-on-failure -j2 -L quick --output-junit ctest-junit.xml'
   exit 0
 fi
+# The sanitizer tree (its tests and the fuzz targets) builds beside the release
+# tests at the lowest priority: it takes the CPU those tests leave idle (while
+# they wait on a module compile, a pipe, a sleeping thread) and nothing more.
+bash scripts/sanitize.sh configure
+sanitize_log=build-fuzz/background-build.log
+setsid nice -n 19 ninja -C build-fuzz -j2 autumn_tests autumn autumnc fuzz_frontend fuzz_interp fuzz_emit fuzz_task \
+    > "$sanitize_log" 2>&1 &
+sanitize_build=$!  # its own process group: a failed run stops it (report)
+finish_sanitize_build() {
+  if ! wait $sanitize_build; then
+    echo "the ASan+UBSan tree did not build; the end of $sanitize_log:" >&2
+    tail -40 "$sanitize_log" >&2
+    return 1
+  fi
+}
 stage "ctest (release, every test)" bash -c 'cd build && ctest --output-on-failure -j2 --output-junit ctest-junit.xml'
-stage "build (ASan+UBSan tree)" bash scripts/sanitize.sh build
+stage "build (ASan+UBSan tree): the rest" finish_sanitize_build
 stage "ctest under ASan+UBSan" bash scripts/sanitize.sh test
-stage "build (fuzz targets)" nice -n 5 ninja -C build-fuzz fuzz_frontend fuzz_interp fuzz_emit fuzz_task
 fuzz_pair() {  # two targets at once, one core each; both must pass
   local s1=0 s2=0
   AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh "$1" "${AUTUMN_FUZZ_SECONDS:-40}" > "build-fuzz/fuzz-$1.out" 2>&1 &

@@ -14,18 +14,6 @@
 #include "compiler/lower/specialise.hpp"
 
 namespace autumn::lower {
-namespace {
-
-ir::Stmt* detached(Specialiser& sp, ir::SK k) {
-  bool was = sp.dead_;
-  sp.dead_ = true;
-  ir::Stmt* s = sp.emit(k);
-  sp.dead_ = was;
-  return s;
-}
-
-}  // namespace
-
 // ---------------------------------------------------------------------------
 // Argument checks (the interpreter's need/list_arg/func_arg/num_arg)
 
@@ -173,7 +161,7 @@ SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, c
   (void)a;
   (void)at;
   SVal src = let(l, "src");
-  ir::Stmt* loop = detached(*this, ir::SK::ForEach);
+  ir::Stmt* loop = emit_detached(ir::SK::ForEach);
   loop->var = var(l.type->elem, "x");
   loop->a = src.code;
   SVal x{l.type->elem, local(loop->var)};

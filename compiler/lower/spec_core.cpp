@@ -101,6 +101,14 @@ ir::Stmt* Specialiser::emit(ir::SK k) {
   return s;
 }
 
+ir::Stmt* Specialiser::emit_detached(ir::SK k) {
+  const bool was = dead_;
+  dead_ = true;  // emit() builds it without attaching
+  ir::Stmt* s = emit(k);
+  dead_ = was;
+  return s;
+}
+
 void Specialiser::emit_set(ir::Node* place, ir::Node* value) {
   if (place->op != ir::Op::Local) ++effects_;
   ir::Stmt* s = emit(ir::SK::Set);

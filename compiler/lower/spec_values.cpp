@@ -28,13 +28,6 @@ namespace {
 void attach(Specialiser& sp, ir::Stmt* s) {
   if (!sp.dead_) sp.block_->push_back(s);
 }
-ir::Stmt* detached(Specialiser& sp, ir::SK k) {
-  bool was = sp.dead_;
-  sp.dead_ = true;  // emit() builds it without attaching
-  ir::Stmt* s = sp.emit(k);
-  sp.dead_ = was;
-  return s;
-}
 }  // namespace
 
 // Runs each producer in its own block, then declares the result (the join of
@@ -75,7 +68,7 @@ static SVal join_blocks(Specialiser& sp, ir::Stmt* stmt, std::vector<ir::Block*>
 
 SVal Specialiser::join_branches(ir::Node* cond, const std::function<SVal()>& then_f,
                                 const std::function<SVal()>& else_f, bool value_used) {
-  ir::Stmt* s = detached(*this, ir::SK::If);
+  ir::Stmt* s = emit_detached(ir::SK::If);
   s->a = cond;
   return join_blocks(*this, s, {&s->body, &s->other}, {then_f, else_f}, value_used, true);
 }
@@ -90,7 +83,7 @@ SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f
     ~Depth() { --d; }
   } depth(split_depth_);
   SVal x = let(v, "u");
-  ir::Stmt* s = detached(*this, ir::SK::Switch);
+  ir::Stmt* s = emit_detached(ir::SK::Switch);
   s->a = x.code;
   std::vector<ir::Block*> blocks;
   std::vector<std::function<SVal()>> producers;

@@ -129,6 +129,7 @@ class Specialiser {
   ir::Node* call(ir::Helper h, TypeP t, std::vector<ir::Node*> a);
   ir::Var* var(TypeP t, const std::string& hint);
   ir::Stmt* emit(ir::SK k);
+  ir::Stmt* emit_detached(ir::SK k);  // built, not attached to the current block
   void emit_set(ir::Node* place, ir::Node* value);
   void emit_eval(ir::Node* n);
   void emit_push(ir::Node* list, ir::Node* value);  // value computed (and emitted) before
