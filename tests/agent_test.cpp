@@ -657,6 +657,7 @@ TEST(AgentPlanning, FocusedSetsKeepTheModeButtons) {
   ThreadPool pool(2);
   SolveOptions o;
   o.nodes = 500'000;
+  o.engine = "compiled";  // the same search; the interpreter took a minute for it
   PlanResult r = solve_planning(task, o, pool);
   ASSERT_TRUE(r.found) << planning_summary(r);
   EXPECT_EQ(r.method, "bfs, clicks on the cells the goal changes") << planning_summary(r);
@@ -715,6 +716,7 @@ TEST(AgentPlanning, ReachingClicksWaitForSlowEffects) {
   SolveOptions o;
   o.nodes = 200'000;
   o.depth = 12;
+  o.engine = "compiled";  // the same search, faster than on the interpreter
   PlanProblem p(task, o, pool);
   const std::vector<uint32_t> changed = p.goal().differing(p.frame_of(p.root()));
   ASSERT_EQ(changed.size(), 1u) << "the rock at (14, 14)";
@@ -920,6 +922,7 @@ TEST(AgentPlanning, SkeletonSearchEndsWhenAnOfferIsCompleted) {
   o.max_plan = 12;  // skeletons of 12 steps: a quicker test
   o.time_limit = 0;
   o.search = "skeleton";
+  o.engine = "compiled";  // the same search, faster than on the interpreter
   ThreadPool two(2), one(1);
   const PlanResult r = solve_planning(task, o, two);
   ASSERT_TRUE(r.found) << planning_summary(r);
@@ -1412,7 +1415,9 @@ TEST(AgentCli, SolveAndErrors) {
 
 TEST(AgentCli, BenchAgentPrintsFigures) {
   const std::string program = (autumn::testing::source_dir() / "programs" / "whack_a_mole.au").string();
-  CliRun j = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --json");
+  // --seconds 60: the BFS runs end on their 20,000 nodes, not on the default
+  // 10 s, which a machine loaded by a parallel build once cut to no node at all.
+  CliRun j = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60 --json");
   ASSERT_EQ(j.status, 0) << j.out;
   // The output also holds the progress bar (stderr); the JSON is the last line.
   const size_t brace = j.out.rfind("\n{");
@@ -1425,7 +1430,7 @@ TEST(AgentCli, BenchAgentPrintsFigures) {
   EXPECT_LE(row["bfs_nodes_1_thread"].get<uint64_t>(), 20000u + 65536u) << "the budget is checked per chunk";
   EXPECT_GE(row["bfs_depth_done"].get<int>(), 1);
   EXPECT_GT(row["bfs_nodes_per_s_1_thread"].get<double>(), 0);
-  CliRun text = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000");
+  CliRun text = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60");
   ASSERT_EQ(text.status, 0) << text.out;
   EXPECT_NE(text.out.find("bfs successors per second on one thread"), std::string::npos) << text.out;
   CliRun none = cli("bench-agent " + program + " --grid 7");
