@@ -8,7 +8,8 @@
 # tests again under AddressSanitizer and UndefinedBehaviorSanitizer
 # (scripts/sanitize.sh, a clang-14 tree) and a short run of every libFuzzer
 # target under both sanitizers (scripts/fuzz.sh, AUTUMN_FUZZ_SECONDS each,
-# default 40; two targets at a time, one core each). Ends with the time of each
+# default 40; two targets at a time, one core each; state alone for
+# AUTUMN_FUZZ_STATE_SECONDS, default 15). Ends with the time of each
 # stage and the ten slowest tests.
 #
 # --quick: the inner loop. The release build and the tests labelled "quick"
@@ -65,7 +66,7 @@ fi
 stage "ctest (release, every test)" bash -c 'cd build && ctest --output-on-failure -j2 --output-junit ctest-junit.xml'
 stage "build (ASan+UBSan tree)" bash scripts/sanitize.sh build
 stage "ctest under ASan+UBSan" bash scripts/sanitize.sh test
-stage "build (fuzz targets)" nice -n 5 ninja -C build-fuzz fuzz_frontend fuzz_interp fuzz_emit fuzz_task
+stage "build (fuzz targets)" nice -n 5 ninja -C build-fuzz fuzz_frontend fuzz_interp fuzz_emit fuzz_task fuzz_state
 fuzz_pair() {  # two targets at once, one core each; both must pass
   local s1=0 s2=0
   AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh "$1" "${AUTUMN_FUZZ_SECONDS:-40}" > "build-fuzz/fuzz-$1.out" 2>&1 &
@@ -79,3 +80,5 @@ fuzz_pair() {  # two targets at once, one core each; both must pass
 }
 stage "fuzz smoke: frontend + interp" fuzz_pair frontend interp
 stage "fuzz smoke: emit + task" fuzz_pair emit task
+# Snapshot loading is cheap per input (thousands a second): a short run alone.
+stage "fuzz smoke: state" env AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh state "${AUTUMN_FUZZ_STATE_SECONDS:-15}"
