@@ -227,3 +227,37 @@ def test_set_state_refuses_corrupt_bytes(stdlib):
             i.step()
     i.set_state(state)  # the good state still loads after all that
     assert i.state_hash() == h
+
+
+def test_vecenv_used_from_two_threads_raises():
+    """step() releases the GIL: another thread calling the same VecEnv meanwhile
+    gets a clear RuntimeError (before: a segfault or a deadlock)."""
+    vec = autumnc.VecEnv(FIREWORKS, 4096, num_threads=2)
+    acts = np.zeros(4096, dtype=np.int64)
+    done = threading.Event()
+
+    def stepper():
+        for _ in range(40):
+            vec.step(acts)
+        done.set()
+
+    t = threading.Thread(target=stepper)
+    t.start()
+    refused = 0
+    try:
+        while not done.is_set() and not refused:
+            try:
+                vec.state_hash()
+            except RuntimeError as e:
+                assert "in use by another thread" in str(e)
+                refused += 1
+    finally:
+        t.join()
+    assert refused >= 1
+    vec.step(acts)  # usable again once the other call has returned
+
+
+def test_vecenv_too_many_envs_is_memory_error():
+    with pytest.raises(MemoryError, match="num_envs=10000000"):
+        autumnc.VecEnv(SOKOBAN, 10**7)
+    assert autumnc.VecEnv(SOKOBAN, 3).num_envs == 3
