@@ -1476,7 +1476,7 @@ struct Prog {
     (void)paint;
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
     const std::vector<C1_Block>& g1 = s.g_stack_12;
     {
       const auto& x2_list = g1;
@@ -1485,7 +1485,7 @@ struct Prog {
         const int32_t colour3 = colour_1_C1_Block(s, x2);
         const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
         s.core.occupied.add(e4.position);
-        ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
+        ++s.core.rendered, paint ? paint->paint(e4.position, colour_of(pal, e4.color)) : void();
       }
     }
     const C0_Piece& g5 = s.g_piece_8;
@@ -1497,7 +1497,7 @@ struct Prog {
       charge_loop(s.core, 64, int64_t(e7_list.size()));
       for (const Elem& e7 : e7_list) {
         s.core.occupied.add(e7.position);
-        ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
+        ++s.core.rendered, paint ? paint->paint(e7.position, colour_of(pal, e7.color)) : void();
       }
     }
   }

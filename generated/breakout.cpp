@@ -1295,21 +1295,21 @@ struct Prog {
     (void)paint;
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
     const C0_Paddle& g1 = s.g_paddle_25;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e2.position);
-    ++s.core.rendered, paint ? paint->paint(e2.position, pal[e2.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e2.position, colour_of(pal, e2.color)) : void();
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e4.position);
-    ++s.core.rendered, paint ? paint->paint(e4.position, pal[e4.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e4.position, colour_of(pal, e4.color)) : void();
     const C1_Ball& g5 = s.g_ball_21;
     const Elem e6 = Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e6.position);
-    ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e6.position, colour_of(pal, e6.color)) : void();
     const std::vector<C2_Brick>& g7 = s.g_bricks_17;
     {
       const auto& x8_list = g7;
@@ -1318,22 +1318,22 @@ struct Prog {
         const int32_t colour9 = colour_3_C2_Brick(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
         s.core.occupied.add(e10.position);
-        ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
+        ++s.core.rendered, paint ? paint->paint(e10.position, colour_of(pal, e10.color)) : void();
       }
     }
     const C3_Hearts& g11 = s.g_hud_9;
     const int32_t colour12 = colour_0_C3_Hearts(s, g11);
     const Elem e13 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
-    ++s.core.rendered, paint ? paint->paint(e13.position, pal[e13.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e13.position, colour_of(pal, e13.color)) : void();
     const int32_t colour14 = colour_1_C3_Hearts(s, g11);
     const Elem e15 = Elem{Pos{add(g11.origin.x, int32_t(1)), add(g11.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
-    ++s.core.rendered, paint ? paint->paint(e15.position, pal[e15.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e15.position, colour_of(pal, e15.color)) : void();
     const int32_t colour16 = colour_2_C3_Hearts(s, g11);
     const Elem e17 = Elem{Pos{add(g11.origin.x, int32_t(2)), add(g11.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e17.position, colour_of(pal, e17.color)) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -1163,22 +1163,22 @@ struct Prog {
     (void)paint;
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
     const C1_Sun& g1 = s.g_sun_23;
     const int32_t colour2 = colour_16_C1_Sun(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
     const C0_Cloud& g4 = s.g_cloud_19;
     const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(-1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e5.position);
-    ++s.core.rendered, paint ? paint->paint(e5.position, pal[e5.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e5.position, colour_of(pal, e5.color)) : void();
     const Elem e6 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e6.position);
-    ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e6.position, colour_of(pal, e6.color)) : void();
     const Elem e7 = Elem{Pos{add(g4.origin.x, int32_t(1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e7.position);
-    ++s.core.rendered, paint ? paint->paint(e7.position, pal[e7.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e7.position, colour_of(pal, e7.color)) : void();
     const std::vector<C3_Plant>& g8 = s.g_plants_15;
     {
       const auto& x9_list = g8;
@@ -1187,7 +1187,7 @@ struct Prog {
         const int32_t colour10 = colour_12_C3_Plant(s, x9);
         const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
         s.core.occupied.add(e11.position);
-        ++s.core.rendered, paint ? paint->paint(e11.position, pal[e11.color]) : void();
+        ++s.core.rendered, paint ? paint->paint(e11.position, colour_of(pal, e11.color)) : void();
       }
     }
     const std::vector<C2_Drop>& g12 = s.g_drops_11;
@@ -1197,58 +1197,58 @@ struct Prog {
       for (const C2_Drop& x13 : x13_list) {
         const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(12)};
         s.core.occupied.add(e14.position);
-        ++s.core.rendered, paint ? paint->paint(e14.position, pal[e14.color]) : void();
+        ++s.core.rendered, paint ? paint->paint(e14.position, colour_of(pal, e14.color)) : void();
       }
     }
     const C4_Basket& g15 = s.g_basket_7;
     const int32_t colour16 = colour_0_C4_Basket(s, g15);
     const Elem e17 = Elem{Pos{add(g15.origin.x, int32_t(0)), add(g15.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered, paint ? paint->paint(e17.position, pal[e17.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e17.position, colour_of(pal, e17.color)) : void();
     const int32_t colour18 = colour_1_C4_Basket(s, g15);
     const Elem e19 = Elem{Pos{add(g15.origin.x, int32_t(1)), add(g15.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
-    ++s.core.rendered, paint ? paint->paint(e19.position, pal[e19.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e19.position, colour_of(pal, e19.color)) : void();
     const int32_t colour20 = colour_2_C4_Basket(s, g15);
     const Elem e21 = Elem{Pos{add(g15.origin.x, int32_t(2)), add(g15.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
-    ++s.core.rendered, paint ? paint->paint(e21.position, pal[e21.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e21.position, colour_of(pal, e21.color)) : void();
     const int32_t colour22 = colour_3_C4_Basket(s, g15);
     const Elem e23 = Elem{Pos{add(g15.origin.x, int32_t(3)), add(g15.origin.y, int32_t(0))}, colour22};
     s.core.occupied.add(e23.position);
-    ++s.core.rendered, paint ? paint->paint(e23.position, pal[e23.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e23.position, colour_of(pal, e23.color)) : void();
     const int32_t colour24 = colour_4_C4_Basket(s, g15);
     const Elem e25 = Elem{Pos{add(g15.origin.x, int32_t(4)), add(g15.origin.y, int32_t(0))}, colour24};
     s.core.occupied.add(e25.position);
-    ++s.core.rendered, paint ? paint->paint(e25.position, pal[e25.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e25.position, colour_of(pal, e25.color)) : void();
     const int32_t colour26 = colour_5_C4_Basket(s, g15);
     const Elem e27 = Elem{Pos{add(g15.origin.x, int32_t(5)), add(g15.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
-    ++s.core.rendered, paint ? paint->paint(e27.position, pal[e27.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e27.position, colour_of(pal, e27.color)) : void();
     const int32_t colour28 = colour_6_C4_Basket(s, g15);
     const Elem e29 = Elem{Pos{add(g15.origin.x, int32_t(6)), add(g15.origin.y, int32_t(0))}, colour28};
     s.core.occupied.add(e29.position);
-    ++s.core.rendered, paint ? paint->paint(e29.position, pal[e29.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e29.position, colour_of(pal, e29.color)) : void();
     const int32_t colour30 = colour_7_C4_Basket(s, g15);
     const Elem e31 = Elem{Pos{add(g15.origin.x, int32_t(7)), add(g15.origin.y, int32_t(0))}, colour30};
     s.core.occupied.add(e31.position);
-    ++s.core.rendered, paint ? paint->paint(e31.position, pal[e31.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e31.position, colour_of(pal, e31.color)) : void();
     const int32_t colour32 = colour_8_C4_Basket(s, g15);
     const Elem e33 = Elem{Pos{add(g15.origin.x, int32_t(8)), add(g15.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
-    ++s.core.rendered, paint ? paint->paint(e33.position, pal[e33.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e33.position, colour_of(pal, e33.color)) : void();
     const int32_t colour34 = colour_9_C4_Basket(s, g15);
     const Elem e35 = Elem{Pos{add(g15.origin.x, int32_t(9)), add(g15.origin.y, int32_t(0))}, colour34};
     s.core.occupied.add(e35.position);
-    ++s.core.rendered, paint ? paint->paint(e35.position, pal[e35.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e35.position, colour_of(pal, e35.color)) : void();
     const int32_t colour36 = colour_10_C4_Basket(s, g15);
     const Elem e37 = Elem{Pos{add(g15.origin.x, int32_t(10)), add(g15.origin.y, int32_t(0))}, colour36};
     s.core.occupied.add(e37.position);
-    ++s.core.rendered, paint ? paint->paint(e37.position, pal[e37.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e37.position, colour_of(pal, e37.color)) : void();
     const int32_t colour38 = colour_11_C4_Basket(s, g15);
     const Elem e39 = Elem{Pos{add(g15.origin.x, int32_t(11)), add(g15.origin.y, int32_t(0))}, colour38};
     s.core.occupied.add(e39.position);
-    ++s.core.rendered, paint ? paint->paint(e39.position, pal[e39.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e39.position, colour_of(pal, e39.color)) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;

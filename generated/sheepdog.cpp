@@ -1899,7 +1899,7 @@ struct Prog {
     (void)paint;
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, pal[s.g_background_2]);
+    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
     const std::vector<C0_Fence>& g1 = s.g_fences_19;
     {
       const auto& x2_list = g1;
@@ -1907,7 +1907,7 @@ struct Prog {
       for (const C0_Fence& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
         s.core.occupied.add(e3.position);
-        ++s.core.rendered, paint ? paint->paint(e3.position, pal[e3.color]) : void();
+        ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
       }
     }
     const std::vector<C1_Flag>& g4 = s.g_flags_11;
@@ -1917,7 +1917,7 @@ struct Prog {
       for (const C1_Flag& x5 : x5_list) {
         const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
         s.core.occupied.add(e6.position);
-        ++s.core.rendered, paint ? paint->paint(e6.position, pal[e6.color]) : void();
+        ++s.core.rendered, paint ? paint->paint(e6.position, colour_of(pal, e6.color)) : void();
       }
     }
     const std::vector<C2_Sheep>& g7 = s.g_sheep_7;
@@ -1928,13 +1928,13 @@ struct Prog {
         const int32_t colour9 = colour_0_C2_Sheep(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
         s.core.occupied.add(e10.position);
-        ++s.core.rendered, paint ? paint->paint(e10.position, pal[e10.color]) : void();
+        ++s.core.rendered, paint ? paint->paint(e10.position, colour_of(pal, e10.color)) : void();
       }
     }
     const C3_Dog& g11 = s.g_dog_15;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(0)};
     s.core.occupied.add(e12.position);
-    ++s.core.rendered, paint ? paint->paint(e12.position, pal[e12.color]) : void();
+    ++s.core.rendered, paint ? paint->paint(e12.position, colour_of(pal, e12.color)) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -193,6 +193,16 @@ class Occupancy {
   mutable bool sorted_ = true;
 };
 
+// A string id as a palette id: ids come from the program's literals, but a
+// loaded snapshot may carry any number, so the lookup is checked.
+[[noreturn, gnu::cold, gnu::noinline]] inline void fail_string_id(int32_t id) {
+  fail("string id " + std::to_string(id) + " is not a string of this program (a corrupt state)");
+}
+inline uint16_t colour_of(const std::vector<uint16_t>& pal, int32_t id) {
+  if (__builtin_expect(static_cast<uint32_t>(id) >= pal.size(), 0)) fail_string_id(id);
+  return pal[static_cast<uint32_t>(id)];
+}
+
 // Paints frames incrementally: cells painted by the previous render are reset to
 // the background, then the new cells are painted, so a render costs what it
 // draws rather than the whole grid. The result is identical to a full repaint.
@@ -510,9 +520,13 @@ void save_value(SnapshotWriter& w, const std::vector<T>& v) {
 }
 inline void load_value(SnapshotReader& r, int32_t& v) { r.raw(v); }
 inline void load_value(SnapshotReader& r, uint8_t& v) { r.raw(v); }
+[[noreturn]] inline void corrupt_snapshot(const char* what) {
+  throw std::runtime_error(std::string("corrupt state snapshot (") + what + ")");
+}
 inline void load_value(SnapshotReader& r, bool& v) {
   uint8_t b = 0;
   r.raw(b);
+  if (b > 1) corrupt_snapshot("a truth value is neither 0 nor 1");
   v = b != 0;
 }
 inline void load_value(SnapshotReader& r, Pos& p) {
@@ -536,7 +550,7 @@ void load_alternative(SnapshotReader& r, V& v, size_t index) {
     }
     load_alternative<V, I + 1>(r, v, index);
   } else {
-    throw std::runtime_error("corrupt state snapshot");
+    corrupt_snapshot("a variant tag out of range");
   }
 }
 template <class... T>
@@ -549,7 +563,7 @@ template <class T>
 void load_value(SnapshotReader& r, std::vector<T>& v) {
   uint32_t n = 0;
   r.raw(n);
-  if (n > static_cast<size_t>(r.end - r.p)) throw std::runtime_error("corrupt state snapshot");
+  if (n > static_cast<size_t>(r.end - r.p)) corrupt_snapshot("a list longer than the snapshot");
   v.resize(n);
   if constexpr (std::is_same_v<T, bool>) {  // std::vector<bool> has no bool& elements
     for (uint32_t i = 0; i < n; ++i) {
@@ -580,7 +594,21 @@ inline void save_core(SnapshotWriter& w, const Core& c) {
     w.raw(turns);
   }
 }
-inline void load_core(SnapshotReader& r, Core& c) {
+// A table of (key, value) pairs, strictly increasing by key (lookups bisect it).
+inline std::vector<std::pair<uint32_t, uint32_t>> load_sorted_pairs(SnapshotReader& r, const char* what) {
+  uint32_t n = 0;
+  r.raw(n);
+  if (n > static_cast<size_t>(r.end - r.p) / 8) corrupt_snapshot(what);
+  std::vector<std::pair<uint32_t, uint32_t>> out(n);
+  for (size_t i = 0; i < out.size(); ++i) {
+    r.raw(out[i].first);
+    r.raw(out[i].second);
+    if (i > 0 && out[i].first <= out[i - 1].first) corrupt_snapshot(what);
+  }
+  return out;
+}
+// Validates as it reads; `on_clauses` is the program's count (the covered flags).
+inline void load_core(SnapshotReader& r, Core& c, int on_clauses) {
   uint32_t rng = 0;
   r.raw(rng);
   c.rng.set_state(rng);
@@ -589,26 +617,15 @@ inline void load_core(SnapshotReader& r, Core& c) {
   load_value(r, c.click_y);
   load_value(r, c.have_prev);
   load_value(r, c.covered);
+  if (c.covered.size() != static_cast<size_t>(on_clauses)) corrupt_snapshot("on-clause count");
+  for (uint8_t f : c.covered)
+    if (f > 1) corrupt_snapshot("an on-clause flag is neither 0 nor 1");
   load_value(r, c.triggered);
-  uint32_t next = 0, n = 0;
+  uint32_t next = 0;
   r.raw(next);
-  r.raw(n);
-  if (n > static_cast<size_t>(r.end - r.p) / 8) throw std::runtime_error("corrupt state snapshot");
-  std::vector<std::pair<uint32_t, uint32_t>> remap(n);
-  for (auto& [uid, id] : remap) {
-    r.raw(uid);
-    r.raw(id);
-  }
+  auto remap = load_sorted_pairs(r, "identity table");
   c.ids.restore(next, std::move(remap));
-  uint32_t groups = 0;
-  r.raw(groups);
-  if (groups > static_cast<size_t>(r.end - r.p) / 8) throw std::runtime_error("corrupt state snapshot");
-  std::vector<std::pair<uint32_t, uint32_t>> turns(groups);
-  for (auto& [group, t] : turns) {
-    r.raw(group);
-    r.raw(t);
-  }
-  c.rot.restore(std::move(turns));
+  c.rot.restore(load_sorted_pairs(r, "rotation table"));
 }
 
 // The global map's key order, kept at run time by a program that defines globals
@@ -642,24 +659,27 @@ inline void save_value(SnapshotWriter& w, const GlobalOrder& o) {
     w.raw(o.map.hash_of(k));
   });
 }
+// Symbol numbers index the order's tables: a loaded one is bounded first.
+constexpr int32_t kMaxOrderKey = 1 << 20;
 inline void load_value(SnapshotReader& r, GlobalOrder& o) {
   uint64_t buckets = 0, resize = 0;
   uint32_t n = 0;
   r.raw(buckets);
   r.raw(resize);
   r.raw(n);
-  if (n > static_cast<size_t>(r.end - r.p) / 12) throw std::runtime_error("corrupt state snapshot");
+  if (n > static_cast<size_t>(r.end - r.p) / 12) corrupt_snapshot("global order");
   std::vector<std::pair<int, uint64_t>> keys(n);
   for (auto& [k, hash] : keys) {
     int32_t key = 0;
     r.raw(key);
     r.raw(hash);
+    if (key < 0 || key >= kMaxOrderKey) corrupt_snapshot("a global's symbol out of range");
     k = key;
   }
   try {
     o.map.restore(buckets, resize, keys);
   } catch (const std::invalid_argument&) {
-    throw std::runtime_error("corrupt state snapshot");
+    corrupt_snapshot("global order");
   }
 }
 
@@ -724,7 +744,7 @@ class CompiledEnvironment : public Environment {
   bool load_state(const uint8_t* data, size_t size) override {
     return guarded([&] {
       SnapshotReader r{data, data + size};
-      load_core(r, state_.core);
+      load_core(r, state_.core, P::kOnClauses);
       P::load(state_, r);
       if (r.p != r.end) throw std::runtime_error("state snapshot has trailing bytes");
       painter_.bind(&frame_);

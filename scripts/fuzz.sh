@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # fuzz.sh TARGET SECONDS [libFuzzer options...] — runs one libFuzzer target of
-# fuzz/ (frontend, interp, emit, task; or "all", SECONDS each) under ASan and
+# fuzz/ (frontend, interp, emit, task, state; or "all", SECONDS each) under ASan and
 # UBSan for SECONDS, in the clang-14 tree build-fuzz/ (configured and built on
 # demand; the same tree serves scripts/sanitize.sh).
 #
 # Seeds: programs/ and tests/ (and ../shared/conformance/programs when present)
 # for the program targets, with a few actions appended for interp; tasks/ and
-# tests/ JSON for task. The corpus grows in build-fuzz/corpus/TARGET between
+# tests/ JSON for task; for state, a few picks of module, steps and mutation
+# (fuzz_state.cpp builds the valid snapshots itself). The corpus grows in build-fuzz/corpus/TARGET between
 # runs; a crash leaves its input in build-fuzz/artifacts/TARGET/ and the script
 # fails (exit 1). For emit, the modules of a sample of the corpus are then
 # compiled with the project's compiler (FUZZ_COMPILE_SAMPLE files, default 12):
@@ -22,10 +23,10 @@ shift 2
 tree=build-fuzz
 
 if [ "$target" = all ]; then
-  for t in frontend interp emit task; do bash "$0" "$t" "$seconds" "$@"; done
+  for t in frontend interp emit task state; do bash "$0" "$t" "$seconds" "$@"; done
   exit 0
 fi
-case "$target" in frontend|interp|emit|task) ;; *) echo "fuzz.sh: unknown target '$target'" >&2; exit 2 ;; esac
+case "$target" in frontend|interp|emit|task|state) ;; *) echo "fuzz.sh: unknown target '$target'" >&2; exit 2 ;; esac
 
 # AUTUMN_FUZZ_PREBUILT=1 (scripts/test.sh, which runs two targets at once):
 # the targets are built already; two ninja runs must not share one tree.
@@ -51,6 +52,15 @@ case "$target" in
     # PROGRAM, five actions (noop, left, click, up, right), then the count byte.
     program_seeds | while read -r f; do
       { cat "$f"; printf '\000\001\005\003\002\005'; } > "$seeds/p$((i++))"
+    done ;;
+  state)
+    # Per built-in module (byte 0) and step count (byte 1): its valid snapshot
+    # unchanged (edit mode, no edits) and cut to 32 bytes with 0xff appended.
+    for m in $(seq 0 11); do
+      for s in 0 3 7; do
+        printf "\\$(printf %o "$m")\\$(printf %o "$s")\000" > "$seeds/m$m-$s"
+        printf "\\$(printf %o "$m")\\$(printf %o "$s")\001\040\000\377" > "$seeds/c$m-$s"
+      done
     done ;;
   task)
     find tasks tests -name '*.json' | while read -r f; do cp "$f" "$seeds/t$((i++))"; done

@@ -8,7 +8,8 @@
 # tests again under AddressSanitizer and UndefinedBehaviorSanitizer
 # (scripts/sanitize.sh, a clang-14 tree) and a short run of every libFuzzer
 # target under both sanitizers (scripts/fuzz.sh, AUTUMN_FUZZ_SECONDS each,
-# default 40; two targets at a time, one core each). Ends with the time of each
+# default 40; two targets at a time, one core each; state alone for
+# AUTUMN_FUZZ_STATE_SECONDS, default 15). Ends with the time of each
 # stage and the ten slowest tests.
 #
 # --quick: the inner loop. The release build and the tests labelled "quick"
@@ -68,7 +69,7 @@ fi
 # they wait on a module compile, a pipe, a sleeping thread) and nothing more.
 bash scripts/sanitize.sh configure
 sanitize_log=build-fuzz/background-build.log
-setsid nice -n 19 ninja -C build-fuzz -j2 autumn_tests autumn autumnc fuzz_frontend fuzz_interp fuzz_emit fuzz_task \
+setsid nice -n 19 ninja -C build-fuzz -j2 autumn_tests autumn autumnc fuzz_frontend fuzz_interp fuzz_emit fuzz_task fuzz_state \
     > "$sanitize_log" 2>&1 &
 sanitize_build=$!  # its own process group: a failed run stops it (report)
 finish_sanitize_build() {
@@ -94,3 +95,5 @@ fuzz_pair() {  # two targets at once, one core each; both must pass
 }
 stage "fuzz smoke: frontend + interp" fuzz_pair frontend interp
 stage "fuzz smoke: emit + task" fuzz_pair emit task
+# Snapshot loading is cheap per input (thousands a second): a short run alone.
+stage "fuzz smoke: state" env AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh state "${AUTUMN_FUZZ_STATE_SECONDS:-15}"

@@ -202,6 +202,23 @@ TEST(AgentThreadPool, RunsEveryIndexOnceAndRethrows) {
   EXPECT_GE(ThreadPool(0).size(), 1u);
 }
 
+// A thread the system refuses: a clear error, the workers already started are
+// joined (before, the half-built pool terminated or hung), and pools work after.
+TEST(AgentThreadPool, RefusedThreadIsAnErrorNotAHang) {
+  ThreadPool::fail_worker_for_testing = 3;
+  try {
+    ThreadPool pool(6);
+    ADD_FAILURE() << "the fourth thread was refused; the pool must not exist";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot start thread 4 of 6"), std::string::npos) << e.what();
+  }
+  ThreadPool::fail_worker_for_testing = 0;
+  ThreadPool pool(3);
+  std::atomic<int> sum{0};
+  pool.parallel_for(10, [&](size_t i) { sum += static_cast<int>(i); });
+  EXPECT_EQ(sum.load(), 45);
+}
+
 // ------------------------------------------------------------------ task files
 
 TEST(AgentTaskFile, ColourTableParsesAutumnBenchYaml) {

@@ -14,8 +14,8 @@
 # search on two threads reserve two of ctest's -j slots (PROCESSORS 2).
 
 set(rules
-  "^(HashOrder|Parser|Diagnostics|Lint|IrPasses|ModuleKey|SnapshotHash|Limits|Generated|WarmStart)\\.|quick"
-  "^(Reader|Files/Diagnostic|Traces/Conformance|Programs/CorpusProgram|Programs/Snapshot)[./]|quick"
+  "^(HashOrder|Parser|Diagnostics|Lint|IrPasses|ModuleKey|SnapshotHash|StateValidationMisc|Limits|Generated|WarmStart)\\.|quick"
+  "^(Reader|Files/Diagnostic|Traces/Conformance|Programs/CorpusProgram|Programs/Snapshot|Builtin/StateValidation)[./]|quick"
   "^Guide\\.Reference|quick"
   "^(Files/LoweringFile|EmitBytes|CompiledEngine)[./]|quick,compiled"
   "^Agent(Particles|ThreadPool|TaskFile|Score|ClickModel|Eval|CdPairs|MakeCd|DrawSearch)\\.|quick,agent"

@@ -179,9 +179,9 @@ std::string Printer::helper(const Node* n) {
     case Helper::StrOfStr: return "std::string(kStrings[" + arg(0) + "])";
     case Helper::OccupancyClear: return "s.core.occupied.clear(kGrid), s.core.rendered = 0";
     case Helper::OccupancyAdd: return "s.core.occupied.add(" + arg(0) + ")";
-    case Helper::PaintBegin: return "if (paint) paint->begin(kGrid, pal[" + arg(0) + "])";
+    case Helper::PaintBegin: return "if (paint) paint->begin(kGrid, colour_of(pal, " + arg(0) + "))";
     case Helper::Paint:  // counted for cacheRendered (the state check), drawn when painting
-      return "++s.core.rendered, paint ? paint->paint(" + arg(0) + ".position, pal[" + arg(0) + ".color]) : void()";
+      return "++s.core.rendered, paint ? paint->paint(" + arg(0) + ".position, colour_of(pal, " + arg(0) + ".color)) : void()";
     case Helper::SetTriggered: return "s.core.triggered = " + arg(0);
     case Helper::Covered: return "s.core.covered[" + arg(0) + "] = 1";
     case Helper::HavePrev: return "s.core.have_prev";

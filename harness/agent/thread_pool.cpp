@@ -1,20 +1,42 @@
 #include "harness/agent/thread_pool.hpp"
 
+#include <cerrno>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+
 namespace autumn::agent {
 
+std::atomic<unsigned> ThreadPool::fail_worker_for_testing{0};
+
+// A worker the system refuses (a process or memory limit) stops and joins the
+// ones already started, then says so: a half-built pool would otherwise be
+// destroyed with its workers still waiting (and its condition variable with them).
 ThreadPool::ThreadPool(unsigned threads) {
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
   size_ = threads;
-  for (unsigned i = 1; i < size_; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
+  for (unsigned i = 1; i < size_; ++i) {
+    try {
+      if (i == fail_worker_for_testing.load()) throw std::system_error(EAGAIN, std::generic_category());
+      workers_.emplace_back([this, i] { worker_loop(i); });
+    } catch (const std::system_error& e) {
+      stop_workers();
+      throw std::runtime_error("cannot start thread " + std::to_string(i + 1) + " of " + std::to_string(size_) +
+                               " (" + e.what() + "); ask for fewer threads");
+    }
+  }
 }
 
-ThreadPool::~ThreadPool() {
+ThreadPool::~ThreadPool() { stop_workers(); }
+
+void ThreadPool::stop_workers() {
   {
     std::lock_guard<std::mutex> lock(mu_);
     stop_ = true;
   }
   wake_.notify_all();
   for (auto& t : workers_) t.join();
+  workers_.clear();
 }
 
 void ThreadPool::run_indices(unsigned id) {

@@ -6,7 +6,8 @@
 // is what keeps every agent result independent of the thread count. The first
 // exception thrown by a body is rethrown in the caller (the other indices still
 // run). A pool of size 1 runs everything inline on the caller. parallel_for is not
-// reentrant: one caller at a time, and bodies must not call it.
+// reentrant: one caller at a time, and bodies must not call it. A thread the
+// system refuses is a std::runtime_error from the constructor, nothing left running.
 #pragma once
 #include <atomic>
 #include <condition_variable>
@@ -32,8 +33,12 @@ class ThreadPool {
   // Same, also passing the id (0..size()-1) of the thread running the index, for
   // per-thread scratch state; 0 is the calling thread.
   void parallel_for_worker(size_t n, const std::function<void(size_t, unsigned)>& body);
+  // Tests only: nonzero k makes the constructor's k-th worker fail to start, as
+  // when the system refuses a thread (the constructor then throws runtime_error).
+  static std::atomic<unsigned> fail_worker_for_testing;
 
  private:
+  void stop_workers();
   void worker_loop(unsigned id);
   void run_indices(unsigned id);
 

@@ -63,7 +63,9 @@ class VecEnv(_core._VecEnv):
     ``clone(ids)`` / ``restore(ids, states)`` copy environments out and back;
     ``state_hash()`` digests each one. Results do not depend on num_threads
     (0: one per core). engine "auto" waits for the compiled module and falls
-    back to the interpreter if it cannot be built.
+    back to the interpreter if it cannot be built. A VecEnv takes one call at a
+    time: a call from another thread while one runs raises RuntimeError. A
+    num_envs that cannot fit in memory raises MemoryError before allocating.
     """
 
     def __init__(self, program, num_envs, num_threads=0, seed=0, engine="auto", trigger=None,

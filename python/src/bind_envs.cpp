@@ -7,7 +7,12 @@
 // module compiles and moves to the compiled engine at a later reset (results
 // are the same on both). VecEnv holds N slots (vec_env.hpp) and steps them with
 // the GIL released into buffers it owns: the arrays step() returns are the same
-// objects every time, overwritten in place.
+// objects every time, overwritten in place. A VecEnv takes one call at a time:
+// a second thread calling it meanwhile gets RuntimeError (OneCaller).
+#include <unistd.h>
+
+#include <atomic>
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -146,6 +151,40 @@ class Env {
   py::PaletteMap colours_;
 };
 
+// VecEnv takes one call at a time: step() and reset() release the GIL, so a
+// second Python thread could otherwise enter while the slots are being stepped.
+class OneCaller {
+ public:
+  explicit OneCaller(std::atomic<bool>& busy) : busy_(busy) {
+    if (busy_.exchange(true))
+      throw std::runtime_error(
+          "this VecEnv is in use by another thread: a VecEnv takes one call at a time (give each thread its own)");
+  }
+  ~OneCaller() { busy_ = false; }
+  OneCaller(const OneCaller&) = delete;
+  OneCaller& operator=(const OneCaller&) = delete;
+
+ private:
+  std::atomic<bool>& busy_;
+};
+
+// Refuses, before allocating, a batch that cannot fit in this machine's memory
+// (MemoryError): each slot holds an environment, its state and its frame, at
+// least kSlotBytes; the allocator would otherwise fail deep inside, or the
+// system would kill the process.
+constexpr size_t kSlotBytes = 4096;
+void check_batch_memory(size_t n) {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return;
+  const double need = static_cast<double>(n) * kSlotBytes, have = static_cast<double>(pages) * page;
+  if (need <= have) return;
+  const std::string msg = "num_envs=" + std::to_string(n) + " needs at least " +
+                          std::to_string(static_cast<long long>(need / (1 << 20))) + " MiB; this machine has " +
+                          std::to_string(static_cast<long long>(have / (1 << 20))) + " MiB";
+  PyErr_SetString(PyExc_MemoryError, msg.c_str());
+  throw pb::error_already_set();
+}
+
 struct EnvState {
   std::shared_ptr<const Environment> env;
   uint64_t episode;
@@ -160,6 +199,7 @@ class VecEnv {
          const std::string& engine, const std::optional<std::string>& trigger, uint32_t max_steps)
       : spec_(make_spec(text, name, engine, trigger)), seed_(seed) {
     if (n == 0) throw std::invalid_argument("num_envs must be at least 1");
+    check_batch_memory(n);
     std::unique_ptr<Environment> proto = make_env(spec_, true);
     {
       pb::gil_scoped_release release;
@@ -175,6 +215,7 @@ class VecEnv {
   }
 
   pb::tuple reset(std::optional<uint64_t> seed, const pb::object&) {
+    OneCaller one(busy_);
     if (seed) seed_ = *seed;
     {
       pb::gil_scoped_release release;
@@ -186,6 +227,7 @@ class VecEnv {
   // Actions are action ids: an array of integers (any integer dtype; a list of
   // ints becomes one). Floats and bools are refused rather than truncated.
   pb::tuple step(const pb::object& given) {
+    OneCaller one(busy_);
     pb::array any = pb::array::ensure(given);
     if (!any) throw pb::error_already_set();
     const char kind = any.dtype().kind();
@@ -205,6 +247,7 @@ class VecEnv {
   }
 
   pb::list clone(const std::vector<int64_t>& ids) {
+    OneCaller one(busy_);
     pb::list out;
     for (int64_t i : ids) {
       py::Slot& s = set_->slot(index(i));
@@ -214,6 +257,7 @@ class VecEnv {
   }
 
   void restore(const std::vector<int64_t>& ids, const std::vector<const EnvState*>& states) {
+    OneCaller one(busy_);
     if (ids.size() != states.size()) throw std::invalid_argument("restore: ids and states differ in length");
     for (size_t k = 0; k < ids.size(); ++k) {
       const size_t i = index(ids[k]);
@@ -229,6 +273,7 @@ class VecEnv {
   }
 
   pb::array_t<uint64_t> state_hash() {
+    OneCaller one(busy_);
     pb::array_t<uint64_t> out(static_cast<pb::ssize_t>(set_->size()));
     for (size_t i = 0; i < set_->size(); ++i) out.mutable_data()[i] = set_->slot(i).env->state_hash();
     return out;
@@ -261,6 +306,7 @@ class VecEnv {
   pb::array_t<float> rewards_;
   pb::array_t<bool> terminated_, truncated_;
   py::Buffers buf_;
+  std::atomic<bool> busy_{false};  // a call is running (OneCaller)
 };
 
 }  // namespace

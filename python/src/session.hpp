@@ -84,7 +84,8 @@ class Session {
   void check_interp(InterpTrack& t);
   void fail(const std::string& message);
   void parse_snippet(Snippet& s, bool statement) const;
-  void restore_tracks(const CompiledSnapshot* snapshot);
+  std::unique_ptr<Environment> load_snapshot(const CompiledSnapshot& snapshot);
+  void restore_tracks(const CompiledSnapshot* snapshot, std::unique_ptr<Environment> loaded);
   void check_alive() const;
 
   std::shared_ptr<const Program> program_;

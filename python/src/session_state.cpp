@@ -146,13 +146,27 @@ void Session::load(const uint8_t* data, size_t size) {
     if (len > r.n || snap->pos > log.size()) throw std::invalid_argument("set_state: corrupt state");
     snap->bytes.assign(r.p, r.p + len);
   }
+  std::unique_ptr<Environment> loaded = snap ? load_snapshot(*snap) : nullptr;
   seed_ = seed;
   log_ = std::move(log);
   snippets_ = std::move(snippets);
-  restore_tracks(snap ? &*snap : nullptr);
+  restore_tracks(snap ? &*snap : nullptr, std::move(loaded));
 }
 
-void Session::restore_tracks(const CompiledSnapshot* snap) {
+// The compiled track loaded from a snapshot, before anything of the session
+// changes: null when it cannot take one (replayed instead); a snapshot the
+// module refuses as corrupt is an error (ValueError), not a silent replay.
+std::unique_ptr<Environment> Session::load_snapshot(const CompiledSnapshot& snap) {
+  if (mode_ == "interp" || !compilable_ || !is_ready(prototype_)) return nullptr;
+  std::shared_ptr<const Prototype> p = prototype_.get();
+  std::unique_ptr<Environment> env = p->env ? instantiate(*p) : nullptr;
+  if (!env) return nullptr;
+  if (env->load_state(snap.bytes.data(), snap.bytes.size())) return env;
+  if (env->failed()) throw std::invalid_argument("set_state: corrupt state (" + env->error() + ")");
+  return nullptr;
+}
+
+void Session::restore_tracks(const CompiledSnapshot* snap, std::unique_ptr<Environment> env) {
   failed_ = false;
   error_.clear();
   it_.reset();
@@ -163,18 +177,14 @@ void Session::restore_tracks(const CompiledSnapshot* snap) {
   ce_pos_ = 0;
   ce_ahead_ = true;
   ce_input_.reset();
-  if (!ce_dead_ && snap && is_ready(prototype_)) {
-    std::shared_ptr<const Prototype> p = prototype_.get();
-    std::unique_ptr<Environment> env = p->env ? instantiate(*p) : nullptr;
-    if (env && env->load_state(snap->bytes.data(), snap->bytes.size())) {
-      ce_ = std::move(env);
-      ce_pos_ = snap->pos;
-      ce_ahead_ = snap->ahead;
-      ce_input_ = snap->input;
-      sync_compiled();
-      probe_pending();
-      return;
-    }
+  if (!ce_dead_ && snap && env) {
+    ce_ = std::move(env);
+    ce_pos_ = snap->pos;
+    ce_ahead_ = snap->ahead;
+    ce_input_ = snap->input;
+    sync_compiled();
+    probe_pending();
+    return;
   }
   attach_compiled_if_ready();  // replays the log from the start
   if (!ce_) interp();

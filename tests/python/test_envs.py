@@ -192,3 +192,72 @@ def test_python_threads_run_while_vecenv_steps():
         stop.set()
         t.join()
     assert progressed >= 1
+
+
+def _stepped_state(stdlib):
+    i = autumnc.Interpreter("compiled")
+    i.run_script(bundled_program("sokoban"), stdlib, "", 3)
+    for k in range(6):
+        i.click(k, k) if k % 2 else i.left()
+        i.step()
+    return i, i.get_state()
+
+
+def test_set_state_refuses_corrupt_bytes(stdlib):
+    """A state with a changed, missing or extra byte raises ValueError or loads a
+    state that steps: never a crash. A compiled snapshot the module refuses (a
+    truth value of 2 as its last byte) is a ValueError, not a silent replay."""
+    i, state = _stepped_state(stdlib)
+    assert i.engine == "compiled"
+    h = i.state_hash()
+    with pytest.raises(ValueError, match="corrupt state"):
+        i.set_state(state[:-1] + b"\x02")
+    for n in range(len(state)):
+        with pytest.raises(ValueError):
+            i.set_state(state[:n])
+    for k in range(len(state)):
+        for x in (0x01, 0x80):
+            bad = bytearray(state)
+            bad[k] ^= x
+            try:
+                i.set_state(bytes(bad))
+            except ValueError:
+                continue
+            i.right()
+            i.step()
+    i.set_state(state)  # the good state still loads after all that
+    assert i.state_hash() == h
+
+
+def test_vecenv_used_from_two_threads_raises():
+    """step() releases the GIL: another thread calling the same VecEnv meanwhile
+    gets a clear RuntimeError (before: a segfault or a deadlock)."""
+    vec = autumnc.VecEnv(FIREWORKS, 4096, num_threads=2)
+    acts = np.zeros(4096, dtype=np.int64)
+    done = threading.Event()
+
+    def stepper():
+        for _ in range(40):
+            vec.step(acts)
+        done.set()
+
+    t = threading.Thread(target=stepper)
+    t.start()
+    refused = 0
+    try:
+        while not done.is_set() and not refused:
+            try:
+                vec.state_hash()
+            except RuntimeError as e:
+                assert "in use by another thread" in str(e)
+                refused += 1
+    finally:
+        t.join()
+    assert refused >= 1
+    vec.step(acts)  # usable again once the other call has returned
+
+
+def test_vecenv_too_many_envs_is_memory_error():
+    with pytest.raises(MemoryError, match="num_envs=10000000"):
+        autumnc.VecEnv(SOKOBAN, 10**7)
+    assert autumnc.VecEnv(SOKOBAN, 3).num_envs == 3
