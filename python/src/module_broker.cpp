@@ -8,6 +8,7 @@
 
 #include "compiler/emit/emit_module.hpp"
 #include "harness/module_cache.hpp"
+#include "harness/module_key.hpp"
 
 namespace autumn::py {
 namespace {
@@ -33,8 +34,8 @@ auto* futures = new std::unordered_map<std::string, PrototypeFuture>();  // neve
 PrototypeFuture request_compiled(const std::shared_ptr<const Program>& program) {
   std::optional<std::string> trigger;
   if (!program->trigger_text.empty()) trigger = program->trigger_text;
-  // The exact text and trigger: a 64-bit hash could pair a program with another's module.
-  const std::string key = program->file.text + std::string(1, '\0') + (trigger ? "T" + *trigger : "N");
+  // The exact text and trigger (a 64-bit hash could pair a program with another's module).
+  const std::string key = program_digest(program->file.text, trigger);
   std::lock_guard<std::mutex> lock(mu);
   auto it = futures->find(key);
   if (it != futures->end()) return it->second;

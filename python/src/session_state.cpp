@@ -19,7 +19,7 @@ namespace {
 
 constexpr uint32_t kVersion = 1;
 
-uint64_t program_digest(const Program& p) {
+uint64_t session_program_hash(const Program& p) {
   std::optional<std::string> trigger;
   if (!p.trigger_text.empty()) trigger = p.trigger_text;
   return module_source_hash(p.file.text, trigger) ^ (std::hash<std::string>{}(p.stdlib.text) * 0x9e3779b97f4a7c15ULL);
@@ -82,7 +82,7 @@ std::vector<uint8_t> Session::save() const {
   Writer w;
   w.out.insert(w.out.end(), {'A', 'U', 'T', 'C'});
   w.put(kVersion);
-  w.put(program_digest(*program_));
+  w.put(session_program_hash(*program_));
   w.put(seed_);
   w.put<uint64_t>(log_.size());
   for (const HostOp& op : log_) {
@@ -112,7 +112,7 @@ void Session::load(const uint8_t* data, size_t size) {
   r.p += 4;
   r.n -= 4;
   if (r.get<uint32_t>() != kVersion) throw std::invalid_argument("set_state: a state of another autumnc version");
-  if (r.get<uint64_t>() != program_digest(*program_))
+  if (r.get<uint64_t>() != session_program_hash(*program_))
     throw std::invalid_argument("set_state: the state belongs to another program, standard library or trigger");
   const uint64_t seed = r.get<uint64_t>();
   HostLog log;
