@@ -65,14 +65,7 @@ struct LocatedError : std::runtime_error {
 };
 [[noreturn]] inline void fail_at(int site, const std::string& msg) { throw LocatedError(site, msg); }
 // "path:line:col: runtime error: message[ (inside <stdlib>:l:c)]", as the interpreter says it.
-inline std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg) {
-  const char* file = e.in_program ? nullptr : e.source;
-  const int line = e.in_program ? e.program_line : e.line, col = e.in_program ? e.program_col : e.col;
-  std::string out = diagnostic_prefix(file ? file : path, line, col, "runtime error") + e.prefix + msg;
-  if (e.in_program && e.source && std::string(e.source) != "<internal>")
-    out += diagnostic_inside(e.source, e.line, e.col);
-  return out;
-}
+std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg);
 
 struct Unit {};  // the C++ value of a function or type: they exist only at compile time
 
@@ -183,11 +176,9 @@ class Occupancy {
   int size_ = 0;
   std::vector<uint8_t> grid_;
   void sort() const {
-    if (sorted_) return;
-    std::sort(outside_.begin(), outside_.end());
-    outside_.erase(std::unique(outside_.begin(), outside_.end()), outside_.end());
-    sorted_ = true;
+    if (!sorted_) sort_outside();
   }
+  void sort_outside() const;  // compiled_support.cpp
   std::vector<uint32_t> set_;  // indices of the grid cells currently set
   mutable std::vector<uint64_t> outside_;  // positions off the grid, sorted on demand
   mutable bool sorted_ = true;
@@ -195,9 +186,7 @@ class Occupancy {
 
 // A string id as a palette id: ids come from the program's literals, but a
 // loaded snapshot may carry any number, so the lookup is checked.
-[[noreturn, gnu::cold, gnu::noinline]] inline void fail_string_id(int32_t id) {
-  fail("string id " + std::to_string(id) + " is not a string of this program (a corrupt state)");
-}
+[[noreturn, gnu::cold]] void fail_string_id(int32_t id);
 inline uint16_t colour_of(const std::vector<uint16_t>& pal, int32_t id) {
   if (__builtin_expect(static_cast<uint32_t>(id) >= pal.size(), 0)) fail_string_id(id);
   return pal[static_cast<uint32_t>(id)];
@@ -310,23 +299,22 @@ struct Core {
 
 // limits.hpp's list-length rule in emitted code: a list of `n` elements is about
 // to be built at `site`.
+[[noreturn, gnu::cold]] void fail_list_length(int site, int64_t n, int64_t limit);
 inline void check_length(const Core& c, int site, int64_t n) {
-  if (n > c.list_limit) fail_at(site, limits::list_length_error(n, c.list_limit));
+  if (n > c.list_limit) fail_list_length(site, n, c.list_limit);
 }
 // A loop about to visit `n` elements (a list's, a range's) at `site`: charged
 // once, before it runs, against the step's budget (limits.hpp, calls).
 // The failure is out of line: charges sit in the hottest loops, and the message
 // built inline at each one cost more than the charge itself.
-[[noreturn, gnu::cold, gnu::noinline]] inline void fail_loop_budget(int site, int64_t limit) {
-  fail_at(site, limits::loop_elements_error(limit));
-}
+[[noreturn, gnu::cold]] void fail_loop_budget(int site, int64_t limit);
 inline void charge_loop(Core& c, int site, int64_t n) {
   c.visited += n > 0 ? n : 0;
   if (__builtin_expect(c.visited > c.visit_limit, 0)) fail_loop_budget(site, c.visit_limit);
 }
 // A list built element by element (allObjs) fails at the first element too many.
 inline void check_appended_length(const Core& c, int site, int64_t n) {
-  if (n > c.list_limit) fail_at(site, limits::list_length_error(c.list_limit + 1, c.list_limit));
+  if (n > c.list_limit) fail_list_length(site, c.list_limit + 1, c.list_limit);
 }
 template <class L>
 int64_t total_size(const L& lists) {
@@ -387,15 +375,7 @@ template <class... T>
 bool tally_value(Tally& t, const Core& c, const std::variant<T...>& v) {
   return std::visit([&](const auto& x) { return tally_value(t, c, x); }, v);
 }
-inline void tally_add(Core& c, int site, const char* name, const Tally& one) {
-  StateTally& s = c.tally.v;
-  if (one.objects > s.max_objects) s.max_objects = one.objects, s.site_objects = site, s.name_objects = name;
-  if (one.cells > s.max_cells) s.max_cells = one.cells, s.site_cells = site, s.name_cells = name;
-  s.total.objects += one.objects;
-  s.total.cells += one.cells;
-  if (s.total.objects > c.objects_limit) fail_at(s.site_objects, limits::objects_error(c.objects_limit, s.name_objects));
-  if (s.total.cells > c.cells_limit) fail_at(s.site_cells, limits::state_cells_error(c.cells_limit, s.name_cells));
-}
+void tally_add(Core& c, int site, const char* name, const Tally& one);
 // One global of the state check, defined at `site`.
 template <class T>
 void tally_global(Core& c, int site, const char* name, const T& v) {
@@ -483,12 +463,13 @@ class SnapshotWriter {
   std::vector<uint8_t>& out_;
   size_t n_;  // bytes written; out_ is grown ahead in steps, trimmed to n_ at the end
 };
+[[noreturn, gnu::cold]] void truncated_snapshot();
 struct SnapshotReader {
   const uint8_t* p;
   const uint8_t* end;
   template <class T>
   void raw(T& v) {
-    if (static_cast<size_t>(end - p) < sizeof v) throw std::runtime_error("truncated state snapshot");
+    if (static_cast<size_t>(end - p) < sizeof v) truncated_snapshot();
     std::memcpy(&v, p, sizeof v);
     p += sizeof v;
   }
@@ -520,9 +501,7 @@ void save_value(SnapshotWriter& w, const std::vector<T>& v) {
 }
 inline void load_value(SnapshotReader& r, int32_t& v) { r.raw(v); }
 inline void load_value(SnapshotReader& r, uint8_t& v) { r.raw(v); }
-[[noreturn]] inline void corrupt_snapshot(const char* what) {
-  throw std::runtime_error(std::string("corrupt state snapshot (") + what + ")");
-}
+[[noreturn, gnu::cold]] void corrupt_snapshot(const char* what);
 inline void load_value(SnapshotReader& r, bool& v) {
   uint8_t b = 0;
   r.raw(b);
@@ -575,58 +554,11 @@ void load_value(SnapshotReader& r, std::vector<T>& v) {
     for (T& x : v) load_value(r, x);
   }
 }
-inline void save_core(SnapshotWriter& w, const Core& c) {
-  w.raw(c.rng.state());
-  save_value(w, c.click_x);
-  save_value(w, c.click_y);
-  save_value(w, c.have_prev);
-  save_value(w, c.covered);
-  save_value(w, c.triggered);
-  w.raw(c.ids.next());
-  w.raw(static_cast<uint32_t>(c.ids.remap().size()));
-  for (const auto& [uid, id] : c.ids.remap()) {
-    w.raw(uid);
-    w.raw(id);
-  }
-  w.raw(static_cast<uint32_t>(c.rot.turns().size()));
-  for (const auto& [group, turns] : c.rot.turns()) {
-    w.raw(group);
-    w.raw(turns);
-  }
-}
+void save_core(SnapshotWriter& w, const Core& c);
 // A table of (key, value) pairs, strictly increasing by key (lookups bisect it).
-inline std::vector<std::pair<uint32_t, uint32_t>> load_sorted_pairs(SnapshotReader& r, const char* what) {
-  uint32_t n = 0;
-  r.raw(n);
-  if (n > static_cast<size_t>(r.end - r.p) / 8) corrupt_snapshot(what);
-  std::vector<std::pair<uint32_t, uint32_t>> out(n);
-  for (size_t i = 0; i < out.size(); ++i) {
-    r.raw(out[i].first);
-    r.raw(out[i].second);
-    if (i > 0 && out[i].first <= out[i - 1].first) corrupt_snapshot(what);
-  }
-  return out;
-}
+std::vector<std::pair<uint32_t, uint32_t>> load_sorted_pairs(SnapshotReader& r, const char* what);
 // Validates as it reads; `on_clauses` is the program's count (the covered flags).
-inline void load_core(SnapshotReader& r, Core& c, int on_clauses) {
-  uint32_t rng = 0;
-  r.raw(rng);
-  c.rng.set_state(rng);
-  c.clear_inputs();
-  load_value(r, c.click_x);
-  load_value(r, c.click_y);
-  load_value(r, c.have_prev);
-  load_value(r, c.covered);
-  if (c.covered.size() != static_cast<size_t>(on_clauses)) corrupt_snapshot("on-clause count");
-  for (uint8_t f : c.covered)
-    if (f > 1) corrupt_snapshot("an on-clause flag is neither 0 nor 1");
-  load_value(r, c.triggered);
-  uint32_t next = 0;
-  r.raw(next);
-  auto remap = load_sorted_pairs(r, "identity table");
-  c.ids.restore(next, std::move(remap));
-  c.rot.restore(load_sorted_pairs(r, "rotation table"));
-}
+void load_core(SnapshotReader& r, Core& c, int on_clauses);
 
 // The global map's key order, kept at run time by a program that defines globals
 // during steps (or erases them) and also observes the order (allObjs, removeObj
@@ -650,44 +582,52 @@ inline void hash_value(Hash& h, const GlobalOrder& o) {
   h.mix(o.map.bucket_count());
   o.map.for_each([&](int k) { h.mix(static_cast<uint32_t>(k)); });
 }
-inline void save_value(SnapshotWriter& w, const GlobalOrder& o) {
-  w.raw(static_cast<uint64_t>(o.map.bucket_count()));
-  w.raw(static_cast<uint64_t>(o.map.next_resize()));
-  w.raw(static_cast<uint32_t>(o.map.size()));
-  o.map.for_each([&](int k) {
-    w.raw(static_cast<int32_t>(k));
-    w.raw(o.map.hash_of(k));
-  });
-}
+void save_value(SnapshotWriter& w, const GlobalOrder& o);
 // Symbol numbers index the order's tables: a loaded one is bounded first.
 constexpr int32_t kMaxOrderKey = 1 << 20;
-inline void load_value(SnapshotReader& r, GlobalOrder& o) {
-  uint64_t buckets = 0, resize = 0;
-  uint32_t n = 0;
-  r.raw(buckets);
-  r.raw(resize);
-  r.raw(n);
-  if (n > static_cast<size_t>(r.end - r.p) / 12) corrupt_snapshot("global order");
-  std::vector<std::pair<int, uint64_t>> keys(n);
-  for (auto& [k, hash] : keys) {
-    int32_t key = 0;
-    r.raw(key);
-    r.raw(hash);
-    if (key < 0 || key >= kMaxOrderKey) corrupt_snapshot("a global's symbol out of range");
-    k = key;
+void load_value(SnapshotReader& r, GlobalOrder& o);
+
+// What the Environment adapter keeps besides the program's state: the frame and
+// its painter, the episode's error, the host's name for the program and the
+// limits. The same for every program, so its code is compiled once
+// (compiled_support.cpp), not in every module.
+class CompiledHost : public Environment {
+ public:
+  ~CompiledHost() override;
+  const Frame& frame() const override { return frame_; }
+  bool failed() const override { return failed_; }
+  const std::string& error() const override { return error_; }
+  void set_source_name(const std::string& path) override;
+  // Specialised code enforces the list-length, objects and state-cells budgets,
+  // the calls budget as loop elements (charge_loop), and the fixed limits; the
+  // per-step created-cells budget is the interpreter's alone (docs/design.md, "Limits").
+  void set_limits(const Limits& l) override;
+
+ protected:
+  explicit CompiledHost(const char* program_name) : source_name_(program_name) {}
+  CompiledHost(const CompiledHost&) = default;
+  void copy_host(const CompiledHost& o);  // everything here but the state
+  void succeeded() {
+    failed_ = false;
+    error_.clear();
   }
-  try {
-    o.map.restore(buckets, resize, keys);
-  } catch (const std::invalid_argument&) {
-    corrupt_snapshot("global order");
-  }
-}
+  // Inside a catch block: ends the episode with the exception being handled,
+  // a LocatedError described at its site in `sites` (the program's kErrors).
+  void fail_with_current(const ErrorSite* sites);
+
+  Frame frame_;
+  Painter painter_;
+  bool failed_ = true;
+  std::string error_ = "not started";
+  std::string source_name_;  // the program's path, once the host names it
+  Limits limits_;            // applied at each reset (Core's limits)
+};
 
 // The Environment adapter for a generated Program.
 template <class P>
-class CompiledEnvironment : public Environment {
+class CompiledEnvironment : public CompiledHost {
  public:
-  CompiledEnvironment() : tables_(shared_tables()) {}
+  CompiledEnvironment() : CompiledHost(P::kProgramName), tables_(shared_tables()) {}
   bool reset(uint64_t seed) override {
     state_ = typename P::State{};
     state_.core.list_limit = limits_.list_length;
@@ -703,7 +643,6 @@ class CompiledEnvironment : public Environment {
   }
   bool step(const Action& a) override { return run_step(a, true); }
   bool advance(const Action& a) override { return run_step(a, false); }
-  const Frame& frame() const override { return frame_; }
   const Palette& palette() const override { return tables_->palette; }
   bool triggered() const override { return state_.core.triggered; }
   int on_clause_count() const override { return P::kOnClauses; }
@@ -712,8 +651,6 @@ class CompiledEnvironment : public Environment {
     for (uint8_t c : state_.core.covered) n += c;
     return n;
   }
-  bool failed() const override { return failed_; }
-  const std::string& error() const override { return error_; }
   std::unique_ptr<Environment> clone() const override { return std::make_unique<CompiledEnvironment>(*this); }
   bool copy_from(const Environment& other) override {
     // typeid, not dynamic_cast: this runs once per search successor.
@@ -723,12 +660,7 @@ class CompiledEnvironment : public Environment {
     // Member by member, leaving tables_ alone: copying the shared_ptr would make
     // every search thread write the same reference count.
     state_ = o->state_;
-    frame_ = o->frame_;
-    source_name_ = o->source_name_;
-    limits_ = o->limits_;
-    painter_ = o->painter_;
-    failed_ = o->failed_;
-    error_ = o->error_;
+    copy_host(*o);
     return true;
   }
   uint64_t state_hash() const override { return failed_ ? 0 : P::hash(state_); }
@@ -753,11 +685,6 @@ class CompiledEnvironment : public Environment {
     });
   }
   bool deterministic() const override { return !P::kUsesRandom; }
-  void set_source_name(const std::string& path) override { source_name_ = path; }
-  // Specialised code enforces the list-length, objects and state-cells budgets,
-  // the calls budget as loop elements (charge_loop), and the fixed limits; the
-  // per-step created-cells budget is the interpreter's alone (docs/design.md, "Limits").
-  void set_limits(const Limits& l) override { limits_ = limits::normalised(l); }
   int64_t random_draws() const override { return failed_ ? -1 : static_cast<int64_t>(state_.core.rng.draws()); }
   bool reseed_random(uint64_t seed) override {
     if (failed_) return false;
@@ -802,20 +729,10 @@ class CompiledEnvironment : public Environment {
   bool guarded(F&& f) {
     try {
       f();
-      failed_ = false;
-      error_.clear();
+      succeeded();
       return true;
-    } catch (const LocatedError& e) {
-      failed_ = true;
-      error_ = describe(source_name_, P::kErrors[e.site], e.what());
-      return false;
-    } catch (const std::bad_alloc&) {
-      failed_ = true;
-      error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + "out of memory";
-      return false;
-    } catch (const std::exception& e) {
-      failed_ = true;
-      error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + e.what();
+    } catch (...) {
+      fail_with_current(P::kErrors);
       return false;
     }
   }
@@ -837,12 +754,6 @@ class CompiledEnvironment : public Environment {
 
   std::shared_ptr<const Tables> tables_;
   typename P::State state_;
-  Frame frame_;
-  Painter painter_;
-  bool failed_ = true;
-  std::string error_ = "not started";
-  std::string source_name_ = P::kProgramName;  // the program's path, once the host names it
-  Limits limits_;                              // applied at each reset (state_.core.list_limit)
 };
 
 }  // namespace autumn::rt

@@ -16,19 +16,12 @@
 namespace autumn {
 
 // The place alone: "prog.au:12:5", or "prog.au" for line 0.
-inline std::string diagnostic_place(const std::string& file, int line, int col) {
-  if (line == 0) return file;
-  return file + ":" + std::to_string(line) + ":" + std::to_string(col);
-}
+std::string diagnostic_place(const std::string& file, int line, int col);
 
-inline std::string diagnostic_prefix(const std::string& file, int line, int col, const std::string& severity) {
-  return diagnostic_place(file, line, col) + ": " + severity + ": ";
-}
+std::string diagnostic_prefix(const std::string& file, int line, int col, const std::string& severity);
 
 // The library place an error located in the program came from:
 // " (inside <stdlib>:40:3)".
-inline std::string diagnostic_inside(const std::string& source, int line, int col) {
-  return " (inside " + diagnostic_place(source, line, col) + ")";
-}
+std::string diagnostic_inside(const std::string& source, int line, int col);
 
 }  // namespace autumn

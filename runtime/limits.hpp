@@ -59,100 +59,30 @@ constexpr int64_t kMinListLength = 1000;
 constexpr int32_t kMinGridSize = 1;
 constexpr int32_t kMaxGridSize = 4096;
 
-inline std::string raise_hint(std::string_view key) {
-  return " (--limits " + std::string(key) + "=N raises it)";
-}
+std::string raise_hint(std::string_view key);
 
 // `callee`: the called name as written, or empty for a function without one.
-inline std::string call_depth_error(int64_t limit, std::string_view callee) {
-  return "call depth limit exceeded: more than " + std::to_string(limit) + " nested calls, calling " +
-         (callee.empty() ? std::string("an unnamed function") : "'" + std::string(callee) + "'") +
-         raise_hint("call-depth");
-}
-inline std::string list_length_error(int64_t length, int64_t limit) {
-  return "list too long: " + std::to_string(length) + " elements, the limit is " + std::to_string(limit) +
-         raise_hint("list-length");
-}
-inline std::string objects_error(int64_t limit, std::string_view global) {
-  return "too many objects: the state holds more than " + std::to_string(limit) + " once '" + std::string(global) +
-         "' is counted" + raise_hint("objects");
-}
-inline std::string state_cells_error(int64_t limit, std::string_view global) {
-  return "state too large: more than " + std::to_string(limit) + " list elements and object fields once '" +
-         std::string(global) + "' is counted" + raise_hint("cells");
-}
-inline std::string created_cells_error(int64_t limit) {
-  return "memory budget exceeded: this step created more than " + std::to_string(limit) +
-         " list elements and object fields" + raise_hint("cells");
-}
-inline std::string calls_error(int64_t limit) {
-  return "time budget exceeded: this step made more than " + std::to_string(limit) + " function calls" +
-         raise_hint("calls");
-}
-inline std::string loop_elements_error(int64_t limit) {
-  return "time budget exceeded: this step's loops visited more than " + std::to_string(limit) +
-         " list elements" + raise_hint("calls");
-}
-inline std::string syntax_nesting_error() {
-  return "nested too deeply: more than " + std::to_string(kMaxSyntaxNesting) + " levels of parentheses";
-}
-inline std::string value_nesting_error() {
-  return "value nested too deeply: more than " + std::to_string(kMaxValueNesting) +
-         " levels of lists and objects inside each other";
-}
-inline std::string rotation_nesting_error() {
-  return "rotate: a cell turned more than " + std::to_string(kMaxValueNesting) + " times";
-}
+std::string call_depth_error(int64_t limit, std::string_view callee);
+std::string list_length_error(int64_t length, int64_t limit);
+std::string objects_error(int64_t limit, std::string_view global);
+std::string state_cells_error(int64_t limit, std::string_view global);
+std::string created_cells_error(int64_t limit);
+std::string calls_error(int64_t limit);
+std::string loop_elements_error(int64_t limit);
+std::string syntax_nesting_error();
+std::string value_nesting_error();
+std::string rotation_nesting_error();
 // Empty when `size` is a paintable GRID_SIZE.
-inline std::string grid_size_error(int64_t size) {
-  if (size >= kMinGridSize && size <= kMaxGridSize) return {};
-  return "GRID_SIZE must be a number from " + std::to_string(kMinGridSize) + " to " + std::to_string(kMaxGridSize) +
-         ", got " + std::to_string(size);
-}
-inline std::string grid_size_type_error(std::string_view type) {
-  return "GRID_SIZE must be a number from " + std::to_string(kMinGridSize) + " to " + std::to_string(kMaxGridSize) +
-         ", got a " + std::string(type);
-}
+std::string grid_size_error(int64_t size);
+std::string grid_size_type_error(std::string_view type);
+
+// The limits an engine applies: as given, with list-length at least kMinListLength.
+Limits normalised(Limits l);
 
 // "--limits" syntax: comma-separated KEY=N (keys as in the table above), each
 // N a positive integer. Unnamed keys keep `base`'s values. nullopt (and *why)
 // for anything else.
-// The limits an engine applies: as given, with list-length at least kMinListLength.
-inline Limits normalised(Limits l) {
-  if (l.list_length < kMinListLength) l.list_length = kMinListLength;
-  return l;
-}
-
-inline std::optional<Limits> parse(std::string_view spec, std::string* why, Limits base = {}) {
-  auto bad = [&](const std::string& msg) -> std::optional<Limits> {
-    if (why) *why = msg;
-    return std::nullopt;
-  };
-  while (!spec.empty()) {
-    const size_t comma = spec.find(',');
-    const std::string_view item = spec.substr(0, comma);
-    spec = comma == std::string_view::npos ? std::string_view() : spec.substr(comma + 1);
-    const size_t eq = item.find('=');
-    if (eq == std::string_view::npos) return bad("expected KEY=N, got '" + std::string(item) + "'");
-    const std::string_view key = item.substr(0, eq), digits = item.substr(eq + 1);
-    int64_t n = 0;
-    if (digits.empty() || digits.size() > 18) return bad("'" + std::string(item) + "': N must be a positive integer");
-    for (char c : digits) {
-      if (c < '0' || c > '9') return bad("'" + std::string(item) + "': N must be a positive integer");
-      n = n * 10 + (c - '0');
-    }
-    if (n <= 0) return bad("'" + std::string(item) + "': N must be a positive integer");
-    if (key == "list-length" && n < kMinListLength)
-      return bad("'" + std::string(item) + "': list-length must be at least " + std::to_string(kMinListLength));
-    if (key == "call-depth") base.call_depth = n;
-    else if (key == "list-length") base.list_length = n;
-    else if (key == "objects") base.objects = n;
-    else if (key == "cells") base.cells = n;
-    else if (key == "calls") base.calls = n;
-    else return bad("unknown limit '" + std::string(key) + "' (call-depth, list-length, objects, cells, calls)");
-  }
-  return base;
-}
+std::optional<Limits> parse(std::string_view spec, std::string* why, Limits base = {});
 
 }  // namespace limits
 }  // namespace autumn

@@ -1,6 +1,7 @@
 // module_export — implements the C ABI table (module_abi.h) for any Environment
-// subclass. Emitted modules instantiate export_module<Env>() once; the host side
-// wraps a table back into an Environment with ModuleEnvironment (module_env.hpp).
+// subclass. Emitted modules call ModuleExporter<MakeEnv>::table once; the entries
+// are compiled once, in module_export.cpp; the host side wraps a table back into
+// an Environment with ModuleEnvironment (module_env.hpp).
 #pragma once
 #include <memory>
 #include <string>
@@ -16,68 +17,18 @@ struct ExportedEnv {
   mutable std::vector<uint8_t> snapshot;  // the last save_state result
 };
 
+// An Environment as the C ABI's handle (freed by the table's destroy).
+autumn_env* export_env(std::unique_ptr<Environment> e);
+
+// The table: every entry but `create` forwards to the Environment a handle
+// wraps, the same for every module (module_export.cpp); `create` alone knows
+// the module's Environment type.
+autumn_module_v1 module_table(const char* name, uint64_t source_hash, autumn_env* (*create)());
+
 template <class MakeEnv>
 struct ModuleExporter {
-  static autumn_env* wrap(std::unique_ptr<Environment> e) {
-    return reinterpret_cast<autumn_env*>(new ExportedEnv{std::move(e)});
-  }
-  static Environment& env(autumn_env* h) { return *reinterpret_cast<ExportedEnv*>(h)->env; }
-  static const Environment& env(const autumn_env* h) { return *reinterpret_cast<const ExportedEnv*>(h)->env; }
-
-  static Action action(int kind, int x, int y) {
-    Action a;
-    a.kind = static_cast<Action::Kind>(kind);
-    a.x = x;
-    a.y = y;
-    return a;
-  }
-
   static autumn_module_v1 table(const char* name, uint64_t source_hash) {
-    autumn_module_v1 t{};
-    t.abi_version = AUTUMN_MODULE_ABI_VERSION;
-    t.program_name = name;
-    t.source_hash = source_hash;
-    t.create = [] { return wrap(MakeEnv{}()); };
-    t.destroy = [](autumn_env* h) { delete reinterpret_cast<ExportedEnv*>(h); };
-    t.reset = [](autumn_env* h, uint64_t seed) { return env(h).reset(seed) ? 1 : 0; };
-    t.step = [](autumn_env* h, int kind, int x, int y) { return env(h).step(action(kind, x, y)) ? 1 : 0; };
-    t.advance = [](autumn_env* h, int kind, int x, int y) { return env(h).advance(action(kind, x, y)) ? 1 : 0; };
-    t.grid_size = [](const autumn_env* h) { return env(h).frame().size; };
-    t.cells = [](const autumn_env* h) { return env(h).frame().cells.data(); };
-    t.palette_size = [](const autumn_env* h) { return static_cast<int>(env(h).palette().size()); };
-    t.palette_name = [](const autumn_env* h, int id) { return env(h).palette().name(static_cast<uint16_t>(id)).c_str(); };
-    t.triggered = [](const autumn_env* h) { return env(h).triggered() ? 1 : 0; };
-    t.on_clause_count = [](const autumn_env* h) { return env(h).on_clause_count(); };
-    t.covered_on_clause_count = [](const autumn_env* h) { return env(h).covered_on_clause_count(); };
-    t.error = [](const autumn_env* h) { return env(h).error().c_str(); };
-    t.clone = [](const autumn_env* h) { return wrap(env(h).clone()); };
-    t.state_hash = [](const autumn_env* h) { return env(h).state_hash(); };
-    t.deterministic = [](const autumn_env* h) { return env(h).deterministic() ? 1 : 0; };
-    t.copy_from = [](autumn_env* dst, const autumn_env* src) {
-      if (!env(dst).copy_from(env(src))) reinterpret_cast<ExportedEnv*>(dst)->env = env(src).clone();
-    };
-    t.save_state = [](const autumn_env* h, const uint8_t** data) -> uint64_t {
-      const auto* e = reinterpret_cast<const ExportedEnv*>(h);
-      e->snapshot.clear();
-      if (!e->env->save_state(e->snapshot)) return 0;
-      *data = e->snapshot.data();
-      return e->snapshot.size();
-    };
-    t.load_state = [](autumn_env* h, const uint8_t* data, uint64_t size) {
-      // 0 (not supported) unless the load itself ended the episode: an environment
-      // without snapshots changes nothing, failed or not.
-      const std::string before = env(h).error();
-      if (env(h).load_state(data, static_cast<size_t>(size))) return 1;
-      return env(h).failed() && env(h).error() != before ? -1 : 0;
-    };
-    t.random_draws = [](const autumn_env* h) { return env(h).random_draws(); };
-    t.reseed_random = [](autumn_env* h, uint64_t seed) { return env(h).reseed_random(seed) ? 1 : 0; };
-    t.set_source_name = [](autumn_env* h, const char* path) { env(h).set_source_name(path); };
-    t.set_limits = [](autumn_env* h, const autumn_limits* l) {
-      env(h).set_limits(Limits{l->call_depth, l->list_length, l->objects, l->cells, l->calls});
-    };
-    t.set_draw_script = [](autumn_env* h, autumn_draw_script* s) { return env(h).set_draw_script(s) ? 1 : 0; };
-    return t;
+    return module_table(name, source_hash, [] { return export_env(MakeEnv{}()); });
   }
 };
 

@@ -1,0 +1,170 @@
+// compiled_support — the parts of compiled_support.hpp that are the same for
+// every program: error texts, snapshot headers, the state check's totals and
+// the Environment adapter's bookkeeping (CompiledHost). They live here, once, in
+// the runtime library every module links, so that a module's compile spends its
+// time on the program's own code (docs/design.md, "Tests": a module compile was
+// mostly this shared code, instantiated again per program).
+//
+// What stays in the header is what the hot loops call (occupancy, painter,
+// hashing, the loop charge's fast path) and what depends on the program's types.
+#include "runtime/compiled_support.hpp"
+
+namespace autumn::rt {
+
+std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg) {
+  const char* file = e.in_program ? nullptr : e.source;
+  const int line = e.in_program ? e.program_line : e.line, col = e.in_program ? e.program_col : e.col;
+  std::string out = diagnostic_prefix(file ? file : path, line, col, "runtime error") + e.prefix + msg;
+  if (e.in_program && e.source && std::string(e.source) != "<internal>")
+    out += diagnostic_inside(e.source, e.line, e.col);
+  return out;
+}
+
+void Occupancy::sort_outside() const {
+  std::sort(outside_.begin(), outside_.end());
+  outside_.erase(std::unique(outside_.begin(), outside_.end()), outside_.end());
+  sorted_ = true;
+}
+
+void fail_string_id(int32_t id) {
+  fail("string id " + std::to_string(id) + " is not a string of this program (a corrupt state)");
+}
+
+void fail_list_length(int site, int64_t n, int64_t limit) { fail_at(site, limits::list_length_error(n, limit)); }
+
+void fail_loop_budget(int site, int64_t limit) { fail_at(site, limits::loop_elements_error(limit)); }
+
+void tally_add(Core& c, int site, const char* name, const Tally& one) {
+  StateTally& s = c.tally.v;
+  if (one.objects > s.max_objects) s.max_objects = one.objects, s.site_objects = site, s.name_objects = name;
+  if (one.cells > s.max_cells) s.max_cells = one.cells, s.site_cells = site, s.name_cells = name;
+  s.total.objects += one.objects;
+  s.total.cells += one.cells;
+  if (s.total.objects > c.objects_limit) fail_at(s.site_objects, limits::objects_error(c.objects_limit, s.name_objects));
+  if (s.total.cells > c.cells_limit) fail_at(s.site_cells, limits::state_cells_error(c.cells_limit, s.name_cells));
+}
+
+void truncated_snapshot() { throw std::runtime_error("truncated state snapshot"); }
+
+void corrupt_snapshot(const char* what) {
+  throw std::runtime_error(std::string("corrupt state snapshot (") + what + ")");
+}
+
+void save_core(SnapshotWriter& w, const Core& c) {
+  w.raw(c.rng.state());
+  save_value(w, c.click_x);
+  save_value(w, c.click_y);
+  save_value(w, c.have_prev);
+  save_value(w, c.covered);
+  save_value(w, c.triggered);
+  w.raw(c.ids.next());
+  w.raw(static_cast<uint32_t>(c.ids.remap().size()));
+  for (const auto& [uid, id] : c.ids.remap()) {
+    w.raw(uid);
+    w.raw(id);
+  }
+  w.raw(static_cast<uint32_t>(c.rot.turns().size()));
+  for (const auto& [group, turns] : c.rot.turns()) {
+    w.raw(group);
+    w.raw(turns);
+  }
+}
+
+std::vector<std::pair<uint32_t, uint32_t>> load_sorted_pairs(SnapshotReader& r, const char* what) {
+  uint32_t n = 0;
+  r.raw(n);
+  if (n > static_cast<size_t>(r.end - r.p) / 8) corrupt_snapshot(what);
+  std::vector<std::pair<uint32_t, uint32_t>> out(n);
+  for (size_t i = 0; i < out.size(); ++i) {
+    r.raw(out[i].first);
+    r.raw(out[i].second);
+    if (i > 0 && out[i].first <= out[i - 1].first) corrupt_snapshot(what);
+  }
+  return out;
+}
+
+void load_core(SnapshotReader& r, Core& c, int on_clauses) {
+  uint32_t rng = 0;
+  r.raw(rng);
+  c.rng.set_state(rng);
+  c.clear_inputs();
+  load_value(r, c.click_x);
+  load_value(r, c.click_y);
+  load_value(r, c.have_prev);
+  load_value(r, c.covered);
+  if (c.covered.size() != static_cast<size_t>(on_clauses)) corrupt_snapshot("on-clause count");
+  for (uint8_t f : c.covered)
+    if (f > 1) corrupt_snapshot("an on-clause flag is neither 0 nor 1");
+  load_value(r, c.triggered);
+  uint32_t next = 0;
+  r.raw(next);
+  auto remap = load_sorted_pairs(r, "identity table");
+  c.ids.restore(next, std::move(remap));
+  c.rot.restore(load_sorted_pairs(r, "rotation table"));
+}
+
+void save_value(SnapshotWriter& w, const GlobalOrder& o) {
+  w.raw(static_cast<uint64_t>(o.map.bucket_count()));
+  w.raw(static_cast<uint64_t>(o.map.next_resize()));
+  w.raw(static_cast<uint32_t>(o.map.size()));
+  o.map.for_each([&](int k) {
+    w.raw(static_cast<int32_t>(k));
+    w.raw(o.map.hash_of(k));
+  });
+}
+
+void load_value(SnapshotReader& r, GlobalOrder& o) {
+  uint64_t buckets = 0, resize = 0;
+  uint32_t n = 0;
+  r.raw(buckets);
+  r.raw(resize);
+  r.raw(n);
+  if (n > static_cast<size_t>(r.end - r.p) / 12) corrupt_snapshot("global order");
+  std::vector<std::pair<int, uint64_t>> keys(n);
+  for (auto& [k, hash] : keys) {
+    int32_t key = 0;
+    r.raw(key);
+    r.raw(hash);
+    if (key < 0 || key >= kMaxOrderKey) corrupt_snapshot("a global's symbol out of range");
+    k = key;
+  }
+  try {
+    o.map.restore(buckets, resize, keys);
+  } catch (const std::invalid_argument&) {
+    corrupt_snapshot("global order");
+  }
+}
+
+CompiledHost::~CompiledHost() = default;
+
+void CompiledHost::set_source_name(const std::string& path) { source_name_ = path; }
+
+void CompiledHost::set_limits(const Limits& l) { limits_ = limits::normalised(l); }
+
+void CompiledHost::copy_host(const CompiledHost& o) {
+  frame_ = o.frame_;
+  source_name_ = o.source_name_;
+  limits_ = o.limits_;
+  painter_ = o.painter_;
+  failed_ = o.failed_;
+  error_ = o.error_;
+}
+
+// Rethrows what the caller's catch (...) holds, to tell the kinds apart here,
+// once: a located error reads its site, anything else has no place.
+void CompiledHost::fail_with_current(const ErrorSite* sites) {
+  failed_ = true;
+  try {
+    throw;
+  } catch (const LocatedError& e) {
+    error_ = describe(source_name_, sites[e.site], e.what());
+  } catch (const std::bad_alloc&) {
+    error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + "out of memory";
+  } catch (const std::exception& e) {
+    error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + e.what();
+  } catch (...) {
+    error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + "unknown failure";
+  }
+}
+
+}  // namespace autumn::rt
