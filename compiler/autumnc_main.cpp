@@ -26,6 +26,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "compiler/read/output.hpp"
 #include "compiler/analyse/lint.hpp"
 #include "compiler/analyse/program.hpp"
 #include "compiler/emit/emit_module.hpp"
@@ -117,13 +118,11 @@ int run(const Options& o) {
   std::error_code ec;
   std::filesystem::create_directories(o.out_dir, ec);
   const auto out_path = std::filesystem::path(o.out_dir) / (src.name + ".cpp");
-  std::ofstream out(out_path, std::ios::binary);
-  if (!out) {
-    std::cerr << "autumnc: cannot write " << out_path.string() << "\n";
+  if (std::string why = autumn::write_file(out_path, module); !why.empty()) {
+    std::cerr << "autumnc: " << why << "\n";
     return 1;
   }
-  out << module;
-  return out ? 0 : 1;
+  return 0;
 }
 
 }  // namespace
@@ -137,5 +136,5 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  return run(o);
+  return autumn::finish_stdout("autumnc", run(o));
 }

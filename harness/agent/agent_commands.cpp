@@ -1,3 +1,4 @@
+#include "compiler/read/output.hpp"
 #include "harness/agent/agent_commands.hpp"
 
 #include <CLI/CLI.hpp>
@@ -234,9 +235,8 @@ int run_eval_cmd(State& s) {
     if (s.eval_json) std::cout << eval_json(rows).dump() << "\n";
     else fmt::print("{}\n{}", eval_table(rows), eval_type_table(rows));
     if (!s.eval_json_out.empty()) {
-      std::ofstream out(s.eval_json_out, std::ios::binary | std::ios::trunc);
-      out << eval_json(rows).dump(1) << "\n";
-      if (!out.flush()) return fail("eval", "cannot write " + s.eval_json_out);
+      if (std::string why = write_file(s.eval_json_out, eval_json(rows).dump(1) + "\n"); !why.empty())
+        return fail("eval", why);
     }
     for (const auto& r : rows)
       if (!r.error.empty()) return 1;

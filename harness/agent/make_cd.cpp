@@ -2,6 +2,7 @@
 // source locations of its forms); every candidate is one Edit (a byte range and its
 // replacement, "$G$" standing for the guard) applied together with the clock's
 // insertion, and is judged only by running it against recorded original episodes.
+#include "compiler/read/output.hpp"
 #include "harness/agent/make_cd.hpp"
 
 #include <fmt/core.h>
@@ -389,9 +390,7 @@ bool put_file(const fs::path& p, const std::string& text, bool refuse_differing)
     if (read_text(p) == text) return false;
     if (refuse_differing) throw TaskError(p.string() + " exists and differs; not overwriting");
   }
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-  if (!out) throw TaskError("cannot write " + p.string());
+  if (std::string why = write_file(p, text); !why.empty()) throw TaskError(why);
   return true;
 }
 

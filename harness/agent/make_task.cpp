@@ -1,3 +1,4 @@
+#include "compiler/read/output.hpp"
 #include "harness/agent/make_task.hpp"
 
 #include <fmt/core.h>
@@ -366,9 +367,7 @@ std::string read_all(const fs::path& p) {
 }
 
 void write_all(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-  if (!out) throw TaskError("cannot write " + p.string());
+  if (std::string why = write_file(p, text); !why.empty()) throw TaskError(why);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "harness/agent/agent_commands.hpp"
 #include "harness/cli/commands.hpp"
+#include "compiler/read/output.hpp"
 #include "harness/module_cache.hpp"
 
 int main(int argc, char** argv) {
@@ -36,5 +37,5 @@ int main(int argc, char** argv) {
   // Before static destruction: a module emitted in the background must not
   // outlive the statics it reads (module_cache.hpp).
   autumn::finish_module_emits();
-  return rc;
+  return autumn::finish_stdout("autumn", rc);
 }
