@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "runtime/frame.hpp"
+#include "runtime/limits.hpp"
 
 namespace autumn {
 namespace {
@@ -57,11 +58,18 @@ TraceFile load_trace_file(const std::string& path) {
   TraceFile f;
   try {
     f.program = j.value("program", "");
-    f.grid_size = j.value("grid_size", 0);
+    if (j.contains("grid_size")) {  // absent: not stated (0); present: a paintable size
+      const auto& g = j["grid_size"];
+      if (!g.is_number_integer() || g.get<int64_t>() < limits::kMinGridSize || g.get<int64_t>() > limits::kMaxGridSize)
+        throw std::runtime_error("\"grid_size\" must be an integer from " + std::to_string(limits::kMinGridSize) +
+                                 " to " + std::to_string(limits::kMaxGridSize) + ", got " + g.dump());
+      f.grid_size = g.get<int>();
+    }
     f.background = j.value("background", "");
     if (j.contains("triggering_condition") && j["triggering_condition"].is_string())
       f.triggering_condition = j["triggering_condition"].get<std::string>();
     if (!j.contains("traces") || !j["traces"].is_array()) throw std::runtime_error("missing \"traces\" array");
+    if (j["traces"].empty()) throw std::runtime_error("the \"traces\" array is empty: nothing to check");
     for (const auto& t : j["traces"]) {
       Trace tr;
       // get<uint64_t>() would wrap a negative seed silently.

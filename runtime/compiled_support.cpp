@@ -14,7 +14,7 @@ namespace autumn::rt {
 std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg) {
   const char* file = e.in_program ? nullptr : e.source;
   const int line = e.in_program ? e.program_line : e.line, col = e.in_program ? e.program_col : e.col;
-  std::string out = diagnostic_prefix(file ? file : path, line, col, "runtime error") + e.prefix + msg;
+  std::string out = diagnostic_prefix(file ? file : path, line, col, "runtime error") + shown(e.prefix + msg);
   if (e.in_program && e.source && std::string(e.source) != "<internal>")
     out += diagnostic_inside(e.source, e.line, e.col);
   return out;
@@ -161,7 +161,7 @@ void CompiledHost::fail_with_current(const ErrorSite* sites) {
   } catch (const std::bad_alloc&) {
     error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + "out of memory";
   } catch (const std::exception& e) {
-    error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + e.what();
+    error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + shown(e.what());
   } catch (...) {
     error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + "unknown failure";
   }

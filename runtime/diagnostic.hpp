@@ -12,6 +12,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 namespace autumn {
 
@@ -23,5 +24,12 @@ std::string diagnostic_prefix(const std::string& file, int line, int col, const 
 // The library place an error located in the program came from:
 // " (inside <stdlib>:40:3)".
 std::string diagnostic_inside(const std::string& source, int line, int col);
+
+// A message as it is safe to print: control bytes (newline and tab aside) and a
+// UTF-8 byte-order mark shown escaped ("\x00", "\ufeff"), so a NUL cannot cut it
+// short and nothing invisible hides in it; a run of more than 256 bytes without
+// a space (a huge identifier or literal) shown as its start, "...(N bytes)..."
+// and its end. Every diagnostic's message passes through it, in both engines.
+std::string shown(std::string_view message);
 
 }  // namespace autumn

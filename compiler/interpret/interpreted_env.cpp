@@ -19,7 +19,7 @@ bool InterpretedEnvironment::guarded(F&& f) {
   } catch (const std::bad_alloc&) {
     error_ = diagnostic_prefix(name(), 0, 0, "runtime error") + "out of memory";
   } catch (const std::exception& e) {
-    error_ = diagnostic_prefix(name(), 0, 0, "runtime error") + e.what();
+    error_ = diagnostic_prefix(name(), 0, 0, "runtime error") + shown(e.what());
   }
   failed_ = true;
   return false;

@@ -48,7 +48,29 @@ void register_render(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("--engine", o.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("interp");
 }
 
+// The pictures' pixels are held in memory (every frame, and for PNG the strip
+// too): checked before any is drawn, so a large grid at a large --scale is a
+// one-line reason rather than an out-of-memory abort.
+constexpr int64_t kMaxPixels = int64_t{1} << 27;  // 134M pixels, about 400 MB of RGB
+constexpr int64_t kMaxGifSide = 65535;             // the format's 16-bit width and height
+
+std::string picture_size_error(const RenderOptions& o, int grid, size_t frames) {
+  const int64_t side = int64_t{grid} * o.scale + (o.grid_lines ? 1 : 0);
+  const bool gif = has_suffix(o.out, ".gif");
+  const int64_t copies = gif ? 1 : 2;  // a PNG also holds the strip
+  const std::string what = std::to_string(grid) + "x" + std::to_string(grid) + " grid at --scale " +
+                           std::to_string(o.scale) + " makes " + std::to_string(side) + "x" + std::to_string(side) +
+                           "-pixel frames";
+  if (gif && side > kMaxGifSide)
+    return what + "; a GIF frame is at most " + std::to_string(kMaxGifSide) + " pixels a side (lower --scale)";
+  if (side * side > kMaxPixels / copies / static_cast<int64_t>(std::max<size_t>(frames, 1)))
+    return what + ", " + std::to_string(frames) + " of them: more than " + std::to_string(kMaxPixels) +
+           " pixels in all (lower --scale or --steps)";
+  return {};
+}
+
 void write_pictures(const RenderOptions& o, const EpisodeFrames& ep) {
+  if (std::string why = picture_size_error(o, ep.grid, ep.frames.size()); !why.empty()) throw std::runtime_error(why);
   std::vector<Image> images;
   for (const auto& rows : ep.frames) images.push_back(draw(picture_of_rows(rows), {o.scale, o.grid_lines}));
   if (has_suffix(o.out, ".gif")) write_gif(o.out, images, o.delay_ms);

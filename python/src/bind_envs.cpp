@@ -69,6 +69,30 @@ Action decode(int64_t a, int grid) {
   return act;
 }
 
+// One action id, as VecEnv takes them: a Python or NumPy integer. A float or a
+// bool is refused, not truncated (2.9 would run action 2, True action 1), with
+// the ValueError VecEnv.step raises.
+int64_t action_id(const pb::object& given) {
+  auto refuse = [](const std::string& what) {
+    return std::invalid_argument("an action must be an integer (an action id), got " + what);
+  };
+  if (pb::isinstance<pb::bool_>(given)) throw refuse("a bool");
+  if (pb::hasattr(given, "dtype")) {  // a NumPy scalar (or array)
+    const pb::object dtype = given.attr("dtype");
+    const char kind = dtype.attr("kind").cast<std::string>().at(0);
+    if (kind != 'i' && kind != 'u') throw refuse("NumPy " + std::string(pb::str(dtype)));
+    if (pb::hasattr(given, "ndim") && given.attr("ndim").cast<int>() != 0) throw refuse("an array");
+  } else if (!PyLong_Check(given.ptr())) {
+    throw refuse(std::string(pb::str(pb::type::of(given).attr("__name__"))));
+  }
+  const auto index = pb::reinterpret_steal<pb::object>(PyNumber_Index(given.ptr()));
+  if (!index) throw pb::error_already_set();
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow) throw std::invalid_argument("action " + std::string(pb::str(given)) + " is out of range");
+  return v;
+}
+
 class Env {
  public:
   Env(const std::string& text, const std::string& name, uint64_t seed, const std::string& engine,
@@ -112,10 +136,10 @@ class Env {
     return pb::make_tuple(last_obs_, pb::dict());
   }
 
-  pb::tuple step(int64_t action) {
+  pb::tuple step(const pb::object& action) {
     if (!started_) throw std::runtime_error("call reset() before step()");
     if (done_) throw std::runtime_error("the episode has ended (terminated or truncated): call reset()");
-    const Action a = decode(action, grid_);
+    const Action a = decode(action_id(action), grid_);
     if (!env_->step(a)) {
       done_ = true;
       pb::dict info;
