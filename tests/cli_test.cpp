@@ -7,6 +7,8 @@
 
 #include "test_support.hpp"
 
+namespace fs = std::filesystem;
+
 namespace {
 
 using Result = autumn::testing::CliResult;
@@ -91,9 +93,56 @@ TEST(Cli, MalformedTraceFileIsAOneLineError) {
   EXPECT_NE(r.out.find("malformed trace file"), std::string::npos) << r.out;
 }
 
+TEST(Cli, TraceFileWithABadGridSizeOrNoTracesIsRefused) {
+  const std::string json = "/tmp/autumn_cli_test_refused.json";
+  const std::string trace = R"("traces":[{"seed":0,"actions":[],"frames":[["black"]]}])";
+  for (const std::string& text : {R"({"grid_size":-5,)" + trace + "}", R"({"grid_size":"5",)" + trace + "}",
+                                  std::string(R"({"grid_size":5,"traces":[]})")}) {
+    FILE* f = fopen(json.c_str(), "w");
+    fputs(text.c_str(), f);
+    fclose(f);
+    Result r = run("check " + golden("stale_occupancy.au") + " " + json);
+    EXPECT_EQ(r.status, 1) << text << "\n" << r.out;
+    EXPECT_NE(r.out.find(text.find("\"traces\":[]") != std::string::npos ? "the \"traces\" array is empty" : "\"grid_size\" must be"),
+              std::string::npos)
+        << r.out;
+  }
+}
+
+// Standard output on a full disk (/dev/full): the reason on stderr and a non-zero
+// exit, never a success with nothing written. stderr goes to the pipe, stdout to
+// /dev/full (the redirections apply in order).
+TEST(Cli, AFullDiskIsAnErrorNotAnEmptySuccess) {
+  const std::string prog = golden("stale_occupancy.au");
+  const std::string trace = "/tmp/autumn_cli_test_full_disk.json";
+  ASSERT_EQ(run("run " + prog + " --steps 3 --json > " + trace).status, 0);
+  for (const std::string& args : {"run " + prog + " --steps 3 --json", "check " + prog + " " + trace,
+                                  "difftest " + prog + " --seeds 1 --steps 5"}) {
+    const std::string cmd = std::string(AUTUMN_CLI) + " " + args + " 2>&1 >/dev/full";
+    FILE* p = popen(cmd.c_str(), "r");
+    std::string err;
+    std::array<char, 4096> buf;
+    while (size_t n = fread(buf.data(), 1, buf.size(), p)) err.append(buf.data(), n);
+    const int st = pclose(p);
+    EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 1) << args << "\n" << err;
+    EXPECT_NE(err.find("autumn: cannot write the standard output: No space left on device"), std::string::npos)
+        << args << "\n" << err;
+  }
+  // autumnc -o: the module file is a link to /dev/full.
+  const fs::path dir = fs::temp_directory_path() / "autumn_cli_test_full_disk";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::create_symlink("/dev/full", dir / "stale_occupancy.cpp");
+  Result r = autumn::testing::run_cli(prog + " -o " + dir.string(), false, "", AUTUMNC_CLI);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("cannot write " + (dir / "stale_occupancy.cpp").string() + ": No space left on device"),
+            std::string::npos)
+      << r.out;
+  fs::remove_all(dir);
+}
+
 // --- robustness: bad programs among good ones, limits, nesting (runtime/limits.hpp)
 
-namespace fs = std::filesystem;
 
 // A folder holding a good program and three that used to crash or stop a run. Each test
 // names its own folder: ctest runs tests in parallel, and one test must not edit another's.

@@ -91,5 +91,47 @@ TEST(Diagnostics, UnboundNamesAreWarnedWithLocation) {
   EXPECT_EQ(p->warnings[0], "w.au:2:32: warning: 'speed' is not defined anywhere; evaluating it is a runtime error");
 }
 
+// A NUL, a byte-order mark or a 5 MB name in a program: every message stays whole,
+// one line, escaped and short, in warnings, errors and both engines' runtime errors.
+TEST(Diagnostics, InvisibleAndHugeTextIsShownSafely) {
+  using namespace std::string_literals;
+  auto nul = load_program(SourceFile{"w.au", "(program\n  (= x (initnext 0 (+ (prev x) sp\0eed))))"s});
+  ASSERT_EQ(nul->warnings.size(), 2u);
+  EXPECT_EQ(nul->warnings[1],
+            "w.au:2:32: warning: 'sp\\x00eed' reads as the name 'sp' (names end at the first character that is not a "
+            "letter, digit or underscore)");
+
+  try {
+    load_program(SourceFile{"b.au", "\xEF\xBB\xBF(program (= GRID_SIZE 4))"});
+    FAIL() << "a byte-order mark before the program loaded";
+  } catch (const CompileError& e) {
+    EXPECT_NE(e.formatted().find("\\ufeff"), std::string::npos) << e.formatted();
+  }
+
+  const std::string huge(5'000'000, 'q');
+  auto big = load_program(SourceFile{"h.au", "(program\n  (= x (initnext 0 (+ (prev x) " + huge + "))))"});
+  ASSERT_EQ(big->warnings.size(), 1u);
+  EXPECT_LT(big->warnings[0].size(), 400u);
+  EXPECT_NE(big->warnings[0].find("'qqqq"), std::string::npos) << big->warnings[0].substr(0, 400);
+  EXPECT_NE(big->warnings[0].find("...(5000002 bytes)..."), std::string::npos) << big->warnings[0].substr(0, 400);
+
+  // At run time, on both engines: the same elided text.
+  const std::string name(300, 'q');
+  auto program = load_program(SourceFile{"r.au", "(program\n  (= GRID_SIZE 4)\n  (= x (initnext 0 (+ (prev x) " + name + "))))"});
+  std::vector<std::string> errors;
+  for (const std::string& engine : testing::test_engines()) {
+    std::string why;
+    auto env = make_environment(engine, program, &why);
+    ASSERT_TRUE(env) << why;
+    bool ok = env->reset(0) && env->step(Action::noop());
+    ASSERT_FALSE(ok) << engine;
+    EXPECT_EQ(env->error().rfind("r.au:3:32: runtime error: undefined variable 'qqq", 0), 0u) << engine << ": " << env->error();
+    EXPECT_NE(env->error().find("q...(302 bytes)...q"), std::string::npos) << engine << ": " << env->error();
+    EXPECT_LT(env->error().size(), 250u) << engine;
+    errors.push_back(env->error());
+  }
+  for (const std::string& e : errors) EXPECT_EQ(e, errors[0]);
+}
+
 }  // namespace
 }  // namespace autumn

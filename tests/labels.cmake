@@ -11,7 +11,8 @@
 #   untiered  no rule matched: still run by the full suite; give it a rule
 # A test named in kSlow (over ~15 s on this 2-core machine, measured; the table
 # is in docs/design.md, "Tests") loses "quick" and gains "slow". Tests that
-# search on two threads reserve two of ctest's -j slots (PROCESSORS 2).
+# search on two threads reserve two of ctest's -j slots (PROCESSORS 2). Slow
+# tests start first (COST, kStartFirst).
 
 set(rules
   "^(HashOrder|Parser|Diagnostics|Lint|IrPasses|ModuleKey|SnapshotHash|StateValidationMisc|Limits|Generated|WarmStart)\\.|quick"
@@ -50,6 +51,14 @@ set(kSlow
   Files/LoweringFile.SpecialisesAsExpectedAndAgreesWithTheInterpreter/construct_own_class
   Traces/CompiledConformance.MatchesEveryFrame/ajl_rink)
 
+# Started first (ctest COST; a fresh tree has no timings of its own): the slow
+# tests above, and these, slow only under the sanitizers (the interpreter on the
+# longest golden traces). Long tests started last leave one core idle at the end.
+set(kStartFirst
+  ${kSlow}
+  Traces/Conformance.InterpreterMatchesEveryFrame/ajl_turing_complete
+  Traces/Conformance.InterpreterMatchesEveryFrame/ajl_rink)
+
 # Searches run on a pool of two threads (and again on one).
 set(kTwoThreads
   "^AgentPlanning\\.(TimedGoals|FocusedClicks|FocusedSets|SkeletonSearch|BestFirst|ReachingClicks)"
@@ -79,5 +88,10 @@ foreach(test IN LISTS autumn_tests_TESTS)
       set(processors 2)
     endif()
   endforeach()
-  set_tests_properties("${test}" PROPERTIES LABELS "${labels}" PROCESSORS ${processors})
+  list(FIND kStartFirst "${bare}" first)
+  set(cost 0)
+  if(first GREATER -1)
+    set(cost 100)
+  endif()
+  set_tests_properties("${test}" PROPERTIES LABELS "${labels}" PROCESSORS ${processors} COST ${cost})
 endforeach()

@@ -145,6 +145,24 @@ TEST(Pictures, RenderWritesTheEpisode) {
   EXPECT_NE(unwritable.out.find("cannot write /nonexistent/x.png"), std::string::npos) << unwritable.out;
 }
 
+// The largest legal grid at the default scale is 65536 pixels a side: refused with
+// the sizes, before drawing, on both formats (it used to end in std::bad_alloc).
+TEST(Pictures, TooManyPixelsIsAReasonNotACrash) {
+  const std::string prog = (std::filesystem::temp_directory_path() / "autumn_ux_huge_grid.au").string();
+  FILE* f = fopen(prog.c_str(), "w");
+  fputs("(program (= GRID_SIZE 4096) (object Dot (Cell 0 0 \"red\")) (= d (initnext (Dot (Position 0 0)) (prev d))))\n", f);
+  fclose(f);
+  for (const char* out : {"/tmp/autumn_ux_huge.gif", "/tmp/autumn_ux_huge.png"}) {
+    auto r = run_cli("render " + prog + " --steps 0 --out " + out);
+    EXPECT_EQ(r.status, 1) << r.out;
+    EXPECT_NE(r.out.find("4096x4096 grid at --scale 16 makes 65536x65536-pixel frames"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  auto small = run_cli("render " + prog + " --steps 0 --scale 1 --out /tmp/autumn_ux_huge.png");
+  EXPECT_EQ(small.status, 0) << small.out;  // 4096x4096 pixels: within the budget
+  std::filesystem::remove("/tmp/autumn_ux_huge.png");
+}
+
 // The public ice planning task: one command writes the plan as a GIF and a PNG;
 // both decode to the frames the plan produces.
 TEST(Pictures, IcePlanningPlan) {

@@ -35,6 +35,17 @@ def test_env_shapes_and_spaces():
         env.step(-1)
 
 
+def test_env_step_refuses_what_vecenv_refuses():
+    """A float or a bool is not an action id: refused, not truncated to one."""
+    env = autumnc.Env(SOKOBAN, seed=3)
+    env.reset()
+    for bad in (np.float32(2.9), 2.9, True, np.bool_(True), "2", np.array([1, 2]), 2**70):
+        with pytest.raises(ValueError, match="integer|out of range"):
+            env.step(bad)
+    for good in (2, np.int8(2), np.uint64(2), np.array(2)):
+        assert env.step(good)[2] is False  # not terminated: the step ran
+
+
 def test_env_reset_equals_a_fresh_run_script(stdlib):
     env = autumnc.Env(FIREWORKS, seed=7, engine="compiled")
     g = env.grid_size
