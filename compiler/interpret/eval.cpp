@@ -9,7 +9,8 @@
 //
 // Depth: eval() counts its own nesting (kMaxEvalNesting, with the deep stack's
 // floor as a last resort) and call_lambda the call depth and the step's calls
-// (runtime/limits.hpp); running out of memory inside an expression becomes a
+// (runtime/limits.hpp), polling the host for an interrupt as it counts them
+// (runtime/interrupt.hpp); running out of memory inside an expression becomes a
 // located error at that expression.
 #include <algorithm>
 #include <exception>
@@ -20,6 +21,7 @@
 #include "compiler/interpret/interpreter.hpp"
 #include "compiler/parse/ast_print.hpp"
 #include "runtime/arith.hpp"
+#include "runtime/interrupt.hpp"
 
 namespace autumn::interp {
 
@@ -28,6 +30,11 @@ namespace autumn::interp {
 constexpr int64_t kMaxEvalNesting = 400'000;
 
 void Interpreter::fail(const std::string& msg) { throw RuntimeError(msg); }
+
+// The host's poll (runtime/interrupt.hpp), every kInterruptPollCalls calls.
+void Interpreter::poll_interrupt() {
+  if (InterruptPoll poll = interrupt_poll(); poll && poll()) fail(interrupted_error());
+}
 
 void locate(RuntimeError& err, const Expr& e) {
   if (!err.located) {
@@ -399,7 +406,10 @@ Value Interpreter::call_function(const Value& fv, std::vector<Value>& args, cons
 Value Interpreter::call_lambda(const Expr& lambda, std::vector<Value>& args, ScopeKind kind, const Expr* site) {
   Nest depth(call_depth_);
   if (call_depth_ > limits_.call_depth) fail_call_depth(lambda, site);
-  if (!internal_ && ++step_calls_ > limits_.calls) fail(limits::calls_error(limits_.calls));
+  if (!internal_) {
+    if (++step_calls_ > limits_.calls) fail(limits::calls_error(limits_.calls));
+    if (step_calls_ % kInterruptPollCalls == 0) poll_interrupt();
+  }
   Ref<Scope> sc = new_scope(kind, env_);
   env_ = sc;
   if (args.size() < lambda.params.size())

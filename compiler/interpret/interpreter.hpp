@@ -178,6 +178,7 @@ class Interpreter {
   int grid_size_for_render();
 
   [[noreturn]] void fail(const std::string& msg);
+  void poll_interrupt();  // fails with interrupted_error() when the host asks (runtime/interrupt.hpp)
   // In a catch (...) handler of a caller of eval(): the error being handled,
   // located at the eval() frames it unwound (eval_stack_ above `height`, then
   // cut off) innermost first, as if each frame had caught and located it.

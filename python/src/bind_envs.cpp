@@ -19,6 +19,7 @@
 
 #include "compiler/interpret/interpreted_env.hpp"
 #include "python/src/bindings.hpp"
+#include "python/src/interruptible.hpp"
 #include "python/src/module_broker.hpp"
 #include "python/src/programs.hpp"
 #include "python/src/vec_env.hpp"
@@ -140,8 +141,14 @@ class Env {
     if (!started_) throw std::runtime_error("call reset() before step()");
     if (done_) throw std::runtime_error("the episode has ended (terminated or truncated): call reset()");
     const Action a = decode(action_id(action), grid_);
-    if (!env_->step(a)) {
+    bool ok = false;
+    {
+      InterruptPollScope poll(&py::poll_python_signals);  // Ctrl-C ends a long interpreted step
+      ok = env_->step(a);
+    }
+    if (!ok) {
       done_ = true;
+      py::raise_if_interrupted();
       pb::dict info;
       info["error"] = env_->error();
       return pb::make_tuple(last_obs_, 0.0, true, false, info);

@@ -16,6 +16,7 @@
 
 #include "python/src/bindings.hpp"
 #include "python/src/colours.hpp"
+#include "python/src/interruptible.hpp"
 #include "python/src/programs.hpp"
 #include "python/src/session.hpp"
 
@@ -61,7 +62,7 @@ class Interpreter {
     return *session_;
   }
   std::string step() {
-    s().step();
+    py::interruptible([&] { s().step(); });  // Ctrl-C ends a long interpreted step
     return "Step executed.";
   }
   void press(const Action& a) { s().press(a); }
@@ -128,7 +129,8 @@ void bind_interpreter(pb::module_& m) {
   c.def("up", [](Interpreter& i) { i.press(Action{Action::Kind::Up}); }, "Push up");
   c.def("down", [](Interpreter& i) { i.press(Action{Action::Kind::Down}); }, "Push down");
   c.def("get_trigger_state", [](Interpreter& i) { return i.s().trigger_state(); }, "Get trigger state");
-  c.def("render_all", [](Interpreter& i) { return i.s().render_all(); }, "Render all");
+  c.def(
+      "render_all", [](Interpreter& i) { return py::interruptible([&] { return i.s().render_all(); }); }, "Render all");
   c.def("get_environment_string", [](Interpreter& i) { return i.s().environment_string(); },
         "Get environment string");
   c.def("get_on_clause_count", [](Interpreter& i) { return i.s().on_clause_count(); }, "Get on clause count");

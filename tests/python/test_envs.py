@@ -2,6 +2,7 @@
 environments and the interpreter, thread-count independence, the GIL released,
 clone/restore, and clear errors."""
 import os
+import subprocess
 import sys
 import threading
 import time
@@ -272,3 +273,49 @@ def test_vecenv_too_many_envs_is_memory_error():
     with pytest.raises(MemoryError, match="num_envs=10000000"):
         autumnc.VecEnv(SOKOBAN, 10**7)
     assert autumnc.VecEnv(SOKOBAN, 3).num_envs == 3
+
+
+# One step of nine million function calls, within the default budget: over a
+# second on the interpreter, which polls for Ctrl-C every 65,536 calls.
+LONG_STEP = """(program
+  (= GRID_SIZE 4)
+  (= n (initnext 0 (+ (prev n)
+    (foldl (fn (a j) (+ a (foldl (fn (b i) (+ b (* i 2))) 0 (range 0 3000)))) 0 (range 0 3000))))))
+"""
+
+
+def _ctrl_c_in(seconds):
+    """A real SIGINT from another process, as a terminal's Ctrl-C sends it."""
+    return subprocess.Popen(["sh", "-c", f"sleep {seconds}; kill -INT {os.getpid()}"])
+
+
+def test_ctrl_c_stops_a_long_interpreted_step(tmp_path, stdlib):
+    """KeyboardInterrupt soon after Ctrl-C, not at the end of the step, on Env
+    and on the reference API; the interrupted episode is over, and a new one
+    starts normally."""
+    path = tmp_path / "long_step.au"
+    path.write_text(LONG_STEP)
+    env = autumnc.Env(str(path), engine="interp")
+    env.reset()
+    start = time.monotonic()
+    env.step(0)  # the whole step, for scale
+    whole = time.monotonic() - start
+    killer = _ctrl_c_in(0.2)
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        env.step(0)
+    assert time.monotonic() - start < max(0.8, whole)
+    killer.wait()
+    with pytest.raises(RuntimeError, match="call reset"):
+        env.step(0)
+    assert env.reset()[0].shape == (4, 4)
+
+    from autumnc.interpreter_module import Interpreter
+    i = Interpreter()
+    i.run_script(LONG_STEP, stdlib, "", 0)
+    killer = _ctrl_c_in(0.2)
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        i.step()
+    assert time.monotonic() - start < max(0.8, whole)
+    killer.wait()
