@@ -10,7 +10,11 @@
 #include <sys/mman.h>
 #include <ucontext.h>
 
+#include <cerrno>
+#include <cstring>
 #include <new>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #ifdef AUTUMN_ASAN
@@ -23,6 +27,7 @@ namespace {
 
 struct DeepStack {
   char* base = nullptr;  // lowest address of the mapping (a guard page first)
+  size_t size = 0;       // bytes mapped at base: kDeepStackBytes, or less under an address-space limit
   bool started = false;  // the fiber waits in loop()
   bool active = false;   // this thread runs on it now
   ucontext_t fiber{}, caller{};
@@ -35,7 +40,7 @@ struct DeepStack {
   void* fiber_fake = nullptr;
 
   ~DeepStack() {
-    if (base) munmap(base, kDeepStackBytes);  // the suspended fiber owns nothing else
+    if (base) munmap(base, size);  // the suspended fiber owns nothing else
   }
   void start();
 };
@@ -63,14 +68,28 @@ void loop() {
 }
 
 void DeepStack::start() {
-  void* p = mmap(nullptr, kDeepStackBytes, PROT_READ | PROT_WRITE,
-                 MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE | MAP_STACK, -1, 0);
-  if (p == MAP_FAILED) throw std::bad_alloc();
+  // Reserved, not committed; an address-space limit (ulimit -v) can refuse the
+  // full size, so halve down to kMinDeepStackBytes: the depth counters still
+  // decide where evaluation stops, and past a smaller stack's end
+  // stack_exhausted() gives the nesting error instead of a crash.
+  void* p = MAP_FAILED;
+  int err = 0;
+  for (size = kDeepStackBytes; size >= kMinDeepStackBytes; size /= 2) {
+    p = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE | MAP_STACK, -1, 0);
+    if (p != MAP_FAILED) break;
+    err = errno;
+  }
+  if (p == MAP_FAILED) {
+    size = 0;
+    throw std::runtime_error("cannot reserve the interpreter's stack (" + std::to_string(kMinDeepStackBytes >> 20) +
+                             " MiB of address space, at least): " + std::strerror(err) +
+                             " (is the address space limited, as by ulimit -v?)");
+  }
   base = static_cast<char*>(p);
   mprotect(base, 4096, PROT_NONE);  // an overflow faults instead of writing below
   getcontext(&fiber);
   fiber.uc_stack.ss_sp = base;
-  fiber.uc_stack.ss_size = kDeepStackBytes;
+  fiber.uc_stack.ss_size = size;
   fiber.uc_link = nullptr;
   makecontext(&fiber, loop, 0);
   started = true;
@@ -102,7 +121,7 @@ void run_on_deep_stack(void (*fn)(void*), void* arg) {
   d.active = true;
 #ifdef AUTUMN_ASAN
   void* fake_stack = nullptr;
-  __sanitizer_start_switch_fiber(&fake_stack, d.base, kDeepStackBytes);
+  __sanitizer_start_switch_fiber(&fake_stack, d.base, d.size);
 #endif
   swapcontext(&d.caller, &d.fiber);
 #ifdef AUTUMN_ASAN

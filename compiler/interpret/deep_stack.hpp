@@ -5,6 +5,8 @@
 // thread's usual 8 MiB. Rather than rewrite the walk, every entry into the
 // interpreter (start, step, render, the host API) runs on a per-thread stack of
 // kDeepStackBytes, reserved once per thread and committed only as it is touched
+// (less, down to kMinDeepStackBytes, when the address space is limited; below
+// that a one-line reason)
 // (a ucontext fiber: same thread, so thread-locals and exceptions behave;
 // AddressSanitizer is told about each switch). Re-entry while already on it runs
 // directly. The depth counters, not the stack, decide where evaluation stops, so
@@ -27,7 +29,8 @@
 
 namespace autumn::interp {
 
-constexpr size_t kDeepStackBytes = size_t{1} << 30;  // reserved, not committed
+constexpr size_t kDeepStackBytes = size_t{1} << 30;     // reserved, not committed
+constexpr size_t kMinDeepStackBytes = size_t{32} << 20;  // the least taken when less can be reserved
 constexpr size_t kStackReserve = size_t{256} << 10;  // what stack_exhausted() keeps free
 
 // Runs fn(arg) on this thread's deep stack (directly when already there).
