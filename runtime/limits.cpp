@@ -55,7 +55,7 @@ std::string value_nesting_error() {
 }
 
 std::string rotation_nesting_error() {
-  return "rotate: a cell turned more than " + std::to_string(kMaxValueNesting) + " times";
+  return "rotate: a cell turned more than " + std::to_string(kMaxRotations) + " times";
 }
 
 std::string grid_size_error(int64_t size) {

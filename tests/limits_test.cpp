@@ -185,6 +185,25 @@ TEST(Limits, ListLengthBelowTheFloorIsTheFloorOnBothEngines) {
   }
 }
 
+// A two-cell object turned once per step: both engines stop at the same step,
+// the (kMaxRotations + 1)th turn (they once stopped at 1,001 and 2,001).
+TEST(Limits, RotationsStopAtTheSameTurnOnBothEngines) {
+  auto program = load_program(SourceFile{
+      "turns.au",
+      "(program (= GRID_SIZE 8) (object Bar (Cell 0 0 \"red\") (Cell 1 0 \"red\"))\n"
+      "  (= bar (initnext (Bar (Position 3 3)) (rotate (prev bar)))))"});
+  for (const std::string& engine : testing::test_engines()) {
+    std::string why;
+    auto env = make_environment(engine, program, &why);
+    ASSERT_TRUE(env) << why;
+    ASSERT_TRUE(env->reset(0)) << engine << ": " << env->error();
+    int steps = 0;
+    while (steps < limits::kMaxRotations + 10 && env->step(Action::noop())) ++steps;
+    EXPECT_EQ(steps, limits::kMaxRotations) << engine << ": " << env->error();
+    EXPECT_NE(env->error().find("rotate: a cell turned more than 2000 times"), std::string::npos) << engine;
+  }
+}
+
 TEST(Limits, ClonesKeepTheLimits) {
   auto program = limits_program("list_length.au");
   InterpretedEnvironment env(program);

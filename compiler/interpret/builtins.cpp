@@ -443,6 +443,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
         Value old_x = c->fields[xi];
         DeferredObj* xd = old_x.as<DeferredObj>();
         DeferredObj* yd = c->fields[yi].as<DeferredObj>();
+        // y's nesting is half the turns so far: this is the (kMaxRotations + 1)th turn.
         if (yd->turns >= limits::kMaxValueNesting) fail(limits::rotation_nesting_error());
         Expr neg{ExprKind::Unary, yd->expr->loc};
         neg.unary = UnOp::Neg;

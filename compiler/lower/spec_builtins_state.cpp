@@ -525,10 +525,11 @@ SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
     learn("rotate turns '" + m_.classes[cls].name + "'");
     return never();
   }
-  // Each turn wraps the cells' offsets once more: their number is a fixed limit.
+  // Each turn wraps one of the cells' offsets once more: their number is a fixed
+  // limit (limits::kMaxRotations; the interpreter checks the nesting it makes).
   ir::Stmt* deep = emit(ir::SK::If);
   deep->a = node(ir::Op::Ge, T().bool_(), {call(ir::Helper::RotOf, T().int_(), {member(a[0].code, ir::Member::Group, T().int_())}),
-                                           lit(T().int_(), limits::kMaxValueNesting)});
+                                           lit(T().int_(), limits::kMaxRotations)});
   in_block(deep->body, [&] { fail(limits::rotation_nesting_error()); });
   emit_eval(call(ir::Helper::RotTurn, nullptr, {member(a[0].code, ir::Member::Group, T().int_())}));
   if (!tracked(a[0].type)) return a[0];
