@@ -8,8 +8,8 @@
 # tests again under AddressSanitizer and UndefinedBehaviorSanitizer
 # (scripts/sanitize.sh, a clang-14 tree) and a short run of every libFuzzer
 # target under both sanitizers (scripts/fuzz.sh, AUTUMN_FUZZ_SECONDS each,
-# default 40; two targets at a time, one core each; state alone for
-# AUTUMN_FUZZ_STATE_SECONDS, default 15). Ends with the time of each
+# default 40; two targets at a time, one core each; state for
+# AUTUMN_FUZZ_STATE_SECONDS, default 15, beside the second pair). Ends with the time of each
 # stage and the ten slowest tests.
 #
 # --quick: the inner loop. The release build and the tests labelled "quick"
@@ -82,18 +82,21 @@ finish_sanitize_build() {
 stage "ctest (release, every test)" bash -c 'cd build && ctest --output-on-failure -j2 --output-junit ctest-junit.xml'
 stage "build (ASan+UBSan tree): the rest" finish_sanitize_build
 stage "ctest under ASan+UBSan" bash scripts/sanitize.sh test
-fuzz_pair() {  # two targets at once, one core each; both must pass
-  local s1=0 s2=0
-  AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh "$1" "${AUTUMN_FUZZ_SECONDS:-40}" > "build-fuzz/fuzz-$1.out" 2>&1 &
-  local p1=$!
-  AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh "$2" "${AUTUMN_FUZZ_SECONDS:-40}" > "build-fuzz/fuzz-$2.out" 2>&1 &
-  local p2=$!
-  wait $p1 || s1=$?
-  wait $p2 || s2=$?
-  cat "build-fuzz/fuzz-$1.out" "build-fuzz/fuzz-$2.out"
-  [ $s1 -eq 0 ] && [ $s2 -eq 0 ]
+fuzz_group() {  # targets at once (TARGET or TARGET:SECONDS); every one must pass
+  local pids=() names=() status=0 t name secs
+  for t in "$@"; do
+    name=${t%%:*}
+    secs=${AUTUMN_FUZZ_SECONDS:-40}
+    [ "$t" != "$name" ] && secs=${t#*:}
+    AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh "$name" "$secs" > "build-fuzz/fuzz-$name.out" 2>&1 &
+    pids+=($!)
+    names+=("$name")
+  done
+  for i in "${!pids[@]}"; do wait "${pids[$i]}" || status=1; done
+  for name in "${names[@]}"; do cat "build-fuzz/fuzz-$name.out"; done
+  return $status
 }
-stage "fuzz smoke: frontend + interp" fuzz_pair frontend interp
-stage "fuzz smoke: emit + task" fuzz_pair emit task
-# Snapshot loading is cheap per input (thousands a second): a short run alone.
-stage "fuzz smoke: state" env AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh state "${AUTUMN_FUZZ_STATE_SECONDS:-15}"
+stage "fuzz smoke: frontend + interp" fuzz_group frontend interp
+# Snapshot loading is cheap per input (thousands a second): a short run, beside
+# the second pair rather than alone on one core.
+stage "fuzz smoke: emit + task + state" fuzz_group emit task "state:${AUTUMN_FUZZ_STATE_SECONDS:-15}"
