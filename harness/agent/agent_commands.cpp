@@ -302,6 +302,10 @@ void add_agent_commands(CLI::App& app) {
   s.make->add_option("--batch", s.make_opts.batch, "MFP: rollouts whose outcomes no distractor may equal")
       ->default_val(200)
       ->check(cli::big_count(1));
+  s.make->add_option("--posterior-samples", s.make_opts.posterior_samples,
+                     "MFP, stochastic programs: samples of the blind solver's posterior that choose the rectangle")
+      ->default_val(1000)
+      ->check(cli::big_count(1));
   s.make->add_option("--masked-frames", s.make_opts.masked_frames, "MFP: final frames that hide the rectangle")
       ->default_val(3)
       ->check(cli::int_count(1));

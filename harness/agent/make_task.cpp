@@ -121,16 +121,15 @@ std::vector<Rect> ranked_rectangles(const std::vector<TaskFrame>& frames, int si
 
 // Masked-region contents -> samples showing them.
 using Outcomes = std::map<std::vector<int16_t>, uint64_t>;
-constexpr uint64_t kPosteriorSamples = 1000;
 constexpr size_t kRectangles = 32;  // best-ranked rectangles tried
 
 // What a blind solver could infer: sequential Monte Carlo over an unknown seed
 // (smc.hpp) conditioned on the task's frames before `first_masked` (shared by
 // every rectangle: nullptr when the filter finds no explanation)...
 std::unique_ptr<SmcSet> unmasked_prefix(const Environment& model, const Episode& ep, const std::vector<TaskFrame>& frames,
-                                        int size, int first_masked, uint64_t seed, ThreadPool& pool,
+                                        int size, int first_masked, uint64_t seed, uint64_t samples, ThreadPool& pool,
                                         const ColourTable& colours) {
-  auto smc = std::make_unique<SmcSet>(pool, colours, kPosteriorSamples, seed ^ 0xb1d5eedull, /*max_growth=*/8);
+  auto smc = std::make_unique<SmcSet>(pool, colours, samples, seed ^ 0xb1d5eedull, /*max_growth=*/8);
   Grid obs;
   FramePredicate keep = [&obs](const TaskFrame& f, int sz) { return consistent(f, sz, obs); };
   for (int t = 0; t < first_masked; ++t) {
@@ -202,13 +201,15 @@ MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> pr
     // hidden content they make predictable (see the header).
     double best_share = 0;
     std::unique_ptr<SmcSet> prefix =
-        first_masked > 0 ? unmasked_prefix(*env, *ep, frames, size, first_masked, opts.seed, pool, colours) : nullptr;
+        first_masked > 0
+            ? unmasked_prefix(*env, *ep, frames, size, first_masked, opts.seed, opts.posterior_samples, pool, colours)
+            : nullptr;
     for (size_t c = 0; prefix && c < candidates.size() && c < kRectangles && best_share < 0.5; ++c) {
       std::optional<Outcomes> out = posterior_outcomes(*prefix, *ep, frames, size, candidates[c], first_masked);
       if (!out) continue;
       const Grid a = crop(last, size, candidates[c]);
       auto it = out->find(a.cells);
-      double share = it == out->end() ? 0.0 : static_cast<double>(it->second) / kPosteriorSamples;
+      double share = it == out->end() ? 0.0 : static_cast<double>(it->second) / opts.posterior_samples;
       if (share <= best_share) continue;
       best_share = share, best = candidates[c], answer = a;
       taken = {answer.cells};

@@ -5,7 +5,8 @@
 // rectangles for how much its content changes); six choices, exactly one the true
 // content. For a stochastic program the task must be fair to a solver that does
 // not know the seed: for the best-ranked rectangles in turn (at most 32), a
-// sequential Monte Carlo filter over an unknown seed (smc.hpp, 1000 samples, at most
+// sequential Monte Carlo filter over an unknown seed (smc.hpp, posterior_samples
+// samples, 1000 by default, at most
 // 8 children per sample: a generator's check, not a solver)
 // conditioned on the task's observations says which contents the observations
 // allow; the first rectangle whose true content is at least half of that
@@ -49,6 +50,7 @@ struct MakeTaskOptions {
   uint64_t env_seed = 0;
   std::string engine = "interp";
   uint64_t batch = 200;
+  uint64_t posterior_samples = 1000;  // mfp, stochastic programs: samples of the blind solver's posterior
   int masked_frames = 3;
   bool extend_colours = false;
   fs::path answers_out;  // empty: the default beside the task (write_task)
