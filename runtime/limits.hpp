@@ -54,8 +54,9 @@ namespace limits {
 constexpr int kMaxSyntaxNesting = 1000;  // nested parentheses in a program or trigger
 constexpr int kMaxValueNesting = 1000;   // lists/objects inside each other; a cell's coordinate expressions
 // Turns of one cell: a turn (x, y) -> (-y, x) nests one of its two coordinates
-// once more, so this many turns nest each kMaxValueNesting deep. The interpreter
-// checks the nesting, the compiled engine counts the turns: the same rotate fails.
+// once more, so this many turns nest each kMaxValueNesting deep. Both engines
+// compare the turns so far with it (the interpreter as the sum of its two
+// coordinates' nesting, the compiled engine as its per-group count).
 constexpr int kMaxRotations = 2 * kMaxValueNesting;
 // The smallest list-length budget: every list a program's text spells out (a
 // literal, a range of constants) up to this length needs no check at run time.

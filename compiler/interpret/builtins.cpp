@@ -443,8 +443,9 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
         Value old_x = c->fields[xi];
         DeferredObj* xd = old_x.as<DeferredObj>();
         DeferredObj* yd = c->fields[yi].as<DeferredObj>();
-        // y's nesting is half the turns so far: this is the (kMaxRotations + 1)th turn.
-        if (yd->turns >= limits::kMaxValueNesting) fail(limits::rotation_nesting_error());
+        // A turn adds one to one coordinate's nesting: the two together are the
+        // cell's turns so far, the count the compiled engine keeps per group.
+        if (xd->turns + yd->turns >= limits::kMaxRotations) fail(limits::rotation_nesting_error());
         Expr neg{ExprKind::Unary, yd->expr->loc};
         neg.unary = UnOp::Neg;
         neg.text = "-";

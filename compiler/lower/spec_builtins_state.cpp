@@ -526,7 +526,7 @@ SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
     return never();
   }
   // Each turn wraps one of the cells' offsets once more: their number is a fixed
-  // limit (limits::kMaxRotations; the interpreter checks the nesting it makes).
+  // limit (limits::kMaxRotations, which the interpreter checks too).
   ir::Stmt* deep = emit(ir::SK::If);
   deep->a = node(ir::Op::Ge, T().bool_(), {call(ir::Helper::RotOf, T().int_(), {member(a[0].code, ir::Member::Group, T().int_())}),
                                            lit(T().int_(), limits::kMaxRotations)});
