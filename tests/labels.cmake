@@ -11,7 +11,7 @@
 #   untiered  no rule matched: still run by the full suite; give it a rule
 # A test named in kSlow (over ~15 s on this 2-core machine, measured; the table
 # is in docs/design.md, "Tests") loses "quick" and gains "slow". Slow tests
-# start first (COST, kStartFirst).
+# start first (COST).
 
 set(rules
   "^(HashOrder|Parser|Diagnostics|Lint|IrPasses|ModuleKey|SnapshotHash|StateValidationMisc|Limits|Generated|WarmStart)\\.|quick"
@@ -50,19 +50,14 @@ set(kSlow
   Files/LoweringFile.SpecialisesAsExpectedAndAgreesWithTheInterpreter/construct_own_class
   Traces/CompiledConformance.MatchesEveryFrame/ajl_rink)
 
-# Started first (ctest COST; a fresh tree has no timings of its own): the slow
-# tests above, and these, slow only under the sanitizers (the interpreter on the
-# longest golden traces). Long tests started last leave one core idle at the end.
-set(kStartFirst
-  ${kSlow}
-  Traces/Conformance.InterpreterMatchesEveryFrame/ajl_turing_complete
-  Traces/Conformance.InterpreterMatchesEveryFrame/ajl_rink)
+# The slow tests start first (ctest COST; a fresh tree has no timings of its
+# own): a long test started last runs alone on one core at the end.
 
 # Searches that run on a pool of two threads (and again on one) take one ctest
 # slot like any other test: with PROCESSORS 2 they waited for both slots, which
 # `-j2` frees only when nothing else is left, so they ran last, one at a time,
 # with a core a third idle (measured on a fresh clone: the last five minutes of
-# the release tests). Started first instead (kStartFirst), they overlap the rest.
+# the release tests). Started first instead (kSlow), they overlap the rest.
 
 foreach(test IN LISTS autumn_tests_TESTS)
   set(labels untiered)
@@ -78,13 +73,10 @@ foreach(test IN LISTS autumn_tests_TESTS)
   endforeach()
   string(REGEX REPLACE "  # GetParam.*" "" bare "${test}")  # a parameterised test's name ends so
   list(FIND kSlow "${bare}" slow)
+  set(cost 0)
   if(slow GREATER -1)
     list(REMOVE_ITEM labels quick)
     list(APPEND labels slow)
-  endif()
-  list(FIND kStartFirst "${bare}" first)
-  set(cost 0)
-  if(first GREATER -1)
     set(cost 100)
   endif()
   set_tests_properties("${test}" PROPERTIES LABELS "${labels}" COST ${cost})
