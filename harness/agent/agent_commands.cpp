@@ -1,4 +1,3 @@
-#include "compiler/read/output.hpp"
 #include "harness/agent/agent_commands.hpp"
 
 #include <CLI/CLI.hpp>
@@ -11,6 +10,7 @@
 #include <iostream>
 #include <thread>
 
+#include "compiler/read/output.hpp"
 #include "harness/agent/bench_agent.hpp"
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/eval.hpp"

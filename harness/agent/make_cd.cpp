@@ -2,7 +2,6 @@
 // source locations of its forms); every candidate is one Edit (a byte range and its
 // replacement, "$G$" standing for the guard) applied together with the clock's
 // insertion, and is judged only by running it against recorded original episodes.
-#include "compiler/read/output.hpp"
 #include "harness/agent/make_cd.hpp"
 
 #include <fmt/core.h>
@@ -16,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "compiler/read/output.hpp"
 #include "compiler/read/sexpr.hpp"
 #include "harness/agent/solve_common.hpp"
 

@@ -1,4 +1,3 @@
-#include "compiler/read/output.hpp"
 #include "harness/agent/make_task.hpp"
 
 #include <fmt/core.h>
@@ -10,6 +9,7 @@
 
 #include <map>
 
+#include "compiler/read/output.hpp"
 #include "harness/agent/particles.hpp"
 #include "harness/agent/smc.hpp"
 #include "harness/agent/solve_common.hpp"

@@ -9,9 +9,9 @@
 // sets the episodes' budget (runtime/limits.hpp).
 #include <CLI/CLI.hpp>
 
+#include "compiler/read/output.hpp"
 #include "harness/agent/agent_commands.hpp"
 #include "harness/cli/commands.hpp"
-#include "compiler/read/output.hpp"
 #include "harness/module_cache.hpp"
 
 int main(int argc, char** argv) {
