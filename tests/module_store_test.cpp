@@ -2,8 +2,10 @@
 //
 // Each case runs the autumn CLI with AUTUMN_CACHE_DIR (and TMPDIR, where the
 // private fallback cache goes) inside a fresh scratch directory. Compiles cost
-// a second or two each, so the suite compiles two tiny 5x5 programs once, into a
-// pristine cache, and every case tampers with its own copy of that cache; only
+// a second or two each, so the suite compiles two tiny 5x5 programs once per
+// run (in the run's shared cache, AUTUMN_CACHE_DIR, when ctest gives one: ctest
+// runs every case in a process of its own), copies their entries into a pristine
+// cache, and every case tampers with its own copy of that cache; only
 // the cases that must rebuild compile again (through `difftest`, which waits for
 // the module and compares it with the interpreter, so another program's module
 // would show as a divergence).
@@ -17,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "compiler/emit/emit_module.hpp"
 #include "harness/module_cache.hpp"
@@ -67,17 +70,41 @@ fs::path entry_of(const fs::path& cache, const std::string& text) {
 
 fs::path with(const fs::path& entry, const std::string& suffix) { return entry.string() + suffix; }
 
+// The cache the store compiled A and B into: the run's shared cache under
+// ctest, else the pristine cache itself.
+fs::path built_in() {
+  const char* shared = std::getenv("AUTUMN_CACHE_DIR");
+  return shared && *shared ? fs::path(shared) : pristine();
+}
+
+// The three files of the entry `entry` ("<cache>/m<key>"): module, manifest, program text.
+std::vector<fs::path> files_of(const fs::path& entry) {
+  std::vector<fs::path> out = {with(entry, ".so"), with(entry, ".manifest")};
+  for (const auto& f : autumn::testing::files_in(entry.parent_path(), ".au"))
+    if (f.string().starts_with(entry.string() + "-")) out.push_back(f);
+  return out;
+}
+
 class ModuleStore : public ::testing::Test {
  protected:
-  // Compiles A and B once into the pristine cache.
+  // Compiles A and B (once per run where the run shares a cache), and puts
+  // their entries in the pristine cache.
   static void SetUpTestSuite() {
     fs::remove_all(root());
     fs::create_directories(root() / "tmp");
     std::ofstream(root() / "a.au") << kProgramA;
     std::ofstream(root() / "b.au") << kProgramB;
     for (const char* p : {"a.au", "b.au"}) {
-      auto r = run_cli("difftest " + program(p) + " --seeds 1 --steps 3", false, env_for(pristine(), root() / "tmp"));
+      auto r = run_cli("difftest " + program(p) + " --seeds 1 --steps 3", false, env_for(built_in(), root() / "tmp"));
       ASSERT_EQ(r.status, 0) << r.out;
+    }
+    if (built_in() == pristine()) return;
+    fs::create_directories(pristine());
+    ASSERT_EQ(chmod(pristine().c_str(), 0700), 0);
+    for (const char* text : {kProgramA, kProgramB}) {
+      const fs::path entry = entry_of(built_in(), text);
+      ASSERT_FALSE(entry.empty()) << "no entry in " << built_in();
+      for (const fs::path& f : files_of(entry)) fs::copy_file(f, pristine() / f.filename());  // modes kept
     }
   }
   static void TearDownTestSuite() {
@@ -144,16 +171,16 @@ mode_t mode_of(const fs::path& p) {
   return st.st_mode & 07777;
 }
 
+// As the store made them (in the cache A and B were compiled into).
 TEST_F(ModuleStore, DirectoriesAre0700AndFiles0600) {
-  ASSERT_FALSE(entry_of(pristine(), kProgramA).empty());
-  ASSERT_FALSE(entry_of(pristine(), kProgramB).empty());
-  EXPECT_EQ(mode_of(pristine()), 0700u);
-  int files = 0;
-  for (const auto& f : fs::directory_iterator(pristine())) {
-    EXPECT_EQ(mode_of(f.path()), 0600u) << f.path();
-    ++files;
+  EXPECT_EQ(mode_of(built_in()), 0700u);
+  for (const char* text : {kProgramA, kProgramB}) {
+    const fs::path entry = entry_of(built_in(), text);
+    ASSERT_FALSE(entry.empty());
+    const auto files = files_of(entry);
+    EXPECT_EQ(files.size(), 3u) << "per program: the module, its manifest and its program text";
+    for (const fs::path& f : files) EXPECT_EQ(mode_of(f), 0600u) << f;
   }
-  EXPECT_EQ(files, 6) << "per program: the module, its manifest and its program text";
 }
 
 TEST_F(ModuleStore, WorldWritableDirectoryRefused) {
