@@ -219,6 +219,43 @@ TEST(AgentThreadPool, RefusedThreadIsAnErrorNotAHang) {
   EXPECT_EQ(sum.load(), 45);
 }
 
+// The caller, out of indices while a worker is busy, is called back about every
+// 20 ms (a host polls for Ctrl-C there), on its own thread, and never after the
+// call returns; without a worker busy, not at all.
+TEST(AgentThreadPool, CallerIsCalledBackWhileItWaits) {
+  ThreadPool pool(2);
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<bool> worker_started{false}, worker_done{false};
+  std::atomic<int> calls{0}, late{0}, elsewhere{0};
+  pool.parallel_for(
+      2,
+      [&](size_t) {
+        if (std::this_thread::get_id() == caller) {
+          // Leave the other index to the worker (a second at most).
+          for (int i = 0; i < 1000 && !worker_started; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+          return;
+        }
+        worker_started = true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        worker_done = true;
+      },
+      [&] {
+        ++calls;
+        if (worker_done) ++late;
+        if (std::this_thread::get_id() != caller) ++elsewhere;
+      });
+  ASSERT_TRUE(worker_done) << "the worker never took an index";
+  EXPECT_GE(calls.load(), 3) << "200 ms of waiting at 20 ms";
+  EXPECT_LE(late.load(), 1) << "at most the call that saw the worker finish";
+  EXPECT_EQ(elsewhere.load(), 0);
+  const int before = calls.load();
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(calls.load(), before);
+  int idle = 0;
+  pool.parallel_for(1, [](size_t) {}, [&] { ++idle; });
+  EXPECT_EQ(idle, 0);
+}
+
 // ------------------------------------------------------------------ task files
 
 TEST(AgentTaskFile, ColourTableParsesAutumnBenchYaml) {

@@ -1,6 +1,7 @@
 #include "harness/agent/thread_pool.hpp"
 
 #include <cerrno>
+#include <chrono>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -73,7 +74,12 @@ void ThreadPool::parallel_for(size_t n, const std::function<void(size_t)>& body)
   parallel_for_worker(n, [&body](size_t i, unsigned) { body(i); });
 }
 
-void ThreadPool::parallel_for_worker(size_t n, const std::function<void(size_t, unsigned)>& body) {
+void ThreadPool::parallel_for(size_t n, const std::function<void(size_t)>& body, const std::function<void()>& waiting) {
+  parallel_for_worker(n, [&body](size_t i, unsigned) { body(i); }, waiting);
+}
+
+void ThreadPool::parallel_for_worker(size_t n, const std::function<void(size_t, unsigned)>& body,
+                                     const std::function<void()>& waiting) {
   if (n == 0) return;
   if (workers_.empty() || n == 1) {
     for (size_t i = 0; i < n; ++i) body(i, 0);
@@ -93,6 +99,13 @@ void ThreadPool::parallel_for_worker(size_t n, const std::function<void(size_t, 
   std::exception_ptr err;
   {
     std::unique_lock<std::mutex> lock(mu_);
+    if (waiting) {
+      while (!done_.wait_for(lock, std::chrono::milliseconds(20), [&] { return busy_ == 0; })) {
+        lock.unlock();
+        waiting();
+        lock.lock();
+      }
+    }
     done_.wait(lock, [&] { return busy_ == 0; });
     body_ = nullptr;
     err = error_;

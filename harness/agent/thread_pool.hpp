@@ -30,9 +30,14 @@ class ThreadPool {
 
   unsigned size() const { return size_; }
   void parallel_for(size_t n, const std::function<void(size_t)>& body);
+  // Same; once the caller has no index left to run, it calls waiting() about
+  // every 20 ms until the workers are done (a host polls for Ctrl-C there; it
+  // must not throw).
+  void parallel_for(size_t n, const std::function<void(size_t)>& body, const std::function<void()>& waiting);
   // Same, also passing the id (0..size()-1) of the thread running the index, for
   // per-thread scratch state; 0 is the calling thread.
-  void parallel_for_worker(size_t n, const std::function<void(size_t, unsigned)>& body);
+  void parallel_for_worker(size_t n, const std::function<void(size_t, unsigned)>& body,
+                           const std::function<void()>& waiting = nullptr);
   // Tests only: nonzero k makes the constructor's k-th worker fail to start, as
   // when the system refuses a thread (the constructor then throws runtime_error).
   static std::atomic<unsigned> fail_worker_for_testing;

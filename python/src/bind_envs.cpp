@@ -8,7 +8,10 @@
 // are the same on both). VecEnv holds N slots (vec_env.hpp) and steps them with
 // the GIL released into buffers it owns: the arrays step() returns are the same
 // objects every time, overwritten in place. A VecEnv takes one call at a time:
-// a second thread calling it meanwhile gets RuntimeError (OneCaller).
+// a second thread calling it meanwhile gets RuntimeError (OneCaller). Ctrl-C
+// during a long interpreted step or reset raises KeyboardInterrupt within
+// about 20 ms of the handler's turn (interruptible_batch): the batch is then
+// half done, and step() asks for a reset.
 #include <unistd.h>
 
 #include <atomic>
@@ -216,6 +219,34 @@ void check_batch_memory(size_t n) {
   throw pb::error_already_set();
 }
 
+// The check of a batched call's Interrupt (vec_env.hpp): the calling thread,
+// which released the GIL for the batch, takes it back for a moment to let
+// Python run its signal handlers; a raised KeyboardInterrupt stays pending in
+// the thread state until the call returns and raises it.
+bool python_signal_pending() {
+  pb::gil_scoped_acquire gil;
+  return PyErr_CheckSignals() != 0;
+}
+
+// Runs batch(&interrupt) without the GIL, Ctrl-C ending it early; a pending
+// KeyboardInterrupt is raised after it (and *interrupted set), in place of
+// whatever the batch returned or threw.
+template <class F>
+void interruptible_batch(F&& batch, bool* interrupted) {
+  py::Interrupt interrupt;
+  interrupt.check = &python_signal_pending;
+  try {
+    pb::gil_scoped_release release;
+    batch(&interrupt);
+  } catch (...) {
+    if (PyErr_Occurred()) *interrupted = true;
+    py::raise_if_interrupted();
+    throw;
+  }
+  if (PyErr_Occurred()) *interrupted = true;
+  py::raise_if_interrupted();
+}
+
 struct EnvState {
   std::shared_ptr<const Environment> env;
   uint64_t episode;
@@ -248,10 +279,8 @@ class VecEnv {
   pb::tuple reset(std::optional<uint64_t> seed, const pb::object&) {
     OneCaller one(busy_);
     if (seed) seed_ = *seed;
-    {
-      pb::gil_scoped_release release;
-      set_->reset_all(seed_, buf_);
-    }
+    interrupted_ = false;
+    interruptible_batch([&](py::Interrupt* in) { set_->reset_all(seed_, buf_, in); }, &interrupted_);
     return pb::make_tuple(obs_, errors());
   }
 
@@ -259,6 +288,9 @@ class VecEnv {
   // ints becomes one). Floats and bools are refused rather than truncated.
   pb::tuple step(const pb::object& given) {
     OneCaller one(busy_);
+    if (interrupted_)
+      throw std::runtime_error("the last call to this VecEnv was interrupted (Ctrl-C) half way through the batch: "
+                               "call reset");
     pb::array any = pb::array::ensure(given);
     if (!any) throw pb::error_already_set();
     const char kind = any.dtype().kind();
@@ -270,10 +302,7 @@ class VecEnv {
     if (actions.ndim() != 1 || static_cast<size_t>(actions.shape(0)) != set_->size())
       throw std::invalid_argument("actions must be a 1-D array of " + std::to_string(set_->size()) + " integers");
     const int64_t* a = actions.data();
-    {
-      pb::gil_scoped_release release;
-      set_->step(a, buf_);
-    }
+    interruptible_batch([&](py::Interrupt* in) { set_->step(a, buf_, in); }, &interrupted_);
     return pb::make_tuple(obs_, rewards_, terminated_, truncated_, errors());
   }
 
@@ -338,6 +367,7 @@ class VecEnv {
   pb::array_t<bool> terminated_, truncated_;
   py::Buffers buf_;
   std::atomic<bool> busy_{false};  // a call is running (OneCaller)
+  bool interrupted_ = false;        // Ctrl-C stopped the last step or reset half way; step() wants a reset
 };
 
 }  // namespace

@@ -3,10 +3,68 @@
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
+
+#include "runtime/interrupt.hpp"
 
 namespace autumn::py {
 
 constexpr size_t kSlotsPerThread = 32;
+
+namespace {
+
+// The batch being stepped on this thread, for the interpreter's poll
+// (InterruptPoll takes no argument), and whether this is the calling thread.
+thread_local Interrupt* t_interrupt = nullptr;
+thread_local bool t_caller = false;
+
+bool stop_requested(Interrupt* in) {
+  if (in->stop.load(std::memory_order_relaxed)) return true;
+  if (in->check && in->check()) in->stop.store(true);
+  return in->stop.load(std::memory_order_relaxed);
+}
+
+bool slot_poll() {
+  Interrupt* in = t_interrupt;
+  if (!in) return false;
+  return t_caller ? stop_requested(in) : in->stop.load(std::memory_order_relaxed);
+}
+
+// Installed around a chunk of slots on each thread (nothing without an Interrupt).
+class ChunkPoll {
+ public:
+  ChunkPoll(Interrupt* in, std::thread::id caller)
+      : saved_(t_interrupt), saved_caller_(t_caller), scope_(in ? &slot_poll : interrupt_poll()) {
+    t_interrupt = in;
+    t_caller = std::this_thread::get_id() == caller;
+  }
+  ~ChunkPoll() {
+    t_interrupt = saved_;
+    t_caller = saved_caller_;
+  }
+  ChunkPoll(const ChunkPoll&) = delete;
+  ChunkPoll& operator=(const ChunkPoll&) = delete;
+
+ private:
+  Interrupt* saved_;
+  bool saved_caller_;
+  InterruptPollScope scope_;
+};
+
+bool stopped(const Interrupt* in) { return in && in->stop.load(std::memory_order_relaxed); }
+
+}  // namespace
+
+void SlotSet::run_chunks(size_t chunks, const std::function<void(size_t)>& body, Interrupt* interrupt) {
+  const std::thread::id caller = std::this_thread::get_id();
+  auto polled = [&](size_t chunk) {
+    ChunkPoll poll(interrupt, caller);
+    body(chunk);
+  };
+  if (chunks == 1) polled(0);
+  else if (!interrupt) pool_.parallel_for(chunks, polled);
+  else pool_.parallel_for(chunks, polled, [interrupt] { stop_requested(interrupt); });
+}
 
 bool decode_action(int64_t a, int grid, Action* out) {
   if (a < 0 || a >= 5 + static_cast<int64_t>(grid) * grid) return false;
@@ -48,12 +106,12 @@ void SlotSet::write_obs(size_t i, const Buffers& out) {
   s.colours.paint(f, s.env->palette(), row);
 }
 
-void SlotSet::reset_all(uint64_t base_seed, const Buffers& out) {
+void SlotSet::reset_all(uint64_t base_seed, const Buffers& out, Interrupt* interrupt) {
   base_seed_ = base_seed;
   std::vector<std::string> errors(slots_.size());
-  pool_.parallel_for(pool_.size(), [&](size_t chunk) {
+  run_chunks(pool_.size(), [&](size_t chunk) {
     const size_t n = slots_.size(), per = (n + pool_.size() - 1) / pool_.size();
-    for (size_t i = chunk * per; i < std::min(n, (chunk + 1) * per); ++i) {
+    for (size_t i = chunk * per; i < std::min(n, (chunk + 1) * per) && !stopped(interrupt); ++i) {
       slots_[i].episode = 0;
       reset_slot(i);
       std::memset(out.obs + i * grid_ * grid_, 0, static_cast<size_t>(grid_) * grid_);
@@ -66,7 +124,7 @@ void SlotSet::reset_all(uint64_t base_seed, const Buffers& out) {
       out.terminated[i] = slots_[i].done;
       out.truncated[i] = false;
     }
-  });
+  }, interrupt);
   for (const auto& e : errors)
     if (!e.empty()) throw std::runtime_error(e);
 }
@@ -94,7 +152,7 @@ void SlotSet::step_slot(size_t i, const Action& a, const Buffers& out) {
   write_obs(i, out);
 }
 
-void SlotSet::step(const int64_t* actions, const Buffers& out) {
+void SlotSet::step(const int64_t* actions, const Buffers& out, Interrupt* interrupt) {
   const size_t n = slots_.size();
   std::vector<Action> decoded(n);
   for (size_t i = 0; i < n; ++i)
@@ -108,13 +166,13 @@ void SlotSet::step(const int64_t* actions, const Buffers& out) {
   auto body = [&](size_t chunk) {
     const size_t per = (n + chunks - 1) / chunks;
     try {
-      for (size_t i = chunk * per; i < std::min(n, (chunk + 1) * per); ++i) step_slot(i, decoded[i], out);
+      for (size_t i = chunk * per; i < std::min(n, (chunk + 1) * per) && !stopped(interrupt); ++i)
+        step_slot(i, decoded[i], out);
     } catch (const std::exception& e) {
       errors[chunk] = e.what();
     }
   };
-  if (chunks == 1) body(0);
-  else pool_.parallel_for(chunks, body);
+  run_chunks(chunks, body, interrupt);
   for (const auto& e : errors)
     if (!e.empty()) throw std::runtime_error(e);
 }

@@ -13,7 +13,9 @@
 // held, else 0.0 (Autumn programs define no reward). Nothing here touches
 // Python: the binding (bindings.cpp) owns the buffers and releases the GIL.
 #pragma once
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +36,17 @@ struct Buffers {
 // Decodes an integer action on a W-wide grid; false when out of range.
 bool decode_action(int64_t a, int grid, Action* out);
 
+// How a batched call is stopped (Ctrl-C, runtime/interrupt.hpp). `check` runs
+// on the calling thread only (in its own steps' interpreter polls, and about
+// every 20 ms while it waits for the workers) and says whether the host wants
+// to stop; once it has said so, `stop` makes every thread's interpreter poll
+// answer true, so their long steps fail at once, and no further slot starts.
+// The batch is then half stepped: the host asks for a reset.
+struct Interrupt {
+  std::function<bool()> check;
+  std::atomic<bool> stop{false};
+};
+
 struct Slot {
   std::unique_ptr<Environment> env;
   PaletteMap colours;
@@ -50,14 +63,17 @@ class SlotSet {
   int grid() const { return grid_; }
   unsigned threads() const { return pool_.size(); }
   // Resets every slot (episode 0 of `base_seed`) and writes obs.
-  void reset_all(uint64_t base_seed, const Buffers& out);
+  void reset_all(uint64_t base_seed, const Buffers& out, Interrupt* interrupt = nullptr);
   // actions: N integers. Throws std::invalid_argument for an invalid action (nothing stepped).
-  void step(const int64_t* actions, const Buffers& out);
+  void step(const int64_t* actions, const Buffers& out, Interrupt* interrupt = nullptr);
   Slot& slot(size_t i) { return slots_.at(i); }
   void write_obs(size_t i, const Buffers& out);  // throws std::runtime_error on a grid-size change
 
  private:
   void reset_slot(size_t i);
+  // body(0..chunks-1) on the pool (one chunk: on this thread), each chunk with
+  // the interrupt's poll installed.
+  void run_chunks(size_t chunks, const std::function<void(size_t)>& body, Interrupt* interrupt);
   void step_slot(size_t i, const Action& a, const Buffers& out);
 
   std::vector<Slot> slots_;

@@ -322,3 +322,45 @@ def test_ctrl_c_stops_a_long_interpreted_step(tmp_path, stdlib):
         i.step()
     assert time.monotonic() - start < max(0.8, whole)
     killer.wait()
+
+
+def test_ctrl_c_stops_a_long_batched_step(tmp_path):
+    """VecEnv too: KeyboardInterrupt soon after Ctrl-C, whether the long step
+    runs on the calling thread (one slot) or on the pool's worker as well (33
+    slots, two threads); the half-stepped batch asks for a reset, and after it
+    steps normally."""
+    path = tmp_path / "long_step.au"
+    path.write_text(LONG_STEP)
+    env = autumnc.VecEnv(str(path), num_envs=1, num_threads=2, engine="interp")
+    one = np.zeros(1, dtype=np.int64)
+    start = time.monotonic()
+    env.step(one)  # the whole step, for scale
+    whole = time.monotonic() - start
+    killer = _ctrl_c_in(0.2)
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        env.step(one)
+    assert time.monotonic() - start < max(0.8, whole)
+    killer.wait()
+    with pytest.raises(RuntimeError, match="call reset"):
+        env.step(one)
+    obs, info = env.reset()
+    assert obs.shape == (1, 4, 4) and "errors" not in info
+    _, _, terminated, _, info = env.step(one)
+    assert not terminated.any(), info
+
+    # 33 slots on two threads: two chunks, slots 17-32 on the worker. Stopped
+    # in the middle of its first step (not at the end of it, `whole`, nor of its
+    # chunk, 16 times that), the worker is done in a fraction of a step.
+    batch = autumnc.VecEnv(str(path), num_envs=33, num_threads=2, engine="interp")
+    many = np.zeros(33, dtype=np.int64)
+    killer = _ctrl_c_in(0.2)
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        batch.step(many)
+    assert time.monotonic() - start < max(0.8, whole / 2)
+    killer.wait()
+    with pytest.raises(RuntimeError, match="call reset"):
+        batch.step(many)
+    obs, info = batch.reset()
+    assert obs.shape == (33, 4, 4) and "errors" not in info
