@@ -15,7 +15,8 @@
 // interpreter starts it with the benchmark's seed 0 first: a type error it meets
 // there is proven). Warnings (compiler/analyse/lint.hpp) are printed; --Werror
 // makes them errors. --embedded skips the specialiser (the module embeds the
-// interpreter).
+// interpreter). --dump-ir STAGE prints the lowering's IR after that stage
+// (compiler/lower/ir_print.hpp) instead of writing anything.
 // Exit status: 0 written, 1 the program is bad (file:line:col: error: ...) or
 // --strict refused it or the file cannot be written, 2 usage.
 #include <CLI/CLI.hpp>
@@ -44,6 +45,7 @@ struct Options {
   bool strict = false;
   bool werror = false;
   bool embedded = false;
+  std::string dump_ir;  // a lowering stage: print the IR after it instead of writing the module
 };
 
 void register_options(CLI::App& app, Options& o) {
@@ -55,6 +57,26 @@ void register_options(CLI::App& app, Options& o) {
   app.add_flag("--strict", o.strict, "Fail (exit 1) unless the program specialises with no dynamic site");
   app.add_flag("--Werror", o.werror, "Treat warnings as errors");
   app.add_flag("--embedded", o.embedded, "Emit the embedded module (the interpreter runs the program text)");
+  std::string stages;
+  for (const std::string& s : autumn::lowering_stages()) stages += (stages.empty() ? "" : ", ") + s;
+  app.add_option("--dump-ir", o.dump_ir,
+                 "Print the lowering's IR after STAGE on stdout instead of writing the module (" + stages + ")")
+      ->check(CLI::IsMember(autumn::lowering_stages()))
+      ->option_text("STAGE");
+}
+
+// --dump-ir: the IR after the stage, or why the program has none.
+int dump_ir(const Options& o, const autumn::ModuleSource& src) {
+  auto program = autumn::load_program(autumn::SourceFile{o.program_path, src.program_text}, src.trigger);
+  autumn::LowerOptions lo;
+  lo.dump_ir_after = o.dump_ir;
+  const autumn::Lowered lowered = autumn::lower_program(*program, src.name, lo);
+  if (!lowered.ok) {
+    std::cerr << o.program_path << ": not specialised (" << lowered.reason << "): it has no lowering IR\n";
+    return 1;
+  }
+  std::cout << lowered.ir;
+  return 0;
 }
 
 // The one-line summary, and with -v one line per dynamic site.
@@ -111,6 +133,7 @@ int run(const Options& o) {
   src.name = autumn::module_identifier(
       o.name.empty() ? std::filesystem::path(o.program_path).stem().string() : o.name);
   if (!can_run(o, src)) return 1;
+  if (!o.dump_ir.empty()) return dump_ir(o, src);
   autumn::Lowered lowered;
   const std::string module = autumn::emit_module(src, &lowered);
   const int status = report(o, lowered);
@@ -136,5 +159,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  return autumn::finish_stdout("autumnc", run(o));
+  int status = 1;
+  try {
+    status = run(o);
+  } catch (const std::exception& e) {  // an internal error (AUTUMN_VERIFY_IR), said rather than a crash
+    std::cerr << "autumnc: " << o.program_path << ": " << e.what() << "\n";
+  }
+  return autumn::finish_stdout("autumnc", status);
 }

@@ -88,7 +88,9 @@ timeout=20
 # shows where the memory came from. The per-input timeout is wall-clock: a
 # machine starved by other work (a rebuild) can trip it; rerun the timeout-*
 # artifact alone to tell a real hang from that.
-ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:malloc_context_size=0} UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1} \
+# AUTUMN_VERIFY_IR: the emit target's lowerings are verified after every stage
+# (compiler/lower/ir_verify.hpp); a broken invariant is an uncaught exception.
+AUTUMN_VERIFY_IR=1 ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:malloc_context_size=0} UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1} \
   nice -n 5 "$tree/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2560 -entropic=0 \
   -print_final_stats=1 -artifact_prefix="$artifacts/" "$@" "$corpus" "$seeds" >"$log" 2>&1 || status=$?
 grep -E "^stat::number_of_executed_units|^#[0-9]+ +DONE" "$log" | tail -2 || true

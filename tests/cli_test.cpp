@@ -142,6 +142,28 @@ TEST(Cli, AFullDiskIsAnErrorNotAnEmptySuccess) {
   fs::remove_all(dir);
 }
 
+// autumnc --dump-ir STAGE prints the IR after that stage (and writes nothing);
+// a stage that does not exist is a usage error naming the stages; a program
+// the lowering embeds has no IR, and says why.
+TEST(Cli, AutumncDumpsTheIrAfterAStage) {
+  const fs::path dir = fs::temp_directory_path() / "autumn_cli_test_dump_ir";
+  fs::remove_all(dir);
+  const std::string prog = golden("stale_occupancy.au");
+  Result r = autumn::testing::run_cli(prog + " --dump-ir remove_dead_names -o " + dir.string(), true, "", AUTUMNC_CLI);
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.rfind("module stale_occupancy\n", 0), 0u) << r.out.substr(0, 200);
+  EXPECT_NE(r.out.find("fn step (step)"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir)) << "nothing is written";
+  Result bad = autumn::testing::run_cli(prog + " --dump-ir nonsense", false, "", AUTUMNC_CLI);
+  EXPECT_EQ(bad.status, 2) << bad.out;
+  EXPECT_NE(bad.out.find("spare_short_loops"), std::string::npos) << bad.out;
+  const std::string embedded = (autumn::testing::source_dir() / "tests/lowering/construct_own_class.au").string();
+  Result none = autumn::testing::run_cli(embedded + " --dump-ir specialise", false, "", AUTUMNC_CLI);
+  EXPECT_EQ(none.status, 1) << none.out;
+  EXPECT_NE(none.out.find("not specialised ("), std::string::npos) << none.out;
+  EXPECT_NE(none.out.find("): it has no lowering IR"), std::string::npos) << none.out;
+}
+
 // Under an address-space limit the interpreter's stack (1 GiB reserved, not used)
 // is taken smaller: a small program still runs, rather than "out of memory".
 TEST(Cli, ALimitedAddressSpaceStillRunsTheInterpreter) {

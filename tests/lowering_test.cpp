@@ -17,9 +17,12 @@
 #include <gtest/gtest.h>
 
 #include "compiler/analyse/program.hpp"
+#include "compiler/lower/ir_print.hpp"
+#include "compiler/lower/ir_verify.hpp"
 #include "compiler/lower/lower.hpp"
 #include "compiler/lower/module.hpp"
 #include "compiler/lower/passes.hpp"
+#include "compiler/lower/specialise.hpp"
 #include "harness/difftest.hpp"
 #include "harness/engine.hpp"
 #include "harness/transcript.hpp"
@@ -288,6 +291,95 @@ TEST(IrPasses, AReferenceToALocalIsTheLocal) {
   lower::settle_references(x.m);
   lower::resolve_aliases(x.m);
   EXPECT_EQ(read->a[0]->var, local);
+}
+
+// ---------------------------------------------------------------------------
+// IrVerify: the verifier (ir_verify.hpp) catches what a broken pass leaves.
+
+// A dead-name pass that forgets to look at uses: it removes every Let, the used
+// one too. The verifier names the read that lost its variable.
+TEST(IrVerify, CatchesAPassThatRemovesAUsedName) {
+  IrFixture x;
+  auto* unused = x.var(x.list_t, false);
+  auto* used = x.var(x.list_t, false);
+  x.stmt(x.f->body, lower::ir::SK::Let, unused, x.node(lower::ir::Op::MakeList, x.list_t));
+  x.stmt(x.f->body, lower::ir::SK::Let, used, x.node(lower::ir::Op::MakeList, x.list_t));
+  x.stmt(x.f->body, lower::ir::SK::Eval, nullptr, x.size_of(used));
+  EXPECT_TRUE(lower::verify_ir(x.m).empty());
+  auto broken_dead_names = [](lower::Module& m) {
+    for (auto& f : m.functions)
+      std::erase_if(f->body, [](const lower::ir::Stmt* s) { return s->k == lower::ir::SK::Let; });
+  };
+  broken_dead_names(x.m);
+  auto problems = lower::verify_ir(x.m);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0], "function step: v" + std::to_string(used->id) + " read out of its scope");
+}
+
+TEST(IrVerify, CatchesMissingOperandsArityTypesAndSites) {
+  IrFixture x;
+  auto* v = x.var(x.list_t, false);
+  x.stmt(x.f->body, lower::ir::SK::Let, v, x.node(lower::ir::Op::MakeList, x.list_t));
+  x.stmt(x.f->body, lower::ir::SK::Eval, nullptr, x.node(lower::ir::Op::Size, x.m.types.int_(), {nullptr}));
+  x.stmt(x.f->body, lower::ir::SK::Eval, nullptr, x.node(lower::ir::Op::Add, x.m.types.int_(), {x.size_of(v)}));
+  x.stmt(x.f->body, lower::ir::SK::Eval, nullptr, x.node(lower::ir::Op::Size, nullptr, {x.use(v)}));
+  x.stmt(x.f->body, lower::ir::SK::Let, v, x.node(lower::ir::Op::MakeList, x.list_t));
+  lower::ir::Stmt* loop = x.stmt(x.f->body, lower::ir::SK::ForEach, x.var(x.m.types.int_(), false), x.use(v));
+  loop->loc = 7;  // no error sites in the fixture
+  lower::ir::Stmt* sw = x.stmt(loop->body, lower::ir::SK::Switch, nullptr, x.size_of(v));
+  sw->cases.push_back({0, {}});
+  x.stmt(sw->cases[0].second, lower::ir::SK::Break);
+  x.stmt(x.f->body, lower::ir::SK::Break);
+  const auto problems = lower::verify_ir(x.m);
+  const std::string all = [&] {
+    std::string s;
+    for (const auto& p : problems) s += p + "\n";
+    return s;
+  }();
+  for (const char* want : {"a null operand in a eval", "has 1 operand(s), wants 2", "has no type",
+                           "introduced twice (again by let)", "names error site 7, which does not exist",
+                           "a break inside a switch", "a break outside a loop"})
+    EXPECT_NE(all.find(want), std::string::npos) << want << " not in:\n" << all;
+  EXPECT_EQ(problems.size(), 7u) << all;
+}
+
+// Every stage of every program we have leaves sound IR; the text names them all.
+TEST(IrVerify, EveryStageOfTheCorpusIsSound) {
+  auto files = corpus();
+  for (const auto& f : files_in(source_dir() / "tests/lowering", ".au")) files.push_back(f);
+  for (const auto& path : files) {
+    auto program = load_program_file(path.string());
+    lower::Module m;
+    m.name = "t";
+    try {
+      lower::specialise_program(*program, m);
+    } catch (const lower::Unsupported&) {
+      continue;  // embedded: no IR
+    }
+    for (auto& [name, pass] : std::vector<std::pair<const char*, void (*)(lower::Module&)>>{
+             {"specialise", nullptr}, {"settle_references", lower::settle_references},
+             {"resolve_aliases", lower::resolve_aliases}, {"remove_dead_names", lower::remove_dead_names},
+             {"move_last_uses", lower::move_last_uses}, {"reuse_buffers", lower::reuse_buffers},
+             {"spare_short_loops", lower::spare_short_loops}}) {
+      if (pass) pass(m);
+      for (const auto& p : lower::verify_ir(m)) ADD_FAILURE() << path.filename() << " after " << name << ": " << p;
+    }
+  }
+}
+
+TEST(IrText, NamesFunctionsStatementsAndTypes) {
+  auto program = load_program_file((source_dir() / "programs/sokoban.au").string());
+  LowerOptions o;
+  o.dump_ir_after = "spare_short_loops";
+  Lowered l = lower_program(*program, "sokoban", o);
+  ASSERT_TRUE(l.ok) << l.reason;
+  for (const char* want : {"module sokoban\n", "\n#0 fn start (start)\n", "fn step (step)", "  for_each v",
+                           ": list<pos>", "make_obj Crate(", "set global g_crates_"})
+    EXPECT_NE(l.ir.find(want), std::string::npos) << want;
+  EXPECT_EQ(lowering_stages().front(), "specialise");
+  EXPECT_EQ(lowering_stages().size(), 7u);
+  o.dump_ir_after = "specialise";
+  EXPECT_NE(lower_program(*program, "sokoban", o).ir, l.ir) << "the passes change the IR";
 }
 
 }  // namespace

@@ -5,10 +5,12 @@
 //   specialise      the staged interpreter: AST -> typed IR, every call inlined,
 //                   dynamic scopes resolved, types found by repeated walks
 //                   (specialise.hpp, spec_*.cpp)
-//   refs            names of places: references unless a store can intervene
-//   scratch         short-lived lists reuse their storage
-//   moves           last uses move
+//   passes          settle_references, resolve_aliases, remove_dead_names,
+//                   move_last_uses, reuse_buffers, spare_short_loops (passes.hpp)
 //   print           the one C++ printer (print_cpp.hpp)
+//
+// After each stage the IR can be verified (ir_verify.hpp) and printed as text
+// (ir_print.hpp; `autumnc --dump-ir=STAGE`).
 //
 // Where a value's type can only be known at run time, that value alone is a
 // tagged variant (a "dynamic site", listed in the report); the rest of the
@@ -28,8 +30,19 @@ struct Lowered {
   std::string reason;                       // why not, located, when !ok
   std::string code;                         // the `struct Prog { ... };` definition and its tables
   std::vector<std::string> dynamic_sites;   // "file:line:col: why" for each dynamic site
+  std::string ir;                           // the IR's text after LowerOptions::dump_ir_after (ir_print.hpp)
 };
 
-Lowered lower_program(const Program& program, const std::string& program_name);
+struct LowerOptions {
+  std::string dump_ir_after;  // a stage of lowering_stages(): keep the IR's text after it (Lowered::ir)
+};
+
+// The stages in order: "specialise", then each IR pass (passes.hpp).
+const std::vector<std::string>& lowering_stages();
+
+// Runs the stages, then the C++ printer. With AUTUMN_VERIFY_IR set, the IR is
+// verified after every stage (ir_verify.hpp); a broken invariant is an
+// internal error (std::logic_error naming the stage).
+Lowered lower_program(const Program& program, const std::string& program_name, const LowerOptions& options = {});
 
 }  // namespace autumn
