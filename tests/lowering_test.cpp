@@ -268,13 +268,19 @@ TEST(IrPasses, ShortLoopsAreNotCharged) {
   EXPECT_TRUE(global_loop->charged);
 }
 
-TEST(IrPasses, UnusedPureNamesAreRemoved) {
-  IrFixture x;
+// let unused = (list); let used = (list); size(used): the variable read last.
+lower::ir::Var* unused_then_used(IrFixture& x) {
   auto* unused = x.var(x.list_t, false);
   auto* used = x.var(x.list_t, false);
   x.stmt(x.f->body, lower::ir::SK::Let, unused, x.node(lower::ir::Op::MakeList, x.list_t));
   x.stmt(x.f->body, lower::ir::SK::Let, used, x.node(lower::ir::Op::MakeList, x.list_t));
   x.stmt(x.f->body, lower::ir::SK::Eval, nullptr, x.size_of(used));
+  return used;
+}
+
+TEST(IrPasses, UnusedPureNamesAreRemoved) {
+  IrFixture x;
+  auto* used = unused_then_used(x);
   lower::remove_dead_names(x.m);
   ASSERT_EQ(x.f->body.size(), 2u);
   EXPECT_EQ(x.f->body[0]->var, used);
@@ -300,11 +306,7 @@ TEST(IrPasses, AReferenceToALocalIsTheLocal) {
 // one too. The verifier names the read that lost its variable.
 TEST(IrVerify, CatchesAPassThatRemovesAUsedName) {
   IrFixture x;
-  auto* unused = x.var(x.list_t, false);
-  auto* used = x.var(x.list_t, false);
-  x.stmt(x.f->body, lower::ir::SK::Let, unused, x.node(lower::ir::Op::MakeList, x.list_t));
-  x.stmt(x.f->body, lower::ir::SK::Let, used, x.node(lower::ir::Op::MakeList, x.list_t));
-  x.stmt(x.f->body, lower::ir::SK::Eval, nullptr, x.size_of(used));
+  auto* used = unused_then_used(x);
   EXPECT_TRUE(lower::verify_ir(x.m).empty());
   auto broken_dead_names = [](lower::Module& m) {
     for (auto& f : m.functions)

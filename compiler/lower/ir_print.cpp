@@ -136,6 +136,8 @@ class IrTextPrinter {
 
 }  // namespace
 
+const char* stmt_kind_name(ir::SK k) { return kIrStmtNames[static_cast<size_t>(k)]; }
+
 std::string type_text(TypeP t) {
   if (!t) return "<none>";
   switch (t->k) {

@@ -20,6 +20,7 @@
 namespace autumn::lower {
 
 std::string type_text(TypeP t);
+const char* stmt_kind_name(ir::SK k);  // "let", "for_each", ...
 std::string print_node(const Module& m, const ir::Node* n);
 std::string print_ir(const Module& m);
 

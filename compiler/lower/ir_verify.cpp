@@ -179,28 +179,7 @@ class IrVerifier {
     }
   }
 
-  static const char* stmt_name(const Stmt* s) {
-    if (!s) return "statement";
-    switch (s->k) {
-      case SK::Let: return "let";
-      case SK::Decl: return "decl";
-      case SK::Bind: return "bind";
-      case SK::Set: return "set";
-      case SK::Push: return "push";
-      case SK::Eval: return "eval";
-      case SK::If: return "if";
-      case SK::ForEach: return "for_each";
-      case SK::ForRange: return "for_range";
-      case SK::Switch: return "switch";
-      case SK::Block: return "block";
-      case SK::Break: return "break";
-      case SK::Return: return "return";
-      case SK::Fail: return "fail";
-      case SK::Comment: return "comment";
-      case SK::Swap: return "swap";
-    }
-    return "statement";
-  }
+  static const char* stmt_name(const Stmt* s) { return s ? stmt_kind_name(s->k) : "statement"; }
 
   // A node as ir_print shows it, cut short: enough to find it in a dump.
   std::string print_node(const Node* n) const {
