@@ -16,6 +16,9 @@
 // IrPasses builds IR by hand and checks each pass's decision.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <fstream>
+
 #include "compiler/analyse/program.hpp"
 #include "compiler/lower/ir_print.hpp"
 #include "compiler/lower/ir_verify.hpp"
@@ -368,6 +371,34 @@ TEST(IrVerify, EveryStageOfTheCorpusIsSound) {
     }
   }
 }
+
+// Filetests (tests/ir/STAGE.ir): a program named in the header and the IR
+// expected after that stage, so a pass's effect is read as text and a change to
+// it shows as a diff. AUTUMN_BLESS=1 rewrites the expectations from the lowering.
+class IrFile : public ::testing::TestWithParam<std::filesystem::path> {};
+
+TEST_P(IrFile, IsTheIrAfterItsStage) {
+  const std::string text = read_text(GetParam());
+  const std::string program_path = header(text, "program"), stage = header(text, "stage");
+  ASSERT_FALSE(program_path.empty() || stage.empty()) << "a filetest starts with '; program: PATH' and '; stage: NAME'";
+  const std::filesystem::path program_file = source_dir() / program_path;
+  // Named as in the header (the IR's comments quote it): the same text on any checkout.
+  auto program = load_program(SourceFile{program_path, read_text(program_file)});
+  LowerOptions o;
+  o.dump_ir_after = stage;
+  const Lowered l = lower_program(*program, program_file.stem().string(), o);
+  ASSERT_TRUE(l.ok) << l.reason;
+  ASSERT_FALSE(l.ir.empty()) << "no stage named '" << stage << "'";
+  const std::string head = "; program: " + program_path + "\n; stage: " + stage + "\n";
+  if (std::getenv("AUTUMN_BLESS")) {
+    std::ofstream(GetParam(), std::ios::binary) << head << l.ir;
+    return;
+  }
+  EXPECT_EQ(text.substr(std::min(text.size(), head.size())), l.ir)
+      << GetParam().filename() << " (AUTUMN_BLESS=1 rewrites it)";
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, IrFile, ::testing::ValuesIn(files_in(source_dir() / "tests/ir", ".ir")), name_of);
 
 TEST(IrText, NamesFunctionsStatementsAndTypes) {
   auto program = load_program_file((source_dir() / "programs/sokoban.au").string());

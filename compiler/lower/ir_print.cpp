@@ -91,7 +91,11 @@ class IrTextPrinter {
       return;
     }
     std::string line = kIrStmtNames[static_cast<size_t>(s->k)];
-    if (s->var) line += " " + ir_var_text(s->var) + ": " + (s->var->type ? type_text(s->var->type) : "<untyped>");
+    if (s->var) {
+      line += " " + ir_var_text(s->var) + ": " + (s->var->type ? type_text(s->var->type) : "<untyped>");
+      if (s->k == SK::Bind) line += s->var->is_ref ? " [ref]" : " [copy]";
+      if (s->var->scratch) line += " [scratch]";
+    }
     const bool binds = s->k == SK::Let || s->k == SK::Decl || s->k == SK::Bind;
     const bool loop = s->k == SK::ForEach || s->k == SK::ForRange;
     if (s->a) line += (binds ? " = " : loop ? " in " : " ") + node(s->a);

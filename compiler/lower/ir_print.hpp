@@ -8,6 +8,9 @@
 //     if lt(local v3: int, lit 10: int): bool
 //       set global g_x_4: int = local v3: int
 //
+// Marks in brackets are the passes' decisions: a Bind's [ref] or [copy]
+// (settle_references), a [scratch] list (reuse_buffers), a [move] of a last use
+// (move_last_uses), an [uncharged] loop (spare_short_loops).
 // Variables print as v<id>, slots by their C++ member name, strings by id
 // (str#2), helpers and members by their enum names. `autumnc --dump-ir`
 // prints it; tests/lowering_test.cpp (IrText) checks its shape. The printer
