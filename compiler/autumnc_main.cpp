@@ -152,6 +152,7 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   CLI::App app{"autumnc: compile an Autumn program into a C++ environment module"};
+  app.set_version_flag("--version", "autumnc " AUTUMNC_VERSION, "Print the version and exit");
   Options o;
   register_options(app, o);
   try {

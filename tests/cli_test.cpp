@@ -142,6 +142,16 @@ TEST(Cli, AFullDiskIsAnErrorNotAnEmptySuccess) {
   fs::remove_all(dir);
 }
 
+// Both tools say their version (the project's, CMakeLists.txt) and exit 0.
+TEST(Cli, VersionOfBothTools) {
+  Result a = autumn::testing::run_cli("--version", true);
+  EXPECT_EQ(a.status, 0) << a.out;
+  EXPECT_EQ(a.out.rfind("autumn 0.", 0), 0u) << a.out;
+  Result c = autumn::testing::run_cli("--version", true, "", AUTUMNC_CLI);
+  EXPECT_EQ(c.status, 0) << c.out;
+  EXPECT_EQ(c.out.substr(c.out.find(' ')), a.out.substr(a.out.find(' '))) << "one version: " << c.out << a.out;
+}
+
 // autumnc --dump-ir STAGE prints the IR after that stage (and writes nothing);
 // a stage that does not exist is a usage error naming the stages; a program
 // the lowering embeds has no IR, and says why.

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   CLI::App app{"autumn: run, draw and check Autumn programs; compare engines; solve AutumnBench tasks"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every subcommand");
+  app.set_version_flag("--version", "autumn " AUTUMNC_VERSION, "Print the version and exit");
   app.add_flag("--Werror", warnings_are_errors(), "Treat the programs' warnings as errors");
   std::vector<Subcommand> commands = {add_run_command(app),    add_render_command(app), add_check_command(app),
                                       add_survey_command(app), add_bench_command(app),  add_difftest_command(app)};

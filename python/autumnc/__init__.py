@@ -14,7 +14,7 @@ Programs are compiled on demand through the module cache; see docs/python.md.
 import atexit as _atexit
 
 from . import _core
-from ._core import AutumnRuntimeError, ParseError, EnvState, colour_names
+from ._core import AutumnRuntimeError, ParseError, EnvState, colour_names, stdlib, __version__
 from .interpreter_module import Interpreter
 from .envs import Env, VecEnv
 from .spaces import Box, Discrete
@@ -22,7 +22,7 @@ from .agent import Program, make_task, solve
 
 __all__ = [
     "AutumnRuntimeError", "Box", "Discrete", "Env", "EnvState", "Interpreter", "ParseError",
-    "Program", "VecEnv", "colour_names", "make_task", "solve",
+    "Program", "VecEnv", "colour_names", "make_task", "solve", "stdlib",
 ]
 
 # A module compile still running at exit would outlive the C++ statics it uses.

@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "compiler/analyse/program.hpp"
 #include "compiler/read/source.hpp"
 #include "python/src/bindings.hpp"
 #include "python/src/colours.hpp"
@@ -33,6 +34,11 @@ PYBIND11_MODULE(_core, m) {
   autumn::py_bind::bind_envs(m);
   autumn::py_bind::bind_agent(m);
   m.def("colour_names", &autumn::py::colour_names, "Colour names by observation id");
+  m.attr("__version__") = AUTUMNC_VERSION;
+  m.def(
+      "stdlib", [] { return autumn::stdlib_text(); },
+      "The bundled standard library's text: what an empty stdlib argument (\"\") stands for, and what "
+      "compiled modules are built with");
   m.def("_wait_for_compiles", [] {
     pb::gil_scoped_release release;
     autumn::py::wait_for_compiles();

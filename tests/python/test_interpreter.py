@@ -221,3 +221,19 @@ def test_custom_stdlib_is_used(stdlib):
     assert i.engine == "interp"  # modules are built with the bundled library
     with pytest.raises(ValueError):
         Interpreter("compiled").run_script(program, extended, "")
+
+
+def test_version_and_the_bundled_stdlib(stdlib):
+    """autumnc.__version__ is the release's; autumnc.stdlib() is the bundled
+    library's text (what an empty stdlib argument stands for), so passing it is
+    passing "" and the program still gets its compiled module."""
+    import re
+    assert re.fullmatch(r"\d+\.\d+\.\d+", autumnc.__version__)
+    assert autumnc.stdlib().strip() == stdlib.strip()
+    frames = []
+    for text in (autumnc.stdlib(), ""):
+        i = Interpreter(engine="interp")
+        assert i.run_script(bundled_program("sokoban"), text, "", 0) == "Script executed successfully."
+        i.step()
+        frames.append(i.render_all())
+    assert frames[0] == frames[1]
