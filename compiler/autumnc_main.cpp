@@ -18,7 +18,8 @@
 // interpreter). --dump-ir STAGE prints the lowering's IR after that stage
 // (compiler/lower/ir_print.hpp) instead of writing anything.
 // Exit status: 0 written, 1 the program is bad (file:line:col: error: ...) or
-// --strict refused it or the file cannot be written, 2 usage.
+// --strict refused it or the file cannot be written, 2 usage (a flag, or a
+// PROGRAM that names no readable file).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -126,7 +127,7 @@ int run(const Options& o) {
     src.program_text = autumn::read_program_text(o.program_path);
   } catch (const autumn::CompileError& e) {
     std::cerr << e.formatted() << "\n";
-    return 1;
+    return 2;  // the PROGRAM argument names no readable file: a usage error, as in `autumn`
   }
   if (!o.trigger.empty()) src.trigger = o.trigger;
   src.force_embedded = o.embedded;

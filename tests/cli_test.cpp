@@ -34,9 +34,16 @@ TEST(Cli, RunJsonIsATraceThatChecks) {
   EXPECT_NE(c.out.find("matched 6/6 frames in 1 traces"), std::string::npos) << c.out;
 }
 
+// A bad --actions value is a usage error (exit 2, as the README's exit codes say), on one line.
 TEST(Cli, BadActionIsAOneLineError) {
   Result r = run("run " + golden("stale_occupancy.au") + " --actions 'left,jump'");
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  Result render = run("render " + golden("stale_occupancy.au") + " --actions 'jump' --out /tmp/autumn_cli_test_never.png");
+  EXPECT_EQ(render.status, 2) << render.out;
+  // So is a program file that does not exist, for both tools.
+  EXPECT_EQ(run("run /nonexistent/prog.au").status, 2);
+  EXPECT_EQ(autumn::testing::run_cli("/nonexistent/prog.au", false, "", AUTUMNC_CLI).status, 2);
   EXPECT_NE(r.out.find("action 2: unknown action 'jump'"), std::string::npos) << r.out;
 }
 
@@ -278,15 +285,17 @@ TEST(Cli, AutumncRefusesABadGridSizeAtCompileTime) {
       << r.out;
 }
 
-// A file that cannot be read has no line: "file: error: ...", not "file:0:0:".
+// A file that cannot be read has no line: "file: error: ...", not "file:0:0:";
+// for autumnc, as for autumn's single-program commands, it is a usage error (2).
+// A multi-program command (bench) reports it in its row and exits 1.
 TEST(Cli, UnreadableProgramIsAnErrorWithoutALine) {
   const std::string out = " -o " + (fs::temp_directory_path() / "autumnc_out").string();
   Result missing = autumn::testing::run_cli("/nonexistent/prog.au" + out, false, "", AUTUMNC_CLI);
-  EXPECT_EQ(missing.status, 1) << missing.out;
+  EXPECT_EQ(missing.status, 2) << missing.out;
   EXPECT_NE(missing.out.find("/nonexistent/prog.au: error: cannot open file"), std::string::npos) << missing.out;
   const std::string dir = fs::temp_directory_path().string();
   Result folder = autumn::testing::run_cli(dir + out, false, "", AUTUMNC_CLI);
-  EXPECT_EQ(folder.status, 1) << folder.out;
+  EXPECT_EQ(folder.status, 2) << folder.out;
   EXPECT_NE(folder.out.find(dir + ": error: is a folder, not a program file"), std::string::npos) << folder.out;
   Result bench = run("bench /nonexistent/prog.au --steps 1");
   EXPECT_EQ(bench.status, 1) << bench.out;

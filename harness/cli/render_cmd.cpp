@@ -79,7 +79,7 @@ void write_pictures(const RenderOptions& o, const EpisodeFrames& ep) {
 
 int run_render(const RenderOptions& o) {
   auto actions = read_actions("render", o.actions, o.actions_file, o.steps);
-  if (!actions) return kExitFailed;
+  if (!actions) return kExitUsage;  // the flags' value, not the program: a usage error
   auto program = load_or_report(o.program, std::nullopt);
   if (!program) return kExitFailed;
   auto env = make_env("render", o.engine, program);

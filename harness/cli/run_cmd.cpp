@@ -51,7 +51,7 @@ nlohmann::json trace_json(const RunOptions& o, const EpisodeFrames& ep, const st
 
 int run_run(const RunOptions& o) {
   auto actions = read_actions("run", o.actions, o.actions_file, o.steps);
-  if (!actions) return kExitFailed;
+  if (!actions) return kExitUsage;  // the flags' value, not the program: a usage error
   std::optional<std::string> trigger;
   if (!o.trigger.empty()) trigger = o.trigger;
   auto program = load_or_report(o.program, trigger);
