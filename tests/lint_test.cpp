@@ -131,6 +131,9 @@ TEST(Lint, AutumncRefusesProgramsThatCannotRun) {
   Cmd cli = run(std::string(AUTUMN_CLI) + " --Werror run " + warn);
   EXPECT_EQ(cli.status, 1);
   EXPECT_NE(cli.out.find("1 warning treated as errors (--Werror)"), std::string::npos) << cli.out;
+  Cmd after = run(std::string(AUTUMN_CLI) + " run " + warn + " --Werror");  // after the subcommand too
+  EXPECT_EQ(after.status, 1) << after.out;
+  EXPECT_NE(after.out.find("1 warning treated as errors (--Werror)"), std::string::npos) << after.out;
   std::filesystem::remove_all(dir);
 }
 

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Show help for every subcommand");
   app.set_version_flag("--version", "autumn " AUTUMNC_VERSION, "Print the version and exit");
   app.add_flag("--Werror", warnings_are_errors(), "Treat the programs' warnings as errors");
+  app.fallthrough();  // --Werror after the subcommand too (`autumn run prog.au --Werror`)
   std::vector<Subcommand> commands = {add_run_command(app),    add_render_command(app), add_check_command(app),
                                       add_survey_command(app), add_bench_command(app),  add_difftest_command(app)};
   autumn::agent::add_agent_commands(app);
