@@ -358,6 +358,19 @@ TEST(HonestOutput, SolveWithoutAnAnswerExitsOne) {
   EXPECT_EQ(last_json(r.out)["result"]["found"], false);
 }
 
+// eval, like solve, exits 1 when a task gets no answer, and says how many.
+TEST(HonestOutput, EvalWithoutAnAnswerExitsOne) {
+  REQUIRE_ICE();
+  const fs::path dir = scratch("eval_no_answer");
+  fs::create_directories(dir / "tasks/prompts");
+  for (const char* f : {"programs", "answers", "color_dict.yaml"}) fs::create_symlink(ice_dir() / f, dir / "tasks" / f);
+  fs::create_symlink(ice_dir() / "prompts/ice_planning.json", dir / "tasks/prompts/ice_planning.json");
+  auto r = run_cli("eval " + (dir / "tasks").string() + " --search bfs --depth 1 --nodes 50");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("autumn eval: 1 task got no answer"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no plan"), std::string::npos) << r.out;
+}
+
 // eval compiles a task's modules before its clock starts, as solve does.
 TEST(HonestOutput, EvalDoesNotCountCompilesAsSolveTime) {
   REQUIRE_ICE();

@@ -238,9 +238,12 @@ int run_eval_cmd(State& s) {
       if (std::string why = write_file(s.eval_json_out, eval_json(rows).dump(1) + "\n"); !why.empty())
         return fail("eval", why);
     }
-    for (const auto& r : rows)
-      if (!r.error.empty()) return 1;
-    return 0;
+    // Exit 1 when a task failed (an error) or got no answer (no plan), as solve does.
+    const auto errors = std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return !r.error.empty(); });
+    const auto unanswered =
+        std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return r.error.empty() && !r.answered; });
+    if (unanswered) std::cerr << "autumn eval: " << unanswered << " task" << (unanswered == 1 ? "" : "s") << " got no answer\n";
+    return errors || unanswered ? 1 : 0;
   } catch (const std::exception& e) {
     return fail("eval", e.what());
   }

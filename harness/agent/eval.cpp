@@ -68,6 +68,7 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         const std::vector<Action>& ref = answers.reference_plan.empty() ? task.reference_plan : answers.reference_plan;
         if (!ref.empty()) row.reference_length = static_cast<int>(ref.size());
         if (r.found) row.plan_length = static_cast<int>(r.plan.size());
+        row.answered = r.found;
         row.throughput = per_second(static_cast<double>(r.nodes), r.seconds);
         row.unit = "nodes/s";
         row.detail = r.found ? fmt::format("plan of {} ({}{})", r.plan.size(), r.method, r.shortest ? ", shortest" : "")

@@ -38,6 +38,7 @@ struct EvalRow {
   bool stochastic = false;              // the task's program draws random numbers
   std::optional<int> plan_length;       // planning: the plan found
   std::optional<int> reference_length;  // planning: the generator's K (its reference plan)
+  bool answered = true;                 // false: the solver gave no answer (planning: no plan)
 };
 
 std::vector<fs::path> find_tasks(const fs::path& dir);
