@@ -1477,7 +1477,8 @@ TEST(AgentCli, BenchAgentPrintsFigures) {
   const std::string program = (autumn::testing::source_dir() / "programs" / "whack_a_mole.au").string();
   // --seconds 60: the BFS runs end on their 20,000 nodes, not on the default
   // 10 s, which a machine loaded by a parallel build once cut to no node at all.
-  CliRun j = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60 --json");
+  // No --grid: a file named on the command line runs whatever its grid (10x10 here, the default is 16).
+  CliRun j = cli("bench-agent " + program + " --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60 --json");
   ASSERT_EQ(j.status, 0) << j.out;
   // The output also holds the progress bar (stderr); the JSON is the last line.
   const size_t brace = j.out.rfind("\n{");
@@ -1493,7 +1494,8 @@ TEST(AgentCli, BenchAgentPrintsFigures) {
   CliRun text = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60");
   ASSERT_EQ(text.status, 0) << text.out;
   EXPECT_NE(text.out.find("bfs successors per second on one thread"), std::string::npos) << text.out;
-  CliRun none = cli("bench-agent " + program + " --grid 7");
+  // --grid filters what folders hold: none of programs/ is 7x7.
+  CliRun none = cli("bench-agent " + (autumn::testing::source_dir() / "programs").string() + " --grid 7");
   EXPECT_EQ(none.status, 1);
   EXPECT_NE(none.out.find("no program has GRID_SIZE 7"), std::string::npos) << none.out;
 }

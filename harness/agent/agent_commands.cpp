@@ -254,6 +254,8 @@ int run_bench_agent(State& s) {
     for (const std::string& p : s.bench_paths)
       if (fs::is_directory(p) && program_files(p).empty()) return fail("bench-agent", "no .sexp or .au programs in " + p);
     const std::vector<fs::path> programs = expand_programs(s.bench_paths);
+    for (const std::string& p : s.bench_paths)
+      if (!fs::is_directory(p)) s.bench_opts.named.push_back(p);  // never filtered out by --grid
     if (s.bench_opts.threads == 0) s.bench_opts.threads = std::max(1u, std::thread::hardware_concurrency());
     std::vector<BenchAgentRow> rows = bench_agent(programs, s.bench_opts, progress_bar());
     if (rows.empty()) return fail("bench-agent", fmt::format("no program has GRID_SIZE {} (use --grid 0)", s.bench_opts.grid));
@@ -345,7 +347,11 @@ void add_agent_commands(CLI::App& app) {
   s.bench->add_option("--seconds", b.seconds, "BFS: time limit per run")
       ->default_val(10)
       ->check(cli::number_at_least(0.001, "POSITIVE"));
-  s.bench->add_option("--grid", b.grid, "Only programs with this GRID_SIZE (0: all)")->default_val(16)->check(cli::int_count());
+  s.bench->add_option("--grid", b.grid,
+                      "Only programs with this GRID_SIZE (0: all) among those found in folders; files named here "
+                      "always run")
+      ->default_val(16)
+      ->check(cli::int_count());
   s.bench->add_option("--only", b.only, "Run only one measurement")->check(CLI::IsMember({"mfp", "bfs"}));
   s.bench->add_flag("--json", s.bench_json, "Print one JSON object");
 }

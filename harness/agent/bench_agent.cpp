@@ -54,7 +54,9 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
       auto env = make_env_checked(opts.engine, program);
       if (!env->reset(0)) throw TaskError("reset failed: " + env->error());
       row.grid = env->frame().size;
-      if (opts.grid > 0 && row.grid != opts.grid) continue;
+      if (opts.grid > 0 && row.grid != opts.grid &&
+          std::find(opts.named.begin(), opts.named.end(), path) == opts.named.end())
+        continue;
       row.deterministic = env->deterministic();
       row.specialised = opts.engine == "compiled" && lower_program(*program, "bench").ok;
 

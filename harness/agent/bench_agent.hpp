@@ -29,7 +29,8 @@ struct BenchAgentOptions {
   uint64_t bfs_nodes = 1000000;
   int bfs_depth = 12;
   double seconds = 10;  // per BFS run
-  int grid = 16;        // only programs with this GRID_SIZE (0: all)
+  int grid = 16;        // only programs with this GRID_SIZE (0: all), among those found in folders
+  std::vector<fs::path> named;  // files named on the command line: they run whatever their grid
   std::string only;     // "mfp" or "bfs": run just that measurement
 };
 
