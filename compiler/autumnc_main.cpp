@@ -2,8 +2,8 @@
 //
 //   autumnc PROGRAM [-o DIR] [--name NAME] [--trigger EXPR] [-v] [--strict] [--embedded]
 //
-// Writes DIR/NAME.cpp (compiler/emit/emit_module.hpp says what it contains) and
-// one line on stderr saying how it lowered:
+// Writes DIR/NAME.cpp (compiler/emit/emit_module.hpp says what it contains),
+// says so on stderr ("wrote DIR/NAME.cpp"), after one line saying how it lowered:
 //
 //   prog.au: specialised, 0 dynamic sites
 //   prog.au: specialised, 3 dynamic sites (-v lists them)
@@ -146,6 +146,7 @@ int run(const Options& o) {
     std::cerr << "autumnc: " << why << "\n";
     return 1;
   }
+  std::cerr << "wrote " << out_path.string() << "\n";
   return 0;
 }
 

@@ -159,6 +159,18 @@ TEST(Cli, VersionOfBothTools) {
   EXPECT_EQ(c.out.substr(c.out.find(' ')), a.out.substr(a.out.find(' '))) << "one version: " << c.out << a.out;
 }
 
+// autumnc says how the program lowered and what it wrote.
+TEST(Cli, AutumncSaysWhatItWrote) {
+  const fs::path dir = fs::temp_directory_path() / "autumn_cli_test_wrote";
+  fs::remove_all(dir);
+  Result r = autumn::testing::run_cli(golden("stale_occupancy.au") + " -o " + dir.string(), false, "", AUTUMNC_CLI);
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("stale_occupancy.au: specialised, "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("wrote " + (dir / "stale_occupancy.cpp").string() + "\n"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "stale_occupancy.cpp"));
+  fs::remove_all(dir);
+}
+
 // autumnc --dump-ir STAGE prints the IR after that stage (and writes nothing);
 // a stage that does not exist is a usage error naming the stages; a program
 // the lowering embeds has no IR, and says why.
