@@ -24,12 +24,14 @@ def solve(task, engine="compiled", rollouts=10000, threads=0, seed=0, max_steps=
 
 def make_task(kind, program, seed=0, steps=None, out=None, env_seed=0, engine="compiled", batch=200,
               masked_frames=3, extend_colours=False, answers=None, with_answers=False):
-    """Generate an "mfp" or "planning" task for a program file.
+    """Generate an "mfp", "planning" or "cd" (change detection) task for a program file.
 
     Returns the prompt (what a solver may see); with ``with_answers=True`` a pair
-    ``(prompt, answers)`` (the environment seed, correct_idx or reference_plan).
-    ``out`` writes both as ``autumn make-task --out`` does; ``answers`` names the
-    answers file."""
+    ``(prompt, answers)`` (the environment seed, correct_idx, reference_plan, or
+    for cd t_star and the condition). ``out`` writes both as ``autumn make-task
+    --out`` does; ``answers`` names the answers file. A cd task needs ``out``
+    (under prompts/): its changed program is written to the sibling programs/,
+    and ``steps`` is the clock value the change starts at."""
     made = json.loads(_core._make_task(kind, os.fspath(program), seed, -1 if steps is None else steps,
                                        os.fspath(out) if out else "", env_seed, engine, batch, masked_frames,
                                        extend_colours, os.fspath(answers) if answers else ""))

@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "harness/agent/change_detection.hpp"
+#include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
@@ -44,6 +45,14 @@ std::string solve(const std::string& task_file, const SolveOptions& o, unsigned 
 }
 
 std::string make(const MakeTaskOptions& o) {
+  if (o.kind == "cd") {  // as `autumn make-task cd`: the changed program is written beside the prompt
+    if (o.out.empty())
+      throw std::invalid_argument("a cd task needs out= (a path under prompts/: the changed program goes to the "
+                                  "sibling programs/, the answers to answers/)");
+    MadeCd made = make_cd(o);
+    write_cd(made, o);
+    return nlohmann::json{{"task", made.prompt}, {"answers", made.answers}, {"change", made.change}}.dump();
+  }
   ThreadPool pool(0);
   MadeTask made = make_task(o, pool);
   if (!o.out.empty() || !o.answers_out.empty()) write_task(made, o);
@@ -155,7 +164,8 @@ void bind_agent(pb::module_& m) {
     o.masked_frames = masked_frames;
     o.extend_colours = extend_colours;
     o.answers_out = answers;
-    if (kind != "mfp" && kind != "planning") throw std::invalid_argument("kind must be 'mfp' or 'planning'");
+    if (kind != "mfp" && kind != "planning" && kind != "cd")
+      throw std::invalid_argument("kind must be 'mfp', 'planning' or 'cd'");
     pb::gil_scoped_release release;
     return make(o);
   });

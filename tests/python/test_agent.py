@@ -47,6 +47,22 @@ def test_make_task_then_solve(tmp_path):
         autumnc.solve(tmp_path / "missing.json")
 
 
+def test_make_a_change_detection_task_then_solve(tmp_path):
+    """make_task("cd") as `autumn make-task cd`: the prompt, the changed program
+    beside it, the answers apart; the solver detects the change at t*."""
+    out = tmp_path / "prompts" / "sokoban_cd.json"
+    prompt, answers = autumnc.make_task("cd", SOKOBAN, seed=3, steps=6, out=out, engine="interp",
+                                        with_answers=True)
+    assert prompt["type"] == "change_detection" and prompt["wrong_program"] == "sokoban_wrong"
+    assert (tmp_path / "programs" / "sokoban_wrong.au").exists()
+    assert answers["t_star"] >= 6 and answers["condition"] == ">= cdClock 6"
+    result = autumnc.solve(out, engine="interp", rollouts=50, threads=1,
+                           answers=tmp_path / "answers" / "sokoban_change_detection.json")
+    assert result["result"]["detected"] and result["result"]["t_star"] == answers["t_star"]
+    with pytest.raises(ValueError, match="needs out="):
+        autumnc.make_task("cd", SOKOBAN)
+
+
 @needs_corpus
 def test_program_check_against_a_trace():
     p = autumnc.Program(os.path.join(CONFORMANCE, "programs", "ice.sexp"))
