@@ -5,6 +5,8 @@
 // becomes autumnc.AutumnRuntimeError; both derive from RuntimeError, which is
 // what the reference's binding raises. std::invalid_argument becomes ValueError
 // (pybind11's default), so bad actions and arguments are ValueErrors.
+#include <iostream>
+
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -39,8 +41,14 @@ PYBIND11_MODULE(_core, m) {
       "stdlib", [] { return autumn::stdlib_text(); },
       "The bundled standard library's text: what an empty stdlib argument (\"\") stands for, and what "
       "compiled modules are built with");
+  // At exit (autumnc/__init__.py): compiles this process started finish, so the
+  // next run finds their modules (a compile killed half way leaves nothing);
+  // the wait is said on stderr rather than a silent pause.
   m.def("_wait_for_compiles", [] {
     pb::gil_scoped_release release;
-    autumn::py::wait_for_compiles();
+    autumn::py::wait_for_compiles([](size_t n) {
+      std::cerr << "autumnc: waiting for " << n << " module compile" << (n == 1 ? "" : "s")
+                << " this script started (the next run uses " << (n == 1 ? "it" : "them") << ")\n";
+    });
   });
 }

@@ -57,13 +57,16 @@ PrototypeFuture request_compiled(const std::shared_ptr<const Program>& program) 
   return f;
 }
 
-void wait_for_compiles() {
+size_t wait_for_compiles(const std::function<void(size_t)>& before) {
   std::vector<PrototypeFuture> pending;
   {
     std::lock_guard<std::mutex> lock(mu);
-    for (auto& [key, f] : *futures) pending.push_back(f);
+    for (auto& [key, f] : *futures)
+      if (!is_ready(f)) pending.push_back(f);
   }
+  if (!pending.empty() && before) before(pending.size());
   for (auto& f : pending) f.wait();
+  return pending.size();
 }
 
 bool is_ready(const PrototypeFuture& f) {

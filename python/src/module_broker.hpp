@@ -9,6 +9,7 @@
 // built. Programs with a non-bundled standard library never get here: modules
 // are built with the bundled one.
 #pragma once
+#include <functional>
 #include <future>
 #include <memory>
 #include <string>
@@ -30,7 +31,8 @@ using PrototypeFuture = std::shared_future<std::shared_ptr<const Prototype>>;
 PrototypeFuture request_compiled(const std::shared_ptr<const Program>& program);
 // Blocks until every compile started so far has finished (the package calls it
 // at interpreter exit, so that no compile thread outlives the process's statics).
-void wait_for_compiles();
+// Calls before(n) first when n > 0 are still running; returns n.
+size_t wait_for_compiles(const std::function<void(size_t)>& before = nullptr);
 bool is_ready(const PrototypeFuture& f);
 // A fresh environment from a ready prototype (null if the prototype is null).
 std::unique_ptr<Environment> instantiate(const Prototype& p);

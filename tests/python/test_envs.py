@@ -364,3 +364,17 @@ def test_ctrl_c_stops_a_long_batched_step(tmp_path):
         batch.step(many)
     obs, info = batch.reset()
     assert obs.shape == (33, 4, 4) and "errors" not in info
+
+
+def test_exit_waits_for_compiles_and_says_so(tmp_path):
+    """A script that ends while a module it asked for compiles waits for it (so
+    the next run has it) and says so on stderr, rather than pausing silently."""
+    program = tmp_path / "fresh.au"
+    program.write_text("(program (= GRID_SIZE 4) (= n (initnext %d (+ (prev n) 1))))" % (os.getpid() % 100000))
+    script = "import autumnc, sys; autumnc.Env(sys.argv[1], engine='auto').reset()"
+    env = dict(os.environ, AUTUMN_CACHE_DIR=str(tmp_path / "cache"))
+    run = subprocess.run([sys.executable, "-c", script, str(program)], env=env, capture_output=True, text=True,
+                         timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert "autumnc: waiting for 1 module compile this script started" in run.stderr
+    assert list((tmp_path / "cache").glob("*.so")), "the compile finished before the process ended"
