@@ -85,6 +85,24 @@ TEST(Lint, Types) {
 }
 
 // Correct programs stay quiet: no program of programs/ draws any warning.
+TEST(Lint, OrSpelledAsAnd) {
+  expect_warning("(= t (|| true false))",
+                 "w.au:2:6: warning: '(|| ...)' is AND in Autumn, as in the reference interpreter; OR is written "
+                 "(or ...) or (| ...)");
+  EXPECT_TRUE(warnings_of("(= t (or true false)) (= u (| true false)) (= v (&& true true))").empty());
+}
+
+TEST(Lint, GlobalsTheLibraryOrConstructionOverwrite) {
+  expect_warning("(= delta 3)",
+                 "w.au:2:1: warning: the global 'delta' is overwritten whenever the standard library's "
+                 "'adjacentElem' runs (that assigns the name: `let` does not make a new one)");
+  auto w = warnings_of("(object A (Cell 0 0 \"red\")) (= allCells 2)");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0], "w.au:2:29: warning: the global 'allCells' is overwritten whenever an object is made (that "
+                  "assigns the name: `let` does not make a new one)");
+  EXPECT_TRUE(warnings_of("(= allCells 2) (= deltaX 1)").empty()) << "no objects: nothing assigns allCells";
+}
+
 TEST(Lint, ProgramsAreClean) {
   for (const auto& f : testing::files_in(testing::source_dir() / "programs", ".au")) {
     auto p = load_program_file(f.string());

@@ -1,6 +1,7 @@
 #include "compiler/analyse/lint.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -83,6 +84,8 @@ class Linter {
   void call_arity(const Expr& call);
   void colours(const Expr& e);
   void statements();
+  void or_spelling(const Sexp& s);
+  void clobbered_globals();
   void type_name(const TypeExprPtr& t, SourceLoc loc, const std::set<Sym>& classes, bool field);
   void declared_literal(const Expr& assign, const std::map<Sym, std::string>& declared);
 
@@ -97,8 +100,10 @@ void Linter::run() {
   if (!root.items.empty()) {
     atoms(root.items[0], false);
     non_calls(root.items[0], false);
+    or_spelling(root.items[0]);
   }
   statements();
+  clobbered_globals();
   for (const Stmt& st : p_.stmts)
     for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
       if (e) expr(*e);
@@ -161,6 +166,14 @@ void Linter::non_calls(const Sexp& s, bool calls_functions) {
     const bool auto_call = (head == "on" && i == 1) || (logical && i > 0);
     non_calls(s.items[i], callee || auto_call);
   }
+}
+
+// (|| a b) is AND, as in the reference (its lexer's first token of "||").
+void Linter::or_spelling(const Sexp& s) {
+  if (!s.is_list) return;
+  if (!s.items.empty() && !s.items[0].is_list && !s.items[0].is_string && s.items[0].text == "||")
+    warn(s.loc, "'(|| ...)' is AND in Autumn, as in the reference interpreter; OR is written (or ...) or (| ...)");
+  for (const Sexp& k : s.items) or_spelling(k);
 }
 
 // ---------------------------------------------------------------------------- calls and colours
@@ -254,6 +267,31 @@ void Linter::statements() {
       if (e.type && !e.type->is_list) declared[e.name] = e.type->name;
     }
     if (e.kind == ExprKind::Assign) declared_literal(e, declared);
+  }
+}
+
+// A global whose name the standard library's functions assign (`let` does not
+// make a new name: sqdist's `delta`), or every object's construction (its
+// `allCells` temporary, analyse/program.cpp): overwritten whenever they run.
+void Linter::clobbered_globals() {
+  std::map<Sym, std::string> assigners;
+  std::function<void(const Expr&, const std::string&)> walk = [&](const Expr& e, const std::string& who) {
+    if (e.kind == ExprKind::Assign) assigners.emplace(e.name, who);
+    for (const ExprPtr& k : e.kids)
+      if (k) walk(*k, who);
+  };
+  for (const Stmt& st : p_.stdlib_stmts)
+    if (st.kind == StmtKind::Expr && st.expr->kind == ExprKind::Assign && !st.expr->kids.empty() &&
+        st.expr->kids[0] && st.expr->kids[0]->kind == ExprKind::Lambda)
+      walk(*st.expr->kids[0], "the standard library's '" + p_.name(st.expr->name) + "' runs");
+  for (const Stmt& st : p_.stmts)
+    if (st.kind == StmtKind::Object && st.constructor_body) walk(*st.constructor_body, "an object is made");
+  for (const Stmt& st : p_.stmts) {
+    if (st.kind != StmtKind::Expr || st.expr->kind != ExprKind::Assign) continue;
+    const auto it = assigners.find(st.expr->name);
+    if (it != assigners.end())
+      warn(st.expr->loc, "the global '" + p_.name(st.expr->name) + "' is overwritten whenever " + it->second +
+                             " (that assigns the name: `let` does not make a new one)");
   }
 }
 
