@@ -4,6 +4,7 @@
 // programs that cannot run, and --Werror makes warnings errors.
 #include <gtest/gtest.h>
 
+#include "compiler/analyse/did_you_mean.hpp"
 #include "compiler/analyse/program.hpp"
 #include "test_support.hpp"
 
@@ -101,6 +102,17 @@ TEST(Lint, GlobalsTheLibraryOrConstructionOverwrite) {
   EXPECT_EQ(w[0], "w.au:2:29: warning: the global 'allCells' is overwritten whenever an object is made (that "
                   "assigns the name: `let` does not make a new one)");
   EXPECT_TRUE(warnings_of("(= allCells 2) (= deltaX 1)").empty()) << "no objects: nothing assigns allCells";
+}
+
+TEST(Lint, DidYouMean) {
+  EXPECT_EQ(did_you_mean("moveLeftNoColision", {"moveLeft", "moveLeftNoCollision"}), "moveLeftNoCollision");
+  EXPECT_EQ(did_you_mean("x", {"y", "xs"}), std::nullopt) << "one letter is never corrected";
+  EXPECT_EQ(did_you_mean("rd", {"red"}), "red");
+  EXPECT_EQ(did_you_mean("zzzzzz", {"red", "blue"}), std::nullopt);
+  EXPECT_EQ(did_you_mean("abcd", {"abce", "abcf"}), "abce") << "of equally near, the first";
+  expect_warning("(object Ball (Cell 0 0 \"red\")) (= b (initnext (Ball (Position 1 1)) (moveLeftNoColision (prev b))))",
+                 "w.au:2:70: warning: 'moveLeftNoColision' is not defined anywhere; evaluating it is a runtime "
+                 "error; did you mean 'moveLeftNoCollision'?");
 }
 
 TEST(Lint, ProgramsAreClean) {

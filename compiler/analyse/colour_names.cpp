@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include "compiler/analyse/did_you_mean.hpp"
+
 namespace autumn {
 
 const std::vector<NamedColour>& named_colours() {
@@ -58,33 +60,15 @@ std::optional<uint32_t> colour_rgb(std::string_view name) {
   return it->rgb;
 }
 
-namespace {
-
-size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diag = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
-}  // namespace
-
 std::optional<std::string_view> closest_colour(std::string_view name) {
-  std::optional<std::string_view> best;
-  size_t best_d = 3;
-  for (const auto& c : named_colours()) {
-    size_t d = edit_distance(name, c.name);
-    if (d < best_d) best_d = d, best = c.name;
-  }
-  return best;
+  static const std::vector<std::string_view> names = [] {
+    std::vector<std::string_view> n;
+    for (const auto& c : named_colours()) n.push_back(c.name);
+    return n;
+  }();
+  const auto best = did_you_mean(name, names);
+  if (!best) return std::nullopt;
+  return *std::find(names.begin(), names.end(), *best);  // the table's own storage
 }
 
 }  // namespace autumn

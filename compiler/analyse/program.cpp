@@ -1,5 +1,6 @@
 #include "compiler/analyse/program.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -7,6 +8,7 @@
 #include <sstream>
 
 #include "compiler/analyse/builtins.hpp"
+#include "compiler/analyse/did_you_mean.hpp"
 #include "compiler/analyse/lint.hpp"
 #include "compiler/analyse/render_order.hpp"
 #include "compiler/parse/parser.hpp"
@@ -73,9 +75,14 @@ void check_unbound(const Program& p, const Expr& e, const std::set<Sym>& bound,
                    std::set<Sym>& reported, std::vector<std::string>& warnings) {
   if (e.kind == ExprKind::Var && !bound.count(e.name) && !reported.count(e.name)) {
     reported.insert(e.name);
+    std::vector<std::string_view> names;
+    for (Sym s : bound) names.push_back(p.name(s));
+    std::sort(names.begin(), names.end());  // of equally near names, the first in order
+    const auto near = did_you_mean(p.name(e.name), names);
     warnings.push_back(format_diagnostic(p.file_name(e.loc.source), e.loc, "warning",
                                          "'" + p.name(e.name) +
-                                             "' is not defined anywhere; evaluating it is a runtime error"));
+                                             "' is not defined anywhere; evaluating it is a runtime error" +
+                                             (near ? "; did you mean '" + *near + "'?" : std::string())));
   }
   for (const auto& k : e.kids) check_unbound(p, *k, bound, reported, warnings);
 }
