@@ -359,12 +359,18 @@ TEST(HonestOutput, SolveWithoutAnAnswerExitsOne) {
 }
 
 // eval, like solve, exits 1 when a task gets no answer, and says how many.
-TEST(HonestOutput, EvalWithoutAnAnswerExitsOne) {
-  REQUIRE_ICE();
-  const fs::path dir = scratch("eval_no_answer");
+// A task folder of one ice task (symbolic links into ../shared): DIR/tasks.
+fs::path one_ice_task(const std::string& scratch_name, const char* prompt) {
+  const fs::path dir = scratch(scratch_name);
   fs::create_directories(dir / "tasks/prompts");
   for (const char* f : {"programs", "answers", "color_dict.yaml"}) fs::create_symlink(ice_dir() / f, dir / "tasks" / f);
-  fs::create_symlink(ice_dir() / "prompts/ice_planning.json", dir / "tasks/prompts/ice_planning.json");
+  fs::create_symlink(ice_dir() / "prompts" / prompt, dir / "tasks/prompts" / prompt);
+  return dir;
+}
+
+TEST(HonestOutput, EvalWithoutAnAnswerExitsOne) {
+  REQUIRE_ICE();
+  const fs::path dir = one_ice_task("eval_no_answer", "ice_planning.json");
   auto r = run_cli("eval " + (dir / "tasks").string() + " --search bfs --depth 1 --nodes 50");
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("autumn eval: 1 task got no answer"), std::string::npos) << r.out;
@@ -374,10 +380,7 @@ TEST(HonestOutput, EvalWithoutAnAnswerExitsOne) {
 // eval compiles a task's modules before its clock starts, as solve does.
 TEST(HonestOutput, EvalDoesNotCountCompilesAsSolveTime) {
   REQUIRE_ICE();
-  const fs::path dir = scratch("eval_compile");
-  fs::create_directories(dir / "tasks/prompts");
-  for (const char* f : {"programs", "answers", "color_dict.yaml"}) fs::create_symlink(ice_dir() / f, dir / "tasks" / f);
-  fs::create_symlink(ice_dir() / "prompts/ice_cd.json", dir / "tasks/prompts/ice_cd.json");
+  const fs::path dir = one_ice_task("eval_compile", "ice_cd.json");
   auto r = run_cli("eval " + (dir / "tasks").string() + " --json", true, "AUTUMN_CACHE_DIR=" + (dir / "cache").string());
   ASSERT_EQ(r.status, 0) << r.out;
   const nlohmann::json task = last_json(r.out)["tasks"][0];
