@@ -24,7 +24,10 @@ std::optional<std::string> did_you_mean(std::string_view name, const std::vector
   std::optional<std::string> best;
   size_t best_d = 3;  // at most two edits
   for (std::string_view c : candidates) {
-    if (c == name) continue;
+    // The lengths alone bound the distance from below: a 5 MB name (Diagnostics
+    // tests one) is never compared letter by letter with every name in scope.
+    const size_t gap = name.size() > c.size() ? name.size() - c.size() : c.size() - name.size();
+    if (c == name || gap >= best_d) continue;
     const size_t d = edit_distance(name, c);
     if (d < best_d && 2 * d <= name.size()) best_d = d, best = std::string(c);
   }
