@@ -56,11 +56,12 @@ TEST_P(Differential, CompiledAgreesWithInterpreter) {
   // 107 programs x 8 seeds x 200 steps: about 170k steps compared in CI. An
   // embedded module (tests/lowering's "expect: embedded") runs the interpreter
   // itself, so the comparison checks only the embedding (reset, inputs, frames,
-  // errors), which two short episodes cover; construct_own_class recurses to the
-  // call-depth limit every step and took 164 s at the full count.
+  // errors), which two short episodes cover (25 steps: construct_own_class
+  // recurses to the call-depth limit every step, a third of a second each, and
+  // took 164 s at the full count).
   const bool specialised = lower_program(*program, "p").ok;
   o.seeds = specialised ? 8 : 2;
-  o.steps = specialised ? 200 : 50;
+  o.steps = specialised ? 200 : 25;
   DiffResult r = diff_engines(program, o);
   EXPECT_FALSE(r.setup_failed) << r.divergence;
   EXPECT_EQ(r.divergence, "") << GetParam();

@@ -3,6 +3,7 @@
 
 #include <cstdlib>
 #include <stdexcept>
+#include <string_view>
 
 #include "compiler/lower/ir_print.hpp"
 #include "compiler/lower/ir_verify.hpp"
@@ -36,7 +37,8 @@ constexpr Pass kPasses[] = {
 // After each stage: the IR still holds its invariants (when AUTUMN_VERIFY_IR is
 // set: ctest and the fuzz smokes), and its text when this is the stage asked for.
 void after(const char* stage, const lower::Module& m, const LowerOptions& o, Lowered& out) {
-  if (std::getenv("AUTUMN_VERIFY_IR")) {
+  const char* verify = std::getenv("AUTUMN_VERIFY_IR");
+  if (verify && *verify && std::string_view(verify) != "0") {
     const std::vector<std::string> problems = lower::verify_ir(m);
     if (!problems.empty())
       throw std::logic_error("internal error: the lowering IR is broken after " + std::string(stage) + ": " +

@@ -40,7 +40,7 @@ struct LowerOptions {
 // The stages in order: "specialise", then each IR pass (passes.hpp).
 const std::vector<std::string>& lowering_stages();
 
-// Runs the stages, then the C++ printer. With AUTUMN_VERIFY_IR set, the IR is
+// Runs the stages, then the C++ printer. With AUTUMN_VERIFY_IR set (not empty or 0), the IR is
 // verified after every stage (ir_verify.hpp); a broken invariant is an
 // internal error (std::logic_error naming the stage).
 Lowered lower_program(const Program& program, const std::string& program_name, const LowerOptions& options = {});
