@@ -59,13 +59,20 @@ std::string env_for(const fs::path& cache, const fs::path& tmp) {
 
 // The entry of the program whose text is `text`: "<cache>/m<key>" (its .so, its
 // .manifest and its program text m<key>-<digest>.au).
+// In a long-lived shared cache the same text may also have entries under the
+// keys of earlier builds (another runtime): the newest module is this build's.
 fs::path entry_of(const fs::path& cache, const std::string& text) {
-  for (const auto& f : autumn::testing::files_in(cache, ".au"))
-    if (autumn::testing::read_text(f) == text) {
-      const std::string stem = f.stem().string();
-      return cache / stem.substr(0, stem.find('-'));
-    }
-  return {};
+  fs::path best;
+  fs::file_time_type newest{};
+  for (const auto& f : autumn::testing::files_in(cache, ".au")) {
+    if (autumn::testing::read_text(f) != text) continue;
+    const std::string stem = f.stem().string();
+    const fs::path entry = cache / stem.substr(0, stem.find('-'));
+    std::error_code ec;
+    const auto made = fs::last_write_time(entry.string() + ".so", ec);
+    if (!ec && (best.empty() || made > newest)) best = entry, newest = made;
+  }
+  return best;
 }
 
 fs::path with(const fs::path& entry, const std::string& suffix) { return entry.string() + suffix; }
