@@ -8,9 +8,12 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "harness/module_store.hpp"
@@ -46,20 +49,57 @@ std::string compiler_flags() {
   return std::string(AUTUMN_CXX) + " -std=c++20 -O2 -fPIC -shared -fvisibility=hidden -DAUTUMN_MODULE_SHARED";
 }
 
-// sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST: compile, make
+}  // namespace
+
+// At most this many compiles run at once per cache directory, however many
+// programs a process (or several processes) asks for: the Python drop-in opening
+// seventy programs in a row started seventy g++ processes side by side (gigabytes
+// of memory, a third of the CPU lost to thrashing, every other process starved).
+// AUTUMN_COMPILE_JOBS overrides; the default is the number of CPUs.
+int module_compile_slots() {
+  static const int slots = [] {
+    if (const char* v = std::getenv("AUTUMN_COMPILE_JOBS")) {
+      char* end = nullptr;
+      const long n = std::strtol(v, &end, 10);
+      if (end != v && *end == 0 && n >= 1 && n <= 1024) return static_cast<int>(n);
+    }
+    const unsigned cpus = std::thread::hardware_concurrency();
+    const int n = cpus == 0 ? 2 : static_cast<int>(cpus);
+    if (const char* v = std::getenv("AUTUMN_COMPILE_JOBS"))
+      std::fprintf(stderr, "autumn: AUTUMN_COMPILE_JOBS='%s' is not a number from 1 to 1024; %d compiles at once\n", v, n);
+    return n;
+  }();
+  return slots;
+}
+
+namespace {
+
+// The script's first lines take a compile slot: a lock (flock(1), util-linux) on
+// one of the files compile-slot.0 .. compile-slot.(N-1) in the cache directory, the first free
+// one, or else waits on one chosen by pid. The lock is held by the shell and the
+// compiler it starts, and ends with them (a killed compile frees its slot).
+// Without flock(1) compiles are not limited.
+constexpr const char* kSlotScript =
+    "umask 077; if command -v flock >/dev/null 2>&1; then i=0; got=; "
+    "while [ $i -lt @SLOTS@ ]; do exec 9>\"$8.$i\" && flock -n 9 && { got=1; break; }; i=$((i+1)); done; "
+    "[ -n \"$got\" ] || { exec 9>\"$8.$(($$ % @SLOTS@))\" && flock 9; }; fi; ";
+
+// sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST SLOTS: take a slot, compile, make
 // the library 0600 (the linker makes it executable; it is only ever read), digest
 // it into its manifest, rename both into place (-T: never into a directory
 // standing in their place), clean up. The manifest
 // goes first: a new module never stands in the cache without its manifest (a
 // module it replaces is refused, and rebuilt, until the new one follows).
 constexpr const char* kScript =
-    "umask 077; CMD \"$1\" -o \"$2\" LIBS -Wl,-Bsymbolic >\"$4\" 2>&1 && "
+    "CMD \"$1\" -o \"$2\" LIBS -Wl,-Bsymbolic >\"$4\" 2>&1 && "
     "{ chmod 600 \"$2\" && d=$(sha256sum <\"$2\") && printf '%sso %s\\n' \"$5\" \"${d%% *}\" >\"$6\" && mv -fT \"$6\" \"$7\" && "
     "mv -fT \"$2\" \"$3\"; } 2>>\"$4\"; s=$?; "
     "rm -f \"$1\" \"$6\"; if [ $s -eq 0 ]; then rm -f \"$4\"; else rm -f \"$2\"; fi; exit $s";
 
 std::string script() {
-  std::string s = kScript;
+  std::string slots = kSlotScript;
+  for (size_t at; (at = slots.find("@SLOTS@")) != std::string::npos;) slots.replace(at, 7, std::to_string(module_compile_slots()));
+  std::string s = slots + kScript;
   s.replace(s.find("CMD"), 3, compiler_flags() + pch_flag() + " -I'" + AUTUMN_MODULE_INCLUDE + "'");
   s.replace(s.find("LIBS"), 4, AUTUMN_MODULE_LIBS);
   return s;
@@ -124,7 +164,8 @@ CompileOutcome compile_module(const std::string& source, const fs::path& so, con
     return out;
   }
   pid_t pid = spawn_compile({"sh", "-c", script(), "sh", cpp.string(), tmp.string(), so.string(), log.string(),
-                             manifest_head, manifest_tmp.string(), manifest.string()});
+                             manifest_head, manifest_tmp.string(), manifest.string(),
+                             (so.parent_path() / "compile-slot").string()});
   started();
   if (pid < 0) {
     out.output = std::string("cannot start the C++ compiler: ") + std::strerror(errno);

@@ -16,6 +16,11 @@ namespace autumn {
 // The compiler and flags every module is built with (part of the cache key).
 std::string module_compiler_signature();
 
+// How many compiles run at once per cache directory (AUTUMN_COMPILE_JOBS, else
+// the number of CPUs); a compile beyond them waits for a slot, which the compile
+// holds through a lock on CACHE/compile-slot.K (K below this count).
+int module_compile_slots();
+
 struct CompileOutcome {
   bool ok = false;
   std::string output;       // the compiler's messages (first few thousand characters)

@@ -25,7 +25,7 @@ set(rules
   "^FirstRun\\.UnwritableCacheFallsBack$|quick,cli"
   "^(Traces/CompiledConformance|Programs/Differential|Programs/CopyAndSnapshot|Files/Golden|Files/RuntimeFailure|Files/LimitProgram)[./]|compiled"
   "^(FirstRun|Guide)\\.|compiled"
-  "^(ModuleStore|BuiltinModules)\\.|compiled"
+  "^(ModuleStore|ModuleBuild|BuiltinModules)\\.|compiled"
   "^(Agent[A-Za-z]*|MakeTask)\\.|agent")
 
 set(kSlow

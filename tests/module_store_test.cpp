@@ -10,18 +10,23 @@
 // the module and compares it with the interpreter, so another program's module
 // would show as a divergence).
 #include <dlfcn.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "compiler/emit/emit_module.hpp"
+#include "harness/module_build.hpp"
 #include "harness/module_cache.hpp"
 #include "harness/module_store.hpp"
 #include "test_support.hpp"
@@ -289,6 +294,40 @@ TEST_F(ModuleStore, FullDiskIsNamed) {
   EXPECT_NE(r.out.find("cannot write in " + (full / "cache").string() + ": No space left on device"), std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find("did not compile"), std::string::npos) << r.out;
+}
+
+// However many compiles are asked for, at most module_compile_slots() run at
+// once per cache: each takes a lock on one of the cache's compile-slot files
+// first. With every slot held here, a compile waits; once they are free, it runs.
+TEST(ModuleBuild, ACompileWaitsForAFreeSlot) {
+  const fs::path cache = root() / "slots";
+  fs::remove_all(cache);
+  fs::create_directories(cache);
+  ASSERT_EQ(chmod(cache.c_str(), 0700), 0);
+  std::vector<int> held;
+  for (int k = 0; k < autumn::module_compile_slots(); ++k) {
+    const std::string slot = (cache / ("compile-slot." + std::to_string(k))).string();
+    const int fd = open(slot.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0600);
+    ASSERT_GE(fd, 0) << slot;
+    ASSERT_EQ(flock(fd, LOCK_EX), 0);
+    held.push_back(fd);
+  }
+  const fs::path so = cache / "mslot.so";
+  std::atomic<bool> done{false};
+  autumn::CompileOutcome outcome;
+  std::thread compile([&] {
+    outcome = autumn::compile_module("extern \"C\" int autumn_slot_test() { return 7; }\n", so, "t",
+                                     "autumn module manifest v1\n", [] {});
+    done = true;
+  });
+  std::this_thread::sleep_for(std::chrono::seconds(3));  // a compile of this file takes well under a second
+  EXPECT_FALSE(done) << "the compile ran with every slot taken";
+  EXPECT_FALSE(fs::exists(so));
+  for (int fd : held) close(fd);
+  compile.join();
+  EXPECT_TRUE(outcome.ok) << outcome.output;
+  EXPECT_TRUE(fs::exists(so));
+  fs::remove_all(cache);
 }
 
 // Built-in modules are used for the exact text of their program only: each one
