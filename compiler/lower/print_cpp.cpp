@@ -409,7 +409,9 @@ void Printer::classes() {
     ++depth_;
     for (size_t i = 0; i < c.fields.size(); ++i)
       line((c.field_types[i] ? type(c.field_types[i]) : std::string("Unit")) + " f" + std::to_string(i) + ";");
-    line("Pos origin;");
+    // With Position identities tracked, an origin keeps the identity of the
+    // Position it was given (the reference stores that very object).
+    line(std::string(m_.pos_tracked ? "PosU" : "Pos") + " origin;");
     if (c.mode == CellMode::Stored) line("std::vector<CellV> cells;");
     if (c.tracked) line("uint32_t uid = 0;");
     if (c.rotatable) line("uint32_t group = 0;");
