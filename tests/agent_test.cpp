@@ -1423,9 +1423,12 @@ TEST(AgentEval, TabulatesAFolder) {
 
   CliRun json = cli("eval " + root.string() + " --json --rollouts 50 --threads 2");
   EXPECT_EQ(json.status, 0) << json.out;
-  std::string last = json.out.substr(json.out.find("{\"tasks\""));
+  // The JSON object is the last line (progress goes to stderr, merged here).
+  std::string last = json.out.substr(json.out.rfind("\n{") + 1);
   auto j = nlohmann::json::parse(last);
   EXPECT_EQ(j["totals"]["tasks"], 2);
+  EXPECT_EQ(j["agent"]["name"], "simulator");
+  EXPECT_EQ(j["agent"]["rollouts"], 50);
   EXPECT_EQ(j["totals"]["score"], 2.0);
 
   // --json-out: the table on stdout and the same scores in the file, which may

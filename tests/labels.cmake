@@ -21,6 +21,7 @@ set(rules
   "^Agent(Particles|ThreadPool|TaskFile|Score|ClickModel|Eval|CdPairs|MakeCd|DrawSearch)\\.|quick,agent"
   "^AgentIce\\.(MaskedFramePrediction|ChangeDetectionScores)$|quick,agent"
   "^AgentPlanning\\.(Travel|LimitFraction|OnClones|Fill|LocalSearch|Shortening|Skeleton)|quick,agent"
+  "^(Engines/RandomBaseline|RandomBaselineMfp|RandomBaselineCli|PaperProtocol)[./]|quick,agent"
   "^(Cli|HonestOutput|Pictures)\\.|quick,cli"
   "^FirstRun\\.UnwritableCacheFallsBack$|quick,cli"
   "^(Traces/CompiledConformance|Programs/Differential|Programs/CopyAndSnapshot|Files/Golden|Files/RuntimeFailure|Files/LimitProgram)[./]|compiled"

@@ -18,6 +18,7 @@
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
+#include "harness/agent/random_baseline.hpp"
 #include "harness/agent/solve_pictures.hpp"
 #include "harness/cli/number_options.hpp"
 #include "harness/engine.hpp"
@@ -48,6 +49,14 @@ struct State {
   std::vector<std::string> bench_paths;
   BenchAgentOptions bench_opts;
   bool bench_json = false;
+  std::string solve_protocol = "default", eval_protocol = "default";
+  // baseline random
+  CLI::App* random = nullptr;
+  std::vector<std::string> random_paths;
+  RandomOptions random_opts;
+  unsigned random_threads = 0;
+  bool random_json = false;
+  std::string random_json_out;
 };
 
 State& state() {
@@ -80,9 +89,9 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
   cmd->add_option("--search", o.search,
                   "Planning: bfs (proven cheapest), best-first, beam, fill (arrows first, then clicks into their "
                   "waiting steps), local (edits of whole plans), skeleton (local search over the moves alone, then "
-                  "clicks into its steps), or auto (bfs, focused bfs, bfs by moves, fill, beam, local, skeleton, "
+                  "clicks into its steps), paper (the paper's BFS over 10 actions), or auto (bfs, focused bfs, bfs by moves, fill, beam, local, skeleton, "
                   "best-first)")
-      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam", "fill", "local", "skeleton"}))
+      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam", "fill", "local", "skeleton", "paper"}))
       ->default_val("auto");
   cmd->add_option("--cost", o.cost, "Planning: what a plan costs: steps (every action) or moves (noop is free)")
       ->check(CLI::IsMember({"steps", "moves"}))
@@ -101,6 +110,30 @@ void add_search_options(CLI::App* cmd, SolveOptions& o, unsigned& threads) {
                   "cuts short may depend on machine speed and --threads")
       ->default_val(120)
       ->check(cli::number_at_least(0, "NONNEGATIVE"));
+}
+
+// --protocol paper: the AutumnBench paper's simulator agent (docs/agent.md,
+// "The paper's protocol"): 10,000 samples (MFP rollouts, change-detection
+// particles) without seed inversion, the random exploration policy, and planning
+// by plain BFS over ten actions to depth 10. An option given on the command line
+// keeps its value.
+void add_protocol_option(CLI::App* cmd, std::string& protocol) {
+  cmd->add_option("--protocol", protocol,
+                  "default: the agent as built; paper: the AutumnBench paper's simulator agent (10,000 samples "
+                  "without seed inversion, random exploration, BFS over 10 actions to depth 10); options given "
+                  "explicitly still apply")
+      ->check(CLI::IsMember({"default", "paper"}))
+      ->default_val("default");
+}
+
+void apply_protocol(const CLI::App* cmd, const std::string& protocol, SolveOptions& o) {
+  if (protocol != "paper") return;
+  auto given = [&](const char* flag) { return cmd->count(flag) > 0; };
+  if (!given("--rollouts")) o.rollouts = 10000;
+  if (!given("--no-seed-inversion")) o.seed_inversion = false;
+  if (!given("--policy")) o.policy = "random";
+  if (!given("--search")) o.search = "paper";
+  if (!given("--depth")) o.depth = 10;
 }
 
 int fail(const std::string& cmd, const std::string& why) {
@@ -127,6 +160,7 @@ void warn_clicks_outside(const Task& task) {
 int run_solve(State& s) {
   try {
     SolveOptions o = s.solve_opts;
+    apply_protocol(s.solve, s.solve_protocol, o);
     if (!s.programs_dir.empty()) o.programs_dir = s.programs_dir;
     if (!s.answers_file.empty()) o.answers = s.answers_file;
     Task task = load_task(s.task_file);
@@ -231,11 +265,27 @@ int run_eval_cmd(State& s) {
     if (!s.eval_json_out.empty() && !can_write(s.eval_json_out))
       return fail("eval", "cannot write " + s.eval_json_out);
     ThreadPool pool(s.eval_threads);
-    std::vector<EvalRow> rows = run_eval(s.eval_dir, s.eval_opts, pool, progress_bar());
-    if (s.eval_json) std::cout << eval_json(rows).dump() << "\n";
+    SolveOptions o = s.eval_opts;
+    apply_protocol(s.eval, s.eval_protocol, o);
+    std::vector<EvalRow> rows = run_eval(s.eval_dir, o, pool, progress_bar());
+    nlohmann::json report = eval_json(rows);
+    // What the comparison report (scripts/compare-agents.py) names the run by.
+    report["agent"] = {{"name", s.eval_protocol == "paper" ? "simulator (paper protocol)" : "simulator"},
+                       {"protocol", s.eval_protocol},
+                       {"engine", o.engine},
+                       {"rollouts", o.rollouts},
+                       {"seed_inversion", o.seed_inversion},
+                       {"policy", o.policy},
+                       {"search", o.search},
+                       {"depth", o.depth},
+                       {"nodes", o.nodes},
+                       {"seed", o.seed},
+                       {"time_limit", o.time_limit}};
+    report["task_set"] = {s.eval_dir};
+    if (s.eval_json) std::cout << report.dump() << "\n";
     else fmt::print("{}\n{}", eval_table(rows), eval_type_table(rows));
     if (!s.eval_json_out.empty()) {
-      if (std::string why = write_file(s.eval_json_out, eval_json(rows).dump(1) + "\n"); !why.empty())
+      if (std::string why = write_file(s.eval_json_out, report.dump(1) + "\n"); !why.empty())
         return fail("eval", why);
     }
     // Exit 1 when a task failed (an error) or got no answer (no plan), as solve does.
@@ -246,6 +296,28 @@ int run_eval_cmd(State& s) {
     return errors || unanswered ? 1 : 0;
   } catch (const std::exception& e) {
     return fail("eval", e.what());
+  }
+}
+
+int run_random_baseline_cmd(State& s) {
+  try {
+    if (!s.random_json_out.empty() && !can_write(s.random_json_out))
+      return fail("baseline random", "cannot write " + s.random_json_out);
+    ThreadPool pool(s.random_threads);
+    const std::vector<RandomRow> rows = run_random_baseline(s.random_paths, s.random_opts, pool, progress_bar());
+    if (rows.empty()) return fail("baseline random", "no task files in the paths given");
+    const nlohmann::json report = random_report_json(rows, s.random_opts, s.random_paths);
+    if (s.random_json) std::cout << report.dump() << "\n";
+    else fmt::print("{}", random_table(rows));
+    if (!s.random_json_out.empty()) {
+      if (std::string why = write_file(s.random_json_out, report.dump(1) + "\n"); !why.empty())
+        return fail("baseline random", why);
+    }
+    const auto errors = std::count_if(rows.begin(), rows.end(), [](const RandomRow& r) { return !r.error.empty(); });
+    if (errors) std::cerr << "autumn baseline random: " << errors << " task" << (errors == 1 ? "" : "s") << " failed\n";
+    return errors ? 1 : 0;
+  } catch (const std::exception& e) {
+    return fail("baseline random", e.what());
   }
 }
 
@@ -283,6 +355,7 @@ void add_agent_commands(CLI::App& app) {
                       "Write pictures of the answer into DIR: the plan (GIF and PNG), the chosen MFP answer, "
                       "the change-detection episode");
   add_search_options(s.solve, s.solve_opts, s.threads);
+  add_protocol_option(s.solve, s.solve_protocol);
 
   s.make = app.add_subcommand("make-task", "Generate an MFP, planning or change-detection task for a program");
   s.make->add_option("KIND", s.make_opts.kind, "mfp, planning or cd")
@@ -326,6 +399,28 @@ void add_agent_commands(CLI::App& app) {
   s.eval->add_option("--json-out", s.eval_json_out, "Also write that JSON object to FILE (the table still prints)")
       ->type_name("FILE");
   add_search_options(s.eval, s.eval_opts, s.eval_threads);
+  add_protocol_option(s.eval, s.eval_protocol);
+
+  CLI::App* baseline = app.add_subcommand("baseline", "Reference agents the paper compares against (baseline random)");
+  baseline->require_subcommand(1);
+  RandomOptions& ro = s.random_opts;
+  s.random = baseline->add_subcommand(
+      "random", "The paper's memoryless random agent: success probability and mean steps per task, by rollouts");
+  s.random->add_option("TASKS", s.random_paths, "Task files, or folders of them (searched recursively)")
+      ->required()
+      ->check(CLI::ExistingPath);
+  s.random->add_option("--rollouts", ro.rollouts, "Episodes per task")->default_val(50)->check(cli::big_count(1));
+  s.random->add_option("--timeout", ro.timeout, "Steps per episode")->default_val(1000)->check(cli::int_count(1));
+  s.random->add_option("--seed", ro.seed, "Seed of the policy (episode r draws from (seed, r))")
+      ->default_val(0)
+      ->check(cli::seed_number());
+  s.random->add_option("--engine", ro.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("compiled");
+  s.random->add_option("--programs", ro.programs_dir, "Folder of the tasks' programs (default: programs/ beside each task's folder)")
+      ->check(CLI::ExistingDirectory);
+  s.random->add_option("--threads", s.random_threads, "Worker threads (0: all cores)")->default_val(0)->check(cli::thread_count());
+  s.random->add_flag("--json", s.random_json, "Print one JSON object (the shape scripts/compare-agents.py reads)");
+  s.random->add_option("--json-out", s.random_json_out, "Also write that JSON object to FILE (the table still prints)")
+      ->type_name("FILE");
 
   BenchAgentOptions& b = s.bench_opts;
   s.bench = app.add_subcommand("bench-agent",
@@ -363,6 +458,7 @@ int run_agent_command(const CLI::App& app) {
   if (s.make && s.make->parsed()) return run_make(s);
   if (s.eval && s.eval->parsed()) return run_eval_cmd(s);
   if (s.bench && s.bench->parsed()) return run_bench_agent(s);
+  if (s.random && s.random->parsed()) return run_random_baseline_cmd(s);
   return -1;
 }
 

@@ -2,6 +2,9 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <random>
+
 #include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_best_first.hpp"
 #include "harness/agent/plan_bfs.hpp"
@@ -23,6 +26,7 @@ class Planner {
   void run() {
     const std::string& search = p_.opts().search;
     if (search == "bfs") return void(full_bfs(1.0));
+    if (search == "paper") return void(paper_bfs());
     if (search == "best-first") return void(best_first_stage(p_.actions(), "best-first"));
     if (search == "fill") return void(fill_stage(p_.actions(), p_.actions(), 1.0, p_.opts().max_plan));
     if (search == "local") {
@@ -105,6 +109,27 @@ class Planner {
     if (!o.found) return false;
     found(o.plan, moves_ ? "bfs by moves" : "bfs", true);
     if (moves_) shorten(p_.actions());  // fewer waiting steps, same moves
+    return true;
+  }
+
+  // --search paper (--protocol paper): the AutumnBench paper's simulator agent.
+  // Plain BFS by steps over paper_action_set() (breadth 10), depth --depth (the
+  // protocol's 10); the first plan of the shallowest layer, as found.
+  bool paper_bfs() {
+    BfsSpec spec;
+    spec.actions = paper_action_set(p_.grid(), p_.opts().seed);
+    spec.max_cost = p_.opts().depth;
+    spec.max_steps = p_.opts().depth;
+    spec.limit = share(1.0);
+    BfsOutcome o = bfs(p_, spec);
+    add(o);
+    r_.bfs_depth_done = o.depth_done;
+    r_.exhausted = o.exhausted;
+    if (!o.found) {
+      note(fmt::format("the paper's BFS (breadth {}, depth {}) found no plan", spec.actions.size(), spec.max_cost));
+      return false;
+    }
+    found(o.plan, "paper bfs", false);  // shortest over its ten actions, not over them all
     return true;
   }
 
@@ -405,11 +430,26 @@ bool at_goal(const Task& task, const Environment& env) {
 
 }  // namespace
 
+std::vector<Action> paper_action_set(int grid, uint64_t seed) {
+  std::vector<Action> actions = {Action::noop(), Action{Action::Kind::Left}, Action{Action::Kind::Right},
+                                 Action{Action::Kind::Up}, Action{Action::Kind::Down}};
+  std::mt19937_64 rng(seed ^ 0x70617065722d6266ull);  // "paper-bf"
+  const int cells = grid * grid;
+  const int clicks = std::min(kPaperBreadth - static_cast<int>(actions.size()), cells);
+  std::vector<int> chosen;
+  while (static_cast<int>(chosen.size()) < clicks) {
+    const int c = static_cast<int>(rng() % static_cast<uint64_t>(cells));
+    if (std::find(chosen.begin(), chosen.end(), c) == chosen.end()) chosen.push_back(c);
+  }
+  for (int c : chosen) actions.push_back(Action::click(c % grid, c / grid));
+  return actions;
+}
+
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
   if (task.type != TaskType::Planning) throw TaskError(task.file.string() + ": not a planning task");
   if (opts.search != "auto" && opts.search != "bfs" && opts.search != "best-first" && opts.search != "beam" &&
-      opts.search != "fill" && opts.search != "local" && opts.search != "skeleton")
-    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam, fill, local, skeleton)");
+      opts.search != "fill" && opts.search != "local" && opts.search != "skeleton" && opts.search != "paper")
+    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam, fill, local, skeleton, paper)");
   if (opts.cost != "steps" && opts.cost != "moves") throw TaskError("unknown cost '" + opts.cost + "' (steps, moves)");
   Stopwatch clock;
   PlanResult r;

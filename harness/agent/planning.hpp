@@ -55,6 +55,8 @@
 //     shorter plan they find.
 // A plan from stages 3–6 (3a to 4c included) goes through plan_shorten; the result is replayed on the
 // program itself (not the search model) to the goal: `verified`.
+// --search paper (what --protocol paper selects) is the paper's simulator agent:
+// BFS by steps over paper_action_set() to depth --depth, nothing else.
 // --search bfs runs stage 1 alone with the whole budget, --search best-first stage
 // 5 over all actions, --search beam stages 4 (on half) and 6, --search fill stage
 // 3a with the whole budget, on horizons up to --max-plan, --search local and
@@ -99,6 +101,11 @@ struct PlanResult {
 };
 
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool);
+// --search paper: the actions the paper's BFS tries from every state (breadth
+// kPaperBreadth): noop, the four arrows, and clicks on distinct cells drawn
+// uniformly with `seed` to make up the ten.
+constexpr int kPaperBreadth = 10;
+std::vector<Action> paper_action_set(int grid, uint64_t seed);
 // Replays `plan` on the task's program from reset(task seed); true when some
 // frame on the way (the initial one included) matches the goal on the mask.
 bool plan_reaches_goal(const Task& task, const SolveOptions& opts, const std::vector<Action>& plan,

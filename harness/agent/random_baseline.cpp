@@ -1,0 +1,278 @@
+// random_baseline — rollouts of the uniform random policy (see random_baseline.hpp).
+//
+// One prototype environment is reset once; every rollout is a clone of it (the
+// same world, the same seed; clones made on the calling thread, a batch at a
+// time), driven by its own generator. Per-rollout outcomes
+// go to slots and are summed in rollout order afterwards.
+#include "harness/agent/random_baseline.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "harness/agent/eval.hpp"
+#include "harness/agent/plan_problem.hpp"
+#include "harness/agent/thread_pool.hpp"
+
+namespace autumn::agent {
+
+namespace {
+
+// splitmix64: rollout r's generator seed, well apart from rollout r + 1's.
+uint64_t random_rollout_seed(uint64_t seed, uint64_t r) {
+  uint64_t z = seed * 0x9E3779B97F4A7C15ull + r + 0x632BE59BD9B4E019ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+struct RandomOutcome {
+  bool success = false;
+  bool error = false;
+  int steps = 0;        // of the success
+  uint64_t env_steps = 0;
+};
+
+// Whether this step's outcome is a success; the episode's t is the step count.
+using RolloutTest = std::function<bool(const Environment&, int t)>;
+
+// One rollout: clones the prototype and steps up to `steps` times, testing the
+// state before the first step (t = 0) when `test_initial`, and after each step.
+RandomOutcome random_rollout(std::unique_ptr<Environment> env, uint64_t seed, int grid, int steps, bool test_initial,
+                             const RolloutTest& test) {
+  RandomOutcome out;
+  std::mt19937_64 rng(seed);
+  if (test_initial && test(*env, 0)) return {true, false, 0, 0};
+  for (int t = 1; t <= steps; ++t) {
+    ++out.env_steps;
+    if (!env->step(uniform_action(rng, grid))) {
+      out.error = true;
+      return out;
+    }
+    if (test(*env, t)) {
+      out.success = true;
+      out.steps = t;
+      return out;
+    }
+  }
+  return out;
+}
+
+void summarise_rollouts(RandomResult& r, const std::vector<RandomOutcome>& outcomes) {
+  double steps = 0;
+  for (const RandomOutcome& o : outcomes) {
+    r.successes += o.success;
+    r.errors += o.error;
+    r.env_steps += o.env_steps;
+    if (o.success) steps += o.steps;
+  }
+  r.rollouts = outcomes.size();
+  const double p = r.rollouts ? static_cast<double>(r.successes) / static_cast<double>(r.rollouts) : 0.0;
+  r.score = p;
+  r.stderr_of_score = r.rollouts ? std::sqrt(p * (1 - p) / static_cast<double>(r.rollouts)) : 0.0;
+  if (r.successes) r.mean_steps = steps / static_cast<double>(r.successes);
+}
+
+std::unique_ptr<Environment> random_world(const Task& task, const RandomOptions& o, const std::string& name,
+                                   const std::optional<std::string>& trigger, uint64_t seed) {
+  SolveOptions so;
+  so.engine = o.engine;
+  so.programs_dir = o.programs_dir;
+  auto env = make_env_checked(o.engine, load_program_checked(task_program_path(task, so, name), trigger));
+  if (!env->reset(seed)) throw TaskError(name + ": " + env->error());
+  return env;
+}
+
+}  // namespace
+
+Action uniform_action(std::mt19937_64& rng, int grid) {
+  switch (rng() % 6) {
+    case 0: {
+      const int x = static_cast<int>(rng() % static_cast<uint64_t>(grid));
+      return Action::click(x, static_cast<int>(rng() % static_cast<uint64_t>(grid)));
+    }
+    case 1: return Action{Action::Kind::Up};
+    case 2: return Action{Action::Kind::Down};
+    case 3: return Action{Action::Kind::Left};
+    case 4: return Action{Action::Kind::Right};
+    default: return Action::noop();
+  }
+}
+
+RandomResult random_baseline(const Task& task, const RandomOptions& o, ThreadPool& pool) {
+  const Stopwatch watch;
+  RandomResult r;
+  r.type = task.type;
+  std::optional<Answers> answers;
+  if (std::optional<fs::path> file = find_answers(task)) answers = load_answers(*file);
+  if (task.type == TaskType::MaskedFramePrediction) {
+    r.choices = static_cast<int>(task.choices.size());
+    // Scored as eval scores the other agents: only a task with a known answer.
+    if (task.answer || (answers && answers->correct_idx)) r.score = r.choices ? 1.0 / r.choices : 0.0;
+    else r.note = "no correct_idx to score against";
+    r.seconds = watch.seconds();
+    return r;
+  }
+  r.world_seed = answers && answers->seed ? *answers->seed : task.env_seed;
+  std::unique_ptr<Environment> proto;
+  RolloutTest test;
+  bool test_initial = true;
+  int steps = o.timeout;
+  std::optional<Goal> goal;
+  std::vector<FrameColours> colours(pool.size() + 1);
+  if (task.type == TaskType::ChangeDetection) {
+    if (!answers || !answers->condition) {
+      r.note = "no trigger condition (an answers file with \"condition\") to estimate";
+      r.seconds = watch.seconds();
+      return r;
+    }
+    r.trigger = *answers->condition;
+    proto = random_world(task, o, task.wrong_program, r.trigger, r.world_seed);
+    // triggered() after step t + 1 is the condition on state t: one step more.
+    test = [](const Environment& e, int) { return e.triggered(); };
+    test_initial = false;
+    steps = o.timeout + 1;
+  } else {
+    proto = random_world(task, o, task.program, std::nullopt, r.world_seed);
+    goal.emplace(task);
+  }
+  const int grid = proto->frame().size;
+  std::vector<RandomOutcome> outcomes(o.rollouts);
+  // The rollouts' environments are cloned here, on one thread, a batch at a
+  // time: clone() is not safe concurrently on the interpreter's environments
+  // (they share structure with their source).
+  const size_t batch = std::max<size_t>(64, 8 * static_cast<size_t>(pool.size()));
+  for (size_t first = 0; first < o.rollouts; first += batch) {
+    const size_t n = std::min<size_t>(batch, o.rollouts - first);
+    std::vector<std::unique_ptr<Environment>> envs;
+    for (size_t k = 0; k < n; ++k) envs.push_back(proto->clone());
+    pool.parallel_for_worker(n, [&](size_t k, unsigned worker) {
+      const size_t i = first + k;
+      RolloutTest t = test;
+      if (goal) t = [&, worker](const Environment& e, int) { return goal->reached(e, colours[worker]); };
+      outcomes[i] = random_rollout(std::move(envs[k]), random_rollout_seed(o.seed, i), grid, steps, test_initial, t);
+      // The condition seen after step t + 1 held on state t.
+      if (task.type == TaskType::ChangeDetection && outcomes[i].success) --outcomes[i].steps;
+    });
+  }
+  summarise_rollouts(r, outcomes);
+  r.seconds = watch.seconds();
+  return r;
+}
+
+nlohmann::json random_json(const RandomResult& r) {
+  auto opt = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+  nlohmann::json j = {{"type", short_name(r.type)},
+                      {"score", opt(r.score)},
+                      {"stderr", r.stderr_of_score},
+                      {"rollouts", r.rollouts},
+                      {"successes", r.successes},
+                      {"mean_steps", opt(r.mean_steps)},
+                      {"errors", r.errors},
+                      {"env_steps", r.env_steps},
+                      {"world_seed", r.world_seed},
+                      {"seconds", r.seconds}};
+  if (r.type == TaskType::MaskedFramePrediction) {
+    j["choices"] = r.choices;
+    j["chance"] = r.choices ? 1.0 / r.choices : 0.0;
+  }
+  if (!r.trigger.empty()) j["trigger"] = r.trigger;
+  if (!r.note.empty()) j["note"] = r.note;
+  return j;
+}
+
+std::vector<RandomRow> run_random_baseline(const std::vector<std::string>& paths, const RandomOptions& o,
+                                           ThreadPool& pool,
+                                           const std::function<void(size_t, size_t, const std::string&)>& progress) {
+  std::vector<std::pair<fs::path, std::string>> files;  // file, its name in the table
+  for (const std::string& p : paths) {
+    if (fs::is_directory(p)) {
+      for (const fs::path& f : find_tasks(p)) files.emplace_back(f, fs::relative(f, p).string());
+    } else {
+      files.emplace_back(p, p);
+    }
+  }
+  std::vector<RandomRow> rows;
+  for (size_t i = 0; i < files.size(); ++i) {
+    if (progress) progress(i, files.size(), files[i].second);
+    RandomRow row;
+    row.task = files[i].second;
+    row.type = "?";
+    try {
+      const Task task = load_task(files[i].first);
+      row.type = short_name(task.type);
+      row.result = random_baseline(task, o, pool);
+    } catch (const std::exception& e) {
+      row.error = e.what();
+    }
+    rows.push_back(std::move(row));
+  }
+  if (progress) progress(files.size(), files.size(), "");
+  return rows;
+}
+
+std::string random_table(const std::vector<RandomRow>& rows) {
+  std::string out = fmt::format("{:<44} {:<8} {:>15} {:>9} {:>10} {:>8}\n", "task", "type", "score (+- se)",
+                                "successes", "mean steps", "seconds");
+  struct Sum {
+    int tasks = 0, scored = 0, errors = 0;
+    double score = 0;
+  };
+  std::map<std::string, Sum> by_type;
+  for (const RandomRow& r : rows) {
+    Sum& t = by_type[r.type];
+    ++t.tasks;
+    if (!r.error.empty()) {
+      ++t.errors;
+      out += fmt::format("{:<44} {:<8} error: {}\n", r.task, r.type, r.error);
+      continue;
+    }
+    const RandomResult& x = r.result;
+    const std::string score = x.score ? fmt::format("{:.3f} +- {:.3f}", *x.score, x.stderr_of_score) : "-";
+    const std::string successes = x.type == TaskType::MaskedFramePrediction
+                                      ? fmt::format("1/{}", x.choices)
+                                      : fmt::format("{}/{}", x.successes, x.rollouts);
+    const std::string steps = x.mean_steps ? fmt::format("{:.1f}", *x.mean_steps) : "-";
+    out += fmt::format("{:<44} {:<8} {:>15} {:>9} {:>10} {:>8.2f}{}\n", r.task, r.type, score, successes, steps,
+                       x.seconds, x.note.empty() ? "" : "  (" + x.note + ")");
+    if (x.score) {
+      ++t.scored;
+      t.score += *x.score;
+    }
+  }
+  out += fmt::format("\n{:<10} {:>6} {:>7} {:>7} {:>11}\n", "type", "tasks", "scored", "errors", "mean score");
+  for (const auto& [type, t] : by_type)
+    out += fmt::format("{:<10} {:>6} {:>7} {:>7} {:>11}\n", type, t.tasks, t.scored, t.errors,
+                       t.scored ? fmt::format("{:.3f}", t.score / t.scored) : "-");
+  return out;
+}
+
+nlohmann::json random_report_json(const std::vector<RandomRow>& rows, const RandomOptions& o,
+                                  const std::vector<std::string>& paths) {
+  nlohmann::json tasks = nlohmann::json::array();
+  for (const RandomRow& r : rows) {
+    nlohmann::json j;
+    if (r.error.empty()) {
+      j = random_json(r.result);
+    } else {
+      j = {{"type", r.type}, {"score", nullptr}, {"error", r.error}};
+    }
+    j["task"] = r.task;
+    tasks.push_back(j);
+  }
+  return {{"agent",
+           {{"name", "random"},
+            {"policy", "uniform over click, up, down, left, right, noop; clicks on a uniform cell"},
+            {"rollouts", o.rollouts},
+            {"timeout", o.timeout},
+            {"seed", o.seed},
+            {"engine", o.engine}}},
+          {"task_set", paths},
+          {"tasks", tasks}};
+}
+
+}  // namespace autumn::agent
