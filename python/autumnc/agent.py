@@ -1,6 +1,7 @@
 """The simulator agent and program tools, returning what the CLI prints as JSON.
 
-``solve(task)`` is ``autumn solve TASK --json``; ``make_task(kind, program)`` is
+``solve(task)`` is ``autumn solve TASK --json``; ``baseline_random(tasks)`` is
+``autumn baseline random TASKS --json``; ``make_task(kind, program)`` is
 ``autumn make-task`` (the task as a dict; written to ``out`` when given);
 ``Program(path).run(...)`` is ``autumn run --json``, ``.check(traces)`` is
 ``autumn check`` as a dict, ``.compile()`` reports what the compiled engine made
@@ -20,6 +21,19 @@ def solve(task, engine="compiled", rollouts=10000, threads=0, seed=0, max_steps=
                                    nodes, search, max_plan, float(time_limit),
                                    os.fspath(programs) if programs else "",
                                    os.fspath(answers) if answers else ""))
+
+
+def baseline_random(tasks, engine="compiled", rollouts=50, timeout=1000, seed=0, threads=0, programs=None):
+    """The paper's random agent on task files or folders, like ``autumn baseline random --json``.
+
+    ``tasks`` is a path or a list of paths. Returns the report: "agent" (its
+    settings), "task_set" and "tasks", one row per task with "score" (MFP:
+    chance; change detection: the probability that the trigger condition fires
+    within ``timeout`` steps; planning: the probability of reaching the goal),
+    "stderr", "mean_steps" and "successes" of ``rollouts`` episodes, or "error"."""
+    paths = [os.fspath(tasks)] if isinstance(tasks, (str, os.PathLike)) else [os.fspath(t) for t in tasks]
+    return json.loads(_core._baseline_random(paths, engine, rollouts, timeout, seed, threads,
+                                             os.fspath(programs) if programs else ""))
 
 
 def make_task(kind, program, seed=0, steps=None, out=None, env_seed=0, engine="compiled", batch=200,

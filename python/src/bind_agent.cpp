@@ -1,7 +1,8 @@
 // bind_agent — the simulator agent and program tools, as the CLI runs them.
 //
 // Each function builds the same JSON object as the corresponding `autumn`
-// command prints with --json (solve; run; make-task writes the task itself) and
+// command prints with --json (solve; baseline random; run; make-task writes the task
+// itself) and
 // returns it as text, which autumnc/agent.py turns into a dict. The GIL is
 // released while they work. compile() has no CLI twin: it reports what the
 // compiled engine made of a program (module found or built, specialised or the
@@ -16,6 +17,8 @@
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
+#include "harness/agent/random_baseline.hpp"
+#include "harness/agent/thread_pool.hpp"
 #include "harness/engine.hpp"
 #include "harness/trace_check.hpp"
 #include "python/src/bindings.hpp"
@@ -149,6 +152,23 @@ void bind_agent(pb::module_& m) {
         pb::gil_scoped_release release;
         return solve(task, o, threads);
       });
+  m.def("_baseline_random", [](const std::vector<std::string>& paths, const std::string& engine, uint64_t rollouts,
+                               int timeout, uint64_t seed, unsigned threads, const std::string& programs) {
+    if (paths.empty()) throw std::invalid_argument("no task files or folders given");
+    if (rollouts < 1) throw std::invalid_argument("rollouts must be at least 1");
+    if (timeout < 1) throw std::invalid_argument("timeout must be at least 1 step");
+    for (const std::string& p : paths)
+      if (!std::filesystem::exists(p)) throw std::invalid_argument("no task file or folder at '" + p + "'");
+    RandomOptions o;
+    o.engine = engine;
+    o.rollouts = rollouts;
+    o.timeout = timeout;
+    o.seed = seed;
+    if (!programs.empty()) o.programs_dir = programs;
+    pb::gil_scoped_release release;
+    ThreadPool pool(threads);
+    return random_report_json(run_random_baseline(paths, o, pool), o, paths).dump();
+  });
   m.def("_make_task", [](const std::string& kind, const std::string& program, uint64_t seed, int steps,
                          const std::string& out, uint64_t env_seed, const std::string& engine, uint64_t batch,
                          int masked_frames, bool extend_colours, const std::string& answers) {
