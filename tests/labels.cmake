@@ -43,7 +43,6 @@ set(kSlow
   AgentDrawSearch.FindsARandomFirstFrame
   Guide.EveryExampleShowsItsFramesOnBothEngines
   HonestOutput.EvalDoesNotCountCompilesAsSolveTime
-  Pictures.IcePlanningPlan
   Cli.DifftestGoesOnPastBadPrograms
   Programs/Differential.CompiledAgreesWithInterpreter/ajl_turing_complete
   Programs/Differential.CompiledAgreesWithInterpreter/construct_own_class
