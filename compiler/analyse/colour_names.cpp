@@ -66,9 +66,7 @@ std::optional<std::string_view> closest_colour(std::string_view name) {
     for (const auto& c : named_colours()) n.push_back(c.name);
     return n;
   }();
-  const auto best = did_you_mean(name, names);
-  if (!best) return std::nullopt;
-  return *std::find(names.begin(), names.end(), *best);  // the table's own storage
+  return did_you_mean(name, names);  // a view of the table's own storage
 }
 
 }  // namespace autumn

@@ -20,8 +20,8 @@ size_t edit_distance(std::string_view a, std::string_view b) {
   return row[b.size()];
 }
 
-std::optional<std::string> did_you_mean(std::string_view name, const std::vector<std::string_view>& candidates) {
-  std::optional<std::string> best;
+std::optional<std::string_view> did_you_mean(std::string_view name, const std::vector<std::string_view>& candidates) {
+  std::optional<std::string_view> best;
   size_t best_d = 3;  // at most two edits
   for (std::string_view c : candidates) {
     // The lengths alone bound the distance from below: a 5 MB name (Diagnostics
@@ -29,7 +29,7 @@ std::optional<std::string> did_you_mean(std::string_view name, const std::vector
     const size_t gap = name.size() > c.size() ? name.size() - c.size() : c.size() - name.size();
     if (c == name || gap >= best_d) continue;
     const size_t d = edit_distance(name, c);
-    if (d < best_d && 2 * d <= name.size()) best_d = d, best = std::string(c);
+    if (d < best_d && 2 * d <= name.size()) best_d = d, best = c;
   }
   return best;
 }

@@ -15,6 +15,7 @@ namespace autumn {
 
 size_t edit_distance(std::string_view a, std::string_view b);
 
-std::optional<std::string> did_you_mean(std::string_view name, const std::vector<std::string_view>& candidates);
+// The suggestion is one of `candidates` (a view of the caller's storage).
+std::optional<std::string_view> did_you_mean(std::string_view name, const std::vector<std::string_view>& candidates);
 
 }  // namespace autumn

@@ -82,7 +82,7 @@ void check_unbound(const Program& p, const Expr& e, const std::set<Sym>& bound,
     warnings.push_back(format_diagnostic(p.file_name(e.loc.source), e.loc, "warning",
                                          "'" + p.name(e.name) +
                                              "' is not defined anywhere; evaluating it is a runtime error" +
-                                             (near ? "; did you mean '" + *near + "'?" : std::string())));
+                                             (near ? "; did you mean '" + std::string(*near) + "'?" : std::string())));
   }
   for (const auto& k : e.kids) check_unbound(p, *k, bound, reported, warnings);
 }

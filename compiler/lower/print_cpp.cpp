@@ -58,12 +58,14 @@ class Printer {
 
  private:
   // --- types
+  // A Position: with identities tracked (Module::pos_tracked) every one carries its uid.
+  std::string pos_type() const { return m_.pos_tracked ? "PosU" : "Pos"; }
   std::string type(TypeP t) const {
     switch (t->k) {
       case TK::Int:
       case TK::Str: return "int32_t";
       case TK::Bool: return "bool";
-      case TK::Pos: return m_.pos_tracked ? "PosU" : "Pos";
+      case TK::Pos: return pos_type();
       case TK::Elem: return "Elem";
       case TK::Cell:
       case TK::Deferred: return "CellV";
@@ -411,7 +413,7 @@ void Printer::classes() {
       line((c.field_types[i] ? type(c.field_types[i]) : std::string("Unit")) + " f" + std::to_string(i) + ";");
     // With Position identities tracked, an origin keeps the identity of the
     // Position it was given (the reference stores that very object).
-    line(std::string(m_.pos_tracked ? "PosU" : "Pos") + " origin;");
+    line(pos_type() + " origin;");
     if (c.mode == CellMode::Stored) line("std::vector<CellV> cells;");
     if (c.tracked) line("uint32_t uid = 0;");
     if (c.rotatable) line("uint32_t group = 0;");

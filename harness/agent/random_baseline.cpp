@@ -37,8 +37,8 @@ struct RandomOutcome {
   uint64_t env_steps = 0;
 };
 
-// Whether this step's outcome is a success; the episode's t is the step count.
-using RolloutTest = std::function<bool(const Environment&, int t)>;
+// Whether the environment's state is a success (the goal, or the trigger seen).
+using RolloutTest = std::function<bool(const Environment&)>;
 
 // One rollout: clones the prototype and steps up to `steps` times, testing the
 // state before the first step (t = 0) when `test_initial`, and after each step.
@@ -46,14 +46,14 @@ RandomOutcome random_rollout(std::unique_ptr<Environment> env, uint64_t seed, in
                              const RolloutTest& test) {
   RandomOutcome out;
   std::mt19937_64 rng(seed);
-  if (test_initial && test(*env, 0)) return {true, false, 0, 0};
+  if (test_initial && test(*env)) return {true, false, 0, 0};
   for (int t = 1; t <= steps; ++t) {
     ++out.env_steps;
     if (!env->step(uniform_action(rng, grid))) {
       out.error = true;
       return out;
     }
-    if (test(*env, t)) {
+    if (test(*env)) {
       out.success = true;
       out.steps = t;
       return out;
@@ -118,13 +118,10 @@ RandomResult random_baseline(const Task& task, const RandomOptions& o, ThreadPoo
     return r;
   }
   r.world_seed = answers && answers->seed ? *answers->seed : task.env_seed;
+  const bool cd = task.type == TaskType::ChangeDetection;
   std::unique_ptr<Environment> proto;
-  RolloutTest test;
-  bool test_initial = true;
-  int steps = o.timeout;
   std::optional<Goal> goal;
-  std::vector<FrameColours> colours(pool.size() + 1);
-  if (task.type == TaskType::ChangeDetection) {
+  if (cd) {
     if (!answers || !answers->condition) {
       r.note = "no trigger condition (an answers file with \"condition\") to estimate";
       r.seconds = watch.seconds();
@@ -132,14 +129,14 @@ RandomResult random_baseline(const Task& task, const RandomOptions& o, ThreadPoo
     }
     r.trigger = *answers->condition;
     proto = random_world(task, o, task.wrong_program, r.trigger, r.world_seed);
-    // triggered() after step t + 1 is the condition on state t: one step more.
-    test = [](const Environment& e, int) { return e.triggered(); };
-    test_initial = false;
-    steps = o.timeout + 1;
   } else {
     proto = random_world(task, o, task.program, std::nullopt, r.world_seed);
     goal.emplace(task);
   }
+  // triggered() after step t + 1 is the condition on state t: change detection
+  // takes one step more, tests no initial state, and counts one step less.
+  const int steps = cd ? o.timeout + 1 : o.timeout;
+  std::vector<FrameColours> colours(pool.size() + 1);
   const int grid = proto->frame().size;
   std::vector<RandomOutcome> outcomes(o.rollouts);
   // The rollouts' environments are cloned here, on one thread, a batch at a
@@ -152,11 +149,11 @@ RandomResult random_baseline(const Task& task, const RandomOptions& o, ThreadPoo
     for (size_t k = 0; k < n; ++k) envs.push_back(proto->clone());
     pool.parallel_for_worker(n, [&](size_t k, unsigned worker) {
       const size_t i = first + k;
-      RolloutTest t = test;
-      if (goal) t = [&, worker](const Environment& e, int) { return goal->reached(e, colours[worker]); };
-      outcomes[i] = random_rollout(std::move(envs[k]), random_rollout_seed(o.seed, i), grid, steps, test_initial, t);
-      // The condition seen after step t + 1 held on state t.
-      if (task.type == TaskType::ChangeDetection && outcomes[i].success) --outcomes[i].steps;
+      const RolloutTest success = [&, worker](const Environment& e) {
+        return cd ? e.triggered() : goal->reached(e, colours[worker]);
+      };
+      outcomes[i] = random_rollout(std::move(envs[k]), random_rollout_seed(o.seed, i), grid, steps, !cd, success);
+      if (cd && outcomes[i].success) --outcomes[i].steps;
     });
   }
   summarise_rollouts(r, outcomes);
