@@ -1,6 +1,7 @@
 // compiled_support — the parts of compiled_support.hpp that are the same for
 // every program: error texts, snapshot headers, the state check's totals and
-// the Environment adapter's bookkeeping (CompiledHost). They live here, once, in
+// the Environment adapter's bookkeeping and every member but the step
+// (CompiledHost, CompiledProgramHost over a program's ProgramOps). They live here, once, in
 // the runtime library every module links, so that a module's compile spends its
 // time on the program's own code (docs/design.md, "Tests": a module compile was
 // mostly this shared code, instantiated again per program).
@@ -8,6 +9,9 @@
 // What stays in the header is what the hot loops call (occupancy, painter,
 // hashing, the loop charge's fast path) and what depends on the program's types.
 #include "runtime/compiled_support.hpp"
+
+#include <mutex>
+#include <unordered_map>
 
 namespace autumn::rt {
 
@@ -136,6 +140,7 @@ void load_value(SnapshotReader& r, GlobalOrder& o) {
 }
 
 CompiledHost::~CompiledHost() = default;
+CompiledHost::CompiledHost(const CompiledHost&) = default;
 
 void CompiledHost::set_source_name(const std::string& path) { source_name_ = path; }
 
@@ -164,6 +169,117 @@ void CompiledHost::fail_with_current(const ErrorSite* sites) {
     error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + shown(e.what());
   } catch (...) {
     error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + "unknown failure";
+  }
+}
+
+namespace {
+
+// One palette table per program and process, made by its first environment.
+std::shared_ptr<const CompiledProgramHost::Tables> tables_of(const ProgramOps& ops) {
+  static std::mutex mutex;
+  static std::unordered_map<const ProgramOps*, std::shared_ptr<const CompiledProgramHost::Tables>> made;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& t = made[&ops];
+  if (!t) {
+    auto fresh = std::make_shared<CompiledProgramHost::Tables>();
+    for (int i = 0; ops.colours[i] != nullptr; ++i) fresh->pal.push_back(fresh->palette.id(ops.colours[i]));
+    t = std::move(fresh);
+  }
+  return t;
+}
+
+}  // namespace
+
+CompiledProgramHost::CompiledProgramHost(const ProgramOps& ops, void* state, Core* core)
+    : CompiledHost(ops.name), ops_(&ops), tables_(tables_of(ops)), state_(state), core_(core) {}
+CompiledProgramHost::CompiledProgramHost(const CompiledProgramHost&) = default;
+CompiledProgramHost::~CompiledProgramHost() = default;
+
+bool CompiledProgramHost::reset(uint64_t seed) {
+  ops_->clear(state_);
+  Core& c = *core_;
+  c.list_limit = limits_.list_length;
+  c.objects_limit = limits_.objects;
+  c.cells_limit = limits_.cells;
+  c.visit_limit = limits_.calls;
+  return guarded([&] {
+    ops_->start(state_, seed);
+    core_->visited = 0;
+    painter_.bind(&frame_);
+    ops_->render(state_, &painter_, tables_->pal);
+  });
+}
+
+int CompiledProgramHost::covered_on_clause_count() const {
+  int n = 0;
+  for (uint8_t c : core_->covered) n += c;
+  return n;
+}
+
+bool CompiledProgramHost::copy_from(const Environment& other) {
+  // typeid, not dynamic_cast: this runs once per search successor. Equal
+  // types are the same CompiledEnvironment<P>, so the same ProgramOps.
+  if (typeid(other) != typeid(*this)) return false;
+  auto* o = static_cast<const CompiledProgramHost*>(&other);
+  if (o == this) return true;
+  // Member by member, leaving tables_ alone: copying the shared_ptr would make
+  // every search thread write the same reference count.
+  ops_->assign(state_, o->state_);
+  copy_host(*o);
+  return true;
+}
+
+uint64_t CompiledProgramHost::state_hash() const { return failed_ ? 0 : ops_->hash(state_); }
+
+bool CompiledProgramHost::save_state(std::vector<uint8_t>& out) const {
+  if (failed_) return false;
+  {
+    SnapshotWriter w(out);
+    save_core(w, *core_);
+    ops_->save(state_, w);
+  }
+  return true;
+}
+
+bool CompiledProgramHost::load_state(const uint8_t* data, size_t size) {
+  return guarded([&] {
+    SnapshotReader r{data, data + size};
+    load_core(r, *core_, ops_->on_clauses);
+    ops_->load(state_, r);
+    if (r.p != r.end) throw std::runtime_error("state snapshot has trailing bytes");
+    painter_.bind(&frame_);
+    core_->visited = 0;
+    ops_->render(state_, &painter_, tables_->pal);
+  });
+}
+
+int64_t CompiledProgramHost::random_draws() const { return failed_ ? -1 : static_cast<int64_t>(core_->rng.draws()); }
+
+bool CompiledProgramHost::reseed_random(uint64_t seed) {
+  if (failed_) return false;
+  core_->rng.reseed(seed);
+  return true;
+}
+
+// The generator keeps its script across reset() and copy_from() (rng.hpp).
+bool CompiledProgramHost::set_draw_script(autumn_draw_script* script) {
+  core_->rng.set_script(script);
+  return true;
+}
+
+void CompiledProgramHost::latch(const Action& a) {
+  Core& c = *core_;
+  switch (a.kind) {
+    case Action::Kind::Noop: break;
+    case Action::Kind::Left: c.left = true; break;
+    case Action::Kind::Right: c.right = true; break;
+    case Action::Kind::Up: c.up = true; break;
+    case Action::Kind::Down: c.down = true; break;
+    case Action::Kind::Click:
+      c.click = true;
+      c.click_x = a.x;
+      c.click_y = a.y;
+      break;
   }
 }
 

@@ -605,7 +605,7 @@ class CompiledHost : public Environment {
 
  protected:
   explicit CompiledHost(const char* program_name) : source_name_(program_name) {}
-  CompiledHost(const CompiledHost&) = default;
+  CompiledHost(const CompiledHost&);
   void copy_host(const CompiledHost& o);  // everything here but the state
   void succeeded() {
     failed_ = false;
@@ -623,81 +623,114 @@ class CompiledHost : public Environment {
   Limits limits_;            // applied at each reset (Core's limits)
 };
 
-// The Environment adapter for a generated Program.
-template <class P>
-class CompiledEnvironment : public CompiledHost {
+// The program's entry points other than step, as plain functions over its
+// State (passed as void*): what CompiledProgramHost calls. One table per
+// program (CompiledEnvironment<P>::ops); each entry is a one-line forward.
+struct ProgramOps {
+  const char* name;            // P::kProgramName
+  const char* const* colours;  // P::kColours
+  const ErrorSite* errors;     // P::kErrors
+  int on_clauses;
+  bool uses_random;
+  void (*clear)(void* state);                     // *state = State{}
+  void (*assign)(void* state, const void* from);  // *state = *from
+  void (*start)(void* state, uint64_t seed);
+  void (*render)(void* state, Painter*, const std::vector<uint16_t>& palette_of_string);
+  uint64_t (*hash)(const void* state);
+  void (*save)(const void* state, SnapshotWriter&);
+  void (*load)(void* state, SnapshotReader&);
+};
+
+// Everything of the Environment adapter but the step: reset, clone support,
+// snapshots, hashing, the palette. The same code for every program, over its
+// ProgramOps, so it is compiled once (compiled_support.cpp) and not in every
+// module (docs/design.md, "Tests": the fixed part of a module's compile).
+class CompiledProgramHost : public CompiledHost {
  public:
-  CompiledEnvironment() : CompiledHost(P::kProgramName), tables_(shared_tables()) {}
-  bool reset(uint64_t seed) override {
-    state_ = typename P::State{};
-    state_.core.list_limit = limits_.list_length;
-    state_.core.objects_limit = limits_.objects;
-    state_.core.cells_limit = limits_.cells;
-    state_.core.visit_limit = limits_.calls;
-    return guarded([&] {
-      P::start(state_, seed);
-      state_.core.visited = 0;
-      painter_.bind(&frame_);
-      P::render(state_, &painter_, tables_->pal);
-    });
-  }
-  bool step(const Action& a) override { return run_step(a, true); }
-  bool advance(const Action& a) override { return run_step(a, false); }
+  bool reset(uint64_t seed) override;
   const Palette& palette() const override { return tables_->palette; }
-  bool triggered() const override { return state_.core.triggered; }
-  int on_clause_count() const override { return P::kOnClauses; }
-  int covered_on_clause_count() const override {
-    int n = 0;
-    for (uint8_t c : state_.core.covered) n += c;
-    return n;
+  bool triggered() const override { return core_->triggered; }
+  int on_clause_count() const override { return ops_->on_clauses; }
+  int covered_on_clause_count() const override;
+  bool copy_from(const Environment& other) override;
+  uint64_t state_hash() const override;
+  bool save_state(std::vector<uint8_t>& out) const override;
+  bool load_state(const uint8_t* data, size_t size) override;
+  bool deterministic() const override { return !ops_->uses_random; }
+  int64_t random_draws() const override;
+  bool reseed_random(uint64_t seed) override;
+  bool set_draw_script(autumn_draw_script* script) override;
+
+  // The palette is fixed by the program's string literals: one copy per
+  // process and program, so that clone() copies only the state and the frame.
+  struct Tables {
+    Palette palette;
+    std::vector<uint16_t> pal;  // string id -> palette id
+  };
+
+ protected:
+  // `state` is the derived class's own State member and `core` its `core`;
+  // they stay valid as long as this object (a copy binds its own, bind()).
+  CompiledProgramHost(const ProgramOps& ops, void* state, Core* core);
+  CompiledProgramHost(const CompiledProgramHost&);  // binds the other's state: the copy binds its own
+  ~CompiledProgramHost() override;
+  void bind(void* state, Core* core) {
+    state_ = state;
+    core_ = core;
   }
-  std::unique_ptr<Environment> clone() const override { return std::make_unique<CompiledEnvironment>(*this); }
-  bool copy_from(const Environment& other) override {
-    // typeid, not dynamic_cast: this runs once per search successor.
-    if (typeid(other) != typeid(*this)) return false;
-    auto* o = static_cast<const CompiledEnvironment*>(&other);
-    if (o == this) return true;
-    // Member by member, leaving tables_ alone: copying the shared_ptr would make
-    // every search thread write the same reference count.
-    state_ = o->state_;
-    copy_host(*o);
-    return true;
-  }
-  uint64_t state_hash() const override { return failed_ ? 0 : P::hash(state_); }
-  bool save_state(std::vector<uint8_t>& out) const override {
-    if (failed_) return false;
-    {
-      SnapshotWriter w(out);
-      save_core(w, state_.core);
-      P::save(state_, w);
+  void latch(const Action& a);
+  // Runs f; a throw ends the episode with its error (fail_with_current).
+  template <class F>
+  bool guarded(F&& f) {
+    try {
+      f();
+      succeeded();
+      return true;
+    } catch (...) {
+      fail_with_current(ops_->errors);
+      return false;
     }
-    return true;
-  }
-  bool load_state(const uint8_t* data, size_t size) override {
-    return guarded([&] {
-      SnapshotReader r{data, data + size};
-      load_core(r, state_.core, P::kOnClauses);
-      P::load(state_, r);
-      if (r.p != r.end) throw std::runtime_error("state snapshot has trailing bytes");
-      painter_.bind(&frame_);
-      state_.core.visited = 0;
-      P::render(state_, &painter_, tables_->pal);
-    });
-  }
-  bool deterministic() const override { return !P::kUsesRandom; }
-  int64_t random_draws() const override { return failed_ ? -1 : static_cast<int64_t>(state_.core.rng.draws()); }
-  bool reseed_random(uint64_t seed) override {
-    if (failed_) return false;
-    state_.core.rng.reseed(seed);
-    return true;
-  }
-  // The generator keeps its script across reset() and copy_from() (rng.hpp).
-  bool set_draw_script(autumn_draw_script* script) override {
-    state_.core.rng.set_script(script);
-    return true;
   }
 
+  const ProgramOps* ops_;
+  std::shared_ptr<const Tables> tables_;
+
  private:
+  void* state_;  // the derived class's P::State
+  Core* core_;   // its `core`
+};
+
+// The Environment adapter for a generated Program: its State, and the step,
+// whose call of P::step and P::render is direct (the one hot path).
+template <class P>
+class CompiledEnvironment final : public CompiledProgramHost {
+ public:
+  CompiledEnvironment() : CompiledProgramHost(ops(), &state_, &state_.core) {}
+  CompiledEnvironment(const CompiledEnvironment& o) : CompiledProgramHost(o), state_(o.state_) { bind(&state_, &state_.core); }
+  CompiledEnvironment& operator=(const CompiledEnvironment&) = delete;
+  bool step(const Action& a) override { return run_step(a, true); }
+  bool advance(const Action& a) override { return run_step(a, false); }
+  std::unique_ptr<Environment> clone() const override { return std::make_unique<CompiledEnvironment>(*this); }
+
+ private:
+  using State = typename P::State;
+  static const ProgramOps& ops() {
+    static const ProgramOps table{
+        P::kProgramName,
+        P::kColours,
+        P::kErrors,
+        P::kOnClauses,
+        P::kUsesRandom,
+        [](void* s) { *static_cast<State*>(s) = State{}; },
+        [](void* s, const void* from) { *static_cast<State*>(s) = *static_cast<const State*>(from); },
+        [](void* s, uint64_t seed) { P::start(*static_cast<State*>(s), seed); },
+        [](void* s, Painter* p, const std::vector<uint16_t>& pal) { P::render(*static_cast<State*>(s), p, pal); },
+        [](const void* s) { return P::hash(*static_cast<const State*>(s)); },
+        [](const void* s, SnapshotWriter& w) { P::save(*static_cast<const State*>(s), w); },
+        [](void* s, SnapshotReader& r) { P::load(*static_cast<State*>(s), r); },
+    };
+    return table;
+  }
   bool run_step(const Action& a, bool render) {
     if (failed_) return false;
     return guarded([&] {
@@ -710,50 +743,8 @@ class CompiledEnvironment : public CompiledHost {
       P::render(state_, &painter_, tables_->pal);
     });
   }
-  void latch(const Action& a) {
-    Core& c = state_.core;
-    switch (a.kind) {
-      case Action::Kind::Noop: break;
-      case Action::Kind::Left: c.left = true; break;
-      case Action::Kind::Right: c.right = true; break;
-      case Action::Kind::Up: c.up = true; break;
-      case Action::Kind::Down: c.down = true; break;
-      case Action::Kind::Click:
-        c.click = true;
-        c.click_x = a.x;
-        c.click_y = a.y;
-        break;
-    }
-  }
-  template <class F>
-  bool guarded(F&& f) {
-    try {
-      f();
-      succeeded();
-      return true;
-    } catch (...) {
-      fail_with_current(P::kErrors);
-      return false;
-    }
-  }
 
-  // The palette is fixed by the program's string literals: one copy per process,
-  // so that clone() copies only the state and the frame.
-  struct Tables {
-    Palette palette;
-    std::vector<uint16_t> pal;  // string id -> palette id
-  };
-  static std::shared_ptr<const Tables> shared_tables() {
-    static const std::shared_ptr<const Tables> t = [] {
-      auto t = std::make_shared<Tables>();
-      for (int i = 0; P::kColours[i] != nullptr; ++i) t->pal.push_back(t->palette.id(P::kColours[i]));
-      return t;
-    }();
-    return t;
-  }
-
-  std::shared_ptr<const Tables> tables_;
-  typename P::State state_;
+  State state_;
 };
 
 }  // namespace autumn::rt
