@@ -11,7 +11,6 @@
 #include "runtime/compiled_support.hpp"
 
 #include <mutex>
-#include <unordered_map>
 
 namespace autumn::rt {
 
@@ -174,14 +173,13 @@ void CompiledHost::fail_with_current(const ErrorSite* sites) {
 
 namespace {
 
-// One palette table per program and process, made by its first environment.
-std::shared_ptr<const CompiledProgramHost::Tables> tables_of(const ProgramOps& ops) {
+// The program's palette tables, made by its first environment.
+std::shared_ptr<const PaletteTables> tables_of(const ProgramOps& ops) {
   static std::mutex mutex;
-  static std::unordered_map<const ProgramOps*, std::shared_ptr<const CompiledProgramHost::Tables>> made;
   std::lock_guard<std::mutex> lock(mutex);
-  auto& t = made[&ops];
+  std::shared_ptr<const PaletteTables>& t = *ops.tables;
   if (!t) {
-    auto fresh = std::make_shared<CompiledProgramHost::Tables>();
+    auto fresh = std::make_shared<PaletteTables>();
     for (int i = 0; ops.colours[i] != nullptr; ++i) fresh->pal.push_back(fresh->palette.id(ops.colours[i]));
     t = std::move(fresh);
   }

@@ -626,6 +626,13 @@ class CompiledHost : public Environment {
 // The program's entry points other than step, as plain functions over its
 // State (passed as void*): what CompiledProgramHost calls. One table per
 // program (CompiledEnvironment<P>::ops); each entry is a one-line forward.
+// The palette is fixed by the program's string literals: one copy per process
+// and program, so that clone() copies only the state and the frame.
+struct PaletteTables {
+  Palette palette;
+  std::vector<uint16_t> pal;  // string id -> palette id
+};
+
 struct ProgramOps {
   const char* name;            // P::kProgramName
   const char* const* colours;  // P::kColours
@@ -639,6 +646,9 @@ struct ProgramOps {
   uint64_t (*hash)(const void* state);
   void (*save)(const void* state, SnapshotWriter&);
   void (*load)(void* state, SnapshotReader&);
+  // The program's tables, made by its first environment (under a lock) and
+  // kept by the module, whose unloading ends them.
+  std::shared_ptr<const PaletteTables>* tables;
 };
 
 // Everything of the Environment adapter but the step: reset, clone support,
@@ -660,13 +670,6 @@ class CompiledProgramHost : public CompiledHost {
   int64_t random_draws() const override;
   bool reseed_random(uint64_t seed) override;
   bool set_draw_script(autumn_draw_script* script) override;
-
-  // The palette is fixed by the program's string literals: one copy per
-  // process and program, so that clone() copies only the state and the frame.
-  struct Tables {
-    Palette palette;
-    std::vector<uint16_t> pal;  // string id -> palette id
-  };
 
  protected:
   // `state` is the derived class's own State member and `core` its `core`;
@@ -693,7 +696,7 @@ class CompiledProgramHost : public CompiledHost {
   }
 
   const ProgramOps* ops_;
-  std::shared_ptr<const Tables> tables_;
+  std::shared_ptr<const PaletteTables> tables_;
 
  private:
   void* state_;  // the derived class's P::State
@@ -715,6 +718,7 @@ class CompiledEnvironment final : public CompiledProgramHost {
  private:
   using State = typename P::State;
   static const ProgramOps& ops() {
+    static std::shared_ptr<const PaletteTables> tables;
     static const ProgramOps table{
         P::kProgramName,
         P::kColours,
@@ -728,6 +732,7 @@ class CompiledEnvironment final : public CompiledProgramHost {
         [](const void* s) { return P::hash(*static_cast<const State*>(s)); },
         [](const void* s, SnapshotWriter& w) { P::save(*static_cast<const State*>(s), w); },
         [](void* s, SnapshotReader& r) { P::load(*static_cast<State*>(s), r); },
+        &tables,
     };
     return table;
   }
