@@ -28,6 +28,7 @@
 #include "harness/agent/smc.hpp"
 #include "runtime/rng.hpp"
 #include "harness/agent/eval.hpp"
+#include "harness/agent/eval_shards.hpp"
 #include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
@@ -1451,6 +1452,60 @@ TEST(AgentEval, TabulatesAFolder) {
   EXPECT_EQ(nowhere.status, 1);
   EXPECT_NE(nowhere.out.find("autumn eval: cannot write"), std::string::npos) << nowhere.out;
   EXPECT_EQ(nowhere.out.find("[#"), std::string::npos) << "failed after running tasks: " << nowhere.out;
+}
+
+// --shard K/N runs a deterministic slice; --merge puts the slices back into the
+// report one run of the whole folder prints, and refuses files that are not
+// the N shards of one run.
+TEST(AgentEval, ShardsMergeToTheWholeRun) {
+  EXPECT_EQ(parse_shard("2/3").index, 2);
+  EXPECT_EQ(parse_shard("2/3").count, 3);
+  for (const char* bad : {"0/3", "4/3", "3", "a/b", "1/0", "-1/2", "1/2/3"})
+    EXPECT_THROW(parse_shard(bad), std::invalid_argument) << bad;
+  const std::vector<fs::path> files = {"a", "b", "c", "d", "e"};
+  EXPECT_EQ(select_shard(files, parse_shard("1/2")), (std::vector<fs::path>{"a", "c", "e"}));
+  EXPECT_EQ(select_shard(files, parse_shard("2/2")), (std::vector<fs::path>{"b", "d"}));
+  EXPECT_TRUE(select_shard(files, parse_shard("6/6")).empty());
+
+  fs::path root = scratch("eval_shards");
+  generate(root, "mfp", "sokoban", 2, 8);
+  generate(root, "planning", "blockfall", 2, 3);
+  generate(root, "planning", "sokoban", 4, 5);
+  const std::string flags = " --rollouts 50 --threads 2 --json-out ";
+  const fs::path whole = root / "whole.json", one = root / "one.json", two = root / "two.json",
+                 merged = root / "merged.json";
+  ASSERT_EQ(cli("eval " + root.string() + flags + whole.string()).status, 0);
+  ASSERT_EQ(cli("eval " + root.string() + " --shard 1/2" + flags + one.string()).status, 0);
+  ASSERT_EQ(cli("eval " + root.string() + " --shard 2/2" + flags + two.string()).status, 0);
+  const auto read = [](const fs::path& p) { return nlohmann::json::parse(testing::read_text(p)); };
+  EXPECT_EQ(read(one)["tasks"].size(), 2u);
+  EXPECT_EQ(read(two)["tasks"].size(), 1u);
+  EXPECT_EQ(read(two)["shard"], (nlohmann::json{{"index", 2}, {"count", 2}, {"tasks", 3}}));
+  // In either order; the table is the whole run's.
+  CliRun m = cli("eval --merge " + two.string() + " " + one.string() + " --json-out " + merged.string());
+  ASSERT_EQ(m.status, 0) << m.out;
+  EXPECT_NE(m.out.find("3 tasks, 3 scored, total score 3.000"), std::string::npos) << m.out;
+  const nlohmann::json w = read(whole), g = read(merged);
+  EXPECT_EQ(g["agent"], w["agent"]);
+  EXPECT_EQ(g["task_set"], w["task_set"]);
+  EXPECT_FALSE(g.contains("shard"));
+  ASSERT_EQ(g["tasks"].size(), w["tasks"].size());
+  for (size_t i = 0; i < w["tasks"].size(); ++i)
+    for (const char* key : {"task", "type", "score", "detail", "answers", "stochastic", "answered"})
+      EXPECT_EQ(g["tasks"][i][key], w["tasks"][i][key]) << i << " " << key;
+  for (const char* key : {"tasks", "scored", "score", "errors"}) EXPECT_EQ(g["totals"][key], w["totals"][key]) << key;
+
+  CliRun missing = cli("eval --merge " + one.string());
+  EXPECT_EQ(missing.status, 1);
+  EXPECT_NE(missing.out.find("autumn eval: shards missing: 2 (of 2)"), std::string::npos) << missing.out;
+  CliRun twice = cli("eval --merge " + one.string() + " " + one.string());
+  EXPECT_NE(twice.out.find("shard 1 is also"), std::string::npos) << twice.out;
+  CliRun not_shard = cli("eval --merge " + whole.string() + " " + one.string());
+  EXPECT_NE(not_shard.out.find("not a shard"), std::string::npos) << not_shard.out;
+  CliRun bad = cli("eval " + root.string() + " --shard 3/2");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.out.find("--shard '3/2': K must be from 1 to N"), std::string::npos) << bad.out;
+  EXPECT_EQ(bad.out.find("[#"), std::string::npos) << "ran tasks: " << bad.out;
 }
 
 TEST(AgentCli, SolveAndErrors) {

@@ -14,6 +14,7 @@
 #include "harness/agent/bench_agent.hpp"
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/eval.hpp"
+#include "harness/agent/eval_shards.hpp"
 #include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
@@ -46,6 +47,8 @@ struct State {
   unsigned eval_threads = 0;
   bool eval_json = false;
   std::string eval_json_out;  // also write the JSON object here (the table still prints)
+  std::string eval_shard;     // K/N: this slice of the folder's tasks (eval_shards.hpp)
+  std::vector<std::string> eval_merge;  // shard JSON files to put back together
   std::vector<std::string> bench_paths;
   BenchAgentOptions bench_opts;
   bool bench_json = false;
@@ -258,8 +261,48 @@ bool can_write(const fs::path& p) {
   return fs::is_directory(dir, ec) && access(dir.c_str(), W_OK) == 0;
 }
 
+// Prints a report (the table, or JSON), writes --json-out; the exit status of
+// its rows: 1 when a task failed (an error) or got no answer (no plan), as solve.
+int finish_eval(State& s, const nlohmann::json& report, const std::vector<EvalRow>& rows) {
+  if (s.eval_json) std::cout << report.dump() << "\n";
+  else fmt::print("{}\n{}", eval_table(rows), eval_type_table(rows));
+  if (!s.eval_json_out.empty()) {
+    if (std::string why = write_file(s.eval_json_out, report.dump(1) + "\n"); !why.empty()) return fail("eval", why);
+  }
+  const auto errors = std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return !r.error.empty(); });
+  const auto unanswered =
+      std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return r.error.empty() && !r.answered; });
+  if (unanswered) std::cerr << "autumn eval: " << unanswered << " task" << (unanswered == 1 ? "" : "s") << " got no answer\n";
+  return errors || unanswered ? 1 : 0;
+}
+
+int run_eval_merge(State& s) {
+  std::vector<nlohmann::json> reports;
+  for (const std::string& f : s.eval_merge) {
+    std::ifstream in(f);
+    try {
+      reports.push_back(nlohmann::json::parse(in));
+    } catch (const nlohmann::json::exception& e) {
+      return fail("eval", f + ": not JSON (" + e.what() + ")");
+    }
+  }
+  std::vector<EvalRow> rows;
+  try {
+    const nlohmann::json merged = merge_shard_reports(reports, s.eval_merge, rows);
+    return finish_eval(s, merged, rows);
+  } catch (const nlohmann::json::exception& e) {
+    return fail("eval", std::string("a shard's rows are not eval's: ") + e.what());
+  }
+}
+
 int run_eval_cmd(State& s) {
   try {
+    if (!s.eval_merge.empty()) {
+      if (!s.eval_json_out.empty() && !can_write(s.eval_json_out)) return fail("eval", "cannot write " + s.eval_json_out);
+      return run_eval_merge(s);
+    }
+    if (s.eval_dir.empty()) return fail("eval", "a folder of tasks is required (DIR), or --merge SHARD.json ...");
+    const Shard shard = s.eval_shard.empty() ? Shard{} : parse_shard(s.eval_shard);
     // Checked before the (long) run, so a bad path fails at once; written after,
     // so a file inside DIR is never scanned half-made (an eval JSON is not a task).
     if (!s.eval_json_out.empty() && !can_write(s.eval_json_out))
@@ -267,7 +310,8 @@ int run_eval_cmd(State& s) {
     ThreadPool pool(s.eval_threads);
     SolveOptions o = s.eval_opts;
     apply_protocol(s.eval, s.eval_protocol, o);
-    std::vector<EvalRow> rows = run_eval(s.eval_dir, o, pool, progress_bar());
+    const std::vector<fs::path> all = find_tasks(s.eval_dir);
+    std::vector<EvalRow> rows = run_eval_files(s.eval_dir, select_shard(all, shard), o, pool, progress_bar());
     nlohmann::json report = eval_json(rows);
     // What the comparison report (scripts/compare-agents.py) names the run by.
     report["agent"] = {{"name", s.eval_protocol == "paper" ? "simulator (paper protocol)" : "simulator"},
@@ -282,18 +326,8 @@ int run_eval_cmd(State& s) {
                        {"seed", o.seed},
                        {"time_limit", o.time_limit}};
     report["task_set"] = {s.eval_dir};
-    if (s.eval_json) std::cout << report.dump() << "\n";
-    else fmt::print("{}\n{}", eval_table(rows), eval_type_table(rows));
-    if (!s.eval_json_out.empty()) {
-      if (std::string why = write_file(s.eval_json_out, report.dump(1) + "\n"); !why.empty())
-        return fail("eval", why);
-    }
-    // Exit 1 when a task failed (an error) or got no answer (no plan), as solve does.
-    const auto errors = std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return !r.error.empty(); });
-    const auto unanswered =
-        std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return r.error.empty() && !r.answered; });
-    if (unanswered) std::cerr << "autumn eval: " << unanswered << " task" << (unanswered == 1 ? "" : "s") << " got no answer\n";
-    return errors || unanswered ? 1 : 0;
+    if (!s.eval_shard.empty()) report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"tasks", all.size()}};
+    return finish_eval(s, report, rows);
   } catch (const std::exception& e) {
     return fail("eval", e.what());
   }
@@ -394,12 +428,23 @@ void add_agent_commands(CLI::App& app) {
       ->default_val("compiled");
 
   s.eval = app.add_subcommand("eval", "Solve every task in a folder (recursively) and tabulate the scores");
-  s.eval->add_option("DIR", s.eval_dir, "Folder of tasks")->required()->check(CLI::ExistingDirectory);
+  CLI::Option* dir = s.eval->add_option("DIR", s.eval_dir, "Folder of tasks (not with --merge)")->check(CLI::ExistingDirectory);
   s.eval->add_flag("--json", s.eval_json, "Print one JSON object");
   s.eval->add_option("--json-out", s.eval_json_out, "Also write that JSON object to FILE (the table still prints)")
       ->type_name("FILE");
   add_search_options(s.eval, s.eval_opts, s.eval_threads);
   add_protocol_option(s.eval, s.eval_protocol);
+  s.eval->add_option("--shard", s.eval_shard,
+                     "Solve only slice K of N of the folder's tasks (those whose index in path order is K-1 modulo N), "
+                     "for a batch scheduler's array job; its JSON says which slice (docs/scale.md)")
+      ->type_name("K/N")
+      ->needs(dir);
+  s.eval->add_option("--merge", s.eval_merge,
+                     "Put the N shards' JSON files (--json-out of each --shard run) back together: the table and JSON "
+                     "one run of the whole folder prints")
+      ->type_name("SHARD.json ...")
+      ->excludes(dir)
+      ->check(CLI::ExistingFile);
 
   CLI::App* baseline = app.add_subcommand("baseline", "Reference agents the paper compares against (baseline random)");
   baseline->require_subcommand(1);

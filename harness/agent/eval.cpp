@@ -87,7 +87,12 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
 
 std::vector<EvalRow> run_eval(const fs::path& dir, const SolveOptions& opts, ThreadPool& pool,
                               const std::function<void(size_t, size_t, const std::string&)>& progress) {
-  std::vector<fs::path> files = find_tasks(dir);
+  return run_eval_files(dir, find_tasks(dir), opts, pool, progress);
+}
+
+std::vector<EvalRow> run_eval_files(const fs::path& dir, const std::vector<fs::path>& files, const SolveOptions& opts,
+                                    ThreadPool& pool,
+                                    const std::function<void(size_t, size_t, const std::string&)>& progress) {
   std::vector<EvalRow> rows;
   for (size_t i = 0; i < files.size(); ++i) {
     if (progress) progress(i, files.size(), fs::relative(files[i], dir).string());
@@ -192,7 +197,8 @@ nlohmann::json eval_json(const std::vector<EvalRow>& rows) {
                         {"unit", r.unit},
                         {"detail", r.detail},
                         {"answers", r.answers},
-                        {"stochastic", r.stochastic}};
+                        {"stochastic", r.stochastic},
+                        {"answered", r.answered}};
     if (r.plan_length) j["plan_length"] = *r.plan_length;
     if (r.reference_length) j["reference_length"] = *r.reference_length;
     if (!r.error.empty()) j["error"] = r.error;

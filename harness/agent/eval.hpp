@@ -46,6 +46,10 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
 // progress(i, n, name) is called before task i (0-based) and once more with i == n.
 std::vector<EvalRow> run_eval(const fs::path& dir, const SolveOptions& opts, ThreadPool& pool,
                               const std::function<void(size_t, size_t, const std::string&)>& progress = {});
+// The same over some of the folder's tasks (`files`, under `dir`; eval_shards.hpp).
+std::vector<EvalRow> run_eval_files(const fs::path& dir, const std::vector<fs::path>& files, const SolveOptions& opts,
+                                    ThreadPool& pool,
+                                    const std::function<void(size_t, size_t, const std::string&)>& progress = {});
 std::string eval_table(const std::vector<EvalRow>& rows);
 // Per task type (and program kind): tasks, errors, scored, mean score, planning's
 // plans no longer than K, mean plan length against mean K, and time.

@@ -13,14 +13,35 @@ import os
 from . import _core
 
 
-def solve(task, engine="compiled", rollouts=10000, threads=0, seed=0, max_steps=200, policy="novelty",
-          depth=12, nodes=30000000, search="auto", max_plan=200, time_limit=120.0, programs=None,
-          answers=None):
-    """Answer an AutumnBench task file (MFP, change detection or planning)."""
-    return json.loads(_core._solve(os.fspath(task), engine, rollouts, threads, seed, max_steps, policy, depth,
-                                   nodes, search, max_plan, float(time_limit),
-                                   os.fspath(programs) if programs else "",
-                                   os.fspath(answers) if answers else ""))
+# What ``protocol`` sets, unless given explicitly: "default" is the agent as
+# built; "paper" is the AutumnBench paper's simulator agent (``autumn solve
+# --protocol paper``: 10,000 samples without seed inversion, random exploration,
+# BFS over ten actions to depth 10).
+_PROTOCOLS = {
+    "default": dict(rollouts=10000, seed_inversion=True, policy="novelty", search="auto", depth=12),
+    "paper": dict(rollouts=10000, seed_inversion=False, policy="random", search="paper", depth=10),
+}
+
+
+def solve(task, engine="compiled", rollouts=None, threads=0, seed=0, max_steps=200, policy=None,
+          depth=None, nodes=30000000, search=None, max_plan=200, time_limit=120.0, programs=None,
+          answers=None, protocol="default", seed_inversion=None):
+    """Answer an AutumnBench task file (MFP, change detection or planning), like ``autumn solve --json``.
+
+    ``protocol`` ("default" or "paper") chooses the settings of ``rollouts``,
+    ``seed_inversion``, ``policy``, ``search`` and ``depth`` that are not given
+    (None); arguments given explicitly still apply, as on the command line."""
+    if protocol not in _PROTOCOLS:
+        raise ValueError(f"protocol must be one of {sorted(_PROTOCOLS)}, got {protocol!r}")
+    chosen = dict(_PROTOCOLS[protocol])
+    for name, value in (("rollouts", rollouts), ("seed_inversion", seed_inversion), ("policy", policy),
+                        ("search", search), ("depth", depth)):
+        if value is not None:
+            chosen[name] = value
+    return json.loads(_core._solve(os.fspath(task), engine, chosen["rollouts"], threads, seed, max_steps,
+                                   chosen["policy"], chosen["depth"], nodes, chosen["search"], max_plan,
+                                   float(time_limit), os.fspath(programs) if programs else "",
+                                   os.fspath(answers) if answers else "", bool(chosen["seed_inversion"])))
 
 
 def baseline_random(tasks, engine="compiled", rollouts=50, timeout=1000, seed=0, threads=0, programs=None):

@@ -135,8 +135,10 @@ void bind_agent(pb::module_& m) {
       "_solve",
       [](const std::string& task, const std::string& engine, uint64_t rollouts, unsigned threads, uint64_t seed,
          int max_steps, const std::string& policy, int depth, uint64_t nodes, const std::string& search,
-         int max_plan, double time_limit, const std::string& programs, const std::string& answers) {
+         int max_plan, double time_limit, const std::string& programs, const std::string& answers,
+         bool seed_inversion) {
         SolveOptions o;
+        o.seed_inversion = seed_inversion;
         o.engine = engine;
         o.rollouts = rollouts;
         o.seed = seed;

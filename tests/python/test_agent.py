@@ -99,3 +99,26 @@ def test_check_plans_replays_on_the_interpreter(tmp_path):
     row["score"] = 0.0
     assert _check_plans(tmp_path, [row], tmp_path).returncode == 0
     assert _check_plans(tmp_path / "nowhere", [row], tmp_path).returncode == 2
+
+
+def test_solve_protocol_paper_is_the_cli_protocol():
+    """solve(protocol="paper") answers as `autumn solve --protocol paper`: the
+    same rollouts, choice and environment steps; arguments given explicitly
+    still apply; an unknown protocol is a ValueError."""
+    build = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(autumnc.__file__))))
+    task = os.path.join(REPO, "tasks", "generated", "prompts", "whack_a_mole_mfp.json")
+    cli = subprocess.run([os.path.join(build, "autumn"), "solve", task, "--json", "--protocol", "paper",
+                          "--rollouts", "300", "--threads", "1"], capture_output=True, text=True)
+    assert cli.returncode == 0, cli.stderr
+    want = json.loads(cli.stdout)["result"]
+    got = autumnc.solve(task, protocol="paper", rollouts=300, threads=1)["result"]
+    keys = ("choice", "counts", "accepted", "env_steps", "rollouts", "deterministic")
+    assert {k: got[k] for k in keys} == {k: want[k] for k in keys}
+    # The same settings given one by one are the same run.
+    spelled = autumnc.solve(task, rollouts=300, threads=1, seed_inversion=False, policy="random",
+                            search="paper", depth=10)["result"]
+    assert {k: spelled[k] for k in keys} == {k: want[k] for k in keys}
+    # The default protocol is another run (seed inversion explores more).
+    assert autumnc.solve(task, rollouts=300, threads=1)["result"]["env_steps"] != want["env_steps"]
+    with pytest.raises(ValueError, match="protocol"):
+        autumnc.solve(task, protocol="papers")
