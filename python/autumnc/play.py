@@ -362,7 +362,11 @@ class Session:
         else:
             self.seed = seed
             self._clear()
-            self.obs, _ = self.env.reset(seed=seed)
+            try:
+                self.obs, _ = self.env.reset(seed=seed)
+            except Exception as e:  # a start-up error with this seed: shown like a load error
+                self.env, self.load_error = None, one_line(e)
+                return
             self.frames = [self.rows(self.obs)]
         self._maybe_move_to_compiled()
 
@@ -398,8 +402,11 @@ class Session:
         seed, actions, expected, source, notes = plan_of(doc, index, self.target)
         if len(actions) > MAX_REPLAY_ACTIONS:
             raise ValueError(f"{len(actions)} actions: a replay here takes at most {MAX_REPLAY_ACTIONS}")
-        env = self._env(seed)
-        obs, _ = env.reset(seed=seed)
+        try:
+            env = self._env(seed)
+            obs, _ = env.reset(seed=seed)
+        except Exception as e:
+            raise ValueError(f"the replay cannot start (seed {seed}): {one_line(e)}") from None
         frames = [self.rows(obs)]
         texts, error, error_step, mismatch = [], None, None, None
         for i, a in enumerate(actions):
