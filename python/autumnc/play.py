@@ -250,8 +250,14 @@ class Session:
             self.env = None
             self.load_error = one_line(e)
             return
-        self.frames = [self.rows(self.obs)]
         self._host_facts(seed)
+        # A module built into the package (or cached) is found in a few milliseconds, by
+        # a thread: wait that long for it, so such programs start on the compiled engine.
+        deadline = time.monotonic() + 0.3
+        while self.requested == "compiled" and self.env.engine != "compiled" and time.monotonic() < deadline:
+            time.sleep(0.02)
+            self.obs, _ = self.env.reset(seed=seed)  # moves to the module when it is ready
+        self.frames = [self.rows(self.obs)]
 
     def _clear(self):
         self.actions, self.frames, self.engines = [], [], []
@@ -293,6 +299,13 @@ class Session:
             self.env, self.obs = env, obs
         except Exception:
             self.probe = None
+
+    def refresh_engine(self):
+        """The page asks now and then while a module compiles: move over once it is ready."""
+        try:
+            self._maybe_move_to_compiled()
+        except Exception:
+            pass
 
     # colour ids -> names
 
@@ -579,6 +592,7 @@ class Handler(http.server.BaseHTTPRequestHandler):
                 self._send(200, f.read(), "text/html; charset=utf-8")
         elif path == "/api/state":
             with self.session.lock:
+                self.session.refresh_engine()
                 self._send(200, self.session.state(full=True))
         else:
             self._send(404, {"error": f"no such page: {path}"})

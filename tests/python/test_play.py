@@ -165,7 +165,9 @@ def test_keys_and_clicks_give_the_cli_frames(browser, servers):
     from selenium.webdriver.common.keys import Keys
     d = browser
     open_page(d, servers["program"])
-    assert js(d, "autumnPlay.engine") == "compiled"  # its module is built into the package
+    # its module is built into the package: the compiled engine serves (at once, or after the
+    # page's next look while the module loads)
+    wait_for(d, "autumnPlay.engine === 'compiled'", "the compiled engine")
     seed = d.find_element(By.ID, "seed")
     seed.clear()
     seed.send_keys(str(SEED))
