@@ -10,7 +10,8 @@ window.autumnPlay (the frame as rows of colour names, the trace format) and
 compared with the `autumn` CLI's own answers: `autumn run --json` for the same
 seed and actions, `autumn check` (both engines) for the recorded trace,
 `autumn solve --json` for the plan replayed, and the task file's goal and mask
-for the frame the timeline reaches. Without Chromium the tests fail with a
+for the frame the timeline reaches (and, played live as a participant would, for
+the answer the page saves). Without Chromium the tests fail with a
 message saying what to install: they never pass by skipping.
 """
 import json
@@ -328,3 +329,37 @@ def test_requests_without_the_token_or_from_elsewhere_are_refused(servers):
     assert request(s, "/api/state", headers={"Host": "evil.example"}) == 403
     assert request(s, "/api/step", headers={"Origin": "http://evil.example"}, body={"action": "left"}) == 403
     assert request(s, "/api/replay", body={"document": {"traces": []}}) == 400
+
+
+def test_a_participant_plays_the_plan_and_saves_the_answer(browser, servers):
+    """The planning task as a participant meets it: play the plan live, reach the goal, answer."""
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+    d = browser
+    open_page(d, servers["task"])
+    d.find_element(By.ID, "reset-btn").click()
+    wait_for(d, "autumnPlay.idle() && autumnPlay.step === 0", "the reset")
+    assert js(d, "autumnPlay.task.kind") == "planning"
+    with open(TASK) as f:
+        task = json.load(f)
+    with open(os.path.join(os.path.dirname(os.path.dirname(TASK)), "answers", os.path.basename(TASK))) as f:
+        plan = [a["type"] for a in json.load(f)["reference_plan"]]
+    keys = {"up": Keys.ARROW_UP, "down": Keys.ARROW_DOWN, "left": Keys.ARROW_LEFT, "right": Keys.ARROW_RIGHT}
+    assert task["type"] == "planning" and set(plan) <= set(keys) | {"noop"}
+    for i, a in enumerate(plan):
+        if a == "noop":
+            d.find_element(By.ID, "step-btn").click()
+        else:
+            ActionChains(d).send_keys(keys[a]).perform()
+        settle(d, i + 1)
+    goal = goal_cells(TASK)
+    assert any(all(r.split(" ")[x] == c for (x, y), c in goal.items() for r in [frame[y]])
+               for frame in js(d, "autumnPlay.frames"))
+    d.find_element(By.ID, "question-btn").click()
+    d.find_element(By.ID, "submit-answer").click()
+    saved = wait_for(d, "autumnPlay.lastAnswer", "the saved answer")
+    with open(saved["path"]) as f:
+        answer = json.load(f)
+    assert answer["type"] == "planning" and answer["result"]["plan"] == plan
+    assert answer["result"]["reached_goal"] is True
