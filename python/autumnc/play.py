@@ -43,7 +43,6 @@ import http.server
 import json
 import os
 import secrets
-import socket
 import sys
 import threading
 import time
