@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
   app.add_flag("--Werror", warnings_are_errors(), "Treat the programs' warnings as errors");
   app.fallthrough();  // --Werror after the subcommand too (`autumn run prog.au --Werror`)
   std::vector<Subcommand> commands = {add_run_command(app),    add_render_command(app), add_check_command(app),
-                                      add_survey_command(app), add_bench_command(app),  add_difftest_command(app)};
+                                      add_survey_command(app), add_bench_command(app),  add_difftest_command(app),
+                                      add_play_command(app)};
   autumn::agent::add_agent_commands(app);
   try {
     app.parse(argc, argv);

@@ -14,5 +14,6 @@ Subcommand add_check_command(CLI::App& app);
 Subcommand add_survey_command(CLI::App& app);
 Subcommand add_bench_command(CLI::App& app);
 Subcommand add_difftest_command(CLI::App& app);
+Subcommand add_play_command(CLI::App& app);
 
 }  // namespace autumn::cli
