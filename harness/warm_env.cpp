@@ -28,6 +28,7 @@ void WarmingEnvironment::try_switch() {
     std::cerr << "autumn: warning: " << never << "\nautumn: the interpreter runs " << program_->file.name
               << " instead\n";
     can_switch_ = false;
+    never_ = never;
   }
   if (!compiled) return;
   if (!source_name_.empty()) compiled->set_source_name(source_name_);
@@ -37,10 +38,21 @@ void WarmingEnvironment::try_switch() {
     std::cerr << "autumn: warning: the compiled module of " << program_->file.name << " disagrees with the "
               << "interpreter after " << log_.size() << " steps; the interpreter keeps the episode\n";
     can_switch_ = false;
+    never_ = "the compiled module disagreed with the interpreter";
     return;
   }
   active_ = std::move(compiled);
   switched_ = true;
+  switched_after_ = started_ ? log_.size() : 0;
+}
+
+std::string WarmingEnvironment::served_by() const {
+  if (switched_ && switched_after_ == 0) return "compiled";
+  if (switched_)
+    return "interp for steps 1-" + std::to_string(switched_after_) + " (the module was compiling), then compiled";
+  if (!never_.empty()) return "interp (" + never_ + ")";
+  if (!can_switch_) return "interp (the episode used what only the interpreter replays: advance, load_state or reseeding)";
+  return "interp (the module was still compiling; a later run uses it)";
 }
 
 bool WarmingEnvironment::reset(uint64_t seed) {
@@ -51,6 +63,7 @@ bool WarmingEnvironment::reset(uint64_t seed) {
   started_ = true;
   seed_ = seed;
   log_.clear();
+  if (switched_) switched_after_ = 0;  // a new episode, compiled from its start
   return active_->reset(seed);
 }
 

@@ -35,6 +35,9 @@ class WarmingEnvironment : public Environment {
  public:
   WarmingEnvironment(std::shared_ptr<const Program> program, CompiledSource source);
   bool switched() const { return switched_; }
+  // Which engine ran the episode, for `-v`: "compiled", "interp for steps 1-N
+  // (the module was compiling), then compiled", or "interp (why)".
+  std::string served_by() const;
 
   bool reset(uint64_t seed) override;
   bool step(const Action& action) override;
@@ -65,6 +68,8 @@ class WarmingEnvironment : public Environment {
   CompiledSource source_;
   std::unique_ptr<Environment> active_;
   bool switched_ = false;
+  size_t switched_after_ = 0;  // steps the interpreter had served when the module took over
+  std::string never_;          // why the module will not serve ("" while it may)
   bool can_switch_ = true;
   bool started_ = false;
   uint64_t seed_ = 0;

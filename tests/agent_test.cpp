@@ -904,7 +904,7 @@ Task expect_skeleton_filled(const std::string& name, const char* program, const 
   o.nodes = 2'000'000;
   expect_plan_on_one_and_two(task, o, generator.size(), [&](PlanProblem& p) {
     SearchOutcome out = fill_skeleton(p, p.actions(), skeleton, p.share(1.0, 0));
-    if (out.found) EXPECT_EQ(out.plan[0], left) << plan_text(out.plan);
+    if (out.found) { EXPECT_EQ(out.plan[0], left) << plan_text(out.plan); }
     return out;
   });
   return task;
@@ -1663,7 +1663,7 @@ TEST(AgentSeedInversion, FindsTheSeedOfAStream) {
         WrappedMinstd h(s);
         for (size_t k = 0; k < e.values.size(); ++k) {
           int64_t v = static_cast<int64_t>(h.next(e.bounds[k]));
-          if (e.pinned[k]) ASSERT_EQ(v, e.values[k]) << "seed " << s << " draw " << k;
+          if (e.pinned[k]) { ASSERT_EQ(v, e.values[k]) << "seed " << s << " draw " << k; }
         }
       }
     }

@@ -193,6 +193,30 @@ TEST(Pictures, PlanPicturesShowEveryFrame) {
                     frames[i], scale);
 }
 
+// A planning task made with --env-seed on a program that draws random numbers
+// lives in a world its blind prompt does not name: make-task says so, and an
+// eval row without a reaching plan gives that reason.
+TEST(HonestOutput, MakeTaskWarnsOfAWorldTheSolverCannotSimulate) {
+  const fs::path dir = scratch("env_seed_warning");
+  const std::string warning = "warning: whack_a_mole.au draws random numbers and this planning task was made with --env-seed 5";
+  auto made = run_cli("make-task planning " + program_path("whack_a_mole.au") + " --steps 6 --seed 2 --env-seed 5 --extend-colours --out " +
+                      (dir / "tasks/prompts/whack_a_mole_planning.json").string());
+  ASSERT_EQ(made.status, 0) << made.out;
+  EXPECT_NE(made.out.find("autumn make-task: " + warning), std::string::npos) << made.out;
+  for (const std::string& quiet : {program_path("whack_a_mole.au") + " --env-seed 0", program_path("sokoban.au") + " --env-seed 5"}) {
+    auto r = run_cli("make-task planning " + quiet + " --steps 6 --seed 2 --extend-colours --out " + (dir / "other/prompts/t.json").string());
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(r.out.find("draws random numbers"), std::string::npos) << quiet << ": " << r.out;
+  }
+  auto eval = run_cli("eval " + (dir / "tasks").string() + " --json --threads 1 --time-limit 2", true);
+  const nlohmann::json row = last_json(eval.out)["tasks"][0];
+  if (row["score"] == 0.0)
+    EXPECT_NE(row["detail"].get<std::string>().find("(the task was made with env seed 5; the planner simulated seed 0)"),
+              std::string::npos) << row.dump();
+  else
+    EXPECT_EQ(row["score"], 1.0) << row.dump();
+}
+
 TEST(Pictures, CheckDrawsTheFirstMismatch) {
   const fs::path dir = scratch("check");
   const std::string trace = (dir / "t.json").string();
@@ -255,7 +279,12 @@ TEST(WarmStart, SwitchesWithTheStateCarriedOver) {
     ASSERT_TRUE(warm.step(actions[i]));
     ASSERT_EQ(frame_rows(warm.frame(), warm.palette()), frame_rows(reference.frame(), reference.palette())) << i;
     EXPECT_EQ(warm.switched(), i >= 11) << i;
+    if (i == 5) { EXPECT_EQ(warm.served_by(), "interp (the module was still compiling; a later run uses it)"); }
   }
+  // The polls before the reset and the first 11 steps found nothing; the 12th step's found the module.
+  EXPECT_EQ(warm.served_by(), "interp for steps 1-11 (the module was compiling), then compiled");
+  ASSERT_TRUE(warm.reset(4));
+  EXPECT_EQ(warm.served_by(), "compiled") << "a new episode runs compiled from its start";
 }
 
 TEST(WarmStart, KeepsTheInterpreterWhenTheEnginesDisagree) {
@@ -271,6 +300,7 @@ TEST(WarmStart, KeepsTheInterpreterWhenTheEnginesDisagree) {
     EXPECT_EQ(frame_rows(warm.frame(), warm.palette()), frame_rows(reference.frame(), reference.palette()));
   }
   EXPECT_FALSE(warm.switched());
+  EXPECT_EQ(warm.served_by(), "interp (the compiled module disagreed with the interpreter)");
 }
 
 // A 16x16 program no cache has seen: a fresh constant makes its text (and key) new.
@@ -289,21 +319,27 @@ TEST(FirstRun, AnswersAtOnceAndCompilesBehind) {
   const std::string prog = fresh_program(dir, "fresh16.au");
   const std::string env = "AUTUMN_CACHE_DIR=" + cache.string();
   const auto t0 = std::chrono::steady_clock::now();
-  auto first = run_cli("run " + prog + " --engine compiled --steps 1", false, env);
+  auto first = run_cli("run " + prog + " --engine compiled --steps 1 -v", false, env);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_EQ(first.status, 0) << first.out;
   EXPECT_NE(first.out.find("compiling " + prog + " (first use)"), std::string::npos) << first.out;
   std::cout << "first --engine compiled result of a new 16x16 program: " << seconds << " s (target 0.5 s)\n";
   RecordProperty("first_run_seconds", std::to_string(seconds));
   EXPECT_LT(seconds, 1.5) << "the interpreter serves the first steps";
+  // -v names the engine that ran: here the interpreter, the module still compiling.
+  EXPECT_NE(first.out.find("autumn run: engine: interp (the module was still compiling; a later run uses it)"),
+            std::string::npos) << first.out;
   // The compile finishes by itself after the command has exited.
   for (int i = 0; i < 600 && modules_in(cache).empty(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_EQ(modules_in(cache).size(), 1u);
   // A comment-only edit is the same module: no compile, and errors name the edited text.
   std::ofstream(prog, std::ios::app) << "\n; a comment added later\n";
-  auto again = run_cli("run " + prog + " --engine compiled --steps 1", false, env);
+  auto again = run_cli("run " + prog + " --engine compiled --steps 1 --verbose", false, env);
   EXPECT_EQ(again.status, 0) << again.out;
   EXPECT_EQ(again.out.find("compiling"), std::string::npos) << again.out;
+  EXPECT_NE(again.out.find("autumn run: engine: compiled\n"), std::string::npos) << again.out;
+  auto interp = run_cli("run " + prog + " --steps 1 -v", false, env);
+  EXPECT_NE(interp.out.find("autumn run: engine: interp\n"), std::string::npos) << interp.out;
   EXPECT_EQ(modules_in(cache).size(), 1u);
 }
 
@@ -403,6 +439,23 @@ TEST(HonestOutput, EvalDoesNotCountCompilesAsSolveTime) {
   EXPECT_GT(task["compile_seconds"].get<double>(), 0.2) << r.out;
   EXPECT_LT(task["seconds"].get<double>(), task["compile_seconds"].get<double>() / 4) << r.out;
   EXPECT_NE(r.out.find("s compiling modules, not counted)"), std::string::npos) << r.out;
+}
+
+// A planning task whose search runs on the click-reset model (click_model.hpp)
+// builds that model's module before the clock starts too: on a fresh cache the
+// compile is compile_seconds, never planning time.
+TEST(HonestOutput, SolveDoesNotCountTheSearchModelsCompile) {
+  const fs::path dir = scratch("solve_model_compile");
+  const fs::path task = testing::source_dir() / "tasks/generated/prompts/sokoban_planning.json";
+  auto r = run_cli("solve " + task.string() + " --json --threads 1", true,
+                   "AUTUMN_CACHE_DIR=" + (dir / "cache").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  const nlohmann::json j = last_json(r.out);
+  EXPECT_EQ(j["result"]["search_model"], "click-reset model") << r.out;
+  EXPECT_TRUE(j["result"]["found"].get<bool>()) << r.out;
+  // The program is built in (programs/sokoban.au's text); the model is compiled, a second or more.
+  EXPECT_GT(j["compile_seconds"].get<double>(), 0.2) << r.out;
+  EXPECT_LT(j["result"]["seconds"].get<double>(), j["compile_seconds"].get<double>() / 4) << r.out;
 }
 
 TEST(HonestOutput, DifftestListsErroredEpisodes) {

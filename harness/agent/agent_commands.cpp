@@ -229,6 +229,7 @@ int run_make(State& s) {
     }
     ThreadPool pool(0);
     MadeTask made = make_task(o, pool);
+    for (const auto& w : made.warnings) std::cerr << "autumn make-task: " << w << "\n";
     for (const auto& note : write_task(made, o)) std::cerr << note << "\n";
     return 0;
   } catch (const std::exception& e) {

@@ -221,4 +221,14 @@ std::optional<std::string> click_reset_program(const std::string& text) {
   return std::nullopt;
 }
 
+std::optional<std::string> click_reset_model_text(const Program& program, const InputUse& inputs, std::string* why) {
+  why->clear();
+  if (inputs.clicks == ClickUse::None) return std::nullopt;
+  if (!inputs.click_step_local) {
+    *why = "click is not step-local: " + inputs.click_note;
+    return std::nullopt;
+  }
+  return click_reset_program(program.file.text);
+}
+
 }  // namespace autumn::agent

@@ -64,4 +64,12 @@ std::vector<Action> search_actions(const InputUse& use, int grid_size);
 // (program ...) form; nullopt when the text has no such form.
 std::optional<std::string> click_reset_program(const std::string& text);
 
+// The planner's one rule for using that model: the text of `program`'s
+// click-reset model when its clicks are read and step-local (and the text has
+// its (program ...) form); else nullopt and, in *why, the reason ("" when the
+// program reads no clicks). The planner still checks that the model agrees
+// with the program before it searches it (PlanProblem::choose_model); solve
+// builds its module before the clock starts (prepare_modules).
+std::optional<std::string> click_reset_model_text(const Program& program, const InputUse& inputs, std::string* why);
+
 }  // namespace autumn::agent

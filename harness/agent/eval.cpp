@@ -73,6 +73,10 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         row.unit = "nodes/s";
         row.detail = r.found ? fmt::format("plan of {} ({}{})", r.plan.size(), r.method, r.shortest ? ", shortest" : "")
                              : std::string("no plan");
+        // Why a stochastic task can be out of reach: it was made in another world.
+        if (!reaches && r.stochastic && answers.seed && *answers.seed != r.env_seed)
+          row.detail += fmt::format(" (the task was made with env seed {}; the planner simulated seed {})",
+                                    *answers.seed, r.env_seed);
         if (row.reference_length) row.detail += fmt::format(", generator's K = {}", *row.reference_length);
         row.result = planning_json(r);
         break;

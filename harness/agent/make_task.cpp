@@ -310,6 +310,14 @@ MadeTask make_planning(const MakeTaskOptions& opts, std::shared_ptr<const Progra
     made.answers = base_answers(opts);
     made.answers["reference_plan"] = plan;
     made.colours = colours;
+    // The prompt is blind to the seed: a solver simulates seed 0 (solve's
+    // assumption), another world than this one when the program draws.
+    if (opts.env_seed != 0 && !env->deterministic())
+      made.warnings.push_back(fmt::format(
+          "warning: {} draws random numbers and this planning task was made with --env-seed {}, which only its "
+          "answers file records: a solver simulates seed 0, another world, where this goal may be unreachable "
+          "(eval judges plans in the task's own world)",
+          opts.program.filename().string(), opts.env_seed));
     return made;
   }
   throw TaskError(fmt::format("no random {}-step action sequence ({} tried) changes the frame of program '{}'{}",

@@ -61,6 +61,7 @@ struct MadeTask {
   nlohmann::json answers;  // seed, correct_idx / reference_plan, generator
   ColourTable colours;
   bool colours_extended = false;
+  std::vector<std::string> warnings;  // "warning: ..." lines for the user (make-task prints them)
 };
 
 MadeTask make_task(const MakeTaskOptions& opts, ThreadPool& pool);

@@ -4,9 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <unordered_map>
 
 namespace autumn::agent {
@@ -200,16 +198,6 @@ std::string Limit::time_note() const {
 
 // ---------------------------------------------------------------------------- problem
 
-namespace {
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
-}
-
-}  // namespace
 
 PlanProblem::PlanProblem(const Task& task, const SolveOptions& opts, ThreadPool& pool)
     : task_(task), opts_(opts), pool_(pool), goal_(task), clock_(opts.time_limit, opts.nodes) {
@@ -231,12 +219,7 @@ PlanProblem::PlanProblem(const Task& task, const SolveOptions& opts, ThreadPool&
 // Switches the root to the click-reset model when the analysis allows it and the
 // model agrees with the program on random episodes.
 void PlanProblem::choose_model(std::shared_ptr<const Program> program, const std::string& path) {
-  if (inputs_.clicks == ClickUse::None) return;
-  if (!inputs_.click_step_local) {
-    model_note_ = "click is not step-local: " + inputs_.click_note;
-    return;
-  }
-  std::optional<std::string> text = click_reset_program(read_text(path));
+  std::optional<std::string> text = click_reset_model_text(*program, inputs_, &model_note_);
   if (!text) return;
   std::unique_ptr<Environment> model;
   try {

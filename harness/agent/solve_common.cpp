@@ -1,5 +1,6 @@
 #include "harness/agent/solve_common.hpp"
 
+#include "harness/agent/click_model.hpp"
 #include "harness/module_cache.hpp"
 
 namespace autumn::agent {
@@ -26,8 +27,18 @@ double prepare_modules(const Task& task, const SolveOptions& o) {
   for (const auto& [name, trigger] : programs) {
     double seconds = 0;
     std::string why;  // a module that cannot be built fails the solver, which says why
-    prepare_compiled_module(load_program_checked(task_program_path(task, o, name), trigger), &seconds, &why);
+    const fs::path path = task_program_path(task, o, name);
+    const auto program = load_program_checked(path, trigger);
+    prepare_compiled_module(program, &seconds, &why);
     total += seconds;
+    // The planner's search model, when it may use one: its module too.
+    if (task.type != TaskType::Planning || trigger) continue;
+    std::string not_used;
+    if (auto text = click_reset_model_text(*program, analyse_inputs(*program), &not_used)) {
+      seconds = 0;
+      prepare_compiled_module(load_program_checked_text(*text, path.string() + " (click-reset model)"), &seconds, &why);
+      total += seconds;
+    }
   }
   return total;
 }

@@ -10,6 +10,7 @@
 #include "harness/cli/number_options.hpp"
 #include "harness/engine.hpp"
 #include "harness/episode.hpp"
+#include "harness/warm_env.hpp"
 
 namespace autumn::cli {
 namespace {
@@ -23,6 +24,7 @@ struct RunOptions {
   std::string trigger;
   bool json = false;
   std::string engine = "interp";
+  bool verbose = false;
 };
 
 void register_run(CLI::App* cmd, RunOptions& o) {
@@ -34,6 +36,13 @@ void register_run(CLI::App* cmd, RunOptions& o) {
   cmd->add_option("--trigger", o.trigger, "Change-detection condition, without outer parentheses");
   cmd->add_flag("--json", o.json, "Print one JSON trace (the golden-trace format) instead of text");
   cmd->add_option("--engine", o.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("interp");
+  cmd->add_flag("-v,--verbose", o.verbose, "Say on stderr which engine ran the episode (the compiled engine's first use of a program runs the interpreter while its module compiles)");
+}
+
+// What `-v` prints: the engine that ran, and for a warm start which steps each served.
+std::string engine_line(const RunOptions& o, const Environment& env) {
+  if (auto* warm = dynamic_cast<const WarmingEnvironment*>(&env)) return warm->served_by();
+  return o.engine;
 }
 
 nlohmann::json trace_json(const RunOptions& o, const EpisodeFrames& ep, const std::optional<std::string>& trigger) {
@@ -67,6 +76,7 @@ int run_run(const RunOptions& o) {
     std::fflush(stdout);
   };
   EpisodeFrames ep = run_episode(*env, o.seed, *actions, print);
+  if (o.verbose) std::cerr << "autumn run: engine: " << engine_line(o, *env) << "\n";
   if (o.json) {
     if (ep.grid) warn_clicks_outside("run", *actions, ep.grid);
     std::cout << trace_json(o, ep, trigger).dump() << "\n";
