@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstring>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -25,6 +26,7 @@
 #include "python/src/interruptible.hpp"
 #include "python/src/module_broker.hpp"
 #include "python/src/programs.hpp"
+#include "python/src/session.hpp"
 #include "python/src/vec_env.hpp"
 
 namespace pb = pybind11;
@@ -247,19 +249,107 @@ void interruptible_batch(F&& batch, bool* interrupted) {
   py::raise_if_interrupted();
 }
 
+// One slot of a VecEnv, copied out by clone() (restore() copies it back). The
+// program it belongs to goes with it: restore() refuses another program's
+// state, and pickling carries the program's text.
 struct EnvState {
   std::shared_ptr<const Environment> env;
   uint64_t episode;
   uint32_t steps;
   bool done;
   std::string error;
+  std::shared_ptr<const Program> program;
+  uint64_t digest;  // py::session_program_hash(*program)
 };
+
+// The bytes form of an EnvState (to_bytes / from_bytes / pickle). The compiled
+// engine's snapshot (Environment::save_state, validated by load_state) behind
+// a header that names the program the way Interpreter.get_state() does, so a
+// state loads only into the program, standard library and trigger it came
+// from. Layout (little-endian, as written by this machine): "AUTE" u32
+// version, u64 program digest, u64 episode, u32 steps, u8 done, u64 length and
+// the error text, u64 length and the snapshot; nothing after it.
+constexpr uint32_t kStateVersion = 1;
+
+pb::bytes state_bytes(const EnvState& s) {
+  std::vector<uint8_t> snap;
+  if (s.env->failed())
+    throw std::invalid_argument("this state ended in a runtime error (" + s.env->error() +
+                                "): it has nothing to continue, and no bytes form");
+  if (!s.env->save_state(snap))
+    throw std::invalid_argument(
+        "this state's engine cannot save its state as bytes (only specialised compiled modules can: the "
+        "interpreter and modules that embed it cannot); make the VecEnv with engine=\"compiled\"");
+  std::string out = "AUTE";
+  auto put = [&](const auto& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  put(kStateVersion);
+  put(s.digest);
+  put(s.episode);
+  put(s.steps);
+  put(static_cast<uint8_t>(s.done));
+  put(static_cast<uint64_t>(s.error.size()));
+  out += s.error;
+  put(static_cast<uint64_t>(snap.size()));
+  out.append(reinterpret_cast<const char*>(snap.data()), snap.size());
+  return pb::bytes(out);
+}
+
+EnvState state_from_bytes(const std::string& text, const std::string& name, const std::optional<std::string>& trigger,
+                          const pb::bytes& data) {
+  const std::string_view b = data;
+  size_t at = 0;
+  auto bad = [](const std::string& why) { return std::invalid_argument("EnvState.from_bytes: " + why); };
+  auto get = [&](auto& v) {
+    if (b.size() - at < sizeof v) throw bad("truncated state");
+    std::memcpy(&v, b.data() + at, sizeof v);
+    at += sizeof v;
+  };
+  auto text_of = [&](uint64_t n) {
+    if (b.size() - at < n) throw bad("truncated state");
+    std::string t(b.substr(at, n));
+    at += n;
+    return t;
+  };
+  if (b.substr(0, 4) != "AUTE") throw bad("not the bytes of an autumnc EnvState (EnvState.to_bytes())");
+  at = 4;
+  uint32_t version = 0;
+  get(version);
+  if (version != kStateVersion) throw bad("a state of another autumnc version");
+  EnvState s{};
+  s.program = py::load(text, name, trigger.value_or(""), std::nullopt).program;
+  s.digest = py::session_program_hash(*s.program);
+  uint64_t digest = 0, len = 0;
+  uint8_t done = 0;
+  get(digest);
+  if (digest != s.digest) throw bad("the state belongs to another program, standard library or trigger");
+  get(s.episode);
+  get(s.steps);
+  get(done);
+  s.done = done != 0;
+  get(len);
+  s.error = text_of(len);
+  get(len);
+  const std::string snap = text_of(len);
+  if (at != b.size()) throw bad("corrupt state (bytes after the end)");
+  std::shared_ptr<const py::Prototype> proto;
+  {
+    pb::gil_scoped_release release;  // may compile the program's module
+    proto = py::request_compiled(s.program).get();
+  }
+  if (!proto->env) throw std::runtime_error("the compiled engine cannot serve " + name + ": " + proto->why);
+  std::unique_ptr<Environment> env = py::instantiate(*proto);
+  if (!env->load_state(reinterpret_cast<const uint8_t*>(snap.data()), snap.size()))
+    throw bad(env->failed() ? "corrupt state (" + env->error() + ")"
+                            : "this program's module cannot load snapshots (it embeds the interpreter)");
+  s.env = std::move(env);
+  return s;
+}
 
 class VecEnv {
  public:
   VecEnv(const std::string& text, const std::string& name, size_t n, unsigned threads, uint64_t seed,
          const std::string& engine, const std::optional<std::string>& trigger, uint32_t max_steps)
-      : spec_(make_spec(text, name, engine, trigger)), seed_(seed) {
+      : spec_(make_spec(text, name, engine, trigger)), digest_(py::session_program_hash(*spec_.loaded.program)), seed_(seed) {
     if (n == 0) throw std::invalid_argument("num_envs must be at least 1");
     check_batch_memory(n);
     std::unique_ptr<Environment> proto = make_env(spec_, true);
@@ -311,7 +401,8 @@ class VecEnv {
     pb::list out;
     for (int64_t i : ids) {
       py::Slot& s = set_->slot(index(i));
-      out.append(EnvState{std::shared_ptr<const Environment>(s.env->clone()), s.episode, s.steps, s.done, s.error});
+      out.append(EnvState{std::shared_ptr<const Environment>(s.env->clone()), s.episode, s.steps, s.done, s.error,
+                          spec_.loaded.program, digest_});
     }
     return out;
   }
@@ -323,6 +414,9 @@ class VecEnv {
       const size_t i = index(ids[k]);
       py::Slot& s = set_->slot(i);
       if (!states[k]) throw std::invalid_argument("restore: a state is None");
+      if (states[k]->digest != digest_)
+        throw std::invalid_argument("restore: state " + std::to_string(k) +
+                                    " belongs to another program, standard library or trigger");
       if (!s.env->copy_from(*states[k]->env)) s.env = states[k]->env->clone();
       s.episode = states[k]->episode;
       s.steps = states[k]->steps;
@@ -360,6 +454,7 @@ class VecEnv {
   }
 
   Spec spec_;
+  uint64_t digest_;  // of the program: states of another are refused
   uint64_t seed_;
   std::unique_ptr<py::SlotSet> set_;
   pb::array_t<uint8_t> obs_;
@@ -373,32 +468,109 @@ class VecEnv {
 }  // namespace
 
 void bind_envs(pb::module_& m) {
-  pb::class_<Env>(m, "_Env", pb::dynamic_attr())
+  // autumnc.Env and autumnc.VecEnv (autumnc/envs.py) subclass these and add the
+  // spaces; their class docstrings explain actions, observations and rewards.
+  pb::class_<Env>(m, "_Env", pb::dynamic_attr(), "The C++ side of autumnc.Env (construct autumnc.Env instead)")
       .def(pb::init<const std::string&, const std::string&, uint64_t, const std::string&,
                     const std::optional<std::string>&, uint32_t>(),
            pb::arg("text"), pb::arg("name"), pb::arg("seed"), pb::arg("engine"), pb::arg("trigger"),
-           pb::arg("max_episode_steps"))
-      .def("reset", &Env::reset, pb::arg("seed") = pb::none(), pb::arg("options") = pb::none())
-      .def("step", &Env::step, pb::arg("action"))
-      .def("clone", [](const Env& e) { return Env(e); })
-      .def("state_hash", &Env::state_hash)
-      .def_property_readonly("grid_size", &Env::grid)
-      .def_property_readonly("engine", &Env::engine);
-  pb::class_<EnvState>(m, "EnvState", "One environment's state, from VecEnv.clone()")
-      .def("state_hash", [](const EnvState& s) { return s.env->state_hash(); });
-  pb::class_<VecEnv>(m, "_VecEnv", pb::dynamic_attr())
+           pb::arg("max_episode_steps"),
+           "text: the program's text; name: its name in error messages; seed: the random seed of the first "
+           "episode; engine: \"auto\", \"compiled\" or \"interp\"; trigger: a trigger-condition expression or "
+           "None; max_episode_steps: steps before truncation (0: never)")
+      .def("reset", &Env::reset, pb::arg("seed") = pb::none(), pb::arg("options") = pb::none(),
+           "Start an episode; returns (obs, info).\n\n"
+           "seed: None keeps the current seed (the initial state saved at the last start is copied, not "
+           "recomputed); a new seed restarts the program with it. options is accepted and ignored (Gymnasium's "
+           "signature). In \"auto\" mode a reset is where the environment moves to the compiled engine once the "
+           "program's module is ready. obs is a uint8 [H, W] array of colour ids (autumnc.colour_names()).")
+      .def("step", &Env::step, pb::arg("action"),
+           "One step; returns (obs, reward, terminated, truncated, info).\n\n"
+           "action: an integer action id: 0 noop, 1 left, 2 right, 3 up, 4 down, 5 + y*W + x a click on cell "
+           "(x, y); anything else (a float, a bool, an id out of range) raises ValueError. obs: uint8 [H, W] "
+           "colour ids. reward: 1.0 when the trigger condition held after the step, else 0.0. terminated: the "
+           "program met a runtime error (info[\"error\"] says which; obs is then the last good frame). "
+           "truncated: max_episode_steps reached. After either, call reset().")
+      .def("clone", [](const Env& e) { return Env(e); },
+           "An independent copy of this environment, at the same point of the same episode: stepping either "
+           "with the same actions gives the same observations")
+      .def("state_hash", &Env::state_hash,
+           "A 64-bit digest of the program's state: equal digests on one engine mean equal futures (the two "
+           "engines hash differently)")
+      .def_property_readonly("grid_size", &Env::grid, "W = H, the side of the grid in cells")
+      .def_property_readonly("engine", &Env::engine, "The engine serving steps now: \"compiled\" or \"interp\"");
+  pb::class_<EnvState>(m, "EnvState",
+                       "One environment's state, copied out of a VecEnv by VecEnv.clone(ids) and put back (into the "
+                       "same VecEnv or another of the same program) by VecEnv.restore(ids, states).\n\n"
+                       "Immutable; restoring it does not consume it. It has a bytes form, to_bytes() and "
+                       "EnvState.from_bytes(program, data), and pickles (the program's text travels with it): a "
+                       "state restored from either continues exactly as the original would. Only the compiled "
+                       "engine's specialised modules can save their state as bytes.")
+      .def("state_hash", [](const EnvState& s) { return s.env->state_hash(); },
+           "The state's 64-bit digest, as VecEnv.state_hash() gives it for the environment it came from")
+      .def_property_readonly("episode", [](const EnvState& s) { return s.episode; },
+                             "How many episodes the environment had finished (its seed is seed + i + episode*N)")
+      .def_property_readonly("steps", [](const EnvState& s) { return s.steps; }, "Steps into the current episode")
+      .def_property_readonly("done", [](const EnvState& s) { return s.done; },
+                             "The episode had ended (the next VecEnv.step resets it)")
+      .def("to_bytes", &state_bytes,
+           "The state as bytes: the program's digest, the episode counters and the compiled engine's snapshot. "
+           "EnvState.from_bytes(program, data) turns them back into a state of that program. Raises ValueError "
+           "for a state that ended in a runtime error and for engines that cannot save their state (the "
+           "interpreter, modules that embed it).")
+      .def_static(
+          "from_bytes",
+          [](const pb::object& program, const pb::bytes& data, const std::optional<std::string>& trigger) {
+            const auto tn = pb::module_::import("autumnc.envs").attr("_program_text")(program).cast<pb::tuple>();
+            return state_from_bytes(tn[0].cast<std::string>(), tn[1].cast<std::string>(), trigger, data);
+          },
+          pb::arg("program"), pb::arg("data"), pb::arg("trigger") = pb::none(),
+          "The state that to_bytes() gave, for the program it came from (a path, an autumnc.Program or the "
+          "program's text, and the same trigger condition). Compiles the program's module if it is not cached. "
+          "Raises ValueError for bytes that are not such a state: truncated or corrupt, of another autumnc "
+          "version, or of another program, standard library or trigger.")
+      .def(pb::pickle(
+          [](const EnvState& s) {
+            const std::string& t = s.program->trigger_text;
+            return pb::make_tuple(s.program->file.text, s.program->file.name,
+                                  t.empty() ? pb::object(pb::none()) : pb::object(pb::str(t)), state_bytes(s));
+          },
+          [](const pb::tuple& t) {
+            if (t.size() != 4) throw std::invalid_argument("EnvState: not a pickled EnvState");
+            return state_from_bytes(t[0].cast<std::string>(), t[1].cast<std::string>(),
+                                    t[2].cast<std::optional<std::string>>(), t[3].cast<pb::bytes>());
+          }));
+  pb::class_<VecEnv>(m, "_VecEnv", pb::dynamic_attr(), "The C++ side of autumnc.VecEnv (construct autumnc.VecEnv instead)")
       .def(pb::init<const std::string&, const std::string&, size_t, unsigned, uint64_t, const std::string&,
                     const std::optional<std::string>&, uint32_t>(),
            pb::arg("text"), pb::arg("name"), pb::arg("num_envs"), pb::arg("num_threads"), pb::arg("seed"),
-           pb::arg("engine"), pb::arg("trigger"), pb::arg("max_episode_steps"))
-      .def("reset", &VecEnv::reset, pb::arg("seed") = pb::none(), pb::arg("options") = pb::none())
-      .def("step", &VecEnv::step, pb::arg("actions"))
-      .def("clone", &VecEnv::clone, pb::arg("ids"))
-      .def("restore", &VecEnv::restore, pb::arg("ids"), pb::arg("states"))
-      .def("state_hash", &VecEnv::state_hash)
-      .def_property_readonly("num_envs", &VecEnv::size)
-      .def_property_readonly("grid_size", &VecEnv::grid)
-      .def_property_readonly("num_threads", &VecEnv::threads);
+           pb::arg("engine"), pb::arg("trigger"), pb::arg("max_episode_steps"),
+           "text: the program's text; name: its name in error messages; num_envs: N; num_threads: worker "
+           "threads (0: one per core); seed: environment i's first episode has seed + i; engine: \"auto\", "
+           "\"compiled\" or \"interp\"; trigger: a trigger-condition expression or None; max_episode_steps: steps "
+           "before truncation (0: never)")
+      .def("reset", &VecEnv::reset, pb::arg("seed") = pb::none(), pb::arg("options") = pb::none(),
+           "Start every environment afresh (episode counters back to 0); returns (obs [N, H, W] uint8, info).\n\n"
+           "seed: None keeps the seed; environment i then starts with seed + i. options is ignored. info has "
+           "\"errors\" {i: message} for environments whose start-up met a runtime error.")
+      .def("step", &VecEnv::step, pb::arg("actions"),
+           "Step all N environments in C++ threads (the GIL released); returns (obs [N, H, W] uint8, rewards [N] "
+           "float32, terminated [N] bool, truncated [N] bool, info).\n\n"
+           "actions: N integer action ids (a list or an array of any integer dtype; floats and bools raise "
+           "ValueError): 0 noop, 1 left, 2 right, 3 up, 4 down, 5 + y*W + x a click on (x, y). The returned arrays "
+           "are the same objects on every call, overwritten in place: copy what you keep. An environment whose "
+           "episode ended is reset by its next step, which ignores its action; episode k of environment i has "
+           "seed seed + i + k*N. info[\"errors\"] maps an environment index to its runtime error.")
+      .def("clone", &VecEnv::clone, pb::arg("ids"),
+           "Copies of the environments at the given indices, as a list of EnvState")
+      .def("restore", &VecEnv::restore, pb::arg("ids"), pb::arg("states"),
+           "Put states (from clone() of a VecEnv of the same program, or EnvState.from_bytes / pickle) into the "
+           "environments at the given indices; their observations in the obs buffer are rewritten. A state of "
+           "another program raises ValueError.")
+      .def("state_hash", &VecEnv::state_hash, "The 64-bit state digest of each environment, as a uint64 [N] array")
+      .def_property_readonly("num_envs", &VecEnv::size, "N, the number of environments")
+      .def_property_readonly("grid_size", &VecEnv::grid, "W = H, the side of the grid in cells")
+      .def_property_readonly("num_threads", &VecEnv::threads, "The worker threads stepping the environments");
 }
 
 }  // namespace autumn::py_bind

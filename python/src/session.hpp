@@ -36,6 +36,11 @@ struct SessionError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The digest of a program, its standard library and its trigger that saved
+// states carry (Session::save, and EnvState's bytes in bind_envs.cpp): a state
+// loads only into the program it was saved from.
+uint64_t session_program_hash(const Program& p);
+
 // The compiled track's part of a saved state (session_state.cpp).
 struct CompiledSnapshot {
   uint64_t pos = 0;

@@ -19,12 +19,6 @@ namespace {
 
 constexpr uint32_t kVersion = 1;
 
-uint64_t session_program_hash(const Program& p) {
-  std::optional<std::string> trigger;
-  if (!p.trigger_text.empty()) trigger = p.trigger_text;
-  return module_source_hash(p.file.text, trigger) ^ (std::hash<std::string>{}(p.stdlib.text) * 0x9e3779b97f4a7c15ULL);
-}
-
 struct Writer {
   std::vector<uint8_t> out;
   template <class T>
@@ -76,6 +70,12 @@ struct Reader {
 };
 
 }  // namespace
+
+uint64_t session_program_hash(const Program& p) {
+  std::optional<std::string> trigger;
+  if (!p.trigger_text.empty()) trigger = p.trigger_text;
+  return module_source_hash(p.file.text, trigger) ^ (std::hash<std::string>{}(p.stdlib.text) * 0x9e3779b97f4a7c15ULL);
+}
 
 std::vector<uint8_t> Session::save() const {
   check_alive();

@@ -137,6 +137,81 @@ def test_vecenv_clone_restore_round_trip():
         vec.clone([4])
 
 
+def _stepped_fireworks(n=4, steps=7):
+    vec = autumnc.VecEnv(FIREWORKS, n, seed=2, engine="compiled")
+    vec.reset()
+    for t in range(steps):
+        vec.step(actions_for(vec.grid_size, n, t))
+    return vec
+
+
+def test_envstate_pickle_and_bytes_continue_exactly():
+    """A pickled state, and one rebuilt from to_bytes(), continue exactly as the
+    original: restored into slots beside it and stepped with the same actions,
+    the observations and state hashes agree at every step."""
+    import pickle
+
+    vec = _stepped_fireworks()
+    g = vec.grid_size
+    original = vec.clone([0])[0]
+    pickled = pickle.loads(pickle.dumps(original))
+    from_bytes = autumnc.EnvState.from_bytes(FIREWORKS, original.to_bytes())
+    assert original.to_bytes() == pickled.to_bytes() == from_bytes.to_bytes()
+    assert (pickled.episode, pickled.steps, pickled.done) == (original.episode, original.steps, original.done) \
+        == (0, 7, False)
+    assert pickled.state_hash() == from_bytes.state_hash() == original.state_hash()
+    twin = autumnc.VecEnv(FIREWORKS, 3, seed=2, engine="compiled")  # another VecEnv of the program
+    twin.restore([0, 1, 2], [original, pickled, from_bytes])
+    for t in range(12):
+        a = int(actions_for(g, 1, 500 + t)[0])
+        obs, _, term, _, _ = twin.step([a, a, a])
+        assert np.array_equal(obs[0], obs[1]) and np.array_equal(obs[0], obs[2]), f"step {t}"
+        h = twin.state_hash()
+        assert h[0] == h[1] == h[2], f"step {t}"
+    import copy
+    assert copy.deepcopy(original).state_hash() == original.state_hash()
+
+
+def test_envstate_bytes_refuse_other_programs_and_corruption():
+    vec = _stepped_fireworks(n=1, steps=3)
+    data = vec.clone([0])[0].to_bytes()
+    with pytest.raises(ValueError, match="another program"):
+        autumnc.EnvState.from_bytes(SOKOBAN, data)
+    with pytest.raises(ValueError, match="another program"):
+        autumnc.EnvState.from_bytes(FIREWORKS, data, trigger="== 1 1")
+    with pytest.raises(ValueError, match="not the bytes of an autumnc EnvState"):
+        autumnc.EnvState.from_bytes(FIREWORKS, b"hello")
+    for cut in (0, 3, 10, 40, len(data) - 1):
+        with pytest.raises(ValueError):
+            autumnc.EnvState.from_bytes(FIREWORKS, data[:cut])
+    with pytest.raises(ValueError, match="bytes after the end"):
+        autumnc.EnvState.from_bytes(FIREWORKS, data + b"x")
+    # Flipped bytes anywhere in the snapshot: a clear ValueError or a state that
+    # loads (a change the format cannot tell from a real state), never a crash.
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        bad = bytearray(data)
+        bad[int(rng.integers(0, len(bad)))] ^= int(rng.integers(1, 256))
+        try:
+            autumnc.EnvState.from_bytes(FIREWORKS, bytes(bad))
+        except ValueError:
+            pass
+    # restore() refuses another program's state instead of swapping the program.
+    other = autumnc.VecEnv(SOKOBAN, 1, engine="compiled")
+    with pytest.raises(ValueError, match="another program"):
+        other.restore([0], vec.clone([0]))
+
+
+def test_envstate_without_a_snapshot_says_why():
+    vec = autumnc.VecEnv(FIREWORKS, 1, engine="interp")
+    state = vec.clone([0])[0]
+    with pytest.raises(ValueError, match="cannot save its state as bytes"):
+        state.to_bytes()
+    import pickle
+    with pytest.raises(ValueError, match="cannot save its state as bytes"):
+        pickle.dumps(state)
+
+
 def test_vecenv_bad_input():
     vec = autumnc.VecEnv(SOKOBAN, 3)
     with pytest.raises(ValueError):
