@@ -119,48 +119,103 @@ class Interpreter {
 }  // namespace
 
 void bind_interpreter(pb::module_& m) {
-  pb::class_<Interpreter> c(m, "Interpreter", "Autumn Interpreter (autumnc; drop-in for Autumn.cpp's interpreter_module)");
+  // The reference's names, argument names and defaults (tests/python/test_interpreter.py
+  // checks every signature); only the docstrings are autumnc's.
+  pb::class_<Interpreter> c(
+      m, "Interpreter",
+      "Autumn Interpreter: a drop-in for Autumn.cpp's pybind11 interpreter_module.Interpreter, on autumnc's "
+      "engines.\n\n"
+      "Same methods, argument names, defaults, return strings and exceptions as the reference. Typical use: "
+      "run_script(program_text, stdlib_text, trigger_text, seed); then per step at most one input (left(), "
+      "right(), up(), down(), click(x, y)), step(), and a render (render_all() JSON, or render_grid() as an "
+      "array). Errors: a program that does not parse raises ParseError, a runtime error AutumnRuntimeError "
+      "(both RuntimeError); after a runtime error the episode has ended.\n\n"
+      "engine: \"auto\" (the interpreter serves while the program's module compiles in the background, the "
+      "compiled engine once it is ready), \"compiled\" (waits for the module) or \"interp\". Results are the "
+      "same on every engine; the engine property says which serves now. Additions to the reference: clone() "
+      "and copy.deepcopy, get_state()/set_state(bytes), state_hash(), render_grid(), palette().");
   c.def(pb::init<std::string>(), pb::arg("engine") = "auto");
-  c.def("step", &Interpreter::step, "Execute a step");
-  c.def("click", [](Interpreter& i, int x, int y) { i.press(Action::click(x, y)); }, "Simulate a click at (x, y)",
+  c.def("step", &Interpreter::step,
+        "Advance the program one time step, with the input given since the last step (if any); returns "
+        "\"Step executed.\". A runtime error raises AutumnRuntimeError and ends the episode.");
+  c.def("click", [](Interpreter& i, int x, int y) { i.press(Action::click(x, y)); },
+        "Give a click on cell (x, y) (x the column, y the row, from the top left) as the next step's input",
         pb::arg("x"), pb::arg("y"));
-  c.def("left", [](Interpreter& i) { i.press(Action{Action::Kind::Left}); }, "Push left");
-  c.def("right", [](Interpreter& i) { i.press(Action{Action::Kind::Right}); }, "Push right");
-  c.def("up", [](Interpreter& i) { i.press(Action{Action::Kind::Up}); }, "Push up");
-  c.def("down", [](Interpreter& i) { i.press(Action{Action::Kind::Down}); }, "Push down");
-  c.def("get_trigger_state", [](Interpreter& i) { return i.s().trigger_state(); }, "Get trigger state");
+  c.def("left", [](Interpreter& i) { i.press(Action{Action::Kind::Left}); },
+        "Give the left arrow key as the next step's input");
+  c.def("right", [](Interpreter& i) { i.press(Action{Action::Kind::Right}); },
+        "Give the right arrow key as the next step's input");
+  c.def("up", [](Interpreter& i) { i.press(Action{Action::Kind::Up}); },
+        "Give the up arrow key as the next step's input");
+  c.def("down", [](Interpreter& i) { i.press(Action{Action::Kind::Down}); },
+        "Give the down arrow key as the next step's input");
+  c.def("get_trigger_state", [](Interpreter& i) { return i.s().trigger_state(); },
+        "Whether the run_script trigger condition held after the last step (False before the first, and "
+        "without a trigger)");
   c.def(
-      "render_all", [](Interpreter& i) { return py::interruptible([&] { return i.s().render_all(); }); }, "Render all");
+      "render_all", [](Interpreter& i) { return py::interruptible([&] { return i.s().render_all(); }); },
+      "Render the grid as the reference's JSON text: the cells to draw per global, with positions and colours "
+      "(out-of-grid cells included). The host's render: call it once after each step, as MARAProtocol does.");
   c.def("get_environment_string", [](Interpreter& i) { return i.s().environment_string(); },
-        "Get environment string");
-  c.def("get_on_clause_count", [](Interpreter& i) { return i.s().on_clause_count(); }, "Get on clause count");
+        "The program's globals and their values as JSON text, in the reference's layout and order");
+  c.def("get_on_clause_count", [](Interpreter& i) { return i.s().on_clause_count(); },
+        "How many on-clauses the program has");
   c.def("get_covered_on_clause_count", [](Interpreter& i) { return i.s().covered_on_clause_count(); },
-        "Get covered on clause count");
+        "How many of the program's on-clauses have fired so far in this episode");
   c.def("evaluate_to_string", [](Interpreter& i, const std::string& e) { return i.s().evaluate(e); },
-        "Evaluate to string");
-  c.def("restore_environment", &Interpreter::restore, "Restore environment");
-  c.def("tmp_execute_stmt", &Interpreter::tmp_execute, "Execute a statement");
-  c.def("set_verbose", [](Interpreter& i, bool v) { i.verbose_ = v; }, "Set verbose");
-  c.def("get_verbose", [](Interpreter& i) { return i.verbose_; }, "Get verbose");
-  c.def("set_random_seed", &Interpreter::set_seed, "Set random seed");
-  c.def("get_random_seed", &Interpreter::get_seed, "Get random seed");
-  c.def("get_background", [](Interpreter& i) { return i.s().background(); }, "Get background");
-  c.def("get_frame_rate", [](Interpreter& i) { return i.s().frame_rate(); }, "Get frame rate");
-  c.def("run_script", &Interpreter::run_script, "Run a script", pb::arg("script"), pb::arg("stdlib"),
-        pb::arg("triggeringCondition"), pb::arg("randomSeed") = 42);
+        "Evaluate an Autumn expression (text) in the current state and return its value printed; the state "
+        "is left as it was. Only names the program or the standard library mentions can be used.");
+  c.def("restore_environment", &Interpreter::restore,
+        "restore_environment(script, stdlib, triggeringCondition): go back to the state before the last "
+        "tmp_execute_stmt, for the same program only, and reseed the random generator with 0 (as the "
+        "reference's restart does)");
+  c.def("tmp_execute_stmt", &Interpreter::tmp_execute,
+        "Execute an Autumn statement (text, e.g. an assignment) in the current state, remembering the state "
+        "before it for restore_environment(); returns the globals afterwards (get_environment_string()). A "
+        "statement that fails raises RuntimeError.");
+  c.def("set_verbose", [](Interpreter& i, bool v) { i.verbose_ = v; },
+        "Store the verbose flag (autumnc prints nothing more either way)");
+  c.def("get_verbose", [](Interpreter& i) { return i.verbose_; }, "The verbose flag set_verbose stored");
+  c.def("set_random_seed", &Interpreter::set_seed,
+        "Reseed the program's random generator: later random draws follow the new seed");
+  c.def("get_random_seed", &Interpreter::get_seed,
+        "The seed last given to run_script or set_random_seed (RuntimeError before any)");
+  c.def("get_background", [](Interpreter& i) { return i.s().background(); },
+        "The program's background colour name (its `background` global; \"black\" when it sets none)");
+  c.def("get_frame_rate", [](Interpreter& i) { return i.s().frame_rate(); },
+        "The program's FRAME_RATE, the steps per second it is meant to be shown at (16 when it sets none)");
+  c.def("run_script", &Interpreter::run_script,
+        "Load a program and start its episode; returns \"Script executed successfully.\".\n\n"
+        "script: the program's text; stdlib: the standard library's text (\"\" reads "
+        "./autumnstdlib/stdlib.sexp as the reference does, or the bundled library, autumnc.stdlib(), when that "
+        "file is missing; the compiled engine serves only programs on the bundled library); "
+        "triggeringCondition: an Autumn expression that get_trigger_state() reports after each step (\"\" for "
+        "none); randomSeed: the random generator's seed. A standard library or trigger that does not parse is "
+        "returned as \"Runtime Error: ...\"; a program that does not parse raises ParseError; a runtime error "
+        "at start-up raises AutumnRuntimeError. A second call starts afresh.",
+        pb::arg("script"), pb::arg("stdlib"), pb::arg("triggeringCondition"), pb::arg("randomSeed") = 42);
   // --- additions
-  c.def("clone", [](const Interpreter& i) { return Interpreter(i); }, "An independent copy with the same future");
-  c.def("__copy__", [](const Interpreter& i) { return Interpreter(i); });
-  c.def("__deepcopy__", [](const Interpreter& i, pb::dict) { return Interpreter(i); }, pb::arg("memo"));
-  c.def("get_state", &Interpreter::get_state, "The episode as bytes (set_state restores it)");
-  c.def("set_state", &Interpreter::set_state, pb::arg("state"), "Continue from a get_state() of the same program");
+  c.def("clone", [](const Interpreter& i) { return Interpreter(i); },
+        "An independent copy at the same point of the same episode, with the same future");
+  c.def("__copy__", [](const Interpreter& i) { return Interpreter(i); }, "clone()");
+  c.def("__deepcopy__", [](const Interpreter& i, pb::dict) { return Interpreter(i); }, pb::arg("memo"), "clone()");
+  c.def("get_state", &Interpreter::get_state,
+        "The episode as bytes (the program's digest, seed and call log, plus the compiled snapshot when there "
+        "is one); set_state() of an Interpreter running the same program continues from it");
+  c.def("set_state", &Interpreter::set_state, pb::arg("state"),
+        "Continue from get_state() bytes of the same program (standard library and trigger included). Bytes "
+        "that are not such a state raise ValueError and leave the interpreter as it was.");
   c.def("state_hash", [](Interpreter& i) { return i.s().state_hash(); },
-        "Digest of the state (equal on one engine means equal futures)");
+        "A 64-bit digest of the state: equal digests on one engine mean equal futures (the engines hash "
+        "differently)");
   c.def("render_grid", &Interpreter::render_grid,
-        "A host render like render_all(), as a uint8 [H, W] array of colour ids (see palette())");
-  c.def("palette", [](const Interpreter&) { return py::colour_names(); }, "Colour names by id");
+        "A host render like render_all(), as a uint8 [H, W] array of colour ids (names: palette()); on the "
+        "compiled engine, much faster than the JSON");
+  c.def("palette", [](const Interpreter&) { return py::colour_names(); },
+        "Colour names by id, the ids of render_grid() (autumnc.colour_names())");
   c.def_property_readonly("engine", [](Interpreter& i) { return i.session_ ? i.session_->engine() : i.engine_; },
-                          "The engine serving steps now: compiled or interp");
+                          "The engine serving steps now: \"compiled\" or \"interp\" (before run_script, the "
+                          "engine asked for)");
 }
 
 }  // namespace autumn::py_bind
