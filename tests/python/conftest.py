@@ -15,6 +15,10 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 SHARED = os.environ.get("AUTUMN_SHARED_DIR") or os.path.join(os.path.dirname(REPO), "shared")
 CONFORMANCE = os.path.join(SHARED, "conformance")
 PROGRAMS = os.path.join(REPO, "programs")
+# The build tree whose CLI (autumn) the tests run beside the package: ctest sets
+# AUTUMN_BUILD_DIR (the package itself is pip-installed into BUILD/venv, so its
+# location says nothing about the tree); by hand, build/ of this checkout.
+BUILD = os.environ.get("AUTUMN_BUILD_DIR") or os.path.join(REPO, "build")
 
 
 def trace_files():

@@ -7,10 +7,10 @@ import sys
 import pytest
 
 import autumnc
-from conftest import CONFORMANCE, PROGRAMS, REPO, needs_corpus
+from conftest import BUILD, CONFORMANCE, PROGRAMS, REPO, needs_corpus
 
 SOKOBAN = os.path.join(PROGRAMS, "sokoban.au")
-CLI = os.path.join(REPO, "build", "autumn")
+CLI = os.path.join(BUILD, "autumn")
 
 
 def test_program_compile_and_run():
@@ -105,9 +105,8 @@ def test_solve_protocol_paper_is_the_cli_protocol():
     """solve(protocol="paper") answers as `autumn solve --protocol paper`: the
     same rollouts, choice and environment steps; arguments given explicitly
     still apply; an unknown protocol is a ValueError."""
-    build = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(autumnc.__file__))))
     task = os.path.join(REPO, "tasks", "generated", "prompts", "whack_a_mole_mfp.json")
-    cli = subprocess.run([os.path.join(build, "autumn"), "solve", task, "--json", "--protocol", "paper",
+    cli = subprocess.run([CLI, "solve", task, "--json", "--protocol", "paper",
                           "--rollouts", "300", "--threads", "1"], capture_output=True, text=True)
     assert cli.returncode == 0, cli.stderr
     want = json.loads(cli.stdout)["result"]

@@ -27,9 +27,8 @@ import urllib.request
 import pytest
 
 import autumnc
-from conftest import PROGRAMS, REPO
+from conftest import BUILD, PROGRAMS, REPO
 
-BUILD = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(autumnc.__file__))))
 AUTUMN = os.environ.get("AUTUMN_CLI") or os.path.join(BUILD, "autumn")
 PROGRAM = os.path.join(PROGRAMS, "flood_defense.au")  # 16x16, random, clicks and arrows both matter
 TASK = os.path.join(REPO, "tasks", "generated", "prompts", "sokoban_planning.json")

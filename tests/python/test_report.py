@@ -17,7 +17,7 @@ import autumnc
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCRIPT = os.path.join(REPO, "scripts", "compare-agents.py")
-BUILD = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(autumnc.__file__))))
+BUILD = os.environ.get("AUTUMN_BUILD_DIR") or os.path.join(REPO, "build")  # as conftest.BUILD
 AUTUMN = os.path.join(BUILD, "autumn")
 
 
