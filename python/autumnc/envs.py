@@ -69,12 +69,14 @@ class Env(_core._Env):
     metadata: dict[str, list[str]] = {"render_modes": []}
 
     def __init__(self, program, seed=0, engine="auto", trigger=None, max_episode_steps=None):
+        """Loads the program (a path, an autumnc.Program or its text) and starts the first
+        episode with ``seed``; the class docstring explains every argument."""
         text, name = _program_text(program)
         super().__init__(text, name, seed, engine, trigger, max_episode_steps or 0)
         self.action_space, self.observation_space = _spaces(self.grid_size)
 
     def close(self):
-        pass
+        """Gymnasium's close(): there is nothing to release (the memory goes with the object)."""
 
     def __repr__(self):
         return f"autumnc.Env(grid={self.grid_size}, engine={self.engine!r})"
@@ -105,12 +107,14 @@ class VecEnv(_core._VecEnv):
 
     def __init__(self, program, num_envs, num_threads=0, seed=0, engine="auto", trigger=None,
                  max_episode_steps=None):
+        """Loads the program (as for Env) and starts ``num_envs`` episodes, environment i
+        with seed ``seed + i``; the class docstring explains every argument."""
         text, name = _program_text(program)
         super().__init__(text, name, num_envs, num_threads, seed, engine, trigger, max_episode_steps or 0)
         self.single_action_space, self.single_observation_space = _spaces(self.grid_size)
 
     def close(self):
-        pass
+        """Gymnasium's close(): there is nothing to release (the memory goes with the object)."""
 
     def __repr__(self):
         return f"autumnc.VecEnv(num_envs={self.num_envs}, grid={self.grid_size}, threads={self.num_threads})"
