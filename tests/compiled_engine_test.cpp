@@ -56,12 +56,12 @@ TEST_P(Differential, CompiledAgreesWithInterpreter) {
   // 107 programs x 8 seeds x 200 steps: about 170k steps compared in CI. An
   // embedded module (tests/lowering's "expect: embedded") runs the interpreter
   // itself, so the comparison checks only the embedding (reset, inputs, frames,
-  // errors), which two short episodes cover (25 steps: construct_own_class
+  // errors), which two short episodes cover (10 steps: construct_own_class
   // recurses to the call-depth limit every step, a third of a second each, and
-  // took 164 s at the full count).
+  // took 164 s at the full count, 19 s at 25 steps).
   const bool specialised = lower_program(*program, "p").ok;
   o.seeds = specialised ? 8 : 2;
-  o.steps = specialised ? 200 : 25;
+  o.steps = specialised ? 200 : 10;
   DiffResult r = diff_engines(program, o);
   EXPECT_FALSE(r.setup_failed) << r.divergence;
   EXPECT_EQ(r.divergence, "") << GetParam();
@@ -92,7 +92,7 @@ TEST_P(CopyAndSnapshot, KeepTheFuture) {
     RandomPolicy policy(seed + 17);
     // An embedded module runs the interpreter (a third of a second a step in
     // construct_own_class, at the call-depth limit): a shorter episode.
-    const size_t split = specialised ? 20 + seed * 10 : 8, total = split + (specialised ? 60 : 15);
+    const size_t split = specialised ? 20 + seed * 10 : 4, total = split + (specialised ? 60 : 6);
     std::vector<Action> actions;
     for (size_t i = 0; i < total; ++i) actions.push_back(policy.next(env->frame()));
     bool ok = true;

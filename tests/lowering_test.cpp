@@ -90,7 +90,7 @@ TEST_P(LoweringFile, SpecialisesAsExpectedAndAgreesWithTheInterpreter) {
   // embedding (construct_own_class recurses to the call-depth limit every step).
   DiffOptions o;
   o.seeds = l.ok ? 6 : 2;
-  o.steps = l.ok ? 60 : 15;
+  o.steps = l.ok ? 60 : 8;
   DiffResult r = diff_engines(program, o);
   EXPECT_EQ(r.divergence, "");
 }
