@@ -91,6 +91,15 @@ class _Progress:
         sys.stderr.flush()
 
 
+def _guarded(fn, *args):
+    """A unit's result as ("ok", value), or its exception as ("error", reason):
+    the reason travels back as a row, not as a worker's "Compute Failed" log."""
+    try:
+        return ("ok", fn(*args))
+    except Exception as e:  # noqa: BLE001 -- a row
+        return ("error", f"{type(e).__name__}: {e}")
+
+
 def _gather(client, units, what, progress):
     """Runs ``units`` [(name, fn, args)] and returns their results in order; a
     unit whose future fails (its worker died, its result could not travel)
@@ -99,23 +108,20 @@ def _gather(client, units, what, progress):
     results = [None] * len(units)
     if client is None:
         for i, (name, fn, args) in enumerate(units):
-            try:
-                results[i] = ("ok", fn(*args))
-            except Exception as e:  # noqa: BLE001 -- a row, as on a worker
-                results[i] = ("error", f"{type(e).__name__}: {e}")
+            results[i] = _guarded(fn, *args)
             bar.step(name)
         return results
     from distributed import as_completed
 
     futures = {}
     for i, (name, fn, args) in enumerate(units):
-        f = client.submit(fn, *args, pure=False, key=f"autumnc-{what}-{i}-{os.urandom(4).hex()}")
+        f = client.submit(_guarded, fn, *args, pure=False, key=f"autumnc-{what}-{i}-{os.urandom(4).hex()}")
         futures[f] = (i, name)
     for f in as_completed(list(futures)):
         i, name = futures[f]
         try:
-            results[i] = ("ok", f.result())
-        except Exception as e:  # noqa: BLE001 -- KilledWorker, a unit's own exception, ...
+            results[i] = f.result()
+        except Exception as e:  # noqa: BLE001 -- KilledWorker, a result that could not travel, ...
             results[i] = ("error", f"{type(e).__name__}: {e}")
         bar.step(name)
     return results
@@ -344,8 +350,11 @@ def make_tasks(client, kind, programs, seeds=(0,), out_dir=None, progress=True, 
     if client is not None and ship and engine == "compiled":
         listed = []
         for p in programs:
-            with open(p, encoding="utf-8") as f:
-                listed.append((p, f.read(), None))
+            try:
+                with open(p, encoding="utf-8") as f:
+                    listed.append((p, f.read(), None))
+            except OSError:  # its rows say why
+                pass
         ship_modules(client, listed)
     units, meta = [], []
     for p in programs:

@@ -17,12 +17,12 @@ import pytest
 
 distributed = pytest.importorskip("distributed")
 
+import autumnc  # noqa: E402
 from autumnc import _core  # noqa: E402
 from autumnc import distributed as ad  # noqa: E402
 from conftest import PROGRAMS, REPO  # noqa: E402
 
 CLI = os.path.join(REPO, "build", "autumn")
-TIMING = {"seconds", "compile_seconds", "throughput"}
 
 
 def _set_no_compile(value):
@@ -69,7 +69,8 @@ def task_folder(tmp_path_factory):
 
 def _untimed(value):
     if isinstance(value, dict):
-        return {k: _untimed(v) for k, v in value.items() if k not in TIMING and "per_second" not in k}
+        return {k: _untimed(v) for k, v in value.items()
+                if not k.endswith("seconds") and k != "throughput" and "per_second" not in k}
     if isinstance(value, list):
         return [_untimed(v) for v in value]
     return value
@@ -145,9 +146,10 @@ def test_corrupt_transfer_refused_then_recompiled(client):
     assert all(e["had"] == 1 and e["bytes"] == 0 for e in again.values())
 
 
-def test_rollouts_batches_and_solve_rows(client, task_folder):
+def test_rollouts_solve_and_make_tasks(client, task_folder):
     """Batched rollouts equal the in-process ones whatever the batch size;
-    solve over a list returns a result per task and an error row for a bad one."""
+    solve over a list returns a result per task and an error row for a bad one;
+    make_tasks makes what make_task makes."""
     sokoban = os.path.join(PROGRAMS, "sokoban.au")
     a = ad.rollouts(client, sokoban, episodes=6, steps=4, batch=2, seed=3)
     b = ad.rollouts(None, sokoban, episodes=6, steps=4, batch=2, seed=3)
@@ -157,3 +159,7 @@ def test_rollouts_batches_and_solve_rows(client, task_folder):
     rows = ad.solve(client, tasks, progress=False, rollouts=100)
     assert rows[0]["type"] == "masked_frame_prediction" and "result" in rows[0]
     assert rows[1]["task"].endswith("broken_mfp.json") and "no_such_program" in rows[1]["error"]
+    made = ad.make_tasks(client, "mfp", [sokoban, "/nonexistent.au"], seeds=[1], steps=6, extend_colours=True,
+                         progress=False)
+    assert made[0]["task"] == autumnc.make_task("mfp", sokoban, seed=1, steps=6, extend_colours=True)
+    assert "cannot open" in made[1]["error"] and made[1]["program"] == "/nonexistent.au"
