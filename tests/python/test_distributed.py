@@ -117,12 +117,30 @@ def test_a_worker_without_the_compiler_needs_the_shipped_module(client, task_fol
     assert "AUTUMN_NO_COMPILE" in result.rows[0]["error"]
 
 
-def test_corrupt_transfer_refused_then_recompiled(client):
+# A program no other test compiles, as small as compiles fastest (two compiles: here and on a worker).
+DOT = """; a dot that walks left and right, and a random spark
+(program
+  (= GRID_SIZE 6)
+  (object Dot (Cell 0 0 "tomato"))
+  (object Spark (Cell 0 0 "gold"))
+  (: dot Dot)
+  (= dot (initnext (Dot (Position 2 2)) (prev dot)))
+  (: spark Spark)
+  (= spark (initnext (Spark (Position 0 0)) (Spark (Position (uniformChoice (range 0 6)) 5))))
+  (on left (= dot (moveLeft (prev dot))))
+  (on right (= dot (moveRight (prev dot))))
+)
+"""
+
+
+def test_corrupt_transfer_refused_then_recompiled(client, tmp_path):
     """A module whose bytes do not match its manifest's digest is refused by
     every worker; a worker allowed to compile then builds it itself, and its
     rollouts equal this process's."""
-    program = os.path.join(REPO, "tasks", "cd", "whack_a_mole", "programs", "whack_a_mole_wrong.au")
-    text = open(program).read()
+    program = str(tmp_path / "dot.au")
+    text = DOT
+    with open(program, "w") as f:
+        f.write(text)
     packages = ad.package_modules([(program, text, None)])
     (pkg,) = packages.values()
     assert pkg and len(pkg["so"]) > 1000 and pkg["manifest"].count("\n") >= 2
