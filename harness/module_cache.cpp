@@ -161,12 +161,18 @@ std::string check_origin(const Entry& e, const std::optional<std::string>& trigg
   return "";
 }
 
+// A module's bytes against its manifest ("" or why not): every cache entry read
+// and every module shipped from another node (install_module) passes this.
+std::string verify_module_bytes(const std::string& bytes, const store::Manifest& mf) {
+  if (sha256_hex(bytes) != mf.so) return "its bytes do not match the digest in its manifest (truncated or changed)";
+  if (bytes.size() < 4 || bytes.compare(0, 4, "\x7f" "ELF") != 0) return "not an ELF shared library";
+  return "";
+}
+
 // Reads the module's bytes and checks them against the manifest ("" or why not).
 std::string read_verified(const Entry& e, const store::Manifest& mf, std::string* bytes) {
   if (std::string w = store::read_private_file(e.so, size_t(1) << 30, bytes); !w.empty()) return w;
-  if (sha256_hex(*bytes) != mf.so) return "its bytes do not match the digest in its manifest (truncated or changed)";
-  if (bytes->size() < 4 || bytes->compare(0, 4, "\x7f" "ELF") != 0) return "not an ELF shared library";
-  return "";
+  return verify_module_bytes(*bytes, mf);
 }
 
 // The module of a verified entry, checked once more through its own table.
@@ -345,6 +351,11 @@ ModuleFuture request_module(const std::shared_ptr<const Program>& p, bool* start
   if (dir.empty()) return s.by_text[exact] = no_cache(why);
   const Entry e{dir / ("m" + key + ".so"), key};
   if (ModulePtr m = cached_module(e, *p)) return s.by_text[exact] = s.by_key[key] = ready(m);
+  // Not remembered: a module installed later (install_module) is then found.
+  if (compiling_forbidden())
+    return ready(refused("no module for " + p->file.name +
+                         " on this node, which does not compile (AUTUMN_NO_COMPILE is set); ship it from a node "
+                         "that does (autumnc.distributed) or unset the variable"));
   *started = true;
   return s.by_text[exact] = s.by_key[key] = start_build(p, e);
 }
@@ -370,7 +381,100 @@ std::unique_ptr<Environment> from_module(const Module& m, std::shared_ptr<const 
   return nullptr;
 }
 
+bool usable(const ModuleFuture& f) {
+  return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready && f.get()->table;
+}
+
 }  // namespace
+
+bool compiling_forbidden() {
+  const char* v = std::getenv("AUTUMN_NO_COMPILE");
+  return v && *v && std::string(v) != "0";
+}
+
+bool module_at_hand(const std::shared_ptr<const Program>& p) {
+  const auto trigger = trigger_of(*p);
+  const std::string exact = program_digest(p->file.text, trigger);
+  CacheState& s = state();
+  std::lock_guard<std::mutex> lock(s.mu);
+  if (auto it = s.by_text.find(exact); it != s.by_text.end() && usable(it->second)) return true;
+  if (builtin_table(*p)) return true;
+  const std::string key = cache_key(p->file.text, trigger);
+  if (auto it = s.by_key.find(key); it != s.by_key.end() && usable(it->second)) {
+    s.by_text[exact] = it->second;
+    return true;
+  }
+  std::string why;
+  const fs::path dir = store::cache_dir(&why);
+  if (dir.empty()) return false;
+  const Entry e{dir / ("m" + key + ".so"), key};
+  struct stat st;
+  if (lstat(e.so.c_str(), &st) != 0) return false;
+  ModulePtr m = load_entry(e, trigger);
+  if (!m->table) return false;
+  s.by_text[exact] = s.by_key[key] = ready(m);
+  return true;
+}
+
+bool package_module(const std::shared_ptr<const Program>& p, ModulePackage* out, std::string* why) {
+  double seconds = 0;
+  if (!prepare_compiled_module(p, &seconds, why)) return false;
+  bool started = false;
+  ModulePtr m = request_module(p, &started).get();
+  *out = ModulePackage{};
+  if (!m->handle) {  // built into the binary: every node has it
+    out->builtin = true;
+    return true;
+  }
+  const auto trigger = trigger_of(*p);
+  const fs::path dir = store::cache_dir(why);
+  if (dir.empty()) return false;
+  const std::string key = cache_key(p->file.text, trigger);
+  const Entry e{dir / ("m" + key + ".so"), key};
+  store::Manifest mf;
+  std::string w = check_origin(e, trigger, &mf, &out->built_from);
+  if (w.empty()) w = read_verified(e, mf, &out->so);
+  if (w.empty()) w = store::read_private_file(e.manifest(), 4096, &out->manifest);
+  if (!w.empty()) {
+    *why = "cannot package " + e.so.string() + ": " + w;
+    return false;
+  }
+  out->key = key;
+  return true;
+}
+
+std::string install_module(const std::shared_ptr<const Program>& p, const std::string& so, const std::string& manifest,
+                           const std::string& built_from) {
+  const auto trigger = trigger_of(*p);
+  const auto mf = store::parse_manifest(manifest);
+  if (!mf) return "its manifest is not a module manifest";
+  if (mf->abi != AUTUMN_MODULE_ABI_VERSION)
+    return "built for ABI version " + std::to_string(mf->abi) + ", this node has " +
+           std::to_string(AUTUMN_MODULE_ABI_VERSION);
+  if (std::string w = verify_module_bytes(so, *mf); !w.empty()) return w;
+  const std::string key = cache_key(p->file.text, trigger);
+  if (cache_key(built_from, trigger) != key) return "it was built for another program";
+  std::string why;
+  const fs::path dir = store::cache_dir(&why);
+  if (dir.empty()) return why;
+  const Entry e{dir / ("m" + key + ".so"), key};
+  const std::string tag = std::to_string(getpid()) + "-install";
+  for (const auto& [path, bytes] : {std::pair<fs::path, const std::string*>{e.text(mf->program), &built_from},
+                                    {e.so, &so},
+                                    {e.manifest(), &manifest}})
+    if (std::string w = store::publish_file(path, *bytes, tag); !w.empty()) return w;
+  ModulePtr m = load_entry(e, trigger);  // the checks of any cache entry, on the files just written
+  if (!m->table) {
+    std::error_code ec;
+    fs::remove(e.manifest(), ec);
+    fs::remove(e.so, ec);
+    return m->why;
+  }
+  CacheState& s = state();
+  std::lock_guard<std::mutex> lock(s.mu);
+  s.by_text[program_digest(p->file.text, trigger)] = s.by_key[key] = ready(m);
+  return "";
+}
 
 std::unique_ptr<Environment> make_compiled_environment(std::shared_ptr<const Program> program, std::string* why) {
   double seconds = 0;

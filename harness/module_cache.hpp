@@ -21,7 +21,17 @@
 // at the locations of the text being run (module_key's LocationMap).
 // Failures (a compiler error, a module with another ABI version) come back as a
 // message, never a crash; with no writable cache at all the engine falls back to
-// the interpreter, with a warning.
+// the interpreter, with a warning. With AUTUMN_NO_COMPILE set (to anything but
+// "" or "0") this process never starts the compiler: a module that is not at hand
+// (built in, cached, or installed from another machine by install_module) is an
+// error naming the variable. Such a node needs no compiler or headers.
+//
+// Shipping modules between machines (autumnc.distributed): package_module()
+// gives a built module's cache entry (its bytes, manifest and program text);
+// install_module() on the receiving node files it under that node's own key for
+// the program and loads it through exactly the checks of any cache entry (digest
+// of the bytes against the manifest, the program, the ABI, the module's table),
+// so a corrupt transfer is refused, never loaded.
 #pragma once
 #include <memory>
 #include <string>
@@ -46,6 +56,32 @@ std::unique_ptr<Environment> make_compiled_episode_environment(std::shared_ptr<c
 // Builds and loads the module if needed, before timed work (solve): *seconds is
 // the time spent waiting for a compile (0 when the module was at hand).
 bool prepare_compiled_module(const std::shared_ptr<const Program>& program, double* seconds, std::string* why);
+
+// A built module's cache entry, as shipped to another node.
+struct ModulePackage {
+  bool builtin = false;   // built into this binary (generated/): nothing to ship
+  std::string key;        // this process's cache key of the program
+  std::string so;         // the module's bytes
+  std::string manifest;   // its manifest: ABI, program digest, SHA-256 of `so`
+  std::string built_from; // the program text it was built from (the entry's .au)
+};
+// Builds the module when needed (as prepare_compiled_module); false with *why
+// when there is none (a compile error, no cache directory).
+bool package_module(const std::shared_ptr<const Program>& program, ModulePackage* out, std::string* why);
+
+// Whether this process has the program's module without compiling: built in,
+// loaded, or a cache entry that passes its checks (which is then loaded).
+bool module_at_hand(const std::shared_ptr<const Program>& program);
+
+// Files a shipped module (its bytes, manifest and built_from text) in this
+// process's cache under this process's key for `program`, then loads it through
+// the store's checks; "" when it is now the program's module, else why it was
+// refused (nothing of it is kept, and a later use compiles as usual).
+std::string install_module(const std::shared_ptr<const Program>& program, const std::string& so,
+                           const std::string& manifest, const std::string& built_from);
+
+// Whether AUTUMN_NO_COMPILE forbids starting the compiler in this process.
+bool compiling_forbidden();
 
 // Waits until no thread is emitting a module (the compiler processes they
 // started run on by themselves). A program's main calls it before returning:

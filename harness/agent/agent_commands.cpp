@@ -314,18 +314,7 @@ int run_eval_cmd(State& s) {
     const std::vector<fs::path> all = find_tasks(s.eval_dir);
     std::vector<EvalRow> rows = run_eval_files(s.eval_dir, select_shard(all, shard), o, pool, progress_bar());
     nlohmann::json report = eval_json(rows);
-    // What the comparison report (scripts/compare-agents.py) names the run by.
-    report["agent"] = {{"name", s.eval_protocol == "paper" ? "simulator (paper protocol)" : "simulator"},
-                       {"protocol", s.eval_protocol},
-                       {"engine", o.engine},
-                       {"rollouts", o.rollouts},
-                       {"seed_inversion", o.seed_inversion},
-                       {"policy", o.policy},
-                       {"search", o.search},
-                       {"depth", o.depth},
-                       {"nodes", o.nodes},
-                       {"seed", o.seed},
-                       {"time_limit", o.time_limit}};
+    report["agent"] = eval_agent_json(s.eval_protocol, o);
     report["task_set"] = {s.eval_dir};
     if (!s.eval_shard.empty()) report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"tasks", all.size()}};
     return finish_eval(s, report, rows);

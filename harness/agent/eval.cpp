@@ -221,4 +221,18 @@ nlohmann::json eval_json(const std::vector<EvalRow>& rows) {
             {"compile_seconds", t.compile_seconds}}}};
 }
 
+nlohmann::json eval_agent_json(const std::string& protocol, const SolveOptions& o) {
+  return {{"name", protocol == "paper" ? "simulator (paper protocol)" : "simulator"},
+          {"protocol", protocol},
+          {"engine", o.engine},
+          {"rollouts", o.rollouts},
+          {"seed_inversion", o.seed_inversion},
+          {"policy", o.policy},
+          {"search", o.search},
+          {"depth", o.depth},
+          {"nodes", o.nodes},
+          {"seed", o.seed},
+          {"time_limit", o.time_limit}};
+}
+
 }  // namespace autumn::agent

@@ -55,5 +55,8 @@ std::string eval_table(const std::vector<EvalRow>& rows);
 // plans no longer than K, mean plan length against mean K, and time.
 std::string eval_type_table(const std::vector<EvalRow>& rows);
 nlohmann::json eval_json(const std::vector<EvalRow>& rows);
+// The report's "agent": what the comparison report (scripts/compare-agents.py)
+// names the run by; `protocol` is "default" or "paper".
+nlohmann::json eval_agent_json(const std::string& protocol, const SolveOptions& o);
 
 }  // namespace autumn::agent

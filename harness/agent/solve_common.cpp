@@ -17,28 +17,33 @@ Action random_action(std::mt19937_64& rng, int grid, int arrows) {
   return Action::click(static_cast<int>(rng() % grid), static_cast<int>(rng() % grid));
 }
 
-double prepare_modules(const Task& task, const SolveOptions& o) {
-  if (o.engine != "compiled") return 0;
-  std::vector<std::pair<std::string, std::optional<std::string>>> programs = {{task.program, std::nullopt}};
+std::vector<std::shared_ptr<const Program>> task_module_programs(const Task& task, const SolveOptions& o) {
+  std::vector<std::pair<std::string, std::optional<std::string>>> names = {{task.program, std::nullopt}};
   if (task.type == TaskType::ChangeDetection)
-    programs.emplace_back(task.wrong_program,
-                          o.answers ? std::optional<std::string>(load_trigger_condition(*o.answers)) : std::nullopt);
-  double total = 0;
-  for (const auto& [name, trigger] : programs) {
-    double seconds = 0;
-    std::string why;  // a module that cannot be built fails the solver, which says why
+    names.emplace_back(task.wrong_program,
+                       o.answers ? std::optional<std::string>(load_trigger_condition(*o.answers)) : std::nullopt);
+  std::vector<std::shared_ptr<const Program>> out;
+  for (const auto& [name, trigger] : names) {
     const fs::path path = task_program_path(task, o, name);
     const auto program = load_program_checked(path, trigger);
-    prepare_compiled_module(program, &seconds, &why);
-    total += seconds;
+    out.push_back(program);
     // The planner's search model, when it may use one: its module too.
     if (task.type != TaskType::Planning || trigger) continue;
     std::string not_used;
-    if (auto text = click_reset_model_text(*program, analyse_inputs(*program), &not_used)) {
-      seconds = 0;
-      prepare_compiled_module(load_program_checked_text(*text, path.string() + " (click-reset model)"), &seconds, &why);
-      total += seconds;
-    }
+    if (auto text = click_reset_model_text(*program, analyse_inputs(*program), &not_used))
+      out.push_back(load_program_checked_text(*text, path.string() + " (click-reset model)"));
+  }
+  return out;
+}
+
+double prepare_modules(const Task& task, const SolveOptions& o) {
+  if (o.engine != "compiled") return 0;
+  double total = 0;
+  for (const auto& program : task_module_programs(task, o)) {
+    double seconds = 0;
+    std::string why;  // a module that cannot be built fails the solver, which says why
+    prepare_compiled_module(program, &seconds, &why);
+    total += seconds;
   }
   return total;
 }

@@ -41,6 +41,9 @@ fs::path task_program_path(const Task& task, const SolveOptions& opts, const std
 // compiling (0 for other engines or when every module is cached). A module that
 // cannot be built is left for the solver, which reports why.
 double prepare_modules(const Task& task, const SolveOptions& opts);
+// The programs whose modules prepare_modules builds (whatever the engine): what
+// autumnc.distributed compiles once and ships to its workers.
+std::vector<std::shared_ptr<const Program>> task_module_programs(const Task& task, const SolveOptions& opts);
 
 class Stopwatch {
  public:

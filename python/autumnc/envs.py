@@ -15,14 +15,16 @@ from .spaces import Box, Discrete
 
 
 def _program_text(program):
-    """(text, name) of a path, an ``autumnc.Program`` or program text."""
+    """(text, name) of a path, an ``autumnc.Program``, program text, or a (text, name) pair."""
+    if isinstance(program, tuple) and len(program) == 2 and all(isinstance(p, str) for p in program):
+        return program
     path = getattr(program, "path", program)
     if isinstance(path, (str, os.PathLike)) and os.path.isfile(path):
         with open(path, "r", encoding="utf-8") as f:
             return f.read(), os.fspath(path)
     if isinstance(program, str) and program.lstrip().startswith("("):
         return program, "<program>"
-    raise FileNotFoundError(f"no Autumn program at {program!r} (give a path or the program text)")
+    raise FileNotFoundError(f"no Autumn program at {program!r} (give a path, the program text, or a (text, name) pair)")
 
 
 def _spaces(grid):

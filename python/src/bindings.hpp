@@ -7,5 +7,6 @@ namespace autumn::py_bind {
 void bind_interpreter(pybind11::module_& m);
 void bind_envs(pybind11::module_& m);
 void bind_agent(pybind11::module_& m);
+void bind_distributed(pybind11::module_& m);
 
 }  // namespace autumn::py_bind

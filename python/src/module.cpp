@@ -35,6 +35,7 @@ PYBIND11_MODULE(_core, m) {
   autumn::py_bind::bind_interpreter(m);
   autumn::py_bind::bind_envs(m);
   autumn::py_bind::bind_agent(m);
+  autumn::py_bind::bind_distributed(m);
   m.def("colour_names", &autumn::py::colour_names, "Colour names by observation id");
   m.attr("__version__") = AUTUMNC_VERSION;
   m.def(
