@@ -24,7 +24,9 @@
 // the interpreter, with a warning. With AUTUMN_NO_COMPILE set (to anything but
 // "" or "0") this process never starts the compiler: a module that is not at hand
 // (built in, cached, or installed from another machine by install_module) is an
-// error naming the variable. Such a node needs no compiler or headers.
+// error naming the variable, except where the interpreter may serve while a
+// module compiles (an `autumn run` episode): there it serves throughout. Such a
+// node needs no compiler or headers.
 //
 // Shipping modules between machines (autumnc.distributed): package_module()
 // gives a built module's cache entry (its bytes, manifest and program text);
