@@ -333,31 +333,45 @@ ModuleFuture no_cache(const std::string& why) {
   return ready(m);
 }
 
+// What this process knows of a program's module without building it: the
+// future it already holds (by the program's exact text, then by cache key), a
+// built-in module, a store entry that passes every check, or no store at all
+// (a ready future saying why). `found` is empty when the module must be built,
+// into `entry`. Called with the cache's mutex held; what it finds is remembered.
+struct Lookup {
+  std::optional<ModuleFuture> found;
+  Entry entry;
+};
+Lookup look_up(CacheState& s, const std::shared_ptr<const Program>& p) {
+  const auto trigger = trigger_of(*p);
+  const std::string exact = program_digest(p->file.text, trigger);
+  if (auto it = s.by_text.find(exact); it != s.by_text.end()) return {it->second, {}};
+  if (const autumn_module_v1* t = builtin_table(*p))
+    return {s.by_text[exact] = ready(std::make_shared<Module>(Module{t, nullptr, p->file.text, "", false})), {}};
+  const std::string key = cache_key(p->file.text, trigger);
+  if (auto it = s.by_key.find(key); it != s.by_key.end()) return {s.by_text[exact] = it->second, {}};
+  std::string why;
+  const fs::path dir = store::cache_dir(&why);
+  if (dir.empty()) return {s.by_text[exact] = no_cache(why), {}};
+  const Entry e{dir / ("m" + key + ".so"), key};
+  if (ModulePtr m = cached_module(e, *p)) return {s.by_text[exact] = s.by_key[key] = ready(m), {}};
+  return {std::nullopt, e};  // not remembered: a module installed later (install_module) is then found
+}
+
 // The module of a program: at hand (ready future), or being built (*started
 // says whether this call started the build).
 ModuleFuture request_module(const std::shared_ptr<const Program>& p, bool* started) {
   *started = false;
-  const auto trigger = trigger_of(*p);
-  const std::string exact = program_digest(p->file.text, trigger);
   CacheState& s = state();
   std::lock_guard<std::mutex> lock(s.mu);
-  if (auto it = s.by_text.find(exact); it != s.by_text.end()) return it->second;
-  if (const autumn_module_v1* t = builtin_table(*p))
-    return s.by_text[exact] = ready(std::make_shared<Module>(Module{t, nullptr, p->file.text, "", false}));
-  const std::string key = cache_key(p->file.text, trigger);
-  if (auto it = s.by_key.find(key); it != s.by_key.end()) return s.by_text[exact] = it->second;
-  std::string why;
-  const fs::path dir = store::cache_dir(&why);
-  if (dir.empty()) return s.by_text[exact] = no_cache(why);
-  const Entry e{dir / ("m" + key + ".so"), key};
-  if (ModulePtr m = cached_module(e, *p)) return s.by_text[exact] = s.by_key[key] = ready(m);
-  // Not remembered: a module installed later (install_module) is then found.
+  Lookup l = look_up(s, p);
+  if (l.found) return *l.found;
   if (compiling_forbidden())
     return ready(refused("no module for " + p->file.name +
                          " on this node, which does not compile (AUTUMN_NO_COMPILE is set); ship it from a node "
                          "that does (autumnc.distributed) or unset the variable"));
   *started = true;
-  return s.by_text[exact] = s.by_key[key] = start_build(p, e);
+  return s.by_text[program_digest(p->file.text, trigger_of(*p))] = s.by_key[l.entry.key] = start_build(p, l.entry);
 }
 
 std::unique_ptr<Environment> instantiate(const Module& m, const Program& p) {
@@ -393,27 +407,10 @@ bool compiling_forbidden() {
 }
 
 bool module_at_hand(const std::shared_ptr<const Program>& p) {
-  const auto trigger = trigger_of(*p);
-  const std::string exact = program_digest(p->file.text, trigger);
   CacheState& s = state();
   std::lock_guard<std::mutex> lock(s.mu);
-  if (auto it = s.by_text.find(exact); it != s.by_text.end() && usable(it->second)) return true;
-  if (builtin_table(*p)) return true;
-  const std::string key = cache_key(p->file.text, trigger);
-  if (auto it = s.by_key.find(key); it != s.by_key.end() && usable(it->second)) {
-    s.by_text[exact] = it->second;
-    return true;
-  }
-  std::string why;
-  const fs::path dir = store::cache_dir(&why);
-  if (dir.empty()) return false;
-  const Entry e{dir / ("m" + key + ".so"), key};
-  struct stat st;
-  if (lstat(e.so.c_str(), &st) != 0) return false;
-  ModulePtr m = load_entry(e, trigger);
-  if (!m->table) return false;
-  s.by_text[exact] = s.by_key[key] = ready(m);
-  return true;
+  Lookup l = look_up(s, p);
+  return l.found && usable(*l.found);
 }
 
 bool package_module(const std::shared_ptr<const Program>& p, ModulePackage* out, std::string* why) {

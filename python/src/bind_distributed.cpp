@@ -38,24 +38,25 @@ namespace {
 using namespace autumn::agent;
 using Trigger = std::optional<std::string>;
 
-// solve()'s option names (python/autumnc/agent.py) to SolveOptions; a missing
-// name keeps the CLI's default.
+// solve()'s option names (python/autumnc/distributed.py, _OPTION_DEFAULTS) to
+// SolveOptions. autumnc.distributed sends every name; one left out keeps
+// SolveOptions' own default, so no default is stated twice here.
 SolveOptions options_from_json(const std::string& text) {
   const nlohmann::json j = nlohmann::json::parse(text);
   SolveOptions o;
-  o.engine = j.value("engine", std::string("compiled"));
-  o.rollouts = j.value("rollouts", uint64_t{10000});
-  o.seed = j.value("seed", uint64_t{0});
-  o.seed_inversion = j.value("seed_inversion", true);
-  o.max_steps = j.value("max_steps", 200);
-  o.policy = j.value("policy", std::string("novelty"));
-  o.depth = j.value("depth", 12);
-  o.nodes = j.value("nodes", uint64_t{30000000});
-  o.search = j.value("search", std::string("auto"));
-  o.cost = j.value("cost", std::string("steps"));
-  o.max_plan = j.value("max_plan", 200);
-  o.keep_states = j.value("keep_states", uint64_t{10000});
-  o.time_limit = j.value("time_limit", 120.0);
+  o.engine = j.value("engine", o.engine);
+  o.rollouts = j.value("rollouts", o.rollouts);
+  o.seed = j.value("seed", o.seed);
+  o.seed_inversion = j.value("seed_inversion", o.seed_inversion);
+  o.max_steps = j.value("max_steps", o.max_steps);
+  o.policy = j.value("policy", o.policy);
+  o.depth = j.value("depth", o.depth);
+  o.nodes = j.value("nodes", o.nodes);
+  o.search = j.value("search", o.search);
+  o.cost = j.value("cost", o.cost);
+  o.max_plan = j.value("max_plan", o.max_plan);
+  o.keep_states = j.value("keep_states", o.keep_states);
+  o.time_limit = j.value("time_limit", o.time_limit);
   if (j.contains("programs") && j.at("programs").is_string() && !j.at("programs").get<std::string>().empty())
     o.programs_dir = j.at("programs").get<std::string>();
   if (j.contains("answers") && j.at("answers").is_string() && !j.at("answers").get<std::string>().empty())
