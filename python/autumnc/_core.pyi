@@ -9,7 +9,7 @@ tests/python/test_package.py compares the names bound with the names stubbed,
 and ctest's python_stubs_mypy checks the stubs and their use in the package.
 """
 import os
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Optional, Sequence, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -67,8 +67,11 @@ class Interpreter:
 _ActionId = Union[int, np.integer[Any]]
 
 class _Env:
+    @overload
     def __init__(self, text: str, name: str, seed: int, engine: str, trigger: Optional[str],
                  max_episode_steps: int) -> None: ...
+    @overload
+    def __init__(self, other: _Env) -> None: ...
     def reset(self, seed: Optional[int] = None,
               options: object = None) -> tuple[npt.NDArray[np.uint8], dict[str, Any]]: ...
     def step(self, action: _ActionId) -> tuple[npt.NDArray[np.uint8], float, bool, bool, dict[str, Any]]: ...

@@ -77,6 +77,15 @@ class Env(_core._Env):
         super().__init__(text, name, seed, engine, trigger, max_episode_steps or 0)
         self.action_space, self.observation_space = _spaces(self.grid_size)
 
+    def clone(self):
+        """An independent copy of this environment at the same point of the same episode, of this
+        class and with the same spaces: stepping either with the same actions gives the same
+        observations."""
+        copy = type(self).__new__(type(self))
+        _core._Env.__init__(copy, self)
+        copy.__dict__.update(self.__dict__)
+        return copy
+
     def close(self):
         """Gymnasium's close(): there is nothing to release (the memory goes with the object)."""
 

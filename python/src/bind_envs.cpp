@@ -478,6 +478,9 @@ void bind_envs(pb::module_& m) {
            "text: the program's text; name: its name in error messages; seed: the random seed of the first "
            "episode; engine: \"auto\", \"compiled\" or \"interp\"; trigger: a trigger-condition expression or "
            "None; max_episode_steps: steps before truncation (0: never)")
+      .def(pb::init([](const Env& other) { return Env(other); }), pb::arg("other"),
+           "A copy of other at the same point of the same episode (how autumnc.Env.clone makes an Env of "
+           "the caller's class)")
       .def("reset", &Env::reset, pb::arg("seed") = pb::none(), pb::arg("options") = pb::none(),
            "Start an episode; returns (obs, info).\n\n"
            "seed: None keeps the current seed (the initial state saved at the last start is copied, not "

@@ -36,6 +36,28 @@ def test_env_shapes_and_spaces():
         env.step(-1)
 
 
+def test_env_clone_is_an_env_with_the_same_future():
+    """clone() returns the caller's class (spaces included) at the same point of the episode."""
+    class Tagged(autumnc.Env):
+        pass
+
+    env = Tagged(FIREWORKS, seed=5, engine="interp")
+    env.reset()
+    env.tag = "mine"
+    for a in actions_for(env.grid_size, 7, 1):
+        env.step(int(a))
+    twin = env.clone()
+    assert type(twin) is Tagged and twin.tag == "mine"
+    assert twin.action_space.n == env.action_space.n and twin.observation_space.shape == env.observation_space.shape
+    assert twin.state_hash() == env.state_hash()
+    for a in actions_for(env.grid_size, 20, 2):
+        mine, theirs = env.step(int(a)), twin.step(int(a))
+        assert np.array_equal(mine[0], theirs[0]) and mine[1:4] == theirs[1:4]
+    before = env.state_hash()
+    twin.step(0)  # stepping the copy leaves the original where it was
+    assert env.state_hash() == before
+
+
 def test_env_step_refuses_what_vecenv_refuses():
     """A float or a bool is not an action id: refused, not truncated to one."""
     env = autumnc.Env(SOKOBAN, seed=3)

@@ -89,13 +89,24 @@ def split_top(text):
     return parts
 
 
-def bound_params(obj, name):
-    """[(name, has_default)] from pybind11's signature line `name(a: T, b: T = x) -> R`."""
-    line = (obj.__doc__ or "").splitlines()[0]
+def signature_params(line, name):
+    """[(name, has_default)] of one pybind11 signature line `name(a: T, b: T = x) -> R`."""
     assert line.startswith(name + "("), f"{name}: no pybind11 signature line in {line!r}"
     inner = line[len(name) + 1:line.rindex(") ->")]
     params = [(p.split(":")[0].strip(), "=" in p) for p in split_top(inner)]
     return [p for p in params if p[0] != "self"]
+
+
+def bound_params(obj, name):
+    """[[(name, has_default)]], one list per overload, from pybind11's signature
+    lines: the first docstring line, or for an overloaded function the numbered
+    lines `1. name(...) -> R` after "Overloaded function."."""
+    lines = (obj.__doc__ or "").splitlines()
+    if len(lines) > 1 and lines[1] == "Overloaded function.":
+        numbered = [re.sub(r"^\d+\. ", "", l) for l in lines if re.match(r"^\d+\. " + re.escape(name) + r"\(", l)]
+        assert numbered, f"{name}: overloaded, but no numbered signature lines"
+        return [signature_params(l, name) for l in numbered]
+    return [signature_params(lines[0] if lines else "", name)]
 
 
 def test_stubs_name_what_the_extension_binds():
@@ -114,20 +125,21 @@ def test_stubs_name_what_the_extension_binds():
     for name, node in stubbed.items():
         obj = getattr(_core, name, None)
         if isinstance(node, ast.FunctionDef):
-            assert stub_params(node) == bound_params(obj, name), name
+            assert [stub_params(node)] == bound_params(obj, name), name
         if isinstance(node, ast.ClassDef) and not issubclass(obj, BaseException):
-            members = {m.name: m for m in node.body if isinstance(m, ast.FunctionDef)}
+            members = {}  # name -> [definitions]: several for an @overload, in order
+            for m in node.body:
+                if isinstance(m, ast.FunctionDef):
+                    members.setdefault(m.name, []).append(m)
             own = {n for n in vars(obj) if not n.startswith("_") or n in ("__copy__", "__deepcopy__")}
             if (getattr(vars(obj).get("__init__"), "__doc__", None) or "").startswith("__init__("):
                 own.add("__init__")  # a bound constructor (not pybind11's "No constructor defined")
             assert own == {n for n in members if not n.startswith("__") or n in own}, name
-            for m, fn in members.items():
+            for m, fns in members.items():
                 attr = inspect.getattr_static(obj, m)
                 if isinstance(attr, property) or m in ("__getstate__", "__setstate__"):
                     continue
-                func = getattr(obj, m)
-                shown = "__init__" if m == "__init__" else m
-                assert stub_params(fn) == bound_params(func, shown), f"{name}.{m}"
+                assert [stub_params(fn) for fn in fns] == bound_params(getattr(obj, m), m), f"{name}.{m}"
 
 
 # --- documentation ---------------------------------------------------------------------
