@@ -69,4 +69,18 @@ std::string shown(std::string_view message) {
   return out;
 }
 
+std::string shown_type(std::string_view t) {
+  constexpr std::string_view kList = "List<", kClass = "class ";
+  if (t.substr(0, kList.size()) == kList && t.size() > kList.size() && t.back() == '>') {
+    const std::string_view elem = t.substr(kList.size(), t.size() - kList.size() - 1);
+    return elem == "Unknown" ? "List" : "(List " + shown_type(elem) + ")";
+  }
+  if (t.substr(0, kClass.size()) == kClass) {
+    const std::string_view rest = t.substr(kClass.size());
+    return std::string(rest.substr(0, rest.find(' ')));
+  }
+  if (t == "AutumnFunc") return "Function";
+  return std::string(t);
+}
+
 }  // namespace autumn

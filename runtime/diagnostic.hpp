@@ -32,4 +32,12 @@ std::string diagnostic_inside(const std::string& source, int line, int col);
 // and its end. Every diagnostic's message passes through it, in both engines.
 std::string shown(std::string_view message);
 
+// A type as the author writes it, from the reference's type string (the text
+// the engines compare types by, which spells out every field): "class Ball
+// {speed: Number, origin: ...}" is shown Ball, "List<class Ball {...}>" (List
+// Ball), "List<Unknown>" (an empty list's) List, "AutumnFunc" Function; Number,
+// Bool, String and Unknown as they are. Every message that names a type, in
+// both engines and the linter, names it through this.
+std::string shown_type(std::string_view reference_type);
+
 }  // namespace autumn

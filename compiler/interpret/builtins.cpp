@@ -10,6 +10,7 @@
 #include <unordered_set>
 
 #include "compiler/interpret/interpreter.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::interp {
 namespace {
@@ -95,19 +96,19 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
   auto list_arg = [&](size_t i) -> ListObj* {
     if (!args[i].is(VKind::List))
       fail(std::string(name) + ": argument " + std::to_string(i + 1) + " must be a list, got " +
-           type_string(type_of(args[i])));
+           shown_type(type_string(type_of(args[i]))));
     return args[i].as<ListObj>();
   };
   auto func_arg = [&](size_t i) -> const Value& {
     if (!args[i].is(VKind::Function))
       fail(std::string(name) + ": argument " + std::to_string(i + 1) + " must be a function, got " +
-           type_string(type_of(args[i])));
+           shown_type(type_string(type_of(args[i]))));
     return args[i];
   };
   auto num_arg = [&](size_t i) -> int32_t {
     if (!args[i].is(VKind::Number))
       fail(std::string(name) + ": argument " + std::to_string(i + 1) + " must be a number, got " +
-           type_string(type_of(args[i])));
+           shown_type(type_string(type_of(args[i]))));
     return args[i].num;
   };
   auto call1 = [&](const Value& f, const Value& x) {
@@ -269,7 +270,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       need(2);
       ListObj* l = list_arg(0);
       if (!args[1].is(VKind::Instance) && !args[1].is(VKind::List))
-        fail("addObj: the second argument must be an object or a list, got " + type_string(type_of(args[1])));
+        fail("addObj: the second argument must be an object or a list, got " + shown_type(type_string(type_of(args[1]))));
       const size_t added = args[1].is(VKind::Instance) ? 1 : args[1].as<ListObj>()->items.size();
       check_length(static_cast<int64_t>(l->items.size() + added));
       Value out = copy_value(args[0]);  // every existing element is copied (fresh ids)

@@ -22,6 +22,7 @@
 #include "compiler/parse/ast_print.hpp"
 #include "runtime/arith.hpp"
 #include "runtime/interrupt.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::interp {
 
@@ -133,8 +134,8 @@ void Interpreter::assign(Sym s, Value v) {
       continue;
     }
     if (!v.is(VKind::List) && type_string(type_of(*slot)) != type_string(type_of(v)))
-      fail("cannot assign a value of type '" + type_string(type_of(v)) + "' to variable '" +
-           program_->name(s) + "' of type '" + type_string(type_of(*slot)) + "'");
+      fail("cannot assign a value of type '" + shown_type(type_string(type_of(v))) + "' to variable '" +
+           program_->name(s) + "' of type '" + shown_type(type_string(type_of(*slot))) + "'");
     if (v.is_heap()) v.obj->id = slot->is_heap() ? slot->obj->id : next_id();
     *slot = std::move(v);
     if (local) local->updated = true;
@@ -193,8 +194,8 @@ Value Interpreter::eval_node(const Expr& e) {
       if (e.op == BinOp::Ne) return Value::boolean(!equals(l, r));
       if (e.op == BinOp::Unknown) fail("unknown binary operator '" + e.text + "'");
       if (!l.is(VKind::Number) || !r.is(VKind::Number))
-        fail("binary " + e.text + " needs two numbers, got " + type_string(type_of(l)) + " and " +
-             type_string(type_of(r)));
+        fail("binary " + e.text + " needs two numbers, got " + shown_type(type_string(type_of(l))) + " and " +
+             shown_type(type_string(type_of(r))));
       const int32_t a = l.num, b = r.num;
       switch (e.op) {
         case BinOp::Add: return Value::number(arith::add(a, b));
@@ -223,10 +224,10 @@ Value Interpreter::eval_node(const Expr& e) {
     case ExprKind::Unary: {
       Value v = eval_value(*e.kids[0]);
       if (e.unary == UnOp::Not) {
-        if (!v.is(VKind::Bool)) fail("'!' needs a Bool, got " + type_string(type_of(v)));
+        if (!v.is(VKind::Bool)) fail("'!' needs a Bool, got " + shown_type(type_string(type_of(v))));
         return Value::boolean(!v.num);
       }
-      if (!v.is(VKind::Number)) fail("unary " + e.text + " needs a number, got " + type_string(type_of(v)));
+      if (!v.is(VKind::Number)) fail("unary " + e.text + " needs a number, got " + shown_type(type_string(type_of(v))));
       if (e.unary == UnOp::Neg) return Value::number(arith::neg(v.num));
       return v;
     }
@@ -258,7 +259,7 @@ Value Interpreter::eval_node(const Expr& e) {
     case ExprKind::Assign: return eval_assign(e);
     case ExprKind::Set: {
       Value obj = eval_value(*e.kids[0]);
-      if (!obj.is(VKind::Instance)) fail("only objects have fields, got " + type_string(type_of(obj)));
+      if (!obj.is(VKind::Instance)) fail("only objects have fields, got " + shown_type(type_string(type_of(obj))));
       Value v = eval_value(*e.kids[1]);
       InstanceObj* in = obj.as<InstanceObj>();
       int i = in->cls->field_index(e.name);
@@ -331,15 +332,15 @@ Value Interpreter::eval_assign(const Expr& e) {
   bool declared = false;
   TypeObj* decl = find_declared(e.name, &declared);
   if (decl && decl->kind != TypeKind::List && type_string(decl) != type_string(type_of(v)))
-    fail("cannot assign a value of type '" + type_string(type_of(v)) + "' to '" + program_->name(e.name) +
-         "', declared as '" + type_string(decl) + "'");
+    fail("cannot assign a value of type '" + shown_type(type_string(type_of(v))) + "' to '" + program_->name(e.name) +
+         "', declared as '" + shown_type(type_string(decl)) + "'");
   assign(e.name, v);
   return v;
 }
 
 Value Interpreter::get_field(const Value& obj, Sym field, const std::string& raw) {
   if (!obj.is(VKind::Instance))
-    fail("(.. _ " + raw + "): only objects have fields, got " + type_string(type_of(obj)));
+    fail("(.. _ " + raw + "): only objects have fields, got " + shown_type(type_string(type_of(obj))));
   InstanceObj* in = obj.as<InstanceObj>();
   TypeObj* cls = in->cls.get();
   int i = cls->field_index(field);
@@ -360,7 +361,7 @@ Value Interpreter::eval_call(const Expr& e) {
   Value callee = eval(callee_expr);
   if (callee.is(VKind::Type)) {
     TypeObj* cls = callee.as<TypeObj>();
-    if (cls->kind != TypeKind::Class) fail("'" + type_string(cls) + "' is not a class and cannot be called");
+    if (cls->kind != TypeKind::Class) fail("'" + shown_type(type_string(cls)) + "' is not a class and cannot be called");
     if (cls->name == "Cell") return construct_cell(e, cls);
     std::vector<Value> args;
     args.reserve(nargs);
@@ -373,7 +374,7 @@ Value Interpreter::eval_call(const Expr& e) {
   }
   if (callee.is(VKind::Deferred)) return call_deferred(callee.as<DeferredObj>());
   if (!callee.is(VKind::Function))
-    fail("only functions and classes can be called, got " + type_string(type_of(callee)));
+    fail("only functions and classes can be called, got " + shown_type(type_string(type_of(callee))));
   FuncObj* f = callee.as<FuncObj>();
   if (f->kind == FuncObj::Kind::Native && f->builtin == Builtin::Prev) {
     if (nargs != 1) fail("prev takes 1 argument, got " + std::to_string(nargs));

@@ -110,7 +110,7 @@ bool Interpreter::condition_holds(const Stmt& st) {
   };
   Value c = eval_value(*st.cond);
   if (c.is(VKind::Bool)) return c.num != 0;
-  if (!c.is(VKind::Function)) throw located("an on-clause condition must be a Bool, got " + type_string(type_of(c)));
+  if (!c.is(VKind::Function)) throw located("an on-clause condition must be a Bool, got " + shown_type(type_string(type_of(c))));
   std::vector<Value> none;
   Value r;
   const size_t height = eval_stack_.size();
@@ -123,7 +123,7 @@ bool Interpreter::condition_holds(const Stmt& st) {
     throw e;
   }
   if (!r.is(VKind::Bool))
-    throw located("an on-clause condition function must return a Bool, got " + type_string(type_of(r)));
+    throw located("an on-clause condition function must return a Bool, got " + shown_type(type_string(type_of(r))));
   return r.num != 0;
 }
 
@@ -225,7 +225,7 @@ int Interpreter::render_all(std::vector<RenderedCell>* cells) {
   }
   Value* g = lookup(names_.GRID_SIZE);
   if (!g) fail_at_definition(names_.GRID_SIZE, "GRID_SIZE is not defined when rendering");
-  if (!g->is(VKind::Number)) fail_at_definition(names_.GRID_SIZE, limits::grid_size_type_error(type_string(type_of(*g))));
+  if (!g->is(VKind::Number)) fail_at_definition(names_.GRID_SIZE, limits::grid_size_type_error(shown_type(type_string(type_of(*g)))));
   if (std::string why = limits::grid_size_error(g->num); !why.empty()) fail_at_definition(names_.GRID_SIZE, why);
   int size = g->num;
   assign(names_.cacheRendered, all);

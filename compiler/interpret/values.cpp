@@ -5,6 +5,7 @@
 // follow the reference's formats; see docs/autumn-semantics.md §3.
 #include "compiler/interpret/interpreter.hpp"
 #include "compiler/parse/ast_print.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::interp {
 
@@ -114,7 +115,7 @@ void Interpreter::list_add(ListObj* list, Value v) {
   TypeObj* elem = tag->elem.get();
   TypeObj* vt = type_of(v);
   if (elem->kind != TypeKind::Unknown && !v.is(VKind::Instance) && type_string(vt) != type_string(elem))
-    fail("list element type mismatch: got " + type_string(vt) + ", expected " + type_string(elem));
+    fail("list element type mismatch: got " + shown_type(type_string(vt)) + ", expected " + shown_type(type_string(elem)));
   list->tag = make_type(TypeKind::List, TypeRef(vt));
   list->items.push_back(std::move(v));
 }
@@ -129,7 +130,8 @@ Value Interpreter::make_instance(TypeObj* cls, std::vector<Value> fields) {
     const std::string& have = type_string(type_of(fields[i]));
     const std::string& want = type_string(decl);
     if (have != want && have != "List<Unknown>" && want != "List<Unknown>")
-      fail("field '" + cls->field_names[i] + "' of '" + cls->name + "' must be " + want + ", got " + have);
+      fail("field '" + cls->field_names[i] + "' of '" + cls->name + "' must be " + shown_type(want) + ", got " +
+           shown_type(have));
   }
   count_cells(static_cast<int64_t>(fields.size()));
   InstanceObj* in = new InstanceObj;
@@ -213,8 +215,8 @@ std::string Interpreter::value_string(const Value& v) {
         if (!decl) type_string(cls);  // fails: unknown field type
         const std::string& want = type_string(decl);
         if (have != want && want != "List<Unknown>" && have != "List<Unknown>")
-          fail("field '" + cls->field_names[i] + "' of '" + cls->name + "' holds a " + have +
-               " where " + want + " was declared");
+          fail("field '" + cls->field_names[i] + "' of '" + cls->name + "' holds a " + shown_type(have) +
+               " where " + shown_type(want) + " was declared");
         s += (i ? "," : "") + cls->field_names[i] + ": " + value_string(in->fields[i]);
       }
       if (in->fields.empty()) s += "None";

@@ -12,6 +12,7 @@
 #include <algorithm>
 
 #include "compiler/lower/specialise.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::lower {
 // ---------------------------------------------------------------------------
@@ -26,7 +27,7 @@ bool Specialiser::need(Builtin b, size_t n, size_t count) {
 bool Specialiser::check_kind(Builtin b, const std::vector<SVal>& a, size_t i, TK k, const char* what) {
   if (a[i].type->k == k || a[i].type->k == TK::Never) return !dead_;
   fail(std::string(builtin_name(b)) + ": argument " + std::to_string(i + 1) + " must be " + what + ", got " +
-       type_string(a[i].type));
+       shown_type(type_string(a[i].type)));
   return false;
 }
 
@@ -120,7 +121,7 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
   const size_t fi = 0, li = b == Builtin::Foldl ? 2 : n - 1;
   const bool with_fn = !(b == Builtin::Any && n == 1);
   if (with_fn && a[fi].type->k != TK::Func && !is_sum(a[fi].type)) {
-    fail(std::string(builtin_name(b)) + ": argument 1 must be a function, got " + type_string(a[fi].type));
+    fail(std::string(builtin_name(b)) + ": argument 1 must be a function, got " + shown_type(type_string(a[fi].type)));
     return never();
   }
   if (!check_kind(b, a, li, TK::List, "a list")) return never();

@@ -7,6 +7,7 @@
 
 #include "compiler/lower/specialise.hpp"
 #include "runtime/limits.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::lower {
 
@@ -255,7 +256,7 @@ SVal Specialiser::builtin_objects(Builtin b, std::vector<SVal>& a, const Expr& a
     if (!need(b, n, 2) || !check_kind(b, a, 0, TK::List, "a list")) return never();
     const TK k = a[1].type->k;
     if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell && k != TK::List) {
-      fail("addObj: the second argument must be an object or a list, got " + type_string(a[1].type));
+      fail("addObj: the second argument must be an object or a list, got " + shown_type(type_string(a[1].type)));
       return never();
     }
     return add_obj(a[0], a[1]);
@@ -358,7 +359,7 @@ SVal Specialiser::update_obj(std::vector<SVal>& a, const Expr& at) {
   }
   if (n == 2) {
     if (a[1].type->k != TK::Func) {
-      fail("updateObj: argument 2 must be a function, got " + type_string(a[1].type));
+      fail("updateObj: argument 2 must be a function, got " + shown_type(type_string(a[1].type)));
       return never();
     }
     return call1(a[1], a[0], at);

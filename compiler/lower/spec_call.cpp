@@ -13,6 +13,7 @@
 #include <algorithm>
 
 #include "compiler/lower/specialise.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::lower {
 
@@ -70,7 +71,7 @@ SVal Specialiser::lower_call(const Expr& e) {
       callee.type->fn.builtin == Builtin::Prev)
     return lower_prev(e);
   if (!callee.type || !(callee.type->k == TK::Func || (is_sum(callee.type) && callee.type->alts[0]->k == TK::Func))) {
-    fail("only functions and classes can be called, got " + (callee.type ? type_string(callee.type) : "Unknown"));
+    fail("only functions and classes can be called, got " + (callee.type ? shown_type(type_string(callee.type)) : "Unknown"));
     return never();
   }
   std::vector<SVal> args = args_of();
@@ -109,7 +110,7 @@ SVal Specialiser::call_value(const SVal& f, std::vector<SVal>& args, const Expr&
   if (f.type->k == TK::Never) return never();
   if (f.type->k == TK::Deferred) return call_deferred(f);
   if (f.type->k != TK::Func) {
-    fail("only functions and classes can be called, got " + type_string(f.type));
+    fail("only functions and classes can be called, got " + shown_type(type_string(f.type)));
     return never();
   }
   const FuncRef& fr = f.type->fn;
@@ -229,8 +230,8 @@ SVal Specialiser::construct_builtin_class(int c, std::vector<SVal>& args) {
     SVal ok = split(args[i], [&](const SVal& a) -> SVal {
       if (a.type->k != TK::Never && type_string(a.type) != type_string(want[i].second) &&
           !(a.type->k == TK::List && !a.type->elem)) {
-        fail(std::string("field '") + want[i].first + "' of '" + name + "' must be " + type_string(want[i].second) +
-             ", got " + type_string(a.type));
+        fail(std::string("field '") + want[i].first + "' of '" + name + "' must be " + shown_type(type_string(want[i].second)) +
+             ", got " + shown_type(type_string(a.type)));
         return never();
       }
       return a;
@@ -320,8 +321,8 @@ SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& 
           return v;
         }
         if (type_string(v.type) != want)
-          fail("field '" + ci.field_names[i] + "' of '" + ci.name + "' must be " + want + ", got " +
-               type_string(v.type));
+          fail("field '" + ci.field_names[i] + "' of '" + ci.name + "' must be " + shown_type(want) + ", got " +
+               shown_type(type_string(v.type)));
         return v;
       });
       if (dead_) return never();
@@ -332,7 +333,7 @@ SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& 
   // The interpreter (as the reference) keeps such an object and fails only
   // when it is rendered, at the object's definition; a typed struct cannot hold it.
   if (values.back().type->k != TK::Pos)
-    unsupported("an object made with an origin that is not a Position (" + type_string(values.back().type) + ")");
+    unsupported("an object made with an origin that is not a Position (" + shown_type(type_string(values.back().type)) + ")");
   std::vector<ir::Node*> ops;
   for (size_t i = 0; i < ci.fields.size(); ++i) {
     TypeP ft = ci.field_types[i] ? ci.field_types[i] : values[i].type;
@@ -413,7 +414,7 @@ SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) 
            "' has no field '" + raw + "'");
       return never();
     }
-    fail("(.. _ " + raw + "): only objects have fields, got " + type_string(o.type));
+    fail("(.. _ " + raw + "): only objects have fields, got " + shown_type(type_string(o.type)));
     return never();
   });
 }

@@ -25,6 +25,7 @@
 
 #include "compiler/lower/specialise.hpp"
 #include "compiler/parse/ast_print.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::lower {
 namespace {
@@ -199,8 +200,8 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
   ClassInfo& ci = m_.classes[cls];
   TypeP want = T().list(T().cell());
   if (cells.type->k != TK::List || (cells.type->elem && cells.type->elem != T().cell())) {
-    fail("field 'elems' of '" + ci.name + "' must be List<" + type_string(T().cell()) + ">, got " +
-         type_string(cells.type));
+    fail("field 'elems' of '" + ci.name + "' must be " + shown_type("List<" + type_string(T().cell()) + ">") + ", got " +
+         shown_type(type_string(cells.type)));
     return false;
   }
   if (!h_.stored_cells.count(cls) && tracked(T().cell())) {  // cells with identities live in the objects
@@ -390,7 +391,7 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
       if (d < 0 || m_.deferred[d].fixed) return SVal{T().int_(), c->a[which]};
       SVal v = eval_deferred(d, &ov, cell);
       if (v.type->k != TK::Int) {
-        fail_at_cell_arg(m_.deferred[d].expr, "binary + needs two numbers, got Number and " + type_string(v.type));
+        fail_at_cell_arg(m_.deferred[d].expr, "binary + needs two numbers, got Number and " + shown_type(type_string(v.type)));
         return never();
       }
       return v;
@@ -445,7 +446,7 @@ SVal Specialiser::deferred_colour(int d, const SVal& o, const SVal& cell) {
     v = let(SVal{T().str(), n}, "colour");
   }
   if (v.type->k != TK::Str && v.type->k != TK::Never) {
-    fail_at_cell_arg(da.expr, "field 'color' of 'RenderedElem' must be String, got " + type_string(v.type));
+    fail_at_cell_arg(da.expr, "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type)));
     return never();
   }
   return v;
@@ -478,7 +479,7 @@ int Specialiser::colour_function(int d, int cls, const SVal& cell) {
   SVal v = eval_deferred(d, &ov, cell);
   if (!dead_ && v.type->k == TK::Str) emit(ir::SK::Return)->a = v.code;
   else if (!dead_)
-    fail_at_cell_arg(m_.deferred[d].expr, "field 'color' of 'RenderedElem' must be String, got " + type_string(v.type));
+    fail_at_cell_arg(m_.deferred[d].expr, "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type)));
   fn_ = saved_fn;
   block_ = saved_block;
   chain_ = saved_chain;
@@ -565,8 +566,8 @@ int Specialiser::stored_render_function(int cls) {
             if (v.type == t) emit_set(local(r), v.code);
             else if (v.type->k != TK::Never)
               fail_at_cell_arg(m_.deferred[d].expr,
-                               which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + type_string(v.type)
-                                          : "binary + needs two numbers, got Number and " + type_string(v.type));
+                               which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type))
+                                          : "binary + needs two numbers, got Number and " + shown_type(type_string(v.type)));
           });
         }
       }

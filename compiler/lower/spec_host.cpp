@@ -15,6 +15,7 @@
 // checked at run time.
 #include "compiler/analyse/render_order.hpp"
 #include "compiler/lower/specialise.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::lower {
 void Specialiser::run() {
@@ -189,7 +190,7 @@ void Specialiser::on_clause(size_t i, const Stmt& st) {
     auto bad = [&](const SVal& v, bool from_fn) {
       loc_stack_.push_back(st.cond.get());
       fail(std::string(from_fn ? "an on-clause condition function must return a Bool, got "
-                               : "an on-clause condition must be a Bool, got ") + type_string(v.type));
+                               : "an on-clause condition must be a Bool, got ") + shown_type(type_string(v.type)));
       loc_stack_.pop_back();
     };
     if (c.type->k == TK::Func || (is_sum(c.type) && c.type->alts[0]->k == TK::Func)) {

@@ -14,6 +14,7 @@
 // current scope. New local names are declared at the start of their scope's
 // block (hoisted), so every branch and the code after it can see them.
 #include "compiler/lower/specialise.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::lower {
 
@@ -152,7 +153,7 @@ void Specialiser::check_declared(Sym s, const SVal& v) {
     if (dt && !check_printable(dt)) return x;
     if (!check_printable(x.type)) return x;
     if (want != type_string(x.type))
-      fail("cannot assign a value of type '" + type_string(x.type) + "' to '" + nm(s) + "', declared as '" + want +
+      fail("cannot assign a value of type '" + shown_type(type_string(x.type)) + "' to '" + nm(s) + "', declared as '" + shown_type(want) +
            "'");
     return x;
   };
@@ -171,8 +172,8 @@ void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s,
       if (old.type->k == TK::Never) return old;
       if (!check_printable(old.type) || !check_printable(nv.type)) return old;
       if (type_string(old.type) != type_string(nv.type))
-        fail("cannot assign a value of type '" + type_string(nv.type) + "' to variable '" + nm(s) + "' of type '" +
-             type_string(old.type) + "'");
+        fail("cannot assign a value of type '" + shown_type(type_string(nv.type)) + "' to variable '" + nm(s) + "' of type '" +
+             shown_type(type_string(old.type)) + "'");
       return old;
     };
     split(SVal{slot_type, place}, check_old);
@@ -248,8 +249,8 @@ bool Specialiser::store_function(Global& g, const SVal& v) {
   if (v.type->k != TK::Func || (g.type && g.type->k != TK::Func && g.state != Global::Undefined)) {
     const std::string old = g.type ? type_string(g.type) : "";
     if (v.type->k != TK::List && g.state != Global::Undefined && old != type_string(v.type))
-      fail("cannot assign a value of type '" + type_string(v.type) + "' to variable '" + nm(g.sym) + "' of type '" +
-           old + "'");
+      fail("cannot assign a value of type '" + shown_type(type_string(v.type)) + "' to variable '" + nm(g.sym) + "' of type '" +
+           shown_type(old) + "'");
     else if (!dead_) unsupported("a global holding a function and then another kind of value");
     return true;
   }

@@ -11,6 +11,7 @@
 #include <algorithm>
 
 #include "compiler/lower/specialise.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::lower {
 
@@ -133,7 +134,7 @@ SVal Specialiser::coerce(SVal v, TypeP to) {
         return SVal{to, n, nullptr, v.fresh};
       }
   }
-  unsupported("internal: no conversion from " + type_string(v.type) + " to " + type_string(to));
+  unsupported("internal: no conversion from " + shown_type(type_string(v.type)) + " to " + shown_type(type_string(to)));
 }
 
 // ---------------------------------------------------------------------------
