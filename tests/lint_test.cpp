@@ -6,6 +6,8 @@
 
 #include "compiler/analyse/did_you_mean.hpp"
 #include "compiler/analyse/program.hpp"
+#include "harness/engine.hpp"
+#include "runtime/diagnostic.hpp"
 #include "test_support.hpp"
 
 namespace autumn {
@@ -79,10 +81,75 @@ TEST(Lint, Types) {
                  "w.au:2:11: warning: 'Float' is not a type (Bool, String, Number, Int, Position, Cell, RenderedElem, "
                  "or an object defined above); printing an object of this class fails at run time");
   expect_warning("(: lives Int) (= lives (initnext \"three\" (prev lives)))",
-                 "w.au:2:34: warning: 'lives' is declared Int but is given a String");
+                 "w.au:2:34: warning: 'lives' is declared Int but is given a String; assigning it is an error at "
+                 "run time");
   EXPECT_TRUE(warnings_of("(object B (Cell 0 0 \"red\")) (object A (: b B) (: l (List Position)) (Cell 0 0 \"red\")) "
                           "(: n Int) (= n 3)")
                   .empty());
+}
+
+// What the syntax proves about types (lint.cpp, static types): an operator given
+// a value of the wrong type, a declared global given another class. Each is the
+// runtime error both engines raise when the expression is evaluated.
+TEST(Lint, ProvenTypeErrors) {
+  expect_warning("(= steps (initnext 0 (+ (prev steps) \"one\")))",
+                 "w.au:2:22: warning: '(+ ...)' needs two numbers, but its second operand is always a String: "
+                 "evaluating it is an error at run time");
+  expect_warning("(object Ball (Cell 0 0 \"red\")) (object Paint (Cell 0 0 \"blue\")) (: b Paint) "
+                 "(= b (initnext (Ball (Position 1 1)) (prev b)))",
+                 "w.au:2:92: warning: 'b' is declared Paint but is given a Ball; assigning it is an error at run time");
+  // Through names every value of which has one type, builtins' results and if.
+  expect_warning("(= label \"hi\") (= n (initnext 0 (- 1 label)))",
+                 "w.au:2:33: warning: '(- ...)' needs two numbers, but its second operand is always a String: "
+                 "evaluating it is an error at run time");
+  expect_warning("(= n (! (length (list 1))))",
+                 "w.au:2:6: warning: '(! ...)' needs a Bool, but its operand is always a Number: evaluating it is an "
+                 "error at run time");
+  expect_warning("(= n (< (if (== 1 2) then true else false) 3))",
+                 "w.au:2:6: warning: '(< ...)' needs two numbers, but its first operand is always a Bool: evaluating "
+                 "it is an error at run time");
+  // (f) is the function f itself, not a call: a Function.
+  auto w = warnings_of("(= f (fn () \"s\")) (= y (+ (f) 1))");
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_NE(w[0].find("its first operand is always a Function"), std::string::npos) << w[0];
+  // Nothing where a value's type is not proven: a name given values of two types,
+  // one a parameter shadows, a field, an if whose branches differ, a
+  // function's result.
+  EXPECT_TRUE(warnings_of("(= x (initnext 0 \"s\")) (= y (+ x 1))").empty());
+  EXPECT_TRUE(warnings_of("(= x \"s\") (= f (fn (x) (+ x 1))) (= y (f 2))").empty());
+  // Inside a function scope is dynamic: the stdlib's parameters named x (and any
+  // caller's) may be the x in scope. At the top level x is the global.
+  EXPECT_TRUE(warnings_of("(= x \"s\") (= f (fn (a) (+ x a))) (= y (f 2))").empty());
+  EXPECT_EQ(warnings_of("(= x \"s\") (= y (+ x 1))").size(), 1u);
+  EXPECT_TRUE(warnings_of("(object A (: x Number) (Cell x 0 \"red\")) (= x \"s\") (= a (A 1 (Position 0 0)))").empty());
+  EXPECT_TRUE(warnings_of("(= y (+ 1 (if (== 1 2) then 1 else \"s\")))").empty());
+  EXPECT_TRUE(warnings_of("(= x (initnext 0 (prev x))) (= y (+ (prev x) 1))").empty());
+  expect_warning("(= x (initnext \"a\" (prev x))) (= y (initnext 0 (+ (prev x) 1)))",
+                 "w.au:2:48: warning: '(+ ...)' needs two numbers, but its first operand is always a String: "
+                 "evaluating it is an error at run time");
+  EXPECT_TRUE(warnings_of("(= f (fn (a) \"s\")) (= y (+ (f 1) 1))").empty());
+  EXPECT_TRUE(warnings_of("(: n Int) (= n (initnext (+ 1 2) (prev n))) (= t (! (< n 3)))").empty());
+}
+
+// Runtime errors name types as the author writes them (shown_type), on both
+// engines: a class by its name, not the reference's dump of every field.
+TEST(Lint, RuntimeErrorsNameTypesAsWritten) {
+  EXPECT_EQ(shown_type("class Ball {speed: Number, origin: class Position {x: Number, y: Number, }, elems: "
+                       "List<class Cell {x: Expr, y: Expr, color: Expr, }>, }"),
+            "Ball");
+  EXPECT_EQ(shown_type("List<List<class Position {x: Number, y: Number, }>>"), "(List (List Position))");
+  EXPECT_EQ(shown_type("List<Unknown>"), "List");
+  EXPECT_EQ(shown_type("AutumnFunc"), "Function");
+  EXPECT_EQ(shown_type("Number"), "Number");
+  const auto p = load_program(SourceFile{"t.au", "(program\n  (= GRID_SIZE 4)\n  (object Ball (: speed Number) (Cell 0 0 "
+                                                 "\"red\"))\n  (= b (Ball 1 (Position 0 0)))\n  (= n (initnext 0 (+ (prev n) b))))"});
+  for (const std::string& engine : testing::test_engines()) {
+    std::string why;
+    auto env = make_environment(engine, p, &why);
+    ASSERT_TRUE(env) << why;
+    EXPECT_FALSE(env->reset(0) && env->step(Action::noop())) << engine;
+    EXPECT_EQ(env->error(), "t.au:5:20: runtime error: binary + needs two numbers, got Number and Ball") << engine;
+  }
 }
 
 // Correct programs stay quiet: no program of programs/ draws any warning.

@@ -47,6 +47,9 @@ struct BuiltinInfo {
   const char* name;
   uint8_t min_args, max_args;
   uint16_t effects;
+  // The type of every value it returns, as the author writes it, where that is
+  // fixed (the linter's static types); nullptr where it depends on the arguments.
+  const char* result = nullptr;
 };
 
 // All builtins, in the reference's definition order (GRID_SIZE, which the

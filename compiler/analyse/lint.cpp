@@ -63,6 +63,35 @@ struct Bindings {
   }
 };
 
+// Every value each name is given anywhere (the program's and the stdlib's
+// globals, and let's and on-clauses' assignments alike: scope is dynamic, so a
+// name's value at a use may come from any of them), and the names also bound
+// some other way (a lambda's parameter, an object's field), whose values the
+// syntax does not show.
+struct Assignments {
+  std::map<Sym, std::vector<const Expr*>> values;
+  std::set<Sym> otherwise;
+
+  void collect(const Expr& e) {
+    if (e.kind == ExprKind::Assign && !e.kids.empty() && e.kids[0]) {
+      const Expr& v = *e.kids[0];
+      if (v.kind != ExprKind::InitNext) values[e.name].push_back(&v);
+      for (const ExprPtr& k : v.kind == ExprKind::InitNext ? v.kids : std::vector<ExprPtr>{})
+        if (k) values[e.name].push_back(k.get());
+    }
+    if (e.kind == ExprKind::Lambda) otherwise.insert(e.params.begin(), e.params.end());
+    for (const ExprPtr& k : e.kids)
+      if (k) collect(*k);
+  }
+  void collect(const std::vector<Stmt>& stmts) {
+    for (const Stmt& st : stmts) {
+      for (const auto& f : st.fields) otherwise.insert(f.name);
+      for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr, st.constructor_body})
+        if (e) collect(*e);
+    }
+  }
+};
+
 // ---------------------------------------------------------------------------- the linter
 
 class Linter {
@@ -70,6 +99,10 @@ class Linter {
   Linter(const Program& p, std::vector<std::string>& out) : p_(p), out_(out) {
     b_.collect(p.stdlib_stmts);
     b_.collect(p.stmts);
+    a_.collect(p.stdlib_stmts);
+    a_.collect(p.stmts);
+    for (const Stmt& st : p.stmts)
+      if (st.kind == StmtKind::Object) classes_.insert(st.object_sym);
   }
   void run();
 
@@ -87,12 +120,23 @@ class Linter {
   void or_spelling(const Sexp& s);
   void clobbered_globals();
   void type_name(const TypeExprPtr& t, SourceLoc loc, const std::set<Sym>& classes, bool field);
-  void declared_literal(const Expr& assign, const std::map<Sym, std::string>& declared);
+  void declared_value(const Expr& assign, const std::map<Sym, std::string>& declared);
+  // static types
+  std::optional<std::string> static_type(const Expr& e, bool top);
+  std::optional<std::string> name_type(Sym s, bool top);
+  std::optional<std::string> call_type(const Expr& call, bool top);
+  bool is_type_name(Sym s) const;
+  void operand_types(const Expr& e);
 
   const Program& p_;
   std::vector<std::string>& out_;
   std::vector<std::pair<SourceLoc, std::string>> found_;
   Bindings b_;
+  Assignments a_;
+  std::set<Sym> classes_;
+  // name_type's answers; nullopt also while a name's own values are being typed.
+  std::map<std::pair<Sym, bool>, std::optional<std::string>> name_types_;
+  int lambda_depth_ = 0;  // expr(): inside this many lambdas or object cell expressions
 };
 
 void Linter::run() {
@@ -104,9 +148,15 @@ void Linter::run() {
   }
   statements();
   clobbered_globals();
-  for (const Stmt& st : p_.stmts)
-    for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
+  for (const Stmt& st : p_.stmts) {
+    for (const ExprPtr& e : {st.cond, st.body, st.expr})
       if (e) expr(*e);
+    if (st.cell_expr) {  // evaluated where the object's fields are bound
+      ++lambda_depth_;
+      expr(*st.cell_expr);
+      --lambda_depth_;
+    }
+  }
   std::stable_sort(found_.begin(), found_.end(), [](const auto& a, const auto& b) {
     return std::pair(a.first.line, a.first.col) < std::pair(b.first.line, b.first.col);
   });
@@ -180,6 +230,13 @@ void Linter::or_spelling(const Sexp& s) {
 
 void Linter::expr(const Expr& e) {
   if (e.kind == ExprKind::Call) call_arity(e);
+  if (e.kind == ExprKind::Binary || e.kind == ExprKind::Unary) operand_types(e);
+  if (e.kind == ExprKind::Lambda) {
+    ++lambda_depth_;
+    for (const auto& k : e.kids) expr(*k);
+    --lambda_depth_;
+    return;
+  }
   if (e.kind == ExprKind::Call && e.kids[0]->kind == ExprKind::Var && e.kids.size() >= 4 &&
       p_.name(e.kids[0]->name) == "Cell")
     colours(*e.kids[3]);
@@ -266,7 +323,7 @@ void Linter::statements() {
       type_name(e.type, e.loc, classes, false);
       if (e.type && !e.type->is_list) declared[e.name] = e.type->name;
     }
-    if (e.kind == ExprKind::Assign) declared_literal(e, declared);
+    if (e.kind == ExprKind::Assign) declared_value(e, declared);
   }
 }
 
@@ -306,24 +363,122 @@ void Linter::type_name(const TypeExprPtr& t, SourceLoc loc, const std::set<Sym>&
                 (field ? "; printing an object of this class fails at run time" : std::string()));
 }
 
-const char* literal_type(const Expr& e) {
+// A top-level assignment to a name declared (: name Type) with a value whose type
+// is proven another: the interpreter refuses the assignment (a runtime error).
+// Checked for the value assigned first (initnext's initial value, or the value).
+void Linter::declared_value(const Expr& assign, const std::map<Sym, std::string>& declared) {
+  auto it = declared.find(assign.name);
+  if (it == declared.end()) return;
+  const std::string want = it->second == "Int" ? "Number" : it->second;
+  const Sym declared_sym = p_.symbols.find(it->second);
+  if (!(declared_sym >= 0 && is_type_name(declared_sym))) return;  // not a type: type_name says so
+  const Expr& v = assign.kids[0]->kind == ExprKind::InitNext ? *assign.kids[0]->kids[0] : *assign.kids[0];
+  const std::optional<std::string> got = static_type(v, true);
+  if (got && *got != want && got->front() != '(')
+    warn(v.loc, "'" + p_.name(assign.name) + "' is declared " + it->second + " but is given a" +
+                    (std::string("AEIOU").find(got->front()) != std::string::npos ? "n " : " ") + *got +
+                    "; assigning it is an error at run time");
+}
+
+// ---------------------------------------------------------------------------- static types
+
+// The type of every value `e` can evaluate to, when the syntax proves it, in
+// shown_type's notation (what the author writes): literals; arithmetic
+// (Number); comparisons, equality, not, and, or (Bool); a lambda (Function); a
+// construction of a class or Position; a builtin with a fixed result
+// (builtins.hpp); an `if` whose branches agree; a name every one of whose
+// values (Assignments) has the one type, and (prev name). Otherwise nullopt.
+// `top`: e is outside every lambda and object, where a name is the global (or a
+// let's); inside, scope is dynamic and any parameter or field of that name
+// (the stdlib's `x`, `obj`, ...) may be the one in scope, so such names are not
+// typed there.
+std::optional<std::string> Linter::static_type(const Expr& e, bool top) {
   switch (e.kind) {
     case ExprKind::Number: return "Number";
     case ExprKind::String: return "String";
     case ExprKind::Bool: return "Bool";
-    default: return nullptr;
+    case ExprKind::Logical: return "Bool";
+    case ExprKind::Lambda: return "Function";
+    case ExprKind::Unary: return e.unary == UnOp::Not ? "Bool" : "Number";
+    case ExprKind::Binary:
+      if (e.op == BinOp::Unknown) return std::nullopt;
+      return e.op == BinOp::Add || e.op == BinOp::Sub || e.op == BinOp::Mul || e.op == BinOp::Div ||
+                     e.op == BinOp::Mod
+                 ? "Number"
+                 : "Bool";
+    case ExprKind::If: {
+      if (e.kids.size() < 3) return std::nullopt;
+      std::optional<std::string> a = static_type(*e.kids[1], top), b = static_type(*e.kids[2], top);
+      return a && a == b ? a : std::nullopt;
+    }
+    case ExprKind::Var: return name_type(e.name, top);
+    case ExprKind::Call: return call_type(e, top);
+    default: return std::nullopt;
   }
 }
 
-void Linter::declared_literal(const Expr& assign, const std::map<Sym, std::string>& declared) {
-  auto it = declared.find(assign.name);
-  if (it == declared.end()) return;
-  std::string want = it->second == "Int" ? "Number" : it->second;
-  if (want != "Number" && want != "String" && want != "Bool") return;
-  const Expr& v = assign.kids[0]->kind == ExprKind::InitNext ? *assign.kids[0]->kids[0] : *assign.kids[0];
-  const char* got = literal_type(v);
-  if (got && want != got)
-    warn(v.loc, "'" + p_.name(assign.name) + "' is declared " + it->second + " but is given a " + got);
+bool Linter::is_type_name(Sym s) const {
+  if (classes_.count(s)) return true;
+  for (const char* b : kBuiltinTypeNames)
+    if (p_.name(s) == b) return true;
+  return false;
+}
+
+// A name's values are typed as if inside (they may be let's or the stdlib's).
+std::optional<std::string> Linter::name_type(Sym s, bool top) {
+  if (is_type_name(s) || (!top && a_.otherwise.count(s))) return std::nullopt;  // a type evaluates to itself
+  const std::pair<Sym, bool> key{s, top};
+  if (auto it = name_types_.find(key); it != name_types_.end()) return it->second;
+  name_types_[key] = std::nullopt;  // while its values are typed
+  const auto values = a_.values.find(s);
+  if (values == a_.values.end() || values->second.empty()) return std::nullopt;
+  // A value that is the name itself or its prev adds no type of its own (by
+  // induction over the steps it has one of the others'), so (= x (initnext 0
+  // (prev x))) is a Number.
+  auto is_itself = [&](const Expr& v) {
+    if (v.kind == ExprKind::Var) return v.name == s;
+    return v.kind == ExprKind::Call && v.kids.size() == 2 && v.kids[0]->kind == ExprKind::Var &&
+           p_.builtin_of(v.kids[0]->name) == Builtin::Prev && !b_.other.count(v.kids[0]->name) &&
+           v.kids[1]->kind == ExprKind::Var && v.kids[1]->name == s;
+  };
+  std::optional<std::string> t;
+  for (const Expr* v : values->second) {
+    if (is_itself(*v)) continue;
+    std::optional<std::string> vt = static_type(*v, false);
+    if (!vt || (t && vt != t)) return name_types_[key] = std::nullopt;
+    t = vt;
+  }
+  return name_types_[key] = t;
+}
+
+std::optional<std::string> Linter::call_type(const Expr& call, bool top) {
+  const Expr& callee = *call.kids[0];
+  if (callee.kind != ExprKind::Var || b_.other.count(callee.name) || b_.lambda_arity.count(callee.name))
+    return std::nullopt;
+  if (classes_.count(callee.name) || p_.name(callee.name) == "Position") return p_.name(callee.name);
+  const std::optional<Builtin> b = p_.builtin_of(callee.name);
+  if (!b) return std::nullopt;
+  if (*b == Builtin::Prev)
+    return call.kids.size() == 2 && call.kids[1]->kind == ExprKind::Var ? name_type(call.kids[1]->name, top)
+                                                                        : std::nullopt;
+  if (const char* r = builtin_info(*b).result) return std::string(r);
+  return std::nullopt;
+}
+
+// An operator whose operand is proven the wrong type: evaluating it is a
+// runtime error, always (the interpreter's "binary + needs two numbers").
+void Linter::operand_types(const Expr& e) {
+  const bool logical_not = e.kind == ExprKind::Unary && e.unary == UnOp::Not;
+  if (e.kind == ExprKind::Binary && (e.op == BinOp::Eq || e.op == BinOp::Ne || e.op == BinOp::Unknown)) return;
+  const char* want = logical_not ? "Bool" : "Number";
+  for (size_t i = 0; i < e.kids.size(); ++i) {
+    const std::optional<std::string> t = static_type(*e.kids[i], lambda_depth_ == 0);
+    if (!t || *t == want) continue;
+    const std::string which = e.kids.size() == 1 ? "its operand" : i == 0 ? "its first operand" : "its second operand";
+    warn(e.loc, "'(" + e.text + " ...)' needs " + (e.kind == ExprKind::Binary ? "two numbers" : logical_not ? "a Bool" : "a number") +
+                    ", but " + which + " is always " + (std::string("AEIOU").find(t->front()) != std::string::npos ? "an " : "a ") +
+                    *t + ": evaluating it is an error at run time");
+  }
 }
 
 }  // namespace
