@@ -424,6 +424,14 @@ void add_agent_commands(CLI::App& app) {
       ->type_name("FILE");
   add_search_options(s.eval, s.eval_opts, s.eval_threads);
   add_protocol_option(s.eval, s.eval_protocol);
+  s.eval->footer(
+      "Columns: task (its file, relative to DIR); type (mfp, cd, planning); score (MFP and planning: 1 for a "
+      "right answer or a plan that reaches the goal, else 0; change detection: the benchmark's score of when "
+      "the change was detected, 0 to 1; - when there is no answers file to score against; error when the "
+      "solver failed); time s (solve time, module compiles not counted: the summary "
+      "line gives them); throughput and unit (rollouts/s for MFP, steps/s for change detection, nodes/s for "
+      "planning: measured work per second of that solve, - when nothing was measured); detail (what was "
+      "answered, or why not). The second table gives the mean score per task type.");
   s.eval->add_option("--shard", s.eval_shard,
                      "Solve only slice K of N of the folder's tasks (those whose index in path order is K-1 modulo N), "
                      "for a batch scheduler's array job; its JSON says which slice (docs/scale.md)")
@@ -454,6 +462,12 @@ void add_agent_commands(CLI::App& app) {
       ->check(CLI::ExistingDirectory);
   s.random->add_option("--threads", s.random_threads, "Worker threads (0: all cores)")->default_val(0)->check(cli::thread_count());
   s.random->add_flag("--json", s.random_json, "Print one JSON object (the shape scripts/compare-agents.py reads)");
+  s.random->footer(
+      "Columns: task; type; score (+- se) (MFP: the chance of picking the right choice at random; change "
+      "detection: the probability that the trigger condition fires within --timeout steps; planning: the "
+      "probability of reaching the goal; se: the binomial standard error over --rollouts episodes); successes "
+      "(episodes that succeeded); mean steps (steps to success, over the successful episodes; - without any); "
+      "seconds (wall clock of the task's episodes).");
   s.random->add_option("--json-out", s.random_json_out, "Also write that JSON object to FILE (the table still prints)")
       ->type_name("FILE");
 
@@ -483,6 +497,13 @@ void add_agent_commands(CLI::App& app) {
       ->default_val(16)
       ->check(cli::int_count());
   s.bench->add_option("--only", b.only, "Run only one measurement")->check(CLI::IsMember({"mfp", "bfs"}));
+  s.bench->footer(
+      "Columns: program; grid (GRID_SIZE); code (specialised or embedded module, or the engine when not "
+      "compiled); mfp s (seconds of one --rollouts MFP query on --threads threads); rollout/s (rollouts per "
+      "second of that query); ok (whether it chose the right answer); actions (the BFS's action set size); "
+      "depth (BFS levels completed; * the search space ran out: left out of the medians); bfs nodes "
+      "(successors generated on one thread); bfs/s 1t (successors per second on one thread); bfs/s Nt (on "
+      "--threads threads); per thread (bfs/s Nt / N). - where a measurement did not run.");
   s.bench->add_flag("--json", s.bench_json, "Print one JSON object");
 }
 

@@ -27,6 +27,11 @@ void register_bench(CLI::App* cmd, BenchOptions& o) {
   cmd->add_option("--steps", o.steps, "Steps per program")->default_val(1000)->check(int_count());
   cmd->add_option("--seed", o.seed, "Seed for the programs and the action policy")->default_val(0)->check(seed_number());
   cmd->add_flag("--json", o.json, "Print JSON");
+  cmd->footer(
+      "Columns: program; grid (GRID_SIZE); steps (random actions replayed per measurement, the same on both "
+      "engines); interp st/s and compiled st/s (steps per second, each frame rendered, as the benchmark "
+      "protocol does); interp bare/s and comp bare/s (steps per second without rendering); interp cl ns and comp "
+      "cl ns (nanoseconds to clone the environment after the last step); ratio x (compiled st/s / interp st/s).");
   cmd->add_option("--only", o.only, "Run one engine only (for profiling)")->check(CLI::IsMember(engine_names()));
 }
 

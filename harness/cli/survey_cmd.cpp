@@ -31,6 +31,11 @@ void register_survey(CLI::App* cmd, SurveyOptions& o) {
   cmd->add_option("--seed", o.seed, "Seed for the programs and the random policy")->default_val(0)->check(seed_number());
   cmd->add_option("--engine", o.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("interp");
   cmd->add_flag("--json", o.json, "Print one JSON object instead of the table");
+  cmd->footer(
+      "Columns: program (file name); grid (GRID_SIZE); steps (random actions taken before the end or an error); "
+      "frames (frames drawn, the first included); distinct (different frames among them); clauses (on-clauses "
+      "whose condition held at least once / on-clauses of the program); time ms (wall clock of the episode); "
+      "status (ok, error: a runtime error, its message below the table, load error, engine error).");
 }
 
 struct SurveyRow {
