@@ -8,9 +8,43 @@
 of the program.
 """
 import json
+import numbers
 import os
 
 from . import _core
+
+
+_KINDS = {
+    "int": ("an integer", lambda v: isinstance(v, numbers.Integral) and not isinstance(v, bool)),
+    "number": ("a number", lambda v: isinstance(v, numbers.Real) and not isinstance(v, bool)),
+    "str": ("a string", lambda v: isinstance(v, str)),
+    "bool": ("True or False", lambda v: isinstance(v, (bool, numbers.Integral))),
+}
+
+
+def _check_args(where, **given):
+    """Raises TypeError naming ``where``'s own argument (not the private _core
+    call's ``arg3``) when a value is not of the kind given as (value, kind);
+    "count" is an integer that must not be negative (ValueError)."""
+    for name, (value, kind) in given.items():
+        what, ok = _KINDS["int" if kind == "count" else kind]
+        if not ok(value):
+            raise TypeError(f"{where}: {name} must be {what}, got {type(value).__name__} {value!r}")
+        if kind == "count" and value < 0:
+            raise ValueError(f"{where}: {name} must not be negative, got {value}")
+
+
+def _action_list(where, actions):
+    """The actions as a list of strings ("left", "click 3 4", ...), or TypeError."""
+    if isinstance(actions, str):
+        raise TypeError(f"{where}: actions must be a list of action strings such as ['left', 'click 3 4'], "
+                        f"got the string {actions!r}")
+    out = list(actions)
+    for i, a in enumerate(out):
+        if not isinstance(a, str):
+            raise TypeError(f"{where}: actions[{i}] must be an action string such as 'left', 'noop' or "
+                            f"'click 3 4', got {type(a).__name__} {a!r}")
+    return out
 
 
 # What ``protocol`` sets, unless given explicitly: "default" is the agent as
@@ -38,6 +72,11 @@ def solve(task, engine="compiled", rollouts=None, threads=0, seed=0, max_steps=2
                         ("search", search), ("depth", depth)):
         if value is not None:
             chosen[name] = value
+    _check_args("autumnc.solve", engine=(engine, "str"), rollouts=(chosen["rollouts"], "count"),
+                threads=(threads, "count"), seed=(seed, "count"), max_steps=(max_steps, "count"),
+                policy=(chosen["policy"], "str"), depth=(chosen["depth"], "count"), nodes=(nodes, "count"),
+                search=(chosen["search"], "str"), max_plan=(max_plan, "count"), time_limit=(time_limit, "number"),
+                seed_inversion=(chosen["seed_inversion"], "bool"))
     return json.loads(_core._solve(os.fspath(task), engine, chosen["rollouts"], threads, seed, max_steps,
                                    chosen["policy"], chosen["depth"], nodes, chosen["search"], max_plan,
                                    float(time_limit), os.fspath(programs) if programs else "",
@@ -52,6 +91,8 @@ def baseline_random(tasks, engine="compiled", rollouts=50, timeout=1000, seed=0,
     chance; change detection: the probability that the trigger condition fires
     within ``timeout`` steps; planning: the probability of reaching the goal),
     "stderr", "mean_steps" and "successes" of ``rollouts`` episodes, or "error"."""
+    _check_args("autumnc.baseline_random", engine=(engine, "str"), rollouts=(rollouts, "count"),
+                timeout=(timeout, "count"), seed=(seed, "count"), threads=(threads, "count"))
     paths = [os.fspath(tasks)] if isinstance(tasks, (str, os.PathLike)) else [os.fspath(t) for t in tasks]
     return json.loads(_core._baseline_random(paths, engine, rollouts, timeout, seed, threads,
                                              os.fspath(programs) if programs else ""))
@@ -67,6 +108,11 @@ def make_task(kind, program, seed=0, steps=None, out=None, env_seed=0, engine="c
     --out`` does; ``answers`` names the answers file. A cd task needs ``out``
     (under prompts/): its changed program is written to the sibling programs/,
     and ``steps`` is the clock value the change starts at."""
+    _check_args("autumnc.make_task", kind=(kind, "str"), seed=(seed, "count"), env_seed=(env_seed, "count"),
+                engine=(engine, "str"), batch=(batch, "count"), masked_frames=(masked_frames, "count"),
+                extend_colours=(extend_colours, "bool"))
+    if steps is not None:
+        _check_args("autumnc.make_task", steps=(steps, "count"))
     made = json.loads(_core._make_task(kind, os.fspath(program), seed, -1 if steps is None else steps,
                                        os.fspath(out) if out else "", env_seed, engine, batch, masked_frames,
                                        extend_colours, os.fspath(answers) if answers else ""))
@@ -87,11 +133,16 @@ class Program:
         return json.loads(_core._compile(self.path, self.trigger))
 
     def run(self, seed=0, actions=(), engine="compiled"):
-        """One episode as a trace dict (the conformance format), like ``autumn run --json``."""
-        return json.loads(_core._run(self.path, seed, list(actions), self.trigger, engine))
+        """One episode as a trace dict (the conformance format), like ``autumn run --json``.
+
+        ``seed``: the episode's random seed; ``actions``: action strings ("noop",
+        "left", "right", "up", "down", "click X Y"); ``engine``: "compiled" or "interp"."""
+        _check_args("Program.run", seed=(seed, "count"), engine=(engine, "str"))
+        return json.loads(_core._run(self.path, seed, _action_list("Program.run", actions), self.trigger, engine))
 
     def check(self, traces, engine="compiled"):
         """Replay a trace file, like ``autumn check``: counts and mismatch reports."""
+        _check_args("Program.check", engine=(engine, "str"))
         return json.loads(_core._check(self.path, os.fspath(traces), engine))
 
     def __repr__(self):

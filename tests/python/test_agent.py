@@ -29,6 +29,29 @@ def test_program_compile_and_run():
         autumnc.Program("/nonexistent.au")
 
 
+def test_wrong_argument_types_name_the_public_argument(tmp_path):
+    """A wrong type is refused with the caller's argument name, never the private
+    binding's "_run(): incompatible function arguments ... arg1"."""
+    p = autumnc.Program(SOKOBAN)
+    cases = [
+        (lambda: p.run(seed="x"), TypeError, r"^Program\.run: seed must be an integer, got str 'x'$"),
+        (lambda: p.run(seed=-1), ValueError, r"^Program\.run: seed must not be negative, got -1$"),
+        (lambda: p.run(actions=[3.5]), TypeError, r"^Program\.run: actions\[0\] must be an action string"),
+        (lambda: p.run(actions="left"), TypeError, r"^Program\.run: actions must be a list of action strings"),
+        (lambda: p.run(engine=None), TypeError, r"^Program\.run: engine must be a string"),
+        (lambda: p.check("t.json", engine=1), TypeError, r"^Program\.check: engine must be a string"),
+        (lambda: autumnc.solve("t.json", rollouts=2.5), TypeError, r"^autumnc\.solve: rollouts must be an integer"),
+        (lambda: autumnc.solve("t.json", time_limit="1"), TypeError, r"^autumnc\.solve: time_limit must be a number"),
+        (lambda: autumnc.make_task("mfp", SOKOBAN, steps=True), TypeError,
+         r"^autumnc\.make_task: steps must be an integer, got bool True$"),
+        (lambda: autumnc.baseline_random("t.json", timeout=-5), ValueError,
+         r"^autumnc\.baseline_random: timeout must not be negative"),
+    ]
+    for call, error, message in cases:
+        with pytest.raises(error, match=message):
+            call()
+
+
 def test_make_task_then_solve(tmp_path):
     out = tmp_path / "prompts" / "sokoban_mfp.json"
     task = autumnc.make_task("mfp", SOKOBAN, seed=1, steps=8, out=out, extend_colours=True)
