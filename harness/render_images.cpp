@@ -1,6 +1,8 @@
 #include "harness/render_images.hpp"
 
 #include <fcntl.h>
+#include <ft2build.h>
+#include FT_FREETYPE_H
 #include <gif_lib.h>
 #include <png.h>
 #include <unistd.h>
@@ -10,6 +12,7 @@
 #include <cstring>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -90,6 +93,74 @@ Image draw(const Picture& p, const DrawOptions& o) {
       for (int y = line; y < s; ++y)
         for (int x = line; x < s; ++x) im.set(cx * s + x, cy * s + y, p.at(cx, cy));
   return im;
+}
+
+// ---------------------------------------------------------------------------- captions
+
+namespace {
+
+// The font, loaded on first use and kept (FreeType's library and face are not
+// thread-safe: captions are drawn under a mutex).
+struct CaptionFont {
+  FT_Library lib = nullptr;
+  FT_Face face = nullptr;
+  std::string error;
+  CaptionFont() {
+    if (FT_Init_FreeType(&lib)) {
+      error = "cannot start FreeType";
+      return;
+    }
+    if (FT_New_Face(lib, AUTUMN_CAPTION_FONT, 0, &face) || FT_Set_Pixel_Sizes(face, 0, 11)) {
+      error = std::string("cannot load the caption font ") + AUTUMN_CAPTION_FONT +
+              " (Debian's fonts-dejavu-core; scripts/bootstrap.sh installs it)";
+      face = nullptr;
+    }
+  }
+};
+
+// The width in pixels of `text` (its glyphs' advances).
+int text_width(FT_Face face, const std::string& text) {
+  int w = 0;
+  for (unsigned char c : text)
+    if (!FT_Load_Char(face, c < 0x80 ? c : '?', FT_LOAD_DEFAULT)) w += static_cast<int>(face->glyph->advance.x >> 6);
+  return w;
+}
+
+// Draws `text` from pen position x on baseline y, black where a glyph covers at
+// least half a pixel (two colours: a GIF's palette stays exact).
+void draw_text(Image& im, FT_Face face, const std::string& text, int x, int baseline) {
+  for (unsigned char c : text) {
+    if (FT_Load_Char(face, c < 0x80 ? c : '?', FT_LOAD_RENDER)) continue;
+    const FT_GlyphSlot g = face->glyph;
+    for (unsigned row = 0; row < g->bitmap.rows; ++row)
+      for (unsigned col = 0; col < g->bitmap.width; ++col) {
+        const int px = x + g->bitmap_left + static_cast<int>(col), py = baseline - g->bitmap_top + static_cast<int>(row);
+        if (px >= 0 && py >= 0 && px < im.width && py < im.height &&
+            g->bitmap.buffer[row * static_cast<unsigned>(g->bitmap.pitch) + col] >= 128)
+          im.set(px, py, 0x000000);
+      }
+    x += static_cast<int>(g->advance.x >> 6);
+  }
+}
+
+}  // namespace
+
+Image captioned(const Image& panel, const std::string& text) {
+  static CaptionFont font;
+  static std::mutex mu;
+  std::lock_guard<std::mutex> lock(mu);
+  if (!font.face) throw std::runtime_error(font.error);
+  Image out = blank(panel.width, panel.height + kCaptionHeight, 0xffffff);
+  blit(out, panel, 0, 0);
+  const int room = panel.width - 4;
+  std::string shown = text;
+  if (text_width(font.face, shown) > room) {  // as much as fits, then "..."
+    const int dots = text_width(font.face, "...");
+    while (!shown.empty() && text_width(font.face, shown) + dots > room) shown.pop_back();
+    shown += "...";
+  }
+  draw_text(out, font.face, shown, 2, panel.height + kCaptionHeight - 4);
+  return out;
 }
 
 Image tile(const std::vector<Image>& images, int columns, int gap, uint32_t gap_rgb) {

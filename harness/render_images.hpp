@@ -11,7 +11,8 @@
 // giflib; nothing here knows a file format's bytes. Every failure (a path that
 // cannot be written, more than 256 colours in a GIF, a file that is not an image)
 // is a std::runtime_error with a one-line reason. The read_* functions exist for
-// the tests, which decode what was written and compare pixels.
+// the tests, which decode what was written and compare pixels. Captions under
+// panels are drawn with FreeType from the DejaVu Sans font file.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -51,6 +52,12 @@ struct DrawOptions {
   bool grid_lines = false;  // a one-pixel dark line between cells
 };
 Image draw(const Picture& p, const DrawOptions& o);
+// A panel with its caption: a white band kCaptionHeight pixels high under it,
+// `text` in black (FreeType, DejaVu Sans; two colours, so a GIF stays exact).
+// Text wider than the panel is cut and ends in "...". Throws std::runtime_error
+// when the font cannot be loaded (its path is fixed when the project is built).
+constexpr int kCaptionHeight = 15;
+Image captioned(const Image& panel, const std::string& text);
 // Images laid out left to right, `columns` per row, `gap` pixels of gap_rgb between them.
 Image tile(const std::vector<Image>& images, int columns, int gap = 4, uint32_t gap_rgb = 0xffffff);
 

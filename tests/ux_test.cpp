@@ -132,12 +132,12 @@ TEST(Pictures, RenderWritesTheEpisode) {
                      "--columns 4 --out " + (dir / "e.png").string());
   ASSERT_EQ(png.status, 0) << png.out;
   const Image strip = read_png((dir / "e.png").string());
-  const int side = 8 * 5 + 1, gap = 4;  // 8x8 cells, 5 px each, grid lines
+  const int side = 8 * 5 + 1, gap = 4;  // 8x8 cells, 5 px each, grid lines; a caption under each
   EXPECT_EQ(strip.width, 4 * side + 3 * gap);
-  EXPECT_EQ(strip.height, 2 * side + gap);
+  EXPECT_EQ(strip.height, 2 * (side + kCaptionHeight) + gap);
   for (size_t i = 0; i < frames.size(); ++i)
-    expect_frame_at(strip, static_cast<int>(i % 4) * (side + gap) + 1, static_cast<int>(i / 4) * (side + gap) + 1,
-                    frames[i], 5);
+    expect_frame_at(strip, static_cast<int>(i % 4) * (side + gap) + 1,
+                    static_cast<int>(i / 4) * (side + kCaptionHeight + gap) + 1, frames[i], 5);
 
   EXPECT_EQ(run_cli("render " + program_path("sokoban.au") + " --out x.jpg").status, 2);
   auto unwritable = run_cli("render " + program_path("sokoban.au") + " --out /nonexistent/x.png");
@@ -187,10 +187,26 @@ TEST(Pictures, PlanPicturesShowEveryFrame) {
   ASSERT_GE(scale, 4) << gif[0].width;
   for (size_t i = 0; i < gif.size(); ++i) expect_frame_at(gif[i], 1, 1, frames[i], scale);
   const Image png = read_png((dir / "pictures" / "frog_plan_plan.png").string());
-  const int side = grid * scale + 1, gap = 4;
+  const int side = grid * scale + 1, gap = 4, panel_h = side + kCaptionHeight;
   for (size_t i = 0; i < frames.size(); ++i)
-    expect_frame_at(png, static_cast<int>(i % 8) * (side + gap) + 1, static_cast<int>(i / 8) * (side + gap) + 1,
+    expect_frame_at(png, static_cast<int>(i % 8) * (side + gap) + 1, static_cast<int>(i / 8) * (panel_h + gap) + 1,
                     frames[i], scale);
+  // Every panel, the goal after the frames included, has a caption: black text on
+  // the white band under it; and the GIF's frames carry theirs.
+  auto ink = [&](const Image& im, int x0, int y0) {
+    int n = 0;
+    for (int y = y0 + side; y < y0 + panel_h; ++y)
+      for (int x = x0; x < x0 + side; ++x) n += im.at(x, y) == 0x000000;
+    return n;
+  };
+  for (size_t i = 0; i <= frames.size(); ++i)
+    EXPECT_GT(ink(png, static_cast<int>(i % 8) * (side + gap), static_cast<int>(i / 8) * (panel_h + gap)), 10)
+        << "panel " << i << " has no caption";
+  EXPECT_EQ(png.height, static_cast<int>((frames.size() + 1 + 7) / 8) * (panel_h + gap) - gap);
+  ASSERT_EQ(gif[0].height, panel_h);
+  EXPECT_GT(ink(gif[0], 0, 0), 10);
+  // Captions differ with the frame they name: "start", "1: left", ...
+  EXPECT_NE(ink(gif[0], 0, 0), ink(gif[1], 0, 0));
 }
 
 // A planning task made with --env-seed on a program that draws random numbers
@@ -231,6 +247,7 @@ TEST(Pictures, CheckDrawsTheFirstMismatch) {
   const Image im = read_png((dir / "d.png").string());
   const int side = 8 * 16 + 1, gap = 8;
   EXPECT_EQ(im.width, 3 * side + 2 * gap);
+  EXPECT_EQ(im.height, side + kCaptionHeight);  // expected | got | differing cells, each captioned
   EXPECT_EQ(im.at(8, 2 * 16 + 8), 0xff0000u);                       // expected: red
   EXPECT_NE(im.at(side + gap + 8, 2 * 16 + 8), 0xff0000u);          // got: not red
   EXPECT_EQ(im.at(2 * (side + gap) + 8, 2 * 16 + 8), 0xff0000u);    // difference: marked

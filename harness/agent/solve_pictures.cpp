@@ -18,9 +18,13 @@ Picture picture_of_grid(const Grid& g, const ColourTable& colours) {
   return p;
 }
 
+// Frame i captioned "start" or "i: action" (and "(the last)" on the final one).
 std::vector<Image> episode_images(const EpisodeFrames& ep) {
   std::vector<Image> images;
-  for (const auto& rows : ep.frames) images.push_back(draw(picture_of_rows(rows), kDraw));
+  for (size_t i = 0; i < ep.frames.size(); ++i) {
+    std::string caption = i == 0 ? "start" : std::to_string(i) + ": " + format_action(ep.actions[i - 1]);
+    images.push_back(captioned(draw(picture_of_rows(ep.frames[i]), kDraw), caption));
+  }
   return images;
 }
 
@@ -47,14 +51,17 @@ std::vector<std::string> render_plan(const Task& task, const SolveOptions& opts,
     if (!task.mask.cells[i]) goal.cells[i] = 0;
   const std::string gif = out_path(dir, task, "_plan.gif"), png = out_path(dir, task, "_plan.png");
   write_gif(gif, frames, kDelayMs);
-  frames.push_back(draw(picture_of_grid(goal, task.colours), kDraw));
+  frames.push_back(captioned(draw(picture_of_grid(goal, task.colours), kDraw), "goal (grey: any colour)"));
   write_png(png, tile(frames, static_cast<int>(std::min<size_t>(frames.size(), 8))));
   return {gif, png};
 }
 
 std::vector<std::string> render_mfp(const Task& task, const MfpResult& r, const fs::path& dir) {
   std::vector<Image> observed;
-  for (const Observation& o : task.observations) observed.push_back(draw(picture_of_grid(o.grid, task.colours), kDraw));
+  for (size_t i = 0; i < task.observations.size(); ++i)
+    observed.push_back(captioned(draw(picture_of_grid(task.observations[i].grid, task.colours), kDraw),
+                                 "observation " + std::to_string(i + 1) + " of " +
+                                     std::to_string(task.observations.size())));
   const std::string gif = out_path(dir, task, "_observations.gif");
   write_gif(gif, observed, kDelayMs);
   if (r.choice < 0) return {gif};
@@ -64,7 +71,11 @@ std::vector<std::string> render_mfp(const Task& task, const MfpResult& r, const 
     for (int x = 0; x < choice.width; ++x)
       answered.cells[static_cast<size_t>(task.masked.y + y) * answered.width + task.masked.x + x] = choice.at(x, y);
   const std::string png = out_path(dir, task, "_answer.png");
-  write_png(png, tile({observed.back(), draw(picture_of_grid(answered, task.colours), kDraw)}, 2, 8));
+  write_png(png, tile({captioned(draw(picture_of_grid(task.observations.back().grid, task.colours), kDraw),
+                                 "last frame (grey: masked)"),
+                        captioned(draw(picture_of_grid(answered, task.colours), kDraw),
+                                  "answer: choice " + std::to_string(r.choice))},
+                       2, 8));
   return {gif, png};
 }
 

@@ -51,7 +51,9 @@ Picture difference(const Picture& a, const Picture& b) {
 void write_diff_png(const CheckOptions& o, const FrameMismatch& m) {
   const Picture expected = picture_of_rows(m.expected), got = picture_of_rows(m.got);
   const DrawOptions d{o.scale, true};
-  write_png(o.diff_png, tile({draw(expected, d), draw(got, d), draw(difference(expected, got), d)}, 3, 8));
+  write_png(o.diff_png, tile({captioned(draw(expected, d), "expected"), captioned(draw(got, d), "got"),
+                              captioned(draw(difference(expected, got), d), "differing cells (red)")},
+                             3, 8));
   std::cerr << "autumn check: wrote " << o.diff_png << " (" << m.where << ": expected | got | differing cells)\n";
 }
 

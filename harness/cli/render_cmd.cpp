@@ -61,9 +61,9 @@ std::string picture_size_error(const RenderOptions& o, int grid, size_t frames) 
   const std::string what = std::to_string(grid) + "x" + std::to_string(grid) + " grid at --scale " +
                            std::to_string(o.scale) + " makes " + std::to_string(side) + "x" + std::to_string(side) +
                            "-pixel frames";
-  if (gif && side > kMaxGifSide)
+  if (gif && side + kCaptionHeight > kMaxGifSide)
     return what + "; a GIF frame is at most " + std::to_string(kMaxGifSide) + " pixels a side (lower --scale)";
-  if (side * side > kMaxPixels / copies / static_cast<int64_t>(std::max<size_t>(frames, 1)))
+  if (side * (side + kCaptionHeight) > kMaxPixels / copies / static_cast<int64_t>(std::max<size_t>(frames, 1)))
     return what + ", " + std::to_string(frames) + " of them: more than " + std::to_string(kMaxPixels) +
            " pixels in all (lower --scale or --steps)";
   return {};
@@ -72,7 +72,9 @@ std::string picture_size_error(const RenderOptions& o, int grid, size_t frames) 
 void write_pictures(const RenderOptions& o, const EpisodeFrames& ep) {
   if (std::string why = picture_size_error(o, ep.grid, ep.frames.size()); !why.empty()) throw std::runtime_error(why);
   std::vector<Image> images;
-  for (const auto& rows : ep.frames) images.push_back(draw(picture_of_rows(rows), {o.scale, o.grid_lines}));
+  for (size_t i = 0; i < ep.frames.size(); ++i)  // each frame captioned with the action that led to it
+    images.push_back(captioned(draw(picture_of_rows(ep.frames[i]), {o.scale, o.grid_lines}),
+                               i == 0 ? "start" : std::to_string(i) + ": " + format_action(ep.actions[i - 1])));
   if (has_suffix(o.out, ".gif")) write_gif(o.out, images, o.delay_ms);
   else write_png(o.out, tile(images, o.columns));
 }
