@@ -422,6 +422,29 @@ TEST(HonestOutput, SolveWithoutAnAnswerExitsOne) {
   EXPECT_EQ(last_json(r.out)["result"]["found"], false);
 }
 
+// Every table has a legend: each command's --help ends with "Columns:" and
+// explains every column header the table prints.
+TEST(HonestOutput, EveryTableHasALegend) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> tables = {
+      {"survey", {"program", "grid", "steps", "frames", "distinct", "clauses", "time ms", "status"}},
+      {"bench", {"program", "grid", "steps", "interp st/s", "compiled st/s", "interp bare/s", "comp bare/s",
+                 "interp cl ns", "comp cl ns", "ratio x"}},
+      {"bench-agent", {"program", "grid", "code", "mfp s", "rollout/s", "ok", "actions", "depth", "bfs nodes",
+                       "bfs/s 1t", "bfs/s Nt", "per thread"}},
+      {"eval", {"task", "type", "score", "time s", "throughput", "unit", "detail"}},
+      {"baseline random", {"task", "type", "score (+- se)", "successes", "mean steps", "seconds"}},
+  };
+  for (const auto& [command, columns] : tables) {
+    auto r = run_cli(command + " --help");
+    ASSERT_EQ(r.status, 0) << command << ": " << r.out;
+    const size_t legend = r.out.find("Columns:");
+    ASSERT_NE(legend, std::string::npos) << command << ": " << r.out;
+    // CLI11 wraps nothing in footers, so each header appears as written.
+    for (const std::string& c : columns)
+      EXPECT_NE(r.out.find(c, legend), std::string::npos) << command << " --help does not explain '" << c << "'";
+  }
+}
+
 // eval, like solve, exits 1 when a task gets no answer, and says how many.
 // A task folder of one ice task (symbolic links into ../shared): DIR/tasks.
 fs::path one_ice_task(const std::string& scratch_name, const char* prompt) {

@@ -83,7 +83,12 @@ def interpreter_rate(path, seconds, json_render):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m autumnc.bench", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(
+        prog="python3 -m autumnc.bench", description=__doc__.splitlines()[0],
+        epilog="Columns (all in env-steps per second, 200-step episodes, random actions): N=1, N=16, N=256: "
+               "a VecEnv of N environments, observations written every step; ref loop (JSON): the "
+               "reference-style Interpreter loop reading json.loads(render_all()); ref loop (grid): the same "
+               "loop reading render_grid(). kind: specialised or embedded module.")
     ap.add_argument("programs", nargs="*")
     ap.add_argument("--seconds", type=float, default=1.0, help="time per measurement")
     ap.add_argument("--threads", type=int, default=0, help="VecEnv worker threads (0: one per core)")
