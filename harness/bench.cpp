@@ -1,9 +1,12 @@
 #include "harness/bench.hpp"
 
+#include <fmt/core.h>
+
 #include <chrono>
 
 #include "harness/engine.hpp"
 #include "harness/policy.hpp"
+#include "harness/program_files.hpp"
 
 namespace autumn {
 namespace {
@@ -41,8 +44,11 @@ BenchRow bench_program(const std::string& name, const std::shared_ptr<const Prog
                        const std::vector<std::string>& engines, size_t steps, uint64_t seed) {
   BenchRow row;
   row.program = name;
-  // One action sequence for all engines, chosen by the policy on the first engine's frames.
+  // One action sequence for all engines, chosen by the policy on the first engine's
+  // frames; a runtime error before `steps` ends it there, and every engine's
+  // figures then say so (they cover the steps before it).
   std::vector<Action> actions;
+  std::string stopped;
   for (const std::string& engine : engines) {
     EngineFigures f;
     std::string why;
@@ -63,7 +69,11 @@ BenchRow bench_program(const std::string& name, const std::shared_ptr<const Prog
       RandomPolicy policy(seed + 101);
       for (size_t i = 0; i < steps; ++i) {
         Action a = policy.next(probe->frame());
-        if (!probe->step(a)) break;
+        if (!probe->step(a)) {
+          stopped = "stopped after " + std::to_string(actions.size()) + " of " + std::to_string(steps) +
+                    " steps: " + probe->error();
+          break;
+        }
         actions.push_back(a);
       }
     }
@@ -83,11 +93,71 @@ BenchRow bench_program(const std::string& name, const std::shared_ptr<const Prog
       (void)c;
     }
     f.clone_ns = seconds_since(t0) * 1e9 / clones;
-    f.ok = done == actions.size();
-    if (!f.ok) f.error = env->error();
+    f.ok = done == actions.size() && stopped.empty();
+    f.error = done != actions.size() ? env->error() : stopped;
     row.engines.push_back(f);
   }
   return row;
+}
+
+nlohmann::json bench_row_json(const BenchRow& row) {
+  static const char* const kEngines[] = {"interp", "compiled"};
+  const EngineFigures& in = row.engines.at(0);
+  const EngineFigures& co = row.engines.at(1);
+  const double ratio = in.ok && co.ok && in.steps_per_s > 0 ? co.steps_per_s / in.steps_per_s : 0;
+  nlohmann::json r = {{"program", row.program}, {"grid", row.grid}, {"steps", in.steps}, {"ratio", ratio}};
+  for (size_t i = 0; i < 2; ++i)
+    r[kEngines[i]] = {{"ok", row.engines[i].ok},
+                      {"steps_per_s", row.engines[i].steps_per_s},
+                      {"steps_per_s_no_render", row.engines[i].steps_per_s_no_render},
+                      {"clone_ns", row.engines[i].clone_ns},
+                      {"error", row.engines[i].error}};
+  return r;
+}
+
+nlohmann::json bench_error_row(const std::string& program, const std::string& why) {
+  return {{"program", program}, {"error", why}};
+}
+
+bool bench_row_ok(const nlohmann::json& row) {
+  return !row.contains("error") && row.at("interp").at("ok").get<bool>() && row.at("compiled").at("ok").get<bool>();
+}
+
+nlohmann::json bench_report(const nlohmann::json& rows) {
+  std::vector<double> ratios, compiled_us;
+  for (const auto& r : rows)
+    if (bench_row_ok(r) && r.at("ratio").get<double>() > 0) {
+      ratios.push_back(r.at("ratio").get<double>());
+      compiled_us.push_back(1e6 / r.at("compiled").at("steps_per_s").get<double>());
+    }
+  return {{"rows", rows}, {"median_ratio", median(ratios)}, {"median_compiled_step_us", median(compiled_us)}};
+}
+
+std::string bench_table(const nlohmann::json& report) {
+  std::string s = fmt::format("{:<32} {:>4} {:>6} {:>13} {:>13} {:>13} {:>13} {:>12} {:>12} {:>8}\n", "program", "grid",
+                              "steps", "interp st/s", "compiled st/s", "interp bare/s", "comp bare/s", "interp cl ns",
+                              "comp cl ns", "ratio x");
+  size_t counted = 0;
+  for (const auto& r : report.at("rows")) {
+    if (r.contains("error")) {
+      s += fmt::format("{:<32} error: {}\n", r.at("program").get<std::string>(), r.at("error").get<std::string>());
+      continue;
+    }
+    const auto& in = r.at("interp");
+    const auto& co = r.at("compiled");
+    s += fmt::format("{:<32} {:>4} {:>6} {:>13.0f} {:>13.0f} {:>13.0f} {:>13.0f} {:>12.0f} {:>12.0f} {:>7.1f}x\n",
+                     r.at("program").get<std::string>(), r.at("grid").get<int>(), r.at("steps").get<size_t>(),
+                     in.at("steps_per_s").get<double>(), co.at("steps_per_s").get<double>(),
+                     in.at("steps_per_s_no_render").get<double>(), co.at("steps_per_s_no_render").get<double>(),
+                     in.at("clone_ns").get<double>(), co.at("clone_ns").get<double>(), r.at("ratio").get<double>());
+    for (const char* e : {"interp", "compiled"})
+      if (!r.at(e).at("error").get<std::string>().empty())
+        s += fmt::format("  {}: {}\n", e, r.at(e).at("error").get<std::string>());
+    counted += bench_row_ok(r) && r.at("ratio").get<double>() > 0;
+  }
+  s += fmt::format("median over {} programs: compiled/interp {:.1f}x, compiled step {:.2f} us (render included)\n",
+                   counted, report.at("median_ratio").get<double>(), report.at("median_compiled_step_us").get<double>());
+  return s;
 }
 
 }  // namespace autumn

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "compiler/analyse/program.hpp"
 
 namespace autumn {
@@ -29,5 +31,16 @@ struct BenchRow {
 
 BenchRow bench_program(const std::string& name, const std::shared_ptr<const Program>& program,
                        const std::vector<std::string>& engines, size_t steps, uint64_t seed);
+
+// The interpreter-vs-compiled comparison (engines {"interp", "compiled"}), as
+// `autumn bench` reports it and autumnc.distributed.bench collects it: a row's
+// JSON ({"program", "grid", "steps", "ratio", "interp": {...}, "compiled":
+// {...}}); a program that could not be loaded as a row with "error"; the report
+// of all rows ({"rows", "median_ratio", "median_compiled_step_us"}) and its table.
+nlohmann::json bench_row_json(const BenchRow& row);
+nlohmann::json bench_error_row(const std::string& program, const std::string& why);
+nlohmann::json bench_report(const nlohmann::json& rows);
+std::string bench_table(const nlohmann::json& report);
+bool bench_row_ok(const nlohmann::json& row);
 
 }  // namespace autumn

@@ -53,19 +53,6 @@ int run_one_engine(const BenchOptions& o, const std::vector<std::filesystem::pat
   return kExitOk;
 }
 
-constexpr const char* kHeader = "{:<32} {:>4} {:>6} {:>13} {:>13} {:>13} {:>13} {:>12} {:>12} {:>8}\n";
-
-nlohmann::json row_json(const BenchRow& row, const std::vector<std::string>& engines, double ratio) {
-  nlohmann::json r = {{"program", row.program}, {"grid", row.grid}, {"steps", row.engines[0].steps}, {"ratio", ratio}};
-  for (size_t i = 0; i < engines.size(); ++i)
-    r[engines[i]] = {{"ok", row.engines[i].ok},
-                     {"steps_per_s", row.engines[i].steps_per_s},
-                     {"steps_per_s_no_render", row.engines[i].steps_per_s_no_render},
-                     {"clone_ns", row.engines[i].clone_ns},
-                     {"error", row.engines[i].error}};
-  return r;
-}
-
 int run_bench(const BenchOptions& o) {
   auto files = expand_programs(o.programs);
   if (files.empty()) {
@@ -73,48 +60,26 @@ int run_bench(const BenchOptions& o) {
     return kExitUsage;
   }
   if (!o.only.empty()) return run_one_engine(o, files);
-  const std::vector<std::string> engines = {"interp", "compiled"};
   nlohmann::json rows = nlohmann::json::array();
-  std::vector<double> ratios, compiled_us;
-  if (!o.json)
-    fmt::print(kHeader, "program", "grid", "steps", "interp st/s", "compiled st/s", "interp bare/s", "comp bare/s",
-               "interp cl ns", "comp cl ns", "ratio x");
   int failures = 0;
   Progress progress("bench", files.size());
   for (size_t i = 0; i < files.size(); ++i) {
     const auto& f = files[i];
     progress.item(i, f.stem().string());
-    auto program = load_or_report(f.string(), std::nullopt);
+    std::string why;
+    auto program = load_or_report(f.string(), std::nullopt, &why);
     if (!program) {
+      rows.push_back(bench_error_row(f.stem().string(), why));
       ++failures;
       continue;
     }
-    BenchRow row = bench_program(f.stem().string(), program, engines, o.steps, o.seed);
-    const auto& in = row.engines[0];
-    const auto& co = row.engines[1];
-    double ratio = (in.ok && co.ok && in.steps_per_s > 0) ? co.steps_per_s / in.steps_per_s : 0;
-    if (ratio > 0) ratios.push_back(ratio), compiled_us.push_back(1e6 / co.steps_per_s);
-    if (!in.ok || !co.ok) ++failures;
-    if (o.json) {
-      rows.push_back(row_json(row, engines, ratio));
-      continue;
-    }
-    progress.done();
-    fmt::print("{:<32} {:>4} {:>6} {:>13.0f} {:>13.0f} {:>13.0f} {:>13.0f} {:>12.0f} {:>12.0f} {:>7.1f}x\n", row.program,
-               row.grid, in.steps, in.steps_per_s, co.steps_per_s, in.steps_per_s_no_render, co.steps_per_s_no_render,
-               in.clone_ns, co.clone_ns, ratio);
-    for (const auto& e : row.engines)
-      if (!e.error.empty()) std::cerr << "  " << row.program << ": " << e.error << "\n";
+    rows.push_back(bench_row_json(bench_program(f.stem().string(), program, {"interp", "compiled"}, o.steps, o.seed)));
+    failures += !bench_row_ok(rows.back());
   }
   progress.done();
-  if (o.json)
-    std::cout << nlohmann::json({{"rows", rows}, {"median_ratio", median(ratios)},
-                                 {"median_compiled_step_us", median(compiled_us)}})
-                     .dump(2)
-              << "\n";
-  else
-    fmt::print("median over {} programs: compiled/interp {:.1f}x, compiled step {:.2f} us (render included)\n",
-               ratios.size(), median(ratios), median(compiled_us));
+  const nlohmann::json report = bench_report(rows);
+  if (o.json) std::cout << report.dump(2) << "\n";
+  else std::cout << bench_table(report);
   return failures ? kExitFailed : kExitOk;
 }
 

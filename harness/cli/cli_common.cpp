@@ -16,18 +16,22 @@ bool& warnings_are_errors() {
   return on;
 }
 
-std::shared_ptr<const Program> load_or_report(const std::string& path, const std::optional<std::string>& trigger) {
+std::shared_ptr<const Program> load_or_report(const std::string& path, const std::optional<std::string>& trigger,
+                                              std::string* why) {
   try {
     auto p = load_program_file(path, trigger);
     for (const auto& w : p->warnings) std::cerr << w << "\n";
     if (warnings_are_errors() && !p->warnings.empty()) {
-      std::cerr << path << ": error: " << p->warnings.size() << " warning" << (p->warnings.size() == 1 ? "" : "s")
-                << " treated as errors (--Werror)\n";
+      const std::string e = path + ": error: " + std::to_string(p->warnings.size()) + " warning" +
+                            (p->warnings.size() == 1 ? "" : "s") + " treated as errors (--Werror)";
+      std::cerr << e << "\n";
+      if (why) *why = e;
       return nullptr;
     }
     return p;
   } catch (const CompileError& e) {
     std::cerr << e.formatted() << "\n";
+    if (why) *why = e.formatted();
     return nullptr;
   }
 }

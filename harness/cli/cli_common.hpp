@@ -40,7 +40,8 @@ bool& warnings_are_errors();
 
 // Loads a program and prints its warnings (file:line:col: warning: ...); on a
 // compile error (or a warning under --Werror) prints it and returns null.
-std::shared_ptr<const Program> load_or_report(const std::string& path, const std::optional<std::string>& trigger);
+std::shared_ptr<const Program> load_or_report(const std::string& path, const std::optional<std::string>& trigger,
+                                              std::string* why = nullptr);
 
 // --limits KEY=N,... (runtime/limits.hpp) on a subcommand; the text goes to
 // limits_spec() and parse_limits_option() turns it into episode_limits() once the

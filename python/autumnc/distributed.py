@@ -40,7 +40,7 @@ import numpy as np
 
 from . import _core
 
-__all__ = ["EvalResult", "evaluate", "install_modules", "make_tasks", "modules_at_hand", "package_modules",
+__all__ = ["BenchResult", "EvalResult", "bench", "evaluate", "install_modules", "make_tasks", "modules_at_hand", "package_modules",
            "rollouts", "ship_modules", "solve"]
 
 # solve()'s option names and the CLI's defaults; `protocol` "paper" changes the
@@ -368,6 +368,80 @@ def make_tasks(client, kind, programs, seeds=(0,), out_dir=None, progress=True, 
             meta.append((p, s))
     return [value if status == "ok" else {"program": p, "seed": s, "error": value}
             for (p, s), (status, value) in zip(meta, _gather(client, units, "make-task", progress))]
+
+
+# ---------------------------------------------------------------------------- bench
+
+class BenchResult:
+    """A distributed ``autumn bench``: ``report`` (the dict ``autumn bench
+    --json`` prints: "rows", "median_ratio", "median_compiled_step_us"),
+    ``table`` (the text ``autumn bench`` prints), ``rows``, ``shipping`` and
+    ``seconds`` (wall time). Each row was measured on one worker, alone on its
+    thread: figures from workers on different machines compare those machines."""
+
+    def __init__(self, report, table, shipping, seconds):
+        self.report, self.table, self.shipping, self.seconds = report, table, shipping, seconds
+
+    @property
+    def rows(self):
+        return self.report["rows"]
+
+    @property
+    def ok(self):
+        """Every program loaded and ran on both engines (the CLI's exit status 0)."""
+        return all("error" not in r and r["interp"]["ok"] and r["compiled"]["ok"] for r in self.rows)
+
+    def __repr__(self):
+        return (f"autumnc.distributed.BenchResult({len(self.rows)} programs, median compiled/interp "
+                f"{self.report['median_ratio']:.1f}x, {self.seconds:.1f} s)")
+
+
+def _program_paths(programs):
+    """Program files as `autumn bench` expands them: a folder gives its .au and
+    .sexp files (sorted), anything else is taken as a file."""
+    out = []
+    for p in programs:
+        p = os.fspath(p)
+        if os.path.isdir(p):
+            out.extend(sorted(os.path.join(p, f) for f in os.listdir(p) if f.endswith((".au", ".sexp"))))
+        else:
+            out.append(p)
+    return out
+
+
+def _bench_unit(text, name, steps, seed):
+    """On a worker: one program's ``autumn bench`` row, as JSON text."""
+    return _core._bench_program(text, name, steps, seed)
+
+
+def bench(client, programs, steps=1000, seed=0, progress=True, ship=True):
+    """``autumn bench PROGRAMS`` (interpreter vs compiled engine: steps/s with
+    and without rendering, clone cost) with one unit per program on ``client``
+    (``None``: in this process). ``programs`` are program files or folders of
+    them. The compiled modules are built once and shipped (``ship``). Returns a
+    ``BenchResult``; ``print(result.table)`` is the CLI's output. A program that
+    cannot be read or loaded is a row with its "error"."""
+    from .agent import _check_args
+
+    _check_args("autumnc.distributed.bench", steps=(steps, "count"), seed=(seed, "count"))
+    start = time.monotonic()
+    listed, rows = [], {}
+    for i, path in enumerate(_program_paths(programs)):
+        name = os.path.splitext(os.path.basename(path))[0]
+        try:
+            with open(path, encoding="utf-8") as f:
+                listed.append((i, path, f.read()))
+        except (OSError, UnicodeDecodeError) as e:
+            rows[i] = json.dumps({"program": name, "error": f"cannot read {path}: {e}"})
+    shipping = None
+    if client is not None and ship:  # a program that does not load is packaged as an error, not shipped
+        shipping = ship_modules(client, [(path, text, None) for _, path, text in listed])
+    units = [(os.path.splitext(os.path.basename(path))[0], _bench_unit, (text, path, steps, seed))
+             for _, path, text in listed]
+    for (i, _, _), (name, _, _), (status, value) in zip(listed, units, _gather(client, units, "bench", progress)):
+        rows[i] = value if status == "ok" else json.dumps({"program": name, "error": value})
+    report, table = _core._bench_report([rows[i] for i in sorted(rows)])
+    return BenchResult(json.loads(report), table, shipping, time.monotonic() - start)
 
 
 # ---------------------------------------------------------------------------- rollouts

@@ -26,6 +26,7 @@
 #include "harness/agent/eval.hpp"
 #include "harness/agent/eval_shards.hpp"
 #include "harness/agent/thread_pool.hpp"
+#include "harness/bench.hpp"
 #include "harness/module_cache.hpp"
 #include "python/src/colours.hpp"
 #include "python/src/bindings.hpp"
@@ -144,6 +145,27 @@ void bind_distributed(pb::module_& m) {
   // a worker's ids beyond the AutumnBench table are its own, so rollouts map
   // them into the client's through the names.
   m.def("_colour_id", [](const std::string& name) { return py::colour_id(name); });
+  // One program's `autumn bench` row (JSON text): interpreter and compiled
+  // engine over `steps` random actions; a program that does not load, a row
+  // with its "error".
+  m.def("_bench_program", [](const std::string& text, const std::string& name, size_t steps, uint64_t seed) {
+    pb::gil_scoped_release release;
+    const std::string stem = std::filesystem::path(name).stem().string();
+    std::shared_ptr<const Program> p;
+    try {
+      p = program_of(text, name, std::nullopt);
+    } catch (const std::exception& e) {
+      return bench_error_row(stem, e.what()).dump();
+    }
+    return bench_row_json(bench_program(stem, p, {"interp", "compiled"}, steps, seed)).dump();
+  });
+  // (report JSON text, table text) of rows as _bench_program gives them.
+  m.def("_bench_report", [](const std::vector<std::string>& rows_json) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const std::string& r : rows_json) rows.push_back(nlohmann::json::parse(r));
+    const nlohmann::json report = bench_report(rows);
+    return std::make_pair(report.dump(), bench_table(report));
+  });
 }
 
 }  // namespace autumn::py_bind

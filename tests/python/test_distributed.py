@@ -181,3 +181,32 @@ def test_rollouts_solve_and_make_tasks(client, task_folder):
                          progress=False)
     assert made[0]["task"] == autumnc.make_task("mfp", sokoban, seed=1, steps=6, extend_colours=True)
     assert "cannot open" in made[1]["error"] and made[1]["program"] == "/nonexistent.au"
+
+
+def test_bench_rows_per_program_on_workers_that_do_not_compile(client, tmp_path):
+    """autumn bench across the workers: a row per program in the order given, on
+    both engines (the compiled one from shipped modules: the workers do not
+    compile), the same steps and grid as the CLI's rows, a program that does not
+    load or exist as a row with its error, and the CLI's table."""
+    bad = tmp_path / "bad.au"
+    bad.write_text("(program (= GRID_SIZE 4) (= x (initnext 0 (+ (prev x) 1)))")  # unclosed
+    programs = [os.path.join(PROGRAMS, "sokoban.au"), os.path.join(PROGRAMS, "fireworks.au"), str(bad),
+                "/nonexistent.au"]
+    result = ad.bench(client, programs, steps=30, progress=False)
+    names = [r["program"] for r in result.rows]
+    assert names == ["sokoban", "fireworks", "bad", "nonexistent"]
+    assert not result.ok
+    for r in result.rows[:2]:
+        assert r["interp"]["ok"] and r["compiled"]["ok"], r
+        assert r["ratio"] > 0 and r["interp"]["clone_ns"] > 0
+    assert "bad.au:1:" in result.rows[2]["error"] and "cannot read /nonexistent.au" in result.rows[3]["error"]
+    assert result.report["median_ratio"] > 0
+    lines = result.table.splitlines()
+    assert lines[0].split()[:3] == ["program", "grid", "steps"] and lines[-1].startswith("median over 2 programs")
+    if os.path.exists(CLI):
+        out = subprocess.run([CLI, "bench", *programs[:2], "--steps", "30", "--json"], capture_output=True,
+                             text=True, check=True).stdout
+        cli = json.loads(out)["rows"]
+        assert [(r["program"], r["grid"], r["steps"]) for r in cli] == \
+               [(r["program"], r["grid"], r["steps"]) for r in result.rows[:2]]
+
