@@ -21,8 +21,9 @@ the bytes against the manifest, the program, the ABI, the module's table -- so a
 corrupt transfer is refused, and that worker then compiles the module itself if
 it can (or the unit's row says why it could not). A worker with
 ``AUTUMN_NO_COMPILE=1`` in its environment never starts the compiler, so it needs
-neither g++ nor the headers. Workers that join after the modules were shipped
-compile their own (or, without a compiler, report the missing module).
+neither g++ nor the headers. The packages are also published on the cluster as a
+Dask dataset (scattered once): a worker that joins after they were shipped
+fetches and installs the ones it lacks before its first unit (``_with_modules``).
 
 The evaluation's report and table are the CLI's: rows travel as ``autumn eval``'s
 JSON rows, and ``_eval_report`` rebuilds them into the same report and table
@@ -100,10 +101,11 @@ def _guarded(fn, *args):
         return ("error", f"{type(e).__name__}: {e}")
 
 
-def _gather(client, units, what, progress):
+def _gather(client, units, what, progress, shipping=None):
     """Runs ``units`` [(name, fn, args)] and returns their results in order; a
     unit whose future fails (its worker died, its result could not travel)
-    gives ``("error", reason)`` in its place."""
+    gives ``("error", reason)`` in its place. ``shipping`` (ship_modules'
+    report): each unit first makes sure its worker has the shipped modules."""
     bar = _Progress(what, len(units), progress)
     results = [None] * len(units)
     if client is None:
@@ -113,9 +115,11 @@ def _gather(client, units, what, progress):
         return results
     from distributed import as_completed
 
+    needs = (shipping["dataset"], shipping["programs"]) if shipping and shipping.get("dataset") else None
     futures = {}
     for i, (name, fn, args) in enumerate(units):
-        f = client.submit(_guarded, fn, *args, pure=False, key=f"autumnc-{what}-{i}-{os.urandom(4).hex()}")
+        f = client.submit(_guarded, _with_modules, needs, fn, *args, pure=False,
+                          key=f"autumnc-{what}-{i}-{os.urandom(4).hex()}")
         futures[f] = (i, name)
     for f in as_completed(list(futures)):
         i, name = futures[f]
@@ -174,16 +178,49 @@ def modules_at_hand(client, programs, workers=None):
     return client.run(_worker_inventory, list(programs), workers=workers)
 
 
-def _worker_install(packages):
+# The datasets of shipped modules this worker process has installed or checked
+# (install_modules marks them; a worker that joined later checks on its first unit).
+_SHIPPED = set()
+
+
+def _worker_install(packages, dataset=None):
     """On a worker: installs each package through the module store's checks; "" or why refused."""
-    return [_core._install_module(p["text"], p["name"], p["trigger"], p["so"], p["manifest"], p["built_from"])
-            for p in packages]
+    out = [_core._install_module(p["text"], p["name"], p["trigger"], p["so"], p["manifest"], p["built_from"])
+           for p in packages]
+    if dataset:
+        _SHIPPED.add(dataset)
+    return out
 
 
-def install_modules(client, packages, workers=None):
+def _with_modules(needs, fn, *args):
+    """On a worker: ``fn(*args)``, once the worker has every module of the
+    shipment ``needs`` = (dataset, [(name, text, trigger)]). A worker that was
+    there when they were shipped has them; one that joined later fetches the
+    packages it lacks from the published dataset and installs them (the same
+    checks), once per process."""
+    if needs and needs[0] not in _SHIPPED:
+        dataset, programs = needs
+        missing = [i for i, (name, text, trigger) in enumerate(programs)
+                   if not _core._module_at_hand(text, name, trigger)]
+        if missing:
+            from distributed import get_client
+
+            packages = get_client().get_dataset(dataset)
+            for i in missing:
+                p = packages[i].result()
+                why = _core._install_module(p["text"], p["name"], p["trigger"], p["so"], p["manifest"],
+                                            p["built_from"])
+                if why:
+                    sys.stderr.write(f"autumnc.distributed: the shipped module of {p['name']} was refused: {why}\n")
+        _SHIPPED.add(dataset)
+    return fn(*args)
+
+
+def install_modules(client, packages, workers=None, dataset=None):
     """Sends the shippable ``packages`` (package_modules' values) to the workers
     that lack them. Returns ``{worker: {"had": n, "installed": [names],
-    "refused": [(name, reason)], "bytes": shipped}}``."""
+    "refused": [(name, reason)], "bytes": shipped}}``. ``dataset``: the name they
+    are published under (ship_modules), which the workers then note as installed."""
     shippable = [p for p in packages if p and "so" in p]
     report = {}
     if not shippable:
@@ -193,8 +230,8 @@ def install_modules(client, packages, workers=None):
     for worker, have in inventory.items():
         missing = [p for p, h in zip(shippable, have) if not h]
         entry = {"had": sum(have), "installed": [], "refused": [], "bytes": 0}
-        if missing:
-            answers = client.run(_worker_install, missing, workers=[worker])[worker]
+        if missing or dataset:
+            answers = client.run(_worker_install, missing, dataset, workers=[worker])[worker]
             for p, why in zip(missing, answers):
                 entry["bytes"] += len(p["so"]) + len(p["manifest"]) + len(p["built_from"])
                 if why:
@@ -214,11 +251,20 @@ def ship_modules(client, programs, workers=None):
     may)."""
     start = time.monotonic()
     packages = package_modules(programs)
-    report = install_modules(client, list(packages.values()), workers)
+    shippable = [p for p in packages.values() if p and "so" in p]
+    dataset = None
+    if shippable:  # for workers that join later (_with_modules): published once, fetched on demand
+        import hashlib
+
+        dataset = "autumnc-modules-" + hashlib.sha256("".join(sorted(p["key"] for p in shippable)).encode()).hexdigest()[:16]
+        if dataset not in client.list_datasets():
+            client.publish_dataset(client.scatter(shippable), name=dataset)
+    report = install_modules(client, shippable, workers, dataset)
     for worker, entry in report.items():
         for name, why in entry["refused"]:
             sys.stderr.write(f"autumnc.distributed: {worker} refused the module of {name}: {why}\n")
-    return {"packages": packages, "workers": report, "seconds": time.monotonic() - start}
+    return {"packages": packages, "workers": report, "seconds": time.monotonic() - start, "dataset": dataset,
+            "programs": [(p["name"], p["text"], p["trigger"]) for p in shippable]}
 
 
 def _task_programs(files, options, find_answers):
@@ -287,7 +333,7 @@ def evaluate(client, folder, protocol="default", threads=1, progress=True, ship=
     shipping = _ship_for(client, files, chosen, True, ship)
     units = [(os.path.relpath(f, folder), _eval_unit, (f, folder, text, threads)) for f in files]
     rows = []
-    for (name, _, _), (status, value) in zip(units, _gather(client, units, "eval", progress)):
+    for (name, _, _), (status, value) in zip(units, _gather(client, units, "eval", progress, shipping)):
         rows.append(value if status == "ok" else json.dumps(_error_row(name, value)))
     report, table = _core._eval_report(rows, protocol, text, [folder])
     return EvalResult(json.loads(report), table, shipping, time.monotonic() - start)
@@ -323,10 +369,12 @@ def solve(client, tasks, protocol="default", threads=1, progress=True, ship=True
         programs = []
         for t, o in zip(tasks, per_task):
             programs.extend(_task_programs([t], {k: o.get(k) for k in ("engine", "programs", "answers")}, False))
-        ship_modules(client, programs)
+        shipping = ship_modules(client, programs)
+    else:
+        shipping = None
     units = [(t, _solve_unit, (t, o)) for t, o in zip(tasks, per_task)]
     return [value if status == "ok" else {"task": t, "error": value}
-            for t, (status, value) in zip(tasks, _gather(client, units, "solve", progress))]
+            for t, (status, value) in zip(tasks, _gather(client, units, "solve", progress, shipping))]
 
 
 def _make_unit(kind, program, seed, out, options):
@@ -355,7 +403,9 @@ def make_tasks(client, kind, programs, seeds=(0,), out_dir=None, progress=True, 
                     listed.append((p, f.read(), None))
             except OSError:  # its rows say why
                 pass
-        ship_modules(client, listed)
+        shipping = ship_modules(client, listed)
+    else:
+        shipping = None
     units, meta = [], []
     for p in programs:
         stem = os.path.splitext(os.path.basename(p))[0]
@@ -367,7 +417,7 @@ def make_tasks(client, kind, programs, seeds=(0,), out_dir=None, progress=True, 
             units.append((f"{stem} seed {s}", _make_unit, (kind, p, s, out, options)))
             meta.append((p, s))
     return [value if status == "ok" else {"program": p, "seed": s, "error": value}
-            for (p, s), (status, value) in zip(meta, _gather(client, units, "make-task", progress))]
+            for (p, s), (status, value) in zip(meta, _gather(client, units, "make-task", progress, shipping))]
 
 
 # ---------------------------------------------------------------------------- bench
@@ -438,7 +488,7 @@ def bench(client, programs, steps=1000, seed=0, progress=True, ship=True):
         shipping = ship_modules(client, [(path, text, None) for _, path, text in listed])
     units = [(os.path.splitext(os.path.basename(path))[0], _bench_unit, (text, path, steps, seed))
              for _, path, text in listed]
-    for (i, _, _), (name, _, _), (status, value) in zip(listed, units, _gather(client, units, "bench", progress)):
+    for (i, _, _), (name, _, _), (status, value) in zip(listed, units, _gather(client, units, "bench", progress, shipping)):
         rows[i] = value if status == "ok" else json.dumps({"program": name, "error": value})
     report, table = _core._bench_report([rows[i] for i in sorted(rows)])
     return BenchResult(json.loads(report), table, shipping, time.monotonic() - start)
@@ -501,13 +551,14 @@ def rollouts(client, program, episodes, steps, batch=64, seed=0, engine="compile
         text = f.read()
     if episodes < 1 or steps < 1 or batch < 1:
         raise ValueError("episodes, steps and batch must be at least 1")
+    shipping = None
     if client is not None and ship and engine in ("compiled", "auto"):
-        ship_modules(client, [(path, text, trigger)])
+        shipping = ship_modules(client, [(path, text, trigger)])
     count = (episodes + batch - 1) // batch
     units = [(f"batch {i}", _rollout_unit, (text, path, batch, steps, seed, i, engine, trigger, env_threads, policy))
              for i in range(count)]
     parts = []
-    for i, (status, value) in enumerate(_gather(client, units, "rollouts", progress)):
+    for i, (status, value) in enumerate(_gather(client, units, "rollouts", progress, shipping)):
         if status != "ok":
             raise RuntimeError(f"rollout batch {i} of {path} failed: {value}")
         # Colours beyond the AutumnBench table have ids of the worker's own: into ours.

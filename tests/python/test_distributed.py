@@ -210,3 +210,48 @@ def test_bench_rows_per_program_on_workers_that_do_not_compile(client, tmp_path)
         assert [(r["program"], r["grid"], r["steps"]) for r in cli] == \
                [(r["program"], r["grid"], r["steps"]) for r in result.rows[:2]]
 
+
+def _forbidden():
+    return _core._compiling_forbidden()
+
+
+def test_a_worker_that_joins_later_gets_the_shipped_modules(client, tmp_path):
+    """Modules shipped before a worker joined reach it too: a new worker process
+    (its own empty cache, AUTUMN_NO_COMPILE=1) takes over from the first two,
+    and the units it runs fetch the shipment's packages instead of failing.
+    Runs last: it retires the fixture's workers."""
+    import sys
+    import time
+
+    sokoban = str(tmp_path / "late_sokoban.au")  # not one of the modules built into the package
+    with open(os.path.join(PROGRAMS, "sokoban.au"), encoding="utf-8") as f:
+        text = f.read().replace("(program", "(program (= lateJoiner 1)", 1)
+    with open(sokoban, "w", encoding="utf-8") as f:
+        f.write(text)
+    shipping = ad.ship_modules(client, [(sokoban, text, None)])
+    assert shipping["dataset"] and shipping["programs"][0][0] == sokoban
+    old = set(client.scheduler_info()["workers"])
+    env = dict(os.environ, AUTUMN_CACHE_DIR=str(tmp_path / "late-cache"), AUTUMN_NO_COMPILE="1",
+               PYTHONPATH=os.path.dirname(os.path.abspath(__file__)))  # this file's helpers, as the others import them
+    late = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", client.scheduler.address,
+                             "--nworkers", "1", "--nthreads", "1", "--no-dashboard"], env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 60
+        while set(client.scheduler_info()["workers"]) == old:
+            assert time.monotonic() < deadline, "the new worker did not join"
+            time.sleep(0.2)
+        (new,) = set(client.scheduler_info()["workers"]) - old
+        assert client.run(_forbidden, workers=[new])[new]
+        assert not ad.modules_at_hand(client, [(sokoban, text, None)], workers=[new])[new][0]
+        client.retire_workers(list(old))
+        units = [("sokoban", ad._bench_unit, (text, sokoban, 20, 0))]
+        (status, value), = ad._gather(client, units, "bench", False, shipping)
+        assert status == "ok", value
+        row = json.loads(value)
+        assert row["compiled"]["ok"] and row["steps"] == 20, row
+        assert ad.modules_at_hand(client, [(sokoban, text, None)], workers=[new])[new][0]
+    finally:
+        late.terminate()
+        late.wait(timeout=30)
+
