@@ -10,7 +10,6 @@
 #include <CLI/CLI.hpp>
 
 #include "compiler/read/output.hpp"
-#include "harness/agent/agent_commands.hpp"
 #include "harness/cli/commands.hpp"
 #include "harness/module_cache.hpp"
 
@@ -22,10 +21,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "autumn " AUTUMNC_VERSION, "Print the version and exit");
   app.add_flag("--Werror", warnings_are_errors(), "Treat the programs' warnings as errors");
   app.fallthrough();  // --Werror after the subcommand too (`autumn run prog.au --Werror`)
-  std::vector<Subcommand> commands = {add_run_command(app),    add_render_command(app), add_check_command(app),
-                                      add_survey_command(app), add_bench_command(app),  add_difftest_command(app),
-                                      add_play_command(app)};
-  autumn::agent::add_agent_commands(app);
+  std::vector<Subcommand> commands = {
+      add_run_command(app),      add_render_command(app),    add_check_command(app),     add_survey_command(app),
+      add_bench_command(app),    add_difftest_command(app),  add_play_command(app),      add_solve_command(app),
+      add_make_task_command(app), add_eval_command(app),     add_baseline_command(app),  add_bench_agent_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -35,7 +34,6 @@ int main(int argc, char** argv) {
   int rc = -1;
   for (const Subcommand& c : commands)
     if (c.app->parsed()) rc = c.run();
-  if (rc < 0) rc = autumn::agent::run_agent_command(app);
   if (rc < 0) rc = kExitUsage;
   // Before static destruction: a module emitted in the background must not
   // outlive the statics it reads (module_cache.hpp).

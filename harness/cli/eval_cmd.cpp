@@ -1,0 +1,134 @@
+// autumn eval — every task in a folder solved by the simulator agent and
+// tabulated (harness/agent/eval), or one slice of them for a batch scheduler
+// (--shard K/N) and the slices' JSON put back together (--merge).
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "compiler/read/output.hpp"
+#include "harness/agent/eval.hpp"
+#include "harness/agent/eval_shards.hpp"
+#include "harness/agent/thread_pool.hpp"
+#include "harness/cli/agent_options.hpp"
+#include "harness/cli/commands.hpp"
+
+namespace autumn::cli {
+namespace {
+
+using namespace autumn::agent;
+
+struct EvalCommand {
+  std::string dir;
+  SolveOptions search;
+  std::string protocol = "default";
+  unsigned threads = 0;
+  bool json = false;
+  std::string json_out;            // also write the JSON object here (the table still prints)
+  std::string shard;               // K/N: this slice of the folder's tasks (eval_shards.hpp)
+  std::vector<std::string> merge;  // shard JSON files to put back together
+};
+
+void register_eval(CLI::App* cmd, EvalCommand& o) {
+  CLI::Option* dir = cmd->add_option("DIR", o.dir, "Folder of tasks (not with --merge)")->check(CLI::ExistingDirectory);
+  cmd->add_flag("--json", o.json, "Print one JSON object");
+  cmd->add_option("--json-out", o.json_out, "Also write that JSON object to FILE (the table still prints)")
+      ->type_name("FILE");
+  add_search_options(cmd, o.search, o.threads);
+  add_protocol_option(cmd, o.protocol);
+  cmd->footer(
+      "Columns: task (its file, relative to DIR); type (mfp, cd, planning); score (MFP and planning: 1 for a "
+      "right answer or a plan that reaches the goal, else 0; change detection: the benchmark's score of when "
+      "the change was detected, 0 to 1; - when there is no answers file to score against; error when the "
+      "solver failed); time s (solve time, module compiles not counted: the summary "
+      "line gives them); throughput and unit (rollouts/s for MFP, steps/s for change detection, nodes/s for "
+      "planning: measured work per second of that solve, - when nothing was measured); detail (what was "
+      "answered, or why not). The second table gives the mean score per task type.");
+  cmd->add_option("--shard", o.shard,
+                     "Solve only slice K of N of the folder's tasks (those whose index in path order is K-1 modulo N), "
+                     "for a batch scheduler's array job; its JSON says which slice (docs/scale.md)")
+      ->type_name("K/N")
+      ->needs(dir);
+  cmd->add_option("--merge", o.merge,
+                     "Put the N shards' JSON files (--json-out of each --shard run) back together: the table and JSON "
+                     "one run of the whole folder prints")
+      ->type_name("SHARD.json ...")
+      ->excludes(dir)
+      ->check(CLI::ExistingFile);
+
+}
+
+// Prints a report (the table, or JSON), writes --json-out; the exit status of
+// its rows: 1 when a task failed (an error) or got no answer (no plan), as solve.
+int finish_eval(const EvalCommand& c, const nlohmann::json& report, const std::vector<EvalRow>& rows) {
+  if (c.json) std::cout << report.dump() << "\n";
+  else fmt::print("{}\n{}", eval_table(rows), eval_type_table(rows));
+  if (!c.json_out.empty()) {
+    if (std::string why = write_file(c.json_out, report.dump(1) + "\n"); !why.empty()) return command_failed("eval", why);
+  }
+  const auto errors = std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return !r.error.empty(); });
+  const auto unanswered =
+      std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return r.error.empty() && !r.answered; });
+  if (unanswered) std::cerr << "autumn eval: " << unanswered << " task" << (unanswered == 1 ? "" : "s") << " got no answer\n";
+  return errors || unanswered ? 1 : 0;
+}
+
+int run_eval_merge(const EvalCommand& c) {
+  std::vector<nlohmann::json> reports;
+  for (const std::string& f : c.merge) {
+    std::ifstream in(f);
+    try {
+      reports.push_back(nlohmann::json::parse(in));
+    } catch (const nlohmann::json::exception& e) {
+      return command_failed("eval", f + ": not JSON (" + e.what() + ")");
+    }
+  }
+  std::vector<EvalRow> rows;
+  try {
+    const nlohmann::json merged = merge_shard_reports(reports, c.merge, rows);
+    return finish_eval(c, merged, rows);
+  } catch (const nlohmann::json::exception& e) {
+    return command_failed("eval", std::string("a shard's rows are not eval's: ") + e.what());
+  }
+}
+
+int run_eval(const CLI::App* cmd, const EvalCommand& c) {
+  try {
+    if (!c.merge.empty()) {
+      if (!c.json_out.empty() && !can_write(c.json_out)) return command_failed("eval", "cannot write " + c.json_out);
+      return run_eval_merge(c);
+    }
+    if (c.dir.empty()) return command_failed("eval", "a folder of tasks is required (DIR), or --merge SHARD.json ...");
+    const Shard shard = c.shard.empty() ? Shard{} : parse_shard(c.shard);
+    // Checked before the (long) run, so a bad path fails at once; written after,
+    // so a file inside DIR is never scanned half-made (an eval JSON is not a task).
+    if (!c.json_out.empty() && !can_write(c.json_out))
+      return command_failed("eval", "cannot write " + c.json_out);
+    ThreadPool pool(c.threads);
+    SolveOptions o = c.search;
+    apply_protocol(cmd, c.protocol, o);
+    const std::vector<fs::path> all = find_tasks(c.dir);
+    std::vector<EvalRow> rows = run_eval_files(c.dir, select_shard(all, shard), o, pool, progress_bar());
+    nlohmann::json report = eval_json(rows);
+    report["agent"] = eval_agent_json(c.protocol, o);
+    report["task_set"] = {c.dir};
+    if (!c.shard.empty()) report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"tasks", all.size()}};
+    return finish_eval(c, report, rows);
+  } catch (const std::exception& e) {
+    return command_failed("eval", e.what());
+  }
+}
+
+}  // namespace
+
+Subcommand add_eval_command(CLI::App& app) {
+  auto o = std::make_shared<EvalCommand>();
+  CLI::App* cmd = app.add_subcommand("eval", "Solve every task in a folder (recursively) and tabulate the scores");
+  register_eval(cmd, *o);
+  return {cmd, [cmd, o] { return run_eval(cmd, *o); }};
+}
+
+}  // namespace autumn::cli
