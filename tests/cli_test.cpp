@@ -168,6 +168,9 @@ TEST(Cli, AutumncSaysWhatItWrote) {
   EXPECT_NE(r.out.find("stale_occupancy.au: specialised, "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("wrote " + (dir / "stale_occupancy.cpp").string() + "\n"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(dir / "stale_occupancy.cpp"));
+  // Its header says how to regenerate it: with autumnc, from the program it came from.
+  const std::string head = autumn::testing::read_text(dir / "stale_occupancy.cpp").substr(0, 400);
+  EXPECT_NE(head.find("regenerate it with\n// `autumnc " + golden("stale_occupancy.au") + "`"), std::string::npos) << head;
   fs::remove_all(dir);
 }
 
