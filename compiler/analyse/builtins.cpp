@@ -48,6 +48,13 @@ const BuiltinInfo* builtin_table() { return kTable; }
 
 const BuiltinInfo& builtin_info(Builtin b) { return kTable[static_cast<int>(b)]; }
 
+std::string builtin_arity_error(Builtin b, size_t given) {
+  const BuiltinInfo& info = builtin_info(b);
+  if (info.min_args != info.max_args || given == info.min_args) return "";
+  return std::string(info.name) + " takes " + std::to_string(info.min_args) + " argument(s), got " +
+         std::to_string(given);
+}
+
 std::optional<Builtin> builtin_by_name(std::string_view name) {
   for (const BuiltinInfo& b : kTable)
     if (name == b.name) return b.id;

@@ -13,6 +13,7 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace autumn {
@@ -58,6 +59,11 @@ const BuiltinInfo* builtin_table();
 const BuiltinInfo& builtin_info(Builtin b);
 inline const char* builtin_name(Builtin b) { return builtin_info(b).name; }
 std::optional<Builtin> builtin_by_name(std::string_view name);
+// The argument-count error both engines raise when a builtin that takes exactly
+// its table's count is given `given` arguments ("length takes 1 argument(s), got
+// 2"), or "" when the count is right. A builtin that takes a range checks its
+// own count (each says it in its own words, as the reference does).
+std::string builtin_arity_error(Builtin b, size_t given);
 
 // The built-in type names the reference defines at start-up, in its order.
 inline constexpr const char* kBuiltinTypeNames[] = {"Bool", "String", "Number", "Int",

@@ -89,10 +89,8 @@ Value Interpreter::all_objs() {
 Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
   const char* const name = builtin_name(b);  // for error messages only
   const size_t n = args.size();
-  auto need = [&](size_t count) {
-    if (n != count)
-      fail(std::string(name) + " takes " + std::to_string(count) + " argument(s), got " + std::to_string(n));
-  };
+  // A builtin of one argument count: checked here, from the table, before its case.
+  if (std::string why = builtin_arity_error(b, n); !why.empty()) fail(why);
   auto list_arg = [&](size_t i) -> ListObj* {
     if (!args[i].is(VKind::List))
       fail(std::string(name) + ": argument " + std::to_string(i + 1) + " must be a list, got " +
@@ -124,7 +122,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
 
   switch (b) {
     case Builtin::Map: {
-      need(2);
       const Value& f = func_arg(0);
       ListObj* l = list_arg(1);
       Value out = make_empty_list();
@@ -133,7 +130,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return out;
     }
     case Builtin::Filter: {
-      need(2);
       const Value& f = func_arg(0);
       ListObj* l = list_arg(1);
       Value out = make_empty_list();
@@ -143,7 +139,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return out;
     }
     case Builtin::Foldl: {
-      need(3);
       const Value& f = func_arg(0);
       Value acc = args[1];
       ListObj* l = list_arg(2);
@@ -155,7 +150,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return acc;
     }
     case Builtin::Concat: {
-      need(1);
       ListObj* l = list_arg(0);
       int64_t total = 0;
       for (const Value& x : l->items) {
@@ -169,21 +163,18 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
         for (const Value& y : x.as<ListObj>()->items) out.as<ListObj>()->items.push_back(y);
       return out;
     }
-    case Builtin::Length: need(1); return Value::number(static_cast<int32_t>(list_arg(0)->items.size()));
+    case Builtin::Length: return Value::number(static_cast<int32_t>(list_arg(0)->items.size()));
     case Builtin::Head: {
-      need(1);
       ListObj* l = list_arg(0);
       if (l->items.empty()) fail("head of an empty list");
       return l->items.front();
     }
     case Builtin::Tail: {  // the *last* element, as in the reference
-      need(1);
       ListObj* l = list_arg(0);
       if (l->items.empty()) fail("tail of an empty list");
       return l->items.back();
     }
     case Builtin::At: {
-      need(2);
       ListObj* l = list_arg(0);
       if (l->items.empty()) fail("at: empty list");
       int32_t i = num_arg(1);
@@ -205,7 +196,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return out;
     }
     case Builtin::Defined: {
-      need(1);
       if (!args[0].is(VKind::String)) fail("defined: the argument must be a string");
       std::string nm = *args[0].str;
       if (!nm.empty() && nm[0] == '"') nm = nm.substr(1, nm.size() - 2);
@@ -213,7 +203,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return Value::boolean(s >= 0 && gdefined_[s]);
     }
     case Builtin::ArrayEqual: {
-      need(2);
       ListObj* a = list_arg(0);
       ListObj* c = list_arg(1);
       if (a->items.size() != c->items.size()) fail("arrayEqual: lists of different lengths");
@@ -223,12 +212,11 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return out;
     }
     case Builtin::Sqrt: {
-      need(1);
       int32_t v = num_arg(0);
       if (v < 0) fail("sqrt of a negative number");
       return Value::number(static_cast<int32_t>(std::sqrt(static_cast<double>(v))));
     }
-    case Builtin::Prev: need(1); return builtin_prev(args[0]);
+    case Builtin::Prev: return builtin_prev(args[0]);
     case Builtin::Any: {
       if (n != 1 && n != 2) fail("any takes 1 or 2 arguments, got " + std::to_string(n));
       if (n == 2) func_arg(0);
@@ -238,7 +226,7 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
         if (truthy(n == 2 ? call1(args[0], x) : x)) return Value::boolean(true);
       return Value::boolean(false);
     }
-    case Builtin::IsList: need(1); return Value::boolean(args[0].is(VKind::List));
+    case Builtin::IsList: return Value::boolean(args[0].is(VKind::List));
     case Builtin::UniformChoice: {
       if (n == 0) fail("uniformChoice needs a list");
       ListObj* l = list_arg(0);
@@ -253,7 +241,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return out;
     }
     case Builtin::AdjPositions: {
-      need(1);
       if (!args[0].is(VKind::Instance) || args[0].as<InstanceObj>()->cls != c_position_)
         fail("adjPositions: the argument must be a Position");
       const auto& f = args[0].as<InstanceObj>()->fields;
@@ -267,7 +254,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return make_list(std::move(out));
     }
     case Builtin::AddObj: {
-      need(2);
       ListObj* l = list_arg(0);
       if (!args[1].is(VKind::Instance) && !args[1].is(VKind::List))
         fail("addObj: the second argument must be an object or a list, got " + shown_type(type_string(type_of(args[1]))));
@@ -282,7 +268,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return out;
     }
     case Builtin::IsFreePos: {
-      need(1);
       if (!args[0].is(VKind::Instance) || args[0].as<InstanceObj>()->cls != c_position_)
         fail("isFreePos: the argument must be a Position");
       const auto& f = args[0].as<InstanceObj>()->fields;
@@ -290,14 +275,13 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return Value::boolean(!occupied_.count(pos_key(f[0].num, f[1].num)));
     }
     case Builtin::Range: {
-      need(2);
       int32_t a = num_arg(0), c = num_arg(1);
       check_length(static_cast<int64_t>(c) - a);
       Value out = make_empty_list();
       for (int32_t i = a; i < c; ++i) list_add(out.as<ListObj>(), Value::number(i));
       return out;
     }
-    case Builtin::Print: need(1); return args[0];
+    case Builtin::Print: return args[0];
     case Builtin::RemoveObj: {
       if (n == 0) fail("removeObj needs an argument (the reference interpreter crashes here)");
       if (n == 1) {
@@ -369,7 +353,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
       return call1(func_arg(1), args[0]);
     }
     case Builtin::RandomPositions: {
-      need(2);
       int32_t bound = num_arg(0);
       if (bound < 0) fail("randomPositions: the grid size must not be negative");
       int32_t count = num_arg(1);
@@ -415,7 +398,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
     case Builtin::Up: return Value::boolean(up_);
     case Builtin::Down: return Value::boolean(down_);
     case Builtin::IsWithinBounds: {
-      need(1);
       Value elems = render_value(args[0]);
       int32_t g = grid_size();
       for (const Value& r : elems.as<ListObj>()->items) {
@@ -426,7 +408,6 @@ Value Interpreter::call_builtin(Builtin b, std::vector<Value>& args) {
     }
     case Builtin::AllObjs: return all_objs();
     case Builtin::Rotate: {
-      need(1);
       if (!args[0].is(VKind::Instance)) fail("rotate: the argument must be an object");
       Value copy = copy_value(args[0]);
       InstanceObj* in = copy.as<InstanceObj>();

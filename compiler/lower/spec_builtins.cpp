@@ -18,9 +18,10 @@ namespace autumn::lower {
 // ---------------------------------------------------------------------------
 // Argument checks (the interpreter's need/list_arg/func_arg/num_arg)
 
-bool Specialiser::need(Builtin b, size_t n, size_t count) {
-  if (n == count) return true;
-  fail(std::string(builtin_name(b)) + " takes " + std::to_string(count) + " argument(s), got " + std::to_string(n));
+bool Specialiser::need(Builtin b, size_t n) {
+  const std::string why = builtin_arity_error(b, n);
+  if (why.empty()) return true;
+  fail(why);
   return false;
 }
 
@@ -51,6 +52,7 @@ SVal Specialiser::grid_size(const Expr& at) {
 // ---------------------------------------------------------------------------
 
 SVal Specialiser::call_builtin(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  // A builtin of one argument count: checked first, from the table, as the interpreter does.
   // A value of several types: one case per type (a dynamic site).
   for (size_t i = 0; i < a.size(); ++i)
     if (is_sum(a[i].type) && a[i].type->alts[0]->k != TK::Func) {
@@ -115,8 +117,6 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
       fail("any takes 1 or 2 arguments, got " + std::to_string(n));
       return never();
     }
-  } else if (!need(b, n, b == Builtin::Foldl ? 3 : 2)) {
-    return never();
   }
   const size_t fi = 0, li = b == Builtin::Foldl ? 2 : n - 1;
   const bool with_fn = !(b == Builtin::Any && n == 1);
@@ -247,20 +247,18 @@ SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at)
   auto known_bool = [&](bool v) { return SVal{T().bool_(), lit(T().bool_(), v), lit(T().bool_(), v)}; };
   switch (b) {
     case Builtin::IsList:
-      if (!need(b, n, 1)) return never();
       return known_bool(a[0].type->k == TK::List);
     case Builtin::Print:
-      if (!need(b, n, 1)) return never();
       return a[0];
     case Builtin::Sqrt: {
-      if (!need(b, n, 1) || !check_kind(b, a, 0, TK::Int, "a number")) return never();
+      if (!check_kind(b, a, 0, TK::Int, "a number")) return never();
       ir::Stmt* s = emit(ir::SK::If);
       s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
       in_block(s->body, [&] { fail("sqrt of a negative number"); });
       return let(SVal{T().int_(), call(ir::Helper::Sqrt, T().int_(), {a[0].code})});
     }
     case Builtin::Length:
-      if (!need(b, n, 1) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+      if (!check_kind(b, a, 0, TK::List, "a list")) return never();
       if (!a[0].type->elem) return SVal{T().int_(), lit(T().int_(), 0), lit(T().int_(), 0)};
       if (a[0].konst && a[0].konst->op == ir::Op::MakeList) {
         auto c = static_cast<int64_t>(a[0].konst->a.size());
@@ -269,7 +267,7 @@ SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at)
       return let(SVal{T().int_(), node(ir::Op::Size, T().int_(), {a[0].code})});
     case Builtin::Head:
     case Builtin::Tail: {
-      if (!need(b, n, 1) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+      if (!check_kind(b, a, 0, TK::List, "a list")) return never();
       const char* what = b == Builtin::Head ? "head of an empty list" : "tail of an empty list";
       if (!a[0].type->elem) {
         fail(what);
@@ -287,7 +285,7 @@ SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at)
     case Builtin::At: return builtin_at(a);
     case Builtin::Concat: return builtin_concat(a);
     case Builtin::Range: {
-      if (!need(b, n, 2) || !check_kind(b, a, 0, TK::Int, "a number") || !check_kind(b, a, 1, TK::Int, "a number"))
+      if (!check_kind(b, a, 0, TK::Int, "a number") || !check_kind(b, a, 1, TK::Int, "a number"))
         return never();
       auto lo = const_int(a[0]), hi = const_int(a[1]);
       std::optional<int64_t> known;
@@ -318,7 +316,7 @@ SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at)
 
 SVal Specialiser::builtin_at(std::vector<SVal>& a) {
   const Builtin b = Builtin::At;
-  if (!need(b, a.size(), 2) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+  if (!check_kind(b, a, 0, TK::List, "a list")) return never();
   if (!a[0].type->elem) {
     fail("at: empty list");
     return never();
@@ -337,7 +335,7 @@ SVal Specialiser::builtin_at(std::vector<SVal>& a) {
 
 SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
   const Builtin b = Builtin::Concat;
-  if (!need(b, a.size(), 1) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+  if (!check_kind(b, a, 0, TK::List, "a list")) return never();
   const SVal l = a[0];
   if (!l.type->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
   TypeP inner = l.type->elem;
@@ -381,7 +379,7 @@ SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
 
 SVal Specialiser::builtin_array_equal(std::vector<SVal>& a) {
   const Builtin b = Builtin::ArrayEqual;
-  if (!need(b, a.size(), 2) || !check_kind(b, a, 0, TK::List, "a list") || !check_kind(b, a, 1, TK::List, "a list"))
+  if (!check_kind(b, a, 0, TK::List, "a list") || !check_kind(b, a, 1, TK::List, "a list"))
     return never();
   TypeP out_t = T().list(T().bool_());
   if (!a[0].type->elem || !a[1].type->elem) {

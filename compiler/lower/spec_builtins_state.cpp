@@ -21,7 +21,6 @@ SVal Specialiser::builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at) 
     case Builtin::AllPositions: return builtin_all_positions(a);
     case Builtin::AdjPositions: return builtin_adj_positions(a, at);
     case Builtin::IsFreePos:
-      if (!need(b, a.size(), 1)) return never();
       if (a[0].type->k != TK::Pos) {
         fail("isFreePos: the argument must be a Position");
         return never();
@@ -35,7 +34,7 @@ SVal Specialiser::builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at) 
 SVal Specialiser::builtin_random_positions(std::vector<SVal>& a) {
   const Builtin b = Builtin::RandomPositions;
   const size_t n = a.size();
-  if (!need(b, n, 2) || !check_kind(b, a, 0, TK::Int, "a number")) return never();
+  if (!check_kind(b, a, 0, TK::Int, "a number")) return never();
   ir::Stmt* s = emit(ir::SK::If);
   s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
   in_block(s->body, [&] { fail("randomPositions: the grid size must not be negative"); });
@@ -93,7 +92,6 @@ SVal Specialiser::builtin_all_positions(std::vector<SVal>& a) {
 SVal Specialiser::builtin_adj_positions(std::vector<SVal>& a, const Expr& at) {
   const Builtin b = Builtin::AdjPositions;
   const size_t n = a.size();
-  if (!need(b, n, 1)) return never();
   if (a[0].type->k != TK::Pos) {
     fail("adjPositions: the argument must be a Position");
     return never();
@@ -128,7 +126,6 @@ SVal Specialiser::builtin_adj_positions(std::vector<SVal>& a, const Expr& at) {
 SVal Specialiser::builtin_within_bounds(std::vector<SVal>& a, const Expr& at) {
   const Builtin b = Builtin::IsWithinBounds;
   const size_t n = a.size();
-  if (!need(b, n, 1)) return never();
   SVal elems = render_value(a[0], at);
   SVal g = grid_size(at);
   if (dead_) return never();
@@ -253,7 +250,7 @@ void Specialiser::define_click() {
 SVal Specialiser::builtin_objects(Builtin b, std::vector<SVal>& a, const Expr& at) {
   const size_t n = a.size();
   if (b == Builtin::AddObj) {
-    if (!need(b, n, 2) || !check_kind(b, a, 0, TK::List, "a list")) return never();
+    if (!check_kind(b, a, 0, TK::List, "a list")) return never();
     const TK k = a[1].type->k;
     if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell && k != TK::List) {
       fail("addObj: the second argument must be an object or a list, got " + shown_type(type_string(a[1].type)));
@@ -511,7 +508,6 @@ ir::Node* Specialiser::same_identity_any(const SVal& x, const std::vector<SVal>&
 // objects, prev's included, turn with it. Objects of a class rotate is applied
 // to carry the group of cells they share; the state counts each group's turns.
 SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
-  if (!need(Builtin::Rotate, a.size(), 1)) return never();
   const TK k = a[0].type->k;
   if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell) {
     fail("rotate: the argument must be an object");
@@ -542,11 +538,9 @@ SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
 
 SVal Specialiser::builtin_globals(Builtin b, std::vector<SVal>& a, const Expr& at) {
   if (b == Builtin::Prev) {
-    if (!need(b, a.size(), 1)) return never();
     return prev_of_value(a[0], at);
   }
   if (b == Builtin::AllObjs) return all_objs();
-  if (!need(b, a.size(), 1)) return never();
   if (a[0].type->k != TK::Str) {
     fail("defined: the argument must be a string");
     return never();

@@ -247,7 +247,7 @@ class Specialiser {
 
   // Builtins (spec_builtins.cpp, spec_builtins_state.cpp)
   SVal call_builtin(Builtin b, std::vector<SVal>& args, const Expr& at);
-  bool need(Builtin b, size_t n, size_t count);
+  bool need(Builtin b, size_t n);  // builtin_arity_error: fails (and false) on a wrong count
   bool check_kind(Builtin b, const std::vector<SVal>& a, size_t i, TK k, const char* what);
   ir::Node* int_text(ir::Node* n);
   SVal call1(const SVal& f, const SVal& x, const Expr& at);
