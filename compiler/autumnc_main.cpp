@@ -107,8 +107,7 @@ bool can_run(const Options& o, const autumn::ModuleSource& src) {
   }
   for (const auto& w : program->warnings) std::cerr << w << "\n";
   if (o.werror && !program->warnings.empty()) {
-    std::cerr << o.program_path << ": error: " << program->warnings.size() << " warning"
-              << (program->warnings.size() == 1 ? "" : "s") << " treated as errors (--Werror)\n";
+    std::cerr << autumn::warnings_as_errors(o.program_path, program->warnings.size()) << "\n";
     return false;
   }
   autumn::InterpretedEnvironment trial(program);

@@ -483,6 +483,10 @@ void Linter::operand_types(const Expr& e) {
 
 }  // namespace
 
+std::string warnings_as_errors(const std::string& path, size_t count) {
+  return path + ": error: " + plural(count, "warning") + " treated as errors (--Werror)";
+}
+
 void lint_program(const Program& p, std::vector<std::string>& warnings) {
   Linter(p, warnings).run();
 }

@@ -28,4 +28,8 @@ struct Program;
 // Appends the warnings about p's program file.
 void lint_program(const Program& p, std::vector<std::string>& warnings);
 
+// The error that ends a run under --Werror when the program has warnings
+// ("prog.au: error: 2 warnings treated as errors (--Werror)"); autumn and autumnc say it alike.
+std::string warnings_as_errors(const std::string& path, size_t count);
+
 }  // namespace autumn

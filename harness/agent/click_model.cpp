@@ -16,13 +16,14 @@ namespace {
 class InputAnalysis {
  public:
   explicit InputAnalysis(const Program& p) : p_(p) {
-    click_ = p.symbols.find("click");
-    clicked_ = p.symbols.find("clicked");
-    prev_ = p.symbols.find("prev");
-    remove_ = p.symbols.find("removeObj");
-    const char* arrows[4] = {"left", "right", "up", "down"};
-    for (int i = 0; i < 4; ++i) arrow_[i] = p.symbols.find(arrows[i]);
-    for (const char* n : {"allObjs", "defined"}) order_names_.insert(p.symbols.find(n));
+    auto sym = [&](Builtin b) { return p.builtin_syms[static_cast<size_t>(b)]; };  // the table's names
+    click_ = p.names.click;
+    clicked_ = sym(Builtin::Clicked);
+    prev_ = sym(Builtin::Prev);
+    remove_ = sym(Builtin::RemoveObj);
+    const Builtin arrows[4] = {Builtin::Left, Builtin::Right, Builtin::Up, Builtin::Down};
+    for (int i = 0; i < 4; ++i) arrow_[i] = sym(arrows[i]);
+    for (Builtin b : {Builtin::AllObjs, Builtin::Defined}) order_names_.insert(sym(b));
     for (const Stmt& s : p.stdlib_stmts)
       if (s.kind == StmtKind::Expr && s.expr && s.expr->kind == ExprKind::Assign)
         stdlib_defs_[s.expr->name].push_back(s.expr.get());

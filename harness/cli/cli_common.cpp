@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "compiler/analyse/lint.hpp"
 #include "harness/engine.hpp"
 
 namespace autumn::cli {
@@ -22,8 +23,7 @@ std::shared_ptr<const Program> load_or_report(const std::string& path, const std
     auto p = load_program_file(path, trigger);
     for (const auto& w : p->warnings) std::cerr << w << "\n";
     if (warnings_are_errors() && !p->warnings.empty()) {
-      const std::string e = path + ": error: " + std::to_string(p->warnings.size()) + " warning" +
-                            (p->warnings.size() == 1 ? "" : "s") + " treated as errors (--Werror)";
+      const std::string e = warnings_as_errors(path, p->warnings.size());
       std::cerr << e << "\n";
       if (why) *why = e;
       return nullptr;
