@@ -15,8 +15,9 @@
 // Where a value's type can only be known at run time, that value alone is a
 // tagged variant (a "dynamic site", listed in the report); the rest of the
 // program stays typed. A few constructs cannot be expressed faithfully at all
-// (field assignment, rotate, recursion, ...): for those the whole program is not
-// specialised, with the located reason, and the emitter embeds the interpreter.
+// (field assignment, recursion, a program's own renderAll, ...; docs/design.md,
+// "What is not specialised"): for those the whole program is not specialised,
+// with the located reason, and the emitter embeds the interpreter.
 #pragma once
 #include <string>
 #include <vector>
