@@ -296,18 +296,26 @@ def _eval_unit(file, root, options_text, threads):
     return _core._eval_task(file, root, options_text, threads)
 
 
-class EvalResult:
-    """A distributed evaluation: ``report`` (the dict ``autumn eval --json``
-    prints), ``table`` (the text ``autumn eval`` prints), ``rows`` (report's
-    "tasks"), ``shipping`` (ship_modules' report, None when nothing was
-    shipped) and ``seconds`` (wall time)."""
+class _Report:
+    """What a distributed CLI command gives back: ``report`` (the dict the
+    command prints with --json), ``table`` (the text it prints), ``rows`` (the
+    report's rows, under ``_ROWS``), ``shipping`` (ship_modules' report, None
+    when nothing was shipped) and ``seconds`` (wall time)."""
+
+    _ROWS = "rows"
 
     def __init__(self, report, table, shipping, seconds):
         self.report, self.table, self.shipping, self.seconds = report, table, shipping, seconds
 
     @property
     def rows(self):
-        return self.report["tasks"]
+        return self.report[self._ROWS]
+
+
+class EvalResult(_Report):
+    """A distributed ``autumn eval`` (see _Report); its rows are the report's "tasks"."""
+
+    _ROWS = "tasks"
 
     @property
     def ok(self):
@@ -422,19 +430,10 @@ def make_tasks(client, kind, programs, seeds=(0,), out_dir=None, progress=True, 
 
 # ---------------------------------------------------------------------------- bench
 
-class BenchResult:
-    """A distributed ``autumn bench``: ``report`` (the dict ``autumn bench
-    --json`` prints: "rows", "median_ratio", "median_compiled_step_us"),
-    ``table`` (the text ``autumn bench`` prints), ``rows``, ``shipping`` and
-    ``seconds`` (wall time). Each row was measured on one worker, alone on its
-    thread: figures from workers on different machines compare those machines."""
-
-    def __init__(self, report, table, shipping, seconds):
-        self.report, self.table, self.shipping, self.seconds = report, table, shipping, seconds
-
-    @property
-    def rows(self):
-        return self.report["rows"]
+class BenchResult(_Report):
+    """A distributed ``autumn bench`` (see _Report; the report also has
+    "median_ratio" and "median_compiled_step_us"). Each row was measured on one
+    worker, alone on its thread: rows from different machines compare those machines."""
 
     @property
     def ok(self):
