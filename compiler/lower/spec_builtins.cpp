@@ -53,6 +53,7 @@ SVal Specialiser::grid_size(const Expr& at) {
 
 SVal Specialiser::call_builtin(Builtin b, std::vector<SVal>& a, const Expr& at) {
   // A builtin of one argument count: checked first, from the table, as the interpreter does.
+  if (!need(b, a.size())) return never();
   // A value of several types: one case per type (a dynamic site).
   for (size_t i = 0; i < a.size(); ++i)
     if (is_sum(a[i].type) && a[i].type->alts[0]->k != TK::Func) {
