@@ -3,6 +3,7 @@
 #include "harness/module_cache.hpp"
 
 #include <dlfcn.h>
+#include <fmt/core.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -322,7 +323,7 @@ ModulePtr cached_module(const Entry& e, const Program& p) {
   if (lstat(e.so.c_str(), &st) != 0) return nullptr;
   ModulePtr m = load_entry(e, trigger_of(p));
   if (m->table) return m;
-  std::cerr << "autumn: cache entry " << e.so.string() << " refused (" << m->why << "); rebuilding\n";
+  std::cerr << ("autumn: cache entry " + e.so.string() + " refused (" + m->why + "); rebuilding\n");
   return nullptr;
 }
 
@@ -388,7 +389,7 @@ std::unique_ptr<Environment> instantiate(const Module& m, const Program& p) {
 std::unique_ptr<Environment> from_module(const Module& m, std::shared_ptr<const Program> p, std::string* why) {
   if (m.table) return instantiate(m, *p);
   if (m.no_cache) {
-    std::cerr << "autumn: warning: " << m.why << "; running " << p->file.name << " on the interpreter\n";
+    std::cerr << ("autumn: warning: " + m.why + "; running " + p->file.name + " on the interpreter\n");
     return std::make_unique<InterpretedEnvironment>(std::move(p));
   }
   if (why) *why = m.why;
@@ -488,12 +489,11 @@ bool prepare_compiled_module(const std::shared_ptr<const Program>& program, doub
   ModuleFuture f = request_module(program, &started);
   const auto t0 = std::chrono::steady_clock::now();
   if (f.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
-    if (started) std::cerr << "autumn: compiling " << program->file.name << " (first use)\n";
+    if (started) std::cerr << ("autumn: compiling " + program->file.name + " (first use)\n");  // one write
     f.wait();
     *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (started && f.get()->table)
-      std::cerr << "autumn: compiled " << program->file.name << " in " << std::fixed << std::setprecision(1)
-                << *seconds << " s\n";
+      std::cerr << ("autumn: compiled " + program->file.name + " in " + fmt::format("{:.1f}", *seconds) + " s\n");
   }
   if (!f.get()->table && why) *why = f.get()->why;
   return f.get()->table != nullptr;
@@ -505,7 +505,7 @@ std::unique_ptr<Environment> make_compiled_episode_environment(std::shared_ptr<c
   ModuleFuture f = request_module(program, &started);
   if (f.wait_for(std::chrono::seconds(0)) == std::future_status::ready) return from_module(*f.get(), program, why);
   if (started)
-    std::cerr << "autumn: compiling " << program->file.name << " (first use); the interpreter runs meanwhile\n";
+    std::cerr << ("autumn: compiling " + program->file.name + " (first use); the interpreter runs meanwhile\n");
   CompiledSource source = [f, program](std::string* never) -> std::unique_ptr<Environment> {
     if (f.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return nullptr;
     if (!f.get()->table) {

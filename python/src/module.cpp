@@ -48,8 +48,9 @@ PYBIND11_MODULE(_core, m) {
   m.def("_wait_for_compiles", [] {
     pb::gil_scoped_release release;
     autumn::py::wait_for_compiles([](size_t n) {
-      std::cerr << "autumnc: waiting for " << n << " module compile" << (n == 1 ? "" : "s")
-                << " this script started (the next run uses " << (n == 1 ? "it" : "them") << ")\n";
+      // One write: a compile thread may be printing its own line at the same moment.
+      std::cerr << ("autumnc: waiting for " + std::to_string(n) + " module compile" + (n == 1 ? "" : "s") +
+                    " this script started (the next run uses " + (n == 1 ? "it" : "them") + ")\n");
     });
   });
 }
