@@ -1223,6 +1223,21 @@ TEST(AgentCdPairs, OriginalProgramsNeverLookChanged) {
 
 // ------------------------------------------------------------------ blind tasks: an unknown seed
 
+// The MFP answer rule (mfp.hpp), which both the deterministic tally and the
+// posterior of the stochastic case use: the largest weight wins, the first of
+// equal ones, and no weight at all is no answer.
+TEST(AgentChoice, MostProbableFirstOnTies) {
+  EXPECT_EQ(most_probable_choice(std::vector<uint64_t>{}), -1);
+  EXPECT_EQ(most_probable_choice(std::vector<uint64_t>{0, 0, 0}), -1);
+  EXPECT_EQ(most_probable_choice(std::vector<uint64_t>{5, 3}), 0);
+  EXPECT_EQ(most_probable_choice(std::vector<uint64_t>{3, 5}), 1);
+  EXPECT_EQ(most_probable_choice(std::vector<uint64_t>{0, 2, 0}), 1);
+  EXPECT_EQ(most_probable_choice(std::vector<uint64_t>{3, 5, 5, 1}), 1);
+  EXPECT_EQ(most_probable_choice(std::vector<double>{0.2, 0.7, 0.1}), 1);
+  EXPECT_EQ(most_probable_choice(std::vector<double>{0.0, 0.25, 0.5, 0.25}), 2);
+  EXPECT_EQ(most_probable_choice(std::vector<double>{0.5, 0.5}), 0);
+}
+
 // A long trajectory of a stochastic program from a seed the task does not state:
 // rejection over whole episodes keeps nothing; the filter (seed inversion off)
 // must keep samples to the end and name the true choice, identically on one

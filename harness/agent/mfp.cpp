@@ -58,8 +58,7 @@ void decide(std::optional<int> h0, double w1, MfpResult& r) {
   for (size_t c = 0; c < p.size(); ++c)
     if (r.accepted) p[c] += (1 - r.posterior_stated_seed) * static_cast<double>(r.counts[c]) / static_cast<double>(r.accepted);
   r.probabilities = p;
-  for (size_t c = 0; c < p.size(); ++c)
-    if (p[c] > 0 && (r.choice < 0 || p[c] > p[r.choice])) r.choice = static_cast<int>(c);
+  r.choice = most_probable_choice(p);
 }
 
 // Seed inversion: when the observations pin enough of the episode's draws
@@ -156,10 +155,7 @@ MfpResult solve_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool
     for (const Particle& p : set.particles()) tally(task, size, p.frame, p.weight, r);
     r.env_steps += set.env_steps();
     r.peak_particles = set.peak();
-    int best = -1;
-    for (size_t c = 0; c < r.counts.size(); ++c)
-      if (r.counts[c] > 0 && (best < 0 || r.counts[c] > r.counts[best])) best = static_cast<int>(c);
-    r.choice = best;
+    r.choice = most_probable_choice(r.counts);
     r.seconds = clock.seconds();
     return r;
   }

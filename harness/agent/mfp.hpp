@@ -50,6 +50,17 @@ struct MfpResult {
   uint64_t seeds_consistent = 0;        // of those, seeds whose whole episode agrees
 };
 
+// The answer rule, for posteriors and for rollout counts alike: the index of the
+// largest weight, the first of equal ones; -1 when every weight is zero (no
+// hypothesis shows any choice). Tests: AgentChoice.MostProbableFirstOnTies.
+template <class W>
+int most_probable_choice(const std::vector<W>& weights) {
+  int best = -1;
+  for (size_t c = 0; c < weights.size(); ++c)
+    if (weights[c] > 0 && (best < 0 || weights[c] > weights[static_cast<size_t>(best)])) best = static_cast<int>(c);
+  return best;
+}
+
 MfpResult solve_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool);
 nlohmann::json mfp_json(const MfpResult& r);
 std::string mfp_summary(const MfpResult& r);
