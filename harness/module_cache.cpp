@@ -45,6 +45,7 @@ struct Module {
   std::string built_from;  // the program text the module was built from
   std::string why;
   bool no_cache = false;   // no writable cache directory: the interpreter stands in
+  bool built_elsewhere = false;  // another process built it while this one waited (EntryLock)
 };
 using ModulePtr = std::shared_ptr<const Module>;
 using ModuleFuture = std::shared_future<ModulePtr>;
@@ -267,9 +268,20 @@ CompileOutcome compile_both_ways(const Program& p, const Entry& e, const std::st
   return c;
 }
 
+ModulePtr cached_module(const Entry& e, const Program& p);
+
 // Writes the program text beside the entry, compiles, then loads the entry
-// through the same checks as any other.
+// through the same checks as any other; under the entry's lock, so that when
+// another process was building it, its build is used instead.
 ModulePtr build(std::shared_ptr<const Program> p, Entry e, EmitGuard& guard) {
+  const store::EntryLock lock(e.so);  // another process building this module: wait, then use its build
+  if (lock.waited()) {
+    if (ModulePtr m = cached_module(e, *p)) {
+      auto theirs = std::make_shared<Module>(*m);
+      theirs->built_elsewhere = true;
+      return theirs;
+    }
+  }
   const auto trigger = trigger_of(*p);
   const std::string tag = std::to_string(getpid()) + "-" + hex(std::hash<std::thread::id>()(std::this_thread::get_id()));
   const std::string program = program_digest(p->file.text, trigger);
@@ -493,7 +505,8 @@ bool prepare_compiled_module(const std::shared_ptr<const Program>& program, doub
     f.wait();
     *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (started && f.get()->table)
-      std::cerr << ("autumn: compiled " + program->file.name + " in " + fmt::format("{:.1f}", *seconds) + " s\n");
+      std::cerr << ("autumn: " + std::string(f.get()->built_elsewhere ? "another process compiled " : "compiled ") +
+                    program->file.name + " in " + fmt::format("{:.1f}", *seconds) + " s\n");
   }
   if (!f.get()->table && why) *why = f.get()->why;
   return f.get()->table != nullptr;

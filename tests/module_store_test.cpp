@@ -296,6 +296,36 @@ TEST_F(ModuleStore, FullDiskIsNamed) {
   EXPECT_EQ(r.out.find("did not compile"), std::string::npos) << r.out;
 }
 
+// Processes sharing a cache build each module once (EntryLock): two processes
+// asking at once for a module nobody has built, one compiles it and the other
+// waits for that build and uses it.
+TEST(ModuleBuild, TwoProcessesCompileAModuleOnce) {
+  const fs::path dir = root() / "once";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "cache");
+  fs::create_directories(dir / "tmp");
+  ASSERT_EQ(chmod((dir / "cache").c_str(), 0700), 0);
+  // A program no cache has seen: its string literal names this run.
+  const std::string text = "(program\n  (= tag \"" + std::to_string(getpid()) + "-" + std::to_string(time(nullptr)) +
+                           "\")" + std::string(kProgramA).substr(std::string("(program").size());
+  std::ofstream(dir / "once.au") << text;
+  const std::string args = "bench " + (dir / "once.au").string() + " --only compiled --steps 3";
+  autumn::testing::CliResult out[2];
+  std::thread second([&] { out[1] = run_cli(args, false, env_for(dir / "cache", dir / "tmp")); });
+  out[0] = run_cli(args, false, env_for(dir / "cache", dir / "tmp"));
+  second.join();
+  int compiled = 0, waited = 0;
+  for (const auto& r : out) {
+    ASSERT_EQ(r.status, 0) << r.out;
+    compiled += r.out.find("autumn: compiled ") != std::string::npos;
+    waited += r.out.find("autumn: another process compiled ") != std::string::npos;
+  }
+  EXPECT_EQ(compiled, 1) << out[0].out << "\n---\n" << out[1].out;
+  EXPECT_EQ(waited, 1) << out[0].out << "\n---\n" << out[1].out;
+  EXPECT_EQ(autumn::testing::files_in(dir / "cache", ".so").size(), 1u);
+  fs::remove_all(dir);
+}
+
 // However many compiles are asked for, at most module_compile_slots() run at
 // once per cache: each takes a lock on one of the cache's compile-slot files
 // first. With every slot held here, a compile waits; once they are free, it runs.
