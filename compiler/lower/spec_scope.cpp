@@ -74,24 +74,22 @@ void Specialiser::pop_scope() {
 // ---------------------------------------------------------------------------
 // Lookup
 
-namespace {
-struct Candidate {
+struct Specialiser::Candidate {
   Binding* b = nullptr;
   Global* g = nullptr;
   ir::Node* guard = nullptr;  // null: certainly bound
 };
-}  // namespace
 
-static std::vector<Candidate> resolve(Specialiser& s, Sym sym) {
+std::vector<Specialiser::Candidate> Specialiser::resolve(Sym sym) {
   std::vector<Candidate> out;
-  for (auto it = s.chain_.rbegin(); it != s.chain_.rend(); ++it)
+  for (auto it = chain_.rbegin(); it != chain_.rend(); ++it)
     if (Binding* b = (*it)->find(sym)) {
-      out.push_back(Candidate{b, nullptr, b->flag ? s.local(b->flag) : nullptr});
+      out.push_back(Candidate{b, nullptr, b->flag ? local(b->flag) : nullptr});
       if (!b->flag) return out;
     }
-  if (s.capture_mode_) return out;  // a cell's capture scope has no parent
-  if (Global* g = s.global(sym); g && g->state != Global::Undefined) {
-    ir::Node* guard = g->state == Global::Runtime && g->defined >= 0 ? s.slot(g->defined) : nullptr;
+  if (capture_mode_) return out;  // a cell's capture scope has no parent
+  if (Global* g = global(sym); g && g->state != Global::Undefined) {
+    ir::Node* guard = g->state == Global::Runtime && g->defined >= 0 ? slot(g->defined) : nullptr;
     out.push_back(Candidate{nullptr, g, guard});
   }
   return out;
@@ -107,18 +105,18 @@ SVal Specialiser::read_global(Global& g) {
   return v;
 }
 
-static SVal read_binding(Specialiser& s, Binding& b) {
-  ir::Node* k = !b.mut || b.home == s.block_ ? b.konst : nullptr;
+SVal Specialiser::read_binding(Binding& b) {
+  ir::Node* k = !b.mut || b.home == block_ ? b.konst : nullptr;
   if (!b.place) return SVal{b.type, nullptr, k};
-  SVal v = s.let(SVal{b.type, b.place}, "v");
+  SVal v = let(SVal{b.type, b.place}, "v");
   v.konst = k;
   return v;
 }
 
 SVal Specialiser::read_name(Sym s, const Expr& at) {
   (void)at;
-  std::vector<Candidate> cands = resolve(*this, s);
-  auto read = [&](Candidate& c) { return c.b ? read_binding(*this, *c.b) : read_global(*c.g); };
+  std::vector<Candidate> cands = resolve(s);
+  auto read = [&](Candidate& c) { return c.b ? read_binding(*c.b) : read_global(*c.g); };
   if (!cands.empty() && !cands[0].guard) return read(cands[0]);
   // Guarded: the first candidate bound at run time, else an error.
   std::function<SVal(size_t)> chain = [&](size_t i) -> SVal {
@@ -320,7 +318,7 @@ void Specialiser::store_global(Global& g, SVal v, const Expr& at, bool mark_upda
 
 void Specialiser::assign(Sym s, SVal v, const Expr& at) {
   if (!v.type || v.type->k == TK::Never || dead_) return;
-  std::vector<Candidate> cands = resolve(*this, s);
+  std::vector<Candidate> cands = resolve(s);
   auto store = [&](Candidate& c) {
     if (c.g) {
       store_global(*c.g, v, at, true);

@@ -24,54 +24,52 @@ std::optional<int64_t> Specialiser::const_int(const SVal& v) const {
 // ---------------------------------------------------------------------------
 // Building an If or Switch whose branches produce a value
 
-namespace {
 // Appends `s` to the current block (a statement built detached).
-void attach(Specialiser& sp, ir::Stmt* s) {
-  if (!sp.dead_) sp.block_->push_back(s);
+void Specialiser::attach(ir::Stmt* s) {
+  if (!dead_) block_->push_back(s);
 }
-}  // namespace
 
 // Runs each producer in its own block, then declares the result (the join of
 // the values' types) before the statement and assigns it at the end of each block.
-static SVal join_blocks(Specialiser& sp, ir::Stmt* stmt, std::vector<ir::Block*> blocks,
-                        std::vector<std::function<SVal()>> producers, bool value_used, bool report) {
+SVal Specialiser::join_blocks(ir::Stmt* stmt, std::vector<ir::Block*> blocks,
+                              std::vector<std::function<SVal()>> producers, bool value_used, bool report) {
   std::vector<SVal> results(blocks.size());
   std::vector<bool> alive(blocks.size());
   for (size_t i = 0; i < blocks.size(); ++i)
-    sp.in_block(*blocks[i], [&] {
+    in_block(*blocks[i], [&] {
       results[i] = producers[i]();
-      alive[i] = !sp.dead_;
+      alive[i] = !dead_;
     });
-  TypeP t = sp.T().never();
+  TypeP t = T().never();
   bool any_alive = false, no_value = false;
   for (size_t i = 0; i < blocks.size(); ++i) {
     if (!alive[i]) continue;
     any_alive = true;
     if (!results[i].type || results[i].type->k == TK::Class) no_value = true;
-    else t = sp.T().join(t, results[i].type);
+    else t = T().join(t, results[i].type);
   }
   if (!value_used || no_value || t->k == TK::Never || t->k == TK::Func || t->k == TK::Class) {
-    attach(sp, stmt);
-    if (!any_alive) sp.dead_ = true;
+    attach(stmt);
+    if (!any_alive) dead_ = true;
     if (no_value) return SVal{};
     if (t->k == TK::Func) return SVal{t, nullptr};  // one function on every path
-    return SVal{any_alive ? t : sp.T().never(), nullptr};
+    return SVal{any_alive ? t : T().never(), nullptr};
   }
-  if (report && t->k == TK::Sum && !is_typed_variant(t)) sp.dynamic_site("the branches give values of different types");
-  ir::Var* r = sp.decl(t, nullptr, "r");
-  attach(sp, stmt);
+  if (report && t->k == TK::Sum && !is_typed_variant(t)) dynamic_site("the branches give values of different types");
+  ir::Var* r = decl(t, nullptr, "r");
+  attach(stmt);
   for (size_t i = 0; i < blocks.size(); ++i)
-    if (alive[i]) sp.in_block(*blocks[i], [&] { sp.emit_set(sp.local(r), sp.coerce(results[i], t).code); });
-  if (!any_alive) sp.dead_ = true;
+    if (alive[i]) in_block(*blocks[i], [&] { emit_set(local(r), coerce(results[i], t).code); });
+  if (!any_alive) dead_ = true;
   r->mut = false;
-  return SVal{t, sp.local(r)};
+  return SVal{t, local(r)};
 }
 
 SVal Specialiser::join_branches(ir::Node* cond, const std::function<SVal()>& then_f,
                                 const std::function<SVal()>& else_f, bool value_used) {
   ir::Stmt* s = emit_detached(ir::SK::If);
   s->a = cond;
-  return join_blocks(*this, s, {&s->body, &s->other}, {then_f, else_f}, value_used, true);
+  return join_blocks(s, {&s->body, &s->other}, {then_f, else_f}, value_used, true);
 }
 
 SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f) {
@@ -100,7 +98,7 @@ SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f
       return f(let(part, "a"));
     });
   }
-  return join_blocks(*this, s, blocks, producers, true, false);
+  return join_blocks(s, blocks, producers, true, false);
 }
 
 // ---------------------------------------------------------------------------

@@ -115,6 +115,10 @@ class Specialiser {
   // One walk over the whole program. Throws Unsupported.
   void run();
 
+  // Everything below is the walk's own: the spec_*.cpp files implement it, and
+  // only specialise_program (spec_core.cpp) makes a Specialiser.
+ private:
+
   // --- shared by the spec_*.cpp files -------------------------------------------
   // Builder
   ir::Function* fn_ = nullptr;
@@ -167,6 +171,9 @@ class Specialiser {
   ir::Node* truthy(const SVal& v);           // Bool node
   SVal equals(const SVal& a, const SVal& b);
   SVal split(const SVal& v, const std::function<SVal(const SVal&)>& per_alternative);
+  void attach(ir::Stmt* s);                  // a statement built detached, appended to the current block
+  SVal join_blocks(ir::Stmt* stmt, std::vector<ir::Block*> blocks, std::vector<std::function<SVal()>> producers,
+                   bool value_used, bool report);
   SVal join_branches(ir::Node* cond, const std::function<SVal()>& then_f, const std::function<SVal()>& else_f,
                      bool value_used);
   std::optional<int64_t> const_int(const SVal& v) const;
@@ -215,6 +222,9 @@ class Specialiser {
   void store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s, const std::function<void(TypeP)>& widen,
                      const std::function<void()>& before_write = nullptr);
   void check_declared(Sym s, const SVal& v);
+  struct Candidate;                          // a binding a name may read (spec_scope.cpp)
+  std::vector<Candidate> resolve(Sym sym);   // innermost first; guarded ones may be unbound
+  SVal read_binding(Binding& b);
   SScope* push_scope(ScopeKind k, const void* site);
   void pop_scope();
   bool assigned_anywhere(Sym s) const { return f_.assigned.count(s) > 0; }
