@@ -172,6 +172,16 @@ class Interpreter {
   // --- rendering helpers (builtins.cpp)
   Value render_value(const Value& v);  // list of RenderedElems (instances with render)
   Value call_builtin(Builtin b, std::vector<Value>& args);
+  struct BuiltinArgs;  // the arguments and their shared checks (builtins.cpp)
+  Value builtin_higher_order(Builtin b, BuiltinArgs& a);
+  Value builtin_lists(Builtin b, BuiltinArgs& a);
+  Value builtin_grid(Builtin b, BuiltinArgs& a);
+  Value builtin_objects(Builtin b, BuiltinArgs& a);
+  Value builtin_rotate(BuiltinArgs& a);
+  Value builtin_remove_obj(BuiltinArgs& a);
+  Value builtin_host(Builtin b, BuiltinArgs& a);
+  Value call1(const Value& f, const Value& x);
+  int32_t grid_size_now();  // GRID_SIZE as a builtin reads it
   Value builtin_prev(const Value& arg);
   Value all_objs();
   std::vector<Sym> render_order() const;
