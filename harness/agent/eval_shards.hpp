@@ -2,33 +2,25 @@
 // evaluation cut into N deterministic slices for a batch scheduler (a Slurm
 // array, docs/scale.md), and the slices' JSON put back together.
 //
-// Shard K of N (K from 1) takes the tasks whose index in find_tasks()'s sorted
-// order is K-1 modulo N: every task in exactly one shard, the task types mixed
-// in each. Its JSON is eval's, with "shard": {"index": K, "count": N, "tasks":
-// the folder's task count}. The merge checks that the files are the N shards of
-// one run (same task set, same agent settings, each index once, every task
-// present) and returns the report a single run prints: the rows in path order,
-// the totals recomputed. Tests: tests/eval_shards_test.cpp.
+// The slice and the merge's checks are every sharded command's
+// (harness/shards.hpp): shard K of N takes the tasks whose index in
+// find_tasks()'s sorted order is K-1 modulo N, and its JSON is eval's with
+// "shard": {"index": K, "count": N, "tasks": the folder's task count}. The
+// settings every shard must share are "agent" and "task_set". The merge returns
+// the report a single run prints: the rows in path order, the totals
+// recomputed. Tests: tests/agent_test.cpp, AgentEval.ShardsMergeToTheWholeRun.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "harness/agent/eval.hpp"
+#include "harness/shards.hpp"
 
 namespace autumn::agent {
 
-struct Shard {
-  int index = 1;  // 1..count
-  int count = 1;
-  bool whole() const { return count == 1; }
-};
-
-// "K/N" with 1 <= K <= N <= 100000; throws std::invalid_argument with a one-line reason.
-Shard parse_shard(const std::string& text);
-
-// The files of shard `s` (files in find_tasks() order).
-std::vector<fs::path> select_shard(const std::vector<fs::path>& files, const Shard& s);
+// What eval's shard JSON holds (shards.hpp).
+ShardFormat eval_shard_format();
 
 // The inverse of eval_json()'s task rows.
 EvalRow eval_row_from_json(const nlohmann::json& row);

@@ -5,7 +5,6 @@
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -15,6 +14,7 @@
 #include "harness/agent/thread_pool.hpp"
 #include "harness/cli/agent_options.hpp"
 #include "harness/cli/commands.hpp"
+#include "harness/cli/shard_options.hpp"
 
 namespace autumn::cli {
 namespace {
@@ -27,16 +27,12 @@ struct EvalCommand {
   std::string protocol = "default";
   unsigned threads = 0;
   bool json = false;
-  std::string json_out;            // also write the JSON object here (the table still prints)
-  std::string shard;               // K/N: this slice of the folder's tasks (eval_shards.hpp)
-  std::vector<std::string> merge;  // shard JSON files to put back together
+  ShardOptions shards;  // --shard, --merge, --json-out (shard_options.hpp)
 };
 
 void register_eval(CLI::App* cmd, EvalCommand& o) {
   CLI::Option* dir = cmd->add_option("DIR", o.dir, "Folder of tasks (not with --merge)")->check(CLI::ExistingDirectory);
   cmd->add_flag("--json", o.json, "Print one JSON object");
-  cmd->add_option("--json-out", o.json_out, "Also write that JSON object to FILE (the table still prints)")
-      ->type_name("FILE");
   add_search_options(cmd, o.search, o.threads);
   add_protocol_option(cmd, o.protocol);
   cmd->footer(
@@ -47,18 +43,7 @@ void register_eval(CLI::App* cmd, EvalCommand& o) {
       "line gives them); throughput and unit (rollouts/s for MFP, steps/s for change detection, nodes/s for "
       "planning: measured work per second of that solve, - when nothing was measured); detail (what was "
       "answered, or why not). The second table gives the mean score per task type.");
-  cmd->add_option("--shard", o.shard,
-                     "Solve only slice K of N of the folder's tasks (those whose index in path order is K-1 modulo N), "
-                     "for a batch scheduler's array job; its JSON says which slice (docs/scale.md)")
-      ->type_name("K/N")
-      ->needs(dir);
-  cmd->add_option("--merge", o.merge,
-                     "Put the N shards' JSON files (--json-out of each --shard run) back together: the table and JSON "
-                     "one run of the whole folder prints")
-      ->type_name("SHARD.json ...")
-      ->excludes(dir)
-      ->check(CLI::ExistingFile);
-
+  add_shard_options(cmd, o.shards, dir, "folder's tasks", "path order");
 }
 
 // Prints a report (the table, or JSON), writes --json-out; the exit status of
@@ -66,9 +51,7 @@ void register_eval(CLI::App* cmd, EvalCommand& o) {
 int finish_eval(const EvalCommand& c, const nlohmann::json& report, const std::vector<EvalRow>& rows) {
   if (c.json) std::cout << report.dump() << "\n";
   else fmt::print("{}\n{}", eval_table(rows), eval_type_table(rows));
-  if (!c.json_out.empty()) {
-    if (std::string why = write_file(c.json_out, report.dump(1) + "\n"); !why.empty()) return command_failed("eval", why);
-  }
+  if (std::string why = write_json_out(c.shards, report); !why.empty()) return command_failed("eval", why);
   const auto errors = std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return !r.error.empty(); });
   const auto unanswered =
       std::count_if(rows.begin(), rows.end(), [](const EvalRow& r) { return r.error.empty() && !r.answered; });
@@ -77,18 +60,9 @@ int finish_eval(const EvalCommand& c, const nlohmann::json& report, const std::v
 }
 
 int run_eval_merge(const EvalCommand& c) {
-  std::vector<nlohmann::json> reports;
-  for (const std::string& f : c.merge) {
-    std::ifstream in(f);
-    try {
-      reports.push_back(nlohmann::json::parse(in));
-    } catch (const nlohmann::json::exception& e) {
-      return command_failed("eval", f + ": not JSON (" + e.what() + ")");
-    }
-  }
   std::vector<EvalRow> rows;
   try {
-    const nlohmann::json merged = merge_shard_reports(reports, c.merge, rows);
+    const nlohmann::json merged = merge_shard_reports(read_json_files(c.shards.merge), c.shards.merge, rows);
     return finish_eval(c, merged, rows);
   } catch (const nlohmann::json::exception& e) {
     return command_failed("eval", std::string("a shard's rows are not eval's: ") + e.what());
@@ -97,25 +71,20 @@ int run_eval_merge(const EvalCommand& c) {
 
 int run_eval(const CLI::App* cmd, const EvalCommand& c) {
   try {
-    if (!c.merge.empty()) {
-      if (!c.json_out.empty() && !can_write(c.json_out)) return command_failed("eval", "cannot write " + c.json_out);
-      return run_eval_merge(c);
-    }
-    if (c.dir.empty()) return command_failed("eval", "a folder of tasks is required (DIR), or --merge SHARD.json ...");
-    const Shard shard = c.shard.empty() ? Shard{} : parse_shard(c.shard);
-    // Checked before the (long) run, so a bad path fails at once; written after,
-    // so a file inside DIR is never scanned half-made (an eval JSON is not a task).
-    if (!c.json_out.empty() && !can_write(c.json_out))
-      return command_failed("eval", "cannot write " + c.json_out);
+    if (int status = check_shard_options("eval", cmd, c.shards, !c.dir.empty())) return status;
+    if (c.shards.merging()) return run_eval_merge(c);
+    const Shard shard = chosen_shard(c.shards);
     ThreadPool pool(c.threads);
     SolveOptions o = c.search;
     apply_protocol(cmd, c.protocol, o);
     const std::vector<fs::path> all = find_tasks(c.dir);
+    // --json-out is written after the run, so a file inside DIR is never
+    // scanned half-made (an eval JSON is not a task).
     std::vector<EvalRow> rows = run_eval_files(c.dir, select_shard(all, shard), o, pool, progress_bar());
     nlohmann::json report = eval_json(rows);
     report["agent"] = eval_agent_json(c.protocol, o);
     report["task_set"] = {c.dir};
-    if (!c.shard.empty()) report["shard"] = {{"index", shard.index}, {"count", shard.count}, {"tasks", all.size()}};
+    if (!c.shards.shard.empty()) report["shard"] = shard_json(shard, "tasks", all.size());
     return finish_eval(c, report, rows);
   } catch (const std::exception& e) {
     return command_failed("eval", e.what());
