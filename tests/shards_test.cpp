@@ -1,15 +1,121 @@
-// The rule every sharded command slices by and the checks of its merge
-// (harness/shards.hpp; eval's round trip is AgentEval.ShardsMergeToTheWholeRun).
+// --shard K/N and --merge on every command over many units (harness/shards.hpp,
+// harness/cli/shard_options.hpp; eval's own test is AgentEval.ShardsMergeToTheWholeRun).
+// Each command runs whole and as shards, and the shards' merge must give the
+// whole run's JSON and table, except the measured times, named per command;
+// then the merge's refusals: a shard missing, one given twice, a shard of
+// another run, and options that do not go together. The runs are small (a few
+// programs or tasks, a few steps, the programs/ whose modules are built in):
+// the suite takes seconds.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
 
 #include "harness/shards.hpp"
+#include "test_support.hpp"
 
 namespace autumn {
 namespace {
 
+namespace fs = std::filesystem;
 using nlohmann::json;
+using testing::CliResult;
+using testing::run_cli;
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("autumn_shards_test_" + std::to_string(getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(fs::temp_directory_path() / ("autumn_shards_test_" + std::to_string(getpid())), ec);
+  }
+};
+[[maybe_unused]] ::testing::Environment* const scratch_cleanup =
+    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+std::string program(const std::string& name) { return (testing::source_dir() / "programs" / name).string(); }
+json read_json(const fs::path& p) { return json::parse(testing::read_text(p)); }
+
+// `j` without the keys `drop`, at any depth.
+json without(json j, const std::set<std::string>& drop) {
+  if (j.is_object()) {
+    for (const std::string& k : drop) j.erase(k);
+    for (auto& [k, v] : j.items()) v = without(v, drop);
+  } else if (j.is_array()) {
+    for (auto& v : j) v = without(v, drop);
+  }
+  return j;
+}
+
+// One command whole and in `n` shards, and the shards merged (given in reverse
+// order); `out` the printed table (stdout), `json` the --json-out file.
+struct RoundTrip {
+  CliResult whole, merged;
+  json whole_json, merged_json;
+  std::vector<fs::path> shards;
+};
+
+RoundTrip round_trip(const fs::path& dir, const std::string& command, const std::string& inputs,
+                     const std::string& options, int n, int status = 0) {
+  RoundTrip r;
+  const std::string run = command + " " + inputs + " " + options;
+  r.whole = run_cli(run + " --json-out " + (dir / "whole.json").string(), true);
+  EXPECT_EQ(r.whole.status, status) << run << "\n" << r.whole.out;
+  std::string merge = command + " --merge";
+  for (int k = 1; k <= n; ++k) {
+    const fs::path shard = dir / ("shard-" + std::to_string(k) + ".json");
+    const std::string one =
+        run + " --shard " + std::to_string(k) + "/" + std::to_string(n) + " --json-out " + shard.string();
+    const CliResult s = run_cli(one);
+    EXPECT_TRUE(s.status == 0 || s.status == status) << one << "\n" << s.out;
+    r.shards.push_back(shard);
+  }
+  for (int k = n; k >= 1; --k) merge += " " + r.shards[static_cast<size_t>(k - 1)].string();
+  r.merged = run_cli(merge + " --json-out " + (dir / "merged.json").string(), true);
+  EXPECT_EQ(r.merged.status, status) << merge << "\n" << r.merged.out;
+  r.whole_json = read_json(dir / "whole.json");
+  r.merged_json = read_json(dir / "merged.json");
+  return r;
+}
+
+// The refusals every sharded command shares: `r` has two shards; `other` is
+// shard 2/2 of a run with different settings; `inputs` and `option` a unit and
+// a run option of the command.
+void expect_refusals(const std::string& command, const RoundTrip& r, const fs::path& other, const std::string& inputs,
+                     const std::string& option, const std::string& differing_key) {
+  const std::string one = r.shards[0].string(), two = r.shards[1].string();
+  const auto fails = [&](const std::string& args, int status, const std::string& says) {
+    const CliResult c = run_cli(command + " " + args);
+    EXPECT_EQ(c.status, status) << command << " " << args << "\n" << c.out;
+    EXPECT_NE(c.out.find(says), std::string::npos) << command << " " << args << "\n" << c.out;
+    EXPECT_EQ(c.out.find("[#"), std::string::npos) << "ran units: " << command << " " << args << "\n" << c.out;
+  };
+  fails("--merge " + one, 1, "autumn " + command + ": shards missing: 2 (of 2)");
+  fails("--merge " + one + " " + one, 1, one + ": shard 1 is also " + one);
+  fails("--merge " + one + " " + other.string(), 1,
+        other.string() + ": not of the same run as " + one + ": " + differing_key);
+  fails("--merge " + one + " " + (r.shards[0].parent_path() / "whole.json").string(), 1, "whole.json: not a shard");
+  fails(inputs + " --merge " + one + " " + two, 2, "excludes");
+  fails("--merge " + one + " " + two + " --shard 1/2", 2, "excludes");
+  fails("--merge " + one + " " + two + " " + option, 2, "is an option of a run");
+  fails(inputs + " --shard 3/2", 2, "--shard '3/2': K must be from 1 to N");
+  fails("--json", 2, "is required, or --merge SHARD.json");
+}
+
+// `table` with every number matching `measured` as "#", and runs of spaces as
+// one (a measured column's width varies).
+std::string unmeasured(const std::string& table, const std::string& measured = "[0-9]+\\.[0-9]+") {
+  return std::regex_replace(std::regex_replace(table, std::regex(measured), "#"), std::regex(" +"), " ");
+}
 
 // ------------------------------------------------------------------ the rule and the checks
 
@@ -47,6 +153,34 @@ TEST(Shards, SliceAndMergeChecks) {
   EXPECT_EQ(refusal({shard(1, u0, {3}), shard(2, u14), other}), "c: not of the same run as a: seed is 2 here, 1 there");
   EXPECT_EQ(refusal({shard(1, u0, {3}), shard(2, u14)}), "shards missing: 3 (of 3)");
   EXPECT_EQ(refusal({json{{"seed", 1}}}), "a: not the JSON of `autumn survey` (no \"programs\")");
+}
+
+// ------------------------------------------------------------------ one test per command
+
+// survey: the rows and totals, in three shards too; a program ending in a
+// runtime error is a row like the others (exit status 1 for the whole run, the
+// merge too). time_ms is measured.
+TEST(Shards, SurveyMergesToTheWholeRun) {
+  const fs::path dir = scratch("survey"), programs = dir / "programs";
+  fs::create_directories(programs);
+  for (const char* p : {"blockfall.au", "color_flood.au", "sokoban.au", "garden.au"})
+    fs::copy_file(program(p), programs / p);
+  fs::copy_file(testing::source_dir() / "tests/runtime_errors/division_by_zero.au", programs / "division_by_zero.au");
+  for (int n : {2, 3}) {
+    const fs::path run = dir / std::to_string(n);
+    fs::create_directories(run);
+    const RoundTrip r = round_trip(run, "survey", programs.string(), "--steps 6 --seed 3", n, 1);
+    EXPECT_EQ(without(r.merged_json, {"time_ms"}), without(r.whole_json, {"time_ms"}));
+    EXPECT_EQ(r.merged_json["programs"].size(), 5u);
+    for (const json& p : r.merged_json["programs"]) EXPECT_TRUE(p["time_ms"].is_number()) << p;
+    EXPECT_EQ(read_json(r.shards[0])["shard"], (json{{"index", 1}, {"count", n}, {"programs", 5}}));
+    EXPECT_EQ(unmeasured(r.merged.out), unmeasured(r.whole.out));
+    EXPECT_NE(r.merged.out.find("5 programs, "), std::string::npos) << r.merged.out;
+    if (n == 3) continue;
+    const fs::path other = run / "other.json";
+    run_cli("survey " + programs.string() + " --steps 7 --seed 3 --shard 2/2 --json-out " + other.string());
+    expect_refusals("survey", r, other, programs.string(), "--steps 6", "steps_per_program is 7 here, 6 there");
+  }
 }
 
 }  // namespace

@@ -78,6 +78,12 @@ bool parse_limits_option() {
 
 const Limits& episode_limits() { return limits_value(); }
 
+nlohmann::json episode_limits_json() {
+  const Limits& l = limits_value();
+  return {{"call_depth", l.call_depth}, {"list_length", l.list_length}, {"objects", l.objects}, {"cells", l.cells},
+          {"calls", l.calls}};
+}
+
 namespace {
 
 std::optional<std::string> read_action_file(const std::string& command, const std::string& file) {

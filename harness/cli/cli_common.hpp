@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,6 +50,9 @@ std::shared_ptr<const Program> load_or_report(const std::string& path, const std
 void add_limits_option(CLI::App* cmd);
 bool parse_limits_option();
 const Limits& episode_limits();
+// episode_limits() as JSON ({"call_depth": ..., "list_length", "objects", "cells", "calls"}): a setting
+// of the runs a sharded command's merge compares (shard_options.hpp).
+nlohmann::json episode_limits_json();
 
 // An environment of `engine` for one episode under episode_limits(), or null after printing why. With
 // the compiled engine and a program not compiled yet, the interpreter serves the

@@ -1,5 +1,8 @@
 // autumn survey — run every program of a folder under a reproducible random
-// policy and tabulate what happened (text table or --json).
+// policy and tabulate what happened (text table or --json). --shard K/N runs a
+// slice of the folder's programs (name order), --merge puts the slices' JSON
+// back together (shard_options.hpp): every program's episode starts from
+// --seed, whatever its place in the folder, so its row is the whole run's.
 #include <fmt/core.h>
 
 #include <chrono>
@@ -8,8 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "harness/cli/agent_options.hpp"
 #include "harness/cli/commands.hpp"
 #include "harness/cli/number_options.hpp"
+#include "harness/cli/shard_options.hpp"
 #include "harness/engine.hpp"
 #include "harness/policy.hpp"
 #include "harness/program_files.hpp"
@@ -23,10 +28,11 @@ struct SurveyOptions {
   uint64_t seed = 0;
   std::string engine = "interp";
   bool json = false;
+  ShardOptions shards;  // --shard, --merge, --json-out
 };
 
 void register_survey(CLI::App* cmd, SurveyOptions& o) {
-  cmd->add_option("DIR", o.dir, "Folder of .au/.sexp programs")->required();
+  CLI::Option* dir = cmd->add_option("DIR", o.dir, "Folder of .au/.sexp programs; not with --merge");
   cmd->add_option("--steps", o.steps, "Steps per program")->default_val(100)->check(int_count());
   cmd->add_option("--seed", o.seed, "Seed for the programs and the random policy")->default_val(0)->check(seed_number());
   cmd->add_option("--engine", o.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("interp");
@@ -36,6 +42,7 @@ void register_survey(CLI::App* cmd, SurveyOptions& o) {
       "frames (frames drawn, the first included); distinct (different frames among them); clauses (on-clauses "
       "whose condition held at least once / on-clauses of the program); time ms (wall clock of the episode); "
       "status (ok, error: a runtime error, its message below the table, load error, engine error).");
+  add_shard_options(cmd, o.shards, dir, "folder's programs", "name order");
 }
 
 struct SurveyRow {
@@ -102,16 +109,62 @@ nlohmann::json rows_json(const std::vector<SurveyRow>& rows) {
   return out;
 }
 
-int run_survey(const SurveyOptions& o) {
+SurveyRow row_from_json(const nlohmann::json& j) {
+  SurveyRow r;
+  r.program = j.at("program").get<std::string>();
+  r.grid = j.at("grid").get<int>();
+  r.steps = j.at("steps").get<size_t>();
+  r.frames = j.at("frames").get<size_t>();
+  r.distinct = j.at("distinct_frames").get<size_t>();
+  r.clauses = j.at("on_clauses").get<int>();
+  r.covered = j.at("on_clauses_covered").get<int>();
+  r.ms = j.at("time_ms").get<double>();
+  r.status = j.at("status").get<std::string>();
+  r.error = j.at("error").get<std::string>();
+  return r;
+}
+
+ShardFormat survey_shard_format() {
+  return {"survey", "programs", "programs", {"steps_per_program", "seed", "engine", "program_set", "limits"}};
+}
+
+// Prints the report (the table, or JSON) and writes --json-out; 1 when a program failed.
+int finish_survey(const SurveyOptions& o, const nlohmann::json& report, const std::vector<SurveyRow>& rows) {
+  if (o.json) std::cout << report.dump() << "\n";
+  else print_table(rows);
+  if (std::string why = write_json_out(o.shards, report); !why.empty()) return command_failed("survey", why);
+  for (const auto& r : rows)
+    if (r.status != "ok") return kExitFailed;
+  return kExitOk;
+}
+
+int run_survey_merge(const SurveyOptions& o) {
+  const MergedShards m = merge_shard_files(o.shards, survey_shard_format());
+  std::vector<SurveyRow> rows;
+  try {
+    for (const auto& p : m.rows) rows.push_back(row_from_json(p));
+  } catch (const nlohmann::json::exception& e) {
+    return command_failed("survey", std::string("a shard's rows are not survey's: ") + e.what());
+  }
+  for (const auto& r : rows)  // as the run prints them
+    if (!r.error.empty()) std::cerr << "  " << r.error << "\n";
+  nlohmann::json report = m.settings;
+  report["programs"] = m.rows;
+  return finish_survey(o, report, rows);
+}
+
+int run_survey_folder(const SurveyOptions& o) {
   if (!std::filesystem::is_directory(o.dir)) {
     std::cerr << "autumn survey: '" << o.dir << "' is not a directory\n";
     return kExitFailed;
   }
-  auto files = program_files(o.dir);
-  if (files.empty()) {
+  const auto all = program_files(o.dir);
+  if (all.empty()) {
     std::cerr << "autumn survey: no .au or .sexp programs in '" << o.dir << "'\n";
     return kExitFailed;
   }
+  const Shard shard = chosen_shard(o.shards);
+  const auto files = select_shard(all, shard);
   std::vector<SurveyRow> rows;
   Progress progress("survey", files.size());
   for (size_t i = 0; i < files.size(); ++i) {
@@ -120,11 +173,23 @@ int run_survey(const SurveyOptions& o) {
     if (!rows.back().error.empty()) std::cerr << "  " << rows.back().error << "\n";
   }
   progress.done();
-  if (o.json) std::cout << nlohmann::json({{"programs", rows_json(rows)}, {"steps_per_program", o.steps}}).dump() << "\n";
-  else print_table(rows);
-  for (const auto& r : rows)
-    if (r.status != "ok") return kExitFailed;
-  return kExitOk;
+  nlohmann::json report = {{"programs", rows_json(rows)},
+                           {"steps_per_program", o.steps},
+                           {"seed", o.seed},
+                           {"engine", o.engine},
+                           {"program_set", {o.dir}},
+                           {"limits", episode_limits_json()}};
+  if (!o.shards.shard.empty()) report["shard"] = shard_json(shard, "programs", all.size());
+  return finish_survey(o, report, rows);
+}
+
+int run_survey(const CLI::App* cmd, const SurveyOptions& o) {
+  if (int status = check_shard_options("survey", cmd, o.shards, !o.dir.empty())) return status;
+  try {
+    return o.shards.merging() ? run_survey_merge(o) : run_survey_folder(o);
+  } catch (const std::exception& e) {
+    return command_failed("survey", e.what());
+  }
 }
 
 }  // namespace
@@ -134,7 +199,7 @@ Subcommand add_survey_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("survey", "Run every program in a folder under a random policy and tabulate");
   register_survey(cmd, *o);
   add_limits_option(cmd);
-  return {cmd, [o] { return run_survey(*o); }};
+  return {cmd, [cmd, o] { return run_survey(cmd, *o); }};
 }
 
 }  // namespace autumn::cli
