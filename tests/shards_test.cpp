@@ -183,5 +183,22 @@ TEST(Shards, SurveyMergesToTheWholeRun) {
   }
 }
 
+// difftest: nothing measured, so the JSON and the text are the whole run's
+// exactly. Programs given as files, out of name order: the run's order is the
+// order given.
+TEST(Shards, DifftestMergesToTheWholeRun) {
+  const fs::path dir = scratch("difftest");
+  const std::string programs = program("sokoban.au") + " " + program("blockfall.au") + " " + program("garden.au");
+  const RoundTrip r = round_trip(dir, "difftest", programs, "--seeds 2 --steps 8", 2);
+  EXPECT_EQ(r.merged_json, r.whole_json);
+  EXPECT_EQ(r.merged.out, r.whole.out);
+  ASSERT_EQ(r.merged_json["programs"].size(), 3u);
+  EXPECT_EQ(r.merged_json["programs"][0]["program"], program("sokoban.au"));
+  EXPECT_EQ(r.merged_json["programs"][0]["episodes"], 2);
+  const fs::path other = dir / "other.json";
+  run_cli("difftest " + programs + " --seeds 2 --steps 8 --first-seed 5 --shard 2/2 --json-out " + other.string());
+  expect_refusals("difftest", r, other, programs, "--seeds 2", "first_seed is 5 here, 0 there");
+}
+
 }  // namespace
 }  // namespace autumn

@@ -2,13 +2,18 @@
 // frame, trigger value, coverage count and error message must agree
 // (harness/difftest.hpp). Episodes that end in the same runtime error on both
 // engines agree, but are counted and listed apart from those that ran through.
+// --shard K/N tests a slice of the programs, --merge puts the slices' JSON back
+// together (shard_options.hpp): every program runs seeds --first-seed on,
+// whatever its place in the list, so its row is the whole run's.
 #include <fmt/core.h>
 
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "harness/cli/agent_options.hpp"
 #include "harness/cli/commands.hpp"
 #include "harness/cli/number_options.hpp"
+#include "harness/cli/shard_options.hpp"
 #include "harness/difftest.hpp"
 #include "harness/engine.hpp"
 #include "harness/program_files.hpp"
@@ -20,10 +25,11 @@ struct DifftestOptions {
   std::vector<std::string> programs;
   DiffOptions diff;
   bool json = false;
+  ShardOptions shards;  // --shard, --merge, --json-out
 };
 
 void register_difftest(CLI::App* cmd, DifftestOptions& o) {
-  cmd->add_option("PROGRAMS", o.programs, "Program files or folders")->required();
+  CLI::Option* programs = cmd->add_option("PROGRAMS", o.programs, "Program files or folders; not with --merge");
   cmd->add_option("--seeds", o.diff.seeds, "Episodes (seeds) per program")->default_val(8)->check(int_count());
   cmd->add_option("--steps", o.diff.steps, "Steps per episode")->default_val(200)->check(int_count());
   cmd->add_option("--first-seed", o.diff.first_seed, "First seed")->default_val(0)->check(seed_number());
@@ -31,6 +37,7 @@ void register_difftest(CLI::App* cmd, DifftestOptions& o) {
       ->check(CLI::IsMember(engine_names()))
       ->default_val("compiled");
   cmd->add_flag("--json", o.json, "Print one JSON object instead of text");
+  add_shard_options(cmd, o.shards, programs, "programs", "the order given (each folder's sorted by name)");
 }
 
 struct ProgramDiff {
@@ -75,15 +82,64 @@ nlohmann::json diffs_json(const DifftestOptions& o, const std::vector<ProgramDif
     rows.push_back({{"program", d.program}, {"status", d.status}, {"episodes", d.result.episodes},
                     {"errored_episodes", d.result.errored}, {"first_error", d.result.first_error},
                     {"steps", d.result.steps}, {"divergence", d.result.divergence}});
-  return {{"engines", {o.diff.engine_a, o.diff.engine_b}}, {"programs", rows}};
+  return {{"engines", {o.diff.engine_a, o.diff.engine_b}},
+          {"seeds", o.diff.seeds},
+          {"steps", o.diff.steps},
+          {"first_seed", o.diff.first_seed},
+          {"program_set", o.programs},
+          {"limits", episode_limits_json()},
+          {"programs", rows}};
 }
 
-int run_difftest(const DifftestOptions& o) {
-  auto files = expand_programs(o.programs);
-  if (files.empty()) {
+ProgramDiff diff_from_json(const nlohmann::json& j) {
+  ProgramDiff d{j.at("program").get<std::string>(), j.at("status").get<std::string>(), {}};
+  d.result.episodes = j.at("episodes").get<size_t>();
+  d.result.errored = j.at("errored_episodes").get<size_t>();
+  d.result.first_error = j.at("first_error").get<std::string>();
+  d.result.steps = j.at("steps").get<size_t>();
+  d.result.divergence = j.at("divergence").get<std::string>();
+  d.result.setup_failed = d.status == "setup failed";
+  return d;
+}
+
+ShardFormat difftest_shard_format() {
+  return {"difftest", "programs", "programs", {"engines", "seeds", "steps", "first_seed", "program_set", "limits"}};
+}
+
+// Prints the report (text, or JSON) and writes --json-out; 1 when a program did not agree.
+int finish_difftest(const DifftestOptions& o, const nlohmann::json& report, const std::vector<ProgramDiff>& diffs) {
+  if (o.json) std::cout << report.dump() << "\n";
+  else print_text(o, diffs);
+  if (std::string why = write_json_out(o.shards, report); !why.empty()) return command_failed("difftest", why);
+  for (const auto& d : diffs)
+    if (d.status != "agreed") return kExitFailed;
+  return kExitOk;
+}
+
+int run_difftest_merge(const DifftestOptions& o) {
+  const MergedShards m = merge_shard_files(o.shards, difftest_shard_format());
+  std::vector<ProgramDiff> diffs;
+  DifftestOptions run = o;
+  try {
+    for (const auto& p : m.rows) diffs.push_back(diff_from_json(p));
+    run.diff.engine_a = m.settings.at("engines").at(0).get<std::string>();
+    run.diff.engine_b = m.settings.at("engines").at(1).get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    return command_failed("difftest", std::string("a shard's rows are not difftest's: ") + e.what());
+  }
+  nlohmann::json report = m.settings;
+  report["programs"] = m.rows;
+  return finish_difftest(run, report, diffs);
+}
+
+int run_difftest_programs(const DifftestOptions& o) {
+  const auto all = expand_programs(o.programs);
+  if (all.empty()) {
     std::cerr << "autumn difftest: no programs given\n";
     return kExitUsage;
   }
+  const Shard shard = chosen_shard(o.shards);
+  const auto files = select_shard(all, shard);
   DifftestOptions run = o;
   run.diff.limits = episode_limits();
   std::vector<ProgramDiff> diffs;
@@ -93,11 +149,18 @@ int run_difftest(const DifftestOptions& o) {
     diffs.push_back(diff_program(run, files[i]));
   }
   progress.done();
-  if (o.json) std::cout << diffs_json(o, diffs).dump() << "\n";
-  else print_text(o, diffs);
-  for (const auto& d : diffs)
-    if (d.status != "agreed") return kExitFailed;
-  return kExitOk;
+  nlohmann::json report = diffs_json(o, diffs);
+  if (!o.shards.shard.empty()) report["shard"] = shard_json(shard, "programs", all.size());
+  return finish_difftest(o, report, diffs);
+}
+
+int run_difftest(const CLI::App* cmd, const DifftestOptions& o) {
+  if (int status = check_shard_options("difftest", cmd, o.shards, !o.programs.empty())) return status;
+  try {
+    return o.shards.merging() ? run_difftest_merge(o) : run_difftest_programs(o);
+  } catch (const std::exception& e) {
+    return command_failed("difftest", e.what());
+  }
 }
 
 }  // namespace
@@ -107,7 +170,7 @@ Subcommand add_difftest_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("difftest", "Differential test of two engines under random actions");
   register_difftest(cmd, *o);
   add_limits_option(cmd);
-  return {cmd, [o] { return run_difftest(*o); }};
+  return {cmd, [cmd, o] { return run_difftest(cmd, *o); }};
 }
 
 }  // namespace autumn::cli
