@@ -200,5 +200,36 @@ TEST(Shards, DifftestMergesToTheWholeRun) {
   expect_refusals("difftest", r, other, programs, "--seeds 2", "first_seed is 5 here, 0 there");
 }
 
+// bench: the rows' programs, grids, step counts and engine outcomes; the
+// figures (steps/s, clone ns, ratio) are measured, so only present, and the
+// medians are recomputed from the merged rows.
+TEST(Shards, BenchMergesToTheWholeRun) {
+  const fs::path dir = scratch("bench");
+  const std::string programs = program("sokoban.au") + " " + program("blockfall.au") + " " + program("garden.au");
+  const RoundTrip r = round_trip(dir, "bench", programs, "--steps 20", 2);
+  const std::set<std::string> measured = {"steps_per_s", "steps_per_s_no_render", "clone_ns", "ratio", "median_ratio",
+                                          "median_compiled_step_us"};
+  EXPECT_EQ(without(r.merged_json, measured), without(r.whole_json, measured));
+  std::vector<double> ratios;
+  for (const json& row : r.merged_json["rows"]) {
+    for (const char* e : {"interp", "compiled"}) {
+      EXPECT_GT(row[e]["steps_per_s"].get<double>(), 0) << row;
+      EXPECT_GT(row[e]["clone_ns"].get<double>(), 0) << row;
+    }
+    ratios.push_back(row["ratio"].get<double>());
+  }
+  ASSERT_EQ(ratios.size(), 3u);
+  std::sort(ratios.begin(), ratios.end());
+  EXPECT_DOUBLE_EQ(r.merged_json["median_ratio"].get<double>(), ratios[1]);
+  EXPECT_EQ(unmeasured(r.merged.out, "[0-9]+(\\.[0-9]+)?"), unmeasured(r.whole.out, "[0-9]+(\\.[0-9]+)?"));
+  EXPECT_NE(r.merged.out.find("median over 3 programs"), std::string::npos) << r.merged.out;
+  const fs::path other = dir / "other.json";
+  run_cli("bench " + programs + " --steps 20 --seed 1 --shard 2/2 --json-out " + other.string());
+  expect_refusals("bench", r, other, programs, "--steps 20", "seed is 1 here, 0 there");
+  const CliResult only = run_cli("bench " + programs + " --only interp --shard 1/2");
+  EXPECT_EQ(only.status, 2) << only.out;
+  EXPECT_NE(only.out.find("--only (profiling one engine) does not shard"), std::string::npos) << only.out;
+}
+
 }  // namespace
 }  // namespace autumn
