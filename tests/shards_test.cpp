@@ -117,6 +117,19 @@ std::string unmeasured(const std::string& table, const std::string& measured = "
   return std::regex_replace(std::regex_replace(table, std::regex(measured), "#"), std::regex(" +"), " ");
 }
 
+// The first `n` words of each line of `table` (the columns that are not measured).
+std::vector<std::string> first_words(const std::string& table, size_t n) {
+  std::vector<std::string> out;
+  std::istringstream lines(table);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::string w, kept;
+    for (size_t i = 0; i < n && words >> w; ++i) kept += w + " ";
+    out.push_back(kept);
+  }
+  return out;
+}
+
 // ------------------------------------------------------------------ the rule and the checks
 
 TEST(Shards, SliceAndMergeChecks) {
@@ -229,6 +242,36 @@ TEST(Shards, BenchMergesToTheWholeRun) {
   const CliResult only = run_cli("bench " + programs + " --only interp --shard 1/2");
   EXPECT_EQ(only.status, 2) << only.out;
   EXPECT_NE(only.out.find("--only (profiling one engine) does not shard"), std::string::npos) << only.out;
+}
+
+// bench-agent: three copies of flood_defense (16x16: their built-in module, no
+// search model to compile) and blockfall (8x8), which --grid 16 leaves out: its
+// shard records it as skipped and the merge has the whole run's rows, shard 2's
+// between shard 1's. The times and rates are measured; the node counts are not
+// (one layer of the search, whole).
+TEST(Shards, BenchAgentMergesToTheWholeRun) {
+  const fs::path dir = scratch("bench_agent"), programs = dir / "programs";
+  fs::create_directories(programs);
+  for (const char* copy : {"a_flood.au", "b_flood.au", "c_flood.au"})
+    fs::copy_file(program("flood_defense.au"), programs / copy);
+  fs::copy_file(program("blockfall.au"), programs / "d_blockfall.au");
+  const std::string options =
+      "--threads 1 --rollouts 20 --mfp-steps 3 --bfs-nodes 300 --bfs-depth 1 --seconds 20";
+  const RoundTrip r = round_trip(dir, "bench-agent", programs.string(), options, 2);
+  const std::set<std::string> measured = {"mfp_seconds", "mfp_rollouts_per_s", "bfs_seconds_1_thread",
+                                          "bfs_seconds_n_threads", "bfs_nodes_per_s_1_thread",
+                                          "bfs_nodes_per_s_n_threads"};
+  EXPECT_EQ(without(r.merged_json, measured), without(r.whole_json, measured));
+  ASSERT_EQ(r.merged_json["programs"].size(), 3u);
+  EXPECT_EQ(r.merged_json["programs"][1]["program"], "b_flood");  // shard 2's, between shard 1's two
+  for (const json& p : r.merged_json["programs"])
+    for (const std::string& key : measured) EXPECT_TRUE(p[key].is_number()) << key << " " << p;
+  EXPECT_EQ(read_json(r.shards[1])["shard"]["skipped"], (json{3}));
+  EXPECT_FALSE(read_json(r.shards[0])["shard"].contains("skipped"));
+  EXPECT_EQ(first_words(r.merged.out, 3), first_words(r.whole.out, 3));  // each row's program, grid and code
+  const fs::path other = dir / "other.json";
+  run_cli("bench-agent " + programs.string() + " " + options + " --seed 2 --shard 2/2 --json-out " + other.string());
+  expect_refusals("bench-agent", r, other, programs.string(), "--grid 0", "seed is 2 here, 1 there");
 }
 
 }  // namespace

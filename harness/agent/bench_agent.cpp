@@ -41,7 +41,8 @@ double bfs_rate(uint64_t nodes, double seconds) { return per_second(static_cast<
 }  // namespace
 
 std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, const BenchAgentOptions& opts,
-                                       const std::function<void(size_t, size_t, const std::string&)>& progress) {
+                                       const std::function<void(size_t, size_t, const std::string&)>& progress,
+                                       std::vector<size_t>* skipped) {
   ThreadPool one(1), many(opts.threads);
   std::vector<BenchAgentRow> rows;
   for (size_t i = 0; i < programs.size(); ++i) {
@@ -55,8 +56,10 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
       if (!env->reset(0)) throw TaskError("reset failed: " + env->error());
       row.grid = env->frame().size;
       if (opts.grid > 0 && row.grid != opts.grid &&
-          std::find(opts.named.begin(), opts.named.end(), path) == opts.named.end())
+          std::find(opts.named.begin(), opts.named.end(), path) == opts.named.end()) {
+        if (skipped) skipped->push_back(i);
         continue;
+      }
       row.deterministic = env->deterministic();
       row.specialised = opts.engine == "compiled" && lower_program(*program, "bench").ok;
 
@@ -171,6 +174,8 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
 nlohmann::json bench_agent_json(const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& o) {
   nlohmann::json out = {{"engine", o.engine},       {"threads", o.threads},     {"rollouts", o.rollouts},
                         {"mfp_steps", o.mfp_steps}, {"bfs_nodes", o.bfs_nodes}, {"bfs_depth", o.bfs_depth},
+                        {"seed", o.seed},           {"seconds", o.seconds},     {"grid", o.grid},
+                        {"only", o.only.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.only)},
                         {"programs", nlohmann::json::array()}};
   for (const auto& r : rows) {
     nlohmann::json j = {{"program", r.program},
@@ -195,6 +200,44 @@ nlohmann::json bench_agent_json(const std::vector<BenchAgentRow>& rows, const Be
     out["programs"].push_back(j);
   }
   return out;
+}
+
+BenchAgentRow bench_agent_row_from_json(const nlohmann::json& j) {
+  BenchAgentRow r;
+  r.program = j.at("program").get<std::string>();
+  r.grid = j.at("grid").get<int>();
+  r.specialised = j.at("specialised").get<bool>();
+  r.deterministic = j.at("deterministic").get<bool>();
+  r.bfs_actions = j.at("bfs_actions").get<size_t>();
+  r.bfs_depth_done = j.at("bfs_depth_done").get<int>();
+  r.bfs_small = j.at("bfs_small_space").get<bool>();
+  r.bfs_nodes_1 = j.at("bfs_nodes_1_thread").get<uint64_t>();
+  r.bfs_seconds_1 = j.at("bfs_seconds_1_thread").get<double>();
+  r.bfs_nodes_n = j.at("bfs_nodes_n_threads").get<uint64_t>();
+  r.bfs_seconds_n = j.at("bfs_seconds_n_threads").get<double>();
+  r.mfp_ran = j.contains("mfp_seconds");
+  if (r.mfp_ran) {
+    r.mfp_seconds = j.at("mfp_seconds").get<double>();
+    r.mfp_rollouts_per_s = j.at("mfp_rollouts_per_s").get<double>();
+    r.mfp_correct = j.at("mfp_correct").get<bool>();
+  }
+  r.error = j.value("error", "");
+  return r;
+}
+
+BenchAgentOptions bench_agent_options_from_json(const nlohmann::json& j) {
+  BenchAgentOptions o;
+  o.engine = j.at("engine").get<std::string>();
+  o.threads = j.at("threads").get<unsigned>();
+  o.rollouts = j.at("rollouts").get<uint64_t>();
+  o.mfp_steps = j.at("mfp_steps").get<int>();
+  o.bfs_nodes = j.at("bfs_nodes").get<uint64_t>();
+  o.bfs_depth = j.at("bfs_depth").get<int>();
+  o.seed = j.at("seed").get<uint64_t>();
+  o.seconds = j.at("seconds").get<double>();
+  o.grid = j.at("grid").get<int>();
+  if (!j.at("only").is_null()) o.only = j.at("only").get<std::string>();
+  return o;
 }
 
 }  // namespace autumn::agent

@@ -52,9 +52,18 @@ struct BenchAgentRow {
 };
 
 // `progress(i, n, name)` before program i (and once with i == n at the end).
+// A program left out by `grid` has no row; `skipped` (when given) gets its
+// index in `programs`. A row depends on its program and the options only.
 std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, const BenchAgentOptions& opts,
-                                       const std::function<void(size_t, size_t, const std::string&)>& progress);
+                                       const std::function<void(size_t, size_t, const std::string&)>& progress,
+                                       std::vector<size_t>* skipped = nullptr);
 std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& opts);
+// The options (those that change a row: engine, threads, rollouts, mfp_steps,
+// seed, bfs_nodes, bfs_depth, seconds, grid, only) and "programs": the rows.
 nlohmann::json bench_agent_json(const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& opts);
+// The inverse of a row of bench_agent_json's "programs" (for --merge).
+BenchAgentRow bench_agent_row_from_json(const nlohmann::json& program);
+// The options bench_agent_json records, back (for --merge's table; `named` is not recorded).
+BenchAgentOptions bench_agent_options_from_json(const nlohmann::json& report);
 
 }  // namespace autumn::agent

@@ -1,6 +1,11 @@
 // autumn bench-agent — the simulator agent's throughput per program
 // (harness/agent/bench_agent): a 10,000-rollout MFP query, and BFS successors per
-// second on one thread and on --threads threads.
+// second on one thread and on --threads threads. --shard K/N measures a slice of
+// the programs, --merge puts the slices' JSON back together (shard_options.hpp);
+// every program's measurements use --seed, never its place in the list, and a
+// program --grid leaves out is recorded in its shard as "skipped". The
+// throughput figures are each shard's machine's: shards compare only when their
+// nodes are alike.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -12,6 +17,7 @@
 #include "harness/cli/agent_options.hpp"
 #include "harness/cli/commands.hpp"
 #include "harness/cli/number_options.hpp"
+#include "harness/cli/shard_options.hpp"
 #include "harness/engine.hpp"
 #include "harness/program_files.hpp"
 
@@ -25,10 +31,12 @@ struct BenchAgentCommand {
   std::vector<std::string> paths;
   BenchAgentOptions agent;
   bool json = false;
+  ShardOptions shards;  // --shard, --merge, --json-out
 };
 
 void register_bench_agent(CLI::App* cmd, BenchAgentCommand& o) {
-  cmd->add_option("PROGRAMS", o.paths, "Programs, or folders of programs")->required()->check(CLI::ExistingPath);
+  CLI::Option* programs = cmd->add_option("PROGRAMS", o.paths, "Programs, or folders of programs; not with --merge")
+                              ->check(CLI::ExistingPath);
   cmd->add_option("--engine", o.agent.engine, "Execution engine")->check(CLI::IsMember(engine_names()))->default_val("compiled");
   cmd->add_option("--threads", o.agent.threads, "Threads of the MFP query and the parallel BFS run (0: all cores)")
       ->default_val(2)
@@ -59,10 +67,51 @@ void register_bench_agent(CLI::App* cmd, BenchAgentCommand& o) {
       "(successors generated on one thread); bfs/s 1t (successors per second on one thread); bfs/s Nt (on "
       "--threads threads); per thread (bfs/s Nt / N). - where a measurement did not run.");
   cmd->add_flag("--json", o.json, "Print one JSON object");
+  add_shard_options(cmd, o.shards, programs, "programs", "the order given (each folder's sorted by name)");
 }
 
-int run_bench_agent(const BenchAgentCommand& c) {
+ShardFormat bench_agent_shard_format() {
+  return {"bench-agent",
+          "programs",
+          "programs",
+          {"engine", "threads", "rollouts", "mfp_steps", "bfs_nodes", "bfs_depth", "seed", "seconds", "grid", "only",
+           "program_set"}};
+}
+
+// Prints a report (the table, or JSON) and writes --json-out. No rows is a
+// failure, except in a shard (its JSON still counts for the merge).
+int finish_bench_agent(const BenchAgentCommand& c, const nlohmann::json& report,
+                       const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& opts) {
+  const bool shard = report.contains("shard");
+  if (rows.empty() && !shard)
+    return command_failed("bench-agent", fmt::format("no program has GRID_SIZE {} (use --grid 0)", opts.grid));
+  if (c.json) std::cout << report.dump() << "\n";
+  else if (rows.empty()) fmt::print("no program of this shard has GRID_SIZE {}\n", opts.grid);
+  else fmt::print("{}", bench_agent_table(rows, opts));
+  if (std::string why = write_json_out(c.shards, report); !why.empty()) return command_failed("bench-agent", why);
+  return 0;
+}
+
+int run_bench_agent_merge(const BenchAgentCommand& c) {
+  const MergedShards m = merge_shard_files(c.shards, bench_agent_shard_format());
+  std::vector<BenchAgentRow> rows;
+  BenchAgentOptions opts;
   try {
+    for (const auto& p : m.rows) rows.push_back(bench_agent_row_from_json(p));
+    opts = bench_agent_options_from_json(m.settings);
+  } catch (const nlohmann::json::exception& e) {
+    return command_failed("bench-agent", std::string("a shard's rows are not bench-agent's: ") + e.what());
+  }
+  nlohmann::json report = m.settings;
+  report["programs"] = m.rows;
+  return finish_bench_agent(c, report, rows, opts);
+}
+
+int run_bench_agent(const CLI::App* cmd, const BenchAgentCommand& c) {
+  try {
+    if (int status = check_shard_options("bench-agent", cmd, c.shards, !c.paths.empty())) return status;
+    if (c.shards.merging()) return run_bench_agent_merge(c);
+    const Shard shard = chosen_shard(c.shards);
     BenchAgentOptions opts = c.agent;
     for (const std::string& p : c.paths)
       if (fs::is_directory(p) && program_files(p).empty()) return command_failed("bench-agent", "no .sexp or .au programs in " + p);
@@ -70,11 +119,15 @@ int run_bench_agent(const BenchAgentCommand& c) {
     for (const std::string& p : c.paths)
       if (!fs::is_directory(p)) opts.named.push_back(p);  // never filtered out by --grid
     if (opts.threads == 0) opts.threads = std::max(1u, std::thread::hardware_concurrency());
-    std::vector<BenchAgentRow> rows = bench_agent(programs, opts, progress_bar());
-    if (rows.empty()) return command_failed("bench-agent", fmt::format("no program has GRID_SIZE {} (use --grid 0)", opts.grid));
-    if (c.json) std::cout << bench_agent_json(rows, opts).dump() << "\n";
-    else fmt::print("{}", bench_agent_table(rows, opts));
-    return 0;
+    std::vector<size_t> skipped;  // indices in this shard's list
+    std::vector<BenchAgentRow> rows = bench_agent(select_shard(programs, shard), opts, progress_bar(), &skipped);
+    nlohmann::json report = bench_agent_json(rows, opts);
+    report["program_set"] = c.paths;
+    if (!c.shards.shard.empty()) {
+      for (size_t& i : skipped) i = shard_unit_index(shard, i);
+      report["shard"] = shard_json(shard, "programs", programs.size(), skipped);
+    }
+    return finish_bench_agent(c, report, rows, opts);
   } catch (const std::exception& e) {
     return command_failed("bench-agent", e.what());
   }
@@ -87,7 +140,7 @@ Subcommand add_bench_agent_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "bench-agent", "Throughput of the simulator agent: a 10,000-rollout MFP query and BFS expansion per program");
   register_bench_agent(cmd, *o);
-  return {cmd, [o] { return run_bench_agent(*o); }};
+  return {cmd, [cmd, o] { return run_bench_agent(cmd, *o); }};
 }
 
 }  // namespace autumn::cli
