@@ -274,5 +274,24 @@ TEST(Shards, BenchAgentMergesToTheWholeRun) {
   expect_refusals("bench-agent", r, other, programs.string(), "--grid 0", "seed is 2 here, 1 there");
 }
 
+// baseline random: the scores, successes and steps (rollout r draws from (seed,
+// r), whichever shard runs the task); "seconds" is measured.
+TEST(Shards, BaselineRandomMergesToTheWholeRun) {
+  const fs::path dir = scratch("baseline");
+  std::string tasks;
+  for (const char* t : {"sokoban_planning.json", "blockfall_mfp.json", "sokoban_cd.json", "garden_cd.json"})
+    tasks += " " + (testing::source_dir() / "tasks/generated/prompts" / t).string();
+  const std::string options = "--engine interp --rollouts 8 --timeout 15 --threads 1";
+  const RoundTrip r = round_trip(dir, "baseline random", tasks, options, 2);
+  EXPECT_EQ(without(r.merged_json, {"seconds"}), without(r.whole_json, {"seconds"}));
+  ASSERT_EQ(r.merged_json["tasks"].size(), 4u);
+  for (const json& t : r.merged_json["tasks"]) EXPECT_TRUE(t["seconds"].is_number()) << t;
+  const auto summary = [](const std::string& table) { return table.substr(table.find("\ntype ")); };  // per type
+  EXPECT_EQ(summary(r.merged.out), summary(r.whole.out));
+  const fs::path other = dir / "other.json";
+  run_cli("baseline random" + tasks + " " + options + " --seed 9 --shard 2/2 --json-out " + other.string());
+  expect_refusals("baseline random", r, other, tasks, "--rollouts 8", "agent/seed is 9 here, 0 there");
+}
+
 }  // namespace
 }  // namespace autumn

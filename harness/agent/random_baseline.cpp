@@ -182,25 +182,28 @@ nlohmann::json random_json(const RandomResult& r) {
   return j;
 }
 
-std::vector<RandomRow> run_random_baseline(const std::vector<std::string>& paths, const RandomOptions& o,
-                                           ThreadPool& pool,
-                                           const std::function<void(size_t, size_t, const std::string&)>& progress) {
-  std::vector<std::pair<fs::path, std::string>> files;  // file, its name in the table
+std::vector<RandomUnit> random_units(const std::vector<std::string>& paths) {
+  std::vector<RandomUnit> units;
   for (const std::string& p : paths) {
     if (fs::is_directory(p)) {
-      for (const fs::path& f : find_tasks(p)) files.emplace_back(f, fs::relative(f, p).string());
+      for (const fs::path& f : find_tasks(p)) units.push_back({f, fs::relative(f, p).string()});
     } else {
-      files.emplace_back(p, p);
+      units.push_back({p, p});
     }
   }
+  return units;
+}
+
+std::vector<RandomRow> run_random_units(const std::vector<RandomUnit>& units, const RandomOptions& o, ThreadPool& pool,
+                                        const std::function<void(size_t, size_t, const std::string&)>& progress) {
   std::vector<RandomRow> rows;
-  for (size_t i = 0; i < files.size(); ++i) {
-    if (progress) progress(i, files.size(), files[i].second);
+  for (size_t i = 0; i < units.size(); ++i) {
+    if (progress) progress(i, units.size(), units[i].name);
     RandomRow row;
-    row.task = files[i].second;
+    row.task = units[i].name;
     row.type = "?";
     try {
-      const Task task = load_task(files[i].first);
+      const Task task = load_task(units[i].file);
       row.type = short_name(task.type);
       row.result = random_baseline(task, o, pool);
     } catch (const std::exception& e) {
@@ -208,8 +211,14 @@ std::vector<RandomRow> run_random_baseline(const std::vector<std::string>& paths
     }
     rows.push_back(std::move(row));
   }
-  if (progress) progress(files.size(), files.size(), "");
+  if (progress) progress(units.size(), units.size(), "");
   return rows;
+}
+
+std::vector<RandomRow> run_random_baseline(const std::vector<std::string>& paths, const RandomOptions& o,
+                                           ThreadPool& pool,
+                                           const std::function<void(size_t, size_t, const std::string&)>& progress) {
+  return run_random_units(random_units(paths), o, pool, progress);
 }
 
 std::string random_table(const std::vector<RandomRow>& rows) {
@@ -261,15 +270,44 @@ nlohmann::json random_report_json(const std::vector<RandomRow>& rows, const Rand
     j["task"] = r.task;
     tasks.push_back(j);
   }
-  return {{"agent",
-           {{"name", "random"},
-            {"policy", "uniform over click, up, down, left, right, noop; clicks on a uniform cell"},
-            {"rollouts", o.rollouts},
-            {"timeout", o.timeout},
-            {"seed", o.seed},
-            {"engine", o.engine}}},
-          {"task_set", paths},
-          {"tasks", tasks}};
+  nlohmann::json agent = {{"name", "random"},
+                          {"policy", "uniform over click, up, down, left, right, noop; clicks on a uniform cell"},
+                          {"rollouts", o.rollouts},
+                          {"timeout", o.timeout},
+                          {"seed", o.seed},
+                          {"engine", o.engine}};
+  if (!o.programs_dir.empty()) agent["programs"] = o.programs_dir.string();
+  return {{"agent", agent}, {"task_set", paths}, {"tasks", tasks}};
+}
+
+RandomRow random_row_from_json(const nlohmann::json& j) {
+  auto opt = [&](const char* key) {
+    return j.at(key).is_null() ? std::optional<double>() : std::optional<double>(j.at(key).get<double>());
+  };
+  RandomRow row;
+  row.task = j.at("task").get<std::string>();
+  row.type = j.at("type").get<std::string>();
+  if (j.contains("error")) {
+    row.error = j.at("error").get<std::string>();
+    return row;
+  }
+  RandomResult& r = row.result;
+  r.type = row.type == "mfp" ? TaskType::MaskedFramePrediction
+           : row.type == "cd" ? TaskType::ChangeDetection
+                              : TaskType::Planning;
+  r.score = opt("score");
+  r.stderr_of_score = j.at("stderr").get<double>();
+  r.rollouts = j.at("rollouts").get<uint64_t>();
+  r.successes = j.at("successes").get<uint64_t>();
+  r.mean_steps = opt("mean_steps");
+  r.errors = j.at("errors").get<uint64_t>();
+  r.env_steps = j.at("env_steps").get<uint64_t>();
+  r.world_seed = j.at("world_seed").get<uint64_t>();
+  r.seconds = j.at("seconds").get<double>();
+  r.choices = j.value("choices", 0);
+  r.trigger = j.value("trigger", "");
+  r.note = j.value("note", "");
+  return row;
 }
 
 }  // namespace autumn::agent

@@ -80,11 +80,24 @@ struct RandomRow {
 std::vector<RandomRow> run_random_baseline(const std::vector<std::string>& paths, const RandomOptions& o,
                                            ThreadPool& pool,
                                            const std::function<void(size_t, size_t, const std::string&)>& progress = {});
+// The same in two steps, for --shard (harness/shards.hpp): the task files the
+// paths name, in the run's order, each with its name in the table; and the rows
+// of some of them. A row depends on its task and the options only.
+struct RandomUnit {
+  fs::path file;
+  std::string name;
+};
+std::vector<RandomUnit> random_units(const std::vector<std::string>& paths);
+std::vector<RandomRow> run_random_units(const std::vector<RandomUnit>& units, const RandomOptions& o, ThreadPool& pool,
+                                        const std::function<void(size_t, size_t, const std::string&)>& progress = {});
 std::string random_table(const std::vector<RandomRow>& rows);
 // The shape eval --json writes ("tasks": rows with "task", "type", "score"), plus
-// "agent" (name and settings) and "task_set" (the paths), which the comparison
-// report (scripts/compare-agents.py) reads.
+// "agent" (name and settings, "programs" when --programs is given) and
+// "task_set" (the paths), which the comparison report (scripts/compare-agents.py)
+// reads.
 nlohmann::json random_report_json(const std::vector<RandomRow>& rows, const RandomOptions& o,
                                   const std::vector<std::string>& paths);
+// The inverse of a row of random_report_json's "tasks" (for --merge).
+RandomRow random_row_from_json(const nlohmann::json& task);
 
 }  // namespace autumn::agent

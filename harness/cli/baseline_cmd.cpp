@@ -1,6 +1,9 @@
 // autumn baseline random — the AutumnBench paper's memoryless random agent over
 // task files (harness/agent/random_baseline): per task, its success probability
 // and mean steps over --rollouts episodes; the shape scripts/compare-agents.py reads.
+// --shard K/N runs a slice of the task files, --merge puts the slices' JSON back
+// together (shard_options.hpp); a task's row depends on its file and the options
+// only (rollout r draws from (--seed, r)), never on its shard.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -8,12 +11,12 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "compiler/read/output.hpp"
 #include "harness/agent/random_baseline.hpp"
 #include "harness/agent/thread_pool.hpp"
 #include "harness/cli/agent_options.hpp"
 #include "harness/cli/commands.hpp"
 #include "harness/cli/number_options.hpp"
+#include "harness/cli/shard_options.hpp"
 #include "harness/engine.hpp"
 
 namespace autumn::cli {
@@ -26,13 +29,13 @@ struct RandomCommand {
   RandomOptions agent;
   unsigned threads = 0;
   bool json = false;
-  std::string json_out;
+  ShardOptions shards;  // --shard, --merge, --json-out
 };
 
 void register_random(CLI::App* cmd, RandomCommand& o) {
-  cmd->add_option("TASKS", o.paths, "Task files, or folders of them (searched recursively)")
-      ->required()
-      ->check(CLI::ExistingPath);
+  CLI::Option* tasks =
+      cmd->add_option("TASKS", o.paths, "Task files, or folders of them (searched recursively); not with --merge")
+          ->check(CLI::ExistingPath);
   cmd->add_option("--rollouts", o.agent.rollouts, "Episodes per task")->default_val(50)->check(cli::big_count(1));
   cmd->add_option("--timeout", o.agent.timeout, "Steps per episode")->default_val(1000)->check(cli::int_count(1));
   cmd->add_option("--seed", o.agent.seed, "Seed of the policy (episode r draws from (seed, r))")
@@ -49,28 +52,47 @@ void register_random(CLI::App* cmd, RandomCommand& o) {
       "probability of reaching the goal; se: the binomial standard error over --rollouts episodes); successes "
       "(episodes that succeeded); mean steps (steps to success, over the successful episodes; - without any); "
       "seconds (wall clock of the task's episodes).");
-  cmd->add_option("--json-out", o.json_out, "Also write that JSON object to FILE (the table still prints)")
-      ->type_name("FILE");
-
+  add_shard_options(cmd, o.shards, tasks, "task files", "the order given (folders searched as eval does)");
 }
 
-int run_random(const RandomCommand& c) {
+// Prints a report (the table, or JSON), writes --json-out; exit status 1 when a task failed.
+int finish_random(const RandomCommand& c, const nlohmann::json& report, const std::vector<RandomRow>& rows) {
+  if (c.json) std::cout << report.dump() << "\n";
+  else fmt::print("{}", random_table(rows));
+  if (std::string why = write_json_out(c.shards, report); !why.empty()) return command_failed("baseline random", why);
+  const auto errors = std::count_if(rows.begin(), rows.end(), [](const RandomRow& r) { return !r.error.empty(); });
+  if (errors) std::cerr << "autumn baseline random: " << errors << " task" << (errors == 1 ? "" : "s") << " failed\n";
+  return errors ? 1 : 0;
+}
+
+ShardFormat random_shard_format() { return {"baseline random", "tasks", "tasks", {"agent", "task_set"}}; }
+
+int run_random_merge(const RandomCommand& c) {
+  const MergedShards m = merge_shard_files(c.shards, random_shard_format());
+  std::vector<RandomRow> rows;
   try {
-    if (!c.json_out.empty() && !can_write(c.json_out))
-      return command_failed("baseline random", "cannot write " + c.json_out);
+    for (const auto& t : m.rows) rows.push_back(random_row_from_json(t));
+  } catch (const nlohmann::json::exception& e) {
+    return command_failed("baseline random", std::string("a shard's rows are not baseline random's: ") + e.what());
+  }
+  if (rows.empty()) return command_failed("baseline random", "no task files in the paths given");
+  nlohmann::json report = m.settings;
+  report["tasks"] = m.rows;
+  return finish_random(c, report, rows);
+}
+
+int run_random(const CLI::App* cmd, const RandomCommand& c) {
+  try {
+    if (int status = check_shard_options("baseline random", cmd, c.shards, !c.paths.empty())) return status;
+    if (c.shards.merging()) return run_random_merge(c);
+    const Shard shard = chosen_shard(c.shards);
+    const std::vector<RandomUnit> units = random_units(c.paths);
+    if (units.empty()) return command_failed("baseline random", "no task files in the paths given");
     ThreadPool pool(c.threads);
-    const std::vector<RandomRow> rows = run_random_baseline(c.paths, c.agent, pool, progress_bar());
-    if (rows.empty()) return command_failed("baseline random", "no task files in the paths given");
-    const nlohmann::json report = random_report_json(rows, c.agent, c.paths);
-    if (c.json) std::cout << report.dump() << "\n";
-    else fmt::print("{}", random_table(rows));
-    if (!c.json_out.empty()) {
-      if (std::string why = write_file(c.json_out, report.dump(1) + "\n"); !why.empty())
-        return command_failed("baseline random", why);
-    }
-    const auto errors = std::count_if(rows.begin(), rows.end(), [](const RandomRow& r) { return !r.error.empty(); });
-    if (errors) std::cerr << "autumn baseline random: " << errors << " task" << (errors == 1 ? "" : "s") << " failed\n";
-    return errors ? 1 : 0;
+    const std::vector<RandomRow> rows = run_random_units(select_shard(units, shard), c.agent, pool, progress_bar());
+    nlohmann::json report = random_report_json(rows, c.agent, c.paths);
+    if (!c.shards.shard.empty()) report["shard"] = shard_json(shard, "tasks", units.size());
+    return finish_random(c, report, rows);
   } catch (const std::exception& e) {
     return command_failed("baseline random", e.what());
   }
@@ -86,7 +108,7 @@ Subcommand add_baseline_command(CLI::App& app) {
   CLI::App* cmd = baseline->add_subcommand(
       "random", "The paper's memoryless random agent: success probability and mean steps per task, by rollouts");
   register_random(cmd, *o);
-  return {cmd, [o] { return run_random(*o); }};
+  return {cmd, [cmd, o] { return run_random(cmd, *o); }};
 }
 
 }  // namespace autumn::cli
