@@ -115,7 +115,7 @@ def _gather(client, units, what, progress, shipping=None):
         return results
     from distributed import as_completed
 
-    needs = (shipping["dataset"], shipping["programs"]) if shipping and shipping.get("dataset") else None
+    needs = shipping.get("dataset") if shipping else None
     futures = {}
     for i, (name, fn, args) in enumerate(units):
         f = client.submit(_guarded, _with_modules, needs, fn, *args, pure=False,
@@ -183,35 +183,35 @@ def modules_at_hand(client, programs, workers=None):
 _SHIPPED = set()
 
 
+def _install_package(p):
+    """On a worker: one shipped package through the module store's checks; "" or why refused."""
+    return _core._install_module(p["text"], p["name"], p["trigger"], p["so"], p["manifest"], p["built_from"])
+
+
 def _worker_install(packages, dataset=None):
-    """On a worker: installs each package through the module store's checks; "" or why refused."""
-    out = [_core._install_module(p["text"], p["name"], p["trigger"], p["so"], p["manifest"], p["built_from"])
-           for p in packages]
+    """On a worker: installs each package; "" or why refused, per package."""
+    out = [_install_package(p) for p in packages]
     if dataset:
         _SHIPPED.add(dataset)
     return out
 
 
-def _with_modules(needs, fn, *args):
+def _with_modules(dataset, fn, *args):
     """On a worker: ``fn(*args)``, once the worker has every module of the
-    shipment ``needs`` = (dataset, [(name, text, trigger)]). A worker that was
-    there when they were shipped has them; one that joined later fetches the
-    packages it lacks from the published dataset and installs them (the same
-    checks), once per process."""
-    if needs and needs[0] not in _SHIPPED:
-        dataset, programs = needs
-        missing = [i for i, (name, text, trigger) in enumerate(programs)
-                   if not _core._module_at_hand(text, name, trigger)]
-        if missing:
-            from distributed import get_client
+    shipment published as ``dataset`` (ship_modules). A worker that was there
+    when they were shipped has them; one that joined later reads the
+    shipment's program list, fetches the packages it lacks and installs them
+    (the same checks), once per process. Units carry only the dataset's name."""
+    if dataset and dataset not in _SHIPPED:
+        from distributed import get_client
 
-            packages = get_client().get_dataset(dataset)
-            for i in missing:
-                p = packages[i].result()
-                why = _core._install_module(p["text"], p["name"], p["trigger"], p["so"], p["manifest"],
-                                            p["built_from"])
-                if why:
-                    sys.stderr.write(f"autumnc.distributed: the shipped module of {p['name']} was refused: {why}\n")
+        shipment = get_client().get_dataset(dataset)
+        for (name, text, trigger), package in zip(shipment["programs"], shipment["packages"]):
+            if _core._module_at_hand(text, name, trigger):
+                continue
+            why = _install_package(package.result())
+            if why:
+                sys.stderr.write(f"autumnc.distributed: the shipped module of {name} was refused: {why}\n")
         _SHIPPED.add(dataset)
     return fn(*args)
 
@@ -258,13 +258,14 @@ def ship_modules(client, programs, workers=None):
 
         dataset = "autumnc-modules-" + hashlib.sha256("".join(sorted(p["key"] for p in shippable)).encode()).hexdigest()[:16]
         if dataset not in client.list_datasets():
-            client.publish_dataset(client.scatter(shippable), name=dataset)
+            shipment = {"programs": [(p["name"], p["text"], p["trigger"]) for p in shippable],
+                        "packages": client.scatter(shippable)}
+            client.publish_dataset(shipment, name=dataset)
     report = install_modules(client, shippable, workers, dataset)
     for worker, entry in report.items():
         for name, why in entry["refused"]:
             sys.stderr.write(f"autumnc.distributed: {worker} refused the module of {name}: {why}\n")
-    return {"packages": packages, "workers": report, "seconds": time.monotonic() - start, "dataset": dataset,
-            "programs": [(p["name"], p["text"], p["trigger"]) for p in shippable]}
+    return {"packages": packages, "workers": report, "seconds": time.monotonic() - start, "dataset": dataset}
 
 
 def _task_programs(files, options, find_answers):

@@ -229,7 +229,7 @@ def test_a_worker_that_joins_later_gets_the_shipped_modules(client, tmp_path):
     with open(sokoban, "w", encoding="utf-8") as f:
         f.write(text)
     shipping = ad.ship_modules(client, [(sokoban, text, None)])
-    assert shipping["dataset"] and shipping["programs"][0][0] == sokoban
+    assert shipping["dataset"] and client.get_dataset(shipping["dataset"])["programs"][0][0] == sokoban
     old = set(client.scheduler_info()["workers"])
     env = dict(os.environ, AUTUMN_CACHE_DIR=str(tmp_path / "late-cache"), AUTUMN_NO_COMPILE="1",
                PYTHONPATH=os.path.dirname(os.path.abspath(__file__)))  # this file's helpers, as the others import them
