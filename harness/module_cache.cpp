@@ -354,6 +354,7 @@ ModuleFuture no_cache(const std::string& why) {
 struct Lookup {
   std::optional<ModuleFuture> found;
   Entry entry;
+  std::string exact;  // the program's exact digest (program_digest)
 };
 Lookup look_up(CacheState& s, const std::shared_ptr<const Program>& p) {
   const auto trigger = trigger_of(*p);
@@ -368,7 +369,7 @@ Lookup look_up(CacheState& s, const std::shared_ptr<const Program>& p) {
   if (dir.empty()) return {s.by_text[exact] = no_cache(why), {}};
   const Entry e{dir / ("m" + key + ".so"), key};
   if (ModulePtr m = cached_module(e, *p)) return {s.by_text[exact] = s.by_key[key] = ready(m), {}};
-  return {std::nullopt, e};  // not remembered: a module installed later (install_module) is then found
+  return {std::nullopt, e, exact};  // not remembered: a module installed later (install_module) is then found
 }
 
 // The module of a program: at hand (ready future), or being built (*started
@@ -384,7 +385,7 @@ ModuleFuture request_module(const std::shared_ptr<const Program>& p, bool* start
                          " on this node, which does not compile (AUTUMN_NO_COMPILE is set); ship it from a node "
                          "that does (autumnc.distributed) or unset the variable"));
   *started = true;
-  return s.by_text[program_digest(p->file.text, trigger_of(*p))] = s.by_key[l.entry.key] = start_build(p, l.entry);
+  return s.by_text[l.exact] = s.by_key[l.entry.key] = start_build(p, l.entry);
 }
 
 std::unique_ptr<Environment> instantiate(const Module& m, const Program& p) {
