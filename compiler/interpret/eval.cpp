@@ -177,6 +177,81 @@ Value Interpreter::eval(const Expr& e) {
   return v;
 }
 
+// (OP a b): == and != on any values, the rest on two numbers (runtime/arith).
+Value Interpreter::eval_binary(const Expr& e) {
+  Value l = eval_value(*e.kids[0]);
+  Value r = eval_value(*e.kids[1]);
+  if (e.op == BinOp::Eq) return Value::boolean(equals(l, r));
+  if (e.op == BinOp::Ne) return Value::boolean(!equals(l, r));
+  if (e.op == BinOp::Unknown) fail("unknown binary operator '" + e.text + "'");
+  if (!l.is(VKind::Number) || !r.is(VKind::Number))
+    fail("binary " + e.text + " needs two numbers, got " + shown_type(type_string(type_of(l))) + " and " +
+         shown_type(type_string(type_of(r))));
+  const int32_t a = l.num, b = r.num;
+  switch (e.op) {
+    case BinOp::Add: return Value::number(arith::add(a, b));
+    case BinOp::Sub: return Value::number(arith::sub(a, b));
+    case BinOp::Mul: return Value::number(arith::mul(a, b));
+    case BinOp::Div:
+    case BinOp::Mod:
+      if (std::string why = arith::division_error(a, b, e.text); !why.empty()) fail(why);
+      return Value::number(e.op == BinOp::Div ? arith::div_unchecked(a, b) : arith::mod_unchecked(a, b));
+    case BinOp::Lt: return Value::boolean(l.num < r.num);
+    case BinOp::Le: return Value::boolean(l.num <= r.num);
+    case BinOp::Gt: return Value::boolean(l.num > r.num);
+    case BinOp::Ge: return Value::boolean(l.num >= r.num);
+    default: fail("unknown binary operator '" + e.text + "'");
+  }
+}
+
+// (! b), (- n), (+ n).
+Value Interpreter::eval_unary(const Expr& e) {
+  Value v = eval_value(*e.kids[0]);
+  if (e.unary == UnOp::Not) {
+    if (!v.is(VKind::Bool)) fail("'!' needs a Bool, got " + shown_type(type_string(type_of(v))));
+    return Value::boolean(!v.num);
+  }
+  if (!v.is(VKind::Number)) fail("unary " + e.text + " needs a number, got " + shown_type(type_string(type_of(v))));
+  if (e.unary == UnOp::Neg) return Value::number(arith::neg(v.num));
+  return v;
+}
+
+// (let e1 ... en): a scope of its own; the last expression's value.
+Value Interpreter::eval_let(const Expr& e) {
+  Ref<Scope> sub = new_scope(ScopeKind::Local, env_);
+  env_ = sub;
+  Value ret;
+  for (const auto& k : e.kids) ret = eval(*k);
+  if (ret.is(VKind::None) || ret.is(VKind::Type))
+    fail(e.kids.empty() ? "empty let" : "the last expression of a let has no value");
+  env_ = sub->parent;
+  return ret;
+}
+
+// (= (.. obj f) v): the object's field, shared by every holder.
+Value Interpreter::eval_set(const Expr& e) {
+  Value obj = eval_value(*e.kids[0]);
+  if (!obj.is(VKind::Instance)) fail("only objects have fields, got " + shown_type(type_string(type_of(obj))));
+  Value v = eval_value(*e.kids[1]);
+  InstanceObj* in = obj.as<InstanceObj>();
+  int i = in->cls->field_index(e.name);
+  if (i < 0) fail("object of class '" + in->cls->name + "' has no field '" + program_->name(e.name) + "'");
+  in->fields[i] = v;
+  return v;
+}
+
+// (: x T) declares x's type in the current scope.
+Value Interpreter::eval_type_decl(const Expr& e) {
+  TypeRef t = resolve_type(*e.type);
+  for (auto& d : env_->declared)
+    if (d.first == e.name) {
+      d.second = t;
+      return Value();
+    }
+  env_->declared.emplace_back(e.name, t);
+  return Value();
+}
+
 Value Interpreter::eval_node(const Expr& e) {
   switch (e.kind) {
     case ExprKind::Number: return Value::number(e.number);
@@ -187,31 +262,7 @@ Value Interpreter::eval_node(const Expr& e) {
       if (Value* v = lookup(e.name)) return *v;
       fail("undefined variable '" + program_->name(e.name) + "'");
     }
-    case ExprKind::Binary: {
-      Value l = eval_value(*e.kids[0]);
-      Value r = eval_value(*e.kids[1]);
-      if (e.op == BinOp::Eq) return Value::boolean(equals(l, r));
-      if (e.op == BinOp::Ne) return Value::boolean(!equals(l, r));
-      if (e.op == BinOp::Unknown) fail("unknown binary operator '" + e.text + "'");
-      if (!l.is(VKind::Number) || !r.is(VKind::Number))
-        fail("binary " + e.text + " needs two numbers, got " + shown_type(type_string(type_of(l))) + " and " +
-             shown_type(type_string(type_of(r))));
-      const int32_t a = l.num, b = r.num;
-      switch (e.op) {
-        case BinOp::Add: return Value::number(arith::add(a, b));
-        case BinOp::Sub: return Value::number(arith::sub(a, b));
-        case BinOp::Mul: return Value::number(arith::mul(a, b));
-        case BinOp::Div:
-        case BinOp::Mod:
-          if (std::string why = arith::division_error(a, b, e.text); !why.empty()) fail(why);
-          return Value::number(e.op == BinOp::Div ? arith::div_unchecked(a, b) : arith::mod_unchecked(a, b));
-        case BinOp::Lt: return Value::boolean(l.num < r.num);
-        case BinOp::Le: return Value::boolean(l.num <= r.num);
-        case BinOp::Gt: return Value::boolean(l.num > r.num);
-        case BinOp::Ge: return Value::boolean(l.num >= r.num);
-        default: fail("unknown binary operator '" + e.text + "'");
-      }
-    }
+    case ExprKind::Binary: return eval_binary(e);
     case ExprKind::Logical: {
       std::vector<Value> none;
       Value l = eval_value(*e.kids[0]);
@@ -221,30 +272,12 @@ Value Interpreter::eval_node(const Expr& e) {
       if (r.is(VKind::Function)) r = call_function(r, none);
       return Value::boolean(truthy(r));
     }
-    case ExprKind::Unary: {
-      Value v = eval_value(*e.kids[0]);
-      if (e.unary == UnOp::Not) {
-        if (!v.is(VKind::Bool)) fail("'!' needs a Bool, got " + shown_type(type_string(type_of(v))));
-        return Value::boolean(!v.num);
-      }
-      if (!v.is(VKind::Number)) fail("unary " + e.text + " needs a number, got " + shown_type(type_string(type_of(v))));
-      if (e.unary == UnOp::Neg) return Value::number(arith::neg(v.num));
-      return v;
-    }
+    case ExprKind::Unary: return eval_unary(e);
     case ExprKind::If: {
       Value c = eval_value(*e.kids[0]);
       return truthy(c) ? eval(*e.kids[1]) : eval(*e.kids[2]);
     }
-    case ExprKind::Let: {
-      Ref<Scope> sub = new_scope(ScopeKind::Local, env_);
-      env_ = sub;
-      Value ret;
-      for (const auto& k : e.kids) ret = eval(*k);
-      if (ret.is(VKind::None) || ret.is(VKind::Type))
-        fail(e.kids.empty() ? "empty let" : "the last expression of a let has no value");
-      env_ = sub->parent;
-      return ret;
-    }
+    case ExprKind::Let: return eval_let(e);
     case ExprKind::List: {
       std::vector<Value> items;
       items.reserve(e.kids.size());
@@ -257,27 +290,9 @@ Value Interpreter::eval_node(const Expr& e) {
     case ExprKind::Call: return eval_call(e);
     case ExprKind::Get: return get_field(eval_value(*e.kids[0]), e.name, e.text);
     case ExprKind::Assign: return eval_assign(e);
-    case ExprKind::Set: {
-      Value obj = eval_value(*e.kids[0]);
-      if (!obj.is(VKind::Instance)) fail("only objects have fields, got " + shown_type(type_string(type_of(obj))));
-      Value v = eval_value(*e.kids[1]);
-      InstanceObj* in = obj.as<InstanceObj>();
-      int i = in->cls->field_index(e.name);
-      if (i < 0) fail("object of class '" + in->cls->name + "' has no field '" + program_->name(e.name) + "'");
-      in->fields[i] = v;
-      return v;
-    }
+    case ExprKind::Set: return eval_set(e);
     case ExprKind::InitNext: return Value();
-    case ExprKind::TypeDecl: {
-      TypeRef t = resolve_type(*e.type);
-      for (auto& d : env_->declared)
-        if (d.first == e.name) {
-          d.second = t;
-          return Value();
-        }
-      env_->declared.emplace_back(e.name, t);
-      return Value();
-    }
+    case ExprKind::TypeDecl: return eval_type_decl(e);
   }
   fail("unknown expression");
 }

@@ -126,6 +126,11 @@ class Interpreter {
   // --- evaluation (eval.cpp)
   Value eval(const Expr& e);
   Value eval_node(const Expr& e);  // eval()'s cases
+  Value eval_binary(const Expr& e);
+  Value eval_unary(const Expr& e);
+  Value eval_let(const Expr& e);
+  Value eval_set(const Expr& e);
+  Value eval_type_decl(const Expr& e);
   Value eval_value(const Expr& e);  // errors on types and non-values
   Value eval_call(const Expr& e);
   Value eval_assign(const Expr& e);

@@ -99,6 +99,10 @@ class Printer {
     --depth_;
   }
   void stmt(const Stmt& s);
+  void decl_stmt(const Stmt& s);
+  void for_each_stmt(const Stmt& s);
+  void for_range_stmt(const Stmt& s);
+  void switch_stmt(const Stmt& s);
   void function(const Function& f, int index);
   // --- module parts
   void classes();
@@ -273,6 +277,63 @@ std::string Printer::expr(const Node* n) {
   return "/* ? */";
 }
 
+// A declaration; a scratch variable is a buffer kept in the state and cleared.
+void Printer::decl_stmt(const Stmt& s) {
+  if (s.var->scratch) {
+    std::string b = "b" + std::to_string(scratch_.size());
+    scratch_.push_back(type(s.var->type) + " " + b + ";");
+    line(type(s.var->type) + "& " + name(s.var) + " = s.scratch.v." + b + ";");
+    line(name(s.var) + ".clear();");
+    if (s.a) line(name(s.var) + " = " + expr(s.a) + ";");
+    return;
+  }
+  line(type(s.var->type) + " " + name(s.var) + (s.a ? " = " + expr(s.a) : std::string("{}")) + ";");
+}
+
+// The list is bound once: charged by its size (unless short), then walked.
+void Printer::for_each_stmt(const Stmt& s) {
+  const std::string l = name(s.var) + "_list";
+  line("{");
+  line("  const auto& " + l + " = " + expr(s.a) + ";");
+  if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
+  line("  for (const " + type(s.var->type) + "& " + name(s.var) + " : " + l + ") {");
+  ++depth_;
+  block(s.body);
+  --depth_;
+  line("  }");
+  line("}");
+}
+
+// A range loop, charged by its length (unless short).
+void Printer::for_range_stmt(const Stmt& s) {
+  const std::string v = name(s.var);
+  line("{");
+  line("  const int32_t " + v + "_first = " + expr(s.a) + ", " + v + "_end = " + expr(s.b) + ";");
+  if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + v + "_end) - " + v + "_first);");
+  line("  for (int32_t " + v + " = " + v + "_first; " + v + " < " + v + "_end; ++" + v + ") {");
+  ++depth_;
+  block(s.body);
+  --depth_;
+  line("  }");
+  line("}");
+}
+
+// A switch over an int, or over a sum's alternative (its index).
+void Printer::switch_stmt(const Stmt& s) {
+  const bool sum = s.a->type && s.a->type->k == TK::Sum;
+  line("switch (" + expr(s.a) + (sum ? ".index()" : "") + ") {");
+  for (const auto& [k, b] : s.cases) {
+    line("  case " + std::to_string(k) + ": {");
+    ++depth_;
+    block(b);
+    --depth_;
+    line("    break;");
+    line("  }");
+  }
+  line("  default: break;");
+  line("}");
+}
+
 void Printer::stmt(const Stmt& s) {
   if (s.move_operands) {
     moving_node_ = s.k == SK::Let || s.k == SK::Decl ? s.a : s.b;
@@ -282,17 +343,7 @@ void Printer::stmt(const Stmt& s) {
     case SK::Let:
       line((s.var->moved ? "" : "const ") + type(s.var->type) + " " + name(s.var) + " = " + expr(s.a) + ";");
       return;
-    case SK::Decl:
-      if (s.var->scratch) {
-        std::string b = "b" + std::to_string(scratch_.size());
-        scratch_.push_back(type(s.var->type) + " " + b + ";");
-        line(type(s.var->type) + "& " + name(s.var) + " = s.scratch.v." + b + ";");
-        line(name(s.var) + ".clear();");
-        if (s.a) line(name(s.var) + " = " + expr(s.a) + ";");
-        return;
-      }
-      line(type(s.var->type) + " " + name(s.var) + (s.a ? " = " + expr(s.a) : std::string("{}")) + ";");
-      return;
+    case SK::Decl: return decl_stmt(s);
     case SK::Bind:
       line("const " + type(s.var->type) + (s.var->is_ref ? "& " : " ") + name(s.var) + " = " + expr(s.a) + ";");
       return;
@@ -317,48 +368,9 @@ void Printer::stmt(const Stmt& s) {
       }
       line("}");
       return;
-    case SK::ForEach: {
-      // The list is bound once: charged by its size (unless short), then walked.
-      const std::string l = name(s.var) + "_list";
-      line("{");
-      line("  const auto& " + l + " = " + expr(s.a) + ";");
-      if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
-      line("  for (const " + type(s.var->type) + "& " + name(s.var) + " : " + l + ") {");
-      ++depth_;
-      block(s.body);
-      --depth_;
-      line("  }");
-      line("}");
-      return;
-    }
-    case SK::ForRange: {
-      const std::string v = name(s.var);
-      line("{");
-      line("  const int32_t " + v + "_first = " + expr(s.a) + ", " + v + "_end = " + expr(s.b) + ";");
-      if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + v + "_end) - " + v + "_first);");
-      line("  for (int32_t " + v + " = " + v + "_first; " + v + " < " + v + "_end; ++" + v + ") {");
-      ++depth_;
-      block(s.body);
-      --depth_;
-      line("  }");
-      line("}");
-      return;
-    }
-    case SK::Switch: {
-      const bool sum = s.a->type && s.a->type->k == TK::Sum;
-      line("switch (" + expr(s.a) + (sum ? ".index()" : "") + ") {");
-      for (const auto& [k, b] : s.cases) {
-        line("  case " + std::to_string(k) + ": {");
-        ++depth_;
-        block(b);
-        --depth_;
-        line("    break;");
-        line("  }");
-      }
-      line("  default: break;");
-      line("}");
-      return;
-    }
+    case SK::ForEach: return for_each_stmt(s);
+    case SK::ForRange: return for_range_stmt(s);
+    case SK::Switch: return switch_stmt(s);
     case SK::Block:
       line("{");
       block(s.body);

@@ -244,7 +244,6 @@ SVal Specialiser::fold(const SVal& f, const SVal& init, const SVal& l, const Exp
 // concat, length, head, tail, at, range, arrayEqual, isList, print, sqrt
 
 SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at) {
-  const size_t n = a.size();
   auto known_bool = [&](bool v) { return SVal{T().bool_(), lit(T().bool_(), v), lit(T().bool_(), v)}; };
   switch (b) {
     case Builtin::IsList:

@@ -33,7 +33,6 @@ SVal Specialiser::builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at) 
 
 SVal Specialiser::builtin_random_positions(std::vector<SVal>& a) {
   const Builtin b = Builtin::RandomPositions;
-  const size_t n = a.size();
   if (!check_kind(b, a, 0, TK::Int, "a number")) return never();
   ir::Stmt* s = emit(ir::SK::If);
   s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
@@ -90,8 +89,6 @@ SVal Specialiser::builtin_all_positions(std::vector<SVal>& a) {
 }
 
 SVal Specialiser::builtin_adj_positions(std::vector<SVal>& a, const Expr& at) {
-  const Builtin b = Builtin::AdjPositions;
-  const size_t n = a.size();
   if (a[0].type->k != TK::Pos) {
     fail("adjPositions: the argument must be a Position");
     return never();
@@ -124,8 +121,6 @@ SVal Specialiser::builtin_adj_positions(std::vector<SVal>& a, const Expr& at) {
 }
 
 SVal Specialiser::builtin_within_bounds(std::vector<SVal>& a, const Expr& at) {
-  const Builtin b = Builtin::IsWithinBounds;
-  const size_t n = a.size();
   SVal elems = render_value(a[0], at);
   SVal g = grid_size(at);
   if (dead_) return never();

@@ -236,18 +236,88 @@ ExprPtr Parser::parse_unary(const Sexp& s, const Sexp& head) {
   return make_expr(std::move(e));
 }
 
+// A call whose callee is itself a form: ((.. obj f) x) or ((f) x).
+ExprPtr Parser::parse_computed_call(const Sexp& s, const Sexp& head) {
+  ExprPtr callee = parse_expr(head);
+  if (callee->kind != ExprKind::Var && callee->kind != ExprKind::Get)
+    fail(head, "only a name or a field access can be called, not '" + sexp_snippet(head) + "'");
+  Expr e{ExprKind::Call, s.loc};
+  e.kids.push_back(callee);
+  for (auto& a : parse_rest(s, 1)) e.kids.push_back(a);
+  return make_call(std::move(e));
+}
+
+// (OP a b): arithmetic and comparison, or the logical & and |.
+ExprPtr Parser::parse_operator(const Sexp& s, const Sexp& head, const Token& tok) {
+  if (is_binary(tok.type)) {
+    Expr e{ExprKind::Binary, s.loc};
+    e.text = head.text;
+    e.op = binop_of(whole_token_type(head.text));
+    e.kids = {parse_expr(s.items[1]), parse_expr(s.items[2])};
+    return make_expr(std::move(e));
+  }
+  Expr e{ExprKind::Logical, s.loc};
+  e.text = head.text;
+  e.is_or = whole_token_type(head.text) == Tok::Or;  // so `||` behaves as AND
+  e.kids = {parse_expr(s.items[1]), parse_expr(s.items[2])};
+  return make_expr(std::move(e));
+}
+
+// (= x v) assigns a variable, (= (.. o f) v) a field.
+ExprPtr Parser::parse_assignment(const Sexp& s) {
+  ExprPtr lhs = parse_expr(child(s, 1, "target of '='"));
+  ExprPtr rhs = parse_expr(child(s, 2, "value of '='"));
+  if (lhs->kind == ExprKind::Var) {
+    Expr e{ExprKind::Assign, s.loc};
+    e.name = lhs->name;
+    e.kids = {rhs};
+    return make_expr(std::move(e));
+  }
+  if (lhs->kind == ExprKind::Get) {
+    Expr e{ExprKind::Set, s.loc};
+    e.name = lhs->name;
+    e.text = lhs->text;
+    e.kids = {lhs->kids[0], rhs};
+    return make_expr(std::move(e));
+  }
+  fail(s.items[1], "the target of '=' must be a variable or a field (.. obj f)");
+}
+
+// (.. obj field)
+ExprPtr Parser::parse_get(const Sexp& s) {
+  Expr e{ExprKind::Get, s.loc};
+  e.kids = {parse_expr(child(s, 1, "object of '..'"))};
+  const Sexp& f = child(s, 2, "field name of '..'");
+  e.text = f.is_list ? "" : f.text;
+  // Field names are normalised at lookup: a leading quote and the last
+  // character are dropped, so (.. o "x") is (.. o x).
+  std::string norm = e.text;
+  if (!norm.empty() && (norm[0] == '"' || norm[0] == '\'')) norm = norm.substr(1, norm.size() - 2);
+  e.name = symbols_.intern(norm);
+  return make_expr(std::move(e));
+}
+
+// A name alone is a variable; (list ...) a list; (name args...) a call.
+ExprPtr Parser::parse_named(const Sexp& s, const Sexp& head, const Token& tok, size_t n) {
+  if (tok.lexeme == "list") {
+    Expr e{ExprKind::List, s.loc};
+    e.kids = parse_rest(s, 1);
+    return make_expr(std::move(e));
+  }
+  Expr var{ExprKind::Var, head.loc};
+  var.name = symbols_.intern(tok.lexeme);
+  var.text = tok.lexeme;
+  if (n == 1) return make_expr(std::move(var));
+  Expr call{ExprKind::Call, s.loc};
+  call.kids.push_back(make_expr(std::move(var)));
+  for (auto& a : parse_rest(s, 1)) call.kids.push_back(a);
+  return make_call(std::move(call));
+}
+
 ExprPtr Parser::parse_expr(const Sexp& s) {
   if (s.is_list && s.items.empty()) fail(s, "empty list '()' is not an expression");
   const Sexp& head = s.is_list ? s.items[0] : s;
-  if (head.is_list) {
-    ExprPtr callee = parse_expr(head);
-    if (callee->kind != ExprKind::Var && callee->kind != ExprKind::Get)
-      fail(head, "only a name or a field access can be called, not '" + sexp_snippet(head) + "'");
-    Expr e{ExprKind::Call, s.loc};
-    e.kids.push_back(callee);
-    for (auto& a : parse_rest(s, 1)) e.kids.push_back(a);
-    return make_call(std::move(e));
-  }
+  if (head.is_list) return parse_computed_call(s, head);
   Token tok = lex_atom(head.text)[0];
   const size_t n = s.child_count();
   switch (tok.type) {
@@ -268,20 +338,8 @@ ExprPtr Parser::parse_expr(const Sexp& s) {
     default:
       break;
   }
-  if (is_binary(tok.type) && n == 3) {
-    Expr e{ExprKind::Binary, s.loc};
-    e.text = head.text;
-    e.op = binop_of(whole_token_type(head.text));
-    e.kids = {parse_expr(s.items[1]), parse_expr(s.items[2])};
-    return make_expr(std::move(e));
-  }
-  if ((tok.type == Tok::And || tok.type == Tok::Or) && n == 3) {
-    Expr e{ExprKind::Logical, s.loc};
-    e.text = head.text;
-    e.is_or = whole_token_type(head.text) == Tok::Or;  // so `||` behaves as AND
-    e.kids = {parse_expr(s.items[1]), parse_expr(s.items[2])};
-    return make_expr(std::move(e));
-  }
+  if ((is_binary(tok.type) || tok.type == Tok::And || tok.type == Tok::Or) && n == 3)
+    return parse_operator(s, head, tok);
   if ((tok.type == Tok::Minus || tok.type == Tok::Plus || tok.type == Tok::Bang) && n <= 2)
     return parse_unary(s, head);
   switch (tok.type) {
@@ -291,36 +349,10 @@ ExprPtr Parser::parse_expr(const Sexp& s) {
                 parse_expr(child(s, 2, "next value of initnext"))};
       return make_expr(std::move(e));
     }
-    case Tok::Equal: {
-      ExprPtr lhs = parse_expr(child(s, 1, "target of '='"));
-      ExprPtr rhs = parse_expr(child(s, 2, "value of '='"));
-      if (lhs->kind == ExprKind::Var) {
-        Expr e{ExprKind::Assign, s.loc};
-        e.name = lhs->name;
-        e.kids = {rhs};
-        return make_expr(std::move(e));
-      }
-      if (lhs->kind == ExprKind::Get) {
-        Expr e{ExprKind::Set, s.loc};
-        e.name = lhs->name;
-        e.text = lhs->text;
-        e.kids = {lhs->kids[0], rhs};
-        return make_expr(std::move(e));
-      }
-      fail(s.items[1], "the target of '=' must be a variable or a field (.. obj f)");
-    }
-    case Tok::DotDot: {
-      Expr e{ExprKind::Get, s.loc};
-      e.kids = {parse_expr(child(s, 1, "object of '..'"))};
-      const Sexp& f = child(s, 2, "field name of '..'");
-      e.text = f.is_list ? "" : f.text;
-      // Field names are normalised at lookup: a leading quote and the last
-      // character are dropped, so (.. o "x") is (.. o x).
-      std::string norm = e.text;
-      if (!norm.empty() && (norm[0] == '"' || norm[0] == '\'')) norm = norm.substr(1, norm.size() - 2);
-      e.name = symbols_.intern(norm);
-      return make_expr(std::move(e));
-    }
+    case Tok::Equal:
+      return parse_assignment(s);
+    case Tok::DotDot:
+      return parse_get(s);
     case Tok::Number: {
       Expr e{ExprKind::Number, s.loc};
       e.number = parse_int(head, tok.lexeme);
@@ -340,21 +372,8 @@ ExprPtr Parser::parse_expr(const Sexp& s) {
       e.boolean = tok.type == Tok::True;
       return make_expr(std::move(e));
     }
-    case Tok::Identifier: {
-      if (tok.lexeme == "list") {
-        Expr e{ExprKind::List, s.loc};
-        e.kids = parse_rest(s, 1);
-        return make_expr(std::move(e));
-      }
-      Expr var{ExprKind::Var, head.loc};
-      var.name = symbols_.intern(tok.lexeme);
-      var.text = tok.lexeme;
-      if (n == 1) return make_expr(std::move(var));
-      Expr call{ExprKind::Call, s.loc};
-      call.kids.push_back(make_expr(std::move(var)));
-      for (auto& a : parse_rest(s, 1)) call.kids.push_back(a);
-      return make_call(std::move(call));
-    }
+    case Tok::Identifier:
+      return parse_named(s, head, tok, n);
     default:
       break;
   }

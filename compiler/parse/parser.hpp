@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "compiler/parse/ast.hpp"
+#include "compiler/parse/token.hpp"
 #include "compiler/read/sexpr.hpp"
 
 namespace autumn {
@@ -43,6 +44,11 @@ class Parser {
   TypeExprPtr parse_type(const Sexp& s);
   ExprPtr parse_function(const Sexp& s);
   ExprPtr parse_unary(const Sexp& s, const Sexp& head);
+  ExprPtr parse_computed_call(const Sexp& s, const Sexp& head);
+  ExprPtr parse_operator(const Sexp& s, const Sexp& head, const Token& tok);
+  ExprPtr parse_assignment(const Sexp& s);
+  ExprPtr parse_get(const Sexp& s);
+  ExprPtr parse_named(const Sexp& s, const Sexp& head, const Token& tok, size_t n);
   int32_t parse_int(const Sexp& at, const std::string& digits) const;
   std::vector<ExprPtr> parse_rest(const Sexp& s, size_t from);
   ExprPtr make_call(Expr call);
