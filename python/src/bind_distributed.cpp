@@ -69,9 +69,8 @@ std::shared_ptr<const Program> program_of(const std::string& text, const std::st
   return load_program_checked_text(text, name, trigger);
 }
 
-}  // namespace
-
-void bind_distributed(pb::module_& m) {
+// A task set's units: the tasks, one task's eval row, the report, the modules a task needs.
+void bind_eval_units(pb::module_& m) {
   m.def("_find_tasks", [](const std::string& dir) {
     pb::gil_scoped_release release;
     std::vector<std::string> out;
@@ -110,6 +109,10 @@ void bind_distributed(pb::module_& m) {
                        p->trigger_text.empty() ? Trigger() : Trigger(p->trigger_text));
     return out;
   });
+}
+
+// Modules shipped by digest: packaged where they are built, installed through the store's checks.
+void bind_module_shipping(pb::module_& m) {
   // None for a module built into the package; else {"key", "so" (bytes),
   // "manifest", "built_from"}. Builds the module when needed.
   m.def("_module_package", [](const std::string& text, const std::string& name, const Trigger& trigger) -> pb::object {
@@ -145,6 +148,10 @@ void bind_distributed(pb::module_& m) {
   // a worker's ids beyond the AutumnBench table are its own, so rollouts map
   // them into the client's through the names.
   m.def("_colour_id", [](const std::string& name) { return py::colour_id(name); });
+}
+
+// `autumn bench`, one program per unit.
+void bind_bench_units(pb::module_& m) {
   // One program's `autumn bench` row (JSON text): interpreter and compiled
   // engine over `steps` random actions; a program that does not load, a row
   // with its "error".
@@ -166,6 +173,14 @@ void bind_distributed(pb::module_& m) {
     const nlohmann::json report = bench_report(rows);
     return std::make_pair(report.dump(), bench_table(report));
   });
+}
+
+}  // namespace
+
+void bind_distributed(pb::module_& m) {
+  bind_eval_units(m);
+  bind_module_shipping(m);
+  bind_bench_units(m);
 }
 
 }  // namespace autumn::py_bind

@@ -465,9 +465,7 @@ class VecEnv {
   bool interrupted_ = false;        // Ctrl-C stopped the last step or reset half way; step() wants a reset
 };
 
-}  // namespace
-
-void bind_envs(pb::module_& m) {
+void bind_env(pb::module_& m) {
   // autumnc.Env and autumnc.VecEnv (autumnc/envs.py) subclass these and add the
   // spaces; their class docstrings explain actions, observations and rewards.
   pb::class_<Env>(m, "_Env", pb::dynamic_attr(), "The C++ side of autumnc.Env (construct autumnc.Env instead)")
@@ -502,6 +500,9 @@ void bind_envs(pb::module_& m) {
            "engines hash differently)")
       .def_property_readonly("grid_size", &Env::grid, "W = H, the side of the grid in cells")
       .def_property_readonly("engine", &Env::engine, "The engine serving steps now: \"compiled\" or \"interp\"");
+}
+
+void bind_env_state(pb::module_& m) {
   pb::class_<EnvState>(m, "EnvState",
                        "One environment's state, copied out of a VecEnv by VecEnv.clone(ids) and put back (into the "
                        "same VecEnv or another of the same program) by VecEnv.restore(ids, states).\n\n"
@@ -543,6 +544,9 @@ void bind_envs(pb::module_& m) {
             return state_from_bytes(t[0].cast<std::string>(), t[1].cast<std::string>(),
                                     t[2].cast<std::optional<std::string>>(), t[3].cast<pb::bytes>());
           }));
+}
+
+void bind_vec_env(pb::module_& m) {
   pb::class_<VecEnv>(m, "_VecEnv", pb::dynamic_attr(), "The C++ side of autumnc.VecEnv (construct autumnc.VecEnv instead)")
       .def(pb::init<const std::string&, const std::string&, size_t, unsigned, uint64_t, const std::string&,
                     const std::optional<std::string>&, uint32_t>(),
@@ -574,6 +578,14 @@ void bind_envs(pb::module_& m) {
       .def_property_readonly("num_envs", &VecEnv::size, "N, the number of environments")
       .def_property_readonly("grid_size", &VecEnv::grid, "W = H, the side of the grid in cells")
       .def_property_readonly("num_threads", &VecEnv::threads, "The worker threads stepping the environments");
+}
+
+}  // namespace
+
+void bind_envs(pb::module_& m) {
+  bind_env(m);
+  bind_env_state(m);
+  bind_vec_env(m);
 }
 
 }  // namespace autumn::py_bind

@@ -116,24 +116,10 @@ class Interpreter {
   py::PaletteMap colours_;
 };
 
-}  // namespace
+using InterpreterClass = pb::class_<Interpreter>;
 
-void bind_interpreter(pb::module_& m) {
-  // The reference's names, argument names and defaults (tests/python/test_interpreter.py
-  // checks every signature); only the docstrings are autumnc's.
-  pb::class_<Interpreter> c(
-      m, "Interpreter",
-      "Autumn Interpreter: a drop-in for Autumn.cpp's pybind11 interpreter_module.Interpreter, on autumnc's "
-      "engines.\n\n"
-      "Same methods, argument names, defaults, return strings and exceptions as the reference. Typical use: "
-      "run_script(program_text, stdlib_text, trigger_text, seed); then per step at most one input (left(), "
-      "right(), up(), down(), click(x, y)), step(), and a render (render_all() JSON, or render_grid() as an "
-      "array). Errors: a program that does not parse raises ParseError, a runtime error AutumnRuntimeError "
-      "(both RuntimeError); after a runtime error the episode has ended.\n\n"
-      "engine: \"auto\" (the interpreter serves while the program's module compiles in the background, the "
-      "compiled engine once it is ready), \"compiled\" (waits for the module) or \"interp\". Results are the "
-      "same on every engine; the engine property says which serves now. Additions to the reference: clone() "
-      "and copy.deepcopy, get_state()/set_state(bytes), state_hash(), render_grid(), palette().");
+// The reference's stepping and input methods.
+void bind_steps(InterpreterClass& c) {
   c.def(pb::init<std::string>(), pb::arg("engine") = "auto");
   c.def("step", &Interpreter::step,
         "Advance the program one time step, with the input given since the last step (if any); returns "
@@ -149,6 +135,10 @@ void bind_interpreter(pb::module_& m) {
         "Give the up arrow key as the next step's input");
   c.def("down", [](Interpreter& i) { i.press(Action{Action::Kind::Down}); },
         "Give the down arrow key as the next step's input");
+}
+
+// The reference's reads of the state, and its loading and seeding.
+void bind_reads(InterpreterClass& c) {
   c.def("get_trigger_state", [](Interpreter& i) { return i.s().trigger_state(); },
         "Whether the run_script trigger condition held after the last step (False before the first, and "
         "without a trigger)");
@@ -194,7 +184,10 @@ void bind_interpreter(pb::module_& m) {
         "returned as \"Runtime Error: ...\"; a program that does not parse raises ParseError; a runtime error "
         "at start-up raises AutumnRuntimeError. A second call starts afresh.",
         pb::arg("script"), pb::arg("stdlib"), pb::arg("triggeringCondition"), pb::arg("randomSeed") = 42);
-  // --- additions
+}
+
+// autumnc's additions: copies, saved states, hashes, the grid render.
+void bind_additions(InterpreterClass& c) {
   c.def("clone", [](const Interpreter& i) { return Interpreter(i); },
         "An independent copy at the same point of the same episode, with the same future");
   c.def("__copy__", [](const Interpreter& i) { return Interpreter(i); }, "clone()");
@@ -216,6 +209,29 @@ void bind_interpreter(pb::module_& m) {
   c.def_property_readonly("engine", [](Interpreter& i) { return i.session_ ? i.session_->engine() : i.engine_; },
                           "The engine serving steps now: \"compiled\" or \"interp\" (before run_script, the "
                           "engine asked for)");
+}
+
+}  // namespace
+
+void bind_interpreter(pb::module_& m) {
+  // The reference's names, argument names and defaults (tests/python/test_interpreter.py
+  // checks every signature); only the docstrings are autumnc's.
+  pb::class_<Interpreter> c(
+      m, "Interpreter",
+      "Autumn Interpreter: a drop-in for Autumn.cpp's pybind11 interpreter_module.Interpreter, on autumnc's "
+      "engines.\n\n"
+      "Same methods, argument names, defaults, return strings and exceptions as the reference. Typical use: "
+      "run_script(program_text, stdlib_text, trigger_text, seed); then per step at most one input (left(), "
+      "right(), up(), down(), click(x, y)), step(), and a render (render_all() JSON, or render_grid() as an "
+      "array). Errors: a program that does not parse raises ParseError, a runtime error AutumnRuntimeError "
+      "(both RuntimeError); after a runtime error the episode has ended.\n\n"
+      "engine: \"auto\" (the interpreter serves while the program's module compiles in the background, the "
+      "compiled engine once it is ready), \"compiled\" (waits for the module) or \"interp\". Results are the "
+      "same on every engine; the engine property says which serves now. Additions to the reference: clone() "
+      "and copy.deepcopy, get_state()/set_state(bytes), state_hash(), render_grid(), palette().");
+  bind_steps(c);
+  bind_reads(c);
+  bind_additions(c);
 }
 
 }  // namespace autumn::py_bind
