@@ -97,6 +97,83 @@ class Model {
   uint64_t exact_steps_ = 0, smc_steps_ = 0;
 };
 
+// How the agent acts: "random" draws any action; "novelty" predicts each
+// candidate (the moves, noop, and one click, or four where clicks aim at
+// positions) on the current model and takes the one whose predicted frame was
+// seen least, then the least-used kind of action, then one at random.
+class Explorer {
+ public:
+  Explorer(const Task& task, const SolveOptions& opts, ThreadPool& pool, int grid, ClickUse clicks)
+      : task_(task), opts_(opts), pool_(pool), grid_(grid), clicks_(clicks), rng_(opts.seed ^ 0x9e3779b97f4a7c15ull) {}
+  void saw(const TaskFrame& f) { ++visits_[frame_digest(f)]; }
+  void took(const Action& a) { ++kind_uses_[static_cast<int>(a.kind)]; }
+  uint64_t prediction_steps() const { return prediction_steps_; }
+
+  Action choose(const Model& model) {
+    if (opts_.policy == "random") return random_action(rng_, grid_, 4);
+    std::vector<Action> cands = {Action::noop(), {Action::Kind::Left}, {Action::Kind::Right}, {Action::Kind::Up},
+                                 {Action::Kind::Down}};
+    int n_clicks = clicks_ == ClickUse::Position ? 4 : 1;
+    for (int i = 0; i < n_clicks; ++i)
+      cands.push_back(Action::click(static_cast<int>(rng_() % grid_), static_cast<int>(rng_() % grid_)));
+    const std::vector<uint64_t> score = predicted_visits(model.predictor(), cands);
+    uint64_t best = *std::min_element(score.begin(), score.end());
+    uint64_t fewest = UINT64_MAX;
+    for (size_t i = 0; i < cands.size(); ++i)
+      if (score[i] == best) fewest = std::min(fewest, kind_uses_[static_cast<int>(cands[i].kind)]);
+    std::vector<size_t> ties;
+    for (size_t i = 0; i < cands.size(); ++i)
+      if (score[i] == best && kind_uses_[static_cast<int>(cands[i].kind)] == fewest) ties.push_back(i);
+    return cands[ties[rng_() % ties.size()]];
+  }
+
+ private:
+  // Per candidate, how often its predicted frame was seen (UINT64_MAX: the
+  // prediction failed). Never touch one environment from two threads: the
+  // clones are made on the caller first.
+  std::vector<uint64_t> predicted_visits(const Environment& predictor, const std::vector<Action>& cands) {
+    std::vector<std::unique_ptr<Environment>> clones;
+    for (size_t i = 0; i < cands.size(); ++i) clones.push_back(predictor.clone());
+    std::vector<uint64_t> score(cands.size(), UINT64_MAX);
+    pool_.parallel_for(cands.size(), [&](size_t i) {
+      Environment* e = clones[i].get();
+      if (!e->step(cands[i])) return;
+      auto it = visits_.find(frame_digest(task_frame(e->frame(), e->palette(), task_.colours)));
+      score[i] = it == visits_.end() ? 0 : it->second;
+    });
+    prediction_steps_ += cands.size();
+    return score;
+  }
+
+  const Task& task_;
+  const SolveOptions& opts_;
+  ThreadPool& pool_;
+  const int grid_;
+  const ClickUse clicks_;
+  std::mt19937_64 rng_;
+  std::unordered_map<uint64_t, uint64_t> visits_;  // frame digest -> times observed
+  uint64_t kind_uses_[6] = {0, 0, 0, 0, 0, 0};     // actions taken, per kind
+  uint64_t prediction_steps_ = 0;
+};
+
+// The score against the changed program's trigger condition: t* is the first
+// state (after step k) where it holds; `cond` has the states 0..steps-1 and up
+// to two noop steps on a clone add `steps` and `steps + 1`.
+void score_against_trigger(const Environment& env, std::vector<char>& cond, CdResult& r) {
+  int need = r.detected ? *r.detected + 1 : r.steps;
+  auto cont = env.clone();
+  while (static_cast<int>(cond.size()) <= need && !cont->failed() && cont->step(Action::noop()))
+    cond.push_back(cont->triggered());
+  for (size_t k = 0; k < cond.size(); ++k)
+    if (cond[k]) {
+      r.t_star = static_cast<int>(k);
+      break;
+    }
+  if (!r.detected) r.score = 0.0;
+  else if (!r.t_star) r.score = 0.0;  // t* > detection + 1
+  else r.score = cd_score(*r.detected, *r.t_star);
+}
+
 }  // namespace
 
 CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
@@ -132,75 +209,27 @@ CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) 
   Model model(task, opts, pool, *probe, r);
   if (!model.explains(std::nullopt, observed, observed_size)) r.detected = 0;
 
-  std::mt19937_64 rng(opts.seed ^ 0x9e3779b97f4a7c15ull);
-  std::unordered_map<uint64_t, uint64_t> visits;
-  ++visits[frame_digest(observed)];
-  uint64_t prediction_steps = 0;
-  uint64_t kind_uses[6] = {0, 0, 0, 0, 0, 0};
-
-  auto choose = [&]() -> Action {
-    if (opts.policy == "random") return random_action(rng, grid, 4);
-    std::vector<Action> cands = {Action::noop(), {Action::Kind::Left}, {Action::Kind::Right}, {Action::Kind::Up},
-                                 {Action::Kind::Down}};
-    int n_clicks = clicks == ClickUse::Position ? 4 : 1;
-    for (int i = 0; i < n_clicks; ++i)
-      cands.push_back(Action::click(static_cast<int>(rng() % grid), static_cast<int>(rng() % grid)));
-    // Never touch one environment from two threads: clone on the caller first.
-    const Environment& predictor = model.predictor();
-    std::vector<std::unique_ptr<Environment>> clones;
-    for (size_t i = 0; i < cands.size(); ++i) clones.push_back(predictor.clone());
-    std::vector<uint64_t> score(cands.size(), UINT64_MAX);
-    pool.parallel_for(cands.size(), [&](size_t i) {
-      Environment* e = clones[i].get();
-      if (!e->step(cands[i])) return;
-      auto it = visits.find(frame_digest(task_frame(e->frame(), e->palette(), task.colours)));
-      score[i] = it == visits.end() ? 0 : it->second;
-    });
-    prediction_steps += cands.size();
-    // Least-visited predicted frame; then the least-used kind of action; then random.
-    uint64_t best = *std::min_element(score.begin(), score.end());
-    uint64_t fewest = UINT64_MAX;
-    for (size_t i = 0; i < cands.size(); ++i)
-      if (score[i] == best) fewest = std::min(fewest, kind_uses[static_cast<int>(cands[i].kind)]);
-    std::vector<size_t> ties;
-    for (size_t i = 0; i < cands.size(); ++i)
-      if (score[i] == best && kind_uses[static_cast<int>(cands[i].kind)] == fewest) ties.push_back(i);
-    return cands[ties[rng() % ties.size()]];
-  };
+  Explorer explorer(task, opts, pool, grid, clicks);
+  explorer.saw(observed);
 
   for (int t = 1; t <= opts.max_steps && !r.detected; ++t) {
-    Action a = choose();
+    Action a = explorer.choose(model);
     if (!env->step(a)) {
       r.env_error = env->error();
       break;
     }
     r.actions.push_back(a);
-    ++kind_uses[static_cast<int>(a.kind)];
+    explorer.took(a);
     r.steps = t;
     if (trigger) cond.push_back(env->triggered());
     observed = task_frame(env->frame(), env->palette(), task.colours);
     observed_size = env->frame().size;
-    ++visits[frame_digest(observed)];
+    explorer.saw(observed);
     if (!model.explains(a, observed, observed_size)) r.detected = t;
   }
 
-  if (trigger) {
-    // Learn the condition on the states after the last steps: cond has states
-    // 0..steps-1; up to two noop steps on a clone give `steps` and `steps + 1`.
-    int need = r.detected ? *r.detected + 1 : r.steps;
-    auto cont = env->clone();
-    while (static_cast<int>(cond.size()) <= need && !cont->failed() && cont->step(Action::noop()))
-      cond.push_back(cont->triggered());
-    for (size_t k = 0; k < cond.size(); ++k)
-      if (cond[k]) {
-        r.t_star = static_cast<int>(k);
-        break;
-      }
-    if (!r.detected) r.score = 0.0;
-    else if (!r.t_star) r.score = 0.0;  // t* > detection + 1
-    else r.score = cd_score(*r.detected, *r.t_star);
-  }
-  r.env_steps = model.env_steps() + prediction_steps;
+  if (trigger) score_against_trigger(*env, cond, r);
+  r.env_steps = model.env_steps() + explorer.prediction_steps();
   r.seconds = clock.seconds();
   return r;
 }
