@@ -181,7 +181,7 @@ CdResult solve_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool) 
   Stopwatch clock;
   CdResult r;
   r.policy = opts.policy;
-  if (opts.policy != "novelty" && opts.policy != "random") throw TaskError("unknown policy '" + opts.policy + "'");
+  if (std::string why = unknown_name("policy", opts.policy, policy_names()); !why.empty()) throw TaskError(why);
   std::optional<std::string> trigger;
   r.world_seed = task.env_seed;
   if (opts.answers) {

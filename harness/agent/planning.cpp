@@ -447,10 +447,8 @@ std::vector<Action> paper_action_set(int grid, uint64_t seed) {
 
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool) {
   if (task.type != TaskType::Planning) throw TaskError(task.file.string() + ": not a planning task");
-  if (opts.search != "auto" && opts.search != "bfs" && opts.search != "best-first" && opts.search != "beam" &&
-      opts.search != "fill" && opts.search != "local" && opts.search != "skeleton" && opts.search != "paper")
-    throw TaskError("unknown search '" + opts.search + "' (auto, bfs, best-first, beam, fill, local, skeleton, paper)");
-  if (opts.cost != "steps" && opts.cost != "moves") throw TaskError("unknown cost '" + opts.cost + "' (steps, moves)");
+  if (std::string why = unknown_name("search", opts.search, search_names()); !why.empty()) throw TaskError(why);
+  if (std::string why = unknown_name("cost", opts.cost, cost_names()); !why.empty()) throw TaskError(why);
   Stopwatch clock;
   PlanResult r;
   r.cost = opts.cost;

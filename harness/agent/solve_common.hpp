@@ -1,10 +1,17 @@
 // solve_common — options and shared helpers of the three task solvers.
+//
+// The options' defaults and the names each string option takes are decided
+// here once: the CLI (harness/cli/agent_options), the Python package
+// (autumnc.solve, autumnc.distributed, through _core._solve_defaults) and the
+// solvers' own refusals all read them.
 #pragma once
 #include <chrono>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "harness/agent/task_file.hpp"
 #include "harness/agent/thread_pool.hpp"
@@ -31,6 +38,30 @@ struct SolveOptions {
                                     // snapshots (save_state); others are replayed
   double time_limit = 0;            // planning: seconds for all searches of a solve (0: none)
 };
+
+// The names the string options take (the first of each is its default where a
+// user meets it).
+const std::vector<std::string>& search_names();    // auto, bfs, best-first, beam, fill, local, skeleton, paper
+const std::vector<std::string>& policy_names();    // novelty, random
+const std::vector<std::string>& cost_names();      // steps, moves
+const std::vector<std::string>& protocol_names();  // default, paper
+// "" when `value` is one of `names`, else "unknown OPTION 'value' (a, b, ...)".
+std::string unknown_name(const std::string& option, const std::string& value, const std::vector<std::string>& names);
+
+// The options as `autumn solve` and autumnc.solve start from under `protocol`:
+// "default" is SolveOptions{} on the compiled engine with a 120 s planning
+// limit; "paper" the AutumnBench paper's simulator agent (10,000 samples
+// without seed inversion, random exploration, BFS over ten actions to depth
+// 10), which sets only rollouts, seed_inversion, policy, search and depth.
+// Throws std::invalid_argument for another protocol.
+SolveOptions protocol_options(const std::string& protocol);
+
+// The options by their user-facing names (engine, rollouts, seed_inversion,
+// policy, search, depth, seed, max_steps, nodes, cost, max_plan, keep_states,
+// time_limit), and back: keys missing from `j` keep `base`'s value; "programs"
+// and "answers" (strings, "" or null for none) set the folders.
+nlohmann::json solve_options_json(const SolveOptions& o);
+SolveOptions solve_options_from_json(const nlohmann::json& j, SolveOptions base);
 
 // The program file a task names, from opts.programs_dir or the task's default.
 fs::path task_program_path(const Task& task, const SolveOptions& opts, const std::string& name);

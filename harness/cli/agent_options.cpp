@@ -11,50 +11,53 @@
 namespace autumn::cli {
 
 void add_search_options(CLI::App* cmd, agent::SolveOptions& o, unsigned& threads) {
+  const agent::SolveOptions d = agent::protocol_options("default");  // the defaults, decided in solve_common
   cmd->add_option("--engine", o.engine, "Execution engine (interp: the tree-walking interpreter, for comparison)")
       ->check(CLI::IsMember(engine_names()))
-      ->default_val("compiled");
+      ->default_val(d.engine);
   cmd->add_option("--rollouts", o.rollouts, "MFP rollouts; particles for stochastic change detection")
-      ->default_val(10000)
+      ->default_val(d.rollouts)
       ->check(cli::big_count(1));
   cmd->add_option("--threads", threads, "Worker threads (0: all cores)")->default_val(0)->check(cli::thread_count());
   cmd->add_flag("!--no-seed-inversion", o.seed_inversion,
                 "MFP on stochastic programs: skip recovering the world's seed from the observed draws and "
                 "use the sequential Monte Carlo filter alone");
   cmd->add_option("--seed", o.seed, "Seed of the agent's own randomness (rollout seeds, policy)")
-      ->default_val(0)
+      ->default_val(d.seed)
       ->check(cli::seed_number());
   cmd->add_option("--max-steps", o.max_steps, "Change detection: episode length cap")
-      ->default_val(200)
+      ->default_val(d.max_steps)
       ->check(cli::int_count());
   cmd->add_option("--policy", o.policy, "Change detection exploration policy")
-      ->check(CLI::IsMember({"novelty", "random"}))
-      ->default_val("novelty");
-  cmd->add_option("--depth", o.depth, "Planning: BFS cost limit (layers)")->default_val(12)->check(cli::int_count());
-  cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")->default_val(30000000)->check(cli::big_count(1));
+      ->check(CLI::IsMember(agent::policy_names()))
+      ->default_val(d.policy);
+  cmd->add_option("--depth", o.depth, "Planning: BFS cost limit (layers)")->default_val(d.depth)->check(cli::int_count());
+  cmd->add_option("--nodes", o.nodes, "Planning: node budget (successor states generated)")
+      ->default_val(d.nodes)
+      ->check(cli::big_count(1));
   cmd->add_option("--search", o.search,
                   "Planning: bfs (proven cheapest), best-first, beam, fill (arrows first, then clicks into their "
                   "waiting steps), local (edits of whole plans), skeleton (local search over the moves alone, then "
-                  "clicks into its steps), paper (the paper's BFS over 10 actions), or auto (bfs, focused bfs, bfs by moves, fill, beam, local, skeleton, "
-                  "best-first)")
-      ->check(CLI::IsMember({"auto", "bfs", "best-first", "beam", "fill", "local", "skeleton", "paper"}))
-      ->default_val("auto");
+                  "clicks into its steps), paper (the paper's BFS over 10 actions), or auto (bfs, focused bfs, bfs "
+                  "by moves, fill, beam, local, skeleton, best-first)")
+      ->check(CLI::IsMember(agent::search_names()))
+      ->default_val(d.search);
   cmd->add_option("--cost", o.cost, "Planning: what a plan costs: steps (every action) or moves (noop is free)")
-      ->check(CLI::IsMember({"steps", "moves"}))
-      ->default_val("steps");
+      ->check(CLI::IsMember(agent::cost_names()))
+      ->default_val(d.cost);
   cmd->add_option("--max-plan", o.max_plan, "Planning: plan length limit (steps)")
-      ->default_val(200)
+      ->default_val(d.max_plan)
       ->check(cli::int_count(1));
   cmd->add_option("--keep-states", o.keep_states,
                   "Planning: search environments kept in memory when the engine cannot snapshot states "
                   "(the others are replayed from the start when needed)")
-      ->default_val(10000)
+      ->default_val(d.keep_states)
       ->check(cli::big_count());
   cmd->add_option("--time-limit", o.time_limit,
                   "Planning: seconds for the whole search before giving up (0: no limit). Focused BFS stages "
                   "get an eighth of the time left each, so slow engines reach best-first; a search the limit "
                   "cuts short may depend on machine speed and --threads")
-      ->default_val(120)
+      ->default_val(d.time_limit)
       ->check(cli::number_at_least(0, "NONNEGATIVE"));
 }
 
@@ -68,18 +71,19 @@ void add_protocol_option(CLI::App* cmd, std::string& protocol) {
                   "default: the agent as built; paper: the AutumnBench paper's simulator agent (10,000 samples "
                   "without seed inversion, random exploration, BFS over 10 actions to depth 10); options given "
                   "explicitly still apply")
-      ->check(CLI::IsMember({"default", "paper"}))
+      ->check(CLI::IsMember(agent::protocol_names()))
       ->default_val("default");
 }
 
 void apply_protocol(const CLI::App* cmd, const std::string& protocol, agent::SolveOptions& o) {
-  if (protocol != "paper") return;
+  if (protocol == "default") return;  // the options' own defaults are the default protocol's
+  const agent::SolveOptions p = agent::protocol_options(protocol);
   auto given = [&](const char* flag) { return cmd->count(flag) > 0; };
-  if (!given("--rollouts")) o.rollouts = 10000;
-  if (!given("--no-seed-inversion")) o.seed_inversion = false;
-  if (!given("--policy")) o.policy = "random";
-  if (!given("--search")) o.search = "paper";
-  if (!given("--depth")) o.depth = 10;
+  if (!given("--rollouts")) o.rollouts = p.rollouts;
+  if (!given("--no-seed-inversion")) o.seed_inversion = p.seed_inversion;
+  if (!given("--policy")) o.policy = p.policy;
+  if (!given("--search")) o.search = p.search;
+  if (!given("--depth")) o.depth = p.depth;
 }
 
 int command_failed(const std::string& cmd, const std::string& why) {

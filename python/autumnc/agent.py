@@ -47,18 +47,19 @@ def _action_list(where, actions):
     return out
 
 
-# What ``protocol`` sets, unless given explicitly: "default" is the agent as
-# built; "paper" is the AutumnBench paper's simulator agent (``autumn solve
-# --protocol paper``: 10,000 samples without seed inversion, random exploration,
-# BFS over ten actions to depth 10).
-_PROTOCOLS = {
-    "default": dict(rollouts=10000, seed_inversion=True, policy="novelty", search="auto", depth=12),
-    "paper": dict(rollouts=10000, seed_inversion=False, policy="random", search="paper", depth=10),
-}
+# The agent's defaults and what ``protocol`` sets, unless given explicitly, read
+# from the one table the CLI reads too (harness/agent/solve_common): "default" is
+# the agent as built; "paper" is the AutumnBench paper's simulator agent (``autumn
+# solve --protocol paper``: 10,000 samples without seed inversion, random
+# exploration, BFS over ten actions to depth 10).
+_PROTOCOL_KEYS = ("rollouts", "seed_inversion", "policy", "search", "depth")
+_PROTOCOLS = {p: {k: json.loads(_core._solve_defaults(p))[k] for k in _PROTOCOL_KEYS} for p in _core._protocol_names()}
+_DEFAULTS = json.loads(_core._solve_defaults("default"))
 
 
-def solve(task, engine="compiled", rollouts=None, threads=0, seed=0, max_steps=200, policy=None,
-          depth=None, nodes=30000000, search=None, max_plan=200, time_limit=120.0, programs=None,
+def solve(task, engine=_DEFAULTS["engine"], rollouts=None, threads=0, seed=_DEFAULTS["seed"],
+          max_steps=_DEFAULTS["max_steps"], policy=None, depth=None, nodes=_DEFAULTS["nodes"], search=None,
+          max_plan=_DEFAULTS["max_plan"], time_limit=float(_DEFAULTS["time_limit"]), programs=None,
           answers=None, protocol="default", seed_inversion=None):
     """Answer an AutumnBench task file (MFP, change detection or planning), like ``autumn solve --json``.
 

@@ -40,19 +40,14 @@ import time
 import numpy as np
 
 from . import _core
+from .agent import _DEFAULTS, _PROTOCOLS
 
 __all__ = ["BenchResult", "EvalResult", "bench", "evaluate", "install_modules", "make_tasks", "modules_at_hand", "package_modules",
            "rollouts", "ship_modules", "solve"]
 
-# solve()'s option names and the CLI's defaults; `protocol` "paper" changes the
-# first five unless given (autumnc.agent._PROTOCOLS).
-_OPTION_DEFAULTS = dict(engine="compiled", rollouts=10000, seed_inversion=True, policy="novelty", search="auto",
-                        depth=12, seed=0, max_steps=200, nodes=30000000, cost="steps", max_plan=200,
-                        keep_states=10000, time_limit=120.0, programs=None)
-_PROTOCOLS = {
-    "default": {},
-    "paper": dict(rollouts=10000, seed_inversion=False, policy="random", search="paper", depth=10),
-}
+# solve()'s option names and their defaults, and what `protocol` "paper" changes
+# unless given: the CLI's, from the one table (autumnc.agent._DEFAULTS, _PROTOCOLS).
+_OPTION_DEFAULTS = dict(_DEFAULTS, programs=None)
 
 
 def _options(protocol, given):

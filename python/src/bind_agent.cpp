@@ -131,6 +131,11 @@ std::string compile(const std::string& path, const std::optional<std::string>& t
 }  // namespace
 
 void bind_agent(pb::module_& m) {
+  // The agent's options under a protocol, by name (JSON text), and the names
+  // of the protocols: the one set of defaults autumnc.solve and
+  // autumnc.distributed present (harness/agent/solve_common.hpp).
+  m.def("_solve_defaults", [](const std::string& protocol) { return solve_options_json(protocol_options(protocol)).dump(); });
+  m.def("_protocol_names", [] { return protocol_names(); });
   m.def(
       "_solve",
       [](const std::string& task, const std::string& engine, uint64_t rollouts, unsigned threads, uint64_t seed,

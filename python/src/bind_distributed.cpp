@@ -43,26 +43,7 @@ using Trigger = std::optional<std::string>;
 // SolveOptions. autumnc.distributed sends every name; one left out keeps
 // SolveOptions' own default, so no default is stated twice here.
 SolveOptions options_from_json(const std::string& text) {
-  const nlohmann::json j = nlohmann::json::parse(text);
-  SolveOptions o;
-  o.engine = j.value("engine", o.engine);
-  o.rollouts = j.value("rollouts", o.rollouts);
-  o.seed = j.value("seed", o.seed);
-  o.seed_inversion = j.value("seed_inversion", o.seed_inversion);
-  o.max_steps = j.value("max_steps", o.max_steps);
-  o.policy = j.value("policy", o.policy);
-  o.depth = j.value("depth", o.depth);
-  o.nodes = j.value("nodes", o.nodes);
-  o.search = j.value("search", o.search);
-  o.cost = j.value("cost", o.cost);
-  o.max_plan = j.value("max_plan", o.max_plan);
-  o.keep_states = j.value("keep_states", o.keep_states);
-  o.time_limit = j.value("time_limit", o.time_limit);
-  if (j.contains("programs") && j.at("programs").is_string() && !j.at("programs").get<std::string>().empty())
-    o.programs_dir = j.at("programs").get<std::string>();
-  if (j.contains("answers") && j.at("answers").is_string() && !j.at("answers").get<std::string>().empty())
-    o.answers = j.at("answers").get<std::string>();
-  return o;
+  return solve_options_from_json(nlohmann::json::parse(text), SolveOptions{});
 }
 
 std::shared_ptr<const Program> program_of(const std::string& text, const std::string& name, const Trigger& trigger) {

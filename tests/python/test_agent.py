@@ -144,3 +144,31 @@ def test_solve_protocol_paper_is_the_cli_protocol():
     assert autumnc.solve(task, rollouts=300, threads=1)["result"]["env_steps"] != want["env_steps"]
     with pytest.raises(ValueError, match="protocol"):
         autumnc.solve(task, protocol="papers")
+
+
+def test_solve_defaults_are_the_clis():
+    """autumnc.solve, autumnc.distributed and `autumn solve` present one set of
+    defaults: each default the CLI's help shows is the signature's (or, for
+    the options a protocol sets, the default protocol's), and the paper
+    protocol's settings are what --protocol paper documents."""
+    import inspect
+    import re
+
+    from autumnc import agent, distributed
+
+    helptext = subprocess.run([CLI, "solve", "--help"], capture_output=True, text=True, check=True).stdout
+    shown = dict(re.findall(r"^\s+--([a-z-]+) [A-Z]+(?::[^=\n]*)?=(\S+)$", helptext, re.M))
+    signature = inspect.signature(autumnc.solve).parameters
+    for flag, value in shown.items():
+        name = flag.replace("-", "_")
+        if name == "threads":
+            continue  # threads: 0 everywhere, a machine setting rather than the agent's
+        default = signature[name].default if name in signature else distributed._OPTION_DEFAULTS[name]
+        if default is None:
+            default = agent._PROTOCOLS["default"][name]
+        assert str(default).removesuffix(".0") == value, (flag, default, value)
+        if name in distributed._OPTION_DEFAULTS:
+            assert str(distributed._OPTION_DEFAULTS[name]).removesuffix(".0") == value, flag
+    assert len(shown) >= 10, shown
+    assert agent._PROTOCOLS["paper"] == dict(rollouts=10000, seed_inversion=False, policy="random",
+                                             search="paper", depth=10)
