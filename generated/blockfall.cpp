@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 8;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Piece {
@@ -1477,6 +1479,7 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const std::vector<C1_Block>& g1 = s.g_stack_12;
     {
       const auto& x2_list = g1;
@@ -1485,9 +1488,10 @@ struct Prog {
         const int32_t colour3 = colour_1_C1_Block(s, x2);
         const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
         s.core.occupied.add(e4.position);
-        ++s.core.rendered, paint ? paint->paint(e4.position, colour_of(pal, e4.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(1));
     const C0_Piece& g5 = s.g_piece_8;
     std::vector<Elem>& cells6 = s.scratch.v.b79;
     cells6.clear();
@@ -1497,7 +1501,7 @@ struct Prog {
       charge_loop(s.core, 64, int64_t(e7_list.size()));
       for (const Elem& e7 : e7_list) {
         s.core.occupied.add(e7.position);
-        ++s.core.rendered, paint ? paint->paint(e7.position, colour_of(pal, e7.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
       }
     }
   }
@@ -1554,6 +1558,21 @@ const char* const Prog::kColours[] = {
     "deepskyblue",
     "violet",
     "origin",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"navy\"",
+    "\"tomato\"",
+    "\"gold\"",
+    "\"deepskyblue\"",
+    "\"violet\"",
+    "\"origin\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "stack",
+    "piece",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

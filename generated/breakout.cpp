@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 12;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Paddle {
@@ -1296,20 +1298,23 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const C0_Paddle& g1 = s.g_paddle_25;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e2.position);
-    ++s.core.rendered, paint ? paint->paint(e2.position, colour_of(pal, e2.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e2.position, e2.color, pal) : void();
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
     s.core.occupied.add(e4.position);
-    ++s.core.rendered, paint ? paint->paint(e4.position, colour_of(pal, e4.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
+    if (paint) paint->global(int32_t(1));
     const C1_Ball& g5 = s.g_ball_21;
     const Elem e6 = Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e6.position);
-    ++s.core.rendered, paint ? paint->paint(e6.position, colour_of(pal, e6.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
+    if (paint) paint->global(int32_t(2));
     const std::vector<C2_Brick>& g7 = s.g_bricks_17;
     {
       const auto& x8_list = g7;
@@ -1318,22 +1323,23 @@ struct Prog {
         const int32_t colour9 = colour_3_C2_Brick(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
         s.core.occupied.add(e10.position);
-        ++s.core.rendered, paint ? paint->paint(e10.position, colour_of(pal, e10.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e10.position, e10.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(3));
     const C3_Hearts& g11 = s.g_hud_9;
     const int32_t colour12 = colour_0_C3_Hearts(s, g11);
     const Elem e13 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
-    ++s.core.rendered, paint ? paint->paint(e13.position, colour_of(pal, e13.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e13.position, e13.color, pal) : void();
     const int32_t colour14 = colour_1_C3_Hearts(s, g11);
     const Elem e15 = Elem{Pos{add(g11.origin.x, int32_t(1)), add(g11.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
-    ++s.core.rendered, paint ? paint->paint(e15.position, colour_of(pal, e15.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
     const int32_t colour16 = colour_2_C3_Hearts(s, g11);
     const Elem e17 = Elem{Pos{add(g11.origin.x, int32_t(2)), add(g11.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered, paint ? paint->paint(e17.position, colour_of(pal, e17.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e17.position, e17.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1396,6 +1402,28 @@ const char* const Prog::kColours[] = {
     "red",
     "dimgray",
     "hp",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"midnightblue\"",
+    "\"aqua\"",
+    "\"silver\"",
+    "\"origin\"",
+    "\"hearts\"",
+    "\"orchid\"",
+    "\"orange\"",
+    "\"yellow\"",
+    "\"red\"",
+    "\"dimgray\"",
+    "\"hp\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "paddle",
+    "ball",
+    "bricks",
+    "hud",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

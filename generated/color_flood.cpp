@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 8;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Tile {
@@ -894,6 +896,7 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const std::vector<C0_Tile>& g1 = s.g_tiles_14;
     {
       const auto& x2_list = g1;
@@ -902,9 +905,10 @@ struct Prog {
         const int32_t colour3 = colour_2_C0_Tile(s, x2);
         const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
         s.core.occupied.add(e4.position);
-        ++s.core.rendered, paint ? paint->paint(e4.position, colour_of(pal, e4.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(1));
     const std::vector<C1_Swatch>& g5 = s.g_swatches_10;
     {
       const auto& x6_list = g5;
@@ -913,22 +917,23 @@ struct Prog {
         const int32_t colour7 = colour_1_C1_Swatch(s, x6);
         const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
         s.core.occupied.add(e8.position);
-        ++s.core.rendered, paint ? paint->paint(e8.position, colour_of(pal, e8.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e8.position, e8.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(2));
     const C2_Lamps& g9 = s.g_lamps_6;
     const int32_t colour10 = colour_0_C2_Lamps(s, g9);
     const Elem e11 = Elem{Pos{add(g9.origin.x, int32_t(0)), add(g9.origin.y, int32_t(0))}, colour10};
     s.core.occupied.add(e11.position);
-    ++s.core.rendered, paint ? paint->paint(e11.position, colour_of(pal, e11.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
     const int32_t colour12 = colour_0_C2_Lamps(s, g9);
     const Elem e13 = Elem{Pos{add(g9.origin.x, int32_t(1)), add(g9.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
-    ++s.core.rendered, paint ? paint->paint(e13.position, colour_of(pal, e13.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e13.position, e13.color, pal) : void();
     const int32_t colour14 = colour_0_C2_Lamps(s, g9);
     const Elem e15 = Elem{Pos{add(g9.origin.x, int32_t(2)), add(g9.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
-    ++s.core.rendered, paint ? paint->paint(e15.position, colour_of(pal, e15.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -991,6 +996,27 @@ const char* const Prog::kColours[] = {
     "white",
     "dimgray",
     "wet",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"crimson\"",
+    "\"gold\"",
+    "\"limegreen\"",
+    "\"dodgerblue\"",
+    "\"darkorchid\"",
+    "\"none\"",
+    "\"hue\"",
+    "\"lit\"",
+    "\"white\"",
+    "\"dimgray\"",
+    "\"wet\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "tiles",
+    "swatches",
+    "lamps",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 20;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Pad {
@@ -765,16 +767,18 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const C0_Pad& g1 = s.g_pad_16;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e2.position);
-    ++s.core.rendered, paint ? paint->paint(e2.position, colour_of(pal, e2.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e2.position, e2.color, pal) : void();
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
     s.core.occupied.add(e4.position);
-    ++s.core.rendered, paint ? paint->paint(e4.position, colour_of(pal, e4.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
+    if (paint) paint->global(int32_t(1));
     const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
     {
       const auto& x6_list = g5;
@@ -782,12 +786,13 @@ struct Prog {
       for (const C1_Rocket& x6 : x6_list) {
         const Elem e7 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(8)};
         s.core.occupied.add(e7.position);
-        ++s.core.rendered, paint ? paint->paint(e7.position, colour_of(pal, e7.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
         const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(1))}, int32_t(9)};
         s.core.occupied.add(e8.position);
-        ++s.core.rendered, paint ? paint->paint(e8.position, colour_of(pal, e8.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e8.position, e8.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(2));
     const std::vector<C2_Spark>& g9 = s.g_sparks_8;
     {
       const auto& x10_list = g9;
@@ -796,7 +801,7 @@ struct Prog {
         const int32_t colour11 = colour_5_C2_Spark(s, x10);
         const Elem e12 = Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11};
         s.core.occupied.add(e12.position);
-        ++s.core.rendered, paint ? paint->paint(e12.position, colour_of(pal, e12.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e12.position, e12.color, pal) : void();
       }
     }
   }
@@ -867,6 +872,27 @@ const char* const Prog::kColours[] = {
     "orange",
     "life",
     "gray",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"red\"",
+    "\"gold\"",
+    "\"magenta\"",
+    "\"cyan\"",
+    "\"lime\"",
+    "\"slategray\"",
+    "\"origin\"",
+    "\"white\"",
+    "\"orange\"",
+    "\"life\"",
+    "\"gray\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "pad",
+    "rockets",
+    "sparks",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

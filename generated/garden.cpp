@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 12;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Cloud {
@@ -1164,21 +1166,24 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const C1_Sun& g1 = s.g_sun_23;
     const int32_t colour2 = colour_16_C1_Sun(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+    if (paint) paint->global(int32_t(1));
     const C0_Cloud& g4 = s.g_cloud_19;
     const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(-1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e5.position);
-    ++s.core.rendered, paint ? paint->paint(e5.position, colour_of(pal, e5.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e5.position, e5.color, pal) : void();
     const Elem e6 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e6.position);
-    ++s.core.rendered, paint ? paint->paint(e6.position, colour_of(pal, e6.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
     const Elem e7 = Elem{Pos{add(g4.origin.x, int32_t(1)), add(g4.origin.y, int32_t(0))}, int32_t(7)};
     s.core.occupied.add(e7.position);
-    ++s.core.rendered, paint ? paint->paint(e7.position, colour_of(pal, e7.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
+    if (paint) paint->global(int32_t(2));
     const std::vector<C3_Plant>& g8 = s.g_plants_15;
     {
       const auto& x9_list = g8;
@@ -1187,9 +1192,10 @@ struct Prog {
         const int32_t colour10 = colour_12_C3_Plant(s, x9);
         const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
         s.core.occupied.add(e11.position);
-        ++s.core.rendered, paint ? paint->paint(e11.position, colour_of(pal, e11.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(3));
     const std::vector<C2_Drop>& g12 = s.g_drops_11;
     {
       const auto& x13_list = g12;
@@ -1197,58 +1203,59 @@ struct Prog {
       for (const C2_Drop& x13 : x13_list) {
         const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(12)};
         s.core.occupied.add(e14.position);
-        ++s.core.rendered, paint ? paint->paint(e14.position, colour_of(pal, e14.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e14.position, e14.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(4));
     const C4_Basket& g15 = s.g_basket_7;
     const int32_t colour16 = colour_0_C4_Basket(s, g15);
     const Elem e17 = Elem{Pos{add(g15.origin.x, int32_t(0)), add(g15.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered, paint ? paint->paint(e17.position, colour_of(pal, e17.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e17.position, e17.color, pal) : void();
     const int32_t colour18 = colour_1_C4_Basket(s, g15);
     const Elem e19 = Elem{Pos{add(g15.origin.x, int32_t(1)), add(g15.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
-    ++s.core.rendered, paint ? paint->paint(e19.position, colour_of(pal, e19.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e19.position, e19.color, pal) : void();
     const int32_t colour20 = colour_2_C4_Basket(s, g15);
     const Elem e21 = Elem{Pos{add(g15.origin.x, int32_t(2)), add(g15.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
-    ++s.core.rendered, paint ? paint->paint(e21.position, colour_of(pal, e21.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e21.position, e21.color, pal) : void();
     const int32_t colour22 = colour_3_C4_Basket(s, g15);
     const Elem e23 = Elem{Pos{add(g15.origin.x, int32_t(3)), add(g15.origin.y, int32_t(0))}, colour22};
     s.core.occupied.add(e23.position);
-    ++s.core.rendered, paint ? paint->paint(e23.position, colour_of(pal, e23.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e23.position, e23.color, pal) : void();
     const int32_t colour24 = colour_4_C4_Basket(s, g15);
     const Elem e25 = Elem{Pos{add(g15.origin.x, int32_t(4)), add(g15.origin.y, int32_t(0))}, colour24};
     s.core.occupied.add(e25.position);
-    ++s.core.rendered, paint ? paint->paint(e25.position, colour_of(pal, e25.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e25.position, e25.color, pal) : void();
     const int32_t colour26 = colour_5_C4_Basket(s, g15);
     const Elem e27 = Elem{Pos{add(g15.origin.x, int32_t(5)), add(g15.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
-    ++s.core.rendered, paint ? paint->paint(e27.position, colour_of(pal, e27.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e27.position, e27.color, pal) : void();
     const int32_t colour28 = colour_6_C4_Basket(s, g15);
     const Elem e29 = Elem{Pos{add(g15.origin.x, int32_t(6)), add(g15.origin.y, int32_t(0))}, colour28};
     s.core.occupied.add(e29.position);
-    ++s.core.rendered, paint ? paint->paint(e29.position, colour_of(pal, e29.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e29.position, e29.color, pal) : void();
     const int32_t colour30 = colour_7_C4_Basket(s, g15);
     const Elem e31 = Elem{Pos{add(g15.origin.x, int32_t(7)), add(g15.origin.y, int32_t(0))}, colour30};
     s.core.occupied.add(e31.position);
-    ++s.core.rendered, paint ? paint->paint(e31.position, colour_of(pal, e31.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e31.position, e31.color, pal) : void();
     const int32_t colour32 = colour_8_C4_Basket(s, g15);
     const Elem e33 = Elem{Pos{add(g15.origin.x, int32_t(8)), add(g15.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
-    ++s.core.rendered, paint ? paint->paint(e33.position, colour_of(pal, e33.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e33.position, e33.color, pal) : void();
     const int32_t colour34 = colour_9_C4_Basket(s, g15);
     const Elem e35 = Elem{Pos{add(g15.origin.x, int32_t(9)), add(g15.origin.y, int32_t(0))}, colour34};
     s.core.occupied.add(e35.position);
-    ++s.core.rendered, paint ? paint->paint(e35.position, colour_of(pal, e35.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e35.position, e35.color, pal) : void();
     const int32_t colour36 = colour_10_C4_Basket(s, g15);
     const Elem e37 = Elem{Pos{add(g15.origin.x, int32_t(10)), add(g15.origin.y, int32_t(0))}, colour36};
     s.core.occupied.add(e37.position);
-    ++s.core.rendered, paint ? paint->paint(e37.position, colour_of(pal, e37.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e37.position, e37.color, pal) : void();
     const int32_t colour38 = colour_11_C4_Basket(s, g15);
     const Elem e39 = Elem{Pos{add(g15.origin.x, int32_t(11)), add(g15.origin.y, int32_t(0))}, colour38};
     s.core.occupied.add(e39.position);
-    ++s.core.rendered, paint ? paint->paint(e39.position, colour_of(pal, e39.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e39.position, e39.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1328,6 +1335,37 @@ const char* const Prog::kColours[] = {
     "peru",
     "origin",
     "picked",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"saddlebrown\"",
+    "\"red\"",
+    "\"yellow\"",
+    "\"orange\"",
+    "\"pink\"",
+    "\"white\"",
+    "\"lightsteelblue\"",
+    "\"stage\"",
+    "\"tan\"",
+    "\"lightgreen\"",
+    "\"green\"",
+    "\"deepskyblue\"",
+    "\"shining\"",
+    "\"gold\"",
+    "\"slateblue\"",
+    "\"orchid\"",
+    "\"peru\"",
+    "\"origin\"",
+    "\"picked\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "sun",
+    "cloud",
+    "plants",
+    "drops",
+    "basket",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 10;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Wall {
@@ -2002,47 +2004,49 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const C3_Stars& g1 = s.g_stars_27;
     const int32_t colour2 = colour_3_C3_Stars(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
     s.core.occupied.add(e3.position);
-    ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
     const int32_t colour4 = colour_4_C3_Stars(s, g1);
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, colour4};
     s.core.occupied.add(e5.position);
-    ++s.core.rendered, paint ? paint->paint(e5.position, colour_of(pal, e5.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e5.position, e5.color, pal) : void();
     const int32_t colour6 = colour_5_C3_Stars(s, g1);
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, colour6};
     s.core.occupied.add(e7.position);
-    ++s.core.rendered, paint ? paint->paint(e7.position, colour_of(pal, e7.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
     const int32_t colour8 = colour_6_C3_Stars(s, g1);
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, colour8};
     s.core.occupied.add(e9.position);
-    ++s.core.rendered, paint ? paint->paint(e9.position, colour_of(pal, e9.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e9.position, e9.color, pal) : void();
     const int32_t colour10 = colour_7_C3_Stars(s, g1);
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, colour10};
     s.core.occupied.add(e11.position);
-    ++s.core.rendered, paint ? paint->paint(e11.position, colour_of(pal, e11.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
     const int32_t colour12 = colour_8_C3_Stars(s, g1);
     const Elem e13 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, colour12};
     s.core.occupied.add(e13.position);
-    ++s.core.rendered, paint ? paint->paint(e13.position, colour_of(pal, e13.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e13.position, e13.color, pal) : void();
     const int32_t colour14 = colour_9_C3_Stars(s, g1);
     const Elem e15 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, colour14};
     s.core.occupied.add(e15.position);
-    ++s.core.rendered, paint ? paint->paint(e15.position, colour_of(pal, e15.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
     const int32_t colour16 = colour_10_C3_Stars(s, g1);
     const Elem e17 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, colour16};
     s.core.occupied.add(e17.position);
-    ++s.core.rendered, paint ? paint->paint(e17.position, colour_of(pal, e17.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e17.position, e17.color, pal) : void();
     const int32_t colour18 = colour_11_C3_Stars(s, g1);
     const Elem e19 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, colour18};
     s.core.occupied.add(e19.position);
-    ++s.core.rendered, paint ? paint->paint(e19.position, colour_of(pal, e19.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e19.position, e19.color, pal) : void();
     const int32_t colour20 = colour_12_C3_Stars(s, g1);
     const Elem e21 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, colour20};
     s.core.occupied.add(e21.position);
-    ++s.core.rendered, paint ? paint->paint(e21.position, colour_of(pal, e21.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e21.position, e21.color, pal) : void();
+    if (paint) paint->global(int32_t(1));
     const std::vector<C0_Wall>& g22 = s.g_walls_23;
     {
       const auto& x23_list = g22;
@@ -2050,29 +2054,33 @@ struct Prog {
       for (const C0_Wall& x23 : x23_list) {
         const Elem e24 = Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)};
         s.core.occupied.add(e24.position);
-        ++s.core.rendered, paint ? paint->paint(e24.position, colour_of(pal, e24.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e24.position, e24.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(2));
     const C1_Goal& g25 = s.g_blueGoal_19;
     const int32_t colour26 = colour_1_C1_Goal(s, g25);
     const Elem e27 = Elem{Pos{add(g25.origin.x, int32_t(0)), add(g25.origin.y, int32_t(0))}, colour26};
     s.core.occupied.add(e27.position);
-    ++s.core.rendered, paint ? paint->paint(e27.position, colour_of(pal, e27.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e27.position, e27.color, pal) : void();
+    if (paint) paint->global(int32_t(3));
     const C1_Goal& g28 = s.g_redGoal_15;
     const int32_t colour29 = colour_1_C1_Goal(s, g28);
     const Elem e30 = Elem{Pos{add(g28.origin.x, int32_t(0)), add(g28.origin.y, int32_t(0))}, colour29};
     s.core.occupied.add(e30.position);
-    ++s.core.rendered, paint ? paint->paint(e30.position, colour_of(pal, e30.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e30.position, e30.color, pal) : void();
+    if (paint) paint->global(int32_t(4));
     const C2_Twin& g31 = s.g_blue_11;
     const int32_t colour32 = colour_0_C2_Twin(s, g31);
     const Elem e33 = Elem{Pos{add(g31.origin.x, int32_t(0)), add(g31.origin.y, int32_t(0))}, colour32};
     s.core.occupied.add(e33.position);
-    ++s.core.rendered, paint ? paint->paint(e33.position, colour_of(pal, e33.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e33.position, e33.color, pal) : void();
+    if (paint) paint->global(int32_t(5));
     const C2_Twin& g34 = s.g_red_7;
     const int32_t colour35 = colour_0_C2_Twin(s, g34);
     const Elem e36 = Elem{Pos{add(g34.origin.x, int32_t(0)), add(g34.origin.y, int32_t(0))}, colour35};
     s.core.occupied.add(e36.position);
-    ++s.core.rendered, paint ? paint->paint(e36.position, colour_of(pal, e36.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e36.position, e36.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -2146,6 +2154,29 @@ const char* const Prog::kColours[] = {
     "lit",
     "gold",
     "thistle",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"lavender\"",
+    "\"red\"",
+    "\"blue\"",
+    "\"lightcoral\"",
+    "\"lightskyblue\"",
+    "\"slategray\"",
+    "\"origin\"",
+    "\"lit\"",
+    "\"gold\"",
+    "\"thistle\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "stars",
+    "walls",
+    "blueGoal",
+    "redGoal",
+    "blue",
+    "red",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

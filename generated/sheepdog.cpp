@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 16;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Fence {
@@ -1900,6 +1902,7 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const std::vector<C0_Fence>& g1 = s.g_fences_19;
     {
       const auto& x2_list = g1;
@@ -1907,9 +1910,10 @@ struct Prog {
       for (const C0_Fence& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
         s.core.occupied.add(e3.position);
-        ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(1));
     const std::vector<C1_Flag>& g4 = s.g_flags_11;
     {
       const auto& x5_list = g4;
@@ -1917,9 +1921,10 @@ struct Prog {
       for (const C1_Flag& x5 : x5_list) {
         const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
         s.core.occupied.add(e6.position);
-        ++s.core.rendered, paint ? paint->paint(e6.position, colour_of(pal, e6.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(2));
     const std::vector<C2_Sheep>& g7 = s.g_sheep_7;
     {
       const auto& x8_list = g7;
@@ -1928,13 +1933,14 @@ struct Prog {
         const int32_t colour9 = colour_0_C2_Sheep(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
         s.core.occupied.add(e10.position);
-        ++s.core.rendered, paint ? paint->paint(e10.position, colour_of(pal, e10.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e10.position, e10.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(3));
     const C3_Dog& g11 = s.g_dog_15;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(0)};
     s.core.occupied.add(e12.position);
-    ++s.core.rendered, paint ? paint->paint(e12.position, colour_of(pal, e12.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e12.position, e12.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -2000,6 +2006,25 @@ const char* const Prog::kColours[] = {
     "wheat",
     "white",
     "penned",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"yellowgreen\"",
+    "\"sienna\"",
+    "\"origin\"",
+    "\"red\"",
+    "\"gold\"",
+    "\"wheat\"",
+    "\"white\"",
+    "\"penned\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "fences",
+    "flags",
+    "sheep",
+    "dog",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = false;
   static constexpr int kGrid = 8;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Wall {
@@ -1843,6 +1845,7 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const std::vector<C0_Wall>& g1 = s.g_walls_24;
     {
       const auto& x2_list = g1;
@@ -1850,9 +1853,10 @@ struct Prog {
       for (const C0_Wall& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(6)};
         s.core.occupied.add(e3.position);
-        ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(1));
     const std::vector<C1_Goal>& g4 = s.g_goals_16;
     {
       const auto& x5_list = g4;
@@ -1860,9 +1864,10 @@ struct Prog {
       for (const C1_Goal& x5 : x5_list) {
         const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
         s.core.occupied.add(e6.position);
-        ++s.core.rendered, paint ? paint->paint(e6.position, colour_of(pal, e6.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(2));
     const std::vector<C2_Crate>& g7 = s.g_crates_12;
     {
       const auto& x8_list = g7;
@@ -1871,17 +1876,19 @@ struct Prog {
         const int32_t colour9 = colour_1_C2_Crate(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
         s.core.occupied.add(e10.position);
-        ++s.core.rendered, paint ? paint->paint(e10.position, colour_of(pal, e10.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e10.position, e10.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(3));
     const C3_Keeper& g11 = s.g_keeper_20;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(5)};
     s.core.occupied.add(e12.position);
-    ++s.core.rendered, paint ? paint->paint(e12.position, colour_of(pal, e12.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e12.position, e12.color, pal) : void();
+    if (paint) paint->global(int32_t(4));
     const C4_Button& g13 = s.g_reset_8;
     const Elem e14 = Elem{Pos{add(g13.origin.x, int32_t(0)), add(g13.origin.y, int32_t(0))}, int32_t(2)};
     s.core.occupied.add(e14.position);
-    ++s.core.rendered, paint ? paint->paint(e14.position, colour_of(pal, e14.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e14.position, e14.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1955,6 +1962,28 @@ const char* const Prog::kColours[] = {
     "limegreen",
     "peru",
     "origin",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"dimgray\"",
+    "\"red\"",
+    "\"home\"",
+    "\"khaki\"",
+    "\"deepskyblue\"",
+    "\"sienna\"",
+    "\"darkolivegreen\"",
+    "\"limegreen\"",
+    "\"peru\"",
+    "\"origin\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "walls",
+    "goals",
+    "crates",
+    "keeper",
+    "reset",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

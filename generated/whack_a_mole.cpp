@@ -24,6 +24,8 @@ struct Prog {
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 10;
   static const char* const kColours[];
+  static const char* const kStringText[];
+  static const char* const kRenderNames[];
   static const ErrorSite kErrors[];
 
   struct C0_Burrow {
@@ -1064,6 +1066,7 @@ struct Prog {
     (void)pal;
     s.core.occupied.clear(kGrid), s.core.rendered = 0;
     if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
+    if (paint) paint->global(int32_t(0));
     const std::vector<C0_Burrow>& g1 = s.g_burrows_22;
     {
       const auto& x2_list = g1;
@@ -1071,9 +1074,10 @@ struct Prog {
       for (const C0_Burrow& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
         s.core.occupied.add(e3.position);
-        ++s.core.rendered, paint ? paint->paint(e3.position, colour_of(pal, e3.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(1));
     const std::vector<C1_Mole>& g4 = s.g_moles_18;
     {
       const auto& x5_list = g4;
@@ -1082,9 +1086,10 @@ struct Prog {
         const int32_t colour6 = colour_11_C1_Mole(s, x5);
         const Elem e7 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, colour6};
         s.core.occupied.add(e7.position);
-        ++s.core.rendered, paint ? paint->paint(e7.position, colour_of(pal, e7.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(2));
     const std::vector<C2_Flash>& g8 = s.g_flashes_26;
     {
       const auto& x9_list = g8;
@@ -1093,50 +1098,51 @@ struct Prog {
         const int32_t colour10 = colour_12_C2_Flash(s, x9);
         const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
         s.core.occupied.add(e11.position);
-        ++s.core.rendered, paint ? paint->paint(e11.position, colour_of(pal, e11.color)) : void();
+        ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
       }
     }
+    if (paint) paint->global(int32_t(3));
     const C3_ScoreBar& g12 = s.g_bar_6;
     const int32_t colour13 = colour_0_C3_ScoreBar(s, g12);
     const Elem e14 = Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, colour13};
     s.core.occupied.add(e14.position);
-    ++s.core.rendered, paint ? paint->paint(e14.position, colour_of(pal, e14.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e14.position, e14.color, pal) : void();
     const int32_t colour15 = colour_1_C3_ScoreBar(s, g12);
     const Elem e16 = Elem{Pos{add(g12.origin.x, int32_t(1)), add(g12.origin.y, int32_t(0))}, colour15};
     s.core.occupied.add(e16.position);
-    ++s.core.rendered, paint ? paint->paint(e16.position, colour_of(pal, e16.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e16.position, e16.color, pal) : void();
     const int32_t colour17 = colour_2_C3_ScoreBar(s, g12);
     const Elem e18 = Elem{Pos{add(g12.origin.x, int32_t(2)), add(g12.origin.y, int32_t(0))}, colour17};
     s.core.occupied.add(e18.position);
-    ++s.core.rendered, paint ? paint->paint(e18.position, colour_of(pal, e18.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e18.position, e18.color, pal) : void();
     const int32_t colour19 = colour_3_C3_ScoreBar(s, g12);
     const Elem e20 = Elem{Pos{add(g12.origin.x, int32_t(3)), add(g12.origin.y, int32_t(0))}, colour19};
     s.core.occupied.add(e20.position);
-    ++s.core.rendered, paint ? paint->paint(e20.position, colour_of(pal, e20.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e20.position, e20.color, pal) : void();
     const int32_t colour21 = colour_4_C3_ScoreBar(s, g12);
     const Elem e22 = Elem{Pos{add(g12.origin.x, int32_t(4)), add(g12.origin.y, int32_t(0))}, colour21};
     s.core.occupied.add(e22.position);
-    ++s.core.rendered, paint ? paint->paint(e22.position, colour_of(pal, e22.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e22.position, e22.color, pal) : void();
     const int32_t colour23 = colour_5_C3_ScoreBar(s, g12);
     const Elem e24 = Elem{Pos{add(g12.origin.x, int32_t(5)), add(g12.origin.y, int32_t(0))}, colour23};
     s.core.occupied.add(e24.position);
-    ++s.core.rendered, paint ? paint->paint(e24.position, colour_of(pal, e24.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e24.position, e24.color, pal) : void();
     const int32_t colour25 = colour_6_C3_ScoreBar(s, g12);
     const Elem e26 = Elem{Pos{add(g12.origin.x, int32_t(6)), add(g12.origin.y, int32_t(0))}, colour25};
     s.core.occupied.add(e26.position);
-    ++s.core.rendered, paint ? paint->paint(e26.position, colour_of(pal, e26.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e26.position, e26.color, pal) : void();
     const int32_t colour27 = colour_7_C3_ScoreBar(s, g12);
     const Elem e28 = Elem{Pos{add(g12.origin.x, int32_t(7)), add(g12.origin.y, int32_t(0))}, colour27};
     s.core.occupied.add(e28.position);
-    ++s.core.rendered, paint ? paint->paint(e28.position, colour_of(pal, e28.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e28.position, e28.color, pal) : void();
     const int32_t colour29 = colour_8_C3_ScoreBar(s, g12);
     const Elem e30 = Elem{Pos{add(g12.origin.x, int32_t(8)), add(g12.origin.y, int32_t(0))}, colour29};
     s.core.occupied.add(e30.position);
-    ++s.core.rendered, paint ? paint->paint(e30.position, colour_of(pal, e30.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e30.position, e30.color, pal) : void();
     const int32_t colour31 = colour_9_C3_ScoreBar(s, g12);
     const Elem e32 = Elem{Pos{add(g12.origin.x, int32_t(9)), add(g12.origin.y, int32_t(0))}, colour31};
     s.core.occupied.add(e32.position);
-    ++s.core.rendered, paint ? paint->paint(e32.position, colour_of(pal, e32.color)) : void();
+    ++s.core.rendered, paint ? paint->paint(e32.position, e32.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
     Hash h;
@@ -1212,6 +1218,29 @@ const char* const Prog::kColours[] = {
     "glow",
     "white",
     "lightyellow",
+    nullptr};
+
+const char* const Prog::kStringText[] = {
+    "\"black\"",
+    "\"forestgreen\"",
+    "\"saddlebrown\"",
+    "\"khaki\"",
+    "\"points\"",
+    "\"gold\"",
+    "\"darkgreen\"",
+    "\"peru\"",
+    "\"burlywood\"",
+    "\"ttl\"",
+    "\"glow\"",
+    "\"white\"",
+    "\"lightyellow\"",
+    nullptr};
+
+const char* const Prog::kRenderNames[] = {
+    "burrows",
+    "moles",
+    "flashes",
+    "bar",
     nullptr};
 
 const ErrorSite Prog::kErrors[] = {

@@ -260,6 +260,16 @@ bool CompiledProgramHost::reseed_random(uint64_t seed) {
 }
 
 // The generator keeps its script across reset() and copy_from() (rng.hpp).
+bool CompiledProgramHost::render_json(std::string* out) const {
+  if (failed_ || !painter_.recorded()) return false;
+  std::vector<NamedCell> cells;
+  cells.reserve(painter_.drawn().size());
+  for (const Painter::Drawn& d : painter_.drawn())
+    cells.push_back({ops_->render_names[d.global], d.position.x, d.position.y, ops_->string_text[d.colour]});
+  *out = render_all_json(cells, frame_.size);
+  return true;
+}
+
 bool CompiledProgramHost::set_draw_script(autumn_draw_script* script) {
   core_->rng.set_script(script);
   return true;

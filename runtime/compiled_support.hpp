@@ -195,9 +195,25 @@ inline uint16_t colour_of(const std::vector<uint16_t>& pal, int32_t id) {
 // Paints frames incrementally: cells painted by the previous render are reset to
 // the background, then the new cells are painted, so a render costs what it
 // draws rather than the whole grid. The result is identical to a full repaint.
+// While recording (the host's render_all() JSON), it also keeps every element
+// drawn, out-of-grid ones included, with its colour's string id and the index
+// of the global it came from (the render names it with global()).
 class Painter {
  public:
+  struct Drawn {
+    Pos position;
+    int32_t colour = 0;  // string id
+    int32_t global = 0;  // index into the program's kRenderNames
+  };
   void bind(Frame* f) { frame_ = f; }
+  void record(bool on) {
+    record_ = on;
+    recorded_ = false;
+    drawn_.clear();
+  }
+  // drawn() holds the last render's elements: recording was on when it began.
+  bool recorded() const { return recorded_; }
+  const std::vector<Drawn>& drawn() const { return drawn_; }
   void begin(int size, uint16_t background) {
     Frame& f = *frame_;
     if (f.size != size || background != background_ || f.cells.size() != static_cast<size_t>(size) * size) {
@@ -208,12 +224,17 @@ class Painter {
       for (uint32_t i : painted_) f.cells[i] = background;
     }
     painted_.clear();
+    drawn_.clear();
+    recorded_ = record_;
   }
-  void paint(Pos p, uint16_t colour) {
+  void global(int32_t index) { global_ = index; }
+  void paint(Pos p, int32_t colour, const std::vector<uint16_t>& pal) {
+    const uint16_t c = colour_of(pal, colour);
+    if (__builtin_expect(record_, 0)) drawn_.push_back(Drawn{p, colour, global_});
     const int n = frame_->size;
     if (p.x < 0 || p.y < 0 || p.x >= n || p.y >= n) return;
     const uint32_t i = static_cast<uint32_t>(p.y) * n + p.x;
-    frame_->cells[i] = colour;
+    frame_->cells[i] = c;
     painted_.push_back(i);
   }
 
@@ -221,6 +242,9 @@ class Painter {
   Frame* frame_ = nullptr;
   uint16_t background_ = 0xffff;
   std::vector<uint32_t> painted_;
+  bool record_ = false, recorded_ = false;
+  int32_t global_ = 0;
+  std::vector<Drawn> drawn_;
 };
 
 // Cells rotate turned (compiler/lower: builtin_rotate): per group of objects made
@@ -636,6 +660,8 @@ struct PaletteTables {
 struct ProgramOps {
   const char* name;            // P::kProgramName
   const char* const* colours;  // P::kColours
+  const char* const* string_text;   // P::kStringText: the string literals as written
+  const char* const* render_names;  // P::kRenderNames: the globals the render draws
   const ErrorSite* errors;     // P::kErrors
   int on_clauses;
   bool uses_random;
@@ -670,6 +696,11 @@ class CompiledProgramHost : public CompiledHost {
   int64_t random_draws() const override;
   bool reseed_random(uint64_t seed) override;
   bool set_draw_script(autumn_draw_script* script) override;
+  bool record_render(bool on) override {
+    painter_.record(on);
+    return true;
+  }
+  bool render_json(std::string* out) const override;
 
  protected:
   // `state` is the derived class's own State member and `core` its `core`;
@@ -722,6 +753,8 @@ class CompiledEnvironment final : public CompiledProgramHost {
     static const ProgramOps table{
         P::kProgramName,
         P::kColours,
+        P::kStringText,
+        P::kRenderNames,
         P::kErrors,
         P::kOnClauses,
         P::kUsesRandom,

@@ -73,6 +73,18 @@ class Environment {
     (void)size;
     return false;
   }
+  // The reference's render_all() JSON of the last host render (runtime/frame.hpp,
+  // render_all_json), for environments that can record it: record_render(true)
+  // keeps the elements of every later host render (false: not supported), and
+  // render_json() gives the last recorded one (false when there is none).
+  virtual bool record_render(bool on) {
+    (void)on;
+    return false;
+  }
+  virtual bool render_json(std::string* out) const {
+    (void)out;
+    return false;
+  }
   virtual uint64_t state_hash() const = 0;
   virtual bool deterministic() const = 0;
   // Seed groups (the particle filter's): random_draws() counts the random numbers

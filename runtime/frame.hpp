@@ -45,4 +45,18 @@ std::vector<std::string> frame_rows(const Frame& f, const Palette& p);
 // Lower-cases ASCII, as Python's str.lower() does for colour names.
 std::string lower_ascii(std::string_view s);
 
+// One element of a host render as the reference's render_all() lists it: the
+// global it was drawn from, its position (outside the grid too) and its colour
+// as the program wrote it (quotes included).
+struct NamedCell {
+  std::string_view global;
+  int32_t x = 0, y = 0;
+  std::string_view colour;
+};
+// The reference's render_all() JSON of one host render's elements, in render
+// order: {"NAME": [{"position": {"x": X, "y": Y}, "color": COLOUR}, ...], ...,
+// "GRID_SIZE": N}, a run of elements of one global under one key. Both engines'
+// render_all() is this text (python/src/session.cpp).
+std::string render_all_json(const std::vector<NamedCell>& cells, int grid_size);
+
 }  // namespace autumn

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define AUTUMN_MODULE_ABI_VERSION 6u
+#define AUTUMN_MODULE_ABI_VERSION 7u
 
 typedef struct autumn_env autumn_env; /* opaque */
 
@@ -81,6 +81,12 @@ typedef struct autumn_module_v1 {
   void (*set_limits)(autumn_env*, const autumn_limits* limits);
   /* v6: sets (or, with NULL, clears) the draw script; 1 done, 0 unsupported. */
   int (*set_draw_script)(autumn_env*, autumn_draw_script* script);
+  /* v7: the reference's render_all() JSON (runtime/frame.hpp). record_render(1)
+   * keeps the elements of every later host render (0 stops); 1 done, 0
+   * unsupported. render_json: the JSON of the last host render while recording,
+   * owned by the module until the next call on the handle; NULL when there is none. */
+  int (*record_render)(autumn_env*, int on);
+  const char* (*render_json)(autumn_env*);
 } autumn_module_v1;
 
 typedef const autumn_module_v1* (*autumn_module_entry_fn)(void);

@@ -86,6 +86,16 @@ uint64_t ModuleEnvironment::state_hash() const { return table_->state_hash(handl
 bool ModuleEnvironment::deterministic() const { return table_->deterministic(handle_) != 0; }
 int64_t ModuleEnvironment::random_draws() const { return failed_ ? -1 : table_->random_draws(handle_); }
 bool ModuleEnvironment::reseed_random(uint64_t seed) { return !failed_ && table_->reseed_random(handle_, seed) != 0; }
+bool ModuleEnvironment::record_render(bool on) { return table_->record_render(handle_, on ? 1 : 0) != 0; }
+
+bool ModuleEnvironment::render_json(std::string* out) const {
+  if (failed_) return false;
+  const char* json = table_->render_json(handle_);
+  if (!json) return false;
+  *out = json;
+  return true;
+}
+
 bool ModuleEnvironment::set_draw_script(autumn_draw_script* script) {
   return table_->set_draw_script(handle_, script) != 0;
 }

@@ -55,6 +55,8 @@ class ModuleEnvironment : public Environment {
   int64_t random_draws() const override;
   bool reseed_random(uint64_t seed) override;
   bool set_draw_script(autumn_draw_script* script) override;
+  bool record_render(bool on) override;
+  bool render_json(std::string* out) const override;
 
  private:
   ModuleEnvironment(const autumn_module_v1* table, std::shared_ptr<void> keepalive, autumn_env* handle);

@@ -68,6 +68,11 @@ autumn_module_v1 module_table(const char* name, uint64_t source_hash, autumn_env
     env(h).set_limits(Limits{l->call_depth, l->list_length, l->objects, l->cells, l->calls});
   };
   t.set_draw_script = [](autumn_env* h, autumn_draw_script* s) { return env(h).set_draw_script(s) ? 1 : 0; };
+  t.record_render = [](autumn_env* h, int on) { return env(h).record_render(on != 0) ? 1 : 0; };
+  t.render_json = [](autumn_env* h) -> const char* {
+    auto* e = reinterpret_cast<ExportedEnv*>(h);
+    return e->env->render_json(&e->json) ? e->json.c_str() : nullptr;
+  };
   return t;
 }
 

@@ -15,6 +15,7 @@ namespace autumn {
 struct ExportedEnv {
   std::unique_ptr<Environment> env;
   mutable std::vector<uint8_t> snapshot;  // the last save_state result
+  std::string json;                        // the last render_json result
 };
 
 // An Environment as the C ABI's handle (freed by the table's destroy).

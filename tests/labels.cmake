@@ -22,7 +22,7 @@ set(rules
   "^AgentIce\\.(MaskedFramePrediction|ChangeDetectionScores)$|quick,agent"
   "^AgentPlanning\\.(Travel|LimitFraction|OnClones|Fill|LocalSearch|Shortening|Skeleton)|quick,agent"
   "^(Engines/RandomBaseline|RandomBaselineMfp|RandomBaselineCli|PaperProtocol)[./]|quick,agent"
-  "^(Cli|HonestOutput|Pictures|Shards)\\.|quick,cli"
+  "^(Cli|HonestOutput|Pictures|Shards|RenderAllJson)\\.|quick,cli"
   "^FirstRun\\.UnwritableCacheFallsBack$|quick,cli"
   "^(Traces/CompiledConformance|Programs/Differential|Programs/CopyAndSnapshot|Files/Golden|Files/RuntimeFailure|Files/LimitProgram)[./]|compiled"
   "^(FirstRun|Guide)\\.|compiled"

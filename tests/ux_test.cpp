@@ -547,3 +547,63 @@ TEST(HonestOutput, SolveWarnsOfTaskClicksOutsideTheGrid) {
 
 }  // namespace
 }  // namespace autumn
+
+namespace autumn {
+namespace {
+
+// The reference's way of writing render_all(), each piece through a 256-byte
+// snprintf buffer (what the interpreter track did before render_all_json).
+std::string render_all_by_snprintf(const std::vector<std::string>& names, const std::vector<NamedCell>& cells, int n) {
+  std::string out = "{";
+  char buf[256];
+  for (size_t i = 0; i < cells.size();) {
+    std::snprintf(buf, sizeof buf, "\"%s\": [", names[i].c_str());
+    out += buf;
+    size_t j = i;
+    for (; j < cells.size() && cells[j].global == cells[i].global; ++j) {
+      const std::string colour(cells[j].colour);
+      std::snprintf(buf, sizeof buf, "{\"position\": {\"x\": %d, \"y\": %d}, \"color\": %s}, ", cells[j].x, cells[j].y,
+                    colour.c_str());
+      out += buf;
+    }
+    out.resize(out.size() - 2);
+    out += "], ";
+    i = j;
+  }
+  return out + "\"GRID_SIZE\": " + std::to_string(n) + "}";
+}
+
+// Both engines write render_all() with render_all_json: byte for byte the
+// reference's text, long names and colours cut where its buffer cuts them and
+// a NUL ending them, as %s does.
+TEST(RenderAllJson, IsTheReferencesTextEvenWhereItCuts) {
+  std::mt19937 rng(7);
+  auto text = [&](size_t len) {
+    std::string s(len, 'a');
+    for (char& c : s) c = static_cast<char>('a' + rng() % 26);
+    if (len > 3 && rng() % 5 == 0) s[rng() % len] = '\0';
+    return s;
+  };
+  for (int round = 0; round < 300; ++round) {
+    std::vector<std::string> global_names, colours;
+    const size_t count = rng() % 12;
+    for (size_t i = 0; i < count; ++i) {
+      const size_t lengths[] = {1, 5, 240, 248, 249, 250, 251, 256, 300};
+      global_names.push_back(text(lengths[rng() % 9]));
+      colours.push_back("\"" + text(lengths[rng() % 9]) + "\"");
+    }
+    std::vector<std::string> names;  // per cell: runs of one global
+    std::vector<NamedCell> cells;
+    for (size_t i = 0; i < count; ++i) {
+      const size_t g = i ? (rng() % 3 ? i - 1 : i) : 0;
+      names.push_back(global_names[g]);
+    }
+    for (size_t i = 0; i < count; ++i)
+      cells.push_back({names[i], static_cast<int32_t>(rng()) % 40 - 20, static_cast<int32_t>(rng() % 2 ? rng() : -rng()),
+                       colours[i]});
+    ASSERT_EQ(render_all_json(cells, 16), render_all_by_snprintf(names, cells, 16)) << "round " << round;
+  }
+}
+
+}  // namespace
+}  // namespace autumn

@@ -76,6 +76,7 @@ enum class Helper : uint8_t {
   OccupancyAdd,   // (pos)
   PaintBegin,     // (): the frame is reset to the background
   Paint,          // (elem)
+  PaintGlobal,    // (index into Module::render_names): the global the next elements are drawn from
   SetTriggered,   // (bool): what the host reads as the trigger state
   Covered,        // (clause index): the on-clause fired
   HavePrev,       // () -> bool: a step has begun (prev is usable)

@@ -89,6 +89,7 @@ struct Module {
   ir::Arena arena;
   ir::Arena lasting;  // nodes that outlive a walk (learnt shapes, cell captures): never cleared
   std::vector<std::string> strings;  // string literals by id, quotes included
+  std::vector<std::string> render_names;  // the globals the render draws, by PaintGlobal index
   std::vector<ErrorLoc> locations;
   std::vector<TypeP> sums;           // the Sum types the code uses (variants to define)
   std::vector<DynamicSite> dynamic_sites;
@@ -120,6 +121,7 @@ struct Module {
     arena = ir::Arena{};
     // `strings` stays too: string ids appear in the shapes and constants hints keep.
     locations.clear();
+    render_names.clear();
     sums.clear();
     dynamic_sites.clear();
     // `deferred` stays: cells made in one walk name their arguments by index,

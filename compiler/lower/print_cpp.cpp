@@ -187,7 +187,8 @@ std::string Printer::helper(const Node* n) {
     case Helper::OccupancyAdd: return "s.core.occupied.add(" + arg(0) + ")";
     case Helper::PaintBegin: return "if (paint) paint->begin(kGrid, colour_of(pal, " + arg(0) + "))";
     case Helper::Paint:  // counted for cacheRendered (the state check), drawn when painting
-      return "++s.core.rendered, paint ? paint->paint(" + arg(0) + ".position, colour_of(pal, " + arg(0) + ".color)) : void()";
+      return "++s.core.rendered, paint ? paint->paint(" + arg(0) + ".position, " + arg(0) + ".color, pal) : void()";
+    case Helper::PaintGlobal: return "if (paint) paint->global(" + arg(0) + ")";
     case Helper::SetTriggered: return "s.core.triggered = " + arg(0);
     case Helper::Covered: return "s.core.covered[" + arg(0) + "] = 1";
     case Helper::HavePrev: return "s.core.have_prev";
@@ -563,6 +564,8 @@ std::string Printer::run() {
   line(std::string("static constexpr bool kUsesRandom = ") + (m_.uses_random ? "true" : "false") + ";");
   line("static constexpr int kGrid = " + std::to_string(m_.grid) + ";");
   line("static const char* const kColours[];");
+  line("static const char* const kStringText[];");
+  line("static const char* const kRenderNames[];");
   line("static const ErrorSite kErrors[];");
   out_ << "\n";
   // Declarations in dependency order: a class's fields may be sums of earlier classes.
@@ -583,6 +586,12 @@ void Printer::tables() {
     std::string inner = q.size() >= 2 ? q.substr(1, q.size() - 2) : q;
     out_ << "    " << quoted(lower_ascii(inner)) << ",\n";
   }
+  out_ << "    nullptr};\n\n";
+  out_ << "const char* const Prog::kStringText[] = {\n";  // as written, quotes included (render_all's JSON)
+  for (const std::string& q : m_.strings) out_ << "    " << quoted(q) << ",\n";
+  out_ << "    nullptr};\n\n";
+  out_ << "const char* const Prog::kRenderNames[] = {\n";
+  for (const std::string& n : m_.render_names) out_ << "    " << quoted(n) << ",\n";
   out_ << "    nullptr};\n\n";
   out_ << "const ErrorSite Prog::kErrors[] = {\n";
   auto source = [](SourceId id) {

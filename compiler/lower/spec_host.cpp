@@ -290,7 +290,12 @@ void Specialiser::specialise_render() {
   emit_eval(call(ir::Helper::PaintBegin, nullptr, {background}));
 
   // Every rendered element marks the occupancy and is painted, in render order.
+  // The host's render_all() JSON names each element's global: the painter
+  // learns it before the global's elements (runtime/render_json.hpp).
   auto draw = [&](Global& g) {
+    m_.render_names.push_back(nm(g.sym));
+    emit_eval(call(ir::Helper::PaintGlobal, nullptr,
+                   {lit(T().int_(), static_cast<int64_t>(m_.render_names.size() - 1))}));
     render_into(read_global(g), [&](ir::Node* elem) {
       SVal e = let(SVal{T().elem(), elem}, "e");
       emit_eval(call(ir::Helper::OccupancyAdd, nullptr, {member(e.code, ir::Member::Position, T().pos())}));
@@ -302,14 +307,6 @@ void Specialiser::specialise_render() {
   for (Sym s : order) {
     Global* g = global(s);
     if (!g || g->state == Global::Undefined || !g->type || g->value < 0) continue;
-    std::function<bool(TypeP)> renders = [&](TypeP t) {
-      if (t->k == TK::Obj) return true;
-      if (t->k == TK::List) return t->elem && renders(t->elem);
-      if (t->k == TK::Sum)
-        for (TypeP a : t->alts)
-          if (renders(a)) return true;
-      return false;
-    };
     if (!renders(g->type)) continue;
     if (g->state == Global::Runtime) {
       ir::Stmt* s_if = emit(ir::SK::If);

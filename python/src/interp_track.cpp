@@ -82,26 +82,12 @@ void InterpTrack::execute(const Snippet& s) {
   }
 }
 
-// The reference's renderAll format: names in render order with their cells
-// (names that draw nothing left out), snprintf'd into 256-byte buffers as it does.
+// The reference's renderAll format (runtime/frame.hpp, render_all_json).
 std::string InterpTrack::render_json() const {
-  std::string out = "{";
-  char buf[256];
-  for (size_t i = 0; i < cells_.size();) {
-    const Sym name = cells_[i].name;
-    std::snprintf(buf, sizeof buf, "\"%s\": [", program_->name(name).c_str());
-    out += buf;
-    size_t j = i;
-    for (; j < cells_.size() && cells_[j].name == name; ++j) {
-      std::snprintf(buf, sizeof buf, "{\"position\": {\"x\": %d, \"y\": %d}, \"color\": %s}, ", cells_[j].x,
-                    cells_[j].y, cells_[j].colour.c_str());
-      out += buf;
-    }
-    out.resize(out.size() - 2);
-    out += "], ";
-    i = j;
-  }
-  return out + "\"GRID_SIZE\": " + std::to_string(grid_size_) + "}";
+  std::vector<NamedCell> cells;
+  cells.reserve(cells_.size());
+  for (const DrawnCell& c : cells_) cells.push_back({program_->name(c.name), c.x, c.y, c.colour});
+  return render_all_json(cells, grid_size_);
 }
 
 void InterpTrack::paint(Frame& frame, Palette& palette) const {

@@ -58,6 +58,7 @@ void Session::attach_compiled_if_ready() {
   if (ce_ || ce_dead_ || !is_ready(prototype_)) return;
   std::shared_ptr<const Prototype> p = prototype_.get();
   std::unique_ptr<Environment> env = p->env ? instantiate(*p) : nullptr;
+  if (env) env->record_render(true);  // render_all() from the compiled track (where the module can)
   if (!env || !env->reset(seed_)) {
     // A start-up failure is reported by the interpreter, which knows whether it
     // came from start or from the host render reset adds.
@@ -218,6 +219,8 @@ std::string Session::render_all() {
   HostOp op;
   op.kind = HostOp::Render;
   append(op);
+  std::string json;
+  if (ce_ && ce_pos_ == log_.size() && ce_->render_json(&json)) return json;
   return interp().render_json();
 }
 

@@ -8,9 +8,11 @@
 //    as renders are then idempotent); a pending step is run ahead on a copy so
 //    that errors surface at step() and the copy is kept when a render follows;
 //  * the interpreter track (interp_track.hpp), exact for any log, brought up to
-//    date only when something needs it: the render_all() JSON (cells per global,
-//    out-of-grid ones included), evaluate_to_string, get_background, ... or when
-//    the log leaves what the compiled track can follow (then it serves alone).
+//    date only when something needs it: evaluate_to_string, get_background, ...,
+//    the render_all() JSON when the compiled track cannot give it (a module that
+//    embeds the interpreter), or when the log leaves what the compiled track can
+//    follow (then it serves alone). Both tracks write render_all() with
+//    render_all_json (runtime/frame.hpp): cells per global, out-of-grid ones included.
 // Both are exact, so which one answers never shows in the results; only speed
 // and state_hash() values (engine-specific) differ. In "auto" mode a program
 // whose module is still compiling runs on the interpreter, and the compiled
