@@ -39,27 +39,3 @@ def test_recipe_is_autumnc():
     import autumnc
     assert interpreter_module.Interpreter is autumnc.Interpreter
 
-
-@needs_corpus
-@pytest.mark.parametrize("path", trace_files(),
-                         ids=lambda p: os.path.basename(p)[:-5] if isinstance(p, str) else "no-corpus")
-def test_render_all_text_is_the_same_on_both_engines(path, stdlib):
-    """render_all() on the compiled engine is the interpreter's text, byte for
-    byte, after every step of every golden trace (served by the compiled
-    module, not by replaying the interpreter)."""
-    import autumnc
-
-    data = load_trace(path)
-    program = conformance_program(data["program"])
-    trigger = data.get("triggering_condition", "")
-    for t in data["traces"][:2]:
-        engines = [autumnc.Interpreter(engine="compiled"), autumnc.Interpreter(engine="interp")]
-        for i in engines:
-            i.run_script(program, stdlib, trigger, t["seed"])
-        assert engines[0].render_all() == engines[1].render_all()
-        for n, action in enumerate(t["actions"]):
-            for i in engines:
-                replay.act(i, action)
-                i.step()
-            assert engines[0].render_all() == engines[1].render_all(), f"seed {t['seed']}: step {n + 1}"
-        assert engines[0].engine == "compiled"
