@@ -391,11 +391,7 @@ ModuleFuture request_module(const std::shared_ptr<const Program>& p, bool* start
 std::unique_ptr<Environment> instantiate(const Module& m, const Program& p) {
   auto env = std::make_unique<ModuleEnvironment>(m.table, m.handle);
   env->set_source_name(p.file.name);
-  if (m.built_from != p.file.text) {
-    auto map = std::make_shared<const LocationMap>(m.built_from, p.file.text);
-    env->set_error_rewriter(std::make_shared<const ModuleEnvironment::ErrorRewriter>(
-        [map, path = p.file.name](const std::string& e) { return map->rewrite(e, path); }));
-  }
+  if (m.built_from != p.file.text) env->set_relocation(relocation_between(m.built_from, p.file.text));
   return env;
 }
 

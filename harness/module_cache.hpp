@@ -18,7 +18,7 @@
 //     when the build made one. The compile runs as a separate process that
 //     finishes and fills the cache even if this process exits first.
 // A module built from a text that differs only in layout reports runtime errors
-// at the locations of the text being run (module_key's LocationMap).
+// at the locations of the text being run (module_key's relocation_between).
 // Failures (a compiler error, a module with another ABI version) come back as a
 // message, never a crash; with no writable cache at all the engine falls back to
 // the interpreter, with a warning. With AUTUMN_NO_COMPILE set (to anything but

@@ -1,8 +1,9 @@
 // module_key — the canonical SHA-256 of a program (its s-expressions, as read) and
-// the exact program digest, plus the location map between two layouts of one
+// the exact program digest, plus the relocation between two layouts of one
 // program (module_key.hpp).
 #include "harness/module_key.hpp"
 
+#include <algorithm>
 #include <string_view>
 #include <vector>
 
@@ -64,26 +65,26 @@ std::string program_digest(const std::string& program_text, const std::optional<
   return d.hex();
 }
 
-LocationMap::LocationMap(const std::string& from, const std::string& to) {
-  if (from == to) return;
-  identity_ = false;
+std::shared_ptr<const Relocation> relocation_between(const std::string& from, const std::string& to) {
+  if (from == to) return nullptr;
   auto a = read(from), b = read(to);
-  if (!a || !b) return;
+  if (!a || !b) return nullptr;
   std::vector<std::pair<int, int>> la, lb;
   locations(*a, la);
   locations(*b, lb);
-  if (la.size() != lb.size()) return;
-  for (size_t i = 0; i < la.size(); ++i) map_.emplace(la[i], lb[i]);
-}
-
-std::string LocationMap::rewrite(const std::string& error, const std::string& path) const {
-  if (identity_ || error.compare(0, path.size() + 1, path + ":") != 0) return error;
-  int line = 0, col = 0, used = 0;
-  if (std::sscanf(error.c_str() + path.size() + 1, "%d:%d:%n", &line, &col, &used) != 2 || used == 0) return error;
-  auto it = map_.find({line, col});
-  if (it == map_.end()) return error;
-  return path + ":" + std::to_string(it->second.first) + ":" + std::to_string(it->second.second) + ":" +
-         error.substr(path.size() + 1 + used);
+  if (la.size() != lb.size()) return nullptr;
+  auto r = std::make_shared<Relocation>();
+  for (size_t i = 0; i < la.size(); ++i) r->moves.push_back({la[i].first, la[i].second, lb[i].first, lb[i].second});
+  std::stable_sort(r->moves.begin(), r->moves.end(), [](const Relocation::Move& x, const Relocation::Move& y) {
+    return std::make_pair(x.from_line, x.from_col) < std::make_pair(y.from_line, y.from_col);
+  });
+  // A location two nodes share (a list and its first atom) moves once: the first pairing, as the map kept it.
+  r->moves.erase(std::unique(r->moves.begin(), r->moves.end(),
+                             [](const Relocation::Move& x, const Relocation::Move& y) {
+                               return x.from_line == y.from_line && x.from_col == y.from_col;
+                             }),
+                 r->moves.end());
+  return r;
 }
 
 }  // namespace autumn

@@ -5,16 +5,18 @@
 // (compiler/read/sexpr): comments, whitespace and line breaks are not part of it;
 // atoms are digested with their kind and length, so no two different trees share
 // a key. Two texts with the same key are the same program to every later pass; only
-// their source locations differ. A module built from one of them reports runtime
-// errors at that text's locations, so LocationMap translates them: it pairs the
-// nodes of the two texts in reading order and rewrites the leading
-// "path:line:col:" of an error message.
+// their source locations differ. A module built from one of them serves the other
+// with its locations moved (relocation_between): the nodes of the two texts are
+// paired in reading order, and the engine reports the moved location when it
+// makes a message (runtime/diagnostic.hpp, Relocation), never by rewriting text.
 #pragma once
 #include <cstdint>
-#include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
+
+#include "runtime/diagnostic.hpp"
 
 namespace autumn {
 
@@ -27,19 +29,10 @@ std::optional<std::string> canonical_program_hash(const std::string& program_tex
 // program it was built from.
 std::string program_digest(const std::string& program_text, const std::optional<std::string>& trigger);
 
-class LocationMap {
- public:
-  // `from`: the text a module was built from; `to`: the text being run. Both
-  // must read and have the same canonical hash; otherwise the map is empty.
-  LocationMap(const std::string& from, const std::string& to);
-  bool identity() const { return identity_; }
-  // "path:L:C: rest" with (L, C) a node of `from` becomes "path:L':C': rest";
-  // anything else is returned unchanged.
-  std::string rewrite(const std::string& error, const std::string& path) const;
-
- private:
-  bool identity_ = true;
-  std::map<std::pair<int, int>, std::pair<int, int>> map_;
-};
+// Where the nodes of `from` (the text a module was built from) stand in `to`
+// (the text being run), paired in reading order: what the engines move their
+// program locations by (Environment::set_relocation). Null when the texts are
+// the same, or do not read as one tree.
+std::shared_ptr<const Relocation> relocation_between(const std::string& from, const std::string& to);
 
 }  // namespace autumn

@@ -10,13 +10,16 @@
 // hashing, the loop charge's fast path) and what depends on the program's types.
 #include "runtime/compiled_support.hpp"
 
+#include <tuple>
+
 #include <mutex>
 
 namespace autumn::rt {
 
-std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg) {
+std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg, const Relocation* moved) {
   const char* file = e.in_program ? nullptr : e.source;
-  const int line = e.in_program ? e.program_line : e.line, col = e.in_program ? e.program_col : e.col;
+  int line = e.in_program ? e.program_line : e.line, col = e.in_program ? e.program_col : e.col;
+  if (!file && moved) std::tie(line, col) = moved->at(line, col);
   std::string out = diagnostic_prefix(file ? file : path, line, col, "runtime error") + shown(e.prefix + msg);
   if (e.in_program && e.source && std::string(e.source) != "<internal>")
     out += diagnostic_inside(e.source, e.line, e.col);
@@ -148,6 +151,7 @@ void CompiledHost::set_limits(const Limits& l) { limits_ = limits::normalised(l)
 void CompiledHost::copy_host(const CompiledHost& o) {
   frame_ = o.frame_;
   source_name_ = o.source_name_;
+  relocation_ = o.relocation_;
   limits_ = o.limits_;
   painter_ = o.painter_;
   failed_ = o.failed_;
@@ -161,7 +165,7 @@ void CompiledHost::fail_with_current(const ErrorSite* sites) {
   try {
     throw;
   } catch (const LocatedError& e) {
-    error_ = describe(source_name_, sites[e.site], e.what());
+    error_ = describe(source_name_, sites[e.site], e.what(), relocation_.get());
   } catch (const std::bad_alloc&) {
     error_ = diagnostic_prefix(source_name_, 0, 0, "runtime error") + "out of memory";
   } catch (const std::exception& e) {

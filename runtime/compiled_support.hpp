@@ -65,7 +65,8 @@ struct LocatedError : std::runtime_error {
 };
 [[noreturn]] inline void fail_at(int site, const std::string& msg) { throw LocatedError(site, msg); }
 // "path:line:col: runtime error: message[ (inside <stdlib>:l:c)]", as the interpreter says it.
-std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg);
+std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg,
+                     const Relocation* moved = nullptr);
 
 struct Unit {};  // the C++ value of a function or type: they exist only at compile time
 
@@ -622,6 +623,7 @@ class CompiledHost : public Environment {
   bool failed() const override { return failed_; }
   const std::string& error() const override { return error_; }
   void set_source_name(const std::string& path) override;
+  void set_relocation(std::shared_ptr<const Relocation> r) override { relocation_ = std::move(r); }
   // Specialised code enforces the list-length, objects and state-cells budgets,
   // the calls budget as loop elements (charge_loop), and the fixed limits; the
   // per-step created-cells budget is the interpreter's alone (docs/design.md, "Limits").
@@ -644,6 +646,7 @@ class CompiledHost : public Environment {
   bool failed_ = true;
   std::string error_ = "not started";
   std::string source_name_;  // the program's path, once the host names it
+  std::shared_ptr<const Relocation> relocation_;  // where the program's locations moved (null: nowhere)
   Limits limits_;            // applied at each reset (Core's limits)
 };
 

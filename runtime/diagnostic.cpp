@@ -2,6 +2,8 @@
 // compiled module calls them only on its error paths.
 #include "runtime/diagnostic.hpp"
 
+#include <algorithm>
+
 namespace autumn {
 
 std::string diagnostic_place(const std::string& file, int line, int col) {
@@ -81,6 +83,14 @@ std::string shown_type(std::string_view t) {
   }
   if (t == "AutumnFunc") return "Function";
   return std::string(t);
+}
+
+std::pair<int, int> Relocation::at(int line, int col) const {
+  auto it = std::lower_bound(moves.begin(), moves.end(), std::make_pair(line, col), [](const Move& m, std::pair<int, int> k) {
+    return std::make_pair(m.from_line, m.from_col) < k;
+  });
+  if (it == moves.end() || it->from_line != line || it->from_col != col) return {line, col};
+  return {it->to_line, it->to_col};
 }
 
 }  // namespace autumn

@@ -11,10 +11,26 @@
 //                                      such as cacheRendered, broke a limit)
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace autumn {
+
+// Where a program's locations move when a module built from one layout of a
+// program serves another with the same tree (harness/module_key: relocation_between):
+// the engines report errors at the moved locations, relocated as data when the
+// message is made, never by rewriting its text.
+struct Relocation {
+  struct Move {
+    int32_t from_line, from_col, to_line, to_col;
+  };
+  std::vector<Move> moves;  // sorted by (from_line, from_col)
+  // (line, col) moved, or unchanged when the map does not have it.
+  std::pair<int, int> at(int line, int col) const;
+};
 
 // The place alone: "prog.au:12:5", or "prog.au" for line 0.
 std::string diagnostic_place(const std::string& file, int line, int col);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "runtime/action.hpp"
+#include "runtime/diagnostic.hpp"
 #include "runtime/frame.hpp"
 #include "runtime/limits.hpp"
 #include "runtime/module_abi.h"
@@ -107,6 +108,9 @@ class Environment {
   }
   // The program's path for error messages ("path:line:col: runtime error: ...").
   virtual void set_source_name(const std::string& path) { (void)path; }
+  // Program locations in error messages moved by `r` (runtime/diagnostic.hpp);
+  // for a module that serves a text other than the one it was built from.
+  virtual void set_relocation(std::shared_ptr<const Relocation> r) { (void)r; }
   // The episode's budget (runtime/limits.hpp), from the next reset() on; clones
   // keep it. Engines that do not enforce a limit ignore it.
   virtual void set_limits(const Limits& limits) { (void)limits; }

@@ -17,7 +17,7 @@
 extern "C" {
 #endif
 
-#define AUTUMN_MODULE_ABI_VERSION 7u
+#define AUTUMN_MODULE_ABI_VERSION 8u
 
 typedef struct autumn_env autumn_env; /* opaque */
 
@@ -87,6 +87,10 @@ typedef struct autumn_module_v1 {
    * owned by the module until the next call on the handle; NULL when there is none. */
   int (*record_render)(autumn_env*, int on);
   const char* (*render_json)(autumn_env*);
+  /* v8: where the program's locations moved (runtime/diagnostic.hpp, Relocation):
+   * `count` moves of four ints (from line, from col, to line, to col), sorted by
+   * their first two; copied. Error messages name the moved locations. */
+  void (*set_relocation)(autumn_env*, const int32_t* moves, uint64_t count);
 } autumn_module_v1;
 
 typedef const autumn_module_v1* (*autumn_module_entry_fn)(void);

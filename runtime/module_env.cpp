@@ -16,9 +16,13 @@ ModuleEnvironment::~ModuleEnvironment() {
   if (handle_) table_->destroy(handle_);
 }
 
-std::string ModuleEnvironment::module_error() const {
-  std::string e = table_->error(handle_);
-  return rewriter_ ? (*rewriter_)(e) : e;
+std::string ModuleEnvironment::module_error() const { return table_->error(handle_); }
+
+void ModuleEnvironment::set_relocation(std::shared_ptr<const Relocation> r) {
+  std::vector<int32_t> flat;
+  if (r)
+    for (const Relocation::Move& m : r->moves) flat.insert(flat.end(), {m.from_line, m.from_col, m.to_line, m.to_col});
+  table_->set_relocation(handle_, flat.data(), flat.size() / 4);
 }
 
 bool ModuleEnvironment::sync(int ok) {
@@ -108,7 +112,6 @@ void ModuleEnvironment::set_limits(const Limits& l) {
 std::unique_ptr<Environment> ModuleEnvironment::clone() const {
   auto copy = std::unique_ptr<ModuleEnvironment>(
       new ModuleEnvironment(table_, keepalive_, table_->clone(handle_)));
-  copy->rewriter_ = rewriter_;
   copy->palette_ = palette_;
   copy->remap_ = remap_;
   copy->remap_identity_ = remap_identity_;
@@ -130,7 +133,6 @@ bool ModuleEnvironment::copy_from(const Environment& other) {
   // again on demand. Comparing first keeps the shared count untouched in the
   // usual case, where every copy descends from one root.
   if (palette_ != o->palette_) palette_ = o->palette_;
-  if (rewriter_ != o->rewriter_) rewriter_ = o->rewriter_;
   if (remap_ != o->remap_) {
     remap_ = o->remap_;
     remap_identity_ = o->remap_identity_;

@@ -22,11 +22,10 @@ class ModuleEnvironment : public Environment {
   ~ModuleEnvironment() override;
   void set_source_name(const std::string& path) override;
   void set_limits(const Limits& limits) override;
-  // Applied to every error message the module reports: a module can serve a text
-  // that differs from the one it was built from only in layout and comments, and
-  // then names locations of the other text (harness/module_key.hpp).
-  using ErrorRewriter = std::function<std::string(const std::string&)>;
-  void set_error_rewriter(std::shared_ptr<const ErrorRewriter> rewriter) { rewriter_ = std::move(rewriter); }
+  // A module can serve a text that differs from the one it was built from only
+  // in layout and comments (harness/module_key.hpp): the module moves its
+  // program locations by `r` when it makes a message.
+  void set_relocation(std::shared_ptr<const Relocation> r) override;
   ModuleEnvironment(const ModuleEnvironment&) = delete;
   ModuleEnvironment& operator=(const ModuleEnvironment&) = delete;
 
@@ -68,7 +67,6 @@ class ModuleEnvironment : public Environment {
 
   const autumn_module_v1* table_;
   std::shared_ptr<void> keepalive_;
-  std::shared_ptr<const ErrorRewriter> rewriter_;
   autumn_env* handle_;
   mutable std::shared_ptr<Palette> palette_;  // copy-on-write between clones
   mutable std::vector<uint16_t> remap_;  // module palette id -> host palette id (kUnnamed: not yet shown)

@@ -73,6 +73,12 @@ autumn_module_v1 module_table(const char* name, uint64_t source_hash, autumn_env
     auto* e = reinterpret_cast<ExportedEnv*>(h);
     return e->env->render_json(&e->json) ? e->json.c_str() : nullptr;
   };
+  t.set_relocation = [](autumn_env* h, const int32_t* moves, uint64_t count) {
+    auto r = std::make_shared<Relocation>();
+    for (uint64_t i = 0; i < count; ++i)
+      r->moves.push_back({moves[4 * i], moves[4 * i + 1], moves[4 * i + 2], moves[4 * i + 3]});
+    env(h).set_relocation(count ? std::move(r) : nullptr);
+  };
   return t;
 }
 

@@ -268,10 +268,13 @@ TEST(ModuleKey, CommentsAndLayoutDoNotCount) {
   EXPECT_NE(canonical_program_hash("(\"a b\")", std::nullopt), canonical_program_hash("(\"a\" \"b\")", std::nullopt));
   EXPECT_FALSE(canonical_program_hash("(unclosed", std::nullopt));
 
-  LocationMap map(a, b);
-  EXPECT_EQ(map.rewrite("p.au:3:3: runtime error: boom", "p.au"), "p.au:5:2: runtime error: boom");
-  EXPECT_EQ(map.rewrite("<stdlib>:3:3: runtime error: boom", "p.au"), "<stdlib>:3:3: runtime error: boom");
-  EXPECT_EQ(map.rewrite("p.au:9:9: runtime error: boom", "p.au"), "p.au:9:9: runtime error: boom");
+  auto moved = relocation_between(a, b);
+  ASSERT_TRUE(moved);
+  EXPECT_EQ(moved->at(3, 3), std::make_pair(5, 2));  // (= x 1): line 3 of a, line 5 of b
+  EXPECT_EQ(moved->at(2, 6), std::make_pair(2, 13));  // GRID_SIZE
+  EXPECT_EQ(moved->at(9, 9), std::make_pair(9, 9));  // no node there: unchanged
+  EXPECT_FALSE(relocation_between(a, a));
+  EXPECT_FALSE(relocation_between(a, "(unclosed"));
 }
 
 // A source that becomes ready after `wait` polls and hands out `make()`.

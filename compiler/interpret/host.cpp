@@ -252,6 +252,7 @@ int Interpreter::covered_on_clause_count() const {
 
 std::string Interpreter::describe(const RuntimeError& e) const {
   SourceLoc at = e.in_program ? e.program_loc : e.loc;
+  if (at.source == SourceId::Program && relocation_) std::tie(at.line, at.col) = relocation_->at(at.line, at.col);
   const std::string& file =
       at.source == SourceId::Program && !source_name_.empty() ? source_name_ : program_->file_name(at.source);
   std::string msg = format_diagnostic(file, at, "runtime error", e.what());

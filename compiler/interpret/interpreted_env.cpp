@@ -47,6 +47,11 @@ void InterpretedEnvironment::set_source_name(const std::string& path) {
   if (interp_) interp_->set_source_name(path);
 }
 
+void InterpretedEnvironment::set_relocation(std::shared_ptr<const Relocation> r) {
+  relocation_ = std::move(r);
+  if (interp_) interp_->set_relocation(relocation_);
+}
+
 void InterpretedEnvironment::set_limits(const Limits& limits) {
   limits_ = limits;
   if (interp_) interp_->set_limits(limits);
@@ -55,6 +60,7 @@ void InterpretedEnvironment::set_limits(const Limits& limits) {
 bool InterpretedEnvironment::reset(uint64_t seed) {
   interp_ = std::make_unique<interp::Interpreter>(program_);
   interp_->set_source_name(source_name_);
+  interp_->set_relocation(relocation_);
   interp_->set_limits(limits_);
   interp_->rng().set_script(script_);
   failed_ = false;
@@ -72,6 +78,7 @@ std::unique_ptr<Environment> InterpretedEnvironment::clone() const {
   auto copy = std::make_unique<InterpretedEnvironment>(program_);
   if (interp_ && !failed_) copy->interp_ = interp_->clone();  // a failed state may be half-updated
   copy->source_name_ = source_name_;
+  copy->relocation_ = relocation_;
   copy->limits_ = limits_;
   copy->palette_ = palette_;
   copy->frame_ = frame_;

@@ -45,6 +45,7 @@ class InterpretedEnvironment : public Environment {
     return true;
   }
   void set_source_name(const std::string& path) override;
+  void set_relocation(std::shared_ptr<const Relocation> r) override;
   void set_limits(const Limits& limits) override;
 
  private:
@@ -56,6 +57,7 @@ class InterpretedEnvironment : public Environment {
   std::shared_ptr<const Program> program_;
   std::unique_ptr<interp::Interpreter> interp_;
   std::string source_name_;  // empty: the program's own file name
+  std::shared_ptr<const Relocation> relocation_;
   Limits limits_;
   autumn_draw_script* script_ = nullptr;  // given to every interpreter reset() makes; clones start without
   std::vector<interp::RenderedCell> cells_;

@@ -39,6 +39,7 @@
 #include "compiler/interpret/scope.hpp"
 #include "compiler/interpret/value.hpp"
 #include "runtime/action.hpp"
+#include "runtime/diagnostic.hpp"
 #include "runtime/hash_order.hpp"
 #include "runtime/limits.hpp"
 #include "runtime/rng.hpp"
@@ -90,6 +91,7 @@ class Interpreter {
   // The path named for the program's own locations in describe() (a compiled
   // module knows only its text; the host names the file).
   void set_source_name(std::string path) { source_name_ = std::move(path); }
+  void set_relocation(std::shared_ptr<const Relocation> r) { relocation_ = std::move(r); }
   void set_limits(const Limits& l) { limits_ = limits::normalised(l); }
   const Limits& limits() const { return limits_; }
   // A deep copy sharing nothing mutable with this one (safe to use on another
@@ -228,6 +230,7 @@ class Interpreter {
   std::shared_ptr<const Program> program_;
   const WellKnownNames& names_;
   std::string source_name_;  // empty: the program's own file name
+  std::shared_ptr<const Relocation> relocation_;  // where the program's locations moved (null: nowhere)
   Limits limits_;
   int64_t eval_depth_ = 0, call_depth_ = 0, value_depth_ = 0;
   // The eval() frames running now, outermost first: pushed on entry, popped on

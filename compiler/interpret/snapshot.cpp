@@ -150,6 +150,7 @@ Interpreter::Interpreter(const Interpreter& o, CopyOnly)
     : program_(o.program_),
       names_(o.names_),
       source_name_(o.source_name_),
+      relocation_(o.relocation_),
       limits_(o.limits_),
       rng_(o.rng_),
       id_counter_(o.id_counter_) {
