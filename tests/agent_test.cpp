@@ -56,26 +56,7 @@ fs::path ice_dir() { return autumn::testing::shared_dir() / "tasks" / "autumnben
   if (!fs::exists(ice_dir() / "prompts" / "ice_mfp.json"))                                         \
   GTEST_SKIP() << "SKIPPED LOUDLY: no AutumnBench example tasks at " << ice_dir()
 
-// Scratch folders are per process (ctest may run test binaries side by side) and
-// removed when the test program ends.
-fs::path scratch_root() { return fs::temp_directory_path() / ("autumn_agent_test_" + std::to_string(getpid())); }
-
-fs::path scratch(const std::string& name) {
-  fs::path d = scratch_root() / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-class ScratchCleanup : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(scratch_root(), ec);
-  }
-};
-[[maybe_unused]] ::testing::Environment* const scratch_cleanup =
-    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+fs::path scratch(const std::string& name) { return testing::scratch_dir("agent", name); }
 
 SolveOptions small(uint64_t rollouts = 200) {
   SolveOptions o;

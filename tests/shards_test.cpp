@@ -25,22 +25,7 @@ using nlohmann::json;
 using testing::CliResult;
 using testing::run_cli;
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("autumn_shards_test_" + std::to_string(getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-class ScratchCleanup : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(fs::temp_directory_path() / ("autumn_shards_test_" + std::to_string(getpid())), ec);
-  }
-};
-[[maybe_unused]] ::testing::Environment* const scratch_cleanup =
-    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+fs::path scratch(const std::string& name) { return testing::scratch_dir("shards", name); }
 
 std::string program(const std::string& name) { return (testing::source_dir() / "programs" / name).string(); }
 json read_json(const fs::path& p) { return json::parse(testing::read_text(p)); }

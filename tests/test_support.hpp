@@ -4,7 +4,9 @@
 // checkout; AUTUMN_SHARED_DIR overrides that. Tests that need it skip loudly
 // when it is absent.
 #pragma once
+#include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -23,6 +25,28 @@ inline std::filesystem::path source_dir() { return AUTUMN_SOURCE_DIR; }
 inline std::filesystem::path shared_dir() {
   if (const char* d = std::getenv("AUTUMN_SHARED_DIR")) return d;
   return source_dir() / ".." / "shared";
+}
+
+// Scratch folders: per process (ctest runs test processes side by side), under
+// <tmp>/autumn_tests_<pid>, all removed when the test program ends.
+inline std::filesystem::path scratch_root() {
+  return std::filesystem::temp_directory_path() / ("autumn_tests_" + std::to_string(getpid()));
+}
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    std::filesystem::remove_all(scratch_root(), ec);
+  }
+};
+inline ::testing::Environment* const scratch_cleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+// A fresh, empty folder <suite>/<name> under scratch_root().
+inline std::filesystem::path scratch_dir(const std::string& suite, const std::string& name) {
+  const std::filesystem::path d = scratch_root() / suite / name;
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
 }
 
 inline std::string read_text(const std::filesystem::path& p) {
