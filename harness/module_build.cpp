@@ -79,12 +79,22 @@ namespace {
 // one, or else waits on one chosen by pid. The lock is held by the shell and the
 // compiler it starts, and ends with them (a killed compile frees its slot).
 // Without flock(1) compiles are not limited.
+//
+// Then the entry's lock, mKEY.lock ($9), held to the end: processes that share
+// a cache build each module once. A script that had to wait for it finds the
+// module another process built meanwhile (its library and manifest newer than
+// this script's source file) and exits 3 without compiling. The entry is locked
+// only once a slot is held, so no process holds an entry it is not building
+// while it waits for a slot (it would keep every other process from a module
+// it has not begun).
 constexpr const char* kSlotScript =
     "umask 077; if command -v flock >/dev/null 2>&1; then i=0; got=; "
     "while [ $i -lt @SLOTS@ ]; do exec 9>\"$8.$i\" && flock -n 9 && { got=1; break; }; i=$((i+1)); done; "
-    "[ -n \"$got\" ] || { exec 9>\"$8.$(($$ % @SLOTS@))\" && flock 9; }; fi; ";
+    "[ -n \"$got\" ] || { exec 9>\"$8.$(($$ % @SLOTS@))\" && flock 9; }; "
+    "exec 8>\"$9\" && { flock -n 8 || { flock 8 && [ \"$3\" -nt \"$1\" ] && [ \"$7\" -nt \"$1\" ] && "
+    "{ rm -f \"$1\"; exit 3; }; }; }; fi; ";
 
-// sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST SLOTS: take a slot, compile, make
+// sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST SLOTS LOCK: take a slot and the entry, compile, make
 // the library 0600 (the linker makes it executable; it is only ever read), digest
 // it into its manifest, rename both into place (-T: never into a directory
 // standing in their place), clean up. The manifest
@@ -165,7 +175,7 @@ CompileOutcome compile_module(const std::string& source, const fs::path& so, con
   }
   pid_t pid = spawn_compile({"sh", "-c", script(), "sh", cpp.string(), tmp.string(), so.string(), log.string(),
                              manifest_head, manifest_tmp.string(), manifest.string(),
-                             (so.parent_path() / "compile-slot").string()});
+                             (so.parent_path() / "compile-slot").string(), store::entry_lock_path(so).string()});
   started();
   if (pid < 0) {
     out.output = std::string("cannot start the C++ compiler: ") + std::strerror(errno);
@@ -174,7 +184,8 @@ CompileOutcome compile_module(const std::string& source, const fs::path& so, con
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
-  out.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  out.built_elsewhere = WIFEXITED(status) && WEXITSTATUS(status) == 3;
+  out.ok = WIFEXITED(status) && (WEXITSTATUS(status) == 0 || out.built_elsewhere);
   out.output = read_log(log);
   std::error_code ec;
   fs::remove(log, ec);

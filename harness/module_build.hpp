@@ -25,6 +25,7 @@ struct CompileOutcome {
   bool ok = false;
   std::string output;       // the compiler's messages (first few thousand characters)
   std::string store_error;  // set when the cache could not be written (ENOSPC, EACCES), not the compiler's fault
+  bool built_elsewhere = false;  // another process built the entry while this one waited for it: not compiled
 };
 
 // Compiles `source` into the shared library `so` and writes its manifest

@@ -268,20 +268,10 @@ CompileOutcome compile_both_ways(const Program& p, const Entry& e, const std::st
   return c;
 }
 
-ModulePtr cached_module(const Entry& e, const Program& p);
-
 // Writes the program text beside the entry, compiles, then loads the entry
-// through the same checks as any other; under the entry's lock, so that when
-// another process was building it, its build is used instead.
+// through the same checks as any other. The compile script holds the entry's
+// lock (module_build): when another process was building it, its build is used.
 ModulePtr build(std::shared_ptr<const Program> p, Entry e, EmitGuard& guard) {
-  const store::EntryLock lock(e.so);  // another process building this module: wait, then use its build
-  if (lock.waited()) {
-    if (ModulePtr m = cached_module(e, *p)) {
-      auto theirs = std::make_shared<Module>(*m);
-      theirs->built_elsewhere = true;
-      return theirs;
-    }
-  }
   const auto trigger = trigger_of(*p);
   const std::string tag = std::to_string(getpid()) + "-" + hex(std::hash<std::thread::id>()(std::this_thread::get_id()));
   const std::string program = program_digest(p->file.text, trigger);
@@ -293,6 +283,13 @@ ModulePtr build(std::shared_ptr<const Program> p, Entry e, EmitGuard& guard) {
   if (!c.ok && std::getenv("AUTUMN_STRICT_MODULES"))
     return refused("the specialised module for " + p->file.name + " did not compile:\n" + c.output);
   if (!c.ok) return refused("the C++ compiler failed on the module for " + p->file.name + ":\n" + c.output);
+  if (c.built_elsewhere) {  // another process built it while this one waited for the entry
+    ModulePtr theirs = load_entry(e, trigger);
+    if (!theirs->table) return refused("the module another process built for " + p->file.name + " was refused: " + theirs->why);
+    auto m = std::make_shared<Module>(*theirs);
+    m->built_elsewhere = true;
+    return m;
+  }
   return load_entry(e, trigger);
 }
 

@@ -7,7 +7,6 @@
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <stdlib.h>
-#include <sys/file.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -179,21 +178,10 @@ void clean_stale_temporaries(const fs::path& dir, long seconds) {
   }
 }
 
-EntryLock::EntryLock(const fs::path& so) {
+fs::path entry_lock_path(const fs::path& so) {
   fs::path lock = so;
   lock.replace_extension(".lock");
-  fd_ = open(lock.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0600);
-  if (fd_ < 0) return;
-  if (flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
-  waited_ = true;
-  int r;
-  while ((r = flock(fd_, LOCK_EX)) != 0 && errno == EINTR) {
-  }
-  if (r != 0) close(fd_), fd_ = -1, waited_ = false;  // cannot lock here: build unlocked
-}
-
-EntryLock::~EntryLock() {
-  if (fd_ >= 0) close(fd_);  // releases the lock
+  return lock;
 }
 
 std::string write_new_file(const fs::path& path, std::string_view bytes) {

@@ -52,24 +52,11 @@ std::string read_private_file(const fs::path& path, size_t limit, std::string* b
 // (names ENOSPC or EACCES when a compile failed without a word).
 std::string probe_write(const fs::path& dir, size_t bytes);
 
-// An exclusive lock on one entry, held while it is built, so that processes
-// sharing a cache build each module once: a second process asking for the same
-// module waits, then finds it built (waited() says it had to). The lock is
-// flock(2) on mKEY.lock (0600, never through a link), released when the object
-// ends or the process dies; where locking is not possible the build goes ahead
-// unlocked, as before.
-class EntryLock {
- public:
-  explicit EntryLock(const fs::path& so);
-  ~EntryLock();
-  EntryLock(const EntryLock&) = delete;
-  EntryLock& operator=(const EntryLock&) = delete;
-  bool waited() const { return waited_; }
+// The lock file of an entry, mKEY.lock: held by the compile script while it
+// builds the entry (harness/module_build), so that processes sharing a cache
+// build each module once.
+fs::path entry_lock_path(const fs::path& so);
 
- private:
-  int fd_ = -1;
-  bool waited_ = false;
-};
 
 struct Manifest {
   unsigned abi = 0;
