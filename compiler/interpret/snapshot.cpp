@@ -210,81 +210,101 @@ static uint64_t expr_hash(const Expr& e) {
   return h;
 }
 
-uint64_t Interpreter::state_hash() {
-  Hasher hs;
-  // Pre-order over a work list: a task mixes a constant or visits a value, whose
-  // children are pushed in reverse so that they are visited in order.
-  struct Task {
+namespace {
+
+// The walk of one state: pre-order over a work list, where an item mixes a
+// constant or visits a value whose children are pushed in reverse (so that they
+// are visited in order).
+class StateWalk {
+ public:
+  explicit StateWalk(std::function<const std::string&(TypeObj*)> type_name) : type_name_(std::move(type_name)) {}
+  Hasher& hasher() { return hs_; }
+
+  void value(const Value& root) {
+    work_.push_back({&root, 0});
+    while (!work_.empty()) {
+      Item t = work_.back();
+      work_.pop_back();
+      if (t.v) visit(*t.v);
+      else hs_.mix(t.constant);
+    }
+  }
+
+ private:
+  struct Item {
     const Value* v;
     uint64_t constant;
   };
-  std::vector<Task> work;
-  auto push_all = [&](const std::vector<Value>& vs) {
-    for (auto it = vs.rbegin(); it != vs.rend(); ++it) work.push_back({&*it, 0});
-  };
-  auto visit = [&](const Value& v) {
-    hs.mix(static_cast<uint64_t>(v.kind));
+
+  void push_all(const std::vector<Value>& vs) {
+    for (auto it = vs.rbegin(); it != vs.rend(); ++it) work_.push_back({&*it, 0});
+  }
+
+  void visit(const Value& v) {
+    hs_.mix(static_cast<uint64_t>(v.kind));
     switch (v.kind) {
       case VKind::Number:
-      case VKind::Bool: hs.mix(static_cast<uint32_t>(v.num)); return;
-      case VKind::String: hs.mix_str(*v.str); return;
-      case VKind::List: {
-        ListObj* l = v.as<ListObj>();
-        hs.mix_id(l->id);
-        if (!hs.first_visit(l)) return;
-        try {
-          hs.mix_str(type_string(l->tag.get()));
-        } catch (const RuntimeError&) {
-          hs.mix(1);
-        }
-        hs.mix(l->items.size());
-        push_all(l->items);
-        return;
-      }
-      case VKind::Instance: {
-        InstanceObj* in = v.as<InstanceObj>();
-        hs.mix_id(in->id);
-        if (!hs.first_visit(in)) return;
-        hs.mix_str(in->cls->name);
-        push_all(in->fields);
-        return;
-      }
-      case VKind::Function: {
-        FuncObj* f = v.as<FuncObj>();
-        hs.mix_id(f->id);
-        hs.mix(static_cast<uint64_t>(f->kind) * 131 + static_cast<uint64_t>(f->builtin));
-        hs.mix(reinterpret_cast<uintptr_t>(f->lambda));
-        if (f->cls) hs.mix_str(f->cls->name);
-        return;
-      }
-      case VKind::Deferred: {
-        DeferredObj* d = v.as<DeferredObj>();
-        hs.mix_id(d->id);
-        if (!hs.first_visit(d)) return;
-        hs.mix(expr_hash(*d->expr));
-        if (d->env && hs.first_visit(d->env.get()))
-          for (auto b = d->env->vars.rbegin(); b != d->env->vars.rend(); ++b) {
-            work.push_back({&b->value, 0});
-            work.push_back({nullptr, static_cast<uint64_t>(b->sym)});
-          }
-        return;
-      }
+      case VKind::Bool: return hs_.mix(static_cast<uint32_t>(v.num));
+      case VKind::String: return hs_.mix_str(*v.str);
+      case VKind::List: return list(v.as<ListObj>());
+      case VKind::Instance: return instance(v.as<InstanceObj>());
+      case VKind::Function: return function(v.as<FuncObj>());
+      case VKind::Deferred: return deferred(v.as<DeferredObj>());
       default: return;
     }
-  };
-  auto value = [&](const Value& root) {
-    work.push_back({&root, 0});
-    while (!work.empty()) {
-      Task t = work.back();
-      work.pop_back();
-      if (t.v) visit(*t.v);
-      else hs.mix(t.constant);
+  }
+
+  void list(ListObj* l) {
+    hs_.mix_id(l->id);
+    if (!hs_.first_visit(l)) return;
+    try {
+      hs_.mix_str(type_name_(l->tag.get()));
+    } catch (const RuntimeError&) {
+      hs_.mix(1);
     }
-  };
+    hs_.mix(l->items.size());
+    push_all(l->items);
+  }
+
+  void instance(InstanceObj* in) {
+    hs_.mix_id(in->id);
+    if (!hs_.first_visit(in)) return;
+    hs_.mix_str(in->cls->name);
+    push_all(in->fields);
+  }
+
+  void function(FuncObj* f) {
+    hs_.mix_id(f->id);
+    hs_.mix(static_cast<uint64_t>(f->kind) * 131 + static_cast<uint64_t>(f->builtin));
+    hs_.mix(reinterpret_cast<uintptr_t>(f->lambda));
+    if (f->cls) hs_.mix_str(f->cls->name);
+  }
+
+  void deferred(DeferredObj* d) {
+    hs_.mix_id(d->id);
+    if (!hs_.first_visit(d)) return;
+    hs_.mix(expr_hash(*d->expr));
+    if (d->env && hs_.first_visit(d->env.get()))
+      for (auto b = d->env->vars.rbegin(); b != d->env->vars.rend(); ++b) {
+        work_.push_back({&b->value, 0});
+        work_.push_back({nullptr, static_cast<uint64_t>(b->sym)});
+      }
+  }
+
+  Hasher hs_;
+  std::vector<Item> work_;
+  std::function<const std::string&(TypeObj*)> type_name_;
+};
+
+}  // namespace
+
+uint64_t Interpreter::state_hash() {
+  StateWalk walk([this](TypeObj* t) -> const std::string& { return type_string(t); });
+  Hasher& hs = walk.hasher();
   if (program_->uses_random) hs.mix(rng_.state());
   gorder_.for_each([&](int s) {
     hs.mix(static_cast<uint64_t>(s));
-    value(gvalues_[s]);
+    walk.value(gvalues_[s]);
   });
   for (Sym s : render_order()) hs.mix(static_cast<uint64_t>(s) + 0x5000);
   std::vector<int64_t> occ(occupied_.begin(), occupied_.end());
