@@ -326,6 +326,79 @@ const char* short_name(TaskType t) {
   return "?";
 }
 
+namespace {
+
+// The observations of a masked-frame-prediction task, and the masked rectangle:
+// the bounding box of the hidden cells of the final frame.
+void parse_observations(const json& j, const std::string& w, Task& t) {
+  const json& obs = field(j, "observations", w);
+  if (!obs.is_array() || obs.empty()) throw TaskError(w + ": \"observations\" must be a non-empty array");
+  for (size_t i = 0; i < obs.size(); ++i) {
+    std::string where = fmt::format("{}: observations[{}]", w, i);
+    if (!obs[i].is_object()) throw TaskError(where + ": expected an object");
+    Observation o;
+    if (i > 0) o.action = action_from_json(field(obs[i], "action", where), where + ".action");
+    o.grid = parse_grid(field(obs[i], "masked_grid", where), where + ".masked_grid", t.colours);
+    const Grid& first = i == 0 ? o.grid : t.observations[0].grid;
+    if (o.grid.width != o.grid.height)
+      throw TaskError(fmt::format("{}.masked_grid: grid is {}x{}, frames are square", where, o.grid.width,
+                                  o.grid.height));
+    if (o.grid.width != first.width)
+      throw TaskError(fmt::format("{}.masked_grid: grid is {}x{} but observation 0 is {}x{}", where, o.grid.width,
+                                  o.grid.height, first.width, first.height));
+    t.observations.push_back(std::move(o));
+  }
+  const Grid& last = t.observations.back().grid;
+  int x0 = last.width, y0 = last.height, x1 = -1, y1 = -1;
+  for (int y = 0; y < last.height; ++y)
+    for (int x = 0; x < last.width; ++x)
+      if (last.at(x, y) == 0) {
+        x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+      }
+  if (x1 < 0) throw TaskError(w + ": the final observation has no masked cells");
+  t.masked = {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+}
+
+// The choices (each the masked rectangle's size) and the answer, if given.
+void parse_choices(const json& j, const std::string& w, Task& t) {
+  const json& choices = field(j, "choices", w);
+  if (!choices.is_array() || choices.size() < 2) throw TaskError(w + ": \"choices\" must be an array of at least two grids");
+  for (size_t i = 0; i < choices.size(); ++i) {
+    std::string where = fmt::format("{}: choices[{}]", w, i);
+    Grid g = parse_grid(choices[i], where, t.colours);
+    if (g.width != t.masked.w || g.height != t.masked.h)
+      throw TaskError(fmt::format("{}: choice is {}x{} (width x height) but the masked region is {}x{}", where,
+                                  g.width, g.height, t.masked.w, t.masked.h));
+    t.choices.push_back(std::move(g));
+  }
+  for (const char* key : {"answer", "correct_idx"}) {
+    auto it = j.find(key);
+    if (it == j.end()) continue;
+    if (!it->is_number_integer() || it->get<int64_t>() < 0 || it->get<int64_t>() >= static_cast<int64_t>(t.choices.size()))
+      throw TaskError(fmt::format("{}: \"{}\" must be a choice index", w, key));
+    t.answer = it->get<int>();
+    break;
+  }
+}
+
+// A planning task's goal, its mask and the reference plan, if given.
+void parse_goal(const json& j, const std::string& w, Task& t) {
+  t.goal = parse_grid(field(j, "goal", w), w + ": goal", t.colours);
+  t.mask = parse_grid(field(j, "mask", w), w + ": mask", t.colours, /*binary=*/true);
+  if (t.goal.width != t.goal.height)
+    throw TaskError(fmt::format("{}: goal is {}x{}, frames are square", w, t.goal.width, t.goal.height));
+  if (t.mask.width != t.goal.width || t.mask.height != t.goal.height)
+    throw TaskError(fmt::format("{}: mask is {}x{} but goal is {}x{}", w, t.mask.width, t.mask.height, t.goal.width,
+                                t.goal.height));
+  if (auto it = j.find("reference_plan"); it != j.end()) {
+    if (!it->is_array()) throw TaskError(w + ": \"reference_plan\" must be an array of actions");
+    for (size_t i = 0; i < it->size(); ++i)
+      t.reference_plan.push_back(action_from_json((*it)[i], fmt::format("{}: reference_plan[{}]", w, i)));
+  }
+}
+
+}  // namespace
+
 Task parse_task(const json& j, const fs::path& file, ColourTable colours) {
   const std::string w = file.filename().string();
   if (!j.is_object()) throw TaskError(w + ": a task file is a JSON object");
@@ -343,68 +416,13 @@ Task parse_task(const json& j, const fs::path& file, ColourTable colours) {
     if (!it->is_number_unsigned()) throw TaskError(w + ": field \"seed\" must be a non-negative integer");
     t.env_seed = it->get<uint64_t>();
   }
-
-  if (t.type == TaskType::MaskedFramePrediction) {
-    const json& obs = field(j, "observations", w);
-    if (!obs.is_array() || obs.empty()) throw TaskError(w + ": \"observations\" must be a non-empty array");
-    for (size_t i = 0; i < obs.size(); ++i) {
-      std::string where = fmt::format("{}: observations[{}]", w, i);
-      if (!obs[i].is_object()) throw TaskError(where + ": expected an object");
-      Observation o;
-      if (i > 0) o.action = action_from_json(field(obs[i], "action", where), where + ".action");
-      o.grid = parse_grid(field(obs[i], "masked_grid", where), where + ".masked_grid", t.colours);
-      const Grid& first = i == 0 ? o.grid : t.observations[0].grid;
-      if (o.grid.width != o.grid.height)
-        throw TaskError(fmt::format("{}.masked_grid: grid is {}x{}, frames are square", where, o.grid.width,
-                                    o.grid.height));
-      if (o.grid.width != first.width)
-        throw TaskError(fmt::format("{}.masked_grid: grid is {}x{} but observation 0 is {}x{}", where, o.grid.width,
-                                    o.grid.height, first.width, first.height));
-      t.observations.push_back(std::move(o));
-    }
-    // The masked rectangle: bounding box of the hidden cells of the final frame.
-    const Grid& last = t.observations.back().grid;
-    int x0 = last.width, y0 = last.height, x1 = -1, y1 = -1;
-    for (int y = 0; y < last.height; ++y)
-      for (int x = 0; x < last.width; ++x)
-        if (last.at(x, y) == 0) {
-          x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
-        }
-    if (x1 < 0) throw TaskError(w + ": the final observation has no masked cells");
-    t.masked = {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
-    const json& choices = field(j, "choices", w);
-    if (!choices.is_array() || choices.size() < 2) throw TaskError(w + ": \"choices\" must be an array of at least two grids");
-    for (size_t i = 0; i < choices.size(); ++i) {
-      std::string where = fmt::format("{}: choices[{}]", w, i);
-      Grid g = parse_grid(choices[i], where, t.colours);
-      if (g.width != t.masked.w || g.height != t.masked.h)
-        throw TaskError(fmt::format("{}: choice is {}x{} (width x height) but the masked region is {}x{}", where,
-                                    g.width, g.height, t.masked.w, t.masked.h));
-      t.choices.push_back(std::move(g));
-    }
-    for (const char* key : {"answer", "correct_idx"}) {
-      auto it = j.find(key);
-      if (it == j.end()) continue;
-      if (!it->is_number_integer() || it->get<int64_t>() < 0 || it->get<int64_t>() >= static_cast<int64_t>(t.choices.size()))
-        throw TaskError(fmt::format("{}: \"{}\" must be a choice index", w, key));
-      t.answer = it->get<int>();
+  switch (t.type) {
+    case TaskType::MaskedFramePrediction:
+      parse_observations(j, w, t);
+      parse_choices(j, w, t);
       break;
-    }
-  } else if (t.type == TaskType::ChangeDetection) {
-    t.wrong_program = string_field(j, "wrong_program", w);
-  } else {
-    t.goal = parse_grid(field(j, "goal", w), w + ": goal", t.colours);
-    t.mask = parse_grid(field(j, "mask", w), w + ": mask", t.colours, /*binary=*/true);
-    if (t.goal.width != t.goal.height)
-      throw TaskError(fmt::format("{}: goal is {}x{}, frames are square", w, t.goal.width, t.goal.height));
-    if (t.mask.width != t.goal.width || t.mask.height != t.goal.height)
-      throw TaskError(fmt::format("{}: mask is {}x{} but goal is {}x{}", w, t.mask.width, t.mask.height, t.goal.width,
-                                  t.goal.height));
-    if (auto it = j.find("reference_plan"); it != j.end()) {
-      if (!it->is_array()) throw TaskError(w + ": \"reference_plan\" must be an array of actions");
-      for (size_t i = 0; i < it->size(); ++i)
-        t.reference_plan.push_back(action_from_json((*it)[i], fmt::format("{}: reference_plan[{}]", w, i)));
-    }
+    case TaskType::ChangeDetection: t.wrong_program = string_field(j, "wrong_program", w); break;
+    case TaskType::Planning: parse_goal(j, w, t); break;
   }
   return t;
 }
