@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <sstream>
 #include <map>
 #include <set>
 #include <tuple>
@@ -578,6 +579,38 @@ TEST(AgentMakeTask, PlanningRoundTrip) {
     EXPECT_TRUE(c.shortest);
     EXPECT_EQ(c.plan.size(), r.plan.size()) << program;
     EXPECT_TRUE(replays_to_goal(task, c.plan)) << program;
+  }
+}
+
+// docs/design.md's table of the planner's stages is the code's (kAutoStages):
+// same rows, in the same order, with the same conditions, shares and roles.
+TEST(AgentPlanning, StagesTableIsTheDesignDocs) {
+  const std::string doc = testing::read_text(testing::source_dir() / "docs/design.md");
+  const size_t head = doc.find("| # | stage | when | share | role |");
+  ASSERT_NE(head, std::string::npos) << "docs/design.md has no table of the planner's stages";
+  std::istringstream lines(doc.substr(head));
+  std::string line;
+  std::getline(lines, line);
+  std::getline(lines, line);  // |---|
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(lines, line) && line.rfind("| ", 0) == 0) {
+    std::vector<std::string> cells;
+    std::istringstream in(line.substr(1));
+    for (std::string cell; std::getline(in, cell, '|');) {
+      const size_t a = cell.find_first_not_of(' '), b = cell.find_last_not_of(' ');
+      cells.push_back(a == std::string::npos ? "" : cell.substr(a, b - a + 1));
+    }
+    rows.push_back(cells);
+  }
+  const std::vector<PlanStageRow> stages = auto_plan_stages();
+  ASSERT_EQ(rows.size(), stages.size()) << "rows in docs/design.md against stages in kAutoStages";
+  for (size_t i = 0; i < stages.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), 5u) << line;
+    EXPECT_EQ(rows[i][0], std::to_string(i + 1));
+    EXPECT_EQ(rows[i][1], stages[i].name) << "row " << i + 1;
+    EXPECT_EQ(rows[i][2], stages[i].when) << "row " << i + 1;
+    EXPECT_NEAR(std::stod(rows[i][3]), stages[i].share, 1e-9) << "row " << i + 1;
+    EXPECT_EQ(rows[i][4], stages[i].role) << "row " << i + 1;
   }
 }
 

@@ -20,7 +20,7 @@ set(rules
   "^(Files/LoweringFile|EmitBytes|CompiledEngine)[./]|quick,compiled"
   "^Agent(Particles|ThreadPool|TaskFile|Score|ClickModel|Eval|CdPairs|MakeCd|DrawSearch|Choice)\\.|quick,agent"
   "^AgentIce\\.(MaskedFramePrediction|ChangeDetectionScores)$|quick,agent"
-  "^AgentPlanning\\.(Travel|LimitFraction|OnClones|Fill|LocalSearch|Shortening|Skeleton)|quick,agent"
+  "^AgentPlanning\\.(Travel|LimitFraction|OnClones|Fill|LocalSearch|Shortening|Skeleton|StagesTable)|quick,agent"
   "^(Engines/RandomBaseline|RandomBaselineMfp|RandomBaselineCli|PaperProtocol)[./]|quick,agent"
   "^(Cli|HonestOutput|Pictures|Shards|RenderAllJson)\\.|quick,cli"
   "^FirstRun\\.UnwritableCacheFallsBack$|quick,cli"

@@ -17,48 +17,89 @@ namespace autumn::agent {
 
 namespace {
 
-// The --search auto sequence (planning.hpp) over one PlanProblem; each stage
-// adds its figures to the result and returns true when it found the plan.
+// The planner over one PlanProblem: --search auto is the table kAutoStages
+// (planning.hpp gives each stage's account, docs/design.md prints the table);
+// the other modes run one stage with the whole budget. Each stage adds its
+// figures to the result and returns true when it found the plan.
 class Planner {
  public:
   Planner(PlanProblem& p, PlanResult& r) : p_(p), r_(r), moves_(p.opts().cost == "moves") {}
 
-  void run() {
-    const std::string& search = p_.opts().search;
-    if (search == "bfs") return void(full_bfs(1.0));
-    if (search == "paper") return void(paper_bfs());
-    if (search == "best-first") return void(best_first_stage(p_.actions(), "best-first"));
-    if (search == "fill") return void(fill_stage(p_.actions(), p_.actions(), 1.0, p_.opts().max_plan));
-    if (search == "local") {
-      if (positional()) focus_sets();
-      return void(local_stage(positional() ? near_or_reaching() : p_.actions(), 1.0));
-    }
-    if (search == "skeleton") {
-      if (positional()) focus_sets();
-      return void(skeleton_stage(positional() ? near_or_reaching() : p_.actions(), 1.0));
-    }
-    if (search == "beam") {
-      if (positional()) focus_sets();
-      const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
-      if (beam_stage(focus, "beam", 0.5) && !out_of_time()) horizon_stage(focus, "beam");
-      return;
-    }
-    reserve_ = static_cast<uint64_t>(static_cast<double>(p_.clock().node_budget()) * kLocalReserve);
-    if (full_bfs(positional() ? 0.1 : 0.5)) return;
-    if (positional() && focused_stages()) return;
-    const std::vector<Action> focus = positional() ? near_or_reaching() : p_.actions();
-    const std::string focus_name = positional() ? ", clicks near or reaching the changes" : "";
-    const bool fill = !moves_ && positional() && has_arrows();
-    bool got = fill && !out_of_time() && fill_stage(p_.actions(), focus, 0.25, 12);
-    if (!got && !moves_ && !out_of_time()) got = moves_stage();
-    if (!got && !out_of_time()) got = beam_stage(focus, "beam" + focus_name, 0.1);
-    if (!got && fill && !out_of_time()) got = fill_stage(focus, focus, 0.5, p_.opts().max_plan);
-    if (!got && !out_of_time()) got = local_stage(focus, 0.8, !fill);
-    if (!got && fill && !out_of_time()) got = skeleton_stage(focus, 0.8);
-    if (!got && positional() && !out_of_time()) got = best_first_stage(focus, "best-first" + focus_name);
-    if (!got && !out_of_time()) got = best_first_stage(p_.actions(), "best-first");
-    if (got && !moves_ && !r_.shortest && !out_of_time()) horizon_stage(focus, "beam" + focus_name);
+  void run();  // defined after the tables
+
+  // What a stage does once it has found a plan.
+  enum class Role {
+    Decisive,  // its plan ends the sequence
+    Search,    // the later Search stages are skipped; the Polish ones run
+    Polish,    // runs only once a plan is found, to improve it
+  };
+  struct Stage {
+    const char* name;
+    const char* when;  // `applies`, in words (the table in docs/design.md)
+    double share;      // of what is left when it starts (a stage may divide it further)
+    bool (Planner::*applies)() const;
+    bool (Planner::*run)(double share);
+    Role role;
+    bool checks_time;  // skipped once the time or the nodes are spent
+  };
+  static const Stage kAutoStages[];
+
+ private:
+  struct Mode {
+    const char* name;
+    void (Planner::*run)();
+  };
+  static const Mode kModes[];
+
+  void run_auto();
+
+  // The modes other than auto.
+  void mode_bfs() { full_bfs(1.0); }
+  void mode_paper() { paper_bfs(); }
+  void mode_best_first() { best_first_stage(p_.actions(), "best-first"); }
+  void mode_fill() { fill_stage(p_.actions(), p_.actions(), 1.0, p_.opts().max_plan); }
+  void mode_local() {
+    if (positional()) focus_sets();
+    local_stage(focus(), 1.0);
   }
+  void mode_skeleton() {
+    if (positional()) focus_sets();
+    skeleton_stage(focus(), 1.0);
+  }
+  void mode_beam() {
+    if (positional()) focus_sets();
+    if (beam_stage(focus(), "beam", 0.5) && !out_of_time()) horizon_stage(focus(), "beam");
+  }
+
+  // When the auto stages apply.
+  bool always() const { return true; }
+  bool not_positional() const { return !positional(); }
+  bool by_steps() const { return !moves_; }
+  // Cost steps, positional clicks and arrows: the fill and skeleton stages.
+  bool fills() const { return !moves_ && positional() && has_arrows(); }
+  bool unproven_by_steps() const { return !moves_ && !r_.shortest; }
+
+  // The auto stages, each on the share its row gives.
+  bool auto_bfs(double part) { return full_bfs(part); }
+  bool auto_focused(double part) { return focused_stages(part); }
+  bool auto_early_fill(double part) { return fill_stage(p_.actions(), focus(), part, 12); }
+  bool auto_moves(double part) { return moves_stage(part); }
+  bool auto_beam(double part) { return beam_stage(focus(), "beam" + focus_name(), part); }
+  bool auto_late_fill(double part) { return fill_stage(focus(), focus(), part, p_.opts().max_plan); }
+  bool auto_local(double part) { return local_stage(focus(), part, !fills()); }
+  bool auto_skeleton(double part) { return skeleton_stage(focus(), part); }
+  bool auto_best_first_near(double part) {
+    return best_first_stage(focus(), "best-first" + focus_name(), part);
+  }
+  bool auto_best_first(double part) { return best_first_stage(p_.actions(), "best-first", part); }
+  bool auto_horizon(double) {
+    horizon_stage(focus(), "beam" + focus_name());
+    return true;
+  }
+
+  // The actions the stages after the focused ones search, and how methods name them.
+  std::vector<Action> focus() const { return positional() ? near_or_reaching() : p_.actions(); }
+  std::string focus_name() const { return positional() ? ", clicks near or reaching the changes" : ""; }
 
  private:
   bool positional() const { return p_.inputs().clicks == ClickUse::Position && p_.actions().size() > 6; }
@@ -156,14 +197,14 @@ class Planner {
   }
 
   // Stage 2: BFS over focused click sets; proven when no cheaper plan can exist.
-  bool focused_stages() {
+  bool focused_stages(double part) {
     const std::vector<Action>& all = p_.actions();
     std::vector<std::vector<Action>> tried;
     for (const Focus& f : focus_sets()) {
       if (out_of_time()) break;
       if (f.actions.size() == all.size() || std::find(tried.begin(), tried.end(), f.actions) != tried.end()) continue;
       tried.push_back(f.actions);
-      BfsOutcome o = run_bfs(f.actions, moves_, share(1.0 / 8));
+      BfsOutcome o = run_bfs(f.actions, moves_, share(part));
       if (!o.found) continue;
       const bool proven = o.cost <= r_.proven_bound + 1;
       found(o.plan, std::string(moves_ ? "bfs by moves, " : "bfs, ") + f.what, proven);
@@ -176,9 +217,9 @@ class Planner {
   std::vector<Action> near_or_reaching() const { return unite(p_.actions(), reaching_, near1_); }  // hidden_ included
 
   // Stage 3 (cost steps): few moves and a long wait; the plan is then shortened in steps.
-  bool moves_stage() {
-    const std::vector<Action> actions = positional() ? near_or_reaching() : p_.actions();
-    BfsOutcome o = run_bfs(actions, true, share(0.5));
+  bool moves_stage(double part) {
+    const std::vector<Action> actions = focus();
+    BfsOutcome o = run_bfs(actions, true, share(part));
     if (!o.found) return false;
     found(o.plan, "bfs by moves, then shortened", false);
     shorten(actions);
@@ -215,7 +256,7 @@ class Planner {
     return true;
   }
 
-  bool best_first_stage(const std::vector<Action>& actions, const std::string& method) {
+  bool best_first_stage(const std::vector<Action>& actions, const std::string& method, double part = 1.0) {
     // Frame pruning first, then travel as the tie-break, then neither pruning nor travel.
     struct Pass {
       bool prune, travel;
@@ -226,7 +267,7 @@ class Planner {
     const Pass* used = nullptr;
     for (const Pass& pass : passes) {
       if (used && out_of_time()) break;
-      o = best_first(p_, actions, pass.prune, pass.travel, share(pass.part));
+      o = best_first(p_, actions, pass.prune, pass.travel, share(part * pass.part));
       add(o);
       used = &pass;
       if (o.found) break;
@@ -420,15 +461,59 @@ class Planner {
   uint64_t reserve_ = 0;
 };
 
-bool at_goal(const Task& task, const Environment& env) {
-  const TaskFrame f = task_frame(env.frame(), env.palette(), task.colours);
-  if (f.size() != task.mask.cells.size()) return false;
-  for (size_t i = 0; i < f.size(); ++i)
-    if (task.mask.cells[i] && task.goal.cells[i] != f[i]) return false;
-  return true;
+using R = Planner::Role;
+const Planner::Stage Planner::kAutoStages[] = {
+    {"bfs", "clicks told apart by position", 0.1, &Planner::positional, &Planner::auto_bfs, R::Decisive, false},
+    {"bfs", "otherwise", 0.5, &Planner::not_positional, &Planner::auto_bfs, R::Decisive, false},
+    {"focused bfs", "clicks told apart by position (each of five click sets)", 1.0 / 8, &Planner::positional,
+     &Planner::auto_focused, R::Decisive, false},
+    {"fill", "cost steps, positional clicks and arrows (horizons to 12)", 0.25, &Planner::fills,
+     &Planner::auto_early_fill, R::Search, true},
+    {"bfs by moves", "cost steps", 0.5, &Planner::by_steps, &Planner::auto_moves, R::Search, true},
+    {"beam", "always", 0.1, &Planner::always, &Planner::auto_beam, R::Search, true},
+    {"fill", "as fill above (horizons to --max-plan)", 0.5, &Planner::fills, &Planner::auto_late_fill, R::Search,
+     true},
+    {"local", "always", 0.8, &Planner::always, &Planner::auto_local, R::Search, true},
+    {"skeleton", "as fill above", 0.8, &Planner::fills, &Planner::auto_skeleton, R::Search, true},
+    {"best-first", "clicks told apart by position (the focused clicks)", 1.0, &Planner::positional,
+     &Planner::auto_best_first_near, R::Search, true},
+    {"best-first", "always (every action)", 1.0, &Planner::always, &Planner::auto_best_first, R::Search, true},
+    {"horizon beam", "cost steps, the plan not proven cheapest", 1.0, &Planner::unproven_by_steps,
+     &Planner::auto_horizon, R::Polish, true},
+};
+
+const Planner::Mode Planner::kModes[] = {
+    {"bfs", &Planner::mode_bfs},           {"paper", &Planner::mode_paper}, {"best-first", &Planner::mode_best_first},
+    {"fill", &Planner::mode_fill},         {"local", &Planner::mode_local}, {"skeleton", &Planner::mode_skeleton},
+    {"beam", &Planner::mode_beam},
+};
+
+void Planner::run() {
+  const std::string& search = p_.opts().search;
+  if (search == "auto") return run_auto();
+  for (const Mode& m : kModes)
+    if (search == m.name) return (this->*m.run)();
+}
+
+void Planner::run_auto() {
+  reserve_ = static_cast<uint64_t>(static_cast<double>(p_.clock().node_budget()) * kLocalReserve);
+  for (const Stage& s : kAutoStages) {
+    if ((s.role == Role::Polish) != r_.found) continue;
+    if (!(this->*s.applies)() || (s.checks_time && out_of_time())) continue;
+    if ((this->*s.run)(s.share) && s.role == Role::Decisive) return;
+  }
 }
 
 }  // namespace
+
+std::vector<PlanStageRow> auto_plan_stages() {
+  std::vector<PlanStageRow> rows;
+  for (const Planner::Stage& s : Planner::kAutoStages) {
+    const char* role = s.role == Planner::Role::Decisive ? "decisive" : s.role == Planner::Role::Search ? "search" : "polish";
+    rows.push_back({s.name, s.when, s.share, role});
+  }
+  return rows;
+}
 
 std::vector<Action> paper_action_set(int grid, uint64_t seed) {
   std::vector<Action> actions = {Action::noop(), Action{Action::Kind::Left}, Action{Action::Kind::Right},
@@ -449,25 +534,24 @@ PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool
   if (task.type != TaskType::Planning) throw TaskError(task.file.string() + ": not a planning task");
   if (std::string why = unknown_name("search", opts.search, search_names()); !why.empty()) throw TaskError(why);
   if (std::string why = unknown_name("cost", opts.cost, cost_names()); !why.empty()) throw TaskError(why);
-  Stopwatch clock;
   PlanResult r;
   r.cost = opts.cost;
-  PlanProblem problem(task, opts, pool);
+  PlanProblem problem(task, opts, pool);  // starts the one clock, then loads the program
+  const double setup_seconds = problem.clock().seconds();
   r.stochastic = problem.stochastic();
   r.env_seed = task.env_seed;
   r.click_use = click_use_name(problem.inputs().clicks);
   r.actions = problem.actions().size();
   r.model = problem.model();
   r.model_note = problem.model_note();
-  const Stopwatch search_clock;
   if (problem.goal().reached(problem.frame_of(problem.root()))) {
     r.found = r.shortest = true;
     r.method = "bfs";
   } else {
     Planner(problem, r).run();
   }
-  r.search_seconds = search_clock.seconds();
-  r.seconds = clock.seconds();
+  r.seconds = problem.clock().seconds();
+  r.search_seconds = r.seconds - setup_seconds;
   if (r.found) r.verified = plan_reaches_goal(task, opts, r.plan);
   return r;
 }
@@ -476,10 +560,12 @@ bool plan_reaches_goal(const Task& task, const SolveOptions& opts, const std::ve
   auto program = load_program_checked(task_program_path(task, opts, task.program));
   auto env = make_env_checked(opts.engine, program);
   if (!env->reset(env_seed) || env->frame().size != task.goal.width) return false;
-  if (at_goal(task, *env)) return true;
+  const Goal goal(task);
+  FrameColours colours;
+  if (goal.reached(*env, colours)) return true;
   for (const Action& a : plan) {
     if (!env->step(a)) return false;
-    if (at_goal(task, *env)) return true;
+    if (goal.reached(*env, colours)) return true;
   }
   return false;
 }

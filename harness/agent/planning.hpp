@@ -17,7 +17,8 @@
 // search model (clicks that change nothing merge with noop when `click` is
 // step-local), the one goal test, the action set, the one clock.
 //
-// --search auto (default), in order, each stage on a share of what is left:
+// --search auto (default), in order, each stage on a share of what is left (the
+// sequence is data: kAutoStages in planning.cpp, printed in docs/design.md):
 //  1. BFS over the full action set (half the budget; a tenth when clicks are
 //     told apart by position, whose layers are wide). A plan found here is
 //     proven cheapest; otherwise no plan costs <= the layers searched
@@ -101,6 +102,17 @@ struct PlanResult {
 };
 
 PlanResult solve_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool);
+// The --search auto stages in order (what docs/design.md's table lists): a
+// stage's name, when it applies, its share of what is left when it starts, and
+// its role ("decisive": its plan ends the search; "search": once a plan is found
+// only "polish" stages follow).
+struct PlanStageRow {
+  std::string name, when;
+  double share;
+  std::string role;
+};
+std::vector<PlanStageRow> auto_plan_stages();
+
 // --search paper: the actions the paper's BFS tries from every state (breadth
 // kPaperBreadth): noop, the four arrows, and clicks on distinct cells drawn
 // uniformly with `seed` to make up the ten.
