@@ -31,6 +31,14 @@ case "${1:-}" in
   *) echo "test.sh: unknown option '$1' (use --quick, or nothing for the full suite)" >&2; exit 2 ;;
 esac
 
+# Without the corpus the conformance suites would list no traces and pass with
+# hundreds of tests fewer: refuse instead.
+shared=${AUTUMN_SHARED_DIR:-$root/../shared}
+if [ ! -d "$shared/conformance/traces" ] || [ ! -d "$shared/conformance/programs" ]; then
+  echo "test.sh: no conformance corpus at $shared/conformance (its programs/ and traces/ are what the suites check against); put it there or set AUTUMN_SHARED_DIR" >&2
+  exit 2
+fi
+
 # Stage timings, printed at the end whether the run passed or failed.
 stages=()
 stage_start=$SECONDS
