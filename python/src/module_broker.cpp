@@ -4,9 +4,12 @@
 
 #include <chrono>
 #include <mutex>
+#include <thread>
 #include <unordered_map>
+#include <vector>
 
 #include "compiler/emit/emit_module.hpp"
+#include "harness/module_build.hpp"
 #include "harness/module_cache.hpp"
 #include "harness/module_key.hpp"
 
@@ -26,8 +29,52 @@ std::shared_ptr<const Prototype> build(std::shared_ptr<const Program> program) {
   return p;
 }
 
+void fulfil(std::promise<std::shared_ptr<const Prototype>>& promise, std::shared_ptr<const Program> program) {
+  try {
+    promise.set_value(build(std::move(program)));
+  } catch (const std::exception& e) {
+    auto p = std::make_shared<Prototype>();
+    p->why = e.what();
+    promise.set_value(p);
+  }
+}
+
+struct Job {
+  std::shared_ptr<std::promise<std::shared_ptr<const Prototype>>> promise;
+  std::shared_ptr<const Program> program;
+};
+
+// Guarded by mu. Invariants: `futures` holds every request ever made (a key is
+// built at most once); a request not yet started is in `waiting`, newest last;
+// `workers` threads are running, at most module_compile_slots(), and a worker
+// leaves only when `waiting` is empty. Never destroyed: a compile still running
+// at process exit finds them alive.
 std::mutex mu;
-auto* futures = new std::unordered_map<std::string, PrototypeFuture>();  // never destroyed: see below
+auto* futures = new std::unordered_map<std::string, PrototypeFuture>();
+auto* waiting = new std::vector<Job>();
+int workers = 0;
+
+// A worker takes the newest request first: the program a client opened last is
+// the one it is stepping (a drop-in client opening seventy programs in turn),
+// and a caller blocked in get() has just asked. At most module_compile_slots()
+// at once per process: more would only queue on the cache's compile slots,
+// where (flock being unfair) seventy waiters of one process starved every other
+// process's single compile for minutes.
+void work() {
+  for (;;) {
+    Job job;
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      if (waiting->empty()) {
+        --workers;
+        return;
+      }
+      job = std::move(waiting->back());
+      waiting->pop_back();
+    }
+    fulfil(*job.promise, std::move(job.program));
+  }
+}
 
 }  // namespace
 
@@ -39,21 +86,16 @@ PrototypeFuture request_compiled(const std::shared_ptr<const Program>& program) 
   std::lock_guard<std::mutex> lock(mu);
   auto it = futures->find(key);
   if (it != futures->end()) return it->second;
-  // std::async's future would block process exit until a compile finishes; a
-  // detached thread and a promise do not (the map is leaked on purpose so that
-  // a compile still running at exit finds it alive).
   auto promise = std::make_shared<std::promise<std::shared_ptr<const Prototype>>>();
   PrototypeFuture f = promise->get_future().share();
   (*futures)[key] = f;
-  std::thread([promise, program] {
-    try {
-      promise->set_value(build(program));
-    } catch (const std::exception& e) {
-      auto p = std::make_shared<Prototype>();
-      p->why = e.what();
-      promise->set_value(p);
-    }
-  }).detach();
+  waiting->push_back({promise, program});
+  // std::async's future would block process exit until a compile finishes;
+  // detached workers and promises do not.
+  if (workers < module_compile_slots()) {
+    ++workers;
+    std::thread(work).detach();
+  }
   return f;
 }
 

@@ -1,8 +1,9 @@
 // module_broker — compiled environments for the Python package, without blocking.
 //
 // The module cache (harness/module_cache) finds or builds a program's module,
-// which can take a C++ compile. request() starts that on a background thread
-// the first time a program (text + trigger) is asked for and returns a shared
+// which can take a C++ compile. request() queues that for a background worker
+// (at most as many as the cache's compile slots, the newest request first) the
+// first time a program (text + trigger) is asked for and returns a shared
 // future of a *prototype*: an environment reset once, from which sessions clone
 // theirs (a clone never touches the cache, whose lock a compile of another
 // program may be holding). A null prototype carries the reason it could not be
