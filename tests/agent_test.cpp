@@ -344,6 +344,16 @@ TEST(AgentTaskFile, BadTaskFilesAreOneLineErrors) {
   EXPECT_NE(task_error("type", {{"type", "riddle"}, {"program", "ice"}}).find("unknown task type 'riddle'"),
             std::string::npos);
   EXPECT_EQ(task_error("fine", mfp), "");
+
+  // Text from the file stays on the message's one line (fuzz_task found a task
+  // type with a newline in it), its control bytes shown escaped.
+  const std::string typed = task_error("newline_type", {{"type", "plann\ng"}, {"program", "ice"}});
+  EXPECT_NE(typed.find("unknown task type 'plann\\ng'"), std::string::npos) << typed;
+  auto odd_action = mfp;
+  odd_action["observations"][3]["action"] = {{"type", "ju\nmp\x01"}};
+  const std::string acted = task_error("newline_action", odd_action);
+  EXPECT_NE(acted.find("unknown action type 'ju\\nmp\\x01'"), std::string::npos) << acted;
+  for (const std::string& m : {typed, acted}) EXPECT_EQ(m.find_first_of("\n\r\x01"), std::string::npos) << m;
 }
 
 // ------------------------------------------------------------------ click model

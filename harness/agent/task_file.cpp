@@ -12,6 +12,7 @@
 
 #include "harness/engine.hpp"
 #include "harness/trace_check.hpp"
+#include "runtime/diagnostic.hpp"
 
 namespace autumn::agent {
 
@@ -62,6 +63,17 @@ struct ColourTable::Impl {
     ids.emplace(name, id);
   }
 };
+
+std::string one_line(std::string_view message) {
+  const std::string s = shown(message);
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    if (c == '\n') out += "\\n";
+    else out += c;
+  }
+  return out;
+}
 
 ColourTable::ColourTable() : impl_(std::make_shared<Impl>()) {
   int id = 0;

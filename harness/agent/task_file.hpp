@@ -39,8 +39,12 @@ namespace autumn::agent {
 
 namespace fs = std::filesystem;
 
+// A task error is one line, whatever the file holds: the CLI prints it as its
+// one-line reason. Text taken from the file (a task type, an action name) is
+// shown through runtime/diagnostic's shown(), with a newline as "\n".
+std::string one_line(std::string_view message);
 struct TaskError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit TaskError(const std::string& message) : std::runtime_error(one_line(message)) {}
 };
 
 class ColourTable {
