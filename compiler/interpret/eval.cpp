@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <exception>
 #include <new>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -167,7 +168,7 @@ Value Interpreter::eval_value(const Expr& e) {
 // catch site to locate the error at (unwound()).
 Value Interpreter::eval(const Expr& e) {
   Nest nest(eval_depth_);
-  eval_stack_.push_back(&e);
+  eval_stack_.push_back({&e, nullptr});
   note_stack_depth();
   if (eval_depth_ > kMaxEvalNesting || stack_exhausted(stack_floor_))
     fail("evaluation nested too deeply: more than " + std::to_string(kMaxEvalNesting) +
@@ -297,32 +298,38 @@ Value Interpreter::eval_node(const Expr& e) {
   fail("unknown expression");
 }
 
+// The frames are visited innermost first, as if each had caught the error,
+// located it and thrown it on: an eval() frame locates it (a memory error
+// becomes "out of memory" at the innermost eval() frame it left), a render
+// method's frame applies its rule (locate_in_render). Any other exception goes
+// on unchanged.
 RuntimeError Interpreter::unwound(size_t height) {
-  RuntimeError err("");
+  std::optional<RuntimeError> err;
+  bool memory = false;
+  std::exception_ptr other;
   try {
     throw;
   } catch (const RuntimeError& e) {
     err = e;
+  } catch (const std::bad_alloc&) {
+    memory = true;
+    other = std::current_exception();
+  } catch (const std::length_error&) {
+    memory = true;
+    other = std::current_exception();
   } catch (...) {
-    std::exception_ptr other = std::current_exception();
-    bool memory = false;
-    try {
-      throw;
-    } catch (const std::bad_alloc&) {
-      memory = true;
-    } catch (const std::length_error&) {
-      memory = true;
-    } catch (...) {
-    }
-    if (!memory || eval_stack_.size() <= height) {
-      eval_stack_.resize(std::min(height, eval_stack_.size()));
-      std::rethrow_exception(other);
-    }
-    err = RuntimeError("out of memory");
+    other = std::current_exception();
   }
-  for (size_t i = eval_stack_.size(); i > height; --i) locate(err, *eval_stack_[i - 1]);
-  eval_stack_.resize(std::min(height, eval_stack_.size()));
-  return err;
+  for (size_t i = eval_stack_.size(); i > height; --i) {
+    const Frame& f = eval_stack_[i - 1];
+    if (f.expr && !err && memory) err = RuntimeError("out of memory");
+    if (!err) continue;
+    if (f.expr) locate(*err, *f.expr);
+    else locate_in_render(*err, f.render);
+  }
+  drop_unwound(height);
+  if (!err) std::rethrow_exception(other);
+  return std::move(*err);
 }
 
 TypeRef Interpreter::resolve_type(const TypeExpr& t) {
@@ -451,22 +458,21 @@ Value Interpreter::call_render_method(TypeObj* cls) {
   for (size_t i = 0; i < cls->field_syms.size(); ++i) define(sc.get(), cls->field_syms[i], self->fields[i]);
   std::vector<Value> none;
   last_cell_arg_ = SourceLoc{};
-  const size_t height = eval_stack_.size();
-  try {
-    Value r = call_lambda(*program_->render_lambda, none);
-    env_ = sc->parent;
-    return r;
-  } catch (...) {
-    forget_unwound_frames();
-    RuntimeError e = unwound(height);
-    if (!e.in_program && last_cell_arg_.line > 0 && last_cell_arg_.source == SourceId::Program) {
-      e.program_loc = last_cell_arg_;
-      e.in_program = true;
-    } else if (!e.in_program && cls->object) {
-      e.program_loc = cls->object->loc;
-      e.in_program = true;
-    }
-    throw e;
+  eval_stack_.push_back({nullptr, cls});  // an error leaves it for unwound(): locate_in_render
+  Value r = call_lambda(*program_->render_lambda, none);
+  eval_stack_.pop_back();
+  env_ = sc->parent;
+  return r;
+}
+
+void Interpreter::locate_in_render(RuntimeError& e, TypeObj* cls) const {
+  if (e.in_program) return;
+  if (last_cell_arg_.line > 0 && last_cell_arg_.source == SourceId::Program) {
+    e.program_loc = last_cell_arg_;
+    e.in_program = true;
+  } else if (cls->object) {
+    e.program_loc = cls->object->loc;
+    e.in_program = true;
   }
 }
 
@@ -537,9 +543,12 @@ Value Interpreter::construct_cell(const Expr& e, TypeObj* cls) {
         lit.number = v.num;
         d->expr = make_expr(std::move(lit));
       }
+    } catch (const RuntimeError&) {  // deferred; the scope the failure left behind stays current, as in the reference
+      forget_unwound_frames();
+      drop_unwound(height);
     } catch (...) {
       forget_unwound_frames();
-      (void)unwound(height);  // deferred; the scope the failure left behind stays current, as in the reference
+      (void)unwound(height);  // out of memory is deferred too; anything else goes on
     }
     fields.push_back(Value::heap(VKind::Deferred, d.get()));
   }

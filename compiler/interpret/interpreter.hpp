@@ -26,6 +26,7 @@
 // after every step. Only the program's constructs count: the machinery of
 // rendering (render methods, flattening) does not, deferred cell expressions do.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -202,6 +203,10 @@ class Interpreter {
   // std::bad_alloc and std::length_error thrown inside such a frame become
   // "out of memory"; any other exception is rethrown unchanged.
   RuntimeError unwound(size_t height);
+  // In a handler that swallows the error: its frames (above `height`) cut off.
+  void drop_unwound(size_t height) { eval_stack_.resize(std::min(height, eval_stack_.size())); }
+  // A render method's frame on the way out of an error (eval.cpp, call_render_method).
+  void locate_in_render(RuntimeError& e, TypeObj* cls) const;
 
   // --- limits (limits.cpp)
   // Runs an entry's work (start-up, a step, a render, a host API call) on the
@@ -233,15 +238,20 @@ class Interpreter {
   std::shared_ptr<const Relocation> relocation_;  // where the program's locations moved (null: nowhere)
   Limits limits_;
   int64_t eval_depth_ = 0, call_depth_ = 0, value_depth_ = 0;
-  // The eval() frames running now, outermost first: pushed on entry, popped on
-  // a normal return only, so a throw leaves its frames here. Invariant: at a
-  // catch site that saved the size as `height` before its call, the entries
-  // above `height` are exactly the frames the exception unwound; every such
-  // site hands them to unwound() (or cuts them off when it swallows the error)
-  // before going on. Errors are located here once instead of by a catch and
-  // rethrow in every frame (a rethrow per frame made recursion to the
-  // call-depth limit slow, and quadratic under ASan).
-  std::vector<const Expr*> eval_stack_;
+  // The frames running now, outermost first: an eval() of `expr`, or a render
+  // method of class `render` (expr null). Pushed on entry, popped on a normal
+  // return only, so a throw leaves its frames here. Invariant: at a catch site
+  // that saved the size as `height` before its call, the entries above `height`
+  // are exactly the frames the exception unwound; every such site hands them to
+  // unwound() (or cuts them off, drop_unwound(), when it swallows the error)
+  // before going on. Errors are located here once, innermost frame first,
+  // instead of by a catch and rethrow in every frame (a rethrow per frame made
+  // recursion to the call-depth limit slow, and quadratic under ASan).
+  struct Frame {
+    const Expr* expr;
+    TypeObj* render;
+  };
+  std::vector<Frame> eval_stack_;
   int64_t step_cells_ = 0, step_calls_ = 0;
   int64_t internal_ = 0;                    // > 0: inside rendering machinery, nothing is counted
   const char* stack_floor_ = nullptr;      // deep_stack.hpp
