@@ -164,6 +164,111 @@ json base_answers(const MakeTaskOptions& opts) {
           {"generator", {{"tool", "autumn make-task"}, {"seed", opts.seed}, {"steps", opts.steps}}}};
 }
 
+// The masked rectangle and its answer, and the grids no distractor may equal:
+// the answer and what other rollouts show there (`batch`), and for a stochastic
+// program what the blind solver's posterior expects there.
+struct MaskChoice {
+  Rect rect;
+  Grid answer;
+  std::set<std::vector<int16_t>> taken;
+};
+
+MaskChoice choose_mask(const MakeTaskOptions& opts, const Environment& env, const Episode& ep,
+                       const std::vector<TaskFrame>& frames, int first_masked, const ParticleSet& batch,
+                       std::mt19937_64& rng, ThreadPool& pool, const ColourTable& colours) {
+  const int size = ep.frames[0].size, K = opts.steps;
+  // Among random candidates, the ones whose content changed most.
+  const int recent = std::max(0, K - std::max(1, opts.masked_frames));
+  std::vector<Rect> candidates = ranked_rectangles(frames, size, recent, rng);
+  MaskChoice m{candidates.front(), crop(frames.back(), size, candidates.front()), {}};
+  m.taken = {m.answer.cells};
+  if (!env.deterministic()) {
+    // A blind solver sees the observations, not the seed: prefer a rectangle whose
+    // hidden content they make predictable (see the header).
+    double best_share = 0;
+    std::unique_ptr<SmcSet> prefix =
+        first_masked > 0
+            ? unmasked_prefix(env, ep, frames, size, first_masked, opts.seed, opts.posterior_samples, pool, colours)
+            : nullptr;
+    for (size_t c = 0; prefix && c < candidates.size() && c < kRectangles && best_share < 0.5; ++c) {
+      std::optional<Outcomes> out = posterior_outcomes(*prefix, ep, frames, size, candidates[c], first_masked);
+      if (!out) continue;
+      const Grid a = crop(frames.back(), size, candidates[c]);
+      auto it = out->find(a.cells);
+      double share = it == out->end() ? 0.0 : static_cast<double>(it->second) / opts.posterior_samples;
+      if (share <= best_share) continue;
+      best_share = share, m.rect = candidates[c], m.answer = a;
+      m.taken = {m.answer.cells};
+      for (const auto& [cells, n] : *out) m.taken.insert(cells);
+    }
+  }
+  for (const Particle& p : batch.particles()) m.taken.insert(crop(p.frame, size, m.rect).cells);
+  return m;
+}
+
+// The colours a distractor's edits draw from: those of the episode, at least two.
+std::vector<int16_t> edit_palette(const std::vector<TaskFrame>& frames, const ColourTable& colours) {
+  std::vector<int16_t> ids;
+  for (const TaskFrame& f : frames)
+    for (int16_t c : f)
+      if (std::find(ids.begin(), ids.end(), c) == ids.end()) ids.push_back(c);
+  std::sort(ids.begin(), ids.end());
+  if (ids.size() < 2)
+    for (int id = 1; id < colours.table_size() && ids.size() < 2; ++id)
+      if (colours.in_table(id) && id != ids[0]) ids.push_back(static_cast<int16_t>(id));
+  return ids;
+}
+
+// Five distractors, none in `taken`: the rectangle in earlier frames and shifted
+// a little in the last, then the answer with one to three cells recoloured.
+std::vector<Grid> distractors_for(const std::vector<TaskFrame>& frames, int size, int K, const MaskChoice& m,
+                                  const ColourTable& colours, std::mt19937_64& rng) {
+  std::set<std::vector<int16_t>> taken = m.taken;
+  std::vector<Grid> pool_grids;
+  for (int t = K - 1; t >= 0; --t) pool_grids.push_back(crop(frames[t], size, m.rect));
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      Rect s = m.rect;
+      s.x += dx, s.y += dy;
+      if ((dx || dy) && s.x >= 0 && s.y >= 0 && s.x + s.w <= size && s.y + s.h <= size)
+        pool_grids.push_back(crop(frames.back(), size, s));
+    }
+  std::shuffle(pool_grids.begin(), pool_grids.end(), rng);
+  const std::vector<int16_t> palette_ids = edit_palette(frames, colours);
+  std::vector<Grid> distractors;
+  auto consider = [&](const Grid& g) {
+    if (distractors.size() < 5 && taken.insert(g.cells).second) distractors.push_back(g);
+  };
+  for (const Grid& g : pool_grids) consider(g);
+  for (int tries = 0; distractors.size() < 5 && tries < 10000; ++tries) {
+    Grid g = m.answer;
+    int changes = 1 + static_cast<int>(rng() % 3);
+    for (int k = 0; k < changes; ++k) {
+      size_t i = rng() % g.cells.size();
+      int16_t c = palette_ids[rng() % palette_ids.size()];
+      if (c == g.cells[i]) c = palette_ids[(std::find(palette_ids.begin(), palette_ids.end(), c) - palette_ids.begin() + 1) % palette_ids.size()];
+      g.cells[i] = c;
+    }
+    consider(g);
+  }
+  if (distractors.size() < 5) throw TaskError("could not build five distinct distractors");
+  return distractors;
+}
+
+// The observations: each frame, the rectangle hidden from `first_masked` on.
+json mfp_observations(const std::vector<TaskFrame>& frames, int size, int K, const Episode& ep, int first_masked,
+                      const Rect& rect) {
+  json observations = json::array();
+  for (int t = 0; t <= K; ++t) {
+    std::optional<Rect> hide;
+    if (t >= first_masked) hide = rect;
+    json o = {{"masked_grid", masked(frames[t], size, hide).to_json()}};
+    if (t > 0) o = {{"action", action_to_json(ep.actions[t - 1])}, {"masked_grid", o["masked_grid"]}};
+    observations.push_back(o);
+  }
+  return observations;
+}
+
 MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> program, ThreadPool& pool,
                   ColourTable colours) {
   MadeTask made;
@@ -180,7 +285,6 @@ MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> pr
   const int K = opts.steps;
   std::vector<TaskFrame> frames;
   for (const Frame& f : ep->frames) frames.push_back(task_frame(f, ep->palette, colours));
-  const TaskFrame& last = frames.back();
 
   // The outcomes a batch of rollouts (other seeds, same actions) produce.
   ParticleSet batch(pool, colours);
@@ -189,83 +293,14 @@ MadeTask make_mfp(const MakeTaskOptions& opts, std::shared_ptr<const Program> pr
   batch.start([&] { return env->clone(); }, seeds, env->deterministic(), all);
   for (const Action& a : ep->actions) batch.step(a, all);
 
-  // The rectangle: among random candidates, the ones whose content changed most.
-  int recent = std::max(0, K - std::max(1, opts.masked_frames));
   const int first_masked = K - std::max(1, std::min(opts.masked_frames, K + 1)) + 1;
-  std::vector<Rect> candidates = ranked_rectangles(frames, size, recent, rng);
-  Rect best = candidates.front();
-  Grid answer = crop(last, size, best);
-  std::set<std::vector<int16_t>> taken = {answer.cells};
-  if (!env->deterministic()) {
-    // A blind solver sees the observations, not the seed: prefer a rectangle whose
-    // hidden content they make predictable (see the header).
-    double best_share = 0;
-    std::unique_ptr<SmcSet> prefix =
-        first_masked > 0
-            ? unmasked_prefix(*env, *ep, frames, size, first_masked, opts.seed, opts.posterior_samples, pool, colours)
-            : nullptr;
-    for (size_t c = 0; prefix && c < candidates.size() && c < kRectangles && best_share < 0.5; ++c) {
-      std::optional<Outcomes> out = posterior_outcomes(*prefix, *ep, frames, size, candidates[c], first_masked);
-      if (!out) continue;
-      const Grid a = crop(last, size, candidates[c]);
-      auto it = out->find(a.cells);
-      double share = it == out->end() ? 0.0 : static_cast<double>(it->second) / opts.posterior_samples;
-      if (share <= best_share) continue;
-      best_share = share, best = candidates[c], answer = a;
-      taken = {answer.cells};
-      for (const auto& [cells, n] : *out) taken.insert(cells);
-    }
-  }
-  for (const Particle& p : batch.particles()) taken.insert(crop(p.frame, size, best).cells);
-  std::vector<Grid> pool_grids;
-  for (int t = K - 1; t >= 0; --t) pool_grids.push_back(crop(frames[t], size, best));
-  for (int dy = -2; dy <= 2; ++dy)
-    for (int dx = -2; dx <= 2; ++dx) {
-      Rect s = best;
-      s.x += dx, s.y += dy;
-      if ((dx || dy) && s.x >= 0 && s.y >= 0 && s.x + s.w <= size && s.y + s.h <= size)
-        pool_grids.push_back(crop(last, size, s));
-    }
-  std::shuffle(pool_grids.begin(), pool_grids.end(), rng);
-  std::vector<int16_t> palette_ids;
-  for (const TaskFrame& f : frames)
-    for (int16_t c : f)
-      if (std::find(palette_ids.begin(), palette_ids.end(), c) == palette_ids.end()) palette_ids.push_back(c);
-  std::sort(palette_ids.begin(), palette_ids.end());
-  if (palette_ids.size() < 2)
-    for (int id = 1; id < colours.table_size() && palette_ids.size() < 2; ++id)
-      if (colours.in_table(id) && id != palette_ids[0]) palette_ids.push_back(static_cast<int16_t>(id));
-  std::vector<Grid> distractors;
-  auto consider = [&](const Grid& g) {
-    if (distractors.size() < 5 && taken.insert(g.cells).second) distractors.push_back(g);
-  };
-  for (const Grid& g : pool_grids) consider(g);
-  for (int tries = 0; distractors.size() < 5 && tries < 10000; ++tries) {
-    Grid g = answer;
-    int changes = 1 + static_cast<int>(rng() % 3);
-    for (int k = 0; k < changes; ++k) {
-      size_t i = rng() % g.cells.size();
-      int16_t c = palette_ids[rng() % palette_ids.size()];
-      if (c == g.cells[i]) c = palette_ids[(std::find(palette_ids.begin(), palette_ids.end(), c) - palette_ids.begin() + 1) % palette_ids.size()];
-      g.cells[i] = c;
-    }
-    consider(g);
-  }
-  if (distractors.size() < 5) throw TaskError("could not build five distinct distractors");
-
+  const MaskChoice mask = choose_mask(opts, *env, *ep, frames, first_masked, batch, rng, pool, colours);
+  const std::vector<Grid> distractors = distractors_for(frames, size, K, mask, colours, rng);
   int answer_index = static_cast<int>(rng() % 6);
   json choices = json::array();
-  for (int i = 0, d = 0; i < 6; ++i) choices.push_back(i == answer_index ? answer.to_json() : distractors[d++].to_json());
-  json observations = json::array();
-  for (int t = 0; t <= K; ++t) {
-    std::optional<Rect> hide;
-    if (t >= first_masked) hide = best;
-    json o = {{"masked_grid", masked(frames[t], size, hide).to_json()}};
-    if (t > 0) o = {{"action", action_to_json(ep->actions[t - 1])}, {"masked_grid", o["masked_grid"]}};
-    observations.push_back(o);
-  }
+  for (int i = 0, d = 0; i < 6; ++i) choices.push_back(i == answer_index ? mask.answer.to_json() : distractors[d++].to_json());
   made.task = base_task("masked_frame_prediction", opts);
-  made.task["observations"] = observations;
+  made.task["observations"] = mfp_observations(frames, size, K, *ep, first_masked, mask.rect);
   made.task["choices"] = choices;
   made.answers = base_answers(opts);
   made.answers["correct_idx"] = answer_index;
