@@ -263,46 +263,49 @@ const Program& default_stdlib_parse() {
 
 }  // namespace
 
-std::shared_ptr<const Program> load_program(SourceFile file, const std::optional<std::string>& trigger,
-                                            const std::optional<std::string>& stdlib) {
-  auto p = std::make_shared<Program>();
-  p->file = std::move(file);
-  p->file.id = SourceId::Program;
-  p->stdlib = SourceFile{"<stdlib>", stdlib ? *stdlib : stdlib_text(), SourceId::Stdlib};
-  SymbolTable& syms = p->symbols;
+namespace {
+
+// The standard library (the default one's parse reused), the program, the
+// trigger and the internal render method, parsed into `p`.
+void parse_sources(Program& p, const std::optional<std::string>& trigger, const std::optional<std::string>& stdlib) {
+  SymbolTable& syms = p.symbols;
   if (stdlib) {
-    intern_prelude(*p);
-    Parser parser(p->stdlib, syms);
-    p->stdlib_stmts = parser.parse_program(read_sexprs(p->stdlib)).stmts;
+    intern_prelude(p);
+    Parser parser(p.stdlib, syms);
+    p.stdlib_stmts = parser.parse_program(read_sexprs(p.stdlib)).stmts;
   } else {
     // The default stdlib parses the same way every time: start from its parse.
     const Program& cached = default_stdlib_parse();
     syms = cached.symbols;
-    p->stdlib_stmts = cached.stdlib_stmts;
-    intern_prelude(*p);  // only looks the prelude's names up again
+    p.stdlib_stmts = cached.stdlib_stmts;
+    intern_prelude(p);  // only looks the prelude's names up again
   }
   {
-    Parser parser(p->file, syms);
-    ParsedProgram parsed = parser.parse_program(read_sexprs(p->file));
-    p->stmts = std::move(parsed.stmts);
-    p->warnings = std::move(parsed.warnings);
+    Parser parser(p.file, syms);
+    ParsedProgram parsed = parser.parse_program(read_sexprs(p.file));
+    p.stmts = std::move(parsed.stmts);
+    p.warnings = std::move(parsed.warnings);
   }
   if (trigger && !trigger->empty()) {
     SourceFile tf{"<trigger>", *trigger, SourceId::Trigger};
     Parser parser(tf, syms);
-    p->trigger = parser.parse_standalone(read_sexprs(tf));
-    p->trigger_text = *trigger;
+    p.trigger = parser.parse_standalone(read_sexprs(tf));
+    p.trigger_text = *trigger;
   }
   {
     SourceFile rf{"<internal>", kRenderMethod, SourceId::Internal};
     Parser parser(rf, syms);
-    p->render_lambda = parser.parse_standalone(read_sexprs(rf));
+    p.render_lambda = parser.parse_standalone(read_sexprs(rf));
   }
-  for (auto& st : p->stmts)
+  for (auto& st : p.stmts)
     if (st.kind == StmtKind::Object) st.constructor_body = build_constructor(syms, st);
+}
 
-  // Unbound-name warnings (user program only).
-  std::set<Sym> bound(p->builtin_syms.begin(), p->builtin_syms.end());
+// Unbound-name warnings (user program only): a name no definition, parameter,
+// field or builtin binds anywhere.
+void warn_unbound(Program& p) {
+  SymbolTable& syms = p.symbols;
+  std::set<Sym> bound(p.builtin_syms.begin(), p.builtin_syms.end());
   for (const char* b : kBuiltinTypeNames) bound.insert(syms.intern(b));
   for (const char* b : {"GRID_SIZE", "SpecialConditionTriggered", "cacheRendered", "click", "origin", "elems",
                         "allCells"})
@@ -323,37 +326,53 @@ std::shared_ptr<const Program> load_program(SourceFile file, const std::optional
       }
     }
   };
-  binders_of(p->stdlib_stmts);
-  binders_of(p->stmts);
-  if (p->trigger) collect_binders(*p->trigger, bound);
+  binders_of(p.stdlib_stmts);
+  binders_of(p.stmts);
+  if (p.trigger) collect_binders(*p.trigger, bound);
   std::set<Sym> reported;
-  for (const auto& st : p->stmts) {
-    if (st.kind == StmtKind::Object) check_unbound(*p, *st.cell_expr, bound, reported, p->warnings);
+  for (const auto& st : p.stmts) {
+    if (st.kind == StmtKind::Object) check_unbound(p, *st.cell_expr, bound, reported, p.warnings);
     if (st.kind == StmtKind::On) {
-      check_unbound(*p, *st.cond, bound, reported, p->warnings);
-      check_unbound(*p, *st.body, bound, reported, p->warnings);
+      check_unbound(p, *st.cond, bound, reported, p.warnings);
+      check_unbound(p, *st.body, bound, reported, p.warnings);
     }
-    if (st.kind == StmtKind::Expr) check_unbound(*p, *st.expr, bound, reported, p->warnings);
+    if (st.kind == StmtKind::Expr) check_unbound(p, *st.expr, bound, reported, p.warnings);
   }
-  if (p->trigger) check_unbound(*p, *p->trigger, bound, reported, p->warnings);
-  lint_program(*p, p->warnings);
+  if (p.trigger) check_unbound(p, *p.trigger, bound, reported, p.warnings);
+}
 
-  check_grid_size(*p);
-  compute_definitions(*p);
-  compute_render_order(*p);
-
+// Whether the program (or its trigger) mentions a builtin that draws random numbers.
+bool mentions_random(const Program& p) {
   std::function<bool(const Expr&)> mentions_rng = [&](const Expr& e) {
     if (e.kind == ExprKind::Var)
-      if (auto b = p->builtin_of(e.name); b && (builtin_info(*b).effects & kDrawsRandom)) return true;
+      if (auto b = p.builtin_of(e.name); b && (builtin_info(*b).effects & kDrawsRandom)) return true;
     for (const auto& k : e.kids)
       if (mentions_rng(*k)) return true;
     return false;
   };
-  p->uses_random = p->trigger && mentions_rng(*p->trigger);
-  for (const auto& st : p->stmts) {
+  bool uses = p.trigger && mentions_rng(*p.trigger);
+  for (const auto& st : p.stmts) {
     for (const ExprPtr& e : {st.cell_expr, st.cond, st.body, st.expr})
-      if (e && mentions_rng(*e)) p->uses_random = true;
+      if (e && mentions_rng(*e)) uses = true;
   }
+  return uses;
+}
+
+}  // namespace
+
+std::shared_ptr<const Program> load_program(SourceFile file, const std::optional<std::string>& trigger,
+                                            const std::optional<std::string>& stdlib) {
+  auto p = std::make_shared<Program>();
+  p->file = std::move(file);
+  p->file.id = SourceId::Program;
+  p->stdlib = SourceFile{"<stdlib>", stdlib ? *stdlib : stdlib_text(), SourceId::Stdlib};
+  parse_sources(*p, trigger, stdlib);
+  warn_unbound(*p);
+  lint_program(*p, p->warnings);
+  check_grid_size(*p);
+  compute_definitions(*p);
+  compute_render_order(*p);
+  p->uses_random = mentions_random(*p);
   return p;
 }
 
