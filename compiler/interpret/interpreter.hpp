@@ -198,9 +198,10 @@ class Interpreter {
   [[noreturn]] void fail(const std::string& msg);
   void poll_interrupt();  // fails with interrupted_error() when the host asks (runtime/interrupt.hpp)
   // In a catch (...) handler of a caller of eval(): the error being handled,
-  // located at the eval() frames it unwound (eval_stack_ above `height`, then
-  // cut off) innermost first, as if each frame had caught and located it.
-  // std::bad_alloc and std::length_error thrown inside such a frame become
+  // located at the frames it unwound (eval_stack_ above `height`, then cut
+  // off) innermost first, as if each frame had caught and located it: an
+  // eval() frame at its expression, a render method's by its rule.
+  // std::bad_alloc and std::length_error thrown inside an eval() frame become
   // "out of memory"; any other exception is rethrown unchanged.
   RuntimeError unwound(size_t height);
   // In a handler that swallows the error: its frames (above `height`) cut off.
