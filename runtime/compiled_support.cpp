@@ -40,6 +40,12 @@ void fail_list_length(int site, int64_t n, int64_t limit) { fail_at(site, limits
 
 void fail_loop_budget(int site, int64_t limit) { fail_at(site, limits::loop_elements_error(limit)); }
 
+Core::Core(const Core&) = default;
+Core::Core(Core&&) noexcept = default;
+Core& Core::operator=(const Core&) = default;
+Core& Core::operator=(Core&&) noexcept = default;
+Core::~Core() = default;
+
 void tally_add(Core& c, int site, const char* name, const Tally& one) {
   StateTally& s = c.tally.v;
   if (one.objects > s.max_objects) s.max_objects = one.objects, s.site_objects = site, s.name_objects = name;

@@ -315,6 +315,17 @@ struct Core {
   NoCopy<StateTally> tally;  // scratch of the state check at the end of start-up and of each step
   int64_t rendered = 0;  // elements the last host render drew: what cacheRendered holds
 
+  // Copied with every State (clone, copy_from, the planner's snapshots), the
+  // same memberwise copy as the implicit one, but defined once in
+  // compiled_support.cpp: inline, every module instantiated and optimised the
+  // copies of these vectors again (0.3 s of a small module's compile).
+  Core() = default;
+  Core(const Core&);
+  Core(Core&&) noexcept;
+  Core& operator=(const Core&);
+  Core& operator=(Core&&) noexcept;
+  ~Core();
+
   void start(uint64_t seed, int on_clauses) {
     rng.reseed(seed);
     covered.assign(static_cast<size_t>(on_clauses), 0);
