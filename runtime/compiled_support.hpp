@@ -753,7 +753,8 @@ class CompiledProgramHost : public CompiledHost {
 template <class P>
 class CompiledEnvironment final : public CompiledProgramHost {
  public:
-  CompiledEnvironment() : CompiledProgramHost(ops(), &state_, &state_.core) {}
+  // state_ is constructed after the base: bound here, not in the base's initialiser.
+  CompiledEnvironment() : CompiledProgramHost(ops(), nullptr, nullptr) { bind(&state_, &state_.core); }
   CompiledEnvironment(const CompiledEnvironment& o) : CompiledProgramHost(o), state_(o.state_) { bind(&state_, &state_.core); }
   CompiledEnvironment& operator=(const CompiledEnvironment&) = delete;
   bool step(const Action& a) override { return run_step(a, true); }
