@@ -273,6 +273,7 @@ struct Prog {
     const std::vector<Pos> t19 = g18[size_t(t15)];
     std::vector<CellV>& out20 = s.scratch.v.b0;
     out20.clear();
+    charge_built(s.core, 2, int64_t(t19.size()));
     out20.reserve(size_t(int32_t(t19.size())));
     {
       const auto& x21_list = t19;
@@ -405,6 +406,7 @@ struct Prog {
               }
               const bool t31 = !any28;
               if (t31) {
+                charge_built(s.core, 12, int64_t(int32_t(1)));
                 out26.push_back(x27);
               }
             }
@@ -542,6 +544,7 @@ struct Prog {
             }
             const bool t74 = !any71;
             if (t74) {
+              charge_built(s.core, 18, int64_t(int32_t(1)));
               out69.push_back(x70);
             }
           }
@@ -614,6 +617,7 @@ struct Prog {
         const std::vector<Pos> t93 = g92[size_t(t90)];
         std::vector<CellV>& out94 = s.scratch.v.b21;
         out94.clear();
+        charge_built(s.core, 23, int64_t(t93.size()));
         out94.reserve(size_t(int32_t(t93.size())));
         {
           const auto& x95_list = t93;
@@ -705,6 +709,7 @@ struct Prog {
               }
               const bool t119 = !any116;
               if (t119) {
+                charge_built(s.core, 27, int64_t(int32_t(1)));
                 out114.push_back(x115);
               }
             }
@@ -755,6 +760,7 @@ struct Prog {
         const std::vector<Pos> t130 = g129[size_t(t127)];
         std::vector<CellV>& out131 = s.scratch.v.b32;
         out131.clear();
+        charge_built(s.core, 23, int64_t(t130.size()));
         out131.reserve(size_t(int32_t(t130.size())));
         {
           const auto& x132_list = t130;
@@ -875,6 +881,7 @@ struct Prog {
                   }
                   const bool t168 = !any165;
                   if (t168) {
+                    charge_built(s.core, 34, int64_t(int32_t(1)));
                     out163.push_back(x164);
                   }
                 }
@@ -1013,6 +1020,7 @@ struct Prog {
               }
               const bool t208 = !any205;
               if (t208) {
+                charge_built(s.core, 40, int64_t(int32_t(1)));
                 out203.push_back(x204);
               }
             }
@@ -1066,6 +1074,7 @@ struct Prog {
           }
           std::vector<C1_Block>& out225 = s.scratch.v.b55;
           out225.clear();
+          charge_built(s.core, 44, int64_t(rendered222.size()));
           out225.reserve(size_t(int32_t(rendered222.size())));
           {
             const auto& x226_list = rendered222;
@@ -1077,6 +1086,7 @@ struct Prog {
             }
           }
           check_length(s.core, 45, int64_t(g220.size()) + int64_t(int32_t(out225.size())));
+          charge_built(s.core, 45, int64_t(g220.size()) + int64_t(int32_t(out225.size())));
           std::vector<C1_Block>& added228 = s.scratch.v.b56;
           added228.clear();
           added228.reserve(size_t(add(int32_t(g220.size()), int32_t(out225.size()))));
@@ -1117,6 +1127,7 @@ struct Prog {
                   // inlined: function at programs/blockfall.au:39
                   const bool t238 = (x237.origin.y == x235);
                   if (t238) {
+                    charge_built(s.core, 47, int64_t(int32_t(1)));
                     out236.push_back(x237);
                   }
                 }
@@ -1124,6 +1135,7 @@ struct Prog {
               const int32_t t239 = int32_t(out236.size());
               const bool t240 = (t239 == int32_t(8));
               if (t240) {
+                charge_built(s.core, 46, int64_t(int32_t(1)));
                 out234.push_back(x235);
               }
             }
@@ -1150,6 +1162,7 @@ struct Prog {
               }
               const bool t246 = !any243;
               if (t246) {
+                charge_built(s.core, 48, int64_t(int32_t(1)));
                 out241.push_back(x242);
               }
             }
@@ -1157,6 +1170,7 @@ struct Prog {
           std::swap(l_kept232, out241);
           std::vector<C1_Block>& out247 = s.scratch.v.b62;
           out247.clear();
+          charge_built(s.core, 50, int64_t(l_kept232.size()));
           out247.reserve(size_t(int32_t(l_kept232.size())));
           {
             const auto& x248_list = l_kept232;
@@ -1172,6 +1186,7 @@ struct Prog {
                   // inlined: function at programs/blockfall.au:43
                   const bool t251 = (x250 > x248.origin.y);
                   if (t251) {
+                    charge_built(s.core, 51, int64_t(int32_t(1)));
                     out249.push_back(x250);
                   }
                 }
@@ -1210,6 +1225,7 @@ struct Prog {
           const std::vector<Pos> t264 = g263[size_t(t260)];
           std::vector<CellV>& out265 = s.scratch.v.b64;
           out265.clear();
+          charge_built(s.core, 23, int64_t(t264.size()));
           out265.reserve(size_t(int32_t(t264.size())));
           {
             const auto& x266_list = t264;
@@ -1394,6 +1410,7 @@ struct Prog {
                 }
                 const bool t319 = !any316;
                 if (t319) {
+                  charge_built(s.core, 60, int64_t(int32_t(1)));
                   out314.push_back(x315);
                 }
               }

@@ -280,6 +280,7 @@ struct Prog {
     const std::vector<int32_t> list2 = std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)};
     std::vector<std::vector<C2_Brick>>& out3 = s.scratch.v.b0;
     out3.clear();
+    charge_built(s.core, 0, int64_t(list2.size()));
     out3.reserve(size_t(int32_t(list2.size())));
     {
       const auto& x4_list = list2;
@@ -288,6 +289,7 @@ struct Prog {
         // inlined: function at programs/breakout.au:22
         const std::vector<int32_t> list5 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
         std::vector<C2_Brick> out6{};
+        charge_built(s.core, 1, int64_t(list5.size()));
         out6.reserve(size_t(int32_t(list5.size())));
         {
           const auto& x7_list = list5;
@@ -304,6 +306,7 @@ struct Prog {
       }
     }
     check_length(s.core, 2, total_size(out3));
+    charge_built(s.core, 2, total_size(out3));
     std::vector<C2_Brick>& cat11 = s.scratch.v.b1;
     cat11.clear();
     {
@@ -327,6 +330,7 @@ struct Prog {
         const int32_t t16 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list15.size())))));
         const bool t17 = list15[size_t(t16)];
         if (t17) {
+          charge_built(s.core, 3, int64_t(int32_t(1)));
           out13.push_back(x14);
         }
       }
@@ -438,6 +442,7 @@ struct Prog {
               }
               const bool t25 = !any22;
               if (t25) {
+                charge_built(s.core, 10, int64_t(int32_t(1)));
                 out20.push_back(x21);
               }
             }
@@ -553,6 +558,7 @@ struct Prog {
             }
             const bool t62 = !any59;
             if (t62) {
+              charge_built(s.core, 14, int64_t(int32_t(1)));
               out57.push_back(x58);
             }
           }
@@ -758,10 +764,12 @@ struct Prog {
               r136 = false;
             }
             if (!r136) {
+              charge_built(s.core, 17, int64_t(int32_t(1)));
               kept133.push_back(x134);
             }
           }
         }
+        charge_built(s.core, 18, int64_t(kept133.size()));
         std::vector<C2_Brick>& updated138 = s.scratch.v.b18;
         updated138.clear();
         updated138.reserve(size_t(int32_t(kept133.size())));
@@ -1137,6 +1145,7 @@ struct Prog {
         const std::vector<int32_t> list265 = std::vector<int32_t>{int32_t(2), int32_t(3), int32_t(4)};
         std::vector<std::vector<C2_Brick>>& out266 = s.scratch.v.b19;
         out266.clear();
+        charge_built(s.core, 21, int64_t(list265.size()));
         out266.reserve(size_t(int32_t(list265.size())));
         {
           const auto& x267_list = list265;
@@ -1145,6 +1154,7 @@ struct Prog {
             // inlined: function at programs/breakout.au:22
             const std::vector<int32_t> list268 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
             std::vector<C2_Brick> out269{};
+            charge_built(s.core, 22, int64_t(list268.size()));
             out269.reserve(size_t(int32_t(list268.size())));
             {
               const auto& x270_list = list268;
@@ -1161,6 +1171,7 @@ struct Prog {
           }
         }
         check_length(s.core, 23, total_size(out266));
+        charge_built(s.core, 23, total_size(out266));
         std::vector<C2_Brick>& cat274 = s.scratch.v.b20;
         cat274.clear();
         {
@@ -1184,6 +1195,7 @@ struct Prog {
             const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
             const bool t280 = list278[size_t(t279)];
             if (t280) {
+              charge_built(s.core, 24, int64_t(int32_t(1)));
               out276.push_back(x277);
             }
           }

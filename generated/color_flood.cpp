@@ -214,6 +214,7 @@ struct Prog {
     const std::vector<int32_t> list3 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4)};
     std::vector<C1_Swatch>& out4 = s.scratch.v.b0;
     out4.clear();
+    charge_built(s.core, 0, int64_t(list3.size()));
     out4.reserve(size_t(int32_t(list3.size())));
     {
       const auto& x5_list = list3;
@@ -243,6 +244,7 @@ struct Prog {
     if ((int32_t(7) < int32_t(0))) {
       fail_at(2, std::string() + std::string("allPositions: negative size"));
     }
+    charge_built(s.core, 2, int64_t(int32_t(8)) * int64_t(int32_t(7)));
     std::vector<Pos>& apos10 = s.scratch.v.b1;
     apos10.clear();
     {
@@ -259,6 +261,7 @@ struct Prog {
     }
     std::vector<C0_Tile>& out14 = s.scratch.v.b2;
     out14.clear();
+    charge_built(s.core, 3, int64_t(apos10.size()));
     out14.reserve(size_t(int32_t(apos10.size())));
     {
       const auto& x15_list = apos10;
@@ -318,12 +321,14 @@ struct Prog {
           for (const C0_Tile& x5 : x5_list) {
             // inlined: function at programs/color_flood.au:38
             if (x5.f1) {
+              charge_built(s.core, 10, int64_t(int32_t(1)));
               out4.push_back(x5);
             }
           }
         }
         std::vector<Pos>& out6 = s.scratch.v.b5;
         out6.clear();
+        charge_built(s.core, 11, int64_t(out4.size()));
         out6.reserve(size_t(int32_t(out4.size())));
         {
           const auto& x7_list = out4;
@@ -345,6 +350,7 @@ struct Prog {
           for (const C0_Tile& x10 : x10_list) {
             // inlined: function at programs/color_flood.au:33
             if (x10.f1) {
+              charge_built(s.core, 12, int64_t(int32_t(1)));
               out9.push_back(x10);
             }
           }
@@ -363,6 +369,7 @@ struct Prog {
           r13 = int32_t(6);
         }
         l_fh3 = r13;
+        charge_built(s.core, 14, int64_t(prev1.size()));
         std::vector<C0_Tile>& updated15 = s.scratch.v.b8;
         updated15.clear();
         updated15.reserve(size_t(int32_t(prev1.size())));
@@ -381,21 +388,25 @@ struct Prog {
                 adj21.clear();
                 const int32_t t22 = sub(x16.origin.x, int32_t(1));
                 if ((((t22 >= int32_t(0)) && (t22 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
+                  charge_built(s.core, 15, int64_t(int32_t(1)));
                   const Pos t23 = Pos{t22, x16.origin.y};
                   adj21.push_back(t23);
                 }
                 const int32_t t24 = add(x16.origin.x, int32_t(1));
                 if ((((t24 >= int32_t(0)) && (t24 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
+                  charge_built(s.core, 15, int64_t(int32_t(1)));
                   const Pos t25 = Pos{t24, x16.origin.y};
                   adj21.push_back(t25);
                 }
                 const int32_t t26 = sub(x16.origin.y, int32_t(1));
                 if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t26 >= int32_t(0)) && (t26 < int32_t(8))))) {
+                  charge_built(s.core, 15, int64_t(int32_t(1)));
                   const Pos t27 = Pos{x16.origin.x, t26};
                   adj21.push_back(t27);
                 }
                 const int32_t t28 = add(x16.origin.y, int32_t(1));
                 if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t28 >= int32_t(0)) && (t28 < int32_t(8))))) {
+                  charge_built(s.core, 15, int64_t(int32_t(1)));
                   const Pos t29 = Pos{x16.origin.x, t28};
                   adj21.push_back(t29);
                 }
@@ -407,7 +418,7 @@ struct Prog {
                     bool any32 = false;
                     {
                       const auto& x33_list = l_wetSpots2;
-                      charge_loop(s.core, 16, int64_t(x33_list.size()));
+                      charge_loop(s.core, 17, int64_t(x33_list.size()));
                       for (const Pos& x33 : x33_list) {
                         const bool t34 = (x33 == x31);
                         if (t34) {
@@ -464,7 +475,7 @@ struct Prog {
           rendered42.clear();
           {
             const auto& x43_list = prev39;
-            charge_loop(s.core, 17, int64_t(x43_list.size()));
+            charge_loop(s.core, 18, int64_t(x43_list.size()));
             for (const C0_Tile& x43 : x43_list) {
               const int32_t colour44 = colour_2_C0_Tile(s, x43);
               rendered42.push_back(Elem{Pos{add(x43.origin.x, int32_t(0)), add(x43.origin.y, int32_t(0))}, colour44});
@@ -472,7 +483,7 @@ struct Prog {
           }
           {
             const auto& e45_list = rendered42;
-            charge_loop(s.core, 17, int64_t(e45_list.size()));
+            charge_loop(s.core, 18, int64_t(e45_list.size()));
             for (const Elem& e45 : e45_list) {
               if ((e45.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked40 = true;
@@ -496,7 +507,7 @@ struct Prog {
         out49.clear();
         {
           const auto& x50_list = prev47;
-          charge_loop(s.core, 18, int64_t(x50_list.size()));
+          charge_loop(s.core, 19, int64_t(x50_list.size()));
           for (const C0_Tile& x50 : x50_list) {
             // inlined: function at programs/color_flood.au:46
             bool clicked51 = false;
@@ -519,6 +530,7 @@ struct Prog {
               }
             }
             if (clicked51) {
+              charge_built(s.core, 19, int64_t(int32_t(1)));
               out49.push_back(x50);
             }
           }
@@ -529,7 +541,7 @@ struct Prog {
         int32_t r58{};
         if (t57) {
           if (l_hit48.empty()) {
-            fail_at(20, std::string() + std::string("head of an empty list"));
+            fail_at(21, std::string() + std::string("head of an empty list"));
           }
           const C0_Tile t59 = l_hit48.front();
           r58 = t59.f0;
@@ -546,6 +558,7 @@ struct Prog {
             for (const C0_Tile& x63 : x63_list) {
               // inlined: function at programs/color_flood.au:33
               if (x63.f1) {
+                charge_built(s.core, 12, int64_t(int32_t(1)));
                 out62.push_back(x63);
               }
             }
@@ -566,12 +579,13 @@ struct Prog {
           r58 = r66;
         }
         // inlined: function at programs/color_flood.au:44
+        charge_built(s.core, 22, int64_t(g46.size()));
         std::vector<C0_Tile>& updated68 = s.scratch.v.b16;
         updated68.clear();
         updated68.reserve(size_t(int32_t(g46.size())));
         {
           const auto& x69_list = g46;
-          charge_loop(s.core, 21, int64_t(x69_list.size()));
+          charge_loop(s.core, 22, int64_t(x69_list.size()));
           for (const C0_Tile& x69 : x69_list) {
             // inlined: function at programs/color_flood.au:44
             if (x69.f1) {
@@ -608,7 +622,7 @@ struct Prog {
           rendered77.clear();
           {
             const auto& x78_list = prev74;
-            charge_loop(s.core, 22, int64_t(x78_list.size()));
+            charge_loop(s.core, 23, int64_t(x78_list.size()));
             for (const C1_Swatch& x78 : x78_list) {
               const int32_t colour79 = colour_1_C1_Swatch(s, x78);
               rendered77.push_back(Elem{Pos{add(x78.origin.x, int32_t(0)), add(x78.origin.y, int32_t(0))}, colour79});
@@ -616,7 +630,7 @@ struct Prog {
           }
           {
             const auto& e80_list = rendered77;
-            charge_loop(s.core, 22, int64_t(e80_list.size()));
+            charge_loop(s.core, 23, int64_t(e80_list.size()));
             for (const Elem& e80 : e80_list) {
               if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked75 = true;
@@ -640,7 +654,7 @@ struct Prog {
         out84.clear();
         {
           const auto& x85_list = prev82;
-          charge_loop(s.core, 18, int64_t(x85_list.size()));
+          charge_loop(s.core, 19, int64_t(x85_list.size()));
           for (const C1_Swatch& x85 : x85_list) {
             // inlined: function at programs/color_flood.au:46
             bool clicked86 = false;
@@ -663,6 +677,7 @@ struct Prog {
               }
             }
             if (clicked86) {
+              charge_built(s.core, 19, int64_t(int32_t(1)));
               out84.push_back(x85);
             }
           }
@@ -673,7 +688,7 @@ struct Prog {
         int32_t r93{};
         if (t92) {
           if (l_hit83.empty()) {
-            fail_at(20, std::string() + std::string("head of an empty list"));
+            fail_at(21, std::string() + std::string("head of an empty list"));
           }
           const C1_Swatch t94 = l_hit83.front();
           r93 = t94.f0;
@@ -690,6 +705,7 @@ struct Prog {
             for (const C0_Tile& x98 : x98_list) {
               // inlined: function at programs/color_flood.au:33
               if (x98.f1) {
+                charge_built(s.core, 12, int64_t(int32_t(1)));
                 out97.push_back(x98);
               }
             }
@@ -710,12 +726,13 @@ struct Prog {
           r93 = r101;
         }
         // inlined: function at programs/color_flood.au:44
+        charge_built(s.core, 22, int64_t(g81.size()));
         std::vector<C0_Tile>& updated103 = s.scratch.v.b23;
         updated103.clear();
         updated103.reserve(size_t(int32_t(g81.size())));
         {
           const auto& x104_list = g81;
-          charge_loop(s.core, 21, int64_t(x104_list.size()));
+          charge_loop(s.core, 22, int64_t(x104_list.size()));
           for (const C0_Tile& x104 : x104_list) {
             // inlined: function at programs/color_flood.au:44
             if (x104.f1) {
@@ -763,11 +780,12 @@ struct Prog {
         s.core.covered[int32_t(3)] = 1;
         // inlined: function at programs/color_flood.au:17
         if ((int32_t(8) < int32_t(0))) {
-          fail_at(23, std::string() + std::string("allPositions: negative size"));
+          fail_at(24, std::string() + std::string("allPositions: negative size"));
         }
         if ((int32_t(7) < int32_t(0))) {
-          fail_at(23, std::string() + std::string("allPositions: negative size"));
+          fail_at(24, std::string() + std::string("allPositions: negative size"));
         }
+        charge_built(s.core, 24, int64_t(int32_t(8)) * int64_t(int32_t(7)));
         std::vector<Pos>& apos112 = s.scratch.v.b24;
         apos112.clear();
         {
@@ -784,15 +802,16 @@ struct Prog {
         }
         std::vector<C0_Tile>& out116 = s.scratch.v.b25;
         out116.clear();
+        charge_built(s.core, 25, int64_t(apos112.size()));
         out116.reserve(size_t(int32_t(apos112.size())));
         {
           const auto& x117_list = apos112;
-          charge_loop(s.core, 24, int64_t(x117_list.size()));
+          charge_loop(s.core, 25, int64_t(x117_list.size()));
           for (const Pos& x117 : x117_list) {
             // inlined: function at programs/color_flood.au:18
             const std::vector<int32_t>& g118 = s.g_palette_4;
             if (g118.empty()) {
-              fail_at(25, std::string() + std::string("uniformChoice of an empty list"));
+              fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
             }
             const int32_t t119 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g118.size())))));
             const int32_t t120 = g118[size_t(t119)];
@@ -818,7 +837,7 @@ struct Prog {
       bool any126 = false;
       {
         const auto& x127_list = g125;
-        charge_loop(s.core, 26, int64_t(x127_list.size()));
+        charge_loop(s.core, 27, int64_t(x127_list.size()));
         for (const C0_Tile& x127 : x127_list) {
           // inlined: function at programs/color_flood.au:31
           const bool t128 = !x127.f1;
@@ -860,12 +879,12 @@ struct Prog {
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_19) {
-      tally_rendered(s.core, 27, "cacheRendered");
+      tally_rendered(s.core, 28, "cacheRendered");
       const C2_Lamps& g133 = s.g_lamps_6;
       tally_global(s.core, 5, "lamps", g133);
       if (s.d_click_19) {
         const Pos& g134 = s.g_click_18;
-        tally_global(s.core, 27, "click", g134);
+        tally_global(s.core, 28, "click", g134);
       }
       const std::vector<C1_Swatch>& g135 = s.g_swatches_10;
       tally_global(s.core, 6, "swatches", g135);
@@ -876,7 +895,7 @@ struct Prog {
       const Pos& g138 = s.g_corner_5;
       tally_global(s.core, 9, "corner", g138);
     } else {
-      tally_rendered(s.core, 27, "cacheRendered");
+      tally_rendered(s.core, 28, "cacheRendered");
       const C2_Lamps& g139 = s.g_lamps_6;
       tally_global(s.core, 5, "lamps", g139);
       const std::vector<C1_Swatch>& g140 = s.g_swatches_10;
@@ -900,7 +919,7 @@ struct Prog {
     const std::vector<C0_Tile>& g1 = s.g_tiles_14;
     {
       const auto& x2_list = g1;
-      charge_loop(s.core, 28, int64_t(x2_list.size()));
+      charge_loop(s.core, 29, int64_t(x2_list.size()));
       for (const C0_Tile& x2 : x2_list) {
         const int32_t colour3 = colour_2_C0_Tile(s, x2);
         const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
@@ -912,7 +931,7 @@ struct Prog {
     const std::vector<C1_Swatch>& g5 = s.g_swatches_10;
     {
       const auto& x6_list = g5;
-      charge_loop(s.core, 28, int64_t(x6_list.size()));
+      charge_loop(s.core, 29, int64_t(x6_list.size()));
       for (const C1_Swatch& x6 : x6_list) {
         const int32_t colour7 = colour_1_C1_Swatch(s, x6);
         const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
@@ -1035,6 +1054,7 @@ const ErrorSite Prog::kErrors[] = {
     {33, 16, nullptr, true, 33, 16, ""},
     {34, 41, nullptr, true, 34, 41, ""},
     {40, 5, nullptr, true, 40, 5, ""},
+    {42, 68, nullptr, true, 42, 68, ""},
     {42, 39, nullptr, true, 42, 39, ""},
     {149, 20, "<stdlib>", true, 42, 51, ""},
     {51, 36, nullptr, true, 51, 36, ""},

@@ -244,6 +244,7 @@ struct Prog {
         // inlined: function at programs/fireworks.au:35
         std::vector<C2_Spark>& out2 = s.scratch.v.b0;
         out2.clear();
+        charge_built(s.core, 5, int64_t(prev1.size()));
         out2.reserve(size_t(int32_t(prev1.size())));
         {
           const auto& x3_list = prev1;
@@ -291,6 +292,7 @@ struct Prog {
               r14 = false;
             }
             if (r14) {
+              charge_built(s.core, 6, int64_t(int32_t(1)));
               out11.push_back(x12);
             }
           }
@@ -305,12 +307,14 @@ struct Prog {
             // inlined: function at programs/fireworks.au:39
             const bool t22 = (x21.origin.y <= x21.f0);
             if (t22) {
+              charge_built(s.core, 8, int64_t(int32_t(1)));
               out20.push_back(x21);
             }
           }
         }
         std::vector<std::vector<C2_Spark>>& out23 = s.scratch.v.b4;
         out23.clear();
+        charge_built(s.core, 9, int64_t(out20.size()));
         out23.reserve(size_t(int32_t(out20.size())));
         {
           const auto& x24_list = out20;
@@ -327,6 +331,7 @@ struct Prog {
             l_span25 = t28;
             const std::vector<Pos>& g29 = s.g_compass_5;
             std::vector<C2_Spark> out30{};
+            charge_built(s.core, 11, int64_t(g29.size()));
             out30.reserve(size_t(int32_t(g29.size())));
             {
               const auto& x31_list = g29;
@@ -341,6 +346,7 @@ struct Prog {
           }
         }
         check_length(s.core, 12, total_size(out23));
+        charge_built(s.core, 12, total_size(out23));
         std::vector<C2_Spark>& cat33 = s.scratch.v.b5;
         cat33.clear();
         {
@@ -351,6 +357,7 @@ struct Prog {
           }
         }
         check_length(s.core, 13, int64_t(out11.size()) + int64_t(int32_t(cat33.size())));
+        charge_built(s.core, 13, int64_t(out11.size()) + int64_t(int32_t(cat33.size())));
         std::vector<C2_Spark>& added35 = s.scratch.v.b6;
         added35.clear();
         added35.reserve(size_t(add(int32_t(out11.size()), int32_t(cat33.size()))));
@@ -386,12 +393,14 @@ struct Prog {
             const bool t41 = (x40.origin.y <= x40.f0);
             const bool t42 = !t41;
             if (t42) {
+              charge_built(s.core, 14, int64_t(int32_t(1)));
               out39.push_back(x40);
             }
           }
         }
         std::vector<C1_Rocket>& out43 = s.scratch.v.b8;
         out43.clear();
+        charge_built(s.core, 15, int64_t(out39.size()));
         out43.reserve(size_t(int32_t(out39.size())));
         {
           const auto& x44_list = out39;
@@ -549,6 +558,7 @@ struct Prog {
         const Pos t91 = Pos{r89.x, int32_t(18)};
         C1_Rocket o92 = C1_Rocket{r84.y, t88, t91};
         check_length(s.core, 20, int64_t(g83.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 20, int64_t(g83.size()) + int64_t(int32_t(1)));
         std::vector<C1_Rocket>& added93 = s.scratch.v.b11;
         added93.clear();
         added93.reserve(size_t(add(int32_t(g83.size()), int32_t(1))));
@@ -599,6 +609,7 @@ struct Prog {
         const Pos t108 = Pos{g107.origin.x, int32_t(18)};
         C1_Rocket o109 = C1_Rocket{t103, t106, t108};
         check_length(s.core, 23, int64_t(g100.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 23, int64_t(g100.size()) + int64_t(int32_t(1)));
         std::vector<C1_Rocket>& added110 = s.scratch.v.b12;
         added110.clear();
         added110.reserve(size_t(add(int32_t(g100.size()), int32_t(1))));
@@ -636,6 +647,7 @@ struct Prog {
         if ((int32_t(20) < int32_t(0))) {
           fail_at(24, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
+        charge_built(s.core, 24, int64_t(int32_t(3)));
         std::vector<Pos>& rpos118 = s.scratch.v.b13;
         rpos118.clear();
         {
@@ -649,6 +661,7 @@ struct Prog {
         }
         std::vector<C1_Rocket>& out123 = s.scratch.v.b14;
         out123.clear();
+        charge_built(s.core, 25, int64_t(rpos118.size()));
         out123.reserve(size_t(int32_t(rpos118.size())));
         {
           const auto& x124_list = rpos118;
@@ -674,6 +687,7 @@ struct Prog {
           }
         }
         check_length(s.core, 27, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
+        charge_built(s.core, 27, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
         std::vector<C1_Rocket>& added132 = s.scratch.v.b15;
         added132.clear();
         added132.reserve(size_t(add(int32_t(g117.size()), int32_t(out123.size()))));

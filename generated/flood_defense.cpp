@@ -325,6 +325,7 @@ struct Prog {
     const std::vector<int32_t> list8 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11), int32_t(12), int32_t(13), int32_t(14), int32_t(15)};
     std::vector<std::vector<C0_Earth>>& out9 = s.scratch.v.b0;
     out9.clear();
+    charge_built(s.core, 0, int64_t(list8.size()));
     out9.reserve(size_t(int32_t(list8.size())));
     {
       const auto& x10_list = list8;
@@ -340,6 +341,7 @@ struct Prog {
         }
         const int32_t t12 = g11[size_t(x10)];
         check_length(s.core, 2, int64_t(t12) - int64_t(int32_t(0)));
+        charge_built(s.core, 2, int64_t(t12) - int64_t(int32_t(0)));
         std::vector<int32_t>& range13 = s.scratch.v.b1;
         range13.clear();
         {
@@ -350,6 +352,7 @@ struct Prog {
           }
         }
         std::vector<C0_Earth> out15{};
+        charge_built(s.core, 3, int64_t(range13.size()));
         out15.reserve(size_t(int32_t(range13.size())));
         {
           const auto& x16_list = range13;
@@ -366,6 +369,7 @@ struct Prog {
       }
     }
     check_length(s.core, 4, total_size(out9));
+    charge_built(s.core, 4, total_size(out9));
     std::vector<C0_Earth>& cat20 = s.scratch.v.b2;
     cat20.clear();
     {
@@ -421,6 +425,7 @@ struct Prog {
         const std::vector<C4_Water>& prev1 = (s.scratch.v.sv_water_10 ? s.scratch.v.p_water_9 : s.g_water_7);
         std::vector<C4_Water>& out2 = s.scratch.v.b3;
         out2.clear();
+        charge_built(s.core, 12, int64_t(prev1.size()));
         out2.reserve(size_t(int32_t(prev1.size())));
         {
           const auto& x3_list = prev1;
@@ -485,6 +490,7 @@ struct Prog {
               l_ymin30 = t25.y;
               l_ymax31 = t27.y;
               check_length(s.core, 14, int64_t(l_ymax31) - int64_t(l_ymin30));
+              charge_built(s.core, 14, int64_t(l_ymax31) - int64_t(l_ymin30));
               std::vector<int32_t>& range33 = s.scratch.v.b8;
               range33.clear();
               {
@@ -496,12 +502,14 @@ struct Prog {
               }
               std::vector<std::vector<Pos>>& out35 = s.scratch.v.b9;
               out35.clear();
+              charge_built(s.core, 15, int64_t(range33.size()));
               out35.reserve(size_t(int32_t(range33.size())));
               {
                 const auto& x36_list = range33;
                 charge_loop(s.core, 15, int64_t(x36_list.size()));
                 for (const int32_t& x36 : x36_list) {
                   check_length(s.core, 16, int64_t(l_xmax29) - int64_t(l_xmin28));
+                  charge_built(s.core, 16, int64_t(l_xmax29) - int64_t(l_xmin28));
                   std::vector<int32_t>& range37 = s.scratch.v.b10;
                   range37.clear();
                   {
@@ -512,6 +520,7 @@ struct Prog {
                     }
                   }
                   std::vector<Pos> out39{};
+                  charge_built(s.core, 17, int64_t(range37.size()));
                   out39.reserve(size_t(int32_t(range37.size())));
                   {
                     const auto& x40_list = range37;
@@ -525,6 +534,7 @@ struct Prog {
                 }
               }
               check_length(s.core, 18, total_size(out35));
+              charge_built(s.core, 18, total_size(out35));
               std::vector<Pos>& cat42 = s.scratch.v.b11;
               cat42.clear();
               {
@@ -545,6 +555,7 @@ struct Prog {
                   const bool t46 = (x45.y == int32_t(16));
                   const bool t47 = !t46;
                   if (t47) {
+                    charge_built(s.core, 19, int64_t(int32_t(1)));
                     out44.push_back(x45);
                   }
                 }
@@ -568,6 +579,7 @@ struct Prog {
                     r51 = false;
                   }
                   if (r51) {
+                    charge_built(s.core, 20, int64_t(int32_t(1)));
                     out48.push_back(x49);
                   }
                 }
@@ -764,6 +776,7 @@ struct Prog {
           const auto& x132_list = g131;
           charge_loop(s.core, 24, int64_t(x132_list.size()));
           for (const C1_House& x132 : x132_list) {
+            charge_built(s.core, 24, int64_t(int32_t(1)));
             all130.push_back(S136{std::in_place_index<1>, x132});
           }
         }
@@ -772,6 +785,7 @@ struct Prog {
           const auto& x134_list = g133;
           charge_loop(s.core, 24, int64_t(x134_list.size()));
           for (const C3_Sandbag& x134 : x134_list) {
+            charge_built(s.core, 24, int64_t(int32_t(1)));
             all130.push_back(S136{std::in_place_index<2>, x134});
           }
         }
@@ -780,6 +794,7 @@ struct Prog {
           const auto& x136_list = g135;
           charge_loop(s.core, 24, int64_t(x136_list.size()));
           for (const C4_Water& x136 : x136_list) {
+            charge_built(s.core, 24, int64_t(int32_t(1)));
             all130.push_back(S136{std::in_place_index<3>, x136});
           }
         }
@@ -788,12 +803,15 @@ struct Prog {
           const auto& x138_list = g137;
           charge_loop(s.core, 24, int64_t(x138_list.size()));
           for (const C0_Earth& x138 : x138_list) {
+            charge_built(s.core, 24, int64_t(int32_t(1)));
             all130.push_back(S136{std::in_place_index<0>, x138});
           }
         }
         const C2_Drain& g139 = s.g_drain_23;
+        charge_built(s.core, 24, int64_t(int32_t(1)));
         all130.push_back(S136{std::in_place_index<5>, g139});
         const C5_Spring& g140 = s.g_spring_15;
+        charge_built(s.core, 24, int64_t(int32_t(1)));
         all130.push_back(S136{std::in_place_index<4>, g140});
         check_appended_length(s.core, 24, int64_t(all130.size()));
         std::vector<S136>& out141 = s.scratch.v.b16;
@@ -860,6 +878,7 @@ struct Prog {
             const int32_t t160 = add(r155, r158);
             const bool t161 = (t160 <= int32_t(1));
             if (t161) {
+              charge_built(s.core, 25, int64_t(int32_t(1)));
               out141.push_back(x142);
             }
           }
@@ -922,6 +941,7 @@ struct Prog {
               }
             }
             if (!found164) {
+              charge_built(s.core, 26, int64_t(int32_t(1)));
               kept162.push_back(x163);
             }
           }
@@ -973,6 +993,7 @@ struct Prog {
         const Pos t193 = Pos{g192.origin.x, int32_t(1)};
         C4_Water o194 = C4_Water{t193, s.core.ids.fresh()};
         check_length(s.core, 28, int64_t(g191.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 28, int64_t(g191.size()) + int64_t(int32_t(1)));
         std::vector<C4_Water>& added195 = s.scratch.v.b18;
         added195.clear();
         added195.reserve(size_t(add(int32_t(g191.size()), int32_t(1))));
@@ -999,6 +1020,7 @@ struct Prog {
       if (true) {
         s.core.covered[int32_t(2)] = 1;
         const std::vector<C1_House>& prev198 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
+        charge_built(s.core, 29, int64_t(prev198.size()));
         std::vector<C1_House>& updated199 = s.scratch.v.b19;
         updated199.clear();
         updated199.reserve(size_t(int32_t(prev198.size())));
@@ -1018,6 +1040,7 @@ struct Prog {
                 const auto& x205_list = g204;
                 charge_loop(s.core, 30, int64_t(x205_list.size()));
                 for (const C1_House& x205 : x205_list) {
+                  charge_built(s.core, 30, int64_t(int32_t(1)));
                   all203.push_back(S136{std::in_place_index<1>, x205});
                 }
               }
@@ -1026,6 +1049,7 @@ struct Prog {
                 const auto& x207_list = g206;
                 charge_loop(s.core, 30, int64_t(x207_list.size()));
                 for (const C3_Sandbag& x207 : x207_list) {
+                  charge_built(s.core, 30, int64_t(int32_t(1)));
                   all203.push_back(S136{std::in_place_index<2>, x207});
                 }
               }
@@ -1034,6 +1058,7 @@ struct Prog {
                 const auto& x209_list = g208;
                 charge_loop(s.core, 30, int64_t(x209_list.size()));
                 for (const C4_Water& x209 : x209_list) {
+                  charge_built(s.core, 30, int64_t(int32_t(1)));
                   all203.push_back(S136{std::in_place_index<3>, x209});
                 }
               }
@@ -1042,12 +1067,15 @@ struct Prog {
                 const auto& x211_list = g210;
                 charge_loop(s.core, 30, int64_t(x211_list.size()));
                 for (const C0_Earth& x211 : x211_list) {
+                  charge_built(s.core, 30, int64_t(int32_t(1)));
                   all203.push_back(S136{std::in_place_index<0>, x211});
                 }
               }
               const C2_Drain& g212 = s.g_drain_23;
+              charge_built(s.core, 30, int64_t(int32_t(1)));
               all203.push_back(S136{std::in_place_index<5>, g212});
               const C5_Spring& g213 = s.g_spring_15;
+              charge_built(s.core, 30, int64_t(int32_t(1)));
               all203.push_back(S136{std::in_place_index<4>, g213});
               check_appended_length(s.core, 30, int64_t(all203.size()));
               std::vector<S136>& out214 = s.scratch.v.b21;
@@ -1114,6 +1142,7 @@ struct Prog {
                   const int32_t t233 = add(r228, r231);
                   const bool t234 = (t233 <= int32_t(1));
                   if (t234) {
+                    charge_built(s.core, 31, int64_t(int32_t(1)));
                     out214.push_back(x215);
                   }
                 }
@@ -1273,6 +1302,7 @@ struct Prog {
       if (clicked261) {
         s.core.covered[int32_t(3)] = 1;
         const std::vector<C1_House>& g267 = s.g_houses_19;
+        charge_built(s.core, 37, int64_t(g267.size()));
         std::vector<C1_House>& updated268 = s.scratch.v.b25;
         updated268.clear();
         updated268.reserve(size_t(int32_t(g267.size())));
@@ -1376,6 +1406,7 @@ struct Prog {
               }
             }
             if (!clicked285) {
+              charge_built(s.core, 40, int64_t(int32_t(1)));
               kept283.push_back(x284);
             }
           }
@@ -1440,6 +1471,7 @@ struct Prog {
         const Pos t304 = Pos{r300.x, r302.y};
         C3_Sandbag o305 = C3_Sandbag{t304, s.core.ids.fresh()};
         check_length(s.core, 45, int64_t(g299.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 45, int64_t(g299.size()) + int64_t(int32_t(1)));
         std::vector<C3_Sandbag>& added306 = s.scratch.v.b30;
         added306.clear();
         added306.reserve(size_t(add(int32_t(g299.size()), int32_t(1))));

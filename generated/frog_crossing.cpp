@@ -370,6 +370,7 @@ struct Prog {
     const std::vector<std::vector<int32_t>>& g12 = s.g_lanes_6;
     std::vector<std::vector<C3_Car>>& out13 = s.scratch.v.b0;
     out13.clear();
+    charge_built(s.core, 0, int64_t(g12.size()));
     out13.reserve(size_t(int32_t(g12.size())));
     {
       const auto& x14_list = g12;
@@ -408,6 +409,7 @@ struct Prog {
         }
         const int32_t t22 = x14[size_t(int32_t(4))];
         check_length(s.core, 5, int64_t(t22) - int64_t(int32_t(0)));
+        charge_built(s.core, 5, int64_t(t22) - int64_t(int32_t(0)));
         std::vector<int32_t>& range23 = s.scratch.v.b1;
         range23.clear();
         {
@@ -418,6 +420,7 @@ struct Prog {
           }
         }
         std::vector<C3_Car> out25{};
+        charge_built(s.core, 6, int64_t(range23.size()));
         out25.reserve(size_t(int32_t(range23.size())));
         {
           const auto& x26_list = range23;
@@ -473,6 +476,7 @@ struct Prog {
             const Pos t38 = Pos{t36, t37};
             std::vector<CellV> l_allCells39{};
             check_length(s.core, 12, int64_t(t29) - int64_t(int32_t(0)));
+            charge_built(s.core, 12, int64_t(t29) - int64_t(int32_t(0)));
             std::vector<int32_t>& range40 = s.scratch.v.b2;
             range40.clear();
             {
@@ -484,6 +488,7 @@ struct Prog {
             }
             std::vector<CellV>& out42 = s.scratch.v.b3;
             out42.clear();
+            charge_built(s.core, 13, int64_t(range40.size()));
             out42.reserve(size_t(int32_t(range40.size())));
             {
               const auto& x43_list = range40;
@@ -503,6 +508,7 @@ struct Prog {
       }
     }
     check_length(s.core, 14, total_size(out13));
+    charge_built(s.core, 14, total_size(out13));
     std::vector<C3_Car>& cat46 = s.scratch.v.b4;
     cat46.clear();
     {
@@ -577,6 +583,7 @@ struct Prog {
         const std::vector<C3_Car>& prev1 = (s.scratch.v.sv_cars_18 ? s.scratch.v.p_cars_17 : s.g_cars_15);
         std::vector<C3_Car>& out2 = s.scratch.v.b5;
         out2.clear();
+        charge_built(s.core, 23, int64_t(prev1.size()));
         out2.reserve(size_t(int32_t(prev1.size())));
         {
           const auto& x3_list = prev1;
@@ -1052,6 +1059,7 @@ struct Prog {
       if (r134) {
         s.core.covered[int32_t(6)] = 1;
         const std::vector<C2_Pad>& g142 = s.g_pads_23;
+        charge_built(s.core, 36, int64_t(g142.size()));
         std::vector<C2_Pad>& updated143 = s.scratch.v.b19;
         updated143.clear();
         updated143.reserve(size_t(int32_t(g142.size())));
@@ -1168,6 +1176,7 @@ struct Prog {
         const std::vector<C2_Pad>& g172 = s.g_pads_23;
         std::vector<C2_Pad>& out173 = s.scratch.v.b20;
         out173.clear();
+        charge_built(s.core, 38, int64_t(g172.size()));
         out173.reserve(size_t(int32_t(g172.size())));
         {
           const auto& x174_list = g172;
@@ -1203,6 +1212,7 @@ struct Prog {
         const std::vector<C2_Pad>& g179 = s.g_pads_23;
         std::vector<C2_Pad>& out180 = s.scratch.v.b21;
         out180.clear();
+        charge_built(s.core, 39, int64_t(g179.size()));
         out180.reserve(size_t(int32_t(g179.size())));
         {
           const auto& x181_list = g179;

@@ -471,6 +471,7 @@ struct Prog {
         const std::vector<C2_Drop>& prev2 = (s.scratch.v.sv_drops_14 ? s.scratch.v.p_drops_13 : s.g_drops_11);
         std::vector<C2_Drop>& out3 = s.scratch.v.b1;
         out3.clear();
+        charge_built(s.core, 7, int64_t(prev2.size()));
         out3.reserve(size_t(int32_t(prev2.size())));
         {
           const auto& x4_list = prev2;
@@ -486,6 +487,7 @@ struct Prog {
         }
         std::swap(l_fallen1, out3);
         const std::vector<C3_Plant>& prev9 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+        charge_built(s.core, 8, int64_t(prev9.size()));
         std::vector<C3_Plant>& updated10 = s.scratch.v.b2;
         updated10.clear();
         updated10.reserve(size_t(int32_t(prev9.size())));
@@ -639,6 +641,7 @@ struct Prog {
               r34 = false;
             }
             if (r34) {
+              charge_built(s.core, 12, int64_t(int32_t(1)));
               out31.push_back(x32);
             }
           }
@@ -657,6 +660,7 @@ struct Prog {
       if (g52.f0) {
         s.core.covered[int32_t(1)] = 1;
         const std::vector<C3_Plant>& g53 = s.g_plants_15;
+        charge_built(s.core, 16, int64_t(g53.size()));
         std::vector<C3_Plant>& updated54 = s.scratch.v.b8;
         updated54.clear();
         updated54.reserve(size_t(int32_t(g53.size())));
@@ -765,6 +769,7 @@ struct Prog {
               }
             }
             if (clicked76) {
+              charge_built(s.core, 19, int64_t(int32_t(1)));
               out74.push_back(x75);
             }
           }
@@ -835,6 +840,7 @@ struct Prog {
               }
             }
             if (!clicked95) {
+              charge_built(s.core, 22, int64_t(int32_t(1)));
               kept93.push_back(x94);
             }
           }
@@ -927,6 +933,7 @@ struct Prog {
         const Pos t124 = Pos{r120.x, r122.y};
         C3_Plant o125 = C3_Plant{int32_t(0), t119, t124};
         check_length(s.core, 29, int64_t(g116.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 29, int64_t(g116.size()) + int64_t(int32_t(1)));
         std::vector<C3_Plant>& added126 = s.scratch.v.b14;
         added126.clear();
         added126.reserve(size_t(add(int32_t(g116.size()), int32_t(1))));
@@ -1033,6 +1040,7 @@ struct Prog {
         const Pos t155 = Pos{t154, int32_t(1)};
         C2_Drop o156 = C2_Drop{t155};
         check_length(s.core, 31, int64_t(g149.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 31, int64_t(g149.size()) + int64_t(int32_t(1)));
         std::vector<C2_Drop>& added157 = s.scratch.v.b15;
         added157.clear();
         added157.reserve(size_t(add(int32_t(g149.size()), int32_t(1))));

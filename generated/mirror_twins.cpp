@@ -361,6 +361,7 @@ struct Prog {
     if ((int32_t(10) < int32_t(0))) {
       fail_at(0, std::string() + std::string("allPositions: negative size"));
     }
+    charge_built(s.core, 0, int64_t(int32_t(10)) * int64_t(int32_t(10)));
     std::vector<Pos>& apos2 = s.scratch.v.b0;
     apos2.clear();
     {
@@ -404,6 +405,7 @@ struct Prog {
           r9 = false;
         }
         if (r9) {
+          charge_built(s.core, 1, int64_t(int32_t(1)));
           out6.push_back(x7);
         }
       }
@@ -429,6 +431,7 @@ struct Prog {
         // inlined: function at programs/mirror_twins.au:21
         const bool t20 = (x19.x >= int32_t(5));
         if (t20) {
+          charge_built(s.core, 3, int64_t(int32_t(1)));
           out18.push_back(x19);
         }
       }
@@ -453,6 +456,7 @@ struct Prog {
         // inlined: function at programs/mirror_twins.au:20
         const bool t27 = (x26.x < int32_t(5));
         if (t27) {
+          charge_built(s.core, 5, int64_t(int32_t(1)));
           out25.push_back(x26);
         }
       }
@@ -469,6 +473,7 @@ struct Prog {
     const std::vector<Pos>& g31 = s.g_wallSpots_4;
     std::vector<C0_Wall>& out32 = s.scratch.v.b4;
     out32.clear();
+    charge_built(s.core, 7, int64_t(g31.size()));
     out32.reserve(size_t(int32_t(g31.size())));
     {
       const auto& x33_list = g31;
@@ -1567,6 +1572,7 @@ struct Prog {
         if ((int32_t(10) < int32_t(0))) {
           fail_at(20, std::string() + std::string("allPositions: negative size"));
         }
+        charge_built(s.core, 20, int64_t(int32_t(10)) * int64_t(int32_t(10)));
         std::vector<Pos>& apos331 = s.scratch.v.b30;
         apos331.clear();
         {
@@ -1630,6 +1636,7 @@ struct Prog {
               r338 = false;
             }
             if (r338) {
+              charge_built(s.core, 21, int64_t(int32_t(1)));
               out335.push_back(x336);
             }
           }
@@ -1645,6 +1652,7 @@ struct Prog {
             // inlined: function at programs/mirror_twins.au:20
             const bool t354 = (x353.x < int32_t(5));
             if (t354) {
+              charge_built(s.core, 23, int64_t(int32_t(1)));
               out352.push_back(x353);
             }
           }
@@ -1664,6 +1672,7 @@ struct Prog {
               // inlined: function at programs/mirror_twins.au:20
               const bool t361 = (x360.x < int32_t(5));
               if (t361) {
+                charge_built(s.core, 23, int64_t(int32_t(1)));
                 out359.push_back(x360);
               }
             }
@@ -1696,6 +1705,7 @@ struct Prog {
             // inlined: function at programs/mirror_twins.au:21
             const bool t368 = (x367.x >= int32_t(5));
             if (t368) {
+              charge_built(s.core, 25, int64_t(int32_t(1)));
               out366.push_back(x367);
             }
           }
@@ -1715,6 +1725,7 @@ struct Prog {
               // inlined: function at programs/mirror_twins.au:21
               const bool t375 = (x374.x >= int32_t(5));
               if (t375) {
+                charge_built(s.core, 25, int64_t(int32_t(1)));
                 out373.push_back(x374);
               }
             }
@@ -1797,6 +1808,7 @@ struct Prog {
             }
             const bool t393 = !clicked389;
             if (t393) {
+              charge_built(s.core, 28, int64_t(int32_t(1)));
               out387.push_back(x388);
             }
           }
@@ -1875,6 +1887,7 @@ struct Prog {
         const Pos t413 = Pos{r409.x, r411.y};
         C0_Wall o414 = C0_Wall{t413};
         check_length(s.core, 34, int64_t(g408.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 34, int64_t(g408.size()) + int64_t(int32_t(1)));
         std::vector<C0_Wall>& added415 = s.scratch.v.b39;
         added415.clear();
         added415.reserve(size_t(add(int32_t(g408.size()), int32_t(1))));

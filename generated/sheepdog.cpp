@@ -236,6 +236,7 @@ struct Prog {
     const std::vector<Pos>& g4 = s.g_sheepStarts_4;
     std::vector<C2_Sheep>& out5 = s.scratch.v.b0;
     out5.clear();
+    charge_built(s.core, 0, int64_t(g4.size()));
     out5.reserve(size_t(int32_t(g4.size())));
     {
       const auto& x6_list = g4;
@@ -259,6 +260,7 @@ struct Prog {
     if ((int32_t(16) < int32_t(0))) {
       fail_at(1, std::string() + std::string("allPositions: negative size"));
     }
+    charge_built(s.core, 1, int64_t(int32_t(16)) * int64_t(int32_t(16)));
     std::vector<Pos>& apos9 = s.scratch.v.b1;
     apos9.clear();
     {
@@ -338,12 +340,14 @@ struct Prog {
           r26 = false;
         }
         if (r26) {
+          charge_built(s.core, 2, int64_t(int32_t(1)));
           out13.push_back(x14);
         }
       }
     }
     std::vector<C0_Fence>& out32 = s.scratch.v.b3;
     out32.clear();
+    charge_built(s.core, 4, int64_t(out13.size()));
     out32.reserve(size_t(int32_t(out13.size())));
     {
       const auto& x33_list = out13;
@@ -449,6 +453,7 @@ struct Prog {
               }
               const bool t25 = !any22;
               if (t25) {
+                charge_built(s.core, 13, int64_t(int32_t(1)));
                 out20.push_back(x21);
               }
             }
@@ -564,6 +569,7 @@ struct Prog {
             }
             const bool t62 = !any59;
             if (t62) {
+              charge_built(s.core, 17, int64_t(int32_t(1)));
               out57.push_back(x58);
             }
           }
@@ -681,6 +687,7 @@ struct Prog {
               }
               const bool t98 = !any95;
               if (t98) {
+                charge_built(s.core, 21, int64_t(int32_t(1)));
                 out93.push_back(x94);
               }
             }
@@ -794,6 +801,7 @@ struct Prog {
               }
               const bool t133 = !any130;
               if (t133) {
+                charge_built(s.core, 25, int64_t(int32_t(1)));
                 out128.push_back(x129);
               }
             }
@@ -998,6 +1006,7 @@ struct Prog {
             }
             const bool t202 = !any199;
             if (t202) {
+              charge_built(s.core, 29, int64_t(int32_t(1)));
               out197.push_back(x198);
             }
           }
@@ -1091,6 +1100,7 @@ struct Prog {
               }
               const bool t237 = !any234;
               if (t237) {
+                charge_built(s.core, 32, int64_t(int32_t(1)));
                 out232.push_back(x233);
               }
             }
@@ -1704,6 +1714,7 @@ struct Prog {
               r287 = std::move(upd440);
             }
             check_length(s.core, 46, int64_t(acc285.size()) + int64_t(int32_t(1)));
+            charge_built(s.core, 46, int64_t(acc285.size()) + int64_t(int32_t(1)));
             std::vector<C2_Sheep>& added441 = s.scratch.v.b47;
             added441.clear();
             added441.reserve(size_t(add(int32_t(acc285.size()), int32_t(1))));
@@ -1797,6 +1808,7 @@ struct Prog {
         const std::vector<Pos>& g459 = s.g_sheepStarts_4;
         std::vector<C2_Sheep>& out460 = s.scratch.v.b49;
         out460.clear();
+        charge_built(s.core, 49, int64_t(g459.size()));
         out460.reserve(size_t(int32_t(g459.size())));
         {
           const auto& x461_list = g459;

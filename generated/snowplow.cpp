@@ -570,6 +570,7 @@ struct Prog {
             }
             const bool t14 = !clicked10;
             if (t14) {
+              charge_built(s.core, 6, int64_t(int32_t(1)));
               out8.push_back(x9);
             }
           }
@@ -598,6 +599,7 @@ struct Prog {
         const Pos t20 = Pos{r16.x, r18.y};
         C1_Melt o21 = C1_Melt{int32_t(10), t20};
         check_length(s.core, 10, int64_t(prev15.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 10, int64_t(prev15.size()) + int64_t(int32_t(1)));
         std::vector<C1_Melt>& added22 = s.scratch.v.b3;
         added22.clear();
         added22.reserve(size_t(add(int32_t(prev15.size()), int32_t(1))));
@@ -675,6 +677,7 @@ struct Prog {
             }
             const bool t37 = !clicked33;
             if (t37) {
+              charge_built(s.core, 12, int64_t(int32_t(1)));
               out31.push_back(x32);
             }
           }
@@ -739,6 +742,7 @@ struct Prog {
         const Pos t53 = Pos{r49.x, r51.y};
         C2_Rock o54 = C2_Rock{t53};
         check_length(s.core, 17, int64_t(g48.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 17, int64_t(g48.size()) + int64_t(int32_t(1)));
         std::vector<C2_Rock>& added55 = s.scratch.v.b7;
         added55.clear();
         added55.reserve(size_t(add(int32_t(g48.size()), int32_t(1))));
@@ -765,6 +769,7 @@ struct Prog {
         const std::vector<C0_Flake>& g57 = s.g_snow_9;
         std::vector<C0_Flake>& out58 = s.scratch.v.b8;
         out58.clear();
+        charge_built(s.core, 18, int64_t(g57.size()));
         out58.reserve(size_t(int32_t(g57.size())));
         {
           const auto& x59_list = g57;
@@ -829,6 +834,7 @@ struct Prog {
                   }
                   const bool t82 = !any79;
                   if (t82) {
+                    charge_built(s.core, 20, int64_t(int32_t(1)));
                     out77.push_back(x78);
                   }
                 }
@@ -882,6 +888,7 @@ struct Prog {
         // inlined: function at programs/snowplow.au:41
         std::vector<C1_Melt>& out94 = s.scratch.v.b16;
         out94.clear();
+        charge_built(s.core, 23, int64_t(g93.size()));
         out94.reserve(size_t(int32_t(g93.size())));
         {
           const auto& x95_list = g93;
@@ -946,6 +953,7 @@ struct Prog {
               l_ymin123 = t118.y;
               l_ymax124 = t120.y;
               check_length(s.core, 25, int64_t(l_ymax124) - int64_t(l_ymin123));
+              charge_built(s.core, 25, int64_t(l_ymax124) - int64_t(l_ymin123));
               std::vector<int32_t>& range126 = s.scratch.v.b21;
               range126.clear();
               {
@@ -957,12 +965,14 @@ struct Prog {
               }
               std::vector<std::vector<Pos>>& out128 = s.scratch.v.b22;
               out128.clear();
+              charge_built(s.core, 26, int64_t(range126.size()));
               out128.reserve(size_t(int32_t(range126.size())));
               {
                 const auto& x129_list = range126;
                 charge_loop(s.core, 26, int64_t(x129_list.size()));
                 for (const int32_t& x129 : x129_list) {
                   check_length(s.core, 27, int64_t(l_xmax122) - int64_t(l_xmin121));
+                  charge_built(s.core, 27, int64_t(l_xmax122) - int64_t(l_xmin121));
                   std::vector<int32_t>& range130 = s.scratch.v.b23;
                   range130.clear();
                   {
@@ -973,6 +983,7 @@ struct Prog {
                     }
                   }
                   std::vector<Pos> out132{};
+                  charge_built(s.core, 28, int64_t(range130.size()));
                   out132.reserve(size_t(int32_t(range130.size())));
                   {
                     const auto& x133_list = range130;
@@ -986,6 +997,7 @@ struct Prog {
                 }
               }
               check_length(s.core, 29, total_size(out128));
+              charge_built(s.core, 29, total_size(out128));
               std::vector<Pos>& cat135 = s.scratch.v.b24;
               cat135.clear();
               {
@@ -1006,6 +1018,7 @@ struct Prog {
                   const bool t139 = (x138.y == int32_t(16));
                   const bool t140 = !t139;
                   if (t140) {
+                    charge_built(s.core, 30, int64_t(int32_t(1)));
                     out137.push_back(x138);
                   }
                 }
@@ -1029,6 +1042,7 @@ struct Prog {
                     r144 = false;
                   }
                   if (r144) {
+                    charge_built(s.core, 31, int64_t(int32_t(1)));
                     out141.push_back(x142);
                   }
                 }
@@ -1222,6 +1236,7 @@ struct Prog {
             // inlined: function at programs/snowplow.au:42
             const bool t226 = (x225.f0 > int32_t(0));
             if (t226) {
+              charge_built(s.core, 35, int64_t(int32_t(1)));
               out224.push_back(x225);
             }
           }
@@ -1384,6 +1399,7 @@ struct Prog {
               r266 = any267;
             }
             if (!r266) {
+              charge_built(s.core, 37, int64_t(int32_t(1)));
               kept256.push_back(x257);
             }
           }
@@ -1475,6 +1491,7 @@ struct Prog {
         if ((int32_t(255) < int32_t(0))) {
           fail_at(41, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
+        charge_built(s.core, 41, int64_t(int32_t(1)));
         std::vector<Pos>& rpos297 = s.scratch.v.b34;
         rpos297.clear();
         {
@@ -1516,6 +1533,7 @@ struct Prog {
         if (t311) {
           const std::vector<C0_Flake>& g313 = s.g_snow_9;
           check_length(s.core, 44, int64_t(g313.size()) + int64_t(int32_t(1)));
+          charge_built(s.core, 44, int64_t(g313.size()) + int64_t(int32_t(1)));
           std::vector<C0_Flake>& added314 = s.scratch.v.b37;
           added314.clear();
           added314.reserve(size_t(add(int32_t(g313.size()), int32_t(1))));

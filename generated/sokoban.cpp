@@ -240,6 +240,7 @@ struct Prog {
     const std::vector<Pos>& g5 = s.g_crateStarts_6;
     std::vector<C2_Crate>& out6 = s.scratch.v.b0;
     out6.clear();
+    charge_built(s.core, 0, int64_t(g5.size()));
     out6.reserve(size_t(int32_t(g5.size())));
     {
       const auto& x7_list = g5;
@@ -253,6 +254,7 @@ struct Prog {
     // inlined: function at programs/sokoban.au:24
     std::vector<C2_Crate>& out9 = s.scratch.v.b1;
     out9.clear();
+    charge_built(s.core, 1, int64_t(out6.size()));
     out9.reserve(size_t(int32_t(out6.size())));
     {
       const auto& x10_list = out6;
@@ -283,6 +285,7 @@ struct Prog {
     const std::vector<Pos>& g16 = s.g_goalSpots_5;
     std::vector<C1_Goal>& out17 = s.scratch.v.b2;
     out17.clear();
+    charge_built(s.core, 3, int64_t(g16.size()));
     out17.reserve(size_t(int32_t(g16.size())));
     {
       const auto& x18_list = g16;
@@ -304,6 +307,7 @@ struct Prog {
     if ((int32_t(8) < int32_t(0))) {
       fail_at(4, std::string() + std::string("allPositions: negative size"));
     }
+    charge_built(s.core, 4, int64_t(int32_t(8)) * int64_t(int32_t(8)));
     std::vector<Pos>& apos22 = s.scratch.v.b3;
     apos22.clear();
     {
@@ -357,18 +361,21 @@ struct Prog {
           r35 = false;
         }
         if (r35) {
+          charge_built(s.core, 5, int64_t(int32_t(1)));
           out26.push_back(x27);
         }
       }
     }
     const std::vector<Pos>& g38 = s.g_innerWalls_4;
     check_length(s.core, 6, int64_t(out26.size()) + int64_t(g38.size()));
+    charge_built(s.core, 6, int64_t(out26.size()) + int64_t(g38.size()));
     std::vector<Pos>& cat39 = s.scratch.v.b5;
     cat39.clear();
     cat39.insert(cat39.end(), out26.begin(), out26.end());
     cat39.insert(cat39.end(), g38.begin(), g38.end());
     std::vector<C0_Wall>& out40 = s.scratch.v.b6;
     out40.clear();
+    charge_built(s.core, 7, int64_t(cat39.size()));
     out40.reserve(size_t(int32_t(cat39.size())));
     {
       const auto& x41_list = cat39;
@@ -498,6 +505,7 @@ struct Prog {
         r28.clear();
         if (r10) {
           const std::vector<C2_Crate>& prev29 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+          charge_built(s.core, 19, int64_t(prev29.size()));
           std::vector<C2_Crate>& updated30 = s.scratch.v.b8;
           updated30.clear();
           updated30.reserve(size_t(int32_t(prev29.size())));
@@ -528,6 +536,7 @@ struct Prog {
           // inlined: function at programs/sokoban.au:24
           std::vector<C2_Crate>& out41 = s.scratch.v.b9;
           out41.clear();
+          charge_built(s.core, 20, int64_t(updated30.size()));
           out41.reserve(size_t(int32_t(updated30.size())));
           {
             const auto& x42_list = updated30;
@@ -798,6 +807,7 @@ struct Prog {
         r125.clear();
         if (r107) {
           const std::vector<C2_Crate>& prev126 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+          charge_built(s.core, 19, int64_t(prev126.size()));
           std::vector<C2_Crate>& updated127 = s.scratch.v.b11;
           updated127.clear();
           updated127.reserve(size_t(int32_t(prev126.size())));
@@ -828,6 +838,7 @@ struct Prog {
           // inlined: function at programs/sokoban.au:24
           std::vector<C2_Crate>& out138 = s.scratch.v.b12;
           out138.clear();
+          charge_built(s.core, 20, int64_t(updated127.size()));
           out138.reserve(size_t(int32_t(updated127.size())));
           {
             const auto& x139_list = updated127;
@@ -1098,6 +1109,7 @@ struct Prog {
         r222.clear();
         if (r204) {
           const std::vector<C2_Crate>& prev223 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+          charge_built(s.core, 19, int64_t(prev223.size()));
           std::vector<C2_Crate>& updated224 = s.scratch.v.b14;
           updated224.clear();
           updated224.reserve(size_t(int32_t(prev223.size())));
@@ -1128,6 +1140,7 @@ struct Prog {
           // inlined: function at programs/sokoban.au:24
           std::vector<C2_Crate>& out235 = s.scratch.v.b15;
           out235.clear();
+          charge_built(s.core, 20, int64_t(updated224.size()));
           out235.reserve(size_t(int32_t(updated224.size())));
           {
             const auto& x236_list = updated224;
@@ -1398,6 +1411,7 @@ struct Prog {
         r319.clear();
         if (r301) {
           const std::vector<C2_Crate>& prev320 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+          charge_built(s.core, 19, int64_t(prev320.size()));
           std::vector<C2_Crate>& updated321 = s.scratch.v.b17;
           updated321.clear();
           updated321.reserve(size_t(int32_t(prev320.size())));
@@ -1428,6 +1442,7 @@ struct Prog {
           // inlined: function at programs/sokoban.au:24
           std::vector<C2_Crate>& out332 = s.scratch.v.b18;
           out332.clear();
+          charge_built(s.core, 20, int64_t(updated321.size()));
           out332.reserve(size_t(int32_t(updated321.size())));
           {
             const auto& x333_list = updated321;
@@ -1641,6 +1656,7 @@ struct Prog {
         const std::vector<Pos>& g394 = s.g_crateStarts_6;
         std::vector<C2_Crate>& out395 = s.scratch.v.b20;
         out395.clear();
+        charge_built(s.core, 23, int64_t(g394.size()));
         out395.reserve(size_t(int32_t(g394.size())));
         {
           const auto& x396_list = g394;
@@ -1654,6 +1670,7 @@ struct Prog {
         // inlined: function at programs/sokoban.au:24
         std::vector<C2_Crate>& out398 = s.scratch.v.b21;
         out398.clear();
+        charge_built(s.core, 20, int64_t(out395.size()));
         out398.reserve(size_t(int32_t(out395.size())));
         {
           const auto& x399_list = out395;

@@ -369,6 +369,7 @@ struct Prog {
     const std::vector<Pos>& g3 = s.g_burrowSpots_4;
     std::vector<C0_Burrow>& out4 = s.scratch.v.b0;
     out4.clear();
+    charge_built(s.core, 0, int64_t(g3.size()));
     out4.reserve(size_t(int32_t(g3.size())));
     {
       const auto& x5_list = g3;
@@ -460,6 +461,7 @@ struct Prog {
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C1_Mole>& out12 = s.scratch.v.b2;
         out12.clear();
+        charge_built(s.core, 7, int64_t(prev11.size()));
         out12.reserve(size_t(int32_t(prev11.size())));
         {
           const auto& x13_list = prev11;
@@ -481,6 +483,7 @@ struct Prog {
             // inlined: function at programs/whack_a_mole.au:46
             const bool t18 = (x17.f0 > int32_t(0));
             if (t18) {
+              charge_built(s.core, 8, int64_t(int32_t(1)));
               out16.push_back(x17);
             }
           }
@@ -513,6 +516,7 @@ struct Prog {
             }
             const bool t26 = !clicked21;
             if (t26) {
+              charge_built(s.core, 9, int64_t(int32_t(1)));
               out19.push_back(x20);
             }
           }
@@ -556,6 +560,7 @@ struct Prog {
         const Pos t36 = Pos{r32.x, r34.y};
         C2_Flash o37 = C2_Flash{int32_t(2), t36};
         check_length(s.core, 13, int64_t(g31.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 13, int64_t(g31.size()) + int64_t(int32_t(1)));
         std::vector<C2_Flash>& added38 = s.scratch.v.b6;
         added38.clear();
         added38.reserve(size_t(add(int32_t(g31.size()), int32_t(1))));
@@ -632,6 +637,7 @@ struct Prog {
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C1_Mole>& out55 = s.scratch.v.b8;
         out55.clear();
+        charge_built(s.core, 7, int64_t(prev54.size()));
         out55.reserve(size_t(int32_t(prev54.size())));
         {
           const auto& x56_list = prev54;
@@ -653,6 +659,7 @@ struct Prog {
             // inlined: function at programs/whack_a_mole.au:46
             const bool t61 = (x60.f0 > int32_t(0));
             if (t61) {
+              charge_built(s.core, 8, int64_t(int32_t(1)));
               out59.push_back(x60);
             }
           }
@@ -703,6 +710,7 @@ struct Prog {
         // inlined: function at programs/whack_a_mole.au:45
         std::vector<C1_Mole>& out72 = s.scratch.v.b10;
         out72.clear();
+        charge_built(s.core, 7, int64_t(prev71.size()));
         out72.reserve(size_t(int32_t(prev71.size())));
         {
           const auto& x73_list = prev71;
@@ -724,6 +732,7 @@ struct Prog {
             // inlined: function at programs/whack_a_mole.au:46
             const bool t78 = (x77.f0 > int32_t(0));
             if (t78) {
+              charge_built(s.core, 8, int64_t(int32_t(1)));
               out76.push_back(x77);
             }
           }
@@ -772,6 +781,7 @@ struct Prog {
               }
               const bool t93 = !any90;
               if (t93) {
+                charge_built(s.core, 15, int64_t(int32_t(1)));
                 out88.push_back(x89);
               }
             }
@@ -820,6 +830,7 @@ struct Prog {
             }
             const bool t107 = !any104;
             if (t107) {
+              charge_built(s.core, 15, int64_t(int32_t(1)));
               out102.push_back(x103);
             }
           }
@@ -831,6 +842,7 @@ struct Prog {
         const Pos t109 = out102[size_t(t108)];
         C1_Mole o110 = C1_Mole{t99, t109};
         check_length(s.core, 19, int64_t(g96.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 19, int64_t(g96.size()) + int64_t(int32_t(1)));
         std::vector<C1_Mole>& added111 = s.scratch.v.b14;
         added111.clear();
         added111.reserve(size_t(add(int32_t(g96.size()), int32_t(1))));
@@ -992,12 +1004,14 @@ struct Prog {
           // inlined: function at programs/whack_a_mole.au:32
           const bool t137 = (x136.f0 > int32_t(1));
           if (t137) {
+            charge_built(s.core, 20, int64_t(int32_t(1)));
             out135.push_back(x136);
           }
         }
       }
       std::vector<C2_Flash>& out138 = s.scratch.v.b16;
       out138.clear();
+      charge_built(s.core, 21, int64_t(out135.size()));
       out138.reserve(size_t(int32_t(out135.size())));
       {
         const auto& x139_list = out135;

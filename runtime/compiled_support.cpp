@@ -39,6 +39,7 @@ void fail_string_id(int32_t id) {
 void fail_list_length(int site, int64_t n, int64_t limit) { fail_at(site, limits::list_length_error(n, limit)); }
 
 void fail_loop_budget(int site, int64_t limit) { fail_at(site, limits::loop_elements_error(limit)); }
+void fail_built_budget(int site, int64_t limit) { fail_at(site, limits::built_elements_error(limit)); }
 
 Core::Core(const Core&) = default;
 Core::Core(Core&&) noexcept = default;
@@ -212,7 +213,7 @@ bool CompiledProgramHost::reset(uint64_t seed) {
   c.visit_limit = limits_.calls;
   return guarded([&] {
     ops_->start(state_, seed);
-    core_->visited = 0;
+    core_->begin_entry();
     painter_.bind(&frame_);
     ops_->render(state_, &painter_, tables_->pal);
   });
@@ -256,7 +257,7 @@ bool CompiledProgramHost::load_state(const uint8_t* data, size_t size) {
     ops_->load(state_, r);
     if (r.p != r.end) throw std::runtime_error("state snapshot has trailing bytes");
     painter_.bind(&frame_);
-    core_->visited = 0;
+    core_->begin_entry();
     ops_->render(state_, &painter_, tables_->pal);
   });
 }

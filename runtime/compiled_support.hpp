@@ -312,6 +312,10 @@ struct Core {
   // The calls budget as loop elements (limits.hpp): `visited` counts what this
   // step's (or start-up's, or render's) loops were charged; reset before each.
   int64_t visited = 0, visit_limit = Limits{}.calls;
+  // The cells budget's per-step part (limits.hpp): `built` counts the elements
+  // this step's (or start-up's, or render's) program constructs put into new
+  // lists (charge_built), against cells_limit; reset with `visited`.
+  int64_t built = 0;
   NoCopy<StateTally> tally;  // scratch of the state check at the end of start-up and of each step
   int64_t rendered = 0;  // elements the last host render drew: what cacheRendered holds
 
@@ -331,6 +335,8 @@ struct Core {
     covered.assign(static_cast<size_t>(on_clauses), 0);
   }
   void clear_inputs() { click = left = right = up = down = false; }
+  // A new entry (start-up, a step, a render) starts both per-step budgets afresh.
+  void begin_entry() { visited = built = 0; }
 };
 
 // limits.hpp's list-length rule in emitted code: a list of `n` elements is about
@@ -347,6 +353,14 @@ inline void check_length(const Core& c, int site, int64_t n) {
 inline void charge_loop(Core& c, int site, int64_t n) {
   c.visited += n > 0 ? n : 0;
   if (__builtin_expect(c.visited > c.visit_limit, 0)) fail_loop_budget(site, c.visit_limit);
+}
+// `n` elements about to be put into a list a program construct builds (a
+// range, map, filter, concat, ...), charged at `site` against the step's cells
+// budget (limits.hpp, cells): out of line for the same reason as the loops'.
+[[noreturn, gnu::cold]] void fail_built_budget(int site, int64_t limit);
+inline void charge_built(Core& c, int site, int64_t n) {
+  c.built += n > 0 ? n : 0;
+  if (__builtin_expect(c.built > c.cells_limit, 0)) fail_built_budget(site, c.cells_limit);
 }
 // A list built element by element (allObjs) fails at the first element too many.
 inline void check_appended_length(const Core& c, int site, int64_t n) {
@@ -788,11 +802,11 @@ class CompiledEnvironment final : public CompiledProgramHost {
     if (failed_) return false;
     return guarded([&] {
       latch(a);
-      state_.core.visited = 0;
+      state_.core.begin_entry();
       P::step(state_);
       if (!render) return;
       painter_.bind(&frame_);  // a clone copies the painter: point it at our own frame
-      state_.core.visited = 0;
+      state_.core.begin_entry();
       P::render(state_, &painter_, tables_->pal);
     });
   }

@@ -10,7 +10,13 @@
 //   objects      object instances (of the program's classes) in the state
 //   cells        list elements and object fields: in the state after start-up and
 //                after every step, and created by the program in one step (so no
-//                single step can exhaust memory)
+//                single step can exhaust memory); specialised compiled code counts
+//                the per-step part as the elements its program constructs put into
+//                new lists (ranges, maps, filters, concat, addObj, ...), a part of
+//                what the interpreter counts (it adds object fields, Positions and
+//                list literals), so a step the interpreter finishes within the
+//                budget the compiled engine finishes too, and one over it can fail
+//                later or at another construct, with the text below
 //   calls        function calls the program makes in one step (so no step hangs);
 //                specialised compiled code inlines its functions, so there the
 //                same number bounds the list elements and range steps its loops
@@ -72,6 +78,7 @@ std::string list_length_error(int64_t length, int64_t limit);
 std::string objects_error(int64_t limit, std::string_view global);
 std::string state_cells_error(int64_t limit, std::string_view global);
 std::string created_cells_error(int64_t limit);
+std::string built_elements_error(int64_t limit);
 std::string calls_error(int64_t limit);
 std::string loop_elements_error(int64_t limit);
 std::string syntax_nesting_error();

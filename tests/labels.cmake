@@ -24,7 +24,7 @@ set(rules
   "^(Engines/RandomBaseline|RandomBaselineMfp|RandomBaselineCli|PaperProtocol)[./]|quick,agent"
   "^(Cli|HonestOutput|Pictures|Shards|RenderAllJson)\\.|quick,cli"
   "^FirstRun\\.UnwritableCacheFallsBack$|quick,cli"
-  "^(Traces/CompiledConformance|Programs/Differential|Programs/CopyAndSnapshot|Files/Golden|Files/RuntimeFailure|Files/LimitProgram)[./]|compiled"
+  "^(Traces/CompiledConformance|Programs/Differential|Programs/CopyAndSnapshot|Files/Golden|Files/RuntimeFailure|Files/LimitProgram|CellsBudget)[./]|compiled"
   "^(FirstRun|Guide)\\.|compiled"
   "^(ModuleStore|ModuleBuild|BuiltinModules)\\.|compiled"
   "^(Agent[A-Za-z]*|MakeTask)\\.|agent")

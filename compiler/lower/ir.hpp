@@ -89,9 +89,11 @@ enum class Helper : uint8_t {
   TallyRendered,  // (): cacheRendered in the state check; imm, text: as TallyGlobal
   CheckLength,    // (...): the list-length budget; imm: error site; index: a LengthOf saying how
                   // the length is formed from the arguments
+  ChargeBuilt,    // (...): the step's cells budget charged with the elements a list is about to be
+                  // given; imm, index: as CheckLength (runtime/compiled_support.hpp, charge_built)
 };
 
-// How Helper::CheckLength forms the length of the list about to be built.
+// How Helper::CheckLength (and ChargeBuilt) forms the length of the list about to be built.
 enum LengthOf : int { kLengthIs = 0, kLengthSpan, kLengthArea, kLengthSizes, kLengthSizePlus, kLengthAppended,
                       kLengthTotal };
 //   kLengthIs        a0                     (a count)

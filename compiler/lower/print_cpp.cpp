@@ -89,7 +89,7 @@ class Printer {
   std::string expr(const Node* n);
   std::string member(const Node* n);
   std::string helper(const Node* n);
-  std::string check_length(const Node* n);  // Helper::CheckLength
+  std::string check_length(const Node* n);  // Helper::CheckLength and ChargeBuilt
   void tally_function(const ClassInfo& c);
   // --- statements
   void line(const std::string& s) { out_ << std::string(2 * depth_, ' ') << s << "\n"; }
@@ -160,7 +160,7 @@ std::string Printer::check_length(const Node* n) {
     case kLengthAppended: return "check_appended_length(s.core, " + site + ", " + size(0) + ")";
     case kLengthTotal: len = "total_size(" + expr(n->a[0]) + ")"; break;
   }
-  return "check_length(s.core, " + site + ", " + len + ")";
+  return (n->helper == Helper::ChargeBuilt ? "charge_built(s.core, " : "check_length(s.core, ") + site + ", " + len + ")";
 }
 
 std::string Printer::helper(const Node* n) {
@@ -195,7 +195,8 @@ std::string Printer::helper(const Node* n) {
     case Helper::RotTurn: return "s.core.rot.turn(uint32_t(" + arg(0) + "))";
     case Helper::RotOf: return "int32_t(s.core.rot.of(uint32_t(" + arg(0) + ")))";
     case Helper::Rotated: return "rotated(" + arg(0) + ", " + arg(1) + ", " + arg(2) + ")";
-    case Helper::CheckLength: return check_length(n);
+    case Helper::CheckLength:
+    case Helper::ChargeBuilt: return check_length(n);
     case Helper::TallyBegin: return "s.core.tally.v = StateTally{}";
     case Helper::TallyGlobal:
       return "tally_global(s.core, " + std::to_string(n->imm) + ", " + quoted(n->text) + ", " + arg(0) + ")";

@@ -179,8 +179,10 @@ SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, c
   if (b == Builtin::Map && !y.type) unsupported("map whose function has no value");
   TypeP out_t = b == Builtin::Any ? T().bool_() : (rt->k == TK::Never ? T().empty_list() : T().list(rt));
   ir::Var* out = decl(out_t, b == Builtin::Any ? lit(T().bool_(), 0) : nullptr, b == Builtin::Any ? "any" : "out");
-  if (b == Builtin::Map && rt->k != TK::Never)
+  if (b == Builtin::Map && rt->k != TK::Never) {
+    charge_built(ir::kLengthSizes, {src.code});
     emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Size, T().int_(), {src.code})}));
+  }
   if (!dead_) block_->push_back(loop);
   if (body_alive)
     in_block(loop->body, [&] {
@@ -197,6 +199,7 @@ SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, c
           emit_set(local(out), lit(T().bool_(), 1));
           emit(ir::SK::Break);
         } else {
+          charge_one_built();
           emit_push(local(out), x.code);
         }
       });
@@ -296,6 +299,7 @@ SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at)
         for (int64_t i = *lo; i < *hi; ++i) items.push_back(SVal{T().int_(), lit(T().int_(), i), lit(T().int_(), i)});
         if (!items.empty() && (!constructing_.empty() || items.size() <= 16)) return make_list(items);
       }
+      charge_built(ir::kLengthSpan, {a[0].code, a[1].code});
       ir::Var* out = decl(T().list(T().int_()), nullptr, "range");
       out->scratch = true;
       ir::Stmt* loop = emit(ir::SK::ForRange);
@@ -363,12 +367,14 @@ SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
   if (!inner->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
   if (!l.parts.empty()) {  // (concat (list a b ...)): the parts are known, no list of lists is needed
     if (!checked) check_length(ir::kLengthSizes, l.parts);
+    charge_built(ir::kLengthSizes, l.parts);
     ir::Var* out = decl(inner, nullptr, "cat");
     for (ir::Node* part : l.parts) emit_eval(call(ir::Helper::Append, nullptr, {local(out), part}));
     return built(out);
   }
   SVal src = let(l, "src");
   if (!checked) check_length(ir::kLengthTotal, {src.code});
+  charge_built(ir::kLengthTotal, {src.code});
   ir::Var* out = decl(inner, nullptr, "cat");
   ir::Stmt* loop = emit(ir::SK::ForEach);
   loop->var = var(inner, "part");
@@ -393,6 +399,7 @@ SVal Specialiser::builtin_array_equal(std::vector<SVal>& a) {
   ir::Stmt* s = emit(ir::SK::If);
   s->a = node(ir::Op::Ne, T().bool_(), {node(ir::Op::Size, T().int_(), {a[0].code}), node(ir::Op::Size, T().int_(), {a[1].code})});
   in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
+  charge_built(ir::kLengthSizes, {a[0].code});
   ir::Var* out = decl(out_t, nullptr, "eqs");
   ir::Stmt* loop = emit(ir::SK::ForRange);
   loop->var = var(T().int_(), "i");

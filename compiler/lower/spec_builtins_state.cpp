@@ -39,6 +39,7 @@ SVal Specialiser::builtin_random_positions(std::vector<SVal>& a) {
   in_block(s->body, [&] { fail("randomPositions: the grid size must not be negative"); });
   if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
   check_length(ir::kLengthIs, {a[1].code}, const_int(a[1]));
+  charge_built(ir::kLengthIs, {a[1].code});
   ir::Var* out = decl(T().list(T().pos()), nullptr, "rpos");
   ir::Stmt* loop = emit(ir::SK::ForRange);
   loop->var = var(T().int_(), "i");
@@ -70,6 +71,7 @@ SVal Specialiser::builtin_all_positions(std::vector<SVal>& a) {
   std::optional<int64_t> known;
   if (auto w = const_int(a[0]), h = const_int(a[n - 1]); w && h) known = *w * *h;
   check_length(ir::kLengthArea, {a[0].code, a[n - 1].code}, known);
+  charge_built(ir::kLengthArea, {a[0].code, a[n - 1].code});
   ir::Var* out = decl(T().list(T().pos()), nullptr, "apos");
   out->scratch = true;
   ir::Stmt* outer = emit(ir::SK::ForRange);
@@ -114,6 +116,7 @@ SVal Specialiser::builtin_adj_positions(std::vector<SVal>& a, const Expr& at) {
                  node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vy.code, zero}),
                                                  node(ir::Op::Lt, T().bool_(), {vy.code, g.code})})});
     in_block(s->body, [&] {
+      charge_one_built();
       emit_push(local(out), make_position(vx, vy).code);
     });
   }
@@ -172,6 +175,7 @@ SVal Specialiser::builtin_uniform_choice(std::vector<SVal>& a) {
   c->a = node(ir::Op::Lt, T().bool_(), {a[1].code, lit(T().int_(), 1)});
   in_block(c->body, [&] { fail("uniformChoice: the count must be at least 1"); });
   check_length(ir::kLengthIs, {a[1].code}, const_int(a[1]));
+  charge_built(ir::kLengthIs, {a[1].code});
   ir::Var* out = decl(l.type, nullptr, "choices");
   ir::Stmt* loop = emit(ir::SK::ForRange);
   loop->var = var(T().int_(), "i");
@@ -289,6 +293,11 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
                       : x.type->elem        ? node(ir::Op::Size, T().int_(), {x.code})
                                             : lit(T().int_(), 0);
     check_length(ir::kLengthSizePlus, {l.code, added});
+    charge_built(ir::kLengthSizePlus, {l.code, added});
+  } else {
+    charge_built(ir::kLengthIs, {x.type->k != TK::List ? lit(T().int_(), 1)
+                                 : x.type->elem        ? node(ir::Op::Size, T().int_(), {x.code})
+                                                       : lit(T().int_(), 0)});
   }
   ir::Var* out = decl(lt, nullptr, "added");
   if (et) {
@@ -401,6 +410,7 @@ SVal Specialiser::set_field(const SVal& o, const std::string& field, const SVal&
 SVal Specialiser::update_filtered(const SVal& l, const SVal& f, const SVal& pred, const Expr& at) {
   if (!l.type->elem) return l;
   TypeP et = l.type->elem;
+  charge_built(ir::kLengthSizes, {l.code});
   ir::Var* out = decl(l.type, nullptr, "updated");
   emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Size, T().int_(), {l.code})}));
   SVal src = let(l, "src");
@@ -476,6 +486,7 @@ SVal Specialiser::remove_from(const SVal& l, const SVal& what, const Expr& at) {
     ir::Stmt* s = emit(ir::SK::If);
     s->a = keep;
     in_block(s->body, [&] {
+      charge_one_built();
       emit_push(local(out), x.code);
     });
   });

@@ -256,6 +256,20 @@ void Specialiser::check_length(ir::LengthOf how, std::vector<ir::Node*> args, st
   emit_eval(c);
 }
 
+// Only the elements the interpreter counts too (limits.hpp, cells): a program
+// construct's new list, never the rendering machinery's lists or a conversion
+// to a wider element type; and not in a cell argument's trial, where the
+// reference would defer the argument on a budget error.
+void Specialiser::charge_built(ir::LengthOf how, std::vector<ir::Node*> args) {
+  if (capture_mode_ || dead_) return;
+  ir::Node* c = call(ir::Helper::ChargeBuilt, nullptr, std::move(args));
+  c->index = how;
+  c->imm = location();
+  emit_eval(c);
+}
+
+void Specialiser::charge_one_built() { charge_built(ir::kLengthIs, {lit(T().int_(), 1)}); }
+
 void Specialiser::unsupported(const std::string& why) {
   SourceLoc at;
   if (!loc_stack_.empty()) at = loc_stack_.back()->loc;

@@ -185,6 +185,7 @@ SVal Specialiser::all_objs() {
   ir::Var* out = decl(lt, nullptr, "all");
   std::function<void(const SVal&)> collect = [&](const SVal& v) {
     if (v.type->k == TK::Obj) {
+      charge_one_built();
       emit_push(local(out), coerce(v, u).code);
     } else if (v.type->k == TK::List && v.type->elem && renders(v.type->elem)) {
       ir::Stmt* loop = emit(ir::SK::ForEach);

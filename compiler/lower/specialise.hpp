@@ -147,6 +147,10 @@ class Specialiser {
   // length formed by `how` (ir::LengthOf) from `args`; `known`, when the
   // length is known now (no check when it is within every budget).
   void check_length(ir::LengthOf how, std::vector<ir::Node*> args, std::optional<int64_t> known = std::nullopt);
+  // The cells budget's per-step part: a program construct is about to give a
+  // new list these elements (docs/design.md, "Limits"). Not in a cell's trial.
+  void charge_built(ir::LengthOf how, std::vector<ir::Node*> args);
+  void charge_one_built();
   void fail(std::vector<ir::Node*> message_parts);    // strings and StrOfInt nodes
   SVal never();                                       // the value of dead code
 
