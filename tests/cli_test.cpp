@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sys/wait.h>
 
+#include <nlohmann/json.hpp>
+
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -317,6 +319,31 @@ TEST(Cli, UnreadableProgramIsAnErrorWithoutALine) {
   EXPECT_NE(bench.out.find("/nonexistent/prog.au: error: cannot open file"), std::string::npos) << bench.out;
 }
 
+// bench's time cap: past it, both engines are timed over the same prefix of the
+// actions and the row says so (a program whose state grows each step can take
+// the interpreter minutes a replay); the row still counts in the medians.
+TEST(Cli, BenchTimeCapTimesBothEnginesOverTheSamePrefix) {
+  const std::string prog = autumn::testing::source_dir().string() + "/programs/sokoban.au";
+  Result r = run("bench " + prog + " --steps 100000 --time-cap 0.02 --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto report = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+  const auto& row = report.at("rows").at(0);
+  ASSERT_TRUE(row.contains("note")) << row.dump();
+  const size_t steps = row.at("steps").get<size_t>();
+  EXPECT_NE(row.at("note").get<std::string>().find("timed over the first " + std::to_string(steps) + " of 100000 steps"),
+            std::string::npos)
+      << row.dump();
+  EXPECT_LT(steps, 100000u);
+  EXPECT_GT(steps, 0u);
+  EXPECT_TRUE(row.at("interp").at("ok").get<bool>()) << row.dump();
+  EXPECT_TRUE(row.at("compiled").at("ok").get<bool>()) << row.dump();
+  EXPECT_GT(row.at("ratio").get<double>(), 0) << row.dump();
+  EXPECT_EQ(report.at("time_cap").get<double>(), 0.02);
+  Result table = run("bench " + prog + " --steps 100000 --time-cap 0.02");
+  EXPECT_EQ(table.status, 0) << table.out;
+  EXPECT_NE(table.out.find("timed over the first"), std::string::npos) << table.out;
+}
+
 // Numeric options share one rule (harness/cli/number_options.hpp): CLI11 alone
 // would take a negative seed as 2^64 - 5 and a negative bench --steps as 2^64 - 3.
 TEST(Cli, NumericOptionsRejectWhatTheyWouldWrap) {
@@ -330,6 +357,7 @@ TEST(Cli, NumericOptionsRejectWhatTheyWouldWrap) {
       {"run " + prog + " --seed 0x10", "--seed: 0x10 is not a whole number"},
       {"run " + prog + " --steps -1", "--steps: -1 is not a whole number from 0 to 2147483647"},
       {"bench " + prog + " --steps -3", "--steps: -3 is not a whole number from 0 to 2147483647"},
+      {"bench " + prog + " --time-cap -1", "--time-cap: -1 is not a number of at least 0"},
       {"difftest " + prog + " --steps -3", "--steps: -3 is not a whole number from 0 to 2147483647"},
       {"solve " + prog + " --threads 100000", "--threads: 100000 is not a whole number from 0 to 1024"},
       {"solve " + prog + " --nodes 0", "--nodes: 0 is not a whole number from 1 to 18446744073709551615"},

@@ -26,6 +26,7 @@ struct BenchOptions {
   uint64_t seed = 0;
   bool json = false;
   std::string only;
+  double time_cap = kDefaultBenchTimeCap;
   ShardOptions shards;  // --shard, --merge, --json-out
 };
 
@@ -34,6 +35,11 @@ void register_bench(CLI::App* cmd, BenchOptions& o) {
   cmd->add_option("--steps", o.steps, "Steps per program")->default_val(1000)->check(int_count());
   cmd->add_option("--seed", o.seed, "Seed for the programs and the action policy")->default_val(0)->check(seed_number());
   cmd->add_flag("--json", o.json, "Print JSON");
+  cmd->add_option("--time-cap", o.time_cap,
+                  "Seconds an engine's first replay (or choosing the actions) may take; past it, every engine is timed "
+                  "over the steps done by then, and the row says so (0: no cap)")
+      ->default_val(kDefaultBenchTimeCap)
+      ->check(number_at_least(0, "NONNEGATIVE"));
   cmd->footer(
       "Columns: program; grid (GRID_SIZE); steps (random actions replayed per measurement, the same on both "
       "engines); interp st/s and compiled st/s (steps per second, each frame rendered, as the benchmark "
@@ -49,21 +55,24 @@ int run_one_engine(const BenchOptions& o, const std::vector<std::filesystem::pat
   for (const auto& f : files) {
     auto program = load_or_report(f.string(), std::nullopt);
     if (!program) return kExitFailed;
-    BenchRow row = bench_program(f.stem().string(), program, {o.only}, o.steps, o.seed);
+    BenchRow row = bench_program(f.stem().string(), program, {o.only}, o.steps, o.seed, o.time_cap);
     const auto& e = row.engines[0];
-    if (o.json || !o.shards.json_out.empty())
-      rows.push_back({{"program", row.program}, {"engine", o.only}, {"steps_per_s", e.steps_per_s},
+    if (o.json || !o.shards.json_out.empty()) {
+      rows.push_back({{"program", row.program}, {"engine", o.only}, {"steps", e.steps}, {"steps_per_s", e.steps_per_s},
                       {"steps_per_s_no_render", e.steps_per_s_no_render}, {"clone_ns", e.clone_ns}, {"error", e.error}});
+      if (!row.note.empty()) rows.back()["note"] = row.note;
+    }
     if (!o.json)
-      fmt::print("{:<32} {} {:.0f} steps/s (render) {:.0f} steps/s (bare) clone {:.0f} ns{}\n", row.program, o.only,
-                 e.steps_per_s, e.steps_per_s_no_render, e.clone_ns, e.ok ? "" : "  " + e.error);
+      fmt::print("{:<32} {} {:.0f} steps/s (render) {:.0f} steps/s (bare) clone {:.0f} ns{}{}\n", row.program, o.only,
+                 e.steps_per_s, e.steps_per_s_no_render, e.clone_ns, e.ok ? "" : "  " + e.error,
+                 row.note.empty() ? "" : "  (" + row.note + ")");
   }
   if (o.json) std::cout << nlohmann::json({{"rows", rows}}).dump(2) << "\n";
   if (std::string why = write_json_out(o.shards, {{"rows", rows}}); !why.empty()) return command_failed("bench", why);
   return kExitOk;
 }
 
-ShardFormat bench_shard_format() { return {"bench", "rows", "programs", {"steps", "seed", "program_set"}}; }
+ShardFormat bench_shard_format() { return {"bench", "rows", "programs", {"steps", "seed", "time_cap", "program_set"}}; }
 
 // Prints a report (the table, or JSON) and writes --json-out; 1 when a program failed.
 int finish_bench(const BenchOptions& o, const nlohmann::json& report) {
@@ -108,12 +117,13 @@ int run_bench_programs(const BenchOptions& o) {
       rows.push_back(bench_error_row(f.stem().string(), why));
       continue;
     }
-    rows.push_back(bench_row_json(bench_program(f.stem().string(), program, {"interp", "compiled"}, o.steps, o.seed)));
+    rows.push_back(bench_row_json(bench_program(f.stem().string(), program, {"interp", "compiled"}, o.steps, o.seed, o.time_cap)));
   }
   progress.done();
   nlohmann::json report = bench_report(rows);
   report["steps"] = o.steps;
   report["seed"] = o.seed;
+  report["time_cap"] = o.time_cap;
   report["program_set"] = o.programs;
   if (!o.shards.shard.empty()) report["shard"] = shard_json(shard, "programs", all.size());
   return finish_bench(o, report);
