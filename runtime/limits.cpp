@@ -35,11 +35,6 @@ std::string created_cells_error(int64_t limit) {
          " list elements and object fields" + raise_hint("cells");
 }
 
-std::string built_elements_error(int64_t limit) {
-  return "memory budget exceeded: this step built more than " + std::to_string(limit) + " list elements" +
-         raise_hint("cells");
-}
-
 std::string calls_error(int64_t limit) {
   return "time budget exceeded: this step made more than " + std::to_string(limit) + " function calls" +
          raise_hint("calls");

@@ -16,7 +16,8 @@
 //                what the interpreter counts (it adds object fields, Positions and
 //                list literals), so a step the interpreter finishes within the
 //                budget the compiled engine finishes too, and one over it can fail
-//                later or at another construct, with the text below
+//                later or at another construct (with the same text, which holds for
+//                both: the interpreter's count is at least the compiled engine's)
 //   calls        function calls the program makes in one step (so no step hangs);
 //                specialised compiled code inlines its functions, so there the
 //                same number bounds the list elements and range steps its loops
@@ -78,7 +79,6 @@ std::string list_length_error(int64_t length, int64_t limit);
 std::string objects_error(int64_t limit, std::string_view global);
 std::string state_cells_error(int64_t limit, std::string_view global);
 std::string created_cells_error(int64_t limit);
-std::string built_elements_error(int64_t limit);
 std::string calls_error(int64_t limit);
 std::string loop_elements_error(int64_t limit);
 std::string syntax_nesting_error();

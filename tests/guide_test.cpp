@@ -111,8 +111,11 @@ TEST(Guide, EveryExampleShowsItsFramesOnBothEngines) {
     }
     // The other engines under test (AUTUMN_TEST_ENGINES; the sanitizer run
     // checks the interpreter only, scripts/sanitize.sh) print the same.
-    for (const std::string& engine : testing::test_engines())
-      if (engine != "interp") EXPECT_EQ(run_example(ex, engine), interp) << engine;
+    for (const std::string& engine : testing::test_engines()) {
+      if (engine != "interp") {
+        EXPECT_EQ(run_example(ex, engine), interp) << engine;
+      }
+    }
     if (bless) text.replace(ex.frames_begin, ex.frames_end - ex.frames_begin, header(ex) + interp);
     else EXPECT_EQ(interp, ex.expected) << "(AUTUMN_BLESS=1 rewrites the frames from the interpreter)";
     EXPECT_EQ(interp.find("# error"), std::string::npos) << "examples run without errors";

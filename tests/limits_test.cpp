@@ -10,9 +10,9 @@
 // lowering give up) pass on the compiled engine as they are. Specialised code
 // enforces list-length, objects, the state's cells and the fixed limits, locates
 // render errors, counts the calls budget as the elements its loops visit (its
-// functions are inlined) and the cells a step creates as the elements its
-// program constructs put into new lists: "; expect-runtime-error-specialised:"
-// states what it says then. Every file runs on every engine under test; any
+// functions are inlined): "; expect-runtime-error-specialised:" states what it
+// says then. It counts the cells a step creates as the elements its program
+// constructs put into new lists, with the interpreter's message. Every file runs on every engine under test; any
 // miss fails.
 #include <gtest/gtest.h>
 
@@ -141,7 +141,7 @@ TEST(Limits, UnboundedRecursionOnASmallStackIsAnError) {
 // into new lists, a part of what the interpreter counts. So with the smallest
 // budget under which the interpreter finishes the episode (found by bisection),
 // the compiled engine finishes it too, frame for frame; and a small budget stops
-// it with its own message, so it does count. tests/budget/list_constructs.au
+// it, so it does count. tests/budget/list_constructs.au
 // uses every construct that is charged.
 TEST(CellsBudget, CompiledFinishesEveryEpisodeTheInterpreterFinishes) {
   const auto path = testing::source_dir() / "tests/budget/list_constructs.au";
@@ -179,7 +179,7 @@ TEST(CellsBudget, CompiledFinishesEveryEpisodeTheInterpreterFinishes) {
   ASSERT_TRUE(compiled) << "with cells=" << hi << " the interpreter finishes, the compiled engine says: " << error;
   EXPECT_TRUE(*compiled == *interp) << "the frames differ under cells=" << hi;
   EXPECT_FALSE(frames_under("compiled", 20, &error));
-  EXPECT_NE(error.find("memory budget exceeded: this step built more than 20 list elements"), std::string::npos)
+  EXPECT_NE(error.find("memory budget exceeded: this step created more than 20 list elements"), std::string::npos)
       << error;
 }
 
