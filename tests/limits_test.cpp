@@ -12,8 +12,8 @@
 // render errors, counts the calls budget as the elements its loops visit (its
 // functions are inlined): "; expect-runtime-error-specialised:" states what it
 // says then. It counts the cells a step creates as the elements its program
-// constructs put into new lists, with the interpreter's message. Every file runs on every engine under test; any
-// miss fails.
+// constructs put into new lists, with the interpreter's message. Every file
+// runs on every engine under test; any miss fails.
 #include <gtest/gtest.h>
 
 #include <pthread.h>
@@ -141,8 +141,8 @@ TEST(Limits, UnboundedRecursionOnASmallStackIsAnError) {
 // into new lists, a part of what the interpreter counts. So with the smallest
 // budget under which the interpreter finishes the episode (found by bisection),
 // the compiled engine finishes it too, frame for frame; and a small budget stops
-// it, so it does count. tests/budget/list_constructs.au
-// uses every construct that is charged.
+// it, so it does count. tests/budget/list_constructs.au uses every construct
+// that is charged.
 TEST(CellsBudget, CompiledFinishesEveryEpisodeTheInterpreterFinishes) {
   const auto path = testing::source_dir() / "tests/budget/list_constructs.au";
   const std::string text = read_text(path);
@@ -152,18 +152,23 @@ TEST(CellsBudget, CompiledFinishesEveryEpisodeTheInterpreterFinishes) {
   auto actions = parse_action_list(header(text, "actions"), &why);
   ASSERT_TRUE(actions) << why;
   auto frames_under = [&](const std::string& engine, int64_t cells, std::string* error) {
+    using Frames = std::vector<std::vector<std::string>>;  // as text: palette ids are each environment's own
     auto env = make_environment(engine, program, &why);
-    EXPECT_TRUE(env) << why;
+    if (!env) {
+      ADD_FAILURE() << engine << ": " << why;
+      *error = why;
+      return std::optional<Frames>();
+    }
     Limits l;
     l.cells = cells;
     env->set_limits(l);
-    std::vector<std::vector<std::string>> frames;  // as text: palette ids are each environment's own
+    Frames frames;
     bool ok = env->reset(5);
     if (ok) frames.push_back(frame_rows(env->frame(), env->palette()));
     for (size_t i = 0; ok && i < actions->size(); ++i)
       if ((ok = env->step((*actions)[i]))) frames.push_back(frame_rows(env->frame(), env->palette()));
     *error = ok ? "" : env->error();
-    return ok ? std::optional(frames) : std::nullopt;
+    return ok ? std::optional<Frames>(frames) : std::nullopt;
   };
   std::string error;
   int64_t lo = 1, hi = 1'000'000;  // the interpreter fails under lo and finishes under hi

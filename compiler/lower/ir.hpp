@@ -90,7 +90,8 @@ enum class Helper : uint8_t {
   CheckLength,    // (...): the list-length budget; imm: error site; index: a LengthOf saying how
                   // the length is formed from the arguments
   ChargeBuilt,    // (...): the step's cells budget charged with the elements a list is about to be
-                  // given; imm, index: as CheckLength (runtime/compiled_support.hpp, charge_built)
+                  // given; imm, index: as CheckLength, any LengthOf but kLengthAppended (a list
+                  // built one element at a time charges kLengthIs 1 per element; charge_built)
 };
 
 // How Helper::CheckLength (and ChargeBuilt) forms the length of the list about to be built.

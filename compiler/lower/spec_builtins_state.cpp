@@ -288,16 +288,14 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
   if (et && is_sum(et) && x.type->k != TK::List)
     unsupported("addObj to a list that may hold objects of several classes");
   TypeP lt = T().list(rt);
+  ir::Node* added = x.type->k != TK::List ? lit(T().int_(), 1)
+                    : x.type->elem        ? node(ir::Op::Size, T().int_(), {x.code})
+                                          : lit(T().int_(), 0);
   if (et) {  // an empty list gets at most the elements of x, a list already within the budget
-    ir::Node* added = x.type->k != TK::List ? lit(T().int_(), 1)
-                      : x.type->elem        ? node(ir::Op::Size, T().int_(), {x.code})
-                                            : lit(T().int_(), 0);
     check_length(ir::kLengthSizePlus, {l.code, added});
     charge_built(ir::kLengthSizePlus, {l.code, added});
   } else {
-    charge_built(ir::kLengthIs, {x.type->k != TK::List ? lit(T().int_(), 1)
-                                 : x.type->elem        ? node(ir::Op::Size, T().int_(), {x.code})
-                                                       : lit(T().int_(), 0)});
+    charge_built(ir::kLengthIs, {added});
   }
   ir::Var* out = decl(lt, nullptr, "added");
   if (et) {
