@@ -55,6 +55,10 @@ TraceFile load_trace_file(const std::string& path) {
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": not valid JSON (" + json_error_text(e) + ")");
   }
+  return trace_file_from_json(j, path);
+}
+
+TraceFile trace_file_from_json(const nlohmann::json& j, const std::string& path) {
   TraceFile f;
   try {
     f.program = j.value("program", "");

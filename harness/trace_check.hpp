@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "runtime/action.hpp"
 #include "runtime/environment.hpp"
 
@@ -38,6 +40,8 @@ struct TraceFile {
 std::string json_error_text(const std::exception& e);
 
 TraceFile load_trace_file(const std::string& path);
+// The same checks on a file already parsed (`path` names it in messages).
+TraceFile trace_file_from_json(const nlohmann::json& j, const std::string& path);
 
 // The first frame that differed: what the trace expected and what the engine drew.
 struct FrameMismatch {

@@ -15,7 +15,7 @@
 
 set(rules
   "^(HashOrder|Parser|Diagnostics|Lint|IrPasses|IrVerify|IrText|ModuleKey|SnapshotHash|StateValidationMisc|Limits|Generated|WarmStart)\\.|quick"
-  "^(Reader|Files/Diagnostic|Files/IrFile|Traces/Conformance|Programs/CorpusProgram|Programs/Snapshot|Builtin/StateValidation)[./]|quick"
+  "^(Reader|TraceEpisodes|Files/Diagnostic|Files/IrFile|Traces/Conformance|Programs/CorpusProgram|Programs/Snapshot|Builtin/StateValidation)[./]|quick"
   "^Guide\\.Reference|quick"
   "^(Files/LoweringFile|EmitBytes|CompiledEngine)[./]|quick,compiled"
   "^Agent(Particles|ThreadPool|TaskFile|Score|ClickModel|Eval|CdPairs|MakeCd|DrawSearch|Choice)\\.|quick,agent"

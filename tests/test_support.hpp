@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,20 @@ inline std::vector<std::string> test_engines() {
   std::stringstream in(env && *env ? env : "interp,compiled");
   for (std::string e; std::getline(in, e, ',');) out.push_back(e);
   return out;
+}
+
+// How many episodes of each golden trace file the interpreter's conformance
+// suite replays: all of them (eight per file), unless AUTUMN_TRACE_EPISODES=K
+// asks for the first K. scripts/sanitize.sh sets 2: under the sanitizers every
+// program runs, two seeds each, while the release run replays all eight on both
+// engines. A value that is not a positive number is an error, not "all".
+inline size_t trace_episodes(size_t available) {
+  const char* env = std::getenv("AUTUMN_TRACE_EPISODES");
+  if (!env || !*env) return available;
+  char* end = nullptr;
+  const long k = std::strtol(env, &end, 10);
+  if (*end != 0 || k < 1) throw std::invalid_argument(std::string("AUTUMN_TRACE_EPISODES='") + env + "' is not a positive number");
+  return std::min(available, static_cast<size_t>(k));
 }
 
 struct CliResult {
