@@ -5,6 +5,7 @@
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
+#include "harness/agent/solve_pictures.hpp"
 
 namespace autumn::agent {
 
@@ -17,7 +18,8 @@ std::vector<fs::path> find_tasks(const fs::path& dir) {
   return out;
 }
 
-EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions& base, ThreadPool& pool) {
+EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions& base, ThreadPool& pool,
+                  const fs::path& render_dir) {
   EvalRow row;
   row.task = fs::relative(file, root).string();
   row.type = "?";
@@ -43,6 +45,8 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         if (r.expected) row.detail += fmt::format(", answer {}", *r.expected);
         row.stochastic = !r.deterministic;
         row.result = mfp_json(r);
+        row.seconds = clock->seconds();
+        if (!render_dir.empty()) row.pictures = render_mfp(task, r, render_dir);
         break;
       }
       case TaskType::ChangeDetection: {
@@ -55,6 +59,8 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         if (r.t_star) row.detail += fmt::format(", t* = {}", *r.t_star);
         row.stochastic = !r.deterministic;
         row.result = cd_json(r);
+        row.seconds = clock->seconds();
+        if (!render_dir.empty()) row.pictures = render_cd(task, opts, r, render_dir);
         break;
       }
       case TaskType::Planning: {
@@ -79,9 +85,12 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
                                     *answers.seed, r.env_seed);
         if (row.reference_length) row.detail += fmt::format(", generator's K = {}", *row.reference_length);
         row.result = planning_json(r);
+        row.seconds = clock->seconds();
+        if (!render_dir.empty()) row.pictures = render_plan(task, opts, r, render_dir);
         break;
       }
     }
+    return row;  // its seconds stopped before any pictures
   } catch (const std::exception& e) {
     row.error = e.what();
   }
@@ -96,11 +105,12 @@ std::vector<EvalRow> run_eval(const fs::path& dir, const SolveOptions& opts, Thr
 
 std::vector<EvalRow> run_eval_files(const fs::path& dir, const std::vector<fs::path>& files, const SolveOptions& opts,
                                     ThreadPool& pool,
-                                    const std::function<void(size_t, size_t, const std::string&)>& progress) {
+                                    const std::function<void(size_t, size_t, const std::string&)>& progress,
+                                    const fs::path& render_dir) {
   std::vector<EvalRow> rows;
   for (size_t i = 0; i < files.size(); ++i) {
     if (progress) progress(i, files.size(), fs::relative(files[i], dir).string());
-    rows.push_back(eval_task(files[i], dir, opts, pool));
+    rows.push_back(eval_task(files[i], dir, opts, pool, render_dir));
   }
   if (progress) progress(files.size(), files.size(), "");
   return rows;

@@ -12,6 +12,8 @@
 // A task that cannot be loaded or solved is a row with an error and counts as a
 // failure (exit status 1). A task's modules are compiled before its clock starts:
 // compile time is reported apart (compile_seconds), never as solve time.
+// With a render folder, each solved task's pictures (solve_pictures.hpp, as
+// `solve --render` draws them) are written there after its clock stops.
 #pragma once
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -39,17 +41,20 @@ struct EvalRow {
   std::optional<int> plan_length;       // planning: the plan found
   std::optional<int> reference_length;  // planning: the generator's K (its reference plan)
   bool answered = true;                 // false: the solver gave no answer (planning: no plan)
+  std::vector<std::string> pictures;    // files written for a render folder
 };
 
 std::vector<fs::path> find_tasks(const fs::path& dir);
-EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions& opts, ThreadPool& pool);
+EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions& opts, ThreadPool& pool,
+                  const fs::path& render_dir = {});
 // progress(i, n, name) is called before task i (0-based) and once more with i == n.
 std::vector<EvalRow> run_eval(const fs::path& dir, const SolveOptions& opts, ThreadPool& pool,
                               const std::function<void(size_t, size_t, const std::string&)>& progress = {});
 // The same over some of the folder's tasks (`files`, under `dir`; eval_shards.hpp).
 std::vector<EvalRow> run_eval_files(const fs::path& dir, const std::vector<fs::path>& files, const SolveOptions& opts,
                                     ThreadPool& pool,
-                                    const std::function<void(size_t, size_t, const std::string&)>& progress = {});
+                                    const std::function<void(size_t, size_t, const std::string&)>& progress = {},
+                                    const fs::path& render_dir = {});
 std::string eval_table(const std::vector<EvalRow>& rows);
 // Per task type (and program kind): tasks, errors, scored, mean score, planning's
 // plans no longer than K, mean plan length against mean K, and time.

@@ -22,7 +22,7 @@ namespace {
 using namespace autumn::agent;
 
 struct EvalCommand {
-  std::string dir;
+  std::string dir, render_dir;
   SolveOptions search;
   std::string protocol = "default";
   unsigned threads = 0;
@@ -33,6 +33,9 @@ struct EvalCommand {
 void register_eval(CLI::App* cmd, EvalCommand& o) {
   CLI::Option* dir = cmd->add_option("DIR", o.dir, "Folder of tasks (not with --merge)")->check(CLI::ExistingDirectory);
   cmd->add_flag("--json", o.json, "Print one JSON object");
+  cmd->add_option("--render", o.render_dir,
+                  "Write pictures of each answer into DIR, named after its task, as solve --render draws them "
+                  "(drawn after the task's clock stops)");
   add_search_options(cmd, o.search, o.threads);
   add_protocol_option(cmd, o.protocol);
   cmd->footer(
@@ -80,7 +83,9 @@ int run_eval(const CLI::App* cmd, const EvalCommand& c) {
     const std::vector<fs::path> all = find_tasks(c.dir);
     // --json-out is written after the run, so a file inside DIR is never
     // scanned half-made (an eval JSON is not a task).
-    std::vector<EvalRow> rows = run_eval_files(c.dir, select_shard(all, shard), o, pool, progress_bar());
+    std::vector<EvalRow> rows = run_eval_files(c.dir, select_shard(all, shard), o, pool, progress_bar(), c.render_dir);
+    for (const EvalRow& r : rows)
+      for (const std::string& p : r.pictures) std::cerr << "autumn eval: wrote " << p << "\n";
     nlohmann::json report = eval_json(rows);
     report["agent"] = eval_agent_json(c.protocol, o);
     report["task_set"] = {c.dir};
