@@ -86,6 +86,13 @@ int run_render(const RenderOptions& o) {
   if (!program) return kExitFailed;
   auto env = make_env("render", o.engine, program);
   if (!env) return kExitFailed;
+  // A grid whose every frame is too large is refused before the episode runs
+  // (a 4096x4096 grid's frames as rows of colour names are 16M strings each).
+  if (env->reset(o.seed))
+    if (std::string why = picture_size_error(o, env->frame().size, 1); !why.empty()) {
+      std::cerr << "autumn render: " << why << "\n";
+      return kExitFailed;
+    }
   EpisodeFrames ep = run_episode(*env, o.seed, *actions);
   if (ep.grid) warn_clicks_outside("render", *actions, ep.grid);
   if (!ep.frames.empty()) {
