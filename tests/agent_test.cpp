@@ -1435,6 +1435,28 @@ TEST(AgentMakeCd, OutputMustBeUnderPrompts) {
 using CliRun = testing::CliResult;
 CliRun cli(const std::string& args) { return testing::run_cli(args); }
 
+// eval --render: each task's pictures in its own folder under the render
+// folder, so two tasks of one name in different folders both keep theirs.
+TEST(AgentEval, RenderDrawsEachTaskInItsOwnFolder) {
+  fs::path root = scratch("eval_render");
+  generate(root / "a", "planning", "blockfall", 2, 3);
+  generate(root / "b", "planning", "blockfall", 3, 3);
+  const fs::path out = root / "pictures";
+  ThreadPool pool(2);
+  auto rows = run_eval_files(root, find_tasks(root), small(), pool, {}, out);
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& r : rows) {
+    EXPECT_TRUE(r.error.empty()) << r.task << ": " << r.error;
+    ASSERT_EQ(r.pictures.size(), 2u) << r.task;  // the plan's GIF and PNG
+    const fs::path folder = out / fs::path(r.task).parent_path();
+    for (const std::string& p : r.pictures) {
+      EXPECT_EQ(fs::path(p).parent_path(), folder) << p;
+      EXPECT_GT(fs::file_size(p), 0u) << p;
+    }
+  }
+  EXPECT_NE(rows[0].pictures[0], rows[1].pictures[0]);
+}
+
 TEST(AgentEval, TabulatesAFolder) {
   fs::path root = scratch("eval");
   generate(root, "mfp", "sokoban", 2, 8);

@@ -44,8 +44,8 @@ echo "== running them =="
 bash -euo pipefail -x -c "$script"
 
 echo "== what they promised =="
-for f in out/sokoban.gif out/sokoban.png out/paddle.cpp out/ice/ice_planning_plan.gif out/ice/ice_planning_plan.png \
-         out/ice/ice_mfp_answer.png out/ice/ice_cd_detection.gif; do
+for f in out/sokoban.gif out/sokoban.png out/paddle.cpp out/ice/prompts/ice_planning_plan.gif \
+         out/ice/prompts/ice_planning_plan.png out/ice/prompts/ice_mfp_answer.png out/ice/prompts/ice_cd_detection.gif; do
   if [ ! -s "$f" ]; then
     echo "readme_quick_start: $f was not written" >&2
     exit 1

@@ -23,6 +23,9 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
   EvalRow row;
   row.task = fs::relative(file, root).string();
   row.type = "?";
+  // A task's pictures go where it sits under the evaluated folder: two tasks of
+  // one name in different folders never overwrite each other's.
+  const fs::path pictures = render_dir.empty() ? fs::path() : render_dir / fs::path(row.task).parent_path();
   std::optional<Stopwatch> clock;
   try {
     Task task = load_task(file);
@@ -46,7 +49,7 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         row.stochastic = !r.deterministic;
         row.result = mfp_json(r);
         row.seconds = clock->seconds();
-        if (!render_dir.empty()) row.pictures = render_mfp(task, r, render_dir);
+        if (!render_dir.empty()) row.pictures = render_mfp(task, r, pictures);
         break;
       }
       case TaskType::ChangeDetection: {
@@ -60,7 +63,7 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         row.stochastic = !r.deterministic;
         row.result = cd_json(r);
         row.seconds = clock->seconds();
-        if (!render_dir.empty()) row.pictures = render_cd(task, opts, r, render_dir);
+        if (!render_dir.empty()) row.pictures = render_cd(task, opts, r, pictures);
         break;
       }
       case TaskType::Planning: {
@@ -86,7 +89,7 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         if (row.reference_length) row.detail += fmt::format(", generator's K = {}", *row.reference_length);
         row.result = planning_json(r);
         row.seconds = clock->seconds();
-        if (!render_dir.empty()) row.pictures = render_plan(task, opts, r, render_dir);
+        if (!render_dir.empty()) row.pictures = render_plan(task, opts, r, pictures);
         break;
       }
     }
@@ -94,7 +97,7 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
   } catch (const std::exception& e) {
     row.error = e.what();
   }
-  row.seconds = clock ? clock->seconds() : 0;
+  if (row.seconds == 0 && clock) row.seconds = clock->seconds();  // not when the pictures failed after the solve
   return row;
 }
 

@@ -13,7 +13,8 @@
 // failure (exit status 1). A task's modules are compiled before its clock starts:
 // compile time is reported apart (compile_seconds), never as solve time.
 // With a render folder, each solved task's pictures (solve_pictures.hpp, as
-// `solve --render` draws them) are written there after its clock stops.
+// `solve --render` draws them) are written after its clock stops, into the
+// render folder's copy of the task's own folder (prompts/x.json: RENDER/prompts/).
 #pragma once
 #include <functional>
 #include <nlohmann/json.hpp>

@@ -34,8 +34,8 @@ void register_eval(CLI::App* cmd, EvalCommand& o) {
   CLI::Option* dir = cmd->add_option("DIR", o.dir, "Folder of tasks (not with --merge)")->check(CLI::ExistingDirectory);
   cmd->add_flag("--json", o.json, "Print one JSON object");
   cmd->add_option("--render", o.render_dir,
-                  "Write pictures of each answer into DIR, named after its task, as solve --render draws them "
-                  "(drawn after the task's clock stops)");
+                  "Write pictures of each answer as solve --render draws them, named after its task, into the "
+                  "folder under DIR where the task sits under the evaluated folder (drawn after the task's clock stops)");
   add_search_options(cmd, o.search, o.threads);
   add_protocol_option(cmd, o.protocol);
   cmd->footer(
