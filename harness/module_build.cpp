@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "harness/module_config.hpp"  // generated: build/config/
 #include "harness/module_store.hpp"
 
 extern char** environ;

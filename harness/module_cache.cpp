@@ -28,6 +28,7 @@
 #include "compiler/interpret/interpreted_env.hpp"
 #include "harness/digest.hpp"
 #include "harness/module_build.hpp"
+#include "harness/module_config.hpp"  // generated: build/config/
 #include "harness/module_key.hpp"
 #include "harness/module_store.hpp"
 #include "harness/warm_env.hpp"
