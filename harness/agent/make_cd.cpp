@@ -1,5 +1,5 @@
 // make_cd — see make_cd.hpp. The program is read once with the reader (for the
-// source locations of its forms); every candidate is one Edit (a byte range and its
+// source locations of its forms); every candidate is one TextEdit (a byte range and its
 // replacement, "$G$" standing for the guard) applied together with the clock's
 // insertion, and is judged only by running it against recorded original episodes.
 #include "harness/agent/make_cd.hpp"
@@ -43,7 +43,7 @@ std::string read_text(const fs::path& p) {
 
 // ------------------------------------------------------------------ source text and byte ranges
 
-struct Edit {
+struct TextEdit {
   size_t begin = 0, end = 0;
   std::string text;
 };
@@ -71,10 +71,10 @@ class SourceText {
   std::vector<size_t> starts_;
 };
 
-std::string apply_edits(const std::string& text, std::vector<Edit> edits) {
-  std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) { return a.begin > b.begin; });
+std::string apply_edits(const std::string& text, std::vector<TextEdit> edits) {
+  std::sort(edits.begin(), edits.end(), [](const TextEdit& a, const TextEdit& b) { return a.begin > b.begin; });
   std::string out = text;
-  for (const Edit& e : edits) out.replace(e.begin, e.end - e.begin, e.text);
+  for (const TextEdit& e : edits) out.replace(e.begin, e.end - e.begin, e.text);
   return out;
 }
 
@@ -128,7 +128,7 @@ ProgramForms scan_program(const Sexp& root, const std::string& name) {
   return p;
 }
 
-Edit clock_edit(const SourceText& src, const ProgramForms& p) {
+TextEdit clock_edit(const SourceText& src, const ProgramForms& p) {
   size_t at = src.offset(p.program->items[0].loc) + std::string("program").size();
   return {at, at,
           fmt::format("\n  (: {0} Number)\n  (= {0} (initnext 0 (+ (prev {0}) 1)))", p.clock)};
@@ -137,7 +137,7 @@ Edit clock_edit(const SourceText& src, const ProgramForms& p) {
 // ------------------------------------------------------------------ candidates
 
 struct Candidate {
-  Edit edit;               // "$G$" in its text: the guard
+  TextEdit edit;               // "$G$" in its text: the guard
   std::string op = ">=";   // the guard: (op clock N)
   std::string change;      // description, "$N$" for the number
 };
@@ -214,7 +214,7 @@ struct Shot {
   bool operator==(const Shot&) const = default;
 };
 
-struct Episode {
+struct CdEpisode {
   std::vector<Action> actions;
   std::vector<Shot> shots;  // shots[t]: the state after step t
 };
@@ -225,10 +225,10 @@ Shot shot(const Environment& env, const ColourTable& colours) {
 
 // `steps` random actions (an action the program fails under is taken back and
 // another drawn, as make-task's other episodes do).
-Episode original_episode(Environment& env, uint64_t env_seed, int steps, std::mt19937_64& rng,
+CdEpisode original_episode(Environment& env, uint64_t env_seed, int steps, std::mt19937_64& rng,
                          const ColourTable& colours) {
   if (!env.reset(env_seed)) throw TaskError(env.error());
-  Episode ep;
+  CdEpisode ep;
   ep.shots.push_back(shot(env, colours));
   const int grid = env.frame().size;
   std::unique_ptr<Environment> cur = env.clone();
@@ -251,7 +251,7 @@ Episode original_episode(Environment& env, uint64_t env_seed, int steps, std::mt
 }
 
 // A spawn: cells showing the frame's most common colour in every episode around t*.
-std::vector<std::pair<int, int>> quiet_cells(const std::vector<Episode>& eps, int k) {
+std::vector<std::pair<int, int>> quiet_cells(const std::vector<CdEpisode>& eps, int k) {
   const Shot& ref = eps[0].shots[k];
   std::map<int16_t, int> count;
   for (int16_t c : ref.cells) ++count[c];
@@ -259,7 +259,7 @@ std::vector<std::pair<int, int>> quiet_cells(const std::vector<Episode>& eps, in
   std::vector<std::pair<int, int>> cells;
   for (size_t i = 0; i < ref.cells.size(); ++i) {
     bool quiet = true;
-    for (const Episode& e : eps)
+    for (const CdEpisode& e : eps)
       for (int t = std::max(0, k - 1); t <= k + 1 && quiet; ++t)
         quiet = e.shots[t].size == ref.size && e.shots[t].cells[i] == common;
     if (quiet) cells.emplace_back(static_cast<int>(i % ref.size), static_cast<int>(i / ref.size));
@@ -283,7 +283,7 @@ std::optional<std::string> field_values(const Sexp& object_def, const std::strin
 }
 
 // A new last on-clause adding an object of an existing type to a list global.
-void spawn_candidates(const SourceText& src, const ProgramForms& p, const std::vector<Episode>& eps, int k,
+void spawn_candidates(const SourceText& src, const ProgramForms& p, const std::vector<CdEpisode>& eps, int k,
                       std::mt19937_64& rng, std::vector<Candidate>& out) {
   std::map<std::string, const Sexp*> objects;
   for (const Sexp& st : p.program->items)
@@ -312,7 +312,7 @@ void spawn_candidates(const SourceText& src, const ProgramForms& p, const std::v
 // Empty when the changed program matches the original before t*, differs at t*,
 // and t* is the first state the trigger holds on, in every episode.
 std::string check(const std::string& engine, const std::shared_ptr<const Program>& changed,
-                  const std::vector<Episode>& eps, uint64_t env_seed, const ColourTable& colours, int& t_star) {
+                  const std::vector<CdEpisode>& eps, uint64_t env_seed, const ColourTable& colours, int& t_star) {
   for (size_t e = 0; e < eps.size(); ++e) {
     auto env = make_env_checked(engine, changed);
     if (!env->reset(env_seed)) return "fails at reset: " + env->error();
@@ -333,16 +333,16 @@ std::string check(const std::string& engine, const std::shared_ptr<const Program
   return "";
 }
 
-struct Trial {
+struct CandidateTrial {
   std::string changed_text, change, reason;
   int t_star = -1;
 };
 
-Trial try_candidate(const Candidate& c, int n, const std::string& text, const Edit& clock, const std::string& name,
-                    const std::string& trigger, const std::vector<Episode>& eps, const MakeTaskOptions& opts,
+CandidateTrial try_candidate(const Candidate& c, int n, const std::string& text, const TextEdit& clock, const std::string& name,
+                    const std::string& trigger, const std::vector<CdEpisode>& eps, const MakeTaskOptions& opts,
                     const ColourTable& colours, const std::string& clock_name) {
-  Trial tr;
-  Edit e = c.edit;
+  CandidateTrial tr;
+  TextEdit e = c.edit;
   e.text = replace_all(e.text, "$G$", fmt::format("({} {} {})", c.op, clock_name, n));
   tr.changed_text = apply_edits(text, {clock, e});
   tr.change = replace_all(c.change, "$N$", std::to_string(n));
@@ -366,7 +366,7 @@ fs::path prompts_dir(const MakeTaskOptions& opts) {
   return dir;
 }
 
-MadeCd made_from(const Trial& tr, const std::string& text, int k, const MakeTaskOptions& opts,
+MadeCd made_from(const CandidateTrial& tr, const std::string& text, int k, const MakeTaskOptions& opts,
                  const std::string& condition) {
   MadeCd made;
   const std::string stem = opts.program.stem().string();
@@ -406,11 +406,11 @@ MadeCd make_cd(const MakeTaskOptions& opts) {
   SourceText src(text);
   Sexp root = read_sexprs(SourceFile{opts.program.string(), text, SourceId::Program});
   ProgramForms p = scan_program(root, opts.program.string());
-  const Edit clock = clock_edit(src, p);
+  const TextEdit clock = clock_edit(src, p);
   const std::string condition = fmt::format(">= {} {}", p.clock, k);
   const ColourTable colours;
 
-  std::vector<Episode> eps;
+  std::vector<CdEpisode> eps;
   auto env = make_env_checked("interp", original);
   for (int e = 0; e < kEpisodes; ++e) {
     std::mt19937_64 erng(opts.seed * 0x9e3779b97f4a7c15ull + static_cast<uint64_t>(e) + 1);
@@ -427,7 +427,7 @@ MadeCd make_cd(const MakeTaskOptions& opts) {
   for (const Candidate& c : cands)
     for (int n : {k, k - 1}) {
       if (n < 0) continue;
-      Trial tr = try_candidate(c, n, text, clock, stem + "_wrong", condition, eps, opts, colours, p.clock);
+      CandidateTrial tr = try_candidate(c, n, text, clock, stem + "_wrong", condition, eps, opts, colours, p.clock);
       if (tr.reason.empty()) return made_from(tr, text, k, opts, condition);
       if (debug()) std::cerr << "make-task cd: rejected: " << tr.change << ": " << tr.reason << "\n";
       last = tr.change + ": " + tr.reason;
