@@ -20,60 +20,41 @@ namespace {
 
 using testing::trace_names;
 
-// Builds the document as the library's own parser would, and stops once the
-// top-level "traces" array holds `wanted` episodes: the lexer, not the replay,
-// is most of a golden trace's time under the sanitizers (a 3 MB file took 2.2 s
-// of ajl_chaos_game's 3.0), and what follows the last episode wanted is never read.
-struct FirstEpisodes {
-  using json = nlohmann::json;
-  json root;
-  std::vector<json*> open;  // the containers being filled, innermost last
-  json* traces = nullptr;   // root["traces"], once begun
-  std::string pending_key;  // the member the next value belongs to
+// The library's own document builder (nlohmann's json_sax_dom_parser), told to
+// stop once the top-level "traces" array holds `wanted` episodes: the lexer, not
+// the replay, is most of a golden trace's time under the sanitizers (a 3 MB file
+// took 2.2 s of ajl_chaos_game's 3.0), and what follows the last episode wanted
+// is never read. The builder fills the document in place, so a stop leaves every
+// value read so far where the whole parse would have put it.
+struct FirstEpisodes : nlohmann::detail::json_sax_dom_parser<nlohmann::json> {
+  using Builder = nlohmann::detail::json_sax_dom_parser<nlohmann::json>;
+  size_t depth = 0;        // containers open
+  bool traces_key = false;  // the root's member being read is "traces"
+  bool in_traces = false;   // inside the root's "traces" array
   size_t wanted, done = 0;
 
-  explicit FirstEpisodes(size_t k) : wanted(k) {}
-  json* put(json v) {
-    if (open.empty()) return &(root = std::move(v));
-    json& top = *open.back();
-    if (top.is_array()) {
-      top.push_back(std::move(v));
-      return &top.back();
-    }
-    return &(top[pending_key] = std::move(v));
-  }
-  bool value(json v) {
-    put(std::move(v));
-    return true;
-  }
-  bool null() { return value(nullptr); }
-  bool boolean(bool b) { return value(b); }
-  bool number_integer(json::number_integer_t n) { return value(n); }
-  bool number_unsigned(json::number_unsigned_t n) { return value(n); }
-  bool number_float(json::number_float_t n, const std::string&) { return value(n); }
-  bool string(std::string& s) { return value(std::move(s)); }
-  bool binary(json::binary_t& b) { return value(json::binary(std::move(b))); }
+  FirstEpisodes(nlohmann::json& root, size_t k) : Builder(root), wanted(k) {}
   bool key(std::string& k) {
-    pending_key = std::move(k);
-    return true;
+    if (depth == 1) traces_key = k == "traces";
+    return Builder::key(k);
   }
-  bool start_object(size_t) {
-    open.push_back(put(json::object()));
-    return true;
+  bool start_object(size_t n) {
+    ++depth;
+    return Builder::start_object(n);
   }
   bool end_object() {  // false (stop) when this closed the last episode wanted
-    open.pop_back();
-    return !(traces && open.size() == 2 && open.back() == traces && ++done == wanted);
+    --depth;
+    const bool last = in_traces && depth == 2 && ++done == wanted;
+    return Builder::end_object() && !last;
   }
-  bool start_array(size_t) {
-    const bool is_traces = open.size() == 1 && pending_key == "traces";
-    open.push_back(put(json::array()));
-    if (is_traces) traces = open.back();
-    return true;
+  bool start_array(size_t n) {
+    in_traces = in_traces || (depth == 1 && traces_key);
+    ++depth;
+    return Builder::start_array(n);
   }
   bool end_array() {
-    open.pop_back();
-    return true;
+    if (--depth == 1) in_traces = false;
+    return Builder::end_array();
   }
   bool parse_error(size_t, const std::string&, const nlohmann::detail::exception& e) {
     throw std::runtime_error(std::string("not valid JSON: ") + e.what());
@@ -95,9 +76,10 @@ TraceFile load_episodes(const std::string& path, size_t wanted) {
     f.traces.resize(std::min(f.traces.size(), wanted));
     return f;
   }
-  FirstEpisodes sax(wanted);
+  nlohmann::json root;
+  FirstEpisodes sax(root, wanted);
   nlohmann::json::sax_parse(text, &sax);
-  return trace_file_from_json(sax.root, path);
+  return trace_file_from_json(root, path);
 }
 
 class Conformance : public ::testing::TestWithParam<std::string> {};
