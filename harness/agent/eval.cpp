@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include <functional>
+
 #include "harness/agent/change_detection.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/planning.hpp"
@@ -36,6 +38,7 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
     if (opts.answers) answers = load_answers(*opts.answers);
     row.answers = opts.answers.has_value();
     row.compile_seconds = prepare_modules(task, opts);
+    std::function<std::vector<std::string>()> draw;  // the answer's pictures
     clock.emplace();
     switch (task.type) {
       case TaskType::MaskedFramePrediction: {
@@ -48,8 +51,7 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         if (r.expected) row.detail += fmt::format(", answer {}", *r.expected);
         row.stochastic = !r.deterministic;
         row.result = mfp_json(r);
-        row.seconds = clock->seconds();
-        if (!render_dir.empty()) row.pictures = render_mfp(task, r, pictures);
+        draw = [&task, r = std::move(r), &pictures] { return render_mfp(task, r, pictures); };
         break;
       }
       case TaskType::ChangeDetection: {
@@ -62,8 +64,7 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
         if (r.t_star) row.detail += fmt::format(", t* = {}", *r.t_star);
         row.stochastic = !r.deterministic;
         row.result = cd_json(r);
-        row.seconds = clock->seconds();
-        if (!render_dir.empty()) row.pictures = render_cd(task, opts, r, pictures);
+        draw = [&task, &opts, r = std::move(r), &pictures] { return render_cd(task, opts, r, pictures); };
         break;
       }
       case TaskType::Planning: {
@@ -88,16 +89,17 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
                                     *answers.seed, r.env_seed);
         if (row.reference_length) row.detail += fmt::format(", generator's K = {}", *row.reference_length);
         row.result = planning_json(r);
-        row.seconds = clock->seconds();
-        if (!render_dir.empty()) row.pictures = render_plan(task, opts, r, pictures);
+        draw = [&task, &opts, r = std::move(r), &pictures] { return render_plan(task, opts, r, pictures); };
         break;
       }
     }
-    return row;  // its seconds stopped before any pictures
+    row.seconds = clock->seconds();  // the solve's: pictures are drawn after the clock stops
+    if (!render_dir.empty()) row.pictures = draw();
+    return row;
   } catch (const std::exception& e) {
     row.error = e.what();
   }
-  if (row.seconds == 0 && clock) row.seconds = clock->seconds();  // not when the pictures failed after the solve
+  if (row.seconds == 0 && clock) row.seconds = clock->seconds();  // the solve failed (a failed picture keeps the solve's time)
   return row;
 }
 
