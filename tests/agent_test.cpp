@@ -46,7 +46,7 @@
 #include "harness/engine.hpp"
 #include "test_support.hpp"
 
-namespace autumn::agent {
+namespace autumn::agent::agent_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -1774,4 +1774,4 @@ TEST(AgentSeedInversion, RecoversAWorldSeedFromItsFrames) {
 }
 
 }  // namespace
-}  // namespace autumn::agent
+}  // namespace autumn::agent::agent_test

@@ -11,6 +11,7 @@
 
 namespace fs = std::filesystem;
 
+namespace cli_test {
 namespace {
 
 using Result = autumn::testing::CliResult;
@@ -374,3 +375,4 @@ TEST(Cli, NumericOptionsRejectWhatTheyWouldWrap) {
 }
 
 }  // namespace
+}  // namespace cli_test

@@ -13,7 +13,7 @@
 #include "harness/trace_check.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::compiled_engine_test {
 namespace {
 
 using testing::trace_names;
@@ -164,4 +164,4 @@ TEST(CompiledEngine, CloneBranchesIndependently) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::compiled_engine_test

@@ -15,7 +15,7 @@
 #include "harness/trace_check.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::conformance_test {
 namespace {
 
 using testing::trace_names;
@@ -134,4 +134,4 @@ INSTANTIATE_TEST_SUITE_P(Traces, Conformance, ::testing::ValuesIn(trace_names())
                          [](const auto& info) { return info.param; });
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::conformance_test

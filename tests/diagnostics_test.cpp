@@ -11,7 +11,7 @@
 #include "harness/engine.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::diagnostics_test {
 namespace {
 
 using testing::files_in;
@@ -134,4 +134,4 @@ TEST(Diagnostics, InvisibleAndHugeTextIsShownSafely) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::diagnostics_test

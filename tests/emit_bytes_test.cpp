@@ -11,7 +11,7 @@
 #include "harness/difftest.hpp"
 #include "harness/engine.hpp"
 
-namespace autumn {
+namespace autumn::emit_bytes_test {
 namespace {
 
 // Every byte a string literal can hold raw (all but newline, quote, backslash),
@@ -79,4 +79,4 @@ TEST(EmitBytes, EmbeddedTextKeepsEveryByte) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::emit_bytes_test

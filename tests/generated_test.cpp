@@ -7,7 +7,7 @@
 #include "compiler/emit/emit_module.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::generated_test {
 namespace {
 
 TEST(Generated, EveryModuleMatchesTheCurrentEmitter) {
@@ -30,4 +30,4 @@ TEST(Generated, EveryModuleMatchesTheCurrentEmitter) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::generated_test

@@ -18,7 +18,7 @@
 #include "harness/transcript.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::golden_test {
 namespace {
 
 constexpr const char* kMarker = ";; ---- expected transcript (re-bless: AUTUMN_BLESS=1 ctest -R Golden) ----";
@@ -86,4 +86,4 @@ INSTANTIATE_TEST_SUITE_P(Files, Golden,
                          [](const auto& info) { return info.param.stem().string(); });
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::golden_test

@@ -24,7 +24,7 @@
 #include "harness/episode.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::guide_test {
 namespace {
 
 const std::filesystem::path kGuide = testing::source_dir() / "docs/language.md";
@@ -158,4 +158,4 @@ TEST(Guide, ReferenceNamesEveryStandardLibraryFunction) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::guide_test

@@ -10,7 +10,7 @@
 
 #include "runtime/hash_order.hpp"
 
-namespace autumn {
+namespace autumn::hash_order_test {
 namespace {
 
 TEST(HashOrder, StringHashMatchesStdHash) {
@@ -94,4 +94,4 @@ TEST(HashOrder, RestoreRejectsImpossibleDescriptions) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::hash_order_test

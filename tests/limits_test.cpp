@@ -27,7 +27,7 @@
 #include "runtime/limits.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::limits_test {
 namespace {
 
 using testing::header;
@@ -368,4 +368,4 @@ TEST(Limits, AnswersOutOfTheIntRangeAreErrors) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::limits_test

@@ -10,7 +10,7 @@
 #include "runtime/diagnostic.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::lint_test {
 namespace {
 
 std::vector<std::string> warnings_of(const std::string& body) {
@@ -235,4 +235,4 @@ TEST(Lint, AutumncRefusesProgramsThatCannotRun) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::lint_test

@@ -30,7 +30,7 @@
 #include "harness/transcript.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::lowering_test {
 namespace {
 
 using testing::files_in;
@@ -411,4 +411,4 @@ TEST(IrText, NamesFunctionsStatementsAndTypes) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::lowering_test

@@ -31,6 +31,7 @@
 #include "harness/module_store.hpp"
 #include "test_support.hpp"
 
+namespace module_store_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -375,3 +376,4 @@ TEST(BuiltinModules, CarryTheFullTextOfTheirProgram) {
 }
 
 }  // namespace
+}  // namespace module_store_test

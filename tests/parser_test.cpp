@@ -7,7 +7,7 @@
 #include "compiler/parse/parser.hpp"
 #include "compiler/read/sexpr.hpp"
 
-namespace autumn {
+namespace autumn::parser_test {
 namespace {
 
 std::string parse_one(const std::string& text) {
@@ -97,4 +97,4 @@ TEST(Parser, ProgramIgnoresLaterTopLevelFormsWithAWarning) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::parser_test

@@ -21,6 +21,7 @@
 #include "harness/engine.hpp"
 #include "test_support.hpp"
 
+namespace random_baseline_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -238,3 +239,4 @@ TEST(PaperProtocol, BfsFindsTenActionsAwayButNotEleven) {
 }
 
 }  // namespace
+}  // namespace random_baseline_test

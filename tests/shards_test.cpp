@@ -17,7 +17,7 @@
 #include "harness/shards.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::shards_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -279,4 +279,4 @@ TEST(Shards, BaselineRandomMergesToTheWholeRun) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::shards_test

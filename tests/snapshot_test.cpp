@@ -9,7 +9,7 @@
 #include "harness/policy.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::snapshot_test {
 namespace {
 
 // The harness's reproducible policy, unrolled into a fixed action list.
@@ -95,4 +95,4 @@ TEST(SnapshotHash, DistinguishesDifferentStates) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::snapshot_test

@@ -19,7 +19,7 @@
 #include "runtime/module_env.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::state_validation_test {
 namespace {
 
 std::unique_ptr<Environment> builtin_env(const std::string& name) {
@@ -118,4 +118,4 @@ TEST(StateValidationMisc, ForeignAndEmptyBytesFail) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::state_validation_test

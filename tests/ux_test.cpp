@@ -18,7 +18,7 @@
 #include "harness/warm_env.hpp"
 #include "test_support.hpp"
 
-namespace autumn {
+namespace autumn::ux_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -549,9 +549,9 @@ TEST(HonestOutput, SolveWarnsOfTaskClicksOutsideTheGrid) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::ux_test
 
-namespace autumn {
+namespace autumn::ux_test {
 namespace {
 
 // The reference's way of writing render_all(), each piece through a 256-byte
@@ -609,4 +609,4 @@ TEST(RenderAllJson, IsTheReferencesTextEvenWhereItCuts) {
 }
 
 }  // namespace
-}  // namespace autumn
+}  // namespace autumn::ux_test
