@@ -1,6 +1,6 @@
 // make_cd — see make_cd.hpp. The program is read once with the reader (for the
-// source locations of its forms); every candidate is one TextEdit (a byte range and its
-// replacement, "$G$" standing for the guard) applied together with the clock's
+// source locations of its forms); every candidate is one TextEdit (a byte range and
+// its replacement, "$G$" standing for the guard) applied together with the clock's
 // insertion, and is judged only by running it against recorded original episodes.
 #include "harness/agent/make_cd.hpp"
 
@@ -137,7 +137,7 @@ TextEdit clock_edit(const SourceText& src, const ProgramForms& p) {
 // ------------------------------------------------------------------ candidates
 
 struct Candidate {
-  TextEdit edit;               // "$G$" in its text: the guard
+  TextEdit edit;           // "$G$" in its text: the guard
   std::string op = ">=";   // the guard: (op clock N)
   std::string change;      // description, "$N$" for the number
 };
@@ -226,7 +226,7 @@ Shot shot(const Environment& env, const ColourTable& colours) {
 // `steps` random actions (an action the program fails under is taken back and
 // another drawn, as make-task's other episodes do).
 CdEpisode original_episode(Environment& env, uint64_t env_seed, int steps, std::mt19937_64& rng,
-                         const ColourTable& colours) {
+                           const ColourTable& colours) {
   if (!env.reset(env_seed)) throw TaskError(env.error());
   CdEpisode ep;
   ep.shots.push_back(shot(env, colours));
@@ -338,9 +338,9 @@ struct CandidateTrial {
   int t_star = -1;
 };
 
-CandidateTrial try_candidate(const Candidate& c, int n, const std::string& text, const TextEdit& clock, const std::string& name,
-                    const std::string& trigger, const std::vector<CdEpisode>& eps, const MakeTaskOptions& opts,
-                    const ColourTable& colours, const std::string& clock_name) {
+CandidateTrial try_candidate(const Candidate& c, int n, const std::string& text, const TextEdit& clock,
+                             const std::string& name, const std::string& trigger, const std::vector<CdEpisode>& eps,
+                             const MakeTaskOptions& opts, const ColourTable& colours, const std::string& clock_name) {
   CandidateTrial tr;
   TextEdit e = c.edit;
   e.text = replace_all(e.text, "$G$", fmt::format("({} {} {})", c.op, clock_name, n));
