@@ -56,12 +56,14 @@ TEST_P(Differential, CompiledAgreesWithInterpreter) {
   // 107 programs x 8 seeds x 200 steps: about 170k steps compared in CI. An
   // embedded module (tests/lowering's "expect: embedded") runs the interpreter
   // itself, so the comparison checks only the embedding (reset, inputs, frames,
-  // errors), which two short episodes cover (10 steps: construct_own_class
-  // recurses to the call-depth limit every step, a third of a second each, and
-  // took 164 s at the full count, 19 s at 25 steps).
+  // errors), which two short episodes cover. A program's "; random-limits:"
+  // header sets the episodes' limits (test_support.hpp: construct_own_class
+  // recurses to the call-depth limit every step; at the default it took 27 s
+  // here for these 20 steps on each engine; 1 s at call-depth=200).
   const bool specialised = lower_program(*program, "p").ok;
   o.seeds = specialised ? 8 : 2;
   o.steps = specialised ? 200 : 10;
+  o.limits = testing::random_limits(GetParam());
   DiffResult r = diff_engines(program, o);
   EXPECT_FALSE(r.setup_failed) << r.divergence;
   EXPECT_EQ(r.divergence, "") << GetParam();
@@ -85,13 +87,14 @@ TEST_P(CopyAndSnapshot, KeepTheFuture) {
   auto copy = make_environment("compiled", program, &why);
   auto restored = make_environment("compiled", program, &why);
   ASSERT_TRUE(env && copy && restored) << why;
+  const Limits limits = testing::random_limits(GetParam());  // its "; random-limits:", or the defaults
+  for (Environment* e : {env.get(), copy.get(), restored.get()}) e->set_limits(limits);
   // Embedded modules (the interpreter inside, no snapshots) check copy_from on one episode.
   for (uint64_t seed : {0ull, 3ull}) {
     if (!specialised && seed > 0) break;
     ASSERT_TRUE(env->reset(seed)) << env->error();
     RandomPolicy policy(seed + 17);
-    // An embedded module runs the interpreter (a third of a second a step in
-    // construct_own_class, at the call-depth limit): a shorter episode.
+    // An embedded module runs the interpreter: a shorter episode.
     const size_t split = specialised ? 20 + seed * 10 : 4, total = split + (specialised ? 60 : 6);
     std::vector<Action> actions;
     for (size_t i = 0; i < total; ++i) actions.push_back(policy.next(env->frame()));

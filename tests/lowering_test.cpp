@@ -6,9 +6,10 @@
 //   ; expect: static              specialised, no dynamic site
 //   ; expect: dynamic N           specialised, N dynamic sites
 //   ; expect: embedded "TEXT"     not specialised, the reason containing TEXT
-// and optionally "; actions: ..." run after reset. Each runs on both engines
-// (the given actions, then seeds under a random policy): frames, trigger,
-// coverage and error messages must agree.
+// and optionally "; actions: ..." run after reset, and "; random-limits: ..."
+// (the --limits syntax) for the random episodes. Each runs on both engines
+// (the given actions at the default limits, then seeds under a random policy):
+// frames, trigger, coverage and error messages must agree.
 //
 // Every program of programs/ and of the conformance corpus must specialise with
 // no dynamic site (docs/design.md lists what would not).
@@ -85,12 +86,14 @@ TEST_P(LoweringFile, SpecialisesAsExpectedAndAgreesWithTheInterpreter) {
   std::string why;
   auto actions = parse_action_list(header(text, "actions"), &why);
   ASSERT_TRUE(actions) << why;
-  expect_same_transcripts(program, *actions, 3);
+  expect_same_transcripts(program, *actions, 3);  // at the default limits
   // An embedded module runs the interpreter itself: two episodes check the
-  // embedding (construct_own_class recurses to the call-depth limit every step).
+  // embedding. The random episodes run under the file's "; random-limits:"
+  // (test_support.hpp), if any.
   DiffOptions o;
   o.seeds = l.ok ? 6 : 2;
   o.steps = l.ok ? 60 : 8;
+  o.limits = testing::random_limits(GetParam());
   DiffResult r = diff_engines(program, o);
   EXPECT_EQ(r.divergence, "");
 }

@@ -14,10 +14,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "runtime/limits.hpp"
 
 namespace autumn::testing {
 
@@ -79,6 +82,20 @@ inline std::string header(const std::string& text, const std::string& key) {
     }
   }
   return "";
+}
+
+// The limits a program's random-policy episodes run under (the differential,
+// copy and snapshot suites): its "; random-limits:" header, in the --limits
+// syntax, or the defaults. For a program whose every step is costly only
+// because it runs into a limit: tests/lowering/construct_own_class.au recurses
+// to the call-depth limit at every step, a third of a second at the default
+// 10,000 and a hundredth at 200, with the same frames. Its scripted actions
+// (LoweringFile) still run at the defaults. A malformed header fails the test.
+inline Limits random_limits(const std::filesystem::path& program) {
+  std::string why;
+  const std::optional<Limits> l = limits::parse(header(read_text(program), "random-limits"), &why);
+  if (!l) ADD_FAILURE() << program.string() << ": random-limits: " << why;
+  return l.value_or(Limits{});
 }
 
 // Names of the golden trace files (without .json), or the one name
