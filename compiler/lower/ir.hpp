@@ -125,6 +125,8 @@ enum class Op : uint8_t {
   FnCall,     // call of module function `index` (recursive functions, render, colour)
   Concat,     // strings: a[0] + a[1] + ... (error texts)
   Select,     // a[0] ? a[1] : a[2] (places of one type: the result names one of them)
+  Shape,      // the constant cells of class `index` (ClassInfo::static_shape) as a table the printer
+              // writes once (List<Cell>; ClassInfo::shape_table); only a ForEach reads it
 };
 
 struct Node {

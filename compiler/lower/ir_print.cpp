@@ -14,8 +14,9 @@ constexpr const char* kIrOpNames[] = {
     "lit",     "text",     "local",    "global",  "slot",  "member", "add",   "sub",   "mul",    "neg",
     "div",     "mod",      "lt",       "le",      "gt",    "ge",     "eq",    "ne",    "not",    "and",
     "or",      "make_pos", "make_elem", "make_obj", "make_cell", "make_list", "make_sum", "sum_is", "sum_get",
-    "size",    "empty",    "index",    "front",   "back",  "call",   "fn_call", "concat", "select"};
-static_assert(std::size(kIrOpNames) == static_cast<size_t>(Op::Select) + 1);
+    "size",    "empty",    "index",    "front",   "back",  "call",   "fn_call", "concat", "select",
+    "shape"};
+static_assert(std::size(kIrOpNames) == static_cast<size_t>(Op::Shape) + 1);
 
 constexpr const char* kIrMemberNames[] = {"x",     "y",     "position", "color",  "origin", "field",  "uid", "group",
                                         "cell_x", "cell_y", "cell_colour", "cell_dx", "cell_dy", "cell_dc", "cells"};
@@ -60,7 +61,8 @@ class IrTextPrinter {
         s += "." + std::string(kIrMemberNames[static_cast<size_t>(n->member)]);
         if (n->member == Member::Field) s += "#" + std::to_string(n->index);
         break;
-      case Op::MakeObj: s += " " + class_name(n->index); break;
+      case Op::MakeObj:
+      case Op::Shape: s += " " + class_name(n->index); break;
       case Op::MakeSum:
       case Op::SumIs:
       case Op::SumGet: s += " #" + std::to_string(n->index); break;

@@ -18,7 +18,8 @@ int ir_arity(Op op) {
     case Op::Text:
     case Op::Local:
     case Op::Global:
-    case Op::Slot: return 0;
+    case Op::Slot:
+    case Op::Shape: return 0;
     case Op::Member:
     case Op::Neg:
     case Op::Not:
@@ -96,6 +97,15 @@ class IrVerifier {
         if (n->index < 0 || static_cast<size_t>(n->index) >= m_.classes.size())
           problem("class " + std::to_string(n->index) + " does not exist");
         break;
+      case Op::Shape:
+        if (n->index < 0 || static_cast<size_t>(n->index) >= m_.classes.size() ||
+            !m_.classes[n->index].shape_table || !m_.classes[n->index].static_shape)
+          problem("`" + print_node(n) + "` names no printed table of cells");
+        else if (!literal_cells(*m_.classes[n->index].static_shape))
+          problem("`" + print_node(n) + "` names cells that are not all literal (x, y, colour)");
+        else if (!at || at->k != SK::ForEach || at->a != n)
+          problem("`" + print_node(n) + "` read by a " + stmt_name(at) + ", not as a loop's list");
+        break;
       case Op::FnCall:
         if (n->index < 0 || static_cast<size_t>(n->index) >= m_.functions.size())
           problem("function #" + std::to_string(n->index) + " does not exist");
@@ -150,6 +160,7 @@ class IrVerifier {
         need(s->a, s, s->k == SK::ForEach ? "list" : "low bound");
         if (s->k == SK::ForRange) need(s->b, s, "high bound");
         if (s->charged) site(s);
+        if (s->charged && s->a && s->a->op == Op::Shape) problem("a loop over a table of cells charges the budget");
         scopes_.emplace_back();
         introduce(s->var, stmt_name(s));
         loop_body(s);
@@ -177,6 +188,15 @@ class IrVerifier {
         break;
       case SK::Comment: break;
     }
+  }
+
+  // Whether every cell of a shape has literal x, y and colour (a printable table).
+  static bool literal_cells(const Node& shape) {
+    for (const Node* c : shape.a)
+      if (c->op != Op::MakeCell || c->a.size() < 3 || c->a[0]->op != Op::Lit || c->a[1]->op != Op::Lit ||
+          c->a[2]->op != Op::Lit)
+        return false;
+    return true;
   }
 
   static const char* stmt_name(const Stmt* s) { return s ? stmt_kind_name(s->k) : "statement"; }

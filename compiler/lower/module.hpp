@@ -46,6 +46,8 @@ struct ClassInfo {
   bool tracked = false;                  // objects carry identity (uid)
   bool rotatable = false;                // objects carry the group of cells rotate turns (group)
   ir::Node* static_shape = nullptr;       // Static: the cell list every object has (MakeList of MakeCell)
+  bool shape_table = false;              // Static: some render loops over static_shape, printed once as a
+                                         // table (Op::Shape); its cells are then all literal (x, y, colour)
   int render_fn = -1;                    // Stored: the module function rendering one object
 };
 

@@ -110,6 +110,7 @@ class Printer {
   void state();
   void snapshot_functions();
   void tables();
+  void shape_table(const ClassInfo& c);
 
   const Module& m_;
   std::ostringstream out_;
@@ -270,6 +271,7 @@ std::string Printer::expr(const Node* n) {
     case Op::Call: return helper(n);
     case Op::FnCall: return m_.functions[n->index]->name + "(s" + (n->a.empty() ? "" : ", " + list(0)) + ")";
     case Op::Select: return "(" + a(0) + " ? " + a(1) + " : " + a(2) + ")";
+    case Op::Shape: return m_.classes[n->index].cpp + "::kShape";
     case Op::Concat: {
       std::string s = "std::string()";
       for (size_t i = 0; i < n->a.size(); ++i) s += " + " + expr(n->a[i]);
@@ -448,9 +450,25 @@ void Printer::classes() {
     line("friend void load_value(SnapshotReader& r, " + c.cpp + "& v) {");
     each("load_value(r, ", "v");
     line("}");
+    if (c.shape_table) shape_table(c);
     --depth_;
     line("};");
   }
+}
+
+// The cells every object of a Static class has, as {x, y, colour} (Op::Shape):
+// a render loops over them instead of repeating its body once per cell.
+void Printer::shape_table(const ClassInfo& c) {
+  const std::vector<Node*>& cells = c.static_shape->a;
+  line("static constexpr CellV kShape[" + std::to_string(cells.size()) + "] = {");
+  for (size_t i = 0; i < cells.size(); i += 8) {
+    std::string row = "   ";
+    for (size_t j = i; j < std::min(cells.size(), i + 8); ++j)
+      row += " {" + std::to_string(cells[j]->a[0]->imm) + ", " + std::to_string(cells[j]->a[1]->imm) + ", " +
+             std::to_string(cells[j]->a[2]->imm) + "},";
+    line(row);
+  }
+  line("};");
 }
 
 // The state check's count of one object (StateTally): the object, its fields with

@@ -384,6 +384,11 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
   SVal turns;
   if (h_.rotated.count(cls))
     turns = let(SVal{T().int_(), call(ir::Helper::RotOf, T().int_(), {member(ov.code, ir::Member::Group, T().int_())})});
+  if (tabulable(*ci.static_shape)) {
+    ci.shape_table = true;
+    render_shape_table(cls, origin, turns, sink);
+    return;
+  }
   for (const ir::Node* c : ci.static_shape->a) {
     const int dx = static_cast<int>(c->a[3]->imm), dy = static_cast<int>(c->a[4]->imm), dc = static_cast<int>(c->a[5]->imm);
     SVal cell{T().cell(), const_cast<ir::Node*>(c), const_cast<ir::Node*>(c)};
@@ -418,6 +423,53 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
     if (dead_) return;
     sink(node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {x.code, y.code}), colour.code}));
   }
+}
+
+// Whether the cells of a Static shape go in a table the render loops over: many
+// of them (below kTableCells the cells are unrolled, each a few instructions),
+// and every x, y and colour a literal the same at every render (no deferred
+// argument evaluated then, no number where a colour is due). A 22-by-22 block
+// unrolled is ~500 statements per render site, which the C++ compiler spends
+// seconds optimising (docs/design.md "Tests").
+bool Specialiser::tabulable(const ir::Node& shape) const {
+  constexpr size_t kTableCells = 32;
+  if (shape.a.size() < kTableCells) return false;
+  for (const ir::Node* c : shape.a) {
+    for (int which = 0; which < 3; ++which) {
+      const int d = static_cast<int>(c->a[3 + which]->imm);
+      if (which == 2 && d < 0) return false;  // a number colour: the render fails at this cell
+      if (d >= 0 && !m_.deferred[d].fixed) return false;
+      const ir::Node* v = c->a[which];
+      if (v->op != ir::Op::Lit || !v->type || v->type->k != (which == 2 ? TK::Str : TK::Int)) return false;
+    }
+  }
+  return true;
+}
+
+// The render of a tabulable shape: one loop over the class's table (Op::Shape)
+// doing what the unrolled cells do, in the same order. Like them it charges
+// nothing to the loop budget (its length is a constant of the program).
+void Specialiser::render_shape_table(int cls, ir::Node* origin, const SVal& turns, const ElemSink& sink) {
+  ir::Node* cells = node(ir::Op::Shape, T().list(T().cell()));
+  cells->index = cls;
+  ir::Stmt* loop = emit(ir::SK::ForEach);
+  loop->var = var(T().cell(), "cell");
+  loop->a = cells;
+  loop->charged = false;
+  in_block(loop->body, [&] {
+    ir::Node* c = local(loop->var);
+    ir::Node* ox = member(c, ir::Member::CellX, T().int_());
+    ir::Node* oy = member(c, ir::Member::CellY, T().int_());
+    if (turns.code) {  // rotate turned this object's cells
+      SVal r = let(SVal{T().pos(), call(ir::Helper::Rotated, T().pos(), {turns.code, ox, oy})});
+      ox = member(r.code, ir::Member::X, T().int_());
+      oy = member(r.code, ir::Member::Y, T().int_());
+    }
+    ir::Node* x = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::X, T().int_()), ox});
+    ir::Node* y = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), oy});
+    ir::Node* colour = member(c, ir::Member::CellColour, T().str());
+    sink(node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {x, y}), colour}));
+  });
 }
 
 // A live colour: a shared function of the object when the caller's scopes

@@ -333,6 +333,8 @@ class Specialiser {
   void render_into(const SVal& v, const ElemSink& sink);
   void render_into(const SVal& v, ir::Node* out);
   void render_object(const SVal& o, const ElemSink& sink);
+  bool tabulable(const ir::Node& shape) const;
+  void render_shape_table(int cls, ir::Node* origin, const SVal& turns, const ElemSink& sink);
   bool renders(TypeP t) const;
   SVal deferred_colour(int d, const SVal& o, const SVal& cell);
   // A render's own error (a colour that is not a String, a coordinate that is not
