@@ -93,7 +93,7 @@ TEST_P(LoweringFile, SpecialisesAsExpectedAndAgreesWithTheInterpreter) {
   DiffOptions o;
   o.seeds = l.ok ? 6 : 2;
   o.steps = l.ok ? 60 : 8;
-  o.limits = testing::random_limits(GetParam());
+  o.limits = testing::random_limits(text, GetParam());
   DiffResult r = diff_engines(program, o);
   EXPECT_EQ(r.divergence, "");
 }

@@ -91,12 +91,14 @@ inline std::string header(const std::string& text, const std::string& key) {
 // to the call-depth limit at every step, a third of a second at the default
 // 10,000 and a hundredth at 200, with the same frames. Its scripted actions
 // (LoweringFile) still run at the defaults. A malformed header fails the test.
-inline Limits random_limits(const std::filesystem::path& program) {
+// The first form takes the program's text when the caller already holds it.
+inline Limits random_limits(const std::string& text, const std::filesystem::path& program) {
   std::string why;
-  const std::optional<Limits> l = limits::parse(header(read_text(program), "random-limits"), &why);
+  const std::optional<Limits> l = limits::parse(header(text, "random-limits"), &why);
   if (!l) ADD_FAILURE() << program.string() << ": random-limits: " << why;
   return l.value_or(Limits{});
 }
+inline Limits random_limits(const std::filesystem::path& program) { return random_limits(read_text(program), program); }
 
 // Names of the golden trace files (without .json), or the one name
 // "MISSING_SHARED_CORPUS" so that suites can report themselves skipped.
