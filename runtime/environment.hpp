@@ -43,6 +43,14 @@ class Environment {
   virtual bool advance(const Action& action) = 0;
   // The frame of the last host render.
   virtual const Frame& frame() const = 0;
+  // frame().size and frame().cells[i] (i below size * size), which an engine may
+  // answer without making the whole frame: a goal test that stops at its first
+  // differing cell reads a few cells of each of millions of frames.
+  virtual int frame_side() const { return frame().size; }
+  virtual uint16_t frame_cell(size_t i) const { return frame().cells[i]; }
+  // A palette naming every id frame_cell has returned: palette(), unless the
+  // engine has one without making the frame.
+  virtual const Palette& cell_palette() const { return palette(); }
   virtual const Palette& palette() const = 0;
   // SpecialConditionTriggered after the last step (false after reset).
   virtual bool triggered() const = 0;

@@ -56,6 +56,20 @@ void ModuleEnvironment::pull() const {
   }
 }
 
+// Read from the module's frame while frame_ is stale. A colour not yet named
+// pulls the whole frame instead, so that colours are named in the order pull()
+// names them (row-major) however the cells are read.
+int ModuleEnvironment::frame_side() const { return stale_ && !failed_ ? table_->grid_size(handle_) : frame_.size; }
+
+uint16_t ModuleEnvironment::frame_cell(size_t i) const {
+  if (stale_ && !failed_) {
+    const uint16_t m = table_->cells(handle_)[i];
+    if (m < remap_.size() && remap_[m] != kUnnamed) return remap_[m];
+    pull();
+  }
+  return frame_.cells[i];
+}
+
 // A module's palette names every string of the program (a specialised module
 // interns them all at start, "origin" and "left" included); the host palette
 // takes a name only when a frame shows it, so that it holds colours only, as the

@@ -36,6 +36,9 @@ class ModuleEnvironment : public Environment {
     pull();
     return frame_;
   }
+  int frame_side() const override;
+  uint16_t frame_cell(size_t i) const override;
+  const Palette& cell_palette() const override { return *palette_; }  // remap_'s ids are named in it
   const Palette& palette() const override {
     pull();
     return *palette_;

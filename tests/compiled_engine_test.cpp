@@ -166,5 +166,41 @@ TEST(CompiledEngine, CloneBranchesIndependently) {
   EXPECT_EQ(env->state_hash(), branch->state_hash());
 }
 
+// Environment::frame_cell reads a compiled frame cell by cell without copying it
+// (the planner's goal test): the same ids as frame(), its colours named in the
+// palette in the same order, also on a copy whose frame was never made.
+TEST(CompiledEngine, FrameCellsReadOneByOneAreTheFrame) {
+  for (const char* name : {"programs/color_flood.au", "programs/fireworks.au", "programs/garden.au"}) {
+    SCOPED_TRACE(name);
+    auto program = load_program_file((testing::source_dir() / name).string());
+    std::string why;
+    auto cells = make_environment("compiled", program, &why), whole = make_environment("compiled", program, &why);
+    ASSERT_TRUE(cells && whole) << why;
+    auto copy = cells->clone();
+    ASSERT_TRUE(cells->reset(5) && whole->reset(5));
+    RandomPolicy policy(9);
+    for (int step = 0; step < 40; ++step) {
+      const Frame& f = whole->frame();
+      const Palette& p = whole->palette();
+      ASSERT_EQ(cells->frame_side(), f.size);
+      for (size_t i = f.cells.size(); i-- > 0;) {  // bottom-up: not the order pull() names colours in
+        const uint16_t id = cells->frame_cell(i);
+        ASSERT_EQ(id, f.cells[i]) << "step " << step << ", cell " << i;
+        ASSERT_EQ(cells->cell_palette().name(id), p.name(f.cells[i]));
+      }
+      ASSERT_TRUE(copy->copy_from(*cells));
+      const size_t last = f.cells.size() - 1;
+      EXPECT_EQ(copy->cell_palette().name(copy->frame_cell(last)), p.name(f.cells[last]));
+      const Action a = policy.next(f);
+      const bool ok = whole->step(a);
+      ASSERT_EQ(cells->step(a), ok);
+      if (!ok) break;
+    }
+    EXPECT_EQ(cells->frame(), whole->frame());
+    ASSERT_EQ(cells->palette().size(), whole->palette().size());
+    for (uint16_t id = 0; id < whole->palette().size(); ++id) EXPECT_EQ(cells->palette().name(id), whole->palette().name(id));
+  }
+}
+
 }  // namespace
 }  // namespace autumn::compiled_engine_test

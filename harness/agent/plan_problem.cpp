@@ -31,12 +31,16 @@ bool Goal::reached(const TaskFrame& f) const {
   return true;
 }
 
+// Cell by cell (Environment::frame_cell): most frames differ at the first cells
+// of order_, and a compiled engine then copies no frame. Reading a cell may name
+// a colour, so the palette's mapping is asked after each read (cached by version).
 bool Goal::reached(const Environment& e, FrameColours& colours) const {
-  const Frame& f = e.frame();
-  if (f.cells.size() != task_.mask.cells.size()) return false;
-  const std::vector<int16_t>& colour_of = colours.ids(e.palette(), task_.colours);
-  for (uint32_t i : order_)
-    if (colour_of[f.cells[i]] != task_.goal.cells[i]) return false;
+  const size_t side = static_cast<size_t>(std::max(e.frame_side(), 0));
+  if (side * side != task_.mask.cells.size()) return false;
+  for (uint32_t i : order_) {
+    const uint16_t id = e.frame_cell(i);
+    if (colours.ids(e.cell_palette(), task_.colours)[id] != task_.goal.cells[i]) return false;
+  }
   return true;
 }
 
