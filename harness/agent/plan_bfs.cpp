@@ -48,6 +48,7 @@ class LayeredBfs {
     HashSet local;
     FrameColours colours;
     std::vector<uint8_t> bytes[2];  // this chunk's new states: [0] this layer (free), [1] the next
+    size_t last_bytes[2] = {0, 0};  // their size in the last chunk: the next one's reservation
     std::vector<std::vector<Fresh>> fresh = std::vector<std::vector<Fresh>>(kShards);
   };
 
@@ -145,6 +146,11 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   keep_env_ = !snapshots_ && kept_ < p_.opts().keep_states;
   buffer_base_[0] = static_cast<uint32_t>(cur_.buffers.size());
   buffer_base_[1] = static_cast<uint32_t>(next_.buffers.size());
+  // Each worker's buffers start as large as its last chunk's, and a half more:
+  // grown by doubling instead, they were copied and their pages faulted in
+  // again at each doubling. Pages reserved but not written cost no memory.
+  for (Worker& W : workers_)
+    for (int side = 0; side < 2; ++side) W.bytes[side].reserve(W.last_bytes[side] + W.last_bytes[side] / 2);
   std::atomic<bool> timed_out{false};
   // Waking the threads costs more than a small chunk's work (deep, narrow
   // searches): those run on the calling thread, with the same results.
@@ -161,6 +167,8 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   out_.nodes += (end - begin) * free_count_[free_phase ? 1 : 0];
   for (Worker& W : workers_) {
     W.local.clear();
+    W.last_bytes[0] = W.bytes[0].size();
+    W.last_bytes[1] = W.bytes[1].size();
     cur_.buffers.push_back(std::move(W.bytes[0]));
     next_.buffers.push_back(std::move(W.bytes[1]));
     W.bytes[0] = {};
