@@ -123,7 +123,7 @@ bool SmcSet::propagate(const std::vector<Parent>& parents, const Op& op, const F
   for (size_t begin = 0; begin < parents.size(); begin += kChunk) {
     size_t end = std::min(parents.size(), begin + kChunk);
     std::vector<Child> chunk(end - begin);
-    for (size_t i = begin; i < end; ++i) chunk[i - begin] = {parents[i].env->clone(), rng_(), 1};
+    for (size_t i = begin; i < end; ++i) chunk[i - begin] = {copy_of(*parents[i].env), rng_(), 1};
     pool_.parallel_for(chunk.size(), [&](size_t k) { judge(chunk[k]); });
     env_steps_ += chunk.size();
     for (size_t i = begin; i < end; ++i) {
@@ -133,6 +133,7 @@ bool SmcSet::propagate(const std::vector<Parent>& parents, const Op& op, const F
       else rest[i] = total - 1;
       proposed += c.count;
       if (c.alive) accepted += c.count, adopt(std::move(c.env), std::move(c.frame), c.count);
+      else give_spare(std::move(c.env));
     }
   }
   // The other children of parents that drew, in parent order.
@@ -143,12 +144,13 @@ bool SmcSet::propagate(const std::vector<Parent>& parents, const Op& op, const F
     for (Child& c : chunk) {
       proposed += 1;
       if (c.alive) accepted += 1, adopt(std::move(c.env), std::move(c.frame), 1);
+      else give_spare(std::move(c.env));
     }
     chunk.clear();
   };
   for (size_t i = 0; i < parents.size(); ++i)
     for (uint64_t k = 0; k < rest[i]; ++k) {
-      chunk.push_back({parents[i].env->clone(), rng_(), 1});
+      chunk.push_back({copy_of(*parents[i].env), rng_(), 1});
       if (chunk.size() == kChunk) flush();
     }
   flush();
@@ -162,12 +164,32 @@ bool SmcSet::propagate(const std::vector<Parent>& parents, const Op& op, const F
   return true;
 }
 
+// A copy of `parent` for a child: a spare environment made one (copy_from), or a
+// clone. On the calling thread, as every clone and destruction here: an engine's
+// environments may share storage with the one they were cloned from.
+std::unique_ptr<Environment> SmcSet::copy_of(const Environment& parent) {
+  if (!spare_.empty()) {
+    std::unique_ptr<Environment> e = std::move(spare_.back());
+    spare_.pop_back();
+    if (e->copy_from(parent)) return e;
+    reuse_ = false;  // this engine's environments cannot be copied into: keep none
+    spare_.clear();
+  }
+  return parent.clone();
+}
+
+// At most a population and a chunk of spares are kept.
+void SmcSet::give_spare(std::unique_ptr<Environment> env) {
+  if (env && reuse_ && spare_.size() < n_ + kChunk) spare_.push_back(std::move(env));
+}
+
 void SmcSet::adopt(std::unique_ptr<Environment> env, TaskFrame frame, uint64_t count) {
   uint64_t hash = env->state_hash();
   std::vector<size_t>& same = index_[hash];
   for (size_t k : same)
     if (next_[k].frame == frame) {
       next_[k].count += count;
+      give_spare(std::move(env));
       return;
     }
   same.push_back(next_.size());
@@ -183,12 +205,16 @@ void SmcSet::resample() {
   const double stride = static_cast<double>(total) / static_cast<double>(n_);
   double pos = std::uniform_real_distribution<double>(0.0, 1.0)(rng_) * stride;
   double cumulative = 0;
+  for (SmcSample& s : samples_) give_spare(std::move(s.env));  // the parents: their children are made
   samples_.clear();
   for (SmcSample& s : next_) {
     cumulative += static_cast<double>(s.count);
     uint64_t take = 0;
     while (pos < cumulative) ++take, pos += stride;
-    if (take == 0) continue;
+    if (take == 0) {
+      give_spare(std::move(s.env));
+      continue;
+    }
     s.count = take;
     samples_.push_back(std::move(s));
   }
