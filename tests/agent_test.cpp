@@ -1304,6 +1304,41 @@ TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
   EXPECT_EQ(c.counts, d.counts) << "the inversion must not depend on the thread count";
 }
 
+// The filter on the compiled engine reuses environments (copy_from into those of
+// dead children and replaced samples); the interpreter's cannot be copied into
+// and are cloned. Both must give the same filter, sample for sample.
+TEST(AgentMfp, FilterIsTheSameOnBothEngines) {
+  fs::path root = scratch("filter_engines");
+  MakeTaskOptions m;
+  m.kind = "mfp";
+  m.program = autumn::testing::source_dir() / "programs" / "whack_a_mole.au";
+  m.seed = 3;
+  m.steps = 12;
+  m.env_seed = 4242;
+  m.batch = 20;
+  m.posterior_samples = 100;
+  m.engine = "compiled";
+  m.extend_colours = true;
+  m.out = root / "prompts" / "whack_a_mole_mfp.json";
+  ThreadPool pool(2);
+  write_task(make_task(m, pool), m);
+  Task task = load_task(m.out);
+  SolveOptions o = small(400);
+  o.seed_inversion = false;
+  o.engine = "compiled";
+  MfpResult compiled = solve_mfp(task, o, pool);
+  o.engine = "interp";
+  MfpResult interp = solve_mfp(task, o, pool);
+  ASSERT_TRUE(compiled.smc) << mfp_summary(compiled);
+  EXPECT_EQ(compiled.counts, interp.counts);
+  EXPECT_EQ(compiled.unmatched, interp.unmatched);
+  EXPECT_EQ(compiled.env_steps, interp.env_steps);
+  EXPECT_EQ(compiled.smc_retries, interp.smc_retries);
+  EXPECT_EQ(compiled.peak_particles, interp.peak_particles);
+  EXPECT_EQ(compiled.smc_ess_min, interp.smc_ess_min);
+  EXPECT_EQ(compiled.choice, interp.choice);
+}
+
 // The world runs the ORIGINAL stochastic program from a seed the agent does not
 // know: the stated-seed episode soon fails, and the filter must then explain
 // every observation (no false change) for the whole episode.
