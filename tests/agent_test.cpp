@@ -1267,18 +1267,23 @@ TEST(AgentChoice, MostProbableFirstOnTies) {
 // must keep samples to the end and name the true choice, identically on one
 // thread and on two. With seed inversion on, the world's seed is recovered from
 // the draws the frames show and the answer is the same.
-TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
-  fs::path root = scratch("unknown_seed");
+// An MFP task of whack_a_mole (stochastic) under scratch(dir), made on the compiled engine.
+MakeTaskOptions whack_a_mole_mfp(const char* dir, uint64_t seed, int steps, uint64_t env_seed, uint64_t batch) {
   MakeTaskOptions m;
   m.kind = "mfp";
   m.program = autumn::testing::source_dir() / "programs" / "whack_a_mole.au";
-  m.seed = 5;
-  m.steps = 60;
-  m.env_seed = 987654;
-  m.batch = 50;
+  m.seed = seed;
+  m.steps = steps;
+  m.env_seed = env_seed;
+  m.batch = batch;
   m.engine = "compiled";
   m.extend_colours = true;
-  m.out = root / "prompts" / "whack_a_mole_mfp.json";
+  m.out = scratch(dir) / "prompts" / "whack_a_mole_mfp.json";
+  return m;
+}
+
+TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
+  const MakeTaskOptions m = whack_a_mole_mfp("unknown_seed", 5, 60, 987654, 50);
   ThreadPool pool(2), one(1);
   write_task(make_task(m, pool), m);
   ASSERT_TRUE(is_blind(m.out));
@@ -1308,18 +1313,8 @@ TEST(AgentMfp, UnknownSeedOnALongStochasticTrajectory) {
 // dead children and replaced samples); the interpreter's cannot be copied into
 // and are cloned. Both must give the same filter, sample for sample.
 TEST(AgentMfp, FilterIsTheSameOnBothEngines) {
-  fs::path root = scratch("filter_engines");
-  MakeTaskOptions m;
-  m.kind = "mfp";
-  m.program = autumn::testing::source_dir() / "programs" / "whack_a_mole.au";
-  m.seed = 3;
-  m.steps = 12;
-  m.env_seed = 4242;
-  m.batch = 20;
+  MakeTaskOptions m = whack_a_mole_mfp("filter_engines", 3, 12, 4242, 20);
   m.posterior_samples = 100;
-  m.engine = "compiled";
-  m.extend_colours = true;
-  m.out = root / "prompts" / "whack_a_mole_mfp.json";
   ThreadPool pool(2);
   write_task(make_task(m, pool), m);
   Task task = load_task(m.out);
