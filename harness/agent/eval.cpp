@@ -20,6 +20,65 @@ std::vector<fs::path> find_tasks(const fs::path& dir) {
   return out;
 }
 
+namespace {
+
+// A solved task's row: its figures, and how to draw the answer's pictures
+// (called after the clock stops; `draw` keeps the result).
+using Draw = std::function<std::vector<std::string>()>;
+
+Draw fill_mfp(const Task& task, const SolveOptions& opts, ThreadPool& pool, const fs::path& pictures, EvalRow& row) {
+  MfpResult r = solve_mfp(task, opts, pool);
+  if (r.expected) row.score = r.choice == *r.expected ? 1.0 : 0.0;
+  row.throughput = per_second(static_cast<double>(r.rollouts), r.seconds);
+  row.unit = "rollouts/s";
+  row.detail = r.choice >= 0 ? fmt::format("choice {} ({}/{} accepted)", r.choice, r.counts[r.choice], r.accepted)
+                             : std::string("no choice supported");
+  if (r.expected) row.detail += fmt::format(", answer {}", *r.expected);
+  row.stochastic = !r.deterministic;
+  row.result = mfp_json(r);
+  return [&task, r = std::move(r), pictures] { return render_mfp(task, r, pictures); };
+}
+
+Draw fill_cd(const Task& task, const SolveOptions& opts, ThreadPool& pool, const fs::path& pictures, EvalRow& row) {
+  CdResult r = solve_cd(task, opts, pool);
+  row.score = r.score;
+  row.throughput = per_second(static_cast<double>(r.env_steps), r.seconds);
+  row.unit = "steps/s";
+  row.detail = r.detected ? fmt::format("detected at step {}", *r.detected) : fmt::format("no change in {} steps", r.steps);
+  if (r.t_star) row.detail += fmt::format(", t* = {}", *r.t_star);
+  row.stochastic = !r.deterministic;
+  row.result = cd_json(r);
+  return [&task, &opts, r = std::move(r), pictures] { return render_cd(task, opts, r, pictures); };
+}
+
+Draw fill_planning(const Task& task, const SolveOptions& opts, ThreadPool& pool, const Answers& answers,
+                   const fs::path& pictures, EvalRow& row) {
+  PlanResult r = solve_planning(task, opts, pool);
+  // Judged in the world the task was made in: the answers' seed.
+  const bool reaches = r.found && (answers.seed && *answers.seed != task.env_seed
+                                       ? plan_reaches_goal(task, opts, r.plan, *answers.seed)
+                                       : r.verified);
+  row.score = reaches ? 1.0 : 0.0;
+  row.stochastic = r.stochastic;
+  const std::vector<Action>& ref = answers.reference_plan.empty() ? task.reference_plan : answers.reference_plan;
+  if (!ref.empty()) row.reference_length = static_cast<int>(ref.size());
+  if (r.found) row.plan_length = static_cast<int>(r.plan.size());
+  row.answered = r.found;
+  row.throughput = per_second(static_cast<double>(r.nodes), r.seconds);
+  row.unit = "nodes/s";
+  row.detail = r.found ? fmt::format("plan of {} ({}{})", r.plan.size(), r.method, r.shortest ? ", shortest" : "")
+                       : std::string("no plan");
+  // Why a stochastic task can be out of reach: it was made in another world.
+  if (!reaches && r.stochastic && answers.seed && *answers.seed != r.env_seed)
+    row.detail += fmt::format(" (the task was made with env seed {}; the planner simulated seed {})", *answers.seed,
+                              r.env_seed);
+  if (row.reference_length) row.detail += fmt::format(", generator's K = {}", *row.reference_length);
+  row.result = planning_json(r);
+  return [&task, &opts, r = std::move(r), pictures] { return render_plan(task, opts, r, pictures); };
+}
+
+}  // namespace
+
 EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions& base, ThreadPool& pool,
                   const fs::path& render_dir) {
   EvalRow row;
@@ -28,7 +87,8 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
   // A task's pictures go where it sits under the evaluated folder: two tasks of
   // one name in different folders never overwrite each other's.
   const fs::path pictures = render_dir.empty() ? fs::path() : render_dir / fs::path(row.task).parent_path();
-  std::optional<Stopwatch> clock;
+  std::optional<Stopwatch> clock;  // runs from the solve's start
+  bool solved = false;             // the solve returned: row.seconds is its time
   try {
     Task task = load_task(file);
     row.type = short_name(task.type);
@@ -38,68 +98,21 @@ EvalRow eval_task(const fs::path& file, const fs::path& root, const SolveOptions
     if (opts.answers) answers = load_answers(*opts.answers);
     row.answers = opts.answers.has_value();
     row.compile_seconds = prepare_modules(task, opts);
-    std::function<std::vector<std::string>()> draw;  // the answer's pictures
     clock.emplace();
+    Draw draw;
     switch (task.type) {
-      case TaskType::MaskedFramePrediction: {
-        MfpResult r = solve_mfp(task, opts, pool);
-        if (r.expected) row.score = r.choice == *r.expected ? 1.0 : 0.0;
-        row.throughput = per_second(static_cast<double>(r.rollouts), r.seconds);
-        row.unit = "rollouts/s";
-        row.detail = r.choice >= 0 ? fmt::format("choice {} ({}/{} accepted)", r.choice, r.counts[r.choice], r.accepted)
-                                   : std::string("no choice supported");
-        if (r.expected) row.detail += fmt::format(", answer {}", *r.expected);
-        row.stochastic = !r.deterministic;
-        row.result = mfp_json(r);
-        draw = [&task, r = std::move(r), &pictures] { return render_mfp(task, r, pictures); };
-        break;
-      }
-      case TaskType::ChangeDetection: {
-        CdResult r = solve_cd(task, opts, pool);
-        row.score = r.score;
-        row.throughput = per_second(static_cast<double>(r.env_steps), r.seconds);
-        row.unit = "steps/s";
-        row.detail = r.detected ? fmt::format("detected at step {}", *r.detected)
-                                : fmt::format("no change in {} steps", r.steps);
-        if (r.t_star) row.detail += fmt::format(", t* = {}", *r.t_star);
-        row.stochastic = !r.deterministic;
-        row.result = cd_json(r);
-        draw = [&task, &opts, r = std::move(r), &pictures] { return render_cd(task, opts, r, pictures); };
-        break;
-      }
-      case TaskType::Planning: {
-        PlanResult r = solve_planning(task, opts, pool);
-        // Judged in the world the task was made in: the answers' seed.
-        bool reaches = r.found && (answers.seed && *answers.seed != task.env_seed
-                                       ? plan_reaches_goal(task, opts, r.plan, *answers.seed)
-                                       : r.verified);
-        row.score = reaches ? 1.0 : 0.0;
-        row.stochastic = r.stochastic;
-        const std::vector<Action>& ref = answers.reference_plan.empty() ? task.reference_plan : answers.reference_plan;
-        if (!ref.empty()) row.reference_length = static_cast<int>(ref.size());
-        if (r.found) row.plan_length = static_cast<int>(r.plan.size());
-        row.answered = r.found;
-        row.throughput = per_second(static_cast<double>(r.nodes), r.seconds);
-        row.unit = "nodes/s";
-        row.detail = r.found ? fmt::format("plan of {} ({}{})", r.plan.size(), r.method, r.shortest ? ", shortest" : "")
-                             : std::string("no plan");
-        // Why a stochastic task can be out of reach: it was made in another world.
-        if (!reaches && r.stochastic && answers.seed && *answers.seed != r.env_seed)
-          row.detail += fmt::format(" (the task was made with env seed {}; the planner simulated seed {})",
-                                    *answers.seed, r.env_seed);
-        if (row.reference_length) row.detail += fmt::format(", generator's K = {}", *row.reference_length);
-        row.result = planning_json(r);
-        draw = [&task, &opts, r = std::move(r), &pictures] { return render_plan(task, opts, r, pictures); };
-        break;
-      }
+      case TaskType::MaskedFramePrediction: draw = fill_mfp(task, opts, pool, pictures, row); break;
+      case TaskType::ChangeDetection: draw = fill_cd(task, opts, pool, pictures, row); break;
+      case TaskType::Planning: draw = fill_planning(task, opts, pool, answers, pictures, row); break;
     }
     row.seconds = clock->seconds();  // the solve's: pictures are drawn after the clock stops
+    solved = true;
     if (!render_dir.empty()) row.pictures = draw();
     return row;
   } catch (const std::exception& e) {
     row.error = e.what();
   }
-  if (row.seconds == 0 && clock) row.seconds = clock->seconds();  // the solve failed (a failed picture keeps the solve's time)
+  if (!solved && clock) row.seconds = clock->seconds();  // the solve failed; a failed picture keeps the solve's time
   return row;
 }
 
