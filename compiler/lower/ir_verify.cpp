@@ -190,15 +190,6 @@ class IrVerifier {
     }
   }
 
-  // Whether every cell of a shape has literal x, y and colour (a printable table).
-  static bool literal_cells(const Node& shape) {
-    for (const Node* c : shape.a)
-      if (c->op != Op::MakeCell || c->a.size() < 3 || c->a[0]->op != Op::Lit || c->a[1]->op != Op::Lit ||
-          c->a[2]->op != Op::Lit)
-        return false;
-    return true;
-  }
-
   static const char* stmt_name(const Stmt* s) { return s ? stmt_kind_name(s->k) : "statement"; }
 
   // A node as ir_print shows it, cut short: enough to find it in a dump.

@@ -51,6 +51,20 @@ struct ClassInfo {
   int render_fn = -1;                    // Stored: the module function rendering one object
 };
 
+// Whether every cell of a shape (a MakeList of MakeCell) has a literal Int x and y
+// and a literal String colour: the cells an Op::Shape table is printed from.
+// Shared by the specialiser (which then uses the table) and ir_verify.
+inline bool literal_cells(const ir::Node& shape) {
+  for (const ir::Node* c : shape.a) {
+    if (c->op != ir::Op::MakeCell || c->a.size() < 3) return false;
+    for (int which = 0; which < 3; ++which) {
+      const ir::Node* v = c->a[which];
+      if (v->op != ir::Op::Lit || !v->type || v->type->k != (which == 2 ? TK::Str : TK::Int)) return false;
+    }
+  }
+  return true;
+}
+
 // An argument of a (Cell x y colour) that did not evaluate to a number when the
 // cell was made: the reference keeps the expression and evaluates it at every
 // render, with the names the cell captured first (compiler/interpret/eval.cpp,

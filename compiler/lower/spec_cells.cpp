@@ -433,16 +433,13 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
 // seconds optimising (docs/design.md "Tests").
 bool Specialiser::tabulable(const ir::Node& shape) const {
   constexpr size_t kTableCells = 32;
-  if (shape.a.size() < kTableCells) return false;
-  for (const ir::Node* c : shape.a) {
+  if (shape.a.size() < kTableCells || !literal_cells(shape)) return false;
+  for (const ir::Node* c : shape.a)
     for (int which = 0; which < 3; ++which) {
       const int d = static_cast<int>(c->a[3 + which]->imm);
       if (which == 2 && d < 0) return false;  // a number colour: the render fails at this cell
       if (d >= 0 && !m_.deferred[d].fixed) return false;
-      const ir::Node* v = c->a[which];
-      if (v->op != ir::Op::Lit || !v->type || v->type->k != (which == 2 ? TK::Str : TK::Int)) return false;
     }
-  }
   return true;
 }
 

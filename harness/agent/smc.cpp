@@ -172,15 +172,20 @@ std::unique_ptr<Environment> SmcSet::copy_of(const Environment& parent) {
     std::unique_ptr<Environment> e = std::move(spare_.back());
     spare_.pop_back();
     if (e->copy_from(parent)) return e;
-    reuse_ = false;  // this engine's environments cannot be copied into: keep none
-    spare_.clear();
   }
   return parent.clone();
 }
 
-// At most a population and a chunk of spares are kept.
+// At most a population and a chunk of spares are kept, and none of an engine
+// that cannot copy into an environment (a copy onto itself says so: the default
+// copy_from refuses every source), whose spares would only hold memory.
 void SmcSet::give_spare(std::unique_ptr<Environment> env) {
-  if (env && reuse_ && spare_.size() < n_ + kChunk) spare_.push_back(std::move(env));
+  if (!env || !reuse_ || spare_.size() >= n_ + kChunk) return;
+  if (spare_.empty() && !env->copy_from(*env)) {
+    reuse_ = false;
+    return;
+  }
+  spare_.push_back(std::move(env));
 }
 
 void SmcSet::adopt(std::unique_ptr<Environment> env, TaskFrame frame, uint64_t count) {

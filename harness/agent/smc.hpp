@@ -111,7 +111,7 @@ class SmcSet {
   // 40% of a stochastic MFP query. Their contents are never read. Taken and
   // given back on the calling thread only.
   std::vector<std::unique_ptr<Environment>> spare_;
-  bool reuse_ = true;  // false once copy_from refused: the engine has none (the interpreter)
+  bool reuse_ = true;  // false once an environment refused copy_from: the engine has none (the interpreter)
   DrawSearchStats draw_search_;
 };
 
