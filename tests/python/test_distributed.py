@@ -231,8 +231,11 @@ def test_a_worker_that_joins_later_gets_the_shipped_modules(client, tmp_path):
     shipping = ad.ship_modules(client, [(sokoban, text, None)])
     assert shipping["dataset"] and client.get_dataset(shipping["dataset"])["programs"][0][0] == sokoban
     old = set(client.scheduler_info()["workers"])
+    # This file's helpers, as the others import them, before the caller's path (which holds
+    # autumnc itself when it runs from the build tree: PYTHONPATH=build/python).
+    here = os.path.dirname(os.path.abspath(__file__))
     env = dict(os.environ, AUTUMN_CACHE_DIR=str(tmp_path / "late-cache"), AUTUMN_NO_COMPILE="1",
-               PYTHONPATH=os.path.dirname(os.path.abspath(__file__)))  # this file's helpers, as the others import them
+               PYTHONPATH=os.pathsep.join(p for p in [here, os.environ.get("PYTHONPATH", "")] if p))
     late = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", client.scheduler.address,
                              "--nworkers", "1", "--nthreads", "1", "--no-dashboard"], env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
