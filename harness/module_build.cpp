@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "harness/module_build_clang.hpp"
 #include "harness/module_config.hpp"  // generated: build/config/
 #include "harness/module_store.hpp"
 
@@ -147,7 +148,35 @@ std::string read_log(const fs::path& log) {
 
 }  // namespace
 
+namespace {
+
+// Which compiler builds modules, read once from AUTUMN_MODULE_COMPILER: "cxx"
+// (the default: the configured C++ compiler, g++, in a detached process) or
+// "clang" (Clang and lld in this process, harness/module_build_clang). A value
+// that cannot be honoured says why on stderr and keeps the default.
+bool clang_in_process() {
+  static const bool clang = [] {
+    const char* v = std::getenv("AUTUMN_MODULE_COMPILER");
+    const std::string want = v ? v : "";
+    if (want.empty() || want == "cxx") return false;
+    if (want != "clang") {
+      std::fprintf(stderr, "autumn: AUTUMN_MODULE_COMPILER='%s' is neither 'cxx' nor 'clang'; modules compiled by %s\n",
+                   want.c_str(), AUTUMN_CXX);
+      return false;
+    }
+    if (const std::string& why = clang_build::unavailable(); !why.empty()) {
+      std::fprintf(stderr, "autumn: AUTUMN_MODULE_COMPILER=clang: %s; modules compiled by %s\n", why.c_str(), AUTUMN_CXX);
+      return false;
+    }
+    return true;
+  }();
+  return clang;
+}
+
+}  // namespace
+
 std::string module_compiler_signature() {
+  if (clang_in_process()) return clang_build::signature();
   return compiler_flags() + " " + AUTUMN_CXX_VERSION + " " + AUTUMN_MODULE_LIBS;
 }
 
@@ -172,6 +201,13 @@ CompileOutcome compile_module(const std::string& source, const fs::path& so, con
   if (std::string e = store::write_new_file(cpp, source); !e.empty()) {
     started();
     out.output = out.store_error = e;
+    return out;
+  }
+  if (clang_in_process()) {  // the compile runs in this thread: the caller waits for it, at exit too
+    out = clang_build::compile(cpp, tmp, so, manifest_head, manifest_tmp, manifest, so.parent_path() / "compile-slot",
+                               store::entry_lock_path(so));
+    started();
+    if (!out.ok) out.store_error = store_problem(so.parent_path());
     return out;
   }
   pid_t pid = spawn_compile({"sh", "-c", script(), "sh", cpp.string(), tmp.string(), so.string(), log.string(),

@@ -6,6 +6,8 @@
 // entry appears whole or not at all, and a compile started by a short-lived
 // command (`autumn run --steps 3`) still finishes and fills the cache after that
 // command exits. The caller's thread waits for it when it wants the result.
+// AUTUMN_MODULE_COMPILER=clang compiles in this process instead, with Clang and
+// lld as libraries (module_build_clang.hpp); the same protocol, the same files.
 #pragma once
 #include <filesystem>
 #include <functional>

@@ -27,6 +27,7 @@
 
 #include "compiler/emit/emit_module.hpp"
 #include "harness/module_build.hpp"
+#include "harness/module_config.hpp"  // generated: build/config/ (AUTUMN_CLANG_PLUGIN)
 #include "harness/module_cache.hpp"
 #include "harness/module_store.hpp"
 #include "test_support.hpp"
@@ -359,6 +360,42 @@ TEST(ModuleBuild, ACompileWaitsForAFreeSlot) {
   EXPECT_TRUE(outcome.ok) << outcome.output;
   EXPECT_TRUE(fs::exists(so));
   fs::remove_all(cache);
+}
+
+// AUTUMN_MODULE_COMPILER=clang compiles modules with Clang and lld inside the
+// process (harness/module_build_clang): the entry is complete (manifest, digest
+// checked on load), it was linked by lld, and its frames are the golden traces'
+// on two conformance programs (difftest first waits for the module and
+// compares it with the interpreter; check then runs it from the first step).
+TEST(ModuleBuild, ClangInProcessModulesAreExact) {
+  if (std::string(AUTUMN_CLANG_PLUGIN).empty()) GTEST_SKIP() << "this build has no in-process Clang plugin";
+  const fs::path shared = autumn::testing::shared_dir() / "conformance";
+  const fs::path dir = root() / "clang";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "cache");
+  fs::create_directories(dir / "tmp");
+  ASSERT_EQ(chmod((dir / "cache").c_str(), 0700), 0);
+  const std::string env = env_for(dir / "cache", dir / "tmp") + " AUTUMN_MODULE_COMPILER=clang";
+  for (const std::string name : {"ab_grow", "ants"}) {
+    const std::string prog = (shared / "programs" / (name + ".sexp")).string();
+    auto d = run_cli("difftest " + prog + " --seeds 2 --steps 40", false, env);
+    ASSERT_EQ(d.status, 0) << d.out;
+    EXPECT_NE(d.out.find("autumn: compiled "), std::string::npos) << d.out;
+    auto c = run_cli("check " + prog + " " + (shared / "traces" / (name + ".json")).string() + " --engine compiled", false, env);
+    EXPECT_EQ(c.status, 0) << c.out;
+    EXPECT_EQ(c.out.find("first use"), std::string::npos) << "the module was not in the cache:\n" << c.out;
+    EXPECT_NE(c.out.find("matched "), std::string::npos) << c.out;
+  }
+  const auto modules = autumn::testing::files_in(dir / "cache", ".so");
+  ASSERT_EQ(modules.size(), 2u);
+  for (const auto& so : modules) {
+    EXPECT_TRUE(fs::exists(autumn::store::manifest_path(so))) << so;
+    EXPECT_NE(autumn::testing::read_text(so).find("LLD 14"), std::string::npos) << so << " was not linked by lld"; // .comment: "Linker: Debian LLD 14.0.6"
+    EXPECT_EQ(fs::status(so).permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write) << so;
+  }
+  EXPECT_TRUE(autumn::testing::files_in(dir / "cache", ".part").empty());
+  EXPECT_TRUE(autumn::testing::files_in(dir / "cache", ".cpp").empty());
+  fs::remove_all(dir);
 }
 
 // Built-in modules are used for the exact text of their program only: each one
