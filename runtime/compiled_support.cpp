@@ -49,14 +49,10 @@ Core& Core::operator=(const Core&) = default;
 Core& Core::operator=(Core&&) noexcept = default;
 Core::~Core() = default;
 
-void tally_add(Core& c, int site, const char* name, const Tally& one) {
-  StateTally& s = c.tally.v;
-  if (one.objects > s.max_objects) s.max_objects = one.objects, s.site_objects = site, s.name_objects = name;
-  if (one.cells > s.max_cells) s.max_cells = one.cells, s.site_cells = site, s.name_cells = name;
-  s.total.objects += one.objects;
-  s.total.cells += one.cells;
-  if (s.total.objects > c.objects_limit) fail_at(s.site_objects, limits::objects_error(c.objects_limit, s.name_objects));
-  if (s.total.cells > c.cells_limit) fail_at(s.site_cells, limits::state_cells_error(c.cells_limit, s.name_cells));
+void fail_state_limit(const Core& c, bool objects) {
+  const StateTally& s = c.tally.v;
+  if (objects) fail_at(s.site_objects, limits::objects_error(c.objects_limit, s.name_objects));
+  fail_at(s.site_cells, limits::state_cells_error(c.cells_limit, s.name_cells));
 }
 
 void truncated_snapshot() { throw std::runtime_error("truncated state snapshot"); }

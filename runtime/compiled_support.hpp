@@ -425,7 +425,21 @@ template <class... T>
 bool tally_value(Tally& t, const Core& c, const std::variant<T...>& v) {
   return std::visit([&](const auto& x) { return tally_value(t, c, x); }, v);
 }
-void tally_add(Core& c, int site, const char* name, const Tally& one);
+// A total past a limit: the error at the largest global's definition (cold).
+[[noreturn, gnu::cold]] void fail_state_limit(const Core& c, bool objects);
+// Adds one global's count. Inline, in the module's own code: out of line (in the
+// runtime archive, compiled by another compiler than the module's) its 16-byte
+// load of the totals waited on the caller's narrower stores of them, half of a
+// clang-built module's step on ajl_nim (docs/design.md, "The module's compiler").
+inline void tally_add(Core& c, int site, const char* name, const Tally& one) {
+  StateTally& s = c.tally.v;
+  if (one.objects > s.max_objects) s.max_objects = one.objects, s.site_objects = site, s.name_objects = name;
+  if (one.cells > s.max_cells) s.max_cells = one.cells, s.site_cells = site, s.name_cells = name;
+  s.total.objects += one.objects;
+  s.total.cells += one.cells;
+  if (__builtin_expect(s.total.objects > c.objects_limit, 0)) fail_state_limit(c, true);
+  if (__builtin_expect(s.total.cells > c.cells_limit, 0)) fail_state_limit(c, false);
+}
 // One global of the state check, defined at `site`.
 template <class T>
 void tally_global(Core& c, int site, const char* name, const T& v) {
