@@ -58,8 +58,11 @@ bool compile(const clang::driver::Command& job, clang::DiagnosticsEngine& diags)
   return ci.ExecuteAction(action);
 }
 
-// Runs the driver's link job with lld; its messages go to `log`.
+// Runs the driver's link job with lld; its messages go to `log`. One link at a
+// time per process: lld keeps its state in globals.
 bool link(const clang::driver::Command& job, llvm::raw_ostream& log) {
+  static std::mutex one_at_a_time;
+  std::lock_guard<std::mutex> lock(one_at_a_time);
   std::vector<const char*> args{"ld.lld"};
   for (const char* a : job.getArguments()) args.push_back(a);
   const bool ok = lld::elf::link(args, log, log, /*exitEarly=*/false, /*disableOutput=*/false);
@@ -100,8 +103,6 @@ bool build(const std::vector<const char*>& args, llvm::raw_ostream& out) {
 }  // namespace
 
 extern "C" int autumn_clang_build(int argc, const char* const* argv, char* log, size_t log_cap) {
-  static std::mutex one_at_a_time;  // lld's global state; LLVM's command-line options
-  std::lock_guard<std::mutex> lock(one_at_a_time);
   init_llvm();
   std::string messages;
   llvm::raw_string_ostream out(messages);

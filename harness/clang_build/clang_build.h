@@ -15,8 +15,8 @@ extern "C" {
 // Compiles and links as `clang++ ARGS...` would (argv[0] is the clang++ whose
 // installation, gcc toolchain and resource directory the driver uses), with no
 // process started: Clang's driver plans the jobs, the compile runs in a
-// CompilerInstance and the link in lld's ELF linker. One build at a time per
-// process (lld keeps global state). Returns 0 on success; writes the
+// CompilerInstance and the link in lld's ELF linker. Compiles may run in
+// several threads at once; links take turns (lld keeps global state). Returns 0 on success; writes the
 // diagnostics (NUL-terminated, cut at log_cap - 1 bytes) into `log`.
 int autumn_clang_build(int argc, const char* const* argv, char* log, size_t log_cap);
 
