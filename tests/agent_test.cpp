@@ -33,6 +33,7 @@
 #include "harness/agent/make_cd.hpp"
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
+#include "harness/agent/plan_bfs.hpp"
 #include "harness/agent/particles.hpp"
 #include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_fill.hpp"
@@ -590,6 +591,41 @@ TEST(AgentMakeTask, PlanningRoundTrip) {
     EXPECT_EQ(c.plan.size(), r.plan.size()) << program;
     EXPECT_TRUE(replays_to_goal(task, c.plan)) << program;
   }
+}
+
+// BFS keeps a state (a snapshot on the compiled engine) only if it may expand
+// it: the last layer a search reaches, by its cost limit or by its node budget,
+// is hashed and deduplicated but not stored (harness/agent/plan_bfs.cpp).
+TEST(AgentPlanning, BfsStoresOnlyTheStatesItMayExpand) {
+  const fs::path root = scratch("bfs_stored");
+  const Task task = load_task(generate(root, "planning", "sokoban", 3, 4));
+  ThreadPool pool(2);
+  SolveOptions o;
+  o.engine = "compiled";
+  PlanProblem p(task, o, pool);
+  const uint64_t A = p.actions().size();
+  auto search = [&](int cost, uint64_t nodes) {
+    BfsSpec spec;
+    spec.actions = p.actions();
+    spec.max_cost = cost;
+    spec.goal = false;
+    spec.limit = Limit{&p.clock(), nodes, 0};
+    return bfs(p, spec);
+  };
+  const BfsOutcome one = search(1, 1'000'000), two = search(2, 1'000'000);
+  EXPECT_EQ(one.nodes, A);
+  EXPECT_EQ(one.stored, 1u) << "the root only: no state of cost 1 is expanded";
+  ASSERT_GT(one.distinct, 1u);
+  EXPECT_EQ(two.stored, one.distinct) << "every state of cost at most 1, each expanded";
+  EXPECT_GT(two.distinct, one.distinct);
+  // A budget that ends in the second layer: its children are not stored either.
+  const BfsOutcome spent = search(12, A + 1);
+  EXPECT_EQ(spent.stored, one.distinct);
+  EXPECT_NE(spent.note.find("node budget spent"), std::string::npos) << spent.note;
+  // With the budget for it, the next layer is stored, and expanded.
+  const BfsOutcome three = search(3, 100'000'000);
+  EXPECT_EQ(three.stored, two.distinct);
+  EXPECT_EQ(three.depth_done, 3);
 }
 
 // docs/design.md's table of the planner's stages is the code's (kAutoStages):

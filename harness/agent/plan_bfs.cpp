@@ -26,7 +26,7 @@ class LayeredBfs {
   struct Open {
     int64_t node = 0;
     uint32_t buffer = 0;  // snapshot: buffer, offset, size in its layer
-    uint32_t size = 0;
+    uint32_t size = 0;    // 0: not stored (never expanded, or replayed if it is)
     uint64_t offset = 0;
     std::unique_ptr<Environment> env;  // without snapshots; null: replayed
   };
@@ -42,6 +42,7 @@ class LayeredBfs {
     uint32_t buffer;
     bool hit, free;
     std::unique_ptr<Environment> env;
+    bool stored = false;  // its state was kept (counted in BfsOutcome::stored once it wins)
   };
   struct Worker {
     std::unique_ptr<Environment> parent, scratch, replay_root;
@@ -82,10 +83,13 @@ class LayeredBfs {
   bool snapshots_ = false;
   uint64_t kept_ = 0;  // environments held (no snapshots)
   bool keep_env_ = false;
+  bool store_next_ = true;   // this chunk stores the next layer's states (expand_chunk)
+  bool final_layer_ = false;  // the layer of cost max_cost - 1: no next layer is expanded
   uint32_t buffer_base_[2] = {0, 0};
   std::vector<Worker> workers_;
   std::vector<std::vector<Fresh*>> won_ = std::vector<std::vector<Fresh*>>(kShards);
   std::vector<uint64_t> first_hit_ = std::vector<uint64_t>(kShards);
+  std::vector<uint64_t> stored_ = std::vector<uint64_t>(kShards);  // per shard, for BfsOutcome::stored
   BfsOutcome out_;
   std::vector<uint64_t> hash_of_;  // per node, for target lookups
 };
@@ -101,7 +105,7 @@ std::unique_ptr<Environment> LayeredBfs::replay(int64_t node, const Environment&
 
 const Environment* LayeredBfs::load_parent(Open& open, Worker& W, std::unique_ptr<Environment>& owned,
                                            bool take) const {
-  if (snapshots_) {
+  if (snapshots_ && open.size > 0) {
     if (!W.parent->load_state(cur_.buffers[open.buffer].data() + open.offset, open.size))
       throw TaskError("restoring a search state failed: " + W.parent->error());
     return W.parent.get();
@@ -117,6 +121,10 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
   if (nodes_[open.node].depth >= spec_.max_steps) return;
   std::unique_ptr<Environment> owned;
   const Environment* parent = load_parent(open, W, owned, !free_phase);
+  // A child is stored (its snapshot, or its environment) only if it may be
+  // expanded: below the depth limit, and for the next layer only while the
+  // node budget can outlast this one (store_next_).
+  const bool expandable = nodes_[open.node].depth + 1 < spec_.max_steps;
   for (size_t a = 0; a < A_; ++a) {
     if (is_free(a) != free_phase) continue;
     if (!W.scratch || !W.scratch->copy_from(*parent)) W.scratch = parent->clone();
@@ -127,12 +135,14 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
     std::vector<uint8_t>& bytes = W.bytes[side];
     Fresh f{k * A_ + a, h, bytes.size(), 0, 0, hit(*W.scratch, h, W), side == 0, nullptr};
     f.buffer = buffer_base_[side] + static_cast<uint32_t>(&W - workers_.data());
-    if (snapshots_) {
+    const bool store = expandable && (side == 0 || store_next_);
+    if (store && snapshots_) {
       W.scratch->save_state(bytes);
       f.size = static_cast<uint32_t>(bytes.size() - f.offset);
-    } else if (keep_env_) {
+    } else if (store && keep_env_) {
       f.env = std::move(W.scratch);
     }
+    f.stored = store && (snapshots_ || keep_env_);
     W.fresh[shard_of(h)].push_back(std::move(f));
   }
 }
@@ -144,6 +154,12 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
     for (size_t i = begin; i < end; ++i)
       if (cur_.open[i].env) --kept_;  // the threads take (and free) the parents' environments
   keep_env_ = !snapshots_ && kept_ < p_.opts().keep_states;
+  // The next layer is expanded only if there is one (max_cost) and the nodes
+  // counted by the end of this one (every remaining parent by every costing
+  // action) leave budget: otherwise
+  // its states would be stored and never read. A node stored without one is
+  // replayed from the root if it is ever expanded (load_parent).
+  store_next_ = free_phase || (!final_layer_ && out_.nodes + (cur_.open.size() - begin) * free_count_[0] < spec_.limit.nodes);
   buffer_base_[0] = static_cast<uint32_t>(cur_.buffers.size());
   buffer_base_[1] = static_cast<uint32_t>(next_.buffers.size());
   // Each worker's buffers start as large as its last chunk's, and a half more:
@@ -193,6 +209,7 @@ void LayeredBfs::dedup() {
       ++at[from];
       if (!seen_[sh].insert(f->hash).second) continue;
       won_[sh].push_back(f);
+      stored_[sh] += f->stored;
       if (f->hit) first_hit_[sh] = std::min(first_hit_[sh], f->index);
     }
   });
@@ -240,6 +257,8 @@ int LayeredBfs::target_of(int64_t node) const {
 
 BfsOutcome LayeredBfs::finish(int64_t node, bool found) {
   for (const HashSet& s : seen_) out_.distinct += s.size();
+  out_.stored = 1;  // the root
+  for (uint64_t n : stored_) out_.stored += n;
   if (found) {
     out_.found = true;
     out_.plan = path(node);
@@ -300,6 +319,7 @@ BfsOutcome LayeredBfs::run() {
   for (Worker& W : workers_) W.parent = start_.clone(), W.replay_root = start_.clone();  // one thread clones
   chunk_parents_ = std::max<size_t>(256, 65536 / std::max<size_t>(A_, 1));
   for (int layer = 0; layer < spec_.max_cost; ++layer) {
+    final_layer_ = layer + 1 >= spec_.max_cost;
     // The layer's closure under free actions first, so that no state of this
     // cost is first met as the next layer's.
     int64_t hit_node = -1;

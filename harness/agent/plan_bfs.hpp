@@ -48,6 +48,7 @@ struct BfsSpec {
 struct BfsOutcome : SearchOutcome {
   int target = -1;  // the value of the target hit, when a target (not the goal) was hit
   int cost = 0;     // of the plan found
+  uint64_t stored = 0;  // states kept for expansion (snapshots or environments), the root included
 };
 
 BfsOutcome bfs(PlanProblem& problem, const BfsSpec& spec);
