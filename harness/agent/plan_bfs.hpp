@@ -17,6 +17,9 @@
 //    ones are tested, saved as a snapshot into the thread's byte buffer (or kept
 //    as an environment when the engine has no snapshots, up to keep_states; the
 //    rest are replayed from the start), and listed under their hash's shard.
+//    A state is saved only if it may be expanded: not at the depth limit, and
+//    not in the next layer when there is none (max_cost) or the node budget
+//    ends before it (BfsOutcome::stored counts what was saved).
 //  dedup: per shard, the threads' lists are merged in (parent, action) order and
 //    inserted into that shard's seen set: the first occurrence wins.
 //  place: winners become nodes and frontier entries, shard by shard at offsets
