@@ -47,12 +47,13 @@ void init_llvm() {
   });
 }
 
-// Runs the driver's compile job in this process; false with the diagnostics in `log`.
-bool compile(const clang::driver::Command& job, clang::DiagnosticsEngine& diags) {
+// Runs the driver's compile job in this process; false with the diagnostics in `out`.
+bool compile(const clang::driver::Command& job, clang::DiagnosticsEngine& diags, llvm::raw_ostream& out) {
   auto invocation = std::make_shared<clang::CompilerInvocation>();
   if (!clang::CompilerInvocation::CreateFromArgs(*invocation, job.getArguments(), diags)) return false;
   clang::CompilerInstance ci;
   ci.setInvocation(std::move(invocation));
+  ci.setVerboseOutputStream(out);  // "N errors generated." too: never the host's stderr
   ci.createDiagnostics(diags.getClient(), /*ShouldOwnClient=*/false);
   clang::EmitObjAction action;
   return ci.ExecuteAction(action);
@@ -87,7 +88,7 @@ bool build(const std::vector<const char*>& args, llvm::raw_ostream& out) {
   for (const clang::driver::Command& job : plan->getJobs()) {
     const std::string tool = job.getCreator().getName();
     if (tool == "clang") {
-      if (!compile(job, diags)) return false;
+      if (!compile(job, diags, out)) return false;
     } else if (tool == "GNU::Linker") {
       if (!link(job, out)) return false;
       linked = true;
