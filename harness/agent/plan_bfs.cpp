@@ -66,7 +66,7 @@ class LayeredBfs {
   // or a stop ends the search (returns true, out_ set).
   bool phase(int layer, bool free_phase, int64_t& hit_node);
   void dedup();
-  void place(size_t begin);
+  void place(size_t begin, bool free_phase);
   BfsOutcome finish(int64_t node, bool found);
   int target_of(int64_t node) const;
 
@@ -215,15 +215,21 @@ void LayeredBfs::dedup() {
   });
 }
 
-// Winners become nodes: free ones join this layer, the others the next.
-void LayeredBfs::place(size_t begin) {
+// Winners become nodes: free ones join this layer, the others the next. Each
+// shard writes its own slots; without free actions every winner joins the next
+// layer, written in place there (no serial pass over the winners).
+void LayeredBfs::place(size_t begin, bool free_phase) {
   std::vector<size_t> offset(kShards + 1, 0);
   for (size_t sh = 0; sh < kShards; ++sh) offset[sh + 1] = offset[sh] + won_[sh].size();
   const size_t node_base = nodes_.size();
   nodes_.resize(node_base + offset[kShards]);
   hash_of_.resize(nodes_.size());
-  std::vector<Open> placed(offset[kShards]);
-  std::vector<uint8_t> free(offset[kShards]);
+  const bool direct = !free_phase && free_count_[1] == 0;  // every winner joins next_
+  const size_t open_base = next_.open.size();
+  if (direct) next_.open.resize(open_base + offset[kShards]);
+  std::vector<Open> placed(direct ? 0 : offset[kShards]);
+  std::vector<uint8_t> free(direct ? 0 : offset[kShards]);
+  std::vector<uint64_t> kept(kShards, 0);
   p_.pool().parallel_for(kShards, [&](size_t sh) {
     for (size_t j = 0; j < won_[sh].size(); ++j) {
       Fresh& f = *won_[sh][j];
@@ -232,19 +238,18 @@ void LayeredBfs::place(size_t begin) {
       nodes_[node_base + slot] = {parent.node, static_cast<int32_t>(f.index % A_),
                                   nodes_[parent.node].depth + 1};
       hash_of_[node_base + slot] = f.hash;
-      Open& o = placed[slot];
+      Open& o = direct ? next_.open[open_base + slot] : placed[slot];
       o.node = static_cast<int64_t>(node_base + slot);
       o.buffer = f.buffer;
       o.offset = f.offset;
       o.size = f.size;
       o.env = std::move(f.env);
-      free[slot] = f.free;
+      kept[sh] += o.env ? 1 : 0;
+      if (!direct) free[slot] = f.free;
     }
   });
-  for (size_t i = 0; i < placed.size(); ++i) {
-    kept_ += placed[i].env ? 1 : 0;
-    (free[i] ? cur_ : next_).open.push_back(std::move(placed[i]));
-  }
+  for (uint64_t k : kept) kept_ += k;
+  for (size_t i = 0; i < placed.size(); ++i) (free[i] ? cur_ : next_).open.push_back(std::move(placed[i]));
   for (Worker& W : workers_)
     for (auto& list : W.fresh) list.clear();
 }
@@ -287,7 +292,7 @@ bool LayeredBfs::phase(int layer, bool free_phase, int64_t& hit_node) {
     dedup();
     const uint64_t index = *std::min_element(first_hit_.begin(), first_hit_.end());
     const size_t placed_from = nodes_.size();
-    place(begin);
+    place(begin, free_phase);
     if (index == UINT64_MAX) continue;
     // The hit's node: winners were placed shard by shard; find it by (parent, action).
     const int64_t parent = cur_.open[begin + index / A_].node;
@@ -300,6 +305,11 @@ bool LayeredBfs::phase(int layer, bool free_phase, int64_t& hit_node) {
 }
 
 BfsOutcome LayeredBfs::run() {
+  // Room for the whole budget up front (address space only until written):
+  // grown by doubling, the node table was copied on the serial path of a chunk.
+  const size_t room = static_cast<size_t>(std::min<uint64_t>(spec_.limit.nodes, uint64_t{1} << 22)) + 1;
+  nodes_.reserve(room);
+  hash_of_.reserve(room);
   nodes_ = {{-1, -1, 0}};
   const uint64_t h0 = start_.state_hash();
   hash_of_ = {h0};
@@ -328,8 +338,13 @@ BfsOutcome LayeredBfs::run() {
     // Without free actions the next layer is complete once generated; with them
     // only its closure, built in the next round, completes it.
     out_.depth_done = layer + (free_count_[1] > 0 ? 0 : 1);
+    // The layer just expanded lends its open list's memory (already faulted in)
+    // to the next one.
+    std::vector<Open> spare = std::move(cur_.open);
+    spare.clear();
     cur_ = std::move(next_);
     next_ = Layer{};
+    next_.open = std::move(spare);
     if (cur_.open.empty()) {
       out_.exhausted = true;
       out_.note = fmt::format("bfs ({} actions): every reachable state seen by cost {}", A_, layer + 1);
