@@ -43,7 +43,9 @@ void register_bench(CLI::App* cmd, BenchOptions& o) {
   cmd->footer(
       "Columns: program; grid (GRID_SIZE); steps (random actions replayed per measurement, the same on both "
       "engines); interp st/s and compiled st/s (steps per second, each frame rendered, as the benchmark "
-      "protocol does); interp bare/s and comp bare/s (steps per second without rendering); interp cl ns and comp "
+      "protocol does); interp bare/s and comp bare/s (steps per second without rendering: isFreePos then sees "
+      "the last render's occupancy, so a program whose clicks test it may grow its state and slow down); "
+      "interp cl ns and comp "
       "cl ns (nanoseconds to clone the environment after the last step); ratio x (compiled st/s / interp st/s).");
   cmd->add_option("--only", o.only, "Run one engine only (for profiling; not with --shard)")
       ->check(CLI::IsMember(engine_names()));
