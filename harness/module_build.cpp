@@ -23,32 +23,44 @@
 extern char** environ;
 
 namespace autumn {
-namespace {
 
 namespace fs = std::filesystem;
 
+// g++ does not check the headers a PCH was made from, so a stale one would
+// compile modules against the old runtime (a partial rebuild that skipped the
+// PCH target); Clang refuses a stale one outright. Either way: not used.
+bool module_pch_current(const fs::path& pch) {
+  std::error_code ec;
+  const auto made = fs::last_write_time(pch, ec);
+  if (ec) return false;
+  for (const auto& entry : fs::directory_iterator(fs::path(AUTUMN_MODULE_INCLUDE) / "runtime", ec)) {
+    std::error_code e2;
+    if (fs::last_write_time(entry.path(), e2) > made && !e2) return false;
+  }
+  return true;
+}
+
+std::vector<std::string> module_flags(const char* optimisation) {
+  return {"-std=c++20", optimisation, "-fPIC", "-shared", "-fvisibility=hidden", "-DAUTUMN_MODULE_SHARED"};
+}
+
+namespace {
+
 // The precompiled runtime header, when the build made one (CMake:
-// autumn_module_pch) and it is newer than every runtime header: g++ does not
-// check the headers a PCH was made from, so a stale one would compile modules
-// against the old runtime (a partial rebuild that skipped the PCH target).
+// autumn_module_pch) and it is current (module_pch_current).
 std::string pch_flag() {
   static const std::string flag = [] {
     const fs::path header = AUTUMN_MODULE_PCH;
-    if (header.empty()) return std::string();
-    std::error_code ec;
-    const auto made = fs::last_write_time(header.string() + ".gch", ec);
-    if (ec) return std::string();
-    for (const auto& entry : fs::directory_iterator(fs::path(AUTUMN_MODULE_INCLUDE) / "runtime", ec)) {
-      std::error_code e2;
-      if (fs::last_write_time(entry.path(), e2) > made && !e2) return std::string();
-    }
+    if (header.empty() || !module_pch_current(header.string() + ".gch")) return std::string();
     return " -include '" + header.string() + "'";
   }();
   return flag;
 }
 
 std::string compiler_flags() {
-  return std::string(AUTUMN_CXX) + " -std=c++20 -O2 -fPIC -shared -fvisibility=hidden -DAUTUMN_MODULE_SHARED";
+  std::string s = AUTUMN_CXX;
+  for (const std::string& f : module_flags("-O2")) s += " " + f;
+  return s;
 }
 
 }  // namespace

@@ -12,11 +12,20 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace autumn {
 
 // The compiler and flags every module is built with (part of the cache key).
 std::string module_compiler_signature();
+
+// The flags of every module compile, whichever compiler: the language, position
+// independence, hidden symbols, the shared-module define, and `optimisation`.
+std::vector<std::string> module_flags(const char* optimisation);
+
+// Whether the precompiled runtime header `pch` (g++'s .gch or Clang's .pch) is
+// newer than every runtime header, so a compile may use it.
+bool module_pch_current(const std::filesystem::path& pch);
 
 // How many compiles run at once per cache directory (AUTUMN_COMPILE_JOBS, else
 // the number of CPUs); a compile beyond them waits for a slot, which the compile

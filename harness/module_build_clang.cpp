@@ -81,32 +81,22 @@ Fd take_slot(const fs::path& slots) {
   return Fd(std::exchange(f.fd, -1));
 }
 
+// Whether `a` was written after `b` (the compile script's `-nt`).
 bool newer(const fs::path& a, const fs::path& b) {
-  struct stat sa, sb;
-  if (stat(a.c_str(), &sa) != 0 || stat(b.c_str(), &sb) != 0) return false;
-  return sa.st_mtim.tv_sec > sb.st_mtim.tv_sec ||
-         (sa.st_mtim.tv_sec == sb.st_mtim.tv_sec && sa.st_mtim.tv_nsec > sb.st_mtim.tv_nsec);
-}
-
-// Clang's precompiled runtime header, when it exists and is newer than every
-// runtime header (a stale one would fail the compile).
-std::vector<std::string> pch_args() {
-  const fs::path pch = AUTUMN_CLANG_PCH;
-  std::error_code ec;
-  if (pch.empty() || !fs::exists(pch, ec)) return {};
-  for (const auto& entry : fs::directory_iterator(fs::path(AUTUMN_MODULE_INCLUDE) / "runtime", ec))
-    if (newer(entry.path(), pch)) return {};
-  return {"-include-pch", pch.string()};
+  std::error_code ea, eb;
+  const auto ta = fs::last_write_time(a, ea), tb = fs::last_write_time(b, eb);
+  return !ea && !eb && ta > tb;
 }
 
 // -O3: Clang 14's -O2 modules stepped a median 0.90 of g++ -O2's, its -O3 ones
 // 1.02 (docs/design.md, "The module's compiler, measured").
-const char* const kFlags[] = {"-std=c++20", "-O3", "-fPIC", "-shared", "-fvisibility=hidden", "-DAUTUMN_MODULE_SHARED"};
+constexpr const char* kOptimisation = "-O3";
 
 std::vector<std::string> command(const fs::path& cpp, const fs::path& out) {
   std::vector<std::string> args{AUTUMN_CLANG_DRIVER};
-  args.insert(args.end(), std::begin(kFlags), std::end(kFlags));
-  for (auto& a : pch_args()) args.push_back(a);
+  for (const std::string& f : module_flags(kOptimisation)) args.push_back(f);
+  if (const fs::path pch = AUTUMN_CLANG_PCH; !pch.empty() && module_pch_current(pch))
+    args.insert(args.end(), {"-include-pch", pch.string()});
   args.insert(args.end(), {"-I", AUTUMN_MODULE_INCLUDE, cpp.string(), "-o", out.string()});
   std::istringstream libs(AUTUMN_MODULE_LIBS);
   for (std::string lib; libs >> lib;) args.push_back(lib);
@@ -143,7 +133,7 @@ const std::string& unavailable() { return plugin().why; }
 
 std::string signature() {
   std::string s = std::string("clang-in-process ") + (plugin().version ? plugin().version() : "?");
-  for (const char* f : kFlags) s += std::string(" ") + f;
+  for (const std::string& f : module_flags(kOptimisation)) s += " " + f;
   return s + " " + AUTUMN_MODULE_LIBS;
 }
 
