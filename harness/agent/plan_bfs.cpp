@@ -42,7 +42,6 @@ class LayeredBfs {
     uint32_t buffer;
     bool hit, free;
     std::unique_ptr<Environment> env;
-    bool stored = false;  // its state was kept (counted in BfsOutcome::stored once it wins)
   };
   struct Worker {
     std::unique_ptr<Environment> parent, scratch, replay_root;
@@ -142,7 +141,6 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
     } else if (store && keep_env_) {
       f.env = std::move(W.scratch);
     }
-    f.stored = store && (snapshots_ || keep_env_);
     W.fresh[shard_of(h)].push_back(std::move(f));
   }
 }
@@ -156,9 +154,9 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   keep_env_ = !snapshots_ && kept_ < p_.opts().keep_states;
   // The next layer is expanded only if there is one (max_cost) and the nodes
   // counted by the end of this one (every remaining parent by every costing
-  // action) leave budget: otherwise
-  // its states would be stored and never read. A node stored without one is
-  // replayed from the root if it is ever expanded (load_parent).
+  // action) leave budget: otherwise its states would be stored and never read.
+  // A node without a stored state is replayed from the root if it is ever
+  // expanded (load_parent).
   store_next_ = free_phase || (!final_layer_ && out_.nodes + (cur_.open.size() - begin) * free_count_[0] < spec_.limit.nodes);
   buffer_base_[0] = static_cast<uint32_t>(cur_.buffers.size());
   buffer_base_[1] = static_cast<uint32_t>(next_.buffers.size());
@@ -209,7 +207,7 @@ void LayeredBfs::dedup() {
       ++at[from];
       if (!seen_[sh].insert(f->hash).second) continue;
       won_[sh].push_back(f);
-      stored_[sh] += f->stored;
+      stored_[sh] += f->size > 0 || f->env;  // its state was kept
       if (f->hit) first_hit_[sh] = std::min(first_hit_[sh], f->index);
     }
   });
@@ -338,13 +336,8 @@ BfsOutcome LayeredBfs::run() {
     // Without free actions the next layer is complete once generated; with them
     // only its closure, built in the next round, completes it.
     out_.depth_done = layer + (free_count_[1] > 0 ? 0 : 1);
-    // The layer just expanded lends its open list's memory (already faulted in)
-    // to the next one.
-    std::vector<Open> spare = std::move(cur_.open);
-    spare.clear();
     cur_ = std::move(next_);
     next_ = Layer{};
-    next_.open = std::move(spare);
     if (cur_.open.empty()) {
       out_.exhausted = true;
       out_.note = fmt::format("bfs ({} actions): every reachable state seen by cost {}", A_, layer + 1);
