@@ -21,6 +21,7 @@
 #include <fstream>
 
 #include "compiler/analyse/program.hpp"
+#include "compiler/lower/ir_builder.hpp"
 #include "compiler/lower/ir_print.hpp"
 #include "compiler/lower/ir_verify.hpp"
 #include "compiler/lower/lower.hpp"
@@ -302,6 +303,68 @@ TEST(IrPasses, AReferenceToALocalIsTheLocal) {
   lower::settle_references(x.m);
   lower::resolve_aliases(x.m);
   EXPECT_EQ(read->a[0]->var, local);
+}
+
+// ---------------------------------------------------------------------------
+// IrBuilder (ir_builder.hpp): where statements go, dead code, effects.
+
+TEST(IrBuilder, DeadCodeIsBuiltButNotAttachedAndBlocksRestoreTheFlag) {
+  lower::Module m;
+  m.functions.push_back(std::make_unique<lower::ir::Function>());
+  lower::ir::Function* f = m.functions.back().get();
+  f->name = "step";
+  int locations_asked = 0;
+  lower::IrBuilder b(m, [&] { return ++locations_asked; });
+  b.begin_function(f);
+  EXPECT_TRUE(b.at_function_top());
+  lower::TypeP i = m.types.int_();
+  lower::ir::Var* x = b.decl(i, b.lit(i, 1), "x");
+  lower::ir::Stmt* branch = b.emit(lower::ir::SK::If);
+  branch->a = b.node(lower::ir::Op::Lt, m.types.bool_(), {b.local(x), b.lit(i, 3)});
+  b.in_block(branch->body, [&] {
+    EXPECT_FALSE(b.at_function_top());
+    b.kill();  // the branch certainly fails: what follows in it never runs
+    b.emit_set(b.local(x), b.lit(i, 2));
+    EXPECT_TRUE(b.dead());
+  });
+  EXPECT_FALSE(b.dead()) << "leaving the branch restores the parent's flag";
+  EXPECT_EQ(b.block(), &f->body);
+  EXPECT_TRUE(branch->body.empty()) << "the statement after the kill is not attached";
+  lower::ir::Stmt* loop = b.emit(lower::ir::SK::ForRange);
+  EXPECT_EQ(loop->loc, 1) << "a loop takes the current error site";
+  lower::ir::Stmt* detached = b.emit_detached(lower::ir::SK::Comment);
+  EXPECT_EQ(f->body.size(), 3u);  // decl, if, for_range
+  b.attach(detached);
+  EXPECT_EQ(f->body.back(), detached);
+  // Writing elsewhere and coming back.
+  const lower::IrBuilder::Point here = b.point();
+  m.functions.push_back(std::make_unique<lower::ir::Function>());
+  b.begin_function(m.functions.back().get());
+  b.kill();
+  b.restore(here);
+  EXPECT_FALSE(b.dead());
+  EXPECT_EQ(b.block(), &f->body);
+  EXPECT_EQ(locations_asked, 1);
+}
+
+TEST(IrBuilder, CountsStateChangingHelpersAndStoresOutsideLocals) {
+  lower::Module m;
+  m.slots.push_back(lower::ir::Slot{"g_n", m.types.int_(), lower::ir::Slot::Value, 1, true});
+  m.functions.push_back(std::make_unique<lower::ir::Function>());
+  lower::IrBuilder b(m, [] { return 0; });
+  b.begin_function(m.functions.back().get());
+  lower::TypeP i = m.types.int_();
+  lower::ir::Var* x = b.decl(i, b.lit(i, 0), "x");
+  b.emit_set(b.local(x), b.lit(i, 1));
+  b.call(lower::ir::Helper::Sqrt, i, {b.lit(i, 4)});
+  EXPECT_EQ(b.effects(), 0u) << "a local store and a pure helper change no state";
+  b.emit_set(b.slot(0), b.lit(i, 1));
+  EXPECT_EQ(b.effects(), 1u);
+  b.call(lower::ir::Helper::RngNext, i, {});
+  EXPECT_EQ(b.effects(), 2u);
+  EXPECT_TRUE(lower::is_const(b.node(lower::ir::Op::MakePos, m.types.pos(), {b.lit(i, 1), b.lit(i, 2)})));
+  EXPECT_FALSE(lower::is_const(b.local(x)));
+  EXPECT_FALSE(lower::is_stable(b.local(x))) << "x is mutable";
 }
 
 // ---------------------------------------------------------------------------

@@ -10,6 +10,8 @@
 //   (map (--> i (Cell i 0 "red")) (range 0 3))   in an object's cell expression
 //   -> three constant cells, no code at run time.
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 
 #include "compiler/lower/specialise.hpp"
 #include "runtime/diagnostic.hpp"
@@ -26,13 +28,13 @@ bool Specialiser::need(Builtin b, size_t n) {
 }
 
 bool Specialiser::check_kind(Builtin b, const std::vector<SVal>& a, size_t i, TK k, const char* what) {
-  if (a[i].type->k == k || a[i].type->k == TK::Never) return !dead_;
+  if (a[i].type->k == k || a[i].type->k == TK::Never) return !ir_.dead();
   fail(std::string(builtin_name(b)) + ": argument " + std::to_string(i + 1) + " must be " + what + ", got " +
        shown_type(type_string(a[i].type)));
   return false;
 }
 
-ir::Node* Specialiser::int_text(ir::Node* n) { return call(ir::Helper::StrOfInt, nullptr, {n}); }
+ir::Node* Specialiser::int_text(ir::Node* n) { return ir_.call(ir::Helper::StrOfInt, nullptr, {n}); }
 
 SVal Specialiser::call1(const SVal& f, const SVal& x, const Expr& at) {
   std::vector<SVal> args{x};
@@ -64,48 +66,55 @@ SVal Specialiser::call_builtin(Builtin b, std::vector<SVal>& a, const Expr& at) 
         return call_builtin(b, narrowed, at);
       });
     }
-  switch (b) {
-    case Builtin::Map:
-    case Builtin::Filter:
-    case Builtin::Any:
-    case Builtin::Foldl:
-      return builtin_iterate(b, a, at);
-    case Builtin::Concat:
-    case Builtin::Length:
-    case Builtin::Head:
-    case Builtin::Tail:
-    case Builtin::At:
-    case Builtin::Range:
-    case Builtin::ArrayEqual:
-    case Builtin::IsList:
-    case Builtin::Print:
-    case Builtin::Sqrt:
-      return builtin_lists(b, a, at);
-    case Builtin::UniformChoice:
-    case Builtin::RandomPositions:
-    case Builtin::AllPositions:
-    case Builtin::AdjPositions:
-    case Builtin::IsFreePos:
-    case Builtin::IsWithinBounds:
-      return builtin_grid(b, a, at);
-    case Builtin::AddObj:
-    case Builtin::UpdateObj:
-    case Builtin::RemoveObj:
-      return builtin_objects(b, a, at);
-    case Builtin::Clicked:
-    case Builtin::Left:
-    case Builtin::Right:
-    case Builtin::Up:
-    case Builtin::Down:
-      return builtin_inputs(b, a, at);
-    case Builtin::Defined:
-    case Builtin::AllObjs:
-    case Builtin::Prev:
-      return builtin_globals(b, a, at);
-    case Builtin::RenderAll: unsupported("renderAll called by the program");
-    case Builtin::Rotate: return builtin_rotate(a);
-  }
-  return never();
+  return (this->*lowerings()[static_cast<int>(b)])(b, a, at);
+}
+
+// The lowering of each builtin, indexed by the Builtin enum. Several builtins
+// may share one (map, filter, any and foldl are one loop); each is told which
+// builtin it lowers.
+const std::array<Specialiser::Lowering, kBuiltinCount>& Specialiser::lowerings() {
+  static const std::array<Lowering, kBuiltinCount> table = [] {
+    std::array<Lowering, kBuiltinCount> t{};
+    auto set = [&t](Builtin b, Lowering l) { t[static_cast<int>(b)] = l; };
+    for (Builtin b : {Builtin::Map, Builtin::Filter, Builtin::Any, Builtin::Foldl}) set(b, &Specialiser::builtin_iterate);
+    set(Builtin::Concat, &Specialiser::builtin_concat);
+    set(Builtin::Length, &Specialiser::builtin_length);
+    set(Builtin::Head, &Specialiser::builtin_head_tail);
+    set(Builtin::Tail, &Specialiser::builtin_head_tail);
+    set(Builtin::At, &Specialiser::builtin_at);
+    set(Builtin::Range, &Specialiser::builtin_range);
+    set(Builtin::ArrayEqual, &Specialiser::builtin_array_equal);
+    set(Builtin::IsList, &Specialiser::builtin_is_list);
+    set(Builtin::Print, &Specialiser::builtin_print);
+    set(Builtin::Sqrt, &Specialiser::builtin_sqrt);
+    set(Builtin::UniformChoice, &Specialiser::builtin_uniform_choice);
+    set(Builtin::RandomPositions, &Specialiser::builtin_random_positions);
+    set(Builtin::AllPositions, &Specialiser::builtin_all_positions);
+    set(Builtin::AdjPositions, &Specialiser::builtin_adj_positions);
+    set(Builtin::IsFreePos, &Specialiser::builtin_is_free_pos);
+    set(Builtin::IsWithinBounds, &Specialiser::builtin_within_bounds);
+    set(Builtin::AddObj, &Specialiser::builtin_add_obj);
+    set(Builtin::UpdateObj, &Specialiser::builtin_update_obj);
+    set(Builtin::RemoveObj, &Specialiser::builtin_remove_obj);
+    set(Builtin::Clicked, &Specialiser::builtin_clicked);
+    for (Builtin b : {Builtin::Left, Builtin::Right, Builtin::Up, Builtin::Down}) set(b, &Specialiser::builtin_arrow);
+    set(Builtin::Defined, &Specialiser::builtin_defined);
+    set(Builtin::AllObjs, &Specialiser::builtin_all_objs);
+    set(Builtin::Prev, &Specialiser::builtin_prev);
+    set(Builtin::RenderAll, &Specialiser::builtin_render_all);
+    set(Builtin::Rotate, &Specialiser::builtin_rotate);
+    for (int i = 0; i < kBuiltinCount; ++i)
+      if (!t[i]) {
+        std::fprintf(stderr, "autumnc: internal error: builtin %s has no lowering\n", builtin_name(static_cast<Builtin>(i)));
+        std::abort();
+      }
+    return t;
+  }();
+  return table;
+}
+
+SVal Specialiser::builtin_render_all(Builtin, std::vector<SVal>&, const Expr&) {
+  unsupported("renderAll called by the program");
 }
 
 // ---------------------------------------------------------------------------
@@ -130,24 +139,24 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
   if (b == Builtin::Foldl) return fold(a[0], a[1], l, at);
   auto apply = [&](const SVal& x) { return with_fn ? call1(a[fi], x, at) : x; };
   if (!l.type->elem) {  // statically empty: the function is never called
-    if (b == Builtin::Any) return SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)};
-    return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+    if (b == Builtin::Any) return SVal{T().bool_(), ir_.lit(T().bool_(), 0), ir_.lit(T().bool_(), 0)};
+    return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
   }
   if (unroll(l)) {  // fold inside constructors: keeps cell shapes constant
     std::vector<SVal> out;
     for (ir::Node* item : l.konst->a) {
       SVal x{l.type->elem, item, item};
       SVal y = apply(x);
-      if (dead_) return never();
+      if (ir_.dead()) return never();
       if (b == Builtin::Map) out.push_back(y);
       else {
         ir::Node* t = truthy(y);
         if (t->op != ir::Op::Lit) return iterate_loop(b, a, l, at, apply);  // not constant after all
-        if (t->imm && b == Builtin::Any) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+        if (t->imm && b == Builtin::Any) return SVal{T().bool_(), ir_.lit(T().bool_(), 1), ir_.lit(T().bool_(), 1)};
         if (t->imm) out.push_back(x);
       }
     }
-    if (b == Builtin::Any) return SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)};
+    if (b == Builtin::Any) return SVal{T().bool_(), ir_.lit(T().bool_(), 0), ir_.lit(T().bool_(), 0)};
     return make_list(out);
   }
   return iterate_loop(b, a, l, at, apply);
@@ -163,44 +172,44 @@ SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, c
   (void)a;
   (void)at;
   SVal src = let(l, "src");
-  ir::Stmt* loop = emit_detached(ir::SK::ForEach);
-  loop->var = var(l.type->elem, "x");
+  ir::Stmt* loop = ir_.emit_detached(ir::SK::ForEach);
+  loop->var = ir_.var(l.type->elem, "x");
   loop->a = src.code;
-  SVal x{l.type->elem, local(loop->var)};
+  SVal x{l.type->elem, ir_.local(loop->var)};
   SVal y;
   bool body_alive = true;
-  in_block(loop->body, [&] {
+  ir_.in_block(loop->body, [&] {
     y = apply(x);
-    body_alive = !dead_;
+    body_alive = !ir_.dead();
   });
   TypeP rt = b == Builtin::Map ? (body_alive && y.type ? y.type : T().never()) : l.type->elem;
   if (b == Builtin::Map && (rt->k == TK::Func || rt->k == TK::Class))
     unsupported("map producing functions");
   if (b == Builtin::Map && !y.type) unsupported("map whose function has no value");
   TypeP out_t = b == Builtin::Any ? T().bool_() : (rt->k == TK::Never ? T().empty_list() : T().list(rt));
-  ir::Var* out = decl(out_t, b == Builtin::Any ? lit(T().bool_(), 0) : nullptr, b == Builtin::Any ? "any" : "out");
+  ir::Var* out = ir_.decl(out_t, b == Builtin::Any ? ir_.lit(T().bool_(), 0) : nullptr, b == Builtin::Any ? "any" : "out");
   if (b == Builtin::Map && rt->k != TK::Never) {
     charge_built(ir::kLengthSizes, {src.code});
-    emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Size, T().int_(), {src.code})}));
+    ir_.emit_eval(ir_.call(ir::Helper::Reserve, nullptr, {ir_.local(out), ir_.node(ir::Op::Size, T().int_(), {src.code})}));
   }
-  if (!dead_) block_->push_back(loop);
+  if (!ir_.dead()) ir_.block()->push_back(loop);
   if (body_alive)
-    in_block(loop->body, [&] {
+    ir_.in_block(loop->body, [&] {
       if (b == Builtin::Map) {
         if (rt->k == TK::Never) return;
-        emit_push(local(out), y.code);
+        ir_.emit_push(ir_.local(out), y.code);
         return;
       }
       ir::Node* cond = truthy(y);
-      ir::Stmt* s = emit(ir::SK::If);
+      ir::Stmt* s = ir_.emit(ir::SK::If);
       s->a = cond;
-      in_block(s->body, [&] {
+      ir_.in_block(s->body, [&] {
         if (b == Builtin::Any) {
-          emit_set(local(out), lit(T().bool_(), 1));
-          emit(ir::SK::Break);
+          ir_.emit_set(ir_.local(out), ir_.lit(T().bool_(), 1));
+          ir_.emit(ir::SK::Break);
         } else {
           charge_one_built();
-          emit_push(local(out), x.code);
+          ir_.emit_push(ir_.local(out), x.code);
         }
       });
     });
@@ -219,129 +228,121 @@ SVal Specialiser::fold(const SVal& f, const SVal& init, const SVal& l, const Exp
     for (ir::Node* item : l.konst->a) {
       std::vector<SVal> args{acc, SVal{l.type->elem, item, item}};
       acc = let(call_value(f, args, at));
-      if (dead_) return never();
+      if (ir_.dead()) return never();
     }
     return acc;
   }
-  ir::Var* acc = decl(acc_t, coerce(init, acc_t).code, "acc");
+  ir::Var* acc = ir_.decl(acc_t, coerce(init, acc_t).code, "acc");
   SVal src = let(l, "src");
-  ir::Stmt* loop = emit(ir::SK::ForEach);
-  loop->var = var(l.type->elem, "x");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  loop->var = ir_.var(l.type->elem, "x");
   loop->a = src.code;
-  in_block(loop->body, [&] {
-    SVal accv = let(SVal{acc_t, local(acc)}, "a");
-    std::vector<SVal> args{accv, SVal{l.type->elem, local(loop->var)}};
+  ir_.in_block(loop->body, [&] {
+    SVal accv = let(SVal{acc_t, ir_.local(acc)}, "a");
+    std::vector<SVal> args{accv, SVal{l.type->elem, ir_.local(loop->var)}};
     SVal y = call_value(f, args, at);
-    if (dead_ || !y.type) return;
+    if (ir_.dead() || !y.type) return;
     if (!T().fits(y.type, acc_t)) {
       h_.locals[key] = T().join(acc_t, y.type);
       learn("foldl accumulator");
       return;
     }
-    emit_set(local(acc), coerce(y, acc_t).code);
+    ir_.emit_set(ir_.local(acc), coerce(y, acc_t).code);
   });
-  return let(SVal{acc_t, local(acc)}, "folded");
+  return let(SVal{acc_t, ir_.local(acc)}, "folded");
 }
 
 // ---------------------------------------------------------------------------
 // concat, length, head, tail, at, range, arrayEqual, isList, print, sqrt
 
-SVal Specialiser::builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at) {
-  auto known_bool = [&](bool v) { return SVal{T().bool_(), lit(T().bool_(), v), lit(T().bool_(), v)}; };
-  switch (b) {
-    case Builtin::IsList:
-      return known_bool(a[0].type->k == TK::List);
-    case Builtin::Print:
-      return a[0];
-    case Builtin::Sqrt: {
-      if (!check_kind(b, a, 0, TK::Int, "a number")) return never();
-      ir::Stmt* s = emit(ir::SK::If);
-      s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
-      in_block(s->body, [&] { fail("sqrt of a negative number"); });
-      return let(SVal{T().int_(), call(ir::Helper::Sqrt, T().int_(), {a[0].code})});
-    }
-    case Builtin::Length:
-      if (!check_kind(b, a, 0, TK::List, "a list")) return never();
-      if (!a[0].type->elem) return SVal{T().int_(), lit(T().int_(), 0), lit(T().int_(), 0)};
-      if (a[0].konst && a[0].konst->op == ir::Op::MakeList) {
-        auto c = static_cast<int64_t>(a[0].konst->a.size());
-        return SVal{T().int_(), lit(T().int_(), c), lit(T().int_(), c)};
-      }
-      return let(SVal{T().int_(), node(ir::Op::Size, T().int_(), {a[0].code})});
-    case Builtin::Head:
-    case Builtin::Tail: {
-      if (!check_kind(b, a, 0, TK::List, "a list")) return never();
-      const char* what = b == Builtin::Head ? "head of an empty list" : "tail of an empty list";
-      if (!a[0].type->elem) {
-        fail(what);
-        return never();
-      }
-      if (a[0].konst && a[0].konst->op == ir::Op::MakeList && !a[0].konst->a.empty() && !tracked(a[0].type->elem)) {
-        ir::Node* k = b == Builtin::Head ? a[0].konst->a.front() : a[0].konst->a.back();
-        return SVal{a[0].type->elem, k, is_const(k) ? k : nullptr};
-      }
-      ir::Stmt* s = emit(ir::SK::If);
-      s->a = node(ir::Op::Empty, T().bool_(), {a[0].code});
-      in_block(s->body, [&] { fail(what); });
-      return let(SVal{a[0].type->elem, node(b == Builtin::Head ? ir::Op::Front : ir::Op::Back, a[0].type->elem, {a[0].code})});
-    }
-    case Builtin::At: return builtin_at(a);
-    case Builtin::Concat: return builtin_concat(a);
-    case Builtin::Range: {
-      if (!check_kind(b, a, 0, TK::Int, "a number") || !check_kind(b, a, 1, TK::Int, "a number"))
-        return never();
-      auto lo = const_int(a[0]), hi = const_int(a[1]);
-      std::optional<int64_t> known;
-      if (lo && hi) known = *hi - *lo;
-      check_length(ir::kLengthSpan, {a[0].code, a[1].code}, known);
-      if (lo && hi && *hi - *lo <= 4096) {
-        std::vector<SVal> items;
-        for (int64_t i = *lo; i < *hi; ++i) items.push_back(SVal{T().int_(), lit(T().int_(), i), lit(T().int_(), i)});
-        if (!items.empty() && (!constructing_.empty() || items.size() <= 16)) return make_list(items);
-      }
-      charge_built(ir::kLengthSpan, {a[0].code, a[1].code});
-      ir::Var* out = decl(T().list(T().int_()), nullptr, "range");
-      out->scratch = true;
-      ir::Stmt* loop = emit(ir::SK::ForRange);
-      loop->var = var(T().int_(), "i");
-      loop->a = a[0].code;
-      loop->b = a[1].code;
-      in_block(loop->body, [&] {
-        emit_push(local(out), local(loop->var));
-      });
-      return built(out);
-    }
-    case Builtin::ArrayEqual: return builtin_array_equal(a);
-    default: break;
-  }
-  (void)at;
-  return never();
+SVal Specialiser::builtin_is_list(Builtin, std::vector<SVal>& a, const Expr&) {
+  const bool v = a[0].type->k == TK::List;
+  return SVal{T().bool_(), ir_.lit(T().bool_(), v), ir_.lit(T().bool_(), v)};
 }
 
-SVal Specialiser::builtin_at(std::vector<SVal>& a) {
-  const Builtin b = Builtin::At;
+SVal Specialiser::builtin_print(Builtin, std::vector<SVal>& a, const Expr&) { return a[0]; }
+
+SVal Specialiser::builtin_sqrt(Builtin b, std::vector<SVal>& a, const Expr&) {
+  if (!check_kind(b, a, 0, TK::Int, "a number")) return never();
+  ir::Stmt* s = ir_.emit(ir::SK::If);
+  s->a = ir_.node(ir::Op::Lt, T().bool_(), {a[0].code, ir_.lit(T().int_(), 0)});
+  ir_.in_block(s->body, [&] { fail("sqrt of a negative number"); });
+  return let(SVal{T().int_(), ir_.call(ir::Helper::Sqrt, T().int_(), {a[0].code})});
+}
+
+SVal Specialiser::builtin_length(Builtin b, std::vector<SVal>& a, const Expr&) {
+  if (!check_kind(b, a, 0, TK::List, "a list")) return never();
+  if (!a[0].type->elem) return SVal{T().int_(), ir_.lit(T().int_(), 0), ir_.lit(T().int_(), 0)};
+  if (a[0].konst && a[0].konst->op == ir::Op::MakeList) {
+    auto c = static_cast<int64_t>(a[0].konst->a.size());
+    return SVal{T().int_(), ir_.lit(T().int_(), c), ir_.lit(T().int_(), c)};
+  }
+  return let(SVal{T().int_(), ir_.node(ir::Op::Size, T().int_(), {a[0].code})});
+}
+
+// head and tail: the first or the last element (the reference's tail is its last element).
+SVal Specialiser::builtin_head_tail(Builtin b, std::vector<SVal>& a, const Expr&) {
+  if (!check_kind(b, a, 0, TK::List, "a list")) return never();
+  const char* what = b == Builtin::Head ? "head of an empty list" : "tail of an empty list";
+  if (!a[0].type->elem) {
+    fail(what);
+    return never();
+  }
+  if (a[0].konst && a[0].konst->op == ir::Op::MakeList && !a[0].konst->a.empty() && !tracked(a[0].type->elem)) {
+    ir::Node* k = b == Builtin::Head ? a[0].konst->a.front() : a[0].konst->a.back();
+    return SVal{a[0].type->elem, k, is_const(k) ? k : nullptr};
+  }
+  ir::Stmt* s = ir_.emit(ir::SK::If);
+  s->a = ir_.node(ir::Op::Empty, T().bool_(), {a[0].code});
+  ir_.in_block(s->body, [&] { fail(what); });
+  return let(SVal{a[0].type->elem, ir_.node(b == Builtin::Head ? ir::Op::Front : ir::Op::Back, a[0].type->elem, {a[0].code})});
+}
+
+SVal Specialiser::builtin_range(Builtin b, std::vector<SVal>& a, const Expr&) {
+  if (!check_kind(b, a, 0, TK::Int, "a number") || !check_kind(b, a, 1, TK::Int, "a number"))
+    return never();
+  auto lo = const_int(a[0]), hi = const_int(a[1]);
+  std::optional<int64_t> known;
+  if (lo && hi) known = *hi - *lo;
+  check_length(ir::kLengthSpan, {a[0].code, a[1].code}, known);
+  if (lo && hi && *hi - *lo <= 4096) {
+    std::vector<SVal> items;
+    for (int64_t i = *lo; i < *hi; ++i) items.push_back(SVal{T().int_(), ir_.lit(T().int_(), i), ir_.lit(T().int_(), i)});
+    if (!items.empty() && (!constructing_.empty() || items.size() <= 16)) return make_list(items);
+  }
+  charge_built(ir::kLengthSpan, {a[0].code, a[1].code});
+  ir::Var* out = ir_.decl(T().list(T().int_()), nullptr, "range");
+  out->scratch = true;
+  ir::Stmt* loop = ir_.emit(ir::SK::ForRange);
+  loop->var = ir_.var(T().int_(), "i");
+  loop->a = a[0].code;
+  loop->b = a[1].code;
+  ir_.in_block(loop->body, [&] { ir_.emit_push(ir_.local(out), ir_.local(loop->var)); });
+  return built(out);
+}
+
+SVal Specialiser::builtin_at(Builtin b, std::vector<SVal>& a, const Expr&) {
   if (!check_kind(b, a, 0, TK::List, "a list")) return never();
   if (!a[0].type->elem) {
     fail("at: empty list");
     return never();
   }
-  ir::Stmt* s = emit(ir::SK::If);
-  s->a = node(ir::Op::Empty, T().bool_(), {a[0].code});
-  in_block(s->body, [&] { fail("at: empty list"); });
+  ir::Stmt* s = ir_.emit(ir::SK::If);
+  s->a = ir_.node(ir::Op::Empty, T().bool_(), {a[0].code});
+  ir_.in_block(s->body, [&] { fail("at: empty list"); });
   if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
   ir::Node* i = a[1].code;
-  ir::Stmt* r = emit(ir::SK::If);
-  r->a = node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {i, lit(T().int_(), 0)}),
-                                        node(ir::Op::Ge, T().bool_(), {i, node(ir::Op::Size, T().int_(), {a[0].code})})});
-  in_block(r->body, [&] { fail({text("at: index "), int_text(i), text(" out of bounds")}); });
-  return let(SVal{a[0].type->elem, node(ir::Op::Index, a[0].type->elem, {a[0].code, i})});
+  ir::Stmt* r = ir_.emit(ir::SK::If);
+  r->a = ir_.node(ir::Op::Or, T().bool_(), {ir_.node(ir::Op::Lt, T().bool_(), {i, ir_.lit(T().int_(), 0)}),
+                                        ir_.node(ir::Op::Ge, T().bool_(), {i, ir_.node(ir::Op::Size, T().int_(), {a[0].code})})});
+  ir_.in_block(r->body, [&] { fail({ir_.text("at: index "), int_text(i), ir_.text(" out of bounds")}); });
+  return let(SVal{a[0].type->elem, ir_.node(ir::Op::Index, a[0].type->elem, {a[0].code, i})});
 }
 
-SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
-  const Builtin b = Builtin::Concat;
+SVal Specialiser::builtin_concat(Builtin b, std::vector<SVal>& a, const Expr&) {
   if (!check_kind(b, a, 0, TK::List, "a list")) return never();
   const SVal l = a[0];
-  if (!l.type->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+  if (!l.type->elem) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
   TypeP inner = l.type->elem;
   if (inner->k != TK::List) {
     if (is_sum(inner)) unsupported("concat of a list holding lists and other values");
@@ -358,58 +359,57 @@ SVal Specialiser::builtin_concat(std::vector<SVal>& a) {
         for (ir::Node* x : part->a) items.push_back(SVal{inner->elem ? inner->elem : T().never(), x, x});
     }
     if (ok) {
-      check_length(ir::kLengthIs, {lit(T().int_(), static_cast<int64_t>(items.size()))},
+      check_length(ir::kLengthIs, {ir_.lit(T().int_(), static_cast<int64_t>(items.size()))},
                    static_cast<int64_t>(items.size()));
       checked = true;
     }
-    if (ok && (!constructing_.empty() || items.size() <= 16)) return items.empty() ? SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())} : make_list(items);
+    if (ok && (!constructing_.empty() || items.size() <= 16)) return items.empty() ? SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())} : make_list(items);
   }
-  if (!inner->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+  if (!inner->elem) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
   if (!l.parts.empty()) {  // (concat (list a b ...)): the parts are known, no list of lists is needed
     if (!checked) check_length(ir::kLengthSizes, l.parts);
     charge_built(ir::kLengthSizes, l.parts);
-    ir::Var* out = decl(inner, nullptr, "cat");
-    for (ir::Node* part : l.parts) emit_eval(call(ir::Helper::Append, nullptr, {local(out), part}));
+    ir::Var* out = ir_.decl(inner, nullptr, "cat");
+    for (ir::Node* part : l.parts) ir_.emit_eval(ir_.call(ir::Helper::Append, nullptr, {ir_.local(out), part}));
     return built(out);
   }
   SVal src = let(l, "src");
   if (!checked) check_length(ir::kLengthTotal, {src.code});
   charge_built(ir::kLengthTotal, {src.code});
-  ir::Var* out = decl(inner, nullptr, "cat");
-  ir::Stmt* loop = emit(ir::SK::ForEach);
-  loop->var = var(inner, "part");
+  ir::Var* out = ir_.decl(inner, nullptr, "cat");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  loop->var = ir_.var(inner, "part");
   loop->a = src.code;
-  in_block(loop->body, [&] { emit_eval(call(ir::Helper::Append, nullptr, {local(out), local(loop->var)})); });
+  ir_.in_block(loop->body, [&] { ir_.emit_eval(ir_.call(ir::Helper::Append, nullptr, {ir_.local(out), ir_.local(loop->var)})); });
   return built(out);
 }
 
-SVal Specialiser::builtin_array_equal(std::vector<SVal>& a) {
-  const Builtin b = Builtin::ArrayEqual;
+SVal Specialiser::builtin_array_equal(Builtin b, std::vector<SVal>& a, const Expr&) {
   if (!check_kind(b, a, 0, TK::List, "a list") || !check_kind(b, a, 1, TK::List, "a list"))
     return never();
   TypeP out_t = T().list(T().bool_());
   if (!a[0].type->elem || !a[1].type->elem) {
     if (a[0].type->elem || a[1].type->elem) {
-      ir::Stmt* s = emit(ir::SK::If);
-      s->a = node(ir::Op::Not, T().bool_(), {node(ir::Op::Empty, T().bool_(), {a[a[0].type->elem ? 0 : 1].code})});
-      in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
+      ir::Stmt* s = ir_.emit(ir::SK::If);
+      s->a = ir_.node(ir::Op::Not, T().bool_(), {ir_.node(ir::Op::Empty, T().bool_(), {a[a[0].type->elem ? 0 : 1].code})});
+      ir_.in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
     }
-    return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+    return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
   }
-  ir::Stmt* s = emit(ir::SK::If);
-  s->a = node(ir::Op::Ne, T().bool_(), {node(ir::Op::Size, T().int_(), {a[0].code}), node(ir::Op::Size, T().int_(), {a[1].code})});
-  in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
+  ir::Stmt* s = ir_.emit(ir::SK::If);
+  s->a = ir_.node(ir::Op::Ne, T().bool_(), {ir_.node(ir::Op::Size, T().int_(), {a[0].code}), ir_.node(ir::Op::Size, T().int_(), {a[1].code})});
+  ir_.in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
   charge_built(ir::kLengthSizes, {a[0].code});
-  ir::Var* out = decl(out_t, nullptr, "eqs");
-  ir::Stmt* loop = emit(ir::SK::ForRange);
-  loop->var = var(T().int_(), "i");
-  loop->a = lit(T().int_(), 0);
-  loop->b = node(ir::Op::Size, T().int_(), {a[0].code});
-  in_block(loop->body, [&] {
-    SVal x = let(SVal{a[0].type->elem, node(ir::Op::Index, a[0].type->elem, {a[0].code, local(loop->var)})});
-    SVal y = let(SVal{a[1].type->elem, node(ir::Op::Index, a[1].type->elem, {a[1].code, local(loop->var)})});
+  ir::Var* out = ir_.decl(out_t, nullptr, "eqs");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForRange);
+  loop->var = ir_.var(T().int_(), "i");
+  loop->a = ir_.lit(T().int_(), 0);
+  loop->b = ir_.node(ir::Op::Size, T().int_(), {a[0].code});
+  ir_.in_block(loop->body, [&] {
+    SVal x = let(SVal{a[0].type->elem, ir_.node(ir::Op::Index, a[0].type->elem, {a[0].code, ir_.local(loop->var)})});
+    SVal y = let(SVal{a[1].type->elem, ir_.node(ir::Op::Index, a[1].type->elem, {a[1].code, ir_.local(loop->var)})});
     SVal e = equals(x, y);
-    emit_push(local(out), e.code);
+    ir_.emit_push(ir_.local(out), e.code);
   });
   return built(out);
 }

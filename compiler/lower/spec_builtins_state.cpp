@@ -14,47 +14,36 @@ namespace autumn::lower {
 // ---------------------------------------------------------------------------
 // uniformChoice, randomPositions, allPositions, adjPositions, isFreePos, isWithinBounds
 
-SVal Specialiser::builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at) {
-  switch (b) {
-    case Builtin::UniformChoice: return builtin_uniform_choice(a);
-    case Builtin::RandomPositions: return builtin_random_positions(a);
-    case Builtin::AllPositions: return builtin_all_positions(a);
-    case Builtin::AdjPositions: return builtin_adj_positions(a, at);
-    case Builtin::IsFreePos:
-      if (a[0].type->k != TK::Pos) {
-        fail("isFreePos: the argument must be a Position");
-        return never();
-      }
-      return let(SVal{T().bool_(), call(ir::Helper::OccupancyFree, T().bool_(), {a[0].code})});
-    case Builtin::IsWithinBounds: return builtin_within_bounds(a, at);
-    default: return never();
+SVal Specialiser::builtin_is_free_pos(Builtin, std::vector<SVal>& a, const Expr&) {
+  if (a[0].type->k != TK::Pos) {
+    fail("isFreePos: the argument must be a Position");
+    return never();
   }
+  return let(SVal{T().bool_(), ir_.call(ir::Helper::OccupancyFree, T().bool_(), {a[0].code})});
 }
 
-SVal Specialiser::builtin_random_positions(std::vector<SVal>& a) {
-  const Builtin b = Builtin::RandomPositions;
+SVal Specialiser::builtin_random_positions(Builtin b, std::vector<SVal>& a, const Expr&) {
   if (!check_kind(b, a, 0, TK::Int, "a number")) return never();
-  ir::Stmt* s = emit(ir::SK::If);
-  s->a = node(ir::Op::Lt, T().bool_(), {a[0].code, lit(T().int_(), 0)});
-  in_block(s->body, [&] { fail("randomPositions: the grid size must not be negative"); });
+  ir::Stmt* s = ir_.emit(ir::SK::If);
+  s->a = ir_.node(ir::Op::Lt, T().bool_(), {a[0].code, ir_.lit(T().int_(), 0)});
+  ir_.in_block(s->body, [&] { fail("randomPositions: the grid size must not be negative"); });
   if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
   check_length(ir::kLengthIs, {a[1].code}, const_int(a[1]));
   charge_built(ir::kLengthIs, {a[1].code});
-  ir::Var* out = decl(T().list(T().pos()), nullptr, "rpos");
-  ir::Stmt* loop = emit(ir::SK::ForRange);
-  loop->var = var(T().int_(), "i");
-  loop->a = lit(T().int_(), 0);
+  ir::Var* out = ir_.decl(T().list(T().pos()), nullptr, "rpos");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForRange);
+  loop->var = ir_.var(T().int_(), "i");
+  loop->a = ir_.lit(T().int_(), 0);
   loop->b = a[1].code;
-  in_block(loop->body, [&] {
-    SVal x = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {a[0].code})});
-    SVal y = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {a[0].code})});
-    emit_push(local(out), make_position(x, y).code);
+  ir_.in_block(loop->body, [&] {
+    SVal x = let(SVal{T().int_(), ir_.call(ir::Helper::RngNext, T().int_(), {a[0].code})});
+    SVal y = let(SVal{T().int_(), ir_.call(ir::Helper::RngNext, T().int_(), {a[0].code})});
+    ir_.emit_push(ir_.local(out), make_position(x, y).code);
   });
   return built(out);
 }
 
-SVal Specialiser::builtin_all_positions(std::vector<SVal>& a) {
-  const Builtin b = Builtin::AllPositions;
+SVal Specialiser::builtin_all_positions(Builtin b, std::vector<SVal>& a, const Expr&) {
   const size_t n = a.size();
   if (n < 1 || n > 2) {
     fail("allPositions takes 1 or 2 arguments");
@@ -62,95 +51,94 @@ SVal Specialiser::builtin_all_positions(std::vector<SVal>& a) {
   }
   auto size = [&](size_t i) {
     if (!check_kind(b, a, i, TK::Int, "a number")) return false;
-    ir::Stmt* s = emit(ir::SK::If);
-    s->a = node(ir::Op::Lt, T().bool_(), {a[i].code, lit(T().int_(), 0)});
-    in_block(s->body, [&] { fail("allPositions: negative size"); });
-    return !dead_;
+    ir::Stmt* s = ir_.emit(ir::SK::If);
+    s->a = ir_.node(ir::Op::Lt, T().bool_(), {a[i].code, ir_.lit(T().int_(), 0)});
+    ir_.in_block(s->body, [&] { fail("allPositions: negative size"); });
+    return !ir_.dead();
   };
   if (!size(0) || (n == 2 && !size(1))) return never();
   std::optional<int64_t> known;
   if (auto w = const_int(a[0]), h = const_int(a[n - 1]); w && h) known = *w * *h;
   check_length(ir::kLengthArea, {a[0].code, a[n - 1].code}, known);
   charge_built(ir::kLengthArea, {a[0].code, a[n - 1].code});
-  ir::Var* out = decl(T().list(T().pos()), nullptr, "apos");
+  ir::Var* out = ir_.decl(T().list(T().pos()), nullptr, "apos");
   out->scratch = true;
-  ir::Stmt* outer = emit(ir::SK::ForRange);
-  outer->var = var(T().int_(), "i");
-  outer->a = lit(T().int_(), 0);
+  ir::Stmt* outer = ir_.emit(ir::SK::ForRange);
+  outer->var = ir_.var(T().int_(), "i");
+  outer->a = ir_.lit(T().int_(), 0);
   outer->b = a[0].code;
-  in_block(outer->body, [&] {
-    ir::Stmt* inner = emit(ir::SK::ForRange);
-    inner->var = var(T().int_(), "j");
-    inner->a = lit(T().int_(), 0);
+  ir_.in_block(outer->body, [&] {
+    ir::Stmt* inner = ir_.emit(ir::SK::ForRange);
+    inner->var = ir_.var(T().int_(), "j");
+    inner->a = ir_.lit(T().int_(), 0);
     inner->b = a[n - 1].code;
-    in_block(inner->body, [&] {
-      emit_push(local(out), make_position(SVal{T().int_(), local(outer->var)}, SVal{T().int_(), local(inner->var)}).code);
+    ir_.in_block(inner->body, [&] {
+      ir_.emit_push(ir_.local(out), make_position(SVal{T().int_(), ir_.local(outer->var)}, SVal{T().int_(), ir_.local(inner->var)}).code);
     });
   });
   return built(out);
 }
 
-SVal Specialiser::builtin_adj_positions(std::vector<SVal>& a, const Expr& at) {
+SVal Specialiser::builtin_adj_positions(Builtin, std::vector<SVal>& a, const Expr& at) {
   if (a[0].type->k != TK::Pos) {
     fail("adjPositions: the argument must be a Position");
     return never();
   }
   SVal g = grid_size(at);
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   SVal p = let(a[0]);
-  ir::Var* out = decl(T().list(T().pos()), nullptr, "adj");
+  ir::Var* out = ir_.decl(T().list(T().pos()), nullptr, "adj");
   out->scratch = true;
-  ir::Node* x = member(p.code, ir::Member::X, T().int_());
-  ir::Node* y = member(p.code, ir::Member::Y, T().int_());
-  ir::Node* one = lit(T().int_(), 1);
+  ir::Node* x = ir_.member(p.code, ir::Member::X, T().int_());
+  ir::Node* y = ir_.member(p.code, ir::Member::Y, T().int_());
+  ir::Node* one = ir_.lit(T().int_(), 1);
   const std::pair<ir::Node*, ir::Node*> cand[4] = {
-      {node(ir::Op::Sub, T().int_(), {x, one}), y}, {node(ir::Op::Add, T().int_(), {x, one}), y},
-      {x, node(ir::Op::Sub, T().int_(), {y, one})}, {x, node(ir::Op::Add, T().int_(), {y, one})}};
+      {ir_.node(ir::Op::Sub, T().int_(), {x, one}), y}, {ir_.node(ir::Op::Add, T().int_(), {x, one}), y},
+      {x, ir_.node(ir::Op::Sub, T().int_(), {y, one})}, {x, ir_.node(ir::Op::Add, T().int_(), {y, one})}};
   for (const auto& [cx, cy] : cand) {
     SVal vx = let(SVal{T().int_(), cx}), vy = let(SVal{T().int_(), cy});
-    ir::Node* zero = lit(T().int_(), 0);
-    ir::Stmt* s = emit(ir::SK::If);
-    s->a = node(ir::Op::And, T().bool_(),
-                {node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vx.code, zero}),
-                                                 node(ir::Op::Lt, T().bool_(), {vx.code, g.code})}),
-                 node(ir::Op::And, T().bool_(), {node(ir::Op::Ge, T().bool_(), {vy.code, zero}),
-                                                 node(ir::Op::Lt, T().bool_(), {vy.code, g.code})})});
-    in_block(s->body, [&] {
+    ir::Node* zero = ir_.lit(T().int_(), 0);
+    ir::Stmt* s = ir_.emit(ir::SK::If);
+    s->a = ir_.node(ir::Op::And, T().bool_(),
+                {ir_.node(ir::Op::And, T().bool_(), {ir_.node(ir::Op::Ge, T().bool_(), {vx.code, zero}),
+                                                 ir_.node(ir::Op::Lt, T().bool_(), {vx.code, g.code})}),
+                 ir_.node(ir::Op::And, T().bool_(), {ir_.node(ir::Op::Ge, T().bool_(), {vy.code, zero}),
+                                                 ir_.node(ir::Op::Lt, T().bool_(), {vy.code, g.code})})});
+    ir_.in_block(s->body, [&] {
       charge_one_built();
-      emit_push(local(out), make_position(vx, vy).code);
+      ir_.emit_push(ir_.local(out), make_position(vx, vy).code);
     });
   }
   return built(out);
 }
 
-SVal Specialiser::builtin_within_bounds(std::vector<SVal>& a, const Expr& at) {
+SVal Specialiser::builtin_within_bounds(Builtin, std::vector<SVal>& a, const Expr& at) {
   SVal elems = render_value(a[0], at);
   SVal g = grid_size(at);
-  if (dead_) return never();
-  ir::Var* r = decl(T().bool_(), lit(T().bool_(), 1), "within");
+  if (ir_.dead()) return never();
+  ir::Var* r = ir_.decl(T().bool_(), ir_.lit(T().bool_(), 1), "within");
   if (!renders(a[0].type)) return built(r);
-  ir::Stmt* loop = emit(ir::SK::ForEach);
-  loop->var = var(T().elem(), "e");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  loop->var = ir_.var(T().elem(), "e");
   loop->a = elems.code;
-  in_block(loop->body, [&] {
-    ir::Node* p = member(local(loop->var), ir::Member::Position, T().pos());
-    ir::Node* x = member(p, ir::Member::X, T().int_());
-    ir::Node* y = member(p, ir::Member::Y, T().int_());
-    ir::Node* zero = lit(T().int_(), 0);
-    ir::Stmt* s = emit(ir::SK::If);
-    s->a = node(ir::Op::Or, T().bool_(),
-                {node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {x, zero}), node(ir::Op::Ge, T().bool_(), {x, g.code})}),
-                 node(ir::Op::Or, T().bool_(), {node(ir::Op::Lt, T().bool_(), {y, zero}), node(ir::Op::Ge, T().bool_(), {y, g.code})})});
-    in_block(s->body, [&] {
-      emit_set(local(r), lit(T().bool_(), 0));
-      emit(ir::SK::Break);
+  ir_.in_block(loop->body, [&] {
+    ir::Node* p = ir_.member(ir_.local(loop->var), ir::Member::Position, T().pos());
+    ir::Node* x = ir_.member(p, ir::Member::X, T().int_());
+    ir::Node* y = ir_.member(p, ir::Member::Y, T().int_());
+    ir::Node* zero = ir_.lit(T().int_(), 0);
+    ir::Stmt* s = ir_.emit(ir::SK::If);
+    s->a = ir_.node(ir::Op::Or, T().bool_(),
+                {ir_.node(ir::Op::Or, T().bool_(), {ir_.node(ir::Op::Lt, T().bool_(), {x, zero}), ir_.node(ir::Op::Ge, T().bool_(), {x, g.code})}),
+                 ir_.node(ir::Op::Or, T().bool_(), {ir_.node(ir::Op::Lt, T().bool_(), {y, zero}), ir_.node(ir::Op::Ge, T().bool_(), {y, g.code})})});
+    ir_.in_block(s->body, [&] {
+      ir_.emit_set(ir_.local(r), ir_.lit(T().bool_(), 0));
+      ir_.emit(ir::SK::Break);
     });
   });
   return built(r);
 }
 
-SVal Specialiser::builtin_uniform_choice(std::vector<SVal>& a) {
-  const Builtin b = Builtin::UniformChoice;
+SVal Specialiser::builtin_uniform_choice(Builtin b, std::vector<SVal>& a, const Expr&) {
   const size_t n = a.size();
   if (n == 0) {
     fail("uniformChoice needs a list");
@@ -162,27 +150,27 @@ SVal Specialiser::builtin_uniform_choice(std::vector<SVal>& a) {
     fail("uniformChoice of an empty list");
     return never();
   }
-  ir::Stmt* s = emit(ir::SK::If);
-  s->a = node(ir::Op::Empty, T().bool_(), {l.code});
-  in_block(s->body, [&] { fail("uniformChoice of an empty list"); });
+  ir::Stmt* s = ir_.emit(ir::SK::If);
+  s->a = ir_.node(ir::Op::Empty, T().bool_(), {l.code});
+  ir_.in_block(s->body, [&] { fail("uniformChoice of an empty list"); });
   auto draw = [&]() {
-    SVal i = let(SVal{T().int_(), call(ir::Helper::RngNext, T().int_(), {node(ir::Op::Size, T().int_(), {l.code})})});
-    return node(ir::Op::Index, l.type->elem, {l.code, i.code});
+    SVal i = let(SVal{T().int_(), ir_.call(ir::Helper::RngNext, T().int_(), {ir_.node(ir::Op::Size, T().int_(), {l.code})})});
+    return ir_.node(ir::Op::Index, l.type->elem, {l.code, i.code});
   };
   if (n == 1) return let(SVal{l.type->elem, draw()});
   if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
-  ir::Stmt* c = emit(ir::SK::If);
-  c->a = node(ir::Op::Lt, T().bool_(), {a[1].code, lit(T().int_(), 1)});
-  in_block(c->body, [&] { fail("uniformChoice: the count must be at least 1"); });
+  ir::Stmt* c = ir_.emit(ir::SK::If);
+  c->a = ir_.node(ir::Op::Lt, T().bool_(), {a[1].code, ir_.lit(T().int_(), 1)});
+  ir_.in_block(c->body, [&] { fail("uniformChoice: the count must be at least 1"); });
   check_length(ir::kLengthIs, {a[1].code}, const_int(a[1]));
   charge_built(ir::kLengthIs, {a[1].code});
-  ir::Var* out = decl(l.type, nullptr, "choices");
-  ir::Stmt* loop = emit(ir::SK::ForRange);
-  loop->var = var(T().int_(), "i");
-  loop->a = lit(T().int_(), 0);
+  ir::Var* out = ir_.decl(l.type, nullptr, "choices");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForRange);
+  loop->var = ir_.var(T().int_(), "i");
+  loop->a = ir_.lit(T().int_(), 0);
   loop->b = a[1].code;
-  in_block(loop->body, [&] {
-    emit_push(local(out), draw());
+  ir_.in_block(loop->body, [&] {
+    ir_.emit_push(ir_.local(out), draw());
   });
   return built(out);
 }
@@ -190,18 +178,19 @@ SVal Specialiser::builtin_uniform_choice(std::vector<SVal>& a) {
 // ---------------------------------------------------------------------------
 // clicked, left, right, up, down
 
-SVal Specialiser::builtin_inputs(Builtin b, std::vector<SVal>& a, const Expr& at) {
-  if (b != Builtin::Clicked) {
-    const int kind = b == Builtin::Left ? 1 : b == Builtin::Right ? 2 : b == Builtin::Up ? 3 : 4;
-    return let(SVal{T().bool_(), call(ir::Helper::InputFlag, T().bool_(), {lit(T().int_(), kind)})});
-  }
-  ir::Var* r = decl(T().bool_(), lit(T().bool_(), 0), "clicked");
-  ir::Stmt* s = emit(ir::SK::If);
-  s->a = call(ir::Helper::InputFlag, T().bool_(), {lit(T().int_(), 0)});
-  in_block(s->body, [&] {
+SVal Specialiser::builtin_arrow(Builtin b, std::vector<SVal>&, const Expr&) {
+  const int kind = b == Builtin::Left ? 1 : b == Builtin::Right ? 2 : b == Builtin::Up ? 3 : 4;
+  return let(SVal{T().bool_(), ir_.call(ir::Helper::InputFlag, T().bool_(), {ir_.lit(T().int_(), kind)})});
+}
+
+SVal Specialiser::builtin_clicked(Builtin, std::vector<SVal>& a, const Expr& at) {
+  ir::Var* r = ir_.decl(T().bool_(), ir_.lit(T().bool_(), 0), "clicked");
+  ir::Stmt* s = ir_.emit(ir::SK::If);
+  s->a = ir_.call(ir::Helper::InputFlag, T().bool_(), {ir_.lit(T().int_(), 0)});
+  ir_.in_block(s->body, [&] {
     define_click();
     if (a.empty()) {
-      emit_set(local(r), lit(T().bool_(), 1));
+      ir_.emit_set(ir_.local(r), ir_.lit(T().bool_(), 1));
       return;
     }
     if (a.size() > 1) {
@@ -210,16 +199,16 @@ SVal Specialiser::builtin_inputs(Builtin b, std::vector<SVal>& a, const Expr& at
     }
     SVal elems = render_value(a[0], at);
     if (!renders(a[0].type)) return;
-    SVal pos{T().pos(), call(ir::Helper::ClickPos, T().pos(), {})};  // a plain Pos, compared by value
-    ir::Stmt* loop = emit(ir::SK::ForEach);
-    loop->var = var(T().elem(), "e");
+    SVal pos{T().pos(), ir_.call(ir::Helper::ClickPos, T().pos(), {})};  // a plain Pos, compared by value
+    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+    loop->var = ir_.var(T().elem(), "e");
     loop->a = elems.code;
-    in_block(loop->body, [&] {
-      ir::Stmt* hit = emit(ir::SK::If);
-      hit->a = node(ir::Op::Eq, T().bool_(), {member(local(loop->var), ir::Member::Position, T().pos()), pos.code});
-      in_block(hit->body, [&] {
-        emit_set(local(r), lit(T().bool_(), 1));
-        emit(ir::SK::Break);
+    ir_.in_block(loop->body, [&] {
+      ir::Stmt* hit = ir_.emit(ir::SK::If);
+      hit->a = ir_.node(ir::Op::Eq, T().bool_(), {ir_.member(ir_.local(loop->var), ir::Member::Position, T().pos()), pos.code});
+      ir_.in_block(hit->body, [&] {
+        ir_.emit_set(ir_.local(r), ir_.lit(T().bool_(), 1));
+        ir_.emit(ir::SK::Break);
       });
     });
   });
@@ -233,32 +222,31 @@ void Specialiser::define_click() {
   if (h_.runtime_defined.insert(p_.names.click).second) {
     learn("click");
   }
-  emit_set(slot(g.defined), lit(T().bool_(), 1));
+  ir_.emit_set(ir_.slot(g.defined), ir_.lit(T().bool_(), 1));
   order_insert(g.sym);
   // The pending click as a new Position (a plain Pos: no identity of its own yet).
-  ir::Node* click = call(ir::Helper::ClickPos, T().pos(), {});
-  SVal p = tracked(T().pos()) ? make_position(SVal{T().int_(), member(click, ir::Member::X, T().int_())},
-                                              SVal{T().int_(), member(click, ir::Member::Y, T().int_())})
+  ir::Node* click = ir_.call(ir::Helper::ClickPos, T().pos(), {});
+  SVal p = tracked(T().pos()) ? make_position(SVal{T().int_(), ir_.member(click, ir::Member::X, T().int_())},
+                                              SVal{T().int_(), ir_.member(click, ir::Member::Y, T().int_())})
                               : let(SVal{T().pos(), click});
-  emit_set(slot(g.value), p.code);
+  ir_.emit_set(ir_.slot(g.value), p.code);
 }
 
 // ---------------------------------------------------------------------------
 // addObj, updateObj, removeObj
 
-SVal Specialiser::builtin_objects(Builtin b, std::vector<SVal>& a, const Expr& at) {
-  const size_t n = a.size();
-  if (b == Builtin::AddObj) {
-    if (!check_kind(b, a, 0, TK::List, "a list")) return never();
-    const TK k = a[1].type->k;
-    if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell && k != TK::List) {
-      fail("addObj: the second argument must be an object or a list, got " + shown_type(type_string(a[1].type)));
-      return never();
-    }
-    return add_obj(a[0], a[1]);
+SVal Specialiser::builtin_add_obj(Builtin b, std::vector<SVal>& a, const Expr&) {
+  if (!check_kind(b, a, 0, TK::List, "a list")) return never();
+  const TK k = a[1].type->k;
+  if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell && k != TK::List) {
+    fail("addObj: the second argument must be an object or a list, got " + shown_type(type_string(a[1].type)));
+    return never();
   }
-  if (b == Builtin::UpdateObj) return update_obj(a, at);
-  // removeObj
+  return add_obj(a[0], a[1]);
+}
+
+SVal Specialiser::builtin_remove_obj(Builtin b, std::vector<SVal>& a, const Expr& at) {
+  const size_t n = a.size();
   if (n == 0) {
     fail("removeObj needs an argument (the reference interpreter crashes here)");
     return never();
@@ -283,45 +271,45 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
   TypeP et = l.type->elem;
   TypeP xt = x.type->k == TK::List ? x.type->elem : x.type;
   TypeP rt = et && xt ? T().join(et, xt) : et ? et : xt;
-  if (!rt) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list())};
+  if (!rt) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list())};
   if (is_sum(rt) && !is_typed_variant(rt)) dynamic_site("addObj mixes values of different types");
   if (et && is_sum(et) && x.type->k != TK::List)
     unsupported("addObj to a list that may hold objects of several classes");
   TypeP lt = T().list(rt);
-  ir::Node* added = x.type->k != TK::List ? lit(T().int_(), 1)
-                    : x.type->elem        ? node(ir::Op::Size, T().int_(), {x.code})
-                                          : lit(T().int_(), 0);
+  ir::Node* added = x.type->k != TK::List ? ir_.lit(T().int_(), 1)
+                    : x.type->elem        ? ir_.node(ir::Op::Size, T().int_(), {x.code})
+                                          : ir_.lit(T().int_(), 0);
   if (et) {  // an empty list gets at most the elements of x, a list already within the budget
     check_length(ir::kLengthSizePlus, {l.code, added});
     charge_built(ir::kLengthSizePlus, {l.code, added});
   } else {
     charge_built(ir::kLengthIs, {added});
   }
-  ir::Var* out = decl(lt, nullptr, "added");
+  ir::Var* out = ir_.decl(lt, nullptr, "added");
   if (et) {
-    ir::Node* extra = x.type->k == TK::List ? (x.type->elem ? node(ir::Op::Size, T().int_(), {x.code}) : lit(T().int_(), 0))
-                                            : lit(T().int_(), 1);
-    emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Add, T().int_(), {node(ir::Op::Size, T().int_(), {l.code}), extra})}));
-    ir::Stmt* loop = emit(ir::SK::ForEach);
-    loop->var = var(et, "x");
+    ir::Node* extra = x.type->k == TK::List ? (x.type->elem ? ir_.node(ir::Op::Size, T().int_(), {x.code}) : ir_.lit(T().int_(), 0))
+                                            : ir_.lit(T().int_(), 1);
+    ir_.emit_eval(ir_.call(ir::Helper::Reserve, nullptr, {ir_.local(out), ir_.node(ir::Op::Add, T().int_(), {ir_.node(ir::Op::Size, T().int_(), {l.code}), extra})}));
+    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+    loop->var = ir_.var(et, "x");
     loop->a = l.code;
-    in_block(loop->body, [&] {
-      SVal e{et, local(loop->var)};
+    ir_.in_block(loop->body, [&] {
+      SVal e{et, ir_.local(loop->var)};
       if (tracked(et)) e = renew_identity(e);
-      emit_push(local(out), coerce(e, rt).code);
+      ir_.emit_push(ir_.local(out), coerce(e, rt).code);
     });
   }
   if (x.type->k == TK::List) {
     if (x.type->elem) {
-      ir::Stmt* loop = emit(ir::SK::ForEach);
-      loop->var = var(x.type->elem, "x");
+      ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+      loop->var = ir_.var(x.type->elem, "x");
       loop->a = x.code;
-      in_block(loop->body, [&] {
-        emit_push(local(out), coerce(SVal{x.type->elem, local(loop->var)}, rt).code);
+      ir_.in_block(loop->body, [&] {
+        ir_.emit_push(ir_.local(out), coerce(SVal{x.type->elem, ir_.local(loop->var)}, rt).code);
       });
     }
   } else {
-    emit_push(local(out), coerce(x, rt).code);
+    ir_.emit_push(ir_.local(out), coerce(x, rt).code);
   }
   return built(out);
 }
@@ -329,12 +317,12 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
 // A copy of a tracked object with a fresh uid (copy_value).
 SVal Specialiser::renew_identity(const SVal& v) {
   if (is_sum(v.type)) return split(v, [&](const SVal& a) { return renew_identity(a); });
-  ir::Var* c = decl(v.type, v.code, "copy");
-  emit_set(member(local(c), ir::Member::Uid, T().int_()), call(ir::Helper::NewUid, T().int_(), {}));
+  ir::Var* c = ir_.decl(v.type, v.code, "copy");
+  ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Uid, T().int_()), ir_.call(ir::Helper::NewUid, T().int_(), {}));
   return built(c);
 }
 
-SVal Specialiser::update_obj(std::vector<SVal>& a, const Expr& at) {
+SVal Specialiser::builtin_update_obj(Builtin, std::vector<SVal>& a, const Expr& at) {
   const size_t n = a.size();
   if (n < 2 || n > 3) {
     fail("updateObj takes 2 or 3 arguments, got " + std::to_string(n));
@@ -391,16 +379,16 @@ SVal Specialiser::set_field(const SVal& o, const std::string& field, const SVal&
     return never();
   }
   if (origin && v.type->k != TK::Pos) unsupported("updateObj giving origin a value that is not a Position");
-  ir::Var* c = decl(o.type, o.code, "upd");
+  ir::Var* c = ir_.decl(o.type, o.code, "upd");
   if (origin) {
-    emit_set(member(local(c), ir::Member::Origin, T().pos()), v.code);
+    ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Origin, T().pos()), v.code);
   } else {
     widen_field(o.type->cls, index, v.type);
     TypeP ft = ci.field_types[index];
     if (!T().fits(v.type, ft)) return never();
-    emit_set(member(local(c), ir::Member::Field, ft, index), coerce(v, ft).code);
+    ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Field, ft, index), coerce(v, ft).code);
   }
-  if (tracked(o.type)) emit_set(member(local(c), ir::Member::Uid, T().int_()), call(ir::Helper::NewUid, T().int_(), {}));
+  if (tracked(o.type)) ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Uid, T().int_()), ir_.call(ir::Helper::NewUid, T().int_(), {}));
   return built(c);
 }
 
@@ -409,30 +397,30 @@ SVal Specialiser::update_filtered(const SVal& l, const SVal& f, const SVal& pred
   if (!l.type->elem) return l;
   TypeP et = l.type->elem;
   charge_built(ir::kLengthSizes, {l.code});
-  ir::Var* out = decl(l.type, nullptr, "updated");
-  emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Size, T().int_(), {l.code})}));
+  ir::Var* out = ir_.decl(l.type, nullptr, "updated");
+  ir_.emit_eval(ir_.call(ir::Helper::Reserve, nullptr, {ir_.local(out), ir_.node(ir::Op::Size, T().int_(), {l.code})}));
   SVal src = let(l, "src");
-  ir::Stmt* loop = emit(ir::SK::ForEach);
-  loop->var = var(et, "x");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  loop->var = ir_.var(et, "x");
   loop->a = src.code;
-  in_block(loop->body, [&] {
-    SVal x{et, local(loop->var)};
+  ir_.in_block(loop->body, [&] {
+    SVal x{et, ir_.local(loop->var)};
     SVal p = call1(pred, x, at);
-    if (dead_) return;
+    if (ir_.dead()) return;
     ir::Node* cond = truthy(p);
-    ir::Stmt* s = emit(ir::SK::If);
+    ir::Stmt* s = ir_.emit(ir::SK::If);
     s->a = cond;
-    in_block(s->body, [&] {
+    ir_.in_block(s->body, [&] {
       SVal y = call1(f, x, at);
-      if (dead_) return;
+      if (ir_.dead()) return;
       if (!T().fits(y.type, et)) {
         // list_add re-tags the list per element: mixed types need the tags.
         unsupported("updateObj with a filter whose function changes the element type");
       }
-      emit_push(local(out), coerce(y, et).code);
+      ir_.emit_push(ir_.local(out), coerce(y, et).code);
     });
-    in_block(s->other, [&] {
-      emit_push(local(out), x.code);
+    ir_.in_block(s->other, [&] {
+      ir_.emit_push(ir_.local(out), x.code);
     });
   });
   return built(out);
@@ -440,52 +428,52 @@ SVal Specialiser::update_filtered(const SVal& l, const SVal& f, const SVal& pred
 
 // removeObj list f / list obj / list list.
 SVal Specialiser::remove_from(const SVal& l, const SVal& what, const Expr& at) {
-  if (!l.type->elem) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list())};
+  if (!l.type->elem) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list())};
   TypeP et = l.type->elem;
   if (what.type->k != TK::Func) {
     note_identity(et);
     note_identity(what.type->k == TK::List ? what.type->elem : what.type);
   }
   SVal src = let(l, "src");
-  ir::Var* out = decl(l.type, nullptr, "kept");
-  ir::Stmt* loop = emit(ir::SK::ForEach);
-  loop->var = var(et, "x");
+  ir::Var* out = ir_.decl(l.type, nullptr, "kept");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  loop->var = ir_.var(et, "x");
   loop->a = src.code;
-  in_block(loop->body, [&] {
-    SVal x{et, local(loop->var)};
+  ir_.in_block(loop->body, [&] {
+    SVal x{et, ir_.local(loop->var)};
     ir::Node* keep = nullptr;
     if (what.type->k == TK::Func) {
       SVal p = call1(what, x, at);
-      if (dead_) return;
-      keep = node(ir::Op::Not, T().bool_(), {truthy(p)});
+      if (ir_.dead()) return;
+      keep = ir_.node(ir::Op::Not, T().bool_(), {truthy(p)});
     } else if (what.type->k != TK::List) {
       keep = same_identity_any(x, {what}) ;
-      keep = node(ir::Op::Not, T().bool_(), {keep});
+      keep = ir_.node(ir::Op::Not, T().bool_(), {keep});
     } else {
       if (!what.type->elem) {
-        keep = lit(T().bool_(), 1);
+        keep = ir_.lit(T().bool_(), 1);
       } else {
-        ir::Var* found = decl(T().bool_(), lit(T().bool_(), 0), "found");
-        ir::Stmt* inner = emit(ir::SK::ForEach);
-        inner->var = var(what.type->elem, "y");
+        ir::Var* found = ir_.decl(T().bool_(), ir_.lit(T().bool_(), 0), "found");
+        ir::Stmt* inner = ir_.emit(ir::SK::ForEach);
+        inner->var = ir_.var(what.type->elem, "y");
         inner->a = what.code;
-        in_block(inner->body, [&] {
-          ir::Node* cond = same_identity_any(x, {SVal{what.type->elem, local(inner->var)}});
-          ir::Stmt* s = emit(ir::SK::If);
+        ir_.in_block(inner->body, [&] {
+          ir::Node* cond = same_identity_any(x, {SVal{what.type->elem, ir_.local(inner->var)}});
+          ir::Stmt* s = ir_.emit(ir::SK::If);
           s->a = cond;
-          in_block(s->body, [&] {
-            emit_set(local(found), lit(T().bool_(), 1));
-            emit(ir::SK::Break);
+          ir_.in_block(s->body, [&] {
+            ir_.emit_set(ir_.local(found), ir_.lit(T().bool_(), 1));
+            ir_.emit(ir::SK::Break);
           });
         });
-        keep = node(ir::Op::Not, T().bool_(), {local(found)});
+        keep = ir_.node(ir::Op::Not, T().bool_(), {ir_.local(found)});
       }
     }
-    ir::Stmt* s = emit(ir::SK::If);
+    ir::Stmt* s = ir_.emit(ir::SK::If);
     s->a = keep;
-    in_block(s->body, [&] {
+    ir_.in_block(s->body, [&] {
       charge_one_built();
-      emit_push(local(out), x.code);
+      ir_.emit_push(ir_.local(out), x.code);
     });
   });
   return built(out);
@@ -493,16 +481,16 @@ SVal Specialiser::remove_from(const SVal& l, const SVal& what, const Expr& at) {
 
 // Whether x is a heap value with the identity number of one of `others`.
 ir::Node* Specialiser::same_identity_any(const SVal& x, const std::vector<SVal>& others) {
-  ir::Node* any = lit(T().bool_(), 0);
+  ir::Node* any = ir_.lit(T().bool_(), 0);
   for (const SVal& o : others) {
     SVal r = split(x, [&](const SVal& a) {
       return split(o, [&](const SVal& b) -> SVal {
-        if (!is_heap(a.type) || !is_heap(b.type)) return SVal{T().bool_(), lit(T().bool_(), 0)};
-        if (!tracked(a.type) || !tracked(b.type)) return SVal{T().bool_(), lit(T().bool_(), 0)};
-        return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {id_of(a), id_of(b)})});
+        if (!is_heap(a.type) || !is_heap(b.type)) return SVal{T().bool_(), ir_.lit(T().bool_(), 0)};
+        if (!tracked(a.type) || !tracked(b.type)) return SVal{T().bool_(), ir_.lit(T().bool_(), 0)};
+        return let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {id_of(a), id_of(b)})});
       });
     });
-    any = node(ir::Op::Or, T().bool_(), {any, r.code});
+    any = ir_.node(ir::Op::Or, T().bool_(), {any, r.code});
   }
   return any;
 }
@@ -511,7 +499,7 @@ ir::Node* Specialiser::same_identity_any(const SVal& x, const std::vector<SVal>&
 // object of its construction turn (x, y) -> (-y, x), in place: all those
 // objects, prev's included, turn with it. Objects of a class rotate is applied
 // to carry the group of cells they share; the state counts each group's turns.
-SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
+SVal Specialiser::builtin_rotate(Builtin, std::vector<SVal>& a, const Expr&) {
   const TK k = a[0].type->k;
   if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell) {
     fail("rotate: the argument must be an object");
@@ -528,11 +516,11 @@ SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
   }
   // Each turn wraps one of the cells' offsets once more: their number is a fixed
   // limit (limits::kMaxRotations, which the interpreter checks too).
-  ir::Stmt* deep = emit(ir::SK::If);
-  deep->a = node(ir::Op::Ge, T().bool_(), {call(ir::Helper::RotOf, T().int_(), {member(a[0].code, ir::Member::Group, T().int_())}),
-                                           lit(T().int_(), limits::kMaxRotations)});
-  in_block(deep->body, [&] { fail(limits::rotation_nesting_error()); });
-  emit_eval(call(ir::Helper::RotTurn, nullptr, {member(a[0].code, ir::Member::Group, T().int_())}));
+  ir::Stmt* deep = ir_.emit(ir::SK::If);
+  deep->a = ir_.node(ir::Op::Ge, T().bool_(), {ir_.call(ir::Helper::RotOf, T().int_(), {ir_.member(a[0].code, ir::Member::Group, T().int_())}),
+                                           ir_.lit(T().int_(), limits::kMaxRotations)});
+  ir_.in_block(deep->body, [&] { fail(limits::rotation_nesting_error()); });
+  ir_.emit_eval(ir_.call(ir::Helper::RotTurn, nullptr, {ir_.member(a[0].code, ir::Member::Group, T().int_())}));
   if (!tracked(a[0].type)) return a[0];
   return renew_identity(a[0]);
 }
@@ -540,11 +528,11 @@ SVal Specialiser::builtin_rotate(std::vector<SVal>& a) {
 // ---------------------------------------------------------------------------
 // defined, allObjs, prev (as a value), removeObj of one object
 
-SVal Specialiser::builtin_globals(Builtin b, std::vector<SVal>& a, const Expr& at) {
-  if (b == Builtin::Prev) {
-    return prev_of_value(a[0], at);
-  }
-  if (b == Builtin::AllObjs) return all_objs();
+SVal Specialiser::builtin_prev(Builtin, std::vector<SVal>& a, const Expr& at) { return prev_of_value(a[0], at); }
+
+SVal Specialiser::builtin_all_objs(Builtin, std::vector<SVal>&, const Expr&) { return all_objs(); }
+
+SVal Specialiser::builtin_defined(Builtin, std::vector<SVal>& a, const Expr&) {
   if (a[0].type->k != TK::Str) {
     fail("defined: the argument must be a string");
     return never();
@@ -554,9 +542,9 @@ SVal Specialiser::builtin_globals(Builtin b, std::vector<SVal>& a, const Expr& a
   if (!name.empty() && name[0] == '"') name = name.substr(1, name.size() - 2);
   Sym s = p_.symbols.find(name);
   Global* g = s >= 0 ? global(s) : nullptr;
-  if (!g || g->state == Global::Undefined) return SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)};
-  if (g->state == Global::Defined) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
-  return let(SVal{T().bool_(), slot(g->defined)});
+  if (!g || g->state == Global::Undefined) return SVal{T().bool_(), ir_.lit(T().bool_(), 0), ir_.lit(T().bool_(), 0)};
+  if (g->state == Global::Defined) return SVal{T().bool_(), ir_.lit(T().bool_(), 1), ir_.lit(T().bool_(), 1)};
+  return let(SVal{T().bool_(), ir_.slot(g->defined)});
 }
 
 }  // namespace autumn::lower

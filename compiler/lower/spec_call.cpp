@@ -46,10 +46,10 @@ SVal Specialiser::lower_call(const Expr& e) {
   const size_t nargs = e.kids.size() - 1;
   if (e.kids[0]->kind == ExprKind::Get && e.kids[0]->name == p_.names.render) return call_render(e);
   SVal callee = lower(*e.kids[0]);
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   auto args_of = [&]() {
     std::vector<SVal> args;
-    for (size_t i = 1; i <= nargs && !dead_; ++i) args.push_back(let(lower_value(*e.kids[i]), "arg"));
+    for (size_t i = 1; i <= nargs && !ir_.dead(); ++i) args.push_back(let(lower_value(*e.kids[i]), "arg"));
     return args;
   };
   if (callee.type && callee.type->k == TK::Class) {
@@ -61,7 +61,7 @@ SVal Specialiser::lower_call(const Expr& e) {
     }
     if (c == kCellClass) return construct_cell(e);
     std::vector<SVal> args = args_of();
-    if (dead_) return never();
+    if (ir_.dead()) return never();
     if (c == kPositionClass || c == kElemClass) return construct_builtin_class(c, args);
     return construct(c, args, e);
   }
@@ -75,7 +75,7 @@ SVal Specialiser::lower_call(const Expr& e) {
     return never();
   }
   std::vector<SVal> args = args_of();
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   return call_value(callee, args, e);
 }
 
@@ -86,7 +86,7 @@ SVal Specialiser::call_render(const Expr& e) {
   loc_stack_.push_back(&get);
   SVal o = lower_value(*get.kids[0]);
   loc_stack_.pop_back();
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   return split(o, [&](const SVal& x) -> SVal {
     bool field_named_render = false;
     if (x.type->k == TK::Obj)
@@ -94,10 +94,10 @@ SVal Specialiser::call_render(const Expr& e) {
     loc_stack_.push_back(&get);
     SVal f = x.type->k == TK::Obj && !field_named_render ? SVal{} : get_field(x, p_.names.render, get.text);
     loc_stack_.pop_back();
-    if (dead_) return never();
+    if (ir_.dead()) return never();
     std::vector<SVal> args;
-    for (size_t i = 1; i < e.kids.size() && !dead_; ++i) args.push_back(let(lower_value(*e.kids[i]), "arg"));
-    if (dead_) return never();
+    for (size_t i = 1; i < e.kids.size() && !ir_.dead(); ++i) args.push_back(let(lower_value(*e.kids[i]), "arg"));
+    if (ir_.dead()) return never();
     if (!f.type) return render_value(x, e);
     return call_value(f, args, e);
   });
@@ -172,12 +172,12 @@ SVal Specialiser::inline_lambda(const Expr& lambda, std::vector<SVal>& args, con
   if (inline_sigs_.size() > 64) unsupported("calls nested too deeply to inline");
   SScope* sc = push_scope(kind, &lambda);
   for (size_t i = 0; i < lambda.params.size(); ++i) bind(*sc, lambda.params[i], args[i], {&lambda, lambda.params[i]});
-  if (lambda.loc.source == SourceId::Program) comment("inlined: function at " + where(lambda.loc));
+  if (lambda.loc.source == SourceId::Program) ir_.comment("inlined: function at " + where(lambda.loc));
   inline_sigs_.emplace_back(&lambda, sig);
   SVal r = lower(*lambda.kids[0]);
   inline_sigs_.pop_back();
   pop_scope();
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   if (!r.type || r.type->k == TK::Class) {
     fail("the function body has no value");
     return never();
@@ -196,11 +196,11 @@ void Specialiser::bind(SScope& sc, Sym p, const SVal& v, std::pair<const void*, 
   b.key = key;
   b.type = v.type;
   b.konst = v.konst;
-  b.home = block_;
+  b.home = ir_.block();
   if (h_.mutable_bindings.count(key) && v.code && v.type->k != TK::Never) {
     if (auto it = h_.locals.find(key); it != h_.locals.end()) b.type = T().join(it->second, v.type);
-    ir::Var* x = decl(b.type, coerce(v, b.type).code, "a_" + nm(p));
-    b.place = local(x);
+    ir::Var* x = ir_.decl(b.type, coerce(v, b.type).code, "a_" + nm(p));
+    b.place = ir_.local(x);
     b.mut = true;
   } else {
     b.place = v.code;
@@ -210,7 +210,7 @@ void Specialiser::bind(SScope& sc, Sym p, const SVal& v, std::pair<const void*, 
 
 SVal Specialiser::built(ir::Var* v) {
   v->mut = false;
-  return SVal{v->type, local(v), nullptr, true};
+  return SVal{v->type, ir_.local(v), nullptr, true};
 }
 
 // ---------------------------------------------------------------------------
@@ -236,7 +236,7 @@ SVal Specialiser::construct_builtin_class(int c, std::vector<SVal>& args) {
       }
       return a;
     });
-    if (dead_) return never();
+    if (ir_.dead()) return never();
     args[i] = coerce(ok, want[i].second);
   }
   // A coordinate that is never computed (a value the walk only reaches where
@@ -244,14 +244,14 @@ SVal Specialiser::construct_builtin_class(int c, std::vector<SVal>& args) {
   // a MakePos with a null operand crashed the printer).
   if (args[0].type->k == TK::Never || args[1].type->k == TK::Never) return never();
   if (pos) return make_position(args[0], args[1]);
-  return fresh_identity(let(SVal{T().elem(), node(ir::Op::MakeElem, T().elem(), {args[0].code, args[1].code})}));
+  return fresh_identity(let(SVal{T().elem(), ir_.node(ir::Op::MakeElem, T().elem(), {args[0].code, args[1].code})}));
 }
 
 SVal Specialiser::make_position(SVal x, SVal y) {
-  SVal v{T().pos(), node(ir::Op::MakePos, T().pos(), {x.code, y.code})};
-  if (x.konst && y.konst) v.konst = node(ir::Op::MakePos, T().pos(), {x.konst, y.konst});
+  SVal v{T().pos(), ir_.node(ir::Op::MakePos, T().pos(), {x.code, y.code})};
+  if (x.konst && y.konst) v.konst = ir_.node(ir::Op::MakePos, T().pos(), {x.konst, y.konst});
   if (tracked(T().pos())) {  // every Position the reference makes is a new object
-    v.code->a.push_back(call(ir::Helper::NewUid, T().int_(), {}));
+    v.code->a.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
     v = let(v);
   } else if (const_int(x) && const_int(y)) {
     v.code = v.konst;
@@ -281,26 +281,26 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
   constructing_.push_back(cls);
   const Expr& made = *ctor.kids[0];
   std::vector<SVal> values;
-  for (size_t i = 0; i + 1 < made.kids.size() && !dead_; ++i) values.push_back(let(lower_value(*made.kids[i])));
+  for (size_t i = 0; i + 1 < made.kids.size() && !ir_.dead(); ++i) values.push_back(let(lower_value(*made.kids[i])));
   // The cells are computed aside: when every object of the class gets the same
   // constant cells and computing them has no effect, the objects do not carry
   // them and nothing of that computation needs to run.
   ir::Block cells_block;
   SVal cells;
-  const size_t effects_before = effects_;
-  bool died = dead_;
+  const size_t effects_before = ir_.effects();
+  bool died = ir_.dead();
   if (!died)
-    in_block(cells_block, [&] {
+    ir_.in_block(cells_block, [&] {
       cells = lower_value(*made.kids.back());
-      died = dead_;
+      died = ir_.dead();
     });
   constructing_.pop_back();
-  const bool pure = effects_ == effects_before && !has_fail(cells_block);
+  const bool pure = ir_.effects() == effects_before && !has_fail(cells_block);
   const bool shared = !h_.stored_cells.count(cls) && !tracked(T().cell()) && cells.konst;
-  if (!(pure && shared) && !dead_) block_->insert(block_->end(), cells_block.begin(), cells_block.end());
-  dead_ = dead_ || died;
+  if (!(pure && shared) && !ir_.dead()) ir_.block()->insert(ir_.block()->end(), cells_block.begin(), cells_block.end());
+  if (died) ir_.kill();
   pop_scope();
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   (void)at;
   return make_instance(cls, values, cells);
 }
@@ -325,7 +325,7 @@ SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& 
                shown_type(type_string(v.type)));
         return v;
       });
-      if (dead_) return never();
+      if (ir_.dead()) return never();
     }
     widen_field(cls, static_cast<int>(i), values[i].type);
   }
@@ -338,13 +338,13 @@ SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& 
   for (size_t i = 0; i < ci.fields.size(); ++i) {
     TypeP ft = ci.field_types[i] ? ci.field_types[i] : values[i].type;
     if (!T().fits(values[i].type, ft)) return never();  // widened: the next walk
-    ops.push_back(values[i].code ? coerce(values[i], ft).code : lit(T().int_(), 0));
+    ops.push_back(values[i].code ? coerce(values[i], ft).code : ir_.lit(T().int_(), 0));
   }
   ops.push_back(values.back().code);
   if (!object_cells(cls, cells, ops)) return never();
-  if (tracked(T().obj(cls))) ops.push_back(call(ir::Helper::NewUid, T().int_(), {}));
-  if (h_.rotated.count(cls)) ops.push_back(call(ir::Helper::NewUid, T().int_(), {}));  // a new group of cells
-  ir::Node* n = node(ir::Op::MakeObj, T().obj(cls), ops);
+  if (tracked(T().obj(cls))) ops.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
+  if (h_.rotated.count(cls)) ops.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));  // a new group of cells
+  ir::Node* n = ir_.node(ir::Op::MakeObj, T().obj(cls), ops);
   n->index = cls;
   return fresh_identity(let(SVal{T().obj(cls), n}, "o"));
 }
@@ -378,12 +378,12 @@ SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) 
             learn("field '" + raw + "'");
             return never();
           }
-          return let(SVal{ft, member(o.code, ir::Member::Field, ft, static_cast<int>(i))});
+          return let(SVal{ft, ir_.member(o.code, ir::Member::Field, ft, static_cast<int>(i))});
         }
-      if (field == p_.names.origin) return let(SVal{T().pos(), member(o.code, ir::Member::Origin, T().pos())});
+      if (field == p_.names.origin) return let(SVal{T().pos(), ir_.member(o.code, ir::Member::Origin, T().pos())});
       if (field == p_.names.elems) return object_cell_list(o);
       if (field == p_.names.render) {
-        bound_[o.type->cls] = BoundMethod{o, block_};
+        bound_[o.type->cls] = BoundMethod{o, ir_.block()};
         return SVal{T().func(FuncRef{FuncRef::Method, nullptr, Builtin::Map, o.type->cls}), nullptr};
       }
       fail("object of class '" + ci.name + "' has no field '" + raw + "'");
@@ -395,18 +395,18 @@ SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) 
         ir::Node* k = o.konst->a[field == n.x ? 0 : 1];
         return SVal{T().int_(), k, k};
       }
-      return let(SVal{T().int_(), member(o.code, field == n.x ? ir::Member::X : ir::Member::Y, T().int_())});
+      return let(SVal{T().int_(), ir_.member(o.code, field == n.x ? ir::Member::X : ir::Member::Y, T().int_())});
     }
     if (o.type->k == TK::Elem && field == n.position) {
-      ir::Node* at = member(o.code, ir::Member::Position, T().pos());
+      ir::Node* at = ir_.member(o.code, ir::Member::Position, T().pos());
       if (!tracked(T().pos())) return let(SVal{T().pos(), at});
       SVal p{T().pos(), at};
       // The rendered element's Position, with an identity of its own (the
       // reference's same object on every read: not modelled).
-      return make_position(SVal{T().int_(), member(p.code, ir::Member::X, T().int_())},
-                           SVal{T().int_(), member(p.code, ir::Member::Y, T().int_())});
+      return make_position(SVal{T().int_(), ir_.member(p.code, ir::Member::X, T().int_())},
+                           SVal{T().int_(), ir_.member(p.code, ir::Member::Y, T().int_())});
     }
-    if (o.type->k == TK::Elem && field == n.color) return let(SVal{T().str(), member(o.code, ir::Member::Color, T().str())});
+    if (o.type->k == TK::Elem && field == n.color) return let(SVal{T().str(), ir_.member(o.code, ir::Member::Color, T().str())});
     if (o.type->k == TK::Cell && (field == n.x || field == n.y || field == n.color))
       return SVal{T().deferred(field == n.x ? 0 : field == n.y ? 1 : 2), o.code, o.konst};
     if (o.type->k == TK::Pos || o.type->k == TK::Elem || o.type->k == TK::Cell) {
@@ -426,7 +426,7 @@ SVal Specialiser::instance_field(const SVal& v, Sym f) { return get_field(v, f, 
 // Lists
 
 SVal Specialiser::make_list(const std::vector<SVal>& items) {
-  if (items.empty()) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list()), node(ir::Op::MakeList, T().empty_list())};
+  if (items.empty()) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
   TypeP et = T().never();
   for (const SVal& v : items) et = T().join(et, v.type);
   if (et->k == TK::Never) return never();
@@ -440,8 +440,8 @@ SVal Specialiser::make_list(const std::vector<SVal>& items) {
     if (v.konst && v.type == et) konsts.push_back(v.konst);
     else all_const = false;
   }
-  SVal out{lt, node(ir::Op::MakeList, lt, codes)};
-  if (all_const) out.konst = node(ir::Op::MakeList, lt, konsts);
+  SVal out{lt, ir_.node(ir::Op::MakeList, lt, codes)};
+  if (all_const) out.konst = ir_.node(ir::Op::MakeList, lt, konsts);
   out.fresh = true;
   out.parts = codes;
   return let(out, "list");

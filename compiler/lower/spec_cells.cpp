@@ -106,25 +106,25 @@ SVal Specialiser::construct_cell(const Expr& e) {
   std::vector<ir::Node*> ops, konsts;
   bool known = true;
   for (size_t i = 0; i < 3; ++i) {
-    ir::Node* value = fields[i].code ? fields[i].code : lit(T().int_(), 0);
+    ir::Node* value = fields[i].code ? fields[i].code : ir_.lit(T().int_(), 0);
     ops.push_back(value);
-    ir::Node* k = fields[i].code ? fields[i].konst : lit(T().int_(), 0);
+    ir::Node* k = fields[i].code ? fields[i].konst : ir_.lit(T().int_(), 0);
     if (!k) known = false;
     konsts.push_back(k);
   }
   for (int d : deferred) {
-    ops.push_back(lit(T().int_(), d));
-    konsts.push_back(lit(T().int_(), d));
+    ops.push_back(ir_.lit(T().int_(), d));
+    konsts.push_back(ir_.lit(T().int_(), d));
   }
-  SVal out{T().cell(), node(ir::Op::MakeCell, T().cell(), ops)};
-  if (known) out.konst = node(ir::Op::MakeCell, T().cell(), konsts);
+  SVal out{T().cell(), ir_.node(ir::Op::MakeCell, T().cell(), ops)};
+  if (known) out.konst = ir_.node(ir::Op::MakeCell, T().cell(), konsts);
   if (deferred[2] < 0) {
     m_.number_colours.push_back(Module::NumberColour{e.kids[3].get(), constructing_});
     out.code->index = static_cast<int>(m_.number_colours.size());
     if (out.konst) out.konst->index = out.code->index;
   }
   if (tracked(T().cell())) {
-    out.code->a.push_back(call(ir::Helper::NewUid, T().int_(), {}));
+    out.code->a.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
     out.konst = nullptr;
   }
   if (known && !tracked(T().cell())) out.code = out.konst;
@@ -139,16 +139,16 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
   std::vector<SScope*> saved = chain_;
   chain_ = {&capture};
   ++capture_mode_;
-  capture_block_ = block_;
+  capture_block_ = ir_.block();
   trial_failed_ = false;
-  const size_t effects_before = effects_;
-  const bool was_dead = dead_;
+  const size_t effects_before = ir_.effects();
+  const bool was_dead = ir_.dead();
   SVal v = lower_value(arg);
-  const bool failed = trial_failed_ || (dead_ && !was_dead);
-  dead_ = was_dead;
+  const bool failed = trial_failed_ || (ir_.dead() && !was_dead);
+  ir_.set_dead(was_dead);
   --capture_mode_;
   chain_ = saved;
-  const bool pure = effects_ == effects_before;
+  const bool pure = ir_.effects() == effects_before;
   if (!failed && v.type->k == TK::Int) {
     *deferred_index = -1;
     return v;
@@ -190,7 +190,7 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
     *deferred_index = static_cast<int>(m_.deferred.size() - 1);
   }
   if (d.fixed) return v;
-  return SVal{T().int_(), lit(T().int_(), 0), lit(T().int_(), 0)};
+  return SVal{T().int_(), ir_.lit(T().int_(), 0), ir_.lit(T().int_(), 0)};
 }
 
 // ---------------------------------------------------------------------------
@@ -237,7 +237,7 @@ SVal Specialiser::object_cell_list(const SVal& o) {
       learn("cells of '" + ci.name + "' carry identities");
       return never();
     }
-    return let(SVal{lt, member(o.code, ir::Member::Cells, lt)});
+    return let(SVal{lt, ir_.member(o.code, ir::Member::Cells, lt)});
   }
   if (!ci.static_shape) {
     learn("cells of '" + ci.name + "'");
@@ -300,7 +300,7 @@ SVal Specialiser::call_deferred(const SVal& f) {
     if (da.arg == which && !da.fixed) unsupported("evaluating a cell argument of a cell made elsewhere");
   TypeP t = which == 2 ? T().str() : T().int_();
   if (which == 2) unsupported("the colour of a cell made elsewhere, as a value");
-  return let(SVal{t, member(f.code, m, t)});
+  return let(SVal{t, ir_.member(f.code, m, t)});
 }
 
 // ---------------------------------------------------------------------------
@@ -316,17 +316,17 @@ void Specialiser::render_into(const SVal& v, const ElemSink& sink) {
     case TK::Obj: render_object(v, sink); return;
     case TK::List: {
       if (!v.type->elem || !renders(v.type->elem)) return;
-      ir::Stmt* loop = emit(ir::SK::ForEach);
-      loop->var = var(v.type->elem, "x");
+      ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+      loop->var = ir_.var(v.type->elem, "x");
       loop->a = v.code;
-      in_block(loop->body, [&] { render_into(SVal{v.type->elem, local(loop->var)}, sink); });
+      ir_.in_block(loop->body, [&] { render_into(SVal{v.type->elem, ir_.local(loop->var)}, sink); });
       return;
     }
     case TK::Sum:
       if (!renders(v.type)) return;
       split(v, [&](const SVal& a) {
         render_into(a, sink);
-        return SVal{T().int_(), lit(T().int_(), 0)};
+        return SVal{T().int_(), ir_.lit(T().int_(), 0)};
       });
       return;
     default:
@@ -335,7 +335,7 @@ void Specialiser::render_into(const SVal& v, const ElemSink& sink) {
 }
 
 void Specialiser::render_into(const SVal& v, ir::Node* out) {
-  render_into(v, [&](ir::Node* elem) { emit_push(out, elem); });
+  render_into(v, [&](ir::Node* elem) { ir_.emit_push(out, elem); });
 }
 
 bool Specialiser::renders(TypeP t) const {
@@ -349,12 +349,12 @@ bool Specialiser::renders(TypeP t) const {
 
 SVal Specialiser::render_value(const SVal& v, const Expr& at) {
   (void)at;
-  ir::Var* out = var(T().list(T().elem()), "rendered");
+  ir::Var* out = ir_.var(T().list(T().elem()), "rendered");
   out->scratch = true;
   out->mut = true;
-  ir::Stmt* d = emit(ir::SK::Decl);
+  ir::Stmt* d = ir_.emit(ir::SK::Decl);
   d->var = out;
-  if (renders(v.type)) render_into(v, local(out));
+  if (renders(v.type)) render_into(v, ir_.local(out));
   return built(out);
 }
 
@@ -362,17 +362,17 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
   const int cls = o.type->cls;
   ClassInfo& ci = m_.classes[cls];
   if (h_.stored_cells.count(cls)) {  // the class's render function, into a buffer
-    ir::Var* out = var(T().list(T().elem()), "cells");
+    ir::Var* out = ir_.var(T().list(T().elem()), "cells");
     out->scratch = true;
     out->mut = true;
-    emit(ir::SK::Decl)->var = out;
-    ir::Node* n = node(ir::Op::FnCall, nullptr, {o.code, local(out)});
+    ir_.emit(ir::SK::Decl)->var = out;
+    ir::Node* n = ir_.node(ir::Op::FnCall, nullptr, {o.code, ir_.local(out)});
     n->index = -1 - cls;  // settled to the class's render function in finish_classes
-    emit_eval(n);
-    ir::Stmt* loop = emit(ir::SK::ForEach);
-    loop->var = var(T().elem(), "e");
-    loop->a = local(out);
-    in_block(loop->body, [&] { sink(local(loop->var)); });
+    ir_.emit_eval(n);
+    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+    loop->var = ir_.var(T().elem(), "e");
+    loop->a = ir_.local(out);
+    ir_.in_block(loop->body, [&] { sink(ir_.local(loop->var)); });
     return;
   }
   if (!ci.static_shape) {
@@ -380,10 +380,10 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
     return;
   }
   SVal ov = let(o, "obj");
-  ir::Node* origin = member(ov.code, ir::Member::Origin, T().pos());
+  ir::Node* origin = ir_.member(ov.code, ir::Member::Origin, T().pos());
   SVal turns;
   if (h_.rotated.count(cls))
-    turns = let(SVal{T().int_(), call(ir::Helper::RotOf, T().int_(), {member(ov.code, ir::Member::Group, T().int_())})});
+    turns = let(SVal{T().int_(), ir_.call(ir::Helper::RotOf, T().int_(), {ir_.member(ov.code, ir::Member::Group, T().int_())})});
   if (tabulable(*ci.static_shape)) {
     ci.shape_table = true;
     render_shape_table(cls, origin, turns, sink);
@@ -402,16 +402,16 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
       return v;
     };
     SVal cx = offset(0, dx), cy = offset(1, dy);
-    if (dead_) return;
+    if (ir_.dead()) return;
     ir::Node* ox = cx.code;
     ir::Node* oy = cy.code;
     if (turns.code) {  // rotate turned this object's cells
-      SVal r = let(SVal{T().pos(), call(ir::Helper::Rotated, T().pos(), {turns.code, cx.code, cy.code})});
-      ox = member(r.code, ir::Member::X, T().int_());
-      oy = member(r.code, ir::Member::Y, T().int_());
+      SVal r = let(SVal{T().pos(), ir_.call(ir::Helper::Rotated, T().pos(), {turns.code, cx.code, cy.code})});
+      ox = ir_.member(r.code, ir::Member::X, T().int_());
+      oy = ir_.member(r.code, ir::Member::Y, T().int_());
     }
-    SVal x{T().int_(), node(ir::Op::Add, T().int_(), {member(origin, ir::Member::X, T().int_()), ox})};
-    SVal y{T().int_(), node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), oy})};
+    SVal x{T().int_(), ir_.node(ir::Op::Add, T().int_(), {ir_.member(origin, ir::Member::X, T().int_()), ox})};
+    SVal y{T().int_(), ir_.node(ir::Op::Add, T().int_(), {ir_.member(origin, ir::Member::Y, T().int_()), oy})};
     SVal colour;
     if (dc < 0) {
       const Expr* arg = c->index > 0 ? m_.number_colours[c->index - 1].expr : nullptr;
@@ -420,8 +420,8 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
     }
     if (m_.deferred[dc].fixed) colour = SVal{T().str(), c->a[2]};
     else colour = deferred_colour(dc, ov, cell);
-    if (dead_) return;
-    sink(node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {x.code, y.code}), colour.code}));
+    if (ir_.dead()) return;
+    sink(ir_.node(ir::Op::MakeElem, T().elem(), {ir_.node(ir::Op::MakePos, T().pos(), {x.code, y.code}), colour.code}));
   }
 }
 
@@ -447,25 +447,25 @@ bool Specialiser::tabulable(const ir::Node& shape) const {
 // doing what the unrolled cells do, in the same order. Like them it charges
 // nothing to the loop budget (its length is a constant of the program).
 void Specialiser::render_shape_table(int cls, ir::Node* origin, const SVal& turns, const ElemSink& sink) {
-  ir::Node* cells = node(ir::Op::Shape, T().list(T().cell()));
+  ir::Node* cells = ir_.node(ir::Op::Shape, T().list(T().cell()));
   cells->index = cls;
-  ir::Stmt* loop = emit(ir::SK::ForEach);
-  loop->var = var(T().cell(), "cell");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  loop->var = ir_.var(T().cell(), "cell");
   loop->a = cells;
   loop->charged = false;
-  in_block(loop->body, [&] {
-    ir::Node* c = local(loop->var);
-    ir::Node* ox = member(c, ir::Member::CellX, T().int_());
-    ir::Node* oy = member(c, ir::Member::CellY, T().int_());
+  ir_.in_block(loop->body, [&] {
+    ir::Node* c = ir_.local(loop->var);
+    ir::Node* ox = ir_.member(c, ir::Member::CellX, T().int_());
+    ir::Node* oy = ir_.member(c, ir::Member::CellY, T().int_());
     if (turns.code) {  // rotate turned this object's cells
-      SVal r = let(SVal{T().pos(), call(ir::Helper::Rotated, T().pos(), {turns.code, ox, oy})});
-      ox = member(r.code, ir::Member::X, T().int_());
-      oy = member(r.code, ir::Member::Y, T().int_());
+      SVal r = let(SVal{T().pos(), ir_.call(ir::Helper::Rotated, T().pos(), {turns.code, ox, oy})});
+      ox = ir_.member(r.code, ir::Member::X, T().int_());
+      oy = ir_.member(r.code, ir::Member::Y, T().int_());
     }
-    ir::Node* x = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::X, T().int_()), ox});
-    ir::Node* y = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), oy});
-    ir::Node* colour = member(c, ir::Member::CellColour, T().str());
-    sink(node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {x, y}), colour}));
+    ir::Node* x = ir_.node(ir::Op::Add, T().int_(), {ir_.member(origin, ir::Member::X, T().int_()), ox});
+    ir::Node* y = ir_.node(ir::Op::Add, T().int_(), {ir_.member(origin, ir::Member::Y, T().int_()), oy});
+    ir::Node* colour = ir_.member(c, ir::Member::CellColour, T().str());
+    sink(ir_.node(ir::Op::MakeElem, T().elem(), {ir_.node(ir::Op::MakePos, T().pos(), {x, y}), colour}));
   });
 }
 
@@ -490,7 +490,7 @@ SVal Specialiser::deferred_colour(int d, const SVal& o, const SVal& cell) {
     v = eval_deferred(d, &o, cell);
   } else {
     int fn = colour_function(d, o.type->cls, cell);
-    ir::Node* n = node(ir::Op::FnCall, T().str(), {o.code});
+    ir::Node* n = ir_.node(ir::Op::FnCall, T().str(), {o.code});
     n->index = fn;
     v = let(SVal{T().str(), n}, "colour");
   }
@@ -513,32 +513,26 @@ int Specialiser::colour_function(int d, int cls, const SVal& cell) {
   f->name = "colour_" + std::to_string(d) + "_" + m_.classes[cls].cpp;
   f->kind = ir::Function::Colour;
   f->ret = T().str();
-  ir::Var* o = var(T().obj(cls), "o");
+  ir::Var* o = ir_.var(T().obj(cls), "o");
   f->params.push_back(o);
   // Specialised with only the globals around it (the caller check above).
-  ir::Function* saved_fn = fn_;
-  ir::Block* saved_block = block_;
+  const IrBuilder::Point saved = ir_.point();
   std::vector<SScope*> saved_chain = chain_;
-  const bool was_dead = dead_;
-  fn_ = f;
-  block_ = &f->body;
+  ir_.begin_function(f);
   chain_.clear();
-  dead_ = false;
-  SVal ov{T().obj(cls), local(o)};
+  SVal ov{T().obj(cls), ir_.local(o)};
   SVal v = eval_deferred(d, &ov, cell);
-  if (!dead_ && v.type->k == TK::Str) emit(ir::SK::Return)->a = v.code;
-  else if (!dead_)
+  if (!ir_.dead() && v.type->k == TK::Str) ir_.emit(ir::SK::Return)->a = v.code;
+  else if (!ir_.dead())
     fail_at_cell_arg(m_.deferred[d].expr, "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type)));
-  fn_ = saved_fn;
-  block_ = saved_block;
+  ir_.restore(saved);
   chain_ = saved_chain;
-  dead_ = was_dead;
   return index;
 }
 
 SVal Specialiser::call_render_method(int cls) {
   auto it = bound_.find(cls);
-  if (it == bound_.end() || it->second.block != block_)
+  if (it == bound_.end() || it->second.block != ir_.block())
     unsupported("a render method called away from where it was fetched");
   return render_value(it->second.obj, *loc_stack_.back());
 }
@@ -580,24 +574,22 @@ int Specialiser::stored_render_function(int cls) {
   const int index = static_cast<int>(m_.functions.size() - 1);
   f->name = "render_" + m_.classes[cls].cpp;
   f->kind = ir::Function::Helper;
-  ir::Var* o = var(T().obj(cls), "o");
-  ir::Var* out = var(T().list(T().elem()), "out");
+  ir::Var* o = ir_.var(T().obj(cls), "o");
+  ir::Var* out = ir_.var(T().list(T().elem()), "out");
   out->mut = true;
   f->params = {o, out};
-  fn_ = f;
-  block_ = &f->body;
+  ir_.begin_function(f);
   chain_.clear();
-  dead_ = false;
-  SVal ov{T().obj(cls), local(o)};
-  ir::Node* origin = member(local(o), ir::Member::Origin, T().pos());
-  ir::Stmt* loop = emit(ir::SK::ForEach);
-  loop->var = var(T().cell(), "c");
-  loop->a = member(local(o), ir::Member::Cells, T().list(T().cell()));
-  in_block(loop->body, [&] {
-    SVal cell{T().cell(), local(loop->var)};
+  SVal ov{T().obj(cls), ir_.local(o)};
+  ir::Node* origin = ir_.member(ir_.local(o), ir::Member::Origin, T().pos());
+  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  loop->var = ir_.var(T().cell(), "c");
+  loop->a = ir_.member(ir_.local(o), ir::Member::Cells, T().list(T().cell()));
+  ir_.in_block(loop->body, [&] {
+    SVal cell{T().cell(), ir_.local(loop->var)};
     auto arg = [&](int which, ir::Member m, TypeP t) -> SVal {
       // The value in the cell, unless its argument is live: then evaluated here.
-      ir::Var* r = decl(t, member(local(loop->var), m, t), which == 0 ? "x" : which == 1 ? "y" : "colour");
+      ir::Var* r = ir_.decl(t, ir_.member(ir_.local(loop->var), m, t), which == 0 ? "x" : which == 1 ? "y" : "colour");
       ir::Member dm = which == 0 ? ir::Member::CellDx : which == 1 ? ir::Member::CellDy : ir::Member::CellDc;
       std::vector<int> live;
       for (size_t d = 0; d < m_.deferred.size(); ++d) {
@@ -606,13 +598,13 @@ int Specialiser::stored_render_function(int cls) {
         if (da.arg == which && !da.fixed && here) live.push_back(static_cast<int>(d));
       }
       if (!live.empty()) {
-        ir::Stmt* sw = emit(ir::SK::Switch);
-        sw->a = member(local(loop->var), dm, T().int_());
+        ir::Stmt* sw = ir_.emit(ir::SK::Switch);
+        sw->a = ir_.member(ir_.local(loop->var), dm, T().int_());
         for (int d : live) {
           sw->cases.emplace_back(d, ir::Block{});
-          in_block(sw->cases.back().second, [&] {
+          ir_.in_block(sw->cases.back().second, [&] {
             SVal v = eval_deferred(d, &ov, cell);
-            if (v.type == t) emit_set(local(r), v.code);
+            if (v.type == t) ir_.emit_set(ir_.local(r), v.code);
             else if (v.type->k != TK::Never)
               fail_at_cell_arg(m_.deferred[d].expr,
                                which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type))
@@ -620,27 +612,27 @@ int Specialiser::stored_render_function(int cls) {
           });
         }
       }
-      return SVal{t, local(r)};
+      return SVal{t, ir_.local(r)};
     };
     SVal x = arg(0, ir::Member::CellX, T().int_());
     SVal y = arg(1, ir::Member::CellY, T().int_());
     ir::Node* ox = x.code;
     ir::Node* oy = y.code;
     if (h_.rotated.count(cls)) {
-      ir::Node* turns = call(ir::Helper::RotOf, T().int_(), {member(local(o), ir::Member::Group, T().int_())});
-      SVal r = let(SVal{T().pos(), call(ir::Helper::Rotated, T().pos(), {turns, x.code, y.code})});
-      ox = member(r.code, ir::Member::X, T().int_());
-      oy = member(r.code, ir::Member::Y, T().int_());
+      ir::Node* turns = ir_.call(ir::Helper::RotOf, T().int_(), {ir_.member(ir_.local(o), ir::Member::Group, T().int_())});
+      SVal r = let(SVal{T().pos(), ir_.call(ir::Helper::Rotated, T().pos(), {turns, x.code, y.code})});
+      ox = ir_.member(r.code, ir::Member::X, T().int_());
+      oy = ir_.member(r.code, ir::Member::Y, T().int_());
     }
-    ir::Node* px = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::X, T().int_()), ox});
-    ir::Node* py = node(ir::Op::Add, T().int_(), {member(origin, ir::Member::Y, T().int_()), oy});
-    ir::Stmt* bad = emit(ir::SK::If);
-    bad->a = node(ir::Op::Eq, T().bool_(), {member(local(loop->var), ir::Member::CellDc, T().int_()), lit(T().int_(), -1)});
-    in_block(bad->body, [&] {
+    ir::Node* px = ir_.node(ir::Op::Add, T().int_(), {ir_.member(origin, ir::Member::X, T().int_()), ox});
+    ir::Node* py = ir_.node(ir::Op::Add, T().int_(), {ir_.member(origin, ir::Member::Y, T().int_()), oy});
+    ir::Stmt* bad = ir_.emit(ir::SK::If);
+    bad->a = ir_.node(ir::Op::Eq, T().bool_(), {ir_.member(ir_.local(loop->var), ir::Member::CellDc, T().int_()), ir_.lit(T().int_(), -1)});
+    ir_.in_block(bad->body, [&] {
       fail_at_cell_arg(number_colour_of(cls), "field 'color' of 'RenderedElem' must be String, got Number");
     });
     SVal colour = arg(2, ir::Member::CellColour, T().str());
-    emit_push(local(out), node(ir::Op::MakeElem, T().elem(), {node(ir::Op::MakePos, T().pos(), {px, py}), colour.code}));
+    ir_.emit_push(ir_.local(out), ir_.node(ir::Op::MakeElem, T().elem(), {ir_.node(ir::Op::MakePos, T().pos(), {px, py}), colour.code}));
   });
   return index;
 }

@@ -1,11 +1,9 @@
-// spec_core — the IR builder the specialiser emits with, error locations, the
-// reference's type strings, and the driver that repeats the walk until the type
-// hints settle (see specialise.hpp).
+// spec_core — the specialiser's own services: values into temporaries, error
+// locations and failures, the reference's type strings, and the driver that
+// repeats the walk until the type hints settle (see specialise.hpp).
 //
-// Dead code: after a statement that certainly raises an error (an undefined
-// name, a type error the types already prove), the rest of the block never
-// runs. `dead_` is set, statements are still built but not attached, and values
-// have type Never, which fits every slot. Blocks restore the flag of their parent.
+// Dead code is the builder's flag (ir_builder.hpp): a failure `kill()`s it, and
+// values lowered after it have type Never, which fits every slot.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -15,136 +13,11 @@
 
 namespace autumn::lower {
 
-Specialiser::Specialiser(const Program& p, const Facts& f, Module& m, Hints& h) : p_(p), m_(m), h_(h), f_(f) {}
+Specialiser::Specialiser(const Program& p, const Facts& f, Module& m, Hints& h)
+    : ir_(m, [this] { return location(); }), p_(p), m_(m), h_(h), f_(f) {}
 
 // ---------------------------------------------------------------------------
-// Builder
-
-ir::Node* Specialiser::node(ir::Op op, TypeP t, std::vector<ir::Node*> a) {
-  m_.arena.nodes.emplace_back();
-  ir::Node* n = &m_.arena.nodes.back();
-  n->op = op;
-  n->type = t;
-  n->a = std::move(a);
-  return n;
-}
-
-ir::Node* Specialiser::lit(TypeP t, int64_t v) {
-  ir::Node* n = node(ir::Op::Lit, t);
-  n->imm = v;
-  return n;
-}
-
-ir::Node* Specialiser::text(const std::string& s) {
-  ir::Node* n = node(ir::Op::Text, nullptr);
-  n->text = s;
-  return n;
-}
-
-ir::Node* Specialiser::local(ir::Var* v) {
-  ir::Node* n = node(ir::Op::Local, v->type);
-  n->var = v;
-  return n;
-}
-
-ir::Node* Specialiser::slot(int s) {
-  const ir::Slot& sl = m_.slots[s];
-  ir::Node* n = node(sl.kind == ir::Slot::Value || sl.kind == ir::Slot::Prev ? ir::Op::Global : ir::Op::Slot,
-                     sl.type ? sl.type : T().bool_());
-  n->slot = s;
-  return n;
-}
-
-ir::Node* Specialiser::member(ir::Node* base, ir::Member m, TypeP t, int index) {
-  ir::Node* n = node(ir::Op::Member, t, {base});
-  n->member = m;
-  n->index = index;
-  return n;
-}
-
-ir::Node* Specialiser::call(ir::Helper h, TypeP t, std::vector<ir::Node*> a) {
-  ir::Node* n = node(ir::Op::Call, t, std::move(a));
-  n->helper = h;
-  switch (h) {
-    case ir::Helper::RngNext:
-    case ir::Helper::IdTransfer:
-    case ir::Helper::DefineGlobal:
-    case ir::Helper::EraseGlobal:
-    case ir::Helper::OrderKeys:
-    case ir::Helper::ClickDefine:
-    case ir::Helper::Covered:
-    case ir::Helper::SetTriggered:
-      ++effects_;
-      break;
-    default:
-      break;
-  }
-  return n;
-}
-
-ir::Var* Specialiser::var(TypeP t, const std::string& hint) {
-  m_.arena.vars.emplace_back();
-  ir::Var* v = &m_.arena.vars.back();
-  v->id = static_cast<int>(m_.arena.vars.size());
-  v->type = t;
-  v->hint = hint;
-  return v;
-}
-
-ir::Stmt* Specialiser::emit(ir::SK k) {
-  m_.arena.stmts.emplace_back();
-  ir::Stmt* s = &m_.arena.stmts.back();
-  s->k = k;
-  // A loop charges the elements it visits where it is (limits.hpp, calls).
-  if (k == ir::SK::ForEach || k == ir::SK::ForRange) s->loc = location();
-  if (!dead_) block_->push_back(s);
-  return s;
-}
-
-ir::Stmt* Specialiser::emit_detached(ir::SK k) {
-  const bool was = dead_;
-  dead_ = true;  // emit() builds it without attaching
-  ir::Stmt* s = emit(k);
-  dead_ = was;
-  return s;
-}
-
-void Specialiser::emit_set(ir::Node* place, ir::Node* value) {
-  if (place->op != ir::Op::Local) ++effects_;
-  ir::Stmt* s = emit(ir::SK::Set);
-  s->a = place;
-  s->b = value;
-}
-
-void Specialiser::emit_eval(ir::Node* n) { emit(ir::SK::Eval)->a = n; }
-
-void Specialiser::emit_push(ir::Node* list, ir::Node* value) {
-  ir::Stmt* s = emit(ir::SK::Push);
-  s->a = list;
-  s->b = value;
-}
-
-bool Specialiser::is_const(const ir::Node* n) const {
-  if (!n) return false;
-  switch (n->op) {
-    case ir::Op::Lit: return true;
-    case ir::Op::MakePos:
-    case ir::Op::MakeElem:
-    case ir::Op::MakeList:
-      return std::all_of(n->a.begin(), n->a.end(), [&](const ir::Node* k) { return is_const(k); });
-    default: return false;
-  }
-}
-
-// Values that cannot change while in use need no temporary: constants,
-// temporaries and the immutable names of a block.
-static bool stable(const ir::Node* n) {
-  if (!n) return true;
-  if (n->op == ir::Op::Lit) return true;
-  if (n->op == ir::Op::Local) return !n->var->mut;
-  if (n->op == ir::Op::Member) return stable(n->a[0]);
-  return false;
-}
+// Values into temporaries
 
 // Whether a block raises an error on some path.
 bool has_fail(const ir::Block& b) {
@@ -158,38 +31,18 @@ bool has_fail(const ir::Block& b) {
 
 SVal Specialiser::let(SVal v, const std::string& hint) {
   // Constants are printed where used, except lists (a vector built at every use).
-  if (!v.code || v.type->k == TK::Never || stable(v.code) || (is_const(v.code) && v.code->op != ir::Op::MakeList))
+  if (!v.code || v.type->k == TK::Never || is_stable(v.code) || (is_const(v.code) && v.code->op != ir::Op::MakeList))
     return v;
-  ir::Var* t = var(v.type, hint);
+  ir::Var* t = ir_.var(v.type, hint);
   // Reads of places (a global, a variable) are Binds: a reference unless a store
   // can intervene (pass_refs); computed values are immutable temporaries.
   const bool place = v.code->op == ir::Op::Global || v.code->op == ir::Op::Slot || v.code->op == ir::Op::Local ||
                      v.code->op == ir::Op::Select;
-  ir::Stmt* s = emit(place ? ir::SK::Bind : ir::SK::Let);
+  ir::Stmt* s = ir_.emit(place ? ir::SK::Bind : ir::SK::Let);
   s->var = t;
   s->a = v.code;
-  v.code = local(t);
+  v.code = ir_.local(t);
   return v;
-}
-
-ir::Var* Specialiser::decl(TypeP t, ir::Node* init, const std::string& hint) {
-  ir::Var* v = var(t, hint);
-  v->mut = true;
-  ir::Stmt* s = emit(ir::SK::Decl);
-  s->var = v;
-  s->a = init;
-  return v;
-}
-
-void Specialiser::comment(const std::string& t) { emit(ir::SK::Comment)->text = t; }
-
-void Specialiser::in_block(ir::Block& b, const std::function<void()>& f) {
-  ir::Block* saved = block_;
-  const bool was_dead = dead_;
-  block_ = &b;
-  f();
-  block_ = saved;
-  dead_ = was_dead;
 }
 
 SVal Specialiser::never() { return SVal{T().never(), nullptr}; }
@@ -230,30 +83,30 @@ int Specialiser::intern_location(const ErrorLoc& l) {
   return static_cast<int>(m_.locations.size() - 1);
 }
 
-void Specialiser::fail(const std::string& msg) { fail(std::vector<ir::Node*>{text(msg)}); }
+void Specialiser::fail(const std::string& msg) { fail(std::vector<ir::Node*>{ir_.text(msg)}); }
 
 void Specialiser::fail(std::vector<ir::Node*> parts) {
   if (capture_mode_) {
     // A cell argument's trial: the reference catches the error and defers the
     // argument. Only an error every run raises can be decided here.
-    if (block_ != capture_block_) unsupported("a cell argument whose evaluation fails on some runs only");
+    if (ir_.block() != capture_block_) unsupported("a cell argument whose evaluation fails on some runs only");
     trial_failed_ = true;
-    dead_ = true;
+    ir_.kill();
     return;
   }
-  ir::Stmt* s = emit(ir::SK::Fail);
-  s->a = node(ir::Op::Concat, nullptr, std::move(parts));
+  ir::Stmt* s = ir_.emit(ir::SK::Fail);
+  s->a = ir_.node(ir::Op::Concat, nullptr, std::move(parts));
   s->loc = location();
-  dead_ = true;
+  ir_.kill();
 }
 
 void Specialiser::check_length(ir::LengthOf how, std::vector<ir::Node*> args, std::optional<int64_t> known) {
   if (known && *known <= limits::kMinListLength) return;
   if (capture_mode_) unsupported("a cell argument that builds a list the list-length budget may refuse");
-  ir::Node* c = call(ir::Helper::CheckLength, nullptr, std::move(args));
+  ir::Node* c = ir_.call(ir::Helper::CheckLength, nullptr, std::move(args));
   c->index = how;
   c->imm = location();
-  emit_eval(c);
+  ir_.emit_eval(c);
 }
 
 // Only the elements the interpreter counts too (limits.hpp, cells): a program
@@ -261,14 +114,14 @@ void Specialiser::check_length(ir::LengthOf how, std::vector<ir::Node*> args, st
 // to a wider element type; and not in a cell argument's trial, where the
 // reference would defer the argument on a budget error.
 void Specialiser::charge_built(ir::LengthOf how, std::vector<ir::Node*> args) {
-  if (capture_mode_ || dead_) return;
-  ir::Node* c = call(ir::Helper::ChargeBuilt, nullptr, std::move(args));
+  if (capture_mode_ || ir_.dead()) return;
+  ir::Node* c = ir_.call(ir::Helper::ChargeBuilt, nullptr, std::move(args));
   c->index = how;
   c->imm = location();
-  emit_eval(c);
+  ir_.emit_eval(c);
 }
 
-void Specialiser::charge_one_built() { charge_built(ir::kLengthIs, {lit(T().int_(), 1)}); }
+void Specialiser::charge_one_built() { charge_built(ir::kLengthIs, {ir_.lit(T().int_(), 1)}); }
 
 void Specialiser::unsupported(const std::string& why) {
   SourceLoc at;

@@ -19,13 +19,13 @@ namespace autumn::lower {
 SVal Specialiser::lower(const Expr& e) {
   const bool unused = value_unused_;
   value_unused_ = false;
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   loc_stack_.push_back(&e);
   SVal v;
   switch (e.kind) {
-    case ExprKind::Number: v = SVal{T().int_(), lit(T().int_(), e.number)}; v.konst = v.code; break;
-    case ExprKind::Bool: v = SVal{T().bool_(), lit(T().bool_(), e.boolean)}; v.konst = v.code; break;
-    case ExprKind::String: v = SVal{T().str(), lit(T().str(), string_id(e.text))}; v.konst = v.code; break;
+    case ExprKind::Number: v = SVal{T().int_(), ir_.lit(T().int_(), e.number)}; v.konst = v.code; break;
+    case ExprKind::Bool: v = SVal{T().bool_(), ir_.lit(T().bool_(), e.boolean)}; v.konst = v.code; break;
+    case ExprKind::String: v = SVal{T().str(), ir_.lit(T().str(), string_id(e.text))}; v.konst = v.code; break;
     case ExprKind::Var: v = lower_var(e); break;
     case ExprKind::Binary: v = lower_binary(e); break;
     case ExprKind::Logical: v = lower_logical(e); break;
@@ -51,7 +51,7 @@ SVal Specialiser::lower(const Expr& e) {
       break;
   }
   loc_stack_.pop_back();
-  if (dead_ && v.type && v.type->k != TK::Never) return never();
+  if (ir_.dead() && v.type && v.type->k != TK::Never) return never();
   return v;
 }
 
@@ -80,12 +80,12 @@ SVal Specialiser::lower_var(const Expr& e) {
 SVal Specialiser::lower_binary(const Expr& e) {
   SVal l = lower_value(*e.kids[0]);
   SVal r = lower_value(*e.kids[1]);
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   if (e.op == BinOp::Eq) return equals(l, r);
   if (e.op == BinOp::Ne) {
     SVal eq = equals(l, r);
-    if (const_int(eq)) return SVal{T().bool_(), lit(T().bool_(), !*const_int(eq)), lit(T().bool_(), !*const_int(eq))};
-    return let(SVal{T().bool_(), node(ir::Op::Not, T().bool_(), {eq.code})});
+    if (const_int(eq)) return SVal{T().bool_(), ir_.lit(T().bool_(), !*const_int(eq)), ir_.lit(T().bool_(), !*const_int(eq))};
+    return let(SVal{T().bool_(), ir_.node(ir::Op::Not, T().bool_(), {eq.code})});
   }
   if (e.op == BinOp::Unknown) {
     fail("unknown binary operator '" + e.text + "'");
@@ -106,8 +106,8 @@ SVal Specialiser::lower_binary(const Expr& e) {
 // and modulo checked first, with runtime/arith.hpp's texts).
 SVal Specialiser::arithmetic(const Expr& e, const SVal& a, const SVal& b) {
   const std::optional<int64_t> x = const_int(a), y = const_int(b);
-  auto known_int = [&](int32_t v) { return SVal{T().int_(), lit(T().int_(), v), lit(T().int_(), v)}; };
-  auto known_bool = [&](bool v) { return SVal{T().bool_(), lit(T().bool_(), v), lit(T().bool_(), v)}; };
+  auto known_int = [&](int32_t v) { return SVal{T().int_(), ir_.lit(T().int_(), v), ir_.lit(T().int_(), v)}; };
+  auto known_bool = [&](bool v) { return SVal{T().bool_(), ir_.lit(T().bool_(), v), ir_.lit(T().bool_(), v)}; };
   const int32_t xi = x ? static_cast<int32_t>(*x) : 0, yi = y ? static_cast<int32_t>(*y) : 0;
   ir::Op op = ir::Op::Add;
   TypeP result = T().int_();
@@ -122,18 +122,18 @@ SVal Specialiser::arithmetic(const Expr& e, const SVal& a, const SVal& b) {
       SVal bb = let(b);
       SVal aa = let(a);
       if (!y || *y == 0) {
-        ir::Stmt* s = emit(ir::SK::If);
-        s->a = node(ir::Op::Eq, T().bool_(), {bb.code, lit(T().int_(), 0)});
-        in_block(s->body, [&] { fail(arith::division_error(1, 0, e.text)); });
+        ir::Stmt* s = ir_.emit(ir::SK::If);
+        s->a = ir_.node(ir::Op::Eq, T().bool_(), {bb.code, ir_.lit(T().int_(), 0)});
+        ir_.in_block(s->body, [&] { fail(arith::division_error(1, 0, e.text)); });
       }
       if (!y || *y == -1) {
-        ir::Stmt* s = emit(ir::SK::If);
-        s->a = node(ir::Op::And, T().bool_(),
-                    {node(ir::Op::Eq, T().bool_(), {aa.code, lit(T().int_(), INT_MIN)}),
-                     node(ir::Op::Eq, T().bool_(), {bb.code, lit(T().int_(), -1)})});
-        in_block(s->body, [&] { fail(arith::division_error(INT_MIN, -1, e.text)); });
+        ir::Stmt* s = ir_.emit(ir::SK::If);
+        s->a = ir_.node(ir::Op::And, T().bool_(),
+                    {ir_.node(ir::Op::Eq, T().bool_(), {aa.code, ir_.lit(T().int_(), INT_MIN)}),
+                     ir_.node(ir::Op::Eq, T().bool_(), {bb.code, ir_.lit(T().int_(), -1)})});
+        ir_.in_block(s->body, [&] { fail(arith::division_error(INT_MIN, -1, e.text)); });
       }
-      return let(SVal{T().int_(), node(e.op == BinOp::Div ? ir::Op::Div : ir::Op::Mod, T().int_(), {aa.code, bb.code})});
+      return let(SVal{T().int_(), ir_.node(e.op == BinOp::Div ? ir::Op::Div : ir::Op::Mod, T().int_(), {aa.code, bb.code})});
     }
     case BinOp::Lt: if (x && y) return known_bool(xi < yi); op = ir::Op::Lt; result = T().bool_(); break;
     case BinOp::Le: if (x && y) return known_bool(xi <= yi); op = ir::Op::Le; result = T().bool_(); break;
@@ -141,7 +141,7 @@ SVal Specialiser::arithmetic(const Expr& e, const SVal& a, const SVal& b) {
     case BinOp::Ge: if (x && y) return known_bool(xi >= yi); op = ir::Op::Ge; result = T().bool_(); break;
     default: break;
   }
-  return let(SVal{result, node(op, result, {a.code, b.code})});
+  return let(SVal{result, ir_.node(op, result, {a.code, b.code})});
 }
 
 SVal Specialiser::auto_call(SVal v) {
@@ -152,17 +152,17 @@ SVal Specialiser::auto_call(SVal v) {
 
 SVal Specialiser::lower_logical(const Expr& e) {
   SVal l = auto_call(lower_value(*e.kids[0]));
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   ir::Node* lt = truthy(l);
-  if (lt->op == ir::Op::Lit && (lt->imm != 0) == e.is_or) return SVal{T().bool_(), lit(T().bool_(), e.is_or)};
+  if (lt->op == ir::Op::Lit && (lt->imm != 0) == e.is_or) return SVal{T().bool_(), ir_.lit(T().bool_(), e.is_or)};
   auto right = [&]() -> SVal {
     SVal r = auto_call(lower_value(*e.kids[1]));
-    if (dead_) return never();
+    if (ir_.dead()) return never();
     return let(SVal{T().bool_(), truthy(r)});
   };
   if (lt->op == ir::Op::Lit) return right();
-  ir::Node* go = e.is_or ? node(ir::Op::Not, T().bool_(), {lt}) : lt;
-  return join_branches(go, right, [&] { return SVal{T().bool_(), lit(T().bool_(), e.is_or)}; }, true);
+  ir::Node* go = e.is_or ? ir_.node(ir::Op::Not, T().bool_(), {lt}) : lt;
+  return join_branches(go, right, [&] { return SVal{T().bool_(), ir_.lit(T().bool_(), e.is_or)}; }, true);
 }
 
 SVal Specialiser::lower_unary(const Expr& e) {
@@ -174,8 +174,8 @@ SVal Specialiser::lower_unary(const Expr& e) {
         fail("'!' needs a Bool, got " + shown_type(type_string(x.type)));
         return never();
       }
-      if (auto c = const_int(x)) return SVal{T().bool_(), lit(T().bool_(), !*c), lit(T().bool_(), !*c)};
-      return let(SVal{T().bool_(), node(ir::Op::Not, T().bool_(), {x.code})});
+      if (auto c = const_int(x)) return SVal{T().bool_(), ir_.lit(T().bool_(), !*c), ir_.lit(T().bool_(), !*c)};
+      return let(SVal{T().bool_(), ir_.node(ir::Op::Not, T().bool_(), {x.code})});
     }
     if (x.type->k != TK::Int) {
       fail("unary " + e.text + " needs a number, got " + shown_type(type_string(x.type)));
@@ -184,15 +184,15 @@ SVal Specialiser::lower_unary(const Expr& e) {
     if (e.unary == UnOp::Plus) return x;
     if (auto c = const_int(x)) {
       int32_t n = arith::neg(static_cast<int32_t>(*c));
-      return SVal{T().int_(), lit(T().int_(), n), lit(T().int_(), n)};
+      return SVal{T().int_(), ir_.lit(T().int_(), n), ir_.lit(T().int_(), n)};
     }
-    return let(SVal{T().int_(), node(ir::Op::Neg, T().int_(), {x.code})});
+    return let(SVal{T().int_(), ir_.node(ir::Op::Neg, T().int_(), {x.code})});
   });
 }
 
 SVal Specialiser::lower_if(const Expr& e, bool unused) {
   SVal c = lower_value(*e.kids[0]);
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   ir::Node* t = truthy(c);  // a function value is truthy and is not called
   auto branch = [&](const Expr& k) {
     return [&, kp = &k]() -> SVal { return unused ? lower_discarded(*kp) : lower(*kp); };
@@ -208,10 +208,10 @@ SVal Specialiser::lower_let(const Expr& e, bool unused) {
   }
   push_scope(ScopeKind::Local, &e);
   SVal last;
-  for (size_t i = 0; i < e.kids.size() && !dead_; ++i)
+  for (size_t i = 0; i < e.kids.size() && !ir_.dead(); ++i)
     last = (i + 1 < e.kids.size() || unused) ? lower_discarded(*e.kids[i]) : lower(*e.kids[i]);
   pop_scope();
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   if (!last.type || last.type->k == TK::Class) {
     fail("the last expression of a let has no value");
     return never();
@@ -223,15 +223,15 @@ SVal Specialiser::lower_list(const Expr& e) {
   std::vector<SVal> items;
   for (const auto& k : e.kids) {
     items.push_back(let(lower_value(*k)));
-    if (dead_) return never();
+    if (ir_.dead()) return never();
   }
-  check_length(ir::kLengthIs, {lit(T().int_(), static_cast<int64_t>(items.size()))}, static_cast<int64_t>(items.size()));
+  check_length(ir::kLengthIs, {ir_.lit(T().int_(), static_cast<int64_t>(items.size()))}, static_cast<int64_t>(items.size()));
   return make_list(items);
 }
 
 SVal Specialiser::lower_get(const Expr& e) {
   SVal o = lower_value(*e.kids[0]);
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   return get_field(o, e.name, e.text);
 }
 

@@ -56,7 +56,7 @@ bool Specialiser::order_changes_in_steps() const {
 void Specialiser::order_insert(Sym s) {
   if (!m_.runtime_order) return;
   m_.order_hashes[s] = p_.symbols.hash(s);
-  emit_eval(call(ir::Helper::DefineGlobal, nullptr, {lit(T().int_(), s)}));
+  ir_.emit_eval(ir_.call(ir::Helper::DefineGlobal, nullptr, {ir_.lit(T().int_(), s)}));
 }
 
 // g's first definition: start-up's history gains it.
@@ -75,16 +75,16 @@ void Specialiser::walk_runtime_order(const std::function<void(Global&)>& visit, 
   for (auto& [s, g] : globals_)
     if (g.state != Global::Undefined && (g.value >= 0 || slotless)) held.push_back(&g);
   if (held.empty()) return;
-  ir::Var* keys = decl(T().list(T().int_()), call(ir::Helper::OrderKeys, T().list(T().int_()), {}), "keys");
-  ir::Stmt* loop = emit(ir::SK::ForEach);
-  loop->var = var(T().int_(), "key");
-  loop->a = local(keys);
-  in_block(loop->body, [&] {
+  ir::Var* keys = ir_.decl(T().list(T().int_()), ir_.call(ir::Helper::OrderKeys, T().list(T().int_()), {}), "keys");
+  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  loop->var = ir_.var(T().int_(), "key");
+  loop->a = ir_.local(keys);
+  ir_.in_block(loop->body, [&] {
     for (Global* g : held) {
-      ir::Stmt* s_if = emit(ir::SK::If);
-      s_if->a = node(ir::Op::Eq, T().bool_(), {local(loop->var), lit(T().int_(), g->sym)});
-      in_block(s_if->body, [&] { visit(*g); });
-      block_ = &s_if->other;  // else if ...
+      ir::Stmt* s_if = ir_.emit(ir::SK::If);
+      s_if->a = ir_.node(ir::Op::Eq, T().bool_(), {ir_.local(loop->var), ir_.lit(T().int_(), g->sym)});
+      ir_.in_block(s_if->body, [&] { visit(*g); });
+      ir_.continue_in(s_if->other);  // else if ...
     }
   });
 }
@@ -107,9 +107,9 @@ void Specialiser::for_each_global_in_order(const std::function<void(Global&)>& v
       Global* g = global(s);
       if (!g || g->state == Global::Undefined || (g->value < 0 && !slotless)) continue;
       if (g->state == Global::Runtime && g->defined >= 0) {
-        ir::Stmt* s_if = emit(ir::SK::If);
-        s_if->a = slot(g->defined);
-        in_block(s_if->body, [&] { visit(*g); });
+        ir::Stmt* s_if = ir_.emit(ir::SK::If);
+        s_if->a = ir_.slot(g->defined);
+        ir_.in_block(s_if->body, [&] { visit(*g); });
       } else {
         visit(*g);
       }
@@ -120,18 +120,18 @@ void Specialiser::for_each_global_in_order(const std::function<void(Global&)>& v
     walk(false);
     return;
   }
-  ir::Stmt* s = emit(ir::SK::If);
-  s->a = slot(click->defined);
-  in_block(s->body, [&] { walk(true); });
-  in_block(s->other, [&] { walk(false); });
+  ir::Stmt* s = ir_.emit(ir::SK::If);
+  s->a = ir_.slot(click->defined);
+  ir_.in_block(s->body, [&] { walk(true); });
+  ir_.in_block(s->other, [&] { walk(false); });
 }
 
 // The state check: every global holding a list or an instance, in map order,
 // counted by the runtime's tally_global (runtime/compiled_support.hpp,
 // StateTally); an excess is reported at the definition of the largest global.
 void Specialiser::check_state() {
-  if (dead_) return;
-  emit_eval(call(ir::Helper::TallyBegin, nullptr, {}));
+  if (ir_.dead()) return;
+  ir_.emit_eval(ir_.call(ir::Helper::TallyBegin, nullptr, {}));
   auto site = [&](Sym s) {
     ErrorLoc l;
     const SourceLoc at = static_cast<size_t>(s) < p_.definitions.size() ? p_.definitions[s] : SourceLoc{};
@@ -150,18 +150,18 @@ void Specialiser::check_state() {
   for_each_global_in_order(
       [&](Global& g) {
         if (g.sym == p_.names.cacheRendered) {
-          ir::Node* c = call(ir::Helper::TallyRendered, nullptr, {});
+          ir::Node* c = ir_.call(ir::Helper::TallyRendered, nullptr, {});
           c->imm = site(g.sym);
           c->text = p_.name(g.sym);
-          emit_eval(c);
+          ir_.emit_eval(c);
           return;
         }
         if (g.value < 0 || !counted(g.type)) return;
         SVal v = read_global(g);
-        ir::Node* c = call(ir::Helper::TallyGlobal, nullptr, {v.code});
+        ir::Node* c = ir_.call(ir::Helper::TallyGlobal, nullptr, {v.code});
         c->imm = site(g.sym);
         c->text = p_.name(g.sym);
-        emit_eval(c);
+        ir_.emit_eval(c);
       },
       true);
 }
@@ -179,30 +179,30 @@ SVal Specialiser::all_objs() {
   };
   for (auto& [s, g] : globals_)
     if (g.state != Global::Undefined) objects_in(g.type);
-  if (classes.empty()) return SVal{T().empty_list(), node(ir::Op::MakeList, T().empty_list())};
+  if (classes.empty()) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list())};
   TypeP u = T().sum(classes);
   TypeP lt = T().list(u);
-  ir::Var* out = decl(lt, nullptr, "all");
+  ir::Var* out = ir_.decl(lt, nullptr, "all");
   std::function<void(const SVal&)> collect = [&](const SVal& v) {
     if (v.type->k == TK::Obj) {
       charge_one_built();
-      emit_push(local(out), coerce(v, u).code);
+      ir_.emit_push(ir_.local(out), coerce(v, u).code);
     } else if (v.type->k == TK::List && v.type->elem && renders(v.type->elem)) {
-      ir::Stmt* loop = emit(ir::SK::ForEach);
-      loop->var = var(v.type->elem, "x");
+      ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+      loop->var = ir_.var(v.type->elem, "x");
       loop->a = v.code;
-      in_block(loop->body, [&] { collect(SVal{v.type->elem, local(loop->var)}); });
+      ir_.in_block(loop->body, [&] { collect(SVal{v.type->elem, ir_.local(loop->var)}); });
     } else if (is_sum(v.type) && renders(v.type)) {
       split(v, [&](const SVal& a) {
         collect(a);
-        return SVal{T().int_(), lit(T().int_(), 0)};
+        return SVal{T().int_(), ir_.lit(T().int_(), 0)};
       });
     }
   };
   for_each_global_in_order([&](Global& g) {
     if (renders(g.type)) collect(read_global(g));
   });
-  check_length(ir::kLengthAppended, {local(out)});
+  check_length(ir::kLengthAppended, {ir_.local(out)});
   return built(out);
 }
 
@@ -217,7 +217,7 @@ SVal Specialiser::remove_global(const SVal& v) {
         (T().fits(v.type, g.type) || T().fits(g.type, v.type)) && tracked(g.type))
       candidates.push_back(&g);
   if (candidates.empty()) return v;
-  ir::Var* done = decl(T().bool_(), lit(T().bool_(), 0), "erased");
+  ir::Var* done = ir_.decl(T().bool_(), ir_.lit(T().bool_(), 0), "erased");
   auto try_erase = [&](Global& g) {
     if (std::find(candidates.begin(), candidates.end(), &g) == candidates.end()) return;
     if (!h_.erasable.count(g.sym)) {
@@ -229,13 +229,13 @@ SVal Specialiser::remove_global(const SVal& v) {
     // have no definedness flag (found by fuzz_emit: an initnext whose next
     // fails); such a program is the embedded engine's.
     if (g.defined < 0) unsupported("removeObj erasing '" + nm(g.sym) + "', which has no definedness flag");
-    ir::Node* same = same_identity_any(SVal{g.type, slot(g.value)}, {v});
-    ir::Stmt* s = emit(ir::SK::If);
-    s->a = node(ir::Op::And, T().bool_(), {node(ir::Op::Not, T().bool_(), {local(done)}), same});
-    in_block(s->body, [&] {
-      emit_set(slot(g.defined), lit(T().bool_(), 0));
-      emit_set(local(done), lit(T().bool_(), 1));
-      if (m_.runtime_order) emit_eval(call(ir::Helper::EraseGlobal, nullptr, {lit(T().int_(), g.sym)}));
+    ir::Node* same = same_identity_any(SVal{g.type, ir_.slot(g.value)}, {v});
+    ir::Stmt* s = ir_.emit(ir::SK::If);
+    s->a = ir_.node(ir::Op::And, T().bool_(), {ir_.node(ir::Op::Not, T().bool_(), {ir_.local(done)}), same});
+    ir_.in_block(s->body, [&] {
+      ir_.emit_set(ir_.slot(g.defined), ir_.lit(T().bool_(), 0));
+      ir_.emit_set(ir_.local(done), ir_.lit(T().bool_(), 1));
+      if (m_.runtime_order) ir_.emit_eval(ir_.call(ir::Helper::EraseGlobal, nullptr, {ir_.lit(T().int_(), g.sym)}));
     });
   };
   if (candidates.size() == 1) try_erase(*candidates[0]);
@@ -255,7 +255,7 @@ SVal Specialiser::lower_prev(const Expr& call) {
   const Expr& arg = *call.kids[1];
   if (arg.kind == ExprKind::Var) return prev_of_name(arg.name);
   SVal v = lower_value(arg);
-  if (dead_) return never();
+  if (ir_.dead()) return never();
   return prev_of_value(v, call);
 }
 
@@ -278,11 +278,11 @@ SVal Specialiser::prev_of_name(Sym s) {
     return never();
   }
   if (g->prev_defined >= 0) {
-    ir::Stmt* st = emit(ir::SK::If);
-    st->a = node(ir::Op::Not, T().bool_(), {slot(g->prev_defined)});
-    in_block(st->body, [&] { fail("prev: '" + nm(s) + "' had no value at the start of the step"); });
+    ir::Stmt* st = ir_.emit(ir::SK::If);
+    st->a = ir_.node(ir::Op::Not, T().bool_(), {ir_.slot(g->prev_defined)});
+    ir_.in_block(st->body, [&] { fail("prev: '" + nm(s) + "' had no value at the start of the step"); });
   }
-  ir::Node* value = node(ir::Op::Select, g->type, {slot(g->saved), slot(g->prev), slot(g->value)});
+  ir::Node* value = ir_.node(ir::Op::Select, g->type, {ir_.slot(g->saved), ir_.slot(g->prev), ir_.slot(g->value)});
   return let(SVal{g->type, value}, "prev");
 }
 
@@ -292,13 +292,13 @@ SVal Specialiser::prev_of_name(Sym s) {
 // snapshot's old storage is reused instead of freed.
 void Specialiser::save_for_prev(Global& g) {
   if (!in_step_ || g.prev < 0 || g.saved < 0) return;
-  ir::Stmt* s_if = emit(ir::SK::If);
-  s_if->a = node(ir::Op::Not, T().bool_(), {slot(g.saved)});
-  in_block(s_if->body, [&] {
-    ir::Stmt* sw = emit(ir::SK::Swap);
-    sw->a = slot(g.prev);
-    sw->b = slot(g.value);
-    emit_set(slot(g.saved), lit(T().bool_(), 1));
+  ir::Stmt* s_if = ir_.emit(ir::SK::If);
+  s_if->a = ir_.node(ir::Op::Not, T().bool_(), {ir_.slot(g.saved)});
+  ir_.in_block(s_if->body, [&] {
+    ir::Stmt* sw = ir_.emit(ir::SK::Swap);
+    sw->a = ir_.slot(g.prev);
+    sw->b = ir_.slot(g.value);
+    ir_.emit_set(ir_.slot(g.saved), ir_.lit(T().bool_(), 1));
   });
 }
 

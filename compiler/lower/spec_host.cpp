@@ -35,15 +35,15 @@ void Specialiser::run() {
 
 void Specialiser::specialise_start() {
   m_.functions.push_back(std::make_unique<ir::Function>());
-  fn_ = m_.functions.back().get();
-  fn_->name = "start";
-  fn_->kind = ir::Function::Start;
+  ir::Function* fn = m_.functions.back().get();
+  fn->name = "start";
+  fn->kind = ir::Function::Start;
   m_.start_fn = static_cast<int>(m_.functions.size() - 1);
-  block_ = &fn_->body;
+  ir_.begin_function(fn);
   in_start_ = true;
 
   Global& grid = global_slot(p_.names.GRID_SIZE, T().int_());
-  define_global(grid, SVal{T().int_(), lit(T().int_(), 16), lit(T().int_(), 16)});
+  define_global(grid, SVal{T().int_(), ir_.lit(T().int_(), 16), ir_.lit(T().int_(), 16)});
   for (int i = 0; i < kBuiltinCount; ++i) {
     Global& g = globals_[p_.builtin_syms[i]];
     g.sym = p_.builtin_syms[i];
@@ -60,7 +60,7 @@ void Specialiser::specialise_start() {
     if (st.kind == StmtKind::Expr) run_statement(st);
   {
     Expr at{ExprKind::Bool, SourceLoc{0, 0, SourceId::Internal}};
-    assign(p_.names.SpecialConditionTriggered, SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)}, at);
+    assign(p_.names.SpecialConditionTriggered, SVal{T().bool_(), ir_.lit(T().bool_(), 0), ir_.lit(T().bool_(), 0)}, at);
   }
   for (const Stmt& st : p_.stmts) {
     if (st.kind == StmtKind::Object) {
@@ -99,7 +99,7 @@ void Specialiser::specialise_start() {
   for (Sym s : f_.initnext_order) {
     Global& g = globals_[s];
     error_prefix_ = "initialising '" + nm(s) + "': ";
-    comment("init " + nm(s) + ", " + p_.file_name(g.init->loc.source) + ":" + std::to_string(g.init->loc.line));
+    ir_.comment("init " + nm(s) + ", " + p_.file_name(g.init->loc.source) + ":" + std::to_string(g.init->loc.line));
     loc_stack_.push_back(g.init);
     SVal v = lower_value(*g.init);
     loc_stack_.pop_back();
@@ -119,12 +119,11 @@ void Specialiser::specialise_start() {
 
 void Specialiser::specialise_step() {
   m_.functions.push_back(std::make_unique<ir::Function>());
-  fn_ = m_.functions.back().get();
-  fn_->name = "step";
-  fn_->kind = ir::Function::Step;
+  ir::Function* fn = m_.functions.back().get();
+  fn->name = "step";
+  fn->kind = ir::Function::Step;
   m_.step_fn = static_cast<int>(m_.functions.size() - 1);
-  block_ = &fn_->body;
-  dead_ = false;
+  ir_.begin_function(fn);
   in_step_ = true;
   chain_.clear();
 
@@ -145,31 +144,31 @@ void Specialiser::specialise_step() {
   for (Sym s : h_.prev_read) {
     Global& g = globals_[s];
     if (g.value < 0 || g.prev < 0) continue;
-    emit_set(slot(g.saved), lit(T().bool_(), 0));
-    if (g.prev_defined >= 0) emit_set(slot(g.prev_defined), g.defined >= 0 ? slot(g.defined) : lit(T().bool_(), 1));
+    ir_.emit_set(ir_.slot(g.saved), ir_.lit(T().bool_(), 0));
+    if (g.prev_defined >= 0) ir_.emit_set(ir_.slot(g.prev_defined), g.defined >= 0 ? ir_.slot(g.defined) : ir_.lit(T().bool_(), 1));
   }
   // 2. Updated flags.
   for (Sym s : f_.initnext_order) {
     Global& g = globals_[s];
-    if (g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 0));
+    if (g.updated >= 0) ir_.emit_set(ir_.slot(g.updated), ir_.lit(T().bool_(), 0));
   }
   // 3. The trigger, on the state before this step's updates.
   if (p_.trigger) {
     loc_stack_.push_back(p_.trigger.get());
     SVal c = lower_value(*p_.trigger);
-    if (!dead_) {
+    if (!ir_.dead()) {
       ir::Node* t = truthy(c);
       SVal b = let(SVal{T().bool_(), t});
       assign(p_.names.SpecialConditionTriggered, b, *p_.trigger);
-      emit_eval(call(ir::Helper::SetTriggered, nullptr, {b.code}));
+      ir_.emit_eval(ir_.call(ir::Helper::SetTriggered, nullptr, {b.code}));
     }
     loc_stack_.pop_back();
   }
   // 4. On-clauses in source order.
-  for (size_t i = 0; i < f_.on_clauses.size() && !dead_; ++i) on_clause(i, *f_.on_clauses[i]);
+  for (size_t i = 0; i < f_.on_clauses.size() && !ir_.dead(); ++i) on_clause(i, *f_.on_clauses[i]);
   // 5. NEXT for every initnext variable no clause assigned, in hash order.
   for (Sym s : f_.initnext_order) {
-    if (dead_) break;
+    if (ir_.dead()) break;
     next_update(s);
   }
   // 6. The state budget.
@@ -180,10 +179,10 @@ void Specialiser::specialise_step() {
 // One on-clause: its condition (a Bool, or a function called with no arguments
 // that must return one), then, when it holds, its body.
 void Specialiser::on_clause(size_t i, const Stmt& st) {
-  comment("on-clause " + std::to_string(i + 1) + ", " + p_.file_name(st.loc.source) + ":" +
+  ir_.comment("on-clause " + std::to_string(i + 1) + ", " + p_.file_name(st.loc.source) + ":" +
           std::to_string(st.loc.line));
-  ir::Stmt* blk = emit(ir::SK::Block);
-  in_block(blk->body, [&] {
+  ir::Stmt* blk = ir_.emit(ir::SK::Block);
+  ir_.in_block(blk->body, [&] {
     loc_stack_.push_back(st.cond.get());
     SVal c = lower_value(*st.cond);
     ir::Node* fire = nullptr;
@@ -204,11 +203,11 @@ void Specialiser::on_clause(size_t i, const Stmt& st) {
       bad(c, false);
     }
     loc_stack_.pop_back();
-    if (dead_ || !fire) return;
-    ir::Stmt* s = emit(ir::SK::If);
+    if (ir_.dead() || !fire) return;
+    ir::Stmt* s = ir_.emit(ir::SK::If);
     s->a = fire;
-    in_block(s->body, [&] {
-      emit_eval(call(ir::Helper::Covered, nullptr, {lit(T().int_(), static_cast<int64_t>(i))}));
+    ir_.in_block(s->body, [&] {
+      ir_.emit_eval(ir_.call(ir::Helper::Covered, nullptr, {ir_.lit(T().int_(), static_cast<int64_t>(i))}));
       loc_stack_.push_back(st.body.get());
       value_unused_ = true;  // its value is only checked to exist
       lower_value(*st.body);
@@ -228,9 +227,9 @@ void Specialiser::next_update(Sym s) {
   // A global whose value slot was made before it was known to be an initnext
   // (GRID_SIZE, set up first) has no update flag (found by fuzz_emit).
   if (g.updated < 0) unsupported("'" + nm(s) + "' defined by initnext");
-  comment("NEXT of " + nm(s) + ", " + p_.file_name(g.next->loc.source) + ":" + std::to_string(g.next->loc.line));
-  ir::Node* run = node(ir::Op::Not, T().bool_(), {slot(g.updated)});
-  if (g.state == Global::Runtime) run = node(ir::Op::And, T().bool_(), {run, slot(g.defined)});
+  ir_.comment("NEXT of " + nm(s) + ", " + p_.file_name(g.next->loc.source) + ":" + std::to_string(g.next->loc.line));
+  ir::Node* run = ir_.node(ir::Op::Not, T().bool_(), {ir_.slot(g.updated)});
+  if (g.state == Global::Runtime) run = ir_.node(ir::Op::And, T().bool_(), {run, ir_.slot(g.defined)});
   // (prev x) as x's own NEXT, the usual idiom: while nothing stored x in this
   // step, x holds that very value (assigning it to itself changes nothing).
   // (Unless the assignment's type check itself fails: a class that cannot be printed.)
@@ -239,13 +238,13 @@ void Specialiser::next_update(Sym s) {
   if (is_sum(g.type))
     for (TypeP a : g.type->alts) checkable = checkable && printable(a);
   if (is_own_prev(*g.next, s) && g.saved >= 0 && checkable)
-    run = node(ir::Op::And, T().bool_(), {run, slot(g.saved)});
-  ir::Stmt* s_if = emit(ir::SK::If);
+    run = ir_.node(ir::Op::And, T().bool_(), {run, ir_.slot(g.saved)});
+  ir::Stmt* s_if = ir_.emit(ir::SK::If);
   s_if->a = run;
-  in_block(s_if->body, [&] {
+  ir_.in_block(s_if->body, [&] {
     loc_stack_.push_back(g.next);
     SVal v = lower_value(*g.next);
-    if (!dead_) assign(s, v, *g.next);
+    if (!ir_.dead()) assign(s, v, *g.next);
     loc_stack_.pop_back();
   });
 }
@@ -264,12 +263,11 @@ bool Specialiser::is_own_prev(const Expr& e, Sym x) {
 
 void Specialiser::specialise_render() {
   m_.functions.push_back(std::make_unique<ir::Function>());
-  fn_ = m_.functions.back().get();
-  fn_->name = "render";
-  fn_->kind = ir::Function::Render;
+  ir::Function* fn = m_.functions.back().get();
+  fn->name = "render";
+  fn->kind = ir::Function::Render;
   m_.render_fn = static_cast<int>(m_.functions.size() - 1);
-  block_ = &fn_->body;
-  dead_ = false;
+  ir_.begin_function(fn);
   chain_.clear();
   Expr at{ExprKind::Var, SourceLoc{0, 0, SourceId::Internal}};
   loc_stack_ = {&at};
@@ -279,27 +277,27 @@ void Specialiser::specialise_render() {
   m_.grid = static_cast<int>(grid->constant->konst->imm);
   if (m_.grid <= 0 || m_.grid > 4096) unsupported("GRID_SIZE " + std::to_string(m_.grid) + " cannot be painted");
 
-  emit_eval(call(ir::Helper::OccupancyClear, nullptr, {}));
+  ir_.emit_eval(ir_.call(ir::Helper::OccupancyClear, nullptr, {}));
   Global* bg = global(p_.names.background);
   ir::Node* background = bg && bg->state != Global::Undefined && bg->type == T().str() && bg->value >= 0
-                             ? slot(bg->value)
-                             : lit(T().str(), string_id("\"black\""));
+                             ? ir_.slot(bg->value)
+                             : ir_.lit(T().str(), string_id("\"black\""));
   if (bg && bg->state == Global::Runtime && bg->type == T().str())
     background = nullptr;  // checked below
   if (!background) unsupported("background may be erased");
-  emit_eval(call(ir::Helper::PaintBegin, nullptr, {background}));
+  ir_.emit_eval(ir_.call(ir::Helper::PaintBegin, nullptr, {background}));
 
   // Every rendered element marks the occupancy and is painted, in render order.
   // The host's render_all() JSON names each element's global: the painter
   // learns it before the global's elements (runtime/render_json.hpp).
   auto draw = [&](Global& g) {
     m_.render_names.push_back(nm(g.sym));
-    emit_eval(call(ir::Helper::PaintGlobal, nullptr,
-                   {lit(T().int_(), static_cast<int64_t>(m_.render_names.size() - 1))}));
+    ir_.emit_eval(ir_.call(ir::Helper::PaintGlobal, nullptr,
+                   {ir_.lit(T().int_(), static_cast<int64_t>(m_.render_names.size() - 1))}));
     render_into(read_global(g), [&](ir::Node* elem) {
       SVal e = let(SVal{T().elem(), elem}, "e");
-      emit_eval(call(ir::Helper::OccupancyAdd, nullptr, {member(e.code, ir::Member::Position, T().pos())}));
-      emit_eval(call(ir::Helper::Paint, nullptr, {e.code}));
+      ir_.emit_eval(ir_.call(ir::Helper::OccupancyAdd, nullptr, {ir_.member(e.code, ir::Member::Position, T().pos())}));
+      ir_.emit_eval(ir_.call(ir::Helper::Paint, nullptr, {e.code}));
     });
   };
   std::vector<Sym> order = p_.render_order;
@@ -309,9 +307,9 @@ void Specialiser::specialise_render() {
     if (!g || g->state == Global::Undefined || !g->type || g->value < 0) continue;
     if (!renders(g->type)) continue;
     if (g->state == Global::Runtime) {
-      ir::Stmt* s_if = emit(ir::SK::If);
-      s_if->a = slot(g->defined);
-      in_block(s_if->body, [&] { draw(*g); });
+      ir::Stmt* s_if = ir_.emit(ir::SK::If);
+      s_if->a = ir_.slot(g->defined);
+      ir_.in_block(s_if->body, [&] { draw(*g); });
     } else {
       draw(*g);
     }

@@ -59,8 +59,8 @@ SScope* Specialiser::push_scope(ScopeKind k, const void* site) {
   scopes_.push_back(std::make_unique<SScope>());
   SScope* sc = scopes_.back().get();
   sc->kind = k;
-  sc->block = block_;
-  sc->hoist = block_->size();
+  sc->block = ir_.block();
+  sc->hoist = ir_.block()->size();
   (void)site;
   chain_.push_back(sc);
   return sc;
@@ -84,12 +84,12 @@ std::vector<Specialiser::Candidate> Specialiser::resolve(Sym sym) {
   std::vector<Candidate> out;
   for (auto it = chain_.rbegin(); it != chain_.rend(); ++it)
     if (Binding* b = (*it)->find(sym)) {
-      out.push_back(Candidate{b, nullptr, b->flag ? local(b->flag) : nullptr});
+      out.push_back(Candidate{b, nullptr, b->flag ? ir_.local(b->flag) : nullptr});
       if (!b->flag) return out;
     }
   if (capture_mode_) return out;  // a cell's capture scope has no parent
   if (Global* g = global(sym); g && g->state != Global::Undefined) {
-    ir::Node* guard = g->state == Global::Runtime && g->defined >= 0 ? slot(g->defined) : nullptr;
+    ir::Node* guard = g->state == Global::Runtime && g->defined >= 0 ? ir_.slot(g->defined) : nullptr;
     out.push_back(Candidate{nullptr, g, guard});
   }
   return out;
@@ -100,13 +100,13 @@ SVal Specialiser::read_global(Global& g) {
                      g.constant->type->k == TK::Str || g.constant->type->k == TK::Func))
     return *g.constant;
   if (!g.type || g.value < 0) return SVal{g.type ? g.type : T().never(), nullptr};
-  SVal v = let(SVal{g.type, slot(g.value)}, "g");
+  SVal v = let(SVal{g.type, ir_.slot(g.value)}, "g");
   if (g.constant) v.konst = g.constant->konst;
   return v;
 }
 
 SVal Specialiser::read_binding(Binding& b) {
-  ir::Node* k = !b.mut || b.home == block_ ? b.konst : nullptr;
+  ir::Node* k = !b.mut || b.home == ir_.block() ? b.konst : nullptr;
   if (!b.place) return SVal{b.type, nullptr, k};
   SVal v = let(SVal{b.type, b.place}, "v");
   v.konst = k;
@@ -178,7 +178,7 @@ void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s,
     return nv;
   };
   split(v, check_new);
-  if (dead_) return;
+  if (ir_.dead()) return;
   if (tracked(v.type) || (is_heap(v.type) && tracked(slot_type))) transfer_identity(v, SVal{slot_type, place});
   if (!T().fits(v.type, slot_type)) {
     widen(T().join(slot_type, v.type));
@@ -186,7 +186,7 @@ void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s,
   }
   ir::Node* value = coerce(v, slot_type).code;
   if (before_write) before_write();
-  emit_set(place, value);
+  ir_.emit_set(place, value);
 }
 
 void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
@@ -196,15 +196,15 @@ void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
   if (!sc.block) unsupported("an assignment inside a cell argument");
   std::pair<const void*, Sym> key{site, s};
   if (Binding* b = sc.find(s)) {  // a maybe-bound name of this scope, now bound
-    if (b->flag) emit_set(local(b->flag), lit(T().bool_(), 1));
+    if (b->flag) ir_.emit_set(ir_.local(b->flag), ir_.lit(T().bool_(), 1));
     b->konst = v.konst;
-    b->home = block_;
+    b->home = ir_.block();
     if (!T().fits(v.type, b->type)) {
       h_.locals[b->key] = T().join(b->type, v.type);
       learn("local '" + nm(s) + "'");
       return;
     }
-    if (b->place) emit_set(b->place, coerce(v, b->type).code);
+    if (b->place) ir_.emit_set(b->place, coerce(v, b->type).code);
     return;
   }
   TypeP t = v.type;
@@ -220,23 +220,23 @@ void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
     d->k = ir::SK::Decl;
     d->var = x;
     d->a = init;
-    if (!dead_ || sc.block != block_) sc.block->insert(sc.block->begin() + sc.hoist++, d);
+    if (!ir_.dead() || sc.block != ir_.block()) sc.block->insert(sc.block->begin() + sc.hoist++, d);
   };
   if (t->k != TK::Func && t->k != TK::Class && t->k != TK::Never) {
-    ir::Var* x = var(t, "l_" + nm(s));
+    ir::Var* x = ir_.var(t, "l_" + nm(s));
     x->mut = true;
     hoisted(x, nullptr);
-    b.place = local(x);
+    b.place = ir_.local(x);
   }
   b.konst = v.konst;
-  b.home = block_;
-  if (block_ != sc.block) {  // defined on some paths only
-    b.flag = var(T().bool_(), "has_" + nm(s));
+  b.home = ir_.block();
+  if (ir_.block() != sc.block) {  // defined on some paths only
+    b.flag = ir_.var(T().bool_(), "has_" + nm(s));
     b.flag->mut = true;
-    hoisted(b.flag, lit(T().bool_(), 0));
-    emit_set(local(b.flag), lit(T().bool_(), 1));
+    hoisted(b.flag, ir_.lit(T().bool_(), 0));
+    ir_.emit_set(ir_.local(b.flag), ir_.lit(T().bool_(), 1));
   }
-  if (b.place) emit_set(b.place, coerce(v, t).code);
+  if (b.place) ir_.emit_set(b.place, coerce(v, t).code);
   sc.vars.push_back(b);
 }
 
@@ -249,10 +249,10 @@ bool Specialiser::store_function(Global& g, const SVal& v) {
     if (v.type->k != TK::List && g.state != Global::Undefined && old != type_string(v.type))
       fail("cannot assign a value of type '" + shown_type(type_string(v.type)) + "' to variable '" + nm(g.sym) + "' of type '" +
            shown_type(old) + "'");
-    else if (!dead_) unsupported("a global holding a function and then another kind of value");
+    else if (!ir_.dead()) unsupported("a global holding a function and then another kind of value");
     return true;
   }
-  if (in_step_ || block_ != &fn_->body) {
+  if (in_step_ || !ir_.at_function_top()) {
     if (g.constant && g.constant->type == v.type) return true;  // the same function again
     unsupported("a global assigned a different function on some paths or while the program runs");
   }
@@ -280,13 +280,13 @@ void Specialiser::define_global(Global& g, SVal v) {
     }
   }
   save_for_prev(g);
-  if (g.defined >= 0) emit_set(slot(g.defined), lit(T().bool_(), 1));
+  if (g.defined >= 0) ir_.emit_set(ir_.slot(g.defined), ir_.lit(T().bool_(), 1));
   if (in_step_ && (h_.runtime_defined.count(g.sym) || h_.erasable.count(g.sym))) order_insert(g.sym);
-  if (g.value >= 0) emit_set(slot(g.value), coerce(v, g.type).code);
-  if (g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 0));
+  if (g.value >= 0) ir_.emit_set(ir_.slot(g.value), coerce(v, g.type).code);
+  if (g.updated >= 0) ir_.emit_set(ir_.slot(g.updated), ir_.lit(T().bool_(), 0));
   note_definition(g);
   // Start-up knows the values it computes from constants (on every path).
-  if (in_start_ && v.konst && block_ == &fn_->body) g.constant = v;
+  if (in_start_ && v.konst && ir_.at_function_top()) g.constant = v;
   else g.constant.reset();
 }
 
@@ -305,19 +305,19 @@ void Specialiser::store_global(Global& g, SVal v, const Expr& at, bool mark_upda
     return;
   }
   store_checked(
-      g.type, slot(g.value), v, g.sym,
+      g.type, ir_.slot(g.value), v, g.sym,
       [&](TypeP wider) {
         h_.globals[g.sym] = wider;
         learn("global '" + nm(g.sym) + "'");
       },
       [&] { save_for_prev(g); });
-  if (mark_updated && g.updated >= 0) emit_set(slot(g.updated), lit(T().bool_(), 1));
-  if (in_start_ && v.konst && !dead_ && block_ == &fn_->body) g.constant = v;
+  if (mark_updated && g.updated >= 0) ir_.emit_set(ir_.slot(g.updated), ir_.lit(T().bool_(), 1));
+  if (in_start_ && v.konst && !ir_.dead() && ir_.at_function_top()) g.constant = v;
   else g.constant.reset();
 }
 
 void Specialiser::assign(Sym s, SVal v, const Expr& at) {
-  if (!v.type || v.type->k == TK::Never || dead_) return;
+  if (!v.type || v.type->k == TK::Never || ir_.dead()) return;
   std::vector<Candidate> cands = resolve(s);
   auto store = [&](Candidate& c) {
     if (c.g) {
@@ -332,7 +332,7 @@ void Specialiser::assign(Sym s, SVal v, const Expr& at) {
       return;
     }
     b.konst = v.konst;
-    b.home = block_;
+    b.home = ir_.block();
     if (!b.place) {  // a function-valued binding: only the same function fits
       if (v.type != b.type) {
         h_.locals[b.key] = T().join(b.type, v.type);
@@ -357,10 +357,10 @@ void Specialiser::assign(Sym s, SVal v, const Expr& at) {
   std::function<void(size_t)> walk = [&](size_t i) {
     if (i == cands.size()) return define_here();
     if (!cands[i].guard) return store(cands[i]);
-    ir::Stmt* s_if = emit(ir::SK::If);
+    ir::Stmt* s_if = ir_.emit(ir::SK::If);
     s_if->a = cands[i].guard;
-    in_block(s_if->body, [&] { store(cands[i]); });
-    in_block(s_if->other, [&] { walk(i + 1); });
+    ir_.in_block(s_if->body, [&] { store(cands[i]); });
+    ir_.in_block(s_if->other, [&] { walk(i + 1); });
   };
   walk(0);
 }

@@ -25,10 +25,6 @@ std::optional<int64_t> Specialiser::const_int(const SVal& v) const {
 // Building an If or Switch whose branches produce a value
 
 // Appends `s` to the current block (a statement built detached).
-void Specialiser::attach(ir::Stmt* s) {
-  if (!dead_) block_->push_back(s);
-}
-
 // Runs each producer in its own block, then declares the result (the join of
 // the values' types) before the statement and assigns it at the end of each block.
 SVal Specialiser::join_blocks(ir::Stmt* stmt, std::vector<ir::Block*> blocks,
@@ -36,9 +32,9 @@ SVal Specialiser::join_blocks(ir::Stmt* stmt, std::vector<ir::Block*> blocks,
   std::vector<SVal> results(blocks.size());
   std::vector<bool> alive(blocks.size());
   for (size_t i = 0; i < blocks.size(); ++i)
-    in_block(*blocks[i], [&] {
+    ir_.in_block(*blocks[i], [&] {
       results[i] = producers[i]();
-      alive[i] = !dead_;
+      alive[i] = !ir_.dead();
     });
   TypeP t = T().never();
   bool any_alive = false, no_value = false;
@@ -49,25 +45,25 @@ SVal Specialiser::join_blocks(ir::Stmt* stmt, std::vector<ir::Block*> blocks,
     else t = T().join(t, results[i].type);
   }
   if (!value_used || no_value || t->k == TK::Never || t->k == TK::Func || t->k == TK::Class) {
-    attach(stmt);
-    if (!any_alive) dead_ = true;
+    ir_.attach(stmt);
+    if (!any_alive) ir_.kill();
     if (no_value) return SVal{};
     if (t->k == TK::Func) return SVal{t, nullptr};  // one function on every path
     return SVal{any_alive ? t : T().never(), nullptr};
   }
   if (report && t->k == TK::Sum && !is_typed_variant(t)) dynamic_site("the branches give values of different types");
-  ir::Var* r = decl(t, nullptr, "r");
-  attach(stmt);
+  ir::Var* r = ir_.decl(t, nullptr, "r");
+  ir_.attach(stmt);
   for (size_t i = 0; i < blocks.size(); ++i)
-    if (alive[i]) in_block(*blocks[i], [&] { emit_set(local(r), coerce(results[i], t).code); });
-  if (!any_alive) dead_ = true;
+    if (alive[i]) ir_.in_block(*blocks[i], [&] { ir_.emit_set(ir_.local(r), coerce(results[i], t).code); });
+  if (!any_alive) ir_.kill();
   r->mut = false;
-  return SVal{t, local(r)};
+  return SVal{t, ir_.local(r)};
 }
 
 SVal Specialiser::join_branches(ir::Node* cond, const std::function<SVal()>& then_f,
                                 const std::function<SVal()>& else_f, bool value_used) {
-  ir::Stmt* s = emit_detached(ir::SK::If);
+  ir::Stmt* s = ir_.emit_detached(ir::SK::If);
   s->a = cond;
   return join_blocks(s, {&s->body, &s->other}, {then_f, else_f}, value_used, true);
 }
@@ -82,7 +78,7 @@ SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f
     ~Depth() { --d; }
   } depth(split_depth_);
   SVal x = let(v, "u");
-  ir::Stmt* s = emit_detached(ir::SK::Switch);
+  ir::Stmt* s = ir_.emit_detached(ir::SK::Switch);
   s->a = x.code;
   std::vector<ir::Block*> blocks;
   std::vector<std::function<SVal()>> producers;
@@ -92,7 +88,7 @@ SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f
     blocks.push_back(&s->cases[i].second);
     TypeP alt = x.type->alts[i];
     producers.push_back([&, i, alt]() -> SVal {
-      ir::Node* get = node(ir::Op::SumGet, alt, {x.code});
+      ir::Node* get = ir_.node(ir::Op::SumGet, alt, {x.code});
       get->index = static_cast<int>(i);
       SVal part{alt, alt->k == TK::Func ? nullptr : get};
       return f(let(part, "a"));
@@ -107,17 +103,17 @@ SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f
 SVal Specialiser::coerce(SVal v, TypeP to) {
   if (!v.type || v.type == to || v.type->k == TK::Never) return v;
   if (is_list(v.type) && is_list(to)) {
-    if (!v.type->elem || v.code == nullptr) return SVal{to, node(ir::Op::MakeList, to), v.konst};
+    if (!v.type->elem || v.code == nullptr) return SVal{to, ir_.node(ir::Op::MakeList, to), v.konst};
     // Element by element into a list of the wider element type.
     SVal src = let(v);
-    ir::Var* out = decl(to, nullptr, "conv");
-    emit_eval(call(ir::Helper::Reserve, nullptr, {local(out), node(ir::Op::Size, T().int_(), {src.code})}));
-    ir::Stmt* loop = emit(ir::SK::ForEach);
-    loop->var = var(v.type->elem, "x");
+    ir::Var* out = ir_.decl(to, nullptr, "conv");
+    ir_.emit_eval(ir_.call(ir::Helper::Reserve, nullptr, {ir_.local(out), ir_.node(ir::Op::Size, T().int_(), {src.code})}));
+    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+    loop->var = ir_.var(v.type->elem, "x");
     loop->a = src.code;
-    in_block(loop->body, [&] {
-      SVal e = coerce(SVal{v.type->elem, local(loop->var)}, to->elem);
-      emit_push(local(out), e.code);
+    ir_.in_block(loop->body, [&] {
+      SVal e = coerce(SVal{v.type->elem, ir_.local(loop->var)}, to->elem);
+      ir_.emit_push(ir_.local(out), e.code);
     });
     return built(out);
   }
@@ -127,7 +123,7 @@ SVal Specialiser::coerce(SVal v, TypeP to) {
     for (size_t i = 0; i < to->alts.size(); ++i)
       if (T().fits(v.type, to->alts[i])) {
         SVal inner = coerce(v, to->alts[i]);
-        ir::Node* n = node(ir::Op::MakeSum, to, {inner.code ? inner.code : lit(to->alts[i], 0)});
+        ir::Node* n = ir_.node(ir::Op::MakeSum, to, {inner.code ? inner.code : ir_.lit(to->alts[i], 0)});
         n->index = static_cast<int>(i);
         return SVal{to, n, nullptr, v.fresh};
       }
@@ -141,11 +137,11 @@ SVal Specialiser::coerce(SVal v, TypeP to) {
 ir::Node* Specialiser::truthy(const SVal& v) {
   switch (v.type->k) {
     case TK::Bool: return v.code;
-    case TK::List: return v.type->elem ? node(ir::Op::Not, T().bool_(), {node(ir::Op::Empty, T().bool_(), {v.code})})
-                                       : lit(T().bool_(), 0);
-    case TK::Never: return lit(T().bool_(), 0);
+    case TK::List: return v.type->elem ? ir_.node(ir::Op::Not, T().bool_(), {ir_.node(ir::Op::Empty, T().bool_(), {v.code})})
+                                       : ir_.lit(T().bool_(), 0);
+    case TK::Never: return ir_.lit(T().bool_(), 0);
     case TK::Sum: return split(v, [&](const SVal& a) { return let(SVal{T().bool_(), truthy(a)}); }).code;
-    default: return lit(T().bool_(), 1);
+    default: return ir_.lit(T().bool_(), 1);
   }
 }
 
@@ -172,7 +168,7 @@ static bool is_instance(TypeP t) {
 }
 
 SVal Specialiser::equals(const SVal& a, const SVal& b) {
-  auto known = [&](bool v) { return SVal{T().bool_(), lit(T().bool_(), v), lit(T().bool_(), v)}; };
+  auto known = [&](bool v) { return SVal{T().bool_(), ir_.lit(T().bool_(), v), ir_.lit(T().bool_(), v)}; };
   return split(a, [&](const SVal& x) {
     return split(b, [&](const SVal& y) -> SVal {
       const TK l = x.type->k, r = y.type->k;
@@ -180,18 +176,18 @@ SVal Specialiser::equals(const SVal& a, const SVal& b) {
       auto cx = const_int(x), cy = const_int(y);
       switch (l) {
         case TK::Int:
-          if (r == TK::Int) return cx && cy ? known(*cx == *cy) : let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
+          if (r == TK::Int) return cx && cy ? known(*cx == *cy) : let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
           if (r == TK::Bool) {  // asymmetric, as in the reference
             if (cx && cy) return known(*cx == (*cy ? 1 : 0));
-            ir::Node* as_int = node(ir::Op::Ne, T().int_(), {y.code, lit(T().bool_(), 0)});  // bool -> 0/1
-            return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {x.code, as_int})});
+            ir::Node* as_int = ir_.node(ir::Op::Ne, T().int_(), {y.code, ir_.lit(T().bool_(), 0)});  // bool -> 0/1
+            return let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {x.code, as_int})});
           }
           return known(false);
         case TK::Bool:
         case TK::Str:
           if (r != l) return known(false);
           if (cx && cy) return known(*cx == *cy);
-          return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
+          return let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
         case TK::Func:
           if (r != TK::Func) return known(false);
           if (x.type->fn.kind == FuncRef::Native && y.type == x.type) return known(true);
@@ -216,16 +212,16 @@ SVal Specialiser::instance_equals(const SVal& x, const SVal& y) {
   std::vector<Sym> sx = fx, sy = fy;
   std::sort(sx.begin(), sx.end());
   std::sort(sy.begin(), sy.end());
-  if (sx != sy) return SVal{T().bool_(), lit(T().bool_(), 0), lit(T().bool_(), 0)};
+  if (sx != sy) return SVal{T().bool_(), ir_.lit(T().bool_(), 0), ir_.lit(T().bool_(), 0)};
   if (x.type == y.type && x.type->k != TK::Obj && x.type->k != TK::Cell)
-    return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
+    return let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {x.code, y.code})});
   // Field by field, stopping at the first difference (as the interpreter does:
   // the comparison itself cannot raise errors or draw, so order is not observable).
-  ir::Var* r = decl(T().bool_(), lit(T().bool_(), 1), "same");
-  ir::Block* outer = block_;
-  ir::Block* cur = block_;
+  ir::Var* r = ir_.decl(T().bool_(), ir_.lit(T().bool_(), 1), "same");
+  ir::Block* outer = ir_.block();
+  ir::Block* cur = ir_.block();
   for (Sym f : fx) {
-    block_ = cur;
+    ir_.continue_in(*cur);
     SVal eq;
     if (f == p_.names.elems) {
       eq = cells_equal(x, y);
@@ -233,15 +229,15 @@ SVal Specialiser::instance_equals(const SVal& x, const SVal& y) {
       SVal a = instance_field(x, f), b = instance_field(y, f);
       eq = equals(a, b);
     }
-    ir::Stmt* s = emit(ir::SK::If);
-    s->a = node(ir::Op::Not, T().bool_(), {eq.code});
+    ir::Stmt* s = ir_.emit(ir::SK::If);
+    s->a = ir_.node(ir::Op::Not, T().bool_(), {eq.code});
     s->body.push_back(&m_.arena.stmts.emplace_back());
     s->body.back()->k = ir::SK::Set;
-    s->body.back()->a = local(r);
-    s->body.back()->b = lit(T().bool_(), 0);
+    s->body.back()->a = ir_.local(r);
+    s->body.back()->b = ir_.lit(T().bool_(), 0);
     cur = &s->other;
   }
-  block_ = outer;
+  ir_.continue_in(*outer);
   return built(r);
 }
 
@@ -250,10 +246,10 @@ SVal Specialiser::instance_equals(const SVal& x, const SVal& y) {
 SVal Specialiser::cells_equal(const SVal& x, const SVal& y) {
   const bool xs = !h_.stored_cells.count(x.type->cls), ys = !h_.stored_cells.count(y.type->cls);
   if (xs && ys && x.type->cls == y.type->cls) {
-    if (!h_.rotated.count(x.type->cls)) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+    if (!h_.rotated.count(x.type->cls)) return SVal{T().bool_(), ir_.lit(T().bool_(), 1), ir_.lit(T().bool_(), 1)};
     // Each rotate wraps the coordinates' expressions once more: equal prints, equal turns.
-    auto turns = [&](const SVal& v) { return call(ir::Helper::RotOf, T().int_(), {member(v.code, ir::Member::Group, T().int_())}); };
-    return let(SVal{T().bool_(), node(ir::Op::Eq, T().bool_(), {turns(x), turns(y)})});
+    auto turns = [&](const SVal& v) { return ir_.call(ir::Helper::RotOf, T().int_(), {ir_.member(v.code, ir::Member::Group, T().int_())}); };
+    return let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {turns(x), turns(y)})});
   }
   unsupported("equality of objects whose cells may differ (it compares the cells' printed forms)");
 }
@@ -261,10 +257,10 @@ SVal Specialiser::cells_equal(const SVal& x, const SVal& y) {
 // Lists compare by printed form, type tag included (values.cpp). Empty lists all
 // print alike; beyond that the tags would have to be kept at run time.
 SVal Specialiser::list_equals(const SVal& x, const SVal& y) {
-  if (!x.type->elem && !y.type->elem) return SVal{T().bool_(), lit(T().bool_(), 1), lit(T().bool_(), 1)};
+  if (!x.type->elem && !y.type->elem) return SVal{T().bool_(), ir_.lit(T().bool_(), 1), ir_.lit(T().bool_(), 1)};
   if (!x.type->elem || !y.type->elem) {
     const SVal& other = x.type->elem ? x : y;
-    return let(SVal{T().bool_(), node(ir::Op::Empty, T().bool_(), {other.code})});
+    return let(SVal{T().bool_(), ir_.node(ir::Op::Empty, T().bool_(), {other.code})});
   }
   unsupported("equality of lists (it compares printed forms, list type tags included)");
 }
@@ -297,8 +293,8 @@ void Specialiser::note_identity(TypeP t) {
 }
 
 ir::Node* Specialiser::id_of(const SVal& v) {
-  if (!tracked(v.type)) return lit(T().int_(), -1);  // not yet known to matter: the next walk tracks it
-  return call(ir::Helper::IdOf, T().int_(), {member(v.code, ir::Member::Uid, T().int_())});
+  if (!tracked(v.type)) return ir_.lit(T().int_(), -1);  // not yet known to matter: the next walk tracks it
+  return ir_.call(ir::Helper::IdOf, T().int_(), {ir_.member(v.code, ir::Member::Uid, T().int_())});
 }
 
 SVal Specialiser::fresh_identity(SVal v) {
@@ -310,18 +306,18 @@ SVal Specialiser::fresh_identity(SVal v) {
 // identity number (a fresh one when the old value was not an object).
 void Specialiser::transfer_identity(const SVal& v, const SVal& old) {
   if (!tracked(v.type)) return;
-  ir::Node* uid = member(v.code, ir::Member::Uid, T().int_());
+  ir::Node* uid = ir_.member(v.code, ir::Member::Uid, T().int_());
   ir::Node* id = nullptr;
   if (tracked(old.type)) {
     id = id_of(old);
   } else if (is_sum(old.type)) {
     id = split(old, [&](const SVal& a) {
-           return SVal{T().int_(), tracked(a.type) ? id_of(a) : call(ir::Helper::NewUid, T().int_(), {})};
+           return SVal{T().int_(), tracked(a.type) ? id_of(a) : ir_.call(ir::Helper::NewUid, T().int_(), {})};
          }).code;
   } else {
-    id = call(ir::Helper::NewUid, T().int_(), {});
+    id = ir_.call(ir::Helper::NewUid, T().int_(), {});
   }
-  emit_eval(call(ir::Helper::IdTransfer, nullptr, {uid, id}));
+  ir_.emit_eval(ir_.call(ir::Helper::IdTransfer, nullptr, {uid, id}));
 }
 
 }  // namespace autumn::lower

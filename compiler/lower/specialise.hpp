@@ -20,6 +20,7 @@
 // rendering (spec_cells), values: equality, truthiness, coercion, type strings,
 // sums (spec_values), the host algorithm: start, step, render (spec_host).
 #pragma once
+#include <array>
 #include <functional>
 #include <map>
 #include <memory>
@@ -30,6 +31,7 @@
 
 #include "compiler/analyse/program.hpp"
 #include "compiler/lower/facts.hpp"
+#include "compiler/lower/ir_builder.hpp"
 #include "compiler/lower/module.hpp"
 
 namespace autumn::lower {
@@ -120,28 +122,9 @@ class Specialiser {
  private:
 
   // --- shared by the spec_*.cpp files -------------------------------------------
-  // Builder
-  ir::Function* fn_ = nullptr;
-  ir::Block* block_ = nullptr;
-  bool dead_ = false;  // an error has certainly been raised: what follows never runs
-  ir::Node* node(ir::Op op, TypeP t, std::vector<ir::Node*> a = {});
-  ir::Node* lit(TypeP t, int64_t v);
-  ir::Node* text(const std::string& s);
-  ir::Node* local(ir::Var* v);
-  ir::Node* slot(int s);
-  ir::Node* member(ir::Node* base, ir::Member m, TypeP t, int index = 0);
-  ir::Node* call(ir::Helper h, TypeP t, std::vector<ir::Node*> a);
-  ir::Var* var(TypeP t, const std::string& hint);
-  ir::Stmt* emit(ir::SK k);
-  ir::Stmt* emit_detached(ir::SK k);  // built, not attached to the current block
-  void emit_set(ir::Node* place, ir::Node* value);
-  void emit_eval(ir::Node* n);
-  void emit_push(ir::Node* list, ir::Node* value);  // value computed (and emitted) before
+  // Where the IR goes, and whether the code being written is dead (ir_builder.hpp).
+  IrBuilder ir_;
   SVal let(SVal v, const std::string& hint = "t");  // into an immutable temporary
-  ir::Var* decl(TypeP t, ir::Node* init, const std::string& hint);
-  void comment(const std::string& text);
-  // Runs `f` with its statements going into `b` (and dead_ local to it).
-  void in_block(ir::Block& b, const std::function<void()>& f);
   void fail(const std::string& msg);                  // a static message
   // The list-length budget (runtime/limits.hpp) before a list is built: its
   // length formed by `how` (ir::LengthOf) from `args`; `known`, when the
@@ -165,9 +148,6 @@ class Specialiser {
   void learn(const std::string& what);
   [[noreturn]] void unsupported(const std::string& why);
 
-  // Effects emitted so far (helper calls that change state, stores to state):
-  // a cell argument whose trial evaluation has none can be kept as a value.
-  size_t effects_ = 0;
   std::map<Sym, const TypeExpr*> global_decls_;  // (: x T) at the top level
 
   // Values (spec_values.cpp)
@@ -175,13 +155,11 @@ class Specialiser {
   ir::Node* truthy(const SVal& v);           // Bool node
   SVal equals(const SVal& a, const SVal& b);
   SVal split(const SVal& v, const std::function<SVal(const SVal&)>& per_alternative);
-  void attach(ir::Stmt* s);                  // a statement built detached, appended to the current block
   SVal join_blocks(ir::Stmt* stmt, std::vector<ir::Block*> blocks, std::vector<std::function<SVal()>> producers,
                    bool value_used, bool report);
   SVal join_branches(ir::Node* cond, const std::function<SVal()>& then_f, const std::function<SVal()>& else_f,
                      bool value_used);
   std::optional<int64_t> const_int(const SVal& v) const;
-  bool is_const(const ir::Node* n) const;
   void note_identity(TypeP t);               // identity numbers of t are observed
   bool tracked(TypeP t) const;
   ir::Node* id_of(const SVal& v);            // the identity number an object shows
@@ -259,40 +237,57 @@ class Specialiser {
   };
   std::map<int, BoundMethod> bound_;  // class -> the instance whose render was fetched last
 
-  // Builtins (spec_builtins.cpp, spec_builtins_state.cpp)
+  // Builtins (spec_builtins.cpp, spec_builtins_state.cpp). call_builtin checks
+  // the argument count (from the builtin table) and splits sum-typed arguments,
+  // then calls the builtin's lowering from lowerings(), indexed by the Builtin
+  // enum. A lowering gets the builtin it lowers (one may serve several), the
+  // lowered arguments, and the call (for error sites).
   SVal call_builtin(Builtin b, std::vector<SVal>& args, const Expr& at);
+  using Lowering = SVal (Specialiser::*)(Builtin b, std::vector<SVal>& a, const Expr& at);
+  static const std::array<Lowering, kBuiltinCount>& lowerings();
+  SVal builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& at);  // map, filter, any, foldl
+  SVal builtin_concat(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_length(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_head_tail(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_at(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_range(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_array_equal(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_is_list(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_print(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_sqrt(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_uniform_choice(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_random_positions(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_all_positions(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_adj_positions(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_is_free_pos(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_within_bounds(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_add_obj(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_update_obj(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_remove_obj(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_clicked(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_arrow(Builtin b, std::vector<SVal>& a, const Expr& at);  // left, right, up, down
+  SVal builtin_defined(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_all_objs(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_prev(Builtin b, std::vector<SVal>& a, const Expr& at);  // prev of a value
+  [[noreturn]] SVal builtin_render_all(Builtin b, std::vector<SVal>& a, const Expr& at);
+  SVal builtin_rotate(Builtin b, std::vector<SVal>& a, const Expr& at);
+  // Their parts.
   bool need(Builtin b, size_t n);  // builtin_arity_error: fails (and false) on a wrong count
   bool check_kind(Builtin b, const std::vector<SVal>& a, size_t i, TK k, const char* what);
   ir::Node* int_text(ir::Node* n);
   SVal call1(const SVal& f, const SVal& x, const Expr& at);
   SVal grid_size(const Expr& at);
-  SVal builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& at);
   bool unroll(const SVal& l) const;
   SVal iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, const Expr& at,
                     const std::function<SVal(const SVal&)>& apply);
   SVal fold(const SVal& f, const SVal& init, const SVal& l, const Expr& at);
-  SVal builtin_lists(Builtin b, std::vector<SVal>& a, const Expr& at);
-  SVal builtin_at(std::vector<SVal>& a);
-  SVal builtin_concat(std::vector<SVal>& a);
-  SVal builtin_array_equal(std::vector<SVal>& a);
-  SVal builtin_grid(Builtin b, std::vector<SVal>& a, const Expr& at);
-  SVal builtin_uniform_choice(std::vector<SVal>& a);
-  SVal builtin_random_positions(std::vector<SVal>& a);
-  SVal builtin_all_positions(std::vector<SVal>& a);
-  SVal builtin_adj_positions(std::vector<SVal>& a, const Expr& at);
-  SVal builtin_within_bounds(std::vector<SVal>& a, const Expr& at);
-  SVal builtin_inputs(Builtin b, std::vector<SVal>& a, const Expr& at);
   void define_click();
-  SVal builtin_objects(Builtin b, std::vector<SVal>& a, const Expr& at);
   SVal add_obj(const SVal& l, const SVal& x);
   SVal renew_identity(const SVal& v);
-  SVal update_obj(std::vector<SVal>& a, const Expr& at);
   SVal set_field(const SVal& o, const std::string& field, const SVal& v);
   SVal update_filtered(const SVal& l, const SVal& f, const SVal& pred, const Expr& at);
   SVal remove_from(const SVal& l, const SVal& what, const Expr& at);
   ir::Node* same_identity_any(const SVal& x, const std::vector<SVal>& others);
-  SVal builtin_globals(Builtin b, std::vector<SVal>& a, const Expr& at);
-  SVal builtin_rotate(std::vector<SVal>& a);
 
   // The global map (spec_globals.cpp)
   std::vector<Sym> start_defines_;  // start-up's definitions, in order (the map's history)
