@@ -139,8 +139,7 @@ bool Specialiser::render_value_shortcut(const Expr& lambda, const std::vector<SV
   if (!objects(args[0].type)) return false;
   auto means = [&](const char* name, const std::function<bool(TypeP)>& ok) {
     Sym s = p_.symbols.find(name);
-    for (SScope* sc : chain_)
-      if (sc->find(s)) return false;
+    if (scopes_.binds(s)) return false;
     Global* g = global(s);
     SVal v = g && g->state == Global::Defined ? read_global(*g) : SVal{};
     return v.type && ok(v.type);
@@ -170,13 +169,13 @@ SVal Specialiser::inline_lambda(const Expr& lambda, std::vector<SVal>& args, con
   for (const auto& [l, s] : inline_sigs_)
     if (l == &lambda && s == sig && depth >= 2) unsupported("recursion");
   if (inline_sigs_.size() > 64) unsupported("calls nested too deeply to inline");
-  SScope* sc = push_scope(kind, &lambda);
+  SScope* sc = scopes_.push(kind, ir_.block());
   for (size_t i = 0; i < lambda.params.size(); ++i) bind(*sc, lambda.params[i], args[i], {&lambda, lambda.params[i]});
   if (lambda.loc.source == SourceId::Program) ir_.comment("inlined: function at " + where(lambda.loc));
   inline_sigs_.emplace_back(&lambda, sig);
   SVal r = lower(*lambda.kids[0]);
   inline_sigs_.pop_back();
-  pop_scope();
+  scopes_.pop();
   if (ir_.dead()) return never();
   if (!r.type || r.type->k == TK::Class) {
     fail("the function body has no value");
@@ -276,7 +275,7 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
     unsupported("recursion: an object whose construction makes another of its class");
   }
   // The initializer: (list f1 .. fn origin (let (= allCells CELLS) ...)) in an Instance scope.
-  SScope* sc = push_scope(ScopeKind::Instance, &ctor);
+  SScope* sc = scopes_.push(ScopeKind::Instance, ir_.block());
   for (size_t i = 0; i < ctor.params.size(); ++i) bind(*sc, ctor.params[i], args[i], {&ctor, ctor.params[i]});
   constructing_.push_back(cls);
   const Expr& made = *ctor.kids[0];
@@ -299,7 +298,7 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
   const bool shared = !h_.stored_cells.count(cls) && !tracked(T().cell()) && cells.konst;
   if (!(pure && shared) && !ir_.dead()) ir_.block()->insert(ir_.block()->end(), cells_block.begin(), cells_block.end());
   if (died) ir_.kill();
-  pop_scope();
+  scopes_.pop();
   if (ir_.dead()) return never();
   (void)at;
   return make_instance(cls, values, cells);

@@ -76,7 +76,7 @@ SVal Specialiser::construct_cell(const Expr& e) {
       put(n, read_global(*g));
     }
   bool skipped = false;
-  for (SScope* sc : chain_) {
+  for (SScope* sc : scopes_.visible()) {
     if (sc->kind == ScopeKind::Instance && !skipped) {
       skipped = true;
       continue;
@@ -136,8 +136,7 @@ SVal Specialiser::construct_cell(const Expr& e) {
 // One argument of a Cell, evaluated in the capture scope alone. Returns the
 // cell's stored value for it; *deferred_index is -1 for a number constant.
 SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferred_index) {
-  std::vector<SScope*> saved = chain_;
-  chain_ = {&capture};
+  const ScopeChain::Chain saved = scopes_.replace({&capture});
   ++capture_mode_;
   capture_block_ = ir_.block();
   trial_failed_ = false;
@@ -147,7 +146,7 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
   const bool failed = trial_failed_ || (ir_.dead() && !was_dead);
   ir_.set_dead(was_dead);
   --capture_mode_;
-  chain_ = saved;
+  scopes_.replace(saved);
   const bool pure = ir_.effects() == effects_before;
   if (!failed && v.type->k == TK::Int) {
     *deferred_index = -1;
@@ -256,7 +255,7 @@ SVal Specialiser::eval_deferred(int d, const SVal* obj, const SVal& cell) {
   const DeferredArg& da = m_.deferred[d];
   size_t pushed = 0;
   if (obj) {
-    SScope* inst = push_scope(ScopeKind::Instance, nullptr);
+    SScope* inst = scopes_.push(ScopeKind::Instance, ir_.block());
     ++pushed;
     const ClassInfo& ci = m_.classes[obj->type->cls];
     for (size_t i = 0; i < ci.fields.size(); ++i) bind(*inst, ci.fields[i], instance_field(*obj, ci.fields[i]), {&ci, ci.fields[i]});
@@ -266,10 +265,10 @@ SVal Specialiser::eval_deferred(int d, const SVal* obj, const SVal& cell) {
     if (names.count(p_.names.elems))  // (only then: a rotated object's cells have no value here)
       bind(*inst, p_.names.elems, instance_field(*obj, p_.names.elems), {&ci, p_.names.elems});
   }
-  push_scope(ScopeKind::Local, nullptr);
-  SScope* es = push_scope(ScopeKind::Local, nullptr);
+  scopes_.push(ScopeKind::Local, ir_.block());
+  SScope* es = scopes_.push(ScopeKind::Local, ir_.block());
   bind(*es, p_.names.e, cell, {&da, p_.names.e});
-  SScope* cap = push_scope(ScopeKind::Local, nullptr);
+  SScope* cap = scopes_.push(ScopeKind::Local, ir_.block());
   pushed += 3;
   for (const auto& [n, t] : da.captured_types) {
     ir::Node* k = nullptr;
@@ -278,7 +277,7 @@ SVal Specialiser::eval_deferred(int d, const SVal* obj, const SVal& cell) {
     bind(*cap, n, SVal{t, k, k}, {&da, n});
   }
   SVal v = lower_value(*da.expr);
-  for (size_t i = 0; i < pushed; ++i) pop_scope();
+  for (size_t i = 0; i < pushed; ++i) scopes_.pop();
   return v;
 }
 
@@ -483,7 +482,7 @@ SVal Specialiser::deferred_colour(int d, const SVal& o, const SVal& cell) {
     bool captured = false;
     for (const auto& [m, t] : da.captured_types) captured |= m == n;
     if (captured) continue;
-    for (SScope* sc : chain_) caller_matters |= sc->find(n) != nullptr;
+    caller_matters |= scopes_.binds(n);
   }
   SVal v;
   if (caller_matters || capture_mode_) {
@@ -517,16 +516,15 @@ int Specialiser::colour_function(int d, int cls, const SVal& cell) {
   f->params.push_back(o);
   // Specialised with only the globals around it (the caller check above).
   const IrBuilder::Point saved = ir_.point();
-  std::vector<SScope*> saved_chain = chain_;
+  const ScopeChain::Chain saved_chain = scopes_.replace({});
   ir_.begin_function(f);
-  chain_.clear();
   SVal ov{T().obj(cls), ir_.local(o)};
   SVal v = eval_deferred(d, &ov, cell);
   if (!ir_.dead() && v.type->k == TK::Str) ir_.emit(ir::SK::Return)->a = v.code;
   else if (!ir_.dead())
     fail_at_cell_arg(m_.deferred[d].expr, "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type)));
   ir_.restore(saved);
-  chain_ = saved_chain;
+  scopes_.replace(saved_chain);
   return index;
 }
 
@@ -579,7 +577,7 @@ int Specialiser::stored_render_function(int cls) {
   out->mut = true;
   f->params = {o, out};
   ir_.begin_function(f);
-  chain_.clear();
+  scopes_.replace({});
   SVal ov{T().obj(cls), ir_.local(o)};
   ir::Node* origin = ir_.member(ir_.local(o), ir::Member::Origin, T().pos());
   ir::Stmt* loop = ir_.emit(ir::SK::ForEach);

@@ -45,8 +45,8 @@ SVal Specialiser::lower(const Expr& e) {
         v = never();
         break;
       }
-      if (chain_.empty()) global_decls_[e.name] = e.type.get();
-      else chain_.back()->declared.emplace_back(e.name, e.type.get());
+      if (scopes_.empty()) global_decls_[e.name] = e.type.get();
+      else scopes_.innermost().declared.emplace_back(e.name, e.type.get());
       v = SVal{};
       break;
   }
@@ -206,11 +206,11 @@ SVal Specialiser::lower_let(const Expr& e, bool unused) {
     fail("empty let");
     return never();
   }
-  push_scope(ScopeKind::Local, &e);
+  scopes_.push(ScopeKind::Local, ir_.block());
   SVal last;
   for (size_t i = 0; i < e.kids.size() && !ir_.dead(); ++i)
     last = (i + 1 < e.kids.size() || unused) ? lower_discarded(*e.kids[i]) : lower(*e.kids[i]);
-  pop_scope();
+  scopes_.pop();
   if (ir_.dead()) return never();
   if (!last.type || last.type->k == TK::Class) {
     fail("the last expression of a let has no value");

@@ -125,7 +125,7 @@ void Specialiser::specialise_step() {
   m_.step_fn = static_cast<int>(m_.functions.size() - 1);
   ir_.begin_function(fn);
   in_step_ = true;
-  chain_.clear();
+  scopes_.replace({});
 
   // What a step may change about a global's existence is checked at run time.
   for (auto* set : {&h_.erasable, &h_.runtime_defined})
@@ -212,7 +212,7 @@ void Specialiser::on_clause(size_t i, const Stmt& st) {
       value_unused_ = true;  // its value is only checked to exist
       lower_value(*st.body);
       loc_stack_.pop_back();
-      chain_.clear();
+      scopes_.replace({});
     });
   });
 }
@@ -268,7 +268,7 @@ void Specialiser::specialise_render() {
   fn->kind = ir::Function::Render;
   m_.render_fn = static_cast<int>(m_.functions.size() - 1);
   ir_.begin_function(fn);
-  chain_.clear();
+  scopes_.replace({});
   Expr at{ExprKind::Var, SourceLoc{0, 0, SourceId::Internal}};
   loc_stack_ = {&at};
 

@@ -1,7 +1,7 @@
 // spec_scope — names: lookup, assignment and definition over the static scope chain.
 //
 // The interpreter's scope chain is dynamic, but every call is inlined here, so at
-// each point the chain is a list of static scopes (chain_, outermost first) over
+// each point the chain is a list of static scopes (scope_chain.hpp, outermost first) over
 // the globals. A name resolves to the innermost binding that has it. Whether a
 // binding exists can depend on the run (a `let` variable first assigned in one
 // branch of an `if`, a global that removeObj erased or an on-clause creates);
@@ -55,22 +55,6 @@ Global& Specialiser::global_slot(Sym s, TypeP t) {
   return g;
 }
 
-SScope* Specialiser::push_scope(ScopeKind k, const void* site) {
-  scopes_.push_back(std::make_unique<SScope>());
-  SScope* sc = scopes_.back().get();
-  sc->kind = k;
-  sc->block = ir_.block();
-  sc->hoist = ir_.block()->size();
-  (void)site;
-  chain_.push_back(sc);
-  return sc;
-}
-
-void Specialiser::pop_scope() {
-  chain_.pop_back();
-  scopes_.pop_back();
-}
-
 // ---------------------------------------------------------------------------
 // Lookup
 
@@ -82,7 +66,7 @@ struct Specialiser::Candidate {
 
 std::vector<Specialiser::Candidate> Specialiser::resolve(Sym sym) {
   std::vector<Candidate> out;
-  for (auto it = chain_.rbegin(); it != chain_.rend(); ++it)
+  for (auto it = scopes_.visible().rbegin(); it != scopes_.visible().rend(); ++it)
     if (Binding* b = (*it)->find(sym)) {
       out.push_back(Candidate{b, nullptr, b->flag ? ir_.local(b->flag) : nullptr});
       if (!b->flag) return out;
@@ -135,7 +119,7 @@ SVal Specialiser::read_name(Sym s, const Expr& at) {
 
 void Specialiser::check_declared(Sym s, const SVal& v) {
   const TypeExpr* decl = nullptr;
-  for (auto it = chain_.rbegin(); it != chain_.rend() && !decl; ++it)
+  for (auto it = scopes_.visible().rbegin(); it != scopes_.visible().rend() && !decl; ++it)
     for (auto& [name, te] : (*it)->declared)
       if (name == s) decl = te;
   if (!decl) {
@@ -346,12 +330,12 @@ void Specialiser::assign(Sym s, SVal v, const Expr& at) {
     });
   };
   auto define_here = [&] {
-    if (chain_.empty()) {
+    if (scopes_.empty()) {
       Global& g = globals_[s];
       g.sym = s;
       define_global(g, v);
     } else {
-      define_local(*chain_.back(), s, v, &at);
+      define_local(scopes_.innermost(), s, v, &at);
     }
   };
   std::function<void(size_t)> walk = [&](size_t i) {

@@ -32,6 +32,7 @@
 #include "compiler/analyse/program.hpp"
 #include "compiler/lower/facts.hpp"
 #include "compiler/lower/ir_builder.hpp"
+#include "compiler/lower/scope_chain.hpp"
 #include "compiler/lower/module.hpp"
 
 namespace autumn::lower {
@@ -70,32 +71,6 @@ struct Hints {
   std::map<int, ir::Node*> shapes;              // class -> the cells all its objects have (in Module::lasting)
   bool changed = false;
   std::string last_change;                      // for the report when walks do not settle
-};
-
-enum class ScopeKind : uint8_t { Local, Instance };
-
-struct Binding {
-  Sym sym = -1;
-  TypeP type = nullptr;      // the slot's static type
-  ir::Node* place = nullptr; // a Local (mutable) or an immutable value
-  ir::Var* flag = nullptr;   // maybe-bound: this bool says whether it is bound now
-  bool mut = false;
-  std::pair<const void*, Sym> key;
-  ir::Node* konst = nullptr;   // the value when known at compile time...
-  ir::Block* home = nullptr;   // ...valid in this block only, for a mutable binding
-};
-
-struct SScope {
-  ScopeKind kind = ScopeKind::Local;
-  std::vector<Binding> vars;
-  std::vector<std::pair<Sym, const TypeExpr*>> declared;
-  ir::Block* block = nullptr;  // declarations of names this scope defines go here...
-  size_t hoist = 0;            // ...before this statement (so every branch sees them)
-  Binding* find(Sym s) {
-    for (auto it = vars.rbegin(); it != vars.rend(); ++it)
-      if (it->sym == s) return &*it;
-    return nullptr;
-  }
 };
 
 // A global of the program: its state slots and what is known about it here.
@@ -188,8 +163,7 @@ class Specialiser {
   SVal auto_call(SVal v);                    // and/or and on-clauses call function values
 
   // Scopes and assignment (spec_scope.cpp)
-  std::vector<SScope*> chain_;
-  std::vector<std::unique_ptr<SScope>> scopes_;  // owns the scopes push_scope made, innermost last
+  ScopeChain scopes_;                        // the static scopes over the globals (scope_chain.hpp)
   std::map<Sym, Global> globals_;
   Global* global(Sym s);                     // null: never a global
   Global& global_slot(Sym s, TypeP t);       // the global's slots, made on first use
@@ -207,8 +181,6 @@ class Specialiser {
   struct Candidate;                          // a binding a name may read (spec_scope.cpp)
   std::vector<Candidate> resolve(Sym sym);   // innermost first; guarded ones may be unbound
   SVal read_binding(Binding& b);
-  SScope* push_scope(ScopeKind k, const void* site);
-  void pop_scope();
   bool assigned_anywhere(Sym s) const { return f_.assigned.count(s) > 0; }
 
   // Calls and objects (spec_call.cpp)
