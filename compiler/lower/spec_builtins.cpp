@@ -164,7 +164,7 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
 
 bool Specialiser::unroll(const SVal& l) const {
   return !constructing_.empty() && l.konst && l.konst->op == ir::Op::MakeList && l.konst->a.size() <= 4096 &&
-         !tracked(l.type->elem);
+         !h_.tracked(l.type->elem);
 }
 
 SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, const Expr& at,
@@ -221,7 +221,7 @@ SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, c
 SVal Specialiser::fold(const SVal& f, const SVal& init, const SVal& l, const Expr& at) {
   std::pair<const void*, Sym> key{&at, -1};
   TypeP acc_t = init.type;
-  if (auto it = h_.locals.find(key); it != h_.locals.end()) acc_t = T().join(acc_t, it->second);
+  if (TypeP hinted = h_.local(key)) acc_t = T().join(acc_t, hinted);
   if (!l.type->elem) return init;
   if (unroll(l)) {
     SVal acc = init;
@@ -243,8 +243,8 @@ SVal Specialiser::fold(const SVal& f, const SVal& init, const SVal& l, const Exp
     SVal y = call_value(f, args, at);
     if (ir_.dead() || !y.type) return;
     if (!T().fits(y.type, acc_t)) {
-      h_.locals[key] = T().join(acc_t, y.type);
-      learn("foldl accumulator");
+      h_.set_local(key, T().join(acc_t, y.type));
+      h_.learn("foldl accumulator");
       return;
     }
     ir_.emit_set(ir_.local(acc), coerce(y, acc_t).code);
@@ -288,7 +288,7 @@ SVal Specialiser::builtin_head_tail(Builtin b, std::vector<SVal>& a, const Expr&
     fail(what);
     return never();
   }
-  if (a[0].konst && a[0].konst->op == ir::Op::MakeList && !a[0].konst->a.empty() && !tracked(a[0].type->elem)) {
+  if (a[0].konst && a[0].konst->op == ir::Op::MakeList && !a[0].konst->a.empty() && !h_.tracked(a[0].type->elem)) {
     ir::Node* k = b == Builtin::Head ? a[0].konst->a.front() : a[0].konst->a.back();
     return SVal{a[0].type->elem, k, is_const(k) ? k : nullptr};
   }
@@ -350,7 +350,7 @@ SVal Specialiser::builtin_concat(Builtin b, std::vector<SVal>& a, const Expr&) {
     return never();
   }
   bool checked = false;  // the list-length budget
-  if (l.konst && l.konst->op == ir::Op::MakeList && !(inner->elem && tracked(inner->elem))) {  // fold
+  if (l.konst && l.konst->op == ir::Op::MakeList && !(inner->elem && h_.tracked(inner->elem))) {  // fold
     std::vector<SVal> items;
     bool ok = true;
     for (ir::Node* part : l.konst->a) {

@@ -219,14 +219,14 @@ SVal Specialiser::builtin_clicked(Builtin, std::vector<SVal>& a, const Expr& at)
 void Specialiser::define_click() {
   Global& g = global_slot(p_.names.click, T().pos());
   g.state = Global::Runtime;
-  if (h_.runtime_defined.insert(p_.names.click).second) {
-    learn("click");
+  if (h_.add_runtime_defined(p_.names.click)) {
+    h_.learn("click");
   }
   ir_.emit_set(ir_.slot(g.defined), ir_.lit(T().bool_(), 1));
   order_insert(g.sym);
   // The pending click as a new Position (a plain Pos: no identity of its own yet).
   ir::Node* click = ir_.call(ir::Helper::ClickPos, T().pos(), {});
-  SVal p = tracked(T().pos()) ? make_position(SVal{T().int_(), ir_.member(click, ir::Member::X, T().int_())},
+  SVal p = h_.tracked(T().pos()) ? make_position(SVal{T().int_(), ir_.member(click, ir::Member::X, T().int_())},
                                               SVal{T().int_(), ir_.member(click, ir::Member::Y, T().int_())})
                               : let(SVal{T().pos(), click});
   ir_.emit_set(ir_.slot(g.value), p.code);
@@ -295,7 +295,7 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
     loop->a = l.code;
     ir_.in_block(loop->body, [&] {
       SVal e{et, ir_.local(loop->var)};
-      if (tracked(et)) e = renew_identity(e);
+      if (h_.tracked(et)) e = renew_identity(e);
       ir_.emit_push(ir_.local(out), coerce(e, rt).code);
     });
   }
@@ -388,7 +388,7 @@ SVal Specialiser::set_field(const SVal& o, const std::string& field, const SVal&
     if (!T().fits(v.type, ft)) return never();
     ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Field, ft, index), coerce(v, ft).code);
   }
-  if (tracked(o.type)) ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Uid, T().int_()), ir_.call(ir::Helper::NewUid, T().int_(), {}));
+  if (h_.tracked(o.type)) ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Uid, T().int_()), ir_.call(ir::Helper::NewUid, T().int_(), {}));
   return built(c);
 }
 
@@ -486,7 +486,7 @@ ir::Node* Specialiser::same_identity_any(const SVal& x, const std::vector<SVal>&
     SVal r = split(x, [&](const SVal& a) {
       return split(o, [&](const SVal& b) -> SVal {
         if (!is_heap(a.type) || !is_heap(b.type)) return SVal{T().bool_(), ir_.lit(T().bool_(), 0)};
-        if (!tracked(a.type) || !tracked(b.type)) return SVal{T().bool_(), ir_.lit(T().bool_(), 0)};
+        if (!h_.tracked(a.type) || !h_.tracked(b.type)) return SVal{T().bool_(), ir_.lit(T().bool_(), 0)};
         return let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {id_of(a), id_of(b)})});
       });
     });
@@ -510,8 +510,8 @@ SVal Specialiser::builtin_rotate(Builtin, std::vector<SVal>& a, const Expr&) {
     return never();
   }
   const int cls = a[0].type->cls;
-  if (h_.rotated.insert(cls).second) {
-    learn("rotate turns '" + m_.classes[cls].name + "'");
+  if (h_.add_rotated(cls)) {
+    h_.learn("rotate turns '" + m_.classes[cls].name + "'");
     return never();
   }
   // Each turn wraps one of the cells' offsets once more: their number is a fixed
@@ -521,7 +521,7 @@ SVal Specialiser::builtin_rotate(Builtin, std::vector<SVal>& a, const Expr&) {
                                            ir_.lit(T().int_(), limits::kMaxRotations)});
   ir_.in_block(deep->body, [&] { fail(limits::rotation_nesting_error()); });
   ir_.emit_eval(ir_.call(ir::Helper::RotTurn, nullptr, {ir_.member(a[0].code, ir::Member::Group, T().int_())}));
-  if (!tracked(a[0].type)) return a[0];
+  if (!h_.tracked(a[0].type)) return a[0];
   return renew_identity(a[0]);
 }
 

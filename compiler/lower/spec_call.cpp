@@ -196,8 +196,8 @@ void Specialiser::bind(SScope& sc, Sym p, const SVal& v, std::pair<const void*, 
   b.type = v.type;
   b.konst = v.konst;
   b.home = ir_.block();
-  if (h_.mutable_bindings.count(key) && v.code && v.type->k != TK::Never) {
-    if (auto it = h_.locals.find(key); it != h_.locals.end()) b.type = T().join(it->second, v.type);
+  if (h_.mutable_binding(key) && v.code && v.type->k != TK::Never) {
+    if (TypeP hinted = h_.local(key)) b.type = T().join(hinted, v.type);
     ir::Var* x = ir_.decl(b.type, coerce(v, b.type).code, "a_" + nm(p));
     b.place = ir_.local(x);
     b.mut = true;
@@ -249,7 +249,7 @@ SVal Specialiser::construct_builtin_class(int c, std::vector<SVal>& args) {
 SVal Specialiser::make_position(SVal x, SVal y) {
   SVal v{T().pos(), ir_.node(ir::Op::MakePos, T().pos(), {x.code, y.code})};
   if (x.konst && y.konst) v.konst = ir_.node(ir::Op::MakePos, T().pos(), {x.konst, y.konst});
-  if (tracked(T().pos())) {  // every Position the reference makes is a new object
+  if (h_.tracked(T().pos())) {  // every Position the reference makes is a new object
     v.code->a.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
     v = let(v);
   } else if (const_int(x) && const_int(y)) {
@@ -295,7 +295,7 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
     });
   constructing_.pop_back();
   const bool pure = ir_.effects() == effects_before && !has_fail(cells_block);
-  const bool shared = !h_.stored_cells.count(cls) && !tracked(T().cell()) && cells.konst;
+  const bool shared = !h_.stored_cells(cls) && !h_.tracked(T().cell()) && cells.konst;
   if (!(pure && shared) && !ir_.dead()) ir_.block()->insert(ir_.block()->end(), cells_block.begin(), cells_block.end());
   if (died) ir_.kill();
   scopes_.pop();
@@ -341,8 +341,8 @@ SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& 
   }
   ops.push_back(values.back().code);
   if (!object_cells(cls, cells, ops)) return never();
-  if (tracked(T().obj(cls))) ops.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
-  if (h_.rotated.count(cls)) ops.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));  // a new group of cells
+  if (h_.tracked(T().obj(cls))) ops.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
+  if (h_.rotated(cls)) ops.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));  // a new group of cells
   ir::Node* n = ir_.node(ir::Op::MakeObj, T().obj(cls), ops);
   n->index = cls;
   return fresh_identity(let(SVal{T().obj(cls), n}, "o"));
@@ -353,13 +353,13 @@ void Specialiser::widen_field(int cls, int field, TypeP t) {
   TypeP& ft = ci.field_types[field];
   if (!ft) {
     ft = t;
-    h_.fields[{cls, field}] = t;
+    h_.set_field(cls, field, t);
     return;
   }
   if (T().fits(t, ft)) return;
   ft = T().join(ft, t);
-  h_.fields[{cls, field}] = ft;
-  learn("field '" + ci.field_names[field] + "' of '" + ci.name + "'");
+  h_.set_field(cls, field, ft);
+  h_.learn("field '" + ci.field_names[field] + "' of '" + ci.name + "'");
 }
 
 // ---------------------------------------------------------------------------
@@ -374,7 +374,7 @@ SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) 
         if (ci.fields[i] == field) {
           TypeP ft = ci.field_types[i];
           if (!ft) {
-            learn("field '" + raw + "'");
+            h_.learn("field '" + raw + "'");
             return never();
           }
           return let(SVal{ft, ir_.member(o.code, ir::Member::Field, ft, static_cast<int>(i))});
@@ -398,7 +398,7 @@ SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) 
     }
     if (o.type->k == TK::Elem && field == n.position) {
       ir::Node* at = ir_.member(o.code, ir::Member::Position, T().pos());
-      if (!tracked(T().pos())) return let(SVal{T().pos(), at});
+      if (!h_.tracked(T().pos())) return let(SVal{T().pos(), at});
       SVal p{T().pos(), at};
       // The rendered element's Position, with an identity of its own (the
       // reference's same object on every read: not modelled).

@@ -123,11 +123,11 @@ SVal Specialiser::construct_cell(const Expr& e) {
     out.code->index = static_cast<int>(m_.number_colours.size());
     if (out.konst) out.konst->index = out.code->index;
   }
-  if (tracked(T().cell())) {
+  if (h_.tracked(T().cell())) {
     out.code->a.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
     out.konst = nullptr;
   }
-  if (known && !tracked(T().cell())) out.code = out.konst;
+  if (known && !h_.tracked(T().cell())) out.code = out.konst;
   else out = let(out, "cell");
   out.fresh = true;
   return out;
@@ -203,21 +203,21 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
          shown_type(type_string(cells.type)));
     return false;
   }
-  if (!h_.stored_cells.count(cls) && tracked(T().cell())) {  // cells with identities live in the objects
-    h_.stored_cells.insert(cls);
-    learn("cells of '" + ci.name + "' carry identities");
+  if (!h_.stored_cells(cls) && h_.tracked(T().cell())) {  // cells with identities live in the objects
+    h_.add_stored_cells(cls);
+    h_.learn("cells of '" + ci.name + "' carry identities");
     return false;
   }
-  if (!h_.stored_cells.count(cls)) {
+  if (!h_.stored_cells(cls)) {
     ir::Node* k = cells.konst;
     if (k && ci.static_shape && same_tree(k, ci.static_shape)) return true;
     if (k && !ci.static_shape) {
       ci.static_shape = k;
-      h_.shapes[cls] = clone_tree(k, m_.lasting);
+      h_.set_shape(cls, clone_tree(k, m_.lasting));
       return true;
     }
-    h_.stored_cells.insert(cls);
-    learn("the cells of '" + ci.name + "' depend on how objects are made");
+    h_.add_stored_cells(cls);
+    h_.learn("the cells of '" + ci.name + "' depend on how objects are made");
     return false;
   }
   ci.mode = CellMode::Stored;
@@ -228,18 +228,18 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
 // (.. o elems): the object's cell list.
 SVal Specialiser::object_cell_list(const SVal& o) {
   ClassInfo& ci = m_.classes[o.type->cls];
-  if (h_.rotated.count(o.type->cls)) unsupported("the cells of an object rotate turns, as a value");
+  if (h_.rotated(o.type->cls)) unsupported("the cells of an object rotate turns, as a value");
   TypeP lt = T().list(T().cell());
-  if (h_.stored_cells.count(o.type->cls) || tracked(T().cell())) {
-    if (!h_.stored_cells.count(o.type->cls)) {
-      h_.stored_cells.insert(o.type->cls);
-      learn("cells of '" + ci.name + "' carry identities");
+  if (h_.stored_cells(o.type->cls) || h_.tracked(T().cell())) {
+    if (!h_.stored_cells(o.type->cls)) {
+      h_.add_stored_cells(o.type->cls);
+      h_.learn("cells of '" + ci.name + "' carry identities");
       return never();
     }
     return let(SVal{lt, ir_.member(o.code, ir::Member::Cells, lt)});
   }
   if (!ci.static_shape) {
-    learn("cells of '" + ci.name + "'");
+    h_.learn("cells of '" + ci.name + "'");
     return never();
   }
   return SVal{ci.static_shape->a.empty() ? T().empty_list() : lt, ci.static_shape, ci.static_shape};
@@ -360,7 +360,7 @@ SVal Specialiser::render_value(const SVal& v, const Expr& at) {
 void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
   const int cls = o.type->cls;
   ClassInfo& ci = m_.classes[cls];
-  if (h_.stored_cells.count(cls)) {  // the class's render function, into a buffer
+  if (h_.stored_cells(cls)) {  // the class's render function, into a buffer
     ir::Var* out = ir_.var(T().list(T().elem()), "cells");
     out->scratch = true;
     out->mut = true;
@@ -375,13 +375,13 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
     return;
   }
   if (!ci.static_shape) {
-    learn("cells of '" + ci.name + "'");
+    h_.learn("cells of '" + ci.name + "'");
     return;
   }
   SVal ov = let(o, "obj");
   ir::Node* origin = ir_.member(ov.code, ir::Member::Origin, T().pos());
   SVal turns;
-  if (h_.rotated.count(cls))
+  if (h_.rotated(cls))
     turns = let(SVal{T().int_(), ir_.call(ir::Helper::RotOf, T().int_(), {ir_.member(ov.code, ir::Member::Group, T().int_())})});
   if (tabulable(*ci.static_shape)) {
     ci.shape_table = true;
@@ -539,8 +539,8 @@ SVal Specialiser::call_render_method(int cls) {
 // object's cells, a case per deferred argument such cells can hold).
 // The shapes earlier walks learnt, for code that renders objects before any is made.
 void Specialiser::load_shapes() {
-  for (const auto& [cls, shape] : h_.shapes)
-    if (!h_.stored_cells.count(cls)) m_.classes[cls].static_shape = clone_tree(shape, m_.arena);
+  for (const auto& [cls, shape] : h_.shapes())
+    if (!h_.stored_cells(cls)) m_.classes[cls].static_shape = clone_tree(shape, m_.arena);
 }
 
 void Specialiser::finish_classes() {
@@ -549,12 +549,12 @@ void Specialiser::finish_classes() {
     for (const Module::NumberColour& n : m_.number_colours)
       if ((n.classes.empty() || std::count(n.classes.begin(), n.classes.end(), cls)) && n.expr != used)
         unsupported("cells of one class with number colours in several places");
-  m_.pos_tracked = tracked(T().pos());
-  for (size_t c = 0; c < m_.classes.size(); ++c) m_.classes[c].rotatable = h_.rotated.count(static_cast<int>(c)) > 0;
+  m_.pos_tracked = h_.tracked(T().pos());
+  for (size_t c = 0; c < m_.classes.size(); ++c) m_.classes[c].rotatable = h_.rotated(static_cast<int>(c));
   for (size_t c = 0; c < m_.classes.size(); ++c) {
     ClassInfo& ci = m_.classes[c];
-    ci.tracked = tracked(T().obj(static_cast<int>(c)));
-    if (!h_.stored_cells.count(static_cast<int>(c))) {
+    ci.tracked = h_.tracked(T().obj(static_cast<int>(c)));
+    if (!h_.stored_cells(static_cast<int>(c))) {
       ci.mode = CellMode::Static;
       continue;
     }
@@ -616,7 +616,7 @@ int Specialiser::stored_render_function(int cls) {
     SVal y = arg(1, ir::Member::CellY, T().int_());
     ir::Node* ox = x.code;
     ir::Node* oy = y.code;
-    if (h_.rotated.count(cls)) {
+    if (h_.rotated(cls)) {
       ir::Node* turns = ir_.call(ir::Helper::RotOf, T().int_(), {ir_.member(ir_.local(o), ir::Member::Group, T().int_())});
       SVal r = let(SVal{T().pos(), ir_.call(ir::Helper::Rotated, T().pos(), {turns, x.code, y.code})});
       ox = ir_.member(r.code, ir::Member::X, T().int_());

@@ -47,13 +47,6 @@ SVal Specialiser::let(SVal v, const std::string& hint) {
 
 SVal Specialiser::never() { return SVal{T().never(), nullptr}; }
 
-// A hint changed: the walk will be repeated (AUTUMN_LOWER_TRACE=1 prints why).
-void Specialiser::learn(const std::string& what) {
-  h_.changed = true;
-  h_.last_change = what;
-  if (std::getenv("AUTUMN_LOWER_TRACE")) std::fprintf(stderr, "  learnt: %s\n", what.c_str());
-}
-
 // ---------------------------------------------------------------------------
 // Errors
 
@@ -217,14 +210,14 @@ void specialise_program(const Program& p, Module& m) {
   constexpr int kMaxWalks = 12;
   for (int walk = 0; walk < kMaxWalks; ++walk) {
     m.clear_for_walk();
-    hints.changed = false;
+    hints.start_walk();
     Specialiser s(p, facts, m, hints);
     s.run();
     if (std::getenv("AUTUMN_LOWER_TRACE"))  // which hint each walk learnt (debugging the lowering)
-      std::fprintf(stderr, "walk %d: %s\n", walk, hints.changed ? hints.last_change.c_str() : "settled");
-    if (!hints.changed) return;
+      std::fprintf(stderr, "walk %d: %s\n", walk, hints.changed() ? hints.last_change().c_str() : "settled");
+    if (!hints.changed()) return;
   }
-  throw Unsupported{"the types of some variables do not settle (" + hints.last_change + ")", SourceLoc{}};
+  throw Unsupported{"the types of some variables do not settle (" + hints.last_change() + ")", SourceLoc{}};
 }
 
 }  // namespace autumn::lower

@@ -43,12 +43,12 @@ std::vector<Sym> Specialiser::global_order(bool with_click) {
 // Whether a step may change the map's order other than by defining `click` on
 // an intact map (see the top of this file).
 bool Specialiser::order_changes_in_steps() const {
-  for (Sym s : h_.runtime_defined)
+  for (Sym s : h_.all_runtime_defined())
     if (s != p_.names.click) return true;
-  if (h_.erasable.empty()) return false;
-  if (h_.runtime_defined.count(p_.names.click)) return true;
-  for (Sym s : h_.erasable)
-    if (h_.stored_in_step.count(s)) return true;
+  if (h_.all_erasable().empty()) return false;
+  if (h_.runtime_defined(p_.names.click)) return true;
+  for (Sym s : h_.all_erasable())
+    if (h_.stored_in_step(s)) return true;
   return false;
 }
 
@@ -94,9 +94,8 @@ void Specialiser::walk_runtime_order(const std::function<void(Global&)>& visit, 
 // over the order kept at run time.
 void Specialiser::for_each_global_in_order(const std::function<void(Global&)>& visit, bool slotless) {
   if (in_step_ && order_changes_in_steps()) {
-    if (!h_.runtime_order) {
-      h_.runtime_order = true;
-      learn("the global map's order is kept at run time");
+    if (h_.set_runtime_order()) {
+      h_.learn("the global map's order is kept at run time");
       return;
     }
     walk_runtime_order(visit, slotless);
@@ -214,15 +213,15 @@ SVal Specialiser::remove_global(const SVal& v) {
   std::vector<Global*> candidates;
   for (auto& [s, g] : globals_)
     if (g.state != Global::Undefined && g.type && g.value >= 0 && is_heap(g.type) &&
-        (T().fits(v.type, g.type) || T().fits(g.type, v.type)) && tracked(g.type))
+        (T().fits(v.type, g.type) || T().fits(g.type, v.type)) && h_.tracked(g.type))
       candidates.push_back(&g);
   if (candidates.empty()) return v;
   ir::Var* done = ir_.decl(T().bool_(), ir_.lit(T().bool_(), 0), "erased");
   auto try_erase = [&](Global& g) {
     if (std::find(candidates.begin(), candidates.end(), &g) == candidates.end()) return;
-    if (!h_.erasable.count(g.sym)) {
-      h_.erasable.insert(g.sym);
-      learn("global '" + nm(g.sym) + "' may be erased");
+    if (!h_.erasable(g.sym)) {
+      h_.add_erasable(g.sym);
+      h_.learn("global '" + nm(g.sym) + "' may be erased");
       return;
     }
     // A global whose slots were made before it was known to be erasable can
@@ -271,9 +270,9 @@ SVal Specialiser::prev_of_name(Sym s) {
   }
   if (!g->type || (g->value < 0 && (g->type->k == TK::Func || g->type->k == TK::Class)))
     return SVal{g->type ? g->type : T().never(), nullptr};  // a function: nothing to snapshot
-  if (!h_.prev_read.count(s) || g->prev < 0) {  // the next walk keeps a copy
-    if (h_.prev_read.insert(s).second) {
-      learn("prev of '" + nm(s) + "'");
+  if (!h_.prev_read(s) || g->prev < 0) {  // the next walk keeps a copy
+    if (h_.add_prev_read(s)) {
+      h_.learn("prev of '" + nm(s) + "'");
     }
     return never();
   }

@@ -23,7 +23,7 @@ void Specialiser::run() {
   class_defined_.assign(m_.classes.size(), 0);
   load_shapes();
   m_.uses_random = p_.uses_random;
-  m_.runtime_order = h_.runtime_order;
+  m_.runtime_order = h_.runtime_order();
   specialise_start();
   specialise_step();
   specialise_render();
@@ -73,7 +73,7 @@ void Specialiser::specialise_start() {
       for (size_t i = 0; i < st.fields.size(); ++i) {
         TypeP declared = declared_type(*st.fields[i].type);
         if (!declared && ci.unknown_field.empty()) ci.unknown_field = ci.field_names[i];
-        TypeP hinted = h_.fields.count({c, static_cast<int>(i)}) ? h_.fields[{c, static_cast<int>(i)}] : nullptr;
+        TypeP hinted = h_.field(c, static_cast<int>(i));
         ci.field_types[i] = declared && hinted ? T().join(declared, hinted) : declared ? declared : hinted;
       }
       ci.type_string = "class " + ci.name + " {";
@@ -128,20 +128,20 @@ void Specialiser::specialise_step() {
   scopes_.replace({});
 
   // What a step may change about a global's existence is checked at run time.
-  for (auto* set : {&h_.erasable, &h_.runtime_defined})
+  for (const std::set<Sym>* set : {&h_.all_erasable(), &h_.all_runtime_defined()})
     for (Sym s : *set) {
       Global& g = globals_[s];
       g.sym = s;
       g.state = Global::Runtime;
-      if (g.value < 0 && h_.globals.count(s)) global_slot(s, h_.globals[s]);  // first defined by a step
+      if (TypeP hinted = h_.global(s); g.value < 0 && hinted) global_slot(s, hinted);  // first defined by a step
     }
   for (auto& [sym, g] : globals_)
-    if (g.state != Global::Undefined && h_.stored_in_step.count(sym) && g.constant && g.constant->type->k != TK::Func)
+    if (g.state != Global::Undefined && h_.stored_in_step(sym) && g.constant && g.constant->type->k != TK::Func)
       g.constant.reset();
   // 1. The prev snapshot: the globals prev reads, as they are now. Not copied:
   //    a global's value moves into its snapshot at the step's first store to it
   //    (save_for_prev), and prev reads the global until then.
-  for (Sym s : h_.prev_read) {
+  for (Sym s : h_.all_prev_read()) {
     Global& g = globals_[s];
     if (g.value < 0 || g.prev < 0) continue;
     ir_.emit_set(ir_.slot(g.saved), ir_.lit(T().bool_(), 0));
@@ -301,7 +301,7 @@ void Specialiser::specialise_render() {
     });
   };
   std::vector<Sym> order = p_.render_order;
-  for (Sym s : h_.runtime_defined) order.push_back(s);  // TODO: first-definition order at run time
+  for (Sym s : h_.all_runtime_defined()) order.push_back(s);  // TODO: first-definition order at run time
   for (Sym s : order) {
     Global* g = global(s);
     if (!g || g->state == Global::Undefined || !g->type || g->value < 0) continue;

@@ -35,7 +35,7 @@ Global& Specialiser::global_slot(Sym s, TypeP t) {
   Global& g = globals_[s];
   g.sym = s;
   if (g.value >= 0) return g;
-  if (auto it = h_.globals.find(s); it != h_.globals.end()) t = T().join(it->second, t);
+  if (TypeP hinted = h_.global(s)) t = T().join(hinted, t);
   g.type = t;
   if (t->k == TK::Func || t->k == TK::Class || t->k == TK::Never) return g;  // nothing at run time
   const std::string& n = nm(s);
@@ -45,9 +45,9 @@ Global& Specialiser::global_slot(Sym s, TypeP t) {
   };
   g.value = add("g_", t, ir::Slot::Value, true);
   if (g.initnext) g.updated = add("u_", nullptr, ir::Slot::Updated, false);
-  if (h_.erasable.count(s) || h_.runtime_defined.count(s) || s == p_.names.click)
+  if (h_.erasable(s) || h_.runtime_defined(s) || s == p_.names.click)
     g.defined = add("d_", nullptr, ir::Slot::Defined, true);
-  if (h_.prev_read.count(s)) {
+  if (h_.prev_read(s)) {
     g.prev = add("p_", t, ir::Slot::Prev, false);
     g.saved = add("sv_", nullptr, ir::Slot::Saved, false);
     if (g.defined >= 0) g.prev_defined = add("pd_", nullptr, ir::Slot::PrevDefined, false);
@@ -163,7 +163,7 @@ void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s,
   };
   split(v, check_new);
   if (ir_.dead()) return;
-  if (tracked(v.type) || (is_heap(v.type) && tracked(slot_type))) transfer_identity(v, SVal{slot_type, place});
+  if (h_.tracked(v.type) || (is_heap(v.type) && h_.tracked(slot_type))) transfer_identity(v, SVal{slot_type, place});
   if (!T().fits(v.type, slot_type)) {
     widen(T().join(slot_type, v.type));
     return;
@@ -184,15 +184,15 @@ void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
     b->konst = v.konst;
     b->home = ir_.block();
     if (!T().fits(v.type, b->type)) {
-      h_.locals[b->key] = T().join(b->type, v.type);
-      learn("local '" + nm(s) + "'");
+      h_.set_local(b->key, T().join(b->type, v.type));
+      h_.learn("local '" + nm(s) + "'");
       return;
     }
     if (b->place) ir_.emit_set(b->place, coerce(v, b->type).code);
     return;
   }
   TypeP t = v.type;
-  if (auto it = h_.locals.find(key); it != h_.locals.end()) t = T().join(it->second, t);
+  if (TypeP hinted = h_.local(key)) t = T().join(hinted, t);
   Binding b;
   b.sym = s;
   b.type = t;
@@ -251,21 +251,21 @@ void Specialiser::define_global(Global& g, SVal v) {
   if (g.value < 0 && v.type->k != TK::Func && v.type->k != TK::Class) global_slot(g.sym, v.type);
   if (!g.type) g.type = v.type;
   if (!T().fits(v.type, g.type)) {
-    h_.globals[g.sym] = T().join(g.type, v.type);
-    learn("global '" + nm(g.sym) + "'");
+    h_.set_global(g.sym, T().join(g.type, v.type));
+    h_.learn("global '" + nm(g.sym) + "'");
     return;
   }
   if (in_step_) {
-    if (!h_.runtime_defined.count(g.sym) && g.state != Global::Runtime) {
-      h_.runtime_defined.insert(g.sym);
-      if (!h_.globals.count(g.sym) && g.type) h_.globals[g.sym] = g.type;
-      learn("'" + nm(g.sym) + "' is defined while the program runs");
+    if (!h_.runtime_defined(g.sym) && g.state != Global::Runtime) {
+      h_.add_runtime_defined(g.sym);
+      if (!h_.global(g.sym) && g.type) h_.set_global(g.sym, g.type);
+      h_.learn("'" + nm(g.sym) + "' is defined while the program runs");
       return;
     }
   }
   save_for_prev(g);
   if (g.defined >= 0) ir_.emit_set(ir_.slot(g.defined), ir_.lit(T().bool_(), 1));
-  if (in_step_ && (h_.runtime_defined.count(g.sym) || h_.erasable.count(g.sym))) order_insert(g.sym);
+  if (in_step_ && (h_.runtime_defined(g.sym) || h_.erasable(g.sym))) order_insert(g.sym);
   if (g.value >= 0) ir_.emit_set(ir_.slot(g.value), coerce(v, g.type).code);
   if (g.updated >= 0) ir_.emit_set(ir_.slot(g.updated), ir_.lit(T().bool_(), 0));
   note_definition(g);
@@ -276,23 +276,23 @@ void Specialiser::define_global(Global& g, SVal v) {
 
 void Specialiser::store_global(Global& g, SVal v, const Expr& at, bool mark_updated) {
   (void)at;
-  if (in_step_ && !h_.stored_in_step.count(g.sym)) {
-    h_.stored_in_step.insert(g.sym);
+  if (in_step_ && !h_.stored_in_step(g.sym)) {
+    h_.add_stored_in_step(g.sym);
     if (g.constant) {  // a constant global that a step changes is not a constant
-      learn("global '" + nm(g.sym) + "' changes while the program runs");
+      h_.learn("global '" + nm(g.sym) + "' changes while the program runs");
     }
   }
   if (store_function(g, v)) return;
   if (g.value < 0) {
-    h_.globals[g.sym] = g.type ? T().join(g.type, v.type) : v.type;
-    learn("global '" + nm(g.sym) + "'");
+    h_.set_global(g.sym, g.type ? T().join(g.type, v.type) : v.type);
+    h_.learn("global '" + nm(g.sym) + "'");
     return;
   }
   store_checked(
       g.type, ir_.slot(g.value), v, g.sym,
       [&](TypeP wider) {
-        h_.globals[g.sym] = wider;
-        learn("global '" + nm(g.sym) + "'");
+        h_.set_global(g.sym, wider);
+        h_.learn("global '" + nm(g.sym) + "'");
       },
       [&] { save_for_prev(g); });
   if (mark_updated && g.updated >= 0) ir_.emit_set(ir_.slot(g.updated), ir_.lit(T().bool_(), 1));
@@ -310,8 +310,8 @@ void Specialiser::assign(Sym s, SVal v, const Expr& at) {
     }
     Binding& b = *c.b;
     if (!b.mut) {  // a name for a value: the next walk gives it a variable of its own
-      if (h_.mutable_bindings.insert(b.key).second) {
-        learn("'" + nm(s) + "' is assigned");
+      if (h_.add_mutable_binding(b.key)) {
+        h_.learn("'" + nm(s) + "' is assigned");
       }
       return;
     }
@@ -319,14 +319,14 @@ void Specialiser::assign(Sym s, SVal v, const Expr& at) {
     b.home = ir_.block();
     if (!b.place) {  // a function-valued binding: only the same function fits
       if (v.type != b.type) {
-        h_.locals[b.key] = T().join(b.type, v.type);
-        learn("local '" + nm(s) + "'");
+        h_.set_local(b.key, T().join(b.type, v.type));
+        h_.learn("local '" + nm(s) + "'");
       }
       return;
     }
     store_checked(b.type, b.place, v, s, [&](TypeP wider) {
-      h_.locals[b.key] = wider;
-      learn("local '" + nm(s) + "'");
+      h_.set_local(b.key, wider);
+      h_.learn("local '" + nm(s) + "'");
     });
   };
   auto define_here = [&] {

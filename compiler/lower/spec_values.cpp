@@ -244,9 +244,9 @@ SVal Specialiser::instance_equals(const SVal& x, const SVal& y) {
 // The `elems` of two objects compared (by printed form, as lists): objects of a
 // class whose cells are the same for every object print the same cells.
 SVal Specialiser::cells_equal(const SVal& x, const SVal& y) {
-  const bool xs = !h_.stored_cells.count(x.type->cls), ys = !h_.stored_cells.count(y.type->cls);
+  const bool xs = !h_.stored_cells(x.type->cls), ys = !h_.stored_cells(y.type->cls);
   if (xs && ys && x.type->cls == y.type->cls) {
-    if (!h_.rotated.count(x.type->cls)) return SVal{T().bool_(), ir_.lit(T().bool_(), 1), ir_.lit(T().bool_(), 1)};
+    if (!h_.rotated(x.type->cls)) return SVal{T().bool_(), ir_.lit(T().bool_(), 1), ir_.lit(T().bool_(), 1)};
     // Each rotate wraps the coordinates' expressions once more: equal prints, equal turns.
     auto turns = [&](const SVal& v) { return ir_.call(ir::Helper::RotOf, T().int_(), {ir_.member(v.code, ir::Member::Group, T().int_())}); };
     return let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {turns(x), turns(y)})});
@@ -273,8 +273,6 @@ bool Specialiser::list_tag_may_pass(TypeP value, TypeP declared) {
 // ---------------------------------------------------------------------------
 // Identity
 
-bool Specialiser::tracked(TypeP t) const { return h_.tracked.count(t) > 0; }
-
 void Specialiser::note_identity(TypeP t) {
   if (!t) return;
   if (is_sum(t)) {
@@ -287,13 +285,13 @@ void Specialiser::note_identity(TypeP t) {
   }
   if (t->k == TK::Elem) unsupported("identity of rendered elements (removeObj or prev by one)");
   m_.uses_ids = true;
-  if (h_.tracked.insert(t).second) {
-    learn("identity of " + type_string(t));
+  if (h_.add_tracked(t)) {
+    h_.learn("identity of " + type_string(t));
   }
 }
 
 ir::Node* Specialiser::id_of(const SVal& v) {
-  if (!tracked(v.type)) return ir_.lit(T().int_(), -1);  // not yet known to matter: the next walk tracks it
+  if (!h_.tracked(v.type)) return ir_.lit(T().int_(), -1);  // not yet known to matter: the next walk tracks it
   return ir_.call(ir::Helper::IdOf, T().int_(), {ir_.member(v.code, ir::Member::Uid, T().int_())});
 }
 
@@ -305,14 +303,14 @@ SVal Specialiser::fresh_identity(SVal v) {
 // Assignment to an existing variable gives the new value the old value's
 // identity number (a fresh one when the old value was not an object).
 void Specialiser::transfer_identity(const SVal& v, const SVal& old) {
-  if (!tracked(v.type)) return;
+  if (!h_.tracked(v.type)) return;
   ir::Node* uid = ir_.member(v.code, ir::Member::Uid, T().int_());
   ir::Node* id = nullptr;
-  if (tracked(old.type)) {
+  if (h_.tracked(old.type)) {
     id = id_of(old);
   } else if (is_sum(old.type)) {
     id = split(old, [&](const SVal& a) {
-           return SVal{T().int_(), tracked(a.type) ? id_of(a) : ir_.call(ir::Helper::NewUid, T().int_(), {})};
+           return SVal{T().int_(), h_.tracked(a.type) ? id_of(a) : ir_.call(ir::Helper::NewUid, T().int_(), {})};
          }).code;
   } else {
     id = ir_.call(ir::Helper::NewUid, T().int_(), {});

@@ -9,16 +9,26 @@
 // is specialised statement by statement, the step once for all steps.
 //
 // Types are found by the same walk (the "typing walk"): a run starts from the
-// types it has learnt so far (Hints: globals, locals by definition site, object
-// fields, which objects need identity, which globals can be erased); where a
-// value does not fit the type a slot was given, the slot's type is widened in
-// the hints and the walk is repeated. The IR of a walk whose hints changed is
-// dropped. The final walk's IR is the module.
+// types it has learnt so far (hints.hpp: globals, locals by definition site,
+// object fields, which objects need identity, which globals can be erased);
+// where a value does not fit the type a slot was given, the slot's type is
+// widened in the hints and the walk is repeated. The IR of a walk whose hints
+// changed is dropped. The final walk's IR is the module. (Why the types are not
+// found by a separate pass: docs/design.md, "Specialisation".)
+//
+// The walk's collaborators each keep their own state: IrBuilder (ir_builder.hpp:
+// the insertion point, dead code, effects), ScopeChain (scope_chain.hpp: the
+// static scopes), Hints (hints.hpp: what walks learnt), and the builtins'
+// lowerings, one per builtin in a table indexed by the Builtin enum
+// (spec_builtins.cpp). The Specialiser itself keeps the walk's position: the
+// globals, the constructs being lowered (for error sites), cells being made.
 //
 // Split over spec_*.cpp by topic: scopes and assignment (spec_scope), expressions
-// (spec_expr), calls and objects (spec_call), builtins (spec_builtins), cells and
-// rendering (spec_cells), values: equality, truthiness, coercion, type strings,
-// sums (spec_values), the host algorithm: start, step, render (spec_host).
+// (spec_expr), calls and objects (spec_call), builtins (spec_builtins,
+// spec_builtins_state), cells and rendering (spec_cells), values: equality,
+// truthiness, coercion, type strings, sums (spec_values), the global map
+// (spec_globals), the host algorithm: start, step, render (spec_host), and the
+// driver, error sites and type strings (spec_core).
 #pragma once
 #include <array>
 #include <functional>
@@ -31,6 +41,7 @@
 
 #include "compiler/analyse/program.hpp"
 #include "compiler/lower/facts.hpp"
+#include "compiler/lower/hints.hpp"
 #include "compiler/lower/ir_builder.hpp"
 #include "compiler/lower/scope_chain.hpp"
 #include "compiler/lower/module.hpp"
@@ -51,26 +62,6 @@ struct SVal {
   ir::Node* konst = nullptr;  // the value when known at compile time (Lit, MakePos, MakeList trees)
   bool fresh = false;         // just made: nobody else holds this object
   std::vector<ir::Node*> parts;  // a list literal: its elements' values (concat appends them directly)
-};
-
-// Type hints: what earlier walks learnt. Keys of locals are their defining
-// construct (an assignment, or a lambda for its parameters) and the name.
-struct Hints {
-  std::map<Sym, TypeP> globals;
-  std::map<std::pair<const void*, Sym>, TypeP> locals;
-  std::map<std::pair<int, int>, TypeP> fields;  // (class, field)
-  std::set<TypeP> tracked;                      // types whose identity is observed
-  std::set<Sym> erasable;                       // globals removeObj may erase
-  std::set<Sym> runtime_defined;                // globals first defined during a step
-  std::set<Sym> stored_in_step;                 // globals some step code assigns
-  std::set<Sym> prev_read;                      // globals read through prev
-  bool runtime_order = false;                   // a step observes a map order steps change
-  std::set<int> stored_cells;                   // classes whose objects carry their cells
-  std::set<int> rotated;                        // classes rotate turns (objects carry a cell group)
-  std::set<std::pair<const void*, Sym>> mutable_bindings;  // parameters some assignment targets
-  std::map<int, ir::Node*> shapes;              // class -> the cells all its objects have (in Module::lasting)
-  bool changed = false;
-  std::string last_change;                      // for the report when walks do not settle
 };
 
 // A global of the program: its state slots and what is known about it here.
@@ -120,7 +111,6 @@ class Specialiser {
   TypeP declared_type(const TypeExpr& te);   // a (: x T) declaration; null: unknown name
   bool check_printable(TypeP t);             // false: the type string is an error (emitted)
   void dynamic_site(const std::string& why);
-  void learn(const std::string& what);
   [[noreturn]] void unsupported(const std::string& why);
 
   std::map<Sym, const TypeExpr*> global_decls_;  // (: x T) at the top level
@@ -136,7 +126,6 @@ class Specialiser {
                      bool value_used);
   std::optional<int64_t> const_int(const SVal& v) const;
   void note_identity(TypeP t);               // identity numbers of t are observed
-  bool tracked(TypeP t) const;
   ir::Node* id_of(const SVal& v);            // the identity number an object shows
   SVal fresh_identity(SVal v);               // a just-made object (its uid is fresh)
   void transfer_identity(const SVal& v, const SVal& old);
