@@ -59,7 +59,7 @@ SVal Specialiser::call_builtin(Builtin b, std::vector<SVal>& a, const Expr& at) 
   // A value of several types: one case per type (a dynamic site).
   for (size_t i = 0; i < a.size(); ++i)
     if (is_sum(a[i].type) && a[i].type->alts[0]->k != TK::Func) {
-      dynamic_site(std::string("the argument of ") + builtin_name(b) + " has several possible types");
+      sites_.dynamic_site(std::string("the argument of ") + builtin_name(b) + " has several possible types");
       return split(a[i], [&, i](const SVal& x) {
         std::vector<SVal> narrowed = a;
         narrowed[i] = x;
@@ -114,7 +114,7 @@ const std::array<Specialiser::Lowering, kBuiltinCount>& Specialiser::lowerings()
 }
 
 SVal Specialiser::builtin_render_all(Builtin, std::vector<SVal>&, const Expr&) {
-  unsupported("renderAll called by the program");
+  sites_.unsupported("renderAll called by the program");
 }
 
 // ---------------------------------------------------------------------------
@@ -184,8 +184,8 @@ SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, c
   });
   TypeP rt = b == Builtin::Map ? (body_alive && y.type ? y.type : T().never()) : l.type->elem;
   if (b == Builtin::Map && (rt->k == TK::Func || rt->k == TK::Class))
-    unsupported("map producing functions");
-  if (b == Builtin::Map && !y.type) unsupported("map whose function has no value");
+    sites_.unsupported("map producing functions");
+  if (b == Builtin::Map && !y.type) sites_.unsupported("map whose function has no value");
   TypeP out_t = b == Builtin::Any ? T().bool_() : (rt->k == TK::Never ? T().empty_list() : T().list(rt));
   ir::Var* out = ir_.decl(out_t, b == Builtin::Any ? ir_.lit(T().bool_(), 0) : nullptr, b == Builtin::Any ? "any" : "out");
   if (b == Builtin::Map && rt->k != TK::Never) {
@@ -345,7 +345,7 @@ SVal Specialiser::builtin_concat(Builtin b, std::vector<SVal>& a, const Expr&) {
   if (!l.type->elem) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
   TypeP inner = l.type->elem;
   if (inner->k != TK::List) {
-    if (is_sum(inner)) unsupported("concat of a list holding lists and other values");
+    if (is_sum(inner)) sites_.unsupported("concat of a list holding lists and other values");
     fail("concat: every element must be a list");
     return never();
   }

@@ -272,9 +272,9 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
   TypeP xt = x.type->k == TK::List ? x.type->elem : x.type;
   TypeP rt = et && xt ? T().join(et, xt) : et ? et : xt;
   if (!rt) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list())};
-  if (is_sum(rt) && !is_typed_variant(rt)) dynamic_site("addObj mixes values of different types");
+  if (is_sum(rt) && !is_typed_variant(rt)) sites_.dynamic_site("addObj mixes values of different types");
   if (et && is_sum(et) && x.type->k != TK::List)
-    unsupported("addObj to a list that may hold objects of several classes");
+    sites_.unsupported("addObj to a list that may hold objects of several classes");
   TypeP lt = T().list(rt);
   ir::Node* added = x.type->k != TK::List ? ir_.lit(T().int_(), 1)
                     : x.type->elem        ? ir_.node(ir::Op::Size, T().int_(), {x.code})
@@ -355,7 +355,7 @@ SVal Specialiser::builtin_update_obj(Builtin, std::vector<SVal>& a, const Expr& 
     fail("updateObj: the field name must be a string");
     return never();
   }
-  if (!a[1].konst) unsupported("updateObj with a field name computed at run time");
+  if (!a[1].konst) sites_.unsupported("updateObj with a field name computed at run time");
   std::string field = m_.strings[a[1].konst->imm];
   if (!field.empty() && (field[0] == '"' || field[0] == '\'')) field = field.substr(1, field.size() - 2);
   return set_field(a[0], field, a[2]);
@@ -366,19 +366,19 @@ SVal Specialiser::set_field(const SVal& o, const std::string& field, const SVal&
   Sym s = p_.symbols.find(field);
   if (o.type->k != TK::Obj) {
     const std::string cn = class_name(o.type->k == TK::Pos ? kPositionClass : o.type->k == TK::Elem ? kElemClass : kCellClass);
-    unsupported("updateObj of a " + cn);
+    sites_.unsupported("updateObj of a " + cn);
   }
   ClassInfo& ci = m_.classes[o.type->cls];
   int index = -1;
   for (size_t i = 0; i < ci.fields.size(); ++i)
     if (ci.fields[i] == s) index = static_cast<int>(i);
   const bool origin = s == p_.names.origin;
-  if (s == p_.names.elems) unsupported("updateObj of the elems field");
+  if (s == p_.names.elems) sites_.unsupported("updateObj of the elems field");
   if (index < 0 && !origin) {
     fail("updateObj: object of class '" + ci.name + "' has no field '" + field + "'");
     return never();
   }
-  if (origin && v.type->k != TK::Pos) unsupported("updateObj giving origin a value that is not a Position");
+  if (origin && v.type->k != TK::Pos) sites_.unsupported("updateObj giving origin a value that is not a Position");
   ir::Var* c = ir_.decl(o.type, o.code, "upd");
   if (origin) {
     ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Origin, T().pos()), v.code);
@@ -415,7 +415,7 @@ SVal Specialiser::update_filtered(const SVal& l, const SVal& f, const SVal& pred
       if (ir_.dead()) return;
       if (!T().fits(y.type, et)) {
         // list_add re-tags the list per element: mixed types need the tags.
-        unsupported("updateObj with a filter whose function changes the element type");
+        sites_.unsupported("updateObj with a filter whose function changes the element type");
       }
       ir_.emit_push(ir_.local(out), coerce(y, et).code);
     });
@@ -537,7 +537,7 @@ SVal Specialiser::builtin_defined(Builtin, std::vector<SVal>& a, const Expr&) {
     fail("defined: the argument must be a string");
     return never();
   }
-  if (!a[0].konst) unsupported("defined of a name computed at run time");
+  if (!a[0].konst) sites_.unsupported("defined of a name computed at run time");
   std::string name = m_.strings[a[0].konst->imm];
   if (!name.empty() && name[0] == '"') name = name.substr(1, name.size() - 2);
   Sym s = p_.symbols.find(name);

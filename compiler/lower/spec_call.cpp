@@ -83,17 +83,17 @@ SVal Specialiser::lower_call(const Expr& e) {
 // stdlib's renderValue does this): o's rendered elements, a fresh list.
 SVal Specialiser::call_render(const Expr& e) {
   const Expr& get = *e.kids[0];
-  loc_stack_.push_back(&get);
+  sites_.enter(&get);
   SVal o = lower_value(*get.kids[0]);
-  loc_stack_.pop_back();
+  sites_.leave();
   if (ir_.dead()) return never();
   return split(o, [&](const SVal& x) -> SVal {
     bool field_named_render = false;
     if (x.type->k == TK::Obj)
       for (Sym f : m_.classes[x.type->cls].fields) field_named_render |= f == p_.names.render;
-    loc_stack_.push_back(&get);
+    sites_.enter(&get);
     SVal f = x.type->k == TK::Obj && !field_named_render ? SVal{} : get_field(x, p_.names.render, get.text);
-    loc_stack_.pop_back();
+    sites_.leave();
     if (ir_.dead()) return never();
     std::vector<SVal> args;
     for (size_t i = 1; i < e.kids.size() && !ir_.dead(); ++i) args.push_back(let(lower_value(*e.kids[i]), "arg"));
@@ -167,8 +167,8 @@ SVal Specialiser::inline_lambda(const Expr& lambda, std::vector<SVal>& args, con
   for (const auto& [l, s] : inline_sigs_)
     if (l == &lambda) ++depth;
   for (const auto& [l, s] : inline_sigs_)
-    if (l == &lambda && s == sig && depth >= 2) unsupported("recursion");
-  if (inline_sigs_.size() > 64) unsupported("calls nested too deeply to inline");
+    if (l == &lambda && s == sig && depth >= 2) sites_.unsupported("recursion");
+  if (inline_sigs_.size() > 64) sites_.unsupported("calls nested too deeply to inline");
   SScope* sc = scopes_.push(kind, ir_.block());
   for (size_t i = 0; i < lambda.params.size(); ++i) bind(*sc, lambda.params[i], args[i], {&lambda, lambda.params[i]});
   if (lambda.loc.source == SourceId::Program) ir_.comment("inlined: function at " + where(lambda.loc));
@@ -272,7 +272,7 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
   // A constructor that (through its cells) constructs its own class again
   // recurses without a bound in this lowering, which inlines every constructor.
   if (std::find(constructing_.begin(), constructing_.end(), cls) != constructing_.end()) {
-    unsupported("recursion: an object whose construction makes another of its class");
+    sites_.unsupported("recursion: an object whose construction makes another of its class");
   }
   // The initializer: (list f1 .. fn origin (let (= allCells CELLS) ...)) in an Instance scope.
   SScope* sc = scopes_.push(ScopeKind::Instance, ir_.block());
@@ -316,7 +316,7 @@ SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& 
         if (!check_printable(v.type) || !check_printable(declared)) return v;
         if (v.type->k == TK::List) {
           if (!list_tag_may_pass(v.type, declared))
-            unsupported("a list field given a list of another element type (the check reads the list's type tag)");
+            sites_.unsupported("a list field given a list of another element type (the check reads the list's type tag)");
           return v;
         }
         if (type_string(v.type) != want)
@@ -332,7 +332,7 @@ SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& 
   // The interpreter (as the reference) keeps such an object and fails only
   // when it is rendered, at the object's definition; a typed struct cannot hold it.
   if (values.back().type->k != TK::Pos)
-    unsupported("an object made with an origin that is not a Position (" + shown_type(type_string(values.back().type)) + ")");
+    sites_.unsupported("an object made with an origin that is not a Position (" + shown_type(type_string(values.back().type)) + ")");
   std::vector<ir::Node*> ops;
   for (size_t i = 0; i < ci.fields.size(); ++i) {
     TypeP ft = ci.field_types[i] ? ci.field_types[i] : values[i].type;
@@ -429,8 +429,8 @@ SVal Specialiser::make_list(const std::vector<SVal>& items) {
   TypeP et = T().never();
   for (const SVal& v : items) et = T().join(et, v.type);
   if (et->k == TK::Never) return never();
-  if (et->k == TK::Func || et->k == TK::Class) unsupported("a list of functions or types");
-  if (is_sum(et) && !is_typed_variant(et)) dynamic_site("a list holds values of different types");
+  if (et->k == TK::Func || et->k == TK::Class) sites_.unsupported("a list of functions or types");
+  if (is_sum(et) && !is_typed_variant(et)) sites_.dynamic_site("a list holds values of different types");
   TypeP lt = T().list(et);
   std::vector<ir::Node*> codes, konsts;
   bool all_const = true;

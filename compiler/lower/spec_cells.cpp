@@ -72,7 +72,7 @@ SVal Specialiser::construct_cell(const Expr& e) {
   captured_konst_.clear();
   for (Sym n : e.cell_names)
     if (Global* g = global(n); g && g->state != Global::Undefined) {
-      if (g->state == Global::Runtime) unsupported("a cell capturing a global that may not exist");
+      if (g->state == Global::Runtime) sites_.unsupported("a cell capturing a global that may not exist");
       put(n, read_global(*g));
     }
   bool skipped = false;
@@ -83,7 +83,7 @@ SVal Specialiser::construct_cell(const Expr& e) {
     }
     for (Sym n : e.cell_names)
       if (Binding* b = sc->find(n)) {
-        if (b->flag) unsupported("a cell capturing a name that may not be bound");
+        if (b->flag) sites_.unsupported("a cell capturing a name that may not be bound");
         SVal v{b->type, b->place};
         if (b->place && !b->mut) v.konst = is_const(b->place) ? b->place : nullptr;
         v = let(v);
@@ -170,7 +170,7 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
   const TypeP want = which == 2 ? T().str() : T().int_();
   d.fixed = !failed && pure && v.type == want;
   if (!d.fixed && runtime_capture)
-    unsupported("a cell argument evaluated at render time that captures a value computed at run time");
+    sites_.unsupported("a cell argument evaluated at render time that captures a value computed at run time");
   const std::string text = "(" + ast_to_string(p_.symbols, arg) + ": Expr)";
   auto it = std::find(m_.deferred_prints.begin(), m_.deferred_prints.end(), text);
   d.print = static_cast<int>(it - m_.deferred_prints.begin());
@@ -228,7 +228,7 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
 // (.. o elems): the object's cell list.
 SVal Specialiser::object_cell_list(const SVal& o) {
   ClassInfo& ci = m_.classes[o.type->cls];
-  if (h_.rotated(o.type->cls)) unsupported("the cells of an object rotate turns, as a value");
+  if (h_.rotated(o.type->cls)) sites_.unsupported("the cells of an object rotate turns, as a value");
   TypeP lt = T().list(T().cell());
   if (h_.stored_cells(o.type->cls) || h_.tracked(T().cell())) {
     if (!h_.stored_cells(o.type->cls)) {
@@ -296,9 +296,9 @@ SVal Specialiser::call_deferred(const SVal& f) {
   // A cell known only at run time: constants and fixed values are in the cell.
   ir::Member m = which == 0 ? ir::Member::CellX : which == 1 ? ir::Member::CellY : ir::Member::CellColour;
   for (const DeferredArg& da : m_.deferred)
-    if (da.arg == which && !da.fixed) unsupported("evaluating a cell argument of a cell made elsewhere");
+    if (da.arg == which && !da.fixed) sites_.unsupported("evaluating a cell argument of a cell made elsewhere");
   TypeP t = which == 2 ? T().str() : T().int_();
-  if (which == 2) unsupported("the colour of a cell made elsewhere, as a value");
+  if (which == 2) sites_.unsupported("the colour of a cell made elsewhere, as a value");
   return let(SVal{t, ir_.member(f.code, m, t)});
 }
 
@@ -531,8 +531,8 @@ int Specialiser::colour_function(int d, int cls, const SVal& cell) {
 SVal Specialiser::call_render_method(int cls) {
   auto it = bound_.find(cls);
   if (it == bound_.end() || it->second.block != ir_.block())
-    unsupported("a render method called away from where it was fetched");
-  return render_value(it->second.obj, *loc_stack_.back());
+    sites_.unsupported("a render method called away from where it was fetched");
+  return render_value(it->second.obj, sites_.innermost());
 }
 
 // After the walk: each Stored class gets its render function (a loop over the
@@ -548,7 +548,7 @@ void Specialiser::finish_classes() {
   for (const auto& [cls, used] : number_colour_uses_)
     for (const Module::NumberColour& n : m_.number_colours)
       if ((n.classes.empty() || std::count(n.classes.begin(), n.classes.end(), cls)) && n.expr != used)
-        unsupported("cells of one class with number colours in several places");
+        sites_.unsupported("cells of one class with number colours in several places");
   m_.pos_tracked = h_.tracked(T().pos());
   for (size_t c = 0; c < m_.classes.size(); ++c) m_.classes[c].rotatable = h_.rotated(static_cast<int>(c));
   for (size_t c = 0; c < m_.classes.size(); ++c) {
@@ -639,19 +639,17 @@ int Specialiser::stored_render_function(int cls) {
 // Errors of the render itself
 
 void Specialiser::fail_at_cell_arg(const Expr* arg, const std::string& msg) {
-  bool placed = false;
-  for (const Expr* e : loc_stack_) placed |= e->loc.source == SourceId::Program;
-  if (placed || !arg) return fail(msg);
-  loc_stack_.push_back(arg);
+  if (sites_.in_program() || !arg) return fail(msg);
+  sites_.enter(arg);
   fail(msg);
-  loc_stack_.pop_back();
+  sites_.leave();
 }
 
 const Expr* Specialiser::number_colour_of(int cls) {
   const Expr* found = nullptr;
   for (const Module::NumberColour& n : m_.number_colours) {
     if (!n.classes.empty() && !std::count(n.classes.begin(), n.classes.end(), cls)) continue;
-    if (found && found != n.expr) unsupported("cells of one class with number colours in several places");
+    if (found && found != n.expr) sites_.unsupported("cells of one class with number colours in several places");
     found = n.expr;
   }
   number_colour_uses_.emplace_back(cls, found);

@@ -14,7 +14,7 @@
 namespace autumn::lower {
 
 Specialiser::Specialiser(const Program& p, const Facts& f, Module& m, Hints& h)
-    : ir_(m, [this] { return location(); }), p_(p), m_(m), h_(h), f_(f) {}
+    : sites_(m), ir_(m, [this] { return sites_.here(); }), p_(p), m_(m), h_(h), f_(f) {}
 
 // ---------------------------------------------------------------------------
 // Values into temporaries
@@ -50,55 +50,29 @@ SVal Specialiser::never() { return SVal{T().never(), nullptr}; }
 // ---------------------------------------------------------------------------
 // Errors
 
-int Specialiser::location() {
-  ErrorLoc l;
-  if (!loc_stack_.empty()) l.at = loc_stack_.back()->loc;
-  for (auto it = loc_stack_.rbegin(); it != loc_stack_.rend(); ++it)
-    if ((*it)->loc.source == SourceId::Program) {
-      l.in_program = true;
-      l.program_at = (*it)->loc;
-      break;
-    }
-  l.prefix = error_prefix_;
-  return intern_location(l);
-}
-
-// The index of `l` among the module's error sites, added if new.
-int Specialiser::intern_location(const ErrorLoc& l) {
-  for (size_t i = 0; i < m_.locations.size(); ++i) {
-    const ErrorLoc& o = m_.locations[i];
-    if (o.at.line == l.at.line && o.at.col == l.at.col && o.at.source == l.at.source &&
-        o.in_program == l.in_program && o.program_at.line == l.program_at.line &&
-        o.program_at.col == l.program_at.col && o.prefix == l.prefix)
-      return static_cast<int>(i);
-  }
-  m_.locations.push_back(l);
-  return static_cast<int>(m_.locations.size() - 1);
-}
-
 void Specialiser::fail(const std::string& msg) { fail(std::vector<ir::Node*>{ir_.text(msg)}); }
 
 void Specialiser::fail(std::vector<ir::Node*> parts) {
   if (capture_mode_) {
     // A cell argument's trial: the reference catches the error and defers the
     // argument. Only an error every run raises can be decided here.
-    if (ir_.block() != capture_block_) unsupported("a cell argument whose evaluation fails on some runs only");
+    if (ir_.block() != capture_block_) sites_.unsupported("a cell argument whose evaluation fails on some runs only");
     trial_failed_ = true;
     ir_.kill();
     return;
   }
   ir::Stmt* s = ir_.emit(ir::SK::Fail);
   s->a = ir_.node(ir::Op::Concat, nullptr, std::move(parts));
-  s->loc = location();
+  s->loc = sites_.here();
   ir_.kill();
 }
 
 void Specialiser::check_length(ir::LengthOf how, std::vector<ir::Node*> args, std::optional<int64_t> known) {
   if (known && *known <= limits::kMinListLength) return;
-  if (capture_mode_) unsupported("a cell argument that builds a list the list-length budget may refuse");
+  if (capture_mode_) sites_.unsupported("a cell argument that builds a list the list-length budget may refuse");
   ir::Node* c = ir_.call(ir::Helper::CheckLength, nullptr, std::move(args));
   c->index = how;
-  c->imm = location();
+  c->imm = sites_.here();
   ir_.emit_eval(c);
 }
 
@@ -110,34 +84,11 @@ void Specialiser::charge_built(ir::LengthOf how, std::vector<ir::Node*> args) {
   if (capture_mode_ || ir_.dead()) return;
   ir::Node* c = ir_.call(ir::Helper::ChargeBuilt, nullptr, std::move(args));
   c->index = how;
-  c->imm = location();
+  c->imm = sites_.here();
   ir_.emit_eval(c);
 }
 
 void Specialiser::charge_one_built() { charge_built(ir::kLengthIs, {ir_.lit(T().int_(), 1)}); }
-
-void Specialiser::unsupported(const std::string& why) {
-  SourceLoc at;
-  if (!loc_stack_.empty()) at = loc_stack_.back()->loc;
-  for (auto it = loc_stack_.rbegin(); it != loc_stack_.rend(); ++it)
-    if ((*it)->loc.source == SourceId::Program) {
-      at = (*it)->loc;
-      break;
-    }
-  throw Unsupported{why, at};
-}
-
-void Specialiser::dynamic_site(const std::string& why) {
-  SourceLoc at;
-  for (auto it = loc_stack_.rbegin(); it != loc_stack_.rend(); ++it)
-    if ((*it)->loc.source == SourceId::Program) {
-      at = (*it)->loc;
-      break;
-    }
-  for (const DynamicSite& d : m_.dynamic_sites)
-    if (d.loc.line == at.line && d.loc.col == at.col && d.why == why) return;
-  m_.dynamic_sites.push_back(DynamicSite{at, why});
-}
 
 // ---------------------------------------------------------------------------
 // Strings and type strings

@@ -20,7 +20,7 @@ SVal Specialiser::lower(const Expr& e) {
   const bool unused = value_unused_;
   value_unused_ = false;
   if (ir_.dead()) return never();
-  loc_stack_.push_back(&e);
+  sites_.enter(&e);
   SVal v;
   switch (e.kind) {
     case ExprKind::Number: v = SVal{T().int_(), ir_.lit(T().int_(), e.number)}; v.konst = v.code; break;
@@ -37,7 +37,7 @@ SVal Specialiser::lower(const Expr& e) {
     case ExprKind::Call: v = lower_call(e); break;
     case ExprKind::Get: v = lower_get(e); break;
     case ExprKind::Assign: v = lower_assign(e, unused); break;
-    case ExprKind::Set: unsupported("field assignment (= (.. o f) v) mutates an object every holder shares");
+    case ExprKind::Set: sites_.unsupported("field assignment (= (.. o f) v) mutates an object every holder shares");
     case ExprKind::InitNext: v = SVal{}; break;  // registers nothing here: start-up did
     case ExprKind::TypeDecl:
       if (e.type->is_list && !declared_type(*e.type->elem) && !e.type->elem->is_list) {
@@ -50,7 +50,7 @@ SVal Specialiser::lower(const Expr& e) {
       v = SVal{};
       break;
   }
-  loc_stack_.pop_back();
+  sites_.leave();
   if (ir_.dead() && v.type && v.type->k != TK::Never) return never();
   return v;
 }
@@ -63,10 +63,10 @@ SVal Specialiser::lower_discarded(const Expr& e) {
 SVal Specialiser::lower_value(const Expr& e) {
   SVal v = lower(e);
   if (v.type && v.type->k != TK::Class) return v;
-  loc_stack_.push_back(&e);
+  sites_.enter(&e);
   if (!v.type) fail("this expression has no value (an initnext or type declaration cannot be used here)");
   else fail("the type '" + class_name(v.type->cls) + "' can only be called, not used as a value");
-  loc_stack_.pop_back();
+  sites_.leave();
   return never();
 }
 
@@ -147,7 +147,7 @@ SVal Specialiser::arithmetic(const Expr& e, const SVal& a, const SVal& b) {
 SVal Specialiser::auto_call(SVal v) {
   if (v.type->k != TK::Func && !(is_sum(v.type) && v.type->alts[0]->k == TK::Func)) return v;
   std::vector<SVal> none;
-  return call_value(v, none, *loc_stack_.back());
+  return call_value(v, none, sites_.innermost());
 }
 
 SVal Specialiser::lower_logical(const Expr& e) {

@@ -137,7 +137,7 @@ void Specialiser::check_state() {
     l.at = at;
     l.in_program = at.line > 0 && at.source == SourceId::Program;
     l.program_at = at;
-    return static_cast<int64_t>(intern_location(l));
+    return static_cast<int64_t>(sites_.intern(l));
   };
   // A list or an instance (the interpreter counts nothing else), or a sum that may hold one.
   auto container = [](TypeP t) {
@@ -227,7 +227,7 @@ SVal Specialiser::remove_global(const SVal& v) {
     // A global whose slots were made before it was known to be erasable can
     // have no definedness flag (found by fuzz_emit: an initnext whose next
     // fails); such a program is the embedded engine's.
-    if (g.defined < 0) unsupported("removeObj erasing '" + nm(g.sym) + "', which has no definedness flag");
+    if (g.defined < 0) sites_.unsupported("removeObj erasing '" + nm(g.sym) + "', which has no definedness flag");
     ir::Node* same = same_identity_any(SVal{g.type, ir_.slot(g.value)}, {v});
     ir::Stmt* s = ir_.emit(ir::SK::If);
     s->a = ir_.node(ir::Op::And, T().bool_(), {ir_.node(ir::Op::Not, T().bool_(), {ir_.local(done)}), same});
@@ -308,7 +308,7 @@ SVal Specialiser::prev_of_value(const SVal& v, const Expr& at) {
     return never();
   }
   if (v.type->k == TK::Str) {
-    if (!v.konst) unsupported("prev of a name computed at run time");
+    if (!v.konst) sites_.unsupported("prev of a name computed at run time");
     std::string name = m_.strings[v.konst->imm];
     if (!name.empty() && name[0] == '"') name = name.substr(1, name.size() - 2);
     Sym s = p_.symbols.find(name);
@@ -322,7 +322,7 @@ SVal Specialiser::prev_of_value(const SVal& v, const Expr& at) {
     fail("prev: no variable held this value at the start of the step");
     return never();
   }
-  unsupported("prev of a value (identity scan of the snapshot)");
+  sites_.unsupported("prev of a value (identity scan of the snapshot)");
 }
 
 }  // namespace autumn::lower

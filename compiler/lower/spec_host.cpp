@@ -52,9 +52,9 @@ void Specialiser::specialise_start() {
     order_insert(g.sym);
   }
   auto run_statement = [&](const Stmt& st) {
-    loc_stack_.push_back(st.expr.get());
+    sites_.enter(st.expr.get());
     lower_discarded(*st.expr);
-    loc_stack_.pop_back();
+    sites_.leave();
   };
   for (const Stmt& st : p_.stdlib_stmts)
     if (st.kind == StmtKind::Expr) run_statement(st);
@@ -69,7 +69,7 @@ void Specialiser::specialise_start() {
       // A name defined twice: each definition has a class, the later one is
       // the name's; the lowering knows only one class per name (found by
       // fuzz_emit: fields of the earlier written into the later's).
-      if (ci.stmt != &st) unsupported("object '" + ci.name + "' defined twice");
+      if (ci.stmt != &st) sites_.unsupported("object '" + ci.name + "' defined twice");
       for (size_t i = 0; i < st.fields.size(); ++i) {
         TypeP declared = declared_type(*st.fields[i].type);
         if (!declared && ci.unknown_field.empty()) ci.unknown_field = ci.field_names[i];
@@ -98,12 +98,12 @@ void Specialiser::specialise_start() {
   m_.on_clauses = static_cast<int>(f_.on_clauses.size());
   for (Sym s : f_.initnext_order) {
     Global& g = globals_[s];
-    error_prefix_ = "initialising '" + nm(s) + "': ";
+    sites_.set_prefix("initialising '" + nm(s) + "': ");
     ir_.comment("init " + nm(s) + ", " + p_.file_name(g.init->loc.source) + ":" + std::to_string(g.init->loc.line));
-    loc_stack_.push_back(g.init);
+    sites_.enter(g.init);
     SVal v = lower_value(*g.init);
-    loc_stack_.pop_back();
-    error_prefix_.clear();
+    sites_.leave();
+    sites_.set_prefix("");
     if (v.type->k != TK::Never) define_global(g, v);
   }
   check_state();
@@ -154,7 +154,7 @@ void Specialiser::specialise_step() {
   }
   // 3. The trigger, on the state before this step's updates.
   if (p_.trigger) {
-    loc_stack_.push_back(p_.trigger.get());
+    sites_.enter(p_.trigger.get());
     SVal c = lower_value(*p_.trigger);
     if (!ir_.dead()) {
       ir::Node* t = truthy(c);
@@ -162,7 +162,7 @@ void Specialiser::specialise_step() {
       assign(p_.names.SpecialConditionTriggered, b, *p_.trigger);
       ir_.emit_eval(ir_.call(ir::Helper::SetTriggered, nullptr, {b.code}));
     }
-    loc_stack_.pop_back();
+    sites_.leave();
   }
   // 4. On-clauses in source order.
   for (size_t i = 0; i < f_.on_clauses.size() && !ir_.dead(); ++i) on_clause(i, *f_.on_clauses[i]);
@@ -183,14 +183,14 @@ void Specialiser::on_clause(size_t i, const Stmt& st) {
           std::to_string(st.loc.line));
   ir::Stmt* blk = ir_.emit(ir::SK::Block);
   ir_.in_block(blk->body, [&] {
-    loc_stack_.push_back(st.cond.get());
+    sites_.enter(st.cond.get());
     SVal c = lower_value(*st.cond);
     ir::Node* fire = nullptr;
     auto bad = [&](const SVal& v, bool from_fn) {
-      loc_stack_.push_back(st.cond.get());
+      sites_.enter(st.cond.get());
       fail(std::string(from_fn ? "an on-clause condition function must return a Bool, got "
                                : "an on-clause condition must be a Bool, got ") + shown_type(type_string(v.type)));
-      loc_stack_.pop_back();
+      sites_.leave();
     };
     if (c.type->k == TK::Func || (is_sum(c.type) && c.type->alts[0]->k == TK::Func)) {
       std::vector<SVal> none;
@@ -202,16 +202,16 @@ void Specialiser::on_clause(size_t i, const Stmt& st) {
     } else if (c.type->k != TK::Never) {
       bad(c, false);
     }
-    loc_stack_.pop_back();
+    sites_.leave();
     if (ir_.dead() || !fire) return;
     ir::Stmt* s = ir_.emit(ir::SK::If);
     s->a = fire;
     ir_.in_block(s->body, [&] {
       ir_.emit_eval(ir_.call(ir::Helper::Covered, nullptr, {ir_.lit(T().int_(), static_cast<int64_t>(i))}));
-      loc_stack_.push_back(st.body.get());
+      sites_.enter(st.body.get());
       value_unused_ = true;  // its value is only checked to exist
       lower_value(*st.body);
-      loc_stack_.pop_back();
+      sites_.leave();
       scopes_.replace({});
     });
   });
@@ -221,12 +221,12 @@ void Specialiser::on_clause(size_t i, const Stmt& st) {
 void Specialiser::next_update(Sym s) {
   Global& g = globals_[s];
   if (g.value < 0) {  // its initialiser's type is not known yet (the next walk), or a function
-    if (g.type && (g.type->k == TK::Func || g.type->k == TK::Class)) unsupported("an initnext variable holding a function");
+    if (g.type && (g.type->k == TK::Func || g.type->k == TK::Class)) sites_.unsupported("an initnext variable holding a function");
     return;
   }
   // A global whose value slot was made before it was known to be an initnext
   // (GRID_SIZE, set up first) has no update flag (found by fuzz_emit).
-  if (g.updated < 0) unsupported("'" + nm(s) + "' defined by initnext");
+  if (g.updated < 0) sites_.unsupported("'" + nm(s) + "' defined by initnext");
   ir_.comment("NEXT of " + nm(s) + ", " + p_.file_name(g.next->loc.source) + ":" + std::to_string(g.next->loc.line));
   ir::Node* run = ir_.node(ir::Op::Not, T().bool_(), {ir_.slot(g.updated)});
   if (g.state == Global::Runtime) run = ir_.node(ir::Op::And, T().bool_(), {run, ir_.slot(g.defined)});
@@ -242,10 +242,10 @@ void Specialiser::next_update(Sym s) {
   ir::Stmt* s_if = ir_.emit(ir::SK::If);
   s_if->a = run;
   ir_.in_block(s_if->body, [&] {
-    loc_stack_.push_back(g.next);
+    sites_.enter(g.next);
     SVal v = lower_value(*g.next);
     if (!ir_.dead()) assign(s, v, *g.next);
-    loc_stack_.pop_back();
+    sites_.leave();
   });
 }
 
@@ -270,12 +270,12 @@ void Specialiser::specialise_render() {
   ir_.begin_function(fn);
   scopes_.replace({});
   Expr at{ExprKind::Var, SourceLoc{0, 0, SourceId::Internal}};
-  loc_stack_ = {&at};
+  sites_.reset(&at);
 
   Global* grid = global(p_.names.GRID_SIZE);
-  if (!grid || !grid->constant || grid->type->k != TK::Int) unsupported("GRID_SIZE changes while the program runs");
+  if (!grid || !grid->constant || grid->type->k != TK::Int) sites_.unsupported("GRID_SIZE changes while the program runs");
   m_.grid = static_cast<int>(grid->constant->konst->imm);
-  if (m_.grid <= 0 || m_.grid > 4096) unsupported("GRID_SIZE " + std::to_string(m_.grid) + " cannot be painted");
+  if (m_.grid <= 0 || m_.grid > 4096) sites_.unsupported("GRID_SIZE " + std::to_string(m_.grid) + " cannot be painted");
 
   ir_.emit_eval(ir_.call(ir::Helper::OccupancyClear, nullptr, {}));
   Global* bg = global(p_.names.background);
@@ -284,7 +284,7 @@ void Specialiser::specialise_render() {
                              : ir_.lit(T().str(), string_id("\"black\""));
   if (bg && bg->state == Global::Runtime && bg->type == T().str())
     background = nullptr;  // checked below
-  if (!background) unsupported("background may be erased");
+  if (!background) sites_.unsupported("background may be erased");
   ir_.emit_eval(ir_.call(ir::Helper::PaintBegin, nullptr, {background}));
 
   // Every rendered element marks the occupancy and is painted, in render order.
@@ -314,7 +314,7 @@ void Specialiser::specialise_render() {
       draw(*g);
     }
   }
-  loc_stack_.clear();
+  sites_.reset(nullptr);
 }
 
 }  // namespace autumn::lower

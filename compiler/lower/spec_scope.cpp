@@ -177,7 +177,7 @@ void Specialiser::define_local(SScope& sc, Sym s, SVal v, const void* site) {
   // A cell argument's capture scope (construct_cell) owns no block to declare
   // in: an assignment inside a cell argument is the embedded engine's (found by
   // fuzz_emit: tests/lowering/assign_in_cell_argument.au).
-  if (!sc.block) unsupported("an assignment inside a cell argument");
+  if (!sc.block) sites_.unsupported("an assignment inside a cell argument");
   std::pair<const void*, Sym> key{site, s};
   if (Binding* b = sc.find(s)) {  // a maybe-bound name of this scope, now bound
     if (b->flag) ir_.emit_set(ir_.local(b->flag), ir_.lit(T().bool_(), 1));
@@ -233,12 +233,12 @@ bool Specialiser::store_function(Global& g, const SVal& v) {
     if (v.type->k != TK::List && g.state != Global::Undefined && old != type_string(v.type))
       fail("cannot assign a value of type '" + shown_type(type_string(v.type)) + "' to variable '" + nm(g.sym) + "' of type '" +
            shown_type(old) + "'");
-    else if (!ir_.dead()) unsupported("a global holding a function and then another kind of value");
+    else if (!ir_.dead()) sites_.unsupported("a global holding a function and then another kind of value");
     return true;
   }
   if (in_step_ || !ir_.at_function_top()) {
     if (g.constant && g.constant->type == v.type) return true;  // the same function again
-    unsupported("a global assigned a different function on some paths or while the program runs");
+    sites_.unsupported("a global assigned a different function on some paths or while the program runs");
   }
   g.type = v.type;
   g.constant = v;
@@ -352,7 +352,7 @@ void Specialiser::assign(Sym s, SVal v, const Expr& at) {
 SVal Specialiser::lower_assign(const Expr& e, bool unused) {
   (void)unused;
   const Expr& rhs = *e.kids[0];
-  if (rhs.kind == ExprKind::InitNext) unsupported("initnext evaluated while the program runs");
+  if (rhs.kind == ExprKind::InitNext) sites_.unsupported("initnext evaluated while the program runs");
   SVal v = lower_value(rhs);
   if (v.type->k == TK::Never) return v;
   v = let(v);

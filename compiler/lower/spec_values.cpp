@@ -51,7 +51,7 @@ SVal Specialiser::join_blocks(ir::Stmt* stmt, std::vector<ir::Block*> blocks,
     if (t->k == TK::Func) return SVal{t, nullptr};  // one function on every path
     return SVal{any_alive ? t : T().never(), nullptr};
   }
-  if (report && t->k == TK::Sum && !is_typed_variant(t)) dynamic_site("the branches give values of different types");
+  if (report && t->k == TK::Sum && !is_typed_variant(t)) sites_.dynamic_site("the branches give values of different types");
   ir::Var* r = ir_.decl(t, nullptr, "r");
   ir_.attach(stmt);
   for (size_t i = 0; i < blocks.size(); ++i)
@@ -71,7 +71,7 @@ SVal Specialiser::join_branches(ir::Node* cond, const std::function<SVal()>& the
 SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f) {
   if (!v.type || !is_sum(v.type)) return f(v);
   // Found by fuzz_emit (tests/lowering/deep_sum_splits.au): autumnc overflowed its stack.
-  if (split_depth_ >= kMaxSplitDepth) unsupported("values of union types nested too deeply to specialise");
+  if (split_depth_ >= kMaxSplitDepth) sites_.unsupported("values of union types nested too deeply to specialise");
   struct Depth {
     int& d;
     explicit Depth(int& x) : d(++x) {}
@@ -128,7 +128,7 @@ SVal Specialiser::coerce(SVal v, TypeP to) {
         return SVal{to, n, nullptr, v.fresh};
       }
   }
-  unsupported("internal: no conversion from " + shown_type(type_string(v.type)) + " to " + shown_type(type_string(to)));
+  sites_.unsupported("internal: no conversion from " + shown_type(type_string(v.type)) + " to " + shown_type(type_string(to)));
 }
 
 // ---------------------------------------------------------------------------
@@ -192,7 +192,7 @@ SVal Specialiser::equals(const SVal& a, const SVal& b) {
           if (r != TK::Func) return known(false);
           if (x.type->fn.kind == FuncRef::Native && y.type == x.type) return known(true);
           if (x.type != y.type) return known(false);
-          unsupported("equality of two function values made by the same lambda");
+          sites_.unsupported("equality of two function values made by the same lambda");
         case TK::List:
           if (r != TK::List) return known(false);
           return list_equals(x, y);
@@ -251,7 +251,7 @@ SVal Specialiser::cells_equal(const SVal& x, const SVal& y) {
     auto turns = [&](const SVal& v) { return ir_.call(ir::Helper::RotOf, T().int_(), {ir_.member(v.code, ir::Member::Group, T().int_())}); };
     return let(SVal{T().bool_(), ir_.node(ir::Op::Eq, T().bool_(), {turns(x), turns(y)})});
   }
-  unsupported("equality of objects whose cells may differ (it compares the cells' printed forms)");
+  sites_.unsupported("equality of objects whose cells may differ (it compares the cells' printed forms)");
 }
 
 // Lists compare by printed form, type tag included (values.cpp). Empty lists all
@@ -262,7 +262,7 @@ SVal Specialiser::list_equals(const SVal& x, const SVal& y) {
     const SVal& other = x.type->elem ? x : y;
     return let(SVal{T().bool_(), ir_.node(ir::Op::Empty, T().bool_(), {other.code})});
   }
-  unsupported("equality of lists (it compares printed forms, list type tags included)");
+  sites_.unsupported("equality of lists (it compares printed forms, list type tags included)");
 }
 
 bool Specialiser::list_tag_may_pass(TypeP value, TypeP declared) {
@@ -280,10 +280,10 @@ void Specialiser::note_identity(TypeP t) {
     return;
   }
   if (!is_instance(t)) {
-    if (t->k == TK::List) unsupported("identity of a list (removeObj or prev by a list value)");
+    if (t->k == TK::List) sites_.unsupported("identity of a list (removeObj or prev by a list value)");
     return;
   }
-  if (t->k == TK::Elem) unsupported("identity of rendered elements (removeObj or prev by one)");
+  if (t->k == TK::Elem) sites_.unsupported("identity of rendered elements (removeObj or prev by one)");
   m_.uses_ids = true;
   if (h_.add_tracked(t)) {
     h_.learn("identity of " + type_string(t));

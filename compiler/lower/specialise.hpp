@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "compiler/analyse/program.hpp"
+#include "compiler/lower/error_sites.hpp"
 #include "compiler/lower/facts.hpp"
 #include "compiler/lower/hints.hpp"
 #include "compiler/lower/ir_builder.hpp"
@@ -47,13 +48,6 @@
 #include "compiler/lower/module.hpp"
 
 namespace autumn::lower {
-
-// The lowering gives up on a program only for constructs it cannot express
-// faithfully at all; the emitter then embeds the interpreter (module.hpp).
-struct Unsupported {
-  std::string why;
-  SourceLoc loc;
-};
 
 // A value during specialisation.
 struct SVal {
@@ -88,6 +82,8 @@ class Specialiser {
  private:
 
   // --- shared by the spec_*.cpp files -------------------------------------------
+  // Where the walk is in the program, for error sites (error_sites.hpp).
+  ErrorSites sites_;
   // Where the IR goes, and whether the code being written is dead (ir_builder.hpp).
   IrBuilder ir_;
   SVal let(SVal v, const std::string& hint = "t");  // into an immutable temporary
@@ -110,8 +106,6 @@ class Specialiser {
   std::string type_string(TypeP t);          // the reference's type string
   TypeP declared_type(const TypeExpr& te);   // a (: x T) declaration; null: unknown name
   bool check_printable(TypeP t);             // false: the type string is an error (emitted)
-  void dynamic_site(const std::string& why);
-  [[noreturn]] void unsupported(const std::string& why);
 
   std::map<Sym, const TypeExpr*> global_decls_;  // (: x T) at the top level
 
@@ -318,12 +312,6 @@ class Specialiser {
   bool is_own_prev(const Expr& e, Sym x);
   bool in_start_ = false;
   bool in_step_ = false;
-
-  // Error locations: the constructs being lowered, innermost last.
-  std::vector<const Expr*> loc_stack_;
-  std::string error_prefix_;
-  int location();
-  int intern_location(const ErrorLoc& l);
 
   const Program& p_;
   Module& m_;
