@@ -14,14 +14,17 @@
 // Every program of programs/ and of the conformance corpus must specialise with
 // no dynamic site (docs/design.md lists what would not).
 //
-// IrPasses builds IR by hand and checks each pass's decision.
+// IrPasses builds IR by hand and checks each pass's decision; IrBuilder,
+// ErrorSites and ScopeChain check the specialiser's collaborators alone.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <fstream>
 
 #include "compiler/analyse/program.hpp"
+#include "compiler/lower/error_sites.hpp"
 #include "compiler/lower/ir_builder.hpp"
+#include "compiler/lower/scope_chain.hpp"
 #include "compiler/lower/ir_print.hpp"
 #include "compiler/lower/ir_verify.hpp"
 #include "compiler/lower/lower.hpp"
@@ -365,6 +368,64 @@ TEST(IrBuilder, CountsStateChangingHelpersAndStoresOutsideLocals) {
   EXPECT_TRUE(lower::is_const(b.node(lower::ir::Op::MakePos, m.types.pos(), {b.lit(i, 1), b.lit(i, 2)})));
   EXPECT_FALSE(lower::is_const(b.local(x)));
   EXPECT_FALSE(lower::is_stable(b.local(x))) << "x is mutable";
+}
+
+// ErrorSites (error_sites.hpp): errors are placed at the construct being lowered
+// and at the program's innermost one (stdlib code is reported at the program's call).
+TEST(ErrorSites, PlacesAtTheProgramsInnermostConstructAndInternsOnce) {
+  lower::Module m;
+  lower::ErrorSites sites(m);
+  Expr call{ExprKind::Call, SourceLoc{3, 5, SourceId::Program}};
+  Expr in_stdlib{ExprKind::Var, SourceLoc{40, 2, SourceId::Stdlib}};
+  sites.enter(&call);
+  sites.enter(&in_stdlib);
+  EXPECT_TRUE(sites.in_program());
+  const int first = sites.here();
+  ASSERT_EQ(m.locations.size(), 1u);
+  EXPECT_EQ(m.locations[0].at.line, 40) << "the construct being evaluated";
+  EXPECT_TRUE(m.locations[0].in_program);
+  EXPECT_EQ(m.locations[0].program_at.line, 3) << "the program's call into the stdlib";
+  EXPECT_EQ(sites.here(), first) << "the same place is one site";
+  sites.set_prefix("initialising 'x': ");
+  EXPECT_NE(sites.here(), first) << "a prefix makes another site";
+  EXPECT_EQ(m.locations.back().prefix, "initialising 'x': ");
+  try {
+    sites.unsupported("not here");
+    ADD_FAILURE() << "unsupported returned";
+  } catch (const lower::Unsupported& u) {
+    EXPECT_EQ(u.why, "not here");
+    EXPECT_EQ(u.loc.line, 3);
+    EXPECT_EQ(u.loc.col, 5);
+  }
+  sites.dynamic_site("two types");
+  sites.dynamic_site("two types");
+  ASSERT_EQ(m.dynamic_sites.size(), 1u) << "reported once per place and reason";
+  EXPECT_EQ(m.dynamic_sites[0].loc.line, 3);
+  sites.reset(&in_stdlib);
+  EXPECT_FALSE(sites.in_program());
+  EXPECT_EQ(&sites.innermost(), &in_stdlib);
+}
+
+// ScopeChain (scope_chain.hpp): the scopes a lookup sees, and a trial's swap.
+TEST(ScopeChain, PushPopAndReplaceGiveTheVisibleScopes) {
+  lower::ir::Block block;
+  lower::ScopeChain chain;
+  EXPECT_TRUE(chain.empty());
+  lower::SScope* outer = chain.push(lower::ScopeKind::Local, &block);
+  outer->vars.push_back(lower::Binding{7});
+  lower::SScope* inner = chain.push(lower::ScopeKind::Instance, &block);
+  EXPECT_EQ(&chain.innermost(), inner);
+  EXPECT_TRUE(chain.binds(7));
+  EXPECT_FALSE(chain.binds(8));
+  lower::SScope capture;
+  const lower::ScopeChain::Chain saved = chain.replace({&capture});
+  EXPECT_FALSE(chain.binds(7)) << "a cell argument's trial sees its capture scope alone";
+  chain.replace(saved);
+  EXPECT_TRUE(chain.binds(7));
+  chain.pop();
+  EXPECT_EQ(&chain.innermost(), outer);
+  chain.pop();
+  EXPECT_TRUE(chain.empty());
 }
 
 // ---------------------------------------------------------------------------
