@@ -1664,7 +1664,7 @@ TEST(AgentCli, BenchAgentPrintsFigures) {
   // --seconds 60: the BFS runs end on their 20,000 nodes, not on the default
   // 10 s, which a machine loaded by a parallel build once cut to no node at all.
   // No --grid: a file named on the command line runs whatever its grid (10x10 here, the default is 16).
-  CliRun j = cli("bench-agent " + program + " --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60 --json");
+  CliRun j = cli("bench-agent " + program + " --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60 --repeat 2 --json");
   ASSERT_EQ(j.status, 0) << j.out;
   // The output also holds the progress bar (stderr); the JSON is the last line.
   const size_t brace = j.out.rfind("\n{");
@@ -1677,9 +1677,13 @@ TEST(AgentCli, BenchAgentPrintsFigures) {
   EXPECT_LE(row["bfs_nodes_1_thread"].get<uint64_t>(), 20000u + 65536u) << "the budget is checked per chunk";
   EXPECT_GE(row["bfs_depth_done"].get<int>(), 1);
   EXPECT_GT(row["bfs_nodes_per_s_1_thread"].get<double>(), 0);
+  EXPECT_EQ(out["bfs_repeat"], 2);
   CliRun text = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60");
   ASSERT_EQ(text.status, 0) << text.out;
   EXPECT_NE(text.out.find("bfs successors per second on one thread"), std::string::npos) << text.out;
+  // The scaling against the bar (0.9 N on N threads), for specialised programs.
+  EXPECT_NE(text.out.find("bfs on 2 threads against one (specialised programs): median "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(" of 1 at least 1.8x"), std::string::npos) << text.out;
   // --grid filters what folders hold: none of programs/ is 7x7.
   CliRun none = cli("bench-agent " + (autumn::testing::source_dir() / "programs").string() + " --grid 7");
   EXPECT_EQ(none.status, 1);

@@ -38,6 +38,16 @@ std::string rate(double per_s) {
 
 double bfs_rate(uint64_t nodes, double seconds) { return per_second(static_cast<double>(nodes), seconds); }
 
+// The fastest of `repeat` runs of one BFS measurement.
+PlanResult fastest_bfs(const Task& goal, const SolveOptions& so, ThreadPool& pool, int repeat) {
+  PlanResult best = solve_planning(goal, so, pool);
+  for (int i = 1; i < repeat; ++i) {
+    PlanResult r = solve_planning(goal, so, pool);
+    if (bfs_rate(r.nodes, r.search_seconds) > bfs_rate(best.nodes, best.search_seconds)) best = std::move(r);
+  }
+  return best;
+}
+
 }  // namespace
 
 std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, const BenchAgentOptions& opts,
@@ -98,8 +108,8 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
       so.nodes = opts.bfs_nodes;
       so.time_limit = opts.seconds;
       Task goal = unreachable_goal(path, row.grid, colours);
-      PlanResult r1 = solve_planning(goal, so, one);
-      PlanResult rn = solve_planning(goal, so, many);
+      PlanResult r1 = fastest_bfs(goal, so, one, opts.bfs_repeat);
+      PlanResult rn = fastest_bfs(goal, so, many, opts.bfs_repeat);
       row.bfs_actions = r1.actions;
       row.bfs_depth_done = r1.bfs_depth_done;
       row.bfs_nodes_1 = r1.nodes;
@@ -121,8 +131,10 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
   std::string s = fmt::format("{:<34} {:>4} {:<11} {:>8} {:>10} {:>4}  {:>7} {:>6} {:>9} {:>10} {:>10} {:>10}\n",
                               "program", "grid", "code", "mfp s", "rollout/s", "ok", "actions", "depth", "bfs nodes",
                               "bfs/s 1t", fmt::format("bfs/s {}t", o.threads), "per thread");
-  std::vector<double> mfp_s, spec_rate, emb_rate, spec_rate_n, emb_rate_n;
-  size_t mfp_ok = 0, mfp_ran = 0, fast = 0, fast_n = 0, small = 0;
+  std::vector<double> mfp_s, spec_rate, emb_rate, spec_rate_n, emb_rate_n, spec_scaling;
+  size_t mfp_ok = 0, mfp_ran = 0, fast = 0, fast_n = 0, small = 0, scaled = 0;
+  // The scaling asked of N threads: 0.9 N times one thread's rate (1.8x on two).
+  const double scaling_bar = 0.9 * std::max(1u, o.threads);
   std::string slowest;
   double slowest_s = -1;
   for (const auto& r : rows) {
@@ -150,6 +162,10 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
     (spec ? spec_rate_n : emb_rate_n).push_back(rn / std::max(1u, o.threads));
     if (spec && r1 >= 1e6) ++fast;
     if (spec && rn / std::max(1u, o.threads) >= 1e6) ++fast_n;
+    if (spec && r1 > 0) {
+      spec_scaling.push_back(rn / r1);
+      if (rn / r1 >= scaling_bar) ++scaled;
+    }
   }
   s += fmt::format("\nmfp ({} steps x {} rollouts, {} threads, {}): {}/{} answered correctly; median {:.3f} s, "
                    "slowest {:.3f} s ({})\n",
@@ -164,6 +180,10 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
                    o.threads, which, rate(median(spec_rate_n)),
                    emb_rate_n.empty() ? "" : fmt::format(" (embedded programs: median {})", rate(median(emb_rate_n))),
                    fast_n, spec_rate_n.size());
+  if (o.threads > 1)
+    s += fmt::format("bfs on {} threads against one ({}): median {:.2f}x; {} of {} at least {:.1f}x{}\n", o.threads,
+                     which, median(spec_scaling), scaled, spec_scaling.size(), scaling_bar,
+                     o.bfs_repeat > 1 ? fmt::format(" (fastest of {} runs each)", o.bfs_repeat) : "");
   if (small)
     s += fmt::format("* the search space ran out (every reachable state seen, or fewer than a tenth of the node budget "
                      "within the depth limit): {} program{} left out of the medians\n",
@@ -175,6 +195,7 @@ nlohmann::json bench_agent_json(const std::vector<BenchAgentRow>& rows, const Be
   nlohmann::json out = {{"engine", o.engine},       {"threads", o.threads},     {"rollouts", o.rollouts},
                         {"mfp_steps", o.mfp_steps}, {"bfs_nodes", o.bfs_nodes}, {"bfs_depth", o.bfs_depth},
                         {"seed", o.seed},           {"seconds", o.seconds},     {"grid", o.grid},
+                        {"bfs_repeat", o.bfs_repeat},
                         {"only", o.only.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.only)},
                         {"programs", nlohmann::json::array()}};
   for (const auto& r : rows) {
@@ -236,6 +257,7 @@ BenchAgentOptions bench_agent_options_from_json(const nlohmann::json& j) {
   o.seed = j.at("seed").get<uint64_t>();
   o.seconds = j.at("seconds").get<double>();
   o.grid = j.at("grid").get<int>();
+  o.bfs_repeat = j.value("bfs_repeat", 1);  // absent from reports written before --repeat
   if (!j.at("only").is_null()) o.only = j.at("only").get<std::string>();
   return o;
 }

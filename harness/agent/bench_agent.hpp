@@ -8,7 +8,8 @@
 //   bfs: breadth-first search from reset(0) towards a goal no frame can show, so
 //        the search runs until `bfs_nodes` successors, `bfs_depth` layers or
 //        `seconds` — pure expansion throughput. Run on one thread (the per-thread
-//        figure) and on `threads` threads (the scaling).
+//        figure) and on `threads` threads (the scaling); each `bfs_repeat` times,
+//        the fastest run kept (a busy machine slows a run, nothing speeds one).
 // Nothing here is timed by a test: the figures are printed for people to read.
 #pragma once
 #include <nlohmann/json.hpp>
@@ -29,6 +30,7 @@ struct BenchAgentOptions {
   uint64_t bfs_nodes = 1000000;
   int bfs_depth = 12;
   double seconds = 10;  // per BFS run
+  int bfs_repeat = 1;   // BFS runs per measurement; the fastest is kept
   int grid = 16;        // only programs with this GRID_SIZE (0: all), among those found in folders
   std::vector<fs::path> named;  // files named on the command line: they run whatever their grid
   std::string only;     // "mfp" or "bfs": run just that measurement
@@ -59,7 +61,7 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
                                        std::vector<size_t>* skipped = nullptr);
 std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& opts);
 // The options (those that change a row: engine, threads, rollouts, mfp_steps,
-// seed, bfs_nodes, bfs_depth, seconds, grid, only) and "programs": the rows.
+// seed, bfs_nodes, bfs_depth, bfs_repeat, seconds, grid, only) and "programs": the rows.
 nlohmann::json bench_agent_json(const std::vector<BenchAgentRow>& rows, const BenchAgentOptions& opts);
 // The inverse of a row of bench_agent_json's "programs" (for --merge).
 BenchAgentRow bench_agent_row_from_json(const nlohmann::json& program);
