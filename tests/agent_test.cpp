@@ -1684,6 +1684,11 @@ TEST(AgentCli, BenchAgentPrintsFigures) {
   // The scaling against the bar (0.9 N on N threads), for specialised programs.
   EXPECT_NE(text.out.find("bfs on 2 threads against one (specialised programs): median "), std::string::npos) << text.out;
   EXPECT_NE(text.out.find(" of 1 at least 1.8x"), std::string::npos) << text.out;
+  // A measurement that did not run has no summary line.
+  CliRun bfs_only = cli("bench-agent " + program + " --only bfs --bfs-nodes 20000 --seconds 60");
+  ASSERT_EQ(bfs_only.status, 0) << bfs_only.out;
+  EXPECT_EQ(bfs_only.out.find("\nmfp ("), std::string::npos) << bfs_only.out;
+  EXPECT_NE(bfs_only.out.find("bfs successors per second on one thread"), std::string::npos) << bfs_only.out;
   // --grid filters what folders hold: none of programs/ is 7x7.
   CliRun none = cli("bench-agent " + (autumn::testing::source_dir() / "programs").string() + " --grid 7");
   EXPECT_EQ(none.status, 1);

@@ -167,10 +167,13 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
       if (rn / r1 >= scaling_bar) ++scaled;
     }
   }
-  s += fmt::format("\nmfp ({} steps x {} rollouts, {} threads, {}): {}/{} answered correctly; median {:.3f} s, "
-                   "slowest {:.3f} s ({})\n",
-                   o.mfp_steps, o.rollouts, o.threads, o.engine, mfp_ok, mfp_ran, median(mfp_s),
-                   std::max(0.0, slowest_s), slowest.empty() ? "-" : slowest);
+  s += "\n";
+  if (o.only != "bfs")  // each measurement's summary only where it ran
+    s += fmt::format("mfp ({} steps x {} rollouts, {} threads, {}): {}/{} answered correctly; median {:.3f} s, "
+                     "slowest {:.3f} s ({})\n",
+                     o.mfp_steps, o.rollouts, o.threads, o.engine, mfp_ok, mfp_ran, median(mfp_s),
+                     std::max(0.0, slowest_s), slowest.empty() ? "-" : slowest);
+  if (o.only == "mfp") return s;
   const std::string which = o.engine == "compiled" ? "specialised programs" : o.engine;
   s += fmt::format("bfs successors per second on one thread ({}): median {}{}; {} of {} at least 1M/s\n", which,
                    rate(median(spec_rate)),
