@@ -622,6 +622,15 @@ TEST(AgentPlanning, BfsStoresOnlyTheStatesItMayExpand) {
   const BfsOutcome spent = search(12, A + 1);
   EXPECT_EQ(spent.stored, one.distinct);
   EXPECT_NE(spent.note.find("node budget spent"), std::string::npos) << spent.note;
+  // A budget that ends exactly with the second layer: the third is generated
+  // (hashed, deduplicated, goal-tested) but never given open entries; the search
+  // still ends on the budget, not as if the space had run out.
+  const BfsOutcome at_end = search(12, one.distinct * A);
+  EXPECT_EQ(at_end.nodes, one.distinct * A);
+  EXPECT_EQ(at_end.distinct, two.distinct);
+  EXPECT_EQ(at_end.depth_done, 2);
+  EXPECT_FALSE(at_end.exhausted);
+  EXPECT_NE(at_end.note.find("node budget spent at depth 3"), std::string::npos) << at_end.note;
   // With the budget for it, the next layer is stored, and expanded.
   const BfsOutcome three = search(3, 100'000'000);
   EXPECT_EQ(three.stored, two.distinct);

@@ -33,6 +33,9 @@ class LayeredBfs {
   struct Layer {
     std::vector<Open> open;
     std::vector<std::vector<uint8_t>> buffers;
+    // Nodes of the layer given no Open: placed while store_next_ was false, so
+    // the node budget is spent before the search could expand them.
+    size_t unplaced = 0;
   };
   struct Fresh {
     uint64_t index;  // (parent - begin) * A + action
@@ -87,6 +90,7 @@ class LayeredBfs {
   uint32_t buffer_base_[2] = {0, 0};
   std::vector<Worker> workers_;
   std::vector<std::vector<Fresh*>> won_ = std::vector<std::vector<Fresh*>>(kShards);
+  std::vector<std::vector<Fresh*>> merged_ = std::vector<std::vector<Fresh*>>(kShards);  // dedup's, kept for its storage
   std::vector<uint64_t> first_hit_ = std::vector<uint64_t>(kShards);
   std::vector<uint64_t> stored_ = std::vector<uint64_t>(kShards);  // per shard, for BfsOutcome::stored
   BfsOutcome out_;
@@ -195,6 +199,10 @@ void LayeredBfs::dedup() {
   p_.pool().parallel_for(kShards, [&](size_t sh) {
     won_[sh].clear();
     first_hit_[sh] = UINT64_MAX;
+    // The shard's new states of every worker in index order, the order a serial
+    // search meets them (of equal states, the first wins)...
+    std::vector<Fresh*>& order = merged_[sh];
+    order.clear();
     std::vector<size_t> at(workers_.size(), 0);
     for (;;) {
       Fresh* f = nullptr;
@@ -205,7 +213,16 @@ void LayeredBfs::dedup() {
       }
       if (!f) break;
       ++at[from];
-      if (!seen_[sh].insert(f->hash).second) continue;
+      order.push_back(f);
+    }
+    // ...then into the seen set, each insert's table slots fetched a few ahead:
+    // the set outgrows the caches, and a miss per insert was most of this phase.
+    constexpr size_t kAhead = 8;
+    HashSet& seen = seen_[sh];
+    for (size_t i = 0; i < order.size(); ++i) {
+      if (i + kAhead < order.size()) seen.prefetch(order[i + kAhead]->hash);
+      Fresh* f = order[i];
+      if (!seen.insert(f->hash).second) continue;
       won_[sh].push_back(f);
       stored_[sh] += f->size > 0 || f->env;  // its state was kept
       if (f->hit) first_hit_[sh] = std::min(first_hit_[sh], f->index);
@@ -215,7 +232,9 @@ void LayeredBfs::dedup() {
 
 // Winners become nodes: free ones join this layer, the others the next. Each
 // shard writes its own slots; without free actions every winner joins the next
-// layer, written in place there (no serial pass over the winners).
+// layer, written in place there (no serial pass over the winners), or, when the
+// budget ends before that layer could be expanded, only as a node (its path and
+// hash, for a hit): its Open would never be read.
 void LayeredBfs::place(size_t begin, bool free_phase) {
   std::vector<size_t> offset(kShards + 1, 0);
   for (size_t sh = 0; sh < kShards; ++sh) offset[sh + 1] = offset[sh] + won_[sh].size();
@@ -223,8 +242,10 @@ void LayeredBfs::place(size_t begin, bool free_phase) {
   nodes_.resize(node_base + offset[kShards]);
   hash_of_.resize(nodes_.size());
   const bool direct = !free_phase && free_count_[1] == 0;  // every winner joins next_
+  const bool unplaced = direct && !store_next_;             // ...and is never expanded: no Open
   const size_t open_base = next_.open.size();
-  if (direct) next_.open.resize(open_base + offset[kShards]);
+  if (unplaced) next_.unplaced += offset[kShards];
+  else if (direct) next_.open.resize(open_base + offset[kShards]);
   std::vector<Open> placed(direct ? 0 : offset[kShards]);
   std::vector<uint8_t> free(direct ? 0 : offset[kShards]);
   std::vector<uint64_t> kept(kShards, 0);
@@ -236,6 +257,7 @@ void LayeredBfs::place(size_t begin, bool free_phase) {
       nodes_[node_base + slot] = {parent.node, static_cast<int32_t>(f.index % A_),
                                   nodes_[parent.node].depth + 1};
       hash_of_[node_base + slot] = f.hash;
+      if (unplaced) continue;
       Open& o = direct ? next_.open[open_base + slot] : placed[slot];
       o.node = static_cast<int64_t>(node_base + slot);
       o.buffer = f.buffer;
@@ -274,6 +296,11 @@ BfsOutcome LayeredBfs::finish(int64_t node, bool found) {
 }
 
 bool LayeredBfs::phase(int layer, bool free_phase, int64_t& hit_node) {
+  // A layer the search cannot expand (its nodes unplaced): the budget is spent.
+  if (cur_.unplaced > 0 && out_.nodes >= spec_.limit.nodes) {
+    out_.note = fmt::format("bfs ({} actions): node budget spent at depth {}", A_, layer + 1);
+    return true;
+  }
   // cur_.open grows during the free phase: each chunk ends where the open list
   // ended when it began, and the next starts there.
   for (size_t begin = 0, end = 0; begin < cur_.open.size(); begin = end) {
@@ -338,7 +365,7 @@ BfsOutcome LayeredBfs::run() {
     out_.depth_done = layer + (free_count_[1] > 0 ? 0 : 1);
     cur_ = std::move(next_);
     next_ = Layer{};
-    if (cur_.open.empty()) {
+    if (cur_.open.empty() && cur_.unplaced == 0) {
       out_.exhausted = true;
       out_.note = fmt::format("bfs ({} actions): every reachable state seen by cost {}", A_, layer + 1);
       return finish(0, false);
