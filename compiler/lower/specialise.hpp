@@ -14,21 +14,22 @@
 // where a value does not fit the type a slot was given, the slot's type is
 // widened in the hints and the walk is repeated. The IR of a walk whose hints
 // changed is dropped. The final walk's IR is the module. (Why the types are not
-// found by a separate pass: docs/design.md, "Specialisation".)
+// found by a separate pass: docs/design.md, "The lowering", on types.)
 //
 // The walk's collaborators each keep their own state: IrBuilder (ir_builder.hpp:
 // the insertion point, dead code, effects), ScopeChain (scope_chain.hpp: the
-// static scopes), Hints (hints.hpp: what walks learnt), and the builtins'
+// static scopes), Hints (hints.hpp: what walks learnt), the builtins'
 // lowerings, one per builtin in a table indexed by the Builtin enum
-// (spec_builtins.cpp). The Specialiser itself keeps the walk's position: the
-// globals, the constructs being lowered (for error sites), cells being made.
+// (spec_builtins.cpp), and ErrorSites (error_sites.hpp: where the walk is, for
+// the errors it compiles in). The Specialiser itself keeps the rest of the
+// walk's state: the globals and the map order, the cells being made.
 //
 // Split over spec_*.cpp by topic: scopes and assignment (spec_scope), expressions
 // (spec_expr), calls and objects (spec_call), builtins (spec_builtins,
 // spec_builtins_state), cells and rendering (spec_cells), values: equality,
 // truthiness, coercion, type strings, sums (spec_values), the global map
 // (spec_globals), the host algorithm: start, step, render (spec_host), and the
-// driver, error sites and type strings (spec_core).
+// driver, temporaries, failures and type strings (spec_core).
 #pragma once
 #include <array>
 #include <functional>
@@ -44,8 +45,8 @@
 #include "compiler/lower/facts.hpp"
 #include "compiler/lower/hints.hpp"
 #include "compiler/lower/ir_builder.hpp"
-#include "compiler/lower/scope_chain.hpp"
 #include "compiler/lower/module.hpp"
+#include "compiler/lower/scope_chain.hpp"
 
 namespace autumn::lower {
 
