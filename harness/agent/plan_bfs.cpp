@@ -46,7 +46,7 @@ class LayeredBfs {
     bool hit, free;
     std::unique_ptr<Environment> env;
   };
-  struct Worker {
+  struct alignas(64) Worker {  // each on its own cache lines: the threads write their own all the time
     std::unique_ptr<Environment> parent, scratch, replay_root;
     HashSet local;
     FrameColours colours;
@@ -79,7 +79,12 @@ class LayeredBfs {
   size_t free_count_[2] = {0, 0};  // actions per parent in a phase: [0] costing, [1] free
   size_t chunk_parents_ = 0;
   ThreadPool serial_{1};
-  std::vector<HashSet> seen_ = std::vector<HashSet>(kShards);
+  // A shard's seen set alone on its cache line: the threads settle neighbouring
+  // shards at once, and every insert writes its set's size.
+  struct alignas(64) SeenShard {
+    HashSet set;
+  };
+  std::vector<SeenShard> seen_ = std::vector<SeenShard>(kShards);
   std::vector<Node> nodes_;
   Layer cur_, next_;
   bool snapshots_ = false;
@@ -133,7 +138,7 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
     if (!W.scratch || !W.scratch->copy_from(*parent)) W.scratch = parent->clone();
     if (!W.scratch->step(spec_.actions[a])) continue;
     const uint64_t h = W.scratch->state_hash();
-    if (seen_[shard_of(h)].contains(h) || !W.local.insert(h).second) continue;
+    if (seen_[shard_of(h)].set.contains(h) || !W.local.insert(h).second) continue;
     const int side = is_free(a) ? 0 : 1;
     std::vector<uint8_t>& bytes = W.bytes[side];
     Fresh f{k * A_ + a, h, bytes.size(), 0, 0, hit(*W.scratch, h, W), side == 0, nullptr};
@@ -197,11 +202,13 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
 
 void LayeredBfs::dedup() {
   p_.pool().parallel_for(kShards, [&](size_t sh) {
-    won_[sh].clear();
-    first_hit_[sh] = UINT64_MAX;
+    // Each shard's lists are taken out of their tables while they grow (their
+    // vector headers sit side by side, written on every push), and put back.
+    std::vector<Fresh*> won = std::move(won_[sh]);
+    won.clear();
     // The shard's new states of every worker in index order, the order a serial
     // search meets them (of equal states, the first wins)...
-    std::vector<Fresh*>& order = merged_[sh];
+    std::vector<Fresh*> order = std::move(merged_[sh]);
     order.clear();
     std::vector<size_t> at(workers_.size(), 0);
     for (;;) {
@@ -218,15 +225,22 @@ void LayeredBfs::dedup() {
     // ...then into the seen set, each insert's table slots fetched a few ahead:
     // the set outgrows the caches, and a miss per insert was most of this phase.
     constexpr size_t kAhead = 8;
-    HashSet& seen = seen_[sh];
+    HashSet& seen = seen_[sh].set;
+    // Counted here and written once: neighbouring shards' counters share a
+    // cache line, and the other thread settles the shard beside this one.
+    uint64_t stored = 0, first_hit = UINT64_MAX;
     for (size_t i = 0; i < order.size(); ++i) {
       if (i + kAhead < order.size()) seen.prefetch(order[i + kAhead]->hash);
       Fresh* f = order[i];
       if (!seen.insert(f->hash).second) continue;
-      won_[sh].push_back(f);
-      stored_[sh] += f->size > 0 || f->env;  // its state was kept
-      if (f->hit) first_hit_[sh] = std::min(first_hit_[sh], f->index);
+      won.push_back(f);
+      stored += f->size > 0 || f->env;  // its state was kept
+      if (f->hit) first_hit = std::min(first_hit, f->index);
     }
+    stored_[sh] += stored;
+    first_hit_[sh] = first_hit;
+    won_[sh] = std::move(won);
+    merged_[sh] = std::move(order);
   });
 }
 
@@ -250,6 +264,7 @@ void LayeredBfs::place(size_t begin, bool free_phase) {
   std::vector<uint8_t> free(direct ? 0 : offset[kShards]);
   std::vector<uint64_t> kept(kShards, 0);
   p_.pool().parallel_for(kShards, [&](size_t sh) {
+    uint64_t kept_here = 0;  // written once (neighbouring shards' counters share a cache line)
     for (size_t j = 0; j < won_[sh].size(); ++j) {
       Fresh& f = *won_[sh][j];
       const size_t slot = offset[sh] + j;
@@ -264,9 +279,10 @@ void LayeredBfs::place(size_t begin, bool free_phase) {
       o.offset = f.offset;
       o.size = f.size;
       o.env = std::move(f.env);
-      kept[sh] += o.env ? 1 : 0;
+      kept_here += o.env ? 1 : 0;
       if (!direct) free[slot] = f.free;
     }
+    kept[sh] = kept_here;
   });
   for (uint64_t k : kept) kept_ += k;
   for (size_t i = 0; i < placed.size(); ++i) (free[i] ? cur_ : next_).open.push_back(std::move(placed[i]));
@@ -281,7 +297,7 @@ int LayeredBfs::target_of(int64_t node) const {
 }
 
 BfsOutcome LayeredBfs::finish(int64_t node, bool found) {
-  for (const HashSet& s : seen_) out_.distinct += s.size();
+  for (const SeenShard& s : seen_) out_.distinct += s.set.size();
   out_.stored = 1;  // the root
   for (uint64_t n : stored_) out_.stored += n;
   if (found) {
@@ -338,7 +354,7 @@ BfsOutcome LayeredBfs::run() {
   nodes_ = {{-1, -1, 0}};
   const uint64_t h0 = start_.state_hash();
   hash_of_ = {h0};
-  seen_[shard_of(h0)].insert(h0);
+  seen_[shard_of(h0)].set.insert(h0);
   {
     FrameColours colours;
     if ((spec_.targets && spec_.targets->contains(h0)) || (spec_.goal && p_.goal().reached(start_, colours)))
