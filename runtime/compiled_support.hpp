@@ -141,11 +141,14 @@ class IdTable {
 // Positions covered at the last host render; out-of-grid positions count too.
 class Occupancy {
  public:
-  // Clears in time proportional to what the last render covered, not to the grid.
+  // Clears in time proportional to what the last render covered, not to the
+  // grid; when that was over a quarter of the grid, clearing it all costs less.
   void clear(int size) {
     if (size != size_) {
       size_ = size;
       grid_.assign(static_cast<size_t>(size) * size, 0);
+    } else if (set_.size() > grid_.size() / 4) {
+      std::fill(grid_.begin(), grid_.end(), uint8_t{0});
     } else {
       for (uint32_t i : set_) grid_[i] = 0;
     }
@@ -221,6 +224,8 @@ class Painter {
       f.size = size;
       f.cells.assign(static_cast<size_t>(size) * size, background);
       background_ = background;
+    } else if (painted_.size() > f.cells.size() / 4) {  // a dense frame: repainting it all costs less
+      std::fill(f.cells.begin(), f.cells.end(), background);
     } else {
       for (uint32_t i : painted_) f.cells[i] = background;
     }
