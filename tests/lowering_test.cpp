@@ -125,52 +125,40 @@ INSTANTIATE_TEST_SUITE_P(Programs, CorpusProgram, ::testing::ValuesIn(corpus()),
 // ---------------------------------------------------------------------------
 // IrPasses: each pass on IR built by hand.
 
-// A module with one function and a builder for its statements.
+// A module with one function, built through the specialiser's own IR builder
+// (ir_builder.hpp); stmt() appends to any block of it.
 struct IrFixture {
   lower::Module m;
   lower::ir::Function* f;
   lower::TypeP list_t;
+  lower::IrBuilder b{m, [] { return -1; }};  // no error sites: loops keep Stmt's default site
   IrFixture() {
     m.functions.push_back(std::make_unique<lower::ir::Function>());
     f = m.functions.back().get();
     f->name = "step";
     f->kind = lower::ir::Function::Step;
+    b.begin_function(f);
     list_t = m.types.list(m.types.int_());
     m.slots.push_back(lower::ir::Slot{"g_xs", list_t, lower::ir::Slot::Value, 1, true});
   }
   lower::ir::Node* node(lower::ir::Op op, lower::TypeP t, std::vector<lower::ir::Node*> a = {}) {
-    lower::ir::Node& n = m.arena.nodes.emplace_back();
-    n.op = op;
-    n.type = t;
-    n.a = std::move(a);
-    return &n;
+    return b.node(op, t, std::move(a));
   }
-  lower::ir::Node* global() {
-    lower::ir::Node* n = node(lower::ir::Op::Global, list_t);
-    n->slot = 0;
-    return n;
-  }
+  lower::ir::Node* global() { return b.slot(0); }
   lower::ir::Var* var(lower::TypeP t, bool mut) {
-    lower::ir::Var& v = m.arena.vars.emplace_back();
-    v.id = static_cast<int>(m.arena.vars.size());
-    v.type = t;
-    v.mut = mut;
-    return &v;
+    lower::ir::Var* v = b.var(t, "v");
+    v->mut = mut;
+    return v;
   }
-  lower::ir::Node* use(lower::ir::Var* v) {
-    lower::ir::Node* n = node(lower::ir::Op::Local, v->type);
-    n->var = v;
-    return n;
-  }
-  lower::ir::Stmt* stmt(lower::ir::Block& b, lower::ir::SK k, lower::ir::Var* v = nullptr, lower::ir::Node* a = nullptr,
-                        lower::ir::Node* bn = nullptr) {
-    lower::ir::Stmt& s = m.arena.stmts.emplace_back();
-    s.k = k;
-    s.var = v;
-    s.a = a;
-    s.b = bn;
-    b.push_back(&s);
-    return &s;
+  lower::ir::Node* use(lower::ir::Var* v) { return b.local(v); }
+  lower::ir::Stmt* stmt(lower::ir::Block& block, lower::ir::SK k, lower::ir::Var* v = nullptr,
+                        lower::ir::Node* a = nullptr, lower::ir::Node* bn = nullptr) {
+    lower::ir::Stmt* s = nullptr;
+    b.in_block(block, [&] { s = b.emit(k); });
+    s->var = v;
+    s->a = a;
+    s->b = bn;
+    return s;
   }
   lower::ir::Node* size_of(lower::ir::Var* v) { return node(lower::ir::Op::Size, m.types.int_(), {use(v)}); }
 };
