@@ -220,34 +220,51 @@ class Painter {
   const std::vector<Drawn>& drawn() const { return drawn_; }
   void begin(int size, uint16_t background) {
     Frame& f = *frame_;
-    if (f.size != size || background != background_ || f.cells.size() != static_cast<size_t>(size) * size) {
+    const size_t cells = static_cast<size_t>(size) * size;
+    if (f.size != size || background != background_ || f.cells.size() != cells) {
       f.size = size;
-      f.cells.assign(static_cast<size_t>(size) * size, background);
+      f.cells.assign(cells, background);
       background_ = background;
-    } else if (painted_.size() > f.cells.size() / 4) {  // a dense frame: repainting it all costs less
+      marks_.assign(cells / 4 + 1, 0);
+    } else if (painted_ >= marks_.size()) {  // a dense frame: repainting it all costs less
       std::fill(f.cells.begin(), f.cells.end(), background);
     } else {
-      for (uint32_t i : painted_) f.cells[i] = background;
+      for (uint32_t k = 0; k < painted_; ++k) f.cells[marks_[k]] = background;
     }
-    painted_.clear();
+    size_ = size;
+    cells_ = f.cells.data();
+    painted_ = 0;
     drawn_.clear();
     recorded_ = record_;
   }
   void global(int32_t index) { global_ = index; }
+  // Inline and without a growing list (the hottest call of a many-object
+  // render): the first marks_.size() - 1 cells painted are remembered, and
+  // once the count reaches marks_.size() the next begin() clears the grid.
   void paint(Pos p, int32_t colour, const std::vector<uint16_t>& pal) {
     const uint16_t c = colour_of(pal, colour);
-    if (__builtin_expect(record_, 0)) drawn_.push_back(Drawn{p, colour, global_});
-    const int n = frame_->size;
+    if (__builtin_expect(record_, 0)) record_drawn(p, colour);
+    const int n = size_;
     if (p.x < 0 || p.y < 0 || p.x >= n || p.y >= n) return;
     const uint32_t i = static_cast<uint32_t>(p.y) * n + p.x;
-    frame_->cells[i] = c;
-    painted_.push_back(i);
+    cells_[i] = c;
+    const size_t last = marks_.size() - 1;  // marks_[last] takes the marks past the remembered ones
+    marks_[painted_ < last ? painted_ : last] = i;
+    ++painted_;
   }
 
  private:
+  [[gnu::cold, gnu::noinline]] void record_drawn(Pos p, int32_t colour) { drawn_.push_back(Drawn{p, colour, global_}); }
+  // Invariants: size_ and cells_ are frame_'s, set by begin() (every render
+  // calls it before painting; copies and bind() leave them stale until then);
+  // marks_ has (cells / 4) + 1 entries, the first min(painted_, cells / 4) of
+  // them the cells painted since begin().
   Frame* frame_ = nullptr;
+  uint16_t* cells_ = nullptr;
+  int size_ = 0;
   uint16_t background_ = 0xffff;
-  std::vector<uint32_t> painted_;
+  size_t painted_ = 0;
+  std::vector<uint32_t> marks_;
   bool record_ = false, recorded_ = false;
   int32_t global_ = 0;
   std::vector<Drawn> drawn_;
