@@ -130,22 +130,18 @@ struct Prog {
     std::vector<C0_Tile> b7;
     std::vector<C0_Tile> b8;
     std::vector<Pos> b9;
-    std::vector<Elem> b10;
+    std::vector<C0_Tile> b10;
     std::vector<C0_Tile> b11;
     std::vector<C0_Tile> b12;
-    std::vector<Elem> b13;
+    std::vector<C0_Tile> b13;
     std::vector<C0_Tile> b14;
-    std::vector<C0_Tile> b15;
-    std::vector<C0_Tile> b16;
-    std::vector<Elem> b17;
-    std::vector<C1_Swatch> b18;
-    std::vector<C1_Swatch> b19;
-    std::vector<Elem> b20;
+    std::vector<C1_Swatch> b15;
+    std::vector<C1_Swatch> b16;
+    std::vector<C0_Tile> b17;
+    std::vector<C0_Tile> b18;
+    std::vector<C0_Tile> b19;
+    std::vector<Pos> b20;
     std::vector<C0_Tile> b21;
-    std::vector<C0_Tile> b22;
-    std::vector<C0_Tile> b23;
-    std::vector<Pos> b24;
-    std::vector<C0_Tile> b25;
     C2_Lamps p_lamps_8{};
     bool sv_lamps_9{};
     std::vector<C1_Swatch> p_swatches_12{};
@@ -471,23 +467,14 @@ struct Prog {
           s.d_click_19 = true;
           const Pos t41 = Pos{s.core.click_x, s.core.click_y};
           s.g_click_18 = t41;
-          std::vector<Elem>& rendered42 = s.scratch.v.b10;
-          rendered42.clear();
           {
-            const auto& x43_list = prev39;
-            charge_loop(s.core, 18, int64_t(x43_list.size()));
-            for (const C0_Tile& x43 : x43_list) {
-              const int32_t colour44 = colour_2_C0_Tile(s, x43);
-              rendered42.push_back(Elem{Pos{add(x43.origin.x, int32_t(0)), add(x43.origin.y, int32_t(0))}, colour44});
-            }
-          }
-          {
-            const auto& e45_list = rendered42;
-            charge_loop(s.core, 18, int64_t(e45_list.size()));
-            for (const Elem& e45 : e45_list) {
-              if ((e45.position == Pos{s.core.click_x, s.core.click_y})) {
+            const auto& x42_list = prev39;
+            charge_loop(s.core, 18, int64_t(x42_list.size()));
+            for (const C0_Tile& x42 : x42_list) {
+              const int32_t colour43 = colour_2_C0_Tile(s, x42);
+              const Elem e44 = Elem{Pos{add(x42.origin.x, int32_t(0)), add(x42.origin.y, int32_t(0))}, colour43};
+              if ((e44.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked40 = true;
-                break;
               }
             }
           }
@@ -498,103 +485,95 @@ struct Prog {
       }
       if (r38) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C0_Tile>& g46 = s.g_tiles_14;
-        const std::vector<C0_Tile>& prev47 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
+        const std::vector<C0_Tile>& g45 = s.g_tiles_14;
+        const std::vector<C0_Tile>& prev46 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
         // inlined: function at programs/color_flood.au:45
-        std::vector<C0_Tile>& l_hit48 = s.scratch.v.b11;
-        l_hit48.clear();
-        std::vector<C0_Tile>& out49 = s.scratch.v.b12;
-        out49.clear();
+        std::vector<C0_Tile>& l_hit47 = s.scratch.v.b10;
+        l_hit47.clear();
+        std::vector<C0_Tile>& out48 = s.scratch.v.b11;
+        out48.clear();
         {
-          const auto& x50_list = prev47;
-          charge_loop(s.core, 19, int64_t(x50_list.size()));
-          for (const C0_Tile& x50 : x50_list) {
+          const auto& x49_list = prev46;
+          charge_loop(s.core, 19, int64_t(x49_list.size()));
+          for (const C0_Tile& x49 : x49_list) {
             // inlined: function at programs/color_flood.au:46
-            bool clicked51 = false;
+            bool clicked50 = false;
             if (s.core.click) {
               s.d_click_19 = true;
-              const Pos t52 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_18 = t52;
-              std::vector<Elem>& rendered53 = s.scratch.v.b13;
-              rendered53.clear();
-              const int32_t colour54 = colour_2_C0_Tile(s, x50);
-              rendered53.push_back(Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour54});
-              {
-                const auto& e55_list = rendered53;
-                for (const Elem& e55 : e55_list) {
-                  if ((e55.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked51 = true;
-                    break;
-                  }
-                }
+              const Pos t51 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_18 = t51;
+              const int32_t colour52 = colour_2_C0_Tile(s, x49);
+              const Elem e53 = Elem{Pos{add(x49.origin.x, int32_t(0)), add(x49.origin.y, int32_t(0))}, colour52};
+              if ((e53.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked50 = true;
               }
             }
-            if (clicked51) {
+            if (clicked50) {
               charge_built(s.core, 19, int64_t(int32_t(1)));
-              out49.push_back(x50);
+              out48.push_back(x49);
             }
           }
         }
-        std::swap(l_hit48, out49);
-        const int32_t t56 = int32_t(l_hit48.size());
-        const bool t57 = (t56 > int32_t(0));
-        int32_t r58{};
-        if (t57) {
-          if (l_hit48.empty()) {
-            fail_at(21, std::string() + std::string("head of an empty list"));
+        std::swap(l_hit47, out48);
+        const int32_t t54 = int32_t(l_hit47.size());
+        const bool t55 = (t54 > int32_t(0));
+        int32_t r56{};
+        if (t55) {
+          if (l_hit47.empty()) {
+            fail_at(20, std::string() + std::string("head of an empty list"));
           }
-          const C0_Tile t59 = l_hit48.front();
-          r58 = t59.f0;
+          const C0_Tile t57 = l_hit47.front();
+          r56 = t57.f0;
         } else {
-          const std::vector<C0_Tile>& g60 = s.g_tiles_14;
+          const std::vector<C0_Tile>& g58 = s.g_tiles_14;
           // inlined: function at programs/color_flood.au:32
-          std::vector<C0_Tile>& l_wetOnes61 = s.scratch.v.b14;
-          l_wetOnes61.clear();
-          std::vector<C0_Tile>& out62 = s.scratch.v.b15;
-          out62.clear();
+          std::vector<C0_Tile>& l_wetOnes59 = s.scratch.v.b12;
+          l_wetOnes59.clear();
+          std::vector<C0_Tile>& out60 = s.scratch.v.b13;
+          out60.clear();
           {
-            const auto& x63_list = g60;
-            charge_loop(s.core, 12, int64_t(x63_list.size()));
-            for (const C0_Tile& x63 : x63_list) {
+            const auto& x61_list = g58;
+            charge_loop(s.core, 12, int64_t(x61_list.size()));
+            for (const C0_Tile& x61 : x61_list) {
               // inlined: function at programs/color_flood.au:33
-              if (x63.f1) {
+              if (x61.f1) {
                 charge_built(s.core, 12, int64_t(int32_t(1)));
-                out62.push_back(x63);
+                out60.push_back(x61);
               }
             }
           }
-          std::swap(l_wetOnes61, out62);
-          const int32_t t64 = int32_t(l_wetOnes61.size());
-          const bool t65 = (t64 > int32_t(0));
-          int32_t r66{};
-          if (t65) {
-            if (l_wetOnes61.empty()) {
+          std::swap(l_wetOnes59, out60);
+          const int32_t t62 = int32_t(l_wetOnes59.size());
+          const bool t63 = (t62 > int32_t(0));
+          int32_t r64{};
+          if (t63) {
+            if (l_wetOnes59.empty()) {
               fail_at(13, std::string() + std::string("head of an empty list"));
             }
-            const C0_Tile t67 = l_wetOnes61.front();
-            r66 = t67.f0;
+            const C0_Tile t65 = l_wetOnes59.front();
+            r64 = t65.f0;
           } else {
-            r66 = int32_t(6);
+            r64 = int32_t(6);
           }
-          r58 = r66;
+          r56 = r64;
         }
         // inlined: function at programs/color_flood.au:44
-        charge_built(s.core, 22, int64_t(g46.size()));
-        std::vector<C0_Tile>& updated68 = s.scratch.v.b16;
-        updated68.clear();
-        updated68.reserve(size_t(int32_t(g46.size())));
+        charge_built(s.core, 21, int64_t(g45.size()));
+        std::vector<C0_Tile>& updated66 = s.scratch.v.b14;
+        updated66.clear();
+        updated66.reserve(size_t(int32_t(g45.size())));
         {
-          const auto& x69_list = g46;
-          charge_loop(s.core, 22, int64_t(x69_list.size()));
-          for (const C0_Tile& x69 : x69_list) {
+          const auto& x67_list = g45;
+          charge_loop(s.core, 21, int64_t(x67_list.size()));
+          for (const C0_Tile& x67 : x67_list) {
             // inlined: function at programs/color_flood.au:44
-            if (x69.f1) {
+            if (x67.f1) {
               // inlined: function at programs/color_flood.au:44
-              C0_Tile upd70 = x69;
-              upd70.f0 = r58;
-              updated68.push_back(std::move(upd70));
+              C0_Tile upd68 = x67;
+              upd68.f0 = r56;
+              updated66.push_back(std::move(upd68));
             } else {
-              updated68.push_back(x69);
+              updated66.push_back(x67);
             }
           }
         }
@@ -602,146 +581,129 @@ struct Prog {
           std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
           s.scratch.v.sv_tiles_17 = true;
         }
-        std::swap(s.g_tiles_14, updated68);
+        std::swap(s.g_tiles_14, updated66);
         s.u_tiles_15 = true;
       }
     }
     // on-clause 3, programs/color_flood.au:53
     {
-      const C2_Lamps& prev71 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
-      const bool t72 = !prev71.f0;
-      bool r73{};
-      if (t72) {
-        const std::vector<C1_Swatch>& prev74 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
-        bool clicked75 = false;
+      const C2_Lamps& prev69 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
+      const bool t70 = !prev69.f0;
+      bool r71{};
+      if (t70) {
+        const std::vector<C1_Swatch>& prev72 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
+        bool clicked73 = false;
         if (s.core.click) {
           s.d_click_19 = true;
-          const Pos t76 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_18 = t76;
-          std::vector<Elem>& rendered77 = s.scratch.v.b17;
-          rendered77.clear();
+          const Pos t74 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_18 = t74;
           {
-            const auto& x78_list = prev74;
-            charge_loop(s.core, 23, int64_t(x78_list.size()));
-            for (const C1_Swatch& x78 : x78_list) {
-              const int32_t colour79 = colour_1_C1_Swatch(s, x78);
-              rendered77.push_back(Elem{Pos{add(x78.origin.x, int32_t(0)), add(x78.origin.y, int32_t(0))}, colour79});
-            }
-          }
-          {
-            const auto& e80_list = rendered77;
-            charge_loop(s.core, 23, int64_t(e80_list.size()));
-            for (const Elem& e80 : e80_list) {
-              if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked75 = true;
-                break;
+            const auto& x75_list = prev72;
+            charge_loop(s.core, 22, int64_t(x75_list.size()));
+            for (const C1_Swatch& x75 : x75_list) {
+              const int32_t colour76 = colour_1_C1_Swatch(s, x75);
+              const Elem e77 = Elem{Pos{add(x75.origin.x, int32_t(0)), add(x75.origin.y, int32_t(0))}, colour76};
+              if ((e77.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked73 = true;
               }
             }
           }
         }
-        r73 = clicked75;
+        r71 = clicked73;
       } else {
-        r73 = false;
+        r71 = false;
       }
-      if (r73) {
+      if (r71) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C0_Tile>& g81 = s.g_tiles_14;
-        const std::vector<C1_Swatch>& prev82 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
+        const std::vector<C0_Tile>& g78 = s.g_tiles_14;
+        const std::vector<C1_Swatch>& prev79 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
         // inlined: function at programs/color_flood.au:45
-        std::vector<C1_Swatch>& l_hit83 = s.scratch.v.b18;
-        l_hit83.clear();
-        std::vector<C1_Swatch>& out84 = s.scratch.v.b19;
-        out84.clear();
+        std::vector<C1_Swatch>& l_hit80 = s.scratch.v.b15;
+        l_hit80.clear();
+        std::vector<C1_Swatch>& out81 = s.scratch.v.b16;
+        out81.clear();
         {
-          const auto& x85_list = prev82;
-          charge_loop(s.core, 19, int64_t(x85_list.size()));
-          for (const C1_Swatch& x85 : x85_list) {
+          const auto& x82_list = prev79;
+          charge_loop(s.core, 19, int64_t(x82_list.size()));
+          for (const C1_Swatch& x82 : x82_list) {
             // inlined: function at programs/color_flood.au:46
-            bool clicked86 = false;
+            bool clicked83 = false;
             if (s.core.click) {
               s.d_click_19 = true;
-              const Pos t87 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_18 = t87;
-              std::vector<Elem>& rendered88 = s.scratch.v.b20;
-              rendered88.clear();
-              const int32_t colour89 = colour_1_C1_Swatch(s, x85);
-              rendered88.push_back(Elem{Pos{add(x85.origin.x, int32_t(0)), add(x85.origin.y, int32_t(0))}, colour89});
-              {
-                const auto& e90_list = rendered88;
-                for (const Elem& e90 : e90_list) {
-                  if ((e90.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked86 = true;
-                    break;
-                  }
-                }
+              const Pos t84 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_18 = t84;
+              const int32_t colour85 = colour_1_C1_Swatch(s, x82);
+              const Elem e86 = Elem{Pos{add(x82.origin.x, int32_t(0)), add(x82.origin.y, int32_t(0))}, colour85};
+              if ((e86.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked83 = true;
               }
             }
-            if (clicked86) {
+            if (clicked83) {
               charge_built(s.core, 19, int64_t(int32_t(1)));
-              out84.push_back(x85);
+              out81.push_back(x82);
             }
           }
         }
-        std::swap(l_hit83, out84);
-        const int32_t t91 = int32_t(l_hit83.size());
-        const bool t92 = (t91 > int32_t(0));
-        int32_t r93{};
-        if (t92) {
-          if (l_hit83.empty()) {
-            fail_at(21, std::string() + std::string("head of an empty list"));
+        std::swap(l_hit80, out81);
+        const int32_t t87 = int32_t(l_hit80.size());
+        const bool t88 = (t87 > int32_t(0));
+        int32_t r89{};
+        if (t88) {
+          if (l_hit80.empty()) {
+            fail_at(20, std::string() + std::string("head of an empty list"));
           }
-          const C1_Swatch t94 = l_hit83.front();
-          r93 = t94.f0;
+          const C1_Swatch t90 = l_hit80.front();
+          r89 = t90.f0;
         } else {
-          const std::vector<C0_Tile>& g95 = s.g_tiles_14;
+          const std::vector<C0_Tile>& g91 = s.g_tiles_14;
           // inlined: function at programs/color_flood.au:32
-          std::vector<C0_Tile>& l_wetOnes96 = s.scratch.v.b21;
-          l_wetOnes96.clear();
-          std::vector<C0_Tile>& out97 = s.scratch.v.b22;
-          out97.clear();
+          std::vector<C0_Tile>& l_wetOnes92 = s.scratch.v.b17;
+          l_wetOnes92.clear();
+          std::vector<C0_Tile>& out93 = s.scratch.v.b18;
+          out93.clear();
           {
-            const auto& x98_list = g95;
-            charge_loop(s.core, 12, int64_t(x98_list.size()));
-            for (const C0_Tile& x98 : x98_list) {
+            const auto& x94_list = g91;
+            charge_loop(s.core, 12, int64_t(x94_list.size()));
+            for (const C0_Tile& x94 : x94_list) {
               // inlined: function at programs/color_flood.au:33
-              if (x98.f1) {
+              if (x94.f1) {
                 charge_built(s.core, 12, int64_t(int32_t(1)));
-                out97.push_back(x98);
+                out93.push_back(x94);
               }
             }
           }
-          std::swap(l_wetOnes96, out97);
-          const int32_t t99 = int32_t(l_wetOnes96.size());
-          const bool t100 = (t99 > int32_t(0));
-          int32_t r101{};
-          if (t100) {
-            if (l_wetOnes96.empty()) {
+          std::swap(l_wetOnes92, out93);
+          const int32_t t95 = int32_t(l_wetOnes92.size());
+          const bool t96 = (t95 > int32_t(0));
+          int32_t r97{};
+          if (t96) {
+            if (l_wetOnes92.empty()) {
               fail_at(13, std::string() + std::string("head of an empty list"));
             }
-            const C0_Tile t102 = l_wetOnes96.front();
-            r101 = t102.f0;
+            const C0_Tile t98 = l_wetOnes92.front();
+            r97 = t98.f0;
           } else {
-            r101 = int32_t(6);
+            r97 = int32_t(6);
           }
-          r93 = r101;
+          r89 = r97;
         }
         // inlined: function at programs/color_flood.au:44
-        charge_built(s.core, 22, int64_t(g81.size()));
-        std::vector<C0_Tile>& updated103 = s.scratch.v.b23;
-        updated103.clear();
-        updated103.reserve(size_t(int32_t(g81.size())));
+        charge_built(s.core, 21, int64_t(g78.size()));
+        std::vector<C0_Tile>& updated99 = s.scratch.v.b19;
+        updated99.clear();
+        updated99.reserve(size_t(int32_t(g78.size())));
         {
-          const auto& x104_list = g81;
-          charge_loop(s.core, 22, int64_t(x104_list.size()));
-          for (const C0_Tile& x104 : x104_list) {
+          const auto& x100_list = g78;
+          charge_loop(s.core, 21, int64_t(x100_list.size()));
+          for (const C0_Tile& x100 : x100_list) {
             // inlined: function at programs/color_flood.au:44
-            if (x104.f1) {
+            if (x100.f1) {
               // inlined: function at programs/color_flood.au:44
-              C0_Tile upd105 = x104;
-              upd105.f0 = r93;
-              updated103.push_back(std::move(upd105));
+              C0_Tile upd101 = x100;
+              upd101.f0 = r89;
+              updated99.push_back(std::move(upd101));
             } else {
-              updated103.push_back(x104);
+              updated99.push_back(x100);
             }
           }
         }
@@ -749,163 +711,163 @@ struct Prog {
           std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
           s.scratch.v.sv_tiles_17 = true;
         }
-        std::swap(s.g_tiles_14, updated103);
+        std::swap(s.g_tiles_14, updated99);
         s.u_tiles_15 = true;
       }
     }
     // on-clause 4, programs/color_flood.au:56
     {
-      const bool t106 = s.core.down;
-      bool r107{};
-      if (!t106) {
-        const C2_Lamps& prev108 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
-        bool r109{};
-        if (prev108.f0) {
-          bool clicked110 = false;
+      const bool t102 = s.core.down;
+      bool r103{};
+      if (!t102) {
+        const C2_Lamps& prev104 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
+        bool r105{};
+        if (prev104.f0) {
+          bool clicked106 = false;
           if (s.core.click) {
             s.d_click_19 = true;
-            const Pos t111 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_18 = t111;
-            clicked110 = true;
+            const Pos t107 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_18 = t107;
+            clicked106 = true;
           }
-          r109 = clicked110;
+          r105 = clicked106;
         } else {
-          r109 = false;
+          r105 = false;
         }
-        r107 = r109;
+        r103 = r105;
       } else {
-        r107 = true;
+        r103 = true;
       }
-      if (r107) {
+      if (r103) {
         s.core.covered[int32_t(3)] = 1;
         // inlined: function at programs/color_flood.au:17
         if ((int32_t(8) < int32_t(0))) {
-          fail_at(24, std::string() + std::string("allPositions: negative size"));
+          fail_at(23, std::string() + std::string("allPositions: negative size"));
         }
         if ((int32_t(7) < int32_t(0))) {
-          fail_at(24, std::string() + std::string("allPositions: negative size"));
+          fail_at(23, std::string() + std::string("allPositions: negative size"));
         }
-        charge_built(s.core, 24, int64_t(int32_t(8)) * int64_t(int32_t(7)));
-        std::vector<Pos>& apos112 = s.scratch.v.b24;
-        apos112.clear();
+        charge_built(s.core, 23, int64_t(int32_t(8)) * int64_t(int32_t(7)));
+        std::vector<Pos>& apos108 = s.scratch.v.b20;
+        apos108.clear();
         {
-          const int32_t i113_first = int32_t(0), i113_end = int32_t(8);
-          for (int32_t i113 = i113_first; i113 < i113_end; ++i113) {
+          const int32_t i109_first = int32_t(0), i109_end = int32_t(8);
+          for (int32_t i109 = i109_first; i109 < i109_end; ++i109) {
             {
-              const int32_t j114_first = int32_t(0), j114_end = int32_t(7);
-              for (int32_t j114 = j114_first; j114 < j114_end; ++j114) {
-                const Pos t115 = Pos{i113, j114};
-                apos112.push_back(t115);
+              const int32_t j110_first = int32_t(0), j110_end = int32_t(7);
+              for (int32_t j110 = j110_first; j110 < j110_end; ++j110) {
+                const Pos t111 = Pos{i109, j110};
+                apos108.push_back(t111);
               }
             }
           }
         }
-        std::vector<C0_Tile>& out116 = s.scratch.v.b25;
-        out116.clear();
-        charge_built(s.core, 25, int64_t(apos112.size()));
-        out116.reserve(size_t(int32_t(apos112.size())));
+        std::vector<C0_Tile>& out112 = s.scratch.v.b21;
+        out112.clear();
+        charge_built(s.core, 24, int64_t(apos108.size()));
+        out112.reserve(size_t(int32_t(apos108.size())));
         {
-          const auto& x117_list = apos112;
-          charge_loop(s.core, 25, int64_t(x117_list.size()));
-          for (const Pos& x117 : x117_list) {
+          const auto& x113_list = apos108;
+          charge_loop(s.core, 24, int64_t(x113_list.size()));
+          for (const Pos& x113 : x113_list) {
             // inlined: function at programs/color_flood.au:18
-            const std::vector<int32_t>& g118 = s.g_palette_4;
-            if (g118.empty()) {
-              fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
+            const std::vector<int32_t>& g114 = s.g_palette_4;
+            if (g114.empty()) {
+              fail_at(25, std::string() + std::string("uniformChoice of an empty list"));
             }
-            const int32_t t119 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g118.size())))));
-            const int32_t t120 = g118[size_t(t119)];
-            const Pos& g121 = s.g_corner_5;
-            const bool t122 = (x117 == g121);
-            C0_Tile o123 = C0_Tile{t120, t122, x117};
-            out116.push_back(std::move(o123));
+            const int32_t t115 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g114.size())))));
+            const int32_t t116 = g114[size_t(t115)];
+            const Pos& g117 = s.g_corner_5;
+            const bool t118 = (x113 == g117);
+            C0_Tile o119 = C0_Tile{t116, t118, x113};
+            out112.push_back(std::move(o119));
           }
         }
         if (!s.scratch.v.sv_tiles_17) {
           std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
           s.scratch.v.sv_tiles_17 = true;
         }
-        std::swap(s.g_tiles_14, out116);
+        std::swap(s.g_tiles_14, out112);
         s.u_tiles_15 = true;
       }
     }
     // NEXT of lamps, programs/color_flood.au:29
     if (!s.u_lamps_7) {
-      const C2_Lamps& prev124 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
-      const std::vector<C0_Tile>& g125 = s.g_tiles_14;
+      const C2_Lamps& prev120 = (s.scratch.v.sv_lamps_9 ? s.scratch.v.p_lamps_8 : s.g_lamps_6);
+      const std::vector<C0_Tile>& g121 = s.g_tiles_14;
       // inlined: function at programs/color_flood.au:31
-      bool any126 = false;
+      bool any122 = false;
       {
-        const auto& x127_list = g125;
-        charge_loop(s.core, 27, int64_t(x127_list.size()));
-        for (const C0_Tile& x127 : x127_list) {
+        const auto& x123_list = g121;
+        charge_loop(s.core, 26, int64_t(x123_list.size()));
+        for (const C0_Tile& x123 : x123_list) {
           // inlined: function at programs/color_flood.au:31
-          const bool t128 = !x127.f1;
-          if (t128) {
-            any126 = true;
+          const bool t124 = !x123.f1;
+          if (t124) {
+            any122 = true;
             break;
           }
         }
       }
-      const bool t129 = !any126;
-      C2_Lamps upd130 = prev124;
-      upd130.f0 = t129;
+      const bool t125 = !any122;
+      C2_Lamps upd126 = prev120;
+      upd126.f0 = t125;
       if (!s.scratch.v.sv_lamps_9) {
         std::swap(s.scratch.v.p_lamps_8, s.g_lamps_6);
         s.scratch.v.sv_lamps_9 = true;
       }
-      s.g_lamps_6 = std::move(upd130);
+      s.g_lamps_6 = std::move(upd126);
       s.u_lamps_7 = true;
     }
     // NEXT of swatches, programs/color_flood.au:25
     if ((!s.u_swatches_11 && s.scratch.v.sv_swatches_13)) {
-      const std::vector<C1_Swatch> prev131 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
+      const std::vector<C1_Swatch> prev127 = (s.scratch.v.sv_swatches_13 ? s.scratch.v.p_swatches_12 : s.g_swatches_10);
       if (!s.scratch.v.sv_swatches_13) {
         std::swap(s.scratch.v.p_swatches_12, s.g_swatches_10);
         s.scratch.v.sv_swatches_13 = true;
       }
-      s.g_swatches_10 = prev131;
+      s.g_swatches_10 = prev127;
       s.u_swatches_11 = true;
     }
     // NEXT of tiles, programs/color_flood.au:21
     if ((!s.u_tiles_15 && s.scratch.v.sv_tiles_17)) {
-      const std::vector<C0_Tile> prev132 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
+      const std::vector<C0_Tile> prev128 = (s.scratch.v.sv_tiles_17 ? s.scratch.v.p_tiles_16 : s.g_tiles_14);
       if (!s.scratch.v.sv_tiles_17) {
         std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
         s.scratch.v.sv_tiles_17 = true;
       }
-      s.g_tiles_14 = prev132;
+      s.g_tiles_14 = prev128;
       s.u_tiles_15 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_19) {
-      tally_rendered(s.core, 28, "cacheRendered");
-      const C2_Lamps& g133 = s.g_lamps_6;
-      tally_global(s.core, 5, "lamps", g133);
+      tally_rendered(s.core, 27, "cacheRendered");
+      const C2_Lamps& g129 = s.g_lamps_6;
+      tally_global(s.core, 5, "lamps", g129);
       if (s.d_click_19) {
-        const Pos& g134 = s.g_click_18;
-        tally_global(s.core, 28, "click", g134);
+        const Pos& g130 = s.g_click_18;
+        tally_global(s.core, 27, "click", g130);
       }
-      const std::vector<C1_Swatch>& g135 = s.g_swatches_10;
-      tally_global(s.core, 6, "swatches", g135);
-      const std::vector<int32_t>& g136 = s.g_palette_4;
-      tally_global(s.core, 7, "palette", g136);
-      const std::vector<C0_Tile>& g137 = s.g_tiles_14;
-      tally_global(s.core, 8, "tiles", g137);
-      const Pos& g138 = s.g_corner_5;
-      tally_global(s.core, 9, "corner", g138);
+      const std::vector<C1_Swatch>& g131 = s.g_swatches_10;
+      tally_global(s.core, 6, "swatches", g131);
+      const std::vector<int32_t>& g132 = s.g_palette_4;
+      tally_global(s.core, 7, "palette", g132);
+      const std::vector<C0_Tile>& g133 = s.g_tiles_14;
+      tally_global(s.core, 8, "tiles", g133);
+      const Pos& g134 = s.g_corner_5;
+      tally_global(s.core, 9, "corner", g134);
     } else {
-      tally_rendered(s.core, 28, "cacheRendered");
-      const C2_Lamps& g139 = s.g_lamps_6;
-      tally_global(s.core, 5, "lamps", g139);
-      const std::vector<C1_Swatch>& g140 = s.g_swatches_10;
-      tally_global(s.core, 6, "swatches", g140);
-      const std::vector<int32_t>& g141 = s.g_palette_4;
-      tally_global(s.core, 7, "palette", g141);
-      const std::vector<C0_Tile>& g142 = s.g_tiles_14;
-      tally_global(s.core, 8, "tiles", g142);
-      const Pos& g143 = s.g_corner_5;
-      tally_global(s.core, 9, "corner", g143);
+      tally_rendered(s.core, 27, "cacheRendered");
+      const C2_Lamps& g135 = s.g_lamps_6;
+      tally_global(s.core, 5, "lamps", g135);
+      const std::vector<C1_Swatch>& g136 = s.g_swatches_10;
+      tally_global(s.core, 6, "swatches", g136);
+      const std::vector<int32_t>& g137 = s.g_palette_4;
+      tally_global(s.core, 7, "palette", g137);
+      const std::vector<C0_Tile>& g138 = s.g_tiles_14;
+      tally_global(s.core, 8, "tiles", g138);
+      const Pos& g139 = s.g_corner_5;
+      tally_global(s.core, 9, "corner", g139);
     }
     s.core.clear_inputs();
   }
@@ -919,11 +881,10 @@ struct Prog {
     const std::vector<C0_Tile>& g1 = s.g_tiles_14;
     {
       const auto& x2_list = g1;
-      charge_loop(s.core, 29, int64_t(x2_list.size()));
+      charge_loop(s.core, 28, int64_t(x2_list.size()));
       for (const C0_Tile& x2 : x2_list) {
         const int32_t colour3 = colour_2_C0_Tile(s, x2);
         const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
-        s.core.occupied.add(e4.position);
         ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
       }
     }
@@ -931,11 +892,10 @@ struct Prog {
     const std::vector<C1_Swatch>& g5 = s.g_swatches_10;
     {
       const auto& x6_list = g5;
-      charge_loop(s.core, 29, int64_t(x6_list.size()));
+      charge_loop(s.core, 28, int64_t(x6_list.size()));
       for (const C1_Swatch& x6 : x6_list) {
         const int32_t colour7 = colour_1_C1_Swatch(s, x6);
         const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
-        s.core.occupied.add(e8.position);
         ++s.core.rendered, paint ? paint->paint(e8.position, e8.color, pal) : void();
       }
     }
@@ -943,15 +903,12 @@ struct Prog {
     const C2_Lamps& g9 = s.g_lamps_6;
     const int32_t colour10 = colour_0_C2_Lamps(s, g9);
     const Elem e11 = Elem{Pos{add(g9.origin.x, int32_t(0)), add(g9.origin.y, int32_t(0))}, colour10};
-    s.core.occupied.add(e11.position);
     ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
     const int32_t colour12 = colour_0_C2_Lamps(s, g9);
     const Elem e13 = Elem{Pos{add(g9.origin.x, int32_t(1)), add(g9.origin.y, int32_t(0))}, colour12};
-    s.core.occupied.add(e13.position);
     ++s.core.rendered, paint ? paint->paint(e13.position, e13.color, pal) : void();
     const int32_t colour14 = colour_0_C2_Lamps(s, g9);
     const Elem e15 = Elem{Pos{add(g9.origin.x, int32_t(2)), add(g9.origin.y, int32_t(0))}, colour14};
-    s.core.occupied.add(e15.position);
     ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
@@ -1059,7 +1016,6 @@ const ErrorSite Prog::kErrors[] = {
     {149, 20, "<stdlib>", true, 42, 51, ""},
     {51, 36, nullptr, true, 51, 36, ""},
     {46, 12, nullptr, true, 46, 12, ""},
-    {46, 27, nullptr, true, 46, 27, ""},
     {47, 37, nullptr, true, 47, 37, ""},
     {44, 29, nullptr, true, 44, 29, ""},
     {53, 36, nullptr, true, 53, 36, ""},

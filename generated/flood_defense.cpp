@@ -223,15 +223,11 @@ struct Prog {
     std::vector<S136> b21;
     std::vector<Elem> b22;
     std::vector<Elem> b23;
-    std::vector<Elem> b24;
-    std::vector<C1_House> b25;
-    std::vector<Elem> b26;
+    std::vector<C1_House> b24;
+    std::vector<C3_Sandbag> b25;
+    std::vector<C3_Sandbag> b26;
     std::vector<Elem> b27;
-    std::vector<C3_Sandbag> b28;
-    std::vector<Elem> b29;
-    std::vector<C3_Sandbag> b30;
-    std::vector<Elem> b31;
-    std::vector<Elem> b32;
+    std::vector<Elem> b28;
     std::vector<C4_Water> p_water_9{};
     bool sv_water_10{};
     std::vector<C3_Sandbag> p_bags_13{};
@@ -1278,66 +1274,49 @@ struct Prog {
         s.d_click_36 = true;
         const Pos t262 = Pos{s.core.click_x, s.core.click_y};
         s.g_click_35 = t262;
-        std::vector<Elem>& rendered263 = s.scratch.v.b24;
-        rendered263.clear();
         {
-          const auto& x264_list = prev260;
-          charge_loop(s.core, 36, int64_t(x264_list.size()));
-          for (const C1_House& x264 : x264_list) {
-            const int32_t colour265 = colour_3_C1_House(s, x264);
-            rendered263.push_back(Elem{Pos{add(x264.origin.x, int32_t(0)), add(x264.origin.y, int32_t(0))}, colour265});
-          }
-        }
-        {
-          const auto& e266_list = rendered263;
-          charge_loop(s.core, 36, int64_t(e266_list.size()));
-          for (const Elem& e266 : e266_list) {
-            if ((e266.position == Pos{s.core.click_x, s.core.click_y})) {
+          const auto& x263_list = prev260;
+          charge_loop(s.core, 36, int64_t(x263_list.size()));
+          for (const C1_House& x263 : x263_list) {
+            const int32_t colour264 = colour_3_C1_House(s, x263);
+            const Elem e265 = Elem{Pos{add(x263.origin.x, int32_t(0)), add(x263.origin.y, int32_t(0))}, colour264};
+            if ((e265.position == Pos{s.core.click_x, s.core.click_y})) {
               clicked261 = true;
-              break;
             }
           }
         }
       }
       if (clicked261) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_House>& g267 = s.g_houses_19;
-        charge_built(s.core, 37, int64_t(g267.size()));
-        std::vector<C1_House>& updated268 = s.scratch.v.b25;
-        updated268.clear();
-        updated268.reserve(size_t(int32_t(g267.size())));
+        const std::vector<C1_House>& g266 = s.g_houses_19;
+        charge_built(s.core, 37, int64_t(g266.size()));
+        std::vector<C1_House>& updated267 = s.scratch.v.b24;
+        updated267.clear();
+        updated267.reserve(size_t(int32_t(g266.size())));
         {
-          const auto& x269_list = g267;
-          charge_loop(s.core, 37, int64_t(x269_list.size()));
-          for (const C1_House& x269 : x269_list) {
+          const auto& x268_list = g266;
+          charge_loop(s.core, 37, int64_t(x268_list.size()));
+          for (const C1_House& x268 : x268_list) {
             // inlined: function at programs/flood_defense.au:63
-            bool clicked270 = false;
+            bool clicked269 = false;
             if (s.core.click) {
               s.d_click_36 = true;
-              const Pos t271 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_35 = t271;
-              std::vector<Elem>& rendered272 = s.scratch.v.b26;
-              rendered272.clear();
-              const int32_t colour273 = colour_3_C1_House(s, x269);
-              rendered272.push_back(Elem{Pos{add(x269.origin.x, int32_t(0)), add(x269.origin.y, int32_t(0))}, colour273});
-              {
-                const auto& e274_list = rendered272;
-                for (const Elem& e274 : e274_list) {
-                  if ((e274.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked270 = true;
-                    break;
-                  }
-                }
+              const Pos t270 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_35 = t270;
+              const int32_t colour271 = colour_3_C1_House(s, x268);
+              const Elem e272 = Elem{Pos{add(x268.origin.x, int32_t(0)), add(x268.origin.y, int32_t(0))}, colour271};
+              if ((e272.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked269 = true;
               }
             }
-            if (clicked270) {
+            if (clicked269) {
               // inlined: function at programs/flood_defense.au:63
-              C1_House upd275 = x269;
-              upd275.f0 = false;
-              upd275.uid = s.core.ids.fresh();
-              updated268.push_back(std::move(upd275));
+              C1_House upd273 = x268;
+              upd273.f0 = false;
+              upd273.uid = s.core.ids.fresh();
+              updated267.push_back(std::move(upd273));
             } else {
-              updated268.push_back(x269);
+              updated267.push_back(x268);
             }
           }
         }
@@ -1345,69 +1324,52 @@ struct Prog {
           std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
           s.scratch.v.sv_houses_22 = true;
         }
-        std::swap(s.g_houses_19, updated268);
+        std::swap(s.g_houses_19, updated267);
         s.u_houses_20 = true;
       }
     }
     // on-clause 5, programs/flood_defense.au:64
     {
-      const std::vector<C3_Sandbag>& prev276 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
-      bool clicked277 = false;
+      const std::vector<C3_Sandbag>& prev274 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+      bool clicked275 = false;
       if (s.core.click) {
         s.d_click_36 = true;
-        const Pos t278 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_35 = t278;
-        std::vector<Elem>& rendered279 = s.scratch.v.b27;
-        rendered279.clear();
+        const Pos t276 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_35 = t276;
         {
-          const auto& x280_list = prev276;
-          charge_loop(s.core, 39, int64_t(x280_list.size()));
-          for (const C3_Sandbag& x280 : x280_list) {
-            rendered279.push_back(Elem{Pos{add(x280.origin.x, int32_t(0)), add(x280.origin.y, int32_t(0))}, int32_t(8)});
-          }
-        }
-        {
-          const auto& e281_list = rendered279;
-          charge_loop(s.core, 39, int64_t(e281_list.size()));
-          for (const Elem& e281 : e281_list) {
-            if ((e281.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked277 = true;
-              break;
+          const auto& x277_list = prev274;
+          charge_loop(s.core, 38, int64_t(x277_list.size()));
+          for (const C3_Sandbag& x277 : x277_list) {
+            const Elem e278 = Elem{Pos{add(x277.origin.x, int32_t(0)), add(x277.origin.y, int32_t(0))}, int32_t(8)};
+            if ((e278.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked275 = true;
             }
           }
         }
       }
-      if (clicked277) {
+      if (clicked275) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C3_Sandbag>& prev282 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
-        std::vector<C3_Sandbag>& kept283 = s.scratch.v.b28;
-        kept283.clear();
+        const std::vector<C3_Sandbag>& prev279 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+        std::vector<C3_Sandbag>& kept280 = s.scratch.v.b25;
+        kept280.clear();
         {
-          const auto& x284_list = prev282;
-          charge_loop(s.core, 40, int64_t(x284_list.size()));
-          for (const C3_Sandbag& x284 : x284_list) {
+          const auto& x281_list = prev279;
+          charge_loop(s.core, 39, int64_t(x281_list.size()));
+          for (const C3_Sandbag& x281 : x281_list) {
             // inlined: function at programs/flood_defense.au:64
-            bool clicked285 = false;
+            bool clicked282 = false;
             if (s.core.click) {
               s.d_click_36 = true;
-              const Pos t286 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_35 = t286;
-              std::vector<Elem>& rendered287 = s.scratch.v.b29;
-              rendered287.clear();
-              rendered287.push_back(Elem{Pos{add(x284.origin.x, int32_t(0)), add(x284.origin.y, int32_t(0))}, int32_t(8)});
-              {
-                const auto& e288_list = rendered287;
-                for (const Elem& e288 : e288_list) {
-                  if ((e288.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked285 = true;
-                    break;
-                  }
-                }
+              const Pos t283 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_35 = t283;
+              const Elem e284 = Elem{Pos{add(x281.origin.x, int32_t(0)), add(x281.origin.y, int32_t(0))}, int32_t(8)};
+              if ((e284.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked282 = true;
               }
             }
-            if (!clicked285) {
-              charge_built(s.core, 40, int64_t(int32_t(1)));
-              kept283.push_back(x284);
+            if (!clicked282) {
+              charge_built(s.core, 39, int64_t(int32_t(1)));
+              kept280.push_back(x281);
             }
           }
         }
@@ -1415,346 +1377,346 @@ struct Prog {
           std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
           s.scratch.v.sv_bags_14 = true;
         }
-        std::swap(s.g_bags_11, kept283);
+        std::swap(s.g_bags_11, kept280);
         s.u_bags_12 = true;
       }
     }
     // on-clause 6, programs/flood_defense.au:65
     {
-      bool clicked289 = false;
+      bool clicked285 = false;
       if (s.core.click) {
         s.d_click_36 = true;
-        const Pos t290 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_35 = t290;
-        clicked289 = true;
+        const Pos t286 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_35 = t286;
+        clicked285 = true;
       }
-      bool r291{};
-      if (clicked289) {
-        Pos r292{};
+      bool r287{};
+      if (clicked285) {
+        Pos r288{};
         if (s.d_click_36) {
-          const Pos& g293 = s.g_click_35;
-          r292 = g293;
+          const Pos& g289 = s.g_click_35;
+          r288 = g289;
+        } else {
+          fail_at(40, std::string() + std::string("undefined variable 'click'"));
+        }
+        const bool t290 = s.core.occupied.free(r288);
+        bool r291{};
+        if (t290) {
+          const std::vector<C3_Sandbag>& g292 = s.g_bags_11;
+          const int32_t t293 = int32_t(g292.size());
+          const bool t294 = (t293 < int32_t(15));
+          r291 = t294;
+        } else {
+          r291 = false;
+        }
+        r287 = r291;
+      } else {
+        r287 = false;
+      }
+      if (r287) {
+        s.core.covered[int32_t(5)] = 1;
+        const std::vector<C3_Sandbag>& g295 = s.g_bags_11;
+        Pos r296{};
+        if (s.d_click_36) {
+          const Pos& g297 = s.g_click_35;
+          r296 = g297;
+        } else {
+          fail_at(41, std::string() + std::string("undefined variable 'click'"));
+        }
+        Pos r298{};
+        if (s.d_click_36) {
+          const Pos& g299 = s.g_click_35;
+          r298 = g299;
         } else {
           fail_at(42, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t294 = s.core.occupied.free(r292);
-        bool r295{};
-        if (t294) {
-          const std::vector<C3_Sandbag>& g296 = s.g_bags_11;
-          const int32_t t297 = int32_t(g296.size());
-          const bool t298 = (t297 < int32_t(15));
-          r295 = t298;
-        } else {
-          r295 = false;
-        }
-        r291 = r295;
-      } else {
-        r291 = false;
-      }
-      if (r291) {
-        s.core.covered[int32_t(5)] = 1;
-        const std::vector<C3_Sandbag>& g299 = s.g_bags_11;
-        Pos r300{};
-        if (s.d_click_36) {
-          const Pos& g301 = s.g_click_35;
-          r300 = g301;
-        } else {
-          fail_at(43, std::string() + std::string("undefined variable 'click'"));
-        }
-        Pos r302{};
-        if (s.d_click_36) {
-          const Pos& g303 = s.g_click_35;
-          r302 = g303;
-        } else {
-          fail_at(44, std::string() + std::string("undefined variable 'click'"));
-        }
-        const Pos t304 = Pos{r300.x, r302.y};
-        C3_Sandbag o305 = C3_Sandbag{t304, s.core.ids.fresh()};
-        check_length(s.core, 45, int64_t(g299.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 45, int64_t(g299.size()) + int64_t(int32_t(1)));
-        std::vector<C3_Sandbag>& added306 = s.scratch.v.b30;
-        added306.clear();
-        added306.reserve(size_t(add(int32_t(g299.size()), int32_t(1))));
+        const Pos t300 = Pos{r296.x, r298.y};
+        C3_Sandbag o301 = C3_Sandbag{t300, s.core.ids.fresh()};
+        check_length(s.core, 43, int64_t(g295.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 43, int64_t(g295.size()) + int64_t(int32_t(1)));
+        std::vector<C3_Sandbag>& added302 = s.scratch.v.b26;
+        added302.clear();
+        added302.reserve(size_t(add(int32_t(g295.size()), int32_t(1))));
         {
-          const auto& x307_list = g299;
-          charge_loop(s.core, 45, int64_t(x307_list.size()));
-          for (const C3_Sandbag& x307 : x307_list) {
-            C3_Sandbag copy308 = x307;
-            copy308.uid = s.core.ids.fresh();
-            added306.push_back(std::move(copy308));
+          const auto& x303_list = g295;
+          charge_loop(s.core, 43, int64_t(x303_list.size()));
+          for (const C3_Sandbag& x303 : x303_list) {
+            C3_Sandbag copy304 = x303;
+            copy304.uid = s.core.ids.fresh();
+            added302.push_back(std::move(copy304));
           }
         }
-        added306.push_back(std::move(o305));
+        added302.push_back(std::move(o301));
         if (!s.scratch.v.sv_bags_14) {
           std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
           s.scratch.v.sv_bags_14 = true;
         }
-        std::swap(s.g_bags_11, added306);
+        std::swap(s.g_bags_11, added302);
         s.u_bags_12 = true;
       }
     }
     // on-clause 7, programs/flood_defense.au:68
     {
-      const bool t309 = s.core.left;
-      if (t309) {
+      const bool t305 = s.core.left;
+      if (t305) {
         s.core.covered[int32_t(6)] = 1;
-        const C5_Spring& prev310 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev306 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
         // inlined: function at programs/flood_defense.au:47
-        const int32_t t311 = add(prev310.origin.x, int32_t(-1));
-        const int32_t t312 = add(prev310.origin.y, int32_t(0));
-        const Pos t313 = Pos{t311, t312};
-        C5_Spring upd314 = prev310;
-        upd314.origin = t313;
-        upd314.uid = s.core.ids.fresh();
-        std::vector<Elem>& rendered315 = s.scratch.v.b31;
-        rendered315.clear();
-        rendered315.push_back(Elem{Pos{add(upd314.origin.x, int32_t(-1)), add(upd314.origin.y, int32_t(0))}, int32_t(2)});
-        rendered315.push_back(Elem{Pos{add(upd314.origin.x, int32_t(0)), add(upd314.origin.y, int32_t(0))}, int32_t(2)});
-        rendered315.push_back(Elem{Pos{add(upd314.origin.x, int32_t(1)), add(upd314.origin.y, int32_t(0))}, int32_t(2)});
-        bool within316 = true;
+        const int32_t t307 = add(prev306.origin.x, int32_t(-1));
+        const int32_t t308 = add(prev306.origin.y, int32_t(0));
+        const Pos t309 = Pos{t307, t308};
+        C5_Spring upd310 = prev306;
+        upd310.origin = t309;
+        upd310.uid = s.core.ids.fresh();
+        std::vector<Elem>& rendered311 = s.scratch.v.b27;
+        rendered311.clear();
+        rendered311.push_back(Elem{Pos{add(upd310.origin.x, int32_t(-1)), add(upd310.origin.y, int32_t(0))}, int32_t(2)});
+        rendered311.push_back(Elem{Pos{add(upd310.origin.x, int32_t(0)), add(upd310.origin.y, int32_t(0))}, int32_t(2)});
+        rendered311.push_back(Elem{Pos{add(upd310.origin.x, int32_t(1)), add(upd310.origin.y, int32_t(0))}, int32_t(2)});
+        bool within312 = true;
         {
-          const auto& e317_list = rendered315;
-          for (const Elem& e317 : e317_list) {
-            if ((((e317.position.x < int32_t(0)) || (e317.position.x >= int32_t(16))) || ((e317.position.y < int32_t(0)) || (e317.position.y >= int32_t(16))))) {
-              within316 = false;
+          const auto& e313_list = rendered311;
+          for (const Elem& e313 : e313_list) {
+            if ((((e313.position.x < int32_t(0)) || (e313.position.x >= int32_t(16))) || ((e313.position.y < int32_t(0)) || (e313.position.y >= int32_t(16))))) {
+              within312 = false;
               break;
             }
           }
         }
-        C5_Spring r318{};
-        if (within316) {
-          const int32_t t319 = add(prev310.origin.x, int32_t(-1));
-          const int32_t t320 = add(prev310.origin.y, int32_t(0));
-          const Pos t321 = Pos{t319, t320};
-          C5_Spring upd322 = prev310;
-          upd322.origin = t321;
-          upd322.uid = s.core.ids.fresh();
-          r318 = std::move(upd322);
+        C5_Spring r314{};
+        if (within312) {
+          const int32_t t315 = add(prev306.origin.x, int32_t(-1));
+          const int32_t t316 = add(prev306.origin.y, int32_t(0));
+          const Pos t317 = Pos{t315, t316};
+          C5_Spring upd318 = prev306;
+          upd318.origin = t317;
+          upd318.uid = s.core.ids.fresh();
+          r314 = std::move(upd318);
         } else {
-          r318 = prev310;
+          r314 = prev306;
         }
-        s.core.ids.transfer(uint32_t(r318.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        s.core.ids.transfer(uint32_t(r314.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(r318);
+        s.g_spring_15 = std::move(r314);
         s.u_spring_16 = true;
       }
     }
     // on-clause 8, programs/flood_defense.au:69
     {
-      const bool t323 = s.core.right;
-      if (t323) {
+      const bool t319 = s.core.right;
+      if (t319) {
         s.core.covered[int32_t(7)] = 1;
-        const C5_Spring& prev324 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev320 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
         // inlined: function at programs/flood_defense.au:47
-        const int32_t t325 = add(prev324.origin.x, int32_t(1));
-        const int32_t t326 = add(prev324.origin.y, int32_t(0));
-        const Pos t327 = Pos{t325, t326};
-        C5_Spring upd328 = prev324;
-        upd328.origin = t327;
-        upd328.uid = s.core.ids.fresh();
-        std::vector<Elem>& rendered329 = s.scratch.v.b32;
-        rendered329.clear();
-        rendered329.push_back(Elem{Pos{add(upd328.origin.x, int32_t(-1)), add(upd328.origin.y, int32_t(0))}, int32_t(2)});
-        rendered329.push_back(Elem{Pos{add(upd328.origin.x, int32_t(0)), add(upd328.origin.y, int32_t(0))}, int32_t(2)});
-        rendered329.push_back(Elem{Pos{add(upd328.origin.x, int32_t(1)), add(upd328.origin.y, int32_t(0))}, int32_t(2)});
-        bool within330 = true;
+        const int32_t t321 = add(prev320.origin.x, int32_t(1));
+        const int32_t t322 = add(prev320.origin.y, int32_t(0));
+        const Pos t323 = Pos{t321, t322};
+        C5_Spring upd324 = prev320;
+        upd324.origin = t323;
+        upd324.uid = s.core.ids.fresh();
+        std::vector<Elem>& rendered325 = s.scratch.v.b28;
+        rendered325.clear();
+        rendered325.push_back(Elem{Pos{add(upd324.origin.x, int32_t(-1)), add(upd324.origin.y, int32_t(0))}, int32_t(2)});
+        rendered325.push_back(Elem{Pos{add(upd324.origin.x, int32_t(0)), add(upd324.origin.y, int32_t(0))}, int32_t(2)});
+        rendered325.push_back(Elem{Pos{add(upd324.origin.x, int32_t(1)), add(upd324.origin.y, int32_t(0))}, int32_t(2)});
+        bool within326 = true;
         {
-          const auto& e331_list = rendered329;
-          for (const Elem& e331 : e331_list) {
-            if ((((e331.position.x < int32_t(0)) || (e331.position.x >= int32_t(16))) || ((e331.position.y < int32_t(0)) || (e331.position.y >= int32_t(16))))) {
-              within330 = false;
+          const auto& e327_list = rendered325;
+          for (const Elem& e327 : e327_list) {
+            if ((((e327.position.x < int32_t(0)) || (e327.position.x >= int32_t(16))) || ((e327.position.y < int32_t(0)) || (e327.position.y >= int32_t(16))))) {
+              within326 = false;
               break;
             }
           }
         }
-        C5_Spring r332{};
-        if (within330) {
-          const int32_t t333 = add(prev324.origin.x, int32_t(1));
-          const int32_t t334 = add(prev324.origin.y, int32_t(0));
-          const Pos t335 = Pos{t333, t334};
-          C5_Spring upd336 = prev324;
-          upd336.origin = t335;
-          upd336.uid = s.core.ids.fresh();
-          r332 = std::move(upd336);
+        C5_Spring r328{};
+        if (within326) {
+          const int32_t t329 = add(prev320.origin.x, int32_t(1));
+          const int32_t t330 = add(prev320.origin.y, int32_t(0));
+          const Pos t331 = Pos{t329, t330};
+          C5_Spring upd332 = prev320;
+          upd332.origin = t331;
+          upd332.uid = s.core.ids.fresh();
+          r328 = std::move(upd332);
         } else {
-          r332 = prev324;
+          r328 = prev320;
         }
-        s.core.ids.transfer(uint32_t(r332.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        s.core.ids.transfer(uint32_t(r328.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(r332);
+        s.g_spring_15 = std::move(r328);
         s.u_spring_16 = true;
       }
     }
     // on-clause 9, programs/flood_defense.au:70
     {
-      const bool t337 = s.core.up;
-      if (t337) {
+      const bool t333 = s.core.up;
+      if (t333) {
         s.core.covered[int32_t(8)] = 1;
-        const C5_Spring& prev338 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const C5_Spring& prev339 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const int32_t t340 = sub(prev339.f0, int32_t(1));
-        const bool t341 = (int32_t(1) < t340);
-        int32_t r342{};
-        if (t341) {
-          r342 = t340;
+        const C5_Spring& prev334 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev335 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const int32_t t336 = sub(prev335.f0, int32_t(1));
+        const bool t337 = (int32_t(1) < t336);
+        int32_t r338{};
+        if (t337) {
+          r338 = t336;
         } else {
-          r342 = int32_t(1);
+          r338 = int32_t(1);
         }
-        C5_Spring upd343 = prev338;
-        upd343.f0 = r342;
-        upd343.uid = s.core.ids.fresh();
-        s.core.ids.transfer(uint32_t(upd343.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        C5_Spring upd339 = prev334;
+        upd339.f0 = r338;
+        upd339.uid = s.core.ids.fresh();
+        s.core.ids.transfer(uint32_t(upd339.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(upd343);
+        s.g_spring_15 = std::move(upd339);
         s.u_spring_16 = true;
       }
     }
     // on-clause 10, programs/flood_defense.au:71
     {
-      const bool t344 = s.core.down;
-      if (t344) {
+      const bool t340 = s.core.down;
+      if (t340) {
         s.core.covered[int32_t(9)] = 1;
-        const C5_Spring& prev345 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const C5_Spring& prev346 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const int32_t t347 = add(prev346.f0, int32_t(1));
-        const bool t348 = (int32_t(4) < t347);
-        int32_t r349{};
-        if (t348) {
-          r349 = int32_t(4);
+        const C5_Spring& prev341 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev342 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const int32_t t343 = add(prev342.f0, int32_t(1));
+        const bool t344 = (int32_t(4) < t343);
+        int32_t r345{};
+        if (t344) {
+          r345 = int32_t(4);
         } else {
-          r349 = t347;
+          r345 = t343;
         }
-        C5_Spring upd350 = prev345;
-        upd350.f0 = r349;
-        upd350.uid = s.core.ids.fresh();
-        s.core.ids.transfer(uint32_t(upd350.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        C5_Spring upd346 = prev341;
+        upd346.f0 = r345;
+        upd346.uid = s.core.ids.fresh();
+        s.core.ids.transfer(uint32_t(upd346.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(upd350);
+        s.g_spring_15 = std::move(upd346);
         s.u_spring_16 = true;
       }
     }
     // NEXT of water, programs/flood_defense.au:41
     if ((!s.u_water_8 && s.scratch.v.sv_water_10)) {
-      const std::vector<C4_Water> prev351 = (s.scratch.v.sv_water_10 ? s.scratch.v.p_water_9 : s.g_water_7);
+      const std::vector<C4_Water> prev347 = (s.scratch.v.sv_water_10 ? s.scratch.v.p_water_9 : s.g_water_7);
       if (!s.scratch.v.sv_water_10) {
         std::swap(s.scratch.v.p_water_9, s.g_water_7);
         s.scratch.v.sv_water_10 = true;
       }
-      s.g_water_7 = prev351;
+      s.g_water_7 = prev347;
       s.u_water_8 = true;
     }
     // NEXT of bags, programs/flood_defense.au:38
     if ((!s.u_bags_12 && s.scratch.v.sv_bags_14)) {
-      const std::vector<C3_Sandbag> prev352 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+      const std::vector<C3_Sandbag> prev348 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
       if (!s.scratch.v.sv_bags_14) {
         std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
         s.scratch.v.sv_bags_14 = true;
       }
-      s.g_bags_11 = prev352;
+      s.g_bags_11 = prev348;
       s.u_bags_12 = true;
     }
     // NEXT of spring, programs/flood_defense.au:44
     if ((!s.u_spring_16 && s.scratch.v.sv_spring_18)) {
-      const C5_Spring prev353 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-      s.core.ids.transfer(uint32_t(prev353.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+      const C5_Spring prev349 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+      s.core.ids.transfer(uint32_t(prev349.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
       if (!s.scratch.v.sv_spring_18) {
         std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
         s.scratch.v.sv_spring_18 = true;
       }
-      s.g_spring_15 = prev353;
+      s.g_spring_15 = prev349;
       s.u_spring_16 = true;
     }
     // NEXT of houses, programs/flood_defense.au:35
     if ((!s.u_houses_20 && s.scratch.v.sv_houses_22)) {
-      const std::vector<C1_House> prev354 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
+      const std::vector<C1_House> prev350 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
       if (!s.scratch.v.sv_houses_22) {
         std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
         s.scratch.v.sv_houses_22 = true;
       }
-      s.g_houses_19 = prev354;
+      s.g_houses_19 = prev350;
       s.u_houses_20 = true;
     }
     // NEXT of drain, programs/flood_defense.au:31
     if ((!s.u_drain_24 && s.scratch.v.sv_drain_26)) {
-      const C2_Drain prev355 = (s.scratch.v.sv_drain_26 ? s.scratch.v.p_drain_25 : s.g_drain_23);
-      s.core.ids.transfer(uint32_t(prev355.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_23.uid)))));
+      const C2_Drain prev351 = (s.scratch.v.sv_drain_26 ? s.scratch.v.p_drain_25 : s.g_drain_23);
+      s.core.ids.transfer(uint32_t(prev351.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_23.uid)))));
       if (!s.scratch.v.sv_drain_26) {
         std::swap(s.scratch.v.p_drain_25, s.g_drain_23);
         s.scratch.v.sv_drain_26 = true;
       }
-      s.g_drain_23 = prev355;
+      s.g_drain_23 = prev351;
       s.u_drain_24 = true;
     }
     // NEXT of earth, programs/flood_defense.au:28
     if ((!s.u_earth_28 && s.scratch.v.sv_earth_30)) {
-      const std::vector<C0_Earth> prev356 = (s.scratch.v.sv_earth_30 ? s.scratch.v.p_earth_29 : s.g_earth_27);
+      const std::vector<C0_Earth> prev352 = (s.scratch.v.sv_earth_30 ? s.scratch.v.p_earth_29 : s.g_earth_27);
       if (!s.scratch.v.sv_earth_30) {
         std::swap(s.scratch.v.p_earth_29, s.g_earth_27);
         s.scratch.v.sv_earth_30 = true;
       }
-      s.g_earth_27 = prev356;
+      s.g_earth_27 = prev352;
       s.u_earth_28 = true;
     }
     // NEXT of time, programs/flood_defense.au:22
     if (!s.u_time_32) {
-      const int32_t& prev357 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
-      const int32_t t358 = add(prev357, int32_t(1));
+      const int32_t& prev353 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
+      const int32_t t354 = add(prev353, int32_t(1));
       if (!s.scratch.v.sv_time_34) {
         std::swap(s.scratch.v.p_time_33, s.g_time_31);
         s.scratch.v.sv_time_34 = true;
       }
-      s.g_time_31 = t358;
+      s.g_time_31 = t354;
       s.u_time_32 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_36) {
-      tally_rendered(s.core, 47, "cacheRendered");
-      const std::vector<C1_House>& g359 = s.g_houses_19;
-      tally_global(s.core, 5, "houses", g359);
-      const std::vector<C3_Sandbag>& g360 = s.g_bags_11;
-      tally_global(s.core, 6, "bags", g360);
-      const std::vector<C4_Water>& g361 = s.g_water_7;
-      tally_global(s.core, 7, "water", g361);
+      tally_rendered(s.core, 45, "cacheRendered");
+      const std::vector<C1_House>& g355 = s.g_houses_19;
+      tally_global(s.core, 5, "houses", g355);
+      const std::vector<C3_Sandbag>& g356 = s.g_bags_11;
+      tally_global(s.core, 6, "bags", g356);
+      const std::vector<C4_Water>& g357 = s.g_water_7;
+      tally_global(s.core, 7, "water", g357);
       if (s.d_click_36) {
-        const Pos& g362 = s.g_click_35;
-        tally_global(s.core, 47, "click", g362);
+        const Pos& g358 = s.g_click_35;
+        tally_global(s.core, 45, "click", g358);
       }
-      const std::vector<C0_Earth>& g363 = s.g_earth_27;
-      tally_global(s.core, 8, "earth", g363);
-      const C2_Drain& g364 = s.g_drain_23;
-      tally_global(s.core, 9, "drain", g364);
-      const std::vector<int32_t>& g365 = s.g_heights_4;
-      tally_global(s.core, 10, "heights", g365);
-      const C5_Spring& g366 = s.g_spring_15;
-      tally_global(s.core, 11, "spring", g366);
+      const std::vector<C0_Earth>& g359 = s.g_earth_27;
+      tally_global(s.core, 8, "earth", g359);
+      const C2_Drain& g360 = s.g_drain_23;
+      tally_global(s.core, 9, "drain", g360);
+      const std::vector<int32_t>& g361 = s.g_heights_4;
+      tally_global(s.core, 10, "heights", g361);
+      const C5_Spring& g362 = s.g_spring_15;
+      tally_global(s.core, 11, "spring", g362);
     } else {
-      tally_rendered(s.core, 47, "cacheRendered");
-      const std::vector<C1_House>& g367 = s.g_houses_19;
-      tally_global(s.core, 5, "houses", g367);
-      const std::vector<C3_Sandbag>& g368 = s.g_bags_11;
-      tally_global(s.core, 6, "bags", g368);
-      const std::vector<C4_Water>& g369 = s.g_water_7;
-      tally_global(s.core, 7, "water", g369);
-      const std::vector<C0_Earth>& g370 = s.g_earth_27;
-      tally_global(s.core, 8, "earth", g370);
-      const C2_Drain& g371 = s.g_drain_23;
-      tally_global(s.core, 9, "drain", g371);
-      const std::vector<int32_t>& g372 = s.g_heights_4;
-      tally_global(s.core, 10, "heights", g372);
-      const C5_Spring& g373 = s.g_spring_15;
-      tally_global(s.core, 11, "spring", g373);
+      tally_rendered(s.core, 45, "cacheRendered");
+      const std::vector<C1_House>& g363 = s.g_houses_19;
+      tally_global(s.core, 5, "houses", g363);
+      const std::vector<C3_Sandbag>& g364 = s.g_bags_11;
+      tally_global(s.core, 6, "bags", g364);
+      const std::vector<C4_Water>& g365 = s.g_water_7;
+      tally_global(s.core, 7, "water", g365);
+      const std::vector<C0_Earth>& g366 = s.g_earth_27;
+      tally_global(s.core, 8, "earth", g366);
+      const C2_Drain& g367 = s.g_drain_23;
+      tally_global(s.core, 9, "drain", g367);
+      const std::vector<int32_t>& g368 = s.g_heights_4;
+      tally_global(s.core, 10, "heights", g368);
+      const C5_Spring& g369 = s.g_spring_15;
+      tally_global(s.core, 11, "spring", g369);
     }
     s.core.clear_inputs();
   }
@@ -1768,7 +1730,7 @@ struct Prog {
     const std::vector<C0_Earth>& g1 = s.g_earth_27;
     {
       const auto& x2_list = g1;
-      charge_loop(s.core, 48, int64_t(x2_list.size()));
+      charge_loop(s.core, 46, int64_t(x2_list.size()));
       for (const C0_Earth& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(3)};
         s.core.occupied.add(e3.position);
@@ -1784,7 +1746,7 @@ struct Prog {
     const std::vector<C1_House>& g6 = s.g_houses_19;
     {
       const auto& x7_list = g6;
-      charge_loop(s.core, 48, int64_t(x7_list.size()));
+      charge_loop(s.core, 46, int64_t(x7_list.size()));
       for (const C1_House& x7 : x7_list) {
         const int32_t colour8 = colour_3_C1_House(s, x7);
         const Elem e9 = Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8};
@@ -1796,7 +1758,7 @@ struct Prog {
     const std::vector<C3_Sandbag>& g10 = s.g_bags_11;
     {
       const auto& x11_list = g10;
-      charge_loop(s.core, 48, int64_t(x11_list.size()));
+      charge_loop(s.core, 46, int64_t(x11_list.size()));
       for (const C3_Sandbag& x11 : x11_list) {
         const Elem e12 = Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, int32_t(8)};
         s.core.occupied.add(e12.position);
@@ -1807,7 +1769,7 @@ struct Prog {
     const std::vector<C4_Water>& g13 = s.g_water_7;
     {
       const auto& x14_list = g13;
-      charge_loop(s.core, 48, int64_t(x14_list.size()));
+      charge_loop(s.core, 46, int64_t(x14_list.size()));
       for (const C4_Water& x14 : x14_list) {
         const Elem e15 = Elem{Pos{add(x14.origin.x, int32_t(0)), add(x14.origin.y, int32_t(0))}, int32_t(4)};
         s.core.occupied.add(e15.position);
@@ -1965,10 +1927,8 @@ const ErrorSite Prog::kErrors[] = {
     {143, 28, "<stdlib>", true, 46, 18, ""},
     {62, 7, nullptr, true, 62, 7, ""},
     {63, 15, nullptr, true, 63, 15, ""},
-    {63, 78, nullptr, true, 63, 78, ""},
     {64, 7, nullptr, true, 64, 7, ""},
     {64, 37, nullptr, true, 64, 37, ""},
-    {64, 67, nullptr, true, 64, 67, ""},
     {65, 32, nullptr, true, 65, 32, ""},
     {66, 49, nullptr, true, 66, 49, ""},
     {66, 62, nullptr, true, 66, 62, ""},

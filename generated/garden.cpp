@@ -173,13 +173,10 @@ struct Prog {
     std::vector<Elem> b6;
     std::vector<Elem> b7;
     std::vector<C3_Plant> b8;
-    std::vector<Elem> b9;
+    std::vector<C3_Plant> b9;
     std::vector<C3_Plant> b10;
-    std::vector<Elem> b11;
-    std::vector<C3_Plant> b12;
-    std::vector<Elem> b13;
-    std::vector<C3_Plant> b14;
-    std::vector<C2_Drop> b15;
+    std::vector<C3_Plant> b11;
+    std::vector<C2_Drop> b12;
     C4_Basket p_basket_9{};
     bool sv_basket_10{};
     std::vector<C2_Drop> p_drops_13{};
@@ -718,130 +715,105 @@ struct Prog {
         s.d_click_28 = true;
         const Pos t68 = Pos{s.core.click_x, s.core.click_y};
         s.g_click_27 = t68;
-        std::vector<Elem>& rendered69 = s.scratch.v.b9;
-        rendered69.clear();
         {
-          const auto& x70_list = prev66;
-          charge_loop(s.core, 18, int64_t(x70_list.size()));
-          for (const C3_Plant& x70 : x70_list) {
-            const int32_t colour71 = colour_12_C3_Plant(s, x70);
-            rendered69.push_back(Elem{Pos{add(x70.origin.x, int32_t(0)), add(x70.origin.y, int32_t(0))}, colour71});
-          }
-        }
-        {
-          const auto& e72_list = rendered69;
-          charge_loop(s.core, 18, int64_t(e72_list.size()));
-          for (const Elem& e72 : e72_list) {
-            if ((e72.position == Pos{s.core.click_x, s.core.click_y})) {
+          const auto& x69_list = prev66;
+          charge_loop(s.core, 18, int64_t(x69_list.size()));
+          for (const C3_Plant& x69 : x69_list) {
+            const int32_t colour70 = colour_12_C3_Plant(s, x69);
+            const Elem e71 = Elem{Pos{add(x69.origin.x, int32_t(0)), add(x69.origin.y, int32_t(0))}, colour70};
+            if ((e71.position == Pos{s.core.click_x, s.core.click_y})) {
               clicked67 = true;
-              break;
             }
           }
         }
       }
       if (clicked67) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C3_Plant>& prev73 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
-        std::vector<C3_Plant>& out74 = s.scratch.v.b10;
-        out74.clear();
+        const std::vector<C3_Plant>& prev72 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+        std::vector<C3_Plant>& out73 = s.scratch.v.b9;
+        out73.clear();
         {
-          const auto& x75_list = prev73;
-          charge_loop(s.core, 19, int64_t(x75_list.size()));
-          for (const C3_Plant& x75 : x75_list) {
+          const auto& x74_list = prev72;
+          charge_loop(s.core, 19, int64_t(x74_list.size()));
+          for (const C3_Plant& x74 : x74_list) {
             // inlined: function at programs/garden.au:60
-            bool clicked76 = false;
+            bool clicked75 = false;
             if (s.core.click) {
               s.d_click_28 = true;
-              const Pos t77 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_27 = t77;
-              std::vector<Elem>& rendered78 = s.scratch.v.b11;
-              rendered78.clear();
-              const int32_t colour79 = colour_12_C3_Plant(s, x75);
-              rendered78.push_back(Elem{Pos{add(x75.origin.x, int32_t(0)), add(x75.origin.y, int32_t(0))}, colour79});
-              {
-                const auto& e80_list = rendered78;
-                for (const Elem& e80 : e80_list) {
-                  if ((e80.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked76 = true;
-                    break;
-                  }
-                }
+              const Pos t76 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_27 = t76;
+              const int32_t colour77 = colour_12_C3_Plant(s, x74);
+              const Elem e78 = Elem{Pos{add(x74.origin.x, int32_t(0)), add(x74.origin.y, int32_t(0))}, colour77};
+              if ((e78.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked75 = true;
               }
             }
-            if (clicked76) {
+            if (clicked75) {
               charge_built(s.core, 19, int64_t(int32_t(1)));
-              out74.push_back(x75);
+              out73.push_back(x74);
             }
           }
         }
-        bool any81 = false;
+        bool any79 = false;
         {
-          const auto& x82_list = out74;
-          charge_loop(s.core, 21, int64_t(x82_list.size()));
-          for (const C3_Plant& x82 : x82_list) {
+          const auto& x80_list = out73;
+          charge_loop(s.core, 20, int64_t(x80_list.size()));
+          for (const C3_Plant& x80 : x80_list) {
             // inlined: function at programs/garden.au:39
-            const bool t83 = (x82.f0 == int32_t(3));
-            if (t83) {
-              any81 = true;
+            const bool t81 = (x80.f0 == int32_t(3));
+            if (t81) {
+              any79 = true;
               break;
             }
           }
         }
-        C4_Basket r84{};
-        if (any81) {
-          const C4_Basket& g85 = s.g_basket_7;
-          const C4_Basket& g86 = s.g_basket_7;
-          const int32_t t87 = add(g86.f0, int32_t(1));
-          const bool t88 = (int32_t(12) < t87);
-          int32_t r89{};
-          if (t88) {
-            r89 = int32_t(12);
+        C4_Basket r82{};
+        if (any79) {
+          const C4_Basket& g83 = s.g_basket_7;
+          const C4_Basket& g84 = s.g_basket_7;
+          const int32_t t85 = add(g84.f0, int32_t(1));
+          const bool t86 = (int32_t(12) < t85);
+          int32_t r87{};
+          if (t86) {
+            r87 = int32_t(12);
           } else {
-            r89 = t87;
+            r87 = t85;
           }
-          C4_Basket upd90 = g85;
-          upd90.f0 = r89;
-          r84 = std::move(upd90);
+          C4_Basket upd88 = g83;
+          upd88.f0 = r87;
+          r82 = std::move(upd88);
         } else {
-          const C4_Basket& g91 = s.g_basket_7;
-          r84 = g91;
+          const C4_Basket& g89 = s.g_basket_7;
+          r82 = g89;
         }
         if (!s.scratch.v.sv_basket_10) {
           std::swap(s.scratch.v.p_basket_9, s.g_basket_7);
           s.scratch.v.sv_basket_10 = true;
         }
-        s.g_basket_7 = std::move(r84);
+        s.g_basket_7 = std::move(r82);
         s.u_basket_8 = true;
-        const std::vector<C3_Plant>& g92 = s.g_plants_15;
-        std::vector<C3_Plant>& kept93 = s.scratch.v.b12;
-        kept93.clear();
+        const std::vector<C3_Plant>& g90 = s.g_plants_15;
+        std::vector<C3_Plant>& kept91 = s.scratch.v.b10;
+        kept91.clear();
         {
-          const auto& x94_list = g92;
-          charge_loop(s.core, 22, int64_t(x94_list.size()));
-          for (const C3_Plant& x94 : x94_list) {
+          const auto& x92_list = g90;
+          charge_loop(s.core, 21, int64_t(x92_list.size()));
+          for (const C3_Plant& x92 : x92_list) {
             // inlined: function at programs/garden.au:63
-            bool clicked95 = false;
+            bool clicked93 = false;
             if (s.core.click) {
               s.d_click_28 = true;
-              const Pos t96 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_27 = t96;
-              std::vector<Elem>& rendered97 = s.scratch.v.b13;
-              rendered97.clear();
-              const int32_t colour98 = colour_12_C3_Plant(s, x94);
-              rendered97.push_back(Elem{Pos{add(x94.origin.x, int32_t(0)), add(x94.origin.y, int32_t(0))}, colour98});
-              {
-                const auto& e99_list = rendered97;
-                for (const Elem& e99 : e99_list) {
-                  if ((e99.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked95 = true;
-                    break;
-                  }
-                }
+              const Pos t94 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_27 = t94;
+              const int32_t colour95 = colour_12_C3_Plant(s, x92);
+              const Elem e96 = Elem{Pos{add(x92.origin.x, int32_t(0)), add(x92.origin.y, int32_t(0))}, colour95};
+              if ((e96.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked93 = true;
               }
             }
-            if (!clicked95) {
-              charge_built(s.core, 22, int64_t(int32_t(1)));
-              kept93.push_back(x94);
+            if (!clicked93) {
+              charge_built(s.core, 21, int64_t(int32_t(1)));
+              kept91.push_back(x92);
             }
           }
         }
@@ -849,322 +821,310 @@ struct Prog {
           std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
           s.scratch.v.sv_plants_18 = true;
         }
-        std::swap(s.g_plants_15, kept93);
+        std::swap(s.g_plants_15, kept91);
         s.u_plants_16 = true;
       }
     }
     // on-clause 4, programs/garden.au:66
     {
-      bool clicked100 = false;
+      bool clicked97 = false;
       if (s.core.click) {
         s.d_click_28 = true;
-        const Pos t101 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_27 = t101;
-        clicked100 = true;
+        const Pos t98 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_27 = t98;
+        clicked97 = true;
       }
-      bool r102{};
-      if (clicked100) {
-        Pos r103{};
+      bool r99{};
+      if (clicked97) {
+        Pos r100{};
         if (s.d_click_28) {
-          const Pos& g104 = s.g_click_27;
-          r103 = g104;
+          const Pos& g101 = s.g_click_27;
+          r100 = g101;
         } else {
-          fail_at(24, std::string() + std::string("undefined variable 'click'"));
+          fail_at(22, std::string() + std::string("undefined variable 'click'"));
         }
         // inlined: function at programs/garden.au:41
-        const bool t105 = (r103.y >= int32_t(2));
-        bool r106{};
-        if (t105) {
-          const bool t107 = (r103.y <= int32_t(10));
-          r106 = t107;
+        const bool t102 = (r100.y >= int32_t(2));
+        bool r103{};
+        if (t102) {
+          const bool t104 = (r100.y <= int32_t(10));
+          r103 = t104;
         } else {
-          r106 = false;
+          r103 = false;
         }
-        bool r108{};
-        if (r106) {
-          Pos r109{};
+        bool r105{};
+        if (r103) {
+          Pos r106{};
           if (s.d_click_28) {
-            const Pos& g110 = s.g_click_27;
-            r109 = g110;
+            const Pos& g107 = s.g_click_27;
+            r106 = g107;
           } else {
-            fail_at(25, std::string() + std::string("undefined variable 'click'"));
+            fail_at(23, std::string() + std::string("undefined variable 'click'"));
           }
-          const bool t111 = s.core.occupied.free(r109);
-          bool r112{};
-          if (t111) {
-            const std::vector<C3_Plant>& g113 = s.g_plants_15;
-            const int32_t t114 = int32_t(g113.size());
-            const bool t115 = (t114 < int32_t(20));
-            r112 = t115;
+          const bool t108 = s.core.occupied.free(r106);
+          bool r109{};
+          if (t108) {
+            const std::vector<C3_Plant>& g110 = s.g_plants_15;
+            const int32_t t111 = int32_t(g110.size());
+            const bool t112 = (t111 < int32_t(20));
+            r109 = t112;
           } else {
-            r112 = false;
+            r109 = false;
           }
-          r108 = r112;
+          r105 = r109;
         } else {
-          r108 = false;
+          r105 = false;
         }
-        r102 = r108;
+        r99 = r105;
       } else {
-        r102 = false;
+        r99 = false;
       }
-      if (r102) {
+      if (r99) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C3_Plant>& g116 = s.g_plants_15;
-        const std::vector<int32_t>& g117 = s.g_petals_4;
-        if (g117.empty()) {
-          fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
+        const std::vector<C3_Plant>& g113 = s.g_plants_15;
+        const std::vector<int32_t>& g114 = s.g_petals_4;
+        if (g114.empty()) {
+          fail_at(24, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t118 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g117.size())))));
-        const int32_t t119 = g117[size_t(t118)];
-        Pos r120{};
+        const int32_t t115 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g114.size())))));
+        const int32_t t116 = g114[size_t(t115)];
+        Pos r117{};
         if (s.d_click_28) {
-          const Pos& g121 = s.g_click_27;
-          r120 = g121;
+          const Pos& g118 = s.g_click_27;
+          r117 = g118;
         } else {
-          fail_at(27, std::string() + std::string("undefined variable 'click'"));
+          fail_at(25, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r122{};
+        Pos r119{};
         if (s.d_click_28) {
-          const Pos& g123 = s.g_click_27;
-          r122 = g123;
+          const Pos& g120 = s.g_click_27;
+          r119 = g120;
         } else {
-          fail_at(28, std::string() + std::string("undefined variable 'click'"));
+          fail_at(26, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t124 = Pos{r120.x, r122.y};
-        C3_Plant o125 = C3_Plant{int32_t(0), t119, t124};
-        check_length(s.core, 29, int64_t(g116.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 29, int64_t(g116.size()) + int64_t(int32_t(1)));
-        std::vector<C3_Plant>& added126 = s.scratch.v.b14;
-        added126.clear();
-        added126.reserve(size_t(add(int32_t(g116.size()), int32_t(1))));
-        {
-          const auto& x127_list = g116;
-          charge_loop(s.core, 29, int64_t(x127_list.size()));
-          for (const C3_Plant& x127 : x127_list) {
-            added126.push_back(x127);
-          }
-        }
-        added126.push_back(std::move(o125));
+        const Pos t121 = Pos{r117.x, r119.y};
+        C3_Plant o122 = C3_Plant{int32_t(0), t116, t121};
+        check_length(s.core, 27, int64_t(g113.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 27, int64_t(g113.size()) + int64_t(int32_t(1)));
+        std::vector<C3_Plant>& added123 = s.scratch.v.b11;
+        added123.clear();
+        added123.reserve(size_t(add(int32_t(g113.size()), int32_t(1))));
+        added123.insert(added123.end(), g113.begin(), g113.end());
+        added123.push_back(std::move(o122));
         if (!s.scratch.v.sv_plants_18) {
           std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
           s.scratch.v.sv_plants_18 = true;
         }
-        std::swap(s.g_plants_15, added126);
+        std::swap(s.g_plants_15, added123);
         s.u_plants_16 = true;
       }
     }
     // on-clause 5, programs/garden.au:69
     {
-      const bool t128 = s.core.left;
-      if (t128) {
+      const bool t124 = s.core.left;
+      if (t124) {
         s.core.covered[int32_t(4)] = 1;
-        const C0_Cloud& prev129 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
+        const C0_Cloud& prev125 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
         // inlined: function at programs/garden.au:42
-        int32_t l_nx130{};
-        const int32_t t131 = add(prev129.origin.x, int32_t(-1));
-        l_nx130 = t131;
-        const bool t132 = (l_nx130 >= int32_t(1));
-        bool r133{};
-        if (t132) {
-          const bool t134 = (l_nx130 <= int32_t(9));
-          r133 = t134;
+        int32_t l_nx126{};
+        const int32_t t127 = add(prev125.origin.x, int32_t(-1));
+        l_nx126 = t127;
+        const bool t128 = (l_nx126 >= int32_t(1));
+        bool r129{};
+        if (t128) {
+          const bool t130 = (l_nx126 <= int32_t(9));
+          r129 = t130;
         } else {
-          r133 = false;
+          r129 = false;
         }
-        C0_Cloud r135{};
-        if (r133) {
-          const Pos t136 = Pos{l_nx130, int32_t(0)};
-          C0_Cloud upd137 = prev129;
-          upd137.origin = t136;
-          r135 = std::move(upd137);
+        C0_Cloud r131{};
+        if (r129) {
+          const Pos t132 = Pos{l_nx126, int32_t(0)};
+          C0_Cloud upd133 = prev125;
+          upd133.origin = t132;
+          r131 = std::move(upd133);
         } else {
-          r135 = prev129;
+          r131 = prev125;
         }
         if (!s.scratch.v.sv_cloud_22) {
           std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
           s.scratch.v.sv_cloud_22 = true;
         }
-        s.g_cloud_19 = std::move(r135);
+        s.g_cloud_19 = std::move(r131);
         s.u_cloud_20 = true;
       }
     }
     // on-clause 6, programs/garden.au:70
     {
-      const bool t138 = s.core.right;
-      if (t138) {
+      const bool t134 = s.core.right;
+      if (t134) {
         s.core.covered[int32_t(5)] = 1;
-        const C0_Cloud& prev139 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
+        const C0_Cloud& prev135 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
         // inlined: function at programs/garden.au:42
-        int32_t l_nx140{};
-        const int32_t t141 = add(prev139.origin.x, int32_t(1));
-        l_nx140 = t141;
-        const bool t142 = (l_nx140 >= int32_t(1));
-        bool r143{};
-        if (t142) {
-          const bool t144 = (l_nx140 <= int32_t(9));
-          r143 = t144;
+        int32_t l_nx136{};
+        const int32_t t137 = add(prev135.origin.x, int32_t(1));
+        l_nx136 = t137;
+        const bool t138 = (l_nx136 >= int32_t(1));
+        bool r139{};
+        if (t138) {
+          const bool t140 = (l_nx136 <= int32_t(9));
+          r139 = t140;
         } else {
-          r143 = false;
+          r139 = false;
         }
-        C0_Cloud r145{};
-        if (r143) {
-          const Pos t146 = Pos{l_nx140, int32_t(0)};
-          C0_Cloud upd147 = prev139;
-          upd147.origin = t146;
-          r145 = std::move(upd147);
+        C0_Cloud r141{};
+        if (r139) {
+          const Pos t142 = Pos{l_nx136, int32_t(0)};
+          C0_Cloud upd143 = prev135;
+          upd143.origin = t142;
+          r141 = std::move(upd143);
         } else {
-          r145 = prev139;
+          r141 = prev135;
         }
         if (!s.scratch.v.sv_cloud_22) {
           std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
           s.scratch.v.sv_cloud_22 = true;
         }
-        s.g_cloud_19 = std::move(r145);
+        s.g_cloud_19 = std::move(r141);
         s.u_cloud_20 = true;
       }
     }
     // on-clause 7, programs/garden.au:71
     {
-      const bool t148 = s.core.down;
-      if (t148) {
+      const bool t144 = s.core.down;
+      if (t144) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C2_Drop>& g149 = s.g_drops_11;
-        const C0_Cloud& g150 = s.g_cloud_19;
-        const std::vector<int32_t> list151 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
-        if (list151.empty()) {
-          fail_at(30, std::string() + std::string("uniformChoice of an empty list"));
+        const std::vector<C2_Drop>& g145 = s.g_drops_11;
+        const C0_Cloud& g146 = s.g_cloud_19;
+        const std::vector<int32_t> list147 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
+        if (list147.empty()) {
+          fail_at(28, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t152 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list151.size())))));
-        const int32_t t153 = list151[size_t(t152)];
-        const int32_t t154 = add(g150.origin.x, t153);
-        const Pos t155 = Pos{t154, int32_t(1)};
-        C2_Drop o156 = C2_Drop{t155};
-        check_length(s.core, 31, int64_t(g149.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 31, int64_t(g149.size()) + int64_t(int32_t(1)));
-        std::vector<C2_Drop>& added157 = s.scratch.v.b15;
-        added157.clear();
-        added157.reserve(size_t(add(int32_t(g149.size()), int32_t(1))));
-        {
-          const auto& x158_list = g149;
-          charge_loop(s.core, 31, int64_t(x158_list.size()));
-          for (const C2_Drop& x158 : x158_list) {
-            added157.push_back(x158);
-          }
-        }
-        added157.push_back(std::move(o156));
+        const int32_t t148 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list147.size())))));
+        const int32_t t149 = list147[size_t(t148)];
+        const int32_t t150 = add(g146.origin.x, t149);
+        const Pos t151 = Pos{t150, int32_t(1)};
+        C2_Drop o152 = C2_Drop{t151};
+        check_length(s.core, 29, int64_t(g145.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 29, int64_t(g145.size()) + int64_t(int32_t(1)));
+        std::vector<C2_Drop>& added153 = s.scratch.v.b12;
+        added153.clear();
+        added153.reserve(size_t(add(int32_t(g145.size()), int32_t(1))));
+        added153.insert(added153.end(), g145.begin(), g145.end());
+        added153.push_back(std::move(o152));
         if (!s.scratch.v.sv_drops_14) {
           std::swap(s.scratch.v.p_drops_13, s.g_drops_11);
           s.scratch.v.sv_drops_14 = true;
         }
-        std::swap(s.g_drops_11, added157);
+        std::swap(s.g_drops_11, added153);
         s.u_drops_12 = true;
       }
     }
     // on-clause 8, programs/garden.au:72
     {
-      const bool t159 = s.core.up;
-      if (t159) {
+      const bool t154 = s.core.up;
+      if (t154) {
         s.core.covered[int32_t(7)] = 1;
-        const C1_Sun& prev160 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
-        const C1_Sun& prev161 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
-        const bool t162 = !prev161.f0;
-        C1_Sun upd163 = prev160;
-        upd163.f0 = t162;
+        const C1_Sun& prev155 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+        const C1_Sun& prev156 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+        const bool t157 = !prev156.f0;
+        C1_Sun upd158 = prev155;
+        upd158.f0 = t157;
         if (!s.scratch.v.sv_sun_26) {
           std::swap(s.scratch.v.p_sun_25, s.g_sun_23);
           s.scratch.v.sv_sun_26 = true;
         }
-        s.g_sun_23 = std::move(upd163);
+        s.g_sun_23 = std::move(upd158);
         s.u_sun_24 = true;
       }
     }
     // NEXT of basket, programs/garden.au:37
     if ((!s.u_basket_8 && s.scratch.v.sv_basket_10)) {
-      const C4_Basket prev164 = (s.scratch.v.sv_basket_10 ? s.scratch.v.p_basket_9 : s.g_basket_7);
+      const C4_Basket prev159 = (s.scratch.v.sv_basket_10 ? s.scratch.v.p_basket_9 : s.g_basket_7);
       if (!s.scratch.v.sv_basket_10) {
         std::swap(s.scratch.v.p_basket_9, s.g_basket_7);
         s.scratch.v.sv_basket_10 = true;
       }
-      s.g_basket_7 = prev164;
+      s.g_basket_7 = prev159;
       s.u_basket_8 = true;
     }
     // NEXT of drops, programs/garden.au:34
     if ((!s.u_drops_12 && s.scratch.v.sv_drops_14)) {
-      const std::vector<C2_Drop> prev165 = (s.scratch.v.sv_drops_14 ? s.scratch.v.p_drops_13 : s.g_drops_11);
+      const std::vector<C2_Drop> prev160 = (s.scratch.v.sv_drops_14 ? s.scratch.v.p_drops_13 : s.g_drops_11);
       if (!s.scratch.v.sv_drops_14) {
         std::swap(s.scratch.v.p_drops_13, s.g_drops_11);
         s.scratch.v.sv_drops_14 = true;
       }
-      s.g_drops_11 = prev165;
+      s.g_drops_11 = prev160;
       s.u_drops_12 = true;
     }
     // NEXT of plants, programs/garden.au:31
     if ((!s.u_plants_16 && s.scratch.v.sv_plants_18)) {
-      const std::vector<C3_Plant> prev166 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+      const std::vector<C3_Plant> prev161 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
       if (!s.scratch.v.sv_plants_18) {
         std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
         s.scratch.v.sv_plants_18 = true;
       }
-      s.g_plants_15 = prev166;
+      s.g_plants_15 = prev161;
       s.u_plants_16 = true;
     }
     // NEXT of cloud, programs/garden.au:28
     if ((!s.u_cloud_20 && s.scratch.v.sv_cloud_22)) {
-      const C0_Cloud prev167 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
+      const C0_Cloud prev162 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
       if (!s.scratch.v.sv_cloud_22) {
         std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
         s.scratch.v.sv_cloud_22 = true;
       }
-      s.g_cloud_19 = prev167;
+      s.g_cloud_19 = prev162;
       s.u_cloud_20 = true;
     }
     // NEXT of sun, programs/garden.au:25
     if ((!s.u_sun_24 && s.scratch.v.sv_sun_26)) {
-      const C1_Sun prev168 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+      const C1_Sun prev163 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
       if (!s.scratch.v.sv_sun_26) {
         std::swap(s.scratch.v.p_sun_25, s.g_sun_23);
         s.scratch.v.sv_sun_26 = true;
       }
-      s.g_sun_23 = prev168;
+      s.g_sun_23 = prev163;
       s.u_sun_24 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_28) {
-      tally_rendered(s.core, 32, "cacheRendered");
-      const C0_Cloud& g169 = s.g_cloud_19;
-      tally_global(s.core, 0, "cloud", g169);
-      const std::vector<C3_Plant>& g170 = s.g_plants_15;
-      tally_global(s.core, 1, "plants", g170);
-      const std::vector<int32_t>& g171 = s.g_petals_4;
-      tally_global(s.core, 2, "petals", g171);
+      tally_rendered(s.core, 30, "cacheRendered");
+      const C0_Cloud& g164 = s.g_cloud_19;
+      tally_global(s.core, 0, "cloud", g164);
+      const std::vector<C3_Plant>& g165 = s.g_plants_15;
+      tally_global(s.core, 1, "plants", g165);
+      const std::vector<int32_t>& g166 = s.g_petals_4;
+      tally_global(s.core, 2, "petals", g166);
       if (s.d_click_28) {
-        const Pos& g172 = s.g_click_27;
-        tally_global(s.core, 32, "click", g172);
+        const Pos& g167 = s.g_click_27;
+        tally_global(s.core, 30, "click", g167);
       }
-      const std::vector<bool>& g173 = s.g_growChance_5;
-      tally_global(s.core, 3, "growChance", g173);
-      const std::vector<C2_Drop>& g174 = s.g_drops_11;
-      tally_global(s.core, 4, "drops", g174);
-      const C4_Basket& g175 = s.g_basket_7;
-      tally_global(s.core, 5, "basket", g175);
-      const C1_Sun& g176 = s.g_sun_23;
-      tally_global(s.core, 6, "sun", g176);
+      const std::vector<bool>& g168 = s.g_growChance_5;
+      tally_global(s.core, 3, "growChance", g168);
+      const std::vector<C2_Drop>& g169 = s.g_drops_11;
+      tally_global(s.core, 4, "drops", g169);
+      const C4_Basket& g170 = s.g_basket_7;
+      tally_global(s.core, 5, "basket", g170);
+      const C1_Sun& g171 = s.g_sun_23;
+      tally_global(s.core, 6, "sun", g171);
     } else {
-      tally_rendered(s.core, 32, "cacheRendered");
-      const C0_Cloud& g177 = s.g_cloud_19;
-      tally_global(s.core, 0, "cloud", g177);
-      const std::vector<C3_Plant>& g178 = s.g_plants_15;
-      tally_global(s.core, 1, "plants", g178);
-      const std::vector<int32_t>& g179 = s.g_petals_4;
-      tally_global(s.core, 2, "petals", g179);
-      const std::vector<bool>& g180 = s.g_growChance_5;
-      tally_global(s.core, 3, "growChance", g180);
-      const std::vector<C2_Drop>& g181 = s.g_drops_11;
-      tally_global(s.core, 4, "drops", g181);
-      const C4_Basket& g182 = s.g_basket_7;
-      tally_global(s.core, 5, "basket", g182);
-      const C1_Sun& g183 = s.g_sun_23;
-      tally_global(s.core, 6, "sun", g183);
+      tally_rendered(s.core, 30, "cacheRendered");
+      const C0_Cloud& g172 = s.g_cloud_19;
+      tally_global(s.core, 0, "cloud", g172);
+      const std::vector<C3_Plant>& g173 = s.g_plants_15;
+      tally_global(s.core, 1, "plants", g173);
+      const std::vector<int32_t>& g174 = s.g_petals_4;
+      tally_global(s.core, 2, "petals", g174);
+      const std::vector<bool>& g175 = s.g_growChance_5;
+      tally_global(s.core, 3, "growChance", g175);
+      const std::vector<C2_Drop>& g176 = s.g_drops_11;
+      tally_global(s.core, 4, "drops", g176);
+      const C4_Basket& g177 = s.g_basket_7;
+      tally_global(s.core, 5, "basket", g177);
+      const C1_Sun& g178 = s.g_sun_23;
+      tally_global(s.core, 6, "sun", g178);
     }
     s.core.clear_inputs();
   }
@@ -1195,7 +1155,7 @@ struct Prog {
     const std::vector<C3_Plant>& g8 = s.g_plants_15;
     {
       const auto& x9_list = g8;
-      charge_loop(s.core, 33, int64_t(x9_list.size()));
+      charge_loop(s.core, 31, int64_t(x9_list.size()));
       for (const C3_Plant& x9 : x9_list) {
         const int32_t colour10 = colour_12_C3_Plant(s, x9);
         const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
@@ -1207,7 +1167,7 @@ struct Prog {
     const std::vector<C2_Drop>& g12 = s.g_drops_11;
     {
       const auto& x13_list = g12;
-      charge_loop(s.core, 33, int64_t(x13_list.size()));
+      charge_loop(s.core, 31, int64_t(x13_list.size()));
       for (const C2_Drop& x13 : x13_list) {
         const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(12)};
         s.core.occupied.add(e14.position);
@@ -1397,10 +1357,8 @@ const ErrorSite Prog::kErrors[] = {
     {56, 61, nullptr, true, 56, 61, ""},
     {58, 7, nullptr, true, 58, 7, ""},
     {60, 31, nullptr, true, 60, 31, ""},
-    {60, 46, nullptr, true, 60, 46, ""},
     {60, 21, nullptr, true, 60, 21, ""},
     {63, 17, nullptr, true, 63, 17, ""},
-    {63, 42, nullptr, true, 63, 42, ""},
     {66, 27, nullptr, true, 66, 27, ""},
     {66, 48, nullptr, true, 66, 48, ""},
     {67, 39, nullptr, true, 67, 39, ""},

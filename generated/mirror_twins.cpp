@@ -172,10 +172,8 @@ struct Prog {
     std::vector<Pos> b33;
     std::vector<Pos> b34;
     std::vector<Pos> b35;
-    std::vector<Elem> b36;
+    std::vector<C0_Wall> b36;
     std::vector<C0_Wall> b37;
-    std::vector<Elem> b38;
-    std::vector<C0_Wall> b39;
     C2_Twin p_red_9{};
     bool sv_red_10{};
     C2_Twin p_blue_13{};
@@ -1758,58 +1756,41 @@ struct Prog {
         s.d_click_32 = true;
         const Pos t382 = Pos{s.core.click_x, s.core.click_y};
         s.g_click_31 = t382;
-        std::vector<Elem>& rendered383 = s.scratch.v.b36;
-        rendered383.clear();
         {
-          const auto& x384_list = prev380;
-          charge_loop(s.core, 27, int64_t(x384_list.size()));
-          for (const C0_Wall& x384 : x384_list) {
-            rendered383.push_back(Elem{Pos{add(x384.origin.x, int32_t(0)), add(x384.origin.y, int32_t(0))}, int32_t(6)});
-          }
-        }
-        {
-          const auto& e385_list = rendered383;
-          charge_loop(s.core, 27, int64_t(e385_list.size()));
-          for (const Elem& e385 : e385_list) {
-            if ((e385.position == Pos{s.core.click_x, s.core.click_y})) {
+          const auto& x383_list = prev380;
+          charge_loop(s.core, 27, int64_t(x383_list.size()));
+          for (const C0_Wall& x383 : x383_list) {
+            const Elem e384 = Elem{Pos{add(x383.origin.x, int32_t(0)), add(x383.origin.y, int32_t(0))}, int32_t(6)};
+            if ((e384.position == Pos{s.core.click_x, s.core.click_y})) {
               clicked381 = true;
-              break;
             }
           }
         }
       }
       if (clicked381) {
         s.core.covered[int32_t(5)] = 1;
-        const std::vector<C0_Wall>& prev386 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
-        std::vector<C0_Wall>& out387 = s.scratch.v.b37;
-        out387.clear();
+        const std::vector<C0_Wall>& prev385 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
+        std::vector<C0_Wall>& out386 = s.scratch.v.b36;
+        out386.clear();
         {
-          const auto& x388_list = prev386;
-          charge_loop(s.core, 28, int64_t(x388_list.size()));
-          for (const C0_Wall& x388 : x388_list) {
+          const auto& x387_list = prev385;
+          charge_loop(s.core, 28, int64_t(x387_list.size()));
+          for (const C0_Wall& x387 : x387_list) {
             // inlined: function at programs/mirror_twins.au:78
-            bool clicked389 = false;
+            bool clicked388 = false;
             if (s.core.click) {
               s.d_click_32 = true;
-              const Pos t390 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_31 = t390;
-              std::vector<Elem>& rendered391 = s.scratch.v.b38;
-              rendered391.clear();
-              rendered391.push_back(Elem{Pos{add(x388.origin.x, int32_t(0)), add(x388.origin.y, int32_t(0))}, int32_t(6)});
-              {
-                const auto& e392_list = rendered391;
-                for (const Elem& e392 : e392_list) {
-                  if ((e392.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked389 = true;
-                    break;
-                  }
-                }
+              const Pos t389 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_31 = t389;
+              const Elem e390 = Elem{Pos{add(x387.origin.x, int32_t(0)), add(x387.origin.y, int32_t(0))}, int32_t(6)};
+              if ((e390.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked388 = true;
               }
             }
-            const bool t393 = !clicked389;
-            if (t393) {
+            const bool t391 = !clicked388;
+            if (t391) {
               charge_built(s.core, 28, int64_t(int32_t(1)));
-              out387.push_back(x388);
+              out386.push_back(x387);
             }
           }
         }
@@ -1817,59 +1798,66 @@ struct Prog {
           std::swap(s.scratch.v.p_walls_25, s.g_walls_23);
           s.scratch.v.sv_walls_26 = true;
         }
-        std::swap(s.g_walls_23, out387);
+        std::swap(s.g_walls_23, out386);
         s.u_walls_24 = true;
       }
     }
     // on-clause 7, programs/mirror_twins.au:79
     {
-      bool clicked394 = false;
+      bool clicked392 = false;
       if (s.core.click) {
         s.d_click_32 = true;
-        const Pos t395 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_31 = t395;
-        clicked394 = true;
+        const Pos t393 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_31 = t393;
+        clicked392 = true;
       }
-      bool r396{};
-      if (clicked394) {
-        Pos r397{};
+      bool r394{};
+      if (clicked392) {
+        Pos r395{};
         if (s.d_click_32) {
-          const Pos& g398 = s.g_click_31;
-          r397 = g398;
+          const Pos& g396 = s.g_click_31;
+          r395 = g396;
         } else {
-          fail_at(30, std::string() + std::string("undefined variable 'click'"));
+          fail_at(29, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t399 = (r397.y >= int32_t(1));
-        bool r400{};
-        if (t399) {
-          Pos r401{};
+        const bool t397 = (r395.y >= int32_t(1));
+        bool r398{};
+        if (t397) {
+          Pos r399{};
           if (s.d_click_32) {
-            const Pos& g402 = s.g_click_31;
-            r401 = g402;
+            const Pos& g400 = s.g_click_31;
+            r399 = g400;
           } else {
-            fail_at(31, std::string() + std::string("undefined variable 'click'"));
+            fail_at(30, std::string() + std::string("undefined variable 'click'"));
           }
-          const bool t403 = s.core.occupied.free(r401);
-          bool r404{};
-          if (t403) {
-            const std::vector<C0_Wall>& g405 = s.g_walls_23;
-            const int32_t t406 = int32_t(g405.size());
-            const bool t407 = (t406 < int32_t(25));
-            r404 = t407;
+          const bool t401 = s.core.occupied.free(r399);
+          bool r402{};
+          if (t401) {
+            const std::vector<C0_Wall>& g403 = s.g_walls_23;
+            const int32_t t404 = int32_t(g403.size());
+            const bool t405 = (t404 < int32_t(25));
+            r402 = t405;
           } else {
-            r404 = false;
+            r402 = false;
           }
-          r400 = r404;
+          r398 = r402;
         } else {
-          r400 = false;
+          r398 = false;
         }
-        r396 = r400;
+        r394 = r398;
       } else {
-        r396 = false;
+        r394 = false;
       }
-      if (r396) {
+      if (r394) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C0_Wall>& g408 = s.g_walls_23;
+        const std::vector<C0_Wall>& g406 = s.g_walls_23;
+        Pos r407{};
+        if (s.d_click_32) {
+          const Pos& g408 = s.g_click_31;
+          r407 = g408;
+        } else {
+          fail_at(31, std::string() + std::string("undefined variable 'click'"));
+        }
         Pos r409{};
         if (s.d_click_32) {
           const Pos& g410 = s.g_click_31;
@@ -1877,137 +1865,124 @@ struct Prog {
         } else {
           fail_at(32, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r411{};
-        if (s.d_click_32) {
-          const Pos& g412 = s.g_click_31;
-          r411 = g412;
-        } else {
-          fail_at(33, std::string() + std::string("undefined variable 'click'"));
-        }
-        const Pos t413 = Pos{r409.x, r411.y};
-        C0_Wall o414 = C0_Wall{t413};
-        check_length(s.core, 34, int64_t(g408.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 34, int64_t(g408.size()) + int64_t(int32_t(1)));
-        std::vector<C0_Wall>& added415 = s.scratch.v.b39;
-        added415.clear();
-        added415.reserve(size_t(add(int32_t(g408.size()), int32_t(1))));
-        {
-          const auto& x416_list = g408;
-          charge_loop(s.core, 34, int64_t(x416_list.size()));
-          for (const C0_Wall& x416 : x416_list) {
-            added415.push_back(x416);
-          }
-        }
-        added415.push_back(std::move(o414));
+        const Pos t411 = Pos{r407.x, r409.y};
+        C0_Wall o412 = C0_Wall{t411};
+        check_length(s.core, 33, int64_t(g406.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 33, int64_t(g406.size()) + int64_t(int32_t(1)));
+        std::vector<C0_Wall>& added413 = s.scratch.v.b37;
+        added413.clear();
+        added413.reserve(size_t(add(int32_t(g406.size()), int32_t(1))));
+        added413.insert(added413.end(), g406.begin(), g406.end());
+        added413.push_back(std::move(o412));
         if (!s.scratch.v.sv_walls_26) {
           std::swap(s.scratch.v.p_walls_25, s.g_walls_23);
           s.scratch.v.sv_walls_26 = true;
         }
-        std::swap(s.g_walls_23, added415);
+        std::swap(s.g_walls_23, added413);
         s.u_walls_24 = true;
       }
     }
     // NEXT of red, programs/mirror_twins.au:42
     if ((!s.u_red_8 && s.scratch.v.sv_red_10)) {
-      const C2_Twin prev417 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
+      const C2_Twin prev414 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
       if (!s.scratch.v.sv_red_10) {
         std::swap(s.scratch.v.p_red_9, s.g_red_7);
         s.scratch.v.sv_red_10 = true;
       }
-      s.g_red_7 = prev417;
+      s.g_red_7 = prev414;
       s.u_red_8 = true;
     }
     // NEXT of blue, programs/mirror_twins.au:39
     if ((!s.u_blue_12 && s.scratch.v.sv_blue_14)) {
-      const C2_Twin prev418 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+      const C2_Twin prev415 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
       if (!s.scratch.v.sv_blue_14) {
         std::swap(s.scratch.v.p_blue_13, s.g_blue_11);
         s.scratch.v.sv_blue_14 = true;
       }
-      s.g_blue_11 = prev418;
+      s.g_blue_11 = prev415;
       s.u_blue_12 = true;
     }
     // NEXT of redGoal, programs/mirror_twins.au:36
     if ((!s.u_redGoal_16 && s.scratch.v.sv_redGoal_18)) {
-      const C1_Goal prev419 = (s.scratch.v.sv_redGoal_18 ? s.scratch.v.p_redGoal_17 : s.g_redGoal_15);
+      const C1_Goal prev416 = (s.scratch.v.sv_redGoal_18 ? s.scratch.v.p_redGoal_17 : s.g_redGoal_15);
       if (!s.scratch.v.sv_redGoal_18) {
         std::swap(s.scratch.v.p_redGoal_17, s.g_redGoal_15);
         s.scratch.v.sv_redGoal_18 = true;
       }
-      s.g_redGoal_15 = prev419;
+      s.g_redGoal_15 = prev416;
       s.u_redGoal_16 = true;
     }
     // NEXT of blueGoal, programs/mirror_twins.au:33
     if ((!s.u_blueGoal_20 && s.scratch.v.sv_blueGoal_22)) {
-      const C1_Goal prev420 = (s.scratch.v.sv_blueGoal_22 ? s.scratch.v.p_blueGoal_21 : s.g_blueGoal_19);
+      const C1_Goal prev417 = (s.scratch.v.sv_blueGoal_22 ? s.scratch.v.p_blueGoal_21 : s.g_blueGoal_19);
       if (!s.scratch.v.sv_blueGoal_22) {
         std::swap(s.scratch.v.p_blueGoal_21, s.g_blueGoal_19);
         s.scratch.v.sv_blueGoal_22 = true;
       }
-      s.g_blueGoal_19 = prev420;
+      s.g_blueGoal_19 = prev417;
       s.u_blueGoal_20 = true;
     }
     // NEXT of walls, programs/mirror_twins.au:30
     if ((!s.u_walls_24 && s.scratch.v.sv_walls_26)) {
-      const std::vector<C0_Wall> prev421 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
+      const std::vector<C0_Wall> prev418 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
       if (!s.scratch.v.sv_walls_26) {
         std::swap(s.scratch.v.p_walls_25, s.g_walls_23);
         s.scratch.v.sv_walls_26 = true;
       }
-      s.g_walls_23 = prev421;
+      s.g_walls_23 = prev418;
       s.u_walls_24 = true;
     }
     // NEXT of stars, programs/mirror_twins.au:27
     if ((!s.u_stars_28 && s.scratch.v.sv_stars_30)) {
-      const C3_Stars prev422 = (s.scratch.v.sv_stars_30 ? s.scratch.v.p_stars_29 : s.g_stars_27);
+      const C3_Stars prev419 = (s.scratch.v.sv_stars_30 ? s.scratch.v.p_stars_29 : s.g_stars_27);
       if (!s.scratch.v.sv_stars_30) {
         std::swap(s.scratch.v.p_stars_29, s.g_stars_27);
         s.scratch.v.sv_stars_30 = true;
       }
-      s.g_stars_27 = prev422;
+      s.g_stars_27 = prev419;
       s.u_stars_28 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_32) {
-      tally_rendered(s.core, 35, "cacheRendered");
-      const std::vector<C0_Wall>& g423 = s.g_walls_23;
-      tally_global(s.core, 8, "walls", g423);
-      const C2_Twin& g424 = s.g_red_7;
-      tally_global(s.core, 9, "red", g424);
-      const std::vector<Pos>& g425 = s.g_wallSpots_4;
-      tally_global(s.core, 10, "wallSpots", g425);
+      tally_rendered(s.core, 34, "cacheRendered");
+      const std::vector<C0_Wall>& g420 = s.g_walls_23;
+      tally_global(s.core, 8, "walls", g420);
+      const C2_Twin& g421 = s.g_red_7;
+      tally_global(s.core, 9, "red", g421);
+      const std::vector<Pos>& g422 = s.g_wallSpots_4;
+      tally_global(s.core, 10, "wallSpots", g422);
       if (s.d_click_32) {
-        const Pos& g426 = s.g_click_31;
-        tally_global(s.core, 35, "click", g426);
+        const Pos& g423 = s.g_click_31;
+        tally_global(s.core, 34, "click", g423);
       }
-      const std::vector<Pos>& g427 = s.g_startOpen_6;
-      tally_global(s.core, 11, "startOpen", g427);
-      const C2_Twin& g428 = s.g_blue_11;
-      tally_global(s.core, 12, "blue", g428);
-      const C1_Goal& g429 = s.g_blueGoal_19;
-      tally_global(s.core, 13, "blueGoal", g429);
-      const C3_Stars& g430 = s.g_stars_27;
-      tally_global(s.core, 14, "stars", g430);
-      const C1_Goal& g431 = s.g_redGoal_15;
-      tally_global(s.core, 15, "redGoal", g431);
+      const std::vector<Pos>& g424 = s.g_startOpen_6;
+      tally_global(s.core, 11, "startOpen", g424);
+      const C2_Twin& g425 = s.g_blue_11;
+      tally_global(s.core, 12, "blue", g425);
+      const C1_Goal& g426 = s.g_blueGoal_19;
+      tally_global(s.core, 13, "blueGoal", g426);
+      const C3_Stars& g427 = s.g_stars_27;
+      tally_global(s.core, 14, "stars", g427);
+      const C1_Goal& g428 = s.g_redGoal_15;
+      tally_global(s.core, 15, "redGoal", g428);
     } else {
-      tally_rendered(s.core, 35, "cacheRendered");
-      const std::vector<C0_Wall>& g432 = s.g_walls_23;
-      tally_global(s.core, 8, "walls", g432);
-      const C2_Twin& g433 = s.g_red_7;
-      tally_global(s.core, 9, "red", g433);
-      const std::vector<Pos>& g434 = s.g_wallSpots_4;
-      tally_global(s.core, 10, "wallSpots", g434);
-      const std::vector<Pos>& g435 = s.g_startOpen_6;
-      tally_global(s.core, 11, "startOpen", g435);
-      const C2_Twin& g436 = s.g_blue_11;
-      tally_global(s.core, 12, "blue", g436);
-      const C1_Goal& g437 = s.g_blueGoal_19;
-      tally_global(s.core, 13, "blueGoal", g437);
-      const C3_Stars& g438 = s.g_stars_27;
-      tally_global(s.core, 14, "stars", g438);
-      const C1_Goal& g439 = s.g_redGoal_15;
-      tally_global(s.core, 15, "redGoal", g439);
+      tally_rendered(s.core, 34, "cacheRendered");
+      const std::vector<C0_Wall>& g429 = s.g_walls_23;
+      tally_global(s.core, 8, "walls", g429);
+      const C2_Twin& g430 = s.g_red_7;
+      tally_global(s.core, 9, "red", g430);
+      const std::vector<Pos>& g431 = s.g_wallSpots_4;
+      tally_global(s.core, 10, "wallSpots", g431);
+      const std::vector<Pos>& g432 = s.g_startOpen_6;
+      tally_global(s.core, 11, "startOpen", g432);
+      const C2_Twin& g433 = s.g_blue_11;
+      tally_global(s.core, 12, "blue", g433);
+      const C1_Goal& g434 = s.g_blueGoal_19;
+      tally_global(s.core, 13, "blueGoal", g434);
+      const C3_Stars& g435 = s.g_stars_27;
+      tally_global(s.core, 14, "stars", g435);
+      const C1_Goal& g436 = s.g_redGoal_15;
+      tally_global(s.core, 15, "redGoal", g436);
     }
     s.core.clear_inputs();
   }
@@ -2063,7 +2038,7 @@ struct Prog {
     const std::vector<C0_Wall>& g22 = s.g_walls_23;
     {
       const auto& x23_list = g22;
-      charge_loop(s.core, 36, int64_t(x23_list.size()));
+      charge_loop(s.core, 35, int64_t(x23_list.size()));
       for (const C0_Wall& x23 : x23_list) {
         const Elem e24 = Elem{Pos{add(x23.origin.x, int32_t(0)), add(x23.origin.y, int32_t(0))}, int32_t(6)};
         s.core.occupied.add(e24.position);
@@ -2222,7 +2197,6 @@ const ErrorSite Prog::kErrors[] = {
     {75, 87, nullptr, true, 75, 87, ""},
     {78, 7, nullptr, true, 78, 7, ""},
     {78, 39, nullptr, true, 78, 39, ""},
-    {78, 57, nullptr, true, 78, 57, ""},
     {79, 29, nullptr, true, 79, 29, ""},
     {79, 55, nullptr, true, 79, 55, ""},
     {80, 48, nullptr, true, 80, 48, ""},

@@ -170,10 +170,8 @@ struct Prog {
     std::vector<Elem> b43;
     std::vector<Elem> b44;
     std::vector<Elem> b45;
-    std::vector<Elem> b46;
+    std::vector<C2_Sheep> b46;
     std::vector<C2_Sheep> b47;
-    std::vector<Elem> b48;
-    std::vector<C2_Sheep> b49;
     std::vector<C2_Sheep> p_sheep_9{};
     bool sv_sheep_10{};
     std::vector<C1_Flag> p_flags_13{};
@@ -1209,48 +1207,40 @@ struct Prog {
           s.d_click_24 = true;
           const Pos t273 = Pos{s.core.click_x, s.core.click_y};
           s.g_click_23 = t273;
-          std::vector<Elem>& rendered274 = s.scratch.v.b44;
-          rendered274.clear();
-          rendered274.push_back(Elem{Pos{add(prev271.origin.x, int32_t(0)), add(prev271.origin.y, int32_t(0))}, int32_t(0)});
-          {
-            const auto& e275_list = rendered274;
-            for (const Elem& e275 : e275_list) {
-              if ((e275.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked272 = true;
-                break;
-              }
-            }
+          const Elem e274 = Elem{Pos{add(prev271.origin.x, int32_t(0)), add(prev271.origin.y, int32_t(0))}, int32_t(0)};
+          if ((e274.position == Pos{s.core.click_x, s.core.click_y})) {
+            clicked272 = true;
           }
         }
-        const bool t276 = !clicked272;
-        r270 = t276;
+        const bool t275 = !clicked272;
+        r270 = t275;
       } else {
         r270 = false;
       }
       if (r270) {
         s.core.covered[int32_t(6)] = 1;
-        Pos r277{};
+        Pos r276{};
         if (s.d_click_24) {
-          const Pos& g278 = s.g_click_23;
-          r277 = g278;
+          const Pos& g277 = s.g_click_23;
+          r276 = g277;
+        } else {
+          fail_at(36, std::string() + std::string("undefined variable 'click'"));
+        }
+        Pos r278{};
+        if (s.d_click_24) {
+          const Pos& g279 = s.g_click_23;
+          r278 = g279;
         } else {
           fail_at(37, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r279{};
-        if (s.d_click_24) {
-          const Pos& g280 = s.g_click_23;
-          r279 = g280;
-        } else {
-          fail_at(38, std::string() + std::string("undefined variable 'click'"));
-        }
-        const Pos t281 = Pos{r277.x, r279.y};
-        C1_Flag o282 = C1_Flag{t281};
-        std::vector<C1_Flag> list283 = std::vector<C1_Flag>{std::move(o282)};
+        const Pos t280 = Pos{r276.x, r278.y};
+        C1_Flag o281 = C1_Flag{t280};
+        std::vector<C1_Flag> list282 = std::vector<C1_Flag>{std::move(o281)};
         if (!s.scratch.v.sv_flags_14) {
           std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
           s.scratch.v.sv_flags_14 = true;
         }
-        s.g_flags_11 = std::move(list283);
+        s.g_flags_11 = std::move(list282);
         s.u_flags_12 = true;
       }
     }
@@ -1258,653 +1248,639 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(7)] = 1;
-        const std::vector<C2_Sheep>& prev284 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
-        std::vector<C2_Sheep> acc285 = std::vector<C2_Sheep>{};
+        const std::vector<C2_Sheep>& prev283 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+        std::vector<C2_Sheep> acc284 = std::vector<C2_Sheep>{};
         {
-          const auto& x286_list = prev284;
-          charge_loop(s.core, 39, int64_t(x286_list.size()));
-          for (const C2_Sheep& x286 : x286_list) {
+          const auto& x285_list = prev283;
+          charge_loop(s.core, 38, int64_t(x285_list.size()));
+          for (const C2_Sheep& x285 : x285_list) {
             // inlined: function at programs/sheepdog.au:80
             // inlined: function at programs/sheepdog.au:53
-            C2_Sheep r287{};
-            if (x286.f0) {
-              r287 = x286;
+            C2_Sheep r286{};
+            if (x285.f0) {
+              r286 = x285;
             } else {
-              Pos l_wish288{};
-              C2_Sheep l_there289{};
-              const C3_Dog& g290 = s.g_dog_15;
-              Pos l_delta291{};
-              const int32_t t292 = sub(g290.origin.x, x286.origin.x);
-              const int32_t t293 = sub(g290.origin.y, x286.origin.y);
-              const Pos t294 = Pos{t292, t293};
-              l_delta291 = t294;
-              const bool t295 = (l_delta291.x < int32_t(0));
-              int32_t r296{};
-              if (t295) {
-                const int32_t t297 = neg(l_delta291.x);
-                r296 = t297;
+              Pos l_wish287{};
+              C2_Sheep l_there288{};
+              const C3_Dog& g289 = s.g_dog_15;
+              Pos l_delta290{};
+              const int32_t t291 = sub(g289.origin.x, x285.origin.x);
+              const int32_t t292 = sub(g289.origin.y, x285.origin.y);
+              const Pos t293 = Pos{t291, t292};
+              l_delta290 = t293;
+              const bool t294 = (l_delta290.x < int32_t(0));
+              int32_t r295{};
+              if (t294) {
+                const int32_t t296 = neg(l_delta290.x);
+                r295 = t296;
               } else {
-                r296 = l_delta291.x;
+                r295 = l_delta290.x;
               }
-              const bool t298 = (l_delta291.y < int32_t(0));
-              int32_t r299{};
-              if (t298) {
-                const int32_t t300 = neg(l_delta291.y);
-                r299 = t300;
+              const bool t297 = (l_delta290.y < int32_t(0));
+              int32_t r298{};
+              if (t297) {
+                const int32_t t299 = neg(l_delta290.y);
+                r298 = t299;
               } else {
-                r299 = l_delta291.y;
+                r298 = l_delta290.y;
               }
-              const int32_t t301 = add(r296, r299);
-              const bool t302 = (t301 <= int32_t(3));
-              Pos r303{};
-              if (t302) {
+              const int32_t t300 = add(r295, r298);
+              const bool t301 = (t300 <= int32_t(3));
+              Pos r302{};
+              if (t301) {
                 // inlined: function at programs/sheepdog.au:43
-                Pos l_u304{};
-                const C3_Dog& g305 = s.g_dog_15;
-                Pos l_delta306{};
-                int32_t l_sign_x307{};
-                int32_t l_sign_y308{};
-                const int32_t t309 = sub(g305.origin.x, x286.origin.x);
-                const int32_t t310 = sub(g305.origin.y, x286.origin.y);
-                const Pos t311 = Pos{t309, t310};
-                l_delta306 = t311;
-                const bool t312 = (l_delta306.x == int32_t(0));
-                int32_t r313{};
-                if (t312) {
-                  r313 = int32_t(0);
+                Pos l_u303{};
+                const C3_Dog& g304 = s.g_dog_15;
+                Pos l_delta305{};
+                int32_t l_sign_x306{};
+                int32_t l_sign_y307{};
+                const int32_t t308 = sub(g304.origin.x, x285.origin.x);
+                const int32_t t309 = sub(g304.origin.y, x285.origin.y);
+                const Pos t310 = Pos{t308, t309};
+                l_delta305 = t310;
+                const bool t311 = (l_delta305.x == int32_t(0));
+                int32_t r312{};
+                if (t311) {
+                  r312 = int32_t(0);
                 } else {
-                  const bool t314 = (l_delta306.x < int32_t(0));
-                  int32_t r315{};
-                  if (t314) {
-                    r315 = int32_t(-1);
+                  const bool t313 = (l_delta305.x < int32_t(0));
+                  int32_t r314{};
+                  if (t313) {
+                    r314 = int32_t(-1);
                   } else {
-                    r315 = int32_t(1);
+                    r314 = int32_t(1);
                   }
-                  r313 = r315;
+                  r312 = r314;
                 }
-                l_sign_x307 = r313;
-                const bool t316 = (l_delta306.y == int32_t(0));
-                int32_t r317{};
-                if (t316) {
-                  r317 = int32_t(0);
+                l_sign_x306 = r312;
+                const bool t315 = (l_delta305.y == int32_t(0));
+                int32_t r316{};
+                if (t315) {
+                  r316 = int32_t(0);
                 } else {
-                  const bool t318 = (l_delta306.y < int32_t(0));
-                  int32_t r319{};
-                  if (t318) {
-                    r319 = int32_t(-1);
+                  const bool t317 = (l_delta305.y < int32_t(0));
+                  int32_t r318{};
+                  if (t317) {
+                    r318 = int32_t(-1);
                   } else {
-                    r319 = int32_t(1);
+                    r318 = int32_t(1);
                   }
-                  r317 = r319;
+                  r316 = r318;
                 }
-                l_sign_y308 = r317;
-                const bool t320 = (l_sign_x307 < int32_t(0));
-                int32_t r321{};
-                if (t320) {
-                  const int32_t t322 = neg(l_sign_x307);
-                  r321 = t322;
+                l_sign_y307 = r316;
+                const bool t319 = (l_sign_x306 < int32_t(0));
+                int32_t r320{};
+                if (t319) {
+                  const int32_t t321 = neg(l_sign_x306);
+                  r320 = t321;
                 } else {
-                  r321 = l_sign_x307;
+                  r320 = l_sign_x306;
                 }
-                const bool t323 = (r321 == int32_t(1));
-                bool r324{};
-                if (t323) {
-                  const bool t325 = (l_sign_y308 < int32_t(0));
-                  int32_t r326{};
-                  if (t325) {
-                    const int32_t t327 = neg(l_sign_y308);
-                    r326 = t327;
+                const bool t322 = (r320 == int32_t(1));
+                bool r323{};
+                if (t322) {
+                  const bool t324 = (l_sign_y307 < int32_t(0));
+                  int32_t r325{};
+                  if (t324) {
+                    const int32_t t326 = neg(l_sign_y307);
+                    r325 = t326;
                   } else {
-                    r326 = l_sign_y308;
+                    r325 = l_sign_y307;
                   }
-                  const bool t328 = (r326 == int32_t(1));
-                  r324 = t328;
+                  const bool t327 = (r325 == int32_t(1));
+                  r323 = t327;
                 } else {
-                  r324 = false;
+                  r323 = false;
                 }
-                Pos r329{};
-                if (r324) {
-                  const Pos t330 = Pos{l_sign_x307, int32_t(0)};
-                  r329 = t330;
+                Pos r328{};
+                if (r323) {
+                  const Pos t329 = Pos{l_sign_x306, int32_t(0)};
+                  r328 = t329;
                 } else {
-                  const Pos t331 = Pos{l_sign_x307, l_sign_y308};
-                  r329 = t331;
+                  const Pos t330 = Pos{l_sign_x306, l_sign_y307};
+                  r328 = t330;
                 }
-                l_u304 = r329;
-                const int32_t t332 = neg(l_u304.x);
-                const int32_t t333 = neg(l_u304.y);
-                const Pos t334 = Pos{t332, t333};
-                r303 = t334;
+                l_u303 = r328;
+                const int32_t t331 = neg(l_u303.x);
+                const int32_t t332 = neg(l_u303.y);
+                const Pos t333 = Pos{t331, t332};
+                r302 = t333;
               } else {
-                const std::vector<Pos>& g335 = s.g_wanderSteps_5;
-                if (g335.empty()) {
-                  fail_at(40, std::string() + std::string("uniformChoice of an empty list"));
+                const std::vector<Pos>& g334 = s.g_wanderSteps_5;
+                if (g334.empty()) {
+                  fail_at(39, std::string() + std::string("uniformChoice of an empty list"));
                 }
-                const int32_t t336 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g335.size())))));
-                const Pos t337 = g335[size_t(t336)];
-                r303 = t337;
+                const int32_t t335 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g334.size())))));
+                const Pos t336 = g334[size_t(t335)];
+                r302 = t336;
               }
-              l_wish288 = r303;
+              l_wish287 = r302;
               // inlined: function at programs/sheepdog.au:52
-              const int32_t t338 = add(x286.origin.x, l_wish288.x);
-              const int32_t t339 = add(x286.origin.y, l_wish288.y);
-              const Pos t340 = Pos{t338, t339};
-              C2_Sheep upd341 = x286;
-              upd341.origin = t340;
-              std::vector<Elem>& rendered342 = s.scratch.v.b45;
-              rendered342.clear();
-              const int32_t colour343 = colour_0_C2_Sheep(s, upd341);
-              rendered342.push_back(Elem{Pos{add(upd341.origin.x, int32_t(0)), add(upd341.origin.y, int32_t(0))}, colour343});
-              bool within344 = true;
+              const int32_t t337 = add(x285.origin.x, l_wish287.x);
+              const int32_t t338 = add(x285.origin.y, l_wish287.y);
+              const Pos t339 = Pos{t337, t338};
+              C2_Sheep upd340 = x285;
+              upd340.origin = t339;
+              std::vector<Elem>& rendered341 = s.scratch.v.b44;
+              rendered341.clear();
+              const int32_t colour342 = colour_0_C2_Sheep(s, upd340);
+              rendered341.push_back(Elem{Pos{add(upd340.origin.x, int32_t(0)), add(upd340.origin.y, int32_t(0))}, colour342});
+              bool within343 = true;
               {
-                const auto& e345_list = rendered342;
-                for (const Elem& e345 : e345_list) {
-                  if ((((e345.position.x < int32_t(0)) || (e345.position.x >= int32_t(16))) || ((e345.position.y < int32_t(0)) || (e345.position.y >= int32_t(16))))) {
-                    within344 = false;
+                const auto& e344_list = rendered341;
+                for (const Elem& e344 : e344_list) {
+                  if ((((e344.position.x < int32_t(0)) || (e344.position.x >= int32_t(16))) || ((e344.position.y < int32_t(0)) || (e344.position.y >= int32_t(16))))) {
+                    within343 = false;
                     break;
                   }
                 }
               }
-              bool r346{};
-              if (within344) {
-                const int32_t t347 = add(x286.origin.x, l_wish288.x);
-                const int32_t t348 = add(x286.origin.y, l_wish288.y);
-                const Pos t349 = Pos{t347, t348};
-                C2_Sheep upd350 = x286;
-                upd350.origin = t349;
+              bool r345{};
+              if (within343) {
+                const int32_t t346 = add(x285.origin.x, l_wish287.x);
+                const int32_t t347 = add(x285.origin.y, l_wish287.y);
+                const Pos t348 = Pos{t346, t347};
+                C2_Sheep upd349 = x285;
+                upd349.origin = t348;
                 // inlined: function at programs/sheepdog.au:49
                 // inlined: function at programs/sheepdog.au:48
                 // inlined: function at programs/sheepdog.au:21
-                const bool t351 = (upd350.origin.x >= int32_t(10));
-                bool r352{};
-                if (t351) {
-                  const bool t353 = (upd350.origin.y <= int32_t(5));
-                  r352 = t353;
+                const bool t350 = (upd349.origin.x >= int32_t(10));
+                bool r351{};
+                if (t350) {
+                  const bool t352 = (upd349.origin.y <= int32_t(5));
+                  r351 = t352;
                 } else {
-                  r352 = false;
+                  r351 = false;
                 }
-                bool r354{};
-                if (r352) {
-                  const bool t355 = (upd350.origin.x == int32_t(10));
-                  bool r356{};
-                  if (!t355) {
-                    const bool t357 = (upd350.origin.x == int32_t(15));
-                    r356 = t357;
+                bool r353{};
+                if (r351) {
+                  const bool t354 = (upd349.origin.x == int32_t(10));
+                  bool r355{};
+                  if (!t354) {
+                    const bool t356 = (upd349.origin.x == int32_t(15));
+                    r355 = t356;
                   } else {
-                    r356 = true;
+                    r355 = true;
                   }
-                  bool r358{};
-                  if (!r356) {
-                    const bool t359 = (upd350.origin.y == int32_t(0));
-                    bool r360{};
-                    if (!t359) {
-                      const bool t361 = (upd350.origin.y == int32_t(5));
-                      r360 = t361;
+                  bool r357{};
+                  if (!r355) {
+                    const bool t358 = (upd349.origin.y == int32_t(0));
+                    bool r359{};
+                    if (!t358) {
+                      const bool t360 = (upd349.origin.y == int32_t(5));
+                      r359 = t360;
                     } else {
-                      r360 = true;
+                      r359 = true;
                     }
-                    r358 = r360;
+                    r357 = r359;
                   } else {
-                    r358 = true;
+                    r357 = true;
                   }
-                  r354 = r358;
+                  r353 = r357;
                 } else {
-                  r354 = false;
+                  r353 = false;
                 }
-                bool r362{};
-                if (r354) {
-                  const std::vector<Pos>& g363 = s.g_gate_6;
-                  bool any364 = false;
+                bool r361{};
+                if (r353) {
+                  const std::vector<Pos>& g362 = s.g_gate_6;
+                  bool any363 = false;
                   {
-                    const auto& x365_list = g363;
-                    charge_loop(s.core, 42, int64_t(x365_list.size()));
-                    for (const Pos& x365 : x365_list) {
-                      const bool t366 = (x365 == upd350.origin);
-                      if (t366) {
-                        any364 = true;
+                    const auto& x364_list = g362;
+                    charge_loop(s.core, 41, int64_t(x364_list.size()));
+                    for (const Pos& x364 : x364_list) {
+                      const bool t365 = (x364 == upd349.origin);
+                      if (t365) {
+                        any363 = true;
                         break;
                       }
                     }
                   }
-                  const bool t367 = !any364;
-                  r362 = t367;
+                  const bool t366 = !any363;
+                  r361 = t366;
                 } else {
-                  r362 = false;
+                  r361 = false;
                 }
-                bool r368{};
-                if (!r362) {
-                  const C3_Dog& g369 = s.g_dog_15;
-                  const bool t370 = (upd350.origin == g369.origin);
-                  r368 = t370;
+                bool r367{};
+                if (!r361) {
+                  const C3_Dog& g368 = s.g_dog_15;
+                  const bool t369 = (upd349.origin == g368.origin);
+                  r367 = t369;
                 } else {
-                  r368 = true;
+                  r367 = true;
                 }
-                bool r371{};
-                if (!r368) {
-                  bool any372 = false;
+                bool r370{};
+                if (!r367) {
+                  bool any371 = false;
                   {
-                    const auto& x373_list = acc285;
-                    charge_loop(s.core, 43, int64_t(x373_list.size()));
-                    for (const C2_Sheep& x373 : x373_list) {
+                    const auto& x372_list = acc284;
+                    charge_loop(s.core, 42, int64_t(x372_list.size()));
+                    for (const C2_Sheep& x372 : x372_list) {
                       // inlined: function at programs/sheepdog.au:51
-                      const bool t374 = (x373.origin == upd350.origin);
-                      if (t374) {
-                        any372 = true;
+                      const bool t373 = (x372.origin == upd349.origin);
+                      if (t373) {
+                        any371 = true;
                         break;
                       }
                     }
                   }
-                  bool r375{};
-                  if (!any372) {
-                    const std::vector<C2_Sheep>& prev376 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
-                    bool any377 = false;
+                  bool r374{};
+                  if (!any371) {
+                    const std::vector<C2_Sheep>& prev375 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+                    bool any376 = false;
                     {
-                      const auto& x378_list = prev376;
-                      charge_loop(s.core, 44, int64_t(x378_list.size()));
-                      for (const C2_Sheep& x378 : x378_list) {
+                      const auto& x377_list = prev375;
+                      charge_loop(s.core, 43, int64_t(x377_list.size()));
+                      for (const C2_Sheep& x377 : x377_list) {
                         // inlined: function at programs/sheepdog.au:51
-                        const bool t379 = (x378.origin == upd350.origin);
-                        if (t379) {
-                          any377 = true;
+                        const bool t378 = (x377.origin == upd349.origin);
+                        if (t378) {
+                          any376 = true;
                           break;
                         }
                       }
                     }
-                    r375 = any377;
+                    r374 = any376;
                   } else {
-                    r375 = true;
+                    r374 = true;
                   }
-                  r371 = r375;
+                  r370 = r374;
                 } else {
-                  r371 = true;
+                  r370 = true;
                 }
-                const bool t380 = !r371;
-                r346 = t380;
+                const bool t379 = !r370;
+                r345 = t379;
               } else {
-                r346 = false;
+                r345 = false;
               }
-              Pos r381{};
-              if (r346) {
-                r381 = l_wish288;
+              Pos r380{};
+              if (r345) {
+                r380 = l_wish287;
               } else {
-                const std::vector<Pos>& g382 = s.g_wanderSteps_5;
-                if (g382.empty()) {
-                  fail_at(45, std::string() + std::string("uniformChoice of an empty list"));
+                const std::vector<Pos>& g381 = s.g_wanderSteps_5;
+                if (g381.empty()) {
+                  fail_at(44, std::string() + std::string("uniformChoice of an empty list"));
                 }
-                const int32_t t383 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g382.size())))));
-                const Pos t384 = g382[size_t(t383)];
-                r381 = t384;
+                const int32_t t382 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g381.size())))));
+                const Pos t383 = g381[size_t(t382)];
+                r380 = t383;
               }
-              l_wish288 = r381;
+              l_wish287 = r380;
               // inlined: function at programs/sheepdog.au:52
-              const int32_t t385 = add(x286.origin.x, l_wish288.x);
-              const int32_t t386 = add(x286.origin.y, l_wish288.y);
-              const Pos t387 = Pos{t385, t386};
-              C2_Sheep upd388 = x286;
-              upd388.origin = t387;
-              std::vector<Elem>& rendered389 = s.scratch.v.b46;
-              rendered389.clear();
-              const int32_t colour390 = colour_0_C2_Sheep(s, upd388);
-              rendered389.push_back(Elem{Pos{add(upd388.origin.x, int32_t(0)), add(upd388.origin.y, int32_t(0))}, colour390});
-              bool within391 = true;
+              const int32_t t384 = add(x285.origin.x, l_wish287.x);
+              const int32_t t385 = add(x285.origin.y, l_wish287.y);
+              const Pos t386 = Pos{t384, t385};
+              C2_Sheep upd387 = x285;
+              upd387.origin = t386;
+              std::vector<Elem>& rendered388 = s.scratch.v.b45;
+              rendered388.clear();
+              const int32_t colour389 = colour_0_C2_Sheep(s, upd387);
+              rendered388.push_back(Elem{Pos{add(upd387.origin.x, int32_t(0)), add(upd387.origin.y, int32_t(0))}, colour389});
+              bool within390 = true;
               {
-                const auto& e392_list = rendered389;
-                for (const Elem& e392 : e392_list) {
-                  if ((((e392.position.x < int32_t(0)) || (e392.position.x >= int32_t(16))) || ((e392.position.y < int32_t(0)) || (e392.position.y >= int32_t(16))))) {
-                    within391 = false;
+                const auto& e391_list = rendered388;
+                for (const Elem& e391 : e391_list) {
+                  if ((((e391.position.x < int32_t(0)) || (e391.position.x >= int32_t(16))) || ((e391.position.y < int32_t(0)) || (e391.position.y >= int32_t(16))))) {
+                    within390 = false;
                     break;
                   }
                 }
               }
-              bool r393{};
-              if (within391) {
-                const int32_t t394 = add(x286.origin.x, l_wish288.x);
-                const int32_t t395 = add(x286.origin.y, l_wish288.y);
-                const Pos t396 = Pos{t394, t395};
-                C2_Sheep upd397 = x286;
-                upd397.origin = t396;
+              bool r392{};
+              if (within390) {
+                const int32_t t393 = add(x285.origin.x, l_wish287.x);
+                const int32_t t394 = add(x285.origin.y, l_wish287.y);
+                const Pos t395 = Pos{t393, t394};
+                C2_Sheep upd396 = x285;
+                upd396.origin = t395;
                 // inlined: function at programs/sheepdog.au:49
                 // inlined: function at programs/sheepdog.au:48
                 // inlined: function at programs/sheepdog.au:21
-                const bool t398 = (upd397.origin.x >= int32_t(10));
-                bool r399{};
-                if (t398) {
-                  const bool t400 = (upd397.origin.y <= int32_t(5));
-                  r399 = t400;
+                const bool t397 = (upd396.origin.x >= int32_t(10));
+                bool r398{};
+                if (t397) {
+                  const bool t399 = (upd396.origin.y <= int32_t(5));
+                  r398 = t399;
                 } else {
-                  r399 = false;
+                  r398 = false;
                 }
-                bool r401{};
-                if (r399) {
-                  const bool t402 = (upd397.origin.x == int32_t(10));
-                  bool r403{};
-                  if (!t402) {
-                    const bool t404 = (upd397.origin.x == int32_t(15));
-                    r403 = t404;
+                bool r400{};
+                if (r398) {
+                  const bool t401 = (upd396.origin.x == int32_t(10));
+                  bool r402{};
+                  if (!t401) {
+                    const bool t403 = (upd396.origin.x == int32_t(15));
+                    r402 = t403;
                   } else {
-                    r403 = true;
+                    r402 = true;
                   }
-                  bool r405{};
-                  if (!r403) {
-                    const bool t406 = (upd397.origin.y == int32_t(0));
-                    bool r407{};
-                    if (!t406) {
-                      const bool t408 = (upd397.origin.y == int32_t(5));
-                      r407 = t408;
+                  bool r404{};
+                  if (!r402) {
+                    const bool t405 = (upd396.origin.y == int32_t(0));
+                    bool r406{};
+                    if (!t405) {
+                      const bool t407 = (upd396.origin.y == int32_t(5));
+                      r406 = t407;
                     } else {
-                      r407 = true;
+                      r406 = true;
                     }
-                    r405 = r407;
+                    r404 = r406;
                   } else {
-                    r405 = true;
+                    r404 = true;
                   }
-                  r401 = r405;
+                  r400 = r404;
                 } else {
-                  r401 = false;
+                  r400 = false;
                 }
-                bool r409{};
-                if (r401) {
-                  const std::vector<Pos>& g410 = s.g_gate_6;
-                  bool any411 = false;
+                bool r408{};
+                if (r400) {
+                  const std::vector<Pos>& g409 = s.g_gate_6;
+                  bool any410 = false;
                   {
-                    const auto& x412_list = g410;
-                    charge_loop(s.core, 42, int64_t(x412_list.size()));
-                    for (const Pos& x412 : x412_list) {
-                      const bool t413 = (x412 == upd397.origin);
-                      if (t413) {
-                        any411 = true;
+                    const auto& x411_list = g409;
+                    charge_loop(s.core, 41, int64_t(x411_list.size()));
+                    for (const Pos& x411 : x411_list) {
+                      const bool t412 = (x411 == upd396.origin);
+                      if (t412) {
+                        any410 = true;
                         break;
                       }
                     }
                   }
-                  const bool t414 = !any411;
-                  r409 = t414;
+                  const bool t413 = !any410;
+                  r408 = t413;
                 } else {
-                  r409 = false;
+                  r408 = false;
                 }
-                bool r415{};
-                if (!r409) {
-                  const C3_Dog& g416 = s.g_dog_15;
-                  const bool t417 = (upd397.origin == g416.origin);
-                  r415 = t417;
+                bool r414{};
+                if (!r408) {
+                  const C3_Dog& g415 = s.g_dog_15;
+                  const bool t416 = (upd396.origin == g415.origin);
+                  r414 = t416;
                 } else {
-                  r415 = true;
+                  r414 = true;
                 }
-                bool r418{};
-                if (!r415) {
-                  bool any419 = false;
+                bool r417{};
+                if (!r414) {
+                  bool any418 = false;
                   {
-                    const auto& x420_list = acc285;
-                    charge_loop(s.core, 43, int64_t(x420_list.size()));
-                    for (const C2_Sheep& x420 : x420_list) {
+                    const auto& x419_list = acc284;
+                    charge_loop(s.core, 42, int64_t(x419_list.size()));
+                    for (const C2_Sheep& x419 : x419_list) {
                       // inlined: function at programs/sheepdog.au:51
-                      const bool t421 = (x420.origin == upd397.origin);
-                      if (t421) {
-                        any419 = true;
+                      const bool t420 = (x419.origin == upd396.origin);
+                      if (t420) {
+                        any418 = true;
                         break;
                       }
                     }
                   }
-                  bool r422{};
-                  if (!any419) {
-                    const std::vector<C2_Sheep>& prev423 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
-                    bool any424 = false;
+                  bool r421{};
+                  if (!any418) {
+                    const std::vector<C2_Sheep>& prev422 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+                    bool any423 = false;
                     {
-                      const auto& x425_list = prev423;
-                      charge_loop(s.core, 44, int64_t(x425_list.size()));
-                      for (const C2_Sheep& x425 : x425_list) {
+                      const auto& x424_list = prev422;
+                      charge_loop(s.core, 43, int64_t(x424_list.size()));
+                      for (const C2_Sheep& x424 : x424_list) {
                         // inlined: function at programs/sheepdog.au:51
-                        const bool t426 = (x425.origin == upd397.origin);
-                        if (t426) {
-                          any424 = true;
+                        const bool t425 = (x424.origin == upd396.origin);
+                        if (t425) {
+                          any423 = true;
                           break;
                         }
                       }
                     }
-                    r422 = any424;
+                    r421 = any423;
                   } else {
-                    r422 = true;
+                    r421 = true;
                   }
-                  r418 = r422;
+                  r417 = r421;
                 } else {
-                  r418 = true;
+                  r417 = true;
                 }
-                const bool t427 = !r418;
-                r393 = t427;
+                const bool t426 = !r417;
+                r392 = t426;
               } else {
-                r393 = false;
+                r392 = false;
               }
-              C2_Sheep r428{};
-              if (r393) {
-                const int32_t t429 = add(x286.origin.x, l_wish288.x);
-                const int32_t t430 = add(x286.origin.y, l_wish288.y);
-                const Pos t431 = Pos{t429, t430};
-                C2_Sheep upd432 = x286;
-                upd432.origin = t431;
-                r428 = std::move(upd432);
+              C2_Sheep r427{};
+              if (r392) {
+                const int32_t t428 = add(x285.origin.x, l_wish287.x);
+                const int32_t t429 = add(x285.origin.y, l_wish287.y);
+                const Pos t430 = Pos{t428, t429};
+                C2_Sheep upd431 = x285;
+                upd431.origin = t430;
+                r427 = std::move(upd431);
               } else {
-                r428 = x286;
+                r427 = x285;
               }
-              l_there289 = std::move(r428);
+              l_there288 = std::move(r427);
               // inlined: function at programs/sheepdog.au:23
-              const bool t433 = (l_there289.origin.x >= int32_t(11));
-              bool r434{};
-              if (t433) {
-                const bool t435 = (l_there289.origin.x <= int32_t(14));
-                r434 = t435;
+              const bool t432 = (l_there288.origin.x >= int32_t(11));
+              bool r433{};
+              if (t432) {
+                const bool t434 = (l_there288.origin.x <= int32_t(14));
+                r433 = t434;
               } else {
-                r434 = false;
+                r433 = false;
               }
-              bool r436{};
-              if (r434) {
-                const bool t437 = (l_there289.origin.y >= int32_t(1));
-                bool r438{};
-                if (t437) {
-                  const bool t439 = (l_there289.origin.y <= int32_t(4));
-                  r438 = t439;
+              bool r435{};
+              if (r433) {
+                const bool t436 = (l_there288.origin.y >= int32_t(1));
+                bool r437{};
+                if (t436) {
+                  const bool t438 = (l_there288.origin.y <= int32_t(4));
+                  r437 = t438;
                 } else {
-                  r438 = false;
+                  r437 = false;
                 }
-                r436 = r438;
+                r435 = r437;
               } else {
-                r436 = false;
+                r435 = false;
               }
-              C2_Sheep upd440 = l_there289;
-              upd440.f0 = r436;
-              r287 = std::move(upd440);
+              C2_Sheep upd439 = l_there288;
+              upd439.f0 = r435;
+              r286 = std::move(upd439);
             }
-            check_length(s.core, 46, int64_t(acc285.size()) + int64_t(int32_t(1)));
-            charge_built(s.core, 46, int64_t(acc285.size()) + int64_t(int32_t(1)));
-            std::vector<C2_Sheep>& added441 = s.scratch.v.b47;
-            added441.clear();
-            added441.reserve(size_t(add(int32_t(acc285.size()), int32_t(1))));
-            {
-              const auto& x442_list = acc285;
-              charge_loop(s.core, 46, int64_t(x442_list.size()));
-              for (const C2_Sheep& x442 : x442_list) {
-                added441.push_back(x442);
-              }
-            }
-            added441.push_back(std::move(r287));
-            std::swap(acc285, added441);
+            check_length(s.core, 45, int64_t(acc284.size()) + int64_t(int32_t(1)));
+            charge_built(s.core, 45, int64_t(acc284.size()) + int64_t(int32_t(1)));
+            std::vector<C2_Sheep>& added440 = s.scratch.v.b46;
+            added440.clear();
+            added440.reserve(size_t(add(int32_t(acc284.size()), int32_t(1))));
+            added440.insert(added440.end(), acc284.begin(), acc284.end());
+            added440.push_back(std::move(r286));
+            std::swap(acc284, added440);
           }
         }
         if (!s.scratch.v.sv_sheep_10) {
           std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
           s.scratch.v.sv_sheep_10 = true;
         }
-        s.g_sheep_7 = std::move(acc285);
+        s.g_sheep_7 = std::move(acc284);
         s.u_sheep_8 = true;
       }
     }
     // on-clause 9, programs/sheepdog.au:82
     {
-      const std::vector<C2_Sheep>& g443 = s.g_sheep_7;
+      const std::vector<C2_Sheep>& g441 = s.g_sheep_7;
       // inlined: function at programs/sheepdog.au:39
-      bool any444 = false;
+      bool any442 = false;
       {
-        const auto& x445_list = g443;
-        charge_loop(s.core, 47, int64_t(x445_list.size()));
-        for (const C2_Sheep& x445 : x445_list) {
+        const auto& x443_list = g441;
+        charge_loop(s.core, 46, int64_t(x443_list.size()));
+        for (const C2_Sheep& x443 : x443_list) {
           // inlined: function at programs/sheepdog.au:39
-          const bool t446 = !x445.f0;
-          if (t446) {
-            any444 = true;
+          const bool t444 = !x443.f0;
+          if (t444) {
+            any442 = true;
             break;
           }
         }
       }
-      const bool t447 = !any444;
-      if (t447) {
+      const bool t445 = !any442;
+      if (t445) {
         s.core.covered[int32_t(8)] = 1;
         s.g_background_2 = int32_t(5);
       }
     }
     // on-clause 10, programs/sheepdog.au:83
     {
-      const std::vector<C2_Sheep>& prev448 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+      const std::vector<C2_Sheep>& prev446 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
       // inlined: function at programs/sheepdog.au:39
-      bool any449 = false;
+      bool any447 = false;
       {
-        const auto& x450_list = prev448;
-        charge_loop(s.core, 47, int64_t(x450_list.size()));
-        for (const C2_Sheep& x450 : x450_list) {
+        const auto& x448_list = prev446;
+        charge_loop(s.core, 46, int64_t(x448_list.size()));
+        for (const C2_Sheep& x448 : x448_list) {
           // inlined: function at programs/sheepdog.au:39
-          const bool t451 = !x450.f0;
-          if (t451) {
-            any449 = true;
+          const bool t449 = !x448.f0;
+          if (t449) {
+            any447 = true;
             break;
           }
         }
       }
-      const bool t452 = !any449;
-      bool r453{};
-      if (t452) {
-        const C3_Dog& prev454 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
-        bool clicked455 = false;
+      const bool t450 = !any447;
+      bool r451{};
+      if (t450) {
+        const C3_Dog& prev452 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+        bool clicked453 = false;
         if (s.core.click) {
           s.d_click_24 = true;
-          const Pos t456 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_23 = t456;
-          std::vector<Elem>& rendered457 = s.scratch.v.b48;
-          rendered457.clear();
-          rendered457.push_back(Elem{Pos{add(prev454.origin.x, int32_t(0)), add(prev454.origin.y, int32_t(0))}, int32_t(0)});
-          {
-            const auto& e458_list = rendered457;
-            for (const Elem& e458 : e458_list) {
-              if ((e458.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked455 = true;
-                break;
-              }
-            }
+          const Pos t454 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_23 = t454;
+          const Elem e455 = Elem{Pos{add(prev452.origin.x, int32_t(0)), add(prev452.origin.y, int32_t(0))}, int32_t(0)};
+          if ((e455.position == Pos{s.core.click_x, s.core.click_y})) {
+            clicked453 = true;
           }
         }
-        r453 = clicked455;
+        r451 = clicked453;
       } else {
-        r453 = false;
+        r451 = false;
       }
-      if (r453) {
+      if (r451) {
         s.core.covered[int32_t(9)] = 1;
-        const std::vector<Pos>& g459 = s.g_sheepStarts_4;
-        std::vector<C2_Sheep>& out460 = s.scratch.v.b49;
-        out460.clear();
-        charge_built(s.core, 49, int64_t(g459.size()));
-        out460.reserve(size_t(int32_t(g459.size())));
+        const std::vector<Pos>& g456 = s.g_sheepStarts_4;
+        std::vector<C2_Sheep>& out457 = s.scratch.v.b47;
+        out457.clear();
+        charge_built(s.core, 47, int64_t(g456.size()));
+        out457.reserve(size_t(int32_t(g456.size())));
         {
-          const auto& x461_list = g459;
-          charge_loop(s.core, 49, int64_t(x461_list.size()));
-          for (const Pos& x461 : x461_list) {
+          const auto& x458_list = g456;
+          charge_loop(s.core, 47, int64_t(x458_list.size()));
+          for (const Pos& x458 : x458_list) {
             // inlined: function at programs/sheepdog.au:84
-            C2_Sheep o462 = C2_Sheep{false, x461};
-            out460.push_back(std::move(o462));
+            C2_Sheep o459 = C2_Sheep{false, x458};
+            out457.push_back(std::move(o459));
           }
         }
         if (!s.scratch.v.sv_sheep_10) {
           std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
           s.scratch.v.sv_sheep_10 = true;
         }
-        std::swap(s.g_sheep_7, out460);
+        std::swap(s.g_sheep_7, out457);
         s.u_sheep_8 = true;
         s.g_background_2 = int32_t(1);
       }
     }
     // NEXT of sheep, programs/sheepdog.au:34
     if ((!s.u_sheep_8 && s.scratch.v.sv_sheep_10)) {
-      const std::vector<C2_Sheep> prev463 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+      const std::vector<C2_Sheep> prev460 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
       if (!s.scratch.v.sv_sheep_10) {
         std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
         s.scratch.v.sv_sheep_10 = true;
       }
-      s.g_sheep_7 = prev463;
+      s.g_sheep_7 = prev460;
       s.u_sheep_8 = true;
     }
     // NEXT of flags, programs/sheepdog.au:31
     if ((!s.u_flags_12 && s.scratch.v.sv_flags_14)) {
-      const std::vector<C1_Flag> prev464 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
+      const std::vector<C1_Flag> prev461 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
       if (!s.scratch.v.sv_flags_14) {
         std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
         s.scratch.v.sv_flags_14 = true;
       }
-      s.g_flags_11 = prev464;
+      s.g_flags_11 = prev461;
       s.u_flags_12 = true;
     }
     // NEXT of dog, programs/sheepdog.au:37
     if ((!s.u_dog_16 && s.scratch.v.sv_dog_18)) {
-      const C3_Dog prev465 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+      const C3_Dog prev462 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
       if (!s.scratch.v.sv_dog_18) {
         std::swap(s.scratch.v.p_dog_17, s.g_dog_15);
         s.scratch.v.sv_dog_18 = true;
       }
-      s.g_dog_15 = prev465;
+      s.g_dog_15 = prev462;
       s.u_dog_16 = true;
     }
     // NEXT of fences, programs/sheepdog.au:28
     if ((!s.u_fences_20 && s.scratch.v.sv_fences_22)) {
-      const std::vector<C0_Fence> prev466 = (s.scratch.v.sv_fences_22 ? s.scratch.v.p_fences_21 : s.g_fences_19);
+      const std::vector<C0_Fence> prev463 = (s.scratch.v.sv_fences_22 ? s.scratch.v.p_fences_21 : s.g_fences_19);
       if (!s.scratch.v.sv_fences_22) {
         std::swap(s.scratch.v.p_fences_21, s.g_fences_19);
         s.scratch.v.sv_fences_22 = true;
       }
-      s.g_fences_19 = prev466;
+      s.g_fences_19 = prev463;
       s.u_fences_20 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_24) {
-      tally_rendered(s.core, 50, "cacheRendered");
-      const std::vector<C0_Fence>& g467 = s.g_fences_19;
-      tally_global(s.core, 5, "fences", g467);
-      const C3_Dog& g468 = s.g_dog_15;
-      tally_global(s.core, 6, "dog", g468);
-      const std::vector<C2_Sheep>& g469 = s.g_sheep_7;
-      tally_global(s.core, 7, "sheep", g469);
-      const std::vector<Pos>& g470 = s.g_gate_6;
-      tally_global(s.core, 8, "gate", g470);
-      const std::vector<Pos>& g471 = s.g_wanderSteps_5;
-      tally_global(s.core, 9, "wanderSteps", g471);
-      const std::vector<Pos>& g472 = s.g_sheepStarts_4;
-      tally_global(s.core, 10, "sheepStarts", g472);
+      tally_rendered(s.core, 48, "cacheRendered");
+      const std::vector<C0_Fence>& g464 = s.g_fences_19;
+      tally_global(s.core, 5, "fences", g464);
+      const C3_Dog& g465 = s.g_dog_15;
+      tally_global(s.core, 6, "dog", g465);
+      const std::vector<C2_Sheep>& g466 = s.g_sheep_7;
+      tally_global(s.core, 7, "sheep", g466);
+      const std::vector<Pos>& g467 = s.g_gate_6;
+      tally_global(s.core, 8, "gate", g467);
+      const std::vector<Pos>& g468 = s.g_wanderSteps_5;
+      tally_global(s.core, 9, "wanderSteps", g468);
+      const std::vector<Pos>& g469 = s.g_sheepStarts_4;
+      tally_global(s.core, 10, "sheepStarts", g469);
       if (s.d_click_24) {
-        const Pos& g473 = s.g_click_23;
-        tally_global(s.core, 50, "click", g473);
+        const Pos& g470 = s.g_click_23;
+        tally_global(s.core, 48, "click", g470);
       }
-      const std::vector<C1_Flag>& g474 = s.g_flags_11;
-      tally_global(s.core, 11, "flags", g474);
+      const std::vector<C1_Flag>& g471 = s.g_flags_11;
+      tally_global(s.core, 11, "flags", g471);
     } else {
-      tally_rendered(s.core, 50, "cacheRendered");
-      const std::vector<C0_Fence>& g475 = s.g_fences_19;
-      tally_global(s.core, 5, "fences", g475);
-      const C3_Dog& g476 = s.g_dog_15;
-      tally_global(s.core, 6, "dog", g476);
-      const std::vector<C2_Sheep>& g477 = s.g_sheep_7;
-      tally_global(s.core, 7, "sheep", g477);
-      const std::vector<Pos>& g478 = s.g_gate_6;
-      tally_global(s.core, 8, "gate", g478);
-      const std::vector<Pos>& g479 = s.g_wanderSteps_5;
-      tally_global(s.core, 9, "wanderSteps", g479);
-      const std::vector<Pos>& g480 = s.g_sheepStarts_4;
-      tally_global(s.core, 10, "sheepStarts", g480);
-      const std::vector<C1_Flag>& g481 = s.g_flags_11;
-      tally_global(s.core, 11, "flags", g481);
+      tally_rendered(s.core, 48, "cacheRendered");
+      const std::vector<C0_Fence>& g472 = s.g_fences_19;
+      tally_global(s.core, 5, "fences", g472);
+      const C3_Dog& g473 = s.g_dog_15;
+      tally_global(s.core, 6, "dog", g473);
+      const std::vector<C2_Sheep>& g474 = s.g_sheep_7;
+      tally_global(s.core, 7, "sheep", g474);
+      const std::vector<Pos>& g475 = s.g_gate_6;
+      tally_global(s.core, 8, "gate", g475);
+      const std::vector<Pos>& g476 = s.g_wanderSteps_5;
+      tally_global(s.core, 9, "wanderSteps", g476);
+      const std::vector<Pos>& g477 = s.g_sheepStarts_4;
+      tally_global(s.core, 10, "sheepStarts", g477);
+      const std::vector<C1_Flag>& g478 = s.g_flags_11;
+      tally_global(s.core, 11, "flags", g478);
     }
     s.core.clear_inputs();
   }
@@ -1918,7 +1894,7 @@ struct Prog {
     const std::vector<C0_Fence>& g1 = s.g_fences_19;
     {
       const auto& x2_list = g1;
-      charge_loop(s.core, 51, int64_t(x2_list.size()));
+      charge_loop(s.core, 49, int64_t(x2_list.size()));
       for (const C0_Fence& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
         s.core.occupied.add(e3.position);
@@ -1929,7 +1905,7 @@ struct Prog {
     const std::vector<C1_Flag>& g4 = s.g_flags_11;
     {
       const auto& x5_list = g4;
-      charge_loop(s.core, 51, int64_t(x5_list.size()));
+      charge_loop(s.core, 49, int64_t(x5_list.size()));
       for (const C1_Flag& x5 : x5_list) {
         const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
         s.core.occupied.add(e6.position);
@@ -1940,7 +1916,7 @@ struct Prog {
     const std::vector<C2_Sheep>& g7 = s.g_sheep_7;
     {
       const auto& x8_list = g7;
-      charge_loop(s.core, 51, int64_t(x8_list.size()));
+      charge_loop(s.core, 49, int64_t(x8_list.size()));
       for (const C2_Sheep& x8 : x8_list) {
         const int32_t colour9 = colour_0_C2_Sheep(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
@@ -2076,7 +2052,6 @@ const ErrorSite Prog::kErrors[] = {
     {149, 20, "<stdlib>", true, 66, 7, ""},
     {155, 13, "<stdlib>", true, 66, 7, ""},
     {75, 65, nullptr, true, 75, 65, ""},
-    {77, 21, nullptr, true, 77, 21, ""},
     {78, 40, nullptr, true, 78, 40, ""},
     {78, 53, nullptr, true, 78, 53, ""},
     {80, 21, nullptr, true, 80, 21, ""},
@@ -2088,7 +2063,6 @@ const ErrorSite Prog::kErrors[] = {
     {57, 58, nullptr, true, 57, 58, ""},
     {80, 41, nullptr, true, 80, 41, ""},
     {39, 31, nullptr, true, 39, 31, ""},
-    {83, 35, nullptr, true, 83, 35, ""},
     {84, 19, nullptr, true, 84, 19, ""},
     {0, 0, nullptr, false, 0, 0, ""},
     {0, 0, "<internal>", false, 0, 0, ""},

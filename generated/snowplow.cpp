@@ -152,44 +152,40 @@ struct Prog {
   };
 
   struct Scratch {
-    std::vector<Elem> b0;
-    std::vector<C0_Flake> b1;
-    std::vector<Elem> b2;
-    std::vector<C1_Melt> b3;
-    std::vector<Elem> b4;
-    std::vector<C2_Rock> b5;
+    std::vector<C0_Flake> b0;
+    std::vector<C1_Melt> b1;
+    std::vector<C2_Rock> b2;
+    std::vector<C2_Rock> b3;
+    std::vector<C0_Flake> b4;
+    std::vector<Elem> b5;
     std::vector<Elem> b6;
-    std::vector<C2_Rock> b7;
-    std::vector<C0_Flake> b8;
+    std::vector<Elem> b7;
+    std::vector<Elem> b8;
     std::vector<Elem> b9;
     std::vector<Elem> b10;
     std::vector<Elem> b11;
-    std::vector<Elem> b12;
+    std::vector<C1_Melt> b12;
     std::vector<Elem> b13;
-    std::vector<Elem> b14;
-    std::vector<Elem> b15;
-    std::vector<C1_Melt> b16;
-    std::vector<Elem> b17;
-    std::vector<Pos> b18;
-    std::vector<Pos> b19;
+    std::vector<Pos> b14;
+    std::vector<Pos> b15;
+    std::vector<Pos> b16;
+    std::vector<int32_t> b17;
+    std::vector<std::vector<Pos>> b18;
+    std::vector<int32_t> b19;
     std::vector<Pos> b20;
-    std::vector<int32_t> b21;
-    std::vector<std::vector<Pos>> b22;
-    std::vector<int32_t> b23;
-    std::vector<Pos> b24;
-    std::vector<Pos> b25;
-    std::vector<Pos> b26;
-    std::vector<Elem> b27;
-    std::vector<C1_Melt> b28;
+    std::vector<Pos> b21;
+    std::vector<Pos> b22;
+    std::vector<Elem> b23;
+    std::vector<C1_Melt> b24;
+    std::vector<Elem> b25;
+    std::vector<Elem> b26;
+    std::vector<C0_Flake> b27;
+    std::vector<Elem> b28;
     std::vector<Elem> b29;
-    std::vector<Elem> b30;
-    std::vector<C0_Flake> b31;
-    std::vector<Elem> b32;
-    std::vector<Elem> b33;
-    std::vector<Pos> b34;
-    std::vector<Elem> b35;
-    std::vector<C0_Flake> b36;
-    std::vector<C0_Flake> b37;
+    std::vector<Pos> b30;
+    std::vector<Elem> b31;
+    std::vector<C0_Flake> b32;
+    std::vector<C0_Flake> b33;
     C3_Plow p_plow_7{};
     bool sv_plow_8{};
     std::vector<C0_Flake> p_snow_11{};
@@ -520,58 +516,41 @@ struct Prog {
         s.d_click_30 = true;
         const Pos t3 = Pos{s.core.click_x, s.core.click_y};
         s.g_click_29 = t3;
-        std::vector<Elem>& rendered4 = s.scratch.v.b0;
-        rendered4.clear();
         {
-          const auto& x5_list = prev1;
-          charge_loop(s.core, 5, int64_t(x5_list.size()));
-          for (const C0_Flake& x5 : x5_list) {
-            rendered4.push_back(Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(6)});
-          }
-        }
-        {
-          const auto& e6_list = rendered4;
-          charge_loop(s.core, 5, int64_t(e6_list.size()));
-          for (const Elem& e6 : e6_list) {
-            if ((e6.position == Pos{s.core.click_x, s.core.click_y})) {
+          const auto& x4_list = prev1;
+          charge_loop(s.core, 5, int64_t(x4_list.size()));
+          for (const C0_Flake& x4 : x4_list) {
+            const Elem e5 = Elem{Pos{add(x4.origin.x, int32_t(0)), add(x4.origin.y, int32_t(0))}, int32_t(6)};
+            if ((e5.position == Pos{s.core.click_x, s.core.click_y})) {
               clicked2 = true;
-              break;
             }
           }
         }
       }
       if (clicked2) {
         s.core.covered[int32_t(0)] = 1;
-        const std::vector<C0_Flake>& prev7 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
-        std::vector<C0_Flake>& out8 = s.scratch.v.b1;
-        out8.clear();
+        const std::vector<C0_Flake>& prev6 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
+        std::vector<C0_Flake>& out7 = s.scratch.v.b0;
+        out7.clear();
         {
-          const auto& x9_list = prev7;
-          charge_loop(s.core, 6, int64_t(x9_list.size()));
-          for (const C0_Flake& x9 : x9_list) {
+          const auto& x8_list = prev6;
+          charge_loop(s.core, 6, int64_t(x8_list.size()));
+          for (const C0_Flake& x8 : x8_list) {
             // inlined: function at programs/snowplow.au:47
-            bool clicked10 = false;
+            bool clicked9 = false;
             if (s.core.click) {
               s.d_click_30 = true;
-              const Pos t11 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_29 = t11;
-              std::vector<Elem>& rendered12 = s.scratch.v.b2;
-              rendered12.clear();
-              rendered12.push_back(Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(6)});
-              {
-                const auto& e13_list = rendered12;
-                for (const Elem& e13 : e13_list) {
-                  if ((e13.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked10 = true;
-                    break;
-                  }
-                }
+              const Pos t10 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_29 = t10;
+              const Elem e11 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, int32_t(6)};
+              if ((e11.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked9 = true;
               }
             }
-            const bool t14 = !clicked10;
-            if (t14) {
+            const bool t12 = !clicked9;
+            if (t12) {
               charge_built(s.core, 6, int64_t(int32_t(1)));
-              out8.push_back(x9);
+              out7.push_back(x8);
             }
           }
         }
@@ -579,9 +558,16 @@ struct Prog {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
-        std::swap(s.g_snow_9, out8);
+        std::swap(s.g_snow_9, out7);
         s.u_snow_10 = true;
-        const std::vector<C1_Melt>& prev15 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
+        const std::vector<C1_Melt>& prev13 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
+        Pos r14{};
+        if (s.d_click_30) {
+          const Pos& g15 = s.g_click_29;
+          r14 = g15;
+        } else {
+          fail_at(7, std::string() + std::string("undefined variable 'click'"));
+        }
         Pos r16{};
         if (s.d_click_30) {
           const Pos& g17 = s.g_click_29;
@@ -589,96 +575,66 @@ struct Prog {
         } else {
           fail_at(8, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r18{};
-        if (s.d_click_30) {
-          const Pos& g19 = s.g_click_29;
-          r18 = g19;
-        } else {
-          fail_at(9, std::string() + std::string("undefined variable 'click'"));
-        }
-        const Pos t20 = Pos{r16.x, r18.y};
-        C1_Melt o21 = C1_Melt{int32_t(10), t20};
-        check_length(s.core, 10, int64_t(prev15.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 10, int64_t(prev15.size()) + int64_t(int32_t(1)));
-        std::vector<C1_Melt>& added22 = s.scratch.v.b3;
-        added22.clear();
-        added22.reserve(size_t(add(int32_t(prev15.size()), int32_t(1))));
-        {
-          const auto& x23_list = prev15;
-          charge_loop(s.core, 10, int64_t(x23_list.size()));
-          for (const C1_Melt& x23 : x23_list) {
-            added22.push_back(x23);
-          }
-        }
-        added22.push_back(std::move(o21));
+        const Pos t18 = Pos{r14.x, r16.y};
+        C1_Melt o19 = C1_Melt{int32_t(10), t18};
+        check_length(s.core, 9, int64_t(prev13.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 9, int64_t(prev13.size()) + int64_t(int32_t(1)));
+        std::vector<C1_Melt>& added20 = s.scratch.v.b1;
+        added20.clear();
+        added20.reserve(size_t(add(int32_t(prev13.size()), int32_t(1))));
+        added20.insert(added20.end(), prev13.begin(), prev13.end());
+        added20.push_back(std::move(o19));
         if (!s.scratch.v.sv_melt_16) {
           std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
           s.scratch.v.sv_melt_16 = true;
         }
-        std::swap(s.g_melt_13, added22);
+        std::swap(s.g_melt_13, added20);
         s.u_melt_14 = true;
       }
     }
     // on-clause 2, programs/snowplow.au:51
     {
-      const std::vector<C2_Rock>& prev24 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
-      bool clicked25 = false;
+      const std::vector<C2_Rock>& prev21 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
+      bool clicked22 = false;
       if (s.core.click) {
         s.d_click_30 = true;
-        const Pos t26 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_29 = t26;
-        std::vector<Elem>& rendered27 = s.scratch.v.b4;
-        rendered27.clear();
+        const Pos t23 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_29 = t23;
         {
-          const auto& x28_list = prev24;
-          charge_loop(s.core, 11, int64_t(x28_list.size()));
-          for (const C2_Rock& x28 : x28_list) {
-            rendered27.push_back(Elem{Pos{add(x28.origin.x, int32_t(0)), add(x28.origin.y, int32_t(0))}, int32_t(3)});
-          }
-        }
-        {
-          const auto& e29_list = rendered27;
-          charge_loop(s.core, 11, int64_t(e29_list.size()));
-          for (const Elem& e29 : e29_list) {
-            if ((e29.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked25 = true;
-              break;
+          const auto& x24_list = prev21;
+          charge_loop(s.core, 10, int64_t(x24_list.size()));
+          for (const C2_Rock& x24 : x24_list) {
+            const Elem e25 = Elem{Pos{add(x24.origin.x, int32_t(0)), add(x24.origin.y, int32_t(0))}, int32_t(3)};
+            if ((e25.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked22 = true;
             }
           }
         }
       }
-      if (clicked25) {
+      if (clicked22) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C2_Rock>& prev30 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
-        std::vector<C2_Rock>& out31 = s.scratch.v.b5;
-        out31.clear();
+        const std::vector<C2_Rock>& prev26 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
+        std::vector<C2_Rock>& out27 = s.scratch.v.b2;
+        out27.clear();
         {
-          const auto& x32_list = prev30;
-          charge_loop(s.core, 12, int64_t(x32_list.size()));
-          for (const C2_Rock& x32 : x32_list) {
+          const auto& x28_list = prev26;
+          charge_loop(s.core, 11, int64_t(x28_list.size()));
+          for (const C2_Rock& x28 : x28_list) {
             // inlined: function at programs/snowplow.au:51
-            bool clicked33 = false;
+            bool clicked29 = false;
             if (s.core.click) {
               s.d_click_30 = true;
-              const Pos t34 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_29 = t34;
-              std::vector<Elem>& rendered35 = s.scratch.v.b6;
-              rendered35.clear();
-              rendered35.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(3)});
-              {
-                const auto& e36_list = rendered35;
-                for (const Elem& e36 : e36_list) {
-                  if ((e36.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked33 = true;
-                    break;
-                  }
-                }
+              const Pos t30 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_29 = t30;
+              const Elem e31 = Elem{Pos{add(x28.origin.x, int32_t(0)), add(x28.origin.y, int32_t(0))}, int32_t(3)};
+              if ((e31.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked29 = true;
               }
             }
-            const bool t37 = !clicked33;
-            if (t37) {
-              charge_built(s.core, 12, int64_t(int32_t(1)));
-              out31.push_back(x32);
+            const bool t32 = !clicked29;
+            if (t32) {
+              charge_built(s.core, 11, int64_t(int32_t(1)));
+              out27.push_back(x28);
             }
           }
         }
@@ -686,79 +642,73 @@ struct Prog {
           std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
           s.scratch.v.sv_rocks_20 = true;
         }
-        std::swap(s.g_rocks_17, out31);
+        std::swap(s.g_rocks_17, out27);
         s.u_rocks_18 = true;
       }
     }
     // on-clause 3, programs/snowplow.au:53
     {
-      bool clicked38 = false;
+      bool clicked33 = false;
       if (s.core.click) {
         s.d_click_30 = true;
-        const Pos t39 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_29 = t39;
-        clicked38 = true;
+        const Pos t34 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_29 = t34;
+        clicked33 = true;
       }
-      bool r40{};
-      if (clicked38) {
-        Pos r41{};
+      bool r35{};
+      if (clicked33) {
+        Pos r36{};
         if (s.d_click_30) {
-          const Pos& g42 = s.g_click_29;
-          r41 = g42;
+          const Pos& g37 = s.g_click_29;
+          r36 = g37;
+        } else {
+          fail_at(12, std::string() + std::string("undefined variable 'click'"));
+        }
+        const bool t38 = s.core.occupied.free(r36);
+        bool r39{};
+        if (t38) {
+          const std::vector<C2_Rock>& g40 = s.g_rocks_17;
+          const int32_t t41 = int32_t(g40.size());
+          const bool t42 = (t41 < int32_t(12));
+          r39 = t42;
+        } else {
+          r39 = false;
+        }
+        r35 = r39;
+      } else {
+        r35 = false;
+      }
+      if (r35) {
+        s.core.covered[int32_t(2)] = 1;
+        const std::vector<C2_Rock>& g43 = s.g_rocks_17;
+        Pos r44{};
+        if (s.d_click_30) {
+          const Pos& g45 = s.g_click_29;
+          r44 = g45;
+        } else {
+          fail_at(13, std::string() + std::string("undefined variable 'click'"));
+        }
+        Pos r46{};
+        if (s.d_click_30) {
+          const Pos& g47 = s.g_click_29;
+          r46 = g47;
         } else {
           fail_at(14, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t43 = s.core.occupied.free(r41);
-        bool r44{};
-        if (t43) {
-          const std::vector<C2_Rock>& g45 = s.g_rocks_17;
-          const int32_t t46 = int32_t(g45.size());
-          const bool t47 = (t46 < int32_t(12));
-          r44 = t47;
-        } else {
-          r44 = false;
-        }
-        r40 = r44;
-      } else {
-        r40 = false;
-      }
-      if (r40) {
-        s.core.covered[int32_t(2)] = 1;
-        const std::vector<C2_Rock>& g48 = s.g_rocks_17;
-        Pos r49{};
-        if (s.d_click_30) {
-          const Pos& g50 = s.g_click_29;
-          r49 = g50;
-        } else {
-          fail_at(15, std::string() + std::string("undefined variable 'click'"));
-        }
-        Pos r51{};
-        if (s.d_click_30) {
-          const Pos& g52 = s.g_click_29;
-          r51 = g52;
-        } else {
-          fail_at(16, std::string() + std::string("undefined variable 'click'"));
-        }
-        const Pos t53 = Pos{r49.x, r51.y};
-        C2_Rock o54 = C2_Rock{t53};
-        check_length(s.core, 17, int64_t(g48.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 17, int64_t(g48.size()) + int64_t(int32_t(1)));
-        std::vector<C2_Rock>& added55 = s.scratch.v.b7;
-        added55.clear();
-        added55.reserve(size_t(add(int32_t(g48.size()), int32_t(1))));
-        {
-          const auto& x56_list = g48;
-          charge_loop(s.core, 17, int64_t(x56_list.size()));
-          for (const C2_Rock& x56 : x56_list) {
-            added55.push_back(x56);
-          }
-        }
-        added55.push_back(std::move(o54));
+        const Pos t48 = Pos{r44.x, r46.y};
+        C2_Rock o49 = C2_Rock{t48};
+        check_length(s.core, 15, int64_t(g43.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 15, int64_t(g43.size()) + int64_t(int32_t(1)));
+        std::vector<C2_Rock>& added50 = s.scratch.v.b3;
+        added50.clear();
+        added50.reserve(size_t(add(int32_t(g43.size()), int32_t(1))));
+        added50.insert(added50.end(), g43.begin(), g43.end());
+        added50.push_back(std::move(o49));
         if (!s.scratch.v.sv_rocks_20) {
           std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
           s.scratch.v.sv_rocks_20 = true;
         }
-        std::swap(s.g_rocks_17, added55);
+        std::swap(s.g_rocks_17, added50);
         s.u_rocks_18 = true;
       }
     }
@@ -766,117 +716,117 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C0_Flake>& g57 = s.g_snow_9;
-        std::vector<C0_Flake>& out58 = s.scratch.v.b8;
-        out58.clear();
-        charge_built(s.core, 18, int64_t(g57.size()));
-        out58.reserve(size_t(int32_t(g57.size())));
+        const std::vector<C0_Flake>& g51 = s.g_snow_9;
+        std::vector<C0_Flake>& out52 = s.scratch.v.b4;
+        out52.clear();
+        charge_built(s.core, 16, int64_t(g51.size()));
+        out52.reserve(size_t(int32_t(g51.size())));
         {
-          const auto& x59_list = g57;
-          charge_loop(s.core, 18, int64_t(x59_list.size()));
-          for (const C0_Flake& x59 : x59_list) {
-            const int32_t t60 = add(x59.origin.x, int32_t(0));
-            const int32_t t61 = add(x59.origin.y, int32_t(1));
-            const Pos t62 = Pos{t60, t61};
-            C0_Flake upd63 = x59;
-            upd63.origin = t62;
-            std::vector<Elem>& rendered64 = s.scratch.v.b9;
-            rendered64.clear();
-            rendered64.push_back(Elem{Pos{add(upd63.origin.x, int32_t(0)), add(upd63.origin.y, int32_t(0))}, int32_t(6)});
-            bool within65 = true;
+          const auto& x53_list = g51;
+          charge_loop(s.core, 16, int64_t(x53_list.size()));
+          for (const C0_Flake& x53 : x53_list) {
+            const int32_t t54 = add(x53.origin.x, int32_t(0));
+            const int32_t t55 = add(x53.origin.y, int32_t(1));
+            const Pos t56 = Pos{t54, t55};
+            C0_Flake upd57 = x53;
+            upd57.origin = t56;
+            std::vector<Elem>& rendered58 = s.scratch.v.b5;
+            rendered58.clear();
+            rendered58.push_back(Elem{Pos{add(upd57.origin.x, int32_t(0)), add(upd57.origin.y, int32_t(0))}, int32_t(6)});
+            bool within59 = true;
             {
-              const auto& e66_list = rendered64;
-              for (const Elem& e66 : e66_list) {
-                if ((((e66.position.x < int32_t(0)) || (e66.position.x >= int32_t(16))) || ((e66.position.y < int32_t(0)) || (e66.position.y >= int32_t(16))))) {
-                  within65 = false;
+              const auto& e60_list = rendered58;
+              for (const Elem& e60 : e60_list) {
+                if ((((e60.position.x < int32_t(0)) || (e60.position.x >= int32_t(16))) || ((e60.position.y < int32_t(0)) || (e60.position.y >= int32_t(16))))) {
+                  within59 = false;
                   break;
                 }
               }
             }
-            bool r67{};
-            if (within65) {
-              const int32_t t68 = add(x59.origin.x, int32_t(0));
-              const int32_t t69 = add(x59.origin.y, int32_t(1));
-              const Pos t70 = Pos{t68, t69};
-              C0_Flake upd71 = x59;
-              upd71.origin = t70;
-              std::vector<Elem>& l_prev_elems72 = s.scratch.v.b10;
-              l_prev_elems72.clear();
-              std::vector<Elem>& l_curr_elems73 = s.scratch.v.b11;
-              l_curr_elems73.clear();
-              std::vector<Elem>& l_filtered_elems74 = s.scratch.v.b12;
-              l_filtered_elems74.clear();
-              std::vector<Elem>& rendered75 = s.scratch.v.b13;
-              rendered75.clear();
-              rendered75.push_back(Elem{Pos{add(x59.origin.x, int32_t(0)), add(x59.origin.y, int32_t(0))}, int32_t(6)});
-              std::swap(l_prev_elems72, rendered75);
-              std::vector<Elem>& rendered76 = s.scratch.v.b14;
-              rendered76.clear();
-              rendered76.push_back(Elem{Pos{add(upd71.origin.x, int32_t(0)), add(upd71.origin.y, int32_t(0))}, int32_t(6)});
-              std::swap(l_curr_elems73, rendered76);
-              std::vector<Elem>& out77 = s.scratch.v.b15;
-              out77.clear();
+            bool r61{};
+            if (within59) {
+              const int32_t t62 = add(x53.origin.x, int32_t(0));
+              const int32_t t63 = add(x53.origin.y, int32_t(1));
+              const Pos t64 = Pos{t62, t63};
+              C0_Flake upd65 = x53;
+              upd65.origin = t64;
+              std::vector<Elem>& l_prev_elems66 = s.scratch.v.b6;
+              l_prev_elems66.clear();
+              std::vector<Elem>& l_curr_elems67 = s.scratch.v.b7;
+              l_curr_elems67.clear();
+              std::vector<Elem>& l_filtered_elems68 = s.scratch.v.b8;
+              l_filtered_elems68.clear();
+              std::vector<Elem>& rendered69 = s.scratch.v.b9;
+              rendered69.clear();
+              rendered69.push_back(Elem{Pos{add(x53.origin.x, int32_t(0)), add(x53.origin.y, int32_t(0))}, int32_t(6)});
+              std::swap(l_prev_elems66, rendered69);
+              std::vector<Elem>& rendered70 = s.scratch.v.b10;
+              rendered70.clear();
+              rendered70.push_back(Elem{Pos{add(upd65.origin.x, int32_t(0)), add(upd65.origin.y, int32_t(0))}, int32_t(6)});
+              std::swap(l_curr_elems67, rendered70);
+              std::vector<Elem>& out71 = s.scratch.v.b11;
+              out71.clear();
               {
-                const auto& x78_list = l_curr_elems73;
-                charge_loop(s.core, 20, int64_t(x78_list.size()));
-                for (const Elem& x78 : x78_list) {
-                  bool any79 = false;
+                const auto& x72_list = l_curr_elems67;
+                charge_loop(s.core, 18, int64_t(x72_list.size()));
+                for (const Elem& x72 : x72_list) {
+                  bool any73 = false;
                   {
-                    const auto& x80_list = l_prev_elems72;
-                    charge_loop(s.core, 21, int64_t(x80_list.size()));
-                    for (const Elem& x80 : x80_list) {
-                      const bool t81 = (x80 == x78);
-                      if (t81) {
-                        any79 = true;
+                    const auto& x74_list = l_prev_elems66;
+                    charge_loop(s.core, 19, int64_t(x74_list.size()));
+                    for (const Elem& x74 : x74_list) {
+                      const bool t75 = (x74 == x72);
+                      if (t75) {
+                        any73 = true;
                         break;
                       }
                     }
                   }
-                  const bool t82 = !any79;
-                  if (t82) {
-                    charge_built(s.core, 20, int64_t(int32_t(1)));
-                    out77.push_back(x78);
+                  const bool t76 = !any73;
+                  if (t76) {
+                    charge_built(s.core, 18, int64_t(int32_t(1)));
+                    out71.push_back(x72);
                   }
                 }
               }
-              std::swap(l_filtered_elems74, out77);
-              bool any83 = false;
+              std::swap(l_filtered_elems68, out71);
+              bool any77 = false;
               {
-                const auto& x84_list = l_filtered_elems74;
-                charge_loop(s.core, 22, int64_t(x84_list.size()));
-                for (const Elem& x84 : x84_list) {
-                  const bool t85 = s.core.occupied.free(x84.position);
-                  const bool t86 = !t85;
-                  if (t86) {
-                    any83 = true;
+                const auto& x78_list = l_filtered_elems68;
+                charge_loop(s.core, 20, int64_t(x78_list.size()));
+                for (const Elem& x78 : x78_list) {
+                  const bool t79 = s.core.occupied.free(x78.position);
+                  const bool t80 = !t79;
+                  if (t80) {
+                    any77 = true;
                     break;
                   }
                 }
               }
-              const bool t87 = !any83;
-              r67 = t87;
+              const bool t81 = !any77;
+              r61 = t81;
             } else {
-              r67 = false;
+              r61 = false;
             }
-            C0_Flake r88{};
-            if (r67) {
-              const int32_t t89 = add(x59.origin.x, int32_t(0));
-              const int32_t t90 = add(x59.origin.y, int32_t(1));
-              const Pos t91 = Pos{t89, t90};
-              C0_Flake upd92 = x59;
-              upd92.origin = t91;
-              r88 = std::move(upd92);
+            C0_Flake r82{};
+            if (r61) {
+              const int32_t t83 = add(x53.origin.x, int32_t(0));
+              const int32_t t84 = add(x53.origin.y, int32_t(1));
+              const Pos t85 = Pos{t83, t84};
+              C0_Flake upd86 = x53;
+              upd86.origin = t85;
+              r82 = std::move(upd86);
             } else {
-              r88 = x59;
+              r82 = x53;
             }
-            out58.push_back(std::move(r88));
+            out52.push_back(std::move(r82));
           }
         }
         if (!s.scratch.v.sv_snow_12) {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
-        std::swap(s.g_snow_9, out58);
+        std::swap(s.g_snow_9, out52);
         s.u_snow_10 = true;
       }
     }
@@ -884,360 +834,360 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C1_Melt>& g93 = s.g_melt_13;
+        const std::vector<C1_Melt>& g87 = s.g_melt_13;
         // inlined: function at programs/snowplow.au:41
-        std::vector<C1_Melt>& out94 = s.scratch.v.b16;
-        out94.clear();
-        charge_built(s.core, 23, int64_t(g93.size()));
-        out94.reserve(size_t(int32_t(g93.size())));
+        std::vector<C1_Melt>& out88 = s.scratch.v.b12;
+        out88.clear();
+        charge_built(s.core, 21, int64_t(g87.size()));
+        out88.reserve(size_t(int32_t(g87.size())));
         {
-          const auto& x95_list = g93;
-          charge_loop(s.core, 23, int64_t(x95_list.size()));
-          for (const C1_Melt& x95 : x95_list) {
+          const auto& x89_list = g87;
+          charge_loop(s.core, 21, int64_t(x89_list.size()));
+          for (const C1_Melt& x89 : x89_list) {
             // inlined: function at programs/snowplow.au:43
-            const bool t96 = (x95.origin.y == int32_t(15));
-            const bool t97 = !t96;
-            bool r98{};
-            if (t97) {
-              const int32_t t99 = add(x95.origin.x, int32_t(0));
-              const int32_t t100 = add(x95.origin.y, int32_t(1));
-              const Pos t101 = Pos{t99, t100};
-              C1_Melt upd102 = x95;
-              upd102.origin = t101;
-              std::vector<Elem>& rendered103 = s.scratch.v.b17;
-              rendered103.clear();
-              const int32_t colour104 = colour_19_C1_Melt(s, upd102);
-              rendered103.push_back(Elem{Pos{add(upd102.origin.x, int32_t(0)), add(upd102.origin.y, int32_t(0))}, colour104});
-              bool any105 = false;
+            const bool t90 = (x89.origin.y == int32_t(15));
+            const bool t91 = !t90;
+            bool r92{};
+            if (t91) {
+              const int32_t t93 = add(x89.origin.x, int32_t(0));
+              const int32_t t94 = add(x89.origin.y, int32_t(1));
+              const Pos t95 = Pos{t93, t94};
+              C1_Melt upd96 = x89;
+              upd96.origin = t95;
+              std::vector<Elem>& rendered97 = s.scratch.v.b13;
+              rendered97.clear();
+              const int32_t colour98 = colour_19_C1_Melt(s, upd96);
+              rendered97.push_back(Elem{Pos{add(upd96.origin.x, int32_t(0)), add(upd96.origin.y, int32_t(0))}, colour98});
+              bool any99 = false;
               {
-                const auto& x106_list = rendered103;
-                for (const Elem& x106 : x106_list) {
-                  const bool t107 = s.core.occupied.free(x106.position);
-                  const bool t108 = !t107;
-                  if (t108) {
-                    any105 = true;
+                const auto& x100_list = rendered97;
+                for (const Elem& x100 : x100_list) {
+                  const bool t101 = s.core.occupied.free(x100.position);
+                  const bool t102 = !t101;
+                  if (t102) {
+                    any99 = true;
                     break;
                   }
                 }
               }
-              const bool t109 = !any105;
-              r98 = t109;
+              const bool t103 = !any99;
+              r92 = t103;
             } else {
-              r98 = false;
+              r92 = false;
             }
-            C1_Melt r110{};
-            if (r98) {
-              const int32_t t111 = add(x95.origin.x, int32_t(0));
-              const int32_t t112 = add(x95.origin.y, int32_t(1));
-              const Pos t113 = Pos{t111, t112};
-              C1_Melt upd114 = x95;
-              upd114.origin = t113;
-              r110 = std::move(upd114);
+            C1_Melt r104{};
+            if (r92) {
+              const int32_t t105 = add(x89.origin.x, int32_t(0));
+              const int32_t t106 = add(x89.origin.y, int32_t(1));
+              const Pos t107 = Pos{t105, t106};
+              C1_Melt upd108 = x89;
+              upd108.origin = t107;
+              r104 = std::move(upd108);
             } else {
-              std::vector<Pos>& l_nextRowPos115 = s.scratch.v.b18;
-              l_nextRowPos115.clear();
-              std::vector<Pos>& l_holes116 = s.scratch.v.b19;
-              l_holes116.clear();
-              const int32_t t117 = add(x95.origin.y, int32_t(1));
-              const Pos t118 = Pos{int32_t(0), t117};
-              const int32_t t119 = add(x95.origin.y, int32_t(2));
-              const Pos t120 = Pos{int32_t(16), t119};
-              int32_t l_xmin121{};
-              int32_t l_xmax122{};
-              int32_t l_ymin123{};
-              int32_t l_ymax124{};
-              std::vector<Pos>& l_rectPos125 = s.scratch.v.b20;
-              l_rectPos125.clear();
-              l_xmin121 = t118.x;
-              l_xmax122 = t120.x;
-              l_ymin123 = t118.y;
-              l_ymax124 = t120.y;
-              check_length(s.core, 25, int64_t(l_ymax124) - int64_t(l_ymin123));
-              charge_built(s.core, 25, int64_t(l_ymax124) - int64_t(l_ymin123));
-              std::vector<int32_t>& range126 = s.scratch.v.b21;
-              range126.clear();
+              std::vector<Pos>& l_nextRowPos109 = s.scratch.v.b14;
+              l_nextRowPos109.clear();
+              std::vector<Pos>& l_holes110 = s.scratch.v.b15;
+              l_holes110.clear();
+              const int32_t t111 = add(x89.origin.y, int32_t(1));
+              const Pos t112 = Pos{int32_t(0), t111};
+              const int32_t t113 = add(x89.origin.y, int32_t(2));
+              const Pos t114 = Pos{int32_t(16), t113};
+              int32_t l_xmin115{};
+              int32_t l_xmax116{};
+              int32_t l_ymin117{};
+              int32_t l_ymax118{};
+              std::vector<Pos>& l_rectPos119 = s.scratch.v.b16;
+              l_rectPos119.clear();
+              l_xmin115 = t112.x;
+              l_xmax116 = t114.x;
+              l_ymin117 = t112.y;
+              l_ymax118 = t114.y;
+              check_length(s.core, 23, int64_t(l_ymax118) - int64_t(l_ymin117));
+              charge_built(s.core, 23, int64_t(l_ymax118) - int64_t(l_ymin117));
+              std::vector<int32_t>& range120 = s.scratch.v.b17;
+              range120.clear();
               {
-                const int32_t i127_first = l_ymin123, i127_end = l_ymax124;
-                charge_loop(s.core, 25, int64_t(i127_end) - i127_first);
-                for (int32_t i127 = i127_first; i127 < i127_end; ++i127) {
-                  range126.push_back(i127);
+                const int32_t i121_first = l_ymin117, i121_end = l_ymax118;
+                charge_loop(s.core, 23, int64_t(i121_end) - i121_first);
+                for (int32_t i121 = i121_first; i121 < i121_end; ++i121) {
+                  range120.push_back(i121);
                 }
               }
-              std::vector<std::vector<Pos>>& out128 = s.scratch.v.b22;
-              out128.clear();
-              charge_built(s.core, 26, int64_t(range126.size()));
-              out128.reserve(size_t(int32_t(range126.size())));
+              std::vector<std::vector<Pos>>& out122 = s.scratch.v.b18;
+              out122.clear();
+              charge_built(s.core, 24, int64_t(range120.size()));
+              out122.reserve(size_t(int32_t(range120.size())));
               {
-                const auto& x129_list = range126;
-                charge_loop(s.core, 26, int64_t(x129_list.size()));
-                for (const int32_t& x129 : x129_list) {
-                  check_length(s.core, 27, int64_t(l_xmax122) - int64_t(l_xmin121));
-                  charge_built(s.core, 27, int64_t(l_xmax122) - int64_t(l_xmin121));
-                  std::vector<int32_t>& range130 = s.scratch.v.b23;
-                  range130.clear();
+                const auto& x123_list = range120;
+                charge_loop(s.core, 24, int64_t(x123_list.size()));
+                for (const int32_t& x123 : x123_list) {
+                  check_length(s.core, 25, int64_t(l_xmax116) - int64_t(l_xmin115));
+                  charge_built(s.core, 25, int64_t(l_xmax116) - int64_t(l_xmin115));
+                  std::vector<int32_t>& range124 = s.scratch.v.b19;
+                  range124.clear();
                   {
-                    const int32_t i131_first = l_xmin121, i131_end = l_xmax122;
-                    charge_loop(s.core, 27, int64_t(i131_end) - i131_first);
-                    for (int32_t i131 = i131_first; i131 < i131_end; ++i131) {
-                      range130.push_back(i131);
+                    const int32_t i125_first = l_xmin115, i125_end = l_xmax116;
+                    charge_loop(s.core, 25, int64_t(i125_end) - i125_first);
+                    for (int32_t i125 = i125_first; i125 < i125_end; ++i125) {
+                      range124.push_back(i125);
                     }
                   }
-                  std::vector<Pos> out132{};
-                  charge_built(s.core, 28, int64_t(range130.size()));
-                  out132.reserve(size_t(int32_t(range130.size())));
+                  std::vector<Pos> out126{};
+                  charge_built(s.core, 26, int64_t(range124.size()));
+                  out126.reserve(size_t(int32_t(range124.size())));
                   {
-                    const auto& x133_list = range130;
-                    charge_loop(s.core, 28, int64_t(x133_list.size()));
-                    for (const int32_t& x133 : x133_list) {
-                      const Pos t134 = Pos{x133, x129};
-                      out132.push_back(t134);
+                    const auto& x127_list = range124;
+                    charge_loop(s.core, 26, int64_t(x127_list.size()));
+                    for (const int32_t& x127 : x127_list) {
+                      const Pos t128 = Pos{x127, x123};
+                      out126.push_back(t128);
                     }
                   }
-                  out128.push_back(std::move(out132));
+                  out122.push_back(std::move(out126));
                 }
               }
-              check_length(s.core, 29, total_size(out128));
-              charge_built(s.core, 29, total_size(out128));
-              std::vector<Pos>& cat135 = s.scratch.v.b24;
-              cat135.clear();
+              check_length(s.core, 27, total_size(out122));
+              charge_built(s.core, 27, total_size(out122));
+              std::vector<Pos>& cat129 = s.scratch.v.b20;
+              cat129.clear();
               {
-                const auto& part136_list = out128;
-                charge_loop(s.core, 29, int64_t(part136_list.size()));
-                for (const std::vector<Pos>& part136 : part136_list) {
-                  cat135.insert(cat135.end(), part136.begin(), part136.end());
+                const auto& part130_list = out122;
+                charge_loop(s.core, 27, int64_t(part130_list.size()));
+                for (const std::vector<Pos>& part130 : part130_list) {
+                  cat129.insert(cat129.end(), part130.begin(), part130.end());
                 }
               }
-              std::swap(l_rectPos125, cat135);
-              std::swap(l_nextRowPos115, l_rectPos125);
-              std::vector<Pos>& out137 = s.scratch.v.b25;
-              out137.clear();
+              std::swap(l_rectPos119, cat129);
+              std::swap(l_nextRowPos109, l_rectPos119);
+              std::vector<Pos>& out131 = s.scratch.v.b21;
+              out131.clear();
               {
-                const auto& x138_list = l_nextRowPos115;
-                charge_loop(s.core, 30, int64_t(x138_list.size()));
-                for (const Pos& x138 : x138_list) {
-                  const bool t139 = (x138.y == int32_t(16));
-                  const bool t140 = !t139;
-                  if (t140) {
-                    charge_built(s.core, 30, int64_t(int32_t(1)));
-                    out137.push_back(x138);
+                const auto& x132_list = l_nextRowPos109;
+                charge_loop(s.core, 28, int64_t(x132_list.size()));
+                for (const Pos& x132 : x132_list) {
+                  const bool t133 = (x132.y == int32_t(16));
+                  const bool t134 = !t133;
+                  if (t134) {
+                    charge_built(s.core, 28, int64_t(int32_t(1)));
+                    out131.push_back(x132);
                   }
                 }
               }
-              std::swap(l_nextRowPos115, out137);
-              std::vector<Pos>& out141 = s.scratch.v.b26;
-              out141.clear();
+              std::swap(l_nextRowPos109, out131);
+              std::vector<Pos>& out135 = s.scratch.v.b22;
+              out135.clear();
               {
-                const auto& x142_list = l_nextRowPos115;
-                charge_loop(s.core, 31, int64_t(x142_list.size()));
-                for (const Pos& x142 : x142_list) {
-                  const bool t143 = s.core.occupied.free(x142);
-                  bool r144{};
-                  if (t143) {
-                    const int32_t t145 = add(x142.x, int32_t(0));
-                    const int32_t t146 = add(x142.y, int32_t(-1));
-                    const Pos t147 = Pos{t145, t146};
-                    const bool t148 = s.core.occupied.free(t147);
-                    r144 = t148;
+                const auto& x136_list = l_nextRowPos109;
+                charge_loop(s.core, 29, int64_t(x136_list.size()));
+                for (const Pos& x136 : x136_list) {
+                  const bool t137 = s.core.occupied.free(x136);
+                  bool r138{};
+                  if (t137) {
+                    const int32_t t139 = add(x136.x, int32_t(0));
+                    const int32_t t140 = add(x136.y, int32_t(-1));
+                    const Pos t141 = Pos{t139, t140};
+                    const bool t142 = s.core.occupied.free(t141);
+                    r138 = t142;
                   } else {
-                    r144 = false;
+                    r138 = false;
                   }
-                  if (r144) {
-                    charge_built(s.core, 31, int64_t(int32_t(1)));
-                    out141.push_back(x142);
+                  if (r138) {
+                    charge_built(s.core, 29, int64_t(int32_t(1)));
+                    out135.push_back(x136);
                   }
                 }
               }
-              std::swap(l_holes116, out141);
-              const int32_t t149 = int32_t(l_holes116.size());
-              const bool t150 = (t149 == int32_t(0));
-              C1_Melt r151{};
-              if (t150) {
-                r151 = x95;
+              std::swap(l_holes110, out135);
+              const int32_t t143 = int32_t(l_holes110.size());
+              const bool t144 = (t143 == int32_t(0));
+              C1_Melt r145{};
+              if (t144) {
+                r145 = x89;
               } else {
-                Pos l_closestHole152{};
-                const int32_t t153 = int32_t(l_holes116.size());
-                const bool t154 = (t153 == int32_t(0));
-                Pos r155{};
-                if (t154) {
-                  r155 = x95.origin;
+                Pos l_closestHole146{};
+                const int32_t t147 = int32_t(l_holes110.size());
+                const bool t148 = (t147 == int32_t(0));
+                Pos r149{};
+                if (t148) {
+                  r149 = x89.origin;
                 } else {
-                  if (l_holes116.empty()) {
-                    fail_at(32, std::string() + std::string("head of an empty list"));
+                  if (l_holes110.empty()) {
+                    fail_at(30, std::string() + std::string("head of an empty list"));
                   }
-                  const Pos t156 = l_holes116.front();
-                  Pos acc157 = t156;
+                  const Pos t150 = l_holes110.front();
+                  Pos acc151 = t150;
                   {
-                    const auto& x158_list = l_holes116;
-                    charge_loop(s.core, 33, int64_t(x158_list.size()));
-                    for (const Pos& x158 : x158_list) {
-                      Pos l_delta159{};
-                      const int32_t t160 = sub(x95.origin.x, acc157.x);
-                      const int32_t t161 = sub(x95.origin.y, acc157.y);
-                      const Pos t162 = Pos{t160, t161};
-                      l_delta159 = t162;
-                      const int32_t t163 = mul(l_delta159.x, l_delta159.x);
-                      const int32_t t164 = mul(l_delta159.y, l_delta159.y);
-                      const int32_t t165 = add(t163, t164);
-                      Pos l_delta166{};
-                      const int32_t t167 = sub(x95.origin.x, x158.x);
-                      const int32_t t168 = sub(x95.origin.y, x158.y);
-                      const Pos t169 = Pos{t167, t168};
-                      l_delta166 = t169;
-                      const int32_t t170 = mul(l_delta166.x, l_delta166.x);
-                      const int32_t t171 = mul(l_delta166.y, l_delta166.y);
-                      const int32_t t172 = add(t170, t171);
-                      const bool t173 = (t165 < t172);
-                      Pos r174{};
-                      if (t173) {
-                        r174 = acc157;
+                    const auto& x152_list = l_holes110;
+                    charge_loop(s.core, 31, int64_t(x152_list.size()));
+                    for (const Pos& x152 : x152_list) {
+                      Pos l_delta153{};
+                      const int32_t t154 = sub(x89.origin.x, acc151.x);
+                      const int32_t t155 = sub(x89.origin.y, acc151.y);
+                      const Pos t156 = Pos{t154, t155};
+                      l_delta153 = t156;
+                      const int32_t t157 = mul(l_delta153.x, l_delta153.x);
+                      const int32_t t158 = mul(l_delta153.y, l_delta153.y);
+                      const int32_t t159 = add(t157, t158);
+                      Pos l_delta160{};
+                      const int32_t t161 = sub(x89.origin.x, x152.x);
+                      const int32_t t162 = sub(x89.origin.y, x152.y);
+                      const Pos t163 = Pos{t161, t162};
+                      l_delta160 = t163;
+                      const int32_t t164 = mul(l_delta160.x, l_delta160.x);
+                      const int32_t t165 = mul(l_delta160.y, l_delta160.y);
+                      const int32_t t166 = add(t164, t165);
+                      const bool t167 = (t159 < t166);
+                      Pos r168{};
+                      if (t167) {
+                        r168 = acc151;
                       } else {
-                        r174 = x158;
+                        r168 = x152;
                       }
-                      acc157 = r174;
+                      acc151 = r168;
                     }
                   }
-                  r155 = acc157;
+                  r149 = acc151;
                 }
-                l_closestHole152 = r155;
-                Pos l_dir175{};
-                C1_Melt l_movedObj176{};
-                const int32_t t177 = add(l_closestHole152.x, int32_t(0));
-                const int32_t t178 = add(l_closestHole152.y, int32_t(-1));
+                l_closestHole146 = r149;
+                Pos l_dir169{};
+                C1_Melt l_movedObj170{};
+                const int32_t t171 = add(l_closestHole146.x, int32_t(0));
+                const int32_t t172 = add(l_closestHole146.y, int32_t(-1));
+                const Pos t173 = Pos{t171, t172};
+                Pos l_delta174{};
+                int32_t l_sign_x175{};
+                int32_t l_sign_y176{};
+                const int32_t t177 = sub(t173.x, x89.origin.x);
+                const int32_t t178 = sub(t173.y, x89.origin.y);
                 const Pos t179 = Pos{t177, t178};
-                Pos l_delta180{};
-                int32_t l_sign_x181{};
-                int32_t l_sign_y182{};
-                const int32_t t183 = sub(t179.x, x95.origin.x);
-                const int32_t t184 = sub(t179.y, x95.origin.y);
-                const Pos t185 = Pos{t183, t184};
-                l_delta180 = t185;
-                const bool t186 = (l_delta180.x == int32_t(0));
-                int32_t r187{};
-                if (t186) {
-                  r187 = int32_t(0);
+                l_delta174 = t179;
+                const bool t180 = (l_delta174.x == int32_t(0));
+                int32_t r181{};
+                if (t180) {
+                  r181 = int32_t(0);
                 } else {
-                  const bool t188 = (l_delta180.x < int32_t(0));
-                  int32_t r189{};
-                  if (t188) {
-                    r189 = int32_t(-1);
+                  const bool t182 = (l_delta174.x < int32_t(0));
+                  int32_t r183{};
+                  if (t182) {
+                    r183 = int32_t(-1);
                   } else {
-                    r189 = int32_t(1);
+                    r183 = int32_t(1);
                   }
-                  r187 = r189;
+                  r181 = r183;
                 }
-                l_sign_x181 = r187;
-                const bool t190 = (l_delta180.y == int32_t(0));
-                int32_t r191{};
-                if (t190) {
-                  r191 = int32_t(0);
+                l_sign_x175 = r181;
+                const bool t184 = (l_delta174.y == int32_t(0));
+                int32_t r185{};
+                if (t184) {
+                  r185 = int32_t(0);
                 } else {
-                  const bool t192 = (l_delta180.y < int32_t(0));
-                  int32_t r193{};
-                  if (t192) {
-                    r193 = int32_t(-1);
+                  const bool t186 = (l_delta174.y < int32_t(0));
+                  int32_t r187{};
+                  if (t186) {
+                    r187 = int32_t(-1);
                   } else {
-                    r193 = int32_t(1);
+                    r187 = int32_t(1);
                   }
-                  r191 = r193;
+                  r185 = r187;
                 }
-                l_sign_y182 = r191;
-                const bool t194 = (l_sign_x181 < int32_t(0));
-                int32_t r195{};
-                if (t194) {
-                  const int32_t t196 = neg(l_sign_x181);
-                  r195 = t196;
+                l_sign_y176 = r185;
+                const bool t188 = (l_sign_x175 < int32_t(0));
+                int32_t r189{};
+                if (t188) {
+                  const int32_t t190 = neg(l_sign_x175);
+                  r189 = t190;
                 } else {
-                  r195 = l_sign_x181;
+                  r189 = l_sign_x175;
                 }
-                const bool t197 = (r195 == int32_t(1));
-                bool r198{};
-                if (t197) {
-                  const bool t199 = (l_sign_y182 < int32_t(0));
-                  int32_t r200{};
-                  if (t199) {
-                    const int32_t t201 = neg(l_sign_y182);
-                    r200 = t201;
+                const bool t191 = (r189 == int32_t(1));
+                bool r192{};
+                if (t191) {
+                  const bool t193 = (l_sign_y176 < int32_t(0));
+                  int32_t r194{};
+                  if (t193) {
+                    const int32_t t195 = neg(l_sign_y176);
+                    r194 = t195;
                   } else {
-                    r200 = l_sign_y182;
+                    r194 = l_sign_y176;
                   }
-                  const bool t202 = (r200 == int32_t(1));
-                  r198 = t202;
+                  const bool t196 = (r194 == int32_t(1));
+                  r192 = t196;
                 } else {
-                  r198 = false;
+                  r192 = false;
                 }
-                Pos r203{};
-                if (r198) {
-                  const Pos t204 = Pos{l_sign_x181, int32_t(0)};
-                  r203 = t204;
+                Pos r197{};
+                if (r192) {
+                  const Pos t198 = Pos{l_sign_x175, int32_t(0)};
+                  r197 = t198;
                 } else {
-                  const Pos t205 = Pos{l_sign_x181, l_sign_y182};
-                  r203 = t205;
+                  const Pos t199 = Pos{l_sign_x175, l_sign_y176};
+                  r197 = t199;
                 }
-                l_dir175 = r203;
-                const int32_t t206 = add(x95.origin.x, l_dir175.x);
-                const int32_t t207 = add(x95.origin.y, l_dir175.y);
-                const Pos t208 = Pos{t206, t207};
-                C1_Melt upd209 = x95;
-                upd209.origin = t208;
-                l_movedObj176 = std::move(upd209);
-                const int32_t t210 = add(l_closestHole152.x, int32_t(0));
-                const int32_t t211 = add(l_closestHole152.y, int32_t(-1));
-                const Pos t212 = Pos{t210, t211};
-                const bool t213 = s.core.occupied.free(t212);
-                bool r214{};
-                if (t213) {
-                  const bool t215 = s.core.occupied.free(l_movedObj176.origin);
-                  bool r216{};
-                  if (t215) {
-                    std::vector<Elem>& rendered217 = s.scratch.v.b27;
-                    rendered217.clear();
-                    const int32_t colour218 = colour_19_C1_Melt(s, l_movedObj176);
-                    rendered217.push_back(Elem{Pos{add(l_movedObj176.origin.x, int32_t(0)), add(l_movedObj176.origin.y, int32_t(0))}, colour218});
-                    bool within219 = true;
+                l_dir169 = r197;
+                const int32_t t200 = add(x89.origin.x, l_dir169.x);
+                const int32_t t201 = add(x89.origin.y, l_dir169.y);
+                const Pos t202 = Pos{t200, t201};
+                C1_Melt upd203 = x89;
+                upd203.origin = t202;
+                l_movedObj170 = std::move(upd203);
+                const int32_t t204 = add(l_closestHole146.x, int32_t(0));
+                const int32_t t205 = add(l_closestHole146.y, int32_t(-1));
+                const Pos t206 = Pos{t204, t205};
+                const bool t207 = s.core.occupied.free(t206);
+                bool r208{};
+                if (t207) {
+                  const bool t209 = s.core.occupied.free(l_movedObj170.origin);
+                  bool r210{};
+                  if (t209) {
+                    std::vector<Elem>& rendered211 = s.scratch.v.b23;
+                    rendered211.clear();
+                    const int32_t colour212 = colour_19_C1_Melt(s, l_movedObj170);
+                    rendered211.push_back(Elem{Pos{add(l_movedObj170.origin.x, int32_t(0)), add(l_movedObj170.origin.y, int32_t(0))}, colour212});
+                    bool within213 = true;
                     {
-                      const auto& e220_list = rendered217;
-                      for (const Elem& e220 : e220_list) {
-                        if ((((e220.position.x < int32_t(0)) || (e220.position.x >= int32_t(16))) || ((e220.position.y < int32_t(0)) || (e220.position.y >= int32_t(16))))) {
-                          within219 = false;
+                      const auto& e214_list = rendered211;
+                      for (const Elem& e214 : e214_list) {
+                        if ((((e214.position.x < int32_t(0)) || (e214.position.x >= int32_t(16))) || ((e214.position.y < int32_t(0)) || (e214.position.y >= int32_t(16))))) {
+                          within213 = false;
                           break;
                         }
                       }
                     }
-                    r216 = within219;
+                    r210 = within213;
                   } else {
-                    r216 = false;
+                    r210 = false;
                   }
-                  r214 = r216;
+                  r208 = r210;
                 } else {
-                  r214 = false;
+                  r208 = false;
                 }
-                C1_Melt r221{};
-                if (r214) {
-                  r221 = std::move(l_movedObj176);
+                C1_Melt r215{};
+                if (r208) {
+                  r215 = std::move(l_movedObj170);
                 } else {
-                  r221 = x95;
+                  r215 = x89;
                 }
-                r151 = std::move(r221);
+                r145 = std::move(r215);
               }
-              r110 = std::move(r151);
+              r104 = std::move(r145);
             }
-            const int32_t t222 = sub(x95.f0, int32_t(1));
-            C1_Melt upd223 = r110;
-            upd223.f0 = t222;
-            out94.push_back(std::move(upd223));
+            const int32_t t216 = sub(x89.f0, int32_t(1));
+            C1_Melt upd217 = r104;
+            upd217.f0 = t216;
+            out88.push_back(std::move(upd217));
           }
         }
-        std::vector<C1_Melt>& out224 = s.scratch.v.b28;
-        out224.clear();
+        std::vector<C1_Melt>& out218 = s.scratch.v.b24;
+        out218.clear();
         {
-          const auto& x225_list = out94;
-          charge_loop(s.core, 35, int64_t(x225_list.size()));
-          for (const C1_Melt& x225 : x225_list) {
+          const auto& x219_list = out88;
+          charge_loop(s.core, 33, int64_t(x219_list.size()));
+          for (const C1_Melt& x219 : x219_list) {
             // inlined: function at programs/snowplow.au:42
-            const bool t226 = (x225.f0 > int32_t(0));
-            if (t226) {
-              charge_built(s.core, 35, int64_t(int32_t(1)));
-              out224.push_back(x225);
+            const bool t220 = (x219.f0 > int32_t(0));
+            if (t220) {
+              charge_built(s.core, 33, int64_t(int32_t(1)));
+              out218.push_back(x219);
             }
           }
         }
@@ -1245,97 +1195,97 @@ struct Prog {
           std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
           s.scratch.v.sv_melt_16 = true;
         }
-        std::swap(s.g_melt_13, out224);
+        std::swap(s.g_melt_13, out218);
         s.u_melt_14 = true;
       }
     }
     // on-clause 6, programs/snowplow.au:59
     {
-      const bool t227 = s.core.left;
-      if (t227) {
+      const bool t221 = s.core.left;
+      if (t221) {
         s.core.covered[int32_t(5)] = 1;
-        const C3_Plow& prev228 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
+        const C3_Plow& prev222 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
         // inlined: function at programs/snowplow.au:38
-        const int32_t t229 = add(prev228.origin.x, int32_t(-1));
-        const int32_t t230 = add(prev228.origin.y, int32_t(0));
-        const Pos t231 = Pos{t229, t230};
-        C3_Plow upd232 = prev228;
-        upd232.origin = t231;
-        std::vector<Elem>& rendered233 = s.scratch.v.b29;
-        rendered233.clear();
-        rendered233.push_back(Elem{Pos{add(upd232.origin.x, int32_t(0)), add(upd232.origin.y, int32_t(0))}, int32_t(2)});
-        rendered233.push_back(Elem{Pos{add(upd232.origin.x, int32_t(1)), add(upd232.origin.y, int32_t(0))}, int32_t(2)});
-        bool within234 = true;
+        const int32_t t223 = add(prev222.origin.x, int32_t(-1));
+        const int32_t t224 = add(prev222.origin.y, int32_t(0));
+        const Pos t225 = Pos{t223, t224};
+        C3_Plow upd226 = prev222;
+        upd226.origin = t225;
+        std::vector<Elem>& rendered227 = s.scratch.v.b25;
+        rendered227.clear();
+        rendered227.push_back(Elem{Pos{add(upd226.origin.x, int32_t(0)), add(upd226.origin.y, int32_t(0))}, int32_t(2)});
+        rendered227.push_back(Elem{Pos{add(upd226.origin.x, int32_t(1)), add(upd226.origin.y, int32_t(0))}, int32_t(2)});
+        bool within228 = true;
         {
-          const auto& e235_list = rendered233;
-          for (const Elem& e235 : e235_list) {
-            if ((((e235.position.x < int32_t(0)) || (e235.position.x >= int32_t(16))) || ((e235.position.y < int32_t(0)) || (e235.position.y >= int32_t(16))))) {
-              within234 = false;
+          const auto& e229_list = rendered227;
+          for (const Elem& e229 : e229_list) {
+            if ((((e229.position.x < int32_t(0)) || (e229.position.x >= int32_t(16))) || ((e229.position.y < int32_t(0)) || (e229.position.y >= int32_t(16))))) {
+              within228 = false;
               break;
             }
           }
         }
-        C3_Plow r236{};
-        if (within234) {
-          const int32_t t237 = add(prev228.origin.x, int32_t(-1));
-          const int32_t t238 = add(prev228.origin.y, int32_t(0));
-          const Pos t239 = Pos{t237, t238};
-          C3_Plow upd240 = prev228;
-          upd240.origin = t239;
-          r236 = std::move(upd240);
+        C3_Plow r230{};
+        if (within228) {
+          const int32_t t231 = add(prev222.origin.x, int32_t(-1));
+          const int32_t t232 = add(prev222.origin.y, int32_t(0));
+          const Pos t233 = Pos{t231, t232};
+          C3_Plow upd234 = prev222;
+          upd234.origin = t233;
+          r230 = std::move(upd234);
         } else {
-          r236 = prev228;
+          r230 = prev222;
         }
         if (!s.scratch.v.sv_plow_8) {
           std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
           s.scratch.v.sv_plow_8 = true;
         }
-        s.g_plow_5 = std::move(r236);
+        s.g_plow_5 = std::move(r230);
         s.u_plow_6 = true;
       }
     }
     // on-clause 7, programs/snowplow.au:60
     {
-      const bool t241 = s.core.right;
-      if (t241) {
+      const bool t235 = s.core.right;
+      if (t235) {
         s.core.covered[int32_t(6)] = 1;
-        const C3_Plow& prev242 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
+        const C3_Plow& prev236 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
         // inlined: function at programs/snowplow.au:38
-        const int32_t t243 = add(prev242.origin.x, int32_t(1));
-        const int32_t t244 = add(prev242.origin.y, int32_t(0));
-        const Pos t245 = Pos{t243, t244};
-        C3_Plow upd246 = prev242;
-        upd246.origin = t245;
-        std::vector<Elem>& rendered247 = s.scratch.v.b30;
-        rendered247.clear();
-        rendered247.push_back(Elem{Pos{add(upd246.origin.x, int32_t(0)), add(upd246.origin.y, int32_t(0))}, int32_t(2)});
-        rendered247.push_back(Elem{Pos{add(upd246.origin.x, int32_t(1)), add(upd246.origin.y, int32_t(0))}, int32_t(2)});
-        bool within248 = true;
+        const int32_t t237 = add(prev236.origin.x, int32_t(1));
+        const int32_t t238 = add(prev236.origin.y, int32_t(0));
+        const Pos t239 = Pos{t237, t238};
+        C3_Plow upd240 = prev236;
+        upd240.origin = t239;
+        std::vector<Elem>& rendered241 = s.scratch.v.b26;
+        rendered241.clear();
+        rendered241.push_back(Elem{Pos{add(upd240.origin.x, int32_t(0)), add(upd240.origin.y, int32_t(0))}, int32_t(2)});
+        rendered241.push_back(Elem{Pos{add(upd240.origin.x, int32_t(1)), add(upd240.origin.y, int32_t(0))}, int32_t(2)});
+        bool within242 = true;
         {
-          const auto& e249_list = rendered247;
-          for (const Elem& e249 : e249_list) {
-            if ((((e249.position.x < int32_t(0)) || (e249.position.x >= int32_t(16))) || ((e249.position.y < int32_t(0)) || (e249.position.y >= int32_t(16))))) {
-              within248 = false;
+          const auto& e243_list = rendered241;
+          for (const Elem& e243 : e243_list) {
+            if ((((e243.position.x < int32_t(0)) || (e243.position.x >= int32_t(16))) || ((e243.position.y < int32_t(0)) || (e243.position.y >= int32_t(16))))) {
+              within242 = false;
               break;
             }
           }
         }
-        C3_Plow r250{};
-        if (within248) {
-          const int32_t t251 = add(prev242.origin.x, int32_t(1));
-          const int32_t t252 = add(prev242.origin.y, int32_t(0));
-          const Pos t253 = Pos{t251, t252};
-          C3_Plow upd254 = prev242;
-          upd254.origin = t253;
-          r250 = std::move(upd254);
+        C3_Plow r244{};
+        if (within242) {
+          const int32_t t245 = add(prev236.origin.x, int32_t(1));
+          const int32_t t246 = add(prev236.origin.y, int32_t(0));
+          const Pos t247 = Pos{t245, t246};
+          C3_Plow upd248 = prev236;
+          upd248.origin = t247;
+          r244 = std::move(upd248);
         } else {
-          r250 = prev242;
+          r244 = prev236;
         }
         if (!s.scratch.v.sv_plow_8) {
           std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
           s.scratch.v.sv_plow_8 = true;
         }
-        s.g_plow_5 = std::move(r250);
+        s.g_plow_5 = std::move(r244);
         s.u_plow_6 = true;
       }
     }
@@ -1343,64 +1293,64 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(7)] = 1;
-        const std::vector<C0_Flake>& g255 = s.g_snow_9;
-        std::vector<C0_Flake>& kept256 = s.scratch.v.b31;
-        kept256.clear();
+        const std::vector<C0_Flake>& g249 = s.g_snow_9;
+        std::vector<C0_Flake>& kept250 = s.scratch.v.b27;
+        kept250.clear();
         {
-          const auto& x257_list = g255;
-          charge_loop(s.core, 37, int64_t(x257_list.size()));
-          for (const C0_Flake& x257 : x257_list) {
+          const auto& x251_list = g249;
+          charge_loop(s.core, 35, int64_t(x251_list.size()));
+          for (const C0_Flake& x251 : x251_list) {
             // inlined: function at programs/snowplow.au:61
-            const C3_Plow& g258 = s.g_plow_5;
-            std::vector<Elem>& rendered259 = s.scratch.v.b32;
-            rendered259.clear();
-            rendered259.push_back(Elem{Pos{add(x257.origin.x, int32_t(0)), add(x257.origin.y, int32_t(0))}, int32_t(6)});
-            std::vector<Elem>& rendered260 = s.scratch.v.b33;
-            rendered260.clear();
-            rendered260.push_back(Elem{Pos{add(g258.origin.x, int32_t(0)), add(g258.origin.y, int32_t(0))}, int32_t(2)});
-            rendered260.push_back(Elem{Pos{add(g258.origin.x, int32_t(1)), add(g258.origin.y, int32_t(0))}, int32_t(2)});
-            const int32_t t261 = int32_t(rendered259.size());
-            const bool t262 = (t261 == int32_t(0));
-            bool r263{};
-            if (!t262) {
-              const int32_t t264 = int32_t(rendered260.size());
-              const bool t265 = (t264 == int32_t(0));
-              r263 = t265;
+            const C3_Plow& g252 = s.g_plow_5;
+            std::vector<Elem>& rendered253 = s.scratch.v.b28;
+            rendered253.clear();
+            rendered253.push_back(Elem{Pos{add(x251.origin.x, int32_t(0)), add(x251.origin.y, int32_t(0))}, int32_t(6)});
+            std::vector<Elem>& rendered254 = s.scratch.v.b29;
+            rendered254.clear();
+            rendered254.push_back(Elem{Pos{add(g252.origin.x, int32_t(0)), add(g252.origin.y, int32_t(0))}, int32_t(2)});
+            rendered254.push_back(Elem{Pos{add(g252.origin.x, int32_t(1)), add(g252.origin.y, int32_t(0))}, int32_t(2)});
+            const int32_t t255 = int32_t(rendered253.size());
+            const bool t256 = (t255 == int32_t(0));
+            bool r257{};
+            if (!t256) {
+              const int32_t t258 = int32_t(rendered254.size());
+              const bool t259 = (t258 == int32_t(0));
+              r257 = t259;
             } else {
-              r263 = true;
+              r257 = true;
             }
-            bool r266{};
-            if (r263) {
-              r266 = false;
+            bool r260{};
+            if (r257) {
+              r260 = false;
             } else {
-              bool any267 = false;
+              bool any261 = false;
               {
-                const auto& x268_list = rendered259;
-                charge_loop(s.core, 38, int64_t(x268_list.size()));
-                for (const Elem& x268 : x268_list) {
-                  bool any269 = false;
+                const auto& x262_list = rendered253;
+                charge_loop(s.core, 36, int64_t(x262_list.size()));
+                for (const Elem& x262 : x262_list) {
+                  bool any263 = false;
                   {
-                    const auto& x270_list = rendered260;
-                    charge_loop(s.core, 39, int64_t(x270_list.size()));
-                    for (const Elem& x270 : x270_list) {
-                      const bool t271 = (x268.position == x270.position);
-                      if (t271) {
-                        any269 = true;
+                    const auto& x264_list = rendered254;
+                    charge_loop(s.core, 37, int64_t(x264_list.size()));
+                    for (const Elem& x264 : x264_list) {
+                      const bool t265 = (x262.position == x264.position);
+                      if (t265) {
+                        any263 = true;
                         break;
                       }
                     }
                   }
-                  if (any269) {
-                    any267 = true;
+                  if (any263) {
+                    any261 = true;
                     break;
                   }
                 }
               }
-              r266 = any267;
+              r260 = any261;
             }
-            if (!r266) {
-              charge_built(s.core, 37, int64_t(int32_t(1)));
-              kept256.push_back(x257);
+            if (!r260) {
+              charge_built(s.core, 35, int64_t(int32_t(1)));
+              kept250.push_back(x251);
             }
           }
         }
@@ -1408,246 +1358,240 @@ struct Prog {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
-        std::swap(s.g_snow_9, kept256);
+        std::swap(s.g_snow_9, kept250);
         s.u_snow_10 = true;
       }
     }
     // on-clause 9, programs/snowplow.au:63
     {
-      const bool t272 = s.core.up;
-      if (t272) {
+      const bool t266 = s.core.up;
+      if (t266) {
         s.core.covered[int32_t(8)] = 1;
-        const C4_Cloud& prev273 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
-        const C4_Cloud& prev274 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
-        const int32_t t275 = add(prev274.f0, int32_t(1));
-        const bool t276 = (int32_t(4) < t275);
-        int32_t r277{};
-        if (t276) {
-          r277 = int32_t(4);
+        const C4_Cloud& prev267 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const C4_Cloud& prev268 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const int32_t t269 = add(prev268.f0, int32_t(1));
+        const bool t270 = (int32_t(4) < t269);
+        int32_t r271{};
+        if (t270) {
+          r271 = int32_t(4);
         } else {
-          r277 = t275;
+          r271 = t269;
         }
-        C4_Cloud upd278 = prev273;
-        upd278.f0 = r277;
+        C4_Cloud upd272 = prev267;
+        upd272.f0 = r271;
         if (!s.scratch.v.sv_cloud_24) {
           std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
           s.scratch.v.sv_cloud_24 = true;
         }
-        s.g_cloud_21 = std::move(upd278);
+        s.g_cloud_21 = std::move(upd272);
         s.u_cloud_22 = true;
       }
     }
     // on-clause 10, programs/snowplow.au:64
     {
-      const bool t279 = s.core.down;
-      if (t279) {
+      const bool t273 = s.core.down;
+      if (t273) {
         s.core.covered[int32_t(9)] = 1;
-        const C4_Cloud& prev280 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
-        const C4_Cloud& prev281 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
-        const int32_t t282 = sub(prev281.f0, int32_t(1));
-        const bool t283 = (int32_t(1) < t282);
-        int32_t r284{};
-        if (t283) {
-          r284 = t282;
+        const C4_Cloud& prev274 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const C4_Cloud& prev275 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const int32_t t276 = sub(prev275.f0, int32_t(1));
+        const bool t277 = (int32_t(1) < t276);
+        int32_t r278{};
+        if (t277) {
+          r278 = t276;
         } else {
-          r284 = int32_t(1);
+          r278 = int32_t(1);
         }
-        C4_Cloud upd285 = prev280;
-        upd285.f0 = r284;
+        C4_Cloud upd279 = prev274;
+        upd279.f0 = r278;
         if (!s.scratch.v.sv_cloud_24) {
           std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
           s.scratch.v.sv_cloud_24 = true;
         }
-        s.g_cloud_21 = std::move(upd285);
+        s.g_cloud_21 = std::move(upd279);
         s.u_cloud_22 = true;
       }
     }
     // on-clause 11, programs/snowplow.au:69
     {
-      const int32_t& g286 = s.g_time_25;
-      const C4_Cloud& g287 = s.g_cloud_21;
-      const int32_t t288 = sub(int32_t(5), g287.f0);
-      if ((t288 == int32_t(0))) {
-        fail_at(40, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+      const int32_t& g280 = s.g_time_25;
+      const C4_Cloud& g281 = s.g_cloud_21;
+      const int32_t t282 = sub(int32_t(5), g281.f0);
+      if ((t282 == int32_t(0))) {
+        fail_at(38, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
-      if (((g286 == int32_t(-2147483648LL)) && (t288 == int32_t(-1)))) {
-        fail_at(40, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+      if (((g280 == int32_t(-2147483648LL)) && (t282 == int32_t(-1)))) {
+        fail_at(38, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
-      const int32_t t289 = autumn::arith::mod_unchecked(g286, t288);
-      const bool t290 = (t289 == int32_t(0));
-      bool r291{};
-      if (t290) {
-        const std::vector<C0_Flake>& g292 = s.g_snow_9;
-        const int32_t t293 = int32_t(g292.size());
-        const bool t294 = (t293 < int32_t(70));
-        r291 = t294;
+      const int32_t t283 = autumn::arith::mod_unchecked(g280, t282);
+      const bool t284 = (t283 == int32_t(0));
+      bool r285{};
+      if (t284) {
+        const std::vector<C0_Flake>& g286 = s.g_snow_9;
+        const int32_t t287 = int32_t(g286.size());
+        const bool t288 = (t287 < int32_t(70));
+        r285 = t288;
       } else {
-        r291 = false;
+        r285 = false;
       }
-      if (r291) {
+      if (r285) {
         s.core.covered[int32_t(10)] = 1;
-        Pos l_drop295{};
-        C0_Flake l_flake296{};
+        Pos l_drop289{};
+        C0_Flake l_flake290{};
         if ((int32_t(255) < int32_t(0))) {
-          fail_at(41, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(39, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
-        charge_built(s.core, 41, int64_t(int32_t(1)));
-        std::vector<Pos>& rpos297 = s.scratch.v.b34;
-        rpos297.clear();
+        charge_built(s.core, 39, int64_t(int32_t(1)));
+        std::vector<Pos>& rpos291 = s.scratch.v.b30;
+        rpos291.clear();
         {
-          const int32_t i298_first = int32_t(0), i298_end = int32_t(1);
-          for (int32_t i298 = i298_first; i298 < i298_end; ++i298) {
-            const int32_t t299 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-            const int32_t t300 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-            const Pos t301 = Pos{t299, t300};
-            rpos297.push_back(t301);
+          const int32_t i292_first = int32_t(0), i292_end = int32_t(1);
+          for (int32_t i292 = i292_first; i292 < i292_end; ++i292) {
+            const int32_t t293 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+            const int32_t t294 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+            const Pos t295 = Pos{t293, t294};
+            rpos291.push_back(t295);
           }
         }
-        if (rpos297.empty()) {
-          fail_at(42, std::string() + std::string("head of an empty list"));
+        if (rpos291.empty()) {
+          fail_at(40, std::string() + std::string("head of an empty list"));
         }
-        const Pos t302 = rpos297.front();
-        const int32_t t303 = autumn::arith::mod_unchecked(t302.x, int32_t(16));
-        const Pos t304 = Pos{t303, int32_t(1)};
-        l_drop295 = t304;
-        C0_Flake o305 = C0_Flake{l_drop295};
-        l_flake296 = std::move(o305);
-        std::vector<Elem>& rendered306 = s.scratch.v.b35;
-        rendered306.clear();
-        rendered306.push_back(Elem{Pos{add(l_flake296.origin.x, int32_t(0)), add(l_flake296.origin.y, int32_t(0))}, int32_t(6)});
-        bool any307 = false;
+        const Pos t296 = rpos291.front();
+        const int32_t t297 = autumn::arith::mod_unchecked(t296.x, int32_t(16));
+        const Pos t298 = Pos{t297, int32_t(1)};
+        l_drop289 = t298;
+        C0_Flake o299 = C0_Flake{l_drop289};
+        l_flake290 = std::move(o299);
+        std::vector<Elem>& rendered300 = s.scratch.v.b31;
+        rendered300.clear();
+        rendered300.push_back(Elem{Pos{add(l_flake290.origin.x, int32_t(0)), add(l_flake290.origin.y, int32_t(0))}, int32_t(6)});
+        bool any301 = false;
         {
-          const auto& x308_list = rendered306;
-          for (const Elem& x308 : x308_list) {
-            const bool t309 = s.core.occupied.free(x308.position);
-            const bool t310 = !t309;
-            if (t310) {
-              any307 = true;
+          const auto& x302_list = rendered300;
+          for (const Elem& x302 : x302_list) {
+            const bool t303 = s.core.occupied.free(x302.position);
+            const bool t304 = !t303;
+            if (t304) {
+              any301 = true;
               break;
             }
           }
         }
-        const bool t311 = !any307;
-        std::vector<C0_Flake>& r312 = s.scratch.v.b36;
-        r312.clear();
-        if (t311) {
-          const std::vector<C0_Flake>& g313 = s.g_snow_9;
-          check_length(s.core, 44, int64_t(g313.size()) + int64_t(int32_t(1)));
-          charge_built(s.core, 44, int64_t(g313.size()) + int64_t(int32_t(1)));
-          std::vector<C0_Flake>& added314 = s.scratch.v.b37;
-          added314.clear();
-          added314.reserve(size_t(add(int32_t(g313.size()), int32_t(1))));
-          {
-            const auto& x315_list = g313;
-            charge_loop(s.core, 44, int64_t(x315_list.size()));
-            for (const C0_Flake& x315 : x315_list) {
-              added314.push_back(x315);
-            }
-          }
-          added314.push_back(std::move(l_flake296));
-          std::swap(r312, added314);
+        const bool t305 = !any301;
+        std::vector<C0_Flake>& r306 = s.scratch.v.b32;
+        r306.clear();
+        if (t305) {
+          const std::vector<C0_Flake>& g307 = s.g_snow_9;
+          check_length(s.core, 42, int64_t(g307.size()) + int64_t(int32_t(1)));
+          charge_built(s.core, 42, int64_t(g307.size()) + int64_t(int32_t(1)));
+          std::vector<C0_Flake>& added308 = s.scratch.v.b33;
+          added308.clear();
+          added308.reserve(size_t(add(int32_t(g307.size()), int32_t(1))));
+          added308.insert(added308.end(), g307.begin(), g307.end());
+          added308.push_back(std::move(l_flake290));
+          std::swap(r306, added308);
         } else {
-          const std::vector<C0_Flake>& g316 = s.g_snow_9;
-          r312 = g316;
+          const std::vector<C0_Flake>& g309 = s.g_snow_9;
+          r306 = g309;
         }
         if (!s.scratch.v.sv_snow_12) {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
-        std::swap(s.g_snow_9, r312);
+        std::swap(s.g_snow_9, r306);
         s.u_snow_10 = true;
       }
     }
     // NEXT of plow, programs/snowplow.au:35
     if ((!s.u_plow_6 && s.scratch.v.sv_plow_8)) {
-      const C3_Plow prev317 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
+      const C3_Plow prev310 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
       if (!s.scratch.v.sv_plow_8) {
         std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
         s.scratch.v.sv_plow_8 = true;
       }
-      s.g_plow_5 = prev317;
+      s.g_plow_5 = prev310;
       s.u_plow_6 = true;
     }
     // NEXT of snow, programs/snowplow.au:29
     if ((!s.u_snow_10 && s.scratch.v.sv_snow_12)) {
-      const std::vector<C0_Flake> prev318 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
+      const std::vector<C0_Flake> prev311 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
       if (!s.scratch.v.sv_snow_12) {
         std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
         s.scratch.v.sv_snow_12 = true;
       }
-      s.g_snow_9 = prev318;
+      s.g_snow_9 = prev311;
       s.u_snow_10 = true;
     }
     // NEXT of melt, programs/snowplow.au:32
     if ((!s.u_melt_14 && s.scratch.v.sv_melt_16)) {
-      const std::vector<C1_Melt> prev319 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
+      const std::vector<C1_Melt> prev312 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
       if (!s.scratch.v.sv_melt_16) {
         std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
         s.scratch.v.sv_melt_16 = true;
       }
-      s.g_melt_13 = prev319;
+      s.g_melt_13 = prev312;
       s.u_melt_14 = true;
     }
     // NEXT of rocks, programs/snowplow.au:26
     if ((!s.u_rocks_18 && s.scratch.v.sv_rocks_20)) {
-      const std::vector<C2_Rock> prev320 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
+      const std::vector<C2_Rock> prev313 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
       if (!s.scratch.v.sv_rocks_20) {
         std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
         s.scratch.v.sv_rocks_20 = true;
       }
-      s.g_rocks_17 = prev320;
+      s.g_rocks_17 = prev313;
       s.u_rocks_18 = true;
     }
     // NEXT of cloud, programs/snowplow.au:21
     if ((!s.u_cloud_22 && s.scratch.v.sv_cloud_24)) {
-      const C4_Cloud prev321 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+      const C4_Cloud prev314 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
       if (!s.scratch.v.sv_cloud_24) {
         std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
         s.scratch.v.sv_cloud_24 = true;
       }
-      s.g_cloud_21 = prev321;
+      s.g_cloud_21 = prev314;
       s.u_cloud_22 = true;
     }
     // NEXT of time, programs/snowplow.au:18
     if (!s.u_time_26) {
-      const int32_t& prev322 = (s.scratch.v.sv_time_28 ? s.scratch.v.p_time_27 : s.g_time_25);
-      const int32_t t323 = add(prev322, int32_t(1));
+      const int32_t& prev315 = (s.scratch.v.sv_time_28 ? s.scratch.v.p_time_27 : s.g_time_25);
+      const int32_t t316 = add(prev315, int32_t(1));
       if (!s.scratch.v.sv_time_28) {
         std::swap(s.scratch.v.p_time_27, s.g_time_25);
         s.scratch.v.sv_time_28 = true;
       }
-      s.g_time_25 = t323;
+      s.g_time_25 = t316;
       s.u_time_26 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_30) {
-      tally_rendered(s.core, 45, "cacheRendered");
-      const C4_Cloud& g324 = s.g_cloud_21;
-      tally_global(s.core, 0, "cloud", g324);
-      const std::vector<C2_Rock>& g325 = s.g_rocks_17;
-      tally_global(s.core, 1, "rocks", g325);
-      const std::vector<C1_Melt>& g326 = s.g_melt_13;
-      tally_global(s.core, 2, "melt", g326);
-      const C3_Plow& g327 = s.g_plow_5;
-      tally_global(s.core, 3, "plow", g327);
+      tally_rendered(s.core, 43, "cacheRendered");
+      const C4_Cloud& g317 = s.g_cloud_21;
+      tally_global(s.core, 0, "cloud", g317);
+      const std::vector<C2_Rock>& g318 = s.g_rocks_17;
+      tally_global(s.core, 1, "rocks", g318);
+      const std::vector<C1_Melt>& g319 = s.g_melt_13;
+      tally_global(s.core, 2, "melt", g319);
+      const C3_Plow& g320 = s.g_plow_5;
+      tally_global(s.core, 3, "plow", g320);
       if (s.d_click_30) {
-        const Pos& g328 = s.g_click_29;
-        tally_global(s.core, 45, "click", g328);
+        const Pos& g321 = s.g_click_29;
+        tally_global(s.core, 43, "click", g321);
       }
-      const std::vector<C0_Flake>& g329 = s.g_snow_9;
-      tally_global(s.core, 4, "snow", g329);
+      const std::vector<C0_Flake>& g322 = s.g_snow_9;
+      tally_global(s.core, 4, "snow", g322);
     } else {
-      tally_rendered(s.core, 45, "cacheRendered");
-      const C4_Cloud& g330 = s.g_cloud_21;
-      tally_global(s.core, 0, "cloud", g330);
-      const std::vector<C2_Rock>& g331 = s.g_rocks_17;
-      tally_global(s.core, 1, "rocks", g331);
-      const std::vector<C1_Melt>& g332 = s.g_melt_13;
-      tally_global(s.core, 2, "melt", g332);
-      const C3_Plow& g333 = s.g_plow_5;
-      tally_global(s.core, 3, "plow", g333);
-      const std::vector<C0_Flake>& g334 = s.g_snow_9;
-      tally_global(s.core, 4, "snow", g334);
+      tally_rendered(s.core, 43, "cacheRendered");
+      const C4_Cloud& g323 = s.g_cloud_21;
+      tally_global(s.core, 0, "cloud", g323);
+      const std::vector<C2_Rock>& g324 = s.g_rocks_17;
+      tally_global(s.core, 1, "rocks", g324);
+      const std::vector<C1_Melt>& g325 = s.g_melt_13;
+      tally_global(s.core, 2, "melt", g325);
+      const C3_Plow& g326 = s.g_plow_5;
+      tally_global(s.core, 3, "plow", g326);
+      const std::vector<C0_Flake>& g327 = s.g_snow_9;
+      tally_global(s.core, 4, "snow", g327);
     }
     s.core.clear_inputs();
   }
@@ -1727,7 +1671,7 @@ struct Prog {
     const std::vector<C2_Rock>& g34 = s.g_rocks_17;
     {
       const auto& x35_list = g34;
-      charge_loop(s.core, 46, int64_t(x35_list.size()));
+      charge_loop(s.core, 44, int64_t(x35_list.size()));
       for (const C2_Rock& x35 : x35_list) {
         const Elem e36 = Elem{Pos{add(x35.origin.x, int32_t(0)), add(x35.origin.y, int32_t(0))}, int32_t(3)};
         s.core.occupied.add(e36.position);
@@ -1738,7 +1682,7 @@ struct Prog {
     const std::vector<C0_Flake>& g37 = s.g_snow_9;
     {
       const auto& x38_list = g37;
-      charge_loop(s.core, 46, int64_t(x38_list.size()));
+      charge_loop(s.core, 44, int64_t(x38_list.size()));
       for (const C0_Flake& x38 : x38_list) {
         const Elem e39 = Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, int32_t(6)};
         s.core.occupied.add(e39.position);
@@ -1749,7 +1693,7 @@ struct Prog {
     const std::vector<C1_Melt>& g40 = s.g_melt_13;
     {
       const auto& x41_list = g40;
-      charge_loop(s.core, 46, int64_t(x41_list.size()));
+      charge_loop(s.core, 44, int64_t(x41_list.size()));
       for (const C1_Melt& x41 : x41_list) {
         const int32_t colour42 = colour_19_C1_Melt(s, x41);
         const Elem e43 = Elem{Pos{add(x41.origin.x, int32_t(0)), add(x41.origin.y, int32_t(0))}, colour42};
@@ -1866,13 +1810,11 @@ const ErrorSite Prog::kErrors[] = {
     {29, 3, nullptr, true, 29, 3, ""},
     {45, 7, nullptr, true, 45, 7, ""},
     {47, 15, nullptr, true, 47, 15, ""},
-    {47, 33, nullptr, true, 47, 33, ""},
     {48, 58, nullptr, true, 48, 58, ""},
     {48, 71, nullptr, true, 48, 71, ""},
     {48, 15, nullptr, true, 48, 15, ""},
     {51, 7, nullptr, true, 51, 7, ""},
     {51, 39, nullptr, true, 51, 39, ""},
-    {51, 57, nullptr, true, 51, 57, ""},
     {53, 32, nullptr, true, 53, 32, ""},
     {54, 48, nullptr, true, 54, 48, ""},
     {54, 61, nullptr, true, 54, 61, ""},

@@ -165,9 +165,8 @@ struct Prog {
     std::vector<C2_Crate> b16;
     std::vector<C2_Crate> b17;
     std::vector<C2_Crate> b18;
-    std::vector<Elem> b19;
+    std::vector<C2_Crate> b19;
     std::vector<C2_Crate> b20;
-    std::vector<C2_Crate> b21;
     C4_Button p_reset_10{};
     bool sv_reset_11{};
     std::vector<C2_Crate> p_crates_14{};
@@ -1638,221 +1637,213 @@ struct Prog {
         s.d_click_29 = true;
         const Pos t391 = Pos{s.core.click_x, s.core.click_y};
         s.g_click_28 = t391;
-        std::vector<Elem>& rendered392 = s.scratch.v.b19;
-        rendered392.clear();
-        rendered392.push_back(Elem{Pos{add(g389.origin.x, int32_t(0)), add(g389.origin.y, int32_t(0))}, int32_t(2)});
-        {
-          const auto& e393_list = rendered392;
-          for (const Elem& e393 : e393_list) {
-            if ((e393.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked390 = true;
-              break;
-            }
-          }
+        const Elem e392 = Elem{Pos{add(g389.origin.x, int32_t(0)), add(g389.origin.y, int32_t(0))}, int32_t(2)};
+        if ((e392.position == Pos{s.core.click_x, s.core.click_y})) {
+          clicked390 = true;
         }
       }
       if (clicked390) {
         s.core.covered[int32_t(8)] = 1;
-        const std::vector<Pos>& g394 = s.g_crateStarts_6;
-        std::vector<C2_Crate>& out395 = s.scratch.v.b20;
-        out395.clear();
-        charge_built(s.core, 23, int64_t(g394.size()));
-        out395.reserve(size_t(int32_t(g394.size())));
+        const std::vector<Pos>& g393 = s.g_crateStarts_6;
+        std::vector<C2_Crate>& out394 = s.scratch.v.b19;
+        out394.clear();
+        charge_built(s.core, 22, int64_t(g393.size()));
+        out394.reserve(size_t(int32_t(g393.size())));
         {
-          const auto& x396_list = g394;
-          charge_loop(s.core, 23, int64_t(x396_list.size()));
-          for (const Pos& x396 : x396_list) {
+          const auto& x395_list = g393;
+          charge_loop(s.core, 22, int64_t(x395_list.size()));
+          for (const Pos& x395 : x395_list) {
             // inlined: function at programs/sokoban.au:72
-            C2_Crate o397 = C2_Crate{false, x396};
-            out395.push_back(std::move(o397));
+            C2_Crate o396 = C2_Crate{false, x395};
+            out394.push_back(std::move(o396));
           }
         }
         // inlined: function at programs/sokoban.au:24
-        std::vector<C2_Crate>& out398 = s.scratch.v.b21;
-        out398.clear();
-        charge_built(s.core, 20, int64_t(out395.size()));
-        out398.reserve(size_t(int32_t(out395.size())));
+        std::vector<C2_Crate>& out397 = s.scratch.v.b20;
+        out397.clear();
+        charge_built(s.core, 20, int64_t(out394.size()));
+        out397.reserve(size_t(int32_t(out394.size())));
         {
-          const auto& x399_list = out395;
-          charge_loop(s.core, 20, int64_t(x399_list.size()));
-          for (const C2_Crate& x399 : x399_list) {
+          const auto& x398_list = out394;
+          charge_loop(s.core, 20, int64_t(x398_list.size()));
+          for (const C2_Crate& x398 : x398_list) {
             // inlined: function at programs/sokoban.au:24
-            const std::vector<Pos>& g400 = s.g_goalSpots_5;
-            bool any401 = false;
+            const std::vector<Pos>& g399 = s.g_goalSpots_5;
+            bool any400 = false;
             {
-              const auto& x402_list = g400;
-              charge_loop(s.core, 21, int64_t(x402_list.size()));
-              for (const Pos& x402 : x402_list) {
-                const bool t403 = (x402 == x399.origin);
-                if (t403) {
-                  any401 = true;
+              const auto& x401_list = g399;
+              charge_loop(s.core, 21, int64_t(x401_list.size()));
+              for (const Pos& x401 : x401_list) {
+                const bool t402 = (x401 == x398.origin);
+                if (t402) {
+                  any400 = true;
                   break;
                 }
               }
             }
-            C2_Crate upd404 = x399;
-            upd404.f0 = any401;
-            out398.push_back(std::move(upd404));
+            C2_Crate upd403 = x398;
+            upd403.f0 = any400;
+            out397.push_back(std::move(upd403));
           }
         }
         if (!s.scratch.v.sv_crates_15) {
           std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
           s.scratch.v.sv_crates_15 = true;
         }
-        std::swap(s.g_crates_12, out398);
+        std::swap(s.g_crates_12, out397);
         s.u_crates_13 = true;
-        const Pos& g405 = s.g_keeperStart_7;
-        C3_Keeper o406 = C3_Keeper{g405};
+        const Pos& g404 = s.g_keeperStart_7;
+        C3_Keeper o405 = C3_Keeper{g404};
         if (!s.scratch.v.sv_keeper_23) {
           std::swap(s.scratch.v.p_keeper_22, s.g_keeper_20);
           s.scratch.v.sv_keeper_23 = true;
         }
-        s.g_keeper_20 = std::move(o406);
+        s.g_keeper_20 = std::move(o405);
         s.u_keeper_21 = true;
       }
     }
     // on-clause 10, programs/sokoban.au:76
     {
-      const std::vector<C2_Crate>& g407 = s.g_crates_12;
+      const std::vector<C2_Crate>& g406 = s.g_crates_12;
       // inlined: function at programs/sokoban.au:23
-      bool any408 = false;
+      bool any407 = false;
       {
-        const auto& x409_list = g407;
-        charge_loop(s.core, 24, int64_t(x409_list.size()));
-        for (const C2_Crate& x409 : x409_list) {
+        const auto& x408_list = g406;
+        charge_loop(s.core, 23, int64_t(x408_list.size()));
+        for (const C2_Crate& x408 : x408_list) {
           // inlined: function at programs/sokoban.au:23
-          const bool t410 = !x409.f0;
-          if (t410) {
-            any408 = true;
+          const bool t409 = !x408.f0;
+          if (t409) {
+            any407 = true;
             break;
           }
         }
       }
-      const bool t411 = !any408;
-      if (t411) {
+      const bool t410 = !any407;
+      if (t410) {
         s.core.covered[int32_t(9)] = 1;
         s.g_background_2 = int32_t(7);
       }
     }
     // on-clause 11, programs/sokoban.au:77
     {
-      const std::vector<C2_Crate>& g412 = s.g_crates_12;
+      const std::vector<C2_Crate>& g411 = s.g_crates_12;
       // inlined: function at programs/sokoban.au:23
-      bool any413 = false;
+      bool any412 = false;
       {
-        const auto& x414_list = g412;
-        charge_loop(s.core, 24, int64_t(x414_list.size()));
-        for (const C2_Crate& x414 : x414_list) {
+        const auto& x413_list = g411;
+        charge_loop(s.core, 23, int64_t(x413_list.size()));
+        for (const C2_Crate& x413 : x413_list) {
           // inlined: function at programs/sokoban.au:23
-          const bool t415 = !x414.f0;
-          if (t415) {
-            any413 = true;
+          const bool t414 = !x413.f0;
+          if (t414) {
+            any412 = true;
             break;
           }
         }
       }
-      const bool t416 = !any413;
-      const bool t417 = !t416;
-      if (t417) {
+      const bool t415 = !any412;
+      const bool t416 = !t415;
+      if (t416) {
         s.core.covered[int32_t(10)] = 1;
         s.g_background_2 = int32_t(1);
       }
     }
     // NEXT of reset, programs/sokoban.au:43
     if ((!s.u_reset_9 && s.scratch.v.sv_reset_11)) {
-      const C4_Button prev418 = (s.scratch.v.sv_reset_11 ? s.scratch.v.p_reset_10 : s.g_reset_8);
+      const C4_Button prev417 = (s.scratch.v.sv_reset_11 ? s.scratch.v.p_reset_10 : s.g_reset_8);
       if (!s.scratch.v.sv_reset_11) {
         std::swap(s.scratch.v.p_reset_10, s.g_reset_8);
         s.scratch.v.sv_reset_11 = true;
       }
-      s.g_reset_8 = prev418;
+      s.g_reset_8 = prev417;
       s.u_reset_9 = true;
     }
     // NEXT of crates, programs/sokoban.au:37
     if ((!s.u_crates_13 && s.scratch.v.sv_crates_15)) {
-      const std::vector<C2_Crate> prev419 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
+      const std::vector<C2_Crate> prev418 = (s.scratch.v.sv_crates_15 ? s.scratch.v.p_crates_14 : s.g_crates_12);
       if (!s.scratch.v.sv_crates_15) {
         std::swap(s.scratch.v.p_crates_14, s.g_crates_12);
         s.scratch.v.sv_crates_15 = true;
       }
-      s.g_crates_12 = prev419;
+      s.g_crates_12 = prev418;
       s.u_crates_13 = true;
     }
     // NEXT of goals, programs/sokoban.au:34
     if ((!s.u_goals_17 && s.scratch.v.sv_goals_19)) {
-      const std::vector<C1_Goal> prev420 = (s.scratch.v.sv_goals_19 ? s.scratch.v.p_goals_18 : s.g_goals_16);
+      const std::vector<C1_Goal> prev419 = (s.scratch.v.sv_goals_19 ? s.scratch.v.p_goals_18 : s.g_goals_16);
       if (!s.scratch.v.sv_goals_19) {
         std::swap(s.scratch.v.p_goals_18, s.g_goals_16);
         s.scratch.v.sv_goals_19 = true;
       }
-      s.g_goals_16 = prev420;
+      s.g_goals_16 = prev419;
       s.u_goals_17 = true;
     }
     // NEXT of keeper, programs/sokoban.au:40
     if ((!s.u_keeper_21 && s.scratch.v.sv_keeper_23)) {
-      const C3_Keeper prev421 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
+      const C3_Keeper prev420 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
       if (!s.scratch.v.sv_keeper_23) {
         std::swap(s.scratch.v.p_keeper_22, s.g_keeper_20);
         s.scratch.v.sv_keeper_23 = true;
       }
-      s.g_keeper_20 = prev421;
+      s.g_keeper_20 = prev420;
       s.u_keeper_21 = true;
     }
     // NEXT of walls, programs/sokoban.au:31
     if ((!s.u_walls_25 && s.scratch.v.sv_walls_27)) {
-      const std::vector<C0_Wall> prev422 = (s.scratch.v.sv_walls_27 ? s.scratch.v.p_walls_26 : s.g_walls_24);
+      const std::vector<C0_Wall> prev421 = (s.scratch.v.sv_walls_27 ? s.scratch.v.p_walls_26 : s.g_walls_24);
       if (!s.scratch.v.sv_walls_27) {
         std::swap(s.scratch.v.p_walls_26, s.g_walls_24);
         s.scratch.v.sv_walls_27 = true;
       }
-      s.g_walls_24 = prev422;
+      s.g_walls_24 = prev421;
       s.u_walls_25 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_29) {
-      tally_rendered(s.core, 25, "cacheRendered");
-      const std::vector<C0_Wall>& g423 = s.g_walls_24;
-      tally_global(s.core, 8, "walls", g423);
-      const std::vector<C1_Goal>& g424 = s.g_goals_16;
-      tally_global(s.core, 9, "goals", g424);
-      const C4_Button& g425 = s.g_reset_8;
-      tally_global(s.core, 10, "reset", g425);
-      const std::vector<Pos>& g426 = s.g_crateStarts_6;
-      tally_global(s.core, 11, "crateStarts", g426);
-      const std::vector<Pos>& g427 = s.g_goalSpots_5;
-      tally_global(s.core, 12, "goalSpots", g427);
+      tally_rendered(s.core, 24, "cacheRendered");
+      const std::vector<C0_Wall>& g422 = s.g_walls_24;
+      tally_global(s.core, 8, "walls", g422);
+      const std::vector<C1_Goal>& g423 = s.g_goals_16;
+      tally_global(s.core, 9, "goals", g423);
+      const C4_Button& g424 = s.g_reset_8;
+      tally_global(s.core, 10, "reset", g424);
+      const std::vector<Pos>& g425 = s.g_crateStarts_6;
+      tally_global(s.core, 11, "crateStarts", g425);
+      const std::vector<Pos>& g426 = s.g_goalSpots_5;
+      tally_global(s.core, 12, "goalSpots", g426);
       if (s.d_click_29) {
-        const Pos& g428 = s.g_click_28;
-        tally_global(s.core, 25, "click", g428);
+        const Pos& g427 = s.g_click_28;
+        tally_global(s.core, 24, "click", g427);
       }
-      const std::vector<C2_Crate>& g429 = s.g_crates_12;
-      tally_global(s.core, 13, "crates", g429);
-      const std::vector<Pos>& g430 = s.g_innerWalls_4;
-      tally_global(s.core, 14, "innerWalls", g430);
-      const Pos& g431 = s.g_keeperStart_7;
-      tally_global(s.core, 15, "keeperStart", g431);
-      const C3_Keeper& g432 = s.g_keeper_20;
-      tally_global(s.core, 16, "keeper", g432);
+      const std::vector<C2_Crate>& g428 = s.g_crates_12;
+      tally_global(s.core, 13, "crates", g428);
+      const std::vector<Pos>& g429 = s.g_innerWalls_4;
+      tally_global(s.core, 14, "innerWalls", g429);
+      const Pos& g430 = s.g_keeperStart_7;
+      tally_global(s.core, 15, "keeperStart", g430);
+      const C3_Keeper& g431 = s.g_keeper_20;
+      tally_global(s.core, 16, "keeper", g431);
     } else {
-      tally_rendered(s.core, 25, "cacheRendered");
-      const std::vector<C0_Wall>& g433 = s.g_walls_24;
-      tally_global(s.core, 8, "walls", g433);
-      const std::vector<C1_Goal>& g434 = s.g_goals_16;
-      tally_global(s.core, 9, "goals", g434);
-      const C4_Button& g435 = s.g_reset_8;
-      tally_global(s.core, 10, "reset", g435);
-      const std::vector<Pos>& g436 = s.g_crateStarts_6;
-      tally_global(s.core, 11, "crateStarts", g436);
-      const std::vector<Pos>& g437 = s.g_goalSpots_5;
-      tally_global(s.core, 12, "goalSpots", g437);
-      const std::vector<C2_Crate>& g438 = s.g_crates_12;
-      tally_global(s.core, 13, "crates", g438);
-      const std::vector<Pos>& g439 = s.g_innerWalls_4;
-      tally_global(s.core, 14, "innerWalls", g439);
-      const Pos& g440 = s.g_keeperStart_7;
-      tally_global(s.core, 15, "keeperStart", g440);
-      const C3_Keeper& g441 = s.g_keeper_20;
-      tally_global(s.core, 16, "keeper", g441);
+      tally_rendered(s.core, 24, "cacheRendered");
+      const std::vector<C0_Wall>& g432 = s.g_walls_24;
+      tally_global(s.core, 8, "walls", g432);
+      const std::vector<C1_Goal>& g433 = s.g_goals_16;
+      tally_global(s.core, 9, "goals", g433);
+      const C4_Button& g434 = s.g_reset_8;
+      tally_global(s.core, 10, "reset", g434);
+      const std::vector<Pos>& g435 = s.g_crateStarts_6;
+      tally_global(s.core, 11, "crateStarts", g435);
+      const std::vector<Pos>& g436 = s.g_goalSpots_5;
+      tally_global(s.core, 12, "goalSpots", g436);
+      const std::vector<C2_Crate>& g437 = s.g_crates_12;
+      tally_global(s.core, 13, "crates", g437);
+      const std::vector<Pos>& g438 = s.g_innerWalls_4;
+      tally_global(s.core, 14, "innerWalls", g438);
+      const Pos& g439 = s.g_keeperStart_7;
+      tally_global(s.core, 15, "keeperStart", g439);
+      const C3_Keeper& g440 = s.g_keeper_20;
+      tally_global(s.core, 16, "keeper", g440);
     }
     s.core.clear_inputs();
   }
@@ -1866,10 +1857,9 @@ struct Prog {
     const std::vector<C0_Wall>& g1 = s.g_walls_24;
     {
       const auto& x2_list = g1;
-      charge_loop(s.core, 26, int64_t(x2_list.size()));
+      charge_loop(s.core, 25, int64_t(x2_list.size()));
       for (const C0_Wall& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(6)};
-        s.core.occupied.add(e3.position);
         ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
       }
     }
@@ -1877,10 +1867,9 @@ struct Prog {
     const std::vector<C1_Goal>& g4 = s.g_goals_16;
     {
       const auto& x5_list = g4;
-      charge_loop(s.core, 26, int64_t(x5_list.size()));
+      charge_loop(s.core, 25, int64_t(x5_list.size()));
       for (const C1_Goal& x5 : x5_list) {
         const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
-        s.core.occupied.add(e6.position);
         ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
       }
     }
@@ -1888,23 +1877,20 @@ struct Prog {
     const std::vector<C2_Crate>& g7 = s.g_crates_12;
     {
       const auto& x8_list = g7;
-      charge_loop(s.core, 26, int64_t(x8_list.size()));
+      charge_loop(s.core, 25, int64_t(x8_list.size()));
       for (const C2_Crate& x8 : x8_list) {
         const int32_t colour9 = colour_1_C2_Crate(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
-        s.core.occupied.add(e10.position);
         ++s.core.rendered, paint ? paint->paint(e10.position, e10.color, pal) : void();
       }
     }
     if (paint) paint->global(int32_t(3));
     const C3_Keeper& g11 = s.g_keeper_20;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(5)};
-    s.core.occupied.add(e12.position);
     ++s.core.rendered, paint ? paint->paint(e12.position, e12.color, pal) : void();
     if (paint) paint->global(int32_t(4));
     const C4_Button& g13 = s.g_reset_8;
     const Elem e14 = Elem{Pos{add(g13.origin.x, int32_t(0)), add(g13.origin.y, int32_t(0))}, int32_t(2)};
-    s.core.occupied.add(e14.position);
     ++s.core.rendered, paint ? paint->paint(e14.position, e14.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
@@ -2026,7 +2012,6 @@ const ErrorSite Prog::kErrors[] = {
     {58, 25, nullptr, true, 58, 25, ""},
     {24, 27, nullptr, true, 24, 27, ""},
     {149, 20, "<stdlib>", true, 24, 68, ""},
-    {70, 7, nullptr, true, 70, 7, ""},
     {72, 30, nullptr, true, 72, 30, ""},
     {23, 26, nullptr, true, 23, 26, ""},
     {0, 0, nullptr, false, 0, 0, ""},

@@ -137,22 +137,19 @@ struct Prog {
 
   struct Scratch {
     std::vector<C0_Burrow> b0;
-    std::vector<Elem> b1;
+    std::vector<C1_Mole> b1;
     std::vector<C1_Mole> b2;
     std::vector<C1_Mole> b3;
-    std::vector<C1_Mole> b4;
-    std::vector<Elem> b5;
-    std::vector<C2_Flash> b6;
-    std::vector<Elem> b7;
+    std::vector<C2_Flash> b4;
+    std::vector<C1_Mole> b5;
+    std::vector<C1_Mole> b6;
+    std::vector<C1_Mole> b7;
     std::vector<C1_Mole> b8;
-    std::vector<C1_Mole> b9;
-    std::vector<C1_Mole> b10;
+    std::vector<Pos> b9;
+    std::vector<Pos> b10;
     std::vector<C1_Mole> b11;
-    std::vector<Pos> b12;
-    std::vector<Pos> b13;
-    std::vector<C1_Mole> b14;
-    std::vector<C2_Flash> b15;
-    std::vector<C2_Flash> b16;
+    std::vector<C2_Flash> b12;
+    std::vector<C2_Flash> b13;
     C3_ScoreBar p_bar_8{};
     bool sv_bar_9{};
     bool p_won_12{};
@@ -430,23 +427,14 @@ struct Prog {
           s.d_click_35 = true;
           const Pos t6 = Pos{s.core.click_x, s.core.click_y};
           s.g_click_34 = t6;
-          std::vector<Elem>& rendered7 = s.scratch.v.b1;
-          rendered7.clear();
           {
-            const auto& x8_list = prev4;
-            charge_loop(s.core, 6, int64_t(x8_list.size()));
-            for (const C1_Mole& x8 : x8_list) {
-              const int32_t colour9 = colour_11_C1_Mole(s, x8);
-              rendered7.push_back(Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9});
-            }
-          }
-          {
-            const auto& e10_list = rendered7;
-            charge_loop(s.core, 6, int64_t(e10_list.size()));
-            for (const Elem& e10 : e10_list) {
-              if ((e10.position == Pos{s.core.click_x, s.core.click_y})) {
+            const auto& x7_list = prev4;
+            charge_loop(s.core, 6, int64_t(x7_list.size()));
+            for (const C1_Mole& x7 : x7_list) {
+              const int32_t colour8 = colour_11_C1_Mole(s, x7);
+              const Elem e9 = Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8};
+              if ((e9.position == Pos{s.core.click_x, s.core.click_y})) {
                 clicked5 = true;
-                break;
               }
             }
           }
@@ -457,67 +445,59 @@ struct Prog {
       }
       if (r3) {
         s.core.covered[int32_t(0)] = 1;
-        const std::vector<C1_Mole>& prev11 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+        const std::vector<C1_Mole>& prev10 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C1_Mole>& out12 = s.scratch.v.b2;
-        out12.clear();
-        charge_built(s.core, 7, int64_t(prev11.size()));
-        out12.reserve(size_t(int32_t(prev11.size())));
+        std::vector<C1_Mole>& out11 = s.scratch.v.b1;
+        out11.clear();
+        charge_built(s.core, 7, int64_t(prev10.size()));
+        out11.reserve(size_t(int32_t(prev10.size())));
         {
-          const auto& x13_list = prev11;
-          charge_loop(s.core, 7, int64_t(x13_list.size()));
-          for (const C1_Mole& x13 : x13_list) {
+          const auto& x12_list = prev10;
+          charge_loop(s.core, 7, int64_t(x12_list.size()));
+          for (const C1_Mole& x12 : x12_list) {
             // inlined: function at programs/whack_a_mole.au:47
-            const int32_t t14 = sub(x13.f0, int32_t(1));
-            C1_Mole upd15 = x13;
-            upd15.f0 = t14;
-            out12.push_back(std::move(upd15));
+            const int32_t t13 = sub(x12.f0, int32_t(1));
+            C1_Mole upd14 = x12;
+            upd14.f0 = t13;
+            out11.push_back(std::move(upd14));
           }
         }
-        std::vector<C1_Mole>& out16 = s.scratch.v.b3;
-        out16.clear();
+        std::vector<C1_Mole>& out15 = s.scratch.v.b2;
+        out15.clear();
         {
-          const auto& x17_list = out12;
-          charge_loop(s.core, 8, int64_t(x17_list.size()));
-          for (const C1_Mole& x17 : x17_list) {
+          const auto& x16_list = out11;
+          charge_loop(s.core, 8, int64_t(x16_list.size()));
+          for (const C1_Mole& x16 : x16_list) {
             // inlined: function at programs/whack_a_mole.au:46
-            const bool t18 = (x17.f0 > int32_t(0));
-            if (t18) {
+            const bool t17 = (x16.f0 > int32_t(0));
+            if (t17) {
               charge_built(s.core, 8, int64_t(int32_t(1)));
-              out16.push_back(x17);
+              out15.push_back(x16);
             }
           }
         }
-        std::vector<C1_Mole>& out19 = s.scratch.v.b4;
-        out19.clear();
+        std::vector<C1_Mole>& out18 = s.scratch.v.b3;
+        out18.clear();
         {
-          const auto& x20_list = out16;
-          charge_loop(s.core, 9, int64_t(x20_list.size()));
-          for (const C1_Mole& x20 : x20_list) {
+          const auto& x19_list = out15;
+          charge_loop(s.core, 9, int64_t(x19_list.size()));
+          for (const C1_Mole& x19 : x19_list) {
             // inlined: function at programs/whack_a_mole.au:56
-            bool clicked21 = false;
+            bool clicked20 = false;
             if (s.core.click) {
               s.d_click_35 = true;
-              const Pos t22 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_34 = t22;
-              std::vector<Elem>& rendered23 = s.scratch.v.b5;
-              rendered23.clear();
-              const int32_t colour24 = colour_11_C1_Mole(s, x20);
-              rendered23.push_back(Elem{Pos{add(x20.origin.x, int32_t(0)), add(x20.origin.y, int32_t(0))}, colour24});
-              {
-                const auto& e25_list = rendered23;
-                for (const Elem& e25 : e25_list) {
-                  if ((e25.position == Pos{s.core.click_x, s.core.click_y})) {
-                    clicked21 = true;
-                    break;
-                  }
-                }
+              const Pos t21 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_34 = t21;
+              const int32_t colour22 = colour_11_C1_Mole(s, x19);
+              const Elem e23 = Elem{Pos{add(x19.origin.x, int32_t(0)), add(x19.origin.y, int32_t(0))}, colour22};
+              if ((e23.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked20 = true;
               }
             }
-            const bool t26 = !clicked21;
-            if (t26) {
+            const bool t24 = !clicked20;
+            if (t24) {
               charge_built(s.core, 9, int64_t(int32_t(1)));
-              out19.push_back(x20);
+              out18.push_back(x19);
             }
           }
         }
@@ -525,24 +505,31 @@ struct Prog {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
-        std::swap(s.g_moles_18, out19);
+        std::swap(s.g_moles_18, out18);
         s.u_moles_19 = true;
-        const int32_t& prev27 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
-        const int32_t t28 = add(prev27, int32_t(1));
-        const bool t29 = (int32_t(10) < t28);
-        int32_t r30{};
-        if (t29) {
-          r30 = int32_t(10);
+        const int32_t& prev25 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
+        const int32_t t26 = add(prev25, int32_t(1));
+        const bool t27 = (int32_t(10) < t26);
+        int32_t r28{};
+        if (t27) {
+          r28 = int32_t(10);
         } else {
-          r30 = t28;
+          r28 = t26;
         }
         if (!s.scratch.v.sv_score_17) {
           std::swap(s.scratch.v.p_score_16, s.g_score_14);
           s.scratch.v.sv_score_17 = true;
         }
-        s.g_score_14 = r30;
+        s.g_score_14 = r28;
         s.u_score_15 = true;
-        const std::vector<C2_Flash>& g31 = s.g_flashes_26;
+        const std::vector<C2_Flash>& g29 = s.g_flashes_26;
+        Pos r30{};
+        if (s.d_click_35) {
+          const Pos& g31 = s.g_click_34;
+          r30 = g31;
+        } else {
+          fail_at(10, std::string() + std::string("undefined variable 'click'"));
+        }
         Pos r32{};
         if (s.d_click_35) {
           const Pos& g33 = s.g_click_34;
@@ -550,117 +537,95 @@ struct Prog {
         } else {
           fail_at(11, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r34{};
-        if (s.d_click_35) {
-          const Pos& g35 = s.g_click_34;
-          r34 = g35;
-        } else {
-          fail_at(12, std::string() + std::string("undefined variable 'click'"));
-        }
-        const Pos t36 = Pos{r32.x, r34.y};
-        C2_Flash o37 = C2_Flash{int32_t(2), t36};
-        check_length(s.core, 13, int64_t(g31.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 13, int64_t(g31.size()) + int64_t(int32_t(1)));
-        std::vector<C2_Flash>& added38 = s.scratch.v.b6;
-        added38.clear();
-        added38.reserve(size_t(add(int32_t(g31.size()), int32_t(1))));
-        {
-          const auto& x39_list = g31;
-          charge_loop(s.core, 13, int64_t(x39_list.size()));
-          for (const C2_Flash& x39 : x39_list) {
-            added38.push_back(x39);
-          }
-        }
-        added38.push_back(std::move(o37));
+        const Pos t34 = Pos{r30.x, r32.y};
+        C2_Flash o35 = C2_Flash{int32_t(2), t34};
+        check_length(s.core, 12, int64_t(g29.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 12, int64_t(g29.size()) + int64_t(int32_t(1)));
+        std::vector<C2_Flash>& added36 = s.scratch.v.b4;
+        added36.clear();
+        added36.reserve(size_t(add(int32_t(g29.size()), int32_t(1))));
+        added36.insert(added36.end(), g29.begin(), g29.end());
+        added36.push_back(std::move(o35));
         if (!s.scratch.v.sv_flashes_29) {
           std::swap(s.scratch.v.p_flashes_28, s.g_flashes_26);
           s.scratch.v.sv_flashes_29 = true;
         }
-        std::swap(s.g_flashes_26, added38);
+        std::swap(s.g_flashes_26, added36);
         s.u_flashes_27 = true;
       }
     }
     // on-clause 2, programs/whack_a_mole.au:61
     {
-      const bool& g40 = s.g_won_10;
-      const bool t41 = !g40;
-      bool r42{};
-      if (t41) {
-        bool clicked43 = false;
+      const bool& g37 = s.g_won_10;
+      const bool t38 = !g37;
+      bool r39{};
+      if (t38) {
+        bool clicked40 = false;
         if (s.core.click) {
           s.d_click_35 = true;
-          const Pos t44 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_34 = t44;
-          clicked43 = true;
+          const Pos t41 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_34 = t41;
+          clicked40 = true;
         }
-        bool r45{};
-        if (clicked43) {
-          const std::vector<C1_Mole>& prev46 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
-          bool clicked47 = false;
+        bool r42{};
+        if (clicked40) {
+          const std::vector<C1_Mole>& prev43 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+          bool clicked44 = false;
           if (s.core.click) {
             s.d_click_35 = true;
-            const Pos t48 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_34 = t48;
-            std::vector<Elem>& rendered49 = s.scratch.v.b7;
-            rendered49.clear();
+            const Pos t45 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_34 = t45;
             {
-              const auto& x50_list = prev46;
-              charge_loop(s.core, 14, int64_t(x50_list.size()));
-              for (const C1_Mole& x50 : x50_list) {
-                const int32_t colour51 = colour_11_C1_Mole(s, x50);
-                rendered49.push_back(Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour51});
-              }
-            }
-            {
-              const auto& e52_list = rendered49;
-              charge_loop(s.core, 14, int64_t(e52_list.size()));
-              for (const Elem& e52 : e52_list) {
-                if ((e52.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked47 = true;
-                  break;
+              const auto& x46_list = prev43;
+              charge_loop(s.core, 13, int64_t(x46_list.size()));
+              for (const C1_Mole& x46 : x46_list) {
+                const int32_t colour47 = colour_11_C1_Mole(s, x46);
+                const Elem e48 = Elem{Pos{add(x46.origin.x, int32_t(0)), add(x46.origin.y, int32_t(0))}, colour47};
+                if ((e48.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked44 = true;
                 }
               }
             }
           }
-          const bool t53 = !clicked47;
-          r45 = t53;
+          const bool t49 = !clicked44;
+          r42 = t49;
         } else {
-          r45 = false;
+          r42 = false;
         }
-        r42 = r45;
+        r39 = r42;
       } else {
-        r42 = false;
+        r39 = false;
       }
-      if (r42) {
+      if (r39) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C1_Mole>& prev54 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+        const std::vector<C1_Mole>& prev50 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C1_Mole>& out55 = s.scratch.v.b8;
-        out55.clear();
-        charge_built(s.core, 7, int64_t(prev54.size()));
-        out55.reserve(size_t(int32_t(prev54.size())));
+        std::vector<C1_Mole>& out51 = s.scratch.v.b5;
+        out51.clear();
+        charge_built(s.core, 7, int64_t(prev50.size()));
+        out51.reserve(size_t(int32_t(prev50.size())));
         {
-          const auto& x56_list = prev54;
-          charge_loop(s.core, 7, int64_t(x56_list.size()));
-          for (const C1_Mole& x56 : x56_list) {
+          const auto& x52_list = prev50;
+          charge_loop(s.core, 7, int64_t(x52_list.size()));
+          for (const C1_Mole& x52 : x52_list) {
             // inlined: function at programs/whack_a_mole.au:47
-            const int32_t t57 = sub(x56.f0, int32_t(1));
-            C1_Mole upd58 = x56;
-            upd58.f0 = t57;
-            out55.push_back(std::move(upd58));
+            const int32_t t53 = sub(x52.f0, int32_t(1));
+            C1_Mole upd54 = x52;
+            upd54.f0 = t53;
+            out51.push_back(std::move(upd54));
           }
         }
-        std::vector<C1_Mole>& out59 = s.scratch.v.b9;
-        out59.clear();
+        std::vector<C1_Mole>& out55 = s.scratch.v.b6;
+        out55.clear();
         {
-          const auto& x60_list = out55;
-          charge_loop(s.core, 8, int64_t(x60_list.size()));
-          for (const C1_Mole& x60 : x60_list) {
+          const auto& x56_list = out51;
+          charge_loop(s.core, 8, int64_t(x56_list.size()));
+          for (const C1_Mole& x56 : x56_list) {
             // inlined: function at programs/whack_a_mole.au:46
-            const bool t61 = (x60.f0 > int32_t(0));
-            if (t61) {
+            const bool t57 = (x56.f0 > int32_t(0));
+            if (t57) {
               charge_built(s.core, 8, int64_t(int32_t(1)));
-              out59.push_back(x60);
+              out55.push_back(x56);
             }
           }
         }
@@ -668,72 +633,72 @@ struct Prog {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
-        std::swap(s.g_moles_18, out59);
+        std::swap(s.g_moles_18, out55);
         s.u_moles_19 = true;
-        const int32_t& prev62 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
-        const int32_t t63 = sub(prev62, int32_t(1));
-        const bool t64 = (int32_t(0) < t63);
-        int32_t r65{};
-        if (t64) {
-          r65 = t63;
+        const int32_t& prev58 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
+        const int32_t t59 = sub(prev58, int32_t(1));
+        const bool t60 = (int32_t(0) < t59);
+        int32_t r61{};
+        if (t60) {
+          r61 = t59;
         } else {
-          r65 = int32_t(0);
+          r61 = int32_t(0);
         }
         if (!s.scratch.v.sv_score_17) {
           std::swap(s.scratch.v.p_score_16, s.g_score_14);
           s.scratch.v.sv_score_17 = true;
         }
-        s.g_score_14 = r65;
+        s.g_score_14 = r61;
         s.u_score_15 = true;
       }
     }
     // on-clause 3, programs/whack_a_mole.au:67
     {
-      const bool& g66 = s.g_won_10;
-      bool r67{};
-      if (!g66) {
-        bool clicked68 = false;
+      const bool& g62 = s.g_won_10;
+      bool r63{};
+      if (!g62) {
+        bool clicked64 = false;
         if (s.core.click) {
           s.d_click_35 = true;
-          const Pos t69 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_34 = t69;
-          clicked68 = true;
+          const Pos t65 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_34 = t65;
+          clicked64 = true;
         }
-        const bool t70 = !clicked68;
-        r67 = t70;
+        const bool t66 = !clicked64;
+        r63 = t66;
       } else {
-        r67 = true;
+        r63 = true;
       }
-      if (r67) {
+      if (r63) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C1_Mole>& prev71 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+        const std::vector<C1_Mole>& prev67 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C1_Mole>& out72 = s.scratch.v.b10;
-        out72.clear();
-        charge_built(s.core, 7, int64_t(prev71.size()));
-        out72.reserve(size_t(int32_t(prev71.size())));
+        std::vector<C1_Mole>& out68 = s.scratch.v.b7;
+        out68.clear();
+        charge_built(s.core, 7, int64_t(prev67.size()));
+        out68.reserve(size_t(int32_t(prev67.size())));
         {
-          const auto& x73_list = prev71;
-          charge_loop(s.core, 7, int64_t(x73_list.size()));
-          for (const C1_Mole& x73 : x73_list) {
+          const auto& x69_list = prev67;
+          charge_loop(s.core, 7, int64_t(x69_list.size()));
+          for (const C1_Mole& x69 : x69_list) {
             // inlined: function at programs/whack_a_mole.au:47
-            const int32_t t74 = sub(x73.f0, int32_t(1));
-            C1_Mole upd75 = x73;
-            upd75.f0 = t74;
-            out72.push_back(std::move(upd75));
+            const int32_t t70 = sub(x69.f0, int32_t(1));
+            C1_Mole upd71 = x69;
+            upd71.f0 = t70;
+            out68.push_back(std::move(upd71));
           }
         }
-        std::vector<C1_Mole>& out76 = s.scratch.v.b11;
-        out76.clear();
+        std::vector<C1_Mole>& out72 = s.scratch.v.b8;
+        out72.clear();
         {
-          const auto& x77_list = out72;
-          charge_loop(s.core, 8, int64_t(x77_list.size()));
-          for (const C1_Mole& x77 : x77_list) {
+          const auto& x73_list = out68;
+          charge_loop(s.core, 8, int64_t(x73_list.size()));
+          for (const C1_Mole& x73 : x73_list) {
             // inlined: function at programs/whack_a_mole.au:46
-            const bool t78 = (x77.f0 > int32_t(0));
-            if (t78) {
+            const bool t74 = (x73.f0 > int32_t(0));
+            if (t74) {
               charge_built(s.core, 8, int64_t(int32_t(1)));
-              out76.push_back(x77);
+              out72.push_back(x73);
             }
           }
         }
@@ -741,140 +706,134 @@ struct Prog {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
-        std::swap(s.g_moles_18, out76);
+        std::swap(s.g_moles_18, out72);
         s.u_moles_19 = true;
       }
     }
     // on-clause 4, programs/whack_a_mole.au:70
     {
-      const bool& g79 = s.g_won_10;
-      const bool t80 = !g79;
-      bool r81{};
-      if (t80) {
-        const int32_t& g82 = s.g_time_30;
-        const int32_t t83 = autumn::arith::mod_unchecked(g82, int32_t(2));
-        const bool t84 = (t83 == int32_t(0));
-        bool r85{};
-        if (t84) {
-          const std::vector<C1_Mole>& g86 = s.g_moles_18;
+      const bool& g75 = s.g_won_10;
+      const bool t76 = !g75;
+      bool r77{};
+      if (t76) {
+        const int32_t& g78 = s.g_time_30;
+        const int32_t t79 = autumn::arith::mod_unchecked(g78, int32_t(2));
+        const bool t80 = (t79 == int32_t(0));
+        bool r81{};
+        if (t80) {
+          const std::vector<C1_Mole>& g82 = s.g_moles_18;
           // inlined: function at programs/whack_a_mole.au:50
-          const std::vector<Pos>& g87 = s.g_burrowSpots_4;
-          std::vector<Pos>& out88 = s.scratch.v.b12;
-          out88.clear();
+          const std::vector<Pos>& g83 = s.g_burrowSpots_4;
+          std::vector<Pos>& out84 = s.scratch.v.b9;
+          out84.clear();
           {
-            const auto& x89_list = g87;
-            charge_loop(s.core, 15, int64_t(x89_list.size()));
-            for (const Pos& x89 : x89_list) {
+            const auto& x85_list = g83;
+            charge_loop(s.core, 14, int64_t(x85_list.size()));
+            for (const Pos& x85 : x85_list) {
               // inlined: function at programs/whack_a_mole.au:51
-              bool any90 = false;
+              bool any86 = false;
               {
-                const auto& x91_list = g86;
-                charge_loop(s.core, 16, int64_t(x91_list.size()));
-                for (const C1_Mole& x91 : x91_list) {
+                const auto& x87_list = g82;
+                charge_loop(s.core, 15, int64_t(x87_list.size()));
+                for (const C1_Mole& x87 : x87_list) {
                   // inlined: function at programs/whack_a_mole.au:51
-                  const bool t92 = (x91.origin == x89);
-                  if (t92) {
-                    any90 = true;
+                  const bool t88 = (x87.origin == x85);
+                  if (t88) {
+                    any86 = true;
                     break;
                   }
                 }
               }
-              const bool t93 = !any90;
-              if (t93) {
-                charge_built(s.core, 15, int64_t(int32_t(1)));
-                out88.push_back(x89);
+              const bool t89 = !any86;
+              if (t89) {
+                charge_built(s.core, 14, int64_t(int32_t(1)));
+                out84.push_back(x85);
               }
             }
           }
-          const int32_t t94 = int32_t(out88.size());
-          const bool t95 = (t94 > int32_t(0));
-          r85 = t95;
+          const int32_t t90 = int32_t(out84.size());
+          const bool t91 = (t90 > int32_t(0));
+          r81 = t91;
         } else {
-          r85 = false;
+          r81 = false;
         }
-        r81 = r85;
+        r77 = r81;
       } else {
-        r81 = false;
+        r77 = false;
       }
-      if (r81) {
+      if (r77) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_Mole>& g96 = s.g_moles_18;
-        const std::vector<int32_t> list97 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
-        if (list97.empty()) {
-          fail_at(17, std::string() + std::string("uniformChoice of an empty list"));
+        const std::vector<C1_Mole>& g92 = s.g_moles_18;
+        const std::vector<int32_t> list93 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
+        if (list93.empty()) {
+          fail_at(16, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t98 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list97.size())))));
-        const int32_t t99 = list97[size_t(t98)];
-        const std::vector<C1_Mole>& g100 = s.g_moles_18;
+        const int32_t t94 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list93.size())))));
+        const int32_t t95 = list93[size_t(t94)];
+        const std::vector<C1_Mole>& g96 = s.g_moles_18;
         // inlined: function at programs/whack_a_mole.au:50
-        const std::vector<Pos>& g101 = s.g_burrowSpots_4;
-        std::vector<Pos>& out102 = s.scratch.v.b13;
-        out102.clear();
+        const std::vector<Pos>& g97 = s.g_burrowSpots_4;
+        std::vector<Pos>& out98 = s.scratch.v.b10;
+        out98.clear();
         {
-          const auto& x103_list = g101;
-          charge_loop(s.core, 15, int64_t(x103_list.size()));
-          for (const Pos& x103 : x103_list) {
+          const auto& x99_list = g97;
+          charge_loop(s.core, 14, int64_t(x99_list.size()));
+          for (const Pos& x99 : x99_list) {
             // inlined: function at programs/whack_a_mole.au:51
-            bool any104 = false;
+            bool any100 = false;
             {
-              const auto& x105_list = g100;
-              charge_loop(s.core, 16, int64_t(x105_list.size()));
-              for (const C1_Mole& x105 : x105_list) {
+              const auto& x101_list = g96;
+              charge_loop(s.core, 15, int64_t(x101_list.size()));
+              for (const C1_Mole& x101 : x101_list) {
                 // inlined: function at programs/whack_a_mole.au:51
-                const bool t106 = (x105.origin == x103);
-                if (t106) {
-                  any104 = true;
+                const bool t102 = (x101.origin == x99);
+                if (t102) {
+                  any100 = true;
                   break;
                 }
               }
             }
-            const bool t107 = !any104;
-            if (t107) {
-              charge_built(s.core, 15, int64_t(int32_t(1)));
-              out102.push_back(x103);
+            const bool t103 = !any100;
+            if (t103) {
+              charge_built(s.core, 14, int64_t(int32_t(1)));
+              out98.push_back(x99);
             }
           }
         }
-        if (out102.empty()) {
-          fail_at(18, std::string() + std::string("uniformChoice of an empty list"));
+        if (out98.empty()) {
+          fail_at(17, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t108 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out102.size())))));
-        const Pos t109 = out102[size_t(t108)];
-        C1_Mole o110 = C1_Mole{t99, t109};
-        check_length(s.core, 19, int64_t(g96.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 19, int64_t(g96.size()) + int64_t(int32_t(1)));
-        std::vector<C1_Mole>& added111 = s.scratch.v.b14;
-        added111.clear();
-        added111.reserve(size_t(add(int32_t(g96.size()), int32_t(1))));
-        {
-          const auto& x112_list = g96;
-          charge_loop(s.core, 19, int64_t(x112_list.size()));
-          for (const C1_Mole& x112 : x112_list) {
-            added111.push_back(x112);
-          }
-        }
-        added111.push_back(std::move(o110));
+        const int32_t t104 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out98.size())))));
+        const Pos t105 = out98[size_t(t104)];
+        C1_Mole o106 = C1_Mole{t95, t105};
+        check_length(s.core, 18, int64_t(g92.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 18, int64_t(g92.size()) + int64_t(int32_t(1)));
+        std::vector<C1_Mole>& added107 = s.scratch.v.b11;
+        added107.clear();
+        added107.reserve(size_t(add(int32_t(g92.size()), int32_t(1))));
+        added107.insert(added107.end(), g92.begin(), g92.end());
+        added107.push_back(std::move(o106));
         if (!s.scratch.v.sv_moles_21) {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
-        std::swap(s.g_moles_18, added111);
+        std::swap(s.g_moles_18, added107);
         s.u_moles_19 = true;
       }
     }
     // on-clause 5, programs/whack_a_mole.au:73
     {
-      const bool& g113 = s.g_won_10;
-      const bool t114 = !g113;
-      bool r115{};
-      if (t114) {
-        const int32_t& g116 = s.g_score_14;
-        const bool t117 = (g116 >= int32_t(10));
-        r115 = t117;
+      const bool& g108 = s.g_won_10;
+      const bool t109 = !g108;
+      bool r110{};
+      if (t109) {
+        const int32_t& g111 = s.g_score_14;
+        const bool t112 = (g111 >= int32_t(10));
+        r110 = t112;
       } else {
-        r115 = false;
+        r110 = false;
       }
-      if (r115) {
+      if (r110) {
         s.core.covered[int32_t(4)] = 1;
         if (!s.scratch.v.sv_won_13) {
           std::swap(s.scratch.v.p_won_12, s.g_won_10);
@@ -893,36 +852,36 @@ struct Prog {
     }
     // on-clause 6, programs/whack_a_mole.au:76
     {
-      const bool& prev118 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
-      bool r119{};
-      if (prev118) {
-        const bool t120 = s.core.left;
-        bool r121{};
-        if (!t120) {
-          const bool t122 = s.core.right;
-          bool r123{};
-          if (!t122) {
-            const bool t124 = s.core.up;
-            bool r125{};
-            if (!t124) {
-              const bool t126 = s.core.down;
-              r125 = t126;
+      const bool& prev113 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
+      bool r114{};
+      if (prev113) {
+        const bool t115 = s.core.left;
+        bool r116{};
+        if (!t115) {
+          const bool t117 = s.core.right;
+          bool r118{};
+          if (!t117) {
+            const bool t119 = s.core.up;
+            bool r120{};
+            if (!t119) {
+              const bool t121 = s.core.down;
+              r120 = t121;
             } else {
-              r125 = true;
+              r120 = true;
             }
-            r123 = r125;
+            r118 = r120;
           } else {
-            r123 = true;
+            r118 = true;
           }
-          r121 = r123;
+          r116 = r118;
         } else {
-          r121 = true;
+          r116 = true;
         }
-        r119 = r121;
+        r114 = r116;
       } else {
-        r119 = false;
+        r114 = false;
       }
-      if (r119) {
+      if (r114) {
         s.core.covered[int32_t(5)] = 1;
         if (!s.scratch.v.sv_won_13) {
           std::swap(s.scratch.v.p_won_12, s.g_won_10);
@@ -941,136 +900,136 @@ struct Prog {
     }
     // NEXT of bar, programs/whack_a_mole.au:42
     if (!s.u_bar_7) {
-      const C3_ScoreBar& prev127 = (s.scratch.v.sv_bar_9 ? s.scratch.v.p_bar_8 : s.g_bar_6);
-      const int32_t& g128 = s.g_score_14;
-      C3_ScoreBar upd129 = prev127;
-      upd129.f0 = g128;
+      const C3_ScoreBar& prev122 = (s.scratch.v.sv_bar_9 ? s.scratch.v.p_bar_8 : s.g_bar_6);
+      const int32_t& g123 = s.g_score_14;
+      C3_ScoreBar upd124 = prev122;
+      upd124.f0 = g123;
       if (!s.scratch.v.sv_bar_9) {
         std::swap(s.scratch.v.p_bar_8, s.g_bar_6);
         s.scratch.v.sv_bar_9 = true;
       }
-      s.g_bar_6 = std::move(upd129);
+      s.g_bar_6 = std::move(upd124);
       s.u_bar_7 = true;
     }
     // NEXT of won, programs/whack_a_mole.au:39
     if ((!s.u_won_11 && s.scratch.v.sv_won_13)) {
-      const bool prev130 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
+      const bool prev125 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
       if (!s.scratch.v.sv_won_13) {
         std::swap(s.scratch.v.p_won_12, s.g_won_10);
         s.scratch.v.sv_won_13 = true;
       }
-      s.g_won_10 = prev130;
+      s.g_won_10 = prev125;
       s.u_won_11 = true;
     }
     // NEXT of score, programs/whack_a_mole.au:36
     if ((!s.u_score_15 && s.scratch.v.sv_score_17)) {
-      const int32_t prev131 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
+      const int32_t prev126 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
       if (!s.scratch.v.sv_score_17) {
         std::swap(s.scratch.v.p_score_16, s.g_score_14);
         s.scratch.v.sv_score_17 = true;
       }
-      s.g_score_14 = prev131;
+      s.g_score_14 = prev126;
       s.u_score_15 = true;
     }
     // NEXT of moles, programs/whack_a_mole.au:28
     if ((!s.u_moles_19 && s.scratch.v.sv_moles_21)) {
-      const std::vector<C1_Mole> prev132 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+      const std::vector<C1_Mole> prev127 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
       if (!s.scratch.v.sv_moles_21) {
         std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
         s.scratch.v.sv_moles_21 = true;
       }
-      s.g_moles_18 = prev132;
+      s.g_moles_18 = prev127;
       s.u_moles_19 = true;
     }
     // NEXT of burrows, programs/whack_a_mole.au:25
     if ((!s.u_burrows_23 && s.scratch.v.sv_burrows_25)) {
-      const std::vector<C0_Burrow> prev133 = (s.scratch.v.sv_burrows_25 ? s.scratch.v.p_burrows_24 : s.g_burrows_22);
+      const std::vector<C0_Burrow> prev128 = (s.scratch.v.sv_burrows_25 ? s.scratch.v.p_burrows_24 : s.g_burrows_22);
       if (!s.scratch.v.sv_burrows_25) {
         std::swap(s.scratch.v.p_burrows_24, s.g_burrows_22);
         s.scratch.v.sv_burrows_25 = true;
       }
-      s.g_burrows_22 = prev133;
+      s.g_burrows_22 = prev128;
       s.u_burrows_23 = true;
     }
     // NEXT of flashes, programs/whack_a_mole.au:32
     if (!s.u_flashes_27) {
-      const std::vector<C2_Flash>& prev134 = (s.scratch.v.sv_flashes_29 ? s.scratch.v.p_flashes_28 : s.g_flashes_26);
-      std::vector<C2_Flash>& out135 = s.scratch.v.b15;
-      out135.clear();
+      const std::vector<C2_Flash>& prev129 = (s.scratch.v.sv_flashes_29 ? s.scratch.v.p_flashes_28 : s.g_flashes_26);
+      std::vector<C2_Flash>& out130 = s.scratch.v.b12;
+      out130.clear();
       {
-        const auto& x136_list = prev134;
-        charge_loop(s.core, 20, int64_t(x136_list.size()));
-        for (const C2_Flash& x136 : x136_list) {
+        const auto& x131_list = prev129;
+        charge_loop(s.core, 19, int64_t(x131_list.size()));
+        for (const C2_Flash& x131 : x131_list) {
           // inlined: function at programs/whack_a_mole.au:32
-          const bool t137 = (x136.f0 > int32_t(1));
-          if (t137) {
-            charge_built(s.core, 20, int64_t(int32_t(1)));
-            out135.push_back(x136);
+          const bool t132 = (x131.f0 > int32_t(1));
+          if (t132) {
+            charge_built(s.core, 19, int64_t(int32_t(1)));
+            out130.push_back(x131);
           }
         }
       }
-      std::vector<C2_Flash>& out138 = s.scratch.v.b16;
-      out138.clear();
-      charge_built(s.core, 21, int64_t(out135.size()));
-      out138.reserve(size_t(int32_t(out135.size())));
+      std::vector<C2_Flash>& out133 = s.scratch.v.b13;
+      out133.clear();
+      charge_built(s.core, 20, int64_t(out130.size()));
+      out133.reserve(size_t(int32_t(out130.size())));
       {
-        const auto& x139_list = out135;
-        charge_loop(s.core, 21, int64_t(x139_list.size()));
-        for (const C2_Flash& x139 : x139_list) {
+        const auto& x134_list = out130;
+        charge_loop(s.core, 20, int64_t(x134_list.size()));
+        for (const C2_Flash& x134 : x134_list) {
           // inlined: function at programs/whack_a_mole.au:33
-          const int32_t t140 = sub(x139.f0, int32_t(1));
-          C2_Flash upd141 = x139;
-          upd141.f0 = t140;
-          out138.push_back(std::move(upd141));
+          const int32_t t135 = sub(x134.f0, int32_t(1));
+          C2_Flash upd136 = x134;
+          upd136.f0 = t135;
+          out133.push_back(std::move(upd136));
         }
       }
       if (!s.scratch.v.sv_flashes_29) {
         std::swap(s.scratch.v.p_flashes_28, s.g_flashes_26);
         s.scratch.v.sv_flashes_29 = true;
       }
-      std::swap(s.g_flashes_26, out138);
+      std::swap(s.g_flashes_26, out133);
       s.u_flashes_27 = true;
     }
     // NEXT of time, programs/whack_a_mole.au:22
     if (!s.u_time_31) {
-      const int32_t& prev142 = (s.scratch.v.sv_time_33 ? s.scratch.v.p_time_32 : s.g_time_30);
-      const int32_t t143 = add(prev142, int32_t(1));
+      const int32_t& prev137 = (s.scratch.v.sv_time_33 ? s.scratch.v.p_time_32 : s.g_time_30);
+      const int32_t t138 = add(prev137, int32_t(1));
       if (!s.scratch.v.sv_time_33) {
         std::swap(s.scratch.v.p_time_32, s.g_time_30);
         s.scratch.v.sv_time_33 = true;
       }
-      s.g_time_30 = t143;
+      s.g_time_30 = t138;
       s.u_time_31 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_35) {
-      tally_rendered(s.core, 22, "cacheRendered");
-      const std::vector<C2_Flash>& g144 = s.g_flashes_26;
-      tally_global(s.core, 1, "flashes", g144);
-      const std::vector<C0_Burrow>& g145 = s.g_burrows_22;
-      tally_global(s.core, 2, "burrows", g145);
-      const C3_ScoreBar& g146 = s.g_bar_6;
-      tally_global(s.core, 3, "bar", g146);
-      const std::vector<Pos>& g147 = s.g_burrowSpots_4;
-      tally_global(s.core, 4, "burrowSpots", g147);
+      tally_rendered(s.core, 21, "cacheRendered");
+      const std::vector<C2_Flash>& g139 = s.g_flashes_26;
+      tally_global(s.core, 1, "flashes", g139);
+      const std::vector<C0_Burrow>& g140 = s.g_burrows_22;
+      tally_global(s.core, 2, "burrows", g140);
+      const C3_ScoreBar& g141 = s.g_bar_6;
+      tally_global(s.core, 3, "bar", g141);
+      const std::vector<Pos>& g142 = s.g_burrowSpots_4;
+      tally_global(s.core, 4, "burrowSpots", g142);
       if (s.d_click_35) {
-        const Pos& g148 = s.g_click_34;
-        tally_global(s.core, 22, "click", g148);
+        const Pos& g143 = s.g_click_34;
+        tally_global(s.core, 21, "click", g143);
       }
+      const std::vector<C1_Mole>& g144 = s.g_moles_18;
+      tally_global(s.core, 5, "moles", g144);
+    } else {
+      tally_rendered(s.core, 21, "cacheRendered");
+      const std::vector<C2_Flash>& g145 = s.g_flashes_26;
+      tally_global(s.core, 1, "flashes", g145);
+      const std::vector<C0_Burrow>& g146 = s.g_burrows_22;
+      tally_global(s.core, 2, "burrows", g146);
+      const C3_ScoreBar& g147 = s.g_bar_6;
+      tally_global(s.core, 3, "bar", g147);
+      const std::vector<Pos>& g148 = s.g_burrowSpots_4;
+      tally_global(s.core, 4, "burrowSpots", g148);
       const std::vector<C1_Mole>& g149 = s.g_moles_18;
       tally_global(s.core, 5, "moles", g149);
-    } else {
-      tally_rendered(s.core, 22, "cacheRendered");
-      const std::vector<C2_Flash>& g150 = s.g_flashes_26;
-      tally_global(s.core, 1, "flashes", g150);
-      const std::vector<C0_Burrow>& g151 = s.g_burrows_22;
-      tally_global(s.core, 2, "burrows", g151);
-      const C3_ScoreBar& g152 = s.g_bar_6;
-      tally_global(s.core, 3, "bar", g152);
-      const std::vector<Pos>& g153 = s.g_burrowSpots_4;
-      tally_global(s.core, 4, "burrowSpots", g153);
-      const std::vector<C1_Mole>& g154 = s.g_moles_18;
-      tally_global(s.core, 5, "moles", g154);
     }
     s.core.clear_inputs();
   }
@@ -1084,10 +1043,9 @@ struct Prog {
     const std::vector<C0_Burrow>& g1 = s.g_burrows_22;
     {
       const auto& x2_list = g1;
-      charge_loop(s.core, 23, int64_t(x2_list.size()));
+      charge_loop(s.core, 22, int64_t(x2_list.size()));
       for (const C0_Burrow& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
-        s.core.occupied.add(e3.position);
         ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
       }
     }
@@ -1095,11 +1053,10 @@ struct Prog {
     const std::vector<C1_Mole>& g4 = s.g_moles_18;
     {
       const auto& x5_list = g4;
-      charge_loop(s.core, 23, int64_t(x5_list.size()));
+      charge_loop(s.core, 22, int64_t(x5_list.size()));
       for (const C1_Mole& x5 : x5_list) {
         const int32_t colour6 = colour_11_C1_Mole(s, x5);
         const Elem e7 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, colour6};
-        s.core.occupied.add(e7.position);
         ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
       }
     }
@@ -1107,11 +1064,10 @@ struct Prog {
     const std::vector<C2_Flash>& g8 = s.g_flashes_26;
     {
       const auto& x9_list = g8;
-      charge_loop(s.core, 23, int64_t(x9_list.size()));
+      charge_loop(s.core, 22, int64_t(x9_list.size()));
       for (const C2_Flash& x9 : x9_list) {
         const int32_t colour10 = colour_12_C2_Flash(s, x9);
         const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
-        s.core.occupied.add(e11.position);
         ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
       }
     }
@@ -1119,43 +1075,33 @@ struct Prog {
     const C3_ScoreBar& g12 = s.g_bar_6;
     const int32_t colour13 = colour_0_C3_ScoreBar(s, g12);
     const Elem e14 = Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, colour13};
-    s.core.occupied.add(e14.position);
     ++s.core.rendered, paint ? paint->paint(e14.position, e14.color, pal) : void();
     const int32_t colour15 = colour_1_C3_ScoreBar(s, g12);
     const Elem e16 = Elem{Pos{add(g12.origin.x, int32_t(1)), add(g12.origin.y, int32_t(0))}, colour15};
-    s.core.occupied.add(e16.position);
     ++s.core.rendered, paint ? paint->paint(e16.position, e16.color, pal) : void();
     const int32_t colour17 = colour_2_C3_ScoreBar(s, g12);
     const Elem e18 = Elem{Pos{add(g12.origin.x, int32_t(2)), add(g12.origin.y, int32_t(0))}, colour17};
-    s.core.occupied.add(e18.position);
     ++s.core.rendered, paint ? paint->paint(e18.position, e18.color, pal) : void();
     const int32_t colour19 = colour_3_C3_ScoreBar(s, g12);
     const Elem e20 = Elem{Pos{add(g12.origin.x, int32_t(3)), add(g12.origin.y, int32_t(0))}, colour19};
-    s.core.occupied.add(e20.position);
     ++s.core.rendered, paint ? paint->paint(e20.position, e20.color, pal) : void();
     const int32_t colour21 = colour_4_C3_ScoreBar(s, g12);
     const Elem e22 = Elem{Pos{add(g12.origin.x, int32_t(4)), add(g12.origin.y, int32_t(0))}, colour21};
-    s.core.occupied.add(e22.position);
     ++s.core.rendered, paint ? paint->paint(e22.position, e22.color, pal) : void();
     const int32_t colour23 = colour_5_C3_ScoreBar(s, g12);
     const Elem e24 = Elem{Pos{add(g12.origin.x, int32_t(5)), add(g12.origin.y, int32_t(0))}, colour23};
-    s.core.occupied.add(e24.position);
     ++s.core.rendered, paint ? paint->paint(e24.position, e24.color, pal) : void();
     const int32_t colour25 = colour_6_C3_ScoreBar(s, g12);
     const Elem e26 = Elem{Pos{add(g12.origin.x, int32_t(6)), add(g12.origin.y, int32_t(0))}, colour25};
-    s.core.occupied.add(e26.position);
     ++s.core.rendered, paint ? paint->paint(e26.position, e26.color, pal) : void();
     const int32_t colour27 = colour_7_C3_ScoreBar(s, g12);
     const Elem e28 = Elem{Pos{add(g12.origin.x, int32_t(7)), add(g12.origin.y, int32_t(0))}, colour27};
-    s.core.occupied.add(e28.position);
     ++s.core.rendered, paint ? paint->paint(e28.position, e28.color, pal) : void();
     const int32_t colour29 = colour_8_C3_ScoreBar(s, g12);
     const Elem e30 = Elem{Pos{add(g12.origin.x, int32_t(8)), add(g12.origin.y, int32_t(0))}, colour29};
-    s.core.occupied.add(e30.position);
     ++s.core.rendered, paint ? paint->paint(e30.position, e30.color, pal) : void();
     const int32_t colour31 = colour_9_C3_ScoreBar(s, g12);
     const Elem e32 = Elem{Pos{add(g12.origin.x, int32_t(9)), add(g12.origin.y, int32_t(0))}, colour31};
-    s.core.occupied.add(e32.position);
     ++s.core.rendered, paint ? paint->paint(e32.position, e32.color, pal) : void();
   }
   static uint64_t hash(const State& s) {
@@ -1268,7 +1214,6 @@ const ErrorSite Prog::kErrors[] = {
     {47, 13, nullptr, true, 47, 13, ""},
     {46, 5, nullptr, true, 46, 5, ""},
     {56, 16, nullptr, true, 56, 16, ""},
-    {56, 34, nullptr, true, 56, 34, ""},
     {58, 57, nullptr, true, 58, 57, ""},
     {58, 70, nullptr, true, 58, 70, ""},
     {58, 18, nullptr, true, 58, 18, ""},

@@ -520,7 +520,7 @@ TEST(IrText, NamesFunctionsStatementsAndTypes) {
                            ": list<pos>", "make_obj Crate(", "set global g_crates_"})
     EXPECT_NE(l.ir.find(want), std::string::npos) << want;
   EXPECT_EQ(lowering_stages().front(), "specialise");
-  EXPECT_EQ(lowering_stages().size(), 7u);
+  EXPECT_EQ(lowering_stages().size(), 8u);
   o.dump_ir_after = "specialise";
   EXPECT_NE(lower_program(*program, "sokoban", o).ir, l.ir) << "the passes change the IR";
 }

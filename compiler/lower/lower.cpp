@@ -29,9 +29,13 @@ struct Pass {
   void (*run)(lower::Module&);
 };
 constexpr Pass kPasses[] = {
-    {"settle_references", lower::settle_references}, {"resolve_aliases", lower::resolve_aliases},
-    {"remove_dead_names", lower::remove_dead_names}, {"move_last_uses", lower::move_last_uses},
-    {"reuse_buffers", lower::reuse_buffers},         {"spare_short_loops", lower::spare_short_loops},
+    {"mark_occupancy_if_read", lower::mark_occupancy_if_read},
+    {"settle_references", lower::settle_references},
+    {"resolve_aliases", lower::resolve_aliases},
+    {"remove_dead_names", lower::remove_dead_names},
+    {"move_last_uses", lower::move_last_uses},
+    {"reuse_buffers", lower::reuse_buffers},
+    {"spare_short_loops", lower::spare_short_loops},
 };
 
 // After each stage: the IR still holds its invariants (when AUTUMN_VERIFY_IR is

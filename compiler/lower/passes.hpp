@@ -3,6 +3,7 @@
 //
 //   settle_references   pass_refs.cpp     Bind: reference or copy
 //   resolve_aliases     pass_aliases.cpp  a reference to a local is the local
+//   mark_occupancy_if_read  pass_occupancy.cpp  no isFreePos: the render marks no occupancy
 //   remove_dead_names   pass_dead.cpp     unused pure names are not computed
 //   reuse_buffers       pass_scratch.cpp  short-lived lists keep their storage
 //   move_last_uses      pass_moves.cpp    a value's last use moves it
@@ -14,6 +15,7 @@ namespace autumn::lower {
 
 void settle_references(Module& m);
 void resolve_aliases(Module& m);
+void mark_occupancy_if_read(Module& m);
 void remove_dead_names(Module& m);
 void reuse_buffers(Module& m);
 void move_last_uses(Module& m);

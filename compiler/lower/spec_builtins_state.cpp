@@ -197,19 +197,16 @@ SVal Specialiser::builtin_clicked(Builtin, std::vector<SVal>& a, const Expr& at)
       fail("clicked takes 0 or 1 arguments, got " + std::to_string(a.size()));
       return;
     }
-    SVal elems = render_value(a[0], at);
-    if (!renders(a[0].type)) return;
-    SVal pos{T().pos(), ir_.call(ir::Helper::ClickPos, T().pos(), {})};  // a plain Pos, compared by value
-    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
-    loop->var = ir_.var(T().elem(), "e");
-    loop->a = elems.code;
-    ir_.in_block(loop->body, [&] {
+    // Each rendered element is compared as it is drawn, into no list: an
+    // object of fixed cells costs a compare per cell. No early exit (a break
+    // would leave the caller's loop when the object draws without one); the
+    // comparisons have no effects, so drawing on changes nothing but time.
+    render_into(a[0], [&](ir::Node* elem) {
+      SVal e = let(SVal{T().elem(), elem}, "e");
+      ir::Node* pos = ir_.call(ir::Helper::ClickPos, T().pos(), {});  // a plain Pos, compared by value
       ir::Stmt* hit = ir_.emit(ir::SK::If);
-      hit->a = ir_.node(ir::Op::Eq, T().bool_(), {ir_.member(ir_.local(loop->var), ir::Member::Position, T().pos()), pos.code});
-      ir_.in_block(hit->body, [&] {
-        ir_.emit_set(ir_.local(r), ir_.lit(T().bool_(), 1));
-        ir_.emit(ir::SK::Break);
-      });
+      hit->a = ir_.node(ir::Op::Eq, T().bool_(), {ir_.member(e.code, ir::Member::Position, T().pos()), pos});
+      ir_.in_block(hit->body, [&] { ir_.emit_set(ir_.local(r), ir_.lit(T().bool_(), 1)); });
     });
   });
   return built(r);
@@ -290,14 +287,18 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
     ir::Node* extra = x.type->k == TK::List ? (x.type->elem ? ir_.node(ir::Op::Size, T().int_(), {x.code}) : ir_.lit(T().int_(), 0))
                                             : ir_.lit(T().int_(), 1);
     ir_.emit_eval(ir_.call(ir::Helper::Reserve, nullptr, {ir_.local(out), ir_.node(ir::Op::Add, T().int_(), {ir_.node(ir::Op::Size, T().int_(), {l.code}), extra})}));
-    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
-    loop->var = ir_.var(et, "x");
-    loop->a = l.code;
-    ir_.in_block(loop->body, [&] {
-      SVal e{et, ir_.local(loop->var)};
-      if (h_.tracked(et)) e = renew_identity(e);
-      ir_.emit_push(ir_.local(out), coerce(e, rt).code);
-    });
+    if (!h_.tracked(et) && et == rt) {  // the elements as they are: one bulk copy, no loop
+      ir_.emit_eval(ir_.call(ir::Helper::Append, nullptr, {ir_.local(out), l.code}));
+    } else {
+      ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+      loop->var = ir_.var(et, "x");
+      loop->a = l.code;
+      ir_.in_block(loop->body, [&] {
+        SVal e{et, ir_.local(loop->var)};
+        if (h_.tracked(et)) e = renew_identity(e);
+        ir_.emit_push(ir_.local(out), coerce(e, rt).code);
+      });
+    }
   }
   if (x.type->k == TK::List) {
     if (x.type->elem) {
