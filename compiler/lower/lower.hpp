@@ -5,8 +5,9 @@
 //   specialise      the staged interpreter: AST -> typed IR, every call inlined,
 //                   dynamic scopes resolved, types found by repeated walks
 //                   (specialise.hpp, spec_*.cpp)
-//   passes          settle_references, resolve_aliases, remove_dead_names,
-//                   move_last_uses, reuse_buffers, spare_short_loops (passes.hpp)
+//   passes          mark_occupancy_if_read, settle_references, resolve_aliases,
+//                   remove_dead_names, move_last_uses, reuse_buffers,
+//                   spare_short_loops (passes.hpp)
 //   print           the one C++ printer (print_cpp.hpp)
 //
 // After each stage the IR can be verified (ir_verify.hpp) and printed as text
