@@ -144,28 +144,34 @@ class Occupancy {
   // Clears in time proportional to what the last render covered, not to the
   // grid; when that was over a quarter of the grid, clearing it all costs less.
   void clear(int size) {
+    const size_t cells = static_cast<size_t>(size) * size;
     if (size != size_) {
       size_ = size;
-      grid_.assign(static_cast<size_t>(size) * size, 0);
-    } else if (set_.size() > grid_.size() / 4) {
+      grid_.assign(cells, 0);
+      marks_.assign(cells / 4 + 1, 0);
+    } else if (set_ >= marks_.size()) {
       std::fill(grid_.begin(), grid_.end(), uint8_t{0});
     } else {
-      for (uint32_t i : set_) grid_[i] = 0;
+      for (uint32_t k = 0; k < set_; ++k) grid_[marks_[k]] = 0;
     }
-    set_.clear();
+    set_ = 0;
     outside_.clear();
     sorted_ = true;
   }
+  // Inline and without a growing list, like Painter::paint (one call per
+  // element drawn): marks_ remembers the first cells set, the count the rest.
   void add(Pos p) {
     if (p.x >= 0 && p.y >= 0 && p.x < size_ && p.y < size_) {
-      uint8_t& g = grid_[static_cast<size_t>(p.y) * size_ + p.x];
+      const uint32_t i = static_cast<uint32_t>(p.y) * size_ + p.x;
+      uint8_t& g = grid_[i];
       if (!g) {
         g = 1;
-        set_.push_back(static_cast<uint32_t>(p.y) * size_ + p.x);
+        const size_t last = marks_.size() - 1;
+        marks_[set_ < last ? set_ : last] = i;
+        ++set_;
       }
     } else {
-      outside_.push_back(key(p));
-      sorted_ = false;
+      add_outside(p);
     }
   }
   bool free(Pos p) const {
@@ -177,13 +183,23 @@ class Occupancy {
 
  private:
   static uint64_t key(Pos p) { return (static_cast<uint64_t>(static_cast<uint32_t>(p.x)) << 32) | static_cast<uint32_t>(p.y); }
-  int size_ = 0;
-  std::vector<uint8_t> grid_;
+  [[gnu::cold, gnu::noinline]] void add_outside(Pos p) {
+    outside_.push_back(key(p));
+    sorted_ = false;
+  }
   void sort() const {
     if (!sorted_) sort_outside();
   }
   void sort_outside() const;  // compiled_support.cpp
-  std::vector<uint32_t> set_;  // indices of the grid cells currently set
+  // Invariants: grid_ has size_ * size_ cells, 1 where covered; set_ counts
+  // them, and marks_ (size_ * size_ / 4 + 1 entries) holds the first
+  // min(set_, size_ * size_ / 4) of their indices; past that, clear() zeroes
+  // the whole grid. Before the first clear() everything is empty and add()
+  // never runs (the render clears first).
+  int size_ = 0;
+  std::vector<uint8_t> grid_;
+  size_t set_ = 0;
+  std::vector<uint32_t> marks_;
   mutable std::vector<uint64_t> outside_;  // positions off the grid, sorted on demand
   mutable bool sorted_ = true;
 };
