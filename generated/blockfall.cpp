@@ -1190,8 +1190,7 @@ struct Prog {
               const int32_t t253 = add(x247.origin.x, t252.x);
               const int32_t t254 = add(x247.origin.y, t252.y);
               const Pos t255 = Pos{t253, t254};
-              C1_Block upd256 = x247;
-              upd256.origin = t255;
+              C1_Block upd256 = C1_Block{x247.f0, t255};
               out246.push_back(std::move(upd256));
             }
           }

@@ -380,8 +380,7 @@ struct Prog {
         const int32_t t3 = add(prev2.origin.x, int32_t(-1));
         const int32_t t4 = add(prev2.origin.y, int32_t(0));
         const Pos t5 = Pos{t3, t4};
-        C0_Paddle upd6 = prev2;
-        upd6.origin = t5;
+        const C0_Paddle upd6 = C0_Paddle{t5};
         std::vector<Elem>& rendered7 = s.scratch.v.b3;
         rendered7.clear();
         rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(-1)), add(upd6.origin.y, int32_t(0))}, int32_t(3)});
@@ -402,8 +401,7 @@ struct Prog {
           const int32_t t11 = add(prev2.origin.x, int32_t(-1));
           const int32_t t12 = add(prev2.origin.y, int32_t(0));
           const Pos t13 = Pos{t11, t12};
-          C0_Paddle upd14 = prev2;
-          upd14.origin = t13;
+          const C0_Paddle upd14 = C0_Paddle{t13};
           std::vector<Elem>& l_prev_elems15 = s.scratch.v.b4;
           l_prev_elems15.clear();
           std::vector<Elem>& l_curr_elems16 = s.scratch.v.b5;
@@ -471,8 +469,7 @@ struct Prog {
           const int32_t t32 = add(prev2.origin.x, int32_t(-1));
           const int32_t t33 = add(prev2.origin.y, int32_t(0));
           const Pos t34 = Pos{t32, t33};
-          C0_Paddle upd35 = prev2;
-          upd35.origin = t34;
+          C0_Paddle upd35 = C0_Paddle{t34};
           r31 = std::move(upd35);
         } else {
           r31 = prev2;
@@ -497,8 +494,7 @@ struct Prog {
         const int32_t t41 = add(prev37.origin.x, int32_t(1));
         const int32_t t42 = add(prev37.origin.y, int32_t(0));
         const Pos t43 = Pos{t41, t42};
-        C0_Paddle upd44 = prev37;
-        upd44.origin = t43;
+        const C0_Paddle upd44 = C0_Paddle{t43};
         std::vector<Elem>& rendered45 = s.scratch.v.b10;
         rendered45.clear();
         rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(-1)), add(upd44.origin.y, int32_t(0))}, int32_t(3)});
@@ -518,8 +514,7 @@ struct Prog {
         const int32_t t48 = add(prev37.origin.x, int32_t(1));
         const int32_t t49 = add(prev37.origin.y, int32_t(0));
         const Pos t50 = Pos{t48, t49};
-        C0_Paddle upd51 = prev37;
-        upd51.origin = t50;
+        const C0_Paddle upd51 = C0_Paddle{t50};
         std::vector<Elem>& l_prev_elems52 = s.scratch.v.b11;
         l_prev_elems52.clear();
         std::vector<Elem>& l_curr_elems53 = s.scratch.v.b12;
@@ -590,8 +585,7 @@ struct Prog {
           const int32_t t70 = add(prev37.origin.x, int32_t(1));
           const int32_t t71 = add(prev37.origin.y, int32_t(0));
           const Pos t72 = Pos{t70, t71};
-          C0_Paddle upd73 = prev37;
-          upd73.origin = t72;
+          C0_Paddle upd73 = C0_Paddle{t72};
           r69 = std::move(upd73);
         } else {
           r69 = prev37;
@@ -782,8 +776,7 @@ struct Prog {
             if (t140) {
               // inlined: function at programs/breakout.au:68
               const int32_t t141 = sub(x139.f0, int32_t(1));
-              C2_Brick upd142 = x139;
-              upd142.f0 = t141;
+              C2_Brick upd142 = C2_Brick{t141, x139.origin};
               updated138.push_back(std::move(upd142));
             } else {
               updated138.push_back(x139);
@@ -1081,8 +1074,7 @@ struct Prog {
         const C1_Ball& g246 = s.g_ball_21;
         const C0_Paddle& g247 = s.g_paddle_25;
         const Pos t248 = Pos{g247.origin.x, int32_t(10)};
-        C1_Ball upd249 = g246;
-        upd249.origin = t248;
+        C1_Ball upd249 = C1_Ball{g246.f0, g246.f1, t248};
         if (!s.scratch.v.sv_ball_24) {
           std::swap(s.scratch.v.p_ball_23, s.g_ball_21);
           s.scratch.v.sv_ball_24 = true;
@@ -1243,8 +1235,7 @@ struct Prog {
     if (!s.u_hud_10) {
       const C3_Hearts& prev285 = (s.scratch.v.sv_hud_12 ? s.scratch.v.p_hud_11 : s.g_hud_9);
       const int32_t& g286 = s.g_lives_5;
-      C3_Hearts upd287 = prev285;
-      upd287.f0 = g286;
+      C3_Hearts upd287 = C3_Hearts{g286, prev285.origin};
       if (!s.scratch.v.sv_hud_12) {
         std::swap(s.scratch.v.p_hud_11, s.g_hud_9);
         s.scratch.v.sv_hud_12 = true;

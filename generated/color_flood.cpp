@@ -439,8 +439,7 @@ struct Prog {
             }
             if (r18) {
               // inlined: function at programs/color_flood.au:40
-              C0_Tile upd35 = x16;
-              upd35.f1 = true;
+              C0_Tile upd35 = C0_Tile{x16.f0, true, x16.origin};
               updated15.push_back(std::move(upd35));
             } else {
               updated15.push_back(x16);
@@ -569,8 +568,7 @@ struct Prog {
             // inlined: function at programs/color_flood.au:44
             if (x67.f1) {
               // inlined: function at programs/color_flood.au:44
-              C0_Tile upd68 = x67;
-              upd68.f0 = r56;
+              C0_Tile upd68 = C0_Tile{r56, x67.f1, x67.origin};
               updated66.push_back(std::move(upd68));
             } else {
               updated66.push_back(x67);
@@ -699,8 +697,7 @@ struct Prog {
             // inlined: function at programs/color_flood.au:44
             if (x100.f1) {
               // inlined: function at programs/color_flood.au:44
-              C0_Tile upd101 = x100;
-              upd101.f0 = r89;
+              C0_Tile upd101 = C0_Tile{r89, x100.f1, x100.origin};
               updated99.push_back(std::move(upd101));
             } else {
               updated99.push_back(x100);
@@ -810,8 +807,7 @@ struct Prog {
         }
       }
       const bool t125 = !any122;
-      C2_Lamps upd126 = prev120;
-      upd126.f0 = t125;
+      C2_Lamps upd126 = C2_Lamps{t125, prev120.origin};
       if (!s.scratch.v.sv_lamps_9) {
         std::swap(s.scratch.v.p_lamps_8, s.g_lamps_6);
         s.scratch.v.sv_lamps_9 = true;

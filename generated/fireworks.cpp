@@ -255,11 +255,9 @@ struct Prog {
             const int32_t t5 = add(x3.origin.x, t4.x);
             const int32_t t6 = add(x3.origin.y, t4.y);
             const Pos t7 = Pos{t5, t6};
-            C2_Spark upd8 = x3;
-            upd8.origin = t7;
+            const C2_Spark upd8 = C2_Spark{x3.f0, x3.f1, x3.f2, x3.f3, t7};
             const int32_t t9 = sub(x3.f2, int32_t(1));
-            C2_Spark upd10 = upd8;
-            upd10.f2 = t9;
+            C2_Spark upd10 = C2_Spark{upd8.f0, upd8.f1, t9, upd8.f3, upd8.origin};
             out2.push_back(std::move(upd10));
           }
         }
@@ -403,8 +401,7 @@ struct Prog {
             const int32_t t44 = add(x43.origin.x, int32_t(0));
             const int32_t t45 = add(x43.origin.y, int32_t(-1));
             const Pos t46 = Pos{t44, t45};
-            C1_Rocket upd47 = x43;
-            upd47.origin = t46;
+            C1_Rocket upd47 = C1_Rocket{x43.f0, x43.f1, t46};
             out42.push_back(std::move(upd47));
           }
         }
@@ -426,8 +423,7 @@ struct Prog {
         const int32_t t50 = add(prev49.origin.x, int32_t(-1));
         const int32_t t51 = add(prev49.origin.y, int32_t(0));
         const Pos t52 = Pos{t50, t51};
-        C0_Pad upd53 = prev49;
-        upd53.origin = t52;
+        const C0_Pad upd53 = C0_Pad{t52};
         std::vector<Elem>& rendered54 = s.scratch.v.b9;
         rendered54.clear();
         rendered54.push_back(Elem{Pos{add(upd53.origin.x, int32_t(-1)), add(upd53.origin.y, int32_t(0))}, int32_t(6)});
@@ -448,8 +444,7 @@ struct Prog {
           const int32_t t58 = add(prev49.origin.x, int32_t(-1));
           const int32_t t59 = add(prev49.origin.y, int32_t(0));
           const Pos t60 = Pos{t58, t59};
-          C0_Pad upd61 = prev49;
-          upd61.origin = t60;
+          C0_Pad upd61 = C0_Pad{t60};
           r57 = std::move(upd61);
         } else {
           r57 = prev49;
@@ -472,8 +467,7 @@ struct Prog {
         const int32_t t64 = add(prev63.origin.x, int32_t(1));
         const int32_t t65 = add(prev63.origin.y, int32_t(0));
         const Pos t66 = Pos{t64, t65};
-        C0_Pad upd67 = prev63;
-        upd67.origin = t66;
+        const C0_Pad upd67 = C0_Pad{t66};
         std::vector<Elem>& rendered68 = s.scratch.v.b10;
         rendered68.clear();
         rendered68.push_back(Elem{Pos{add(upd67.origin.x, int32_t(-1)), add(upd67.origin.y, int32_t(0))}, int32_t(6)});
@@ -494,8 +488,7 @@ struct Prog {
           const int32_t t72 = add(prev63.origin.x, int32_t(1));
           const int32_t t73 = add(prev63.origin.y, int32_t(0));
           const Pos t74 = Pos{t72, t73};
-          C0_Pad upd75 = prev63;
-          upd75.origin = t74;
+          C0_Pad upd75 = C0_Pad{t74};
           r71 = std::move(upd75);
         } else {
           r71 = prev63;

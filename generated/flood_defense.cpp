@@ -434,9 +434,7 @@ struct Prog {
               const int32_t t7 = add(x3.origin.x, int32_t(0));
               const int32_t t8 = add(x3.origin.y, int32_t(1));
               const Pos t9 = Pos{t7, t8};
-              C4_Water upd10 = x3;
-              upd10.origin = t9;
-              upd10.uid = s.core.ids.fresh();
+              const C4_Water upd10 = C4_Water{t9, s.core.ids.fresh()};
               std::vector<Elem>& rendered11 = s.scratch.v.b4;
               rendered11.clear();
               rendered11.push_back(Elem{Pos{add(upd10.origin.x, int32_t(0)), add(upd10.origin.y, int32_t(0))}, int32_t(4)});
@@ -462,9 +460,7 @@ struct Prog {
               const int32_t t18 = add(x3.origin.x, int32_t(0));
               const int32_t t19 = add(x3.origin.y, int32_t(1));
               const Pos t20 = Pos{t18, t19};
-              C4_Water upd21 = x3;
-              upd21.origin = t20;
-              upd21.uid = s.core.ids.fresh();
+              C4_Water upd21 = C4_Water{t20, s.core.ids.fresh()};
               r17 = std::move(upd21);
             } else {
               std::vector<Pos>& l_nextRowPos22 = s.scratch.v.b5;
@@ -710,9 +706,7 @@ struct Prog {
                 const int32_t t113 = add(x3.origin.x, l_dir82.x);
                 const int32_t t114 = add(x3.origin.y, l_dir82.y);
                 const Pos t115 = Pos{t113, t114};
-                C4_Water upd116 = x3;
-                upd116.origin = t115;
-                upd116.uid = s.core.ids.fresh();
+                C4_Water upd116 = C4_Water{t115, s.core.ids.fresh()};
                 l_movedObj83 = std::move(upd116);
                 const int32_t t117 = add(l_closestHole59.x, int32_t(0));
                 const int32_t t118 = add(l_closestHole59.y, int32_t(-1));
@@ -1249,9 +1243,7 @@ struct Prog {
             }
             if (r202) {
               // inlined: function at programs/flood_defense.au:60
-              C1_House upd259 = x200;
-              upd259.f0 = true;
-              upd259.uid = s.core.ids.fresh();
+              C1_House upd259 = C1_House{true, x200.origin, s.core.ids.fresh()};
               updated199.push_back(std::move(upd259));
             } else {
               updated199.push_back(x200);
@@ -1311,9 +1303,7 @@ struct Prog {
             }
             if (clicked269) {
               // inlined: function at programs/flood_defense.au:63
-              C1_House upd273 = x268;
-              upd273.f0 = false;
-              upd273.uid = s.core.ids.fresh();
+              C1_House upd273 = C1_House{false, x268.origin, s.core.ids.fresh()};
               updated267.push_back(std::move(upd273));
             } else {
               updated267.push_back(x268);
@@ -1465,9 +1455,7 @@ struct Prog {
         const int32_t t307 = add(prev306.origin.x, int32_t(-1));
         const int32_t t308 = add(prev306.origin.y, int32_t(0));
         const Pos t309 = Pos{t307, t308};
-        C5_Spring upd310 = prev306;
-        upd310.origin = t309;
-        upd310.uid = s.core.ids.fresh();
+        const C5_Spring upd310 = C5_Spring{prev306.f0, t309, s.core.ids.fresh()};
         std::vector<Elem>& rendered311 = s.scratch.v.b27;
         rendered311.clear();
         rendered311.push_back(Elem{Pos{add(upd310.origin.x, int32_t(-1)), add(upd310.origin.y, int32_t(0))}, int32_t(2)});
@@ -1488,9 +1476,7 @@ struct Prog {
           const int32_t t315 = add(prev306.origin.x, int32_t(-1));
           const int32_t t316 = add(prev306.origin.y, int32_t(0));
           const Pos t317 = Pos{t315, t316};
-          C5_Spring upd318 = prev306;
-          upd318.origin = t317;
-          upd318.uid = s.core.ids.fresh();
+          C5_Spring upd318 = C5_Spring{prev306.f0, t317, s.core.ids.fresh()};
           r314 = std::move(upd318);
         } else {
           r314 = prev306;
@@ -1514,9 +1500,7 @@ struct Prog {
         const int32_t t321 = add(prev320.origin.x, int32_t(1));
         const int32_t t322 = add(prev320.origin.y, int32_t(0));
         const Pos t323 = Pos{t321, t322};
-        C5_Spring upd324 = prev320;
-        upd324.origin = t323;
-        upd324.uid = s.core.ids.fresh();
+        const C5_Spring upd324 = C5_Spring{prev320.f0, t323, s.core.ids.fresh()};
         std::vector<Elem>& rendered325 = s.scratch.v.b28;
         rendered325.clear();
         rendered325.push_back(Elem{Pos{add(upd324.origin.x, int32_t(-1)), add(upd324.origin.y, int32_t(0))}, int32_t(2)});
@@ -1537,9 +1521,7 @@ struct Prog {
           const int32_t t329 = add(prev320.origin.x, int32_t(1));
           const int32_t t330 = add(prev320.origin.y, int32_t(0));
           const Pos t331 = Pos{t329, t330};
-          C5_Spring upd332 = prev320;
-          upd332.origin = t331;
-          upd332.uid = s.core.ids.fresh();
+          C5_Spring upd332 = C5_Spring{prev320.f0, t331, s.core.ids.fresh()};
           r328 = std::move(upd332);
         } else {
           r328 = prev320;
@@ -1568,9 +1550,7 @@ struct Prog {
         } else {
           r338 = int32_t(1);
         }
-        C5_Spring upd339 = prev334;
-        upd339.f0 = r338;
-        upd339.uid = s.core.ids.fresh();
+        C5_Spring upd339 = C5_Spring{r338, prev334.origin, s.core.ids.fresh()};
         s.core.ids.transfer(uint32_t(upd339.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
@@ -1595,9 +1575,7 @@ struct Prog {
         } else {
           r345 = t343;
         }
-        C5_Spring upd346 = prev341;
-        upd346.f0 = r345;
-        upd346.uid = s.core.ids.fresh();
+        C5_Spring upd346 = C5_Spring{r345, prev341.origin, s.core.ids.fresh()};
         s.core.ids.transfer(uint32_t(upd346.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);

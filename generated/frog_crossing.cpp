@@ -633,8 +633,7 @@ struct Prog {
         const int32_t t16 = add(prev15.origin.x, int32_t(-1));
         const int32_t t17 = add(prev15.origin.y, int32_t(0));
         const Pos t18 = Pos{t16, t17};
-        C4_Frog upd19 = prev15;
-        upd19.origin = t18;
+        const C4_Frog upd19 = C4_Frog{t18};
         std::vector<Elem>& rendered20 = s.scratch.v.b6;
         rendered20.clear();
         rendered20.push_back(Elem{Pos{add(upd19.origin.x, int32_t(0)), add(upd19.origin.y, int32_t(0))}, int32_t(2)});
@@ -653,8 +652,7 @@ struct Prog {
           const int32_t t24 = add(prev15.origin.x, int32_t(-1));
           const int32_t t25 = add(prev15.origin.y, int32_t(0));
           const Pos t26 = Pos{t24, t25};
-          C4_Frog upd27 = prev15;
-          upd27.origin = t26;
+          C4_Frog upd27 = C4_Frog{t26};
           r23 = std::move(upd27);
         } else {
           r23 = prev15;
@@ -677,8 +675,7 @@ struct Prog {
         const int32_t t30 = add(prev29.origin.x, int32_t(1));
         const int32_t t31 = add(prev29.origin.y, int32_t(0));
         const Pos t32 = Pos{t30, t31};
-        C4_Frog upd33 = prev29;
-        upd33.origin = t32;
+        const C4_Frog upd33 = C4_Frog{t32};
         std::vector<Elem>& rendered34 = s.scratch.v.b7;
         rendered34.clear();
         rendered34.push_back(Elem{Pos{add(upd33.origin.x, int32_t(0)), add(upd33.origin.y, int32_t(0))}, int32_t(2)});
@@ -697,8 +694,7 @@ struct Prog {
           const int32_t t38 = add(prev29.origin.x, int32_t(1));
           const int32_t t39 = add(prev29.origin.y, int32_t(0));
           const Pos t40 = Pos{t38, t39};
-          C4_Frog upd41 = prev29;
-          upd41.origin = t40;
+          C4_Frog upd41 = C4_Frog{t40};
           r37 = std::move(upd41);
         } else {
           r37 = prev29;
@@ -721,8 +717,7 @@ struct Prog {
         const int32_t t44 = add(prev43.origin.x, int32_t(0));
         const int32_t t45 = add(prev43.origin.y, int32_t(-1));
         const Pos t46 = Pos{t44, t45};
-        C4_Frog upd47 = prev43;
-        upd47.origin = t46;
+        const C4_Frog upd47 = C4_Frog{t46};
         std::vector<Elem>& rendered48 = s.scratch.v.b8;
         rendered48.clear();
         rendered48.push_back(Elem{Pos{add(upd47.origin.x, int32_t(0)), add(upd47.origin.y, int32_t(0))}, int32_t(2)});
@@ -741,8 +736,7 @@ struct Prog {
           const int32_t t52 = add(prev43.origin.x, int32_t(0));
           const int32_t t53 = add(prev43.origin.y, int32_t(-1));
           const Pos t54 = Pos{t52, t53};
-          C4_Frog upd55 = prev43;
-          upd55.origin = t54;
+          C4_Frog upd55 = C4_Frog{t54};
           r51 = std::move(upd55);
         } else {
           r51 = prev43;
@@ -765,8 +759,7 @@ struct Prog {
         const int32_t t58 = add(prev57.origin.x, int32_t(0));
         const int32_t t59 = add(prev57.origin.y, int32_t(1));
         const Pos t60 = Pos{t58, t59};
-        C4_Frog upd61 = prev57;
-        upd61.origin = t60;
+        const C4_Frog upd61 = C4_Frog{t60};
         std::vector<Elem>& rendered62 = s.scratch.v.b9;
         rendered62.clear();
         rendered62.push_back(Elem{Pos{add(upd61.origin.x, int32_t(0)), add(upd61.origin.y, int32_t(0))}, int32_t(2)});
@@ -785,8 +778,7 @@ struct Prog {
           const int32_t t66 = add(prev57.origin.x, int32_t(0));
           const int32_t t67 = add(prev57.origin.y, int32_t(1));
           const Pos t68 = Pos{t66, t67};
-          C4_Frog upd69 = prev57;
-          upd69.origin = t68;
+          C4_Frog upd69 = C4_Frog{t68};
           r65 = std::move(upd69);
         } else {
           r65 = prev57;
@@ -1013,8 +1005,7 @@ struct Prog {
         const C5_Lives& g128 = s.g_lives_11;
         const C5_Lives& g129 = s.g_lives_11;
         const int32_t t130 = sub(g129.f0, int32_t(1));
-        C5_Lives upd131 = g128;
-        upd131.f0 = t130;
+        C5_Lives upd131 = C5_Lives{t130, g128.origin};
         if (!s.scratch.v.sv_lives_14) {
           std::swap(s.scratch.v.p_lives_13, s.g_lives_11);
           s.scratch.v.sv_lives_14 = true;
@@ -1072,8 +1063,7 @@ struct Prog {
             const bool t146 = (x144.origin == g145.origin);
             if (t146) {
               // inlined: function at programs/frog_crossing.au:76
-              C2_Pad upd147 = x144;
-              upd147.f0 = true;
+              C2_Pad upd147 = C2_Pad{true, x144.origin};
               updated143.push_back(std::move(upd147));
             } else {
               updated143.push_back(x144);
@@ -1144,8 +1134,7 @@ struct Prog {
         const C5_Lives& g163 = s.g_lives_11;
         const C5_Lives& g164 = s.g_lives_11;
         const int32_t t165 = sub(g164.f0, int32_t(1));
-        C5_Lives upd166 = g163;
-        upd166.f0 = t165;
+        C5_Lives upd166 = C5_Lives{t165, g163.origin};
         if (!s.scratch.v.sv_lives_14) {
           std::swap(s.scratch.v.p_lives_13, s.g_lives_11);
           s.scratch.v.sv_lives_14 = true;
@@ -1183,8 +1172,7 @@ struct Prog {
           charge_loop(s.core, 38, int64_t(x174_list.size()));
           for (const C2_Pad& x174 : x174_list) {
             // inlined: function at programs/frog_crossing.au:84
-            C2_Pad upd175 = x174;
-            upd175.f0 = false;
+            C2_Pad upd175 = C2_Pad{false, x174.origin};
             out173.push_back(std::move(upd175));
           }
         }
@@ -1219,8 +1207,7 @@ struct Prog {
           charge_loop(s.core, 39, int64_t(x181_list.size()));
           for (const C2_Pad& x181 : x181_list) {
             // inlined: function at programs/frog_crossing.au:87
-            C2_Pad upd182 = x181;
-            upd182.f0 = false;
+            C2_Pad upd182 = C2_Pad{false, x181.origin};
             out180.push_back(std::move(upd182));
           }
         }

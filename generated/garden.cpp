@@ -477,8 +477,7 @@ struct Prog {
             const int32_t t5 = add(x4.origin.x, int32_t(0));
             const int32_t t6 = add(x4.origin.y, int32_t(1));
             const Pos t7 = Pos{t5, t6};
-            C2_Drop upd8 = x4;
-            upd8.origin = t7;
+            C2_Drop upd8 = C2_Drop{t7};
             out3.push_back(std::move(upd8));
           }
         }
@@ -555,8 +554,7 @@ struct Prog {
               } else {
                 r29 = t27;
               }
-              C3_Plant upd30 = x11;
-              upd30.f0 = r29;
+              C3_Plant upd30 = C3_Plant{r29, x11.f1, x11.origin};
               updated10.push_back(std::move(upd30));
             } else {
               updated10.push_back(x11);
@@ -691,8 +689,7 @@ struct Prog {
               } else {
                 r64 = t62;
               }
-              C3_Plant upd65 = x55;
-              upd65.f0 = r64;
+              C3_Plant upd65 = C3_Plant{r64, x55.f1, x55.origin};
               updated54.push_back(std::move(upd65));
             } else {
               updated54.push_back(x55);
@@ -779,8 +776,7 @@ struct Prog {
           } else {
             r87 = t85;
           }
-          C4_Basket upd88 = g83;
-          upd88.f0 = r87;
+          C4_Basket upd88 = C4_Basket{r87, g83.origin};
           r82 = std::move(upd88);
         } else {
           const C4_Basket& g89 = s.g_basket_7;
@@ -940,8 +936,7 @@ struct Prog {
         C0_Cloud r131{};
         if (r129) {
           const Pos t132 = Pos{l_nx126, int32_t(0)};
-          C0_Cloud upd133 = prev125;
-          upd133.origin = t132;
+          C0_Cloud upd133 = C0_Cloud{t132};
           r131 = std::move(upd133);
         } else {
           r131 = prev125;
@@ -975,8 +970,7 @@ struct Prog {
         C0_Cloud r141{};
         if (r139) {
           const Pos t142 = Pos{l_nx136, int32_t(0)};
-          C0_Cloud upd143 = prev135;
-          upd143.origin = t142;
+          C0_Cloud upd143 = C0_Cloud{t142};
           r141 = std::move(upd143);
         } else {
           r141 = prev135;
@@ -1028,8 +1022,7 @@ struct Prog {
         const C1_Sun& prev155 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
         const C1_Sun& prev156 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
         const bool t157 = !prev156.f0;
-        C1_Sun upd158 = prev155;
-        upd158.f0 = t157;
+        C1_Sun upd158 = C1_Sun{t157, prev155.origin};
         if (!s.scratch.v.sv_sun_26) {
           std::swap(s.scratch.v.p_sun_25, s.g_sun_23);
           s.scratch.v.sv_sun_26 = true;

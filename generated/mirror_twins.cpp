@@ -538,8 +538,7 @@ struct Prog {
         const int32_t t8 = add(prev5.origin.x, int32_t(-1));
         const int32_t t9 = add(prev5.origin.y, int32_t(0));
         const Pos t10 = Pos{t8, t9};
-        C2_Twin upd11 = prev5;
-        upd11.origin = t10;
+        C2_Twin upd11 = C2_Twin{prev5.f0, t10};
         l_nt7 = std::move(upd11);
         std::vector<Elem>& rendered12 = s.scratch.v.b5;
         rendered12.clear();
@@ -645,8 +644,7 @@ struct Prog {
         const int32_t t43 = add(prev40.origin.x, int32_t(1));
         const int32_t t44 = add(prev40.origin.y, int32_t(0));
         const Pos t45 = Pos{t43, t44};
-        C2_Twin upd46 = prev40;
-        upd46.origin = t45;
+        C2_Twin upd46 = C2_Twin{prev40.f0, t45};
         l_nt42 = std::move(upd46);
         std::vector<Elem>& rendered47 = s.scratch.v.b8;
         rendered47.clear();
@@ -790,8 +788,7 @@ struct Prog {
         const int32_t t87 = add(prev84.origin.x, int32_t(1));
         const int32_t t88 = add(prev84.origin.y, int32_t(0));
         const Pos t89 = Pos{t87, t88};
-        C2_Twin upd90 = prev84;
-        upd90.origin = t89;
+        C2_Twin upd90 = C2_Twin{prev84.f0, t89};
         l_nt86 = std::move(upd90);
         std::vector<Elem>& rendered91 = s.scratch.v.b11;
         rendered91.clear();
@@ -897,8 +894,7 @@ struct Prog {
         const int32_t t122 = add(prev119.origin.x, int32_t(-1));
         const int32_t t123 = add(prev119.origin.y, int32_t(0));
         const Pos t124 = Pos{t122, t123};
-        C2_Twin upd125 = prev119;
-        upd125.origin = t124;
+        C2_Twin upd125 = C2_Twin{prev119.f0, t124};
         l_nt121 = std::move(upd125);
         std::vector<Elem>& rendered126 = s.scratch.v.b14;
         rendered126.clear();
@@ -1042,8 +1038,7 @@ struct Prog {
         const int32_t t166 = add(prev163.origin.x, int32_t(0));
         const int32_t t167 = add(prev163.origin.y, int32_t(-1));
         const Pos t168 = Pos{t166, t167};
-        C2_Twin upd169 = prev163;
-        upd169.origin = t168;
+        C2_Twin upd169 = C2_Twin{prev163.f0, t168};
         l_nt165 = std::move(upd169);
         std::vector<Elem>& rendered170 = s.scratch.v.b17;
         rendered170.clear();
@@ -1149,8 +1144,7 @@ struct Prog {
         const int32_t t201 = add(prev198.origin.x, int32_t(0));
         const int32_t t202 = add(prev198.origin.y, int32_t(-1));
         const Pos t203 = Pos{t201, t202};
-        C2_Twin upd204 = prev198;
-        upd204.origin = t203;
+        C2_Twin upd204 = C2_Twin{prev198.f0, t203};
         l_nt200 = std::move(upd204);
         std::vector<Elem>& rendered205 = s.scratch.v.b20;
         rendered205.clear();
@@ -1294,8 +1288,7 @@ struct Prog {
         const int32_t t245 = add(prev242.origin.x, int32_t(0));
         const int32_t t246 = add(prev242.origin.y, int32_t(1));
         const Pos t247 = Pos{t245, t246};
-        C2_Twin upd248 = prev242;
-        upd248.origin = t247;
+        C2_Twin upd248 = C2_Twin{prev242.f0, t247};
         l_nt244 = std::move(upd248);
         std::vector<Elem>& rendered249 = s.scratch.v.b23;
         rendered249.clear();
@@ -1401,8 +1394,7 @@ struct Prog {
         const int32_t t280 = add(prev277.origin.x, int32_t(0));
         const int32_t t281 = add(prev277.origin.y, int32_t(1));
         const Pos t282 = Pos{t280, t281};
-        C2_Twin upd283 = prev277;
-        upd283.origin = t282;
+        C2_Twin upd283 = C2_Twin{prev277.f0, t282};
         l_nt279 = std::move(upd283);
         std::vector<Elem>& rendered284 = s.scratch.v.b26;
         rendered284.clear();
@@ -1558,8 +1550,7 @@ struct Prog {
         } else {
           r329 = t327;
         }
-        C3_Stars upd330 = g325;
-        upd330.f0 = r329;
+        C3_Stars upd330 = C3_Stars{r329, g325.origin};
         if (!s.scratch.v.sv_stars_30) {
           std::swap(s.scratch.v.p_stars_29, s.g_stars_27);
           s.scratch.v.sv_stars_30 = true;
@@ -1680,8 +1671,7 @@ struct Prog {
           }
           const int32_t t362 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out359.size())))));
           const Pos t363 = out359[size_t(t362)];
-          C1_Goal upd364 = g358;
-          upd364.origin = t363;
+          C1_Goal upd364 = C1_Goal{g358.f0, t363};
           r357 = std::move(upd364);
         } else {
           const C1_Goal& g365 = s.g_blueGoal_19;
@@ -1733,8 +1723,7 @@ struct Prog {
           }
           const int32_t t376 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out373.size())))));
           const Pos t377 = out373[size_t(t376)];
-          C1_Goal upd378 = g372;
-          upd378.origin = t377;
+          C1_Goal upd378 = C1_Goal{g372.f0, t377};
           r371 = std::move(upd378);
         } else {
           const C1_Goal& g379 = s.g_redGoal_15;

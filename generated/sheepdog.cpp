@@ -395,8 +395,7 @@ struct Prog {
         const int32_t t3 = add(prev2.origin.x, int32_t(-1));
         const int32_t t4 = add(prev2.origin.y, int32_t(0));
         const Pos t5 = Pos{t3, t4};
-        C3_Dog upd6 = prev2;
-        upd6.origin = t5;
+        const C3_Dog upd6 = C3_Dog{t5};
         std::vector<Elem>& rendered7 = s.scratch.v.b4;
         rendered7.clear();
         rendered7.push_back(Elem{Pos{add(upd6.origin.x, int32_t(0)), add(upd6.origin.y, int32_t(0))}, int32_t(0)});
@@ -415,8 +414,7 @@ struct Prog {
           const int32_t t11 = add(prev2.origin.x, int32_t(-1));
           const int32_t t12 = add(prev2.origin.y, int32_t(0));
           const Pos t13 = Pos{t11, t12};
-          C3_Dog upd14 = prev2;
-          upd14.origin = t13;
+          const C3_Dog upd14 = C3_Dog{t13};
           std::vector<Elem>& l_prev_elems15 = s.scratch.v.b5;
           l_prev_elems15.clear();
           std::vector<Elem>& l_curr_elems16 = s.scratch.v.b6;
@@ -480,8 +478,7 @@ struct Prog {
           const int32_t t32 = add(prev2.origin.x, int32_t(-1));
           const int32_t t33 = add(prev2.origin.y, int32_t(0));
           const Pos t34 = Pos{t32, t33};
-          C3_Dog upd35 = prev2;
-          upd35.origin = t34;
+          C3_Dog upd35 = C3_Dog{t34};
           r31 = std::move(upd35);
         } else {
           r31 = prev2;
@@ -512,8 +509,7 @@ struct Prog {
         const int32_t t41 = add(prev37.origin.x, int32_t(1));
         const int32_t t42 = add(prev37.origin.y, int32_t(0));
         const Pos t43 = Pos{t41, t42};
-        C3_Dog upd44 = prev37;
-        upd44.origin = t43;
+        const C3_Dog upd44 = C3_Dog{t43};
         std::vector<Elem>& rendered45 = s.scratch.v.b11;
         rendered45.clear();
         rendered45.push_back(Elem{Pos{add(upd44.origin.x, int32_t(0)), add(upd44.origin.y, int32_t(0))}, int32_t(0)});
@@ -531,8 +527,7 @@ struct Prog {
         const int32_t t48 = add(prev37.origin.x, int32_t(1));
         const int32_t t49 = add(prev37.origin.y, int32_t(0));
         const Pos t50 = Pos{t48, t49};
-        C3_Dog upd51 = prev37;
-        upd51.origin = t50;
+        const C3_Dog upd51 = C3_Dog{t50};
         std::vector<Elem>& l_prev_elems52 = s.scratch.v.b12;
         l_prev_elems52.clear();
         std::vector<Elem>& l_curr_elems53 = s.scratch.v.b13;
@@ -599,8 +594,7 @@ struct Prog {
           const int32_t t70 = add(prev37.origin.x, int32_t(1));
           const int32_t t71 = add(prev37.origin.y, int32_t(0));
           const Pos t72 = Pos{t70, t71};
-          C3_Dog upd73 = prev37;
-          upd73.origin = t72;
+          C3_Dog upd73 = C3_Dog{t72};
           r69 = std::move(upd73);
         } else {
           r69 = prev37;
@@ -629,8 +623,7 @@ struct Prog {
         const int32_t t76 = add(prev75.origin.x, int32_t(0));
         const int32_t t77 = add(prev75.origin.y, int32_t(-1));
         const Pos t78 = Pos{t76, t77};
-        C3_Dog upd79 = prev75;
-        upd79.origin = t78;
+        const C3_Dog upd79 = C3_Dog{t78};
         std::vector<Elem>& rendered80 = s.scratch.v.b18;
         rendered80.clear();
         rendered80.push_back(Elem{Pos{add(upd79.origin.x, int32_t(0)), add(upd79.origin.y, int32_t(0))}, int32_t(0)});
@@ -649,8 +642,7 @@ struct Prog {
           const int32_t t84 = add(prev75.origin.x, int32_t(0));
           const int32_t t85 = add(prev75.origin.y, int32_t(-1));
           const Pos t86 = Pos{t84, t85};
-          C3_Dog upd87 = prev75;
-          upd87.origin = t86;
+          const C3_Dog upd87 = C3_Dog{t86};
           std::vector<Elem>& l_prev_elems88 = s.scratch.v.b19;
           l_prev_elems88.clear();
           std::vector<Elem>& l_curr_elems89 = s.scratch.v.b20;
@@ -714,8 +706,7 @@ struct Prog {
           const int32_t t105 = add(prev75.origin.x, int32_t(0));
           const int32_t t106 = add(prev75.origin.y, int32_t(-1));
           const Pos t107 = Pos{t105, t106};
-          C3_Dog upd108 = prev75;
-          upd108.origin = t107;
+          C3_Dog upd108 = C3_Dog{t107};
           r104 = std::move(upd108);
         } else {
           r104 = prev75;
@@ -743,8 +734,7 @@ struct Prog {
         const int32_t t111 = add(prev110.origin.x, int32_t(0));
         const int32_t t112 = add(prev110.origin.y, int32_t(1));
         const Pos t113 = Pos{t111, t112};
-        C3_Dog upd114 = prev110;
-        upd114.origin = t113;
+        const C3_Dog upd114 = C3_Dog{t113};
         std::vector<Elem>& rendered115 = s.scratch.v.b25;
         rendered115.clear();
         rendered115.push_back(Elem{Pos{add(upd114.origin.x, int32_t(0)), add(upd114.origin.y, int32_t(0))}, int32_t(0)});
@@ -763,8 +753,7 @@ struct Prog {
           const int32_t t119 = add(prev110.origin.x, int32_t(0));
           const int32_t t120 = add(prev110.origin.y, int32_t(1));
           const Pos t121 = Pos{t119, t120};
-          C3_Dog upd122 = prev110;
-          upd122.origin = t121;
+          const C3_Dog upd122 = C3_Dog{t121};
           std::vector<Elem>& l_prev_elems123 = s.scratch.v.b26;
           l_prev_elems123.clear();
           std::vector<Elem>& l_curr_elems124 = s.scratch.v.b27;
@@ -828,8 +817,7 @@ struct Prog {
           const int32_t t140 = add(prev110.origin.x, int32_t(0));
           const int32_t t141 = add(prev110.origin.y, int32_t(1));
           const Pos t142 = Pos{t140, t141};
-          C3_Dog upd143 = prev110;
-          upd143.origin = t142;
+          C3_Dog upd143 = C3_Dog{t142};
           r139 = std::move(upd143);
         } else {
           r139 = prev110;
@@ -968,8 +956,7 @@ struct Prog {
         const int32_t t188 = add(prev156.origin.x, t187.x);
         const int32_t t189 = add(prev156.origin.y, t187.y);
         const Pos t190 = Pos{t188, t189};
-        C3_Dog upd191 = prev156;
-        upd191.origin = t190;
+        const C3_Dog upd191 = C3_Dog{t190};
         std::vector<Elem>& l_prev_elems192 = s.scratch.v.b32;
         l_prev_elems192.clear();
         std::vector<Elem>& l_curr_elems193 = s.scratch.v.b33;
@@ -1030,8 +1017,7 @@ struct Prog {
           const int32_t t210 = add(prev156.origin.x, t209.x);
           const int32_t t211 = add(prev156.origin.y, t209.y);
           const Pos t212 = Pos{t210, t211};
-          C3_Dog upd213 = prev156;
-          upd213.origin = t212;
+          C3_Dog upd213 = C3_Dog{t212};
           r208 = std::move(upd213);
         } else {
           r208 = prev156;
@@ -1062,8 +1048,7 @@ struct Prog {
           const int32_t t223 = add(prev156.origin.x, t222.x);
           const int32_t t224 = add(prev156.origin.y, t222.y);
           const Pos t225 = Pos{t223, t224};
-          C3_Dog upd226 = prev156;
-          upd226.origin = t225;
+          const C3_Dog upd226 = C3_Dog{t225};
           std::vector<Elem>& l_prev_elems227 = s.scratch.v.b38;
           l_prev_elems227.clear();
           std::vector<Elem>& l_curr_elems228 = s.scratch.v.b39;
@@ -1124,8 +1109,7 @@ struct Prog {
             const int32_t t245 = add(prev156.origin.x, t244.x);
             const int32_t t246 = add(prev156.origin.y, t244.y);
             const Pos t247 = Pos{t245, t246};
-            C3_Dog upd248 = prev156;
-            upd248.origin = t247;
+            C3_Dog upd248 = C3_Dog{t247};
             r243 = std::move(upd248);
           } else {
             r243 = prev156;
@@ -1379,8 +1363,7 @@ struct Prog {
               const int32_t t337 = add(x285.origin.x, l_wish287.x);
               const int32_t t338 = add(x285.origin.y, l_wish287.y);
               const Pos t339 = Pos{t337, t338};
-              C2_Sheep upd340 = x285;
-              upd340.origin = t339;
+              const C2_Sheep upd340 = C2_Sheep{x285.f0, t339};
               std::vector<Elem>& rendered341 = s.scratch.v.b44;
               rendered341.clear();
               const int32_t colour342 = colour_0_C2_Sheep(s, upd340);
@@ -1400,8 +1383,7 @@ struct Prog {
                 const int32_t t346 = add(x285.origin.x, l_wish287.x);
                 const int32_t t347 = add(x285.origin.y, l_wish287.y);
                 const Pos t348 = Pos{t346, t347};
-                C2_Sheep upd349 = x285;
-                upd349.origin = t348;
+                const C2_Sheep upd349 = C2_Sheep{x285.f0, t348};
                 // inlined: function at programs/sheepdog.au:49
                 // inlined: function at programs/sheepdog.au:48
                 // inlined: function at programs/sheepdog.au:21
@@ -1530,8 +1512,7 @@ struct Prog {
               const int32_t t384 = add(x285.origin.x, l_wish287.x);
               const int32_t t385 = add(x285.origin.y, l_wish287.y);
               const Pos t386 = Pos{t384, t385};
-              C2_Sheep upd387 = x285;
-              upd387.origin = t386;
+              const C2_Sheep upd387 = C2_Sheep{x285.f0, t386};
               std::vector<Elem>& rendered388 = s.scratch.v.b45;
               rendered388.clear();
               const int32_t colour389 = colour_0_C2_Sheep(s, upd387);
@@ -1551,8 +1532,7 @@ struct Prog {
                 const int32_t t393 = add(x285.origin.x, l_wish287.x);
                 const int32_t t394 = add(x285.origin.y, l_wish287.y);
                 const Pos t395 = Pos{t393, t394};
-                C2_Sheep upd396 = x285;
-                upd396.origin = t395;
+                const C2_Sheep upd396 = C2_Sheep{x285.f0, t395};
                 // inlined: function at programs/sheepdog.au:49
                 // inlined: function at programs/sheepdog.au:48
                 // inlined: function at programs/sheepdog.au:21
@@ -1669,8 +1649,7 @@ struct Prog {
                 const int32_t t428 = add(x285.origin.x, l_wish287.x);
                 const int32_t t429 = add(x285.origin.y, l_wish287.y);
                 const Pos t430 = Pos{t428, t429};
-                C2_Sheep upd431 = x285;
-                upd431.origin = t430;
+                C2_Sheep upd431 = C2_Sheep{x285.f0, t430};
                 r427 = std::move(upd431);
               } else {
                 r427 = x285;
@@ -1699,8 +1678,7 @@ struct Prog {
               } else {
                 r435 = false;
               }
-              C2_Sheep upd439 = l_there288;
-              upd439.f0 = r435;
+              C2_Sheep upd439 = C2_Sheep{r435, l_there288.origin};
               r286 = std::move(upd439);
             }
             check_length(s.core, 45, int64_t(acc284.size()) + int64_t(int32_t(1)));

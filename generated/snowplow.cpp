@@ -728,8 +728,7 @@ struct Prog {
             const int32_t t54 = add(x53.origin.x, int32_t(0));
             const int32_t t55 = add(x53.origin.y, int32_t(1));
             const Pos t56 = Pos{t54, t55};
-            C0_Flake upd57 = x53;
-            upd57.origin = t56;
+            const C0_Flake upd57 = C0_Flake{t56};
             std::vector<Elem>& rendered58 = s.scratch.v.b5;
             rendered58.clear();
             rendered58.push_back(Elem{Pos{add(upd57.origin.x, int32_t(0)), add(upd57.origin.y, int32_t(0))}, int32_t(6)});
@@ -748,8 +747,7 @@ struct Prog {
               const int32_t t62 = add(x53.origin.x, int32_t(0));
               const int32_t t63 = add(x53.origin.y, int32_t(1));
               const Pos t64 = Pos{t62, t63};
-              C0_Flake upd65 = x53;
-              upd65.origin = t64;
+              const C0_Flake upd65 = C0_Flake{t64};
               std::vector<Elem>& l_prev_elems66 = s.scratch.v.b6;
               l_prev_elems66.clear();
               std::vector<Elem>& l_curr_elems67 = s.scratch.v.b7;
@@ -813,8 +811,7 @@ struct Prog {
               const int32_t t83 = add(x53.origin.x, int32_t(0));
               const int32_t t84 = add(x53.origin.y, int32_t(1));
               const Pos t85 = Pos{t83, t84};
-              C0_Flake upd86 = x53;
-              upd86.origin = t85;
+              C0_Flake upd86 = C0_Flake{t85};
               r82 = std::move(upd86);
             } else {
               r82 = x53;
@@ -852,8 +849,7 @@ struct Prog {
               const int32_t t93 = add(x89.origin.x, int32_t(0));
               const int32_t t94 = add(x89.origin.y, int32_t(1));
               const Pos t95 = Pos{t93, t94};
-              C1_Melt upd96 = x89;
-              upd96.origin = t95;
+              const C1_Melt upd96 = C1_Melt{x89.f0, t95};
               std::vector<Elem>& rendered97 = s.scratch.v.b13;
               rendered97.clear();
               const int32_t colour98 = colour_19_C1_Melt(s, upd96);
@@ -880,8 +876,7 @@ struct Prog {
               const int32_t t105 = add(x89.origin.x, int32_t(0));
               const int32_t t106 = add(x89.origin.y, int32_t(1));
               const Pos t107 = Pos{t105, t106};
-              C1_Melt upd108 = x89;
-              upd108.origin = t107;
+              C1_Melt upd108 = C1_Melt{x89.f0, t107};
               r104 = std::move(upd108);
             } else {
               std::vector<Pos>& l_nextRowPos109 = s.scratch.v.b14;
@@ -1127,8 +1122,7 @@ struct Prog {
                 const int32_t t200 = add(x89.origin.x, l_dir169.x);
                 const int32_t t201 = add(x89.origin.y, l_dir169.y);
                 const Pos t202 = Pos{t200, t201};
-                C1_Melt upd203 = x89;
-                upd203.origin = t202;
+                C1_Melt upd203 = C1_Melt{x89.f0, t202};
                 l_movedObj170 = std::move(upd203);
                 const int32_t t204 = add(l_closestHole146.x, int32_t(0));
                 const int32_t t205 = add(l_closestHole146.y, int32_t(-1));
@@ -1172,8 +1166,7 @@ struct Prog {
               r104 = std::move(r145);
             }
             const int32_t t216 = sub(x89.f0, int32_t(1));
-            C1_Melt upd217 = r104;
-            upd217.f0 = t216;
+            C1_Melt upd217 = C1_Melt{t216, r104.origin};
             out88.push_back(std::move(upd217));
           }
         }
@@ -1209,8 +1202,7 @@ struct Prog {
         const int32_t t223 = add(prev222.origin.x, int32_t(-1));
         const int32_t t224 = add(prev222.origin.y, int32_t(0));
         const Pos t225 = Pos{t223, t224};
-        C3_Plow upd226 = prev222;
-        upd226.origin = t225;
+        const C3_Plow upd226 = C3_Plow{t225};
         std::vector<Elem>& rendered227 = s.scratch.v.b25;
         rendered227.clear();
         rendered227.push_back(Elem{Pos{add(upd226.origin.x, int32_t(0)), add(upd226.origin.y, int32_t(0))}, int32_t(2)});
@@ -1230,8 +1222,7 @@ struct Prog {
           const int32_t t231 = add(prev222.origin.x, int32_t(-1));
           const int32_t t232 = add(prev222.origin.y, int32_t(0));
           const Pos t233 = Pos{t231, t232};
-          C3_Plow upd234 = prev222;
-          upd234.origin = t233;
+          C3_Plow upd234 = C3_Plow{t233};
           r230 = std::move(upd234);
         } else {
           r230 = prev222;
@@ -1254,8 +1245,7 @@ struct Prog {
         const int32_t t237 = add(prev236.origin.x, int32_t(1));
         const int32_t t238 = add(prev236.origin.y, int32_t(0));
         const Pos t239 = Pos{t237, t238};
-        C3_Plow upd240 = prev236;
-        upd240.origin = t239;
+        const C3_Plow upd240 = C3_Plow{t239};
         std::vector<Elem>& rendered241 = s.scratch.v.b26;
         rendered241.clear();
         rendered241.push_back(Elem{Pos{add(upd240.origin.x, int32_t(0)), add(upd240.origin.y, int32_t(0))}, int32_t(2)});
@@ -1275,8 +1265,7 @@ struct Prog {
           const int32_t t245 = add(prev236.origin.x, int32_t(1));
           const int32_t t246 = add(prev236.origin.y, int32_t(0));
           const Pos t247 = Pos{t245, t246};
-          C3_Plow upd248 = prev236;
-          upd248.origin = t247;
+          C3_Plow upd248 = C3_Plow{t247};
           r244 = std::move(upd248);
         } else {
           r244 = prev236;
@@ -1377,8 +1366,7 @@ struct Prog {
         } else {
           r271 = t269;
         }
-        C4_Cloud upd272 = prev267;
-        upd272.f0 = r271;
+        C4_Cloud upd272 = C4_Cloud{r271, prev267.origin};
         if (!s.scratch.v.sv_cloud_24) {
           std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
           s.scratch.v.sv_cloud_24 = true;
@@ -1402,8 +1390,7 @@ struct Prog {
         } else {
           r278 = int32_t(1);
         }
-        C4_Cloud upd279 = prev274;
-        upd279.f0 = r278;
+        C4_Cloud upd279 = C4_Cloud{r278, prev274.origin};
         if (!s.scratch.v.sv_cloud_24) {
           std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
           s.scratch.v.sv_cloud_24 = true;

@@ -273,8 +273,7 @@ struct Prog {
             }
           }
         }
-        C2_Crate upd15 = x10;
-        upd15.f0 = any12;
+        C2_Crate upd15 = C2_Crate{any12, x10.origin};
         out9.push_back(std::move(upd15));
       }
     }
@@ -524,8 +523,7 @@ struct Prog {
                 const int32_t t37 = add(x31.origin.x, int32_t(-1));
                 const int32_t t38 = add(x31.origin.y, int32_t(0));
                 const Pos t39 = Pos{t37, t38};
-                C2_Crate upd40 = x31;
-                upd40.origin = t39;
+                C2_Crate upd40 = C2_Crate{x31.f0, t39};
                 updated30.push_back(std::move(upd40));
               } else {
                 updated30.push_back(x31);
@@ -555,8 +553,7 @@ struct Prog {
                   }
                 }
               }
-              C2_Crate upd47 = x42;
-              upd47.f0 = any44;
+              C2_Crate upd47 = C2_Crate{any44, x42.origin};
               out41.push_back(std::move(upd47));
             }
           }
@@ -708,8 +705,7 @@ struct Prog {
           const int32_t t93 = add(prev92.origin.x, int32_t(-1));
           const int32_t t94 = add(prev92.origin.y, int32_t(0));
           const Pos t95 = Pos{t93, t94};
-          C3_Keeper upd96 = prev92;
-          upd96.origin = t95;
+          C3_Keeper upd96 = C3_Keeper{t95};
           r91 = std::move(upd96);
         } else {
           const C3_Keeper& prev97 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
@@ -826,8 +822,7 @@ struct Prog {
                 const int32_t t134 = add(x128.origin.x, int32_t(1));
                 const int32_t t135 = add(x128.origin.y, int32_t(0));
                 const Pos t136 = Pos{t134, t135};
-                C2_Crate upd137 = x128;
-                upd137.origin = t136;
+                C2_Crate upd137 = C2_Crate{x128.f0, t136};
                 updated127.push_back(std::move(upd137));
               } else {
                 updated127.push_back(x128);
@@ -857,8 +852,7 @@ struct Prog {
                   }
                 }
               }
-              C2_Crate upd144 = x139;
-              upd144.f0 = any141;
+              C2_Crate upd144 = C2_Crate{any141, x139.origin};
               out138.push_back(std::move(upd144));
             }
           }
@@ -1010,8 +1004,7 @@ struct Prog {
           const int32_t t190 = add(prev189.origin.x, int32_t(1));
           const int32_t t191 = add(prev189.origin.y, int32_t(0));
           const Pos t192 = Pos{t190, t191};
-          C3_Keeper upd193 = prev189;
-          upd193.origin = t192;
+          C3_Keeper upd193 = C3_Keeper{t192};
           r188 = std::move(upd193);
         } else {
           const C3_Keeper& prev194 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
@@ -1128,8 +1121,7 @@ struct Prog {
                 const int32_t t231 = add(x225.origin.x, int32_t(0));
                 const int32_t t232 = add(x225.origin.y, int32_t(-1));
                 const Pos t233 = Pos{t231, t232};
-                C2_Crate upd234 = x225;
-                upd234.origin = t233;
+                C2_Crate upd234 = C2_Crate{x225.f0, t233};
                 updated224.push_back(std::move(upd234));
               } else {
                 updated224.push_back(x225);
@@ -1159,8 +1151,7 @@ struct Prog {
                   }
                 }
               }
-              C2_Crate upd241 = x236;
-              upd241.f0 = any238;
+              C2_Crate upd241 = C2_Crate{any238, x236.origin};
               out235.push_back(std::move(upd241));
             }
           }
@@ -1312,8 +1303,7 @@ struct Prog {
           const int32_t t287 = add(prev286.origin.x, int32_t(0));
           const int32_t t288 = add(prev286.origin.y, int32_t(-1));
           const Pos t289 = Pos{t287, t288};
-          C3_Keeper upd290 = prev286;
-          upd290.origin = t289;
+          C3_Keeper upd290 = C3_Keeper{t289};
           r285 = std::move(upd290);
         } else {
           const C3_Keeper& prev291 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
@@ -1430,8 +1420,7 @@ struct Prog {
                 const int32_t t328 = add(x322.origin.x, int32_t(0));
                 const int32_t t329 = add(x322.origin.y, int32_t(1));
                 const Pos t330 = Pos{t328, t329};
-                C2_Crate upd331 = x322;
-                upd331.origin = t330;
+                C2_Crate upd331 = C2_Crate{x322.f0, t330};
                 updated321.push_back(std::move(upd331));
               } else {
                 updated321.push_back(x322);
@@ -1461,8 +1450,7 @@ struct Prog {
                   }
                 }
               }
-              C2_Crate upd338 = x333;
-              upd338.f0 = any335;
+              C2_Crate upd338 = C2_Crate{any335, x333.origin};
               out332.push_back(std::move(upd338));
             }
           }
@@ -1614,8 +1602,7 @@ struct Prog {
           const int32_t t384 = add(prev383.origin.x, int32_t(0));
           const int32_t t385 = add(prev383.origin.y, int32_t(1));
           const Pos t386 = Pos{t384, t385};
-          C3_Keeper upd387 = prev383;
-          upd387.origin = t386;
+          C3_Keeper upd387 = C3_Keeper{t386};
           r382 = std::move(upd387);
         } else {
           const C3_Keeper& prev388 = (s.scratch.v.sv_keeper_23 ? s.scratch.v.p_keeper_22 : s.g_keeper_20);
@@ -1681,8 +1668,7 @@ struct Prog {
                 }
               }
             }
-            C2_Crate upd403 = x398;
-            upd403.f0 = any400;
+            C2_Crate upd403 = C2_Crate{any400, x398.origin};
             out397.push_back(std::move(upd403));
           }
         }

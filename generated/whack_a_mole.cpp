@@ -457,8 +457,7 @@ struct Prog {
           for (const C1_Mole& x12 : x12_list) {
             // inlined: function at programs/whack_a_mole.au:47
             const int32_t t13 = sub(x12.f0, int32_t(1));
-            C1_Mole upd14 = x12;
-            upd14.f0 = t13;
+            C1_Mole upd14 = C1_Mole{t13, x12.origin};
             out11.push_back(std::move(upd14));
           }
         }
@@ -610,8 +609,7 @@ struct Prog {
           for (const C1_Mole& x52 : x52_list) {
             // inlined: function at programs/whack_a_mole.au:47
             const int32_t t53 = sub(x52.f0, int32_t(1));
-            C1_Mole upd54 = x52;
-            upd54.f0 = t53;
+            C1_Mole upd54 = C1_Mole{t53, x52.origin};
             out51.push_back(std::move(upd54));
           }
         }
@@ -683,8 +681,7 @@ struct Prog {
           for (const C1_Mole& x69 : x69_list) {
             // inlined: function at programs/whack_a_mole.au:47
             const int32_t t70 = sub(x69.f0, int32_t(1));
-            C1_Mole upd71 = x69;
-            upd71.f0 = t70;
+            C1_Mole upd71 = C1_Mole{t70, x69.origin};
             out68.push_back(std::move(upd71));
           }
         }
@@ -902,8 +899,7 @@ struct Prog {
     if (!s.u_bar_7) {
       const C3_ScoreBar& prev122 = (s.scratch.v.sv_bar_9 ? s.scratch.v.p_bar_8 : s.g_bar_6);
       const int32_t& g123 = s.g_score_14;
-      C3_ScoreBar upd124 = prev122;
-      upd124.f0 = g123;
+      C3_ScoreBar upd124 = C3_ScoreBar{g123, prev122.origin};
       if (!s.scratch.v.sv_bar_9) {
         std::swap(s.scratch.v.p_bar_8, s.g_bar_6);
         s.scratch.v.sv_bar_9 = true;
@@ -978,8 +974,7 @@ struct Prog {
         for (const C2_Flash& x134 : x134_list) {
           // inlined: function at programs/whack_a_mole.au:33
           const int32_t t135 = sub(x134.f0, int32_t(1));
-          C2_Flash upd136 = x134;
-          upd136.f0 = t135;
+          C2_Flash upd136 = C2_Flash{t135, x134.origin};
           out133.push_back(std::move(upd136));
         }
       }

@@ -241,6 +241,7 @@ class Specialiser {
   SVal add_obj(const SVal& l, const SVal& x);
   SVal renew_identity(const SVal& v);
   SVal set_field(const SVal& o, const std::string& field, const SVal& v);
+  SVal rebuilt_with(const SVal& o, int field, const SVal& v);  // set_field, built in place
   SVal update_filtered(const SVal& l, const SVal& f, const SVal& pred, const Expr& at);
   SVal remove_from(const SVal& l, const SVal& what, const Expr& at);
   ir::Node* same_identity_any(const SVal& x, const std::vector<SVal>& others);
