@@ -138,9 +138,34 @@ class IdTable {
   std::vector<std::pair<uint32_t, uint32_t>> remap_;  // sorted by uid
 };
 
+// A list of marks (Occupancy's, Painter's: a fixed array whose first `used`
+// entries are in use, the last one a sink) copied into another: when the two
+// are the same size, only the entries in use.
+inline void copy_marks(std::vector<uint32_t>& to, const std::vector<uint32_t>& from, size_t used) {
+  if (to.size() != from.size()) {
+    to = from;
+    return;
+  }
+  const size_t n = from.empty() ? 0 : std::min(used, from.size() - 1);
+  std::copy_n(from.begin(), n, to.begin());
+}
+
 // Positions covered at the last host render; out-of-grid positions count too.
 class Occupancy {
  public:
+  Occupancy() = default;
+  Occupancy(const Occupancy&) = default;
+  // Copies (every search successor's copy_from) take only the marks in use.
+  Occupancy& operator=(const Occupancy& o) {
+    if (this == &o) return *this;
+    size_ = o.size_;
+    grid_ = o.grid_;
+    set_ = o.set_;
+    copy_marks(marks_, o.marks_, set_);
+    outside_ = o.outside_;
+    sorted_ = o.sorted_;
+    return *this;
+  }
   // Clears in time proportional to what the last render covered, not to the
   // grid; when that was over a quarter of the grid, clearing it all costs less.
   void clear(int size) {
@@ -158,8 +183,9 @@ class Occupancy {
     outside_.clear();
     sorted_ = true;
   }
-  // Inline and without a growing list, like Painter::paint (one call per
+  // Without a growing list for the grid, like Painter::paint (one call per
   // element drawn): marks_ remembers the first cells set, the count the rest.
+  // Off-grid positions are listed inline: some programs draw mostly there.
   void add(Pos p) {
     if (p.x >= 0 && p.y >= 0 && p.x < size_ && p.y < size_) {
       const uint32_t i = static_cast<uint32_t>(p.y) * size_ + p.x;
@@ -171,7 +197,8 @@ class Occupancy {
         ++set_;
       }
     } else {
-      add_outside(p);
+      outside_.push_back(key(p));
+      sorted_ = false;
     }
   }
   bool free(Pos p) const {
@@ -183,10 +210,6 @@ class Occupancy {
 
  private:
   static uint64_t key(Pos p) { return (static_cast<uint64_t>(static_cast<uint32_t>(p.x)) << 32) | static_cast<uint32_t>(p.y); }
-  [[gnu::cold, gnu::noinline]] void add_outside(Pos p) {
-    outside_.push_back(key(p));
-    sorted_ = false;
-  }
   void sort() const {
     if (!sorted_) sort_outside();
   }
@@ -220,6 +243,23 @@ inline uint16_t colour_of(const std::vector<uint16_t>& pal, int32_t id) {
 // of the global it came from (the render names it with global()).
 class Painter {
  public:
+  Painter() = default;
+  Painter(const Painter&) = default;
+  // Copies (every search successor's copy_from) take only the marks in use.
+  Painter& operator=(const Painter& o) {
+    if (this == &o) return *this;
+    frame_ = o.frame_;
+    cells_ = o.cells_;
+    size_ = o.size_;
+    background_ = o.background_;
+    painted_ = o.painted_;
+    copy_marks(marks_, o.marks_, painted_);
+    record_ = o.record_;
+    recorded_ = o.recorded_;
+    global_ = o.global_;
+    drawn_ = o.drawn_;
+    return *this;
+  }
   struct Drawn {
     Pos position;
     int32_t colour = 0;  // string id
