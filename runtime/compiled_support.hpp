@@ -138,53 +138,67 @@ class IdTable {
   std::vector<std::pair<uint32_t, uint32_t>> remap_;  // sorted by uid
 };
 
-// A list of marks (Occupancy's, Painter's: a fixed array whose first `used`
-// entries are in use, the last one a sink) copied into another: when the two
-// are the same size, only the entries in use.
-inline void copy_marks(std::vector<uint32_t>& to, const std::vector<uint32_t>& from, size_t used) {
-  if (to.size() != from.size()) {
-    to = from;
-    return;
+// The grid cells a render set, so that the next render can unset just those:
+// a fixed array of grid/4 + 1 entries (no growing list: a mark is made per
+// element drawn, the hottest call of a many-object render) and a count. Past
+// grid/4 marks, unsetting cell by cell costs more than clearing the grid, and
+// dense() tells the owner to do that instead.
+class Marks {
+ public:
+  Marks() = default;
+  Marks(const Marks&) = default;
+  // Copies (every search successor's copy_from) take only the entries in use.
+  Marks& operator=(const Marks& o) {
+    if (this == &o) return *this;
+    n_ = o.n_;
+    if (at_.size() != o.at_.size()) at_ = o.at_;
+    else if (!at_.empty()) std::copy_n(o.at_.begin(), std::min(n_, at_.size() - 1), at_.begin());
+    return *this;
   }
-  const size_t n = from.empty() ? 0 : std::min(used, from.size() - 1);
-  std::copy_n(from.begin(), n, to.begin());
-}
+  void reset(size_t cells) {
+    at_.assign(cells / 4 + 1, 0);
+    n_ = 0;
+  }
+  void clear() { n_ = 0; }
+  void add(uint32_t cell) {
+    const size_t last = at_.size() - 1;  // the sink: marks past the array's
+    at_[n_ < last ? n_ : last] = cell;
+    ++n_;
+  }
+  bool dense() const { return n_ >= at_.size(); }
+  // The cells marked; only while !dense().
+  template <class F>
+  void for_each(F&& f) const {
+    for (size_t k = 0; k < n_; ++k) f(at_[k]);
+  }
+
+ private:
+  // Invariant: after reset(), at_ has cells/4 + 1 entries and the first
+  // min(n_, at_.size() - 1) are the cells marked since the last clear().
+  std::vector<uint32_t> at_;
+  size_t n_ = 0;
+};
 
 // Positions covered at the last host render; out-of-grid positions count too.
 class Occupancy {
  public:
-  Occupancy() = default;
-  Occupancy(const Occupancy&) = default;
-  // Copies (every search successor's copy_from) take only the marks in use.
-  Occupancy& operator=(const Occupancy& o) {
-    if (this == &o) return *this;
-    size_ = o.size_;
-    grid_ = o.grid_;
-    set_ = o.set_;
-    copy_marks(marks_, o.marks_, set_);
-    outside_ = o.outside_;
-    sorted_ = o.sorted_;
-    return *this;
-  }
   // Clears in time proportional to what the last render covered, not to the
-  // grid; when that was over a quarter of the grid, clearing it all costs less.
+  // grid (Marks).
   void clear(int size) {
     const size_t cells = static_cast<size_t>(size) * size;
     if (size != size_) {
       size_ = size;
       grid_.assign(cells, 0);
-      marks_.assign(cells / 4 + 1, 0);
-    } else if (set_ >= marks_.size()) {
+      marks_.reset(cells);
+    } else if (marks_.dense()) {
       std::fill(grid_.begin(), grid_.end(), uint8_t{0});
     } else {
-      for (uint32_t k = 0; k < set_; ++k) grid_[marks_[k]] = 0;
+      marks_.for_each([&](uint32_t i) { grid_[i] = 0; });
     }
-    set_ = 0;
+    marks_.clear();
     outside_.clear();
     sorted_ = true;
   }
-  // Without a growing list for the grid, like Painter::paint (one call per
-  // element drawn): marks_ remembers the first cells set, the count the rest.
   // Off-grid positions are listed inline: some programs draw mostly there.
   void add(Pos p) {
     if (p.x >= 0 && p.y >= 0 && p.x < size_ && p.y < size_) {
@@ -192,9 +206,7 @@ class Occupancy {
       uint8_t& g = grid_[i];
       if (!g) {
         g = 1;
-        const size_t last = marks_.size() - 1;
-        marks_[set_ < last ? set_ : last] = i;
-        ++set_;
+        marks_.add(i);
       }
     } else {
       outside_.push_back(key(p));
@@ -214,15 +226,12 @@ class Occupancy {
     if (!sorted_) sort_outside();
   }
   void sort_outside() const;  // compiled_support.cpp
-  // Invariants: grid_ has size_ * size_ cells, 1 where covered; set_ counts
-  // them, and marks_ (size_ * size_ / 4 + 1 entries) holds the first
-  // min(set_, size_ * size_ / 4) of their indices; past that, clear() zeroes
-  // the whole grid. Before the first clear() everything is empty and add()
-  // never runs (the render clears first).
+  // Invariants: grid_ has size_ * size_ cells, 1 where covered, each marked
+  // once in marks_ (reset for the grid). Before the first clear() everything
+  // is empty (the render clears first).
   int size_ = 0;
   std::vector<uint8_t> grid_;
-  size_t set_ = 0;
-  std::vector<uint32_t> marks_;
+  Marks marks_;
   mutable std::vector<uint64_t> outside_;  // positions off the grid, sorted on demand
   mutable bool sorted_ = true;
 };
@@ -243,23 +252,6 @@ inline uint16_t colour_of(const std::vector<uint16_t>& pal, int32_t id) {
 // of the global it came from (the render names it with global()).
 class Painter {
  public:
-  Painter() = default;
-  Painter(const Painter&) = default;
-  // Copies (every search successor's copy_from) take only the marks in use.
-  Painter& operator=(const Painter& o) {
-    if (this == &o) return *this;
-    frame_ = o.frame_;
-    cells_ = o.cells_;
-    size_ = o.size_;
-    background_ = o.background_;
-    painted_ = o.painted_;
-    copy_marks(marks_, o.marks_, painted_);
-    record_ = o.record_;
-    recorded_ = o.recorded_;
-    global_ = o.global_;
-    drawn_ = o.drawn_;
-    return *this;
-  }
   struct Drawn {
     Pos position;
     int32_t colour = 0;  // string id
@@ -281,22 +273,20 @@ class Painter {
       f.size = size;
       f.cells.assign(cells, background);
       background_ = background;
-      marks_.assign(cells / 4 + 1, 0);
-    } else if (painted_ >= marks_.size()) {  // a dense frame: repainting it all costs less
+      marks_.reset(cells);
+    } else if (marks_.dense()) {  // repainting it all costs less
       std::fill(f.cells.begin(), f.cells.end(), background);
     } else {
-      for (uint32_t k = 0; k < painted_; ++k) f.cells[marks_[k]] = background;
+      marks_.for_each([&](uint32_t i) { f.cells[i] = background; });
     }
+    marks_.clear();
     size_ = size;
     cells_ = f.cells.data();
-    painted_ = 0;
     drawn_.clear();
     recorded_ = record_;
   }
   void global(int32_t index) { global_ = index; }
-  // Inline and without a growing list (the hottest call of a many-object
-  // render): the first marks_.size() - 1 cells painted are remembered, and
-  // once the count reaches marks_.size() the next begin() clears the grid.
+  // Inline: the hottest call of a many-object render.
   void paint(Pos p, int32_t colour, const std::vector<uint16_t>& pal) {
     const uint16_t c = colour_of(pal, colour);
     if (__builtin_expect(record_, 0)) record_drawn(p, colour);
@@ -304,23 +294,19 @@ class Painter {
     if (p.x < 0 || p.y < 0 || p.x >= n || p.y >= n) return;
     const uint32_t i = static_cast<uint32_t>(p.y) * n + p.x;
     cells_[i] = c;
-    const size_t last = marks_.size() - 1;  // marks_[last] takes the marks past the remembered ones
-    marks_[painted_ < last ? painted_ : last] = i;
-    ++painted_;
+    marks_.add(i);
   }
 
  private:
   [[gnu::cold, gnu::noinline]] void record_drawn(Pos p, int32_t colour) { drawn_.push_back(Drawn{p, colour, global_}); }
   // Invariants: size_ and cells_ are frame_'s, set by begin() (every render
   // calls it before painting; copies and bind() leave them stale until then);
-  // marks_ has (cells / 4) + 1 entries, the first min(painted_, cells / 4) of
-  // them the cells painted since begin().
+  // marks_ (reset for frame_'s grid) holds the cells painted since begin().
   Frame* frame_ = nullptr;
   uint16_t* cells_ = nullptr;
   int size_ = 0;
   uint16_t background_ = 0xffff;
-  size_t painted_ = 0;
-  std::vector<uint32_t> marks_;
+  Marks marks_;
   bool record_ = false, recorded_ = false;
   int32_t global_ = 0;
   std::vector<Drawn> drawn_;
