@@ -516,8 +516,7 @@ inline void tally_rendered(Core& c, int site, const char* name) { tally_add(c, s
 struct Hash {
   uint64_t h = 0x9e3779b97f4a7c15ULL;
   void mix(uint64_t v) {
-    h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-    h *= 0xff51afd7ed558ccdULL;
+    h = (h ^ v) * 0xff51afd7ed558ccdULL;
     h ^= h >> 33;
   }
 };

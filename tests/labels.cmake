@@ -14,7 +14,7 @@
 # start first (COST).
 
 set(rules
-  "^(PaintMarks|HashOrder|Parser|Diagnostics|Lint|IrPasses|IrVerify|IrText|ModuleKey|SnapshotHash|StateValidationMisc|Limits|Generated|WarmStart)\\.|quick"
+  "^(PaintMarks|StateHash|HashOrder|Parser|Diagnostics|Lint|IrPasses|IrVerify|IrText|ModuleKey|SnapshotHash|StateValidationMisc|Limits|Generated|WarmStart)\\.|quick"
   "^(Reader|TraceEpisodes|Files/Diagnostic|Files/IrFile|Traces/Conformance|Programs/CorpusProgram|Programs/Snapshot|Builtin/StateValidation)[./]|quick"
   "^Guide\\.Reference|quick"
   "^(Files/LoweringFile|EmitBytes|CompiledEngine)[./]|quick,compiled"

@@ -6,6 +6,7 @@
 // search's copy_from makes them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
 #include <utility>
@@ -81,6 +82,57 @@ TEST(PaintMarks, IncrementalRendersEqualARepaintAcrossDensitiesAndCopies) {
       for (int y = -2; y < kGrid + 2; ++y)
         ASSERT_EQ(hosts[at].occupied.free(Pos{x, y}), !covered.count({x, y})) << "round " << round << " at " << x << "," << y;
   }
+}
+
+// The state hash (rt::Hash, hash_value) on the structured values states are
+// made of: small coordinates, a flag, lists whose order matters. A search
+// takes equal hashes for equal states, so these must all hash apart.
+uint64_t hash_of(const std::vector<rt::Elem>& v) {
+  rt::Hash h;
+  rt::hash_value(h, v);
+  return h.h;
+}
+
+TEST(StateHash, SmallListsOfElementsHashApart) {
+  std::vector<rt::Elem> cells;
+  for (int x = 0; x < kGrid; ++x)
+    for (int y = 0; y < kGrid; ++y)
+      for (int32_t c : {0, 1}) cells.push_back(rt::Elem{Pos{x, y}, c});
+  std::set<uint64_t> seen;
+  size_t made = 1;
+  seen.insert(hash_of({}));
+  for (const rt::Elem& a : cells) {
+    seen.insert(hash_of({a}));
+    ++made;
+    for (const rt::Elem& b : cells) {
+      seen.insert(hash_of({a, b}));
+      ++made;
+    }
+  }
+  EXPECT_EQ(seen.size(), made);  // 1 + 512 + 512 * 512 distinct lists
+}
+
+TEST(StateHash, LongListsHashByOrder) {
+  // Lists of 8 and more are hashed in lanes (compiled_support.hpp): every
+  // order of 8 distinct elements, and every one-element change, hashes apart.
+  std::vector<rt::Elem> v;
+  for (int i = 0; i < 8; ++i) v.push_back(rt::Elem{Pos{i, 2 * i}, i % 2});
+  std::set<uint64_t> seen;
+  size_t made = 0;
+  std::sort(v.begin(), v.end(), [](const rt::Elem& a, const rt::Elem& b) { return a.position.x < b.position.x; });
+  do {
+    seen.insert(hash_of(v));
+    ++made;
+  } while (std::next_permutation(v.begin(), v.end(), [](const rt::Elem& a, const rt::Elem& b) { return a.position.x < b.position.x; }));
+  for (size_t i = 0; i < v.size(); ++i)
+    for (int x = -3; x < kGrid + 3; ++x) {
+      std::vector<rt::Elem> w = v;
+      w[i].position.x = x + 100;
+      seen.insert(hash_of(w));
+      ++made;
+    }
+  EXPECT_EQ(made, 40320u + 8u * (kGrid + 6));
+  EXPECT_EQ(seen.size(), made);
 }
 
 }  // namespace
