@@ -1090,397 +1090,403 @@ struct Prog {
           std::vector<C1_Block>& added228 = s.scratch.v.b56;
           added228.clear();
           added228.reserve(size_t(add(int32_t(g220.size()), int32_t(out225.size()))));
-          added228.insert(added228.end(), g220.begin(), g220.end());
           {
-            const auto& x229_list = out225;
+            const auto& x229_list = g220;
             charge_loop(s.core, 45, int64_t(x229_list.size()));
             for (const C1_Block& x229 : x229_list) {
               added228.push_back(x229);
             }
           }
-          // inlined: function at programs/blockfall.au:40
-          std::vector<int32_t>& l_full230 = s.scratch.v.b57;
-          l_full230.clear();
-          std::vector<C1_Block>& l_kept231 = s.scratch.v.b58;
-          l_kept231.clear();
-          const std::vector<int32_t> list232 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
-          std::vector<int32_t>& out233 = s.scratch.v.b59;
-          out233.clear();
           {
-            const auto& x234_list = list232;
-            charge_loop(s.core, 46, int64_t(x234_list.size()));
-            for (const int32_t& x234 : x234_list) {
+            const auto& x230_list = out225;
+            charge_loop(s.core, 45, int64_t(x230_list.size()));
+            for (const C1_Block& x230 : x230_list) {
+              added228.push_back(x230);
+            }
+          }
+          // inlined: function at programs/blockfall.au:40
+          std::vector<int32_t>& l_full231 = s.scratch.v.b57;
+          l_full231.clear();
+          std::vector<C1_Block>& l_kept232 = s.scratch.v.b58;
+          l_kept232.clear();
+          const std::vector<int32_t> list233 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7)};
+          std::vector<int32_t>& out234 = s.scratch.v.b59;
+          out234.clear();
+          {
+            const auto& x235_list = list233;
+            charge_loop(s.core, 46, int64_t(x235_list.size()));
+            for (const int32_t& x235 : x235_list) {
               // inlined: function at programs/blockfall.au:41
               // inlined: function at programs/blockfall.au:39
-              std::vector<C1_Block>& out235 = s.scratch.v.b60;
-              out235.clear();
+              std::vector<C1_Block>& out236 = s.scratch.v.b60;
+              out236.clear();
               {
-                const auto& x236_list = added228;
-                charge_loop(s.core, 47, int64_t(x236_list.size()));
-                for (const C1_Block& x236 : x236_list) {
+                const auto& x237_list = added228;
+                charge_loop(s.core, 47, int64_t(x237_list.size()));
+                for (const C1_Block& x237 : x237_list) {
                   // inlined: function at programs/blockfall.au:39
-                  const bool t237 = (x236.origin.y == x234);
-                  if (t237) {
+                  const bool t238 = (x237.origin.y == x235);
+                  if (t238) {
                     charge_built(s.core, 47, int64_t(int32_t(1)));
-                    out235.push_back(x236);
+                    out236.push_back(x237);
                   }
                 }
               }
-              const int32_t t238 = int32_t(out235.size());
-              const bool t239 = (t238 == int32_t(8));
-              if (t239) {
+              const int32_t t239 = int32_t(out236.size());
+              const bool t240 = (t239 == int32_t(8));
+              if (t240) {
                 charge_built(s.core, 46, int64_t(int32_t(1)));
-                out233.push_back(x234);
+                out234.push_back(x235);
               }
             }
           }
-          std::swap(l_full230, out233);
-          std::vector<C1_Block>& out240 = s.scratch.v.b61;
-          out240.clear();
+          std::swap(l_full231, out234);
+          std::vector<C1_Block>& out241 = s.scratch.v.b61;
+          out241.clear();
           {
-            const auto& x241_list = added228;
-            charge_loop(s.core, 48, int64_t(x241_list.size()));
-            for (const C1_Block& x241 : x241_list) {
+            const auto& x242_list = added228;
+            charge_loop(s.core, 48, int64_t(x242_list.size()));
+            for (const C1_Block& x242 : x242_list) {
               // inlined: function at programs/blockfall.au:42
-              bool any242 = false;
+              bool any243 = false;
               {
-                const auto& x243_list = l_full230;
-                charge_loop(s.core, 49, int64_t(x243_list.size()));
-                for (const int32_t& x243 : x243_list) {
-                  const bool t244 = (x243 == x241.origin.y);
-                  if (t244) {
-                    any242 = true;
+                const auto& x244_list = l_full231;
+                charge_loop(s.core, 49, int64_t(x244_list.size()));
+                for (const int32_t& x244 : x244_list) {
+                  const bool t245 = (x244 == x242.origin.y);
+                  if (t245) {
+                    any243 = true;
                     break;
                   }
                 }
               }
-              const bool t245 = !any242;
-              if (t245) {
+              const bool t246 = !any243;
+              if (t246) {
                 charge_built(s.core, 48, int64_t(int32_t(1)));
-                out240.push_back(x241);
+                out241.push_back(x242);
               }
             }
           }
-          std::swap(l_kept231, out240);
-          std::vector<C1_Block>& out246 = s.scratch.v.b62;
-          out246.clear();
-          charge_built(s.core, 50, int64_t(l_kept231.size()));
-          out246.reserve(size_t(int32_t(l_kept231.size())));
+          std::swap(l_kept232, out241);
+          std::vector<C1_Block>& out247 = s.scratch.v.b62;
+          out247.clear();
+          charge_built(s.core, 50, int64_t(l_kept232.size()));
+          out247.reserve(size_t(int32_t(l_kept232.size())));
           {
-            const auto& x247_list = l_kept231;
-            charge_loop(s.core, 50, int64_t(x247_list.size()));
-            for (const C1_Block& x247 : x247_list) {
+            const auto& x248_list = l_kept232;
+            charge_loop(s.core, 50, int64_t(x248_list.size()));
+            for (const C1_Block& x248 : x248_list) {
               // inlined: function at programs/blockfall.au:43
-              std::vector<int32_t>& out248 = s.scratch.v.b63;
-              out248.clear();
+              std::vector<int32_t>& out249 = s.scratch.v.b63;
+              out249.clear();
               {
-                const auto& x249_list = l_full230;
-                charge_loop(s.core, 51, int64_t(x249_list.size()));
-                for (const int32_t& x249 : x249_list) {
+                const auto& x250_list = l_full231;
+                charge_loop(s.core, 51, int64_t(x250_list.size()));
+                for (const int32_t& x250 : x250_list) {
                   // inlined: function at programs/blockfall.au:43
-                  const bool t250 = (x249 > x247.origin.y);
-                  if (t250) {
+                  const bool t251 = (x250 > x248.origin.y);
+                  if (t251) {
                     charge_built(s.core, 51, int64_t(int32_t(1)));
-                    out248.push_back(x249);
+                    out249.push_back(x250);
                   }
                 }
               }
-              const int32_t t251 = int32_t(out248.size());
-              const Pos t252 = Pos{int32_t(0), t251};
-              const int32_t t253 = add(x247.origin.x, t252.x);
-              const int32_t t254 = add(x247.origin.y, t252.y);
-              const Pos t255 = Pos{t253, t254};
-              C1_Block upd256 = C1_Block{x247.f0, t255};
-              out246.push_back(std::move(upd256));
+              const int32_t t252 = int32_t(out249.size());
+              const Pos t253 = Pos{int32_t(0), t252};
+              const int32_t t254 = add(x248.origin.x, t253.x);
+              const int32_t t255 = add(x248.origin.y, t253.y);
+              const Pos t256 = Pos{t254, t255};
+              C1_Block upd257 = C1_Block{x248.f0, t256};
+              out247.push_back(std::move(upd257));
             }
           }
           if (!s.scratch.v.sv_stack_15) {
             std::swap(s.scratch.v.p_stack_14, s.g_stack_12);
             s.scratch.v.sv_stack_15 = true;
           }
-          std::swap(s.g_stack_12, out246);
+          std::swap(s.g_stack_12, out247);
           s.u_stack_13 = true;
-          const std::vector<int32_t> list257 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
-          if (list257.empty()) {
+          const std::vector<int32_t> list258 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
+          if (list258.empty()) {
             fail_at(52, std::string() + std::string("uniformChoice of an empty list"));
           }
-          const int32_t t258 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list257.size())))));
-          const int32_t t259 = list257[size_t(t258)];
-          const Pos& g260 = s.g_spawnAt_7;
-          std::vector<CellV> l_allCells261{};
-          const std::vector<std::vector<Pos>>& g262 = s.g_shapes_4;
-          if (g262.empty()) {
+          const int32_t t259 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list258.size())))));
+          const int32_t t260 = list258[size_t(t259)];
+          const Pos& g261 = s.g_spawnAt_7;
+          std::vector<CellV> l_allCells262{};
+          const std::vector<std::vector<Pos>>& g263 = s.g_shapes_4;
+          if (g263.empty()) {
             fail_at(22, std::string() + std::string("at: empty list"));
           }
-          if (((t259 < int32_t(0)) || (t259 >= int32_t(g262.size())))) {
-            fail_at(22, std::string() + std::string("at: index ") + std::to_string(t259) + std::string(" out of bounds"));
+          if (((t260 < int32_t(0)) || (t260 >= int32_t(g263.size())))) {
+            fail_at(22, std::string() + std::string("at: index ") + std::to_string(t260) + std::string(" out of bounds"));
           }
-          const std::vector<Pos> t263 = g262[size_t(t259)];
-          std::vector<CellV>& out264 = s.scratch.v.b64;
-          out264.clear();
-          charge_built(s.core, 23, int64_t(t263.size()));
-          out264.reserve(size_t(int32_t(t263.size())));
+          const std::vector<Pos> t264 = g263[size_t(t260)];
+          std::vector<CellV>& out265 = s.scratch.v.b64;
+          out265.clear();
+          charge_built(s.core, 23, int64_t(t264.size()));
+          out265.reserve(size_t(int32_t(t264.size())));
           {
-            const auto& x265_list = t263;
-            charge_loop(s.core, 23, int64_t(x265_list.size()));
-            for (const Pos& x265 : x265_list) {
+            const auto& x266_list = t264;
+            charge_loop(s.core, 23, int64_t(x266_list.size()));
+            for (const Pos& x266 : x266_list) {
               // inlined: function at programs/blockfall.au:24
-              const CellV cell266 = CellV{x265.x, x265.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
-              out264.push_back(cell266);
+              const CellV cell267 = CellV{x266.x, x266.y, int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(0))};
+              out265.push_back(cell267);
             }
           }
-          std::swap(l_allCells261, out264);
-          C0_Piece o267 = C0_Piece{t259, g260, std::move(l_allCells261)};
+          std::swap(l_allCells262, out265);
+          C0_Piece o268 = C0_Piece{t260, g261, std::move(l_allCells262)};
           if (!s.scratch.v.sv_piece_11) {
             std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
             s.scratch.v.sv_piece_11 = true;
           }
-          s.g_piece_8 = std::move(o267);
+          s.g_piece_8 = std::move(o268);
           s.u_piece_9 = true;
-          const C0_Piece& g268 = s.g_piece_8;
-          const std::vector<C1_Block>& g269 = s.g_stack_12;
-          std::vector<Elem>& rendered270 = s.scratch.v.b65;
-          rendered270.clear();
-          std::vector<Elem>& cells271 = s.scratch.v.b66;
-          cells271.clear();
-          render_C0_Piece(s, g268, cells271);
+          const C0_Piece& g269 = s.g_piece_8;
+          const std::vector<C1_Block>& g270 = s.g_stack_12;
+          std::vector<Elem>& rendered271 = s.scratch.v.b65;
+          rendered271.clear();
+          std::vector<Elem>& cells272 = s.scratch.v.b66;
+          cells272.clear();
+          render_C0_Piece(s, g269, cells272);
           {
-            const auto& e272_list = cells271;
-            charge_loop(s.core, 53, int64_t(e272_list.size()));
-            for (const Elem& e272 : e272_list) {
-              rendered270.push_back(e272);
+            const auto& e273_list = cells272;
+            charge_loop(s.core, 53, int64_t(e273_list.size()));
+            for (const Elem& e273 : e273_list) {
+              rendered271.push_back(e273);
             }
           }
-          std::vector<Elem>& rendered273 = s.scratch.v.b67;
-          rendered273.clear();
+          std::vector<Elem>& rendered274 = s.scratch.v.b67;
+          rendered274.clear();
           {
-            const auto& x274_list = g269;
-            charge_loop(s.core, 54, int64_t(x274_list.size()));
-            for (const C1_Block& x274 : x274_list) {
-              const int32_t colour275 = colour_1_C1_Block(s, x274);
-              rendered273.push_back(Elem{Pos{add(x274.origin.x, int32_t(0)), add(x274.origin.y, int32_t(0))}, colour275});
+            const auto& x275_list = g270;
+            charge_loop(s.core, 54, int64_t(x275_list.size()));
+            for (const C1_Block& x275 : x275_list) {
+              const int32_t colour276 = colour_1_C1_Block(s, x275);
+              rendered274.push_back(Elem{Pos{add(x275.origin.x, int32_t(0)), add(x275.origin.y, int32_t(0))}, colour276});
             }
           }
-          const int32_t t276 = int32_t(rendered270.size());
-          const bool t277 = (t276 == int32_t(0));
-          bool r278{};
-          if (!t277) {
-            const int32_t t279 = int32_t(rendered273.size());
-            const bool t280 = (t279 == int32_t(0));
-            r278 = t280;
+          const int32_t t277 = int32_t(rendered271.size());
+          const bool t278 = (t277 == int32_t(0));
+          bool r279{};
+          if (!t278) {
+            const int32_t t280 = int32_t(rendered274.size());
+            const bool t281 = (t280 == int32_t(0));
+            r279 = t281;
           } else {
-            r278 = true;
+            r279 = true;
           }
-          bool r281{};
-          if (r278) {
-            r281 = false;
+          bool r282{};
+          if (r279) {
+            r282 = false;
           } else {
-            bool any282 = false;
+            bool any283 = false;
             {
-              const auto& x283_list = rendered270;
-              charge_loop(s.core, 55, int64_t(x283_list.size()));
-              for (const Elem& x283 : x283_list) {
-                bool any284 = false;
+              const auto& x284_list = rendered271;
+              charge_loop(s.core, 55, int64_t(x284_list.size()));
+              for (const Elem& x284 : x284_list) {
+                bool any285 = false;
                 {
-                  const auto& x285_list = rendered273;
-                  charge_loop(s.core, 56, int64_t(x285_list.size()));
-                  for (const Elem& x285 : x285_list) {
-                    const bool t286 = (x283.position == x285.position);
-                    if (t286) {
-                      any284 = true;
+                  const auto& x286_list = rendered274;
+                  charge_loop(s.core, 56, int64_t(x286_list.size()));
+                  for (const Elem& x286 : x286_list) {
+                    const bool t287 = (x284.position == x286.position);
+                    if (t287) {
+                      any285 = true;
                       break;
                     }
                   }
                 }
-                if (any284) {
-                  any282 = true;
+                if (any285) {
+                  any283 = true;
                   break;
                 }
               }
             }
-            r281 = any282;
+            r282 = any283;
           }
-          std::vector<C1_Block>& r287 = s.scratch.v.b68;
-          r287.clear();
-          if (r281) {
-            r287 = std::vector<C1_Block>{};
+          std::vector<C1_Block>& r288 = s.scratch.v.b68;
+          r288.clear();
+          if (r282) {
+            r288 = std::vector<C1_Block>{};
           } else {
-            const std::vector<C1_Block>& g288 = s.g_stack_12;
-            r287 = g288;
+            const std::vector<C1_Block>& g289 = s.g_stack_12;
+            r288 = g289;
           }
           if (!s.scratch.v.sv_stack_15) {
             std::swap(s.scratch.v.p_stack_14, s.g_stack_12);
             s.scratch.v.sv_stack_15 = true;
           }
-          std::swap(s.g_stack_12, r287);
+          std::swap(s.g_stack_12, r288);
           s.u_stack_13 = true;
         } else {
-          const C0_Piece& g289 = s.g_piece_8;
-          const int32_t t290 = add(g289.origin.x, int32_t(0));
-          const int32_t t291 = add(g289.origin.y, int32_t(1));
-          const Pos t292 = Pos{t290, t291};
-          C0_Piece upd293 = g289;
-          upd293.origin = t292;
-          std::vector<Elem>& rendered294 = s.scratch.v.b69;
-          rendered294.clear();
-          std::vector<Elem>& cells295 = s.scratch.v.b70;
-          cells295.clear();
-          render_C0_Piece(s, upd293, cells295);
+          const C0_Piece& g290 = s.g_piece_8;
+          const int32_t t291 = add(g290.origin.x, int32_t(0));
+          const int32_t t292 = add(g290.origin.y, int32_t(1));
+          const Pos t293 = Pos{t291, t292};
+          C0_Piece upd294 = g290;
+          upd294.origin = t293;
+          std::vector<Elem>& rendered295 = s.scratch.v.b69;
+          rendered295.clear();
+          std::vector<Elem>& cells296 = s.scratch.v.b70;
+          cells296.clear();
+          render_C0_Piece(s, upd294, cells296);
           {
-            const auto& e296_list = cells295;
-            charge_loop(s.core, 57, int64_t(e296_list.size()));
-            for (const Elem& e296 : e296_list) {
-              rendered294.push_back(e296);
+            const auto& e297_list = cells296;
+            charge_loop(s.core, 57, int64_t(e297_list.size()));
+            for (const Elem& e297 : e297_list) {
+              rendered295.push_back(e297);
             }
           }
-          bool within297 = true;
+          bool within298 = true;
           {
-            const auto& e298_list = rendered294;
-            charge_loop(s.core, 57, int64_t(e298_list.size()));
-            for (const Elem& e298 : e298_list) {
-              if ((((e298.position.x < int32_t(0)) || (e298.position.x >= int32_t(8))) || ((e298.position.y < int32_t(0)) || (e298.position.y >= int32_t(8))))) {
-                within297 = false;
+            const auto& e299_list = rendered295;
+            charge_loop(s.core, 57, int64_t(e299_list.size()));
+            for (const Elem& e299 : e299_list) {
+              if ((((e299.position.x < int32_t(0)) || (e299.position.x >= int32_t(8))) || ((e299.position.y < int32_t(0)) || (e299.position.y >= int32_t(8))))) {
+                within298 = false;
                 break;
               }
             }
           }
-          bool r299{};
-          if (within297) {
-            const int32_t t300 = add(g289.origin.x, int32_t(0));
-            const int32_t t301 = add(g289.origin.y, int32_t(1));
-            const Pos t302 = Pos{t300, t301};
-            C0_Piece upd303 = g289;
-            upd303.origin = t302;
-            std::vector<Elem>& l_prev_elems304 = s.scratch.v.b71;
-            l_prev_elems304.clear();
-            std::vector<Elem>& l_curr_elems305 = s.scratch.v.b72;
-            l_curr_elems305.clear();
-            std::vector<Elem>& l_filtered_elems306 = s.scratch.v.b73;
-            l_filtered_elems306.clear();
-            std::vector<Elem>& rendered307 = s.scratch.v.b74;
-            rendered307.clear();
-            std::vector<Elem>& cells308 = s.scratch.v.b75;
-            cells308.clear();
-            render_C0_Piece(s, g289, cells308);
+          bool r300{};
+          if (within298) {
+            const int32_t t301 = add(g290.origin.x, int32_t(0));
+            const int32_t t302 = add(g290.origin.y, int32_t(1));
+            const Pos t303 = Pos{t301, t302};
+            C0_Piece upd304 = g290;
+            upd304.origin = t303;
+            std::vector<Elem>& l_prev_elems305 = s.scratch.v.b71;
+            l_prev_elems305.clear();
+            std::vector<Elem>& l_curr_elems306 = s.scratch.v.b72;
+            l_curr_elems306.clear();
+            std::vector<Elem>& l_filtered_elems307 = s.scratch.v.b73;
+            l_filtered_elems307.clear();
+            std::vector<Elem>& rendered308 = s.scratch.v.b74;
+            rendered308.clear();
+            std::vector<Elem>& cells309 = s.scratch.v.b75;
+            cells309.clear();
+            render_C0_Piece(s, g290, cells309);
             {
-              const auto& e309_list = cells308;
-              charge_loop(s.core, 58, int64_t(e309_list.size()));
-              for (const Elem& e309 : e309_list) {
-                rendered307.push_back(e309);
+              const auto& e310_list = cells309;
+              charge_loop(s.core, 58, int64_t(e310_list.size()));
+              for (const Elem& e310 : e310_list) {
+                rendered308.push_back(e310);
               }
             }
-            std::swap(l_prev_elems304, rendered307);
-            std::vector<Elem>& rendered310 = s.scratch.v.b76;
-            rendered310.clear();
-            std::vector<Elem>& cells311 = s.scratch.v.b77;
-            cells311.clear();
-            render_C0_Piece(s, upd303, cells311);
+            std::swap(l_prev_elems305, rendered308);
+            std::vector<Elem>& rendered311 = s.scratch.v.b76;
+            rendered311.clear();
+            std::vector<Elem>& cells312 = s.scratch.v.b77;
+            cells312.clear();
+            render_C0_Piece(s, upd304, cells312);
             {
-              const auto& e312_list = cells311;
-              charge_loop(s.core, 59, int64_t(e312_list.size()));
-              for (const Elem& e312 : e312_list) {
-                rendered310.push_back(e312);
+              const auto& e313_list = cells312;
+              charge_loop(s.core, 59, int64_t(e313_list.size()));
+              for (const Elem& e313 : e313_list) {
+                rendered311.push_back(e313);
               }
             }
-            std::swap(l_curr_elems305, rendered310);
-            std::vector<Elem>& out313 = s.scratch.v.b78;
-            out313.clear();
+            std::swap(l_curr_elems306, rendered311);
+            std::vector<Elem>& out314 = s.scratch.v.b78;
+            out314.clear();
             {
-              const auto& x314_list = l_curr_elems305;
-              charge_loop(s.core, 60, int64_t(x314_list.size()));
-              for (const Elem& x314 : x314_list) {
-                bool any315 = false;
+              const auto& x315_list = l_curr_elems306;
+              charge_loop(s.core, 60, int64_t(x315_list.size()));
+              for (const Elem& x315 : x315_list) {
+                bool any316 = false;
                 {
-                  const auto& x316_list = l_prev_elems304;
-                  charge_loop(s.core, 61, int64_t(x316_list.size()));
-                  for (const Elem& x316 : x316_list) {
-                    const bool t317 = (x316 == x314);
-                    if (t317) {
-                      any315 = true;
+                  const auto& x317_list = l_prev_elems305;
+                  charge_loop(s.core, 61, int64_t(x317_list.size()));
+                  for (const Elem& x317 : x317_list) {
+                    const bool t318 = (x317 == x315);
+                    if (t318) {
+                      any316 = true;
                       break;
                     }
                   }
                 }
-                const bool t318 = !any315;
-                if (t318) {
+                const bool t319 = !any316;
+                if (t319) {
                   charge_built(s.core, 60, int64_t(int32_t(1)));
-                  out313.push_back(x314);
+                  out314.push_back(x315);
                 }
               }
             }
-            std::swap(l_filtered_elems306, out313);
-            bool any319 = false;
+            std::swap(l_filtered_elems307, out314);
+            bool any320 = false;
             {
-              const auto& x320_list = l_filtered_elems306;
-              charge_loop(s.core, 62, int64_t(x320_list.size()));
-              for (const Elem& x320 : x320_list) {
-                const bool t321 = s.core.occupied.free(x320.position);
-                const bool t322 = !t321;
-                if (t322) {
-                  any319 = true;
+              const auto& x321_list = l_filtered_elems307;
+              charge_loop(s.core, 62, int64_t(x321_list.size()));
+              for (const Elem& x321 : x321_list) {
+                const bool t322 = s.core.occupied.free(x321.position);
+                const bool t323 = !t322;
+                if (t323) {
+                  any320 = true;
                   break;
                 }
               }
             }
-            const bool t323 = !any319;
-            r299 = t323;
+            const bool t324 = !any320;
+            r300 = t324;
           } else {
-            r299 = false;
+            r300 = false;
           }
-          C0_Piece r324{};
-          if (r299) {
-            const int32_t t325 = add(g289.origin.x, int32_t(0));
-            const int32_t t326 = add(g289.origin.y, int32_t(1));
-            const Pos t327 = Pos{t325, t326};
-            C0_Piece upd328 = g289;
-            upd328.origin = t327;
-            r324 = std::move(upd328);
+          C0_Piece r325{};
+          if (r300) {
+            const int32_t t326 = add(g290.origin.x, int32_t(0));
+            const int32_t t327 = add(g290.origin.y, int32_t(1));
+            const Pos t328 = Pos{t326, t327};
+            C0_Piece upd329 = g290;
+            upd329.origin = t328;
+            r325 = std::move(upd329);
           } else {
-            r324 = g289;
+            r325 = g290;
           }
           if (!s.scratch.v.sv_piece_11) {
             std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
             s.scratch.v.sv_piece_11 = true;
           }
-          s.g_piece_8 = std::move(r324);
+          s.g_piece_8 = std::move(r325);
           s.u_piece_9 = true;
         }
       }
     }
     // NEXT of piece, programs/blockfall.au:31
     if ((!s.u_piece_9 && s.scratch.v.sv_piece_11)) {
-      const C0_Piece prev329 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
+      const C0_Piece prev330 = (s.scratch.v.sv_piece_11 ? s.scratch.v.p_piece_10 : s.g_piece_8);
       if (!s.scratch.v.sv_piece_11) {
         std::swap(s.scratch.v.p_piece_10, s.g_piece_8);
         s.scratch.v.sv_piece_11 = true;
       }
-      s.g_piece_8 = prev329;
+      s.g_piece_8 = prev330;
       s.u_piece_9 = true;
     }
     // NEXT of stack, programs/blockfall.au:28
     if ((!s.u_stack_13 && s.scratch.v.sv_stack_15)) {
-      const std::vector<C1_Block> prev330 = (s.scratch.v.sv_stack_15 ? s.scratch.v.p_stack_14 : s.g_stack_12);
+      const std::vector<C1_Block> prev331 = (s.scratch.v.sv_stack_15 ? s.scratch.v.p_stack_14 : s.g_stack_12);
       if (!s.scratch.v.sv_stack_15) {
         std::swap(s.scratch.v.p_stack_14, s.g_stack_12);
         s.scratch.v.sv_stack_15 = true;
       }
-      s.g_stack_12 = prev330;
+      s.g_stack_12 = prev331;
       s.u_stack_13 = true;
     }
     s.core.tally.v = StateTally{};
     tally_rendered(s.core, 63, "cacheRendered");
-    const std::vector<C1_Block>& g331 = s.g_stack_12;
-    tally_global(s.core, 3, "stack", g331);
-    const C0_Piece& g332 = s.g_piece_8;
-    tally_global(s.core, 4, "piece", g332);
-    const Pos& g333 = s.g_spawnAt_7;
-    tally_global(s.core, 5, "spawnAt", g333);
-    const std::vector<int32_t>& g334 = s.g_turnOf_5;
-    tally_global(s.core, 6, "turnOf", g334);
-    const std::vector<int32_t>& g335 = s.g_hues_6;
-    tally_global(s.core, 7, "hues", g335);
-    const std::vector<std::vector<Pos>>& g336 = s.g_shapes_4;
-    tally_global(s.core, 8, "shapes", g336);
+    const std::vector<C1_Block>& g332 = s.g_stack_12;
+    tally_global(s.core, 3, "stack", g332);
+    const C0_Piece& g333 = s.g_piece_8;
+    tally_global(s.core, 4, "piece", g333);
+    const Pos& g334 = s.g_spawnAt_7;
+    tally_global(s.core, 5, "spawnAt", g334);
+    const std::vector<int32_t>& g335 = s.g_turnOf_5;
+    tally_global(s.core, 6, "turnOf", g335);
+    const std::vector<int32_t>& g336 = s.g_hues_6;
+    tally_global(s.core, 7, "hues", g336);
+    const std::vector<std::vector<Pos>>& g337 = s.g_shapes_4;
+    tally_global(s.core, 8, "shapes", g337);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {

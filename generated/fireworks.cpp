@@ -359,12 +359,18 @@ struct Prog {
         std::vector<C2_Spark>& added35 = s.scratch.v.b6;
         added35.clear();
         added35.reserve(size_t(add(int32_t(out11.size()), int32_t(cat33.size()))));
-        added35.insert(added35.end(), out11.begin(), out11.end());
         {
-          const auto& x36_list = cat33;
+          const auto& x36_list = out11;
           charge_loop(s.core, 13, int64_t(x36_list.size()));
           for (const C2_Spark& x36 : x36_list) {
             added35.push_back(x36);
+          }
+        }
+        {
+          const auto& x37_list = cat33;
+          charge_loop(s.core, 13, int64_t(x37_list.size()));
+          for (const C2_Spark& x37 : x37_list) {
+            added35.push_back(x37);
           }
         }
         if (!s.scratch.v.sv_sparks_11) {
@@ -373,374 +379,392 @@ struct Prog {
         }
         std::swap(s.g_sparks_8, added35);
         s.u_sparks_9 = true;
-        const std::vector<C1_Rocket>& prev37 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
-        std::vector<C1_Rocket>& out38 = s.scratch.v.b7;
-        out38.clear();
+        const std::vector<C1_Rocket>& prev38 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
+        std::vector<C1_Rocket>& out39 = s.scratch.v.b7;
+        out39.clear();
         {
-          const auto& x39_list = prev37;
-          charge_loop(s.core, 14, int64_t(x39_list.size()));
-          for (const C1_Rocket& x39 : x39_list) {
+          const auto& x40_list = prev38;
+          charge_loop(s.core, 14, int64_t(x40_list.size()));
+          for (const C1_Rocket& x40 : x40_list) {
             // inlined: function at programs/fireworks.au:46
             // inlined: function at programs/fireworks.au:39
-            const bool t40 = (x39.origin.y <= x39.f0);
-            const bool t41 = !t40;
-            if (t41) {
+            const bool t41 = (x40.origin.y <= x40.f0);
+            const bool t42 = !t41;
+            if (t42) {
               charge_built(s.core, 14, int64_t(int32_t(1)));
-              out38.push_back(x39);
+              out39.push_back(x40);
             }
           }
         }
-        std::vector<C1_Rocket>& out42 = s.scratch.v.b8;
-        out42.clear();
-        charge_built(s.core, 15, int64_t(out38.size()));
-        out42.reserve(size_t(int32_t(out38.size())));
+        std::vector<C1_Rocket>& out43 = s.scratch.v.b8;
+        out43.clear();
+        charge_built(s.core, 15, int64_t(out39.size()));
+        out43.reserve(size_t(int32_t(out39.size())));
         {
-          const auto& x43_list = out38;
-          charge_loop(s.core, 15, int64_t(x43_list.size()));
-          for (const C1_Rocket& x43 : x43_list) {
-            const int32_t t44 = add(x43.origin.x, int32_t(0));
-            const int32_t t45 = add(x43.origin.y, int32_t(-1));
-            const Pos t46 = Pos{t44, t45};
-            C1_Rocket upd47 = C1_Rocket{x43.f0, x43.f1, t46};
-            out42.push_back(std::move(upd47));
+          const auto& x44_list = out39;
+          charge_loop(s.core, 15, int64_t(x44_list.size()));
+          for (const C1_Rocket& x44 : x44_list) {
+            const int32_t t45 = add(x44.origin.x, int32_t(0));
+            const int32_t t46 = add(x44.origin.y, int32_t(-1));
+            const Pos t47 = Pos{t45, t46};
+            C1_Rocket upd48 = C1_Rocket{x44.f0, x44.f1, t47};
+            out43.push_back(std::move(upd48));
           }
         }
         if (!s.scratch.v.sv_rockets_15) {
           std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
           s.scratch.v.sv_rockets_15 = true;
         }
-        std::swap(s.g_rockets_12, out42);
+        std::swap(s.g_rockets_12, out43);
         s.u_rockets_13 = true;
       }
     }
     // on-clause 2, programs/fireworks.au:49
     {
-      const bool t48 = s.core.left;
-      if (t48) {
+      const bool t49 = s.core.left;
+      if (t49) {
         s.core.covered[int32_t(1)] = 1;
-        const C0_Pad& prev49 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
+        const C0_Pad& prev50 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
         // inlined: function at programs/fireworks.au:41
-        const int32_t t50 = add(prev49.origin.x, int32_t(-1));
-        const int32_t t51 = add(prev49.origin.y, int32_t(0));
-        const Pos t52 = Pos{t50, t51};
-        const C0_Pad upd53 = C0_Pad{t52};
-        std::vector<Elem>& rendered54 = s.scratch.v.b9;
-        rendered54.clear();
-        rendered54.push_back(Elem{Pos{add(upd53.origin.x, int32_t(-1)), add(upd53.origin.y, int32_t(0))}, int32_t(6)});
-        rendered54.push_back(Elem{Pos{add(upd53.origin.x, int32_t(0)), add(upd53.origin.y, int32_t(0))}, int32_t(6)});
-        rendered54.push_back(Elem{Pos{add(upd53.origin.x, int32_t(1)), add(upd53.origin.y, int32_t(0))}, int32_t(6)});
-        bool within55 = true;
+        const int32_t t51 = add(prev50.origin.x, int32_t(-1));
+        const int32_t t52 = add(prev50.origin.y, int32_t(0));
+        const Pos t53 = Pos{t51, t52};
+        const C0_Pad upd54 = C0_Pad{t53};
+        std::vector<Elem>& rendered55 = s.scratch.v.b9;
+        rendered55.clear();
+        rendered55.push_back(Elem{Pos{add(upd54.origin.x, int32_t(-1)), add(upd54.origin.y, int32_t(0))}, int32_t(6)});
+        rendered55.push_back(Elem{Pos{add(upd54.origin.x, int32_t(0)), add(upd54.origin.y, int32_t(0))}, int32_t(6)});
+        rendered55.push_back(Elem{Pos{add(upd54.origin.x, int32_t(1)), add(upd54.origin.y, int32_t(0))}, int32_t(6)});
+        bool within56 = true;
         {
-          const auto& e56_list = rendered54;
-          for (const Elem& e56 : e56_list) {
-            if ((((e56.position.x < int32_t(0)) || (e56.position.x >= int32_t(20))) || ((e56.position.y < int32_t(0)) || (e56.position.y >= int32_t(20))))) {
-              within55 = false;
+          const auto& e57_list = rendered55;
+          for (const Elem& e57 : e57_list) {
+            if ((((e57.position.x < int32_t(0)) || (e57.position.x >= int32_t(20))) || ((e57.position.y < int32_t(0)) || (e57.position.y >= int32_t(20))))) {
+              within56 = false;
               break;
             }
           }
         }
-        C0_Pad r57{};
-        if (within55) {
-          const int32_t t58 = add(prev49.origin.x, int32_t(-1));
-          const int32_t t59 = add(prev49.origin.y, int32_t(0));
-          const Pos t60 = Pos{t58, t59};
-          C0_Pad upd61 = C0_Pad{t60};
-          r57 = std::move(upd61);
+        C0_Pad r58{};
+        if (within56) {
+          const int32_t t59 = add(prev50.origin.x, int32_t(-1));
+          const int32_t t60 = add(prev50.origin.y, int32_t(0));
+          const Pos t61 = Pos{t59, t60};
+          C0_Pad upd62 = C0_Pad{t61};
+          r58 = std::move(upd62);
         } else {
-          r57 = prev49;
+          r58 = prev50;
         }
         if (!s.scratch.v.sv_pad_19) {
           std::swap(s.scratch.v.p_pad_18, s.g_pad_16);
           s.scratch.v.sv_pad_19 = true;
         }
-        s.g_pad_16 = std::move(r57);
+        s.g_pad_16 = std::move(r58);
         s.u_pad_17 = true;
       }
     }
     // on-clause 3, programs/fireworks.au:50
     {
-      const bool t62 = s.core.right;
-      if (t62) {
+      const bool t63 = s.core.right;
+      if (t63) {
         s.core.covered[int32_t(2)] = 1;
-        const C0_Pad& prev63 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
+        const C0_Pad& prev64 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
         // inlined: function at programs/fireworks.au:41
-        const int32_t t64 = add(prev63.origin.x, int32_t(1));
-        const int32_t t65 = add(prev63.origin.y, int32_t(0));
-        const Pos t66 = Pos{t64, t65};
-        const C0_Pad upd67 = C0_Pad{t66};
-        std::vector<Elem>& rendered68 = s.scratch.v.b10;
-        rendered68.clear();
-        rendered68.push_back(Elem{Pos{add(upd67.origin.x, int32_t(-1)), add(upd67.origin.y, int32_t(0))}, int32_t(6)});
-        rendered68.push_back(Elem{Pos{add(upd67.origin.x, int32_t(0)), add(upd67.origin.y, int32_t(0))}, int32_t(6)});
-        rendered68.push_back(Elem{Pos{add(upd67.origin.x, int32_t(1)), add(upd67.origin.y, int32_t(0))}, int32_t(6)});
-        bool within69 = true;
+        const int32_t t65 = add(prev64.origin.x, int32_t(1));
+        const int32_t t66 = add(prev64.origin.y, int32_t(0));
+        const Pos t67 = Pos{t65, t66};
+        const C0_Pad upd68 = C0_Pad{t67};
+        std::vector<Elem>& rendered69 = s.scratch.v.b10;
+        rendered69.clear();
+        rendered69.push_back(Elem{Pos{add(upd68.origin.x, int32_t(-1)), add(upd68.origin.y, int32_t(0))}, int32_t(6)});
+        rendered69.push_back(Elem{Pos{add(upd68.origin.x, int32_t(0)), add(upd68.origin.y, int32_t(0))}, int32_t(6)});
+        rendered69.push_back(Elem{Pos{add(upd68.origin.x, int32_t(1)), add(upd68.origin.y, int32_t(0))}, int32_t(6)});
+        bool within70 = true;
         {
-          const auto& e70_list = rendered68;
-          for (const Elem& e70 : e70_list) {
-            if ((((e70.position.x < int32_t(0)) || (e70.position.x >= int32_t(20))) || ((e70.position.y < int32_t(0)) || (e70.position.y >= int32_t(20))))) {
-              within69 = false;
+          const auto& e71_list = rendered69;
+          for (const Elem& e71 : e71_list) {
+            if ((((e71.position.x < int32_t(0)) || (e71.position.x >= int32_t(20))) || ((e71.position.y < int32_t(0)) || (e71.position.y >= int32_t(20))))) {
+              within70 = false;
               break;
             }
           }
         }
-        C0_Pad r71{};
-        if (within69) {
-          const int32_t t72 = add(prev63.origin.x, int32_t(1));
-          const int32_t t73 = add(prev63.origin.y, int32_t(0));
-          const Pos t74 = Pos{t72, t73};
-          C0_Pad upd75 = C0_Pad{t74};
-          r71 = std::move(upd75);
+        C0_Pad r72{};
+        if (within70) {
+          const int32_t t73 = add(prev64.origin.x, int32_t(1));
+          const int32_t t74 = add(prev64.origin.y, int32_t(0));
+          const Pos t75 = Pos{t73, t74};
+          C0_Pad upd76 = C0_Pad{t75};
+          r72 = std::move(upd76);
         } else {
-          r71 = prev63;
+          r72 = prev64;
         }
         if (!s.scratch.v.sv_pad_19) {
           std::swap(s.scratch.v.p_pad_18, s.g_pad_16);
           s.scratch.v.sv_pad_19 = true;
         }
-        s.g_pad_16 = std::move(r71);
+        s.g_pad_16 = std::move(r72);
         s.u_pad_17 = true;
       }
     }
     // on-clause 4, programs/fireworks.au:52
     {
-      bool clicked76 = false;
+      bool clicked77 = false;
       if (s.core.click) {
         s.d_click_21 = true;
-        const Pos t77 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_20 = t77;
-        clicked76 = true;
+        const Pos t78 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_20 = t78;
+        clicked77 = true;
       }
-      bool r78{};
-      if (clicked76) {
-        const std::vector<C1_Rocket>& g79 = s.g_rockets_12;
-        const int32_t t80 = int32_t(g79.size());
-        const bool t81 = (t80 < int32_t(8));
-        r78 = t81;
+      bool r79{};
+      if (clicked77) {
+        const std::vector<C1_Rocket>& g80 = s.g_rockets_12;
+        const int32_t t81 = int32_t(g80.size());
+        const bool t82 = (t81 < int32_t(8));
+        r79 = t82;
       } else {
-        r78 = false;
+        r79 = false;
       }
-      if (r78) {
+      if (r79) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_Rocket>& g82 = s.g_rockets_12;
-        Pos r83{};
+        const std::vector<C1_Rocket>& g83 = s.g_rockets_12;
+        Pos r84{};
         if (s.d_click_21) {
-          const Pos& g84 = s.g_click_20;
-          r83 = g84;
+          const Pos& g85 = s.g_click_20;
+          r84 = g85;
         } else {
           fail_at(17, std::string() + std::string("undefined variable 'click'"));
         }
-        const std::vector<int32_t>& g85 = s.g_palette_4;
-        if (g85.empty()) {
+        const std::vector<int32_t>& g86 = s.g_palette_4;
+        if (g86.empty()) {
           fail_at(18, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t86 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g85.size())))));
-        const int32_t t87 = g85[size_t(t86)];
-        Pos r88{};
+        const int32_t t87 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g86.size())))));
+        const int32_t t88 = g86[size_t(t87)];
+        Pos r89{};
         if (s.d_click_21) {
-          const Pos& g89 = s.g_click_20;
-          r88 = g89;
+          const Pos& g90 = s.g_click_20;
+          r89 = g90;
         } else {
           fail_at(19, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t90 = Pos{r88.x, int32_t(18)};
-        C1_Rocket o91 = C1_Rocket{r83.y, t87, t90};
-        check_length(s.core, 20, int64_t(g82.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 20, int64_t(g82.size()) + int64_t(int32_t(1)));
-        std::vector<C1_Rocket>& added92 = s.scratch.v.b11;
-        added92.clear();
-        added92.reserve(size_t(add(int32_t(g82.size()), int32_t(1))));
-        added92.insert(added92.end(), g82.begin(), g82.end());
-        added92.push_back(std::move(o91));
+        const Pos t91 = Pos{r89.x, int32_t(18)};
+        C1_Rocket o92 = C1_Rocket{r84.y, t88, t91};
+        check_length(s.core, 20, int64_t(g83.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 20, int64_t(g83.size()) + int64_t(int32_t(1)));
+        std::vector<C1_Rocket>& added93 = s.scratch.v.b11;
+        added93.clear();
+        added93.reserve(size_t(add(int32_t(g83.size()), int32_t(1))));
+        {
+          const auto& x94_list = g83;
+          charge_loop(s.core, 20, int64_t(x94_list.size()));
+          for (const C1_Rocket& x94 : x94_list) {
+            added93.push_back(x94);
+          }
+        }
+        added93.push_back(std::move(o92));
         if (!s.scratch.v.sv_rockets_15) {
           std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
           s.scratch.v.sv_rockets_15 = true;
         }
-        std::swap(s.g_rockets_12, added92);
+        std::swap(s.g_rockets_12, added93);
         s.u_rockets_13 = true;
       }
     }
     // on-clause 5, programs/fireworks.au:55
     {
-      const bool t93 = s.core.up;
-      bool r94{};
-      if (t93) {
-        const std::vector<C1_Rocket>& g95 = s.g_rockets_12;
-        const int32_t t96 = int32_t(g95.size());
-        const bool t97 = (t96 < int32_t(8));
-        r94 = t97;
+      const bool t95 = s.core.up;
+      bool r96{};
+      if (t95) {
+        const std::vector<C1_Rocket>& g97 = s.g_rockets_12;
+        const int32_t t98 = int32_t(g97.size());
+        const bool t99 = (t98 < int32_t(8));
+        r96 = t99;
       } else {
-        r94 = false;
+        r96 = false;
       }
-      if (r94) {
+      if (r96) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C1_Rocket>& g98 = s.g_rockets_12;
-        const std::vector<int32_t> list99 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
-        if (list99.empty()) {
+        const std::vector<C1_Rocket>& g100 = s.g_rockets_12;
+        const std::vector<int32_t> list101 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
+        if (list101.empty()) {
           fail_at(21, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t100 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list99.size())))));
-        const int32_t t101 = list99[size_t(t100)];
-        const std::vector<int32_t>& g102 = s.g_palette_4;
-        if (g102.empty()) {
+        const int32_t t102 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list101.size())))));
+        const int32_t t103 = list101[size_t(t102)];
+        const std::vector<int32_t>& g104 = s.g_palette_4;
+        if (g104.empty()) {
           fail_at(22, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t103 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g102.size())))));
-        const int32_t t104 = g102[size_t(t103)];
-        const C0_Pad& g105 = s.g_pad_16;
-        const Pos t106 = Pos{g105.origin.x, int32_t(18)};
-        C1_Rocket o107 = C1_Rocket{t101, t104, t106};
-        check_length(s.core, 23, int64_t(g98.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 23, int64_t(g98.size()) + int64_t(int32_t(1)));
-        std::vector<C1_Rocket>& added108 = s.scratch.v.b12;
-        added108.clear();
-        added108.reserve(size_t(add(int32_t(g98.size()), int32_t(1))));
-        added108.insert(added108.end(), g98.begin(), g98.end());
-        added108.push_back(std::move(o107));
+        const int32_t t105 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g104.size())))));
+        const int32_t t106 = g104[size_t(t105)];
+        const C0_Pad& g107 = s.g_pad_16;
+        const Pos t108 = Pos{g107.origin.x, int32_t(18)};
+        C1_Rocket o109 = C1_Rocket{t103, t106, t108};
+        check_length(s.core, 23, int64_t(g100.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 23, int64_t(g100.size()) + int64_t(int32_t(1)));
+        std::vector<C1_Rocket>& added110 = s.scratch.v.b12;
+        added110.clear();
+        added110.reserve(size_t(add(int32_t(g100.size()), int32_t(1))));
+        {
+          const auto& x111_list = g100;
+          charge_loop(s.core, 23, int64_t(x111_list.size()));
+          for (const C1_Rocket& x111 : x111_list) {
+            added110.push_back(x111);
+          }
+        }
+        added110.push_back(std::move(o109));
         if (!s.scratch.v.sv_rockets_15) {
           std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
           s.scratch.v.sv_rockets_15 = true;
         }
-        std::swap(s.g_rockets_12, added108);
+        std::swap(s.g_rockets_12, added110);
         s.u_rockets_13 = true;
       }
     }
     // on-clause 6, programs/fireworks.au:59
     {
-      const bool t109 = s.core.down;
-      bool r110{};
-      if (t109) {
-        const std::vector<C1_Rocket>& g111 = s.g_rockets_12;
-        const int32_t t112 = int32_t(g111.size());
-        const bool t113 = (t112 < int32_t(8));
-        r110 = t113;
-      } else {
-        r110 = false;
-      }
-      if (r110) {
-        s.core.covered[int32_t(5)] = 1;
+      const bool t112 = s.core.down;
+      bool r113{};
+      if (t112) {
         const std::vector<C1_Rocket>& g114 = s.g_rockets_12;
+        const int32_t t115 = int32_t(g114.size());
+        const bool t116 = (t115 < int32_t(8));
+        r113 = t116;
+      } else {
+        r113 = false;
+      }
+      if (r113) {
+        s.core.covered[int32_t(5)] = 1;
+        const std::vector<C1_Rocket>& g117 = s.g_rockets_12;
         if ((int32_t(20) < int32_t(0))) {
           fail_at(24, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
         charge_built(s.core, 24, int64_t(int32_t(3)));
-        std::vector<Pos>& rpos115 = s.scratch.v.b13;
-        rpos115.clear();
+        std::vector<Pos>& rpos118 = s.scratch.v.b13;
+        rpos118.clear();
         {
-          const int32_t i116_first = int32_t(0), i116_end = int32_t(3);
-          for (int32_t i116 = i116_first; i116 < i116_end; ++i116) {
-            const int32_t t117 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
-            const int32_t t118 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
-            const Pos t119 = Pos{t117, t118};
-            rpos115.push_back(t119);
+          const int32_t i119_first = int32_t(0), i119_end = int32_t(3);
+          for (int32_t i119 = i119_first; i119 < i119_end; ++i119) {
+            const int32_t t120 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
+            const int32_t t121 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(20)))));
+            const Pos t122 = Pos{t120, t121};
+            rpos118.push_back(t122);
           }
         }
-        std::vector<C1_Rocket>& out120 = s.scratch.v.b14;
-        out120.clear();
-        charge_built(s.core, 25, int64_t(rpos115.size()));
-        out120.reserve(size_t(int32_t(rpos115.size())));
+        std::vector<C1_Rocket>& out123 = s.scratch.v.b14;
+        out123.clear();
+        charge_built(s.core, 25, int64_t(rpos118.size()));
+        out123.reserve(size_t(int32_t(rpos118.size())));
         {
-          const auto& x121_list = rpos115;
-          charge_loop(s.core, 25, int64_t(x121_list.size()));
-          for (const Pos& x121 : x121_list) {
+          const auto& x124_list = rpos118;
+          charge_loop(s.core, 25, int64_t(x124_list.size()));
+          for (const Pos& x124 : x124_list) {
             // inlined: function at programs/fireworks.au:61
-            const bool t122 = (int32_t(12) < x121.y);
-            int32_t r123{};
-            if (t122) {
-              r123 = int32_t(12);
+            const bool t125 = (int32_t(12) < x124.y);
+            int32_t r126{};
+            if (t125) {
+              r126 = int32_t(12);
             } else {
-              r123 = x121.y;
+              r126 = x124.y;
             }
-            const std::vector<int32_t>& g124 = s.g_palette_4;
-            if (g124.empty()) {
+            const std::vector<int32_t>& g127 = s.g_palette_4;
+            if (g127.empty()) {
               fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
             }
-            const int32_t t125 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g124.size())))));
-            const int32_t t126 = g124[size_t(t125)];
-            const Pos t127 = Pos{x121.x, int32_t(18)};
-            C1_Rocket o128 = C1_Rocket{r123, t126, t127};
-            out120.push_back(std::move(o128));
+            const int32_t t128 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g127.size())))));
+            const int32_t t129 = g127[size_t(t128)];
+            const Pos t130 = Pos{x124.x, int32_t(18)};
+            C1_Rocket o131 = C1_Rocket{r126, t129, t130};
+            out123.push_back(std::move(o131));
           }
         }
-        check_length(s.core, 27, int64_t(g114.size()) + int64_t(int32_t(out120.size())));
-        charge_built(s.core, 27, int64_t(g114.size()) + int64_t(int32_t(out120.size())));
-        std::vector<C1_Rocket>& added129 = s.scratch.v.b15;
-        added129.clear();
-        added129.reserve(size_t(add(int32_t(g114.size()), int32_t(out120.size()))));
-        added129.insert(added129.end(), g114.begin(), g114.end());
+        check_length(s.core, 27, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
+        charge_built(s.core, 27, int64_t(g117.size()) + int64_t(int32_t(out123.size())));
+        std::vector<C1_Rocket>& added132 = s.scratch.v.b15;
+        added132.clear();
+        added132.reserve(size_t(add(int32_t(g117.size()), int32_t(out123.size()))));
         {
-          const auto& x130_list = out120;
-          charge_loop(s.core, 27, int64_t(x130_list.size()));
-          for (const C1_Rocket& x130 : x130_list) {
-            added129.push_back(x130);
+          const auto& x133_list = g117;
+          charge_loop(s.core, 27, int64_t(x133_list.size()));
+          for (const C1_Rocket& x133 : x133_list) {
+            added132.push_back(x133);
+          }
+        }
+        {
+          const auto& x134_list = out123;
+          charge_loop(s.core, 27, int64_t(x134_list.size()));
+          for (const C1_Rocket& x134 : x134_list) {
+            added132.push_back(x134);
           }
         }
         if (!s.scratch.v.sv_rockets_15) {
           std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
           s.scratch.v.sv_rockets_15 = true;
         }
-        std::swap(s.g_rockets_12, added129);
+        std::swap(s.g_rockets_12, added132);
         s.u_rockets_13 = true;
       }
     }
     // NEXT of sparks, programs/fireworks.au:28
     if ((!s.u_sparks_9 && s.scratch.v.sv_sparks_11)) {
-      const std::vector<C2_Spark> prev131 = (s.scratch.v.sv_sparks_11 ? s.scratch.v.p_sparks_10 : s.g_sparks_8);
+      const std::vector<C2_Spark> prev135 = (s.scratch.v.sv_sparks_11 ? s.scratch.v.p_sparks_10 : s.g_sparks_8);
       if (!s.scratch.v.sv_sparks_11) {
         std::swap(s.scratch.v.p_sparks_10, s.g_sparks_8);
         s.scratch.v.sv_sparks_11 = true;
       }
-      s.g_sparks_8 = prev131;
+      s.g_sparks_8 = prev135;
       s.u_sparks_9 = true;
     }
     // NEXT of rockets, programs/fireworks.au:25
     if ((!s.u_rockets_13 && s.scratch.v.sv_rockets_15)) {
-      const std::vector<C1_Rocket> prev132 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
+      const std::vector<C1_Rocket> prev136 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
       if (!s.scratch.v.sv_rockets_15) {
         std::swap(s.scratch.v.p_rockets_14, s.g_rockets_12);
         s.scratch.v.sv_rockets_15 = true;
       }
-      s.g_rockets_12 = prev132;
+      s.g_rockets_12 = prev136;
       s.u_rockets_13 = true;
     }
     // NEXT of pad, programs/fireworks.au:22
     if ((!s.u_pad_17 && s.scratch.v.sv_pad_19)) {
-      const C0_Pad prev133 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
+      const C0_Pad prev137 = (s.scratch.v.sv_pad_19 ? s.scratch.v.p_pad_18 : s.g_pad_16);
       if (!s.scratch.v.sv_pad_19) {
         std::swap(s.scratch.v.p_pad_18, s.g_pad_16);
         s.scratch.v.sv_pad_19 = true;
       }
-      s.g_pad_16 = prev133;
+      s.g_pad_16 = prev137;
       s.u_pad_17 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_21) {
-      const C0_Pad& g134 = s.g_pad_16;
-      tally_global(s.core, 0, "pad", g134);
-      const std::vector<C1_Rocket>& g135 = s.g_rockets_12;
-      tally_global(s.core, 1, "rockets", g135);
+      const C0_Pad& g138 = s.g_pad_16;
+      tally_global(s.core, 0, "pad", g138);
+      const std::vector<C1_Rocket>& g139 = s.g_rockets_12;
+      tally_global(s.core, 1, "rockets", g139);
       tally_rendered(s.core, 28, "cacheRendered");
-      const std::vector<C2_Spark>& g136 = s.g_sparks_8;
-      tally_global(s.core, 2, "sparks", g136);
-      const std::vector<Pos>& g137 = s.g_compass_5;
-      tally_global(s.core, 3, "compass", g137);
+      const std::vector<C2_Spark>& g140 = s.g_sparks_8;
+      tally_global(s.core, 2, "sparks", g140);
+      const std::vector<Pos>& g141 = s.g_compass_5;
+      tally_global(s.core, 3, "compass", g141);
       if (s.d_click_21) {
-        const Pos& g138 = s.g_click_20;
-        tally_global(s.core, 28, "click", g138);
+        const Pos& g142 = s.g_click_20;
+        tally_global(s.core, 28, "click", g142);
       }
-      const std::vector<int32_t>& g139 = s.g_palette_4;
-      tally_global(s.core, 4, "palette", g139);
+      const std::vector<int32_t>& g143 = s.g_palette_4;
+      tally_global(s.core, 4, "palette", g143);
     } else {
-      const C0_Pad& g140 = s.g_pad_16;
-      tally_global(s.core, 0, "pad", g140);
-      const std::vector<C1_Rocket>& g141 = s.g_rockets_12;
-      tally_global(s.core, 1, "rockets", g141);
+      const C0_Pad& g144 = s.g_pad_16;
+      tally_global(s.core, 0, "pad", g144);
+      const std::vector<C1_Rocket>& g145 = s.g_rockets_12;
+      tally_global(s.core, 1, "rockets", g145);
       tally_rendered(s.core, 28, "cacheRendered");
-      const std::vector<C2_Spark>& g142 = s.g_sparks_8;
-      tally_global(s.core, 2, "sparks", g142);
-      const std::vector<Pos>& g143 = s.g_compass_5;
-      tally_global(s.core, 3, "compass", g143);
-      const std::vector<int32_t>& g144 = s.g_palette_4;
-      tally_global(s.core, 4, "palette", g144);
+      const std::vector<C2_Spark>& g146 = s.g_sparks_8;
+      tally_global(s.core, 2, "sparks", g146);
+      const std::vector<Pos>& g147 = s.g_compass_5;
+      tally_global(s.core, 3, "compass", g147);
+      const std::vector<int32_t>& g148 = s.g_palette_4;
+      tally_global(s.core, 4, "palette", g148);
     }
     s.core.clear_inputs();
   }

@@ -905,7 +905,13 @@ struct Prog {
         std::vector<C3_Plant>& added123 = s.scratch.v.b11;
         added123.clear();
         added123.reserve(size_t(add(int32_t(g113.size()), int32_t(1))));
-        added123.insert(added123.end(), g113.begin(), g113.end());
+        {
+          const auto& x124_list = g113;
+          charge_loop(s.core, 27, int64_t(x124_list.size()));
+          for (const C3_Plant& x124 : x124_list) {
+            added123.push_back(x124);
+          }
+        }
         added123.push_back(std::move(o122));
         if (!s.scratch.v.sv_plants_18) {
           std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
@@ -917,207 +923,213 @@ struct Prog {
     }
     // on-clause 5, programs/garden.au:69
     {
-      const bool t124 = s.core.left;
-      if (t124) {
+      const bool t125 = s.core.left;
+      if (t125) {
         s.core.covered[int32_t(4)] = 1;
-        const C0_Cloud& prev125 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
+        const C0_Cloud& prev126 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
         // inlined: function at programs/garden.au:42
-        int32_t l_nx126{};
-        const int32_t t127 = add(prev125.origin.x, int32_t(-1));
-        l_nx126 = t127;
-        const bool t128 = (l_nx126 >= int32_t(1));
-        bool r129{};
-        if (t128) {
-          const bool t130 = (l_nx126 <= int32_t(9));
-          r129 = t130;
+        int32_t l_nx127{};
+        const int32_t t128 = add(prev126.origin.x, int32_t(-1));
+        l_nx127 = t128;
+        const bool t129 = (l_nx127 >= int32_t(1));
+        bool r130{};
+        if (t129) {
+          const bool t131 = (l_nx127 <= int32_t(9));
+          r130 = t131;
         } else {
-          r129 = false;
+          r130 = false;
         }
-        C0_Cloud r131{};
-        if (r129) {
-          const Pos t132 = Pos{l_nx126, int32_t(0)};
-          C0_Cloud upd133 = C0_Cloud{t132};
-          r131 = std::move(upd133);
+        C0_Cloud r132{};
+        if (r130) {
+          const Pos t133 = Pos{l_nx127, int32_t(0)};
+          C0_Cloud upd134 = C0_Cloud{t133};
+          r132 = std::move(upd134);
         } else {
-          r131 = prev125;
+          r132 = prev126;
         }
         if (!s.scratch.v.sv_cloud_22) {
           std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
           s.scratch.v.sv_cloud_22 = true;
         }
-        s.g_cloud_19 = std::move(r131);
+        s.g_cloud_19 = std::move(r132);
         s.u_cloud_20 = true;
       }
     }
     // on-clause 6, programs/garden.au:70
     {
-      const bool t134 = s.core.right;
-      if (t134) {
+      const bool t135 = s.core.right;
+      if (t135) {
         s.core.covered[int32_t(5)] = 1;
-        const C0_Cloud& prev135 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
+        const C0_Cloud& prev136 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
         // inlined: function at programs/garden.au:42
-        int32_t l_nx136{};
-        const int32_t t137 = add(prev135.origin.x, int32_t(1));
-        l_nx136 = t137;
-        const bool t138 = (l_nx136 >= int32_t(1));
-        bool r139{};
-        if (t138) {
-          const bool t140 = (l_nx136 <= int32_t(9));
-          r139 = t140;
+        int32_t l_nx137{};
+        const int32_t t138 = add(prev136.origin.x, int32_t(1));
+        l_nx137 = t138;
+        const bool t139 = (l_nx137 >= int32_t(1));
+        bool r140{};
+        if (t139) {
+          const bool t141 = (l_nx137 <= int32_t(9));
+          r140 = t141;
         } else {
-          r139 = false;
+          r140 = false;
         }
-        C0_Cloud r141{};
-        if (r139) {
-          const Pos t142 = Pos{l_nx136, int32_t(0)};
-          C0_Cloud upd143 = C0_Cloud{t142};
-          r141 = std::move(upd143);
+        C0_Cloud r142{};
+        if (r140) {
+          const Pos t143 = Pos{l_nx137, int32_t(0)};
+          C0_Cloud upd144 = C0_Cloud{t143};
+          r142 = std::move(upd144);
         } else {
-          r141 = prev135;
+          r142 = prev136;
         }
         if (!s.scratch.v.sv_cloud_22) {
           std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
           s.scratch.v.sv_cloud_22 = true;
         }
-        s.g_cloud_19 = std::move(r141);
+        s.g_cloud_19 = std::move(r142);
         s.u_cloud_20 = true;
       }
     }
     // on-clause 7, programs/garden.au:71
     {
-      const bool t144 = s.core.down;
-      if (t144) {
+      const bool t145 = s.core.down;
+      if (t145) {
         s.core.covered[int32_t(6)] = 1;
-        const std::vector<C2_Drop>& g145 = s.g_drops_11;
-        const C0_Cloud& g146 = s.g_cloud_19;
-        const std::vector<int32_t> list147 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
-        if (list147.empty()) {
+        const std::vector<C2_Drop>& g146 = s.g_drops_11;
+        const C0_Cloud& g147 = s.g_cloud_19;
+        const std::vector<int32_t> list148 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
+        if (list148.empty()) {
           fail_at(28, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t148 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list147.size())))));
-        const int32_t t149 = list147[size_t(t148)];
-        const int32_t t150 = add(g146.origin.x, t149);
-        const Pos t151 = Pos{t150, int32_t(1)};
-        C2_Drop o152 = C2_Drop{t151};
-        check_length(s.core, 29, int64_t(g145.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 29, int64_t(g145.size()) + int64_t(int32_t(1)));
-        std::vector<C2_Drop>& added153 = s.scratch.v.b12;
-        added153.clear();
-        added153.reserve(size_t(add(int32_t(g145.size()), int32_t(1))));
-        added153.insert(added153.end(), g145.begin(), g145.end());
-        added153.push_back(std::move(o152));
+        const int32_t t149 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list148.size())))));
+        const int32_t t150 = list148[size_t(t149)];
+        const int32_t t151 = add(g147.origin.x, t150);
+        const Pos t152 = Pos{t151, int32_t(1)};
+        C2_Drop o153 = C2_Drop{t152};
+        check_length(s.core, 29, int64_t(g146.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 29, int64_t(g146.size()) + int64_t(int32_t(1)));
+        std::vector<C2_Drop>& added154 = s.scratch.v.b12;
+        added154.clear();
+        added154.reserve(size_t(add(int32_t(g146.size()), int32_t(1))));
+        {
+          const auto& x155_list = g146;
+          charge_loop(s.core, 29, int64_t(x155_list.size()));
+          for (const C2_Drop& x155 : x155_list) {
+            added154.push_back(x155);
+          }
+        }
+        added154.push_back(std::move(o153));
         if (!s.scratch.v.sv_drops_14) {
           std::swap(s.scratch.v.p_drops_13, s.g_drops_11);
           s.scratch.v.sv_drops_14 = true;
         }
-        std::swap(s.g_drops_11, added153);
+        std::swap(s.g_drops_11, added154);
         s.u_drops_12 = true;
       }
     }
     // on-clause 8, programs/garden.au:72
     {
-      const bool t154 = s.core.up;
-      if (t154) {
+      const bool t156 = s.core.up;
+      if (t156) {
         s.core.covered[int32_t(7)] = 1;
-        const C1_Sun& prev155 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
-        const C1_Sun& prev156 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
-        const bool t157 = !prev156.f0;
-        C1_Sun upd158 = C1_Sun{t157, prev155.origin};
+        const C1_Sun& prev157 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+        const C1_Sun& prev158 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+        const bool t159 = !prev158.f0;
+        C1_Sun upd160 = C1_Sun{t159, prev157.origin};
         if (!s.scratch.v.sv_sun_26) {
           std::swap(s.scratch.v.p_sun_25, s.g_sun_23);
           s.scratch.v.sv_sun_26 = true;
         }
-        s.g_sun_23 = std::move(upd158);
+        s.g_sun_23 = std::move(upd160);
         s.u_sun_24 = true;
       }
     }
     // NEXT of basket, programs/garden.au:37
     if ((!s.u_basket_8 && s.scratch.v.sv_basket_10)) {
-      const C4_Basket prev159 = (s.scratch.v.sv_basket_10 ? s.scratch.v.p_basket_9 : s.g_basket_7);
+      const C4_Basket prev161 = (s.scratch.v.sv_basket_10 ? s.scratch.v.p_basket_9 : s.g_basket_7);
       if (!s.scratch.v.sv_basket_10) {
         std::swap(s.scratch.v.p_basket_9, s.g_basket_7);
         s.scratch.v.sv_basket_10 = true;
       }
-      s.g_basket_7 = prev159;
+      s.g_basket_7 = prev161;
       s.u_basket_8 = true;
     }
     // NEXT of drops, programs/garden.au:34
     if ((!s.u_drops_12 && s.scratch.v.sv_drops_14)) {
-      const std::vector<C2_Drop> prev160 = (s.scratch.v.sv_drops_14 ? s.scratch.v.p_drops_13 : s.g_drops_11);
+      const std::vector<C2_Drop> prev162 = (s.scratch.v.sv_drops_14 ? s.scratch.v.p_drops_13 : s.g_drops_11);
       if (!s.scratch.v.sv_drops_14) {
         std::swap(s.scratch.v.p_drops_13, s.g_drops_11);
         s.scratch.v.sv_drops_14 = true;
       }
-      s.g_drops_11 = prev160;
+      s.g_drops_11 = prev162;
       s.u_drops_12 = true;
     }
     // NEXT of plants, programs/garden.au:31
     if ((!s.u_plants_16 && s.scratch.v.sv_plants_18)) {
-      const std::vector<C3_Plant> prev161 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+      const std::vector<C3_Plant> prev163 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
       if (!s.scratch.v.sv_plants_18) {
         std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
         s.scratch.v.sv_plants_18 = true;
       }
-      s.g_plants_15 = prev161;
+      s.g_plants_15 = prev163;
       s.u_plants_16 = true;
     }
     // NEXT of cloud, programs/garden.au:28
     if ((!s.u_cloud_20 && s.scratch.v.sv_cloud_22)) {
-      const C0_Cloud prev162 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
+      const C0_Cloud prev164 = (s.scratch.v.sv_cloud_22 ? s.scratch.v.p_cloud_21 : s.g_cloud_19);
       if (!s.scratch.v.sv_cloud_22) {
         std::swap(s.scratch.v.p_cloud_21, s.g_cloud_19);
         s.scratch.v.sv_cloud_22 = true;
       }
-      s.g_cloud_19 = prev162;
+      s.g_cloud_19 = prev164;
       s.u_cloud_20 = true;
     }
     // NEXT of sun, programs/garden.au:25
     if ((!s.u_sun_24 && s.scratch.v.sv_sun_26)) {
-      const C1_Sun prev163 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
+      const C1_Sun prev165 = (s.scratch.v.sv_sun_26 ? s.scratch.v.p_sun_25 : s.g_sun_23);
       if (!s.scratch.v.sv_sun_26) {
         std::swap(s.scratch.v.p_sun_25, s.g_sun_23);
         s.scratch.v.sv_sun_26 = true;
       }
-      s.g_sun_23 = prev163;
+      s.g_sun_23 = prev165;
       s.u_sun_24 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_28) {
       tally_rendered(s.core, 30, "cacheRendered");
-      const C0_Cloud& g164 = s.g_cloud_19;
-      tally_global(s.core, 0, "cloud", g164);
-      const std::vector<C3_Plant>& g165 = s.g_plants_15;
-      tally_global(s.core, 1, "plants", g165);
-      const std::vector<int32_t>& g166 = s.g_petals_4;
-      tally_global(s.core, 2, "petals", g166);
+      const C0_Cloud& g166 = s.g_cloud_19;
+      tally_global(s.core, 0, "cloud", g166);
+      const std::vector<C3_Plant>& g167 = s.g_plants_15;
+      tally_global(s.core, 1, "plants", g167);
+      const std::vector<int32_t>& g168 = s.g_petals_4;
+      tally_global(s.core, 2, "petals", g168);
       if (s.d_click_28) {
-        const Pos& g167 = s.g_click_27;
-        tally_global(s.core, 30, "click", g167);
+        const Pos& g169 = s.g_click_27;
+        tally_global(s.core, 30, "click", g169);
       }
-      const std::vector<bool>& g168 = s.g_growChance_5;
-      tally_global(s.core, 3, "growChance", g168);
-      const std::vector<C2_Drop>& g169 = s.g_drops_11;
-      tally_global(s.core, 4, "drops", g169);
-      const C4_Basket& g170 = s.g_basket_7;
-      tally_global(s.core, 5, "basket", g170);
-      const C1_Sun& g171 = s.g_sun_23;
-      tally_global(s.core, 6, "sun", g171);
+      const std::vector<bool>& g170 = s.g_growChance_5;
+      tally_global(s.core, 3, "growChance", g170);
+      const std::vector<C2_Drop>& g171 = s.g_drops_11;
+      tally_global(s.core, 4, "drops", g171);
+      const C4_Basket& g172 = s.g_basket_7;
+      tally_global(s.core, 5, "basket", g172);
+      const C1_Sun& g173 = s.g_sun_23;
+      tally_global(s.core, 6, "sun", g173);
     } else {
       tally_rendered(s.core, 30, "cacheRendered");
-      const C0_Cloud& g172 = s.g_cloud_19;
-      tally_global(s.core, 0, "cloud", g172);
-      const std::vector<C3_Plant>& g173 = s.g_plants_15;
-      tally_global(s.core, 1, "plants", g173);
-      const std::vector<int32_t>& g174 = s.g_petals_4;
-      tally_global(s.core, 2, "petals", g174);
-      const std::vector<bool>& g175 = s.g_growChance_5;
-      tally_global(s.core, 3, "growChance", g175);
-      const std::vector<C2_Drop>& g176 = s.g_drops_11;
-      tally_global(s.core, 4, "drops", g176);
-      const C4_Basket& g177 = s.g_basket_7;
-      tally_global(s.core, 5, "basket", g177);
-      const C1_Sun& g178 = s.g_sun_23;
-      tally_global(s.core, 6, "sun", g178);
+      const C0_Cloud& g174 = s.g_cloud_19;
+      tally_global(s.core, 0, "cloud", g174);
+      const std::vector<C3_Plant>& g175 = s.g_plants_15;
+      tally_global(s.core, 1, "plants", g175);
+      const std::vector<int32_t>& g176 = s.g_petals_4;
+      tally_global(s.core, 2, "petals", g176);
+      const std::vector<bool>& g177 = s.g_growChance_5;
+      tally_global(s.core, 3, "growChance", g177);
+      const std::vector<C2_Drop>& g178 = s.g_drops_11;
+      tally_global(s.core, 4, "drops", g178);
+      const C4_Basket& g179 = s.g_basket_7;
+      tally_global(s.core, 5, "basket", g179);
+      const C1_Sun& g180 = s.g_sun_23;
+      tally_global(s.core, 6, "sun", g180);
     }
     s.core.clear_inputs();
   }

@@ -1861,7 +1861,13 @@ struct Prog {
         std::vector<C0_Wall>& added413 = s.scratch.v.b37;
         added413.clear();
         added413.reserve(size_t(add(int32_t(g406.size()), int32_t(1))));
-        added413.insert(added413.end(), g406.begin(), g406.end());
+        {
+          const auto& x414_list = g406;
+          charge_loop(s.core, 33, int64_t(x414_list.size()));
+          for (const C0_Wall& x414 : x414_list) {
+            added413.push_back(x414);
+          }
+        }
         added413.push_back(std::move(o412));
         if (!s.scratch.v.sv_walls_26) {
           std::swap(s.scratch.v.p_walls_25, s.g_walls_23);
@@ -1873,105 +1879,105 @@ struct Prog {
     }
     // NEXT of red, programs/mirror_twins.au:42
     if ((!s.u_red_8 && s.scratch.v.sv_red_10)) {
-      const C2_Twin prev414 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
+      const C2_Twin prev415 = (s.scratch.v.sv_red_10 ? s.scratch.v.p_red_9 : s.g_red_7);
       if (!s.scratch.v.sv_red_10) {
         std::swap(s.scratch.v.p_red_9, s.g_red_7);
         s.scratch.v.sv_red_10 = true;
       }
-      s.g_red_7 = prev414;
+      s.g_red_7 = prev415;
       s.u_red_8 = true;
     }
     // NEXT of blue, programs/mirror_twins.au:39
     if ((!s.u_blue_12 && s.scratch.v.sv_blue_14)) {
-      const C2_Twin prev415 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
+      const C2_Twin prev416 = (s.scratch.v.sv_blue_14 ? s.scratch.v.p_blue_13 : s.g_blue_11);
       if (!s.scratch.v.sv_blue_14) {
         std::swap(s.scratch.v.p_blue_13, s.g_blue_11);
         s.scratch.v.sv_blue_14 = true;
       }
-      s.g_blue_11 = prev415;
+      s.g_blue_11 = prev416;
       s.u_blue_12 = true;
     }
     // NEXT of redGoal, programs/mirror_twins.au:36
     if ((!s.u_redGoal_16 && s.scratch.v.sv_redGoal_18)) {
-      const C1_Goal prev416 = (s.scratch.v.sv_redGoal_18 ? s.scratch.v.p_redGoal_17 : s.g_redGoal_15);
+      const C1_Goal prev417 = (s.scratch.v.sv_redGoal_18 ? s.scratch.v.p_redGoal_17 : s.g_redGoal_15);
       if (!s.scratch.v.sv_redGoal_18) {
         std::swap(s.scratch.v.p_redGoal_17, s.g_redGoal_15);
         s.scratch.v.sv_redGoal_18 = true;
       }
-      s.g_redGoal_15 = prev416;
+      s.g_redGoal_15 = prev417;
       s.u_redGoal_16 = true;
     }
     // NEXT of blueGoal, programs/mirror_twins.au:33
     if ((!s.u_blueGoal_20 && s.scratch.v.sv_blueGoal_22)) {
-      const C1_Goal prev417 = (s.scratch.v.sv_blueGoal_22 ? s.scratch.v.p_blueGoal_21 : s.g_blueGoal_19);
+      const C1_Goal prev418 = (s.scratch.v.sv_blueGoal_22 ? s.scratch.v.p_blueGoal_21 : s.g_blueGoal_19);
       if (!s.scratch.v.sv_blueGoal_22) {
         std::swap(s.scratch.v.p_blueGoal_21, s.g_blueGoal_19);
         s.scratch.v.sv_blueGoal_22 = true;
       }
-      s.g_blueGoal_19 = prev417;
+      s.g_blueGoal_19 = prev418;
       s.u_blueGoal_20 = true;
     }
     // NEXT of walls, programs/mirror_twins.au:30
     if ((!s.u_walls_24 && s.scratch.v.sv_walls_26)) {
-      const std::vector<C0_Wall> prev418 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
+      const std::vector<C0_Wall> prev419 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
       if (!s.scratch.v.sv_walls_26) {
         std::swap(s.scratch.v.p_walls_25, s.g_walls_23);
         s.scratch.v.sv_walls_26 = true;
       }
-      s.g_walls_23 = prev418;
+      s.g_walls_23 = prev419;
       s.u_walls_24 = true;
     }
     // NEXT of stars, programs/mirror_twins.au:27
     if ((!s.u_stars_28 && s.scratch.v.sv_stars_30)) {
-      const C3_Stars prev419 = (s.scratch.v.sv_stars_30 ? s.scratch.v.p_stars_29 : s.g_stars_27);
+      const C3_Stars prev420 = (s.scratch.v.sv_stars_30 ? s.scratch.v.p_stars_29 : s.g_stars_27);
       if (!s.scratch.v.sv_stars_30) {
         std::swap(s.scratch.v.p_stars_29, s.g_stars_27);
         s.scratch.v.sv_stars_30 = true;
       }
-      s.g_stars_27 = prev419;
+      s.g_stars_27 = prev420;
       s.u_stars_28 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_32) {
       tally_rendered(s.core, 34, "cacheRendered");
-      const std::vector<C0_Wall>& g420 = s.g_walls_23;
-      tally_global(s.core, 8, "walls", g420);
-      const C2_Twin& g421 = s.g_red_7;
-      tally_global(s.core, 9, "red", g421);
-      const std::vector<Pos>& g422 = s.g_wallSpots_4;
-      tally_global(s.core, 10, "wallSpots", g422);
+      const std::vector<C0_Wall>& g421 = s.g_walls_23;
+      tally_global(s.core, 8, "walls", g421);
+      const C2_Twin& g422 = s.g_red_7;
+      tally_global(s.core, 9, "red", g422);
+      const std::vector<Pos>& g423 = s.g_wallSpots_4;
+      tally_global(s.core, 10, "wallSpots", g423);
       if (s.d_click_32) {
-        const Pos& g423 = s.g_click_31;
-        tally_global(s.core, 34, "click", g423);
+        const Pos& g424 = s.g_click_31;
+        tally_global(s.core, 34, "click", g424);
       }
-      const std::vector<Pos>& g424 = s.g_startOpen_6;
-      tally_global(s.core, 11, "startOpen", g424);
-      const C2_Twin& g425 = s.g_blue_11;
-      tally_global(s.core, 12, "blue", g425);
-      const C1_Goal& g426 = s.g_blueGoal_19;
-      tally_global(s.core, 13, "blueGoal", g426);
-      const C3_Stars& g427 = s.g_stars_27;
-      tally_global(s.core, 14, "stars", g427);
-      const C1_Goal& g428 = s.g_redGoal_15;
-      tally_global(s.core, 15, "redGoal", g428);
+      const std::vector<Pos>& g425 = s.g_startOpen_6;
+      tally_global(s.core, 11, "startOpen", g425);
+      const C2_Twin& g426 = s.g_blue_11;
+      tally_global(s.core, 12, "blue", g426);
+      const C1_Goal& g427 = s.g_blueGoal_19;
+      tally_global(s.core, 13, "blueGoal", g427);
+      const C3_Stars& g428 = s.g_stars_27;
+      tally_global(s.core, 14, "stars", g428);
+      const C1_Goal& g429 = s.g_redGoal_15;
+      tally_global(s.core, 15, "redGoal", g429);
     } else {
       tally_rendered(s.core, 34, "cacheRendered");
-      const std::vector<C0_Wall>& g429 = s.g_walls_23;
-      tally_global(s.core, 8, "walls", g429);
-      const C2_Twin& g430 = s.g_red_7;
-      tally_global(s.core, 9, "red", g430);
-      const std::vector<Pos>& g431 = s.g_wallSpots_4;
-      tally_global(s.core, 10, "wallSpots", g431);
-      const std::vector<Pos>& g432 = s.g_startOpen_6;
-      tally_global(s.core, 11, "startOpen", g432);
-      const C2_Twin& g433 = s.g_blue_11;
-      tally_global(s.core, 12, "blue", g433);
-      const C1_Goal& g434 = s.g_blueGoal_19;
-      tally_global(s.core, 13, "blueGoal", g434);
-      const C3_Stars& g435 = s.g_stars_27;
-      tally_global(s.core, 14, "stars", g435);
-      const C1_Goal& g436 = s.g_redGoal_15;
-      tally_global(s.core, 15, "redGoal", g436);
+      const std::vector<C0_Wall>& g430 = s.g_walls_23;
+      tally_global(s.core, 8, "walls", g430);
+      const C2_Twin& g431 = s.g_red_7;
+      tally_global(s.core, 9, "red", g431);
+      const std::vector<Pos>& g432 = s.g_wallSpots_4;
+      tally_global(s.core, 10, "wallSpots", g432);
+      const std::vector<Pos>& g433 = s.g_startOpen_6;
+      tally_global(s.core, 11, "startOpen", g433);
+      const C2_Twin& g434 = s.g_blue_11;
+      tally_global(s.core, 12, "blue", g434);
+      const C1_Goal& g435 = s.g_blueGoal_19;
+      tally_global(s.core, 13, "blueGoal", g435);
+      const C3_Stars& g436 = s.g_stars_27;
+      tally_global(s.core, 14, "stars", g436);
+      const C1_Goal& g437 = s.g_redGoal_15;
+      tally_global(s.core, 15, "redGoal", g437);
     }
     s.core.clear_inputs();
   }

@@ -1686,7 +1686,13 @@ struct Prog {
             std::vector<C2_Sheep>& added440 = s.scratch.v.b46;
             added440.clear();
             added440.reserve(size_t(add(int32_t(acc284.size()), int32_t(1))));
-            added440.insert(added440.end(), acc284.begin(), acc284.end());
+            {
+              const auto& x441_list = acc284;
+              charge_loop(s.core, 45, int64_t(x441_list.size()));
+              for (const C2_Sheep& x441 : x441_list) {
+                added440.push_back(x441);
+              }
+            }
             added440.push_back(std::move(r286));
             std::swap(acc284, added440);
           }
@@ -1701,164 +1707,164 @@ struct Prog {
     }
     // on-clause 9, programs/sheepdog.au:82
     {
-      const std::vector<C2_Sheep>& g441 = s.g_sheep_7;
+      const std::vector<C2_Sheep>& g442 = s.g_sheep_7;
       // inlined: function at programs/sheepdog.au:39
-      bool any442 = false;
+      bool any443 = false;
       {
-        const auto& x443_list = g441;
-        charge_loop(s.core, 46, int64_t(x443_list.size()));
-        for (const C2_Sheep& x443 : x443_list) {
+        const auto& x444_list = g442;
+        charge_loop(s.core, 46, int64_t(x444_list.size()));
+        for (const C2_Sheep& x444 : x444_list) {
           // inlined: function at programs/sheepdog.au:39
-          const bool t444 = !x443.f0;
-          if (t444) {
-            any442 = true;
+          const bool t445 = !x444.f0;
+          if (t445) {
+            any443 = true;
             break;
           }
         }
       }
-      const bool t445 = !any442;
-      if (t445) {
+      const bool t446 = !any443;
+      if (t446) {
         s.core.covered[int32_t(8)] = 1;
         s.g_background_2 = int32_t(5);
       }
     }
     // on-clause 10, programs/sheepdog.au:83
     {
-      const std::vector<C2_Sheep>& prev446 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+      const std::vector<C2_Sheep>& prev447 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
       // inlined: function at programs/sheepdog.au:39
-      bool any447 = false;
+      bool any448 = false;
       {
-        const auto& x448_list = prev446;
-        charge_loop(s.core, 46, int64_t(x448_list.size()));
-        for (const C2_Sheep& x448 : x448_list) {
+        const auto& x449_list = prev447;
+        charge_loop(s.core, 46, int64_t(x449_list.size()));
+        for (const C2_Sheep& x449 : x449_list) {
           // inlined: function at programs/sheepdog.au:39
-          const bool t449 = !x448.f0;
-          if (t449) {
-            any447 = true;
+          const bool t450 = !x449.f0;
+          if (t450) {
+            any448 = true;
             break;
           }
         }
       }
-      const bool t450 = !any447;
-      bool r451{};
-      if (t450) {
-        const C3_Dog& prev452 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
-        bool clicked453 = false;
+      const bool t451 = !any448;
+      bool r452{};
+      if (t451) {
+        const C3_Dog& prev453 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+        bool clicked454 = false;
         if (s.core.click) {
           s.d_click_24 = true;
-          const Pos t454 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_23 = t454;
-          const Elem e455 = Elem{Pos{add(prev452.origin.x, int32_t(0)), add(prev452.origin.y, int32_t(0))}, int32_t(0)};
-          if ((e455.position == Pos{s.core.click_x, s.core.click_y})) {
-            clicked453 = true;
+          const Pos t455 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_23 = t455;
+          const Elem e456 = Elem{Pos{add(prev453.origin.x, int32_t(0)), add(prev453.origin.y, int32_t(0))}, int32_t(0)};
+          if ((e456.position == Pos{s.core.click_x, s.core.click_y})) {
+            clicked454 = true;
           }
         }
-        r451 = clicked453;
+        r452 = clicked454;
       } else {
-        r451 = false;
+        r452 = false;
       }
-      if (r451) {
+      if (r452) {
         s.core.covered[int32_t(9)] = 1;
-        const std::vector<Pos>& g456 = s.g_sheepStarts_4;
-        std::vector<C2_Sheep>& out457 = s.scratch.v.b47;
-        out457.clear();
-        charge_built(s.core, 47, int64_t(g456.size()));
-        out457.reserve(size_t(int32_t(g456.size())));
+        const std::vector<Pos>& g457 = s.g_sheepStarts_4;
+        std::vector<C2_Sheep>& out458 = s.scratch.v.b47;
+        out458.clear();
+        charge_built(s.core, 47, int64_t(g457.size()));
+        out458.reserve(size_t(int32_t(g457.size())));
         {
-          const auto& x458_list = g456;
-          charge_loop(s.core, 47, int64_t(x458_list.size()));
-          for (const Pos& x458 : x458_list) {
+          const auto& x459_list = g457;
+          charge_loop(s.core, 47, int64_t(x459_list.size()));
+          for (const Pos& x459 : x459_list) {
             // inlined: function at programs/sheepdog.au:84
-            C2_Sheep o459 = C2_Sheep{false, x458};
-            out457.push_back(std::move(o459));
+            C2_Sheep o460 = C2_Sheep{false, x459};
+            out458.push_back(std::move(o460));
           }
         }
         if (!s.scratch.v.sv_sheep_10) {
           std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
           s.scratch.v.sv_sheep_10 = true;
         }
-        std::swap(s.g_sheep_7, out457);
+        std::swap(s.g_sheep_7, out458);
         s.u_sheep_8 = true;
         s.g_background_2 = int32_t(1);
       }
     }
     // NEXT of sheep, programs/sheepdog.au:34
     if ((!s.u_sheep_8 && s.scratch.v.sv_sheep_10)) {
-      const std::vector<C2_Sheep> prev460 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+      const std::vector<C2_Sheep> prev461 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
       if (!s.scratch.v.sv_sheep_10) {
         std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);
         s.scratch.v.sv_sheep_10 = true;
       }
-      s.g_sheep_7 = prev460;
+      s.g_sheep_7 = prev461;
       s.u_sheep_8 = true;
     }
     // NEXT of flags, programs/sheepdog.au:31
     if ((!s.u_flags_12 && s.scratch.v.sv_flags_14)) {
-      const std::vector<C1_Flag> prev461 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
+      const std::vector<C1_Flag> prev462 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
       if (!s.scratch.v.sv_flags_14) {
         std::swap(s.scratch.v.p_flags_13, s.g_flags_11);
         s.scratch.v.sv_flags_14 = true;
       }
-      s.g_flags_11 = prev461;
+      s.g_flags_11 = prev462;
       s.u_flags_12 = true;
     }
     // NEXT of dog, programs/sheepdog.au:37
     if ((!s.u_dog_16 && s.scratch.v.sv_dog_18)) {
-      const C3_Dog prev462 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
+      const C3_Dog prev463 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
       if (!s.scratch.v.sv_dog_18) {
         std::swap(s.scratch.v.p_dog_17, s.g_dog_15);
         s.scratch.v.sv_dog_18 = true;
       }
-      s.g_dog_15 = prev462;
+      s.g_dog_15 = prev463;
       s.u_dog_16 = true;
     }
     // NEXT of fences, programs/sheepdog.au:28
     if ((!s.u_fences_20 && s.scratch.v.sv_fences_22)) {
-      const std::vector<C0_Fence> prev463 = (s.scratch.v.sv_fences_22 ? s.scratch.v.p_fences_21 : s.g_fences_19);
+      const std::vector<C0_Fence> prev464 = (s.scratch.v.sv_fences_22 ? s.scratch.v.p_fences_21 : s.g_fences_19);
       if (!s.scratch.v.sv_fences_22) {
         std::swap(s.scratch.v.p_fences_21, s.g_fences_19);
         s.scratch.v.sv_fences_22 = true;
       }
-      s.g_fences_19 = prev463;
+      s.g_fences_19 = prev464;
       s.u_fences_20 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_24) {
       tally_rendered(s.core, 48, "cacheRendered");
-      const std::vector<C0_Fence>& g464 = s.g_fences_19;
-      tally_global(s.core, 5, "fences", g464);
-      const C3_Dog& g465 = s.g_dog_15;
-      tally_global(s.core, 6, "dog", g465);
-      const std::vector<C2_Sheep>& g466 = s.g_sheep_7;
-      tally_global(s.core, 7, "sheep", g466);
-      const std::vector<Pos>& g467 = s.g_gate_6;
-      tally_global(s.core, 8, "gate", g467);
-      const std::vector<Pos>& g468 = s.g_wanderSteps_5;
-      tally_global(s.core, 9, "wanderSteps", g468);
-      const std::vector<Pos>& g469 = s.g_sheepStarts_4;
-      tally_global(s.core, 10, "sheepStarts", g469);
+      const std::vector<C0_Fence>& g465 = s.g_fences_19;
+      tally_global(s.core, 5, "fences", g465);
+      const C3_Dog& g466 = s.g_dog_15;
+      tally_global(s.core, 6, "dog", g466);
+      const std::vector<C2_Sheep>& g467 = s.g_sheep_7;
+      tally_global(s.core, 7, "sheep", g467);
+      const std::vector<Pos>& g468 = s.g_gate_6;
+      tally_global(s.core, 8, "gate", g468);
+      const std::vector<Pos>& g469 = s.g_wanderSteps_5;
+      tally_global(s.core, 9, "wanderSteps", g469);
+      const std::vector<Pos>& g470 = s.g_sheepStarts_4;
+      tally_global(s.core, 10, "sheepStarts", g470);
       if (s.d_click_24) {
-        const Pos& g470 = s.g_click_23;
-        tally_global(s.core, 48, "click", g470);
+        const Pos& g471 = s.g_click_23;
+        tally_global(s.core, 48, "click", g471);
       }
-      const std::vector<C1_Flag>& g471 = s.g_flags_11;
-      tally_global(s.core, 11, "flags", g471);
+      const std::vector<C1_Flag>& g472 = s.g_flags_11;
+      tally_global(s.core, 11, "flags", g472);
     } else {
       tally_rendered(s.core, 48, "cacheRendered");
-      const std::vector<C0_Fence>& g472 = s.g_fences_19;
-      tally_global(s.core, 5, "fences", g472);
-      const C3_Dog& g473 = s.g_dog_15;
-      tally_global(s.core, 6, "dog", g473);
-      const std::vector<C2_Sheep>& g474 = s.g_sheep_7;
-      tally_global(s.core, 7, "sheep", g474);
-      const std::vector<Pos>& g475 = s.g_gate_6;
-      tally_global(s.core, 8, "gate", g475);
-      const std::vector<Pos>& g476 = s.g_wanderSteps_5;
-      tally_global(s.core, 9, "wanderSteps", g476);
-      const std::vector<Pos>& g477 = s.g_sheepStarts_4;
-      tally_global(s.core, 10, "sheepStarts", g477);
-      const std::vector<C1_Flag>& g478 = s.g_flags_11;
-      tally_global(s.core, 11, "flags", g478);
+      const std::vector<C0_Fence>& g473 = s.g_fences_19;
+      tally_global(s.core, 5, "fences", g473);
+      const C3_Dog& g474 = s.g_dog_15;
+      tally_global(s.core, 6, "dog", g474);
+      const std::vector<C2_Sheep>& g475 = s.g_sheep_7;
+      tally_global(s.core, 7, "sheep", g475);
+      const std::vector<Pos>& g476 = s.g_gate_6;
+      tally_global(s.core, 8, "gate", g476);
+      const std::vector<Pos>& g477 = s.g_wanderSteps_5;
+      tally_global(s.core, 9, "wanderSteps", g477);
+      const std::vector<Pos>& g478 = s.g_sheepStarts_4;
+      tally_global(s.core, 10, "sheepStarts", g478);
+      const std::vector<C1_Flag>& g479 = s.g_flags_11;
+      tally_global(s.core, 11, "flags", g479);
     }
     s.core.clear_inputs();
   }

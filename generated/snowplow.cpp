@@ -582,7 +582,13 @@ struct Prog {
         std::vector<C1_Melt>& added20 = s.scratch.v.b1;
         added20.clear();
         added20.reserve(size_t(add(int32_t(prev13.size()), int32_t(1))));
-        added20.insert(added20.end(), prev13.begin(), prev13.end());
+        {
+          const auto& x21_list = prev13;
+          charge_loop(s.core, 9, int64_t(x21_list.size()));
+          for (const C1_Melt& x21 : x21_list) {
+            added20.push_back(x21);
+          }
+        }
         added20.push_back(std::move(o19));
         if (!s.scratch.v.sv_melt_16) {
           std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
@@ -594,47 +600,47 @@ struct Prog {
     }
     // on-clause 2, programs/snowplow.au:51
     {
-      const std::vector<C2_Rock>& prev21 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
-      bool clicked22 = false;
+      const std::vector<C2_Rock>& prev22 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
+      bool clicked23 = false;
       if (s.core.click) {
         s.d_click_30 = true;
-        const Pos t23 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_29 = t23;
+        const Pos t24 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_29 = t24;
         {
-          const auto& x24_list = prev21;
-          charge_loop(s.core, 10, int64_t(x24_list.size()));
-          for (const C2_Rock& x24 : x24_list) {
-            const Elem e25 = Elem{Pos{add(x24.origin.x, int32_t(0)), add(x24.origin.y, int32_t(0))}, int32_t(3)};
-            if ((e25.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked22 = true;
+          const auto& x25_list = prev22;
+          charge_loop(s.core, 10, int64_t(x25_list.size()));
+          for (const C2_Rock& x25 : x25_list) {
+            const Elem e26 = Elem{Pos{add(x25.origin.x, int32_t(0)), add(x25.origin.y, int32_t(0))}, int32_t(3)};
+            if ((e26.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked23 = true;
             }
           }
         }
       }
-      if (clicked22) {
+      if (clicked23) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C2_Rock>& prev26 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
-        std::vector<C2_Rock>& out27 = s.scratch.v.b2;
-        out27.clear();
+        const std::vector<C2_Rock>& prev27 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
+        std::vector<C2_Rock>& out28 = s.scratch.v.b2;
+        out28.clear();
         {
-          const auto& x28_list = prev26;
-          charge_loop(s.core, 11, int64_t(x28_list.size()));
-          for (const C2_Rock& x28 : x28_list) {
+          const auto& x29_list = prev27;
+          charge_loop(s.core, 11, int64_t(x29_list.size()));
+          for (const C2_Rock& x29 : x29_list) {
             // inlined: function at programs/snowplow.au:51
-            bool clicked29 = false;
+            bool clicked30 = false;
             if (s.core.click) {
               s.d_click_30 = true;
-              const Pos t30 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_29 = t30;
-              const Elem e31 = Elem{Pos{add(x28.origin.x, int32_t(0)), add(x28.origin.y, int32_t(0))}, int32_t(3)};
-              if ((e31.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked29 = true;
+              const Pos t31 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_29 = t31;
+              const Elem e32 = Elem{Pos{add(x29.origin.x, int32_t(0)), add(x29.origin.y, int32_t(0))}, int32_t(3)};
+              if ((e32.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked30 = true;
               }
             }
-            const bool t32 = !clicked29;
-            if (t32) {
+            const bool t33 = !clicked30;
+            if (t33) {
               charge_built(s.core, 11, int64_t(int32_t(1)));
-              out27.push_back(x28);
+              out28.push_back(x29);
             }
           }
         }
@@ -642,73 +648,79 @@ struct Prog {
           std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
           s.scratch.v.sv_rocks_20 = true;
         }
-        std::swap(s.g_rocks_17, out27);
+        std::swap(s.g_rocks_17, out28);
         s.u_rocks_18 = true;
       }
     }
     // on-clause 3, programs/snowplow.au:53
     {
-      bool clicked33 = false;
+      bool clicked34 = false;
       if (s.core.click) {
         s.d_click_30 = true;
-        const Pos t34 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_29 = t34;
-        clicked33 = true;
+        const Pos t35 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_29 = t35;
+        clicked34 = true;
       }
-      bool r35{};
-      if (clicked33) {
-        Pos r36{};
+      bool r36{};
+      if (clicked34) {
+        Pos r37{};
         if (s.d_click_30) {
-          const Pos& g37 = s.g_click_29;
-          r36 = g37;
+          const Pos& g38 = s.g_click_29;
+          r37 = g38;
         } else {
           fail_at(12, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t38 = s.core.occupied.free(r36);
-        bool r39{};
-        if (t38) {
-          const std::vector<C2_Rock>& g40 = s.g_rocks_17;
-          const int32_t t41 = int32_t(g40.size());
-          const bool t42 = (t41 < int32_t(12));
-          r39 = t42;
+        const bool t39 = s.core.occupied.free(r37);
+        bool r40{};
+        if (t39) {
+          const std::vector<C2_Rock>& g41 = s.g_rocks_17;
+          const int32_t t42 = int32_t(g41.size());
+          const bool t43 = (t42 < int32_t(12));
+          r40 = t43;
         } else {
-          r39 = false;
+          r40 = false;
         }
-        r35 = r39;
+        r36 = r40;
       } else {
-        r35 = false;
+        r36 = false;
       }
-      if (r35) {
+      if (r36) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C2_Rock>& g43 = s.g_rocks_17;
-        Pos r44{};
+        const std::vector<C2_Rock>& g44 = s.g_rocks_17;
+        Pos r45{};
         if (s.d_click_30) {
-          const Pos& g45 = s.g_click_29;
-          r44 = g45;
+          const Pos& g46 = s.g_click_29;
+          r45 = g46;
         } else {
           fail_at(13, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r46{};
+        Pos r47{};
         if (s.d_click_30) {
-          const Pos& g47 = s.g_click_29;
-          r46 = g47;
+          const Pos& g48 = s.g_click_29;
+          r47 = g48;
         } else {
           fail_at(14, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t48 = Pos{r44.x, r46.y};
-        C2_Rock o49 = C2_Rock{t48};
-        check_length(s.core, 15, int64_t(g43.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 15, int64_t(g43.size()) + int64_t(int32_t(1)));
-        std::vector<C2_Rock>& added50 = s.scratch.v.b3;
-        added50.clear();
-        added50.reserve(size_t(add(int32_t(g43.size()), int32_t(1))));
-        added50.insert(added50.end(), g43.begin(), g43.end());
-        added50.push_back(std::move(o49));
+        const Pos t49 = Pos{r45.x, r47.y};
+        C2_Rock o50 = C2_Rock{t49};
+        check_length(s.core, 15, int64_t(g44.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 15, int64_t(g44.size()) + int64_t(int32_t(1)));
+        std::vector<C2_Rock>& added51 = s.scratch.v.b3;
+        added51.clear();
+        added51.reserve(size_t(add(int32_t(g44.size()), int32_t(1))));
+        {
+          const auto& x52_list = g44;
+          charge_loop(s.core, 15, int64_t(x52_list.size()));
+          for (const C2_Rock& x52 : x52_list) {
+            added51.push_back(x52);
+          }
+        }
+        added51.push_back(std::move(o50));
         if (!s.scratch.v.sv_rocks_20) {
           std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
           s.scratch.v.sv_rocks_20 = true;
         }
-        std::swap(s.g_rocks_17, added50);
+        std::swap(s.g_rocks_17, added51);
         s.u_rocks_18 = true;
       }
     }
@@ -716,114 +728,114 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C0_Flake>& g51 = s.g_snow_9;
-        std::vector<C0_Flake>& out52 = s.scratch.v.b4;
-        out52.clear();
-        charge_built(s.core, 16, int64_t(g51.size()));
-        out52.reserve(size_t(int32_t(g51.size())));
+        const std::vector<C0_Flake>& g53 = s.g_snow_9;
+        std::vector<C0_Flake>& out54 = s.scratch.v.b4;
+        out54.clear();
+        charge_built(s.core, 16, int64_t(g53.size()));
+        out54.reserve(size_t(int32_t(g53.size())));
         {
-          const auto& x53_list = g51;
-          charge_loop(s.core, 16, int64_t(x53_list.size()));
-          for (const C0_Flake& x53 : x53_list) {
-            const int32_t t54 = add(x53.origin.x, int32_t(0));
-            const int32_t t55 = add(x53.origin.y, int32_t(1));
-            const Pos t56 = Pos{t54, t55};
-            const C0_Flake upd57 = C0_Flake{t56};
-            std::vector<Elem>& rendered58 = s.scratch.v.b5;
-            rendered58.clear();
-            rendered58.push_back(Elem{Pos{add(upd57.origin.x, int32_t(0)), add(upd57.origin.y, int32_t(0))}, int32_t(6)});
-            bool within59 = true;
+          const auto& x55_list = g53;
+          charge_loop(s.core, 16, int64_t(x55_list.size()));
+          for (const C0_Flake& x55 : x55_list) {
+            const int32_t t56 = add(x55.origin.x, int32_t(0));
+            const int32_t t57 = add(x55.origin.y, int32_t(1));
+            const Pos t58 = Pos{t56, t57};
+            const C0_Flake upd59 = C0_Flake{t58};
+            std::vector<Elem>& rendered60 = s.scratch.v.b5;
+            rendered60.clear();
+            rendered60.push_back(Elem{Pos{add(upd59.origin.x, int32_t(0)), add(upd59.origin.y, int32_t(0))}, int32_t(6)});
+            bool within61 = true;
             {
-              const auto& e60_list = rendered58;
-              for (const Elem& e60 : e60_list) {
-                if ((((e60.position.x < int32_t(0)) || (e60.position.x >= int32_t(16))) || ((e60.position.y < int32_t(0)) || (e60.position.y >= int32_t(16))))) {
-                  within59 = false;
+              const auto& e62_list = rendered60;
+              for (const Elem& e62 : e62_list) {
+                if ((((e62.position.x < int32_t(0)) || (e62.position.x >= int32_t(16))) || ((e62.position.y < int32_t(0)) || (e62.position.y >= int32_t(16))))) {
+                  within61 = false;
                   break;
                 }
               }
             }
-            bool r61{};
-            if (within59) {
-              const int32_t t62 = add(x53.origin.x, int32_t(0));
-              const int32_t t63 = add(x53.origin.y, int32_t(1));
-              const Pos t64 = Pos{t62, t63};
-              const C0_Flake upd65 = C0_Flake{t64};
-              std::vector<Elem>& l_prev_elems66 = s.scratch.v.b6;
-              l_prev_elems66.clear();
-              std::vector<Elem>& l_curr_elems67 = s.scratch.v.b7;
-              l_curr_elems67.clear();
-              std::vector<Elem>& l_filtered_elems68 = s.scratch.v.b8;
-              l_filtered_elems68.clear();
-              std::vector<Elem>& rendered69 = s.scratch.v.b9;
-              rendered69.clear();
-              rendered69.push_back(Elem{Pos{add(x53.origin.x, int32_t(0)), add(x53.origin.y, int32_t(0))}, int32_t(6)});
-              std::swap(l_prev_elems66, rendered69);
-              std::vector<Elem>& rendered70 = s.scratch.v.b10;
-              rendered70.clear();
-              rendered70.push_back(Elem{Pos{add(upd65.origin.x, int32_t(0)), add(upd65.origin.y, int32_t(0))}, int32_t(6)});
-              std::swap(l_curr_elems67, rendered70);
-              std::vector<Elem>& out71 = s.scratch.v.b11;
-              out71.clear();
+            bool r63{};
+            if (within61) {
+              const int32_t t64 = add(x55.origin.x, int32_t(0));
+              const int32_t t65 = add(x55.origin.y, int32_t(1));
+              const Pos t66 = Pos{t64, t65};
+              const C0_Flake upd67 = C0_Flake{t66};
+              std::vector<Elem>& l_prev_elems68 = s.scratch.v.b6;
+              l_prev_elems68.clear();
+              std::vector<Elem>& l_curr_elems69 = s.scratch.v.b7;
+              l_curr_elems69.clear();
+              std::vector<Elem>& l_filtered_elems70 = s.scratch.v.b8;
+              l_filtered_elems70.clear();
+              std::vector<Elem>& rendered71 = s.scratch.v.b9;
+              rendered71.clear();
+              rendered71.push_back(Elem{Pos{add(x55.origin.x, int32_t(0)), add(x55.origin.y, int32_t(0))}, int32_t(6)});
+              std::swap(l_prev_elems68, rendered71);
+              std::vector<Elem>& rendered72 = s.scratch.v.b10;
+              rendered72.clear();
+              rendered72.push_back(Elem{Pos{add(upd67.origin.x, int32_t(0)), add(upd67.origin.y, int32_t(0))}, int32_t(6)});
+              std::swap(l_curr_elems69, rendered72);
+              std::vector<Elem>& out73 = s.scratch.v.b11;
+              out73.clear();
               {
-                const auto& x72_list = l_curr_elems67;
-                charge_loop(s.core, 18, int64_t(x72_list.size()));
-                for (const Elem& x72 : x72_list) {
-                  bool any73 = false;
+                const auto& x74_list = l_curr_elems69;
+                charge_loop(s.core, 18, int64_t(x74_list.size()));
+                for (const Elem& x74 : x74_list) {
+                  bool any75 = false;
                   {
-                    const auto& x74_list = l_prev_elems66;
-                    charge_loop(s.core, 19, int64_t(x74_list.size()));
-                    for (const Elem& x74 : x74_list) {
-                      const bool t75 = (x74 == x72);
-                      if (t75) {
-                        any73 = true;
+                    const auto& x76_list = l_prev_elems68;
+                    charge_loop(s.core, 19, int64_t(x76_list.size()));
+                    for (const Elem& x76 : x76_list) {
+                      const bool t77 = (x76 == x74);
+                      if (t77) {
+                        any75 = true;
                         break;
                       }
                     }
                   }
-                  const bool t76 = !any73;
-                  if (t76) {
+                  const bool t78 = !any75;
+                  if (t78) {
                     charge_built(s.core, 18, int64_t(int32_t(1)));
-                    out71.push_back(x72);
+                    out73.push_back(x74);
                   }
                 }
               }
-              std::swap(l_filtered_elems68, out71);
-              bool any77 = false;
+              std::swap(l_filtered_elems70, out73);
+              bool any79 = false;
               {
-                const auto& x78_list = l_filtered_elems68;
-                charge_loop(s.core, 20, int64_t(x78_list.size()));
-                for (const Elem& x78 : x78_list) {
-                  const bool t79 = s.core.occupied.free(x78.position);
-                  const bool t80 = !t79;
-                  if (t80) {
-                    any77 = true;
+                const auto& x80_list = l_filtered_elems70;
+                charge_loop(s.core, 20, int64_t(x80_list.size()));
+                for (const Elem& x80 : x80_list) {
+                  const bool t81 = s.core.occupied.free(x80.position);
+                  const bool t82 = !t81;
+                  if (t82) {
+                    any79 = true;
                     break;
                   }
                 }
               }
-              const bool t81 = !any77;
-              r61 = t81;
+              const bool t83 = !any79;
+              r63 = t83;
             } else {
-              r61 = false;
+              r63 = false;
             }
-            C0_Flake r82{};
-            if (r61) {
-              const int32_t t83 = add(x53.origin.x, int32_t(0));
-              const int32_t t84 = add(x53.origin.y, int32_t(1));
-              const Pos t85 = Pos{t83, t84};
-              C0_Flake upd86 = C0_Flake{t85};
-              r82 = std::move(upd86);
+            C0_Flake r84{};
+            if (r63) {
+              const int32_t t85 = add(x55.origin.x, int32_t(0));
+              const int32_t t86 = add(x55.origin.y, int32_t(1));
+              const Pos t87 = Pos{t85, t86};
+              C0_Flake upd88 = C0_Flake{t87};
+              r84 = std::move(upd88);
             } else {
-              r82 = x53;
+              r84 = x55;
             }
-            out52.push_back(std::move(r82));
+            out54.push_back(std::move(r84));
           }
         }
         if (!s.scratch.v.sv_snow_12) {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
-        std::swap(s.g_snow_9, out52);
+        std::swap(s.g_snow_9, out54);
         s.u_snow_10 = true;
       }
     }
@@ -831,356 +843,356 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C1_Melt>& g87 = s.g_melt_13;
+        const std::vector<C1_Melt>& g89 = s.g_melt_13;
         // inlined: function at programs/snowplow.au:41
-        std::vector<C1_Melt>& out88 = s.scratch.v.b12;
-        out88.clear();
-        charge_built(s.core, 21, int64_t(g87.size()));
-        out88.reserve(size_t(int32_t(g87.size())));
+        std::vector<C1_Melt>& out90 = s.scratch.v.b12;
+        out90.clear();
+        charge_built(s.core, 21, int64_t(g89.size()));
+        out90.reserve(size_t(int32_t(g89.size())));
         {
-          const auto& x89_list = g87;
-          charge_loop(s.core, 21, int64_t(x89_list.size()));
-          for (const C1_Melt& x89 : x89_list) {
+          const auto& x91_list = g89;
+          charge_loop(s.core, 21, int64_t(x91_list.size()));
+          for (const C1_Melt& x91 : x91_list) {
             // inlined: function at programs/snowplow.au:43
-            const bool t90 = (x89.origin.y == int32_t(15));
-            const bool t91 = !t90;
-            bool r92{};
-            if (t91) {
-              const int32_t t93 = add(x89.origin.x, int32_t(0));
-              const int32_t t94 = add(x89.origin.y, int32_t(1));
-              const Pos t95 = Pos{t93, t94};
-              const C1_Melt upd96 = C1_Melt{x89.f0, t95};
-              std::vector<Elem>& rendered97 = s.scratch.v.b13;
-              rendered97.clear();
-              const int32_t colour98 = colour_19_C1_Melt(s, upd96);
-              rendered97.push_back(Elem{Pos{add(upd96.origin.x, int32_t(0)), add(upd96.origin.y, int32_t(0))}, colour98});
-              bool any99 = false;
+            const bool t92 = (x91.origin.y == int32_t(15));
+            const bool t93 = !t92;
+            bool r94{};
+            if (t93) {
+              const int32_t t95 = add(x91.origin.x, int32_t(0));
+              const int32_t t96 = add(x91.origin.y, int32_t(1));
+              const Pos t97 = Pos{t95, t96};
+              const C1_Melt upd98 = C1_Melt{x91.f0, t97};
+              std::vector<Elem>& rendered99 = s.scratch.v.b13;
+              rendered99.clear();
+              const int32_t colour100 = colour_19_C1_Melt(s, upd98);
+              rendered99.push_back(Elem{Pos{add(upd98.origin.x, int32_t(0)), add(upd98.origin.y, int32_t(0))}, colour100});
+              bool any101 = false;
               {
-                const auto& x100_list = rendered97;
-                for (const Elem& x100 : x100_list) {
-                  const bool t101 = s.core.occupied.free(x100.position);
-                  const bool t102 = !t101;
-                  if (t102) {
-                    any99 = true;
+                const auto& x102_list = rendered99;
+                for (const Elem& x102 : x102_list) {
+                  const bool t103 = s.core.occupied.free(x102.position);
+                  const bool t104 = !t103;
+                  if (t104) {
+                    any101 = true;
                     break;
                   }
                 }
               }
-              const bool t103 = !any99;
-              r92 = t103;
+              const bool t105 = !any101;
+              r94 = t105;
             } else {
-              r92 = false;
+              r94 = false;
             }
-            C1_Melt r104{};
-            if (r92) {
-              const int32_t t105 = add(x89.origin.x, int32_t(0));
-              const int32_t t106 = add(x89.origin.y, int32_t(1));
-              const Pos t107 = Pos{t105, t106};
-              C1_Melt upd108 = C1_Melt{x89.f0, t107};
-              r104 = std::move(upd108);
+            C1_Melt r106{};
+            if (r94) {
+              const int32_t t107 = add(x91.origin.x, int32_t(0));
+              const int32_t t108 = add(x91.origin.y, int32_t(1));
+              const Pos t109 = Pos{t107, t108};
+              C1_Melt upd110 = C1_Melt{x91.f0, t109};
+              r106 = std::move(upd110);
             } else {
-              std::vector<Pos>& l_nextRowPos109 = s.scratch.v.b14;
-              l_nextRowPos109.clear();
-              std::vector<Pos>& l_holes110 = s.scratch.v.b15;
-              l_holes110.clear();
-              const int32_t t111 = add(x89.origin.y, int32_t(1));
-              const Pos t112 = Pos{int32_t(0), t111};
-              const int32_t t113 = add(x89.origin.y, int32_t(2));
-              const Pos t114 = Pos{int32_t(16), t113};
-              int32_t l_xmin115{};
-              int32_t l_xmax116{};
-              int32_t l_ymin117{};
-              int32_t l_ymax118{};
-              std::vector<Pos>& l_rectPos119 = s.scratch.v.b16;
-              l_rectPos119.clear();
-              l_xmin115 = t112.x;
-              l_xmax116 = t114.x;
-              l_ymin117 = t112.y;
-              l_ymax118 = t114.y;
-              check_length(s.core, 23, int64_t(l_ymax118) - int64_t(l_ymin117));
-              charge_built(s.core, 23, int64_t(l_ymax118) - int64_t(l_ymin117));
-              std::vector<int32_t>& range120 = s.scratch.v.b17;
-              range120.clear();
+              std::vector<Pos>& l_nextRowPos111 = s.scratch.v.b14;
+              l_nextRowPos111.clear();
+              std::vector<Pos>& l_holes112 = s.scratch.v.b15;
+              l_holes112.clear();
+              const int32_t t113 = add(x91.origin.y, int32_t(1));
+              const Pos t114 = Pos{int32_t(0), t113};
+              const int32_t t115 = add(x91.origin.y, int32_t(2));
+              const Pos t116 = Pos{int32_t(16), t115};
+              int32_t l_xmin117{};
+              int32_t l_xmax118{};
+              int32_t l_ymin119{};
+              int32_t l_ymax120{};
+              std::vector<Pos>& l_rectPos121 = s.scratch.v.b16;
+              l_rectPos121.clear();
+              l_xmin117 = t114.x;
+              l_xmax118 = t116.x;
+              l_ymin119 = t114.y;
+              l_ymax120 = t116.y;
+              check_length(s.core, 23, int64_t(l_ymax120) - int64_t(l_ymin119));
+              charge_built(s.core, 23, int64_t(l_ymax120) - int64_t(l_ymin119));
+              std::vector<int32_t>& range122 = s.scratch.v.b17;
+              range122.clear();
               {
-                const int32_t i121_first = l_ymin117, i121_end = l_ymax118;
-                charge_loop(s.core, 23, int64_t(i121_end) - i121_first);
-                for (int32_t i121 = i121_first; i121 < i121_end; ++i121) {
-                  range120.push_back(i121);
+                const int32_t i123_first = l_ymin119, i123_end = l_ymax120;
+                charge_loop(s.core, 23, int64_t(i123_end) - i123_first);
+                for (int32_t i123 = i123_first; i123 < i123_end; ++i123) {
+                  range122.push_back(i123);
                 }
               }
-              std::vector<std::vector<Pos>>& out122 = s.scratch.v.b18;
-              out122.clear();
-              charge_built(s.core, 24, int64_t(range120.size()));
-              out122.reserve(size_t(int32_t(range120.size())));
+              std::vector<std::vector<Pos>>& out124 = s.scratch.v.b18;
+              out124.clear();
+              charge_built(s.core, 24, int64_t(range122.size()));
+              out124.reserve(size_t(int32_t(range122.size())));
               {
-                const auto& x123_list = range120;
-                charge_loop(s.core, 24, int64_t(x123_list.size()));
-                for (const int32_t& x123 : x123_list) {
-                  check_length(s.core, 25, int64_t(l_xmax116) - int64_t(l_xmin115));
-                  charge_built(s.core, 25, int64_t(l_xmax116) - int64_t(l_xmin115));
-                  std::vector<int32_t>& range124 = s.scratch.v.b19;
-                  range124.clear();
+                const auto& x125_list = range122;
+                charge_loop(s.core, 24, int64_t(x125_list.size()));
+                for (const int32_t& x125 : x125_list) {
+                  check_length(s.core, 25, int64_t(l_xmax118) - int64_t(l_xmin117));
+                  charge_built(s.core, 25, int64_t(l_xmax118) - int64_t(l_xmin117));
+                  std::vector<int32_t>& range126 = s.scratch.v.b19;
+                  range126.clear();
                   {
-                    const int32_t i125_first = l_xmin115, i125_end = l_xmax116;
-                    charge_loop(s.core, 25, int64_t(i125_end) - i125_first);
-                    for (int32_t i125 = i125_first; i125 < i125_end; ++i125) {
-                      range124.push_back(i125);
+                    const int32_t i127_first = l_xmin117, i127_end = l_xmax118;
+                    charge_loop(s.core, 25, int64_t(i127_end) - i127_first);
+                    for (int32_t i127 = i127_first; i127 < i127_end; ++i127) {
+                      range126.push_back(i127);
                     }
                   }
-                  std::vector<Pos> out126{};
-                  charge_built(s.core, 26, int64_t(range124.size()));
-                  out126.reserve(size_t(int32_t(range124.size())));
+                  std::vector<Pos> out128{};
+                  charge_built(s.core, 26, int64_t(range126.size()));
+                  out128.reserve(size_t(int32_t(range126.size())));
                   {
-                    const auto& x127_list = range124;
-                    charge_loop(s.core, 26, int64_t(x127_list.size()));
-                    for (const int32_t& x127 : x127_list) {
-                      const Pos t128 = Pos{x127, x123};
-                      out126.push_back(t128);
+                    const auto& x129_list = range126;
+                    charge_loop(s.core, 26, int64_t(x129_list.size()));
+                    for (const int32_t& x129 : x129_list) {
+                      const Pos t130 = Pos{x129, x125};
+                      out128.push_back(t130);
                     }
                   }
-                  out122.push_back(std::move(out126));
+                  out124.push_back(std::move(out128));
                 }
               }
-              check_length(s.core, 27, total_size(out122));
-              charge_built(s.core, 27, total_size(out122));
-              std::vector<Pos>& cat129 = s.scratch.v.b20;
-              cat129.clear();
+              check_length(s.core, 27, total_size(out124));
+              charge_built(s.core, 27, total_size(out124));
+              std::vector<Pos>& cat131 = s.scratch.v.b20;
+              cat131.clear();
               {
-                const auto& part130_list = out122;
-                charge_loop(s.core, 27, int64_t(part130_list.size()));
-                for (const std::vector<Pos>& part130 : part130_list) {
-                  cat129.insert(cat129.end(), part130.begin(), part130.end());
+                const auto& part132_list = out124;
+                charge_loop(s.core, 27, int64_t(part132_list.size()));
+                for (const std::vector<Pos>& part132 : part132_list) {
+                  cat131.insert(cat131.end(), part132.begin(), part132.end());
                 }
               }
-              std::swap(l_rectPos119, cat129);
-              std::swap(l_nextRowPos109, l_rectPos119);
-              std::vector<Pos>& out131 = s.scratch.v.b21;
-              out131.clear();
+              std::swap(l_rectPos121, cat131);
+              std::swap(l_nextRowPos111, l_rectPos121);
+              std::vector<Pos>& out133 = s.scratch.v.b21;
+              out133.clear();
               {
-                const auto& x132_list = l_nextRowPos109;
-                charge_loop(s.core, 28, int64_t(x132_list.size()));
-                for (const Pos& x132 : x132_list) {
-                  const bool t133 = (x132.y == int32_t(16));
-                  const bool t134 = !t133;
-                  if (t134) {
+                const auto& x134_list = l_nextRowPos111;
+                charge_loop(s.core, 28, int64_t(x134_list.size()));
+                for (const Pos& x134 : x134_list) {
+                  const bool t135 = (x134.y == int32_t(16));
+                  const bool t136 = !t135;
+                  if (t136) {
                     charge_built(s.core, 28, int64_t(int32_t(1)));
-                    out131.push_back(x132);
+                    out133.push_back(x134);
                   }
                 }
               }
-              std::swap(l_nextRowPos109, out131);
-              std::vector<Pos>& out135 = s.scratch.v.b22;
-              out135.clear();
+              std::swap(l_nextRowPos111, out133);
+              std::vector<Pos>& out137 = s.scratch.v.b22;
+              out137.clear();
               {
-                const auto& x136_list = l_nextRowPos109;
-                charge_loop(s.core, 29, int64_t(x136_list.size()));
-                for (const Pos& x136 : x136_list) {
-                  const bool t137 = s.core.occupied.free(x136);
-                  bool r138{};
-                  if (t137) {
-                    const int32_t t139 = add(x136.x, int32_t(0));
-                    const int32_t t140 = add(x136.y, int32_t(-1));
-                    const Pos t141 = Pos{t139, t140};
-                    const bool t142 = s.core.occupied.free(t141);
-                    r138 = t142;
+                const auto& x138_list = l_nextRowPos111;
+                charge_loop(s.core, 29, int64_t(x138_list.size()));
+                for (const Pos& x138 : x138_list) {
+                  const bool t139 = s.core.occupied.free(x138);
+                  bool r140{};
+                  if (t139) {
+                    const int32_t t141 = add(x138.x, int32_t(0));
+                    const int32_t t142 = add(x138.y, int32_t(-1));
+                    const Pos t143 = Pos{t141, t142};
+                    const bool t144 = s.core.occupied.free(t143);
+                    r140 = t144;
                   } else {
-                    r138 = false;
+                    r140 = false;
                   }
-                  if (r138) {
+                  if (r140) {
                     charge_built(s.core, 29, int64_t(int32_t(1)));
-                    out135.push_back(x136);
+                    out137.push_back(x138);
                   }
                 }
               }
-              std::swap(l_holes110, out135);
-              const int32_t t143 = int32_t(l_holes110.size());
-              const bool t144 = (t143 == int32_t(0));
-              C1_Melt r145{};
-              if (t144) {
-                r145 = x89;
+              std::swap(l_holes112, out137);
+              const int32_t t145 = int32_t(l_holes112.size());
+              const bool t146 = (t145 == int32_t(0));
+              C1_Melt r147{};
+              if (t146) {
+                r147 = x91;
               } else {
-                Pos l_closestHole146{};
-                const int32_t t147 = int32_t(l_holes110.size());
-                const bool t148 = (t147 == int32_t(0));
-                Pos r149{};
-                if (t148) {
-                  r149 = x89.origin;
+                Pos l_closestHole148{};
+                const int32_t t149 = int32_t(l_holes112.size());
+                const bool t150 = (t149 == int32_t(0));
+                Pos r151{};
+                if (t150) {
+                  r151 = x91.origin;
                 } else {
-                  if (l_holes110.empty()) {
+                  if (l_holes112.empty()) {
                     fail_at(30, std::string() + std::string("head of an empty list"));
                   }
-                  const Pos t150 = l_holes110.front();
-                  Pos acc151 = t150;
+                  const Pos t152 = l_holes112.front();
+                  Pos acc153 = t152;
                   {
-                    const auto& x152_list = l_holes110;
-                    charge_loop(s.core, 31, int64_t(x152_list.size()));
-                    for (const Pos& x152 : x152_list) {
-                      Pos l_delta153{};
-                      const int32_t t154 = sub(x89.origin.x, acc151.x);
-                      const int32_t t155 = sub(x89.origin.y, acc151.y);
-                      const Pos t156 = Pos{t154, t155};
-                      l_delta153 = t156;
-                      const int32_t t157 = mul(l_delta153.x, l_delta153.x);
-                      const int32_t t158 = mul(l_delta153.y, l_delta153.y);
-                      const int32_t t159 = add(t157, t158);
-                      Pos l_delta160{};
-                      const int32_t t161 = sub(x89.origin.x, x152.x);
-                      const int32_t t162 = sub(x89.origin.y, x152.y);
-                      const Pos t163 = Pos{t161, t162};
-                      l_delta160 = t163;
-                      const int32_t t164 = mul(l_delta160.x, l_delta160.x);
-                      const int32_t t165 = mul(l_delta160.y, l_delta160.y);
-                      const int32_t t166 = add(t164, t165);
-                      const bool t167 = (t159 < t166);
-                      Pos r168{};
-                      if (t167) {
-                        r168 = acc151;
+                    const auto& x154_list = l_holes112;
+                    charge_loop(s.core, 31, int64_t(x154_list.size()));
+                    for (const Pos& x154 : x154_list) {
+                      Pos l_delta155{};
+                      const int32_t t156 = sub(x91.origin.x, acc153.x);
+                      const int32_t t157 = sub(x91.origin.y, acc153.y);
+                      const Pos t158 = Pos{t156, t157};
+                      l_delta155 = t158;
+                      const int32_t t159 = mul(l_delta155.x, l_delta155.x);
+                      const int32_t t160 = mul(l_delta155.y, l_delta155.y);
+                      const int32_t t161 = add(t159, t160);
+                      Pos l_delta162{};
+                      const int32_t t163 = sub(x91.origin.x, x154.x);
+                      const int32_t t164 = sub(x91.origin.y, x154.y);
+                      const Pos t165 = Pos{t163, t164};
+                      l_delta162 = t165;
+                      const int32_t t166 = mul(l_delta162.x, l_delta162.x);
+                      const int32_t t167 = mul(l_delta162.y, l_delta162.y);
+                      const int32_t t168 = add(t166, t167);
+                      const bool t169 = (t161 < t168);
+                      Pos r170{};
+                      if (t169) {
+                        r170 = acc153;
                       } else {
-                        r168 = x152;
+                        r170 = x154;
                       }
-                      acc151 = r168;
+                      acc153 = r170;
                     }
                   }
-                  r149 = acc151;
+                  r151 = acc153;
                 }
-                l_closestHole146 = r149;
-                Pos l_dir169{};
-                C1_Melt l_movedObj170{};
-                const int32_t t171 = add(l_closestHole146.x, int32_t(0));
-                const int32_t t172 = add(l_closestHole146.y, int32_t(-1));
-                const Pos t173 = Pos{t171, t172};
-                Pos l_delta174{};
-                int32_t l_sign_x175{};
-                int32_t l_sign_y176{};
-                const int32_t t177 = sub(t173.x, x89.origin.x);
-                const int32_t t178 = sub(t173.y, x89.origin.y);
-                const Pos t179 = Pos{t177, t178};
-                l_delta174 = t179;
-                const bool t180 = (l_delta174.x == int32_t(0));
-                int32_t r181{};
-                if (t180) {
-                  r181 = int32_t(0);
+                l_closestHole148 = r151;
+                Pos l_dir171{};
+                C1_Melt l_movedObj172{};
+                const int32_t t173 = add(l_closestHole148.x, int32_t(0));
+                const int32_t t174 = add(l_closestHole148.y, int32_t(-1));
+                const Pos t175 = Pos{t173, t174};
+                Pos l_delta176{};
+                int32_t l_sign_x177{};
+                int32_t l_sign_y178{};
+                const int32_t t179 = sub(t175.x, x91.origin.x);
+                const int32_t t180 = sub(t175.y, x91.origin.y);
+                const Pos t181 = Pos{t179, t180};
+                l_delta176 = t181;
+                const bool t182 = (l_delta176.x == int32_t(0));
+                int32_t r183{};
+                if (t182) {
+                  r183 = int32_t(0);
                 } else {
-                  const bool t182 = (l_delta174.x < int32_t(0));
-                  int32_t r183{};
-                  if (t182) {
-                    r183 = int32_t(-1);
+                  const bool t184 = (l_delta176.x < int32_t(0));
+                  int32_t r185{};
+                  if (t184) {
+                    r185 = int32_t(-1);
                   } else {
-                    r183 = int32_t(1);
+                    r185 = int32_t(1);
                   }
-                  r181 = r183;
+                  r183 = r185;
                 }
-                l_sign_x175 = r181;
-                const bool t184 = (l_delta174.y == int32_t(0));
-                int32_t r185{};
-                if (t184) {
-                  r185 = int32_t(0);
+                l_sign_x177 = r183;
+                const bool t186 = (l_delta176.y == int32_t(0));
+                int32_t r187{};
+                if (t186) {
+                  r187 = int32_t(0);
                 } else {
-                  const bool t186 = (l_delta174.y < int32_t(0));
-                  int32_t r187{};
-                  if (t186) {
-                    r187 = int32_t(-1);
+                  const bool t188 = (l_delta176.y < int32_t(0));
+                  int32_t r189{};
+                  if (t188) {
+                    r189 = int32_t(-1);
                   } else {
-                    r187 = int32_t(1);
+                    r189 = int32_t(1);
                   }
-                  r185 = r187;
+                  r187 = r189;
                 }
-                l_sign_y176 = r185;
-                const bool t188 = (l_sign_x175 < int32_t(0));
-                int32_t r189{};
-                if (t188) {
-                  const int32_t t190 = neg(l_sign_x175);
-                  r189 = t190;
+                l_sign_y178 = r187;
+                const bool t190 = (l_sign_x177 < int32_t(0));
+                int32_t r191{};
+                if (t190) {
+                  const int32_t t192 = neg(l_sign_x177);
+                  r191 = t192;
                 } else {
-                  r189 = l_sign_x175;
+                  r191 = l_sign_x177;
                 }
-                const bool t191 = (r189 == int32_t(1));
-                bool r192{};
-                if (t191) {
-                  const bool t193 = (l_sign_y176 < int32_t(0));
-                  int32_t r194{};
-                  if (t193) {
-                    const int32_t t195 = neg(l_sign_y176);
-                    r194 = t195;
+                const bool t193 = (r191 == int32_t(1));
+                bool r194{};
+                if (t193) {
+                  const bool t195 = (l_sign_y178 < int32_t(0));
+                  int32_t r196{};
+                  if (t195) {
+                    const int32_t t197 = neg(l_sign_y178);
+                    r196 = t197;
                   } else {
-                    r194 = l_sign_y176;
+                    r196 = l_sign_y178;
                   }
-                  const bool t196 = (r194 == int32_t(1));
-                  r192 = t196;
+                  const bool t198 = (r196 == int32_t(1));
+                  r194 = t198;
                 } else {
-                  r192 = false;
+                  r194 = false;
                 }
-                Pos r197{};
-                if (r192) {
-                  const Pos t198 = Pos{l_sign_x175, int32_t(0)};
-                  r197 = t198;
+                Pos r199{};
+                if (r194) {
+                  const Pos t200 = Pos{l_sign_x177, int32_t(0)};
+                  r199 = t200;
                 } else {
-                  const Pos t199 = Pos{l_sign_x175, l_sign_y176};
-                  r197 = t199;
+                  const Pos t201 = Pos{l_sign_x177, l_sign_y178};
+                  r199 = t201;
                 }
-                l_dir169 = r197;
-                const int32_t t200 = add(x89.origin.x, l_dir169.x);
-                const int32_t t201 = add(x89.origin.y, l_dir169.y);
-                const Pos t202 = Pos{t200, t201};
-                C1_Melt upd203 = C1_Melt{x89.f0, t202};
-                l_movedObj170 = std::move(upd203);
-                const int32_t t204 = add(l_closestHole146.x, int32_t(0));
-                const int32_t t205 = add(l_closestHole146.y, int32_t(-1));
-                const Pos t206 = Pos{t204, t205};
-                const bool t207 = s.core.occupied.free(t206);
-                bool r208{};
-                if (t207) {
-                  const bool t209 = s.core.occupied.free(l_movedObj170.origin);
-                  bool r210{};
-                  if (t209) {
-                    std::vector<Elem>& rendered211 = s.scratch.v.b23;
-                    rendered211.clear();
-                    const int32_t colour212 = colour_19_C1_Melt(s, l_movedObj170);
-                    rendered211.push_back(Elem{Pos{add(l_movedObj170.origin.x, int32_t(0)), add(l_movedObj170.origin.y, int32_t(0))}, colour212});
-                    bool within213 = true;
+                l_dir171 = r199;
+                const int32_t t202 = add(x91.origin.x, l_dir171.x);
+                const int32_t t203 = add(x91.origin.y, l_dir171.y);
+                const Pos t204 = Pos{t202, t203};
+                C1_Melt upd205 = C1_Melt{x91.f0, t204};
+                l_movedObj172 = std::move(upd205);
+                const int32_t t206 = add(l_closestHole148.x, int32_t(0));
+                const int32_t t207 = add(l_closestHole148.y, int32_t(-1));
+                const Pos t208 = Pos{t206, t207};
+                const bool t209 = s.core.occupied.free(t208);
+                bool r210{};
+                if (t209) {
+                  const bool t211 = s.core.occupied.free(l_movedObj172.origin);
+                  bool r212{};
+                  if (t211) {
+                    std::vector<Elem>& rendered213 = s.scratch.v.b23;
+                    rendered213.clear();
+                    const int32_t colour214 = colour_19_C1_Melt(s, l_movedObj172);
+                    rendered213.push_back(Elem{Pos{add(l_movedObj172.origin.x, int32_t(0)), add(l_movedObj172.origin.y, int32_t(0))}, colour214});
+                    bool within215 = true;
                     {
-                      const auto& e214_list = rendered211;
-                      for (const Elem& e214 : e214_list) {
-                        if ((((e214.position.x < int32_t(0)) || (e214.position.x >= int32_t(16))) || ((e214.position.y < int32_t(0)) || (e214.position.y >= int32_t(16))))) {
-                          within213 = false;
+                      const auto& e216_list = rendered213;
+                      for (const Elem& e216 : e216_list) {
+                        if ((((e216.position.x < int32_t(0)) || (e216.position.x >= int32_t(16))) || ((e216.position.y < int32_t(0)) || (e216.position.y >= int32_t(16))))) {
+                          within215 = false;
                           break;
                         }
                       }
                     }
-                    r210 = within213;
+                    r212 = within215;
                   } else {
-                    r210 = false;
+                    r212 = false;
                   }
-                  r208 = r210;
+                  r210 = r212;
                 } else {
-                  r208 = false;
+                  r210 = false;
                 }
-                C1_Melt r215{};
-                if (r208) {
-                  r215 = std::move(l_movedObj170);
+                C1_Melt r217{};
+                if (r210) {
+                  r217 = std::move(l_movedObj172);
                 } else {
-                  r215 = x89;
+                  r217 = x91;
                 }
-                r145 = std::move(r215);
+                r147 = std::move(r217);
               }
-              r104 = std::move(r145);
+              r106 = std::move(r147);
             }
-            const int32_t t216 = sub(x89.f0, int32_t(1));
-            C1_Melt upd217 = C1_Melt{t216, r104.origin};
-            out88.push_back(std::move(upd217));
+            const int32_t t218 = sub(x91.f0, int32_t(1));
+            C1_Melt upd219 = C1_Melt{t218, r106.origin};
+            out90.push_back(std::move(upd219));
           }
         }
-        std::vector<C1_Melt>& out218 = s.scratch.v.b24;
-        out218.clear();
+        std::vector<C1_Melt>& out220 = s.scratch.v.b24;
+        out220.clear();
         {
-          const auto& x219_list = out88;
-          charge_loop(s.core, 33, int64_t(x219_list.size()));
-          for (const C1_Melt& x219 : x219_list) {
+          const auto& x221_list = out90;
+          charge_loop(s.core, 33, int64_t(x221_list.size()));
+          for (const C1_Melt& x221 : x221_list) {
             // inlined: function at programs/snowplow.au:42
-            const bool t220 = (x219.f0 > int32_t(0));
-            if (t220) {
+            const bool t222 = (x221.f0 > int32_t(0));
+            if (t222) {
               charge_built(s.core, 33, int64_t(int32_t(1)));
-              out218.push_back(x219);
+              out220.push_back(x221);
             }
           }
         }
@@ -1188,93 +1200,93 @@ struct Prog {
           std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
           s.scratch.v.sv_melt_16 = true;
         }
-        std::swap(s.g_melt_13, out218);
+        std::swap(s.g_melt_13, out220);
         s.u_melt_14 = true;
       }
     }
     // on-clause 6, programs/snowplow.au:59
     {
-      const bool t221 = s.core.left;
-      if (t221) {
+      const bool t223 = s.core.left;
+      if (t223) {
         s.core.covered[int32_t(5)] = 1;
-        const C3_Plow& prev222 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
+        const C3_Plow& prev224 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
         // inlined: function at programs/snowplow.au:38
-        const int32_t t223 = add(prev222.origin.x, int32_t(-1));
-        const int32_t t224 = add(prev222.origin.y, int32_t(0));
-        const Pos t225 = Pos{t223, t224};
-        const C3_Plow upd226 = C3_Plow{t225};
-        std::vector<Elem>& rendered227 = s.scratch.v.b25;
-        rendered227.clear();
-        rendered227.push_back(Elem{Pos{add(upd226.origin.x, int32_t(0)), add(upd226.origin.y, int32_t(0))}, int32_t(2)});
-        rendered227.push_back(Elem{Pos{add(upd226.origin.x, int32_t(1)), add(upd226.origin.y, int32_t(0))}, int32_t(2)});
-        bool within228 = true;
+        const int32_t t225 = add(prev224.origin.x, int32_t(-1));
+        const int32_t t226 = add(prev224.origin.y, int32_t(0));
+        const Pos t227 = Pos{t225, t226};
+        const C3_Plow upd228 = C3_Plow{t227};
+        std::vector<Elem>& rendered229 = s.scratch.v.b25;
+        rendered229.clear();
+        rendered229.push_back(Elem{Pos{add(upd228.origin.x, int32_t(0)), add(upd228.origin.y, int32_t(0))}, int32_t(2)});
+        rendered229.push_back(Elem{Pos{add(upd228.origin.x, int32_t(1)), add(upd228.origin.y, int32_t(0))}, int32_t(2)});
+        bool within230 = true;
         {
-          const auto& e229_list = rendered227;
-          for (const Elem& e229 : e229_list) {
-            if ((((e229.position.x < int32_t(0)) || (e229.position.x >= int32_t(16))) || ((e229.position.y < int32_t(0)) || (e229.position.y >= int32_t(16))))) {
-              within228 = false;
+          const auto& e231_list = rendered229;
+          for (const Elem& e231 : e231_list) {
+            if ((((e231.position.x < int32_t(0)) || (e231.position.x >= int32_t(16))) || ((e231.position.y < int32_t(0)) || (e231.position.y >= int32_t(16))))) {
+              within230 = false;
               break;
             }
           }
         }
-        C3_Plow r230{};
-        if (within228) {
-          const int32_t t231 = add(prev222.origin.x, int32_t(-1));
-          const int32_t t232 = add(prev222.origin.y, int32_t(0));
-          const Pos t233 = Pos{t231, t232};
-          C3_Plow upd234 = C3_Plow{t233};
-          r230 = std::move(upd234);
+        C3_Plow r232{};
+        if (within230) {
+          const int32_t t233 = add(prev224.origin.x, int32_t(-1));
+          const int32_t t234 = add(prev224.origin.y, int32_t(0));
+          const Pos t235 = Pos{t233, t234};
+          C3_Plow upd236 = C3_Plow{t235};
+          r232 = std::move(upd236);
         } else {
-          r230 = prev222;
+          r232 = prev224;
         }
         if (!s.scratch.v.sv_plow_8) {
           std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
           s.scratch.v.sv_plow_8 = true;
         }
-        s.g_plow_5 = std::move(r230);
+        s.g_plow_5 = std::move(r232);
         s.u_plow_6 = true;
       }
     }
     // on-clause 7, programs/snowplow.au:60
     {
-      const bool t235 = s.core.right;
-      if (t235) {
+      const bool t237 = s.core.right;
+      if (t237) {
         s.core.covered[int32_t(6)] = 1;
-        const C3_Plow& prev236 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
+        const C3_Plow& prev238 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
         // inlined: function at programs/snowplow.au:38
-        const int32_t t237 = add(prev236.origin.x, int32_t(1));
-        const int32_t t238 = add(prev236.origin.y, int32_t(0));
-        const Pos t239 = Pos{t237, t238};
-        const C3_Plow upd240 = C3_Plow{t239};
-        std::vector<Elem>& rendered241 = s.scratch.v.b26;
-        rendered241.clear();
-        rendered241.push_back(Elem{Pos{add(upd240.origin.x, int32_t(0)), add(upd240.origin.y, int32_t(0))}, int32_t(2)});
-        rendered241.push_back(Elem{Pos{add(upd240.origin.x, int32_t(1)), add(upd240.origin.y, int32_t(0))}, int32_t(2)});
-        bool within242 = true;
+        const int32_t t239 = add(prev238.origin.x, int32_t(1));
+        const int32_t t240 = add(prev238.origin.y, int32_t(0));
+        const Pos t241 = Pos{t239, t240};
+        const C3_Plow upd242 = C3_Plow{t241};
+        std::vector<Elem>& rendered243 = s.scratch.v.b26;
+        rendered243.clear();
+        rendered243.push_back(Elem{Pos{add(upd242.origin.x, int32_t(0)), add(upd242.origin.y, int32_t(0))}, int32_t(2)});
+        rendered243.push_back(Elem{Pos{add(upd242.origin.x, int32_t(1)), add(upd242.origin.y, int32_t(0))}, int32_t(2)});
+        bool within244 = true;
         {
-          const auto& e243_list = rendered241;
-          for (const Elem& e243 : e243_list) {
-            if ((((e243.position.x < int32_t(0)) || (e243.position.x >= int32_t(16))) || ((e243.position.y < int32_t(0)) || (e243.position.y >= int32_t(16))))) {
-              within242 = false;
+          const auto& e245_list = rendered243;
+          for (const Elem& e245 : e245_list) {
+            if ((((e245.position.x < int32_t(0)) || (e245.position.x >= int32_t(16))) || ((e245.position.y < int32_t(0)) || (e245.position.y >= int32_t(16))))) {
+              within244 = false;
               break;
             }
           }
         }
-        C3_Plow r244{};
-        if (within242) {
-          const int32_t t245 = add(prev236.origin.x, int32_t(1));
-          const int32_t t246 = add(prev236.origin.y, int32_t(0));
-          const Pos t247 = Pos{t245, t246};
-          C3_Plow upd248 = C3_Plow{t247};
-          r244 = std::move(upd248);
+        C3_Plow r246{};
+        if (within244) {
+          const int32_t t247 = add(prev238.origin.x, int32_t(1));
+          const int32_t t248 = add(prev238.origin.y, int32_t(0));
+          const Pos t249 = Pos{t247, t248};
+          C3_Plow upd250 = C3_Plow{t249};
+          r246 = std::move(upd250);
         } else {
-          r244 = prev236;
+          r246 = prev238;
         }
         if (!s.scratch.v.sv_plow_8) {
           std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
           s.scratch.v.sv_plow_8 = true;
         }
-        s.g_plow_5 = std::move(r244);
+        s.g_plow_5 = std::move(r246);
         s.u_plow_6 = true;
       }
     }
@@ -1282,64 +1294,64 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(7)] = 1;
-        const std::vector<C0_Flake>& g249 = s.g_snow_9;
-        std::vector<C0_Flake>& kept250 = s.scratch.v.b27;
-        kept250.clear();
+        const std::vector<C0_Flake>& g251 = s.g_snow_9;
+        std::vector<C0_Flake>& kept252 = s.scratch.v.b27;
+        kept252.clear();
         {
-          const auto& x251_list = g249;
-          charge_loop(s.core, 35, int64_t(x251_list.size()));
-          for (const C0_Flake& x251 : x251_list) {
+          const auto& x253_list = g251;
+          charge_loop(s.core, 35, int64_t(x253_list.size()));
+          for (const C0_Flake& x253 : x253_list) {
             // inlined: function at programs/snowplow.au:61
-            const C3_Plow& g252 = s.g_plow_5;
-            std::vector<Elem>& rendered253 = s.scratch.v.b28;
-            rendered253.clear();
-            rendered253.push_back(Elem{Pos{add(x251.origin.x, int32_t(0)), add(x251.origin.y, int32_t(0))}, int32_t(6)});
-            std::vector<Elem>& rendered254 = s.scratch.v.b29;
-            rendered254.clear();
-            rendered254.push_back(Elem{Pos{add(g252.origin.x, int32_t(0)), add(g252.origin.y, int32_t(0))}, int32_t(2)});
-            rendered254.push_back(Elem{Pos{add(g252.origin.x, int32_t(1)), add(g252.origin.y, int32_t(0))}, int32_t(2)});
-            const int32_t t255 = int32_t(rendered253.size());
-            const bool t256 = (t255 == int32_t(0));
-            bool r257{};
-            if (!t256) {
-              const int32_t t258 = int32_t(rendered254.size());
-              const bool t259 = (t258 == int32_t(0));
-              r257 = t259;
+            const C3_Plow& g254 = s.g_plow_5;
+            std::vector<Elem>& rendered255 = s.scratch.v.b28;
+            rendered255.clear();
+            rendered255.push_back(Elem{Pos{add(x253.origin.x, int32_t(0)), add(x253.origin.y, int32_t(0))}, int32_t(6)});
+            std::vector<Elem>& rendered256 = s.scratch.v.b29;
+            rendered256.clear();
+            rendered256.push_back(Elem{Pos{add(g254.origin.x, int32_t(0)), add(g254.origin.y, int32_t(0))}, int32_t(2)});
+            rendered256.push_back(Elem{Pos{add(g254.origin.x, int32_t(1)), add(g254.origin.y, int32_t(0))}, int32_t(2)});
+            const int32_t t257 = int32_t(rendered255.size());
+            const bool t258 = (t257 == int32_t(0));
+            bool r259{};
+            if (!t258) {
+              const int32_t t260 = int32_t(rendered256.size());
+              const bool t261 = (t260 == int32_t(0));
+              r259 = t261;
             } else {
-              r257 = true;
+              r259 = true;
             }
-            bool r260{};
-            if (r257) {
-              r260 = false;
+            bool r262{};
+            if (r259) {
+              r262 = false;
             } else {
-              bool any261 = false;
+              bool any263 = false;
               {
-                const auto& x262_list = rendered253;
-                charge_loop(s.core, 36, int64_t(x262_list.size()));
-                for (const Elem& x262 : x262_list) {
-                  bool any263 = false;
+                const auto& x264_list = rendered255;
+                charge_loop(s.core, 36, int64_t(x264_list.size()));
+                for (const Elem& x264 : x264_list) {
+                  bool any265 = false;
                   {
-                    const auto& x264_list = rendered254;
-                    charge_loop(s.core, 37, int64_t(x264_list.size()));
-                    for (const Elem& x264 : x264_list) {
-                      const bool t265 = (x262.position == x264.position);
-                      if (t265) {
-                        any263 = true;
+                    const auto& x266_list = rendered256;
+                    charge_loop(s.core, 37, int64_t(x266_list.size()));
+                    for (const Elem& x266 : x266_list) {
+                      const bool t267 = (x264.position == x266.position);
+                      if (t267) {
+                        any265 = true;
                         break;
                       }
                     }
                   }
-                  if (any263) {
-                    any261 = true;
+                  if (any265) {
+                    any263 = true;
                     break;
                   }
                 }
               }
-              r260 = any261;
+              r262 = any263;
             }
-            if (!r260) {
+            if (!r262) {
               charge_built(s.core, 35, int64_t(int32_t(1)));
-              kept250.push_back(x251);
+              kept252.push_back(x253);
             }
           }
         }
@@ -1347,238 +1359,244 @@ struct Prog {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
-        std::swap(s.g_snow_9, kept250);
+        std::swap(s.g_snow_9, kept252);
         s.u_snow_10 = true;
       }
     }
     // on-clause 9, programs/snowplow.au:63
     {
-      const bool t266 = s.core.up;
-      if (t266) {
+      const bool t268 = s.core.up;
+      if (t268) {
         s.core.covered[int32_t(8)] = 1;
-        const C4_Cloud& prev267 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
-        const C4_Cloud& prev268 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
-        const int32_t t269 = add(prev268.f0, int32_t(1));
-        const bool t270 = (int32_t(4) < t269);
-        int32_t r271{};
-        if (t270) {
-          r271 = int32_t(4);
+        const C4_Cloud& prev269 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const C4_Cloud& prev270 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const int32_t t271 = add(prev270.f0, int32_t(1));
+        const bool t272 = (int32_t(4) < t271);
+        int32_t r273{};
+        if (t272) {
+          r273 = int32_t(4);
         } else {
-          r271 = t269;
+          r273 = t271;
         }
-        C4_Cloud upd272 = C4_Cloud{r271, prev267.origin};
+        C4_Cloud upd274 = C4_Cloud{r273, prev269.origin};
         if (!s.scratch.v.sv_cloud_24) {
           std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
           s.scratch.v.sv_cloud_24 = true;
         }
-        s.g_cloud_21 = std::move(upd272);
+        s.g_cloud_21 = std::move(upd274);
         s.u_cloud_22 = true;
       }
     }
     // on-clause 10, programs/snowplow.au:64
     {
-      const bool t273 = s.core.down;
-      if (t273) {
+      const bool t275 = s.core.down;
+      if (t275) {
         s.core.covered[int32_t(9)] = 1;
-        const C4_Cloud& prev274 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
-        const C4_Cloud& prev275 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
-        const int32_t t276 = sub(prev275.f0, int32_t(1));
-        const bool t277 = (int32_t(1) < t276);
-        int32_t r278{};
-        if (t277) {
-          r278 = t276;
+        const C4_Cloud& prev276 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const C4_Cloud& prev277 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+        const int32_t t278 = sub(prev277.f0, int32_t(1));
+        const bool t279 = (int32_t(1) < t278);
+        int32_t r280{};
+        if (t279) {
+          r280 = t278;
         } else {
-          r278 = int32_t(1);
+          r280 = int32_t(1);
         }
-        C4_Cloud upd279 = C4_Cloud{r278, prev274.origin};
+        C4_Cloud upd281 = C4_Cloud{r280, prev276.origin};
         if (!s.scratch.v.sv_cloud_24) {
           std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
           s.scratch.v.sv_cloud_24 = true;
         }
-        s.g_cloud_21 = std::move(upd279);
+        s.g_cloud_21 = std::move(upd281);
         s.u_cloud_22 = true;
       }
     }
     // on-clause 11, programs/snowplow.au:69
     {
-      const int32_t& g280 = s.g_time_25;
-      const C4_Cloud& g281 = s.g_cloud_21;
-      const int32_t t282 = sub(int32_t(5), g281.f0);
-      if ((t282 == int32_t(0))) {
+      const int32_t& g282 = s.g_time_25;
+      const C4_Cloud& g283 = s.g_cloud_21;
+      const int32_t t284 = sub(int32_t(5), g283.f0);
+      if ((t284 == int32_t(0))) {
         fail_at(38, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
-      if (((g280 == int32_t(-2147483648LL)) && (t282 == int32_t(-1)))) {
+      if (((g282 == int32_t(-2147483648LL)) && (t284 == int32_t(-1)))) {
         fail_at(38, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
-      const int32_t t283 = autumn::arith::mod_unchecked(g280, t282);
-      const bool t284 = (t283 == int32_t(0));
-      bool r285{};
-      if (t284) {
-        const std::vector<C0_Flake>& g286 = s.g_snow_9;
-        const int32_t t287 = int32_t(g286.size());
-        const bool t288 = (t287 < int32_t(70));
-        r285 = t288;
+      const int32_t t285 = autumn::arith::mod_unchecked(g282, t284);
+      const bool t286 = (t285 == int32_t(0));
+      bool r287{};
+      if (t286) {
+        const std::vector<C0_Flake>& g288 = s.g_snow_9;
+        const int32_t t289 = int32_t(g288.size());
+        const bool t290 = (t289 < int32_t(70));
+        r287 = t290;
       } else {
-        r285 = false;
+        r287 = false;
       }
-      if (r285) {
+      if (r287) {
         s.core.covered[int32_t(10)] = 1;
-        Pos l_drop289{};
-        C0_Flake l_flake290{};
+        Pos l_drop291{};
+        C0_Flake l_flake292{};
         if ((int32_t(255) < int32_t(0))) {
           fail_at(39, std::string() + std::string("randomPositions: the grid size must not be negative"));
         }
         charge_built(s.core, 39, int64_t(int32_t(1)));
-        std::vector<Pos>& rpos291 = s.scratch.v.b30;
-        rpos291.clear();
+        std::vector<Pos>& rpos293 = s.scratch.v.b30;
+        rpos293.clear();
         {
-          const int32_t i292_first = int32_t(0), i292_end = int32_t(1);
-          for (int32_t i292 = i292_first; i292 < i292_end; ++i292) {
-            const int32_t t293 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-            const int32_t t294 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
-            const Pos t295 = Pos{t293, t294};
-            rpos291.push_back(t295);
+          const int32_t i294_first = int32_t(0), i294_end = int32_t(1);
+          for (int32_t i294 = i294_first; i294 < i294_end; ++i294) {
+            const int32_t t295 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+            const int32_t t296 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(255)))));
+            const Pos t297 = Pos{t295, t296};
+            rpos293.push_back(t297);
           }
         }
-        if (rpos291.empty()) {
+        if (rpos293.empty()) {
           fail_at(40, std::string() + std::string("head of an empty list"));
         }
-        const Pos t296 = rpos291.front();
-        const int32_t t297 = autumn::arith::mod_unchecked(t296.x, int32_t(16));
-        const Pos t298 = Pos{t297, int32_t(1)};
-        l_drop289 = t298;
-        C0_Flake o299 = C0_Flake{l_drop289};
-        l_flake290 = std::move(o299);
-        std::vector<Elem>& rendered300 = s.scratch.v.b31;
-        rendered300.clear();
-        rendered300.push_back(Elem{Pos{add(l_flake290.origin.x, int32_t(0)), add(l_flake290.origin.y, int32_t(0))}, int32_t(6)});
-        bool any301 = false;
+        const Pos t298 = rpos293.front();
+        const int32_t t299 = autumn::arith::mod_unchecked(t298.x, int32_t(16));
+        const Pos t300 = Pos{t299, int32_t(1)};
+        l_drop291 = t300;
+        C0_Flake o301 = C0_Flake{l_drop291};
+        l_flake292 = std::move(o301);
+        std::vector<Elem>& rendered302 = s.scratch.v.b31;
+        rendered302.clear();
+        rendered302.push_back(Elem{Pos{add(l_flake292.origin.x, int32_t(0)), add(l_flake292.origin.y, int32_t(0))}, int32_t(6)});
+        bool any303 = false;
         {
-          const auto& x302_list = rendered300;
-          for (const Elem& x302 : x302_list) {
-            const bool t303 = s.core.occupied.free(x302.position);
-            const bool t304 = !t303;
-            if (t304) {
-              any301 = true;
+          const auto& x304_list = rendered302;
+          for (const Elem& x304 : x304_list) {
+            const bool t305 = s.core.occupied.free(x304.position);
+            const bool t306 = !t305;
+            if (t306) {
+              any303 = true;
               break;
             }
           }
         }
-        const bool t305 = !any301;
-        std::vector<C0_Flake>& r306 = s.scratch.v.b32;
-        r306.clear();
-        if (t305) {
-          const std::vector<C0_Flake>& g307 = s.g_snow_9;
-          check_length(s.core, 42, int64_t(g307.size()) + int64_t(int32_t(1)));
-          charge_built(s.core, 42, int64_t(g307.size()) + int64_t(int32_t(1)));
-          std::vector<C0_Flake>& added308 = s.scratch.v.b33;
-          added308.clear();
-          added308.reserve(size_t(add(int32_t(g307.size()), int32_t(1))));
-          added308.insert(added308.end(), g307.begin(), g307.end());
-          added308.push_back(std::move(l_flake290));
-          std::swap(r306, added308);
-        } else {
+        const bool t307 = !any303;
+        std::vector<C0_Flake>& r308 = s.scratch.v.b32;
+        r308.clear();
+        if (t307) {
           const std::vector<C0_Flake>& g309 = s.g_snow_9;
-          r306 = g309;
+          check_length(s.core, 42, int64_t(g309.size()) + int64_t(int32_t(1)));
+          charge_built(s.core, 42, int64_t(g309.size()) + int64_t(int32_t(1)));
+          std::vector<C0_Flake>& added310 = s.scratch.v.b33;
+          added310.clear();
+          added310.reserve(size_t(add(int32_t(g309.size()), int32_t(1))));
+          {
+            const auto& x311_list = g309;
+            charge_loop(s.core, 42, int64_t(x311_list.size()));
+            for (const C0_Flake& x311 : x311_list) {
+              added310.push_back(x311);
+            }
+          }
+          added310.push_back(std::move(l_flake292));
+          std::swap(r308, added310);
+        } else {
+          const std::vector<C0_Flake>& g312 = s.g_snow_9;
+          r308 = g312;
         }
         if (!s.scratch.v.sv_snow_12) {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
           s.scratch.v.sv_snow_12 = true;
         }
-        std::swap(s.g_snow_9, r306);
+        std::swap(s.g_snow_9, r308);
         s.u_snow_10 = true;
       }
     }
     // NEXT of plow, programs/snowplow.au:35
     if ((!s.u_plow_6 && s.scratch.v.sv_plow_8)) {
-      const C3_Plow prev310 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
+      const C3_Plow prev313 = (s.scratch.v.sv_plow_8 ? s.scratch.v.p_plow_7 : s.g_plow_5);
       if (!s.scratch.v.sv_plow_8) {
         std::swap(s.scratch.v.p_plow_7, s.g_plow_5);
         s.scratch.v.sv_plow_8 = true;
       }
-      s.g_plow_5 = prev310;
+      s.g_plow_5 = prev313;
       s.u_plow_6 = true;
     }
     // NEXT of snow, programs/snowplow.au:29
     if ((!s.u_snow_10 && s.scratch.v.sv_snow_12)) {
-      const std::vector<C0_Flake> prev311 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
+      const std::vector<C0_Flake> prev314 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
       if (!s.scratch.v.sv_snow_12) {
         std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
         s.scratch.v.sv_snow_12 = true;
       }
-      s.g_snow_9 = prev311;
+      s.g_snow_9 = prev314;
       s.u_snow_10 = true;
     }
     // NEXT of melt, programs/snowplow.au:32
     if ((!s.u_melt_14 && s.scratch.v.sv_melt_16)) {
-      const std::vector<C1_Melt> prev312 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
+      const std::vector<C1_Melt> prev315 = (s.scratch.v.sv_melt_16 ? s.scratch.v.p_melt_15 : s.g_melt_13);
       if (!s.scratch.v.sv_melt_16) {
         std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
         s.scratch.v.sv_melt_16 = true;
       }
-      s.g_melt_13 = prev312;
+      s.g_melt_13 = prev315;
       s.u_melt_14 = true;
     }
     // NEXT of rocks, programs/snowplow.au:26
     if ((!s.u_rocks_18 && s.scratch.v.sv_rocks_20)) {
-      const std::vector<C2_Rock> prev313 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
+      const std::vector<C2_Rock> prev316 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
       if (!s.scratch.v.sv_rocks_20) {
         std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
         s.scratch.v.sv_rocks_20 = true;
       }
-      s.g_rocks_17 = prev313;
+      s.g_rocks_17 = prev316;
       s.u_rocks_18 = true;
     }
     // NEXT of cloud, programs/snowplow.au:21
     if ((!s.u_cloud_22 && s.scratch.v.sv_cloud_24)) {
-      const C4_Cloud prev314 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
+      const C4_Cloud prev317 = (s.scratch.v.sv_cloud_24 ? s.scratch.v.p_cloud_23 : s.g_cloud_21);
       if (!s.scratch.v.sv_cloud_24) {
         std::swap(s.scratch.v.p_cloud_23, s.g_cloud_21);
         s.scratch.v.sv_cloud_24 = true;
       }
-      s.g_cloud_21 = prev314;
+      s.g_cloud_21 = prev317;
       s.u_cloud_22 = true;
     }
     // NEXT of time, programs/snowplow.au:18
     if (!s.u_time_26) {
-      const int32_t& prev315 = (s.scratch.v.sv_time_28 ? s.scratch.v.p_time_27 : s.g_time_25);
-      const int32_t t316 = add(prev315, int32_t(1));
+      const int32_t& prev318 = (s.scratch.v.sv_time_28 ? s.scratch.v.p_time_27 : s.g_time_25);
+      const int32_t t319 = add(prev318, int32_t(1));
       if (!s.scratch.v.sv_time_28) {
         std::swap(s.scratch.v.p_time_27, s.g_time_25);
         s.scratch.v.sv_time_28 = true;
       }
-      s.g_time_25 = t316;
+      s.g_time_25 = t319;
       s.u_time_26 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_30) {
       tally_rendered(s.core, 43, "cacheRendered");
-      const C4_Cloud& g317 = s.g_cloud_21;
-      tally_global(s.core, 0, "cloud", g317);
-      const std::vector<C2_Rock>& g318 = s.g_rocks_17;
-      tally_global(s.core, 1, "rocks", g318);
-      const std::vector<C1_Melt>& g319 = s.g_melt_13;
-      tally_global(s.core, 2, "melt", g319);
-      const C3_Plow& g320 = s.g_plow_5;
-      tally_global(s.core, 3, "plow", g320);
+      const C4_Cloud& g320 = s.g_cloud_21;
+      tally_global(s.core, 0, "cloud", g320);
+      const std::vector<C2_Rock>& g321 = s.g_rocks_17;
+      tally_global(s.core, 1, "rocks", g321);
+      const std::vector<C1_Melt>& g322 = s.g_melt_13;
+      tally_global(s.core, 2, "melt", g322);
+      const C3_Plow& g323 = s.g_plow_5;
+      tally_global(s.core, 3, "plow", g323);
       if (s.d_click_30) {
-        const Pos& g321 = s.g_click_29;
-        tally_global(s.core, 43, "click", g321);
+        const Pos& g324 = s.g_click_29;
+        tally_global(s.core, 43, "click", g324);
       }
-      const std::vector<C0_Flake>& g322 = s.g_snow_9;
-      tally_global(s.core, 4, "snow", g322);
+      const std::vector<C0_Flake>& g325 = s.g_snow_9;
+      tally_global(s.core, 4, "snow", g325);
     } else {
       tally_rendered(s.core, 43, "cacheRendered");
-      const C4_Cloud& g323 = s.g_cloud_21;
-      tally_global(s.core, 0, "cloud", g323);
-      const std::vector<C2_Rock>& g324 = s.g_rocks_17;
-      tally_global(s.core, 1, "rocks", g324);
-      const std::vector<C1_Melt>& g325 = s.g_melt_13;
-      tally_global(s.core, 2, "melt", g325);
-      const C3_Plow& g326 = s.g_plow_5;
-      tally_global(s.core, 3, "plow", g326);
-      const std::vector<C0_Flake>& g327 = s.g_snow_9;
-      tally_global(s.core, 4, "snow", g327);
+      const C4_Cloud& g326 = s.g_cloud_21;
+      tally_global(s.core, 0, "cloud", g326);
+      const std::vector<C2_Rock>& g327 = s.g_rocks_17;
+      tally_global(s.core, 1, "rocks", g327);
+      const std::vector<C1_Melt>& g328 = s.g_melt_13;
+      tally_global(s.core, 2, "melt", g328);
+      const C3_Plow& g329 = s.g_plow_5;
+      tally_global(s.core, 3, "plow", g329);
+      const std::vector<C0_Flake>& g330 = s.g_snow_9;
+      tally_global(s.core, 4, "snow", g330);
     }
     s.core.clear_inputs();
   }

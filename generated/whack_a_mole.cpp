@@ -543,7 +543,13 @@ struct Prog {
         std::vector<C2_Flash>& added36 = s.scratch.v.b4;
         added36.clear();
         added36.reserve(size_t(add(int32_t(g29.size()), int32_t(1))));
-        added36.insert(added36.end(), g29.begin(), g29.end());
+        {
+          const auto& x37_list = g29;
+          charge_loop(s.core, 12, int64_t(x37_list.size()));
+          for (const C2_Flash& x37 : x37_list) {
+            added36.push_back(x37);
+          }
+        }
         added36.push_back(std::move(o35));
         if (!s.scratch.v.sv_flashes_29) {
           std::swap(s.scratch.v.p_flashes_28, s.g_flashes_26);
@@ -555,75 +561,75 @@ struct Prog {
     }
     // on-clause 2, programs/whack_a_mole.au:61
     {
-      const bool& g37 = s.g_won_10;
-      const bool t38 = !g37;
-      bool r39{};
-      if (t38) {
-        bool clicked40 = false;
+      const bool& g38 = s.g_won_10;
+      const bool t39 = !g38;
+      bool r40{};
+      if (t39) {
+        bool clicked41 = false;
         if (s.core.click) {
           s.d_click_35 = true;
-          const Pos t41 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_34 = t41;
-          clicked40 = true;
+          const Pos t42 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_34 = t42;
+          clicked41 = true;
         }
-        bool r42{};
-        if (clicked40) {
-          const std::vector<C1_Mole>& prev43 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
-          bool clicked44 = false;
+        bool r43{};
+        if (clicked41) {
+          const std::vector<C1_Mole>& prev44 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+          bool clicked45 = false;
           if (s.core.click) {
             s.d_click_35 = true;
-            const Pos t45 = Pos{s.core.click_x, s.core.click_y};
-            s.g_click_34 = t45;
+            const Pos t46 = Pos{s.core.click_x, s.core.click_y};
+            s.g_click_34 = t46;
             {
-              const auto& x46_list = prev43;
-              charge_loop(s.core, 13, int64_t(x46_list.size()));
-              for (const C1_Mole& x46 : x46_list) {
-                const int32_t colour47 = colour_11_C1_Mole(s, x46);
-                const Elem e48 = Elem{Pos{add(x46.origin.x, int32_t(0)), add(x46.origin.y, int32_t(0))}, colour47};
-                if ((e48.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked44 = true;
+              const auto& x47_list = prev44;
+              charge_loop(s.core, 13, int64_t(x47_list.size()));
+              for (const C1_Mole& x47 : x47_list) {
+                const int32_t colour48 = colour_11_C1_Mole(s, x47);
+                const Elem e49 = Elem{Pos{add(x47.origin.x, int32_t(0)), add(x47.origin.y, int32_t(0))}, colour48};
+                if ((e49.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked45 = true;
                 }
               }
             }
           }
-          const bool t49 = !clicked44;
-          r42 = t49;
+          const bool t50 = !clicked45;
+          r43 = t50;
         } else {
-          r42 = false;
+          r43 = false;
         }
-        r39 = r42;
+        r40 = r43;
       } else {
-        r39 = false;
+        r40 = false;
       }
-      if (r39) {
+      if (r40) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C1_Mole>& prev50 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+        const std::vector<C1_Mole>& prev51 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C1_Mole>& out51 = s.scratch.v.b5;
-        out51.clear();
-        charge_built(s.core, 7, int64_t(prev50.size()));
-        out51.reserve(size_t(int32_t(prev50.size())));
+        std::vector<C1_Mole>& out52 = s.scratch.v.b5;
+        out52.clear();
+        charge_built(s.core, 7, int64_t(prev51.size()));
+        out52.reserve(size_t(int32_t(prev51.size())));
         {
-          const auto& x52_list = prev50;
-          charge_loop(s.core, 7, int64_t(x52_list.size()));
-          for (const C1_Mole& x52 : x52_list) {
+          const auto& x53_list = prev51;
+          charge_loop(s.core, 7, int64_t(x53_list.size()));
+          for (const C1_Mole& x53 : x53_list) {
             // inlined: function at programs/whack_a_mole.au:47
-            const int32_t t53 = sub(x52.f0, int32_t(1));
-            C1_Mole upd54 = C1_Mole{t53, x52.origin};
-            out51.push_back(std::move(upd54));
+            const int32_t t54 = sub(x53.f0, int32_t(1));
+            C1_Mole upd55 = C1_Mole{t54, x53.origin};
+            out52.push_back(std::move(upd55));
           }
         }
-        std::vector<C1_Mole>& out55 = s.scratch.v.b6;
-        out55.clear();
+        std::vector<C1_Mole>& out56 = s.scratch.v.b6;
+        out56.clear();
         {
-          const auto& x56_list = out51;
-          charge_loop(s.core, 8, int64_t(x56_list.size()));
-          for (const C1_Mole& x56 : x56_list) {
+          const auto& x57_list = out52;
+          charge_loop(s.core, 8, int64_t(x57_list.size()));
+          for (const C1_Mole& x57 : x57_list) {
             // inlined: function at programs/whack_a_mole.au:46
-            const bool t57 = (x56.f0 > int32_t(0));
-            if (t57) {
+            const bool t58 = (x57.f0 > int32_t(0));
+            if (t58) {
               charge_built(s.core, 8, int64_t(int32_t(1)));
-              out55.push_back(x56);
+              out56.push_back(x57);
             }
           }
         }
@@ -631,71 +637,71 @@ struct Prog {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
-        std::swap(s.g_moles_18, out55);
+        std::swap(s.g_moles_18, out56);
         s.u_moles_19 = true;
-        const int32_t& prev58 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
-        const int32_t t59 = sub(prev58, int32_t(1));
-        const bool t60 = (int32_t(0) < t59);
-        int32_t r61{};
-        if (t60) {
-          r61 = t59;
+        const int32_t& prev59 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
+        const int32_t t60 = sub(prev59, int32_t(1));
+        const bool t61 = (int32_t(0) < t60);
+        int32_t r62{};
+        if (t61) {
+          r62 = t60;
         } else {
-          r61 = int32_t(0);
+          r62 = int32_t(0);
         }
         if (!s.scratch.v.sv_score_17) {
           std::swap(s.scratch.v.p_score_16, s.g_score_14);
           s.scratch.v.sv_score_17 = true;
         }
-        s.g_score_14 = r61;
+        s.g_score_14 = r62;
         s.u_score_15 = true;
       }
     }
     // on-clause 3, programs/whack_a_mole.au:67
     {
-      const bool& g62 = s.g_won_10;
-      bool r63{};
-      if (!g62) {
-        bool clicked64 = false;
+      const bool& g63 = s.g_won_10;
+      bool r64{};
+      if (!g63) {
+        bool clicked65 = false;
         if (s.core.click) {
           s.d_click_35 = true;
-          const Pos t65 = Pos{s.core.click_x, s.core.click_y};
-          s.g_click_34 = t65;
-          clicked64 = true;
+          const Pos t66 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_34 = t66;
+          clicked65 = true;
         }
-        const bool t66 = !clicked64;
-        r63 = t66;
+        const bool t67 = !clicked65;
+        r64 = t67;
       } else {
-        r63 = true;
+        r64 = true;
       }
-      if (r63) {
+      if (r64) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C1_Mole>& prev67 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+        const std::vector<C1_Mole>& prev68 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
         // inlined: function at programs/whack_a_mole.au:45
-        std::vector<C1_Mole>& out68 = s.scratch.v.b7;
-        out68.clear();
-        charge_built(s.core, 7, int64_t(prev67.size()));
-        out68.reserve(size_t(int32_t(prev67.size())));
+        std::vector<C1_Mole>& out69 = s.scratch.v.b7;
+        out69.clear();
+        charge_built(s.core, 7, int64_t(prev68.size()));
+        out69.reserve(size_t(int32_t(prev68.size())));
         {
-          const auto& x69_list = prev67;
-          charge_loop(s.core, 7, int64_t(x69_list.size()));
-          for (const C1_Mole& x69 : x69_list) {
+          const auto& x70_list = prev68;
+          charge_loop(s.core, 7, int64_t(x70_list.size()));
+          for (const C1_Mole& x70 : x70_list) {
             // inlined: function at programs/whack_a_mole.au:47
-            const int32_t t70 = sub(x69.f0, int32_t(1));
-            C1_Mole upd71 = C1_Mole{t70, x69.origin};
-            out68.push_back(std::move(upd71));
+            const int32_t t71 = sub(x70.f0, int32_t(1));
+            C1_Mole upd72 = C1_Mole{t71, x70.origin};
+            out69.push_back(std::move(upd72));
           }
         }
-        std::vector<C1_Mole>& out72 = s.scratch.v.b8;
-        out72.clear();
+        std::vector<C1_Mole>& out73 = s.scratch.v.b8;
+        out73.clear();
         {
-          const auto& x73_list = out68;
-          charge_loop(s.core, 8, int64_t(x73_list.size()));
-          for (const C1_Mole& x73 : x73_list) {
+          const auto& x74_list = out69;
+          charge_loop(s.core, 8, int64_t(x74_list.size()));
+          for (const C1_Mole& x74 : x74_list) {
             // inlined: function at programs/whack_a_mole.au:46
-            const bool t74 = (x73.f0 > int32_t(0));
-            if (t74) {
+            const bool t75 = (x74.f0 > int32_t(0));
+            if (t75) {
               charge_built(s.core, 8, int64_t(int32_t(1)));
-              out72.push_back(x73);
+              out73.push_back(x74);
             }
           }
         }
@@ -703,134 +709,140 @@ struct Prog {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
-        std::swap(s.g_moles_18, out72);
+        std::swap(s.g_moles_18, out73);
         s.u_moles_19 = true;
       }
     }
     // on-clause 4, programs/whack_a_mole.au:70
     {
-      const bool& g75 = s.g_won_10;
-      const bool t76 = !g75;
-      bool r77{};
-      if (t76) {
-        const int32_t& g78 = s.g_time_30;
-        const int32_t t79 = autumn::arith::mod_unchecked(g78, int32_t(2));
-        const bool t80 = (t79 == int32_t(0));
-        bool r81{};
-        if (t80) {
-          const std::vector<C1_Mole>& g82 = s.g_moles_18;
+      const bool& g76 = s.g_won_10;
+      const bool t77 = !g76;
+      bool r78{};
+      if (t77) {
+        const int32_t& g79 = s.g_time_30;
+        const int32_t t80 = autumn::arith::mod_unchecked(g79, int32_t(2));
+        const bool t81 = (t80 == int32_t(0));
+        bool r82{};
+        if (t81) {
+          const std::vector<C1_Mole>& g83 = s.g_moles_18;
           // inlined: function at programs/whack_a_mole.au:50
-          const std::vector<Pos>& g83 = s.g_burrowSpots_4;
-          std::vector<Pos>& out84 = s.scratch.v.b9;
-          out84.clear();
+          const std::vector<Pos>& g84 = s.g_burrowSpots_4;
+          std::vector<Pos>& out85 = s.scratch.v.b9;
+          out85.clear();
           {
-            const auto& x85_list = g83;
-            charge_loop(s.core, 14, int64_t(x85_list.size()));
-            for (const Pos& x85 : x85_list) {
+            const auto& x86_list = g84;
+            charge_loop(s.core, 14, int64_t(x86_list.size()));
+            for (const Pos& x86 : x86_list) {
               // inlined: function at programs/whack_a_mole.au:51
-              bool any86 = false;
+              bool any87 = false;
               {
-                const auto& x87_list = g82;
-                charge_loop(s.core, 15, int64_t(x87_list.size()));
-                for (const C1_Mole& x87 : x87_list) {
+                const auto& x88_list = g83;
+                charge_loop(s.core, 15, int64_t(x88_list.size()));
+                for (const C1_Mole& x88 : x88_list) {
                   // inlined: function at programs/whack_a_mole.au:51
-                  const bool t88 = (x87.origin == x85);
-                  if (t88) {
-                    any86 = true;
+                  const bool t89 = (x88.origin == x86);
+                  if (t89) {
+                    any87 = true;
                     break;
                   }
                 }
               }
-              const bool t89 = !any86;
-              if (t89) {
+              const bool t90 = !any87;
+              if (t90) {
                 charge_built(s.core, 14, int64_t(int32_t(1)));
-                out84.push_back(x85);
+                out85.push_back(x86);
               }
             }
           }
-          const int32_t t90 = int32_t(out84.size());
-          const bool t91 = (t90 > int32_t(0));
-          r81 = t91;
+          const int32_t t91 = int32_t(out85.size());
+          const bool t92 = (t91 > int32_t(0));
+          r82 = t92;
         } else {
-          r81 = false;
+          r82 = false;
         }
-        r77 = r81;
+        r78 = r82;
       } else {
-        r77 = false;
+        r78 = false;
       }
-      if (r77) {
+      if (r78) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_Mole>& g92 = s.g_moles_18;
-        const std::vector<int32_t> list93 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
-        if (list93.empty()) {
+        const std::vector<C1_Mole>& g93 = s.g_moles_18;
+        const std::vector<int32_t> list94 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
+        if (list94.empty()) {
           fail_at(16, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t94 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list93.size())))));
-        const int32_t t95 = list93[size_t(t94)];
-        const std::vector<C1_Mole>& g96 = s.g_moles_18;
+        const int32_t t95 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list94.size())))));
+        const int32_t t96 = list94[size_t(t95)];
+        const std::vector<C1_Mole>& g97 = s.g_moles_18;
         // inlined: function at programs/whack_a_mole.au:50
-        const std::vector<Pos>& g97 = s.g_burrowSpots_4;
-        std::vector<Pos>& out98 = s.scratch.v.b10;
-        out98.clear();
+        const std::vector<Pos>& g98 = s.g_burrowSpots_4;
+        std::vector<Pos>& out99 = s.scratch.v.b10;
+        out99.clear();
         {
-          const auto& x99_list = g97;
-          charge_loop(s.core, 14, int64_t(x99_list.size()));
-          for (const Pos& x99 : x99_list) {
+          const auto& x100_list = g98;
+          charge_loop(s.core, 14, int64_t(x100_list.size()));
+          for (const Pos& x100 : x100_list) {
             // inlined: function at programs/whack_a_mole.au:51
-            bool any100 = false;
+            bool any101 = false;
             {
-              const auto& x101_list = g96;
-              charge_loop(s.core, 15, int64_t(x101_list.size()));
-              for (const C1_Mole& x101 : x101_list) {
+              const auto& x102_list = g97;
+              charge_loop(s.core, 15, int64_t(x102_list.size()));
+              for (const C1_Mole& x102 : x102_list) {
                 // inlined: function at programs/whack_a_mole.au:51
-                const bool t102 = (x101.origin == x99);
-                if (t102) {
-                  any100 = true;
+                const bool t103 = (x102.origin == x100);
+                if (t103) {
+                  any101 = true;
                   break;
                 }
               }
             }
-            const bool t103 = !any100;
-            if (t103) {
+            const bool t104 = !any101;
+            if (t104) {
               charge_built(s.core, 14, int64_t(int32_t(1)));
-              out98.push_back(x99);
+              out99.push_back(x100);
             }
           }
         }
-        if (out98.empty()) {
+        if (out99.empty()) {
           fail_at(17, std::string() + std::string("uniformChoice of an empty list"));
         }
-        const int32_t t104 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out98.size())))));
-        const Pos t105 = out98[size_t(t104)];
-        C1_Mole o106 = C1_Mole{t95, t105};
-        check_length(s.core, 18, int64_t(g92.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 18, int64_t(g92.size()) + int64_t(int32_t(1)));
-        std::vector<C1_Mole>& added107 = s.scratch.v.b11;
-        added107.clear();
-        added107.reserve(size_t(add(int32_t(g92.size()), int32_t(1))));
-        added107.insert(added107.end(), g92.begin(), g92.end());
-        added107.push_back(std::move(o106));
+        const int32_t t105 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out99.size())))));
+        const Pos t106 = out99[size_t(t105)];
+        C1_Mole o107 = C1_Mole{t96, t106};
+        check_length(s.core, 18, int64_t(g93.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 18, int64_t(g93.size()) + int64_t(int32_t(1)));
+        std::vector<C1_Mole>& added108 = s.scratch.v.b11;
+        added108.clear();
+        added108.reserve(size_t(add(int32_t(g93.size()), int32_t(1))));
+        {
+          const auto& x109_list = g93;
+          charge_loop(s.core, 18, int64_t(x109_list.size()));
+          for (const C1_Mole& x109 : x109_list) {
+            added108.push_back(x109);
+          }
+        }
+        added108.push_back(std::move(o107));
         if (!s.scratch.v.sv_moles_21) {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
           s.scratch.v.sv_moles_21 = true;
         }
-        std::swap(s.g_moles_18, added107);
+        std::swap(s.g_moles_18, added108);
         s.u_moles_19 = true;
       }
     }
     // on-clause 5, programs/whack_a_mole.au:73
     {
-      const bool& g108 = s.g_won_10;
-      const bool t109 = !g108;
-      bool r110{};
-      if (t109) {
-        const int32_t& g111 = s.g_score_14;
-        const bool t112 = (g111 >= int32_t(10));
-        r110 = t112;
+      const bool& g110 = s.g_won_10;
+      const bool t111 = !g110;
+      bool r112{};
+      if (t111) {
+        const int32_t& g113 = s.g_score_14;
+        const bool t114 = (g113 >= int32_t(10));
+        r112 = t114;
       } else {
-        r110 = false;
+        r112 = false;
       }
-      if (r110) {
+      if (r112) {
         s.core.covered[int32_t(4)] = 1;
         if (!s.scratch.v.sv_won_13) {
           std::swap(s.scratch.v.p_won_12, s.g_won_10);
@@ -849,36 +861,36 @@ struct Prog {
     }
     // on-clause 6, programs/whack_a_mole.au:76
     {
-      const bool& prev113 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
-      bool r114{};
-      if (prev113) {
-        const bool t115 = s.core.left;
-        bool r116{};
-        if (!t115) {
-          const bool t117 = s.core.right;
-          bool r118{};
-          if (!t117) {
-            const bool t119 = s.core.up;
-            bool r120{};
-            if (!t119) {
-              const bool t121 = s.core.down;
-              r120 = t121;
+      const bool& prev115 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
+      bool r116{};
+      if (prev115) {
+        const bool t117 = s.core.left;
+        bool r118{};
+        if (!t117) {
+          const bool t119 = s.core.right;
+          bool r120{};
+          if (!t119) {
+            const bool t121 = s.core.up;
+            bool r122{};
+            if (!t121) {
+              const bool t123 = s.core.down;
+              r122 = t123;
             } else {
-              r120 = true;
+              r122 = true;
             }
-            r118 = r120;
+            r120 = r122;
           } else {
-            r118 = true;
+            r120 = true;
           }
-          r116 = r118;
+          r118 = r120;
         } else {
-          r116 = true;
+          r118 = true;
         }
-        r114 = r116;
+        r116 = r118;
       } else {
-        r114 = false;
+        r116 = false;
       }
-      if (r114) {
+      if (r116) {
         s.core.covered[int32_t(5)] = 1;
         if (!s.scratch.v.sv_won_13) {
           std::swap(s.scratch.v.p_won_12, s.g_won_10);
@@ -897,134 +909,134 @@ struct Prog {
     }
     // NEXT of bar, programs/whack_a_mole.au:42
     if (!s.u_bar_7) {
-      const C3_ScoreBar& prev122 = (s.scratch.v.sv_bar_9 ? s.scratch.v.p_bar_8 : s.g_bar_6);
-      const int32_t& g123 = s.g_score_14;
-      C3_ScoreBar upd124 = C3_ScoreBar{g123, prev122.origin};
+      const C3_ScoreBar& prev124 = (s.scratch.v.sv_bar_9 ? s.scratch.v.p_bar_8 : s.g_bar_6);
+      const int32_t& g125 = s.g_score_14;
+      C3_ScoreBar upd126 = C3_ScoreBar{g125, prev124.origin};
       if (!s.scratch.v.sv_bar_9) {
         std::swap(s.scratch.v.p_bar_8, s.g_bar_6);
         s.scratch.v.sv_bar_9 = true;
       }
-      s.g_bar_6 = std::move(upd124);
+      s.g_bar_6 = std::move(upd126);
       s.u_bar_7 = true;
     }
     // NEXT of won, programs/whack_a_mole.au:39
     if ((!s.u_won_11 && s.scratch.v.sv_won_13)) {
-      const bool prev125 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
+      const bool prev127 = (s.scratch.v.sv_won_13 ? s.scratch.v.p_won_12 : s.g_won_10);
       if (!s.scratch.v.sv_won_13) {
         std::swap(s.scratch.v.p_won_12, s.g_won_10);
         s.scratch.v.sv_won_13 = true;
       }
-      s.g_won_10 = prev125;
+      s.g_won_10 = prev127;
       s.u_won_11 = true;
     }
     // NEXT of score, programs/whack_a_mole.au:36
     if ((!s.u_score_15 && s.scratch.v.sv_score_17)) {
-      const int32_t prev126 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
+      const int32_t prev128 = (s.scratch.v.sv_score_17 ? s.scratch.v.p_score_16 : s.g_score_14);
       if (!s.scratch.v.sv_score_17) {
         std::swap(s.scratch.v.p_score_16, s.g_score_14);
         s.scratch.v.sv_score_17 = true;
       }
-      s.g_score_14 = prev126;
+      s.g_score_14 = prev128;
       s.u_score_15 = true;
     }
     // NEXT of moles, programs/whack_a_mole.au:28
     if ((!s.u_moles_19 && s.scratch.v.sv_moles_21)) {
-      const std::vector<C1_Mole> prev127 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
+      const std::vector<C1_Mole> prev129 = (s.scratch.v.sv_moles_21 ? s.scratch.v.p_moles_20 : s.g_moles_18);
       if (!s.scratch.v.sv_moles_21) {
         std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
         s.scratch.v.sv_moles_21 = true;
       }
-      s.g_moles_18 = prev127;
+      s.g_moles_18 = prev129;
       s.u_moles_19 = true;
     }
     // NEXT of burrows, programs/whack_a_mole.au:25
     if ((!s.u_burrows_23 && s.scratch.v.sv_burrows_25)) {
-      const std::vector<C0_Burrow> prev128 = (s.scratch.v.sv_burrows_25 ? s.scratch.v.p_burrows_24 : s.g_burrows_22);
+      const std::vector<C0_Burrow> prev130 = (s.scratch.v.sv_burrows_25 ? s.scratch.v.p_burrows_24 : s.g_burrows_22);
       if (!s.scratch.v.sv_burrows_25) {
         std::swap(s.scratch.v.p_burrows_24, s.g_burrows_22);
         s.scratch.v.sv_burrows_25 = true;
       }
-      s.g_burrows_22 = prev128;
+      s.g_burrows_22 = prev130;
       s.u_burrows_23 = true;
     }
     // NEXT of flashes, programs/whack_a_mole.au:32
     if (!s.u_flashes_27) {
-      const std::vector<C2_Flash>& prev129 = (s.scratch.v.sv_flashes_29 ? s.scratch.v.p_flashes_28 : s.g_flashes_26);
-      std::vector<C2_Flash>& out130 = s.scratch.v.b12;
-      out130.clear();
+      const std::vector<C2_Flash>& prev131 = (s.scratch.v.sv_flashes_29 ? s.scratch.v.p_flashes_28 : s.g_flashes_26);
+      std::vector<C2_Flash>& out132 = s.scratch.v.b12;
+      out132.clear();
       {
-        const auto& x131_list = prev129;
-        charge_loop(s.core, 19, int64_t(x131_list.size()));
-        for (const C2_Flash& x131 : x131_list) {
+        const auto& x133_list = prev131;
+        charge_loop(s.core, 19, int64_t(x133_list.size()));
+        for (const C2_Flash& x133 : x133_list) {
           // inlined: function at programs/whack_a_mole.au:32
-          const bool t132 = (x131.f0 > int32_t(1));
-          if (t132) {
+          const bool t134 = (x133.f0 > int32_t(1));
+          if (t134) {
             charge_built(s.core, 19, int64_t(int32_t(1)));
-            out130.push_back(x131);
+            out132.push_back(x133);
           }
         }
       }
-      std::vector<C2_Flash>& out133 = s.scratch.v.b13;
-      out133.clear();
-      charge_built(s.core, 20, int64_t(out130.size()));
-      out133.reserve(size_t(int32_t(out130.size())));
+      std::vector<C2_Flash>& out135 = s.scratch.v.b13;
+      out135.clear();
+      charge_built(s.core, 20, int64_t(out132.size()));
+      out135.reserve(size_t(int32_t(out132.size())));
       {
-        const auto& x134_list = out130;
-        charge_loop(s.core, 20, int64_t(x134_list.size()));
-        for (const C2_Flash& x134 : x134_list) {
+        const auto& x136_list = out132;
+        charge_loop(s.core, 20, int64_t(x136_list.size()));
+        for (const C2_Flash& x136 : x136_list) {
           // inlined: function at programs/whack_a_mole.au:33
-          const int32_t t135 = sub(x134.f0, int32_t(1));
-          C2_Flash upd136 = C2_Flash{t135, x134.origin};
-          out133.push_back(std::move(upd136));
+          const int32_t t137 = sub(x136.f0, int32_t(1));
+          C2_Flash upd138 = C2_Flash{t137, x136.origin};
+          out135.push_back(std::move(upd138));
         }
       }
       if (!s.scratch.v.sv_flashes_29) {
         std::swap(s.scratch.v.p_flashes_28, s.g_flashes_26);
         s.scratch.v.sv_flashes_29 = true;
       }
-      std::swap(s.g_flashes_26, out133);
+      std::swap(s.g_flashes_26, out135);
       s.u_flashes_27 = true;
     }
     // NEXT of time, programs/whack_a_mole.au:22
     if (!s.u_time_31) {
-      const int32_t& prev137 = (s.scratch.v.sv_time_33 ? s.scratch.v.p_time_32 : s.g_time_30);
-      const int32_t t138 = add(prev137, int32_t(1));
+      const int32_t& prev139 = (s.scratch.v.sv_time_33 ? s.scratch.v.p_time_32 : s.g_time_30);
+      const int32_t t140 = add(prev139, int32_t(1));
       if (!s.scratch.v.sv_time_33) {
         std::swap(s.scratch.v.p_time_32, s.g_time_30);
         s.scratch.v.sv_time_33 = true;
       }
-      s.g_time_30 = t138;
+      s.g_time_30 = t140;
       s.u_time_31 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_35) {
       tally_rendered(s.core, 21, "cacheRendered");
-      const std::vector<C2_Flash>& g139 = s.g_flashes_26;
-      tally_global(s.core, 1, "flashes", g139);
-      const std::vector<C0_Burrow>& g140 = s.g_burrows_22;
-      tally_global(s.core, 2, "burrows", g140);
-      const C3_ScoreBar& g141 = s.g_bar_6;
-      tally_global(s.core, 3, "bar", g141);
-      const std::vector<Pos>& g142 = s.g_burrowSpots_4;
-      tally_global(s.core, 4, "burrowSpots", g142);
+      const std::vector<C2_Flash>& g141 = s.g_flashes_26;
+      tally_global(s.core, 1, "flashes", g141);
+      const std::vector<C0_Burrow>& g142 = s.g_burrows_22;
+      tally_global(s.core, 2, "burrows", g142);
+      const C3_ScoreBar& g143 = s.g_bar_6;
+      tally_global(s.core, 3, "bar", g143);
+      const std::vector<Pos>& g144 = s.g_burrowSpots_4;
+      tally_global(s.core, 4, "burrowSpots", g144);
       if (s.d_click_35) {
-        const Pos& g143 = s.g_click_34;
-        tally_global(s.core, 21, "click", g143);
+        const Pos& g145 = s.g_click_34;
+        tally_global(s.core, 21, "click", g145);
       }
-      const std::vector<C1_Mole>& g144 = s.g_moles_18;
-      tally_global(s.core, 5, "moles", g144);
+      const std::vector<C1_Mole>& g146 = s.g_moles_18;
+      tally_global(s.core, 5, "moles", g146);
     } else {
       tally_rendered(s.core, 21, "cacheRendered");
-      const std::vector<C2_Flash>& g145 = s.g_flashes_26;
-      tally_global(s.core, 1, "flashes", g145);
-      const std::vector<C0_Burrow>& g146 = s.g_burrows_22;
-      tally_global(s.core, 2, "burrows", g146);
-      const C3_ScoreBar& g147 = s.g_bar_6;
-      tally_global(s.core, 3, "bar", g147);
-      const std::vector<Pos>& g148 = s.g_burrowSpots_4;
-      tally_global(s.core, 4, "burrowSpots", g148);
-      const std::vector<C1_Mole>& g149 = s.g_moles_18;
-      tally_global(s.core, 5, "moles", g149);
+      const std::vector<C2_Flash>& g147 = s.g_flashes_26;
+      tally_global(s.core, 1, "flashes", g147);
+      const std::vector<C0_Burrow>& g148 = s.g_burrows_22;
+      tally_global(s.core, 2, "burrows", g148);
+      const C3_ScoreBar& g149 = s.g_bar_6;
+      tally_global(s.core, 3, "bar", g149);
+      const std::vector<Pos>& g150 = s.g_burrowSpots_4;
+      tally_global(s.core, 4, "burrowSpots", g150);
+      const std::vector<C1_Mole>& g151 = s.g_moles_18;
+      tally_global(s.core, 5, "moles", g151);
     }
     s.core.clear_inputs();
   }

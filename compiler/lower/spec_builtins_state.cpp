@@ -287,18 +287,18 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
     ir::Node* extra = x.type->k == TK::List ? (x.type->elem ? ir_.node(ir::Op::Size, T().int_(), {x.code}) : ir_.lit(T().int_(), 0))
                                             : ir_.lit(T().int_(), 1);
     ir_.emit_eval(ir_.call(ir::Helper::Reserve, nullptr, {ir_.local(out), ir_.node(ir::Op::Add, T().int_(), {ir_.node(ir::Op::Size, T().int_(), {l.code}), extra})}));
-    if (!h_.tracked(et) && et == rt) {  // the elements as they are: one bulk copy, no loop
-      ir_.emit_eval(ir_.call(ir::Helper::Append, nullptr, {ir_.local(out), l.code}));
-    } else {
-      ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
-      loop->var = ir_.var(et, "x");
-      loop->a = l.code;
-      ir_.in_block(loop->body, [&] {
-        SVal e{et, ir_.local(loop->var)};
-        if (h_.tracked(et)) e = renew_identity(e);
-        ir_.emit_push(ir_.local(out), coerce(e, rt).code);
-      });
-    }
+    // A loop of pushes even where the elements are copied as they are: a bulk
+    // insert instead (vector::insert) made g++ stop inlining push_back at the
+    // module's other pushes of that type (gravity_2's updateObj loops, 3x
+    // slower steps; docs/design.md).
+    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+    loop->var = ir_.var(et, "x");
+    loop->a = l.code;
+    ir_.in_block(loop->body, [&] {
+      SVal e{et, ir_.local(loop->var)};
+      if (h_.tracked(et)) e = renew_identity(e);
+      ir_.emit_push(ir_.local(out), coerce(e, rt).code);
+    });
   }
   if (x.type->k == TK::List) {
     if (x.type->elem) {
