@@ -146,26 +146,31 @@ class IdTable {
 class Marks {
  public:
   Marks() = default;
-  Marks(const Marks&) = default;
-  // Copies (every search successor's copy_from) take only the entries in use.
+  // Copies (clone, and every search successor's copy_from) take only the
+  // entries in use: the array is allocated, not filled.
+  Marks(const Marks& o) { *this = o; }
   Marks& operator=(const Marks& o) {
     if (this == &o) return *this;
+    if (size_ != o.size_) {
+      at_.reset(o.size_ ? new uint32_t[o.size_] : nullptr);
+      size_ = o.size_;
+    }
     n_ = o.n_;
-    if (at_.size() != o.at_.size()) at_ = o.at_;
-    else if (!at_.empty()) std::copy_n(o.at_.begin(), std::min(n_, at_.size() - 1), at_.begin());
+    if (size_) std::copy_n(o.at_.get(), std::min(n_, size_ - 1), at_.get());
     return *this;
   }
   void reset(size_t cells) {
-    at_.assign(cells / 4 + 1, 0);
+    size_ = cells / 4 + 1;
+    at_.reset(new uint32_t[size_]);
     n_ = 0;
   }
   void clear() { n_ = 0; }
   void add(uint32_t cell) {
-    const size_t last = at_.size() - 1;  // the sink: marks past the array's
+    const size_t last = size_ - 1;  // the sink: marks past the array's
     at_[n_ < last ? n_ : last] = cell;
     ++n_;
   }
-  bool dense() const { return n_ >= at_.size(); }
+  bool dense() const { return n_ >= size_; }
   // The cells marked; only while !dense().
   template <class F>
   void for_each(F&& f) const {
@@ -173,9 +178,11 @@ class Marks {
   }
 
  private:
-  // Invariant: after reset(), at_ has cells/4 + 1 entries and the first
-  // min(n_, at_.size() - 1) are the cells marked since the last clear().
-  std::vector<uint32_t> at_;
+  // Invariant: after reset(), at_ holds size_ = cells/4 + 1 entries, of which
+  // the first min(n_, size_ - 1) are the cells marked since the last clear()
+  // (the others are unspecified); before it, size_ and n_ are 0.
+  std::unique_ptr<uint32_t[]> at_;
+  size_t size_ = 0;
   size_t n_ = 0;
 };
 
