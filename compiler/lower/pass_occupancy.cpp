@@ -12,8 +12,9 @@
 //   s.core.occupied.add(e4.position);                =>      (removed)
 //   ++s.core.rendered, paint ? paint->paint(e4...) ...        ++s.core.rendered, paint ? ...
 //
-// gameOfLife's 258 marks a successor were 9% of its BFS (perf). Test:
-// tests/ir/mark_occupancy.ir and tests/lowering_test.cpp (IrPasses).
+// gameOfLife's 258 marks a successor were 9% of its BFS (perf). Tests: the
+// filetests tests/ir/mark_occupancy_if_read.ir (no isFreePos: marks dropped)
+// and tests/ir/mark_occupancy_if_read_kept.ir (isFreePos: marks kept).
 #include "compiler/lower/passes.hpp"
 
 namespace autumn::lower {

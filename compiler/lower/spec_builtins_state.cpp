@@ -183,7 +183,7 @@ SVal Specialiser::builtin_arrow(Builtin b, std::vector<SVal>&, const Expr&) {
   return let(SVal{T().bool_(), ir_.call(ir::Helper::InputFlag, T().bool_(), {ir_.lit(T().int_(), kind)})});
 }
 
-SVal Specialiser::builtin_clicked(Builtin, std::vector<SVal>& a, const Expr& at) {
+SVal Specialiser::builtin_clicked(Builtin, std::vector<SVal>& a, const Expr&) {
   ir::Var* r = ir_.decl(T().bool_(), ir_.lit(T().bool_(), 0), "clicked");
   ir::Stmt* s = ir_.emit(ir::SK::If);
   s->a = ir_.call(ir::Helper::InputFlag, T().bool_(), {ir_.lit(T().int_(), 0)});
@@ -380,18 +380,20 @@ SVal Specialiser::set_field(const SVal& o, const std::string& field, const SVal&
     return never();
   }
   if (origin && v.type->k != TK::Pos) sites_.unsupported("updateObj giving origin a value that is not a Position");
-  const int cls = o.type->cls;
-  const bool typed = std::all_of(ci.field_types.begin(), ci.field_types.end(), [](TypeP t) { return t != nullptr; });
-  if (!h_.stored_cells(cls) && !h_.rotated(cls) && typed) return rebuilt_with(o, index, v);
-  ir::Var* c = ir_.decl(o.type, o.code, "upd");
-  if (origin) {
-    ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Origin, T().pos()), v.code);
-  } else {
+  // The new value's slot: the origin, or the field widened to hold it.
+  SVal value = v;
+  if (!origin) {
     widen_field(o.type->cls, index, v.type);
     TypeP ft = ci.field_types[index];
     if (!T().fits(v.type, ft)) return never();
-    ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Field, ft, index), coerce(v, ft).code);
+    value = coerce(v, ft);
   }
+  const bool typed = std::all_of(ci.field_types.begin(), ci.field_types.end(), [](TypeP t) { return t != nullptr; });
+  if (!h_.stored_cells(o.type->cls) && !h_.rotated(o.type->cls) && typed) return rebuilt_with(o, index, value);
+  ir::Var* c = ir_.decl(o.type, o.code, "upd");
+  ir::Node* place = origin ? ir_.member(ir_.local(c), ir::Member::Origin, T().pos())
+                           : ir_.member(ir_.local(c), ir::Member::Field, value.type, index);
+  ir_.emit_set(place, value.code);
   if (h_.tracked(o.type)) ir_.emit_set(ir_.member(ir_.local(c), ir::Member::Uid, T().int_()), ir_.call(ir::Helper::NewUid, T().int_(), {}));
   return built(c);
 }
@@ -399,26 +401,20 @@ SVal Specialiser::set_field(const SVal& o, const std::string& field, const SVal&
 // set_field's object built in place, its other fields read from o (a class
 // whose objects are their fields, origin and perhaps an identity): a copy
 // patched afterwards went through the stack under Clang (docs/design.md,
-// "The module's compiler"). `field` -1 is the origin.
+// "The module's compiler"). `field` -1 is the origin; `v` is already of its
+// slot's type.
 SVal Specialiser::rebuilt_with(const SVal& o, int field, const SVal& v) {
-  const int cls = o.type->cls;
-  ClassInfo& ci = m_.classes[cls];
-  TypeP ft = field >= 0 ? ci.field_types[field] : T().pos();
-  if (field >= 0) {
-    widen_field(cls, field, v.type);
-    ft = ci.field_types[field];
-    if (!T().fits(v.type, ft)) return never();
-  }
+  const ClassInfo& ci = m_.classes[o.type->cls];
   const SVal from = let(o, "from");
   std::vector<ir::Node*> ops;
   for (size_t i = 0; i < ci.fields.size(); ++i)
-    ops.push_back(static_cast<int>(i) == field ? coerce(v, ft).code
-                                               : ir_.member(from.code, ir::Member::Field, ci.field_types[i], static_cast<int>(i)));
+    ops.push_back(static_cast<int>(i) == field
+                      ? v.code
+                      : ir_.member(from.code, ir::Member::Field, ci.field_types[i], static_cast<int>(i)));
   ops.push_back(field < 0 ? v.code : ir_.member(from.code, ir::Member::Origin, T().pos()));
-  const bool tracked = h_.tracked(o.type);
-  if (tracked) ops.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
+  if (h_.tracked(o.type)) ops.push_back(ir_.call(ir::Helper::NewUid, T().int_(), {}));
   ir::Node* n = ir_.node(ir::Op::MakeObj, o.type, ops);
-  n->index = cls;
+  n->index = o.type->cls;
   return let(SVal{o.type, n}, "upd");
 }
 
