@@ -42,6 +42,7 @@
 #include "harness/agent/plan_problem.hpp"
 #include "harness/agent/plan_shorten.hpp"
 #include "harness/agent/planning.hpp"
+#include "harness/agent/state_hash_set.hpp"
 #include "harness/agent/task_file.hpp"
 #include "harness/agent/thread_pool.hpp"
 #include "harness/engine.hpp"
@@ -163,6 +164,38 @@ TEST(AgentParticles, SeedGroupsMatchOneParticlePerSeed) {
     if (file.filename() == "fireworks.au") {
       EXPECT_TRUE(split_seen) << "a group must have split";
     }
+  }
+}
+
+// The BFS's hash set against std::set over random hashes: zero, hashes that
+// share their top bits (one shard's), growth from empty, and clears that keep
+// the table.
+TEST(AgentStateHashSet, AgreesWithStdSetThroughGrowthAndClears) {
+  std::mt19937_64 rng(7);
+  StateHashSet set;
+  std::set<uint64_t> model;
+  std::vector<uint64_t> met;  // this round's hashes, for repeats
+  for (int round = 0; round < 4; ++round) {
+    const size_t n = size_t{300} << (2 * round);  // 300 to 19,200: several growths
+    for (size_t i = 0; i < n; ++i) {
+      uint64_t h = rng();
+      if (i % 7 == 0) h = (h >> 6) | (uint64_t{0x2a} << 58);  // one shard's top bits
+      if (i % 11 == 0) h = 0;
+      if (i % 5 == 0 && !met.empty()) h = met[rng() % met.size()];  // a repeat
+      met.push_back(h);
+      ASSERT_EQ(set.insert(h), model.insert(h).second) << "round " << round << ", insert " << i;
+    }
+    ASSERT_EQ(set.size(), model.size());
+    for (uint64_t h : model) ASSERT_TRUE(set.contains(h));
+    for (int i = 0; i < 1000; ++i) {
+      const uint64_t h = rng();
+      ASSERT_EQ(set.contains(h), model.count(h) > 0);
+    }
+    set.clear();
+    model.clear();
+    met.clear();
+    EXPECT_EQ(set.size(), 0u);
+    EXPECT_FALSE(set.contains(0));
   }
 }
 

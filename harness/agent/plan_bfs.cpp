@@ -2,15 +2,14 @@
 
 #include <fmt/core.h>
 
-#include <absl/container/flat_hash_set.h>
-
 #include <atomic>
+
+#include "harness/agent/state_hash_set.hpp"
 
 namespace autumn::agent {
 
 namespace {
 
-using HashSet = absl::flat_hash_set<uint64_t>;
 constexpr int kShardBits = 6;
 constexpr size_t kShards = size_t{1} << kShardBits;
 size_t shard_of(uint64_t h) { return static_cast<size_t>(h >> (64 - kShardBits)); }
@@ -48,7 +47,7 @@ class LayeredBfs {
   };
   struct alignas(64) Worker {  // each on its own cache lines: the threads write their own all the time
     std::unique_ptr<Environment> parent, scratch, replay_root;
-    HashSet local;
+    StateHashSet local;  // this thread's states of this chunk so far
     FrameColours colours;
     std::vector<uint8_t> bytes[2];  // this chunk's new states: [0] this layer (free), [1] the next
     size_t last_bytes[2] = {0, 0};  // their size in the last chunk: the next one's reservation
@@ -82,7 +81,7 @@ class LayeredBfs {
   // A shard's seen set alone on its cache line: the threads settle neighbouring
   // shards at once, and every insert writes its set's size.
   struct alignas(64) SeenShard {
-    HashSet set;
+    StateHashSet set;
   };
   std::vector<SeenShard> seen_ = std::vector<SeenShard>(kShards);
   std::vector<Node> nodes_;
@@ -138,7 +137,7 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
     if (!W.scratch || !W.scratch->copy_from(*parent)) W.scratch = parent->clone();
     if (!W.scratch->step(spec_.actions[a])) continue;
     const uint64_t h = W.scratch->state_hash();
-    if (seen_[shard_of(h)].set.contains(h) || !W.local.insert(h).second) continue;
+    if (seen_[shard_of(h)].set.contains(h) || !W.local.insert(h)) continue;
     const int side = is_free(a) ? 0 : 1;
     std::vector<uint8_t>& bytes = W.bytes[side];
     Fresh f{k * A_ + a, h, bytes.size(), 0, 0, hit(*W.scratch, h, W), side == 0, nullptr};
@@ -225,14 +224,14 @@ void LayeredBfs::dedup() {
     // ...then into the seen set, each insert's table slots fetched a few ahead:
     // the set outgrows the caches, and a miss per insert was most of this phase.
     constexpr size_t kAhead = 8;
-    HashSet& seen = seen_[sh].set;
+    StateHashSet& seen = seen_[sh].set;
     // Counted here and written once: neighbouring shards' counters share a
     // cache line, and the other thread settles the shard beside this one.
     uint64_t stored = 0, first_hit = UINT64_MAX;
     for (size_t i = 0; i < order.size(); ++i) {
       if (i + kAhead < order.size()) seen.prefetch(order[i + kAhead]->hash);
       Fresh* f = order[i];
-      if (!seen.insert(f->hash).second) continue;
+      if (!seen.insert(f->hash)) continue;
       won.push_back(f);
       stored += f->size > 0 || f->env;  // its state was kept
       if (f->hit) first_hit = std::min(first_hit, f->index);

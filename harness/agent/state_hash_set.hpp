@@ -1,0 +1,87 @@
+// state_hash_set — a set of 64-bit state hashes for the BFS (plan_bfs.cpp): the
+// shards of the seen set, and each worker's states of the current chunk.
+//
+// Open addressing with linear probing over a power-of-two table of the hashes
+// themselves (0 marks an empty slot; the zero hash is a flag of its own), at
+// most half full. clear() keeps the table. It replaced absl::flat_hash_set
+// here, measured on the BFS (docs/design.md, "The many-object tail"): absl's
+// clear() frees a table above 127 slots, so each worker's per-chunk set was
+// re-allocated, faulted in and regrown by rehashing every chunk, and Debian's
+// build of its insert calls into the shared library (a thread-local read per
+// insert, its debug-build placement); on paint, a cheap program, the sets were
+// a third of the search and page faults (which take the address-space lock
+// both threads need) kept two threads from doubling it.
+// Test: tests/paint_marks_test.cpp (StateHashSet.*).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace autumn::agent {
+
+class StateHashSet {
+ public:
+  // Inserts h; true if it was not there.
+  bool insert(uint64_t h) {
+    if (h == 0) {
+      const bool fresh = !zero_;
+      zero_ = true;
+      return fresh;
+    }
+    if ((count_ + 1) * 2 > slots_.size()) grow();
+    for (size_t i = slot_of(h);; i = (i + 1) & mask_) {
+      if (slots_[i] == h) return false;
+      if (slots_[i] == 0) {
+        slots_[i] = h;
+        ++count_;
+        return true;
+      }
+    }
+  }
+  bool contains(uint64_t h) const {
+    if (h == 0) return zero_;
+    if (count_ == 0) return false;
+    for (size_t i = slot_of(h);; i = (i + 1) & mask_) {
+      if (slots_[i] == h) return true;
+      if (slots_[i] == 0) return false;
+    }
+  }
+  // Fetches h's slot into the cache ahead of an insert or a lookup.
+  void prefetch(uint64_t h) const {
+    if (!slots_.empty()) __builtin_prefetch(&slots_[slot_of(h)]);
+  }
+  size_t size() const { return count_ + (zero_ ? 1 : 0); }
+  // Empties the set, keeping its table.
+  void clear() {
+    if (count_ > 0) std::fill(slots_.begin(), slots_.end(), 0);
+    count_ = 0;
+    zero_ = false;
+  }
+
+ private:
+  // The hashes are mixed, but a shard's share their top bits and an engine's
+  // low bits need not be uniform: the slot is the high bits of a multiply.
+  size_t slot_of(uint64_t h) const { return static_cast<size_t>((h * 0x9e3779b97f4a7c15ULL) >> shift_); }
+  void grow() {
+    std::vector<uint64_t> old(slots_.empty() ? 512 : slots_.size() * 2, 0);
+    old.swap(slots_);
+    mask_ = slots_.size() - 1;
+    shift_ = 64 - __builtin_ctzll(slots_.size());
+    count_ = 0;
+    for (uint64_t h : old)
+      if (h != 0) insert(h);
+  }
+
+  // Invariants: slots_ is empty or a power of two long, with count_ nonzero
+  // entries, at most half of it; mask_ and shift_ are its size's; zero_ is
+  // whether the zero hash is in the set.
+  std::vector<uint64_t> slots_;
+  size_t count_ = 0;
+  size_t mask_ = 0;
+  int shift_ = 64;
+  bool zero_ = false;
+};
+
+}  // namespace autumn::agent
