@@ -215,19 +215,17 @@ struct Prog {
     std::vector<Pos> b13;
     std::vector<Elem> b14;
     std::vector<S136> b15;
-    std::vector<S136> b16;
+    std::vector<C4_Water> b16;
     std::vector<C4_Water> b17;
-    std::vector<C4_Water> b18;
-    std::vector<C1_House> b19;
-    std::vector<S136> b20;
-    std::vector<S136> b21;
-    std::vector<Elem> b22;
-    std::vector<Elem> b23;
-    std::vector<C1_House> b24;
-    std::vector<C3_Sandbag> b25;
-    std::vector<C3_Sandbag> b26;
-    std::vector<Elem> b27;
-    std::vector<Elem> b28;
+    std::vector<C1_House> b18;
+    std::vector<S136> b19;
+    std::vector<Elem> b20;
+    std::vector<Elem> b21;
+    std::vector<C1_House> b22;
+    std::vector<C3_Sandbag> b23;
+    std::vector<C3_Sandbag> b24;
+    std::vector<Elem> b25;
+    std::vector<Elem> b26;
     std::vector<C4_Water> p_water_9{};
     bool sv_water_10{};
     std::vector<C3_Sandbag> p_bags_13{};
@@ -759,180 +757,278 @@ struct Prog {
         s.u_water_8 = true;
         const std::vector<C4_Water>& g128 = s.g_water_7;
         const C2_Drain& g129 = s.g_drain_23;
-        std::vector<S136>& all130 = s.scratch.v.b15;
-        all130.clear();
+        int32_t objects130 = int32_t(0);
         const std::vector<C1_House>& g131 = s.g_houses_19;
-        {
-          const auto& x132_list = g131;
-          charge_loop(s.core, 24, int64_t(x132_list.size()));
-          for (const C1_House& x132 : x132_list) {
-            charge_built(s.core, 24, int64_t(int32_t(1)));
-            all130.push_back(S136{std::in_place_index<1>, x132});
-          }
-        }
-        const std::vector<C3_Sandbag>& g133 = s.g_bags_11;
-        {
-          const auto& x134_list = g133;
-          charge_loop(s.core, 24, int64_t(x134_list.size()));
-          for (const C3_Sandbag& x134 : x134_list) {
-            charge_built(s.core, 24, int64_t(int32_t(1)));
-            all130.push_back(S136{std::in_place_index<2>, x134});
-          }
-        }
-        const std::vector<C4_Water>& g135 = s.g_water_7;
-        {
-          const auto& x136_list = g135;
-          charge_loop(s.core, 24, int64_t(x136_list.size()));
-          for (const C4_Water& x136 : x136_list) {
-            charge_built(s.core, 24, int64_t(int32_t(1)));
-            all130.push_back(S136{std::in_place_index<3>, x136});
-          }
-        }
-        const std::vector<C0_Earth>& g137 = s.g_earth_27;
-        {
-          const auto& x138_list = g137;
-          charge_loop(s.core, 24, int64_t(x138_list.size()));
-          for (const C0_Earth& x138 : x138_list) {
-            charge_built(s.core, 24, int64_t(int32_t(1)));
-            all130.push_back(S136{std::in_place_index<0>, x138});
-          }
-        }
-        const C2_Drain& g139 = s.g_drain_23;
+        charge_built(s.core, 24, int64_t(int32_t(g131.size())));
+        objects130 = add(objects130, int32_t(g131.size()));
+        const std::vector<C3_Sandbag>& g132 = s.g_bags_11;
+        charge_built(s.core, 24, int64_t(int32_t(g132.size())));
+        objects130 = add(objects130, int32_t(g132.size()));
+        const std::vector<C4_Water>& g133 = s.g_water_7;
+        charge_built(s.core, 24, int64_t(int32_t(g133.size())));
+        objects130 = add(objects130, int32_t(g133.size()));
+        const std::vector<C0_Earth>& g134 = s.g_earth_27;
+        charge_built(s.core, 24, int64_t(int32_t(g134.size())));
+        objects130 = add(objects130, int32_t(g134.size()));
         charge_built(s.core, 24, int64_t(int32_t(1)));
-        all130.push_back(S136{std::in_place_index<5>, g139});
-        const C5_Spring& g140 = s.g_spring_15;
+        objects130 = add(objects130, int32_t(1));
         charge_built(s.core, 24, int64_t(int32_t(1)));
-        all130.push_back(S136{std::in_place_index<4>, g140});
-        check_appended_length(s.core, 24, int64_t(all130.size()));
-        std::vector<S136>& out141 = s.scratch.v.b16;
-        out141.clear();
+        objects130 = add(objects130, int32_t(1));
+        check_appended_length(s.core, 24, int64_t(objects130));
+        std::vector<S136>& out135 = s.scratch.v.b15;
+        out135.clear();
+        const std::vector<C1_House>& g136 = s.g_houses_19;
         {
-          const auto& x142_list = all130;
-          charge_loop(s.core, 25, int64_t(x142_list.size()));
-          for (const S136& x142 : x142_list) {
-            Pos r143{};
-            switch (x142.index()) {
-              case 0: {
-                const C0_Earth a144 = std::get<0>(x142);
-                r143 = a144.origin;
-                break;
-              }
-              case 1: {
-                const C1_House a145 = std::get<1>(x142);
-                r143 = a145.origin;
-                break;
-              }
-              case 2: {
-                const C3_Sandbag a146 = std::get<2>(x142);
-                r143 = a146.origin;
-                break;
-              }
-              case 3: {
-                const C4_Water a147 = std::get<3>(x142);
-                r143 = a147.origin;
-                break;
-              }
-              case 4: {
-                const C5_Spring a148 = std::get<4>(x142);
-                r143 = a148.origin;
-                break;
-              }
-              case 5: {
-                const C2_Drain a149 = std::get<5>(x142);
-                r143 = a149.origin;
-                break;
-              }
-              default: break;
-            }
-            Pos l_delta150{};
-            const int32_t t151 = sub(r143.x, g129.origin.x);
-            const int32_t t152 = sub(r143.y, g129.origin.y);
-            const Pos t153 = Pos{t151, t152};
-            l_delta150 = t153;
-            const bool t154 = (l_delta150.x < int32_t(0));
-            int32_t r155{};
-            if (t154) {
-              const int32_t t156 = neg(l_delta150.x);
-              r155 = t156;
+          const auto& x137_list = g136;
+          charge_loop(s.core, 25, int64_t(x137_list.size()));
+          for (const C1_House& x137 : x137_list) {
+            Pos l_delta138{};
+            const int32_t t139 = sub(x137.origin.x, g129.origin.x);
+            const int32_t t140 = sub(x137.origin.y, g129.origin.y);
+            const Pos t141 = Pos{t139, t140};
+            l_delta138 = t141;
+            const bool t142 = (l_delta138.x < int32_t(0));
+            int32_t r143{};
+            if (t142) {
+              const int32_t t144 = neg(l_delta138.x);
+              r143 = t144;
             } else {
-              r155 = l_delta150.x;
+              r143 = l_delta138.x;
             }
-            const bool t157 = (l_delta150.y < int32_t(0));
-            int32_t r158{};
-            if (t157) {
-              const int32_t t159 = neg(l_delta150.y);
-              r158 = t159;
+            const bool t145 = (l_delta138.y < int32_t(0));
+            int32_t r146{};
+            if (t145) {
+              const int32_t t147 = neg(l_delta138.y);
+              r146 = t147;
             } else {
-              r158 = l_delta150.y;
+              r146 = l_delta138.y;
             }
-            const int32_t t160 = add(r155, r158);
-            const bool t161 = (t160 <= int32_t(1));
-            if (t161) {
+            const int32_t t148 = add(r143, r146);
+            const bool t149 = (t148 <= int32_t(1));
+            if (t149) {
               charge_built(s.core, 25, int64_t(int32_t(1)));
-              out141.push_back(x142);
+              out135.push_back(S136{std::in_place_index<1>, x137});
             }
           }
         }
-        std::vector<C4_Water>& kept162 = s.scratch.v.b17;
-        kept162.clear();
+        const std::vector<C3_Sandbag>& g150 = s.g_bags_11;
         {
-          const auto& x163_list = g128;
-          charge_loop(s.core, 26, int64_t(x163_list.size()));
-          for (const C4_Water& x163 : x163_list) {
-            bool found164 = false;
+          const auto& x151_list = g150;
+          charge_loop(s.core, 25, int64_t(x151_list.size()));
+          for (const C3_Sandbag& x151 : x151_list) {
+            Pos l_delta152{};
+            const int32_t t153 = sub(x151.origin.x, g129.origin.x);
+            const int32_t t154 = sub(x151.origin.y, g129.origin.y);
+            const Pos t155 = Pos{t153, t154};
+            l_delta152 = t155;
+            const bool t156 = (l_delta152.x < int32_t(0));
+            int32_t r157{};
+            if (t156) {
+              const int32_t t158 = neg(l_delta152.x);
+              r157 = t158;
+            } else {
+              r157 = l_delta152.x;
+            }
+            const bool t159 = (l_delta152.y < int32_t(0));
+            int32_t r160{};
+            if (t159) {
+              const int32_t t161 = neg(l_delta152.y);
+              r160 = t161;
+            } else {
+              r160 = l_delta152.y;
+            }
+            const int32_t t162 = add(r157, r160);
+            const bool t163 = (t162 <= int32_t(1));
+            if (t163) {
+              charge_built(s.core, 25, int64_t(int32_t(1)));
+              out135.push_back(S136{std::in_place_index<2>, x151});
+            }
+          }
+        }
+        const std::vector<C4_Water>& g164 = s.g_water_7;
+        {
+          const auto& x165_list = g164;
+          charge_loop(s.core, 25, int64_t(x165_list.size()));
+          for (const C4_Water& x165 : x165_list) {
+            Pos l_delta166{};
+            const int32_t t167 = sub(x165.origin.x, g129.origin.x);
+            const int32_t t168 = sub(x165.origin.y, g129.origin.y);
+            const Pos t169 = Pos{t167, t168};
+            l_delta166 = t169;
+            const bool t170 = (l_delta166.x < int32_t(0));
+            int32_t r171{};
+            if (t170) {
+              const int32_t t172 = neg(l_delta166.x);
+              r171 = t172;
+            } else {
+              r171 = l_delta166.x;
+            }
+            const bool t173 = (l_delta166.y < int32_t(0));
+            int32_t r174{};
+            if (t173) {
+              const int32_t t175 = neg(l_delta166.y);
+              r174 = t175;
+            } else {
+              r174 = l_delta166.y;
+            }
+            const int32_t t176 = add(r171, r174);
+            const bool t177 = (t176 <= int32_t(1));
+            if (t177) {
+              charge_built(s.core, 25, int64_t(int32_t(1)));
+              out135.push_back(S136{std::in_place_index<3>, x165});
+            }
+          }
+        }
+        const std::vector<C0_Earth>& g178 = s.g_earth_27;
+        {
+          const auto& x179_list = g178;
+          charge_loop(s.core, 25, int64_t(x179_list.size()));
+          for (const C0_Earth& x179 : x179_list) {
+            Pos l_delta180{};
+            const int32_t t181 = sub(x179.origin.x, g129.origin.x);
+            const int32_t t182 = sub(x179.origin.y, g129.origin.y);
+            const Pos t183 = Pos{t181, t182};
+            l_delta180 = t183;
+            const bool t184 = (l_delta180.x < int32_t(0));
+            int32_t r185{};
+            if (t184) {
+              const int32_t t186 = neg(l_delta180.x);
+              r185 = t186;
+            } else {
+              r185 = l_delta180.x;
+            }
+            const bool t187 = (l_delta180.y < int32_t(0));
+            int32_t r188{};
+            if (t187) {
+              const int32_t t189 = neg(l_delta180.y);
+              r188 = t189;
+            } else {
+              r188 = l_delta180.y;
+            }
+            const int32_t t190 = add(r185, r188);
+            const bool t191 = (t190 <= int32_t(1));
+            if (t191) {
+              charge_built(s.core, 25, int64_t(int32_t(1)));
+              out135.push_back(S136{std::in_place_index<0>, x179});
+            }
+          }
+        }
+        const C2_Drain& g192 = s.g_drain_23;
+        Pos l_delta193{};
+        const int32_t t194 = sub(g192.origin.x, g129.origin.x);
+        const int32_t t195 = sub(g192.origin.y, g129.origin.y);
+        const Pos t196 = Pos{t194, t195};
+        l_delta193 = t196;
+        const bool t197 = (l_delta193.x < int32_t(0));
+        int32_t r198{};
+        if (t197) {
+          const int32_t t199 = neg(l_delta193.x);
+          r198 = t199;
+        } else {
+          r198 = l_delta193.x;
+        }
+        const bool t200 = (l_delta193.y < int32_t(0));
+        int32_t r201{};
+        if (t200) {
+          const int32_t t202 = neg(l_delta193.y);
+          r201 = t202;
+        } else {
+          r201 = l_delta193.y;
+        }
+        const int32_t t203 = add(r198, r201);
+        const bool t204 = (t203 <= int32_t(1));
+        if (t204) {
+          charge_built(s.core, 25, int64_t(int32_t(1)));
+          out135.push_back(S136{std::in_place_index<5>, g192});
+        }
+        const C5_Spring& g205 = s.g_spring_15;
+        Pos l_delta206{};
+        const int32_t t207 = sub(g205.origin.x, g129.origin.x);
+        const int32_t t208 = sub(g205.origin.y, g129.origin.y);
+        const Pos t209 = Pos{t207, t208};
+        l_delta206 = t209;
+        const bool t210 = (l_delta206.x < int32_t(0));
+        int32_t r211{};
+        if (t210) {
+          const int32_t t212 = neg(l_delta206.x);
+          r211 = t212;
+        } else {
+          r211 = l_delta206.x;
+        }
+        const bool t213 = (l_delta206.y < int32_t(0));
+        int32_t r214{};
+        if (t213) {
+          const int32_t t215 = neg(l_delta206.y);
+          r214 = t215;
+        } else {
+          r214 = l_delta206.y;
+        }
+        const int32_t t216 = add(r211, r214);
+        const bool t217 = (t216 <= int32_t(1));
+        if (t217) {
+          charge_built(s.core, 25, int64_t(int32_t(1)));
+          out135.push_back(S136{std::in_place_index<4>, g205});
+        }
+        std::vector<C4_Water>& kept218 = s.scratch.v.b16;
+        kept218.clear();
+        {
+          const auto& x219_list = g128;
+          charge_loop(s.core, 26, int64_t(x219_list.size()));
+          for (const C4_Water& x219 : x219_list) {
+            bool found220 = false;
             {
-              const auto& y165_list = out141;
-              charge_loop(s.core, 26, int64_t(y165_list.size()));
-              for (const S136& y165 : y165_list) {
-                bool r166{};
-                switch (y165.index()) {
+              const auto& y221_list = out135;
+              charge_loop(s.core, 26, int64_t(y221_list.size()));
+              for (const S136& y221 : y221_list) {
+                bool r222{};
+                switch (y221.index()) {
                   case 0: {
-                    const C0_Earth a167 = std::get<0>(y165);
-                    const bool t168 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a167.uid))));
-                    r166 = t168;
+                    const C0_Earth a223 = std::get<0>(y221);
+                    const bool t224 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a223.uid))));
+                    r222 = t224;
                     break;
                   }
                   case 1: {
-                    const C1_House a169 = std::get<1>(y165);
-                    const bool t170 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a169.uid))));
-                    r166 = t170;
+                    const C1_House a225 = std::get<1>(y221);
+                    const bool t226 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a225.uid))));
+                    r222 = t226;
                     break;
                   }
                   case 2: {
-                    const C3_Sandbag a171 = std::get<2>(y165);
-                    const bool t172 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a171.uid))));
-                    r166 = t172;
+                    const C3_Sandbag a227 = std::get<2>(y221);
+                    const bool t228 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a227.uid))));
+                    r222 = t228;
                     break;
                   }
                   case 3: {
-                    const C4_Water a173 = std::get<3>(y165);
-                    const bool t174 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a173.uid))));
-                    r166 = t174;
+                    const C4_Water a229 = std::get<3>(y221);
+                    const bool t230 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a229.uid))));
+                    r222 = t230;
                     break;
                   }
                   case 4: {
-                    const C5_Spring a175 = std::get<4>(y165);
-                    const bool t176 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a175.uid))));
-                    r166 = t176;
+                    const C5_Spring a231 = std::get<4>(y221);
+                    const bool t232 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a231.uid))));
+                    r222 = t232;
                     break;
                   }
                   case 5: {
-                    const C2_Drain a177 = std::get<5>(y165);
-                    const bool t178 = (int32_t(s.core.ids.id_of(uint32_t(x163.uid))) == int32_t(s.core.ids.id_of(uint32_t(a177.uid))));
-                    r166 = t178;
+                    const C2_Drain a233 = std::get<5>(y221);
+                    const bool t234 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a233.uid))));
+                    r222 = t234;
                     break;
                   }
                   default: break;
                 }
-                if ((false || r166)) {
-                  found164 = true;
+                if ((false || r222)) {
+                  found220 = true;
                   break;
                 }
               }
             }
-            if (!found164) {
+            if (!found220) {
               charge_built(s.core, 26, int64_t(int32_t(1)));
-              kept162.push_back(x163);
+              kept218.push_back(x219);
             }
           }
         }
@@ -940,68 +1036,68 @@ struct Prog {
           std::swap(s.scratch.v.p_water_9, s.g_water_7);
           s.scratch.v.sv_water_10 = true;
         }
-        std::swap(s.g_water_7, kept162);
+        std::swap(s.g_water_7, kept218);
         s.u_water_8 = true;
       }
     }
     // on-clause 2, programs/flood_defense.au:57
     {
-      const int32_t& g179 = s.g_time_31;
-      const C5_Spring& g180 = s.g_spring_15;
-      if ((g180.f0 == int32_t(0))) {
+      const int32_t& g235 = s.g_time_31;
+      const C5_Spring& g236 = s.g_spring_15;
+      if ((g236.f0 == int32_t(0))) {
         fail_at(27, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
-      if (((g179 == int32_t(-2147483648LL)) && (g180.f0 == int32_t(-1)))) {
+      if (((g235 == int32_t(-2147483648LL)) && (g236.f0 == int32_t(-1)))) {
         fail_at(27, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
-      const int32_t t181 = autumn::arith::mod_unchecked(g179, g180.f0);
-      const bool t182 = (t181 == int32_t(0));
-      bool r183{};
-      if (t182) {
-        const std::vector<C4_Water>& g184 = s.g_water_7;
-        const int32_t t185 = int32_t(g184.size());
-        const bool t186 = (t185 < int32_t(60));
-        bool r187{};
-        if (t186) {
+      const int32_t t237 = autumn::arith::mod_unchecked(g235, g236.f0);
+      const bool t238 = (t237 == int32_t(0));
+      bool r239{};
+      if (t238) {
+        const std::vector<C4_Water>& g240 = s.g_water_7;
+        const int32_t t241 = int32_t(g240.size());
+        const bool t242 = (t241 < int32_t(60));
+        bool r243{};
+        if (t242) {
           // inlined: function at programs/flood_defense.au:48
-          const C5_Spring& g188 = s.g_spring_15;
-          const Pos t189 = Pos{g188.origin.x, int32_t(1)};
-          const bool t190 = s.core.occupied.free(t189);
-          r187 = t190;
+          const C5_Spring& g244 = s.g_spring_15;
+          const Pos t245 = Pos{g244.origin.x, int32_t(1)};
+          const bool t246 = s.core.occupied.free(t245);
+          r243 = t246;
         } else {
-          r187 = false;
+          r243 = false;
         }
-        r183 = r187;
+        r239 = r243;
       } else {
-        r183 = false;
+        r239 = false;
       }
-      if (r183) {
+      if (r239) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C4_Water>& g191 = s.g_water_7;
+        const std::vector<C4_Water>& g247 = s.g_water_7;
         // inlined: function at programs/flood_defense.au:48
-        const C5_Spring& g192 = s.g_spring_15;
-        const Pos t193 = Pos{g192.origin.x, int32_t(1)};
-        C4_Water o194 = C4_Water{t193, s.core.ids.fresh()};
-        check_length(s.core, 28, int64_t(g191.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 28, int64_t(g191.size()) + int64_t(int32_t(1)));
-        std::vector<C4_Water>& added195 = s.scratch.v.b18;
-        added195.clear();
-        added195.reserve(size_t(add(int32_t(g191.size()), int32_t(1))));
+        const C5_Spring& g248 = s.g_spring_15;
+        const Pos t249 = Pos{g248.origin.x, int32_t(1)};
+        C4_Water o250 = C4_Water{t249, s.core.ids.fresh()};
+        check_length(s.core, 28, int64_t(g247.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 28, int64_t(g247.size()) + int64_t(int32_t(1)));
+        std::vector<C4_Water>& added251 = s.scratch.v.b17;
+        added251.clear();
+        added251.reserve(size_t(add(int32_t(g247.size()), int32_t(1))));
         {
-          const auto& x196_list = g191;
-          charge_loop(s.core, 28, int64_t(x196_list.size()));
-          for (const C4_Water& x196 : x196_list) {
-            C4_Water copy197 = x196;
-            copy197.uid = s.core.ids.fresh();
-            added195.push_back(std::move(copy197));
+          const auto& x252_list = g247;
+          charge_loop(s.core, 28, int64_t(x252_list.size()));
+          for (const C4_Water& x252 : x252_list) {
+            C4_Water copy253 = x252;
+            copy253.uid = s.core.ids.fresh();
+            added251.push_back(std::move(copy253));
           }
         }
-        added195.push_back(std::move(o194));
+        added251.push_back(std::move(o250));
         if (!s.scratch.v.sv_water_10) {
           std::swap(s.scratch.v.p_water_9, s.g_water_7);
           s.scratch.v.sv_water_10 = true;
         }
-        std::swap(s.g_water_7, added195);
+        std::swap(s.g_water_7, added251);
         s.u_water_8 = true;
       }
     }
@@ -1009,244 +1105,342 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C1_House>& prev198 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
-        charge_built(s.core, 29, int64_t(prev198.size()));
-        std::vector<C1_House>& updated199 = s.scratch.v.b19;
-        updated199.clear();
-        updated199.reserve(size_t(int32_t(prev198.size())));
+        const std::vector<C1_House>& prev254 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
+        charge_built(s.core, 29, int64_t(prev254.size()));
+        std::vector<C1_House>& updated255 = s.scratch.v.b18;
+        updated255.clear();
+        updated255.reserve(size_t(int32_t(prev254.size())));
         {
-          const auto& x200_list = prev198;
-          charge_loop(s.core, 29, int64_t(x200_list.size()));
-          for (const C1_House& x200 : x200_list) {
+          const auto& x256_list = prev254;
+          charge_loop(s.core, 29, int64_t(x256_list.size()));
+          for (const C1_House& x256 : x256_list) {
             // inlined: function at programs/flood_defense.au:60
-            const bool t201 = !x200.f0;
-            bool r202{};
-            if (t201) {
+            const bool t257 = !x256.f0;
+            bool r258{};
+            if (t257) {
               // inlined: function at programs/flood_defense.au:46
-              std::vector<S136>& all203 = s.scratch.v.b20;
-              all203.clear();
-              const std::vector<C1_House>& g204 = s.g_houses_19;
-              {
-                const auto& x205_list = g204;
-                charge_loop(s.core, 30, int64_t(x205_list.size()));
-                for (const C1_House& x205 : x205_list) {
-                  charge_built(s.core, 30, int64_t(int32_t(1)));
-                  all203.push_back(S136{std::in_place_index<1>, x205});
-                }
-              }
-              const std::vector<C3_Sandbag>& g206 = s.g_bags_11;
-              {
-                const auto& x207_list = g206;
-                charge_loop(s.core, 30, int64_t(x207_list.size()));
-                for (const C3_Sandbag& x207 : x207_list) {
-                  charge_built(s.core, 30, int64_t(int32_t(1)));
-                  all203.push_back(S136{std::in_place_index<2>, x207});
-                }
-              }
-              const std::vector<C4_Water>& g208 = s.g_water_7;
-              {
-                const auto& x209_list = g208;
-                charge_loop(s.core, 30, int64_t(x209_list.size()));
-                for (const C4_Water& x209 : x209_list) {
-                  charge_built(s.core, 30, int64_t(int32_t(1)));
-                  all203.push_back(S136{std::in_place_index<3>, x209});
-                }
-              }
-              const std::vector<C0_Earth>& g210 = s.g_earth_27;
-              {
-                const auto& x211_list = g210;
-                charge_loop(s.core, 30, int64_t(x211_list.size()));
-                for (const C0_Earth& x211 : x211_list) {
-                  charge_built(s.core, 30, int64_t(int32_t(1)));
-                  all203.push_back(S136{std::in_place_index<0>, x211});
-                }
-              }
-              const C2_Drain& g212 = s.g_drain_23;
+              int32_t objects259 = int32_t(0);
+              const std::vector<C1_House>& g260 = s.g_houses_19;
+              charge_built(s.core, 30, int64_t(int32_t(g260.size())));
+              objects259 = add(objects259, int32_t(g260.size()));
+              const std::vector<C3_Sandbag>& g261 = s.g_bags_11;
+              charge_built(s.core, 30, int64_t(int32_t(g261.size())));
+              objects259 = add(objects259, int32_t(g261.size()));
+              const std::vector<C4_Water>& g262 = s.g_water_7;
+              charge_built(s.core, 30, int64_t(int32_t(g262.size())));
+              objects259 = add(objects259, int32_t(g262.size()));
+              const std::vector<C0_Earth>& g263 = s.g_earth_27;
+              charge_built(s.core, 30, int64_t(int32_t(g263.size())));
+              objects259 = add(objects259, int32_t(g263.size()));
               charge_built(s.core, 30, int64_t(int32_t(1)));
-              all203.push_back(S136{std::in_place_index<5>, g212});
-              const C5_Spring& g213 = s.g_spring_15;
+              objects259 = add(objects259, int32_t(1));
               charge_built(s.core, 30, int64_t(int32_t(1)));
-              all203.push_back(S136{std::in_place_index<4>, g213});
-              check_appended_length(s.core, 30, int64_t(all203.size()));
-              std::vector<S136>& out214 = s.scratch.v.b21;
-              out214.clear();
+              objects259 = add(objects259, int32_t(1));
+              check_appended_length(s.core, 30, int64_t(objects259));
+              std::vector<S136>& out264 = s.scratch.v.b19;
+              out264.clear();
+              const std::vector<C1_House>& g265 = s.g_houses_19;
               {
-                const auto& x215_list = all203;
-                charge_loop(s.core, 31, int64_t(x215_list.size()));
-                for (const S136& x215 : x215_list) {
-                  Pos r216{};
-                  switch (x215.index()) {
-                    case 0: {
-                      const C0_Earth a217 = std::get<0>(x215);
-                      r216 = a217.origin;
-                      break;
-                    }
-                    case 1: {
-                      const C1_House a218 = std::get<1>(x215);
-                      r216 = a218.origin;
-                      break;
-                    }
-                    case 2: {
-                      const C3_Sandbag a219 = std::get<2>(x215);
-                      r216 = a219.origin;
-                      break;
-                    }
-                    case 3: {
-                      const C4_Water a220 = std::get<3>(x215);
-                      r216 = a220.origin;
-                      break;
-                    }
-                    case 4: {
-                      const C5_Spring a221 = std::get<4>(x215);
-                      r216 = a221.origin;
-                      break;
-                    }
-                    case 5: {
-                      const C2_Drain a222 = std::get<5>(x215);
-                      r216 = a222.origin;
-                      break;
-                    }
-                    default: break;
-                  }
-                  Pos l_delta223{};
-                  const int32_t t224 = sub(r216.x, x200.origin.x);
-                  const int32_t t225 = sub(r216.y, x200.origin.y);
-                  const Pos t226 = Pos{t224, t225};
-                  l_delta223 = t226;
-                  const bool t227 = (l_delta223.x < int32_t(0));
-                  int32_t r228{};
-                  if (t227) {
-                    const int32_t t229 = neg(l_delta223.x);
-                    r228 = t229;
+                const auto& x266_list = g265;
+                charge_loop(s.core, 31, int64_t(x266_list.size()));
+                for (const C1_House& x266 : x266_list) {
+                  Pos l_delta267{};
+                  const int32_t t268 = sub(x266.origin.x, x256.origin.x);
+                  const int32_t t269 = sub(x266.origin.y, x256.origin.y);
+                  const Pos t270 = Pos{t268, t269};
+                  l_delta267 = t270;
+                  const bool t271 = (l_delta267.x < int32_t(0));
+                  int32_t r272{};
+                  if (t271) {
+                    const int32_t t273 = neg(l_delta267.x);
+                    r272 = t273;
                   } else {
-                    r228 = l_delta223.x;
+                    r272 = l_delta267.x;
                   }
-                  const bool t230 = (l_delta223.y < int32_t(0));
-                  int32_t r231{};
-                  if (t230) {
-                    const int32_t t232 = neg(l_delta223.y);
-                    r231 = t232;
+                  const bool t274 = (l_delta267.y < int32_t(0));
+                  int32_t r275{};
+                  if (t274) {
+                    const int32_t t276 = neg(l_delta267.y);
+                    r275 = t276;
                   } else {
-                    r231 = l_delta223.y;
+                    r275 = l_delta267.y;
                   }
-                  const int32_t t233 = add(r228, r231);
-                  const bool t234 = (t233 <= int32_t(1));
-                  if (t234) {
+                  const int32_t t277 = add(r272, r275);
+                  const bool t278 = (t277 <= int32_t(1));
+                  if (t278) {
                     charge_built(s.core, 31, int64_t(int32_t(1)));
-                    out214.push_back(x215);
+                    out264.push_back(S136{std::in_place_index<1>, x266});
                   }
                 }
               }
-              const std::vector<C4_Water>& g235 = s.g_water_7;
-              std::vector<Elem>& rendered236 = s.scratch.v.b22;
-              rendered236.clear();
+              const std::vector<C3_Sandbag>& g279 = s.g_bags_11;
               {
-                const auto& x237_list = out214;
-                charge_loop(s.core, 32, int64_t(x237_list.size()));
-                for (const S136& x237 : x237_list) {
-                  int32_t r238{};
-                  switch (x237.index()) {
+                const auto& x280_list = g279;
+                charge_loop(s.core, 31, int64_t(x280_list.size()));
+                for (const C3_Sandbag& x280 : x280_list) {
+                  Pos l_delta281{};
+                  const int32_t t282 = sub(x280.origin.x, x256.origin.x);
+                  const int32_t t283 = sub(x280.origin.y, x256.origin.y);
+                  const Pos t284 = Pos{t282, t283};
+                  l_delta281 = t284;
+                  const bool t285 = (l_delta281.x < int32_t(0));
+                  int32_t r286{};
+                  if (t285) {
+                    const int32_t t287 = neg(l_delta281.x);
+                    r286 = t287;
+                  } else {
+                    r286 = l_delta281.x;
+                  }
+                  const bool t288 = (l_delta281.y < int32_t(0));
+                  int32_t r289{};
+                  if (t288) {
+                    const int32_t t290 = neg(l_delta281.y);
+                    r289 = t290;
+                  } else {
+                    r289 = l_delta281.y;
+                  }
+                  const int32_t t291 = add(r286, r289);
+                  const bool t292 = (t291 <= int32_t(1));
+                  if (t292) {
+                    charge_built(s.core, 31, int64_t(int32_t(1)));
+                    out264.push_back(S136{std::in_place_index<2>, x280});
+                  }
+                }
+              }
+              const std::vector<C4_Water>& g293 = s.g_water_7;
+              {
+                const auto& x294_list = g293;
+                charge_loop(s.core, 31, int64_t(x294_list.size()));
+                for (const C4_Water& x294 : x294_list) {
+                  Pos l_delta295{};
+                  const int32_t t296 = sub(x294.origin.x, x256.origin.x);
+                  const int32_t t297 = sub(x294.origin.y, x256.origin.y);
+                  const Pos t298 = Pos{t296, t297};
+                  l_delta295 = t298;
+                  const bool t299 = (l_delta295.x < int32_t(0));
+                  int32_t r300{};
+                  if (t299) {
+                    const int32_t t301 = neg(l_delta295.x);
+                    r300 = t301;
+                  } else {
+                    r300 = l_delta295.x;
+                  }
+                  const bool t302 = (l_delta295.y < int32_t(0));
+                  int32_t r303{};
+                  if (t302) {
+                    const int32_t t304 = neg(l_delta295.y);
+                    r303 = t304;
+                  } else {
+                    r303 = l_delta295.y;
+                  }
+                  const int32_t t305 = add(r300, r303);
+                  const bool t306 = (t305 <= int32_t(1));
+                  if (t306) {
+                    charge_built(s.core, 31, int64_t(int32_t(1)));
+                    out264.push_back(S136{std::in_place_index<3>, x294});
+                  }
+                }
+              }
+              const std::vector<C0_Earth>& g307 = s.g_earth_27;
+              {
+                const auto& x308_list = g307;
+                charge_loop(s.core, 31, int64_t(x308_list.size()));
+                for (const C0_Earth& x308 : x308_list) {
+                  Pos l_delta309{};
+                  const int32_t t310 = sub(x308.origin.x, x256.origin.x);
+                  const int32_t t311 = sub(x308.origin.y, x256.origin.y);
+                  const Pos t312 = Pos{t310, t311};
+                  l_delta309 = t312;
+                  const bool t313 = (l_delta309.x < int32_t(0));
+                  int32_t r314{};
+                  if (t313) {
+                    const int32_t t315 = neg(l_delta309.x);
+                    r314 = t315;
+                  } else {
+                    r314 = l_delta309.x;
+                  }
+                  const bool t316 = (l_delta309.y < int32_t(0));
+                  int32_t r317{};
+                  if (t316) {
+                    const int32_t t318 = neg(l_delta309.y);
+                    r317 = t318;
+                  } else {
+                    r317 = l_delta309.y;
+                  }
+                  const int32_t t319 = add(r314, r317);
+                  const bool t320 = (t319 <= int32_t(1));
+                  if (t320) {
+                    charge_built(s.core, 31, int64_t(int32_t(1)));
+                    out264.push_back(S136{std::in_place_index<0>, x308});
+                  }
+                }
+              }
+              const C2_Drain& g321 = s.g_drain_23;
+              Pos l_delta322{};
+              const int32_t t323 = sub(g321.origin.x, x256.origin.x);
+              const int32_t t324 = sub(g321.origin.y, x256.origin.y);
+              const Pos t325 = Pos{t323, t324};
+              l_delta322 = t325;
+              const bool t326 = (l_delta322.x < int32_t(0));
+              int32_t r327{};
+              if (t326) {
+                const int32_t t328 = neg(l_delta322.x);
+                r327 = t328;
+              } else {
+                r327 = l_delta322.x;
+              }
+              const bool t329 = (l_delta322.y < int32_t(0));
+              int32_t r330{};
+              if (t329) {
+                const int32_t t331 = neg(l_delta322.y);
+                r330 = t331;
+              } else {
+                r330 = l_delta322.y;
+              }
+              const int32_t t332 = add(r327, r330);
+              const bool t333 = (t332 <= int32_t(1));
+              if (t333) {
+                charge_built(s.core, 31, int64_t(int32_t(1)));
+                out264.push_back(S136{std::in_place_index<5>, g321});
+              }
+              const C5_Spring& g334 = s.g_spring_15;
+              Pos l_delta335{};
+              const int32_t t336 = sub(g334.origin.x, x256.origin.x);
+              const int32_t t337 = sub(g334.origin.y, x256.origin.y);
+              const Pos t338 = Pos{t336, t337};
+              l_delta335 = t338;
+              const bool t339 = (l_delta335.x < int32_t(0));
+              int32_t r340{};
+              if (t339) {
+                const int32_t t341 = neg(l_delta335.x);
+                r340 = t341;
+              } else {
+                r340 = l_delta335.x;
+              }
+              const bool t342 = (l_delta335.y < int32_t(0));
+              int32_t r343{};
+              if (t342) {
+                const int32_t t344 = neg(l_delta335.y);
+                r343 = t344;
+              } else {
+                r343 = l_delta335.y;
+              }
+              const int32_t t345 = add(r340, r343);
+              const bool t346 = (t345 <= int32_t(1));
+              if (t346) {
+                charge_built(s.core, 31, int64_t(int32_t(1)));
+                out264.push_back(S136{std::in_place_index<4>, g334});
+              }
+              const std::vector<C4_Water>& g347 = s.g_water_7;
+              std::vector<Elem>& rendered348 = s.scratch.v.b20;
+              rendered348.clear();
+              {
+                const auto& x349_list = out264;
+                charge_loop(s.core, 32, int64_t(x349_list.size()));
+                for (const S136& x349 : x349_list) {
+                  int32_t r350{};
+                  switch (x349.index()) {
                     case 0: {
-                      const C0_Earth a239 = std::get<0>(x237);
-                      rendered236.push_back(Elem{Pos{add(a239.origin.x, int32_t(0)), add(a239.origin.y, int32_t(0))}, int32_t(3)});
-                      r238 = int32_t(0);
+                      const C0_Earth a351 = std::get<0>(x349);
+                      rendered348.push_back(Elem{Pos{add(a351.origin.x, int32_t(0)), add(a351.origin.y, int32_t(0))}, int32_t(3)});
+                      r350 = int32_t(0);
                       break;
                     }
                     case 1: {
-                      const C1_House a240 = std::get<1>(x237);
-                      const int32_t colour241 = colour_3_C1_House(s, a240);
-                      rendered236.push_back(Elem{Pos{add(a240.origin.x, int32_t(0)), add(a240.origin.y, int32_t(0))}, colour241});
-                      r238 = int32_t(0);
+                      const C1_House a352 = std::get<1>(x349);
+                      const int32_t colour353 = colour_3_C1_House(s, a352);
+                      rendered348.push_back(Elem{Pos{add(a352.origin.x, int32_t(0)), add(a352.origin.y, int32_t(0))}, colour353});
+                      r350 = int32_t(0);
                       break;
                     }
                     case 2: {
-                      const C3_Sandbag a242 = std::get<2>(x237);
-                      rendered236.push_back(Elem{Pos{add(a242.origin.x, int32_t(0)), add(a242.origin.y, int32_t(0))}, int32_t(8)});
-                      r238 = int32_t(0);
+                      const C3_Sandbag a354 = std::get<2>(x349);
+                      rendered348.push_back(Elem{Pos{add(a354.origin.x, int32_t(0)), add(a354.origin.y, int32_t(0))}, int32_t(8)});
+                      r350 = int32_t(0);
                       break;
                     }
                     case 3: {
-                      const C4_Water a243 = std::get<3>(x237);
-                      rendered236.push_back(Elem{Pos{add(a243.origin.x, int32_t(0)), add(a243.origin.y, int32_t(0))}, int32_t(4)});
-                      r238 = int32_t(0);
+                      const C4_Water a355 = std::get<3>(x349);
+                      rendered348.push_back(Elem{Pos{add(a355.origin.x, int32_t(0)), add(a355.origin.y, int32_t(0))}, int32_t(4)});
+                      r350 = int32_t(0);
                       break;
                     }
                     case 4: {
-                      const C5_Spring a244 = std::get<4>(x237);
-                      rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(-1)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
-                      rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(0)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
-                      rendered236.push_back(Elem{Pos{add(a244.origin.x, int32_t(1)), add(a244.origin.y, int32_t(0))}, int32_t(2)});
-                      r238 = int32_t(0);
+                      const C5_Spring a356 = std::get<4>(x349);
+                      rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(-1)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
+                      rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(0)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
+                      rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(1)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
+                      r350 = int32_t(0);
                       break;
                     }
                     case 5: {
-                      const C2_Drain a245 = std::get<5>(x237);
-                      rendered236.push_back(Elem{Pos{add(a245.origin.x, int32_t(0)), add(a245.origin.y, int32_t(0))}, int32_t(0)});
-                      r238 = int32_t(0);
+                      const C2_Drain a357 = std::get<5>(x349);
+                      rendered348.push_back(Elem{Pos{add(a357.origin.x, int32_t(0)), add(a357.origin.y, int32_t(0))}, int32_t(0)});
+                      r350 = int32_t(0);
                       break;
                     }
                     default: break;
                   }
                 }
               }
-              std::vector<Elem>& rendered246 = s.scratch.v.b23;
-              rendered246.clear();
+              std::vector<Elem>& rendered358 = s.scratch.v.b21;
+              rendered358.clear();
               {
-                const auto& x247_list = g235;
-                charge_loop(s.core, 33, int64_t(x247_list.size()));
-                for (const C4_Water& x247 : x247_list) {
-                  rendered246.push_back(Elem{Pos{add(x247.origin.x, int32_t(0)), add(x247.origin.y, int32_t(0))}, int32_t(4)});
+                const auto& x359_list = g347;
+                charge_loop(s.core, 33, int64_t(x359_list.size()));
+                for (const C4_Water& x359 : x359_list) {
+                  rendered358.push_back(Elem{Pos{add(x359.origin.x, int32_t(0)), add(x359.origin.y, int32_t(0))}, int32_t(4)});
                 }
               }
-              const int32_t t248 = int32_t(rendered236.size());
-              const bool t249 = (t248 == int32_t(0));
-              bool r250{};
-              if (!t249) {
-                const int32_t t251 = int32_t(rendered246.size());
-                const bool t252 = (t251 == int32_t(0));
-                r250 = t252;
+              const int32_t t360 = int32_t(rendered348.size());
+              const bool t361 = (t360 == int32_t(0));
+              bool r362{};
+              if (!t361) {
+                const int32_t t363 = int32_t(rendered358.size());
+                const bool t364 = (t363 == int32_t(0));
+                r362 = t364;
               } else {
-                r250 = true;
+                r362 = true;
               }
-              bool r253{};
-              if (r250) {
-                r253 = false;
+              bool r365{};
+              if (r362) {
+                r365 = false;
               } else {
-                bool any254 = false;
+                bool any366 = false;
                 {
-                  const auto& x255_list = rendered236;
-                  charge_loop(s.core, 34, int64_t(x255_list.size()));
-                  for (const Elem& x255 : x255_list) {
-                    bool any256 = false;
+                  const auto& x367_list = rendered348;
+                  charge_loop(s.core, 34, int64_t(x367_list.size()));
+                  for (const Elem& x367 : x367_list) {
+                    bool any368 = false;
                     {
-                      const auto& x257_list = rendered246;
-                      charge_loop(s.core, 35, int64_t(x257_list.size()));
-                      for (const Elem& x257 : x257_list) {
-                        const bool t258 = (x255.position == x257.position);
-                        if (t258) {
-                          any256 = true;
+                      const auto& x369_list = rendered358;
+                      charge_loop(s.core, 35, int64_t(x369_list.size()));
+                      for (const Elem& x369 : x369_list) {
+                        const bool t370 = (x367.position == x369.position);
+                        if (t370) {
+                          any368 = true;
                           break;
                         }
                       }
                     }
-                    if (any256) {
-                      any254 = true;
+                    if (any368) {
+                      any366 = true;
                       break;
                     }
                   }
                 }
-                r253 = any254;
+                r365 = any366;
               }
-              r202 = r253;
+              r258 = r365;
             } else {
-              r202 = false;
+              r258 = false;
             }
-            if (r202) {
+            if (r258) {
               // inlined: function at programs/flood_defense.au:60
-              C1_House upd259 = C1_House{true, x200.origin, s.core.ids.fresh()};
-              updated199.push_back(std::move(upd259));
+              C1_House upd371 = C1_House{true, x256.origin, s.core.ids.fresh()};
+              updated255.push_back(std::move(upd371));
             } else {
-              updated199.push_back(x200);
+              updated255.push_back(x256);
             }
           }
         }
@@ -1254,59 +1448,59 @@ struct Prog {
           std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
           s.scratch.v.sv_houses_22 = true;
         }
-        std::swap(s.g_houses_19, updated199);
+        std::swap(s.g_houses_19, updated255);
         s.u_houses_20 = true;
       }
     }
     // on-clause 4, programs/flood_defense.au:62
     {
-      const std::vector<C1_House>& prev260 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
-      bool clicked261 = false;
+      const std::vector<C1_House>& prev372 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
+      bool clicked373 = false;
       if (s.core.click) {
         s.d_click_36 = true;
-        const Pos t262 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_35 = t262;
+        const Pos t374 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_35 = t374;
         {
-          const auto& x263_list = prev260;
-          charge_loop(s.core, 36, int64_t(x263_list.size()));
-          for (const C1_House& x263 : x263_list) {
-            const int32_t colour264 = colour_3_C1_House(s, x263);
-            const Elem e265 = Elem{Pos{add(x263.origin.x, int32_t(0)), add(x263.origin.y, int32_t(0))}, colour264};
-            if ((e265.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked261 = true;
+          const auto& x375_list = prev372;
+          charge_loop(s.core, 36, int64_t(x375_list.size()));
+          for (const C1_House& x375 : x375_list) {
+            const int32_t colour376 = colour_3_C1_House(s, x375);
+            const Elem e377 = Elem{Pos{add(x375.origin.x, int32_t(0)), add(x375.origin.y, int32_t(0))}, colour376};
+            if ((e377.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked373 = true;
             }
           }
         }
       }
-      if (clicked261) {
+      if (clicked373) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_House>& g266 = s.g_houses_19;
-        charge_built(s.core, 37, int64_t(g266.size()));
-        std::vector<C1_House>& updated267 = s.scratch.v.b24;
-        updated267.clear();
-        updated267.reserve(size_t(int32_t(g266.size())));
+        const std::vector<C1_House>& g378 = s.g_houses_19;
+        charge_built(s.core, 37, int64_t(g378.size()));
+        std::vector<C1_House>& updated379 = s.scratch.v.b22;
+        updated379.clear();
+        updated379.reserve(size_t(int32_t(g378.size())));
         {
-          const auto& x268_list = g266;
-          charge_loop(s.core, 37, int64_t(x268_list.size()));
-          for (const C1_House& x268 : x268_list) {
+          const auto& x380_list = g378;
+          charge_loop(s.core, 37, int64_t(x380_list.size()));
+          for (const C1_House& x380 : x380_list) {
             // inlined: function at programs/flood_defense.au:63
-            bool clicked269 = false;
+            bool clicked381 = false;
             if (s.core.click) {
               s.d_click_36 = true;
-              const Pos t270 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_35 = t270;
-              const int32_t colour271 = colour_3_C1_House(s, x268);
-              const Elem e272 = Elem{Pos{add(x268.origin.x, int32_t(0)), add(x268.origin.y, int32_t(0))}, colour271};
-              if ((e272.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked269 = true;
+              const Pos t382 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_35 = t382;
+              const int32_t colour383 = colour_3_C1_House(s, x380);
+              const Elem e384 = Elem{Pos{add(x380.origin.x, int32_t(0)), add(x380.origin.y, int32_t(0))}, colour383};
+              if ((e384.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked381 = true;
               }
             }
-            if (clicked269) {
+            if (clicked381) {
               // inlined: function at programs/flood_defense.au:63
-              C1_House upd273 = C1_House{false, x268.origin, s.core.ids.fresh()};
-              updated267.push_back(std::move(upd273));
+              C1_House upd385 = C1_House{false, x380.origin, s.core.ids.fresh()};
+              updated379.push_back(std::move(upd385));
             } else {
-              updated267.push_back(x268);
+              updated379.push_back(x380);
             }
           }
         }
@@ -1314,52 +1508,52 @@ struct Prog {
           std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
           s.scratch.v.sv_houses_22 = true;
         }
-        std::swap(s.g_houses_19, updated267);
+        std::swap(s.g_houses_19, updated379);
         s.u_houses_20 = true;
       }
     }
     // on-clause 5, programs/flood_defense.au:64
     {
-      const std::vector<C3_Sandbag>& prev274 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
-      bool clicked275 = false;
+      const std::vector<C3_Sandbag>& prev386 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+      bool clicked387 = false;
       if (s.core.click) {
         s.d_click_36 = true;
-        const Pos t276 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_35 = t276;
+        const Pos t388 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_35 = t388;
         {
-          const auto& x277_list = prev274;
-          charge_loop(s.core, 38, int64_t(x277_list.size()));
-          for (const C3_Sandbag& x277 : x277_list) {
-            const Elem e278 = Elem{Pos{add(x277.origin.x, int32_t(0)), add(x277.origin.y, int32_t(0))}, int32_t(8)};
-            if ((e278.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked275 = true;
+          const auto& x389_list = prev386;
+          charge_loop(s.core, 38, int64_t(x389_list.size()));
+          for (const C3_Sandbag& x389 : x389_list) {
+            const Elem e390 = Elem{Pos{add(x389.origin.x, int32_t(0)), add(x389.origin.y, int32_t(0))}, int32_t(8)};
+            if ((e390.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked387 = true;
             }
           }
         }
       }
-      if (clicked275) {
+      if (clicked387) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C3_Sandbag>& prev279 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
-        std::vector<C3_Sandbag>& kept280 = s.scratch.v.b25;
-        kept280.clear();
+        const std::vector<C3_Sandbag>& prev391 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+        std::vector<C3_Sandbag>& kept392 = s.scratch.v.b23;
+        kept392.clear();
         {
-          const auto& x281_list = prev279;
-          charge_loop(s.core, 39, int64_t(x281_list.size()));
-          for (const C3_Sandbag& x281 : x281_list) {
+          const auto& x393_list = prev391;
+          charge_loop(s.core, 39, int64_t(x393_list.size()));
+          for (const C3_Sandbag& x393 : x393_list) {
             // inlined: function at programs/flood_defense.au:64
-            bool clicked282 = false;
+            bool clicked394 = false;
             if (s.core.click) {
               s.d_click_36 = true;
-              const Pos t283 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_35 = t283;
-              const Elem e284 = Elem{Pos{add(x281.origin.x, int32_t(0)), add(x281.origin.y, int32_t(0))}, int32_t(8)};
-              if ((e284.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked282 = true;
+              const Pos t395 = Pos{s.core.click_x, s.core.click_y};
+              s.g_click_35 = t395;
+              const Elem e396 = Elem{Pos{add(x393.origin.x, int32_t(0)), add(x393.origin.y, int32_t(0))}, int32_t(8)};
+              if ((e396.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked394 = true;
               }
             }
-            if (!clicked282) {
+            if (!clicked394) {
               charge_built(s.core, 39, int64_t(int32_t(1)));
-              kept280.push_back(x281);
+              kept392.push_back(x393);
             }
           }
         }
@@ -1367,334 +1561,334 @@ struct Prog {
           std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
           s.scratch.v.sv_bags_14 = true;
         }
-        std::swap(s.g_bags_11, kept280);
+        std::swap(s.g_bags_11, kept392);
         s.u_bags_12 = true;
       }
     }
     // on-clause 6, programs/flood_defense.au:65
     {
-      bool clicked285 = false;
+      bool clicked397 = false;
       if (s.core.click) {
         s.d_click_36 = true;
-        const Pos t286 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_35 = t286;
-        clicked285 = true;
+        const Pos t398 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_35 = t398;
+        clicked397 = true;
       }
-      bool r287{};
-      if (clicked285) {
-        Pos r288{};
+      bool r399{};
+      if (clicked397) {
+        Pos r400{};
         if (s.d_click_36) {
-          const Pos& g289 = s.g_click_35;
-          r288 = g289;
+          const Pos& g401 = s.g_click_35;
+          r400 = g401;
         } else {
           fail_at(40, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t290 = s.core.occupied.free(r288);
-        bool r291{};
-        if (t290) {
-          const std::vector<C3_Sandbag>& g292 = s.g_bags_11;
-          const int32_t t293 = int32_t(g292.size());
-          const bool t294 = (t293 < int32_t(15));
-          r291 = t294;
+        const bool t402 = s.core.occupied.free(r400);
+        bool r403{};
+        if (t402) {
+          const std::vector<C3_Sandbag>& g404 = s.g_bags_11;
+          const int32_t t405 = int32_t(g404.size());
+          const bool t406 = (t405 < int32_t(15));
+          r403 = t406;
         } else {
-          r291 = false;
+          r403 = false;
         }
-        r287 = r291;
+        r399 = r403;
       } else {
-        r287 = false;
+        r399 = false;
       }
-      if (r287) {
+      if (r399) {
         s.core.covered[int32_t(5)] = 1;
-        const std::vector<C3_Sandbag>& g295 = s.g_bags_11;
-        Pos r296{};
+        const std::vector<C3_Sandbag>& g407 = s.g_bags_11;
+        Pos r408{};
         if (s.d_click_36) {
-          const Pos& g297 = s.g_click_35;
-          r296 = g297;
+          const Pos& g409 = s.g_click_35;
+          r408 = g409;
         } else {
           fail_at(41, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r298{};
+        Pos r410{};
         if (s.d_click_36) {
-          const Pos& g299 = s.g_click_35;
-          r298 = g299;
+          const Pos& g411 = s.g_click_35;
+          r410 = g411;
         } else {
           fail_at(42, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t300 = Pos{r296.x, r298.y};
-        C3_Sandbag o301 = C3_Sandbag{t300, s.core.ids.fresh()};
-        check_length(s.core, 43, int64_t(g295.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 43, int64_t(g295.size()) + int64_t(int32_t(1)));
-        std::vector<C3_Sandbag>& added302 = s.scratch.v.b26;
-        added302.clear();
-        added302.reserve(size_t(add(int32_t(g295.size()), int32_t(1))));
+        const Pos t412 = Pos{r408.x, r410.y};
+        C3_Sandbag o413 = C3_Sandbag{t412, s.core.ids.fresh()};
+        check_length(s.core, 43, int64_t(g407.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 43, int64_t(g407.size()) + int64_t(int32_t(1)));
+        std::vector<C3_Sandbag>& added414 = s.scratch.v.b24;
+        added414.clear();
+        added414.reserve(size_t(add(int32_t(g407.size()), int32_t(1))));
         {
-          const auto& x303_list = g295;
-          charge_loop(s.core, 43, int64_t(x303_list.size()));
-          for (const C3_Sandbag& x303 : x303_list) {
-            C3_Sandbag copy304 = x303;
-            copy304.uid = s.core.ids.fresh();
-            added302.push_back(std::move(copy304));
+          const auto& x415_list = g407;
+          charge_loop(s.core, 43, int64_t(x415_list.size()));
+          for (const C3_Sandbag& x415 : x415_list) {
+            C3_Sandbag copy416 = x415;
+            copy416.uid = s.core.ids.fresh();
+            added414.push_back(std::move(copy416));
           }
         }
-        added302.push_back(std::move(o301));
+        added414.push_back(std::move(o413));
         if (!s.scratch.v.sv_bags_14) {
           std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
           s.scratch.v.sv_bags_14 = true;
         }
-        std::swap(s.g_bags_11, added302);
+        std::swap(s.g_bags_11, added414);
         s.u_bags_12 = true;
       }
     }
     // on-clause 7, programs/flood_defense.au:68
     {
-      const bool t305 = s.core.left;
-      if (t305) {
+      const bool t417 = s.core.left;
+      if (t417) {
         s.core.covered[int32_t(6)] = 1;
-        const C5_Spring& prev306 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev418 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
         // inlined: function at programs/flood_defense.au:47
-        const int32_t t307 = add(prev306.origin.x, int32_t(-1));
-        const int32_t t308 = add(prev306.origin.y, int32_t(0));
-        const Pos t309 = Pos{t307, t308};
-        const C5_Spring upd310 = C5_Spring{prev306.f0, t309, s.core.ids.fresh()};
-        std::vector<Elem>& rendered311 = s.scratch.v.b27;
-        rendered311.clear();
-        rendered311.push_back(Elem{Pos{add(upd310.origin.x, int32_t(-1)), add(upd310.origin.y, int32_t(0))}, int32_t(2)});
-        rendered311.push_back(Elem{Pos{add(upd310.origin.x, int32_t(0)), add(upd310.origin.y, int32_t(0))}, int32_t(2)});
-        rendered311.push_back(Elem{Pos{add(upd310.origin.x, int32_t(1)), add(upd310.origin.y, int32_t(0))}, int32_t(2)});
-        bool within312 = true;
+        const int32_t t419 = add(prev418.origin.x, int32_t(-1));
+        const int32_t t420 = add(prev418.origin.y, int32_t(0));
+        const Pos t421 = Pos{t419, t420};
+        const C5_Spring upd422 = C5_Spring{prev418.f0, t421, s.core.ids.fresh()};
+        std::vector<Elem>& rendered423 = s.scratch.v.b25;
+        rendered423.clear();
+        rendered423.push_back(Elem{Pos{add(upd422.origin.x, int32_t(-1)), add(upd422.origin.y, int32_t(0))}, int32_t(2)});
+        rendered423.push_back(Elem{Pos{add(upd422.origin.x, int32_t(0)), add(upd422.origin.y, int32_t(0))}, int32_t(2)});
+        rendered423.push_back(Elem{Pos{add(upd422.origin.x, int32_t(1)), add(upd422.origin.y, int32_t(0))}, int32_t(2)});
+        bool within424 = true;
         {
-          const auto& e313_list = rendered311;
-          for (const Elem& e313 : e313_list) {
-            if ((((e313.position.x < int32_t(0)) || (e313.position.x >= int32_t(16))) || ((e313.position.y < int32_t(0)) || (e313.position.y >= int32_t(16))))) {
-              within312 = false;
+          const auto& e425_list = rendered423;
+          for (const Elem& e425 : e425_list) {
+            if ((((e425.position.x < int32_t(0)) || (e425.position.x >= int32_t(16))) || ((e425.position.y < int32_t(0)) || (e425.position.y >= int32_t(16))))) {
+              within424 = false;
               break;
             }
           }
         }
-        C5_Spring r314{};
-        if (within312) {
-          const int32_t t315 = add(prev306.origin.x, int32_t(-1));
-          const int32_t t316 = add(prev306.origin.y, int32_t(0));
-          const Pos t317 = Pos{t315, t316};
-          C5_Spring upd318 = C5_Spring{prev306.f0, t317, s.core.ids.fresh()};
-          r314 = std::move(upd318);
+        C5_Spring r426{};
+        if (within424) {
+          const int32_t t427 = add(prev418.origin.x, int32_t(-1));
+          const int32_t t428 = add(prev418.origin.y, int32_t(0));
+          const Pos t429 = Pos{t427, t428};
+          C5_Spring upd430 = C5_Spring{prev418.f0, t429, s.core.ids.fresh()};
+          r426 = std::move(upd430);
         } else {
-          r314 = prev306;
+          r426 = prev418;
         }
-        s.core.ids.transfer(uint32_t(r314.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        s.core.ids.transfer(uint32_t(r426.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(r314);
+        s.g_spring_15 = std::move(r426);
         s.u_spring_16 = true;
       }
     }
     // on-clause 8, programs/flood_defense.au:69
     {
-      const bool t319 = s.core.right;
-      if (t319) {
+      const bool t431 = s.core.right;
+      if (t431) {
         s.core.covered[int32_t(7)] = 1;
-        const C5_Spring& prev320 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev432 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
         // inlined: function at programs/flood_defense.au:47
-        const int32_t t321 = add(prev320.origin.x, int32_t(1));
-        const int32_t t322 = add(prev320.origin.y, int32_t(0));
-        const Pos t323 = Pos{t321, t322};
-        const C5_Spring upd324 = C5_Spring{prev320.f0, t323, s.core.ids.fresh()};
-        std::vector<Elem>& rendered325 = s.scratch.v.b28;
-        rendered325.clear();
-        rendered325.push_back(Elem{Pos{add(upd324.origin.x, int32_t(-1)), add(upd324.origin.y, int32_t(0))}, int32_t(2)});
-        rendered325.push_back(Elem{Pos{add(upd324.origin.x, int32_t(0)), add(upd324.origin.y, int32_t(0))}, int32_t(2)});
-        rendered325.push_back(Elem{Pos{add(upd324.origin.x, int32_t(1)), add(upd324.origin.y, int32_t(0))}, int32_t(2)});
-        bool within326 = true;
+        const int32_t t433 = add(prev432.origin.x, int32_t(1));
+        const int32_t t434 = add(prev432.origin.y, int32_t(0));
+        const Pos t435 = Pos{t433, t434};
+        const C5_Spring upd436 = C5_Spring{prev432.f0, t435, s.core.ids.fresh()};
+        std::vector<Elem>& rendered437 = s.scratch.v.b26;
+        rendered437.clear();
+        rendered437.push_back(Elem{Pos{add(upd436.origin.x, int32_t(-1)), add(upd436.origin.y, int32_t(0))}, int32_t(2)});
+        rendered437.push_back(Elem{Pos{add(upd436.origin.x, int32_t(0)), add(upd436.origin.y, int32_t(0))}, int32_t(2)});
+        rendered437.push_back(Elem{Pos{add(upd436.origin.x, int32_t(1)), add(upd436.origin.y, int32_t(0))}, int32_t(2)});
+        bool within438 = true;
         {
-          const auto& e327_list = rendered325;
-          for (const Elem& e327 : e327_list) {
-            if ((((e327.position.x < int32_t(0)) || (e327.position.x >= int32_t(16))) || ((e327.position.y < int32_t(0)) || (e327.position.y >= int32_t(16))))) {
-              within326 = false;
+          const auto& e439_list = rendered437;
+          for (const Elem& e439 : e439_list) {
+            if ((((e439.position.x < int32_t(0)) || (e439.position.x >= int32_t(16))) || ((e439.position.y < int32_t(0)) || (e439.position.y >= int32_t(16))))) {
+              within438 = false;
               break;
             }
           }
         }
-        C5_Spring r328{};
-        if (within326) {
-          const int32_t t329 = add(prev320.origin.x, int32_t(1));
-          const int32_t t330 = add(prev320.origin.y, int32_t(0));
-          const Pos t331 = Pos{t329, t330};
-          C5_Spring upd332 = C5_Spring{prev320.f0, t331, s.core.ids.fresh()};
-          r328 = std::move(upd332);
+        C5_Spring r440{};
+        if (within438) {
+          const int32_t t441 = add(prev432.origin.x, int32_t(1));
+          const int32_t t442 = add(prev432.origin.y, int32_t(0));
+          const Pos t443 = Pos{t441, t442};
+          C5_Spring upd444 = C5_Spring{prev432.f0, t443, s.core.ids.fresh()};
+          r440 = std::move(upd444);
         } else {
-          r328 = prev320;
+          r440 = prev432;
         }
-        s.core.ids.transfer(uint32_t(r328.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        s.core.ids.transfer(uint32_t(r440.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(r328);
+        s.g_spring_15 = std::move(r440);
         s.u_spring_16 = true;
       }
     }
     // on-clause 9, programs/flood_defense.au:70
     {
-      const bool t333 = s.core.up;
-      if (t333) {
+      const bool t445 = s.core.up;
+      if (t445) {
         s.core.covered[int32_t(8)] = 1;
-        const C5_Spring& prev334 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const C5_Spring& prev335 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const int32_t t336 = sub(prev335.f0, int32_t(1));
-        const bool t337 = (int32_t(1) < t336);
-        int32_t r338{};
-        if (t337) {
-          r338 = t336;
+        const C5_Spring& prev446 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev447 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const int32_t t448 = sub(prev447.f0, int32_t(1));
+        const bool t449 = (int32_t(1) < t448);
+        int32_t r450{};
+        if (t449) {
+          r450 = t448;
         } else {
-          r338 = int32_t(1);
+          r450 = int32_t(1);
         }
-        C5_Spring upd339 = C5_Spring{r338, prev334.origin, s.core.ids.fresh()};
-        s.core.ids.transfer(uint32_t(upd339.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        C5_Spring upd451 = C5_Spring{r450, prev446.origin, s.core.ids.fresh()};
+        s.core.ids.transfer(uint32_t(upd451.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(upd339);
+        s.g_spring_15 = std::move(upd451);
         s.u_spring_16 = true;
       }
     }
     // on-clause 10, programs/flood_defense.au:71
     {
-      const bool t340 = s.core.down;
-      if (t340) {
+      const bool t452 = s.core.down;
+      if (t452) {
         s.core.covered[int32_t(9)] = 1;
-        const C5_Spring& prev341 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const C5_Spring& prev342 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const int32_t t343 = add(prev342.f0, int32_t(1));
-        const bool t344 = (int32_t(4) < t343);
-        int32_t r345{};
-        if (t344) {
-          r345 = int32_t(4);
+        const C5_Spring& prev453 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev454 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const int32_t t455 = add(prev454.f0, int32_t(1));
+        const bool t456 = (int32_t(4) < t455);
+        int32_t r457{};
+        if (t456) {
+          r457 = int32_t(4);
         } else {
-          r345 = t343;
+          r457 = t455;
         }
-        C5_Spring upd346 = C5_Spring{r345, prev341.origin, s.core.ids.fresh()};
-        s.core.ids.transfer(uint32_t(upd346.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        C5_Spring upd458 = C5_Spring{r457, prev453.origin, s.core.ids.fresh()};
+        s.core.ids.transfer(uint32_t(upd458.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(upd346);
+        s.g_spring_15 = std::move(upd458);
         s.u_spring_16 = true;
       }
     }
     // NEXT of water, programs/flood_defense.au:41
     if ((!s.u_water_8 && s.scratch.v.sv_water_10)) {
-      const std::vector<C4_Water> prev347 = (s.scratch.v.sv_water_10 ? s.scratch.v.p_water_9 : s.g_water_7);
+      const std::vector<C4_Water> prev459 = (s.scratch.v.sv_water_10 ? s.scratch.v.p_water_9 : s.g_water_7);
       if (!s.scratch.v.sv_water_10) {
         std::swap(s.scratch.v.p_water_9, s.g_water_7);
         s.scratch.v.sv_water_10 = true;
       }
-      s.g_water_7 = prev347;
+      s.g_water_7 = prev459;
       s.u_water_8 = true;
     }
     // NEXT of bags, programs/flood_defense.au:38
     if ((!s.u_bags_12 && s.scratch.v.sv_bags_14)) {
-      const std::vector<C3_Sandbag> prev348 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+      const std::vector<C3_Sandbag> prev460 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
       if (!s.scratch.v.sv_bags_14) {
         std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
         s.scratch.v.sv_bags_14 = true;
       }
-      s.g_bags_11 = prev348;
+      s.g_bags_11 = prev460;
       s.u_bags_12 = true;
     }
     // NEXT of spring, programs/flood_defense.au:44
     if ((!s.u_spring_16 && s.scratch.v.sv_spring_18)) {
-      const C5_Spring prev349 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-      s.core.ids.transfer(uint32_t(prev349.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+      const C5_Spring prev461 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+      s.core.ids.transfer(uint32_t(prev461.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
       if (!s.scratch.v.sv_spring_18) {
         std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
         s.scratch.v.sv_spring_18 = true;
       }
-      s.g_spring_15 = prev349;
+      s.g_spring_15 = prev461;
       s.u_spring_16 = true;
     }
     // NEXT of houses, programs/flood_defense.au:35
     if ((!s.u_houses_20 && s.scratch.v.sv_houses_22)) {
-      const std::vector<C1_House> prev350 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
+      const std::vector<C1_House> prev462 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
       if (!s.scratch.v.sv_houses_22) {
         std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
         s.scratch.v.sv_houses_22 = true;
       }
-      s.g_houses_19 = prev350;
+      s.g_houses_19 = prev462;
       s.u_houses_20 = true;
     }
     // NEXT of drain, programs/flood_defense.au:31
     if ((!s.u_drain_24 && s.scratch.v.sv_drain_26)) {
-      const C2_Drain prev351 = (s.scratch.v.sv_drain_26 ? s.scratch.v.p_drain_25 : s.g_drain_23);
-      s.core.ids.transfer(uint32_t(prev351.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_23.uid)))));
+      const C2_Drain prev463 = (s.scratch.v.sv_drain_26 ? s.scratch.v.p_drain_25 : s.g_drain_23);
+      s.core.ids.transfer(uint32_t(prev463.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_23.uid)))));
       if (!s.scratch.v.sv_drain_26) {
         std::swap(s.scratch.v.p_drain_25, s.g_drain_23);
         s.scratch.v.sv_drain_26 = true;
       }
-      s.g_drain_23 = prev351;
+      s.g_drain_23 = prev463;
       s.u_drain_24 = true;
     }
     // NEXT of earth, programs/flood_defense.au:28
     if ((!s.u_earth_28 && s.scratch.v.sv_earth_30)) {
-      const std::vector<C0_Earth> prev352 = (s.scratch.v.sv_earth_30 ? s.scratch.v.p_earth_29 : s.g_earth_27);
+      const std::vector<C0_Earth> prev464 = (s.scratch.v.sv_earth_30 ? s.scratch.v.p_earth_29 : s.g_earth_27);
       if (!s.scratch.v.sv_earth_30) {
         std::swap(s.scratch.v.p_earth_29, s.g_earth_27);
         s.scratch.v.sv_earth_30 = true;
       }
-      s.g_earth_27 = prev352;
+      s.g_earth_27 = prev464;
       s.u_earth_28 = true;
     }
     // NEXT of time, programs/flood_defense.au:22
     if (!s.u_time_32) {
-      const int32_t& prev353 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
-      const int32_t t354 = add(prev353, int32_t(1));
+      const int32_t& prev465 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
+      const int32_t t466 = add(prev465, int32_t(1));
       if (!s.scratch.v.sv_time_34) {
         std::swap(s.scratch.v.p_time_33, s.g_time_31);
         s.scratch.v.sv_time_34 = true;
       }
-      s.g_time_31 = t354;
+      s.g_time_31 = t466;
       s.u_time_32 = true;
     }
     s.core.tally.v = StateTally{};
     if (s.d_click_36) {
       tally_rendered(s.core, 45, "cacheRendered");
-      const std::vector<C1_House>& g355 = s.g_houses_19;
-      tally_global(s.core, 5, "houses", g355);
-      const std::vector<C3_Sandbag>& g356 = s.g_bags_11;
-      tally_global(s.core, 6, "bags", g356);
-      const std::vector<C4_Water>& g357 = s.g_water_7;
-      tally_global(s.core, 7, "water", g357);
+      const std::vector<C1_House>& g467 = s.g_houses_19;
+      tally_global(s.core, 5, "houses", g467);
+      const std::vector<C3_Sandbag>& g468 = s.g_bags_11;
+      tally_global(s.core, 6, "bags", g468);
+      const std::vector<C4_Water>& g469 = s.g_water_7;
+      tally_global(s.core, 7, "water", g469);
       if (s.d_click_36) {
-        const Pos& g358 = s.g_click_35;
-        tally_global(s.core, 45, "click", g358);
+        const Pos& g470 = s.g_click_35;
+        tally_global(s.core, 45, "click", g470);
       }
-      const std::vector<C0_Earth>& g359 = s.g_earth_27;
-      tally_global(s.core, 8, "earth", g359);
-      const C2_Drain& g360 = s.g_drain_23;
-      tally_global(s.core, 9, "drain", g360);
-      const std::vector<int32_t>& g361 = s.g_heights_4;
-      tally_global(s.core, 10, "heights", g361);
-      const C5_Spring& g362 = s.g_spring_15;
-      tally_global(s.core, 11, "spring", g362);
+      const std::vector<C0_Earth>& g471 = s.g_earth_27;
+      tally_global(s.core, 8, "earth", g471);
+      const C2_Drain& g472 = s.g_drain_23;
+      tally_global(s.core, 9, "drain", g472);
+      const std::vector<int32_t>& g473 = s.g_heights_4;
+      tally_global(s.core, 10, "heights", g473);
+      const C5_Spring& g474 = s.g_spring_15;
+      tally_global(s.core, 11, "spring", g474);
     } else {
       tally_rendered(s.core, 45, "cacheRendered");
-      const std::vector<C1_House>& g363 = s.g_houses_19;
-      tally_global(s.core, 5, "houses", g363);
-      const std::vector<C3_Sandbag>& g364 = s.g_bags_11;
-      tally_global(s.core, 6, "bags", g364);
-      const std::vector<C4_Water>& g365 = s.g_water_7;
-      tally_global(s.core, 7, "water", g365);
-      const std::vector<C0_Earth>& g366 = s.g_earth_27;
-      tally_global(s.core, 8, "earth", g366);
-      const C2_Drain& g367 = s.g_drain_23;
-      tally_global(s.core, 9, "drain", g367);
-      const std::vector<int32_t>& g368 = s.g_heights_4;
-      tally_global(s.core, 10, "heights", g368);
-      const C5_Spring& g369 = s.g_spring_15;
-      tally_global(s.core, 11, "spring", g369);
+      const std::vector<C1_House>& g475 = s.g_houses_19;
+      tally_global(s.core, 5, "houses", g475);
+      const std::vector<C3_Sandbag>& g476 = s.g_bags_11;
+      tally_global(s.core, 6, "bags", g476);
+      const std::vector<C4_Water>& g477 = s.g_water_7;
+      tally_global(s.core, 7, "water", g477);
+      const std::vector<C0_Earth>& g478 = s.g_earth_27;
+      tally_global(s.core, 8, "earth", g478);
+      const C2_Drain& g479 = s.g_drain_23;
+      tally_global(s.core, 9, "drain", g479);
+      const std::vector<int32_t>& g480 = s.g_heights_4;
+      tally_global(s.core, 10, "heights", g480);
+      const C5_Spring& g481 = s.g_spring_15;
+      tally_global(s.core, 11, "spring", g481);
     }
     s.core.clear_inputs();
   }

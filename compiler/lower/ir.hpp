@@ -90,13 +90,14 @@ enum class Helper : uint8_t {
   CheckLength,    // (...): the list-length budget; imm: error site; index: a LengthOf saying how
                   // the length is formed from the arguments
   ChargeBuilt,    // (...): the step's cells budget charged with the elements a list is about to be
-                  // given; imm, index: as CheckLength, any LengthOf but kLengthAppended (a list
-                  // built one element at a time charges kLengthIs 1 per element; charge_built)
+                  // given; imm, index: as CheckLength, any LengthOf but kLengthAppended and
+                  // kLengthCounted (a list built one element at a time charges kLengthIs 1 per
+                  // element; charge_built)
 };
 
 // How Helper::CheckLength (and ChargeBuilt) forms the length of the list about to be built.
 enum LengthOf : int { kLengthIs = 0, kLengthSpan, kLengthArea, kLengthSizes, kLengthSizePlus, kLengthAppended,
-                      kLengthTotal };
+                      kLengthTotal, kLengthCounted };
 //   kLengthIs        a0                     (a count)
 //   kLengthSpan      a1 - a0                (range)
 //   kLengthArea      a0 * a1                (allPositions)
@@ -104,6 +105,8 @@ enum LengthOf : int { kLengthIs = 0, kLengthSpan, kLengthArea, kLengthSizes, kLe
 //   kLengthSizePlus  size(a0) + a1          (addObj)
 //   kLengthAppended  size(a0), built one element at a time (allObjs)
 //   kLengthTotal     sum of the sizes of a0's elements (concat of a list of lists)
+//   kLengthCounted   a0, a count of elements met one at a time, as kLengthAppended's list would
+//                    hold them (allObjs walked by a filter without building it; CheckLength only)
 
 enum class Op : uint8_t {
   Lit,        // imm (Int; Bool 0/1; Str: string id)

@@ -160,6 +160,7 @@ std::string Printer::check_length(const Node* n) {
     case kLengthSizePlus: len = size(0) + " + " + i64(1); break;
     case kLengthAppended: return "check_appended_length(s.core, " + site + ", " + size(0) + ")";
     case kLengthTotal: len = "total_size(" + expr(n->a[0]) + ")"; break;
+    case kLengthCounted: return "check_appended_length(s.core, " + site + ", " + i64(0) + ")";
   }
   return (n->helper == Helper::ChargeBuilt ? "charge_built(s.core, " : "check_length(s.core, ") + site + ", " + len + ")";
 }

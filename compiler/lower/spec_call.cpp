@@ -74,9 +74,36 @@ SVal Specialiser::lower_call(const Expr& e) {
     fail("only functions and classes can be called, got " + (callee.type ? shown_type(type_string(callee.type)) : "Unknown"));
     return never();
   }
+  if (callee.type->k == TK::Func && callee.type->fn.kind == FuncRef::Native && callee.type->fn.builtin == Builtin::Filter &&
+      nargs == 2 && calls_all_objs(*e.kids[2]))
+    return lower_filter_call(callee, e);
   std::vector<SVal> args = args_of();
   if (ir_.dead()) return never();
   return call_value(callee, args, e);
+}
+
+// (filter f ((allObjs))): its arguments in order, as any call's; with f a
+// function, the objects are filtered as allObjs meets them (filter_all_objs).
+SVal Specialiser::lower_filter_call(const SVal& callee, const Expr& e) {
+  std::vector<SVal> args{let(lower_value(*e.kids[1]), "arg")};
+  if (ir_.dead()) return never();
+  const TypeP ft = args[0].type;
+  if (ft->k == TK::Func || (is_sum(ft) && ft->alts[0]->k == TK::Func)) return filter_all_objs(args[0], *e.kids[2], e);
+  args.push_back(let(lower_value(*e.kids[2]), "arg"));
+  if (ir_.dead()) return never();
+  return call_value(callee, args, e);
+}
+
+bool Specialiser::calls_all_objs(const Expr& e) {
+  return e.kind == ExprKind::Call && e.kids.size() == 1 && e.kids[0]->kind == ExprKind::Var &&
+         means_builtin(e.kids[0]->name, Builtin::AllObjs);
+}
+
+bool Specialiser::means_builtin(Sym s, Builtin b) {
+  if (scopes_.binds(s)) return false;
+  Global* g = global(s);
+  SVal v = g && g->state == Global::Defined ? read_global(*g) : SVal{};
+  return v.type && v.type->k == TK::Func && v.type->fn.kind == FuncRef::Native && v.type->fn.builtin == b;
 }
 
 // ((.. o render) args...): the render method of o's class, called at once (the
@@ -137,19 +164,15 @@ bool Specialiser::render_value_shortcut(const Expr& lambda, const std::vector<SV
     return t->k == TK::Sum;
   };
   if (!objects(args[0].type)) return false;
-  auto means = [&](const char* name, const std::function<bool(TypeP)>& ok) {
-    Sym s = p_.symbols.find(name);
-    if (scopes_.binds(s)) return false;
-    Global* g = global(s);
+  auto native = [&](const char* name, Builtin b) { return means_builtin(p_.symbols.find(name), b); };
+  auto is_this_lambda = [&] {
+    const Sym rv = p_.symbols.find("renderValue");
+    Global* g = scopes_.binds(rv) ? nullptr : global(rv);
     SVal v = g && g->state == Global::Defined ? read_global(*g) : SVal{};
-    return v.type && ok(v.type);
+    return v.type && v.type->k == TK::Func && v.type->fn.lambda == &lambda;
   };
-  auto native = [&](Builtin b) {
-    return [b](TypeP t) { return t->k == TK::Func && t->fn.kind == FuncRef::Native && t->fn.builtin == b; };
-  };
-  return means("map", native(Builtin::Map)) && means("concat", native(Builtin::Concat)) &&
-         means("isList", native(Builtin::IsList)) &&
-         means("renderValue", [&](TypeP t) { return t->k == TK::Func && t->fn.lambda == &lambda; });
+  return native("map", Builtin::Map) && native("concat", Builtin::Concat) && native("isList", Builtin::IsList) &&
+         is_this_lambda();
 }
 
 SVal Specialiser::inline_lambda(const Expr& lambda, std::vector<SVal>& args, const Expr& at, ScopeKind kind) {

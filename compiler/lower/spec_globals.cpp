@@ -165,9 +165,9 @@ void Specialiser::check_state() {
       true);
 }
 
-// allObjs: every object (with a render method) in the globals, lists searched
-// recursively, in map order.
-SVal Specialiser::all_objs() {
+// The classes of the objects allObjs may list, joined into one type; null
+// when it lists none.
+TypeP Specialiser::all_objs_type() {
   std::vector<TypeP> classes;
   std::function<void(TypeP)> objects_in = [&](TypeP t) {
     if (!t) return;
@@ -178,14 +178,20 @@ SVal Specialiser::all_objs() {
   };
   for (auto& [s, g] : globals_)
     if (g.state != Global::Undefined) objects_in(g.type);
-  if (classes.empty()) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list())};
-  TypeP u = T().sum(classes);
-  TypeP lt = T().list(u);
-  ir::Var* out = ir_.decl(lt, nullptr, "all");
+  return classes.empty() ? nullptr : T().sum(classes);
+}
+
+// Each object allObjs lists, in its order: every object (with a render method)
+// in the globals, lists searched recursively, in map order. `each` is given the
+// object with its own class, where it is met (inside the loops over lists); a
+// list of objects of one class goes to `whole` instead, when given.
+void Specialiser::for_each_listed_object(const std::function<void(const SVal&)>& each,
+                                         const std::function<void(const SVal&)>& whole) {
   std::function<void(const SVal&)> collect = [&](const SVal& v) {
     if (v.type->k == TK::Obj) {
-      charge_one_built();
-      ir_.emit_push(ir_.local(out), coerce(v, u).code);
+      each(v);
+    } else if (whole && v.type->k == TK::List && v.type->elem && v.type->elem->k == TK::Obj) {
+      whole(v);
     } else if (v.type->k == TK::List && v.type->elem && renders(v.type->elem)) {
       ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
       loop->var = ir_.var(v.type->elem, "x");
@@ -201,7 +207,59 @@ SVal Specialiser::all_objs() {
   for_each_global_in_order([&](Global& g) {
     if (renders(g.type)) collect(read_global(g));
   });
+}
+
+// allObjs: the listed objects in one list of their joined type.
+SVal Specialiser::all_objs() {
+  TypeP u = all_objs_type();
+  if (!u) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list())};
+  ir::Var* out = ir_.decl(T().list(u), nullptr, "all");
+  for_each_listed_object([&](const SVal& v) {
+    charge_one_built();
+    ir_.emit_push(ir_.local(out), coerce(v, u).code);
+  });
   check_length(ir::kLengthAppended, {ir_.local(out)});
+  return built(out);
+}
+
+// (filter f ((allObjs))) (the stdlib's adjacentObjs): each listed object is
+// tested where it is met, with its own class, and only those kept are put in a
+// list; the list of every object is never built. What building it cost is
+// charged as before, and before f is first called: a cell per object (at the
+// allObjs call) and the list-length check on their count.
+//
+//   before: for (x : g_earth) { charge_built(1); all.push_back(S{x}); } ...; check_appended_length(all.size());
+//           for (x : all) switch (x.index()) { case 0: if (f(get<0>(x))) out.push_back(x); ... }
+//   after:  charge_built(g_earth.size()); n = n + g_earth.size(); ...; check_appended_length(n);
+//           for (x : g_earth) if (f(x)) out.push_back(S{x}); ...
+// A list's elements are charged at once (nothing runs between the charges one
+// by one, so the step fails, or not, with the same error).
+// Test: tests/lowering/filter_all_objs.au.
+SVal Specialiser::filter_all_objs(const SVal& f, const Expr& list, const Expr& at) {
+  TypeP u = all_objs_type();
+  if (!u) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
+  sites_.enter(&list);
+  ir::Var* n = ir_.decl(T().int_(), ir_.lit(T().int_(), 0), "objects");
+  auto count = [&](ir::Node* k) {
+    charge_built(ir::kLengthIs, {k});
+    ir_.emit_set(ir_.local(n), ir_.node(ir::Op::Add, T().int_(), {ir_.local(n), k}));
+  };
+  for_each_listed_object([&](const SVal&) { count(ir_.lit(T().int_(), 1)); },
+                         [&](const SVal& l) { count(ir_.node(ir::Op::Size, T().int_(), {l.code})); });
+  check_length(ir::kLengthCounted, {ir_.local(n)});
+  sites_.leave();
+  ir::Var* out = ir_.decl(T().list(u), nullptr, "out");
+  for_each_listed_object([&](const SVal& v) {
+    if (ir_.dead()) return;
+    SVal y = call1(f, v, at);
+    if (ir_.dead()) return;
+    ir::Stmt* s = ir_.emit(ir::SK::If);
+    s->a = truthy(y);
+    ir_.in_block(s->body, [&] {
+      charge_one_built();
+      ir_.emit_push(ir_.local(out), coerce(v, u).code);
+    });
+  });
   return built(out);
 }
 

@@ -257,7 +257,14 @@ class Specialiser {
   void walk_runtime_order(const std::function<void(Global&)>& visit, bool slotless);
   void order_insert(Sym s);         // the run-time order (when kept) learns s
   void note_definition(Global& g);  // g's first definition
+  TypeP all_objs_type();
+  void for_each_listed_object(const std::function<void(const SVal&)>& each,
+                              const std::function<void(const SVal&)>& whole = nullptr);
   SVal all_objs();
+  SVal filter_all_objs(const SVal& f, const Expr& list, const Expr& at);
+  bool calls_all_objs(const Expr& e);  // e is ((allObjs)), allObjs the builtin there
+  bool means_builtin(Sym s, Builtin b);  // s names builtin b here (no binding or global shadows it)
+  SVal lower_filter_call(const SVal& callee, const Expr& e);
   SVal remove_global(const SVal& v);
   SVal lower_prev(const Expr& call);
   SVal prev_of_name(Sym s);
