@@ -59,6 +59,9 @@ class Hints {
   bool add_rotated(int cls) { return rotated_.insert(cls).second; }
   bool mutable_binding(const LocalKey& k) const { return mutable_bindings_.count(k) > 0; }  // a parameter assigned to
   bool add_mutable_binding(const LocalKey& k) { return mutable_bindings_.insert(k).second; }
+  // A (filter f ((allObjs))) whose function writes the state: allObjs' list is built first.
+  bool unfused(const void* filter) const { return unfused_.count(filter) > 0; }
+  bool add_unfused(const void* filter) { return unfused_.insert(filter).second; }
   bool runtime_order() const { return runtime_order_; }  // a step observes a map order steps change
   // Returns whether it was not yet set.
   bool set_runtime_order() { return !std::exchange(runtime_order_, true); }
@@ -93,6 +96,7 @@ class Hints {
   std::set<Sym> erasable_, runtime_defined_, stored_in_step_, prev_read_;
   std::set<int> stored_cells_, rotated_;
   std::set<LocalKey> mutable_bindings_;
+  std::set<const void*> unfused_;
   bool runtime_order_ = false;
   std::map<int, ir::Node*> shapes_;
   bool changed_ = false;  // set by learn, cleared by start_walk

@@ -88,7 +88,8 @@ SVal Specialiser::lower_filter_call(const SVal& callee, const Expr& e) {
   std::vector<SVal> args{let(lower_value(*e.kids[1]), "arg")};
   if (ir_.dead()) return never();
   const TypeP ft = args[0].type;
-  if (ft->k == TK::Func || (is_sum(ft) && ft->alts[0]->k == TK::Func)) return filter_all_objs(args[0], *e.kids[2], e);
+  if ((ft->k == TK::Func || (is_sum(ft) && ft->alts[0]->k == TK::Func)) && !h_.unfused(&e))
+    return filter_all_objs(args[0], *e.kids[2], e);
   args.push_back(let(lower_value(*e.kids[2]), "arg"));
   if (ir_.dead()) return never();
   return call_value(callee, args, e);

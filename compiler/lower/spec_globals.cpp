@@ -26,6 +26,45 @@
 
 namespace autumn::lower {
 
+namespace {
+
+// Whether a place is state (a global's value, a flag, a prev copy), or part of one.
+bool in_state(const ir::Node* n) {
+  switch (n->op) {
+    case ir::Op::Global:
+    case ir::Op::Slot: return true;
+    case ir::Op::Member:
+    case ir::Op::Index:
+    case ir::Op::Front:
+    case ir::Op::Back:
+    case ir::Op::SumGet: return in_state(n->a[0]);
+    case ir::Op::Select: return in_state(n->a[1]) || in_state(n->a[2]);
+    default: return false;
+  }
+}
+
+// Whether statements b[from..] write the state: store into, push onto, swap or
+// clear a global or a flag, or define or erase a global (the map's order).
+bool writes_state(const ir::Block& b, size_t from = 0) {
+  for (size_t i = from; i < b.size(); ++i) {
+    const ir::Stmt& s = *b[i];
+    if ((s.k == ir::SK::Set || s.k == ir::SK::Push) && in_state(s.a)) return true;
+    if (s.k == ir::SK::Swap && (in_state(s.a) || in_state(s.b))) return true;
+    if (s.k == ir::SK::Eval && s.a->op == ir::Op::Call) {
+      const ir::Helper h = s.a->helper;
+      if (h == ir::Helper::DefineGlobal || h == ir::Helper::EraseGlobal) return true;
+      if ((h == ir::Helper::Clear || h == ir::Helper::Append || h == ir::Helper::Reserve) && in_state(s.a->a[0])) return true;
+    }
+    if (s.k == ir::SK::Eval && s.a->op == ir::Op::FnCall && !s.a->a.empty() && in_state(s.a->a.back())) return true;
+    if (writes_state(s.body) || writes_state(s.other)) return true;
+    for (const auto& [alt, block] : s.cases)
+      if (writes_state(block)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 // The global map's iteration order after start-up, without and with `click`.
 std::vector<Sym> Specialiser::global_order(bool with_click) {
   HashOrder order;
@@ -234,6 +273,7 @@ SVal Specialiser::all_objs() {
 //           for (x : g_earth) if (f(x)) out.push_back(S{x}); ...
 // A list's elements are charged at once (nothing runs between the charges one
 // by one, so the step fails, or not, with the same error).
+// Not where the function writes the state (below; the next walk builds the list).
 // Test: tests/lowering/filter_all_objs.au.
 SVal Specialiser::filter_all_objs(const SVal& f, const Expr& list, const Expr& at) {
   TypeP u = all_objs_type();
@@ -249,6 +289,8 @@ SVal Specialiser::filter_all_objs(const SVal& f, const Expr& list, const Expr& a
   check_length(ir::kLengthCounted, {ir_.local(n)});
   sites_.leave();
   ir::Var* out = ir_.decl(T().list(u), nullptr, "out");
+  ir::Block* block = ir_.block();
+  const size_t from = block->size();
   for_each_listed_object([&](const SVal& v) {
     if (ir_.dead()) return;
     SVal y = call1(f, v, at);
@@ -260,6 +302,11 @@ SVal Specialiser::filter_all_objs(const SVal& f, const Expr& list, const Expr& a
       ir_.emit_push(ir_.local(out), coerce(v, u).code);
     });
   });
+  // A function that writes the state could change what is being walked (a
+  // global's list reassigned under its loop, a global defined or erased); the
+  // list built first holds what allObjs listed before any call.
+  if (writes_state(*block, from) && h_.add_unfused(&at))
+    h_.learn("a filter over allObjs whose function writes the state (allObjs' list is built first)");
   return built(out);
 }
 
