@@ -229,7 +229,8 @@ void Specialiser::for_each_listed_object(const std::function<void(const SVal&)>&
   std::function<void(const SVal&)> collect = [&](const SVal& v) {
     if (v.type->k == TK::Obj) {
       each(v);
-    } else if (whole && v.type->k == TK::List && v.type->elem && v.type->elem->k == TK::Obj) {
+    } else if (whole && v.type->k == TK::List && v.type->elem && v.type->elem->k == TK::Obj &&
+               renders(v.type->elem)) {
       whole(v);
     } else if (v.type->k == TK::List && v.type->elem && renders(v.type->elem)) {
       ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
