@@ -54,8 +54,8 @@ void register_bench_agent(CLI::App* cmd, BenchAgentCommand& o) {
       ->default_val(10)
       ->check(cli::number_at_least(0.001, "POSITIVE"));
   cmd->add_option("--repeat", o.agent.bfs_repeat,
-                  "BFS: runs of each measurement (one thread, --threads threads); the fastest is reported, since a "
-                  "busy machine slows a run and nothing speeds one")
+                  "BFS: runs of each measurement (one thread, --threads threads), alternating between the two; the "
+                  "fastest is reported, since a busy machine slows a run and nothing speeds one")
       ->default_val(1)
       ->check(cli::int_count(1));
   cmd->add_option("--grid", o.agent.grid,
