@@ -142,7 +142,7 @@ class IdTable {
 // a fixed array of grid/4 + 1 entries (no growing list: a mark is made per
 // element drawn, the hottest call of a many-object render) and a count. Past
 // grid/4 marks, unsetting cell by cell costs more than clearing the grid, and
-// dense() tells the owner to do that instead.
+// undo() clears it all instead.
 class Marks {
  public:
   Marks() = default;
@@ -164,22 +164,25 @@ class Marks {
     at_.reset(new uint32_t[size_]);
     n_ = 0;
   }
-  void clear() { n_ = 0; }
   void add(uint32_t cell) {
     const size_t last = size_ - 1;  // the sink: marks past the array's
     at_[n_ < last ? n_ : last] = cell;
     ++n_;
   }
   bool dense() const { return n_ >= size_; }
-  // The cells marked; only while !dense().
-  template <class F>
-  void for_each(F&& f) const {
-    for (size_t k = 0; k < n_; ++k) f(at_[k]);
+  // Sets the marked cells of `cells` (the array the marks index) back to
+  // `value`, or all of it once dense, and clears the marks.
+  template <class T>
+  void undo(std::vector<T>& cells, T value) {
+    if (dense()) std::fill(cells.begin(), cells.end(), value);
+    else
+      for (size_t k = 0; k < n_; ++k) cells[at_[k]] = value;
+    n_ = 0;
   }
 
  private:
   // Invariant: after reset(), at_ holds size_ = cells/4 + 1 entries, of which
-  // the first min(n_, size_ - 1) are the cells marked since the last clear()
+  // the first min(n_, size_ - 1) are the cells marked since the last undo()
   // (the others are unspecified); before it, size_ and n_ are 0.
   std::unique_ptr<uint32_t[]> at_;
   size_t size_ = 0;
@@ -197,12 +200,9 @@ class Occupancy {
       size_ = size;
       grid_.assign(cells, 0);
       marks_.reset(cells);
-    } else if (marks_.dense()) {
-      std::fill(grid_.begin(), grid_.end(), uint8_t{0});
     } else {
-      marks_.for_each([&](uint32_t i) { grid_[i] = 0; });
+      marks_.undo(grid_, uint8_t{0});
     }
-    marks_.clear();
     outside_.clear();
     sorted_ = true;
   }
@@ -283,12 +283,9 @@ class Painter {
       f.cells.assign(cells, background);
       background_ = background;
       marks_.reset(cells);
-    } else if (marks_.dense()) {  // repainting it all costs less
-      std::fill(f.cells.begin(), f.cells.end(), background);
     } else {
-      marks_.for_each([&](uint32_t i) { f.cells[i] = background; });
+      marks_.undo(f.cells, background);
     }
-    marks_.clear();
     size_ = size;
     cells_ = f.cells.data();
     drawn_.clear();
