@@ -1493,9 +1493,9 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const std::vector<C1_Block>& g1 = s.g_stack_12;
     {
       const auto& x2_list = g1;
@@ -1503,11 +1503,11 @@ struct Prog {
       for (const C1_Block& x2 : x2_list) {
         const int32_t colour3 = colour_1_C1_Block(s, x2);
         const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
-        s.core.occupied.add(e4.position);
-        ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
+        brush.mark(e4.position);
+        brush.paint(e4.position, e4.color);
       }
     }
-    if (paint) paint->global(int32_t(1));
+    brush.global(int32_t(1));
     const C0_Piece& g5 = s.g_piece_8;
     std::vector<Elem>& cells6 = s.scratch.v.b79;
     cells6.clear();
@@ -1516,10 +1516,11 @@ struct Prog {
       const auto& e7_list = cells6;
       charge_loop(s.core, 64, int64_t(e7_list.size()));
       for (const Elem& e7 : e7_list) {
-        s.core.occupied.add(e7.position);
-        ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
+        brush.mark(e7.position);
+        brush.paint(e7.position, e7.color);
       }
     }
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

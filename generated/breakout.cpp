@@ -1299,25 +1299,25 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const C0_Paddle& g1 = s.g_paddle_25;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
-    s.core.occupied.add(e2.position);
-    ++s.core.rendered, paint ? paint->paint(e2.position, e2.color, pal) : void();
+    brush.mark(e2.position);
+    brush.paint(e2.position, e2.color);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
-    s.core.occupied.add(e3.position);
-    ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+    brush.mark(e3.position);
+    brush.paint(e3.position, e3.color);
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(3)};
-    s.core.occupied.add(e4.position);
-    ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
-    if (paint) paint->global(int32_t(1));
+    brush.mark(e4.position);
+    brush.paint(e4.position, e4.color);
+    brush.global(int32_t(1));
     const C1_Ball& g5 = s.g_ball_21;
     const Elem e6 = Elem{Pos{add(g5.origin.x, int32_t(0)), add(g5.origin.y, int32_t(0))}, int32_t(2)};
-    s.core.occupied.add(e6.position);
-    ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
-    if (paint) paint->global(int32_t(2));
+    brush.mark(e6.position);
+    brush.paint(e6.position, e6.color);
+    brush.global(int32_t(2));
     const std::vector<C2_Brick>& g7 = s.g_bricks_17;
     {
       const auto& x8_list = g7;
@@ -1325,24 +1325,25 @@ struct Prog {
       for (const C2_Brick& x8 : x8_list) {
         const int32_t colour9 = colour_3_C2_Brick(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
-        s.core.occupied.add(e10.position);
-        ++s.core.rendered, paint ? paint->paint(e10.position, e10.color, pal) : void();
+        brush.mark(e10.position);
+        brush.paint(e10.position, e10.color);
       }
     }
-    if (paint) paint->global(int32_t(3));
+    brush.global(int32_t(3));
     const C3_Hearts& g11 = s.g_hud_9;
     const int32_t colour12 = colour_0_C3_Hearts(s, g11);
     const Elem e13 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, colour12};
-    s.core.occupied.add(e13.position);
-    ++s.core.rendered, paint ? paint->paint(e13.position, e13.color, pal) : void();
+    brush.mark(e13.position);
+    brush.paint(e13.position, e13.color);
     const int32_t colour14 = colour_1_C3_Hearts(s, g11);
     const Elem e15 = Elem{Pos{add(g11.origin.x, int32_t(1)), add(g11.origin.y, int32_t(0))}, colour14};
-    s.core.occupied.add(e15.position);
-    ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
+    brush.mark(e15.position);
+    brush.paint(e15.position, e15.color);
     const int32_t colour16 = colour_2_C3_Hearts(s, g11);
     const Elem e17 = Elem{Pos{add(g11.origin.x, int32_t(2)), add(g11.origin.y, int32_t(0))}, colour16};
-    s.core.occupied.add(e17.position);
-    ++s.core.rendered, paint ? paint->paint(e17.position, e17.color, pal) : void();
+    brush.mark(e17.position);
+    brush.paint(e17.position, e17.color);
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -871,9 +871,9 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const std::vector<C0_Tile>& g1 = s.g_tiles_14;
     {
       const auto& x2_list = g1;
@@ -881,10 +881,10 @@ struct Prog {
       for (const C0_Tile& x2 : x2_list) {
         const int32_t colour3 = colour_2_C0_Tile(s, x2);
         const Elem e4 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, colour3};
-        ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
+        brush.paint(e4.position, e4.color);
       }
     }
-    if (paint) paint->global(int32_t(1));
+    brush.global(int32_t(1));
     const std::vector<C1_Swatch>& g5 = s.g_swatches_10;
     {
       const auto& x6_list = g5;
@@ -892,20 +892,21 @@ struct Prog {
       for (const C1_Swatch& x6 : x6_list) {
         const int32_t colour7 = colour_1_C1_Swatch(s, x6);
         const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, colour7};
-        ++s.core.rendered, paint ? paint->paint(e8.position, e8.color, pal) : void();
+        brush.paint(e8.position, e8.color);
       }
     }
-    if (paint) paint->global(int32_t(2));
+    brush.global(int32_t(2));
     const C2_Lamps& g9 = s.g_lamps_6;
     const int32_t colour10 = colour_0_C2_Lamps(s, g9);
     const Elem e11 = Elem{Pos{add(g9.origin.x, int32_t(0)), add(g9.origin.y, int32_t(0))}, colour10};
-    ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
+    brush.paint(e11.position, e11.color);
     const int32_t colour12 = colour_0_C2_Lamps(s, g9);
     const Elem e13 = Elem{Pos{add(g9.origin.x, int32_t(1)), add(g9.origin.y, int32_t(0))}, colour12};
-    ++s.core.rendered, paint ? paint->paint(e13.position, e13.color, pal) : void();
+    brush.paint(e13.position, e13.color);
     const int32_t colour14 = colour_0_C2_Lamps(s, g9);
     const Elem e15 = Elem{Pos{add(g9.origin.x, int32_t(2)), add(g9.origin.y, int32_t(0))}, colour14};
-    ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
+    brush.paint(e15.position, e15.color);
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

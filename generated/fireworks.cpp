@@ -772,29 +772,29 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const C0_Pad& g1 = s.g_pad_16;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(-1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e2.position, e2.color, pal) : void();
+    brush.paint(e2.position, e2.color);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+    brush.paint(e3.position, e3.color);
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
-    if (paint) paint->global(int32_t(1));
+    brush.paint(e4.position, e4.color);
+    brush.global(int32_t(1));
     const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
     {
       const auto& x6_list = g5;
       charge_loop(s.core, 29, int64_t(x6_list.size()));
       for (const C1_Rocket& x6 : x6_list) {
         const Elem e7 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(0))}, int32_t(8)};
-        ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
+        brush.paint(e7.position, e7.color);
         const Elem e8 = Elem{Pos{add(x6.origin.x, int32_t(0)), add(x6.origin.y, int32_t(1))}, int32_t(9)};
-        ++s.core.rendered, paint ? paint->paint(e8.position, e8.color, pal) : void();
+        brush.paint(e8.position, e8.color);
       }
     }
-    if (paint) paint->global(int32_t(2));
+    brush.global(int32_t(2));
     const std::vector<C2_Spark>& g9 = s.g_sparks_8;
     {
       const auto& x10_list = g9;
@@ -802,9 +802,10 @@ struct Prog {
       for (const C2_Spark& x10 : x10_list) {
         const int32_t colour11 = colour_5_C2_Spark(s, x10);
         const Elem e12 = Elem{Pos{add(x10.origin.x, int32_t(0)), add(x10.origin.y, int32_t(0))}, colour11};
-        ++s.core.rendered, paint ? paint->paint(e12.position, e12.color, pal) : void();
+        brush.paint(e12.position, e12.color);
       }
     }
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

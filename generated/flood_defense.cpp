@@ -1896,25 +1896,25 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const std::vector<C0_Earth>& g1 = s.g_earth_27;
     {
       const auto& x2_list = g1;
       charge_loop(s.core, 46, int64_t(x2_list.size()));
       for (const C0_Earth& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(3)};
-        s.core.occupied.add(e3.position);
-        ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+        brush.mark(e3.position);
+        brush.paint(e3.position, e3.color);
       }
     }
-    if (paint) paint->global(int32_t(1));
+    brush.global(int32_t(1));
     const C2_Drain& g4 = s.g_drain_23;
     const Elem e5 = Elem{Pos{add(g4.origin.x, int32_t(0)), add(g4.origin.y, int32_t(0))}, int32_t(0)};
-    s.core.occupied.add(e5.position);
-    ++s.core.rendered, paint ? paint->paint(e5.position, e5.color, pal) : void();
-    if (paint) paint->global(int32_t(2));
+    brush.mark(e5.position);
+    brush.paint(e5.position, e5.color);
+    brush.global(int32_t(2));
     const std::vector<C1_House>& g6 = s.g_houses_19;
     {
       const auto& x7_list = g6;
@@ -1922,43 +1922,44 @@ struct Prog {
       for (const C1_House& x7 : x7_list) {
         const int32_t colour8 = colour_3_C1_House(s, x7);
         const Elem e9 = Elem{Pos{add(x7.origin.x, int32_t(0)), add(x7.origin.y, int32_t(0))}, colour8};
-        s.core.occupied.add(e9.position);
-        ++s.core.rendered, paint ? paint->paint(e9.position, e9.color, pal) : void();
+        brush.mark(e9.position);
+        brush.paint(e9.position, e9.color);
       }
     }
-    if (paint) paint->global(int32_t(3));
+    brush.global(int32_t(3));
     const std::vector<C3_Sandbag>& g10 = s.g_bags_11;
     {
       const auto& x11_list = g10;
       charge_loop(s.core, 46, int64_t(x11_list.size()));
       for (const C3_Sandbag& x11 : x11_list) {
         const Elem e12 = Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, int32_t(8)};
-        s.core.occupied.add(e12.position);
-        ++s.core.rendered, paint ? paint->paint(e12.position, e12.color, pal) : void();
+        brush.mark(e12.position);
+        brush.paint(e12.position, e12.color);
       }
     }
-    if (paint) paint->global(int32_t(4));
+    brush.global(int32_t(4));
     const std::vector<C4_Water>& g13 = s.g_water_7;
     {
       const auto& x14_list = g13;
       charge_loop(s.core, 46, int64_t(x14_list.size()));
       for (const C4_Water& x14 : x14_list) {
         const Elem e15 = Elem{Pos{add(x14.origin.x, int32_t(0)), add(x14.origin.y, int32_t(0))}, int32_t(4)};
-        s.core.occupied.add(e15.position);
-        ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
+        brush.mark(e15.position);
+        brush.paint(e15.position, e15.color);
       }
     }
-    if (paint) paint->global(int32_t(5));
+    brush.global(int32_t(5));
     const C5_Spring& g16 = s.g_spring_15;
     const Elem e17 = Elem{Pos{add(g16.origin.x, int32_t(-1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
-    s.core.occupied.add(e17.position);
-    ++s.core.rendered, paint ? paint->paint(e17.position, e17.color, pal) : void();
+    brush.mark(e17.position);
+    brush.paint(e17.position, e17.color);
     const Elem e18 = Elem{Pos{add(g16.origin.x, int32_t(0)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
-    s.core.occupied.add(e18.position);
-    ++s.core.rendered, paint ? paint->paint(e18.position, e18.color, pal) : void();
+    brush.mark(e18.position);
+    brush.paint(e18.position, e18.color);
     const Elem e19 = Elem{Pos{add(g16.origin.x, int32_t(1)), add(g16.origin.y, int32_t(0))}, int32_t(2)};
-    s.core.occupied.add(e19.position);
-    ++s.core.rendered, paint ? paint->paint(e19.position, e19.color, pal) : void();
+    brush.mark(e19.position);
+    brush.paint(e19.position, e19.color);
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

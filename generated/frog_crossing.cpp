@@ -1314,59 +1314,59 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const C0_River& g1 = s.g_river_27;
     const Elem e2 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e2.position, e2.color, pal) : void();
+    brush.paint(e2.position, e2.color);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+    brush.paint(e3.position, e3.color);
     const Elem e4 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e4.position, e4.color, pal) : void();
+    brush.paint(e4.position, e4.color);
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e5.position, e5.color, pal) : void();
+    brush.paint(e5.position, e5.color);
     const Elem e6 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
+    brush.paint(e6.position, e6.color);
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
+    brush.paint(e7.position, e7.color);
     const Elem e8 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e8.position, e8.color, pal) : void();
+    brush.paint(e8.position, e8.color);
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e9.position, e9.color, pal) : void();
+    brush.paint(e9.position, e9.color);
     const Elem e10 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e10.position, e10.color, pal) : void();
+    brush.paint(e10.position, e10.color);
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, int32_t(6)};
-    ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
-    if (paint) paint->global(int32_t(1));
+    brush.paint(e11.position, e11.color);
+    brush.global(int32_t(1));
     const std::vector<C1_Verge>& g12 = s.g_verges_19;
     {
       const auto& x13_list = g12;
       charge_loop(s.core, 41, int64_t(x13_list.size()));
       for (const C1_Verge& x13 : x13_list) {
         const Elem e14 = Elem{Pos{add(x13.origin.x, int32_t(0)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e14.position, e14.color, pal) : void();
+        brush.paint(e14.position, e14.color);
         const Elem e15 = Elem{Pos{add(x13.origin.x, int32_t(1)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
+        brush.paint(e15.position, e15.color);
         const Elem e16 = Elem{Pos{add(x13.origin.x, int32_t(2)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e16.position, e16.color, pal) : void();
+        brush.paint(e16.position, e16.color);
         const Elem e17 = Elem{Pos{add(x13.origin.x, int32_t(3)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e17.position, e17.color, pal) : void();
+        brush.paint(e17.position, e17.color);
         const Elem e18 = Elem{Pos{add(x13.origin.x, int32_t(4)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e18.position, e18.color, pal) : void();
+        brush.paint(e18.position, e18.color);
         const Elem e19 = Elem{Pos{add(x13.origin.x, int32_t(5)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e19.position, e19.color, pal) : void();
+        brush.paint(e19.position, e19.color);
         const Elem e20 = Elem{Pos{add(x13.origin.x, int32_t(6)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e20.position, e20.color, pal) : void();
+        brush.paint(e20.position, e20.color);
         const Elem e21 = Elem{Pos{add(x13.origin.x, int32_t(7)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e21.position, e21.color, pal) : void();
+        brush.paint(e21.position, e21.color);
         const Elem e22 = Elem{Pos{add(x13.origin.x, int32_t(8)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e22.position, e22.color, pal) : void();
+        brush.paint(e22.position, e22.color);
         const Elem e23 = Elem{Pos{add(x13.origin.x, int32_t(9)), add(x13.origin.y, int32_t(0))}, int32_t(5)};
-        ++s.core.rendered, paint ? paint->paint(e23.position, e23.color, pal) : void();
+        brush.paint(e23.position, e23.color);
       }
     }
-    if (paint) paint->global(int32_t(2));
+    brush.global(int32_t(2));
     const std::vector<C2_Pad>& g24 = s.g_pads_23;
     {
       const auto& x25_list = g24;
@@ -1374,10 +1374,10 @@ struct Prog {
       for (const C2_Pad& x25 : x25_list) {
         const int32_t colour26 = colour_6_C2_Pad(s, x25);
         const Elem e27 = Elem{Pos{add(x25.origin.x, int32_t(0)), add(x25.origin.y, int32_t(0))}, colour26};
-        ++s.core.rendered, paint ? paint->paint(e27.position, e27.color, pal) : void();
+        brush.paint(e27.position, e27.color);
       }
     }
-    if (paint) paint->global(int32_t(3));
+    brush.global(int32_t(3));
     const std::vector<C3_Car>& g28 = s.g_cars_15;
     {
       const auto& x29_list = g28;
@@ -1390,26 +1390,27 @@ struct Prog {
           const auto& e31_list = cells30;
           charge_loop(s.core, 41, int64_t(e31_list.size()));
           for (const Elem& e31 : e31_list) {
-            ++s.core.rendered, paint ? paint->paint(e31.position, e31.color, pal) : void();
+            brush.paint(e31.position, e31.color);
           }
         }
       }
     }
-    if (paint) paint->global(int32_t(4));
+    brush.global(int32_t(4));
     const C5_Lives& g32 = s.g_lives_11;
     const int32_t colour33 = colour_1_C5_Lives(s, g32);
     const Elem e34 = Elem{Pos{add(g32.origin.x, int32_t(0)), add(g32.origin.y, int32_t(0))}, colour33};
-    ++s.core.rendered, paint ? paint->paint(e34.position, e34.color, pal) : void();
+    brush.paint(e34.position, e34.color);
     const int32_t colour35 = colour_2_C5_Lives(s, g32);
     const Elem e36 = Elem{Pos{add(g32.origin.x, int32_t(1)), add(g32.origin.y, int32_t(0))}, colour35};
-    ++s.core.rendered, paint ? paint->paint(e36.position, e36.color, pal) : void();
+    brush.paint(e36.position, e36.color);
     const int32_t colour37 = colour_3_C5_Lives(s, g32);
     const Elem e38 = Elem{Pos{add(g32.origin.x, int32_t(2)), add(g32.origin.y, int32_t(0))}, colour37};
-    ++s.core.rendered, paint ? paint->paint(e38.position, e38.color, pal) : void();
-    if (paint) paint->global(int32_t(5));
+    brush.paint(e38.position, e38.color);
+    brush.global(int32_t(5));
     const C4_Frog& g39 = s.g_frog_7;
     const Elem e40 = Elem{Pos{add(g39.origin.x, int32_t(0)), add(g39.origin.y, int32_t(0))}, int32_t(2)};
-    ++s.core.rendered, paint ? paint->paint(e40.position, e40.color, pal) : void();
+    brush.paint(e40.position, e40.color);
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

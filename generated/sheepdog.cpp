@@ -1872,31 +1872,31 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const std::vector<C0_Fence>& g1 = s.g_fences_19;
     {
       const auto& x2_list = g1;
       charge_loop(s.core, 49, int64_t(x2_list.size()));
       for (const C0_Fence& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
-        s.core.occupied.add(e3.position);
-        ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+        brush.mark(e3.position);
+        brush.paint(e3.position, e3.color);
       }
     }
-    if (paint) paint->global(int32_t(1));
+    brush.global(int32_t(1));
     const std::vector<C1_Flag>& g4 = s.g_flags_11;
     {
       const auto& x5_list = g4;
       charge_loop(s.core, 49, int64_t(x5_list.size()));
       for (const C1_Flag& x5 : x5_list) {
         const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
-        s.core.occupied.add(e6.position);
-        ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
+        brush.mark(e6.position);
+        brush.paint(e6.position, e6.color);
       }
     }
-    if (paint) paint->global(int32_t(2));
+    brush.global(int32_t(2));
     const std::vector<C2_Sheep>& g7 = s.g_sheep_7;
     {
       const auto& x8_list = g7;
@@ -1904,15 +1904,16 @@ struct Prog {
       for (const C2_Sheep& x8 : x8_list) {
         const int32_t colour9 = colour_0_C2_Sheep(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
-        s.core.occupied.add(e10.position);
-        ++s.core.rendered, paint ? paint->paint(e10.position, e10.color, pal) : void();
+        brush.mark(e10.position);
+        brush.paint(e10.position, e10.color);
       }
     }
-    if (paint) paint->global(int32_t(3));
+    brush.global(int32_t(3));
     const C3_Dog& g11 = s.g_dog_15;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(0)};
-    s.core.occupied.add(e12.position);
-    ++s.core.rendered, paint ? paint->paint(e12.position, e12.color, pal) : void();
+    brush.mark(e12.position);
+    brush.paint(e12.position, e12.color);
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

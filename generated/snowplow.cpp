@@ -1604,97 +1604,97 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const C4_Cloud& g1 = s.g_cloud_21;
     const int32_t colour2 = colour_3_C4_Cloud(s, g1);
     const Elem e3 = Elem{Pos{add(g1.origin.x, int32_t(0)), add(g1.origin.y, int32_t(0))}, colour2};
-    s.core.occupied.add(e3.position);
-    ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+    brush.mark(e3.position);
+    brush.paint(e3.position, e3.color);
     const int32_t colour4 = colour_4_C4_Cloud(s, g1);
     const Elem e5 = Elem{Pos{add(g1.origin.x, int32_t(1)), add(g1.origin.y, int32_t(0))}, colour4};
-    s.core.occupied.add(e5.position);
-    ++s.core.rendered, paint ? paint->paint(e5.position, e5.color, pal) : void();
+    brush.mark(e5.position);
+    brush.paint(e5.position, e5.color);
     const int32_t colour6 = colour_5_C4_Cloud(s, g1);
     const Elem e7 = Elem{Pos{add(g1.origin.x, int32_t(2)), add(g1.origin.y, int32_t(0))}, colour6};
-    s.core.occupied.add(e7.position);
-    ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
+    brush.mark(e7.position);
+    brush.paint(e7.position, e7.color);
     const int32_t colour8 = colour_6_C4_Cloud(s, g1);
     const Elem e9 = Elem{Pos{add(g1.origin.x, int32_t(3)), add(g1.origin.y, int32_t(0))}, colour8};
-    s.core.occupied.add(e9.position);
-    ++s.core.rendered, paint ? paint->paint(e9.position, e9.color, pal) : void();
+    brush.mark(e9.position);
+    brush.paint(e9.position, e9.color);
     const int32_t colour10 = colour_7_C4_Cloud(s, g1);
     const Elem e11 = Elem{Pos{add(g1.origin.x, int32_t(4)), add(g1.origin.y, int32_t(0))}, colour10};
-    s.core.occupied.add(e11.position);
-    ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
+    brush.mark(e11.position);
+    brush.paint(e11.position, e11.color);
     const int32_t colour12 = colour_8_C4_Cloud(s, g1);
     const Elem e13 = Elem{Pos{add(g1.origin.x, int32_t(5)), add(g1.origin.y, int32_t(0))}, colour12};
-    s.core.occupied.add(e13.position);
-    ++s.core.rendered, paint ? paint->paint(e13.position, e13.color, pal) : void();
+    brush.mark(e13.position);
+    brush.paint(e13.position, e13.color);
     const int32_t colour14 = colour_9_C4_Cloud(s, g1);
     const Elem e15 = Elem{Pos{add(g1.origin.x, int32_t(6)), add(g1.origin.y, int32_t(0))}, colour14};
-    s.core.occupied.add(e15.position);
-    ++s.core.rendered, paint ? paint->paint(e15.position, e15.color, pal) : void();
+    brush.mark(e15.position);
+    brush.paint(e15.position, e15.color);
     const int32_t colour16 = colour_10_C4_Cloud(s, g1);
     const Elem e17 = Elem{Pos{add(g1.origin.x, int32_t(7)), add(g1.origin.y, int32_t(0))}, colour16};
-    s.core.occupied.add(e17.position);
-    ++s.core.rendered, paint ? paint->paint(e17.position, e17.color, pal) : void();
+    brush.mark(e17.position);
+    brush.paint(e17.position, e17.color);
     const int32_t colour18 = colour_11_C4_Cloud(s, g1);
     const Elem e19 = Elem{Pos{add(g1.origin.x, int32_t(8)), add(g1.origin.y, int32_t(0))}, colour18};
-    s.core.occupied.add(e19.position);
-    ++s.core.rendered, paint ? paint->paint(e19.position, e19.color, pal) : void();
+    brush.mark(e19.position);
+    brush.paint(e19.position, e19.color);
     const int32_t colour20 = colour_12_C4_Cloud(s, g1);
     const Elem e21 = Elem{Pos{add(g1.origin.x, int32_t(9)), add(g1.origin.y, int32_t(0))}, colour20};
-    s.core.occupied.add(e21.position);
-    ++s.core.rendered, paint ? paint->paint(e21.position, e21.color, pal) : void();
+    brush.mark(e21.position);
+    brush.paint(e21.position, e21.color);
     const int32_t colour22 = colour_13_C4_Cloud(s, g1);
     const Elem e23 = Elem{Pos{add(g1.origin.x, int32_t(10)), add(g1.origin.y, int32_t(0))}, colour22};
-    s.core.occupied.add(e23.position);
-    ++s.core.rendered, paint ? paint->paint(e23.position, e23.color, pal) : void();
+    brush.mark(e23.position);
+    brush.paint(e23.position, e23.color);
     const int32_t colour24 = colour_14_C4_Cloud(s, g1);
     const Elem e25 = Elem{Pos{add(g1.origin.x, int32_t(11)), add(g1.origin.y, int32_t(0))}, colour24};
-    s.core.occupied.add(e25.position);
-    ++s.core.rendered, paint ? paint->paint(e25.position, e25.color, pal) : void();
+    brush.mark(e25.position);
+    brush.paint(e25.position, e25.color);
     const int32_t colour26 = colour_15_C4_Cloud(s, g1);
     const Elem e27 = Elem{Pos{add(g1.origin.x, int32_t(12)), add(g1.origin.y, int32_t(0))}, colour26};
-    s.core.occupied.add(e27.position);
-    ++s.core.rendered, paint ? paint->paint(e27.position, e27.color, pal) : void();
+    brush.mark(e27.position);
+    brush.paint(e27.position, e27.color);
     const int32_t colour28 = colour_16_C4_Cloud(s, g1);
     const Elem e29 = Elem{Pos{add(g1.origin.x, int32_t(13)), add(g1.origin.y, int32_t(0))}, colour28};
-    s.core.occupied.add(e29.position);
-    ++s.core.rendered, paint ? paint->paint(e29.position, e29.color, pal) : void();
+    brush.mark(e29.position);
+    brush.paint(e29.position, e29.color);
     const int32_t colour30 = colour_17_C4_Cloud(s, g1);
     const Elem e31 = Elem{Pos{add(g1.origin.x, int32_t(14)), add(g1.origin.y, int32_t(0))}, colour30};
-    s.core.occupied.add(e31.position);
-    ++s.core.rendered, paint ? paint->paint(e31.position, e31.color, pal) : void();
+    brush.mark(e31.position);
+    brush.paint(e31.position, e31.color);
     const int32_t colour32 = colour_18_C4_Cloud(s, g1);
     const Elem e33 = Elem{Pos{add(g1.origin.x, int32_t(15)), add(g1.origin.y, int32_t(0))}, colour32};
-    s.core.occupied.add(e33.position);
-    ++s.core.rendered, paint ? paint->paint(e33.position, e33.color, pal) : void();
-    if (paint) paint->global(int32_t(1));
+    brush.mark(e33.position);
+    brush.paint(e33.position, e33.color);
+    brush.global(int32_t(1));
     const std::vector<C2_Rock>& g34 = s.g_rocks_17;
     {
       const auto& x35_list = g34;
       charge_loop(s.core, 44, int64_t(x35_list.size()));
       for (const C2_Rock& x35 : x35_list) {
         const Elem e36 = Elem{Pos{add(x35.origin.x, int32_t(0)), add(x35.origin.y, int32_t(0))}, int32_t(3)};
-        s.core.occupied.add(e36.position);
-        ++s.core.rendered, paint ? paint->paint(e36.position, e36.color, pal) : void();
+        brush.mark(e36.position);
+        brush.paint(e36.position, e36.color);
       }
     }
-    if (paint) paint->global(int32_t(2));
+    brush.global(int32_t(2));
     const std::vector<C0_Flake>& g37 = s.g_snow_9;
     {
       const auto& x38_list = g37;
       charge_loop(s.core, 44, int64_t(x38_list.size()));
       for (const C0_Flake& x38 : x38_list) {
         const Elem e39 = Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, int32_t(6)};
-        s.core.occupied.add(e39.position);
-        ++s.core.rendered, paint ? paint->paint(e39.position, e39.color, pal) : void();
+        brush.mark(e39.position);
+        brush.paint(e39.position, e39.color);
       }
     }
-    if (paint) paint->global(int32_t(3));
+    brush.global(int32_t(3));
     const std::vector<C1_Melt>& g40 = s.g_melt_13;
     {
       const auto& x41_list = g40;
@@ -1702,18 +1702,19 @@ struct Prog {
       for (const C1_Melt& x41 : x41_list) {
         const int32_t colour42 = colour_19_C1_Melt(s, x41);
         const Elem e43 = Elem{Pos{add(x41.origin.x, int32_t(0)), add(x41.origin.y, int32_t(0))}, colour42};
-        s.core.occupied.add(e43.position);
-        ++s.core.rendered, paint ? paint->paint(e43.position, e43.color, pal) : void();
+        brush.mark(e43.position);
+        brush.paint(e43.position, e43.color);
       }
     }
-    if (paint) paint->global(int32_t(4));
+    brush.global(int32_t(4));
     const C3_Plow& g44 = s.g_plow_5;
     const Elem e45 = Elem{Pos{add(g44.origin.x, int32_t(0)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
-    s.core.occupied.add(e45.position);
-    ++s.core.rendered, paint ? paint->paint(e45.position, e45.color, pal) : void();
+    brush.mark(e45.position);
+    brush.paint(e45.position, e45.color);
     const Elem e46 = Elem{Pos{add(g44.origin.x, int32_t(1)), add(g44.origin.y, int32_t(0))}, int32_t(2)};
-    s.core.occupied.add(e46.position);
-    ++s.core.rendered, paint ? paint->paint(e46.position, e46.color, pal) : void();
+    brush.mark(e46.position);
+    brush.paint(e46.position, e46.color);
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

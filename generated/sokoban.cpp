@@ -1837,29 +1837,29 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const std::vector<C0_Wall>& g1 = s.g_walls_24;
     {
       const auto& x2_list = g1;
       charge_loop(s.core, 25, int64_t(x2_list.size()));
       for (const C0_Wall& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(6)};
-        ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+        brush.paint(e3.position, e3.color);
       }
     }
-    if (paint) paint->global(int32_t(1));
+    brush.global(int32_t(1));
     const std::vector<C1_Goal>& g4 = s.g_goals_16;
     {
       const auto& x5_list = g4;
       charge_loop(s.core, 25, int64_t(x5_list.size()));
       for (const C1_Goal& x5 : x5_list) {
         const Elem e6 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, int32_t(4)};
-        ++s.core.rendered, paint ? paint->paint(e6.position, e6.color, pal) : void();
+        brush.paint(e6.position, e6.color);
       }
     }
-    if (paint) paint->global(int32_t(2));
+    brush.global(int32_t(2));
     const std::vector<C2_Crate>& g7 = s.g_crates_12;
     {
       const auto& x8_list = g7;
@@ -1867,17 +1867,18 @@ struct Prog {
       for (const C2_Crate& x8 : x8_list) {
         const int32_t colour9 = colour_1_C2_Crate(s, x8);
         const Elem e10 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, colour9};
-        ++s.core.rendered, paint ? paint->paint(e10.position, e10.color, pal) : void();
+        brush.paint(e10.position, e10.color);
       }
     }
-    if (paint) paint->global(int32_t(3));
+    brush.global(int32_t(3));
     const C3_Keeper& g11 = s.g_keeper_20;
     const Elem e12 = Elem{Pos{add(g11.origin.x, int32_t(0)), add(g11.origin.y, int32_t(0))}, int32_t(5)};
-    ++s.core.rendered, paint ? paint->paint(e12.position, e12.color, pal) : void();
-    if (paint) paint->global(int32_t(4));
+    brush.paint(e12.position, e12.color);
+    brush.global(int32_t(4));
     const C4_Button& g13 = s.g_reset_8;
     const Elem e14 = Elem{Pos{add(g13.origin.x, int32_t(0)), add(g13.origin.y, int32_t(0))}, int32_t(2)};
-    ++s.core.rendered, paint ? paint->paint(e14.position, e14.color, pal) : void();
+    brush.paint(e14.position, e14.color);
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

@@ -1044,19 +1044,19 @@ struct Prog {
     (void)s;
     (void)paint;
     (void)pal;
-    s.core.occupied.clear(kGrid), s.core.rendered = 0;
-    if (paint) paint->begin(kGrid, colour_of(pal, s.g_background_2));
-    if (paint) paint->global(int32_t(0));
+    s.core.occupied.clear(kGrid);
+    Brush brush = begin_render(paint, s.core.occupied, kGrid, s.g_background_2, pal);
+    brush.global(int32_t(0));
     const std::vector<C0_Burrow>& g1 = s.g_burrows_22;
     {
       const auto& x2_list = g1;
       charge_loop(s.core, 22, int64_t(x2_list.size()));
       for (const C0_Burrow& x2 : x2_list) {
         const Elem e3 = Elem{Pos{add(x2.origin.x, int32_t(0)), add(x2.origin.y, int32_t(0))}, int32_t(2)};
-        ++s.core.rendered, paint ? paint->paint(e3.position, e3.color, pal) : void();
+        brush.paint(e3.position, e3.color);
       }
     }
-    if (paint) paint->global(int32_t(1));
+    brush.global(int32_t(1));
     const std::vector<C1_Mole>& g4 = s.g_moles_18;
     {
       const auto& x5_list = g4;
@@ -1064,10 +1064,10 @@ struct Prog {
       for (const C1_Mole& x5 : x5_list) {
         const int32_t colour6 = colour_11_C1_Mole(s, x5);
         const Elem e7 = Elem{Pos{add(x5.origin.x, int32_t(0)), add(x5.origin.y, int32_t(0))}, colour6};
-        ++s.core.rendered, paint ? paint->paint(e7.position, e7.color, pal) : void();
+        brush.paint(e7.position, e7.color);
       }
     }
-    if (paint) paint->global(int32_t(2));
+    brush.global(int32_t(2));
     const std::vector<C2_Flash>& g8 = s.g_flashes_26;
     {
       const auto& x9_list = g8;
@@ -1075,41 +1075,42 @@ struct Prog {
       for (const C2_Flash& x9 : x9_list) {
         const int32_t colour10 = colour_12_C2_Flash(s, x9);
         const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, colour10};
-        ++s.core.rendered, paint ? paint->paint(e11.position, e11.color, pal) : void();
+        brush.paint(e11.position, e11.color);
       }
     }
-    if (paint) paint->global(int32_t(3));
+    brush.global(int32_t(3));
     const C3_ScoreBar& g12 = s.g_bar_6;
     const int32_t colour13 = colour_0_C3_ScoreBar(s, g12);
     const Elem e14 = Elem{Pos{add(g12.origin.x, int32_t(0)), add(g12.origin.y, int32_t(0))}, colour13};
-    ++s.core.rendered, paint ? paint->paint(e14.position, e14.color, pal) : void();
+    brush.paint(e14.position, e14.color);
     const int32_t colour15 = colour_1_C3_ScoreBar(s, g12);
     const Elem e16 = Elem{Pos{add(g12.origin.x, int32_t(1)), add(g12.origin.y, int32_t(0))}, colour15};
-    ++s.core.rendered, paint ? paint->paint(e16.position, e16.color, pal) : void();
+    brush.paint(e16.position, e16.color);
     const int32_t colour17 = colour_2_C3_ScoreBar(s, g12);
     const Elem e18 = Elem{Pos{add(g12.origin.x, int32_t(2)), add(g12.origin.y, int32_t(0))}, colour17};
-    ++s.core.rendered, paint ? paint->paint(e18.position, e18.color, pal) : void();
+    brush.paint(e18.position, e18.color);
     const int32_t colour19 = colour_3_C3_ScoreBar(s, g12);
     const Elem e20 = Elem{Pos{add(g12.origin.x, int32_t(3)), add(g12.origin.y, int32_t(0))}, colour19};
-    ++s.core.rendered, paint ? paint->paint(e20.position, e20.color, pal) : void();
+    brush.paint(e20.position, e20.color);
     const int32_t colour21 = colour_4_C3_ScoreBar(s, g12);
     const Elem e22 = Elem{Pos{add(g12.origin.x, int32_t(4)), add(g12.origin.y, int32_t(0))}, colour21};
-    ++s.core.rendered, paint ? paint->paint(e22.position, e22.color, pal) : void();
+    brush.paint(e22.position, e22.color);
     const int32_t colour23 = colour_5_C3_ScoreBar(s, g12);
     const Elem e24 = Elem{Pos{add(g12.origin.x, int32_t(5)), add(g12.origin.y, int32_t(0))}, colour23};
-    ++s.core.rendered, paint ? paint->paint(e24.position, e24.color, pal) : void();
+    brush.paint(e24.position, e24.color);
     const int32_t colour25 = colour_6_C3_ScoreBar(s, g12);
     const Elem e26 = Elem{Pos{add(g12.origin.x, int32_t(6)), add(g12.origin.y, int32_t(0))}, colour25};
-    ++s.core.rendered, paint ? paint->paint(e26.position, e26.color, pal) : void();
+    brush.paint(e26.position, e26.color);
     const int32_t colour27 = colour_7_C3_ScoreBar(s, g12);
     const Elem e28 = Elem{Pos{add(g12.origin.x, int32_t(7)), add(g12.origin.y, int32_t(0))}, colour27};
-    ++s.core.rendered, paint ? paint->paint(e28.position, e28.color, pal) : void();
+    brush.paint(e28.position, e28.color);
     const int32_t colour29 = colour_8_C3_ScoreBar(s, g12);
     const Elem e30 = Elem{Pos{add(g12.origin.x, int32_t(8)), add(g12.origin.y, int32_t(0))}, colour29};
-    ++s.core.rendered, paint ? paint->paint(e30.position, e30.color, pal) : void();
+    brush.paint(e30.position, e30.color);
     const int32_t colour31 = colour_9_C3_ScoreBar(s, g12);
     const Elem e32 = Elem{Pos{add(g12.origin.x, int32_t(9)), add(g12.origin.y, int32_t(0))}, colour31};
-    ++s.core.rendered, paint ? paint->paint(e32.position, e32.color, pal) : void();
+    brush.paint(e32.position, e32.color);
+    s.core.rendered = end_render(paint, s.core.occupied, brush);
   }
   static uint64_t hash(const State& s) {
     Hash h;

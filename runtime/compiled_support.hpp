@@ -140,14 +140,14 @@ class IdTable {
 
 // The grid cells a render set, so that the next render can unset just those:
 // a fixed array of grid/4 + 1 entries (no growing list: a mark is made per
-// element drawn, the hottest call of a many-object render) and a count. Past
-// grid/4 marks, unsetting cell by cell costs more than clearing the grid, and
-// undo() clears it all instead.
+// element drawn, the hottest call of a many-object render) whose last entry is
+// a sink. Once a mark reaches the sink, unsetting cell by cell would cost more
+// than clearing the grid: the marks are dense, and undo() clears it all.
 class Marks {
  public:
   Marks() = default;
   // Copies (clone, and every search successor's copy_from) take only the
-  // entries in use: the array is allocated, not filled.
+  // entries in use, none once dense: the array is allocated, not filled.
   Marks(const Marks& o) { *this = o; }
   Marks& operator=(const Marks& o) {
     if (this == &o) return *this;
@@ -156,7 +156,7 @@ class Marks {
       size_ = o.size_;
     }
     n_ = o.n_;
-    if (size_) std::copy_n(o.at_.get(), std::min(n_, size_ - 1), at_.get());
+    if (!dense()) std::copy_n(o.at_.get(), n_, at_.get());
     return *this;
   }
   void reset(size_t cells) {
@@ -164,12 +164,21 @@ class Marks {
     at_.reset(new uint32_t[size_]);
     n_ = 0;
   }
-  void add(uint32_t cell) {
-    const size_t last = size_ - 1;  // the sink: marks past the array's
-    at_[n_ < last ? n_ : last] = cell;
-    ++n_;
-  }
-  bool dense() const { return n_ >= size_; }
+  // Marks are added by a run: a plain value a render keeps in registers (a
+  // Brush's), lent by lend() after reset() or undo() and given back with
+  // take_back(). A run never taken back leaves the marks stale: the owner then
+  // forgets its whole array (Occupancy::forget, Painter::forget).
+  struct Run {
+    uint32_t* next;
+    uint32_t* sink;  // the array's last entry: marks from there on are not kept
+    void add(uint32_t cell) {
+      *next = cell;
+      next += next != sink;
+    }
+  };
+  Run lend() { return Run{at_.get() + n_, at_.get() + size_ - 1}; }
+  void take_back(const Run& r) { n_ = static_cast<size_t>(r.next - at_.get()); }
+  bool dense() const { return n_ == size_ - 1; }
   // Sets the marked cells of `cells` (the array the marks index) back to
   // `value`, or all of it once dense, and clears the marks.
   template <class T>
@@ -181,9 +190,11 @@ class Marks {
   }
 
  private:
-  // Invariant: after reset(), at_ holds size_ = cells/4 + 1 entries, of which
-  // the first min(n_, size_ - 1) are the cells marked since the last undo()
-  // (the others are unspecified); before it, size_ and n_ are 0.
+  // Invariant: after reset(), at_ holds size_ = cells/4 + 1 entries; n_ is at
+  // most size_ - 1, and the first n_ entries are the cells marked since the
+  // last undo() unless n_ is size_ - 1 (dense: a mark reached the sink, and
+  // some were not kept); the others are unspecified. Before reset(), size_ and
+  // n_ are 0 and nothing is marked.
   std::unique_ptr<uint32_t[]> at_;
   size_t size_ = 0;
   size_t n_ = 0;
@@ -206,21 +217,35 @@ class Occupancy {
     outside_.clear();
     sorted_ = true;
   }
-  // Off-grid positions are listed inline: some programs draw mostly there.
-  // Always inline: g++ left it out of line in flood_defense's render (a tenth
-  // of its BFS successor).
-  [[gnu::always_inline]] void add(Pos p) {
-    if (p.x >= 0 && p.y >= 0 && p.x < size_ && p.y < size_) {
-      const uint32_t i = static_cast<uint32_t>(p.y) * size_ + p.x;
-      uint8_t& g = grid_[i];
-      if (!g) {
-        g = 1;
-        marks_.add(i);
+  // A render's marking, lent after clear() to its Brush (Brush::mark) and
+  // taken back at its end; a render cut short never gives it back, and the
+  // host forgets the table (the next clear() makes it afresh).
+  struct Run {
+    uint8_t* grid;
+    uint32_t size;
+    Marks::Run marks;
+    Occupancy* owner;
+    // Always inline (Brush::mark).
+    [[gnu::always_inline]] void add(Pos p) {
+      if (static_cast<uint32_t>(p.x) < size && static_cast<uint32_t>(p.y) < size) {
+        const uint32_t i = static_cast<uint32_t>(p.y) * size + static_cast<uint32_t>(p.x);
+        if (!grid[i]) {
+          grid[i] = 1;
+          marks.add(i);
+        }
+      } else {
+        owner->add_outside(p);
       }
-    } else {
-      outside_.push_back(key(p));
-      sorted_ = false;
     }
+  };
+  Run lend() { return Run{grid_.data(), static_cast<uint32_t>(size_), marks_.lend(), this}; }
+  void take_back(const Run& r) { marks_.take_back(r.marks); }
+  void forget() { size_ = 0; }
+  // Off-grid positions are listed inline: some programs draw mostly there
+  // (out of line, the call was half of gravity_2's step).
+  [[gnu::always_inline]] void add_outside(Pos p) {
+    outside_.push_back(key(p));
+    sorted_ = false;
   }
   bool free(Pos p) const {
     if (p.x >= 0 && p.y >= 0 && p.x < size_ && p.y < size_) return !grid_[static_cast<size_t>(p.y) * size_ + p.x];
@@ -236,8 +261,9 @@ class Occupancy {
   }
   void sort_outside() const;  // compiled_support.cpp
   // Invariants: grid_ has size_ * size_ cells, 1 where covered, each marked
-  // once in marks_ (reset for the grid). Before the first clear() everything
-  // is empty (the render clears first).
+  // once in marks_ (reset for the grid), but while a Run is lent (its count is
+  // the Run's). Before the first clear() and after forget(), size_ is 0 and
+  // the rest is not looked at (the render clears first).
   int size_ = 0;
   std::vector<uint8_t> grid_;
   Marks marks_;
@@ -258,7 +284,14 @@ inline uint16_t colour_of(const std::vector<uint16_t>& pal, int32_t id) {
 // draws rather than the whole grid. The result is identical to a full repaint.
 // While recording (the host's render_all() JSON), it also keeps every element
 // drawn, out-of-grid ones included, with its colour's string id and the index
-// of the global it came from (the render names it with global()).
+// of the global it came from.
+//
+// A render paints through a Brush (below): begin() resets the frame and lends
+// the painter's working fields to it, the render paints and names its globals
+// on the brush, and finish() takes the marks back. A render that throws never
+// finishes: the host then calls forget(), and the next begin() repaints the
+// whole frame.
+struct Brush;
 class Painter {
  public:
   struct Drawn {
@@ -275,48 +308,112 @@ class Painter {
   // drawn() holds the last render's elements: recording was on when it began.
   bool recorded() const { return recorded_; }
   const std::vector<Drawn>& drawn() const { return drawn_; }
-  void begin(int size, uint16_t background) {
-    Frame& f = *frame_;
-    const size_t cells = static_cast<size_t>(size) * size;
-    if (f.size != size || background != background_ || f.cells.size() != cells) {
-      f.size = size;
-      f.cells.assign(cells, background);
-      background_ = background;
-      marks_.reset(cells);
-    } else {
-      marks_.undo(f.cells, background);
-    }
-    size_ = size;
-    cells_ = f.cells.data();
-    drawn_.clear();
-    recorded_ = record_;
-  }
-  void global(int32_t index) { global_ = index; }
-  // Inline: the hottest call of a many-object render.
-  void paint(Pos p, int32_t colour, const std::vector<uint16_t>& pal) {
-    const uint16_t c = colour_of(pal, colour);
-    if (__builtin_expect(record_, 0)) record_drawn(p, colour);
-    const int n = size_;
-    if (p.x < 0 || p.y < 0 || p.x >= n || p.y >= n) return;
-    const uint32_t i = static_cast<uint32_t>(p.y) * n + p.x;
-    cells_[i] = c;
-    marks_.add(i);
-  }
+  [[gnu::always_inline]] inline Brush begin(int size, uint16_t background, const std::vector<uint16_t>& pal);
+  // The render's elements drawn (on the grid or not), for cacheRendered.
+  inline int64_t finish(const Brush& b);
+  // A render ended without finish(): which cells it set is not known.
+  void forget() { background_ = kNoBackground; }
 
  private:
-  [[gnu::cold, gnu::noinline]] void record_drawn(Pos p, int32_t colour) { drawn_.push_back(Drawn{p, colour, global_}); }
-  // Invariants: size_ and cells_ are frame_'s, set by begin() (every render
-  // calls it before painting; copies and bind() leave them stale until then);
-  // marks_ (reset for frame_'s grid) holds the cells painted since begin().
+  friend struct Brush;
+  static constexpr uint16_t kNoBackground = 0xffff;
+  // begin() without marks to go by: the whole frame is set to the background.
+  [[gnu::cold, gnu::noinline]] void repaint(int size, uint16_t background) {
+    const size_t cells = static_cast<size_t>(size) * size;
+    frame_->size = size;
+    frame_->cells.assign(cells, background);
+    background_ = background;
+    marks_.reset(cells);
+  }
+  // A Brush's element that is recorded, or whose colour is not in the
+  // palette (fails).
+  [[gnu::cold, gnu::noinline]] uint16_t colour_slowly(Pos p, int32_t colour, int32_t global) {
+    if (record_) drawn_.push_back(Drawn{p, colour, global});
+    return colour_of(*pal_, colour);
+  }
+  // Invariants: between renders, frame_'s cells are the background but for the
+  // cells in marks_ (reset for frame_'s grid), unless background_ is
+  // kNoBackground (before the first render, after forget()): then begin()
+  // fills the frame. A copy (the host's copy_host) copies the frame with it.
   Frame* frame_ = nullptr;
-  uint16_t* cells_ = nullptr;
-  int size_ = 0;
-  uint16_t background_ = 0xffff;
+  const std::vector<uint16_t>* pal_ = nullptr;  // the palette of the render begun last
+  uint16_t background_ = kNoBackground;
   Marks marks_;
   bool record_ = false, recorded_ = false;
-  int32_t global_ = 0;
   std::vector<Drawn> drawn_;
 };
+
+// One render's painting and occupancy marking: the painter's and the
+// occupancy's working fields as a plain local value, so that the emitted
+// render keeps them in registers (as members of the painter, each element's
+// mark count went through memory: a load waiting on the last element's store,
+// a third of gameOfLife's render). No constructor or destructor: an unwinding
+// path would pin it to memory again. Without a painter (start-up's render) it
+// only counts and marks.
+struct Brush {
+  // Always inline, as mark(): the hottest calls of a many-object render, and
+  // one left out of line takes the brush's address, which puts it all in
+  // memory (g++ did so with mark() in flood_defense's render).
+  [[gnu::always_inline]] void paint(Pos p, int32_t colour) {
+    ++drawn;
+    uint16_t c;
+    if (__builtin_expect(static_cast<uint32_t>(colour) < pal_size, 1)) c = pal[static_cast<uint32_t>(colour)];
+    else if (painter) c = painter->colour_slowly(p, colour, from);
+    else return;  // no painter: nothing to look up
+    if (static_cast<uint32_t>(p.x) >= size || static_cast<uint32_t>(p.y) >= size) return;
+    const uint32_t i = static_cast<uint32_t>(p.y) * size + static_cast<uint32_t>(p.x);
+    cells[i] = c;
+    painted.add(i);
+  }
+  // The occupancy's mark of an element drawn (the next step's isFreePos).
+  [[gnu::always_inline]] void mark(Pos p) { covered.add(p); }
+  // The global the next elements are drawn from (an index into kRenderNames).
+  void global(int32_t index) { from = index; }
+
+  Painter* painter;
+  uint16_t* cells;
+  uint32_t size;
+  const uint16_t* pal;
+  size_t pal_size;  // 0 while recording: every element takes the painter's slow path
+  Marks::Run painted;
+  int64_t drawn;
+  int32_t from;  // the global being drawn (global())
+  Occupancy::Run covered;
+};
+
+Brush Painter::begin(int size, uint16_t background, const std::vector<uint16_t>& pal) {
+  Frame& f = *frame_;
+  if (__builtin_expect(f.size != size || background != background_ || f.cells.size() != static_cast<size_t>(size) * size, 0))
+    repaint(size, background);
+  else
+    marks_.undo(f.cells, background);
+  drawn_.clear();
+  recorded_ = record_;
+  pal_ = &pal;
+  return Brush{this, f.cells.data(), static_cast<uint32_t>(size), pal.data(), record_ ? 0 : pal.size(), marks_.lend(),
+               0, 0, {}};
+}
+
+int64_t Painter::finish(const Brush& b) {
+  marks_.take_back(b.painted);
+  return b.drawn;
+}
+
+// The emitted render's first and last calls, after the occupancy's clear().
+// Without a painter (start-up's render, which only counts cacheRendered's
+// elements and marks the occupancy) the brush looks up no colour: the palette
+// is empty then.
+inline Brush begin_render(Painter* p, Occupancy& occupied, int size, int32_t background,
+                          const std::vector<uint16_t>& pal) {
+  Brush b = p ? p->begin(size, colour_of(pal, background), pal) : Brush{};
+  b.covered = occupied.lend();
+  return b;
+}
+// The elements drawn (on the grid or not): what cacheRendered holds.
+inline int64_t end_render(Painter* p, Occupancy& occupied, const Brush& b) {
+  occupied.take_back(b.covered);
+  return p ? p->finish(b) : b.drawn;
+}
 
 // Cells rotate turned (compiler/lower: builtin_rotate): per group of objects made
 // by one construction, the number of quarter turns its shared cells have had.
@@ -847,6 +944,9 @@ class CompiledProgramHost : public CompiledHost {
       return true;
     } catch (...) {
       fail_with_current(ops_->errors);
+      // A render may have been cut short: its brush never gave back the marks.
+      painter_.forget();
+      core_->occupied.forget();
       return false;
     }
   }

@@ -3,7 +3,8 @@
 // in Marks (a fixed array, dense past a quarter of the grid), and copies take
 // only the marks in use. Checked against a repaint from scratch over random
 // renders of every density, with copies between hosts in between, as a
-// search's copy_from makes them.
+// search's copy_from makes them, and renders cut short by an error (the host
+// forgets them) before some.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,6 +21,7 @@ namespace {
 using rt::Pos;
 
 constexpr int kGrid = 16;
+constexpr int32_t kBackgroundId = 6;  // the background's string id: pal[6] below
 constexpr uint16_t kBackground = 7;
 
 struct Host {  // a compiled host's frame and painter, copied as copy_host does
@@ -41,14 +43,37 @@ std::vector<std::pair<Pos, int32_t>> random_render(std::mt19937& rng, int n) {
   return r;
 }
 
-void draw(Host& h, const std::vector<std::pair<Pos, int32_t>>& render, const std::vector<uint16_t>& pal) {
+// A render as emitted code paints: the occupancy cleared, begin_render, each
+// element marked and painted on the brush, end_render (a render that throws
+// stops after `cut` elements, without ending, and the host forgets both
+// tables; its frame is not looked at, as the episode has failed). Without
+// `painting`, as start-up renders: no painter, the occupancy only.
+void draw(Host& h, const std::vector<std::pair<Pos, int32_t>>& render, const std::vector<uint16_t>& pal,
+          size_t cut = SIZE_MAX, bool painting = true) {
   h.painter.bind(&h.frame);
   h.occupied.clear(kGrid);
-  h.painter.begin(kGrid, kBackground);
-  for (const auto& [p, c] : render) {
-    h.occupied.add(p);
-    h.painter.paint(p, c, pal);
+  rt::Painter* painter = painting ? &h.painter : nullptr;
+  static const std::vector<uint16_t> none;  // start-up's palette
+  rt::Brush brush = rt::begin_render(painter, h.occupied, kGrid, kBackgroundId, painting ? pal : none);
+  for (size_t i = 0; i < render.size(); ++i) {
+    if (i == cut) {
+      h.painter.forget();
+      h.occupied.forget();
+      return;
+    }
+    brush.mark(render[i].first);
+    brush.paint(render[i].first, render[i].second);
   }
+  ASSERT_EQ(rt::end_render(painter, h.occupied, brush), static_cast<int64_t>(render.size()));
+}
+
+// The occupancy after `render`: covered exactly where it drew, off the grid too.
+void expect_covered(const Host& h, const std::vector<std::pair<Pos, int32_t>>& render, int round) {
+  std::set<std::pair<int, int>> covered;
+  for (const auto& [p, c] : render) covered.insert({p.x, p.y});
+  for (int x = -2; x < kGrid + 2; ++x)
+    for (int y = -2; y < kGrid + 2; ++y)
+      ASSERT_EQ(h.occupied.free(Pos{x, y}), !covered.count({x, y})) << "round " << round << " at " << x << "," << y;
 }
 
 std::vector<uint16_t> repainted(const std::vector<std::pair<Pos, int32_t>>& render, const std::vector<uint16_t>& pal) {
@@ -59,7 +84,7 @@ std::vector<uint16_t> repainted(const std::vector<std::pair<Pos, int32_t>>& rend
 }
 
 TEST(PaintMarks, IncrementalRendersEqualARepaintAcrossDensitiesAndCopies) {
-  const std::vector<uint16_t> pal = {1, 2, 3, 4, 5, 6};
+  const std::vector<uint16_t> pal = {1, 2, 3, 4, 5, 6, kBackground};
   std::mt19937 rng(12345);
   // Sizes around the dense threshold (a quarter of 256 cells) and far from it.
   const int sizes[] = {0, 1, 3, 20, 63, 64, 65, 66, 100, 256, 400};
@@ -72,15 +97,20 @@ TEST(PaintMarks, IncrementalRendersEqualARepaintAcrossDensitiesAndCopies) {
       hosts[to].copy_from(hosts[at]);
       at = to;
     }
+    if (coin(rng) == 0) {  // a render cut short: the host forgets what it painted
+      const auto cut = random_render(rng, sizes[pick(rng)] + 1);
+      draw(hosts[at], cut, pal, std::uniform_int_distribution<size_t>(0, cut.size() - 1)(rng));
+    }
+    if (coin(rng) == 0) {  // start-up's render: no painter (the frame is left as it was)
+      const auto counted = random_render(rng, sizes[pick(rng)]);
+      draw(hosts[at], counted, pal, SIZE_MAX, false);
+      expect_covered(hosts[at], counted, round);
+    }
     const auto render = random_render(rng, sizes[pick(rng)]);
     draw(hosts[at], render, pal);
     ASSERT_EQ(hosts[at].frame.size, kGrid);
     ASSERT_EQ(hosts[at].frame.cells, repainted(render, pal)) << "round " << round;
-    std::set<std::pair<int, int>> covered;
-    for (const auto& [p, c] : render) covered.insert({p.x, p.y});
-    for (int x = -2; x < kGrid + 2; ++x)
-      for (int y = -2; y < kGrid + 2; ++y)
-        ASSERT_EQ(hosts[at].occupied.free(Pos{x, y}), !covered.count({x, y})) << "round " << round << " at " << x << "," << y;
+    expect_covered(hosts[at], render, round);
   }
 }
 

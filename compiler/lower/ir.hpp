@@ -74,9 +74,10 @@ enum class Helper : uint8_t {
   StrOfStr,       // (string id) -> its text with quotes (for error texts)
   OccupancyClear, // (): the host render starts
   OccupancyAdd,   // (pos)
-  PaintBegin,     // (): the frame is reset to the background
+  PaintBegin,     // (background): the frame is reset to it; the render's Brush is made
   Paint,          // (elem)
   PaintGlobal,    // (index into Module::render_names): the global the next elements are drawn from
+  PaintEnd,       // (): the render ends (the painter takes its marks back; cacheRendered's count)
   SetTriggered,   // (bool): what the host reads as the trigger state
   Covered,        // (clause index): the on-clause fired
   HavePrev,       // () -> bool: a step has begun (prev is usable)

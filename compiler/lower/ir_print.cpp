@@ -26,7 +26,7 @@ constexpr const char* kIrHelperNames[] = {
     "rng_next",     "occupancy_free", "id_of",       "id_transfer",   "new_uid",     "sqrt",
     "define_global", "erase_global",  "order_keys",  "click_pos",     "click_define", "reserve",
     "append",       "clear",          "str_of_int",  "str_of_str",    "occupancy_clear", "occupancy_add",
-    "paint_begin",  "paint",          "paint_global", "set_triggered", "covered",    "have_prev",   "input_flag",
+    "paint_begin",  "paint",          "paint_global", "paint_end", "set_triggered", "covered",    "have_prev",   "input_flag",
     "rot_turn",     "rot_of",         "rotated",     "tally_begin",   "tally_global", "tally_rendered",
     "check_length", "charge_built"};
 static_assert(std::size(kIrHelperNames) == static_cast<size_t>(Helper::ChargeBuilt) + 1);

@@ -4,13 +4,12 @@
 // (runtime/compiled_support.hpp, Occupancy), which exists only to answer the
 // next step's isFreePos (Helper::OccupancyFree). Where no function of the
 // module reads it, the marks are dropped; the clear at the render's start
-// stays (it also zeroes the rendered-elements count, and on an empty grid it
-// costs a compare):
+// stays (on an empty grid it costs a compare):
 //
-//   s.core.occupied.clear(kGrid), s.core.rendered = 0;     (kept)
+//   s.core.occupied.clear(kGrid);                              (kept)
 //   const Elem e4 = Elem{...};                                 const Elem e4 = Elem{...};
 //   s.core.occupied.add(e4.position);                =>      (removed)
-//   ++s.core.rendered, paint ? paint->paint(e4...) ...        ++s.core.rendered, paint ? ...
+//   brush.paint(e4.position, e4.color);                       brush.paint(e4.position, e4.color);
 //
 // gameOfLife's 258 marks a successor were 9% of its BFS (perf). Tests: the
 // filetests tests/ir/mark_occupancy_if_read.ir (no isFreePos: marks dropped)

@@ -185,12 +185,12 @@ std::string Printer::helper(const Node* n) {
     case Helper::Clear: return arg(0) + ".clear()";
     case Helper::StrOfInt: return "std::to_string(" + arg(0) + ")";
     case Helper::StrOfStr: return "std::string(kStrings[" + arg(0) + "])";
-    case Helper::OccupancyClear: return "s.core.occupied.clear(kGrid), s.core.rendered = 0";
-    case Helper::OccupancyAdd: return "s.core.occupied.add(" + arg(0) + ")";
-    case Helper::PaintBegin: return "if (paint) paint->begin(kGrid, colour_of(pal, " + arg(0) + "))";
-    case Helper::Paint:  // counted for cacheRendered (the state check), drawn when painting
-      return "++s.core.rendered, paint ? paint->paint(" + arg(0) + ".position, " + arg(0) + ".color, pal) : void()";
-    case Helper::PaintGlobal: return "if (paint) paint->global(" + arg(0) + ")";
+    case Helper::OccupancyClear: return "s.core.occupied.clear(kGrid)";
+    case Helper::OccupancyAdd: return "brush.mark(" + arg(0) + ")";
+    case Helper::PaintBegin: return "Brush brush = begin_render(paint, s.core.occupied, kGrid, " + arg(0) + ", pal)";
+    case Helper::Paint: return "brush.paint(" + arg(0) + ".position, " + arg(0) + ".color)";
+    case Helper::PaintGlobal: return "brush.global(" + arg(0) + ")";
+    case Helper::PaintEnd: return "s.core.rendered = end_render(paint, s.core.occupied, brush)";  // cacheRendered (the state check)
     case Helper::SetTriggered: return "s.core.triggered = " + arg(0);
     case Helper::Covered: return "s.core.covered[" + arg(0) + "] = 1";
     case Helper::HavePrev: return "s.core.have_prev";

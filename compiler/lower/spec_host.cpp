@@ -314,6 +314,7 @@ void Specialiser::specialise_render() {
       draw(*g);
     }
   }
+  ir_.emit_eval(ir_.call(ir::Helper::PaintEnd, nullptr, {}));
   sites_.reset(nullptr);
 }
 
