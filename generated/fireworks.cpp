@@ -360,11 +360,8 @@ struct Prog {
         added35.clear();
         added35.reserve(size_t(add(int32_t(out11.size()), int32_t(cat33.size()))));
         {
-          const auto& x36_list = out11;
-          charge_loop(s.core, 13, int64_t(x36_list.size()));
-          for (const C2_Spark& x36 : x36_list) {
-            added35.push_back(x36);
-          }
+          charge_loop(s.core, 13, int64_t(out11.size()));
+          std::swap(added35, out11);
         }
         {
           const auto& x37_list = cat33;

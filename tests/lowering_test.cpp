@@ -211,6 +211,39 @@ TEST(IrPasses, LastUseOfAListMovesIt) {
   EXPECT_FALSE(store2->move_value) << "used after the store: not moved";
 }
 
+// addObj's copy of a list at its last use (a loop pushing each element onto a
+// list declared empty just before) takes the list whole; not where the list
+// is read again, nor where a loop around repeats the copy, nor where the loop
+// pushes anything but the element.
+TEST(IrPasses, ALoopCopyingADyingListMovesItWhole) {
+  using lower::ir::SK;
+  enum Shape { kLast, kReadAfter, kInALoop, kPushesOther };
+  auto copy_loop = [](Shape shape) {
+    IrFixture x;
+    auto* from = x.var(x.list_t, true);
+    auto* out = x.var(x.list_t, true);
+    x.stmt(x.f->body, SK::Decl, from);
+    x.stmt(x.f->body, SK::Push, nullptr, x.use(from), x.node(lower::ir::Op::Lit, x.m.types.int_()));
+    lower::ir::Block* at = &x.f->body;
+    if (shape == kInALoop)
+      at = &x.stmt(x.f->body, SK::ForRange, x.var(x.m.types.int_(), false), x.node(lower::ir::Op::Lit, x.m.types.int_()),
+                   x.node(lower::ir::Op::Lit, x.m.types.int_()))->body;
+    x.stmt(*at, SK::Decl, out);
+    auto* elem = x.var(x.m.types.int_(), false);
+    auto* loop = x.stmt(*at, SK::ForEach, elem, x.use(from));
+    x.stmt(loop->body, SK::Push, nullptr, x.use(out),
+           shape == kPushesOther ? x.node(lower::ir::Op::Lit, x.m.types.int_()) : x.use(elem));
+    x.stmt(*at, SK::Set, nullptr, x.global(), x.use(out));
+    if (shape == kReadAfter) x.stmt(x.f->body, SK::Eval, nullptr, x.size_of(from));
+    lower::move_last_uses(x.m);
+    return loop->move_value;
+  };
+  EXPECT_TRUE(copy_loop(kLast));
+  EXPECT_FALSE(copy_loop(kReadAfter)) << "read after the copy";
+  EXPECT_FALSE(copy_loop(kInALoop)) << "copied again by the next iteration";
+  EXPECT_FALSE(copy_loop(kPushesOther)) << "the loop pushes something else";
+}
+
 TEST(IrPasses, ListsThatStayInTheirBlockReuseStorage) {
   IrFixture x;
   auto* kept = x.var(x.list_t, true);

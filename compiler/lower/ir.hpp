@@ -160,7 +160,8 @@ struct Stmt {
   Block body, other;    // If: then, else; loops, Block: body; Switch: unused
   std::vector<std::pair<int, Block>> cases;  // Switch: alternative index -> block
   int loc = -1;         // Fail, ForEach, ForRange (the loop budget's site): index into Module::locations
-  bool move_value = false;  // Set, Push: b is a variable's last use, moved from (pass_moves)
+  bool move_value = false;  // Set, Push: b is a variable's last use, moved from; ForEach: the list
+                            // is, whole, into the list its one push fills (pass_moves)
   bool charged = true;      // ForEach, ForRange: charges the loop budget; false when short (pass_loop_budget)
   uint32_t move_operands = 0;  // Let, Decl, Set, Push: the value's operands (bits) moved from
   std::string text;     // Comment

@@ -161,6 +161,10 @@ class IrVerifier {
         if (s->k == SK::ForRange) need(s->b, s, "high bound");
         if (s->charged) site(s);
         if (s->charged && s->a && s->a->op == Op::Shape) problem("a loop over a table of cells charges the budget");
+        if (s->k == SK::ForEach && s->move_value &&
+            (s->body.size() != 1 || s->body[0]->k != SK::Push || !s->body[0]->b || s->body[0]->b->op != Op::Local ||
+             s->body[0]->b->var != s->var || !s->a || s->a->op != Op::Local))
+          problem("a loop that moves its list whole does more than push each element of a variable");
         scopes_.emplace_back();
         introduce(s->var, stmt_name(s));
         loop_body(s);

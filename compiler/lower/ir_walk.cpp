@@ -71,6 +71,7 @@ class Walker {
       case SK::ForEach: {
         block(s.body);
         uses(s.a, w_.end - 1 > pos ? w_.end - 1 : pos);  // the list is read throughout the loop
+        if (s.move_value) store(s.a, w_.end - 1 > pos ? w_.end - 1 : pos);  // and then moved from
         w_.loops.push_back(Walk::Loop{pos, w_.end - 1});
         return;
       }

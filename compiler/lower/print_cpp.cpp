@@ -295,10 +295,18 @@ void Printer::decl_stmt(const Stmt& s) {
   line(type(s.var->type) + " " + name(s.var) + (s.a ? " = " + expr(s.a) : std::string("{}")) + ";");
 }
 
-// The list is bound once: charged by its size (unless short), then walked.
+// The list is bound once: charged by its size (unless short), then walked; or,
+// where the loop moves it whole into the list its push fills, swapped there.
 void Printer::for_each_stmt(const Stmt& s) {
   const std::string l = name(s.var) + "_list";
   line("{");
+  if (s.move_value) {
+    const std::string from = expr(s.a), into = expr(s.body[0]->a);
+    if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + from + ".size()));");
+    line("  std::swap(" + into + ", " + from + ");");
+    line("}");
+    return;
+  }
   line("  const auto& " + l + " = " + expr(s.a) + ";");
   if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
   line("  for (const " + type(s.var->type) + "& " + name(s.var) + " : " + l + ") {");
