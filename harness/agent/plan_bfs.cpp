@@ -46,7 +46,8 @@ class LayeredBfs {
     std::unique_ptr<Environment> env;
   };
   struct alignas(64) Worker {  // each on its own cache lines: the threads write their own all the time
-    std::unique_ptr<Environment> parent, scratch, replay_root;
+    std::unique_ptr<Environment> parent, replay_root;
+    std::unique_ptr<Environment> scratch[2];  // successors: one stepped while the other is settled (expand_parent)
     StateHashSet local;  // this thread's states of this chunk so far
     FrameColours colours;
     std::vector<uint8_t> bytes[2];  // this chunk's new states: [0] this layer (free), [1] the next
@@ -62,6 +63,13 @@ class LayeredBfs {
   std::unique_ptr<Environment> replay(int64_t node, const Environment& from) const;
   const Environment* load_parent(Open& open, Worker& W, std::unique_ptr<Environment>& owned, bool take) const;
   void expand_parent(size_t begin, size_t k, Worker& W, bool free_phase);
+  // A successor stepped and hashed: seen before, or new (recorded, its state stored if `store`).
+  struct Stepped {
+    size_t action;
+    uint64_t hash;
+    int scratch;  // which of the worker's two
+  };
+  void settle(const Stepped& s, size_t k, Worker& W, bool store_free, bool store_next);
   bool expand_chunk(size_t begin, size_t end, bool free_phase);
   // One phase of a layer over cur_.open (which grows in the free phase); a plan
   // or a stop ends the search (returns true, out_ set).
@@ -123,6 +131,9 @@ const Environment* LayeredBfs::load_parent(Open& open, Worker& W, std::unique_pt
   return owned.get();
 }
 
+// Successors are settled one action late: each one's seen-set slot (a cache
+// miss in a large search) is fetched while the next action is stepped, then it
+// is settled in action order, so the results are those of settling each at once.
 void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phase) {
   Open& open = cur_.open[begin + k];
   if (nodes_[open.node].depth >= spec_.max_steps) return;
@@ -132,25 +143,41 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
   // expanded: below the depth limit, and for the next layer only while the
   // node budget can outlast this one (store_next_).
   const bool expandable = nodes_[open.node].depth + 1 < spec_.max_steps;
+  const bool store_free = expandable, store_next = expandable && store_next_;
+  bool pending = false;
+  Stepped last{};
+  int next = 0;
   for (size_t a = 0; a < A_; ++a) {
     if (is_free(a) != free_phase) continue;
-    if (!W.scratch || !W.scratch->copy_from(*parent)) W.scratch = parent->clone();
-    if (!W.scratch->step(spec_.actions[a])) continue;
-    const uint64_t h = W.scratch->state_hash();
-    if (seen_[shard_of(h)].set.contains(h) || !W.local.insert(h)) continue;
-    const int side = is_free(a) ? 0 : 1;
-    std::vector<uint8_t>& bytes = W.bytes[side];
-    Fresh f{k * A_ + a, h, bytes.size(), 0, 0, hit(*W.scratch, h, W), side == 0, nullptr};
-    f.buffer = buffer_base_[side] + static_cast<uint32_t>(&W - workers_.data());
-    const bool store = expandable && (side == 0 || store_next_);
-    if (store && snapshots_) {
-      W.scratch->save_state(bytes);
-      f.size = static_cast<uint32_t>(bytes.size() - f.offset);
-    } else if (store && keep_env_) {
-      f.env = std::move(W.scratch);
-    }
-    W.fresh[shard_of(h)].push_back(std::move(f));
+    std::unique_ptr<Environment>& env = W.scratch[next];
+    if (!env || !env->copy_from(*parent)) env = parent->clone();
+    if (!env->step(spec_.actions[a])) continue;
+    const uint64_t h = env->state_hash();
+    seen_[shard_of(h)].set.prefetch(h);
+    if (pending) settle(last, k, W, store_free, store_next);
+    last = Stepped{a, h, next};
+    pending = true;
+    next ^= 1;
   }
+  if (pending) settle(last, k, W, store_free, store_next);
+}
+
+void LayeredBfs::settle(const Stepped& s, size_t k, Worker& W, bool store_free, bool store_next) {
+  const uint64_t h = s.hash;
+  if (seen_[shard_of(h)].set.contains(h) || !W.local.insert(h)) return;
+  std::unique_ptr<Environment>& env = W.scratch[s.scratch];
+  const int side = is_free(s.action) ? 0 : 1;
+  std::vector<uint8_t>& bytes = W.bytes[side];
+  Fresh f{k * A_ + s.action, h, bytes.size(), 0, 0, hit(*env, h, W), side == 0, nullptr};
+  f.buffer = buffer_base_[side] + static_cast<uint32_t>(&W - workers_.data());
+  const bool store = side == 0 ? store_free : store_next;
+  if (store && snapshots_) {
+    env->save_state(bytes);
+    f.size = static_cast<uint32_t>(bytes.size() - f.offset);
+  } else if (store && keep_env_) {
+    f.env = std::move(env);
+  }
+  W.fresh[shard_of(h)].push_back(std::move(f));
 }
 
 // Expands cur_.open[begin, end) by the free actions or by the others; false when
