@@ -115,13 +115,13 @@ void load_core(SnapshotReader& r, Core& c, int on_clauses) {
 }
 
 void save_value(SnapshotWriter& w, const GlobalOrder& o) {
-  w.raw(static_cast<uint64_t>(o.map.bucket_count()));
-  w.raw(static_cast<uint64_t>(o.map.next_resize()));
-  w.raw(static_cast<uint32_t>(o.map.size()));
-  o.map.for_each([&](int k) {
-    w.raw(static_cast<int32_t>(k));
-    w.raw(o.map.hash_of(k));
-  });
+  w.raw(static_cast<uint64_t>(o.map().bucket_count()));
+  w.raw(static_cast<uint64_t>(o.map().next_resize()));
+  w.raw(static_cast<uint32_t>(o.map().size()));
+  for (int32_t k : o.keys()) {
+    w.raw(k);
+    w.raw(o.map().hash_of(k));
+  }
 }
 
 void load_value(SnapshotReader& r, GlobalOrder& o) {
@@ -140,7 +140,7 @@ void load_value(SnapshotReader& r, GlobalOrder& o) {
     k = key;
   }
   try {
-    o.map.restore(buckets, resize, keys);
+    o.restore(buckets, resize, keys);
   } catch (const std::invalid_argument&) {
     corrupt_snapshot("global order");
   }

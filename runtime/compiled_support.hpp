@@ -809,22 +809,45 @@ void load_core(SnapshotReader& r, Core& c, int on_clauses);
 // of one object): the same insert/erase history as the interpreter's map, so the
 // same iteration order. Keys are the program's symbol numbers. Only modules with
 // Module::runtime_order have one (State::order).
-struct GlobalOrder {
-  HashOrder map;
-  void define(int sym, uint64_t hash) { map.insert(sym, hash); }
-  void erase(int sym) { map.erase(sym); }
-  std::vector<int32_t> keys() const {
-    std::vector<int32_t> out;
-    out.reserve(map.size());
-    map.for_each([&](int k) { out.push_back(k); });
-    return out;
+class GlobalOrder {
+ public:
+  void define(int sym, uint64_t hash) {
+    if (map_.contains(sym)) return;
+    map_.insert(sym, hash);
+    list();
   }
+  void erase(int sym) {
+    if (!map_.contains(sym)) return;
+    map_.erase(sym);
+    list();
+  }
+  // The keys in the map's order, listed at each change of the map: walking
+  // its node list (each load waiting on the one before) at every read was a
+  // quarter of egg's step. Listed eagerly, so reads write nothing (a shared
+  // prototype may be read by several threads).
+  const std::vector<int32_t>& keys() const { return keys_; }
+  // Into a list the step keeps (no allocation once it has grown).
+  void keys_into(std::vector<int32_t>& out) const { out.assign(keys_.begin(), keys_.end()); }
+  const HashOrder& map() const { return map_; }
+  // A snapshot's order (load_value); throws as HashOrder::restore.
+  void restore(size_t bucket_count, size_t next_resize, const std::vector<std::pair<int, uint64_t>>& keys) {
+    map_.restore(bucket_count, next_resize, keys);
+    list();
+  }
+
+ private:
+  void list() {
+    keys_.clear();
+    map_.for_each([&](int k) { keys_.push_back(k); });
+  }
+  HashOrder map_;
+  std::vector<int32_t> keys_;  // invariant: map_'s keys in its iteration order
 };
 // The order is part of the state: two states whose maps iterate differently may
 // diverge later, so they hash and save differently.
 inline void hash_value(Hash& h, const GlobalOrder& o) {
-  h.mix(o.map.bucket_count());
-  o.map.for_each([&](int k) { h.mix(static_cast<uint32_t>(k)); });
+  h.mix(o.map().bucket_count());
+  for (int32_t k : o.keys()) h.mix(static_cast<uint32_t>(k));
 }
 void save_value(SnapshotWriter& w, const GlobalOrder& o);
 // Symbol numbers index the order's tables: a loaded one is bounded first.

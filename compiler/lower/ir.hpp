@@ -64,7 +64,7 @@ enum class Helper : uint8_t {
   Sqrt,           // (n) -> floor(sqrt(n)), n >= 0
   DefineGlobal,   // (symbol): the run-time map order learns a key (no-op if present)
   EraseGlobal,    // (symbol): the run-time map order forgets a key
-  OrderKeys,      // () -> List<Int>: the global symbols in the run-time map order
+  OrderKeys,      // (list): the list := the global symbols in the run-time map order
   ClickPos,       // () -> Pos of the pending click
   ClickDefine,    // (): the global `click` := the pending click
   Reserve,        // (list, n)

@@ -177,7 +177,7 @@ std::string Printer::helper(const Node* n) {
     case Helper::DefineGlobal:
       return "s.order.define(" + arg(0) + ", " + std::to_string(m_.order_hashes.at(static_cast<int>(n->a[0]->imm))) + "ULL)";
     case Helper::EraseGlobal: return "s.order.erase(" + arg(0) + ")";
-    case Helper::OrderKeys: return "s.order.keys()";
+    case Helper::OrderKeys: return "s.order.keys_into(" + arg(0) + ")";
     case Helper::ClickPos: return "Pos{s.core.click_x, s.core.click_y}";
     case Helper::ClickDefine: return "(void)0";
     case Helper::Reserve: return arg(0) + ".reserve(size_t(" + arg(1) + "))";

@@ -17,8 +17,8 @@
 // interpreter's map) and the observers loop over its keys:
 //
 //   before: (allObjs) in a step  ->  if (d_late) push(g_late); push(g_base);
-//   after:                       ->  for (k : s.order.keys())
-//                                      if (k == 12) { push(g_base); } else if (k == 31) { push(g_late); }
+//   after:                       ->  s.order.keys_into(keys); for (k : keys)
+//                                      switch (k) { case 12: push(g_base); break; case 31: push(g_late); break; }
 #include <algorithm>
 
 #include "compiler/lower/specialise.hpp"
@@ -107,23 +107,26 @@ void Specialiser::note_definition(Global& g) {
   order_insert(g.sym);
 }
 
-// `visit` for each global in the run-time order: a loop over the keys, with a
-// branch per global that has a value slot.
+// `visit` for each global in the run-time order: a loop over the keys (copied
+// into a list the step keeps, pass_scratch), with a case per global that has a
+// value slot (a switch: egg's state check compared each key with up to 60
+// symbols in turn).
 void Specialiser::walk_runtime_order(const std::function<void(Global&)>& visit, bool slotless) {
   std::vector<Global*> held;
   for (auto& [s, g] : globals_)
     if (g.state != Global::Undefined && (g.value >= 0 || slotless)) held.push_back(&g);
   if (held.empty()) return;
-  ir::Var* keys = ir_.decl(T().list(T().int_()), ir_.call(ir::Helper::OrderKeys, T().list(T().int_()), {}), "keys");
+  ir::Var* keys = ir_.decl(T().list(T().int_()), nullptr, "keys");
+  ir_.emit_eval(ir_.call(ir::Helper::OrderKeys, nullptr, {ir_.local(keys)}));
   ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
   loop->var = ir_.var(T().int_(), "key");
   loop->a = ir_.local(keys);
   ir_.in_block(loop->body, [&] {
+    ir::Stmt* sw = ir_.emit(ir::SK::Switch);
+    sw->a = ir_.local(loop->var);
     for (Global* g : held) {
-      ir::Stmt* s_if = ir_.emit(ir::SK::If);
-      s_if->a = ir_.node(ir::Op::Eq, T().bool_(), {ir_.local(loop->var), ir_.lit(T().int_(), g->sym)});
-      ir_.in_block(s_if->body, [&] { visit(*g); });
-      ir_.continue_in(s_if->other);  // else if ...
+      sw->cases.emplace_back(g->sym, ir::Block{});
+      ir_.in_block(sw->cases.back().second, [&] { visit(*g); });
     }
   });
 }
