@@ -140,7 +140,7 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
   auto apply = [&](const SVal& x) { return with_fn ? call1(a[fi], x, at) : x; };
   if (!l.type->elem) {  // statically empty: the function is never called
     if (b == Builtin::Any) return SVal{T().bool_(), ir_.lit(T().bool_(), 0), ir_.lit(T().bool_(), 0)};
-    return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
+    return empty_list();
   }
   if (unroll(l)) {  // fold inside constructors: keeps cell shapes constant
     std::vector<SVal> out;
@@ -342,7 +342,7 @@ SVal Specialiser::builtin_at(Builtin b, std::vector<SVal>& a, const Expr&) {
 SVal Specialiser::builtin_concat(Builtin b, std::vector<SVal>& a, const Expr&) {
   if (!check_kind(b, a, 0, TK::List, "a list")) return never();
   const SVal l = a[0];
-  if (!l.type->elem) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
+  if (!l.type->elem) return empty_list();
   TypeP inner = l.type->elem;
   if (inner->k != TK::List) {
     if (is_sum(inner)) sites_.unsupported("concat of a list holding lists and other values");
@@ -363,9 +363,9 @@ SVal Specialiser::builtin_concat(Builtin b, std::vector<SVal>& a, const Expr&) {
                    static_cast<int64_t>(items.size()));
       checked = true;
     }
-    if (ok && (!constructing_.empty() || items.size() <= 16)) return items.empty() ? SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())} : make_list(items);
+    if (ok && (!constructing_.empty() || items.size() <= 16)) return items.empty() ? empty_list() : make_list(items);
   }
-  if (!inner->elem) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
+  if (!inner->elem) return empty_list();
   if (!l.parts.empty()) {  // (concat (list a b ...)): the parts are known, no list of lists is needed
     if (!checked) check_length(ir::kLengthSizes, l.parts);
     charge_built(ir::kLengthSizes, l.parts);
@@ -394,7 +394,7 @@ SVal Specialiser::builtin_array_equal(Builtin b, std::vector<SVal>& a, const Exp
       s->a = ir_.node(ir::Op::Not, T().bool_(), {ir_.node(ir::Op::Empty, T().bool_(), {a[a[0].type->elem ? 0 : 1].code})});
       ir_.in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
     }
-    return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
+    return empty_list();
   }
   ir::Stmt* s = ir_.emit(ir::SK::If);
   s->a = ir_.node(ir::Op::Ne, T().bool_(), {ir_.node(ir::Op::Size, T().int_(), {a[0].code}), ir_.node(ir::Op::Size, T().int_(), {a[1].code})});

@@ -449,7 +449,7 @@ SVal Specialiser::instance_field(const SVal& v, Sym f) { return get_field(v, f, 
 // Lists
 
 SVal Specialiser::make_list(const std::vector<SVal>& items) {
-  if (items.empty()) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
+  if (items.empty()) return empty_list();
   TypeP et = T().never();
   for (const SVal& v : items) et = T().join(et, v.type);
   if (et->k == TK::Never) return never();

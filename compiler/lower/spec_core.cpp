@@ -46,6 +46,9 @@ SVal Specialiser::let(SVal v, const std::string& hint) {
 }
 
 SVal Specialiser::never() { return SVal{T().never(), nullptr}; }
+SVal Specialiser::empty_list() {
+  return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
+}
 
 // ---------------------------------------------------------------------------
 // Errors

@@ -281,7 +281,7 @@ SVal Specialiser::all_objs() {
 // Test: tests/lowering/filter_all_objs.au.
 SVal Specialiser::filter_all_objs(const SVal& f, const Expr& list, const Expr& at) {
   TypeP u = all_objs_type();
-  if (!u) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list()), ir_.node(ir::Op::MakeList, T().empty_list())};
+  if (!u) return empty_list();
   sites_.enter(&list);
   ir::Var* n = ir_.decl(T().int_(), ir_.lit(T().int_(), 0), "objects");
   auto count = [&](ir::Node* k) {

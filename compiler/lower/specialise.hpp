@@ -99,6 +99,7 @@ class Specialiser {
   void charge_one_built();
   void fail(std::vector<ir::Node*> message_parts);    // strings and StrOfInt nodes
   SVal never();                                       // the value of dead code
+  SVal empty_list();                                  // a list known to be empty
 
   // Types and naming
   Types& T() { return m_.types; }
