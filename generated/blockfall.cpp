@@ -291,19 +291,19 @@ struct Prog {
     // init stack, programs/blockfall.au:28
     s.g_stack_12 = std::vector<C1_Block>{};
     s.u_stack_13 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const std::vector<C1_Block>& g24 = s.g_stack_12;
-    tally_global(s.core, 3, "stack", g24);
+    tally_global(s.core, tally, 3, "stack", g24);
     const C0_Piece& g25 = s.g_piece_8;
-    tally_global(s.core, 4, "piece", g25);
+    tally_global(s.core, tally, 4, "piece", g25);
     const Pos& g26 = s.g_spawnAt_7;
-    tally_global(s.core, 5, "spawnAt", g26);
+    tally_global(s.core, tally, 5, "spawnAt", g26);
     const std::vector<int32_t>& g27 = s.g_turnOf_5;
-    tally_global(s.core, 6, "turnOf", g27);
+    tally_global(s.core, tally, 6, "turnOf", g27);
     const std::vector<int32_t>& g28 = s.g_hues_6;
-    tally_global(s.core, 7, "hues", g28);
+    tally_global(s.core, tally, 7, "hues", g28);
     const std::vector<std::vector<Pos>>& g29 = s.g_shapes_4;
-    tally_global(s.core, 8, "shapes", g29);
+    tally_global(s.core, tally, 8, "shapes", g29);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1473,20 +1473,20 @@ struct Prog {
       s.g_stack_12 = prev331;
       s.u_stack_13 = true;
     }
-    s.core.tally.v = StateTally{};
-    tally_rendered(s.core, 63, "cacheRendered");
+    StateTally tally{};
+    tally_rendered(s.core, tally, 63, "cacheRendered");
     const std::vector<C1_Block>& g332 = s.g_stack_12;
-    tally_global(s.core, 3, "stack", g332);
+    tally_global(s.core, tally, 3, "stack", g332);
     const C0_Piece& g333 = s.g_piece_8;
-    tally_global(s.core, 4, "piece", g333);
+    tally_global(s.core, tally, 4, "piece", g333);
     const Pos& g334 = s.g_spawnAt_7;
-    tally_global(s.core, 5, "spawnAt", g334);
+    tally_global(s.core, tally, 5, "spawnAt", g334);
     const std::vector<int32_t>& g335 = s.g_turnOf_5;
-    tally_global(s.core, 6, "turnOf", g335);
+    tally_global(s.core, tally, 6, "turnOf", g335);
     const std::vector<int32_t>& g336 = s.g_hues_6;
-    tally_global(s.core, 7, "hues", g336);
+    tally_global(s.core, tally, 7, "hues", g336);
     const std::vector<std::vector<Pos>>& g337 = s.g_shapes_4;
-    tally_global(s.core, 8, "shapes", g337);
+    tally_global(s.core, tally, 8, "shapes", g337);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {

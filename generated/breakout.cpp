@@ -345,15 +345,15 @@ struct Prog {
     C0_Paddle o19 = C0_Paddle{Pos{int32_t(5), int32_t(11)}};
     s.g_paddle_25 = std::move(o19);
     s.u_paddle_26 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const C0_Paddle& g20 = s.g_paddle_25;
-    tally_global(s.core, 5, "paddle", g20);
+    tally_global(s.core, tally, 5, "paddle", g20);
     const C1_Ball& g21 = s.g_ball_21;
-    tally_global(s.core, 6, "ball", g21);
+    tally_global(s.core, tally, 6, "ball", g21);
     const std::vector<C2_Brick>& g22 = s.g_bricks_17;
-    tally_global(s.core, 7, "bricks", g22);
+    tally_global(s.core, tally, 7, "bricks", g22);
     const C3_Hearts& g23 = s.g_hud_9;
-    tally_global(s.core, 8, "hud", g23);
+    tally_global(s.core, tally, 8, "hud", g23);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1283,16 +1283,16 @@ struct Prog {
       s.g_paddle_25 = prev291;
       s.u_paddle_26 = true;
     }
-    s.core.tally.v = StateTally{};
-    tally_rendered(s.core, 26, "cacheRendered");
+    StateTally tally{};
+    tally_rendered(s.core, tally, 26, "cacheRendered");
     const C0_Paddle& g292 = s.g_paddle_25;
-    tally_global(s.core, 5, "paddle", g292);
+    tally_global(s.core, tally, 5, "paddle", g292);
     const C1_Ball& g293 = s.g_ball_21;
-    tally_global(s.core, 6, "ball", g293);
+    tally_global(s.core, tally, 6, "ball", g293);
     const std::vector<C2_Brick>& g294 = s.g_bricks_17;
-    tally_global(s.core, 7, "bricks", g294);
+    tally_global(s.core, tally, 7, "bricks", g294);
     const C3_Hearts& g295 = s.g_hud_9;
-    tally_global(s.core, 8, "hud", g295);
+    tally_global(s.core, tally, 8, "hud", g295);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {

@@ -278,17 +278,17 @@ struct Prog {
     }
     std::swap(s.g_tiles_14, out14);
     s.u_tiles_15 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const C2_Lamps& g22 = s.g_lamps_6;
-    tally_global(s.core, 5, "lamps", g22);
+    tally_global(s.core, tally, 5, "lamps", g22);
     const std::vector<C1_Swatch>& g23 = s.g_swatches_10;
-    tally_global(s.core, 6, "swatches", g23);
+    tally_global(s.core, tally, 6, "swatches", g23);
     const std::vector<int32_t>& g24 = s.g_palette_4;
-    tally_global(s.core, 7, "palette", g24);
+    tally_global(s.core, tally, 7, "palette", g24);
     const std::vector<C0_Tile>& g25 = s.g_tiles_14;
-    tally_global(s.core, 8, "tiles", g25);
+    tally_global(s.core, tally, 8, "tiles", g25);
     const Pos& g26 = s.g_corner_5;
-    tally_global(s.core, 9, "corner", g26);
+    tally_global(s.core, tally, 9, "corner", g26);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -835,35 +835,35 @@ struct Prog {
       s.g_tiles_14 = prev128;
       s.u_tiles_15 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_19) {
-      tally_rendered(s.core, 27, "cacheRendered");
+      tally_rendered(s.core, tally, 27, "cacheRendered");
       const C2_Lamps& g129 = s.g_lamps_6;
-      tally_global(s.core, 5, "lamps", g129);
+      tally_global(s.core, tally, 5, "lamps", g129);
       if (s.d_click_19) {
         const Pos& g130 = s.g_click_18;
-        tally_global(s.core, 27, "click", g130);
+        tally_global(s.core, tally, 27, "click", g130);
       }
       const std::vector<C1_Swatch>& g131 = s.g_swatches_10;
-      tally_global(s.core, 6, "swatches", g131);
+      tally_global(s.core, tally, 6, "swatches", g131);
       const std::vector<int32_t>& g132 = s.g_palette_4;
-      tally_global(s.core, 7, "palette", g132);
+      tally_global(s.core, tally, 7, "palette", g132);
       const std::vector<C0_Tile>& g133 = s.g_tiles_14;
-      tally_global(s.core, 8, "tiles", g133);
+      tally_global(s.core, tally, 8, "tiles", g133);
       const Pos& g134 = s.g_corner_5;
-      tally_global(s.core, 9, "corner", g134);
+      tally_global(s.core, tally, 9, "corner", g134);
     } else {
-      tally_rendered(s.core, 27, "cacheRendered");
+      tally_rendered(s.core, tally, 27, "cacheRendered");
       const C2_Lamps& g135 = s.g_lamps_6;
-      tally_global(s.core, 5, "lamps", g135);
+      tally_global(s.core, tally, 5, "lamps", g135);
       const std::vector<C1_Swatch>& g136 = s.g_swatches_10;
-      tally_global(s.core, 6, "swatches", g136);
+      tally_global(s.core, tally, 6, "swatches", g136);
       const std::vector<int32_t>& g137 = s.g_palette_4;
-      tally_global(s.core, 7, "palette", g137);
+      tally_global(s.core, tally, 7, "palette", g137);
       const std::vector<C0_Tile>& g138 = s.g_tiles_14;
-      tally_global(s.core, 8, "tiles", g138);
+      tally_global(s.core, tally, 8, "tiles", g138);
       const Pos& g139 = s.g_corner_5;
-      tally_global(s.core, 9, "corner", g139);
+      tally_global(s.core, tally, 9, "corner", g139);
     }
     s.core.clear_inputs();
   }

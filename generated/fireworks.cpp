@@ -214,17 +214,17 @@ struct Prog {
     C0_Pad o3 = C0_Pad{Pos{int32_t(10), int32_t(19)}};
     s.g_pad_16 = std::move(o3);
     s.u_pad_17 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const C0_Pad& g4 = s.g_pad_16;
-    tally_global(s.core, 0, "pad", g4);
+    tally_global(s.core, tally, 0, "pad", g4);
     const std::vector<C1_Rocket>& g5 = s.g_rockets_12;
-    tally_global(s.core, 1, "rockets", g5);
+    tally_global(s.core, tally, 1, "rockets", g5);
     const std::vector<C2_Spark>& g6 = s.g_sparks_8;
-    tally_global(s.core, 2, "sparks", g6);
+    tally_global(s.core, tally, 2, "sparks", g6);
     const std::vector<Pos>& g7 = s.g_compass_5;
-    tally_global(s.core, 3, "compass", g7);
+    tally_global(s.core, tally, 3, "compass", g7);
     const std::vector<int32_t>& g8 = s.g_palette_4;
-    tally_global(s.core, 4, "palette", g8);
+    tally_global(s.core, tally, 4, "palette", g8);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -733,35 +733,35 @@ struct Prog {
       s.g_pad_16 = prev137;
       s.u_pad_17 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_21) {
       const C0_Pad& g138 = s.g_pad_16;
-      tally_global(s.core, 0, "pad", g138);
+      tally_global(s.core, tally, 0, "pad", g138);
       const std::vector<C1_Rocket>& g139 = s.g_rockets_12;
-      tally_global(s.core, 1, "rockets", g139);
-      tally_rendered(s.core, 28, "cacheRendered");
+      tally_global(s.core, tally, 1, "rockets", g139);
+      tally_rendered(s.core, tally, 28, "cacheRendered");
       const std::vector<C2_Spark>& g140 = s.g_sparks_8;
-      tally_global(s.core, 2, "sparks", g140);
+      tally_global(s.core, tally, 2, "sparks", g140);
       const std::vector<Pos>& g141 = s.g_compass_5;
-      tally_global(s.core, 3, "compass", g141);
+      tally_global(s.core, tally, 3, "compass", g141);
       if (s.d_click_21) {
         const Pos& g142 = s.g_click_20;
-        tally_global(s.core, 28, "click", g142);
+        tally_global(s.core, tally, 28, "click", g142);
       }
       const std::vector<int32_t>& g143 = s.g_palette_4;
-      tally_global(s.core, 4, "palette", g143);
+      tally_global(s.core, tally, 4, "palette", g143);
     } else {
       const C0_Pad& g144 = s.g_pad_16;
-      tally_global(s.core, 0, "pad", g144);
+      tally_global(s.core, tally, 0, "pad", g144);
       const std::vector<C1_Rocket>& g145 = s.g_rockets_12;
-      tally_global(s.core, 1, "rockets", g145);
-      tally_rendered(s.core, 28, "cacheRendered");
+      tally_global(s.core, tally, 1, "rockets", g145);
+      tally_rendered(s.core, tally, 28, "cacheRendered");
       const std::vector<C2_Spark>& g146 = s.g_sparks_8;
-      tally_global(s.core, 2, "sparks", g146);
+      tally_global(s.core, tally, 2, "sparks", g146);
       const std::vector<Pos>& g147 = s.g_compass_5;
-      tally_global(s.core, 3, "compass", g147);
+      tally_global(s.core, tally, 3, "compass", g147);
       const std::vector<int32_t>& g148 = s.g_palette_4;
-      tally_global(s.core, 4, "palette", g148);
+      tally_global(s.core, tally, 4, "palette", g148);
     }
     s.core.clear_inputs();
   }

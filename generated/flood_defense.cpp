@@ -378,21 +378,21 @@ struct Prog {
     // init time, programs/flood_defense.au:22
     s.g_time_31 = int32_t(0);
     s.u_time_32 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const std::vector<C1_House>& g22 = s.g_houses_19;
-    tally_global(s.core, 5, "houses", g22);
+    tally_global(s.core, tally, 5, "houses", g22);
     const std::vector<C3_Sandbag>& g23 = s.g_bags_11;
-    tally_global(s.core, 6, "bags", g23);
+    tally_global(s.core, tally, 6, "bags", g23);
     const std::vector<C4_Water>& g24 = s.g_water_7;
-    tally_global(s.core, 7, "water", g24);
+    tally_global(s.core, tally, 7, "water", g24);
     const std::vector<C0_Earth>& g25 = s.g_earth_27;
-    tally_global(s.core, 8, "earth", g25);
+    tally_global(s.core, tally, 8, "earth", g25);
     const C2_Drain& g26 = s.g_drain_23;
-    tally_global(s.core, 9, "drain", g26);
+    tally_global(s.core, tally, 9, "drain", g26);
     const std::vector<int32_t>& g27 = s.g_heights_4;
-    tally_global(s.core, 10, "heights", g27);
+    tally_global(s.core, tally, 10, "heights", g27);
     const C5_Spring& g28 = s.g_spring_15;
-    tally_global(s.core, 11, "spring", g28);
+    tally_global(s.core, tally, 11, "spring", g28);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1852,43 +1852,43 @@ struct Prog {
       s.g_time_31 = t466;
       s.u_time_32 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_36) {
-      tally_rendered(s.core, 45, "cacheRendered");
+      tally_rendered(s.core, tally, 45, "cacheRendered");
       const std::vector<C1_House>& g467 = s.g_houses_19;
-      tally_global(s.core, 5, "houses", g467);
+      tally_global(s.core, tally, 5, "houses", g467);
       const std::vector<C3_Sandbag>& g468 = s.g_bags_11;
-      tally_global(s.core, 6, "bags", g468);
+      tally_global(s.core, tally, 6, "bags", g468);
       const std::vector<C4_Water>& g469 = s.g_water_7;
-      tally_global(s.core, 7, "water", g469);
+      tally_global(s.core, tally, 7, "water", g469);
       if (s.d_click_36) {
         const Pos& g470 = s.g_click_35;
-        tally_global(s.core, 45, "click", g470);
+        tally_global(s.core, tally, 45, "click", g470);
       }
       const std::vector<C0_Earth>& g471 = s.g_earth_27;
-      tally_global(s.core, 8, "earth", g471);
+      tally_global(s.core, tally, 8, "earth", g471);
       const C2_Drain& g472 = s.g_drain_23;
-      tally_global(s.core, 9, "drain", g472);
+      tally_global(s.core, tally, 9, "drain", g472);
       const std::vector<int32_t>& g473 = s.g_heights_4;
-      tally_global(s.core, 10, "heights", g473);
+      tally_global(s.core, tally, 10, "heights", g473);
       const C5_Spring& g474 = s.g_spring_15;
-      tally_global(s.core, 11, "spring", g474);
+      tally_global(s.core, tally, 11, "spring", g474);
     } else {
-      tally_rendered(s.core, 45, "cacheRendered");
+      tally_rendered(s.core, tally, 45, "cacheRendered");
       const std::vector<C1_House>& g475 = s.g_houses_19;
-      tally_global(s.core, 5, "houses", g475);
+      tally_global(s.core, tally, 5, "houses", g475);
       const std::vector<C3_Sandbag>& g476 = s.g_bags_11;
-      tally_global(s.core, 6, "bags", g476);
+      tally_global(s.core, tally, 6, "bags", g476);
       const std::vector<C4_Water>& g477 = s.g_water_7;
-      tally_global(s.core, 7, "water", g477);
+      tally_global(s.core, tally, 7, "water", g477);
       const std::vector<C0_Earth>& g478 = s.g_earth_27;
-      tally_global(s.core, 8, "earth", g478);
+      tally_global(s.core, tally, 8, "earth", g478);
       const C2_Drain& g479 = s.g_drain_23;
-      tally_global(s.core, 9, "drain", g479);
+      tally_global(s.core, tally, 9, "drain", g479);
       const std::vector<int32_t>& g480 = s.g_heights_4;
-      tally_global(s.core, 10, "heights", g480);
+      tally_global(s.core, tally, 10, "heights", g480);
       const C5_Spring& g481 = s.g_spring_15;
-      tally_global(s.core, 11, "spring", g481);
+      tally_global(s.core, tally, 11, "spring", g481);
     }
     s.core.clear_inputs();
   }

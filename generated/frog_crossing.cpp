@@ -540,23 +540,23 @@ struct Prog {
     // init time, programs/frog_crossing.au:33
     s.g_time_31 = int32_t(0);
     s.u_time_32 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const C0_River& g56 = s.g_river_27;
-    tally_global(s.core, 15, "river", g56);
+    tally_global(s.core, tally, 15, "river", g56);
     const std::vector<C2_Pad>& g57 = s.g_pads_23;
-    tally_global(s.core, 16, "pads", g57);
+    tally_global(s.core, tally, 16, "pads", g57);
     const std::vector<C3_Car>& g58 = s.g_cars_15;
-    tally_global(s.core, 17, "cars", g58);
+    tally_global(s.core, tally, 17, "cars", g58);
     const C5_Lives& g59 = s.g_lives_11;
-    tally_global(s.core, 18, "lives", g59);
+    tally_global(s.core, tally, 18, "lives", g59);
     const Pos& g60 = s.g_frogStart_4;
-    tally_global(s.core, 19, "frogStart", g60);
+    tally_global(s.core, tally, 19, "frogStart", g60);
     const C4_Frog& g61 = s.g_frog_7;
-    tally_global(s.core, 20, "frog", g61);
+    tally_global(s.core, tally, 20, "frog", g61);
     const std::vector<std::vector<int32_t>>& g62 = s.g_lanes_6;
-    tally_global(s.core, 21, "lanes", g62);
+    tally_global(s.core, tally, 21, "lanes", g62);
     const std::vector<C1_Verge>& g63 = s.g_verges_19;
-    tally_global(s.core, 22, "verges", g63);
+    tally_global(s.core, tally, 22, "verges", g63);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1290,24 +1290,24 @@ struct Prog {
       s.g_time_31 = t190;
       s.u_time_32 = true;
     }
-    s.core.tally.v = StateTally{};
-    tally_rendered(s.core, 40, "cacheRendered");
+    StateTally tally{};
+    tally_rendered(s.core, tally, 40, "cacheRendered");
     const C0_River& g191 = s.g_river_27;
-    tally_global(s.core, 15, "river", g191);
+    tally_global(s.core, tally, 15, "river", g191);
     const std::vector<C2_Pad>& g192 = s.g_pads_23;
-    tally_global(s.core, 16, "pads", g192);
+    tally_global(s.core, tally, 16, "pads", g192);
     const std::vector<C3_Car>& g193 = s.g_cars_15;
-    tally_global(s.core, 17, "cars", g193);
+    tally_global(s.core, tally, 17, "cars", g193);
     const C5_Lives& g194 = s.g_lives_11;
-    tally_global(s.core, 18, "lives", g194);
+    tally_global(s.core, tally, 18, "lives", g194);
     const Pos& g195 = s.g_frogStart_4;
-    tally_global(s.core, 19, "frogStart", g195);
+    tally_global(s.core, tally, 19, "frogStart", g195);
     const C4_Frog& g196 = s.g_frog_7;
-    tally_global(s.core, 20, "frog", g196);
+    tally_global(s.core, tally, 20, "frog", g196);
     const std::vector<std::vector<int32_t>>& g197 = s.g_lanes_6;
-    tally_global(s.core, 21, "lanes", g197);
+    tally_global(s.core, tally, 21, "lanes", g197);
     const std::vector<C1_Verge>& g198 = s.g_verges_19;
-    tally_global(s.core, 22, "verges", g198);
+    tally_global(s.core, tally, 22, "verges", g198);
     s.core.clear_inputs();
   }
   static void render(State& s, Painter* paint, const std::vector<uint16_t>& pal) {

@@ -429,21 +429,21 @@ struct Prog {
     C1_Sun o8 = C1_Sun{true, Pos{int32_t(11), int32_t(0)}};
     s.g_sun_23 = std::move(o8);
     s.u_sun_24 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const C0_Cloud& g9 = s.g_cloud_19;
-    tally_global(s.core, 0, "cloud", g9);
+    tally_global(s.core, tally, 0, "cloud", g9);
     const std::vector<C3_Plant>& g10 = s.g_plants_15;
-    tally_global(s.core, 1, "plants", g10);
+    tally_global(s.core, tally, 1, "plants", g10);
     const std::vector<int32_t>& g11 = s.g_petals_4;
-    tally_global(s.core, 2, "petals", g11);
+    tally_global(s.core, tally, 2, "petals", g11);
     const std::vector<bool>& g12 = s.g_growChance_5;
-    tally_global(s.core, 3, "growChance", g12);
+    tally_global(s.core, tally, 3, "growChance", g12);
     const std::vector<C2_Drop>& g13 = s.g_drops_11;
-    tally_global(s.core, 4, "drops", g13);
+    tally_global(s.core, tally, 4, "drops", g13);
     const C4_Basket& g14 = s.g_basket_7;
-    tally_global(s.core, 5, "basket", g14);
+    tally_global(s.core, tally, 5, "basket", g14);
     const C1_Sun& g15 = s.g_sun_23;
-    tally_global(s.core, 6, "sun", g15);
+    tally_global(s.core, tally, 6, "sun", g15);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1093,43 +1093,43 @@ struct Prog {
       s.g_sun_23 = prev165;
       s.u_sun_24 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_28) {
-      tally_rendered(s.core, 30, "cacheRendered");
+      tally_rendered(s.core, tally, 30, "cacheRendered");
       const C0_Cloud& g166 = s.g_cloud_19;
-      tally_global(s.core, 0, "cloud", g166);
+      tally_global(s.core, tally, 0, "cloud", g166);
       const std::vector<C3_Plant>& g167 = s.g_plants_15;
-      tally_global(s.core, 1, "plants", g167);
+      tally_global(s.core, tally, 1, "plants", g167);
       const std::vector<int32_t>& g168 = s.g_petals_4;
-      tally_global(s.core, 2, "petals", g168);
+      tally_global(s.core, tally, 2, "petals", g168);
       if (s.d_click_28) {
         const Pos& g169 = s.g_click_27;
-        tally_global(s.core, 30, "click", g169);
+        tally_global(s.core, tally, 30, "click", g169);
       }
       const std::vector<bool>& g170 = s.g_growChance_5;
-      tally_global(s.core, 3, "growChance", g170);
+      tally_global(s.core, tally, 3, "growChance", g170);
       const std::vector<C2_Drop>& g171 = s.g_drops_11;
-      tally_global(s.core, 4, "drops", g171);
+      tally_global(s.core, tally, 4, "drops", g171);
       const C4_Basket& g172 = s.g_basket_7;
-      tally_global(s.core, 5, "basket", g172);
+      tally_global(s.core, tally, 5, "basket", g172);
       const C1_Sun& g173 = s.g_sun_23;
-      tally_global(s.core, 6, "sun", g173);
+      tally_global(s.core, tally, 6, "sun", g173);
     } else {
-      tally_rendered(s.core, 30, "cacheRendered");
+      tally_rendered(s.core, tally, 30, "cacheRendered");
       const C0_Cloud& g174 = s.g_cloud_19;
-      tally_global(s.core, 0, "cloud", g174);
+      tally_global(s.core, tally, 0, "cloud", g174);
       const std::vector<C3_Plant>& g175 = s.g_plants_15;
-      tally_global(s.core, 1, "plants", g175);
+      tally_global(s.core, tally, 1, "plants", g175);
       const std::vector<int32_t>& g176 = s.g_petals_4;
-      tally_global(s.core, 2, "petals", g176);
+      tally_global(s.core, tally, 2, "petals", g176);
       const std::vector<bool>& g177 = s.g_growChance_5;
-      tally_global(s.core, 3, "growChance", g177);
+      tally_global(s.core, tally, 3, "growChance", g177);
       const std::vector<C2_Drop>& g178 = s.g_drops_11;
-      tally_global(s.core, 4, "drops", g178);
+      tally_global(s.core, tally, 4, "drops", g178);
       const C4_Basket& g179 = s.g_basket_7;
-      tally_global(s.core, 5, "basket", g179);
+      tally_global(s.core, tally, 5, "basket", g179);
       const C1_Sun& g180 = s.g_sun_23;
-      tally_global(s.core, 6, "sun", g180);
+      tally_global(s.core, tally, 6, "sun", g180);
     }
     s.core.clear_inputs();
   }

@@ -488,23 +488,23 @@ struct Prog {
     C3_Stars o35 = C3_Stars{int32_t(0), Pos{int32_t(0), int32_t(0)}};
     s.g_stars_27 = std::move(o35);
     s.u_stars_28 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const std::vector<C0_Wall>& g36 = s.g_walls_23;
-    tally_global(s.core, 8, "walls", g36);
+    tally_global(s.core, tally, 8, "walls", g36);
     const C2_Twin& g37 = s.g_red_7;
-    tally_global(s.core, 9, "red", g37);
+    tally_global(s.core, tally, 9, "red", g37);
     const std::vector<Pos>& g38 = s.g_wallSpots_4;
-    tally_global(s.core, 10, "wallSpots", g38);
+    tally_global(s.core, tally, 10, "wallSpots", g38);
     const std::vector<Pos>& g39 = s.g_startOpen_6;
-    tally_global(s.core, 11, "startOpen", g39);
+    tally_global(s.core, tally, 11, "startOpen", g39);
     const C2_Twin& g40 = s.g_blue_11;
-    tally_global(s.core, 12, "blue", g40);
+    tally_global(s.core, tally, 12, "blue", g40);
     const C1_Goal& g41 = s.g_blueGoal_19;
-    tally_global(s.core, 13, "blueGoal", g41);
+    tally_global(s.core, tally, 13, "blueGoal", g41);
     const C3_Stars& g42 = s.g_stars_27;
-    tally_global(s.core, 14, "stars", g42);
+    tally_global(s.core, tally, 14, "stars", g42);
     const C1_Goal& g43 = s.g_redGoal_15;
-    tally_global(s.core, 15, "redGoal", g43);
+    tally_global(s.core, tally, 15, "redGoal", g43);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1937,47 +1937,47 @@ struct Prog {
       s.g_stars_27 = prev420;
       s.u_stars_28 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_32) {
-      tally_rendered(s.core, 34, "cacheRendered");
+      tally_rendered(s.core, tally, 34, "cacheRendered");
       const std::vector<C0_Wall>& g421 = s.g_walls_23;
-      tally_global(s.core, 8, "walls", g421);
+      tally_global(s.core, tally, 8, "walls", g421);
       const C2_Twin& g422 = s.g_red_7;
-      tally_global(s.core, 9, "red", g422);
+      tally_global(s.core, tally, 9, "red", g422);
       const std::vector<Pos>& g423 = s.g_wallSpots_4;
-      tally_global(s.core, 10, "wallSpots", g423);
+      tally_global(s.core, tally, 10, "wallSpots", g423);
       if (s.d_click_32) {
         const Pos& g424 = s.g_click_31;
-        tally_global(s.core, 34, "click", g424);
+        tally_global(s.core, tally, 34, "click", g424);
       }
       const std::vector<Pos>& g425 = s.g_startOpen_6;
-      tally_global(s.core, 11, "startOpen", g425);
+      tally_global(s.core, tally, 11, "startOpen", g425);
       const C2_Twin& g426 = s.g_blue_11;
-      tally_global(s.core, 12, "blue", g426);
+      tally_global(s.core, tally, 12, "blue", g426);
       const C1_Goal& g427 = s.g_blueGoal_19;
-      tally_global(s.core, 13, "blueGoal", g427);
+      tally_global(s.core, tally, 13, "blueGoal", g427);
       const C3_Stars& g428 = s.g_stars_27;
-      tally_global(s.core, 14, "stars", g428);
+      tally_global(s.core, tally, 14, "stars", g428);
       const C1_Goal& g429 = s.g_redGoal_15;
-      tally_global(s.core, 15, "redGoal", g429);
+      tally_global(s.core, tally, 15, "redGoal", g429);
     } else {
-      tally_rendered(s.core, 34, "cacheRendered");
+      tally_rendered(s.core, tally, 34, "cacheRendered");
       const std::vector<C0_Wall>& g430 = s.g_walls_23;
-      tally_global(s.core, 8, "walls", g430);
+      tally_global(s.core, tally, 8, "walls", g430);
       const C2_Twin& g431 = s.g_red_7;
-      tally_global(s.core, 9, "red", g431);
+      tally_global(s.core, tally, 9, "red", g431);
       const std::vector<Pos>& g432 = s.g_wallSpots_4;
-      tally_global(s.core, 10, "wallSpots", g432);
+      tally_global(s.core, tally, 10, "wallSpots", g432);
       const std::vector<Pos>& g433 = s.g_startOpen_6;
-      tally_global(s.core, 11, "startOpen", g433);
+      tally_global(s.core, tally, 11, "startOpen", g433);
       const C2_Twin& g434 = s.g_blue_11;
-      tally_global(s.core, 12, "blue", g434);
+      tally_global(s.core, tally, 12, "blue", g434);
       const C1_Goal& g435 = s.g_blueGoal_19;
-      tally_global(s.core, 13, "blueGoal", g435);
+      tally_global(s.core, tally, 13, "blueGoal", g435);
       const C3_Stars& g436 = s.g_stars_27;
-      tally_global(s.core, 14, "stars", g436);
+      tally_global(s.core, tally, 14, "stars", g436);
       const C1_Goal& g437 = s.g_redGoal_15;
-      tally_global(s.core, 15, "redGoal", g437);
+      tally_global(s.core, tally, 15, "redGoal", g437);
     }
     s.core.clear_inputs();
   }

@@ -358,21 +358,21 @@ struct Prog {
     }
     std::swap(s.g_fences_19, out32);
     s.u_fences_20 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const std::vector<C0_Fence>& g35 = s.g_fences_19;
-    tally_global(s.core, 5, "fences", g35);
+    tally_global(s.core, tally, 5, "fences", g35);
     const C3_Dog& g36 = s.g_dog_15;
-    tally_global(s.core, 6, "dog", g36);
+    tally_global(s.core, tally, 6, "dog", g36);
     const std::vector<C2_Sheep>& g37 = s.g_sheep_7;
-    tally_global(s.core, 7, "sheep", g37);
+    tally_global(s.core, tally, 7, "sheep", g37);
     const std::vector<Pos>& g38 = s.g_gate_6;
-    tally_global(s.core, 8, "gate", g38);
+    tally_global(s.core, tally, 8, "gate", g38);
     const std::vector<Pos>& g39 = s.g_wanderSteps_5;
-    tally_global(s.core, 9, "wanderSteps", g39);
+    tally_global(s.core, tally, 9, "wanderSteps", g39);
     const std::vector<Pos>& g40 = s.g_sheepStarts_4;
-    tally_global(s.core, 10, "sheepStarts", g40);
+    tally_global(s.core, tally, 10, "sheepStarts", g40);
     const std::vector<C1_Flag>& g41 = s.g_flags_11;
-    tally_global(s.core, 11, "flags", g41);
+    tally_global(s.core, tally, 11, "flags", g41);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1828,43 +1828,43 @@ struct Prog {
       s.g_fences_19 = prev464;
       s.u_fences_20 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_24) {
-      tally_rendered(s.core, 48, "cacheRendered");
+      tally_rendered(s.core, tally, 48, "cacheRendered");
       const std::vector<C0_Fence>& g465 = s.g_fences_19;
-      tally_global(s.core, 5, "fences", g465);
+      tally_global(s.core, tally, 5, "fences", g465);
       const C3_Dog& g466 = s.g_dog_15;
-      tally_global(s.core, 6, "dog", g466);
+      tally_global(s.core, tally, 6, "dog", g466);
       const std::vector<C2_Sheep>& g467 = s.g_sheep_7;
-      tally_global(s.core, 7, "sheep", g467);
+      tally_global(s.core, tally, 7, "sheep", g467);
       const std::vector<Pos>& g468 = s.g_gate_6;
-      tally_global(s.core, 8, "gate", g468);
+      tally_global(s.core, tally, 8, "gate", g468);
       const std::vector<Pos>& g469 = s.g_wanderSteps_5;
-      tally_global(s.core, 9, "wanderSteps", g469);
+      tally_global(s.core, tally, 9, "wanderSteps", g469);
       const std::vector<Pos>& g470 = s.g_sheepStarts_4;
-      tally_global(s.core, 10, "sheepStarts", g470);
+      tally_global(s.core, tally, 10, "sheepStarts", g470);
       if (s.d_click_24) {
         const Pos& g471 = s.g_click_23;
-        tally_global(s.core, 48, "click", g471);
+        tally_global(s.core, tally, 48, "click", g471);
       }
       const std::vector<C1_Flag>& g472 = s.g_flags_11;
-      tally_global(s.core, 11, "flags", g472);
+      tally_global(s.core, tally, 11, "flags", g472);
     } else {
-      tally_rendered(s.core, 48, "cacheRendered");
+      tally_rendered(s.core, tally, 48, "cacheRendered");
       const std::vector<C0_Fence>& g473 = s.g_fences_19;
-      tally_global(s.core, 5, "fences", g473);
+      tally_global(s.core, tally, 5, "fences", g473);
       const C3_Dog& g474 = s.g_dog_15;
-      tally_global(s.core, 6, "dog", g474);
+      tally_global(s.core, tally, 6, "dog", g474);
       const std::vector<C2_Sheep>& g475 = s.g_sheep_7;
-      tally_global(s.core, 7, "sheep", g475);
+      tally_global(s.core, tally, 7, "sheep", g475);
       const std::vector<Pos>& g476 = s.g_gate_6;
-      tally_global(s.core, 8, "gate", g476);
+      tally_global(s.core, tally, 8, "gate", g476);
       const std::vector<Pos>& g477 = s.g_wanderSteps_5;
-      tally_global(s.core, 9, "wanderSteps", g477);
+      tally_global(s.core, tally, 9, "wanderSteps", g477);
       const std::vector<Pos>& g478 = s.g_sheepStarts_4;
-      tally_global(s.core, 10, "sheepStarts", g478);
+      tally_global(s.core, tally, 10, "sheepStarts", g478);
       const std::vector<C1_Flag>& g479 = s.g_flags_11;
-      tally_global(s.core, 11, "flags", g479);
+      tally_global(s.core, tally, 11, "flags", g479);
     }
     s.core.clear_inputs();
   }

@@ -480,17 +480,17 @@ struct Prog {
     // init time, programs/snowplow.au:18
     s.g_time_25 = int32_t(0);
     s.u_time_26 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const C4_Cloud& g9 = s.g_cloud_21;
-    tally_global(s.core, 0, "cloud", g9);
+    tally_global(s.core, tally, 0, "cloud", g9);
     const std::vector<C2_Rock>& g10 = s.g_rocks_17;
-    tally_global(s.core, 1, "rocks", g10);
+    tally_global(s.core, tally, 1, "rocks", g10);
     const std::vector<C1_Melt>& g11 = s.g_melt_13;
-    tally_global(s.core, 2, "melt", g11);
+    tally_global(s.core, tally, 2, "melt", g11);
     const C3_Plow& g12 = s.g_plow_5;
-    tally_global(s.core, 3, "plow", g12);
+    tally_global(s.core, tally, 3, "plow", g12);
     const std::vector<C0_Flake>& g13 = s.g_snow_9;
-    tally_global(s.core, 4, "snow", g13);
+    tally_global(s.core, tally, 4, "snow", g13);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1568,35 +1568,35 @@ struct Prog {
       s.g_time_25 = t319;
       s.u_time_26 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_30) {
-      tally_rendered(s.core, 43, "cacheRendered");
+      tally_rendered(s.core, tally, 43, "cacheRendered");
       const C4_Cloud& g320 = s.g_cloud_21;
-      tally_global(s.core, 0, "cloud", g320);
+      tally_global(s.core, tally, 0, "cloud", g320);
       const std::vector<C2_Rock>& g321 = s.g_rocks_17;
-      tally_global(s.core, 1, "rocks", g321);
+      tally_global(s.core, tally, 1, "rocks", g321);
       const std::vector<C1_Melt>& g322 = s.g_melt_13;
-      tally_global(s.core, 2, "melt", g322);
+      tally_global(s.core, tally, 2, "melt", g322);
       const C3_Plow& g323 = s.g_plow_5;
-      tally_global(s.core, 3, "plow", g323);
+      tally_global(s.core, tally, 3, "plow", g323);
       if (s.d_click_30) {
         const Pos& g324 = s.g_click_29;
-        tally_global(s.core, 43, "click", g324);
+        tally_global(s.core, tally, 43, "click", g324);
       }
       const std::vector<C0_Flake>& g325 = s.g_snow_9;
-      tally_global(s.core, 4, "snow", g325);
+      tally_global(s.core, tally, 4, "snow", g325);
     } else {
-      tally_rendered(s.core, 43, "cacheRendered");
+      tally_rendered(s.core, tally, 43, "cacheRendered");
       const C4_Cloud& g326 = s.g_cloud_21;
-      tally_global(s.core, 0, "cloud", g326);
+      tally_global(s.core, tally, 0, "cloud", g326);
       const std::vector<C2_Rock>& g327 = s.g_rocks_17;
-      tally_global(s.core, 1, "rocks", g327);
+      tally_global(s.core, tally, 1, "rocks", g327);
       const std::vector<C1_Melt>& g328 = s.g_melt_13;
-      tally_global(s.core, 2, "melt", g328);
+      tally_global(s.core, tally, 2, "melt", g328);
       const C3_Plow& g329 = s.g_plow_5;
-      tally_global(s.core, 3, "plow", g329);
+      tally_global(s.core, tally, 3, "plow", g329);
       const std::vector<C0_Flake>& g330 = s.g_snow_9;
-      tally_global(s.core, 4, "snow", g330);
+      tally_global(s.core, tally, 4, "snow", g330);
     }
     s.core.clear_inputs();
   }

@@ -386,25 +386,25 @@ struct Prog {
     }
     std::swap(s.g_walls_24, out40);
     s.u_walls_25 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const std::vector<C0_Wall>& g43 = s.g_walls_24;
-    tally_global(s.core, 8, "walls", g43);
+    tally_global(s.core, tally, 8, "walls", g43);
     const std::vector<C1_Goal>& g44 = s.g_goals_16;
-    tally_global(s.core, 9, "goals", g44);
+    tally_global(s.core, tally, 9, "goals", g44);
     const C4_Button& g45 = s.g_reset_8;
-    tally_global(s.core, 10, "reset", g45);
+    tally_global(s.core, tally, 10, "reset", g45);
     const std::vector<Pos>& g46 = s.g_crateStarts_6;
-    tally_global(s.core, 11, "crateStarts", g46);
+    tally_global(s.core, tally, 11, "crateStarts", g46);
     const std::vector<Pos>& g47 = s.g_goalSpots_5;
-    tally_global(s.core, 12, "goalSpots", g47);
+    tally_global(s.core, tally, 12, "goalSpots", g47);
     const std::vector<C2_Crate>& g48 = s.g_crates_12;
-    tally_global(s.core, 13, "crates", g48);
+    tally_global(s.core, tally, 13, "crates", g48);
     const std::vector<Pos>& g49 = s.g_innerWalls_4;
-    tally_global(s.core, 14, "innerWalls", g49);
+    tally_global(s.core, tally, 14, "innerWalls", g49);
     const Pos& g50 = s.g_keeperStart_7;
-    tally_global(s.core, 15, "keeperStart", g50);
+    tally_global(s.core, tally, 15, "keeperStart", g50);
     const C3_Keeper& g51 = s.g_keeper_20;
-    tally_global(s.core, 16, "keeper", g51);
+    tally_global(s.core, tally, 16, "keeper", g51);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1785,51 +1785,51 @@ struct Prog {
       s.g_walls_24 = prev421;
       s.u_walls_25 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_29) {
-      tally_rendered(s.core, 24, "cacheRendered");
+      tally_rendered(s.core, tally, 24, "cacheRendered");
       const std::vector<C0_Wall>& g422 = s.g_walls_24;
-      tally_global(s.core, 8, "walls", g422);
+      tally_global(s.core, tally, 8, "walls", g422);
       const std::vector<C1_Goal>& g423 = s.g_goals_16;
-      tally_global(s.core, 9, "goals", g423);
+      tally_global(s.core, tally, 9, "goals", g423);
       const C4_Button& g424 = s.g_reset_8;
-      tally_global(s.core, 10, "reset", g424);
+      tally_global(s.core, tally, 10, "reset", g424);
       const std::vector<Pos>& g425 = s.g_crateStarts_6;
-      tally_global(s.core, 11, "crateStarts", g425);
+      tally_global(s.core, tally, 11, "crateStarts", g425);
       const std::vector<Pos>& g426 = s.g_goalSpots_5;
-      tally_global(s.core, 12, "goalSpots", g426);
+      tally_global(s.core, tally, 12, "goalSpots", g426);
       if (s.d_click_29) {
         const Pos& g427 = s.g_click_28;
-        tally_global(s.core, 24, "click", g427);
+        tally_global(s.core, tally, 24, "click", g427);
       }
       const std::vector<C2_Crate>& g428 = s.g_crates_12;
-      tally_global(s.core, 13, "crates", g428);
+      tally_global(s.core, tally, 13, "crates", g428);
       const std::vector<Pos>& g429 = s.g_innerWalls_4;
-      tally_global(s.core, 14, "innerWalls", g429);
+      tally_global(s.core, tally, 14, "innerWalls", g429);
       const Pos& g430 = s.g_keeperStart_7;
-      tally_global(s.core, 15, "keeperStart", g430);
+      tally_global(s.core, tally, 15, "keeperStart", g430);
       const C3_Keeper& g431 = s.g_keeper_20;
-      tally_global(s.core, 16, "keeper", g431);
+      tally_global(s.core, tally, 16, "keeper", g431);
     } else {
-      tally_rendered(s.core, 24, "cacheRendered");
+      tally_rendered(s.core, tally, 24, "cacheRendered");
       const std::vector<C0_Wall>& g432 = s.g_walls_24;
-      tally_global(s.core, 8, "walls", g432);
+      tally_global(s.core, tally, 8, "walls", g432);
       const std::vector<C1_Goal>& g433 = s.g_goals_16;
-      tally_global(s.core, 9, "goals", g433);
+      tally_global(s.core, tally, 9, "goals", g433);
       const C4_Button& g434 = s.g_reset_8;
-      tally_global(s.core, 10, "reset", g434);
+      tally_global(s.core, tally, 10, "reset", g434);
       const std::vector<Pos>& g435 = s.g_crateStarts_6;
-      tally_global(s.core, 11, "crateStarts", g435);
+      tally_global(s.core, tally, 11, "crateStarts", g435);
       const std::vector<Pos>& g436 = s.g_goalSpots_5;
-      tally_global(s.core, 12, "goalSpots", g436);
+      tally_global(s.core, tally, 12, "goalSpots", g436);
       const std::vector<C2_Crate>& g437 = s.g_crates_12;
-      tally_global(s.core, 13, "crates", g437);
+      tally_global(s.core, tally, 13, "crates", g437);
       const std::vector<Pos>& g438 = s.g_innerWalls_4;
-      tally_global(s.core, 14, "innerWalls", g438);
+      tally_global(s.core, tally, 14, "innerWalls", g438);
       const Pos& g439 = s.g_keeperStart_7;
-      tally_global(s.core, 15, "keeperStart", g439);
+      tally_global(s.core, tally, 15, "keeperStart", g439);
       const C3_Keeper& g440 = s.g_keeper_20;
-      tally_global(s.core, 16, "keeper", g440);
+      tally_global(s.core, tally, 16, "keeper", g440);
     }
     s.core.clear_inputs();
   }

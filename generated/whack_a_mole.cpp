@@ -385,17 +385,17 @@ struct Prog {
     // init time, programs/whack_a_mole.au:22
     s.g_time_30 = int32_t(0);
     s.u_time_31 = false;
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     const std::vector<C2_Flash>& g7 = s.g_flashes_26;
-    tally_global(s.core, 1, "flashes", g7);
+    tally_global(s.core, tally, 1, "flashes", g7);
     const std::vector<C0_Burrow>& g8 = s.g_burrows_22;
-    tally_global(s.core, 2, "burrows", g8);
+    tally_global(s.core, tally, 2, "burrows", g8);
     const C3_ScoreBar& g9 = s.g_bar_6;
-    tally_global(s.core, 3, "bar", g9);
+    tally_global(s.core, tally, 3, "bar", g9);
     const std::vector<Pos>& g10 = s.g_burrowSpots_4;
-    tally_global(s.core, 4, "burrowSpots", g10);
+    tally_global(s.core, tally, 4, "burrowSpots", g10);
     const std::vector<C1_Mole>& g11 = s.g_moles_18;
-    tally_global(s.core, 5, "moles", g11);
+    tally_global(s.core, tally, 5, "moles", g11);
     render(s, nullptr, {});
   }
   static void step(State& s) {
@@ -1008,35 +1008,35 @@ struct Prog {
       s.g_time_30 = t140;
       s.u_time_31 = true;
     }
-    s.core.tally.v = StateTally{};
+    StateTally tally{};
     if (s.d_click_35) {
-      tally_rendered(s.core, 21, "cacheRendered");
+      tally_rendered(s.core, tally, 21, "cacheRendered");
       const std::vector<C2_Flash>& g141 = s.g_flashes_26;
-      tally_global(s.core, 1, "flashes", g141);
+      tally_global(s.core, tally, 1, "flashes", g141);
       const std::vector<C0_Burrow>& g142 = s.g_burrows_22;
-      tally_global(s.core, 2, "burrows", g142);
+      tally_global(s.core, tally, 2, "burrows", g142);
       const C3_ScoreBar& g143 = s.g_bar_6;
-      tally_global(s.core, 3, "bar", g143);
+      tally_global(s.core, tally, 3, "bar", g143);
       const std::vector<Pos>& g144 = s.g_burrowSpots_4;
-      tally_global(s.core, 4, "burrowSpots", g144);
+      tally_global(s.core, tally, 4, "burrowSpots", g144);
       if (s.d_click_35) {
         const Pos& g145 = s.g_click_34;
-        tally_global(s.core, 21, "click", g145);
+        tally_global(s.core, tally, 21, "click", g145);
       }
       const std::vector<C1_Mole>& g146 = s.g_moles_18;
-      tally_global(s.core, 5, "moles", g146);
+      tally_global(s.core, tally, 5, "moles", g146);
     } else {
-      tally_rendered(s.core, 21, "cacheRendered");
+      tally_rendered(s.core, tally, 21, "cacheRendered");
       const std::vector<C2_Flash>& g147 = s.g_flashes_26;
-      tally_global(s.core, 1, "flashes", g147);
+      tally_global(s.core, tally, 1, "flashes", g147);
       const std::vector<C0_Burrow>& g148 = s.g_burrows_22;
-      tally_global(s.core, 2, "burrows", g148);
+      tally_global(s.core, tally, 2, "burrows", g148);
       const C3_ScoreBar& g149 = s.g_bar_6;
-      tally_global(s.core, 3, "bar", g149);
+      tally_global(s.core, tally, 3, "bar", g149);
       const std::vector<Pos>& g150 = s.g_burrowSpots_4;
-      tally_global(s.core, 4, "burrowSpots", g150);
+      tally_global(s.core, tally, 4, "burrowSpots", g150);
       const std::vector<C1_Mole>& g151 = s.g_moles_18;
-      tally_global(s.core, 5, "moles", g151);
+      tally_global(s.core, tally, 5, "moles", g151);
     }
     s.core.clear_inputs();
   }

@@ -49,8 +49,7 @@ Core& Core::operator=(const Core&) = default;
 Core& Core::operator=(Core&&) noexcept = default;
 Core::~Core() = default;
 
-void fail_state_limit(const Core& c, bool objects) {
-  const StateTally& s = c.tally.v;
+void fail_state_limit(const Core& c, const StateTally& s, bool objects) {
   if (objects) fail_at(s.site_objects, limits::objects_error(c.objects_limit, s.name_objects));
   fail_at(s.site_cells, limits::state_cells_error(c.cells_limit, s.name_cells));
 }

@@ -483,7 +483,6 @@ struct Core {
   // this step's (or start-up's, or render's) program constructs put into new
   // lists (charge_built), against cells_limit; reset with `visited`.
   int64_t built = 0;
-  NoCopy<StateTally> tally;  // scratch of the state check at the end of start-up and of each step
   int64_t rendered = 0;  // elements the last host render drew: what cacheRendered holds
 
   // Copied with every State (clone, copy_from, the planner's snapshots), the
@@ -573,11 +572,19 @@ int64_t tally_constant_cells() {
 }
 template <class T>
 bool tally_value(Tally& t, const Core& c, const std::vector<T>& v) {
-  t.cells += static_cast<int64_t>(v.size());
+  const int64_t n = static_cast<int64_t>(v.size());
+  t.cells += n;
   if constexpr (tally_leaf_cells<T>() >= 0) {
-    if (!tally_over(t, c)) t.cells += tally_leaf_cells<T>() * static_cast<int64_t>(v.size());
+    if (!tally_over(t, c)) t.cells += tally_leaf_cells<T>() * n;
   } else if (const int64_t k = tally_constant_cells<T>(); k > 0) {
-    int64_t j = static_cast<int64_t>(v.size());                         // objects visited
+    // Every object counted when none can pass a limit (the usual case: no
+    // division); otherwise the objects before the one that passes it.
+    if (t.objects + n <= c.objects_limit && t.cells + n * k <= c.cells_limit) {
+      t.objects += n;
+      t.cells += n * k;
+      return true;
+    }
+    int64_t j = n;                                                           // objects visited
     j = std::min(j, std::max<int64_t>(0, c.objects_limit - t.objects + 1));  // before objects pass
     j = std::min(j, std::max<int64_t>(0, (c.cells_limit - t.cells) / k + 1));  // before cells pass
     if (t.cells > c.cells_limit) j = 0;
@@ -593,28 +600,31 @@ bool tally_value(Tally& t, const Core& c, const std::variant<T...>& v) {
   return std::visit([&](const auto& x) { return tally_value(t, c, x); }, v);
 }
 // A total past a limit: the error at the largest global's definition (cold).
-[[noreturn, gnu::cold]] void fail_state_limit(const Core& c, bool objects);
-// Adds one global's count. Inline, in the module's own code: out of line (in the
-// runtime archive, compiled by another compiler than the module's) its 16-byte
-// load of the totals waited on the caller's narrower stores of them, half of a
-// clang-built module's step on ajl_nim (docs/design.md, "The module's compiler").
-inline void tally_add(Core& c, int site, const char* name, const Tally& one) {
-  StateTally& s = c.tally.v;
+[[noreturn, gnu::cold]] void fail_state_limit(const Core& c, const StateTally& s, bool objects);
+// Adds one global's count to the check's totals, `s`: a local of the emitted
+// function (TallyBegin), so that g++ keeps it in registers. Inline, in the
+// module's own code: out of line (in the runtime archive, compiled by another
+// compiler than the module's) its 16-byte load of the totals waited on the
+// caller's narrower stores of them, half of a clang-built module's step on
+// ajl_nim (docs/design.md, "The module's compiler").
+[[gnu::always_inline]] inline void tally_add(const Core& c, StateTally& s, int site, const char* name, const Tally& one) {
   if (one.objects > s.max_objects) s.max_objects = one.objects, s.site_objects = site, s.name_objects = name;
   if (one.cells > s.max_cells) s.max_cells = one.cells, s.site_cells = site, s.name_cells = name;
   s.total.objects += one.objects;
   s.total.cells += one.cells;
-  if (__builtin_expect(s.total.objects > c.objects_limit, 0)) fail_state_limit(c, true);
-  if (__builtin_expect(s.total.cells > c.cells_limit, 0)) fail_state_limit(c, false);
+  if (__builtin_expect(s.total.objects > c.objects_limit, 0)) fail_state_limit(c, s, true);
+  if (__builtin_expect(s.total.cells > c.cells_limit, 0)) fail_state_limit(c, s, false);
 }
 // One global of the state check, defined at `site`.
 template <class T>
-void tally_global(Core& c, int site, const char* name, const T& v) {
+[[gnu::always_inline]] inline void tally_global(const Core& c, StateTally& s, int site, const char* name, const T& v) {
   Tally one;
-  if (tally_value(one, c, v)) tally_add(c, site, name, one);
+  if (tally_value(one, c, v)) tally_add(c, s, site, name, one);
 }
 // cacheRendered: the list of the last render's elements (RenderedElem: 2 fields and a Position).
-inline void tally_rendered(Core& c, int site, const char* name) { tally_add(c, site, name, Tally{0, 5 * c.rendered}); }
+inline void tally_rendered(const Core& c, StateTally& s, int site, const char* name) {
+  tally_add(c, s, site, name, Tally{0, 5 * c.rendered});
+}
 
 struct Hash {
   uint64_t h = 0x9e3779b97f4a7c15ULL;

@@ -4,7 +4,9 @@
 // only the marks in use. Checked against a repaint from scratch over random
 // renders of every density, with copies between hosts in between, as a
 // search's copy_from makes them, and renders cut short by an error (the host
-// forgets them) before some.
+// forgets them) before some. Also the state hash of lists, and the state
+// check's count of a list of objects of a constant size (counted at once)
+// against the count object by object.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -163,6 +165,61 @@ TEST(StateHash, LongListsHashByOrder) {
     }
   EXPECT_EQ(made, 40320u + 8u * (kGrid + 6));
   EXPECT_EQ(seen.size(), made);
+}
+
+// An object of a constant count (kTally cells), as emitted for a class with no
+// list fields: one more object, then its cells in steps, stopping once over.
+struct Dot {
+  static constexpr int64_t kTally = 9;
+  friend bool tally_value(rt::Tally& t, const rt::Core& c, const Dot&) {
+    ++t.objects;
+    t.cells += 3;
+    if (rt::tally_over(t, c)) return true;
+    t.cells += 4;
+    if (rt::tally_over(t, c)) return true;
+    t.cells += 2;
+    return true;
+  }
+};
+
+TEST(StateTally, ListsOfConstantCountObjectsCountAsObjectByObject) {
+  // The interpreter's rule, one object at a time: the list's length, then its
+  // objects (last first) until the count passes a limit.
+  auto by_object = [](rt::Tally t, const rt::Core& c, const std::vector<Dot>& v) {
+    t.cells += static_cast<int64_t>(v.size());
+    for (auto it = v.rbegin(); it != v.rend() && !rt::tally_over(t, c); ++it) tally_value(t, c, *it);
+    return t;
+  };
+  int checked = 0, passed = 0;
+  for (int64_t objects_limit : {0, 1, 5, 6, 7, 40})
+    for (int64_t cells_limit : {0, 9, 50, 59, 60, 61, 70, 400})
+      for (int64_t before_objects : {0, 2})
+        for (int64_t before_cells : {0, 5, 55})
+          for (size_t n : {0, 1, 5, 6, 30}) {
+            rt::Core c;
+            c.objects_limit = objects_limit;
+            c.cells_limit = cells_limit;
+            const std::vector<Dot> v(n);
+            const rt::Tally start{before_objects, before_cells};
+            rt::Tally at_once = start;
+            ASSERT_TRUE(rt::tally_value(at_once, c, v));
+            const rt::Tally one_by_one = by_object(start, c, v);
+            SCOPED_TRACE(testing::Message() << "limits " << objects_limit << "/" << cells_limit << ", from "
+                                            << before_objects << "/" << before_cells << ", " << n << " objects");
+            // The same objects and the same error (the objects limit is
+            // looked at first, tally_add); the cells agree whenever no limit
+            // is passed (past one, the count may stop inside an object).
+            auto error = [&](const rt::Tally& t) {
+              return t.objects > objects_limit ? "objects" : t.cells > cells_limit ? "cells" : "none";
+            };
+            EXPECT_EQ(at_once.objects, one_by_one.objects);
+            EXPECT_STREQ(error(at_once), error(one_by_one));
+            if (!rt::tally_over(one_by_one, c)) EXPECT_EQ(at_once.cells, one_by_one.cells);
+            passed += rt::tally_over(one_by_one, c);
+            ++checked;
+          }
+  EXPECT_GT(passed, 0);
+  EXPECT_LT(passed, checked);  // both sides of the limits were checked
 }
 
 }  // namespace

@@ -85,7 +85,8 @@ enum class Helper : uint8_t {
   RotTurn,        // (group): rotate turned the group's cells a quarter
   RotOf,          // (group) -> how many quarter turns the group's cells have had
   Rotated,        // (turns, x, y) -> Pos: a cell offset turned (x, y) -> (-y, x) that many times
-  TallyBegin,     // (): the state check starts (runtime/compiled_support.hpp, StateTally)
+  TallyBegin,     // (): the state check starts: its StateTally, a local of the function
+                  // (runtime/compiled_support.hpp), read by the Tally helpers after it
   TallyGlobal,    // (value): one global of the state check; imm: its definition's error site; text: its name
   TallyRendered,  // (): cacheRendered in the state check; imm, text: as TallyGlobal
   CheckLength,    // (...): the list-length budget; imm: error site; index: a LengthOf saying how

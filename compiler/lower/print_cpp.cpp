@@ -199,10 +199,11 @@ std::string Printer::helper(const Node* n) {
     case Helper::Rotated: return "rotated(" + arg(0) + ", " + arg(1) + ", " + arg(2) + ")";
     case Helper::CheckLength:
     case Helper::ChargeBuilt: return check_length(n);
-    case Helper::TallyBegin: return "s.core.tally.v = StateTally{}";
+    case Helper::TallyBegin: return "StateTally tally{}";
     case Helper::TallyGlobal:
-      return "tally_global(s.core, " + std::to_string(n->imm) + ", " + quoted(n->text) + ", " + arg(0) + ")";
-    case Helper::TallyRendered: return "tally_rendered(s.core, " + std::to_string(n->imm) + ", " + quoted(n->text) + ")";
+      return "tally_global(s.core, tally, " + std::to_string(n->imm) + ", " + quoted(n->text) + ", " + arg(0) + ")";
+    case Helper::TallyRendered:
+      return "tally_rendered(s.core, tally, " + std::to_string(n->imm) + ", " + quoted(n->text) + ")";
     case Helper::InputFlag: {
       static const char* const flags[] = {"click", "left", "right", "up", "down"};
       return "s.core." + std::string(flags[n->a[0]->imm]);
