@@ -389,27 +389,31 @@ struct Prog {
           std::vector<Elem>& out26 = s.scratch.v.b10;
           out26.clear();
           {
-            const auto& x27_list = l_curr_elems18;
-            charge_loop(s.core, 12, int64_t(x27_list.size()));
-            for (const Elem& x27 : x27_list) {
-              bool any28 = false;
-              {
-                const auto& x29_list = l_prev_elems17;
-                charge_loop(s.core, 13, int64_t(x29_list.size()));
-                for (const Elem& x29 : x29_list) {
-                  const bool t30 = (x29 == x27);
-                  if (t30) {
-                    any28 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x27_list = l_curr_elems18;
+              charge_loop(budget, 12, int64_t(x27_list.size()));
+              for (const Elem& x27 : x27_list) {
+                bool any28 = false;
+                {
+                  const auto& x29_list = l_prev_elems17;
+                  charge_loop(budget, 13, int64_t(x29_list.size()));
+                  for (const Elem& x29 : x29_list) {
+                    const bool t30 = (x29 == x27);
+                    if (t30) {
+                      any28 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t31 = !any28;
-              if (t31) {
-                charge_built(s.core, 12, int64_t(int32_t(1)));
-                out26.push_back(x27);
+                const bool t31 = !any28;
+                if (t31) {
+                  charge_built(budget, 12, int64_t(int32_t(1)));
+                  out26.push_back(x27);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_filtered_elems19, out26);
           bool any32 = false;
@@ -527,27 +531,31 @@ struct Prog {
         std::vector<Elem>& out69 = s.scratch.v.b20;
         out69.clear();
         {
-          const auto& x70_list = l_curr_elems61;
-          charge_loop(s.core, 18, int64_t(x70_list.size()));
-          for (const Elem& x70 : x70_list) {
-            bool any71 = false;
-            {
-              const auto& x72_list = l_prev_elems60;
-              charge_loop(s.core, 19, int64_t(x72_list.size()));
-              for (const Elem& x72 : x72_list) {
-                const bool t73 = (x72 == x70);
-                if (t73) {
-                  any71 = true;
-                  break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x70_list = l_curr_elems61;
+            charge_loop(budget, 18, int64_t(x70_list.size()));
+            for (const Elem& x70 : x70_list) {
+              bool any71 = false;
+              {
+                const auto& x72_list = l_prev_elems60;
+                charge_loop(budget, 19, int64_t(x72_list.size()));
+                for (const Elem& x72 : x72_list) {
+                  const bool t73 = (x72 == x70);
+                  if (t73) {
+                    any71 = true;
+                    break;
+                  }
                 }
               }
-            }
-            const bool t74 = !any71;
-            if (t74) {
-              charge_built(s.core, 18, int64_t(int32_t(1)));
-              out69.push_back(x70);
+              const bool t74 = !any71;
+              if (t74) {
+                charge_built(budget, 18, int64_t(int32_t(1)));
+                out69.push_back(x70);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::swap(l_filtered_elems62, out69);
         bool any75 = false;
@@ -692,27 +700,31 @@ struct Prog {
           std::vector<Elem>& out114 = s.scratch.v.b31;
           out114.clear();
           {
-            const auto& x115_list = l_curr_elems106;
-            charge_loop(s.core, 27, int64_t(x115_list.size()));
-            for (const Elem& x115 : x115_list) {
-              bool any116 = false;
-              {
-                const auto& x117_list = l_prev_elems105;
-                charge_loop(s.core, 28, int64_t(x117_list.size()));
-                for (const Elem& x117 : x117_list) {
-                  const bool t118 = (x117 == x115);
-                  if (t118) {
-                    any116 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x115_list = l_curr_elems106;
+              charge_loop(budget, 27, int64_t(x115_list.size()));
+              for (const Elem& x115 : x115_list) {
+                bool any116 = false;
+                {
+                  const auto& x117_list = l_prev_elems105;
+                  charge_loop(budget, 28, int64_t(x117_list.size()));
+                  for (const Elem& x117 : x117_list) {
+                    const bool t118 = (x117 == x115);
+                    if (t118) {
+                      any116 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t119 = !any116;
-              if (t119) {
-                charge_built(s.core, 27, int64_t(int32_t(1)));
-                out114.push_back(x115);
+                const bool t119 = !any116;
+                if (t119) {
+                  charge_built(budget, 27, int64_t(int32_t(1)));
+                  out114.push_back(x115);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_filtered_elems107, out114);
           bool any120 = false;
@@ -864,27 +876,31 @@ struct Prog {
               std::vector<Elem>& out163 = s.scratch.v.b42;
               out163.clear();
               {
-                const auto& x164_list = l_curr_elems155;
-                charge_loop(s.core, 34, int64_t(x164_list.size()));
-                for (const Elem& x164 : x164_list) {
-                  bool any165 = false;
-                  {
-                    const auto& x166_list = l_prev_elems154;
-                    charge_loop(s.core, 35, int64_t(x166_list.size()));
-                    for (const Elem& x166 : x166_list) {
-                      const bool t167 = (x166 == x164);
-                      if (t167) {
-                        any165 = true;
-                        break;
+                Budget budget = budget_of(s.core);
+                {
+                  const auto& x164_list = l_curr_elems155;
+                  charge_loop(budget, 34, int64_t(x164_list.size()));
+                  for (const Elem& x164 : x164_list) {
+                    bool any165 = false;
+                    {
+                      const auto& x166_list = l_prev_elems154;
+                      charge_loop(budget, 35, int64_t(x166_list.size()));
+                      for (const Elem& x166 : x166_list) {
+                        const bool t167 = (x166 == x164);
+                        if (t167) {
+                          any165 = true;
+                          break;
+                        }
                       }
                     }
-                  }
-                  const bool t168 = !any165;
-                  if (t168) {
-                    charge_built(s.core, 34, int64_t(int32_t(1)));
-                    out163.push_back(x164);
+                    const bool t168 = !any165;
+                    if (t168) {
+                      charge_built(budget, 34, int64_t(int32_t(1)));
+                      out163.push_back(x164);
+                    }
                   }
                 }
+                give_back(s.core, budget);
               }
               std::swap(l_filtered_elems156, out163);
               bool any169 = false;
@@ -1003,27 +1019,31 @@ struct Prog {
           std::vector<Elem>& out203 = s.scratch.v.b52;
           out203.clear();
           {
-            const auto& x204_list = l_curr_elems195;
-            charge_loop(s.core, 40, int64_t(x204_list.size()));
-            for (const Elem& x204 : x204_list) {
-              bool any205 = false;
-              {
-                const auto& x206_list = l_prev_elems194;
-                charge_loop(s.core, 41, int64_t(x206_list.size()));
-                for (const Elem& x206 : x206_list) {
-                  const bool t207 = (x206 == x204);
-                  if (t207) {
-                    any205 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x204_list = l_curr_elems195;
+              charge_loop(budget, 40, int64_t(x204_list.size()));
+              for (const Elem& x204 : x204_list) {
+                bool any205 = false;
+                {
+                  const auto& x206_list = l_prev_elems194;
+                  charge_loop(budget, 41, int64_t(x206_list.size()));
+                  for (const Elem& x206 : x206_list) {
+                    const bool t207 = (x206 == x204);
+                    if (t207) {
+                      any205 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t208 = !any205;
-              if (t208) {
-                charge_built(s.core, 40, int64_t(int32_t(1)));
-                out203.push_back(x204);
+                const bool t208 = !any205;
+                if (t208) {
+                  charge_built(budget, 40, int64_t(int32_t(1)));
+                  out203.push_back(x204);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_filtered_elems196, out203);
           bool any209 = false;
@@ -1113,59 +1133,67 @@ struct Prog {
           std::vector<int32_t>& out234 = s.scratch.v.b59;
           out234.clear();
           {
-            const auto& x235_list = list233;
-            charge_loop(s.core, 46, int64_t(x235_list.size()));
-            for (const int32_t& x235 : x235_list) {
-              // inlined: function at programs/blockfall.au:41
-              // inlined: function at programs/blockfall.au:39
-              std::vector<C1_Block>& out236 = s.scratch.v.b60;
-              out236.clear();
-              {
-                const auto& x237_list = added228;
-                charge_loop(s.core, 47, int64_t(x237_list.size()));
-                for (const C1_Block& x237 : x237_list) {
-                  // inlined: function at programs/blockfall.au:39
-                  const bool t238 = (x237.origin.y == x235);
-                  if (t238) {
-                    charge_built(s.core, 47, int64_t(int32_t(1)));
-                    out236.push_back(x237);
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x235_list = list233;
+              charge_loop(budget, 46, int64_t(x235_list.size()));
+              for (const int32_t& x235 : x235_list) {
+                // inlined: function at programs/blockfall.au:41
+                // inlined: function at programs/blockfall.au:39
+                std::vector<C1_Block>& out236 = s.scratch.v.b60;
+                out236.clear();
+                {
+                  const auto& x237_list = added228;
+                  charge_loop(budget, 47, int64_t(x237_list.size()));
+                  for (const C1_Block& x237 : x237_list) {
+                    // inlined: function at programs/blockfall.au:39
+                    const bool t238 = (x237.origin.y == x235);
+                    if (t238) {
+                      charge_built(budget, 47, int64_t(int32_t(1)));
+                      out236.push_back(x237);
+                    }
                   }
                 }
-              }
-              const int32_t t239 = int32_t(out236.size());
-              const bool t240 = (t239 == int32_t(8));
-              if (t240) {
-                charge_built(s.core, 46, int64_t(int32_t(1)));
-                out234.push_back(x235);
+                const int32_t t239 = int32_t(out236.size());
+                const bool t240 = (t239 == int32_t(8));
+                if (t240) {
+                  charge_built(budget, 46, int64_t(int32_t(1)));
+                  out234.push_back(x235);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_full231, out234);
           std::vector<C1_Block>& out241 = s.scratch.v.b61;
           out241.clear();
           {
-            const auto& x242_list = added228;
-            charge_loop(s.core, 48, int64_t(x242_list.size()));
-            for (const C1_Block& x242 : x242_list) {
-              // inlined: function at programs/blockfall.au:42
-              bool any243 = false;
-              {
-                const auto& x244_list = l_full231;
-                charge_loop(s.core, 49, int64_t(x244_list.size()));
-                for (const int32_t& x244 : x244_list) {
-                  const bool t245 = (x244 == x242.origin.y);
-                  if (t245) {
-                    any243 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x242_list = added228;
+              charge_loop(budget, 48, int64_t(x242_list.size()));
+              for (const C1_Block& x242 : x242_list) {
+                // inlined: function at programs/blockfall.au:42
+                bool any243 = false;
+                {
+                  const auto& x244_list = l_full231;
+                  charge_loop(budget, 49, int64_t(x244_list.size()));
+                  for (const int32_t& x244 : x244_list) {
+                    const bool t245 = (x244 == x242.origin.y);
+                    if (t245) {
+                      any243 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t246 = !any243;
-              if (t246) {
-                charge_built(s.core, 48, int64_t(int32_t(1)));
-                out241.push_back(x242);
+                const bool t246 = !any243;
+                if (t246) {
+                  charge_built(budget, 48, int64_t(int32_t(1)));
+                  out241.push_back(x242);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_kept232, out241);
           std::vector<C1_Block>& out247 = s.scratch.v.b62;
@@ -1173,32 +1201,36 @@ struct Prog {
           charge_built(s.core, 50, int64_t(l_kept232.size()));
           out247.reserve(size_t(int32_t(l_kept232.size())));
           {
-            const auto& x248_list = l_kept232;
-            charge_loop(s.core, 50, int64_t(x248_list.size()));
-            for (const C1_Block& x248 : x248_list) {
-              // inlined: function at programs/blockfall.au:43
-              std::vector<int32_t>& out249 = s.scratch.v.b63;
-              out249.clear();
-              {
-                const auto& x250_list = l_full231;
-                charge_loop(s.core, 51, int64_t(x250_list.size()));
-                for (const int32_t& x250 : x250_list) {
-                  // inlined: function at programs/blockfall.au:43
-                  const bool t251 = (x250 > x248.origin.y);
-                  if (t251) {
-                    charge_built(s.core, 51, int64_t(int32_t(1)));
-                    out249.push_back(x250);
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x248_list = l_kept232;
+              charge_loop(budget, 50, int64_t(x248_list.size()));
+              for (const C1_Block& x248 : x248_list) {
+                // inlined: function at programs/blockfall.au:43
+                std::vector<int32_t>& out249 = s.scratch.v.b63;
+                out249.clear();
+                {
+                  const auto& x250_list = l_full231;
+                  charge_loop(budget, 51, int64_t(x250_list.size()));
+                  for (const int32_t& x250 : x250_list) {
+                    // inlined: function at programs/blockfall.au:43
+                    const bool t251 = (x250 > x248.origin.y);
+                    if (t251) {
+                      charge_built(budget, 51, int64_t(int32_t(1)));
+                      out249.push_back(x250);
+                    }
                   }
                 }
+                const int32_t t252 = int32_t(out249.size());
+                const Pos t253 = Pos{int32_t(0), t252};
+                const int32_t t254 = add(x248.origin.x, t253.x);
+                const int32_t t255 = add(x248.origin.y, t253.y);
+                const Pos t256 = Pos{t254, t255};
+                C1_Block upd257 = C1_Block{x248.f0, t256};
+                out247.push_back(std::move(upd257));
               }
-              const int32_t t252 = int32_t(out249.size());
-              const Pos t253 = Pos{int32_t(0), t252};
-              const int32_t t254 = add(x248.origin.x, t253.x);
-              const int32_t t255 = add(x248.origin.y, t253.y);
-              const Pos t256 = Pos{t254, t255};
-              C1_Block upd257 = C1_Block{x248.f0, t256};
-              out247.push_back(std::move(upd257));
             }
+            give_back(s.core, budget);
           }
           if (!s.scratch.v.sv_stack_15) {
             std::swap(s.scratch.v.p_stack_14, s.g_stack_12);
@@ -1283,26 +1315,30 @@ struct Prog {
           } else {
             bool any283 = false;
             {
-              const auto& x284_list = rendered271;
-              charge_loop(s.core, 55, int64_t(x284_list.size()));
-              for (const Elem& x284 : x284_list) {
-                bool any285 = false;
-                {
-                  const auto& x286_list = rendered274;
-                  charge_loop(s.core, 56, int64_t(x286_list.size()));
-                  for (const Elem& x286 : x286_list) {
-                    const bool t287 = (x284.position == x286.position);
-                    if (t287) {
-                      any285 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x284_list = rendered271;
+                charge_loop(budget, 55, int64_t(x284_list.size()));
+                for (const Elem& x284 : x284_list) {
+                  bool any285 = false;
+                  {
+                    const auto& x286_list = rendered274;
+                    charge_loop(budget, 56, int64_t(x286_list.size()));
+                    for (const Elem& x286 : x286_list) {
+                      const bool t287 = (x284.position == x286.position);
+                      if (t287) {
+                        any285 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any285) {
-                  any283 = true;
-                  break;
+                  if (any285) {
+                    any283 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r282 = any283;
           }
@@ -1392,27 +1428,31 @@ struct Prog {
             std::vector<Elem>& out314 = s.scratch.v.b78;
             out314.clear();
             {
-              const auto& x315_list = l_curr_elems306;
-              charge_loop(s.core, 60, int64_t(x315_list.size()));
-              for (const Elem& x315 : x315_list) {
-                bool any316 = false;
-                {
-                  const auto& x317_list = l_prev_elems305;
-                  charge_loop(s.core, 61, int64_t(x317_list.size()));
-                  for (const Elem& x317 : x317_list) {
-                    const bool t318 = (x317 == x315);
-                    if (t318) {
-                      any316 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x315_list = l_curr_elems306;
+                charge_loop(budget, 60, int64_t(x315_list.size()));
+                for (const Elem& x315 : x315_list) {
+                  bool any316 = false;
+                  {
+                    const auto& x317_list = l_prev_elems305;
+                    charge_loop(budget, 61, int64_t(x317_list.size()));
+                    for (const Elem& x317 : x317_list) {
+                      const bool t318 = (x317 == x315);
+                      if (t318) {
+                        any316 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                const bool t319 = !any316;
-                if (t319) {
-                  charge_built(s.core, 60, int64_t(int32_t(1)));
-                  out314.push_back(x315);
+                  const bool t319 = !any316;
+                  if (t319) {
+                    charge_built(budget, 60, int64_t(int32_t(1)));
+                    out314.push_back(x315);
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             std::swap(l_filtered_elems307, out314);
             bool any320 = false;

@@ -283,27 +283,31 @@ struct Prog {
     charge_built(s.core, 0, int64_t(list2.size()));
     out3.reserve(size_t(int32_t(list2.size())));
     {
-      const auto& x4_list = list2;
-      charge_loop(s.core, 0, int64_t(x4_list.size()));
-      for (const int32_t& x4 : x4_list) {
-        // inlined: function at programs/breakout.au:22
-        const std::vector<int32_t> list5 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
-        std::vector<C2_Brick> out6{};
-        charge_built(s.core, 1, int64_t(list5.size()));
-        out6.reserve(size_t(int32_t(list5.size())));
-        {
-          const auto& x7_list = list5;
-          charge_loop(s.core, 1, int64_t(x7_list.size()));
-          for (const int32_t& x7 : x7_list) {
-            // inlined: function at programs/breakout.au:22
-            const int32_t t8 = sub(int32_t(5), x4);
-            const Pos t9 = Pos{x7, x4};
-            C2_Brick o10 = C2_Brick{t8, t9};
-            out6.push_back(std::move(o10));
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x4_list = list2;
+        charge_loop(budget, 0, int64_t(x4_list.size()));
+        for (const int32_t& x4 : x4_list) {
+          // inlined: function at programs/breakout.au:22
+          const std::vector<int32_t> list5 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
+          std::vector<C2_Brick> out6{};
+          charge_built(budget, 1, int64_t(list5.size()));
+          out6.reserve(size_t(int32_t(list5.size())));
+          {
+            const auto& x7_list = list5;
+            charge_loop(budget, 1, int64_t(x7_list.size()));
+            for (const int32_t& x7 : x7_list) {
+              // inlined: function at programs/breakout.au:22
+              const int32_t t8 = sub(int32_t(5), x4);
+              const Pos t9 = Pos{x7, x4};
+              C2_Brick o10 = C2_Brick{t8, t9};
+              out6.push_back(std::move(o10));
+            }
           }
+          out3.push_back(std::move(out6));
         }
-        out3.push_back(std::move(out6));
       }
+      give_back(s.core, budget);
     }
     check_length(s.core, 2, total_size(out3));
     charge_built(s.core, 2, total_size(out3));
@@ -319,21 +323,25 @@ struct Prog {
     std::vector<C2_Brick>& out13 = s.scratch.v.b2;
     out13.clear();
     {
-      const auto& x14_list = cat11;
-      charge_loop(s.core, 3, int64_t(x14_list.size()));
-      for (const C2_Brick& x14 : x14_list) {
-        // inlined: function at programs/breakout.au:21
-        const std::vector<bool> list15 = std::vector<bool>{true, true, true, true, false};
-        if (list15.empty()) {
-          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
-        }
-        const int32_t t16 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list15.size())))));
-        const bool t17 = list15[size_t(t16)];
-        if (t17) {
-          charge_built(s.core, 3, int64_t(int32_t(1)));
-          out13.push_back(x14);
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x14_list = cat11;
+        charge_loop(budget, 3, int64_t(x14_list.size()));
+        for (const C2_Brick& x14 : x14_list) {
+          // inlined: function at programs/breakout.au:21
+          const std::vector<bool> list15 = std::vector<bool>{true, true, true, true, false};
+          if (list15.empty()) {
+            fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+          }
+          const int32_t t16 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list15.size())))));
+          const bool t17 = list15[size_t(t16)];
+          if (t17) {
+            charge_built(budget, 3, int64_t(int32_t(1)));
+            out13.push_back(x14);
+          }
         }
       }
+      give_back(s.core, budget);
     }
     std::swap(s.g_bricks_17, out13);
     s.u_bricks_18 = false;
@@ -423,27 +431,31 @@ struct Prog {
           std::vector<Elem>& out20 = s.scratch.v.b9;
           out20.clear();
           {
-            const auto& x21_list = l_curr_elems16;
-            charge_loop(s.core, 10, int64_t(x21_list.size()));
-            for (const Elem& x21 : x21_list) {
-              bool any22 = false;
-              {
-                const auto& x23_list = l_prev_elems15;
-                charge_loop(s.core, 11, int64_t(x23_list.size()));
-                for (const Elem& x23 : x23_list) {
-                  const bool t24 = (x23 == x21);
-                  if (t24) {
-                    any22 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x21_list = l_curr_elems16;
+              charge_loop(budget, 10, int64_t(x21_list.size()));
+              for (const Elem& x21 : x21_list) {
+                bool any22 = false;
+                {
+                  const auto& x23_list = l_prev_elems15;
+                  charge_loop(budget, 11, int64_t(x23_list.size()));
+                  for (const Elem& x23 : x23_list) {
+                    const bool t24 = (x23 == x21);
+                    if (t24) {
+                      any22 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t25 = !any22;
-              if (t25) {
-                charge_built(s.core, 10, int64_t(int32_t(1)));
-                out20.push_back(x21);
+                const bool t25 = !any22;
+                if (t25) {
+                  charge_built(budget, 10, int64_t(int32_t(1)));
+                  out20.push_back(x21);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_filtered_elems17, out20);
           bool any26 = false;
@@ -536,27 +548,31 @@ struct Prog {
         std::vector<Elem>& out57 = s.scratch.v.b16;
         out57.clear();
         {
-          const auto& x58_list = l_curr_elems53;
-          charge_loop(s.core, 14, int64_t(x58_list.size()));
-          for (const Elem& x58 : x58_list) {
-            bool any59 = false;
-            {
-              const auto& x60_list = l_prev_elems52;
-              charge_loop(s.core, 15, int64_t(x60_list.size()));
-              for (const Elem& x60 : x60_list) {
-                const bool t61 = (x60 == x58);
-                if (t61) {
-                  any59 = true;
-                  break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x58_list = l_curr_elems53;
+            charge_loop(budget, 14, int64_t(x58_list.size()));
+            for (const Elem& x58 : x58_list) {
+              bool any59 = false;
+              {
+                const auto& x60_list = l_prev_elems52;
+                charge_loop(budget, 15, int64_t(x60_list.size()));
+                for (const Elem& x60 : x60_list) {
+                  const bool t61 = (x60 == x58);
+                  if (t61) {
+                    any59 = true;
+                    break;
+                  }
                 }
               }
-            }
-            const bool t62 = !any59;
-            if (t62) {
-              charge_built(s.core, 14, int64_t(int32_t(1)));
-              out57.push_back(x58);
+              const bool t62 = !any59;
+              if (t62) {
+                charge_built(budget, 14, int64_t(int32_t(1)));
+                out57.push_back(x58);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::swap(l_filtered_elems54, out57);
         bool any63 = false;
@@ -745,23 +761,27 @@ struct Prog {
         std::vector<C2_Brick>& kept133 = s.scratch.v.b17;
         kept133.clear();
         {
-          const auto& x134_list = prev117;
-          charge_loop(s.core, 17, int64_t(x134_list.size()));
-          for (const C2_Brick& x134 : x134_list) {
-            // inlined: function at programs/breakout.au:67
-            const bool t135 = (x134.origin == t132);
-            bool r136{};
-            if (t135) {
-              const bool t137 = (x134.f0 <= int32_t(1));
-              r136 = t137;
-            } else {
-              r136 = false;
-            }
-            if (!r136) {
-              charge_built(s.core, 17, int64_t(int32_t(1)));
-              kept133.push_back(x134);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x134_list = prev117;
+            charge_loop(budget, 17, int64_t(x134_list.size()));
+            for (const C2_Brick& x134 : x134_list) {
+              // inlined: function at programs/breakout.au:67
+              const bool t135 = (x134.origin == t132);
+              bool r136{};
+              if (t135) {
+                const bool t137 = (x134.f0 <= int32_t(1));
+                r136 = t137;
+              } else {
+                r136 = false;
+              }
+              if (!r136) {
+                charge_built(budget, 17, int64_t(int32_t(1)));
+                kept133.push_back(x134);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         charge_built(s.core, 18, int64_t(kept133.size()));
         std::vector<C2_Brick>& updated138 = s.scratch.v.b18;
@@ -1140,27 +1160,31 @@ struct Prog {
         charge_built(s.core, 21, int64_t(list265.size()));
         out266.reserve(size_t(int32_t(list265.size())));
         {
-          const auto& x267_list = list265;
-          charge_loop(s.core, 21, int64_t(x267_list.size()));
-          for (const int32_t& x267 : x267_list) {
-            // inlined: function at programs/breakout.au:22
-            const std::vector<int32_t> list268 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
-            std::vector<C2_Brick> out269{};
-            charge_built(s.core, 22, int64_t(list268.size()));
-            out269.reserve(size_t(int32_t(list268.size())));
-            {
-              const auto& x270_list = list268;
-              charge_loop(s.core, 22, int64_t(x270_list.size()));
-              for (const int32_t& x270 : x270_list) {
-                // inlined: function at programs/breakout.au:22
-                const int32_t t271 = sub(int32_t(5), x267);
-                const Pos t272 = Pos{x270, x267};
-                C2_Brick o273 = C2_Brick{t271, t272};
-                out269.push_back(std::move(o273));
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x267_list = list265;
+            charge_loop(budget, 21, int64_t(x267_list.size()));
+            for (const int32_t& x267 : x267_list) {
+              // inlined: function at programs/breakout.au:22
+              const std::vector<int32_t> list268 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
+              std::vector<C2_Brick> out269{};
+              charge_built(budget, 22, int64_t(list268.size()));
+              out269.reserve(size_t(int32_t(list268.size())));
+              {
+                const auto& x270_list = list268;
+                charge_loop(budget, 22, int64_t(x270_list.size()));
+                for (const int32_t& x270 : x270_list) {
+                  // inlined: function at programs/breakout.au:22
+                  const int32_t t271 = sub(int32_t(5), x267);
+                  const Pos t272 = Pos{x270, x267};
+                  C2_Brick o273 = C2_Brick{t271, t272};
+                  out269.push_back(std::move(o273));
+                }
               }
+              out266.push_back(std::move(out269));
             }
-            out266.push_back(std::move(out269));
           }
+          give_back(s.core, budget);
         }
         check_length(s.core, 23, total_size(out266));
         charge_built(s.core, 23, total_size(out266));
@@ -1176,21 +1200,25 @@ struct Prog {
         std::vector<C2_Brick>& out276 = s.scratch.v.b21;
         out276.clear();
         {
-          const auto& x277_list = cat274;
-          charge_loop(s.core, 24, int64_t(x277_list.size()));
-          for (const C2_Brick& x277 : x277_list) {
-            // inlined: function at programs/breakout.au:21
-            const std::vector<bool> list278 = std::vector<bool>{true, true, true, true, false};
-            if (list278.empty()) {
-              fail_at(25, std::string() + std::string("uniformChoice of an empty list"));
-            }
-            const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
-            const bool t280 = list278[size_t(t279)];
-            if (t280) {
-              charge_built(s.core, 24, int64_t(int32_t(1)));
-              out276.push_back(x277);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x277_list = cat274;
+            charge_loop(budget, 24, int64_t(x277_list.size()));
+            for (const C2_Brick& x277 : x277_list) {
+              // inlined: function at programs/breakout.au:21
+              const std::vector<bool> list278 = std::vector<bool>{true, true, true, true, false};
+              if (list278.empty()) {
+                fail_at(25, std::string() + std::string("uniformChoice of an empty list"));
+              }
+              const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
+              const bool t280 = list278[size_t(t279)];
+              if (t280) {
+                charge_built(budget, 24, int64_t(int32_t(1)));
+                out276.push_back(x277);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_bricks_20) {
           std::swap(s.scratch.v.p_bricks_19, s.g_bricks_17);

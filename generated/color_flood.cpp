@@ -312,15 +312,19 @@ struct Prog {
         std::vector<C0_Tile>& out4 = s.scratch.v.b4;
         out4.clear();
         {
-          const auto& x5_list = prev1;
-          charge_loop(s.core, 10, int64_t(x5_list.size()));
-          for (const C0_Tile& x5 : x5_list) {
-            // inlined: function at programs/color_flood.au:38
-            if (x5.f1) {
-              charge_built(s.core, 10, int64_t(int32_t(1)));
-              out4.push_back(x5);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x5_list = prev1;
+            charge_loop(budget, 10, int64_t(x5_list.size()));
+            for (const C0_Tile& x5 : x5_list) {
+              // inlined: function at programs/color_flood.au:38
+              if (x5.f1) {
+                charge_built(budget, 10, int64_t(int32_t(1)));
+                out4.push_back(x5);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::vector<Pos>& out6 = s.scratch.v.b5;
         out6.clear();
@@ -341,15 +345,19 @@ struct Prog {
         std::vector<C0_Tile>& out9 = s.scratch.v.b7;
         out9.clear();
         {
-          const auto& x10_list = prev1;
-          charge_loop(s.core, 12, int64_t(x10_list.size()));
-          for (const C0_Tile& x10 : x10_list) {
-            // inlined: function at programs/color_flood.au:33
-            if (x10.f1) {
-              charge_built(s.core, 12, int64_t(int32_t(1)));
-              out9.push_back(x10);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x10_list = prev1;
+            charge_loop(budget, 12, int64_t(x10_list.size()));
+            for (const C0_Tile& x10 : x10_list) {
+              // inlined: function at programs/color_flood.au:33
+              if (x10.f1) {
+                charge_built(budget, 12, int64_t(int32_t(1)));
+                out9.push_back(x10);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::swap(l_wetOnes8, out9);
         const int32_t t11 = int32_t(l_wetOnes8.size());
@@ -370,81 +378,85 @@ struct Prog {
         updated15.clear();
         updated15.reserve(size_t(int32_t(prev1.size())));
         {
-          const auto& x16_list = prev1;
-          charge_loop(s.core, 14, int64_t(x16_list.size()));
-          for (const C0_Tile& x16 : x16_list) {
-            // inlined: function at programs/color_flood.au:41
-            const bool t17 = !x16.f1;
-            bool r18{};
-            if (t17) {
-              const bool t19 = (x16.f0 == l_fh3);
-              bool r20{};
-              if (t19) {
-                std::vector<Pos>& adj21 = s.scratch.v.b9;
-                adj21.clear();
-                const int32_t t22 = sub(x16.origin.x, int32_t(1));
-                if ((((t22 >= int32_t(0)) && (t22 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
-                  charge_built(s.core, 15, int64_t(int32_t(1)));
-                  const Pos t23 = Pos{t22, x16.origin.y};
-                  adj21.push_back(t23);
-                }
-                const int32_t t24 = add(x16.origin.x, int32_t(1));
-                if ((((t24 >= int32_t(0)) && (t24 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
-                  charge_built(s.core, 15, int64_t(int32_t(1)));
-                  const Pos t25 = Pos{t24, x16.origin.y};
-                  adj21.push_back(t25);
-                }
-                const int32_t t26 = sub(x16.origin.y, int32_t(1));
-                if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t26 >= int32_t(0)) && (t26 < int32_t(8))))) {
-                  charge_built(s.core, 15, int64_t(int32_t(1)));
-                  const Pos t27 = Pos{x16.origin.x, t26};
-                  adj21.push_back(t27);
-                }
-                const int32_t t28 = add(x16.origin.y, int32_t(1));
-                if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t28 >= int32_t(0)) && (t28 < int32_t(8))))) {
-                  charge_built(s.core, 15, int64_t(int32_t(1)));
-                  const Pos t29 = Pos{x16.origin.x, t28};
-                  adj21.push_back(t29);
-                }
-                bool any30 = false;
-                {
-                  const auto& x31_list = adj21;
-                  for (const Pos& x31 : x31_list) {
-                    // inlined: function at programs/color_flood.au:42
-                    bool any32 = false;
-                    {
-                      const auto& x33_list = l_wetSpots2;
-                      charge_loop(s.core, 17, int64_t(x33_list.size()));
-                      for (const Pos& x33 : x33_list) {
-                        const bool t34 = (x33 == x31);
-                        if (t34) {
-                          any32 = true;
-                          break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x16_list = prev1;
+            charge_loop(budget, 14, int64_t(x16_list.size()));
+            for (const C0_Tile& x16 : x16_list) {
+              // inlined: function at programs/color_flood.au:41
+              const bool t17 = !x16.f1;
+              bool r18{};
+              if (t17) {
+                const bool t19 = (x16.f0 == l_fh3);
+                bool r20{};
+                if (t19) {
+                  std::vector<Pos>& adj21 = s.scratch.v.b9;
+                  adj21.clear();
+                  const int32_t t22 = sub(x16.origin.x, int32_t(1));
+                  if ((((t22 >= int32_t(0)) && (t22 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
+                    charge_built(budget, 15, int64_t(int32_t(1)));
+                    const Pos t23 = Pos{t22, x16.origin.y};
+                    adj21.push_back(t23);
+                  }
+                  const int32_t t24 = add(x16.origin.x, int32_t(1));
+                  if ((((t24 >= int32_t(0)) && (t24 < int32_t(8))) && ((x16.origin.y >= int32_t(0)) && (x16.origin.y < int32_t(8))))) {
+                    charge_built(budget, 15, int64_t(int32_t(1)));
+                    const Pos t25 = Pos{t24, x16.origin.y};
+                    adj21.push_back(t25);
+                  }
+                  const int32_t t26 = sub(x16.origin.y, int32_t(1));
+                  if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t26 >= int32_t(0)) && (t26 < int32_t(8))))) {
+                    charge_built(budget, 15, int64_t(int32_t(1)));
+                    const Pos t27 = Pos{x16.origin.x, t26};
+                    adj21.push_back(t27);
+                  }
+                  const int32_t t28 = add(x16.origin.y, int32_t(1));
+                  if ((((x16.origin.x >= int32_t(0)) && (x16.origin.x < int32_t(8))) && ((t28 >= int32_t(0)) && (t28 < int32_t(8))))) {
+                    charge_built(budget, 15, int64_t(int32_t(1)));
+                    const Pos t29 = Pos{x16.origin.x, t28};
+                    adj21.push_back(t29);
+                  }
+                  bool any30 = false;
+                  {
+                    const auto& x31_list = adj21;
+                    for (const Pos& x31 : x31_list) {
+                      // inlined: function at programs/color_flood.au:42
+                      bool any32 = false;
+                      {
+                        const auto& x33_list = l_wetSpots2;
+                        charge_loop(budget, 17, int64_t(x33_list.size()));
+                        for (const Pos& x33 : x33_list) {
+                          const bool t34 = (x33 == x31);
+                          if (t34) {
+                            any32 = true;
+                            break;
+                          }
                         }
                       }
-                    }
-                    if (any32) {
-                      any30 = true;
-                      break;
+                      if (any32) {
+                        any30 = true;
+                        break;
+                      }
                     }
                   }
+                  r20 = any30;
+                } else {
+                  r20 = false;
                 }
-                r20 = any30;
+                r18 = r20;
               } else {
-                r20 = false;
+                r18 = false;
               }
-              r18 = r20;
-            } else {
-              r18 = false;
-            }
-            if (r18) {
-              // inlined: function at programs/color_flood.au:40
-              C0_Tile upd35 = C0_Tile{x16.f0, true, x16.origin};
-              updated15.push_back(std::move(upd35));
-            } else {
-              updated15.push_back(x16);
+              if (r18) {
+                // inlined: function at programs/color_flood.au:40
+                C0_Tile upd35 = C0_Tile{x16.f0, true, x16.origin};
+                updated15.push_back(std::move(upd35));
+              } else {
+                updated15.push_back(x16);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_tiles_17) {
           std::swap(s.scratch.v.p_tiles_16, s.g_tiles_14);
@@ -492,26 +504,30 @@ struct Prog {
         std::vector<C0_Tile>& out48 = s.scratch.v.b11;
         out48.clear();
         {
-          const auto& x49_list = prev46;
-          charge_loop(s.core, 19, int64_t(x49_list.size()));
-          for (const C0_Tile& x49 : x49_list) {
-            // inlined: function at programs/color_flood.au:46
-            bool clicked50 = false;
-            if (s.core.click) {
-              s.d_click_19 = true;
-              const Pos t51 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_18 = t51;
-              const int32_t colour52 = colour_2_C0_Tile(s, x49);
-              const Elem e53 = Elem{Pos{add(x49.origin.x, int32_t(0)), add(x49.origin.y, int32_t(0))}, colour52};
-              if ((e53.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked50 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x49_list = prev46;
+            charge_loop(budget, 19, int64_t(x49_list.size()));
+            for (const C0_Tile& x49 : x49_list) {
+              // inlined: function at programs/color_flood.au:46
+              bool clicked50 = false;
+              if (s.core.click) {
+                s.d_click_19 = true;
+                const Pos t51 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_18 = t51;
+                const int32_t colour52 = colour_2_C0_Tile(s, x49);
+                const Elem e53 = Elem{Pos{add(x49.origin.x, int32_t(0)), add(x49.origin.y, int32_t(0))}, colour52};
+                if ((e53.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked50 = true;
+                }
+              }
+              if (clicked50) {
+                charge_built(budget, 19, int64_t(int32_t(1)));
+                out48.push_back(x49);
               }
             }
-            if (clicked50) {
-              charge_built(s.core, 19, int64_t(int32_t(1)));
-              out48.push_back(x49);
-            }
           }
+          give_back(s.core, budget);
         }
         std::swap(l_hit47, out48);
         const int32_t t54 = int32_t(l_hit47.size());
@@ -531,15 +547,19 @@ struct Prog {
           std::vector<C0_Tile>& out60 = s.scratch.v.b13;
           out60.clear();
           {
-            const auto& x61_list = g58;
-            charge_loop(s.core, 12, int64_t(x61_list.size()));
-            for (const C0_Tile& x61 : x61_list) {
-              // inlined: function at programs/color_flood.au:33
-              if (x61.f1) {
-                charge_built(s.core, 12, int64_t(int32_t(1)));
-                out60.push_back(x61);
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x61_list = g58;
+              charge_loop(budget, 12, int64_t(x61_list.size()));
+              for (const C0_Tile& x61 : x61_list) {
+                // inlined: function at programs/color_flood.au:33
+                if (x61.f1) {
+                  charge_built(budget, 12, int64_t(int32_t(1)));
+                  out60.push_back(x61);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_wetOnes59, out60);
           const int32_t t62 = int32_t(l_wetOnes59.size());
@@ -621,26 +641,30 @@ struct Prog {
         std::vector<C1_Swatch>& out81 = s.scratch.v.b16;
         out81.clear();
         {
-          const auto& x82_list = prev79;
-          charge_loop(s.core, 19, int64_t(x82_list.size()));
-          for (const C1_Swatch& x82 : x82_list) {
-            // inlined: function at programs/color_flood.au:46
-            bool clicked83 = false;
-            if (s.core.click) {
-              s.d_click_19 = true;
-              const Pos t84 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_18 = t84;
-              const int32_t colour85 = colour_1_C1_Swatch(s, x82);
-              const Elem e86 = Elem{Pos{add(x82.origin.x, int32_t(0)), add(x82.origin.y, int32_t(0))}, colour85};
-              if ((e86.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked83 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x82_list = prev79;
+            charge_loop(budget, 19, int64_t(x82_list.size()));
+            for (const C1_Swatch& x82 : x82_list) {
+              // inlined: function at programs/color_flood.au:46
+              bool clicked83 = false;
+              if (s.core.click) {
+                s.d_click_19 = true;
+                const Pos t84 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_18 = t84;
+                const int32_t colour85 = colour_1_C1_Swatch(s, x82);
+                const Elem e86 = Elem{Pos{add(x82.origin.x, int32_t(0)), add(x82.origin.y, int32_t(0))}, colour85};
+                if ((e86.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked83 = true;
+                }
+              }
+              if (clicked83) {
+                charge_built(budget, 19, int64_t(int32_t(1)));
+                out81.push_back(x82);
               }
             }
-            if (clicked83) {
-              charge_built(s.core, 19, int64_t(int32_t(1)));
-              out81.push_back(x82);
-            }
           }
+          give_back(s.core, budget);
         }
         std::swap(l_hit80, out81);
         const int32_t t87 = int32_t(l_hit80.size());
@@ -660,15 +684,19 @@ struct Prog {
           std::vector<C0_Tile>& out93 = s.scratch.v.b18;
           out93.clear();
           {
-            const auto& x94_list = g91;
-            charge_loop(s.core, 12, int64_t(x94_list.size()));
-            for (const C0_Tile& x94 : x94_list) {
-              // inlined: function at programs/color_flood.au:33
-              if (x94.f1) {
-                charge_built(s.core, 12, int64_t(int32_t(1)));
-                out93.push_back(x94);
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x94_list = g91;
+              charge_loop(budget, 12, int64_t(x94_list.size()));
+              for (const C0_Tile& x94 : x94_list) {
+                // inlined: function at programs/color_flood.au:33
+                if (x94.f1) {
+                  charge_built(budget, 12, int64_t(int32_t(1)));
+                  out93.push_back(x94);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_wetOnes92, out93);
           const int32_t t95 = int32_t(l_wetOnes92.size());

@@ -264,84 +264,96 @@ struct Prog {
         std::vector<C2_Spark>& out11 = s.scratch.v.b1;
         out11.clear();
         {
-          const auto& x12_list = out2;
-          charge_loop(s.core, 6, int64_t(x12_list.size()));
-          for (const C2_Spark& x12 : x12_list) {
-            // inlined: function at programs/fireworks.au:36
-            const bool t13 = (x12.f2 > int32_t(0));
-            bool r14{};
-            if (t13) {
-              std::vector<Elem>& rendered15 = s.scratch.v.b2;
-              rendered15.clear();
-              const int32_t colour16 = colour_5_C2_Spark(s, x12);
-              rendered15.push_back(Elem{Pos{add(x12.origin.x, int32_t(0)), add(x12.origin.y, int32_t(0))}, colour16});
-              bool within17 = true;
-              {
-                const auto& e18_list = rendered15;
-                for (const Elem& e18 : e18_list) {
-                  if ((((e18.position.x < int32_t(0)) || (e18.position.x >= int32_t(20))) || ((e18.position.y < int32_t(0)) || (e18.position.y >= int32_t(20))))) {
-                    within17 = false;
-                    break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x12_list = out2;
+            charge_loop(budget, 6, int64_t(x12_list.size()));
+            for (const C2_Spark& x12 : x12_list) {
+              // inlined: function at programs/fireworks.au:36
+              const bool t13 = (x12.f2 > int32_t(0));
+              bool r14{};
+              if (t13) {
+                std::vector<Elem>& rendered15 = s.scratch.v.b2;
+                rendered15.clear();
+                const int32_t colour16 = colour_5_C2_Spark(s, x12);
+                rendered15.push_back(Elem{Pos{add(x12.origin.x, int32_t(0)), add(x12.origin.y, int32_t(0))}, colour16});
+                bool within17 = true;
+                {
+                  const auto& e18_list = rendered15;
+                  for (const Elem& e18 : e18_list) {
+                    if ((((e18.position.x < int32_t(0)) || (e18.position.x >= int32_t(20))) || ((e18.position.y < int32_t(0)) || (e18.position.y >= int32_t(20))))) {
+                      within17 = false;
+                      break;
+                    }
                   }
                 }
+                r14 = within17;
+              } else {
+                r14 = false;
               }
-              r14 = within17;
-            } else {
-              r14 = false;
-            }
-            if (r14) {
-              charge_built(s.core, 6, int64_t(int32_t(1)));
-              out11.push_back(x12);
+              if (r14) {
+                charge_built(budget, 6, int64_t(int32_t(1)));
+                out11.push_back(x12);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         const std::vector<C1_Rocket>& prev19 = (s.scratch.v.sv_rockets_15 ? s.scratch.v.p_rockets_14 : s.g_rockets_12);
         std::vector<C1_Rocket>& out20 = s.scratch.v.b3;
         out20.clear();
         {
-          const auto& x21_list = prev19;
-          charge_loop(s.core, 8, int64_t(x21_list.size()));
-          for (const C1_Rocket& x21 : x21_list) {
-            // inlined: function at programs/fireworks.au:39
-            const bool t22 = (x21.origin.y <= x21.f0);
-            if (t22) {
-              charge_built(s.core, 8, int64_t(int32_t(1)));
-              out20.push_back(x21);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x21_list = prev19;
+            charge_loop(budget, 8, int64_t(x21_list.size()));
+            for (const C1_Rocket& x21 : x21_list) {
+              // inlined: function at programs/fireworks.au:39
+              const bool t22 = (x21.origin.y <= x21.f0);
+              if (t22) {
+                charge_built(budget, 8, int64_t(int32_t(1)));
+                out20.push_back(x21);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::vector<std::vector<C2_Spark>>& out23 = s.scratch.v.b4;
         out23.clear();
         charge_built(s.core, 9, int64_t(out20.size()));
         out23.reserve(size_t(int32_t(out20.size())));
         {
-          const auto& x24_list = out20;
-          charge_loop(s.core, 9, int64_t(x24_list.size()));
-          for (const C1_Rocket& x24 : x24_list) {
-            // inlined: function at programs/fireworks.au:30
-            int32_t l_span25{};
-            const std::vector<int32_t> list26 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)};
-            if (list26.empty()) {
-              fail_at(10, std::string() + std::string("uniformChoice of an empty list"));
-            }
-            const int32_t t27 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list26.size())))));
-            const int32_t t28 = list26[size_t(t27)];
-            l_span25 = t28;
-            const std::vector<Pos>& g29 = s.g_compass_5;
-            std::vector<C2_Spark> out30{};
-            charge_built(s.core, 11, int64_t(g29.size()));
-            out30.reserve(size_t(int32_t(g29.size())));
-            {
-              const auto& x31_list = g29;
-              charge_loop(s.core, 11, int64_t(x31_list.size()));
-              for (const Pos& x31 : x31_list) {
-                // inlined: function at programs/fireworks.au:33
-                C2_Spark o32 = C2_Spark{x31.x, x31.y, l_span25, x24.f1, x24.origin};
-                out30.push_back(std::move(o32));
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x24_list = out20;
+            charge_loop(budget, 9, int64_t(x24_list.size()));
+            for (const C1_Rocket& x24 : x24_list) {
+              // inlined: function at programs/fireworks.au:30
+              int32_t l_span25{};
+              const std::vector<int32_t> list26 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)};
+              if (list26.empty()) {
+                fail_at(10, std::string() + std::string("uniformChoice of an empty list"));
               }
+              const int32_t t27 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list26.size())))));
+              const int32_t t28 = list26[size_t(t27)];
+              l_span25 = t28;
+              const std::vector<Pos>& g29 = s.g_compass_5;
+              std::vector<C2_Spark> out30{};
+              charge_built(budget, 11, int64_t(g29.size()));
+              out30.reserve(size_t(int32_t(g29.size())));
+              {
+                const auto& x31_list = g29;
+                charge_loop(budget, 11, int64_t(x31_list.size()));
+                for (const Pos& x31 : x31_list) {
+                  // inlined: function at programs/fireworks.au:33
+                  C2_Spark o32 = C2_Spark{x31.x, x31.y, l_span25, x24.f1, x24.origin};
+                  out30.push_back(std::move(o32));
+                }
+              }
+              out23.push_back(std::move(out30));
             }
-            out23.push_back(std::move(out30));
           }
+          give_back(s.core, budget);
         }
         check_length(s.core, 12, total_size(out23));
         charge_built(s.core, 12, total_size(out23));
@@ -380,18 +392,22 @@ struct Prog {
         std::vector<C1_Rocket>& out39 = s.scratch.v.b7;
         out39.clear();
         {
-          const auto& x40_list = prev38;
-          charge_loop(s.core, 14, int64_t(x40_list.size()));
-          for (const C1_Rocket& x40 : x40_list) {
-            // inlined: function at programs/fireworks.au:46
-            // inlined: function at programs/fireworks.au:39
-            const bool t41 = (x40.origin.y <= x40.f0);
-            const bool t42 = !t41;
-            if (t42) {
-              charge_built(s.core, 14, int64_t(int32_t(1)));
-              out39.push_back(x40);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x40_list = prev38;
+            charge_loop(budget, 14, int64_t(x40_list.size()));
+            for (const C1_Rocket& x40 : x40_list) {
+              // inlined: function at programs/fireworks.au:46
+              // inlined: function at programs/fireworks.au:39
+              const bool t41 = (x40.origin.y <= x40.f0);
+              const bool t42 = !t41;
+              if (t42) {
+                charge_built(budget, 14, int64_t(int32_t(1)));
+                out39.push_back(x40);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::vector<C1_Rocket>& out43 = s.scratch.v.b8;
         out43.clear();

@@ -322,45 +322,49 @@ struct Prog {
     charge_built(s.core, 0, int64_t(list8.size()));
     out9.reserve(size_t(int32_t(list8.size())));
     {
-      const auto& x10_list = list8;
-      charge_loop(s.core, 0, int64_t(x10_list.size()));
-      for (const int32_t& x10 : x10_list) {
-        // inlined: function at programs/flood_defense.au:25
-        const std::vector<int32_t>& g11 = s.g_heights_4;
-        if (g11.empty()) {
-          fail_at(1, std::string() + std::string("at: empty list"));
-        }
-        if (((x10 < int32_t(0)) || (x10 >= int32_t(g11.size())))) {
-          fail_at(1, std::string() + std::string("at: index ") + std::to_string(x10) + std::string(" out of bounds"));
-        }
-        const int32_t t12 = g11[size_t(x10)];
-        check_length(s.core, 2, int64_t(t12) - int64_t(int32_t(0)));
-        charge_built(s.core, 2, int64_t(t12) - int64_t(int32_t(0)));
-        std::vector<int32_t>& range13 = s.scratch.v.b1;
-        range13.clear();
-        {
-          const int32_t i14_first = int32_t(0), i14_end = t12;
-          charge_loop(s.core, 2, int64_t(i14_end) - i14_first);
-          for (int32_t i14 = i14_first; i14 < i14_end; ++i14) {
-            range13.push_back(i14);
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x10_list = list8;
+        charge_loop(budget, 0, int64_t(x10_list.size()));
+        for (const int32_t& x10 : x10_list) {
+          // inlined: function at programs/flood_defense.au:25
+          const std::vector<int32_t>& g11 = s.g_heights_4;
+          if (g11.empty()) {
+            fail_at(1, std::string() + std::string("at: empty list"));
           }
-        }
-        std::vector<C0_Earth> out15{};
-        charge_built(s.core, 3, int64_t(range13.size()));
-        out15.reserve(size_t(int32_t(range13.size())));
-        {
-          const auto& x16_list = range13;
-          charge_loop(s.core, 3, int64_t(x16_list.size()));
-          for (const int32_t& x16 : x16_list) {
-            // inlined: function at programs/flood_defense.au:25
-            const int32_t t17 = sub(int32_t(15), x16);
-            const Pos t18 = Pos{x10, t17};
-            C0_Earth o19 = C0_Earth{t18, s.core.ids.fresh()};
-            out15.push_back(std::move(o19));
+          if (((x10 < int32_t(0)) || (x10 >= int32_t(g11.size())))) {
+            fail_at(1, std::string() + std::string("at: index ") + std::to_string(x10) + std::string(" out of bounds"));
           }
+          const int32_t t12 = g11[size_t(x10)];
+          check_length(s.core, 2, int64_t(t12) - int64_t(int32_t(0)));
+          charge_built(budget, 2, int64_t(t12) - int64_t(int32_t(0)));
+          std::vector<int32_t>& range13 = s.scratch.v.b1;
+          range13.clear();
+          {
+            const int32_t i14_first = int32_t(0), i14_end = t12;
+            charge_loop(budget, 2, int64_t(i14_end) - i14_first);
+            for (int32_t i14 = i14_first; i14 < i14_end; ++i14) {
+              range13.push_back(i14);
+            }
+          }
+          std::vector<C0_Earth> out15{};
+          charge_built(budget, 3, int64_t(range13.size()));
+          out15.reserve(size_t(int32_t(range13.size())));
+          {
+            const auto& x16_list = range13;
+            charge_loop(budget, 3, int64_t(x16_list.size()));
+            for (const int32_t& x16 : x16_list) {
+              // inlined: function at programs/flood_defense.au:25
+              const int32_t t17 = sub(int32_t(15), x16);
+              const Pos t18 = Pos{x10, t17};
+              C0_Earth o19 = C0_Earth{t18, s.core.ids.fresh()};
+              out15.push_back(std::move(o19));
+            }
+          }
+          out9.push_back(std::move(out15));
         }
-        out9.push_back(std::move(out15));
       }
+      give_back(s.core, budget);
     }
     check_length(s.core, 4, total_size(out9));
     charge_built(s.core, 4, total_size(out9));
@@ -422,332 +426,336 @@ struct Prog {
         charge_built(s.core, 12, int64_t(prev1.size()));
         out2.reserve(size_t(int32_t(prev1.size())));
         {
-          const auto& x3_list = prev1;
-          charge_loop(s.core, 12, int64_t(x3_list.size()));
-          for (const C4_Water& x3 : x3_list) {
-            const bool t4 = (x3.origin.y == int32_t(15));
-            const bool t5 = !t4;
-            bool r6{};
-            if (t5) {
-              const int32_t t7 = add(x3.origin.x, int32_t(0));
-              const int32_t t8 = add(x3.origin.y, int32_t(1));
-              const Pos t9 = Pos{t7, t8};
-              const C4_Water upd10 = C4_Water{t9, s.core.ids.fresh()};
-              std::vector<Elem>& rendered11 = s.scratch.v.b4;
-              rendered11.clear();
-              rendered11.push_back(Elem{Pos{add(upd10.origin.x, int32_t(0)), add(upd10.origin.y, int32_t(0))}, int32_t(4)});
-              bool any12 = false;
-              {
-                const auto& x13_list = rendered11;
-                for (const Elem& x13 : x13_list) {
-                  const bool t14 = s.core.occupied.free(x13.position);
-                  const bool t15 = !t14;
-                  if (t15) {
-                    any12 = true;
-                    break;
-                  }
-                }
-              }
-              const bool t16 = !any12;
-              r6 = t16;
-            } else {
-              r6 = false;
-            }
-            C4_Water r17{};
-            if (r6) {
-              const int32_t t18 = add(x3.origin.x, int32_t(0));
-              const int32_t t19 = add(x3.origin.y, int32_t(1));
-              const Pos t20 = Pos{t18, t19};
-              C4_Water upd21 = C4_Water{t20, s.core.ids.fresh()};
-              r17 = std::move(upd21);
-            } else {
-              std::vector<Pos>& l_nextRowPos22 = s.scratch.v.b5;
-              l_nextRowPos22.clear();
-              std::vector<Pos>& l_holes23 = s.scratch.v.b6;
-              l_holes23.clear();
-              const int32_t t24 = add(x3.origin.y, int32_t(1));
-              const Pos t25 = Pos{int32_t(0), t24};
-              const int32_t t26 = add(x3.origin.y, int32_t(2));
-              const Pos t27 = Pos{int32_t(16), t26};
-              int32_t l_xmin28{};
-              int32_t l_xmax29{};
-              int32_t l_ymin30{};
-              int32_t l_ymax31{};
-              std::vector<Pos>& l_rectPos32 = s.scratch.v.b7;
-              l_rectPos32.clear();
-              l_xmin28 = t25.x;
-              l_xmax29 = t27.x;
-              l_ymin30 = t25.y;
-              l_ymax31 = t27.y;
-              check_length(s.core, 14, int64_t(l_ymax31) - int64_t(l_ymin30));
-              charge_built(s.core, 14, int64_t(l_ymax31) - int64_t(l_ymin30));
-              std::vector<int32_t>& range33 = s.scratch.v.b8;
-              range33.clear();
-              {
-                const int32_t i34_first = l_ymin30, i34_end = l_ymax31;
-                charge_loop(s.core, 14, int64_t(i34_end) - i34_first);
-                for (int32_t i34 = i34_first; i34 < i34_end; ++i34) {
-                  range33.push_back(i34);
-                }
-              }
-              std::vector<std::vector<Pos>>& out35 = s.scratch.v.b9;
-              out35.clear();
-              charge_built(s.core, 15, int64_t(range33.size()));
-              out35.reserve(size_t(int32_t(range33.size())));
-              {
-                const auto& x36_list = range33;
-                charge_loop(s.core, 15, int64_t(x36_list.size()));
-                for (const int32_t& x36 : x36_list) {
-                  check_length(s.core, 16, int64_t(l_xmax29) - int64_t(l_xmin28));
-                  charge_built(s.core, 16, int64_t(l_xmax29) - int64_t(l_xmin28));
-                  std::vector<int32_t>& range37 = s.scratch.v.b10;
-                  range37.clear();
-                  {
-                    const int32_t i38_first = l_xmin28, i38_end = l_xmax29;
-                    charge_loop(s.core, 16, int64_t(i38_end) - i38_first);
-                    for (int32_t i38 = i38_first; i38 < i38_end; ++i38) {
-                      range37.push_back(i38);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x3_list = prev1;
+            charge_loop(budget, 12, int64_t(x3_list.size()));
+            for (const C4_Water& x3 : x3_list) {
+              const bool t4 = (x3.origin.y == int32_t(15));
+              const bool t5 = !t4;
+              bool r6{};
+              if (t5) {
+                const int32_t t7 = add(x3.origin.x, int32_t(0));
+                const int32_t t8 = add(x3.origin.y, int32_t(1));
+                const Pos t9 = Pos{t7, t8};
+                const C4_Water upd10 = C4_Water{t9, s.core.ids.fresh()};
+                std::vector<Elem>& rendered11 = s.scratch.v.b4;
+                rendered11.clear();
+                rendered11.push_back(Elem{Pos{add(upd10.origin.x, int32_t(0)), add(upd10.origin.y, int32_t(0))}, int32_t(4)});
+                bool any12 = false;
+                {
+                  const auto& x13_list = rendered11;
+                  for (const Elem& x13 : x13_list) {
+                    const bool t14 = s.core.occupied.free(x13.position);
+                    const bool t15 = !t14;
+                    if (t15) {
+                      any12 = true;
+                      break;
                     }
                   }
-                  std::vector<Pos> out39{};
-                  charge_built(s.core, 17, int64_t(range37.size()));
-                  out39.reserve(size_t(int32_t(range37.size())));
-                  {
-                    const auto& x40_list = range37;
-                    charge_loop(s.core, 17, int64_t(x40_list.size()));
-                    for (const int32_t& x40 : x40_list) {
-                      const Pos t41 = Pos{x40, x36};
-                      out39.push_back(t41);
-                    }
-                  }
-                  out35.push_back(std::move(out39));
                 }
-              }
-              check_length(s.core, 18, total_size(out35));
-              charge_built(s.core, 18, total_size(out35));
-              std::vector<Pos>& cat42 = s.scratch.v.b11;
-              cat42.clear();
-              {
-                const auto& part43_list = out35;
-                charge_loop(s.core, 18, int64_t(part43_list.size()));
-                for (const std::vector<Pos>& part43 : part43_list) {
-                  cat42.insert(cat42.end(), part43.begin(), part43.end());
-                }
-              }
-              std::swap(l_rectPos32, cat42);
-              std::swap(l_nextRowPos22, l_rectPos32);
-              std::vector<Pos>& out44 = s.scratch.v.b12;
-              out44.clear();
-              {
-                const auto& x45_list = l_nextRowPos22;
-                charge_loop(s.core, 19, int64_t(x45_list.size()));
-                for (const Pos& x45 : x45_list) {
-                  const bool t46 = (x45.y == int32_t(16));
-                  const bool t47 = !t46;
-                  if (t47) {
-                    charge_built(s.core, 19, int64_t(int32_t(1)));
-                    out44.push_back(x45);
-                  }
-                }
-              }
-              std::swap(l_nextRowPos22, out44);
-              std::vector<Pos>& out48 = s.scratch.v.b13;
-              out48.clear();
-              {
-                const auto& x49_list = l_nextRowPos22;
-                charge_loop(s.core, 20, int64_t(x49_list.size()));
-                for (const Pos& x49 : x49_list) {
-                  const bool t50 = s.core.occupied.free(x49);
-                  bool r51{};
-                  if (t50) {
-                    const int32_t t52 = add(x49.x, int32_t(0));
-                    const int32_t t53 = add(x49.y, int32_t(-1));
-                    const Pos t54 = Pos{t52, t53};
-                    const bool t55 = s.core.occupied.free(t54);
-                    r51 = t55;
-                  } else {
-                    r51 = false;
-                  }
-                  if (r51) {
-                    charge_built(s.core, 20, int64_t(int32_t(1)));
-                    out48.push_back(x49);
-                  }
-                }
-              }
-              std::swap(l_holes23, out48);
-              const int32_t t56 = int32_t(l_holes23.size());
-              const bool t57 = (t56 == int32_t(0));
-              C4_Water r58{};
-              if (t57) {
-                r58 = x3;
+                const bool t16 = !any12;
+                r6 = t16;
               } else {
-                Pos l_closestHole59{};
-                const int32_t t60 = int32_t(l_holes23.size());
-                const bool t61 = (t60 == int32_t(0));
-                Pos r62{};
-                if (t61) {
-                  r62 = x3.origin;
-                } else {
-                  if (l_holes23.empty()) {
-                    fail_at(21, std::string() + std::string("head of an empty list"));
+                r6 = false;
+              }
+              C4_Water r17{};
+              if (r6) {
+                const int32_t t18 = add(x3.origin.x, int32_t(0));
+                const int32_t t19 = add(x3.origin.y, int32_t(1));
+                const Pos t20 = Pos{t18, t19};
+                C4_Water upd21 = C4_Water{t20, s.core.ids.fresh()};
+                r17 = std::move(upd21);
+              } else {
+                std::vector<Pos>& l_nextRowPos22 = s.scratch.v.b5;
+                l_nextRowPos22.clear();
+                std::vector<Pos>& l_holes23 = s.scratch.v.b6;
+                l_holes23.clear();
+                const int32_t t24 = add(x3.origin.y, int32_t(1));
+                const Pos t25 = Pos{int32_t(0), t24};
+                const int32_t t26 = add(x3.origin.y, int32_t(2));
+                const Pos t27 = Pos{int32_t(16), t26};
+                int32_t l_xmin28{};
+                int32_t l_xmax29{};
+                int32_t l_ymin30{};
+                int32_t l_ymax31{};
+                std::vector<Pos>& l_rectPos32 = s.scratch.v.b7;
+                l_rectPos32.clear();
+                l_xmin28 = t25.x;
+                l_xmax29 = t27.x;
+                l_ymin30 = t25.y;
+                l_ymax31 = t27.y;
+                check_length(s.core, 14, int64_t(l_ymax31) - int64_t(l_ymin30));
+                charge_built(budget, 14, int64_t(l_ymax31) - int64_t(l_ymin30));
+                std::vector<int32_t>& range33 = s.scratch.v.b8;
+                range33.clear();
+                {
+                  const int32_t i34_first = l_ymin30, i34_end = l_ymax31;
+                  charge_loop(budget, 14, int64_t(i34_end) - i34_first);
+                  for (int32_t i34 = i34_first; i34 < i34_end; ++i34) {
+                    range33.push_back(i34);
                   }
-                  const Pos t63 = l_holes23.front();
-                  Pos acc64 = t63;
-                  {
-                    const auto& x65_list = l_holes23;
-                    charge_loop(s.core, 22, int64_t(x65_list.size()));
-                    for (const Pos& x65 : x65_list) {
-                      Pos l_delta66{};
-                      const int32_t t67 = sub(x3.origin.x, acc64.x);
-                      const int32_t t68 = sub(x3.origin.y, acc64.y);
-                      const Pos t69 = Pos{t67, t68};
-                      l_delta66 = t69;
-                      const int32_t t70 = mul(l_delta66.x, l_delta66.x);
-                      const int32_t t71 = mul(l_delta66.y, l_delta66.y);
-                      const int32_t t72 = add(t70, t71);
-                      Pos l_delta73{};
-                      const int32_t t74 = sub(x3.origin.x, x65.x);
-                      const int32_t t75 = sub(x3.origin.y, x65.y);
-                      const Pos t76 = Pos{t74, t75};
-                      l_delta73 = t76;
-                      const int32_t t77 = mul(l_delta73.x, l_delta73.x);
-                      const int32_t t78 = mul(l_delta73.y, l_delta73.y);
-                      const int32_t t79 = add(t77, t78);
-                      const bool t80 = (t72 < t79);
-                      Pos r81{};
-                      if (t80) {
-                        r81 = acc64;
-                      } else {
-                        r81 = x65;
+                }
+                std::vector<std::vector<Pos>>& out35 = s.scratch.v.b9;
+                out35.clear();
+                charge_built(budget, 15, int64_t(range33.size()));
+                out35.reserve(size_t(int32_t(range33.size())));
+                {
+                  const auto& x36_list = range33;
+                  charge_loop(budget, 15, int64_t(x36_list.size()));
+                  for (const int32_t& x36 : x36_list) {
+                    check_length(s.core, 16, int64_t(l_xmax29) - int64_t(l_xmin28));
+                    charge_built(budget, 16, int64_t(l_xmax29) - int64_t(l_xmin28));
+                    std::vector<int32_t>& range37 = s.scratch.v.b10;
+                    range37.clear();
+                    {
+                      const int32_t i38_first = l_xmin28, i38_end = l_xmax29;
+                      charge_loop(budget, 16, int64_t(i38_end) - i38_first);
+                      for (int32_t i38 = i38_first; i38 < i38_end; ++i38) {
+                        range37.push_back(i38);
                       }
-                      acc64 = r81;
+                    }
+                    std::vector<Pos> out39{};
+                    charge_built(budget, 17, int64_t(range37.size()));
+                    out39.reserve(size_t(int32_t(range37.size())));
+                    {
+                      const auto& x40_list = range37;
+                      charge_loop(budget, 17, int64_t(x40_list.size()));
+                      for (const int32_t& x40 : x40_list) {
+                        const Pos t41 = Pos{x40, x36};
+                        out39.push_back(t41);
+                      }
+                    }
+                    out35.push_back(std::move(out39));
+                  }
+                }
+                check_length(s.core, 18, total_size(out35));
+                charge_built(budget, 18, total_size(out35));
+                std::vector<Pos>& cat42 = s.scratch.v.b11;
+                cat42.clear();
+                {
+                  const auto& part43_list = out35;
+                  charge_loop(budget, 18, int64_t(part43_list.size()));
+                  for (const std::vector<Pos>& part43 : part43_list) {
+                    cat42.insert(cat42.end(), part43.begin(), part43.end());
+                  }
+                }
+                std::swap(l_rectPos32, cat42);
+                std::swap(l_nextRowPos22, l_rectPos32);
+                std::vector<Pos>& out44 = s.scratch.v.b12;
+                out44.clear();
+                {
+                  const auto& x45_list = l_nextRowPos22;
+                  charge_loop(budget, 19, int64_t(x45_list.size()));
+                  for (const Pos& x45 : x45_list) {
+                    const bool t46 = (x45.y == int32_t(16));
+                    const bool t47 = !t46;
+                    if (t47) {
+                      charge_built(budget, 19, int64_t(int32_t(1)));
+                      out44.push_back(x45);
                     }
                   }
-                  r62 = acc64;
                 }
-                l_closestHole59 = r62;
-                Pos l_dir82{};
-                C4_Water l_movedObj83{};
-                const int32_t t84 = add(l_closestHole59.x, int32_t(0));
-                const int32_t t85 = add(l_closestHole59.y, int32_t(-1));
-                const Pos t86 = Pos{t84, t85};
-                Pos l_delta87{};
-                int32_t l_sign_x88{};
-                int32_t l_sign_y89{};
-                const int32_t t90 = sub(t86.x, x3.origin.x);
-                const int32_t t91 = sub(t86.y, x3.origin.y);
-                const Pos t92 = Pos{t90, t91};
-                l_delta87 = t92;
-                const bool t93 = (l_delta87.x == int32_t(0));
-                int32_t r94{};
-                if (t93) {
-                  r94 = int32_t(0);
-                } else {
-                  const bool t95 = (l_delta87.x < int32_t(0));
-                  int32_t r96{};
-                  if (t95) {
-                    r96 = int32_t(-1);
-                  } else {
-                    r96 = int32_t(1);
+                std::swap(l_nextRowPos22, out44);
+                std::vector<Pos>& out48 = s.scratch.v.b13;
+                out48.clear();
+                {
+                  const auto& x49_list = l_nextRowPos22;
+                  charge_loop(budget, 20, int64_t(x49_list.size()));
+                  for (const Pos& x49 : x49_list) {
+                    const bool t50 = s.core.occupied.free(x49);
+                    bool r51{};
+                    if (t50) {
+                      const int32_t t52 = add(x49.x, int32_t(0));
+                      const int32_t t53 = add(x49.y, int32_t(-1));
+                      const Pos t54 = Pos{t52, t53};
+                      const bool t55 = s.core.occupied.free(t54);
+                      r51 = t55;
+                    } else {
+                      r51 = false;
+                    }
+                    if (r51) {
+                      charge_built(budget, 20, int64_t(int32_t(1)));
+                      out48.push_back(x49);
+                    }
                   }
-                  r94 = r96;
                 }
-                l_sign_x88 = r94;
-                const bool t97 = (l_delta87.y == int32_t(0));
-                int32_t r98{};
-                if (t97) {
-                  r98 = int32_t(0);
+                std::swap(l_holes23, out48);
+                const int32_t t56 = int32_t(l_holes23.size());
+                const bool t57 = (t56 == int32_t(0));
+                C4_Water r58{};
+                if (t57) {
+                  r58 = x3;
                 } else {
-                  const bool t99 = (l_delta87.y < int32_t(0));
-                  int32_t r100{};
-                  if (t99) {
-                    r100 = int32_t(-1);
+                  Pos l_closestHole59{};
+                  const int32_t t60 = int32_t(l_holes23.size());
+                  const bool t61 = (t60 == int32_t(0));
+                  Pos r62{};
+                  if (t61) {
+                    r62 = x3.origin;
                   } else {
-                    r100 = int32_t(1);
-                  }
-                  r98 = r100;
-                }
-                l_sign_y89 = r98;
-                const bool t101 = (l_sign_x88 < int32_t(0));
-                int32_t r102{};
-                if (t101) {
-                  const int32_t t103 = neg(l_sign_x88);
-                  r102 = t103;
-                } else {
-                  r102 = l_sign_x88;
-                }
-                const bool t104 = (r102 == int32_t(1));
-                bool r105{};
-                if (t104) {
-                  const bool t106 = (l_sign_y89 < int32_t(0));
-                  int32_t r107{};
-                  if (t106) {
-                    const int32_t t108 = neg(l_sign_y89);
-                    r107 = t108;
-                  } else {
-                    r107 = l_sign_y89;
-                  }
-                  const bool t109 = (r107 == int32_t(1));
-                  r105 = t109;
-                } else {
-                  r105 = false;
-                }
-                Pos r110{};
-                if (r105) {
-                  const Pos t111 = Pos{l_sign_x88, int32_t(0)};
-                  r110 = t111;
-                } else {
-                  const Pos t112 = Pos{l_sign_x88, l_sign_y89};
-                  r110 = t112;
-                }
-                l_dir82 = r110;
-                const int32_t t113 = add(x3.origin.x, l_dir82.x);
-                const int32_t t114 = add(x3.origin.y, l_dir82.y);
-                const Pos t115 = Pos{t113, t114};
-                C4_Water upd116 = C4_Water{t115, s.core.ids.fresh()};
-                l_movedObj83 = std::move(upd116);
-                const int32_t t117 = add(l_closestHole59.x, int32_t(0));
-                const int32_t t118 = add(l_closestHole59.y, int32_t(-1));
-                const Pos t119 = Pos{t117, t118};
-                const bool t120 = s.core.occupied.free(t119);
-                bool r121{};
-                if (t120) {
-                  const bool t122 = s.core.occupied.free(l_movedObj83.origin);
-                  bool r123{};
-                  if (t122) {
-                    std::vector<Elem>& rendered124 = s.scratch.v.b14;
-                    rendered124.clear();
-                    rendered124.push_back(Elem{Pos{add(l_movedObj83.origin.x, int32_t(0)), add(l_movedObj83.origin.y, int32_t(0))}, int32_t(4)});
-                    bool within125 = true;
+                    if (l_holes23.empty()) {
+                      fail_at(21, std::string() + std::string("head of an empty list"));
+                    }
+                    const Pos t63 = l_holes23.front();
+                    Pos acc64 = t63;
                     {
-                      const auto& e126_list = rendered124;
-                      for (const Elem& e126 : e126_list) {
-                        if ((((e126.position.x < int32_t(0)) || (e126.position.x >= int32_t(16))) || ((e126.position.y < int32_t(0)) || (e126.position.y >= int32_t(16))))) {
-                          within125 = false;
-                          break;
+                      const auto& x65_list = l_holes23;
+                      charge_loop(budget, 22, int64_t(x65_list.size()));
+                      for (const Pos& x65 : x65_list) {
+                        Pos l_delta66{};
+                        const int32_t t67 = sub(x3.origin.x, acc64.x);
+                        const int32_t t68 = sub(x3.origin.y, acc64.y);
+                        const Pos t69 = Pos{t67, t68};
+                        l_delta66 = t69;
+                        const int32_t t70 = mul(l_delta66.x, l_delta66.x);
+                        const int32_t t71 = mul(l_delta66.y, l_delta66.y);
+                        const int32_t t72 = add(t70, t71);
+                        Pos l_delta73{};
+                        const int32_t t74 = sub(x3.origin.x, x65.x);
+                        const int32_t t75 = sub(x3.origin.y, x65.y);
+                        const Pos t76 = Pos{t74, t75};
+                        l_delta73 = t76;
+                        const int32_t t77 = mul(l_delta73.x, l_delta73.x);
+                        const int32_t t78 = mul(l_delta73.y, l_delta73.y);
+                        const int32_t t79 = add(t77, t78);
+                        const bool t80 = (t72 < t79);
+                        Pos r81{};
+                        if (t80) {
+                          r81 = acc64;
+                        } else {
+                          r81 = x65;
+                        }
+                        acc64 = r81;
+                      }
+                    }
+                    r62 = acc64;
+                  }
+                  l_closestHole59 = r62;
+                  Pos l_dir82{};
+                  C4_Water l_movedObj83{};
+                  const int32_t t84 = add(l_closestHole59.x, int32_t(0));
+                  const int32_t t85 = add(l_closestHole59.y, int32_t(-1));
+                  const Pos t86 = Pos{t84, t85};
+                  Pos l_delta87{};
+                  int32_t l_sign_x88{};
+                  int32_t l_sign_y89{};
+                  const int32_t t90 = sub(t86.x, x3.origin.x);
+                  const int32_t t91 = sub(t86.y, x3.origin.y);
+                  const Pos t92 = Pos{t90, t91};
+                  l_delta87 = t92;
+                  const bool t93 = (l_delta87.x == int32_t(0));
+                  int32_t r94{};
+                  if (t93) {
+                    r94 = int32_t(0);
+                  } else {
+                    const bool t95 = (l_delta87.x < int32_t(0));
+                    int32_t r96{};
+                    if (t95) {
+                      r96 = int32_t(-1);
+                    } else {
+                      r96 = int32_t(1);
+                    }
+                    r94 = r96;
+                  }
+                  l_sign_x88 = r94;
+                  const bool t97 = (l_delta87.y == int32_t(0));
+                  int32_t r98{};
+                  if (t97) {
+                    r98 = int32_t(0);
+                  } else {
+                    const bool t99 = (l_delta87.y < int32_t(0));
+                    int32_t r100{};
+                    if (t99) {
+                      r100 = int32_t(-1);
+                    } else {
+                      r100 = int32_t(1);
+                    }
+                    r98 = r100;
+                  }
+                  l_sign_y89 = r98;
+                  const bool t101 = (l_sign_x88 < int32_t(0));
+                  int32_t r102{};
+                  if (t101) {
+                    const int32_t t103 = neg(l_sign_x88);
+                    r102 = t103;
+                  } else {
+                    r102 = l_sign_x88;
+                  }
+                  const bool t104 = (r102 == int32_t(1));
+                  bool r105{};
+                  if (t104) {
+                    const bool t106 = (l_sign_y89 < int32_t(0));
+                    int32_t r107{};
+                    if (t106) {
+                      const int32_t t108 = neg(l_sign_y89);
+                      r107 = t108;
+                    } else {
+                      r107 = l_sign_y89;
+                    }
+                    const bool t109 = (r107 == int32_t(1));
+                    r105 = t109;
+                  } else {
+                    r105 = false;
+                  }
+                  Pos r110{};
+                  if (r105) {
+                    const Pos t111 = Pos{l_sign_x88, int32_t(0)};
+                    r110 = t111;
+                  } else {
+                    const Pos t112 = Pos{l_sign_x88, l_sign_y89};
+                    r110 = t112;
+                  }
+                  l_dir82 = r110;
+                  const int32_t t113 = add(x3.origin.x, l_dir82.x);
+                  const int32_t t114 = add(x3.origin.y, l_dir82.y);
+                  const Pos t115 = Pos{t113, t114};
+                  C4_Water upd116 = C4_Water{t115, s.core.ids.fresh()};
+                  l_movedObj83 = std::move(upd116);
+                  const int32_t t117 = add(l_closestHole59.x, int32_t(0));
+                  const int32_t t118 = add(l_closestHole59.y, int32_t(-1));
+                  const Pos t119 = Pos{t117, t118};
+                  const bool t120 = s.core.occupied.free(t119);
+                  bool r121{};
+                  if (t120) {
+                    const bool t122 = s.core.occupied.free(l_movedObj83.origin);
+                    bool r123{};
+                    if (t122) {
+                      std::vector<Elem>& rendered124 = s.scratch.v.b14;
+                      rendered124.clear();
+                      rendered124.push_back(Elem{Pos{add(l_movedObj83.origin.x, int32_t(0)), add(l_movedObj83.origin.y, int32_t(0))}, int32_t(4)});
+                      bool within125 = true;
+                      {
+                        const auto& e126_list = rendered124;
+                        for (const Elem& e126 : e126_list) {
+                          if ((((e126.position.x < int32_t(0)) || (e126.position.x >= int32_t(16))) || ((e126.position.y < int32_t(0)) || (e126.position.y >= int32_t(16))))) {
+                            within125 = false;
+                            break;
+                          }
                         }
                       }
+                      r123 = within125;
+                    } else {
+                      r123 = false;
                     }
-                    r123 = within125;
+                    r121 = r123;
                   } else {
-                    r123 = false;
+                    r121 = false;
                   }
-                  r121 = r123;
-                } else {
-                  r121 = false;
+                  C4_Water r127{};
+                  if (r121) {
+                    r127 = std::move(l_movedObj83);
+                  } else {
+                    r127 = x3;
+                  }
+                  r58 = std::move(r127);
                 }
-                C4_Water r127{};
-                if (r121) {
-                  r127 = std::move(l_movedObj83);
-                } else {
-                  r127 = x3;
-                }
-                r58 = std::move(r127);
+                r17 = std::move(r58);
               }
-              r17 = std::move(r58);
+              out2.push_back(std::move(r17));
             }
-            out2.push_back(std::move(r17));
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_water_10) {
           std::swap(s.scratch.v.p_water_9, s.g_water_7);
@@ -779,139 +787,155 @@ struct Prog {
         out135.clear();
         const std::vector<C1_House>& g136 = s.g_houses_19;
         {
-          const auto& x137_list = g136;
-          charge_loop(s.core, 25, int64_t(x137_list.size()));
-          for (const C1_House& x137 : x137_list) {
-            Pos l_delta138{};
-            const int32_t t139 = sub(x137.origin.x, g129.origin.x);
-            const int32_t t140 = sub(x137.origin.y, g129.origin.y);
-            const Pos t141 = Pos{t139, t140};
-            l_delta138 = t141;
-            const bool t142 = (l_delta138.x < int32_t(0));
-            int32_t r143{};
-            if (t142) {
-              const int32_t t144 = neg(l_delta138.x);
-              r143 = t144;
-            } else {
-              r143 = l_delta138.x;
-            }
-            const bool t145 = (l_delta138.y < int32_t(0));
-            int32_t r146{};
-            if (t145) {
-              const int32_t t147 = neg(l_delta138.y);
-              r146 = t147;
-            } else {
-              r146 = l_delta138.y;
-            }
-            const int32_t t148 = add(r143, r146);
-            const bool t149 = (t148 <= int32_t(1));
-            if (t149) {
-              charge_built(s.core, 25, int64_t(int32_t(1)));
-              out135.push_back(S136{std::in_place_index<1>, x137});
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x137_list = g136;
+            charge_loop(budget, 25, int64_t(x137_list.size()));
+            for (const C1_House& x137 : x137_list) {
+              Pos l_delta138{};
+              const int32_t t139 = sub(x137.origin.x, g129.origin.x);
+              const int32_t t140 = sub(x137.origin.y, g129.origin.y);
+              const Pos t141 = Pos{t139, t140};
+              l_delta138 = t141;
+              const bool t142 = (l_delta138.x < int32_t(0));
+              int32_t r143{};
+              if (t142) {
+                const int32_t t144 = neg(l_delta138.x);
+                r143 = t144;
+              } else {
+                r143 = l_delta138.x;
+              }
+              const bool t145 = (l_delta138.y < int32_t(0));
+              int32_t r146{};
+              if (t145) {
+                const int32_t t147 = neg(l_delta138.y);
+                r146 = t147;
+              } else {
+                r146 = l_delta138.y;
+              }
+              const int32_t t148 = add(r143, r146);
+              const bool t149 = (t148 <= int32_t(1));
+              if (t149) {
+                charge_built(budget, 25, int64_t(int32_t(1)));
+                out135.push_back(S136{std::in_place_index<1>, x137});
+              }
             }
           }
+          give_back(s.core, budget);
         }
         const std::vector<C3_Sandbag>& g150 = s.g_bags_11;
         {
-          const auto& x151_list = g150;
-          charge_loop(s.core, 25, int64_t(x151_list.size()));
-          for (const C3_Sandbag& x151 : x151_list) {
-            Pos l_delta152{};
-            const int32_t t153 = sub(x151.origin.x, g129.origin.x);
-            const int32_t t154 = sub(x151.origin.y, g129.origin.y);
-            const Pos t155 = Pos{t153, t154};
-            l_delta152 = t155;
-            const bool t156 = (l_delta152.x < int32_t(0));
-            int32_t r157{};
-            if (t156) {
-              const int32_t t158 = neg(l_delta152.x);
-              r157 = t158;
-            } else {
-              r157 = l_delta152.x;
-            }
-            const bool t159 = (l_delta152.y < int32_t(0));
-            int32_t r160{};
-            if (t159) {
-              const int32_t t161 = neg(l_delta152.y);
-              r160 = t161;
-            } else {
-              r160 = l_delta152.y;
-            }
-            const int32_t t162 = add(r157, r160);
-            const bool t163 = (t162 <= int32_t(1));
-            if (t163) {
-              charge_built(s.core, 25, int64_t(int32_t(1)));
-              out135.push_back(S136{std::in_place_index<2>, x151});
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x151_list = g150;
+            charge_loop(budget, 25, int64_t(x151_list.size()));
+            for (const C3_Sandbag& x151 : x151_list) {
+              Pos l_delta152{};
+              const int32_t t153 = sub(x151.origin.x, g129.origin.x);
+              const int32_t t154 = sub(x151.origin.y, g129.origin.y);
+              const Pos t155 = Pos{t153, t154};
+              l_delta152 = t155;
+              const bool t156 = (l_delta152.x < int32_t(0));
+              int32_t r157{};
+              if (t156) {
+                const int32_t t158 = neg(l_delta152.x);
+                r157 = t158;
+              } else {
+                r157 = l_delta152.x;
+              }
+              const bool t159 = (l_delta152.y < int32_t(0));
+              int32_t r160{};
+              if (t159) {
+                const int32_t t161 = neg(l_delta152.y);
+                r160 = t161;
+              } else {
+                r160 = l_delta152.y;
+              }
+              const int32_t t162 = add(r157, r160);
+              const bool t163 = (t162 <= int32_t(1));
+              if (t163) {
+                charge_built(budget, 25, int64_t(int32_t(1)));
+                out135.push_back(S136{std::in_place_index<2>, x151});
+              }
             }
           }
+          give_back(s.core, budget);
         }
         const std::vector<C4_Water>& g164 = s.g_water_7;
         {
-          const auto& x165_list = g164;
-          charge_loop(s.core, 25, int64_t(x165_list.size()));
-          for (const C4_Water& x165 : x165_list) {
-            Pos l_delta166{};
-            const int32_t t167 = sub(x165.origin.x, g129.origin.x);
-            const int32_t t168 = sub(x165.origin.y, g129.origin.y);
-            const Pos t169 = Pos{t167, t168};
-            l_delta166 = t169;
-            const bool t170 = (l_delta166.x < int32_t(0));
-            int32_t r171{};
-            if (t170) {
-              const int32_t t172 = neg(l_delta166.x);
-              r171 = t172;
-            } else {
-              r171 = l_delta166.x;
-            }
-            const bool t173 = (l_delta166.y < int32_t(0));
-            int32_t r174{};
-            if (t173) {
-              const int32_t t175 = neg(l_delta166.y);
-              r174 = t175;
-            } else {
-              r174 = l_delta166.y;
-            }
-            const int32_t t176 = add(r171, r174);
-            const bool t177 = (t176 <= int32_t(1));
-            if (t177) {
-              charge_built(s.core, 25, int64_t(int32_t(1)));
-              out135.push_back(S136{std::in_place_index<3>, x165});
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x165_list = g164;
+            charge_loop(budget, 25, int64_t(x165_list.size()));
+            for (const C4_Water& x165 : x165_list) {
+              Pos l_delta166{};
+              const int32_t t167 = sub(x165.origin.x, g129.origin.x);
+              const int32_t t168 = sub(x165.origin.y, g129.origin.y);
+              const Pos t169 = Pos{t167, t168};
+              l_delta166 = t169;
+              const bool t170 = (l_delta166.x < int32_t(0));
+              int32_t r171{};
+              if (t170) {
+                const int32_t t172 = neg(l_delta166.x);
+                r171 = t172;
+              } else {
+                r171 = l_delta166.x;
+              }
+              const bool t173 = (l_delta166.y < int32_t(0));
+              int32_t r174{};
+              if (t173) {
+                const int32_t t175 = neg(l_delta166.y);
+                r174 = t175;
+              } else {
+                r174 = l_delta166.y;
+              }
+              const int32_t t176 = add(r171, r174);
+              const bool t177 = (t176 <= int32_t(1));
+              if (t177) {
+                charge_built(budget, 25, int64_t(int32_t(1)));
+                out135.push_back(S136{std::in_place_index<3>, x165});
+              }
             }
           }
+          give_back(s.core, budget);
         }
         const std::vector<C0_Earth>& g178 = s.g_earth_27;
         {
-          const auto& x179_list = g178;
-          charge_loop(s.core, 25, int64_t(x179_list.size()));
-          for (const C0_Earth& x179 : x179_list) {
-            Pos l_delta180{};
-            const int32_t t181 = sub(x179.origin.x, g129.origin.x);
-            const int32_t t182 = sub(x179.origin.y, g129.origin.y);
-            const Pos t183 = Pos{t181, t182};
-            l_delta180 = t183;
-            const bool t184 = (l_delta180.x < int32_t(0));
-            int32_t r185{};
-            if (t184) {
-              const int32_t t186 = neg(l_delta180.x);
-              r185 = t186;
-            } else {
-              r185 = l_delta180.x;
-            }
-            const bool t187 = (l_delta180.y < int32_t(0));
-            int32_t r188{};
-            if (t187) {
-              const int32_t t189 = neg(l_delta180.y);
-              r188 = t189;
-            } else {
-              r188 = l_delta180.y;
-            }
-            const int32_t t190 = add(r185, r188);
-            const bool t191 = (t190 <= int32_t(1));
-            if (t191) {
-              charge_built(s.core, 25, int64_t(int32_t(1)));
-              out135.push_back(S136{std::in_place_index<0>, x179});
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x179_list = g178;
+            charge_loop(budget, 25, int64_t(x179_list.size()));
+            for (const C0_Earth& x179 : x179_list) {
+              Pos l_delta180{};
+              const int32_t t181 = sub(x179.origin.x, g129.origin.x);
+              const int32_t t182 = sub(x179.origin.y, g129.origin.y);
+              const Pos t183 = Pos{t181, t182};
+              l_delta180 = t183;
+              const bool t184 = (l_delta180.x < int32_t(0));
+              int32_t r185{};
+              if (t184) {
+                const int32_t t186 = neg(l_delta180.x);
+                r185 = t186;
+              } else {
+                r185 = l_delta180.x;
+              }
+              const bool t187 = (l_delta180.y < int32_t(0));
+              int32_t r188{};
+              if (t187) {
+                const int32_t t189 = neg(l_delta180.y);
+                r188 = t189;
+              } else {
+                r188 = l_delta180.y;
+              }
+              const int32_t t190 = add(r185, r188);
+              const bool t191 = (t190 <= int32_t(1));
+              if (t191) {
+                charge_built(budget, 25, int64_t(int32_t(1)));
+                out135.push_back(S136{std::in_place_index<0>, x179});
+              }
             }
           }
+          give_back(s.core, budget);
         }
         const C2_Drain& g192 = s.g_drain_23;
         Pos l_delta193{};
@@ -972,65 +996,69 @@ struct Prog {
         std::vector<C4_Water>& kept218 = s.scratch.v.b16;
         kept218.clear();
         {
-          const auto& x219_list = g128;
-          charge_loop(s.core, 26, int64_t(x219_list.size()));
-          for (const C4_Water& x219 : x219_list) {
-            bool found220 = false;
-            {
-              const auto& y221_list = out135;
-              charge_loop(s.core, 26, int64_t(y221_list.size()));
-              for (const S136& y221 : y221_list) {
-                bool r222{};
-                switch (y221.index()) {
-                  case 0: {
-                    const C0_Earth a223 = std::get<0>(y221);
-                    const bool t224 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a223.uid))));
-                    r222 = t224;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x219_list = g128;
+            charge_loop(budget, 26, int64_t(x219_list.size()));
+            for (const C4_Water& x219 : x219_list) {
+              bool found220 = false;
+              {
+                const auto& y221_list = out135;
+                charge_loop(budget, 26, int64_t(y221_list.size()));
+                for (const S136& y221 : y221_list) {
+                  bool r222{};
+                  switch (y221.index()) {
+                    case 0: {
+                      const C0_Earth a223 = std::get<0>(y221);
+                      const bool t224 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a223.uid))));
+                      r222 = t224;
+                      break;
+                    }
+                    case 1: {
+                      const C1_House a225 = std::get<1>(y221);
+                      const bool t226 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a225.uid))));
+                      r222 = t226;
+                      break;
+                    }
+                    case 2: {
+                      const C3_Sandbag a227 = std::get<2>(y221);
+                      const bool t228 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a227.uid))));
+                      r222 = t228;
+                      break;
+                    }
+                    case 3: {
+                      const C4_Water a229 = std::get<3>(y221);
+                      const bool t230 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a229.uid))));
+                      r222 = t230;
+                      break;
+                    }
+                    case 4: {
+                      const C5_Spring a231 = std::get<4>(y221);
+                      const bool t232 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a231.uid))));
+                      r222 = t232;
+                      break;
+                    }
+                    case 5: {
+                      const C2_Drain a233 = std::get<5>(y221);
+                      const bool t234 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a233.uid))));
+                      r222 = t234;
+                      break;
+                    }
+                    default: break;
+                  }
+                  if ((false || r222)) {
+                    found220 = true;
                     break;
                   }
-                  case 1: {
-                    const C1_House a225 = std::get<1>(y221);
-                    const bool t226 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a225.uid))));
-                    r222 = t226;
-                    break;
-                  }
-                  case 2: {
-                    const C3_Sandbag a227 = std::get<2>(y221);
-                    const bool t228 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a227.uid))));
-                    r222 = t228;
-                    break;
-                  }
-                  case 3: {
-                    const C4_Water a229 = std::get<3>(y221);
-                    const bool t230 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a229.uid))));
-                    r222 = t230;
-                    break;
-                  }
-                  case 4: {
-                    const C5_Spring a231 = std::get<4>(y221);
-                    const bool t232 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a231.uid))));
-                    r222 = t232;
-                    break;
-                  }
-                  case 5: {
-                    const C2_Drain a233 = std::get<5>(y221);
-                    const bool t234 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a233.uid))));
-                    r222 = t234;
-                    break;
-                  }
-                  default: break;
-                }
-                if ((false || r222)) {
-                  found220 = true;
-                  break;
                 }
               }
-            }
-            if (!found220) {
-              charge_built(s.core, 26, int64_t(int32_t(1)));
-              kept218.push_back(x219);
+              if (!found220) {
+                charge_built(budget, 26, int64_t(int32_t(1)));
+                kept218.push_back(x219);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_water_10) {
           std::swap(s.scratch.v.p_water_9, s.g_water_7);
@@ -1111,338 +1139,342 @@ struct Prog {
         updated255.clear();
         updated255.reserve(size_t(int32_t(prev254.size())));
         {
-          const auto& x256_list = prev254;
-          charge_loop(s.core, 29, int64_t(x256_list.size()));
-          for (const C1_House& x256 : x256_list) {
-            // inlined: function at programs/flood_defense.au:60
-            const bool t257 = !x256.f0;
-            bool r258{};
-            if (t257) {
-              // inlined: function at programs/flood_defense.au:46
-              int32_t objects259 = int32_t(0);
-              const std::vector<C1_House>& g260 = s.g_houses_19;
-              charge_built(s.core, 30, int64_t(int32_t(g260.size())));
-              objects259 = add(objects259, int32_t(g260.size()));
-              const std::vector<C3_Sandbag>& g261 = s.g_bags_11;
-              charge_built(s.core, 30, int64_t(int32_t(g261.size())));
-              objects259 = add(objects259, int32_t(g261.size()));
-              const std::vector<C4_Water>& g262 = s.g_water_7;
-              charge_built(s.core, 30, int64_t(int32_t(g262.size())));
-              objects259 = add(objects259, int32_t(g262.size()));
-              const std::vector<C0_Earth>& g263 = s.g_earth_27;
-              charge_built(s.core, 30, int64_t(int32_t(g263.size())));
-              objects259 = add(objects259, int32_t(g263.size()));
-              charge_built(s.core, 30, int64_t(int32_t(1)));
-              objects259 = add(objects259, int32_t(1));
-              charge_built(s.core, 30, int64_t(int32_t(1)));
-              objects259 = add(objects259, int32_t(1));
-              check_appended_length(s.core, 30, int64_t(objects259));
-              std::vector<S136>& out264 = s.scratch.v.b19;
-              out264.clear();
-              const std::vector<C1_House>& g265 = s.g_houses_19;
-              {
-                const auto& x266_list = g265;
-                charge_loop(s.core, 31, int64_t(x266_list.size()));
-                for (const C1_House& x266 : x266_list) {
-                  Pos l_delta267{};
-                  const int32_t t268 = sub(x266.origin.x, x256.origin.x);
-                  const int32_t t269 = sub(x266.origin.y, x256.origin.y);
-                  const Pos t270 = Pos{t268, t269};
-                  l_delta267 = t270;
-                  const bool t271 = (l_delta267.x < int32_t(0));
-                  int32_t r272{};
-                  if (t271) {
-                    const int32_t t273 = neg(l_delta267.x);
-                    r272 = t273;
-                  } else {
-                    r272 = l_delta267.x;
-                  }
-                  const bool t274 = (l_delta267.y < int32_t(0));
-                  int32_t r275{};
-                  if (t274) {
-                    const int32_t t276 = neg(l_delta267.y);
-                    r275 = t276;
-                  } else {
-                    r275 = l_delta267.y;
-                  }
-                  const int32_t t277 = add(r272, r275);
-                  const bool t278 = (t277 <= int32_t(1));
-                  if (t278) {
-                    charge_built(s.core, 31, int64_t(int32_t(1)));
-                    out264.push_back(S136{std::in_place_index<1>, x266});
-                  }
-                }
-              }
-              const std::vector<C3_Sandbag>& g279 = s.g_bags_11;
-              {
-                const auto& x280_list = g279;
-                charge_loop(s.core, 31, int64_t(x280_list.size()));
-                for (const C3_Sandbag& x280 : x280_list) {
-                  Pos l_delta281{};
-                  const int32_t t282 = sub(x280.origin.x, x256.origin.x);
-                  const int32_t t283 = sub(x280.origin.y, x256.origin.y);
-                  const Pos t284 = Pos{t282, t283};
-                  l_delta281 = t284;
-                  const bool t285 = (l_delta281.x < int32_t(0));
-                  int32_t r286{};
-                  if (t285) {
-                    const int32_t t287 = neg(l_delta281.x);
-                    r286 = t287;
-                  } else {
-                    r286 = l_delta281.x;
-                  }
-                  const bool t288 = (l_delta281.y < int32_t(0));
-                  int32_t r289{};
-                  if (t288) {
-                    const int32_t t290 = neg(l_delta281.y);
-                    r289 = t290;
-                  } else {
-                    r289 = l_delta281.y;
-                  }
-                  const int32_t t291 = add(r286, r289);
-                  const bool t292 = (t291 <= int32_t(1));
-                  if (t292) {
-                    charge_built(s.core, 31, int64_t(int32_t(1)));
-                    out264.push_back(S136{std::in_place_index<2>, x280});
-                  }
-                }
-              }
-              const std::vector<C4_Water>& g293 = s.g_water_7;
-              {
-                const auto& x294_list = g293;
-                charge_loop(s.core, 31, int64_t(x294_list.size()));
-                for (const C4_Water& x294 : x294_list) {
-                  Pos l_delta295{};
-                  const int32_t t296 = sub(x294.origin.x, x256.origin.x);
-                  const int32_t t297 = sub(x294.origin.y, x256.origin.y);
-                  const Pos t298 = Pos{t296, t297};
-                  l_delta295 = t298;
-                  const bool t299 = (l_delta295.x < int32_t(0));
-                  int32_t r300{};
-                  if (t299) {
-                    const int32_t t301 = neg(l_delta295.x);
-                    r300 = t301;
-                  } else {
-                    r300 = l_delta295.x;
-                  }
-                  const bool t302 = (l_delta295.y < int32_t(0));
-                  int32_t r303{};
-                  if (t302) {
-                    const int32_t t304 = neg(l_delta295.y);
-                    r303 = t304;
-                  } else {
-                    r303 = l_delta295.y;
-                  }
-                  const int32_t t305 = add(r300, r303);
-                  const bool t306 = (t305 <= int32_t(1));
-                  if (t306) {
-                    charge_built(s.core, 31, int64_t(int32_t(1)));
-                    out264.push_back(S136{std::in_place_index<3>, x294});
-                  }
-                }
-              }
-              const std::vector<C0_Earth>& g307 = s.g_earth_27;
-              {
-                const auto& x308_list = g307;
-                charge_loop(s.core, 31, int64_t(x308_list.size()));
-                for (const C0_Earth& x308 : x308_list) {
-                  Pos l_delta309{};
-                  const int32_t t310 = sub(x308.origin.x, x256.origin.x);
-                  const int32_t t311 = sub(x308.origin.y, x256.origin.y);
-                  const Pos t312 = Pos{t310, t311};
-                  l_delta309 = t312;
-                  const bool t313 = (l_delta309.x < int32_t(0));
-                  int32_t r314{};
-                  if (t313) {
-                    const int32_t t315 = neg(l_delta309.x);
-                    r314 = t315;
-                  } else {
-                    r314 = l_delta309.x;
-                  }
-                  const bool t316 = (l_delta309.y < int32_t(0));
-                  int32_t r317{};
-                  if (t316) {
-                    const int32_t t318 = neg(l_delta309.y);
-                    r317 = t318;
-                  } else {
-                    r317 = l_delta309.y;
-                  }
-                  const int32_t t319 = add(r314, r317);
-                  const bool t320 = (t319 <= int32_t(1));
-                  if (t320) {
-                    charge_built(s.core, 31, int64_t(int32_t(1)));
-                    out264.push_back(S136{std::in_place_index<0>, x308});
-                  }
-                }
-              }
-              const C2_Drain& g321 = s.g_drain_23;
-              Pos l_delta322{};
-              const int32_t t323 = sub(g321.origin.x, x256.origin.x);
-              const int32_t t324 = sub(g321.origin.y, x256.origin.y);
-              const Pos t325 = Pos{t323, t324};
-              l_delta322 = t325;
-              const bool t326 = (l_delta322.x < int32_t(0));
-              int32_t r327{};
-              if (t326) {
-                const int32_t t328 = neg(l_delta322.x);
-                r327 = t328;
-              } else {
-                r327 = l_delta322.x;
-              }
-              const bool t329 = (l_delta322.y < int32_t(0));
-              int32_t r330{};
-              if (t329) {
-                const int32_t t331 = neg(l_delta322.y);
-                r330 = t331;
-              } else {
-                r330 = l_delta322.y;
-              }
-              const int32_t t332 = add(r327, r330);
-              const bool t333 = (t332 <= int32_t(1));
-              if (t333) {
-                charge_built(s.core, 31, int64_t(int32_t(1)));
-                out264.push_back(S136{std::in_place_index<5>, g321});
-              }
-              const C5_Spring& g334 = s.g_spring_15;
-              Pos l_delta335{};
-              const int32_t t336 = sub(g334.origin.x, x256.origin.x);
-              const int32_t t337 = sub(g334.origin.y, x256.origin.y);
-              const Pos t338 = Pos{t336, t337};
-              l_delta335 = t338;
-              const bool t339 = (l_delta335.x < int32_t(0));
-              int32_t r340{};
-              if (t339) {
-                const int32_t t341 = neg(l_delta335.x);
-                r340 = t341;
-              } else {
-                r340 = l_delta335.x;
-              }
-              const bool t342 = (l_delta335.y < int32_t(0));
-              int32_t r343{};
-              if (t342) {
-                const int32_t t344 = neg(l_delta335.y);
-                r343 = t344;
-              } else {
-                r343 = l_delta335.y;
-              }
-              const int32_t t345 = add(r340, r343);
-              const bool t346 = (t345 <= int32_t(1));
-              if (t346) {
-                charge_built(s.core, 31, int64_t(int32_t(1)));
-                out264.push_back(S136{std::in_place_index<4>, g334});
-              }
-              const std::vector<C4_Water>& g347 = s.g_water_7;
-              std::vector<Elem>& rendered348 = s.scratch.v.b20;
-              rendered348.clear();
-              {
-                const auto& x349_list = out264;
-                charge_loop(s.core, 32, int64_t(x349_list.size()));
-                for (const S136& x349 : x349_list) {
-                  int32_t r350{};
-                  switch (x349.index()) {
-                    case 0: {
-                      const C0_Earth a351 = std::get<0>(x349);
-                      rendered348.push_back(Elem{Pos{add(a351.origin.x, int32_t(0)), add(a351.origin.y, int32_t(0))}, int32_t(3)});
-                      r350 = int32_t(0);
-                      break;
-                    }
-                    case 1: {
-                      const C1_House a352 = std::get<1>(x349);
-                      const int32_t colour353 = colour_3_C1_House(s, a352);
-                      rendered348.push_back(Elem{Pos{add(a352.origin.x, int32_t(0)), add(a352.origin.y, int32_t(0))}, colour353});
-                      r350 = int32_t(0);
-                      break;
-                    }
-                    case 2: {
-                      const C3_Sandbag a354 = std::get<2>(x349);
-                      rendered348.push_back(Elem{Pos{add(a354.origin.x, int32_t(0)), add(a354.origin.y, int32_t(0))}, int32_t(8)});
-                      r350 = int32_t(0);
-                      break;
-                    }
-                    case 3: {
-                      const C4_Water a355 = std::get<3>(x349);
-                      rendered348.push_back(Elem{Pos{add(a355.origin.x, int32_t(0)), add(a355.origin.y, int32_t(0))}, int32_t(4)});
-                      r350 = int32_t(0);
-                      break;
-                    }
-                    case 4: {
-                      const C5_Spring a356 = std::get<4>(x349);
-                      rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(-1)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
-                      rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(0)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
-                      rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(1)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
-                      r350 = int32_t(0);
-                      break;
-                    }
-                    case 5: {
-                      const C2_Drain a357 = std::get<5>(x349);
-                      rendered348.push_back(Elem{Pos{add(a357.origin.x, int32_t(0)), add(a357.origin.y, int32_t(0))}, int32_t(0)});
-                      r350 = int32_t(0);
-                      break;
-                    }
-                    default: break;
-                  }
-                }
-              }
-              std::vector<Elem>& rendered358 = s.scratch.v.b21;
-              rendered358.clear();
-              {
-                const auto& x359_list = g347;
-                charge_loop(s.core, 33, int64_t(x359_list.size()));
-                for (const C4_Water& x359 : x359_list) {
-                  rendered358.push_back(Elem{Pos{add(x359.origin.x, int32_t(0)), add(x359.origin.y, int32_t(0))}, int32_t(4)});
-                }
-              }
-              const int32_t t360 = int32_t(rendered348.size());
-              const bool t361 = (t360 == int32_t(0));
-              bool r362{};
-              if (!t361) {
-                const int32_t t363 = int32_t(rendered358.size());
-                const bool t364 = (t363 == int32_t(0));
-                r362 = t364;
-              } else {
-                r362 = true;
-              }
-              bool r365{};
-              if (r362) {
-                r365 = false;
-              } else {
-                bool any366 = false;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x256_list = prev254;
+            charge_loop(budget, 29, int64_t(x256_list.size()));
+            for (const C1_House& x256 : x256_list) {
+              // inlined: function at programs/flood_defense.au:60
+              const bool t257 = !x256.f0;
+              bool r258{};
+              if (t257) {
+                // inlined: function at programs/flood_defense.au:46
+                int32_t objects259 = int32_t(0);
+                const std::vector<C1_House>& g260 = s.g_houses_19;
+                charge_built(budget, 30, int64_t(int32_t(g260.size())));
+                objects259 = add(objects259, int32_t(g260.size()));
+                const std::vector<C3_Sandbag>& g261 = s.g_bags_11;
+                charge_built(budget, 30, int64_t(int32_t(g261.size())));
+                objects259 = add(objects259, int32_t(g261.size()));
+                const std::vector<C4_Water>& g262 = s.g_water_7;
+                charge_built(budget, 30, int64_t(int32_t(g262.size())));
+                objects259 = add(objects259, int32_t(g262.size()));
+                const std::vector<C0_Earth>& g263 = s.g_earth_27;
+                charge_built(budget, 30, int64_t(int32_t(g263.size())));
+                objects259 = add(objects259, int32_t(g263.size()));
+                charge_built(budget, 30, int64_t(int32_t(1)));
+                objects259 = add(objects259, int32_t(1));
+                charge_built(budget, 30, int64_t(int32_t(1)));
+                objects259 = add(objects259, int32_t(1));
+                check_appended_length(s.core, 30, int64_t(objects259));
+                std::vector<S136>& out264 = s.scratch.v.b19;
+                out264.clear();
+                const std::vector<C1_House>& g265 = s.g_houses_19;
                 {
-                  const auto& x367_list = rendered348;
-                  charge_loop(s.core, 34, int64_t(x367_list.size()));
-                  for (const Elem& x367 : x367_list) {
-                    bool any368 = false;
-                    {
-                      const auto& x369_list = rendered358;
-                      charge_loop(s.core, 35, int64_t(x369_list.size()));
-                      for (const Elem& x369 : x369_list) {
-                        const bool t370 = (x367.position == x369.position);
-                        if (t370) {
-                          any368 = true;
-                          break;
+                  const auto& x266_list = g265;
+                  charge_loop(budget, 31, int64_t(x266_list.size()));
+                  for (const C1_House& x266 : x266_list) {
+                    Pos l_delta267{};
+                    const int32_t t268 = sub(x266.origin.x, x256.origin.x);
+                    const int32_t t269 = sub(x266.origin.y, x256.origin.y);
+                    const Pos t270 = Pos{t268, t269};
+                    l_delta267 = t270;
+                    const bool t271 = (l_delta267.x < int32_t(0));
+                    int32_t r272{};
+                    if (t271) {
+                      const int32_t t273 = neg(l_delta267.x);
+                      r272 = t273;
+                    } else {
+                      r272 = l_delta267.x;
+                    }
+                    const bool t274 = (l_delta267.y < int32_t(0));
+                    int32_t r275{};
+                    if (t274) {
+                      const int32_t t276 = neg(l_delta267.y);
+                      r275 = t276;
+                    } else {
+                      r275 = l_delta267.y;
+                    }
+                    const int32_t t277 = add(r272, r275);
+                    const bool t278 = (t277 <= int32_t(1));
+                    if (t278) {
+                      charge_built(budget, 31, int64_t(int32_t(1)));
+                      out264.push_back(S136{std::in_place_index<1>, x266});
+                    }
+                  }
+                }
+                const std::vector<C3_Sandbag>& g279 = s.g_bags_11;
+                {
+                  const auto& x280_list = g279;
+                  charge_loop(budget, 31, int64_t(x280_list.size()));
+                  for (const C3_Sandbag& x280 : x280_list) {
+                    Pos l_delta281{};
+                    const int32_t t282 = sub(x280.origin.x, x256.origin.x);
+                    const int32_t t283 = sub(x280.origin.y, x256.origin.y);
+                    const Pos t284 = Pos{t282, t283};
+                    l_delta281 = t284;
+                    const bool t285 = (l_delta281.x < int32_t(0));
+                    int32_t r286{};
+                    if (t285) {
+                      const int32_t t287 = neg(l_delta281.x);
+                      r286 = t287;
+                    } else {
+                      r286 = l_delta281.x;
+                    }
+                    const bool t288 = (l_delta281.y < int32_t(0));
+                    int32_t r289{};
+                    if (t288) {
+                      const int32_t t290 = neg(l_delta281.y);
+                      r289 = t290;
+                    } else {
+                      r289 = l_delta281.y;
+                    }
+                    const int32_t t291 = add(r286, r289);
+                    const bool t292 = (t291 <= int32_t(1));
+                    if (t292) {
+                      charge_built(budget, 31, int64_t(int32_t(1)));
+                      out264.push_back(S136{std::in_place_index<2>, x280});
+                    }
+                  }
+                }
+                const std::vector<C4_Water>& g293 = s.g_water_7;
+                {
+                  const auto& x294_list = g293;
+                  charge_loop(budget, 31, int64_t(x294_list.size()));
+                  for (const C4_Water& x294 : x294_list) {
+                    Pos l_delta295{};
+                    const int32_t t296 = sub(x294.origin.x, x256.origin.x);
+                    const int32_t t297 = sub(x294.origin.y, x256.origin.y);
+                    const Pos t298 = Pos{t296, t297};
+                    l_delta295 = t298;
+                    const bool t299 = (l_delta295.x < int32_t(0));
+                    int32_t r300{};
+                    if (t299) {
+                      const int32_t t301 = neg(l_delta295.x);
+                      r300 = t301;
+                    } else {
+                      r300 = l_delta295.x;
+                    }
+                    const bool t302 = (l_delta295.y < int32_t(0));
+                    int32_t r303{};
+                    if (t302) {
+                      const int32_t t304 = neg(l_delta295.y);
+                      r303 = t304;
+                    } else {
+                      r303 = l_delta295.y;
+                    }
+                    const int32_t t305 = add(r300, r303);
+                    const bool t306 = (t305 <= int32_t(1));
+                    if (t306) {
+                      charge_built(budget, 31, int64_t(int32_t(1)));
+                      out264.push_back(S136{std::in_place_index<3>, x294});
+                    }
+                  }
+                }
+                const std::vector<C0_Earth>& g307 = s.g_earth_27;
+                {
+                  const auto& x308_list = g307;
+                  charge_loop(budget, 31, int64_t(x308_list.size()));
+                  for (const C0_Earth& x308 : x308_list) {
+                    Pos l_delta309{};
+                    const int32_t t310 = sub(x308.origin.x, x256.origin.x);
+                    const int32_t t311 = sub(x308.origin.y, x256.origin.y);
+                    const Pos t312 = Pos{t310, t311};
+                    l_delta309 = t312;
+                    const bool t313 = (l_delta309.x < int32_t(0));
+                    int32_t r314{};
+                    if (t313) {
+                      const int32_t t315 = neg(l_delta309.x);
+                      r314 = t315;
+                    } else {
+                      r314 = l_delta309.x;
+                    }
+                    const bool t316 = (l_delta309.y < int32_t(0));
+                    int32_t r317{};
+                    if (t316) {
+                      const int32_t t318 = neg(l_delta309.y);
+                      r317 = t318;
+                    } else {
+                      r317 = l_delta309.y;
+                    }
+                    const int32_t t319 = add(r314, r317);
+                    const bool t320 = (t319 <= int32_t(1));
+                    if (t320) {
+                      charge_built(budget, 31, int64_t(int32_t(1)));
+                      out264.push_back(S136{std::in_place_index<0>, x308});
+                    }
+                  }
+                }
+                const C2_Drain& g321 = s.g_drain_23;
+                Pos l_delta322{};
+                const int32_t t323 = sub(g321.origin.x, x256.origin.x);
+                const int32_t t324 = sub(g321.origin.y, x256.origin.y);
+                const Pos t325 = Pos{t323, t324};
+                l_delta322 = t325;
+                const bool t326 = (l_delta322.x < int32_t(0));
+                int32_t r327{};
+                if (t326) {
+                  const int32_t t328 = neg(l_delta322.x);
+                  r327 = t328;
+                } else {
+                  r327 = l_delta322.x;
+                }
+                const bool t329 = (l_delta322.y < int32_t(0));
+                int32_t r330{};
+                if (t329) {
+                  const int32_t t331 = neg(l_delta322.y);
+                  r330 = t331;
+                } else {
+                  r330 = l_delta322.y;
+                }
+                const int32_t t332 = add(r327, r330);
+                const bool t333 = (t332 <= int32_t(1));
+                if (t333) {
+                  charge_built(budget, 31, int64_t(int32_t(1)));
+                  out264.push_back(S136{std::in_place_index<5>, g321});
+                }
+                const C5_Spring& g334 = s.g_spring_15;
+                Pos l_delta335{};
+                const int32_t t336 = sub(g334.origin.x, x256.origin.x);
+                const int32_t t337 = sub(g334.origin.y, x256.origin.y);
+                const Pos t338 = Pos{t336, t337};
+                l_delta335 = t338;
+                const bool t339 = (l_delta335.x < int32_t(0));
+                int32_t r340{};
+                if (t339) {
+                  const int32_t t341 = neg(l_delta335.x);
+                  r340 = t341;
+                } else {
+                  r340 = l_delta335.x;
+                }
+                const bool t342 = (l_delta335.y < int32_t(0));
+                int32_t r343{};
+                if (t342) {
+                  const int32_t t344 = neg(l_delta335.y);
+                  r343 = t344;
+                } else {
+                  r343 = l_delta335.y;
+                }
+                const int32_t t345 = add(r340, r343);
+                const bool t346 = (t345 <= int32_t(1));
+                if (t346) {
+                  charge_built(budget, 31, int64_t(int32_t(1)));
+                  out264.push_back(S136{std::in_place_index<4>, g334});
+                }
+                const std::vector<C4_Water>& g347 = s.g_water_7;
+                std::vector<Elem>& rendered348 = s.scratch.v.b20;
+                rendered348.clear();
+                {
+                  const auto& x349_list = out264;
+                  charge_loop(budget, 32, int64_t(x349_list.size()));
+                  for (const S136& x349 : x349_list) {
+                    int32_t r350{};
+                    switch (x349.index()) {
+                      case 0: {
+                        const C0_Earth a351 = std::get<0>(x349);
+                        rendered348.push_back(Elem{Pos{add(a351.origin.x, int32_t(0)), add(a351.origin.y, int32_t(0))}, int32_t(3)});
+                        r350 = int32_t(0);
+                        break;
+                      }
+                      case 1: {
+                        const C1_House a352 = std::get<1>(x349);
+                        const int32_t colour353 = colour_3_C1_House(s, a352);
+                        rendered348.push_back(Elem{Pos{add(a352.origin.x, int32_t(0)), add(a352.origin.y, int32_t(0))}, colour353});
+                        r350 = int32_t(0);
+                        break;
+                      }
+                      case 2: {
+                        const C3_Sandbag a354 = std::get<2>(x349);
+                        rendered348.push_back(Elem{Pos{add(a354.origin.x, int32_t(0)), add(a354.origin.y, int32_t(0))}, int32_t(8)});
+                        r350 = int32_t(0);
+                        break;
+                      }
+                      case 3: {
+                        const C4_Water a355 = std::get<3>(x349);
+                        rendered348.push_back(Elem{Pos{add(a355.origin.x, int32_t(0)), add(a355.origin.y, int32_t(0))}, int32_t(4)});
+                        r350 = int32_t(0);
+                        break;
+                      }
+                      case 4: {
+                        const C5_Spring a356 = std::get<4>(x349);
+                        rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(-1)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
+                        rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(0)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
+                        rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(1)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
+                        r350 = int32_t(0);
+                        break;
+                      }
+                      case 5: {
+                        const C2_Drain a357 = std::get<5>(x349);
+                        rendered348.push_back(Elem{Pos{add(a357.origin.x, int32_t(0)), add(a357.origin.y, int32_t(0))}, int32_t(0)});
+                        r350 = int32_t(0);
+                        break;
+                      }
+                      default: break;
+                    }
+                  }
+                }
+                std::vector<Elem>& rendered358 = s.scratch.v.b21;
+                rendered358.clear();
+                {
+                  const auto& x359_list = g347;
+                  charge_loop(budget, 33, int64_t(x359_list.size()));
+                  for (const C4_Water& x359 : x359_list) {
+                    rendered358.push_back(Elem{Pos{add(x359.origin.x, int32_t(0)), add(x359.origin.y, int32_t(0))}, int32_t(4)});
+                  }
+                }
+                const int32_t t360 = int32_t(rendered348.size());
+                const bool t361 = (t360 == int32_t(0));
+                bool r362{};
+                if (!t361) {
+                  const int32_t t363 = int32_t(rendered358.size());
+                  const bool t364 = (t363 == int32_t(0));
+                  r362 = t364;
+                } else {
+                  r362 = true;
+                }
+                bool r365{};
+                if (r362) {
+                  r365 = false;
+                } else {
+                  bool any366 = false;
+                  {
+                    const auto& x367_list = rendered348;
+                    charge_loop(budget, 34, int64_t(x367_list.size()));
+                    for (const Elem& x367 : x367_list) {
+                      bool any368 = false;
+                      {
+                        const auto& x369_list = rendered358;
+                        charge_loop(budget, 35, int64_t(x369_list.size()));
+                        for (const Elem& x369 : x369_list) {
+                          const bool t370 = (x367.position == x369.position);
+                          if (t370) {
+                            any368 = true;
+                            break;
+                          }
                         }
                       }
-                    }
-                    if (any368) {
-                      any366 = true;
-                      break;
+                      if (any368) {
+                        any366 = true;
+                        break;
+                      }
                     }
                   }
+                  r365 = any366;
                 }
-                r365 = any366;
+                r258 = r365;
+              } else {
+                r258 = false;
               }
-              r258 = r365;
-            } else {
-              r258 = false;
-            }
-            if (r258) {
-              // inlined: function at programs/flood_defense.au:60
-              C1_House upd371 = C1_House{true, x256.origin, s.core.ids.fresh()};
-              updated255.push_back(std::move(upd371));
-            } else {
-              updated255.push_back(x256);
+              if (r258) {
+                // inlined: function at programs/flood_defense.au:60
+                C1_House upd371 = C1_House{true, x256.origin, s.core.ids.fresh()};
+                updated255.push_back(std::move(upd371));
+              } else {
+                updated255.push_back(x256);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_houses_22) {
           std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
@@ -1537,25 +1569,29 @@ struct Prog {
         std::vector<C3_Sandbag>& kept392 = s.scratch.v.b23;
         kept392.clear();
         {
-          const auto& x393_list = prev391;
-          charge_loop(s.core, 39, int64_t(x393_list.size()));
-          for (const C3_Sandbag& x393 : x393_list) {
-            // inlined: function at programs/flood_defense.au:64
-            bool clicked394 = false;
-            if (s.core.click) {
-              s.d_click_36 = true;
-              const Pos t395 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_35 = t395;
-              const Elem e396 = Elem{Pos{add(x393.origin.x, int32_t(0)), add(x393.origin.y, int32_t(0))}, int32_t(8)};
-              if ((e396.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked394 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x393_list = prev391;
+            charge_loop(budget, 39, int64_t(x393_list.size()));
+            for (const C3_Sandbag& x393 : x393_list) {
+              // inlined: function at programs/flood_defense.au:64
+              bool clicked394 = false;
+              if (s.core.click) {
+                s.d_click_36 = true;
+                const Pos t395 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_35 = t395;
+                const Elem e396 = Elem{Pos{add(x393.origin.x, int32_t(0)), add(x393.origin.y, int32_t(0))}, int32_t(8)};
+                if ((e396.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked394 = true;
+                }
+              }
+              if (!clicked394) {
+                charge_built(budget, 39, int64_t(int32_t(1)));
+                kept392.push_back(x393);
               }
             }
-            if (!clicked394) {
-              charge_built(s.core, 39, int64_t(int32_t(1)));
-              kept392.push_back(x393);
-            }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_bags_14) {
           std::swap(s.scratch.v.p_bags_13, s.g_bags_11);

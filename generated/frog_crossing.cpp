@@ -373,139 +373,143 @@ struct Prog {
     charge_built(s.core, 0, int64_t(g12.size()));
     out13.reserve(size_t(int32_t(g12.size())));
     {
-      const auto& x14_list = g12;
-      charge_loop(s.core, 0, int64_t(x14_list.size()));
-      for (const std::vector<int32_t>& x14 : x14_list) {
-        // inlined: function at programs/frog_crossing.au:25
-        int32_t l_start15{};
-        int32_t l_gap16{};
-        const std::vector<int32_t> list17 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
-        if (list17.empty()) {
-          fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
-        }
-        const int32_t t18 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list17.size())))));
-        const int32_t t19 = list17[size_t(t18)];
-        l_start15 = t19;
-        if (x14.empty()) {
-          fail_at(2, std::string() + std::string("at: empty list"));
-        }
-        if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
-          fail_at(2, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
-        }
-        const int32_t t20 = x14[size_t(int32_t(4))];
-        if ((t20 == int32_t(0))) {
-          fail_at(3, std::string() + std::string("division by zero in '/' (the reference interpreter crashes here)"));
-        }
-        if (((int32_t(12) == int32_t(-2147483648LL)) && (t20 == int32_t(-1)))) {
-          fail_at(3, std::string() + std::string("integer overflow in '/' (the reference interpreter crashes here)"));
-        }
-        const int32_t t21 = autumn::arith::div_unchecked(int32_t(12), t20);
-        l_gap16 = t21;
-        if (x14.empty()) {
-          fail_at(4, std::string() + std::string("at: empty list"));
-        }
-        if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
-          fail_at(4, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
-        }
-        const int32_t t22 = x14[size_t(int32_t(4))];
-        check_length(s.core, 5, int64_t(t22) - int64_t(int32_t(0)));
-        charge_built(s.core, 5, int64_t(t22) - int64_t(int32_t(0)));
-        std::vector<int32_t>& range23 = s.scratch.v.b1;
-        range23.clear();
-        {
-          const int32_t i24_first = int32_t(0), i24_end = t22;
-          charge_loop(s.core, 5, int64_t(i24_end) - i24_first);
-          for (int32_t i24 = i24_first; i24 < i24_end; ++i24) {
-            range23.push_back(i24);
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x14_list = g12;
+        charge_loop(budget, 0, int64_t(x14_list.size()));
+        for (const std::vector<int32_t>& x14 : x14_list) {
+          // inlined: function at programs/frog_crossing.au:25
+          int32_t l_start15{};
+          int32_t l_gap16{};
+          const std::vector<int32_t> list17 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
+          if (list17.empty()) {
+            fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
           }
-        }
-        std::vector<C3_Car> out25{};
-        charge_built(s.core, 6, int64_t(range23.size()));
-        out25.reserve(size_t(int32_t(range23.size())));
-        {
-          const auto& x26_list = range23;
-          charge_loop(s.core, 6, int64_t(x26_list.size()));
-          for (const int32_t& x26 : x26_list) {
-            // inlined: function at programs/frog_crossing.au:28
-            if (x14.empty()) {
-              fail_at(7, std::string() + std::string("at: empty list"));
-            }
-            if (((int32_t(2) < int32_t(0)) || (int32_t(2) >= int32_t(x14.size())))) {
-              fail_at(7, std::string() + std::string("at: index ") + std::to_string(int32_t(2)) + std::string(" out of bounds"));
-            }
-            const int32_t t27 = x14[size_t(int32_t(2))];
-            if (x14.empty()) {
-              fail_at(8, std::string() + std::string("at: empty list"));
-            }
-            if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
-              fail_at(8, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
-            }
-            const int32_t t28 = x14[size_t(int32_t(1))];
-            if (x14.empty()) {
-              fail_at(9, std::string() + std::string("at: empty list"));
-            }
-            if (((int32_t(3) < int32_t(0)) || (int32_t(3) >= int32_t(x14.size())))) {
-              fail_at(9, std::string() + std::string("at: index ") + std::to_string(int32_t(3)) + std::string(" out of bounds"));
-            }
-            const int32_t t29 = x14[size_t(int32_t(3))];
-            if (x14.empty()) {
-              fail_at(10, std::string() + std::string("at: empty list"));
-            }
-            if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
-              fail_at(10, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
-            }
-            const int32_t t30 = x14[size_t(int32_t(1))];
-            const bool t31 = (t30 == int32_t(1));
-            int32_t r32{};
-            if (t31) {
-              r32 = int32_t(3);
-            } else {
-              r32 = int32_t(4);
-            }
-            const int32_t t33 = mul(x26, l_gap16);
-            const int32_t t34 = add(l_start15, t33);
-            const int32_t t35 = autumn::arith::mod_unchecked(t34, int32_t(12));
-            const int32_t t36 = sub(t35, int32_t(1));
-            if (x14.empty()) {
-              fail_at(11, std::string() + std::string("at: empty list"));
-            }
-            if (((int32_t(0) < int32_t(0)) || (int32_t(0) >= int32_t(x14.size())))) {
-              fail_at(11, std::string() + std::string("at: index ") + std::to_string(int32_t(0)) + std::string(" out of bounds"));
-            }
-            const int32_t t37 = x14[size_t(int32_t(0))];
-            const Pos t38 = Pos{t36, t37};
-            std::vector<CellV> l_allCells39{};
-            check_length(s.core, 12, int64_t(t29) - int64_t(int32_t(0)));
-            charge_built(s.core, 12, int64_t(t29) - int64_t(int32_t(0)));
-            std::vector<int32_t>& range40 = s.scratch.v.b2;
-            range40.clear();
-            {
-              const int32_t i41_first = int32_t(0), i41_end = t29;
-              charge_loop(s.core, 12, int64_t(i41_end) - i41_first);
-              for (int32_t i41 = i41_first; i41 < i41_end; ++i41) {
-                range40.push_back(i41);
-              }
-            }
-            std::vector<CellV>& out42 = s.scratch.v.b3;
-            out42.clear();
-            charge_built(s.core, 13, int64_t(range40.size()));
-            out42.reserve(size_t(int32_t(range40.size())));
-            {
-              const auto& x43_list = range40;
-              charge_loop(s.core, 13, int64_t(x43_list.size()));
-              for (const int32_t& x43 : x43_list) {
-                // inlined: function at programs/frog_crossing.au:14
-                const CellV cell44 = CellV{x43, int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
-                out42.push_back(cell44);
-              }
-            }
-            std::swap(l_allCells39, out42);
-            C3_Car o45 = C3_Car{t27, t28, t29, r32, t38, std::move(l_allCells39)};
-            out25.push_back(std::move(o45));
+          const int32_t t18 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list17.size())))));
+          const int32_t t19 = list17[size_t(t18)];
+          l_start15 = t19;
+          if (x14.empty()) {
+            fail_at(2, std::string() + std::string("at: empty list"));
           }
+          if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
+            fail_at(2, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
+          }
+          const int32_t t20 = x14[size_t(int32_t(4))];
+          if ((t20 == int32_t(0))) {
+            fail_at(3, std::string() + std::string("division by zero in '/' (the reference interpreter crashes here)"));
+          }
+          if (((int32_t(12) == int32_t(-2147483648LL)) && (t20 == int32_t(-1)))) {
+            fail_at(3, std::string() + std::string("integer overflow in '/' (the reference interpreter crashes here)"));
+          }
+          const int32_t t21 = autumn::arith::div_unchecked(int32_t(12), t20);
+          l_gap16 = t21;
+          if (x14.empty()) {
+            fail_at(4, std::string() + std::string("at: empty list"));
+          }
+          if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
+            fail_at(4, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
+          }
+          const int32_t t22 = x14[size_t(int32_t(4))];
+          check_length(s.core, 5, int64_t(t22) - int64_t(int32_t(0)));
+          charge_built(budget, 5, int64_t(t22) - int64_t(int32_t(0)));
+          std::vector<int32_t>& range23 = s.scratch.v.b1;
+          range23.clear();
+          {
+            const int32_t i24_first = int32_t(0), i24_end = t22;
+            charge_loop(budget, 5, int64_t(i24_end) - i24_first);
+            for (int32_t i24 = i24_first; i24 < i24_end; ++i24) {
+              range23.push_back(i24);
+            }
+          }
+          std::vector<C3_Car> out25{};
+          charge_built(budget, 6, int64_t(range23.size()));
+          out25.reserve(size_t(int32_t(range23.size())));
+          {
+            const auto& x26_list = range23;
+            charge_loop(budget, 6, int64_t(x26_list.size()));
+            for (const int32_t& x26 : x26_list) {
+              // inlined: function at programs/frog_crossing.au:28
+              if (x14.empty()) {
+                fail_at(7, std::string() + std::string("at: empty list"));
+              }
+              if (((int32_t(2) < int32_t(0)) || (int32_t(2) >= int32_t(x14.size())))) {
+                fail_at(7, std::string() + std::string("at: index ") + std::to_string(int32_t(2)) + std::string(" out of bounds"));
+              }
+              const int32_t t27 = x14[size_t(int32_t(2))];
+              if (x14.empty()) {
+                fail_at(8, std::string() + std::string("at: empty list"));
+              }
+              if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
+                fail_at(8, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
+              }
+              const int32_t t28 = x14[size_t(int32_t(1))];
+              if (x14.empty()) {
+                fail_at(9, std::string() + std::string("at: empty list"));
+              }
+              if (((int32_t(3) < int32_t(0)) || (int32_t(3) >= int32_t(x14.size())))) {
+                fail_at(9, std::string() + std::string("at: index ") + std::to_string(int32_t(3)) + std::string(" out of bounds"));
+              }
+              const int32_t t29 = x14[size_t(int32_t(3))];
+              if (x14.empty()) {
+                fail_at(10, std::string() + std::string("at: empty list"));
+              }
+              if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
+                fail_at(10, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
+              }
+              const int32_t t30 = x14[size_t(int32_t(1))];
+              const bool t31 = (t30 == int32_t(1));
+              int32_t r32{};
+              if (t31) {
+                r32 = int32_t(3);
+              } else {
+                r32 = int32_t(4);
+              }
+              const int32_t t33 = mul(x26, l_gap16);
+              const int32_t t34 = add(l_start15, t33);
+              const int32_t t35 = autumn::arith::mod_unchecked(t34, int32_t(12));
+              const int32_t t36 = sub(t35, int32_t(1));
+              if (x14.empty()) {
+                fail_at(11, std::string() + std::string("at: empty list"));
+              }
+              if (((int32_t(0) < int32_t(0)) || (int32_t(0) >= int32_t(x14.size())))) {
+                fail_at(11, std::string() + std::string("at: index ") + std::to_string(int32_t(0)) + std::string(" out of bounds"));
+              }
+              const int32_t t37 = x14[size_t(int32_t(0))];
+              const Pos t38 = Pos{t36, t37};
+              std::vector<CellV> l_allCells39{};
+              check_length(s.core, 12, int64_t(t29) - int64_t(int32_t(0)));
+              charge_built(budget, 12, int64_t(t29) - int64_t(int32_t(0)));
+              std::vector<int32_t>& range40 = s.scratch.v.b2;
+              range40.clear();
+              {
+                const int32_t i41_first = int32_t(0), i41_end = t29;
+                charge_loop(budget, 12, int64_t(i41_end) - i41_first);
+                for (int32_t i41 = i41_first; i41 < i41_end; ++i41) {
+                  range40.push_back(i41);
+                }
+              }
+              std::vector<CellV>& out42 = s.scratch.v.b3;
+              out42.clear();
+              charge_built(budget, 13, int64_t(range40.size()));
+              out42.reserve(size_t(int32_t(range40.size())));
+              {
+                const auto& x43_list = range40;
+                charge_loop(budget, 13, int64_t(x43_list.size()));
+                for (const int32_t& x43 : x43_list) {
+                  // inlined: function at programs/frog_crossing.au:14
+                  const CellV cell44 = CellV{x43, int32_t(0), int32_t(0), int16_t(int32_t(-1)), int16_t(int32_t(-1)), int16_t(int32_t(4))};
+                  out42.push_back(cell44);
+                }
+              }
+              std::swap(l_allCells39, out42);
+              C3_Car o45 = C3_Car{t27, t28, t29, r32, t38, std::move(l_allCells39)};
+              out25.push_back(std::move(o45));
+            }
+          }
+          out13.push_back(std::move(out25));
         }
-        out13.push_back(std::move(out25));
       }
+      give_back(s.core, budget);
     }
     check_length(s.core, 14, total_size(out13));
     charge_built(s.core, 14, total_size(out13));
@@ -832,26 +836,30 @@ struct Prog {
       } else {
         bool any83 = false;
         {
-          const auto& x84_list = rendered72;
-          charge_loop(s.core, 27, int64_t(x84_list.size()));
-          for (const Elem& x84 : x84_list) {
-            bool any85 = false;
-            {
-              const auto& x86_list = rendered73;
-              charge_loop(s.core, 28, int64_t(x86_list.size()));
-              for (const Elem& x86 : x86_list) {
-                const bool t87 = (x84.position == x86.position);
-                if (t87) {
-                  any85 = true;
-                  break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x84_list = rendered72;
+            charge_loop(budget, 27, int64_t(x84_list.size()));
+            for (const Elem& x84 : x84_list) {
+              bool any85 = false;
+              {
+                const auto& x86_list = rendered73;
+                charge_loop(budget, 28, int64_t(x86_list.size()));
+                for (const Elem& x86 : x86_list) {
+                  const bool t87 = (x84.position == x86.position);
+                  if (t87) {
+                    any85 = true;
+                    break;
+                  }
                 }
               }
-            }
-            if (any85) {
-              any83 = true;
-              break;
+              if (any85) {
+                any83 = true;
+                break;
+              }
             }
           }
+          give_back(s.core, budget);
         }
         r82 = any83;
       }
@@ -896,26 +904,30 @@ struct Prog {
         } else {
           bool any102 = false;
           {
-            const auto& x103_list = rendered91;
-            charge_loop(s.core, 30, int64_t(x103_list.size()));
-            for (const Elem& x103 : x103_list) {
-              bool any104 = false;
-              {
-                const auto& x105_list = rendered92;
-                charge_loop(s.core, 31, int64_t(x105_list.size()));
-                for (const Elem& x105 : x105_list) {
-                  const bool t106 = (x103.position == x105.position);
-                  if (t106) {
-                    any104 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x103_list = rendered91;
+              charge_loop(budget, 30, int64_t(x103_list.size()));
+              for (const Elem& x103 : x103_list) {
+                bool any104 = false;
+                {
+                  const auto& x105_list = rendered92;
+                  charge_loop(budget, 31, int64_t(x105_list.size()));
+                  for (const Elem& x105 : x105_list) {
+                    const bool t106 = (x103.position == x105.position);
+                    if (t106) {
+                      any104 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              if (any104) {
-                any102 = true;
-                break;
+                if (any104) {
+                  any102 = true;
+                  break;
+                }
               }
             }
+            give_back(s.core, budget);
           }
           r101 = any102;
         }
@@ -960,26 +972,30 @@ struct Prog {
           } else {
             bool any121 = false;
             {
-              const auto& x122_list = rendered110;
-              charge_loop(s.core, 33, int64_t(x122_list.size()));
-              for (const Elem& x122 : x122_list) {
-                bool any123 = false;
-                {
-                  const auto& x124_list = rendered111;
-                  charge_loop(s.core, 34, int64_t(x124_list.size()));
-                  for (const Elem& x124 : x124_list) {
-                    const bool t125 = (x122.position == x124.position);
-                    if (t125) {
-                      any123 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x122_list = rendered110;
+                charge_loop(budget, 33, int64_t(x122_list.size()));
+                for (const Elem& x122 : x122_list) {
+                  bool any123 = false;
+                  {
+                    const auto& x124_list = rendered111;
+                    charge_loop(budget, 34, int64_t(x124_list.size()));
+                    for (const Elem& x124 : x124_list) {
+                      const bool t125 = (x122.position == x124.position);
+                      if (t125) {
+                        any123 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any123) {
-                  any121 = true;
-                  break;
+                  if (any123) {
+                    any121 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r120 = any121;
           }

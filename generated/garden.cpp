@@ -488,78 +488,82 @@ struct Prog {
         updated10.clear();
         updated10.reserve(size_t(int32_t(prev9.size())));
         {
-          const auto& x11_list = prev9;
-          charge_loop(s.core, 8, int64_t(x11_list.size()));
-          for (const C3_Plant& x11 : x11_list) {
-            // inlined: function at programs/garden.au:50
-            std::vector<Elem>& rendered12 = s.scratch.v.b3;
-            rendered12.clear();
-            const int32_t colour13 = colour_12_C3_Plant(s, x11);
-            rendered12.push_back(Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, colour13});
-            std::vector<Elem>& rendered14 = s.scratch.v.b4;
-            rendered14.clear();
-            {
-              const auto& x15_list = l_fallen1;
-              charge_loop(s.core, 9, int64_t(x15_list.size()));
-              for (const C2_Drop& x15 : x15_list) {
-                rendered14.push_back(Elem{Pos{add(x15.origin.x, int32_t(0)), add(x15.origin.y, int32_t(0))}, int32_t(12)});
-              }
-            }
-            const int32_t t16 = int32_t(rendered12.size());
-            const bool t17 = (t16 == int32_t(0));
-            bool r18{};
-            if (!t17) {
-              const int32_t t19 = int32_t(rendered14.size());
-              const bool t20 = (t19 == int32_t(0));
-              r18 = t20;
-            } else {
-              r18 = true;
-            }
-            bool r21{};
-            if (r18) {
-              r21 = false;
-            } else {
-              bool any22 = false;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x11_list = prev9;
+            charge_loop(budget, 8, int64_t(x11_list.size()));
+            for (const C3_Plant& x11 : x11_list) {
+              // inlined: function at programs/garden.au:50
+              std::vector<Elem>& rendered12 = s.scratch.v.b3;
+              rendered12.clear();
+              const int32_t colour13 = colour_12_C3_Plant(s, x11);
+              rendered12.push_back(Elem{Pos{add(x11.origin.x, int32_t(0)), add(x11.origin.y, int32_t(0))}, colour13});
+              std::vector<Elem>& rendered14 = s.scratch.v.b4;
+              rendered14.clear();
               {
-                const auto& x23_list = rendered12;
-                charge_loop(s.core, 10, int64_t(x23_list.size()));
-                for (const Elem& x23 : x23_list) {
-                  bool any24 = false;
-                  {
-                    const auto& x25_list = rendered14;
-                    charge_loop(s.core, 11, int64_t(x25_list.size()));
-                    for (const Elem& x25 : x25_list) {
-                      const bool t26 = (x23.position == x25.position);
-                      if (t26) {
-                        any24 = true;
-                        break;
-                      }
-                    }
-                  }
-                  if (any24) {
-                    any22 = true;
-                    break;
-                  }
+                const auto& x15_list = l_fallen1;
+                charge_loop(budget, 9, int64_t(x15_list.size()));
+                for (const C2_Drop& x15 : x15_list) {
+                  rendered14.push_back(Elem{Pos{add(x15.origin.x, int32_t(0)), add(x15.origin.y, int32_t(0))}, int32_t(12)});
                 }
               }
-              r21 = any22;
-            }
-            if (r21) {
-              // inlined: function at programs/garden.au:40
-              const int32_t t27 = add(x11.f0, int32_t(1));
-              const bool t28 = (int32_t(3) < t27);
-              int32_t r29{};
-              if (t28) {
-                r29 = int32_t(3);
+              const int32_t t16 = int32_t(rendered12.size());
+              const bool t17 = (t16 == int32_t(0));
+              bool r18{};
+              if (!t17) {
+                const int32_t t19 = int32_t(rendered14.size());
+                const bool t20 = (t19 == int32_t(0));
+                r18 = t20;
               } else {
-                r29 = t27;
+                r18 = true;
               }
-              C3_Plant upd30 = C3_Plant{r29, x11.f1, x11.origin};
-              updated10.push_back(std::move(upd30));
-            } else {
-              updated10.push_back(x11);
+              bool r21{};
+              if (r18) {
+                r21 = false;
+              } else {
+                bool any22 = false;
+                {
+                  const auto& x23_list = rendered12;
+                  charge_loop(budget, 10, int64_t(x23_list.size()));
+                  for (const Elem& x23 : x23_list) {
+                    bool any24 = false;
+                    {
+                      const auto& x25_list = rendered14;
+                      charge_loop(budget, 11, int64_t(x25_list.size()));
+                      for (const Elem& x25 : x25_list) {
+                        const bool t26 = (x23.position == x25.position);
+                        if (t26) {
+                          any24 = true;
+                          break;
+                        }
+                      }
+                    }
+                    if (any24) {
+                      any22 = true;
+                      break;
+                    }
+                  }
+                }
+                r21 = any22;
+              }
+              if (r21) {
+                // inlined: function at programs/garden.au:40
+                const int32_t t27 = add(x11.f0, int32_t(1));
+                const bool t28 = (int32_t(3) < t27);
+                int32_t r29{};
+                if (t28) {
+                  r29 = int32_t(3);
+                } else {
+                  r29 = t27;
+                }
+                C3_Plant upd30 = C3_Plant{r29, x11.f1, x11.origin};
+                updated10.push_back(std::move(upd30));
+              } else {
+                updated10.push_back(x11);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_plants_18) {
           std::swap(s.scratch.v.p_plants_17, s.g_plants_15);
@@ -570,76 +574,80 @@ struct Prog {
         std::vector<C2_Drop>& out31 = s.scratch.v.b5;
         out31.clear();
         {
-          const auto& x32_list = l_fallen1;
-          charge_loop(s.core, 12, int64_t(x32_list.size()));
-          for (const C2_Drop& x32 : x32_list) {
-            // inlined: function at programs/garden.au:51
-            const bool t33 = (x32.origin.y < int32_t(11));
-            bool r34{};
-            if (t33) {
-              const std::vector<C3_Plant>& prev35 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
-              std::vector<Elem>& rendered36 = s.scratch.v.b6;
-              rendered36.clear();
-              rendered36.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(12)});
-              std::vector<Elem>& rendered37 = s.scratch.v.b7;
-              rendered37.clear();
-              {
-                const auto& x38_list = prev35;
-                charge_loop(s.core, 13, int64_t(x38_list.size()));
-                for (const C3_Plant& x38 : x38_list) {
-                  const int32_t colour39 = colour_12_C3_Plant(s, x38);
-                  rendered37.push_back(Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, colour39});
-                }
-              }
-              const int32_t t40 = int32_t(rendered36.size());
-              const bool t41 = (t40 == int32_t(0));
-              bool r42{};
-              if (!t41) {
-                const int32_t t43 = int32_t(rendered37.size());
-                const bool t44 = (t43 == int32_t(0));
-                r42 = t44;
-              } else {
-                r42 = true;
-              }
-              bool r45{};
-              if (r42) {
-                r45 = false;
-              } else {
-                bool any46 = false;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x32_list = l_fallen1;
+            charge_loop(budget, 12, int64_t(x32_list.size()));
+            for (const C2_Drop& x32 : x32_list) {
+              // inlined: function at programs/garden.au:51
+              const bool t33 = (x32.origin.y < int32_t(11));
+              bool r34{};
+              if (t33) {
+                const std::vector<C3_Plant>& prev35 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
+                std::vector<Elem>& rendered36 = s.scratch.v.b6;
+                rendered36.clear();
+                rendered36.push_back(Elem{Pos{add(x32.origin.x, int32_t(0)), add(x32.origin.y, int32_t(0))}, int32_t(12)});
+                std::vector<Elem>& rendered37 = s.scratch.v.b7;
+                rendered37.clear();
                 {
-                  const auto& x47_list = rendered36;
-                  charge_loop(s.core, 14, int64_t(x47_list.size()));
-                  for (const Elem& x47 : x47_list) {
-                    bool any48 = false;
-                    {
-                      const auto& x49_list = rendered37;
-                      charge_loop(s.core, 15, int64_t(x49_list.size()));
-                      for (const Elem& x49 : x49_list) {
-                        const bool t50 = (x47.position == x49.position);
-                        if (t50) {
-                          any48 = true;
-                          break;
-                        }
-                      }
-                    }
-                    if (any48) {
-                      any46 = true;
-                      break;
-                    }
+                  const auto& x38_list = prev35;
+                  charge_loop(budget, 13, int64_t(x38_list.size()));
+                  for (const C3_Plant& x38 : x38_list) {
+                    const int32_t colour39 = colour_12_C3_Plant(s, x38);
+                    rendered37.push_back(Elem{Pos{add(x38.origin.x, int32_t(0)), add(x38.origin.y, int32_t(0))}, colour39});
                   }
                 }
-                r45 = any46;
+                const int32_t t40 = int32_t(rendered36.size());
+                const bool t41 = (t40 == int32_t(0));
+                bool r42{};
+                if (!t41) {
+                  const int32_t t43 = int32_t(rendered37.size());
+                  const bool t44 = (t43 == int32_t(0));
+                  r42 = t44;
+                } else {
+                  r42 = true;
+                }
+                bool r45{};
+                if (r42) {
+                  r45 = false;
+                } else {
+                  bool any46 = false;
+                  {
+                    const auto& x47_list = rendered36;
+                    charge_loop(budget, 14, int64_t(x47_list.size()));
+                    for (const Elem& x47 : x47_list) {
+                      bool any48 = false;
+                      {
+                        const auto& x49_list = rendered37;
+                        charge_loop(budget, 15, int64_t(x49_list.size()));
+                        for (const Elem& x49 : x49_list) {
+                          const bool t50 = (x47.position == x49.position);
+                          if (t50) {
+                            any48 = true;
+                            break;
+                          }
+                        }
+                      }
+                      if (any48) {
+                        any46 = true;
+                        break;
+                      }
+                    }
+                  }
+                  r45 = any46;
+                }
+                const bool t51 = !r45;
+                r34 = t51;
+              } else {
+                r34 = false;
               }
-              const bool t51 = !r45;
-              r34 = t51;
-            } else {
-              r34 = false;
-            }
-            if (r34) {
-              charge_built(s.core, 12, int64_t(int32_t(1)));
-              out31.push_back(x32);
+              if (r34) {
+                charge_built(budget, 12, int64_t(int32_t(1)));
+                out31.push_back(x32);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_drops_14) {
           std::swap(s.scratch.v.p_drops_13, s.g_drops_11);
@@ -730,26 +738,30 @@ struct Prog {
         std::vector<C3_Plant>& out73 = s.scratch.v.b9;
         out73.clear();
         {
-          const auto& x74_list = prev72;
-          charge_loop(s.core, 19, int64_t(x74_list.size()));
-          for (const C3_Plant& x74 : x74_list) {
-            // inlined: function at programs/garden.au:60
-            bool clicked75 = false;
-            if (s.core.click) {
-              s.d_click_28 = true;
-              const Pos t76 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_27 = t76;
-              const int32_t colour77 = colour_12_C3_Plant(s, x74);
-              const Elem e78 = Elem{Pos{add(x74.origin.x, int32_t(0)), add(x74.origin.y, int32_t(0))}, colour77};
-              if ((e78.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked75 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x74_list = prev72;
+            charge_loop(budget, 19, int64_t(x74_list.size()));
+            for (const C3_Plant& x74 : x74_list) {
+              // inlined: function at programs/garden.au:60
+              bool clicked75 = false;
+              if (s.core.click) {
+                s.d_click_28 = true;
+                const Pos t76 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_27 = t76;
+                const int32_t colour77 = colour_12_C3_Plant(s, x74);
+                const Elem e78 = Elem{Pos{add(x74.origin.x, int32_t(0)), add(x74.origin.y, int32_t(0))}, colour77};
+                if ((e78.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked75 = true;
+                }
+              }
+              if (clicked75) {
+                charge_built(budget, 19, int64_t(int32_t(1)));
+                out73.push_back(x74);
               }
             }
-            if (clicked75) {
-              charge_built(s.core, 19, int64_t(int32_t(1)));
-              out73.push_back(x74);
-            }
           }
+          give_back(s.core, budget);
         }
         bool any79 = false;
         {
@@ -792,26 +804,30 @@ struct Prog {
         std::vector<C3_Plant>& kept91 = s.scratch.v.b10;
         kept91.clear();
         {
-          const auto& x92_list = g90;
-          charge_loop(s.core, 21, int64_t(x92_list.size()));
-          for (const C3_Plant& x92 : x92_list) {
-            // inlined: function at programs/garden.au:63
-            bool clicked93 = false;
-            if (s.core.click) {
-              s.d_click_28 = true;
-              const Pos t94 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_27 = t94;
-              const int32_t colour95 = colour_12_C3_Plant(s, x92);
-              const Elem e96 = Elem{Pos{add(x92.origin.x, int32_t(0)), add(x92.origin.y, int32_t(0))}, colour95};
-              if ((e96.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked93 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x92_list = g90;
+            charge_loop(budget, 21, int64_t(x92_list.size()));
+            for (const C3_Plant& x92 : x92_list) {
+              // inlined: function at programs/garden.au:63
+              bool clicked93 = false;
+              if (s.core.click) {
+                s.d_click_28 = true;
+                const Pos t94 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_27 = t94;
+                const int32_t colour95 = colour_12_C3_Plant(s, x92);
+                const Elem e96 = Elem{Pos{add(x92.origin.x, int32_t(0)), add(x92.origin.y, int32_t(0))}, colour95};
+                if ((e96.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked93 = true;
+                }
+              }
+              if (!clicked93) {
+                charge_built(budget, 21, int64_t(int32_t(1)));
+                kept91.push_back(x92);
               }
             }
-            if (!clicked93) {
-              charge_built(s.core, 21, int64_t(int32_t(1)));
-              kept91.push_back(x92);
-            }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_plants_18) {
           std::swap(s.scratch.v.p_plants_17, s.g_plants_15);

@@ -377,36 +377,40 @@ struct Prog {
     std::vector<Pos>& out6 = s.scratch.v.b1;
     out6.clear();
     {
-      const auto& x7_list = apos2;
-      charge_loop(s.core, 1, int64_t(x7_list.size()));
-      for (const Pos& x7 : x7_list) {
-        // inlined: function at programs/mirror_twins.au:23
-        const bool t8 = (x7.y >= int32_t(1));
-        bool r9{};
-        if (t8) {
-          const std::vector<Pos> list10 = std::vector<Pos>{Pos{int32_t(2), int32_t(2)}, Pos{int32_t(3), int32_t(2)}, Pos{int32_t(7), int32_t(3)}, Pos{int32_t(5), int32_t(4)}, Pos{int32_t(1), int32_t(5)}, Pos{int32_t(8), int32_t(6)}, Pos{int32_t(4), int32_t(7)}, Pos{int32_t(6), int32_t(7)}, Pos{int32_t(2), int32_t(8)}, Pos{int32_t(7), int32_t(9)}, Pos{int32_t(3), int32_t(5)}, Pos{int32_t(6), int32_t(5)}};
-          bool any11 = false;
-          {
-            const auto& x12_list = list10;
-            charge_loop(s.core, 2, int64_t(x12_list.size()));
-            for (const Pos& x12 : x12_list) {
-              const bool t13 = (x12 == x7);
-              if (t13) {
-                any11 = true;
-                break;
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x7_list = apos2;
+        charge_loop(budget, 1, int64_t(x7_list.size()));
+        for (const Pos& x7 : x7_list) {
+          // inlined: function at programs/mirror_twins.au:23
+          const bool t8 = (x7.y >= int32_t(1));
+          bool r9{};
+          if (t8) {
+            const std::vector<Pos> list10 = std::vector<Pos>{Pos{int32_t(2), int32_t(2)}, Pos{int32_t(3), int32_t(2)}, Pos{int32_t(7), int32_t(3)}, Pos{int32_t(5), int32_t(4)}, Pos{int32_t(1), int32_t(5)}, Pos{int32_t(8), int32_t(6)}, Pos{int32_t(4), int32_t(7)}, Pos{int32_t(6), int32_t(7)}, Pos{int32_t(2), int32_t(8)}, Pos{int32_t(7), int32_t(9)}, Pos{int32_t(3), int32_t(5)}, Pos{int32_t(6), int32_t(5)}};
+            bool any11 = false;
+            {
+              const auto& x12_list = list10;
+              charge_loop(budget, 2, int64_t(x12_list.size()));
+              for (const Pos& x12 : x12_list) {
+                const bool t13 = (x12 == x7);
+                if (t13) {
+                  any11 = true;
+                  break;
+                }
               }
             }
+            const bool t14 = !any11;
+            r9 = t14;
+          } else {
+            r9 = false;
           }
-          const bool t14 = !any11;
-          r9 = t14;
-        } else {
-          r9 = false;
-        }
-        if (r9) {
-          charge_built(s.core, 1, int64_t(int32_t(1)));
-          out6.push_back(x7);
+          if (r9) {
+            charge_built(budget, 1, int64_t(int32_t(1)));
+            out6.push_back(x7);
+          }
         }
       }
+      give_back(s.core, budget);
     }
     std::swap(s.g_startOpen_6, out6);
     // init red, programs/mirror_twins.au:42
@@ -423,16 +427,20 @@ struct Prog {
     std::vector<Pos>& out18 = s.scratch.v.b2;
     out18.clear();
     {
-      const auto& x19_list = g17;
-      charge_loop(s.core, 3, int64_t(x19_list.size()));
-      for (const Pos& x19 : x19_list) {
-        // inlined: function at programs/mirror_twins.au:21
-        const bool t20 = (x19.x >= int32_t(5));
-        if (t20) {
-          charge_built(s.core, 3, int64_t(int32_t(1)));
-          out18.push_back(x19);
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x19_list = g17;
+        charge_loop(budget, 3, int64_t(x19_list.size()));
+        for (const Pos& x19 : x19_list) {
+          // inlined: function at programs/mirror_twins.au:21
+          const bool t20 = (x19.x >= int32_t(5));
+          if (t20) {
+            charge_built(budget, 3, int64_t(int32_t(1)));
+            out18.push_back(x19);
+          }
         }
       }
+      give_back(s.core, budget);
     }
     if (out18.empty()) {
       fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
@@ -448,16 +456,20 @@ struct Prog {
     std::vector<Pos>& out25 = s.scratch.v.b3;
     out25.clear();
     {
-      const auto& x26_list = g24;
-      charge_loop(s.core, 5, int64_t(x26_list.size()));
-      for (const Pos& x26 : x26_list) {
-        // inlined: function at programs/mirror_twins.au:20
-        const bool t27 = (x26.x < int32_t(5));
-        if (t27) {
-          charge_built(s.core, 5, int64_t(int32_t(1)));
-          out25.push_back(x26);
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x26_list = g24;
+        charge_loop(budget, 5, int64_t(x26_list.size()));
+        for (const Pos& x26 : x26_list) {
+          // inlined: function at programs/mirror_twins.au:20
+          const bool t27 = (x26.x < int32_t(5));
+          if (t27) {
+            charge_built(budget, 5, int64_t(int32_t(1)));
+            out25.push_back(x26);
+          }
         }
       }
+      give_back(s.core, budget);
     }
     if (out25.empty()) {
       fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
@@ -593,26 +605,30 @@ struct Prog {
           } else {
             bool any30 = false;
             {
-              const auto& x31_list = rendered20;
-              charge_loop(s.core, 18, int64_t(x31_list.size()));
-              for (const Elem& x31 : x31_list) {
-                bool any32 = false;
-                {
-                  const auto& x33_list = rendered22;
-                  charge_loop(s.core, 19, int64_t(x33_list.size()));
-                  for (const Elem& x33 : x33_list) {
-                    const bool t34 = (x31.position == x33.position);
-                    if (t34) {
-                      any32 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x31_list = rendered20;
+                charge_loop(budget, 18, int64_t(x31_list.size()));
+                for (const Elem& x31 : x31_list) {
+                  bool any32 = false;
+                  {
+                    const auto& x33_list = rendered22;
+                    charge_loop(budget, 19, int64_t(x33_list.size()));
+                    for (const Elem& x33 : x33_list) {
+                      const bool t34 = (x31.position == x33.position);
+                      if (t34) {
+                        any32 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any32) {
-                  any30 = true;
-                  break;
+                  if (any32) {
+                    any30 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r29 = any30;
           }
@@ -699,26 +715,30 @@ struct Prog {
           } else {
             bool any65 = false;
             {
-              const auto& x66_list = rendered55;
-              charge_loop(s.core, 18, int64_t(x66_list.size()));
-              for (const Elem& x66 : x66_list) {
-                bool any67 = false;
-                {
-                  const auto& x68_list = rendered57;
-                  charge_loop(s.core, 19, int64_t(x68_list.size()));
-                  for (const Elem& x68 : x68_list) {
-                    const bool t69 = (x66.position == x68.position);
-                    if (t69) {
-                      any67 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x66_list = rendered55;
+                charge_loop(budget, 18, int64_t(x66_list.size()));
+                for (const Elem& x66 : x66_list) {
+                  bool any67 = false;
+                  {
+                    const auto& x68_list = rendered57;
+                    charge_loop(budget, 19, int64_t(x68_list.size()));
+                    for (const Elem& x68 : x68_list) {
+                      const bool t69 = (x66.position == x68.position);
+                      if (t69) {
+                        any67 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any67) {
-                  any65 = true;
-                  break;
+                  if (any67) {
+                    any65 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r64 = any65;
           }
@@ -843,26 +863,30 @@ struct Prog {
           } else {
             bool any109 = false;
             {
-              const auto& x110_list = rendered99;
-              charge_loop(s.core, 18, int64_t(x110_list.size()));
-              for (const Elem& x110 : x110_list) {
-                bool any111 = false;
-                {
-                  const auto& x112_list = rendered101;
-                  charge_loop(s.core, 19, int64_t(x112_list.size()));
-                  for (const Elem& x112 : x112_list) {
-                    const bool t113 = (x110.position == x112.position);
-                    if (t113) {
-                      any111 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x110_list = rendered99;
+                charge_loop(budget, 18, int64_t(x110_list.size()));
+                for (const Elem& x110 : x110_list) {
+                  bool any111 = false;
+                  {
+                    const auto& x112_list = rendered101;
+                    charge_loop(budget, 19, int64_t(x112_list.size()));
+                    for (const Elem& x112 : x112_list) {
+                      const bool t113 = (x110.position == x112.position);
+                      if (t113) {
+                        any111 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any111) {
-                  any109 = true;
-                  break;
+                  if (any111) {
+                    any109 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r108 = any109;
           }
@@ -949,26 +973,30 @@ struct Prog {
           } else {
             bool any144 = false;
             {
-              const auto& x145_list = rendered134;
-              charge_loop(s.core, 18, int64_t(x145_list.size()));
-              for (const Elem& x145 : x145_list) {
-                bool any146 = false;
-                {
-                  const auto& x147_list = rendered136;
-                  charge_loop(s.core, 19, int64_t(x147_list.size()));
-                  for (const Elem& x147 : x147_list) {
-                    const bool t148 = (x145.position == x147.position);
-                    if (t148) {
-                      any146 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x145_list = rendered134;
+                charge_loop(budget, 18, int64_t(x145_list.size()));
+                for (const Elem& x145 : x145_list) {
+                  bool any146 = false;
+                  {
+                    const auto& x147_list = rendered136;
+                    charge_loop(budget, 19, int64_t(x147_list.size()));
+                    for (const Elem& x147 : x147_list) {
+                      const bool t148 = (x145.position == x147.position);
+                      if (t148) {
+                        any146 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any146) {
-                  any144 = true;
-                  break;
+                  if (any146) {
+                    any144 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r143 = any144;
           }
@@ -1093,26 +1121,30 @@ struct Prog {
           } else {
             bool any188 = false;
             {
-              const auto& x189_list = rendered178;
-              charge_loop(s.core, 18, int64_t(x189_list.size()));
-              for (const Elem& x189 : x189_list) {
-                bool any190 = false;
-                {
-                  const auto& x191_list = rendered180;
-                  charge_loop(s.core, 19, int64_t(x191_list.size()));
-                  for (const Elem& x191 : x191_list) {
-                    const bool t192 = (x189.position == x191.position);
-                    if (t192) {
-                      any190 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x189_list = rendered178;
+                charge_loop(budget, 18, int64_t(x189_list.size()));
+                for (const Elem& x189 : x189_list) {
+                  bool any190 = false;
+                  {
+                    const auto& x191_list = rendered180;
+                    charge_loop(budget, 19, int64_t(x191_list.size()));
+                    for (const Elem& x191 : x191_list) {
+                      const bool t192 = (x189.position == x191.position);
+                      if (t192) {
+                        any190 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any190) {
-                  any188 = true;
-                  break;
+                  if (any190) {
+                    any188 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r187 = any188;
           }
@@ -1199,26 +1231,30 @@ struct Prog {
           } else {
             bool any223 = false;
             {
-              const auto& x224_list = rendered213;
-              charge_loop(s.core, 18, int64_t(x224_list.size()));
-              for (const Elem& x224 : x224_list) {
-                bool any225 = false;
-                {
-                  const auto& x226_list = rendered215;
-                  charge_loop(s.core, 19, int64_t(x226_list.size()));
-                  for (const Elem& x226 : x226_list) {
-                    const bool t227 = (x224.position == x226.position);
-                    if (t227) {
-                      any225 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x224_list = rendered213;
+                charge_loop(budget, 18, int64_t(x224_list.size()));
+                for (const Elem& x224 : x224_list) {
+                  bool any225 = false;
+                  {
+                    const auto& x226_list = rendered215;
+                    charge_loop(budget, 19, int64_t(x226_list.size()));
+                    for (const Elem& x226 : x226_list) {
+                      const bool t227 = (x224.position == x226.position);
+                      if (t227) {
+                        any225 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any225) {
-                  any223 = true;
-                  break;
+                  if (any225) {
+                    any223 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r222 = any223;
           }
@@ -1343,26 +1379,30 @@ struct Prog {
           } else {
             bool any267 = false;
             {
-              const auto& x268_list = rendered257;
-              charge_loop(s.core, 18, int64_t(x268_list.size()));
-              for (const Elem& x268 : x268_list) {
-                bool any269 = false;
-                {
-                  const auto& x270_list = rendered259;
-                  charge_loop(s.core, 19, int64_t(x270_list.size()));
-                  for (const Elem& x270 : x270_list) {
-                    const bool t271 = (x268.position == x270.position);
-                    if (t271) {
-                      any269 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x268_list = rendered257;
+                charge_loop(budget, 18, int64_t(x268_list.size()));
+                for (const Elem& x268 : x268_list) {
+                  bool any269 = false;
+                  {
+                    const auto& x270_list = rendered259;
+                    charge_loop(budget, 19, int64_t(x270_list.size()));
+                    for (const Elem& x270 : x270_list) {
+                      const bool t271 = (x268.position == x270.position);
+                      if (t271) {
+                        any269 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any269) {
-                  any267 = true;
-                  break;
+                  if (any269) {
+                    any267 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r266 = any267;
           }
@@ -1449,26 +1489,30 @@ struct Prog {
           } else {
             bool any302 = false;
             {
-              const auto& x303_list = rendered292;
-              charge_loop(s.core, 18, int64_t(x303_list.size()));
-              for (const Elem& x303 : x303_list) {
-                bool any304 = false;
-                {
-                  const auto& x305_list = rendered294;
-                  charge_loop(s.core, 19, int64_t(x305_list.size()));
-                  for (const Elem& x305 : x305_list) {
-                    const bool t306 = (x303.position == x305.position);
-                    if (t306) {
-                      any304 = true;
-                      break;
+              Budget budget = budget_of(s.core);
+              {
+                const auto& x303_list = rendered292;
+                charge_loop(budget, 18, int64_t(x303_list.size()));
+                for (const Elem& x303 : x303_list) {
+                  bool any304 = false;
+                  {
+                    const auto& x305_list = rendered294;
+                    charge_loop(budget, 19, int64_t(x305_list.size()));
+                    for (const Elem& x305 : x305_list) {
+                      const bool t306 = (x303.position == x305.position);
+                      if (t306) {
+                        any304 = true;
+                        break;
+                      }
                     }
                   }
-                }
-                if (any304) {
-                  any302 = true;
-                  break;
+                  if (any304) {
+                    any302 = true;
+                    break;
+                  }
                 }
               }
+              give_back(s.core, budget);
             }
             r301 = any302;
           }
@@ -1579,72 +1623,80 @@ struct Prog {
         std::vector<Pos>& out335 = s.scratch.v.b31;
         out335.clear();
         {
-          const auto& x336_list = apos331;
-          charge_loop(s.core, 21, int64_t(x336_list.size()));
-          for (const Pos& x336 : x336_list) {
-            // inlined: function at programs/mirror_twins.au:61
-            const bool t337 = (x336.y >= int32_t(1));
-            bool r338{};
-            if (t337) {
-              // inlined: function at programs/mirror_twins.au:45
-              const std::vector<C0_Wall>& g339 = s.g_walls_23;
-              bool any340 = false;
-              {
-                const auto& x341_list = g339;
-                charge_loop(s.core, 22, int64_t(x341_list.size()));
-                for (const C0_Wall& x341 : x341_list) {
-                  // inlined: function at programs/mirror_twins.au:45
-                  const bool t342 = (x341.origin == x336);
-                  if (t342) {
-                    any340 = true;
-                    break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x336_list = apos331;
+            charge_loop(budget, 21, int64_t(x336_list.size()));
+            for (const Pos& x336 : x336_list) {
+              // inlined: function at programs/mirror_twins.au:61
+              const bool t337 = (x336.y >= int32_t(1));
+              bool r338{};
+              if (t337) {
+                // inlined: function at programs/mirror_twins.au:45
+                const std::vector<C0_Wall>& g339 = s.g_walls_23;
+                bool any340 = false;
+                {
+                  const auto& x341_list = g339;
+                  charge_loop(budget, 22, int64_t(x341_list.size()));
+                  for (const C0_Wall& x341 : x341_list) {
+                    // inlined: function at programs/mirror_twins.au:45
+                    const bool t342 = (x341.origin == x336);
+                    if (t342) {
+                      any340 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t343 = !any340;
-              bool r344{};
-              if (t343) {
-                const C2_Twin& g345 = s.g_blue_11;
-                const bool t346 = (x336 == g345.origin);
-                const bool t347 = !t346;
-                bool r348{};
-                if (t347) {
-                  const C2_Twin& g349 = s.g_red_7;
-                  const bool t350 = (x336 == g349.origin);
-                  const bool t351 = !t350;
-                  r348 = t351;
+                const bool t343 = !any340;
+                bool r344{};
+                if (t343) {
+                  const C2_Twin& g345 = s.g_blue_11;
+                  const bool t346 = (x336 == g345.origin);
+                  const bool t347 = !t346;
+                  bool r348{};
+                  if (t347) {
+                    const C2_Twin& g349 = s.g_red_7;
+                    const bool t350 = (x336 == g349.origin);
+                    const bool t351 = !t350;
+                    r348 = t351;
+                  } else {
+                    r348 = false;
+                  }
+                  r344 = r348;
                 } else {
-                  r348 = false;
+                  r344 = false;
                 }
-                r344 = r348;
+                r338 = r344;
               } else {
-                r344 = false;
+                r338 = false;
               }
-              r338 = r344;
-            } else {
-              r338 = false;
-            }
-            if (r338) {
-              charge_built(s.core, 21, int64_t(int32_t(1)));
-              out335.push_back(x336);
+              if (r338) {
+                charge_built(budget, 21, int64_t(int32_t(1)));
+                out335.push_back(x336);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::swap(l_spots324, out335);
         // inlined: function at programs/mirror_twins.au:20
         std::vector<Pos>& out352 = s.scratch.v.b32;
         out352.clear();
         {
-          const auto& x353_list = l_spots324;
-          charge_loop(s.core, 23, int64_t(x353_list.size()));
-          for (const Pos& x353 : x353_list) {
-            // inlined: function at programs/mirror_twins.au:20
-            const bool t354 = (x353.x < int32_t(5));
-            if (t354) {
-              charge_built(s.core, 23, int64_t(int32_t(1)));
-              out352.push_back(x353);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x353_list = l_spots324;
+            charge_loop(budget, 23, int64_t(x353_list.size()));
+            for (const Pos& x353 : x353_list) {
+              // inlined: function at programs/mirror_twins.au:20
+              const bool t354 = (x353.x < int32_t(5));
+              if (t354) {
+                charge_built(budget, 23, int64_t(int32_t(1)));
+                out352.push_back(x353);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         const int32_t t355 = int32_t(out352.size());
         const bool t356 = (t355 > int32_t(0));
@@ -1655,16 +1707,20 @@ struct Prog {
           std::vector<Pos>& out359 = s.scratch.v.b33;
           out359.clear();
           {
-            const auto& x360_list = l_spots324;
-            charge_loop(s.core, 23, int64_t(x360_list.size()));
-            for (const Pos& x360 : x360_list) {
-              // inlined: function at programs/mirror_twins.au:20
-              const bool t361 = (x360.x < int32_t(5));
-              if (t361) {
-                charge_built(s.core, 23, int64_t(int32_t(1)));
-                out359.push_back(x360);
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x360_list = l_spots324;
+              charge_loop(budget, 23, int64_t(x360_list.size()));
+              for (const Pos& x360 : x360_list) {
+                // inlined: function at programs/mirror_twins.au:20
+                const bool t361 = (x360.x < int32_t(5));
+                if (t361) {
+                  charge_built(budget, 23, int64_t(int32_t(1)));
+                  out359.push_back(x360);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           if (out359.empty()) {
             fail_at(24, std::string() + std::string("uniformChoice of an empty list"));
@@ -1687,16 +1743,20 @@ struct Prog {
         std::vector<Pos>& out366 = s.scratch.v.b34;
         out366.clear();
         {
-          const auto& x367_list = l_spots324;
-          charge_loop(s.core, 25, int64_t(x367_list.size()));
-          for (const Pos& x367 : x367_list) {
-            // inlined: function at programs/mirror_twins.au:21
-            const bool t368 = (x367.x >= int32_t(5));
-            if (t368) {
-              charge_built(s.core, 25, int64_t(int32_t(1)));
-              out366.push_back(x367);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x367_list = l_spots324;
+            charge_loop(budget, 25, int64_t(x367_list.size()));
+            for (const Pos& x367 : x367_list) {
+              // inlined: function at programs/mirror_twins.au:21
+              const bool t368 = (x367.x >= int32_t(5));
+              if (t368) {
+                charge_built(budget, 25, int64_t(int32_t(1)));
+                out366.push_back(x367);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         const int32_t t369 = int32_t(out366.size());
         const bool t370 = (t369 > int32_t(0));
@@ -1707,16 +1767,20 @@ struct Prog {
           std::vector<Pos>& out373 = s.scratch.v.b35;
           out373.clear();
           {
-            const auto& x374_list = l_spots324;
-            charge_loop(s.core, 25, int64_t(x374_list.size()));
-            for (const Pos& x374 : x374_list) {
-              // inlined: function at programs/mirror_twins.au:21
-              const bool t375 = (x374.x >= int32_t(5));
-              if (t375) {
-                charge_built(s.core, 25, int64_t(int32_t(1)));
-                out373.push_back(x374);
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x374_list = l_spots324;
+              charge_loop(budget, 25, int64_t(x374_list.size()));
+              for (const Pos& x374 : x374_list) {
+                // inlined: function at programs/mirror_twins.au:21
+                const bool t375 = (x374.x >= int32_t(5));
+                if (t375) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out373.push_back(x374);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           if (out373.empty()) {
             fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
@@ -1762,26 +1826,30 @@ struct Prog {
         std::vector<C0_Wall>& out386 = s.scratch.v.b36;
         out386.clear();
         {
-          const auto& x387_list = prev385;
-          charge_loop(s.core, 28, int64_t(x387_list.size()));
-          for (const C0_Wall& x387 : x387_list) {
-            // inlined: function at programs/mirror_twins.au:78
-            bool clicked388 = false;
-            if (s.core.click) {
-              s.d_click_32 = true;
-              const Pos t389 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_31 = t389;
-              const Elem e390 = Elem{Pos{add(x387.origin.x, int32_t(0)), add(x387.origin.y, int32_t(0))}, int32_t(6)};
-              if ((e390.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked388 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x387_list = prev385;
+            charge_loop(budget, 28, int64_t(x387_list.size()));
+            for (const C0_Wall& x387 : x387_list) {
+              // inlined: function at programs/mirror_twins.au:78
+              bool clicked388 = false;
+              if (s.core.click) {
+                s.d_click_32 = true;
+                const Pos t389 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_31 = t389;
+                const Elem e390 = Elem{Pos{add(x387.origin.x, int32_t(0)), add(x387.origin.y, int32_t(0))}, int32_t(6)};
+                if ((e390.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked388 = true;
+                }
+              }
+              const bool t391 = !clicked388;
+              if (t391) {
+                charge_built(budget, 28, int64_t(int32_t(1)));
+                out386.push_back(x387);
               }
             }
-            const bool t391 = !clicked388;
-            if (t391) {
-              charge_built(s.core, 28, int64_t(int32_t(1)));
-              out386.push_back(x387);
-            }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_walls_26) {
           std::swap(s.scratch.v.p_walls_25, s.g_walls_23);

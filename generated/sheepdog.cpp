@@ -276,72 +276,76 @@ struct Prog {
     std::vector<Pos>& out13 = s.scratch.v.b2;
     out13.clear();
     {
-      const auto& x14_list = apos9;
-      charge_loop(s.core, 2, int64_t(x14_list.size()));
-      for (const Pos& x14 : x14_list) {
-        // inlined: function at programs/sheepdog.au:48
-        // inlined: function at programs/sheepdog.au:21
-        const bool t15 = (x14.x >= int32_t(10));
-        bool r16{};
-        if (t15) {
-          const bool t17 = (x14.y <= int32_t(5));
-          r16 = t17;
-        } else {
-          r16 = false;
-        }
-        bool r18{};
-        if (r16) {
-          const bool t19 = (x14.x == int32_t(10));
-          bool r20{};
-          if (!t19) {
-            const bool t21 = (x14.x == int32_t(15));
-            r20 = t21;
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x14_list = apos9;
+        charge_loop(budget, 2, int64_t(x14_list.size()));
+        for (const Pos& x14 : x14_list) {
+          // inlined: function at programs/sheepdog.au:48
+          // inlined: function at programs/sheepdog.au:21
+          const bool t15 = (x14.x >= int32_t(10));
+          bool r16{};
+          if (t15) {
+            const bool t17 = (x14.y <= int32_t(5));
+            r16 = t17;
           } else {
-            r20 = true;
+            r16 = false;
           }
-          bool r22{};
-          if (!r20) {
-            const bool t23 = (x14.y == int32_t(0));
-            bool r24{};
-            if (!t23) {
-              const bool t25 = (x14.y == int32_t(5));
-              r24 = t25;
+          bool r18{};
+          if (r16) {
+            const bool t19 = (x14.x == int32_t(10));
+            bool r20{};
+            if (!t19) {
+              const bool t21 = (x14.x == int32_t(15));
+              r20 = t21;
             } else {
-              r24 = true;
+              r20 = true;
             }
-            r22 = r24;
+            bool r22{};
+            if (!r20) {
+              const bool t23 = (x14.y == int32_t(0));
+              bool r24{};
+              if (!t23) {
+                const bool t25 = (x14.y == int32_t(5));
+                r24 = t25;
+              } else {
+                r24 = true;
+              }
+              r22 = r24;
+            } else {
+              r22 = true;
+            }
+            r18 = r22;
           } else {
-            r22 = true;
+            r18 = false;
           }
-          r18 = r22;
-        } else {
-          r18 = false;
-        }
-        bool r26{};
-        if (r18) {
-          const std::vector<Pos>& g27 = s.g_gate_6;
-          bool any28 = false;
-          {
-            const auto& x29_list = g27;
-            charge_loop(s.core, 3, int64_t(x29_list.size()));
-            for (const Pos& x29 : x29_list) {
-              const bool t30 = (x29 == x14);
-              if (t30) {
-                any28 = true;
-                break;
+          bool r26{};
+          if (r18) {
+            const std::vector<Pos>& g27 = s.g_gate_6;
+            bool any28 = false;
+            {
+              const auto& x29_list = g27;
+              charge_loop(budget, 3, int64_t(x29_list.size()));
+              for (const Pos& x29 : x29_list) {
+                const bool t30 = (x29 == x14);
+                if (t30) {
+                  any28 = true;
+                  break;
+                }
               }
             }
+            const bool t31 = !any28;
+            r26 = t31;
+          } else {
+            r26 = false;
           }
-          const bool t31 = !any28;
-          r26 = t31;
-        } else {
-          r26 = false;
-        }
-        if (r26) {
-          charge_built(s.core, 2, int64_t(int32_t(1)));
-          out13.push_back(x14);
+          if (r26) {
+            charge_built(budget, 2, int64_t(int32_t(1)));
+            out13.push_back(x14);
+          }
         }
       }
+      give_back(s.core, budget);
     }
     std::vector<C0_Fence>& out32 = s.scratch.v.b3;
     out32.clear();
@@ -432,27 +436,31 @@ struct Prog {
           std::vector<Elem>& out20 = s.scratch.v.b10;
           out20.clear();
           {
-            const auto& x21_list = l_curr_elems16;
-            charge_loop(s.core, 13, int64_t(x21_list.size()));
-            for (const Elem& x21 : x21_list) {
-              bool any22 = false;
-              {
-                const auto& x23_list = l_prev_elems15;
-                charge_loop(s.core, 14, int64_t(x23_list.size()));
-                for (const Elem& x23 : x23_list) {
-                  const bool t24 = (x23 == x21);
-                  if (t24) {
-                    any22 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x21_list = l_curr_elems16;
+              charge_loop(budget, 13, int64_t(x21_list.size()));
+              for (const Elem& x21 : x21_list) {
+                bool any22 = false;
+                {
+                  const auto& x23_list = l_prev_elems15;
+                  charge_loop(budget, 14, int64_t(x23_list.size()));
+                  for (const Elem& x23 : x23_list) {
+                    const bool t24 = (x23 == x21);
+                    if (t24) {
+                      any22 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t25 = !any22;
-              if (t25) {
-                charge_built(s.core, 13, int64_t(int32_t(1)));
-                out20.push_back(x21);
+                const bool t25 = !any22;
+                if (t25) {
+                  charge_built(budget, 13, int64_t(int32_t(1)));
+                  out20.push_back(x21);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_filtered_elems17, out20);
           bool any26 = false;
@@ -545,27 +553,31 @@ struct Prog {
         std::vector<Elem>& out57 = s.scratch.v.b17;
         out57.clear();
         {
-          const auto& x58_list = l_curr_elems53;
-          charge_loop(s.core, 17, int64_t(x58_list.size()));
-          for (const Elem& x58 : x58_list) {
-            bool any59 = false;
-            {
-              const auto& x60_list = l_prev_elems52;
-              charge_loop(s.core, 18, int64_t(x60_list.size()));
-              for (const Elem& x60 : x60_list) {
-                const bool t61 = (x60 == x58);
-                if (t61) {
-                  any59 = true;
-                  break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x58_list = l_curr_elems53;
+            charge_loop(budget, 17, int64_t(x58_list.size()));
+            for (const Elem& x58 : x58_list) {
+              bool any59 = false;
+              {
+                const auto& x60_list = l_prev_elems52;
+                charge_loop(budget, 18, int64_t(x60_list.size()));
+                for (const Elem& x60 : x60_list) {
+                  const bool t61 = (x60 == x58);
+                  if (t61) {
+                    any59 = true;
+                    break;
+                  }
                 }
               }
-            }
-            const bool t62 = !any59;
-            if (t62) {
-              charge_built(s.core, 17, int64_t(int32_t(1)));
-              out57.push_back(x58);
+              const bool t62 = !any59;
+              if (t62) {
+                charge_built(budget, 17, int64_t(int32_t(1)));
+                out57.push_back(x58);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::swap(l_filtered_elems54, out57);
         bool any63 = false;
@@ -660,27 +672,31 @@ struct Prog {
           std::vector<Elem>& out93 = s.scratch.v.b24;
           out93.clear();
           {
-            const auto& x94_list = l_curr_elems89;
-            charge_loop(s.core, 21, int64_t(x94_list.size()));
-            for (const Elem& x94 : x94_list) {
-              bool any95 = false;
-              {
-                const auto& x96_list = l_prev_elems88;
-                charge_loop(s.core, 22, int64_t(x96_list.size()));
-                for (const Elem& x96 : x96_list) {
-                  const bool t97 = (x96 == x94);
-                  if (t97) {
-                    any95 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x94_list = l_curr_elems89;
+              charge_loop(budget, 21, int64_t(x94_list.size()));
+              for (const Elem& x94 : x94_list) {
+                bool any95 = false;
+                {
+                  const auto& x96_list = l_prev_elems88;
+                  charge_loop(budget, 22, int64_t(x96_list.size()));
+                  for (const Elem& x96 : x96_list) {
+                    const bool t97 = (x96 == x94);
+                    if (t97) {
+                      any95 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t98 = !any95;
-              if (t98) {
-                charge_built(s.core, 21, int64_t(int32_t(1)));
-                out93.push_back(x94);
+                const bool t98 = !any95;
+                if (t98) {
+                  charge_built(budget, 21, int64_t(int32_t(1)));
+                  out93.push_back(x94);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_filtered_elems90, out93);
           bool any99 = false;
@@ -771,27 +787,31 @@ struct Prog {
           std::vector<Elem>& out128 = s.scratch.v.b31;
           out128.clear();
           {
-            const auto& x129_list = l_curr_elems124;
-            charge_loop(s.core, 25, int64_t(x129_list.size()));
-            for (const Elem& x129 : x129_list) {
-              bool any130 = false;
-              {
-                const auto& x131_list = l_prev_elems123;
-                charge_loop(s.core, 26, int64_t(x131_list.size()));
-                for (const Elem& x131 : x131_list) {
-                  const bool t132 = (x131 == x129);
-                  if (t132) {
-                    any130 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x129_list = l_curr_elems124;
+              charge_loop(budget, 25, int64_t(x129_list.size()));
+              for (const Elem& x129 : x129_list) {
+                bool any130 = false;
+                {
+                  const auto& x131_list = l_prev_elems123;
+                  charge_loop(budget, 26, int64_t(x131_list.size()));
+                  for (const Elem& x131 : x131_list) {
+                    const bool t132 = (x131 == x129);
+                    if (t132) {
+                      any130 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t133 = !any130;
-              if (t133) {
-                charge_built(s.core, 25, int64_t(int32_t(1)));
-                out128.push_back(x129);
+                const bool t133 = !any130;
+                if (t133) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out128.push_back(x129);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_filtered_elems125, out128);
           bool any134 = false;
@@ -974,27 +994,31 @@ struct Prog {
         std::vector<Elem>& out197 = s.scratch.v.b37;
         out197.clear();
         {
-          const auto& x198_list = l_curr_elems193;
-          charge_loop(s.core, 29, int64_t(x198_list.size()));
-          for (const Elem& x198 : x198_list) {
-            bool any199 = false;
-            {
-              const auto& x200_list = l_prev_elems192;
-              charge_loop(s.core, 30, int64_t(x200_list.size()));
-              for (const Elem& x200 : x200_list) {
-                const bool t201 = (x200 == x198);
-                if (t201) {
-                  any199 = true;
-                  break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x198_list = l_curr_elems193;
+            charge_loop(budget, 29, int64_t(x198_list.size()));
+            for (const Elem& x198 : x198_list) {
+              bool any199 = false;
+              {
+                const auto& x200_list = l_prev_elems192;
+                charge_loop(budget, 30, int64_t(x200_list.size()));
+                for (const Elem& x200 : x200_list) {
+                  const bool t201 = (x200 == x198);
+                  if (t201) {
+                    any199 = true;
+                    break;
+                  }
                 }
               }
-            }
-            const bool t202 = !any199;
-            if (t202) {
-              charge_built(s.core, 29, int64_t(int32_t(1)));
-              out197.push_back(x198);
+              const bool t202 = !any199;
+              if (t202) {
+                charge_built(budget, 29, int64_t(int32_t(1)));
+                out197.push_back(x198);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::swap(l_filtered_elems194, out197);
         bool any203 = false;
@@ -1066,27 +1090,31 @@ struct Prog {
           std::vector<Elem>& out232 = s.scratch.v.b43;
           out232.clear();
           {
-            const auto& x233_list = l_curr_elems228;
-            charge_loop(s.core, 32, int64_t(x233_list.size()));
-            for (const Elem& x233 : x233_list) {
-              bool any234 = false;
-              {
-                const auto& x235_list = l_prev_elems227;
-                charge_loop(s.core, 33, int64_t(x235_list.size()));
-                for (const Elem& x235 : x235_list) {
-                  const bool t236 = (x235 == x233);
-                  if (t236) {
-                    any234 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x233_list = l_curr_elems228;
+              charge_loop(budget, 32, int64_t(x233_list.size()));
+              for (const Elem& x233 : x233_list) {
+                bool any234 = false;
+                {
+                  const auto& x235_list = l_prev_elems227;
+                  charge_loop(budget, 33, int64_t(x235_list.size()));
+                  for (const Elem& x235 : x235_list) {
+                    const bool t236 = (x235 == x233);
+                    if (t236) {
+                      any234 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t237 = !any234;
-              if (t237) {
-                charge_built(s.core, 32, int64_t(int32_t(1)));
-                out232.push_back(x233);
+                const bool t237 = !any234;
+                if (t237) {
+                  charge_built(budget, 32, int64_t(int32_t(1)));
+                  out232.push_back(x233);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           std::swap(l_filtered_elems229, out232);
           bool any238 = false;
@@ -1235,467 +1263,471 @@ struct Prog {
         const std::vector<C2_Sheep>& prev283 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
         std::vector<C2_Sheep> acc284 = std::vector<C2_Sheep>{};
         {
-          const auto& x285_list = prev283;
-          charge_loop(s.core, 38, int64_t(x285_list.size()));
-          for (const C2_Sheep& x285 : x285_list) {
-            // inlined: function at programs/sheepdog.au:80
-            // inlined: function at programs/sheepdog.au:53
-            C2_Sheep r286{};
-            if (x285.f0) {
-              r286 = x285;
-            } else {
-              Pos l_wish287{};
-              C2_Sheep l_there288{};
-              const C3_Dog& g289 = s.g_dog_15;
-              Pos l_delta290{};
-              const int32_t t291 = sub(g289.origin.x, x285.origin.x);
-              const int32_t t292 = sub(g289.origin.y, x285.origin.y);
-              const Pos t293 = Pos{t291, t292};
-              l_delta290 = t293;
-              const bool t294 = (l_delta290.x < int32_t(0));
-              int32_t r295{};
-              if (t294) {
-                const int32_t t296 = neg(l_delta290.x);
-                r295 = t296;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x285_list = prev283;
+            charge_loop(budget, 38, int64_t(x285_list.size()));
+            for (const C2_Sheep& x285 : x285_list) {
+              // inlined: function at programs/sheepdog.au:80
+              // inlined: function at programs/sheepdog.au:53
+              C2_Sheep r286{};
+              if (x285.f0) {
+                r286 = x285;
               } else {
-                r295 = l_delta290.x;
-              }
-              const bool t297 = (l_delta290.y < int32_t(0));
-              int32_t r298{};
-              if (t297) {
-                const int32_t t299 = neg(l_delta290.y);
-                r298 = t299;
-              } else {
-                r298 = l_delta290.y;
-              }
-              const int32_t t300 = add(r295, r298);
-              const bool t301 = (t300 <= int32_t(3));
-              Pos r302{};
-              if (t301) {
-                // inlined: function at programs/sheepdog.au:43
-                Pos l_u303{};
-                const C3_Dog& g304 = s.g_dog_15;
-                Pos l_delta305{};
-                int32_t l_sign_x306{};
-                int32_t l_sign_y307{};
-                const int32_t t308 = sub(g304.origin.x, x285.origin.x);
-                const int32_t t309 = sub(g304.origin.y, x285.origin.y);
-                const Pos t310 = Pos{t308, t309};
-                l_delta305 = t310;
-                const bool t311 = (l_delta305.x == int32_t(0));
-                int32_t r312{};
-                if (t311) {
-                  r312 = int32_t(0);
+                Pos l_wish287{};
+                C2_Sheep l_there288{};
+                const C3_Dog& g289 = s.g_dog_15;
+                Pos l_delta290{};
+                const int32_t t291 = sub(g289.origin.x, x285.origin.x);
+                const int32_t t292 = sub(g289.origin.y, x285.origin.y);
+                const Pos t293 = Pos{t291, t292};
+                l_delta290 = t293;
+                const bool t294 = (l_delta290.x < int32_t(0));
+                int32_t r295{};
+                if (t294) {
+                  const int32_t t296 = neg(l_delta290.x);
+                  r295 = t296;
                 } else {
-                  const bool t313 = (l_delta305.x < int32_t(0));
-                  int32_t r314{};
-                  if (t313) {
-                    r314 = int32_t(-1);
+                  r295 = l_delta290.x;
+                }
+                const bool t297 = (l_delta290.y < int32_t(0));
+                int32_t r298{};
+                if (t297) {
+                  const int32_t t299 = neg(l_delta290.y);
+                  r298 = t299;
+                } else {
+                  r298 = l_delta290.y;
+                }
+                const int32_t t300 = add(r295, r298);
+                const bool t301 = (t300 <= int32_t(3));
+                Pos r302{};
+                if (t301) {
+                  // inlined: function at programs/sheepdog.au:43
+                  Pos l_u303{};
+                  const C3_Dog& g304 = s.g_dog_15;
+                  Pos l_delta305{};
+                  int32_t l_sign_x306{};
+                  int32_t l_sign_y307{};
+                  const int32_t t308 = sub(g304.origin.x, x285.origin.x);
+                  const int32_t t309 = sub(g304.origin.y, x285.origin.y);
+                  const Pos t310 = Pos{t308, t309};
+                  l_delta305 = t310;
+                  const bool t311 = (l_delta305.x == int32_t(0));
+                  int32_t r312{};
+                  if (t311) {
+                    r312 = int32_t(0);
                   } else {
-                    r314 = int32_t(1);
-                  }
-                  r312 = r314;
-                }
-                l_sign_x306 = r312;
-                const bool t315 = (l_delta305.y == int32_t(0));
-                int32_t r316{};
-                if (t315) {
-                  r316 = int32_t(0);
-                } else {
-                  const bool t317 = (l_delta305.y < int32_t(0));
-                  int32_t r318{};
-                  if (t317) {
-                    r318 = int32_t(-1);
-                  } else {
-                    r318 = int32_t(1);
-                  }
-                  r316 = r318;
-                }
-                l_sign_y307 = r316;
-                const bool t319 = (l_sign_x306 < int32_t(0));
-                int32_t r320{};
-                if (t319) {
-                  const int32_t t321 = neg(l_sign_x306);
-                  r320 = t321;
-                } else {
-                  r320 = l_sign_x306;
-                }
-                const bool t322 = (r320 == int32_t(1));
-                bool r323{};
-                if (t322) {
-                  const bool t324 = (l_sign_y307 < int32_t(0));
-                  int32_t r325{};
-                  if (t324) {
-                    const int32_t t326 = neg(l_sign_y307);
-                    r325 = t326;
-                  } else {
-                    r325 = l_sign_y307;
-                  }
-                  const bool t327 = (r325 == int32_t(1));
-                  r323 = t327;
-                } else {
-                  r323 = false;
-                }
-                Pos r328{};
-                if (r323) {
-                  const Pos t329 = Pos{l_sign_x306, int32_t(0)};
-                  r328 = t329;
-                } else {
-                  const Pos t330 = Pos{l_sign_x306, l_sign_y307};
-                  r328 = t330;
-                }
-                l_u303 = r328;
-                const int32_t t331 = neg(l_u303.x);
-                const int32_t t332 = neg(l_u303.y);
-                const Pos t333 = Pos{t331, t332};
-                r302 = t333;
-              } else {
-                const std::vector<Pos>& g334 = s.g_wanderSteps_5;
-                if (g334.empty()) {
-                  fail_at(39, std::string() + std::string("uniformChoice of an empty list"));
-                }
-                const int32_t t335 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g334.size())))));
-                const Pos t336 = g334[size_t(t335)];
-                r302 = t336;
-              }
-              l_wish287 = r302;
-              // inlined: function at programs/sheepdog.au:52
-              const int32_t t337 = add(x285.origin.x, l_wish287.x);
-              const int32_t t338 = add(x285.origin.y, l_wish287.y);
-              const Pos t339 = Pos{t337, t338};
-              const C2_Sheep upd340 = C2_Sheep{x285.f0, t339};
-              std::vector<Elem>& rendered341 = s.scratch.v.b44;
-              rendered341.clear();
-              const int32_t colour342 = colour_0_C2_Sheep(s, upd340);
-              rendered341.push_back(Elem{Pos{add(upd340.origin.x, int32_t(0)), add(upd340.origin.y, int32_t(0))}, colour342});
-              bool within343 = true;
-              {
-                const auto& e344_list = rendered341;
-                for (const Elem& e344 : e344_list) {
-                  if ((((e344.position.x < int32_t(0)) || (e344.position.x >= int32_t(16))) || ((e344.position.y < int32_t(0)) || (e344.position.y >= int32_t(16))))) {
-                    within343 = false;
-                    break;
-                  }
-                }
-              }
-              bool r345{};
-              if (within343) {
-                const int32_t t346 = add(x285.origin.x, l_wish287.x);
-                const int32_t t347 = add(x285.origin.y, l_wish287.y);
-                const Pos t348 = Pos{t346, t347};
-                const C2_Sheep upd349 = C2_Sheep{x285.f0, t348};
-                // inlined: function at programs/sheepdog.au:49
-                // inlined: function at programs/sheepdog.au:48
-                // inlined: function at programs/sheepdog.au:21
-                const bool t350 = (upd349.origin.x >= int32_t(10));
-                bool r351{};
-                if (t350) {
-                  const bool t352 = (upd349.origin.y <= int32_t(5));
-                  r351 = t352;
-                } else {
-                  r351 = false;
-                }
-                bool r353{};
-                if (r351) {
-                  const bool t354 = (upd349.origin.x == int32_t(10));
-                  bool r355{};
-                  if (!t354) {
-                    const bool t356 = (upd349.origin.x == int32_t(15));
-                    r355 = t356;
-                  } else {
-                    r355 = true;
-                  }
-                  bool r357{};
-                  if (!r355) {
-                    const bool t358 = (upd349.origin.y == int32_t(0));
-                    bool r359{};
-                    if (!t358) {
-                      const bool t360 = (upd349.origin.y == int32_t(5));
-                      r359 = t360;
+                    const bool t313 = (l_delta305.x < int32_t(0));
+                    int32_t r314{};
+                    if (t313) {
+                      r314 = int32_t(-1);
                     } else {
-                      r359 = true;
+                      r314 = int32_t(1);
                     }
-                    r357 = r359;
+                    r312 = r314;
+                  }
+                  l_sign_x306 = r312;
+                  const bool t315 = (l_delta305.y == int32_t(0));
+                  int32_t r316{};
+                  if (t315) {
+                    r316 = int32_t(0);
                   } else {
-                    r357 = true;
+                    const bool t317 = (l_delta305.y < int32_t(0));
+                    int32_t r318{};
+                    if (t317) {
+                      r318 = int32_t(-1);
+                    } else {
+                      r318 = int32_t(1);
+                    }
+                    r316 = r318;
                   }
-                  r353 = r357;
+                  l_sign_y307 = r316;
+                  const bool t319 = (l_sign_x306 < int32_t(0));
+                  int32_t r320{};
+                  if (t319) {
+                    const int32_t t321 = neg(l_sign_x306);
+                    r320 = t321;
+                  } else {
+                    r320 = l_sign_x306;
+                  }
+                  const bool t322 = (r320 == int32_t(1));
+                  bool r323{};
+                  if (t322) {
+                    const bool t324 = (l_sign_y307 < int32_t(0));
+                    int32_t r325{};
+                    if (t324) {
+                      const int32_t t326 = neg(l_sign_y307);
+                      r325 = t326;
+                    } else {
+                      r325 = l_sign_y307;
+                    }
+                    const bool t327 = (r325 == int32_t(1));
+                    r323 = t327;
+                  } else {
+                    r323 = false;
+                  }
+                  Pos r328{};
+                  if (r323) {
+                    const Pos t329 = Pos{l_sign_x306, int32_t(0)};
+                    r328 = t329;
+                  } else {
+                    const Pos t330 = Pos{l_sign_x306, l_sign_y307};
+                    r328 = t330;
+                  }
+                  l_u303 = r328;
+                  const int32_t t331 = neg(l_u303.x);
+                  const int32_t t332 = neg(l_u303.y);
+                  const Pos t333 = Pos{t331, t332};
+                  r302 = t333;
                 } else {
-                  r353 = false;
+                  const std::vector<Pos>& g334 = s.g_wanderSteps_5;
+                  if (g334.empty()) {
+                    fail_at(39, std::string() + std::string("uniformChoice of an empty list"));
+                  }
+                  const int32_t t335 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g334.size())))));
+                  const Pos t336 = g334[size_t(t335)];
+                  r302 = t336;
                 }
-                bool r361{};
-                if (r353) {
-                  const std::vector<Pos>& g362 = s.g_gate_6;
-                  bool any363 = false;
-                  {
-                    const auto& x364_list = g362;
-                    charge_loop(s.core, 41, int64_t(x364_list.size()));
-                    for (const Pos& x364 : x364_list) {
-                      const bool t365 = (x364 == upd349.origin);
-                      if (t365) {
-                        any363 = true;
-                        break;
-                      }
+                l_wish287 = r302;
+                // inlined: function at programs/sheepdog.au:52
+                const int32_t t337 = add(x285.origin.x, l_wish287.x);
+                const int32_t t338 = add(x285.origin.y, l_wish287.y);
+                const Pos t339 = Pos{t337, t338};
+                const C2_Sheep upd340 = C2_Sheep{x285.f0, t339};
+                std::vector<Elem>& rendered341 = s.scratch.v.b44;
+                rendered341.clear();
+                const int32_t colour342 = colour_0_C2_Sheep(s, upd340);
+                rendered341.push_back(Elem{Pos{add(upd340.origin.x, int32_t(0)), add(upd340.origin.y, int32_t(0))}, colour342});
+                bool within343 = true;
+                {
+                  const auto& e344_list = rendered341;
+                  for (const Elem& e344 : e344_list) {
+                    if ((((e344.position.x < int32_t(0)) || (e344.position.x >= int32_t(16))) || ((e344.position.y < int32_t(0)) || (e344.position.y >= int32_t(16))))) {
+                      within343 = false;
+                      break;
                     }
                   }
-                  const bool t366 = !any363;
-                  r361 = t366;
-                } else {
-                  r361 = false;
                 }
-                bool r367{};
-                if (!r361) {
-                  const C3_Dog& g368 = s.g_dog_15;
-                  const bool t369 = (upd349.origin == g368.origin);
-                  r367 = t369;
-                } else {
-                  r367 = true;
-                }
-                bool r370{};
-                if (!r367) {
-                  bool any371 = false;
-                  {
-                    const auto& x372_list = acc284;
-                    charge_loop(s.core, 42, int64_t(x372_list.size()));
-                    for (const C2_Sheep& x372 : x372_list) {
-                      // inlined: function at programs/sheepdog.au:51
-                      const bool t373 = (x372.origin == upd349.origin);
-                      if (t373) {
-                        any371 = true;
-                        break;
-                      }
-                    }
+                bool r345{};
+                if (within343) {
+                  const int32_t t346 = add(x285.origin.x, l_wish287.x);
+                  const int32_t t347 = add(x285.origin.y, l_wish287.y);
+                  const Pos t348 = Pos{t346, t347};
+                  const C2_Sheep upd349 = C2_Sheep{x285.f0, t348};
+                  // inlined: function at programs/sheepdog.au:49
+                  // inlined: function at programs/sheepdog.au:48
+                  // inlined: function at programs/sheepdog.au:21
+                  const bool t350 = (upd349.origin.x >= int32_t(10));
+                  bool r351{};
+                  if (t350) {
+                    const bool t352 = (upd349.origin.y <= int32_t(5));
+                    r351 = t352;
+                  } else {
+                    r351 = false;
                   }
-                  bool r374{};
-                  if (!any371) {
-                    const std::vector<C2_Sheep>& prev375 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
-                    bool any376 = false;
+                  bool r353{};
+                  if (r351) {
+                    const bool t354 = (upd349.origin.x == int32_t(10));
+                    bool r355{};
+                    if (!t354) {
+                      const bool t356 = (upd349.origin.x == int32_t(15));
+                      r355 = t356;
+                    } else {
+                      r355 = true;
+                    }
+                    bool r357{};
+                    if (!r355) {
+                      const bool t358 = (upd349.origin.y == int32_t(0));
+                      bool r359{};
+                      if (!t358) {
+                        const bool t360 = (upd349.origin.y == int32_t(5));
+                        r359 = t360;
+                      } else {
+                        r359 = true;
+                      }
+                      r357 = r359;
+                    } else {
+                      r357 = true;
+                    }
+                    r353 = r357;
+                  } else {
+                    r353 = false;
+                  }
+                  bool r361{};
+                  if (r353) {
+                    const std::vector<Pos>& g362 = s.g_gate_6;
+                    bool any363 = false;
                     {
-                      const auto& x377_list = prev375;
-                      charge_loop(s.core, 43, int64_t(x377_list.size()));
-                      for (const C2_Sheep& x377 : x377_list) {
-                        // inlined: function at programs/sheepdog.au:51
-                        const bool t378 = (x377.origin == upd349.origin);
-                        if (t378) {
-                          any376 = true;
+                      const auto& x364_list = g362;
+                      charge_loop(budget, 41, int64_t(x364_list.size()));
+                      for (const Pos& x364 : x364_list) {
+                        const bool t365 = (x364 == upd349.origin);
+                        if (t365) {
+                          any363 = true;
                           break;
                         }
                       }
                     }
-                    r374 = any376;
+                    const bool t366 = !any363;
+                    r361 = t366;
                   } else {
-                    r374 = true;
+                    r361 = false;
                   }
-                  r370 = r374;
-                } else {
-                  r370 = true;
-                }
-                const bool t379 = !r370;
-                r345 = t379;
-              } else {
-                r345 = false;
-              }
-              Pos r380{};
-              if (r345) {
-                r380 = l_wish287;
-              } else {
-                const std::vector<Pos>& g381 = s.g_wanderSteps_5;
-                if (g381.empty()) {
-                  fail_at(44, std::string() + std::string("uniformChoice of an empty list"));
-                }
-                const int32_t t382 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g381.size())))));
-                const Pos t383 = g381[size_t(t382)];
-                r380 = t383;
-              }
-              l_wish287 = r380;
-              // inlined: function at programs/sheepdog.au:52
-              const int32_t t384 = add(x285.origin.x, l_wish287.x);
-              const int32_t t385 = add(x285.origin.y, l_wish287.y);
-              const Pos t386 = Pos{t384, t385};
-              const C2_Sheep upd387 = C2_Sheep{x285.f0, t386};
-              std::vector<Elem>& rendered388 = s.scratch.v.b45;
-              rendered388.clear();
-              const int32_t colour389 = colour_0_C2_Sheep(s, upd387);
-              rendered388.push_back(Elem{Pos{add(upd387.origin.x, int32_t(0)), add(upd387.origin.y, int32_t(0))}, colour389});
-              bool within390 = true;
-              {
-                const auto& e391_list = rendered388;
-                for (const Elem& e391 : e391_list) {
-                  if ((((e391.position.x < int32_t(0)) || (e391.position.x >= int32_t(16))) || ((e391.position.y < int32_t(0)) || (e391.position.y >= int32_t(16))))) {
-                    within390 = false;
-                    break;
-                  }
-                }
-              }
-              bool r392{};
-              if (within390) {
-                const int32_t t393 = add(x285.origin.x, l_wish287.x);
-                const int32_t t394 = add(x285.origin.y, l_wish287.y);
-                const Pos t395 = Pos{t393, t394};
-                const C2_Sheep upd396 = C2_Sheep{x285.f0, t395};
-                // inlined: function at programs/sheepdog.au:49
-                // inlined: function at programs/sheepdog.au:48
-                // inlined: function at programs/sheepdog.au:21
-                const bool t397 = (upd396.origin.x >= int32_t(10));
-                bool r398{};
-                if (t397) {
-                  const bool t399 = (upd396.origin.y <= int32_t(5));
-                  r398 = t399;
-                } else {
-                  r398 = false;
-                }
-                bool r400{};
-                if (r398) {
-                  const bool t401 = (upd396.origin.x == int32_t(10));
-                  bool r402{};
-                  if (!t401) {
-                    const bool t403 = (upd396.origin.x == int32_t(15));
-                    r402 = t403;
+                  bool r367{};
+                  if (!r361) {
+                    const C3_Dog& g368 = s.g_dog_15;
+                    const bool t369 = (upd349.origin == g368.origin);
+                    r367 = t369;
                   } else {
-                    r402 = true;
+                    r367 = true;
                   }
-                  bool r404{};
-                  if (!r402) {
-                    const bool t405 = (upd396.origin.y == int32_t(0));
-                    bool r406{};
-                    if (!t405) {
-                      const bool t407 = (upd396.origin.y == int32_t(5));
-                      r406 = t407;
-                    } else {
-                      r406 = true;
-                    }
-                    r404 = r406;
-                  } else {
-                    r404 = true;
-                  }
-                  r400 = r404;
-                } else {
-                  r400 = false;
-                }
-                bool r408{};
-                if (r400) {
-                  const std::vector<Pos>& g409 = s.g_gate_6;
-                  bool any410 = false;
-                  {
-                    const auto& x411_list = g409;
-                    charge_loop(s.core, 41, int64_t(x411_list.size()));
-                    for (const Pos& x411 : x411_list) {
-                      const bool t412 = (x411 == upd396.origin);
-                      if (t412) {
-                        any410 = true;
-                        break;
-                      }
-                    }
-                  }
-                  const bool t413 = !any410;
-                  r408 = t413;
-                } else {
-                  r408 = false;
-                }
-                bool r414{};
-                if (!r408) {
-                  const C3_Dog& g415 = s.g_dog_15;
-                  const bool t416 = (upd396.origin == g415.origin);
-                  r414 = t416;
-                } else {
-                  r414 = true;
-                }
-                bool r417{};
-                if (!r414) {
-                  bool any418 = false;
-                  {
-                    const auto& x419_list = acc284;
-                    charge_loop(s.core, 42, int64_t(x419_list.size()));
-                    for (const C2_Sheep& x419 : x419_list) {
-                      // inlined: function at programs/sheepdog.au:51
-                      const bool t420 = (x419.origin == upd396.origin);
-                      if (t420) {
-                        any418 = true;
-                        break;
-                      }
-                    }
-                  }
-                  bool r421{};
-                  if (!any418) {
-                    const std::vector<C2_Sheep>& prev422 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
-                    bool any423 = false;
+                  bool r370{};
+                  if (!r367) {
+                    bool any371 = false;
                     {
-                      const auto& x424_list = prev422;
-                      charge_loop(s.core, 43, int64_t(x424_list.size()));
-                      for (const C2_Sheep& x424 : x424_list) {
+                      const auto& x372_list = acc284;
+                      charge_loop(budget, 42, int64_t(x372_list.size()));
+                      for (const C2_Sheep& x372 : x372_list) {
                         // inlined: function at programs/sheepdog.au:51
-                        const bool t425 = (x424.origin == upd396.origin);
-                        if (t425) {
-                          any423 = true;
+                        const bool t373 = (x372.origin == upd349.origin);
+                        if (t373) {
+                          any371 = true;
                           break;
                         }
                       }
                     }
-                    r421 = any423;
+                    bool r374{};
+                    if (!any371) {
+                      const std::vector<C2_Sheep>& prev375 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+                      bool any376 = false;
+                      {
+                        const auto& x377_list = prev375;
+                        charge_loop(budget, 43, int64_t(x377_list.size()));
+                        for (const C2_Sheep& x377 : x377_list) {
+                          // inlined: function at programs/sheepdog.au:51
+                          const bool t378 = (x377.origin == upd349.origin);
+                          if (t378) {
+                            any376 = true;
+                            break;
+                          }
+                        }
+                      }
+                      r374 = any376;
+                    } else {
+                      r374 = true;
+                    }
+                    r370 = r374;
                   } else {
-                    r421 = true;
+                    r370 = true;
                   }
-                  r417 = r421;
+                  const bool t379 = !r370;
+                  r345 = t379;
                 } else {
-                  r417 = true;
+                  r345 = false;
                 }
-                const bool t426 = !r417;
-                r392 = t426;
-              } else {
-                r392 = false;
-              }
-              C2_Sheep r427{};
-              if (r392) {
-                const int32_t t428 = add(x285.origin.x, l_wish287.x);
-                const int32_t t429 = add(x285.origin.y, l_wish287.y);
-                const Pos t430 = Pos{t428, t429};
-                C2_Sheep upd431 = C2_Sheep{x285.f0, t430};
-                r427 = std::move(upd431);
-              } else {
-                r427 = x285;
-              }
-              l_there288 = std::move(r427);
-              // inlined: function at programs/sheepdog.au:23
-              const bool t432 = (l_there288.origin.x >= int32_t(11));
-              bool r433{};
-              if (t432) {
-                const bool t434 = (l_there288.origin.x <= int32_t(14));
-                r433 = t434;
-              } else {
-                r433 = false;
-              }
-              bool r435{};
-              if (r433) {
-                const bool t436 = (l_there288.origin.y >= int32_t(1));
-                bool r437{};
-                if (t436) {
-                  const bool t438 = (l_there288.origin.y <= int32_t(4));
-                  r437 = t438;
+                Pos r380{};
+                if (r345) {
+                  r380 = l_wish287;
                 } else {
-                  r437 = false;
+                  const std::vector<Pos>& g381 = s.g_wanderSteps_5;
+                  if (g381.empty()) {
+                    fail_at(44, std::string() + std::string("uniformChoice of an empty list"));
+                  }
+                  const int32_t t382 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g381.size())))));
+                  const Pos t383 = g381[size_t(t382)];
+                  r380 = t383;
                 }
-                r435 = r437;
-              } else {
-                r435 = false;
+                l_wish287 = r380;
+                // inlined: function at programs/sheepdog.au:52
+                const int32_t t384 = add(x285.origin.x, l_wish287.x);
+                const int32_t t385 = add(x285.origin.y, l_wish287.y);
+                const Pos t386 = Pos{t384, t385};
+                const C2_Sheep upd387 = C2_Sheep{x285.f0, t386};
+                std::vector<Elem>& rendered388 = s.scratch.v.b45;
+                rendered388.clear();
+                const int32_t colour389 = colour_0_C2_Sheep(s, upd387);
+                rendered388.push_back(Elem{Pos{add(upd387.origin.x, int32_t(0)), add(upd387.origin.y, int32_t(0))}, colour389});
+                bool within390 = true;
+                {
+                  const auto& e391_list = rendered388;
+                  for (const Elem& e391 : e391_list) {
+                    if ((((e391.position.x < int32_t(0)) || (e391.position.x >= int32_t(16))) || ((e391.position.y < int32_t(0)) || (e391.position.y >= int32_t(16))))) {
+                      within390 = false;
+                      break;
+                    }
+                  }
+                }
+                bool r392{};
+                if (within390) {
+                  const int32_t t393 = add(x285.origin.x, l_wish287.x);
+                  const int32_t t394 = add(x285.origin.y, l_wish287.y);
+                  const Pos t395 = Pos{t393, t394};
+                  const C2_Sheep upd396 = C2_Sheep{x285.f0, t395};
+                  // inlined: function at programs/sheepdog.au:49
+                  // inlined: function at programs/sheepdog.au:48
+                  // inlined: function at programs/sheepdog.au:21
+                  const bool t397 = (upd396.origin.x >= int32_t(10));
+                  bool r398{};
+                  if (t397) {
+                    const bool t399 = (upd396.origin.y <= int32_t(5));
+                    r398 = t399;
+                  } else {
+                    r398 = false;
+                  }
+                  bool r400{};
+                  if (r398) {
+                    const bool t401 = (upd396.origin.x == int32_t(10));
+                    bool r402{};
+                    if (!t401) {
+                      const bool t403 = (upd396.origin.x == int32_t(15));
+                      r402 = t403;
+                    } else {
+                      r402 = true;
+                    }
+                    bool r404{};
+                    if (!r402) {
+                      const bool t405 = (upd396.origin.y == int32_t(0));
+                      bool r406{};
+                      if (!t405) {
+                        const bool t407 = (upd396.origin.y == int32_t(5));
+                        r406 = t407;
+                      } else {
+                        r406 = true;
+                      }
+                      r404 = r406;
+                    } else {
+                      r404 = true;
+                    }
+                    r400 = r404;
+                  } else {
+                    r400 = false;
+                  }
+                  bool r408{};
+                  if (r400) {
+                    const std::vector<Pos>& g409 = s.g_gate_6;
+                    bool any410 = false;
+                    {
+                      const auto& x411_list = g409;
+                      charge_loop(budget, 41, int64_t(x411_list.size()));
+                      for (const Pos& x411 : x411_list) {
+                        const bool t412 = (x411 == upd396.origin);
+                        if (t412) {
+                          any410 = true;
+                          break;
+                        }
+                      }
+                    }
+                    const bool t413 = !any410;
+                    r408 = t413;
+                  } else {
+                    r408 = false;
+                  }
+                  bool r414{};
+                  if (!r408) {
+                    const C3_Dog& g415 = s.g_dog_15;
+                    const bool t416 = (upd396.origin == g415.origin);
+                    r414 = t416;
+                  } else {
+                    r414 = true;
+                  }
+                  bool r417{};
+                  if (!r414) {
+                    bool any418 = false;
+                    {
+                      const auto& x419_list = acc284;
+                      charge_loop(budget, 42, int64_t(x419_list.size()));
+                      for (const C2_Sheep& x419 : x419_list) {
+                        // inlined: function at programs/sheepdog.au:51
+                        const bool t420 = (x419.origin == upd396.origin);
+                        if (t420) {
+                          any418 = true;
+                          break;
+                        }
+                      }
+                    }
+                    bool r421{};
+                    if (!any418) {
+                      const std::vector<C2_Sheep>& prev422 = (s.scratch.v.sv_sheep_10 ? s.scratch.v.p_sheep_9 : s.g_sheep_7);
+                      bool any423 = false;
+                      {
+                        const auto& x424_list = prev422;
+                        charge_loop(budget, 43, int64_t(x424_list.size()));
+                        for (const C2_Sheep& x424 : x424_list) {
+                          // inlined: function at programs/sheepdog.au:51
+                          const bool t425 = (x424.origin == upd396.origin);
+                          if (t425) {
+                            any423 = true;
+                            break;
+                          }
+                        }
+                      }
+                      r421 = any423;
+                    } else {
+                      r421 = true;
+                    }
+                    r417 = r421;
+                  } else {
+                    r417 = true;
+                  }
+                  const bool t426 = !r417;
+                  r392 = t426;
+                } else {
+                  r392 = false;
+                }
+                C2_Sheep r427{};
+                if (r392) {
+                  const int32_t t428 = add(x285.origin.x, l_wish287.x);
+                  const int32_t t429 = add(x285.origin.y, l_wish287.y);
+                  const Pos t430 = Pos{t428, t429};
+                  C2_Sheep upd431 = C2_Sheep{x285.f0, t430};
+                  r427 = std::move(upd431);
+                } else {
+                  r427 = x285;
+                }
+                l_there288 = std::move(r427);
+                // inlined: function at programs/sheepdog.au:23
+                const bool t432 = (l_there288.origin.x >= int32_t(11));
+                bool r433{};
+                if (t432) {
+                  const bool t434 = (l_there288.origin.x <= int32_t(14));
+                  r433 = t434;
+                } else {
+                  r433 = false;
+                }
+                bool r435{};
+                if (r433) {
+                  const bool t436 = (l_there288.origin.y >= int32_t(1));
+                  bool r437{};
+                  if (t436) {
+                    const bool t438 = (l_there288.origin.y <= int32_t(4));
+                    r437 = t438;
+                  } else {
+                    r437 = false;
+                  }
+                  r435 = r437;
+                } else {
+                  r435 = false;
+                }
+                C2_Sheep upd439 = C2_Sheep{r435, l_there288.origin};
+                r286 = std::move(upd439);
               }
-              C2_Sheep upd439 = C2_Sheep{r435, l_there288.origin};
-              r286 = std::move(upd439);
-            }
-            check_length(s.core, 45, int64_t(acc284.size()) + int64_t(int32_t(1)));
-            charge_built(s.core, 45, int64_t(acc284.size()) + int64_t(int32_t(1)));
-            std::vector<C2_Sheep>& added440 = s.scratch.v.b46;
-            added440.clear();
-            added440.reserve(size_t(add(int32_t(acc284.size()), int32_t(1))));
-            {
-              const auto& x441_list = acc284;
-              charge_loop(s.core, 45, int64_t(x441_list.size()));
-              for (const C2_Sheep& x441 : x441_list) {
-                added440.push_back(x441);
+              check_length(s.core, 45, int64_t(acc284.size()) + int64_t(int32_t(1)));
+              charge_built(budget, 45, int64_t(acc284.size()) + int64_t(int32_t(1)));
+              std::vector<C2_Sheep>& added440 = s.scratch.v.b46;
+              added440.clear();
+              added440.reserve(size_t(add(int32_t(acc284.size()), int32_t(1))));
+              {
+                const auto& x441_list = acc284;
+                charge_loop(budget, 45, int64_t(x441_list.size()));
+                for (const C2_Sheep& x441 : x441_list) {
+                  added440.push_back(x441);
+                }
               }
+              added440.push_back(std::move(r286));
+              std::swap(acc284, added440);
             }
-            added440.push_back(std::move(r286));
-            std::swap(acc284, added440);
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_sheep_10) {
           std::swap(s.scratch.v.p_sheep_9, s.g_sheep_7);

@@ -533,26 +533,30 @@ struct Prog {
         std::vector<C0_Flake>& out7 = s.scratch.v.b0;
         out7.clear();
         {
-          const auto& x8_list = prev6;
-          charge_loop(s.core, 6, int64_t(x8_list.size()));
-          for (const C0_Flake& x8 : x8_list) {
-            // inlined: function at programs/snowplow.au:47
-            bool clicked9 = false;
-            if (s.core.click) {
-              s.d_click_30 = true;
-              const Pos t10 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_29 = t10;
-              const Elem e11 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, int32_t(6)};
-              if ((e11.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked9 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x8_list = prev6;
+            charge_loop(budget, 6, int64_t(x8_list.size()));
+            for (const C0_Flake& x8 : x8_list) {
+              // inlined: function at programs/snowplow.au:47
+              bool clicked9 = false;
+              if (s.core.click) {
+                s.d_click_30 = true;
+                const Pos t10 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_29 = t10;
+                const Elem e11 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, int32_t(6)};
+                if ((e11.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked9 = true;
+                }
+              }
+              const bool t12 = !clicked9;
+              if (t12) {
+                charge_built(budget, 6, int64_t(int32_t(1)));
+                out7.push_back(x8);
               }
             }
-            const bool t12 = !clicked9;
-            if (t12) {
-              charge_built(s.core, 6, int64_t(int32_t(1)));
-              out7.push_back(x8);
-            }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_snow_12) {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
@@ -623,26 +627,30 @@ struct Prog {
         std::vector<C2_Rock>& out28 = s.scratch.v.b2;
         out28.clear();
         {
-          const auto& x29_list = prev27;
-          charge_loop(s.core, 11, int64_t(x29_list.size()));
-          for (const C2_Rock& x29 : x29_list) {
-            // inlined: function at programs/snowplow.au:51
-            bool clicked30 = false;
-            if (s.core.click) {
-              s.d_click_30 = true;
-              const Pos t31 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_29 = t31;
-              const Elem e32 = Elem{Pos{add(x29.origin.x, int32_t(0)), add(x29.origin.y, int32_t(0))}, int32_t(3)};
-              if ((e32.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked30 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x29_list = prev27;
+            charge_loop(budget, 11, int64_t(x29_list.size()));
+            for (const C2_Rock& x29 : x29_list) {
+              // inlined: function at programs/snowplow.au:51
+              bool clicked30 = false;
+              if (s.core.click) {
+                s.d_click_30 = true;
+                const Pos t31 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_29 = t31;
+                const Elem e32 = Elem{Pos{add(x29.origin.x, int32_t(0)), add(x29.origin.y, int32_t(0))}, int32_t(3)};
+                if ((e32.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked30 = true;
+                }
+              }
+              const bool t33 = !clicked30;
+              if (t33) {
+                charge_built(budget, 11, int64_t(int32_t(1)));
+                out28.push_back(x29);
               }
             }
-            const bool t33 = !clicked30;
-            if (t33) {
-              charge_built(s.core, 11, int64_t(int32_t(1)));
-              out28.push_back(x29);
-            }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_rocks_20) {
           std::swap(s.scratch.v.p_rocks_19, s.g_rocks_17);
@@ -734,102 +742,106 @@ struct Prog {
         charge_built(s.core, 16, int64_t(g53.size()));
         out54.reserve(size_t(int32_t(g53.size())));
         {
-          const auto& x55_list = g53;
-          charge_loop(s.core, 16, int64_t(x55_list.size()));
-          for (const C0_Flake& x55 : x55_list) {
-            const int32_t t56 = add(x55.origin.x, int32_t(0));
-            const int32_t t57 = add(x55.origin.y, int32_t(1));
-            const Pos t58 = Pos{t56, t57};
-            const C0_Flake upd59 = C0_Flake{t58};
-            std::vector<Elem>& rendered60 = s.scratch.v.b5;
-            rendered60.clear();
-            rendered60.push_back(Elem{Pos{add(upd59.origin.x, int32_t(0)), add(upd59.origin.y, int32_t(0))}, int32_t(6)});
-            bool within61 = true;
-            {
-              const auto& e62_list = rendered60;
-              for (const Elem& e62 : e62_list) {
-                if ((((e62.position.x < int32_t(0)) || (e62.position.x >= int32_t(16))) || ((e62.position.y < int32_t(0)) || (e62.position.y >= int32_t(16))))) {
-                  within61 = false;
-                  break;
-                }
-              }
-            }
-            bool r63{};
-            if (within61) {
-              const int32_t t64 = add(x55.origin.x, int32_t(0));
-              const int32_t t65 = add(x55.origin.y, int32_t(1));
-              const Pos t66 = Pos{t64, t65};
-              const C0_Flake upd67 = C0_Flake{t66};
-              std::vector<Elem>& l_prev_elems68 = s.scratch.v.b6;
-              l_prev_elems68.clear();
-              std::vector<Elem>& l_curr_elems69 = s.scratch.v.b7;
-              l_curr_elems69.clear();
-              std::vector<Elem>& l_filtered_elems70 = s.scratch.v.b8;
-              l_filtered_elems70.clear();
-              std::vector<Elem>& rendered71 = s.scratch.v.b9;
-              rendered71.clear();
-              rendered71.push_back(Elem{Pos{add(x55.origin.x, int32_t(0)), add(x55.origin.y, int32_t(0))}, int32_t(6)});
-              std::swap(l_prev_elems68, rendered71);
-              std::vector<Elem>& rendered72 = s.scratch.v.b10;
-              rendered72.clear();
-              rendered72.push_back(Elem{Pos{add(upd67.origin.x, int32_t(0)), add(upd67.origin.y, int32_t(0))}, int32_t(6)});
-              std::swap(l_curr_elems69, rendered72);
-              std::vector<Elem>& out73 = s.scratch.v.b11;
-              out73.clear();
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x55_list = g53;
+            charge_loop(budget, 16, int64_t(x55_list.size()));
+            for (const C0_Flake& x55 : x55_list) {
+              const int32_t t56 = add(x55.origin.x, int32_t(0));
+              const int32_t t57 = add(x55.origin.y, int32_t(1));
+              const Pos t58 = Pos{t56, t57};
+              const C0_Flake upd59 = C0_Flake{t58};
+              std::vector<Elem>& rendered60 = s.scratch.v.b5;
+              rendered60.clear();
+              rendered60.push_back(Elem{Pos{add(upd59.origin.x, int32_t(0)), add(upd59.origin.y, int32_t(0))}, int32_t(6)});
+              bool within61 = true;
               {
-                const auto& x74_list = l_curr_elems69;
-                charge_loop(s.core, 18, int64_t(x74_list.size()));
-                for (const Elem& x74 : x74_list) {
-                  bool any75 = false;
-                  {
-                    const auto& x76_list = l_prev_elems68;
-                    charge_loop(s.core, 19, int64_t(x76_list.size()));
-                    for (const Elem& x76 : x76_list) {
-                      const bool t77 = (x76 == x74);
-                      if (t77) {
-                        any75 = true;
-                        break;
-                      }
-                    }
-                  }
-                  const bool t78 = !any75;
-                  if (t78) {
-                    charge_built(s.core, 18, int64_t(int32_t(1)));
-                    out73.push_back(x74);
-                  }
-                }
-              }
-              std::swap(l_filtered_elems70, out73);
-              bool any79 = false;
-              {
-                const auto& x80_list = l_filtered_elems70;
-                charge_loop(s.core, 20, int64_t(x80_list.size()));
-                for (const Elem& x80 : x80_list) {
-                  const bool t81 = s.core.occupied.free(x80.position);
-                  const bool t82 = !t81;
-                  if (t82) {
-                    any79 = true;
+                const auto& e62_list = rendered60;
+                for (const Elem& e62 : e62_list) {
+                  if ((((e62.position.x < int32_t(0)) || (e62.position.x >= int32_t(16))) || ((e62.position.y < int32_t(0)) || (e62.position.y >= int32_t(16))))) {
+                    within61 = false;
                     break;
                   }
                 }
               }
-              const bool t83 = !any79;
-              r63 = t83;
-            } else {
-              r63 = false;
+              bool r63{};
+              if (within61) {
+                const int32_t t64 = add(x55.origin.x, int32_t(0));
+                const int32_t t65 = add(x55.origin.y, int32_t(1));
+                const Pos t66 = Pos{t64, t65};
+                const C0_Flake upd67 = C0_Flake{t66};
+                std::vector<Elem>& l_prev_elems68 = s.scratch.v.b6;
+                l_prev_elems68.clear();
+                std::vector<Elem>& l_curr_elems69 = s.scratch.v.b7;
+                l_curr_elems69.clear();
+                std::vector<Elem>& l_filtered_elems70 = s.scratch.v.b8;
+                l_filtered_elems70.clear();
+                std::vector<Elem>& rendered71 = s.scratch.v.b9;
+                rendered71.clear();
+                rendered71.push_back(Elem{Pos{add(x55.origin.x, int32_t(0)), add(x55.origin.y, int32_t(0))}, int32_t(6)});
+                std::swap(l_prev_elems68, rendered71);
+                std::vector<Elem>& rendered72 = s.scratch.v.b10;
+                rendered72.clear();
+                rendered72.push_back(Elem{Pos{add(upd67.origin.x, int32_t(0)), add(upd67.origin.y, int32_t(0))}, int32_t(6)});
+                std::swap(l_curr_elems69, rendered72);
+                std::vector<Elem>& out73 = s.scratch.v.b11;
+                out73.clear();
+                {
+                  const auto& x74_list = l_curr_elems69;
+                  charge_loop(budget, 18, int64_t(x74_list.size()));
+                  for (const Elem& x74 : x74_list) {
+                    bool any75 = false;
+                    {
+                      const auto& x76_list = l_prev_elems68;
+                      charge_loop(budget, 19, int64_t(x76_list.size()));
+                      for (const Elem& x76 : x76_list) {
+                        const bool t77 = (x76 == x74);
+                        if (t77) {
+                          any75 = true;
+                          break;
+                        }
+                      }
+                    }
+                    const bool t78 = !any75;
+                    if (t78) {
+                      charge_built(budget, 18, int64_t(int32_t(1)));
+                      out73.push_back(x74);
+                    }
+                  }
+                }
+                std::swap(l_filtered_elems70, out73);
+                bool any79 = false;
+                {
+                  const auto& x80_list = l_filtered_elems70;
+                  charge_loop(budget, 20, int64_t(x80_list.size()));
+                  for (const Elem& x80 : x80_list) {
+                    const bool t81 = s.core.occupied.free(x80.position);
+                    const bool t82 = !t81;
+                    if (t82) {
+                      any79 = true;
+                      break;
+                    }
+                  }
+                }
+                const bool t83 = !any79;
+                r63 = t83;
+              } else {
+                r63 = false;
+              }
+              C0_Flake r84{};
+              if (r63) {
+                const int32_t t85 = add(x55.origin.x, int32_t(0));
+                const int32_t t86 = add(x55.origin.y, int32_t(1));
+                const Pos t87 = Pos{t85, t86};
+                C0_Flake upd88 = C0_Flake{t87};
+                r84 = std::move(upd88);
+              } else {
+                r84 = x55;
+              }
+              out54.push_back(std::move(r84));
             }
-            C0_Flake r84{};
-            if (r63) {
-              const int32_t t85 = add(x55.origin.x, int32_t(0));
-              const int32_t t86 = add(x55.origin.y, int32_t(1));
-              const Pos t87 = Pos{t85, t86};
-              C0_Flake upd88 = C0_Flake{t87};
-              r84 = std::move(upd88);
-            } else {
-              r84 = x55;
-            }
-            out54.push_back(std::move(r84));
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_snow_12) {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);
@@ -850,351 +862,359 @@ struct Prog {
         charge_built(s.core, 21, int64_t(g89.size()));
         out90.reserve(size_t(int32_t(g89.size())));
         {
-          const auto& x91_list = g89;
-          charge_loop(s.core, 21, int64_t(x91_list.size()));
-          for (const C1_Melt& x91 : x91_list) {
-            // inlined: function at programs/snowplow.au:43
-            const bool t92 = (x91.origin.y == int32_t(15));
-            const bool t93 = !t92;
-            bool r94{};
-            if (t93) {
-              const int32_t t95 = add(x91.origin.x, int32_t(0));
-              const int32_t t96 = add(x91.origin.y, int32_t(1));
-              const Pos t97 = Pos{t95, t96};
-              const C1_Melt upd98 = C1_Melt{x91.f0, t97};
-              std::vector<Elem>& rendered99 = s.scratch.v.b13;
-              rendered99.clear();
-              const int32_t colour100 = colour_19_C1_Melt(s, upd98);
-              rendered99.push_back(Elem{Pos{add(upd98.origin.x, int32_t(0)), add(upd98.origin.y, int32_t(0))}, colour100});
-              bool any101 = false;
-              {
-                const auto& x102_list = rendered99;
-                for (const Elem& x102 : x102_list) {
-                  const bool t103 = s.core.occupied.free(x102.position);
-                  const bool t104 = !t103;
-                  if (t104) {
-                    any101 = true;
-                    break;
-                  }
-                }
-              }
-              const bool t105 = !any101;
-              r94 = t105;
-            } else {
-              r94 = false;
-            }
-            C1_Melt r106{};
-            if (r94) {
-              const int32_t t107 = add(x91.origin.x, int32_t(0));
-              const int32_t t108 = add(x91.origin.y, int32_t(1));
-              const Pos t109 = Pos{t107, t108};
-              C1_Melt upd110 = C1_Melt{x91.f0, t109};
-              r106 = std::move(upd110);
-            } else {
-              std::vector<Pos>& l_nextRowPos111 = s.scratch.v.b14;
-              l_nextRowPos111.clear();
-              std::vector<Pos>& l_holes112 = s.scratch.v.b15;
-              l_holes112.clear();
-              const int32_t t113 = add(x91.origin.y, int32_t(1));
-              const Pos t114 = Pos{int32_t(0), t113};
-              const int32_t t115 = add(x91.origin.y, int32_t(2));
-              const Pos t116 = Pos{int32_t(16), t115};
-              int32_t l_xmin117{};
-              int32_t l_xmax118{};
-              int32_t l_ymin119{};
-              int32_t l_ymax120{};
-              std::vector<Pos>& l_rectPos121 = s.scratch.v.b16;
-              l_rectPos121.clear();
-              l_xmin117 = t114.x;
-              l_xmax118 = t116.x;
-              l_ymin119 = t114.y;
-              l_ymax120 = t116.y;
-              check_length(s.core, 23, int64_t(l_ymax120) - int64_t(l_ymin119));
-              charge_built(s.core, 23, int64_t(l_ymax120) - int64_t(l_ymin119));
-              std::vector<int32_t>& range122 = s.scratch.v.b17;
-              range122.clear();
-              {
-                const int32_t i123_first = l_ymin119, i123_end = l_ymax120;
-                charge_loop(s.core, 23, int64_t(i123_end) - i123_first);
-                for (int32_t i123 = i123_first; i123 < i123_end; ++i123) {
-                  range122.push_back(i123);
-                }
-              }
-              std::vector<std::vector<Pos>>& out124 = s.scratch.v.b18;
-              out124.clear();
-              charge_built(s.core, 24, int64_t(range122.size()));
-              out124.reserve(size_t(int32_t(range122.size())));
-              {
-                const auto& x125_list = range122;
-                charge_loop(s.core, 24, int64_t(x125_list.size()));
-                for (const int32_t& x125 : x125_list) {
-                  check_length(s.core, 25, int64_t(l_xmax118) - int64_t(l_xmin117));
-                  charge_built(s.core, 25, int64_t(l_xmax118) - int64_t(l_xmin117));
-                  std::vector<int32_t>& range126 = s.scratch.v.b19;
-                  range126.clear();
-                  {
-                    const int32_t i127_first = l_xmin117, i127_end = l_xmax118;
-                    charge_loop(s.core, 25, int64_t(i127_end) - i127_first);
-                    for (int32_t i127 = i127_first; i127 < i127_end; ++i127) {
-                      range126.push_back(i127);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x91_list = g89;
+            charge_loop(budget, 21, int64_t(x91_list.size()));
+            for (const C1_Melt& x91 : x91_list) {
+              // inlined: function at programs/snowplow.au:43
+              const bool t92 = (x91.origin.y == int32_t(15));
+              const bool t93 = !t92;
+              bool r94{};
+              if (t93) {
+                const int32_t t95 = add(x91.origin.x, int32_t(0));
+                const int32_t t96 = add(x91.origin.y, int32_t(1));
+                const Pos t97 = Pos{t95, t96};
+                const C1_Melt upd98 = C1_Melt{x91.f0, t97};
+                std::vector<Elem>& rendered99 = s.scratch.v.b13;
+                rendered99.clear();
+                const int32_t colour100 = colour_19_C1_Melt(s, upd98);
+                rendered99.push_back(Elem{Pos{add(upd98.origin.x, int32_t(0)), add(upd98.origin.y, int32_t(0))}, colour100});
+                bool any101 = false;
+                {
+                  const auto& x102_list = rendered99;
+                  for (const Elem& x102 : x102_list) {
+                    const bool t103 = s.core.occupied.free(x102.position);
+                    const bool t104 = !t103;
+                    if (t104) {
+                      any101 = true;
+                      break;
                     }
                   }
-                  std::vector<Pos> out128{};
-                  charge_built(s.core, 26, int64_t(range126.size()));
-                  out128.reserve(size_t(int32_t(range126.size())));
-                  {
-                    const auto& x129_list = range126;
-                    charge_loop(s.core, 26, int64_t(x129_list.size()));
-                    for (const int32_t& x129 : x129_list) {
-                      const Pos t130 = Pos{x129, x125};
-                      out128.push_back(t130);
-                    }
-                  }
-                  out124.push_back(std::move(out128));
                 }
-              }
-              check_length(s.core, 27, total_size(out124));
-              charge_built(s.core, 27, total_size(out124));
-              std::vector<Pos>& cat131 = s.scratch.v.b20;
-              cat131.clear();
-              {
-                const auto& part132_list = out124;
-                charge_loop(s.core, 27, int64_t(part132_list.size()));
-                for (const std::vector<Pos>& part132 : part132_list) {
-                  cat131.insert(cat131.end(), part132.begin(), part132.end());
-                }
-              }
-              std::swap(l_rectPos121, cat131);
-              std::swap(l_nextRowPos111, l_rectPos121);
-              std::vector<Pos>& out133 = s.scratch.v.b21;
-              out133.clear();
-              {
-                const auto& x134_list = l_nextRowPos111;
-                charge_loop(s.core, 28, int64_t(x134_list.size()));
-                for (const Pos& x134 : x134_list) {
-                  const bool t135 = (x134.y == int32_t(16));
-                  const bool t136 = !t135;
-                  if (t136) {
-                    charge_built(s.core, 28, int64_t(int32_t(1)));
-                    out133.push_back(x134);
-                  }
-                }
-              }
-              std::swap(l_nextRowPos111, out133);
-              std::vector<Pos>& out137 = s.scratch.v.b22;
-              out137.clear();
-              {
-                const auto& x138_list = l_nextRowPos111;
-                charge_loop(s.core, 29, int64_t(x138_list.size()));
-                for (const Pos& x138 : x138_list) {
-                  const bool t139 = s.core.occupied.free(x138);
-                  bool r140{};
-                  if (t139) {
-                    const int32_t t141 = add(x138.x, int32_t(0));
-                    const int32_t t142 = add(x138.y, int32_t(-1));
-                    const Pos t143 = Pos{t141, t142};
-                    const bool t144 = s.core.occupied.free(t143);
-                    r140 = t144;
-                  } else {
-                    r140 = false;
-                  }
-                  if (r140) {
-                    charge_built(s.core, 29, int64_t(int32_t(1)));
-                    out137.push_back(x138);
-                  }
-                }
-              }
-              std::swap(l_holes112, out137);
-              const int32_t t145 = int32_t(l_holes112.size());
-              const bool t146 = (t145 == int32_t(0));
-              C1_Melt r147{};
-              if (t146) {
-                r147 = x91;
+                const bool t105 = !any101;
+                r94 = t105;
               } else {
-                Pos l_closestHole148{};
-                const int32_t t149 = int32_t(l_holes112.size());
-                const bool t150 = (t149 == int32_t(0));
-                Pos r151{};
-                if (t150) {
-                  r151 = x91.origin;
-                } else {
-                  if (l_holes112.empty()) {
-                    fail_at(30, std::string() + std::string("head of an empty list"));
+                r94 = false;
+              }
+              C1_Melt r106{};
+              if (r94) {
+                const int32_t t107 = add(x91.origin.x, int32_t(0));
+                const int32_t t108 = add(x91.origin.y, int32_t(1));
+                const Pos t109 = Pos{t107, t108};
+                C1_Melt upd110 = C1_Melt{x91.f0, t109};
+                r106 = std::move(upd110);
+              } else {
+                std::vector<Pos>& l_nextRowPos111 = s.scratch.v.b14;
+                l_nextRowPos111.clear();
+                std::vector<Pos>& l_holes112 = s.scratch.v.b15;
+                l_holes112.clear();
+                const int32_t t113 = add(x91.origin.y, int32_t(1));
+                const Pos t114 = Pos{int32_t(0), t113};
+                const int32_t t115 = add(x91.origin.y, int32_t(2));
+                const Pos t116 = Pos{int32_t(16), t115};
+                int32_t l_xmin117{};
+                int32_t l_xmax118{};
+                int32_t l_ymin119{};
+                int32_t l_ymax120{};
+                std::vector<Pos>& l_rectPos121 = s.scratch.v.b16;
+                l_rectPos121.clear();
+                l_xmin117 = t114.x;
+                l_xmax118 = t116.x;
+                l_ymin119 = t114.y;
+                l_ymax120 = t116.y;
+                check_length(s.core, 23, int64_t(l_ymax120) - int64_t(l_ymin119));
+                charge_built(budget, 23, int64_t(l_ymax120) - int64_t(l_ymin119));
+                std::vector<int32_t>& range122 = s.scratch.v.b17;
+                range122.clear();
+                {
+                  const int32_t i123_first = l_ymin119, i123_end = l_ymax120;
+                  charge_loop(budget, 23, int64_t(i123_end) - i123_first);
+                  for (int32_t i123 = i123_first; i123 < i123_end; ++i123) {
+                    range122.push_back(i123);
                   }
-                  const Pos t152 = l_holes112.front();
-                  Pos acc153 = t152;
-                  {
-                    const auto& x154_list = l_holes112;
-                    charge_loop(s.core, 31, int64_t(x154_list.size()));
-                    for (const Pos& x154 : x154_list) {
-                      Pos l_delta155{};
-                      const int32_t t156 = sub(x91.origin.x, acc153.x);
-                      const int32_t t157 = sub(x91.origin.y, acc153.y);
-                      const Pos t158 = Pos{t156, t157};
-                      l_delta155 = t158;
-                      const int32_t t159 = mul(l_delta155.x, l_delta155.x);
-                      const int32_t t160 = mul(l_delta155.y, l_delta155.y);
-                      const int32_t t161 = add(t159, t160);
-                      Pos l_delta162{};
-                      const int32_t t163 = sub(x91.origin.x, x154.x);
-                      const int32_t t164 = sub(x91.origin.y, x154.y);
-                      const Pos t165 = Pos{t163, t164};
-                      l_delta162 = t165;
-                      const int32_t t166 = mul(l_delta162.x, l_delta162.x);
-                      const int32_t t167 = mul(l_delta162.y, l_delta162.y);
-                      const int32_t t168 = add(t166, t167);
-                      const bool t169 = (t161 < t168);
-                      Pos r170{};
-                      if (t169) {
-                        r170 = acc153;
-                      } else {
-                        r170 = x154;
+                }
+                std::vector<std::vector<Pos>>& out124 = s.scratch.v.b18;
+                out124.clear();
+                charge_built(budget, 24, int64_t(range122.size()));
+                out124.reserve(size_t(int32_t(range122.size())));
+                {
+                  const auto& x125_list = range122;
+                  charge_loop(budget, 24, int64_t(x125_list.size()));
+                  for (const int32_t& x125 : x125_list) {
+                    check_length(s.core, 25, int64_t(l_xmax118) - int64_t(l_xmin117));
+                    charge_built(budget, 25, int64_t(l_xmax118) - int64_t(l_xmin117));
+                    std::vector<int32_t>& range126 = s.scratch.v.b19;
+                    range126.clear();
+                    {
+                      const int32_t i127_first = l_xmin117, i127_end = l_xmax118;
+                      charge_loop(budget, 25, int64_t(i127_end) - i127_first);
+                      for (int32_t i127 = i127_first; i127 < i127_end; ++i127) {
+                        range126.push_back(i127);
                       }
-                      acc153 = r170;
+                    }
+                    std::vector<Pos> out128{};
+                    charge_built(budget, 26, int64_t(range126.size()));
+                    out128.reserve(size_t(int32_t(range126.size())));
+                    {
+                      const auto& x129_list = range126;
+                      charge_loop(budget, 26, int64_t(x129_list.size()));
+                      for (const int32_t& x129 : x129_list) {
+                        const Pos t130 = Pos{x129, x125};
+                        out128.push_back(t130);
+                      }
+                    }
+                    out124.push_back(std::move(out128));
+                  }
+                }
+                check_length(s.core, 27, total_size(out124));
+                charge_built(budget, 27, total_size(out124));
+                std::vector<Pos>& cat131 = s.scratch.v.b20;
+                cat131.clear();
+                {
+                  const auto& part132_list = out124;
+                  charge_loop(budget, 27, int64_t(part132_list.size()));
+                  for (const std::vector<Pos>& part132 : part132_list) {
+                    cat131.insert(cat131.end(), part132.begin(), part132.end());
+                  }
+                }
+                std::swap(l_rectPos121, cat131);
+                std::swap(l_nextRowPos111, l_rectPos121);
+                std::vector<Pos>& out133 = s.scratch.v.b21;
+                out133.clear();
+                {
+                  const auto& x134_list = l_nextRowPos111;
+                  charge_loop(budget, 28, int64_t(x134_list.size()));
+                  for (const Pos& x134 : x134_list) {
+                    const bool t135 = (x134.y == int32_t(16));
+                    const bool t136 = !t135;
+                    if (t136) {
+                      charge_built(budget, 28, int64_t(int32_t(1)));
+                      out133.push_back(x134);
                     }
                   }
-                  r151 = acc153;
                 }
-                l_closestHole148 = r151;
-                Pos l_dir171{};
-                C1_Melt l_movedObj172{};
-                const int32_t t173 = add(l_closestHole148.x, int32_t(0));
-                const int32_t t174 = add(l_closestHole148.y, int32_t(-1));
-                const Pos t175 = Pos{t173, t174};
-                Pos l_delta176{};
-                int32_t l_sign_x177{};
-                int32_t l_sign_y178{};
-                const int32_t t179 = sub(t175.x, x91.origin.x);
-                const int32_t t180 = sub(t175.y, x91.origin.y);
-                const Pos t181 = Pos{t179, t180};
-                l_delta176 = t181;
-                const bool t182 = (l_delta176.x == int32_t(0));
-                int32_t r183{};
-                if (t182) {
-                  r183 = int32_t(0);
-                } else {
-                  const bool t184 = (l_delta176.x < int32_t(0));
-                  int32_t r185{};
-                  if (t184) {
-                    r185 = int32_t(-1);
-                  } else {
-                    r185 = int32_t(1);
+                std::swap(l_nextRowPos111, out133);
+                std::vector<Pos>& out137 = s.scratch.v.b22;
+                out137.clear();
+                {
+                  const auto& x138_list = l_nextRowPos111;
+                  charge_loop(budget, 29, int64_t(x138_list.size()));
+                  for (const Pos& x138 : x138_list) {
+                    const bool t139 = s.core.occupied.free(x138);
+                    bool r140{};
+                    if (t139) {
+                      const int32_t t141 = add(x138.x, int32_t(0));
+                      const int32_t t142 = add(x138.y, int32_t(-1));
+                      const Pos t143 = Pos{t141, t142};
+                      const bool t144 = s.core.occupied.free(t143);
+                      r140 = t144;
+                    } else {
+                      r140 = false;
+                    }
+                    if (r140) {
+                      charge_built(budget, 29, int64_t(int32_t(1)));
+                      out137.push_back(x138);
+                    }
                   }
-                  r183 = r185;
                 }
-                l_sign_x177 = r183;
-                const bool t186 = (l_delta176.y == int32_t(0));
-                int32_t r187{};
-                if (t186) {
-                  r187 = int32_t(0);
+                std::swap(l_holes112, out137);
+                const int32_t t145 = int32_t(l_holes112.size());
+                const bool t146 = (t145 == int32_t(0));
+                C1_Melt r147{};
+                if (t146) {
+                  r147 = x91;
                 } else {
-                  const bool t188 = (l_delta176.y < int32_t(0));
-                  int32_t r189{};
-                  if (t188) {
-                    r189 = int32_t(-1);
+                  Pos l_closestHole148{};
+                  const int32_t t149 = int32_t(l_holes112.size());
+                  const bool t150 = (t149 == int32_t(0));
+                  Pos r151{};
+                  if (t150) {
+                    r151 = x91.origin;
                   } else {
-                    r189 = int32_t(1);
-                  }
-                  r187 = r189;
-                }
-                l_sign_y178 = r187;
-                const bool t190 = (l_sign_x177 < int32_t(0));
-                int32_t r191{};
-                if (t190) {
-                  const int32_t t192 = neg(l_sign_x177);
-                  r191 = t192;
-                } else {
-                  r191 = l_sign_x177;
-                }
-                const bool t193 = (r191 == int32_t(1));
-                bool r194{};
-                if (t193) {
-                  const bool t195 = (l_sign_y178 < int32_t(0));
-                  int32_t r196{};
-                  if (t195) {
-                    const int32_t t197 = neg(l_sign_y178);
-                    r196 = t197;
-                  } else {
-                    r196 = l_sign_y178;
-                  }
-                  const bool t198 = (r196 == int32_t(1));
-                  r194 = t198;
-                } else {
-                  r194 = false;
-                }
-                Pos r199{};
-                if (r194) {
-                  const Pos t200 = Pos{l_sign_x177, int32_t(0)};
-                  r199 = t200;
-                } else {
-                  const Pos t201 = Pos{l_sign_x177, l_sign_y178};
-                  r199 = t201;
-                }
-                l_dir171 = r199;
-                const int32_t t202 = add(x91.origin.x, l_dir171.x);
-                const int32_t t203 = add(x91.origin.y, l_dir171.y);
-                const Pos t204 = Pos{t202, t203};
-                C1_Melt upd205 = C1_Melt{x91.f0, t204};
-                l_movedObj172 = std::move(upd205);
-                const int32_t t206 = add(l_closestHole148.x, int32_t(0));
-                const int32_t t207 = add(l_closestHole148.y, int32_t(-1));
-                const Pos t208 = Pos{t206, t207};
-                const bool t209 = s.core.occupied.free(t208);
-                bool r210{};
-                if (t209) {
-                  const bool t211 = s.core.occupied.free(l_movedObj172.origin);
-                  bool r212{};
-                  if (t211) {
-                    std::vector<Elem>& rendered213 = s.scratch.v.b23;
-                    rendered213.clear();
-                    const int32_t colour214 = colour_19_C1_Melt(s, l_movedObj172);
-                    rendered213.push_back(Elem{Pos{add(l_movedObj172.origin.x, int32_t(0)), add(l_movedObj172.origin.y, int32_t(0))}, colour214});
-                    bool within215 = true;
+                    if (l_holes112.empty()) {
+                      fail_at(30, std::string() + std::string("head of an empty list"));
+                    }
+                    const Pos t152 = l_holes112.front();
+                    Pos acc153 = t152;
                     {
-                      const auto& e216_list = rendered213;
-                      for (const Elem& e216 : e216_list) {
-                        if ((((e216.position.x < int32_t(0)) || (e216.position.x >= int32_t(16))) || ((e216.position.y < int32_t(0)) || (e216.position.y >= int32_t(16))))) {
-                          within215 = false;
-                          break;
+                      const auto& x154_list = l_holes112;
+                      charge_loop(budget, 31, int64_t(x154_list.size()));
+                      for (const Pos& x154 : x154_list) {
+                        Pos l_delta155{};
+                        const int32_t t156 = sub(x91.origin.x, acc153.x);
+                        const int32_t t157 = sub(x91.origin.y, acc153.y);
+                        const Pos t158 = Pos{t156, t157};
+                        l_delta155 = t158;
+                        const int32_t t159 = mul(l_delta155.x, l_delta155.x);
+                        const int32_t t160 = mul(l_delta155.y, l_delta155.y);
+                        const int32_t t161 = add(t159, t160);
+                        Pos l_delta162{};
+                        const int32_t t163 = sub(x91.origin.x, x154.x);
+                        const int32_t t164 = sub(x91.origin.y, x154.y);
+                        const Pos t165 = Pos{t163, t164};
+                        l_delta162 = t165;
+                        const int32_t t166 = mul(l_delta162.x, l_delta162.x);
+                        const int32_t t167 = mul(l_delta162.y, l_delta162.y);
+                        const int32_t t168 = add(t166, t167);
+                        const bool t169 = (t161 < t168);
+                        Pos r170{};
+                        if (t169) {
+                          r170 = acc153;
+                        } else {
+                          r170 = x154;
+                        }
+                        acc153 = r170;
+                      }
+                    }
+                    r151 = acc153;
+                  }
+                  l_closestHole148 = r151;
+                  Pos l_dir171{};
+                  C1_Melt l_movedObj172{};
+                  const int32_t t173 = add(l_closestHole148.x, int32_t(0));
+                  const int32_t t174 = add(l_closestHole148.y, int32_t(-1));
+                  const Pos t175 = Pos{t173, t174};
+                  Pos l_delta176{};
+                  int32_t l_sign_x177{};
+                  int32_t l_sign_y178{};
+                  const int32_t t179 = sub(t175.x, x91.origin.x);
+                  const int32_t t180 = sub(t175.y, x91.origin.y);
+                  const Pos t181 = Pos{t179, t180};
+                  l_delta176 = t181;
+                  const bool t182 = (l_delta176.x == int32_t(0));
+                  int32_t r183{};
+                  if (t182) {
+                    r183 = int32_t(0);
+                  } else {
+                    const bool t184 = (l_delta176.x < int32_t(0));
+                    int32_t r185{};
+                    if (t184) {
+                      r185 = int32_t(-1);
+                    } else {
+                      r185 = int32_t(1);
+                    }
+                    r183 = r185;
+                  }
+                  l_sign_x177 = r183;
+                  const bool t186 = (l_delta176.y == int32_t(0));
+                  int32_t r187{};
+                  if (t186) {
+                    r187 = int32_t(0);
+                  } else {
+                    const bool t188 = (l_delta176.y < int32_t(0));
+                    int32_t r189{};
+                    if (t188) {
+                      r189 = int32_t(-1);
+                    } else {
+                      r189 = int32_t(1);
+                    }
+                    r187 = r189;
+                  }
+                  l_sign_y178 = r187;
+                  const bool t190 = (l_sign_x177 < int32_t(0));
+                  int32_t r191{};
+                  if (t190) {
+                    const int32_t t192 = neg(l_sign_x177);
+                    r191 = t192;
+                  } else {
+                    r191 = l_sign_x177;
+                  }
+                  const bool t193 = (r191 == int32_t(1));
+                  bool r194{};
+                  if (t193) {
+                    const bool t195 = (l_sign_y178 < int32_t(0));
+                    int32_t r196{};
+                    if (t195) {
+                      const int32_t t197 = neg(l_sign_y178);
+                      r196 = t197;
+                    } else {
+                      r196 = l_sign_y178;
+                    }
+                    const bool t198 = (r196 == int32_t(1));
+                    r194 = t198;
+                  } else {
+                    r194 = false;
+                  }
+                  Pos r199{};
+                  if (r194) {
+                    const Pos t200 = Pos{l_sign_x177, int32_t(0)};
+                    r199 = t200;
+                  } else {
+                    const Pos t201 = Pos{l_sign_x177, l_sign_y178};
+                    r199 = t201;
+                  }
+                  l_dir171 = r199;
+                  const int32_t t202 = add(x91.origin.x, l_dir171.x);
+                  const int32_t t203 = add(x91.origin.y, l_dir171.y);
+                  const Pos t204 = Pos{t202, t203};
+                  C1_Melt upd205 = C1_Melt{x91.f0, t204};
+                  l_movedObj172 = std::move(upd205);
+                  const int32_t t206 = add(l_closestHole148.x, int32_t(0));
+                  const int32_t t207 = add(l_closestHole148.y, int32_t(-1));
+                  const Pos t208 = Pos{t206, t207};
+                  const bool t209 = s.core.occupied.free(t208);
+                  bool r210{};
+                  if (t209) {
+                    const bool t211 = s.core.occupied.free(l_movedObj172.origin);
+                    bool r212{};
+                    if (t211) {
+                      std::vector<Elem>& rendered213 = s.scratch.v.b23;
+                      rendered213.clear();
+                      const int32_t colour214 = colour_19_C1_Melt(s, l_movedObj172);
+                      rendered213.push_back(Elem{Pos{add(l_movedObj172.origin.x, int32_t(0)), add(l_movedObj172.origin.y, int32_t(0))}, colour214});
+                      bool within215 = true;
+                      {
+                        const auto& e216_list = rendered213;
+                        for (const Elem& e216 : e216_list) {
+                          if ((((e216.position.x < int32_t(0)) || (e216.position.x >= int32_t(16))) || ((e216.position.y < int32_t(0)) || (e216.position.y >= int32_t(16))))) {
+                            within215 = false;
+                            break;
+                          }
                         }
                       }
+                      r212 = within215;
+                    } else {
+                      r212 = false;
                     }
-                    r212 = within215;
+                    r210 = r212;
                   } else {
-                    r212 = false;
+                    r210 = false;
                   }
-                  r210 = r212;
-                } else {
-                  r210 = false;
+                  C1_Melt r217{};
+                  if (r210) {
+                    r217 = std::move(l_movedObj172);
+                  } else {
+                    r217 = x91;
+                  }
+                  r147 = std::move(r217);
                 }
-                C1_Melt r217{};
-                if (r210) {
-                  r217 = std::move(l_movedObj172);
-                } else {
-                  r217 = x91;
-                }
-                r147 = std::move(r217);
+                r106 = std::move(r147);
               }
-              r106 = std::move(r147);
+              const int32_t t218 = sub(x91.f0, int32_t(1));
+              C1_Melt upd219 = C1_Melt{t218, r106.origin};
+              out90.push_back(std::move(upd219));
             }
-            const int32_t t218 = sub(x91.f0, int32_t(1));
-            C1_Melt upd219 = C1_Melt{t218, r106.origin};
-            out90.push_back(std::move(upd219));
           }
+          give_back(s.core, budget);
         }
         std::vector<C1_Melt>& out220 = s.scratch.v.b24;
         out220.clear();
         {
-          const auto& x221_list = out90;
-          charge_loop(s.core, 33, int64_t(x221_list.size()));
-          for (const C1_Melt& x221 : x221_list) {
-            // inlined: function at programs/snowplow.au:42
-            const bool t222 = (x221.f0 > int32_t(0));
-            if (t222) {
-              charge_built(s.core, 33, int64_t(int32_t(1)));
-              out220.push_back(x221);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x221_list = out90;
+            charge_loop(budget, 33, int64_t(x221_list.size()));
+            for (const C1_Melt& x221 : x221_list) {
+              // inlined: function at programs/snowplow.au:42
+              const bool t222 = (x221.f0 > int32_t(0));
+              if (t222) {
+                charge_built(budget, 33, int64_t(int32_t(1)));
+                out220.push_back(x221);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_melt_16) {
           std::swap(s.scratch.v.p_melt_15, s.g_melt_13);
@@ -1298,62 +1318,66 @@ struct Prog {
         std::vector<C0_Flake>& kept252 = s.scratch.v.b27;
         kept252.clear();
         {
-          const auto& x253_list = g251;
-          charge_loop(s.core, 35, int64_t(x253_list.size()));
-          for (const C0_Flake& x253 : x253_list) {
-            // inlined: function at programs/snowplow.au:61
-            const C3_Plow& g254 = s.g_plow_5;
-            std::vector<Elem>& rendered255 = s.scratch.v.b28;
-            rendered255.clear();
-            rendered255.push_back(Elem{Pos{add(x253.origin.x, int32_t(0)), add(x253.origin.y, int32_t(0))}, int32_t(6)});
-            std::vector<Elem>& rendered256 = s.scratch.v.b29;
-            rendered256.clear();
-            rendered256.push_back(Elem{Pos{add(g254.origin.x, int32_t(0)), add(g254.origin.y, int32_t(0))}, int32_t(2)});
-            rendered256.push_back(Elem{Pos{add(g254.origin.x, int32_t(1)), add(g254.origin.y, int32_t(0))}, int32_t(2)});
-            const int32_t t257 = int32_t(rendered255.size());
-            const bool t258 = (t257 == int32_t(0));
-            bool r259{};
-            if (!t258) {
-              const int32_t t260 = int32_t(rendered256.size());
-              const bool t261 = (t260 == int32_t(0));
-              r259 = t261;
-            } else {
-              r259 = true;
-            }
-            bool r262{};
-            if (r259) {
-              r262 = false;
-            } else {
-              bool any263 = false;
-              {
-                const auto& x264_list = rendered255;
-                charge_loop(s.core, 36, int64_t(x264_list.size()));
-                for (const Elem& x264 : x264_list) {
-                  bool any265 = false;
-                  {
-                    const auto& x266_list = rendered256;
-                    charge_loop(s.core, 37, int64_t(x266_list.size()));
-                    for (const Elem& x266 : x266_list) {
-                      const bool t267 = (x264.position == x266.position);
-                      if (t267) {
-                        any265 = true;
-                        break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x253_list = g251;
+            charge_loop(budget, 35, int64_t(x253_list.size()));
+            for (const C0_Flake& x253 : x253_list) {
+              // inlined: function at programs/snowplow.au:61
+              const C3_Plow& g254 = s.g_plow_5;
+              std::vector<Elem>& rendered255 = s.scratch.v.b28;
+              rendered255.clear();
+              rendered255.push_back(Elem{Pos{add(x253.origin.x, int32_t(0)), add(x253.origin.y, int32_t(0))}, int32_t(6)});
+              std::vector<Elem>& rendered256 = s.scratch.v.b29;
+              rendered256.clear();
+              rendered256.push_back(Elem{Pos{add(g254.origin.x, int32_t(0)), add(g254.origin.y, int32_t(0))}, int32_t(2)});
+              rendered256.push_back(Elem{Pos{add(g254.origin.x, int32_t(1)), add(g254.origin.y, int32_t(0))}, int32_t(2)});
+              const int32_t t257 = int32_t(rendered255.size());
+              const bool t258 = (t257 == int32_t(0));
+              bool r259{};
+              if (!t258) {
+                const int32_t t260 = int32_t(rendered256.size());
+                const bool t261 = (t260 == int32_t(0));
+                r259 = t261;
+              } else {
+                r259 = true;
+              }
+              bool r262{};
+              if (r259) {
+                r262 = false;
+              } else {
+                bool any263 = false;
+                {
+                  const auto& x264_list = rendered255;
+                  charge_loop(budget, 36, int64_t(x264_list.size()));
+                  for (const Elem& x264 : x264_list) {
+                    bool any265 = false;
+                    {
+                      const auto& x266_list = rendered256;
+                      charge_loop(budget, 37, int64_t(x266_list.size()));
+                      for (const Elem& x266 : x266_list) {
+                        const bool t267 = (x264.position == x266.position);
+                        if (t267) {
+                          any265 = true;
+                          break;
+                        }
                       }
                     }
-                  }
-                  if (any265) {
-                    any263 = true;
-                    break;
+                    if (any265) {
+                      any263 = true;
+                      break;
+                    }
                   }
                 }
+                r262 = any263;
               }
-              r262 = any263;
-            }
-            if (!r262) {
-              charge_built(s.core, 35, int64_t(int32_t(1)));
-              kept252.push_back(x253);
+              if (!r262) {
+                charge_built(budget, 35, int64_t(int32_t(1)));
+                kept252.push_back(x253);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_snow_12) {
           std::swap(s.scratch.v.p_snow_11, s.g_snow_9);

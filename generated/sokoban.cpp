@@ -256,26 +256,30 @@ struct Prog {
     charge_built(s.core, 1, int64_t(out6.size()));
     out9.reserve(size_t(int32_t(out6.size())));
     {
-      const auto& x10_list = out6;
-      charge_loop(s.core, 1, int64_t(x10_list.size()));
-      for (const C2_Crate& x10 : x10_list) {
-        // inlined: function at programs/sokoban.au:24
-        const std::vector<Pos>& g11 = s.g_goalSpots_5;
-        bool any12 = false;
-        {
-          const auto& x13_list = g11;
-          charge_loop(s.core, 2, int64_t(x13_list.size()));
-          for (const Pos& x13 : x13_list) {
-            const bool t14 = (x13 == x10.origin);
-            if (t14) {
-              any12 = true;
-              break;
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x10_list = out6;
+        charge_loop(budget, 1, int64_t(x10_list.size()));
+        for (const C2_Crate& x10 : x10_list) {
+          // inlined: function at programs/sokoban.au:24
+          const std::vector<Pos>& g11 = s.g_goalSpots_5;
+          bool any12 = false;
+          {
+            const auto& x13_list = g11;
+            charge_loop(budget, 2, int64_t(x13_list.size()));
+            for (const Pos& x13 : x13_list) {
+              const bool t14 = (x13 == x10.origin);
+              if (t14) {
+                any12 = true;
+                break;
+              }
             }
           }
+          C2_Crate upd15 = C2_Crate{any12, x10.origin};
+          out9.push_back(std::move(upd15));
         }
-        C2_Crate upd15 = C2_Crate{any12, x10.origin};
-        out9.push_back(std::move(upd15));
       }
+      give_back(s.core, budget);
     }
     std::swap(s.g_crates_12, out9);
     s.u_crates_13 = false;
@@ -323,46 +327,50 @@ struct Prog {
     std::vector<Pos>& out26 = s.scratch.v.b4;
     out26.clear();
     {
-      const auto& x27_list = apos22;
-      charge_loop(s.core, 5, int64_t(x27_list.size()));
-      for (const Pos& x27 : x27_list) {
-        // inlined: function at programs/sokoban.au:29
-        // inlined: function at programs/sokoban.au:21
-        const bool t28 = (x27.x == int32_t(0));
-        bool r29{};
-        if (!t28) {
-          const bool t30 = (x27.x == int32_t(7));
-          r29 = t30;
-        } else {
-          r29 = true;
-        }
-        bool r31{};
-        if (!r29) {
-          const bool t32 = (x27.y == int32_t(0));
-          bool r33{};
-          if (!t32) {
-            const bool t34 = (x27.y == int32_t(7));
-            r33 = t34;
+      Budget budget = budget_of(s.core);
+      {
+        const auto& x27_list = apos22;
+        charge_loop(budget, 5, int64_t(x27_list.size()));
+        for (const Pos& x27 : x27_list) {
+          // inlined: function at programs/sokoban.au:29
+          // inlined: function at programs/sokoban.au:21
+          const bool t28 = (x27.x == int32_t(0));
+          bool r29{};
+          if (!t28) {
+            const bool t30 = (x27.x == int32_t(7));
+            r29 = t30;
           } else {
-            r33 = true;
+            r29 = true;
           }
-          r31 = r33;
-        } else {
-          r31 = true;
-        }
-        bool r35{};
-        if (r31) {
-          const bool t36 = (x27 == Pos{int32_t(0), int32_t(0)});
-          const bool t37 = !t36;
-          r35 = t37;
-        } else {
-          r35 = false;
-        }
-        if (r35) {
-          charge_built(s.core, 5, int64_t(int32_t(1)));
-          out26.push_back(x27);
+          bool r31{};
+          if (!r29) {
+            const bool t32 = (x27.y == int32_t(0));
+            bool r33{};
+            if (!t32) {
+              const bool t34 = (x27.y == int32_t(7));
+              r33 = t34;
+            } else {
+              r33 = true;
+            }
+            r31 = r33;
+          } else {
+            r31 = true;
+          }
+          bool r35{};
+          if (r31) {
+            const bool t36 = (x27 == Pos{int32_t(0), int32_t(0)});
+            const bool t37 = !t36;
+            r35 = t37;
+          } else {
+            r35 = false;
+          }
+          if (r35) {
+            charge_built(budget, 5, int64_t(int32_t(1)));
+            out26.push_back(x27);
+          }
         }
       }
+      give_back(s.core, budget);
     }
     const std::vector<Pos>& g38 = s.g_innerWalls_4;
     check_length(s.core, 6, int64_t(out26.size()) + int64_t(g38.size()));
@@ -536,26 +544,30 @@ struct Prog {
           charge_built(s.core, 20, int64_t(updated30.size()));
           out41.reserve(size_t(int32_t(updated30.size())));
           {
-            const auto& x42_list = updated30;
-            charge_loop(s.core, 20, int64_t(x42_list.size()));
-            for (const C2_Crate& x42 : x42_list) {
-              // inlined: function at programs/sokoban.au:24
-              const std::vector<Pos>& g43 = s.g_goalSpots_5;
-              bool any44 = false;
-              {
-                const auto& x45_list = g43;
-                charge_loop(s.core, 21, int64_t(x45_list.size()));
-                for (const Pos& x45 : x45_list) {
-                  const bool t46 = (x45 == x42.origin);
-                  if (t46) {
-                    any44 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x42_list = updated30;
+              charge_loop(budget, 20, int64_t(x42_list.size()));
+              for (const C2_Crate& x42 : x42_list) {
+                // inlined: function at programs/sokoban.au:24
+                const std::vector<Pos>& g43 = s.g_goalSpots_5;
+                bool any44 = false;
+                {
+                  const auto& x45_list = g43;
+                  charge_loop(budget, 21, int64_t(x45_list.size()));
+                  for (const Pos& x45 : x45_list) {
+                    const bool t46 = (x45 == x42.origin);
+                    if (t46) {
+                      any44 = true;
+                      break;
+                    }
                   }
                 }
+                C2_Crate upd47 = C2_Crate{any44, x42.origin};
+                out41.push_back(std::move(upd47));
               }
-              C2_Crate upd47 = C2_Crate{any44, x42.origin};
-              out41.push_back(std::move(upd47));
             }
+            give_back(s.core, budget);
           }
           std::swap(r28, out41);
         } else {
@@ -835,26 +847,30 @@ struct Prog {
           charge_built(s.core, 20, int64_t(updated127.size()));
           out138.reserve(size_t(int32_t(updated127.size())));
           {
-            const auto& x139_list = updated127;
-            charge_loop(s.core, 20, int64_t(x139_list.size()));
-            for (const C2_Crate& x139 : x139_list) {
-              // inlined: function at programs/sokoban.au:24
-              const std::vector<Pos>& g140 = s.g_goalSpots_5;
-              bool any141 = false;
-              {
-                const auto& x142_list = g140;
-                charge_loop(s.core, 21, int64_t(x142_list.size()));
-                for (const Pos& x142 : x142_list) {
-                  const bool t143 = (x142 == x139.origin);
-                  if (t143) {
-                    any141 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x139_list = updated127;
+              charge_loop(budget, 20, int64_t(x139_list.size()));
+              for (const C2_Crate& x139 : x139_list) {
+                // inlined: function at programs/sokoban.au:24
+                const std::vector<Pos>& g140 = s.g_goalSpots_5;
+                bool any141 = false;
+                {
+                  const auto& x142_list = g140;
+                  charge_loop(budget, 21, int64_t(x142_list.size()));
+                  for (const Pos& x142 : x142_list) {
+                    const bool t143 = (x142 == x139.origin);
+                    if (t143) {
+                      any141 = true;
+                      break;
+                    }
                   }
                 }
+                C2_Crate upd144 = C2_Crate{any141, x139.origin};
+                out138.push_back(std::move(upd144));
               }
-              C2_Crate upd144 = C2_Crate{any141, x139.origin};
-              out138.push_back(std::move(upd144));
             }
+            give_back(s.core, budget);
           }
           std::swap(r125, out138);
         } else {
@@ -1134,26 +1150,30 @@ struct Prog {
           charge_built(s.core, 20, int64_t(updated224.size()));
           out235.reserve(size_t(int32_t(updated224.size())));
           {
-            const auto& x236_list = updated224;
-            charge_loop(s.core, 20, int64_t(x236_list.size()));
-            for (const C2_Crate& x236 : x236_list) {
-              // inlined: function at programs/sokoban.au:24
-              const std::vector<Pos>& g237 = s.g_goalSpots_5;
-              bool any238 = false;
-              {
-                const auto& x239_list = g237;
-                charge_loop(s.core, 21, int64_t(x239_list.size()));
-                for (const Pos& x239 : x239_list) {
-                  const bool t240 = (x239 == x236.origin);
-                  if (t240) {
-                    any238 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x236_list = updated224;
+              charge_loop(budget, 20, int64_t(x236_list.size()));
+              for (const C2_Crate& x236 : x236_list) {
+                // inlined: function at programs/sokoban.au:24
+                const std::vector<Pos>& g237 = s.g_goalSpots_5;
+                bool any238 = false;
+                {
+                  const auto& x239_list = g237;
+                  charge_loop(budget, 21, int64_t(x239_list.size()));
+                  for (const Pos& x239 : x239_list) {
+                    const bool t240 = (x239 == x236.origin);
+                    if (t240) {
+                      any238 = true;
+                      break;
+                    }
                   }
                 }
+                C2_Crate upd241 = C2_Crate{any238, x236.origin};
+                out235.push_back(std::move(upd241));
               }
-              C2_Crate upd241 = C2_Crate{any238, x236.origin};
-              out235.push_back(std::move(upd241));
             }
+            give_back(s.core, budget);
           }
           std::swap(r222, out235);
         } else {
@@ -1433,26 +1453,30 @@ struct Prog {
           charge_built(s.core, 20, int64_t(updated321.size()));
           out332.reserve(size_t(int32_t(updated321.size())));
           {
-            const auto& x333_list = updated321;
-            charge_loop(s.core, 20, int64_t(x333_list.size()));
-            for (const C2_Crate& x333 : x333_list) {
-              // inlined: function at programs/sokoban.au:24
-              const std::vector<Pos>& g334 = s.g_goalSpots_5;
-              bool any335 = false;
-              {
-                const auto& x336_list = g334;
-                charge_loop(s.core, 21, int64_t(x336_list.size()));
-                for (const Pos& x336 : x336_list) {
-                  const bool t337 = (x336 == x333.origin);
-                  if (t337) {
-                    any335 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x333_list = updated321;
+              charge_loop(budget, 20, int64_t(x333_list.size()));
+              for (const C2_Crate& x333 : x333_list) {
+                // inlined: function at programs/sokoban.au:24
+                const std::vector<Pos>& g334 = s.g_goalSpots_5;
+                bool any335 = false;
+                {
+                  const auto& x336_list = g334;
+                  charge_loop(budget, 21, int64_t(x336_list.size()));
+                  for (const Pos& x336 : x336_list) {
+                    const bool t337 = (x336 == x333.origin);
+                    if (t337) {
+                      any335 = true;
+                      break;
+                    }
                   }
                 }
+                C2_Crate upd338 = C2_Crate{any335, x333.origin};
+                out332.push_back(std::move(upd338));
               }
-              C2_Crate upd338 = C2_Crate{any335, x333.origin};
-              out332.push_back(std::move(upd338));
             }
+            give_back(s.core, budget);
           }
           std::swap(r319, out332);
         } else {
@@ -1651,26 +1675,30 @@ struct Prog {
         charge_built(s.core, 20, int64_t(out394.size()));
         out397.reserve(size_t(int32_t(out394.size())));
         {
-          const auto& x398_list = out394;
-          charge_loop(s.core, 20, int64_t(x398_list.size()));
-          for (const C2_Crate& x398 : x398_list) {
-            // inlined: function at programs/sokoban.au:24
-            const std::vector<Pos>& g399 = s.g_goalSpots_5;
-            bool any400 = false;
-            {
-              const auto& x401_list = g399;
-              charge_loop(s.core, 21, int64_t(x401_list.size()));
-              for (const Pos& x401 : x401_list) {
-                const bool t402 = (x401 == x398.origin);
-                if (t402) {
-                  any400 = true;
-                  break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x398_list = out394;
+            charge_loop(budget, 20, int64_t(x398_list.size()));
+            for (const C2_Crate& x398 : x398_list) {
+              // inlined: function at programs/sokoban.au:24
+              const std::vector<Pos>& g399 = s.g_goalSpots_5;
+              bool any400 = false;
+              {
+                const auto& x401_list = g399;
+                charge_loop(budget, 21, int64_t(x401_list.size()));
+                for (const Pos& x401 : x401_list) {
+                  const bool t402 = (x401 == x398.origin);
+                  if (t402) {
+                    any400 = true;
+                    break;
+                  }
                 }
               }
+              C2_Crate upd403 = C2_Crate{any400, x398.origin};
+              out397.push_back(std::move(upd403));
             }
-            C2_Crate upd403 = C2_Crate{any400, x398.origin};
-            out397.push_back(std::move(upd403));
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_crates_15) {
           std::swap(s.scratch.v.p_crates_14, s.g_crates_12);

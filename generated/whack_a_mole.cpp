@@ -464,41 +464,49 @@ struct Prog {
         std::vector<C1_Mole>& out15 = s.scratch.v.b2;
         out15.clear();
         {
-          const auto& x16_list = out11;
-          charge_loop(s.core, 8, int64_t(x16_list.size()));
-          for (const C1_Mole& x16 : x16_list) {
-            // inlined: function at programs/whack_a_mole.au:46
-            const bool t17 = (x16.f0 > int32_t(0));
-            if (t17) {
-              charge_built(s.core, 8, int64_t(int32_t(1)));
-              out15.push_back(x16);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x16_list = out11;
+            charge_loop(budget, 8, int64_t(x16_list.size()));
+            for (const C1_Mole& x16 : x16_list) {
+              // inlined: function at programs/whack_a_mole.au:46
+              const bool t17 = (x16.f0 > int32_t(0));
+              if (t17) {
+                charge_built(budget, 8, int64_t(int32_t(1)));
+                out15.push_back(x16);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         std::vector<C1_Mole>& out18 = s.scratch.v.b3;
         out18.clear();
         {
-          const auto& x19_list = out15;
-          charge_loop(s.core, 9, int64_t(x19_list.size()));
-          for (const C1_Mole& x19 : x19_list) {
-            // inlined: function at programs/whack_a_mole.au:56
-            bool clicked20 = false;
-            if (s.core.click) {
-              s.d_click_35 = true;
-              const Pos t21 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_34 = t21;
-              const int32_t colour22 = colour_11_C1_Mole(s, x19);
-              const Elem e23 = Elem{Pos{add(x19.origin.x, int32_t(0)), add(x19.origin.y, int32_t(0))}, colour22};
-              if ((e23.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked20 = true;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x19_list = out15;
+            charge_loop(budget, 9, int64_t(x19_list.size()));
+            for (const C1_Mole& x19 : x19_list) {
+              // inlined: function at programs/whack_a_mole.au:56
+              bool clicked20 = false;
+              if (s.core.click) {
+                s.d_click_35 = true;
+                const Pos t21 = Pos{s.core.click_x, s.core.click_y};
+                s.g_click_34 = t21;
+                const int32_t colour22 = colour_11_C1_Mole(s, x19);
+                const Elem e23 = Elem{Pos{add(x19.origin.x, int32_t(0)), add(x19.origin.y, int32_t(0))}, colour22};
+                if ((e23.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked20 = true;
+                }
+              }
+              const bool t24 = !clicked20;
+              if (t24) {
+                charge_built(budget, 9, int64_t(int32_t(1)));
+                out18.push_back(x19);
               }
             }
-            const bool t24 = !clicked20;
-            if (t24) {
-              charge_built(s.core, 9, int64_t(int32_t(1)));
-              out18.push_back(x19);
-            }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_moles_21) {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
@@ -622,16 +630,20 @@ struct Prog {
         std::vector<C1_Mole>& out56 = s.scratch.v.b6;
         out56.clear();
         {
-          const auto& x57_list = out52;
-          charge_loop(s.core, 8, int64_t(x57_list.size()));
-          for (const C1_Mole& x57 : x57_list) {
-            // inlined: function at programs/whack_a_mole.au:46
-            const bool t58 = (x57.f0 > int32_t(0));
-            if (t58) {
-              charge_built(s.core, 8, int64_t(int32_t(1)));
-              out56.push_back(x57);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x57_list = out52;
+            charge_loop(budget, 8, int64_t(x57_list.size()));
+            for (const C1_Mole& x57 : x57_list) {
+              // inlined: function at programs/whack_a_mole.au:46
+              const bool t58 = (x57.f0 > int32_t(0));
+              if (t58) {
+                charge_built(budget, 8, int64_t(int32_t(1)));
+                out56.push_back(x57);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_moles_21) {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
@@ -694,16 +706,20 @@ struct Prog {
         std::vector<C1_Mole>& out73 = s.scratch.v.b8;
         out73.clear();
         {
-          const auto& x74_list = out69;
-          charge_loop(s.core, 8, int64_t(x74_list.size()));
-          for (const C1_Mole& x74 : x74_list) {
-            // inlined: function at programs/whack_a_mole.au:46
-            const bool t75 = (x74.f0 > int32_t(0));
-            if (t75) {
-              charge_built(s.core, 8, int64_t(int32_t(1)));
-              out73.push_back(x74);
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x74_list = out69;
+            charge_loop(budget, 8, int64_t(x74_list.size()));
+            for (const C1_Mole& x74 : x74_list) {
+              // inlined: function at programs/whack_a_mole.au:46
+              const bool t75 = (x74.f0 > int32_t(0));
+              if (t75) {
+                charge_built(budget, 8, int64_t(int32_t(1)));
+                out73.push_back(x74);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (!s.scratch.v.sv_moles_21) {
           std::swap(s.scratch.v.p_moles_20, s.g_moles_18);
@@ -730,29 +746,33 @@ struct Prog {
           std::vector<Pos>& out85 = s.scratch.v.b9;
           out85.clear();
           {
-            const auto& x86_list = g84;
-            charge_loop(s.core, 14, int64_t(x86_list.size()));
-            for (const Pos& x86 : x86_list) {
-              // inlined: function at programs/whack_a_mole.au:51
-              bool any87 = false;
-              {
-                const auto& x88_list = g83;
-                charge_loop(s.core, 15, int64_t(x88_list.size()));
-                for (const C1_Mole& x88 : x88_list) {
-                  // inlined: function at programs/whack_a_mole.au:51
-                  const bool t89 = (x88.origin == x86);
-                  if (t89) {
-                    any87 = true;
-                    break;
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x86_list = g84;
+              charge_loop(budget, 14, int64_t(x86_list.size()));
+              for (const Pos& x86 : x86_list) {
+                // inlined: function at programs/whack_a_mole.au:51
+                bool any87 = false;
+                {
+                  const auto& x88_list = g83;
+                  charge_loop(budget, 15, int64_t(x88_list.size()));
+                  for (const C1_Mole& x88 : x88_list) {
+                    // inlined: function at programs/whack_a_mole.au:51
+                    const bool t89 = (x88.origin == x86);
+                    if (t89) {
+                      any87 = true;
+                      break;
+                    }
                   }
                 }
-              }
-              const bool t90 = !any87;
-              if (t90) {
-                charge_built(s.core, 14, int64_t(int32_t(1)));
-                out85.push_back(x86);
+                const bool t90 = !any87;
+                if (t90) {
+                  charge_built(budget, 14, int64_t(int32_t(1)));
+                  out85.push_back(x86);
+                }
               }
             }
+            give_back(s.core, budget);
           }
           const int32_t t91 = int32_t(out85.size());
           const bool t92 = (t91 > int32_t(0));
@@ -779,29 +799,33 @@ struct Prog {
         std::vector<Pos>& out99 = s.scratch.v.b10;
         out99.clear();
         {
-          const auto& x100_list = g98;
-          charge_loop(s.core, 14, int64_t(x100_list.size()));
-          for (const Pos& x100 : x100_list) {
-            // inlined: function at programs/whack_a_mole.au:51
-            bool any101 = false;
-            {
-              const auto& x102_list = g97;
-              charge_loop(s.core, 15, int64_t(x102_list.size()));
-              for (const C1_Mole& x102 : x102_list) {
-                // inlined: function at programs/whack_a_mole.au:51
-                const bool t103 = (x102.origin == x100);
-                if (t103) {
-                  any101 = true;
-                  break;
+          Budget budget = budget_of(s.core);
+          {
+            const auto& x100_list = g98;
+            charge_loop(budget, 14, int64_t(x100_list.size()));
+            for (const Pos& x100 : x100_list) {
+              // inlined: function at programs/whack_a_mole.au:51
+              bool any101 = false;
+              {
+                const auto& x102_list = g97;
+                charge_loop(budget, 15, int64_t(x102_list.size()));
+                for (const C1_Mole& x102 : x102_list) {
+                  // inlined: function at programs/whack_a_mole.au:51
+                  const bool t103 = (x102.origin == x100);
+                  if (t103) {
+                    any101 = true;
+                    break;
+                  }
                 }
               }
-            }
-            const bool t104 = !any101;
-            if (t104) {
-              charge_built(s.core, 14, int64_t(int32_t(1)));
-              out99.push_back(x100);
+              const bool t104 = !any101;
+              if (t104) {
+                charge_built(budget, 14, int64_t(int32_t(1)));
+                out99.push_back(x100);
+              }
             }
           }
+          give_back(s.core, budget);
         }
         if (out99.empty()) {
           fail_at(17, std::string() + std::string("uniformChoice of an empty list"));
@@ -965,16 +989,20 @@ struct Prog {
       std::vector<C2_Flash>& out132 = s.scratch.v.b12;
       out132.clear();
       {
-        const auto& x133_list = prev131;
-        charge_loop(s.core, 19, int64_t(x133_list.size()));
-        for (const C2_Flash& x133 : x133_list) {
-          // inlined: function at programs/whack_a_mole.au:32
-          const bool t134 = (x133.f0 > int32_t(1));
-          if (t134) {
-            charge_built(s.core, 19, int64_t(int32_t(1)));
-            out132.push_back(x133);
+        Budget budget = budget_of(s.core);
+        {
+          const auto& x133_list = prev131;
+          charge_loop(budget, 19, int64_t(x133_list.size()));
+          for (const C2_Flash& x133 : x133_list) {
+            // inlined: function at programs/whack_a_mole.au:32
+            const bool t134 = (x133.f0 > int32_t(1));
+            if (t134) {
+              charge_built(budget, 19, int64_t(int32_t(1)));
+              out132.push_back(x133);
+            }
           }
         }
+        give_back(s.core, budget);
       }
       std::vector<C2_Flash>& out135 = s.scratch.v.b13;
       out135.clear();

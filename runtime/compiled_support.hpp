@@ -532,8 +532,11 @@ inline void check_length(const Core& c, int site, int64_t n) {
 // once, before it runs, against the step's budget (limits.hpp, calls).
 // The failure is out of line: charges sit in the hottest loops, and the message
 // built inline at each one cost more than the charge itself.
+// Both charges take the Core, or a loop's Budget (below): the counts and
+// limits by the same names.
 [[noreturn, gnu::cold]] void fail_loop_budget(int site, int64_t limit);
-inline void charge_loop(Core& c, int site, int64_t n) {
+template <class Counts>
+[[gnu::always_inline]] inline void charge_loop(Counts& c, int site, int64_t n) {
   c.visited += n > 0 ? n : 0;
   if (__builtin_expect(c.visited > c.visit_limit, 0)) fail_loop_budget(site, c.visit_limit);
 }
@@ -541,9 +544,25 @@ inline void charge_loop(Core& c, int site, int64_t n) {
 // range, map, filter, concat, ...), charged at `site` against the step's cells
 // budget (limits.hpp, cells): out of line for the same reason as the loops'.
 [[noreturn, gnu::cold]] void fail_built_budget(int site, int64_t limit);
-inline void charge_built(Core& c, int site, int64_t n) {
+template <class Counts>
+[[gnu::always_inline]] inline void charge_built(Counts& c, int site, int64_t n) {
   c.built += n > 0 ? n : 0;
   if (__builtin_expect(c.built > c.cells_limit, 0)) fail_built_budget(site, c.cells_limit);
+}
+// A loop's copy of the step's budget counts (compiler/lower/pass_budget_locals):
+// a plain local, so that g++ keeps the counts of a loop charging as it runs in
+// registers (through the core, each charge waited on the last one's store).
+// Taken before the loop, given back after it; a failure inside throws out of
+// the step, whose counts are then not read again (the next entry starts them
+// afresh), so that path gives nothing back.
+struct Budget {
+  int64_t visited, built;
+  int64_t visit_limit, cells_limit;
+};
+inline Budget budget_of(const Core& c) { return Budget{c.visited, c.built, c.visit_limit, c.cells_limit}; }
+inline void give_back(Core& c, const Budget& b) {
+  c.visited = b.visited;
+  c.built = b.built;
 }
 // A list built element by element (allObjs) fails at the first element too many.
 inline void check_appended_length(const Core& c, int site, int64_t n) {

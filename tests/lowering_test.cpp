@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <functional>
 #include <fstream>
 
 #include "compiler/analyse/program.hpp"
@@ -242,6 +243,56 @@ TEST(IrPasses, ALoopCopyingADyingListMovesItWhole) {
   EXPECT_FALSE(copy_loop(kReadAfter)) << "read after the copy";
   EXPECT_FALSE(copy_loop(kInALoop)) << "copied again by the next iteration";
   EXPECT_FALSE(copy_loop(kPushesOther)) << "the loop pushes something else";
+}
+
+// A loop whose body charges as it runs (a kept element's cells, a loop inside)
+// counts in a local; not one that calls a function charging the core, returns
+// from inside, or charges nothing; loops inside a marked one use its local.
+TEST(IrPasses, LoopsChargingAsTheyRunKeepTheCountsLocal) {
+  using lower::ir::SK;
+  enum Body { kChargesBuilt, kInnerLoop, kCallsCharging, kReturns, kNothing };
+  auto loop_with = [](Body body) {
+    IrFixture x;
+    auto* xs = x.var(x.list_t, true);
+    x.stmt(x.f->body, SK::Decl, xs);
+    auto* loop = x.stmt(x.f->body, SK::ForEach, x.var(x.m.types.int_(), false), x.use(xs));
+    lower::ir::Stmt* inner = nullptr;
+    switch (body) {
+      case kChargesBuilt:
+        x.stmt(loop->body, SK::Eval, nullptr,
+               x.b.call(lower::ir::Helper::ChargeBuilt, nullptr, {x.node(lower::ir::Op::Lit, x.m.types.int_())}));
+        break;
+      case kInnerLoop:
+        inner = x.stmt(loop->body, SK::ForEach, x.var(x.m.types.int_(), false), x.use(xs));
+        break;
+      case kCallsCharging: {
+        // A second function that charges, called from the loop.
+        x.m.functions.push_back(std::make_unique<lower::ir::Function>());
+        lower::ir::Function* g = x.m.functions.back().get();
+        x.stmt(g->body, SK::ForEach, x.var(x.m.types.int_(), false), x.use(xs));
+        lower::ir::Node* call = x.node(lower::ir::Op::FnCall, x.m.types.int_());
+        call->index = 1;
+        x.stmt(loop->body, SK::Eval, nullptr, call);
+        x.stmt(loop->body, SK::Eval, nullptr,
+               x.b.call(lower::ir::Helper::ChargeBuilt, nullptr, {x.node(lower::ir::Op::Lit, x.m.types.int_())}));
+        break;
+      }
+      case kReturns:
+        x.stmt(loop->body, SK::Eval, nullptr,
+               x.b.call(lower::ir::Helper::ChargeBuilt, nullptr, {x.node(lower::ir::Op::Lit, x.m.types.int_())}));
+        x.stmt(loop->body, SK::Return);
+        break;
+      case kNothing: x.stmt(loop->body, SK::Eval, nullptr, x.size_of(xs)); break;
+    }
+    lower::keep_budgets_local(x.m);
+    EXPECT_FALSE(inner && inner->local_budget) << "a loop inside a marked one charges its local";
+    return loop->local_budget;
+  };
+  EXPECT_TRUE(loop_with(kChargesBuilt));
+  EXPECT_TRUE(loop_with(kInnerLoop));
+  EXPECT_FALSE(loop_with(kCallsCharging)) << "the function charges the core";
+  EXPECT_FALSE(loop_with(kReturns)) << "a return would skip giving the counts back";
+  EXPECT_FALSE(loop_with(kNothing)) << "nothing to charge";
 }
 
 TEST(IrPasses, ListsThatStayInTheirBlockReuseStorage) {
@@ -468,6 +519,37 @@ TEST(IrVerify, CatchesAPassThatRemovesAUsedName) {
   EXPECT_EQ(problems[0], "function step: v" + std::to_string(used->id) + " read out of its scope");
 }
 
+// A budget pass that marks every loop: the one that returns from inside and
+// the one inside another are caught (each would lose or split the counts).
+TEST(IrVerify, CatchesALoopKeepingTheBudgetLocalThatCannotGiveItBack) {
+  using lower::ir::SK;
+  IrFixture x;
+  auto* xs = x.var(x.list_t, true);
+  x.stmt(x.f->body, SK::Decl, xs);
+  auto* outer = x.stmt(x.f->body, SK::ForEach, x.var(x.m.types.int_(), false), x.use(xs));
+  auto* inner = x.stmt(outer->body, SK::ForEach, x.var(x.m.types.int_(), false), x.use(xs));
+  x.stmt(inner->body, SK::Return);
+  outer->loc = inner->loc = 0;
+  x.m.locations.emplace_back();
+  EXPECT_TRUE(lower::verify_ir(x.m).empty());
+  auto broken_budget_locals = [](lower::Module& m) {
+    std::function<void(lower::ir::Block&)> all = [&](lower::ir::Block& b) {
+      for (lower::ir::Stmt* s : b) {
+        if (s->k == SK::ForEach) s->local_budget = true;
+        all(s->body);
+      }
+    };
+    for (auto& f : m.functions) all(f->body);
+  };
+  broken_budget_locals(x.m);
+  const auto problems = lower::verify_ir(x.m);
+  std::string all;
+  for (const auto& p : problems) all += p + "\n";
+  EXPECT_NE(all.find("a loop keeping the budget in a local holds another"), std::string::npos) << all;
+  EXPECT_NE(all.find("a loop keeping the budget in a local returns from inside"), std::string::npos) << all;
+  EXPECT_EQ(problems.size(), 3u) << all;  // the outer loop twice (holds, returns), the inner once (returns)
+}
+
 TEST(IrVerify, CatchesMissingOperandsArityTypesAndSites) {
   IrFixture x;
   auto* v = x.var(x.list_t, false);
@@ -553,7 +635,7 @@ TEST(IrText, NamesFunctionsStatementsAndTypes) {
                            ": list<pos>", "make_obj Crate(", "set global g_crates_"})
     EXPECT_NE(l.ir.find(want), std::string::npos) << want;
   EXPECT_EQ(lowering_stages().front(), "specialise");
-  EXPECT_EQ(lowering_stages().size(), 8u);
+  EXPECT_EQ(lowering_stages().size(), 9u);
   o.dump_ir_after = "specialise";
   EXPECT_NE(lower_program(*program, "sokoban", o).ir, l.ir) << "the passes change the IR";
 }

@@ -106,6 +106,7 @@ class IrTextPrinter {
     if ((s->k == SK::ForEach || s->k == SK::ForRange) && !s->charged) line += " [uncharged]";
     if (s->k == SK::ForEach || s->k == SK::ForRange || s->k == SK::Fail) line += " @site " + std::to_string(s->loc);
     if (s->move_value) line += " [move]";
+    if (s->local_budget) line += " [local budget]";
     out += pad + line + "\n";
     block(s->body, depth + 1, out);
     if (!s->other.empty()) {

@@ -10,7 +10,8 @@
 //
 // Marks in brackets are the passes' decisions: a Bind's [ref] or [copy]
 // (settle_references), a [scratch] list (reuse_buffers), a [move] of a last use
-// (move_last_uses), an [uncharged] loop (spare_short_loops).
+// (move_last_uses), an [uncharged] loop (spare_short_loops), a loop counting
+// the budget in a [local budget] (keep_budgets_local).
 // Variables print as v<id>, slots by their C++ member name, strings by id
 // (str#2), helpers and members by their enum names. `autumnc --dump-ir`
 // prints it; tests/lowering_test.cpp (IrText) checks its shape. The printer

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "compiler/lower/ir_print.hpp"
+#include "compiler/lower/ir_walk.hpp"
 
 namespace autumn::lower {
 
@@ -165,6 +166,7 @@ class IrVerifier {
             (s->body.size() != 1 || s->body[0]->k != SK::Push || !s->body[0]->b || s->body[0]->b->op != Op::Local ||
              s->body[0]->b->var != s->var || !s->a || s->a->op != Op::Local))
           problem("a loop that moves its list whole does more than push each element of a variable");
+        if (s->local_budget) budget_local(s);
         scopes_.emplace_back();
         introduce(s->var, stmt_name(s));
         loop_body(s);
@@ -194,6 +196,16 @@ class IrVerifier {
     }
   }
 
+  // A loop keeping the budget's counts in a local: every charge inside it
+  // must go to that local, and it must reach its end to give them back.
+  void budget_local(const Stmt* s) {
+    const BudgetUse u = budget_use(s->body, charging_);
+    if (u.local) problem("a loop keeping the budget in a local holds another");
+    if (u.calls_charging) problem("a loop keeping the budget in a local calls a function that charges the core");
+    if (u.returns) problem("a loop keeping the budget in a local returns from inside");
+    if (s->k == SK::ForEach && s->move_value) problem("a loop that moves its list whole keeps the budget in a local");
+  }
+
   static const char* stmt_name(const Stmt* s) { return s ? stmt_kind_name(s->k) : "statement"; }
 
   // A node as ir_print shows it, cut short: enough to find it in a dump.
@@ -204,6 +216,7 @@ class IrVerifier {
 
   const Module& m_;
   std::vector<std::string>& problems_;
+  const std::vector<bool> charging_ = functions_charging(m_.functions);
   const Function* f_ = nullptr;
   std::vector<std::set<const Var*>> scopes_;
   std::vector<SK> contexts_;  // enclosing loops (ForEach) and switches

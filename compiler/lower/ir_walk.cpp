@@ -117,4 +117,48 @@ bool function_stores_state(const Function& f) {
   return found;
 }
 
+namespace {
+
+void budget_use_of(const Node* n, const std::vector<bool>& charging, BudgetUse& u) {
+  if (!n) return;
+  if (n->op == Op::Call && n->helper == Helper::ChargeBuilt) u.charges = true;
+  if (n->op == Op::FnCall && n->index >= 0 && static_cast<size_t>(n->index) < charging.size() && charging[n->index])
+    u.calls_charging = true;
+  for (const Node* k : n->a) budget_use_of(k, charging, u);
+}
+
+void budget_use_of(const Block& b, const std::vector<bool>& charging, BudgetUse& u) {
+  for (const Stmt* s : b) {
+    if ((s->k == SK::ForEach || s->k == SK::ForRange) && s->charged) u.charges = true;
+    if (s->local_budget) u.local = true;
+    if (s->k == SK::Return) u.returns = true;
+    budget_use_of(s->a, charging, u);
+    budget_use_of(s->b, charging, u);
+    budget_use_of(s->body, charging, u);
+    budget_use_of(s->other, charging, u);
+    for (const auto& [k, c] : s->cases) budget_use_of(c, charging, u);
+  }
+}
+
+}  // namespace
+
+BudgetUse budget_use(const Block& b, const std::vector<bool>& charging) {
+  BudgetUse u;
+  budget_use_of(b, charging, u);
+  return u;
+}
+
+std::vector<bool> functions_charging(const std::vector<std::unique_ptr<Function>>& functions) {
+  std::vector<bool> charging(functions.size(), false);
+  for (bool changed = true; changed;) {  // until no function is found to charge through another
+    changed = false;
+    for (size_t i = 0; i < functions.size(); ++i) {
+      if (charging[i] || !functions[i]) continue;
+      const BudgetUse u = budget_use(functions[i]->body, charging);
+      if (u.charges || u.calls_charging) charging[i] = changed = true;
+    }
+  }
+  return charging;
+}
+
 }  // namespace autumn::lower::ir

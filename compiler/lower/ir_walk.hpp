@@ -7,6 +7,7 @@
 // Test: tests/lowering_test.cpp (IrPasses).
 #pragma once
 #include <map>
+#include <memory>
 #include <vector>
 
 #include "compiler/lower/ir.hpp"
@@ -41,5 +42,18 @@ Walk walk_function(const Function& f, const std::vector<bool>& stores_state);
 
 // Whether function f stores any state slot (directly).
 bool function_stores_state(const Function& f);
+
+// What a block does with the step's budget counts (Core::visited, ::built),
+// nested statements included.
+struct BudgetUse {
+  bool charges = false;        // a ChargeBuilt, or a loop that charges its length
+  bool calls_charging = false; // a call of a module function that charges (charging[index])
+  bool returns = false;        // a Return
+  bool local = false;          // a loop that keeps the counts in a local (Stmt::local_budget)
+};
+BudgetUse budget_use(const Block& b, const std::vector<bool>& charging);
+// Per module function: whether calling it may charge the budget (itself, or
+// through the functions it calls; recursive functions included).
+std::vector<bool> functions_charging(const std::vector<std::unique_ptr<Function>>& functions);
 
 }  // namespace autumn::lower::ir

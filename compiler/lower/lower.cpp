@@ -36,6 +36,7 @@ constexpr Pass kPasses[] = {
     {"move_last_uses", lower::move_last_uses},
     {"reuse_buffers", lower::reuse_buffers},
     {"spare_short_loops", lower::spare_short_loops},
+    {"keep_budgets_local", lower::keep_budgets_local},
 };
 
 // After each stage: the IR still holds its invariants (when AUTUMN_VERIFY_IR is

@@ -8,6 +8,7 @@
 //   reuse_buffers       pass_scratch.cpp  short-lived lists keep their storage
 //   move_last_uses      pass_moves.cpp    a value's last use moves it
 //   spare_short_loops   pass_loop_budget.cpp  loops of at most 16 known elements charge nothing
+//   keep_budgets_local  pass_budget_locals.cpp  a loop charging as it runs counts in a local
 #pragma once
 #include "compiler/lower/module.hpp"
 
@@ -20,5 +21,6 @@ void remove_dead_names(Module& m);
 void reuse_buffers(Module& m);
 void move_last_uses(Module& m);
 void spare_short_loops(Module& m);
+void keep_budgets_local(Module& m);
 
 }  // namespace autumn::lower

@@ -100,6 +100,7 @@ class Printer {
   }
   void stmt(const Stmt& s);
   void decl_stmt(const Stmt& s);
+  void loop_stmt(const Stmt& s);
   void for_each_stmt(const Stmt& s);
   void for_range_stmt(const Stmt& s);
   void switch_stmt(const Stmt& s);
@@ -121,6 +122,9 @@ class Printer {
   std::vector<TypeP> sums_;
   const Node* moving_node_ = nullptr;  // the statement's value whose operands (mask) are moved from
   uint32_t moving_mask_ = 0;
+  // Where the budget's charges go: the core, or inside a loop that keeps the
+  // counts in a local (Stmt::local_budget) that local.
+  std::string counts_ = "s.core";
 };
 
 std::string Printer::member(const Node* n) {
@@ -162,7 +166,8 @@ std::string Printer::check_length(const Node* n) {
     case kLengthTotal: len = "total_size(" + expr(n->a[0]) + ")"; break;
     case kLengthCounted: return "check_appended_length(s.core, " + site + ", " + i64(0) + ")";
   }
-  return (n->helper == Helper::ChargeBuilt ? "charge_built(s.core, " : "check_length(s.core, ") + site + ", " + len + ")";
+  return (n->helper == Helper::ChargeBuilt ? "charge_built(" + counts_ + ", " : "check_length(s.core, ") + site + ", " + len +
+         ")";
 }
 
 std::string Printer::helper(const Node* n) {
@@ -296,6 +301,26 @@ void Printer::decl_stmt(const Stmt& s) {
   line(type(s.var->type) + " " + name(s.var) + (s.a ? " = " + expr(s.a) : std::string("{}")) + ";");
 }
 
+// A loop that keeps the budget's counts in a local takes them from the core
+// before it and gives them back after it (pass_budget_locals).
+void Printer::loop_stmt(const Stmt& s) {
+  const bool local = s.local_budget;
+  if (local) {
+    line("{");
+    ++depth_;
+    line("Budget budget = budget_of(s.core);");
+    counts_ = "budget";
+  }
+  if (s.k == SK::ForEach) for_each_stmt(s);
+  else for_range_stmt(s);
+  if (local) {
+    counts_ = "s.core";
+    line("give_back(s.core, budget);");
+    --depth_;
+    line("}");
+  }
+}
+
 // The list is bound once: charged by its size (unless short), then walked; or,
 // where the loop moves it whole into the list its push fills, swapped there.
 void Printer::for_each_stmt(const Stmt& s) {
@@ -303,13 +328,13 @@ void Printer::for_each_stmt(const Stmt& s) {
   line("{");
   if (s.move_value) {
     const std::string from = expr(s.a), into = expr(s.body[0]->a);
-    if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + from + ".size()));");
+    if (s.charged) line("  charge_loop(" + counts_ + ", " + std::to_string(s.loc) + ", int64_t(" + from + ".size()));");
     line("  std::swap(" + into + ", " + from + ");");
     line("}");
     return;
   }
   line("  const auto& " + l + " = " + expr(s.a) + ";");
-  if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
+  if (s.charged) line("  charge_loop(" + counts_ + ", " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
   line("  for (const " + type(s.var->type) + "& " + name(s.var) + " : " + l + ") {");
   ++depth_;
   block(s.body);
@@ -323,7 +348,8 @@ void Printer::for_range_stmt(const Stmt& s) {
   const std::string v = name(s.var);
   line("{");
   line("  const int32_t " + v + "_first = " + expr(s.a) + ", " + v + "_end = " + expr(s.b) + ";");
-  if (s.charged) line("  charge_loop(s.core, " + std::to_string(s.loc) + ", int64_t(" + v + "_end) - " + v + "_first);");
+  if (s.charged)
+    line("  charge_loop(" + counts_ + ", " + std::to_string(s.loc) + ", int64_t(" + v + "_end) - " + v + "_first);");
   line("  for (int32_t " + v + " = " + v + "_first; " + v + " < " + v + "_end; ++" + v + ") {");
   ++depth_;
   block(s.body);
@@ -382,8 +408,8 @@ void Printer::stmt(const Stmt& s) {
       }
       line("}");
       return;
-    case SK::ForEach: return for_each_stmt(s);
-    case SK::ForRange: return for_range_stmt(s);
+    case SK::ForEach:
+    case SK::ForRange: return loop_stmt(s);
     case SK::Switch: return switch_stmt(s);
     case SK::Block:
       line("{");
