@@ -180,21 +180,16 @@ class Marks {
   // Brush's), lent by lend() after reset() or undo() and given back with
   // take_back(). A run never taken back leaves the marks stale: the owner then
   // forgets its whole array (Occupancy::forget, Painter::forget).
-  // The count alone is carried from mark to mark (one add a cycle); where a
-  // mark goes is clamped off that chain. (A pointer advanced unless it was at
-  // the sink made each mark wait on a compare of the last one: a quarter of
-  // gameOfLife's render.)
   struct Run {
-    uint32_t* at;
-    size_t n;     // marks added, kept or not
-    size_t last;  // the array's last entry: marks from there on are not kept
+    uint32_t* next;
+    uint32_t* sink;  // the array's last entry: marks from there on are not kept
     void add(uint32_t cell) {
-      at[n < last ? n : last] = cell;
-      ++n;
+      *next = cell;
+      next += next != sink;
     }
   };
-  Run lend() { return Run{at_.get(), n_, size_ - 1}; }
-  void take_back(const Run& r) { n_ = std::min(r.n, r.last); }
+  Run lend() { return Run{at_.get() + n_, at_.get() + size_ - 1}; }
+  void take_back(const Run& r) { n_ = static_cast<size_t>(r.next - at_.get()); }
   bool dense() const { return n_ == size_ - 1; }
   // Sets the marked cells of `cells` (the array the marks index) back to
   // `value`, or all of it once dense, and clears the marks.
