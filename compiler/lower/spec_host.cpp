@@ -133,7 +133,13 @@ void Specialiser::specialise_step() {
       Global& g = globals_[s];
       g.sym = s;
       g.state = Global::Runtime;
-      if (TypeP hinted = h_.global(s); g.value < 0 && hinted) global_slot(s, hinted);  // first defined by a step
+      // First defined by a step: its slot now, so that a read before this
+      // walk meets the definition finds it. `click` is a Position (define_click),
+      // whether or not a type was hinted: a read of it before the walk met a
+      // `clicked` otherwise had no slot, and lowered to nothing at all.
+      TypeP hinted = h_.global(s);
+      if (!hinted && s == p_.names.click) hinted = T().pos();
+      if (g.value < 0 && hinted) global_slot(s, hinted);
     }
   for (auto& [sym, g] : globals_)
     if (g.state != Global::Undefined && h_.stored_in_step(sym) && g.constant && g.constant->type->k != TK::Func)
