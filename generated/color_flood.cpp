@@ -503,27 +503,29 @@ struct Prog {
         l_hit47.clear();
         std::vector<C0_Tile>& out48 = s.scratch.v.b11;
         out48.clear();
+        if ((!prev46.empty() && s.core.click)) {
+          s.d_click_19 = true;
+          const Pos t49 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_18 = t49;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x49_list = prev46;
-            charge_loop(budget, 19, int64_t(x49_list.size()));
-            for (const C0_Tile& x49 : x49_list) {
+            const auto& x50_list = prev46;
+            charge_loop(budget, 19, int64_t(x50_list.size()));
+            for (const C0_Tile& x50 : x50_list) {
               // inlined: function at programs/color_flood.au:46
-              bool clicked50 = false;
+              bool clicked51 = false;
               if (s.core.click) {
-                s.d_click_19 = true;
-                const Pos t51 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_18 = t51;
-                const int32_t colour52 = colour_2_C0_Tile(s, x49);
-                const Elem e53 = Elem{Pos{add(x49.origin.x, int32_t(0)), add(x49.origin.y, int32_t(0))}, colour52};
+                const int32_t colour52 = colour_2_C0_Tile(s, x50);
+                const Elem e53 = Elem{Pos{add(x50.origin.x, int32_t(0)), add(x50.origin.y, int32_t(0))}, colour52};
                 if ((e53.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked50 = true;
+                  clicked51 = true;
                 }
               }
-              if (clicked50) {
+              if (clicked51) {
                 charge_built(budget, 19, int64_t(int32_t(1)));
-                out48.push_back(x49);
+                out48.push_back(x50);
               }
             }
           }
@@ -640,27 +642,29 @@ struct Prog {
         l_hit80.clear();
         std::vector<C1_Swatch>& out81 = s.scratch.v.b16;
         out81.clear();
+        if ((!prev79.empty() && s.core.click)) {
+          s.d_click_19 = true;
+          const Pos t82 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_18 = t82;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x82_list = prev79;
-            charge_loop(budget, 19, int64_t(x82_list.size()));
-            for (const C1_Swatch& x82 : x82_list) {
+            const auto& x83_list = prev79;
+            charge_loop(budget, 19, int64_t(x83_list.size()));
+            for (const C1_Swatch& x83 : x83_list) {
               // inlined: function at programs/color_flood.au:46
-              bool clicked83 = false;
+              bool clicked84 = false;
               if (s.core.click) {
-                s.d_click_19 = true;
-                const Pos t84 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_18 = t84;
-                const int32_t colour85 = colour_1_C1_Swatch(s, x82);
-                const Elem e86 = Elem{Pos{add(x82.origin.x, int32_t(0)), add(x82.origin.y, int32_t(0))}, colour85};
+                const int32_t colour85 = colour_1_C1_Swatch(s, x83);
+                const Elem e86 = Elem{Pos{add(x83.origin.x, int32_t(0)), add(x83.origin.y, int32_t(0))}, colour85};
                 if ((e86.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked83 = true;
+                  clicked84 = true;
                 }
               }
-              if (clicked83) {
+              if (clicked84) {
                 charge_built(budget, 19, int64_t(int32_t(1)));
-                out81.push_back(x82);
+                out81.push_back(x83);
               }
             }
           }

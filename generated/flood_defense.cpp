@@ -766,295 +766,529 @@ struct Prog {
         const std::vector<C4_Water>& g128 = s.g_water_7;
         const C2_Drain& g129 = s.g_drain_23;
         int32_t objects130 = int32_t(0);
-        const std::vector<C1_House>& g131 = s.g_houses_19;
-        charge_built(s.core, 24, int64_t(int32_t(g131.size())));
-        objects130 = add(objects130, int32_t(g131.size()));
-        const std::vector<C3_Sandbag>& g132 = s.g_bags_11;
-        charge_built(s.core, 24, int64_t(int32_t(g132.size())));
-        objects130 = add(objects130, int32_t(g132.size()));
-        const std::vector<C4_Water>& g133 = s.g_water_7;
-        charge_built(s.core, 24, int64_t(int32_t(g133.size())));
-        objects130 = add(objects130, int32_t(g133.size()));
-        const std::vector<C0_Earth>& g134 = s.g_earth_27;
-        charge_built(s.core, 24, int64_t(int32_t(g134.size())));
-        objects130 = add(objects130, int32_t(g134.size()));
-        charge_built(s.core, 24, int64_t(int32_t(1)));
-        objects130 = add(objects130, int32_t(1));
-        charge_built(s.core, 24, int64_t(int32_t(1)));
-        objects130 = add(objects130, int32_t(1));
+        if (s.d_click_36) {
+          const std::vector<C1_House>& g131 = s.g_houses_19;
+          charge_built(s.core, 24, int64_t(int32_t(g131.size())));
+          objects130 = add(objects130, int32_t(g131.size()));
+          const std::vector<C3_Sandbag>& g132 = s.g_bags_11;
+          charge_built(s.core, 24, int64_t(int32_t(g132.size())));
+          objects130 = add(objects130, int32_t(g132.size()));
+          const std::vector<C4_Water>& g133 = s.g_water_7;
+          charge_built(s.core, 24, int64_t(int32_t(g133.size())));
+          objects130 = add(objects130, int32_t(g133.size()));
+          if (s.d_click_36) {
+          }
+          const std::vector<C0_Earth>& g134 = s.g_earth_27;
+          charge_built(s.core, 24, int64_t(int32_t(g134.size())));
+          objects130 = add(objects130, int32_t(g134.size()));
+          charge_built(s.core, 24, int64_t(int32_t(1)));
+          objects130 = add(objects130, int32_t(1));
+          charge_built(s.core, 24, int64_t(int32_t(1)));
+          objects130 = add(objects130, int32_t(1));
+        } else {
+          const std::vector<C1_House>& g135 = s.g_houses_19;
+          charge_built(s.core, 24, int64_t(int32_t(g135.size())));
+          objects130 = add(objects130, int32_t(g135.size()));
+          const std::vector<C3_Sandbag>& g136 = s.g_bags_11;
+          charge_built(s.core, 24, int64_t(int32_t(g136.size())));
+          objects130 = add(objects130, int32_t(g136.size()));
+          const std::vector<C4_Water>& g137 = s.g_water_7;
+          charge_built(s.core, 24, int64_t(int32_t(g137.size())));
+          objects130 = add(objects130, int32_t(g137.size()));
+          const std::vector<C0_Earth>& g138 = s.g_earth_27;
+          charge_built(s.core, 24, int64_t(int32_t(g138.size())));
+          objects130 = add(objects130, int32_t(g138.size()));
+          charge_built(s.core, 24, int64_t(int32_t(1)));
+          objects130 = add(objects130, int32_t(1));
+          charge_built(s.core, 24, int64_t(int32_t(1)));
+          objects130 = add(objects130, int32_t(1));
+        }
         check_appended_length(s.core, 24, int64_t(objects130));
-        std::vector<S136>& out135 = s.scratch.v.b15;
-        out135.clear();
-        const std::vector<C1_House>& g136 = s.g_houses_19;
-        {
-          Budget budget = budget_of(s.core);
+        std::vector<S136>& out139 = s.scratch.v.b15;
+        out139.clear();
+        if (s.d_click_36) {
+          const std::vector<C1_House>& g140 = s.g_houses_19;
           {
-            const auto& x137_list = g136;
-            charge_loop(budget, 25, int64_t(x137_list.size()));
-            for (const C1_House& x137 : x137_list) {
-              Pos l_delta138{};
-              const int32_t t139 = sub(x137.origin.x, g129.origin.x);
-              const int32_t t140 = sub(x137.origin.y, g129.origin.y);
-              const Pos t141 = Pos{t139, t140};
-              l_delta138 = t141;
-              const bool t142 = (l_delta138.x < int32_t(0));
-              int32_t r143{};
-              if (t142) {
-                const int32_t t144 = neg(l_delta138.x);
-                r143 = t144;
-              } else {
-                r143 = l_delta138.x;
-              }
-              const bool t145 = (l_delta138.y < int32_t(0));
-              int32_t r146{};
-              if (t145) {
-                const int32_t t147 = neg(l_delta138.y);
-                r146 = t147;
-              } else {
-                r146 = l_delta138.y;
-              }
-              const int32_t t148 = add(r143, r146);
-              const bool t149 = (t148 <= int32_t(1));
-              if (t149) {
-                charge_built(budget, 25, int64_t(int32_t(1)));
-                out135.push_back(S136{std::in_place_index<1>, x137});
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x141_list = g140;
+              charge_loop(budget, 25, int64_t(x141_list.size()));
+              for (const C1_House& x141 : x141_list) {
+                Pos l_delta142{};
+                const int32_t t143 = sub(x141.origin.x, g129.origin.x);
+                const int32_t t144 = sub(x141.origin.y, g129.origin.y);
+                const Pos t145 = Pos{t143, t144};
+                l_delta142 = t145;
+                const bool t146 = (l_delta142.x < int32_t(0));
+                int32_t r147{};
+                if (t146) {
+                  const int32_t t148 = neg(l_delta142.x);
+                  r147 = t148;
+                } else {
+                  r147 = l_delta142.x;
+                }
+                const bool t149 = (l_delta142.y < int32_t(0));
+                int32_t r150{};
+                if (t149) {
+                  const int32_t t151 = neg(l_delta142.y);
+                  r150 = t151;
+                } else {
+                  r150 = l_delta142.y;
+                }
+                const int32_t t152 = add(r147, r150);
+                const bool t153 = (t152 <= int32_t(1));
+                if (t153) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out139.push_back(S136{std::in_place_index<1>, x141});
+                }
               }
             }
+            give_back(s.core, budget);
           }
-          give_back(s.core, budget);
-        }
-        const std::vector<C3_Sandbag>& g150 = s.g_bags_11;
-        {
-          Budget budget = budget_of(s.core);
+          const std::vector<C3_Sandbag>& g154 = s.g_bags_11;
           {
-            const auto& x151_list = g150;
-            charge_loop(budget, 25, int64_t(x151_list.size()));
-            for (const C3_Sandbag& x151 : x151_list) {
-              Pos l_delta152{};
-              const int32_t t153 = sub(x151.origin.x, g129.origin.x);
-              const int32_t t154 = sub(x151.origin.y, g129.origin.y);
-              const Pos t155 = Pos{t153, t154};
-              l_delta152 = t155;
-              const bool t156 = (l_delta152.x < int32_t(0));
-              int32_t r157{};
-              if (t156) {
-                const int32_t t158 = neg(l_delta152.x);
-                r157 = t158;
-              } else {
-                r157 = l_delta152.x;
-              }
-              const bool t159 = (l_delta152.y < int32_t(0));
-              int32_t r160{};
-              if (t159) {
-                const int32_t t161 = neg(l_delta152.y);
-                r160 = t161;
-              } else {
-                r160 = l_delta152.y;
-              }
-              const int32_t t162 = add(r157, r160);
-              const bool t163 = (t162 <= int32_t(1));
-              if (t163) {
-                charge_built(budget, 25, int64_t(int32_t(1)));
-                out135.push_back(S136{std::in_place_index<2>, x151});
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x155_list = g154;
+              charge_loop(budget, 25, int64_t(x155_list.size()));
+              for (const C3_Sandbag& x155 : x155_list) {
+                Pos l_delta156{};
+                const int32_t t157 = sub(x155.origin.x, g129.origin.x);
+                const int32_t t158 = sub(x155.origin.y, g129.origin.y);
+                const Pos t159 = Pos{t157, t158};
+                l_delta156 = t159;
+                const bool t160 = (l_delta156.x < int32_t(0));
+                int32_t r161{};
+                if (t160) {
+                  const int32_t t162 = neg(l_delta156.x);
+                  r161 = t162;
+                } else {
+                  r161 = l_delta156.x;
+                }
+                const bool t163 = (l_delta156.y < int32_t(0));
+                int32_t r164{};
+                if (t163) {
+                  const int32_t t165 = neg(l_delta156.y);
+                  r164 = t165;
+                } else {
+                  r164 = l_delta156.y;
+                }
+                const int32_t t166 = add(r161, r164);
+                const bool t167 = (t166 <= int32_t(1));
+                if (t167) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out139.push_back(S136{std::in_place_index<2>, x155});
+                }
               }
             }
+            give_back(s.core, budget);
           }
-          give_back(s.core, budget);
-        }
-        const std::vector<C4_Water>& g164 = s.g_water_7;
-        {
-          Budget budget = budget_of(s.core);
+          const std::vector<C4_Water>& g168 = s.g_water_7;
           {
-            const auto& x165_list = g164;
-            charge_loop(budget, 25, int64_t(x165_list.size()));
-            for (const C4_Water& x165 : x165_list) {
-              Pos l_delta166{};
-              const int32_t t167 = sub(x165.origin.x, g129.origin.x);
-              const int32_t t168 = sub(x165.origin.y, g129.origin.y);
-              const Pos t169 = Pos{t167, t168};
-              l_delta166 = t169;
-              const bool t170 = (l_delta166.x < int32_t(0));
-              int32_t r171{};
-              if (t170) {
-                const int32_t t172 = neg(l_delta166.x);
-                r171 = t172;
-              } else {
-                r171 = l_delta166.x;
-              }
-              const bool t173 = (l_delta166.y < int32_t(0));
-              int32_t r174{};
-              if (t173) {
-                const int32_t t175 = neg(l_delta166.y);
-                r174 = t175;
-              } else {
-                r174 = l_delta166.y;
-              }
-              const int32_t t176 = add(r171, r174);
-              const bool t177 = (t176 <= int32_t(1));
-              if (t177) {
-                charge_built(budget, 25, int64_t(int32_t(1)));
-                out135.push_back(S136{std::in_place_index<3>, x165});
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x169_list = g168;
+              charge_loop(budget, 25, int64_t(x169_list.size()));
+              for (const C4_Water& x169 : x169_list) {
+                Pos l_delta170{};
+                const int32_t t171 = sub(x169.origin.x, g129.origin.x);
+                const int32_t t172 = sub(x169.origin.y, g129.origin.y);
+                const Pos t173 = Pos{t171, t172};
+                l_delta170 = t173;
+                const bool t174 = (l_delta170.x < int32_t(0));
+                int32_t r175{};
+                if (t174) {
+                  const int32_t t176 = neg(l_delta170.x);
+                  r175 = t176;
+                } else {
+                  r175 = l_delta170.x;
+                }
+                const bool t177 = (l_delta170.y < int32_t(0));
+                int32_t r178{};
+                if (t177) {
+                  const int32_t t179 = neg(l_delta170.y);
+                  r178 = t179;
+                } else {
+                  r178 = l_delta170.y;
+                }
+                const int32_t t180 = add(r175, r178);
+                const bool t181 = (t180 <= int32_t(1));
+                if (t181) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out139.push_back(S136{std::in_place_index<3>, x169});
+                }
               }
             }
+            give_back(s.core, budget);
           }
-          give_back(s.core, budget);
-        }
-        const std::vector<C0_Earth>& g178 = s.g_earth_27;
-        {
-          Budget budget = budget_of(s.core);
+          if (s.d_click_36) {
+          }
+          const std::vector<C0_Earth>& g182 = s.g_earth_27;
           {
-            const auto& x179_list = g178;
-            charge_loop(budget, 25, int64_t(x179_list.size()));
-            for (const C0_Earth& x179 : x179_list) {
-              Pos l_delta180{};
-              const int32_t t181 = sub(x179.origin.x, g129.origin.x);
-              const int32_t t182 = sub(x179.origin.y, g129.origin.y);
-              const Pos t183 = Pos{t181, t182};
-              l_delta180 = t183;
-              const bool t184 = (l_delta180.x < int32_t(0));
-              int32_t r185{};
-              if (t184) {
-                const int32_t t186 = neg(l_delta180.x);
-                r185 = t186;
-              } else {
-                r185 = l_delta180.x;
-              }
-              const bool t187 = (l_delta180.y < int32_t(0));
-              int32_t r188{};
-              if (t187) {
-                const int32_t t189 = neg(l_delta180.y);
-                r188 = t189;
-              } else {
-                r188 = l_delta180.y;
-              }
-              const int32_t t190 = add(r185, r188);
-              const bool t191 = (t190 <= int32_t(1));
-              if (t191) {
-                charge_built(budget, 25, int64_t(int32_t(1)));
-                out135.push_back(S136{std::in_place_index<0>, x179});
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x183_list = g182;
+              charge_loop(budget, 25, int64_t(x183_list.size()));
+              for (const C0_Earth& x183 : x183_list) {
+                Pos l_delta184{};
+                const int32_t t185 = sub(x183.origin.x, g129.origin.x);
+                const int32_t t186 = sub(x183.origin.y, g129.origin.y);
+                const Pos t187 = Pos{t185, t186};
+                l_delta184 = t187;
+                const bool t188 = (l_delta184.x < int32_t(0));
+                int32_t r189{};
+                if (t188) {
+                  const int32_t t190 = neg(l_delta184.x);
+                  r189 = t190;
+                } else {
+                  r189 = l_delta184.x;
+                }
+                const bool t191 = (l_delta184.y < int32_t(0));
+                int32_t r192{};
+                if (t191) {
+                  const int32_t t193 = neg(l_delta184.y);
+                  r192 = t193;
+                } else {
+                  r192 = l_delta184.y;
+                }
+                const int32_t t194 = add(r189, r192);
+                const bool t195 = (t194 <= int32_t(1));
+                if (t195) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out139.push_back(S136{std::in_place_index<0>, x183});
+                }
               }
             }
+            give_back(s.core, budget);
           }
-          give_back(s.core, budget);
-        }
-        const C2_Drain& g192 = s.g_drain_23;
-        Pos l_delta193{};
-        const int32_t t194 = sub(g192.origin.x, g129.origin.x);
-        const int32_t t195 = sub(g192.origin.y, g129.origin.y);
-        const Pos t196 = Pos{t194, t195};
-        l_delta193 = t196;
-        const bool t197 = (l_delta193.x < int32_t(0));
-        int32_t r198{};
-        if (t197) {
-          const int32_t t199 = neg(l_delta193.x);
-          r198 = t199;
+          const C2_Drain& g196 = s.g_drain_23;
+          Pos l_delta197{};
+          const int32_t t198 = sub(g196.origin.x, g129.origin.x);
+          const int32_t t199 = sub(g196.origin.y, g129.origin.y);
+          const Pos t200 = Pos{t198, t199};
+          l_delta197 = t200;
+          const bool t201 = (l_delta197.x < int32_t(0));
+          int32_t r202{};
+          if (t201) {
+            const int32_t t203 = neg(l_delta197.x);
+            r202 = t203;
+          } else {
+            r202 = l_delta197.x;
+          }
+          const bool t204 = (l_delta197.y < int32_t(0));
+          int32_t r205{};
+          if (t204) {
+            const int32_t t206 = neg(l_delta197.y);
+            r205 = t206;
+          } else {
+            r205 = l_delta197.y;
+          }
+          const int32_t t207 = add(r202, r205);
+          const bool t208 = (t207 <= int32_t(1));
+          if (t208) {
+            charge_built(s.core, 25, int64_t(int32_t(1)));
+            out139.push_back(S136{std::in_place_index<5>, g196});
+          }
+          const C5_Spring& g209 = s.g_spring_15;
+          Pos l_delta210{};
+          const int32_t t211 = sub(g209.origin.x, g129.origin.x);
+          const int32_t t212 = sub(g209.origin.y, g129.origin.y);
+          const Pos t213 = Pos{t211, t212};
+          l_delta210 = t213;
+          const bool t214 = (l_delta210.x < int32_t(0));
+          int32_t r215{};
+          if (t214) {
+            const int32_t t216 = neg(l_delta210.x);
+            r215 = t216;
+          } else {
+            r215 = l_delta210.x;
+          }
+          const bool t217 = (l_delta210.y < int32_t(0));
+          int32_t r218{};
+          if (t217) {
+            const int32_t t219 = neg(l_delta210.y);
+            r218 = t219;
+          } else {
+            r218 = l_delta210.y;
+          }
+          const int32_t t220 = add(r215, r218);
+          const bool t221 = (t220 <= int32_t(1));
+          if (t221) {
+            charge_built(s.core, 25, int64_t(int32_t(1)));
+            out139.push_back(S136{std::in_place_index<4>, g209});
+          }
         } else {
-          r198 = l_delta193.x;
+          const std::vector<C1_House>& g222 = s.g_houses_19;
+          {
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x223_list = g222;
+              charge_loop(budget, 25, int64_t(x223_list.size()));
+              for (const C1_House& x223 : x223_list) {
+                Pos l_delta224{};
+                const int32_t t225 = sub(x223.origin.x, g129.origin.x);
+                const int32_t t226 = sub(x223.origin.y, g129.origin.y);
+                const Pos t227 = Pos{t225, t226};
+                l_delta224 = t227;
+                const bool t228 = (l_delta224.x < int32_t(0));
+                int32_t r229{};
+                if (t228) {
+                  const int32_t t230 = neg(l_delta224.x);
+                  r229 = t230;
+                } else {
+                  r229 = l_delta224.x;
+                }
+                const bool t231 = (l_delta224.y < int32_t(0));
+                int32_t r232{};
+                if (t231) {
+                  const int32_t t233 = neg(l_delta224.y);
+                  r232 = t233;
+                } else {
+                  r232 = l_delta224.y;
+                }
+                const int32_t t234 = add(r229, r232);
+                const bool t235 = (t234 <= int32_t(1));
+                if (t235) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out139.push_back(S136{std::in_place_index<1>, x223});
+                }
+              }
+            }
+            give_back(s.core, budget);
+          }
+          const std::vector<C3_Sandbag>& g236 = s.g_bags_11;
+          {
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x237_list = g236;
+              charge_loop(budget, 25, int64_t(x237_list.size()));
+              for (const C3_Sandbag& x237 : x237_list) {
+                Pos l_delta238{};
+                const int32_t t239 = sub(x237.origin.x, g129.origin.x);
+                const int32_t t240 = sub(x237.origin.y, g129.origin.y);
+                const Pos t241 = Pos{t239, t240};
+                l_delta238 = t241;
+                const bool t242 = (l_delta238.x < int32_t(0));
+                int32_t r243{};
+                if (t242) {
+                  const int32_t t244 = neg(l_delta238.x);
+                  r243 = t244;
+                } else {
+                  r243 = l_delta238.x;
+                }
+                const bool t245 = (l_delta238.y < int32_t(0));
+                int32_t r246{};
+                if (t245) {
+                  const int32_t t247 = neg(l_delta238.y);
+                  r246 = t247;
+                } else {
+                  r246 = l_delta238.y;
+                }
+                const int32_t t248 = add(r243, r246);
+                const bool t249 = (t248 <= int32_t(1));
+                if (t249) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out139.push_back(S136{std::in_place_index<2>, x237});
+                }
+              }
+            }
+            give_back(s.core, budget);
+          }
+          const std::vector<C4_Water>& g250 = s.g_water_7;
+          {
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x251_list = g250;
+              charge_loop(budget, 25, int64_t(x251_list.size()));
+              for (const C4_Water& x251 : x251_list) {
+                Pos l_delta252{};
+                const int32_t t253 = sub(x251.origin.x, g129.origin.x);
+                const int32_t t254 = sub(x251.origin.y, g129.origin.y);
+                const Pos t255 = Pos{t253, t254};
+                l_delta252 = t255;
+                const bool t256 = (l_delta252.x < int32_t(0));
+                int32_t r257{};
+                if (t256) {
+                  const int32_t t258 = neg(l_delta252.x);
+                  r257 = t258;
+                } else {
+                  r257 = l_delta252.x;
+                }
+                const bool t259 = (l_delta252.y < int32_t(0));
+                int32_t r260{};
+                if (t259) {
+                  const int32_t t261 = neg(l_delta252.y);
+                  r260 = t261;
+                } else {
+                  r260 = l_delta252.y;
+                }
+                const int32_t t262 = add(r257, r260);
+                const bool t263 = (t262 <= int32_t(1));
+                if (t263) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out139.push_back(S136{std::in_place_index<3>, x251});
+                }
+              }
+            }
+            give_back(s.core, budget);
+          }
+          const std::vector<C0_Earth>& g264 = s.g_earth_27;
+          {
+            Budget budget = budget_of(s.core);
+            {
+              const auto& x265_list = g264;
+              charge_loop(budget, 25, int64_t(x265_list.size()));
+              for (const C0_Earth& x265 : x265_list) {
+                Pos l_delta266{};
+                const int32_t t267 = sub(x265.origin.x, g129.origin.x);
+                const int32_t t268 = sub(x265.origin.y, g129.origin.y);
+                const Pos t269 = Pos{t267, t268};
+                l_delta266 = t269;
+                const bool t270 = (l_delta266.x < int32_t(0));
+                int32_t r271{};
+                if (t270) {
+                  const int32_t t272 = neg(l_delta266.x);
+                  r271 = t272;
+                } else {
+                  r271 = l_delta266.x;
+                }
+                const bool t273 = (l_delta266.y < int32_t(0));
+                int32_t r274{};
+                if (t273) {
+                  const int32_t t275 = neg(l_delta266.y);
+                  r274 = t275;
+                } else {
+                  r274 = l_delta266.y;
+                }
+                const int32_t t276 = add(r271, r274);
+                const bool t277 = (t276 <= int32_t(1));
+                if (t277) {
+                  charge_built(budget, 25, int64_t(int32_t(1)));
+                  out139.push_back(S136{std::in_place_index<0>, x265});
+                }
+              }
+            }
+            give_back(s.core, budget);
+          }
+          const C2_Drain& g278 = s.g_drain_23;
+          Pos l_delta279{};
+          const int32_t t280 = sub(g278.origin.x, g129.origin.x);
+          const int32_t t281 = sub(g278.origin.y, g129.origin.y);
+          const Pos t282 = Pos{t280, t281};
+          l_delta279 = t282;
+          const bool t283 = (l_delta279.x < int32_t(0));
+          int32_t r284{};
+          if (t283) {
+            const int32_t t285 = neg(l_delta279.x);
+            r284 = t285;
+          } else {
+            r284 = l_delta279.x;
+          }
+          const bool t286 = (l_delta279.y < int32_t(0));
+          int32_t r287{};
+          if (t286) {
+            const int32_t t288 = neg(l_delta279.y);
+            r287 = t288;
+          } else {
+            r287 = l_delta279.y;
+          }
+          const int32_t t289 = add(r284, r287);
+          const bool t290 = (t289 <= int32_t(1));
+          if (t290) {
+            charge_built(s.core, 25, int64_t(int32_t(1)));
+            out139.push_back(S136{std::in_place_index<5>, g278});
+          }
+          const C5_Spring& g291 = s.g_spring_15;
+          Pos l_delta292{};
+          const int32_t t293 = sub(g291.origin.x, g129.origin.x);
+          const int32_t t294 = sub(g291.origin.y, g129.origin.y);
+          const Pos t295 = Pos{t293, t294};
+          l_delta292 = t295;
+          const bool t296 = (l_delta292.x < int32_t(0));
+          int32_t r297{};
+          if (t296) {
+            const int32_t t298 = neg(l_delta292.x);
+            r297 = t298;
+          } else {
+            r297 = l_delta292.x;
+          }
+          const bool t299 = (l_delta292.y < int32_t(0));
+          int32_t r300{};
+          if (t299) {
+            const int32_t t301 = neg(l_delta292.y);
+            r300 = t301;
+          } else {
+            r300 = l_delta292.y;
+          }
+          const int32_t t302 = add(r297, r300);
+          const bool t303 = (t302 <= int32_t(1));
+          if (t303) {
+            charge_built(s.core, 25, int64_t(int32_t(1)));
+            out139.push_back(S136{std::in_place_index<4>, g291});
+          }
         }
-        const bool t200 = (l_delta193.y < int32_t(0));
-        int32_t r201{};
-        if (t200) {
-          const int32_t t202 = neg(l_delta193.y);
-          r201 = t202;
-        } else {
-          r201 = l_delta193.y;
-        }
-        const int32_t t203 = add(r198, r201);
-        const bool t204 = (t203 <= int32_t(1));
-        if (t204) {
-          charge_built(s.core, 25, int64_t(int32_t(1)));
-          out135.push_back(S136{std::in_place_index<5>, g192});
-        }
-        const C5_Spring& g205 = s.g_spring_15;
-        Pos l_delta206{};
-        const int32_t t207 = sub(g205.origin.x, g129.origin.x);
-        const int32_t t208 = sub(g205.origin.y, g129.origin.y);
-        const Pos t209 = Pos{t207, t208};
-        l_delta206 = t209;
-        const bool t210 = (l_delta206.x < int32_t(0));
-        int32_t r211{};
-        if (t210) {
-          const int32_t t212 = neg(l_delta206.x);
-          r211 = t212;
-        } else {
-          r211 = l_delta206.x;
-        }
-        const bool t213 = (l_delta206.y < int32_t(0));
-        int32_t r214{};
-        if (t213) {
-          const int32_t t215 = neg(l_delta206.y);
-          r214 = t215;
-        } else {
-          r214 = l_delta206.y;
-        }
-        const int32_t t216 = add(r211, r214);
-        const bool t217 = (t216 <= int32_t(1));
-        if (t217) {
-          charge_built(s.core, 25, int64_t(int32_t(1)));
-          out135.push_back(S136{std::in_place_index<4>, g205});
-        }
-        std::vector<C4_Water>& kept218 = s.scratch.v.b16;
-        kept218.clear();
+        std::vector<C4_Water>& kept304 = s.scratch.v.b16;
+        kept304.clear();
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x219_list = g128;
-            charge_loop(budget, 26, int64_t(x219_list.size()));
-            for (const C4_Water& x219 : x219_list) {
-              bool found220 = false;
+            const auto& x305_list = g128;
+            charge_loop(budget, 26, int64_t(x305_list.size()));
+            for (const C4_Water& x305 : x305_list) {
+              bool found306 = false;
               {
-                const auto& y221_list = out135;
-                charge_loop(budget, 26, int64_t(y221_list.size()));
-                for (const S136& y221 : y221_list) {
-                  bool r222{};
-                  switch (y221.index()) {
+                const auto& y307_list = out139;
+                charge_loop(budget, 26, int64_t(y307_list.size()));
+                for (const S136& y307 : y307_list) {
+                  bool r308{};
+                  switch (y307.index()) {
                     case 0: {
-                      const C0_Earth a223 = std::get<0>(y221);
-                      const bool t224 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a223.uid))));
-                      r222 = t224;
+                      const C0_Earth a309 = std::get<0>(y307);
+                      const bool t310 = (int32_t(s.core.ids.id_of(uint32_t(x305.uid))) == int32_t(s.core.ids.id_of(uint32_t(a309.uid))));
+                      r308 = t310;
                       break;
                     }
                     case 1: {
-                      const C1_House a225 = std::get<1>(y221);
-                      const bool t226 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a225.uid))));
-                      r222 = t226;
+                      const C1_House a311 = std::get<1>(y307);
+                      const bool t312 = (int32_t(s.core.ids.id_of(uint32_t(x305.uid))) == int32_t(s.core.ids.id_of(uint32_t(a311.uid))));
+                      r308 = t312;
                       break;
                     }
                     case 2: {
-                      const C3_Sandbag a227 = std::get<2>(y221);
-                      const bool t228 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a227.uid))));
-                      r222 = t228;
+                      const C3_Sandbag a313 = std::get<2>(y307);
+                      const bool t314 = (int32_t(s.core.ids.id_of(uint32_t(x305.uid))) == int32_t(s.core.ids.id_of(uint32_t(a313.uid))));
+                      r308 = t314;
                       break;
                     }
                     case 3: {
-                      const C4_Water a229 = std::get<3>(y221);
-                      const bool t230 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a229.uid))));
-                      r222 = t230;
+                      const C4_Water a315 = std::get<3>(y307);
+                      const bool t316 = (int32_t(s.core.ids.id_of(uint32_t(x305.uid))) == int32_t(s.core.ids.id_of(uint32_t(a315.uid))));
+                      r308 = t316;
                       break;
                     }
                     case 4: {
-                      const C5_Spring a231 = std::get<4>(y221);
-                      const bool t232 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a231.uid))));
-                      r222 = t232;
+                      const C5_Spring a317 = std::get<4>(y307);
+                      const bool t318 = (int32_t(s.core.ids.id_of(uint32_t(x305.uid))) == int32_t(s.core.ids.id_of(uint32_t(a317.uid))));
+                      r308 = t318;
                       break;
                     }
                     case 5: {
-                      const C2_Drain a233 = std::get<5>(y221);
-                      const bool t234 = (int32_t(s.core.ids.id_of(uint32_t(x219.uid))) == int32_t(s.core.ids.id_of(uint32_t(a233.uid))));
-                      r222 = t234;
+                      const C2_Drain a319 = std::get<5>(y307);
+                      const bool t320 = (int32_t(s.core.ids.id_of(uint32_t(x305.uid))) == int32_t(s.core.ids.id_of(uint32_t(a319.uid))));
+                      r308 = t320;
                       break;
                     }
                     default: break;
                   }
-                  if ((false || r222)) {
-                    found220 = true;
+                  if ((false || r308)) {
+                    found306 = true;
                     break;
                   }
                 }
               }
-              if (!found220) {
+              if (!found306) {
                 charge_built(budget, 26, int64_t(int32_t(1)));
-                kept218.push_back(x219);
+                kept304.push_back(x305);
               }
             }
           }
@@ -1064,68 +1298,68 @@ struct Prog {
           std::swap(s.scratch.v.p_water_9, s.g_water_7);
           s.scratch.v.sv_water_10 = true;
         }
-        std::swap(s.g_water_7, kept218);
+        std::swap(s.g_water_7, kept304);
         s.u_water_8 = true;
       }
     }
     // on-clause 2, programs/flood_defense.au:57
     {
-      const int32_t& g235 = s.g_time_31;
-      const C5_Spring& g236 = s.g_spring_15;
-      if ((g236.f0 == int32_t(0))) {
+      const int32_t& g321 = s.g_time_31;
+      const C5_Spring& g322 = s.g_spring_15;
+      if ((g322.f0 == int32_t(0))) {
         fail_at(27, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
       }
-      if (((g235 == int32_t(-2147483648LL)) && (g236.f0 == int32_t(-1)))) {
+      if (((g321 == int32_t(-2147483648LL)) && (g322.f0 == int32_t(-1)))) {
         fail_at(27, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
       }
-      const int32_t t237 = autumn::arith::mod_unchecked(g235, g236.f0);
-      const bool t238 = (t237 == int32_t(0));
-      bool r239{};
-      if (t238) {
-        const std::vector<C4_Water>& g240 = s.g_water_7;
-        const int32_t t241 = int32_t(g240.size());
-        const bool t242 = (t241 < int32_t(60));
-        bool r243{};
-        if (t242) {
+      const int32_t t323 = autumn::arith::mod_unchecked(g321, g322.f0);
+      const bool t324 = (t323 == int32_t(0));
+      bool r325{};
+      if (t324) {
+        const std::vector<C4_Water>& g326 = s.g_water_7;
+        const int32_t t327 = int32_t(g326.size());
+        const bool t328 = (t327 < int32_t(60));
+        bool r329{};
+        if (t328) {
           // inlined: function at programs/flood_defense.au:48
-          const C5_Spring& g244 = s.g_spring_15;
-          const Pos t245 = Pos{g244.origin.x, int32_t(1)};
-          const bool t246 = s.core.occupied.free(t245);
-          r243 = t246;
+          const C5_Spring& g330 = s.g_spring_15;
+          const Pos t331 = Pos{g330.origin.x, int32_t(1)};
+          const bool t332 = s.core.occupied.free(t331);
+          r329 = t332;
         } else {
-          r243 = false;
+          r329 = false;
         }
-        r239 = r243;
+        r325 = r329;
       } else {
-        r239 = false;
+        r325 = false;
       }
-      if (r239) {
+      if (r325) {
         s.core.covered[int32_t(1)] = 1;
-        const std::vector<C4_Water>& g247 = s.g_water_7;
+        const std::vector<C4_Water>& g333 = s.g_water_7;
         // inlined: function at programs/flood_defense.au:48
-        const C5_Spring& g248 = s.g_spring_15;
-        const Pos t249 = Pos{g248.origin.x, int32_t(1)};
-        C4_Water o250 = C4_Water{t249, s.core.ids.fresh()};
-        check_length(s.core, 28, int64_t(g247.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 28, int64_t(g247.size()) + int64_t(int32_t(1)));
-        std::vector<C4_Water>& added251 = s.scratch.v.b17;
-        added251.clear();
-        added251.reserve(size_t(add(int32_t(g247.size()), int32_t(1))));
+        const C5_Spring& g334 = s.g_spring_15;
+        const Pos t335 = Pos{g334.origin.x, int32_t(1)};
+        C4_Water o336 = C4_Water{t335, s.core.ids.fresh()};
+        check_length(s.core, 28, int64_t(g333.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 28, int64_t(g333.size()) + int64_t(int32_t(1)));
+        std::vector<C4_Water>& added337 = s.scratch.v.b17;
+        added337.clear();
+        added337.reserve(size_t(add(int32_t(g333.size()), int32_t(1))));
         {
-          const auto& x252_list = g247;
-          charge_loop(s.core, 28, int64_t(x252_list.size()));
-          for (const C4_Water& x252 : x252_list) {
-            C4_Water copy253 = x252;
-            copy253.uid = s.core.ids.fresh();
-            added251.push_back(std::move(copy253));
+          const auto& x338_list = g333;
+          charge_loop(s.core, 28, int64_t(x338_list.size()));
+          for (const C4_Water& x338 : x338_list) {
+            C4_Water copy339 = x338;
+            copy339.uid = s.core.ids.fresh();
+            added337.push_back(std::move(copy339));
           }
         }
-        added251.push_back(std::move(o250));
+        added337.push_back(std::move(o336));
         if (!s.scratch.v.sv_water_10) {
           std::swap(s.scratch.v.p_water_9, s.g_water_7);
           s.scratch.v.sv_water_10 = true;
         }
-        std::swap(s.g_water_7, added251);
+        std::swap(s.g_water_7, added337);
         s.u_water_8 = true;
       }
     }
@@ -1133,344 +1367,562 @@ struct Prog {
     {
       if (true) {
         s.core.covered[int32_t(2)] = 1;
-        const std::vector<C1_House>& prev254 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
-        charge_built(s.core, 29, int64_t(prev254.size()));
-        std::vector<C1_House>& updated255 = s.scratch.v.b18;
-        updated255.clear();
-        updated255.reserve(size_t(int32_t(prev254.size())));
+        const std::vector<C1_House>& prev340 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
+        charge_built(s.core, 29, int64_t(prev340.size()));
+        std::vector<C1_House>& updated341 = s.scratch.v.b18;
+        updated341.clear();
+        updated341.reserve(size_t(int32_t(prev340.size())));
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x256_list = prev254;
-            charge_loop(budget, 29, int64_t(x256_list.size()));
-            for (const C1_House& x256 : x256_list) {
+            const auto& x342_list = prev340;
+            charge_loop(budget, 29, int64_t(x342_list.size()));
+            for (const C1_House& x342 : x342_list) {
               // inlined: function at programs/flood_defense.au:60
-              const bool t257 = !x256.f0;
-              bool r258{};
-              if (t257) {
+              const bool t343 = !x342.f0;
+              bool r344{};
+              if (t343) {
                 // inlined: function at programs/flood_defense.au:46
-                int32_t objects259 = int32_t(0);
-                const std::vector<C1_House>& g260 = s.g_houses_19;
-                charge_built(budget, 30, int64_t(int32_t(g260.size())));
-                objects259 = add(objects259, int32_t(g260.size()));
-                const std::vector<C3_Sandbag>& g261 = s.g_bags_11;
-                charge_built(budget, 30, int64_t(int32_t(g261.size())));
-                objects259 = add(objects259, int32_t(g261.size()));
-                const std::vector<C4_Water>& g262 = s.g_water_7;
-                charge_built(budget, 30, int64_t(int32_t(g262.size())));
-                objects259 = add(objects259, int32_t(g262.size()));
-                const std::vector<C0_Earth>& g263 = s.g_earth_27;
-                charge_built(budget, 30, int64_t(int32_t(g263.size())));
-                objects259 = add(objects259, int32_t(g263.size()));
-                charge_built(budget, 30, int64_t(int32_t(1)));
-                objects259 = add(objects259, int32_t(1));
-                charge_built(budget, 30, int64_t(int32_t(1)));
-                objects259 = add(objects259, int32_t(1));
-                check_appended_length(s.core, 30, int64_t(objects259));
-                std::vector<S136>& out264 = s.scratch.v.b19;
-                out264.clear();
-                const std::vector<C1_House>& g265 = s.g_houses_19;
-                {
-                  const auto& x266_list = g265;
-                  charge_loop(budget, 31, int64_t(x266_list.size()));
-                  for (const C1_House& x266 : x266_list) {
-                    Pos l_delta267{};
-                    const int32_t t268 = sub(x266.origin.x, x256.origin.x);
-                    const int32_t t269 = sub(x266.origin.y, x256.origin.y);
-                    const Pos t270 = Pos{t268, t269};
-                    l_delta267 = t270;
-                    const bool t271 = (l_delta267.x < int32_t(0));
-                    int32_t r272{};
-                    if (t271) {
-                      const int32_t t273 = neg(l_delta267.x);
-                      r272 = t273;
-                    } else {
-                      r272 = l_delta267.x;
-                    }
-                    const bool t274 = (l_delta267.y < int32_t(0));
-                    int32_t r275{};
-                    if (t274) {
-                      const int32_t t276 = neg(l_delta267.y);
-                      r275 = t276;
-                    } else {
-                      r275 = l_delta267.y;
-                    }
-                    const int32_t t277 = add(r272, r275);
-                    const bool t278 = (t277 <= int32_t(1));
-                    if (t278) {
-                      charge_built(budget, 31, int64_t(int32_t(1)));
-                      out264.push_back(S136{std::in_place_index<1>, x266});
+                int32_t objects345 = int32_t(0);
+                if (s.d_click_36) {
+                  const std::vector<C1_House>& g346 = s.g_houses_19;
+                  charge_built(budget, 30, int64_t(int32_t(g346.size())));
+                  objects345 = add(objects345, int32_t(g346.size()));
+                  const std::vector<C3_Sandbag>& g347 = s.g_bags_11;
+                  charge_built(budget, 30, int64_t(int32_t(g347.size())));
+                  objects345 = add(objects345, int32_t(g347.size()));
+                  const std::vector<C4_Water>& g348 = s.g_water_7;
+                  charge_built(budget, 30, int64_t(int32_t(g348.size())));
+                  objects345 = add(objects345, int32_t(g348.size()));
+                  if (s.d_click_36) {
+                  }
+                  const std::vector<C0_Earth>& g349 = s.g_earth_27;
+                  charge_built(budget, 30, int64_t(int32_t(g349.size())));
+                  objects345 = add(objects345, int32_t(g349.size()));
+                  charge_built(budget, 30, int64_t(int32_t(1)));
+                  objects345 = add(objects345, int32_t(1));
+                  charge_built(budget, 30, int64_t(int32_t(1)));
+                  objects345 = add(objects345, int32_t(1));
+                } else {
+                  const std::vector<C1_House>& g350 = s.g_houses_19;
+                  charge_built(budget, 30, int64_t(int32_t(g350.size())));
+                  objects345 = add(objects345, int32_t(g350.size()));
+                  const std::vector<C3_Sandbag>& g351 = s.g_bags_11;
+                  charge_built(budget, 30, int64_t(int32_t(g351.size())));
+                  objects345 = add(objects345, int32_t(g351.size()));
+                  const std::vector<C4_Water>& g352 = s.g_water_7;
+                  charge_built(budget, 30, int64_t(int32_t(g352.size())));
+                  objects345 = add(objects345, int32_t(g352.size()));
+                  const std::vector<C0_Earth>& g353 = s.g_earth_27;
+                  charge_built(budget, 30, int64_t(int32_t(g353.size())));
+                  objects345 = add(objects345, int32_t(g353.size()));
+                  charge_built(budget, 30, int64_t(int32_t(1)));
+                  objects345 = add(objects345, int32_t(1));
+                  charge_built(budget, 30, int64_t(int32_t(1)));
+                  objects345 = add(objects345, int32_t(1));
+                }
+                check_appended_length(s.core, 30, int64_t(objects345));
+                std::vector<S136>& out354 = s.scratch.v.b19;
+                out354.clear();
+                if (s.d_click_36) {
+                  const std::vector<C1_House>& g355 = s.g_houses_19;
+                  {
+                    const auto& x356_list = g355;
+                    charge_loop(budget, 31, int64_t(x356_list.size()));
+                    for (const C1_House& x356 : x356_list) {
+                      Pos l_delta357{};
+                      const int32_t t358 = sub(x356.origin.x, x342.origin.x);
+                      const int32_t t359 = sub(x356.origin.y, x342.origin.y);
+                      const Pos t360 = Pos{t358, t359};
+                      l_delta357 = t360;
+                      const bool t361 = (l_delta357.x < int32_t(0));
+                      int32_t r362{};
+                      if (t361) {
+                        const int32_t t363 = neg(l_delta357.x);
+                        r362 = t363;
+                      } else {
+                        r362 = l_delta357.x;
+                      }
+                      const bool t364 = (l_delta357.y < int32_t(0));
+                      int32_t r365{};
+                      if (t364) {
+                        const int32_t t366 = neg(l_delta357.y);
+                        r365 = t366;
+                      } else {
+                        r365 = l_delta357.y;
+                      }
+                      const int32_t t367 = add(r362, r365);
+                      const bool t368 = (t367 <= int32_t(1));
+                      if (t368) {
+                        charge_built(budget, 31, int64_t(int32_t(1)));
+                        out354.push_back(S136{std::in_place_index<1>, x356});
+                      }
                     }
                   }
-                }
-                const std::vector<C3_Sandbag>& g279 = s.g_bags_11;
-                {
-                  const auto& x280_list = g279;
-                  charge_loop(budget, 31, int64_t(x280_list.size()));
-                  for (const C3_Sandbag& x280 : x280_list) {
-                    Pos l_delta281{};
-                    const int32_t t282 = sub(x280.origin.x, x256.origin.x);
-                    const int32_t t283 = sub(x280.origin.y, x256.origin.y);
-                    const Pos t284 = Pos{t282, t283};
-                    l_delta281 = t284;
-                    const bool t285 = (l_delta281.x < int32_t(0));
-                    int32_t r286{};
-                    if (t285) {
-                      const int32_t t287 = neg(l_delta281.x);
-                      r286 = t287;
-                    } else {
-                      r286 = l_delta281.x;
-                    }
-                    const bool t288 = (l_delta281.y < int32_t(0));
-                    int32_t r289{};
-                    if (t288) {
-                      const int32_t t290 = neg(l_delta281.y);
-                      r289 = t290;
-                    } else {
-                      r289 = l_delta281.y;
-                    }
-                    const int32_t t291 = add(r286, r289);
-                    const bool t292 = (t291 <= int32_t(1));
-                    if (t292) {
-                      charge_built(budget, 31, int64_t(int32_t(1)));
-                      out264.push_back(S136{std::in_place_index<2>, x280});
-                    }
-                  }
-                }
-                const std::vector<C4_Water>& g293 = s.g_water_7;
-                {
-                  const auto& x294_list = g293;
-                  charge_loop(budget, 31, int64_t(x294_list.size()));
-                  for (const C4_Water& x294 : x294_list) {
-                    Pos l_delta295{};
-                    const int32_t t296 = sub(x294.origin.x, x256.origin.x);
-                    const int32_t t297 = sub(x294.origin.y, x256.origin.y);
-                    const Pos t298 = Pos{t296, t297};
-                    l_delta295 = t298;
-                    const bool t299 = (l_delta295.x < int32_t(0));
-                    int32_t r300{};
-                    if (t299) {
-                      const int32_t t301 = neg(l_delta295.x);
-                      r300 = t301;
-                    } else {
-                      r300 = l_delta295.x;
-                    }
-                    const bool t302 = (l_delta295.y < int32_t(0));
-                    int32_t r303{};
-                    if (t302) {
-                      const int32_t t304 = neg(l_delta295.y);
-                      r303 = t304;
-                    } else {
-                      r303 = l_delta295.y;
-                    }
-                    const int32_t t305 = add(r300, r303);
-                    const bool t306 = (t305 <= int32_t(1));
-                    if (t306) {
-                      charge_built(budget, 31, int64_t(int32_t(1)));
-                      out264.push_back(S136{std::in_place_index<3>, x294});
+                  const std::vector<C3_Sandbag>& g369 = s.g_bags_11;
+                  {
+                    const auto& x370_list = g369;
+                    charge_loop(budget, 31, int64_t(x370_list.size()));
+                    for (const C3_Sandbag& x370 : x370_list) {
+                      Pos l_delta371{};
+                      const int32_t t372 = sub(x370.origin.x, x342.origin.x);
+                      const int32_t t373 = sub(x370.origin.y, x342.origin.y);
+                      const Pos t374 = Pos{t372, t373};
+                      l_delta371 = t374;
+                      const bool t375 = (l_delta371.x < int32_t(0));
+                      int32_t r376{};
+                      if (t375) {
+                        const int32_t t377 = neg(l_delta371.x);
+                        r376 = t377;
+                      } else {
+                        r376 = l_delta371.x;
+                      }
+                      const bool t378 = (l_delta371.y < int32_t(0));
+                      int32_t r379{};
+                      if (t378) {
+                        const int32_t t380 = neg(l_delta371.y);
+                        r379 = t380;
+                      } else {
+                        r379 = l_delta371.y;
+                      }
+                      const int32_t t381 = add(r376, r379);
+                      const bool t382 = (t381 <= int32_t(1));
+                      if (t382) {
+                        charge_built(budget, 31, int64_t(int32_t(1)));
+                        out354.push_back(S136{std::in_place_index<2>, x370});
+                      }
                     }
                   }
-                }
-                const std::vector<C0_Earth>& g307 = s.g_earth_27;
-                {
-                  const auto& x308_list = g307;
-                  charge_loop(budget, 31, int64_t(x308_list.size()));
-                  for (const C0_Earth& x308 : x308_list) {
-                    Pos l_delta309{};
-                    const int32_t t310 = sub(x308.origin.x, x256.origin.x);
-                    const int32_t t311 = sub(x308.origin.y, x256.origin.y);
-                    const Pos t312 = Pos{t310, t311};
-                    l_delta309 = t312;
-                    const bool t313 = (l_delta309.x < int32_t(0));
-                    int32_t r314{};
-                    if (t313) {
-                      const int32_t t315 = neg(l_delta309.x);
-                      r314 = t315;
-                    } else {
-                      r314 = l_delta309.x;
-                    }
-                    const bool t316 = (l_delta309.y < int32_t(0));
-                    int32_t r317{};
-                    if (t316) {
-                      const int32_t t318 = neg(l_delta309.y);
-                      r317 = t318;
-                    } else {
-                      r317 = l_delta309.y;
-                    }
-                    const int32_t t319 = add(r314, r317);
-                    const bool t320 = (t319 <= int32_t(1));
-                    if (t320) {
-                      charge_built(budget, 31, int64_t(int32_t(1)));
-                      out264.push_back(S136{std::in_place_index<0>, x308});
+                  const std::vector<C4_Water>& g383 = s.g_water_7;
+                  {
+                    const auto& x384_list = g383;
+                    charge_loop(budget, 31, int64_t(x384_list.size()));
+                    for (const C4_Water& x384 : x384_list) {
+                      Pos l_delta385{};
+                      const int32_t t386 = sub(x384.origin.x, x342.origin.x);
+                      const int32_t t387 = sub(x384.origin.y, x342.origin.y);
+                      const Pos t388 = Pos{t386, t387};
+                      l_delta385 = t388;
+                      const bool t389 = (l_delta385.x < int32_t(0));
+                      int32_t r390{};
+                      if (t389) {
+                        const int32_t t391 = neg(l_delta385.x);
+                        r390 = t391;
+                      } else {
+                        r390 = l_delta385.x;
+                      }
+                      const bool t392 = (l_delta385.y < int32_t(0));
+                      int32_t r393{};
+                      if (t392) {
+                        const int32_t t394 = neg(l_delta385.y);
+                        r393 = t394;
+                      } else {
+                        r393 = l_delta385.y;
+                      }
+                      const int32_t t395 = add(r390, r393);
+                      const bool t396 = (t395 <= int32_t(1));
+                      if (t396) {
+                        charge_built(budget, 31, int64_t(int32_t(1)));
+                        out354.push_back(S136{std::in_place_index<3>, x384});
+                      }
                     }
                   }
-                }
-                const C2_Drain& g321 = s.g_drain_23;
-                Pos l_delta322{};
-                const int32_t t323 = sub(g321.origin.x, x256.origin.x);
-                const int32_t t324 = sub(g321.origin.y, x256.origin.y);
-                const Pos t325 = Pos{t323, t324};
-                l_delta322 = t325;
-                const bool t326 = (l_delta322.x < int32_t(0));
-                int32_t r327{};
-                if (t326) {
-                  const int32_t t328 = neg(l_delta322.x);
-                  r327 = t328;
+                  if (s.d_click_36) {
+                  }
+                  const std::vector<C0_Earth>& g397 = s.g_earth_27;
+                  {
+                    const auto& x398_list = g397;
+                    charge_loop(budget, 31, int64_t(x398_list.size()));
+                    for (const C0_Earth& x398 : x398_list) {
+                      Pos l_delta399{};
+                      const int32_t t400 = sub(x398.origin.x, x342.origin.x);
+                      const int32_t t401 = sub(x398.origin.y, x342.origin.y);
+                      const Pos t402 = Pos{t400, t401};
+                      l_delta399 = t402;
+                      const bool t403 = (l_delta399.x < int32_t(0));
+                      int32_t r404{};
+                      if (t403) {
+                        const int32_t t405 = neg(l_delta399.x);
+                        r404 = t405;
+                      } else {
+                        r404 = l_delta399.x;
+                      }
+                      const bool t406 = (l_delta399.y < int32_t(0));
+                      int32_t r407{};
+                      if (t406) {
+                        const int32_t t408 = neg(l_delta399.y);
+                        r407 = t408;
+                      } else {
+                        r407 = l_delta399.y;
+                      }
+                      const int32_t t409 = add(r404, r407);
+                      const bool t410 = (t409 <= int32_t(1));
+                      if (t410) {
+                        charge_built(budget, 31, int64_t(int32_t(1)));
+                        out354.push_back(S136{std::in_place_index<0>, x398});
+                      }
+                    }
+                  }
+                  const C2_Drain& g411 = s.g_drain_23;
+                  Pos l_delta412{};
+                  const int32_t t413 = sub(g411.origin.x, x342.origin.x);
+                  const int32_t t414 = sub(g411.origin.y, x342.origin.y);
+                  const Pos t415 = Pos{t413, t414};
+                  l_delta412 = t415;
+                  const bool t416 = (l_delta412.x < int32_t(0));
+                  int32_t r417{};
+                  if (t416) {
+                    const int32_t t418 = neg(l_delta412.x);
+                    r417 = t418;
+                  } else {
+                    r417 = l_delta412.x;
+                  }
+                  const bool t419 = (l_delta412.y < int32_t(0));
+                  int32_t r420{};
+                  if (t419) {
+                    const int32_t t421 = neg(l_delta412.y);
+                    r420 = t421;
+                  } else {
+                    r420 = l_delta412.y;
+                  }
+                  const int32_t t422 = add(r417, r420);
+                  const bool t423 = (t422 <= int32_t(1));
+                  if (t423) {
+                    charge_built(budget, 31, int64_t(int32_t(1)));
+                    out354.push_back(S136{std::in_place_index<5>, g411});
+                  }
+                  const C5_Spring& g424 = s.g_spring_15;
+                  Pos l_delta425{};
+                  const int32_t t426 = sub(g424.origin.x, x342.origin.x);
+                  const int32_t t427 = sub(g424.origin.y, x342.origin.y);
+                  const Pos t428 = Pos{t426, t427};
+                  l_delta425 = t428;
+                  const bool t429 = (l_delta425.x < int32_t(0));
+                  int32_t r430{};
+                  if (t429) {
+                    const int32_t t431 = neg(l_delta425.x);
+                    r430 = t431;
+                  } else {
+                    r430 = l_delta425.x;
+                  }
+                  const bool t432 = (l_delta425.y < int32_t(0));
+                  int32_t r433{};
+                  if (t432) {
+                    const int32_t t434 = neg(l_delta425.y);
+                    r433 = t434;
+                  } else {
+                    r433 = l_delta425.y;
+                  }
+                  const int32_t t435 = add(r430, r433);
+                  const bool t436 = (t435 <= int32_t(1));
+                  if (t436) {
+                    charge_built(budget, 31, int64_t(int32_t(1)));
+                    out354.push_back(S136{std::in_place_index<4>, g424});
+                  }
                 } else {
-                  r327 = l_delta322.x;
+                  const std::vector<C1_House>& g437 = s.g_houses_19;
+                  {
+                    const auto& x438_list = g437;
+                    charge_loop(budget, 31, int64_t(x438_list.size()));
+                    for (const C1_House& x438 : x438_list) {
+                      Pos l_delta439{};
+                      const int32_t t440 = sub(x438.origin.x, x342.origin.x);
+                      const int32_t t441 = sub(x438.origin.y, x342.origin.y);
+                      const Pos t442 = Pos{t440, t441};
+                      l_delta439 = t442;
+                      const bool t443 = (l_delta439.x < int32_t(0));
+                      int32_t r444{};
+                      if (t443) {
+                        const int32_t t445 = neg(l_delta439.x);
+                        r444 = t445;
+                      } else {
+                        r444 = l_delta439.x;
+                      }
+                      const bool t446 = (l_delta439.y < int32_t(0));
+                      int32_t r447{};
+                      if (t446) {
+                        const int32_t t448 = neg(l_delta439.y);
+                        r447 = t448;
+                      } else {
+                        r447 = l_delta439.y;
+                      }
+                      const int32_t t449 = add(r444, r447);
+                      const bool t450 = (t449 <= int32_t(1));
+                      if (t450) {
+                        charge_built(budget, 31, int64_t(int32_t(1)));
+                        out354.push_back(S136{std::in_place_index<1>, x438});
+                      }
+                    }
+                  }
+                  const std::vector<C3_Sandbag>& g451 = s.g_bags_11;
+                  {
+                    const auto& x452_list = g451;
+                    charge_loop(budget, 31, int64_t(x452_list.size()));
+                    for (const C3_Sandbag& x452 : x452_list) {
+                      Pos l_delta453{};
+                      const int32_t t454 = sub(x452.origin.x, x342.origin.x);
+                      const int32_t t455 = sub(x452.origin.y, x342.origin.y);
+                      const Pos t456 = Pos{t454, t455};
+                      l_delta453 = t456;
+                      const bool t457 = (l_delta453.x < int32_t(0));
+                      int32_t r458{};
+                      if (t457) {
+                        const int32_t t459 = neg(l_delta453.x);
+                        r458 = t459;
+                      } else {
+                        r458 = l_delta453.x;
+                      }
+                      const bool t460 = (l_delta453.y < int32_t(0));
+                      int32_t r461{};
+                      if (t460) {
+                        const int32_t t462 = neg(l_delta453.y);
+                        r461 = t462;
+                      } else {
+                        r461 = l_delta453.y;
+                      }
+                      const int32_t t463 = add(r458, r461);
+                      const bool t464 = (t463 <= int32_t(1));
+                      if (t464) {
+                        charge_built(budget, 31, int64_t(int32_t(1)));
+                        out354.push_back(S136{std::in_place_index<2>, x452});
+                      }
+                    }
+                  }
+                  const std::vector<C4_Water>& g465 = s.g_water_7;
+                  {
+                    const auto& x466_list = g465;
+                    charge_loop(budget, 31, int64_t(x466_list.size()));
+                    for (const C4_Water& x466 : x466_list) {
+                      Pos l_delta467{};
+                      const int32_t t468 = sub(x466.origin.x, x342.origin.x);
+                      const int32_t t469 = sub(x466.origin.y, x342.origin.y);
+                      const Pos t470 = Pos{t468, t469};
+                      l_delta467 = t470;
+                      const bool t471 = (l_delta467.x < int32_t(0));
+                      int32_t r472{};
+                      if (t471) {
+                        const int32_t t473 = neg(l_delta467.x);
+                        r472 = t473;
+                      } else {
+                        r472 = l_delta467.x;
+                      }
+                      const bool t474 = (l_delta467.y < int32_t(0));
+                      int32_t r475{};
+                      if (t474) {
+                        const int32_t t476 = neg(l_delta467.y);
+                        r475 = t476;
+                      } else {
+                        r475 = l_delta467.y;
+                      }
+                      const int32_t t477 = add(r472, r475);
+                      const bool t478 = (t477 <= int32_t(1));
+                      if (t478) {
+                        charge_built(budget, 31, int64_t(int32_t(1)));
+                        out354.push_back(S136{std::in_place_index<3>, x466});
+                      }
+                    }
+                  }
+                  const std::vector<C0_Earth>& g479 = s.g_earth_27;
+                  {
+                    const auto& x480_list = g479;
+                    charge_loop(budget, 31, int64_t(x480_list.size()));
+                    for (const C0_Earth& x480 : x480_list) {
+                      Pos l_delta481{};
+                      const int32_t t482 = sub(x480.origin.x, x342.origin.x);
+                      const int32_t t483 = sub(x480.origin.y, x342.origin.y);
+                      const Pos t484 = Pos{t482, t483};
+                      l_delta481 = t484;
+                      const bool t485 = (l_delta481.x < int32_t(0));
+                      int32_t r486{};
+                      if (t485) {
+                        const int32_t t487 = neg(l_delta481.x);
+                        r486 = t487;
+                      } else {
+                        r486 = l_delta481.x;
+                      }
+                      const bool t488 = (l_delta481.y < int32_t(0));
+                      int32_t r489{};
+                      if (t488) {
+                        const int32_t t490 = neg(l_delta481.y);
+                        r489 = t490;
+                      } else {
+                        r489 = l_delta481.y;
+                      }
+                      const int32_t t491 = add(r486, r489);
+                      const bool t492 = (t491 <= int32_t(1));
+                      if (t492) {
+                        charge_built(budget, 31, int64_t(int32_t(1)));
+                        out354.push_back(S136{std::in_place_index<0>, x480});
+                      }
+                    }
+                  }
+                  const C2_Drain& g493 = s.g_drain_23;
+                  Pos l_delta494{};
+                  const int32_t t495 = sub(g493.origin.x, x342.origin.x);
+                  const int32_t t496 = sub(g493.origin.y, x342.origin.y);
+                  const Pos t497 = Pos{t495, t496};
+                  l_delta494 = t497;
+                  const bool t498 = (l_delta494.x < int32_t(0));
+                  int32_t r499{};
+                  if (t498) {
+                    const int32_t t500 = neg(l_delta494.x);
+                    r499 = t500;
+                  } else {
+                    r499 = l_delta494.x;
+                  }
+                  const bool t501 = (l_delta494.y < int32_t(0));
+                  int32_t r502{};
+                  if (t501) {
+                    const int32_t t503 = neg(l_delta494.y);
+                    r502 = t503;
+                  } else {
+                    r502 = l_delta494.y;
+                  }
+                  const int32_t t504 = add(r499, r502);
+                  const bool t505 = (t504 <= int32_t(1));
+                  if (t505) {
+                    charge_built(budget, 31, int64_t(int32_t(1)));
+                    out354.push_back(S136{std::in_place_index<5>, g493});
+                  }
+                  const C5_Spring& g506 = s.g_spring_15;
+                  Pos l_delta507{};
+                  const int32_t t508 = sub(g506.origin.x, x342.origin.x);
+                  const int32_t t509 = sub(g506.origin.y, x342.origin.y);
+                  const Pos t510 = Pos{t508, t509};
+                  l_delta507 = t510;
+                  const bool t511 = (l_delta507.x < int32_t(0));
+                  int32_t r512{};
+                  if (t511) {
+                    const int32_t t513 = neg(l_delta507.x);
+                    r512 = t513;
+                  } else {
+                    r512 = l_delta507.x;
+                  }
+                  const bool t514 = (l_delta507.y < int32_t(0));
+                  int32_t r515{};
+                  if (t514) {
+                    const int32_t t516 = neg(l_delta507.y);
+                    r515 = t516;
+                  } else {
+                    r515 = l_delta507.y;
+                  }
+                  const int32_t t517 = add(r512, r515);
+                  const bool t518 = (t517 <= int32_t(1));
+                  if (t518) {
+                    charge_built(budget, 31, int64_t(int32_t(1)));
+                    out354.push_back(S136{std::in_place_index<4>, g506});
+                  }
                 }
-                const bool t329 = (l_delta322.y < int32_t(0));
-                int32_t r330{};
-                if (t329) {
-                  const int32_t t331 = neg(l_delta322.y);
-                  r330 = t331;
-                } else {
-                  r330 = l_delta322.y;
-                }
-                const int32_t t332 = add(r327, r330);
-                const bool t333 = (t332 <= int32_t(1));
-                if (t333) {
-                  charge_built(budget, 31, int64_t(int32_t(1)));
-                  out264.push_back(S136{std::in_place_index<5>, g321});
-                }
-                const C5_Spring& g334 = s.g_spring_15;
-                Pos l_delta335{};
-                const int32_t t336 = sub(g334.origin.x, x256.origin.x);
-                const int32_t t337 = sub(g334.origin.y, x256.origin.y);
-                const Pos t338 = Pos{t336, t337};
-                l_delta335 = t338;
-                const bool t339 = (l_delta335.x < int32_t(0));
-                int32_t r340{};
-                if (t339) {
-                  const int32_t t341 = neg(l_delta335.x);
-                  r340 = t341;
-                } else {
-                  r340 = l_delta335.x;
-                }
-                const bool t342 = (l_delta335.y < int32_t(0));
-                int32_t r343{};
-                if (t342) {
-                  const int32_t t344 = neg(l_delta335.y);
-                  r343 = t344;
-                } else {
-                  r343 = l_delta335.y;
-                }
-                const int32_t t345 = add(r340, r343);
-                const bool t346 = (t345 <= int32_t(1));
-                if (t346) {
-                  charge_built(budget, 31, int64_t(int32_t(1)));
-                  out264.push_back(S136{std::in_place_index<4>, g334});
-                }
-                const std::vector<C4_Water>& g347 = s.g_water_7;
-                std::vector<Elem>& rendered348 = s.scratch.v.b20;
-                rendered348.clear();
+                const std::vector<C4_Water>& g519 = s.g_water_7;
+                std::vector<Elem>& rendered520 = s.scratch.v.b20;
+                rendered520.clear();
                 {
-                  const auto& x349_list = out264;
-                  charge_loop(budget, 32, int64_t(x349_list.size()));
-                  for (const S136& x349 : x349_list) {
-                    int32_t r350{};
-                    switch (x349.index()) {
+                  const auto& x521_list = out354;
+                  charge_loop(budget, 32, int64_t(x521_list.size()));
+                  for (const S136& x521 : x521_list) {
+                    int32_t r522{};
+                    switch (x521.index()) {
                       case 0: {
-                        const C0_Earth a351 = std::get<0>(x349);
-                        rendered348.push_back(Elem{Pos{add(a351.origin.x, int32_t(0)), add(a351.origin.y, int32_t(0))}, int32_t(3)});
-                        r350 = int32_t(0);
+                        const C0_Earth a523 = std::get<0>(x521);
+                        rendered520.push_back(Elem{Pos{add(a523.origin.x, int32_t(0)), add(a523.origin.y, int32_t(0))}, int32_t(3)});
+                        r522 = int32_t(0);
                         break;
                       }
                       case 1: {
-                        const C1_House a352 = std::get<1>(x349);
-                        const int32_t colour353 = colour_3_C1_House(s, a352);
-                        rendered348.push_back(Elem{Pos{add(a352.origin.x, int32_t(0)), add(a352.origin.y, int32_t(0))}, colour353});
-                        r350 = int32_t(0);
+                        const C1_House a524 = std::get<1>(x521);
+                        const int32_t colour525 = colour_3_C1_House(s, a524);
+                        rendered520.push_back(Elem{Pos{add(a524.origin.x, int32_t(0)), add(a524.origin.y, int32_t(0))}, colour525});
+                        r522 = int32_t(0);
                         break;
                       }
                       case 2: {
-                        const C3_Sandbag a354 = std::get<2>(x349);
-                        rendered348.push_back(Elem{Pos{add(a354.origin.x, int32_t(0)), add(a354.origin.y, int32_t(0))}, int32_t(8)});
-                        r350 = int32_t(0);
+                        const C3_Sandbag a526 = std::get<2>(x521);
+                        rendered520.push_back(Elem{Pos{add(a526.origin.x, int32_t(0)), add(a526.origin.y, int32_t(0))}, int32_t(8)});
+                        r522 = int32_t(0);
                         break;
                       }
                       case 3: {
-                        const C4_Water a355 = std::get<3>(x349);
-                        rendered348.push_back(Elem{Pos{add(a355.origin.x, int32_t(0)), add(a355.origin.y, int32_t(0))}, int32_t(4)});
-                        r350 = int32_t(0);
+                        const C4_Water a527 = std::get<3>(x521);
+                        rendered520.push_back(Elem{Pos{add(a527.origin.x, int32_t(0)), add(a527.origin.y, int32_t(0))}, int32_t(4)});
+                        r522 = int32_t(0);
                         break;
                       }
                       case 4: {
-                        const C5_Spring a356 = std::get<4>(x349);
-                        rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(-1)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
-                        rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(0)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
-                        rendered348.push_back(Elem{Pos{add(a356.origin.x, int32_t(1)), add(a356.origin.y, int32_t(0))}, int32_t(2)});
-                        r350 = int32_t(0);
+                        const C5_Spring a528 = std::get<4>(x521);
+                        rendered520.push_back(Elem{Pos{add(a528.origin.x, int32_t(-1)), add(a528.origin.y, int32_t(0))}, int32_t(2)});
+                        rendered520.push_back(Elem{Pos{add(a528.origin.x, int32_t(0)), add(a528.origin.y, int32_t(0))}, int32_t(2)});
+                        rendered520.push_back(Elem{Pos{add(a528.origin.x, int32_t(1)), add(a528.origin.y, int32_t(0))}, int32_t(2)});
+                        r522 = int32_t(0);
                         break;
                       }
                       case 5: {
-                        const C2_Drain a357 = std::get<5>(x349);
-                        rendered348.push_back(Elem{Pos{add(a357.origin.x, int32_t(0)), add(a357.origin.y, int32_t(0))}, int32_t(0)});
-                        r350 = int32_t(0);
+                        const C2_Drain a529 = std::get<5>(x521);
+                        rendered520.push_back(Elem{Pos{add(a529.origin.x, int32_t(0)), add(a529.origin.y, int32_t(0))}, int32_t(0)});
+                        r522 = int32_t(0);
                         break;
                       }
                       default: break;
                     }
                   }
                 }
-                std::vector<Elem>& rendered358 = s.scratch.v.b21;
-                rendered358.clear();
+                std::vector<Elem>& rendered530 = s.scratch.v.b21;
+                rendered530.clear();
                 {
-                  const auto& x359_list = g347;
-                  charge_loop(budget, 33, int64_t(x359_list.size()));
-                  for (const C4_Water& x359 : x359_list) {
-                    rendered358.push_back(Elem{Pos{add(x359.origin.x, int32_t(0)), add(x359.origin.y, int32_t(0))}, int32_t(4)});
+                  const auto& x531_list = g519;
+                  charge_loop(budget, 33, int64_t(x531_list.size()));
+                  for (const C4_Water& x531 : x531_list) {
+                    rendered530.push_back(Elem{Pos{add(x531.origin.x, int32_t(0)), add(x531.origin.y, int32_t(0))}, int32_t(4)});
                   }
                 }
-                const int32_t t360 = int32_t(rendered348.size());
-                const bool t361 = (t360 == int32_t(0));
-                bool r362{};
-                if (!t361) {
-                  const int32_t t363 = int32_t(rendered358.size());
-                  const bool t364 = (t363 == int32_t(0));
-                  r362 = t364;
+                const int32_t t532 = int32_t(rendered520.size());
+                const bool t533 = (t532 == int32_t(0));
+                bool r534{};
+                if (!t533) {
+                  const int32_t t535 = int32_t(rendered530.size());
+                  const bool t536 = (t535 == int32_t(0));
+                  r534 = t536;
                 } else {
-                  r362 = true;
+                  r534 = true;
                 }
-                bool r365{};
-                if (r362) {
-                  r365 = false;
+                bool r537{};
+                if (r534) {
+                  r537 = false;
                 } else {
-                  bool any366 = false;
+                  bool any538 = false;
                   {
-                    const auto& x367_list = rendered348;
-                    charge_loop(budget, 34, int64_t(x367_list.size()));
-                    for (const Elem& x367 : x367_list) {
-                      bool any368 = false;
+                    const auto& x539_list = rendered520;
+                    charge_loop(budget, 34, int64_t(x539_list.size()));
+                    for (const Elem& x539 : x539_list) {
+                      bool any540 = false;
                       {
-                        const auto& x369_list = rendered358;
-                        charge_loop(budget, 35, int64_t(x369_list.size()));
-                        for (const Elem& x369 : x369_list) {
-                          const bool t370 = (x367.position == x369.position);
-                          if (t370) {
-                            any368 = true;
+                        const auto& x541_list = rendered530;
+                        charge_loop(budget, 35, int64_t(x541_list.size()));
+                        for (const Elem& x541 : x541_list) {
+                          const bool t542 = (x539.position == x541.position);
+                          if (t542) {
+                            any540 = true;
                             break;
                           }
                         }
                       }
-                      if (any368) {
-                        any366 = true;
+                      if (any540) {
+                        any538 = true;
                         break;
                       }
                     }
                   }
-                  r365 = any366;
+                  r537 = any538;
                 }
-                r258 = r365;
+                r344 = r537;
               } else {
-                r258 = false;
+                r344 = false;
               }
-              if (r258) {
+              if (r344) {
                 // inlined: function at programs/flood_defense.au:60
-                C1_House upd371 = C1_House{true, x256.origin, s.core.ids.fresh()};
-                updated255.push_back(std::move(upd371));
+                C1_House upd543 = C1_House{true, x342.origin, s.core.ids.fresh()};
+                updated341.push_back(std::move(upd543));
               } else {
-                updated255.push_back(x256);
+                updated341.push_back(x342);
               }
             }
           }
@@ -1480,59 +1932,61 @@ struct Prog {
           std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
           s.scratch.v.sv_houses_22 = true;
         }
-        std::swap(s.g_houses_19, updated255);
+        std::swap(s.g_houses_19, updated341);
         s.u_houses_20 = true;
       }
     }
     // on-clause 4, programs/flood_defense.au:62
     {
-      const std::vector<C1_House>& prev372 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
-      bool clicked373 = false;
+      const std::vector<C1_House>& prev544 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
+      bool clicked545 = false;
       if (s.core.click) {
         s.d_click_36 = true;
-        const Pos t374 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_35 = t374;
+        const Pos t546 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_35 = t546;
         {
-          const auto& x375_list = prev372;
-          charge_loop(s.core, 36, int64_t(x375_list.size()));
-          for (const C1_House& x375 : x375_list) {
-            const int32_t colour376 = colour_3_C1_House(s, x375);
-            const Elem e377 = Elem{Pos{add(x375.origin.x, int32_t(0)), add(x375.origin.y, int32_t(0))}, colour376};
-            if ((e377.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked373 = true;
+          const auto& x547_list = prev544;
+          charge_loop(s.core, 36, int64_t(x547_list.size()));
+          for (const C1_House& x547 : x547_list) {
+            const int32_t colour548 = colour_3_C1_House(s, x547);
+            const Elem e549 = Elem{Pos{add(x547.origin.x, int32_t(0)), add(x547.origin.y, int32_t(0))}, colour548};
+            if ((e549.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked545 = true;
             }
           }
         }
       }
-      if (clicked373) {
+      if (clicked545) {
         s.core.covered[int32_t(3)] = 1;
-        const std::vector<C1_House>& g378 = s.g_houses_19;
-        charge_built(s.core, 37, int64_t(g378.size()));
-        std::vector<C1_House>& updated379 = s.scratch.v.b22;
-        updated379.clear();
-        updated379.reserve(size_t(int32_t(g378.size())));
+        const std::vector<C1_House>& g550 = s.g_houses_19;
+        charge_built(s.core, 37, int64_t(g550.size()));
+        std::vector<C1_House>& updated551 = s.scratch.v.b22;
+        updated551.clear();
+        updated551.reserve(size_t(int32_t(g550.size())));
+        if ((!g550.empty() && s.core.click)) {
+          s.d_click_36 = true;
+          const Pos t552 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_35 = t552;
+        }
         {
-          const auto& x380_list = g378;
-          charge_loop(s.core, 37, int64_t(x380_list.size()));
-          for (const C1_House& x380 : x380_list) {
+          const auto& x553_list = g550;
+          charge_loop(s.core, 37, int64_t(x553_list.size()));
+          for (const C1_House& x553 : x553_list) {
             // inlined: function at programs/flood_defense.au:63
-            bool clicked381 = false;
+            bool clicked554 = false;
             if (s.core.click) {
-              s.d_click_36 = true;
-              const Pos t382 = Pos{s.core.click_x, s.core.click_y};
-              s.g_click_35 = t382;
-              const int32_t colour383 = colour_3_C1_House(s, x380);
-              const Elem e384 = Elem{Pos{add(x380.origin.x, int32_t(0)), add(x380.origin.y, int32_t(0))}, colour383};
-              if ((e384.position == Pos{s.core.click_x, s.core.click_y})) {
-                clicked381 = true;
+              const int32_t colour555 = colour_3_C1_House(s, x553);
+              const Elem e556 = Elem{Pos{add(x553.origin.x, int32_t(0)), add(x553.origin.y, int32_t(0))}, colour555};
+              if ((e556.position == Pos{s.core.click_x, s.core.click_y})) {
+                clicked554 = true;
               }
             }
-            if (clicked381) {
+            if (clicked554) {
               // inlined: function at programs/flood_defense.au:63
-              C1_House upd385 = C1_House{false, x380.origin, s.core.ids.fresh()};
-              updated379.push_back(std::move(upd385));
+              C1_House upd557 = C1_House{false, x553.origin, s.core.ids.fresh()};
+              updated551.push_back(std::move(upd557));
             } else {
-              updated379.push_back(x380);
+              updated551.push_back(x553);
             }
           }
         }
@@ -1540,54 +1994,56 @@ struct Prog {
           std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
           s.scratch.v.sv_houses_22 = true;
         }
-        std::swap(s.g_houses_19, updated379);
+        std::swap(s.g_houses_19, updated551);
         s.u_houses_20 = true;
       }
     }
     // on-clause 5, programs/flood_defense.au:64
     {
-      const std::vector<C3_Sandbag>& prev386 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
-      bool clicked387 = false;
+      const std::vector<C3_Sandbag>& prev558 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+      bool clicked559 = false;
       if (s.core.click) {
         s.d_click_36 = true;
-        const Pos t388 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_35 = t388;
+        const Pos t560 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_35 = t560;
         {
-          const auto& x389_list = prev386;
-          charge_loop(s.core, 38, int64_t(x389_list.size()));
-          for (const C3_Sandbag& x389 : x389_list) {
-            const Elem e390 = Elem{Pos{add(x389.origin.x, int32_t(0)), add(x389.origin.y, int32_t(0))}, int32_t(8)};
-            if ((e390.position == Pos{s.core.click_x, s.core.click_y})) {
-              clicked387 = true;
+          const auto& x561_list = prev558;
+          charge_loop(s.core, 38, int64_t(x561_list.size()));
+          for (const C3_Sandbag& x561 : x561_list) {
+            const Elem e562 = Elem{Pos{add(x561.origin.x, int32_t(0)), add(x561.origin.y, int32_t(0))}, int32_t(8)};
+            if ((e562.position == Pos{s.core.click_x, s.core.click_y})) {
+              clicked559 = true;
             }
           }
         }
       }
-      if (clicked387) {
+      if (clicked559) {
         s.core.covered[int32_t(4)] = 1;
-        const std::vector<C3_Sandbag>& prev391 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
-        std::vector<C3_Sandbag>& kept392 = s.scratch.v.b23;
-        kept392.clear();
+        const std::vector<C3_Sandbag>& prev563 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+        std::vector<C3_Sandbag>& kept564 = s.scratch.v.b23;
+        kept564.clear();
+        if ((!prev563.empty() && s.core.click)) {
+          s.d_click_36 = true;
+          const Pos t565 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_35 = t565;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x393_list = prev391;
-            charge_loop(budget, 39, int64_t(x393_list.size()));
-            for (const C3_Sandbag& x393 : x393_list) {
+            const auto& x566_list = prev563;
+            charge_loop(budget, 39, int64_t(x566_list.size()));
+            for (const C3_Sandbag& x566 : x566_list) {
               // inlined: function at programs/flood_defense.au:64
-              bool clicked394 = false;
+              bool clicked567 = false;
               if (s.core.click) {
-                s.d_click_36 = true;
-                const Pos t395 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_35 = t395;
-                const Elem e396 = Elem{Pos{add(x393.origin.x, int32_t(0)), add(x393.origin.y, int32_t(0))}, int32_t(8)};
-                if ((e396.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked394 = true;
+                const Elem e568 = Elem{Pos{add(x566.origin.x, int32_t(0)), add(x566.origin.y, int32_t(0))}, int32_t(8)};
+                if ((e568.position == Pos{s.core.click_x, s.core.click_y})) {
+                  clicked567 = true;
                 }
               }
-              if (!clicked394) {
+              if (!clicked567) {
                 charge_built(budget, 39, int64_t(int32_t(1)));
-                kept392.push_back(x393);
+                kept564.push_back(x566);
               }
             }
           }
@@ -1597,334 +2053,334 @@ struct Prog {
           std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
           s.scratch.v.sv_bags_14 = true;
         }
-        std::swap(s.g_bags_11, kept392);
+        std::swap(s.g_bags_11, kept564);
         s.u_bags_12 = true;
       }
     }
     // on-clause 6, programs/flood_defense.au:65
     {
-      bool clicked397 = false;
+      bool clicked569 = false;
       if (s.core.click) {
         s.d_click_36 = true;
-        const Pos t398 = Pos{s.core.click_x, s.core.click_y};
-        s.g_click_35 = t398;
-        clicked397 = true;
+        const Pos t570 = Pos{s.core.click_x, s.core.click_y};
+        s.g_click_35 = t570;
+        clicked569 = true;
       }
-      bool r399{};
-      if (clicked397) {
-        Pos r400{};
+      bool r571{};
+      if (clicked569) {
+        Pos r572{};
         if (s.d_click_36) {
-          const Pos& g401 = s.g_click_35;
-          r400 = g401;
+          const Pos& g573 = s.g_click_35;
+          r572 = g573;
         } else {
           fail_at(40, std::string() + std::string("undefined variable 'click'"));
         }
-        const bool t402 = s.core.occupied.free(r400);
-        bool r403{};
-        if (t402) {
-          const std::vector<C3_Sandbag>& g404 = s.g_bags_11;
-          const int32_t t405 = int32_t(g404.size());
-          const bool t406 = (t405 < int32_t(15));
-          r403 = t406;
+        const bool t574 = s.core.occupied.free(r572);
+        bool r575{};
+        if (t574) {
+          const std::vector<C3_Sandbag>& g576 = s.g_bags_11;
+          const int32_t t577 = int32_t(g576.size());
+          const bool t578 = (t577 < int32_t(15));
+          r575 = t578;
         } else {
-          r403 = false;
+          r575 = false;
         }
-        r399 = r403;
+        r571 = r575;
       } else {
-        r399 = false;
+        r571 = false;
       }
-      if (r399) {
+      if (r571) {
         s.core.covered[int32_t(5)] = 1;
-        const std::vector<C3_Sandbag>& g407 = s.g_bags_11;
-        Pos r408{};
+        const std::vector<C3_Sandbag>& g579 = s.g_bags_11;
+        Pos r580{};
         if (s.d_click_36) {
-          const Pos& g409 = s.g_click_35;
-          r408 = g409;
+          const Pos& g581 = s.g_click_35;
+          r580 = g581;
         } else {
           fail_at(41, std::string() + std::string("undefined variable 'click'"));
         }
-        Pos r410{};
+        Pos r582{};
         if (s.d_click_36) {
-          const Pos& g411 = s.g_click_35;
-          r410 = g411;
+          const Pos& g583 = s.g_click_35;
+          r582 = g583;
         } else {
           fail_at(42, std::string() + std::string("undefined variable 'click'"));
         }
-        const Pos t412 = Pos{r408.x, r410.y};
-        C3_Sandbag o413 = C3_Sandbag{t412, s.core.ids.fresh()};
-        check_length(s.core, 43, int64_t(g407.size()) + int64_t(int32_t(1)));
-        charge_built(s.core, 43, int64_t(g407.size()) + int64_t(int32_t(1)));
-        std::vector<C3_Sandbag>& added414 = s.scratch.v.b24;
-        added414.clear();
-        added414.reserve(size_t(add(int32_t(g407.size()), int32_t(1))));
+        const Pos t584 = Pos{r580.x, r582.y};
+        C3_Sandbag o585 = C3_Sandbag{t584, s.core.ids.fresh()};
+        check_length(s.core, 43, int64_t(g579.size()) + int64_t(int32_t(1)));
+        charge_built(s.core, 43, int64_t(g579.size()) + int64_t(int32_t(1)));
+        std::vector<C3_Sandbag>& added586 = s.scratch.v.b24;
+        added586.clear();
+        added586.reserve(size_t(add(int32_t(g579.size()), int32_t(1))));
         {
-          const auto& x415_list = g407;
-          charge_loop(s.core, 43, int64_t(x415_list.size()));
-          for (const C3_Sandbag& x415 : x415_list) {
-            C3_Sandbag copy416 = x415;
-            copy416.uid = s.core.ids.fresh();
-            added414.push_back(std::move(copy416));
+          const auto& x587_list = g579;
+          charge_loop(s.core, 43, int64_t(x587_list.size()));
+          for (const C3_Sandbag& x587 : x587_list) {
+            C3_Sandbag copy588 = x587;
+            copy588.uid = s.core.ids.fresh();
+            added586.push_back(std::move(copy588));
           }
         }
-        added414.push_back(std::move(o413));
+        added586.push_back(std::move(o585));
         if (!s.scratch.v.sv_bags_14) {
           std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
           s.scratch.v.sv_bags_14 = true;
         }
-        std::swap(s.g_bags_11, added414);
+        std::swap(s.g_bags_11, added586);
         s.u_bags_12 = true;
       }
     }
     // on-clause 7, programs/flood_defense.au:68
     {
-      const bool t417 = s.core.left;
-      if (t417) {
+      const bool t589 = s.core.left;
+      if (t589) {
         s.core.covered[int32_t(6)] = 1;
-        const C5_Spring& prev418 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev590 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
         // inlined: function at programs/flood_defense.au:47
-        const int32_t t419 = add(prev418.origin.x, int32_t(-1));
-        const int32_t t420 = add(prev418.origin.y, int32_t(0));
-        const Pos t421 = Pos{t419, t420};
-        const C5_Spring upd422 = C5_Spring{prev418.f0, t421, s.core.ids.fresh()};
-        std::vector<Elem>& rendered423 = s.scratch.v.b25;
-        rendered423.clear();
-        rendered423.push_back(Elem{Pos{add(upd422.origin.x, int32_t(-1)), add(upd422.origin.y, int32_t(0))}, int32_t(2)});
-        rendered423.push_back(Elem{Pos{add(upd422.origin.x, int32_t(0)), add(upd422.origin.y, int32_t(0))}, int32_t(2)});
-        rendered423.push_back(Elem{Pos{add(upd422.origin.x, int32_t(1)), add(upd422.origin.y, int32_t(0))}, int32_t(2)});
-        bool within424 = true;
+        const int32_t t591 = add(prev590.origin.x, int32_t(-1));
+        const int32_t t592 = add(prev590.origin.y, int32_t(0));
+        const Pos t593 = Pos{t591, t592};
+        const C5_Spring upd594 = C5_Spring{prev590.f0, t593, s.core.ids.fresh()};
+        std::vector<Elem>& rendered595 = s.scratch.v.b25;
+        rendered595.clear();
+        rendered595.push_back(Elem{Pos{add(upd594.origin.x, int32_t(-1)), add(upd594.origin.y, int32_t(0))}, int32_t(2)});
+        rendered595.push_back(Elem{Pos{add(upd594.origin.x, int32_t(0)), add(upd594.origin.y, int32_t(0))}, int32_t(2)});
+        rendered595.push_back(Elem{Pos{add(upd594.origin.x, int32_t(1)), add(upd594.origin.y, int32_t(0))}, int32_t(2)});
+        bool within596 = true;
         {
-          const auto& e425_list = rendered423;
-          for (const Elem& e425 : e425_list) {
-            if ((((e425.position.x < int32_t(0)) || (e425.position.x >= int32_t(16))) || ((e425.position.y < int32_t(0)) || (e425.position.y >= int32_t(16))))) {
-              within424 = false;
+          const auto& e597_list = rendered595;
+          for (const Elem& e597 : e597_list) {
+            if ((((e597.position.x < int32_t(0)) || (e597.position.x >= int32_t(16))) || ((e597.position.y < int32_t(0)) || (e597.position.y >= int32_t(16))))) {
+              within596 = false;
               break;
             }
           }
         }
-        C5_Spring r426{};
-        if (within424) {
-          const int32_t t427 = add(prev418.origin.x, int32_t(-1));
-          const int32_t t428 = add(prev418.origin.y, int32_t(0));
-          const Pos t429 = Pos{t427, t428};
-          C5_Spring upd430 = C5_Spring{prev418.f0, t429, s.core.ids.fresh()};
-          r426 = std::move(upd430);
+        C5_Spring r598{};
+        if (within596) {
+          const int32_t t599 = add(prev590.origin.x, int32_t(-1));
+          const int32_t t600 = add(prev590.origin.y, int32_t(0));
+          const Pos t601 = Pos{t599, t600};
+          C5_Spring upd602 = C5_Spring{prev590.f0, t601, s.core.ids.fresh()};
+          r598 = std::move(upd602);
         } else {
-          r426 = prev418;
+          r598 = prev590;
         }
-        s.core.ids.transfer(uint32_t(r426.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        s.core.ids.transfer(uint32_t(r598.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(r426);
+        s.g_spring_15 = std::move(r598);
         s.u_spring_16 = true;
       }
     }
     // on-clause 8, programs/flood_defense.au:69
     {
-      const bool t431 = s.core.right;
-      if (t431) {
+      const bool t603 = s.core.right;
+      if (t603) {
         s.core.covered[int32_t(7)] = 1;
-        const C5_Spring& prev432 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev604 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
         // inlined: function at programs/flood_defense.au:47
-        const int32_t t433 = add(prev432.origin.x, int32_t(1));
-        const int32_t t434 = add(prev432.origin.y, int32_t(0));
-        const Pos t435 = Pos{t433, t434};
-        const C5_Spring upd436 = C5_Spring{prev432.f0, t435, s.core.ids.fresh()};
-        std::vector<Elem>& rendered437 = s.scratch.v.b26;
-        rendered437.clear();
-        rendered437.push_back(Elem{Pos{add(upd436.origin.x, int32_t(-1)), add(upd436.origin.y, int32_t(0))}, int32_t(2)});
-        rendered437.push_back(Elem{Pos{add(upd436.origin.x, int32_t(0)), add(upd436.origin.y, int32_t(0))}, int32_t(2)});
-        rendered437.push_back(Elem{Pos{add(upd436.origin.x, int32_t(1)), add(upd436.origin.y, int32_t(0))}, int32_t(2)});
-        bool within438 = true;
+        const int32_t t605 = add(prev604.origin.x, int32_t(1));
+        const int32_t t606 = add(prev604.origin.y, int32_t(0));
+        const Pos t607 = Pos{t605, t606};
+        const C5_Spring upd608 = C5_Spring{prev604.f0, t607, s.core.ids.fresh()};
+        std::vector<Elem>& rendered609 = s.scratch.v.b26;
+        rendered609.clear();
+        rendered609.push_back(Elem{Pos{add(upd608.origin.x, int32_t(-1)), add(upd608.origin.y, int32_t(0))}, int32_t(2)});
+        rendered609.push_back(Elem{Pos{add(upd608.origin.x, int32_t(0)), add(upd608.origin.y, int32_t(0))}, int32_t(2)});
+        rendered609.push_back(Elem{Pos{add(upd608.origin.x, int32_t(1)), add(upd608.origin.y, int32_t(0))}, int32_t(2)});
+        bool within610 = true;
         {
-          const auto& e439_list = rendered437;
-          for (const Elem& e439 : e439_list) {
-            if ((((e439.position.x < int32_t(0)) || (e439.position.x >= int32_t(16))) || ((e439.position.y < int32_t(0)) || (e439.position.y >= int32_t(16))))) {
-              within438 = false;
+          const auto& e611_list = rendered609;
+          for (const Elem& e611 : e611_list) {
+            if ((((e611.position.x < int32_t(0)) || (e611.position.x >= int32_t(16))) || ((e611.position.y < int32_t(0)) || (e611.position.y >= int32_t(16))))) {
+              within610 = false;
               break;
             }
           }
         }
-        C5_Spring r440{};
-        if (within438) {
-          const int32_t t441 = add(prev432.origin.x, int32_t(1));
-          const int32_t t442 = add(prev432.origin.y, int32_t(0));
-          const Pos t443 = Pos{t441, t442};
-          C5_Spring upd444 = C5_Spring{prev432.f0, t443, s.core.ids.fresh()};
-          r440 = std::move(upd444);
+        C5_Spring r612{};
+        if (within610) {
+          const int32_t t613 = add(prev604.origin.x, int32_t(1));
+          const int32_t t614 = add(prev604.origin.y, int32_t(0));
+          const Pos t615 = Pos{t613, t614};
+          C5_Spring upd616 = C5_Spring{prev604.f0, t615, s.core.ids.fresh()};
+          r612 = std::move(upd616);
         } else {
-          r440 = prev432;
+          r612 = prev604;
         }
-        s.core.ids.transfer(uint32_t(r440.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        s.core.ids.transfer(uint32_t(r612.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(r440);
+        s.g_spring_15 = std::move(r612);
         s.u_spring_16 = true;
       }
     }
     // on-clause 9, programs/flood_defense.au:70
     {
-      const bool t445 = s.core.up;
-      if (t445) {
+      const bool t617 = s.core.up;
+      if (t617) {
         s.core.covered[int32_t(8)] = 1;
-        const C5_Spring& prev446 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const C5_Spring& prev447 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const int32_t t448 = sub(prev447.f0, int32_t(1));
-        const bool t449 = (int32_t(1) < t448);
-        int32_t r450{};
-        if (t449) {
-          r450 = t448;
+        const C5_Spring& prev618 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev619 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const int32_t t620 = sub(prev619.f0, int32_t(1));
+        const bool t621 = (int32_t(1) < t620);
+        int32_t r622{};
+        if (t621) {
+          r622 = t620;
         } else {
-          r450 = int32_t(1);
+          r622 = int32_t(1);
         }
-        C5_Spring upd451 = C5_Spring{r450, prev446.origin, s.core.ids.fresh()};
-        s.core.ids.transfer(uint32_t(upd451.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        C5_Spring upd623 = C5_Spring{r622, prev618.origin, s.core.ids.fresh()};
+        s.core.ids.transfer(uint32_t(upd623.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(upd451);
+        s.g_spring_15 = std::move(upd623);
         s.u_spring_16 = true;
       }
     }
     // on-clause 10, programs/flood_defense.au:71
     {
-      const bool t452 = s.core.down;
-      if (t452) {
+      const bool t624 = s.core.down;
+      if (t624) {
         s.core.covered[int32_t(9)] = 1;
-        const C5_Spring& prev453 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const C5_Spring& prev454 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-        const int32_t t455 = add(prev454.f0, int32_t(1));
-        const bool t456 = (int32_t(4) < t455);
-        int32_t r457{};
-        if (t456) {
-          r457 = int32_t(4);
+        const C5_Spring& prev625 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const C5_Spring& prev626 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+        const int32_t t627 = add(prev626.f0, int32_t(1));
+        const bool t628 = (int32_t(4) < t627);
+        int32_t r629{};
+        if (t628) {
+          r629 = int32_t(4);
         } else {
-          r457 = t455;
+          r629 = t627;
         }
-        C5_Spring upd458 = C5_Spring{r457, prev453.origin, s.core.ids.fresh()};
-        s.core.ids.transfer(uint32_t(upd458.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+        C5_Spring upd630 = C5_Spring{r629, prev625.origin, s.core.ids.fresh()};
+        s.core.ids.transfer(uint32_t(upd630.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
         if (!s.scratch.v.sv_spring_18) {
           std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
           s.scratch.v.sv_spring_18 = true;
         }
-        s.g_spring_15 = std::move(upd458);
+        s.g_spring_15 = std::move(upd630);
         s.u_spring_16 = true;
       }
     }
     // NEXT of water, programs/flood_defense.au:41
     if ((!s.u_water_8 && s.scratch.v.sv_water_10)) {
-      const std::vector<C4_Water> prev459 = (s.scratch.v.sv_water_10 ? s.scratch.v.p_water_9 : s.g_water_7);
+      const std::vector<C4_Water> prev631 = (s.scratch.v.sv_water_10 ? s.scratch.v.p_water_9 : s.g_water_7);
       if (!s.scratch.v.sv_water_10) {
         std::swap(s.scratch.v.p_water_9, s.g_water_7);
         s.scratch.v.sv_water_10 = true;
       }
-      s.g_water_7 = prev459;
+      s.g_water_7 = prev631;
       s.u_water_8 = true;
     }
     // NEXT of bags, programs/flood_defense.au:38
     if ((!s.u_bags_12 && s.scratch.v.sv_bags_14)) {
-      const std::vector<C3_Sandbag> prev460 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
+      const std::vector<C3_Sandbag> prev632 = (s.scratch.v.sv_bags_14 ? s.scratch.v.p_bags_13 : s.g_bags_11);
       if (!s.scratch.v.sv_bags_14) {
         std::swap(s.scratch.v.p_bags_13, s.g_bags_11);
         s.scratch.v.sv_bags_14 = true;
       }
-      s.g_bags_11 = prev460;
+      s.g_bags_11 = prev632;
       s.u_bags_12 = true;
     }
     // NEXT of spring, programs/flood_defense.au:44
     if ((!s.u_spring_16 && s.scratch.v.sv_spring_18)) {
-      const C5_Spring prev461 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
-      s.core.ids.transfer(uint32_t(prev461.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
+      const C5_Spring prev633 = (s.scratch.v.sv_spring_18 ? s.scratch.v.p_spring_17 : s.g_spring_15);
+      s.core.ids.transfer(uint32_t(prev633.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_spring_15.uid)))));
       if (!s.scratch.v.sv_spring_18) {
         std::swap(s.scratch.v.p_spring_17, s.g_spring_15);
         s.scratch.v.sv_spring_18 = true;
       }
-      s.g_spring_15 = prev461;
+      s.g_spring_15 = prev633;
       s.u_spring_16 = true;
     }
     // NEXT of houses, programs/flood_defense.au:35
     if ((!s.u_houses_20 && s.scratch.v.sv_houses_22)) {
-      const std::vector<C1_House> prev462 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
+      const std::vector<C1_House> prev634 = (s.scratch.v.sv_houses_22 ? s.scratch.v.p_houses_21 : s.g_houses_19);
       if (!s.scratch.v.sv_houses_22) {
         std::swap(s.scratch.v.p_houses_21, s.g_houses_19);
         s.scratch.v.sv_houses_22 = true;
       }
-      s.g_houses_19 = prev462;
+      s.g_houses_19 = prev634;
       s.u_houses_20 = true;
     }
     // NEXT of drain, programs/flood_defense.au:31
     if ((!s.u_drain_24 && s.scratch.v.sv_drain_26)) {
-      const C2_Drain prev463 = (s.scratch.v.sv_drain_26 ? s.scratch.v.p_drain_25 : s.g_drain_23);
-      s.core.ids.transfer(uint32_t(prev463.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_23.uid)))));
+      const C2_Drain prev635 = (s.scratch.v.sv_drain_26 ? s.scratch.v.p_drain_25 : s.g_drain_23);
+      s.core.ids.transfer(uint32_t(prev635.uid), uint32_t(int32_t(s.core.ids.id_of(uint32_t(s.g_drain_23.uid)))));
       if (!s.scratch.v.sv_drain_26) {
         std::swap(s.scratch.v.p_drain_25, s.g_drain_23);
         s.scratch.v.sv_drain_26 = true;
       }
-      s.g_drain_23 = prev463;
+      s.g_drain_23 = prev635;
       s.u_drain_24 = true;
     }
     // NEXT of earth, programs/flood_defense.au:28
     if ((!s.u_earth_28 && s.scratch.v.sv_earth_30)) {
-      const std::vector<C0_Earth> prev464 = (s.scratch.v.sv_earth_30 ? s.scratch.v.p_earth_29 : s.g_earth_27);
+      const std::vector<C0_Earth> prev636 = (s.scratch.v.sv_earth_30 ? s.scratch.v.p_earth_29 : s.g_earth_27);
       if (!s.scratch.v.sv_earth_30) {
         std::swap(s.scratch.v.p_earth_29, s.g_earth_27);
         s.scratch.v.sv_earth_30 = true;
       }
-      s.g_earth_27 = prev464;
+      s.g_earth_27 = prev636;
       s.u_earth_28 = true;
     }
     // NEXT of time, programs/flood_defense.au:22
     if (!s.u_time_32) {
-      const int32_t& prev465 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
-      const int32_t t466 = add(prev465, int32_t(1));
+      const int32_t& prev637 = (s.scratch.v.sv_time_34 ? s.scratch.v.p_time_33 : s.g_time_31);
+      const int32_t t638 = add(prev637, int32_t(1));
       if (!s.scratch.v.sv_time_34) {
         std::swap(s.scratch.v.p_time_33, s.g_time_31);
         s.scratch.v.sv_time_34 = true;
       }
-      s.g_time_31 = t466;
+      s.g_time_31 = t638;
       s.u_time_32 = true;
     }
     StateTally tally{};
     if (s.d_click_36) {
       tally_rendered(s.core, tally, 45, "cacheRendered");
-      const std::vector<C1_House>& g467 = s.g_houses_19;
-      tally_global(s.core, tally, 5, "houses", g467);
-      const std::vector<C3_Sandbag>& g468 = s.g_bags_11;
-      tally_global(s.core, tally, 6, "bags", g468);
-      const std::vector<C4_Water>& g469 = s.g_water_7;
-      tally_global(s.core, tally, 7, "water", g469);
+      const std::vector<C1_House>& g639 = s.g_houses_19;
+      tally_global(s.core, tally, 5, "houses", g639);
+      const std::vector<C3_Sandbag>& g640 = s.g_bags_11;
+      tally_global(s.core, tally, 6, "bags", g640);
+      const std::vector<C4_Water>& g641 = s.g_water_7;
+      tally_global(s.core, tally, 7, "water", g641);
       if (s.d_click_36) {
-        const Pos& g470 = s.g_click_35;
-        tally_global(s.core, tally, 45, "click", g470);
+        const Pos& g642 = s.g_click_35;
+        tally_global(s.core, tally, 45, "click", g642);
       }
-      const std::vector<C0_Earth>& g471 = s.g_earth_27;
-      tally_global(s.core, tally, 8, "earth", g471);
-      const C2_Drain& g472 = s.g_drain_23;
-      tally_global(s.core, tally, 9, "drain", g472);
-      const std::vector<int32_t>& g473 = s.g_heights_4;
-      tally_global(s.core, tally, 10, "heights", g473);
-      const C5_Spring& g474 = s.g_spring_15;
-      tally_global(s.core, tally, 11, "spring", g474);
+      const std::vector<C0_Earth>& g643 = s.g_earth_27;
+      tally_global(s.core, tally, 8, "earth", g643);
+      const C2_Drain& g644 = s.g_drain_23;
+      tally_global(s.core, tally, 9, "drain", g644);
+      const std::vector<int32_t>& g645 = s.g_heights_4;
+      tally_global(s.core, tally, 10, "heights", g645);
+      const C5_Spring& g646 = s.g_spring_15;
+      tally_global(s.core, tally, 11, "spring", g646);
     } else {
       tally_rendered(s.core, tally, 45, "cacheRendered");
-      const std::vector<C1_House>& g475 = s.g_houses_19;
-      tally_global(s.core, tally, 5, "houses", g475);
-      const std::vector<C3_Sandbag>& g476 = s.g_bags_11;
-      tally_global(s.core, tally, 6, "bags", g476);
-      const std::vector<C4_Water>& g477 = s.g_water_7;
-      tally_global(s.core, tally, 7, "water", g477);
-      const std::vector<C0_Earth>& g478 = s.g_earth_27;
-      tally_global(s.core, tally, 8, "earth", g478);
-      const C2_Drain& g479 = s.g_drain_23;
-      tally_global(s.core, tally, 9, "drain", g479);
-      const std::vector<int32_t>& g480 = s.g_heights_4;
-      tally_global(s.core, tally, 10, "heights", g480);
-      const C5_Spring& g481 = s.g_spring_15;
-      tally_global(s.core, tally, 11, "spring", g481);
+      const std::vector<C1_House>& g647 = s.g_houses_19;
+      tally_global(s.core, tally, 5, "houses", g647);
+      const std::vector<C3_Sandbag>& g648 = s.g_bags_11;
+      tally_global(s.core, tally, 6, "bags", g648);
+      const std::vector<C4_Water>& g649 = s.g_water_7;
+      tally_global(s.core, tally, 7, "water", g649);
+      const std::vector<C0_Earth>& g650 = s.g_earth_27;
+      tally_global(s.core, tally, 8, "earth", g650);
+      const C2_Drain& g651 = s.g_drain_23;
+      tally_global(s.core, tally, 9, "drain", g651);
+      const std::vector<int32_t>& g652 = s.g_heights_4;
+      tally_global(s.core, tally, 10, "heights", g652);
+      const C5_Spring& g653 = s.g_spring_15;
+      tally_global(s.core, tally, 11, "spring", g653);
     }
     s.core.clear_inputs();
   }

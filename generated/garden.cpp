@@ -737,27 +737,29 @@ struct Prog {
         const std::vector<C3_Plant>& prev72 = (s.scratch.v.sv_plants_18 ? s.scratch.v.p_plants_17 : s.g_plants_15);
         std::vector<C3_Plant>& out73 = s.scratch.v.b9;
         out73.clear();
+        if ((!prev72.empty() && s.core.click)) {
+          s.d_click_28 = true;
+          const Pos t74 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_27 = t74;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x74_list = prev72;
-            charge_loop(budget, 19, int64_t(x74_list.size()));
-            for (const C3_Plant& x74 : x74_list) {
+            const auto& x75_list = prev72;
+            charge_loop(budget, 19, int64_t(x75_list.size()));
+            for (const C3_Plant& x75 : x75_list) {
               // inlined: function at programs/garden.au:60
-              bool clicked75 = false;
+              bool clicked76 = false;
               if (s.core.click) {
-                s.d_click_28 = true;
-                const Pos t76 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_27 = t76;
-                const int32_t colour77 = colour_12_C3_Plant(s, x74);
-                const Elem e78 = Elem{Pos{add(x74.origin.x, int32_t(0)), add(x74.origin.y, int32_t(0))}, colour77};
+                const int32_t colour77 = colour_12_C3_Plant(s, x75);
+                const Elem e78 = Elem{Pos{add(x75.origin.x, int32_t(0)), add(x75.origin.y, int32_t(0))}, colour77};
                 if ((e78.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked75 = true;
+                  clicked76 = true;
                 }
               }
-              if (clicked75) {
+              if (clicked76) {
                 charge_built(budget, 19, int64_t(int32_t(1)));
-                out73.push_back(x74);
+                out73.push_back(x75);
               }
             }
           }
@@ -803,27 +805,29 @@ struct Prog {
         const std::vector<C3_Plant>& g90 = s.g_plants_15;
         std::vector<C3_Plant>& kept91 = s.scratch.v.b10;
         kept91.clear();
+        if ((!g90.empty() && s.core.click)) {
+          s.d_click_28 = true;
+          const Pos t92 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_27 = t92;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x92_list = g90;
-            charge_loop(budget, 21, int64_t(x92_list.size()));
-            for (const C3_Plant& x92 : x92_list) {
+            const auto& x93_list = g90;
+            charge_loop(budget, 21, int64_t(x93_list.size()));
+            for (const C3_Plant& x93 : x93_list) {
               // inlined: function at programs/garden.au:63
-              bool clicked93 = false;
+              bool clicked94 = false;
               if (s.core.click) {
-                s.d_click_28 = true;
-                const Pos t94 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_27 = t94;
-                const int32_t colour95 = colour_12_C3_Plant(s, x92);
-                const Elem e96 = Elem{Pos{add(x92.origin.x, int32_t(0)), add(x92.origin.y, int32_t(0))}, colour95};
+                const int32_t colour95 = colour_12_C3_Plant(s, x93);
+                const Elem e96 = Elem{Pos{add(x93.origin.x, int32_t(0)), add(x93.origin.y, int32_t(0))}, colour95};
                 if ((e96.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked93 = true;
+                  clicked94 = true;
                 }
               }
-              if (!clicked93) {
+              if (!clicked94) {
                 charge_built(budget, 21, int64_t(int32_t(1)));
-                kept91.push_back(x92);
+                kept91.push_back(x93);
               }
             }
           }

@@ -1825,27 +1825,29 @@ struct Prog {
         const std::vector<C0_Wall>& prev385 = (s.scratch.v.sv_walls_26 ? s.scratch.v.p_walls_25 : s.g_walls_23);
         std::vector<C0_Wall>& out386 = s.scratch.v.b36;
         out386.clear();
+        if ((!prev385.empty() && s.core.click)) {
+          s.d_click_32 = true;
+          const Pos t387 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_31 = t387;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x387_list = prev385;
-            charge_loop(budget, 28, int64_t(x387_list.size()));
-            for (const C0_Wall& x387 : x387_list) {
+            const auto& x388_list = prev385;
+            charge_loop(budget, 28, int64_t(x388_list.size()));
+            for (const C0_Wall& x388 : x388_list) {
               // inlined: function at programs/mirror_twins.au:78
-              bool clicked388 = false;
+              bool clicked389 = false;
               if (s.core.click) {
-                s.d_click_32 = true;
-                const Pos t389 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_31 = t389;
-                const Elem e390 = Elem{Pos{add(x387.origin.x, int32_t(0)), add(x387.origin.y, int32_t(0))}, int32_t(6)};
+                const Elem e390 = Elem{Pos{add(x388.origin.x, int32_t(0)), add(x388.origin.y, int32_t(0))}, int32_t(6)};
                 if ((e390.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked388 = true;
+                  clicked389 = true;
                 }
               }
-              const bool t391 = !clicked388;
+              const bool t391 = !clicked389;
               if (t391) {
                 charge_built(budget, 28, int64_t(int32_t(1)));
-                out386.push_back(x387);
+                out386.push_back(x388);
               }
             }
           }

@@ -532,27 +532,29 @@ struct Prog {
         const std::vector<C0_Flake>& prev6 = (s.scratch.v.sv_snow_12 ? s.scratch.v.p_snow_11 : s.g_snow_9);
         std::vector<C0_Flake>& out7 = s.scratch.v.b0;
         out7.clear();
+        if ((!prev6.empty() && s.core.click)) {
+          s.d_click_30 = true;
+          const Pos t8 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_29 = t8;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x8_list = prev6;
-            charge_loop(budget, 6, int64_t(x8_list.size()));
-            for (const C0_Flake& x8 : x8_list) {
+            const auto& x9_list = prev6;
+            charge_loop(budget, 6, int64_t(x9_list.size()));
+            for (const C0_Flake& x9 : x9_list) {
               // inlined: function at programs/snowplow.au:47
-              bool clicked9 = false;
+              bool clicked10 = false;
               if (s.core.click) {
-                s.d_click_30 = true;
-                const Pos t10 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_29 = t10;
-                const Elem e11 = Elem{Pos{add(x8.origin.x, int32_t(0)), add(x8.origin.y, int32_t(0))}, int32_t(6)};
+                const Elem e11 = Elem{Pos{add(x9.origin.x, int32_t(0)), add(x9.origin.y, int32_t(0))}, int32_t(6)};
                 if ((e11.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked9 = true;
+                  clicked10 = true;
                 }
               }
-              const bool t12 = !clicked9;
+              const bool t12 = !clicked10;
               if (t12) {
                 charge_built(budget, 6, int64_t(int32_t(1)));
-                out7.push_back(x8);
+                out7.push_back(x9);
               }
             }
           }
@@ -626,27 +628,29 @@ struct Prog {
         const std::vector<C2_Rock>& prev27 = (s.scratch.v.sv_rocks_20 ? s.scratch.v.p_rocks_19 : s.g_rocks_17);
         std::vector<C2_Rock>& out28 = s.scratch.v.b2;
         out28.clear();
+        if ((!prev27.empty() && s.core.click)) {
+          s.d_click_30 = true;
+          const Pos t29 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_29 = t29;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x29_list = prev27;
-            charge_loop(budget, 11, int64_t(x29_list.size()));
-            for (const C2_Rock& x29 : x29_list) {
+            const auto& x30_list = prev27;
+            charge_loop(budget, 11, int64_t(x30_list.size()));
+            for (const C2_Rock& x30 : x30_list) {
               // inlined: function at programs/snowplow.au:51
-              bool clicked30 = false;
+              bool clicked31 = false;
               if (s.core.click) {
-                s.d_click_30 = true;
-                const Pos t31 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_29 = t31;
-                const Elem e32 = Elem{Pos{add(x29.origin.x, int32_t(0)), add(x29.origin.y, int32_t(0))}, int32_t(3)};
+                const Elem e32 = Elem{Pos{add(x30.origin.x, int32_t(0)), add(x30.origin.y, int32_t(0))}, int32_t(3)};
                 if ((e32.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked30 = true;
+                  clicked31 = true;
                 }
               }
-              const bool t33 = !clicked30;
+              const bool t33 = !clicked31;
               if (t33) {
                 charge_built(budget, 11, int64_t(int32_t(1)));
-                out28.push_back(x29);
+                out28.push_back(x30);
               }
             }
           }

@@ -481,28 +481,30 @@ struct Prog {
         }
         std::vector<C1_Mole>& out18 = s.scratch.v.b3;
         out18.clear();
+        if ((!out15.empty() && s.core.click)) {
+          s.d_click_35 = true;
+          const Pos t19 = Pos{s.core.click_x, s.core.click_y};
+          s.g_click_34 = t19;
+        }
         {
           Budget budget = budget_of(s.core);
           {
-            const auto& x19_list = out15;
-            charge_loop(budget, 9, int64_t(x19_list.size()));
-            for (const C1_Mole& x19 : x19_list) {
+            const auto& x20_list = out15;
+            charge_loop(budget, 9, int64_t(x20_list.size()));
+            for (const C1_Mole& x20 : x20_list) {
               // inlined: function at programs/whack_a_mole.au:56
-              bool clicked20 = false;
+              bool clicked21 = false;
               if (s.core.click) {
-                s.d_click_35 = true;
-                const Pos t21 = Pos{s.core.click_x, s.core.click_y};
-                s.g_click_34 = t21;
-                const int32_t colour22 = colour_11_C1_Mole(s, x19);
-                const Elem e23 = Elem{Pos{add(x19.origin.x, int32_t(0)), add(x19.origin.y, int32_t(0))}, colour22};
+                const int32_t colour22 = colour_11_C1_Mole(s, x20);
+                const Elem e23 = Elem{Pos{add(x20.origin.x, int32_t(0)), add(x20.origin.y, int32_t(0))}, colour22};
                 if ((e23.position == Pos{s.core.click_x, s.core.click_y})) {
-                  clicked20 = true;
+                  clicked21 = true;
                 }
               }
-              const bool t24 = !clicked20;
+              const bool t24 = !clicked21;
               if (t24) {
                 charge_built(budget, 9, int64_t(int32_t(1)));
-                out18.push_back(x19);
+                out18.push_back(x20);
               }
             }
           }

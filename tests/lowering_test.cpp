@@ -295,6 +295,48 @@ TEST(IrPasses, LoopsChargingAsTheyRunKeepTheCountsLocal) {
   EXPECT_FALSE(loop_with(kNothing)) << "nothing to charge";
 }
 
+// A loop whose body leads with the click's definition under the click flag
+// (clicked on each element) defines it once, before the loop: the leading
+// stores of literals or the click's position, not a fresh identity; nothing
+// where the loop reads the slot or something else leads the flag's branch.
+TEST(IrPasses, ClickDefinedInALoopIsDefinedOnce) {
+  using lower::ir::SK;
+  using lower::ir::Op;
+  enum Shape { kLeads, kReadInLoop, kFreshUid, kNotLeading };
+  // The statements moved before the loop (0: none), and what the branch kept.
+  auto run = [](Shape shape) {
+    IrFixture x;
+    const lower::TypeP b = x.m.types.bool_(), pos = x.m.types.pos(), i = x.m.types.int_();
+    x.m.slots.push_back(lower::ir::Slot{"d_click", nullptr, lower::ir::Slot::Defined, 2, true});
+    x.m.slots.push_back(lower::ir::Slot{"g_click", pos, lower::ir::Slot::Value, 2, true});
+    x.m.locations.emplace_back();
+    auto* xs = x.var(x.list_t, true);
+    x.stmt(x.f->body, SK::Decl, xs);
+    auto* loop = x.stmt(x.f->body, SK::ForEach, x.var(i, false), x.use(xs));
+    loop->loc = 0;
+    x.stmt(loop->body, SK::Decl, x.var(b, true), x.b.lit(b, 0));
+    auto* branch = x.stmt(loop->body, SK::If, nullptr, x.b.call(lower::ir::Helper::InputFlag, b, {x.b.lit(i, 0)}));
+    if (shape == kNotLeading) x.stmt(branch->body, SK::Eval, nullptr, x.size_of(xs));
+    x.stmt(branch->body, SK::Set, nullptr, x.b.slot(1), x.b.lit(b, 1));
+    auto* t = x.var(pos, false);
+    x.stmt(branch->body, SK::Let, t,
+           shape == kFreshUid ? x.b.call(lower::ir::Helper::NewUid, i, {}) : x.b.call(lower::ir::Helper::ClickPos, pos, {}));
+    x.stmt(branch->body, SK::Set, nullptr, x.b.slot(2), x.use(t));
+    x.stmt(branch->body, SK::Eval, nullptr, x.size_of(xs));
+    if (shape == kReadInLoop) x.stmt(loop->body, SK::Eval, nullptr, x.node(Op::Not, b, {x.b.slot(1)}));
+    lower::define_click_once(x.m);
+    for (const auto& problem : lower::verify_ir(x.m)) ADD_FAILURE() << problem;
+    if (x.f->body.size() != 3 || x.f->body[2] != loop) return std::make_pair(size_t{0}, branch->body.size());
+    EXPECT_EQ(x.f->body[1]->k, SK::If);
+    EXPECT_EQ(x.f->body[1]->a->op, Op::And) << "under the flag, if the list has an element";
+    return std::make_pair(x.f->body[1]->body.size(), branch->body.size());
+  };
+  EXPECT_EQ(run(kLeads), std::make_pair(size_t{3}, size_t{1}));
+  EXPECT_EQ(run(kReadInLoop), std::make_pair(size_t{0}, size_t{4})) << "the loop reads the definition";
+  EXPECT_EQ(run(kFreshUid), std::make_pair(size_t{1}, size_t{3})) << "only the flag: the identity is made each time";
+  EXPECT_EQ(run(kNotLeading), std::make_pair(size_t{0}, size_t{5})) << "something else comes first";
+}
+
 TEST(IrPasses, ListsThatStayInTheirBlockReuseStorage) {
   IrFixture x;
   auto* kept = x.var(x.list_t, true);
@@ -635,7 +677,7 @@ TEST(IrText, NamesFunctionsStatementsAndTypes) {
                            ": list<pos>", "make_obj Crate(", "set global g_crates_"})
     EXPECT_NE(l.ir.find(want), std::string::npos) << want;
   EXPECT_EQ(lowering_stages().front(), "specialise");
-  EXPECT_EQ(lowering_stages().size(), 9u);
+  EXPECT_EQ(lowering_stages().size(), 10u);
   o.dump_ir_after = "specialise";
   EXPECT_NE(lower_program(*program, "sokoban", o).ir, l.ir) << "the passes change the IR";
 }

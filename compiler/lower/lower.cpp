@@ -30,6 +30,7 @@ struct Pass {
 };
 constexpr Pass kPasses[] = {
     {"mark_occupancy_if_read", lower::mark_occupancy_if_read},
+    {"define_click_once", lower::define_click_once},
     {"settle_references", lower::settle_references},
     {"resolve_aliases", lower::resolve_aliases},
     {"remove_dead_names", lower::remove_dead_names},

@@ -1,6 +1,7 @@
 // passes — the IR passes that run between specialisation and printing, each in
 // a file of its own (pass_*.cpp) with an example and a pointer to its test.
 //
+//   define_click_once   pass_click_once.cpp  a loop's repeated definition of click is done once, before it
 //   settle_references   pass_refs.cpp     Bind: reference or copy
 //   resolve_aliases     pass_aliases.cpp  a reference to a local is the local
 //   mark_occupancy_if_read  pass_occupancy.cpp  no isFreePos: the render marks no occupancy
@@ -14,6 +15,7 @@
 
 namespace autumn::lower {
 
+void define_click_once(Module& m);
 void settle_references(Module& m);
 void resolve_aliases(Module& m);
 void mark_occupancy_if_read(Module& m);
