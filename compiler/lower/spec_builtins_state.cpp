@@ -217,6 +217,10 @@ void Specialiser::define_click() {
   Global& g = global_slot(p_.names.click, T().pos());
   g.state = Global::Runtime;
   if (h_.add_runtime_defined(p_.names.click)) {
+    // Its type too, as define_global records a global a step defines: the
+    // next walk gives it its slot from the step's start (specialise_step), so
+    // a read before this definition has a place to read.
+    if (!h_.global(p_.names.click) && g.type) h_.set_global(p_.names.click, g.type);
     h_.learn("click");
   }
   ir_.emit_set(ir_.slot(g.defined), ir_.lit(T().bool_(), 1));

@@ -134,12 +134,9 @@ void Specialiser::specialise_step() {
       g.sym = s;
       g.state = Global::Runtime;
       // First defined by a step: its slot now, so that a read before this
-      // walk meets the definition finds it. `click` is a Position (define_click),
-      // whether or not a type was hinted: a read of it before the walk met a
-      // `clicked` otherwise had no slot, and lowered to nothing at all.
-      TypeP hinted = h_.global(s);
-      if (!hinted && s == p_.names.click) hinted = T().pos();
-      if (g.value < 0 && hinted) global_slot(s, hinted);
+      // walk meets the definition finds it (define_global and define_click
+      // record the type).
+      if (TypeP hinted = h_.global(s); g.value < 0 && hinted) global_slot(s, hinted);
     }
   for (auto& [sym, g] : globals_)
     if (g.state != Global::Undefined && h_.stored_in_step(sym) && g.constant && g.constant->type->k != TK::Func)

@@ -87,7 +87,7 @@ SVal Specialiser::read_global(Global& g) {
     // Nothing at run time (a function, a class) reads as nothing. A global with
     // a value but no slot yet would lower to nothing too, and the code after it
     // would be dropped: a step's read of click before its definition did so
-    // (fixed in specialise_step). No program of the corpus reaches this; one
+    // (fixed in define_click). No program of the corpus reaches this; one
     // that does gets the interpreter in its module, not a clause that runs on.
     if (!g.type || (g.type->k != TK::Func && g.type->k != TK::Class && g.type->k != TK::Never))
       sites_.unsupported("global '" + nm(g.sym) + "' read before the lowering gave it a place");
