@@ -103,6 +103,14 @@ Walk walk_function(const Function& f, const std::vector<bool>& stores_state) {
   return w;
 }
 
+bool pure(const Node* n) {
+  if (!n) return true;
+  if (n->op == Op::Call || n->op == Op::FnCall) return false;
+  for (const Node* k : n->a)
+    if (!pure(k)) return false;
+  return true;
+}
+
 bool function_stores_state(const Function& f) {
   bool found = false;
   std::function<void(const Block&)> rec = [&](const Block& b) {

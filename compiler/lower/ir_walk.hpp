@@ -40,6 +40,10 @@ struct Walk {
 // `stores_state(f)`: whether calling module function f may store a state slot.
 Walk walk_function(const Function& f, const std::vector<bool>& stores_state);
 
+// Whether evaluating n has no effect and calls nothing (no helper, no module
+// function): it may be dropped, or evaluated again with the same result.
+bool pure(const Node* n);
+
 // Whether function f stores any state slot (directly).
 bool function_stores_state(const Function& f);
 

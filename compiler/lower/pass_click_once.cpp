@@ -40,23 +40,6 @@ bool is_click_pos(const Node* n) { return n && n->op == Op::Call && n->helper ==
 bool is_input_flag(const Node* n) {
   return n && n->op == Op::Call && n->helper == Helper::InputFlag && n->a.size() == 1 && n->a[0]->op == Op::Lit;
 }
-// A list read twice with the same result: locals, state members, their members and selects.
-bool is_plain_place(const Node* n) {
-  if (!n) return false;
-  switch (n->op) {
-    case Op::Local:
-    case Op::Global:
-    case Op::Slot:
-    case Op::Lit: return true;
-    case Op::Member:
-    case Op::Select:
-      for (const Node* k : n->a)
-        if (!is_plain_place(k)) return false;
-      return true;
-    default: return false;
-  }
-}
-
 class ClickOnce {
  public:
   ClickOnce(Module& m, const std::vector<bool>& stores_state) : m_(m), stores_state_(stores_state) {}
@@ -120,7 +103,7 @@ class ClickOnce {
 
   bool hoist(Block& outer, size_t at) {
     Stmt* loop = outer[at];
-    if (!is_plain_place(loop->a)) return false;
+    if (!pure(loop->a)) return false;  // read again before the loop
     // The body's lead: comments and declarations that read no state, then the flag's branch.
     size_t k = 0;
     for (; k < loop->body.size(); ++k) {

@@ -13,20 +13,13 @@
 #include <functional>
 #include <map>
 
+#include "compiler/lower/ir_walk.hpp"
 #include "compiler/lower/passes.hpp"
 
 namespace autumn::lower {
 namespace {
 
 using namespace ir;
-
-bool pure(const Node* n) {
-  if (!n) return true;
-  if (n->op == Op::Call || n->op == Op::FnCall) return false;
-  for (const Node* k : n->a)
-    if (!pure(k)) return false;
-  return true;
-}
 
 void count_uses(const Node* n, std::map<const Var*, int>& uses) {
   if (!n) return;
