@@ -33,9 +33,7 @@ struct Prog {
     Pos origin;
     std::vector<CellV> cells;
     friend void hash_value(Hash& h, const C0_Piece& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
-      hash_value(h, v.cells);
+      hash_fields(h, v.f0, v.origin, v.cells);
     }
     static constexpr int64_t kTally = -1;
     friend bool tally_value(Tally& t, const Core& c, const C0_Piece& v) {
@@ -64,8 +62,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C1_Block& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Block& v) {

@@ -31,7 +31,7 @@ struct Prog {
   struct C0_Paddle {
     Pos origin;
     friend void hash_value(Hash& h, const C0_Paddle& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 16;
     friend bool tally_value(Tally& t, const Core& c, const C0_Paddle& v) {
@@ -55,9 +55,7 @@ struct Prog {
     int32_t f1;
     Pos origin;
     friend void hash_value(Hash& h, const C1_Ball& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.f1);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.f1, v.origin);
     }
     static constexpr int64_t kTally = 10;
     friend bool tally_value(Tally& t, const Core& c, const C1_Ball& v) {
@@ -88,8 +86,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C2_Brick& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Brick& v) {
@@ -116,8 +113,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C3_Hearts& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 17;
     friend bool tally_value(Tally& t, const Core& c, const C3_Hearts& v) {

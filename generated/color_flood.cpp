@@ -33,9 +33,7 @@ struct Prog {
     bool f1;
     Pos origin;
     friend void hash_value(Hash& h, const C0_Tile& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.f1);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.f1, v.origin);
     }
     static constexpr int64_t kTally = 10;
     friend bool tally_value(Tally& t, const Core& c, const C0_Tile& v) {
@@ -66,8 +64,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C1_Swatch& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Swatch& v) {
@@ -94,8 +91,7 @@ struct Prog {
     bool f0;
     Pos origin;
     friend void hash_value(Hash& h, const C2_Lamps& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 17;
     friend bool tally_value(Tally& t, const Core& c, const C2_Lamps& v) {

@@ -31,7 +31,7 @@ struct Prog {
   struct C0_Pad {
     Pos origin;
     friend void hash_value(Hash& h, const C0_Pad& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 16;
     friend bool tally_value(Tally& t, const Core& c, const C0_Pad& v) {
@@ -55,9 +55,7 @@ struct Prog {
     int32_t f1;
     Pos origin;
     friend void hash_value(Hash& h, const C1_Rocket& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.f1);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.f1, v.origin);
     }
     static constexpr int64_t kTally = 14;
     friend bool tally_value(Tally& t, const Core& c, const C1_Rocket& v) {
@@ -91,11 +89,7 @@ struct Prog {
     int32_t f3;
     Pos origin;
     friend void hash_value(Hash& h, const C2_Spark& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.f1);
-      hash_value(h, v.f2);
-      hash_value(h, v.f3);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.f1, v.f2, v.f3, v.origin);
     }
     static constexpr int64_t kTally = 12;
     friend bool tally_value(Tally& t, const Core& c, const C2_Spark& v) {

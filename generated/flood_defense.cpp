@@ -32,8 +32,7 @@ struct Prog {
     Pos origin;
     uint32_t uid = 0;
     friend void hash_value(Hash& h, const C0_Earth& v) {
-      hash_value(h, v.origin);
-      hash_value(h, v.uid);
+      hash_fields(h, v.origin, v.uid);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Earth& v) {
@@ -59,9 +58,7 @@ struct Prog {
     Pos origin;
     uint32_t uid = 0;
     friend void hash_value(Hash& h, const C1_House& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
-      hash_value(h, v.uid);
+      hash_fields(h, v.f0, v.origin, v.uid);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_House& v) {
@@ -90,8 +87,7 @@ struct Prog {
     Pos origin;
     uint32_t uid = 0;
     friend void hash_value(Hash& h, const C2_Drain& v) {
-      hash_value(h, v.origin);
-      hash_value(h, v.uid);
+      hash_fields(h, v.origin, v.uid);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C2_Drain& v) {
@@ -116,8 +112,7 @@ struct Prog {
     Pos origin;
     uint32_t uid = 0;
     friend void hash_value(Hash& h, const C3_Sandbag& v) {
-      hash_value(h, v.origin);
-      hash_value(h, v.uid);
+      hash_fields(h, v.origin, v.uid);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C3_Sandbag& v) {
@@ -142,8 +137,7 @@ struct Prog {
     Pos origin;
     uint32_t uid = 0;
     friend void hash_value(Hash& h, const C4_Water& v) {
-      hash_value(h, v.origin);
-      hash_value(h, v.uid);
+      hash_fields(h, v.origin, v.uid);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C4_Water& v) {
@@ -169,9 +163,7 @@ struct Prog {
     Pos origin;
     uint32_t uid = 0;
     friend void hash_value(Hash& h, const C5_Spring& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
-      hash_value(h, v.uid);
+      hash_fields(h, v.f0, v.origin, v.uid);
     }
     static constexpr int64_t kTally = 17;
     friend bool tally_value(Tally& t, const Core& c, const C5_Spring& v) {

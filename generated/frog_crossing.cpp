@@ -31,7 +31,7 @@ struct Prog {
   struct C0_River {
     Pos origin;
     friend void hash_value(Hash& h, const C0_River& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 44;
     friend bool tally_value(Tally& t, const Core& c, const C0_River& v) {
@@ -53,7 +53,7 @@ struct Prog {
   struct C1_Verge {
     Pos origin;
     friend void hash_value(Hash& h, const C1_Verge& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 44;
     friend bool tally_value(Tally& t, const Core& c, const C1_Verge& v) {
@@ -76,8 +76,7 @@ struct Prog {
     bool f0;
     Pos origin;
     friend void hash_value(Hash& h, const C2_Pad& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Pad& v) {
@@ -108,12 +107,7 @@ struct Prog {
     Pos origin;
     std::vector<CellV> cells;
     friend void hash_value(Hash& h, const C3_Car& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.f1);
-      hash_value(h, v.f2);
-      hash_value(h, v.f3);
-      hash_value(h, v.origin);
-      hash_value(h, v.cells);
+      hash_fields(h, v.f0, v.f1, v.f2, v.f3, v.origin, v.cells);
     }
     static constexpr int64_t kTally = -1;
     friend bool tally_value(Tally& t, const Core& c, const C3_Car& v) {
@@ -153,7 +147,7 @@ struct Prog {
   struct C4_Frog {
     Pos origin;
     friend void hash_value(Hash& h, const C4_Frog& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C4_Frog& v) {
@@ -176,8 +170,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C5_Lives& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 17;
     friend bool tally_value(Tally& t, const Core& c, const C5_Lives& v) {

@@ -31,7 +31,7 @@ struct Prog {
   struct C0_Cloud {
     Pos origin;
     friend void hash_value(Hash& h, const C0_Cloud& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 16;
     friend bool tally_value(Tally& t, const Core& c, const C0_Cloud& v) {
@@ -54,8 +54,7 @@ struct Prog {
     bool f0;
     Pos origin;
     friend void hash_value(Hash& h, const C1_Sun& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Sun& v) {
@@ -81,7 +80,7 @@ struct Prog {
   struct C2_Drop {
     Pos origin;
     friend void hash_value(Hash& h, const C2_Drop& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C2_Drop& v) {
@@ -105,9 +104,7 @@ struct Prog {
     int32_t f1;
     Pos origin;
     friend void hash_value(Hash& h, const C3_Plant& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.f1);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.f1, v.origin);
     }
     static constexpr int64_t kTally = 10;
     friend bool tally_value(Tally& t, const Core& c, const C3_Plant& v) {
@@ -138,8 +135,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C4_Basket& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 53;
     friend bool tally_value(Tally& t, const Core& c, const C4_Basket& v) {

@@ -31,7 +31,7 @@ struct Prog {
   struct C0_Fence {
     Pos origin;
     friend void hash_value(Hash& h, const C0_Fence& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Fence& v) {
@@ -53,7 +53,7 @@ struct Prog {
   struct C1_Flag {
     Pos origin;
     friend void hash_value(Hash& h, const C1_Flag& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C1_Flag& v) {
@@ -76,8 +76,7 @@ struct Prog {
     bool f0;
     Pos origin;
     friend void hash_value(Hash& h, const C2_Sheep& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Sheep& v) {
@@ -103,7 +102,7 @@ struct Prog {
   struct C3_Dog {
     Pos origin;
     friend void hash_value(Hash& h, const C3_Dog& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C3_Dog& v) {

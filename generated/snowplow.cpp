@@ -31,7 +31,7 @@ struct Prog {
   struct C0_Flake {
     Pos origin;
     friend void hash_value(Hash& h, const C0_Flake& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Flake& v) {
@@ -54,8 +54,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C1_Melt& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Melt& v) {
@@ -81,7 +80,7 @@ struct Prog {
   struct C2_Rock {
     Pos origin;
     friend void hash_value(Hash& h, const C2_Rock& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C2_Rock& v) {
@@ -103,7 +102,7 @@ struct Prog {
   struct C3_Plow {
     Pos origin;
     friend void hash_value(Hash& h, const C3_Plow& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 12;
     friend bool tally_value(Tally& t, const Core& c, const C3_Plow& v) {
@@ -126,8 +125,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C4_Cloud& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 69;
     friend bool tally_value(Tally& t, const Core& c, const C4_Cloud& v) {

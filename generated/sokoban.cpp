@@ -31,7 +31,7 @@ struct Prog {
   struct C0_Wall {
     Pos origin;
     friend void hash_value(Hash& h, const C0_Wall& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Wall& v) {
@@ -53,7 +53,7 @@ struct Prog {
   struct C1_Goal {
     Pos origin;
     friend void hash_value(Hash& h, const C1_Goal& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C1_Goal& v) {
@@ -76,8 +76,7 @@ struct Prog {
     bool f0;
     Pos origin;
     friend void hash_value(Hash& h, const C2_Crate& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Crate& v) {
@@ -103,7 +102,7 @@ struct Prog {
   struct C3_Keeper {
     Pos origin;
     friend void hash_value(Hash& h, const C3_Keeper& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C3_Keeper& v) {
@@ -125,7 +124,7 @@ struct Prog {
   struct C4_Button {
     Pos origin;
     friend void hash_value(Hash& h, const C4_Button& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C4_Button& v) {

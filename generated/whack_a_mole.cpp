@@ -31,7 +31,7 @@ struct Prog {
   struct C0_Burrow {
     Pos origin;
     friend void hash_value(Hash& h, const C0_Burrow& v) {
-      hash_value(h, v.origin);
+      hash_fields(h, v.origin);
     }
     static constexpr int64_t kTally = 8;
     friend bool tally_value(Tally& t, const Core& c, const C0_Burrow& v) {
@@ -54,8 +54,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C1_Mole& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C1_Mole& v) {
@@ -82,8 +81,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C2_Flash& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 9;
     friend bool tally_value(Tally& t, const Core& c, const C2_Flash& v) {
@@ -110,8 +108,7 @@ struct Prog {
     int32_t f0;
     Pos origin;
     friend void hash_value(Hash& h, const C3_ScoreBar& v) {
-      hash_value(h, v.f0);
-      hash_value(h, v.origin);
+      hash_fields(h, v.f0, v.origin);
     }
     static constexpr int64_t kTally = 45;
     friend bool tally_value(Tally& t, const Core& c, const C3_ScoreBar& v) {

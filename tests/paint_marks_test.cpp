@@ -167,6 +167,48 @@ TEST(StateHash, LongListsHashByOrder) {
   EXPECT_EQ(seen.size(), made);
 }
 
+// An object as print_cpp emits it: its fields in one hash_fields call, which
+// pairs neighbouring one-word fields (Hash::mix2) and hashes any other (here a
+// list) on its own. Every object of a 16x16 grid with two flags, a short list
+// and an identity hashes apart, and 256 of them in a list hash by their order.
+struct Blob {
+  bool f0 = false;
+  std::vector<int32_t> f1;
+  rt::Pos origin;
+  uint32_t uid = 0;
+  friend void hash_value(rt::Hash& h, const Blob& v) { rt::hash_fields(h, v.f0, v.f1, v.origin, v.uid); }
+};
+uint64_t hash_of(const std::vector<Blob>& v) {
+  rt::Hash h;
+  rt::hash_value(h, v);
+  return h.h;
+}
+
+TEST(StateHash, ObjectsHashFieldByField) {
+  std::set<uint64_t> seen;
+  size_t made = 0;
+  for (int x = 0; x < kGrid; ++x)
+    for (int y = 0; y < kGrid; ++y)
+      for (bool f0 : {false, true})
+        for (const std::vector<int32_t>& f1 : std::vector<std::vector<int32_t>>{{}, {0}, {1}, {0, 0}, {x + 2}})
+          for (uint32_t uid : {0u, 1u, 7u}) {
+            seen.insert(hash_of({Blob{f0, f1, Pos{x, y}, uid}}));
+            ++made;
+          }
+  EXPECT_EQ(seen.size(), made);
+  std::vector<Blob> grid;
+  for (int i = 0; i < kGrid * kGrid; ++i) grid.push_back(Blob{i % 3 == 0, {}, Pos{i % kGrid, i / kGrid}, 0});
+  const uint64_t base = hash_of(grid);
+  for (size_t i = 0; i + 1 < grid.size(); ++i) {
+    std::vector<Blob> swapped = grid;
+    std::swap(swapped[i], swapped[i + 1]);
+    ASSERT_NE(hash_of(swapped), base) << "objects " << i << " and " << i + 1 << " swapped";
+    std::vector<Blob> flipped = grid;
+    flipped[i].f0 = !flipped[i].f0;
+    ASSERT_NE(hash_of(flipped), base) << "object " << i << "'s flag";
+  }
+}
+
 // An object of a constant count (kTally cells), as emitted for a class with no
 // list fields: one more object, then its cells in steps, stopping once over.
 struct Dot {

@@ -469,22 +469,27 @@ void Printer::classes() {
     if (c.mode == CellMode::Stored) line("std::vector<CellV> cells;");
     if (c.tracked) line("uint32_t uid = 0;");
     if (c.rotatable) line("uint32_t group = 0;");
-    auto each = [&](const std::string& call, const std::string& v) {
-      for (size_t i = 0; i < c.fields.size(); ++i) line("  " + call + v + ".f" + std::to_string(i) + ");");
-      line("  " + call + v + ".origin);");
-      if (c.mode == CellMode::Stored) line("  " + call + v + ".cells);");
-      if (c.tracked) line("  " + call + v + ".uid);");
-      if (c.rotatable) line("  " + call + v + ".group);");
+    std::vector<std::string> members;
+    for (size_t i = 0; i < c.fields.size(); ++i) members.push_back("v.f" + std::to_string(i));
+    members.push_back("v.origin");
+    if (c.mode == CellMode::Stored) members.push_back("v.cells");
+    if (c.tracked) members.push_back("v.uid");
+    if (c.rotatable) members.push_back("v.group");
+    auto each = [&](const std::string& call) {
+      for (const std::string& m : members) line("  " + call + m + ");");
     };
+    // Hashed in one call, so that neighbouring one-word fields pair up (hash_fields).
     line("friend void hash_value(Hash& h, const " + c.cpp + "& v) {");
-    each("hash_value(h, ", "v");
+    std::string all;
+    for (const std::string& m : members) all += ", " + m;
+    line("  hash_fields(h" + all + ");");
     line("}");
     tally_function(c);
     line("friend void save_value(SnapshotWriter& w, const " + c.cpp + "& v) {");
-    each("save_value(w, ", "v");
+    each("save_value(w, ");
     line("}");
     line("friend void load_value(SnapshotReader& r, " + c.cpp + "& v) {");
-    each("load_value(r, ", "v");
+    each("load_value(r, ");
     line("}");
     if (c.shape_table) shape_table(c);
     --depth_;
