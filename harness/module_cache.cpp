@@ -89,11 +89,15 @@ std::string read_text(const fs::path& p) {
 // The compiler, its flags, the libraries a module links, the lowering that wrote
 // it (autumn_emit) and the runtime headers it includes all decide what a cached
 // module contains; a rebuilt library changes its size or time stamp, an edited
-// header its text. Computed once per process.
+// header its text. The lowering is the one linked into this binary, named by
+// its digest (generated at build time): the archive on disk may be newer than
+// the binary after a partial rebuild, and a key from it filed the old
+// lowering's modules under the new one's name. Computed once per process.
 const std::string& key_salt() {
   static const std::string salt = [] {
     std::string s = module_compiler_signature() + " abi " + std::to_string(AUTUMN_MODULE_ABI_VERSION);
-    std::istringstream libs(std::string(AUTUMN_MODULE_LIBS) + " " + AUTUMN_EMIT_LIB);
+    s += std::string(" lowering ") + linked_emit_digest();
+    std::istringstream libs(AUTUMN_MODULE_LIBS);
     for (std::string lib; libs >> lib;) {
       std::error_code ec;
       auto size = fs::file_size(lib, ec);

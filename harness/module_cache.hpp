@@ -101,4 +101,8 @@ struct BuiltinModules {
 };
 BuiltinModules builtin_modules();
 
+// The SHA-256 of the lowering library (libautumn_emit) linked into this binary,
+// part of every cache key: generated at build time (cmake/file_digest.cmake).
+const char* linked_emit_digest();
+
 }  // namespace autumn

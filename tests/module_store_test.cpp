@@ -21,11 +21,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "compiler/emit/emit_module.hpp"
+#include "harness/digest.hpp"
 #include "harness/module_build.hpp"
 #include "harness/module_config.hpp"  // generated: build/config/ (AUTUMN_CLANG_PLUGIN)
 #include "harness/module_cache.hpp"
@@ -400,6 +402,16 @@ TEST(ModuleBuild, ClangInProcessModulesAreExact) {
 
 // Built-in modules are used for the exact text of their program only: each one
 // carries that text, and its table was built from it.
+// The cache key names the lowering by the archive linked into the binary: its
+// digest, generated when the archive is built, is that of the archive this test
+// binary linked (the one the build just wrote).
+TEST(ModuleKey, NamesTheLoweringLinkedIn) {
+  std::ifstream in(AUTUMN_EMIT_ARCHIVE, std::ios::binary);
+  ASSERT_TRUE(in) << AUTUMN_EMIT_ARCHIVE;
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(autumn::linked_emit_digest(), autumn::sha256_hex(bytes));
+}
+
 TEST(BuiltinModules, CarryTheFullTextOfTheirProgram) {
   const autumn::BuiltinModules builtins = autumn::builtin_modules();
   ASSERT_GT(builtins.count, 0u);
