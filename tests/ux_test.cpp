@@ -501,6 +501,21 @@ TEST(HonestOutput, SolveDoesNotCountTheSearchModelsCompile) {
   EXPECT_LT(j["result"]["seconds"].get<double>(), j["compile_seconds"].get<double>() / 4) << r.out;
 }
 
+// bench-agent builds the planner's search model before its BFS clock starts,
+// as solve does: a first compile (a second or more) took a run's whole time
+// limit (0.5 s here) and left it none of its 2,000 successors.
+TEST(HonestOutput, BenchAgentDoesNotCountTheSearchModelsCompile) {
+  const fs::path dir = scratch("bench_model_compile");
+  const fs::path program = testing::source_dir() / "programs/sokoban.au";
+  auto r = run_cli("bench-agent " + program.string() + " --only bfs --bfs-nodes 2000 --seconds 0.5 --threads 1 --json",
+                   false, "AUTUMN_CACHE_DIR=" + (dir / "cache").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("(click-reset model) in "), std::string::npos) << "the model was compiled: " << r.out;
+  const nlohmann::json row = last_json(r.out)["programs"][0];
+  EXPECT_GE(row["bfs_nodes_1_thread"].get<uint64_t>(), 2000u) << r.out;
+  EXPECT_GE(row["bfs_nodes_n_threads"].get<uint64_t>(), 2000u) << r.out;
+}
+
 TEST(HonestOutput, DifftestListsErroredEpisodes) {
   const std::string prog = (testing::source_dir() / "tests/runtime_errors/division_by_zero.au").string();
   auto text = run_cli("difftest " + prog + " --seeds 2 --steps 20");
