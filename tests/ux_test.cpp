@@ -516,6 +516,20 @@ TEST(HonestOutput, BenchAgentDoesNotCountTheSearchModelsCompile) {
   EXPECT_GE(row["bfs_nodes_n_threads"].get<uint64_t>(), 2000u) << r.out;
 }
 
+// A BFS chunk the time limit cuts short still generated the successors of the
+// parents it expanded: they count. On the interpreter, gameOfLife's first layer
+// (one parent, 257 successors) takes about 0.6 s here and its second layer is
+// one chunk of 257 parents, far longer than 2 s; before, only the first layer
+// counted (257 successors whatever the limit, a rate of about 100/s).
+TEST(HonestOutput, BenchAgentCountsAChunkCutShort) {
+  const fs::path program = testing::shared_dir() / "conformance/programs/gameOfLife.sexp";
+  auto r = run_cli("bench-agent " + program.string() + " --engine interp --only bfs --seconds 2 --threads 1 --json", true);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const nlohmann::json row = last_json(r.out)["programs"][0];
+  EXPECT_GT(row["bfs_nodes_1_thread"].get<uint64_t>(), 257u) << r.out;
+  EXPECT_EQ(row["bfs_nodes_1_thread"].get<uint64_t>() % 257, 0u) << "whole parents: " << r.out;
+}
+
 TEST(HonestOutput, DifftestListsErroredEpisodes) {
   const std::string prog = (testing::source_dir() / "tests/runtime_errors/division_by_zero.au").string();
   auto text = run_cli("difftest " + prog + " --seeds 2 --steps 20");

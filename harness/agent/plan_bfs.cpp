@@ -201,6 +201,7 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   for (Worker& W : workers_)
     for (int side = 0; side < 2; ++side) W.bytes[side].reserve(W.last_bytes[side] + W.last_bytes[side] / 2);
   std::atomic<bool> timed_out{false};
+  std::atomic<size_t> expanded{0};  // parents whose successors were all generated
   // Waking the threads costs more than a small chunk's work (deep, narrow
   // searches): those run on the calling thread, with the same results.
   ThreadPool& pool = (end - begin) * A_ < 1024 ? serial_ : p_.pool();
@@ -211,9 +212,13 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
       return;
     }
     expand_parent(begin, k, workers_[w], free_phase);
+    expanded.fetch_add(1, std::memory_order_relaxed);
   });
+  // A chunk the time limit cut short is not placed, but its successors were
+  // generated: counted, so that the rate of a slow engine (a chunk longer than
+  // the limit) is not reported as a few successors in the whole time.
+  out_.nodes += (timed_out ? expanded.load() : end - begin) * free_count_[free_phase ? 1 : 0];
   if (timed_out) return false;
-  out_.nodes += (end - begin) * free_count_[free_phase ? 1 : 0];
   for (Worker& W : workers_) {
     W.local.clear();
     W.last_bytes[0] = W.bytes[0].size();
