@@ -91,7 +91,7 @@ SVal Specialiser::read_global(Global& g) {
     // that does gets the interpreter in its module, not a clause that runs on.
     if (!g.type || (g.type->k != TK::Func && g.type->k != TK::Class && g.type->k != TK::Never))
       sites_.unsupported("global '" + nm(g.sym) + "' read before the lowering gave it a place");
-    return SVal{g.type, nullptr};
+    return SVal{g.type ? g.type : T().never(), nullptr};  // never a value without a type
   }
   SVal v = let(SVal{g.type, ir_.slot(g.value)}, "g");
   if (g.constant) v.konst = g.constant->konst;
