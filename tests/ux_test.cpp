@@ -363,6 +363,22 @@ TEST(FirstRun, AnswersAtOnceAndCompilesBehind) {
   EXPECT_EQ(modules_in(cache).size(), 1u);
 }
 
+// check --engine compiled checks the module: on first use it waits for the
+// compile rather than letting the interpreter serve the frames it compares
+// (which would pass whatever the module draws).
+TEST(FirstRun, CheckOfTheCompiledEngineWaitsForTheModule) {
+  const fs::path dir = scratch("first_run_check"), cache = dir / "cache";
+  const fs::path conformance = testing::shared_dir() / "conformance";
+  auto r = run_cli("check " + (conformance / "programs/ab_buoyancy.sexp").string() + " " +
+                       (conformance / "traces/ab_buoyancy.json").string() + " --engine compiled --quiet",
+                   false, "AUTUMN_CACHE_DIR=" + cache.string());
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("ab_buoyancy.sexp (first use)\n"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("the interpreter runs meanwhile"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("matched 488/488 frames in 8 traces"), std::string::npos) << r.out;
+  EXPECT_EQ(modules_in(cache).size(), 1u) << "the module was built before check answered";
+}
+
 TEST(FirstRun, ErrorsAreLocatedInTheTextBeingRun) {
   const fs::path dir = scratch("relocate"), cache = dir / "cache";
   const std::string original = testing::read_text(testing::source_dir() / "tests/runtime_errors/undefined_variable.au");

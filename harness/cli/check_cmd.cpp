@@ -81,7 +81,8 @@ int run_check(const CheckOptions& o) {
   }
   auto program = load_or_report(o.program, file.triggering_condition);
   if (!program) return kExitFailed;
-  auto env = make_env("check", o.engine, program);
+  // --engine compiled checks the module's frames, never the interpreter's while it compiles.
+  auto env = make_env("check", o.engine, program, FirstUse::kWaitForModule);
   if (!env) return kExitFailed;
   CheckResult r = check_traces(*env, file);
   print_result(o, r);

@@ -37,9 +37,10 @@ std::shared_ptr<const Program> load_or_report(const std::string& path, const std
 }
 
 std::unique_ptr<Environment> make_env(const std::string& command, const std::string& engine,
-                                      std::shared_ptr<const Program> program) {
+                                      std::shared_ptr<const Program> program, FirstUse first_use) {
   std::string why;
-  auto env = make_episode_environment(engine, std::move(program), &why);
+  auto env = first_use == FirstUse::kWaitForModule ? make_environment(engine, std::move(program), &why)
+                                                   : make_episode_environment(engine, std::move(program), &why);
   if (!env) std::cerr << "autumn " << command << ": " << why << "\n";
   else env->set_limits(episode_limits());
   return env;

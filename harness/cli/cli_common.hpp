@@ -54,11 +54,16 @@ const Limits& episode_limits();
 // of the runs a sharded command's merge compares (shard_options.hpp).
 nlohmann::json episode_limits_json();
 
-// An environment of `engine` for one episode under episode_limits(), or null after printing why. With
-// the compiled engine and a program not compiled yet, the interpreter serves the
-// first steps while the module compiles (harness/module_cache.hpp).
+// What the compiled engine does when the program's module is not built yet.
+enum class FirstUse {
+  kInterpreterMeanwhile,  // the interpreter serves the first steps while it compiles (run, render, survey)
+  kWaitForModule,         // the command waits for it: a check of an engine checks that engine (check)
+};
+// An environment of `engine` for one episode under episode_limits(), or null after printing why
+// (harness/module_cache.hpp: make_compiled_episode_environment, make_compiled_environment).
 std::unique_ptr<Environment> make_env(const std::string& command, const std::string& engine,
-                                      std::shared_ptr<const Program> program);
+                                      std::shared_ptr<const Program> program,
+                                      FirstUse first_use = FirstUse::kInterpreterMeanwhile);
 
 // --actions text or an --actions-file (one action a line, '#' comments), padded
 // with noop to `steps` when steps >= 0. Null after printing a one-line reason.
