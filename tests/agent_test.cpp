@@ -19,6 +19,7 @@
 #include <tuple>
 #include <random>
 #include <algorithm>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -34,6 +35,9 @@
 #include "harness/agent/make_task.hpp"
 #include "harness/agent/mfp.hpp"
 #include "harness/agent/plan_bfs.hpp"
+#include "harness/agent/huge_pages.hpp"
+#include "harness/agent/seen_set.hpp"
+#include "harness/agent/thread_pool.hpp"
 #include "harness/agent/particles.hpp"
 #include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_fill.hpp"
@@ -197,6 +201,94 @@ TEST(AgentStateHashSet, AgreesWithStdSetThroughGrowthAndClears) {
     EXPECT_EQ(set.size(), 0u);
     EXPECT_FALSE(set.contains(0));
   }
+}
+
+// The BFS's seen set against std::set: rounds of hashes (zero, repeats, and
+// many in one shard, which grows every shard's table), each round's room
+// reserved, then inserted by two threads at once, each into its own shards,
+// as the search's dedup does.
+TEST(AgentSeenSet, AgreesWithStdSetThroughGrowthAndParallelInserts) {
+  std::mt19937_64 rng(11);
+  SeenSet set;
+  std::set<uint64_t> model;
+  ThreadPool pool(2);
+  std::vector<uint64_t> all;
+  for (int round = 0; round < 5; ++round) {
+    std::vector<uint64_t> batch;
+    const size_t n = size_t{200} << (2 * round);  // 200 to 51,200: several growths
+    for (size_t i = 0; i < n; ++i) {
+      uint64_t h = rng();
+      if (i % 3 == 0) h = (h >> 6) | (uint64_t{0x15} << 58);  // shard 0x15's top bits
+      if (i % 13 == 0) h = 0;
+      if (i % 5 == 0 && !all.empty()) h = all[rng() % all.size()];  // met before
+      batch.push_back(h);
+    }
+    std::vector<size_t> incoming(SeenSet::kShards, 0);
+    for (uint64_t h : batch) ++incoming[SeenSet::shard_of(h)];
+    set.reserve(incoming, pool);
+    // What insert answers, per hash of the batch in order: the first of equal ones is new.
+    std::vector<uint8_t> fresh(batch.size(), 0);
+    pool.parallel_for(2, [&](size_t half) {
+      for (size_t i = 0; i < batch.size(); ++i)
+        if (SeenSet::shard_of(batch[i]) % 2 == half) fresh[i] = set.insert(batch[i]);
+    });
+    for (size_t i = 0; i < batch.size(); ++i)
+      ASSERT_EQ(fresh[i] != 0, model.insert(batch[i]).second) << "round " << round << ", hash " << i;
+    all.insert(all.end(), batch.begin(), batch.end());
+    ASSERT_EQ(set.size(), model.size());
+    for (uint64_t h : model) ASSERT_TRUE(set.contains(h));
+    for (int i = 0; i < 1000; ++i) {
+      const uint64_t h = rng();
+      ASSERT_EQ(set.contains(h), model.count(h) > 0);
+    }
+  }
+}
+
+// The huge-page helpers only advise whole 2 MiB pages inside the range, and
+// reserving or growing through them keeps a vector's contents.
+TEST(AgentHugePages, AdviseOnlyWholePagesAndKeepContents) {
+  EXPECT_FALSE(advise_huge_pages(nullptr, size_t{8} << 20));
+  std::vector<uint8_t> small(4096);
+  EXPECT_FALSE(advise_huge_pages(small.data(), small.size())) << "less than one whole 2 MiB page";
+  std::vector<uint64_t> v = {1, 2, 3};
+  reserve_huge(v, size_t{1} << 20);  // 8 MiB: holds whole huge pages
+  EXPECT_GE(v.capacity(), size_t{1} << 20);
+  EXPECT_EQ(v, (std::vector<uint64_t>{1, 2, 3}));
+  if (std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"))  // a kernel with THP takes the advice
+    EXPECT_TRUE(advise_huge_pages(v.data() + v.size(), (v.capacity() - v.size()) * sizeof(uint64_t)));
+  const size_t cap = v.capacity();
+  resize_huge(v, cap + 1);  // past the capacity: doubles
+  EXPECT_EQ(v.size(), cap + 1);
+  EXPECT_GE(v.capacity(), 2 * cap);
+  EXPECT_EQ(v[0], 1u);
+  EXPECT_EQ(v[2], 3u);
+  EXPECT_EQ(v[cap], 0u);
+  resize_huge(v, 5);  // shrinks like resize
+  EXPECT_EQ(v, (std::vector<uint64_t>{1, 2, 3, 0, 0}));
+}
+
+// release_unused gives back the pages after a buffer's use up to the end of
+// the huge page its use ends in, and keeps what it holds.
+TEST(AgentHugePages, ReleaseUnusedGivesBackTheRestOfTheLastPage) {
+  constexpr uintptr_t kPage = 4096, kHuge = uintptr_t{2} << 20;
+  std::vector<uint8_t> b;
+  reserve_huge(b, size_t{8} << 20);
+  b.resize(b.capacity(), 7);  // every page written, so resident
+  b.resize(100);
+  release_unused(b);
+  const uintptr_t data = reinterpret_cast<uintptr_t>(b.data());
+  const uintptr_t start = data & ~(kPage - 1), used = (data + 100 + kPage - 1) & ~(kPage - 1);
+  const uintptr_t huge_end = (data + 100 + kHuge - 1) & ~(kHuge - 1);
+  std::vector<unsigned char> resident((huge_end - start) / kPage);
+  ASSERT_EQ(mincore(reinterpret_cast<void*>(start), huge_end - start, resident.data()), 0);
+  EXPECT_TRUE(resident[0] & 1) << "the page holding the buffer's use";
+  size_t kept = 0;
+  for (uintptr_t p = used; p < huge_end; p += kPage) kept += resident[(p - start) / kPage] & 1;
+  EXPECT_EQ(kept, 0u) << "pages after the use, up to the end of its huge page, are given back";
+  for (size_t i = 0; i < b.size(); ++i) ASSERT_EQ(b[i], 7) << i;
+  b.resize(b.capacity() / 2, 9);  // the capacity is still the buffer's to fill
+  EXPECT_EQ(b[100], 9);
+  EXPECT_EQ(b.back(), 9);
 }
 
 TEST(AgentThreadPool, RunsEveryIndexOnceAndRethrows) {

@@ -4,15 +4,16 @@
 
 #include <atomic>
 
+#include "harness/agent/huge_pages.hpp"
+#include "harness/agent/seen_set.hpp"
 #include "harness/agent/state_hash_set.hpp"
 
 namespace autumn::agent {
 
 namespace {
 
-constexpr int kShardBits = 6;
-constexpr size_t kShards = size_t{1} << kShardBits;
-size_t shard_of(uint64_t h) { return static_cast<size_t>(h >> (64 - kShardBits)); }
+constexpr size_t kShards = SeenSet::kShards;
+size_t shard_of(uint64_t h) { return SeenSet::shard_of(h); }
 
 class LayeredBfs {
  public:
@@ -52,6 +53,7 @@ class LayeredBfs {
     FrameColours colours;
     std::vector<uint8_t> bytes[2];  // this chunk's new states: [0] this layer (free), [1] the next
     size_t last_bytes[2] = {0, 0};  // their size in the last chunk: the next one's reservation
+    uint32_t largest = 0;           // the largest snapshot it has stored
     std::vector<std::vector<Fresh>> fresh = std::vector<std::vector<Fresh>>(kShards);
   };
 
@@ -86,12 +88,7 @@ class LayeredBfs {
   size_t free_count_[2] = {0, 0};  // actions per parent in a phase: [0] costing, [1] free
   size_t chunk_parents_ = 0;
   ThreadPool serial_{1};
-  // A shard's seen set alone on its cache line: the threads settle neighbouring
-  // shards at once, and every insert writes its set's size.
-  struct alignas(64) SeenShard {
-    StateHashSet set;
-  };
-  std::vector<SeenShard> seen_ = std::vector<SeenShard>(kShards);
+  SeenSet seen_;
   std::vector<Node> nodes_;
   Layer cur_, next_;
   bool snapshots_ = false;
@@ -100,6 +97,7 @@ class LayeredBfs {
   bool store_next_ = true;   // this chunk stores the next layer's states (expand_chunk)
   bool final_layer_ = false;  // the layer of cost max_cost - 1: no next layer is expanded
   uint32_t buffer_base_[2] = {0, 0};
+  uint64_t start_bytes_ = 0;  // the root's snapshot size
   std::vector<Worker> workers_;
   std::vector<std::vector<Fresh*>> won_ = std::vector<std::vector<Fresh*>>(kShards);
   std::vector<std::vector<Fresh*>> merged_ = std::vector<std::vector<Fresh*>>(kShards);  // dedup's, kept for its storage
@@ -153,7 +151,7 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
     if (!env || !env->copy_from(*parent)) env = parent->clone();
     if (!env->step(spec_.actions[a])) continue;
     const uint64_t h = env->state_hash();
-    seen_[shard_of(h)].set.prefetch(h);
+    seen_.prefetch(h);
     if (pending) settle(last, k, W, store_free, store_next);
     last = Stepped{a, h, next};
     pending = true;
@@ -164,7 +162,7 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
 
 void LayeredBfs::settle(const Stepped& s, size_t k, Worker& W, bool store_free, bool store_next) {
   const uint64_t h = s.hash;
-  if (seen_[shard_of(h)].set.contains(h) || !W.local.insert(h)) return;
+  if (seen_.contains(h) || !W.local.insert(h)) return;
   std::unique_ptr<Environment>& env = W.scratch[s.scratch];
   const int side = is_free(s.action) ? 0 : 1;
   std::vector<uint8_t>& bytes = W.bytes[side];
@@ -174,6 +172,7 @@ void LayeredBfs::settle(const Stepped& s, size_t k, Worker& W, bool store_free, 
   if (store && snapshots_) {
     env->save_state(bytes);
     f.size = static_cast<uint32_t>(bytes.size() - f.offset);
+    W.largest = std::max(W.largest, f.size);
   } else if (store && keep_env_) {
     f.env = std::move(env);
   }
@@ -195,11 +194,21 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   store_next_ = free_phase || (!final_layer_ && out_.nodes + (cur_.open.size() - begin) * free_count_[0] < spec_.limit.nodes);
   buffer_base_[0] = static_cast<uint32_t>(cur_.buffers.size());
   buffer_base_[1] = static_cast<uint32_t>(next_.buffers.size());
-  // Each worker's buffers start as large as its last chunk's, and a half more:
-  // grown by doubling instead, they were copied and their pages faulted in
-  // again at each doubling. Pages reserved but not written cost no memory.
+  // Each worker's buffers start as large as its last chunk's and a half more,
+  // or as every successor of the chunk stored at the largest snapshot size
+  // met so far (up to 256 MiB): grown by doubling instead, they were copied
+  // and their pages faulted in again at each doubling, and the first chunk of
+  // a wide layer follows a small one. Reserved pages cost no memory until
+  // written, and are advised onto huge pages (huge_pages.hpp).
+  uint64_t largest = start_bytes_;
+  for (const Worker& W : workers_) largest = std::max<uint64_t>(largest, W.largest);
+  const bool stores[2] = {true, store_next_};
   for (Worker& W : workers_)
-    for (int side = 0; side < 2; ++side) W.bytes[side].reserve(W.last_bytes[side] + W.last_bytes[side] / 2);
+    for (int side = 0; side < 2; ++side) {
+      const uint64_t all = stores[side] ? (end - begin) * free_count_[side == 0 ? 1 : 0] * largest : 0;
+      reserve_huge(W.bytes[side], std::max<uint64_t>(W.last_bytes[side] + W.last_bytes[side] / 2,
+                                                     std::min<uint64_t>(all, uint64_t{256} << 20)));
+    }
   std::atomic<bool> timed_out{false};
   std::atomic<size_t> expanded{0};  // parents whose successors were all generated
   // Waking the threads costs more than a small chunk's work (deep, narrow
@@ -223,6 +232,8 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
     W.local.clear();
     W.last_bytes[0] = W.bytes[0].size();
     W.last_bytes[1] = W.bytes[1].size();
+    release_unused(W.bytes[0]);  // kept until the layer is done: only what it holds stays resident
+    release_unused(W.bytes[1]);
     cur_.buffers.push_back(std::move(W.bytes[0]));
     next_.buffers.push_back(std::move(W.bytes[1]));
     W.bytes[0] = {};
@@ -232,6 +243,11 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
 }
 
 void LayeredBfs::dedup() {
+  // Room in the seen set for every new state of the chunk, before the threads insert.
+  std::vector<size_t> incoming(kShards, 0);
+  for (const Worker& W : workers_)
+    for (size_t sh = 0; sh < kShards; ++sh) incoming[sh] += W.fresh[sh].size();
+  seen_.reserve(incoming, p_.pool());
   p_.pool().parallel_for(kShards, [&](size_t sh) {
     // Each shard's lists are taken out of their tables while they grow (their
     // vector headers sit side by side, written on every push), and put back.
@@ -256,14 +272,13 @@ void LayeredBfs::dedup() {
     // ...then into the seen set, each insert's table slots fetched a few ahead:
     // the set outgrows the caches, and a miss per insert was most of this phase.
     constexpr size_t kAhead = 8;
-    StateHashSet& seen = seen_[sh].set;
     // Counted here and written once: neighbouring shards' counters share a
     // cache line, and the other thread settles the shard beside this one.
     uint64_t stored = 0, first_hit = UINT64_MAX;
     for (size_t i = 0; i < order.size(); ++i) {
-      if (i + kAhead < order.size()) seen.prefetch(order[i + kAhead]->hash);
+      if (i + kAhead < order.size()) seen_.prefetch(order[i + kAhead]->hash);
       Fresh* f = order[i];
-      if (!seen.insert(f->hash)) continue;
+      if (!seen_.insert(f->hash)) continue;
       won.push_back(f);
       stored += f->size > 0 || f->env;  // its state was kept
       if (f->hit) first_hit = std::min(first_hit, f->index);
@@ -284,13 +299,13 @@ void LayeredBfs::place(size_t begin, bool free_phase) {
   std::vector<size_t> offset(kShards + 1, 0);
   for (size_t sh = 0; sh < kShards; ++sh) offset[sh + 1] = offset[sh] + won_[sh].size();
   const size_t node_base = nodes_.size();
-  nodes_.resize(node_base + offset[kShards]);
-  hash_of_.resize(nodes_.size());
+  resize_huge(nodes_, node_base + offset[kShards]);
+  resize_huge(hash_of_, nodes_.size());
   const bool direct = !free_phase && free_count_[1] == 0;  // every winner joins next_
   const bool unplaced = direct && !store_next_;             // ...and is never expanded: no Open
   const size_t open_base = next_.open.size();
   if (unplaced) next_.unplaced += offset[kShards];
-  else if (direct) next_.open.resize(open_base + offset[kShards]);
+  else if (direct) resize_huge(next_.open, open_base + offset[kShards]);
   std::vector<Open> placed(direct ? 0 : offset[kShards]);
   std::vector<uint8_t> free(direct ? 0 : offset[kShards]);
   std::vector<uint64_t> kept(kShards, 0);
@@ -328,7 +343,7 @@ int LayeredBfs::target_of(int64_t node) const {
 }
 
 BfsOutcome LayeredBfs::finish(int64_t node, bool found) {
-  for (const SeenShard& s : seen_) out_.distinct += s.set.size();
+  out_.distinct += seen_.size();
   out_.stored = 1;  // the root
   for (uint64_t n : stored_) out_.stored += n;
   if (found) {
@@ -377,15 +392,22 @@ bool LayeredBfs::phase(int layer, bool free_phase, int64_t& hit_node) {
 }
 
 BfsOutcome LayeredBfs::run() {
-  // Room for the whole budget up front (address space only until written):
+  chunk_parents_ = std::max<size_t>(256, 65536 / std::max<size_t>(A_, 1));
+  // Room for the whole budget up front (address space only until written),
+  // and for the chunk that crosses it (the budget is checked between chunks):
   // grown by doubling, the node table was copied on the serial path of a chunk.
-  const size_t room = static_cast<size_t>(std::min<uint64_t>(spec_.limit.nodes, uint64_t{1} << 22)) + 1;
-  nodes_.reserve(room);
-  hash_of_.reserve(room);
+  const size_t room = static_cast<size_t>(std::min<uint64_t>(spec_.limit.nodes, uint64_t{1} << 22)) + chunk_parents_ * A_ + 1;
+  reserve_huge(nodes_, room);
+  reserve_huge(hash_of_, room);
   nodes_ = {{-1, -1, 0}};
   const uint64_t h0 = start_.state_hash();
   hash_of_ = {h0};
-  seen_[shard_of(h0)].set.insert(h0);
+  {
+    std::vector<size_t> one(kShards, 0);
+    one[shard_of(h0)] = 1;
+    seen_.reserve(one, serial_);
+    seen_.insert(h0);
+  }
   {
     FrameColours colours;
     if ((spec_.targets && spec_.targets->contains(h0)) || (spec_.goal && p_.goal().reached(start_, colours)))
@@ -396,10 +418,10 @@ BfsOutcome LayeredBfs::run() {
   snapshots_ = start_.save_state(cur_.buffers[0]);
   cur_.open.resize(1);
   cur_.open[0].size = static_cast<uint32_t>(cur_.buffers[0].size());
+  start_bytes_ = snapshots_ ? cur_.buffers[0].size() : 0;
   if (!snapshots_) cur_.open[0].env = start_.clone(), kept_ = 1;
   workers_.resize(p_.pool().size());
   for (Worker& W : workers_) W.parent = start_.clone(), W.replay_root = start_.clone();  // one thread clones
-  chunk_parents_ = std::max<size_t>(256, 65536 / std::max<size_t>(A_, 1));
   for (int layer = 0; layer < spec_.max_cost; ++layer) {
     final_layer_ = layer + 1 >= spec_.max_cost;
     // The layer's closure under free actions first, so that no state of this

@@ -1,5 +1,6 @@
-// state_hash_set — a set of 64-bit state hashes for the BFS (plan_bfs.cpp): the
-// shards of the seen set, and each worker's states of the current chunk.
+// state_hash_set — a set of 64-bit state hashes for the BFS (plan_bfs.cpp): each
+// worker's states of the current chunk (the seen set's shards, once these too,
+// are seen_set.hpp's tables in one buffer).
 //
 // Open addressing with linear probing over a power-of-two table of the hashes
 // themselves (0 marks an empty slot; the zero hash is a flag of its own), at

@@ -1,0 +1,28 @@
+// huge_pages — see huge_pages.hpp. The one system call, and the rounding.
+#include "harness/agent/huge_pages.hpp"
+
+#include <sys/mman.h>
+
+#include <algorithm>
+#include <cstdint>
+
+namespace autumn::agent {
+
+bool advise_huge_pages(const void* p, size_t bytes) {
+  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
+  const uintptr_t begin = reinterpret_cast<uintptr_t>(p);
+  const uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
+  const uintptr_t last = (begin + bytes) & ~(kHuge - 1);
+  if (p == nullptr || last <= first) return false;
+  return madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE) == 0;
+}
+
+void release_unused(const void* used_end, const void* capacity_end) {
+  constexpr uintptr_t kPage = 4096, kHuge = uintptr_t{2} << 20;
+  const uintptr_t used = reinterpret_cast<uintptr_t>(used_end);
+  const uintptr_t first = (used + kPage - 1) & ~(kPage - 1);
+  const uintptr_t last = std::min((used + kHuge - 1) & ~(kHuge - 1), reinterpret_cast<uintptr_t>(capacity_end) & ~(kPage - 1));
+  if (used_end != nullptr && first < last) madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+}
+
+}  // namespace autumn::agent

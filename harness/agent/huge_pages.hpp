@@ -1,0 +1,54 @@
+// huge_pages — large search buffers on transparent huge pages.
+//
+// A buffer the search is about to fill (the node table, a seen-set shard's
+// table, a chunk's snapshots) is asked to be backed by 2 MiB pages
+// (madvise(MADV_HUGEPAGE)) before anything is written to it, so that filling it
+// takes one page fault per 2 MiB instead of one per 4 KiB. On this project's
+// VM a BFS of a million successors took 60k page faults, which cost more time
+// than the settling of the successors (docs/design.md, "Page faults"). Only
+// the untouched part of the buffer is advised, rounded inward to whole 2 MiB
+// pages; below that nothing is done. It is a hint: with THP off ("never")
+// the kernel ignores it, and nothing a buffer holds depends on it. A huge page
+// is resident whole once written at all, so a buffer reserved beyond its use
+// gives back the rest of its last page when it is done (release_unused).
+// Test: tests/agent_test.cpp (AgentHugePages.*).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace autumn::agent {
+
+// Advises [p, p + bytes) rounded inward to 2 MiB boundaries; true if a range
+// was advised (and the kernel accepted it).
+bool advise_huge_pages(const void* p, size_t bytes);
+
+// Gives back the pages of [used_end, capacity_end) that filling up to
+// used_end may have brought in: the rest of a huge page that used_end falls
+// in. A buffer that is done growing, with a reservation far beyond its use,
+// then holds no more than its use rounded up to 4 KiB.
+void release_unused(const void* used_end, const void* capacity_end);
+
+// v.reserve(n), with its unwritten capacity advised.
+template <class T, class A>
+void reserve_huge(std::vector<T, A>& v, size_t n) {
+  if (n <= v.capacity()) return;
+  v.reserve(n);
+  advise_huge_pages(v.data() + v.size(), (v.capacity() - v.size()) * sizeof(T));
+}
+
+// release_unused over v's unused capacity.
+template <class T, class A>
+void release_unused(const std::vector<T, A>& v) {
+  release_unused(v.data() + v.size(), v.data() + v.capacity());
+}
+
+// v.resize(n), growing by doubling into advised capacity.
+template <class T, class A>
+void resize_huge(std::vector<T, A>& v, size_t n) {
+  if (n > v.capacity()) reserve_huge(v, std::max(n, v.capacity() * 2));
+  v.resize(n);
+}
+
+}  // namespace autumn::agent

@@ -1,0 +1,38 @@
+// seen_set — see seen_set.hpp: the growth of every shard's table at once.
+#include "harness/agent/seen_set.hpp"
+
+#include <algorithm>
+
+#include "harness/agent/huge_pages.hpp"
+#include "harness/agent/thread_pool.hpp"
+
+namespace autumn::agent {
+
+void SeenSet::reserve(const std::vector<size_t>& incoming, ThreadPool& pool) {
+  size_t need = 0;  // the most nonzero hashes a shard may hold
+  for (size_t sh = 0; sh < kShards; ++sh) need = std::max(need, shards_[sh].count + incoming[sh]);
+  if (need * 2 <= per_shard_) return;
+  size_t per = std::max<size_t>(per_shard_, 512);
+  while (need * 2 > per) per *= 2;
+  std::vector<uint64_t> old;
+  reserve_huge(old, per * kShards);
+  old.resize(per * kShards, 0);
+  old.swap(slots_);
+  const size_t old_per = per_shard_;
+  per_shard_ = per;
+  mask_ = per - 1;
+  shift_ = 64 - __builtin_ctzll(per);
+  pool.parallel_for(kShards, [&](size_t sh) {
+    shards_[sh].count = 0;
+    for (size_t i = 0; i < old_per; ++i)
+      if (const uint64_t h = old[sh * old_per + i]; h != 0) insert(h);
+  });
+}
+
+size_t SeenSet::size() const {
+  size_t n = 0;
+  for (const Shard& s : shards_) n += s.count + (s.zero ? 1 : 0);
+  return n;
+}
+
+}  // namespace autumn::agent

@@ -1,0 +1,93 @@
+// seen_set — the BFS's set of every state hash met (plan_bfs.cpp), in shards
+// that threads fill at once.
+//
+// A hash's shard is its top kShardBits bits. Each shard is an open-addressed
+// table like StateHashSet's (linear probing over the hashes themselves, 0 an
+// empty slot, the zero hash a flag, at most half full), and all the shards'
+// tables lie side by side in one buffer, all of one size, grown together.
+// The search alternates phases: threads read the set (contains, prefetch)
+// while they expand a chunk; then reserve() makes room for the chunk's new
+// states, and threads insert, each into shards no other thread is inserting
+// into. The tables were once 64 separate StateHashSets: each doubling of each
+// allocated fresh memory, and their page faults were a third of a cheap
+// program's search (docs/design.md, "Page faults"); one buffer grown by
+// doubling is advised onto huge pages (huge_pages.hpp).
+// Test: tests/agent_test.cpp (AgentSeenSet.*).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace autumn::agent {
+
+class ThreadPool;
+
+class SeenSet {
+ public:
+  static constexpr int kShardBits = 6;
+  static constexpr size_t kShards = size_t{1} << kShardBits;
+  static size_t shard_of(uint64_t h) { return static_cast<size_t>(h >> (64 - kShardBits)); }
+
+  // Room for incoming[sh] more hashes in each shard sh (kShards counts):
+  // afterwards that many inserts need no growth. Runs the rehash of a growth
+  // on `pool`. Nothing else may use the set meanwhile.
+  void reserve(const std::vector<size_t>& incoming, ThreadPool& pool);
+  // Inserts h; true if it was not there. Its shard must have room (reserve);
+  // threads may insert at once into different shards.
+  bool insert(uint64_t h) {
+    Shard& s = shards_[shard_of(h)];
+    if (h == 0) {
+      const bool fresh = !s.zero;
+      s.zero = true;
+      return fresh;
+    }
+    uint64_t* t = table(shard_of(h));
+    for (size_t i = slot_of(h);; i = (i + 1) & mask_) {
+      if (t[i] == h) return false;
+      if (t[i] == 0) {
+        t[i] = h;
+        ++s.count;
+        return true;
+      }
+    }
+  }
+  bool contains(uint64_t h) const {
+    const Shard& s = shards_[shard_of(h)];
+    if (h == 0) return s.zero;
+    if (s.count == 0) return false;
+    const uint64_t* t = table(shard_of(h));
+    for (size_t i = slot_of(h);; i = (i + 1) & mask_) {
+      if (t[i] == h) return true;
+      if (t[i] == 0) return false;
+    }
+  }
+  // Fetches h's slot into the cache ahead of an insert or a lookup.
+  void prefetch(uint64_t h) const {
+    if (per_shard_ > 0) __builtin_prefetch(table(shard_of(h)) + slot_of(h));
+  }
+  size_t size() const;
+
+ private:
+  // A shard's hashes share their top bits: the slot is the high bits of a multiply.
+  size_t slot_of(uint64_t h) const { return static_cast<size_t>((h * 0x9e3779b97f4a7c15ULL) >> shift_); }
+  uint64_t* table(size_t shard) { return slots_.data() + shard * per_shard_; }
+  const uint64_t* table(size_t shard) const { return slots_.data() + shard * per_shard_; }
+
+  // Each shard's count alone on its cache line: threads insert into
+  // neighbouring shards at once, and every insert writes its count.
+  struct alignas(64) Shard {
+    size_t count = 0;  // nonzero hashes in its table
+    bool zero = false;  // whether the zero hash is in the set
+  };
+  // Invariants: slots_ holds kShards tables of per_shard_ slots (0 or a power
+  // of two, at least twice every shard's count), shard sh's at sh * per_shard_;
+  // mask_ and shift_ are per_shard_'s.
+  std::vector<uint64_t> slots_;
+  size_t per_shard_ = 0;
+  size_t mask_ = 0;
+  int shift_ = 64;
+  std::vector<Shard> shards_ = std::vector<Shard>(kShards);
+};
+
+}  // namespace autumn::agent
