@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <iterator>
 #include <vector>
 
 namespace autumn::agent {
@@ -30,12 +31,16 @@ bool advise_huge_pages(const void* p, size_t bytes);
 // then holds no more than its use rounded up to 4 KiB.
 void release_unused(const void* used_end, const void* capacity_end);
 
-// v.reserve(n), with its unwritten capacity advised.
+// v.reserve(n), the new buffer advised before v's elements are moved into it
+// (reserve() itself would copy them onto small pages first).
 template <class T, class A>
 void reserve_huge(std::vector<T, A>& v, size_t n) {
   if (n <= v.capacity()) return;
-  v.reserve(n);
-  advise_huge_pages(v.data() + v.size(), (v.capacity() - v.size()) * sizeof(T));
+  std::vector<T, A> w(v.get_allocator());
+  w.reserve(n);
+  advise_huge_pages(w.data(), w.capacity() * sizeof(T));
+  w.insert(w.end(), std::make_move_iterator(v.begin()), std::make_move_iterator(v.end()));
+  v.swap(w);
 }
 
 // release_unused over v's unused capacity.
