@@ -244,6 +244,41 @@ TEST(AgentSeenSet, AgreesWithStdSetThroughGrowthAndParallelInserts) {
   }
 }
 
+// Whether the mapping holding p is advised onto huge pages (its VmFlags in
+// /proc/self/smaps say "hg").
+static bool advised_huge(const void* p) {
+  std::ifstream smaps("/proc/self/smaps");
+  const uintptr_t a = reinterpret_cast<uintptr_t>(p);
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    unsigned long lo = 0, hi = 0;
+    if (std::sscanf(line.c_str(), "%lx-%lx ", &lo, &hi) == 2 && line.find(':') > line.find(' ')) inside = lo <= a && a < hi;
+    else if (inside && line.rfind("VmFlags:", 0) == 0) return line.find(" hg") != std::string::npos;
+  }
+  return false;
+}
+
+// A new buffer's first 2 MiB stays on small pages (a small search never
+// zeroes a whole huge page), the rest is advised; a buffer that already
+// holds 2 MiB is advised whole when it grows.
+TEST(AgentHugePages, TheFirstTwoMegabytesStayOnSmallPages) {
+  if (!std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled")) GTEST_SKIP() << "no THP in this kernel";
+  // The first whole huge page of a buffer: inside its first 2 MiB.
+  auto first_page = [](const uint8_t* p) {
+    return reinterpret_cast<const void*>((reinterpret_cast<uintptr_t>(p) + (uintptr_t{2} << 20) - 1) & ~((uintptr_t{2} << 20) - 1));
+  };
+  std::vector<uint8_t> b;
+  reserve_huge(b, size_t{16} << 20);
+  EXPECT_FALSE(advised_huge(first_page(b.data()))) << "in the first 2 MiB";
+  EXPECT_TRUE(advised_huge(b.data() + (size_t{6} << 20)));
+  b.resize(size_t{3} << 20, 1);
+  reserve_huge(b, size_t{64} << 20);  // grows, holding 3 MiB
+  EXPECT_TRUE(advised_huge(first_page(b.data()))) << "a large buffer's new home, from its start";
+  EXPECT_EQ(b[0], 1);
+  EXPECT_EQ(b.back(), 1);
+}
+
 // The huge-page helpers only advise whole 2 MiB pages inside the range, and
 // reserving or growing through them keeps a vector's contents.
 TEST(AgentHugePages, AdviseOnlyWholePagesAndKeepContents) {
@@ -274,20 +309,22 @@ TEST(AgentHugePages, ReleaseUnusedGivesBackTheRestOfTheLastPage) {
   std::vector<uint8_t> b;
   reserve_huge(b, size_t{8} << 20);
   b.resize(b.capacity(), 7);  // every page written, so resident
-  b.resize(100);
+  const size_t use = (size_t{3} << 20) + 100;  // past the first 2 MiB, which stays on small pages
+  b.resize(use);
   release_unused(b);
   const uintptr_t data = reinterpret_cast<uintptr_t>(b.data());
-  const uintptr_t start = data & ~(kPage - 1), used = (data + 100 + kPage - 1) & ~(kPage - 1);
-  const uintptr_t huge_end = (data + 100 + kHuge - 1) & ~(kHuge - 1);
+  const uintptr_t start = (data + use - 1) & ~(kPage - 1), used = (data + use + kPage - 1) & ~(kPage - 1);
+  const uintptr_t huge_end = (data + use + kHuge - 1) & ~(kHuge - 1);
   std::vector<unsigned char> resident((huge_end - start) / kPage);
   ASSERT_EQ(mincore(reinterpret_cast<void*>(start), huge_end - start, resident.data()), 0);
-  EXPECT_TRUE(resident[0] & 1) << "the page holding the buffer's use";
+  EXPECT_TRUE(resident[0] & 1) << "the page holding the end of the buffer's use";
   size_t kept = 0;
   for (uintptr_t p = used; p < huge_end; p += kPage) kept += resident[(p - start) / kPage] & 1;
   EXPECT_EQ(kept, 0u) << "pages after the use, up to the end of its huge page, are given back";
-  for (size_t i = 0; i < b.size(); ++i) ASSERT_EQ(b[i], 7) << i;
-  b.resize(b.capacity() / 2, 9);  // the capacity is still the buffer's to fill
-  EXPECT_EQ(b[100], 9);
+  for (size_t i = 0; i < b.size(); i += 997) ASSERT_EQ(b[i], 7) << i;
+  ASSERT_EQ(b[use - 1], 7);
+  b.resize(b.capacity() - 1, 9);  // the capacity is still the buffer's to fill
+  EXPECT_EQ(b[use], 9);
   EXPECT_EQ(b.back(), 9);
 }
 

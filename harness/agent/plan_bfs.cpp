@@ -195,17 +195,20 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   buffer_base_[0] = static_cast<uint32_t>(cur_.buffers.size());
   buffer_base_[1] = static_cast<uint32_t>(next_.buffers.size());
   // Each worker's buffers start as large as its last chunk's and a half more,
-  // or as every successor of the chunk stored at the largest snapshot size
-  // met so far (up to 256 MiB): grown by doubling instead, they were copied
-  // and their pages faulted in again at each doubling, and the first chunk of
-  // a wide layer follows a small one. Reserved pages cost no memory until
-  // written, and are advised onto huge pages (huge_pages.hpp).
+  // or, when that is 4 MiB or more, as every successor of the chunk stored at
+  // the largest snapshot size met so far (up to 256 MiB): grown by doubling
+  // instead, they were copied and their pages faulted in again at each
+  // doubling, and the first chunk of a wide layer follows a small one.
+  // Reserved pages cost no memory until written, and past the first 2 MiB are
+  // advised onto huge pages (huge_pages.hpp). Below 4 MiB a search is small,
+  // and a reservation from the memory malloc holds costs no page faults.
   uint64_t largest = start_bytes_;
   for (const Worker& W : workers_) largest = std::max<uint64_t>(largest, W.largest);
   const bool stores[2] = {true, store_next_};
   for (Worker& W : workers_)
     for (int side = 0; side < 2; ++side) {
-      const uint64_t all = stores[side] ? (end - begin) * free_count_[side == 0 ? 1 : 0] * largest : 0;
+      uint64_t all = stores[side] ? (end - begin) * free_count_[side == 0 ? 1 : 0] * largest : 0;
+      if (all < 2 * kHugePage) all = 0;
       reserve_huge(W.bytes[side], std::max<uint64_t>(W.last_bytes[side] + W.last_bytes[side] / 2,
                                                      std::min<uint64_t>(all, uint64_t{256} << 20)));
     }

@@ -12,7 +12,9 @@ void SeenSet::reserve(const std::vector<size_t>& incoming, ThreadPool& pool) {
   size_t need = 0;  // the most nonzero hashes a shard may hold
   for (size_t sh = 0; sh < kShards; ++sh) need = std::max(need, shards_[sh].count + incoming[sh]);
   if (need * 2 <= per_shard_) return;
-  size_t per = std::max<size_t>(per_shard_, 512);
+  // Starts small: a search of a few thousand states (most of the planner's)
+  // keeps its tables in memory malloc already holds, instead of a fresh mapping.
+  size_t per = std::max<size_t>(per_shard_, 16);
   while (need * 2 > per) per *= 2;
   std::vector<uint64_t> old;
   reserve_huge(old, per * kShards);
