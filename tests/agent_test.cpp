@@ -289,8 +289,9 @@ TEST(AgentHugePages, AdviseOnlyWholePagesAndKeepContents) {
   reserve_huge(v, size_t{1} << 20);  // 8 MiB: holds whole huge pages
   EXPECT_GE(v.capacity(), size_t{1} << 20);
   EXPECT_EQ(v, (std::vector<uint64_t>{1, 2, 3}));
-  if (std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"))  // a kernel with THP takes the advice
+  if (std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled")) {  // a kernel with THP takes the advice
     EXPECT_TRUE(advise_huge_pages(v.data() + v.size(), (v.capacity() - v.size()) * sizeof(uint64_t)));
+  }
   const size_t cap = v.capacity();
   resize_huge(v, cap + 1);  // past the capacity: doubles
   EXPECT_EQ(v.size(), cap + 1);

@@ -9,7 +9,7 @@
 namespace autumn::agent {
 
 bool advise_huge_pages(const void* p, size_t bytes) {
-  constexpr uintptr_t kHuge = uintptr_t{2} << 20;
+  constexpr uintptr_t kHuge = kHugePage;
   const uintptr_t begin = reinterpret_cast<uintptr_t>(p);
   const uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
   const uintptr_t last = (begin + bytes) & ~(kHuge - 1);
@@ -18,7 +18,7 @@ bool advise_huge_pages(const void* p, size_t bytes) {
 }
 
 void release_unused(const void* used_end, const void* capacity_end) {
-  constexpr uintptr_t kPage = 4096, kHuge = uintptr_t{2} << 20;
+  constexpr uintptr_t kPage = 4096, kHuge = kHugePage;
   const uintptr_t used = reinterpret_cast<uintptr_t>(used_end);
   const uintptr_t first = (used + kPage - 1) & ~(kPage - 1);
   const uintptr_t last = std::min((used + kHuge - 1) & ~(kHuge - 1), reinterpret_cast<uintptr_t>(capacity_end) & ~(kPage - 1));

@@ -53,7 +53,7 @@ class LayeredBfs {
     FrameColours colours;
     std::vector<uint8_t> bytes[2];  // this chunk's new states: [0] this layer (free), [1] the next
     size_t last_bytes[2] = {0, 0};  // their size in the last chunk: the next one's reservation
-    uint32_t largest = 0;           // the largest snapshot it has stored
+    uint32_t largest = 0;           // the largest snapshot it has stored, or the root's
     std::vector<std::vector<Fresh>> fresh = std::vector<std::vector<Fresh>>(kShards);
   };
 
@@ -97,7 +97,6 @@ class LayeredBfs {
   bool store_next_ = true;   // this chunk stores the next layer's states (expand_chunk)
   bool final_layer_ = false;  // the layer of cost max_cost - 1: no next layer is expanded
   uint32_t buffer_base_[2] = {0, 0};
-  uint64_t start_bytes_ = 0;  // the root's snapshot size
   std::vector<Worker> workers_;
   std::vector<std::vector<Fresh*>> won_ = std::vector<std::vector<Fresh*>>(kShards);
   std::vector<std::vector<Fresh*>> merged_ = std::vector<std::vector<Fresh*>>(kShards);  // dedup's, kept for its storage
@@ -202,7 +201,7 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   // Reserved pages cost no memory until written, and past the first 2 MiB are
   // advised onto huge pages (huge_pages.hpp). Below 4 MiB a search is small,
   // and a reservation from the memory malloc holds costs no page faults.
-  uint64_t largest = start_bytes_;
+  uint64_t largest = 0;
   for (const Worker& W : workers_) largest = std::max<uint64_t>(largest, W.largest);
   const bool stores[2] = {true, store_next_};
   for (Worker& W : workers_)
@@ -421,10 +420,12 @@ BfsOutcome LayeredBfs::run() {
   snapshots_ = start_.save_state(cur_.buffers[0]);
   cur_.open.resize(1);
   cur_.open[0].size = static_cast<uint32_t>(cur_.buffers[0].size());
-  start_bytes_ = snapshots_ ? cur_.buffers[0].size() : 0;
   if (!snapshots_) cur_.open[0].env = start_.clone(), kept_ = 1;
   workers_.resize(p_.pool().size());
-  for (Worker& W : workers_) W.parent = start_.clone(), W.replay_root = start_.clone();  // one thread clones
+  for (Worker& W : workers_) {  // one thread clones
+    W.parent = start_.clone(), W.replay_root = start_.clone();
+    W.largest = snapshots_ ? cur_.open[0].size : 0;  // the root's: the first chunk's reservation
+  }
   for (int layer = 0; layer < spec_.max_cost; ++layer) {
     final_layer_ = layer + 1 >= spec_.max_cost;
     // The layer's closure under free actions first, so that no state of this

@@ -2,8 +2,8 @@
 // that threads fill at once.
 //
 // A hash's shard is its top kShardBits bits. Each shard is an open-addressed
-// table like StateHashSet's (linear probing over the hashes themselves, 0 an
-// empty slot, the zero hash a flag, at most half full), and all the shards'
+// table probed as StateHashSet's is (hash_probe in state_hash_set.hpp; the
+// zero hash a flag, at most half full), and all the shards'
 // tables lie side by side in one buffer, all of one size, grown together.
 // The search alternates phases: threads read the set (contains, prefetch)
 // while they expand a chunk; then reserve() makes room for the chunk's new
@@ -18,6 +18,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "harness/agent/state_hash_set.hpp"
 
 namespace autumn::agent {
 
@@ -42,35 +44,22 @@ class SeenSet {
       s.zero = true;
       return fresh;
     }
-    uint64_t* t = table(shard_of(h));
-    for (size_t i = slot_of(h);; i = (i + 1) & mask_) {
-      if (t[i] == h) return false;
-      if (t[i] == 0) {
-        t[i] = h;
-        ++s.count;
-        return true;
-      }
-    }
+    if (!hash_probe::insert(table(shard_of(h)), mask_, shift_, h)) return false;
+    ++s.count;
+    return true;
   }
   bool contains(uint64_t h) const {
     const Shard& s = shards_[shard_of(h)];
     if (h == 0) return s.zero;
-    if (s.count == 0) return false;
-    const uint64_t* t = table(shard_of(h));
-    for (size_t i = slot_of(h);; i = (i + 1) & mask_) {
-      if (t[i] == h) return true;
-      if (t[i] == 0) return false;
-    }
+    return s.count > 0 && hash_probe::contains(table(shard_of(h)), mask_, shift_, h);
   }
   // Fetches h's slot into the cache ahead of an insert or a lookup.
   void prefetch(uint64_t h) const {
-    if (per_shard_ > 0) __builtin_prefetch(table(shard_of(h)) + slot_of(h));
+    if (per_shard_ > 0) __builtin_prefetch(table(shard_of(h)) + hash_probe::slot(h, shift_));
   }
   size_t size() const;
 
  private:
-  // A shard's hashes share their top bits: the slot is the high bits of a multiply.
-  size_t slot_of(uint64_t h) const { return static_cast<size_t>((h * 0x9e3779b97f4a7c15ULL) >> shift_); }
   uint64_t* table(size_t shard) { return slots_.data() + shard * per_shard_; }
   const uint64_t* table(size_t shard) const { return slots_.data() + shard * per_shard_; }
 

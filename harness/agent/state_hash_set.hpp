@@ -1,6 +1,6 @@
 // state_hash_set — a set of 64-bit state hashes for the BFS (plan_bfs.cpp): each
-// worker's states of the current chunk (the seen set's shards, once these too,
-// are seen_set.hpp's tables in one buffer).
+// worker's states of the current chunk. The probing (hash_probe) is shared
+// with the seen set (seen_set.hpp), whose shards' tables lie in one buffer.
 //
 // Open addressing with linear probing over a power-of-two table of the hashes
 // themselves (0 marks an empty slot; the zero hash is a flag of its own), at
@@ -22,6 +22,29 @@
 
 namespace autumn::agent {
 
+// Linear probing over a power-of-two table of nonzero hashes (0 marks an empty
+// slot), from the high bits of a multiply: the hashes are mixed, but a shard's
+// share their top bits and an engine's low bits need not be uniform.
+namespace hash_probe {
+inline size_t slot(uint64_t h, int shift) { return static_cast<size_t>((h * 0x9e3779b97f4a7c15ULL) >> shift); }
+// Puts nonzero h into table t (which has a free slot); true if it was not there.
+inline bool insert(uint64_t* t, size_t mask, int shift, uint64_t h) {
+  for (size_t i = slot(h, shift);; i = (i + 1) & mask) {
+    if (t[i] == h) return false;
+    if (t[i] == 0) {
+      t[i] = h;
+      return true;
+    }
+  }
+}
+inline bool contains(const uint64_t* t, size_t mask, int shift, uint64_t h) {
+  for (size_t i = slot(h, shift);; i = (i + 1) & mask) {
+    if (t[i] == h) return true;
+    if (t[i] == 0) return false;
+  }
+}
+}  // namespace hash_probe
+
 class StateHashSet {
  public:
   // Inserts h; true if it was not there.
@@ -32,26 +55,17 @@ class StateHashSet {
       return fresh;
     }
     if ((count_ + 1) * 2 > slots_.size()) grow();
-    for (size_t i = slot_of(h);; i = (i + 1) & mask_) {
-      if (slots_[i] == h) return false;
-      if (slots_[i] == 0) {
-        slots_[i] = h;
-        ++count_;
-        return true;
-      }
-    }
+    if (!hash_probe::insert(slots_.data(), mask_, shift_, h)) return false;
+    ++count_;
+    return true;
   }
   bool contains(uint64_t h) const {
     if (h == 0) return zero_;
-    if (count_ == 0) return false;
-    for (size_t i = slot_of(h);; i = (i + 1) & mask_) {
-      if (slots_[i] == h) return true;
-      if (slots_[i] == 0) return false;
-    }
+    return count_ > 0 && hash_probe::contains(slots_.data(), mask_, shift_, h);
   }
   // Fetches h's slot into the cache ahead of an insert or a lookup.
   void prefetch(uint64_t h) const {
-    if (!slots_.empty()) __builtin_prefetch(&slots_[slot_of(h)]);
+    if (!slots_.empty()) __builtin_prefetch(&slots_[hash_probe::slot(h, shift_)]);
   }
   size_t size() const { return count_ + (zero_ ? 1 : 0); }
   // Empties the set, keeping its table.
@@ -62,9 +76,6 @@ class StateHashSet {
   }
 
  private:
-  // The hashes are mixed, but a shard's share their top bits and an engine's
-  // low bits need not be uniform: the slot is the high bits of a multiply.
-  size_t slot_of(uint64_t h) const { return static_cast<size_t>((h * 0x9e3779b97f4a7c15ULL) >> shift_); }
   void grow() {
     std::vector<uint64_t> old(slots_.empty() ? 512 : slots_.size() * 2, 0);
     old.swap(slots_);
