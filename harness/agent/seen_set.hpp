@@ -55,7 +55,7 @@ class SeenSet {
   }
   // Fetches h's slot into the cache ahead of an insert or a lookup.
   void prefetch(uint64_t h) const {
-    if (per_shard_ > 0) __builtin_prefetch(table(shard_of(h)) + hash_probe::slot(h, shift_));
+    if (per_shard_ > 0) hash_probe::prefetch(table(shard_of(h)) + hash_probe::slot(h, shift_));
   }
   size_t size() const;
 
