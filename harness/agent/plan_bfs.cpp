@@ -128,9 +128,10 @@ const Environment* LayeredBfs::load_parent(Open& open, Worker& W, std::unique_pt
   return owned.get();
 }
 
-// Successors are settled one action late: each one's seen-set slot (a cache
-// miss in a large search) is fetched while the next action is stepped, then it
-// is settled in action order, so the results are those of settling each at once.
+// Successors are settled one action late: each one's slots in the seen set and
+// in the chunk's set (cache misses in a large search) are fetched while the
+// next action is stepped, then it is settled in action order, so the results
+// are those of settling each at once.
 void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phase) {
   Open& open = cur_.open[begin + k];
   if (nodes_[open.node].depth >= spec_.max_steps) return;
@@ -151,6 +152,7 @@ void LayeredBfs::expand_parent(size_t begin, size_t k, Worker& W, bool free_phas
     if (!env->step(spec_.actions[a])) continue;
     const uint64_t h = env->state_hash();
     seen_.prefetch(h);
+    W.local.prefetch(h);
     if (pending) settle(last, k, W, store_free, store_next);
     last = Stepped{a, h, next};
     pending = true;
