@@ -2,6 +2,7 @@
 #include "harness/agent/seen_set.hpp"
 
 #include <algorithm>
+#include <new>
 
 #include "harness/agent/huge_pages.hpp"
 #include "harness/agent/thread_pool.hpp"
@@ -16,9 +17,13 @@ void SeenSet::reserve(const std::vector<size_t>& incoming, ThreadPool& pool) {
   // keeps its tables in memory malloc already holds, instead of a fresh mapping.
   size_t per = std::max<size_t>(per_shard_, 16);
   while (need * 2 > per) per *= 2;
-  std::vector<uint64_t> old;
-  reserve_huge(old, per * kShards);
-  old.resize(per * kShards, 0);
+  std::unique_ptr<uint64_t[], Free> old(static_cast<uint64_t*>(std::calloc(per * kShards, sizeof(uint64_t))));
+  if (!old) throw std::bad_alloc();
+  // Advised before the first insert writes it; the first 2 MiB stay on small
+  // pages unless the old tables held that much (huge_pages.hpp).
+  const size_t bytes = per * kShards * sizeof(uint64_t);
+  const size_t from = per_shard_ * kShards * sizeof(uint64_t) >= kHugePage ? 0 : std::min(bytes, kHugePage);
+  advise_huge_pages(reinterpret_cast<const char*>(old.get()) + from, bytes - from);
   old.swap(slots_);
   const size_t old_per = per_shard_;
   per_shard_ = per;
