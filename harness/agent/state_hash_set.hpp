@@ -27,10 +27,11 @@ namespace autumn::agent {
 // share their top bits and an engine's low bits need not be uniform.
 namespace hash_probe {
 inline size_t slot(uint64_t h, int shift) { return static_cast<size_t>((h * 0x9e3779b97f4a7c15ULL) >> shift); }
-// Fetches the cache line at p. Not __builtin_prefetch: g++ 12 finds a small
-// function whose only effect is that builtin to be pure and deletes its calls
-// when it is not inlined early, so SeenSet::prefetch compiled to nothing
-// (docs/design.md, "The prefetch that was not there"). An asm volatile stays.
+// Fetches the cache line at p. Not __builtin_prefetch: to g++ 12 at -O2 the
+// builtin has no side effect, and in SeenSet::prefetch, inlined into the BFS,
+// it was removed: the binary held no prefetch instruction for either set
+// (docs/design.md, "The prefetch that was not there", with a reproducer).
+// An asm volatile is never removed.
 inline void prefetch(const void* p) {
 #if defined(__x86_64__) || defined(__i386__)
   asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
