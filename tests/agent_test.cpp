@@ -800,6 +800,48 @@ TEST(AgentPlanning, BfsStoresOnlyTheStatesItMayExpand) {
   EXPECT_EQ(three.depth_done, 3);
 }
 
+// A budget that ends early in a wide layer expands only the first entries of
+// the layer before it. BFS stores those (the lowest hash shards, estimated),
+// not the whole layer, and searches as if it had stored every state: the same
+// successors, states, depth and note (plan_bfs.cpp, next_shards_to_store).
+TEST(AgentPlanning, BfsStoresWhatItsBudgetCanExpand) {
+  const fs::path root = scratch("bfs_budget_stored");
+  const Task task = load_task(generate(root, "planning", "flood_defense", 3, 4));
+  ThreadPool pool(2);
+  SolveOptions o;
+  o.engine = "compiled";
+  PlanProblem p(task, o, pool);
+  const uint64_t A = p.actions().size();
+  ASSERT_GT(A, 256u) << "a click program: 256 parents a chunk, so a wide second layer spans few chunks";
+  auto search = [&](int cost, uint64_t nodes, bool every) {
+    bfs_store_every_state_for_testing = every;
+    BfsSpec spec;
+    spec.actions = p.actions();
+    spec.max_cost = cost;
+    spec.goal = false;
+    spec.limit = Limit{&p.clock(), nodes, 0};
+    BfsOutcome r = bfs(p, spec);
+    bfs_store_every_state_for_testing = false;
+    return r;
+  };
+  const BfsOutcome one = search(1, 1'000'000'000, false), two = search(2, 1'000'000'000, false);
+  // Budget for the first two layers and two chunks (512 parents) of the third.
+  const uint64_t budget = two.nodes + 2 * 256 * A;
+  const BfsOutcome all = search(12, budget, true), some = search(12, budget, false);
+  EXPECT_EQ(some.nodes, all.nodes);
+  EXPECT_EQ(some.nodes, budget);
+  EXPECT_EQ(some.distinct, all.distinct);
+  EXPECT_GT(some.distinct, two.distinct) << "the third layer was reached";
+  EXPECT_EQ(some.depth_done, all.depth_done);
+  EXPECT_EQ(some.note, all.note);
+  EXPECT_NE(some.note.find("node budget spent at depth 3"), std::string::npos) << some.note;
+  // Before: every state of cost at most 2. Now: those of cost at most 1, the
+  // 512 expanded, and not many more.
+  EXPECT_EQ(all.stored, two.distinct);
+  EXPECT_GE(some.stored, one.distinct + 512);
+  EXPECT_LT(some.stored * 4, all.stored) << some.stored << " of " << all.stored;
+}
+
 // docs/design.md's table of the planner's stages is the code's (kAutoStages):
 // same rows, in the same order, with the same conditions, shares and roles.
 TEST(AgentPlanning, StagesTableIsTheDesignDocs) {

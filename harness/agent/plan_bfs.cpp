@@ -10,6 +10,8 @@
 
 namespace autumn::agent {
 
+std::atomic<bool> bfs_store_every_state_for_testing{false};
+
 namespace {
 
 constexpr size_t kShards = SeenSet::kShards;
@@ -73,6 +75,7 @@ class LayeredBfs {
   };
   void settle(const Stepped& s, size_t k, Worker& W, bool store_free, bool store_next);
   bool expand_chunk(size_t begin, size_t end, bool free_phase);
+  size_t next_shards_to_store(size_t begin, size_t end) const;
   // One phase of a layer over cur_.open (which grows in the free phase); a plan
   // or a stop ends the search (returns true, out_ set).
   bool phase(int layer, bool free_phase, int64_t& hit_node);
@@ -95,6 +98,10 @@ class LayeredBfs {
   uint64_t kept_ = 0;  // environments held (no snapshots)
   bool keep_env_ = false;
   bool store_next_ = true;   // this chunk stores the next layer's states (expand_chunk)
+  // ...of the successors in shards below this one only (kShards: all): those the
+  // node budget may let the search expand (next_shards_to_store).
+  size_t store_shards_ = kShards;
+  double win_rate_ = 1.0;  // new states per successor in the last costing chunk
   bool final_layer_ = false;  // the layer of cost max_cost - 1: no next layer is expanded
   uint32_t buffer_base_[2] = {0, 0};
   std::vector<Worker> workers_;
@@ -169,7 +176,7 @@ void LayeredBfs::settle(const Stepped& s, size_t k, Worker& W, bool store_free, 
   std::vector<uint8_t>& bytes = W.bytes[side];
   Fresh f{k * A_ + s.action, h, bytes.size(), 0, 0, hit(*env, h, W), side == 0, nullptr};
   f.buffer = buffer_base_[side] + static_cast<uint32_t>(&W - workers_.data());
-  const bool store = side == 0 ? store_free : store_next;
+  const bool store = side == 0 ? store_free : store_next && shard_of(h) < store_shards_;
   if (store && snapshots_) {
     env->save_state(bytes);
     f.size = static_cast<uint32_t>(bytes.size() - f.offset);
@@ -193,6 +200,7 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   // A node without a stored state is replayed from the root if it is ever
   // expanded (load_parent).
   store_next_ = free_phase || (!final_layer_ && out_.nodes + (cur_.open.size() - begin) * free_count_[0] < spec_.limit.nodes);
+  store_shards_ = free_phase || !store_next_ ? kShards : next_shards_to_store(begin, end);
   buffer_base_[0] = static_cast<uint32_t>(cur_.buffers.size());
   buffer_base_[1] = static_cast<uint32_t>(next_.buffers.size());
   // Each worker's buffers start as large as its last chunk's and a half more,
@@ -209,6 +217,7 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
   for (Worker& W : workers_)
     for (int side = 0; side < 2; ++side) {
       uint64_t all = stores[side] ? (end - begin) * free_count_[side == 0 ? 1 : 0] * largest : 0;
+      if (side == 1) all = all / kShards * store_shards_;
       if (all < 2 * kHugePage) all = 0;
       reserve_huge(W.bytes[side], std::max<uint64_t>(W.last_bytes[side] + W.last_bytes[side] / 2,
                                                      std::min<uint64_t>(all, uint64_t{256} << 20)));
@@ -244,6 +253,34 @@ bool LayeredBfs::expand_chunk(size_t begin, size_t end, bool free_phase) {
     W.bytes[1] = {};
   }
   return true;
+}
+
+// How many of the hash shards' new states of the next layer this chunk stores.
+// Without free actions, the next layer is expanded chunk by chunk in its open
+// order until the node count reaches the budget, and this layer ends with a
+// count known now; so the budget expands the next layer's first `expanded`
+// entries and no more. This chunk's winners take the entries from the next
+// layer's current size on, shard by shard (place), so only its lowest shards
+// can fall within them. Which shards is estimated, at half the last chunk's
+// rate of new states (too many shards cost only bytes): a parent left
+// unstored is replayed from the start if it is expanded after all
+// (load_parent), so the search is the same either way. A budget that ends a
+// search early in a wide layer (gameOfLife's third: 4k of the 66k states of
+// the second are expanded) stored every state of that layer before.
+size_t LayeredBfs::next_shards_to_store(size_t begin, size_t end) const {
+  if (free_count_[1] > 0 || bfs_store_every_state_for_testing.load()) return kShards;
+  const uint64_t at_end = out_.nodes + (cur_.open.size() - begin) * free_count_[0];  // < the budget
+  const uint64_t per_chunk = chunk_parents_ * free_count_[0];
+  if (per_chunk == 0) return kShards;
+  const uint64_t remaining = spec_.limit.nodes - at_end;
+  const uint64_t chunks = remaining / per_chunk + (remaining % per_chunk != 0);
+  if (chunks >= UINT64_MAX / chunk_parents_) return kShards;  // no budget to speak of
+  const uint64_t expanded = chunks * chunk_parents_;
+  const uint64_t placed = next_.open.size();
+  if (placed >= expanded) return 0;
+  const double per_shard = (end - begin) * free_count_[0] * win_rate_ * 0.5 / kShards;
+  const double shards = static_cast<double>(expanded - placed) / std::max(per_shard, 1.0) + 2;
+  return shards >= kShards ? kShards : static_cast<size_t>(shards);
 }
 
 void LayeredBfs::dedup() {
@@ -381,6 +418,11 @@ bool LayeredBfs::phase(int layer, bool free_phase, int64_t& hit_node) {
       return true;
     }
     dedup();
+    if (!free_phase) {
+      size_t won = 0;
+      for (const auto& list : won_) won += list.size();
+      win_rate_ = static_cast<double>(won) / static_cast<double>(std::max<size_t>(1, (end - begin) * free_count_[0]));
+    }
     const uint64_t index = *std::min_element(first_hit_.begin(), first_hit_.end());
     const size_t placed_from = nodes_.size();
     place(begin, free_phase);

@@ -18,8 +18,9 @@
 //    as an environment when the engine has no snapshots, up to keep_states; the
 //    rest are replayed from the start), and listed under their hash's shard.
 //    A state is saved only if it may be expanded: not at the depth limit, and
-//    not in the next layer when there is none (max_cost) or the node budget
-//    ends before it (BfsOutcome::stored counts what was saved).
+//    not in the next layer when there is none (max_cost), when the node budget
+//    ends before it, or, roughly, beyond the entries of it the budget reaches
+//    (BfsOutcome::stored counts what was saved; a parent not saved is replayed).
 //  dedup: per shard, the threads' lists are merged in (parent, action) order and
 //    inserted into that shard's seen set: the first occurrence wins.
 //  place: winners become nodes and frontier entries, shard by shard at offsets
@@ -32,6 +33,8 @@
 // `targets`. A hit at the start state counts at cost 0.
 #pragma once
 #include <absl/container/flat_hash_map.h>
+
+#include <atomic>
 
 #include "harness/agent/plan_problem.hpp"
 
@@ -55,5 +58,10 @@ struct BfsOutcome : SearchOutcome {
 };
 
 BfsOutcome bfs(PlanProblem& problem, const BfsSpec& spec);
+
+// Tests only: store every state of the next layer while the budget reaches it
+// at all, instead of those of the entries it can expand (plan_bfs.cpp,
+// next_shards_to_store), to show that the two searches are the same.
+extern std::atomic<bool> bfs_store_every_state_for_testing;
 
 }  // namespace autumn::agent
