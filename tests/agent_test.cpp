@@ -756,25 +756,44 @@ TEST(AgentMakeTask, PlanningRoundTrip) {
   }
 }
 
+// Plain BFS searches (no goal) of a generated planning task on the compiled
+// engine, by cost limit and node budget.
+class BfsProbe {
+ public:
+  BfsProbe(const std::string& name, const std::string& program)
+      : task_(load_task(generate(scratch(name), "planning", program, 3, 4))), problem_(task_, compiled(), pool_) {}
+  uint64_t actions() const { return problem_.actions().size(); }
+  // `every`: store every state the budget reaches (bfs_store_every_state_for_testing).
+  BfsOutcome search(int cost, uint64_t nodes, bool every = false) {
+    bfs_store_every_state_for_testing = every;
+    BfsSpec spec;
+    spec.actions = problem_.actions();
+    spec.max_cost = cost;
+    spec.goal = false;
+    spec.limit = Limit{&problem_.clock(), nodes, 0};
+    BfsOutcome r = bfs(problem_, spec);
+    bfs_store_every_state_for_testing = false;
+    return r;
+  }
+
+ private:
+  static SolveOptions compiled() {
+    SolveOptions o;
+    o.engine = "compiled";
+    return o;
+  }
+  Task task_;
+  ThreadPool pool_{2};
+  PlanProblem problem_;
+};
+
 // BFS keeps a state (a snapshot on the compiled engine) only if it may expand
 // it: the last layer a search reaches, by its cost limit or by its node budget,
 // is hashed and deduplicated but not stored (harness/agent/plan_bfs.cpp).
 TEST(AgentPlanning, BfsStoresOnlyTheStatesItMayExpand) {
-  const fs::path root = scratch("bfs_stored");
-  const Task task = load_task(generate(root, "planning", "sokoban", 3, 4));
-  ThreadPool pool(2);
-  SolveOptions o;
-  o.engine = "compiled";
-  PlanProblem p(task, o, pool);
-  const uint64_t A = p.actions().size();
-  auto search = [&](int cost, uint64_t nodes) {
-    BfsSpec spec;
-    spec.actions = p.actions();
-    spec.max_cost = cost;
-    spec.goal = false;
-    spec.limit = Limit{&p.clock(), nodes, 0};
-    return bfs(p, spec);
-  };
+  BfsProbe probe("bfs_stored", "sokoban");
+  const uint64_t A = probe.actions();
+  auto search = [&](int cost, uint64_t nodes) { return probe.search(cost, nodes); };
   const BfsOutcome one = search(1, 1'000'000), two = search(2, 1'000'000);
   EXPECT_EQ(one.nodes, A);
   EXPECT_EQ(one.stored, 1u) << "the root only: no state of cost 1 is expanded";
@@ -805,25 +824,10 @@ TEST(AgentPlanning, BfsStoresOnlyTheStatesItMayExpand) {
 // not the whole layer, and searches as if it had stored every state: the same
 // successors, states, depth and note (plan_bfs.cpp, next_shards_to_store).
 TEST(AgentPlanning, BfsStoresWhatItsBudgetCanExpand) {
-  const fs::path root = scratch("bfs_budget_stored");
-  const Task task = load_task(generate(root, "planning", "flood_defense", 3, 4));
-  ThreadPool pool(2);
-  SolveOptions o;
-  o.engine = "compiled";
-  PlanProblem p(task, o, pool);
-  const uint64_t A = p.actions().size();
+  BfsProbe probe("bfs_budget_stored", "flood_defense");
+  const uint64_t A = probe.actions();
   ASSERT_GT(A, 256u) << "a click program: 256 parents a chunk, so a wide second layer spans few chunks";
-  auto search = [&](int cost, uint64_t nodes, bool every) {
-    bfs_store_every_state_for_testing = every;
-    BfsSpec spec;
-    spec.actions = p.actions();
-    spec.max_cost = cost;
-    spec.goal = false;
-    spec.limit = Limit{&p.clock(), nodes, 0};
-    BfsOutcome r = bfs(p, spec);
-    bfs_store_every_state_for_testing = false;
-    return r;
-  };
+  auto search = [&](int cost, uint64_t nodes, bool every) { return probe.search(cost, nodes, every); };
   const BfsOutcome one = search(1, 1'000'000'000, false), two = search(2, 1'000'000'000, false);
   // Budget for the first two layers and two chunks (512 parents) of the third.
   const uint64_t budget = two.nodes + 2 * 256 * A;
