@@ -37,6 +37,14 @@ void release_unused(const void* used_end, const void* capacity_end);
 // nodes ran at half speed when every buffer's first page was huge).
 inline constexpr size_t kHugePage = size_t{2} << 20;
 
+// Advises a buffer of `bytes` at p that nothing has written yet, taking the
+// place of one that held `held` bytes: all of it if that was 2 MiB or more,
+// else all but its first 2 MiB (kHugePage's rule).
+inline void advise_new_buffer(const void* p, size_t bytes, size_t held) {
+  const size_t from = held >= kHugePage ? 0 : std::min(bytes, kHugePage);
+  advise_huge_pages(static_cast<const char*>(p) + from, bytes - from);
+}
+
 // v.reserve(n), the new buffer advised before v's elements are moved into it
 // (reserve() itself would copy them onto small pages first).
 template <class T, class A>
@@ -44,9 +52,7 @@ void reserve_huge(std::vector<T, A>& v, size_t n) {
   if (n <= v.capacity()) return;
   std::vector<T, A> w(v.get_allocator());
   w.reserve(n);
-  const size_t bytes = w.capacity() * sizeof(T);
-  const size_t from = v.size() * sizeof(T) >= kHugePage ? 0 : std::min(bytes, kHugePage);
-  advise_huge_pages(reinterpret_cast<const char*>(w.data()) + from, bytes - from);
+  advise_new_buffer(w.data(), w.capacity() * sizeof(T), v.size() * sizeof(T));
   w.insert(w.end(), std::make_move_iterator(v.begin()), std::make_move_iterator(v.end()));
   v.swap(w);
 }

@@ -19,11 +19,7 @@ void SeenSet::reserve(const std::vector<size_t>& incoming, ThreadPool& pool) {
   while (need * 2 > per) per *= 2;
   std::unique_ptr<uint64_t[], Free> old(static_cast<uint64_t*>(std::calloc(per * kShards, sizeof(uint64_t))));
   if (!old) throw std::bad_alloc();
-  // Advised before the first insert writes it; the first 2 MiB stay on small
-  // pages unless the old tables held that much (huge_pages.hpp).
-  const size_t bytes = per * kShards * sizeof(uint64_t);
-  const size_t from = per_shard_ * kShards * sizeof(uint64_t) >= kHugePage ? 0 : std::min(bytes, kHugePage);
-  advise_huge_pages(reinterpret_cast<const char*>(old.get()) + from, bytes - from);
+  advise_new_buffer(old.get(), per * kShards * sizeof(uint64_t), per_shard_ * kShards * sizeof(uint64_t));
   old.swap(slots_);
   const size_t old_per = per_shard_;
   per_shard_ = per;
