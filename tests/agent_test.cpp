@@ -38,6 +38,7 @@
 #include "harness/agent/huge_pages.hpp"
 #include "harness/agent/seen_set.hpp"
 #include "harness/agent/thread_pool.hpp"
+#include "harness/agent/warm_blocks.hpp"
 #include "harness/agent/particles.hpp"
 #include "harness/agent/plan_beam.hpp"
 #include "harness/agent/plan_fill.hpp"
@@ -301,6 +302,75 @@ TEST(AgentHugePages, AdviseOnlyWholePagesAndKeepContents) {
   EXPECT_EQ(v[cap], 0u);
   resize_huge(v, 5);  // shrinks like resize
   EXPECT_EQ(v, (std::vector<uint64_t>{1, 2, 3, 0, 0}));
+}
+
+// A block given back is handed to the next request it fits, the smallest
+// that fits, zeroed when asked; smaller requests leave it alone.
+TEST(AgentWarmBlocks, ABlockGivenBackServesTheNextSearchZeroed) {
+  warm_drop_all();
+  const size_t big = size_t{6} << 20, small = size_t{3} << 20;
+  auto* a = static_cast<uint64_t*>(warm_take(big, true));
+  auto* b = static_cast<uint64_t*>(warm_take(small, true));
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(a) % kHugePage, 0u) << "2 MiB aligned";
+  for (size_t i = 0; i < big / 8; ++i) ASSERT_EQ(a[i], 0u) << "a new mapping is zero";
+  std::fill(a, a + big / 8, 0x5a5aULL);
+  std::fill(b, b + small / 8, 0x77ULL);
+  warm_give(a, big);
+  warm_give(b, small);
+  EXPECT_EQ(warm_kept_bytes(), big + (size_t{4} << 20)) << "kept as whole 2 MiB pages";
+  auto* c = static_cast<uint64_t*>(warm_take(small - 100, true));
+  EXPECT_EQ(c, b) << "the smallest kept block that fits";
+  for (size_t i = 0; i < (small - 100) / 8; ++i) ASSERT_EQ(c[i], 0u) << "zeroed for a zeroed take";
+  auto* d = static_cast<uint64_t*>(warm_take(big, false));
+  EXPECT_EQ(d, a);
+  EXPECT_EQ(d[12345], 0x5a5aULL) << "not zeroed when not asked";
+  EXPECT_EQ(warm_kept_bytes(), 0u);
+  auto* e = warm_take(big * 2, false);  // nothing kept fits: a new mapping
+  EXPECT_NE(e, static_cast<void*>(a));
+  warm_give(c, small - 100);
+  warm_give(d, big);
+  warm_give(e, big * 2);
+  warm_drop_all();
+  EXPECT_EQ(warm_kept_bytes(), 0u);
+}
+
+// The cache keeps at most warm_cap() bytes, dropping the oldest blocks first;
+// a block larger than that is never kept. (The blocks are never written, so
+// they cost address space only.)
+TEST(AgentWarmBlocks, KeepsAtMostTheCapOldestDroppedFirst) {
+  warm_drop_all();
+  const size_t cap = warm_cap(), two = kHugePage;
+  ASSERT_GE(cap, 8 * two);
+  void* huge = warm_take(cap + two, false);
+  warm_give(huge, cap + two);
+  EXPECT_EQ(warm_kept_bytes(), 0u) << "larger than the cap: unmapped";
+  void* oldest = warm_take(two, false);
+  void* older = warm_take(2 * two, false);
+  void* last = warm_take(cap - two, false);
+  warm_give(oldest, two);
+  warm_give(older, 2 * two);
+  EXPECT_EQ(warm_kept_bytes(), 3 * two);
+  warm_give(last, cap - two);  // cap + 2 pages in all: dropping the oldest leaves one too many
+  EXPECT_EQ(warm_kept_bytes(), cap - two);
+  EXPECT_EQ(warm_take(two, false), last) << "only the newest is left";
+  warm_give(last, cap - two);
+  warm_drop_all();
+}
+
+// Vectors through WarmAllocator: large buffers are warm blocks (and come back
+// to the cache), small ones the ordinary heap's; the contents are a vector's.
+TEST(AgentWarmBlocks, AllocatorTakesLargeBuffersOnly) {
+  warm_drop_all();
+  {
+    std::vector<uint64_t, WarmAllocator<uint64_t>> v(100, 7);
+    EXPECT_EQ(warm_kept_bytes(), 0u);
+    v.resize(size_t{1} << 20, 9);  // 8 MiB: a warm block
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(v.data()) % kHugePage, 0u);
+    EXPECT_EQ(v[99], 7u);
+    EXPECT_EQ(v.back(), 9u);
+  }
+  EXPECT_EQ(warm_kept_bytes(), size_t{8} << 20) << "given back on destruction, kept";
+  warm_drop_all();
 }
 
 // release_unused gives back the pages after a buffer's use up to the end of

@@ -18,7 +18,7 @@ set(rules
   "^(Reader|TraceEpisodes|Files/Diagnostic|Files/IrFile|Traces/Conformance|Programs/CorpusProgram|Programs/Snapshot|Builtin/StateValidation)[./]|quick"
   "^Guide\\.Reference|quick"
   "^(Files/LoweringFile|EmitBytes|CompiledEngine)[./]|quick,compiled"
-  "^Agent(Particles|ThreadPool|StateHashSet|SeenSet|HugePages|TaskFile|Score|ClickModel|Eval|CdPairs|MakeCd|DrawSearch|Choice)\\.|quick,agent"
+  "^Agent(Particles|ThreadPool|StateHashSet|SeenSet|HugePages|WarmBlocks|TaskFile|Score|ClickModel|Eval|CdPairs|MakeCd|DrawSearch|Choice)\\.|quick,agent"
   "^AgentIce\\.(MaskedFramePrediction|ChangeDetectionScores)$|quick,agent"
   "^AgentPlanning\\.(Travel|LimitFraction|OnClones|Fill|LocalSearch|Shortening|Skeleton|StagesTable)|quick,agent"
   "^(Engines/RandomBaseline|RandomBaselineMfp|RandomBaselineCli|PaperProtocol)[./]|quick,agent"

@@ -7,6 +7,7 @@
 #include "harness/agent/huge_pages.hpp"
 #include "harness/agent/seen_set.hpp"
 #include "harness/agent/state_hash_set.hpp"
+#include "harness/agent/warm_blocks.hpp"
 
 namespace autumn::agent {
 
@@ -92,7 +93,7 @@ class LayeredBfs {
   size_t chunk_parents_ = 0;
   ThreadPool serial_{1};
   SeenSet seen_;
-  std::vector<Node> nodes_;
+  std::vector<Node, WarmAllocator<Node>> nodes_;
   Layer cur_, next_;
   bool snapshots_ = false;
   uint64_t kept_ = 0;  // environments held (no snapshots)
@@ -110,7 +111,7 @@ class LayeredBfs {
   std::vector<uint64_t> first_hit_ = std::vector<uint64_t>(kShards);
   std::vector<uint64_t> stored_ = std::vector<uint64_t>(kShards);  // per shard, for BfsOutcome::stored
   BfsOutcome out_;
-  std::vector<uint64_t> hash_of_;  // per node, for target lookups
+  std::vector<uint64_t, WarmAllocator<uint64_t>> hash_of_;  // per node, for target lookups
 };
 
 std::vector<Action> LayeredBfs::path(int64_t node) const { return path_to(nodes_, spec_.actions, node); }

@@ -178,7 +178,7 @@ Future FutureScorer::score(const PlanProblem& p, const Environment& e, int noops
   return f;
 }
 
-std::vector<Action> path_to(const std::vector<Node>& nodes, const std::vector<Action>& actions, int64_t node) {
+std::vector<Action> path_to(std::span<const Node> nodes, const std::vector<Action>& actions, int64_t node) {
   std::vector<Action> plan;
   for (int64_t n = node; n > 0; n = nodes[n].parent) plan.push_back(actions[nodes[n].action]);
   std::reverse(plan.begin(), plan.end());

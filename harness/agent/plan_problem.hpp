@@ -28,6 +28,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -109,7 +110,7 @@ struct Node {
 
 // The plan from the root (node 0) to `node`: the actions of its ancestors'
 // edges, first to last.
-std::vector<Action> path_to(const std::vector<Node>& nodes, const std::vector<Action>& actions, int64_t node);
+std::vector<Action> path_to(std::span<const Node> nodes, const std::vector<Action>& actions, int64_t node);
 
 // What one strategy run reports.
 struct SearchOutcome {

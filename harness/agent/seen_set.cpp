@@ -6,6 +6,7 @@
 
 #include "harness/agent/huge_pages.hpp"
 #include "harness/agent/thread_pool.hpp"
+#include "harness/agent/warm_blocks.hpp"
 
 namespace autumn::agent {
 
@@ -17,8 +18,7 @@ void SeenSet::reserve(const std::vector<size_t>& incoming, ThreadPool& pool) {
   // keeps its tables in memory malloc already holds, instead of a fresh mapping.
   size_t per = std::max<size_t>(per_shard_, 16);
   while (need * 2 > per) per *= 2;
-  std::unique_ptr<uint64_t[], Free> old(static_cast<uint64_t*>(std::calloc(per * kShards, sizeof(uint64_t))));
-  if (!old) throw std::bad_alloc();
+  std::unique_ptr<uint64_t[], Free> old = zeroed_slots(per * kShards);
   advise_new_buffer(old.get(), per * kShards * sizeof(uint64_t), per_shard_ * kShards * sizeof(uint64_t));
   old.swap(slots_);
   const size_t old_per = per_shard_;
@@ -30,6 +30,18 @@ void SeenSet::reserve(const std::vector<size_t>& incoming, ThreadPool& pool) {
     for (size_t i = 0; i < old_per; ++i)
       if (const uint64_t h = old[sh * old_per + i]; h != 0) insert(h);
   });
+}
+
+void SeenSet::Free::operator()(uint64_t* p) const {
+  if (bytes >= kWarmMin) warm_give(p, bytes);
+  else std::free(p);
+}
+
+std::unique_ptr<uint64_t[], SeenSet::Free> SeenSet::zeroed_slots(size_t count) {
+  const size_t bytes = count * sizeof(uint64_t);
+  void* p = bytes >= kWarmMin ? warm_take(bytes, true) : std::calloc(count, sizeof(uint64_t));
+  if (!p) throw std::bad_alloc();
+  return std::unique_ptr<uint64_t[], Free>(static_cast<uint64_t*>(p), Free{bytes});
 }
 
 size_t SeenSet::size() const {

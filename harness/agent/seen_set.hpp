@@ -74,12 +74,15 @@ class SeenSet {
   // Invariants: slots_ holds kShards tables of per_shard_ slots (0 or a power
   // of two, at least twice every shard's count), shard sh's at sh * per_shard_;
   // mask_ and shift_ are per_shard_'s.
-  // From calloc, not a vector: a large table is a fresh mapping, zero already,
-  // which calloc does not write (a vector's resize zeroed it a second time,
-  // after the kernel, in one thread: 6% of paint's search).
+  // Zeroed memory, not a vector: a small table from calloc (a fresh mapping is
+  // zero already, which calloc does not write again: a vector's resize zeroed
+  // it a second time, in one thread, 6% of paint's search); a large one a warm
+  // block (warm_blocks.hpp), memory an earlier search touched, zeroed.
   struct Free {
-    void operator()(uint64_t* p) const { std::free(p); }
+    size_t bytes;  // value-initialised (0) in an empty slots_
+    void operator()(uint64_t* p) const;
   };
+  static std::unique_ptr<uint64_t[], Free> zeroed_slots(size_t count);
   std::unique_ptr<uint64_t[], Free> slots_;
   size_t per_shard_ = 0;
   size_t mask_ = 0;
