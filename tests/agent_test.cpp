@@ -315,8 +315,8 @@ TEST(AgentWarmBlocks, ABlockGivenBackServesTheNextSearchZeroed) {
   for (size_t i = 0; i < big / 8; ++i) ASSERT_EQ(a[i], 0u) << "a new mapping is zero";
   std::fill(a, a + big / 8, 0x5a5aULL);
   std::fill(b, b + small / 8, 0x77ULL);
-  warm_give(a, big);
-  warm_give(b, small);
+  warm_give(a);
+  warm_give(b);
   EXPECT_EQ(warm_kept_bytes(), big + (size_t{4} << 20)) << "kept as whole 2 MiB pages";
   auto* c = static_cast<uint64_t*>(warm_take(small - 100, true));
   EXPECT_EQ(c, b) << "the smallest kept block that fits";
@@ -327,11 +327,27 @@ TEST(AgentWarmBlocks, ABlockGivenBackServesTheNextSearchZeroed) {
   EXPECT_EQ(warm_kept_bytes(), 0u);
   auto* e = warm_take(big * 2, false);  // nothing kept fits: a new mapping
   EXPECT_NE(e, static_cast<void*>(a));
-  warm_give(c, small - 100);
-  warm_give(d, big);
-  warm_give(e, big * 2);
+  warm_give(c);
+  warm_give(d);
+  warm_give(e);
   warm_drop_all();
   EXPECT_EQ(warm_kept_bytes(), 0u);
+}
+
+// A small request served by a larger kept block gives back the whole block:
+// the cache keeps it at its own size, and it serves a large request again.
+TEST(AgentWarmBlocks, ALargerBlockLentForLessComesBackWhole) {
+  warm_drop_all();
+  const size_t large = size_t{16} << 20;
+  void* a = warm_take(large, false);
+  warm_give(a);
+  void* b = warm_take(kHugePage, true);
+  EXPECT_EQ(b, a) << "the only kept block, larger than asked";
+  warm_give(b);
+  EXPECT_EQ(warm_kept_bytes(), large);
+  EXPECT_EQ(warm_take(large, false), a);
+  warm_give(a);
+  warm_drop_all();
 }
 
 // The cache keeps at most warm_cap() bytes, dropping the oldest blocks first;
@@ -342,18 +358,18 @@ TEST(AgentWarmBlocks, KeepsAtMostTheCapOldestDroppedFirst) {
   const size_t cap = warm_cap(), two = kHugePage;
   ASSERT_GE(cap, 8 * two);
   void* huge = warm_take(cap + two, false);
-  warm_give(huge, cap + two);
+  warm_give(huge);
   EXPECT_EQ(warm_kept_bytes(), 0u) << "larger than the cap: unmapped";
   void* oldest = warm_take(two, false);
   void* older = warm_take(2 * two, false);
   void* last = warm_take(cap - two, false);
-  warm_give(oldest, two);
-  warm_give(older, 2 * two);
+  warm_give(oldest);
+  warm_give(older);
   EXPECT_EQ(warm_kept_bytes(), 3 * two);
-  warm_give(last, cap - two);  // cap + 2 pages in all: dropping the oldest leaves one too many
+  warm_give(last);  // cap + 2 pages in all: dropping the oldest leaves one too many
   EXPECT_EQ(warm_kept_bytes(), cap - two);
   EXPECT_EQ(warm_take(two, false), last) << "only the newest is left";
-  warm_give(last, cap - two);
+  warm_give(last);
   warm_drop_all();
 }
 

@@ -33,7 +33,7 @@ void SeenSet::reserve(const std::vector<size_t>& incoming, ThreadPool& pool) {
 }
 
 void SeenSet::Free::operator()(uint64_t* p) const {
-  if (bytes >= kWarmMin) warm_give(p, bytes);
+  if (bytes >= kWarmMin) warm_give(p);
   else std::free(p);
 }
 

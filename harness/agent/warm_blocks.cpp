@@ -11,6 +11,7 @@
 #include <cstring>
 #include <deque>
 #include <mutex>
+#include <unordered_map>
 
 #include "harness/agent/huge_pages.hpp"  // kHugePage
 
@@ -39,35 +40,46 @@ struct Kept {
 };
 
 // Invariants: kept_ holds blocks no one uses, oldest first; total_ is the sum
-// of their sizes and at most warm_cap().
+// of their sizes and at most warm_cap(). lent_ maps each block in use to its
+// size, which may exceed what its taker asked for (a larger kept block fitted).
 class Cache {
  public:
   void* take(size_t bytes, bool zeroed) {
     const size_t want = whole_pages(bytes);
+    Kept k{nullptr, want};
     {
       std::lock_guard<std::mutex> lock(mu_);
       auto best = kept_.end();
       for (auto it = kept_.begin(); it != kept_.end(); ++it)
         if (it->bytes >= want && (best == kept_.end() || it->bytes < best->bytes)) best = it;
       if (best != kept_.end()) {
-        void* p = best->p;
-        total_ -= best->bytes;
+        k = *best;
+        total_ -= k.bytes;
         kept_.erase(best);
-        if (zeroed) std::memset(p, 0, bytes);
-        return p;
+        lent_.emplace(k.p, k.bytes);
       }
     }
-    return map_block(want);  // a fresh mapping is zero
-  }
-  void give(void* p, size_t bytes) noexcept {
-    const size_t size = whole_pages(bytes);
+    if (k.p != nullptr) {
+      if (zeroed) std::memset(k.p, 0, bytes);
+      return k.p;
+    }
+    k.p = map_block(want);  // a fresh mapping is zero
     std::lock_guard<std::mutex> lock(mu_);
-    if (size > warm_cap()) {
-      munmap(p, size);
+    lent_.emplace(k.p, k.bytes);
+    return k.p;
+  }
+  void give(void* p) noexcept {
+    std::lock_guard<std::mutex> lock(mu_);
+    auto it = lent_.find(p);
+    if (it == lent_.end()) std::abort();  // not a block of this cache: a caller's bug
+    const Kept k{p, it->second};
+    lent_.erase(it);
+    if (k.bytes > warm_cap()) {
+      munmap(k.p, k.bytes);
       return;
     }
-    kept_.push_back(Kept{p, size});
-    total_ += size;
+    kept_.push_back(k);
+    total_ += k.bytes;
     while (total_ > warm_cap()) {
       munmap(kept_.front().p, kept_.front().bytes);
       total_ -= kept_.front().bytes;
@@ -78,7 +90,7 @@ class Cache {
     std::lock_guard<std::mutex> lock(mu_);
     return total_;
   }
-  void drop_all() noexcept {
+  void drop_all() noexcept {  // the kept blocks; blocks in use stay lent
     std::lock_guard<std::mutex> lock(mu_);
     for (const Kept& k : kept_) munmap(k.p, k.bytes);
     kept_.clear();
@@ -88,6 +100,7 @@ class Cache {
  private:
   std::mutex mu_;
   std::deque<Kept> kept_;
+  std::unordered_map<void*, size_t> lent_;
   size_t total_ = 0;
 };
 
@@ -110,8 +123,8 @@ size_t warm_cap() {
 }
 
 void* warm_take(size_t bytes, bool zeroed) { return cache().take(std::max(bytes, size_t{1}), zeroed); }
-void warm_give(void* p, size_t bytes) noexcept {
-  if (p != nullptr) cache().give(p, std::max(bytes, size_t{1}));
+void warm_give(void* p) noexcept {
+  if (p != nullptr) cache().give(p);
 }
 size_t warm_kept_bytes() { return cache().kept_bytes(); }
 void warm_drop_all() noexcept { cache().drop_all(); }

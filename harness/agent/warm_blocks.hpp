@@ -33,12 +33,12 @@ inline constexpr size_t kWarmMin = size_t{2} << 20;
 // smallest that does), else a new mapping. Zero throughout its first `bytes`
 // if `zeroed`. Throws std::bad_alloc.
 void* warm_take(size_t bytes, bool zeroed);
-// Gives back a block warm_take(bytes, ...) returned: kept for a later take
-// while the cache holds no more than warm_cap(), else unmapped.
-void warm_give(void* p, size_t bytes) noexcept;
+// Gives back a block warm_take returned (the cache knows its size): kept for
+// a later take while the cache holds no more than warm_cap(), else unmapped.
+void warm_give(void* p) noexcept;
 // The most the cache keeps: an eighth of the machine's memory, at most 1 GiB.
 size_t warm_cap();
-// Bytes kept now (tests), and dropping them all.
+// Bytes kept now (tests), and dropping them all (blocks in use are not kept).
 size_t warm_kept_bytes();
 void warm_drop_all() noexcept;
 
@@ -56,7 +56,7 @@ struct WarmAllocator {
     return std::allocator<T>().allocate(n);
   }
   void deallocate(T* p, size_t n) noexcept {
-    if (n * sizeof(T) >= kWarmMin) warm_give(p, n * sizeof(T));
+    if (n * sizeof(T) >= kWarmMin) warm_give(p);
     else std::allocator<T>().deallocate(p, n);
   }
   template <class U>
