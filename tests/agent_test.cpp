@@ -307,6 +307,7 @@ TEST(AgentHugePages, AdviseOnlyWholePagesAndKeepContents) {
 // A block given back is handed to the next request it fits, the smallest
 // that fits, zeroed when asked; smaller requests leave it alone.
 TEST(AgentWarmBlocks, ABlockGivenBackServesTheNextSearchZeroed) {
+  if (warm_cap() < (size_t{64} << 20)) GTEST_SKIP() << "AUTUMN_WARM_MEMORY_MB turns the cache (nearly) off here";
   warm_drop_all();
   const size_t big = size_t{6} << 20, small = size_t{3} << 20;
   auto* a = static_cast<uint64_t*>(warm_take(big, true));
@@ -337,6 +338,7 @@ TEST(AgentWarmBlocks, ABlockGivenBackServesTheNextSearchZeroed) {
 // A small request served by a larger kept block gives back the whole block:
 // the cache keeps it at its own size, and it serves a large request again.
 TEST(AgentWarmBlocks, ALargerBlockLentForLessComesBackWhole) {
+  if (warm_cap() < (size_t{64} << 20)) GTEST_SKIP() << "AUTUMN_WARM_MEMORY_MB turns the cache (nearly) off here";
   warm_drop_all();
   const size_t large = size_t{16} << 20;
   void* a = warm_take(large, false);
@@ -354,6 +356,7 @@ TEST(AgentWarmBlocks, ALargerBlockLentForLessComesBackWhole) {
 // a block larger than that is never kept. (The blocks are never written, so
 // they cost address space only.)
 TEST(AgentWarmBlocks, KeepsAtMostTheCapOldestDroppedFirst) {
+  if (warm_cap() < (size_t{64} << 20)) GTEST_SKIP() << "AUTUMN_WARM_MEMORY_MB turns the cache (nearly) off here";
   warm_drop_all();
   const size_t cap = warm_cap(), two = kHugePage;
   ASSERT_GE(cap, 8 * two);
@@ -373,9 +376,27 @@ TEST(AgentWarmBlocks, KeepsAtMostTheCapOldestDroppedFirst) {
   warm_drop_all();
 }
 
+// AUTUMN_WARM_MEMORY_MB sets the cap in MiB, 0 turning the cache off; without
+// it an eighth of the memory, at most 1 GiB; a bad setting falls back, said.
+TEST(AgentWarmBlocks, CapComesFromTheSettingOrTheMachine) {
+  const size_t gib = size_t{1} << 30;
+  EXPECT_EQ(warm_cap_for(nullptr, 24 * gib), gib);
+  EXPECT_EQ(warm_cap_for(nullptr, 4 * gib), gib / 2);
+  EXPECT_EQ(warm_cap_for("0", 24 * gib), 0u);
+  EXPECT_EQ(warm_cap_for("256", 24 * gib), size_t{256} << 20);
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(warm_cap_for("lots", 24 * gib), gib);
+  EXPECT_EQ(warm_cap_for("-5", 4 * gib), gib / 2);
+  EXPECT_EQ(warm_cap_for("12MB", 4 * gib), gib / 2);
+  const std::string said = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("AUTUMN_WARM_MEMORY_MB='lots' is not a number of MiB"), std::string::npos) << said;
+  EXPECT_NE(said.find("'12MB'"), std::string::npos) << said;
+}
+
 // Vectors through WarmAllocator: large buffers are warm blocks (and come back
 // to the cache), small ones the ordinary heap's; the contents are a vector's.
 TEST(AgentWarmBlocks, AllocatorTakesLargeBuffersOnly) {
+  if (warm_cap() < (size_t{64} << 20)) GTEST_SKIP() << "AUTUMN_WARM_MEMORY_MB turns the cache (nearly) off here";
   warm_drop_all();
   {
     std::vector<uint64_t, WarmAllocator<uint64_t>> v(100, 7);

@@ -7,6 +7,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <deque>
@@ -113,11 +116,23 @@ Cache& cache() {
 
 }  // namespace
 
+size_t warm_cap_for(const char* setting, size_t ram) {
+  const size_t fallback = std::min(size_t{1} << 30, ram / 8);
+  if (setting == nullptr) return fallback;
+  char* end = nullptr;
+  errno = 0;
+  const long long mib = std::strtoll(setting, &end, 10);
+  if (end != setting && *end == 0 && errno == 0 && mib >= 0 && mib <= (1LL << 20)) return static_cast<size_t>(mib) << 20;
+  std::fprintf(stderr, "autumn: AUTUMN_WARM_MEMORY_MB='%s' is not a number of MiB from 0 to 1048576; keeping up to %zu MiB\n",
+               setting, fallback >> 20);
+  return fallback;
+}
+
 size_t warm_cap() {
   static const size_t cap = [] {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     const size_t ram = pages > 0 && page > 0 ? static_cast<size_t>(pages) * static_cast<size_t>(page) : 0;
-    return std::min(size_t{1} << 30, ram / 8);
+    return warm_cap_for(std::getenv("AUTUMN_WARM_MEMORY_MB"), ram);
   }();
   return cap;
 }

@@ -36,8 +36,14 @@ void* warm_take(size_t bytes, bool zeroed);
 // Gives back a block warm_take returned (the cache knows its size): kept for
 // a later take while the cache holds no more than warm_cap(), else unmapped.
 void warm_give(void* p) noexcept;
-// The most the cache keeps: an eighth of the machine's memory, at most 1 GiB.
+// The most the cache keeps: $AUTUMN_WARM_MEMORY_MB MiB (0: nothing is kept,
+// every block is unmapped when given back), by default an eighth of the
+// machine's memory and at most 1 GiB. Read once per process.
 size_t warm_cap();
+// warm_cap's rule for a setting (null: unset) and a machine of `ram` bytes; a
+// setting that is not a number from 0 to 2^20 is reported on stderr and the
+// default used.
+size_t warm_cap_for(const char* setting, size_t ram);
 // Bytes kept now (tests), and dropping them all (blocks in use are not kept).
 size_t warm_kept_bytes();
 void warm_drop_all() noexcept;
