@@ -5,10 +5,12 @@
 // 2.5 ms a MiB at its first write (the host backs it then: 0.4 GB/s), while
 // memory it has touched before is rewritten at 10 GB/s; freed memory is soon
 // given back to the host (free page reporting), so the next search pays again.
-// A BFS of a million successors on a 256-object program touched about 130 MiB
-// and spent a quarter of its time faulting it in (docs/design.md, "Warm
-// memory"). The planner runs search after search, and bench-agent repeats
-// them: each took fresh memory for the same buffers.
+// A BFS of a million successors on a 256-object program (peak RSS 130 MiB)
+// spent a tenth of its time in the kernel zeroing new pages, most of it for
+// the seen set's growing tables, and on two threads their page faults
+// serialised: the growth took longer than on one thread (docs/design.md,
+// "Warm memory"). The planner runs search after search, and bench-agent
+// repeats them: each took fresh memory for the same buffers.
 //
 // So the search's largest buffers (the seen set's tables, the node and hash
 // tables) come from a process-wide cache of blocks of at least kWarmMin bytes:
