@@ -11,8 +11,7 @@ namespace autumn::agent {
 bool advise_huge_pages(const void* p, size_t bytes) {
   constexpr uintptr_t kHuge = kHugePage;
   const uintptr_t begin = reinterpret_cast<uintptr_t>(p);
-  const uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
-  const uintptr_t last = (begin + bytes) & ~(kHuge - 1);
+  const uintptr_t first = round_up(begin, kHuge), last = round_down(begin + bytes, kHuge);
   if (p == nullptr || last <= first) return false;
   return madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE) == 0;
 }
@@ -20,8 +19,8 @@ bool advise_huge_pages(const void* p, size_t bytes) {
 void release_unused(const void* used_end, const void* capacity_end) {
   constexpr uintptr_t kPage = 4096, kHuge = kHugePage;
   const uintptr_t used = reinterpret_cast<uintptr_t>(used_end);
-  const uintptr_t first = (used + kPage - 1) & ~(kPage - 1);
-  const uintptr_t last = std::min((used + kHuge - 1) & ~(kHuge - 1), reinterpret_cast<uintptr_t>(capacity_end) & ~(kPage - 1));
+  const uintptr_t first = round_up(used, kPage);
+  const uintptr_t last = std::min(round_up(used, kHuge), round_down(reinterpret_cast<uintptr_t>(capacity_end), kPage));
   if (used_end != nullptr && first < last) madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
 }
 

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <iterator>
 #include <vector>
 
@@ -36,6 +37,10 @@ void release_unused(const void* used_end, const void* capacity_end);
 // zeroed whole at its first write (measured: searches of a few thousand
 // nodes ran at half speed when every buffer's first page was huge).
 inline constexpr size_t kHugePage = size_t{2} << 20;
+
+// x rounded up or down to a multiple of `page` (a power of two).
+constexpr uintptr_t round_up(uintptr_t x, uintptr_t page) { return (x + page - 1) & ~(page - 1); }
+constexpr uintptr_t round_down(uintptr_t x, uintptr_t page) { return x & ~(page - 1); }
 
 // Advises a buffer of `bytes` at p that nothing has written yet, taking the
 // place of one that held `held` bytes: all of it if that was 2 MiB or more,

@@ -14,14 +14,15 @@
 #include <cstring>
 #include <deque>
 #include <mutex>
+#include <new>
 #include <unordered_map>
 
-#include "harness/agent/huge_pages.hpp"  // kHugePage
+#include "harness/agent/huge_pages.hpp"  // kHugePage, round_up
 
 namespace autumn::agent {
 namespace {
 
-size_t whole_pages(size_t bytes) { return (bytes + kHugePage - 1) & ~(kHugePage - 1); }
+size_t whole_pages(size_t bytes) { return round_up(bytes, kHugePage); }
 
 // A new 2 MiB-aligned mapping of `bytes` (whole huge pages). Not advised
 // here: the caller advises what it will fill (advise_new_buffer's rule).
@@ -30,7 +31,7 @@ void* map_block(size_t bytes) {
   void* raw = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (raw == MAP_FAILED) throw std::bad_alloc();
   const uintptr_t begin = reinterpret_cast<uintptr_t>(raw);
-  const uintptr_t first = (begin + kHugePage - 1) & ~(kHugePage - 1);
+  const uintptr_t first = round_up(begin, kHugePage);
   if (first > begin) munmap(raw, first - begin);
   const uintptr_t end = begin + span, last = first + bytes;
   if (end > last) munmap(reinterpret_cast<void*>(last), end - last);

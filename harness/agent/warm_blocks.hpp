@@ -25,7 +25,6 @@
 
 #include <cstddef>
 #include <memory>
-#include <new>
 
 namespace autumn::agent {
 
