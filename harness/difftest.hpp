@@ -3,7 +3,10 @@
 // Both engines run the same seeds and the same (randomly chosen, reproducible)
 // actions; after every step the frames, the trigger value, the coverage count and
 // the success of the step must agree, and when both fail, their error messages.
-// The first divergence is reported.
+// The first divergence is reported. A disagreement the per-step budgets allow
+// (the interpreter stopped by "calls" or "cells" in a step, and the two agree
+// there once those are raised: runtime/limits.hpp) ends its episode as
+// budget_ended instead (difftest.cpp).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -27,6 +30,8 @@ struct DiffResult {
   size_t steps = 0;             // steps compared (both engines)
   size_t errored = 0;           // episodes that ended in the same runtime error on both engines
   std::string first_error;      // the error of the first such episode
+  size_t budget_ended = 0;      // episodes ended where only the budgets' allowance told the engines apart
+  std::string first_budget;     // where the first such episode ended, and how
   bool setup_failed = false;    // an engine could not be built
   std::string divergence;       // empty when the engines agreed everywhere
 };

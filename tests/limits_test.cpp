@@ -22,6 +22,7 @@
 #include "compiler/interpret/interpreted_env.hpp"
 #include "compiler/lower/lower.hpp"
 #include "harness/agent/task_file.hpp"
+#include "harness/difftest.hpp"
 #include "harness/engine.hpp"
 #include "harness/trace_check.hpp"
 #include "runtime/limits.hpp"
@@ -186,6 +187,44 @@ TEST(CellsBudget, CompiledFinishesEveryEpisodeTheInterpreterFinishes) {
   EXPECT_FALSE(frames_under("compiled", 20, &error));
   EXPECT_NE(error.find("memory budget exceeded: this step created more than 20 list elements"), std::string::npos)
       << error;
+}
+
+// The same allowance, as difftest applies it (harness/difftest.cpp): under
+// budgets between the two engines' counts the interpreter stops in a step the
+// compiled engine finishes; difftest replays the episode with the per-step
+// budgets raised, finds the two agree there, and counts the episode as ended
+// on a budget, not as a divergence. The allowance is the interpreter's alone:
+// with the engines the other way round (the compiled engine as the reference)
+// the same episodes are divergences.
+TEST(CellsBudget, DifftestAllowsOnlyTheInterpretersLargerCount) {
+  const auto path = testing::source_dir() / "tests/budget/list_constructs.au";
+  auto program = load_program(SourceFile{path.string(), read_text(path)});
+  DiffOptions o;
+  o.seeds = 2;
+  o.steps = 12;
+  int64_t allowed_at = 0;  // a budget under which some episode ended on the allowance
+  for (int64_t cells = 100; cells <= 3000; cells += 100) {
+    o.limits.cells = cells;
+    const DiffResult r = diff_engines(program, o);
+    ASSERT_FALSE(r.setup_failed) << r.divergence;
+    EXPECT_EQ(r.divergence, "") << "cells=" << cells;
+    if (r.budget_ended) {
+      // The interpreter stopped and the compiled engine ran on, or both stopped
+      // in that step at different constructs.
+      const std::string& b = r.first_budget;
+      EXPECT_TRUE(b.find("interp failed (" + path.string()) != std::string::npos && b.find("compiled ran on") != std::string::npos ||
+                  b.find("both failed, with different errors") != std::string::npos)
+          << b;
+      EXPECT_NE(b.find("memory budget exceeded"), std::string::npos) << b;
+      if (b.find("compiled ran on") != std::string::npos && !allowed_at) allowed_at = cells;
+    }
+  }
+  ASSERT_GT(allowed_at, 0) << "no budget from 100 to 3,000 cells stopped the interpreter alone: the test tests nothing";
+  o.limits.cells = allowed_at;
+  std::swap(o.engine_a, o.engine_b);  // compiled first: its stopping later is not the interpreter's allowance
+  const DiffResult reversed = diff_engines(program, o);
+  EXPECT_EQ(reversed.budget_ended, 0u);
+  EXPECT_NE(reversed.divergence.find("compiled ran on but interp failed"), std::string::npos) << reversed.divergence;
 }
 
 TEST(Limits, ParseTheLimitsFlag) {

@@ -1,7 +1,10 @@
 // autumn difftest — two engines on the same seeds and random actions; every
 // frame, trigger value, coverage count and error message must agree
 // (harness/difftest.hpp). Episodes that end in the same runtime error on both
-// engines agree, but are counted and listed apart from those that ran through.
+// engines agree, but are counted and listed apart from those that ran through;
+// so are those the per-step budgets' allowance ends (difftest.cpp: the
+// interpreter stopped by a budget the compiled engine's smaller count stayed
+// within, the two agreeing there once it is raised).
 // --shard K/N tests a slice of the programs, --merge puts the slices' JSON back
 // together (shard_options.hpp): every program runs seeds --first-seed on,
 // whatever its place in the list, so its row is the whole run's.
@@ -60,7 +63,7 @@ ProgramDiff diff_program(const DifftestOptions& o, const std::filesystem::path& 
 }
 
 void print_text(const DifftestOptions& o, const std::vector<ProgramDiff>& diffs) {
-  size_t episodes = 0, errored = 0, steps = 0, failed = 0;
+  size_t episodes = 0, errored = 0, budget = 0, steps = 0, failed = 0;
   for (const auto& d : diffs) {
     const DiffResult& r = d.result;
     if (d.status == "load error") fmt::print("FAILED {}: the program does not load\n", d.program);
@@ -69,11 +72,18 @@ void print_text(const DifftestOptions& o, const std::vector<ProgramDiff>& diffs)
     if (r.errored)
       fmt::print("ERRORED {}: {} of {} episodes ended in the same runtime error on both engines; first at {}\n",
                  d.program, r.errored, r.episodes, r.first_error);
-    episodes += r.episodes, errored += r.errored, steps += r.steps, failed += d.status != "agreed";
+    if (r.budget_ended)
+      fmt::print("BUDGET {}: {} of {} episodes ended where the {} stopped on a per-step budget and the {} engine "
+                 "did not (allowed: runtime/limits.hpp); first at {}\n",
+                 d.program, r.budget_ended, r.episodes, o.diff.engine_a == "interp" ? "interpreter" : o.diff.engine_a,
+                 o.diff.engine_b, r.first_budget);
+    episodes += r.episodes, errored += r.errored, budget += r.budget_ended, steps += r.steps;
+    failed += d.status != "agreed";
   }
-  fmt::print("{} programs, {} episodes: {} ran every step, {} ended in the same runtime error; {} steps compared "
-             "({} vs {}); {} programs failed\n",
-             diffs.size(), episodes, episodes - errored, errored, steps, o.diff.engine_a, o.diff.engine_b, failed);
+  fmt::print("{} programs, {} episodes: {} ran every step, {} ended in the same runtime error, {} on a per-step "
+             "budget; {} steps compared ({} vs {}); {} programs failed\n",
+             diffs.size(), episodes, episodes - errored - budget, errored, budget, steps, o.diff.engine_a,
+             o.diff.engine_b, failed);
 }
 
 nlohmann::json diffs_json(const DifftestOptions& o, const std::vector<ProgramDiff>& diffs) {
@@ -81,6 +91,7 @@ nlohmann::json diffs_json(const DifftestOptions& o, const std::vector<ProgramDif
   for (const auto& d : diffs)
     rows.push_back({{"program", d.program}, {"status", d.status}, {"episodes", d.result.episodes},
                     {"errored_episodes", d.result.errored}, {"first_error", d.result.first_error},
+                    {"budget_episodes", d.result.budget_ended}, {"first_budget", d.result.first_budget},
                     {"steps", d.result.steps}, {"divergence", d.result.divergence}});
   return {{"engines", {o.diff.engine_a, o.diff.engine_b}},
           {"seeds", o.diff.seeds},
@@ -96,6 +107,8 @@ ProgramDiff diff_from_json(const nlohmann::json& j) {
   d.result.episodes = j.at("episodes").get<size_t>();
   d.result.errored = j.at("errored_episodes").get<size_t>();
   d.result.first_error = j.at("first_error").get<std::string>();
+  d.result.budget_ended = j.value("budget_episodes", size_t{0});  // absent from shards of earlier builds
+  d.result.first_budget = j.value("first_budget", std::string());
   d.result.steps = j.at("steps").get<size_t>();
   d.result.divergence = j.at("divergence").get<std::string>();
   d.result.setup_failed = d.status == "setup failed";
