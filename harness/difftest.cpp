@@ -121,8 +121,8 @@ DiffResult diff_engines(const std::shared_ptr<const Program>& program, const Dif
       } else if (budget_allows(program, o, seed, actions, oka)) {
         ++r.budget_ended;
         if (r.first_budget.empty())
-          r.first_budget = at + ": " + what + " (with the per-step budgets, calls and cells, raised " +
-                           std::to_string(kBudgetRaise) + "x, both engines agree there)";
+          r.first_budget = at + " (with the per-step budgets, calls and cells, raised " + std::to_string(kBudgetRaise) +
+                           "x, both engines agree there): " + what;
       } else {
         r.divergence = at + ": " + what;
       }
