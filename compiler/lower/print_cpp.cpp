@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "runtime/frame.hpp"
@@ -106,8 +107,9 @@ class Printer {
   void switch_stmt(const Stmt& s);
   void function(const Function& f, int index);
   // --- module parts
-  void classes();
-  void sums();
+  void declarations();
+  void class_struct(const ClassInfo& c);
+  void sum_alias(TypeP t);
   void state();
   void snapshot_functions();
   void tables();
@@ -457,44 +459,63 @@ void Printer::function(const Function& f, int index) {
   line("}");
 }
 
-void Printer::classes() {
+// The classes in order, each after the sums its fields hold (a field that holds
+// an Int at one construction and a String at another is a sum), and then the
+// other sums (some hold classes).
+void Printer::declarations() {
+  std::set<TypeP> printed;
+  std::function<void(TypeP)> need = [&](TypeP t) {
+    if (!t) return;
+    if (t->k == TK::List) return need(t->elem);
+    if (t->k != TK::Sum || printed.count(t)) return;
+    for (TypeP a : t->alts) need(a);
+    sum_alias(t);
+    printed.insert(t);
+  };
   for (const ClassInfo& c : m_.classes) {
-    line("struct " + c.cpp + " {");
-    ++depth_;
-    for (size_t i = 0; i < c.fields.size(); ++i)
-      line((c.field_types[i] ? type(c.field_types[i]) : std::string("Unit")) + " f" + std::to_string(i) + ";");
-    // With Position identities tracked, an origin keeps the identity of the
-    // Position it was given (the reference stores that very object).
-    line(pos_type() + " origin;");
-    if (c.mode == CellMode::Stored) line("std::vector<CellV> cells;");
-    if (c.tracked) line("uint32_t uid = 0;");
-    if (c.rotatable) line("uint32_t group = 0;");
-    std::vector<std::string> members;
-    for (size_t i = 0; i < c.fields.size(); ++i) members.push_back("v.f" + std::to_string(i));
-    members.push_back("v.origin");
-    if (c.mode == CellMode::Stored) members.push_back("v.cells");
-    if (c.tracked) members.push_back("v.uid");
-    if (c.rotatable) members.push_back("v.group");
-    auto each = [&](const std::string& call) {
-      for (const std::string& m : members) line("  " + call + m + ");");
-    };
-    // Hashed in one call, so that neighbouring one-word fields pair up (hash_fields).
-    line("friend void hash_value(Hash& h, const " + c.cpp + "& v) {");
-    std::string all;
-    for (const std::string& m : members) all += ", " + m;
-    line("  hash_fields(h" + all + ");");
-    line("}");
-    tally_function(c);
-    line("friend void save_value(SnapshotWriter& w, const " + c.cpp + "& v) {");
-    each("save_value(w, ");
-    line("}");
-    line("friend void load_value(SnapshotReader& r, " + c.cpp + "& v) {");
-    each("load_value(r, ");
-    line("}");
-    if (c.shape_table) shape_table(c);
-    --depth_;
-    line("};");
+    for (TypeP t : c.field_types) need(t);
+    class_struct(c);
   }
+  for (TypeP t : sums_)
+    if (!printed.count(t)) sum_alias(t);
+}
+
+void Printer::class_struct(const ClassInfo& c) {
+  line("struct " + c.cpp + " {");
+  ++depth_;
+  for (size_t i = 0; i < c.fields.size(); ++i)
+    line((c.field_types[i] ? type(c.field_types[i]) : std::string("Unit")) + " f" + std::to_string(i) + ";");
+  // With Position identities tracked, an origin keeps the identity of the
+  // Position it was given (the reference stores that very object).
+  line(pos_type() + " origin;");
+  if (c.mode == CellMode::Stored) line("std::vector<CellV> cells;");
+  if (c.tracked) line("uint32_t uid = 0;");
+  if (c.rotatable) line("uint32_t group = 0;");
+  std::vector<std::string> members;
+  for (size_t i = 0; i < c.fields.size(); ++i) members.push_back("v.f" + std::to_string(i));
+  members.push_back("v.origin");
+  if (c.mode == CellMode::Stored) members.push_back("v.cells");
+  if (c.tracked) members.push_back("v.uid");
+  if (c.rotatable) members.push_back("v.group");
+  auto each = [&](const std::string& call) {
+    for (const std::string& m : members) line("  " + call + m + ");");
+  };
+  // Hashed in one call, so that neighbouring one-word fields pair up (hash_fields).
+  line("friend void hash_value(Hash& h, const " + c.cpp + "& v) {");
+  std::string all;
+  for (const std::string& m : members) all += ", " + m;
+  line("  hash_fields(h" + all + ");");
+  line("}");
+  tally_function(c);
+  line("friend void save_value(SnapshotWriter& w, const " + c.cpp + "& v) {");
+  each("save_value(w, ");
+  line("}");
+  line("friend void load_value(SnapshotReader& r, " + c.cpp + "& v) {");
+  each("load_value(r, ");
+  line("}");
+  if (c.shape_table) shape_table(c);
+  --depth_;
+  line("};");
 }
 
 // The cells every object of a Static class has, as {x, y, colour} (Op::Shape):
@@ -541,12 +562,10 @@ void Printer::tally_function(const ClassInfo& c) {
   line("}");
 }
 
-void Printer::sums() {
-  for (TypeP t : sums_) {
-    std::string alts;
-    for (size_t i = 0; i < t->alts.size(); ++i) alts += (i ? ", " : "") + type(t->alts[i]);
-    line("using " + type(t) + " = std::variant<" + alts + ">;");
-  }
+void Printer::sum_alias(TypeP t) {
+  std::string alts;
+  for (size_t i = 0; i < t->alts.size(); ++i) alts += (i ? ", " : "") + type(t->alts[i]);
+  line("using " + type(t) + " = std::variant<" + alts + ">;");
 }
 
 void Printer::state() {
@@ -628,9 +647,7 @@ std::string Printer::run() {
   line("static const char* const kRenderNames[];");
   line("static const ErrorSite kErrors[];");
   out_ << "\n";
-  // Declarations in dependency order: a class's fields may be sums of earlier classes.
-  classes();
-  sums();
+  declarations();
   out_ << "\n";
   state();
   out_ << "\n";
