@@ -230,6 +230,7 @@ void Specialiser::define_click() {
   SVal p = h_.tracked(T().pos()) ? make_position(SVal{T().int_(), ir_.member(click, ir::Member::X, T().int_())},
                                               SVal{T().int_(), ir_.member(click, ir::Member::Y, T().int_())})
                               : let(SVal{T().pos(), click});
+  save_for_prev(g);  // a store like any other: (prev click) still reads the step's start
   ir_.emit_set(ir_.slot(g.value), p.code);
 }
 
