@@ -42,6 +42,13 @@ enum BuiltinEffect : uint16_t {
   kReadsGridSize = 1 << 9,    // looks GRID_SIZE up dynamically
   kCopies = 1 << 10,          // makes fresh copies of objects (new identity numbers)
 };
+// Builtins that may answer otherwise when called again with the same arguments:
+// what they read beyond them (the global map, the prev snapshot, the occupancy,
+// the inputs, the random generator, an object's render, GRID_SIZE) changes as
+// the episode runs. A cell argument that calls one is evaluated at every render
+// (compiler/lower/spec_cells.cpp), as the reference does every deferred one.
+inline constexpr uint16_t kReadsChangingState =
+    kDrawsRandom | kReadsOccupancy | kReadsIdentity | kReadsGlobalOrder | kReadsInputs | kRenders | kReadsGridSize;
 
 struct BuiltinInfo {
   Builtin id;

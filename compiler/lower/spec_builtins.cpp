@@ -53,9 +53,16 @@ SVal Specialiser::grid_size(const Expr& at) {
 
 // ---------------------------------------------------------------------------
 
+// A cell argument's trial that calls a builtin reading changing state is not
+// fixed: it is evaluated at every render (spec_cells.cpp).
+void Specialiser::note_reads(Builtin b) {
+  if (capture_mode_ && (builtin_info(b).effects & kReadsChangingState)) trial_varies_ = true;
+}
+
 SVal Specialiser::call_builtin(Builtin b, std::vector<SVal>& a, const Expr& at) {
   // A builtin of one argument count: checked first, from the table, as the interpreter does.
   if (!need(b, a.size())) return never();
+  note_reads(b);
   // A value of several types: one case per type (a dynamic site).
   for (size_t i = 0; i < a.size(); ++i)
     if (is_sum(a[i].type) && a[i].type->alts[0]->k != TK::Func) {

@@ -11,7 +11,8 @@
 // At run time a cell is a CellV (runtime/compiled_support.hpp): three int32
 // values and, per argument, -1 (a constant) or the index of its DeferredArg in
 // the module. Deferred arguments whose value cannot change between renders
-// ("fixed": no effects, nothing but captured names) keep their value in the
+// ("fixed": no effects, nothing but captured names, no builtin that reads
+// changing state such as `defined`, `prev` or `isFreePos`) keep their value in the
 // cell; the others are evaluated by render code, a case per deferred argument.
 //
 // A class whose objects all get the same cells (the usual case: constant
@@ -140,6 +141,8 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
   ++capture_mode_;
   capture_block_ = ir_.block();
   trial_failed_ = false;
+  const bool outer_varies = trial_varies_;  // a trial inside another's argument
+  trial_varies_ = false;
   const size_t effects_before = ir_.effects();
   const bool was_dead = ir_.dead();
   SVal v = lower_value(arg);
@@ -168,7 +171,9 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
       else runtime_capture = true;
     }
   const TypeP want = which == 2 ? T().str() : T().int_();
-  d.fixed = !failed && pure && v.type == want;
+  const bool varies = trial_varies_;
+  trial_varies_ = outer_varies || varies;
+  d.fixed = !failed && pure && !varies && v.type == want;
   if (!d.fixed && runtime_capture)
     sites_.unsupported("a cell argument evaluated at render time that captures a value computed at run time");
   const std::string text = "(" + ast_to_string(p_.symbols, arg) + ": Expr)";

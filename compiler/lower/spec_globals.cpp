@@ -355,6 +355,7 @@ SVal Specialiser::remove_global(const SVal& v) {
 // prev
 
 SVal Specialiser::lower_prev(const Expr& call) {
+  note_reads(Builtin::Prev);
   const size_t nargs = call.kids.size() - 1;
   if (nargs != 1) {
     fail("prev takes 1 argument, got " + std::to_string(nargs));

@@ -283,6 +283,8 @@ class Specialiser {
   static constexpr int kMaxSplitDepth = 12;
   ir::Block* capture_block_ = nullptr;
   bool trial_failed_ = false;
+  bool trial_varies_ = false;  // the trial called a builtin of kReadsChangingState: not fixed
+  void note_reads(Builtin b);
   std::map<Sym, ir::Node*> captured_konst_;
   bool object_cells(int cls, const SVal& cells, std::vector<ir::Node*>& ops);
   SVal object_cell_list(const SVal& o);
