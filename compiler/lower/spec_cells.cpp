@@ -366,6 +366,9 @@ void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
   const int cls = o.type->cls;
   ClassInfo& ci = m_.classes[cls];
   if (h_.stored_cells(cls)) {  // the class's render function, into a buffer
+    std::set<Sym>& binds = stored_render_binds_[cls];
+    for (SScope* sc : scopes_.visible())
+      for (const Binding& b : sc->vars) binds.insert(b.sym);
     ir::Var* out = ir_.var(T().list(T().elem()), "cells");
     out->scratch = true;
     out->mut = true;
@@ -564,11 +567,37 @@ void Specialiser::finish_classes() {
       continue;
     }
     ci.mode = CellMode::Stored;
+    check_render_callers(static_cast<int>(c));
     ci.render_fn = stored_render_function(static_cast<int>(c));
   }
   // Settle render calls of Stored classes.
   for (ir::Node& n : m_.arena.nodes)
     if (n.op == ir::Op::FnCall && n.index < 0) n.index = m_.classes[-1 - n.index].render_fn;
+}
+
+// A deferred argument's name that neither its capture, the object's fields nor
+// the cell `e` bind is looked up in the render's caller (the interpreter's
+// dynamic scope). The shared render function of a Stored class sees only the
+// globals, so a caller that binds such a name locally is not specialised.
+void Specialiser::check_render_callers(int cls) {
+  const auto sites = stored_render_binds_.find(cls);
+  if (sites == stored_render_binds_.end() || sites->second.empty()) return;
+  const ClassInfo& ci = m_.classes[cls];
+  for (const DeferredArg& da : m_.deferred) {
+    if (da.fixed || !(da.classes.empty() || std::count(da.classes.begin(), da.classes.end(), cls))) continue;
+    std::set<Sym> names;
+    mentioned(*da.expr, names);
+    for (Sym n : names) {
+      const bool own = n == p_.names.origin || n == p_.names.elems || n == p_.names.e ||
+                       std::count(ci.fields.begin(), ci.fields.end(), n) ||
+                       std::any_of(da.captured_types.begin(), da.captured_types.end(), [n](const auto& c) { return c.first == n; });
+      if (!own && sites->second.count(n)) {
+        sites_.enter(da.expr);  // located at the argument
+        sites_.unsupported("a cell argument evaluated at render time whose name '" + nm(n) +
+                           "' a caller of the render binds");
+      }
+    }
+  }
 }
 
 int Specialiser::stored_render_function(int cls) {

@@ -284,7 +284,12 @@ class Specialiser {
   ir::Block* capture_block_ = nullptr;
   bool trial_failed_ = false;
   bool trial_varies_ = false;  // the trial called a builtin of kReadsChangingState: not fixed
+  // Per class rendered by its shared function (Stored), the names some render
+  // call site binds in a local scope: a deferred argument's free name would
+  // resolve there, but the shared function sees the globals (finish_classes).
+  std::map<int, std::set<Sym>> stored_render_binds_;
   void note_reads(Builtin b);
+  void check_render_callers(int cls);
   std::map<Sym, ir::Node*> captured_konst_;
   bool object_cells(int cls, const SVal& cells, std::vector<ir::Node*>& ops);
   SVal object_cell_list(const SVal& o);
