@@ -301,6 +301,7 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
     loop->a = l.code;
     ir_.in_block(loop->body, [&] {
       SVal e{et, ir_.local(loop->var)};
+      if (!check_copy(e)) return;  // every element is copied
       if (h_.tracked(et)) e = renew_identity(e);
       ir_.emit_push(ir_.local(out), coerce(e, rt).code);
     });
@@ -357,6 +358,7 @@ SVal Specialiser::builtin_update_obj(Builtin, std::vector<SVal>& a, const Expr& 
     }
     return call1(a[1], a[0], at);
   }
+  if (!check_copy(a[0])) return never();  // the copy comes first, as in the interpreter
   if (a[1].type->k != TK::Str) {
     fail("updateObj: the field name must be a string");
     return never();
@@ -540,6 +542,7 @@ SVal Specialiser::builtin_rotate(Builtin, std::vector<SVal>& a, const Expr&) {
     fail("rotate: the object has no cells");
     return never();
   }
+  if (!check_copy(a[0])) return never();  // rotate turns a copy
   const int cls = a[0].type->cls;
   if (h_.add_rotated(cls)) {
     h_.learn("rotate turns '" + m_.classes[cls].name + "'");

@@ -328,26 +328,51 @@ SVal Specialiser::construct(int cls, std::vector<SVal>& args, const Expr& at) {
   return make_instance(cls, values, cells);
 }
 
+// The interpreter's make_instance check of field i's value against the type
+// its class declares (an error where they differ; a case per alternative of a sum).
+void Specialiser::check_field_type(int cls, size_t i, TypeP declared, const SVal& value) {
+  const ClassInfo& ci = m_.classes[cls];
+  const std::string want = type_string(declared);
+  split(value, [&](const SVal& v) -> SVal {
+    if (v.type->k == TK::Never) return v;
+    if (!check_printable(v.type) || !check_printable(declared)) return v;
+    if (v.type->k == TK::List) {
+      if (!list_tag_may_pass(v.type, declared))
+        sites_.unsupported("a list field given a list of another element type (the check reads the list's type tag)");
+      return v;
+    }
+    if (type_string(v.type) != want)
+      fail("field '" + ci.field_names[i] + "' of '" + ci.name + "' must be " + shown_type(want) + ", got " +
+           shown_type(type_string(v.type)));
+    return v;
+  });
+}
+
+// A copy of an object (updateObj's, addObj's, rotate's) is a new instance to the
+// interpreter (copy_value), so its fields are checked as make_instance checks
+// them: a field updateObj gave a value of another type fails at the next copy.
+// Only fields whose slot may hold another type than the declared one are read.
+bool Specialiser::check_copy(const SVal& o) {
+  if (o.type->k != TK::Obj) return true;
+  const int cls = o.type->cls;
+  const ClassInfo& ci = m_.classes[cls];
+  for (size_t i = 0; i < ci.fields.size(); ++i) {
+    TypeP declared = declared_type(*ci.stmt->fields[i].type);
+    TypeP slot = ci.field_types[i];
+    if (!declared || !slot || type_string(slot) == type_string(declared)) continue;
+    check_field_type(cls, i, declared, let(SVal{slot, ir_.member(o.code, ir::Member::Field, slot, static_cast<int>(i))}, "field"));
+    if (ir_.dead()) return false;
+  }
+  return true;
+}
+
 // Field type checks of make_instance, then the struct.
 SVal Specialiser::make_instance(int cls, std::vector<SVal>& values, const SVal& cells) {
   ClassInfo& ci = m_.classes[cls];
   for (size_t i = 0; i < ci.fields.size(); ++i) {
     TypeP declared = declared_type(*ci.stmt->fields[i].type);
     if (declared) {
-      const std::string want = type_string(declared);
-      split(values[i], [&](const SVal& v) -> SVal {
-        if (v.type->k == TK::Never) return v;
-        if (!check_printable(v.type) || !check_printable(declared)) return v;
-        if (v.type->k == TK::List) {
-          if (!list_tag_may_pass(v.type, declared))
-            sites_.unsupported("a list field given a list of another element type (the check reads the list's type tag)");
-          return v;
-        }
-        if (type_string(v.type) != want)
-          fail("field '" + ci.field_names[i] + "' of '" + ci.name + "' must be " + shown_type(want) + ", got " +
-               shown_type(type_string(v.type)));
-        return v;
-      });
+      check_field_type(cls, i, declared, values[i]);
       if (ir_.dead()) return never();
     }
     widen_field(cls, static_cast<int>(i), values[i].type);

@@ -178,6 +178,8 @@ class Specialiser {
   SVal make_position(SVal x, SVal y);
   SVal construct_builtin_class(int c, std::vector<SVal>& args);
   SVal make_instance(int cls, std::vector<SVal>& values, const SVal& cells);
+  void check_field_type(int cls, size_t i, TypeP declared, const SVal& value);
+  bool check_copy(const SVal& o);
   void widen_field(int cls, int field, TypeP t);
   void bind(SScope& sc, Sym s, const SVal& v, std::pair<const void*, Sym> key);
   SVal built(ir::Var* v);  // a list or value finished building: immutable from here
