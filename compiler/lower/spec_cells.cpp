@@ -150,6 +150,8 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
   ir_.set_dead(was_dead);
   --capture_mode_;
   scopes_.replace(saved);
+  const bool varies = trial_varies_;
+  trial_varies_ = outer_varies || varies;  // the outer trial's, restored with this one's added
   const bool pure = ir_.effects() == effects_before;
   if (!failed && v.type->k == TK::Int) {
     *deferred_index = -1;
@@ -171,8 +173,6 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
       else runtime_capture = true;
     }
   const TypeP want = which == 2 ? T().str() : T().int_();
-  const bool varies = trial_varies_;
-  trial_varies_ = outer_varies || varies;
   d.fixed = !failed && pure && !varies && v.type == want;
   if (!d.fixed && runtime_capture)
     sites_.unsupported("a cell argument evaluated at render time that captures a value computed at run time");
