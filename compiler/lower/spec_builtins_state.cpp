@@ -259,7 +259,7 @@ SVal Specialiser::builtin_remove_obj(Builtin b, std::vector<SVal>& a, const Expr
     return never();
   }
   const TK wk = a[1].type->k;
-  if (wk != TK::Func && wk != TK::Obj && wk != TK::Pos && wk != TK::Elem && wk != TK::Cell && wk != TK::List) {
+  if (!is_function(a[1].type) && wk != TK::Obj && wk != TK::Pos && wk != TK::Elem && wk != TK::Cell && wk != TK::List) {
     fail("removeObj: the second argument must be a function, an object or a list");
     return never();
   }
@@ -340,7 +340,7 @@ SVal Specialiser::builtin_update_obj(Builtin, std::vector<SVal>& a, const Expr& 
       std::vector<SVal> m{a[1], a[0]};
       return call_builtin(Builtin::Map, m, at);
     }
-    if (a[1].type->k != TK::Func || a[2].type->k != TK::Func) {
+    if (!is_function(a[1].type) || !is_function(a[2].type)) {
       fail("updateObj: the second and third arguments must be functions");
       return never();
     }
@@ -352,7 +352,7 @@ SVal Specialiser::builtin_update_obj(Builtin, std::vector<SVal>& a, const Expr& 
     return never();
   }
   if (n == 2) {
-    if (a[1].type->k != TK::Func) {
+    if (!is_function(a[1].type)) {
       fail("updateObj: argument 2 must be a function, got " + shown_type(type_string(a[1].type)));
       return never();
     }
@@ -463,7 +463,7 @@ SVal Specialiser::update_filtered(const SVal& l, const SVal& f, const SVal& pred
 SVal Specialiser::remove_from(const SVal& l, const SVal& what, const Expr& at) {
   if (!l.type->elem) return SVal{T().empty_list(), ir_.node(ir::Op::MakeList, T().empty_list())};
   TypeP et = l.type->elem;
-  if (what.type->k != TK::Func) {
+  if (!is_function(what.type)) {
     note_identity(et);
     note_identity(what.type->k == TK::List ? what.type->elem : what.type);
   }
@@ -475,7 +475,7 @@ SVal Specialiser::remove_from(const SVal& l, const SVal& what, const Expr& at) {
   ir_.in_block(loop->body, [&] {
     SVal x{et, ir_.local(loop->var)};
     ir::Node* keep = nullptr;
-    if (what.type->k == TK::Func) {
+    if (is_function(what.type)) {
       SVal p = call1(what, x, at);
       if (ir_.dead()) return;
       keep = ir_.node(ir::Op::Not, T().bool_(), {truthy(p)});

@@ -98,6 +98,15 @@ class Types {
 // Predicates used everywhere.
 inline bool is_list(TypeP t) { return t->k == TK::List; }
 inline bool is_sum(TypeP t) { return t->k == TK::Sum; }
+// A function, or one of several (an `if` choosing between two lambdas): what
+// builtins that call an argument accept.
+inline bool is_function(TypeP t) {
+  if (t->k == TK::Func) return true;
+  if (t->k != TK::Sum) return false;
+  for (TypeP a : t->alts)
+    if (a->k != TK::Func) return false;
+  return true;
+}
 // Values that are heap objects in the reference (they carry identity numbers).
 inline bool is_heap(TypeP t) {
   return t->k == TK::Pos || t->k == TK::Elem || t->k == TK::Cell || t->k == TK::Obj || t->k == TK::List ||
