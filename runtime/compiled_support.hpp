@@ -924,6 +924,40 @@ void save_value(SnapshotWriter& w, const GlobalOrder& o);
 constexpr int32_t kMaxOrderKey = 1 << 20;
 void load_value(SnapshotReader& r, GlobalOrder& o);
 
+// The globals steps defined for the first time, in that order: the host render
+// draws them after start-up's, in this order (compiler/analyse/render_order.hpp).
+// Kept by programs where two or more such globals draw.
+class DrawOrder {
+ public:
+  void note(int32_t sym) {
+    if (std::find(syms_.begin(), syms_.end(), sym) == syms_.end()) syms_.push_back(sym);
+  }
+  const std::vector<int32_t>& syms() const { return syms_; }
+  // Into a list the render keeps (no allocation once it has grown).
+  void syms_into(std::vector<int32_t>& out) const { out.assign(syms_.begin(), syms_.end()); }
+  // A snapshot's list: refused (corrupt_snapshot) with a symbol twice or out of bounds.
+  void restore(std::vector<int32_t> syms) {
+    std::vector<int32_t> sorted = syms;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) corrupt_snapshot("a global drawn twice");
+    if (!sorted.empty() && (sorted.front() < 0 || sorted.back() >= kMaxOrderKey)) corrupt_snapshot("a global out of bounds");
+    syms_ = std::move(syms);
+  }
+
+ private:
+  std::vector<int32_t> syms_;  // invariant: distinct, each in [0, kMaxOrderKey)
+};
+inline void hash_value(Hash& h, const DrawOrder& o) {
+  h.mix(o.syms().size());
+  for (int32_t s : o.syms()) h.mix(static_cast<uint32_t>(s));
+}
+inline void save_value(SnapshotWriter& w, const DrawOrder& o) { save_value(w, o.syms()); }
+inline void load_value(SnapshotReader& r, DrawOrder& o) {
+  std::vector<int32_t> syms;
+  load_value(r, syms);
+  o.restore(std::move(syms));
+}
+
 // What the Environment adapter keeps besides the program's state: the frame and
 // its painter, the episode's error, the host's name for the program and the
 // limits. The same for every program, so its code is compiled once

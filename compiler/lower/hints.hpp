@@ -65,6 +65,8 @@ class Hints {
   bool runtime_order() const { return runtime_order_; }  // a step observes a map order steps change
   // Returns whether it was not yet set.
   bool set_runtime_order() { return !std::exchange(runtime_order_, true); }
+  bool draw_order() const { return draw_order_; }  // two or more globals steps first define draw
+  bool set_draw_order() { return !std::exchange(draw_order_, true); }
 
   // The cells every object of a class has, in Module::lasting (a cache, see above).
   const std::map<int, ir::Node*>& shapes() const { return shapes_; }
@@ -98,6 +100,7 @@ class Hints {
   std::set<LocalKey> mutable_bindings_;
   std::set<const void*> unfused_;
   bool runtime_order_ = false;
+  bool draw_order_ = false;
   std::map<int, ir::Node*> shapes_;
   bool changed_ = false;  // set by learn, cleared by start_walk
   std::string last_change_;

@@ -95,6 +95,8 @@ enum class Helper : uint8_t {
                   // given; imm, index: as CheckLength, any LengthOf but kLengthAppended and
                   // kLengthCounted (a list built one element at a time charges kLengthIs 1 per
                   // element; charge_built)
+  NoteDrawn,      // (symbol): a step defined a global for the first time (State::drawn)
+  DrawnKeys,      // (list): the list := the globals steps first defined, in that order
 };
 
 // How Helper::CheckLength (and ChargeBuilt) forms the length of the list about to be built.

@@ -80,6 +80,8 @@ ir::Node* IrBuilder::call(ir::Helper h, TypeP t, std::vector<ir::Node*> a) {
     case ir::Helper::DefineGlobal:
     case ir::Helper::EraseGlobal:
     case ir::Helper::OrderKeys:
+    case ir::Helper::NoteDrawn:
+    case ir::Helper::DrawnKeys:
     case ir::Helper::ClickDefine:
     case ir::Helper::Covered:
     case ir::Helper::SetTriggered:

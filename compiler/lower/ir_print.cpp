@@ -28,8 +28,8 @@ constexpr const char* kIrHelperNames[] = {
     "append",       "clear",          "str_of_int",  "str_of_str",    "occupancy_clear", "occupancy_add",
     "paint_begin",  "paint",          "paint_global", "paint_end", "set_triggered", "covered",    "have_prev",   "input_flag",
     "rot_turn",     "rot_of",         "rotated",     "tally_begin",   "tally_global", "tally_rendered",
-    "check_length", "charge_built"};
-static_assert(std::size(kIrHelperNames) == static_cast<size_t>(Helper::ChargeBuilt) + 1);
+    "check_length", "charge_built", "note_drawn", "drawn_keys"};
+static_assert(std::size(kIrHelperNames) == static_cast<size_t>(Helper::DrawnKeys) + 1);
 
 constexpr const char* kIrStmtNames[] = {"let",   "decl",  "bind",   "set",    "push",   "eval",    "if",   "for_each",
                                       "for_range", "switch", "block", "break", "return", "fail", "comment", "swap"};

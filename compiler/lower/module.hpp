@@ -125,6 +125,7 @@ struct Module {
   bool uses_ids = false;             // identity numbers are observed
   bool pos_tracked = false;          // Positions carry identities (PosU)
   bool runtime_order = false;        // the global map order is kept at run time (State::order)
+  bool draw_order = false;           // globals steps first define draw in that order (State::drawn)
   std::map<int, uint64_t> order_hashes;  // symbol -> its name's std::hash, for DefineGlobal
   int start_fn = -1, step_fn = -1, render_fn = -1;
   std::string program_path;          // for comments
@@ -142,7 +143,7 @@ struct Module {
     dynamic_sites.clear();
     // `deferred` stays: cells made in one walk name their arguments by index,
     // and shapes learnt in one walk are compared in the next.
-    uses_ids = runtime_order = pos_tracked = false;
+    uses_ids = runtime_order = draw_order = pos_tracked = false;
     start_fn = step_fn = render_fn = -1;
   }
 };

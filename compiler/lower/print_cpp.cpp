@@ -185,6 +185,8 @@ std::string Printer::helper(const Node* n) {
       return "s.order.define(" + arg(0) + ", " + std::to_string(m_.order_hashes.at(static_cast<int>(n->a[0]->imm))) + "ULL)";
     case Helper::EraseGlobal: return "s.order.erase(" + arg(0) + ")";
     case Helper::OrderKeys: return "s.order.keys_into(" + arg(0) + ")";
+    case Helper::NoteDrawn: return "s.drawn.note(" + arg(0) + ")";
+    case Helper::DrawnKeys: return "s.drawn.syms_into(" + arg(0) + ")";
     case Helper::ClickPos: return "Pos{s.core.click_x, s.core.click_y}";
     case Helper::ClickDefine: return "(void)0";
     case Helper::Reserve: return arg(0) + ".reserve(size_t(" + arg(1) + "))";
@@ -579,6 +581,7 @@ void Printer::state() {
   line("Core core;");
   line("NoCopy<Scratch> scratch;");
   if (m_.runtime_order) line("GlobalOrder order;");
+  if (m_.draw_order) line("DrawOrder drawn;");
   for (const Slot& s : m_.slots)
     if (!in_scratch(s)) line((s.type ? type(s.type) : std::string("bool")) + " " + s.name + "{};");
   --depth_;
@@ -588,6 +591,7 @@ void Printer::state() {
 void Printer::snapshot_functions() {
   auto each = [&](const std::string& call) {
     if (m_.runtime_order) line("  " + call + "s.order);");
+    if (m_.draw_order) line("  " + call + "s.drawn);");
     for (const Slot& s : m_.slots)
       if (s.in_snapshot) line("  " + call + "s." + s.name + ");");
   };

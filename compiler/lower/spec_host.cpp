@@ -13,6 +13,8 @@
 // globals exist, their constant values. The step is specialised once for all
 // steps: what varies between steps (a global a step may erase or create) is
 // checked at run time.
+#include <algorithm>
+
 #include "compiler/analyse/render_order.hpp"
 #include "compiler/lower/specialise.hpp"
 #include "runtime/diagnostic.hpp"
@@ -24,6 +26,7 @@ void Specialiser::run() {
   load_shapes();
   m_.uses_random = p_.uses_random;
   m_.runtime_order = h_.runtime_order();
+  m_.draw_order = h_.draw_order();
   specialise_start();
   specialise_step();
   specialise_render();
@@ -303,19 +306,41 @@ void Specialiser::specialise_render() {
       ir_.emit_eval(ir_.call(ir::Helper::Paint, nullptr, {e.code}));
     });
   };
-  std::vector<Sym> order = p_.render_order;
-  for (Sym s : h_.all_runtime_defined()) order.push_back(s);  // TODO: first-definition order at run time
-  for (Sym s : order) {
+  auto draw_if_defined = [&](Global& g) {
+    if (g.state != Global::Runtime) return draw(g);
+    ir::Stmt* s_if = ir_.emit(ir::SK::If);
+    s_if->a = ir_.slot(g.defined);
+    ir_.in_block(s_if->body, [&] { draw(g); });
+  };
+  auto drawable = [&](Sym s) {
     Global* g = global(s);
-    if (!g || g->state == Global::Undefined || !g->type || g->value < 0) continue;
-    if (!renders(g->type)) continue;
-    if (g->state == Global::Runtime) {
-      ir::Stmt* s_if = ir_.emit(ir::SK::If);
-      s_if->a = ir_.slot(g->defined);
-      ir_.in_block(s_if->body, [&] { draw(*g); });
-    } else {
-      draw(*g);
-    }
+    return g && g->state != Global::Undefined && g->type && g->value >= 0 && renders(g->type) ? g : nullptr;
+  };
+  for (Sym s : p_.render_order)
+    if (Global* g = drawable(s)) draw_if_defined(*g);
+  // Globals steps first define draw after start-up's, in the order the run
+  // first defines them (render_order.hpp): kept at run time (State::drawn)
+  // when two or more of them draw.
+  std::vector<Global*> later;
+  for (Sym s : h_.all_runtime_defined())
+    if (Global* g = drawable(s); g && !std::count(p_.render_order.begin(), p_.render_order.end(), s)) later.push_back(g);
+  if (later.size() > 1 && h_.set_draw_order()) h_.learn("globals steps define are drawn in the order the run defines them");
+  if (!m_.draw_order) {
+    for (Global* g : later) draw_if_defined(*g);
+  } else if (!later.empty()) {
+    ir::Var* keys = ir_.decl(T().list(T().int_()), nullptr, "drawn");
+    ir_.emit_eval(ir_.call(ir::Helper::DrawnKeys, nullptr, {ir_.local(keys)}));
+    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+    loop->var = ir_.var(T().int_(), "key");
+    loop->a = ir_.local(keys);
+    ir_.in_block(loop->body, [&] {
+      ir::Stmt* sw = ir_.emit(ir::SK::Switch);
+      sw->a = ir_.local(loop->var);
+      for (Global* g : later) {
+        sw->cases.emplace_back(g->sym, ir::Block{});
+        ir_.in_block(sw->cases.back().second, [&] { draw_if_defined(*g); });
+      }
+    });
   }
   ir_.emit_eval(ir_.call(ir::Helper::PaintEnd, nullptr, {}));
   sites_.reset(nullptr);
