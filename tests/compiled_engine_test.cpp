@@ -44,6 +44,8 @@ std::vector<std::filesystem::path> diff_programs() {
   for (const auto& p : testing::files_in(testing::source_dir() / "tests/golden", ".au")) out.push_back(p);
   // And the lowering's construct programs, under random actions rather than their one script.
   for (const auto& p : testing::files_in(testing::source_dir() / "tests/lowering", ".au")) out.push_back(p);
+  // And the stress programs written to trip the lowering (tests/stress/README.md).
+  for (const auto& p : testing::files_in(testing::source_dir() / "tests/stress", ".au")) out.push_back(p);
   for (const auto& p : testing::files_in(testing::shared_dir() / "conformance/programs", ".sexp")) out.push_back(p);
   return out;
 }
