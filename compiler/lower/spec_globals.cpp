@@ -115,16 +115,23 @@ void Specialiser::walk_runtime_order(const std::function<void(Global&)>& visit, 
   std::vector<Global*> held;
   for (auto& [s, g] : globals_)
     if (g.state != Global::Undefined && (g.value >= 0 || slotless)) held.push_back(&g);
-  if (held.empty()) return;
-  ir::Var* keys = ir_.decl(T().list(T().int_()), nullptr, "keys");
-  ir_.emit_eval(ir_.call(ir::Helper::OrderKeys, nullptr, {ir_.local(keys)}));
+  switch_over_keys(ir::Helper::OrderKeys, "keys", held, visit);
+}
+
+// A loop over the symbols `keys` lists at run time (OrderKeys, DrawnKeys), with
+// a case per global of `globals` that runs `visit` on it.
+void Specialiser::switch_over_keys(ir::Helper keys, const char* hint, const std::vector<Global*>& globals,
+                                   const std::function<void(Global&)>& visit) {
+  if (globals.empty()) return;
+  ir::Var* list = ir_.decl(T().list(T().int_()), nullptr, hint);
+  ir_.emit_eval(ir_.call(keys, nullptr, {ir_.local(list)}));
   ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
   loop->var = ir_.var(T().int_(), "key");
-  loop->a = ir_.local(keys);
+  loop->a = ir_.local(list);
   ir_.in_block(loop->body, [&] {
     ir::Stmt* sw = ir_.emit(ir::SK::Switch);
     sw->a = ir_.local(loop->var);
-    for (Global* g : held) {
+    for (Global* g : globals) {
       sw->cases.emplace_back(g->sym, ir::Block{});
       ir_.in_block(sw->cases.back().second, [&] { visit(*g); });
     }

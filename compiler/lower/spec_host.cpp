@@ -325,23 +325,10 @@ void Specialiser::specialise_render() {
   for (Sym s : h_.all_runtime_defined())
     if (Global* g = drawable(s); g && !std::count(p_.render_order.begin(), p_.render_order.end(), s)) later.push_back(g);
   if (later.size() > 1 && h_.set_draw_order()) h_.learn("globals steps define are drawn in the order the run defines them");
-  if (!m_.draw_order) {
+  if (!m_.draw_order)
     for (Global* g : later) draw_if_defined(*g);
-  } else if (!later.empty()) {
-    ir::Var* keys = ir_.decl(T().list(T().int_()), nullptr, "drawn");
-    ir_.emit_eval(ir_.call(ir::Helper::DrawnKeys, nullptr, {ir_.local(keys)}));
-    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
-    loop->var = ir_.var(T().int_(), "key");
-    loop->a = ir_.local(keys);
-    ir_.in_block(loop->body, [&] {
-      ir::Stmt* sw = ir_.emit(ir::SK::Switch);
-      sw->a = ir_.local(loop->var);
-      for (Global* g : later) {
-        sw->cases.emplace_back(g->sym, ir::Block{});
-        ir_.in_block(sw->cases.back().second, [&] { draw_if_defined(*g); });
-      }
-    });
-  }
+  else
+    switch_over_keys(ir::Helper::DrawnKeys, "drawn", later, draw_if_defined);
   ir_.emit_eval(ir_.call(ir::Helper::PaintEnd, nullptr, {}));
   sites_.reset(nullptr);
 }

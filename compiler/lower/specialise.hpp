@@ -258,6 +258,8 @@ class Specialiser {
   void check_state();
   bool order_changes_in_steps() const;
   void walk_runtime_order(const std::function<void(Global&)>& visit, bool slotless);
+  void switch_over_keys(ir::Helper keys, const char* hint, const std::vector<Global*>& globals,
+                        const std::function<void(Global&)>& visit);
   void order_insert(Sym s);         // the run-time order (when kept) learns s
   void note_definition(Global& g);  // g's first definition
   TypeP all_objs_type();
