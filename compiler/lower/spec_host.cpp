@@ -109,6 +109,7 @@ void Specialiser::specialise_start() {
     sites_.set_prefix("");
     if (v.type->k != TK::Never) define_global(g, v);
   }
+  publish_trigger();
   check_state();
   // The render that ends start-up defines cacheRendered (the printer calls it).
   Global& cache = globals_[p_.names.cacheRendered];
@@ -177,9 +178,27 @@ void Specialiser::specialise_step() {
     if (ir_.dead()) break;
     next_update(s);
   }
+  publish_trigger();
   // 6. The state budget.
   check_state();
   in_step_ = false;
+}
+
+// The host's trigger state (Environment::triggered) is the global
+// SpecialConditionTriggered, which a program may assign as any other (the
+// interpreter's triggered() reads it): where start-up or a step may have
+// changed it, the runtime learns its value. Start-up's false and a step that
+// never stores it need nothing (the trigger's own SetTriggered covers it).
+void Specialiser::publish_trigger() {
+  Global* g = global(p_.names.SpecialConditionTriggered);
+  if (!g || g->value < 0 || ir_.dead()) return;
+  const bool start_false = g->constant && g->constant->konst && g->constant->konst->op == ir::Op::Lit &&
+                           g->constant->type == T().bool_() && g->constant->konst->imm == 0;
+  if (in_step_ ? !h_.stored_in_step(g->sym) : start_false) return;
+  if (g->type != T().bool_()) sites_.unsupported("SpecialConditionTriggered holding a value that is not a Bool");
+  ir::Node* v = ir_.slot(g->value);
+  if (g->defined >= 0) v = ir_.node(ir::Op::And, T().bool_(), {ir_.slot(g->defined), v});
+  ir_.emit_eval(ir_.call(ir::Helper::SetTriggered, nullptr, {v}));
 }
 
 // One on-clause: its condition (a Bool, or a function called with no arguments

@@ -327,6 +327,7 @@ class Specialiser {
   // The host algorithm (spec_host.cpp)
   void specialise_start();
   void specialise_step();
+  void publish_trigger();
   void specialise_render();
   void on_clause(size_t i, const Stmt& st);
   void next_update(Sym s);
