@@ -164,6 +164,10 @@ void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s,
     auto check_old = [&](const SVal& old) {
       if (old.type->k == TK::Never) return old;
       if (!check_printable(old.type) || !check_printable(nv.type)) return old;
+      // The message names the old list's type tag, which depends on how the list
+      // was made (a map's result is a List of Unknown): not known here.
+      if (old.type->k == TK::List)
+        sites_.unsupported("assigning a value that is not a list to a variable that holds a list (the error names the list's type tag)");
       if (type_string(old.type) != type_string(nv.type))
         fail("cannot assign a value of type '" + shown_type(type_string(nv.type)) + "' to variable '" + nm(s) + "' of type '" +
              shown_type(type_string(old.type)) + "'");
