@@ -40,7 +40,7 @@ void escapes(const Node* n, std::set<const Var*>& out) {
       return;
     case Op::Call:
       if (n->helper == Helper::Reserve || n->helper == Helper::Clear || n->helper == Helper::Append ||
-          n->helper == Helper::OrderKeys ||  // fills its list
+          n->helper == Helper::OrderKeys || n->helper == Helper::DrawnKeys ||  // fill their lists
           n->helper == Helper::CheckLength || n->helper == Helper::ChargeBuilt) {  // the checks measure their lists
         for (const Node* k : n->a)
           if (k->op != Op::Local) escapes(k, out);
