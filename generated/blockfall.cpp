@@ -336,8 +336,8 @@ struct Prog {
         bool within10 = true;
         {
           const auto& e11_list = rendered7;
-          charge_loop(s.core, 9, int64_t(e11_list.size()));
           for (const Elem& e11 : e11_list) {
+            charge_loop(s.core, 9, int64_t(1));
             if ((((e11.position.x < int32_t(0)) || (e11.position.x >= int32_t(8))) || ((e11.position.y < int32_t(0)) || (e11.position.y >= int32_t(8))))) {
               within10 = false;
               break;
@@ -394,8 +394,8 @@ struct Prog {
                 bool any28 = false;
                 {
                   const auto& x29_list = l_prev_elems17;
-                  charge_loop(budget, 13, int64_t(x29_list.size()));
                   for (const Elem& x29 : x29_list) {
+                    charge_loop(budget, 13, int64_t(1));
                     const bool t30 = (x29 == x27);
                     if (t30) {
                       any28 = true;
@@ -416,8 +416,8 @@ struct Prog {
           bool any32 = false;
           {
             const auto& x33_list = l_filtered_elems19;
-            charge_loop(s.core, 14, int64_t(x33_list.size()));
             for (const Elem& x33 : x33_list) {
+              charge_loop(s.core, 14, int64_t(1));
               const bool t34 = s.core.occupied.free(x33.position);
               const bool t35 = !t34;
               if (t35) {
@@ -479,8 +479,8 @@ struct Prog {
         bool within54 = true;
         {
           const auto& e55_list = rendered51;
-          charge_loop(s.core, 15, int64_t(e55_list.size()));
           for (const Elem& e55 : e55_list) {
+            charge_loop(s.core, 15, int64_t(1));
             if ((((e55.position.x < int32_t(0)) || (e55.position.x >= int32_t(8))) || ((e55.position.y < int32_t(0)) || (e55.position.y >= int32_t(8))))) {
               within54 = false;
               break;
@@ -536,8 +536,8 @@ struct Prog {
               bool any71 = false;
               {
                 const auto& x72_list = l_prev_elems60;
-                charge_loop(budget, 19, int64_t(x72_list.size()));
                 for (const Elem& x72 : x72_list) {
+                  charge_loop(budget, 19, int64_t(1));
                   const bool t73 = (x72 == x70);
                   if (t73) {
                     any71 = true;
@@ -558,8 +558,8 @@ struct Prog {
         bool any75 = false;
         {
           const auto& x76_list = l_filtered_elems62;
-          charge_loop(s.core, 20, int64_t(x76_list.size()));
           for (const Elem& x76 : x76_list) {
+            charge_loop(s.core, 20, int64_t(1));
             const bool t77 = s.core.occupied.free(x76.position);
             const bool t78 = !t77;
             if (t78) {
@@ -652,8 +652,8 @@ struct Prog {
         bool within102 = true;
         {
           const auto& e103_list = rendered99;
-          charge_loop(s.core, 24, int64_t(e103_list.size()));
           for (const Elem& e103 : e103_list) {
+            charge_loop(s.core, 24, int64_t(1));
             if ((((e103.position.x < int32_t(0)) || (e103.position.x >= int32_t(8))) || ((e103.position.y < int32_t(0)) || (e103.position.y >= int32_t(8))))) {
               within102 = false;
               break;
@@ -705,8 +705,8 @@ struct Prog {
                 bool any116 = false;
                 {
                   const auto& x117_list = l_prev_elems105;
-                  charge_loop(budget, 28, int64_t(x117_list.size()));
                   for (const Elem& x117 : x117_list) {
+                    charge_loop(budget, 28, int64_t(1));
                     const bool t118 = (x117 == x115);
                     if (t118) {
                       any116 = true;
@@ -727,8 +727,8 @@ struct Prog {
           bool any120 = false;
           {
             const auto& x121_list = l_filtered_elems107;
-            charge_loop(s.core, 29, int64_t(x121_list.size()));
             for (const Elem& x121 : x121_list) {
+              charge_loop(s.core, 29, int64_t(1));
               const bool t122 = s.core.occupied.free(x121.position);
               const bool t123 = !t122;
               if (t123) {
@@ -823,8 +823,8 @@ struct Prog {
             bool within147 = true;
             {
               const auto& e148_list = rendered144;
-              charge_loop(s.core, 31, int64_t(e148_list.size()));
               for (const Elem& e148 : e148_list) {
+                charge_loop(s.core, 31, int64_t(1));
                 if ((((e148.position.x < int32_t(0)) || (e148.position.x >= int32_t(8))) || ((e148.position.y < int32_t(0)) || (e148.position.y >= int32_t(8))))) {
                   within147 = false;
                   break;
@@ -881,8 +881,8 @@ struct Prog {
                     bool any165 = false;
                     {
                       const auto& x166_list = l_prev_elems154;
-                      charge_loop(budget, 35, int64_t(x166_list.size()));
                       for (const Elem& x166 : x166_list) {
+                        charge_loop(budget, 35, int64_t(1));
                         const bool t167 = (x166 == x164);
                         if (t167) {
                           any165 = true;
@@ -903,8 +903,8 @@ struct Prog {
               bool any169 = false;
               {
                 const auto& x170_list = l_filtered_elems156;
-                charge_loop(s.core, 36, int64_t(x170_list.size()));
                 for (const Elem& x170 : x170_list) {
+                  charge_loop(s.core, 36, int64_t(1));
                   const bool t171 = s.core.occupied.free(x170.position);
                   const bool t172 = !t171;
                   if (t172) {
@@ -966,8 +966,8 @@ struct Prog {
         bool within187 = true;
         {
           const auto& e188_list = rendered184;
-          charge_loop(s.core, 37, int64_t(e188_list.size()));
           for (const Elem& e188 : e188_list) {
+            charge_loop(s.core, 37, int64_t(1));
             if ((((e188.position.x < int32_t(0)) || (e188.position.x >= int32_t(8))) || ((e188.position.y < int32_t(0)) || (e188.position.y >= int32_t(8))))) {
               within187 = false;
               break;
@@ -1024,8 +1024,8 @@ struct Prog {
                 bool any205 = false;
                 {
                   const auto& x206_list = l_prev_elems194;
-                  charge_loop(budget, 41, int64_t(x206_list.size()));
                   for (const Elem& x206 : x206_list) {
+                    charge_loop(budget, 41, int64_t(1));
                     const bool t207 = (x206 == x204);
                     if (t207) {
                       any205 = true;
@@ -1046,8 +1046,8 @@ struct Prog {
           bool any209 = false;
           {
             const auto& x210_list = l_filtered_elems196;
-            charge_loop(s.core, 42, int64_t(x210_list.size()));
             for (const Elem& x210 : x210_list) {
+              charge_loop(s.core, 42, int64_t(1));
               const bool t211 = s.core.occupied.free(x210.position);
               const bool t212 = !t211;
               if (t212) {
@@ -1174,8 +1174,8 @@ struct Prog {
                 bool any243 = false;
                 {
                   const auto& x244_list = l_full231;
-                  charge_loop(budget, 49, int64_t(x244_list.size()));
                   for (const int32_t& x244 : x244_list) {
+                    charge_loop(budget, 49, int64_t(1));
                     const bool t245 = (x244 == x242.origin.y);
                     if (t245) {
                       any243 = true;
@@ -1315,13 +1315,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x284_list = rendered271;
-                charge_loop(budget, 55, int64_t(x284_list.size()));
                 for (const Elem& x284 : x284_list) {
+                  charge_loop(budget, 55, int64_t(1));
                   bool any285 = false;
                   {
                     const auto& x286_list = rendered274;
-                    charge_loop(budget, 56, int64_t(x286_list.size()));
                     for (const Elem& x286 : x286_list) {
+                      charge_loop(budget, 56, int64_t(1));
                       const bool t287 = (x284.position == x286.position);
                       if (t287) {
                         any285 = true;
@@ -1375,8 +1375,8 @@ struct Prog {
           bool within298 = true;
           {
             const auto& e299_list = rendered295;
-            charge_loop(s.core, 57, int64_t(e299_list.size()));
             for (const Elem& e299 : e299_list) {
+              charge_loop(s.core, 57, int64_t(1));
               if ((((e299.position.x < int32_t(0)) || (e299.position.x >= int32_t(8))) || ((e299.position.y < int32_t(0)) || (e299.position.y >= int32_t(8))))) {
                 within298 = false;
                 break;
@@ -1433,8 +1433,8 @@ struct Prog {
                   bool any316 = false;
                   {
                     const auto& x317_list = l_prev_elems305;
-                    charge_loop(budget, 61, int64_t(x317_list.size()));
                     for (const Elem& x317 : x317_list) {
+                      charge_loop(budget, 61, int64_t(1));
                       const bool t318 = (x317 == x315);
                       if (t318) {
                         any316 = true;
@@ -1455,8 +1455,8 @@ struct Prog {
             bool any320 = false;
             {
               const auto& x321_list = l_filtered_elems307;
-              charge_loop(s.core, 62, int64_t(x321_list.size()));
               for (const Elem& x321 : x321_list) {
+                charge_loop(s.core, 62, int64_t(1));
                 const bool t322 = s.core.occupied.free(x321.position);
                 const bool t323 = !t322;
                 if (t323) {

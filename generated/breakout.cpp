@@ -435,8 +435,8 @@ struct Prog {
                 bool any22 = false;
                 {
                   const auto& x23_list = l_prev_elems15;
-                  charge_loop(budget, 11, int64_t(x23_list.size()));
                   for (const Elem& x23 : x23_list) {
+                    charge_loop(budget, 11, int64_t(1));
                     const bool t24 = (x23 == x21);
                     if (t24) {
                       any22 = true;
@@ -457,8 +457,8 @@ struct Prog {
           bool any26 = false;
           {
             const auto& x27_list = l_filtered_elems17;
-            charge_loop(s.core, 12, int64_t(x27_list.size()));
             for (const Elem& x27 : x27_list) {
+              charge_loop(s.core, 12, int64_t(1));
               const bool t28 = s.core.occupied.free(x27.position);
               const bool t29 = !t28;
               if (t29) {
@@ -552,8 +552,8 @@ struct Prog {
               bool any59 = false;
               {
                 const auto& x60_list = l_prev_elems52;
-                charge_loop(budget, 15, int64_t(x60_list.size()));
                 for (const Elem& x60 : x60_list) {
+                  charge_loop(budget, 15, int64_t(1));
                   const bool t61 = (x60 == x58);
                   if (t61) {
                     any59 = true;
@@ -574,8 +574,8 @@ struct Prog {
         bool any63 = false;
         {
           const auto& x64_list = l_filtered_elems54;
-          charge_loop(s.core, 16, int64_t(x64_list.size()));
           for (const Elem& x64 : x64_list) {
+            charge_loop(s.core, 16, int64_t(1));
             const bool t65 = s.core.occupied.free(x64.position);
             const bool t66 = !t65;
             if (t66) {
@@ -848,8 +848,8 @@ struct Prog {
         bool any161 = false;
         {
           const auto& x162_list = prev145;
-          charge_loop(s.core, 19, int64_t(x162_list.size()));
           for (const C2_Brick& x162 : x162_list) {
+            charge_loop(s.core, 19, int64_t(1));
             // inlined: function at programs/breakout.au:52
             const bool t163 = (x162.origin == l_tgt146);
             if (t163) {

@@ -420,8 +420,8 @@ struct Prog {
                       bool any32 = false;
                       {
                         const auto& x33_list = l_wetSpots2;
-                        charge_loop(budget, 17, int64_t(x33_list.size()));
                         for (const Pos& x33 : x33_list) {
+                          charge_loop(budget, 17, int64_t(1));
                           const bool t34 = (x33 == x31);
                           if (t34) {
                             any32 = true;
@@ -824,8 +824,8 @@ struct Prog {
       bool any122 = false;
       {
         const auto& x123_list = g121;
-        charge_loop(s.core, 26, int64_t(x123_list.size()));
         for (const C0_Tile& x123 : x123_list) {
+          charge_loop(s.core, 26, int64_t(1));
           // inlined: function at programs/color_flood.au:31
           const bool t124 = !x123.f1;
           if (t124) {

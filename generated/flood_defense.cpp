@@ -1230,8 +1230,8 @@ struct Prog {
               bool found306 = false;
               {
                 const auto& y307_list = out139;
-                charge_loop(budget, 26, int64_t(y307_list.size()));
                 for (const S136& y307 : y307_list) {
+                  charge_loop(budget, 26, int64_t(1));
                   bool r308{};
                   switch (y307.index()) {
                     case 0: {
@@ -1883,13 +1883,13 @@ struct Prog {
                   bool any538 = false;
                   {
                     const auto& x539_list = rendered520;
-                    charge_loop(budget, 34, int64_t(x539_list.size()));
                     for (const Elem& x539 : x539_list) {
+                      charge_loop(budget, 34, int64_t(1));
                       bool any540 = false;
                       {
                         const auto& x541_list = rendered530;
-                        charge_loop(budget, 35, int64_t(x541_list.size()));
                         for (const Elem& x541 : x541_list) {
+                          charge_loop(budget, 35, int64_t(1));
                           const bool t542 = (x539.position == x541.position);
                           if (t542) {
                             any540 = true;

@@ -832,13 +832,13 @@ struct Prog {
           Budget budget = budget_of(s.core);
           {
             const auto& x84_list = rendered72;
-            charge_loop(budget, 27, int64_t(x84_list.size()));
             for (const Elem& x84 : x84_list) {
+              charge_loop(budget, 27, int64_t(1));
               bool any85 = false;
               {
                 const auto& x86_list = rendered73;
-                charge_loop(budget, 28, int64_t(x86_list.size()));
                 for (const Elem& x86 : x86_list) {
+                  charge_loop(budget, 28, int64_t(1));
                   const bool t87 = (x84.position == x86.position);
                   if (t87) {
                     any85 = true;
@@ -900,13 +900,13 @@ struct Prog {
             Budget budget = budget_of(s.core);
             {
               const auto& x103_list = rendered91;
-              charge_loop(budget, 30, int64_t(x103_list.size()));
               for (const Elem& x103 : x103_list) {
+                charge_loop(budget, 30, int64_t(1));
                 bool any104 = false;
                 {
                   const auto& x105_list = rendered92;
-                  charge_loop(budget, 31, int64_t(x105_list.size()));
                   for (const Elem& x105 : x105_list) {
+                    charge_loop(budget, 31, int64_t(1));
                     const bool t106 = (x103.position == x105.position);
                     if (t106) {
                       any104 = true;
@@ -968,13 +968,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x122_list = rendered110;
-                charge_loop(budget, 33, int64_t(x122_list.size()));
                 for (const Elem& x122 : x122_list) {
+                  charge_loop(budget, 33, int64_t(1));
                   bool any123 = false;
                   {
                     const auto& x124_list = rendered111;
-                    charge_loop(budget, 34, int64_t(x124_list.size()));
                     for (const Elem& x124 : x124_list) {
+                      charge_loop(budget, 34, int64_t(1));
                       const bool t125 = (x122.position == x124.position);
                       if (t125) {
                         any123 = true;
@@ -1035,8 +1035,8 @@ struct Prog {
         bool any137 = false;
         {
           const auto& x138_list = g136;
-          charge_loop(s.core, 35, int64_t(x138_list.size()));
           for (const C2_Pad& x138 : x138_list) {
+            charge_loop(s.core, 35, int64_t(1));
             // inlined: function at programs/frog_crossing.au:60
             const bool t139 = (x138.origin == g135.origin);
             bool r140{};
@@ -1107,8 +1107,8 @@ struct Prog {
         bool any155 = false;
         {
           const auto& x156_list = g154;
-          charge_loop(s.core, 35, int64_t(x156_list.size()));
           for (const C2_Pad& x156 : x156_list) {
+            charge_loop(s.core, 35, int64_t(1));
             // inlined: function at programs/frog_crossing.au:60
             const bool t157 = (x156.origin == g153.origin);
             bool r158{};
@@ -1158,8 +1158,8 @@ struct Prog {
       bool any168 = false;
       {
         const auto& x169_list = g167;
-        charge_loop(s.core, 37, int64_t(x169_list.size()));
         for (const C2_Pad& x169 : x169_list) {
+          charge_loop(s.core, 37, int64_t(1));
           // inlined: function at programs/frog_crossing.au:83
           const bool t170 = !x169.f0;
           if (t170) {

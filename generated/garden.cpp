@@ -520,13 +520,13 @@ struct Prog {
                 bool any22 = false;
                 {
                   const auto& x23_list = rendered12;
-                  charge_loop(budget, 10, int64_t(x23_list.size()));
                   for (const Elem& x23 : x23_list) {
+                    charge_loop(budget, 10, int64_t(1));
                     bool any24 = false;
                     {
                       const auto& x25_list = rendered14;
-                      charge_loop(budget, 11, int64_t(x25_list.size()));
                       for (const Elem& x25 : x25_list) {
+                        charge_loop(budget, 11, int64_t(1));
                         const bool t26 = (x23.position == x25.position);
                         if (t26) {
                           any24 = true;
@@ -610,13 +610,13 @@ struct Prog {
                   bool any46 = false;
                   {
                     const auto& x47_list = rendered36;
-                    charge_loop(budget, 14, int64_t(x47_list.size()));
                     for (const Elem& x47 : x47_list) {
+                      charge_loop(budget, 14, int64_t(1));
                       bool any48 = false;
                       {
                         const auto& x49_list = rendered37;
-                        charge_loop(budget, 15, int64_t(x49_list.size()));
                         for (const Elem& x49 : x49_list) {
+                          charge_loop(budget, 15, int64_t(1));
                           const bool t50 = (x47.position == x49.position);
                           if (t50) {
                             any48 = true;
@@ -764,8 +764,8 @@ struct Prog {
         bool any79 = false;
         {
           const auto& x80_list = out73;
-          charge_loop(s.core, 20, int64_t(x80_list.size()));
           for (const C3_Plant& x80 : x80_list) {
+            charge_loop(s.core, 20, int64_t(1));
             // inlined: function at programs/garden.au:39
             const bool t81 = (x80.f0 == int32_t(3));
             if (t81) {

@@ -387,8 +387,8 @@ struct Prog {
             bool any11 = false;
             {
               const auto& x12_list = list10;
-              charge_loop(budget, 2, int64_t(x12_list.size()));
               for (const Pos& x12 : x12_list) {
+                charge_loop(budget, 2, int64_t(1));
                 const bool t13 = (x12 == x7);
                 if (t13) {
                   any11 = true;
@@ -605,13 +605,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x31_list = rendered20;
-                charge_loop(budget, 18, int64_t(x31_list.size()));
                 for (const Elem& x31 : x31_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   bool any32 = false;
                   {
                     const auto& x33_list = rendered22;
-                    charge_loop(budget, 19, int64_t(x33_list.size()));
                     for (const Elem& x33 : x33_list) {
+                      charge_loop(budget, 19, int64_t(1));
                       const bool t34 = (x31.position == x33.position);
                       if (t34) {
                         any32 = true;
@@ -715,13 +715,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x66_list = rendered55;
-                charge_loop(budget, 18, int64_t(x66_list.size()));
                 for (const Elem& x66 : x66_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   bool any67 = false;
                   {
                     const auto& x68_list = rendered57;
-                    charge_loop(budget, 19, int64_t(x68_list.size()));
                     for (const Elem& x68 : x68_list) {
+                      charge_loop(budget, 19, int64_t(1));
                       const bool t69 = (x66.position == x68.position);
                       if (t69) {
                         any67 = true;
@@ -863,13 +863,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x110_list = rendered99;
-                charge_loop(budget, 18, int64_t(x110_list.size()));
                 for (const Elem& x110 : x110_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   bool any111 = false;
                   {
                     const auto& x112_list = rendered101;
-                    charge_loop(budget, 19, int64_t(x112_list.size()));
                     for (const Elem& x112 : x112_list) {
+                      charge_loop(budget, 19, int64_t(1));
                       const bool t113 = (x110.position == x112.position);
                       if (t113) {
                         any111 = true;
@@ -973,13 +973,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x145_list = rendered134;
-                charge_loop(budget, 18, int64_t(x145_list.size()));
                 for (const Elem& x145 : x145_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   bool any146 = false;
                   {
                     const auto& x147_list = rendered136;
-                    charge_loop(budget, 19, int64_t(x147_list.size()));
                     for (const Elem& x147 : x147_list) {
+                      charge_loop(budget, 19, int64_t(1));
                       const bool t148 = (x145.position == x147.position);
                       if (t148) {
                         any146 = true;
@@ -1121,13 +1121,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x189_list = rendered178;
-                charge_loop(budget, 18, int64_t(x189_list.size()));
                 for (const Elem& x189 : x189_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   bool any190 = false;
                   {
                     const auto& x191_list = rendered180;
-                    charge_loop(budget, 19, int64_t(x191_list.size()));
                     for (const Elem& x191 : x191_list) {
+                      charge_loop(budget, 19, int64_t(1));
                       const bool t192 = (x189.position == x191.position);
                       if (t192) {
                         any190 = true;
@@ -1231,13 +1231,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x224_list = rendered213;
-                charge_loop(budget, 18, int64_t(x224_list.size()));
                 for (const Elem& x224 : x224_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   bool any225 = false;
                   {
                     const auto& x226_list = rendered215;
-                    charge_loop(budget, 19, int64_t(x226_list.size()));
                     for (const Elem& x226 : x226_list) {
+                      charge_loop(budget, 19, int64_t(1));
                       const bool t227 = (x224.position == x226.position);
                       if (t227) {
                         any225 = true;
@@ -1379,13 +1379,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x268_list = rendered257;
-                charge_loop(budget, 18, int64_t(x268_list.size()));
                 for (const Elem& x268 : x268_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   bool any269 = false;
                   {
                     const auto& x270_list = rendered259;
-                    charge_loop(budget, 19, int64_t(x270_list.size()));
                     for (const Elem& x270 : x270_list) {
+                      charge_loop(budget, 19, int64_t(1));
                       const bool t271 = (x268.position == x270.position);
                       if (t271) {
                         any269 = true;
@@ -1489,13 +1489,13 @@ struct Prog {
               Budget budget = budget_of(s.core);
               {
                 const auto& x303_list = rendered292;
-                charge_loop(budget, 18, int64_t(x303_list.size()));
                 for (const Elem& x303 : x303_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   bool any304 = false;
                   {
                     const auto& x305_list = rendered294;
-                    charge_loop(budget, 19, int64_t(x305_list.size()));
                     for (const Elem& x305 : x305_list) {
+                      charge_loop(budget, 19, int64_t(1));
                       const bool t306 = (x303.position == x305.position);
                       if (t306) {
                         any304 = true;
@@ -1634,8 +1634,8 @@ struct Prog {
                 bool any340 = false;
                 {
                   const auto& x341_list = g339;
-                  charge_loop(budget, 22, int64_t(x341_list.size()));
                   for (const C0_Wall& x341 : x341_list) {
+                    charge_loop(budget, 22, int64_t(1));
                     // inlined: function at programs/mirror_twins.au:45
                     const bool t342 = (x341.origin == x336);
                     if (t342) {

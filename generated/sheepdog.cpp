@@ -324,8 +324,8 @@ struct Prog {
             bool any28 = false;
             {
               const auto& x29_list = g27;
-              charge_loop(budget, 3, int64_t(x29_list.size()));
               for (const Pos& x29 : x29_list) {
+                charge_loop(budget, 3, int64_t(1));
                 const bool t30 = (x29 == x14);
                 if (t30) {
                   any28 = true;
@@ -443,8 +443,8 @@ struct Prog {
                 bool any22 = false;
                 {
                   const auto& x23_list = l_prev_elems15;
-                  charge_loop(budget, 14, int64_t(x23_list.size()));
                   for (const Elem& x23 : x23_list) {
+                    charge_loop(budget, 14, int64_t(1));
                     const bool t24 = (x23 == x21);
                     if (t24) {
                       any22 = true;
@@ -465,8 +465,8 @@ struct Prog {
           bool any26 = false;
           {
             const auto& x27_list = l_filtered_elems17;
-            charge_loop(s.core, 15, int64_t(x27_list.size()));
             for (const Elem& x27 : x27_list) {
+              charge_loop(s.core, 15, int64_t(1));
               const bool t28 = s.core.occupied.free(x27.position);
               const bool t29 = !t28;
               if (t29) {
@@ -560,8 +560,8 @@ struct Prog {
               bool any59 = false;
               {
                 const auto& x60_list = l_prev_elems52;
-                charge_loop(budget, 18, int64_t(x60_list.size()));
                 for (const Elem& x60 : x60_list) {
+                  charge_loop(budget, 18, int64_t(1));
                   const bool t61 = (x60 == x58);
                   if (t61) {
                     any59 = true;
@@ -582,8 +582,8 @@ struct Prog {
         bool any63 = false;
         {
           const auto& x64_list = l_filtered_elems54;
-          charge_loop(s.core, 19, int64_t(x64_list.size()));
           for (const Elem& x64 : x64_list) {
+            charge_loop(s.core, 19, int64_t(1));
             const bool t65 = s.core.occupied.free(x64.position);
             const bool t66 = !t65;
             if (t66) {
@@ -679,8 +679,8 @@ struct Prog {
                 bool any95 = false;
                 {
                   const auto& x96_list = l_prev_elems88;
-                  charge_loop(budget, 22, int64_t(x96_list.size()));
                   for (const Elem& x96 : x96_list) {
+                    charge_loop(budget, 22, int64_t(1));
                     const bool t97 = (x96 == x94);
                     if (t97) {
                       any95 = true;
@@ -701,8 +701,8 @@ struct Prog {
           bool any99 = false;
           {
             const auto& x100_list = l_filtered_elems90;
-            charge_loop(s.core, 23, int64_t(x100_list.size()));
             for (const Elem& x100 : x100_list) {
+              charge_loop(s.core, 23, int64_t(1));
               const bool t101 = s.core.occupied.free(x100.position);
               const bool t102 = !t101;
               if (t102) {
@@ -794,8 +794,8 @@ struct Prog {
                 bool any130 = false;
                 {
                   const auto& x131_list = l_prev_elems123;
-                  charge_loop(budget, 26, int64_t(x131_list.size()));
                   for (const Elem& x131 : x131_list) {
+                    charge_loop(budget, 26, int64_t(1));
                     const bool t132 = (x131 == x129);
                     if (t132) {
                       any130 = true;
@@ -816,8 +816,8 @@ struct Prog {
           bool any134 = false;
           {
             const auto& x135_list = l_filtered_elems125;
-            charge_loop(s.core, 27, int64_t(x135_list.size()));
             for (const Elem& x135 : x135_list) {
+              charge_loop(s.core, 27, int64_t(1));
               const bool t136 = s.core.occupied.free(x135.position);
               const bool t137 = !t136;
               if (t137) {
@@ -1001,8 +1001,8 @@ struct Prog {
               bool any199 = false;
               {
                 const auto& x200_list = l_prev_elems192;
-                charge_loop(budget, 30, int64_t(x200_list.size()));
                 for (const Elem& x200 : x200_list) {
+                  charge_loop(budget, 30, int64_t(1));
                   const bool t201 = (x200 == x198);
                   if (t201) {
                     any199 = true;
@@ -1023,8 +1023,8 @@ struct Prog {
         bool any203 = false;
         {
           const auto& x204_list = l_filtered_elems194;
-          charge_loop(s.core, 31, int64_t(x204_list.size()));
           for (const Elem& x204 : x204_list) {
+            charge_loop(s.core, 31, int64_t(1));
             const bool t205 = s.core.occupied.free(x204.position);
             const bool t206 = !t205;
             if (t206) {
@@ -1097,8 +1097,8 @@ struct Prog {
                 bool any234 = false;
                 {
                   const auto& x235_list = l_prev_elems227;
-                  charge_loop(budget, 33, int64_t(x235_list.size()));
                   for (const Elem& x235 : x235_list) {
+                    charge_loop(budget, 33, int64_t(1));
                     const bool t236 = (x235 == x233);
                     if (t236) {
                       any234 = true;
@@ -1119,8 +1119,8 @@ struct Prog {
           bool any238 = false;
           {
             const auto& x239_list = l_filtered_elems229;
-            charge_loop(s.core, 34, int64_t(x239_list.size()));
             for (const Elem& x239 : x239_list) {
+              charge_loop(s.core, 34, int64_t(1));
               const bool t240 = s.core.occupied.free(x239.position);
               const bool t241 = !t240;
               if (t241) {
@@ -1458,8 +1458,8 @@ struct Prog {
                     bool any363 = false;
                     {
                       const auto& x364_list = g362;
-                      charge_loop(budget, 41, int64_t(x364_list.size()));
                       for (const Pos& x364 : x364_list) {
+                        charge_loop(budget, 41, int64_t(1));
                         const bool t365 = (x364 == upd349.origin);
                         if (t365) {
                           any363 = true;
@@ -1485,8 +1485,8 @@ struct Prog {
                     bool any371 = false;
                     {
                       const auto& x372_list = acc284;
-                      charge_loop(budget, 42, int64_t(x372_list.size()));
                       for (const C2_Sheep& x372 : x372_list) {
+                        charge_loop(budget, 42, int64_t(1));
                         // inlined: function at programs/sheepdog.au:51
                         const bool t373 = (x372.origin == upd349.origin);
                         if (t373) {
@@ -1501,8 +1501,8 @@ struct Prog {
                       bool any376 = false;
                       {
                         const auto& x377_list = prev375;
-                        charge_loop(budget, 43, int64_t(x377_list.size()));
                         for (const C2_Sheep& x377 : x377_list) {
+                          charge_loop(budget, 43, int64_t(1));
                           // inlined: function at programs/sheepdog.au:51
                           const bool t378 = (x377.origin == upd349.origin);
                           if (t378) {
@@ -1607,8 +1607,8 @@ struct Prog {
                     bool any410 = false;
                     {
                       const auto& x411_list = g409;
-                      charge_loop(budget, 41, int64_t(x411_list.size()));
                       for (const Pos& x411 : x411_list) {
+                        charge_loop(budget, 41, int64_t(1));
                         const bool t412 = (x411 == upd396.origin);
                         if (t412) {
                           any410 = true;
@@ -1634,8 +1634,8 @@ struct Prog {
                     bool any418 = false;
                     {
                       const auto& x419_list = acc284;
-                      charge_loop(budget, 42, int64_t(x419_list.size()));
                       for (const C2_Sheep& x419 : x419_list) {
+                        charge_loop(budget, 42, int64_t(1));
                         // inlined: function at programs/sheepdog.au:51
                         const bool t420 = (x419.origin == upd396.origin);
                         if (t420) {
@@ -1650,8 +1650,8 @@ struct Prog {
                       bool any423 = false;
                       {
                         const auto& x424_list = prev422;
-                        charge_loop(budget, 43, int64_t(x424_list.size()));
                         for (const C2_Sheep& x424 : x424_list) {
+                          charge_loop(budget, 43, int64_t(1));
                           // inlined: function at programs/sheepdog.au:51
                           const bool t425 = (x424.origin == upd396.origin);
                           if (t425) {
@@ -1743,8 +1743,8 @@ struct Prog {
       bool any443 = false;
       {
         const auto& x444_list = g442;
-        charge_loop(s.core, 46, int64_t(x444_list.size()));
         for (const C2_Sheep& x444 : x444_list) {
+          charge_loop(s.core, 46, int64_t(1));
           // inlined: function at programs/sheepdog.au:39
           const bool t445 = !x444.f0;
           if (t445) {
@@ -1766,8 +1766,8 @@ struct Prog {
       bool any448 = false;
       {
         const auto& x449_list = prev447;
-        charge_loop(s.core, 46, int64_t(x449_list.size()));
         for (const C2_Sheep& x449 : x449_list) {
+          charge_loop(s.core, 46, int64_t(1));
           // inlined: function at programs/sheepdog.au:39
           const bool t450 = !x449.f0;
           if (t450) {

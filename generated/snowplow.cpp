@@ -795,8 +795,8 @@ struct Prog {
                     bool any75 = false;
                     {
                       const auto& x76_list = l_prev_elems68;
-                      charge_loop(budget, 19, int64_t(x76_list.size()));
                       for (const Elem& x76 : x76_list) {
+                        charge_loop(budget, 19, int64_t(1));
                         const bool t77 = (x76 == x74);
                         if (t77) {
                           any75 = true;
@@ -815,8 +815,8 @@ struct Prog {
                 bool any79 = false;
                 {
                   const auto& x80_list = l_filtered_elems70;
-                  charge_loop(budget, 20, int64_t(x80_list.size()));
                   for (const Elem& x80 : x80_list) {
+                    charge_loop(budget, 20, int64_t(1));
                     const bool t81 = s.core.occupied.free(x80.position);
                     const bool t82 = !t81;
                     if (t82) {
@@ -1351,13 +1351,13 @@ struct Prog {
                 bool any263 = false;
                 {
                   const auto& x264_list = rendered255;
-                  charge_loop(budget, 36, int64_t(x264_list.size()));
                   for (const Elem& x264 : x264_list) {
+                    charge_loop(budget, 36, int64_t(1));
                     bool any265 = false;
                     {
                       const auto& x266_list = rendered256;
-                      charge_loop(budget, 37, int64_t(x266_list.size()));
                       for (const Elem& x266 : x266_list) {
+                        charge_loop(budget, 37, int64_t(1));
                         const bool t267 = (x264.position == x266.position);
                         if (t267) {
                           any265 = true;

@@ -265,8 +265,8 @@ struct Prog {
           bool any12 = false;
           {
             const auto& x13_list = g11;
-            charge_loop(budget, 2, int64_t(x13_list.size()));
             for (const Pos& x13 : x13_list) {
+              charge_loop(budget, 2, int64_t(1));
               const bool t14 = (x13 == x10.origin);
               if (t14) {
                 any12 = true;
@@ -444,8 +444,8 @@ struct Prog {
         bool any7 = false;
         {
           const auto& x8_list = prev6;
-          charge_loop(s.core, 17, int64_t(x8_list.size()));
           for (const C2_Crate& x8 : x8_list) {
+            charge_loop(s.core, 17, int64_t(1));
             // inlined: function at programs/sokoban.au:46
             const bool t9 = (x8.origin == t5);
             if (t9) {
@@ -471,8 +471,8 @@ struct Prog {
           bool any20 = false;
           {
             const auto& x21_list = g19;
-            charge_loop(s.core, 18, int64_t(x21_list.size()));
             for (const C0_Wall& x21 : x21_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t22 = (x21.origin == t17);
               if (t22) {
@@ -487,8 +487,8 @@ struct Prog {
             bool any24 = false;
             {
               const auto& x25_list = prev18;
-              charge_loop(s.core, 17, int64_t(x25_list.size()));
               for (const C2_Crate& x25 : x25_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t26 = (x25.origin == t17);
                 if (t26) {
@@ -553,8 +553,8 @@ struct Prog {
                 bool any44 = false;
                 {
                   const auto& x45_list = g43;
-                  charge_loop(budget, 21, int64_t(x45_list.size()));
                   for (const Pos& x45 : x45_list) {
+                    charge_loop(budget, 21, int64_t(1));
                     const bool t46 = (x45 == x42.origin);
                     if (t46) {
                       any44 = true;
@@ -599,8 +599,8 @@ struct Prog {
         bool any55 = false;
         {
           const auto& x56_list = prev54;
-          charge_loop(s.core, 17, int64_t(x56_list.size()));
           for (const C2_Crate& x56 : x56_list) {
+            charge_loop(s.core, 17, int64_t(1));
             // inlined: function at programs/sokoban.au:46
             const bool t57 = (x56.origin == t53);
             if (t57) {
@@ -626,8 +626,8 @@ struct Prog {
           bool any68 = false;
           {
             const auto& x69_list = g67;
-            charge_loop(s.core, 18, int64_t(x69_list.size()));
             for (const C0_Wall& x69 : x69_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t70 = (x69.origin == t65);
               if (t70) {
@@ -642,8 +642,8 @@ struct Prog {
             bool any72 = false;
             {
               const auto& x73_list = prev66;
-              charge_loop(s.core, 17, int64_t(x73_list.size()));
               for (const C2_Crate& x73 : x73_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t74 = (x73.origin == t65);
                 if (t74) {
@@ -675,8 +675,8 @@ struct Prog {
           bool any83 = false;
           {
             const auto& x84_list = g82;
-            charge_loop(s.core, 18, int64_t(x84_list.size()));
             for (const C0_Wall& x84 : x84_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t85 = (x84.origin == t80);
               if (t85) {
@@ -691,8 +691,8 @@ struct Prog {
             bool any87 = false;
             {
               const auto& x88_list = prev81;
-              charge_loop(s.core, 17, int64_t(x88_list.size()));
               for (const C2_Crate& x88 : x88_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t89 = (x88.origin == t80);
                 if (t89) {
@@ -747,8 +747,8 @@ struct Prog {
         bool any104 = false;
         {
           const auto& x105_list = prev103;
-          charge_loop(s.core, 17, int64_t(x105_list.size()));
           for (const C2_Crate& x105 : x105_list) {
+            charge_loop(s.core, 17, int64_t(1));
             // inlined: function at programs/sokoban.au:46
             const bool t106 = (x105.origin == t102);
             if (t106) {
@@ -774,8 +774,8 @@ struct Prog {
           bool any117 = false;
           {
             const auto& x118_list = g116;
-            charge_loop(s.core, 18, int64_t(x118_list.size()));
             for (const C0_Wall& x118 : x118_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t119 = (x118.origin == t114);
               if (t119) {
@@ -790,8 +790,8 @@ struct Prog {
             bool any121 = false;
             {
               const auto& x122_list = prev115;
-              charge_loop(s.core, 17, int64_t(x122_list.size()));
               for (const C2_Crate& x122 : x122_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t123 = (x122.origin == t114);
                 if (t123) {
@@ -856,8 +856,8 @@ struct Prog {
                 bool any141 = false;
                 {
                   const auto& x142_list = g140;
-                  charge_loop(budget, 21, int64_t(x142_list.size()));
                   for (const Pos& x142 : x142_list) {
+                    charge_loop(budget, 21, int64_t(1));
                     const bool t143 = (x142 == x139.origin);
                     if (t143) {
                       any141 = true;
@@ -902,8 +902,8 @@ struct Prog {
         bool any152 = false;
         {
           const auto& x153_list = prev151;
-          charge_loop(s.core, 17, int64_t(x153_list.size()));
           for (const C2_Crate& x153 : x153_list) {
+            charge_loop(s.core, 17, int64_t(1));
             // inlined: function at programs/sokoban.au:46
             const bool t154 = (x153.origin == t150);
             if (t154) {
@@ -929,8 +929,8 @@ struct Prog {
           bool any165 = false;
           {
             const auto& x166_list = g164;
-            charge_loop(s.core, 18, int64_t(x166_list.size()));
             for (const C0_Wall& x166 : x166_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t167 = (x166.origin == t162);
               if (t167) {
@@ -945,8 +945,8 @@ struct Prog {
             bool any169 = false;
             {
               const auto& x170_list = prev163;
-              charge_loop(s.core, 17, int64_t(x170_list.size()));
               for (const C2_Crate& x170 : x170_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t171 = (x170.origin == t162);
                 if (t171) {
@@ -978,8 +978,8 @@ struct Prog {
           bool any180 = false;
           {
             const auto& x181_list = g179;
-            charge_loop(s.core, 18, int64_t(x181_list.size()));
             for (const C0_Wall& x181 : x181_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t182 = (x181.origin == t177);
               if (t182) {
@@ -994,8 +994,8 @@ struct Prog {
             bool any184 = false;
             {
               const auto& x185_list = prev178;
-              charge_loop(s.core, 17, int64_t(x185_list.size()));
               for (const C2_Crate& x185 : x185_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t186 = (x185.origin == t177);
                 if (t186) {
@@ -1050,8 +1050,8 @@ struct Prog {
         bool any201 = false;
         {
           const auto& x202_list = prev200;
-          charge_loop(s.core, 17, int64_t(x202_list.size()));
           for (const C2_Crate& x202 : x202_list) {
+            charge_loop(s.core, 17, int64_t(1));
             // inlined: function at programs/sokoban.au:46
             const bool t203 = (x202.origin == t199);
             if (t203) {
@@ -1077,8 +1077,8 @@ struct Prog {
           bool any214 = false;
           {
             const auto& x215_list = g213;
-            charge_loop(s.core, 18, int64_t(x215_list.size()));
             for (const C0_Wall& x215 : x215_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t216 = (x215.origin == t211);
               if (t216) {
@@ -1093,8 +1093,8 @@ struct Prog {
             bool any218 = false;
             {
               const auto& x219_list = prev212;
-              charge_loop(s.core, 17, int64_t(x219_list.size()));
               for (const C2_Crate& x219 : x219_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t220 = (x219.origin == t211);
                 if (t220) {
@@ -1159,8 +1159,8 @@ struct Prog {
                 bool any238 = false;
                 {
                   const auto& x239_list = g237;
-                  charge_loop(budget, 21, int64_t(x239_list.size()));
                   for (const Pos& x239 : x239_list) {
+                    charge_loop(budget, 21, int64_t(1));
                     const bool t240 = (x239 == x236.origin);
                     if (t240) {
                       any238 = true;
@@ -1205,8 +1205,8 @@ struct Prog {
         bool any249 = false;
         {
           const auto& x250_list = prev248;
-          charge_loop(s.core, 17, int64_t(x250_list.size()));
           for (const C2_Crate& x250 : x250_list) {
+            charge_loop(s.core, 17, int64_t(1));
             // inlined: function at programs/sokoban.au:46
             const bool t251 = (x250.origin == t247);
             if (t251) {
@@ -1232,8 +1232,8 @@ struct Prog {
           bool any262 = false;
           {
             const auto& x263_list = g261;
-            charge_loop(s.core, 18, int64_t(x263_list.size()));
             for (const C0_Wall& x263 : x263_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t264 = (x263.origin == t259);
               if (t264) {
@@ -1248,8 +1248,8 @@ struct Prog {
             bool any266 = false;
             {
               const auto& x267_list = prev260;
-              charge_loop(s.core, 17, int64_t(x267_list.size()));
               for (const C2_Crate& x267 : x267_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t268 = (x267.origin == t259);
                 if (t268) {
@@ -1281,8 +1281,8 @@ struct Prog {
           bool any277 = false;
           {
             const auto& x278_list = g276;
-            charge_loop(s.core, 18, int64_t(x278_list.size()));
             for (const C0_Wall& x278 : x278_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t279 = (x278.origin == t274);
               if (t279) {
@@ -1297,8 +1297,8 @@ struct Prog {
             bool any281 = false;
             {
               const auto& x282_list = prev275;
-              charge_loop(s.core, 17, int64_t(x282_list.size()));
               for (const C2_Crate& x282 : x282_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t283 = (x282.origin == t274);
                 if (t283) {
@@ -1353,8 +1353,8 @@ struct Prog {
         bool any298 = false;
         {
           const auto& x299_list = prev297;
-          charge_loop(s.core, 17, int64_t(x299_list.size()));
           for (const C2_Crate& x299 : x299_list) {
+            charge_loop(s.core, 17, int64_t(1));
             // inlined: function at programs/sokoban.au:46
             const bool t300 = (x299.origin == t296);
             if (t300) {
@@ -1380,8 +1380,8 @@ struct Prog {
           bool any311 = false;
           {
             const auto& x312_list = g310;
-            charge_loop(s.core, 18, int64_t(x312_list.size()));
             for (const C0_Wall& x312 : x312_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t313 = (x312.origin == t308);
               if (t313) {
@@ -1396,8 +1396,8 @@ struct Prog {
             bool any315 = false;
             {
               const auto& x316_list = prev309;
-              charge_loop(s.core, 17, int64_t(x316_list.size()));
               for (const C2_Crate& x316 : x316_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t317 = (x316.origin == t308);
                 if (t317) {
@@ -1462,8 +1462,8 @@ struct Prog {
                 bool any335 = false;
                 {
                   const auto& x336_list = g334;
-                  charge_loop(budget, 21, int64_t(x336_list.size()));
                   for (const Pos& x336 : x336_list) {
+                    charge_loop(budget, 21, int64_t(1));
                     const bool t337 = (x336 == x333.origin);
                     if (t337) {
                       any335 = true;
@@ -1508,8 +1508,8 @@ struct Prog {
         bool any346 = false;
         {
           const auto& x347_list = prev345;
-          charge_loop(s.core, 17, int64_t(x347_list.size()));
           for (const C2_Crate& x347 : x347_list) {
+            charge_loop(s.core, 17, int64_t(1));
             // inlined: function at programs/sokoban.au:46
             const bool t348 = (x347.origin == t344);
             if (t348) {
@@ -1535,8 +1535,8 @@ struct Prog {
           bool any359 = false;
           {
             const auto& x360_list = g358;
-            charge_loop(s.core, 18, int64_t(x360_list.size()));
             for (const C0_Wall& x360 : x360_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t361 = (x360.origin == t356);
               if (t361) {
@@ -1551,8 +1551,8 @@ struct Prog {
             bool any363 = false;
             {
               const auto& x364_list = prev357;
-              charge_loop(s.core, 17, int64_t(x364_list.size()));
               for (const C2_Crate& x364 : x364_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t365 = (x364.origin == t356);
                 if (t365) {
@@ -1584,8 +1584,8 @@ struct Prog {
           bool any374 = false;
           {
             const auto& x375_list = g373;
-            charge_loop(s.core, 18, int64_t(x375_list.size()));
             for (const C0_Wall& x375 : x375_list) {
+              charge_loop(s.core, 18, int64_t(1));
               // inlined: function at programs/sokoban.au:45
               const bool t376 = (x375.origin == t371);
               if (t376) {
@@ -1600,8 +1600,8 @@ struct Prog {
             bool any378 = false;
             {
               const auto& x379_list = prev372;
-              charge_loop(s.core, 17, int64_t(x379_list.size()));
               for (const C2_Crate& x379 : x379_list) {
+                charge_loop(s.core, 17, int64_t(1));
                 // inlined: function at programs/sokoban.au:46
                 const bool t380 = (x379.origin == t371);
                 if (t380) {
@@ -1684,8 +1684,8 @@ struct Prog {
               bool any400 = false;
               {
                 const auto& x401_list = g399;
-                charge_loop(budget, 21, int64_t(x401_list.size()));
                 for (const Pos& x401 : x401_list) {
+                  charge_loop(budget, 21, int64_t(1));
                   const bool t402 = (x401 == x398.origin);
                   if (t402) {
                     any400 = true;
@@ -1722,8 +1722,8 @@ struct Prog {
       bool any407 = false;
       {
         const auto& x408_list = g406;
-        charge_loop(s.core, 23, int64_t(x408_list.size()));
         for (const C2_Crate& x408 : x408_list) {
+          charge_loop(s.core, 23, int64_t(1));
           // inlined: function at programs/sokoban.au:23
           const bool t409 = !x408.f0;
           if (t409) {
@@ -1745,8 +1745,8 @@ struct Prog {
       bool any412 = false;
       {
         const auto& x413_list = g411;
-        charge_loop(s.core, 23, int64_t(x413_list.size()));
         for (const C2_Crate& x413 : x413_list) {
+          charge_loop(s.core, 23, int64_t(1));
           // inlined: function at programs/sokoban.au:23
           const bool t414 = !x413.f0;
           if (t414) {

@@ -754,8 +754,8 @@ struct Prog {
                 bool any87 = false;
                 {
                   const auto& x88_list = g83;
-                  charge_loop(budget, 15, int64_t(x88_list.size()));
                   for (const C1_Mole& x88 : x88_list) {
+                    charge_loop(budget, 15, int64_t(1));
                     // inlined: function at programs/whack_a_mole.au:51
                     const bool t89 = (x88.origin == x86);
                     if (t89) {
@@ -807,8 +807,8 @@ struct Prog {
               bool any101 = false;
               {
                 const auto& x102_list = g97;
-                charge_loop(budget, 15, int64_t(x102_list.size()));
                 for (const C1_Mole& x102 : x102_list) {
+                  charge_loop(budget, 15, int64_t(1));
                   // inlined: function at programs/whack_a_mole.au:51
                   const bool t103 = (x102.origin == x100);
                   if (t103) {

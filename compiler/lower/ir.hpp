@@ -166,6 +166,7 @@ struct Stmt {
   bool move_value = false;  // Set, Push: b is a variable's last use, moved from; ForEach: the list
                             // is, whole, into the list its one push fills (pass_moves)
   bool charged = true;      // ForEach, ForRange: charges the loop budget; false when short (pass_loop_budget)
+  bool charge_each = false; // ForEach, ForRange that may stop early: charged one per element visited (pass_loop_budget)
   bool local_budget = false;  // ForEach, ForRange: the budget counts are a local while it runs
                               // (pass_budget_locals); never nested, no return inside
   uint32_t move_operands = 0;  // Let, Decl, Set, Push: the value's operands (bits) moved from

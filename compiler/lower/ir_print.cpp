@@ -104,6 +104,7 @@ class IrTextPrinter {
     if (s->b) line += (loop ? " .. " : s->k == SK::Push ? " <- " : s->k == SK::Swap ? ", " : " = ") + node(s->b);
     if (s->k == SK::Comment) line += " " + s->text;
     if ((s->k == SK::ForEach || s->k == SK::ForRange) && !s->charged) line += " [uncharged]";
+    if ((s->k == SK::ForEach || s->k == SK::ForRange) && s->charged && s->charge_each) line += " [charged each]";
     if (s->k == SK::ForEach || s->k == SK::ForRange || s->k == SK::Fail) line += " @site " + std::to_string(s->loc);
     if (s->move_value) line += " [move]";
     if (s->local_budget) line += " [local budget]";

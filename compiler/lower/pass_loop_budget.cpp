@@ -20,6 +20,12 @@
 // nested after the Decl, and nothing else writes or reads the list in between
 // (a render call filling it, an append, a copy). A range with literal bounds
 // counts its span. Test: tests/lowering_test.cpp (IrPasses.ShortLoopsAreNotCharged).
+//
+// A loop that may stop early (a break of its own: `any`, and `in` and the
+// collision helpers through it) is charged one per element as it visits it,
+// not its whole length before: the interpreter makes a call per element it
+// visits, and a charge up front stopped a step the interpreter finishes
+// (tests/lowering/early_exit_budget.au).
 #include "compiler/lower/ir_walk.hpp"
 #include "compiler/lower/passes.hpp"
 
@@ -63,8 +69,21 @@ int64_t known_length(const Walk& w, const Stmt& loop, int p) {
   return n;
 }
 
+// Whether `b` holds a break of the loop whose body it is (not of a loop nested in it).
+bool breaks_out(const Block& b) {
+  for (const Stmt* s : b) {
+    if (s->k == SK::Break) return true;
+    if (s->k == SK::ForEach || s->k == SK::ForRange) continue;
+    if (breaks_out(s->body) || breaks_out(s->other)) return true;
+    for (const auto& [k, c] : s->cases)
+      if (breaks_out(c)) return true;
+  }
+  return false;
+}
+
 void spare(const Walk& w, Block& b) {
   for (Stmt* s : b) {
+    if ((s->k == SK::ForEach || s->k == SK::ForRange) && breaks_out(s->body)) s->charge_each = true;
     if (s->k == SK::ForEach) {
       const int64_t n = known_length(w, *s, w.position.at(s));
       if (n >= 0 && n <= kShort) s->charged = false;

@@ -338,9 +338,11 @@ void Printer::for_each_stmt(const Stmt& s) {
     return;
   }
   line("  const auto& " + l + " = " + expr(s.a) + ";");
-  if (s.charged) line("  charge_loop(" + counts_ + ", " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
+  if (s.charged && !s.charge_each)
+    line("  charge_loop(" + counts_ + ", " + std::to_string(s.loc) + ", int64_t(" + l + ".size()));");
   line("  for (const " + type(s.var->type) + "& " + name(s.var) + " : " + l + ") {");
   ++depth_;
+  if (s.charged && s.charge_each) line("  charge_loop(" + counts_ + ", " + std::to_string(s.loc) + ", int64_t(1));");
   block(s.body);
   --depth_;
   line("  }");
@@ -352,10 +354,11 @@ void Printer::for_range_stmt(const Stmt& s) {
   const std::string v = name(s.var);
   line("{");
   line("  const int32_t " + v + "_first = " + expr(s.a) + ", " + v + "_end = " + expr(s.b) + ";");
-  if (s.charged)
+  if (s.charged && !s.charge_each)
     line("  charge_loop(" + counts_ + ", " + std::to_string(s.loc) + ", int64_t(" + v + "_end) - " + v + "_first);");
   line("  for (int32_t " + v + " = " + v + "_first; " + v + " < " + v + "_end; ++" + v + ") {");
   ++depth_;
+  if (s.charged && s.charge_each) line("  charge_loop(" + counts_ + ", " + std::to_string(s.loc) + ", int64_t(1));");
   block(s.body);
   --depth_;
   line("  }");
