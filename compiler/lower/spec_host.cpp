@@ -14,12 +14,22 @@
 // steps: what varies between steps (a global a step may erase or create) is
 // checked at run time.
 #include <algorithm>
+#include <set>
 
 #include "compiler/analyse/render_order.hpp"
 #include "compiler/lower/specialise.hpp"
 #include "runtime/diagnostic.hpp"
 
 namespace autumn::lower {
+namespace {
+
+void walk_vars(const Expr& e, std::set<Sym>& out) {
+  if (e.kind == ExprKind::Var) out.insert(e.name);
+  for (const auto& k : e.kids) walk_vars(*k, out);
+}
+
+}  // namespace
+
 void Specialiser::run() {
   m_.classes = f_.classes;
   class_defined_.assign(m_.classes.size(), 0);
@@ -67,25 +77,7 @@ void Specialiser::specialise_start() {
   }
   for (const Stmt& st : p_.stmts) {
     if (st.kind == StmtKind::Object) {
-      int c = f_.class_of_sym[st.object_sym];
-      ClassInfo& ci = m_.classes[c];
-      // A name defined twice: each definition has a class, the later one is
-      // the name's; the lowering knows only one class per name (found by
-      // fuzz_emit: fields of the earlier written into the later's).
-      if (ci.stmt != &st) sites_.unsupported("object '" + ci.name + "' defined twice");
-      for (size_t i = 0; i < st.fields.size(); ++i) {
-        TypeP declared = declared_type(*st.fields[i].type);
-        if (!declared && ci.unknown_field.empty()) ci.unknown_field = ci.field_names[i];
-        TypeP hinted = h_.field(c, static_cast<int>(i));
-        ci.field_types[i] = declared && hinted ? T().join(declared, hinted) : declared ? declared : hinted;
-      }
-      ci.type_string = "class " + ci.name + " {";
-      for (size_t i = 0; i < st.fields.size(); ++i) {
-        TypeP declared = declared_type(*st.fields[i].type);
-        ci.type_string += ci.field_names[i] + ": " + (declared ? type_string(declared) : std::string("?")) + ", ";
-      }
-      ci.type_string += "origin: " + type_string(T().pos()) + ", elems: List<" + type_string(T().cell()) + ">, }";
-      class_defined_[c] = 1;
+      define_class(st);
     } else if (st.kind == StmtKind::On) {
       continue;  // registered in the facts
     } else if (st.expr->kind == ExprKind::Assign && st.expr->kids[0]->kind == ExprKind::InitNext) {
@@ -116,6 +108,47 @@ void Specialiser::specialise_start() {
   cache.sym = p_.names.cacheRendered;
   note_definition(cache);
   in_start_ = false;
+}
+
+// A class definition: its field types (declared, joined with what the hints saw)
+// and the type text errors print.
+void Specialiser::define_class(const Stmt& st) {
+  int c = f_.class_of_sym[st.object_sym];
+  ClassInfo& ci = m_.classes[c];
+  // A name defined twice: each definition has a class, the later one is
+  // the name's; the lowering knows only one class per name (found by
+  // fuzz_emit: fields of the earlier written into the later's).
+  if (ci.stmt != &st) sites_.unsupported("object '" + ci.name + "' defined twice");
+  check_render_lookups(st);
+  for (size_t i = 0; i < st.fields.size(); ++i) {
+    TypeP declared = declared_type(*st.fields[i].type);
+    if (!declared && ci.unknown_field.empty()) ci.unknown_field = ci.field_names[i];
+    TypeP hinted = h_.field(c, static_cast<int>(i));
+    ci.field_types[i] = declared && hinted ? T().join(declared, hinted) : declared ? declared : hinted;
+  }
+  ci.type_string = "class " + ci.name + " {";
+  for (size_t i = 0; i < st.fields.size(); ++i) {
+    TypeP declared = declared_type(*st.fields[i].type);
+    ci.type_string += ci.field_names[i] + ": " + (declared ? type_string(declared) : std::string("?")) + ", ";
+  }
+  ci.type_string += "origin: " + type_string(T().pos()) + ", elems: List<" + type_string(T().cell()) + ">, }";
+  class_defined_[c] = 1;
+}
+
+// The interpreter's render method is an Autumn lambda run in a scope that binds
+// the object's fields, so a field named like a name the lambda looks up
+// (`map`, `RenderedElem`, `Position`) is what it calls. The specialised render
+// calls the builtins, so such a class is left to the embedded interpreter.
+void Specialiser::check_render_lookups(const Stmt& st) {
+  std::set<Sym> looked_up;
+  walk_vars(*p_.render_lambda, looked_up);
+  for (Sym own : {p_.names.origin, p_.names.elems, p_.names.e}) looked_up.erase(own);
+  for (const ObjectField& f : st.fields)
+    if (looked_up.count(f.name)) {
+      sites_.enter(st.cell_expr.get());
+      sites_.unsupported("field '" + f.name_text + "' of '" + st.object_name +
+                         "' shadows the name the render method calls");
+    }
 }
 
 // ---------------------------------------------------------------------------

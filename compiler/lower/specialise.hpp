@@ -326,6 +326,8 @@ class Specialiser {
 
   // The host algorithm (spec_host.cpp)
   void specialise_start();
+  void define_class(const Stmt& st);
+  void check_render_lookups(const Stmt& st);
   void specialise_step();
   void publish_trigger();
   void specialise_render();
