@@ -222,6 +222,9 @@ void Specialiser::specialise_step() {
 // interpreter's triggered() reads it): where start-up or a step may have
 // changed it, the runtime learns its value. Start-up's false and a step that
 // never stores it need nothing (the trigger's own SetTriggered covers it).
+// With a --trigger both stores are kept: the trigger's publishes before the
+// clauses run, so a step that fails in them still reports the trigger's value,
+// as the interpreter's triggered() does after a failed step.
 void Specialiser::publish_trigger() {
   Global* g = global(p_.names.SpecialConditionTriggered);
   if (!g || g->value < 0 || ir_.dead()) return;
@@ -375,7 +378,7 @@ void Specialiser::specialise_render() {
   // when two or more of them draw.
   std::vector<Global*> later;
   for (Sym s : h_.all_runtime_defined())
-    if (Global* g = drawable(s); g && !std::count(p_.render_order.begin(), p_.render_order.end(), s)) later.push_back(g);
+    if (Global* g = drawable(s); g && drawn_late(*g)) later.push_back(g);
   if (later.size() > 1 && h_.set_draw_order()) h_.learn("globals steps define are drawn in the order the run defines them");
   if (!m_.draw_order)
     for (Global* g : later) draw_if_defined(*g);
@@ -383,6 +386,13 @@ void Specialiser::specialise_render() {
     switch_over_keys(ir::Helper::DrawnKeys, "drawn", later, draw_if_defined);
   ir_.emit_eval(ir_.call(ir::Helper::PaintEnd, nullptr, {}));
   sites_.reset(nullptr);
+}
+
+// A global that steps first define and that draws: drawn after start-up's
+// globals, in the order the run first defines such globals (State::drawn).
+bool Specialiser::drawn_late(const Global& g) const {
+  return h_.runtime_defined(g.sym) && g.type && g.value >= 0 && renders(g.type) &&
+         !std::count(p_.render_order.begin(), p_.render_order.end(), g.sym);
 }
 
 }  // namespace autumn::lower

@@ -281,8 +281,7 @@ void Specialiser::define_global(Global& g, SVal v) {
   save_for_prev(g);
   if (g.defined >= 0) ir_.emit_set(ir_.slot(g.defined), ir_.lit(T().bool_(), 1));
   if (in_step_ && (h_.runtime_defined(g.sym) || h_.erasable(g.sym))) order_insert(g.sym);
-  if (in_step_ && m_.draw_order && h_.runtime_defined(g.sym) &&
-      !std::count(p_.render_order.begin(), p_.render_order.end(), g.sym))
+  if (in_step_ && m_.draw_order && drawn_late(g))
     ir_.emit_eval(ir_.call(ir::Helper::NoteDrawn, nullptr, {ir_.lit(T().int_(), g.sym)}));
   if (g.value >= 0) ir_.emit_set(ir_.slot(g.value), coerce(v, g.type).code);
   if (g.updated >= 0) ir_.emit_set(ir_.slot(g.updated), ir_.lit(T().bool_(), 0));

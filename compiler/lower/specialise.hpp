@@ -331,6 +331,7 @@ class Specialiser {
   void specialise_step();
   void publish_trigger();
   void specialise_render();
+  bool drawn_late(const Global& g) const;
   void on_clause(size_t i, const Stmt& st);
   void next_update(Sym s);
   bool is_own_prev(const Expr& e, Sym x);
