@@ -37,6 +37,16 @@ Value Interpreter::render_value(const Value& v) {
   }
   if (v.is(VKind::Instance) && v.as<InstanceObj>()->cls->has_render) {
     Value method = get_field(v, names_.render, "render");
+    // A field named render is what get_field finds first (found by a stress program:
+    // a Number there crashed the process).
+    if (!method.is(VKind::Function)) {  // the render's machinery: at the object's definition
+      RuntimeError err("only functions and classes can be called, got " + shown_type(type_string(type_of(method))));
+      if (const Stmt* def = v.as<InstanceObj>()->cls->object) {
+        err.program_loc = def->loc;
+        err.in_program = def->loc.source == SourceId::Program;
+      }
+      throw err;
+    }
     std::vector<Value> none;
     Value r = call_function(method, none);
     if (!r.is(VKind::List)) fail("render did not produce a list");

@@ -116,11 +116,10 @@ SVal Specialiser::call_render(const Expr& e) {
   sites_.leave();
   if (ir_.dead()) return never();
   return split(o, [&](const SVal& x) -> SVal {
-    bool field_named_render = false;
-    if (x.type->k == TK::Obj)
-      for (Sym f : m_.classes[x.type->cls].fields) field_named_render |= f == p_.names.render;
+    // An object's render is its method: a class with a field named render is
+    // the embedded interpreter's (check_render_lookups).
     sites_.enter(&get);
-    SVal f = x.type->k == TK::Obj && !field_named_render ? SVal{} : get_field(x, p_.names.render, get.text);
+    SVal f = x.type->k == TK::Obj ? SVal{} : get_field(x, p_.names.render, get.text);
     sites_.leave();
     if (ir_.dead()) return never();
     std::vector<SVal> args;
@@ -177,7 +176,12 @@ bool Specialiser::render_value_shortcut(const Expr& lambda, const std::vector<SV
 }
 
 SVal Specialiser::inline_lambda(const Expr& lambda, std::vector<SVal>& args, const Expr& at, ScopeKind kind) {
-  if (kind == ScopeKind::Local && render_value_shortcut(lambda, args)) return render_value(args[0], at);
+  if (kind == ScopeKind::Local && render_value_shortcut(lambda, args)) {
+    const Sym saved = std::exchange(render_value_param_, lambda.params.empty() ? -1 : lambda.params[0]);
+    SVal r = render_value(args[0], at);
+    render_value_param_ = saved;
+    return r;
+  }
   if (args.size() < lambda.params.size()) {
     fail("function called with " + std::to_string(args.size()) + " argument(s) but it takes " +
          std::to_string(lambda.params.size()) + " (the reference interpreter crashes here)");

@@ -51,6 +51,33 @@ bool same_tree(const ir::Node* a, const ir::Node* b) {
 
 }  // namespace
 
+// The names a deferred argument may look up when it is evaluated: those it
+// mentions, and those the bodies of the functions it calls mention (functions
+// capture nothing: a global function's free name resolves in the caller's
+// scopes, which at render time are the render's callers').
+void Specialiser::dynamic_names(const DeferredArg& da, std::set<Sym>& out) {
+  std::set<const Expr*> seen;
+  std::vector<const Expr*> todo{da.expr};
+  auto add_lambda = [&](TypeP t) {
+    if (t && t->k == TK::Func && t->fn.kind == FuncRef::Lambda && seen.insert(t->fn.lambda).second) todo.push_back(t->fn.lambda);
+  };
+  for (const auto& [n, t] : da.captured_types) add_lambda(t);
+  while (!todo.empty()) {
+    const Expr* e = todo.back();
+    todo.pop_back();
+    std::set<Sym> names;
+    mentioned(*e, names);
+    for (Sym n : names) {
+      out.insert(n);
+      const Global* g = global(n);
+      if (!g || !g->type) continue;
+      add_lambda(g->type);
+      if (g->type->k == TK::Sum)
+        for (TypeP a : g->type->alts) add_lambda(a);
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Construction
 
@@ -362,7 +389,24 @@ SVal Specialiser::render_value(const SVal& v, const Expr& at) {
   return built(out);
 }
 
+// The interpreter renders an object by calling its render method, an Autumn
+// lambda that looks `map` up through the caller's scopes: the specialised render
+// is the builtin's. Inside renderValue (taken as a shortcut, inline_lambda), the
+// render's callers include renderValue's own scope, whose parameter is the
+// object rendered: a deferred argument's free name may read it.
 void Specialiser::render_object(const SVal& o, const ElemSink& sink) {
+  if (!means_builtin(p_.builtin_syms[static_cast<int>(Builtin::Map)], Builtin::Map))
+    sites_.unsupported("rendering an object where 'map' is not the builtin the render method calls");
+  const Sym param = std::exchange(render_value_param_, -1);
+  if (param < 0) return render_cells(o, sink);
+  SScope* sc = scopes_.push(ScopeKind::Local, ir_.block());
+  bind(*sc, param, o, {f_.stdlib_render_value, param});
+  render_cells(o, sink);
+  scopes_.pop();
+  render_value_param_ = param;
+}
+
+void Specialiser::render_cells(const SVal& o, const ElemSink& sink) {
   const int cls = o.type->cls;
   ClassInfo& ci = m_.classes[cls];
   if (h_.stored_cells(cls)) {  // the class's render function, into a buffer
@@ -481,7 +525,7 @@ void Specialiser::render_shape_table(int cls, ir::Node* origin, const SVal& turn
 SVal Specialiser::deferred_colour(int d, const SVal& o, const SVal& cell) {
   const DeferredArg& da = m_.deferred[d];
   std::set<Sym> names;
-  mentioned(*da.expr, names);
+  dynamic_names(da, names);
   bool caller_matters = false;
   const ClassInfo& ci = m_.classes[o.type->cls];
   for (Sym n : names) {
@@ -586,7 +630,7 @@ void Specialiser::check_render_callers(int cls) {
   for (const DeferredArg& da : m_.deferred) {
     if (da.fixed || !(da.classes.empty() || std::count(da.classes.begin(), da.classes.end(), cls))) continue;
     std::set<Sym> names;
-    mentioned(*da.expr, names);
+    dynamic_names(da, names);
     for (Sym n : names) {
       const bool own = n == p_.names.origin || n == p_.names.elems || n == p_.names.e ||
                        std::count(ci.fields.begin(), ci.fields.end(), n) ||

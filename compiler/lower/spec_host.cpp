@@ -137,17 +137,20 @@ void Specialiser::define_class(const Stmt& st) {
 
 // The interpreter's render method is an Autumn lambda run in a scope that binds
 // the object's fields, so a field named like a name the lambda looks up
-// (`map`, `RenderedElem`, `Position`) is what it calls. The specialised render
-// calls the builtins, so such a class is left to the embedded interpreter.
+// (`map`, `RenderedElem`, `Position`) is what it calls; and the native render
+// (the host's, isWithinBounds, clicked) calls a field named `render` instead of
+// the method. The specialised render does neither, so such a class is left to
+// the embedded interpreter.
 void Specialiser::check_render_lookups(const Stmt& st) {
   std::set<Sym> looked_up;
   walk_vars(*p_.render_lambda, looked_up);
   for (Sym own : {p_.names.origin, p_.names.elems, p_.names.e}) looked_up.erase(own);
+  looked_up.insert(p_.names.render);
   for (const ObjectField& f : st.fields)
     if (looked_up.count(f.name)) {
       sites_.enter(st.cell_expr.get());
       sites_.unsupported("field '" + f.name_text + "' of '" + st.object_name +
-                         "' shadows the name the render method calls");
+                         "' shadows a name the render calls");
     }
 }
 

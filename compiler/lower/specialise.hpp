@@ -294,6 +294,7 @@ class Specialiser {
   std::map<int, std::set<Sym>> stored_render_binds_;
   void note_reads(Builtin b);
   void check_render_callers(int cls);
+  void dynamic_names(const DeferredArg& da, std::set<Sym>& out);
   std::map<Sym, ir::Node*> captured_konst_;
   bool object_cells(int cls, const SVal& cells, std::vector<ir::Node*>& ops);
   SVal object_cell_list(const SVal& o);
@@ -304,6 +305,10 @@ class Specialiser {
   void render_into(const SVal& v, const ElemSink& sink);
   void render_into(const SVal& v, ir::Node* out);
   void render_object(const SVal& o, const ElemSink& sink);
+  void render_cells(const SVal& o, const ElemSink& sink);
+  // renderValue's parameter while its shortcut renders (else -1): bound to each
+  // object rendered, as the interpreter's nested renderValue calls bind it.
+  Sym render_value_param_ = -1;
   bool tabulable(const ir::Node& shape) const;
   void render_shape_table(int cls, ir::Node* origin, const SVal& turns, const ElemSink& sink);
   bool renders(TypeP t) const;
