@@ -30,7 +30,7 @@ struct Prog {
 
   struct C0_Earth {
     Pos origin;
-    uint32_t uid = 0;
+    uint32_t uid;
     friend void hash_value(Hash& h, const C0_Earth& v) {
       hash_fields(h, v.origin, v.uid);
     }
@@ -56,7 +56,7 @@ struct Prog {
   struct C1_House {
     bool f0;
     Pos origin;
-    uint32_t uid = 0;
+    uint32_t uid;
     friend void hash_value(Hash& h, const C1_House& v) {
       hash_fields(h, v.f0, v.origin, v.uid);
     }
@@ -85,7 +85,7 @@ struct Prog {
   };
   struct C2_Drain {
     Pos origin;
-    uint32_t uid = 0;
+    uint32_t uid;
     friend void hash_value(Hash& h, const C2_Drain& v) {
       hash_fields(h, v.origin, v.uid);
     }
@@ -110,7 +110,7 @@ struct Prog {
   };
   struct C3_Sandbag {
     Pos origin;
-    uint32_t uid = 0;
+    uint32_t uid;
     friend void hash_value(Hash& h, const C3_Sandbag& v) {
       hash_fields(h, v.origin, v.uid);
     }
@@ -135,7 +135,7 @@ struct Prog {
   };
   struct C4_Water {
     Pos origin;
-    uint32_t uid = 0;
+    uint32_t uid;
     friend void hash_value(Hash& h, const C4_Water& v) {
       hash_fields(h, v.origin, v.uid);
     }
@@ -161,7 +161,7 @@ struct Prog {
   struct C5_Spring {
     int32_t f0;
     Pos origin;
-    uint32_t uid = 0;
+    uint32_t uid;
     friend void hash_value(Hash& h, const C5_Spring& v) {
       hash_fields(h, v.f0, v.origin, v.uid);
     }

@@ -494,8 +494,13 @@ void Printer::class_struct(const ClassInfo& c) {
   // Position it was given (the reference stores that very object).
   line(pos_type() + " origin;");
   if (c.mode == CellMode::Stored) line("std::vector<CellV> cells;");
-  if (c.tracked) line("uint32_t uid = 0;");
-  if (c.rotatable) line("uint32_t group = 0;");
+  // No default member initialisers: a class nested in Prog with one is not
+  // default-constructible until Prog is complete (CWG 1397), so a std::variant of
+  // two such classes (a global or field holding either) had a deleted default
+  // constructor and the module did not compile (tests/lowering/erasable_sum_global.au).
+  // Every object is value-initialised ({}, aggregate or variant), so these start at 0.
+  if (c.tracked) line("uint32_t uid;");
+  if (c.rotatable) line("uint32_t group;");
   std::vector<std::string> members;
   for (size_t i = 0; i < c.fields.size(); ++i) members.push_back("v.f" + std::to_string(i));
   members.push_back("v.origin");

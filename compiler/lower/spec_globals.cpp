@@ -331,10 +331,16 @@ SVal Specialiser::remove_global(const SVal& v) {
     sites_.unsupported("removeObj of a function (it erases the global that holds it)");
   if (!is_heap(v.type) && !is_sum(v.type)) return v;
   note_identity(v.type);
+  // A global holding a sum (one class or another) is a candidate when some
+  // alternative is tracked (found by a stress program: it was never erased).
+  auto tracked = [&](TypeP t) {
+    if (!is_sum(t)) return is_heap(t) && h_.tracked(t);
+    return std::any_of(t->alts.begin(), t->alts.end(), [&](TypeP a) { return is_heap(a) && h_.tracked(a); });
+  };
   std::vector<Global*> candidates;
   for (auto& [s, g] : globals_)
-    if (g.state != Global::Undefined && g.type && g.value >= 0 && is_heap(g.type) &&
-        (T().fits(v.type, g.type) || T().fits(g.type, v.type)) && h_.tracked(g.type))
+    if (g.state != Global::Undefined && g.type && g.value >= 0 &&
+        (T().fits(v.type, g.type) || T().fits(g.type, v.type)) && tracked(g.type))
       candidates.push_back(&g);
   if (candidates.empty()) return v;
   ir::Var* done = ir_.decl(T().bool_(), ir_.lit(T().bool_(), 0), "erased");
