@@ -61,7 +61,7 @@ void corrupt_snapshot(const char* what) {
 }
 
 void save_core(SnapshotWriter& w, const Core& c) {
-  w.raw(c.rng.state());
+  w.raw(c.rng_at_render);  // load_state's render draws from here (Core::rng_at_render)
   save_value(w, c.click_x);
   save_value(w, c.click_y);
   save_value(w, c.have_prev);
@@ -97,6 +97,7 @@ void load_core(SnapshotReader& r, Core& c, int on_clauses) {
   uint32_t rng = 0;
   r.raw(rng);
   c.rng.set_state(rng);
+  c.rng_at_render = rng;
   c.clear_inputs();
   load_value(r, c.click_x);
   load_value(r, c.click_y);
@@ -212,6 +213,7 @@ bool CompiledProgramHost::reset(uint64_t seed) {
     ops_->start(state_, seed);
     core_->begin_entry();
     painter_.bind(&frame_);
+    core_->rng_at_render = core_->rng.state();
     ops_->render(state_, &painter_, tables_->pal);
   });
 }

@@ -478,6 +478,11 @@ struct StateTally {
 
 struct Core {
   WrappedMinstd rng;
+  // The generator's state as the last host render began (reset, step,
+  // load_state set it): what a snapshot saves, so that load_state's render makes
+  // the draws the original render made (a cell colour may draw at every render)
+  // and leaves the generator where the original's left it.
+  uint32_t rng_at_render = 0;
   bool click = false, left = false, right = false, up = false, down = false;
   int32_t click_x = -1, click_y = -1;
   bool have_prev = false;
@@ -1131,6 +1136,7 @@ class CompiledEnvironment final : public CompiledProgramHost {
       if (!render) return;
       painter_.bind(&frame_);  // a clone copies the painter: point it at our own frame
       state_.core.begin_entry();
+      state_.core.rng_at_render = state_.core.rng.state();
       P::render(state_, &painter_, tables_->pal);
     });
   }

@@ -467,22 +467,51 @@ void Printer::function(const Function& f, int index) {
 // The classes in order, each after the sums its fields hold (a field that holds
 // an Int at one construction and a String at another is a sum), and then the
 // other sums (some hold classes).
+// A class comes after the classes its fields contain (classes_held by value;
+// the specialiser refuses a class that contains itself), and a class named
+// before it is printed (in a list, a sum) is declared first. With every field
+// holding earlier classes, the classes print in their own order.
 void Printer::declarations() {
   std::set<TypeP> printed;
+  std::vector<int> state(m_.classes.size(), 0);  // 0 not yet, 1 printing its fields' classes, 2 printed
+  std::set<int> declared;
+  auto declare = [&](TypeP t) {
+    std::vector<int> named;
+    classes_held(t, false, named);
+    for (int c : named)
+      if (state[c] != 2 && declared.insert(c).second) line("struct " + m_.classes[c].cpp + ";");
+  };
   std::function<void(TypeP)> need = [&](TypeP t) {
     if (!t) return;
     if (t->k == TK::List) return need(t->elem);
     if (t->k != TK::Sum || printed.count(t)) return;
     for (TypeP a : t->alts) need(a);
+    declare(t);
     sum_alias(t);
     printed.insert(t);
   };
-  for (const ClassInfo& c : m_.classes) {
-    for (TypeP t : c.field_types) need(t);
-    class_struct(c);
-  }
+  std::function<void(int)> print_class = [&](int c) {
+    if (state[c]) return;
+    state[c] = 1;
+    const ClassInfo& ci = m_.classes[c];
+    for (TypeP t : ci.field_types) {
+      std::vector<int> contained;
+      classes_held(t, true, contained);
+      for (int d : contained) print_class(d);
+    }
+    for (TypeP t : ci.field_types) {
+      need(t);
+      declare(t);
+    }
+    class_struct(ci);
+    state[c] = 2;
+  };
+  for (size_t c = 0; c < m_.classes.size(); ++c) print_class(static_cast<int>(c));
   for (TypeP t : sums_)
-    if (!printed.count(t)) sum_alias(t);
+    if (!printed.count(t)) {
+      declare(t);
+      sum_alias(t);
+    }
 }
 
 void Printer::class_struct(const ClassInfo& c) {

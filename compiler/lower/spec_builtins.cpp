@@ -30,7 +30,7 @@ bool Specialiser::need(Builtin b, size_t n) {
 bool Specialiser::check_kind(Builtin b, const std::vector<SVal>& a, size_t i, TK k, const char* what) {
   if (a[i].type->k == k || a[i].type->k == TK::Never) return !ir_.dead();
   fail(std::string(builtin_name(b)) + ": argument " + std::to_string(i + 1) + " must be " + what + ", got " +
-       shown_type(type_string(a[i].type)));
+       shown(a[i].type));
   return false;
 }
 
@@ -138,12 +138,15 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
   const size_t fi = 0, li = b == Builtin::Foldl ? 2 : n - 1;
   const bool with_fn = !(b == Builtin::Any && n == 1);
   if (with_fn && a[fi].type->k != TK::Func && !is_sum(a[fi].type)) {
-    fail(std::string(builtin_name(b)) + ": argument 1 must be a function, got " + shown_type(type_string(a[fi].type)));
+    fail(std::string(builtin_name(b)) + ": argument 1 must be a function, got " + shown(a[fi].type));
     return never();
   }
   if (!check_kind(b, a, li, TK::List, "a list")) return never();
   const SVal l = a[li];
   if (b == Builtin::Foldl) return fold(a[0], a[1], l, at);
+  if (b == Builtin::Filter && l.type->elem && !is_sum(l.type->elem)) check_appends(l.type->elem, "filter");
+  if (b == Builtin::Filter && l.type->elem && is_sum(l.type->elem))
+    for (TypeP alt : l.type->elem->alts) check_appends(alt, "filter");
   auto apply = [&](const SVal& x) { return with_fn ? call1(a[fi], x, at) : x; };
   if (!l.type->elem) {  // statically empty: the function is never called
     if (b == Builtin::Any) return SVal{T().bool_(), ir_.lit(T().bool_(), 0), ir_.lit(T().bool_(), 0)};
@@ -167,6 +170,21 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
     return make_list(out);
   }
   return iterate_loop(b, a, l, at, apply);
+}
+
+// The interpreter builds filter's, updateObj's (with a predicate) and
+// uniformChoice's (with a count) lists by appending, and each append compares
+// the element's run-time type with the one appended before (objects exempt):
+// "list element type mismatch". A list's type is its run-time tag, and values
+// of several types differ at run time; either is left to the embedded
+// interpreter (found by a stress program: filter over (list 1 "a") ran on).
+void Specialiser::check_appends(TypeP elem, const char* what) {
+  if (!elem) return;
+  bool varies = elem->k == TK::List;
+  if (is_sum(elem))
+    for (TypeP a : elem->alts) varies |= a->k != TK::Obj;
+  if (varies)
+    sites_.unsupported(std::string(what) + " appending values whose run-time types the interpreter compares (lists, or values of several types)");
 }
 
 bool Specialiser::unroll(const SVal& l) const {
@@ -199,6 +217,11 @@ SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, c
     charge_built(ir::kLengthSizes, {src.code});
     ir_.emit_eval(ir_.call(ir::Helper::Reserve, nullptr, {ir_.local(out), ir_.node(ir::Op::Size, T().int_(), {src.code})}));
   }
+  // filter over values of several types: the alternative appended last, for
+  // the interpreter's check of each appended element (check_kept_type).
+  ir::Var* last_kept = nullptr;
+  if (b == Builtin::Filter && is_sum(l.type->elem) && !is_object_like(l.type->elem))
+    last_kept = ir_.decl(T().int_(), ir_.lit(T().int_(), -1), "last_kept");
   if (!ir_.dead()) ir_.block()->push_back(loop);
   if (body_alive)
     ir_.in_block(loop->body, [&] {
@@ -216,11 +239,41 @@ SVal Specialiser::iterate_loop(Builtin b, std::vector<SVal>& a, const SVal& l, c
           ir_.emit(ir::SK::Break);
         } else {
           charge_one_built();
+          if (last_kept) check_kept_type(x, last_kept);
           ir_.emit_push(ir_.local(out), x.code);
         }
       });
     });
   return built(out);
+}
+
+// The interpreter's list_add as filter appends x: an element that is not an
+// object must have the run-time type of the element appended before it
+// ("list element type mismatch"); `last` holds that one's alternative (-1: none).
+void Specialiser::check_kept_type(const SVal& x, ir::Var* last) {
+  const std::vector<TypeP>& alts = x.type->alts;
+  split(x, [&](const SVal& a) -> SVal {
+    const int i = static_cast<int>(std::find(alts.begin(), alts.end(), a.type) - alts.begin());
+    if (a.type->k != TK::Obj) {
+      ir::Stmt* differs = ir_.emit(ir::SK::If);
+      differs->a = ir_.node(ir::Op::And, T().bool_(),
+                            {ir_.node(ir::Op::Ge, T().bool_(), {ir_.local(last), ir_.lit(T().int_(), 0)}),
+                             ir_.node(ir::Op::Ne, T().bool_(), {ir_.local(last), ir_.lit(T().int_(), i)})});
+      ir_.in_block(differs->body, [&] {
+        ir::Stmt* sw = ir_.emit(ir::SK::Switch);
+        sw->a = ir_.local(last);
+        for (size_t j = 0; j < alts.size(); ++j) {
+          if (static_cast<int>(j) == i) continue;
+          sw->cases.emplace_back(static_cast<int>(j), ir::Block{});
+          ir_.in_block(sw->cases.back().second, [&] {
+            fail("list element type mismatch: got " + shown(a.type) + ", expected " + shown(alts[j]));
+          });
+        }
+      });
+    }
+    ir_.emit_set(ir_.local(last), ir_.lit(T().int_(), i));
+    return SVal{T().int_(), ir_.lit(T().int_(), 0)};
+  });
 }
 
 // foldl: the accumulator's type is the join of the initial value's and the

@@ -159,6 +159,7 @@ SVal Specialiser::builtin_uniform_choice(Builtin b, std::vector<SVal>& a, const 
   };
   if (n == 1) return let(SVal{l.type->elem, draw()});
   if (!check_kind(b, a, 1, TK::Int, "a number")) return never();
+  check_appends(l.type->elem, "uniformChoice with a count");
   ir::Stmt* c = ir_.emit(ir::SK::If);
   c->a = ir_.node(ir::Op::Lt, T().bool_(), {a[1].code, ir_.lit(T().int_(), 1)});
   ir_.in_block(c->body, [&] { fail("uniformChoice: the count must be at least 1"); });
@@ -241,7 +242,7 @@ SVal Specialiser::builtin_add_obj(Builtin b, std::vector<SVal>& a, const Expr&) 
   if (!check_kind(b, a, 0, TK::List, "a list")) return never();
   const TK k = a[1].type->k;
   if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell && k != TK::List) {
-    fail("addObj: the second argument must be an object or a list, got " + shown_type(type_string(a[1].type)));
+    fail("addObj: the second argument must be an object or a list, got " + shown(a[1].type));
     return never();
   }
   return add_obj(a[0], a[1]);
@@ -344,7 +345,9 @@ SVal Specialiser::builtin_update_obj(Builtin, std::vector<SVal>& a, const Expr& 
       fail("updateObj: the second and third arguments must be functions");
       return never();
     }
-    return update_filtered(a[0], a[1], a[2], at);
+    SVal r = update_filtered(a[0], a[1], a[2], at);
+    if (!ir_.dead() && r.type->k == TK::List) check_appends(r.type->elem, "updateObj with a predicate");
+    return r;
   }
   const TK k = a[0].type->k;
   if (k != TK::Obj && k != TK::Pos && k != TK::Elem && k != TK::Cell) {
@@ -353,7 +356,7 @@ SVal Specialiser::builtin_update_obj(Builtin, std::vector<SVal>& a, const Expr& 
   }
   if (n == 2) {
     if (!is_function(a[1].type)) {
-      fail("updateObj: argument 2 must be a function, got " + shown_type(type_string(a[1].type)));
+      fail("updateObj: argument 2 must be a function, got " + shown(a[1].type));
       return never();
     }
     return call1(a[1], a[0], at);

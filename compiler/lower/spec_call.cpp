@@ -70,8 +70,18 @@ SVal Specialiser::lower_call(const Expr& e) {
   if (callee.type && callee.type->k == TK::Func && callee.type->fn.kind == FuncRef::Native &&
       callee.type->fn.builtin == Builtin::Prev)
     return lower_prev(e);
+  if (callee.type && is_sum(callee.type) && !is_function(callee.type))  // a function or not, decided at run time
+    return split(callee, [&](const SVal& f) -> SVal {
+      if (f.type->k != TK::Func) {
+        fail("only functions and classes can be called, got " + shown(f.type));
+        return never();
+      }
+      std::vector<SVal> args = args_of();
+      if (ir_.dead()) return never();
+      return call_value(f, args, e);
+    });
   if (!callee.type || !(callee.type->k == TK::Func || (is_sum(callee.type) && callee.type->alts[0]->k == TK::Func))) {
-    fail("only functions and classes can be called, got " + (callee.type ? shown_type(type_string(callee.type)) : "Unknown"));
+    fail("only functions and classes can be called, got " + (callee.type ? shown(callee.type) : "Unknown"));
     return never();
   }
   if (callee.type->k == TK::Func && callee.type->fn.kind == FuncRef::Native && callee.type->fn.builtin == Builtin::Filter &&
@@ -137,7 +147,7 @@ SVal Specialiser::call_value(const SVal& f, std::vector<SVal>& args, const Expr&
   if (f.type->k == TK::Never) return never();
   if (f.type->k == TK::Deferred) return call_deferred(f);
   if (f.type->k != TK::Func) {
-    fail("only functions and classes can be called, got " + shown_type(type_string(f.type)));
+    fail("only functions and classes can be called, got " + shown(f.type));
     return never();
   }
   const FuncRef& fr = f.type->fn;
@@ -257,8 +267,8 @@ SVal Specialiser::construct_builtin_class(int c, std::vector<SVal>& args) {
     SVal ok = split(args[i], [&](const SVal& a) -> SVal {
       if (a.type->k != TK::Never && type_string(a.type) != type_string(want[i].second) &&
           !(a.type->k == TK::List && !a.type->elem)) {
-        fail(std::string("field '") + want[i].first + "' of '" + name + "' must be " + shown_type(type_string(want[i].second)) +
-             ", got " + shown_type(type_string(a.type)));
+        fail(std::string("field '") + want[i].first + "' of '" + name + "' must be " + shown(want[i].second) +
+             ", got " + shown(a.type));
         return never();
       }
       return a;
@@ -347,7 +357,7 @@ void Specialiser::check_field_type(int cls, size_t i, TypeP declared, const SVal
     }
     if (type_string(v.type) != want)
       fail("field '" + ci.field_names[i] + "' of '" + ci.name + "' must be " + shown_type(want) + ", got " +
-           shown_type(type_string(v.type)));
+           shown(v.type));
     return v;
   });
 }
@@ -466,7 +476,7 @@ SVal Specialiser::get_field(const SVal& obj, Sym field, const std::string& raw) 
            "' has no field '" + raw + "'");
       return never();
     }
-    fail("(.. _ " + raw + "): only objects have fields, got " + shown_type(type_string(o.type)));
+    fail("(.. _ " + raw + "): only objects have fields, got " + shown(o.type));
     return never();
   });
 }

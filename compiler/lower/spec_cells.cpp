@@ -174,6 +174,11 @@ SVal Specialiser::trial(const Expr& arg, SScope& capture, int which, int* deferr
   const bool was_dead = ir_.dead();
   SVal v = lower_value(arg);
   const bool failed = trial_failed_ || (ir_.dead() && !was_dead);
+  // The interpreter does not restore its scope when a trial fails: a let or a
+  // call the failure left is where the cell's next arguments are tried (found
+  // by a stress program: (Cell (let (= q 3) (+ n 0)) q "red") drew at y = 3).
+  if (trial_failed_ && trial_fail_depth_ > 1 && which < 2)
+    sites_.unsupported("a cell argument that fails inside a let or a call (the interpreter tries the next arguments there)");
   ir_.set_dead(was_dead);
   --capture_mode_;
   scopes_.replace(saved);
@@ -232,7 +237,7 @@ bool Specialiser::object_cells(int cls, const SVal& cells, std::vector<ir::Node*
   TypeP want = T().list(T().cell());
   if (cells.type->k != TK::List || (cells.type->elem && cells.type->elem != T().cell())) {
     fail("field 'elems' of '" + ci.name + "' must be " + shown_type("List<" + type_string(T().cell()) + ">") + ", got " +
-         shown_type(type_string(cells.type)));
+         shown(cells.type));
     return false;
   }
   if (!h_.stored_cells(cls) && h_.tracked(T().cell())) {  // cells with identities live in the objects
@@ -445,11 +450,10 @@ void Specialiser::render_cells(const SVal& o, const ElemSink& sink) {
     SVal cell{T().cell(), const_cast<ir::Node*>(c), const_cast<ir::Node*>(c)};
     auto offset = [&](int which, int d) -> SVal {
       if (d < 0 || m_.deferred[d].fixed) return SVal{T().int_(), c->a[which]};
-      SVal v = eval_deferred(d, &ov, cell);
-      if (v.type->k != TK::Int) {
-        fail_at_cell_arg(m_.deferred[d].expr, "binary + needs two numbers, got Number and " + shown_type(type_string(v.type)));
-        return never();
-      }
+      SVal v = narrow(eval_deferred(d, &ov, cell), TK::Int, [&](const SVal& a) {
+        fail_at_cell_arg(m_.deferred[d].expr, "binary + needs two numbers, got Number and " + shown(a.type));
+      });
+      if (ir_.dead()) return never();
       return v;
     };
     SVal cx = offset(0, dx), cy = offset(1, dy);
@@ -545,11 +549,9 @@ SVal Specialiser::deferred_colour(int d, const SVal& o, const SVal& cell) {
     n->index = fn;
     v = let(SVal{T().str(), n}, "colour");
   }
-  if (v.type->k != TK::Str && v.type->k != TK::Never) {
-    fail_at_cell_arg(da.expr, "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type)));
-    return never();
-  }
-  return v;
+  return narrow(v, TK::Str, [&](const SVal& a) {
+    fail_at_cell_arg(da.expr, "field 'color' of 'RenderedElem' must be String, got " + shown(a.type));
+  });
 }
 
 // The module function (State&, const C&) -> string id for deferred argument d
@@ -571,10 +573,10 @@ int Specialiser::colour_function(int d, int cls, const SVal& cell) {
   const ScopeChain::Chain saved_chain = scopes_.replace({});
   ir_.begin_function(f);
   SVal ov{T().obj(cls), ir_.local(o)};
-  SVal v = eval_deferred(d, &ov, cell);
-  if (!ir_.dead() && v.type->k == TK::Str) ir_.emit(ir::SK::Return)->a = v.code;
-  else if (!ir_.dead())
-    fail_at_cell_arg(m_.deferred[d].expr, "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type)));
+  SVal v = narrow(eval_deferred(d, &ov, cell), TK::Str, [&](const SVal& a) {
+    fail_at_cell_arg(m_.deferred[d].expr, "field 'color' of 'RenderedElem' must be String, got " + shown(a.type));
+  });
+  if (!ir_.dead()) ir_.emit(ir::SK::Return)->a = v.code;
   ir_.restore(saved);
   scopes_.replace(saved_chain);
   return index;
@@ -601,8 +603,12 @@ void Specialiser::finish_classes() {
     for (const Module::NumberColour& n : m_.number_colours)
       if ((n.classes.empty() || std::count(n.classes.begin(), n.classes.end(), cls)) && n.expr != used)
         sites_.unsupported("cells of one class with number colours in several places");
+  check_containment();
   m_.pos_tracked = h_.tracked(T().pos());
-  for (size_t c = 0; c < m_.classes.size(); ++c) m_.classes[c].rotatable = h_.rotated(static_cast<int>(c));
+  for (size_t c = 0; c < m_.classes.size(); ++c) {
+    m_.classes[c].rotatable = h_.rotated(static_cast<int>(c));
+    if (m_.classes[c].rotatable) check_rotated_order(static_cast<int>(c));
+  }
   for (size_t c = 0; c < m_.classes.size(); ++c) {
     ClassInfo& ci = m_.classes[c];
     ci.tracked = h_.tracked(T().obj(static_cast<int>(c)));
@@ -617,6 +623,48 @@ void Specialiser::finish_classes() {
   // Settle render calls of Stored classes.
   for (ir::Node& n : m_.arena.nodes)
     if (n.op == ir::Op::FnCall && n.index < 0) n.index = m_.classes[-1 - n.index].render_fn;
+}
+
+// A turn makes a cell's x the negated y expression and its y the x expression,
+// so after an odd number of turns the interpreter evaluates y's expression
+// first; the render code evaluates x's first and turns the values. With both
+// evaluated at render time, their effects (random draws) and errors come in
+// another order (found by a stress program): such a class is embedded.
+void Specialiser::check_rotated_order(int cls) {
+  const Expr* live[2] = {nullptr, nullptr};
+  for (const DeferredArg& da : m_.deferred)
+    if (da.arg < 2 && !da.fixed && (da.classes.empty() || std::count(da.classes.begin(), da.classes.end(), cls)))
+      live[da.arg] = da.expr;
+  if (live[0] && live[1]) {
+    sites_.enter(live[1]);  // located at the y argument
+    sites_.unsupported("a rotated object of '" + m_.classes[cls].name +
+                       "' whose cells' x and y are both evaluated at render time (a turn swaps their order)");
+  }
+}
+
+// A C++ struct cannot contain itself: a class whose fields may hold (by value,
+// through fields and sums, not lists) an object of that same class is the
+// embedded interpreter's (the reference shares the object; found by a stress
+// program: (updateObj lamp "dx" lamp) emitted a module that did not compile).
+void Specialiser::check_containment() {
+  std::vector<int> state(m_.classes.size(), 0);  // 0 not seen, 1 on the path, 2 done
+  std::function<void(int)> visit = [&](int c) {
+    state[c] = 1;
+    for (TypeP t : m_.classes[c].field_types) {
+      std::vector<int> held;
+      classes_held(t, true, held);
+      for (int d : held) {
+        if (state[d] == 1 && m_.classes[c].stmt) sites_.enter(m_.classes[c].stmt->cell_expr.get());
+        if (state[d] == 1)
+          sites_.unsupported("a field of '" + m_.classes[c].name + "' that may hold an object of class '" +
+                             m_.classes[d].name + "', which holds it in turn");
+        if (state[d] == 0) visit(d);
+      }
+    }
+    state[c] = 2;
+  };
+  for (size_t c = 0; c < m_.classes.size(); ++c)
+    if (state[c] == 0) visit(static_cast<int>(c));
 }
 
 // A deferred argument's name that neither its capture, the object's fields nor
@@ -679,12 +727,12 @@ int Specialiser::stored_render_function(int cls) {
         for (int d : live) {
           sw->cases.emplace_back(d, ir::Block{});
           ir_.in_block(sw->cases.back().second, [&] {
-            SVal v = eval_deferred(d, &ov, cell);
-            if (v.type == t) ir_.emit_set(ir_.local(r), v.code);
-            else if (v.type->k != TK::Never)
-              fail_at_cell_arg(m_.deferred[d].expr,
-                               which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + shown_type(type_string(v.type))
-                                          : "binary + needs two numbers, got Number and " + shown_type(type_string(v.type)));
+            SVal v = narrow(eval_deferred(d, &ov, cell), t->k, [&](const SVal& a) {
+              const std::string got = shown(a.type);
+              fail_at_cell_arg(m_.deferred[d].expr, which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + got
+                                                               : "binary + needs two numbers, got Number and " + got);
+            });
+            if (!ir_.dead()) ir_.emit_set(ir_.local(r), v.code);
           });
         }
       }

@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 #include "compiler/lower/specialise.hpp"
+#include "runtime/diagnostic.hpp"
 #include "runtime/limits.hpp"
 
 namespace autumn::lower {
@@ -60,6 +61,7 @@ void Specialiser::fail(std::vector<ir::Node*> parts) {
     // A cell argument's trial: the reference catches the error and defers the
     // argument. Only an error every run raises can be decided here.
     if (ir_.block() != capture_block_) sites_.unsupported("a cell argument whose evaluation fails on some runs only");
+    if (!trial_failed_) trial_fail_depth_ = scopes_.visible().size();
     trial_failed_ = true;
     ir_.kill();
     return;
@@ -123,6 +125,20 @@ std::string Specialiser::type_string(TypeP t) {
     case TK::Never: return "Unknown";
   }
   return "Unknown";
+}
+
+// A value's type as an error message names it. For a list the interpreter
+// prints the list's run-time tag, which depends on how the list was built
+// (`List` after map or concat, `Unknown` for mixed elements, the type of the
+// element appended last after addObj or filter), not on its element type: an
+// error that would name one is left to the embedded interpreter (found by a
+// stress program: `(+ 1 (map f l))` printed `(List Number)` for `List`).
+std::string Specialiser::shown(TypeP t) {
+  bool list = t->k == TK::List;
+  if (is_sum(t))
+    for (TypeP a : t->alts) list |= a->k == TK::List;
+  if (list) sites_.unsupported("an error that names a list's type (the interpreter prints its run-time tag)");
+  return shown_type(type_string(t));
 }
 
 // The interpreter builds a type string where it compares types (assignment,

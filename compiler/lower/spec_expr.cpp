@@ -94,7 +94,7 @@ SVal Specialiser::lower_binary(const Expr& e) {
   return split(l, [&](const SVal& a) {
     return split(r, [&](const SVal& b) -> SVal {
       if (a.type->k != TK::Int || b.type->k != TK::Int) {
-        fail("binary " + e.text + " needs two numbers, got " + shown_type(type_string(a.type)) + " and " + shown_type(type_string(b.type)));
+        fail("binary " + e.text + " needs two numbers, got " + shown(a.type) + " and " + shown(b.type));
         return never();
       }
       return arithmetic(e, a, b);
@@ -171,14 +171,14 @@ SVal Specialiser::lower_unary(const Expr& e) {
     if (x.type->k == TK::Never) return x;
     if (e.unary == UnOp::Not) {
       if (x.type->k != TK::Bool) {
-        fail("'!' needs a Bool, got " + shown_type(type_string(x.type)));
+        fail("'!' needs a Bool, got " + shown(x.type));
         return never();
       }
       if (auto c = const_int(x)) return SVal{T().bool_(), ir_.lit(T().bool_(), !*c), ir_.lit(T().bool_(), !*c)};
       return let(SVal{T().bool_(), ir_.node(ir::Op::Not, T().bool_(), {x.code})});
     }
     if (x.type->k != TK::Int) {
-      fail("unary " + e.text + " needs a number, got " + shown_type(type_string(x.type)));
+      fail("unary " + e.text + " needs a number, got " + shown(x.type));
       return never();
     }
     if (e.unary == UnOp::Plus) return x;

@@ -253,18 +253,15 @@ void Specialiser::on_clause(size_t i, const Stmt& st) {
     auto bad = [&](const SVal& v, bool from_fn) {
       sites_.enter(st.cond.get());
       fail(std::string(from_fn ? "an on-clause condition function must return a Bool, got "
-                               : "an on-clause condition must be a Bool, got ") + shown_type(type_string(v.type)));
+                               : "an on-clause condition must be a Bool, got ") + shown(v.type));
       sites_.leave();
     };
     if (c.type->k == TK::Func || (is_sum(c.type) && c.type->alts[0]->k == TK::Func)) {
       std::vector<SVal> none;
       SVal r = call_value(c, none, *st.cond);
-      if (r.type->k == TK::Bool) fire = r.code;
-      else if (r.type->k != TK::Never) bad(r, true);
-    } else if (c.type->k == TK::Bool) {
-      fire = c.code;
-    } else if (c.type->k != TK::Never) {
-      bad(c, false);
+      if (!ir_.dead()) fire = narrow(r, TK::Bool, [&](const SVal& a) { bad(a, true); }).code;
+    } else {
+      fire = narrow(c, TK::Bool, [&](const SVal& a) { bad(a, false); }).code;
     }
     sites_.leave();
     if (ir_.dead() || !fire) return;

@@ -146,7 +146,7 @@ void Specialiser::check_declared(Sym s, const SVal& v) {
     if (dt && !check_printable(dt)) return x;
     if (!check_printable(x.type)) return x;
     if (want != type_string(x.type))
-      fail("cannot assign a value of type '" + shown_type(type_string(x.type)) + "' to '" + nm(s) + "', declared as '" + shown_type(want) +
+      fail("cannot assign a value of type '" + shown(x.type) + "' to '" + nm(s) + "', declared as '" + shown_type(want) +
            "'");
     return x;
   };
@@ -169,8 +169,8 @@ void Specialiser::store_checked(TypeP slot_type, ir::Node* place, SVal v, Sym s,
       if (old.type->k == TK::List)
         sites_.unsupported("assigning a value that is not a list to a variable that holds a list (the error names the list's type tag)");
       if (type_string(old.type) != type_string(nv.type))
-        fail("cannot assign a value of type '" + shown_type(type_string(nv.type)) + "' to variable '" + nm(s) + "' of type '" +
-             shown_type(type_string(old.type)) + "'");
+        fail("cannot assign a value of type '" + shown(nv.type) + "' to variable '" + nm(s) + "' of type '" +
+             shown(old.type) + "'");
       return old;
     };
     split(SVal{slot_type, place}, check_old);
@@ -246,7 +246,7 @@ bool Specialiser::store_function(Global& g, const SVal& v) {
   if (v.type->k != TK::Func || (g.type && g.type->k != TK::Func && g.state != Global::Undefined)) {
     const std::string old = g.type ? type_string(g.type) : "";
     if (v.type->k != TK::List && g.state != Global::Undefined && old != type_string(v.type))
-      fail("cannot assign a value of type '" + shown_type(type_string(v.type)) + "' to variable '" + nm(g.sym) + "' of type '" +
+      fail("cannot assign a value of type '" + shown(v.type) + "' to variable '" + nm(g.sym) + "' of type '" +
            shown_type(old) + "'");
     else if (!ir_.dead()) sites_.unsupported("a global holding a function and then another kind of value");
     return true;

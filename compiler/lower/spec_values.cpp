@@ -97,6 +97,17 @@ SVal Specialiser::split(const SVal& v, const std::function<SVal(const SVal&)>& f
   return join_blocks(s, blocks, producers, true, false);
 }
 
+// A value that must be of kind `want` (a condition, a cell's coordinate or
+// colour): a sum is split, and each alternative of another kind calls `bad`,
+// which emits the error the interpreter raises for that run-time type.
+SVal Specialiser::narrow(const SVal& v, TK want, const std::function<void(const SVal&)>& bad) {
+  return split(v, [&](const SVal& a) -> SVal {
+    if (a.type->k == want) return a;
+    if (a.type->k != TK::Never) bad(a);
+    return never();
+  });
+}
+
 // ---------------------------------------------------------------------------
 // Conversion
 

@@ -106,6 +106,9 @@ class Specialiser {
   const std::string& nm(Sym s) const { return p_.name(s); }
   int string_id(const std::string& quoted);
   std::string type_string(TypeP t);          // the reference's type string
+  void check_appends(TypeP elem, const char* what);
+  void check_kept_type(const SVal& x, ir::Var* last);
+  std::string shown(TypeP t);                // as an error names it (no list: embedded)
   TypeP declared_type(const TypeExpr& te);   // a (: x T) declaration; null: unknown name
   bool check_printable(TypeP t);             // false: the type string is an error (emitted)
 
@@ -115,6 +118,7 @@ class Specialiser {
   SVal coerce(SVal v, TypeP to);             // v must fit `to`
   ir::Node* truthy(const SVal& v);           // Bool node
   SVal equals(const SVal& a, const SVal& b);
+  SVal narrow(const SVal& v, TK want, const std::function<void(const SVal&)>& bad);
   SVal split(const SVal& v, const std::function<SVal(const SVal&)>& per_alternative);
   SVal join_blocks(ir::Stmt* stmt, std::vector<ir::Block*> blocks, std::vector<std::function<SVal()>> producers,
                    bool value_used, bool report);
@@ -287,6 +291,7 @@ class Specialiser {
   static constexpr int kMaxSplitDepth = 12;
   ir::Block* capture_block_ = nullptr;
   bool trial_failed_ = false;
+  size_t trial_fail_depth_ = 0;  // the scopes visible where the trial failed (1: the capture's alone)
   bool trial_varies_ = false;  // the trial called a builtin of kReadsChangingState: not fixed
   // Per class rendered by its shared function (Stored), the names some render
   // call site binds in a local scope: a deferred argument's free name would
@@ -325,6 +330,8 @@ class Specialiser {
   std::map<std::pair<int, int>, int> colour_fns_;
   SVal call_render_method(int cls);
   void finish_classes();
+  void check_containment();
+  void check_rotated_order(int cls);
   void load_shapes();
   int stored_render_function(int cls);
   std::vector<int> constructing_;                    // classes whose constructor is running

@@ -131,6 +131,14 @@ bool is_typed_variant(TypeP t) {
   return true;
 }
 
+void classes_held(TypeP t, bool by_value, std::vector<int>& out) {
+  if (!t) return;
+  if (t->k == TK::Obj) out.push_back(t->cls);
+  if (t->k == TK::Sum)
+    for (TypeP a : t->alts) classes_held(a, by_value, out);
+  if (t->k == TK::List && !by_value) classes_held(t->elem, by_value, out);
+}
+
 bool is_object_like(TypeP t) {
   if (t->k == TK::Obj) return true;
   if (!is_sum(t)) return false;

@@ -117,5 +117,9 @@ bool is_object_like(TypeP t);
 // A Sum that is a typed variant rather than a dynamic value: all alternatives
 // objects of user classes, or all functions (which carry nothing at run time).
 bool is_typed_variant(TypeP t);
+// The user classes a value of type t holds: `by_value`, those its C++ type
+// contains (an object, a sum's alternatives), which must be complete before it;
+// else also those inside lists, which need only be declared.
+void classes_held(TypeP t, bool by_value, std::vector<int>& out);
 
 }  // namespace autumn::lower
