@@ -144,9 +144,9 @@ SVal Specialiser::builtin_iterate(Builtin b, std::vector<SVal>& a, const Expr& a
   if (!check_kind(b, a, li, TK::List, "a list")) return never();
   const SVal l = a[li];
   if (b == Builtin::Foldl) return fold(a[0], a[1], l, at);
-  if (b == Builtin::Filter && l.type->elem && !is_sum(l.type->elem)) check_appends(l.type->elem, "filter");
-  if (b == Builtin::Filter && l.type->elem && is_sum(l.type->elem))
-    for (TypeP alt : l.type->elem->alts) check_appends(alt, "filter");
+  // filter checks values of several non-list types as it runs (check_kept_type).
+  if (b == Builtin::Filter && l.type->elem)
+    for (TypeP t : is_sum(l.type->elem) ? l.type->elem->alts : std::vector<TypeP>{l.type->elem}) check_appends(t, "filter");
   auto apply = [&](const SVal& x) { return with_fn ? call1(a[fi], x, at) : x; };
   if (!l.type->elem) {  // statically empty: the function is never called
     if (b == Builtin::Any) return SVal{T().bool_(), ir_.lit(T().bool_(), 0), ir_.lit(T().bool_(), 0)};

@@ -451,7 +451,7 @@ void Specialiser::render_cells(const SVal& o, const ElemSink& sink) {
     auto offset = [&](int which, int d) -> SVal {
       if (d < 0 || m_.deferred[d].fixed) return SVal{T().int_(), c->a[which]};
       SVal v = narrow(eval_deferred(d, &ov, cell), TK::Int, [&](const SVal& a) {
-        fail_at_cell_arg(m_.deferred[d].expr, "binary + needs two numbers, got Number and " + shown(a.type));
+        fail_at_cell_arg(m_.deferred[d].expr, cell_value_error(which, a.type));
       });
       if (ir_.dead()) return never();
       return v;
@@ -470,7 +470,7 @@ void Specialiser::render_cells(const SVal& o, const ElemSink& sink) {
     SVal colour;
     if (dc < 0) {
       const Expr* arg = c->index > 0 ? m_.number_colours[c->index - 1].expr : nullptr;
-      fail_at_cell_arg(arg, "field 'color' of 'RenderedElem' must be String, got Number");
+      fail_at_cell_arg(arg, cell_value_error(2, T().int_()));
       return;
     }
     if (m_.deferred[dc].fixed) colour = SVal{T().str(), c->a[2]};
@@ -549,9 +549,7 @@ SVal Specialiser::deferred_colour(int d, const SVal& o, const SVal& cell) {
     n->index = fn;
     v = let(SVal{T().str(), n}, "colour");
   }
-  return narrow(v, TK::Str, [&](const SVal& a) {
-    fail_at_cell_arg(da.expr, "field 'color' of 'RenderedElem' must be String, got " + shown(a.type));
-  });
+  return narrow(v, TK::Str, [&](const SVal& a) { fail_at_cell_arg(da.expr, cell_value_error(2, a.type)); });
 }
 
 // The module function (State&, const C&) -> string id for deferred argument d
@@ -573,9 +571,8 @@ int Specialiser::colour_function(int d, int cls, const SVal& cell) {
   const ScopeChain::Chain saved_chain = scopes_.replace({});
   ir_.begin_function(f);
   SVal ov{T().obj(cls), ir_.local(o)};
-  SVal v = narrow(eval_deferred(d, &ov, cell), TK::Str, [&](const SVal& a) {
-    fail_at_cell_arg(m_.deferred[d].expr, "field 'color' of 'RenderedElem' must be String, got " + shown(a.type));
-  });
+  SVal v = narrow(eval_deferred(d, &ov, cell), TK::Str,
+                  [&](const SVal& a) { fail_at_cell_arg(m_.deferred[d].expr, cell_value_error(2, a.type)); });
   if (!ir_.dead()) ir_.emit(ir::SK::Return)->a = v.code;
   ir_.restore(saved);
   scopes_.replace(saved_chain);
@@ -625,6 +622,14 @@ void Specialiser::finish_classes() {
     if (n.op == ir::Op::FnCall && n.index < 0) n.index = m_.classes[-1 - n.index].render_fn;
 }
 
+// The interpreter's error for a rendered cell whose argument `which` (0 x,
+// 1 y, 2 colour) evaluated to a value of type `got`: the render adds a
+// coordinate to the origin's, and RenderedElem checks its colour.
+std::string Specialiser::cell_value_error(int which, TypeP got) {
+  return which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + shown(got)
+                    : "binary + needs two numbers, got Number and " + shown(got);
+}
+
 // A turn makes a cell's x the negated y expression and its y the x expression,
 // so after an odd number of turns the interpreter evaluates y's expression
 // first; the render code evaluates x's first and turns the values. With both
@@ -654,10 +659,11 @@ void Specialiser::check_containment() {
       std::vector<int> held;
       classes_held(t, true, held);
       for (int d : held) {
-        if (state[d] == 1 && m_.classes[c].stmt) sites_.enter(m_.classes[c].stmt->cell_expr.get());
-        if (state[d] == 1)
+        if (state[d] == 1) {
+          if (m_.classes[c].stmt) sites_.enter(m_.classes[c].stmt->cell_expr.get());
           sites_.unsupported("a field of '" + m_.classes[c].name + "' that may hold an object of class '" +
                              m_.classes[d].name + "', which holds it in turn");
+        }
         if (state[d] == 0) visit(d);
       }
     }
@@ -727,11 +733,8 @@ int Specialiser::stored_render_function(int cls) {
         for (int d : live) {
           sw->cases.emplace_back(d, ir::Block{});
           ir_.in_block(sw->cases.back().second, [&] {
-            SVal v = narrow(eval_deferred(d, &ov, cell), t->k, [&](const SVal& a) {
-              const std::string got = shown(a.type);
-              fail_at_cell_arg(m_.deferred[d].expr, which == 2 ? "field 'color' of 'RenderedElem' must be String, got " + got
-                                                               : "binary + needs two numbers, got Number and " + got);
-            });
+            SVal v = narrow(eval_deferred(d, &ov, cell), t->k,
+                            [&](const SVal& a) { fail_at_cell_arg(m_.deferred[d].expr, cell_value_error(which, a.type)); });
             if (!ir_.dead()) ir_.emit_set(ir_.local(r), v.code);
           });
         }
@@ -753,7 +756,7 @@ int Specialiser::stored_render_function(int cls) {
     ir::Stmt* bad = ir_.emit(ir::SK::If);
     bad->a = ir_.node(ir::Op::Eq, T().bool_(), {ir_.member(ir_.local(loop->var), ir::Member::CellDc, T().int_()), ir_.lit(T().int_(), -1)});
     ir_.in_block(bad->body, [&] {
-      fail_at_cell_arg(number_colour_of(cls), "field 'color' of 'RenderedElem' must be String, got Number");
+      fail_at_cell_arg(number_colour_of(cls), cell_value_error(2, T().int_()));
     });
     SVal colour = arg(2, ir::Member::CellColour, T().str());
     ir_.emit_push(ir_.local(out), ir_.node(ir::Op::MakeElem, T().elem(), {ir_.node(ir::Op::MakePos, T().pos(), {px, py}), colour.code}));

@@ -331,6 +331,7 @@ class Specialiser {
   SVal call_render_method(int cls);
   void finish_classes();
   void check_containment();
+  std::string cell_value_error(int which, TypeP got);
   void check_rotated_order(int cls);
   void load_shapes();
   int stored_render_function(int cls);
