@@ -203,14 +203,14 @@ struct Prog {
         int32_t x4 = c3.x;
         int32_t y5 = c3.y;
         if ((int32_t(c3.dc) == int32_t(-1))) {
-          fail_at(63, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+          fail_at(63, "field 'color' of 'RenderedElem' must be String, got Number");
         }
         int32_t colour6 = c3.colour;
         switch (int32_t(c3.dc)) {
           case 0: {
             const std::vector<int32_t> v7 = std::vector<int32_t>{int32_t(2), int32_t(2), int32_t(3), int32_t(3), int32_t(3), int32_t(3), int32_t(4), int32_t(4), int32_t(5)};
             if (v7.empty()) {
-              fail_at(65, std::string() + std::string("at: empty list"));
+              fail_at(65, "at: empty list");
             }
             if (((o1.f0 < int32_t(0)) || (o1.f0 >= int32_t(v7.size())))) {
               fail_at(65, std::string() + std::string("at: index ") + std::to_string(o1.f0) + std::string(" out of bounds"));
@@ -254,7 +254,7 @@ struct Prog {
     // init piece, programs/blockfall.au:31
     const std::vector<int32_t> list13 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
     if (list13.empty()) {
-      fail_at(0, std::string() + std::string("uniformChoice of an empty list"));
+      fail_at(0, "uniformChoice of an empty list");
     }
     const int32_t t14 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list13.size())))));
     const int32_t t15 = list13[size_t(t14)];
@@ -262,7 +262,7 @@ struct Prog {
     std::vector<CellV> l_allCells17{};
     const std::vector<std::vector<Pos>>& g18 = s.g_shapes_4;
     if (g18.empty()) {
-      fail_at(1, std::string() + std::string("at: empty list"));
+      fail_at(1, "at: empty list");
     }
     if (((t15 < int32_t(0)) || (t15 >= int32_t(g18.size())))) {
       fail_at(1, std::string() + std::string("at: index ") + std::to_string(t15) + std::string(" out of bounds"));
@@ -605,7 +605,7 @@ struct Prog {
         // inlined: function at programs/blockfall.au:33
         const std::vector<int32_t>& g89 = s.g_turnOf_5;
         if (g89.empty()) {
-          fail_at(21, std::string() + std::string("at: empty list"));
+          fail_at(21, "at: empty list");
         }
         if (((prev88.f0 < int32_t(0)) || (prev88.f0 >= int32_t(g89.size())))) {
           fail_at(21, std::string() + std::string("at: index ") + std::to_string(prev88.f0) + std::string(" out of bounds"));
@@ -614,7 +614,7 @@ struct Prog {
         std::vector<CellV> l_allCells91{};
         const std::vector<std::vector<Pos>>& g92 = s.g_shapes_4;
         if (g92.empty()) {
-          fail_at(22, std::string() + std::string("at: empty list"));
+          fail_at(22, "at: empty list");
         }
         if (((t90 < int32_t(0)) || (t90 >= int32_t(g92.size())))) {
           fail_at(22, std::string() + std::string("at: index ") + std::to_string(t90) + std::string(" out of bounds"));
@@ -752,7 +752,7 @@ struct Prog {
         // inlined: function at programs/blockfall.au:33
         const std::vector<int32_t>& g126 = s.g_turnOf_5;
         if (g126.empty()) {
-          fail_at(21, std::string() + std::string("at: empty list"));
+          fail_at(21, "at: empty list");
         }
         if (((prev125.f0 < int32_t(0)) || (prev125.f0 >= int32_t(g126.size())))) {
           fail_at(21, std::string() + std::string("at: index ") + std::to_string(prev125.f0) + std::string(" out of bounds"));
@@ -761,7 +761,7 @@ struct Prog {
         std::vector<CellV> l_allCells128{};
         const std::vector<std::vector<Pos>>& g129 = s.g_shapes_4;
         if (g129.empty()) {
-          fail_at(22, std::string() + std::string("at: empty list"));
+          fail_at(22, "at: empty list");
         }
         if (((t127 < int32_t(0)) || (t127 >= int32_t(g129.size())))) {
           fail_at(22, std::string() + std::string("at: index ") + std::to_string(t127) + std::string(" out of bounds"));
@@ -1237,7 +1237,7 @@ struct Prog {
           s.u_stack_13 = true;
           const std::vector<int32_t> list258 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8)};
           if (list258.empty()) {
-            fail_at(52, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(52, "uniformChoice of an empty list");
           }
           const int32_t t259 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list258.size())))));
           const int32_t t260 = list258[size_t(t259)];
@@ -1245,7 +1245,7 @@ struct Prog {
           std::vector<CellV> l_allCells262{};
           const std::vector<std::vector<Pos>>& g263 = s.g_shapes_4;
           if (g263.empty()) {
-            fail_at(22, std::string() + std::string("at: empty list"));
+            fail_at(22, "at: empty list");
           }
           if (((t260 < int32_t(0)) || (t260 >= int32_t(g263.size())))) {
             fail_at(22, std::string() + std::string("at: index ") + std::to_string(t260) + std::string(" out of bounds"));

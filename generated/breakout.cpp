@@ -327,7 +327,7 @@ struct Prog {
           // inlined: function at programs/breakout.au:21
           const std::vector<bool> list15 = std::vector<bool>{true, true, true, true, false};
           if (list15.empty()) {
-            fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(4, "uniformChoice of an empty list");
           }
           const int32_t t16 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list15.size())))));
           const bool t17 = list15[size_t(t16)];
@@ -1120,7 +1120,7 @@ struct Prog {
         s.u_launched_14 = true;
         const std::vector<int32_t> list254 = std::vector<int32_t>{int32_t(-1), int32_t(1)};
         if (list254.empty()) {
-          fail_at(20, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(20, "uniformChoice of an empty list");
         }
         const int32_t t255 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list254.size())))));
         const int32_t t256 = list254[size_t(t255)];
@@ -1204,7 +1204,7 @@ struct Prog {
               // inlined: function at programs/breakout.au:21
               const std::vector<bool> list278 = std::vector<bool>{true, true, true, true, false};
               if (list278.empty()) {
-                fail_at(25, std::string() + std::string("uniformChoice of an empty list"));
+                fail_at(25, "uniformChoice of an empty list");
               }
               const int32_t t279 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list278.size())))));
               const bool t280 = list278[size_t(t279)];

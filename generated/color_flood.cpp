@@ -215,7 +215,7 @@ struct Prog {
         // inlined: function at programs/color_flood.au:24
         const std::vector<int32_t>& g6 = s.g_palette_4;
         if (g6.empty()) {
-          fail_at(1, std::string() + std::string("at: empty list"));
+          fail_at(1, "at: empty list");
         }
         if (((x5 < int32_t(0)) || (x5 >= int32_t(g6.size())))) {
           fail_at(1, std::string() + std::string("at: index ") + std::to_string(x5) + std::string(" out of bounds"));
@@ -231,10 +231,10 @@ struct Prog {
     // init tiles, programs/color_flood.au:21
     // inlined: function at programs/color_flood.au:17
     if ((int32_t(8) < int32_t(0))) {
-      fail_at(2, std::string() + std::string("allPositions: negative size"));
+      fail_at(2, "allPositions: negative size");
     }
     if ((int32_t(7) < int32_t(0))) {
-      fail_at(2, std::string() + std::string("allPositions: negative size"));
+      fail_at(2, "allPositions: negative size");
     }
     charge_built(s.core, 2, int64_t(int32_t(8)) * int64_t(int32_t(7)));
     std::vector<Pos>& apos10 = s.scratch.v.b1;
@@ -262,7 +262,7 @@ struct Prog {
         // inlined: function at programs/color_flood.au:18
         const std::vector<int32_t>& g16 = s.g_palette_4;
         if (g16.empty()) {
-          fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(4, "uniformChoice of an empty list");
         }
         const int32_t t17 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g16.size())))));
         const int32_t t18 = g16[size_t(t17)];
@@ -361,7 +361,7 @@ struct Prog {
         int32_t r13{};
         if (t12) {
           if (l_wetOnes8.empty()) {
-            fail_at(13, std::string() + std::string("head of an empty list"));
+            fail_at(13, "head of an empty list");
           }
           const C0_Tile t14 = l_wetOnes8.front();
           r13 = t14.f0;
@@ -533,7 +533,7 @@ struct Prog {
         int32_t r56{};
         if (t55) {
           if (l_hit47.empty()) {
-            fail_at(20, std::string() + std::string("head of an empty list"));
+            fail_at(20, "head of an empty list");
           }
           const C0_Tile t57 = l_hit47.front();
           r56 = t57.f0;
@@ -565,7 +565,7 @@ struct Prog {
           int32_t r64{};
           if (t63) {
             if (l_wetOnes59.empty()) {
-              fail_at(13, std::string() + std::string("head of an empty list"));
+              fail_at(13, "head of an empty list");
             }
             const C0_Tile t65 = l_wetOnes59.front();
             r64 = t65.f0;
@@ -672,7 +672,7 @@ struct Prog {
         int32_t r89{};
         if (t88) {
           if (l_hit80.empty()) {
-            fail_at(20, std::string() + std::string("head of an empty list"));
+            fail_at(20, "head of an empty list");
           }
           const C1_Swatch t90 = l_hit80.front();
           r89 = t90.f0;
@@ -704,7 +704,7 @@ struct Prog {
           int32_t r97{};
           if (t96) {
             if (l_wetOnes92.empty()) {
-              fail_at(13, std::string() + std::string("head of an empty list"));
+              fail_at(13, "head of an empty list");
             }
             const C0_Tile t98 = l_wetOnes92.front();
             r97 = t98.f0;
@@ -767,10 +767,10 @@ struct Prog {
         s.core.covered[int32_t(3)] = 1;
         // inlined: function at programs/color_flood.au:17
         if ((int32_t(8) < int32_t(0))) {
-          fail_at(23, std::string() + std::string("allPositions: negative size"));
+          fail_at(23, "allPositions: negative size");
         }
         if ((int32_t(7) < int32_t(0))) {
-          fail_at(23, std::string() + std::string("allPositions: negative size"));
+          fail_at(23, "allPositions: negative size");
         }
         charge_built(s.core, 23, int64_t(int32_t(8)) * int64_t(int32_t(7)));
         std::vector<Pos>& apos108 = s.scratch.v.b20;
@@ -798,7 +798,7 @@ struct Prog {
             // inlined: function at programs/color_flood.au:18
             const std::vector<int32_t>& g114 = s.g_palette_4;
             if (g114.empty()) {
-              fail_at(25, std::string() + std::string("uniformChoice of an empty list"));
+              fail_at(25, "uniformChoice of an empty list");
             }
             const int32_t t115 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g114.size())))));
             const int32_t t116 = g114[size_t(t115)];

@@ -326,7 +326,7 @@ struct Prog {
               int32_t l_span25{};
               const std::vector<int32_t> list26 = std::vector<int32_t>{int32_t(4), int32_t(5), int32_t(6)};
               if (list26.empty()) {
-                fail_at(10, std::string() + std::string("uniformChoice of an empty list"));
+                fail_at(10, "uniformChoice of an empty list");
               }
               const int32_t t27 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list26.size())))));
               const int32_t t28 = list26[size_t(t27)];
@@ -540,11 +540,11 @@ struct Prog {
           const Pos& g85 = s.g_click_20;
           r84 = g85;
         } else {
-          fail_at(17, std::string() + std::string("undefined variable 'click'"));
+          fail_at(17, "undefined variable 'click'");
         }
         const std::vector<int32_t>& g86 = s.g_palette_4;
         if (g86.empty()) {
-          fail_at(18, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(18, "uniformChoice of an empty list");
         }
         const int32_t t87 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g86.size())))));
         const int32_t t88 = g86[size_t(t87)];
@@ -553,7 +553,7 @@ struct Prog {
           const Pos& g90 = s.g_click_20;
           r89 = g90;
         } else {
-          fail_at(19, std::string() + std::string("undefined variable 'click'"));
+          fail_at(19, "undefined variable 'click'");
         }
         const Pos t91 = Pos{r89.x, int32_t(18)};
         C1_Rocket o92 = C1_Rocket{r84.y, t88, t91};
@@ -595,13 +595,13 @@ struct Prog {
         const std::vector<C1_Rocket>& g100 = s.g_rockets_12;
         const std::vector<int32_t> list101 = std::vector<int32_t>{int32_t(2), int32_t(4), int32_t(6), int32_t(8), int32_t(10)};
         if (list101.empty()) {
-          fail_at(21, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(21, "uniformChoice of an empty list");
         }
         const int32_t t102 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list101.size())))));
         const int32_t t103 = list101[size_t(t102)];
         const std::vector<int32_t>& g104 = s.g_palette_4;
         if (g104.empty()) {
-          fail_at(22, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(22, "uniformChoice of an empty list");
         }
         const int32_t t105 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g104.size())))));
         const int32_t t106 = g104[size_t(t105)];
@@ -645,7 +645,7 @@ struct Prog {
         s.core.covered[int32_t(5)] = 1;
         const std::vector<C1_Rocket>& g117 = s.g_rockets_12;
         if ((int32_t(20) < int32_t(0))) {
-          fail_at(24, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(24, "randomPositions: the grid size must not be negative");
         }
         charge_built(s.core, 24, int64_t(int32_t(3)));
         std::vector<Pos>& rpos118 = s.scratch.v.b13;
@@ -677,7 +677,7 @@ struct Prog {
             }
             const std::vector<int32_t>& g127 = s.g_palette_4;
             if (g127.empty()) {
-              fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
+              fail_at(26, "uniformChoice of an empty list");
             }
             const int32_t t128 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g127.size())))));
             const int32_t t129 = g127[size_t(t128)];

@@ -322,7 +322,7 @@ struct Prog {
           // inlined: function at programs/flood_defense.au:25
           const std::vector<int32_t>& g11 = s.g_heights_4;
           if (g11.empty()) {
-            fail_at(1, std::string() + std::string("at: empty list"));
+            fail_at(1, "at: empty list");
           }
           if (((x10 < int32_t(0)) || (x10 >= int32_t(g11.size())))) {
             fail_at(1, std::string() + std::string("at: index ") + std::to_string(x10) + std::string(" out of bounds"));
@@ -587,7 +587,7 @@ struct Prog {
                     r62 = x3.origin;
                   } else {
                     if (l_holes23.empty()) {
-                      fail_at(21, std::string() + std::string("head of an empty list"));
+                      fail_at(21, "head of an empty list");
                     }
                     const Pos t63 = l_holes23.front();
                     Pos acc64 = t63;
@@ -1299,10 +1299,10 @@ struct Prog {
       const int32_t& g321 = s.g_time_31;
       const C5_Spring& g322 = s.g_spring_15;
       if ((g322.f0 == int32_t(0))) {
-        fail_at(27, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        fail_at(27, "division by zero in '%' (the reference interpreter crashes here)");
       }
       if (((g321 == int32_t(-2147483648LL)) && (g322.f0 == int32_t(-1)))) {
-        fail_at(27, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+        fail_at(27, "integer overflow in '%' (the reference interpreter crashes here)");
       }
       const int32_t t323 = autumn::arith::mod_unchecked(g321, g322.f0);
       const bool t324 = (t323 == int32_t(0));
@@ -2065,7 +2065,7 @@ struct Prog {
           const Pos& g573 = s.g_click_35;
           r572 = g573;
         } else {
-          fail_at(40, std::string() + std::string("undefined variable 'click'"));
+          fail_at(40, "undefined variable 'click'");
         }
         const bool t574 = s.core.occupied.free(r572);
         bool r575{};
@@ -2089,14 +2089,14 @@ struct Prog {
           const Pos& g581 = s.g_click_35;
           r580 = g581;
         } else {
-          fail_at(41, std::string() + std::string("undefined variable 'click'"));
+          fail_at(41, "undefined variable 'click'");
         }
         Pos r582{};
         if (s.d_click_36) {
           const Pos& g583 = s.g_click_35;
           r582 = g583;
         } else {
-          fail_at(42, std::string() + std::string("undefined variable 'click'"));
+          fail_at(42, "undefined variable 'click'");
         }
         const Pos t584 = Pos{r580.x, r582.y};
         C3_Sandbag o585 = C3_Sandbag{t584, s.core.ids.fresh()};

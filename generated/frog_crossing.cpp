@@ -315,7 +315,7 @@ struct Prog {
         int32_t x4 = c3.x;
         int32_t y5 = c3.y;
         if ((int32_t(c3.dc) == int32_t(-1))) {
-          fail_at(40, std::string() + std::string("field 'color' of 'RenderedElem' must be String, got Number"));
+          fail_at(40, "field 'color' of 'RenderedElem' must be String, got Number");
         }
         int32_t colour6 = c3.colour;
         switch (int32_t(c3.dc)) {
@@ -376,28 +376,28 @@ struct Prog {
           int32_t l_gap16{};
           const std::vector<int32_t> list17 = std::vector<int32_t>{int32_t(0), int32_t(1), int32_t(2), int32_t(3), int32_t(4), int32_t(5), int32_t(6), int32_t(7), int32_t(8), int32_t(9), int32_t(10), int32_t(11)};
           if (list17.empty()) {
-            fail_at(1, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(1, "uniformChoice of an empty list");
           }
           const int32_t t18 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list17.size())))));
           const int32_t t19 = list17[size_t(t18)];
           l_start15 = t19;
           if (x14.empty()) {
-            fail_at(2, std::string() + std::string("at: empty list"));
+            fail_at(2, "at: empty list");
           }
           if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
             fail_at(2, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
           }
           const int32_t t20 = x14[size_t(int32_t(4))];
           if ((t20 == int32_t(0))) {
-            fail_at(3, std::string() + std::string("division by zero in '/' (the reference interpreter crashes here)"));
+            fail_at(3, "division by zero in '/' (the reference interpreter crashes here)");
           }
           if (((int32_t(12) == int32_t(-2147483648LL)) && (t20 == int32_t(-1)))) {
-            fail_at(3, std::string() + std::string("integer overflow in '/' (the reference interpreter crashes here)"));
+            fail_at(3, "integer overflow in '/' (the reference interpreter crashes here)");
           }
           const int32_t t21 = autumn::arith::div_unchecked(int32_t(12), t20);
           l_gap16 = t21;
           if (x14.empty()) {
-            fail_at(4, std::string() + std::string("at: empty list"));
+            fail_at(4, "at: empty list");
           }
           if (((int32_t(4) < int32_t(0)) || (int32_t(4) >= int32_t(x14.size())))) {
             fail_at(4, std::string() + std::string("at: index ") + std::to_string(int32_t(4)) + std::string(" out of bounds"));
@@ -423,28 +423,28 @@ struct Prog {
             for (const int32_t& x26 : x26_list) {
               // inlined: function at programs/frog_crossing.au:28
               if (x14.empty()) {
-                fail_at(7, std::string() + std::string("at: empty list"));
+                fail_at(7, "at: empty list");
               }
               if (((int32_t(2) < int32_t(0)) || (int32_t(2) >= int32_t(x14.size())))) {
                 fail_at(7, std::string() + std::string("at: index ") + std::to_string(int32_t(2)) + std::string(" out of bounds"));
               }
               const int32_t t27 = x14[size_t(int32_t(2))];
               if (x14.empty()) {
-                fail_at(8, std::string() + std::string("at: empty list"));
+                fail_at(8, "at: empty list");
               }
               if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
                 fail_at(8, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
               }
               const int32_t t28 = x14[size_t(int32_t(1))];
               if (x14.empty()) {
-                fail_at(9, std::string() + std::string("at: empty list"));
+                fail_at(9, "at: empty list");
               }
               if (((int32_t(3) < int32_t(0)) || (int32_t(3) >= int32_t(x14.size())))) {
                 fail_at(9, std::string() + std::string("at: index ") + std::to_string(int32_t(3)) + std::string(" out of bounds"));
               }
               const int32_t t29 = x14[size_t(int32_t(3))];
               if (x14.empty()) {
-                fail_at(10, std::string() + std::string("at: empty list"));
+                fail_at(10, "at: empty list");
               }
               if (((int32_t(1) < int32_t(0)) || (int32_t(1) >= int32_t(x14.size())))) {
                 fail_at(10, std::string() + std::string("at: index ") + std::to_string(int32_t(1)) + std::string(" out of bounds"));
@@ -462,7 +462,7 @@ struct Prog {
               const int32_t t35 = autumn::arith::mod_unchecked(t34, int32_t(12));
               const int32_t t36 = sub(t35, int32_t(1));
               if (x14.empty()) {
-                fail_at(11, std::string() + std::string("at: empty list"));
+                fail_at(11, "at: empty list");
               }
               if (((int32_t(0) < int32_t(0)) || (int32_t(0) >= int32_t(x14.size())))) {
                 fail_at(11, std::string() + std::string("at: index ") + std::to_string(int32_t(0)) + std::string(" out of bounds"));
@@ -589,10 +589,10 @@ struct Prog {
             // inlined: function at programs/frog_crossing.au:54
             const int32_t& g4 = s.g_time_31;
             if ((x3.f0 == int32_t(0))) {
-              fail_at(24, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+              fail_at(24, "division by zero in '%' (the reference interpreter crashes here)");
             }
             if (((g4 == int32_t(-2147483648LL)) && (x3.f0 == int32_t(-1)))) {
-              fail_at(24, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+              fail_at(24, "integer overflow in '%' (the reference interpreter crashes here)");
             }
             const int32_t t5 = autumn::arith::mod_unchecked(g4, x3.f0);
             const bool t6 = (t5 == int32_t(0));

@@ -675,7 +675,7 @@ struct Prog {
             if (t57) {
               const std::vector<bool>& g59 = s.g_growChance_5;
               if (g59.empty()) {
-                fail_at(17, std::string() + std::string("uniformChoice of an empty list"));
+                fail_at(17, "uniformChoice of an empty list");
               }
               const int32_t t60 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g59.size())))));
               const bool t61 = g59[size_t(t60)];
@@ -853,7 +853,7 @@ struct Prog {
           const Pos& g101 = s.g_click_27;
           r100 = g101;
         } else {
-          fail_at(22, std::string() + std::string("undefined variable 'click'"));
+          fail_at(22, "undefined variable 'click'");
         }
         // inlined: function at programs/garden.au:41
         const bool t102 = (r100.y >= int32_t(2));
@@ -871,7 +871,7 @@ struct Prog {
             const Pos& g107 = s.g_click_27;
             r106 = g107;
           } else {
-            fail_at(23, std::string() + std::string("undefined variable 'click'"));
+            fail_at(23, "undefined variable 'click'");
           }
           const bool t108 = s.core.occupied.free(r106);
           bool r109{};
@@ -896,7 +896,7 @@ struct Prog {
         const std::vector<C3_Plant>& g113 = s.g_plants_15;
         const std::vector<int32_t>& g114 = s.g_petals_4;
         if (g114.empty()) {
-          fail_at(24, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(24, "uniformChoice of an empty list");
         }
         const int32_t t115 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g114.size())))));
         const int32_t t116 = g114[size_t(t115)];
@@ -905,14 +905,14 @@ struct Prog {
           const Pos& g118 = s.g_click_27;
           r117 = g118;
         } else {
-          fail_at(25, std::string() + std::string("undefined variable 'click'"));
+          fail_at(25, "undefined variable 'click'");
         }
         Pos r119{};
         if (s.d_click_28) {
           const Pos& g120 = s.g_click_27;
           r119 = g120;
         } else {
-          fail_at(26, std::string() + std::string("undefined variable 'click'"));
+          fail_at(26, "undefined variable 'click'");
         }
         const Pos t121 = Pos{r117.x, r119.y};
         C3_Plant o122 = C3_Plant{int32_t(0), t116, t121};
@@ -1014,7 +1014,7 @@ struct Prog {
         const C0_Cloud& g147 = s.g_cloud_19;
         const std::vector<int32_t> list148 = std::vector<int32_t>{int32_t(-1), int32_t(0), int32_t(1)};
         if (list148.empty()) {
-          fail_at(28, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(28, "uniformChoice of an empty list");
         }
         const int32_t t149 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list148.size())))));
         const int32_t t150 = list148[size_t(t149)];

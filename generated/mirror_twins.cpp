@@ -354,7 +354,7 @@ struct Prog {
     s.g_wallSpots_4 = std::move(list1);
     s.g_maxWalls_5 = int32_t(25);
     if ((int32_t(10) < int32_t(0))) {
-      fail_at(0, std::string() + std::string("allPositions: negative size"));
+      fail_at(0, "allPositions: negative size");
     }
     charge_built(s.core, 0, int64_t(int32_t(10)) * int64_t(int32_t(10)));
     std::vector<Pos>& apos2 = s.scratch.v.b0;
@@ -440,7 +440,7 @@ struct Prog {
       give_back(s.core, budget);
     }
     if (out18.empty()) {
-      fail_at(4, std::string() + std::string("uniformChoice of an empty list"));
+      fail_at(4, "uniformChoice of an empty list");
     }
     const int32_t t21 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out18.size())))));
     const Pos t22 = out18[size_t(t21)];
@@ -469,7 +469,7 @@ struct Prog {
       give_back(s.core, budget);
     }
     if (out25.empty()) {
-      fail_at(6, std::string() + std::string("uniformChoice of an empty list"));
+      fail_at(6, "uniformChoice of an empty list");
     }
     const int32_t t28 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out25.size())))));
     const Pos t29 = out25[size_t(t28)];
@@ -1600,7 +1600,7 @@ struct Prog {
         s.u_stars_28 = true;
         // inlined: function at programs/mirror_twins.au:61
         if ((int32_t(10) < int32_t(0))) {
-          fail_at(20, std::string() + std::string("allPositions: negative size"));
+          fail_at(20, "allPositions: negative size");
         }
         charge_built(s.core, 20, int64_t(int32_t(10)) * int64_t(int32_t(10)));
         std::vector<Pos>& apos331 = s.scratch.v.b30;
@@ -1720,7 +1720,7 @@ struct Prog {
             give_back(s.core, budget);
           }
           if (out359.empty()) {
-            fail_at(24, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(24, "uniformChoice of an empty list");
           }
           const int32_t t362 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out359.size())))));
           const Pos t363 = out359[size_t(t362)];
@@ -1780,7 +1780,7 @@ struct Prog {
             give_back(s.core, budget);
           }
           if (out373.empty()) {
-            fail_at(26, std::string() + std::string("uniformChoice of an empty list"));
+            fail_at(26, "uniformChoice of an empty list");
           }
           const int32_t t376 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out373.size())))));
           const Pos t377 = out373[size_t(t376)];
@@ -1874,7 +1874,7 @@ struct Prog {
           const Pos& g396 = s.g_click_31;
           r395 = g396;
         } else {
-          fail_at(29, std::string() + std::string("undefined variable 'click'"));
+          fail_at(29, "undefined variable 'click'");
         }
         const bool t397 = (r395.y >= int32_t(1));
         bool r398{};
@@ -1884,7 +1884,7 @@ struct Prog {
             const Pos& g400 = s.g_click_31;
             r399 = g400;
           } else {
-            fail_at(30, std::string() + std::string("undefined variable 'click'"));
+            fail_at(30, "undefined variable 'click'");
           }
           const bool t401 = s.core.occupied.free(r399);
           bool r402{};
@@ -1912,14 +1912,14 @@ struct Prog {
           const Pos& g408 = s.g_click_31;
           r407 = g408;
         } else {
-          fail_at(31, std::string() + std::string("undefined variable 'click'"));
+          fail_at(31, "undefined variable 'click'");
         }
         Pos r409{};
         if (s.d_click_32) {
           const Pos& g410 = s.g_click_31;
           r409 = g410;
         } else {
-          fail_at(32, std::string() + std::string("undefined variable 'click'"));
+          fail_at(32, "undefined variable 'click'");
         }
         const Pos t411 = Pos{r407.x, r409.y};
         C0_Wall o412 = C0_Wall{t411};

@@ -255,7 +255,7 @@ struct Prog {
     s.u_dog_16 = false;
     // init fences, programs/sheepdog.au:26
     if ((int32_t(16) < int32_t(0))) {
-      fail_at(1, std::string() + std::string("allPositions: negative size"));
+      fail_at(1, "allPositions: negative size");
     }
     charge_built(s.core, 1, int64_t(int32_t(16)) * int64_t(int32_t(16)));
     std::vector<Pos>& apos9 = s.scratch.v.b1;
@@ -895,7 +895,7 @@ struct Prog {
         const C3_Dog& prev156 = (s.scratch.v.sv_dog_18 ? s.scratch.v.p_dog_17 : s.g_dog_15);
         const std::vector<C1_Flag>& prev157 = (s.scratch.v.sv_flags_14 ? s.scratch.v.p_flags_13 : s.g_flags_11);
         if (prev157.empty()) {
-          fail_at(28, std::string() + std::string("head of an empty list"));
+          fail_at(28, "head of an empty list");
         }
         const C1_Flag t158 = prev157.front();
         // inlined: function at programs/sheepdog.au:62
@@ -1161,7 +1161,7 @@ struct Prog {
         const C3_Dog& g253 = s.g_dog_15;
         const std::vector<C1_Flag>& g254 = s.g_flags_11;
         if (g254.empty()) {
-          fail_at(35, std::string() + std::string("head of an empty list"));
+          fail_at(35, "head of an empty list");
         }
         const C1_Flag t255 = g254.front();
         Pos l_delta256{};
@@ -1235,14 +1235,14 @@ struct Prog {
           const Pos& g277 = s.g_click_23;
           r276 = g277;
         } else {
-          fail_at(36, std::string() + std::string("undefined variable 'click'"));
+          fail_at(36, "undefined variable 'click'");
         }
         Pos r278{};
         if (s.d_click_24) {
           const Pos& g279 = s.g_click_23;
           r278 = g279;
         } else {
-          fail_at(37, std::string() + std::string("undefined variable 'click'"));
+          fail_at(37, "undefined variable 'click'");
         }
         const Pos t280 = Pos{r276.x, r278.y};
         C1_Flag o281 = C1_Flag{t280};
@@ -1381,7 +1381,7 @@ struct Prog {
                 } else {
                   const std::vector<Pos>& g334 = s.g_wanderSteps_5;
                   if (g334.empty()) {
-                    fail_at(39, std::string() + std::string("uniformChoice of an empty list"));
+                    fail_at(39, "uniformChoice of an empty list");
                   }
                   const int32_t t335 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g334.size())))));
                   const Pos t336 = g334[size_t(t335)];
@@ -1530,7 +1530,7 @@ struct Prog {
                 } else {
                   const std::vector<Pos>& g381 = s.g_wanderSteps_5;
                   if (g381.empty()) {
-                    fail_at(44, std::string() + std::string("uniformChoice of an empty list"));
+                    fail_at(44, "uniformChoice of an empty list");
                   }
                   const int32_t t382 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(g381.size())))));
                   const Pos t383 = g381[size_t(t382)];

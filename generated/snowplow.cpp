@@ -570,14 +570,14 @@ struct Prog {
           const Pos& g15 = s.g_click_29;
           r14 = g15;
         } else {
-          fail_at(7, std::string() + std::string("undefined variable 'click'"));
+          fail_at(7, "undefined variable 'click'");
         }
         Pos r16{};
         if (s.d_click_30) {
           const Pos& g17 = s.g_click_29;
           r16 = g17;
         } else {
-          fail_at(8, std::string() + std::string("undefined variable 'click'"));
+          fail_at(8, "undefined variable 'click'");
         }
         const Pos t18 = Pos{r14.x, r16.y};
         C1_Melt o19 = C1_Melt{int32_t(10), t18};
@@ -678,7 +678,7 @@ struct Prog {
           const Pos& g38 = s.g_click_29;
           r37 = g38;
         } else {
-          fail_at(12, std::string() + std::string("undefined variable 'click'"));
+          fail_at(12, "undefined variable 'click'");
         }
         const bool t39 = s.core.occupied.free(r37);
         bool r40{};
@@ -702,14 +702,14 @@ struct Prog {
           const Pos& g46 = s.g_click_29;
           r45 = g46;
         } else {
-          fail_at(13, std::string() + std::string("undefined variable 'click'"));
+          fail_at(13, "undefined variable 'click'");
         }
         Pos r47{};
         if (s.d_click_30) {
           const Pos& g48 = s.g_click_29;
           r47 = g48;
         } else {
-          fail_at(14, std::string() + std::string("undefined variable 'click'"));
+          fail_at(14, "undefined variable 'click'");
         }
         const Pos t49 = Pos{r45.x, r47.y};
         C2_Rock o50 = C2_Rock{t49};
@@ -1035,7 +1035,7 @@ struct Prog {
                     r151 = x91.origin;
                   } else {
                     if (l_holes112.empty()) {
-                      fail_at(30, std::string() + std::string("head of an empty list"));
+                      fail_at(30, "head of an empty list");
                     }
                     const Pos t152 = l_holes112.front();
                     Pos acc153 = t152;
@@ -1443,10 +1443,10 @@ struct Prog {
       const C4_Cloud& g283 = s.g_cloud_21;
       const int32_t t284 = sub(int32_t(5), g283.f0);
       if ((t284 == int32_t(0))) {
-        fail_at(38, std::string() + std::string("division by zero in '%' (the reference interpreter crashes here)"));
+        fail_at(38, "division by zero in '%' (the reference interpreter crashes here)");
       }
       if (((g282 == int32_t(-2147483648LL)) && (t284 == int32_t(-1)))) {
-        fail_at(38, std::string() + std::string("integer overflow in '%' (the reference interpreter crashes here)"));
+        fail_at(38, "integer overflow in '%' (the reference interpreter crashes here)");
       }
       const int32_t t285 = autumn::arith::mod_unchecked(g282, t284);
       const bool t286 = (t285 == int32_t(0));
@@ -1464,7 +1464,7 @@ struct Prog {
         Pos l_drop291{};
         C0_Flake l_flake292{};
         if ((int32_t(255) < int32_t(0))) {
-          fail_at(39, std::string() + std::string("randomPositions: the grid size must not be negative"));
+          fail_at(39, "randomPositions: the grid size must not be negative");
         }
         charge_built(s.core, 39, int64_t(int32_t(1)));
         std::vector<Pos>& rpos293 = s.scratch.v.b30;
@@ -1479,7 +1479,7 @@ struct Prog {
           }
         }
         if (rpos293.empty()) {
-          fail_at(40, std::string() + std::string("head of an empty list"));
+          fail_at(40, "head of an empty list");
         }
         const Pos t298 = rpos293.front();
         const int32_t t299 = autumn::arith::mod_unchecked(t298.x, int32_t(16));

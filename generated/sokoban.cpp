@@ -306,7 +306,7 @@ struct Prog {
     s.u_keeper_21 = false;
     // init walls, programs/sokoban.au:28
     if ((int32_t(8) < int32_t(0))) {
-      fail_at(4, std::string() + std::string("allPositions: negative size"));
+      fail_at(4, "allPositions: negative size");
     }
     charge_built(s.core, 4, int64_t(int32_t(8)) * int64_t(int32_t(8)));
     std::vector<Pos>& apos22 = s.scratch.v.b3;

@@ -534,14 +534,14 @@ struct Prog {
           const Pos& g31 = s.g_click_34;
           r30 = g31;
         } else {
-          fail_at(10, std::string() + std::string("undefined variable 'click'"));
+          fail_at(10, "undefined variable 'click'");
         }
         Pos r32{};
         if (s.d_click_35) {
           const Pos& g33 = s.g_click_34;
           r32 = g33;
         } else {
-          fail_at(11, std::string() + std::string("undefined variable 'click'"));
+          fail_at(11, "undefined variable 'click'");
         }
         const Pos t34 = Pos{r30.x, r32.y};
         C2_Flash o35 = C2_Flash{int32_t(2), t34};
@@ -788,7 +788,7 @@ struct Prog {
         const std::vector<C1_Mole>& g93 = s.g_moles_18;
         const std::vector<int32_t> list94 = std::vector<int32_t>{int32_t(3), int32_t(4), int32_t(5), int32_t(6)};
         if (list94.empty()) {
-          fail_at(16, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(16, "uniformChoice of an empty list");
         }
         const int32_t t95 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(list94.size())))));
         const int32_t t96 = list94[size_t(t95)];
@@ -827,7 +827,7 @@ struct Prog {
           give_back(s.core, budget);
         }
         if (out99.empty()) {
-          fail_at(17, std::string() + std::string("uniformChoice of an empty list"));
+          fail_at(17, "uniformChoice of an empty list");
         }
         const int32_t t105 = int32_t(s.core.rng.next(uint64_t(uint32_t(int32_t(out99.size())))));
         const Pos t106 = out99[size_t(t105)];

@@ -36,6 +36,9 @@ void fail_string_id(int32_t id) {
   fail("string id " + std::to_string(id) + " is not a string of this program (a corrupt state)");
 }
 
+void fail_at(int site, const std::string& msg) { throw LocatedError(site, msg); }
+void fail_at(int site, const char* msg) { throw LocatedError(site, msg); }
+
 void fail_list_length(int site, int64_t n, int64_t limit) { fail_at(site, limits::list_length_error(n, limit)); }
 
 void fail_loop_budget(int site, int64_t limit) { fail_at(site, limits::loop_elements_error(limit)); }

@@ -63,7 +63,12 @@ struct LocatedError : std::runtime_error {
   LocatedError(int site, const std::string& msg) : std::runtime_error(msg), site(site) {}
   int site;
 };
-[[noreturn]] inline void fail_at(int site, const std::string& msg) { throw LocatedError(site, msg); }
+// Out of line and cold: a program has an error site at nearly every construct
+// that can fail, and each inline throw was its own exception allocation and
+// unwinding code for g++ to optimise (a tenth of an error-heavy module's
+// compile). A message that is all text is printed as a C string (print_cpp).
+[[noreturn, gnu::cold]] void fail_at(int site, const std::string& msg);
+[[noreturn, gnu::cold]] void fail_at(int site, const char* msg);
 // "path:line:col: runtime error: message[ (inside <stdlib>:l:c)]", as the interpreter says it.
 std::string describe(const std::string& path, const ErrorSite& e, const std::string& msg,
                      const Relocation* moved = nullptr);

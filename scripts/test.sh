@@ -9,7 +9,7 @@
 # (scripts/sanitize.sh, a clang-14 tree) and a short run of every libFuzzer
 # target under both sanitizers (scripts/fuzz.sh, AUTUMN_FUZZ_SECONDS each,
 # default 40; two targets at a time, one core each; state for
-# AUTUMN_FUZZ_STATE_SECONDS, default 15, beside the second pair). Ends with the time of each
+# AUTUMN_FUZZ_STATE_SECONDS, default 15, beside the second pair). Ends with the wall and CPU time of each
 # stage and the ten slowest tests.
 #
 # --quick: the inner loop. The release build and the tests labelled "quick"
@@ -43,22 +43,39 @@ fi
 stages=()
 stage_start=$SECONDS
 run_start=$SECONDS
-stage() {  # stage NAME COMMAND...: runs COMMAND, records its wall time
+# CPU seconds (user + system) of this shell's finished children, from `times`,
+# into $cpu_now: what the suite is bound by on a 2-core runner. Run in this
+# shell, not in $( ), whose subshell has no children. Processes nobody waits for
+# (a module compile a test started and did not wait on) are not counted.
+cpu_file=$(mktemp)
+children_cpu() {
+  times > "$cpu_file"
+  local u s
+  { read -r _; read -r u s; } < "$cpu_file"
+  cpu_now=$(awk -v u="$u" -v s="$s" 'function sec(x, p) { split(x, p, "m"); return p[1] * 60 + p[2] } BEGIN { printf "%d", sec(u) + sec(s) }')
+}
+stage() {  # stage NAME COMMAND...: runs COMMAND, records its wall and CPU time
   local name=$1
   shift
   echo "== $name"
-  local t0=$SECONDS status=0
+  local t0=$SECONDS c0 status=0
+  children_cpu
+  c0=$cpu_now
   "$@" || status=$?
-  stages+=("$(printf '%-34s %5d s  %s' "$name" $((SECONDS - t0)) "$([ $status -eq 0 ] && echo ok || echo "FAILED ($status)")")")
+  children_cpu
+  stages+=("$(printf '%-34s %5d s %6d CPU-s  %s' "$name" $((SECONDS - t0)) $((cpu_now - c0)) \
+    "$([ $status -eq 0 ] && echo ok || echo "FAILED ($status)")")")
   return $status
 }
 report() {
   local status=$?
   [ -n "${sanitize_build:-}" ] && kill -- -"$sanitize_build" 2>/dev/null || true
   echo
-  echo "== stage times (wall clock)"
+  echo "== stage times (wall clock; CPU-s of the stage's processes, user + system)"
   for s in "${stages[@]}"; do echo "  $s"; done
-  printf '  %-34s %5d s\n' "total" $((SECONDS - run_start))
+  children_cpu
+  printf '  %-34s %5d s %6d CPU-s\n' "total" $((SECONDS - run_start)) "$cpu_now"
+  rm -f "$cpu_file"
   local reports=()
   for b in build build-fuzz; do [ -f "$b/ctest-junit.xml" ] && reports+=("$b"); done
   if ((${#reports[@]})); then python3 scripts/slowest-tests.py "${reports[@]}" || true; fi

@@ -88,6 +88,7 @@ class Printer {
     return n;
   }
   std::string expr(const Node* n);
+  std::string message(const Node* n);
   std::string member(const Node* n);
   std::string helper(const Node* n);
   std::string check_length(const Node* n);  // Helper::CheckLength and ChargeBuilt
@@ -381,6 +382,22 @@ void Printer::switch_stmt(const Stmt& s) {
   line("}");
 }
 
+// A failure's message: a C string literal when it is all text (the common case:
+// "head of an empty list"), which the out-of-line fail_at takes without building
+// a std::string at the site; otherwise the string expression. Text holding a NUL
+// byte stays a std::string (a C string would end there).
+std::string Printer::message(const Node* n) {
+  std::string text;
+  auto all_text = [&](const Node* m) {
+    if (m->op != Op::Text) return false;
+    text += m->text;
+    return true;
+  };
+  bool literal = n->op == Op::Concat ? std::all_of(n->a.begin(), n->a.end(), all_text) : all_text(n);
+  if (!literal || text.find('\0') != std::string::npos) return expr(n);
+  return quoted(text);
+}
+
 void Printer::stmt(const Stmt& s) {
   if (s.move_operands) {
     moving_node_ = s.k == SK::Let || s.k == SK::Decl ? s.a : s.b;
@@ -425,7 +442,7 @@ void Printer::stmt(const Stmt& s) {
       return;
     case SK::Break: line("break;"); return;
     case SK::Return: line("return " + expr(s.a) + ";"); return;
-    case SK::Fail: line("fail_at(" + std::to_string(s.loc) + ", " + expr(s.a) + ");"); return;
+    case SK::Fail: line("fail_at(" + std::to_string(s.loc) + ", " + message(s.a) + ");"); return;
     case SK::Comment: line("// " + s.text); return;
   }
 }
