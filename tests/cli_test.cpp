@@ -268,6 +268,36 @@ TEST(Cli, DifftestGoesOnPastBadPrograms) {
   EXPECT_NE(r.out.find("3 programs, 2 episodes: 1 ran every step, 1 ended in the same runtime error"), std::string::npos) << r.out;
 }
 
+// A program that crashes the process testing it (here: nesting within the
+// parser's limit, under a stack too small for it) is that program's failure, not
+// the run's: each program is tested in a child process (harness/isolate.hpp).
+// The interpreter against itself (--engine interp): no compiler runs under the
+// small stack.
+TEST(Cli, DifftestGoesOnPastACrashingProgram) {
+  const fs::path dir = fs::temp_directory_path() / "autumn_cli_crash_difftest";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "a_good.au") << "(program (= GRID_SIZE 4) (object P (Cell 0 0 \"red\")) "
+                                      "(= p (initnext (P (Position 1 1)) (prev p))) (on left (= p (moveLeft p))))";
+  std::string deep = "(program (= GRID_SIZE 4) (= x (initnext ";
+  for (int i = 0; i < 990; ++i) deep += "(+ 1 ";
+  deep += "1" + std::string(990, ')') + " 2)))";
+  std::ofstream(dir / "b_deep.au") << deep;
+  std::ofstream(dir / "c_good.au") << "(program (= GRID_SIZE 3) (= x (initnext 1 (+ (prev x) 1))))";
+  Result plain = run("difftest " + (dir / "b_deep.au").string() + " --seeds 1 --steps 3 --engine interp");
+  ASSERT_EQ(plain.status, 0) << "with the usual stack the deep program must run: " << plain.out.substr(0, 400);
+  // difftest DIR: a_good, b_deep (crashes), c_good (run after the crash).
+  Result r = autumn::testing::run_cli("difftest " + dir.string() + " --seeds 1 --steps 3 --engine interp", false,
+                                      "ulimit -s 160 &&");
+  EXPECT_EQ(r.status, 1) << r.out.substr(0, 2000);
+  // Killed by SIGSEGV in the release tree; ASan reports the overflow and aborts.
+  EXPECT_NE(r.out.find("CRASHED " + (dir / "b_deep.au").string() + ": the process testing it "),
+            std::string::npos)
+      << r.out.substr(0, 2000);
+  EXPECT_NE(r.out.find("3 programs, 2 episodes: 2 ran every step"), std::string::npos) << r.out.substr(0, 2000);
+  EXPECT_NE(r.out.find("1 programs failed"), std::string::npos) << r.out.substr(0, 2000);
+}
+
 TEST(Cli, LimitsFlag) {
   Result bad = run("run " + golden("stale_occupancy.au") + " --limits cells=0");
   EXPECT_EQ(bad.status, 2) << bad.out;

@@ -5,6 +5,8 @@
 // so are those the per-step budgets' allowance ends (difftest.cpp: the
 // interpreter stopped by a budget the compiled engine's smaller count stayed
 // within, the two agreeing there once it is raised).
+// Each program is tested in a child process (harness/isolate.hpp): one that
+// crashes it is reported CRASHED, and the run goes on with the next.
 // --shard K/N tests a slice of the programs, --merge puts the slices' JSON back
 // together (shard_options.hpp): every program runs seeds --first-seed on,
 // whatever its place in the list, so its row is the whole run's.
@@ -19,6 +21,7 @@
 #include "harness/cli/shard_options.hpp"
 #include "harness/difftest.hpp"
 #include "harness/engine.hpp"
+#include "harness/isolate.hpp"
 #include "harness/program_files.hpp"
 
 namespace autumn::cli {
@@ -45,7 +48,7 @@ void register_difftest(CLI::App* cmd, DifftestOptions& o) {
 
 struct ProgramDiff {
   std::string program;
-  std::string status;  // agreed | diverged | load error | setup failed
+  std::string status;  // agreed | diverged | load error | setup failed | crashed
   DiffResult result;
 };
 
@@ -62,13 +65,19 @@ ProgramDiff diff_program(const DifftestOptions& o, const std::filesystem::path& 
   return d;
 }
 
+const char* status_word(const std::string& status) {
+  if (status == "diverged") return "DIVERGED";
+  if (status == "crashed") return "CRASHED";
+  return "SETUP FAILED";
+}
+
 void print_text(const DifftestOptions& o, const std::vector<ProgramDiff>& diffs) {
   size_t episodes = 0, errored = 0, budget = 0, steps = 0, failed = 0;
   for (const auto& d : diffs) {
     const DiffResult& r = d.result;
     if (d.status == "load error") fmt::print("FAILED {}: the program does not load\n", d.program);
-    if (d.status == "diverged" || d.status == "setup failed")
-      fmt::print("{} {}: {}\n", d.status == "diverged" ? "DIVERGED" : "SETUP FAILED", d.program, r.divergence);
+    if (d.status == "diverged" || d.status == "setup failed" || d.status == "crashed")
+      fmt::print("{} {}: {}\n", status_word(d.status), d.program, r.divergence);
     if (r.errored)
       fmt::print("ERRORED {}: {} of {} episodes ended in the same runtime error on both engines; first at {}\n",
                  d.program, r.errored, r.episodes, r.first_error);
@@ -85,13 +94,21 @@ void print_text(const DifftestOptions& o, const std::vector<ProgramDiff>& diffs)
              o.diff.engine_b, failed);
 }
 
+nlohmann::json diff_json(const ProgramDiff& d) {
+  return {{"program", d.program},
+          {"status", d.status},
+          {"episodes", d.result.episodes},
+          {"errored_episodes", d.result.errored},
+          {"first_error", d.result.first_error},
+          {"budget_episodes", d.result.budget_ended},
+          {"first_budget", d.result.first_budget},
+          {"steps", d.result.steps},
+          {"divergence", d.result.divergence}};
+}
+
 nlohmann::json diffs_json(const DifftestOptions& o, const std::vector<ProgramDiff>& diffs) {
   nlohmann::json rows = nlohmann::json::array();
-  for (const auto& d : diffs)
-    rows.push_back({{"program", d.program}, {"status", d.status}, {"episodes", d.result.episodes},
-                    {"errored_episodes", d.result.errored}, {"first_error", d.result.first_error},
-                    {"budget_episodes", d.result.budget_ended}, {"first_budget", d.result.first_budget},
-                    {"steps", d.result.steps}, {"divergence", d.result.divergence}});
+  for (const auto& d : diffs) rows.push_back(diff_json(d));
   return {{"engines", {o.diff.engine_a, o.diff.engine_b}},
           {"seeds", o.diff.seeds},
           {"steps", o.diff.steps},
@@ -111,6 +128,23 @@ ProgramDiff diff_from_json(const nlohmann::json& j) {
   d.result.steps = j.at("steps").get<size_t>();
   d.result.divergence = j.at("divergence").get<std::string>();
   d.result.setup_failed = d.status == "setup failed";
+  return d;
+}
+
+// diff_program in a child process: its row comes back as JSON; a child that
+// dies (a crash in either engine, the loader or the compile) is the program's
+// failure, "crashed", and the next program runs.
+ProgramDiff diff_program_isolated(const DifftestOptions& o, const std::filesystem::path& f) {
+  Isolated run = run_isolated([&] { return diff_json(diff_program(o, f)).dump(); });
+  if (run.finished) {
+    try {
+      return diff_from_json(nlohmann::json::parse(run.output));
+    } catch (const nlohmann::json::exception& e) {
+      run.death = std::string("sent back a result that is not a row: ") + e.what();
+    }
+  }
+  ProgramDiff d{f.string(), "crashed", {}};
+  d.result.divergence = "the process testing it " + run.death;
   return d;
 }
 
@@ -158,7 +192,7 @@ int run_difftest_programs(const DifftestOptions& o) {
   Progress progress("difftest", files.size());
   for (size_t i = 0; i < files.size(); ++i) {
     progress.item(i, files[i].stem().string());
-    diffs.push_back(diff_program(run, files[i]));
+    diffs.push_back(diff_program_isolated(run, files[i]));
   }
   progress.done();
   nlohmann::json report = diffs_json(o, diffs);
