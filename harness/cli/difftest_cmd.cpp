@@ -65,10 +65,12 @@ ProgramDiff diff_program(const DifftestOptions& o, const std::filesystem::path& 
   return d;
 }
 
-const char* status_word(const std::string& status) {
+// The line's first word for a program that failed with a reason; null for the others.
+const char* failure_word(const std::string& status) {
   if (status == "diverged") return "DIVERGED";
   if (status == "crashed") return "CRASHED";
-  return "SETUP FAILED";
+  if (status == "setup failed") return "SETUP FAILED";
+  return nullptr;
 }
 
 void print_text(const DifftestOptions& o, const std::vector<ProgramDiff>& diffs) {
@@ -76,8 +78,7 @@ void print_text(const DifftestOptions& o, const std::vector<ProgramDiff>& diffs)
   for (const auto& d : diffs) {
     const DiffResult& r = d.result;
     if (d.status == "load error") fmt::print("FAILED {}: the program does not load\n", d.program);
-    if (d.status == "diverged" || d.status == "setup failed" || d.status == "crashed")
-      fmt::print("{} {}: {}\n", status_word(d.status), d.program, r.divergence);
+    if (const char* word = failure_word(d.status)) fmt::print("{} {}: {}\n", word, d.program, r.divergence);
     if (r.errored)
       fmt::print("ERRORED {}: {} of {} episodes ended in the same runtime error on both engines; first at {}\n",
                  d.program, r.errored, r.episodes, r.first_error);
