@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 5;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 8;
+  static constexpr uint64_t kSnapshotLayout = 0xcfbbd8c5bca70e9fULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

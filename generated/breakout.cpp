@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 7;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 12;
+  static constexpr uint64_t kSnapshotLayout = 0x5cda9fd8c214ed57ULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 4;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 8;
+  static constexpr uint64_t kSnapshotLayout = 0xb5bcd5b55a73a1faULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 6;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 20;
+  static constexpr uint64_t kSnapshotLayout = 0xb8a98cf6124c5bbfULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

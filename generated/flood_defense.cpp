@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 10;
   static constexpr bool kUsesRandom = false;
   static constexpr int kGrid = 16;
+  static constexpr uint64_t kSnapshotLayout = 0xe74a1c5d1baa102dULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 10;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 10;
+  static constexpr uint64_t kSnapshotLayout = 0x4c15e592202db0a5ULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

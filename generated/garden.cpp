@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 8;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 12;
+  static constexpr uint64_t kSnapshotLayout = 0xbf3d69e783f91e28ULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 7;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 10;
+  static constexpr uint64_t kSnapshotLayout = 0x1167cb78b3fbeeaaULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

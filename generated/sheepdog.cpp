@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 10;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 16;
+  static constexpr uint64_t kSnapshotLayout = 0x3f1638a3e215b0bcULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 11;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 16;
+  static constexpr uint64_t kSnapshotLayout = 0xd48ea079088c302cULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

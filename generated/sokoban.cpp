@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 11;
   static constexpr bool kUsesRandom = false;
   static constexpr int kGrid = 8;
+  static constexpr uint64_t kSnapshotLayout = 0xd9a8cdab73c55e90ULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

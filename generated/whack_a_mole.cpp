@@ -23,6 +23,7 @@ struct Prog {
   static constexpr int kOnClauses = 6;
   static constexpr bool kUsesRandom = true;
   static constexpr int kGrid = 10;
+  static constexpr uint64_t kSnapshotLayout = 0xb6610f4eb3891ad4ULL;
   static const char* const kColours[];
   static const char* const kStringText[];
   static const char* const kRenderNames[];

@@ -63,6 +63,25 @@ void corrupt_snapshot(const char* what) {
   throw std::runtime_error(std::string("corrupt state snapshot (") + what + ")");
 }
 
+// The header save_state writes (snapshot_header.hpp).
+void check_snapshot_header(SnapshotReader& r, uint64_t layout) {
+  uint32_t magic = 0, format = 0;
+  uint64_t theirs = 0;
+  static_assert(sizeof magic + sizeof format + sizeof theirs == kSnapshotHeaderBytes);
+  if (static_cast<size_t>(r.end - r.p) < kSnapshotHeaderBytes)
+    throw std::runtime_error("not a state snapshot of a compiled module (too short for its header)");
+  r.raw(magic);
+  if (magic != kSnapshotMagic) throw std::runtime_error("not a state snapshot of a compiled module (no AUTS header)");
+  r.raw(format);
+  if (format != kSnapshotFormat)
+    throw std::runtime_error("a state snapshot of another autumnc version (snapshot format " + std::to_string(format) +
+                             "; this one reads format " + std::to_string(kSnapshotFormat) + ")");
+  r.raw(theirs);
+  if (theirs != layout)
+    throw std::runtime_error(
+        "a state snapshot of another program, or of another build of this program's module (its layout differs)");
+}
+
 void save_core(SnapshotWriter& w, const Core& c) {
   w.raw(c.rng_at_render);  // load_state's render draws from here (Core::rng_at_render)
   save_value(w, c.click_x);
@@ -246,6 +265,9 @@ bool CompiledProgramHost::save_state(std::vector<uint8_t>& out) const {
   if (failed_) return false;
   {
     SnapshotWriter w(out);
+    w.raw(kSnapshotMagic);
+    w.raw(kSnapshotFormat);
+    w.raw(ops_->snapshot_layout);
     save_core(w, *core_);
     ops_->save(state_, w);
   }
@@ -255,6 +277,7 @@ bool CompiledProgramHost::save_state(std::vector<uint8_t>& out) const {
 bool CompiledProgramHost::load_state(const uint8_t* data, size_t size) {
   return guarded([&] {
     SnapshotReader r{data, data + size};
+    check_snapshot_header(r, ops_->snapshot_layout);
     load_core(r, *core_, ops_->on_clauses);
     ops_->load(state_, r);
     if (r.p != r.end) throw std::runtime_error("state snapshot has trailing bytes");

@@ -35,6 +35,7 @@
 #include "runtime/frame.hpp"
 #include "runtime/hash_order.hpp"
 #include "runtime/rng.hpp"
+#include "runtime/snapshot_header.hpp"
 
 namespace autumn::rt {
 
@@ -772,6 +773,11 @@ inline void hash_core(Hash& h, const Core& c, bool uses_random) {
 // one step to the next as flat bytes. Left out: the working buffers, the prev_/u_
 // copies (rewritten at the start of every step) and what a render rebuilds (the
 // occupancy table, the frame); load_state renders after reading.
+// Every snapshot opens with the header of snapshot_header.hpp; load_state
+// refuses bytes of another format or layout with that reason, before reading a
+// field: a state of another program, or of another build of the same program,
+// would otherwise be read into the wrong slots and could pass every check of
+// the values.
 class SnapshotWriter {
  public:
   explicit SnapshotWriter(std::vector<uint8_t>& out) : out_(out), n_(out.size()) {}
@@ -878,6 +884,9 @@ void load_value(SnapshotReader& r, std::vector<T>& v) {
     for (T& x : v) load_value(r, x);
   }
 }
+// Reads the header save_state wrote; throws the reason a snapshot of another
+// format or layout (`layout`: the loading module's) is refused.
+void check_snapshot_header(SnapshotReader& r, uint64_t layout);
 void save_core(SnapshotWriter& w, const Core& c);
 // A table of (key, value) pairs, strictly increasing by key (lookups bisect it).
 std::vector<std::pair<uint32_t, uint32_t>> load_sorted_pairs(SnapshotReader& r, const char* what);
@@ -1024,6 +1033,7 @@ struct ProgramOps {
   const ErrorSite* errors;     // P::kErrors
   int on_clauses;
   bool uses_random;
+  uint64_t snapshot_layout;  // P::kSnapshotLayout: what its snapshots hold (print_cpp's snapshot_layout)
   void (*clear)(void* state);                     // *state = State{}
   void (*assign)(void* state, const void* from);  // *state = *from
   void (*start)(void* state, uint64_t seed);
@@ -1121,6 +1131,7 @@ class CompiledEnvironment final : public CompiledProgramHost {
         P::kErrors,
         P::kOnClauses,
         P::kUsesRandom,
+        P::kSnapshotLayout,
         [](void* s) { *static_cast<State*>(s) = State{}; },
         [](void* s, const void* from) { *static_cast<State*>(s) = *static_cast<const State*>(from); },
         [](void* s, uint64_t seed) { P::start(*static_cast<State*>(s), seed); },

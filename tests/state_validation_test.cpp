@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "compiler/analyse/program.hpp"
+#include "compiler/lower/lower.hpp"
 #include "harness/engine.hpp"
 #include "harness/module_cache.hpp"
 #include "runtime/module_env.hpp"
@@ -107,7 +108,7 @@ TEST(StateValidationMisc, ForeignAndEmptyBytesFail) {
   auto soko = builtin_env("sokoban"), garden = builtin_env("garden");
   ASSERT_TRUE(soko && garden);
   const std::vector<uint8_t> g = snapshot_after_steps(*garden);
-  load_and_step(*soko, g);  // another program's snapshot: never a crash
+  EXPECT_FALSE(load_and_step(*soko, g));  // another program's snapshot: refused by its header (below)
   EXPECT_FALSE(soko->load_state(nullptr, 0));
   auto program = load_program_file((testing::source_dir() / "programs/sokoban.au").string());
   std::string why;
@@ -115,6 +116,62 @@ TEST(StateValidationMisc, ForeignAndEmptyBytesFail) {
   ASSERT_TRUE(interp) << why;
   ASSERT_TRUE(interp->reset(1));
   EXPECT_FALSE(interp->load_state(g.data(), g.size()));
+}
+
+// Every snapshot opens with "AUTS", the runtime's snapshot format and the
+// module's layout digest; bytes that do not match are refused with that reason
+// before a field is read.
+TEST(StateValidationMisc, TheHeaderNamesTheLayout) {
+  auto source = builtin_env("sokoban"), garden = builtin_env("garden");
+  ASSERT_TRUE(source && garden);
+  const std::vector<uint8_t> own = snapshot_after_steps(*source), foreign = snapshot_after_steps(*garden);
+  ASSERT_GE(own.size(), 16u);
+  EXPECT_EQ(std::string(own.begin(), own.begin() + 4), "AUTS");
+  auto refused_with = [](const std::vector<uint8_t>& bytes) {
+    auto env = builtin_env("sokoban");
+    EXPECT_FALSE(load_and_step(*env, bytes));
+    return env->error();
+  };
+  EXPECT_NE(refused_with(foreign).find("a state snapshot of another program, or of another build"), std::string::npos);
+  std::vector<uint8_t> b = own;
+  b[4] ^= 2;  // the format
+  EXPECT_NE(refused_with(b).find("a state snapshot of another autumnc version (snapshot format 3;"), std::string::npos);
+  b = own;
+  b[0] = 'X';
+  EXPECT_NE(refused_with(b).find("not a state snapshot of a compiled module (no AUTS header)"), std::string::npos);
+  b = own;
+  b[9] ^= 1;  // the layout
+  EXPECT_NE(refused_with(b).find("another build of this program's module"), std::string::npos);
+  b.assign(own.begin(), own.begin() + 15);
+  EXPECT_NE(refused_with(b).find("too short for its header"), std::string::npos);
+  auto env = builtin_env("sokoban");
+  EXPECT_TRUE(env->load_state(own.data(), own.size())) << env->error();
+}
+
+// The layout digest follows what a snapshot holds and nothing else: the saved
+// slots' types, the classes' fields and the string table (a string slot holds
+// an index into it), not the code of the step.
+TEST(StateValidationMisc, TheLayoutFollowsWhatSnapshotsHold) {
+  auto layout = [](const std::string& text) {
+    auto program = load_program(SourceFile{"layout.au", text});
+    const Lowered l = lower_program(*program, "layout");
+    EXPECT_TRUE(l.ok) << l.reason;
+    return l.snapshot_layout;
+  };
+  auto program = [](const std::string& field, const std::string& init, const std::string& next,
+                    const std::string& colour, const std::string& extra) {
+    return "(program (= GRID_SIZE 8)\n(object A (: n " + field + ") (Cell 0 0 \"" + colour + "\"))\n" +
+           "(: a A) (= a (initnext (A " + init + " (Position 1 1)) (prev a)))\n" + extra +
+           "(on left (= a (updateObj a \"n\" " + next + "))))\n";
+  };
+  const uint64_t base = layout(program("Number", "1", "(+ (.. a n) 1)", "red", ""));
+  EXPECT_NE(base, 0u);
+  EXPECT_EQ(layout(program("Number", "1", "(+ (.. a n) 1)", "red", "")), base);
+  EXPECT_EQ(layout(program("Number", "1", "(+ (.. a n) 2)", "red", "")), base);  // the step's code only
+  EXPECT_NE(layout(program("Number", "1", "(+ (.. a n) 1)", "blue", "")), base);  // the string table
+  EXPECT_NE(layout(program("Bool", "true", "(! (.. a n))", "red", "")), base);     // a field's type
+  EXPECT_NE(layout(program("Number", "1", "(+ (.. a n) 1)", "red", "(: k Number) (= k (initnext 0 (+ (prev k) 1)))\n")),
+            base);  // one more global
 }
 
 }  // namespace

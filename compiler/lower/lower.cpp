@@ -78,6 +78,7 @@ Lowered lower_program(const Program& program, const std::string& program_name, c
       after(p.name, m, options, out);
     }
     out.code = lower::print_cpp(m);
+    out.snapshot_layout = lower::snapshot_layout(m);
     out.ok = true;
     for (const lower::DynamicSite& d : m.dynamic_sites) out.dynamic_sites.push_back(located(program, d.loc, d.why));
   } catch (const lower::Unsupported& u) {

@@ -20,6 +20,7 @@
 // "What is not specialised"): for those the whole program is not specialised,
 // with the located reason, and the emitter embeds the interpreter.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,7 @@ struct Lowered {
   std::string code;                         // the `struct Prog { ... };` definition and its tables
   std::vector<std::string> dynamic_sites;   // "file:line:col: why" for each dynamic site
   std::string ir;                           // the IR's text after LowerOptions::dump_ir_after (ir_print.hpp)
+  uint64_t snapshot_layout = 0;             // Prog::kSnapshotLayout: what its state snapshots hold (print_cpp.hpp)
 };
 
 struct LowerOptions {

@@ -9,6 +9,7 @@
 #include "compiler/lower/print_cpp.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <set>
@@ -46,6 +47,16 @@ namespace {
 
 std::string quoted(const std::string& s) { return cpp_string_literal(s); }
 
+// A Position's C++ type: with identities tracked (Module::pos_tracked) every one
+// carries its uid.
+std::string pos_type_of(const Module& m) { return m.pos_tracked ? "PosU" : "Pos"; }
+
+std::string hex64(uint64_t v) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "0x%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
 // The prev snapshot lives only within a step (the step's first store to a
 // global moves its value there), so copies of the state leave it behind.
 bool in_scratch(const Slot& s) {
@@ -59,8 +70,7 @@ class Printer {
 
  private:
   // --- types
-  // A Position: with identities tracked (Module::pos_tracked) every one carries its uid.
-  std::string pos_type() const { return m_.pos_tracked ? "PosU" : "Pos"; }
+  std::string pos_type() const { return pos_type_of(m_); }
   std::string type(TypeP t) const {
     switch (t->k) {
       case TK::Int:
@@ -700,6 +710,7 @@ std::string Printer::run() {
   line("static constexpr int kOnClauses = " + std::to_string(m_.on_clauses) + ";");
   line(std::string("static constexpr bool kUsesRandom = ") + (m_.uses_random ? "true" : "false") + ";");
   line("static constexpr int kGrid = " + std::to_string(m_.grid) + ";");
+  line("static constexpr uint64_t kSnapshotLayout = " + hex64(snapshot_layout(m_)) + "ULL;");
   line("static const char* const kColours[];");
   line("static const char* const kStringText[];");
   line("static const char* const kRenderNames[];");
@@ -748,5 +759,57 @@ void Printer::tables() {
 }  // namespace
 
 std::string print_cpp(const Module& m) { return Printer(m).run(); }
+
+// A value's layout in a snapshot, from its type: what save_value writes for it.
+// An object is named by its class (the classes are described once, in
+// snapshot_layout), so a class holding a list of itself ends.
+namespace {
+std::string layout_of(const Module& m, TypeP t) {
+  if (!t) return "b";  // a slot of no type is a flag (state())
+  switch (t->k) {
+    case TK::Int: return "i";
+    case TK::Str: return "s";
+    case TK::Bool: return "b";
+    case TK::Pos: return pos_type_of(m);
+    case TK::Elem: return "e";
+    case TK::Cell:
+    case TK::Deferred: return "c";
+    case TK::Obj: return "O" + std::to_string(t->cls);
+    case TK::List: return "L(" + (t->elem ? layout_of(m, t->elem) : std::string("i")) + ")";
+    case TK::Sum: {
+      std::string alts;
+      for (TypeP a : t->alts) alts += layout_of(m, a) + ",";
+      return "S(" + alts + ")";
+    }
+    default: return "u";
+  }
+}
+}  // namespace
+
+// What a snapshot of this module holds and what its numbers mean (kSnapshotLayout):
+// the saved slots and their types, the classes' members, the run-time orders,
+// and the string table (a Str slot holds an index into it). A snapshot whose
+// header names another layout is refused (CompiledProgramHost::load_state)
+// rather than read field by field into the wrong slots. FNV-1a, 64 bits.
+uint64_t snapshot_layout(const Module& m) {
+  std::string d = "autumn snapshot layout 1;";
+  for (const ClassInfo& c : m.classes) {
+    d += "class " + c.cpp + "{";
+    for (TypeP t : c.field_types) d += layout_of(m, t) + ";";
+    d += pos_type_of(m);
+    if (c.mode == CellMode::Stored) d += ";cells";
+    if (c.tracked) d += ";uid";
+    if (c.rotatable) d += ";group";
+    d += "}";
+  }
+  d += m.runtime_order ? "order;" : "";
+  d += m.draw_order ? "drawn;" : "";
+  for (const Slot& s : m.slots)
+    if (s.in_snapshot) d += s.name + ":" + layout_of(m, s.type) + ";";
+  for (const std::string& str : m.strings) d += std::to_string(str.size()) + ":" + str;
+  uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char ch : d) h = (h ^ ch) * 0x100000001b3ULL;
+  return h;
+}
 
 }  // namespace autumn::lower

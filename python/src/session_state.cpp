@@ -13,6 +13,7 @@
 
 #include "compiler/emit/emit_module.hpp"
 #include "python/src/session.hpp"
+#include "runtime/snapshot_header.hpp"
 
 namespace autumn::py {
 namespace {
@@ -154,13 +155,19 @@ void Session::load(const uint8_t* data, size_t size) {
 }
 
 // The compiled track loaded from a snapshot, before anything of the session
-// changes: null when it cannot take one (replayed instead); a snapshot the
-// module refuses as corrupt is an error (ValueError), not a silent replay.
+// changes: null when it cannot take one (replayed instead). A snapshot of
+// another build of the module (its header names another format or layout,
+// snapshot_header.hpp) is replayed too; one that claims this module's layout
+// and fails its checks is corrupt, an error (ValueError), not a silent replay.
 std::unique_ptr<Environment> Session::load_snapshot(const CompiledSnapshot& snap) {
   if (mode_ == "interp" || !compilable_ || !is_ready(prototype_)) return nullptr;
   std::shared_ptr<const Prototype> p = prototype_.get();
   std::unique_ptr<Environment> env = p->env ? instantiate(*p) : nullptr;
   if (!env) return nullptr;
+  std::vector<uint8_t> own;  // this module's header, from a snapshot of its own
+  if (!env->save_state(own) ||
+      !rt::same_snapshot_header(own.data(), own.size(), snap.bytes.data(), snap.bytes.size()))
+    return nullptr;
   if (env->load_state(snap.bytes.data(), snap.bytes.size())) return env;
   if (env->failed()) throw std::invalid_argument("set_state: corrupt state (" + env->error() + ")");
   return nullptr;

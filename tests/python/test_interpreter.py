@@ -203,6 +203,29 @@ def test_clone_and_state_round_trip(stdlib):
         other.set_state(b"garbage")
 
 
+def test_a_snapshot_of_another_build_is_replayed(stdlib):
+    # The compiled snapshot inside a state opens with its module's layout
+    # digest; one of another build (another layout) is replayed from the
+    # episode's log rather than refused or read into the wrong slots.
+    i = Interpreter("compiled")
+    i.run_script(bundled_program("sokoban"), stdlib, "", 5)
+    for k in range(12):
+        [i.left, i.up, i.right, i.down][k % 4]()
+        i.step()
+    assert i.engine == "compiled"
+    state = i.get_state()
+    later = [perform(i, c) for c in random_calls(random.Random(2), 20, 16)]
+    k = state.find(b"AUTS")
+    assert k > 0
+    for offset in (8, 4):  # the layout digest, the snapshot format
+        changed = bytearray(state)
+        changed[k + offset] ^= 1
+        other = Interpreter("compiled")
+        other.run_script(bundled_program("sokoban"), stdlib, "", 5)
+        other.set_state(bytes(changed))
+        assert [perform(other, c) for c in random_calls(random.Random(2), 20, 16)] == later
+
+
 def test_render_grid_matches_render_all(stdlib):
     i = Interpreter("compiled")
     i.run_script(bundled_program("garden"), stdlib, "", 1)
