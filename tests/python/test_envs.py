@@ -208,6 +208,14 @@ def test_envstate_bytes_refuse_other_programs_and_corruption():
             autumnc.EnvState.from_bytes(FIREWORKS, data[:cut])
     with pytest.raises(ValueError, match="bytes after the end"):
         autumnc.EnvState.from_bytes(FIREWORKS, data + b"x")
+    # The snapshot inside names its module's layout: another build's is refused as such.
+    k = data.find(b"AUTS")
+    assert k > 0
+    for offset in (4, 8):  # the snapshot format, the layout digest
+        other_build = bytearray(data)
+        other_build[k + offset] ^= 1
+        with pytest.raises(ValueError, match="saved by another build of this program's module"):
+            autumnc.EnvState.from_bytes(FIREWORKS, bytes(other_build))
     # Flipped bytes anywhere in the snapshot: a clear ValueError or a state that
     # loads (a change the format cannot tell from a real state), never a crash.
     rng = np.random.default_rng(1)
