@@ -604,7 +604,10 @@ void Specialiser::finish_classes() {
   m_.pos_tracked = h_.tracked(T().pos());
   for (size_t c = 0; c < m_.classes.size(); ++c) {
     m_.classes[c].rotatable = h_.rotated(static_cast<int>(c));
-    if (m_.classes[c].rotatable) check_rotated_order(static_cast<int>(c));
+    if (m_.classes[c].rotatable) {
+      check_rotated_order(static_cast<int>(c));
+      check_rotated_cells(static_cast<int>(c));
+    }
   }
   for (size_t c = 0; c < m_.classes.size(); ++c) {
     ClassInfo& ci = m_.classes[c];
@@ -644,6 +647,56 @@ void Specialiser::check_rotated_order(int cls) {
     sites_.enter(live[1]);  // located at the y argument
     sites_.unsupported("a rotated object of '" + m_.classes[cls].name +
                        "' whose cells' x and y are both evaluated at render time (a turn swaps their order)");
+  }
+}
+
+// rotate turns Cell objects in place, and the state counts turns per group of
+// objects made by one construction (builtin_rotate): exact only while each
+// construction makes its own Cells. A class whose cell expression may return
+// Cells made elsewhere (a global's list, a field's, a variable's, a function's
+// result) shares them with every object holding them, and a turn of one turns
+// them all, later objects included (found by a stress program): such a rotated
+// class is embedded.
+void Specialiser::check_rotated_cells(int cls) {
+  const ClassInfo& ci = m_.classes[cls];
+  if (!ci.stmt || !ci.stmt->cell_expr || cells_made_fresh(*ci.stmt->cell_expr, ci, {})) return;
+  sites_.enter(ci.stmt->cell_expr.get());
+  sites_.unsupported("a rotated object of '" + ci.name +
+                     "' whose cells may be Cells made before its construction (rotate turns them for every object "
+                     "holding them)");
+}
+
+// Whether every Cell in the value of `e` (at any depth of lists) is made anew
+// by evaluating it: a (Cell ...) call, a list literal or a concat of such
+// values, either branch of an if, a map of a lambda literal whose body is such.
+// `Cell`, `map` and `concat` count only where they are the builtins:
+// not assigned by the program or its library, nor a field of the class or a
+// parameter of an enclosing lambda (`bound`).
+bool Specialiser::cells_made_fresh(const Expr& e, const ClassInfo& ci, const std::vector<Sym>& bound) const {
+  auto builtin = [&](Sym s) {
+    const bool assigned = s >= 0 && static_cast<size_t>(s) < p_.definitions.size() && p_.definitions[s].line != 0;
+    return s >= 0 && !assigned && !std::count(ci.fields.begin(), ci.fields.end(), s) &&
+           !std::count(bound.begin(), bound.end(), s);
+  };
+  switch (e.kind) {
+    case ExprKind::List:
+      return std::all_of(e.kids.begin(), e.kids.end(), [&](const ExprPtr& k) { return cells_made_fresh(*k, ci, bound); });
+    case ExprKind::If:
+      return e.kids.size() == 3 && cells_made_fresh(*e.kids[1], ci, bound) && cells_made_fresh(*e.kids[2], ci, bound);
+    case ExprKind::Call: {
+      if (e.kids.empty() || e.kids[0]->kind != ExprKind::Var || !builtin(e.kids[0]->name)) return false;
+      const Sym callee = e.kids[0]->name;
+      if (callee == p_.names.Cell) return true;
+      if (callee == p_.builtin_syms[static_cast<size_t>(Builtin::Concat)])
+        return std::all_of(e.kids.begin() + 1, e.kids.end(), [&](const ExprPtr& k) { return cells_made_fresh(*k, ci, bound); });
+      if (callee != p_.builtin_syms[static_cast<size_t>(Builtin::Map)] || e.kids.size() != 3) return false;
+      const Expr& f = *e.kids[1];
+      if (f.kind != ExprKind::Lambda || f.kids.empty()) return false;
+      std::vector<Sym> inner = bound;
+      inner.insert(inner.end(), f.params.begin(), f.params.end());
+      return cells_made_fresh(*f.kids[0], ci, inner);
+    }
+    default: return false;
   }
 }
 

@@ -333,6 +333,8 @@ class Specialiser {
   void check_containment();
   std::string cell_value_error(int which, TypeP got);
   void check_rotated_order(int cls);
+  void check_rotated_cells(int cls);
+  bool cells_made_fresh(const Expr& e, const ClassInfo& ci, const std::vector<Sym>& bound) const;
   void load_shapes();
   int stored_render_function(int cls);
   std::vector<int> constructing_;                    // classes whose constructor is running
