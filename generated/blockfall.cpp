@@ -1110,14 +1110,12 @@ struct Prog {
           added228.reserve(size_t(add(int32_t(g220.size()), int32_t(out225.size()))));
           {
             const auto& x229_list = g220;
-            charge_loop(s.core, 45, int64_t(x229_list.size()));
             for (const C1_Block& x229 : x229_list) {
               added228.push_back(x229);
             }
           }
           {
             const auto& x230_list = out225;
-            charge_loop(s.core, 45, int64_t(x230_list.size()));
             for (const C1_Block& x230 : x230_list) {
               added228.push_back(x230);
             }

@@ -312,7 +312,6 @@ struct Prog {
     cat11.clear();
     {
       const auto& part12_list = out3;
-      charge_loop(s.core, 2, int64_t(part12_list.size()));
       for (const std::vector<C2_Brick>& part12 : part12_list) {
         cat11.insert(cat11.end(), part12.begin(), part12.end());
       }
@@ -1189,7 +1188,6 @@ struct Prog {
         cat274.clear();
         {
           const auto& part275_list = out266;
-          charge_loop(s.core, 23, int64_t(part275_list.size()));
           for (const std::vector<C2_Brick>& part275 : part275_list) {
             cat274.insert(cat274.end(), part275.begin(), part275.end());
           }

@@ -356,7 +356,6 @@ struct Prog {
         cat33.clear();
         {
           const auto& part34_list = out23;
-          charge_loop(s.core, 12, int64_t(part34_list.size()));
           for (const std::vector<C2_Spark>& part34 : part34_list) {
             cat33.insert(cat33.end(), part34.begin(), part34.end());
           }
@@ -367,12 +366,10 @@ struct Prog {
         added35.clear();
         added35.reserve(size_t(add(int32_t(out11.size()), int32_t(cat33.size()))));
         {
-          charge_loop(s.core, 13, int64_t(out11.size()));
           std::swap(added35, out11);
         }
         {
           const auto& x37_list = cat33;
-          charge_loop(s.core, 13, int64_t(x37_list.size()));
           for (const C2_Spark& x37 : x37_list) {
             added35.push_back(x37);
           }
@@ -565,7 +562,6 @@ struct Prog {
         added93.reserve(size_t(add(int32_t(g83.size()), int32_t(1))));
         {
           const auto& x94_list = g83;
-          charge_loop(s.core, 20, int64_t(x94_list.size()));
           for (const C1_Rocket& x94 : x94_list) {
             added93.push_back(x94);
           }
@@ -616,7 +612,6 @@ struct Prog {
         added110.reserve(size_t(add(int32_t(g100.size()), int32_t(1))));
         {
           const auto& x111_list = g100;
-          charge_loop(s.core, 23, int64_t(x111_list.size()));
           for (const C1_Rocket& x111 : x111_list) {
             added110.push_back(x111);
           }
@@ -694,14 +689,12 @@ struct Prog {
         added132.reserve(size_t(add(int32_t(g117.size()), int32_t(out123.size()))));
         {
           const auto& x133_list = g117;
-          charge_loop(s.core, 27, int64_t(x133_list.size()));
           for (const C1_Rocket& x133 : x133_list) {
             added132.push_back(x133);
           }
         }
         {
           const auto& x134_list = out123;
-          charge_loop(s.core, 27, int64_t(x134_list.size()));
           for (const C1_Rocket& x134 : x134_list) {
             added132.push_back(x134);
           }

@@ -335,7 +335,6 @@ struct Prog {
           range13.clear();
           {
             const int32_t i14_first = int32_t(0), i14_end = t12;
-            charge_loop(budget, 2, int64_t(i14_end) - i14_first);
             for (int32_t i14 = i14_first; i14 < i14_end; ++i14) {
               range13.push_back(i14);
             }
@@ -365,7 +364,6 @@ struct Prog {
     cat20.clear();
     {
       const auto& part21_list = out9;
-      charge_loop(s.core, 4, int64_t(part21_list.size()));
       for (const std::vector<C0_Earth>& part21 : part21_list) {
         cat20.insert(cat20.end(), part21.begin(), part21.end());
       }
@@ -484,7 +482,6 @@ struct Prog {
                 range33.clear();
                 {
                   const int32_t i34_first = l_ymin30, i34_end = l_ymax31;
-                  charge_loop(budget, 14, int64_t(i34_end) - i34_first);
                   for (int32_t i34 = i34_first; i34 < i34_end; ++i34) {
                     range33.push_back(i34);
                   }
@@ -503,7 +500,6 @@ struct Prog {
                     range37.clear();
                     {
                       const int32_t i38_first = l_xmin28, i38_end = l_xmax29;
-                      charge_loop(budget, 16, int64_t(i38_end) - i38_first);
                       for (int32_t i38 = i38_first; i38 < i38_end; ++i38) {
                         range37.push_back(i38);
                       }
@@ -528,7 +524,6 @@ struct Prog {
                 cat42.clear();
                 {
                   const auto& part43_list = out35;
-                  charge_loop(budget, 18, int64_t(part43_list.size()));
                   for (const std::vector<Pos>& part43 : part43_list) {
                     cat42.insert(cat42.end(), part43.begin(), part43.end());
                   }
@@ -1340,7 +1335,6 @@ struct Prog {
         added337.reserve(size_t(add(int32_t(g333.size()), int32_t(1))));
         {
           const auto& x338_list = g333;
-          charge_loop(s.core, 28, int64_t(x338_list.size()));
           for (const C4_Water& x338 : x338_list) {
             C4_Water copy339 = x338;
             copy339.uid = s.core.ids.fresh();
@@ -2108,7 +2102,6 @@ struct Prog {
         added586.reserve(size_t(add(int32_t(g579.size()), int32_t(1))));
         {
           const auto& x587_list = g579;
-          charge_loop(s.core, 43, int64_t(x587_list.size()));
           for (const C3_Sandbag& x587 : x587_list) {
             C3_Sandbag copy588 = x587;
             copy588.uid = s.core.ids.fresh();

@@ -410,7 +410,6 @@ struct Prog {
           range23.clear();
           {
             const int32_t i24_first = int32_t(0), i24_end = t22;
-            charge_loop(budget, 5, int64_t(i24_end) - i24_first);
             for (int32_t i24 = i24_first; i24 < i24_end; ++i24) {
               range23.push_back(i24);
             }
@@ -477,7 +476,6 @@ struct Prog {
               range40.clear();
               {
                 const int32_t i41_first = int32_t(0), i41_end = t29;
-                charge_loop(budget, 12, int64_t(i41_end) - i41_first);
                 for (int32_t i41 = i41_first; i41 < i41_end; ++i41) {
                   range40.push_back(i41);
                 }
@@ -511,7 +509,6 @@ struct Prog {
     cat46.clear();
     {
       const auto& part47_list = out13;
-      charge_loop(s.core, 14, int64_t(part47_list.size()));
       for (const std::vector<C3_Car>& part47 : part47_list) {
         cat46.insert(cat46.end(), part47.begin(), part47.end());
       }

@@ -924,7 +924,6 @@ struct Prog {
         added123.reserve(size_t(add(int32_t(g113.size()), int32_t(1))));
         {
           const auto& x124_list = g113;
-          charge_loop(s.core, 27, int64_t(x124_list.size()));
           for (const C3_Plant& x124 : x124_list) {
             added123.push_back(x124);
           }
@@ -1029,7 +1028,6 @@ struct Prog {
         added154.reserve(size_t(add(int32_t(g146.size()), int32_t(1))));
         {
           const auto& x155_list = g146;
-          charge_loop(s.core, 29, int64_t(x155_list.size()));
           for (const C2_Drop& x155 : x155_list) {
             added154.push_back(x155);
           }

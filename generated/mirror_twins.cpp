@@ -1931,7 +1931,6 @@ struct Prog {
         added413.reserve(size_t(add(int32_t(g406.size()), int32_t(1))));
         {
           const auto& x414_list = g406;
-          charge_loop(s.core, 33, int64_t(x414_list.size()));
           for (const C0_Wall& x414 : x414_list) {
             added413.push_back(x414);
           }

@@ -1718,7 +1718,6 @@ struct Prog {
               added440.reserve(size_t(add(int32_t(acc284.size()), int32_t(1))));
               {
                 const auto& x441_list = acc284;
-                charge_loop(budget, 45, int64_t(x441_list.size()));
                 for (const C2_Sheep& x441 : x441_list) {
                   added440.push_back(x441);
                 }

@@ -589,7 +589,6 @@ struct Prog {
         added20.reserve(size_t(add(int32_t(prev13.size()), int32_t(1))));
         {
           const auto& x21_list = prev13;
-          charge_loop(s.core, 9, int64_t(x21_list.size()));
           for (const C1_Melt& x21 : x21_list) {
             added20.push_back(x21);
           }
@@ -721,7 +720,6 @@ struct Prog {
         added51.reserve(size_t(add(int32_t(g44.size()), int32_t(1))));
         {
           const auto& x52_list = g44;
-          charge_loop(s.core, 15, int64_t(x52_list.size()));
           for (const C2_Rock& x52 : x52_list) {
             added51.push_back(x52);
           }
@@ -932,7 +930,6 @@ struct Prog {
                 range122.clear();
                 {
                   const int32_t i123_first = l_ymin119, i123_end = l_ymax120;
-                  charge_loop(budget, 23, int64_t(i123_end) - i123_first);
                   for (int32_t i123 = i123_first; i123 < i123_end; ++i123) {
                     range122.push_back(i123);
                   }
@@ -951,7 +948,6 @@ struct Prog {
                     range126.clear();
                     {
                       const int32_t i127_first = l_xmin117, i127_end = l_xmax118;
-                      charge_loop(budget, 25, int64_t(i127_end) - i127_first);
                       for (int32_t i127 = i127_first; i127 < i127_end; ++i127) {
                         range126.push_back(i127);
                       }
@@ -976,7 +972,6 @@ struct Prog {
                 cat131.clear();
                 {
                   const auto& part132_list = out124;
-                  charge_loop(budget, 27, int64_t(part132_list.size()));
                   for (const std::vector<Pos>& part132 : part132_list) {
                     cat131.insert(cat131.end(), part132.begin(), part132.end());
                   }
@@ -1515,7 +1510,6 @@ struct Prog {
           added310.reserve(size_t(add(int32_t(g309.size()), int32_t(1))));
           {
             const auto& x311_list = g309;
-            charge_loop(s.core, 42, int64_t(x311_list.size()));
             for (const C0_Flake& x311 : x311_list) {
               added310.push_back(x311);
             }

@@ -553,7 +553,6 @@ struct Prog {
         added36.reserve(size_t(add(int32_t(g29.size()), int32_t(1))));
         {
           const auto& x37_list = g29;
-          charge_loop(s.core, 12, int64_t(x37_list.size()));
           for (const C2_Flash& x37 : x37_list) {
             added36.push_back(x37);
           }
@@ -840,7 +839,6 @@ struct Prog {
         added108.reserve(size_t(add(int32_t(g93.size()), int32_t(1))));
         {
           const auto& x109_list = g93;
-          charge_loop(s.core, 18, int64_t(x109_list.size()));
           for (const C1_Mole& x109 : x109_list) {
             added108.push_back(x109);
           }

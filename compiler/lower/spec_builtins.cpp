@@ -373,7 +373,7 @@ SVal Specialiser::builtin_range(Builtin b, std::vector<SVal>& a, const Expr&) {
   charge_built(ir::kLengthSpan, {a[0].code, a[1].code});
   ir::Var* out = ir_.decl(T().list(T().int_()), nullptr, "range");
   out->scratch = true;
-  ir::Stmt* loop = ir_.emit(ir::SK::ForRange);
+  ir::Stmt* loop = builtin_loop(ir::SK::ForRange);
   loop->var = ir_.var(T().int_(), "i");
   loop->a = a[0].code;
   loop->b = a[1].code;
@@ -437,7 +437,7 @@ SVal Specialiser::builtin_concat(Builtin b, std::vector<SVal>& a, const Expr&) {
   if (!checked) check_length(ir::kLengthTotal, {src.code});
   charge_built(ir::kLengthTotal, {src.code});
   ir::Var* out = ir_.decl(inner, nullptr, "cat");
-  ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+  ir::Stmt* loop = builtin_loop(ir::SK::ForEach);
   loop->var = ir_.var(inner, "part");
   loop->a = src.code;
   ir_.in_block(loop->body, [&] { ir_.emit_eval(ir_.call(ir::Helper::Append, nullptr, {ir_.local(out), ir_.local(loop->var)})); });
@@ -461,7 +461,7 @@ SVal Specialiser::builtin_array_equal(Builtin b, std::vector<SVal>& a, const Exp
   ir_.in_block(s->body, [&] { fail("arrayEqual: lists of different lengths"); });
   charge_built(ir::kLengthSizes, {a[0].code});
   ir::Var* out = ir_.decl(out_t, nullptr, "eqs");
-  ir::Stmt* loop = ir_.emit(ir::SK::ForRange);
+  ir::Stmt* loop = builtin_loop(ir::SK::ForRange);
   loop->var = ir_.var(T().int_(), "i");
   loop->a = ir_.lit(T().int_(), 0);
   loop->b = ir_.node(ir::Op::Size, T().int_(), {a[0].code});

@@ -31,7 +31,7 @@ SVal Specialiser::builtin_random_positions(Builtin b, std::vector<SVal>& a, cons
   check_length(ir::kLengthIs, {a[1].code}, const_int(a[1]));
   charge_built(ir::kLengthIs, {a[1].code});
   ir::Var* out = ir_.decl(T().list(T().pos()), nullptr, "rpos");
-  ir::Stmt* loop = ir_.emit(ir::SK::ForRange);
+  ir::Stmt* loop = builtin_loop(ir::SK::ForRange);
   loop->var = ir_.var(T().int_(), "i");
   loop->a = ir_.lit(T().int_(), 0);
   loop->b = a[1].code;
@@ -63,12 +63,12 @@ SVal Specialiser::builtin_all_positions(Builtin b, std::vector<SVal>& a, const E
   charge_built(ir::kLengthArea, {a[0].code, a[n - 1].code});
   ir::Var* out = ir_.decl(T().list(T().pos()), nullptr, "apos");
   out->scratch = true;
-  ir::Stmt* outer = ir_.emit(ir::SK::ForRange);
+  ir::Stmt* outer = builtin_loop(ir::SK::ForRange);
   outer->var = ir_.var(T().int_(), "i");
   outer->a = ir_.lit(T().int_(), 0);
   outer->b = a[0].code;
   ir_.in_block(outer->body, [&] {
-    ir::Stmt* inner = ir_.emit(ir::SK::ForRange);
+    ir::Stmt* inner = builtin_loop(ir::SK::ForRange);
     inner->var = ir_.var(T().int_(), "j");
     inner->a = ir_.lit(T().int_(), 0);
     inner->b = a[n - 1].code;
@@ -166,7 +166,7 @@ SVal Specialiser::builtin_uniform_choice(Builtin b, std::vector<SVal>& a, const 
   check_length(ir::kLengthIs, {a[1].code}, const_int(a[1]));
   charge_built(ir::kLengthIs, {a[1].code});
   ir::Var* out = ir_.decl(l.type, nullptr, "choices");
-  ir::Stmt* loop = ir_.emit(ir::SK::ForRange);
+  ir::Stmt* loop = builtin_loop(ir::SK::ForRange);
   loop->var = ir_.var(T().int_(), "i");
   loop->a = ir_.lit(T().int_(), 0);
   loop->b = a[1].code;
@@ -297,7 +297,7 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
     // insert instead (vector::insert) made g++ stop inlining push_back at the
     // module's other pushes of that type (gravity_2's updateObj loops, 3x
     // slower steps; docs/design.md).
-    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+    ir::Stmt* loop = builtin_loop(ir::SK::ForEach);
     loop->var = ir_.var(et, "x");
     loop->a = l.code;
     ir_.in_block(loop->body, [&] {
@@ -309,7 +309,7 @@ SVal Specialiser::add_obj(const SVal& l, const SVal& x) {
   }
   if (x.type->k == TK::List) {
     if (x.type->elem) {
-      ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+      ir::Stmt* loop = builtin_loop(ir::SK::ForEach);
       loop->var = ir_.var(x.type->elem, "x");
       loop->a = x.code;
       ir_.in_block(loop->body, [&] {

@@ -119,7 +119,7 @@ SVal Specialiser::coerce(SVal v, TypeP to) {
     SVal src = let(v);
     ir::Var* out = ir_.decl(to, nullptr, "conv");
     ir_.emit_eval(ir_.call(ir::Helper::Reserve, nullptr, {ir_.local(out), ir_.node(ir::Op::Size, T().int_(), {src.code})}));
-    ir::Stmt* loop = ir_.emit(ir::SK::ForEach);
+    ir::Stmt* loop = builtin_loop(ir::SK::ForEach);
     loop->var = ir_.var(v.type->elem, "x");
     loop->a = src.code;
     ir_.in_block(loop->body, [&] {

@@ -187,6 +187,9 @@ class Specialiser {
   void widen_field(int cls, int field, TypeP t);
   void bind(SScope& sc, Sym s, const SVal& v, std::pair<const void*, Sym> key);
   SVal built(ir::Var* v);  // a list or value finished building: immutable from here
+  // A loop a builtin runs by itself (range, concat, allPositions, addObj's copy,
+  // ...), charging nothing to the calls budget (spec_call.cpp).
+  ir::Stmt* builtin_loop(ir::SK kind);
   SVal instance_field(const SVal& v, Sym f);
   SVal make_list(const std::vector<SVal>& items);
   bool list_tag_may_pass(TypeP value, TypeP declared);
