@@ -256,10 +256,22 @@ void Specialiser::on_clause(size_t i, const Stmt& st) {
                                : "an on-clause condition must be a Bool, got ") + shown(v.type));
       sites_.leave();
     };
-    if (c.type->k == TK::Func || (is_sum(c.type) && c.type->alts[0]->k == TK::Func)) {
+    if (is_function(c.type)) {
       std::vector<SVal> none;
       SVal r = call_value(c, none, *st.cond);
       if (!ir_.dead()) fire = narrow(r, TK::Bool, [&](const SVal& a) { bad(a, true); }).code;
+    } else if (may_be_function(c.type)) {
+      // A function or another value (a mixed list's head, an if's branches):
+      // each alternative as the interpreter's condition_holds takes it (found
+      // by a stress program, round z2: such a function was refused).
+      SVal f = split(c, [&](const SVal& a) -> SVal {
+        if (a.type->k != TK::Func) return narrow(a, TK::Bool, [&](const SVal& b) { bad(b, false); });
+        std::vector<SVal> none;
+        SVal r = call_value(a, none, *st.cond);
+        if (ir_.dead()) return never();
+        return narrow(r, TK::Bool, [&](const SVal& b) { bad(b, true); });
+      });
+      if (!ir_.dead()) fire = f.code;
     } else {
       fire = narrow(c, TK::Bool, [&](const SVal& a) { bad(a, false); }).code;
     }

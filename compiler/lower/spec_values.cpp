@@ -174,10 +174,6 @@ std::vector<Sym> Specialiser::instance_fields(TypeP t) {
   }
 }
 
-static bool is_instance(TypeP t) {
-  return t->k == TK::Pos || t->k == TK::Elem || t->k == TK::Cell || t->k == TK::Obj;
-}
-
 SVal Specialiser::equals(const SVal& a, const SVal& b) {
   auto known = [&](bool v) { return SVal{T().bool_(), ir_.lit(T().bool_(), v), ir_.lit(T().bool_(), v)}; };
   return split(a, [&](const SVal& x) {

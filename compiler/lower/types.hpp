@@ -107,10 +107,24 @@ inline bool is_function(TypeP t) {
     if (a->k != TK::Func) return false;
   return true;
 }
+// A function, or a Sum with a function among its alternatives (a value that is
+// called where the interpreter calls function values: conditions, & and |).
+inline bool may_be_function(TypeP t) {
+  if (t->k == TK::Func) return true;
+  if (t->k != TK::Sum) return false;
+  for (TypeP a : t->alts)
+    if (a->k == TK::Func) return true;
+  return false;
+}
 // Values that are heap objects in the reference (they carry identity numbers).
 inline bool is_heap(TypeP t) {
   return t->k == TK::Pos || t->k == TK::Elem || t->k == TK::Cell || t->k == TK::Obj || t->k == TK::List ||
          t->k == TK::Func;
+}
+// Instances of a class, the reference's InstanceObj: a user class's objects, and
+// Positions, Cells and RenderedElems (appends to a list never compare their types).
+inline bool is_instance(TypeP t) {
+  return t->k == TK::Pos || t->k == TK::Elem || t->k == TK::Cell || t->k == TK::Obj;
 }
 // Whether every alternative of a Sum (or the type itself) is an instance of a user class.
 bool is_object_like(TypeP t);
