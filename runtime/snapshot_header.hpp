@@ -12,6 +12,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <vector>
+
+#include "runtime/environment.hpp"
 
 namespace autumn::rt {
 
@@ -25,6 +28,16 @@ inline constexpr size_t kSnapshotHeaderBytes = 16;  // magic, format (u32 each),
 inline bool same_snapshot_header(const uint8_t* a, size_t a_size, const uint8_t* b, size_t b_size) {
   return a_size >= kSnapshotHeaderBytes && b_size >= kSnapshotHeaderBytes &&
          std::memcmp(a, b, kSnapshotHeaderBytes) == 0;
+}
+
+// Whether `data` is a snapshot of another build of `env`'s module: `env` writes
+// snapshots, and theirs open with another header. A host that can rebuild the
+// state another way (the Python drop-in replays its log) does so, and one that
+// cannot says so, instead of calling the bytes corrupt. Saves one snapshot of
+// `env` to learn its header (a host's load path, not a hot one).
+inline bool from_another_build(const Environment& env, const uint8_t* data, size_t size) {
+  std::vector<uint8_t> own;
+  return env.save_state(own) && !same_snapshot_header(own.data(), own.size(), data, size);
 }
 
 }  // namespace autumn::rt

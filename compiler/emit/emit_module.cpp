@@ -3,6 +3,7 @@
 #include "compiler/analyse/program.hpp"
 #include "compiler/lower/lower.hpp"
 #include "compiler/lower/print_cpp.hpp"
+#include "runtime/fnv1a.hpp"
 
 #include <cctype>
 #include <cstdio>
@@ -10,17 +11,8 @@
 namespace autumn {
 
 uint64_t module_source_hash(const std::string& text, const std::optional<std::string>& trigger) {
-  uint64_t h = 0xcbf29ce484222325ULL;
-  auto feed = [&](unsigned char c) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  };
-  for (char c : text) feed(static_cast<unsigned char>(c));
-  feed(0);
-  if (trigger) {
-    feed(1);
-    for (char c : *trigger) feed(static_cast<unsigned char>(c));
-  }
+  uint64_t h = fnv1a(std::string_view("\0", 1), fnv1a(text));
+  if (trigger) h = fnv1a(*trigger, fnv1a(std::string_view("\1", 1), h));
   return h;
 }
 

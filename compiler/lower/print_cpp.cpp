@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "runtime/fnv1a.hpp"
 #include "runtime/frame.hpp"
 
 namespace autumn::lower {
@@ -790,7 +791,7 @@ std::string layout_of(const Module& m, TypeP t) {
 // the saved slots and their types, the classes' members, the run-time orders,
 // and the string table (a Str slot holds an index into it). A snapshot whose
 // header names another layout is refused (CompiledProgramHost::load_state)
-// rather than read field by field into the wrong slots. FNV-1a, 64 bits.
+// rather than read field by field into the wrong slots (runtime/fnv1a.hpp).
 uint64_t snapshot_layout(const Module& m) {
   std::string d = "autumn snapshot layout 1;";
   for (const ClassInfo& c : m.classes) {
@@ -807,9 +808,7 @@ uint64_t snapshot_layout(const Module& m) {
   for (const Slot& s : m.slots)
     if (s.in_snapshot) d += s.name + ":" + layout_of(m, s.type) + ";";
   for (const std::string& str : m.strings) d += std::to_string(str.size()) + ":" + str;
-  uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char ch : d) h = (h ^ ch) * 0x100000001b3ULL;
-  return h;
+  return fnv1a(d);
 }
 
 }  // namespace autumn::lower

@@ -339,9 +339,7 @@ EnvState state_from_bytes(const std::string& text, const std::string& name, cons
   }
   if (!proto->env) throw std::runtime_error("the compiled engine cannot serve " + name + ": " + proto->why);
   std::unique_ptr<Environment> env = py::instantiate(*proto);
-  std::vector<uint8_t> own;  // this module's snapshot header (snapshot_header.hpp)
-  if (env->save_state(own) && !rt::same_snapshot_header(own.data(), own.size(),
-                                                        reinterpret_cast<const uint8_t*>(snap.data()), snap.size()))
+  if (rt::from_another_build(*env, reinterpret_cast<const uint8_t*>(snap.data()), snap.size()))
     throw bad("the state was saved by another build of this program's module (its snapshot names another layout "
               "or format), which this one cannot read; save it again with this autumnc");
   if (!env->load_state(reinterpret_cast<const uint8_t*>(snap.data()), snap.size()))

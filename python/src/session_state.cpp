@@ -164,10 +164,7 @@ std::unique_ptr<Environment> Session::load_snapshot(const CompiledSnapshot& snap
   std::shared_ptr<const Prototype> p = prototype_.get();
   std::unique_ptr<Environment> env = p->env ? instantiate(*p) : nullptr;
   if (!env) return nullptr;
-  std::vector<uint8_t> own;  // this module's header, from a snapshot of its own
-  if (!env->save_state(own) ||
-      !rt::same_snapshot_header(own.data(), own.size(), snap.bytes.data(), snap.bytes.size()))
-    return nullptr;
+  if (rt::from_another_build(*env, snap.bytes.data(), snap.bytes.size())) return nullptr;
   if (env->load_state(snap.bytes.data(), snap.bytes.size())) return env;
   if (env->failed()) throw std::invalid_argument("set_state: corrupt state (" + env->error() + ")");
   return nullptr;
