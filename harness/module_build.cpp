@@ -95,9 +95,12 @@ namespace {
 // Without flock(1) compiles are not limited.
 //
 // Then the entry's lock, mKEY.lock ($9), held to the end: processes that share
-// a cache build each module once. A script that had to wait for it finds the
-// module another process built meanwhile (its library and manifest newer than
-// this script's source file) and exits 3 without compiling. The entry is locked
+// a cache build each module once. Once it holds the lock, a script that finds
+// the module another process built meanwhile (its library and manifest newer
+// than this script's source file) exits 3 without compiling: whether it waited
+// for the entry's lock or only for a slot, behind the compile that built it
+// (before, a script queued on a slot found the entry unlocked and compiled the
+// module a second time). The entry is locked
 // only once a slot is held, so no process holds an entry it is not building
 // while it waits for a slot (it would keep every other process from a module
 // it has not begun).
@@ -105,8 +108,8 @@ constexpr const char* kSlotScript =
     "umask 077; if command -v flock >/dev/null 2>&1; then i=0; got=; "
     "while [ $i -lt @SLOTS@ ]; do exec 9>\"$8.$i\" && flock -n 9 && { got=1; break; }; i=$((i+1)); done; "
     "[ -n \"$got\" ] || { exec 9>\"$8.$(($$ % @SLOTS@))\" && flock 9; }; "
-    "exec 8>\"$9\" && { flock -n 8 || { flock 8 && [ \"$3\" -nt \"$1\" ] && [ \"$7\" -nt \"$1\" ] && "
-    "{ rm -f \"$1\"; exit 3; }; }; }; fi; ";
+    "exec 8>\"$9\" && flock 8 && [ \"$3\" -nt \"$1\" ] && [ \"$7\" -nt \"$1\" ] && "
+    "{ rm -f \"$1\"; exit 3; }; fi; ";
 
 // sh -c SCRIPT sh CPP TMP_SO SO LOG HEAD TMP_MANIFEST MANIFEST SLOTS LOCK: take a slot and the entry, compile, make
 // the library 0600 (the linker makes it executable; it is only ever read), digest

@@ -143,10 +143,12 @@ CompileOutcome compile(const fs::path& cpp, const fs::path& tmp, const fs::path&
   CompileOutcome out;
   Fd slot = take_slot(slots);
   Fd entry(open_lock(lock));
-  if (entry.fd >= 0 && flock(entry.fd, LOCK_EX | LOCK_NB) != 0) {
+  if (entry.fd >= 0) {
     while (flock(entry.fd, LOCK_EX) < 0 && errno == EINTR) {
     }
-    if (newer(so, cpp) && newer(manifest, cpp)) {  // another process built it meanwhile
+    // Another process built it while this one waited, for the entry or for a
+    // slot behind that compile (module_build.cpp, kSlotScript).
+    if (newer(so, cpp) && newer(manifest, cpp)) {
       unlink(cpp.c_str());
       out.ok = out.built_elsewhere = true;
       return out;

@@ -8,8 +8,8 @@
 # tests again under AddressSanitizer and UndefinedBehaviorSanitizer
 # (scripts/sanitize.sh, a clang-14 tree) and a short run of every libFuzzer
 # target under both sanitizers (scripts/fuzz.sh, AUTUMN_FUZZ_SECONDS each,
-# default 40; two targets at a time, one core each; state for
-# AUTUMN_FUZZ_STATE_SECONDS, default 15, beside the second pair). Ends with the wall and CPU time of each
+# default 30; two targets at a time, one core each; state for
+# AUTUMN_FUZZ_STATE_SECONDS, default 10, beside the second pair). Ends with the wall and CPU time of each
 # stage and the ten slowest tests.
 #
 # --quick: the inner loop. The release build and the tests labelled "quick"
@@ -111,7 +111,7 @@ fuzz_group() {  # targets at once (TARGET or TARGET:SECONDS); every one must pas
   local pids=() names=() status=0 t name secs
   for t in "$@"; do
     name=${t%%:*}
-    secs=${AUTUMN_FUZZ_SECONDS:-40}
+    secs=${AUTUMN_FUZZ_SECONDS:-30}
     [ "$t" != "$name" ] && secs=${t#*:}
     AUTUMN_FUZZ_PREBUILT=1 bash scripts/fuzz.sh "$name" "$secs" > "build-fuzz/fuzz-$name.out" 2>&1 &
     pids+=($!)
@@ -124,4 +124,4 @@ fuzz_group() {  # targets at once (TARGET or TARGET:SECONDS); every one must pas
 stage "fuzz smoke: frontend + interp" fuzz_group frontend interp
 # Snapshot loading is cheap per input (thousands a second): a short run, beside
 # the second pair rather than alone on one core.
-stage "fuzz smoke: emit + task + state" fuzz_group emit task "state:${AUTUMN_FUZZ_STATE_SECONDS:-15}"
+stage "fuzz smoke: emit + task + state" fuzz_group emit task "state:${AUTUMN_FUZZ_STATE_SECONDS:-10}"

@@ -364,6 +364,46 @@ TEST(ModuleBuild, ACompileWaitsForAFreeSlot) {
   fs::remove_all(cache);
 }
 
+// A compile queued behind every slot, whose module another process builds
+// meanwhile (here the test writes the library and its manifest, as that process
+// would), finds it when it gets a slot and does not compile it again: the
+// entry is free by then, and the check after taking it is what stops it.
+// Before, only a compile that had waited for the entry itself looked: the
+// release suite built modules a second time when two tests asked for one.
+TEST(ModuleBuild, ACompileQueuedOnASlotFindsTheModuleBuilt) {
+  const fs::path cache = root() / "queued";
+  fs::remove_all(cache);
+  fs::create_directories(cache);
+  ASSERT_EQ(chmod(cache.c_str(), 0700), 0);
+  std::vector<int> held;
+  for (int k = 0; k < autumn::module_compile_slots(); ++k) {
+    const std::string slot = (cache / ("compile-slot." + std::to_string(k))).string();
+    const int fd = open(slot.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0600);
+    ASSERT_GE(fd, 0) << slot;
+    ASSERT_EQ(flock(fd, LOCK_EX), 0);
+    held.push_back(fd);
+  }
+  const fs::path so = cache / "mqueued.so";
+  std::atomic<bool> started{false};
+  autumn::CompileOutcome outcome;
+  std::thread compile([&] {
+    outcome = autumn::compile_module("extern \"C\" int autumn_queued_test() { return 7; }\n", so, "t",
+                                     "autumn module manifest v1\n", [&] { started = true; });
+  });
+  while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // its source file is older than what follows
+  const std::string built = "what the other process built";
+  std::ofstream(autumn::store::manifest_path(so)) << "autumn module manifest v1\nso other\n";
+  std::ofstream(so) << built;
+  for (int fd : held) close(fd);
+  compile.join();
+  EXPECT_TRUE(outcome.ok) << outcome.output;
+  EXPECT_TRUE(outcome.built_elsewhere) << "the queued compile built the module a second time";
+  EXPECT_EQ(autumn::testing::read_text(so), built);
+  EXPECT_TRUE(autumn::testing::files_in(cache, ".cpp").empty());
+  fs::remove_all(cache);
+}
+
 // AUTUMN_MODULE_COMPILER=clang compiles modules with Clang and lld inside the
 // process (harness/module_build_clang): the entry is complete (manifest, digest
 // checked on load), it was linked by lld, and its frames are the golden traces'

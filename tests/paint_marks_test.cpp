@@ -256,7 +256,9 @@ TEST(StateTally, ListsOfConstantCountObjectsCountAsObjectByObject) {
             };
             EXPECT_EQ(at_once.objects, one_by_one.objects);
             EXPECT_STREQ(error(at_once), error(one_by_one));
-            if (!rt::tally_over(one_by_one, c)) EXPECT_EQ(at_once.cells, one_by_one.cells);
+            if (!rt::tally_over(one_by_one, c)) {
+              EXPECT_EQ(at_once.cells, one_by_one.cells);
+            }
             passed += rt::tally_over(one_by_one, c);
             ++checked;
           }
