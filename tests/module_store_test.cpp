@@ -59,6 +59,15 @@ const char kProgramB[] = R"((program
 )";
 
 fs::path root() { return fs::temp_directory_path() / ("autumn_module_store_test_" + std::to_string(getpid())); }
+// The per-process directory goes when the process ends, if its cases removed
+// what they made (a failed case's files stay, to be read).
+struct RemoveRootIfEmpty {
+  ~RemoveRootIfEmpty() {
+    std::error_code ec;
+    fs::remove(root() / "pristine", ec);
+    fs::remove(root(), ec);
+  }
+} remove_root_if_empty;
 fs::path pristine() { return root() / "pristine"; }
 std::string program(const char* name) { return (root() / name).string(); }
 
