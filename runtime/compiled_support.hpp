@@ -782,8 +782,12 @@ class SnapshotWriter {
  public:
   explicit SnapshotWriter(std::vector<uint8_t>& out) : out_(out), n_(out.size()) {}
   ~SnapshotWriter() { out_.resize(n_); }  // shrinking: no allocation, no fill
+  // Only types whose every byte is a value's: a padding byte would carry
+  // whatever the memory held into the snapshot (equal states, unequal bytes;
+  // another compiler, other bytes), as CellV's two did until snapshot format 2.
   template <class T>
   void raw(const T& v) {
+    static_assert(std::has_unique_object_representations_v<T>, "a snapshot writes no padding: write the fields");
     if (n_ + sizeof v > out_.size()) out_.resize(std::max<size_t>(2 * out_.size(), n_ + sizeof v + 256));
     std::memcpy(out_.data() + n_, &v, sizeof v);
     n_ += sizeof v;
@@ -817,7 +821,15 @@ inline void save_value(SnapshotWriter& w, const Elem& e) {
 }
 inline void save_value(SnapshotWriter&, const Unit&) {}
 inline void save_value(SnapshotWriter& w, uint32_t v) { w.raw(v); }
-inline void save_value(SnapshotWriter& w, const CellV& c) { w.raw(c); }
+inline void save_value(SnapshotWriter& w, const CellV& c) {  // field by field: CellV has two bytes of padding
+  w.raw(c.x);
+  w.raw(c.y);
+  w.raw(c.colour);
+  w.raw(c.dx);
+  w.raw(c.dy);
+  w.raw(c.dc);
+  w.raw(c.uid);
+}
 inline void save_value(SnapshotWriter& w, const PosU& p) { w.raw(p); }
 template <class... T>
 void save_value(SnapshotWriter& w, const std::variant<T...>& v) {
@@ -848,7 +860,15 @@ inline void load_value(SnapshotReader& r, Elem& e) {
 }
 inline void load_value(SnapshotReader&, Unit&) {}
 inline void load_value(SnapshotReader& r, uint32_t& v) { r.raw(v); }
-inline void load_value(SnapshotReader& r, CellV& c) { r.raw(c); }
+inline void load_value(SnapshotReader& r, CellV& c) {
+  r.raw(c.x);
+  r.raw(c.y);
+  r.raw(c.colour);
+  r.raw(c.dx);
+  r.raw(c.dy);
+  r.raw(c.dc);
+  r.raw(c.uid);
+}
 inline void load_value(SnapshotReader& r, PosU& p) { r.raw(p); }
 template <class V, size_t I = 0>
 void load_alternative(SnapshotReader& r, V& v, size_t index) {

@@ -19,7 +19,9 @@
 namespace autumn::rt {
 
 inline constexpr uint32_t kSnapshotMagic = 0x53545541;  // "AUTS", little-endian
-inline constexpr uint32_t kSnapshotFormat = 1;
+// 2 (2026-12-03): a CellV is written field by field, 22 bytes, not as its
+// 24-byte struct with two bytes of padding.
+inline constexpr uint32_t kSnapshotFormat = 2;
 inline constexpr size_t kSnapshotHeaderBytes = 16;  // magic, format (u32 each), layout (u64)
 
 // Whether two snapshots were written by the same format and layout: the one

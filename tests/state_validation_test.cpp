@@ -8,16 +8,23 @@
 // (scripts/sanitize.sh) a wrong index shows as a report, not a lucky pass.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "compiler/analyse/program.hpp"
 #include "compiler/lower/lower.hpp"
+#include "harness/digest.hpp"
 #include "harness/engine.hpp"
 #include "harness/module_cache.hpp"
 #include "runtime/module_env.hpp"
+#include "runtime/snapshot_header.hpp"
 #include "test_support.hpp"
 
 namespace autumn::state_validation_test {
@@ -135,7 +142,9 @@ TEST(StateValidationMisc, TheHeaderNamesTheLayout) {
   EXPECT_NE(refused_with(foreign).find("a state snapshot of another program, or of another build"), std::string::npos);
   std::vector<uint8_t> b = own;
   b[4] ^= 2;  // the format
-  EXPECT_NE(refused_with(b).find("a state snapshot of another autumnc version (snapshot format 3;"), std::string::npos);
+  EXPECT_NE(refused_with(b).find("a state snapshot of another autumnc version (snapshot format " +
+                                 std::to_string(rt::kSnapshotFormat ^ 2) + ";"),
+            std::string::npos);
   b = own;
   b[0] = 'X';
   EXPECT_NE(refused_with(b).find("not a state snapshot of a compiled module (no AUTS header)"), std::string::npos);
@@ -146,6 +155,75 @@ TEST(StateValidationMisc, TheHeaderNamesTheLayout) {
   EXPECT_NE(refused_with(b).find("too short for its header"), std::string::npos);
   auto env = builtin_env("sokoban");
   EXPECT_TRUE(env->load_state(own.data(), own.size())) << env->error();
+}
+
+// kSnapshotFormat is raised by hand when the encoding of the core or of values
+// changes; this test is what notices a change that forgot to. Every built-in
+// module's snapshot after a fixed episode is recorded in
+// tests/snapshot_formats.txt by its program's text, the format and the layout
+// (the header). Bytes that differ under the same three are a new encoding
+// passing as the old one: a state saved by one build would load into the
+// other as another state. AUTUMN_BLESS=1 records changed programs, layouts and
+// formats, and refuses that case.
+TEST(StateValidationMisc, TheEncodingChangesOnlyWithTheFormat) {
+  const std::filesystem::path file = testing::source_dir() / "tests/snapshot_formats.txt";
+  struct Entry {
+    std::string program, format, layout, bytes;
+  };
+  std::map<std::string, Entry> recorded;
+  {
+    std::istringstream in(testing::read_text(file));
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line[0] == '#') continue;
+      std::istringstream f(line);
+      std::string name;
+      Entry e;
+      f >> name >> e.program >> e.format >> e.layout >> e.bytes;
+      recorded[name] = e;
+    }
+  }
+  std::map<std::string, Entry> now;
+  const BuiltinModules b = builtin_modules();
+  for (size_t i = 0; i < b.count; ++i) {
+    const autumn_module_v1* t = b.entries[i]();
+    ModuleEnvironment env(t, nullptr);
+    std::vector<uint8_t> bytes = snapshot_after_steps(env);
+    ASSERT_GE(bytes.size(), rt::kSnapshotHeaderBytes) << t->program_name;
+    uint64_t layout = 0;
+    std::memcpy(&layout, bytes.data() + 8, 8);
+    char hex[32];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(layout));
+    const std::string text = testing::read_text(testing::source_dir() / "programs" / (std::string(t->program_name) + ".au"));
+    now[t->program_name] = Entry{sha256_hex(text).substr(0, 16), std::to_string(rt::kSnapshotFormat), hex,
+                                 sha256_hex(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()))};
+  }
+  ASSERT_GT(now.size(), 5u);
+  int checked = 0;
+  for (const auto& [name, e] : now) {
+    auto r = recorded.find(name);
+    const bool same_key = r != recorded.end() && r->second.program == e.program && r->second.format == e.format &&
+                          r->second.layout == e.layout;
+    if (same_key) {
+      ++checked;
+      EXPECT_EQ(r->second.bytes, e.bytes)
+          << name << ": its snapshot's bytes changed under the same program, snapshot format (" << e.format
+          << ") and layout: the encoding changed; raise kSnapshotFormat (runtime/snapshot_header.hpp), then "
+             "AUTUMN_BLESS=1 records the new bytes";
+    } else if (!std::getenv("AUTUMN_BLESS")) {
+      ADD_FAILURE() << name << ": tests/snapshot_formats.txt records another program text, format or layout "
+                    << "(or none): after an intended change, AUTUMN_BLESS=1 records this one";
+    }
+  }
+  if (std::getenv("AUTUMN_BLESS") && !HasFailure()) {
+    std::ofstream out(file);
+    out << "# snapshot_formats.txt: the snapshot of every built-in module after a fixed episode\n"
+           "# (tests/state_validation_test.cpp, TheEncodingChangesOnlyWithTheFormat). Columns: module,\n"
+           "# digest of its program's text, snapshot format, layout, SHA-256 of the bytes.\n"
+           "# Re-bless: AUTUMN_BLESS=1 ctest -R TheEncodingChangesOnlyWithTheFormat\n";
+    for (const auto& [name, e] : now) out << name << ' ' << e.program << ' ' << e.format << ' ' << e.layout << ' ' << e.bytes << '\n';
+  } else {
+    EXPECT_EQ(checked, static_cast<int>(now.size())) << "modules not checked against a recorded snapshot";
+  }
 }
 
 // The layout digest follows what a snapshot holds and nothing else: the saved
