@@ -821,15 +821,19 @@ inline void save_value(SnapshotWriter& w, const Elem& e) {
 }
 inline void save_value(SnapshotWriter&, const Unit&) {}
 inline void save_value(SnapshotWriter& w, uint32_t v) { w.raw(v); }
-inline void save_value(SnapshotWriter& w, const CellV& c) {  // field by field: CellV has two bytes of padding
-  w.raw(c.x);
-  w.raw(c.y);
-  w.raw(c.colour);
-  w.raw(c.dx);
-  w.raw(c.dy);
-  w.raw(c.dc);
-  w.raw(c.uid);
+// A CellV field by field (it has two bytes of padding), in one order for the
+// writer and the reader (Io: SnapshotWriter with a const CellV, or SnapshotReader).
+template <class Io, class C>
+void cell_fields(Io& io, C& c) {
+  io.raw(c.x);
+  io.raw(c.y);
+  io.raw(c.colour);
+  io.raw(c.dx);
+  io.raw(c.dy);
+  io.raw(c.dc);
+  io.raw(c.uid);
 }
+inline void save_value(SnapshotWriter& w, const CellV& c) { cell_fields(w, c); }
 inline void save_value(SnapshotWriter& w, const PosU& p) { w.raw(p); }
 template <class... T>
 void save_value(SnapshotWriter& w, const std::variant<T...>& v) {
@@ -860,15 +864,7 @@ inline void load_value(SnapshotReader& r, Elem& e) {
 }
 inline void load_value(SnapshotReader&, Unit&) {}
 inline void load_value(SnapshotReader& r, uint32_t& v) { r.raw(v); }
-inline void load_value(SnapshotReader& r, CellV& c) {
-  r.raw(c.x);
-  r.raw(c.y);
-  r.raw(c.colour);
-  r.raw(c.dx);
-  r.raw(c.dy);
-  r.raw(c.dc);
-  r.raw(c.uid);
-}
+inline void load_value(SnapshotReader& r, CellV& c) { cell_fields(r, c); }
 inline void load_value(SnapshotReader& r, PosU& p) { r.raw(p); }
 template <class V, size_t I = 0>
 void load_alternative(SnapshotReader& r, V& v, size_t index) {

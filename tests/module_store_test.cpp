@@ -18,7 +18,9 @@
 
 #include <atomic>
 #include <chrono>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -339,6 +341,22 @@ TEST(ModuleBuild, TwoProcessesCompileAModuleOnce) {
   fs::remove_all(dir);
 }
 
+// Locks every compile slot of `cache`, as compiles running there would; the
+// descriptors (closing one frees its slot). Stops at the first that fails.
+std::vector<int> hold_every_slot(const fs::path& cache) {
+  std::vector<int> held;
+  for (int k = 0; k < autumn::module_compile_slots(); ++k) {
+    const std::string slot = (cache / ("compile-slot." + std::to_string(k))).string();
+    const int fd = open(slot.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0600);
+    if (fd < 0 || flock(fd, LOCK_EX) != 0) {
+      ADD_FAILURE() << "cannot lock " << slot << ": " << std::strerror(errno);
+      break;
+    }
+    held.push_back(fd);
+  }
+  return held;
+}
+
 // However many compiles are asked for, at most module_compile_slots() run at
 // once per cache: each takes a lock on one of the cache's compile-slot files
 // first. With every slot held here, a compile waits; once they are free, it runs.
@@ -347,14 +365,8 @@ TEST(ModuleBuild, ACompileWaitsForAFreeSlot) {
   fs::remove_all(cache);
   fs::create_directories(cache);
   ASSERT_EQ(chmod(cache.c_str(), 0700), 0);
-  std::vector<int> held;
-  for (int k = 0; k < autumn::module_compile_slots(); ++k) {
-    const std::string slot = (cache / ("compile-slot." + std::to_string(k))).string();
-    const int fd = open(slot.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0600);
-    ASSERT_GE(fd, 0) << slot;
-    ASSERT_EQ(flock(fd, LOCK_EX), 0);
-    held.push_back(fd);
-  }
+  const std::vector<int> held = hold_every_slot(cache);
+  ASSERT_EQ(held.size(), static_cast<size_t>(autumn::module_compile_slots()));
   const fs::path so = cache / "mslot.so";
   std::atomic<bool> done{false};
   autumn::CompileOutcome outcome;
@@ -384,14 +396,8 @@ TEST(ModuleBuild, ACompileQueuedOnASlotFindsTheModuleBuilt) {
   fs::remove_all(cache);
   fs::create_directories(cache);
   ASSERT_EQ(chmod(cache.c_str(), 0700), 0);
-  std::vector<int> held;
-  for (int k = 0; k < autumn::module_compile_slots(); ++k) {
-    const std::string slot = (cache / ("compile-slot." + std::to_string(k))).string();
-    const int fd = open(slot.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0600);
-    ASSERT_GE(fd, 0) << slot;
-    ASSERT_EQ(flock(fd, LOCK_EX), 0);
-    held.push_back(fd);
-  }
+  const std::vector<int> held = hold_every_slot(cache);
+  ASSERT_EQ(held.size(), static_cast<size_t>(autumn::module_compile_slots()));
   const fs::path so = cache / "mqueued.so";
   std::atomic<bool> started{false};
   autumn::CompileOutcome outcome;
