@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include "runtime/environment.hpp"
@@ -36,10 +37,12 @@ inline bool same_snapshot_header(const uint8_t* a, size_t a_size, const uint8_t*
 // snapshots, and theirs open with another header. A host that can rebuild the
 // state another way (the Python drop-in replays its log) does so, and one that
 // cannot says so, instead of calling the bytes corrupt. Saves one snapshot of
-// `env` to learn its header (a host's load path, not a hot one).
-inline bool from_another_build(const Environment& env, const uint8_t* data, size_t size) {
+// `env` to learn its header (a host's load path, not a hot one); nullopt when
+// `env` cannot save (it failed), and each host decides what not knowing means.
+inline std::optional<bool> from_another_build(const Environment& env, const uint8_t* data, size_t size) {
   std::vector<uint8_t> own;
-  return env.save_state(own) && !same_snapshot_header(own.data(), own.size(), data, size);
+  if (!env.save_state(own)) return std::nullopt;
+  return !same_snapshot_header(own.data(), own.size(), data, size);
 }
 
 }  // namespace autumn::rt

@@ -339,7 +339,8 @@ EnvState state_from_bytes(const std::string& text, const std::string& name, cons
   }
   if (!proto->env) throw std::runtime_error("the compiled engine cannot serve " + name + ": " + proto->why);
   std::unique_ptr<Environment> env = py::instantiate(*proto);
-  if (rt::from_another_build(*env, reinterpret_cast<const uint8_t*>(snap.data()), snap.size()))
+  // Refused as another build's only when the module can tell; else load_state says what is wrong.
+  if (rt::from_another_build(*env, reinterpret_cast<const uint8_t*>(snap.data()), snap.size()).value_or(false))
     throw bad("the state was saved by another build of this program's module (its snapshot names another layout "
               "or format), which this one cannot read; save it again with this autumnc");
   if (!env->load_state(reinterpret_cast<const uint8_t*>(snap.data()), snap.size()))

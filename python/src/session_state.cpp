@@ -164,7 +164,8 @@ std::unique_ptr<Environment> Session::load_snapshot(const CompiledSnapshot& snap
   std::shared_ptr<const Prototype> p = prototype_.get();
   std::unique_ptr<Environment> env = p->env ? instantiate(*p) : nullptr;
   if (!env) return nullptr;
-  if (rt::from_another_build(*env, snap.bytes.data(), snap.bytes.size())) return nullptr;
+  // Another build's state, or a module that cannot tell: the caller replays the log.
+  if (rt::from_another_build(*env, snap.bytes.data(), snap.bytes.size()).value_or(true)) return nullptr;
   if (env->load_state(snap.bytes.data(), snap.bytes.size())) return env;
   if (env->failed()) throw std::invalid_argument("set_state: corrupt state (" + env->error() + ")");
   return nullptr;
