@@ -2003,12 +2003,18 @@ TEST(AgentCli, BenchAgentPrintsFigures) {
   EXPECT_GE(row["bfs_depth_done"].get<int>(), 1);
   EXPECT_GT(row["bfs_nodes_per_s_1_thread"].get<double>(), 0);
   EXPECT_EQ(out["bfs_repeat"], 2);
+  // The machine's own two threads against one: about one on a machine that a
+  // parallel test run keeps busy, two at most (and timing's noise); never near 0.
+  ASSERT_TRUE(row.contains("machine_scaling_n_threads")) << row;
+  EXPECT_GT(row["machine_scaling_n_threads"].get<double>(), 0.5);
+  EXPECT_LT(row["machine_scaling_n_threads"].get<double>(), 2.2);
   CliRun text = cli("bench-agent " + program + " --grid 0 --rollouts 500 --mfp-steps 10 --bfs-nodes 20000 --seconds 60");
   ASSERT_EQ(text.status, 0) << text.out;
   EXPECT_NE(text.out.find("bfs successors per second on one thread"), std::string::npos) << text.out;
   // The scaling against the bar (0.9 N on N threads), for specialised programs.
   EXPECT_NE(text.out.find("bfs on 2 threads against one (specialised programs): median "), std::string::npos) << text.out;
   EXPECT_NE(text.out.find(" of 1 at least 1.8x"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("the machine's own 2 threads against one, beside those runs"), std::string::npos) << text.out;
   // A measurement that did not run has no summary line.
   CliRun bfs_only = cli("bench-agent " + program + " --only bfs --bfs-nodes 20000 --seconds 60");
   ASSERT_EQ(bfs_only.status, 0) << bfs_only.out;

@@ -3,6 +3,8 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 
 #include "compiler/lower/lower.hpp"
 #include "harness/agent/make_task.hpp"
@@ -38,6 +40,37 @@ std::string rate(double per_s) {
 }
 
 double bfs_rate(uint64_t nodes, double seconds) { return per_second(static_cast<double>(nodes), seconds); }
+
+// `threads` times one thread's time over all `threads` threads' time, each
+// thread running the same arithmetic loop (four independent chains, about 30 ms
+// alone): N on a machine whose N cores are all this process's, less where
+// another tenant takes part of one. The fastest of `repeat` turns of each,
+// alternating, as the BFS runs are measured (fastest_bfs).
+double machine_scaling(unsigned threads, int repeat) {
+  if (threads < 2) return 0;
+  const auto loop = [] {
+    uint64_t a = 1, b = 2, c = 3, d = 4;
+    for (uint64_t i = 0; i < 40'000'000; ++i) {
+      a += i, b += i * 3, c += i * 5, d += i * 7;
+      asm volatile("" : "+r"(a), "+r"(b), "+r"(c), "+r"(d));  // kept, and not vectorised
+    }
+    return a + b + c + d;
+  };
+  const auto seconds = [&](unsigned n) {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<std::thread> others;
+    for (unsigned i = 1; i < n; ++i) others.emplace_back(loop);
+    loop();
+    for (auto& t : others) t.join();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  double one = 1e300, all = 1e300;
+  for (int i = 0; i < std::max(1, repeat); ++i) {
+    one = std::min(one, seconds(1));
+    all = std::min(all, seconds(threads));
+  }
+  return threads * one / all;
+}
 
 // The fastest of `repeat` runs of each BFS measurement, on one thread and on
 // the pool. The runs alternate (one, pool, one, pool, ...): a busy spell of the
@@ -128,6 +161,7 @@ std::vector<BenchAgentRow> bench_agent(const std::vector<fs::path>& programs, co
       row.bfs_seconds_1 = r1.search_seconds;
       row.bfs_nodes_n = rn.nodes;
       row.bfs_seconds_n = rn.search_seconds;
+      row.machine_scaling = machine_scaling(opts.threads, opts.bfs_repeat);
     } catch (const std::exception& e) {
       if (!row.error.empty()) row.error += "; ";
       row.error += e.what();
@@ -142,7 +176,7 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
   std::string s = fmt::format("{:<34} {:>4} {:<11} {:>8} {:>10} {:>4}  {:>7} {:>6} {:>9} {:>10} {:>10} {:>10}\n",
                               "program", "grid", "code", "mfp s", "rollout/s", "ok", "actions", "depth", "bfs nodes",
                               "bfs/s 1t", fmt::format("bfs/s {}t", o.threads), "per thread");
-  std::vector<double> mfp_s, spec_rate, emb_rate, spec_rate_n, emb_rate_n, spec_scaling;
+  std::vector<double> mfp_s, spec_rate, emb_rate, spec_rate_n, emb_rate_n, spec_scaling, machine;
   size_t mfp_ok = 0, mfp_ran = 0, fast = 0, fast_n = 0, small = 0, scaled = 0;
   // The scaling asked of N threads: 0.9 N times one thread's rate (1.8x on two).
   const double scaling_bar = 0.9 * std::max(1u, o.threads);
@@ -164,6 +198,7 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
       if (r.mfp_seconds > slowest_s) slowest_s = r.mfp_seconds, slowest = r.program;
     }
     if (r.bfs_nodes_1 == 0) continue;
+    if (r.machine_scaling > 0) machine.push_back(r.machine_scaling);
     if (r.bfs_small) {
       ++small;
       continue;
@@ -198,6 +233,10 @@ std::string bench_agent_table(const std::vector<BenchAgentRow>& rows, const Benc
     s += fmt::format("bfs on {} threads against one ({}): median {:.2f}x; {} of {} at least {:.1f}x{}\n", o.threads,
                      which, median(spec_scaling), scaled, spec_scaling.size(), scaling_bar,
                      o.bfs_repeat > 1 ? fmt::format(" (fastest of {} runs each)", o.bfs_repeat) : "");
+  if (!machine.empty())
+    s += fmt::format("the machine's own {} threads against one, beside those runs (a loop that shares nothing): "
+                     "median {:.2f}x, lowest {:.2f}x\n",
+                     o.threads, median(machine), *std::min_element(machine.begin(), machine.end()));
   if (small)
     s += fmt::format("* the search space ran out (every reachable state seen, or fewer than a tenth of the node budget "
                      "within the depth limit): {} program{} left out of the medians\n",
@@ -226,6 +265,7 @@ nlohmann::json bench_agent_json(const std::vector<BenchAgentRow>& rows, const Be
                         {"bfs_nodes_n_threads", r.bfs_nodes_n},
                         {"bfs_seconds_n_threads", r.bfs_seconds_n},
                         {"bfs_nodes_per_s_n_threads", bfs_rate(r.bfs_nodes_n, r.bfs_seconds_n)}};
+    if (r.machine_scaling > 0) j["machine_scaling_n_threads"] = r.machine_scaling;
     if (r.mfp_ran) {
       j["mfp_seconds"] = r.mfp_seconds;
       j["mfp_rollouts_per_s"] = r.mfp_rollouts_per_s;
@@ -250,6 +290,7 @@ BenchAgentRow bench_agent_row_from_json(const nlohmann::json& j) {
   r.bfs_seconds_1 = j.at("bfs_seconds_1_thread").get<double>();
   r.bfs_nodes_n = j.at("bfs_nodes_n_threads").get<uint64_t>();
   r.bfs_seconds_n = j.at("bfs_seconds_n_threads").get<double>();
+  r.machine_scaling = j.value("machine_scaling_n_threads", 0.0);
   r.mfp_ran = j.contains("mfp_seconds");
   if (r.mfp_ran) {
     r.mfp_seconds = j.at("mfp_seconds").get<double>();

@@ -10,6 +10,9 @@
 //        `seconds` — pure expansion throughput. Run on one thread (the per-thread
 //        figure) and on `threads` threads (the scaling); each `bfs_repeat` times,
 //        the fastest run kept (a busy machine slows a run, nothing speeds one).
+//        Beside them, the machine's own scaling (machine_scaling): on a virtual
+//        machine the second core is shared with other tenants, and the BFS's
+//        scaling reads against what a loop that shares nothing got.
 // Nothing here is timed by a test: the figures are printed for people to read.
 #pragma once
 #include <nlohmann/json.hpp>
@@ -51,6 +54,11 @@ struct BenchAgentRow {
   int bfs_depth_done = 0;
   bool bfs_small = false;  // the space ran out (all seen, or < a tenth of the budget): a rate of little meaning
   double bfs_seconds_1 = 0, bfs_seconds_n = 0;  // search time alone
+  // What the machine's own `threads` threads gave against one beside this
+  // program's BFS runs: an arithmetic loop (nothing shared, no memory) timed
+  // alone and on every thread at once, the fastest of bfs_repeat turns each.
+  // 0: not measured (one thread, or no BFS run).
+  double machine_scaling = 0;
 };
 
 // `progress(i, n, name)` before program i (and once with i == n at the end).
