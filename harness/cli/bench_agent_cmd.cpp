@@ -71,7 +71,9 @@ void register_bench_agent(CLI::App* cmd, BenchAgentCommand& o) {
       "depth (BFS levels completed; * the search space ran out: left out of the medians); bfs nodes "
       "(successors generated on one thread); bfs/s 1t (successors per second on one thread); bfs/s Nt (on "
       "--threads threads); per thread (bfs/s Nt / N). With --repeat, each BFS figure is the fastest of its runs. - where "
-      "a measurement did not run.");
+      "a measurement did not run. Below the table, beside the BFS's scaling over threads: the machine's own, an "
+      "arithmetic loop that shares nothing timed alone and on every thread next to each program's runs (JSON: "
+      "machine_scaling_n_threads), for a machine whose cores other work shares.");
   cmd->add_flag("--json", o.json, "Print one JSON object");
   add_shard_options(cmd, o.shards, programs, "programs", "the order given (each folder's sorted by name)");
 }
