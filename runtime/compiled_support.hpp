@@ -416,8 +416,8 @@ Brush Painter::begin(int size, uint16_t background, const std::vector<uint16_t>&
   drawn_.clear();
   recorded_ = record_;
   pal_ = &pal;
-  return Brush{this, f.cells.data(), static_cast<uint32_t>(size), pal.data(), record_ ? 0 : static_cast<uint32_t>(pal.size()), marks_.lend(),
-               0, 0, {}};
+  const uint32_t pal_size = record_ ? 0 : static_cast<uint32_t>(pal.size());
+  return Brush{this, f.cells.data(), static_cast<uint32_t>(size), pal.data(), pal_size, marks_.lend(), 0, 0, {}};
 }
 
 int64_t Painter::finish(const Brush& b) {

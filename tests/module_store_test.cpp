@@ -341,6 +341,13 @@ TEST(ModuleBuild, TwoProcessesCompileAModuleOnce) {
   fs::remove_all(dir);
 }
 
+// `dir` made afresh, empty and private to this user, as a module cache must be.
+bool fresh_private_dir(const fs::path& dir) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return chmod(dir.c_str(), 0700) == 0;
+}
+
 // Locks every compile slot of `cache`, as compiles running there would; the
 // descriptors (closing one frees its slot). Stops at the first that fails.
 std::vector<int> hold_every_slot(const fs::path& cache) {
@@ -362,9 +369,7 @@ std::vector<int> hold_every_slot(const fs::path& cache) {
 // first. With every slot held here, a compile waits; once they are free, it runs.
 TEST(ModuleBuild, ACompileWaitsForAFreeSlot) {
   const fs::path cache = root() / "slots";
-  fs::remove_all(cache);
-  fs::create_directories(cache);
-  ASSERT_EQ(chmod(cache.c_str(), 0700), 0);
+  ASSERT_TRUE(fresh_private_dir(cache));
   const std::vector<int> held = hold_every_slot(cache);
   ASSERT_EQ(held.size(), static_cast<size_t>(autumn::module_compile_slots()));
   const fs::path so = cache / "mslot.so";
@@ -393,9 +398,7 @@ TEST(ModuleBuild, ACompileWaitsForAFreeSlot) {
 // release suite built modules a second time when two tests asked for one.
 TEST(ModuleBuild, ACompileQueuedOnASlotFindsTheModuleBuilt) {
   const fs::path cache = root() / "queued";
-  fs::remove_all(cache);
-  fs::create_directories(cache);
-  ASSERT_EQ(chmod(cache.c_str(), 0700), 0);
+  ASSERT_TRUE(fresh_private_dir(cache));
   const std::vector<int> held = hold_every_slot(cache);
   ASSERT_EQ(held.size(), static_cast<size_t>(autumn::module_compile_slots()));
   const fs::path so = cache / "mqueued.so";

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <system_error>
 #include <thread>
 
 #include "compiler/lower/lower.hpp"
@@ -45,7 +46,10 @@ double bfs_rate(uint64_t nodes, double seconds) { return per_second(static_cast<
 // thread running the same arithmetic loop (four independent chains, about 30 ms
 // alone): N on a machine whose N cores are all this process's, less where
 // another tenant takes part of one. The fastest of `repeat` turns of each,
-// alternating, as the BFS runs are measured (fastest_bfs).
+// alternating, as the BFS runs are measured (fastest_bfs). Plain threads, not
+// the pool: its parallel_for lets one thread run every index, and each loop
+// here must have a thread of its own. 0 when a thread cannot be started (the
+// figure is then not measured; the BFS's row stands).
 double machine_scaling(unsigned threads, int repeat) {
   if (threads < 2) return 0;
   const auto loop = [] {
@@ -59,15 +63,24 @@ double machine_scaling(unsigned threads, int repeat) {
   const auto seconds = [&](unsigned n) {
     const auto start = std::chrono::steady_clock::now();
     std::vector<std::thread> others;
-    for (unsigned i = 1; i < n; ++i) others.emplace_back(loop);
+    try {
+      for (unsigned i = 1; i < n; ++i) others.emplace_back(loop);
+    } catch (...) {  // the ones started are joined (a joinable thread's destructor ends the process)
+      for (auto& t : others) t.join();
+      throw;
+    }
     loop();
     for (auto& t : others) t.join();
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   double one = 1e300, all = 1e300;
-  for (int i = 0; i < std::max(1, repeat); ++i) {
-    one = std::min(one, seconds(1));
-    all = std::min(all, seconds(threads));
+  try {
+    for (int i = 0; i < std::max(1, repeat); ++i) {
+      one = std::min(one, seconds(1));
+      all = std::min(all, seconds(threads));
+    }
+  } catch (const std::system_error&) {
+    return 0;
   }
   return threads * one / all;
 }
