@@ -28,20 +28,10 @@ namespace fs = std::filesystem;
 using namespace autumn;
 using namespace autumn::agent;
 
-fs::path scratch_root() { return fs::temp_directory_path() / ("autumn_random_baseline_" + std::to_string(getpid())); }
-
-// The per-process directory goes when the process ends, if its cases removed
-// what they made (a failed case's files stay, to be read).
-struct RemoveRootIfEmpty {
-  ~RemoveRootIfEmpty() {
-    std::error_code ec;
-    fs::remove(scratch_root(), ec);
-  }
-} remove_root_if_empty;
-
+// A fresh task folder under the test program's scratch root (test_support.hpp),
+// removed when the program ends.
 fs::path scratch(const std::string& name) {
-  fs::path dir = scratch_root() / name;
-  fs::remove_all(dir);
+  const fs::path dir = autumn::testing::scratch_dir("random_baseline", name);
   for (const char* sub : {"prompts", "programs", "answers"}) fs::create_directories(dir / sub);
   return dir;
 }
