@@ -871,13 +871,14 @@ class BfsProbe {
       : task_(load_task(generate(scratch(name), "planning", program, 3, 4))), problem_(task_, compiled(), pool_) {}
   uint64_t actions() const { return problem_.actions().size(); }
   // `every`: store every state the budget reaches (bfs_store_every_state_for_testing).
-  BfsOutcome search(int cost, uint64_t nodes, bool every = false) {
+  // `seconds` > 0: a deadline that many seconds from now.
+  BfsOutcome search(int cost, uint64_t nodes, bool every = false, double seconds = 0) {
     bfs_store_every_state_for_testing = every;
     BfsSpec spec;
     spec.actions = problem_.actions();
     spec.max_cost = cost;
     spec.goal = false;
-    spec.limit = Limit{&problem_.clock(), nodes, 0};
+    spec.limit = Limit{&problem_.clock(), nodes, seconds > 0 ? problem_.clock().seconds() + seconds : 0};
     BfsOutcome r = bfs(problem_, spec);
     bfs_store_every_state_for_testing = false;
     return r;
@@ -951,6 +952,29 @@ TEST(AgentPlanning, BfsStoresWhatItsBudgetCanExpand) {
   EXPECT_EQ(all.stored, two.distinct);
   EXPECT_GE(some.stored, one.distinct + 512);
   EXPECT_LT(some.stored * 4, all.stored) << some.stored << " of " << all.stored;
+}
+
+// A search's workers (their sets and lists) serve the next search, of any
+// program (plan_bfs.cpp, take_workers): one cut short by its deadline in the
+// middle of a chunk leaves them holding that chunk's states, and the searches
+// after it must find what a search with fresh workers finds.
+TEST(AgentPlanning, BfsWorkersKeptFromEarlierSearchesChangeNothing) {
+  BfsProbe first("bfs_kept_first", "flood_defense"), second("bfs_kept_second", "sokoban");
+  bfs_drop_kept_workers_for_testing();
+  const BfsOutcome fresh = second.search(3, 1'000'000);
+  EXPECT_EQ(bfs_kept_workers_for_testing(), 2u) << "the two threads' workers, kept";
+  const BfsOutcome cut = first.search(12, 100'000'000, false, 0.05);
+  EXPECT_NE(cut.note.find("time limit spent"), std::string::npos) << cut.note;
+  EXPECT_EQ(bfs_kept_workers_for_testing(), 2u);
+  const BfsOutcome after_cut = second.search(3, 1'000'000), again = second.search(3, 1'000'000);
+  for (const BfsOutcome* r : {&after_cut, &again}) {
+    EXPECT_EQ(r->nodes, fresh.nodes);
+    EXPECT_EQ(r->distinct, fresh.distinct);
+    EXPECT_EQ(r->stored, fresh.stored);
+    EXPECT_EQ(r->depth_done, fresh.depth_done);
+    EXPECT_EQ(r->note, fresh.note);
+  }
+  EXPECT_GT(fresh.distinct, fresh.depth_done) << "a search with something to find";
 }
 
 // docs/design.md's table of the planner's stages is the code's (kAutoStages):

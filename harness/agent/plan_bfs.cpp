@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <atomic>
+#include <mutex>
 
 #include "harness/agent/huge_pages.hpp"
 #include "harness/agent/seen_set.hpp"
@@ -22,6 +23,9 @@ class LayeredBfs {
  public:
   LayeredBfs(PlanProblem& p, const BfsSpec& spec)
       : p_(p), spec_(spec), start_(spec.start ? *spec.start : p.root()), A_(spec.actions.size()) {}
+  ~LayeredBfs() { keep_workers(std::move(workers_)); }
+  LayeredBfs(const LayeredBfs&) = delete;
+  LayeredBfs& operator=(const LayeredBfs&) = delete;
 
   BfsOutcome run();
 
@@ -34,7 +38,7 @@ class LayeredBfs {
     std::unique_ptr<Environment> env;  // without snapshots; null: replayed
   };
   struct Layer {
-    std::vector<Open> open;
+    std::vector<Open, WarmAllocator<Open>> open;
     std::vector<std::vector<uint8_t>> buffers;
     // Nodes of the layer given no Open: placed while store_next_ was false, so
     // the node budget is spent before the search could expand them.
@@ -59,6 +63,21 @@ class LayeredBfs {
     uint32_t largest = 0;           // the largest snapshot it has stored, or the root's
     std::vector<std::vector<Fresh>> fresh = std::vector<std::vector<Fresh>>(kShards);
   };
+  // The workers' memory (the chunk's set of states, the shards' lists of new
+  // states) outlives a search: the next search takes it back (take_workers),
+  // so it grows and faults its pages in once per process, not once per
+  // search (docs/design.md, "Memory a search keeps for the next"). What a
+  // search leaves is emptied first (keep_workers): the environments (of this
+  // program's module), the palette's colour cache, any unplaced new states.
+  struct KeptWorkers {
+    std::mutex mu;
+    std::vector<Worker> spare;  // guarded by mu; at most kKeptWorkers
+  };
+  friend size_t autumn::agent::bfs_kept_workers_for_testing();
+  friend void autumn::agent::bfs_drop_kept_workers_for_testing();
+  static KeptWorkers& kept_workers();
+  static std::vector<Worker> take_workers(size_t n);
+  static void keep_workers(std::vector<Worker> workers) noexcept;
 
   bool is_free(size_t a) const { return !spec_.free.empty() && spec_.free[a]; }
   bool hit(const Environment& e, uint64_t h, Worker& W) const {
@@ -113,6 +132,51 @@ class LayeredBfs {
   BfsOutcome out_;
   std::vector<uint64_t, WarmAllocator<uint64_t>> hash_of_;  // per node, for target lookups
 };
+
+// At most this many workers are kept (a search takes as many as it has threads).
+constexpr size_t kKeptWorkers = 8;
+
+LayeredBfs::KeptWorkers& LayeredBfs::kept_workers() {
+  static auto* kept = new KeptWorkers();  // never destroyed: it outlives every search
+  return *kept;
+}
+
+std::vector<LayeredBfs::Worker> LayeredBfs::take_workers(size_t n) {
+  std::vector<Worker> w;
+  {
+    KeptWorkers& k = kept_workers();
+    std::lock_guard<std::mutex> lock(k.mu);
+    while (w.size() < n && !k.spare.empty()) {
+      w.push_back(std::move(k.spare.back()));
+      k.spare.pop_back();
+    }
+  }
+  w.resize(n);
+  return w;
+}
+
+void LayeredBfs::keep_workers(std::vector<Worker> workers) noexcept {
+  for (Worker& W : workers) {
+    W.parent.reset();
+    W.replay_root.reset();
+    W.scratch[0].reset();
+    W.scratch[1].reset();
+    W.local.clear();
+    W.colours = FrameColours{};
+    W.bytes[0] = {};
+    W.bytes[1] = {};
+    W.last_bytes[0] = W.last_bytes[1] = 0;
+    W.largest = 0;
+    for (auto& list : W.fresh) list.clear();
+  }
+  try {
+    KeptWorkers& k = kept_workers();
+    std::lock_guard<std::mutex> lock(k.mu);
+    for (Worker& W : workers)
+      if (k.spare.size() < kKeptWorkers) k.spare.push_back(std::move(W));
+  } catch (...) {  // the lock failed: the memory is freed instead
+  }
+}
 
 std::vector<Action> LayeredBfs::path(int64_t node) const { return path_to(nodes_, spec_.actions, node); }
 
@@ -466,7 +530,7 @@ BfsOutcome LayeredBfs::run() {
   cur_.open.resize(1);
   cur_.open[0].size = static_cast<uint32_t>(cur_.buffers[0].size());
   if (!snapshots_) cur_.open[0].env = start_.clone(), kept_ = 1;
-  workers_.resize(p_.pool().size());
+  workers_ = take_workers(p_.pool().size());
   for (Worker& W : workers_) {  // one thread clones
     W.parent = start_.clone(), W.replay_root = start_.clone();
     W.largest = snapshots_ ? cur_.open[0].size : 0;  // the root's: the first chunk's reservation
@@ -496,5 +560,17 @@ BfsOutcome LayeredBfs::run() {
 }  // namespace
 
 BfsOutcome bfs(PlanProblem& problem, const BfsSpec& spec) { return LayeredBfs(problem, spec).run(); }
+
+size_t bfs_kept_workers_for_testing() {
+  auto& k = LayeredBfs::kept_workers();
+  std::lock_guard<std::mutex> lock(k.mu);
+  return k.spare.size();
+}
+
+void bfs_drop_kept_workers_for_testing() {
+  auto& k = LayeredBfs::kept_workers();
+  std::lock_guard<std::mutex> lock(k.mu);
+  k.spare.clear();
+}
 
 }  // namespace autumn::agent

@@ -64,4 +64,9 @@ BfsOutcome bfs(PlanProblem& problem, const BfsSpec& spec);
 // next_shards_to_store), to show that the two searches are the same.
 extern std::atomic<bool> bfs_store_every_state_for_testing;
 
+// Tests only: the workers searches keep for the next search (plan_bfs.cpp,
+// take_workers), and dropping them.
+size_t bfs_kept_workers_for_testing();
+void bfs_drop_kept_workers_for_testing();
+
 }  // namespace autumn::agent
