@@ -44,14 +44,26 @@ class LayeredBfs {
     // the node budget is spent before the search could expand them.
     size_t unplaced = 0;
   };
+  // A new state of the chunk, as its worker lists it under its hash's shard:
+  // 16 bytes, since each goes to one of 64 lists (stores scattered over 64
+  // places); what else is known of it is appended to the worker's details, in
+  // order (one stream of stores). With the whole record (48 bytes) in the
+  // shard lists, two threads ran a third slower each than one (docs/design.md,
+  // "Memory a search keeps for the next").
   struct Fresh {
-    uint64_t index;  // (parent - begin) * A + action
     uint64_t hash;
-    uint64_t offset;
-    uint32_t size;
-    uint32_t buffer;
+    uint32_t index;   // (parent - begin) * A + action: below 2^32 (run() sizes chunks so)
+    uint32_t detail;  // its entry in its worker's details
+  };
+  struct Detail {
+    uint64_t offset;  // its snapshot's, in its worker's buffer of its side
+    uint32_t size;    // 0: not stored
     bool hit, free;
-    std::unique_ptr<Environment> env;
+    std::unique_ptr<Environment> env;  // kept instead of a snapshot
+  };
+  struct Pick {  // a Fresh in dedup's order, and its worker
+    const Fresh* fresh;
+    uint32_t worker;
   };
   struct alignas(64) Worker {  // each on its own cache lines: the threads write their own all the time
     std::unique_ptr<Environment> parent, replay_root;
@@ -62,6 +74,7 @@ class LayeredBfs {
     size_t last_bytes[2] = {0, 0};  // their size in the last chunk: the next one's reservation
     uint32_t largest = 0;           // the largest snapshot it has stored, or the root's
     std::vector<std::vector<Fresh>> fresh = std::vector<std::vector<Fresh>>(kShards);
+    std::vector<Detail> details;  // this chunk's, in the order met
   };
   // The workers' memory (the chunk's set of states, the shards' lists of new
   // states) outlives a search: the next search takes it back (take_workers),
@@ -125,8 +138,8 @@ class LayeredBfs {
   bool final_layer_ = false;  // the layer of cost max_cost - 1: no next layer is expanded
   uint32_t buffer_base_[2] = {0, 0};
   std::vector<Worker> workers_;
-  std::vector<std::vector<Fresh*>> won_ = std::vector<std::vector<Fresh*>>(kShards);
-  std::vector<std::vector<Fresh*>> merged_ = std::vector<std::vector<Fresh*>>(kShards);  // dedup's, kept for its storage
+  std::vector<std::vector<Pick>> won_ = std::vector<std::vector<Pick>>(kShards);
+  std::vector<std::vector<Pick>> merged_ = std::vector<std::vector<Pick>>(kShards);  // dedup's, kept for its storage
   std::vector<uint64_t> first_hit_ = std::vector<uint64_t>(kShards);
   std::vector<uint64_t> stored_ = std::vector<uint64_t>(kShards);  // per shard, for BfsOutcome::stored
   BfsOutcome out_;
@@ -168,6 +181,7 @@ void LayeredBfs::keep_workers(std::vector<Worker> workers) noexcept {
     W.last_bytes[0] = W.last_bytes[1] = 0;
     W.largest = 0;
     for (auto& list : W.fresh) list.clear();
+    W.details.clear();
   }
   try {
     KeptWorkers& k = kept_workers();
@@ -239,17 +253,17 @@ void LayeredBfs::settle(const Stepped& s, size_t k, Worker& W, bool store_free, 
   std::unique_ptr<Environment>& env = W.scratch[s.scratch];
   const int side = is_free(s.action) ? 0 : 1;
   std::vector<uint8_t>& bytes = W.bytes[side];
-  Fresh f{k * A_ + s.action, h, bytes.size(), 0, 0, hit(*env, h, W), side == 0, nullptr};
-  f.buffer = buffer_base_[side] + static_cast<uint32_t>(&W - workers_.data());
+  Detail d{bytes.size(), 0, hit(*env, h, W), side == 0, nullptr};
   const bool store = side == 0 ? store_free : store_next && shard_of(h) < store_shards_;
   if (store && snapshots_) {
     env->save_state(bytes);
-    f.size = static_cast<uint32_t>(bytes.size() - f.offset);
-    W.largest = std::max(W.largest, f.size);
+    d.size = static_cast<uint32_t>(bytes.size() - d.offset);
+    W.largest = std::max(W.largest, d.size);
   } else if (store && keep_env_) {
-    f.env = std::move(env);
+    d.env = std::move(env);
   }
-  W.fresh[shard_of(h)].push_back(std::move(f));
+  W.fresh[shard_of(h)].push_back(Fresh{h, static_cast<uint32_t>(k * A_ + s.action), static_cast<uint32_t>(W.details.size())});
+  W.details.push_back(std::move(d));
 }
 
 // Expands cur_.open[begin, end) by the free actions or by the others; false when
@@ -357,23 +371,23 @@ void LayeredBfs::dedup() {
   p_.pool().parallel_for(kShards, [&](size_t sh) {
     // Each shard's lists are taken out of their tables while they grow (their
     // vector headers sit side by side, written on every push), and put back.
-    std::vector<Fresh*> won = std::move(won_[sh]);
+    std::vector<Pick> won = std::move(won_[sh]);
     won.clear();
     // The shard's new states of every worker in index order, the order a serial
     // search meets them (of equal states, the first wins)...
-    std::vector<Fresh*> order = std::move(merged_[sh]);
+    std::vector<Pick> order = std::move(merged_[sh]);
     order.clear();
     std::vector<size_t> at(workers_.size(), 0);
     for (;;) {
-      Fresh* f = nullptr;
+      const Fresh* f = nullptr;
       size_t from = 0;
       for (size_t w = 0; w < workers_.size(); ++w) {
-        auto& list = workers_[w].fresh[sh];
+        const auto& list = workers_[w].fresh[sh];
         if (at[w] < list.size() && (!f || list[at[w]].index < f->index)) f = &list[at[w]], from = w;
       }
       if (!f) break;
       ++at[from];
-      order.push_back(f);
+      order.push_back(Pick{f, static_cast<uint32_t>(from)});
     }
     // ...then into the seen set, each insert's table slots fetched a few ahead:
     // the set outgrows the caches, and a miss per insert was most of this phase.
@@ -382,12 +396,13 @@ void LayeredBfs::dedup() {
     // cache line, and the other thread settles the shard beside this one.
     uint64_t stored = 0, first_hit = UINT64_MAX;
     for (size_t i = 0; i < order.size(); ++i) {
-      if (i + kAhead < order.size()) seen_.prefetch(order[i + kAhead]->hash);
-      Fresh* f = order[i];
-      if (!seen_.insert(f->hash)) continue;
-      won.push_back(f);
-      stored += f->size > 0 || f->env;  // its state was kept
-      if (f->hit) first_hit = std::min(first_hit, f->index);
+      if (i + kAhead < order.size()) seen_.prefetch(order[i + kAhead].fresh->hash);
+      const Pick p = order[i];
+      if (!seen_.insert(p.fresh->hash)) continue;
+      won.push_back(p);
+      const Detail& d = workers_[p.worker].details[p.fresh->detail];
+      stored += d.size > 0 || d.env;  // its state was kept
+      if (d.hit) first_hit = std::min<uint64_t>(first_hit, p.fresh->index);
     }
     stored_[sh] += stored;
     first_hit_[sh] = first_hit;
@@ -418,7 +433,9 @@ void LayeredBfs::place(size_t begin, bool free_phase) {
   p_.pool().parallel_for(kShards, [&](size_t sh) {
     uint64_t kept_here = 0;  // written once (neighbouring shards' counters share a cache line)
     for (size_t j = 0; j < won_[sh].size(); ++j) {
-      Fresh& f = *won_[sh][j];
+      const Pick p = won_[sh][j];
+      const Fresh& f = *p.fresh;
+      Detail& d = workers_[p.worker].details[f.detail];
       const size_t slot = offset[sh] + j;
       const Open& parent = cur_.open[begin + f.index / A_];
       nodes_[node_base + slot] = {parent.node, static_cast<int32_t>(f.index % A_),
@@ -427,19 +444,21 @@ void LayeredBfs::place(size_t begin, bool free_phase) {
       if (unplaced) continue;
       Open& o = direct ? next_.open[open_base + slot] : placed[slot];
       o.node = static_cast<int64_t>(node_base + slot);
-      o.buffer = f.buffer;
-      o.offset = f.offset;
-      o.size = f.size;
-      o.env = std::move(f.env);
+      o.buffer = buffer_base_[d.free ? 0 : 1] + p.worker;
+      o.offset = d.offset;
+      o.size = d.size;
+      o.env = std::move(d.env);
       kept_here += o.env ? 1 : 0;
-      if (!direct) free[slot] = f.free;
+      if (!direct) free[slot] = d.free;
     }
     kept[sh] = kept_here;
   });
   for (uint64_t k : kept) kept_ += k;
   for (size_t i = 0; i < placed.size(); ++i) (free[i] ? cur_ : next_).open.push_back(std::move(placed[i]));
-  for (Worker& W : workers_)
+  for (Worker& W : workers_) {
     for (auto& list : W.fresh) list.clear();
+    W.details.clear();
+  }
 }
 
 int LayeredBfs::target_of(int64_t node) const {
@@ -504,6 +523,9 @@ bool LayeredBfs::phase(int layer, bool free_phase, int64_t& hit_node) {
 
 BfsOutcome LayeredBfs::run() {
   chunk_parents_ = std::max<size_t>(256, 65536 / std::max<size_t>(A_, 1));
+  // A successor's index in its chunk, (parent - begin) * A + action, is 32 bits (Fresh).
+  if (A_ > UINT32_MAX) throw TaskError("a search of more than 2^32 actions");
+  chunk_parents_ = std::min<size_t>(chunk_parents_, UINT32_MAX / std::max<size_t>(A_, 1));
   // Room for the whole budget up front (address space only until written),
   // and for the chunk that crosses it (the budget is checked between chunks):
   // grown by doubling, the node table was copied on the serial path of a chunk.
