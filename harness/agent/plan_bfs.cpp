@@ -262,7 +262,8 @@ void LayeredBfs::settle(const Stepped& s, size_t k, Worker& W, bool store_free, 
   } else if (store && keep_env_) {
     d.env = std::move(env);
   }
-  W.fresh[shard_of(h)].push_back(Fresh{h, static_cast<uint32_t>(k * A_ + s.action), static_cast<uint32_t>(W.details.size())});
+  const auto index = static_cast<uint32_t>(k * A_ + s.action);
+  W.fresh[shard_of(h)].push_back(Fresh{h, index, static_cast<uint32_t>(W.details.size())});
   W.details.push_back(std::move(d));
 }
 
