@@ -84,7 +84,7 @@ class LayeredBfs {
   // program's module), the palette's colour cache, any unplaced new states.
   struct KeptWorkers {
     std::mutex mu;
-    std::vector<Worker> spare;  // guarded by mu; at most kKeptWorkers
+    std::vector<Worker> spare;  // guarded by mu; at most kept_workers_cap()
   };
   friend size_t autumn::agent::bfs_kept_workers_for_testing();
   friend void autumn::agent::bfs_drop_kept_workers_for_testing();
@@ -146,8 +146,10 @@ class LayeredBfs {
   std::vector<uint64_t, WarmAllocator<uint64_t>> hash_of_;  // per node, for target lookups
 };
 
-// At most this many workers are kept (a search takes as many as it has threads).
-constexpr size_t kKeptWorkers = 8;
+// At most this many workers are kept (a search takes as many as it has threads),
+// none when the warm-memory setting keeps nothing (warm_cap() 0: every search's
+// memory is given back at its end).
+size_t kept_workers_cap() { return warm_cap() == 0 ? 0 : 8; }
 
 LayeredBfs::KeptWorkers& LayeredBfs::kept_workers() {
   static auto* kept = new KeptWorkers();  // never destroyed: it outlives every search
@@ -187,7 +189,7 @@ void LayeredBfs::keep_workers(std::vector<Worker> workers) noexcept {
     KeptWorkers& k = kept_workers();
     std::lock_guard<std::mutex> lock(k.mu);
     for (Worker& W : workers)
-      if (k.spare.size() < kKeptWorkers) k.spare.push_back(std::move(W));
+      if (k.spare.size() < kept_workers_cap()) k.spare.push_back(std::move(W));
   } catch (...) {  // the lock failed: the memory is freed instead
   }
 }
