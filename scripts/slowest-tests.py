@@ -3,6 +3,9 @@
 slowest tests of the last ctest run in each build tree (its ctest-junit.xml,
 from ctest --output-junit), and the time each label took (the sum of test
 times, so two -j slots count twice; labels from ctest --show-only=json-v1).
+The sanitizer tree runs its cases in batches (tests/sanitize_batches.cmake):
+there each case's own time comes from its batch's GoogleTest report
+(gtest/batch-N.xml), under the batch's labels.
 
 Reads only the standard library, so any python3 will do."""
 import collections
@@ -28,8 +31,27 @@ def labels_of(build):
     return labels
 
 
+def batched_cases(build):
+    """(name, seconds) of every case in the tree's batch reports, or None."""
+    folder = os.path.join(build, "gtest")
+    if not os.path.isdir(folder):
+        return None
+    cases = []
+    for f in sorted(os.listdir(folder)):
+        if f.endswith(".xml"):
+            for case in ET.parse(os.path.join(folder, f)).iter("testcase"):
+                cases.append((f"{case.get('classname', '?')}.{case.get('name', '?')}", float(case.get("time", 0) or 0)))
+    return cases
+
+
 def tests_of(build):
     labels = labels_of(build)
+    cases = batched_cases(build)
+    if cases is not None:
+        batch_labels = sorted({l for n, ls in labels.items() if n.startswith("asan ") for l in ls}) or ["asan"]
+        for name, t in cases:
+            yield name, t, batch_labels, build
+        return
     for case in ET.parse(os.path.join(build, "ctest-junit.xml")).iter("testcase"):
         name = case.get("name", "?")
         yield name.split("  # GetParam")[0], float(case.get("time", 0) or 0), labels.get(name, []), build
